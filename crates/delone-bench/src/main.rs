@@ -1,0 +1,2 @@
+//! delone-bench.
+fn main() {}

@@ -1,0 +1,2 @@
+//! The delone CLI.
+fn main() {}

@@ -1,0 +1,1 @@
+//! delone-io placeholder.

@@ -1,0 +1,6 @@
+//! Geometry helpers shared by the 2D and 3D kernels: insertion order
+//! (BRIO + Hilbert curve) and small vector utilities.
+
+pub mod sort;
+
+pub use sort::{brio_order, SplitMix64};

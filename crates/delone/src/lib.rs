@@ -1,0 +1,30 @@
+//! # delone
+//!
+//! Robust, fast Delaunay triangulation and meshing in 2D and 3D.
+//!
+//! The one-call API:
+//!
+//! ```
+//! let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+//! let mesh = delone::triangulate(&pts).unwrap();
+//! assert_eq!(mesh.triangles.len(), 2);
+//!
+//! let pts3 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
+//! let mesh3 = delone::tetrahedralize(&pts3).unwrap();
+//! assert_eq!(mesh3.tets.len(), 2);
+//! ```
+//!
+//! The incremental API lives in [`tri::Delaunay2`] and [`tet::Delaunay3`].
+#![forbid(unsafe_code)]
+
+pub mod error;
+pub mod geom;
+pub mod tet;
+pub mod tri;
+
+pub use error::{Error, Violation};
+pub use tet::{tetrahedralize, TetMesh};
+pub use tri::{triangulate, TriMesh};
+
+/// Marker for "no element" in index arrays (a missing neighbour, an unused slot).
+pub const NONE: u32 = u32::MAX;

@@ -1,0 +1,32 @@
+//! 3D Delaunay tetrahedralization.
+//!
+//! * [`tetrahedralize`] — one call, flat output ([`TetMesh`]).
+//! * [`Delaunay3`] — the incremental kernel (insert, locate, check).
+//! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
+
+pub mod delaunay;
+pub mod mesh;
+
+pub use delaunay::Delaunay3;
+pub use mesh::{validate, TetMesh};
+
+use crate::Error;
+
+/// Delaunay tetrahedralization of `points`.
+///
+/// Vertex ids in the output are indices into `points`; exact duplicates are
+/// merged (see [`TetMesh::vertex_map`]).
+///
+/// # Errors
+/// [`Error::InvalidCoordinate`], [`Error::TooFewPoints`] (fewer than 4 distinct
+/// points), [`Error::Degenerate`] (all points coplanar or collinear),
+/// [`Error::CapacityExceeded`].
+///
+/// ```
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let mesh = delone::tetrahedralize(&pts).unwrap();
+/// assert_eq!(mesh.tets.len(), 1);
+/// ```
+pub fn tetrahedralize(points: &[[f64; 3]]) -> Result<TetMesh, Error> {
+    Ok(Delaunay3::from_points(points)?.into_mesh())
+}
