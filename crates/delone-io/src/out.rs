@@ -114,7 +114,7 @@ mod tests {
             f64::MAX,
             5e-324,
             std::f64::consts::PI,
-            123456789.123456789,
+            123_456_789.123_456_79,
         ];
         for &v in &vals {
             let mut b = Vec::new();

@@ -124,7 +124,9 @@ fn parse_vtu(bytes: &[u8]) -> Parsed {
     p
 }
 
-fn sample3() -> (Vec<[f64; 3]>, Vec<[u32; 4]>, Vec<i32>, Vec<f64>) {
+type Sample = (Vec<[f64; 3]>, Vec<[u32; 4]>, Vec<i32>, Vec<f64>);
+
+fn sample3() -> Sample {
     let pts: Vec<[f64; 3]> = (0..50)
         .map(|i| {
             let t = i as f64 * 0.37;
