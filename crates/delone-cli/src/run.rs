@@ -332,6 +332,10 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         )));
     }
     let t_read = t0.elapsed();
+    if let Some(dir) = &o.output_dir {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
+    }
     let first = if o.zero { 0 } else { node.first_index };
     let quiet = o.quiet;
     let mut rep = Report { lines: Vec::new() };

@@ -134,7 +134,9 @@ pub struct NodeFile {
     /// Index of the first point in the file (0 or 1); later indices must be
     /// consecutive.
     pub first_index: u32,
-    /// Line number of the first line of each point record (for messages).
+    /// Line number of the header (1-based, for messages).
+    pub header_line: usize,
+    /// Line number of each point record (1-based, for messages).
     pub lines: Vec<usize>,
 }
 
@@ -303,6 +305,7 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
         attributes,
         markers,
         first_index: first.unwrap_or(1),
+        header_line: hline,
         lines,
     })
 }
