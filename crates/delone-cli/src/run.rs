@@ -319,9 +319,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         return Err(input_err(format!(
             "{}: line {}: the header gives dimension {}, delone {} needs {dim}D points{}",
             names.node.display(),
-            node.lines
-                .first()
-                .map_or(1, |&l| l.saturating_sub(1).max(1)),
+            node.header_line,
             node.dim,
             mode.name(),
             if node.dim == 3 {
