@@ -382,9 +382,11 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 vertex_map: mesh.vertex_map,
                 duplicates: mesh.duplicates,
             };
+            let t_derive = Instant::now();
             let edges = topo::tri_edges(&m.cells, &m.neighbors)
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
+            let t_derive = t_derive.elapsed();
             let (written, t_write) = write_outputs(
                 mode,
                 o,
@@ -397,6 +399,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some(&edges),
                 None,
             )?;
+            let t_write = t_write + t_derive;
             summarize(
                 mode, o, &node, &m, &edges, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,
@@ -427,6 +430,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 vertex_map: mesh.vertex_map,
                 duplicates: mesh.duplicates,
             };
+            let t_derive = Instant::now();
             let faces = topo::tet_faces(&m.cells, &m.neighbors, o.all_faces)
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&faces, node.len());
@@ -438,6 +442,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             } else {
                 None
             };
+            let t_derive = t_derive.elapsed();
             let (written, t_write) = write_outputs(
                 mode,
                 o,
@@ -450,6 +455,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 edges.as_ref(),
                 Some(&faces),
             )?;
+            let t_write = t_write + t_derive;
             summarize(
                 mode, o, &node, &m, &faces, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,

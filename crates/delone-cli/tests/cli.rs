@@ -145,7 +145,7 @@ fn tri_writes_triangle_files_that_cover_all_points() {
     assert_eq!(node.attributes[3], 1.5);
     let marks = node.markers.clone().unwrap();
     let hull = marks.iter().filter(|&&m| m == 1).count();
-    assert!(hull >= 4 && hull <= 44, "hull markers {hull}");
+    assert!((4..=44).contains(&hull), "hull markers {hull}");
 
     let ele = delone_io::read_ele(&read(&d, "g.1.ele"), 1).unwrap();
     assert_eq!(ele.nodes_per_element, 3);
@@ -306,11 +306,13 @@ fn tri_on_shared_data_if_present() {
     // ../../../shared from a checkout in /work/main, one more level from a
     // worktree in /work/wt/NAME.
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let Some(data) = ["../../../shared/data/2d/points", "../../../../shared/data/2d/points"]
-        .iter()
-        .map(|p| root.join(p))
-        .find(|p| p.is_dir())
-    else {
+    let Some(data) = [
+        "../../../shared/data/2d/points",
+        "../../../../shared/data/2d/points",
+    ]
+    .iter()
+    .map(|p| root.join(p))
+    .find(|p| p.is_dir()) else {
         eprintln!("note: shared/data/2d/points not found next to the checkout, skipped");
         return;
     };

@@ -135,12 +135,15 @@ pub fn tet_faces(
 /// Each undirected edge of a tetrahedralization once, with a hull flag
 /// (an edge is on the hull when it belongs to a hull face).
 ///
-/// Order: by the first tetrahedron containing the edge, then by its
-/// [`TET_EDGES`] position there; the endpoints keep that tetrahedron's local
-/// order.
+/// Order: by the first (lowest-indexed) tetrahedron containing the edge, then
+/// by its [`TET_EDGES`] position there; the endpoints keep that
+/// tetrahedron's local order. The ring of tetrahedra around each edge is
+/// walked through `neighbors`, so no extra memory beyond the output is used.
 ///
 /// # Errors
-/// [`IoError::InvalidInput`] if the two arrays differ in length.
+/// [`IoError::InvalidInput`] if the two arrays differ in length or the
+/// neighbour relation is inconsistent (a neighbour index out of range, or a
+/// neighbour that does not share the face).
 ///
 /// ```
 /// let tets = [[0, 1, 2, 3], [1, 2, 3, 4]];
@@ -151,52 +154,103 @@ pub fn tet_faces(
 /// ```
 pub fn tet_edges(tets: &[[u32; 4]], neighbors: &[[u32; 4]]) -> Result<Entities<2>, IoError> {
     check_lengths(tets.len(), neighbors.len())?;
-    // (edge key, slot = 6 * tet + local edge), sorted by key then slot.
-    let mut all: Vec<(u64, u64)> = Vec::with_capacity(tets.len() * 6);
+    let mut out = Entities {
+        items: Vec::with_capacity(tets.len() * 6 / 5 + 6),
+        boundary: Vec::with_capacity(tets.len() * 6 / 5 + 6),
+    };
     for (t, tet) in tets.iter().enumerate() {
         for (j, e) in TET_EDGES.iter().enumerate() {
             let (a, b) = (tet[e[0]], tet[e[1]]);
-            let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-            all.push((key, (t * 6 + j) as u64));
-        }
-    }
-    all.sort_unstable();
-    // Hull edge keys, sorted.
-    let mut hull: Vec<u64> = Vec::new();
-    for (tet, nb) in tets.iter().zip(neighbors) {
-        for (i, f) in TET_FACES.iter().enumerate() {
-            if nb[i] == NONE {
-                for k in 0..3 {
-                    let (a, b) = (tet[f[k]], tet[f[(k + 1) % 3]]);
-                    hull.push((u64::from(a.min(b)) << 32) | u64::from(a.max(b)));
+            // The two other local vertices.
+            let o = OTHER[j];
+            let (x, y) = (tet[o[0]], tet[o[1]]);
+            // Walk one way (crossing the face opposite x first); if the walk
+            // reaches the hull, walk the other way too.
+            match walk(tets, neighbors, t, a, b, x, y)? {
+                Ring::Lower => continue,
+                Ring::Closed => {
+                    out.items.push([a, b]);
+                    out.boundary.push(false);
+                }
+                Ring::Hull => {
+                    if walk(tets, neighbors, t, a, b, y, x)? == Ring::Lower {
+                        continue;
+                    }
+                    out.items.push([a, b]);
+                    out.boundary.push(true);
                 }
             }
         }
     }
-    hull.sort_unstable();
-    hull.dedup();
-    // First owner of each distinct key.
-    let mut firsts: Vec<(u64, u64)> = Vec::with_capacity(all.len() / 4 + 1);
-    let mut prev = None;
-    for &(key, slot) in &all {
-        if prev != Some(key) {
-            firsts.push((slot, key));
-            prev = Some(key);
-        }
-    }
-    drop(all);
-    firsts.sort_unstable();
-    let mut out = Entities {
-        items: Vec::with_capacity(firsts.len()),
-        boundary: Vec::with_capacity(firsts.len()),
-    };
-    for (slot, key) in firsts {
-        let (t, j) = ((slot / 6) as usize, (slot % 6) as usize);
-        let e = TET_EDGES[j];
-        out.items.push([tets[t][e[0]], tets[t][e[1]]]);
-        out.boundary.push(hull.binary_search(&key).is_ok());
-    }
     Ok(out)
+}
+
+/// For local edge `j` (of [`TET_EDGES`]), the two local vertices not on it.
+const OTHER: [[usize; 2]; 6] = [[2, 3], [1, 3], [1, 2], [0, 3], [0, 2], [0, 1]];
+
+#[derive(Debug, PartialEq, Eq)]
+enum Ring {
+    /// A tetrahedron with a lower index shares the edge: not the owner.
+    Lower,
+    /// The walk came back to the start: interior edge.
+    Closed,
+    /// The walk reached the hull.
+    Hull,
+}
+
+/// Walks around edge `ab` from tetrahedron `start` (whose other vertices are
+/// `x`, `y`), crossing first the face opposite `x`.
+fn walk(
+    tets: &[[u32; 4]],
+    neighbors: &[[u32; 4]],
+    start: usize,
+    a: u32,
+    b: u32,
+    mut x: u32,
+    mut y: u32,
+) -> Result<Ring, IoError> {
+    let bad = |t: usize| {
+        IoError::invalid(format!(
+            "inconsistent neighbours around edge ({a}, {b}) at tetrahedron {t}"
+        ))
+    };
+    let mut cur = start;
+    for _ in 0..=tets.len() {
+        let px = tets[cur]
+            .iter()
+            .position(|&v| v == x)
+            .ok_or_else(|| bad(cur))?;
+        let n = neighbors[cur][px];
+        if n == NONE {
+            return Ok(Ring::Hull);
+        }
+        let n = n as usize;
+        if n == start {
+            return Ok(Ring::Closed);
+        }
+        if n < start {
+            return Ok(Ring::Lower);
+        }
+        let tn = tets.get(n).ok_or_else(|| bad(cur))?;
+        // The new vertex of `n`: the one that is not a, b or y.
+        let mut z = None;
+        let mut shared = 0;
+        for &v in tn {
+            if v == a || v == b || v == y {
+                shared += 1;
+            } else {
+                z = Some(v);
+            }
+        }
+        let z = match (shared, z) {
+            (3, Some(z)) => z,
+            _ => return Err(bad(n)),
+        };
+        x = y;
+        y = z;
+        cur = n;
+    }
+    Err(bad(start))
 }
 
 /// Flags the vertices (of `n_points`) that lie on a boundary entity.
@@ -297,6 +351,17 @@ mod tests {
         assert!(h.boundary.iter().all(|&b| b));
         let on = boundary_vertices(&e, 7);
         assert_eq!(on, vec![true, true, true, true, true, true, false]);
+    }
+
+    #[test]
+    fn inconsistent_neighbours_are_errors_not_hangs() {
+        let tets = [[0u32, 1, 2, 3], [4, 3, 2, 1]];
+        // Tet 0 claims tet 1 across face (0 2 3), which tet 1 does not have.
+        let nbrs = [[1, 1, NONE, NONE], [0, NONE, NONE, NONE]];
+        assert!(tet_edges(&tets, &nbrs).is_err());
+        // Out-of-range neighbour.
+        let nbrs = [[7, NONE, NONE, NONE], [NONE, NONE, NONE, 0]];
+        assert!(tet_edges(&tets, &nbrs).is_err());
     }
 
     #[test]

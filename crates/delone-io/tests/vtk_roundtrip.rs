@@ -362,10 +362,4 @@ fn write_speed_one_million_tets() {
         write_vtu(&mut b, &pts, &tets, &[], &[], VtuFormat::Ascii).unwrap();
         b.len()
     });
-    time("tet_edges 1M tets", &mut || {
-        delone_io::topo::tet_edges(&tets, &nbrs)
-            .unwrap()
-            .items
-            .len()
-    });
 }
