@@ -37,7 +37,8 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -I   No iteration numbers: write FILE.node / FILE.ele (refused when this
          would overwrite the input).
     -B   No boundary markers in the output .node and .edge files.
-    -C   Check the mesh with delone's independent validator and report.
+    -C   Check the mesh with delone's independent validator and report
+         (exit code 1 if it finds a violation; the files are still written).
     -F   Accepted (Triangle: Fortune's sweepline); delone always uses its own
          incremental algorithm (BRIO + Hilbert order, exact predicates).
     -Q   Quiet: no summary, no progress.
@@ -86,7 +87,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          this would overwrite the input).
     -B   No boundary markers in the output .node, .face and .edge files.
     -J   Accepted: delone never removes unused vertices from the output .node.
-    -C   Check the mesh with delone's independent validator and report.
+    -C   Check the mesh with delone's independent validator and report
+         (exit code 1 if it finds a violation; the files are still written).
     -Q   Quiet: no summary, no progress.
     -V   Verbose (repeat for more: -VV).
     -h   This help.

@@ -25,7 +25,7 @@ fn main() {
             print!("{}", help::MAIN);
             return;
         }
-        Some("--version") | Some("-V") => {
+        Some("--version") => {
             println!("delone {}", env!("CARGO_PKG_VERSION"));
             return;
         }

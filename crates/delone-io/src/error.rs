@@ -7,6 +7,12 @@ use std::fmt;
 /// Parse errors carry the 1-based line number, what the reader expected and
 /// what it found, so that `Display` gives messages such as
 /// `line 7: expected 3 coordinates, found 2`.
+///
+/// ```
+/// let err = delone_io::read_node(b"2 2 0 0\n1 0 0\n").unwrap_err();
+/// assert!(matches!(err, delone_io::IoError::UnexpectedEnd { declared: 2, found: 1, .. }));
+/// assert_eq!(err.line(), Some(1));
+/// ```
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum IoError {

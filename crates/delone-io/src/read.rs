@@ -118,7 +118,13 @@ fn check_index(
     Ok(())
 }
 
-/// The content of a Triangle/TetGen `.node` file.
+/// The content of a Triangle/TetGen `.node` file, as returned by [`read_node`].
+///
+/// ```
+/// let f = delone_io::read_node(b"1 3 0 0\n0 1 2 3\n").unwrap();
+/// assert_eq!((f.dim, f.first_index, f.header_line), (3, 0, 1));
+/// assert_eq!(f.coords, vec![1.0, 2.0, 3.0]);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct NodeFile {
     /// Dimension from the header: 2 or 3.
@@ -310,7 +316,12 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
     })
 }
 
-/// The content of a Triangle/TetGen `.ele` file.
+/// The content of a Triangle/TetGen `.ele` file, as returned by [`read_ele`].
+///
+/// ```
+/// let f = delone_io::read_ele(b"1 4 0\n1 1 2 3 4\n", 1).unwrap();
+/// assert_eq!((f.nodes_per_element, f.elements.clone()), (4, vec![0, 1, 2, 3]));
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct EleFile {
     /// Nodes per element (3 for triangles, 4 for tetrahedra, 6/10 for

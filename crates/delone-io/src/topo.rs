@@ -9,7 +9,11 @@
 
 use crate::IoError;
 
-/// "No neighbour" in neighbour arrays.
+/// "No neighbour" in neighbour arrays (the same value as `delone::NONE`).
+///
+/// ```
+/// assert_eq!(delone_io::topo::NONE, u32::MAX);
+/// ```
 pub const NONE: u32 = u32::MAX;
 
 /// Faces of a positively oriented tetrahedron `[a, b, c, d]`
@@ -26,12 +30,27 @@ pub const NONE: u32 = u32::MAX;
 ///          \ | /
 ///            1
 /// ```
+///
+/// ```
+/// use delone_io::topo::TET_FACES;
+/// // Face i never contains vertex i.
+/// assert!((0..4).all(|i| !TET_FACES[i].contains(&i)));
+/// ```
 pub const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
 
 /// The six edges of a tetrahedron as local vertex pairs.
+///
+/// ```
+/// assert_eq!(delone_io::topo::TET_EDGES[0], [0, 1]);
+/// ```
 pub const TET_EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
 /// Edges or faces together with their boundary flags.
+///
+/// ```
+/// let e = delone_io::topo::tri_edges(&[[0, 1, 2]], &[[u32::MAX; 3]]).unwrap();
+/// assert_eq!(e.items.len(), e.boundary.len());
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Entities<const K: usize> {
     /// Vertex indices of each entity.

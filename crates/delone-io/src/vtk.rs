@@ -10,6 +10,12 @@ use crate::out::Out;
 use crate::IoError;
 
 /// Values of a point- or cell-data array.
+///
+/// ```
+/// let q = [0.5, 0.9];
+/// let v = delone_io::Values::Float64(&q);
+/// assert!(matches!(v, delone_io::Values::Float64(s) if s.len() == 2));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Values<'a> {
     /// 32-bit integers (markers, region ids).
@@ -43,6 +49,10 @@ pub struct DataArray<'a> {
 }
 
 /// Encoding of the data arrays of a `.vtu` file.
+///
+/// ```
+/// assert_eq!(delone_io::VtuFormat::default(), delone_io::VtuFormat::Binary);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum VtuFormat {
     /// Human-readable text inside each `<DataArray>`.
