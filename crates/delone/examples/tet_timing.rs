@@ -11,6 +11,11 @@ fn main() {
     let t = Instant::now();
     let order = delone::geom::brio_order(&pts);
     let sort = t.elapsed().as_secs_f64();
+    let pts: Vec<[f64; 3]> = if std::env::var("PRESORT").is_ok() {
+        order.iter().map(|&i| pts[i as usize]).collect()
+    } else {
+        pts
+    };
     drop(order);
     let t = Instant::now();
     let mesh = delone::tetrahedralize(&pts).unwrap();

@@ -32,29 +32,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::orient3d;
-
-/// TEMPORARY until delone-predicates has its exact SoS version.
-#[allow(clippy::too_many_arguments)]
-fn insphere_sos(
-    a: &[f64; 3],
-    b: &[f64; 3],
-    c: &[f64; 3],
-    d: &[f64; 3],
-    e: &[f64; 3],
-    _ia: u32,
-    _ib: u32,
-    _ic: u32,
-    _id: u32,
-    _ie: u32,
-) -> i32 {
-    let s = delone_predicates::insphere(a, b, c, d, e);
-    if s > 0.0 {
-        1
-    } else {
-        -1
-    }
-}
+use delone_predicates::{insphere_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
