@@ -597,3 +597,44 @@ fn help_and_version() {
         format!("delone {}", env!("CARGO_PKG_VERSION"))
     );
 }
+
+/// Random and truncated inputs: the binary answers with success or a
+/// one-line error and exit code 1, never a panic (exit code 101) or a hang.
+#[test]
+fn garbage_inputs_never_panic() {
+    let d = tmp("garbage");
+    let (valid, _) = grid2(4, 1);
+    let valid = valid.into_bytes();
+    let mut r = Rng(4242);
+    let mut inputs: Vec<Vec<u8>> = (0..valid.len())
+        .step_by(7)
+        .map(|cut| valid[..cut].to_vec())
+        .collect();
+    for _ in 0..15 {
+        let mut v = valid.clone();
+        for _ in 0..4 {
+            let at = (r.f() * v.len() as f64) as usize % v.len();
+            v[at] = (r.f() * 256.0) as u8;
+        }
+        inputs.push(v);
+    }
+    inputs.push(b"99999999999999999999 2\n".to_vec());
+    inputs.push(b"4000000000 2 4000000000 1\n1 0 0\n".to_vec());
+    inputs.push(vec![0xff; 64]);
+    for (k, input) in inputs.iter().enumerate() {
+        for mode in ["tri", "tet"] {
+            std::fs::write(d.join("g.node"), input).unwrap();
+            let o = run(&d, &[mode, "-Q", "g"]);
+            let code = o.status.code();
+            assert!(
+                code == Some(0) || code == Some(1),
+                "input {k} ({mode}): exit {code:?}, stderr {}",
+                stderr(&o)
+            );
+            if code == Some(1) {
+                let e = stderr(&o);
+                assert!(e.starts_with("delone: error: g.node"), "input {k}: {e}");
+            }
+        }
+    }
+}
