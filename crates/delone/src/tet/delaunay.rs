@@ -525,7 +525,7 @@ impl<'a> Delaunay3<'a> {
                     ));
                 }
             }
-            for f in 0..4 {
+            for (f, facet) in FACET.iter().enumerate() {
                 let w = c.adj[t][f];
                 let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
                 if u >= c.v.len() || c.v[u][0] == DEAD {
@@ -542,7 +542,7 @@ impl<'a> Delaunay3<'a> {
                         ),
                     ));
                 }
-                let mine = FACET[f].map(|i| tv[i]);
+                let mine = facet.map(|i| tv[i]);
                 let uv = c.v[u];
                 let theirs = FACET[g].map(|i| uv[i]);
                 // Same triangle with opposite orientation: theirs is a cyclic
