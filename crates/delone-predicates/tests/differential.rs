@@ -245,45 +245,70 @@ fn exactly_degenerate_integer_inputs() {
     assert!(t.zeros > zeros_2d + 10_000);
 }
 
-/// Inputs whose coordinate differences are not exact doubles (large offsets with
-/// small features) exercise the homogeneous exact stage.
+/// Near-degenerate inputs whose points differ widely in magnitude, so that the
+/// coordinate differences are not exact doubles (this exercises the homogeneous
+/// exact stage): points on lines, planes, circles and spheres passing near the
+/// origin, at parameters from 1e-3 to 1e6.
 #[test]
-fn offset_inputs_with_inexact_differences() {
+fn near_degenerate_with_inexact_differences() {
     let mut r = Rng(4);
     let mut t = Tally::default();
+    let mag = |r: &mut Rng| {
+        let m = [1e-3, 0.7, 3.0, 1e2, 1e6][r.int(0, 4) as usize];
+        if r.int(0, 1) == 0 {
+            m * r.range(0.5, 1.0)
+        } else {
+            -m * r.range(0.5, 1.0)
+        }
+    };
     for _ in 0..5_000 {
-        let off = r.range(1e3, 1e6);
-        let g2 = |r: &mut Rng| {
-            [
-                off + r.int(0, 3) as f64 * 0.1,
-                off + r.int(0, 3) as f64 * 0.1,
-            ]
+        let (u, v) = (r.p2(), r.p2());
+        let on_line = |r: &mut Rng| {
+            let s = mag(r);
+            [u[0] + s * v[0], u[1] + s * v[1]]
         };
-        let g3 = |r: &mut Rng| {
-            [
-                off + r.int(0, 2) as f64 * 0.1,
-                off * 0.5 + r.int(0, 2) as f64 * 0.1,
-                -off + r.int(0, 2) as f64 * 0.1,
-            ]
+        t.o2(&on_line(&mut r), &on_line(&mut r), &on_line(&mut r));
+        // Circle of radius rad centred at (rad, 0) + tiny: passes near the origin.
+        let rad = mag(&mut r).abs();
+        let on_circle = |r: &mut Rng| {
+            let th = [r.range(3.1, 3.2), r.range(0.0, 6.28)][r.int(0, 1) as usize];
+            [rad + rad * th.cos(), 1e-3 + rad * th.sin()]
         };
-        t.o2(&g2(&mut r), &g2(&mut r), &g2(&mut r));
-        t.ic(&g2(&mut r), &g2(&mut r), &g2(&mut r), &g2(&mut r));
-        t.o3(&g3(&mut r), &g3(&mut r), &g3(&mut r), &g3(&mut r));
-        t.is(
-            &g3(&mut r),
-            &g3(&mut r),
-            &g3(&mut r),
-            &g3(&mut r),
-            &g3(&mut r),
+        t.ic(
+            &on_circle(&mut r),
+            &on_circle(&mut r),
+            &on_circle(&mut r),
+            &on_circle(&mut r),
         );
-        // Tiny-vs-huge mixtures.
-        let m2 = |r: &mut Rng| {
+        let (u3, v3, w3) = (r.p3(), r.p3(), r.p3());
+        let on_plane = |r: &mut Rng| {
+            let (s, q) = (mag(r), mag(r));
             [
-                r.range(-1.0, 1.0) * 1e-7 + 1.0,
-                r.range(-1.0, 1.0) * 1e-7 - 3.0,
+                u3[0] + s * v3[0] + q * w3[0],
+                u3[1] + s * v3[1] + q * w3[1],
+                u3[2] + s * v3[2] + q * w3[2],
             ]
         };
-        t.o2(&m2(&mut r), &m2(&mut r), &m2(&mut r));
-        t.ic(&m2(&mut r), &m2(&mut r), &m2(&mut r), &m2(&mut r));
+        t.o3(
+            &on_plane(&mut r),
+            &on_plane(&mut r),
+            &on_plane(&mut r),
+            &on_plane(&mut r),
+        );
+        let on_sphere = |r: &mut Rng| {
+            let (th, z) = (
+                r.range(0.0, 6.28),
+                [r.range(-1.0, 1.0), r.range(-1.0, -0.999)][r.int(0, 1) as usize],
+            );
+            let w = (1.0 - z * z).sqrt();
+            [rad * w * th.cos(), 0.5 + rad * w * th.sin(), rad + rad * z]
+        };
+        t.is(
+            &on_sphere(&mut r),
+            &on_sphere(&mut r),
+            &on_sphere(&mut r),
+            &on_sphere(&mut r),
+            &on_sphere(&mut r),
+        );
     }
 }
