@@ -29,8 +29,28 @@ impl Rng {
 
 const N: usize = 4096;
 
+thread_local! {
+    static CURRENT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+}
+
+/// Whether the current row matches the optional command-line filter.
+fn selected() -> bool {
+    match std::env::args().nth(1) {
+        None => true,
+        Some(f) => CURRENT.with(|c| c.borrow().contains(&f)),
+    }
+}
+
+fn set(name: &str, kind: &str) {
+    CURRENT.with(|c| *c.borrow_mut() = format!("{name}/{kind}"));
+}
+
 /// Time `f` over all inputs, repeated until ~`budget` ms; returns ns per call.
 fn time<T>(inputs: &[T], f: impl Fn(&T) -> f64) -> f64 {
+    // Optional filter: `bench_predicates orient2d/degenerate` runs the matching rows.
+    if !selected() {
+        return f64::NAN;
+    }
     let mut reps = 1u64;
     loop {
         let t = Instant::now();
@@ -50,6 +70,9 @@ fn time<T>(inputs: &[T], f: impl Fn(&T) -> f64) -> f64 {
 }
 
 fn row(name: &str, kind: &str, ours: f64, theirs: Option<f64>) {
+    if ours.is_nan() {
+        return;
+    }
     match theirs {
         Some(t) => println!("{name:<22} {kind:<16} {ours:>9.1} {t:>9.1} {:>7.2}", ours / t),
         None => println!("{name:<22} {kind:<16} {ours:>9.1} {:>9} {:>7}", "-", "-"),
@@ -174,44 +197,68 @@ fn main() {
     // orient2d
     let o2 = |q: &[[f64; 2]]| orient2d(&q[0], &q[1], &q[2]);
     let o2r = |q: &[[f64; 2]]| robust::orient2d(c2(&q[0]), c2(&q[1]), c2(&q[2]));
+    set("orient2d", "random");
     row("orient2d", "random", time(&rnd2, |q| o2(q)), Some(time(&rnd2, |q| o2r(q))));
+    set("orient2d", "degenerate");
     row("orient2d", "degenerate", time(&line2, |q| o2(q)), Some(time(&line2, |q| o2r(q))));
+    set("orient2d", "near-degenerate");
     row("orient2d", "near-degenerate", time(&nline2, |q| o2(q)), Some(time(&nline2, |q| o2r(q))));
     // incircle
     let ic = |q: &[[f64; 2]; 4]| incircle(&q[0], &q[1], &q[2], &q[3]);
     let icr = |q: &[[f64; 2]; 4]| robust::incircle(c2(&q[0]), c2(&q[1]), c2(&q[2]), c2(&q[3]));
+    set("incircle", "random");
     row("incircle", "random", time(&rnd2, ic), Some(time(&rnd2, icr)));
+    set("incircle", "degenerate");
     row("incircle", "degenerate", time(&deg2, ic), Some(time(&deg2, icr)));
+    set("incircle", "near-degenerate");
     row("incircle", "near-degenerate", time(&near2, ic), Some(time(&near2, icr)));
     // orient3d
     let o3 = |q: &[[f64; 3]]| orient3d(&q[0], &q[1], &q[2], &q[3]);
     let o3r = |q: &[[f64; 3]]| robust::orient3d(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]));
+    set("orient3d", "random");
     row("orient3d", "random", time(&rnd3, |q| o3(q)), Some(time(&rnd3, |q| o3r(q))));
+    set("orient3d", "degenerate");
     row("orient3d", "degenerate", time(&plane3, |q| o3(q)), Some(time(&plane3, |q| o3r(q))));
+    set("orient3d", "near-degenerate");
     row("orient3d", "near-degenerate", time(&nplane3, |q| o3(q)), Some(time(&nplane3, |q| o3r(q))));
     // insphere
     let is = |q: &[[f64; 3]; 5]| insphere(&q[0], &q[1], &q[2], &q[3], &q[4]);
     let isr = |q: &[[f64; 3]; 5]| robust::insphere(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]), c3(&q[4]));
+    set("insphere", "random");
     row("insphere", "random", time(&rnd3, is), Some(time(&rnd3, isr)));
+    set("insphere", "degenerate");
     row("insphere", "degenerate", time(&deg3, is), Some(time(&deg3, isr)));
+    set("insphere", "near-degenerate");
     row("insphere", "near-degenerate", time(&near3, is), Some(time(&near3, isr)));
     // Weighted and SoS (no robust counterpart).
     let icw = |q: &[[f64; 2]; 4]| incircle_weighted(&q[0], &q[1], &q[2], &q[3], 0.0, 0.0, 0.0, 0.0);
+    set("incircle_weighted", "random");
     row("incircle_weighted", "random", time(&rnd2, icw), None);
+    set("incircle_weighted", "degenerate");
     row("incircle_weighted", "degenerate", time(&deg2, icw), None);
+    set("incircle_weighted", "near-degenerate");
     row("incircle_weighted", "near-degenerate", time(&near2, icw), None);
     let isw = |q: &[[f64; 3]; 5]| insphere_weighted(&q[0], &q[1], &q[2], &q[3], &q[4], 0.0, 0.0, 0.0, 0.0, 0.0);
+    set("insphere_weighted", "random");
     row("insphere_weighted", "random", time(&rnd3, isw), None);
+    set("insphere_weighted", "degenerate");
     row("insphere_weighted", "degenerate", time(&deg3, isw), None);
+    set("insphere_weighted", "near-degenerate");
     row("insphere_weighted", "near-degenerate", time(&near3, isw), None);
     let o2s = |q: &[[f64; 2]]| orient2d_sos(&q[0], &q[1], &q[2], 0, 1, 2) as f64;
+    set("orient2d_sos", "degenerate");
     row("orient2d_sos", "degenerate", time(&line2, |q| o2s(q)), None);
     let o3s = |q: &[[f64; 3]]| orient3d_sos(&q[0], &q[1], &q[2], &q[3], 0, 1, 2, 3) as f64;
+    set("orient3d_sos", "degenerate");
     row("orient3d_sos", "degenerate", time(&plane3, |q| o3s(q)), None);
     let ics = |q: &[[f64; 2]; 4]| incircle_sos(&q[0], &q[1], &q[2], &q[3], 3, 1, 2, 0) as f64;
+    set("incircle_sos", "random");
     row("incircle_sos", "random", time(&rnd2, ics), None);
+    set("incircle_sos", "degenerate");
     row("incircle_sos", "degenerate", time(&deg2, ics), None);
     let iss = |q: &[[f64; 3]; 5]| insphere_sos(&q[0], &q[1], &q[2], &q[3], &q[4], 3, 1, 4, 0, 2) as f64;
+    set("insphere_sos", "random");
     row("insphere_sos", "random", time(&rnd3, iss), None);
+    set("insphere_sos", "degenerate");
     row("insphere_sos", "degenerate", time(&deg3, iss), None);
 }

@@ -1,22 +1,29 @@
 //! Exact (slow) stages of the predicates, reached only when the floating-point
 //! filter cannot certify the sign.
 //!
-//! Each predicate has two exact formulations:
+//! Each predicate goes through up to three steps:
 //!
-//! * **Stage A** — when every coordinate difference `p - q` the determinant needs is
-//!   itself a double (the rounding error of the subtraction is zero, which is the
-//!   case for integer grids, for nearby points by Sterbenz' lemma, and for most
-//!   degenerate inputs), the translated determinant is evaluated exactly on those
-//!   differences: short expansions, cheap.
+//! * **Stage A** — the translated determinant (differences to the last point) is
+//!   evaluated *exactly on the rounded differences* with short expansions. If every
+//!   difference was exact (rounding error zero: integer grids, nearby points by
+//!   Sterbenz' lemma, most degenerate inputs), this is the exact answer.
+//! * **Stage A′** — otherwise each rounded difference `x` is off by at most `u|x|`
+//!   (`u = 2⁻⁵³`), so for a determinant of degree `k` in the differences the
+//!   rounded-difference value is within `((1+u)^k − 1)·P` of the true one, `P` the
+//!   permanent (sum of absolute monomials). If the stage A value exceeds a safe
+//!   bound `(k+1)·u·P` its sign is certified.
 //! * **Stage B** — otherwise the *homogeneous* determinant on the raw coordinates
 //!   (rows `[x, y, (lift,) 1]`) is expanded by cofactors with expansion arithmetic;
-//!   it needs no differences at all, hence is exact for all finite inputs barring
-//!   overflow and underflow.
+//!   it needs no differences, hence is exact for all finite inputs barring overflow
+//!   and underflow.
 //!
-//! All buffers are fixed-size stack arrays; nothing allocates.
+//! All buffers are fixed-size stack arrays; nothing allocates. The long
+//! intermediate expansions are first attempted with small capacities (checked at
+//! run time, since the true lengths are usually tiny thanks to zero elimination)
+//! and only if one overflows with the worst-case capacities, which cannot overflow.
 
 use crate::expansion::{two_diff, Exp};
-use crate::{Point2, Point3};
+use crate::{Point2, Point3, U};
 
 /// `p[i] * q[j] - q[i] * p[j]`, the 2x2 minor on columns `i, j` of rows `p, q`.
 #[inline]
@@ -24,30 +31,37 @@ fn minor2(p: &[f64], q: &[f64], i: usize, j: usize) -> Exp<4> {
     Exp::<2>::product(p[i], q[j]).sub(&Exp::<2>::product(q[i], p[j]))
 }
 
-/// Exact differences `p - q` if all are representable, else `None`.
+/// Rounded differences `p - q` and whether all of them are exact.
 #[inline]
-fn exact_diffs<const D: usize>(p: &[f64; D], q: &[f64; D]) -> Option<[f64; D]> {
+fn diffs<const D: usize>(p: &[f64; D], q: &[f64; D], exact: &mut bool) -> [f64; D] {
     let mut r = [0.0; D];
     for k in 0..D {
         let (x, y) = two_diff(p[k], q[k]);
-        if y != 0.0 {
-            return None;
-        }
+        *exact &= y == 0.0;
         r[k] = x;
     }
-    Some(r)
+    r
+}
+
+/// Whether the exact value `v` of the rounded-difference determinant certifies
+/// its sign against the permanent `perm` of a degree-`k` determinant.
+#[inline]
+fn certified(v: f64, perm: f64, k: f64) -> bool {
+    // |v| is the largest component, within a factor (1 ± 2u) of the exact value.
+    v.abs() * (1.0 - 4.0 * U) > (k + 1.0) * U * perm
 }
 
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
 pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
-    if let (Some(ac), Some(bc)) = (exact_diffs(a, c), exact_diffs(b, c)) {
-        let l = Exp::<2>::product(ac[0], bc[1]);
-        let r = Exp::<2>::product(ac[1], bc[0]);
-        return l.sub::<2, 4>(&r).approx();
+    let mut exact = true;
+    let (ac, bc) = (diffs(a, c, &mut exact), diffs(b, c, &mut exact));
+    let v = Exp::<2>::product(ac[0], bc[1]).sub::<2, 4>(&Exp::<2>::product(ac[1], bc[0])).approx();
+    if exact || certified(v, (ac[0] * bc[1]).abs() + (ac[1] * bc[0]).abs(), 2.0) {
+        return v;
     }
-    // det [a 1; b 1; c 1] along the ones column.
+    // det [a 1; b 1; c 1] along the ones column: m(b,c) - m(a,c) + m(a,b).
     let ab = minor2(a, b, 0, 1);
     let ac = minor2(a, c, 0, 1);
     let bc = minor2(b, c, 0, 1);
@@ -69,14 +83,22 @@ fn det3(p: &[f64; 3], q: &[f64; 3], r: &[f64; 3]) -> Exp<24> {
     s.add(&t3)
 }
 
+/// Permanent of `det3(p, q, r)` in floating point.
+#[inline]
+fn perm3(p: &[f64; 3], q: &[f64; 3], r: &[f64; 3]) -> f64 {
+    let m = |s: &[f64; 3], t: &[f64; 3]| (s[1] * t[2]).abs() + (s[2] * t[1]).abs();
+    p[0].abs() * m(q, r) + q[0].abs() * m(p, r) + r[0].abs() * m(p, q)
+}
+
 /// Exact `orient3d`.
 #[cold]
 #[inline(never)]
 pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
-    if let (Some(ad), Some(bd), Some(cd)) =
-        (exact_diffs(a, d), exact_diffs(b, d), exact_diffs(c, d))
-    {
-        return det3(&ad, &bd, &cd).approx();
+    let mut exact = true;
+    let (ad, bd, cd) = (diffs(a, d, &mut exact), diffs(b, d, &mut exact), diffs(c, d, &mut exact));
+    let v = det3(&ad, &bd, &cd).approx();
+    if exact || certified(v, perm3(&ad, &bd, &cd), 3.0) {
+        return v;
     }
     // det [p 1] over rows a, b, c, d, along the ones column: - + - +.
     let bcd = det3(b, c, d);
@@ -89,6 +111,26 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
     s.approx()
 }
 
+/// Stage A of the weighted in-circle test: rows `(p - d, |p - d|² - (w_p - w_d))`,
+/// expanded along the lift column (`+ - +`), with capacities `P, S, R`.
+fn incircle_a<const P: usize, const S: usize, const R: usize>(
+    ad: &[f64; 2],
+    bd: &[f64; 2],
+    cd: &[f64; 2],
+    w: [f64; 4],
+) -> Option<f64> {
+    let lift = |p: &[f64; 2], wp: f64| -> Exp<6> {
+        let s: Exp<4> = Exp::<2>::product(p[0], p[0]).add(&Exp::<2>::product(p[1], p[1]));
+        s.sub(&Exp::<2>::diff(wp, w[3]))
+    };
+    let t1: Exp<P> = minor2(bd, cd, 0, 1).try_mul(&lift(ad, w[0]))?;
+    let t2: Exp<P> = minor2(ad, cd, 0, 1).try_mul(&lift(bd, w[1]))?;
+    let t3: Exp<P> = minor2(ad, bd, 0, 1).try_mul(&lift(cd, w[2]))?;
+    let s: Exp<S> = t1.try_sub(&t2)?;
+    let r: Exp<R> = s.try_add(&t3)?;
+    Some(r.approx())
+}
+
 /// Lifted coordinate `|p|^2 - w` of a 2D point, exactly.
 #[inline]
 fn lift2(p: &[f64; 2], w: f64) -> Exp<5> {
@@ -96,46 +138,69 @@ fn lift2(p: &[f64; 2], w: f64) -> Exp<5> {
     s.sub(&Exp::<1>::from_f64(w))
 }
 
-/// Exact weighted in-circle determinant `det [x y (x²+y²-w) 1]` over rows
-/// `a, b, c, d` (equal to `incircle` for zero weights).
-#[cold]
-#[inline(never)]
-pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: [f64; 4]) -> f64 {
-    if let (Some(ad), Some(bd), Some(cd)) =
-        (exact_diffs(a, d), exact_diffs(b, d), exact_diffs(c, d))
-    {
-        // Translated: rows (p - d, |p - d|^2 - (w_p - w_d)), expanded along the lift.
-        let lift = |p: &[f64; 2], wp: f64| -> Exp<6> {
-            let s: Exp<4> = Exp::<2>::product(p[0], p[0]).add(&Exp::<2>::product(p[1], p[1]));
-            s.sub(&Exp::<2>::diff(wp, w[3]))
-        };
-        let (la, lb, lc) = (lift(&ad, w[0]), lift(&bd, w[1]), lift(&cd, w[2]));
-        let t1: Exp<48> = minor2(&bd, &cd, 0, 1).mul(&la);
-        let t2: Exp<48> = minor2(&ad, &cd, 0, 1).mul(&lb);
-        let t3: Exp<48> = minor2(&ad, &bd, 0, 1).mul(&lc);
-        let s: Exp<96> = t1.sub(&t2);
-        let r: Exp<144> = s.add(&t3);
-        return r.approx();
-    }
-    // Homogeneous 4x4 along the lift column: + - + -, minors det[x y 1] of the others.
+/// Stage B of the weighted in-circle test: homogeneous 4x4 `[x y lift 1]` along the
+/// lift column (`+ - + -`), minors `det[x y 1]` of the other rows.
+fn incircle_b<const P: usize, const S: usize, const R: usize>(p: [&Point2; 4], w: [f64; 4]) -> Option<f64> {
+    let [a, b, c, d] = p;
     let m = |p: &Point2, q: &Point2| minor2(p, q, 0, 1);
     let (ab, ac, ad, bc, bd, cd) = (m(a, b), m(a, c), m(a, d), m(b, c), m(b, d), m(c, d));
     let o = |pq: &Exp<4>, pr: &Exp<4>, qr: &Exp<4>| -> Exp<12> {
         let s: Exp<8> = qr.sub(pr);
         s.add(pq)
     };
-    let obcd = o(&bc, &bd, &cd);
-    let oacd = o(&ac, &ad, &cd);
-    let oabd = o(&ab, &ad, &bd);
-    let oabc = o(&ab, &ac, &bc);
-    let t1: Exp<120> = obcd.mul(&lift2(a, w[0]));
-    let t2: Exp<120> = oacd.mul(&lift2(b, w[1]));
-    let t3: Exp<120> = oabd.mul(&lift2(c, w[2]));
-    let t4: Exp<120> = oabc.mul(&lift2(d, w[3]));
-    let s1: Exp<240> = t1.sub(&t2);
-    let s2: Exp<240> = t3.sub(&t4);
-    let r: Exp<480> = s1.add(&s2);
-    r.approx()
+    let t1: Exp<P> = o(&bc, &bd, &cd).try_mul(&lift2(a, w[0]))?;
+    let t2: Exp<P> = o(&ac, &ad, &cd).try_mul(&lift2(b, w[1]))?;
+    let t3: Exp<P> = o(&ab, &ad, &bd).try_mul(&lift2(c, w[2]))?;
+    let t4: Exp<P> = o(&ab, &ac, &bc).try_mul(&lift2(d, w[3]))?;
+    let s1: Exp<S> = t1.try_sub(&t2)?;
+    let s2: Exp<S> = t3.try_sub(&t4)?;
+    let r: Exp<R> = s1.try_add(&s2)?;
+    Some(r.approx())
+}
+
+/// Exact weighted in-circle determinant `det [x y (x²+y²-w) 1]` over rows
+/// `a, b, c, d` (equal to `incircle` for zero weights).
+#[cold]
+#[inline(never)]
+pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: [f64; 4]) -> f64 {
+    let mut exact = true;
+    let (ad, bd, cd) = (diffs(a, d, &mut exact), diffs(b, d, &mut exact), diffs(c, d, &mut exact));
+    // Worst-case capacities: 2*4*6 = 48, 96, 144.
+    let v = incircle_a::<16, 32, 32>(&ad, &bd, &cd, w)
+        .or_else(|| incircle_a::<48, 96, 144>(&ad, &bd, &cd, w))
+        .unwrap_or(0.0);
+    if exact {
+        return v;
+    }
+    let m = |p: &[f64; 2], q: &[f64; 2]| (p[0] * q[1]).abs() + (q[0] * p[1]).abs();
+    let l = |p: &[f64; 2], wp: f64| p[0] * p[0] + p[1] * p[1] + (wp - w[3]).abs();
+    let perm = m(&bd, &cd) * l(&ad, w[0]) + m(&ad, &cd) * l(&bd, w[1]) + m(&ad, &bd) * l(&cd, w[2]);
+    if certified(v, perm, 4.0) {
+        return v;
+    }
+    // Worst-case capacities: 2*12*5 = 120, 240, 480.
+    incircle_b::<48, 96, 96>([a, b, c, d], w)
+        .or_else(|| incircle_b::<120, 240, 480>([a, b, c, d], w))
+        .unwrap_or(0.0)
+}
+
+/// Stage A of the weighted in-sphere test: rows `(p - e, |p - e|² - (w_p - w_e))`,
+/// along the lift column (`- + - +`).
+fn insphere_a<const P: usize, const S: usize, const R: usize>(q: [&[f64; 3]; 4], w: [f64; 5]) -> Option<f64> {
+    let lift = |p: &[f64; 3], wp: f64| -> Exp<8> {
+        let s: Exp<4> = Exp::<2>::product(p[0], p[0]).add(&Exp::<2>::product(p[1], p[1]));
+        let s: Exp<6> = s.add(&Exp::<2>::product(p[2], p[2]));
+        s.sub(&Exp::<2>::diff(wp, w[4]))
+    };
+    let [ae, be, ce, de] = q;
+    let t1: Exp<P> = det3(be, ce, de).try_mul(&lift(ae, w[0]))?;
+    let t2: Exp<P> = det3(ae, ce, de).try_mul(&lift(be, w[1]))?;
+    let t3: Exp<P> = det3(ae, be, de).try_mul(&lift(ce, w[2]))?;
+    let t4: Exp<P> = det3(ae, be, ce).try_mul(&lift(de, w[3]))?;
+    let s1: Exp<S> = t2.try_sub(&t1)?;
+    let s2: Exp<S> = t4.try_sub(&t3)?;
+    let r: Exp<R> = s1.try_add(&s2)?;
+    Some(r.approx())
 }
 
 /// Lifted coordinate `|p|^2 - w` of a 3D point, exactly.
@@ -146,51 +211,64 @@ fn lift3(p: &[f64; 3], w: f64) -> Exp<7> {
     s.sub(&Exp::<1>::from_f64(w))
 }
 
-/// Exact weighted in-sphere determinant `det [x y z (x²+y²+z²-w) 1]` over rows
-/// `a, b, c, d, e` (equal to `insphere` for zero weights).
-#[cold]
-#[inline(never)]
-pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
-    let e = p[4];
-    if let (Some(ae), Some(be), Some(ce), Some(de)) = (
-        exact_diffs(p[0], e),
-        exact_diffs(p[1], e),
-        exact_diffs(p[2], e),
-        exact_diffs(p[3], e),
-    ) {
-        // Translated 4x4: rows (p - e, |p - e|^2 - (w_p - w_e)), along the lift: - + - +.
-        let lift = |q: &[f64; 3], wq: f64| -> Exp<8> {
-            let s: Exp<4> = Exp::<2>::product(q[0], q[0]).add(&Exp::<2>::product(q[1], q[1]));
-            let s: Exp<6> = s.add(&Exp::<2>::product(q[2], q[2]));
-            s.sub(&Exp::<2>::diff(wq, w[4]))
-        };
-        let t1: Exp<384> = det3(&be, &ce, &de).mul(&lift(&ae, w[0]));
-        let t2: Exp<384> = det3(&ae, &ce, &de).mul(&lift(&be, w[1]));
-        let t3: Exp<384> = det3(&ae, &be, &de).mul(&lift(&ce, w[2]));
-        let t4: Exp<384> = det3(&ae, &be, &ce).mul(&lift(&de, w[3]));
-        let s1: Exp<768> = t2.sub(&t1);
-        let s2: Exp<768> = t4.sub(&t3);
-        let r: Exp<1536> = s1.add(&s2);
-        return r.approx();
-    }
-    // Homogeneous 5x5 along the lift column: - + - + -, minors det[x y z 1] of the
-    // other four rows, each expanded along its ones column: - + - +.
+/// Stage B of the weighted in-sphere test: homogeneous 5x5 `[x y z lift 1]` along
+/// the lift column (`- + - + -`), minors `det[x y z 1]` of the other four rows,
+/// each expanded along its ones column (`- + - +`).
+fn insphere_b<const P: usize, const S1: usize, const S2: usize, const R: usize>(
+    p: [&Point3; 5],
+    w: [f64; 5],
+) -> Option<f64> {
     let d3 = |i: usize, j: usize, k: usize| det3(p[i], p[j], p[k]);
     let o = |q: [usize; 4]| -> Exp<96> {
         let s1: Exp<48> = d3(q[0], q[2], q[3]).sub(&d3(q[1], q[2], q[3]));
         let s2: Exp<48> = d3(q[0], q[1], q[2]).sub(&d3(q[0], q[1], q[3]));
         s1.add(&s2)
     };
-    let term = |r: usize| -> Exp<1344> {
+    let term = |r: usize| -> Option<Exp<P>> {
         let mut q = [0usize; 4];
         for (slot, k) in q.iter_mut().zip((0..5).filter(|&k| k != r)) {
             *slot = k;
         }
-        o(q).mul(&lift3(p[r], w[r]))
+        o(q).try_mul(&lift3(p[r], w[r]))
     };
-    let s1: Exp<2688> = term(1).sub(&term(0));
-    let s2: Exp<2688> = term(3).sub(&term(2));
-    let s: Exp<5376> = s1.add(&s2);
-    let r: Exp<6720> = s.sub(&term(4));
-    r.approx()
+    let s1: Exp<S1> = term(1)?.try_sub(&term(0)?)?;
+    let s2: Exp<S1> = term(3)?.try_sub(&term(2)?)?;
+    let s: Exp<S2> = s1.try_add(&s2)?;
+    let r: Exp<R> = s.try_sub(&term(4)?)?;
+    Some(r.approx())
+}
+
+/// Exact weighted in-sphere determinant `det [x y z (x²+y²+z²-w) 1]` over rows
+/// `a, b, c, d, e` (equal to `insphere` for zero weights).
+#[cold]
+#[inline(never)]
+pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
+    let e = p[4];
+    let mut exact = true;
+    let q = [
+        diffs(p[0], e, &mut exact),
+        diffs(p[1], e, &mut exact),
+        diffs(p[2], e, &mut exact),
+        diffs(p[3], e, &mut exact),
+    ];
+    let qr = [&q[0], &q[1], &q[2], &q[3]];
+    // Worst-case capacities: 2*24*8 = 384, 768, 1536.
+    let v = insphere_a::<32, 64, 64>(qr, w)
+        .or_else(|| insphere_a::<384, 768, 1536>(qr, w))
+        .unwrap_or(0.0);
+    if exact {
+        return v;
+    }
+    let l = |x: &[f64; 3], wp: f64| x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + (wp - w[4]).abs();
+    let perm = perm3(&q[1], &q[2], &q[3]) * l(&q[0], w[0])
+        + perm3(&q[0], &q[2], &q[3]) * l(&q[1], w[1])
+        + perm3(&q[0], &q[1], &q[3]) * l(&q[2], w[2])
+        + perm3(&q[0], &q[1], &q[2]) * l(&q[3], w[3]);
+    if certified(v, perm, 5.0) {
+        return v;
+    }
+    // Worst-case capacities: 2*96*7 = 1344, 2688, 5376, 6720.
+    insphere_b::<128, 256, 256, 256>(p, w)
+        .or_else(|| insphere_b::<1344, 2688, 5376, 6720>(p, w))
+        .unwrap_or(0.0)
 }

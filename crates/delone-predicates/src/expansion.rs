@@ -224,9 +224,28 @@ impl<const N: usize> Exp<N> {
         Exp { len, c }
     }
 
-    /// `self * o` (sum of the scalings of `self` by each component of `o`).
-    pub(crate) fn mul<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Exp<K> {
-        const { assert!(2 * N * M <= K) };
+    /// `self + o` if the result fits in `K` components (checked at run time).
+    #[inline]
+    pub(crate) fn try_add<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        if self.len + o.len > K {
+            return None;
+        }
+        let mut c = [0.0; K];
+        let len = sum_into(self.comps(), o.comps(), &mut c);
+        Some(Exp { len, c })
+    }
+
+    /// `self - o` if the result fits in `K` components (checked at run time).
+    #[inline]
+    pub(crate) fn try_sub<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        self.try_add(&o.neg())
+    }
+
+    /// `self * o` if the result fits in `K` components (checked at run time).
+    pub(crate) fn try_mul<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        if 2 * self.len * o.len > K {
+            return None;
+        }
         let mut acc = [0.0; K];
         let mut tmp = [0.0; K];
         let mut part = [0.0; K];
@@ -238,7 +257,7 @@ impl<const N: usize> Exp<N> {
             acc[..tl].copy_from_slice(&tmp[..tl]);
             len = tl;
         }
-        Exp { len, c: acc }
+        Some(Exp { len, c: acc })
     }
 
     /// An approximation of the value with the exact sign: the largest component.
@@ -268,7 +287,7 @@ mod tests {
         );
         let z: Exp<6> = d.sub(&d);
         assert_eq!(z.comps(), &[0.0]);
-        let m: Exp<12> = d.mul(&p);
+        let m: Exp<12> = d.try_mul(&p).unwrap();
         // (2e + e^2)(1 + 2e + e^2) = 2e + 5e^2 + 4e^3 + e^4, each term a double.
         let e = f64::EPSILON;
         let w1: Exp<2> =

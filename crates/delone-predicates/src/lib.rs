@@ -106,7 +106,7 @@ pub type Point2 = [f64; 2];
 pub type Point3 = [f64; 3];
 
 /// Unit roundoff `2^-53`.
-const U: f64 = f64::EPSILON * 0.5;
+pub(crate) const U: f64 = f64::EPSILON * 0.5;
 const O2_BOUND: f64 = (4.0 + 64.0 * U) * U;
 const O3_BOUND: f64 = (8.0 + 256.0 * U) * U;
 const IC_BOUND: f64 = (11.0 + 256.0 * U) * U;
