@@ -74,7 +74,10 @@ fn row(name: &str, kind: &str, ours: f64, theirs: Option<f64>) {
         return;
     }
     match theirs {
-        Some(t) => println!("{name:<22} {kind:<16} {ours:>9.1} {t:>9.1} {:>7.2}", ours / t),
+        Some(t) => println!(
+            "{name:<22} {kind:<16} {ours:>9.1} {t:>9.1} {:>7.2}",
+            ours / t
+        ),
         None => println!("{name:<22} {kind:<16} {ours:>9.1} {:>9} {:>7}", "-", "-"),
     }
 }
@@ -83,7 +86,11 @@ fn c2(p: &[f64; 2]) -> Coord<f64> {
     Coord { x: p[0], y: p[1] }
 }
 fn c3(p: &[f64; 3]) -> Coord3D<f64> {
-    Coord3D { x: p[0], y: p[1], z: p[2] }
+    Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
 }
 
 fn main() {
@@ -92,9 +99,12 @@ fn main() {
     let p3 = |r: &mut Rng| [r.f() * 2.0 - 1.0, r.f() * 2.0 - 1.0, r.f() * 2.0 - 1.0];
 
     // Random (filter) inputs.
-    let rnd2: Vec<[[f64; 2]; 4]> = (0..N).map(|_| [p2(&mut r), p2(&mut r), p2(&mut r), p2(&mut r)]).collect();
-    let rnd3: Vec<[[f64; 3]; 5]> =
-        (0..N).map(|_| [p3(&mut r), p3(&mut r), p3(&mut r), p3(&mut r), p3(&mut r)]).collect();
+    let rnd2: Vec<[[f64; 2]; 4]> = (0..N)
+        .map(|_| [p2(&mut r), p2(&mut r), p2(&mut r), p2(&mut r)])
+        .collect();
+    let rnd3: Vec<[[f64; 3]; 5]> = (0..N)
+        .map(|_| [p3(&mut r), p3(&mut r), p3(&mut r), p3(&mut r), p3(&mut r)])
+        .collect();
     // Exactly degenerate integer inputs: collinear / cocircular, coplanar / cospherical.
     let circle: Vec<[f64; 2]> = [(3.0, 4.0), (4.0, 3.0), (5.0, 0.0), (0.0, 5.0)]
         .iter()
@@ -125,7 +135,11 @@ fn main() {
     let line2: Vec<[[f64; 2]; 3]> = (0..N)
         .map(|_| {
             let (t1, t2, t3) = (r.int(100), r.int(100), r.int(100));
-            [[t1, 2.0 * t1 + 1.0], [t2, 2.0 * t2 + 1.0], [t3, 2.0 * t3 + 1.0]]
+            [
+                [t1, 2.0 * t1 + 1.0],
+                [t2, 2.0 * t2 + 1.0],
+                [t3, 2.0 * t3 + 1.0],
+            ]
         })
         .collect();
     let deg3: Vec<[[f64; 3]; 5]> = (0..N)
@@ -154,7 +168,11 @@ fn main() {
         .map(|_| {
             let rad = mag(&mut r);
             let on = |r: &mut Rng| {
-                let th = if r.next() % 2 == 0 { 3.1 + 0.1 * r.f() } else { 6.28 * r.f() };
+                let th = if r.next() % 2 == 0 {
+                    3.1 + 0.1 * r.f()
+                } else {
+                    6.28 * r.f()
+                };
                 [rad + rad * th.cos(), rad * th.sin()]
             };
             [on(&mut r), on(&mut r), on(&mut r), on(&mut r)]
@@ -164,7 +182,14 @@ fn main() {
         .map(|_| {
             let rad = mag(&mut r);
             let on = |r: &mut Rng| {
-                let (th, z) = (6.28 * r.f(), if r.next() % 2 == 0 { -1.0 + 1e-3 * r.f() } else { 2.0 * r.f() - 1.0 });
+                let (th, z) = (
+                    6.28 * r.f(),
+                    if r.next() % 2 == 0 {
+                        -1.0 + 1e-3 * r.f()
+                    } else {
+                        2.0 * r.f() - 1.0
+                    },
+                );
                 let w = (1.0 - z * z).sqrt();
                 [rad * w * th.cos(), rad * w * th.sin(), rad + rad * z]
             };
@@ -183,53 +208,128 @@ fn main() {
         .collect();
     let nplane3: Vec<[[f64; 3]; 4]> = (0..N)
         .map(|_| {
-            let (u, v, w) = ([r.f(), r.f(), r.f()], [r.f(), r.f(), r.f()], [r.f(), r.f(), r.f()]);
+            let (u, v, w) = (
+                [r.f(), r.f(), r.f()],
+                [r.f(), r.f(), r.f()],
+                [r.f(), r.f(), r.f()],
+            );
             let on = |r: &mut Rng| {
                 let (s, t) = (mag(r), mag(r));
-                [u[0] + s * v[0] + t * w[0], u[1] + s * v[1] + t * w[1], u[2] + s * v[2] + t * w[2]]
+                [
+                    u[0] + s * v[0] + t * w[0],
+                    u[1] + s * v[1] + t * w[1],
+                    u[2] + s * v[2] + t * w[2],
+                ]
             };
             [on(&mut r), on(&mut r), on(&mut r), on(&mut r)]
         })
         .collect();
 
-    println!("{:<22} {:<16} {:>9} {:>9} {:>7}", "predicate", "inputs", "delone", "robust", "ratio");
-    println!("{:<22} {:<16} {:>9} {:>9} {:>7}", "", "", "ns/call", "ns/call", "");
+    println!(
+        "{:<22} {:<16} {:>9} {:>9} {:>7}",
+        "predicate", "inputs", "delone", "robust", "ratio"
+    );
+    println!(
+        "{:<22} {:<16} {:>9} {:>9} {:>7}",
+        "", "", "ns/call", "ns/call", ""
+    );
     // orient2d
     let o2 = |q: &[[f64; 2]]| orient2d(&q[0], &q[1], &q[2]);
     let o2r = |q: &[[f64; 2]]| robust::orient2d(c2(&q[0]), c2(&q[1]), c2(&q[2]));
     set("orient2d", "random");
-    row("orient2d", "random", time(&rnd2, |q| o2(q)), Some(time(&rnd2, |q| o2r(q))));
+    row(
+        "orient2d",
+        "random",
+        time(&rnd2, |q| o2(q)),
+        Some(time(&rnd2, |q| o2r(q))),
+    );
     set("orient2d", "degenerate");
-    row("orient2d", "degenerate", time(&line2, |q| o2(q)), Some(time(&line2, |q| o2r(q))));
+    row(
+        "orient2d",
+        "degenerate",
+        time(&line2, |q| o2(q)),
+        Some(time(&line2, |q| o2r(q))),
+    );
     set("orient2d", "near-degenerate");
-    row("orient2d", "near-degenerate", time(&nline2, |q| o2(q)), Some(time(&nline2, |q| o2r(q))));
+    row(
+        "orient2d",
+        "near-degenerate",
+        time(&nline2, |q| o2(q)),
+        Some(time(&nline2, |q| o2r(q))),
+    );
     // incircle
     let ic = |q: &[[f64; 2]; 4]| incircle(&q[0], &q[1], &q[2], &q[3]);
     let icr = |q: &[[f64; 2]; 4]| robust::incircle(c2(&q[0]), c2(&q[1]), c2(&q[2]), c2(&q[3]));
     set("incircle", "random");
-    row("incircle", "random", time(&rnd2, ic), Some(time(&rnd2, icr)));
+    row(
+        "incircle",
+        "random",
+        time(&rnd2, ic),
+        Some(time(&rnd2, icr)),
+    );
     set("incircle", "degenerate");
-    row("incircle", "degenerate", time(&deg2, ic), Some(time(&deg2, icr)));
+    row(
+        "incircle",
+        "degenerate",
+        time(&deg2, ic),
+        Some(time(&deg2, icr)),
+    );
     set("incircle", "near-degenerate");
-    row("incircle", "near-degenerate", time(&near2, ic), Some(time(&near2, icr)));
+    row(
+        "incircle",
+        "near-degenerate",
+        time(&near2, ic),
+        Some(time(&near2, icr)),
+    );
     // orient3d
     let o3 = |q: &[[f64; 3]]| orient3d(&q[0], &q[1], &q[2], &q[3]);
     let o3r = |q: &[[f64; 3]]| robust::orient3d(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]));
     set("orient3d", "random");
-    row("orient3d", "random", time(&rnd3, |q| o3(q)), Some(time(&rnd3, |q| o3r(q))));
+    row(
+        "orient3d",
+        "random",
+        time(&rnd3, |q| o3(q)),
+        Some(time(&rnd3, |q| o3r(q))),
+    );
     set("orient3d", "degenerate");
-    row("orient3d", "degenerate", time(&plane3, |q| o3(q)), Some(time(&plane3, |q| o3r(q))));
+    row(
+        "orient3d",
+        "degenerate",
+        time(&plane3, |q| o3(q)),
+        Some(time(&plane3, |q| o3r(q))),
+    );
     set("orient3d", "near-degenerate");
-    row("orient3d", "near-degenerate", time(&nplane3, |q| o3(q)), Some(time(&nplane3, |q| o3r(q))));
+    row(
+        "orient3d",
+        "near-degenerate",
+        time(&nplane3, |q| o3(q)),
+        Some(time(&nplane3, |q| o3r(q))),
+    );
     // insphere
     let is = |q: &[[f64; 3]; 5]| insphere(&q[0], &q[1], &q[2], &q[3], &q[4]);
-    let isr = |q: &[[f64; 3]; 5]| robust::insphere(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]), c3(&q[4]));
+    let isr =
+        |q: &[[f64; 3]; 5]| robust::insphere(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]), c3(&q[4]));
     set("insphere", "random");
-    row("insphere", "random", time(&rnd3, is), Some(time(&rnd3, isr)));
+    row(
+        "insphere",
+        "random",
+        time(&rnd3, is),
+        Some(time(&rnd3, isr)),
+    );
     set("insphere", "degenerate");
-    row("insphere", "degenerate", time(&deg3, is), Some(time(&deg3, isr)));
+    row(
+        "insphere",
+        "degenerate",
+        time(&deg3, is),
+        Some(time(&deg3, isr)),
+    );
     set("insphere", "near-degenerate");
-    row("insphere", "near-degenerate", time(&near3, is), Some(time(&near3, isr)));
+    row(
+        "insphere",
+        "near-degenerate",
+        time(&near3, is),
+        Some(time(&near3, isr)),
+    );
     // Weighted and SoS (no robust counterpart).
     let icw = |q: &[[f64; 2]; 4]| incircle_weighted(&q[0], &q[1], &q[2], &q[3], 0.0, 0.0, 0.0, 0.0);
     set("incircle_weighted", "random");
@@ -237,26 +337,44 @@ fn main() {
     set("incircle_weighted", "degenerate");
     row("incircle_weighted", "degenerate", time(&deg2, icw), None);
     set("incircle_weighted", "near-degenerate");
-    row("incircle_weighted", "near-degenerate", time(&near2, icw), None);
-    let isw = |q: &[[f64; 3]; 5]| insphere_weighted(&q[0], &q[1], &q[2], &q[3], &q[4], 0.0, 0.0, 0.0, 0.0, 0.0);
+    row(
+        "incircle_weighted",
+        "near-degenerate",
+        time(&near2, icw),
+        None,
+    );
+    let isw = |q: &[[f64; 3]; 5]| {
+        insphere_weighted(&q[0], &q[1], &q[2], &q[3], &q[4], 0.0, 0.0, 0.0, 0.0, 0.0)
+    };
     set("insphere_weighted", "random");
     row("insphere_weighted", "random", time(&rnd3, isw), None);
     set("insphere_weighted", "degenerate");
     row("insphere_weighted", "degenerate", time(&deg3, isw), None);
     set("insphere_weighted", "near-degenerate");
-    row("insphere_weighted", "near-degenerate", time(&near3, isw), None);
+    row(
+        "insphere_weighted",
+        "near-degenerate",
+        time(&near3, isw),
+        None,
+    );
     let o2s = |q: &[[f64; 2]]| orient2d_sos(&q[0], &q[1], &q[2], 0, 1, 2) as f64;
     set("orient2d_sos", "degenerate");
     row("orient2d_sos", "degenerate", time(&line2, |q| o2s(q)), None);
     let o3s = |q: &[[f64; 3]]| orient3d_sos(&q[0], &q[1], &q[2], &q[3], 0, 1, 2, 3) as f64;
     set("orient3d_sos", "degenerate");
-    row("orient3d_sos", "degenerate", time(&plane3, |q| o3s(q)), None);
+    row(
+        "orient3d_sos",
+        "degenerate",
+        time(&plane3, |q| o3s(q)),
+        None,
+    );
     let ics = |q: &[[f64; 2]; 4]| incircle_sos(&q[0], &q[1], &q[2], &q[3], 3, 1, 2, 0) as f64;
     set("incircle_sos", "random");
     row("incircle_sos", "random", time(&rnd2, ics), None);
     set("incircle_sos", "degenerate");
     row("incircle_sos", "degenerate", time(&deg2, ics), None);
-    let iss = |q: &[[f64; 3]; 5]| insphere_sos(&q[0], &q[1], &q[2], &q[3], &q[4], 3, 1, 4, 0, 2) as f64;
+    let iss =
+        |q: &[[f64; 3]; 5]| insphere_sos(&q[0], &q[1], &q[2], &q[3], &q[4], 3, 1, 4, 0, 2) as f64;
     set("insphere_sos", "random");
     row("insphere_sos", "random", time(&rnd3, iss), None);
     set("insphere_sos", "degenerate");
