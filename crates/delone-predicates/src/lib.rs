@@ -129,7 +129,7 @@ pub fn orient2d(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     let r = (a[1] - c[1]) * (b[0] - c[0]);
     let det = l - r;
     let bound = O2_BOUND * (l.abs() + r.abs());
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::orient2d_exact(a, b, c)
@@ -158,7 +158,7 @@ pub fn incircle(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> f64 {
     let perm =
         al * (bc1.abs() + bc2.abs()) + bl * (ca1.abs() + ca2.abs()) + cl * (ab1.abs() + ab2.abs());
     let bound = IC_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::incircle_exact(a, b, c, d, [0.0; 4])
@@ -186,7 +186,7 @@ pub fn orient3d(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
         + bd[0].abs() * (ca1.abs() + ca2.abs())
         + cd[0].abs() * (ab1.abs() + ab2.abs());
     let bound = O3_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::orient3d_exact(a, b, c, d)
@@ -244,7 +244,7 @@ fn insphere_float(p: [&Point3; 5], wd: [f64; 4]) -> (f64, f64) {
 pub fn insphere(a: &Point3, b: &Point3, c: &Point3, d: &Point3, e: &Point3) -> f64 {
     let (det, perm) = insphere_float([a, b, c, d, e], [0.0; 4]);
     let bound = IS_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::insphere_exact([a, b, c, d, e], [0.0; 5])
@@ -294,7 +294,7 @@ pub fn incircle_weighted(
         + (bl + wbd.abs()) * (ca1.abs() + ca2.abs())
         + (cl + wcd.abs()) * (ab1.abs() + ab2.abs());
     let bound = ICW_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::incircle_exact(a, b, c, d, [wa, wb, wc, wd])
@@ -332,7 +332,7 @@ pub fn insphere_weighted(
 ) -> f64 {
     let (det, perm) = insphere_float([a, b, c, d, e], [wa - we, wb - we, wc - we, wd - we]);
     let bound = ISW_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::insphere_exact([a, b, c, d, e], [wa, wb, wc, wd, we])

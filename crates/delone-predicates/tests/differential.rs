@@ -271,7 +271,7 @@ fn near_degenerate_with_inexact_differences() {
         // Circle of radius rad centred at (rad, 0) + tiny: passes near the origin.
         let rad = mag(&mut r).abs();
         let on_circle = |r: &mut Rng| {
-            let th = [r.range(3.1, 3.2), r.range(0.0, 6.28)][r.int(0, 1) as usize];
+            let th = [r.range(3.1, 3.2), r.range(0.0, std::f64::consts::TAU)][r.int(0, 1) as usize];
             [rad + rad * th.cos(), 1e-3 + rad * th.sin()]
         };
         t.ic(
@@ -297,7 +297,7 @@ fn near_degenerate_with_inexact_differences() {
         );
         let on_sphere = |r: &mut Rng| {
             let (th, z) = (
-                r.range(0.0, 6.28),
+                r.range(0.0, std::f64::consts::TAU),
                 [r.range(-1.0, 1.0), r.range(-1.0, -0.999)][r.int(0, 1) as usize],
             );
             let w = (1.0 - z * z).sqrt();

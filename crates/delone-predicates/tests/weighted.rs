@@ -109,6 +109,9 @@ fn invariances_hold_exactly() {
     );
 }
 
+/// Points and weights for one 2D and one 3D power test.
+type Case = ([[f64; 2]; 4], [f64; 4], [[f64; 3]; 5], [f64; 5]);
+
 #[test]
 fn agrees_with_independent_big_integer_evaluator() {
     let mut r = Rng(13);
@@ -116,7 +119,7 @@ fn agrees_with_independent_big_integer_evaluator() {
     for i in 0..3_000 {
         // Mix: small integers with quarter weights (many ties), random doubles with
         // random weights, and huge offsets with tiny features (inexact differences).
-        let (p2, w2, p3, w3): ([[f64; 2]; 4], [f64; 4], [[f64; 3]; 5], [f64; 5]) = match i % 3 {
+        let (p2, w2, p3, w3): Case = match i % 3 {
             0 => (
                 std::array::from_fn(|_| [r.int(-3, 3) as f64, r.int(-3, 3) as f64]),
                 std::array::from_fn(|_| r.int(-8, 8) as f64 * 0.25),
