@@ -86,7 +86,8 @@ fn sign_plus(e: &[f64], x: f64, y: f64) -> f64 {
 ///   floating point underestimates the exact permanent by less than the slack).
 /// * C: with the first-order term added, the neglected second-order terms are
 ///   below `C(k,2)·u²·P` and the floating-point error of `corr` below
-///   `(k+8)·k·u²·P`; `2k(2k+8)·u²·P` bounds both with a wide margin.
+///   about `(5k+5)·k·u²·P` (roundings along the gradient evaluation, times
+///   `Σ|x|·∂P/∂|x| = k·P`); `4k(2k+8)·u²·P` bounds both with a wide margin.
 ///
 /// All comparisons are exact. Returns `None` if neither stage decides.
 fn decide(e: &[f64], perm: f64, k: f64, corr: impl FnOnce() -> f64) -> Option<f64> {
@@ -96,7 +97,7 @@ fn decide(e: &[f64], perm: f64, k: f64, corr: impl FnOnce() -> f64) -> Option<f6
         return Some(v);
     }
     let c = corr();
-    let err = 2.0 * k * (2.0 * k + 8.0) * U * U * perm;
+    let err = 4.0 * k * (2.0 * k + 8.0) * U * U * perm;
     let s = if sign_plus(e, c, -err) > 0.0 {
         1.0
     } else if sign_plus(e, c, err) < 0.0 {
@@ -123,12 +124,46 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// Whether every value is an integer multiple of a common power of two `g` with
+/// magnitude at most `lim·g`. A degree-`k` determinant formula with `C` monomials
+/// over such values has every intermediate result an integer multiple of `g^j`
+/// (its degree `j`) below `C·lim^k·g^j ≤ 2^53·g^j`, hence exactly representable:
+/// plain floating-point evaluation is then exact (no overflow/underflow assumed).
+fn on_coarse_grid(vals: &[f64], lim: f64) -> bool {
+    let mut low = i32::MAX;
+    let mut big = 0.0f64;
+    for &x in vals {
+        if x == 0.0 {
+            continue;
+        }
+        let bits = x.to_bits();
+        let exp = ((bits >> 52) & 0x7FF) as i32;
+        if exp == 0 {
+            return false; // subnormal
+        }
+        let mant = (bits & ((1u64 << 52) - 1)) | (1u64 << 52);
+        low = low.min(exp - 1075 + mant.trailing_zeros() as i32);
+        big = big.max(x.abs());
+    }
+    if low == i32::MAX {
+        return true;
+    }
+    if !(-1000..=1000).contains(&low) {
+        return false;
+    }
+    big <= lim * f64::from_bits(((low + 1023) as u64) << 52)
+}
+
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
 pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     let mut exact = true;
     let ((ac, ta), (bc, tb)) = (diffs(a, c, &mut exact), diffs(b, c, &mut exact));
+    // 2 monomials of degree 2: 2·(2^25)^2 < 2^53.
+    if exact && on_coarse_grid(&[ac[0], ac[1], bc[0], bc[1]], 33_554_432.0) {
+        return ac[0] * bc[1] - ac[1] * bc[0];
+    }
     let e = Exp::<2>::product(ac[0], bc[1]).sub::<2, 4>(&Exp::<2>::product(ac[1], bc[0]));
     if exact {
         return e.approx();
@@ -177,6 +212,17 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
         diffs(b, d, &mut exact),
         diffs(c, d, &mut exact),
     );
+    // 6 monomials of degree 3: 6·(2^16)^3 < 2^53.
+    if exact
+        && on_coarse_grid(
+            &[
+                ad[0], ad[1], ad[2], bd[0], bd[1], bd[2], cd[0], cd[1], cd[2],
+            ],
+            65_536.0,
+        )
+    {
+        return dot(&ad, &cross(&bd, &cd));
+    }
     let e = det3(&ad, &bd, &cd);
     if exact {
         return e.approx();
@@ -203,6 +249,7 @@ type Tier = Option<Option<f64>>;
 
 /// Stage A of the weighted in-circle test: rows `(p - d, |p - d|² - (w_p - w_d))`,
 /// expanded along the lift column (`+ - +`), with capacities `P, S, R`.
+#[inline(never)]
 fn incircle_a<const P: usize, const S: usize, const R: usize>(
     q: [&[f64; 2]; 3],
     w: [f64; 4],
@@ -230,6 +277,7 @@ fn lift2(p: &[f64; 2], w: f64) -> Exp<5> {
 
 /// Stage B of the weighted in-circle test: homogeneous 4x4 `[x y lift 1]` along the
 /// lift column (`+ - + -`), minors `det[x y 1]` of the other rows.
+#[inline(never)]
 fn incircle_b<const P: usize, const S: usize, const R: usize>(
     p: [&Point2; 4],
     w: [f64; 4],
@@ -285,6 +333,19 @@ pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: 
         };
         decide(e, perm, 4.0, corr)
     };
+    // Unweighted on a coarse grid: 12 monomials of degree 4, 12·(2^12)^4 < 2^53.
+    if exact && w == [0.0; 4] && on_coarse_grid(&[ad[0], ad[1], bd[0], bd[1], cd[0], cd[1]], 4096.0)
+    {
+        let l = |p: &[f64; 2]| p[0] * p[0] + p[1] * p[1];
+        return dot(
+            &[l(&ad), l(&bd), l(&cd)],
+            &[
+                bd[0] * cd[1] - cd[0] * bd[1],
+                cd[0] * ad[1] - ad[0] * cd[1],
+                ad[0] * bd[1] - bd[0] * ad[1],
+            ],
+        );
+    }
     // Worst-case capacities: 2*4*6 = 48, 96, 144.
     let q = [&ad, &bd, &cd];
     let r = incircle_a::<16, 32, 32>(q, w, &fin).or_else(|| incircle_a::<48, 96, 144>(q, w, &fin));
@@ -299,6 +360,7 @@ pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: 
 
 /// Stage A of the weighted in-sphere test: rows `(p - e, |p - e|² - (w_p - w_e))`,
 /// along the lift column (`- + - +`).
+#[inline(never)]
 fn insphere_a<const P: usize, const S: usize, const R: usize>(
     q: [&[f64; 3]; 4],
     w: [f64; 5],
@@ -331,6 +393,7 @@ fn lift3(p: &[f64; 3], w: f64) -> Exp<7> {
 /// Stage B of the weighted in-sphere test: homogeneous 5x5 `[x y z lift 1]` along
 /// the lift column (`- + - + -`), minors `det[x y z 1]` of the other four rows,
 /// each expanded along its ones column (`- + - +`).
+#[inline(never)]
 fn insphere_b<const P: usize, const S1: usize, const S2: usize, const R: usize>(
     p: [&Point3; 5],
     w: [f64; 5],
@@ -401,6 +464,13 @@ pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
         };
         decide(ex, perm, 5.0, corr)
     };
+    // Unweighted on a coarse grid: 72 monomials of degree 5, 72·(2^9)^5 < 2^53.
+    if exact && w == [0.0; 5] && on_coarse_grid(q.as_flattened(), 512.0) {
+        let l = |x: &[f64; 3]| x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+        let d = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| dot(a, &cross(b, c));
+        return (l(&q[1]) * d(&q[0], &q[2], &q[3]) - l(&q[0]) * d(&q[1], &q[2], &q[3]))
+            + (l(&q[3]) * d(&q[0], &q[1], &q[2]) - l(&q[2]) * d(&q[0], &q[1], &q[3]));
+    }
     // Worst-case capacities: 2*24*8 = 384, 768, 1536.
     let qr = [&q[0], &q[1], &q[2], &q[3]];
     let r =

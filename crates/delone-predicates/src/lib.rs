@@ -37,22 +37,45 @@
 //!
 //! # The exact stage
 //!
-//! Otherwise a separate `#[cold]` function evaluates the determinant exactly with
-//! floating-point *expansions* (sums of non-overlapping doubles: two-sum, two-product
-//! with FMA when the target has it or Dekker's split otherwise, expansion sum and
-//! scaling with zero elimination), in fixed-size stack arrays; nothing allocates.
-//! When all coordinate differences are exact doubles (integer grids, nearby points)
-//! the short translated determinant is used; otherwise the homogeneous determinant
-//! on the raw coordinates, which needs no differences. The weighted tests compute
-//! the lifted coordinates `x² + y² (+ z²) − w` as expansions, so they are exact too.
-//! The exact stage returns the largest component of the exact expansion: the sign
-//! is exact, the magnitude approximate, and the value is exactly `0.0` iff the
-//! determinant is zero.
+//! Otherwise a separate `#[cold]` function decides, in up to four steps, all with
+//! floating-point *expansions* (sums of non-overlapping doubles: two-sum,
+//! two-product with FMA when the target has it or Dekker's split otherwise,
+//! expansion sum and scaling with zero elimination, exact sign tests by streamed
+//! grow-expansion) in fixed-size stack arrays — nothing allocates:
+//!
+//! 1. **Coarse grid.** If every coordinate difference is exact and all are integer
+//!    multiples of a common power of two `g` no larger than `L·g` (`L = 2^25, 2^16,
+//!    2^12, 2^9` for orient2d, orient3d, incircle, insphere), every intermediate of
+//!    the plain floating-point formula is an exactly representable multiple of a
+//!    power of `g`, so the plain evaluation *is* exact. Integer and dyadic grids,
+//!    the usual source of exact ties, take this path at filter speed.
+//! 2. **Stage A.** The translated determinant is evaluated exactly on the rounded
+//!    differences. If all differences were exact, this is the answer.
+//! 3. **Stages A′ and C.** Each rounded difference is within `u·|x|` of the true
+//!    one, so a degree-`k` determinant on them is within `(k+1)·u·P` of the true
+//!    value (`P` its permanent); failing that, the first-order effect of the
+//!    rounding errors is added in floating point (a gradient formulation of
+//!    Shewchuk's stage C) and certified against a `O(u²·P)` bound. Comparisons
+//!    against these bounds are exact.
+//! 4. **Stage B.** Otherwise (in practice only exact ties whose coordinate
+//!    differences are not representable) the *homogeneous* determinant on the raw
+//!    coordinates, rows `[x, y, (lift,) 1]`, is expanded by cofactors; it needs no
+//!    differences at all.
+//!
+//! The long intermediate expansions are first tried with small capacities, checked
+//! at run time, and only on overflow with the worst-case capacities (up to a few
+//! hundred kilobytes of stack for the 3D in-sphere test, a path essentially never
+//! taken). The weighted tests compute the lifted coordinates `x² + y² (+ z²) − w`
+//! as expansions, so they are exact too. The exact stage returns an approximation
+//! of the determinant: the sign is exact, the magnitude approximate, and the value
+//! is exactly `0.0` iff the determinant is zero.
 //!
 //! **Caveat (overflow/underflow).** Exactness holds for all finite inputs whose
-//! intermediate products neither overflow nor underflow: roughly coordinates with
-//! magnitudes in `[1e-60, 1e60]` for the 3D in-sphere test (wider for the others),
-//! and at most `~1e300 / 2^27` in magnitude when Dekker's split is in use.
+//! intermediate products neither overflow nor underflow (the error bounds assume
+//! normalized numbers and the expansion products need their rounding errors to be
+//! representable): roughly coordinate differences with magnitudes in
+//! `[1e-50, 1e50]` for the 3D in-sphere test (wider for the others), and no
+//! coordinate above `~1e300 / 2^27` when Dekker's split is in use.
 //! Coordinates scaled by `1e-9` or `1e9` are far inside that range. Non-finite
 //! inputs (NaN, ±∞) give an unspecified sign but never panic.
 //!

@@ -312,3 +312,160 @@ fn near_degenerate_with_inexact_differences() {
         );
     }
 }
+
+/// Integer points near circles, spheres, lines and planes whose coordinate
+/// differences range around the limits of the "coarse grid" fast exact path
+/// (plain floating point is exact there); a limit set too high would make the
+/// near-zero determinants round to the wrong sign.
+#[test]
+fn integer_inputs_around_the_coarse_grid_limits() {
+    let mut r = Rng(5);
+    let mut t = Tally::default();
+    for &rad in &[
+        60.0, 127.0, 255.0, 256.0, 300.0, 511.0, 700.0, 2047.0, 4095.0, 5000.0, 40_000.0, 70_000.0,
+        3.0e7, 1.0e9,
+    ] {
+        let near_circle = |r: &mut Rng| {
+            let x = (r.range(-1.0, 1.0) * rad).round();
+            let y = (rad * rad - x * x).max(0.0).sqrt().round();
+            [x, if r.int(0, 1) == 0 { y } else { -y }]
+        };
+        let near_sphere = |r: &mut Rng| {
+            let x = (r.range(-0.7, 0.7) * rad).round();
+            let y = (r.range(-0.7, 0.7) * rad).round();
+            let z = (rad * rad - x * x - y * y).max(0.0).sqrt().round();
+            [x, y, if r.int(0, 1) == 0 { z } else { -z }]
+        };
+        for _ in 0..300 {
+            t.ic(
+                &near_circle(&mut r),
+                &near_circle(&mut r),
+                &near_circle(&mut r),
+                &near_circle(&mut r),
+            );
+            t.is(
+                &near_sphere(&mut r),
+                &near_sphere(&mut r),
+                &near_sphere(&mut r),
+                &near_sphere(&mut r),
+                &near_sphere(&mut r),
+            );
+            // Near-collinear / near-coplanar integer points: p + round(s * v).
+            let (p, v) = (
+                [r.int(-9, 9) as f64, r.int(-9, 9) as f64],
+                [r.int(1, 97) as f64, r.int(1, 89) as f64],
+            );
+            let on = |r: &mut Rng| {
+                let s = r.range(-1.0, 1.0) * rad / 100.0;
+                [p[0] + (s * v[0]).round(), p[1] + (s * v[1]).round()]
+            };
+            t.o2(&on(&mut r), &on(&mut r), &on(&mut r));
+            let (u, w) = (
+                [r.int(1, 9) as f64, r.int(-9, 9) as f64, r.int(1, 9) as f64],
+                [r.int(-9, 9) as f64, r.int(1, 9) as f64, r.int(-9, 9) as f64],
+            );
+            let on3 = |r: &mut Rng| {
+                let (s, q) = (
+                    r.range(-1.0, 1.0) * rad / 10.0,
+                    r.range(-1.0, 1.0) * rad / 10.0,
+                );
+                [
+                    (s * u[0] + q * w[0]).round(),
+                    (s * u[1] + q * w[1]).round(),
+                    (s * u[2] + q * w[2]).round(),
+                ]
+            };
+            t.o3(&on3(&mut r), &on3(&mut r), &on3(&mut r), &on3(&mut r));
+        }
+    }
+    assert!(t.zeros > 100);
+}
+
+/// Exact ties (collinear, cocircular, coplanar, cospherical) with large odd
+/// integer coordinates straddling the coarse-grid limits: plain floating point
+/// rounds these determinants away from zero once the limits are exceeded.
+#[test]
+fn exact_ties_with_large_integer_coordinates() {
+    let mut r = Rng(6);
+    let mut t = Tally::default();
+    let pyth2 = [(3.0, 4.0), (4.0, 3.0), (5.0, 0.0), (0.0, 5.0)];
+    let pyth3 = [
+        (1.0, 2.0, 2.0),
+        (2.0, 1.0, 2.0),
+        (2.0, 2.0, 1.0),
+        (3.0, 0.0, 0.0),
+        (0.0, 3.0, 0.0),
+        (0.0, 0.0, 3.0),
+    ];
+    for &k in &[
+        101.0, 171.0, 341.0, 683.0, 1365.0, 2731.0, 5461.0, 21845.0, 87381.0, 349525.0, 1398101.0,
+    ] {
+        let off = [
+            r.int(-999, 999) as f64 * 2.0 + 1.0,
+            r.int(-999, 999) as f64 * 2.0 + 1.0,
+            7.0,
+        ];
+        for _ in 0..200 {
+            let c = |r: &mut Rng| {
+                let (x, y) = pyth2[r.int(0, 3) as usize];
+                let (sx, sy) = (
+                    if r.int(0, 1) == 0 { 1.0 } else { -1.0 },
+                    if r.int(0, 1) == 0 { 1.0 } else { -1.0 },
+                );
+                [off[0] + sx * x * k, off[1] + sy * y * k]
+            };
+            t.ic(&c(&mut r), &c(&mut r), &c(&mut r), &c(&mut r));
+            let s = |r: &mut Rng| {
+                let (x, y, z) = pyth3[r.int(0, 5) as usize];
+                let sg = |r: &mut Rng| if r.int(0, 1) == 0 { 1.0 } else { -1.0 };
+                [
+                    off[0] + sg(r) * x * k,
+                    off[1] + sg(r) * y * k,
+                    off[2] + sg(r) * z * k,
+                ]
+            };
+            t.is(&s(&mut r), &s(&mut r), &s(&mut r), &s(&mut r), &s(&mut r));
+            // Collinear and coplanar with parameters around k^2 (up to ~2^41).
+            let l = |r: &mut Rng| {
+                let s = r.int(-1000, 1000) as f64 * k * 3.0 + 1.0;
+                [off[0] + 3.0 * s, off[1] - 5.0 * s]
+            };
+            t.o2(&l(&mut r), &l(&mut r), &l(&mut r));
+            let pl = |r: &mut Rng| {
+                let (s, q) = (
+                    r.int(-1000, 1000) as f64 * k / 8.0,
+                    r.int(-1000, 1000) as f64 * k / 8.0,
+                );
+                let (s, q) = (s.round() + 1.0, q.round() + 1.0);
+                [
+                    off[0] + 3.0 * s - q,
+                    off[1] + 2.0 * s + 5.0 * q,
+                    off[2] - s + 3.0 * q,
+                ]
+            };
+            t.o3(&pl(&mut r), &pl(&mut r), &pl(&mut r), &pl(&mut r));
+        }
+    }
+    assert!(t.zeros > 20_000, "{}", t.zeros);
+}
+
+/// Unimodular pairs of consecutive Fibonacci vectors: `orient2d` is ±1 while its
+/// two products reach 2^80, far beyond what plain floating point resolves.
+#[test]
+fn fibonacci_orient2d_is_plus_or_minus_one() {
+    let mut t = Tally::default();
+    let mut f = [1.0f64, 1.0, 2.0];
+    for n in 3..58 {
+        let c = [(n as f64) * 3.0 - 7.0, 11.0 - n as f64];
+        let a = [c[0] + f[2], c[1] + f[1]];
+        let b = [c[0] + f[1], c[1] + f[0]];
+        t.o2(&a, &b, &c);
+        // With f = (F(n-2), F(n-1), F(n)): F(n) F(n-2) - F(n-1)^2 = (-1)^(n+1).
+        assert_eq!(
+            sign(orient2d(&a, &b, &c)),
+            if n % 2 == 1 { 1 } else { -1 },
+            "n = {n}"
+        );
+        f = [f[1], f[2], f[1] + f[2]];
+    }
+}
