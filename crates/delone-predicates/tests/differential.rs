@@ -469,3 +469,39 @@ fn fibonacci_orient2d_is_plus_or_minus_one() {
         f = [f[1], f[2], f[1] + f[2]];
     }
 }
+
+/// The usual exact paths fit in a small thread stack (the worst-case-capacity
+/// tiers live in separate, rarely called functions).
+#[test]
+fn exact_paths_run_on_a_small_stack() {
+    let h = std::thread::Builder::new()
+        .stack_size(256 * 1024)
+        .spawn(|| {
+            let mut r = Rng(7);
+            let mut t = Tally::default();
+            for _ in 0..2_000 {
+                // Exact ties with inexact differences: stage B.
+                let k = [1e-3, 0.1, 3.0][r.int(0, 2) as usize];
+                let s = |r: &mut Rng| {
+                    let (x, y, z) = [
+                        (1.0, 2.0, 2.0),
+                        (2.0, 1.0, 2.0),
+                        (3.0, 0.0, 0.0),
+                        (0.0, 0.0, 3.0),
+                    ][r.int(0, 3) as usize];
+                    [x * k + 0.5, y * k - 1.0, z * k + 1e3]
+                };
+                t.is(&s(&mut r), &s(&mut r), &s(&mut r), &s(&mut r), &s(&mut r));
+                t.o3(&s(&mut r), &s(&mut r), &s(&mut r), &s(&mut r));
+                let c = |r: &mut Rng| {
+                    let (x, y) =
+                        [(3.0, 4.0), (-4.0, 3.0), (5.0, 0.0), (0.0, -5.0)][r.int(0, 3) as usize];
+                    [x * k + 0.25, y * k - 1e3]
+                };
+                t.ic(&c(&mut r), &c(&mut r), &c(&mut r), &c(&mut r));
+            }
+            t.zeros
+        })
+        .expect("spawn");
+    assert!(h.join().expect("no stack overflow") > 0);
+}
