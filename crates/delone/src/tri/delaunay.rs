@@ -1,44 +1,1125 @@
-//! The incremental 2D Delaunay kernel (placeholder until implemented).
+//! The incremental 2D Delaunay kernel.
+//!
+//! Points are inserted one at a time (Bowyer–Watson): a visibility walk from
+//! the last created triangle locates the new point, the triangles whose
+//! circumcircle contains it (the *cavity*) are collected by a search on an
+//! explicit stack, and the cavity is re-triangulated as a star from the new
+//! vertex, reusing the dead slots. The hull is closed by ghost triangles on an
+//! infinite vertex (see the `topo` module for the numbering conventions), so
+//! points outside the hull need no special code.
+//!
+//! All decisions are made by exact predicates; cocircular points are resolved
+//! by Simulation of Simplicity (a symbolic perturbation of the lifted points
+//! ordered by point index), so the output is a Delaunay triangulation and is
+//! the same on every run.
+//!
+//! # References
+//! A. Bowyer, *Computing Dirichlet tessellations*, Comput. J. 24 (1981).
+//! D. F. Watson, *Computing the n-dimensional Delaunay tessellation*, Comput. J. 24 (1981).
+//! O. Devillers, S. Pion, M. Teillaud, *Walking in a triangulation*, IJFCS 13 (2002).
+//! N. Amenta, S. Choi, G. Rote, *Incremental constructions con BRIO*, SoCG 2003.
 
+use std::borrow::Cow;
+
+use delone_predicates::{incircle, orient2d};
+
+use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::TriMesh;
-use crate::Error;
+use crate::geom::brio_order;
+use crate::{Error, Violation, NONE};
 
-/// Incremental 2D Delaunay triangulation.
-#[derive(Debug, Clone, Default)]
-pub struct Delaunay2 {
-    mesh: TriMesh,
+/// Largest number of points (ids must stay below the reserved ids).
+const MAX_POINTS: usize = (u32::MAX - 2) as usize;
+
+/// How often (in insertions) the progress callback is called.
+const PROGRESS_EVERY: usize = 1 << 16;
+
+/// The result of [`Delaunay2::insert`].
+///
+/// ```
+/// use delone::tri::{Delaunay2, Inserted};
+/// let mut d = Delaunay2::new();
+/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Vertex(0));
+/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Duplicate(0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Inserted {
+    /// The point became vertex `id` (its index in [`Delaunay2::points`]).
+    Vertex(u32),
+    /// The point has the same coordinates as vertex `id` and was not inserted
+    /// (it still gets an index in [`Delaunay2::points`]).
+    Duplicate(u32),
 }
 
-impl Delaunay2 {
-    /// Builds the triangulation of `points` in BRIO order.
+/// Where a query point lies, as answered by [`Delaunay2::locate`].
+///
+/// Triangle ids are slots of the kernel (see [`Delaunay2::triangle`]); they
+/// are not the indices of the compacted [`TriMesh`].
+///
+/// ```
+/// use delone::tri::{Delaunay2, Location};
+/// let d = Delaunay2::from_points(&[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]).unwrap();
+/// assert!(matches!(d.locate(&[1.0, 1.0]), Location::InTriangle(_)));
+/// assert_eq!(d.locate(&[4.0, 0.0]), Location::OnVertex(1));
+/// assert!(matches!(d.locate(&[2.0, 0.0]), Location::OnEdge(_, _)));
+/// assert!(matches!(d.locate(&[9.0, 9.0]), Location::OutsideHull(_)));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Location {
+    /// Strictly inside finite triangle `t`.
+    InTriangle(u32),
+    /// On edge `i` (opposite vertex `i`) of finite triangle `t`, not on a vertex.
+    OnEdge(u32, u8),
+    /// At the position of vertex `v`.
+    OnVertex(u32),
+    /// Outside the convex hull, strictly beyond the hull edge `[a, b]`
+    /// (hull edges are listed counterclockwise around the hull).
+    OutsideHull([u32; 2]),
+    /// No triangle exists yet (fewer than 3 non-collinear points inserted).
+    NoTriangle,
+}
+
+/// Incremental 2D Delaunay triangulation.
+///
+/// Build it in one call with [`Delaunay2::from_points`] (the points are
+/// borrowed, not copied) or point by point with [`Delaunay2::new`] and
+/// [`Delaunay2::insert`]; read it with [`Delaunay2::triangles`] or turn it into
+/// flat arrays with [`Delaunay2::into_mesh`].
+///
+/// ```
+/// use delone::tri::Delaunay2;
+/// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [0.5, 0.4]];
+/// let d = Delaunay2::from_points(&pts).unwrap();
+/// assert_eq!(d.num_vertices(), 5);
+/// assert_eq!(d.num_triangles(), 4);
+/// d.check_topology().unwrap();
+/// d.check_delaunay().unwrap();
+/// ```
+#[derive(Debug, Clone)]
+pub struct Delaunay2<'a> {
+    /// Input points (borrowed by `from_points`, owned when inserting).
+    points: Cow<'a, [[f64; 2]]>,
+    /// Counterclockwise vertices of every triangle slot (`DEAD` in `[0]` if free).
+    tri_v: Vec<[u32; 3]>,
+    /// Packed adjacency words `3 * t + i` (for a free slot, `[0]` is the next
+    /// free slot or `NONE`).
+    tri_adj: Vec<[u32; 3]>,
+    /// Per-operation stamps: `stamp` = in the cavity, `stamp + 1` = tested, not.
+    mark: Vec<u32>,
+    stamp: u32,
+    /// Head of the free list of dead slots (`NONE` if empty).
+    free_head: u32,
+    num_free: usize,
+    num_ghosts: usize,
+    num_vertices: usize,
+    /// Start triangle of the next walk.
+    last: u32,
+    /// State of the walk's pseudo-random edge choice.
+    rng: u32,
+    /// For every point: itself if it is a vertex (or pending), else the vertex
+    /// it duplicates (possibly through a chain, resolved in `into_mesh`).
+    vmap: Vec<u32>,
+    /// Points inserted before the first triangle existed (all collinear).
+    pending: Vec<u32>,
+    // Scratch buffers reused across insertions.
+    stack: Vec<u32>,
+    cavity: Vec<u32>,
+    boundary: Vec<(u32, u32, u32)>,
+    slots: Vec<u32>,
+}
+
+impl Default for Delaunay2<'static> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Signed incircle test with Simulation of Simplicity: `+1` if `d` is inside
+/// the circle of counterclockwise `a, b, c`, `-1` if outside. Exact ties are
+/// broken by perturbing the lifted points, the point with the larger index the
+/// most.
+// TODO(pred): switch to delone_predicates::incircle_sos once it lands.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn incircle_sos(
+    a: &[f64; 2],
+    b: &[f64; 2],
+    c: &[f64; 2],
+    d: &[f64; 2],
+    ia: u32,
+    ib: u32,
+    ic: u32,
+    id: u32,
+) -> i32 {
+    let det = incircle(a, b, c, d);
+    if det > 0.0 {
+        return 1;
+    }
+    if det < 0.0 {
+        return -1;
+    }
+    sos_tie(a, b, c, d, ia, ib, ic, id)
+}
+
+/// Tie-break of [`incircle_sos`]: lifting point `k` by `eps_k` adds
+/// `eps_k * cofactor_k` to the determinant, with `eps` larger for larger ids.
+#[cold]
+#[allow(clippy::too_many_arguments)]
+fn sos_tie(
+    a: &[f64; 2],
+    b: &[f64; 2],
+    c: &[f64; 2],
+    d: &[f64; 2],
+    ia: u32,
+    ib: u32,
+    ic: u32,
+    id: u32,
+) -> i32 {
+    let mut order = [(ia, 0u8), (ib, 1), (ic, 2), (id, 3)];
+    order.sort_unstable_by(|x, y| y.0.cmp(&x.0));
+    for &(_, k) in &order {
+        let cof = match k {
+            0 => orient2d(b, c, d),
+            1 => -orient2d(a, c, d),
+            2 => orient2d(a, b, d),
+            _ => -orient2d(a, b, c),
+        };
+        if cof > 0.0 {
+            return 1;
+        }
+        if cof < 0.0 {
+            return -1;
+        }
+    }
+    0
+}
+
+/// Index of the first point with a NaN or infinite coordinate, and the
+/// capacity check shared by the constructors.
+fn check_input(points: &[[f64; 2]]) -> Result<(), Error> {
+    if points.len() > MAX_POINTS {
+        return Err(Error::CapacityExceeded {
+            requested: points.len(),
+        });
+    }
+    match points
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        Some(index) => Err(Error::InvalidCoordinate { index }),
+        None => Ok(()),
+    }
+}
+
+/// Number of distinct points among `ids` (used only on the error path).
+fn count_distinct(points: &[[f64; 2]], ids: &[u32]) -> usize {
+    let mut keys: Vec<(u64, u64)> = ids
+        .iter()
+        .map(|&i| {
+            let p = points[i as usize];
+            // +0.0 normalises -0.0 so that equal coordinates give equal keys.
+            ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
+        })
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.len()
+}
+
+impl Delaunay2<'static> {
+    /// An empty triangulation for point-by-point insertion.
     ///
     /// ```
-    /// let _ = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+    /// let mut d = delone::tri::Delaunay2::new();
+    /// assert_eq!(d.num_vertices(), 0);
+    /// d.insert([0.0, 0.0]).unwrap();
+    /// d.insert([1.0, 0.0]).unwrap();
+    /// assert_eq!(d.num_triangles(), 0);
+    /// d.insert([0.0, 1.0]).unwrap();
+    /// assert_eq!(d.num_triangles(), 1);
     /// ```
-    pub fn from_points(points: &[[f64; 2]]) -> Result<Self, Error> {
-        Err(Error::TooFewPoints {
-            found: points.len(),
-            needed: 3,
-        })
+    pub fn new() -> Self {
+        Delaunay2::empty(Cow::Owned(Vec::new()))
+    }
+}
+
+impl<'a> Delaunay2<'a> {
+    fn empty(points: Cow<'a, [[f64; 2]]>) -> Self {
+        Delaunay2 {
+            points,
+            tri_v: Vec::new(),
+            tri_adj: Vec::new(),
+            mark: Vec::new(),
+            stamp: 0,
+            free_head: NONE,
+            num_free: 0,
+            num_ghosts: 0,
+            num_vertices: 0,
+            last: 0,
+            rng: 0x2545_f491,
+            vmap: Vec::new(),
+            pending: Vec::new(),
+            stack: Vec::new(),
+            cavity: Vec::new(),
+            boundary: Vec::new(),
+            slots: Vec::new(),
+        }
     }
 
-    /// Like `from_points`, calling `progress(inserted, total)` every few ten
-    /// thousand insertions (for progress bars in long runs).
+    /// Builds the Delaunay triangulation of `points`, inserted in BRIO +
+    /// Hilbert order. The points are borrowed, not copied.
+    ///
+    /// # Errors
+    /// [`Error::InvalidCoordinate`] for a NaN/infinite coordinate,
+    /// [`Error::TooFewPoints`] for fewer than 3 distinct points,
+    /// [`Error::Degenerate`] (`dimension: 1`) if all points are collinear,
+    /// [`Error::CapacityExceeded`] for more than `u32::MAX - 2` points.
     ///
     /// ```
-    /// let mut calls = 0;
-    /// let _ = delone::tri::Delaunay2::from_points_with_progress(&[], &mut |_, _| calls += 1);
+    /// use delone::tri::Delaunay2;
+    /// let d = Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+    /// assert_eq!(d.triangles().collect::<Vec<_>>(), vec![[0, 1, 2]]);
+    /// assert!(Delaunay2::from_points(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]).is_err());
+    /// ```
+    pub fn from_points(points: &'a [[f64; 2]]) -> Result<Self, Error> {
+        Self::from_points_with_progress(points, &mut |_, _| {})
+    }
+
+    /// Like [`Delaunay2::from_points`], calling `progress(inserted, total)`
+    /// every 65536 insertions and once at the end (for progress bars).
+    ///
+    /// ```
+    /// let pts: Vec<[f64; 2]> = (0..100).map(|i| [i as f64, (i * i % 17) as f64]).collect();
+    /// let mut last = (0, 0);
+    /// let d = delone::tri::Delaunay2::from_points_with_progress(&pts, &mut |k, n| last = (k, n))
+    ///     .unwrap();
+    /// assert_eq!(last, (100, 100));
+    /// assert_eq!(d.num_vertices(), 100);
     /// ```
     pub fn from_points_with_progress(
-        points: &[[f64; 2]],
+        points: &'a [[f64; 2]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        progress(0, points.len());
-        Self::from_points(points)
+        check_input(points)?;
+        let n = points.len();
+        let mut d = Delaunay2::empty(Cow::Borrowed(points));
+        let order = brio_order(points);
+        progress(0, n);
+        // The first triangle: the first point, the first one different from
+        // it, and the first one not collinear with those two.
+        let (pa, pb, pc) = {
+            let Some(&a) = order.first() else {
+                return Err(Error::TooFewPoints {
+                    found: 0,
+                    needed: 3,
+                });
+            };
+            let a_xy = points[a as usize];
+            let Some(pb) = order.iter().position(|&i| points[i as usize] != a_xy) else {
+                return Err(Error::TooFewPoints {
+                    found: 1,
+                    needed: 3,
+                });
+            };
+            let b_xy = points[order[pb] as usize];
+            let Some(pc) = order[pb + 1..]
+                .iter()
+                .position(|&i| orient2d(&a_xy, &b_xy, &points[i as usize]) != 0.0)
+            else {
+                let found = count_distinct(points, &order);
+                return Err(if found < 3 {
+                    Error::TooFewPoints { found, needed: 3 }
+                } else {
+                    Error::Degenerate { dimension: 1 }
+                });
+            };
+            (0, pb, pb + 1 + pc)
+        };
+        d.vmap = (0..n as u32).collect();
+        let cap = 2 * n + 4;
+        d.tri_v.reserve_exact(cap);
+        d.tri_adj.reserve_exact(cap);
+        d.mark.reserve_exact(cap);
+        d.first_triangle(order[pa], order[pb], order[pc]);
+        let mut done = 3;
+        let rest = order[1..pc]
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k + 1 != pb)
+            .map(|(_, &i)| i)
+            .chain(order[pc + 1..].iter().copied());
+        for i in rest {
+            d.insert_point(i);
+            done += 1;
+            if done % PROGRESS_EVERY == 0 {
+                progress(done, n);
+            }
+        }
+        progress(n, n);
+        Ok(d)
     }
 
-    /// The flat output.
+    /// Inserts one point and returns its id (its index in
+    /// [`Delaunay2::points`]) or, for a point equal to an existing vertex, that
+    /// vertex. Works from the first point on: until three non-collinear points
+    /// exist, points are kept pending and no triangle exists.
+    ///
+    /// # Errors
+    /// [`Error::InvalidCoordinate`] (with the index the point would have had)
+    /// for NaN/infinite coordinates, [`Error::CapacityExceeded`] beyond
+    /// `u32::MAX - 2` points. The triangulation is unchanged on error.
+    ///
+    /// ```
+    /// use delone::tri::{Delaunay2, Inserted};
+    /// let mut d = Delaunay2::new();
+    /// for p in [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.0, -1.0]] {
+    ///     d.insert(p).unwrap();
+    /// }
+    /// assert_eq!(d.num_triangles(), 4);
+    /// assert_eq!(d.insert([2.0, 0.0]).unwrap(), Inserted::Duplicate(1));
+    /// assert!(d.insert([f64::NAN, 0.0]).is_err());
+    /// d.check_topology().unwrap();
+    /// ```
+    pub fn insert(&mut self, p: [f64; 2]) -> Result<Inserted, Error> {
+        let id = self.points.len();
+        if id >= MAX_POINTS {
+            return Err(Error::CapacityExceeded {
+                requested: id + 1,
+            });
+        }
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return Err(Error::InvalidCoordinate { index: id });
+        }
+        self.points.to_mut().push(p);
+        let id = id as u32;
+        self.vmap.push(id);
+        if !self.tri_v.is_empty() {
+            return Ok(self.insert_point(id));
+        }
+        // No triangle yet: all pending points are distinct and collinear.
+        let pts = &*self.points;
+        if let Some(&dup) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
+            self.vmap[id as usize] = dup;
+            return Ok(Inserted::Duplicate(dup));
+        }
+        if self.pending.len() >= 2 {
+            let (a, b) = (self.pending[0], self.pending[1]);
+            if orient2d(&pts[a as usize], &pts[b as usize], &p) != 0.0 {
+                // `first_triangle` counts a, b and the new point; the other
+                // pending points are counted again as they are inserted.
+                self.num_vertices -= self.pending.len();
+                let rest: Vec<u32> = self.pending.drain(..).skip(2).collect();
+                self.first_triangle(a, b, id);
+                for q in rest {
+                    self.insert_point(q);
+                }
+                return Ok(Inserted::Vertex(id));
+            }
+        }
+        self.pending.push(id);
+        self.num_vertices += 1;
+        Ok(Inserted::Vertex(id))
+    }
+
+    /// Creates the first finite triangle on three non-collinear points and its
+    /// three ghosts.
+    fn first_triangle(&mut self, a: u32, b: u32, c: u32) {
+        let pts = &*self.points;
+        let o = orient2d(&pts[a as usize], &pts[b as usize], &pts[c as usize]);
+        let v = if o > 0.0 { [a, b, c] } else { [a, c, b] };
+        self.tri_v.clear();
+        self.tri_adj.clear();
+        self.mark.clear();
+        self.tri_v.push(v);
+        self.tri_adj.push([pack(1, 2), pack(2, 2), pack(3, 2)]);
+        for i in 0..3 {
+            let (x, y) = edge(&v, i);
+            self.tri_v.push([y, x, INF]);
+            // Ghost i+1 = [y, x, INF]: edge 0 is (x, INF), shared with the ghost
+            // of the previous finite edge; edge 1 is (INF, y), shared with the
+            // ghost of the next one.
+            let g_next = 1 + NEXT[i];
+            let g_prev = 1 + PREV[i];
+            self.tri_adj.push([pack(g_prev, 1), pack(g_next, 0), pack(0, i)]);
+        }
+        self.mark.resize(4, 0);
+        self.num_ghosts = 3;
+        self.num_vertices += 3;
+        self.last = 0;
+        for x in [a, b, c] {
+            self.vmap[x as usize] = x;
+        }
+    }
+
+    /// Next pseudo-random value of the walk (a small LCG; only the high bits
+    /// are used).
+    #[inline(always)]
+    fn next_rand(state: &mut u32) -> u32 {
+        *state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        *state >> 16
+    }
+
+    /// Visibility walk from triangle `t` towards `p`. Returns a finite triangle
+    /// whose closure contains `p`, or a ghost whose hull edge has `p` strictly
+    /// on its outer side.
+    fn walk(&self, p: &[f64; 2], mut t: usize, rng: &mut u32) -> usize {
+        let pts = &*self.points;
+        let tv = &self.tri_v;
+        let ta = &self.tri_adj;
+        let mut from = 3usize;
+        let v = tv[t];
+        if is_ghost(&v) {
+            if orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p) > 0.0 {
+                return t;
+            }
+            let (n, j) = unpack(ta[t][2]);
+            t = n;
+            from = j;
+        }
+        let limit = 4 * tv.len() + 64;
+        let mut steps = 0usize;
+        'walk: loop {
+            steps += 1;
+            if steps > limit {
+                return self.locate_brute(p);
+            }
+            let v = tv[t];
+            let r = (Self::next_rand(rng) % 3) as usize;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                if e == from {
+                    continue;
+                }
+                let a = &pts[v[NEXT[e]] as usize];
+                let b = &pts[v[PREV[e]] as usize];
+                if orient2d(a, b, p) < 0.0 {
+                    let (n, j) = unpack(ta[t][e]);
+                    if is_ghost(&tv[n]) {
+                        return n;
+                    }
+                    t = n;
+                    from = j;
+                    continue 'walk;
+                }
+            }
+            return t;
+        }
+    }
+
+    /// Exhaustive location (a safety net for the walk; never reached with
+    /// exact predicates).
+    #[cold]
+    fn locate_brute(&self, p: &[f64; 2]) -> usize {
+        let pts = &*self.points;
+        let mut ghost = None;
+        for (t, v) in self.tri_v.iter().enumerate() {
+            if v[0] == DEAD {
+                continue;
+            }
+            if is_ghost(v) {
+                if ghost.is_none()
+                    && orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p) > 0.0
+                {
+                    ghost = Some(t);
+                }
+                continue;
+            }
+            if (0..3).all(|e| {
+                let (a, b) = edge(v, e);
+                orient2d(&pts[a as usize], &pts[b as usize], p) >= 0.0
+            }) {
+                return t;
+            }
+        }
+        ghost.unwrap_or(self.last as usize)
+    }
+
+    /// Is triangle `t` in conflict with point `ip` at `p`?
+    #[inline(always)]
+    fn in_conflict(&self, t: usize, p: &[f64; 2], ip: u32) -> bool {
+        let pts = &*self.points;
+        let v = self.tri_v[t];
+        if is_ghost(&v) {
+            let o = orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p);
+            if o != 0.0 {
+                return o > 0.0;
+            }
+            // On the hull edge's line: in conflict iff the finite triangle
+            // across it is (i.e. iff `p` lies strictly inside the edge).
+            let (n, _) = unpack(self.tri_adj[t][2]);
+            let u = self.tri_v[n];
+            return incircle_sos(
+                &pts[u[0] as usize],
+                &pts[u[1] as usize],
+                &pts[u[2] as usize],
+                p,
+                u[0],
+                u[1],
+                u[2],
+                ip,
+            ) > 0;
+        }
+        incircle_sos(
+            &pts[v[0] as usize],
+            &pts[v[1] as usize],
+            &pts[v[2] as usize],
+            p,
+            v[0],
+            v[1],
+            v[2],
+            ip,
+        ) > 0
+    }
+
+    /// Gives vertex `old` the id `new` in every triangle around it (used when
+    /// a duplicate with a smaller index than its vertex turns up, so that the
+    /// first of equal points is the one kept). `t` contains `old`.
+    fn relabel(&mut self, t: usize, old: u32, new: u32) {
+        let mut c = t;
+        loop {
+            let Some(m) = self.tri_v[c].iter().position(|&x| x == old) else {
+                return;
+            };
+            self.tri_v[c][m] = new;
+            let (n, _) = unpack(self.tri_adj[c][NEXT[m]]);
+            c = n;
+            if c == t {
+                return;
+            }
+        }
+    }
+
+    /// Inserts point `ip` into an existing triangulation (Bowyer–Watson).
+    fn insert_point(&mut self, ip: u32) -> Inserted {
+        let p = self.points[ip as usize];
+        let mut rng = self.rng;
+        let t = self.walk(&p, self.last as usize, &mut rng);
+        self.rng = rng;
+        let v = self.tri_v[t];
+        if !is_ghost(&v) {
+            for &x in &v {
+                if self.points[x as usize] == p {
+                    if ip < x {
+                        // Keep the first of equal points as the vertex.
+                        self.relabel(t, x, ip);
+                        self.vmap[x as usize] = ip;
+                        self.vmap[ip as usize] = ip;
+                    } else {
+                        self.vmap[ip as usize] = x;
+                    }
+                    self.last = t as u32;
+                    return Inserted::Duplicate(x);
+                }
+            }
+        }
+        self.dig_cavity(t, &p, ip);
+        self.stellate(ip);
+        self.vmap[ip as usize] = ip;
+        self.num_vertices += 1;
+        Inserted::Vertex(ip)
+    }
+
+    /// Collects the cavity of `p` (all triangles in conflict, connected to the
+    /// seed `t`, which is in conflict) on an explicit stack, and its boundary
+    /// edges in counterclockwise order into `self.boundary`.
+    fn dig_cavity(&mut self, t: usize, p: &[f64; 2], ip: u32) {
+        if self.stamp >= u32::MAX - 4 {
+            self.mark.iter_mut().for_each(|m| *m = 0);
+            self.stamp = 0;
+        }
+        self.stamp += 2;
+        let inside = self.stamp;
+        let outside = inside + 1;
+        let mut stack = std::mem::take(&mut self.stack);
+        let mut cavity = std::mem::take(&mut self.cavity);
+        stack.clear();
+        cavity.clear();
+        self.mark[t] = inside;
+        stack.push(t as u32);
+        cavity.push(t as u32);
+        let mut start = NONE;
+        while let Some(c) = stack.pop() {
+            let c = c as usize;
+            let adj = self.tri_adj[c];
+            for (i, &w) in adj.iter().enumerate() {
+                let n = (w / 3) as usize;
+                let m = self.mark[n];
+                if m == inside {
+                    continue;
+                }
+                if m != outside {
+                    if self.in_conflict(n, p, ip) {
+                        self.mark[n] = inside;
+                        stack.push(n as u32);
+                        cavity.push(n as u32);
+                        continue;
+                    }
+                    self.mark[n] = outside;
+                }
+                if start == NONE {
+                    start = pack(c, i);
+                }
+            }
+        }
+        // Walk the boundary counterclockwise: from boundary edge i of c (a -> b),
+        // turn around b through cavity triangles to the next boundary edge.
+        let mut boundary = std::mem::take(&mut self.boundary);
+        boundary.clear();
+        let (mut c, mut i) = unpack(start);
+        let max_len = cavity.len() + 2;
+        loop {
+            let w = self.tri_adj[c][i];
+            let (a, b) = edge(&self.tri_v[c], i);
+            boundary.push((a, b, w));
+            let mut e = NEXT[i];
+            loop {
+                let w2 = self.tri_adj[c][e];
+                let (n, j) = unpack(w2);
+                if self.mark[n] != inside {
+                    break;
+                }
+                c = n;
+                e = NEXT[j];
+            }
+            i = e;
+            if pack(c, i) == start || boundary.len() > max_len {
+                break;
+            }
+        }
+        debug_assert_eq!(boundary.len(), cavity.len() + 2, "cavity not a disk");
+        self.stack = stack;
+        self.cavity = cavity;
+        self.boundary = boundary;
+    }
+
+    /// Takes a free triangle slot (from the free list or a new one).
+    fn alloc(&mut self) -> u32 {
+        if self.free_head != NONE {
+            let t = self.free_head;
+            self.free_head = self.tri_adj[t as usize][0];
+            self.num_free -= 1;
+            return t;
+        }
+        self.tri_v.push([DEAD; 3]);
+        self.tri_adj.push([NONE; 3]);
+        self.mark.push(0);
+        (self.tri_v.len() - 1) as u32
+    }
+
+    /// Re-triangulates the cavity as a star from `ip`: one new triangle
+    /// `[ip, a, b]` per boundary edge `a -> b`, in the cavity's slots first.
+    fn stellate(&mut self, ip: u32) {
+        let boundary = std::mem::take(&mut self.boundary);
+        let mut slots = std::mem::take(&mut self.slots);
+        slots.clear();
+        let m = boundary.len();
+        let reuse = self.cavity.len().min(m);
+        slots.extend_from_slice(&self.cavity[..reuse]);
+        let removed_ghosts = self
+            .cavity
+            .iter()
+            .filter(|&&c| is_ghost(&self.tri_v[c as usize]))
+            .count();
+        for &c in &self.cavity[reuse..] {
+            // Only reachable on a corrupted cavity: free the extra slots.
+            let c = c as usize;
+            self.tri_v[c] = [DEAD; 3];
+            self.tri_adj[c] = [self.free_head, NONE, NONE];
+            self.free_head = c as u32;
+            self.num_free += 1;
+        }
+        while slots.len() < m {
+            let s = self.alloc();
+            slots.push(s);
+        }
+        let mut new_ghosts = 0;
+        for (k, &(a, b, w)) in boundary.iter().enumerate() {
+            let s = slots[k] as usize;
+            // A ghost keeps INF in position 2: rotate [ip, INF, b] to [b, ip, INF].
+            let rot = usize::from(a == INF);
+            new_ghosts += usize::from(a == INF || b == INF);
+            let mut tv = [0u32; 3];
+            tv[rot] = ip;
+            tv[NEXT[rot]] = a;
+            tv[PREV[rot]] = b;
+            self.tri_v[s] = tv;
+            self.tri_adj[s][rot] = w;
+            let (o, j) = unpack(w);
+            self.tri_adj[o][j] = pack(s, rot);
+        }
+        for k in 0..m {
+            let kn = if k + 1 == m { 0 } else { k + 1 };
+            let (s, sn) = (slots[k] as usize, slots[kn] as usize);
+            let rot = usize::from(boundary[k].0 == INF);
+            let rot_n = usize::from(boundary[kn].0 == INF);
+            // Edge (b -> ip) of s is edge (ip -> a') of the next triangle.
+            let e = NEXT[rot];
+            let en = PREV[rot_n];
+            self.tri_adj[s][e] = pack(sn, en);
+            self.tri_adj[sn][en] = pack(s, e);
+        }
+        self.num_ghosts = self.num_ghosts + new_ghosts - removed_ghosts;
+        // Prefer a finite triangle as the next walk's start.
+        self.last = slots
+            .iter()
+            .copied()
+            .find(|&s| !is_ghost(&self.tri_v[s as usize]))
+            .unwrap_or(slots[0]);
+        self.boundary = boundary;
+        self.slots = slots;
+    }
+
+    /// Locates `p`: the triangle, edge or vertex it lies on, or the hull edge
+    /// it is beyond.
+    ///
+    /// ```
+    /// use delone::tri::{Delaunay2, Location};
+    /// let d = Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+    /// match d.locate(&[0.25, 0.25]) {
+    ///     Location::InTriangle(t) => assert_eq!(d.triangle(t), Some([0, 1, 2])),
+    ///     other => panic!("{other:?}"),
+    /// }
+    /// assert_eq!(d.locate(&[-1.0, 0.5]), Location::OutsideHull([2, 0]));
+    /// ```
+    pub fn locate(&self, p: &[f64; 2]) -> Location {
+        if self.tri_v.is_empty() || !(p[0].is_finite() && p[1].is_finite()) {
+            return Location::NoTriangle;
+        }
+        let mut rng = 0x9e37_79b9;
+        let t = self.walk(p, self.last as usize, &mut rng);
+        let v = self.tri_v[t];
+        if is_ghost(&v) {
+            return Location::OutsideHull([v[1], v[0]]);
+        }
+        let pts = &*self.points;
+        for &x in &v {
+            if pts[x as usize] == *p {
+                return Location::OnVertex(x);
+            }
+        }
+        for e in 0..3 {
+            let (a, b) = edge(&v, e);
+            if orient2d(&pts[a as usize], &pts[b as usize], p) == 0.0 {
+                return Location::OnEdge(t as u32, e as u8);
+            }
+        }
+        Location::InTriangle(t as u32)
+    }
+
+    /// The vertices of finite triangle `t` (counterclockwise), or `None` for
+    /// a ghost, free or out-of-range slot.
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]).unwrap();
+    /// assert_eq!(d.triangle(0), Some([0, 1, 2]));
+    /// assert_eq!(d.triangle(1000), None);
+    /// ```
+    pub fn triangle(&self, t: u32) -> Option<[u32; 3]> {
+        let v = *self.tri_v.get(t as usize)?;
+        (v[0] != DEAD && !is_ghost(&v)).then_some(v)
+    }
+
+    /// Number of vertices (distinct inserted points, pending ones included).
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]).unwrap();
+    /// assert_eq!(d.num_vertices(), 3);
+    /// ```
+    pub fn num_vertices(&self) -> usize {
+        self.num_vertices
+    }
+
+    /// Number of finite triangles.
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]).unwrap();
+    /// assert_eq!(d.num_triangles(), 2);
+    /// ```
+    pub fn num_triangles(&self) -> usize {
+        self.tri_v.len() - self.num_free - self.num_ghosts
+    }
+
+    /// The finite triangles as counterclockwise vertex triples (slot order).
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]).unwrap();
+    /// assert_eq!(d.triangles().count(), 2);
+    /// ```
+    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.tri_v
+            .iter()
+            .copied()
+            .filter(|v| v[0] != DEAD && !is_ghost(v))
+    }
+
+    /// All points given so far (vertices, duplicates and pending points),
+    /// indexed by point id.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let d = delone::tri::Delaunay2::from_points(&pts).unwrap();
+    /// assert_eq!(d.points(), &pts);
+    /// ```
+    pub fn points(&self) -> &[[f64; 2]] {
+        &self.points
+    }
+
+    /// Checks the combinatorial invariants: symmetric adjacency across
+    /// matching edges, counterclockwise finite triangles (exact orient2d),
+    /// ghosts with `INF` in position 2 linked to finite triangles across their
+    /// hull edge, the Euler relation on the sphere, a sane free list, and the
+    /// vertex count.
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.3, 0.3]]).unwrap();
+    /// d.check_topology().unwrap();
+    /// ```
+    pub fn check_topology(&self) -> Result<(), Violation> {
+        let pts = &*self.points;
+        let nt = self.tri_v.len();
+        if self.tri_adj.len() != nt || self.mark.len() != nt {
+            return Err(Violation::new("storage", "column lengths differ"));
+        }
+        if nt == 0 {
+            if self.num_vertices != self.pending.len() {
+                return Err(Violation::new("vertices", "pending count mismatch"));
+            }
+            return Ok(());
+        }
+        // Free list.
+        let mut free = vec![false; nt];
+        let mut f = self.free_head;
+        let mut count = 0;
+        while f != NONE {
+            let fi = f as usize;
+            if fi >= nt || free[fi] || self.tri_v[fi][0] != DEAD {
+                return Err(Violation::new(
+                    "free list",
+                    format!("slot {f} is out of range, repeated or alive"),
+                ));
+            }
+            free[fi] = true;
+            count += 1;
+            f = self.tri_adj[fi][0];
+        }
+        if count != self.num_free {
+            return Err(Violation::new("free list", "length mismatch"));
+        }
+        let mut used = vec![false; pts.len()];
+        let (mut live, mut ghosts) = (0usize, 0usize);
+        for t in 0..nt {
+            let v = self.tri_v[t];
+            if v[0] == DEAD {
+                if !free[t] {
+                    return Err(Violation::new(
+                        "free list",
+                        format!("dead slot {t} is not on the free list"),
+                    ));
+                }
+                continue;
+            }
+            live += 1;
+            let ghost = is_ghost(&v);
+            ghosts += usize::from(ghost);
+            let finite = if ghost { 2 } else { 3 };
+            for (k, &x) in v.iter().enumerate() {
+                if k < finite {
+                    if x as usize >= pts.len() {
+                        return Err(Violation::new(
+                            "vertex",
+                            format!("triangle {t} has invalid vertex {x}"),
+                        ));
+                    }
+                    used[x as usize] = true;
+                } else if x != INF {
+                    return Err(Violation::new(
+                        "vertex",
+                        format!("triangle {t} has invalid vertex {x}"),
+                    ));
+                }
+            }
+            if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
+                return Err(Violation::new(
+                    "vertex",
+                    format!("triangle {t} {v:?} repeats a vertex"),
+                ));
+            }
+            if !ghost
+                && orient2d(
+                    &pts[v[0] as usize],
+                    &pts[v[1] as usize],
+                    &pts[v[2] as usize],
+                ) <= 0.0
+            {
+                return Err(Violation::new(
+                    "orientation",
+                    format!("triangle {t} {v:?} is not counterclockwise"),
+                ));
+            }
+            for i in 0..3 {
+                let w = self.tri_adj[t][i];
+                let (n, j) = unpack(w);
+                if n >= nt || self.tri_v[n][0] == DEAD {
+                    return Err(Violation::new(
+                        "adjacency",
+                        format!("triangle {t} edge {i} points to dead/invalid slot {n}"),
+                    ));
+                }
+                if self.tri_adj[n][j] != pack(t, i) {
+                    return Err(Violation::new(
+                        "adjacency",
+                        format!("triangle {t} edge {i} -> {n}.{j} is not symmetric"),
+                    ));
+                }
+                let (a, b) = edge(&v, i);
+                let (c, d) = edge(&self.tri_v[n], j);
+                if (a, b) != (d, c) {
+                    return Err(Violation::new(
+                        "adjacency",
+                        format!(
+                            "triangle {t} edge {i} ({a},{b}) and triangle {n} edge {j} ({c},{d}) do not match"
+                        ),
+                    ));
+                }
+                if ghost && i == 2 && is_ghost(&self.tri_v[n]) {
+                    return Err(Violation::new(
+                        "ghost",
+                        format!("ghost {t} has a ghost across its hull edge"),
+                    ));
+                }
+            }
+        }
+        if live != nt - self.num_free || ghosts != self.num_ghosts {
+            return Err(Violation::new("storage", "triangle counts are stale"));
+        }
+        let nv = used.iter().filter(|&&u| u).count();
+        if nv != self.num_vertices {
+            return Err(Violation::new(
+                "vertices",
+                format!(
+                    "{nv} vertices are used, {} were inserted",
+                    self.num_vertices
+                ),
+            ));
+        }
+        for (x, &u) in used.iter().enumerate() {
+            if u && self.vmap[x] != x as u32 {
+                return Err(Violation::new(
+                    "vertices",
+                    format!("vertex {x} is recorded as a duplicate"),
+                ));
+            }
+        }
+        // Euler on the sphere (with INF): V - E + F = 2, E = 3F/2.
+        let (v, f) = (nv as i64 + 1, live as i64);
+        if 3 * f % 2 != 0 || v - 3 * f / 2 + f != 2 {
+            return Err(Violation::new(
+                "euler",
+                format!("V={v} F={f} violates V - E + F = 2"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks that every edge between two finite triangles is locally Delaunay
+    /// (exact incircle; cocircular neighbours are allowed).
+    ///
+    /// ```
+    /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]).unwrap();
+    /// d.check_delaunay().unwrap();
+    /// ```
+    pub fn check_delaunay(&self) -> Result<(), Violation> {
+        let pts = &*self.points;
+        for (t, v) in self.tri_v.iter().enumerate() {
+            if v[0] == DEAD || is_ghost(v) {
+                continue;
+            }
+            for i in 0..3 {
+                let (n, j) = unpack(self.tri_adj[t][i]);
+                let u = self.tri_v[n];
+                if n < t || is_ghost(&u) {
+                    continue;
+                }
+                let d = u[j];
+                if incircle(
+                    &pts[v[0] as usize],
+                    &pts[v[1] as usize],
+                    &pts[v[2] as usize],
+                    &pts[d as usize],
+                ) > 0.0
+                {
+                    return Err(Violation::new(
+                        "delaunay",
+                        format!("vertex {d} of triangle {n} is inside the circumcircle of triangle {t} {v:?}"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The flat output: ghosts dropped, triangles compacted in slot order,
+    /// adjacency turned into triangle indices ([`NONE`] on the hull). Reuses the
+    /// kernel's arrays in place.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 1.0]];
+    /// let mesh = delone::tri::Delaunay2::from_points(&pts).unwrap().into_mesh();
+    /// assert_eq!(mesh.triangles.len(), 2);
+    /// assert_eq!(mesh.duplicates, vec![(4, 3)]);
+    /// delone::tri::validate(&pts, &mesh).unwrap();
+    /// ```
     pub fn into_mesh(self) -> TriMesh {
-        self.mesh
+        let Delaunay2 {
+            mut tri_v,
+            mut tri_adj,
+            mark,
+            mut vmap,
+            ..
+        } = self;
+        // New index of every finite triangle, in the stamp column.
+        let mut map = mark;
+        let mut k = 0u32;
+        for (t, v) in tri_v.iter().enumerate() {
+            if v[0] == DEAD || is_ghost(v) {
+                map[t] = NONE;
+            } else {
+                map[t] = k;
+                k += 1;
+            }
+        }
+        let mut k = 0usize;
+        for t in 0..tri_v.len() {
+            if map[t] == NONE {
+                continue;
+            }
+            tri_v[k] = tri_v[t];
+            let a = tri_adj[t];
+            tri_adj[k] = a.map(|w| map[(w / 3) as usize]);
+            k += 1;
+        }
+        tri_v.truncate(k);
+        tri_adj.truncate(k);
+        tri_v.shrink_to_fit();
+        tri_adj.shrink_to_fit();
+        drop(map);
+        // Resolve duplicate chains to their final representative.
+        let mut duplicates = Vec::new();
+        for i in 0..vmap.len() {
+            let mut r = vmap[i];
+            while vmap[r as usize] != r {
+                r = vmap[r as usize];
+            }
+            vmap[i] = r;
+            if r != i as u32 {
+                duplicates.push((i as u32, r));
+            }
+        }
+        TriMesh {
+            triangles: tri_v,
+            neighbors: tri_adj,
+            vertex_map: vmap,
+            duplicates,
+        }
     }
 }

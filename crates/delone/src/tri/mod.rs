@@ -6,8 +6,9 @@
 
 pub mod delaunay;
 pub mod mesh;
+mod topo;
 
-pub use delaunay::Delaunay2;
+pub use delaunay::{Delaunay2, Inserted, Location};
 pub use mesh::{validate, TriMesh};
 
 use crate::Error;
