@@ -33,6 +33,14 @@ fn main() {
         }
     }
     let rss1 = peak_rss_kib().unwrap_or(0);
+    let mut brio = f64::INFINITY;
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let order = delone::geom::brio_order(&pts);
+        brio = brio.min(t0.elapsed().as_secs_f64());
+        assert_eq!(order.len(), n);
+    }
+    println!("brio_order alone: {brio:.3}s");
     println!(
         "n={n} triangles={tris} best={best:.3}s ({:.0} ns/point) peak RSS={} MiB (before: {} MiB, {:.0} B/point incl. input)",
         best * 1e9 / n as f64,

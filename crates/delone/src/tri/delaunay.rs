@@ -97,8 +97,17 @@ pub enum Location {
 /// ```
 #[derive(Debug, Clone)]
 pub struct Delaunay2<'a> {
-    /// Input points (borrowed by `from_points`, owned when inserting).
-    points: Cow<'a, [[f64; 2]]>,
+    /// The caller's points by input index (borrowed by `from_points`, owned
+    /// when inserting one by one).
+    input: Cow<'a, [[f64; 2]]>,
+    /// Coordinates by internal vertex id. `from_points` numbers the points in
+    /// insertion order, so that the vertices touched by one insertion sit close
+    /// together in memory.
+    xy: Vec<[f64; 2]>,
+    /// Input index of every internal vertex id. Swapped when a duplicate with a
+    /// smaller input index turns up, so that the first of equal points is the
+    /// one that stays a vertex.
+    ids: Vec<u32>,
     /// Counterclockwise vertices of every triangle slot (`DEAD` in `[0]` if free).
     tri_v: Vec<[u32; 3]>,
     /// Packed adjacency words `3 * t + i` (for a free slot, `[0]` is the next
@@ -116,10 +125,11 @@ pub struct Delaunay2<'a> {
     last: u32,
     /// State of the walk's pseudo-random edge choice.
     rng: u32,
-    /// For every point: itself if it is a vertex (or pending), else the vertex
-    /// it duplicates (possibly through a chain, resolved in `into_mesh`).
+    /// For every input index: itself if it is a vertex (or pending), else the
+    /// input index it duplicates (possibly through a chain, resolved in
+    /// `into_mesh`; chains always go to smaller indices).
     vmap: Vec<u32>,
-    /// Points inserted before the first triangle existed (all collinear).
+    /// Internal ids inserted before the first triangle existed (all collinear).
     pending: Vec<u32>,
     // Scratch buffers reused across insertions.
     stack: Vec<u32>,
@@ -211,12 +221,11 @@ fn check_input(points: &[[f64; 2]]) -> Result<(), Error> {
     }
 }
 
-/// Number of distinct points among `ids` (used only on the error path).
-fn count_distinct(points: &[[f64; 2]], ids: &[u32]) -> usize {
-    let mut keys: Vec<(u64, u64)> = ids
+/// Number of distinct points (used only on the error path).
+fn count_distinct(points: &[[f64; 2]]) -> usize {
+    let mut keys: Vec<(u64, u64)> = points
         .iter()
-        .map(|&i| {
-            let p = points[i as usize];
+        .map(|p| {
             // +0.0 normalises -0.0 so that equal coordinates give equal keys.
             ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
         })
@@ -244,9 +253,11 @@ impl Delaunay2<'static> {
 }
 
 impl<'a> Delaunay2<'a> {
-    fn empty(points: Cow<'a, [[f64; 2]]>) -> Self {
+    fn empty(input: Cow<'a, [[f64; 2]]>) -> Self {
         Delaunay2 {
-            points,
+            input,
+            xy: Vec::new(),
+            ids: Vec::new(),
             tri_v: Vec::new(),
             tri_adj: Vec::new(),
             mark: Vec::new(),
@@ -305,51 +316,49 @@ impl<'a> Delaunay2<'a> {
         let mut d = Delaunay2::empty(Cow::Borrowed(points));
         let order = brio_order(points);
         progress(0, n);
+        // Internal ids are insertion ranks: gather the points in that order.
+        d.xy = order.iter().map(|&i| points[i as usize]).collect();
+        d.ids = order;
+        let xy = &d.xy;
         // The first triangle: the first point, the first one different from
         // it, and the first one not collinear with those two.
-        let (pa, pb, pc) = {
-            let Some(&a) = order.first() else {
+        let (pb, pc) = {
+            let Some(&a_xy) = xy.first() else {
                 return Err(Error::TooFewPoints {
                     found: 0,
                     needed: 3,
                 });
             };
-            let a_xy = points[a as usize];
-            let Some(pb) = order.iter().position(|&i| points[i as usize] != a_xy) else {
+            let Some(pb) = xy.iter().position(|&q| q != a_xy) else {
                 return Err(Error::TooFewPoints {
                     found: 1,
                     needed: 3,
                 });
             };
-            let b_xy = points[order[pb] as usize];
-            let Some(pc) = order[pb + 1..]
+            let b_xy = xy[pb];
+            let Some(pc) = xy[pb + 1..]
                 .iter()
-                .position(|&i| orient2d(&a_xy, &b_xy, &points[i as usize]) != 0.0)
+                .position(|q| orient2d(&a_xy, &b_xy, q) != 0.0)
             else {
-                let found = count_distinct(points, &order);
+                let found = count_distinct(xy);
                 return Err(if found < 3 {
                     Error::TooFewPoints { found, needed: 3 }
                 } else {
                     Error::Degenerate { dimension: 1 }
                 });
             };
-            (0, pb, pb + 1 + pc)
+            (pb as u32, (pb + 1 + pc) as u32)
         };
         d.vmap = (0..n as u32).collect();
         let cap = 2 * n + 4;
         d.tri_v.reserve_exact(cap);
         d.tri_adj.reserve_exact(cap);
         d.mark.reserve_exact(cap);
-        d.first_triangle(order[pa], order[pb], order[pc]);
+        d.first_triangle(0, pb, pc);
+        let rest = (1..pc).filter(|&k| k != pb).chain(pc + 1..n as u32);
         let mut done = 3;
-        let rest = order[1..pc]
-            .iter()
-            .enumerate()
-            .filter(|&(k, _)| k + 1 != pb)
-            .map(|(_, &i)| i)
-            .chain(order[pc + 1..].iter().copied());
-        for i in rest {
-            d.insert_point(i);
+        for r in rest {
+            d.insert_point(r);
             done += 1;
             if done % PROGRESS_EVERY == 0 {
                 progress(done, n);
@@ -381,7 +390,7 @@ impl<'a> Delaunay2<'a> {
     /// d.check_topology().unwrap();
     /// ```
     pub fn insert(&mut self, p: [f64; 2]) -> Result<Inserted, Error> {
-        let id = self.points.len();
+        let id = self.input.len();
         if id >= MAX_POINTS {
             return Err(Error::CapacityExceeded {
                 requested: id + 1,
@@ -390,14 +399,18 @@ impl<'a> Delaunay2<'a> {
         if !(p[0].is_finite() && p[1].is_finite()) {
             return Err(Error::InvalidCoordinate { index: id });
         }
-        self.points.to_mut().push(p);
+        // Input index and internal id coincide for points inserted one by one.
+        self.input.to_mut().push(p);
         let id = id as u32;
+        debug_assert_eq!(self.xy.len(), id as usize);
+        self.xy.push(p);
+        self.ids.push(id);
         self.vmap.push(id);
         if !self.tri_v.is_empty() {
             return Ok(self.insert_point(id));
         }
         // No triangle yet: all pending points are distinct and collinear.
-        let pts = &*self.points;
+        let pts = &self.xy;
         if let Some(&dup) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
             self.vmap[id as usize] = dup;
             return Ok(Inserted::Duplicate(dup));
@@ -424,7 +437,7 @@ impl<'a> Delaunay2<'a> {
     /// Creates the first finite triangle on three non-collinear points and its
     /// three ghosts.
     fn first_triangle(&mut self, a: u32, b: u32, c: u32) {
-        let pts = &*self.points;
+        let pts = &self.xy;
         let o = orient2d(&pts[a as usize], &pts[b as usize], &pts[c as usize]);
         let v = if o > 0.0 { [a, b, c] } else { [a, c, b] };
         self.tri_v.clear();
@@ -446,9 +459,6 @@ impl<'a> Delaunay2<'a> {
         self.num_ghosts = 3;
         self.num_vertices += 3;
         self.last = 0;
-        for x in [a, b, c] {
-            self.vmap[x as usize] = x;
-        }
     }
 
     /// Next pseudo-random value of the walk (a small LCG; only the high bits
@@ -463,7 +473,7 @@ impl<'a> Delaunay2<'a> {
     /// whose closure contains `p`, or a ghost whose hull edge has `p` strictly
     /// on its outer side.
     fn walk(&self, p: &[f64; 2], mut t: usize, rng: &mut u32) -> usize {
-        let pts = &*self.points;
+        let pts = &self.xy;
         let tv = &self.tri_v;
         let ta = &self.tri_adj;
         let mut from = 3usize;
@@ -510,7 +520,7 @@ impl<'a> Delaunay2<'a> {
     /// exact predicates).
     #[cold]
     fn locate_brute(&self, p: &[f64; 2]) -> usize {
-        let pts = &*self.points;
+        let pts = &self.xy;
         let mut ghost = None;
         for (t, v) in self.tri_v.iter().enumerate() {
             if v[0] == DEAD {
@@ -537,7 +547,7 @@ impl<'a> Delaunay2<'a> {
     /// Is triangle `t` in conflict with point `ip` at `p`?
     #[inline(always)]
     fn in_conflict(&self, t: usize, p: &[f64; 2], ip: u32) -> bool {
-        let pts = &*self.points;
+        let pts = &self.xy;
         let v = self.tri_v[t];
         if is_ghost(&v) {
             let o = orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p);
@@ -571,52 +581,36 @@ impl<'a> Delaunay2<'a> {
         ) > 0
     }
 
-    /// Gives vertex `old` the id `new` in every triangle around it (used when
-    /// a duplicate with a smaller index than its vertex turns up, so that the
-    /// first of equal points is the one kept). `t` contains `old`.
-    fn relabel(&mut self, t: usize, old: u32, new: u32) {
-        let mut c = t;
-        loop {
-            let Some(m) = self.tri_v[c].iter().position(|&x| x == old) else {
-                return;
-            };
-            self.tri_v[c][m] = new;
-            let (n, _) = unpack(self.tri_adj[c][NEXT[m]]);
-            c = n;
-            if c == t {
-                return;
-            }
-        }
-    }
-
-    /// Inserts point `ip` into an existing triangulation (Bowyer–Watson).
+    /// Inserts internal vertex `ip` into an existing triangulation
+    /// (Bowyer–Watson). Returns input indices.
     fn insert_point(&mut self, ip: u32) -> Inserted {
-        let p = self.points[ip as usize];
+        let p = self.xy[ip as usize];
         let mut rng = self.rng;
         let t = self.walk(&p, self.last as usize, &mut rng);
         self.rng = rng;
         let v = self.tri_v[t];
         if !is_ghost(&v) {
             for &x in &v {
-                if self.points[x as usize] == p {
-                    if ip < x {
-                        // Keep the first of equal points as the vertex.
-                        self.relabel(t, x, ip);
-                        self.vmap[x as usize] = ip;
-                        self.vmap[ip as usize] = ip;
-                    } else {
-                        self.vmap[ip as usize] = x;
-                    }
+                if self.xy[x as usize] == p {
+                    let (new, old) = (self.ids[ip as usize], self.ids[x as usize]);
                     self.last = t as u32;
-                    return Inserted::Duplicate(x);
+                    if new < old {
+                        // Keep the first of equal points as the vertex: the
+                        // vertex takes the smaller input index.
+                        self.ids.swap(ip as usize, x as usize);
+                        self.vmap[old as usize] = new;
+                        self.vmap[new as usize] = new;
+                        return Inserted::Duplicate(old);
+                    }
+                    self.vmap[new as usize] = old;
+                    return Inserted::Duplicate(old);
                 }
             }
         }
         self.dig_cavity(t, &p, ip);
         self.stellate(ip);
-        self.vmap[ip as usize] = ip;
         self.num_vertices += 1;
-        Inserted::Vertex(ip)
+        Inserted::Vertex(self.ids[ip as usize])
     }
 
     /// Collects the cavity of `p` (all triangles in conflict, connected to the
@@ -789,12 +783,12 @@ impl<'a> Delaunay2<'a> {
         let t = self.walk(p, self.last as usize, &mut rng);
         let v = self.tri_v[t];
         if is_ghost(&v) {
-            return Location::OutsideHull([v[1], v[0]]);
+            return Location::OutsideHull([self.ids[v[1] as usize], self.ids[v[0] as usize]]);
         }
-        let pts = &*self.points;
+        let pts = &self.xy;
         for &x in &v {
             if pts[x as usize] == *p {
-                return Location::OnVertex(x);
+                return Location::OnVertex(self.ids[x as usize]);
             }
         }
         for e in 0..3 {
@@ -816,7 +810,7 @@ impl<'a> Delaunay2<'a> {
     /// ```
     pub fn triangle(&self, t: u32) -> Option<[u32; 3]> {
         let v = *self.tri_v.get(t as usize)?;
-        (v[0] != DEAD && !is_ghost(&v)).then_some(v)
+        (v[0] != DEAD && !is_ghost(&v)).then(|| v.map(|x| self.ids[x as usize]))
     }
 
     /// Number of vertices (distinct inserted points, pending ones included).
@@ -848,8 +842,8 @@ impl<'a> Delaunay2<'a> {
     pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         self.tri_v
             .iter()
-            .copied()
             .filter(|v| v[0] != DEAD && !is_ghost(v))
+            .map(|v| v.map(|x| self.ids[x as usize]))
     }
 
     /// All points given so far (vertices, duplicates and pending points),
@@ -861,7 +855,7 @@ impl<'a> Delaunay2<'a> {
     /// assert_eq!(d.points(), &pts);
     /// ```
     pub fn points(&self) -> &[[f64; 2]] {
-        &self.points
+        &self.input
     }
 
     /// Checks the combinatorial invariants: symmetric adjacency across
@@ -875,7 +869,7 @@ impl<'a> Delaunay2<'a> {
     /// d.check_topology().unwrap();
     /// ```
     pub fn check_topology(&self) -> Result<(), Violation> {
-        let pts = &*self.points;
+        let pts = &self.xy;
         let nt = self.tri_v.len();
         if self.tri_adj.len() != nt || self.mark.len() != nt {
             return Err(Violation::new("storage", "column lengths differ"));
@@ -1003,7 +997,8 @@ impl<'a> Delaunay2<'a> {
             ));
         }
         for (x, &u) in used.iter().enumerate() {
-            if u && self.vmap[x] != x as u32 {
+            let i = self.ids[x];
+            if u && self.vmap[i as usize] != i {
                 return Err(Violation::new(
                     "vertices",
                     format!("vertex {x} is recorded as a duplicate"),
@@ -1029,7 +1024,7 @@ impl<'a> Delaunay2<'a> {
     /// d.check_delaunay().unwrap();
     /// ```
     pub fn check_delaunay(&self) -> Result<(), Violation> {
-        let pts = &*self.points;
+        let pts = &self.xy;
         for (t, v) in self.tri_v.iter().enumerate() {
             if v[0] == DEAD || is_ghost(v) {
                 continue;
@@ -1075,8 +1070,11 @@ impl<'a> Delaunay2<'a> {
             mut tri_adj,
             mark,
             mut vmap,
+            ids,
+            xy,
             ..
         } = self;
+        drop(xy);
         // New index of every finite triangle, in the stamp column.
         let mut map = mark;
         let mut k = 0u32;
@@ -1093,16 +1091,17 @@ impl<'a> Delaunay2<'a> {
             if map[t] == NONE {
                 continue;
             }
-            tri_v[k] = tri_v[t];
+            tri_v[k] = tri_v[t].map(|x| ids[x as usize]);
             let a = tri_adj[t];
             tri_adj[k] = a.map(|w| map[(w / 3) as usize]);
             k += 1;
         }
         tri_v.truncate(k);
         tri_adj.truncate(k);
-        tri_v.shrink_to_fit();
-        tri_adj.shrink_to_fit();
+        // No shrink_to_fit: it would copy both arrays (a peak-memory spike) to
+        // save the few ghost slots.
         drop(map);
+        drop(ids);
         // Resolve duplicate chains to their final representative.
         let mut duplicates = Vec::new();
         for i in 0..vmap.len() {
