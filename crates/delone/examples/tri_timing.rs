@@ -13,7 +13,10 @@ fn peak_rss_kib() -> Option<u64> {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = args
+        .get(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
     let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
     let check = args.iter().any(|a| a == "--check");
     let mut rng = SplitMix64::new(42);

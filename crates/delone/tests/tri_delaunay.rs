@@ -123,7 +123,12 @@ fn shared_node_files() {
     for f in files {
         let pts = parse_node(&std::fs::read_to_string(&f).unwrap());
         let mesh = check_all(&pts);
-        println!("{}: {} points, {} triangles", f.display(), pts.len(), mesh.triangles.len());
+        println!(
+            "{}: {} points, {} triangles",
+            f.display(),
+            pts.len(),
+            mesh.triangles.len()
+        );
     }
 }
 
@@ -149,7 +154,10 @@ fn matches_brute_force_empty_circles() {
             if t.contains(&(k as u32)) {
                 continue;
             }
-            assert!(delone_predicates::incircle(&a, &b, &c, p) <= 0.0, "{t:?} contains {k}");
+            assert!(
+                delone_predicates::incircle(&a, &b, &c, p) <= 0.0,
+                "{t:?} contains {k}"
+            );
         }
     }
 }
@@ -251,20 +259,31 @@ fn cocircular_small_circle_one_by_one() {
 
 #[test]
 fn collinear_inputs() {
-    let line: Vec<[f64; 2]> = (0..50).map(|i| [i as f64 * 0.1, i as f64 * 0.3]).collect();
+    let line: Vec<[f64; 2]> = (0..50)
+        .map(|i| [i as f64 * 0.5, i as f64 * 1.5 + 1.0])
+        .collect();
     assert_eq!(triangulate(&line), Err(Error::Degenerate { dimension: 1 }));
     let two = [[1.0, 2.0], [3.0, 4.0], [1.0, 2.0], [3.0, 4.0]];
     assert_eq!(
         triangulate(&two),
-        Err(Error::TooFewPoints { found: 2, needed: 3 })
+        Err(Error::TooFewPoints {
+            found: 2,
+            needed: 3
+        })
     );
     assert_eq!(
         triangulate(&[[1.0, 1.0], [1.0, 1.0]]),
-        Err(Error::TooFewPoints { found: 1, needed: 3 })
+        Err(Error::TooFewPoints {
+            found: 1,
+            needed: 3
+        })
     );
     assert_eq!(
         triangulate(&[]),
-        Err(Error::TooFewPoints { found: 0, needed: 3 })
+        Err(Error::TooFewPoints {
+            found: 0,
+            needed: 3
+        })
     );
     // A line plus one point off it: a fan, whatever the insertion order.
     for k in [0, 7, 25, 50] {
@@ -309,8 +328,10 @@ fn points_on_hull_edges() {
     let mut d = Delaunay2::new();
     for (k, &p) in pts.iter().enumerate() {
         d.insert(p).unwrap();
-        d.check_topology().unwrap_or_else(|v| panic!("after {k}: {v}"));
-        d.check_delaunay().unwrap_or_else(|v| panic!("after {k}: {v}"));
+        d.check_topology()
+            .unwrap_or_else(|v| panic!("after {k}: {v}"));
+        d.check_delaunay()
+            .unwrap_or_else(|v| panic!("after {k}: {v}"));
     }
     validate(&pts, &d.into_mesh()).unwrap();
     check_all(&pts);
@@ -348,7 +369,13 @@ fn many_duplicates() {
 fn scaled_and_translated() {
     let base = random_points(3000, 31);
     let g = grid(20, 20);
-    for (s, t) in [(1e-9, 0.0), (1e9, 0.0), (1.0, 1e6), (1e-9, 1e6), (1e9, -1e6)] {
+    for (s, t) in [
+        (1e-9, 0.0),
+        (1e9, 0.0),
+        (1.0, 1e6),
+        (1e-9, 1e6),
+        (1e9, -1e6),
+    ] {
         for set in [&base, &g] {
             let pts: Vec<[f64; 2]> = set.iter().map(|p| [p[0] * s + t, p[1] * s - t]).collect();
             check_all(&pts);
@@ -400,10 +427,16 @@ fn tiny_sets_all_orders() {
 fn invalid_coordinates() {
     let mut pts = random_points(10, 41);
     pts[7][1] = f64::NAN;
-    assert_eq!(triangulate(&pts), Err(Error::InvalidCoordinate { index: 7 }));
+    assert_eq!(
+        triangulate(&pts),
+        Err(Error::InvalidCoordinate { index: 7 })
+    );
     pts[7][1] = 0.5;
     pts[3][0] = f64::INFINITY;
-    assert_eq!(triangulate(&pts), Err(Error::InvalidCoordinate { index: 3 }));
+    assert_eq!(
+        triangulate(&pts),
+        Err(Error::InvalidCoordinate { index: 3 })
+    );
     let mut d = Delaunay2::new();
     d.insert([0.0, 0.0]).unwrap();
     assert_eq!(
@@ -426,7 +459,10 @@ fn incremental_matches_one_call() {
             d.check_delaunay().unwrap();
         }
     }
-    assert_eq!(canonical(d.triangles()), canonical(mesh.triangles.iter().copied()));
+    assert_eq!(
+        canonical(d.triangles()),
+        canonical(mesh.triangles.iter().copied())
+    );
     // Inserting after `from_points`.
     let (first, second) = pts.split_at(2000);
     let mut d = Delaunay2::from_points(first).unwrap();
@@ -520,7 +556,11 @@ fn deterministic_within_and_across_runs() {
     }
     // A second process (different hash seeds, different allocations).
     let out = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "deterministic_within_and_across_runs", "--nocapture"])
+        .args([
+            "--exact",
+            "deterministic_within_and_across_runs",
+            "--nocapture",
+        ])
         .env("DELONE_TRI_DIGEST_CHILD", "1")
         .output()
         .expect("child process");

@@ -21,7 +21,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{incircle, orient2d};
+use delone_predicates::{incircle, incircle_sos, orient2d};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::TriMesh;
@@ -142,66 +142,6 @@ impl Default for Delaunay2<'static> {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// Signed incircle test with Simulation of Simplicity: `+1` if `d` is inside
-/// the circle of counterclockwise `a, b, c`, `-1` if outside. Exact ties are
-/// broken by perturbing the lifted points, the point with the larger index the
-/// most.
-// TODO(pred): switch to delone_predicates::incircle_sos once it lands.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn incircle_sos(
-    a: &[f64; 2],
-    b: &[f64; 2],
-    c: &[f64; 2],
-    d: &[f64; 2],
-    ia: u32,
-    ib: u32,
-    ic: u32,
-    id: u32,
-) -> i32 {
-    let det = incircle(a, b, c, d);
-    if det > 0.0 {
-        return 1;
-    }
-    if det < 0.0 {
-        return -1;
-    }
-    sos_tie(a, b, c, d, ia, ib, ic, id)
-}
-
-/// Tie-break of [`incircle_sos`]: lifting point `k` by `eps_k` adds
-/// `eps_k * cofactor_k` to the determinant, with `eps` larger for larger ids.
-#[cold]
-#[allow(clippy::too_many_arguments)]
-fn sos_tie(
-    a: &[f64; 2],
-    b: &[f64; 2],
-    c: &[f64; 2],
-    d: &[f64; 2],
-    ia: u32,
-    ib: u32,
-    ic: u32,
-    id: u32,
-) -> i32 {
-    let mut order = [(ia, 0u8), (ib, 1), (ic, 2), (id, 3)];
-    order.sort_unstable_by(|x, y| y.0.cmp(&x.0));
-    for &(_, k) in &order {
-        let cof = match k {
-            0 => orient2d(b, c, d),
-            1 => -orient2d(a, c, d),
-            2 => orient2d(a, b, d),
-            _ => -orient2d(a, b, c),
-        };
-        if cof > 0.0 {
-            return 1;
-        }
-        if cof < 0.0 {
-            return -1;
-        }
-    }
-    0
 }
 
 /// Index of the first point with a NaN or infinite coordinate, and the
@@ -392,9 +332,7 @@ impl<'a> Delaunay2<'a> {
     pub fn insert(&mut self, p: [f64; 2]) -> Result<Inserted, Error> {
         let id = self.input.len();
         if id >= MAX_POINTS {
-            return Err(Error::CapacityExceeded {
-                requested: id + 1,
-            });
+            return Err(Error::CapacityExceeded { requested: id + 1 });
         }
         if !(p[0].is_finite() && p[1].is_finite()) {
             return Err(Error::InvalidCoordinate { index: id });
@@ -453,7 +391,8 @@ impl<'a> Delaunay2<'a> {
             // ghost of the next one.
             let g_next = 1 + NEXT[i];
             let g_prev = 1 + PREV[i];
-            self.tri_adj.push([pack(g_prev, 1), pack(g_next, 0), pack(0, i)]);
+            self.tri_adj
+                .push([pack(g_prev, 1), pack(g_next, 0), pack(0, i)]);
         }
         self.mark.resize(4, 0);
         self.num_ghosts = 3;
@@ -527,9 +466,7 @@ impl<'a> Delaunay2<'a> {
                 continue;
             }
             if is_ghost(v) {
-                if ghost.is_none()
-                    && orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p) > 0.0
-                {
+                if ghost.is_none() && orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p) > 0.0 {
                     ghost = Some(t);
                 }
                 continue;

@@ -120,10 +120,7 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
         if mesh.vertex_map[i] != r {
             return err(
                 "vertex_map",
-                format!(
-                    "point {i} maps to {} instead of {r}",
-                    mesh.vertex_map[i]
-                ),
+                format!("point {i} maps to {} instead of {r}", mesh.vertex_map[i]),
             );
         }
         if r as usize == i {
@@ -218,10 +215,7 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
     };
     for w in hull.windows(2) {
         if w[0].0 == w[1].0 {
-            return err(
-                "hull",
-                format!("vertex {} starts two hull edges", w[0].0),
-            );
+            return err("hull", format!("vertex {} starts two hull edges", w[0].0));
         }
     }
     let start = hull[0].0;
@@ -262,7 +256,10 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
     if (turning - std::f64::consts::TAU).abs() > 1.0 {
         return err(
             "hull",
-            format!("hull winds {:.2} turns instead of one", turning / std::f64::consts::TAU),
+            format!(
+                "hull winds {:.2} turns instead of one",
+                turning / std::f64::consts::TAU
+            ),
         );
     }
     // Euler: V - E + F = 1 with E = (3F + H) / 2.
