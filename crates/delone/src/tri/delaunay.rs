@@ -838,10 +838,10 @@ impl<'a> Delaunay2<'a> {
         }
         let mut used = vec![false; pts.len()];
         let (mut live, mut ghosts) = (0usize, 0usize);
-        for t in 0..nt {
+        for (t, &is_free) in free.iter().enumerate() {
             let v = self.tri_v[t];
             if v[0] == DEAD {
-                if !free[t] {
+                if !is_free {
                     return Err(Violation::new(
                         "free list",
                         format!("dead slot {t} is not on the free list"),
