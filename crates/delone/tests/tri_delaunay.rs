@@ -396,7 +396,7 @@ fn tiny_sets_all_orders() {
         let mut perm: Vec<usize> = (0..n).collect();
         // Heap's algorithm over all orders.
         let mut c = vec![0; n];
-        let mut run = |perm: &[usize]| {
+        let run = |perm: &[usize]| {
             let pts: Vec<[f64; 2]> = perm.iter().map(|&k| set[k]).collect();
             let mesh = check_all(&pts);
             let mut d = Delaunay2::new();
@@ -539,7 +539,7 @@ fn digest(mesh: &TriMesh) -> u64 {
 fn determinism_input() -> Vec<[f64; 2]> {
     let mut pts = random_points(5000, 81);
     pts.extend(grid(30, 30).iter().map(|p| [p[0] / 29.0, p[1] / 29.0]));
-    pts.extend_from_slice(&pts[..100].to_vec());
+    pts.extend_from_within(..100);
     pts
 }
 

@@ -168,7 +168,11 @@ pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
     for k in 0..D {
         extent = extent.max(hi[k] - lo[k]);
     }
-    let scale = if extent > 0.0 && extent.is_finite() { cells / extent } else { 0.0 };
+    let scale = if extent > 0.0 && extent.is_finite() {
+        cells / extent
+    } else {
+        0.0
+    };
     let mut keys: Vec<u64> = points
         .iter()
         .enumerate()
