@@ -113,9 +113,6 @@ pub struct Delaunay2<'a> {
     /// Packed adjacency words `3 * t + i` (for a free slot, `[0]` is the next
     /// free slot or `NONE`).
     tri_adj: Vec<[u32; 3]>,
-    /// Per-operation stamps: `stamp` = in the cavity, `stamp + 1` = tested, not.
-    mark: Vec<u32>,
-    stamp: u32,
     /// Head of the free list of dead slots (`NONE` if empty).
     free_head: u32,
     num_free: usize,
@@ -200,8 +197,6 @@ impl<'a> Delaunay2<'a> {
             ids: Vec::new(),
             tri_v: Vec::new(),
             tri_adj: Vec::new(),
-            mark: Vec::new(),
-            stamp: 0,
             free_head: NONE,
             num_free: 0,
             num_ghosts: 0,
@@ -293,7 +288,6 @@ impl<'a> Delaunay2<'a> {
         let cap = 2 * n + 4;
         d.tri_v.reserve_exact(cap);
         d.tri_adj.reserve_exact(cap);
-        d.mark.reserve_exact(cap);
         d.first_triangle(0, pb, pc);
         let rest = (1..pc).filter(|&k| k != pb).chain(pc + 1..n as u32);
         let mut done = 3;
@@ -380,7 +374,6 @@ impl<'a> Delaunay2<'a> {
         let v = if o > 0.0 { [a, b, c] } else { [a, c, b] };
         self.tri_v.clear();
         self.tri_adj.clear();
-        self.mark.clear();
         self.tri_v.push(v);
         self.tri_adj.push([pack(1, 2), pack(2, 2), pack(3, 2)]);
         for i in 0..3 {
@@ -394,7 +387,6 @@ impl<'a> Delaunay2<'a> {
             self.tri_adj
                 .push([pack(g_prev, 1), pack(g_next, 0), pack(0, i)]);
         }
-        self.mark.resize(4, 0);
         self.num_ghosts = 3;
         self.num_vertices += 3;
         self.last = 0;
@@ -550,71 +542,40 @@ impl<'a> Delaunay2<'a> {
         Inserted::Vertex(self.ids[ip as usize])
     }
 
-    /// Collects the cavity of `p` (all triangles in conflict, connected to the
-    /// seed `t`, which is in conflict) on an explicit stack, and its boundary
-    /// edges in counterclockwise order into `self.boundary`.
+    /// Collects the cavity of `p` (the triangles in conflict, connected to the
+    /// seed `t`, which is in conflict) into `self.cavity` and its boundary
+    /// edges, counterclockwise, into `self.boundary`.
+    ///
+    /// In 2D no vertex is ever removed by an insertion, so the cavity is a
+    /// polygon triangulated without interior vertices and its dual graph is a
+    /// tree: a depth-first search that never steps back through the edge it
+    /// came in by visits every cavity triangle once, needs no marks, and meets
+    /// the boundary edges in counterclockwise order when it visits the edges
+    /// of each triangle counterclockwise. The search runs on an explicit stack
+    /// of edge words (no recursion).
     fn dig_cavity(&mut self, t: usize, p: &[f64; 2], ip: u32) {
-        if self.stamp >= u32::MAX - 4 {
-            self.mark.iter_mut().for_each(|m| *m = 0);
-            self.stamp = 0;
-        }
-        self.stamp += 2;
-        let inside = self.stamp;
-        let outside = inside + 1;
         let mut stack = std::mem::take(&mut self.stack);
         let mut cavity = std::mem::take(&mut self.cavity);
+        let mut boundary = std::mem::take(&mut self.boundary);
         stack.clear();
         cavity.clear();
-        self.mark[t] = inside;
-        stack.push(t as u32);
-        cavity.push(t as u32);
-        let mut start = NONE;
-        while let Some(c) = stack.pop() {
-            let c = c as usize;
-            let adj = self.tri_adj[c];
-            for (i, &w) in adj.iter().enumerate() {
-                let n = (w / 3) as usize;
-                let m = self.mark[n];
-                if m == inside {
-                    continue;
-                }
-                if m != outside {
-                    if self.in_conflict(n, p, ip) {
-                        self.mark[n] = inside;
-                        stack.push(n as u32);
-                        cavity.push(n as u32);
-                        continue;
-                    }
-                    self.mark[n] = outside;
-                }
-                if start == NONE {
-                    start = pack(c, i);
-                }
-            }
-        }
-        // Walk the boundary counterclockwise: from boundary edge i of c (a -> b),
-        // turn around b through cavity triangles to the next boundary edge.
-        let mut boundary = std::mem::take(&mut self.boundary);
         boundary.clear();
-        let (mut c, mut i) = unpack(start);
-        let max_len = cavity.len() + 2;
-        loop {
-            let w = self.tri_adj[c][i];
-            let (a, b) = edge(&self.tri_v[c], i);
-            boundary.push((a, b, w));
-            let mut e = NEXT[i];
-            loop {
-                let w2 = self.tri_adj[c][e];
-                let (n, j) = unpack(w2);
-                if self.mark[n] != inside {
-                    break;
-                }
-                c = n;
-                e = NEXT[j];
-            }
-            i = e;
-            if pack(c, i) == start || boundary.len() > max_len {
-                break;
+        cavity.push(t as u32);
+        stack.extend_from_slice(&[pack(t, 2), pack(t, 1), pack(t, 0)]);
+        // Safety net against a non-tree cavity (impossible with exact
+        // predicates): never take more triangles than exist.
+        let limit = self.tri_v.len();
+        while let Some(w) = stack.pop() {
+            let (c, e) = unpack(w);
+            let wn = self.tri_adj[c][e];
+            let (n, j) = unpack(wn);
+            if cavity.len() < limit && self.in_conflict(n, p, ip) {
+                cavity.push(n as u32);
+                stack.push(pack(n, PREV[j]));
+                stack.push(pack(n, NEXT[j]));
+            } else {
+                let (a, b) = edge(&self.tri_v[c], e);
+                boundary.push((a, b, wn));
             }
         }
         debug_assert_eq!(boundary.len(), cavity.len() + 2, "cavity not a disk");
@@ -633,7 +594,6 @@ impl<'a> Delaunay2<'a> {
         }
         self.tri_v.push([DEAD; 3]);
         self.tri_adj.push([NONE; 3]);
-        self.mark.push(0);
         (self.tri_v.len() - 1) as u32
     }
 
@@ -808,7 +768,7 @@ impl<'a> Delaunay2<'a> {
     pub fn check_topology(&self) -> Result<(), Violation> {
         let pts = &self.xy;
         let nt = self.tri_v.len();
-        if self.tri_adj.len() != nt || self.mark.len() != nt {
+        if self.tri_adj.len() != nt {
             return Err(Violation::new("storage", "column lengths differ"));
         }
         if nt == 0 {
@@ -1005,15 +965,14 @@ impl<'a> Delaunay2<'a> {
         let Delaunay2 {
             mut tri_v,
             mut tri_adj,
-            mark,
             mut vmap,
             ids,
             xy,
             ..
         } = self;
         drop(xy);
-        // New index of every finite triangle, in the stamp column.
-        let mut map = mark;
+        // New index of every finite triangle.
+        let mut map = vec![0u32; tri_v.len()];
         let mut k = 0u32;
         for (t, v) in tri_v.iter().enumerate() {
             if v[0] == DEAD || is_ghost(v) {
