@@ -1018,3 +1018,115 @@ impl<'a> Delaunay2<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn random(n: usize, seed: u64) -> Vec<[f64; 2]> {
+        let mut r = crate::geom::SplitMix64::new(seed);
+        (0..n)
+            .map(|_| {
+                [
+                    r.next_u64() as f64 / 2f64.powi(64),
+                    r.next_u64() as f64 / 2f64.powi(64),
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn first_triangle_either_orientation() {
+        for pts in [
+            [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+            [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]],
+        ] {
+            let d = Delaunay2::from_points(&pts).unwrap();
+            d.check_topology().unwrap();
+            assert_eq!(d.num_ghosts, 3);
+            assert_eq!(d.num_triangles(), 1);
+        }
+    }
+
+    #[test]
+    fn walk_agrees_with_exhaustive_location() {
+        let pts = random(2000, 3);
+        let d = Delaunay2::from_points(&pts).unwrap();
+        let queries = random(500, 4);
+        let mut rng = 1;
+        for q in &queries {
+            let q = [q[0] * 1.5 - 0.25, q[1] * 1.5 - 0.25];
+            for start in [0, d.tri_v.len() / 2, d.tri_v.len() - 1] {
+                let t = d.walk(&q, start, &mut rng);
+                let v = d.tri_v[t];
+                let inside = if is_ghost(&v) {
+                    orient2d(&d.xy[v[0] as usize], &d.xy[v[1] as usize], &q) > 0.0
+                } else {
+                    (0..3).all(|e| {
+                        let (a, b) = edge(&v, e);
+                        orient2d(&d.xy[a as usize], &d.xy[b as usize], &q) >= 0.0
+                    })
+                };
+                assert!(inside, "walk from {start} ended in {t} {v:?} for {q:?}");
+                let b = d.locate_brute(&q);
+                assert_eq!(is_ghost(&d.tri_v[b]), is_ghost(&v));
+            }
+        }
+    }
+
+    #[test]
+    fn checkers_detect_corruption() {
+        let pts = random(50, 5);
+        let d = Delaunay2::from_points(&pts).unwrap();
+        d.check_topology().unwrap();
+        d.check_delaunay().unwrap();
+        // Asymmetric adjacency.
+        let mut bad = d.clone();
+        bad.tri_adj[0][0] = bad.tri_adj[0][1];
+        assert_eq!(bad.check_topology().unwrap_err().kind, "adjacency");
+        // A clockwise triangle.
+        let mut bad = d.clone();
+        let t = (0..bad.tri_v.len())
+            .find(|&t| !is_ghost(&bad.tri_v[t]))
+            .unwrap();
+        bad.tri_v[t].swap(0, 1);
+        assert!(bad.check_topology().is_err());
+        // Move the apex across an interior edge onto the edge's midpoint:
+        // strictly inside the circumcircle of the triangle on the other side.
+        let mut bad = d.clone();
+        let (t, i) = (0..bad.tri_v.len())
+            .flat_map(|t| (0..3).map(move |i| (t, i)))
+            .find(|&(t, i)| {
+                let (n, _) = unpack(bad.tri_adj[t][i]);
+                !is_ghost(&bad.tri_v[t]) && !is_ghost(&bad.tri_v[n])
+            })
+            .unwrap();
+        let (n, j) = unpack(bad.tri_adj[t][i]);
+        let (a, b) = edge(&bad.tri_v[t], i);
+        let (pa, pb) = (bad.xy[a as usize], bad.xy[b as usize]);
+        bad.xy[bad.tri_v[n][j] as usize] = [(pa[0] + pb[0]) / 2.0, (pa[1] + pb[1]) / 2.0];
+        assert_eq!(bad.check_delaunay().unwrap_err().kind, "delaunay");
+        // A dead slot off the free list.
+        let mut bad = d.clone();
+        bad.tri_v[0] = [DEAD; 3];
+        assert!(bad.check_topology().is_err());
+    }
+
+    #[test]
+    fn free_list_slots_are_reused() {
+        let mut d = Delaunay2::new();
+        for p in random(20, 6) {
+            d.insert(p).unwrap();
+        }
+        let t = d.alloc();
+        let slot = t as usize;
+        // Return it to the free list as a dead slot, then allocate it again.
+        d.tri_v[slot] = [DEAD; 3];
+        d.tri_adj[slot] = [d.free_head, NONE, NONE];
+        d.free_head = t;
+        d.num_free += 1;
+        d.check_topology().unwrap();
+        assert_eq!(d.alloc(), t);
+        assert_eq!(d.num_free, 0);
+    }
+}

@@ -274,3 +274,90 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A square split along the diagonal 0-2, plus a Delaunay-violating
+    /// variant: points 0..4 of a kite where only the diagonal 1-3 is Delaunay.
+    fn square() -> (Vec<[f64; 2]>, TriMesh) {
+        let pts = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let mesh = TriMesh {
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            neighbors: vec![[NONE, 1, NONE], [NONE, NONE, 0]],
+            vertex_map: vec![0, 1, 2, 3],
+            duplicates: vec![],
+        };
+        (pts, mesh)
+    }
+
+    #[test]
+    fn accepts_a_valid_mesh() {
+        let (pts, mesh) = square();
+        validate(&pts, &mesh).unwrap();
+    }
+
+    #[test]
+    fn rejects_broken_neighbours() {
+        let (pts, mut mesh) = square();
+        mesh.neighbors[0][1] = NONE;
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "adjacency");
+        let (pts, mut mesh) = square();
+        mesh.neighbors[1][0] = 0;
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "adjacency");
+    }
+
+    #[test]
+    fn rejects_non_delaunay_edge() {
+        // Flat kite: the diagonal 0-2 is too long; 1-3 would be Delaunay.
+        let (mut pts, mesh) = square();
+        pts[0] = [-2.0, 0.0];
+        pts[1] = [0.0, -0.5];
+        pts[2] = [2.0, 0.0];
+        pts[3] = [0.0, 0.5];
+        let v = validate(&pts, &mesh).unwrap_err();
+        assert_eq!(v.kind, "delaunay", "{v}");
+    }
+
+    #[test]
+    fn rejects_missing_vertex_and_bad_duplicates() {
+        let (mut pts, mut mesh) = square();
+        pts.push([0.5, 0.25]);
+        mesh.vertex_map.push(4);
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "vertex");
+        // Declared as a duplicate of a point it does not equal.
+        mesh.vertex_map[4] = 0;
+        mesh.duplicates.push((4, 0));
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "vertex_map");
+        // A true duplicate, but the list is missing.
+        pts[4] = pts[0];
+        mesh.duplicates.clear();
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "duplicates");
+        mesh.duplicates.push((4, 0));
+        validate(&pts, &mesh).unwrap();
+    }
+
+    #[test]
+    fn rejects_non_convex_hull() {
+        // Two triangles forming a non-convex quadrilateral (a dart).
+        let pts = vec![[0.0, 0.0], [2.0, 1.0], [0.0, 2.0], [0.5, 1.0]];
+        let mesh = TriMesh {
+            triangles: vec![[0, 1, 3], [3, 1, 2]],
+            neighbors: vec![[1, NONE, NONE], [NONE, NONE, 0]],
+            vertex_map: vec![0, 1, 2, 3],
+            duplicates: vec![],
+        };
+        let v = validate(&pts, &mesh).unwrap_err();
+        assert_eq!(v.kind, "hull", "{v}");
+    }
+
+    #[test]
+    fn rejects_overlap() {
+        // The same triangle twice: an edge used twice in one direction.
+        let (pts, mut mesh) = square();
+        mesh.triangles.push([0, 1, 2]);
+        mesh.neighbors.push([NONE, NONE, NONE]);
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "manifold");
+    }
+}
