@@ -24,7 +24,7 @@ use std::borrow::Cow;
 use delone_predicates::{incircle, incircle_sos, orient2d};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
-use super::TriMesh;
+use super::{pow2_scale, scaled, TriMesh};
 use crate::geom::brio_order;
 use crate::{Error, Violation, NONE};
 
@@ -104,6 +104,10 @@ pub struct Delaunay2<'a> {
     /// insertion order, so that the vertices touched by one insertion sit close
     /// together in memory.
     xy: Vec<[f64; 2]>,
+    /// Exact power-of-two factors applied to the caller's coordinates to get
+    /// `xy` (see `pow2_scale`): keeps huge or tiny inputs inside the range
+    /// where the predicates are exact.
+    scale: (f64, f64),
     /// Input index of every internal vertex id. Swapped when a duplicate with a
     /// smaller input index turns up, so that the first of equal points is the
     /// one that stays a vertex.
@@ -141,21 +145,23 @@ impl Default for Delaunay2<'static> {
     }
 }
 
-/// Index of the first point with a NaN or infinite coordinate, and the
-/// capacity check shared by the constructors.
-fn check_input(points: &[[f64; 2]]) -> Result<(), Error> {
+/// Rejects NaN/infinite coordinates (naming the first such point) and too
+/// many points.
+/// Returns the largest coordinate magnitude.
+fn check_input(points: &[[f64; 2]]) -> Result<f64, Error> {
     if points.len() > MAX_POINTS {
         return Err(Error::CapacityExceeded {
             requested: points.len(),
         });
     }
-    match points
-        .iter()
-        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-    {
-        Some(index) => Err(Error::InvalidCoordinate { index }),
-        None => Ok(()),
+    let mut max_abs = 0.0f64;
+    for (index, p) in points.iter().enumerate() {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return Err(Error::InvalidCoordinate { index });
+        }
+        max_abs = max_abs.max(p[0].abs()).max(p[1].abs());
     }
+    Ok(max_abs)
 }
 
 /// Number of distinct points (used only on the error path).
@@ -194,6 +200,7 @@ impl<'a> Delaunay2<'a> {
         Delaunay2 {
             input,
             xy: Vec::new(),
+            scale: (1.0, 1.0),
             ids: Vec::new(),
             tri_v: Vec::new(),
             tri_adj: Vec::new(),
@@ -246,13 +253,18 @@ impl<'a> Delaunay2<'a> {
         points: &'a [[f64; 2]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        check_input(points)?;
+        let max_abs = check_input(points)?;
         let n = points.len();
         let mut d = Delaunay2::empty(Cow::Borrowed(points));
         let order = brio_order(points);
         progress(0, n);
         // Internal ids are insertion ranks: gather the points in that order.
-        d.xy = order.iter().map(|&i| points[i as usize]).collect();
+        d.scale = pow2_scale(max_abs);
+        let s = d.scale;
+        d.xy = order
+            .iter()
+            .map(|&i| scaled(points[i as usize], s))
+            .collect();
         d.ids = order;
         let xy = &d.xy;
         // The first triangle: the first point, the first one different from
@@ -335,6 +347,10 @@ impl<'a> Delaunay2<'a> {
         self.input.to_mut().push(p);
         let id = id as u32;
         debug_assert_eq!(self.xy.len(), id as usize);
+        if id == 0 {
+            self.scale = pow2_scale(p[0].abs().max(p[1].abs()));
+        }
+        let p = scaled(p, self.scale);
         self.xy.push(p);
         self.ids.push(id);
         self.vmap.push(id);
@@ -676,6 +692,7 @@ impl<'a> Delaunay2<'a> {
         if self.tri_v.is_empty() || !(p[0].is_finite() && p[1].is_finite()) {
             return Location::NoTriangle;
         }
+        let p = &scaled(*p, self.scale);
         let mut rng = 0x9e37_79b9;
         let t = self.walk(p, self.last as usize, &mut rng);
         let v = self.tri_v[t];
