@@ -1,6 +1,9 @@
 //! Times `delone::triangulate` on seeded uniform random points.
 //!
-//! `cargo run --release -p delone --example tri_timing -- [n] [repeats] [--check]`
+//! `cargo run --release -p delone --example tri_timing -- [n] [repeats] [--check] [--grid]`
+//!
+//! `--grid` uses a square integer grid of about `n` points instead (every cell
+//! is cocircular: the exact and symbolic-perturbation paths are exercised).
 use std::time::Instant;
 
 use delone::geom::SplitMix64;
@@ -21,7 +24,15 @@ fn main() {
     let check = args.iter().any(|a| a == "--check");
     let mut rng = SplitMix64::new(42);
     let unit = |r: &mut SplitMix64| (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-    let pts: Vec<[f64; 2]> = (0..n).map(|_| [unit(&mut rng), unit(&mut rng)]).collect();
+    let pts: Vec<[f64; 2]> = if args.iter().any(|a| a == "--grid") {
+        let side = (n as f64).sqrt().round() as usize;
+        (0..side * side)
+            .map(|k| [(k % side) as f64, (k / side) as f64])
+            .collect()
+    } else {
+        (0..n).map(|_| [unit(&mut rng), unit(&mut rng)]).collect()
+    };
+    let n = pts.len();
     let rss0 = peak_rss_kib().unwrap_or(0);
     let mut best = f64::INFINITY;
     let mut tris = 0;

@@ -10,8 +10,19 @@
 //!
 //! All decisions are made by exact predicates; cocircular points are resolved
 //! by Simulation of Simplicity (a symbolic perturbation of the lifted points
-//! ordered by point index), so the output is a Delaunay triangulation and is
-//! the same on every run.
+//! ordered by internal vertex id, i.e. by insertion rank, itself a fixed
+//! function of the input), so the output is a Delaunay triangulation and is
+//! the same on every run. A ghost triangle is in conflict with a point
+//! strictly outside its hull edge; for a point exactly on the edge's line, iff
+//! the finite triangle across the edge is (that is, iff the point lies inside
+//! the edge), which keeps every cavity a disk.
+//!
+//! `from_points` numbers the vertices internally in insertion order and keeps
+//! a copy of the coordinates in that order, so the vertices touched by one
+//! insertion sit close together in memory (this halves the running time on
+//! large inputs); ids are mapped back to input indices on output. Huge or tiny
+//! inputs are first scaled by an exact power of two so the predicates stay
+//! exact.
 //!
 //! # References
 //! A. Bowyer, *Computing Dirichlet tessellations*, Comput. J. 24 (1981).
