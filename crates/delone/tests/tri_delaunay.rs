@@ -178,7 +178,12 @@ fn small_grid_one_by_one() {
         }
         let mut d = Delaunay2::new();
         for (k, &p) in pts.iter().enumerate() {
-            assert_eq!(d.insert(p).unwrap(), Inserted::Vertex(k as u32));
+            let r = d.insert(p).unwrap();
+            if d.num_triangles() == 0 {
+                assert_eq!(r, Inserted::Pending(k as u32));
+            } else {
+                assert_eq!(r, Inserted::Vertex(k as u32));
+            }
             d.check_topology()
                 .unwrap_or_else(|v| panic!("after point {k}: {v}"));
             d.check_delaunay()
@@ -298,9 +303,15 @@ fn collinear_inputs() {
         d.insert(p).unwrap();
     }
     assert_eq!(d.num_triangles(), 0);
-    assert_eq!(d.num_vertices(), line.len());
-    assert_eq!(d.locate(&[0.0, 0.0]), Location::NoTriangle);
-    assert_eq!(d.insert(line[3]).unwrap(), Inserted::Duplicate(3));
+    assert_eq!(d.num_vertices(), 0);
+    assert_eq!(d.locate(&[0.0, 0.0]), Location::Empty);
+    assert_eq!(
+        d.insert(line[3]).unwrap(),
+        Inserted::Duplicate {
+            id: line.len() as u32,
+            original: 3
+        }
+    );
     d.insert([-1.0, 5.0]).unwrap();
     d.check_topology().unwrap();
     d.check_delaunay().unwrap();
@@ -344,7 +355,11 @@ fn many_duplicates() {
     shuffle(&mut pts, 22);
     pts.push([-0.0, 0.25]);
     pts.push([0.0, 0.25]);
+    let d = Delaunay2::from_points(&pts).unwrap();
+    let dups = d.duplicates().to_vec();
+    drop(d);
     let mesh = check_all(&pts);
+    assert_eq!(mesh.duplicates, dups);
     assert_eq!(mesh.duplicates.len(), 4 * 400 + 1);
     for &(dup, orig) in &mesh.duplicates {
         assert!(orig < dup);
@@ -354,8 +369,12 @@ fn many_duplicates() {
     let mut d = Delaunay2::new();
     for (k, &p) in pts.iter().enumerate() {
         match d.insert(p).unwrap() {
-            Inserted::Vertex(v) => assert_eq!(v, k as u32),
-            Inserted::Duplicate(v) => assert_eq!(pts[v as usize], p),
+            Inserted::Vertex(v) | Inserted::Pending(v) => assert_eq!(v, k as u32),
+            Inserted::Duplicate { id, original } => {
+                assert_eq!(id, k as u32);
+                assert!(original < id);
+                assert_eq!(pts[original as usize], p);
+            }
         }
     }
     d.check_topology().unwrap();

@@ -19,8 +19,8 @@
 //!
 //! `from_points` numbers the vertices internally in insertion order and keeps
 //! a copy of the coordinates in that order, so the vertices touched by one
-//! insertion sit close together in memory (this halves the running time on
-//! large inputs); ids are mapped back to input indices on output. Huge or tiny
+//! insertion sit close together in memory (fewer cache misses on large
+//! inputs); ids are mapped back to input indices on output. Huge or tiny
 //! inputs are first scaled by an exact power of two so the predicates stay
 //! exact.
 //!
@@ -50,16 +50,26 @@ const PROGRESS_EVERY: usize = 1 << 16;
 /// ```
 /// use delone::tri::{Delaunay2, Inserted};
 /// let mut d = Delaunay2::new();
-/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Vertex(0));
-/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Duplicate(0));
+/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Pending(0));
+/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Duplicate { id: 1, original: 0 });
+/// assert_eq!(d.insert([1.0, 0.0]).unwrap(), Inserted::Pending(2));
+/// assert_eq!(d.insert([0.0, 1.0]).unwrap(), Inserted::Vertex(3));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Inserted {
     /// The point became vertex `id` (its index in [`Delaunay2::points`]).
     Vertex(u32),
-    /// The point has the same coordinates as vertex `id` and was not inserted
-    /// (it still gets an index in [`Delaunay2::points`]).
-    Duplicate(u32),
+    /// The point has the same coordinates as an earlier point and was not
+    /// inserted (it still gets an index in [`Delaunay2::points`]).
+    Duplicate {
+        /// Index of the duplicate point.
+        id: u32,
+        /// The vertex (or pending point) it coincides with.
+        original: u32,
+    },
+    /// No triangle exists yet (all points so far are collinear); the point is
+    /// kept and becomes a vertex as soon as a triangle exists.
+    Pending(u32),
 }
 
 /// Where a query point lies, as answered by [`Delaunay2::locate`].
@@ -87,7 +97,7 @@ pub enum Location {
     /// (hull edges are listed counterclockwise around the hull).
     OutsideHull([u32; 2]),
     /// No triangle exists yet (fewer than 3 non-collinear points inserted).
-    NoTriangle,
+    Empty,
 }
 
 /// Incremental 2D Delaunay triangulation.
@@ -132,7 +142,10 @@ pub struct Delaunay2<'a> {
     free_head: u32,
     num_free: usize,
     num_ghosts: usize,
+    /// Vertices of the triangulation (pending points not included).
     num_vertices: usize,
+    /// `(duplicate, original)` input indices, sorted by duplicate.
+    duplicates: Vec<(u32, u32)>,
     /// Start triangle of the next walk.
     last: u32,
     /// State of the walk's pseudo-random edge choice.
@@ -219,6 +232,7 @@ impl<'a> Delaunay2<'a> {
             num_free: 0,
             num_ghosts: 0,
             num_vertices: 0,
+            duplicates: Vec::new(),
             last: 0,
             rng: 0x2545_f491,
             vmap: Vec::new(),
@@ -321,6 +335,18 @@ impl<'a> Delaunay2<'a> {
                 progress(done, n);
             }
         }
+        // Resolve duplicate chains (they always lead to smaller indices).
+        d.duplicates.clear();
+        for i in 0..n {
+            let mut r = d.vmap[i];
+            while d.vmap[r as usize] != r {
+                r = d.vmap[r as usize];
+            }
+            d.vmap[i] = r;
+            if r != i as u32 {
+                d.duplicates.push((i as u32, r));
+            }
+        }
         progress(n, n);
         Ok(d)
     }
@@ -342,7 +368,7 @@ impl<'a> Delaunay2<'a> {
     ///     d.insert(p).unwrap();
     /// }
     /// assert_eq!(d.num_triangles(), 4);
-    /// assert_eq!(d.insert([2.0, 0.0]).unwrap(), Inserted::Duplicate(1));
+    /// assert_eq!(d.insert([2.0, 0.0]).unwrap(), Inserted::Duplicate { id: 5, original: 1 });
     /// assert!(d.insert([f64::NAN, 0.0]).is_err());
     /// d.check_topology().unwrap();
     /// ```
@@ -370,16 +396,14 @@ impl<'a> Delaunay2<'a> {
         }
         // No triangle yet: all pending points are distinct and collinear.
         let pts = &self.xy;
-        if let Some(&dup) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
-            self.vmap[id as usize] = dup;
-            return Ok(Inserted::Duplicate(dup));
+        if let Some(&original) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
+            self.vmap[id as usize] = original;
+            self.duplicates.push((id, original));
+            return Ok(Inserted::Duplicate { id, original });
         }
         if self.pending.len() >= 2 {
             let (a, b) = (self.pending[0], self.pending[1]);
             if orient2d(&pts[a as usize], &pts[b as usize], &p) != 0.0 {
-                // `first_triangle` counts a, b and the new point; the other
-                // pending points are counted again as they are inserted.
-                self.num_vertices -= self.pending.len();
                 let rest: Vec<u32> = self.pending.drain(..).skip(2).collect();
                 self.first_triangle(a, b, id);
                 for q in rest {
@@ -389,8 +413,7 @@ impl<'a> Delaunay2<'a> {
             }
         }
         self.pending.push(id);
-        self.num_vertices += 1;
-        Ok(Inserted::Vertex(id))
+        Ok(Inserted::Pending(id))
     }
 
     /// Creates the first finite triangle on three non-collinear points and its
@@ -548,18 +571,20 @@ impl<'a> Delaunay2<'a> {
         if !is_ghost(&v) {
             for &x in &v {
                 if self.xy[x as usize] == p {
-                    let (new, old) = (self.ids[ip as usize], self.ids[x as usize]);
                     self.last = t as u32;
-                    if new < old {
+                    let (mut id, mut original) = (self.ids[ip as usize], self.ids[x as usize]);
+                    if id < original {
                         // Keep the first of equal points as the vertex: the
-                        // vertex takes the smaller input index.
+                        // vertex takes the smaller input index. (Only in
+                        // `from_points`, which rebuilds `duplicates` at the end.)
                         self.ids.swap(ip as usize, x as usize);
-                        self.vmap[old as usize] = new;
-                        self.vmap[new as usize] = new;
-                        return Inserted::Duplicate(old);
+                        std::mem::swap(&mut id, &mut original);
+                        self.vmap[original as usize] = original;
+                    } else {
+                        self.duplicates.push((id, original));
                     }
-                    self.vmap[new as usize] = old;
-                    return Inserted::Duplicate(old);
+                    self.vmap[id as usize] = original;
+                    return Inserted::Duplicate { id, original };
                 }
             }
         }
@@ -701,7 +726,7 @@ impl<'a> Delaunay2<'a> {
     /// ```
     pub fn locate(&self, p: &[f64; 2]) -> Location {
         if self.tri_v.is_empty() || !(p[0].is_finite() && p[1].is_finite()) {
-            return Location::NoTriangle;
+            return Location::Empty;
         }
         let p = &scaled(*p, self.scale);
         let mut rng = 0x9e37_79b9;
@@ -738,7 +763,8 @@ impl<'a> Delaunay2<'a> {
         (v[0] != DEAD && !is_ghost(&v)).then(|| v.map(|x| self.ids[x as usize]))
     }
 
-    /// Number of vertices (distinct inserted points, pending ones included).
+    /// Number of vertices of the triangulation (points given minus duplicates
+    /// minus pending ones).
     ///
     /// ```
     /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]).unwrap();
@@ -746,6 +772,19 @@ impl<'a> Delaunay2<'a> {
     /// ```
     pub fn num_vertices(&self) -> usize {
         self.num_vertices
+    }
+
+    /// The duplicate points found so far, as `(duplicate, original)` input
+    /// indices sorted by duplicate; the original is the first point with those
+    /// coordinates.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]];
+    /// let d = delone::tri::Delaunay2::from_points(&pts).unwrap();
+    /// assert_eq!(d.duplicates(), &[(2, 1), (4, 0)]);
+    /// ```
+    pub fn duplicates(&self) -> &[(u32, u32)] {
+        &self.duplicates
     }
 
     /// Number of finite triangles.
@@ -800,8 +839,8 @@ impl<'a> Delaunay2<'a> {
             return Err(Violation::new("storage", "column lengths differ"));
         }
         if nt == 0 {
-            if self.num_vertices != self.pending.len() {
-                return Err(Violation::new("vertices", "pending count mismatch"));
+            if self.num_vertices != 0 {
+                return Err(Violation::new("vertices", "vertices without triangles"));
             }
             return Ok(());
         }
@@ -993,7 +1032,8 @@ impl<'a> Delaunay2<'a> {
         let Delaunay2 {
             mut tri_v,
             mut tri_adj,
-            mut vmap,
+            vmap,
+            duplicates,
             ids,
             xy,
             ..
@@ -1026,18 +1066,6 @@ impl<'a> Delaunay2<'a> {
         // save the few ghost slots.
         drop(map);
         drop(ids);
-        // Resolve duplicate chains to their final representative.
-        let mut duplicates = Vec::new();
-        for i in 0..vmap.len() {
-            let mut r = vmap[i];
-            while vmap[r as usize] != r {
-                r = vmap[r as usize];
-            }
-            vmap[i] = r;
-            if r != i as u32 {
-                duplicates.push((i as u32, r));
-            }
-        }
         TriMesh {
             triangles: tri_v,
             neighbors: tri_adj,
