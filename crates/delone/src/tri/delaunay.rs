@@ -475,7 +475,8 @@ impl<'a> Delaunay2<'a> {
                 return self.locate_brute(p);
             }
             let v = tv[t];
-            let r = (Self::next_rand(rng) % 3) as usize;
+            // Multiply-shift maps 16 random bits onto 0..3.
+            let r = (((Self::next_rand(rng) & 0xffff) * 3) >> 16) as usize;
             for k in 0..3 {
                 let e = (r + k) % 3;
                 if e == from {
@@ -676,38 +677,48 @@ impl<'a> Delaunay2<'a> {
             slots.push(s);
         }
         let mut new_ghosts = 0;
-        for (k, &(a, b, w)) in boundary.iter().enumerate() {
-            let s = slots[k] as usize;
+        let mut last = NONE;
+        // Edge (b -> ip) of the previous new triangle, waiting for its twin
+        // (ip -> a) in the next one; the first triangle's is closed at the end.
+        let mut prev_edge = NONE;
+        let mut first_edge = NONE;
+        for (&(a, b, w), &s) in boundary.iter().zip(slots.iter()) {
+            let s = s as usize;
             // A ghost keeps INF in position 2: rotate [ip, INF, b] to [b, ip, INF].
             let rot = usize::from(a == INF);
-            new_ghosts += usize::from(a == INF || b == INF);
+            let ghost = a == INF || b == INF;
+            new_ghosts += usize::from(ghost);
+            if !ghost {
+                last = s as u32;
+            }
             let mut tv = [0u32; 3];
             tv[rot] = ip;
             tv[NEXT[rot]] = a;
             tv[PREV[rot]] = b;
             self.tri_v[s] = tv;
-            self.tri_adj[s][rot] = w;
+            let e_pa = pack(s, PREV[rot]);
+            let mut adj = [0u32; 3];
+            adj[rot] = w;
+            adj[PREV[rot]] = prev_edge;
+            if prev_edge == NONE {
+                first_edge = e_pa;
+            } else {
+                let (q, f) = unpack(prev_edge);
+                self.tri_adj[q][f] = e_pa;
+            }
+            prev_edge = pack(s, NEXT[rot]);
+            self.tri_adj[s] = adj;
             let (o, j) = unpack(w);
             self.tri_adj[o][j] = pack(s, rot);
         }
-        for k in 0..m {
-            let kn = if k + 1 == m { 0 } else { k + 1 };
-            let (s, sn) = (slots[k] as usize, slots[kn] as usize);
-            let rot = usize::from(boundary[k].0 == INF);
-            let rot_n = usize::from(boundary[kn].0 == INF);
-            // Edge (b -> ip) of s is edge (ip -> a') of the next triangle.
-            let e = NEXT[rot];
-            let en = PREV[rot_n];
-            self.tri_adj[s][e] = pack(sn, en);
-            self.tri_adj[sn][en] = pack(s, e);
-        }
+        // Close the fan: the last (b -> ip) with the first (ip -> a).
+        let (q, f) = unpack(prev_edge);
+        self.tri_adj[q][f] = first_edge;
+        let (q, f) = unpack(first_edge);
+        self.tri_adj[q][f] = prev_edge;
         self.num_ghosts = self.num_ghosts + new_ghosts - removed_ghosts;
         // Prefer a finite triangle as the next walk's start.
-        self.last = slots
-            .iter()
-            .copied()
-            .find(|&s| !is_ghost(&self.tri_v[s as usize]))
-            .unwrap_or(slots[0]);
+        self.last = if last != NONE { last } else { slots[0] };
         self.boundary = boundary;
         self.slots = slots;
     }
