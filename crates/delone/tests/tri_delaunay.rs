@@ -113,12 +113,19 @@ fn shared_node_files() {
         println!("note: shared/data not found; skipping the .node inputs");
         return;
     };
+    // Every .node of 2d/points, the vertex sections of the 2d .poly files
+    // (same layout), and the repository's own example.
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("2d/points"))
         .expect("2d/points")
+        .chain(std::fs::read_dir(dir.join("2d")).expect("2d"))
         .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "node"))
+        .filter(|p| p.extension().is_some_and(|e| e == "node" || e == "poly"))
         .collect();
     files.sort();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/spiral_grid.node");
+    if example.is_file() {
+        files.push(example);
+    }
     assert!(!files.is_empty());
     for f in files {
         let pts = parse_node(&std::fs::read_to_string(&f).unwrap());

@@ -96,7 +96,8 @@ pub enum Location {
     /// Outside the convex hull, strictly beyond the hull edge `[a, b]`
     /// (hull edges are listed counterclockwise around the hull).
     OutsideHull([u32; 2]),
-    /// No triangle exists yet (fewer than 3 non-collinear points inserted).
+    /// No triangle exists yet (fewer than 3 non-collinear points inserted),
+    /// or the query has a NaN/infinite coordinate.
     Empty,
 }
 
