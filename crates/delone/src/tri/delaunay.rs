@@ -528,9 +528,9 @@ impl<'a> Delaunay2<'a> {
     /// Is triangle `t` in conflict with point `ip` at `p`?
     #[inline(always)]
     fn in_conflict(&self, t: usize, p: &[f64; 2], ip: u32) -> bool {
-        let pts = &self.xy;
         let v = self.tri_v[t];
         if is_ghost(&v) {
+            let pts = &self.xy;
             let o = orient2d(&pts[v[0] as usize], &pts[v[1] as usize], p);
             if o != 0.0 {
                 return o > 0.0;
@@ -538,27 +538,44 @@ impl<'a> Delaunay2<'a> {
             // On the hull edge's line: in conflict iff the finite triangle
             // across it is (i.e. iff `p` lies strictly inside the edge).
             let (n, _) = unpack(self.tri_adj[t][2]);
-            let u = self.tri_v[n];
-            return incircle_sos(
-                &pts[u[0] as usize],
-                &pts[u[1] as usize],
-                &pts[u[2] as usize],
-                p,
-                u[0],
-                u[1],
-                u[2],
-                ip,
-            ) > 0;
+            return self.circle_conflict(self.tri_v[n], p, ip);
         }
+        self.circle_conflict(v, p, ip)
+    }
+
+    /// Is `p` (vertex `ip`) inside the circumcircle of finite triangle `v`?
+    #[inline(always)]
+    fn circle_conflict(&self, v: [u32; 3], p: &[f64; 2], ip: u32) -> bool {
+        let pts = &self.xy;
+        let det = incircle(
+            &pts[v[0] as usize],
+            &pts[v[1] as usize],
+            &pts[v[2] as usize],
+            p,
+        );
+        if det != 0.0 {
+            return det > 0.0;
+        }
+        self.cocircular_conflict(v, p, ip)
+    }
+
+    /// Tie-break for exactly cocircular points: Simulation of Simplicity with
+    /// the *input* indices, so that the perturbed point set, and with it the
+    /// triangulation, does not depend on the insertion order.
+    #[cold]
+    #[inline(never)]
+    fn cocircular_conflict(&self, v: [u32; 3], p: &[f64; 2], ip: u32) -> bool {
+        let pts = &self.xy;
+        let id = |x: u32| self.ids[x as usize];
         incircle_sos(
             &pts[v[0] as usize],
             &pts[v[1] as usize],
             &pts[v[2] as usize],
             p,
-            v[0],
-            v[1],
-            v[2],
-            ip,
+            id(v[0]),
+            id(v[1]),
+            id(v[2]),
+            id(ip),
         ) > 0
     }
 
@@ -574,19 +591,26 @@ impl<'a> Delaunay2<'a> {
             for &x in &v {
                 if self.xy[x as usize] == p {
                     self.last = t as u32;
-                    let (mut id, mut original) = (self.ids[ip as usize], self.ids[x as usize]);
-                    if id < original {
-                        // Keep the first of equal points as the vertex: the
-                        // vertex takes the smaller input index. (Only in
-                        // `from_points`, which rebuilds `duplicates` at the end.)
-                        self.ids.swap(ip as usize, x as usize);
-                        std::mem::swap(&mut id, &mut original);
-                        self.vmap[original as usize] = original;
-                    } else {
-                        self.duplicates.push((id, original));
+                    let id = self.ids[ip as usize];
+                    // The point that currently names the vertex.
+                    let mut rep = self.ids[x as usize];
+                    while self.vmap[rep as usize] != rep {
+                        rep = self.vmap[rep as usize];
                     }
-                    self.vmap[id as usize] = original;
-                    return Inserted::Duplicate { id, original };
+                    if id < rep {
+                        // Keep the first of equal points as the vertex's name
+                        // (only in `from_points`, which resolves the chains and
+                        // rebuilds `duplicates` at the end). `ids` is left
+                        // alone: it is also the perturbation order.
+                        self.vmap[rep as usize] = id;
+                        return Inserted::Duplicate {
+                            id: rep,
+                            original: id,
+                        };
+                    }
+                    self.vmap[id as usize] = rep;
+                    self.duplicates.push((id, rep));
+                    return Inserted::Duplicate { id, original: rep };
                 }
             }
         }
@@ -724,6 +748,13 @@ impl<'a> Delaunay2<'a> {
         self.slots = slots;
     }
 
+    /// The input index naming internal vertex `x`: its own, or that of the
+    /// first equal point found later by `from_points`.
+    #[inline]
+    fn label(&self, x: u32) -> u32 {
+        self.vmap[self.ids[x as usize] as usize]
+    }
+
     /// Locates `p`: the triangle, edge or vertex it lies on, or the hull edge
     /// it is beyond.
     ///
@@ -745,12 +776,12 @@ impl<'a> Delaunay2<'a> {
         let t = self.walk(p, self.last as usize, &mut rng);
         let v = self.tri_v[t];
         if is_ghost(&v) {
-            return Location::OutsideHull([self.ids[v[1] as usize], self.ids[v[0] as usize]]);
+            return Location::OutsideHull([self.label(v[1]), self.label(v[0])]);
         }
         let pts = &self.xy;
         for &x in &v {
             if pts[x as usize] == *p {
-                return Location::OnVertex(self.ids[x as usize]);
+                return Location::OnVertex(self.label(x));
             }
         }
         for e in 0..3 {
@@ -772,7 +803,7 @@ impl<'a> Delaunay2<'a> {
     /// ```
     pub fn triangle(&self, t: u32) -> Option<[u32; 3]> {
         let v = *self.tri_v.get(t as usize)?;
-        (v[0] != DEAD && !is_ghost(&v)).then(|| v.map(|x| self.ids[x as usize]))
+        (v[0] != DEAD && !is_ghost(&v)).then(|| v.map(|x| self.label(x)))
     }
 
     /// Number of vertices of the triangulation (points given minus duplicates
@@ -819,7 +850,7 @@ impl<'a> Delaunay2<'a> {
         self.tri_v
             .iter()
             .filter(|v| v[0] != DEAD && !is_ghost(v))
-            .map(|v| v.map(|x| self.ids[x as usize]))
+            .map(|v| v.map(|x| self.label(x)))
     }
 
     /// All points given so far (vertices, duplicates and pending points),
@@ -973,11 +1004,13 @@ impl<'a> Delaunay2<'a> {
             ));
         }
         for (x, &u) in used.iter().enumerate() {
-            let i = self.ids[x];
-            if u && self.vmap[i as usize] != i {
+            let name = self.label(x as u32);
+            if u && (self.vmap[name as usize] != name
+                || self.input[name as usize] != self.input[self.ids[x] as usize])
+            {
                 return Err(Violation::new(
                     "vertices",
-                    format!("vertex {x} is recorded as a duplicate"),
+                    format!("vertex {x} is named by a duplicate or a different point"),
                 ));
             }
         }
@@ -1067,7 +1100,7 @@ impl<'a> Delaunay2<'a> {
             if map[t] == NONE {
                 continue;
             }
-            tri_v[k] = tri_v[t].map(|x| ids[x as usize]);
+            tri_v[k] = tri_v[t].map(|x| vmap[ids[x as usize] as usize]);
             let a = tri_adj[t];
             tri_adj[k] = a.map(|w| map[(w / 3) as usize]);
             k += 1;
