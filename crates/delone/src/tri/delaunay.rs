@@ -170,6 +170,32 @@ impl Default for Delaunay2<'static> {
     }
 }
 
+/// The sign `delone_predicates::incircle_sos(a, b, c, d, ..)` returns when
+/// `incircle(a, b, c, d)` is exactly zero, without computing that exact
+/// determinant a second time: raising the lifted coordinate of point `k` by
+/// `eps_k` (larger for larger indices) adds `eps_k * C_k`, with cofactors
+/// `C_a = orient2d(b, c, d)`, `C_b = -orient2d(a, c, d)`,
+/// `C_c = orient2d(a, b, d)`, `C_d = -orient2d(a, b, c)`; the first nonzero one
+/// in decreasing index order decides. Cocircular distinct points are never
+/// collinear three by three, so some cofactor is nonzero.
+fn cocircular_sos(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], d: &[f64; 2], idx: [u32; 4]) -> i32 {
+    let mut order = [0usize, 1, 2, 3];
+    order.sort_unstable_by(|&x, &y| idx[y].cmp(&idx[x]));
+    for k in order {
+        let cof = match k {
+            0 => orient2d(b, c, d),
+            1 => -orient2d(a, c, d),
+            2 => orient2d(a, b, d),
+            _ => -orient2d(a, b, c),
+        };
+        if cof != 0.0 {
+            return if cof > 0.0 { 1 } else { -1 };
+        }
+    }
+    // Unreachable for cocircular distinct points; defer to the crate.
+    incircle_sos(a, b, c, d, idx[0], idx[1], idx[2], idx[3])
+}
+
 /// Rejects NaN/infinite coordinates (naming the first such point) and too
 /// many points.
 /// Returns the largest coordinate magnitude.
@@ -567,16 +593,8 @@ impl<'a> Delaunay2<'a> {
     fn cocircular_conflict(&self, v: [u32; 3], p: &[f64; 2], ip: u32) -> bool {
         let pts = &self.xy;
         let id = |x: u32| self.ids[x as usize];
-        incircle_sos(
-            &pts[v[0] as usize],
-            &pts[v[1] as usize],
-            &pts[v[2] as usize],
-            p,
-            id(v[0]),
-            id(v[1]),
-            id(v[2]),
-            id(ip),
-        ) > 0
+        let [a, b, c] = v.map(|x| &pts[x as usize]);
+        cocircular_sos(a, b, c, p, [id(v[0]), id(v[1]), id(v[2]), id(ip)]) > 0
     }
 
     /// Inserts internal vertex `ip` into an existing triangulation
@@ -1134,6 +1152,38 @@ mod tests {
                 ]
             })
             .collect()
+    }
+
+    #[test]
+    fn cocircular_tie_break_matches_the_predicate_crate() {
+        // Integer points on the circle x^2 + y^2 = 25, all index orders.
+        let c = [
+            [5.0, 0.0],
+            [4.0, 3.0],
+            [3.0, 4.0],
+            [0.0, 5.0],
+            [-3.0, 4.0],
+            [-4.0, -3.0],
+            [0.0, -5.0],
+            [3.0, -4.0],
+        ];
+        let mut r = crate::geom::SplitMix64::new(77);
+        for _ in 0..2000 {
+            let pick: Vec<usize> = (0..4).map(|_| r.below(8) as usize).collect();
+            if (0..4).any(|i| (0..i).any(|j| pick[i] == pick[j])) {
+                continue;
+            }
+            let idx = [r.below(100), r.below(100), r.below(100), r.below(100)];
+            if (0..4).any(|i| (0..i).any(|j| idx[i] == idx[j])) {
+                continue;
+            }
+            let [a, b, cc, d] = [0, 1, 2, 3].map(|k| c[pick[k]]);
+            assert_eq!(incircle(&a, &b, &cc, &d), 0.0);
+            assert_eq!(
+                cocircular_sos(&a, &b, &cc, &d, idx),
+                incircle_sos(&a, &b, &cc, &d, idx[0], idx[1], idx[2], idx[3])
+            );
+        }
     }
 
     #[test]
