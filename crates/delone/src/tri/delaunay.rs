@@ -106,7 +106,7 @@ pub enum Location {
 /// Incremental 2D Delaunay triangulation.
 ///
 /// Build it in one call with [`Delaunay2::from_points`] (the points are
-/// borrowed, not copied) or point by point with [`Delaunay2::new`] and
+/// borrowed) or point by point with [`Delaunay2::new`] and
 /// [`Delaunay2::insert`]; read it with [`Delaunay2::triangles`] or turn it into
 /// flat arrays with [`Delaunay2::into_mesh`].
 ///
@@ -132,9 +132,8 @@ pub struct Delaunay2<'a> {
     /// `xy` (see `pow2_scale`): keeps huge or tiny inputs inside the range
     /// where the predicates are exact.
     scale: (f64, f64),
-    /// Input index of every internal vertex id. Swapped when a duplicate with a
-    /// smaller input index turns up, so that the first of equal points is the
-    /// one that stays a vertex.
+    /// Input index of every internal vertex id. Never changes: it is also the
+    /// order of the symbolic perturbation.
     ids: Vec<u32>,
     /// Counterclockwise vertices of every triangle slot (`DEAD` in `[0]` if free).
     tri_v: Vec<[u32; 3]>,
@@ -155,9 +154,10 @@ pub struct Delaunay2<'a> {
     rng: u32,
     /// Random source of the jump-and-walk starts of [`Delaunay2::insert`].
     jump_rng: SplitMix64,
-    /// For every input index: itself if it is a vertex (or pending), else the
-    /// input index it duplicates (possibly through a chain, resolved in
-    /// `into_mesh`; chains always go to smaller indices).
+    /// For every input index: itself if it names a vertex (or is pending),
+    /// else the first equal point. `from_points` may build chains (always
+    /// towards smaller indices) and resolves them before returning; a vertex
+    /// whose point has an equal point of smaller index is named by that one.
     vmap: Vec<u32>,
     /// Internal ids inserted before the first triangle existed (all collinear).
     pending: Vec<u32>,
@@ -277,7 +277,9 @@ impl<'a> Delaunay2<'a> {
     }
 
     /// Builds the Delaunay triangulation of `points`, inserted in BRIO +
-    /// Hilbert order. The points are borrowed, not copied.
+    /// Hilbert order. The points are borrowed; the kernel keeps a working copy
+    /// of the coordinates in insertion order (16 bytes per point) for memory
+    /// locality.
     ///
     /// # Errors
     /// [`Error::InvalidCoordinate`] for a NaN/infinite coordinate,
