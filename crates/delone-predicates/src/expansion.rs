@@ -65,10 +65,22 @@ pub(crate) fn two_product(a: f64, b: f64) -> (f64, f64) {
     (x, al * bl - e3)
 }
 
-/// `h = e + f`; returns the length of `h` (zero components eliminated, at least 1).
-/// `h.len() >= e.len() + f.len()` is required (guaranteed by the callers' const
-/// assertions).
-fn sum_into(e: &[f64], f: &[f64], h: &mut [f64]) -> usize {
+/// `h = e + sf * f` with `sf = ±1`; returns the length of `h` (zero components
+/// eliminated, at least 1). `h.len() >= e.len() + f.len()` is required
+/// (guaranteed by the callers' checks).
+#[inline]
+fn sum_into(e: &[f64], f: &[f64], sf: f64, h: &mut [f64]) -> usize {
+    // Short inputs (the common case on degenerate inputs) without the merge loop.
+    if e.len() == 1 && f.len() == 1 {
+        let (x, y) = two_sum(e[0], sf * f[0]);
+        if y != 0.0 {
+            h[0] = y;
+            h[1] = x;
+            return 2;
+        }
+        h[0] = x;
+        return 1;
+    }
     let (mut i, mut j, mut n) = (0usize, 0usize, 0usize);
     // Merge by increasing magnitude, folding into the running sum `q`.
     let mut q;
@@ -76,7 +88,7 @@ fn sum_into(e: &[f64], f: &[f64], h: &mut [f64]) -> usize {
         q = e[0];
         i = 1;
     } else {
-        q = f[0];
+        q = sf * f[0];
         j = 1;
     }
     while i < e.len() && j < f.len() {
@@ -85,7 +97,7 @@ fn sum_into(e: &[f64], f: &[f64], h: &mut [f64]) -> usize {
             e[i - 1]
         } else {
             j += 1;
-            f[j - 1]
+            sf * f[j - 1]
         };
         let (s, t) = two_sum(q, g);
         q = s;
@@ -94,8 +106,16 @@ fn sum_into(e: &[f64], f: &[f64], h: &mut [f64]) -> usize {
             n += 1;
         }
     }
-    for &g in e[i..].iter().chain(f[j..].iter()) {
+    for &g in &e[i..] {
         let (s, t) = two_sum(q, g);
+        q = s;
+        if t != 0.0 {
+            h[n] = t;
+            n += 1;
+        }
+    }
+    for &g in &f[j..] {
+        let (s, t) = two_sum(q, sf * g);
         q = s;
         if t != 0.0 {
             h[n] = t;
@@ -195,24 +215,17 @@ impl<const N: usize> Exp<N> {
     pub(crate) fn add<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Exp<K> {
         const { assert!(N + M <= K) };
         let mut c = [0.0; K];
-        let len = sum_into(self.comps(), o.comps(), &mut c);
+        let len = sum_into(self.comps(), o.comps(), 1.0, &mut c);
         Exp { len, c }
     }
 
     /// `self - o`.
     #[inline]
     pub(crate) fn sub<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Exp<K> {
-        self.add(&o.neg())
-    }
-
-    /// `-self`.
-    #[inline]
-    pub(crate) fn neg(&self) -> Self {
-        let mut r = *self;
-        for v in &mut r.c[..r.len] {
-            *v = -*v;
-        }
-        r
+        const { assert!(N + M <= K) };
+        let mut c = [0.0; K];
+        let len = sum_into(self.comps(), o.comps(), -1.0, &mut c);
+        Exp { len, c }
     }
 
     /// `self * b`.
@@ -224,21 +237,47 @@ impl<const N: usize> Exp<N> {
         Exp { len, c }
     }
 
-    /// `self * o` (sum of the scalings of `self` by each component of `o`).
-    pub(crate) fn mul<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Exp<K> {
-        const { assert!(2 * N * M <= K) };
+    /// `self + o` if the result fits in `K` components (checked at run time).
+    #[inline]
+    pub(crate) fn try_add<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        self.try_sum(o, 1.0)
+    }
+
+    /// `self - o` if the result fits in `K` components (checked at run time).
+    #[inline]
+    pub(crate) fn try_sub<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        self.try_sum(o, -1.0)
+    }
+
+    #[inline]
+    fn try_sum<const M: usize, const K: usize>(&self, o: &Exp<M>, sf: f64) -> Option<Exp<K>> {
+        if self.len + o.len > K {
+            return None;
+        }
+        let mut c = [0.0; K];
+        let len = sum_into(self.comps(), o.comps(), sf, &mut c);
+        Some(Exp { len, c })
+    }
+
+    /// `self * o` if the result fits in `K` components (checked at run time).
+    pub(crate) fn try_mul<const M: usize, const K: usize>(&self, o: &Exp<M>) -> Option<Exp<K>> {
+        if 2 * self.len * o.len > K {
+            return None;
+        }
         let mut acc = [0.0; K];
-        let mut tmp = [0.0; K];
-        let mut part = [0.0; K];
         let oc = o.comps();
         let mut len = scale_into(self.comps(), oc[0], &mut acc);
-        for &b in &oc[1..] {
-            let pl = scale_into(self.comps(), b, &mut part);
-            let tl = sum_into(&acc[..len], &part[..pl], &mut tmp);
-            acc[..tl].copy_from_slice(&tmp[..tl]);
-            len = tl;
+        if oc.len() > 1 {
+            let mut tmp = [0.0; K];
+            let mut part = [0.0; K];
+            for &b in &oc[1..] {
+                let pl = scale_into(self.comps(), b, &mut part);
+                let tl = sum_into(&acc[..len], &part[..pl], 1.0, &mut tmp);
+                acc[..tl].copy_from_slice(&tmp[..tl]);
+                len = tl;
+            }
         }
-        Exp { len, c: acc }
+        Some(Exp { len, c: acc })
     }
 
     /// An approximation of the value with the exact sign: the largest component.
@@ -268,7 +307,7 @@ mod tests {
         );
         let z: Exp<6> = d.sub(&d);
         assert_eq!(z.comps(), &[0.0]);
-        let m: Exp<12> = d.mul(&p);
+        let m: Exp<12> = d.try_mul(&p).unwrap();
         // (2e + e^2)(1 + 2e + e^2) = 2e + 5e^2 + 4e^3 + e^4, each term a double.
         let e = f64::EPSILON;
         let w1: Exp<2> =

@@ -37,22 +37,45 @@
 //!
 //! # The exact stage
 //!
-//! Otherwise a separate `#[cold]` function evaluates the determinant exactly with
-//! floating-point *expansions* (sums of non-overlapping doubles: two-sum, two-product
-//! with FMA when the target has it or Dekker's split otherwise, expansion sum and
-//! scaling with zero elimination), in fixed-size stack arrays; nothing allocates.
-//! When all coordinate differences are exact doubles (integer grids, nearby points)
-//! the short translated determinant is used; otherwise the homogeneous determinant
-//! on the raw coordinates, which needs no differences. The weighted tests compute
-//! the lifted coordinates `x² + y² (+ z²) − w` as expansions, so they are exact too.
-//! The exact stage returns the largest component of the exact expansion: the sign
-//! is exact, the magnitude approximate, and the value is exactly `0.0` iff the
-//! determinant is zero.
+//! Otherwise a separate `#[cold]` function decides, in up to four steps, all with
+//! floating-point *expansions* (sums of non-overlapping doubles: two-sum,
+//! two-product with FMA when the target has it or Dekker's split otherwise,
+//! expansion sum and scaling with zero elimination, exact sign tests by streamed
+//! grow-expansion) in fixed-size stack arrays — nothing allocates:
+//!
+//! 1. **Coarse grid.** If every coordinate difference is exact and all are integer
+//!    multiples of a common power of two `g` no larger than `L·g` (`L = 2^25, 2^16,
+//!    2^12, 2^9` for orient2d, orient3d, incircle, insphere), every intermediate of
+//!    the plain floating-point formula is an exactly representable multiple of a
+//!    power of `g`, so the plain evaluation *is* exact. Integer and dyadic grids,
+//!    the usual source of exact ties, take this path at filter speed.
+//! 2. **Stage A.** The translated determinant is evaluated exactly on the rounded
+//!    differences. If all differences were exact, this is the answer.
+//! 3. **Stages A′ and C.** Each rounded difference is within `u·|x|` of the true
+//!    one, so a degree-`k` determinant on them is within `(k+1)·u·P` of the true
+//!    value (`P` its permanent); failing that, the first-order effect of the
+//!    rounding errors is added in floating point (a gradient formulation of
+//!    Shewchuk's stage C) and certified against a `O(u²·P)` bound. Comparisons
+//!    against these bounds are exact.
+//! 4. **Stage B.** Otherwise (in practice only exact ties whose coordinate
+//!    differences are not representable) the *homogeneous* determinant on the raw
+//!    coordinates, rows `[x, y, (lift,) 1]`, is expanded by cofactors; it needs no
+//!    differences at all.
+//!
+//! The long intermediate expansions are first tried with small capacities, checked
+//! at run time, and only on overflow with the worst-case capacities (up to a few
+//! hundred kilobytes of stack for the 3D in-sphere test, a path essentially never
+//! taken). The weighted tests compute the lifted coordinates `x² + y² (+ z²) − w`
+//! as expansions, so they are exact too. The exact stage returns an approximation
+//! of the determinant: the sign is exact, the magnitude approximate, and the value
+//! is exactly `0.0` iff the determinant is zero.
 //!
 //! **Caveat (overflow/underflow).** Exactness holds for all finite inputs whose
-//! intermediate products neither overflow nor underflow: roughly coordinates with
-//! magnitudes in `[1e-60, 1e60]` for the 3D in-sphere test (wider for the others),
-//! and at most `~1e300 / 2^27` in magnitude when Dekker's split is in use.
+//! intermediate products neither overflow nor underflow (the error bounds assume
+//! normalized numbers and the expansion products need their rounding errors to be
+//! representable): roughly coordinate differences with magnitudes in
+//! `[1e-50, 1e50]` for the 3D in-sphere test (wider for the others), and no
+//! coordinate above `~1e300 / 2^27` when Dekker's split is in use.
 //! Coordinates scaled by `1e-9` or `1e9` are far inside that range. Non-finite
 //! inputs (NaN, ±∞) give an unspecified sign but never panic.
 //!
@@ -106,7 +129,7 @@ pub type Point2 = [f64; 2];
 pub type Point3 = [f64; 3];
 
 /// Unit roundoff `2^-53`.
-const U: f64 = f64::EPSILON * 0.5;
+pub(crate) const U: f64 = f64::EPSILON * 0.5;
 const O2_BOUND: f64 = (4.0 + 64.0 * U) * U;
 const O3_BOUND: f64 = (8.0 + 256.0 * U) * U;
 const IC_BOUND: f64 = (11.0 + 256.0 * U) * U;
@@ -129,7 +152,7 @@ pub fn orient2d(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     let r = (a[1] - c[1]) * (b[0] - c[0]);
     let det = l - r;
     let bound = O2_BOUND * (l.abs() + r.abs());
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::orient2d_exact(a, b, c)
@@ -158,7 +181,7 @@ pub fn incircle(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> f64 {
     let perm =
         al * (bc1.abs() + bc2.abs()) + bl * (ca1.abs() + ca2.abs()) + cl * (ab1.abs() + ab2.abs());
     let bound = IC_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::incircle_exact(a, b, c, d, [0.0; 4])
@@ -186,7 +209,7 @@ pub fn orient3d(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
         + bd[0].abs() * (ca1.abs() + ca2.abs())
         + cd[0].abs() * (ab1.abs() + ab2.abs());
     let bound = O3_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::orient3d_exact(a, b, c, d)
@@ -244,7 +267,7 @@ fn insphere_float(p: [&Point3; 5], wd: [f64; 4]) -> (f64, f64) {
 pub fn insphere(a: &Point3, b: &Point3, c: &Point3, d: &Point3, e: &Point3) -> f64 {
     let (det, perm) = insphere_float([a, b, c, d, e], [0.0; 4]);
     let bound = IS_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::insphere_exact([a, b, c, d, e], [0.0; 5])
@@ -294,7 +317,7 @@ pub fn incircle_weighted(
         + (bl + wbd.abs()) * (ca1.abs() + ca2.abs())
         + (cl + wcd.abs()) * (ab1.abs() + ab2.abs());
     let bound = ICW_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::incircle_exact(a, b, c, d, [wa, wb, wc, wd])
@@ -332,7 +355,7 @@ pub fn insphere_weighted(
 ) -> f64 {
     let (det, perm) = insphere_float([a, b, c, d, e], [wa - we, wb - we, wc - we, wd - we]);
     let bound = ISW_BOUND * perm;
-    if det > bound || -det > bound {
+    if det.abs() > bound {
         return det;
     }
     exact::insphere_exact([a, b, c, d, e], [wa, wb, wc, wd, we])
