@@ -341,3 +341,30 @@ fn huge_and_tiny_grids() {
         check_all(&pts);
     }
 }
+
+#[test]
+fn degenerate_inputs_give_the_same_tets_whatever_the_insertion_order() {
+    // Ties are broken by input index, not by insertion order: one-call (BRIO
+    // order) and point-by-point (input order) builds agree on grids and
+    // cospherical sets.
+    for pts in [grid(5), lattice_sphere(50), {
+        let mut g = grid(4);
+        g.reverse();
+        g
+    }] {
+        let mut dt = Delaunay3::new();
+        for &p in &pts {
+            dt.insert(p).unwrap();
+        }
+        let mut a: Vec<[u32; 4]> = dt.tets().map(canon).collect();
+        let mut b: Vec<[u32; 4]> = tetrahedralize(&pts)
+            .unwrap()
+            .tets
+            .into_iter()
+            .map(canon)
+            .collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
+    }
+}
