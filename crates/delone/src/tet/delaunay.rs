@@ -340,7 +340,7 @@ impl<'a> Delaunay3<'a> {
             } else {
                 dt.vertex_map[v as usize] = v;
             }
-            if (v as usize + 1) % PROGRESS_STEP == 0 {
+            if (v as usize + 1).is_multiple_of(PROGRESS_STEP) {
                 progress(v as usize + 1, n);
             }
         }
