@@ -32,7 +32,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{insphere, insphere_sos, orient3d};
+use delone_predicates::{insphere_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -175,22 +175,11 @@ struct Core {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct Delaunay3<'a> {
-    /// The caller's points by input index (borrowed by `from_points`, owned
-    /// when inserting one by one).
-    input: Cow<'a, [[f64; 3]]>,
-    /// Coordinates by internal vertex id when those differ from input ids
-    /// (`from_points` numbers vertices in insertion order, so that the
-    /// vertices one insertion touches sit close together in memory); empty
-    /// when internal ids are input ids.
-    xyz: Vec<[f64; 3]>,
-    /// Input index of every internal vertex id; it also orders the symbolic
-    /// perturbation, so results do not depend on the insertion order.
-    ids: Vec<u32>,
+    points: Cow<'a, [[f64; 3]]>,
     core: Core,
-    /// Per internal id: itself when inserted, its original when a duplicate,
-    /// NONE while pending.
+    /// Per point: itself when inserted, its original when a duplicate, NONE
+    /// while pending.
     vertex_map: Vec<u32>,
-    /// `(duplicate, original)` as input indices, sorted.
     duplicates: Vec<(u32, u32)>,
     /// Points waiting for the first tetrahedron (incremental use only).
     pending: Vec<u32>,
@@ -309,12 +298,8 @@ impl<'a> Delaunay3<'a> {
         }
         debug_assert_eq!(&order[..4], &basis[..]);
 
-        // Internal ids are insertion ranks: gather the points in that order.
-        let xyz: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
         let mut dt = Delaunay3 {
-            input: Cow::Borrowed(points),
-            xyz,
-            ids: order,
+            points: Cow::Borrowed(points),
             core: Core::default(),
             vertex_map: vec![NONE; n],
             duplicates: Vec::new(),
@@ -327,21 +312,20 @@ impl<'a> Delaunay3<'a> {
         dt.core.v.reserve_exact(cap);
         dt.core.adj.reserve_exact(cap);
         dt.core.mark.reserve_exact(cap);
-        let (xyz, ids) = (&dt.xyz, &dt.ids);
-        dt.core.start(xyz, [0, 1, 2, 3]);
-        for v in 0..4 {
-            dt.vertex_map[v] = v as u32;
+        dt.core
+            .start(points, [basis[0], basis[1], basis[2], basis[3]]);
+        for &b in &basis {
+            dt.vertex_map[b as usize] = b;
         }
-        for v in 4..n as u32 {
-            if let Inserted::Duplicate { id, original } = dt.core.insert(xyz, ids, v)? {
+        for (k, &id) in order[4..].iter().enumerate() {
+            if let Inserted::Duplicate { id, original } = dt.core.insert(points, id)? {
                 dt.vertex_map[id as usize] = original;
-                dt.duplicates
-                    .push((ids[id as usize], ids[original as usize]));
+                dt.duplicates.push((id, original));
             } else {
-                dt.vertex_map[v as usize] = v;
+                dt.vertex_map[id as usize] = id;
             }
-            if (v as usize + 1).is_multiple_of(PROGRESS_STEP) {
-                progress(v as usize + 1, n);
+            if (k + 5) % PROGRESS_STEP == 0 {
+                progress(k + 5, n);
             }
         }
         dt.duplicates.sort_unstable();
@@ -366,36 +350,27 @@ impl<'a> Delaunay3<'a> {
     /// assert!(dt.insert([f64::NAN, 0.0, 0.0]).is_err());
     /// ```
     pub fn insert(&mut self, p: [f64; 3]) -> Result<Inserted, Error> {
-        let input_id = self.input.len();
+        let id = self.points.len();
         if !p.iter().all(|c| c.is_finite()) {
-            return Err(Error::InvalidCoordinate { index: input_id });
+            return Err(Error::InvalidCoordinate { index: id });
         }
-        if input_id >= MAX_POINTS {
-            return Err(Error::CapacityExceeded {
-                requested: input_id + 1,
-            });
+        if id >= MAX_POINTS {
+            return Err(Error::CapacityExceeded { requested: id + 1 });
         }
-        self.input.to_mut().push(p);
-        if !self.xyz.is_empty() {
-            self.xyz.push(p);
-        }
-        let id = self.ids.len() as u32;
-        self.ids.push(input_id as u32);
+        self.points.to_mut().push(p);
         self.vertex_map.push(NONE);
-        let pts: &[[f64; 3]] = if self.xyz.is_empty() {
-            &self.input
-        } else {
-            &self.xyz
-        };
-        let ids = &self.ids;
+        let id = id as u32;
+        let pts: &[[f64; 3]] = &self.points;
         if !self.core.v.is_empty() {
-            let r = self.core.insert(pts, ids, id)?;
-            return Ok(record(&mut self.vertex_map, &mut self.duplicates, ids, r));
+            let r = self.core.insert(pts, id)?;
+            record(&mut self.vertex_map, &mut self.duplicates, r);
+            return Ok(r);
         }
         // No tetrahedron yet: keep the point, catch duplicates by comparison.
         if let Some(&orig) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
             let r = Inserted::Duplicate { id, original: orig };
-            return Ok(record(&mut self.vertex_map, &mut self.duplicates, ids, r));
+            record(&mut self.vertex_map, &mut self.duplicates, r);
+            return Ok(r);
         }
         self.pending.push(id);
         self.vertex_map[id as usize] = id;
@@ -403,19 +378,19 @@ impl<'a> Delaunay3<'a> {
             self.basis.push(id);
         }
         if self.basis.len() < 4 {
-            return Ok(Inserted::Pending(ids[id as usize]));
+            return Ok(Inserted::Pending(id));
         }
         let b = [self.basis[0], self.basis[1], self.basis[2], self.basis[3]];
         self.core.start(pts, b);
         let pending = std::mem::take(&mut self.pending);
         for q in pending {
             if !b.contains(&q) {
-                let r = self.core.insert(pts, ids, q)?;
-                record(&mut self.vertex_map, &mut self.duplicates, ids, r);
+                let r = self.core.insert(pts, q)?;
+                record(&mut self.vertex_map, &mut self.duplicates, r);
             }
         }
         self.basis.clear();
-        Ok(Inserted::Vertex(ids[id as usize]))
+        Ok(Inserted::Vertex(id))
     }
 
     /// Locates `p`: the finite tetrahedron containing it (closed), the vertex
@@ -434,14 +409,13 @@ impl<'a> Delaunay3<'a> {
             return Location::Empty;
         }
         let mut rng = self.core.rng;
-        let pts = self.geometry();
-        let t = self.core.walk(pts, p, self.core.last, &mut rng);
+        let t = self.core.walk(&self.points, p, self.core.last, &mut rng);
         let tv = self.core.v[t as usize];
         if tv.contains(&INF) {
             return Location::OutsideHull(t);
         }
-        match tv.iter().find(|&&q| pts[q as usize] == *p) {
-            Some(&q) => Location::OnVertex(self.ids[q as usize]),
+        match tv.iter().find(|&&q| self.points[q as usize] == *p) {
+            Some(&q) => Location::OnVertex(q),
             None => Location::InTet(t),
         }
     }
@@ -454,16 +428,7 @@ impl<'a> Delaunay3<'a> {
     /// assert_eq!(dt.points().len(), 4);
     /// ```
     pub fn points(&self) -> &[[f64; 3]] {
-        &self.input
-    }
-
-    /// Coordinates by internal vertex id.
-    fn geometry(&self) -> &[[f64; 3]] {
-        if self.xyz.is_empty() {
-            &self.input
-        } else {
-            &self.xyz
-        }
+        &self.points
     }
 
     /// Number of vertices of the tetrahedralization (points given minus
@@ -478,7 +443,7 @@ impl<'a> Delaunay3<'a> {
         if self.core.v.is_empty() {
             return 0;
         }
-        self.input.len() - self.duplicates.len()
+        self.points.len() - self.duplicates.len()
     }
 
     /// Number of finite tetrahedra.
@@ -503,7 +468,7 @@ impl<'a> Delaunay3<'a> {
         &self.duplicates
     }
 
-    /// The finite tetrahedra, positively oriented, as input point indices.
+    /// The finite tetrahedra, positively oriented.
     ///
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -517,7 +482,6 @@ impl<'a> Delaunay3<'a> {
             .iter()
             .copied()
             .filter(|t| t[0] != DEAD && !t.contains(&INF))
-            .map(|t| t.map(|q| self.ids[q as usize]))
     }
 
     /// Checks the combinatorial and orientation invariants: every adjacency
@@ -536,7 +500,7 @@ impl<'a> Delaunay3<'a> {
         if c.v.is_empty() {
             return Ok(());
         }
-        let pts = self.geometry();
+        let pts: &[[f64; 3]] = &self.points;
         let mut dead = 0usize;
         let mut finite = 0usize;
         for (t, tv) in c.v.iter().enumerate() {
@@ -676,7 +640,7 @@ impl<'a> Delaunay3<'a> {
     pub fn check_delaunay(&self) -> Result<(), Violation> {
         use delone_predicates::insphere;
         let c = &self.core;
-        let pts = self.geometry();
+        let pts: &[[f64; 3]] = &self.points;
         let p = |q: u32| &pts[q as usize];
         for (t, tv) in c.v.iter().enumerate() {
             if tv[0] == DEAD {
@@ -734,31 +698,13 @@ impl<'a> Delaunay3<'a> {
     /// assert_eq!(mesh.neighbors, vec![[delone::NONE; 4]]);
     /// ```
     pub fn into_mesh(self) -> TetMesh {
-        let Delaunay3 {
-            xyz,
-            ids,
-            core,
-            vertex_map: internal,
-            duplicates,
-            pending,
-            ..
-        } = self;
-        drop(xyz);
-        let (mut tets, neighbors) = core.into_arrays();
-        for t in tets.iter_mut() {
-            *t = t.map(|q| ids[q as usize]);
-        }
-        let mut vertex_map = vec![NONE; internal.len()];
-        for (i, &m) in internal.iter().enumerate() {
-            if m != NONE {
-                vertex_map[ids[i] as usize] = ids[m as usize];
-            }
-        }
-        for &q in &pending {
+        let mut vertex_map = self.vertex_map;
+        for &q in &self.pending {
             // Pending points never made it into a tetrahedron.
-            vertex_map[ids[q as usize] as usize] = NONE;
+            vertex_map[q as usize] = NONE;
         }
-        let duplicates = lowest_representatives(&mut vertex_map, duplicates, &mut tets);
+        let (mut tets, neighbors) = self.core.into_arrays();
+        let duplicates = lowest_representatives(&mut vertex_map, self.duplicates, &mut tets);
         TetMesh {
             tets,
             neighbors,
@@ -768,28 +714,14 @@ impl<'a> Delaunay3<'a> {
     }
 }
 
-/// Notes what became of a point (internal ids in `r`) in the vertex map and
-/// duplicate list, and returns the outcome in input ids.
-fn record(
-    vertex_map: &mut [u32],
-    duplicates: &mut Vec<(u32, u32)>,
-    ids: &[u32],
-    r: Inserted,
-) -> Inserted {
+/// Notes what became of a point in the vertex map and duplicate list.
+fn record(vertex_map: &mut [u32], duplicates: &mut Vec<(u32, u32)>, r: Inserted) {
     match r {
-        Inserted::Vertex(id) | Inserted::Pending(id) => {
-            vertex_map[id as usize] = id;
-            Inserted::Vertex(ids[id as usize])
-        }
+        Inserted::Vertex(id) | Inserted::Pending(id) => vertex_map[id as usize] = id,
         Inserted::Duplicate { id, original } => {
             vertex_map[id as usize] = original;
-            let pair = (ids[id as usize], ids[original as usize]);
-            let at = duplicates.partition_point(|d| *d < pair);
-            duplicates.insert(at, pair);
-            Inserted::Duplicate {
-                id: pair.0,
-                original: pair.1,
-            }
+            let at = duplicates.partition_point(|d| d.0 < id);
+            duplicates.insert(at, (id, original));
         }
     }
 }
@@ -987,25 +919,18 @@ impl Core {
 
     /// Does the circumsphere of finite tet `t` contain point `id`?
     #[inline]
-    fn finite_conflict(&self, pts: &[[f64; 3]], ids: &[u32], t: u32, id: u32) -> bool {
+    fn finite_conflict(&self, pts: &[[f64; 3]], t: u32, id: u32) -> bool {
         let [a, b, c, d] = self.v[t as usize];
         let q = |i: u32| &pts[i as usize];
         // Swap a and b: insphere's convention wants orient3d > 0.
-        let s = insphere(q(b), q(a), q(c), q(d), q(id));
-        if s != 0.0 {
-            return s > 0.0;
-        }
-        // Cospherical: perturb by input index, so the result does not depend
-        // on the insertion order.
-        let i = |v: u32| ids[v as usize];
-        insphere_sos(q(b), q(a), q(c), q(d), q(id), i(b), i(a), i(c), i(d), i(id)) > 0
+        insphere_sos(q(b), q(a), q(c), q(d), q(id), b, a, c, d, id) > 0
     }
 
     #[inline]
-    fn in_conflict(&self, pts: &[[f64; 3]], ids: &[u32], t: u32, id: u32) -> bool {
+    fn in_conflict(&self, pts: &[[f64; 3]], t: u32, id: u32) -> bool {
         let tv = self.v[t as usize];
         match tv.iter().position(|&q| q == INF) {
-            None => self.finite_conflict(pts, ids, t, id),
+            None => self.finite_conflict(pts, t, id),
             Some(k) => {
                 let [a, b, c] = FACET[k].map(|i| &pts[tv[i] as usize]);
                 let o = orient3d(a, b, c, &pts[id as usize]);
@@ -1013,14 +938,14 @@ impl Core {
                     // Beyond the hull facet (positive side) means orient3d < 0.
                     o < 0.0
                 } else {
-                    self.finite_conflict(pts, ids, self.adj[t as usize][k] >> 2, id)
+                    self.finite_conflict(pts, self.adj[t as usize][k] >> 2, id)
                 }
             }
         }
     }
 
     /// Inserts point `id`: locate, cavity, stellate.
-    fn insert(&mut self, pts: &[[f64; 3]], ids: &[u32], id: u32) -> Result<Inserted, Error> {
+    fn insert(&mut self, pts: &[[f64; 3]], id: u32) -> Result<Inserted, Error> {
         let p = &pts[id as usize];
         let mut rng = self.rng;
         let t0 = self.walk(pts, p, self.last, &mut rng);
@@ -1062,7 +987,7 @@ impl Core {
                 match self.mark[u as usize] {
                     MARK_CAVITY => continue,
                     MARK_NONE => {
-                        if self.in_conflict(pts, ids, u, id) {
+                        if self.in_conflict(pts, u, id) {
                             self.mark[u as usize] = MARK_CAVITY;
                             cavity.push(u);
                             continue;
