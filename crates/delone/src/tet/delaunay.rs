@@ -103,7 +103,7 @@ impl EdgeTable {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn slot(&self, key: u64) -> usize {
         let h = key.wrapping_mul(0x9E37_79B9_7F4A_7C15);
         (h >> 40) as usize & (self.keys.len() - 1)
@@ -111,7 +111,7 @@ impl EdgeTable {
 
     /// Looks up the reverse of `(a, b)`; if present removes and returns it,
     /// otherwise stores `(a, b) -> val` and returns `None`.
-    #[inline]
+    #[inline(always)]
     fn pair(&mut self, a: u32, b: u32, val: u32) -> Option<u32> {
         let mask = self.keys.len() - 1;
         let rev = (u64::from(b) << 32) | u64::from(a);
