@@ -25,15 +25,28 @@
 //! # The filter
 //!
 //! Each predicate first evaluates the translated determinant (differences to the
-//! last point) in plain floating point, and in the same pass its *permanent* (the
-//! same expression with every product term replaced by its absolute value). A
-//! forward error analysis in the style of Shewchuk's static bounds gives
-//! `|computed − exact| ≤ c·u·permanent`, with `u = 2⁻⁵³` and `c` counting the
-//! roundings along the longest path (`c ≈ 4, 8, 11, 17` for orient2d, orient3d,
-//! incircle, insphere; `14, 19` for the weighted tests, plus a second-order
-//! margin). If `|computed| > c·u·permanent` the computed value is returned: its sign
-//! is certified. The filter costs a handful of extra flops and decides all but
-//! near-degenerate inputs.
+//! last point) in plain floating point and compares it with a certified error bound;
+//! this fast path is `#[inline(always)]`, everything after it lives in `#[cold]`,
+//! `#[inline(never)]` functions so that it does not bloat the caller.
+//!
+//! * [`incircle`] and [`insphere`] use a *semi-static* bound in the style of Meyer &
+//!   Pion (2008): `C·Mᵈ` with `M` the largest coordinate difference and `d` the degree,
+//!   where `M²` is bounded by the largest lifted term `|p − d|²` that the determinant
+//!   computes anyway; `C = (128 + 2⁻³⁰)·u` for incircle (`|det| > C·L²`) and
+//!   `(1104 + 2⁻³⁰)·u` for insphere (`det² > C²·L⁵`), from a forward error analysis
+//!   of the evaluation order (see the `semi` module source). An absolute floor
+//!   `2⁻¹⁰⁰⁰` and the finiteness of the bound replace explicit underflow/overflow
+//!   range checks. When this filter fails, the permanent-based filter below runs
+//!   before the exact stage.
+//! * [`orient2d`], [`orient3d`] and the weighted tests use a permanent-based bound:
+//!   the determinant and, in the same pass, its *permanent* (every product term in
+//!   absolute value); `|computed − exact| ≤ c·u·permanent` with `u = 2⁻⁵³` and `c`
+//!   counting the roundings along the longest path (`c ≈ 4, 8, 11, 17` for orient2d,
+//!   orient3d, incircle, insphere; `14, 19` for the weighted tests, plus a
+//!   second-order margin). For the orientation tests this costs fewer instructions
+//!   than any maximum of absolute values.
+//!
+//! Both filters decide all but near-degenerate inputs.
 //!
 //! # The exact stage
 //!
@@ -119,6 +132,7 @@
 
 mod exact;
 mod expansion;
+mod semi;
 mod sos;
 
 use sos::sgn;
@@ -146,7 +160,7 @@ const ISW_BOUND: f64 = (19.0 + 1024.0 * U) * U;
 /// assert!(orient2d(&[0.0, 0.0], &[1.0, 0.0], &[0.0, 1.0]) > 0.0);
 /// assert_eq!(orient2d(&[0.0, 0.0], &[1.0, 1.0], &[2.0, 2.0]), 0.0);
 /// ```
-#[inline]
+#[inline(always)]
 pub fn orient2d(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     let l = (a[0] - c[0]) * (b[1] - c[1]);
     let r = (a[1] - c[1]) * (b[0] - c[0]);
@@ -166,8 +180,19 @@ pub fn orient2d(a: &Point2, b: &Point2, c: &Point2) -> f64 {
 /// assert!(incircle(&a, &b, &c, &[0.5, 0.5]) > 0.0);
 /// assert_eq!(incircle(&a, &b, &c, &[1.0, 1.0]), 0.0);
 /// ```
-#[inline]
+#[inline(always)]
 pub fn incircle(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> f64 {
+    let (det, ok) = semi::incircle(a, b, c, d);
+    if ok {
+        return det;
+    }
+    incircle_slow(a, b, c, d)
+}
+
+/// Second stage of [`incircle`]: permanent-based filter, then the exact stage.
+#[cold]
+#[inline(never)]
+fn incircle_slow(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> f64 {
     let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
     let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
     let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
@@ -196,7 +221,7 @@ pub fn incircle(a: &Point2, b: &Point2, c: &Point2, d: &Point2) -> f64 {
 /// assert!(o > 0.0);
 /// assert_eq!(orient3d(&[0.0, 0.0, 0.0], &[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0], &[3.0, 5.0, 0.0]), 0.0);
 /// ```
-#[inline]
+#[inline(always)]
 pub fn orient3d(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
     let ad = [a[0] - d[0], a[1] - d[1], a[2] - d[2]];
     let bd = [b[0] - d[0], b[1] - d[1], b[2] - d[2]];
@@ -263,8 +288,19 @@ fn insphere_float(p: [&Point3; 5], wd: [f64; 4]) -> (f64, f64) {
 /// assert!(insphere(&a, &b, &c, &d, &[0.1, 0.1, -0.1]) > 0.0);
 /// assert_eq!(insphere(&a, &b, &c, &d, &[1.0, 1.0, -1.0]), 0.0);
 /// ```
-#[inline]
+#[inline(always)]
 pub fn insphere(a: &Point3, b: &Point3, c: &Point3, d: &Point3, e: &Point3) -> f64 {
+    let (det, ok) = semi::insphere(a, b, c, d, e);
+    if ok {
+        return det;
+    }
+    insphere_slow(a, b, c, d, e)
+}
+
+/// Second stage of [`insphere`]: permanent-based filter, then the exact stage.
+#[cold]
+#[inline(never)]
+fn insphere_slow(a: &Point3, b: &Point3, c: &Point3, d: &Point3, e: &Point3) -> f64 {
     let (det, perm) = insphere_float([a, b, c, d, e], [0.0; 4]);
     let bound = IS_BOUND * perm;
     if det.abs() > bound {
@@ -381,7 +417,7 @@ pub fn insphere_weighted(
 /// assert_eq!(orient2d_sos(&b, &a, &c, 1, 0, 2), -s);
 /// assert_eq!(orient2d_sos(&[0.0, 0.0], &[1.0, 0.0], &[0.0, 1.0], 7, 3, 5), 1);
 /// ```
-#[inline]
+#[inline(always)]
 pub fn orient2d_sos(a: &Point2, b: &Point2, c: &Point2, ia: u32, ib: u32, ic: u32) -> i32 {
     let s = sgn(orient2d(a, b, c));
     if s != 0 {
@@ -408,7 +444,7 @@ pub fn orient2d_sos(a: &Point2, b: &Point2, c: &Point2, ia: u32, ib: u32, ic: u3
 /// assert!(s == 1 || s == -1);
 /// assert_eq!(orient3d_sos(&p, &p, &p, &p, 1, 0, 2, 3), -s);
 /// ```
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn orient3d_sos(
     a: &Point3,
@@ -448,7 +484,7 @@ pub fn orient3d_sos(
 /// assert_eq!(incircle_sos(&a, &b, &c, &d, 0, 1, 2, 3), -1);
 /// assert_eq!(incircle_sos(&a, &b, &c, &d, 1, 2, 3, 0), 1);
 /// ```
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn incircle_sos(
     a: &Point2,
@@ -488,7 +524,7 @@ pub fn incircle_sos(
 /// let e = [2.0, 2.0, -2.0]; // on the sphere
 /// assert_eq!(insphere_sos(&a, &b, &c, &d, &e, 0, 1, 2, 3, 4), -1);
 /// ```
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn insphere_sos(
     a: &Point3,

@@ -53,6 +53,8 @@ pub(crate) fn by_decreasing_index<const N: usize>(idx: &[u32; N]) -> [usize; N] 
 ///
 /// `pts` are the rows `a, b, c, d`; the derivative of the determinant with respect
 /// to the lifted coordinate of row `r` is `(-1)^r * orient2d(other rows in order)`.
+#[cold]
+#[inline(never)]
 pub(crate) fn incircle_lifted_sos(pts: [&Point2; 4], idx: [u32; 4]) -> i32 {
     for r in by_decreasing_index(&idx) {
         let mut o = [pts[0]; 3];
@@ -71,6 +73,8 @@ pub(crate) fn incircle_lifted_sos(pts: [&Point2; 4], idx: [u32; 4]) -> i32 {
 ///
 /// The derivative with respect to the lifted coordinate of row `r` (rows
 /// `a, b, c, d, e`) is `-(-1)^r * orient3d(other rows in order)`.
+#[cold]
+#[inline(never)]
 pub(crate) fn insphere_lifted_sos(pts: [&Point3; 5], idx: [u32; 5]) -> i32 {
     for r in by_decreasing_index(&idx) {
         let mut o = [pts[0]; 4];
@@ -134,6 +138,8 @@ fn orient_minor<const D: usize>(pts: &[[f64; D]], rows: &[usize], cols: &[usize]
 /// determinant come in increasing order of their bit masks, and the coefficient of
 /// a monomial is the determinant with the perturbed rows replaced by unit vectors
 /// (generalized Laplace expansion). The first nonzero coefficient decides.
+#[cold]
+#[inline(never)]
 pub(crate) fn orient_sos<const D: usize, const N: usize>(
     pts: &[[f64; D]; N],
     idx: &[u32; N],
