@@ -19,6 +19,7 @@
 
 pub mod error;
 pub mod geom;
+pub mod model;
 pub mod tet;
 pub mod tri;
 

@@ -1,0 +1,1 @@
+//! Piecewise linear complexes (3D meshing input).

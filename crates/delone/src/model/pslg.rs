@@ -1,0 +1,1 @@
+//! Planar straight-line graphs (2D meshing input).
