@@ -509,10 +509,10 @@ impl<'a> Delaunay3<'a> {
                 continue;
             }
             let infs = tv.iter().filter(|&&q| q == INF).count();
-            if infs > 1 {
+            if infs > 1 || (infs == 1 && tv[3] != INF) {
                 return Err(Violation::new(
                     "ghost",
-                    format!("tet {t} has {infs} infinite vertices"),
+                    format!("tet {t} {tv:?}: {infs} infinite vertices, or one not in position 3"),
                 ));
             }
             if infs == 0 {
@@ -646,7 +646,8 @@ impl<'a> Delaunay3<'a> {
             if tv[0] == DEAD {
                 continue;
             }
-            if let Some(k) = tv.iter().position(|&q| q == INF) {
+            if tv[3] == INF {
+                let k = 3;
                 // Hull convexity: each neighbouring ghost's far finite vertex
                 // must not be strictly outside this hull facet.
                 let [a, b, cc] = FACET[k].map(|i| tv[i]);
@@ -809,15 +810,19 @@ impl Core {
     }
 
     /// A slot for a new tetrahedron.
-    #[inline]
+    #[inline(always)]
     fn alloc(&mut self, tv: [u32; 4]) -> u32 {
-        if !tv.contains(&INF) {
-            self.finite += 1;
-        }
+        self.finite += usize::from(tv[3] != INF);
         if let Some(t) = self.free.pop() {
             self.v[t as usize] = tv;
             return t;
         }
+        self.push_slot(tv)
+    }
+
+    /// A new slot at the end of the arrays (the free list is empty).
+    #[inline(never)]
+    fn push_slot(&mut self, tv: [u32; 4]) -> u32 {
         if self.v.len() == self.v.capacity() {
             // Grow by 1/8 instead of doubling: memory is a requirement.
             let extra = (self.v.len() / 8).max(1024);
@@ -831,10 +836,10 @@ impl Core {
         (self.v.len() - 1) as u32
     }
 
-    #[inline]
+    #[inline(always)]
     fn release(&mut self, t: u32) {
         let tv = &mut self.v[t as usize];
-        if !tv.contains(&INF) {
+        if tv[3] != INF {
             self.finite -= 1;
         }
         tv[0] = DEAD;
@@ -888,13 +893,13 @@ impl Core {
     /// strictly on its outer side.
     fn walk(&self, pts: &[[f64; 3]], p: &[f64; 3], start: u32, rng: &mut u32) -> u32 {
         let mut t = start;
-        if let Some(k) = self.v[t as usize].iter().position(|&q| q == INF) {
-            t = self.adj[t as usize][k] >> 2;
+        if self.v[t as usize][3] == INF {
+            t = self.adj[t as usize][3] >> 2;
         }
         let mut from = 4usize;
         'walk: loop {
             let tv = self.v[t as usize];
-            if tv.contains(&INF) {
+            if tv[3] == INF {
                 return t;
             }
             let r = Self::next_rand(rng) as usize;
@@ -929,18 +934,18 @@ impl Core {
     #[inline]
     fn in_conflict(&self, pts: &[[f64; 3]], t: u32, id: u32) -> bool {
         let tv = self.v[t as usize];
-        match tv.iter().position(|&q| q == INF) {
-            None => self.finite_conflict(pts, t, id),
-            Some(k) => {
-                let [a, b, c] = FACET[k].map(|i| &pts[tv[i] as usize]);
-                let o = orient3d(a, b, c, &pts[id as usize]);
-                if o != 0.0 {
-                    // Beyond the hull facet (positive side) means orient3d < 0.
-                    o < 0.0
-                } else {
-                    self.finite_conflict(pts, self.adj[t as usize][k] >> 2, id)
-                }
-            }
+        if tv[3] != INF {
+            return self.finite_conflict(pts, t, id);
+        }
+        // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
+        // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
+        // and with points on its plane iff the finite cell behind does.
+        let [a, b, c] = FACET[3].map(|i| &pts[tv[i] as usize]);
+        let o = orient3d(a, b, c, &pts[id as usize]);
+        if o != 0.0 {
+            o < 0.0
+        } else {
+            self.finite_conflict(pts, self.adj[t as usize][3] >> 2, id)
         }
     }
 
@@ -951,7 +956,7 @@ impl Core {
         let t0 = self.walk(pts, p, self.last, &mut rng);
         self.rng = rng;
         let tv0 = self.v[t0 as usize];
-        if !tv0.contains(&INF) {
+        if tv0[3] != INF {
             if let Some(&q) = tv0.iter().find(|&&q| pts[q as usize] == *p) {
                 return Ok(Inserted::Duplicate { id, original: q });
             }
@@ -999,9 +1004,19 @@ impl Core {
                 }
                 let tv = self.v[t as usize];
                 let [a, b, c] = FACET[f].map(|i| tv[i]);
-                let n = self.alloc([a, b, c, id]);
-                self.adj[n as usize][3] = w;
-                self.adj[u as usize][(w & 3) as usize] = 4 * n + 3;
+                // Keep INF in position 3 with an even permutation.
+                let (cell, fp) = if a == INF {
+                    ([id, c, b, a], 0)
+                } else if b == INF {
+                    ([c, id, a, b], 1)
+                } else if c == INF {
+                    ([b, a, id, c], 2)
+                } else {
+                    ([a, b, c, id], 3)
+                };
+                let n = self.alloc(cell);
+                self.adj[n as usize][fp] = w;
+                self.adj[u as usize][(w & 3) as usize] = 4 * n + fp as u32;
                 created.push(n);
             }
         }
@@ -1015,14 +1030,22 @@ impl Core {
         self.edges.reset(created.len() * 3);
         let mut newest = NONE;
         for &n in &created {
-            let [a, b, c, _] = self.v[n as usize];
-            // Facet 0 of n holds edge b->c, facet 1 edge c->a, facet 2 a->b.
-            for (f, (x, y)) in [(b, c), (c, a), (a, b)].into_iter().enumerate() {
+            let cell = self.v[n as usize];
+            // Undo the permutation of the stellation: (a, b, c) is the
+            // boundary facet, fa/fb/fc the local facets opposite a, b, c.
+            let ([a, b, c], [fa, fb, fc]) = match cell {
+                [p, c, b, INF] if p == id => ([INF, b, c], [3, 2, 1]),
+                [c, p, a, INF] if p == id => ([a, INF, c], [2, 3, 0]),
+                [b, a, p, INF] if p == id => ([a, b, INF], [1, 0, 3]),
+                [a, b, c, _] => ([a, b, c], [0, 1, 2]),
+            };
+            // Facet fa holds edge b->c, fb edge c->a, fc edge a->b.
+            for (f, (x, y)) in [(fa, (b, c)), (fb, (c, a)), (fc, (a, b))] {
                 if let Some(w) = self.edges.pair(x, y, 4 * n + f as u32) {
                     self.link(n, f, w >> 2, (w & 3) as usize);
                 }
             }
-            if a != INF && b != INF && c != INF {
+            if cell[3] != INF {
                 newest = n;
             }
         }

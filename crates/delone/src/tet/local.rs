@@ -17,9 +17,10 @@
 //! `word = 4 * tet + facet`, so `word >> 2` is the neighbouring tetrahedron
 //! and `word & 3` the index, *in the neighbour*, of the shared facet.
 //!
-//! Ghost tetrahedra on the convex hull contain the [`INF`] vertex at any
-//! position `k`; their finite facet `FACET[k]` is a hull triangle oriented so
-//! that the outside of the hull is its positive side.
+//! Ghost tetrahedra on the convex hull hold the [`INF`] vertex in position 3
+//! (kept there by even permutations when cells are created), so a ghost test
+//! is one comparison; their finite facet `FACET[3] = [0, 1, 2]` is a hull
+//! triangle oriented so that the outside of the hull is its positive side.
 
 /// The vertex "at infinity" that closes the convex hull with ghost cells.
 pub const INF: u32 = u32::MAX - 1;
