@@ -368,8 +368,16 @@ impl Body<'_> {
                     "the end of the file",
                 ));
             };
-            let v = crate::read::parse_f64(t, l, "a number")?;
-            return Ok(v);
+            // A `float` property holds a single-precision value: round the
+            // text once, to f32, as a PLY writer/reader pair does.
+            if ty == Ty::F32 {
+                return std::str::from_utf8(t)
+                    .ok()
+                    .and_then(|s| s.parse::<f32>().ok())
+                    .map(f64::from)
+                    .ok_or_else(|| IoError::syntax(l, "a number", found(t)));
+            }
+            return crate::read::parse_f64(t, l, "a number");
         }
         let n = ty.size();
         let Some(b) = self.input.get(self.pos..self.pos + n) else {
