@@ -7,6 +7,7 @@
 pub mod delaunay;
 pub mod local;
 pub mod mesh;
+pub mod validate;
 
 pub use delaunay::{Delaunay3, Inserted, Location};
 pub use mesh::{validate, TetMesh};
