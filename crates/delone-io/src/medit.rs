@@ -1,6 +1,6 @@
 //! Reader for the ASCII Medit `.mesh` format (surface part).
 
-use crate::surface::{found, index, Surface, Tokens};
+use crate::surface::{found, Surface, Tokens};
 use crate::IoError;
 
 /// Reads the `Vertices`, `Triangles` and `Quadrilaterals` sections of an
@@ -18,6 +18,10 @@ use crate::IoError;
 /// let text = b"MeshVersionFormatted 1\nDimension 3\nVertices\n3\n0 0 0 1\n1 0 0 1\n0 1 0 1\nTriangles\n1\n1 2 3 7\nEnd\n";
 /// let s = delone_io::read_medit(text).unwrap();
 /// assert_eq!(s.faces, vec![vec![0, 1, 2]]);
+///
+/// let bad = b"Dimension 3\nVertices\n1\n0 0 0 0\nTriangles\n1\n1 1 5 0\n";
+/// let e = delone_io::read_medit(bad).unwrap_err();
+/// assert_eq!(e.to_string(), "line 7: expected a vertex index between 1 and 1, found 5");
 /// ```
 pub fn read_medit(input: &[u8]) -> Result<Surface, IoError> {
     if input.iter().take(64).any(|&b| b == 0) {
@@ -89,7 +93,14 @@ pub fn read_medit(input: &[u8]) -> Result<Surface, IoError> {
     for (f, l) in raw {
         let mut g = Vec::with_capacity(f.len());
         for i in f {
-            g.push(index(i.saturating_sub(1), points.len(), l)?);
+            if i < 1 || i as u64 > points.len() as u64 {
+                return Err(IoError::syntax(
+                    l,
+                    format!("a vertex index between 1 and {}", points.len()),
+                    i.to_string(),
+                ));
+            }
+            g.push((i - 1) as u32);
         }
         faces.push((g, l));
     }

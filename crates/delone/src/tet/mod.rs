@@ -2,7 +2,7 @@
 //!
 //! * [`tetrahedralize`] — one call, flat output ([`TetMesh`]).
 //! * [`Delaunay3`] — the incremental kernel (insert, locate, check).
-//! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
+//! * [`validate`](fn@validate) — an independent checker of a [`TetMesh`] against its points.
 
 pub mod delaunay;
 pub mod local;
