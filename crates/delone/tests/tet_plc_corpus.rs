@@ -195,3 +195,45 @@ fn tetgen_plcs_are_valid() {
         }
     }
 }
+
+/// Order independence and a planted defect: shuffling the triangles of a
+/// clean model keeps it clean; pushing one vertex through the opposite side
+/// of a closed model must create intersections, found identically whatever
+/// the triangle order.
+#[test]
+fn planted_intersection_is_found_in_any_order() {
+    let Some(dir) = data_dir() else { return };
+    let (mut p, t) = load(&dir, "surf/off/cgal_sphere.off");
+    assert!(self_intersections(&p, &t).is_clean());
+    // Reflect vertex 0 through the centroid: it pokes through the far side.
+    let n = p.len() as f64;
+    let c = [0, 1, 2].map(|k| p.iter().map(|q| q[k]).sum::<f64>() / n);
+    p[0] = [0, 1, 2].map(|k| c[k] + 1.5 * (c[k] - p[0][k]));
+    let r = self_intersections(&p, &t);
+    assert!(!r.pairs.is_empty());
+    for &(i, j) in &r.pairs {
+        assert!(i < j);
+        assert!(
+            t[i as usize].contains(&0) || t[j as usize].contains(&0),
+            "pair ({i}, {j}) does not involve the moved vertex"
+        );
+    }
+    // A fixed permutation of the triangles gives the permuted pairs.
+    let m = t.len();
+    let perm: Vec<usize> = (0..m).map(|i| (i * 7919 + 13) % m).collect();
+    let mut seen = vec![false; m];
+    assert!(perm.iter().all(|&k| !std::mem::replace(&mut seen[k], true)));
+    let t2: Vec<[u32; 3]> = perm.iter().map(|&k| t[k]).collect();
+    let r2 = self_intersections(&p, &t2);
+    let mut back: Vec<(u32, u32)> = r2
+        .pairs
+        .iter()
+        .map(|&(i, j)| {
+            let (a, b) = (perm[i as usize] as u32, perm[j as usize] as u32);
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    back.sort_unstable();
+    assert_eq!(back, r.pairs);
+    assert_eq!(self_intersections(&p, &t), r, "not deterministic");
+}
