@@ -46,6 +46,15 @@ pub enum IoError {
         /// What is not supported.
         message: String,
     },
+    /// Malformed binary content (binary STL or PLY).
+    Binary {
+        /// 0-based byte offset in the input where the problem was found.
+        offset: usize,
+        /// What the reader expected there.
+        expected: String,
+        /// What it found.
+        found: String,
+    },
     /// A writer was handed inconsistent data (e.g. a marker array whose
     /// length differs from the number of points, or an element that refers to
     /// a point that does not exist).
@@ -81,7 +90,20 @@ impl IoError {
             IoError::Syntax { line, .. }
             | IoError::UnexpectedEnd { line, .. }
             | IoError::Unsupported { line, .. } => Some(*line),
-            IoError::Io(_) | IoError::InvalidInput { .. } => None,
+            IoError::Io(_) | IoError::InvalidInput { .. } | IoError::Binary { .. } => None,
+        }
+    }
+
+    /// The 0-based byte offset a binary-format error refers to, if any.
+    ///
+    /// ```
+    /// let e = delone_io::read_stl(&[0u8; 10]).unwrap_err();
+    /// assert_eq!(e.offset(), Some(10));
+    /// ```
+    pub fn offset(&self) -> Option<usize> {
+        match self {
+            IoError::Binary { offset, .. } => Some(*offset),
+            _ => None,
         }
     }
 
@@ -112,6 +134,11 @@ impl fmt::Display for IoError {
             ),
             IoError::Unsupported { line, message } => write!(f, "line {line}: {message}"),
             IoError::InvalidInput { message } => write!(f, "{message}"),
+            IoError::Binary {
+                offset,
+                expected,
+                found,
+            } => write!(f, "byte {offset}: expected {expected}, found {found}"),
         }
     }
 }

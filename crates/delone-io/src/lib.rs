@@ -6,6 +6,11 @@
 //! * Triangle/TetGen family: [`read_node`], [`read_ele`], [`write_node`],
 //!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`], with the
 //!   derived edges and faces from [`topo`];
+//! * 3D PLCs: [`read_poly3d`] (TetGen `.poly`) and [`read_smesh`] into a
+//!   [`PlcFile`];
+//! * surfaces into a [`Surface`]: [`read_off`], [`read_stl`] (ASCII and
+//!   binary), [`read_ply`] (ASCII and binary), [`read_obj`], [`read_medit`],
+//!   or [`read_surface`] by file extension;
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -25,13 +30,27 @@
 #![forbid(unsafe_code)]
 
 mod error;
+mod medit;
+mod obj;
+mod off;
 mod out;
+mod plc;
+mod ply;
 mod read;
+mod stl;
+mod surface;
 pub mod topo;
 mod vtk;
 mod write;
 
 pub use error::IoError;
+pub use medit::read_medit;
+pub use obj::read_obj;
+pub use off::read_off;
+pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
+pub use ply::read_ply;
 pub use read::{read_ele, read_node, EleFile, NodeFile};
+pub use stl::read_stl;
+pub use surface::{read_surface, Surface};
 pub use vtk::{write_vtk_legacy, write_vtu, DataArray, Values, VtuFormat};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

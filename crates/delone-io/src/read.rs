@@ -9,13 +9,13 @@ use crate::IoError;
 
 /// Splits the input into records (non-empty lines after comment removal),
 /// each with its 1-based line number.
-struct Records<'a> {
+pub(crate) struct Records<'a> {
     rest: &'a [u8],
     line: usize,
 }
 
 impl<'a> Records<'a> {
-    fn new(input: &'a [u8]) -> Self {
+    pub(crate) fn new(input: &'a [u8]) -> Self {
         Records {
             rest: input,
             line: 0,
@@ -24,7 +24,7 @@ impl<'a> Records<'a> {
 
     /// Fills `toks` with the tokens of the next non-empty record and returns
     /// its line number, or `None` at the end of the input.
-    fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
+    pub(crate) fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
         loop {
             if self.rest.is_empty() {
                 return None;
@@ -51,7 +51,7 @@ impl<'a> Records<'a> {
     }
 }
 
-fn show(tok: &[u8]) -> String {
+pub(crate) fn show(tok: &[u8]) -> String {
     let s = String::from_utf8_lossy(tok);
     let mut s: String = s.chars().take(40).collect();
     if tok.len() > 40 {
@@ -60,14 +60,14 @@ fn show(tok: &[u8]) -> String {
     format!("\"{s}\"")
 }
 
-fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
+pub(crate) fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<i64>().ok())
         .ok_or_else(|| IoError::syntax(line, what.to_string(), show(tok)))
 }
 
-fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
+pub(crate) fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<usize>().ok())
@@ -76,7 +76,7 @@ fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
 
 /// Parses a real number; `nan`, `inf`, `infinity` (any case, with sign) are
 /// accepted so that the mesher can report which point carries them.
-fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
+pub(crate) fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<f64>().ok())
@@ -85,7 +85,7 @@ fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
 
 /// Checks the index of item `k` (0-based position in the file) and, for the
 /// first item, detects whether the file numbers from 0 or 1.
-fn check_index(
+pub(crate) fn check_index(
     tok: &[u8],
     line: usize,
     k: usize,

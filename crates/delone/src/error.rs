@@ -32,6 +32,74 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
+    /// A hole or region seed point of a PLC has a NaN or infinite coordinate.
+    InvalidSeedPoint {
+        /// `"hole"`, `"region"` or `"facet hole"`.
+        kind: &'static str,
+        /// 0-based index in its list (for a facet hole: the facet index).
+        index: usize,
+    },
+    /// An input item refers to a point that does not exist.
+    IndexOutOfRange {
+        /// `"facet"`, `"segment"` or `"triangle"`.
+        item: &'static str,
+        /// 0-based index of the item.
+        index: usize,
+        /// The offending point index.
+        vertex: u32,
+        /// Number of points.
+        points: usize,
+    },
+    /// A facet (or segment) of a PLC is degenerate.
+    DegenerateFacet {
+        /// 0-based index of the facet (or segment).
+        index: usize,
+        /// What is wrong with it.
+        defect: FacetDefect,
+    },
+    /// Two facets of the input intersect other than as the input topology
+    /// says (sharing exactly a vertex or an edge).
+    SelfIntersection {
+        /// The first offending pair (0-based facet indices, smaller first).
+        facets: (usize, usize),
+        /// How many offending pairs were found in total.
+        count: usize,
+    },
+}
+
+/// Why a facet of a PLC is degenerate (see [`Error::DegenerateFacet`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum FacetDefect {
+    /// A polygon has fewer than 3 corners (a segment: its two ends are the
+    /// same point), or the facet has no polygon.
+    TooFewVertices,
+    /// A polygon visits the same point twice (by index or by coordinates).
+    RepeatedVertex {
+        /// The repeated point index.
+        vertex: u32,
+    },
+    /// All points of the facet are collinear: the facet has zero area.
+    ZeroArea,
+    /// The points of the facet do not lie in one plane (exact test).
+    NonPlanar {
+        /// A point off the plane of the facet's first three non-collinear
+        /// points.
+        vertex: u32,
+    },
+}
+
+impl fmt::Display for FacetDefect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FacetDefect::TooFewVertices => write!(f, "has too few vertices"),
+            FacetDefect::RepeatedVertex { vertex } => write!(f, "repeats point {vertex}"),
+            FacetDefect::ZeroArea => write!(f, "has zero area (all points collinear)"),
+            FacetDefect::NonPlanar { vertex } => {
+                write!(f, "is not planar (point {vertex} is off its plane)")
+            }
+        }
+    }
 }
 
 impl fmt::Display for Error {
@@ -57,6 +125,24 @@ impl fmt::Display for Error {
             Error::CapacityExceeded { requested } => write!(
                 f,
                 "{requested} points exceed the u32 index space of delone"
+            ),
+            Error::InvalidSeedPoint { kind, index } => {
+                write!(f, "{kind} {index} has a NaN or infinite coordinate")
+            }
+            Error::IndexOutOfRange {
+                item,
+                index,
+                vertex,
+                points,
+            } => write!(
+                f,
+                "{item} {index} refers to point {vertex}, but there are only {points} points"
+            ),
+            Error::DegenerateFacet { index, defect } => write!(f, "facet {index} {defect}"),
+            Error::SelfIntersection { facets, count } => write!(
+                f,
+                "facets {} and {} intersect ({count} intersecting pair(s) in total)",
+                facets.0, facets.1
             ),
         }
     }

@@ -23,7 +23,7 @@ pub mod model;
 pub mod tet;
 pub mod tri;
 
-pub use error::{Error, Violation};
+pub use error::{Error, FacetDefect, Violation};
 pub use tet::{tetrahedralize, TetMesh};
 pub use tri::{triangulate, TriMesh};
 

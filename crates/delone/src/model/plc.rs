@@ -1,1 +1,467 @@
 //! Piecewise linear complexes (3D meshing input).
+//!
+//! A [`Plc`] is what TetGen's `.poly`/`.smesh` files describe: points,
+//! planar facets (each a set of polygons — the outer boundary, hole
+//! boundaries, and any segments the facet must contain — plus points inside
+//! the facet's holes and a boundary marker), optional free segments, volume
+//! holes and regions. [`Plc::validate`] checks it exactly;
+//! [`Plc::merge_duplicate_points`] merges exactly coincident points.
+//! Self-intersection and closedness checks live in [`crate::tet::validate`](mod@crate::tet::validate).
+
+use crate::error::{Error, FacetDefect};
+use delone_predicates::{orient2d, orient3d};
+use std::collections::HashMap;
+
+/// One planar facet of a [`Plc`].
+///
+/// ```
+/// let f = delone::model::plc::Facet::polygon(vec![0, 1, 2, 3]);
+/// assert_eq!(f.polygons, vec![vec![0, 1, 2, 3]]);
+/// assert_eq!(f.marker, 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Facet {
+    /// Polygons of the facet (point indices): the outer boundary, the
+    /// boundaries of holes, and segments or points the facet must contain
+    /// (TetGen's facet polygons). Polygons with 2 corners are segments.
+    pub polygons: Vec<Vec<u32>>,
+    /// One point inside each hole of the facet.
+    pub holes: Vec<[f64; 3]>,
+    /// Boundary marker, copied to the output faces.
+    pub marker: i32,
+}
+
+impl Facet {
+    /// A facet made of one polygon, no holes, marker 0.
+    ///
+    /// ```
+    /// let f = delone::model::plc::Facet::polygon(vec![0, 1, 2]);
+    /// assert!(f.holes.is_empty());
+    /// ```
+    pub fn polygon(corners: Vec<u32>) -> Self {
+        Facet {
+            polygons: vec![corners],
+            holes: Vec::new(),
+            marker: 0,
+        }
+    }
+}
+
+/// A region of a [`Plc`]: a seed point, an attribute given to the
+/// tetrahedra of the region, and an optional volume bound.
+///
+/// ```
+/// let r = delone::model::plc::Region { point: [0.5; 3], attribute: 2.0, max_volume: None };
+/// assert_eq!(r.attribute, 2.0);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region {
+    /// A point inside the region.
+    pub point: [f64; 3],
+    /// Regional attribute (TetGen `-A`).
+    pub attribute: f64,
+    /// Maximum tetrahedron volume inside the region (TetGen `-a` with
+    /// regions); `None` for no bound.
+    pub max_volume: Option<f64>,
+}
+
+/// A piecewise linear complex: the input of 3D constrained meshing.
+///
+/// ```
+/// use delone::model::plc::{Facet, Plc};
+/// let mut plc = Plc::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+/// for f in [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]] {
+///     plc.facets.push(Facet::polygon(f.to_vec()));
+/// }
+/// assert!(plc.validate().is_ok());
+/// assert_eq!(plc.triangles(), Some(vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]));
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Plc {
+    /// Point coordinates.
+    pub points: Vec<[f64; 3]>,
+    /// Planar facets.
+    pub facets: Vec<Facet>,
+    /// Segments that must appear in the mesh (besides facet edges).
+    pub segments: Vec<[u32; 2]>,
+    /// Volume holes: one point inside each hole.
+    pub holes: Vec<[f64; 3]>,
+    /// Regions: attributes and volume bounds.
+    pub regions: Vec<Region>,
+}
+
+impl Plc {
+    /// A PLC with these points and nothing else.
+    ///
+    /// ```
+    /// let plc = delone::model::plc::Plc::new(vec![[0.0; 3]]);
+    /// assert!(plc.facets.is_empty());
+    /// ```
+    pub fn new(points: Vec<[f64; 3]>) -> Self {
+        Plc {
+            points,
+            ..Plc::default()
+        }
+    }
+
+    /// A PLC whose facets are the given triangles (a triangulated surface).
+    ///
+    /// ```
+    /// let plc = delone::model::plc::Plc::from_triangles(vec![[0.0; 3]; 3], &[[0, 1, 2]]);
+    /// assert_eq!(plc.facets.len(), 1);
+    /// ```
+    pub fn from_triangles(points: Vec<[f64; 3]>, triangles: &[[u32; 3]]) -> Self {
+        Plc {
+            points,
+            facets: triangles
+                .iter()
+                .map(|t| Facet::polygon(t.to_vec()))
+                .collect(),
+            ..Plc::default()
+        }
+    }
+
+    /// The facets as triangles, if every facet is a single triangle;
+    /// `None` otherwise.
+    ///
+    /// ```
+    /// use delone::model::plc::{Facet, Plc};
+    /// let mut plc = Plc::new(vec![[0.0; 3]; 4]);
+    /// plc.facets.push(Facet::polygon(vec![0, 1, 2, 3]));
+    /// assert_eq!(plc.triangles(), None);
+    /// ```
+    pub fn triangles(&self) -> Option<Vec<[u32; 3]>> {
+        self.facets
+            .iter()
+            .map(|f| match f.polygons.as_slice() {
+                [p] if p.len() == 3 => Some([p[0], p[1], p[2]]),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Checks the PLC exactly and returns the first problem found, naming the
+    /// offending item:
+    ///
+    /// * [`Error::InvalidCoordinate`] — a point with a NaN/infinite coordinate;
+    /// * [`Error::InvalidSeedPoint`] — the same for a hole or region point;
+    /// * [`Error::IndexOutOfRange`] — a facet or segment refers to a missing point;
+    /// * [`Error::DegenerateFacet`] — a facet with no polygon or a polygon of
+    ///   fewer than 3 corners (segments inside a facet, with 2 corners, are
+    ///   allowed), a point repeated in a polygon (by index or by
+    ///   coordinates), all points collinear (zero area), or points off the
+    ///   facet's plane (exact [`orient3d`]). For a segment (listed by its index
+    ///   in [`Plc::segments`]) the defect is `TooFewVertices` when both ends
+    ///   are the same point.
+    ///
+    /// Facets are checked in order, so the error names the first bad one.
+    ///
+    /// # Errors
+    /// As listed above.
+    ///
+    /// ```
+    /// use delone::model::plc::{Facet, Plc};
+    /// use delone::{Error, FacetDefect};
+    /// let mut plc = Plc::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    /// plc.facets.push(Facet::polygon(vec![0, 1, 3]));
+    /// plc.facets.push(Facet::polygon(vec![0, 1, 2]));
+    /// assert_eq!(plc.validate(), Err(Error::DegenerateFacet { index: 1, defect: FacetDefect::ZeroArea }));
+    /// plc.facets[1] = Facet::polygon(vec![0, 1, 7]);
+    /// assert!(matches!(plc.validate(), Err(Error::IndexOutOfRange { item: "facet", index: 1, vertex: 7, .. })));
+    /// ```
+    pub fn validate(&self) -> Result<(), Error> {
+        let n = self.points.len();
+        if n > u32::MAX as usize {
+            return Err(Error::CapacityExceeded { requested: n });
+        }
+        if let Some(index) = self
+            .points
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::InvalidCoordinate { index });
+        }
+        let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
+        if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
+            return Err(Error::InvalidSeedPoint {
+                kind: "hole",
+                index,
+            });
+        }
+        if let Some(index) = self.regions.iter().position(|r| !finite(&r.point)) {
+            return Err(Error::InvalidSeedPoint {
+                kind: "region",
+                index,
+            });
+        }
+        for (index, s) in self.segments.iter().enumerate() {
+            for &v in s {
+                if v as usize >= n {
+                    return Err(Error::IndexOutOfRange {
+                        item: "segment",
+                        index,
+                        vertex: v,
+                        points: n,
+                    });
+                }
+            }
+            if s[0] == s[1] || self.points[s[0] as usize] == self.points[s[1] as usize] {
+                return Err(Error::DegenerateFacet {
+                    index,
+                    defect: FacetDefect::TooFewVertices,
+                });
+            }
+        }
+        for (index, f) in self.facets.iter().enumerate() {
+            if !f.holes.iter().all(finite) {
+                return Err(Error::InvalidSeedPoint {
+                    kind: "facet hole",
+                    index,
+                });
+            }
+            self.check_facet(index, f)?;
+        }
+        Ok(())
+    }
+
+    fn check_facet(&self, index: usize, f: &Facet) -> Result<(), Error> {
+        let n = self.points.len();
+        let bad = |defect| Err(Error::DegenerateFacet { index, defect });
+        if f.polygons.is_empty() || f.polygons.iter().all(|p| p.len() < 3) {
+            for p in &f.polygons {
+                if let Some(&v) = p.iter().find(|&&v| v as usize >= n) {
+                    return Err(Error::IndexOutOfRange {
+                        item: "facet",
+                        index,
+                        vertex: v,
+                        points: n,
+                    });
+                }
+            }
+            return bad(FacetDefect::TooFewVertices);
+        }
+        let mut sorted: Vec<(u32, [u64; 3])> = Vec::new();
+        for p in &f.polygons {
+            for &v in p {
+                if v as usize >= n {
+                    return Err(Error::IndexOutOfRange {
+                        item: "facet",
+                        index,
+                        vertex: v,
+                        points: n,
+                    });
+                }
+            }
+            if p.len() < 2 {
+                return bad(FacetDefect::TooFewVertices);
+            }
+            // Repeated corners, by index or by (exact) coordinates.
+            sorted.clear();
+            sorted.extend(p.iter().map(|&v| (v, key(&self.points[v as usize]))));
+            sorted.sort_unstable_by_key(|&(v, k)| (k, v));
+            if let Some(w) = sorted.windows(2).find(|w| w[0].1 == w[1].1) {
+                return bad(FacetDefect::RepeatedVertex { vertex: w[1].0 });
+            }
+        }
+        // Exact planarity: find three non-collinear corners, test the rest.
+        let corners: Vec<u32> = f.polygons.iter().flatten().copied().collect();
+        let pt = |v: u32| &self.points[v as usize];
+        let a = corners[0];
+        let Some(&b) = corners.iter().find(|&&v| pt(v) != pt(a)) else {
+            return bad(FacetDefect::ZeroArea);
+        };
+        let Some(&c) = corners.iter().find(|&&v| !collinear(pt(a), pt(b), pt(v))) else {
+            return bad(FacetDefect::ZeroArea);
+        };
+        if let Some(&d) = corners
+            .iter()
+            .find(|&&v| orient3d(pt(a), pt(b), pt(c), pt(v)) != 0.0)
+        {
+            return bad(FacetDefect::NonPlanar { vertex: d });
+        }
+        Ok(())
+    }
+
+    /// Merges points with exactly equal coordinates (`0.0` and `-0.0` are
+    /// equal), keeping the first occurrence, and renumbers facets and
+    /// segments. Deterministic. Returns, for each old point, its new index.
+    ///
+    /// Merging can make polygons repeat a point; [`Plc::validate`] reports
+    /// that afterwards.
+    ///
+    /// ```
+    /// use delone::model::plc::{Facet, Plc};
+    /// let mut plc = Plc::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [-0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    /// plc.facets.push(Facet::polygon(vec![2, 1, 3]));
+    /// assert_eq!(plc.merge_duplicate_points(), vec![0, 1, 0, 2]);
+    /// assert_eq!(plc.facets[0].polygons, vec![vec![0, 1, 2]]);
+    /// assert_eq!(plc.points.len(), 3);
+    /// ```
+    pub fn merge_duplicate_points(&mut self) -> Vec<u32> {
+        let mut seen: HashMap<[u64; 3], u32> = HashMap::with_capacity(self.points.len());
+        let mut kept = Vec::with_capacity(self.points.len());
+        let map: Vec<u32> = self
+            .points
+            .iter()
+            .map(|p| {
+                *seen.entry(key(p)).or_insert_with(|| {
+                    kept.push(*p);
+                    (kept.len() - 1) as u32
+                })
+            })
+            .collect();
+        self.points = kept;
+        let re = |v: &mut u32| {
+            if let Some(&m) = map.get(*v as usize) {
+                *v = m;
+            }
+        };
+        for f in &mut self.facets {
+            f.polygons.iter_mut().flatten().for_each(re);
+        }
+        self.segments.iter_mut().flatten().for_each(re);
+        map
+    }
+}
+
+/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
+/// folded onto `0.0` (so equal coordinates give equal keys).
+pub(crate) fn key(p: &[f64; 3]) -> [u64; 3] {
+    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
+}
+
+/// Exact collinearity of three points in 3D: all three coordinate
+/// projections are degenerate.
+pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    (0..3).all(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube() -> Plc {
+        let mut pts = Vec::new();
+        for z in [0.0, 1.0] {
+            for y in [0.0, 1.0] {
+                for x in [0.0, 1.0] {
+                    pts.push([x, y, z]);
+                }
+            }
+        }
+        let mut plc = Plc::new(pts);
+        for q in [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            plc.facets.push(Facet::polygon(q.to_vec()));
+        }
+        plc
+    }
+
+    #[test]
+    fn cube_is_valid_and_each_defect_is_named() {
+        let plc = cube();
+        assert_eq!(plc.validate(), Ok(()));
+        assert_eq!(plc.triangles(), None);
+
+        let mut p = cube();
+        p.points[7][2] = 1.0 + 1e-15;
+        // Facet 1 is [4, 5, 7, 6]: its plane is taken through 4, 5, 7.
+        assert_eq!(
+            p.validate(),
+            Err(Error::DegenerateFacet {
+                index: 1,
+                defect: FacetDefect::NonPlanar { vertex: 6 }
+            })
+        );
+
+        let mut p = cube();
+        p.facets[3].polygons[0] = vec![2, 6, 2, 3];
+        assert_eq!(
+            p.validate(),
+            Err(Error::DegenerateFacet {
+                index: 3,
+                defect: FacetDefect::RepeatedVertex { vertex: 2 }
+            })
+        );
+
+        let mut p = cube();
+        p.points.push([1.0, 1.0, 1.0]); // same coordinates as point 7
+        p.facets[5].polygons[0] = vec![1, 3, 7, 8, 5];
+        assert!(matches!(
+            p.validate(),
+            Err(Error::DegenerateFacet {
+                index: 5,
+                defect: FacetDefect::RepeatedVertex { .. }
+            })
+        ));
+
+        let mut p = cube();
+        p.points[3][0] = f64::NAN;
+        assert_eq!(p.validate(), Err(Error::InvalidCoordinate { index: 3 }));
+
+        let mut p = cube();
+        p.holes.push([0.5, f64::INFINITY, 0.5]);
+        assert_eq!(
+            p.validate(),
+            Err(Error::InvalidSeedPoint {
+                kind: "hole",
+                index: 0
+            })
+        );
+
+        let mut p = cube();
+        p.segments.push([0, 8]);
+        assert!(matches!(
+            p.validate(),
+            Err(Error::IndexOutOfRange {
+                item: "segment",
+                vertex: 8,
+                ..
+            })
+        ));
+
+        let mut p = cube();
+        p.facets[2].polygons.push(vec![4]);
+        assert_eq!(
+            p.validate(),
+            Err(Error::DegenerateFacet {
+                index: 2,
+                defect: FacetDefect::TooFewVertices
+            })
+        );
+
+        // A facet with a hole polygon and an interior segment is fine.
+        let mut p = cube();
+        let base = p.points.len() as u32;
+        p.points
+            .extend([[0.25, 0.25, 0.0], [0.75, 0.25, 0.0], [0.5, 0.75, 0.0]]);
+        p.facets[0].polygons.push(vec![base, base + 1, base + 2]);
+        p.facets[0].polygons.push(vec![0, base]);
+        p.facets[0].holes.push([0.5, 0.4, 0.0]);
+        assert_eq!(p.validate(), Ok(()));
+    }
+
+    #[test]
+    fn merge_renumbers_everything() {
+        let mut p = cube();
+        let n = p.points.len() as u32;
+        p.points.push(p.points[6]);
+        p.facets[1].polygons[0] = vec![4, 5, 7, n];
+        p.segments.push([n, 0]);
+        let map = p.merge_duplicate_points();
+        assert_eq!(map[n as usize], 6);
+        assert_eq!(p.points.len(), 8);
+        assert_eq!(p.facets[1].polygons[0], vec![4, 5, 7, 6]);
+        assert_eq!(p.segments, vec![[6, 0]]);
+        assert_eq!(p.validate(), Ok(()));
+    }
+}

@@ -2,11 +2,12 @@
 //!
 //! * [`tetrahedralize`] — one call, flat output ([`TetMesh`]).
 //! * [`Delaunay3`] — the incremental kernel (insert, locate, check).
-//! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
+//! * [`validate`](fn@validate) — an independent checker of a [`TetMesh`] against its points.
 
 pub mod delaunay;
 pub mod local;
 pub mod mesh;
+pub mod validate;
 
 pub use delaunay::{Delaunay3, Inserted, Location};
 pub use mesh::{validate, TetMesh};
