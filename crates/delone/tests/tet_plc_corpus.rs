@@ -4,7 +4,7 @@
 //! every TetGen PLC reads into a valid [`Plc`].
 
 use delone::model::plc::{Facet, Plc, Region};
-use delone::tet::validate::{manifold_report, self_intersections};
+use delone::tet::intersect::{manifold_report, self_intersections};
 use std::path::PathBuf;
 use std::time::Instant;
 

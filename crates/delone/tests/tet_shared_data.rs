@@ -4,14 +4,21 @@
 
 use std::path::PathBuf;
 
+/// `shared/data/surf/off`, found by walking up from the crate (the checkout
+/// may sit at any depth beside `shared/`).
 fn data_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/surf/off");
-    if d.is_dir() {
-        Some(d)
-    } else {
-        eprintln!("note: {} not found; skipping", d.display());
-        None
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let found = here
+        .ancestors()
+        .map(|a| a.join("shared/data/surf/off"))
+        .find(|d| d.is_dir());
+    if found.is_none() {
+        eprintln!(
+            "note: shared/data/surf/off not found above {}; skipping",
+            here.display()
+        );
     }
+    found
 }
 
 /// The vertices of an OFF file (header `OFF`, then `nv nf ne`, then vertices).

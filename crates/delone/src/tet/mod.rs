@@ -2,12 +2,13 @@
 //!
 //! * [`tetrahedralize`] — one call, flat output ([`TetMesh`]).
 //! * [`Delaunay3`] — the incremental kernel (insert, locate, check).
-//! * [`validate`](fn@validate) — an independent checker of a [`TetMesh`] against its points.
+//! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
+//! * [`intersect`] — exact self-intersection and closedness checks of triangulated surfaces.
 
 pub mod delaunay;
+pub mod intersect;
 pub mod local;
 pub mod mesh;
-pub mod validate;
 
 pub use delaunay::{Delaunay3, Inserted, Location};
 pub use mesh::{validate, TetMesh};

@@ -38,7 +38,7 @@ type P = [f64; 3];
 ///
 /// ```
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.3, 0.3, 1.0]];
-/// let r = delone::tet::validate::self_intersections(&pts, &[[0, 1, 2], [3, 4, 5]]);
+/// let r = delone::tet::intersect::self_intersections(&pts, &[[0, 1, 2], [3, 4, 5]]);
 /// assert_eq!(r.pairs, vec![(0, 1)]);
 /// assert!(r.degenerate.is_empty() && !r.is_clean());
 /// ```
@@ -56,7 +56,7 @@ impl SelfIntersections {
     /// `true` when no pair intersects and no triangle is degenerate.
     ///
     /// ```
-    /// assert!(delone::tet::validate::SelfIntersections::default().is_clean());
+    /// assert!(delone::tet::intersect::SelfIntersections::default().is_clean());
     /// ```
     pub fn is_clean(&self) -> bool {
         self.pairs.is_empty() && self.degenerate.is_empty()
@@ -73,7 +73,7 @@ impl SelfIntersections {
 /// triangle); the result is sorted and deterministic.
 ///
 /// ```
-/// use delone::tet::validate::self_intersections;
+/// use delone::tet::intersect::self_intersections;
 /// // Two triangles sharing edge 0-1, folded onto each other (coplanar, same side).
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0]];
 /// assert_eq!(self_intersections(&pts, &[[0, 1, 2], [1, 0, 3]]).pairs, vec![(0, 1)]);
@@ -239,7 +239,7 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
 /// number of pairs.
 ///
 /// ```
-/// use delone::tet::validate::check_self_intersections;
+/// use delone::tet::intersect::check_self_intersections;
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 /// assert_eq!(check_self_intersections(&pts, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]), Ok(()));
 /// let e = check_self_intersections(&pts, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2], [0, 1, 2]]);
@@ -410,7 +410,7 @@ fn seg_tri_2d(p: &Q, q: &Q, a: &Q, b: &Q, c: &Q) -> bool {
 /// edge is `[min, max]` by point index, lists sorted.
 ///
 /// ```
-/// let r = delone::tet::validate::manifold_report(&[[0, 1, 2]]);
+/// let r = delone::tet::intersect::manifold_report(&[[0, 1, 2]]);
 /// assert_eq!(r.boundary_edges, vec![[0, 1], [0, 2], [1, 2]]);
 /// assert!(!r.is_closed());
 /// ```
@@ -430,7 +430,7 @@ impl ManifoldReport {
     ///
     /// ```
     /// let tet = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-    /// assert!(delone::tet::validate::manifold_report(&tet).is_closed());
+    /// assert!(delone::tet::intersect::manifold_report(&tet).is_closed());
     /// ```
     pub fn is_closed(&self) -> bool {
         self.boundary_edges.is_empty() && self.nonmanifold_edges.is_empty()
@@ -440,7 +440,7 @@ impl ManifoldReport {
     ///
     /// ```
     /// let tet = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 2, 3]];
-    /// let r = delone::tet::validate::manifold_report(&tet);
+    /// let r = delone::tet::intersect::manifold_report(&tet);
     /// assert!(r.is_closed() && !r.is_oriented_closed());
     /// assert_eq!(r.inconsistent_edges, vec![[0, 2], [0, 3], [2, 3]]);
     /// ```
@@ -456,7 +456,7 @@ impl ManifoldReport {
 /// ```
 /// // Two tetrahedra glued along edge 0-1 (and nothing else): non-manifold.
 /// let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2], [0, 4, 1], [0, 1, 5], [1, 4, 5], [0, 5, 4]];
-/// let r = delone::tet::validate::manifold_report(&t);
+/// let r = delone::tet::intersect::manifold_report(&t);
 /// assert_eq!(r.nonmanifold_edges, vec![[0, 1]]);
 /// ```
 pub fn manifold_report(triangles: &[[u32; 3]]) -> ManifoldReport {
