@@ -32,6 +32,48 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
+    /// Segment `segment` names point `point`, which does not exist.
+    SegmentOutOfRange {
+        /// 0-based index of the segment.
+        segment: usize,
+        /// The point index it names.
+        point: usize,
+    },
+    /// Segment `segment` joins a point to itself (or to an exact copy of it).
+    ZeroLengthSegment {
+        /// 0-based index of the segment.
+        segment: usize,
+    },
+    /// Points `index` and `original` have the same coordinates.
+    DuplicateVertex {
+        /// 0-based index of the later point.
+        index: usize,
+        /// 0-based index of the first point with those coordinates.
+        original: usize,
+    },
+    /// Segments `index` and `original` join the same two points.
+    DuplicateSegment {
+        /// 0-based index of the later segment.
+        index: usize,
+        /// 0-based index of the first segment.
+        original: usize,
+    },
+    /// A hole or region point (`what` says which) has a NaN/infinite coordinate.
+    InvalidMarkerPoint {
+        /// `"hole"` or `"region"`.
+        what: &'static str,
+        /// 0-based index of the hole or region.
+        index: usize,
+    },
+    /// Two segments intersect in a way the constrained triangulation could not
+    /// resolve (the rounded intersection point does not fit between its
+    /// neighbours, e.g. in a needle-thin configuration).
+    SegmentIntersection {
+        /// The segment being inserted (0-based input index).
+        segment: usize,
+        /// The segment it crosses (0-based input index).
+        other: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -57,6 +99,25 @@ impl fmt::Display for Error {
             Error::CapacityExceeded { requested } => write!(
                 f,
                 "{requested} points exceed the u32 index space of delone"
+            ),
+            Error::SegmentOutOfRange { segment, point } => {
+                write!(f, "segment {segment} names point {point}, which does not exist")
+            }
+            Error::ZeroLengthSegment { segment } => {
+                write!(f, "segment {segment} has zero length")
+            }
+            Error::DuplicateVertex { index, original } => {
+                write!(f, "point {index} duplicates point {original}")
+            }
+            Error::DuplicateSegment { index, original } => {
+                write!(f, "segment {index} duplicates segment {original}")
+            }
+            Error::InvalidMarkerPoint { what, index } => {
+                write!(f, "{what} {index} has a NaN or infinite coordinate")
+            }
+            Error::SegmentIntersection { segment, other } => write!(
+                f,
+                "the crossing of segments {segment} and {other} could not be resolved"
             ),
         }
     }
