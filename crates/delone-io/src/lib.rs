@@ -4,7 +4,8 @@
 //! mesher):
 //!
 //! * Triangle/TetGen family: [`read_node`], [`read_ele`], [`write_node`],
-//!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`], with the
+//!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`],
+//!   [`read_poly`], [`write_poly`], with the
 //!   derived edges and faces from [`topo`];
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
@@ -26,12 +27,14 @@
 
 mod error;
 mod out;
+mod poly;
 mod read;
 pub mod topo;
 mod vtk;
 mod write;
 
 pub use error::IoError;
+pub use poly::{read_poly, write_poly, PolyFile};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
 pub use vtk::{write_vtk_legacy, write_vtu, DataArray, Values, VtuFormat};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

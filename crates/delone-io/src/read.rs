@@ -9,13 +9,13 @@ use crate::IoError;
 
 /// Splits the input into records (non-empty lines after comment removal),
 /// each with its 1-based line number.
-struct Records<'a> {
+pub(crate) struct Records<'a> {
     rest: &'a [u8],
     line: usize,
 }
 
 impl<'a> Records<'a> {
-    fn new(input: &'a [u8]) -> Self {
+    pub(crate) fn new(input: &'a [u8]) -> Self {
         Records {
             rest: input,
             line: 0,
@@ -24,7 +24,7 @@ impl<'a> Records<'a> {
 
     /// Fills `toks` with the tokens of the next non-empty record and returns
     /// its line number, or `None` at the end of the input.
-    fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
+    pub(crate) fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
         loop {
             if self.rest.is_empty() {
                 return None;
@@ -51,7 +51,7 @@ impl<'a> Records<'a> {
     }
 }
 
-fn show(tok: &[u8]) -> String {
+pub(crate) fn show(tok: &[u8]) -> String {
     let s = String::from_utf8_lossy(tok);
     let mut s: String = s.chars().take(40).collect();
     if tok.len() > 40 {
@@ -60,14 +60,14 @@ fn show(tok: &[u8]) -> String {
     format!("\"{s}\"")
 }
 
-fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
+pub(crate) fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<i64>().ok())
         .ok_or_else(|| IoError::syntax(line, what.to_string(), show(tok)))
 }
 
-fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
+pub(crate) fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<usize>().ok())
@@ -76,7 +76,7 @@ fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
 
 /// Parses a real number; `nan`, `inf`, `infinity` (any case, with sign) are
 /// accepted so that the mesher can report which point carries them.
-fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
+pub(crate) fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<f64>().ok())
@@ -85,7 +85,7 @@ fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
 
 /// Checks the index of item `k` (0-based position in the file) and, for the
 /// first item, detects whether the file numbers from 0 or 1.
-fn check_index(
+pub(crate) fn check_index(
     tok: &[u8],
     line: usize,
     k: usize,
@@ -223,6 +223,17 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
     let Some(hline) = rec.next(&mut toks) else {
         return Err(IoError::syntax(1, "a header line", "an empty file"));
     };
+    read_node_body(&mut rec, &mut toks, hline, input.len())
+}
+
+/// The `.node` section after its header record (in `toks`, at line `hline`);
+/// shared with the `.poly` reader.
+pub(crate) fn read_node_body<'a>(
+    rec: &mut Records<'a>,
+    toks: &mut Vec<&'a [u8]>,
+    hline: usize,
+    input_len: usize,
+) -> Result<NodeFile, IoError> {
     let n = parse_count(toks[0], hline, "the number of points")?;
     let dim = match toks.get(1) {
         Some(t) => parse_count(t, hline, "the dimension (2 or 3)")?,
@@ -250,9 +261,9 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
         ));
     }
     // Never trust the header for allocation: a point needs at least 6 bytes.
-    let cap = n.min(input.len() / 6 + 1);
+    let cap = n.min(input_len / 6 + 1);
     let mut coords = Vec::with_capacity(cap.saturating_mul(dim));
-    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input.len()));
+    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input_len));
     let mut markers = if nmark == 1 {
         Some(Vec::with_capacity(cap))
     } else {
@@ -261,7 +272,7 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
     let mut lines = Vec::with_capacity(cap);
     let mut first = None;
     for k in 0..n {
-        let Some(line) = rec.next(&mut toks) else {
+        let Some(line) = rec.next(toks) else {
             return Err(IoError::UnexpectedEnd {
                 line: hline,
                 what: "points",
