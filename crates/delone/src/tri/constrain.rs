@@ -33,7 +33,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use delone_predicates::{incircle, orient2d};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
-use super::Delaunay2;
+use super::{pow2_scale, scaled, Delaunay2};
 use crate::model::pslg::Pslg;
 use crate::{Error, Violation, NONE};
 
@@ -95,7 +95,9 @@ pub struct CdtReport {
     /// Steiner vertices at segment crossings.
     pub crossings: Vec<Crossing>,
     /// `(vertex, segment)`: an existing vertex lies inside a segment, which
-    /// was split there.
+    /// was split there; also a vertex within rounding distance of a segment
+    /// crossing (usually an earlier Steiner vertex), through which the
+    /// segment is routed instead of creating a second crossing next to it.
     pub vertex_splits: Vec<(u32, u32)>,
     /// `(duplicate, original)` input points that coincide (merged).
     pub duplicate_points: Vec<(u32, u32)>,
@@ -310,7 +312,9 @@ impl Work {
         for k in [t, t2, n, n2] {
             self.set_vt(k);
         }
-        let mut st = vec![(a, p), (q, a), (d, q), (p, d)];
+        // The rounded vertex may lie off the line p-q, so the two new
+        // unconstrained edges at it are checked as well as the outer ones.
+        let mut st = vec![(a, p), (q, a), (d, q), (p, d), (a, s), (d, s)];
         self.legalize(&mut st);
         Some(s)
     }
@@ -572,7 +576,21 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                     }
                 }
                 let Some(sx) = made else {
-                    return Err(unresolved(s, other));
+                    // The rounded crossing does not fit strictly inside the
+                    // edge (the segment passes within rounding distance of
+                    // an end of the crossed edge, typically an earlier
+                    // Steiner vertex): route the segment through the nearer
+                    // end instead, and report it as a vertex split.
+                    let d2 = |u: &[f64; 2]| (u[0] - x1[0]).powi(2) + (u[1] - x1[1]).powi(2);
+                    let v = if d2(&pp) <= d2(&pq) { p } else { q };
+                    if v == a || v == b || p == INF || q == INF {
+                        return Err(unresolved(s, other));
+                    }
+                    report.vertex_splits.push((out_id(v), s));
+                    pending.push((v, b, s));
+                    pending.push((a, v, s));
+                    steiner = true;
+                    break;
                 };
                 report.crossings.push(Crossing {
                     vertex: sx,
@@ -819,7 +837,9 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// predicates: counterclockwise triangles, symmetric adjacency across
 /// matching edges, every bounding subsegment an edge of the mesh, every input
 /// segment a chain of subsegments from one end to the other (through vertices
-/// exactly on it and the reported crossing vertices), the constrained
+/// exactly on it, its reported crossing and split vertices, and Steiner
+/// vertices within 1e-12 times the input's extent of it — those of
+/// overlapping segments), the constrained
 /// Delaunay property (the apex across an edge that is not a subsegment is
 /// never strictly inside the circumcircle), hole points not strictly inside
 /// any triangle, and regions constant across unconstrained edges, each region
@@ -837,7 +857,15 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// assert!(check_cdt(&g, &cdt).is_err());
 /// ```
 pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
-    let pts = &cdt.points;
+    // Exact power-of-two scaling keeps the predicates exact at any scale.
+    let max_abs = cdt
+        .points
+        .iter()
+        .chain(&pslg.holes)
+        .chain(pslg.regions.iter().map(|r| &r.point))
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let scale = pow2_scale(max_abs);
+    let pts: &Vec<[f64; 2]> = &cdt.points.iter().map(|&p| scaled(p, scale)).collect();
     let nt = cdt.triangles.len();
     if cdt.neighbors.len() != nt || cdt.regions.len() != nt {
         return Err(Violation::new("storage", "column lengths differ"));
@@ -931,7 +959,22 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         .iter()
         .flat_map(|c| [(c.vertex, c.segments[0]), (c.vertex, c.segments[1])])
         .collect();
+    // Distance tolerance for Steiner vertices: a few thousand ulps of the
+    // input's extent.
+    let ext = pts.iter().fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let tol = 1e-12 * ext;
+    let split_of: HashSet<(u32, u32)> = cdt.report.vertex_splits.iter().copied().collect();
     let vm = |i: u32| cdt.vertex_map.get(i as usize).copied().unwrap_or(i);
+    // Segments with the same two ends (after merging duplicate points) share
+    // their subsegments and crossings.
+    let key = |seg: &[u32; 2]| {
+        let (a, b) = (vm(seg[0]), vm(seg[1]));
+        (a.min(b), a.max(b))
+    };
+    let mut group: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    for (s, seg) in pslg.segments.iter().enumerate() {
+        group.entry(key(seg)).or_default().push(s as u32);
+    }
     for (s, seg) in pslg.segments.iter().enumerate() {
         let (a, b) = (vm(seg[0]), vm(seg[1]));
         if a == b {
@@ -944,6 +987,20 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
                 && (p[0] - pa[0]) * (pb[0] - pa[0]) + (p[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
                 && (p[0] - pb[0]) * (pa[0] - pb[0]) + (p[1] - pb[1]) * (pa[1] - pb[1]) > 0.0
         };
+        // Within rounding distance of the segment (a Steiner vertex of an
+        // overlapping or crossing segment that this one was routed through).
+        let near = |x: u32| {
+            let p = &pts[x as usize];
+            let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
+            let len2 = dx * dx + dy * dy;
+            let t = ((p[0] - pa[0]) * dx + (p[1] - pa[1]) * dy) / len2;
+            let cross = dx * (p[1] - pa[1]) - dy * (p[0] - pa[0]);
+            x as usize >= pslg.points.len()
+                && t > 0.0
+                && t < 1.0
+                && cross * cross <= (tol * tol) * len2
+        };
+        let same = &group[&key(seg)];
         let mut seen = HashSet::new();
         let mut st = vec![a];
         seen.insert(a);
@@ -954,7 +1011,12 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
                 break;
             }
             for &(x, lab) in adj.get(&c).map(|v| v.as_slice()).unwrap_or(&[]) {
-                let good = x == b || lab == s as u32 || on(x) || crossing_of.contains(&(x, s as u32));
+                let good = x == b
+                    || on(x)
+                    || near(x)
+                    || same.iter().any(|&g| {
+                        lab == g || crossing_of.contains(&(x, g)) || split_of.contains(&(x, g))
+                    });
                 if good && seen.insert(x) {
                     st.push(x);
                 }
@@ -968,6 +1030,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         }
     }
     for (h, p) in pslg.holes.iter().enumerate() {
+        let p = &scaled(*p, scale);
         if let Some(t) = cdt
             .triangles
             .iter()
@@ -983,7 +1046,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         if let Some(t) = cdt
             .triangles
             .iter()
-            .position(|v| strictly_inside(pts, v, &reg.point))
+            .position(|v| strictly_inside(pts, v, &scaled(reg.point, scale)))
         {
             let got = cdt.regions[t];
             if got == NONE || (got as usize) < r {
