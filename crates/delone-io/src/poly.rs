@@ -105,7 +105,10 @@ pub fn read_poly(input: &[u8]) -> Result<PolyFile, IoError> {
     if node.dim != 2 {
         return Err(IoError::Unsupported {
             line: hline,
-            message: format!("a .poly file of dimension {} (only 2 is read here)", node.dim),
+            message: format!(
+                "a .poly file of dimension {} (only 2 is read here)",
+                node.dim
+            ),
         });
     }
     let Some(sline) = rec.next(&mut toks) else {
@@ -288,7 +291,11 @@ pub fn write_poly<W: Write>(
         }
     }
     o.uint(segments.len() as u64);
-    o.str(if segment_markers.is_some() { " 1" } else { " 0" });
+    o.str(if segment_markers.is_some() {
+        " 1"
+    } else {
+        " 0"
+    });
     o.nl()?;
     for (i, s) in segments.iter().enumerate() {
         o.uint(i as u64 + f);
@@ -336,11 +343,22 @@ mod tests {
         let pts = [[0.0, 0.0], [1.5, 0.0], [0.0, 1e-7]];
         let segs = [[0u32, 1], [1, 2], [2, 0]];
         let mut out = Vec::new();
-        write_poly(&mut out, &pts, &segs, Some(&[1, 2, 3]), &[[0.1, 0.1]], &[[0.2, 0.2, 7.0, 0.5]], 0)
-            .unwrap();
+        write_poly(
+            &mut out,
+            &pts,
+            &segs,
+            Some(&[1, 2, 3]),
+            &[[0.1, 0.1]],
+            &[[0.2, 0.2, 7.0, 0.5]],
+            0,
+        )
+        .unwrap();
         let f = read_poly(&out).unwrap();
         assert_eq!(f.node.points::<2>().unwrap(), pts.to_vec());
-        assert_eq!(f.segments_zero_based(f.node.first_index).unwrap(), segs.to_vec());
+        assert_eq!(
+            f.segments_zero_based(f.node.first_index).unwrap(),
+            segs.to_vec()
+        );
         assert_eq!(f.segment_markers, Some(vec![1, 2, 3]));
         assert_eq!(f.holes, vec![[0.1, 0.1]]);
         assert_eq!(f.regions, vec![[0.2, 0.2, 7.0, 0.5]]);
@@ -349,11 +367,23 @@ mod tests {
     #[test]
     fn errors_name_lines_and_never_panic() {
         let e = read_poly(b"1 2 0 0\n1 0 0\n2 0\n1 1 1\n").unwrap_err();
-        assert!(matches!(e, IoError::UnexpectedEnd { what: "segments", .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                IoError::UnexpectedEnd {
+                    what: "segments",
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let e = read_poly(b"1 2 0 0\n1 0 0\n1 0\n1 1 x\n").unwrap_err();
         assert_eq!(e.line(), Some(4));
         let e = read_poly(b"1 2 0 0\n1 0 0\n0 0\n2\n1 0 0\n").unwrap_err();
-        assert!(matches!(e, IoError::UnexpectedEnd { what: "holes", .. }), "{e}");
+        assert!(
+            matches!(e, IoError::UnexpectedEnd { what: "holes", .. }),
+            "{e}"
+        );
         // Truncations of a valid file never panic.
         let text = b"3 2 1 1\n1 0 0 4 1\n2 1 0 4 1\n3 0 1 4 1\n3 1\n1 1 2 1\n2 2 3 1\n3 3 1 1\n1\n1 0.2 0.2\n1\n1 0.1 0.1 3 0.5\n";
         for k in 0..text.len() {

@@ -119,7 +119,10 @@ impl Pslg {
             return Err(Error::InvalidCoordinate { index });
         }
         if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidMarkerPoint { what: "hole", index });
+            return Err(Error::InvalidMarkerPoint {
+                what: "hole",
+                index,
+            });
         }
         if let Some(index) = self.regions.iter().position(|r| !fin(&r.point)) {
             return Err(Error::InvalidMarkerPoint {

@@ -103,6 +103,10 @@ pub struct CdtReport {
     pub duplicate_points: Vec<(u32, u32)>,
     /// Segments whose two ends coincide after merging duplicates (ignored).
     pub skipped_segments: Vec<u32>,
+    /// `(duplicate, original)` segments joining the same two vertices (the
+    /// duplicate is not inserted again; its subsegments carry the original's
+    /// index).
+    pub duplicate_segments: Vec<(u32, u32)>,
     /// Edge flips done while inserting segments and restoring Delaunay.
     pub flips: usize,
 }
@@ -335,10 +339,7 @@ impl Work {
 
     /// Finite triangle containing `p` (closed), or `None` outside the hull.
     fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
-        let mut t = self
-            .tv
-            .iter()
-            .position(|v| v[0] != DEAD && !is_ghost(v))?;
+        let mut t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
         let limit = 4 * self.tv.len() + 64;
         'walk: for _ in 0..limit {
             let v = self.tv[t];
@@ -412,7 +413,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         return Err(Error::InvalidCoordinate { index });
     }
     if let Some(index) = pslg.holes.iter().position(|p| !fin(p)) {
-        return Err(Error::InvalidMarkerPoint { what: "hole", index });
+        return Err(Error::InvalidMarkerPoint {
+            what: "hole",
+            index,
+        });
     }
     if let Some(index) = pslg.regions.iter().position(|r| !fin(&r.point)) {
         return Err(Error::InvalidMarkerPoint {
@@ -466,16 +470,22 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         .saturating_mul(pslg.segments.len().max(16))
         .saturating_add(1 << 20);
     let mut steps = 0usize;
-    for (s, seg) in pslg.segments.iter().enumerate().rev() {
+    let mut first_of: HashMap<(u32, u32), u32> = HashMap::new();
+    for (s, seg) in pslg.segments.iter().enumerate() {
         let a = ext2int[vmap[seg[0] as usize] as usize];
         let b = ext2int[vmap[seg[1] as usize] as usize];
         if a == b {
             report.skipped_segments.push(s as u32);
             continue;
         }
+        let orig = *first_of.entry((a.min(b), a.max(b))).or_insert(s as u32);
+        if orig != s as u32 {
+            report.duplicate_segments.push((s as u32, orig));
+            continue;
+        }
         pending.push((a, b, s as u32));
     }
-    report.skipped_segments.sort_unstable();
+    pending.reverse();
     let unresolved = |s: u32, o: u32| Error::SegmentIntersection {
         segment: s as usize,
         other: o as usize,
@@ -583,7 +593,15 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                     // end instead, and report it as a vertex split.
                     let d2 = |u: &[f64; 2]| (u[0] - x1[0]).powi(2) + (u[1] - x1[1]).powi(2);
                     let v = if d2(&pp) <= d2(&pq) { p } else { q };
-                    if v == a || v == b || p == INF || q == INF {
+                    let pv = *w.p(v);
+                    let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+                    let off = side(&pa, &pb, &pv).abs() / len;
+                    let ext = pa[0]
+                        .abs()
+                        .max(pa[1].abs())
+                        .max(pb[0].abs())
+                        .max(pb[1].abs());
+                    if v == a || v == b || !(off <= 1e-9 * ext) {
                         return Err(unresolved(s, other));
                     }
                     report.vertex_splits.push((out_id(v), s));
@@ -652,8 +670,8 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             if x == INF || d == INF {
                 return Err(unresolved(s, s));
             }
-            let convex = orient2d(w.p(x), w.p(u), w.p(d)) > 0.0
-                && orient2d(w.p(d), w.p(v), w.p(x)) > 0.0;
+            let convex =
+                orient2d(w.p(x), w.p(u), w.p(d)) > 0.0 && orient2d(w.p(d), w.p(v), w.p(x)) > 0.0;
             if !convex {
                 crossed.push_back((u, v));
                 idle += 1;
@@ -681,11 +699,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
 
     // Carving.
     let nt = w.tv.len();
-    let mut alive: Vec<bool> = w
-        .tv
-        .iter()
-        .map(|v| v[0] != DEAD && !is_ghost(v))
-        .collect();
+    let mut alive: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && !is_ghost(v)).collect();
     let mut stack: Vec<usize> = Vec::new();
     let flood = |w: &Work, alive: &mut Vec<bool>, stack: &mut Vec<usize>| {
         while let Some(t) = stack.pop() {
@@ -838,7 +852,7 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// matching edges, every bounding subsegment an edge of the mesh, every input
 /// segment a chain of subsegments from one end to the other (through vertices
 /// exactly on it, its reported crossing and split vertices, and Steiner
-/// vertices within 1e-12 times the input's extent of it — those of
+/// vertices within 1e-9 times the input's extent of it — those of
 /// overlapping segments), the constrained
 /// Delaunay property (the apex across an edge that is not a subsegment is
 /// never strictly inside the circumcircle), hole points not strictly inside
@@ -873,9 +887,17 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
     let mut half: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * nt);
     for (t, v) in cdt.triangles.iter().enumerate() {
         if v.iter().any(|&x| x as usize >= pts.len()) {
-            return Err(Violation::new("vertex", format!("triangle {t} {v:?} out of range")));
+            return Err(Violation::new(
+                "vertex",
+                format!("triangle {t} {v:?} out of range"),
+            ));
         }
-        if orient2d(&pts[v[0] as usize], &pts[v[1] as usize], &pts[v[2] as usize]) <= 0.0 {
+        if orient2d(
+            &pts[v[0] as usize],
+            &pts[v[1] as usize],
+            &pts[v[2] as usize],
+        ) <= 0.0
+        {
             return Err(Violation::new(
                 "orientation",
                 format!("triangle {t} {v:?} is not counterclockwise"),
@@ -959,10 +981,13 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         .iter()
         .flat_map(|c| [(c.vertex, c.segments[0]), (c.vertex, c.segments[1])])
         .collect();
-    // Distance tolerance for Steiner vertices: a few thousand ulps of the
+    // Distance tolerance for Steiner vertices (rounded crossings of nearly
+    // parallel segments stray further than a few ulps): a small fraction of the
     // input's extent.
-    let ext = pts.iter().fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let tol = 1e-12 * ext;
+    let ext = pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let tol = 1e-9 * ext;
     let split_of: HashSet<(u32, u32)> = cdt.report.vertex_splits.iter().copied().collect();
     let vm = |i: u32| cdt.vertex_map.get(i as usize).copied().unwrap_or(i);
     // Segments with the same two ends (after merging duplicate points) share
