@@ -601,7 +601,8 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                         .max(pa[1].abs())
                         .max(pb[0].abs())
                         .max(pb[1].abs());
-                    if v == a || v == b || !(off <= 1e-9 * ext) {
+                    let near = off <= 1e-9 * ext;
+                    if v == a || v == b || !near {
                         return Err(unresolved(s, other));
                     }
                     report.vertex_splits.push((out_id(v), s));
