@@ -43,6 +43,12 @@ pub struct Opts {
     pub vtu_ascii: bool,
     pub output_dir: Option<PathBuf>,
     pub input: PathBuf,
+    /// tri `-p`: read a PSLG (.poly) and build its constrained Delaunay triangulation.
+    pub pslg: bool,
+    /// tri `-c`: keep the convex hull (no removal of exterior triangles).
+    pub convex_hull: bool,
+    /// tri `-A`: regional attributes in the .ele output.
+    pub region_attributes: bool,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -63,13 +69,10 @@ pub struct Usage(pub String);
 /// with a few words on what they do.
 fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     Some(match (mode, c) {
-        (Mode::Tri, 'p') => "PSLG input (.poly)",
         (Mode::Tri, 'r') => "refinement of a previous mesh",
         (Mode::Tri, 'q') => "quality mesh",
         (Mode::Tri, 'a') => "maximum area constraint",
         (Mode::Tri, 'u') => "user-defined constraint",
-        (Mode::Tri, 'A') => "regional attributes",
-        (Mode::Tri, 'c') => "convex hull segments",
         (Mode::Tri, 'D') => "conforming Delaunay",
         (Mode::Tri, 'j') => "jettison unused vertices",
         (Mode::Tri, 'v') => "Voronoi diagram output",
@@ -111,6 +114,9 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
 fn letter(mode: Mode, c: char, o: &mut Opts) -> Result<Option<Command>, Usage> {
     match (mode, c) {
         (_, 'z') => o.zero = true,
+        (Mode::Tri, 'p') => o.pslg = true,
+        (Mode::Tri, 'c') => o.convex_hull = true,
+        (Mode::Tri, 'A') => o.region_attributes = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),
         (_, 'C') => o.check = true,
@@ -278,8 +284,8 @@ mod tests {
             Ok(c) => panic!("{c:?}"),
         };
         assert_eq!(
-            msg(Mode::Tri, &["-pq30", "x"]),
-            "switch -p (PSLG input (.poly)) is not implemented yet"
+            msg(Mode::Tri, &["-pD", "x"]),
+            "switch -D (conforming Delaunay) is not implemented yet"
         );
         assert_eq!(
             msg(Mode::Tri, &["-q", "x"]),

@@ -4,6 +4,7 @@
 
 mod args;
 mod help;
+mod pslg;
 mod run;
 
 use args::{Command, Mode, Usage};

@@ -59,8 +59,8 @@ pub fn names(
         if let Some(ext) = input.extension().and_then(|e| e.to_str()) {
             if OTHER_FORMATS.contains(&ext.to_ascii_lowercase().as_str()) {
                 return Err(usage_err(format!(
-                    "{s}: .{ext} input is not supported yet (delone reads .node point files; \
-                     PSLG/PLC input needs -p, which is not implemented yet)"
+                    "{s}: .{ext} input needs -p (delone tri -p reads .poly PSLGs; \
+                     other formats are not supported yet)"
                 )));
             }
         }
@@ -258,6 +258,12 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
 /// Runs one subcommand. Returns the exit code on success (0, or 1 when
 /// `-C` found a violation).
 pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
+    if mode == Mode::Tri && o.pslg {
+        return crate::pslg::run(o);
+    }
+    if o.convex_hull || o.region_attributes {
+        return Err(usage_err("switches -c and -A need -p (PSLG input)"));
+    }
     let t_all = Instant::now();
     let names = names(&o.input, o.no_iteration, o.output_dir.as_deref())?;
     let dim = match mode {

@@ -452,7 +452,7 @@ fn usage_errors() {
         &d,
         &["tri", "-pa.1", "x"],
         2,
-        "switch -p (PSLG input (.poly)) is not implemented yet",
+        "switch -a (maximum area constraint) is not implemented yet",
     );
     expect_err(&d, &["tet", "-pq1.4", "x"], 2, "switch -p (PLC input");
     expect_err(
@@ -482,12 +482,7 @@ fn usage_errors() {
         "unknown option --frobnicate",
     );
     expect_err(&d, &["mesh", "a"], 2, "unknown subcommand");
-    expect_err(
-        &d,
-        &["tri", "x.poly"],
-        2,
-        ".poly input is not supported yet",
-    );
+    expect_err(&d, &["tri", "x.poly"], 2, ".poly input needs -p");
     expect_err(&d, &["tri", "nope"], 1, "cannot read nope.node");
 }
 
@@ -637,4 +632,84 @@ fn garbage_inputs_never_panic() {
             }
         }
     }
+}
+
+#[test]
+fn tri_p_square_with_hole_crossing_and_region() {
+    let d = tmp("pslg");
+    // A square with a square hole, a diagonal crossing another segment, and
+    // two regions; 1-based, markers on.
+    let poly = "\
+10 2 0 1
+1 0 0 1
+2 4 0 1
+3 4 4 1
+4 0 4 1
+5 1 1 0
+6 2 1 0
+7 2 2 0
+8 1 2 0
+9 3 0.5 0
+10 3.5 3.5 0
+9 1
+1 1 2 5
+2 2 3 5
+3 3 4 5
+4 4 1 5
+5 5 6 7
+6 6 7 7
+7 7 8 7
+8 8 5 7
+9 9 10 3
+1
+1 1.5 1.5
+2
+1 0.5 3.5 10 -1
+2 3.9 0.2 20 -1
+";
+    std::fs::write(d.join("sq.poly"), poly).unwrap();
+    let o = run(&d, &["tri", "-pACen", "sq"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("constrained Delaunay triangulation is valid"),
+        "{}",
+        stdout(&o)
+    );
+    let ele = String::from_utf8(read(&d, "sq.1.ele")).unwrap();
+    let node = String::from_utf8(read(&d, "sq.1.node")).unwrap();
+    assert!(node.starts_with("10 2 0 1\n"), "{node}");
+    // One attribute per triangle; the diagonal 9-10 does not close a region,
+    // so the later region (20) floods the whole domain.
+    assert!(ele.lines().next().unwrap().ends_with(" 3 1"), "{ele}");
+    assert!(ele.lines().skip(1).all(|l| l.ends_with(" 20")), "{ele}");
+    let poly_out = String::from_utf8(read(&d, "sq.1.poly")).unwrap();
+    assert!(poly_out.starts_with("0 2 0 1\n9 1\n"), "{poly_out}");
+    assert!(poly_out.ends_with("1\n1 1.5 1.5\n"), "{poly_out}");
+    for f in ["sq.1.edge", "sq.1.neigh"] {
+        assert!(d.join(f).exists(), "{f}");
+    }
+    // -c keeps the hull, -z numbers from 0.
+    let o = run(&d, &["tri", "-pczQ", "sq.poly"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).is_empty());
+    // Crossing segments: Steiner vertex appended to the .node output.
+    std::fs::write(
+        d.join("x.poly"),
+        "4 2 0 0\n1 0 0\n2 2 0\n3 2 2\n4 0 2\n2 0\n1 1 3\n2 2 4\n0\n",
+    )
+    .unwrap();
+    let o = run(&d, &["tri", "-pcC", "x"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let node = String::from_utf8(read(&d, "x.1.node")).unwrap();
+    assert!(node.starts_with("5 2 0 1\n"), "{node}");
+    assert!(node.contains("\n5 1 1 "), "{node}");
+    let (_, ele) = table(&read(&d, "x.1.ele"));
+    assert_eq!(ele.len(), 4);
+    // Errors name the segment's line.
+    std::fs::write(
+        d.join("bad.poly"),
+        "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 7\n0\n",
+    )
+    .unwrap();
+    expect_err(&d, &["tri", "-p", "bad"], 1, "line 6");
 }

@@ -4,7 +4,8 @@
 //! mesher):
 //!
 //! * Triangle/TetGen family: [`read_node`], [`read_ele`], [`write_node`],
-//!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`], with the
+//!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`],
+//!   [`read_poly`], [`write_poly`], with the
 //!   derived edges and faces from [`topo`];
 //! * 3D PLCs: [`read_poly3d`] (TetGen `.poly`) and [`read_smesh`] into a
 //!   [`PlcFile`];
@@ -36,6 +37,7 @@ mod off;
 mod out;
 mod plc;
 mod ply;
+mod poly;
 mod read;
 mod stl;
 mod surface;
@@ -49,6 +51,7 @@ pub use obj::read_obj;
 pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
 pub use ply::read_ply;
+pub use poly::{read_poly, write_poly, PolyFile};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};

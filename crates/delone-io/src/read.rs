@@ -223,6 +223,17 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
     let Some(hline) = rec.next(&mut toks) else {
         return Err(IoError::syntax(1, "a header line", "an empty file"));
     };
+    read_node_body(&mut rec, &mut toks, hline, input.len())
+}
+
+/// The `.node` section after its header record (in `toks`, at line `hline`);
+/// shared with the `.poly` reader.
+pub(crate) fn read_node_body<'a>(
+    rec: &mut Records<'a>,
+    toks: &mut Vec<&'a [u8]>,
+    hline: usize,
+    input_len: usize,
+) -> Result<NodeFile, IoError> {
     let n = parse_count(toks[0], hline, "the number of points")?;
     let dim = match toks.get(1) {
         Some(t) => parse_count(t, hline, "the dimension (2 or 3)")?,
@@ -250,9 +261,9 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
         ));
     }
     // Never trust the header for allocation: a point needs at least 6 bytes.
-    let cap = n.min(input.len() / 6 + 1);
+    let cap = n.min(input_len / 6 + 1);
     let mut coords = Vec::with_capacity(cap.saturating_mul(dim));
-    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input.len()));
+    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input_len));
     let mut markers = if nmark == 1 {
         Some(Vec::with_capacity(cap))
     } else {
@@ -261,7 +272,7 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
     let mut lines = Vec::with_capacity(cap);
     let mut first = None;
     for k in 0..n {
-        let Some(line) = rec.next(&mut toks) else {
+        let Some(line) = rec.next(toks) else {
             return Err(IoError::UnexpectedEnd {
                 line: hline,
                 what: "points",

@@ -32,9 +32,9 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
-    /// A hole or region seed point of a PLC has a NaN or infinite coordinate.
+    /// A hole or region seed point (of a PSLG or PLC) has a NaN or infinite coordinate.
     InvalidSeedPoint {
-        /// `"hole"`, `"region"` or `"facet hole"`.
+        /// `"hole"`, `"region"` or `"facet hole"` (PLC), `"hole"` or `"region"` (PSLG).
         kind: &'static str,
         /// 0-based index in its list (for a facet hole: the facet index).
         index: usize,
@@ -64,6 +64,41 @@ pub enum Error {
         facets: (usize, usize),
         /// How many offending pairs were found in total.
         count: usize,
+    },
+    /// Segment `segment` names point `point`, which does not exist.
+    SegmentOutOfRange {
+        /// 0-based index of the segment.
+        segment: usize,
+        /// The point index it names.
+        point: usize,
+    },
+    /// Segment `segment` joins a point to itself (or to an exact copy of it).
+    ZeroLengthSegment {
+        /// 0-based index of the segment.
+        segment: usize,
+    },
+    /// Points `index` and `original` have the same coordinates.
+    DuplicateVertex {
+        /// 0-based index of the later point.
+        index: usize,
+        /// 0-based index of the first point with those coordinates.
+        original: usize,
+    },
+    /// Segments `index` and `original` join the same two points.
+    DuplicateSegment {
+        /// 0-based index of the later segment.
+        index: usize,
+        /// 0-based index of the first segment.
+        original: usize,
+    },
+    /// Two segments intersect in a way the constrained triangulation could not
+    /// resolve (the rounded intersection point does not fit between its
+    /// neighbours, e.g. in a needle-thin configuration).
+    SegmentIntersection {
+        /// The segment being inserted (0-based input index).
+        segment: usize,
+        /// The segment it crosses (0-based input index).
+        other: usize,
     },
 }
 
@@ -143,6 +178,22 @@ impl fmt::Display for Error {
                 f,
                 "facets {} and {} intersect ({count} intersecting pair(s) in total)",
                 facets.0, facets.1
+            ),
+            Error::SegmentOutOfRange { segment, point } => {
+                write!(f, "segment {segment} names point {point}, which does not exist")
+            }
+            Error::ZeroLengthSegment { segment } => {
+                write!(f, "segment {segment} has zero length")
+            }
+            Error::DuplicateVertex { index, original } => {
+                write!(f, "point {index} duplicates point {original}")
+            }
+            Error::DuplicateSegment { index, original } => {
+                write!(f, "segment {index} duplicates segment {original}")
+            }
+            Error::SegmentIntersection { segment, other } => write!(
+                f,
+                "the crossing of segments {segment} and {other} could not be resolved"
             ),
         }
     }

@@ -1118,6 +1118,31 @@ impl<'a> Delaunay2<'a> {
         Ok(())
     }
 
+    /// The kernel's working arrays, for the constrained triangulation:
+    /// `(xy, scale, ids, vmap, tri_v, tri_adj)` (internal ids, scaled
+    /// coordinates, input index of every internal id, representative input
+    /// index of every input index, triangle slots with ghosts and dead slots).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn into_raw(
+        self,
+    ) -> (
+        Vec<[f64; 2]>,
+        (f64, f64),
+        Vec<u32>,
+        Vec<u32>,
+        Vec<[u32; 3]>,
+        Vec<[u32; 3]>,
+    ) {
+        (
+            self.xy,
+            self.scale,
+            self.ids,
+            self.vmap,
+            self.tri_v,
+            self.tri_adj,
+        )
+    }
+
     /// The flat output: ghosts dropped, triangles compacted in slot order,
     /// adjacency turned into triangle indices ([`NONE`] on the hull). Reuses the
     /// kernel's arrays in place.

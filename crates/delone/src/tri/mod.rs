@@ -4,10 +4,12 @@
 //! * [`Delaunay2`] — the incremental kernel (insert, locate, check).
 //! * [`validate`] — an independent checker of a [`TriMesh`] against its points.
 
+pub mod constrain;
 pub mod delaunay;
 pub mod mesh;
 mod topo;
 
+pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
 pub use mesh::{validate, TriMesh};
 

@@ -1,0 +1,280 @@
+//! `delone tri -p`: constrained Delaunay triangulation of a `.poly` PSLG.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use delone::model::pslg::{Pslg, Region};
+use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone_io::topo;
+
+use crate::args::Opts;
+use crate::run::Failure;
+
+fn input_err(message: impl Into<String>) -> Failure {
+    Failure {
+        message: message.into(),
+        code: 1,
+    }
+}
+
+fn with_ext(base: &Path, ext: &str) -> PathBuf {
+    let mut s = base.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+/// `FILE` or `FILE.poly` → (`FILE.poly`, `FILE`); the output base gets
+/// Triangle's iteration number (`FILE.1`) unless `-I`.
+fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
+    let s = o.input.to_string_lossy().to_string();
+    let base = s.strip_suffix(".poly").unwrap_or(&s).to_string();
+    let poly = PathBuf::from(format!("{base}.poly"));
+    let node = PathBuf::from(format!("{base}.node"));
+    let out = if o.no_iteration {
+        base.clone()
+    } else {
+        match base.rsplit_once('.') {
+            Some((stem, n))
+                if !n.is_empty() && n.len() < 10 && n.bytes().all(|b| b.is_ascii_digit()) =>
+            {
+                format!("{stem}.{}", n.parse::<u64>().unwrap_or(0) + 1)
+            }
+            _ => format!("{base}.1"),
+        }
+    };
+    let mut out = PathBuf::from(out);
+    if let Some(dir) = &o.output_dir {
+        if let Some(f) = out.file_name() {
+            out = dir.join(f);
+        }
+    }
+    (poly, node, out)
+}
+
+fn write(
+    path: &Path,
+    f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
+) -> Result<(), Failure> {
+    let file = std::fs::File::create(path)
+        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+/// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
+pub fn run(o: &Opts) -> Result<i32, Failure> {
+    let t_all = Instant::now();
+    let (poly_path, node_path, out) = names(o);
+    let bytes = std::fs::read(&poly_path)
+        .map_err(|e| input_err(format!("cannot read {}: {e}", poly_path.display())))?;
+    let poly = delone_io::read_poly(&bytes)
+        .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
+    let node = if poly.node.is_empty() {
+        let b = std::fs::read(&node_path).map_err(|e| {
+            input_err(format!(
+                "{} has no points and {} cannot be read: {e}",
+                poly_path.display(),
+                node_path.display()
+            ))
+        })?;
+        delone_io::read_node(&b).map_err(|e| input_err(format!("{}: {e}", node_path.display())))?
+    } else {
+        poly.node.clone()
+    };
+    let Some(points) = node.points::<2>() else {
+        return Err(input_err(format!(
+            "{}: the points are not 2D",
+            poly_path.display()
+        )));
+    };
+    let segments = poly
+        .segments_zero_based(node.first_index)
+        .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
+    let g = Pslg {
+        point_markers: node.markers.clone().unwrap_or_default(),
+        points,
+        segments,
+        segment_markers: poly.segment_markers.clone().unwrap_or_default(),
+        holes: poly.holes.clone(),
+        regions: poly
+            .regions
+            .iter()
+            .map(|r| Region {
+                point: [r[0], r[1]],
+                attribute: r[2],
+                max_area: r[3],
+            })
+            .collect(),
+    };
+    let t_read = t_all.elapsed();
+    let t1 = Instant::now();
+    let cdt = constrained_triangulation(
+        &g,
+        CdtOptions {
+            convex_hull: o.convex_hull,
+        },
+    )
+    .map_err(|e| {
+        let what = match &e {
+            delone::Error::SegmentOutOfRange { segment, .. }
+            | delone::Error::ZeroLengthSegment { segment }
+            | delone::Error::SegmentIntersection { segment, .. } => poly
+                .segment_lines
+                .get(*segment)
+                .map(|l| format!(" (segment on line {l})"))
+                .unwrap_or_default(),
+            delone::Error::InvalidCoordinate { index } => node
+                .lines
+                .get(*index)
+                .map(|l| format!(" (point on line {l})"))
+                .unwrap_or_default(),
+            _ => String::new(),
+        };
+        input_err(format!("{}: {e}{what}", poly_path.display()))
+    })?;
+    let t_mesh = t1.elapsed();
+    let mut code = 0;
+    let mut lines = Vec::new();
+    if o.check {
+        match check_cdt(&g, &cdt) {
+            Ok(()) => lines.push("check: constrained Delaunay triangulation is valid".to_string()),
+            Err(v) => {
+                lines.push(format!("check FAILED: {v}"));
+                code = 1;
+            }
+        }
+    }
+    if let Some(dir) = &o.output_dir {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
+    }
+    let t2 = Instant::now();
+    let first = if o.zero { 0 } else { node.first_index };
+    let n_in = g.points.len();
+    // Point markers: input markers; Steiner vertices take their segment's.
+    let mut markers: Vec<i32> = (0..cdt.points.len())
+        .map(|i| if i < n_in { g.point_marker(i) } else { 0 })
+        .collect();
+    for c in &cdt.report.crossings {
+        markers[c.vertex as usize] = g.segment_marker(c.segments[0] as usize);
+    }
+    let bounding: Vec<_> = cdt.segments.iter().filter(|s| s.bounding).collect();
+    if !o.no_bound {
+        for s in &bounding {
+            for &v in &s.v {
+                if markers[v as usize] == 0 {
+                    markers[v as usize] = s.marker;
+                }
+            }
+        }
+    }
+    if !o.no_node {
+        let path = with_ext(&out, "node");
+        write(&path, |f| {
+            delone_io::write_node(
+                f,
+                &cdt.points,
+                &[],
+                0,
+                (!o.no_bound).then_some(&markers[..]),
+                first,
+            )
+        })?;
+    }
+    if !o.no_ele {
+        let path = with_ext(&out, "ele");
+        let (attrs, na) = if o.region_attributes {
+            (cdt.attributes.clone(), 1)
+        } else {
+            (Vec::new(), 0)
+        };
+        write(&path, |f| {
+            delone_io::write_ele(f, &cdt.triangles, &attrs, na, first)
+        })?;
+    }
+    {
+        let path = with_ext(&out, "poly");
+        let segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.v).collect();
+        let sm: Vec<i32> = bounding.iter().map(|s| s.marker).collect();
+        write(&path, |f| {
+            delone_io::write_poly(
+                f,
+                &[],
+                &segs,
+                (!o.no_bound).then_some(&sm[..]),
+                &g.holes,
+                &[],
+                first,
+            )
+        })?;
+    }
+    if o.edges || o.neigh {
+        let edges = topo::tri_edges(&cdt.triangles, &cdt.neighbors)
+            .map_err(|e| input_err(format!("internal error: {e}")))?;
+        if o.edges {
+            // Segment edges carry their segment's marker, other hull edges 1.
+            let segm: std::collections::HashMap<(u32, u32), i32> = bounding
+                .iter()
+                .map(|s| ((s.v[0].min(s.v[1]), s.v[0].max(s.v[1])), s.marker))
+                .collect();
+            let em: Vec<i32> = edges
+                .items
+                .iter()
+                .zip(edges.markers())
+                .map(|(e, m)| {
+                    segm.get(&(e[0].min(e[1]), e[0].max(e[1])))
+                        .copied()
+                        .map(|x| if x == 0 && m != 0 { m } else { x })
+                        .unwrap_or(m)
+                })
+                .collect();
+            let path = with_ext(&out, "edge");
+            write(&path, |f| {
+                delone_io::write_edge(f, &edges.items, (!o.no_bound).then_some(&em[..]), first)
+            })?;
+        }
+        if o.neigh {
+            let nb: Vec<[u32; 3]> = cdt.neighbors.clone();
+            let path = with_ext(&out, "neigh");
+            write(&path, |f| delone_io::write_neigh(f, &nb, first))?;
+        }
+    }
+    let t_write = t2.elapsed();
+    if !o.quiet {
+        println!(
+            "delone tri -p: {} ({} points, {} segments, {} holes, {} regions)",
+            poly_path.display(),
+            g.points.len(),
+            g.segments.len(),
+            g.holes.len(),
+            g.regions.len()
+        );
+        println!(
+            "  {} triangles, {} subsegments, {} Steiner vertices at crossings, {} segments split at vertices, {} duplicate points, {} duplicate segments",
+            cdt.triangles.len(),
+            bounding.len(),
+            cdt.report.crossings.len(),
+            cdt.report.vertex_splits.len(),
+            cdt.report.duplicate_points.len(),
+            cdt.report.duplicate_segments.len()
+        );
+        if o.verbose > 0 {
+            println!(
+                "  read {:.3} s, mesh {:.3} s ({} flips), write {:.3} s",
+                t_read.as_secs_f64(),
+                t_mesh.as_secs_f64(),
+                cdt.report.flips,
+                t_write.as_secs_f64()
+            );
+        }
+        for l in &lines {
+            println!("  {l}");
+        }
+        println!("  output: {}.{{node,ele,poly}}", out.display());
+    } else if code != 0 {
+        for l in &lines {
+            eprintln!("{l}");
+        }
+    }
+    Ok(code)
+}

@@ -1,0 +1,1087 @@
+//! Constrained Delaunay triangulation of a planar straight-line graph.
+//!
+//! The pipeline of [`constrained_triangulation`]:
+//!
+//! 1. the Delaunay triangulation of the points ([`Delaunay2`]; exact
+//!    duplicates are merged and reported);
+//! 2. segment insertion by **flips** (Sloan 1993): walk from one end of the
+//!    segment to the other collecting the edges it crosses, then flip them
+//!    (an edge whose quadrilateral is not convex waits at the back of the
+//!    queue; a flipped edge that still crosses the segment goes back in),
+//!    then restore the Delaunay property of the new edges by Lawson flips that
+//!    never flip a constrained edge. The walk stops at the first *event*:
+//!    a vertex exactly on the segment splits the segment there; a crossed
+//!    constrained edge is split at a new Steiner vertex at the intersection
+//!    (computed in floating point; the 2→4 split is only done when exact
+//!    orientation tests prove the four new triangles counterclockwise), and
+//!    the two halves are inserted in turn. Every split is reported;
+//! 3. carving: flood fills across unconstrained edges from the hull (unless
+//!    `convex_hull`), from every hole point (removal) and from every region
+//!    point (attribute and area bound; later regions win).
+//!
+//! Every combinatorial decision uses exact predicates, on coordinates scaled
+//! by an exact power of two (as the kernel does).
+//!
+//! # References
+//! S. W. Sloan, *A fast algorithm for generating constrained Delaunay
+//! triangulations*, Computers & Structures 47 (1993).
+//! L. P. Chew, *Constrained Delaunay triangulations*, Algorithmica 4 (1989).
+//! C. L. Lawson, *Software for C1 surface interpolation*, 1977.
+
+use std::collections::{HashMap, HashSet, VecDeque};
+
+use delone_predicates::{incircle, orient2d};
+
+use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
+use super::{pow2_scale, scaled, Delaunay2};
+use crate::model::pslg::Pslg;
+use crate::{Error, Violation, NONE};
+
+/// Options of [`constrained_triangulation`].
+///
+/// ```
+/// let o = delone::tri::constrain::CdtOptions { convex_hull: true };
+/// assert!(o.convex_hull);
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CdtOptions {
+    /// Keep every triangle of the convex hull instead of removing those
+    /// outside the outer segments (Triangle's `-c`; default `false`).
+    pub convex_hull: bool,
+}
+
+/// A piece of an input segment in the output mesh.
+///
+/// ```
+/// let s = delone::tri::constrain::Subsegment { v: [0, 1], marker: 2, segment: 0, bounding: true };
+/// assert_eq!(s.marker, 2);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Subsegment {
+    /// Its two vertices (output ids).
+    pub v: [u32; 2],
+    /// The marker of the input segment.
+    pub marker: i32,
+    /// The input segment it belongs to (the first one, for overlapping
+    /// collinear segments).
+    pub segment: u32,
+    /// True if at least one side is a kept triangle (false: inside a hole or
+    /// outside the domain; Triangle does not write those).
+    pub bounding: bool,
+}
+
+/// A Steiner vertex created where two segments cross.
+///
+/// ```
+/// let c = delone::tri::constrain::Crossing { vertex: 4, segments: [0, 1] };
+/// assert_eq!(c.segments, [0, 1]);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Crossing {
+    /// The new vertex (output id, at least the number of input points).
+    pub vertex: u32,
+    /// The segment being inserted and the one it crossed.
+    pub segments: [u32; 2],
+}
+
+/// What the constrained triangulation did besides triangulating.
+///
+/// ```
+/// let r = delone::tri::constrain::CdtReport::default();
+/// assert!(r.crossings.is_empty());
+/// ```
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct CdtReport {
+    /// Steiner vertices at segment crossings.
+    pub crossings: Vec<Crossing>,
+    /// `(vertex, segment)`: an existing vertex lies inside a segment, which
+    /// was split there; also a vertex within rounding distance of a segment
+    /// crossing (usually an earlier Steiner vertex), through which the
+    /// segment is routed instead of creating a second crossing next to it.
+    pub vertex_splits: Vec<(u32, u32)>,
+    /// `(duplicate, original)` input points that coincide (merged).
+    pub duplicate_points: Vec<(u32, u32)>,
+    /// Segments whose two ends coincide after merging duplicates (ignored).
+    pub skipped_segments: Vec<u32>,
+    /// `(duplicate, original)` segments joining the same two vertices (the
+    /// duplicate is not inserted again; its subsegments carry the original's
+    /// index).
+    pub duplicate_segments: Vec<(u32, u32)>,
+    /// Edge flips done while inserting segments and restoring Delaunay.
+    pub flips: usize,
+}
+
+/// A constrained Delaunay triangulation of a [`Pslg`], carved.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::constrain::*};
+/// let g = Pslg::new(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]],
+///                   vec![[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]]);
+/// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+/// assert_eq!(cdt.triangles.len(), 2);
+/// check_cdt(&g, &cdt).unwrap();
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cdt {
+    /// The input points followed by the Steiner points.
+    pub points: Vec<[f64; 2]>,
+    /// Counterclockwise triangles (output vertex ids).
+    pub triangles: Vec<[u32; 3]>,
+    /// `neighbors[t][i]`: the triangle across edge `i` (opposite vertex `i`),
+    /// or [`NONE`].
+    pub neighbors: Vec<[u32; 3]>,
+    /// The region (index into `Pslg::regions`) of every triangle, or [`NONE`].
+    pub regions: Vec<u32>,
+    /// The regional attribute of every triangle (0 outside every region).
+    pub attributes: Vec<f64>,
+    /// The region's area bound of every triangle (negative: none).
+    pub max_areas: Vec<f64>,
+    /// The subsegments (pieces of input segments), in a deterministic order.
+    pub segments: Vec<Subsegment>,
+    /// For every input point: the input point whose vertex represents it
+    /// (itself, or the first equal point).
+    pub vertex_map: Vec<u32>,
+    /// What was done.
+    pub report: CdtReport,
+}
+
+/// Working state: the kernel's arrays plus a constraint label per half-edge.
+struct Work {
+    xy: Vec<[f64; 2]>,
+    tv: Vec<[u32; 3]>,
+    ta: Vec<[u32; 3]>,
+    /// Input segment index of a constrained half-edge, else `NONE`.
+    con: Vec<[u32; 3]>,
+    /// A triangle slot holding each vertex.
+    vt: Vec<u32>,
+    flips: usize,
+    rng: u32,
+}
+
+/// Which side of the directed line `a -> b` `c` is on (exact sign).
+#[inline]
+fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
+    orient2d(a, b, c)
+}
+
+impl Work {
+    #[inline]
+    fn p(&self, v: u32) -> &[f64; 2] {
+        &self.xy[v as usize]
+    }
+
+    /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
+    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
+        let start = self.vt[u as usize] as usize;
+        let mut t = start;
+        for _ in 0..self.tv.len() + 1 {
+            let v = self.tv[t];
+            let k = v.iter().position(|&x| x == u)?;
+            if v[NEXT[k]] == w {
+                return Some((t, PREV[k]));
+            }
+            // Counterclockwise around u: across the edge v[k+2] -> u.
+            t = unpack(self.ta[t][NEXT[k]]).0;
+            if t == start {
+                return None;
+            }
+        }
+        None
+    }
+
+    fn set_vt(&mut self, t: usize) {
+        for &x in &self.tv[t] {
+            if x != INF {
+                self.vt[x as usize] = t as u32;
+            }
+        }
+    }
+
+    /// Flips edge `i` of `t` (its quadrilateral must be strictly convex).
+    /// Returns the new edge's two triangles: `t = [a, x, d]`, `n = [d, y, a]`.
+    fn flip(&mut self, t: usize, i: usize) -> (usize, usize) {
+        let (n, j) = unpack(self.ta[t][i]);
+        let vt = self.tv[t];
+        let vn = self.tv[n];
+        let a = vt[i];
+        let (x, y) = edge(&vt, i);
+        let d = vn[j];
+        // Outer half-edges: t: (a->x) = edge opposite y, (y->a) = opposite x;
+        // n: (d->y) opposite x, (x->d) opposite y.
+        let t_ax = (self.ta[t][PREV[i]], self.con[t][PREV[i]]);
+        let t_ya = (self.ta[t][NEXT[i]], self.con[t][NEXT[i]]);
+        let n_dy = (self.ta[n][PREV[j]], self.con[n][PREV[j]]);
+        let n_xd = (self.ta[n][NEXT[j]], self.con[n][NEXT[j]]);
+        self.tv[t] = [a, x, d];
+        self.tv[n] = [d, y, a];
+        // t: edge0 = x->d, edge1 = d->a (twin n.1), edge2 = a->x.
+        self.ta[t] = [n_xd.0, pack(n, 1), t_ax.0];
+        self.con[t] = [n_xd.1, NONE, t_ax.1];
+        // n: edge0 = y->a, edge1 = a->d (twin t.1), edge2 = d->y.
+        self.ta[n] = [t_ya.0, pack(t, 1), n_dy.0];
+        self.con[n] = [t_ya.1, NONE, n_dy.1];
+        for (k, w) in [(t, 0usize), (t, 2), (n, 0), (n, 2)] {
+            let (o, l) = unpack(self.ta[k][w]);
+            self.ta[o][l] = pack(k, w);
+        }
+        self.set_vt(t);
+        self.set_vt(n);
+        self.flips += 1;
+        (t, n)
+    }
+
+    /// Lawson flips from the given edges (vertex pairs): every unconstrained
+    /// edge between two finite triangles that is not locally Delaunay is
+    /// flipped, and the four outer edges of its quadrilateral checked again.
+    fn legalize(&mut self, stack: &mut Vec<(u32, u32)>) {
+        while let Some((u, w)) = stack.pop() {
+            let Some((t, i)) = self.find_edge(u, w) else {
+                continue;
+            };
+            if self.con[t][i] != NONE {
+                continue;
+            }
+            let (n, j) = unpack(self.ta[t][i]);
+            let (vt, vn) = (self.tv[t], self.tv[n]);
+            if is_ghost(&vt) || is_ghost(&vn) {
+                continue;
+            }
+            let d = vn[j];
+            if incircle(self.p(vt[0]), self.p(vt[1]), self.p(vt[2]), self.p(d)) > 0.0 {
+                let a = vt[i];
+                self.flip(t, i);
+                stack.extend_from_slice(&[(a, u), (u, d), (d, w), (w, a)]);
+            }
+        }
+    }
+
+    /// Splits edge `i` of `t` (an interior edge) at a new vertex at `x`,
+    /// if exact orientation tests show the four new triangles are
+    /// counterclockwise. Returns the new vertex id.
+    fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2]) -> Option<u32> {
+        let (n, j) = unpack(self.ta[t][i]);
+        let (vt, vn) = (self.tv[t], self.tv[n]);
+        if is_ghost(&vt) || is_ghost(&vn) || !(x[0].is_finite() && x[1].is_finite()) {
+            return None;
+        }
+        let a = vt[i];
+        let (p, q) = edge(&vt, i);
+        let d = vn[j];
+        let (pa, pp, pq, pd) = (*self.p(a), *self.p(p), *self.p(q), *self.p(d));
+        if !(orient2d(&pa, &pp, &x) > 0.0
+            && orient2d(&pa, &x, &pq) > 0.0
+            && orient2d(&pd, &pq, &x) > 0.0
+            && orient2d(&pd, &x, &pp) > 0.0)
+        {
+            return None;
+        }
+        let s = self.xy.len() as u32;
+        self.xy.push(x);
+        self.vt.push(t as u32);
+        let c = self.con[t][i];
+        // t = [a, p, q] (edge i = p->q) becomes [a, p, s] + t2 = [a, s, q];
+        // n = [d, q, p] becomes [d, q, s] + n2 = [d, s, p].
+        let t_qa = (self.ta[t][NEXT[i]], self.con[t][NEXT[i]]);
+        let t_ap = (self.ta[t][PREV[i]], self.con[t][PREV[i]]);
+        let n_pd = (self.ta[n][NEXT[j]], self.con[n][NEXT[j]]);
+        let n_dq = (self.ta[n][PREV[j]], self.con[n][PREV[j]]);
+        let t2 = self.tv.len();
+        let n2 = t2 + 1;
+        self.tv.push([0; 3]);
+        self.ta.push([0; 3]);
+        self.con.push([NONE; 3]);
+        self.tv.push([0; 3]);
+        self.ta.push([0; 3]);
+        self.con.push([NONE; 3]);
+        // [a, p, s]: e0 = p->s (twin n2 [d,s,p] e0 s->p), e1 = s->a (twin t2 e2), e2 = a->p.
+        self.tv[t] = [a, p, s];
+        self.ta[t] = [pack(n2, 0), pack(t2, 2), t_ap.0];
+        self.con[t] = [c, NONE, t_ap.1];
+        // [a, s, q]: e0 = s->q (twin n e0 q->s), e1 = q->a, e2 = a->s.
+        self.tv[t2] = [a, s, q];
+        self.ta[t2] = [pack(n, 0), t_qa.0, pack(t, 1)];
+        self.con[t2] = [c, t_qa.1, NONE];
+        // [d, q, s]: e0 = q->s, e1 = s->d (twin n2 e2), e2 = d->q.
+        self.tv[n] = [d, q, s];
+        self.ta[n] = [pack(t2, 0), pack(n2, 2), n_dq.0];
+        self.con[n] = [c, NONE, n_dq.1];
+        // [d, s, p]: e0 = s->p, e1 = p->d, e2 = d->s.
+        self.tv[n2] = [d, s, p];
+        self.ta[n2] = [pack(t, 0), n_pd.0, pack(n, 1)];
+        self.con[n2] = [c, n_pd.1, NONE];
+        for (k, w) in [(t, 2usize), (t2, 1), (n, 2), (n2, 1)] {
+            let (o, l) = unpack(self.ta[k][w]);
+            self.ta[o][l] = pack(k, w);
+        }
+        for k in [t, t2, n, n2] {
+            self.set_vt(k);
+        }
+        // The rounded vertex may lie off the line p-q, so the two new
+        // unconstrained edges at it are checked as well as the outer ones.
+        let mut st = vec![(a, p), (q, a), (d, q), (p, d), (a, s), (d, s)];
+        self.legalize(&mut st);
+        Some(s)
+    }
+
+    /// Marks the edge `u - w` (both half-edges) as part of segment `s`
+    /// (an existing label wins).
+    fn constrain(&mut self, u: u32, w: u32, s: u32) -> bool {
+        let Some((t, i)) = self.find_edge(u, w) else {
+            return false;
+        };
+        let (n, j) = unpack(self.ta[t][i]);
+        if self.con[t][i] == NONE {
+            self.con[t][i] = s;
+            self.con[n][j] = s;
+        }
+        true
+    }
+
+    /// Finite triangle containing `p` (closed), or `None` outside the hull.
+    fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
+        let mut t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
+        let limit = 4 * self.tv.len() + 64;
+        'walk: for _ in 0..limit {
+            let v = self.tv[t];
+            self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let r = ((self.rng >> 16) % 3) as usize;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                let (a, b) = edge(&v, e);
+                if orient2d(self.p(a), self.p(b), p) < 0.0 {
+                    let (n, _) = unpack(self.ta[t][e]);
+                    if is_ghost(&self.tv[n]) {
+                        return None;
+                    }
+                    t = n;
+                    continue 'walk;
+                }
+            }
+            return Some(t);
+        }
+        // Safety net (not reached with exact predicates on a valid mesh).
+        self.tv.iter().position(|v| {
+            v[0] != DEAD
+                && !is_ghost(v)
+                && (0..3).all(|e| {
+                    let (a, b) = edge(v, e);
+                    orient2d(self.p(a), self.p(b), p) >= 0.0
+                })
+        })
+    }
+}
+
+/// The first event on the way from `a` to `b`.
+enum Start {
+    /// The edge `a - b` exists.
+    Done,
+    /// Vertex strictly inside the segment, adjacent to `a`.
+    Vertex(u32),
+    /// The segment leaves `a` through edge `i` of `t`.
+    Edge(usize, usize),
+}
+
+/// Constrained Delaunay triangulation of `pslg`, carved by its holes and (if
+/// not `convex_hull`) its outer segments; regional attributes by flood fill.
+///
+/// Duplicate points are merged (reported in `report.duplicate_points`);
+/// segments whose ends coincide are skipped (reported); crossing segments are
+/// split at new Steiner vertices and segments through vertices at those
+/// vertices (reported).
+///
+/// # Errors
+/// [`Error::InvalidCoordinate`] (NaN/infinite point), [`Error::InvalidMarkerPoint`]
+/// (NaN/infinite hole or region point), [`Error::SegmentOutOfRange`], the
+/// kernel's [`Error::TooFewPoints`] / [`Error::Degenerate`] /
+/// [`Error::CapacityExceeded`], and [`Error::SegmentIntersection`] when a
+/// crossing cannot be resolved in floating point.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::constrain::*};
+/// // Two crossing diagonals of a square: one Steiner vertex in the middle.
+/// let g = Pslg::new(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]],
+///                   vec![[0, 2], [1, 3]]);
+/// let cdt = constrained_triangulation(&g, CdtOptions { convex_hull: true }).unwrap();
+/// assert_eq!(cdt.report.crossings.len(), 1);
+/// assert_eq!(cdt.points[4], [1.0, 1.0]);
+/// assert_eq!(cdt.triangles.len(), 4);
+/// check_cdt(&g, &cdt).unwrap();
+/// ```
+pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt, Error> {
+    let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
+    if let Some(index) = pslg.points.iter().position(|p| !fin(p)) {
+        return Err(Error::InvalidCoordinate { index });
+    }
+    if let Some(index) = pslg.holes.iter().position(|p| !fin(p)) {
+        return Err(Error::InvalidSeedPoint {
+            kind: "hole",
+            index,
+        });
+    }
+    if let Some(index) = pslg.regions.iter().position(|r| !fin(&r.point)) {
+        return Err(Error::InvalidSeedPoint {
+            kind: "region",
+            index,
+        });
+    }
+    pslg.check_segment_ends()?;
+    let n = pslg.points.len();
+    let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
+    let nslots = tv.len();
+    let mut w = Work {
+        vt: vec![NONE; xy.len()],
+        xy,
+        tv,
+        ta,
+        con: vec![[NONE; 3]; nslots],
+        flips: 0,
+        rng: 0x1234_5678,
+    };
+    for t in 0..nslots {
+        if w.tv[t][0] != DEAD {
+            w.set_vt(t);
+        }
+    }
+    // Input index -> internal vertex.
+    let mut ext2int = vec![NONE; n];
+    for x in 0..n {
+        if w.vt[x] != NONE {
+            ext2int[vmap[ids[x] as usize] as usize] = x as u32;
+        }
+    }
+    let mut report = CdtReport::default();
+    for (i, &r) in vmap.iter().enumerate() {
+        if r as usize != i {
+            report.duplicate_points.push((i as u32, r));
+        }
+    }
+    let out_id = |x: u32| -> u32 {
+        if (x as usize) < n {
+            vmap[ids[x as usize] as usize]
+        } else {
+            x
+        }
+    };
+    let mut pending: Vec<(u32, u32, u32)> = Vec::new();
+    let mut crossed: VecDeque<(u32, u32)> = VecDeque::new();
+    let mut newe: Vec<(u32, u32)> = Vec::new();
+    let budget = 64usize
+        .saturating_mul(pslg.segments.len())
+        .saturating_mul(pslg.segments.len().max(16))
+        .saturating_add(1 << 20);
+    let mut steps = 0usize;
+    let mut first_of: HashMap<(u32, u32), u32> = HashMap::new();
+    for (s, seg) in pslg.segments.iter().enumerate() {
+        let a = ext2int[vmap[seg[0] as usize] as usize];
+        let b = ext2int[vmap[seg[1] as usize] as usize];
+        if a == b {
+            report.skipped_segments.push(s as u32);
+            continue;
+        }
+        let orig = *first_of.entry((a.min(b), a.max(b))).or_insert(s as u32);
+        if orig != s as u32 {
+            report.duplicate_segments.push((s as u32, orig));
+            continue;
+        }
+        pending.push((a, b, s as u32));
+    }
+    pending.reverse();
+    let unresolved = |s: u32, o: u32| Error::SegmentIntersection {
+        segment: s as usize,
+        other: o as usize,
+    };
+    while let Some((a, b, s)) = pending.pop() {
+        steps += 1;
+        if steps > budget {
+            return Err(unresolved(s, s));
+        }
+        if a == b {
+            continue;
+        }
+        let (pa, pb) = (*w.p(a), *w.p(b));
+        // The wedge at `a` that the segment leaves through.
+        let start = {
+            let t0 = w.vt[a as usize] as usize;
+            let mut t = t0;
+            let mut found = None;
+            for _ in 0..w.tv.len() + 1 {
+                let v = w.tv[t];
+                let Some(k) = v.iter().position(|&x| x == a) else {
+                    break;
+                };
+                let (p, q) = (v[NEXT[k]], v[PREV[k]]);
+                if p == b || q == b {
+                    found = Some(Start::Done);
+                    break;
+                }
+                let on_ray = |x: u32| {
+                    x != INF && side(&pa, &pb, w.p(x)) == 0.0 && {
+                        let px = w.p(x);
+                        (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
+                    }
+                };
+                if on_ray(p) {
+                    found = Some(Start::Vertex(p));
+                    break;
+                }
+                if on_ray(q) {
+                    found = Some(Start::Vertex(q));
+                    break;
+                }
+                if p != INF
+                    && q != INF
+                    && side(&pa, &pb, w.p(p)) < 0.0
+                    && side(&pa, &pb, w.p(q)) > 0.0
+                {
+                    found = Some(Start::Edge(t, k));
+                    break;
+                }
+                t = unpack(w.ta[t][NEXT[k]]).0;
+                if t == t0 {
+                    break;
+                }
+            }
+            match found {
+                Some(f) => f,
+                None => return Err(unresolved(s, s)),
+            }
+        };
+        let (mut t, mut i) = match start {
+            Start::Done => {
+                w.constrain(a, b, s);
+                continue;
+            }
+            Start::Vertex(p) => {
+                report.vertex_splits.push((out_id(p), s));
+                w.constrain(a, p, s);
+                pending.push((p, b, s));
+                continue;
+            }
+            Start::Edge(t, i) => (t, i),
+        };
+        // Walk to `b`, collecting the crossed edges, up to the first event.
+        crossed.clear();
+        let mut end = b;
+        let mut steiner = false;
+        loop {
+            let (p, q) = edge(&w.tv[t], i);
+            let other = w.con[t][i];
+            if other != NONE {
+                // A constrained edge crosses the segment: split both.
+                let (pp, pq) = (*w.p(p), *w.p(q));
+                let sp = side(&pa, &pb, &pp);
+                let sq = side(&pa, &pb, &pq);
+                let f = (sp / (sp - sq)).clamp(0.0, 1.0);
+                let x1 = [pp[0] + f * (pq[0] - pp[0]), pp[1] + f * (pq[1] - pp[1])];
+                let ta_ = side(&pp, &pq, &pa);
+                let tb_ = side(&pp, &pq, &pb);
+                let g = (ta_ / (ta_ - tb_)).clamp(0.0, 1.0);
+                let x2 = [pa[0] + g * (pb[0] - pa[0]), pa[1] + g * (pb[1] - pa[1])];
+                let mid = [0.5 * (x1[0] + x2[0]), 0.5 * (x1[1] + x2[1])];
+                let mut made = None;
+                for x in [x1, x2, mid] {
+                    made = w.split_edge(t, i, x);
+                    if made.is_some() {
+                        break;
+                    }
+                }
+                let Some(sx) = made else {
+                    // The rounded crossing does not fit strictly inside the
+                    // edge (the segment passes within rounding distance of
+                    // an end of the crossed edge, typically an earlier
+                    // Steiner vertex): route the segment through the nearer
+                    // end instead, and report it as a vertex split.
+                    let d2 = |u: &[f64; 2]| (u[0] - x1[0]).powi(2) + (u[1] - x1[1]).powi(2);
+                    let v = if d2(&pp) <= d2(&pq) { p } else { q };
+                    let pv = *w.p(v);
+                    let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+                    let off = side(&pa, &pb, &pv).abs() / len;
+                    let ext = pa[0]
+                        .abs()
+                        .max(pa[1].abs())
+                        .max(pb[0].abs())
+                        .max(pb[1].abs());
+                    let near = off <= 1e-9 * ext;
+                    if v == a || v == b || !near {
+                        return Err(unresolved(s, other));
+                    }
+                    report.vertex_splits.push((out_id(v), s));
+                    pending.push((v, b, s));
+                    pending.push((a, v, s));
+                    steiner = true;
+                    break;
+                };
+                report.crossings.push(Crossing {
+                    vertex: sx,
+                    segments: [s, other],
+                });
+                pending.push((sx, b, s));
+                pending.push((a, sx, s));
+                steiner = true;
+                break;
+            }
+            crossed.push_back((p, q));
+            let (nn, j) = unpack(w.ta[t][i]);
+            let r = w.tv[nn][j];
+            if r == b {
+                break;
+            }
+            if r == INF {
+                return Err(unresolved(s, s));
+            }
+            let sr = side(&pa, &pb, w.p(r));
+            if sr == 0.0 {
+                report.vertex_splits.push((out_id(r), s));
+                pending.push((r, b, s));
+                end = r;
+                break;
+            }
+            t = nn;
+            i = if sr < 0.0 { PREV[j] } else { NEXT[j] };
+        }
+        if steiner {
+            continue;
+        }
+        // Flip the crossed edges away (Sloan).
+        let pe = *w.p(end);
+        let crosses = |w: &Work, x: u32, y: u32| -> bool {
+            if x == a || x == end || y == a || y == end {
+                return false;
+            }
+            let (px, py) = (w.p(x), w.p(y));
+            let s1 = side(&pa, &pe, px);
+            let s2 = side(&pa, &pe, py);
+            let s3 = side(px, py, &pa);
+            let s4 = side(px, py, &pe);
+            s1 * s2 < 0.0 && s3 * s4 < 0.0
+        };
+        newe.clear();
+        let mut idle = 0usize;
+        while let Some((u, v)) = crossed.pop_front() {
+            steps += 1;
+            if steps > budget || idle > 2 * crossed.len() + 8 {
+                return Err(unresolved(s, s));
+            }
+            let Some((t, i)) = w.find_edge(u, v) else {
+                return Err(unresolved(s, s));
+            };
+            let (nn, j) = unpack(w.ta[t][i]);
+            let x = w.tv[t][i];
+            let d = w.tv[nn][j];
+            if x == INF || d == INF {
+                return Err(unresolved(s, s));
+            }
+            let convex =
+                orient2d(w.p(x), w.p(u), w.p(d)) > 0.0 && orient2d(w.p(d), w.p(v), w.p(x)) > 0.0;
+            if !convex {
+                crossed.push_back((u, v));
+                idle += 1;
+                continue;
+            }
+            idle = 0;
+            w.flip(t, i);
+            if crosses(&w, x, d) {
+                crossed.push_back((x, d));
+            } else {
+                newe.push((x, d));
+            }
+        }
+        if !w.constrain(a, end, s) {
+            return Err(unresolved(s, s));
+        }
+        let mut st: Vec<(u32, u32)> = newe
+            .iter()
+            .copied()
+            .filter(|&(x, y)| !((x == a && y == end) || (x == end && y == a)))
+            .collect();
+        w.legalize(&mut st);
+    }
+    report.flips = w.flips;
+
+    // Carving.
+    let nt = w.tv.len();
+    let mut alive: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && !is_ghost(v)).collect();
+    let mut stack: Vec<usize> = Vec::new();
+    let flood = |w: &Work, alive: &mut Vec<bool>, stack: &mut Vec<usize>| {
+        while let Some(t) = stack.pop() {
+            for e in 0..3 {
+                if w.con[t][e] != NONE {
+                    continue;
+                }
+                let (nn, _) = unpack(w.ta[t][e]);
+                if alive[nn] {
+                    alive[nn] = false;
+                    stack.push(nn);
+                }
+            }
+        }
+    };
+    if !options.convex_hull {
+        for t in 0..nt {
+            let v = w.tv[t];
+            if v[0] == DEAD || !is_ghost(&v) {
+                continue;
+            }
+            // Ghost edge 2 is the hull edge.
+            if w.con[t][2] != NONE {
+                continue;
+            }
+            let (f, _) = unpack(w.ta[t][2]);
+            if alive[f] {
+                alive[f] = false;
+                stack.push(f);
+            }
+        }
+        flood(&w, &mut alive, &mut stack);
+    }
+    let s2 = scale.0 * scale.1;
+    let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
+    let _ = s2;
+    for h in &pslg.holes {
+        if let Some(t) = w.locate(&sc(*h)) {
+            if alive[t] {
+                alive[t] = false;
+                stack.push(t);
+                flood(&w, &mut alive, &mut stack);
+            }
+        }
+    }
+    let mut region = vec![NONE; nt];
+    for (ri, r) in pslg.regions.iter().enumerate() {
+        let Some(t0) = w.locate(&sc(r.point)) else {
+            continue;
+        };
+        if !alive[t0] {
+            continue;
+        }
+        let mut seen = HashSet::new();
+        seen.insert(t0);
+        stack.push(t0);
+        while let Some(t) = stack.pop() {
+            region[t] = ri as u32;
+            for e in 0..3 {
+                if w.con[t][e] != NONE {
+                    continue;
+                }
+                let (nn, _) = unpack(w.ta[t][e]);
+                if alive[nn] && seen.insert(nn) {
+                    stack.push(nn);
+                }
+            }
+        }
+    }
+
+    // Output.
+    let mut map = vec![NONE; nt];
+    let mut k = 0u32;
+    for t in 0..nt {
+        if alive[t] {
+            map[t] = k;
+            k += 1;
+        }
+    }
+    let mut points = pslg.points.clone();
+    points.extend(
+        w.xy[n..]
+            .iter()
+            .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
+    );
+    let mut triangles = Vec::with_capacity(k as usize);
+    let mut neighbors = Vec::with_capacity(k as usize);
+    let mut regions = Vec::with_capacity(k as usize);
+    let mut attributes = Vec::with_capacity(k as usize);
+    let mut max_areas = Vec::with_capacity(k as usize);
+    for t in 0..nt {
+        if !alive[t] {
+            continue;
+        }
+        triangles.push(w.tv[t].map(out_id));
+        neighbors.push(w.ta[t].map(|x| map[unpack(x).0]));
+        let r = region[t];
+        regions.push(r);
+        let reg = pslg.regions.get(r as usize);
+        attributes.push(reg.map_or(0.0, |g| g.attribute));
+        max_areas.push(reg.map_or(-1.0, |g| g.max_area));
+    }
+    let mut segments = Vec::new();
+    for t in 0..nt {
+        let v = w.tv[t];
+        if v[0] == DEAD || is_ghost(&v) {
+            continue;
+        }
+        for e in 0..3 {
+            let c = w.con[t][e];
+            if c == NONE {
+                continue;
+            }
+            let (nn, _) = unpack(w.ta[t][e]);
+            if !is_ghost(&w.tv[nn]) && nn < t {
+                continue;
+            }
+            let (x, y) = edge(&v, e);
+            segments.push(Subsegment {
+                v: [out_id(x), out_id(y)],
+                marker: pslg.segment_marker(c as usize),
+                segment: c,
+                bounding: alive[t] || alive[nn],
+            });
+        }
+    }
+    Ok(Cdt {
+        points,
+        triangles,
+        neighbors,
+        regions,
+        attributes,
+        max_areas,
+        segments,
+        vertex_map: vmap,
+        report,
+    })
+}
+
+/// Strictly inside triangle `v`?
+fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
+    (0..3).all(|e| {
+        let (a, b) = edge(v, e);
+        orient2d(&pts[a as usize], &pts[b as usize], p) > 0.0
+    })
+}
+
+/// Independent checker of a [`Cdt`] against its input, with exact
+/// predicates: counterclockwise triangles, symmetric adjacency across
+/// matching edges, every bounding subsegment an edge of the mesh, every input
+/// segment a chain of subsegments from one end to the other (through vertices
+/// exactly on it, its reported crossing and split vertices, and Steiner
+/// vertices within 1e-9 times the input's extent of it — those of
+/// overlapping segments), the constrained
+/// Delaunay property (the apex across an edge that is not a subsegment is
+/// never strictly inside the circumcircle), hole points not strictly inside
+/// any triangle, and regions constant across unconstrained edges, each region
+/// point's triangle carrying that region or a later one.
+///
+/// # Errors
+/// The first [`Violation`] found.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::constrain::*};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], vec![[0, 3]]);
+/// let mut cdt = constrained_triangulation(&g, CdtOptions { convex_hull: true }).unwrap();
+/// check_cdt(&g, &cdt).unwrap();
+/// cdt.triangles[0].swap(0, 1);
+/// assert!(check_cdt(&g, &cdt).is_err());
+/// ```
+pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
+    // Exact power-of-two scaling keeps the predicates exact at any scale.
+    let max_abs = cdt
+        .points
+        .iter()
+        .chain(&pslg.holes)
+        .chain(pslg.regions.iter().map(|r| &r.point))
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let scale = pow2_scale(max_abs);
+    let pts: &Vec<[f64; 2]> = &cdt.points.iter().map(|&p| scaled(p, scale)).collect();
+    let nt = cdt.triangles.len();
+    if cdt.neighbors.len() != nt || cdt.regions.len() != nt {
+        return Err(Violation::new("storage", "column lengths differ"));
+    }
+    let mut half: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * nt);
+    for (t, v) in cdt.triangles.iter().enumerate() {
+        if v.iter().any(|&x| x as usize >= pts.len()) {
+            return Err(Violation::new(
+                "vertex",
+                format!("triangle {t} {v:?} out of range"),
+            ));
+        }
+        if orient2d(
+            &pts[v[0] as usize],
+            &pts[v[1] as usize],
+            &pts[v[2] as usize],
+        ) <= 0.0
+        {
+            return Err(Violation::new(
+                "orientation",
+                format!("triangle {t} {v:?} is not counterclockwise"),
+            ));
+        }
+        for e in 0..3 {
+            if half.insert(edge(v, e), (t as u32, e)).is_some() {
+                return Err(Violation::new(
+                    "adjacency",
+                    format!("edge {:?} is used twice in the same direction", edge(v, e)),
+                ));
+            }
+        }
+    }
+    let segset: HashSet<(u32, u32)> = cdt
+        .segments
+        .iter()
+        .map(|s| (s.v[0].min(s.v[1]), s.v[0].max(s.v[1])))
+        .collect();
+    for (t, v) in cdt.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = edge(v, e);
+            let nb = cdt.neighbors[t][e];
+            let twin = half.get(&(b, a)).copied();
+            match (twin, nb) {
+                (None, NONE) => {}
+                (Some((n, j)), nb) if nb == n => {
+                    if cdt.neighbors[n as usize][j] != t as u32 {
+                        return Err(Violation::new(
+                            "adjacency",
+                            format!("triangle {t} edge {e} -> {n} is not symmetric"),
+                        ));
+                    }
+                    if n as usize > t && !segset.contains(&(a.min(b), a.max(b))) {
+                        let d = cdt.triangles[n as usize][j];
+                        if incircle(
+                            &pts[v[0] as usize],
+                            &pts[v[1] as usize],
+                            &pts[v[2] as usize],
+                            &pts[d as usize],
+                        ) > 0.0
+                        {
+                            return Err(Violation::new(
+                                "delaunay",
+                                format!("vertex {d} is inside the circumcircle of triangle {t} {v:?} across unconstrained edge ({a},{b})"),
+                            ));
+                        }
+                        if cdt.regions[t] != cdt.regions[n as usize] {
+                            return Err(Violation::new(
+                                "region",
+                                format!("triangles {t} and {n} differ in region across unconstrained edge ({a},{b})"),
+                            ));
+                        }
+                    }
+                }
+                _ => {
+                    return Err(Violation::new(
+                        "adjacency",
+                        format!("triangle {t} edge {e} ({a},{b}) has neighbour {nb}, the mesh says {twin:?}"),
+                    ))
+                }
+            }
+        }
+    }
+    // Subsegments: bounding ones are mesh edges.
+    let mut adj: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
+    for (k, s) in cdt.segments.iter().enumerate() {
+        let [a, b] = s.v;
+        if s.bounding && !half.contains_key(&(a, b)) && !half.contains_key(&(b, a)) {
+            return Err(Violation::new(
+                "conformity",
+                format!("subsegment {k} ({a},{b}) is not a mesh edge"),
+            ));
+        }
+        adj.entry(a).or_default().push((b, s.segment));
+        adj.entry(b).or_default().push((a, s.segment));
+    }
+    let crossing_of: HashSet<(u32, u32)> = cdt
+        .report
+        .crossings
+        .iter()
+        .flat_map(|c| [(c.vertex, c.segments[0]), (c.vertex, c.segments[1])])
+        .collect();
+    // Distance tolerance for Steiner vertices (rounded crossings of nearly
+    // parallel segments stray further than a few ulps): a small fraction of the
+    // input's extent.
+    let ext = pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let tol = 1e-9 * ext;
+    let split_of: HashSet<(u32, u32)> = cdt.report.vertex_splits.iter().copied().collect();
+    let vm = |i: u32| cdt.vertex_map.get(i as usize).copied().unwrap_or(i);
+    // Segments with the same two ends (after merging duplicate points) share
+    // their subsegments and crossings.
+    let key = |seg: &[u32; 2]| {
+        let (a, b) = (vm(seg[0]), vm(seg[1]));
+        (a.min(b), a.max(b))
+    };
+    let mut group: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    for (s, seg) in pslg.segments.iter().enumerate() {
+        group.entry(key(seg)).or_default().push(s as u32);
+    }
+    for (s, seg) in pslg.segments.iter().enumerate() {
+        let (a, b) = (vm(seg[0]), vm(seg[1]));
+        if a == b {
+            continue;
+        }
+        let (pa, pb) = (pts[a as usize], pts[b as usize]);
+        let on = |x: u32| {
+            let p = &pts[x as usize];
+            orient2d(&pa, &pb, p) == 0.0
+                && (p[0] - pa[0]) * (pb[0] - pa[0]) + (p[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
+                && (p[0] - pb[0]) * (pa[0] - pb[0]) + (p[1] - pb[1]) * (pa[1] - pb[1]) > 0.0
+        };
+        // Within rounding distance of the segment (a Steiner vertex of an
+        // overlapping or crossing segment that this one was routed through).
+        let near = |x: u32| {
+            let p = &pts[x as usize];
+            let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
+            let len2 = dx * dx + dy * dy;
+            let t = ((p[0] - pa[0]) * dx + (p[1] - pa[1]) * dy) / len2;
+            let cross = dx * (p[1] - pa[1]) - dy * (p[0] - pa[0]);
+            x as usize >= pslg.points.len()
+                && t > 0.0
+                && t < 1.0
+                && cross * cross <= (tol * tol) * len2
+        };
+        let same = &group[&key(seg)];
+        let mut seen = HashSet::new();
+        let mut st = vec![a];
+        seen.insert(a);
+        let mut ok = false;
+        while let Some(c) = st.pop() {
+            if c == b {
+                ok = true;
+                break;
+            }
+            for &(x, lab) in adj.get(&c).map(|v| v.as_slice()).unwrap_or(&[]) {
+                let good = x == b
+                    || on(x)
+                    || near(x)
+                    || same.iter().any(|&g| {
+                        lab == g || crossing_of.contains(&(x, g)) || split_of.contains(&(x, g))
+                    });
+                if good && seen.insert(x) {
+                    st.push(x);
+                }
+            }
+        }
+        if !ok {
+            return Err(Violation::new(
+                "conformity",
+                format!("input segment {s} ({a},{b}) is not a chain of subsegments"),
+            ));
+        }
+    }
+    for (h, p) in pslg.holes.iter().enumerate() {
+        let p = &scaled(*p, scale);
+        if let Some(t) = cdt
+            .triangles
+            .iter()
+            .position(|v| strictly_inside(pts, v, p))
+        {
+            return Err(Violation::new(
+                "hole",
+                format!("hole {h} lies inside kept triangle {t}"),
+            ));
+        }
+    }
+    for (r, reg) in pslg.regions.iter().enumerate() {
+        if let Some(t) = cdt
+            .triangles
+            .iter()
+            .position(|v| strictly_inside(pts, v, &scaled(reg.point, scale)))
+        {
+            let got = cdt.regions[t];
+            if got == NONE || (got as usize) < r {
+                return Err(Violation::new(
+                    "region",
+                    format!("region {r}'s point lies in triangle {t}, which has region {got}"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
