@@ -357,6 +357,14 @@ fn main() -> ExitCode {
             program,
             repeat,
         }) => {
+            // Fault injection for the harness's own tests: abort this child
+            // as a crashing reference would.
+            if std::env::var("DELONE_BENCH_ABORT_PROGRAM").is_ok_and(|p| p == program) {
+                eprintln!(
+                    "delone-bench: aborting `{program}` as requested by DELONE_BENCH_ABORT_PROGRAM"
+                );
+                std::process::abort();
+            }
             let r = child::run_child(&case, &program, repeat);
             let mut out = std::io::stdout().lock();
             let _ = writeln!(out);
