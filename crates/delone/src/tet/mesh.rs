@@ -1,6 +1,9 @@
 //! The flat output of the 3D kernel and its independent validator.
 
-use crate::Violation;
+use delone_predicates::{insphere, orient3d};
+
+use super::local::FACET;
+use crate::{Violation, NONE};
 
 /// A tetrahedralization in flat arrays, as returned by [`crate::tetrahedralize`].
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -12,20 +15,274 @@ pub struct TetMesh {
     /// of tetrahedron `t`, or [`crate::NONE`] on the convex hull.
     pub neighbors: Vec<[u32; 4]>,
     /// For every input point, the vertex that represents it: itself, or the
-    /// first earlier point with identical coordinates.
+    /// lowest-indexed point with identical coordinates.
     pub vertex_map: Vec<u32>,
-    /// Input points that duplicate an earlier one, as `(duplicate, original)`.
+    /// Input points that duplicate a lower-indexed one, as `(duplicate, original)`,
+    /// sorted by duplicate.
     pub duplicates: Vec<(u32, u32)>,
 }
 
-/// Checks `mesh` against `points` independently of how it was built.
+impl TetMesh {
+    /// The faces of tetrahedron `t` on the convex hull, oriented outward
+    /// (counterclockwise seen from outside), as `(t, local face)` pairs over
+    /// the whole mesh.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// assert_eq!(mesh.hull_faces().count(), 4);
+    /// ```
+    pub fn hull_faces(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.tets.iter().zip(&self.neighbors).flat_map(|(tv, nb)| {
+            (0..4).filter(move |&f| nb[f] == NONE).map(move |f| {
+                let [a, b, c] = FACET[f].map(|i| tv[i]);
+                [a, c, b]
+            })
+        })
+    }
+}
+
+/// Checks `mesh` against `points` independently of how it was built, with
+/// exact predicates:
+///
+/// * array sizes agree; vertex ids are in range, distinct within a tet, and
+///   not duplicates; duplicates are bit-equal to their originals and every
+///   other point is a vertex of some tetrahedron;
+/// * every tetrahedron has positive volume;
+/// * neighbour links are symmetric and join the same face from both sides;
+/// * the hull faces (no neighbour) form a closed surface, each hull edge in
+///   exactly two hull faces, and the surface is convex;
+/// * the Euler relation `V - E + F - T = 1` holds;
+/// * every interior face is locally Delaunay (the opposite apex is not
+///   strictly inside the circumsphere).
+///
+/// Positive volumes with symmetric links and a closed convex boundary mean the
+/// tetrahedra tile the convex hull; local Delaunay everywhere then means the
+/// tiling is Delaunay.
 ///
 /// ```
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 /// let mesh = delone::tetrahedralize(&pts).unwrap();
 /// delone::tet::validate(&pts, &mesh).unwrap();
+/// let mut bad = mesh.clone();
+/// bad.tets[0].swap(0, 1);
+/// assert!(delone::tet::validate(&pts, &bad).is_err());
 /// ```
 pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
-    let _ = (points, mesh);
+    let n = points.len();
+    let nt = mesh.tets.len();
+    if mesh.neighbors.len() != nt || mesh.vertex_map.len() != n {
+        return Err(Violation::new(
+            "sizes",
+            format!(
+                "{nt} tets, {} neighbour rows, {} vertex_map entries for {n} points",
+                mesh.neighbors.len(),
+                mesh.vertex_map.len()
+            ),
+        ));
+    }
+    check_vertex_map(points, mesh)?;
+    let p = |q: u32| &points[q as usize];
+    let mut used = vec![false; n];
+    for (t, tv) in mesh.tets.iter().enumerate() {
+        for (i, &q) in tv.iter().enumerate() {
+            if q as usize >= n {
+                return Err(Violation::new(
+                    "range",
+                    format!("tet {t} names vertex {q}, only {n} points"),
+                ));
+            }
+            if mesh.vertex_map[q as usize] != q {
+                return Err(Violation::new(
+                    "vertices",
+                    format!("tet {t} uses duplicate point {q}"),
+                ));
+            }
+            if tv[..i].contains(&q) {
+                return Err(Violation::new(
+                    "range",
+                    format!("tet {t} repeats vertex {q}"),
+                ));
+            }
+            used[q as usize] = true;
+        }
+        if orient3d(p(tv[0]), p(tv[1]), p(tv[2]), p(tv[3])) >= 0.0 {
+            return Err(Violation::new(
+                "orientation",
+                format!("tet {t} {tv:?} has no positive volume"),
+            ));
+        }
+    }
+    if let Some(q) = (0..n).find(|&q| mesh.vertex_map[q] == q as u32 && !used[q]) {
+        return Err(Violation::new(
+            "vertices",
+            format!("point {q} is not a vertex of any tetrahedron"),
+        ));
+    }
+    let mut faces = 0usize;
+    let mut hull_edges: Vec<(u32, u32, u32)> = Vec::new();
+    for (t, (tv, nb)) in mesh.tets.iter().zip(&mesh.neighbors).enumerate() {
+        for f in 0..4 {
+            let face = FACET[f].map(|i| tv[i]);
+            let u = nb[f];
+            if u == NONE {
+                faces += 1;
+                // Outward orientation is the reverse of FACET order.
+                let [a, b, c] = face;
+                for (x, y) in [(a, c), (c, b), (b, a)] {
+                    hull_edges.push((x, y, t as u32 * 4 + f as u32));
+                }
+                continue;
+            }
+            if u as usize >= nt {
+                return Err(Violation::new(
+                    "adjacency",
+                    format!("tet {t} face {f} names tet {u} of {nt}"),
+                ));
+            }
+            let ut = mesh.tets[u as usize];
+            let back = (0..4)
+                .filter(|&g| mesh.neighbors[u as usize][g] == t as u32)
+                .collect::<Vec<_>>();
+            let g = match back.as_slice() {
+                [g] => *g,
+                _ => {
+                    return Err(Violation::new(
+                        "adjacency",
+                        format!(
+                            "tet {t} face {f} -> tet {u}, which links back {} times",
+                            back.len()
+                        ),
+                    ))
+                }
+            };
+            let mut mine = face;
+            let mut theirs = FACET[g].map(|i| ut[i]);
+            mine.sort_unstable();
+            theirs.sort_unstable();
+            if mine != theirs {
+                return Err(Violation::new(
+                    "adjacency",
+                    format!("tet {t} face {f} {mine:?} and tet {u} face {g} {theirs:?} differ"),
+                ));
+            }
+            if (u as usize) > t {
+                faces += 1;
+                let apex = ut[g];
+                if insphere(p(tv[1]), p(tv[0]), p(tv[2]), p(tv[3]), p(apex)) > 0.0 {
+                    return Err(Violation::new(
+                        "delaunay",
+                        format!(
+                            "vertex {apex} of tet {u} is inside the circumsphere of tet {t} {tv:?}"
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    check_hull(points, mesh, &mut hull_edges)?;
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(nt * 6);
+    for tv in &mesh.tets {
+        for i in 0..4 {
+            for j in i + 1..4 {
+                edges.push((tv[i].min(tv[j]), tv[i].max(tv[j])));
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let nv = used.iter().filter(|&&u| u).count() as i64;
+    let chi = nv - edges.len() as i64 + faces as i64 - nt as i64;
+    if nt > 0 && chi != 1 {
+        return Err(Violation::new(
+            "euler",
+            format!(
+                "V - E + F - T = {nv} - {} + {faces} - {nt} = {chi}, expected 1",
+                edges.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Duplicates are bit-equal to a lower-indexed original that represents itself.
+fn check_vertex_map(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
+    let mut listed = 0usize;
+    for (i, &m) in mesh.vertex_map.iter().enumerate() {
+        if m == i as u32 || m == NONE {
+            continue;
+        }
+        listed += 1;
+        let ok =
+            (m as usize) < i && mesh.vertex_map[m as usize] == m && points[m as usize] == points[i];
+        if !ok || mesh.duplicates.binary_search(&(i as u32, m)).is_err() {
+            return Err(Violation::new(
+                "duplicates",
+                format!("point {i} is mapped to {m}, which is not an equal lower-indexed vertex listed as its original"),
+            ));
+        }
+    }
+    if listed != mesh.duplicates.len() {
+        return Err(Violation::new(
+            "duplicates",
+            format!(
+                "{} duplicates listed, vertex_map has {listed}",
+                mesh.duplicates.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The hull faces form a closed, convex surface: every directed hull edge
+/// meets its reverse exactly once, and across every hull edge the far vertex
+/// of the other face is not strictly outside.
+fn check_hull(
+    points: &[[f64; 3]],
+    mesh: &TetMesh,
+    edges: &mut [(u32, u32, u32)],
+) -> Result<(), Violation> {
+    edges.sort_unstable();
+    for w in edges.windows(2) {
+        if w[0].0 == w[1].0 && w[0].1 == w[1].1 {
+            return Err(Violation::new(
+                "hull",
+                format!(
+                    "hull edge {}-{} is used twice in one direction",
+                    w[0].0, w[0].1
+                ),
+            ));
+        }
+    }
+    let p = |q: u32| &points[q as usize];
+    let outward = |code: u32| {
+        let (t, f) = ((code / 4) as usize, (code % 4) as usize);
+        let [a, b, c] = FACET[f].map(|i| mesh.tets[t][i]);
+        [a, c, b]
+    };
+    for &(a, b, code) in edges.iter() {
+        let k = edges.partition_point(|e| (e.0, e.1) < (b, a));
+        if k >= edges.len() || (edges[k].0, edges[k].1) != (b, a) {
+            return Err(Violation::new(
+                "hull",
+                format!("hull edge {a}-{b} has no neighbouring hull face"),
+            ));
+        }
+        let mine = outward(code);
+        let other = outward(edges[k].2);
+        let far = other
+            .iter()
+            .copied()
+            .find(|&q| q != a && q != b)
+            .unwrap_or(a);
+        // Strictly outside an outward face means orient3d < 0 (our positive
+        // side), so convexity asks for orient3d >= 0.
+        if orient3d(p(mine[0]), p(mine[1]), p(mine[2]), p(far)) < 0.0 {
+            return Err(Violation::new(
+                "convexity",
+                format!("vertex {far} lies outside hull face {mine:?}"),
+            ));
+        }
+    }
     Ok(())
 }

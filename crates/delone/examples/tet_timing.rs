@@ -1,0 +1,25 @@
+//! Times `delone::tetrahedralize` on seeded uniform random points.
+//!
+//! `cargo run --release -p delone --example tet_timing -- [N]`
+use std::time::Instant;
+
+fn main() {
+    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let mut r = delone::geom::SplitMix64::new(42);
+    let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
+    let t = Instant::now();
+    let order = delone::geom::brio_order(&pts);
+    let sort = t.elapsed().as_secs_f64();
+    drop(order);
+    let t = Instant::now();
+    let mesh = delone::tetrahedralize(&pts).unwrap();
+    let total = t.elapsed().as_secs_f64();
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let hwm = status.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("VmHWM: ?").to_string();
+    println!(
+        "n={n} tets={} time={total:.3}s (sort {sort:.3}s) tets/point={:.2} {hwm}",
+        mesh.tets.len(),
+        mesh.tets.len() as f64 / n as f64
+    );
+}
