@@ -54,6 +54,8 @@ struct Run {
     elements: usize,
     /// Hash of the full output (delone only; used by the determinism check).
     hash: Option<u64>,
+    /// Outcome of delone's independent validator, when asked for.
+    valid: Option<Result<(), String>>,
 }
 
 fn hash_u32s<'a>(groups: impl Iterator<Item = &'a [u32]>) -> u64 {
@@ -62,8 +64,14 @@ fn hash_u32s<'a>(groups: impl Iterator<Item = &'a [u32]>) -> u64 {
 
 /// Builds the program's input (untimed), then times only the
 /// triangulation call. `on_ready` runs between the two (used to reset
-/// and sample the memory counters).
-fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<Run, String> {
+/// and sample the memory counters). With `check`, delone's output is also
+/// run through delone's own validator (untimed).
+fn run_once(
+    program: &str,
+    pts: &Points,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
     match (program, pts) {
         ("delone", Points::D2(p)) => {
             on_ready();
@@ -78,10 +86,12 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                     .chain(m.neighbors.iter().map(|t| &t[..]))
                     .chain(std::iter::once(&m.vertex_map[..])),
             );
+            let valid = check.then(|| delone::tri::validate(p, &m).map_err(|v| v.to_string()));
             Ok(Run {
                 seconds,
                 elements: m.triangles.len(),
                 hash: Some(hash),
+                valid,
             })
         }
         ("delone", Points::D3(p)) => {
@@ -97,10 +107,12 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                     .chain(m.neighbors.iter().map(|t| &t[..]))
                     .chain(std::iter::once(&m.vertex_map[..])),
             );
+            let valid = check.then(|| delone::tet::validate(p, &m).map_err(|v| v.to_string()));
             Ok(Run {
                 seconds,
                 elements: m.tets.len(),
                 hash: Some(hash),
+                valid,
             })
         }
         ("triangle", Points::D2(p)) => {
@@ -117,6 +129,7 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                 seconds,
                 elements: g.out_ncell(),
                 hash: None,
+                valid: None,
             })
         }
         ("tetgen", Points::D3(p)) => {
@@ -134,6 +147,7 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                 seconds,
                 elements: g.out_ncell(),
                 hash: None,
+                valid: None,
             })
         }
         ("spade", Points::D2(p)) => {
@@ -148,6 +162,7 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                 seconds,
                 elements: d.num_inner_faces(),
                 hash: None,
+                valid: None,
             })
         }
         ("delaunator", Points::D2(p)) => {
@@ -163,6 +178,7 @@ fn run_once(program: &str, pts: &Points, on_ready: &mut dyn FnMut()) -> Result<R
                 seconds,
                 elements: d.triangles.len() / 3,
                 hash: None,
+                valid: None,
             })
         }
         _ => Err(format!(
@@ -205,6 +221,7 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
         call_kb: None,
         elements: 0,
         deterministic: None,
+        valid: None,
         outcome: Outcome::Ok,
     };
     if !supports(program, case.dim) {
@@ -240,7 +257,7 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
                 pre_kb = vm_rss();
             }
         };
-        let run = run_once(program, &pts, &mut on_ready);
+        let run = run_once(program, &pts, &mut on_ready, false);
         if first {
             let hwm = vm_hwm();
             peak_kb = peak_kb.max(hwm);
@@ -267,14 +284,24 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
     res.seconds = median(&times);
     res.runs = times.len();
 
-    // Determinism: every run's full output must hash the same. With a
-    // single run, do one more (after the memory figures are taken).
+    // One more, untimed run of delone (the memory figures are already
+    // taken): its output goes through delone's validator, and the full
+    // output of every run must hash the same (determinism).
     if program == "delone" {
-        if hashes.len() < 2 {
-            let mut nothing = || {};
-            if let Ok(Run { hash: Some(h), .. }) = run_once(program, &pts, &mut nothing) {
-                hashes.push(h);
+        let mut nothing = || {};
+        match run_once(program, &pts, &mut nothing, true) {
+            Ok(r) => {
+                hashes.extend(r.hash);
+                match r.valid {
+                    Some(Ok(())) => res.valid = Some(true),
+                    Some(Err(v)) => {
+                        res.valid = Some(false);
+                        res.outcome = Outcome::Invalid(v);
+                    }
+                    None => {}
+                }
             }
+            Err(e) => res.outcome = Outcome::Error(format!("check run: {e}")),
         }
         if hashes.len() >= 2 {
             res.deterministic = Some(hashes.iter().all(|&h| h == hashes[0]));

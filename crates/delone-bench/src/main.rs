@@ -31,7 +31,7 @@ options:
   --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
-  --timeout SECS     kill a child after this many seconds (default 1800)
+  --timeout SECS     kill a child after this many seconds (default 600)
   --markdown         print the table as Markdown
   --list             list the default and quick cases and the programs
   -h, --help         this text
@@ -95,7 +95,7 @@ fn parse_args(args: &[String]) -> Result<Mode, String> {
     let mut cases: Option<Vec<Case>> = None;
     let mut programs: Option<Vec<String>> = None;
     let mut repeat = 3usize;
-    let mut timeout = 1800u64;
+    let mut timeout = 600u64;
     let mut markdown = false;
     let mut child: Option<(String, String)> = None;
     let mut i = 0;
@@ -311,6 +311,9 @@ fn bench(opts: &Options) {
         match &r.outcome {
             Outcome::Ok => eprintln!("{:.4} s, {} elements", r.seconds, r.elements),
             Outcome::Error(m) => eprintln!("error: {m}"),
+            Outcome::Invalid(m) => {
+                eprintln!("{:.4} s, {} elements, INVALID: {m}", r.seconds, r.elements)
+            }
             Outcome::Failed(m) => eprintln!("failed: {m}"),
         }
         results.push(r);
@@ -328,10 +331,12 @@ fn bench(opts: &Options) {
         println!("{header}\n");
         print!("{}", report::markdown(&results));
         println!("\n{}", report::determinism(&results));
+        println!("{}", report::validity(&results));
     } else {
         println!("{header}\n");
         print!("{}", report::plain(&results));
         println!("\n{}", report::determinism(&results));
+        println!("{}", report::validity(&results));
     }
 }
 

@@ -15,12 +15,13 @@ pub const HEADERS: &[&str] = &[
     "delone/this time",
     "delone/this mem",
     "det",
+    "valid",
     "note",
 ];
 
 /// Right-aligned columns (numbers) in the plain table.
 const NUMERIC: &[bool] = &[
-    false, true, false, true, true, true, true, true, true, true, false, false,
+    false, true, false, true, true, true, true, true, true, true, false, false, false,
 ];
 
 fn fmt_time(t: f64) -> String {
@@ -59,6 +60,14 @@ fn ok_bpp(r: &RunResult) -> Option<f64> {
         .flatten()
 }
 
+fn yes_no(v: Option<bool>) -> String {
+    match v {
+        Some(true) => "yes".into(),
+        Some(false) => "NO".into(),
+        None => "-".into(),
+    }
+}
+
 /// One table row of cells per result, in the given order. Ratio columns
 /// compare the delone row of the same case with this row (delone ÷ this).
 pub fn rows(results: &[RunResult]) -> Vec<Vec<String>> {
@@ -74,13 +83,31 @@ pub fn rows(results: &[RunResult]) -> Vec<Vec<String>> {
                 }
                 _ => ("-".into(), "-".into()),
             };
-            let ok = r.outcome == Outcome::Ok;
-            let note = match &r.outcome {
+            // Figures are shown for invalid results too (they are real
+            // measurements), but ratios only between valid ones.
+            let ok = matches!(r.outcome, Outcome::Ok | Outcome::Invalid(_));
+            let mut note = match &r.outcome {
                 Outcome::Ok if r.runs > 1 => format!("median of {}", r.runs),
                 Outcome::Ok => String::new(),
                 Outcome::Error(m) => format!("error: {m}"),
+                Outcome::Invalid(m) => format!("INVALID: {m}"),
                 Outcome::Failed(m) => format!("failed: {m}"),
             };
+            // Every triangulation of a 2D point set has the same number of
+            // triangles, and the Delaunay tetrahedralization of points in
+            // general position is unique: a differing count is worth a look.
+            if let Some(d) = delone {
+                if r.program != "delone"
+                    && ok
+                    && matches!(d.outcome, Outcome::Ok | Outcome::Invalid(_))
+                    && d.elements != r.elements
+                {
+                    if !note.is_empty() {
+                        note.push_str("; ");
+                    }
+                    note.push_str(&format!("elements differ from delone ({})", d.elements));
+                }
+            }
             vec![
                 r.case.clone(),
                 r.n.to_string(),
@@ -104,11 +131,8 @@ pub fn rows(results: &[RunResult]) -> Vec<Vec<String>> {
                 },
                 tr,
                 mr,
-                match r.deterministic {
-                    Some(true) => "yes".into(),
-                    Some(false) => "NO".into(),
-                    None => "-".into(),
-                },
+                yes_no(r.deterministic),
+                yes_no(r.valid),
                 note,
             ]
         })
@@ -203,6 +227,30 @@ pub fn determinism(results: &[RunResult]) -> String {
     }
 }
 
+/// The validation summary line.
+pub fn validity(results: &[RunResult]) -> String {
+    let checked: Vec<&RunResult> = results.iter().filter(|r| r.valid.is_some()).collect();
+    if checked.is_empty() {
+        return "valid: not checked (no successful delone run)".into();
+    }
+    let bad: Vec<&str> = checked
+        .iter()
+        .filter(|r| r.valid == Some(false))
+        .map(|r| r.case.as_str())
+        .collect();
+    if bad.is_empty() {
+        format!(
+            "valid: yes (delone output accepted by delone's validator in {} case(s))",
+            checked.len()
+        )
+    } else {
+        format!(
+            "valid: NO (validator rejects delone's output in: {})",
+            bad.join(", ")
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -219,6 +267,7 @@ mod tests {
             call_kb: Some(peak_kb - 1000),
             elements: 2000,
             deterministic: (program == "delone").then_some(true),
+            valid: (program == "delone").then_some(true),
             outcome,
         }
     }
@@ -238,8 +287,47 @@ mod tests {
         assert_eq!(rows[1][5], "200");
         assert_eq!(rows[2][3], "-");
         assert_eq!(rows[2][8], "-");
-        assert_eq!(rows[2][11], "failed: signal 11");
+        assert_eq!(rows[2][12], "failed: signal 11");
         assert_eq!(rows[0][10], "yes");
+        assert_eq!(rows[0][11], "yes");
+        assert_eq!(rows[1][11], "-");
+        assert_eq!(rows[1][12], "median of 3");
+    }
+
+    #[test]
+    fn invalid_delone_shows_figures_but_no_ratio() {
+        let mut res = vec![
+            r(
+                "c",
+                "delone",
+                2.0,
+                1100,
+                Outcome::Invalid("tet 3 inverted".into()),
+            ),
+            r("c", "tetgen", 1.0, 1200, Outcome::Ok),
+        ];
+        res[0].valid = Some(false);
+        let rows = rows(&res);
+        assert_eq!(rows[0][3], "2.000");
+        assert_eq!(rows[0][11], "NO");
+        assert_eq!(rows[0][12], "INVALID: tet 3 inverted");
+        assert_eq!(rows[1][8], "-");
+        assert_eq!(rows[1][9], "-");
+    }
+
+    #[test]
+    fn differing_element_count_is_flagged() {
+        let mut res = vec![
+            r("c", "delone", 2.0, 1100, Outcome::Ok),
+            r("c", "tetgen", 1.0, 1200, Outcome::Ok),
+        ];
+        res[1].elements = 1999;
+        let rows = rows(&res);
+        assert_eq!(
+            rows[1][12],
+            "median of 3; elements differ from delone (2000)"
+        );
+        assert_eq!(rows[0][12], "median of 3");
     }
 
     #[test]
@@ -256,7 +344,7 @@ mod tests {
         ];
         let rows = rows(&res);
         assert_eq!(rows[1][8], "-");
-        assert_eq!(rows[0][11], "error: not implemented");
+        assert_eq!(rows[0][12], "error: not implemented");
         let t = plain(&res);
         assert!(t.contains("error: not implemented"));
         let m = markdown(&res);
@@ -273,5 +361,18 @@ mod tests {
         assert!(determinism(&res).contains("NO"));
         assert!(determinism(&res).contains('b'));
         assert!(determinism(&[]).contains("not checked"));
+    }
+
+    #[test]
+    fn validity_summary() {
+        let mut res = vec![r("a", "delone", 1.0, 1100, Outcome::Ok)];
+        assert!(validity(&res).starts_with("valid: yes"));
+        res.push(r("b", "delone", 1.0, 1100, Outcome::Invalid("x".into())));
+        res[1].valid = Some(false);
+        assert_eq!(
+            validity(&res),
+            "valid: NO (validator rejects delone's output in: b)"
+        );
+        assert!(validity(&[]).contains("not checked"));
     }
 }

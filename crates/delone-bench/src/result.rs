@@ -11,6 +11,9 @@ pub enum Outcome {
     Ok,
     /// The program returned an error (message).
     Error(String),
+    /// The program produced a result that delone's validator rejects
+    /// (the violation); its figures are shown but no ratios.
+    Invalid(String),
     /// The child crashed, timed out or printed no result (reason).
     Failed(String),
 }
@@ -39,12 +42,31 @@ pub struct RunResult {
     pub elements: usize,
     /// Whether repeated runs gave bit-identical output (delone only).
     pub deterministic: Option<bool>,
+    /// Whether delone's validator accepted the output (delone only).
+    pub valid: Option<bool>,
     /// How it ended.
     pub outcome: Outcome,
 }
 
 fn opt<T: ToString>(v: Option<T>) -> String {
     v.map_or_else(|| "-".to_string(), |x| x.to_string())
+}
+
+fn yes_no(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+fn parse_yes_no(s: &str) -> Result<Option<bool>, String> {
+    match s {
+        "yes" => Ok(Some(true)),
+        "no" => Ok(Some(false)),
+        "-" => Ok(None),
+        _ => Err(format!("bad yes/no value `{s}`")),
+    }
 }
 
 fn parse_opt<T: std::str::FromStr>(s: &str) -> Result<Option<T>, String> {
@@ -69,6 +91,7 @@ impl RunResult {
             call_kb: None,
             elements: 0,
             deterministic: None,
+            valid: None,
             outcome: Outcome::Failed(reason),
         }
     }
@@ -92,10 +115,11 @@ impl RunResult {
         let (kind, msg) = match &self.outcome {
             Outcome::Ok => ("ok", String::new()),
             Outcome::Error(m) => ("error", m.replace(['\n', '\r'], " ")),
+            Outcome::Invalid(m) => ("invalid", m.replace(['\n', '\r'], " ")),
             Outcome::Failed(m) => ("failed", m.replace(['\n', '\r'], " ")),
         };
         format!(
-            "{TAG} case={} program={} n={} seconds={:e} runs={} peak_kb={} base_kb={} call_kb={} elements={} deterministic={} outcome={kind} {msg}",
+            "{TAG} case={} program={} n={} seconds={:e} runs={} peak_kb={} base_kb={} call_kb={} elements={} deterministic={} valid={} outcome={kind} {msg}",
             self.case,
             self.program,
             self.n,
@@ -105,7 +129,8 @@ impl RunResult {
             opt(self.base_kb),
             opt(self.call_kb),
             self.elements,
-            opt(self.deterministic.map(|d| if d { "yes" } else { "no" })),
+            opt(self.deterministic.map(yes_no)),
+            opt(self.valid.map(yes_no)),
         )
         .trim_end()
         .to_string()
@@ -150,17 +175,14 @@ impl RunResult {
         let base_kb = parse_opt(&get("base_kb")?)?;
         let call_kb = parse_opt(&get("call_kb")?)?;
         let elements = num(get("elements")?)?;
-        let deterministic = match get("deterministic")?.as_str() {
-            "yes" => Some(true),
-            "no" => Some(false),
-            "-" => None,
-            s => return Err(format!("bad deterministic `{s}`")),
-        };
+        let deterministic = parse_yes_no(&get("deterministic")?)?;
+        let valid = parse_yes_no(&get("valid")?)?;
         let (kind, msg) = tail.split_once(' ').unwrap_or((tail, ""));
         let msg = msg.trim().to_string();
         let outcome = match kind {
             "ok" => Outcome::Ok,
             "error" => Outcome::Error(msg),
+            "invalid" => Outcome::Invalid(msg),
             "failed" => Outcome::Failed(msg),
             k => return Err(format!("bad outcome `{k}`")),
         };
@@ -175,6 +197,7 @@ impl RunResult {
             call_kb,
             elements,
             deterministic,
+            valid,
             outcome,
         })
     }
@@ -196,6 +219,7 @@ mod tests {
             call_kb: Some(30_000),
             elements: 199_980,
             deterministic: None,
+            valid: None,
             outcome: Outcome::Ok,
         }
     }
@@ -205,7 +229,11 @@ mod tests {
         let mut r = sample();
         assert_eq!(RunResult::from_line(&r.to_line()).unwrap(), r);
         r.deterministic = Some(false);
+        r.valid = Some(true);
         r.call_kb = None;
+        assert_eq!(RunResult::from_line(&r.to_line()).unwrap(), r);
+        r.valid = Some(false);
+        r.outcome = Outcome::Invalid("tet 3 is not Delaunay".into());
         r.outcome = Outcome::Error("point 7 has a NaN or infinite coordinate".into());
         assert_eq!(RunResult::from_line(&r.to_line()).unwrap(), r);
         r.outcome = Outcome::Failed("multi\nline outcome=ok".into());

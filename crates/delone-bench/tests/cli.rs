@@ -63,9 +63,11 @@ fn plain_table_has_every_program_and_consistent_counts() {
         } else {
             assert_eq!(count(r), reference);
             assert_eq!(r[10], "yes");
+            assert_eq!(r[11], "yes");
         }
     }
     assert!(out.lines().any(|l| l.starts_with("deterministic:")));
+    assert!(out.lines().any(|l| l.starts_with("valid:")));
 }
 
 #[test]

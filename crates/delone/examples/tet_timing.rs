@@ -4,7 +4,10 @@
 use std::time::Instant;
 
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
     let mut r = delone::geom::SplitMix64::new(42);
     let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
@@ -16,7 +19,11 @@ fn main() {
     let mesh = delone::tetrahedralize(&pts).unwrap();
     let total = t.elapsed().as_secs_f64();
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    let hwm = status.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("VmHWM: ?").to_string();
+    let hwm = status
+        .lines()
+        .find(|l| l.starts_with("VmHWM"))
+        .unwrap_or("VmHWM: ?")
+        .to_string();
     println!(
         "n={n} tets={} time={total:.3}s (sort {sort:.3}s) tets/point={:.2} {hwm}",
         mesh.tets.len(),
