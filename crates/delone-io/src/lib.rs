@@ -1,1 +1,37 @@
-//! delone-io placeholder.
+//! # delone-io
+//!
+//! File formats for delone, working on plain slices (no dependency on the
+//! mesher):
+//!
+//! * Triangle/TetGen family: [`read_node`], [`read_ele`], [`write_node`],
+//!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`], with the
+//!   derived edges and faces from [`topo`];
+//! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
+//!   [`write_vtk_legacy`] (TetGen's `-k` output).
+//!
+//! Readers never panic on any input and report errors with line numbers;
+//! writers buffer internally, format integers by hand and floats in their
+//! shortest round-trip form, so output is deterministic and fast.
+//!
+//! ```
+//! let node = delone_io::read_node(b"3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n").unwrap();
+//! let pts = node.points::<2>().unwrap();
+//! let tris = [[0u32, 1, 2]];
+//! let mut ele = Vec::new();
+//! delone_io::write_ele(&mut ele, &tris, &[], 0, node.first_index).unwrap();
+//! assert_eq!(String::from_utf8(ele).unwrap(), "1 3 0\n1 1 2 3\n");
+//! # let _ = pts;
+//! ```
+#![forbid(unsafe_code)]
+
+mod error;
+mod out;
+mod read;
+pub mod topo;
+mod vtk;
+mod write;
+
+pub use error::IoError;
+pub use read::{read_ele, read_node, EleFile, NodeFile};
+pub use vtk::{write_vtk_legacy, write_vtu, DataArray, Values, VtuFormat};
+pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

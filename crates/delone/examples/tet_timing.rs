@@ -10,10 +10,23 @@ fn main() {
         .unwrap_or(1_000_000);
     let mut r = delone::geom::SplitMix64::new(42);
     let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-    let pts: Vec<[f64; 3]> = (0..n).map(|_| [u(), u(), u()]).collect();
+    let pts: Vec<[f64; 3]> = if std::env::var("GRID").is_ok() {
+        let k = (n as f64).cbrt().round() as usize;
+        (0..k * k * k)
+            .map(|i| [(i % k) as f64, (i / k % k) as f64, (i / k / k) as f64])
+            .collect()
+    } else {
+        (0..n).map(|_| [u(), u(), u()]).collect()
+    };
+    let n = pts.len();
     let t = Instant::now();
     let order = delone::geom::brio_order(&pts);
     let sort = t.elapsed().as_secs_f64();
+    let pts: Vec<[f64; 3]> = if std::env::var("PRESORT").is_ok() {
+        order.iter().map(|&i| pts[i as usize]).collect()
+    } else {
+        pts
+    };
     drop(order);
     let t = Instant::now();
     let mesh = delone::tetrahedralize(&pts).unwrap();

@@ -47,6 +47,9 @@ impl fmt::Display for Error {
             Error::Degenerate { dimension: 1 } => {
                 write!(f, "all points are collinear; no triangle exists")
             }
+            Error::Degenerate { dimension: 2 } => {
+                write!(f, "all points are coplanar; no tetrahedron exists")
+            }
             Error::Degenerate { dimension } => write!(
                 f,
                 "all points lie in a {dimension}-dimensional subspace; no full-dimensional element exists"

@@ -292,3 +292,79 @@ fn neighbours_and_hull() {
     assert_eq!(hull, mesh.hull_faces().count());
     assert!(hull >= 4);
 }
+
+#[test]
+fn acceptance_grid_40_cubed() {
+    let pts = grid(40);
+    let mesh = check_all(&pts);
+    assert!(mesh.tets.len() >= 5 * 39 * 39 * 39);
+}
+
+#[test]
+fn points_on_a_sphere_and_a_cylinder() {
+    // Floating-point points on a sphere are nearly cospherical: every
+    // in-sphere test is close to zero, which exercises the exact stage.
+    let n = 20_000;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let sphere: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let t = golden * i as f64;
+            [r * t.cos(), r * t.sin(), z]
+        })
+        .collect();
+    check_all(&sphere);
+    // Rings of cocircular points stacked along an axis.
+    let mut cyl = Vec::new();
+    for k in 0..20 {
+        for (x, y) in [
+            (3.0, 4.0),
+            (-3.0, 4.0),
+            (3.0, -4.0),
+            (-3.0, -4.0),
+            (5.0, 0.0),
+            (-5.0, 0.0),
+            (0.0, 5.0),
+            (0.0, -5.0),
+        ] {
+            cyl.push([x, y, k as f64]);
+        }
+    }
+    check_all(&cyl);
+}
+
+#[test]
+fn huge_and_tiny_grids() {
+    for s in [1e-9, 1e9] {
+        let pts: Vec<[f64; 3]> = grid(8).iter().map(|p| p.map(|c| c * s)).collect();
+        check_all(&pts);
+    }
+}
+
+#[test]
+fn degenerate_inputs_give_the_same_tets_whatever_the_insertion_order() {
+    // Ties are broken by input index, not by insertion order: one-call (BRIO
+    // order) and point-by-point (input order) builds agree on grids and
+    // cospherical sets.
+    for pts in [grid(5), lattice_sphere(50), {
+        let mut g = grid(4);
+        g.reverse();
+        g
+    }] {
+        let mut dt = Delaunay3::new();
+        for &p in &pts {
+            dt.insert(p).unwrap();
+        }
+        let mut a: Vec<[u32; 4]> = dt.tets().map(canon).collect();
+        let mut b: Vec<[u32; 4]> = tetrahedralize(&pts)
+            .unwrap()
+            .tets
+            .into_iter()
+            .map(canon)
+            .collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
+    }
+}

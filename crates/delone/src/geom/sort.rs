@@ -45,12 +45,22 @@ impl SplitMix64 {
     /// A uniform integer in `0..n` (`n > 0`), by multiply-shift.
     #[inline]
     pub fn below(&mut self, n: u32) -> u32 {
-        ((self.next_u64() >> 32) * u64::from(n) >> 32) as u32
+        (((self.next_u64() >> 32) * u64::from(n)) >> 32) as u32
     }
 }
 
-/// Rounds smaller than this are not split further.
-const BRIO_MIN_ROUND: usize = 64;
+/// Number of BRIO rounds (the last holds ~7/8 of the points, each earlier one
+/// ~1/8 of the next).
+const BRIO_ROUNDS: u32 = 8;
+
+/// Bits of the Hilbert key per axis: 3 + 2 * 15 or 3 + 3 * 10 bits of sort key.
+const fn key_bits(d: usize) -> u32 {
+    if d == 2 {
+        15
+    } else {
+        10
+    }
+}
 
 /// Hilbert index of a point whose coordinates were quantized to `bits` bits per
 /// axis (Skilling's transpose algorithm), for `D` = 2 or 3 axes.
@@ -124,51 +134,14 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
     }
 }
 
-/// Sorts `ids` (indices into `points`) along a Hilbert curve over the bounding
-/// box of those points.
-fn hilbert_sort<const D: usize>(points: &[[f64; D]], ids: &mut [u32], scratch: &mut Vec<u64>) {
-    if ids.len() < 2 {
-        return;
-    }
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    for &i in ids.iter() {
-        let p = &points[i as usize];
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    // 32 key bits in all: 16 per axis in 2D, 10 per axis in 3D.
-    let bits: u32 = if D == 2 { 16 } else { 10 };
-    let cells = f64::from((1u32 << bits) - 1);
-    let mut extent = 0.0f64;
-    for k in 0..D {
-        extent = extent.max(hi[k] - lo[k]);
-    }
-    let scale = if extent > 0.0 && extent.is_finite() {
-        cells / extent
-    } else {
-        0.0
-    };
-    scratch.clear();
-    scratch.extend(ids.iter().map(|&i| {
-        let p = &points[i as usize];
-        let mut q = [0u32; D];
-        for k in 0..D {
-            let v = ((p[k] - lo[k]) * scale).clamp(0.0, cells);
-            q[k] = v as u32;
-        }
-        (hilbert_key::<D>(q, bits) << 32) | u64::from(i)
-    }));
-    radix_sort_high32(scratch);
-    for (dst, &w) in ids.iter_mut().zip(scratch.iter()) {
-        *dst = w as u32;
-    }
-}
-
 /// The BRIO + Hilbert insertion order of `points`: a permutation of
 /// `0..points.len()` as `u32` ids. Deterministic for a given input.
+///
+/// Each point draws its round from a hash of its index (round `r` from the
+/// end with probability 7/8 · 8^-r); the sort key is the round followed by the
+/// Hilbert index of the point over the bounding box of all points, and one
+/// radix sort orders everything. One sequential pass over the points, no
+/// random access.
 ///
 /// Works for `D` = 2 and `D` = 3. Coordinates must be finite.
 ///
@@ -181,22 +154,44 @@ fn hilbert_sort<const D: usize>(points: &[[f64; D]], ids: &mut [u32], scratch: &
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
-    let n = points.len();
-    let mut ids: Vec<u32> = (0..n as u32).collect();
-    // Fisher-Yates with a fixed seed.
-    let mut rng = SplitMix64::new(0x5eed_de10_0e00_0001);
-    for i in (1..n).rev() {
-        let j = rng.below(i as u32 + 1) as usize;
-        ids.swap(i, j);
+    let mut lo = [f64::INFINITY; D];
+    let mut hi = [f64::NEG_INFINITY; D];
+    for p in points {
+        for k in 0..D {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
     }
-    let mut scratch = Vec::new();
-    let mut end = n;
-    while end > 0 {
-        let start = if end <= BRIO_MIN_ROUND { 0 } else { end / 8 };
-        hilbert_sort(points, &mut ids[start..end], &mut scratch);
-        end = start;
+    let bits = key_bits(D);
+    let cells = f64::from((1u32 << bits) - 1);
+    let mut extent = 0.0f64;
+    for k in 0..D {
+        extent = extent.max(hi[k] - lo[k]);
     }
-    ids
+    let scale = if extent > 0.0 && extent.is_finite() {
+        cells / extent
+    } else {
+        0.0
+    };
+    let mut keys: Vec<u64> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let mut q = [0u32; D];
+            for k in 0..D {
+                q[k] = ((p[k] - lo[k]) * scale).clamp(0.0, cells) as u32;
+            }
+            // Round from the end: the number of leading zero 3-bit groups of a
+            // hash of the index.
+            let h = SplitMix64::new(i as u64 ^ 0x5eed_de10_0e00_0001).next_u64();
+            let from_end = (h.leading_zeros() / 3).min(BRIO_ROUNDS - 1);
+            let round = u64::from(BRIO_ROUNDS - 1 - from_end);
+            let key = (round << (bits * D as u32)) | hilbert_key::<D>(q, bits);
+            (key << 32) | i as u64
+        })
+        .collect();
+    radix_sort_high32(&mut keys);
+    keys.into_iter().map(|w| w as u32).collect()
 }
 
 #[cfg(test)]

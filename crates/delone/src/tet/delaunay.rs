@@ -32,29 +32,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::orient3d;
-
-/// TEMPORARY until delone-predicates has its exact SoS version.
-#[allow(clippy::too_many_arguments)]
-fn insphere_sos(
-    a: &[f64; 3],
-    b: &[f64; 3],
-    c: &[f64; 3],
-    d: &[f64; 3],
-    e: &[f64; 3],
-    _ia: u32,
-    _ib: u32,
-    _ic: u32,
-    _id: u32,
-    _ie: u32,
-) -> i32 {
-    let s = delone_predicates::insphere(a, b, c, d, e);
-    if s > 0.0 {
-        1
-    } else {
-        -1
-    }
-}
+use delone_predicates::{insphere_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -99,15 +77,6 @@ const MARK_KEEP: u8 = 2;
 /// How many insertions between two progress callbacks.
 const PROGRESS_STEP: usize = 1 << 16;
 
-/// One facet on the boundary of a cavity: its three vertices (oriented so the
-/// new point is on the positive side) and the adjacency word of the
-/// tetrahedron outside the cavity.
-#[derive(Debug, Clone, Copy)]
-struct BoundaryFacet {
-    v: [u32; 3],
-    outside: u32,
-}
-
 /// A small open-addressing table from directed edges to new-tet facets, used
 /// to glue the stellated cavity. Slots are invalidated by bumping `stamp`.
 #[derive(Debug, Clone, Default)]
@@ -134,7 +103,7 @@ impl EdgeTable {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn slot(&self, key: u64) -> usize {
         let h = key.wrapping_mul(0x9E37_79B9_7F4A_7C15);
         (h >> 40) as usize & (self.keys.len() - 1)
@@ -142,7 +111,7 @@ impl EdgeTable {
 
     /// Looks up the reverse of `(a, b)`; if present removes and returns it,
     /// otherwise stores `(a, b) -> val` and returns `None`.
-    #[inline]
+    #[inline(always)]
     fn pair(&mut self, a: u32, b: u32, val: u32) -> Option<u32> {
         let mask = self.keys.len() - 1;
         let rev = (u64::from(b) << 32) | u64::from(a);
@@ -178,10 +147,12 @@ struct Core {
     finite: usize,
     last: u32,
     rng: u32,
-    stack: Vec<u32>,
+    /// Set once an insertion ran out of index space; the structure then
+    /// refuses further insertions.
+    overflow: bool,
     cavity: Vec<u32>,
     kept: Vec<u32>,
-    boundary: Vec<BoundaryFacet>,
+    created: Vec<u32>,
     edges: EdgeTable,
 }
 
@@ -554,7 +525,7 @@ impl<'a> Delaunay3<'a> {
                     ));
                 }
             }
-            for f in 0..4 {
+            for (f, facet) in FACET.iter().enumerate() {
                 let w = c.adj[t][f];
                 let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
                 if u >= c.v.len() || c.v[u][0] == DEAD {
@@ -571,7 +542,7 @@ impl<'a> Delaunay3<'a> {
                         ),
                     ));
                 }
-                let mine = FACET[f].map(|i| tv[i]);
+                let mine = facet.map(|i| tv[i]);
                 let uv = c.v[u];
                 let theirs = FACET[g].map(|i| uv[i]);
                 // Same triangle with opposite orientation: theirs is a cyclic
@@ -985,68 +956,66 @@ impl Core {
                 return Ok(Inserted::Duplicate { id, original: q });
             }
         }
-        // Grow the cavity. t0 contains p (or sees it beyond its hull facet),
-        // so it is in conflict without a test.
-        self.cavity.clear();
-        self.kept.clear();
-        self.boundary.clear();
-        self.stack.clear();
-        self.mark[t0 as usize] = MARK_CAVITY;
-        self.cavity.push(t0);
-        self.stack.push(t0);
-        while let Some(t) = self.stack.pop() {
-            for f in 0..4 {
-                let w = self.adj[t as usize][f];
-                let u = w >> 2;
-                let m = self.mark[u as usize];
-                if m == MARK_CAVITY {
-                    continue;
-                }
-                if m == MARK_NONE && self.in_conflict(pts, u, id) {
-                    self.mark[u as usize] = MARK_CAVITY;
-                    self.cavity.push(u);
-                    self.stack.push(u);
-                    continue;
-                }
-                if m == MARK_NONE {
-                    self.mark[u as usize] = MARK_KEEP;
-                    self.kept.push(u);
-                }
-                let tv = self.v[t as usize];
-                self.boundary.push(BoundaryFacet {
-                    v: FACET[f].map(|i| tv[i]),
-                    outside: w,
-                });
-            }
-        }
-        for k in 0..self.kept.len() {
-            let u = self.kept[k];
-            self.mark[u as usize] = MARK_NONE;
-        }
-        let slots = self.free.len() + self.cavity.len() + (MAX_TETS - self.v.len());
-        if slots < self.boundary.len() {
-            for k in 0..self.cavity.len() {
-                let t = self.cavity[k];
-                self.mark[t as usize] = MARK_NONE;
-            }
+        if self.v.len() + (1 << 20) > MAX_TETS || self.overflow {
+            // No insertion creates a million cells on realistic input; past this
+            // point packed adjacency words could overflow.
+            self.overflow = true;
             return Err(Error::CapacityExceeded {
                 requested: pts.len(),
             });
         }
-        for k in 0..self.cavity.len() {
-            let t = self.cavity[k];
+        // Grow the cavity breadth-first (the cavity list is the queue). t0
+        // contains p (or sees it beyond its hull facet), so it conflicts
+        // without a test. Each boundary facet met is stellated at once into a
+        // fresh slot: only cavity cells' adjacency is read during the search,
+        // and those are left intact until the search ends.
+        let mut cavity = std::mem::take(&mut self.cavity);
+        let mut kept = std::mem::take(&mut self.kept);
+        let mut created = std::mem::take(&mut self.created);
+        cavity.clear();
+        kept.clear();
+        created.clear();
+        self.mark[t0 as usize] = MARK_CAVITY;
+        cavity.push(t0);
+        let mut k = 0;
+        while k < cavity.len() {
+            let t = cavity[k];
+            k += 1;
+            let adj_t = self.adj[t as usize];
+            for (f, &w) in adj_t.iter().enumerate() {
+                let u = w >> 2;
+                match self.mark[u as usize] {
+                    MARK_CAVITY => continue,
+                    MARK_NONE => {
+                        if self.in_conflict(pts, u, id) {
+                            self.mark[u as usize] = MARK_CAVITY;
+                            cavity.push(u);
+                            continue;
+                        }
+                        self.mark[u as usize] = MARK_KEEP;
+                        kept.push(u);
+                    }
+                    _ => {}
+                }
+                let tv = self.v[t as usize];
+                let [a, b, c] = FACET[f].map(|i| tv[i]);
+                let n = self.alloc([a, b, c, id]);
+                self.adj[n as usize][3] = w;
+                self.adj[u as usize][(w & 3) as usize] = 4 * n + 3;
+                created.push(n);
+            }
+        }
+        for &u in &kept {
+            self.mark[u as usize] = MARK_NONE;
+        }
+        for &t in &cavity {
             self.release(t);
         }
-        // Stellate from the new vertex.
-        self.edges.reset(self.boundary.len() * 3);
+        // Glue the new cells to each other along the cavity boundary's edges.
+        self.edges.reset(created.len() * 3);
         let mut newest = NONE;
-        for k in 0..self.boundary.len() {
-            let BoundaryFacet {
-                v: [a, b, c],
-                outside,
-            } = self.boundary[k];
-            let n = self.alloc([a, b, c, id]);
-            self.link(n, 3, outside >> 2, (outside & 3) as usize);
+        for &n in &created {
+            let [a, b, c, _] = self.v[n as usize];
             // Facet 0 of n holds edge b->c, facet 1 edge c->a, facet 2 a->b.
             for (f, (x, y)) in [(b, c), (c, a), (a, b)].into_iter().enumerate() {
                 if let Some(w) = self.edges.pair(x, y, 4 * n + f as u32) {
@@ -1057,10 +1026,19 @@ impl Core {
                 newest = n;
             }
         }
+        self.cavity = cavity;
+        self.kept = kept;
+        self.created = created;
         // Inserting a vertex always creates finite tetrahedra; the walk
         // steps off a ghost start by itself anyway.
         if newest != NONE {
             self.last = newest;
+        }
+        if self.v.len() > MAX_TETS {
+            self.overflow = true;
+            return Err(Error::CapacityExceeded {
+                requested: pts.len(),
+            });
         }
         Ok(Inserted::Vertex(id))
     }

@@ -1,8 +1,17 @@
 //! The flat output of the 2D kernel and its independent validator.
 
-use crate::{Error, Violation};
+use delone_predicates::{incircle, orient2d};
+
+use crate::{Violation, NONE};
 
 /// A triangulation in flat arrays, as returned by [`crate::triangulate`].
+///
+/// ```
+/// let mesh = delone::triangulate(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]).unwrap();
+/// assert_eq!(mesh.triangles.len(), 2);
+/// assert_eq!(mesh.neighbors.len(), 2);
+/// assert_eq!(mesh.vertex_map, vec![0, 1, 2, 3]);
+/// ```
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct TriMesh {
     /// Triangles as counterclockwise vertex triples (indices into the input points).
@@ -13,23 +22,356 @@ pub struct TriMesh {
     /// For every input point, the vertex that represents it: itself, or the
     /// first earlier point with identical coordinates.
     pub vertex_map: Vec<u32>,
-    /// Input points that duplicate an earlier one, as `(duplicate, original)`.
+    /// Input points that duplicate an earlier one, as `(duplicate, original)`,
+    /// in increasing order of the duplicate.
     pub duplicates: Vec<(u32, u32)>,
 }
 
-/// Checks `mesh` against `points` independently of how it was built.
+/// Coordinates as a sortable key; `-0.0` and `0.0` give the same key (the
+/// points compare equal).
+fn key(p: &[f64; 2]) -> (u64, u64) {
+    ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
+}
+
+fn err(kind: &'static str, detail: String) -> Result<(), Violation> {
+    Err(Violation::new(kind, detail))
+}
+
+/// Checks `mesh` against `points` independently of how it was built (it does
+/// not use the kernel), with exact predicates (after an exact power-of-two
+/// scaling when the coordinates are huge or tiny):
 ///
-/// Placeholder signature; see the implementation notes in the module.
+/// * array sizes and vertex ids are in range, triangles are counterclockwise;
+/// * neighbours are symmetric and across the shared edge, every edge is used
+///   by at most one triangle per direction, hull edges have [`NONE`];
+/// * the hull edges form one closed cycle turning left once (convex;
+///   collinear hull points allowed);
+/// * Euler's relation `V - E + F = 1`;
+/// * every input point is either a vertex or listed as a duplicate of the
+///   first earlier point with equal coordinates (`vertex_map`, `duplicates`);
+/// * every interior edge is locally Delaunay (the opposite apex is not
+///   strictly inside the circumcircle).
+///
+/// # Errors
+/// The first [`Violation`] found, naming the triangle, edge or vertex.
 ///
 /// ```
 /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
-/// let mesh = delone::triangulate(&pts).unwrap();
+/// let mut mesh = delone::triangulate(&pts).unwrap();
 /// delone::tri::validate(&pts, &mesh).unwrap();
+/// mesh.triangles[0].swap(0, 1);
+/// assert!(delone::tri::validate(&pts, &mesh).is_err());
 /// ```
 pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
-    let _ = (points, mesh);
+    // Huge or tiny coordinates are scaled by an exact power of two first, so
+    // that the exact predicates neither overflow nor underflow.
+    let max_abs = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let s = super::pow2_scale(max_abs);
+    let scaled_points: Vec<[f64; 2]>;
+    let points = if s == (1.0, 1.0) {
+        points
+    } else {
+        scaled_points = points.iter().map(|&p| super::scaled(p, s)).collect();
+        &scaled_points[..]
+    };
+    let n = points.len();
+    let nt = mesh.triangles.len();
+    if mesh.neighbors.len() != nt {
+        return err(
+            "size",
+            format!("{nt} triangles but {} neighbour rows", mesh.neighbors.len()),
+        );
+    }
+    if mesh.vertex_map.len() != n {
+        return err(
+            "size",
+            format!(
+                "{n} points but vertex_map has {} entries",
+                mesh.vertex_map.len()
+            ),
+        );
+    }
+    if nt == 0 {
+        return err("size", "no triangles".into());
+    }
+    // Vertices in range, distinct, counterclockwise.
+    let mut used = vec![false; n];
+    for (t, v) in mesh.triangles.iter().enumerate() {
+        for &x in v {
+            if x as usize >= n {
+                return err(
+                    "vertex",
+                    format!("triangle {t} has vertex {x} out of range"),
+                );
+            }
+            used[x as usize] = true;
+        }
+        let [a, b, c] = v.map(|x| &points[x as usize]);
+        if orient2d(a, b, c) <= 0.0 {
+            return err(
+                "orientation",
+                format!("triangle {t} {v:?} is not counterclockwise"),
+            );
+        }
+    }
+    // Duplicates: group equal points, the smallest index represents them.
+    let mut ids: Vec<u32> = (0..n as u32).collect();
+    ids.sort_unstable_by_key(|&i| (key(&points[i as usize]), i));
+    let mut rep = vec![0u32; n];
+    for (k, &i) in ids.iter().enumerate() {
+        rep[i as usize] = if k > 0 && key(&points[ids[k - 1] as usize]) == key(&points[i as usize])
+        {
+            rep[ids[k - 1] as usize]
+        } else {
+            i
+        };
+    }
+    let mut expected_dups = Vec::new();
+    for i in 0..n {
+        let r = rep[i];
+        if mesh.vertex_map[i] != r {
+            return err(
+                "vertex_map",
+                format!("point {i} maps to {} instead of {r}", mesh.vertex_map[i]),
+            );
+        }
+        if r as usize == i {
+            if !used[i] {
+                return err("vertex", format!("point {i} is not used by any triangle"));
+            }
+        } else {
+            if used[i] {
+                return err(
+                    "vertex",
+                    format!("duplicate point {i} (of {r}) is used by a triangle"),
+                );
+            }
+            expected_dups.push((i as u32, r));
+        }
+    }
+    if mesh.duplicates != expected_dups {
+        return err(
+            "duplicates",
+            format!(
+                "duplicates list has {} entries, expected {}",
+                mesh.duplicates.len(),
+                expected_dups.len()
+            ),
+        );
+    }
+    // Directed edges (a, b, t, i), sorted for lookup.
+    let mut edges: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * nt);
+    for (t, v) in mesh.triangles.iter().enumerate() {
+        for i in 0..3 {
+            edges.push((v[(i + 1) % 3], v[(i + 2) % 3], t as u32, i as u8));
+        }
+    }
+    edges.sort_unstable();
+    for w in edges.windows(2) {
+        if (w[0].0, w[0].1) == (w[1].0, w[1].1) {
+            return err(
+                "manifold",
+                format!(
+                    "edge ({}, {}) is used in the same direction by triangles {} and {}",
+                    w[0].0, w[0].1, w[0].2, w[1].2
+                ),
+            );
+        }
+    }
+    let find = |a: u32, b: u32| {
+        edges
+            .binary_search_by(|e| (e.0, e.1).cmp(&(a, b)))
+            .ok()
+            .map(|k| edges[k])
+    };
+    let mut hull: Vec<(u32, u32)> = Vec::new();
+    for &(a, b, t, i) in &edges {
+        let nb = mesh.neighbors[t as usize][i as usize];
+        match find(b, a) {
+            None => {
+                if nb != NONE {
+                    return err(
+                        "adjacency",
+                        format!("triangle {t} edge {i} ({a}, {b}) is on the hull but has neighbour {nb}"),
+                    );
+                }
+                hull.push((a, b));
+            }
+            Some((_, _, u, j)) => {
+                if nb != u {
+                    return err(
+                        "adjacency",
+                        format!("triangle {t} edge {i} ({a}, {b}) has neighbour {nb}, but triangle {u} shares it"),
+                    );
+                }
+                // Locally Delaunay: the apex of u is not inside t's circle.
+                let d = mesh.triangles[u as usize][j as usize];
+                let [p, q, r] = mesh.triangles[t as usize].map(|x| &points[x as usize]);
+                if incircle(p, q, r, &points[d as usize]) > 0.0 {
+                    return err(
+                        "delaunay",
+                        format!(
+                            "vertex {d} of triangle {u} is inside the circumcircle of triangle {t} (edge ({a}, {b}))"
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    // Hull: one closed cycle, convex (left turns, no reversal), winding once.
+    // `hull` is sorted by its start vertex (the edges were).
+    let next = |a: u32| {
+        hull.binary_search_by(|e| e.0.cmp(&a))
+            .ok()
+            .map(|k| hull[k].1)
+    };
+    for w in hull.windows(2) {
+        if w[0].0 == w[1].0 {
+            return err("hull", format!("vertex {} starts two hull edges", w[0].0));
+        }
+    }
+    let start = hull[0].0;
+    let (mut a, mut b) = hull[0];
+    let mut turning = 0.0f64;
+    let mut steps = 0usize;
+    loop {
+        let Some(c) = next(b) else {
+            return err("hull", format!("hull edge ({a}, {b}) has no successor"));
+        };
+        let [pa, pb, pc] = [a, b, c].map(|x| &points[x as usize]);
+        let o = orient2d(pa, pb, pc);
+        let (ux, uy) = (pb[0] - pa[0], pb[1] - pa[1]);
+        let (vx, vy) = (pc[0] - pb[0], pc[1] - pb[1]);
+        if o < 0.0 || (o == 0.0 && ux * vx + uy * vy <= 0.0) {
+            return err(
+                "hull",
+                format!("hull turns right (or back) at vertex {b} ({a} -> {b} -> {c})"),
+            );
+        }
+        turning += (ux * vy - uy * vx).atan2(ux * vx + uy * vy);
+        steps += 1;
+        a = b;
+        b = c;
+        if a == start || steps > hull.len() {
+            break;
+        }
+    }
+    if steps != hull.len() {
+        return err(
+            "hull",
+            format!(
+                "the hull cycle through vertex {start} has {steps} edges; {} hull edges exist",
+                hull.len()
+            ),
+        );
+    }
+    if (turning - std::f64::consts::TAU).abs() > 1.0 {
+        return err(
+            "hull",
+            format!(
+                "hull winds {:.2} turns instead of one",
+                turning / std::f64::consts::TAU
+            ),
+        );
+    }
+    // Euler: V - E + F = 1 with E = (3F + H) / 2.
+    let v = used.iter().filter(|&&u| u).count() as i64;
+    let f = nt as i64;
+    let h = hull.len() as i64;
+    if (3 * f + h) % 2 != 0 || v - (3 * f + h) / 2 + f != 1 {
+        return err(
+            "euler",
+            format!("V={v} F={f} hull edges={h} violate V - E + F = 1"),
+        );
+    }
     Ok(())
 }
 
-#[allow(dead_code)]
-fn _unused(_: Error) {}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A square split along the diagonal 0-2, plus a Delaunay-violating
+    /// variant: points 0..4 of a kite where only the diagonal 1-3 is Delaunay.
+    fn square() -> (Vec<[f64; 2]>, TriMesh) {
+        let pts = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let mesh = TriMesh {
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            neighbors: vec![[NONE, 1, NONE], [NONE, NONE, 0]],
+            vertex_map: vec![0, 1, 2, 3],
+            duplicates: vec![],
+        };
+        (pts, mesh)
+    }
+
+    #[test]
+    fn accepts_a_valid_mesh() {
+        let (pts, mesh) = square();
+        validate(&pts, &mesh).unwrap();
+    }
+
+    #[test]
+    fn rejects_broken_neighbours() {
+        let (pts, mut mesh) = square();
+        mesh.neighbors[0][1] = NONE;
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "adjacency");
+        let (pts, mut mesh) = square();
+        mesh.neighbors[1][0] = 0;
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "adjacency");
+    }
+
+    #[test]
+    fn rejects_non_delaunay_edge() {
+        // Flat kite: the diagonal 0-2 is too long; 1-3 would be Delaunay.
+        let (mut pts, mesh) = square();
+        pts[0] = [-2.0, 0.0];
+        pts[1] = [0.0, -0.5];
+        pts[2] = [2.0, 0.0];
+        pts[3] = [0.0, 0.5];
+        let v = validate(&pts, &mesh).unwrap_err();
+        assert_eq!(v.kind, "delaunay", "{v}");
+    }
+
+    #[test]
+    fn rejects_missing_vertex_and_bad_duplicates() {
+        let (mut pts, mut mesh) = square();
+        pts.push([0.5, 0.25]);
+        mesh.vertex_map.push(4);
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "vertex");
+        // Declared as a duplicate of a point it does not equal.
+        mesh.vertex_map[4] = 0;
+        mesh.duplicates.push((4, 0));
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "vertex_map");
+        // A true duplicate, but the list is missing.
+        pts[4] = pts[0];
+        mesh.duplicates.clear();
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "duplicates");
+        mesh.duplicates.push((4, 0));
+        validate(&pts, &mesh).unwrap();
+    }
+
+    #[test]
+    fn rejects_non_convex_hull() {
+        // Two triangles forming a non-convex quadrilateral (a dart).
+        let pts = vec![[0.0, 0.0], [2.0, 1.0], [0.0, 2.0], [0.5, 1.0]];
+        let mesh = TriMesh {
+            triangles: vec![[0, 1, 3], [3, 1, 2]],
+            neighbors: vec![[1, NONE, NONE], [NONE, NONE, 0]],
+            vertex_map: vec![0, 1, 2, 3],
+            duplicates: vec![],
+        };
+        let v = validate(&pts, &mesh).unwrap_err();
+        assert_eq!(v.kind, "hull", "{v}");
+    }
+
+    #[test]
+    fn rejects_overlap() {
+        // The same triangle twice: an edge used twice in one direction.
+        let (pts, mut mesh) = square();
+        mesh.triangles.push([0, 1, 2]);
+        mesh.neighbors.push([NONE, NONE, NONE]);
+        assert_eq!(validate(&pts, &mesh).unwrap_err().kind, "manifold");
+    }
+}

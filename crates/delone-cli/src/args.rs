@@ -1,0 +1,296 @@
+//! Command-line parsing: Triangle/TetGen letter switches plus long options.
+
+use std::path::PathBuf;
+
+/// Which program the subcommand stands in for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// `delone tri`: Triangle's switches, 2D.
+    Tri,
+    /// `delone tet`: TetGen's switches, 3D.
+    Tet,
+}
+
+impl Mode {
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Tri => "tri",
+            Mode::Tet => "tet",
+        }
+    }
+}
+
+/// Everything a run needs to know.
+#[derive(Debug, Clone, Default)]
+pub struct Opts {
+    pub zero: bool,
+    pub quiet: bool,
+    pub verbose: u8,
+    pub check: bool,
+    pub edges: bool,
+    pub neigh: bool,
+    pub all_faces: bool,
+    pub no_node: bool,
+    pub no_ele: bool,
+    /// tet `-F`: no .face / .edge.
+    pub no_face: bool,
+    /// tri `-F`: Fortune's sweepline requested (accepted, not used).
+    pub fortune: bool,
+    pub no_iteration: bool,
+    pub no_bound: bool,
+    pub vtk_legacy: bool,
+    pub vtu: Option<PathBuf>,
+    pub vtu_ascii: bool,
+    pub output_dir: Option<PathBuf>,
+    pub input: PathBuf,
+    /// The switch letters as given, for messages.
+    pub switches: String,
+}
+
+/// What the command line asks for.
+#[derive(Debug)]
+pub enum Command {
+    Run(Opts),
+    Help,
+    Version,
+}
+
+/// A usage error (exit code 2).
+#[derive(Debug)]
+pub struct Usage(pub String);
+
+/// Switches of the original program that delone does not implement yet,
+/// with a few words on what they do.
+fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
+    Some(match (mode, c) {
+        (Mode::Tri, 'p') => "PSLG input (.poly)",
+        (Mode::Tri, 'r') => "refinement of a previous mesh",
+        (Mode::Tri, 'q') => "quality mesh",
+        (Mode::Tri, 'a') => "maximum area constraint",
+        (Mode::Tri, 'u') => "user-defined constraint",
+        (Mode::Tri, 'A') => "regional attributes",
+        (Mode::Tri, 'c') => "convex hull segments",
+        (Mode::Tri, 'D') => "conforming Delaunay",
+        (Mode::Tri, 'j') => "jettison unused vertices",
+        (Mode::Tri, 'v') => "Voronoi diagram output",
+        (Mode::Tri, 'g') => "OFF output",
+        (Mode::Tri, 'P') => "no .poly output",
+        (Mode::Tri, 'O') => "ignore holes",
+        (Mode::Tri, 'X') => "no exact arithmetic",
+        (Mode::Tri, 'Y') => "no Steiner points on the boundary",
+        (Mode::Tri, 'S') => "Steiner point limit",
+        (Mode::Tri, 'i') => "incremental algorithm choice",
+        (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
+        (Mode::Tri, 's') => "segment splitting",
+        (Mode::Tri, 'o') => "second-order elements, -o2",
+        (Mode::Tet, 'p') => "PLC input (.poly/.smesh/.off)",
+        (Mode::Tet, 'Y') => "boundary preservation",
+        (Mode::Tet, 'r') => "refinement of a previous mesh",
+        (Mode::Tet, 'q') => "quality mesh",
+        (Mode::Tet, 'R') => "mesh coarsening",
+        (Mode::Tet, 'A') => "regional attributes",
+        (Mode::Tet, 'm') => "sizing function (.mtr)",
+        (Mode::Tet, 'a') => "maximum volume constraint",
+        (Mode::Tet, 'i') => "insertion of additional points",
+        (Mode::Tet, 'O') => "mesh optimization",
+        (Mode::Tet, 'S') => "Steiner point limit",
+        (Mode::Tet, 'T') => "coplanarity tolerance",
+        (Mode::Tet, 'X') => "no exact arithmetic",
+        (Mode::Tet, 'M') => "no merging of coplanar facets",
+        (Mode::Tet, 'w') => "weighted Delaunay",
+        (Mode::Tet, 'c') => "convex hull retention",
+        (Mode::Tet, 'd') => "self-intersection detection",
+        (Mode::Tet, 'D') => "conforming Delaunay",
+        (Mode::Tet, 'v') => "Voronoi diagram output",
+        (Mode::Tet, 'g') => "Medit output",
+        (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
+        _ => return None,
+    })
+}
+
+fn letter(mode: Mode, c: char, o: &mut Opts) -> Result<Option<Command>, Usage> {
+    match (mode, c) {
+        (_, 'z') => o.zero = true,
+        (_, 'Q') => o.quiet = true,
+        (_, 'V') => o.verbose = o.verbose.saturating_add(1),
+        (_, 'C') => o.check = true,
+        (_, 'e') => o.edges = true,
+        (_, 'n') => o.neigh = true,
+        (_, 'N') => o.no_node = true,
+        (_, 'E') => o.no_ele = true,
+        (_, 'I') => o.no_iteration = true,
+        (_, 'B') => o.no_bound = true,
+        (_, 'h') => return Ok(Some(Command::Help)),
+        (Mode::Tri, 'F') => o.fortune = true,
+        (Mode::Tet, 'F') => o.no_face = true,
+        (Mode::Tet, 'f') => o.all_faces = true,
+        (Mode::Tet, 'k') => o.vtk_legacy = true,
+        // delone never drops vertices from the output .node, which is what
+        // TetGen's -J asks for.
+        (Mode::Tet, 'J') => {}
+        _ => {
+            return Err(Usage(match unimplemented(mode, c) {
+                Some(what) => format!("switch -{c} ({what}) is not implemented yet"),
+                None => format!(
+                    "unknown switch -{c} for delone {} (see delone {} --help)",
+                    mode.name(),
+                    mode.name()
+                ),
+            }))
+        }
+    }
+    Ok(None)
+}
+
+fn value(
+    name: &str,
+    inline: Option<&str>,
+    it: &mut dyn Iterator<Item = String>,
+) -> Result<String, Usage> {
+    match inline {
+        Some(v) if !v.is_empty() => Ok(v.to_string()),
+        Some(_) => Err(Usage(format!("{name} needs a value"))),
+        None => it
+            .next()
+            .filter(|v| !v.is_empty())
+            .ok_or_else(|| Usage(format!("{name} needs a value"))),
+    }
+}
+
+/// Parses the arguments after the subcommand name.
+pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
+    let mut o = Opts::default();
+    let mut input: Option<String> = None;
+    let mut it = args.into_iter();
+    let mut only_files = false;
+    while let Some(a) = it.next() {
+        if only_files || a == "-" || !a.starts_with('-') {
+            if let Some(prev) = &input {
+                return Err(Usage(format!(
+                    "more than one input file ({prev} and {a}); delone {} takes one",
+                    mode.name()
+                )));
+            }
+            input = Some(a);
+            continue;
+        }
+        if a == "--" {
+            only_files = true;
+            continue;
+        }
+        if let Some(long) = a.strip_prefix("--") {
+            let (name, inline) = match long.split_once('=') {
+                Some((n, v)) => (n, Some(v)),
+                None => (long, None),
+            };
+            let flag = || -> Result<(), Usage> {
+                match inline {
+                    Some(_) => Err(Usage(format!("--{name} takes no value"))),
+                    None => Ok(()),
+                }
+            };
+            match name {
+                "help" => return Ok(Command::Help),
+                "version" => return Ok(Command::Version),
+                "quiet" => {
+                    flag()?;
+                    o.quiet = true
+                }
+                "verbose" => {
+                    flag()?;
+                    o.verbose = o.verbose.saturating_add(1)
+                }
+                "check" => {
+                    flag()?;
+                    o.check = true
+                }
+                "vtu-ascii" => {
+                    flag()?;
+                    o.vtu_ascii = true
+                }
+                "vtu" => o.vtu = Some(value("--vtu", inline, &mut it)?.into()),
+                "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
+                _ => {
+                    return Err(Usage(format!(
+                        "unknown option --{name} (see delone {} --help)",
+                        mode.name()
+                    )))
+                }
+            }
+            continue;
+        }
+        if a == "-o" {
+            o.vtu = Some(value("-o", None, &mut it)?.into());
+            continue;
+        }
+        for c in a[1..].chars() {
+            if let Some(cmd) = letter(mode, c, &mut o)? {
+                return Ok(cmd);
+            }
+        }
+        o.switches.push_str(&a[1..]);
+    }
+    match input {
+        Some(i) => {
+            o.input = i.into();
+            Ok(Command::Run(o))
+        }
+        None => Err(Usage(format!(
+            "no input file (usage: delone {} [-switches] FILE[.node]; see delone {} --help)",
+            mode.name(),
+            mode.name()
+        ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(mode: Mode, args: &[&str]) -> Result<Command, Usage> {
+        parse(mode, args.iter().map(|s| s.to_string()).collect())
+    }
+
+    #[test]
+    fn letters_and_long_options() {
+        let Ok(Command::Run(o)) = p(Mode::Tri, &["-zVVCen", "x.node", "--vtu=a.vtu", "-Q"]) else {
+            panic!()
+        };
+        assert!(o.zero && o.check && o.edges && o.neigh && o.quiet);
+        assert_eq!(o.verbose, 2);
+        assert_eq!(o.vtu, Some("a.vtu".into()));
+        assert_eq!(o.input, PathBuf::from("x.node"));
+        let Ok(Command::Run(o)) = p(
+            Mode::Tet,
+            &["-fkF", "-o", "b.vtu", "--output-dir", "d", "y"],
+        ) else {
+            panic!()
+        };
+        assert!(o.all_faces && o.vtk_legacy && o.no_face);
+        assert_eq!(o.output_dir, Some("d".into()));
+        assert_eq!(o.vtu, Some("b.vtu".into()));
+    }
+
+    #[test]
+    fn errors() {
+        let msg = |m, a: &[&str]| match p(m, a) {
+            Err(Usage(s)) => s,
+            Ok(c) => panic!("{c:?}"),
+        };
+        assert_eq!(
+            msg(Mode::Tri, &["-pq30", "x"]),
+            "switch -p (PSLG input (.poly)) is not implemented yet"
+        );
+        assert_eq!(
+            msg(Mode::Tri, &["-q", "x"]),
+            "switch -q (quality mesh) is not implemented yet"
+        );
+        assert!(msg(Mode::Tri, &["-k", "x"]).starts_with("unknown switch -k for delone tri"));
+        assert!(msg(Mode::Tet, &["-x"]).starts_with("unknown switch -x"));
+        assert!(msg(Mode::Tet, &["a", "b"]).starts_with("more than one input file"));
+        assert!(msg(Mode::Tet, &[]).starts_with("no input file"));
+        assert_eq!(msg(Mode::Tri, &["-o"]), "-o needs a value");
+        assert!(msg(Mode::Tri, &["-o2", "x"]).contains("-o (second-order"));
+        assert!(matches!(p(Mode::Tet, &["-zh"]), Ok(Command::Help)));
+    }
+}

@@ -1,0 +1,109 @@
+//! Help texts.
+
+pub const MAIN: &str = "\
+delone — robust Delaunay triangulation (2D) and tetrahedralization (3D)
+
+USAGE:
+    delone tri [-SWITCHES] [OPTIONS] FILE[.node]   2D, Triangle's switches
+    delone tet [-SWITCHES] [OPTIONS] FILE[.node]   3D, TetGen's switches
+    delone --help | --version
+
+Both subcommands read a Triangle/TetGen .node point file and write the
+Delaunay mesh next to it, named as Triangle and TetGen name their output
+(FILE.node -> FILE.1.node, FILE.1.ele, ...; FILE.1.node -> FILE.2.*).
+Switch letters keep the meaning they have in the program each subcommand
+stands in for and may be grouped (-zen). `delone tri --help` and
+`delone tet --help` list them.
+
+Exit codes: 0 success, 1 input or mesh error, 2 usage error.
+";
+
+pub const TRI: &str = "\
+delone tri — 2D Delaunay triangulation with Triangle's command line
+
+USAGE:
+    delone tri [-SWITCHES] [OPTIONS] FILE[.node]
+
+Reads FILE.node (2D points; `#` comments; numbering from 0 or 1) and writes
+FILE.1.node and FILE.1.ele (FILE.2.* if the input is FILE.1.node).
+
+SWITCHES (Triangle letters, may be grouped: -zenC):
+    -z   Number all output items from zero (otherwise from the input's first
+         index: 1 unless the input starts at 0).
+    -e   Also write the edges to FILE.1.edge (boundary marker 1 on the hull).
+    -n   Also write the neighbours to FILE.1.neigh (-1 for none).
+    -N   Do not write the .node file.
+    -E   Do not write the .ele file.
+    -I   No iteration numbers: write FILE.node / FILE.ele (refused when this
+         would overwrite the input).
+    -B   No boundary markers in the output .node and .edge files.
+    -C   Check the mesh with delone's independent validator and report
+         (exit code 1 if it finds a violation; the files are still written).
+    -F   Accepted (Triangle: Fortune's sweepline); delone always uses its own
+         incremental algorithm (BRIO + Hilbert order, exact predicates).
+    -Q   Quiet: no summary, no progress.
+    -V   Verbose (repeat for more: -VV): phase details, duplicates by index,
+         hull size.
+    -h   This help.
+    Not implemented yet (error, exit code 2): -p -r -q -a -u -A -c -D -j -v -g
+    -P -O -X -Y -S -i -l -s -o2.
+
+OPTIONS:
+    -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary
+                                  appended) with the point markers.
+    --vtu-ascii                   Write that .vtu as ASCII (default path
+                                  FILE.1.vtu if no -o/--vtu is given).
+    --output-dir DIR              Write every output file into DIR.
+    --quiet, --verbose, --check   Same as -Q, -V, -C.
+    --help, --version
+
+Output .node files keep every input point, numbered as in the input (exact
+duplicates are reported and left out of the triangles); markers are the input
+markers, or 1 on the convex hull and 0 inside.
+";
+
+pub const TET: &str = "\
+delone tet — 3D Delaunay tetrahedralization with TetGen's command line
+
+USAGE:
+    delone tet [-SWITCHES] [OPTIONS] FILE[.node]
+
+Reads FILE.node (3D points; `#` comments; numbering from 0 or 1) and writes
+FILE.1.node, FILE.1.ele and FILE.1.face (convex hull faces), or FILE.2.* if
+the input is FILE.1.node.
+
+SWITCHES (TetGen letters, may be grouped: -zfenC):
+    -z   Number all output items from zero (otherwise from the input's first
+         index: 1 unless the input starts at 0).
+    -f   Write all faces (not only the hull) to FILE.1.face (marker 1 on the
+         hull, 0 inside).
+    -e   Also write the edges to FILE.1.edge (marker 1 on the hull).
+    -n   Also write the neighbours to FILE.1.neigh (-1 for none).
+    -k   Also write FILE.1.vtk (legacy ASCII VTK, for ParaView).
+    -N   Do not write the .node file.
+    -E   Do not write the .ele file.
+    -F   Do not write the .face and .edge files.
+    -I   No iteration numbers: write FILE.node / FILE.ele / ... (refused when
+         this would overwrite the input).
+    -B   No boundary markers in the output .node, .face and .edge files.
+    -J   Accepted: delone never removes unused vertices from the output .node.
+    -C   Check the mesh with delone's independent validator and report
+         (exit code 1 if it finds a violation; the files are still written).
+    -Q   Quiet: no summary, no progress.
+    -V   Verbose (repeat for more: -VV).
+    -h   This help.
+    Not implemented yet (error, exit code 2): -p -Y -r -q -R -A -m -a -i -O -S
+    -T -X -M -w -c -d -D -v -g -o2 -o/.
+
+OPTIONS:
+    -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary
+                                  appended) with the point markers.
+    --vtu-ascii                   Write that .vtu as ASCII (default path
+                                  FILE.1.vtu if no -o/--vtu is given).
+    --output-dir DIR              Write every output file into DIR.
+    --quiet, --verbose, --check   Same as -Q, -V, -C.
+    --help, --version
+
+Tetrahedra are written with positive orientation: (b-a)x(c-a).(d-a) > 0.
+Hull faces in .face are oriented with their normal pointing out of the mesh.
+";

@@ -1,0 +1,710 @@
+//! One run of `delone tri` / `delone tet`: read, mesh, check, write, report.
+
+use std::fs::File;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use delone_io::topo::{self, Entities};
+use delone_io::{DataArray, NodeFile, Values, VtuFormat};
+
+use crate::args::{Mode, Opts};
+
+/// A failed run: message and exit code (1 input/mesh, 2 usage).
+#[derive(Debug)]
+pub struct Failure {
+    pub message: String,
+    pub code: i32,
+}
+
+fn input_err(message: impl Into<String>) -> Failure {
+    Failure {
+        message: message.into(),
+        code: 1,
+    }
+}
+
+fn usage_err(message: impl Into<String>) -> Failure {
+    Failure {
+        message: message.into(),
+        code: 2,
+    }
+}
+
+/// Input file and output base name, as Triangle/TetGen derive them.
+#[derive(Debug, PartialEq)]
+pub struct Names {
+    /// The `.node` file to read.
+    pub node: PathBuf,
+    /// Output files are `<out_base>.node`, `<out_base>.ele`, ...
+    pub out_base: PathBuf,
+}
+
+const OTHER_FORMATS: &[&str] = &[
+    "poly", "smesh", "off", "ply", "stl", "obj", "mesh", "vtk", "vtu", "ele", "face", "edge",
+    "neigh", "msh", "medit",
+];
+
+/// `FILE` or `FILE.node` → (`FILE.node`, `FILE.1`); `FILE.1.node` → `FILE.2`;
+/// with `no_iteration` the output base is `FILE` itself.
+pub fn names(
+    input: &Path,
+    no_iteration: bool,
+    output_dir: Option<&Path>,
+) -> Result<Names, Failure> {
+    let s = input.to_string_lossy();
+    let base: String = if let Some(b) = s.strip_suffix(".node") {
+        b.to_string()
+    } else {
+        if let Some(ext) = input.extension().and_then(|e| e.to_str()) {
+            if OTHER_FORMATS.contains(&ext.to_ascii_lowercase().as_str()) {
+                return Err(usage_err(format!(
+                    "{s}: .{ext} input is not supported yet (delone reads .node point files; \
+                     PSLG/PLC input needs -p, which is not implemented yet)"
+                )));
+            }
+        }
+        s.to_string()
+    };
+    if base.is_empty() || base.ends_with('/') {
+        return Err(usage_err(format!("{s}: not a file name")));
+    }
+    let node = PathBuf::from(format!("{base}.node"));
+    let out = if no_iteration {
+        base.clone()
+    } else {
+        // An iteration number is a trailing ".<digits>" in the file name.
+        let (stem, num) = match base.rsplit_once('.') {
+            Some((stem, n))
+                if !n.is_empty()
+                    && n.len() < 10
+                    && n.bytes().all(|b| b.is_ascii_digit())
+                    && !stem.is_empty()
+                    && !stem.ends_with('/') =>
+            {
+                (stem.to_string(), n.parse::<u64>().unwrap_or(0))
+            }
+            _ => (base.clone(), 0),
+        };
+        format!("{stem}.{}", num + 1)
+    };
+    let out_base = match output_dir {
+        Some(dir) => {
+            let file = Path::new(&out)
+                .file_name()
+                .map(PathBuf::from)
+                .unwrap_or_default();
+            dir.join(file)
+        }
+        None => PathBuf::from(out),
+    };
+    Ok(Names { node, out_base })
+}
+
+fn with_ext(base: &Path, ext: &str) -> PathBuf {
+    let mut s = base.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+/// Progress reporting on stderr once a phase lasts longer than a second.
+struct Progress {
+    enabled: bool,
+    tty: bool,
+    start: Instant,
+    last: Option<Instant>,
+    label: &'static str,
+}
+
+impl Progress {
+    fn new(enabled: bool, label: &'static str) -> Self {
+        Progress {
+            enabled,
+            tty: std::io::stderr().is_terminal(),
+            start: Instant::now(),
+            last: None,
+            label,
+        }
+    }
+
+    fn update(&mut self, done: usize, total: usize) {
+        if !self.enabled || self.start.elapsed() < Duration::from_secs(1) {
+            return;
+        }
+        let every = if self.tty {
+            Duration::from_millis(200)
+        } else {
+            Duration::from_secs(2)
+        };
+        if self.last.is_some_and(|l| l.elapsed() < every) {
+            return;
+        }
+        self.last = Some(Instant::now());
+        let pct = if total == 0 {
+            100.0
+        } else {
+            100.0 * done as f64 / total as f64
+        };
+        let mut err = std::io::stderr().lock();
+        if self.tty {
+            let w = 30usize;
+            let fill = ((pct / 100.0) * w as f64) as usize;
+            let _ = write!(
+                err,
+                "\r{}: [{}{}] {:5.1}% ({done}/{total} points)",
+                self.label,
+                "#".repeat(fill.min(w)),
+                " ".repeat(w - fill.min(w)),
+                pct
+            );
+        } else {
+            let _ = writeln!(err, "{}: {pct:.0}% ({done}/{total} points)", self.label);
+        }
+        let _ = err.flush();
+    }
+
+    fn finish(&mut self) {
+        if self.enabled && self.tty && self.last.is_some() {
+            let _ = writeln!(std::io::stderr());
+        }
+    }
+}
+
+/// Timings and counts for the summary.
+struct Report {
+    lines: Vec<String>,
+}
+
+impl Report {
+    fn push(&mut self, s: impl Into<String>) {
+        self.lines.push(s.into());
+    }
+}
+
+fn secs(d: Duration) -> String {
+    format!("{:.3} s", d.as_secs_f64())
+}
+
+/// Writes one output file through `f`, adding its name to `written`.
+fn write_file(
+    path: &Path,
+    written: &mut Vec<PathBuf>,
+    f: impl FnOnce(File) -> Result<(), delone_io::IoError>,
+) -> Result<(), Failure> {
+    let file = File::create(path)
+        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    f(file).map_err(|e| input_err(format!("cannot write {}: {e}", path.display())))?;
+    written.push(path.to_path_buf());
+    Ok(())
+}
+
+/// The parts of a mesh the writers need, whatever the dimension.
+struct MeshOut<const K: usize> {
+    cells: Vec<[u32; K]>,
+    neighbors: Vec<[u32; K]>,
+    vertex_map: Vec<u32>,
+    duplicates: Vec<(u32, u32)>,
+}
+
+/// Output markers: the input marker when nonzero, else 1 on the hull, 0
+/// inside; a duplicate point takes the marker of the point it duplicates.
+fn node_markers(node: &NodeFile, hull: &[bool], vertex_map: &[u32]) -> Vec<i32> {
+    let n = node.len();
+    let own: Vec<i32> = (0..n)
+        .map(|i| {
+            let m = node.markers.as_ref().map_or(0, |m| m[i]);
+            if m != 0 {
+                m
+            } else {
+                i32::from(hull.get(i).copied().unwrap_or(false))
+            }
+        })
+        .collect();
+    (0..n)
+        .map(|i| {
+            let rep = vertex_map.get(i).map_or(i, |&r| r as usize);
+            if rep != i && node.markers.as_ref().map_or(0, |m| m[i]) == 0 {
+                own.get(rep).copied().unwrap_or(own[i])
+            } else {
+                own[i]
+            }
+        })
+        .collect()
+}
+
+fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
+    let p = path.display();
+    let f = node.first_index as usize;
+    input_err(match e {
+        delone::Error::InvalidCoordinate { index } => {
+            let line = node.lines.get(index).copied().unwrap_or(0);
+            format!(
+                "{p}: line {line}: point {} has a NaN or infinite coordinate",
+                index + f
+            )
+        }
+        other => format!("{p}: {other}"),
+    })
+}
+
+/// Runs one subcommand. Returns the exit code on success (0, or 1 when
+/// `-C` found a violation).
+pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
+    let t_all = Instant::now();
+    let names = names(&o.input, o.no_iteration, o.output_dir.as_deref())?;
+    let dim = match mode {
+        Mode::Tri => 2,
+        Mode::Tet => 3,
+    };
+
+    // Output file list, checked for collisions with the input before any work.
+    let ob = &names.out_base;
+    let mut planned: Vec<(&'static str, PathBuf)> = Vec::new();
+    if !o.no_node {
+        planned.push(("node", with_ext(ob, "node")));
+    }
+    if !o.no_ele {
+        planned.push(("ele", with_ext(ob, "ele")));
+    }
+    if mode == Mode::Tet && !o.no_face {
+        planned.push(("face", with_ext(ob, "face")));
+    }
+    if o.edges && !(mode == Mode::Tet && o.no_face) {
+        planned.push(("edge", with_ext(ob, "edge")));
+    }
+    if o.neigh {
+        planned.push(("neigh", with_ext(ob, "neigh")));
+    }
+    if mode == Mode::Tet && o.vtk_legacy {
+        planned.push(("vtk", with_ext(ob, "vtk")));
+    }
+    let vtu_path = match (&o.vtu, o.vtu_ascii) {
+        (Some(p), _) => Some(p.clone()),
+        (None, true) => Some(with_ext(ob, "vtu")),
+        (None, false) => None,
+    };
+    if let Some(p) = &vtu_path {
+        planned.push(("vtu", p.clone()));
+    }
+    for (_, p) in &planned {
+        if same_file(p, &names.node) {
+            return Err(usage_err(format!(
+                "output {} would overwrite the input{}",
+                p.display(),
+                if o.no_iteration {
+                    " (drop -I, add -N, or use --output-dir)"
+                } else {
+                    ""
+                }
+            )));
+        }
+    }
+
+    // Read.
+    let t0 = Instant::now();
+    let bytes = std::fs::read(&names.node)
+        .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
+    let node = delone_io::read_node(&bytes)
+        .map_err(|e| input_err(format!("{}: {e}", names.node.display())))?;
+    drop(bytes);
+    if node.dim != dim {
+        return Err(input_err(format!(
+            "{}: line {}: the header gives dimension {}, delone {} needs {dim}D points{}",
+            names.node.display(),
+            node.header_line,
+            node.dim,
+            mode.name(),
+            if node.dim == 3 {
+                " (use delone tet)"
+            } else {
+                " (use delone tri)"
+            }
+        )));
+    }
+    let t_read = t0.elapsed();
+    if let Some(dir) = &o.output_dir {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
+    }
+    let first = if o.zero { 0 } else { node.first_index };
+    let quiet = o.quiet;
+    let mut rep = Report { lines: Vec::new() };
+    rep.push(format!(
+        "delone {}: {} ({} point{}{})",
+        mode.name(),
+        names.node.display(),
+        node.len(),
+        if node.len() == 1 { "" } else { "s" },
+        if node.n_attributes > 0 {
+            format!(", {} attribute(s) each", node.n_attributes)
+        } else {
+            String::new()
+        }
+    ));
+    if o.verbose > 0 && o.fortune {
+        rep.push(
+            "  -F: Fortune's sweepline is not used; delone inserts points incrementally \
+             (Bowyer-Watson, BRIO + Hilbert order, exact predicates)",
+        );
+    }
+
+    match mode {
+        Mode::Tri => {
+            let pts = node.points::<2>().unwrap_or_default();
+            let t1 = Instant::now();
+            let mut prog = Progress::new(!quiet, "triangulating");
+            let res = delone::tri::Delaunay2::from_points_with_progress(&pts, &mut |d, t| {
+                prog.update(d, t)
+            });
+            prog.finish();
+            let mesh = res
+                .map_err(|e| mesh_error(&names.node, &node, e))?
+                .into_mesh();
+            let t_mesh = t1.elapsed();
+            let check = if o.check {
+                let t = Instant::now();
+                let r = delone::tri::validate(&pts, &mesh).map_err(|v| v.to_string());
+                Some((r, t.elapsed()))
+            } else {
+                None
+            };
+            let m = MeshOut {
+                cells: mesh.triangles,
+                neighbors: mesh.neighbors,
+                vertex_map: mesh.vertex_map,
+                duplicates: mesh.duplicates,
+            };
+            let t_derive = Instant::now();
+            let edges = topo::tri_edges(&m.cells, &m.neighbors)
+                .map_err(|e| input_err(format!("internal error: {e}")))?;
+            let hull = topo::boundary_vertices(&edges, node.len());
+            let t_derive = t_derive.elapsed();
+            let (written, t_write) = write_outputs(
+                mode,
+                o,
+                &node,
+                &pts,
+                &m,
+                &planned,
+                first,
+                &hull,
+                Some(&edges),
+                None,
+            )?;
+            let t_write = t_write + t_derive;
+            summarize(
+                mode, o, &node, &m, &edges, check, &mut rep, t_read, t_mesh, t_write, &written,
+                t_all,
+            )
+        }
+        Mode::Tet => {
+            let pts = node.points::<3>().unwrap_or_default();
+            let t1 = Instant::now();
+            let mut prog = Progress::new(!quiet, "tetrahedralizing");
+            let res = delone::tet::Delaunay3::from_points_with_progress(&pts, &mut |d, t| {
+                prog.update(d, t)
+            });
+            prog.finish();
+            let mesh = res
+                .map_err(|e| mesh_error(&names.node, &node, e))?
+                .into_mesh();
+            let t_mesh = t1.elapsed();
+            let check = if o.check {
+                let t = Instant::now();
+                let r = delone::tet::validate(&pts, &mesh).map_err(|v| v.to_string());
+                Some((r, t.elapsed()))
+            } else {
+                None
+            };
+            let m = MeshOut {
+                cells: mesh.tets,
+                neighbors: mesh.neighbors,
+                vertex_map: mesh.vertex_map,
+                duplicates: mesh.duplicates,
+            };
+            let t_derive = Instant::now();
+            let faces = topo::tet_faces(&m.cells, &m.neighbors, o.all_faces)
+                .map_err(|e| input_err(format!("internal error: {e}")))?;
+            let hull = topo::boundary_vertices(&faces, node.len());
+            let edges = if o.edges && !o.no_face {
+                Some(
+                    topo::tet_edges(&m.cells, &m.neighbors)
+                        .map_err(|e| input_err(format!("internal error: {e}")))?,
+                )
+            } else {
+                None
+            };
+            let t_derive = t_derive.elapsed();
+            let (written, t_write) = write_outputs(
+                mode,
+                o,
+                &node,
+                &pts,
+                &m,
+                &planned,
+                first,
+                &hull,
+                edges.as_ref(),
+                Some(&faces),
+            )?;
+            let t_write = t_write + t_derive;
+            summarize(
+                mode, o, &node, &m, &faces, check, &mut rep, t_read, t_mesh, t_write, &written,
+                t_all,
+            )
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn write_outputs<const D: usize, const K: usize>(
+    mode: Mode,
+    o: &Opts,
+    node: &NodeFile,
+    pts: &[[f64; D]],
+    m: &MeshOut<K>,
+    planned: &[(&'static str, PathBuf)],
+    first: u32,
+    hull: &[bool],
+    edges: Option<&Entities<2>>,
+    faces: Option<&Entities<3>>,
+) -> Result<(Vec<PathBuf>, Duration), Failure> {
+    let t = Instant::now();
+    let markers = node_markers(node, hull, &m.vertex_map);
+    let bound = !o.no_bound;
+    let mut written = Vec::new();
+    let attr_cols: Vec<Vec<f64>> = (0..node.n_attributes)
+        .map(|k| {
+            node.attributes
+                .iter()
+                .skip(k)
+                .step_by(node.n_attributes)
+                .copied()
+                .collect()
+        })
+        .collect();
+    let attr_names: Vec<String> = (0..node.n_attributes)
+        .map(|k| format!("attribute_{}", k + 1))
+        .collect();
+    let point_data = || {
+        let mut pd = Vec::new();
+        if bound {
+            pd.push(DataArray {
+                name: "marker",
+                values: Values::Int32(&markers),
+            });
+        }
+        for (name, col) in attr_names.iter().zip(&attr_cols) {
+            pd.push(DataArray {
+                name,
+                values: Values::Float64(col),
+            });
+        }
+        pd
+    };
+    for (kind, path) in planned {
+        match *kind {
+            "node" => write_file(path, &mut written, |f| {
+                delone_io::write_node(
+                    f,
+                    pts,
+                    &node.attributes,
+                    node.n_attributes,
+                    bound.then_some(&markers[..]),
+                    first,
+                )
+            })?,
+            "ele" => write_file(path, &mut written, |f| {
+                delone_io::write_ele(f, &m.cells, &[], 0, first)
+            })?,
+            "neigh" => write_file(path, &mut written, |f| {
+                delone_io::write_neigh(f, &m.neighbors, first)
+            })?,
+            "edge" => {
+                if let Some(e) = edges {
+                    let mk = e.markers();
+                    write_file(path, &mut written, |f| {
+                        delone_io::write_edge(f, &e.items, bound.then_some(&mk[..]), first)
+                    })?
+                }
+            }
+            "face" => {
+                if let Some(fc) = faces {
+                    let mk = fc.markers();
+                    write_file(path, &mut written, |f| {
+                        delone_io::write_face(f, &fc.items, bound.then_some(&mk[..]), first)
+                    })?
+                }
+            }
+            "vtk" => write_file(path, &mut written, |f| {
+                delone_io::write_vtk_legacy(
+                    f,
+                    pts,
+                    &m.cells,
+                    &point_data(),
+                    &[],
+                    &format!("delone {} output", mode.name()),
+                )
+            })?,
+            "vtu" => write_file(path, &mut written, |f| {
+                delone_io::write_vtu(
+                    f,
+                    pts,
+                    &m.cells,
+                    &point_data(),
+                    &[],
+                    if o.vtu_ascii {
+                        VtuFormat::Ascii
+                    } else {
+                        VtuFormat::Binary
+                    },
+                )
+            })?,
+            _ => {}
+        }
+    }
+    Ok((written, t.elapsed()))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn summarize<const K: usize, const B: usize>(
+    mode: Mode,
+    o: &Opts,
+    node: &NodeFile,
+    m: &MeshOut<K>,
+    boundary: &Entities<B>,
+    check: Option<(Result<(), String>, Duration)>,
+    rep: &mut Report,
+    t_read: Duration,
+    t_mesh: Duration,
+    t_write: Duration,
+    written: &[PathBuf],
+    t_all: Instant,
+) -> Result<i32, Failure> {
+    let f = if o.zero { 0 } else { node.first_index } as usize;
+    let fin = node.first_index as usize;
+    let (elem, side) = match mode {
+        Mode::Tri => ("triangles", "hull edges"),
+        Mode::Tet => ("tetrahedra", "hull faces"),
+    };
+    rep.push(format!(
+        "  duplicates: {}   {elem}: {}",
+        m.duplicates.len(),
+        m.cells.len()
+    ));
+    if o.verbose > 0 {
+        let nhull = boundary.boundary.iter().filter(|&&b| b).count();
+        rep.push(format!("  {side}: {nhull}"));
+        let show = if o.verbose > 1 { usize::MAX } else { 20 };
+        for &(d, orig) in m.duplicates.iter().take(show) {
+            rep.push(format!(
+                "  point {} (line {}) duplicates point {}",
+                d as usize + fin,
+                node.lines.get(d as usize).copied().unwrap_or(0),
+                orig as usize + fin
+            ));
+        }
+        if m.duplicates.len() > show {
+            rep.push(format!(
+                "  ... {} more duplicates (-VV lists all)",
+                m.duplicates.len() - show
+            ));
+        }
+        if f != fin {
+            rep.push("  output numbered from 0 (-z)".to_string());
+        }
+    }
+    let mut code = 0;
+    let mut check_time = Duration::ZERO;
+    if let Some((r, t)) = &check {
+        check_time = *t;
+        match r {
+            Ok(()) => rep.push("  check (-C): the mesh passed delone's validator"),
+            Err(v) => {
+                eprintln!("delone: error: check (-C) failed: {v}");
+                code = 1;
+            }
+        }
+    }
+    rep.push(format!(
+        "  time: read {}, {} {}, {}write {}, total {}",
+        secs(t_read),
+        match mode {
+            Mode::Tri => "triangulate",
+            Mode::Tet => "tetrahedralize",
+        },
+        secs(t_mesh),
+        if check.is_some() {
+            format!("check {}, ", secs(check_time))
+        } else {
+            String::new()
+        },
+        secs(t_write),
+        secs(t_all.elapsed())
+    ));
+    if !written.is_empty() {
+        let list: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+        rep.push(format!("  wrote {}", list.join(", ")));
+    }
+    if !o.quiet {
+        let mut out = std::io::stdout().lock();
+        for l in &rep.lines {
+            let _ = writeln!(out, "{l}");
+        }
+    }
+    Ok(code)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nm(s: &str, i: bool, d: Option<&str>) -> (String, String) {
+        let n = names(Path::new(s), i, d.map(Path::new)).unwrap();
+        (
+            n.node.display().to_string(),
+            n.out_base.display().to_string(),
+        )
+    }
+
+    #[test]
+    fn output_naming() {
+        assert_eq!(
+            nm("a/box.node", false, None),
+            ("a/box.node".into(), "a/box.1".into())
+        );
+        assert_eq!(
+            nm("a/box", false, None),
+            ("a/box.node".into(), "a/box.1".into())
+        );
+        assert_eq!(
+            nm("box.1.node", false, None),
+            ("box.1.node".into(), "box.2".into())
+        );
+        assert_eq!(
+            nm("box.9", false, None),
+            ("box.9.node".into(), "box.10".into())
+        );
+        assert_eq!(
+            nm("box.node", true, None),
+            ("box.node".into(), "box".into())
+        );
+        assert_eq!(
+            nm("v1.2/pts", false, None),
+            ("v1.2/pts.node".into(), "v1.2/pts.1".into())
+        );
+        assert_eq!(
+            nm("in/box.node", false, Some("out")),
+            ("in/box.node".into(), "out/box.1".into())
+        );
+        assert!(names(Path::new("x.poly"), false, None).is_err());
+    }
+}

@@ -1,0 +1,142 @@
+//! A small buffered text/binary emitter used by every writer.
+//!
+//! Integers are formatted by hand (no `fmt` machinery), floats with Rust's
+//! shortest round-trip formatting (`{}` for ordinary magnitudes, `{:e}` for
+//! very large or very small ones so that `1e300` does not print 301 digits).
+
+use std::io::Write;
+
+const FLUSH_AT: usize = 1 << 16;
+
+pub(crate) struct Out<W: Write> {
+    w: W,
+    pub(crate) buf: Vec<u8>,
+}
+
+impl<W: Write> Out<W> {
+    pub(crate) fn new(w: W) -> Self {
+        Out {
+            w,
+            buf: Vec::with_capacity(FLUSH_AT + 4096),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn str(&mut self, s: &str) {
+        self.buf.extend_from_slice(s.as_bytes());
+    }
+
+    #[inline]
+    pub(crate) fn byte(&mut self, b: u8) {
+        self.buf.push(b);
+    }
+
+    #[inline]
+    pub(crate) fn uint(&mut self, mut v: u64) {
+        let mut tmp = [0u8; 20];
+        let mut i = tmp.len();
+        loop {
+            i -= 1;
+            tmp[i] = b'0' + (v % 10) as u8;
+            v /= 10;
+            if v == 0 {
+                break;
+            }
+        }
+        self.buf.extend_from_slice(&tmp[i..]);
+    }
+
+    #[inline]
+    pub(crate) fn int(&mut self, v: i64) {
+        if v < 0 {
+            self.buf.push(b'-');
+        }
+        self.uint(v.unsigned_abs());
+    }
+
+    #[inline]
+    pub(crate) fn float(&mut self, x: f64) {
+        push_float(&mut self.buf, x);
+    }
+
+    /// Ends a line and flushes the buffer when it is large.
+    #[inline]
+    pub(crate) fn nl(&mut self) -> std::io::Result<()> {
+        self.buf.push(b'\n');
+        self.maybe_flush()
+    }
+
+    #[inline]
+    pub(crate) fn maybe_flush(&mut self) -> std::io::Result<()> {
+        if self.buf.len() >= FLUSH_AT {
+            self.w.write_all(&self.buf)?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    pub(crate) fn finish(mut self) -> std::io::Result<()> {
+        self.w.write_all(&self.buf)?;
+        self.buf.clear();
+        self.w.flush()
+    }
+}
+
+/// Appends the shortest text that parses back to exactly `x`.
+pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
+    let a = x.abs();
+    // `write!` into a Vec<u8> cannot fail.
+    if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+        let _ = write!(buf, "{x}");
+    } else {
+        let _ = write!(buf, "{x:e}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_round_trip() {
+        let vals = [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            0.1,
+            1e-5,
+            1e-6,
+            1e16,
+            1e300,
+            -1e-300,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+            5e-324,
+            std::f64::consts::PI,
+            123_456_789.123_456_79,
+        ];
+        for &v in &vals {
+            let mut b = Vec::new();
+            push_float(&mut b, v);
+            let s = String::from_utf8(b).unwrap();
+            let back: f64 = s.parse().unwrap();
+            assert_eq!(back.to_bits(), v.to_bits(), "{v} printed as {s}");
+            assert!(s.len() <= 24, "{s} too long");
+        }
+    }
+
+    #[test]
+    fn ints() {
+        let mut o = Out::new(Vec::new());
+        for v in [0i64, 7, -1, 10, 1234567890, i64::MIN, i64::MAX] {
+            o.int(v);
+            o.byte(b' ');
+        }
+        let s = String::from_utf8(o.buf.clone()).unwrap();
+        assert_eq!(
+            s,
+            format!("0 7 -1 10 1234567890 {} {} ", i64::MIN, i64::MAX)
+        );
+    }
+}

@@ -1,0 +1,614 @@
+//! Readers for the Triangle/TetGen `.node` and `.ele` formats.
+//!
+//! Both formats are whitespace-separated text: comments run from `#` to the
+//! end of the line, blank lines are skipped, the first record is a header.
+//! Readers never panic, whatever the bytes; they return an [`IoError`]
+//! naming the line.
+
+use crate::IoError;
+
+/// Splits the input into records (non-empty lines after comment removal),
+/// each with its 1-based line number.
+struct Records<'a> {
+    rest: &'a [u8],
+    line: usize,
+}
+
+impl<'a> Records<'a> {
+    fn new(input: &'a [u8]) -> Self {
+        Records {
+            rest: input,
+            line: 0,
+        }
+    }
+
+    /// Fills `toks` with the tokens of the next non-empty record and returns
+    /// its line number, or `None` at the end of the input.
+    fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
+        loop {
+            if self.rest.is_empty() {
+                return None;
+            }
+            self.line += 1;
+            let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
+                Some(p) => (&self.rest[..p], &self.rest[p + 1..]),
+                None => (self.rest, &self.rest[self.rest.len()..]),
+            };
+            self.rest = rest;
+            let line = match line.iter().position(|&b| b == b'#') {
+                Some(p) => &line[..p],
+                None => line,
+            };
+            toks.clear();
+            toks.extend(
+                line.split(|b| b.is_ascii_whitespace())
+                    .filter(|t| !t.is_empty()),
+            );
+            if !toks.is_empty() {
+                return Some(self.line);
+            }
+        }
+    }
+}
+
+fn show(tok: &[u8]) -> String {
+    let s = String::from_utf8_lossy(tok);
+    let mut s: String = s.chars().take(40).collect();
+    if tok.len() > 40 {
+        s.push('…');
+    }
+    format!("\"{s}\"")
+}
+
+fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
+    std::str::from_utf8(tok)
+        .ok()
+        .and_then(|s| s.parse::<i64>().ok())
+        .ok_or_else(|| IoError::syntax(line, what.to_string(), show(tok)))
+}
+
+fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
+    std::str::from_utf8(tok)
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+        .ok_or_else(|| IoError::syntax(line, what.to_string(), show(tok)))
+}
+
+/// Parses a real number; `nan`, `inf`, `infinity` (any case, with sign) are
+/// accepted so that the mesher can report which point carries them.
+fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
+    std::str::from_utf8(tok)
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .ok_or_else(|| IoError::syntax(line, what.to_string(), show(tok)))
+}
+
+/// Checks the index of item `k` (0-based position in the file) and, for the
+/// first item, detects whether the file numbers from 0 or 1.
+fn check_index(
+    tok: &[u8],
+    line: usize,
+    k: usize,
+    first: &mut Option<u32>,
+    what: &str,
+) -> Result<(), IoError> {
+    let idx = parse_int(tok, line, &format!("{what} index"))?;
+    match *first {
+        None => {
+            if idx != 0 && idx != 1 {
+                return Err(IoError::syntax(
+                    line,
+                    format!("first {what} index 0 or 1"),
+                    idx.to_string(),
+                ));
+            }
+            *first = Some(idx as u32);
+        }
+        Some(f) => {
+            let want = f as i64 + k as i64;
+            if idx != want {
+                return Err(IoError::syntax(
+                    line,
+                    format!("{what} index {want}"),
+                    idx.to_string(),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The content of a Triangle/TetGen `.node` file, as returned by [`read_node`].
+///
+/// ```
+/// let f = delone_io::read_node(b"1 3 0 0\n0 1 2 3\n").unwrap();
+/// assert_eq!((f.dim, f.first_index, f.header_line), (3, 0, 1));
+/// assert_eq!(f.coords, vec![1.0, 2.0, 3.0]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeFile {
+    /// Dimension from the header: 2 or 3.
+    pub dim: usize,
+    /// Coordinates, `dim` per point, point after point.
+    pub coords: Vec<f64>,
+    /// Number of attributes per point.
+    pub n_attributes: usize,
+    /// Attributes, `n_attributes` per point, point after point.
+    pub attributes: Vec<f64>,
+    /// Boundary markers, one per point, if the header announces them.
+    pub markers: Option<Vec<i32>>,
+    /// Index of the first point in the file (0 or 1); later indices must be
+    /// consecutive.
+    pub first_index: u32,
+    /// Line number of the header (1-based, for messages).
+    pub header_line: usize,
+    /// Line number of each point record (1-based, for messages).
+    pub lines: Vec<usize>,
+}
+
+impl NodeFile {
+    /// Number of points.
+    ///
+    /// ```
+    /// let f = delone_io::read_node(b"2 2 0 0\n1 0 0\n2 1 0\n").unwrap();
+    /// assert_eq!(f.len(), 2);
+    /// ```
+    pub fn len(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// `true` when the file holds no point.
+    ///
+    /// ```
+    /// let f = delone_io::read_node(b"0 2 0 0\n").unwrap();
+    /// assert!(f.is_empty());
+    /// ```
+    pub fn is_empty(&self) -> bool {
+        self.lines.is_empty()
+    }
+
+    /// The points as fixed-size arrays, if the file's dimension is `D`.
+    ///
+    /// ```
+    /// let f = delone_io::read_node(b"2 2 0 0\n1 0 0.5\n2 1 2\n").unwrap();
+    /// assert_eq!(f.points::<2>(), Some(vec![[0.0, 0.5], [1.0, 2.0]]));
+    /// assert_eq!(f.points::<3>(), None);
+    /// ```
+    pub fn points<const D: usize>(&self) -> Option<Vec<[f64; D]>> {
+        if D != self.dim || D == 0 {
+            return None;
+        }
+        Some(
+            self.coords
+                .chunks_exact(D)
+                .map(|c| {
+                    let mut p = [0.0; D];
+                    p.copy_from_slice(c);
+                    p
+                })
+                .collect(),
+        )
+    }
+}
+
+/// Reads a Triangle/TetGen `.node` file from bytes.
+///
+/// Header: `<#points> <dimension> [<#attributes> [<#boundary markers (0|1)>]]`
+/// (missing trailing header fields default to 0); then one line per point:
+/// `<index> <x> <y> [<z>] [attributes…] [marker]`. The first index (0 or 1)
+/// is detected from the first point; later indices must be consecutive.
+/// A missing marker at the end of a point line reads as 0 and extra fields
+/// are ignored, as Triangle and TetGen do; missing coordinates or attributes
+/// are an error. `nan` and `inf` parse as numbers (the mesher rejects them,
+/// naming the point).
+///
+/// # Errors
+/// [`IoError::Syntax`] for a malformed field (with line, expectation and
+/// finding), [`IoError::UnexpectedEnd`] when there are fewer points than the
+/// header says, [`IoError::Unsupported`] for a dimension other than 2 or 3.
+///
+/// ```
+/// let text = b"# a square\n4 2 1 1\n1 0 0 7.5 1\n2 1 0 7.5 1\n3 1 1 7.5 1\n4 0 1 7.5 1\n";
+/// let f = delone_io::read_node(text).unwrap();
+/// assert_eq!((f.dim, f.len(), f.first_index), (2, 4, 1));
+/// assert_eq!(f.attributes, vec![7.5; 4]);
+/// assert_eq!(f.markers, Some(vec![1; 4]));
+///
+/// let err = delone_io::read_node(b"3 2 0 0\n1 0 0\n2 1\n").unwrap_err();
+/// assert_eq!(err.to_string(), "line 3: expected 2 coordinates, found 1");
+/// ```
+pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
+    let mut rec = Records::new(input);
+    let mut toks = Vec::with_capacity(8);
+    let Some(hline) = rec.next(&mut toks) else {
+        return Err(IoError::syntax(1, "a header line", "an empty file"));
+    };
+    let n = parse_count(toks[0], hline, "the number of points")?;
+    let dim = match toks.get(1) {
+        Some(t) => parse_count(t, hline, "the dimension (2 or 3)")?,
+        None => return Err(IoError::syntax(hline, "the dimension (2 or 3)", "nothing")),
+    };
+    if dim != 2 && dim != 3 {
+        return Err(IoError::Unsupported {
+            line: hline,
+            message: format!("dimension {dim} is not supported (only 2 and 3)"),
+        });
+    }
+    let nattr = match toks.get(2) {
+        Some(t) => parse_count(t, hline, "the number of attributes")?,
+        None => 0,
+    };
+    let nmark = match toks.get(3) {
+        Some(t) => parse_count(t, hline, "the number of boundary markers (0 or 1)")?,
+        None => 0,
+    };
+    if nmark > 1 {
+        return Err(IoError::syntax(
+            hline,
+            "the number of boundary markers (0 or 1)",
+            nmark.to_string(),
+        ));
+    }
+    // Never trust the header for allocation: a point needs at least 6 bytes.
+    let cap = n.min(input.len() / 6 + 1);
+    let mut coords = Vec::with_capacity(cap.saturating_mul(dim));
+    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input.len()));
+    let mut markers = if nmark == 1 {
+        Some(Vec::with_capacity(cap))
+    } else {
+        None
+    };
+    let mut lines = Vec::with_capacity(cap);
+    let mut first = None;
+    for k in 0..n {
+        let Some(line) = rec.next(&mut toks) else {
+            return Err(IoError::UnexpectedEnd {
+                line: hline,
+                what: "points",
+                declared: n,
+                found: k,
+            });
+        };
+        check_index(toks[0], line, k, &mut first, "point")?;
+        let have = toks.len() - 1;
+        if have < dim {
+            return Err(IoError::syntax(
+                line,
+                format!("{dim} coordinates"),
+                have.to_string(),
+            ));
+        }
+        for t in &toks[1..=dim] {
+            coords.push(parse_f64(t, line, "a coordinate")?);
+        }
+        if have < dim + nattr {
+            return Err(IoError::syntax(
+                line,
+                format!("{nattr} attribute(s) after the coordinates"),
+                (have - dim).to_string(),
+            ));
+        }
+        for t in &toks[1 + dim..1 + dim + nattr] {
+            attributes.push(parse_f64(t, line, "an attribute")?);
+        }
+        if let Some(m) = markers.as_mut() {
+            m.push(match toks.get(1 + dim + nattr) {
+                Some(t) => {
+                    let v = parse_int(t, line, "a boundary marker (integer)")?;
+                    i32::try_from(v).map_err(|_| {
+                        IoError::syntax(line, "a boundary marker in the i32 range", v.to_string())
+                    })?
+                }
+                None => 0,
+            });
+        }
+        lines.push(line);
+    }
+    Ok(NodeFile {
+        dim,
+        coords,
+        n_attributes: nattr,
+        attributes,
+        markers,
+        first_index: first.unwrap_or(1),
+        header_line: hline,
+        lines,
+    })
+}
+
+/// The content of a Triangle/TetGen `.ele` file, as returned by [`read_ele`].
+///
+/// ```
+/// let f = delone_io::read_ele(b"1 4 0\n1 1 2 3 4\n", 1).unwrap();
+/// assert_eq!((f.nodes_per_element, f.elements.clone()), (4, vec![0, 1, 2, 3]));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct EleFile {
+    /// Nodes per element (3 for triangles, 4 for tetrahedra, 6/10 for
+    /// second-order elements).
+    pub nodes_per_element: usize,
+    /// Vertex indices, `nodes_per_element` per element, converted to 0-based.
+    pub elements: Vec<u32>,
+    /// Number of attributes per element.
+    pub n_attributes: usize,
+    /// Attributes, `n_attributes` per element.
+    pub attributes: Vec<f64>,
+    /// Index of the first element in the file (0 or 1).
+    pub first_index: u32,
+}
+
+impl EleFile {
+    /// Number of elements.
+    ///
+    /// ```
+    /// let f = delone_io::read_ele(b"1 3 0\n1 1 2 3\n", 1).unwrap();
+    /// assert_eq!(f.len(), 1);
+    /// ```
+    pub fn len(&self) -> usize {
+        self.elements
+            .len()
+            .checked_div(self.nodes_per_element)
+            .unwrap_or(0)
+    }
+
+    /// `true` when the file holds no element.
+    ///
+    /// ```
+    /// let f = delone_io::read_ele(b"0 3 0\n", 1).unwrap();
+    /// assert!(f.is_empty());
+    /// ```
+    pub fn is_empty(&self) -> bool {
+        self.elements.is_empty()
+    }
+}
+
+/// Reads a Triangle/TetGen `.ele` file; node indices are converted to
+/// 0-based by subtracting `node_first_index` (the numbering of the matching
+/// `.node` file, see [`NodeFile::first_index`]).
+///
+/// Header: `<#elements> <nodes per element> [<#attributes>]`; then
+/// `<index> <node>… [attributes…]`.
+///
+/// # Errors
+/// As [`read_node`]; a node index below `node_first_index` is a
+/// [`IoError::Syntax`] error.
+///
+/// ```
+/// let f = delone_io::read_ele(b"2 3 0\n0 0 1 2\n1 2 1 3\n", 0).unwrap();
+/// assert_eq!(f.elements, vec![0, 1, 2, 2, 1, 3]);
+/// ```
+pub fn read_ele(input: &[u8], node_first_index: u32) -> Result<EleFile, IoError> {
+    let mut rec = Records::new(input);
+    let mut toks = Vec::with_capacity(8);
+    let Some(hline) = rec.next(&mut toks) else {
+        return Err(IoError::syntax(1, "a header line", "an empty file"));
+    };
+    let n = parse_count(toks[0], hline, "the number of elements")?;
+    let k = match toks.get(1) {
+        Some(t) => parse_count(t, hline, "the number of nodes per element")?,
+        None => {
+            return Err(IoError::syntax(
+                hline,
+                "the number of nodes per element",
+                "nothing",
+            ))
+        }
+    };
+    if !(2..=64).contains(&k) {
+        return Err(IoError::Unsupported {
+            line: hline,
+            message: format!("{k} nodes per element is not supported"),
+        });
+    }
+    let nattr = match toks.get(2) {
+        Some(t) => parse_count(t, hline, "the number of attributes")?,
+        None => 0,
+    };
+    let cap = n.min(input.len() / 8 + 1);
+    let mut elements = Vec::with_capacity(cap * k);
+    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input.len()));
+    let mut first = None;
+    for e in 0..n {
+        let Some(line) = rec.next(&mut toks) else {
+            return Err(IoError::UnexpectedEnd {
+                line: hline,
+                what: "elements",
+                declared: n,
+                found: e,
+            });
+        };
+        check_index(toks[0], line, e, &mut first, "element")?;
+        let have = toks.len() - 1;
+        if have < k {
+            return Err(IoError::syntax(
+                line,
+                format!("{k} node indices"),
+                have.to_string(),
+            ));
+        }
+        for t in &toks[1..=k] {
+            let v = parse_int(t, line, "a node index")?;
+            let z = v - node_first_index as i64;
+            let z = u32::try_from(z).map_err(|_| {
+                IoError::syntax(
+                    line,
+                    format!("a node index >= {node_first_index}"),
+                    v.to_string(),
+                )
+            })?;
+            elements.push(z);
+        }
+        if have < k + nattr {
+            return Err(IoError::syntax(
+                line,
+                format!("{nattr} attribute(s) after the node indices"),
+                (have - k).to_string(),
+            ));
+        }
+        for t in &toks[1 + k..1 + k + nattr] {
+            attributes.push(parse_f64(t, line, "an attribute")?);
+        }
+    }
+    Ok(EleFile {
+        nodes_per_element: k,
+        elements,
+        n_attributes: nattr,
+        attributes,
+        first_index: first.unwrap_or(1),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn comments_blank_lines_and_whitespace() {
+        let t =
+            b"# c\n\n  3\t2  0 1 # hdr\r\n0 0 0 5\n\n# mid\n1 1.5 -2e3 0\r\n2\t.5\t1.  3  extra\n";
+        let f = read_node(t).unwrap();
+        assert_eq!(f.first_index, 0);
+        assert_eq!(f.coords, vec![0.0, 0.0, 1.5, -2000.0, 0.5, 1.0]);
+        assert_eq!(f.markers, Some(vec![5, 0, 3]));
+        assert_eq!(f.lines, vec![4, 7, 8]);
+    }
+
+    #[test]
+    fn header_defaults_and_nan() {
+        let f = read_node(b"2 3\n1 nan inf -inf\n2 1 2 3\n").unwrap();
+        assert_eq!(f.dim, 3);
+        assert!(f.coords[0].is_nan());
+        assert_eq!(f.coords[1], f64::INFINITY);
+        assert_eq!(f.markers, None);
+        assert_eq!(f.n_attributes, 0);
+    }
+
+    #[test]
+    fn errors_name_line_expectation_and_finding() {
+        let cases: &[(&[u8], &str)] = &[
+            (b"", "line 1: expected a header line, found an empty file"),
+            (
+                b"# only\n",
+                "line 1: expected a header line, found an empty file",
+            ),
+            (
+                b"5 2 0 0\n1 0 0\n2 1 0\n3 0 1\n",
+                "line 1: header says 5 points but the file ends after 3",
+            ),
+            (
+                b"x 2\n",
+                "line 1: expected the number of points, found \"x\"",
+            ),
+            (
+                b"3 4 0 0\n",
+                "line 1: dimension 4 is not supported (only 2 and 3)",
+            ),
+            (
+                b"2 2\n1 0 0\n3 1 1\n",
+                "line 3: expected point index 2, found 3",
+            ),
+            (
+                b"2 2\n5 0 0\n6 1 1\n",
+                "line 2: expected first point index 0 or 1, found 5",
+            ),
+            (
+                b"2 3\n1 0 0 0\n\n\n2 1 1\n",
+                "line 5: expected 3 coordinates, found 2",
+            ),
+            (
+                b"1 2\n1 0 abc\n",
+                "line 2: expected a coordinate, found \"abc\"",
+            ),
+            (
+                b"1 2 0 1\n1 0 0 x\n",
+                "line 2: expected a boundary marker (integer), found \"x\"",
+            ),
+            (
+                b"1 2 0 2\n",
+                "line 1: expected the number of boundary markers (0 or 1), found 2",
+            ),
+        ];
+        for (input, msg) in cases {
+            let e = read_node(input).unwrap_err();
+            assert_eq!(
+                &e.to_string(),
+                msg,
+                "input {:?}",
+                String::from_utf8_lossy(input)
+            );
+        }
+    }
+
+    #[test]
+    fn ele_reader() {
+        let f = read_ele(b"2 4 1\n1 1 2 3 4 7\n2 2 3 4 5 -1\n", 1).unwrap();
+        assert_eq!(f.elements, vec![0, 1, 2, 3, 1, 2, 3, 4]);
+        assert_eq!(f.attributes, vec![7.0, -1.0]);
+        let e = read_ele(b"1 4 1\n1 1 2 3 4\n", 1).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "line 2: expected 1 attribute(s) after the node indices, found 0"
+        );
+        assert_eq!(f.len(), 2);
+        let e = read_ele(b"1 3\n1 0 1 2\n", 1).unwrap_err();
+        assert_eq!(e.to_string(), "line 2: expected a node index >= 1, found 0");
+        let e = read_ele(b"2 3\n1 1 2 3\n", 1).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "line 1: header says 2 elements but the file ends after 1"
+        );
+    }
+
+    /// Fuzz-style: random bytes, random token soups and every truncation of
+    /// a valid file must give `Ok` or `Err`, never a panic.
+    #[test]
+    fn never_panics() {
+        let valid =
+            b"# x\n4 3 2 1\n1 0 0 0 1 2 1\n2 1 0 0 1 2 0\n3 0 1 0 1 2 1\n4 0 0 1 nan 2 -3\n";
+        for cut in 0..=valid.len() {
+            let _ = read_node(&valid[..cut]);
+            let _ = read_ele(&valid[..cut], 1);
+        }
+        let alphabet: &[&[u8]] = &[
+            b"0",
+            b"1",
+            b"2",
+            b"3",
+            b"-1",
+            b"1e999",
+            b"nan",
+            b"#",
+            b"\n",
+            b" ",
+            b"\t",
+            b"\r",
+            b"x",
+            b"\xff",
+            b"18446744073709551616",
+            b"99999999999",
+            b"0.5",
+            b"-",
+            b"4",
+        ];
+        let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        for _ in 0..20_000 {
+            let len = (next() % 40) as usize;
+            let mut buf = Vec::new();
+            for _ in 0..len {
+                if next() % 5 == 0 {
+                    buf.push((next() % 256) as u8);
+                } else {
+                    buf.extend_from_slice(alphabet[(next() % alphabet.len() as u64) as usize]);
+                }
+            }
+            let _ = read_node(&buf);
+            let _ = read_ele(&buf, (next() % 2) as u32);
+        }
+    }
+}

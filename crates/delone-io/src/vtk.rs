@@ -1,0 +1,427 @@
+//! VTK output: XML `.vtu` (UnstructuredGrid; ASCII or raw binary appended
+//! data) and the legacy ASCII `.vtk` format TetGen writes with `-k`.
+//!
+//! Points of 2D meshes get `z = 0` (VTK points always have 3 components).
+//! Cell types: triangles are VTK type 5, tetrahedra type 10, edges type 3.
+
+use std::io::Write;
+
+use crate::out::Out;
+use crate::IoError;
+
+/// Values of a point- or cell-data array.
+///
+/// ```
+/// let q = [0.5, 0.9];
+/// let v = delone_io::Values::Float64(&q);
+/// assert!(matches!(v, delone_io::Values::Float64(s) if s.len() == 2));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Values<'a> {
+    /// 32-bit integers (markers, region ids).
+    Int32(&'a [i32]),
+    /// 64-bit floats (attributes, quality measures).
+    Float64(&'a [f64]),
+}
+
+impl Values<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Values::Int32(v) => v.len(),
+            Values::Float64(v) => v.len(),
+        }
+    }
+}
+
+/// A named scalar array attached to the points or the cells.
+///
+/// ```
+/// let markers = [1, 0, 1];
+/// let a = delone_io::DataArray { name: "marker", values: delone_io::Values::Int32(&markers) };
+/// assert_eq!(a.name, "marker");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DataArray<'a> {
+    /// Array name shown by ParaView / VisIt.
+    pub name: &'a str,
+    /// One value per point (point data) or per cell (cell data).
+    pub values: Values<'a>,
+}
+
+/// Encoding of the data arrays of a `.vtu` file.
+///
+/// ```
+/// assert_eq!(delone_io::VtuFormat::default(), delone_io::VtuFormat::Binary);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VtuFormat {
+    /// Human-readable text inside each `<DataArray>`.
+    Ascii,
+    /// Raw little-endian binary in one `<AppendedData encoding="raw">` block,
+    /// each array preceded by its byte count as a `UInt64`. Compact and fast.
+    #[default]
+    Binary,
+}
+
+fn cell_type(k: usize) -> Result<u8, IoError> {
+    match k {
+        2 => Ok(3),
+        3 => Ok(5),
+        4 => Ok(10),
+        _ => Err(IoError::invalid(format!(
+            "VTK output supports cells of 2, 3 or 4 vertices, not {k}"
+        ))),
+    }
+}
+
+fn check_input<const D: usize, const K: usize>(
+    points: &[[f64; D]],
+    cells: &[[u32; K]],
+    point_data: &[DataArray<'_>],
+    cell_data: &[DataArray<'_>],
+) -> Result<u8, IoError> {
+    if D != 2 && D != 3 {
+        return Err(IoError::invalid(format!(
+            "VTK output supports 2D and 3D points, not {D}D"
+        )));
+    }
+    let ty = cell_type(K)?;
+    let n = points.len();
+    for (c, cell) in cells.iter().enumerate() {
+        if let Some(&v) = cell.iter().find(|&&v| v as usize >= n) {
+            return Err(IoError::invalid(format!(
+                "cell {c} refers to point {v}, but there are only {n} points"
+            )));
+        }
+    }
+    for (arrays, count, kind) in [(point_data, n, "point"), (cell_data, cells.len(), "cell")] {
+        for a in arrays {
+            if a.values.len() != count {
+                return Err(IoError::invalid(format!(
+                    "{kind} data \"{}\" has {} values, expected {count}",
+                    a.name,
+                    a.values.len()
+                )));
+            }
+        }
+    }
+    Ok(ty)
+}
+
+fn xml_escape(s: &str) -> String {
+    let mut r = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => r.push_str("&amp;"),
+            '<' => r.push_str("&lt;"),
+            '>' => r.push_str("&gt;"),
+            '"' => r.push_str("&quot;"),
+            c => r.push(c),
+        }
+    }
+    r
+}
+
+fn vtk_name(s: &str) -> String {
+    let r: String = s
+        .chars()
+        .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+        .collect();
+    if r.is_empty() {
+        "data".to_string()
+    } else {
+        r
+    }
+}
+
+/// Writes an XML VTK UnstructuredGrid (`.vtu`, version 1.0, little endian,
+/// `header_type="UInt64"`, `Int64` connectivity and offsets).
+///
+/// # Errors
+/// [`IoError::InvalidInput`] if a cell refers to a missing point, a data
+/// array has the wrong length, or `K` is not 2, 3 or 4;
+/// [`IoError::Io`] if the writer fails.
+///
+/// ```
+/// use delone_io::{write_vtu, DataArray, Values, VtuFormat};
+/// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+/// let marker = [1, 1, 1];
+/// let mut out = Vec::new();
+/// write_vtu(&mut out, &pts, &[[0, 1, 2]],
+///           &[DataArray { name: "marker", values: Values::Int32(&marker) }], &[], VtuFormat::Ascii).unwrap();
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.contains(r#"<Piece NumberOfPoints="3" NumberOfCells="1">"#));
+/// ```
+pub fn write_vtu<W: Write, const D: usize, const K: usize>(
+    out: W,
+    points: &[[f64; D]],
+    cells: &[[u32; K]],
+    point_data: &[DataArray<'_>],
+    cell_data: &[DataArray<'_>],
+    format: VtuFormat,
+) -> Result<(), IoError> {
+    let ty = check_input(points, cells, point_data, cell_data)?;
+    let n = points.len() as u64;
+    let m = cells.len() as u64;
+    let mut o = Out::new(out);
+    o.str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"");
+    o.uint(n);
+    o.str("\" NumberOfCells=\"");
+    o.uint(m);
+    o.str("\">\n");
+
+    // Appended layout: every array's byte size, in document order.
+    let mut offset: u64 = 0;
+    let mut header = |o: &mut Out<W>, ty_name: &str, name: &str, comps: usize, bytes: u64| {
+        o.str("<DataArray type=\"");
+        o.str(ty_name);
+        o.str("\" Name=\"");
+        o.str(&xml_escape(name));
+        o.str("\"");
+        if comps > 1 {
+            o.str(" NumberOfComponents=\"");
+            o.uint(comps as u64);
+            o.str("\"");
+        }
+        match format {
+            VtuFormat::Ascii => o.str(" format=\"ascii\">\n"),
+            VtuFormat::Binary => {
+                o.str(" format=\"appended\" offset=\"");
+                o.uint(offset);
+                o.str("\"/>\n");
+                offset += 8 + bytes;
+            }
+        }
+    };
+    let ascii = format == VtuFormat::Ascii;
+    for (tag, arrays) in [("PointData", point_data), ("CellData", cell_data)] {
+        if arrays.is_empty() {
+            continue;
+        }
+        o.str("<");
+        o.str(tag);
+        o.str(">\n");
+        for a in arrays {
+            match a.values {
+                Values::Int32(v) => {
+                    header(&mut o, "Int32", a.name, 1, 4 * v.len() as u64);
+                    if ascii {
+                        ascii_ints(&mut o, v.iter().map(|&x| i64::from(x)))?;
+                    }
+                }
+                Values::Float64(v) => {
+                    header(&mut o, "Float64", a.name, 1, 8 * v.len() as u64);
+                    if ascii {
+                        for (i, &x) in v.iter().enumerate() {
+                            o.float(x);
+                            o.byte(if i % 8 == 7 { b'\n' } else { b' ' });
+                            o.maybe_flush()?;
+                        }
+                        o.str("\n</DataArray>\n");
+                    }
+                }
+            }
+        }
+        o.str("</");
+        o.str(tag);
+        o.str(">\n");
+    }
+    o.str("<Points>\n");
+    header(&mut o, "Float64", "Points", 3, 24 * n);
+    if ascii {
+        for p in points {
+            o.float(p[0]);
+            o.byte(b' ');
+            o.float(p[1]);
+            o.byte(b' ');
+            o.float(if D == 3 { p[D - 1] } else { 0.0 });
+            o.nl()?;
+        }
+        o.str("</DataArray>\n");
+    }
+    o.str("</Points>\n<Cells>\n");
+    header(&mut o, "Int64", "connectivity", 1, 8 * K as u64 * m);
+    if ascii {
+        for c in cells {
+            for (j, &v) in c.iter().enumerate() {
+                if j > 0 {
+                    o.byte(b' ');
+                }
+                o.uint(u64::from(v));
+            }
+            o.nl()?;
+        }
+        o.str("</DataArray>\n");
+    }
+    header(&mut o, "Int64", "offsets", 1, 8 * m);
+    if ascii {
+        ascii_ints(&mut o, (1..=m).map(|i| (i * K as u64) as i64))?;
+    }
+    header(&mut o, "UInt8", "types", 1, m);
+    if ascii {
+        ascii_ints(&mut o, (0..m).map(|_| i64::from(ty)))?;
+    }
+    o.str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
+    if !ascii {
+        o.str("<AppendedData encoding=\"raw\">\n_");
+        for arrays in [point_data, cell_data] {
+            for a in arrays {
+                match a.values {
+                    Values::Int32(v) => {
+                        o.buf.extend_from_slice(&(4 * v.len() as u64).to_le_bytes());
+                        for &x in v {
+                            o.buf.extend_from_slice(&x.to_le_bytes());
+                            o.maybe_flush()?;
+                        }
+                    }
+                    Values::Float64(v) => {
+                        o.buf.extend_from_slice(&(8 * v.len() as u64).to_le_bytes());
+                        for &x in v {
+                            o.buf.extend_from_slice(&x.to_le_bytes());
+                            o.maybe_flush()?;
+                        }
+                    }
+                }
+            }
+        }
+        o.buf.extend_from_slice(&(24 * n).to_le_bytes());
+        for p in points {
+            let z = if D == 3 { p[D - 1] } else { 0.0 };
+            for c in [p[0], p[1], z] {
+                o.buf.extend_from_slice(&c.to_le_bytes());
+            }
+            o.maybe_flush()?;
+        }
+        o.buf.extend_from_slice(&(8 * K as u64 * m).to_le_bytes());
+        for c in cells {
+            for &v in c {
+                o.buf.extend_from_slice(&i64::from(v).to_le_bytes());
+            }
+            o.maybe_flush()?;
+        }
+        o.buf.extend_from_slice(&(8 * m).to_le_bytes());
+        for i in 1..=m {
+            o.buf.extend_from_slice(&(i * K as u64).to_le_bytes());
+            o.maybe_flush()?;
+        }
+        o.buf.extend_from_slice(&m.to_le_bytes());
+        for _ in 0..m {
+            o.buf.push(ty);
+            o.maybe_flush()?;
+        }
+        o.str("\n</AppendedData>\n");
+    }
+    o.str("</VTKFile>\n");
+    Ok(o.finish()?)
+}
+
+fn ascii_ints<W: Write>(o: &mut Out<W>, vals: impl Iterator<Item = i64>) -> Result<(), IoError> {
+    for (i, x) in vals.enumerate() {
+        o.int(x);
+        o.byte(if i % 16 == 15 { b'\n' } else { b' ' });
+        o.maybe_flush()?;
+    }
+    o.str("\n</DataArray>\n");
+    Ok(())
+}
+
+/// Writes a legacy ASCII VTK file (`# vtk DataFile Version 2.0`,
+/// `DATASET UNSTRUCTURED_GRID`), the format of TetGen's `-k` output:
+/// `POINTS n double`, `CELLS m size`, `CELL_TYPES m`, then optional
+/// `POINT_DATA` / `CELL_DATA` scalars (`int` or `double`, default lookup table).
+/// Point indices are 0-based, as VTK requires.
+///
+/// # Errors
+/// As [`write_vtu`].
+///
+/// ```
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let mut out = Vec::new();
+/// delone_io::write_vtk_legacy(&mut out, &pts, &[[0, 1, 2, 3]], &[], &[], "one tet").unwrap();
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.contains("CELLS 1 5\n4 0 1 2 3\n"));
+/// assert!(text.contains("CELL_TYPES 1\n10\n"));
+/// ```
+pub fn write_vtk_legacy<W: Write, const D: usize, const K: usize>(
+    out: W,
+    points: &[[f64; D]],
+    cells: &[[u32; K]],
+    point_data: &[DataArray<'_>],
+    cell_data: &[DataArray<'_>],
+    title: &str,
+) -> Result<(), IoError> {
+    let ty = check_input(points, cells, point_data, cell_data)?;
+    let mut o = Out::new(out);
+    o.str("# vtk DataFile Version 2.0\n");
+    // The title line is at most 256 characters, without line breaks.
+    let title: String = title
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .take(255)
+        .collect();
+    o.str(&title);
+    o.str("\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS ");
+    o.uint(points.len() as u64);
+    o.str(" double\n");
+    for p in points {
+        o.float(p[0]);
+        o.byte(b' ');
+        o.float(p[1]);
+        o.byte(b' ');
+        o.float(if D == 3 { p[D - 1] } else { 0.0 });
+        o.nl()?;
+    }
+    o.str("\nCELLS ");
+    o.uint(cells.len() as u64);
+    o.byte(b' ');
+    o.uint(cells.len() as u64 * (K as u64 + 1));
+    o.nl()?;
+    for c in cells {
+        o.uint(K as u64);
+        for &v in c {
+            o.byte(b' ');
+            o.uint(u64::from(v));
+        }
+        o.nl()?;
+    }
+    o.str("\nCELL_TYPES ");
+    o.uint(cells.len() as u64);
+    o.nl()?;
+    for _ in cells {
+        o.uint(u64::from(ty));
+        o.nl()?;
+    }
+    for (tag, arrays, count) in [
+        ("POINT_DATA ", point_data, points.len()),
+        ("CELL_DATA ", cell_data, cells.len()),
+    ] {
+        if arrays.is_empty() {
+            continue;
+        }
+        o.byte(b'\n');
+        o.str(tag);
+        o.uint(count as u64);
+        o.nl()?;
+        for a in arrays {
+            o.str("SCALARS ");
+            o.str(&vtk_name(a.name));
+            match a.values {
+                Values::Int32(v) => {
+                    o.str(" int 1\nLOOKUP_TABLE default\n");
+                    for &x in v {
+                        o.int(i64::from(x));
+                        o.nl()?;
+                    }
+                }
+                Values::Float64(v) => {
+                    o.str(" double 1\nLOOKUP_TABLE default\n");
+                    for &x in v {
+                        o.float(x);
+                        o.nl()?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(o.finish()?)
+}

@@ -1,0 +1,88 @@
+//! Fixed-work driver for counting instructions per predicate call with callgrind
+//! (repeatable, unlike wall time on a loaded machine).
+//!
+//! `icount_predicates NAME REPS` evaluates predicate `NAME` (`orient2d`, `incircle`,
+//! `orient3d`, `insphere`, `insphere_sos`, `orient3d_sos`, or `robust_` + one of the
+//! first four) `REPS` times over 4096 random inputs in `[-1, 1]` (all decided by the
+//! filter). Instructions per call are
+//! `(Ir(REPS) − Ir(0)) / (REPS · 4096)`:
+//!
+//! ```text
+//! valgrind --tool=callgrind target/release/examples/icount_predicates insphere 0
+//! valgrind --tool=callgrind target/release/examples/icount_predicates insphere 50
+//! ```
+
+use delone_predicates::*;
+use robust::{Coord, Coord3D};
+use std::hint::black_box;
+
+const N: usize = 4096;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let name = args.next().unwrap_or_else(|| "insphere".into());
+    let reps: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(10);
+    let mut s = 7u64;
+    let mut f = move || {
+        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let pts: Vec<[[f64; 3]; 5]> = (0..N)
+        .map(|_| {
+            [
+                [f(), f(), f()],
+                [f(), f(), f()],
+                [f(), f(), f()],
+                [f(), f(), f()],
+                [f(), f(), f()],
+            ]
+        })
+        .collect();
+    let p2 = |p: &[f64; 3]| [p[0], p[1]];
+    let c2 = |p: &[f64; 3]| Coord { x: p[0], y: p[1] };
+    let c3 = |p: &[f64; 3]| Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    };
+    let mut acc = 0usize;
+    macro_rules! run {
+        ($q:ident => $e:expr) => {
+            for _ in 0..reps {
+                for $q in &pts {
+                    let $q = black_box($q);
+                    acc += ($e > 0.0) as usize;
+                }
+            }
+        };
+    }
+    match name.as_str() {
+        "orient2d" => run!(q => orient2d(&p2(&q[0]), &p2(&q[1]), &p2(&q[2]))),
+        "incircle" => run!(q => incircle(&p2(&q[0]), &p2(&q[1]), &p2(&q[2]), &p2(&q[3]))),
+        "orient3d" => run!(q => orient3d(&q[0], &q[1], &q[2], &q[3])),
+        "insphere" => run!(q => insphere(&q[0], &q[1], &q[2], &q[3], &q[4])),
+        "orient3d_sos" => run!(q => orient3d_sos(&q[0], &q[1], &q[2], &q[3], 0, 1, 2, 3) as f64),
+        "insphere_sos" => {
+            run!(q => insphere_sos(&q[0], &q[1], &q[2], &q[3], &q[4], 3, 1, 4, 0, 2) as f64)
+        }
+        "robust_orient2d" => run!(q => robust::orient2d(c2(&q[0]), c2(&q[1]), c2(&q[2]))),
+        "robust_incircle" => {
+            run!(q => robust::incircle(c2(&q[0]), c2(&q[1]), c2(&q[2]), c2(&q[3])))
+        }
+        "robust_orient3d" => {
+            run!(q => robust::orient3d(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3])))
+        }
+        "robust_insphere" => {
+            run!(q => robust::insphere(c3(&q[0]), c3(&q[1]), c3(&q[2]), c3(&q[3]), c3(&q[4])))
+        }
+        other => {
+            eprintln!("unknown predicate {other}");
+            std::process::exit(2);
+        }
+    }
+    println!("{name} x {reps}: {acc}");
+}
