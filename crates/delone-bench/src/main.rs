@@ -1,2 +1,444 @@
-//! delone-bench.
-fn main() {}
+//! delone-bench: side-by-side timings and peak memory of delone against
+//! Triangle and TetGen (through `tritet`), spade and delaunator.
+//!
+//! Every (case, program) pair runs in its own child process (this binary
+//! re-invoked with the hidden `--child CASE PROGRAM` argument) so that the
+//! peak RSS of one program cannot leak into another's figure, and so that a
+//! crashing reference only loses its own row. See README.md for the columns.
+#![forbid(unsafe_code)]
+
+mod cases;
+mod child;
+mod report;
+mod result;
+
+use std::io::{Read, Write};
+use std::process::{Command, ExitCode, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use cases::{Case, DEFAULT_CASES, QUICK_CASES};
+use child::{supports, PROGRAMS, SMALL};
+use result::{Outcome, RunResult};
+
+const USAGE: &str = "\
+usage: delone-bench [options]
+
+options:
+  --quick            only the ~1e5-point cases (fast smoke run)
+  --cases LIST       comma-separated case names, e.g. 2d-uniform-1e6,3d-grid-1e6
+                     (form {2d,3d}-{uniform,grid,circle,sphere}-SIZE; circle is 2D,
+                     sphere 3D; `all` = the default suite, `quick` = the quick suite)
+  --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen
+  --repeat N         timed runs per small case (<= 200000 points), median reported;
+                     larger cases always run once (default 3)
+  --timeout SECS     kill a child after this many seconds (default 600)
+  --markdown         print the table as Markdown
+  --list             list the default and quick cases and the programs
+  -h, --help         this text
+";
+
+#[derive(Debug)]
+struct Options {
+    cases: Vec<Case>,
+    programs: Vec<String>,
+    repeat: usize,
+    timeout: Duration,
+    markdown: bool,
+}
+
+enum Mode {
+    Bench(Options),
+    Child {
+        case: Case,
+        program: String,
+        repeat: usize,
+    },
+    Help,
+    List,
+}
+
+fn program_names() -> Vec<&'static str> {
+    let mut names: Vec<&str> = Vec::new();
+    for &(p, _) in PROGRAMS {
+        if !names.contains(&p) {
+            names.push(p);
+        }
+    }
+    names
+}
+
+fn parse_cases(list: &str) -> Result<Vec<Case>, String> {
+    let mut out = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let group = match name {
+            "all" | "default" => Some(DEFAULT_CASES),
+            "quick" => Some(QUICK_CASES),
+            _ => None,
+        };
+        match group {
+            Some(g) => {
+                for n in g {
+                    out.push(Case::parse(n).map_err(|e| e.to_string())?);
+                }
+            }
+            None => out.push(Case::parse(name).map_err(|e| e.to_string())?),
+        }
+    }
+    if out.is_empty() {
+        return Err("--cases: empty list".into());
+    }
+    Ok(out)
+}
+
+fn parse_args(args: &[String]) -> Result<Mode, String> {
+    let mut quick = false;
+    let mut cases: Option<Vec<Case>> = None;
+    let mut programs: Option<Vec<String>> = None;
+    let mut repeat = 3usize;
+    let mut timeout = 600u64;
+    let mut markdown = false;
+    let mut child: Option<(String, String)> = None;
+    let mut i = 0;
+    let value = |i: &mut usize, flag: &str| -> Result<String, String> {
+        *i += 1;
+        args.get(*i)
+            .cloned()
+            .ok_or_else(|| format!("{flag} needs a value"))
+    };
+    while i < args.len() {
+        match args[i].as_str() {
+            "-h" | "--help" => return Ok(Mode::Help),
+            "--list" => return Ok(Mode::List),
+            "--quick" => quick = true,
+            "--markdown" => markdown = true,
+            "--cases" => cases = Some(parse_cases(&value(&mut i, "--cases")?)?),
+            "--programs" => {
+                let v = value(&mut i, "--programs")?;
+                let known = program_names();
+                let mut ps = Vec::new();
+                for p in v.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+                    if !known.contains(&p) {
+                        return Err(format!(
+                            "unknown program `{p}` (known: {})",
+                            known.join(", ")
+                        ));
+                    }
+                    ps.push(p.to_string());
+                }
+                if ps.is_empty() {
+                    return Err("--programs: empty list".into());
+                }
+                programs = Some(ps);
+            }
+            "--repeat" => {
+                let v = value(&mut i, "--repeat")?;
+                repeat = v
+                    .parse()
+                    .ok()
+                    .filter(|&r| r >= 1)
+                    .ok_or_else(|| format!("--repeat: `{v}` is not a positive integer"))?;
+            }
+            "--timeout" => {
+                let v = value(&mut i, "--timeout")?;
+                timeout = v
+                    .parse()
+                    .ok()
+                    .filter(|&t| t >= 1)
+                    .ok_or_else(|| format!("--timeout: `{v}` is not a positive integer"))?;
+            }
+            "--child" => {
+                let c = value(&mut i, "--child")?;
+                let p = value(&mut i, "--child")?;
+                child = Some((c, p));
+            }
+            a => return Err(format!("unknown argument `{a}`")),
+        }
+        i += 1;
+    }
+    if let Some((c, p)) = child {
+        let case = Case::parse(&c).map_err(|e| e.to_string())?;
+        return Ok(Mode::Child {
+            case,
+            program: p,
+            repeat,
+        });
+    }
+    let cases = match cases {
+        Some(c) => c,
+        None => {
+            let names = if quick { QUICK_CASES } else { DEFAULT_CASES };
+            names
+                .iter()
+                .map(|n| Case::parse(n).map_err(|e| e.to_string()))
+                .collect::<Result<_, _>>()?
+        }
+    };
+    let programs =
+        programs.unwrap_or_else(|| program_names().into_iter().map(str::to_string).collect());
+    Ok(Mode::Bench(Options {
+        cases,
+        programs,
+        repeat,
+        timeout: Duration::from_secs(timeout),
+        markdown,
+    }))
+}
+
+fn describe_status(st: ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(sig) = st.signal() {
+            let name = match sig {
+                6 => " (SIGABRT)",
+                9 => " (SIGKILL, out of memory?)",
+                11 => " (SIGSEGV)",
+                _ => "",
+            };
+            return format!("killed by signal {sig}{name}");
+        }
+    }
+    match st.code() {
+        Some(c) => format!("exit code {c}"),
+        None => "abnormal exit".into(),
+    }
+}
+
+fn last_line(s: &str) -> Option<String> {
+    let l = s.lines().rev().map(str::trim).find(|l| !l.is_empty())?;
+    let mut l: String = l.chars().take(160).collect();
+    if l.len() < s.trim().len() && l.chars().count() == 160 {
+        l.push('…');
+    }
+    Some(l)
+}
+
+/// Runs one (case, program) pair in a child process.
+fn spawn_child(case: &Case, program: &str, opts: &Options) -> RunResult {
+    let n = case.n();
+    let fail = |why: String| RunResult::failed(&case.name, program, n, why);
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => return fail(format!("cannot locate own executable: {e}")),
+    };
+    let mut child = match Command::new(exe)
+        .args(["--child", &case.name, program, "--repeat"])
+        .arg(opts.repeat.to_string())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+    {
+        Ok(c) => c,
+        Err(e) => return fail(format!("cannot start child: {e}")),
+    };
+    // Drain both pipes on threads so a chatty child never blocks.
+    let drain = |p: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut buf = Vec::new();
+            if let Some(mut p) = p {
+                let _ = p.read_to_end(&mut buf);
+            }
+            String::from_utf8_lossy(&buf).into_owned()
+        })
+    };
+    let out = drain(child.stdout.take().map(|p| Box::new(p) as _));
+    let err = drain(child.stderr.take().map(|p| Box::new(p) as _));
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(st)) => break Ok(st),
+            Ok(None) if start.elapsed() > opts.timeout => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break Err(format!("timeout after {} s", opts.timeout.as_secs()));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => break Err(format!("cannot wait for child: {e}")),
+        }
+    };
+    let stdout = out.join().unwrap_or_default();
+    let stderr = err.join().unwrap_or_default();
+    let status = match status {
+        Ok(st) => st,
+        Err(why) => return fail(why),
+    };
+    match RunResult::from_output(&stdout) {
+        Some(Ok(r)) if status.success() => r,
+        Some(Err(e)) => fail(format!("unreadable result line: {e}")),
+        _ => {
+            let mut why = describe_status(status);
+            if let Some(l) = last_line(&stderr) {
+                why.push_str(": ");
+                why.push_str(&l);
+            }
+            fail(why)
+        }
+    }
+}
+
+fn cpu_model() -> Option<String> {
+    let s = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    s.lines()
+        .find_map(|l| l.strip_prefix("model name")?.split_once(':'))
+        .map(|(_, m)| m.trim().to_string())
+}
+
+fn bench(opts: &Options) {
+    let jobs: Vec<(&Case, &str)> = opts
+        .cases
+        .iter()
+        .flat_map(|c| {
+            opts.programs
+                .iter()
+                .filter(move |p| supports(p, c.dim))
+                .map(move |p| (c, p.as_str()))
+        })
+        .collect();
+    let mut results = Vec::with_capacity(jobs.len());
+    for (k, (case, program)) in jobs.iter().enumerate() {
+        eprint!(
+            "[{}/{}] {} ({}, n = {}) {} ... ",
+            k + 1,
+            jobs.len(),
+            case.name,
+            case.describe(),
+            case.n(),
+            program
+        );
+        let _ = std::io::stderr().flush();
+        let r = spawn_child(case, program, opts);
+        match &r.outcome {
+            Outcome::Ok => eprintln!("{:.4} s, {} elements", r.seconds, r.elements),
+            Outcome::Error(m) => eprintln!("error: {m}"),
+            Outcome::Invalid(m) => {
+                eprintln!("{:.4} s, {} elements, INVALID: {m}", r.seconds, r.elements)
+            }
+            Outcome::Failed(m) => eprintln!("failed: {m}"),
+        }
+        results.push(r);
+    }
+
+    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let header = format!(
+        "delone-bench {} — cpu: {} ({cpus} threads available); small cases (<= {SMALL} points): \
+         1 warm-up + median of {} runs; larger: 1 run",
+        env!("CARGO_PKG_VERSION"),
+        cpu_model().unwrap_or_else(|| "unknown".into()),
+        opts.repeat
+    );
+    if opts.markdown {
+        println!("{header}\n");
+        print!("{}", report::markdown(&results));
+        println!("\n{}", report::determinism(&results));
+        println!("{}", report::validity(&results));
+    } else {
+        println!("{header}\n");
+        print!("{}", report::plain(&results));
+        println!("\n{}", report::determinism(&results));
+        println!("{}", report::validity(&results));
+    }
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match parse_args(&args) {
+        Err(e) => {
+            eprintln!("delone-bench: {e}\n\n{USAGE}");
+            ExitCode::from(2)
+        }
+        Ok(Mode::Help) => {
+            print!("{USAGE}");
+            ExitCode::SUCCESS
+        }
+        Ok(Mode::List) => {
+            println!("default cases: {}", DEFAULT_CASES.join(", "));
+            println!("quick cases:   {}", QUICK_CASES.join(", "));
+            println!("programs:      {}", program_names().join(", "));
+            ExitCode::SUCCESS
+        }
+        Ok(Mode::Child {
+            case,
+            program,
+            repeat,
+        }) => {
+            // Fault injection for the harness's own tests: abort this child
+            // as a crashing reference would.
+            if std::env::var("DELONE_BENCH_ABORT_PROGRAM").is_ok_and(|p| p == program) {
+                eprintln!(
+                    "delone-bench: aborting `{program}` as requested by DELONE_BENCH_ABORT_PROGRAM"
+                );
+                std::process::abort();
+            }
+            let r = child::run_child(&case, &program, repeat);
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out);
+            let _ = writeln!(out, "{}", r.to_line());
+            let _ = out.flush();
+            ExitCode::SUCCESS
+        }
+        Ok(Mode::Bench(opts)) => {
+            bench(&opts);
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(s: &str) -> Vec<String> {
+        s.split_whitespace().map(str::to_string).collect()
+    }
+
+    #[test]
+    fn defaults_and_quick() {
+        let Ok(Mode::Bench(o)) = parse_args(&[]) else {
+            panic!()
+        };
+        assert_eq!(o.cases.len(), DEFAULT_CASES.len());
+        assert_eq!(o.programs.len(), 5);
+        assert_eq!(o.repeat, 3);
+        let Ok(Mode::Bench(o)) = parse_args(&args("--quick --repeat 7 --markdown")) else {
+            panic!()
+        };
+        assert!(o.cases.iter().all(|c| c.n() <= SMALL));
+        assert_eq!(o.repeat, 7);
+        assert!(o.markdown);
+    }
+
+    #[test]
+    fn lists_and_errors() {
+        let Ok(Mode::Bench(o)) = parse_args(&args(
+            "--cases 2d-uniform-1e3,quick --programs triangle,tetgen",
+        )) else {
+            panic!()
+        };
+        assert_eq!(o.cases.len(), 1 + QUICK_CASES.len());
+        assert_eq!(o.programs, ["triangle", "tetgen"]);
+        for bad in [
+            "--cases 2d-cube-1e3",
+            "--programs cgal",
+            "--repeat 0",
+            "--repeat",
+            "--bogus",
+            "--child 2d-uniform-1e3",
+        ] {
+            assert!(parse_args(&args(bad)).is_err(), "{bad}");
+        }
+        assert!(matches!(
+            parse_args(&args("--child 3d-grid-27 tetgen --repeat 2")),
+            Ok(Mode::Child { repeat: 2, .. })
+        ));
+    }
+
+    #[test]
+    fn last_line_of_stderr() {
+        assert_eq!(
+            last_line("a\nthread panicked\n\n"),
+            Some("thread panicked".into())
+        );
+        assert_eq!(last_line("  \n"), None);
+    }
+}

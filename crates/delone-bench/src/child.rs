@@ -1,0 +1,379 @@
+//! The child side: generate one case, run one program on it, measure, and
+//! print one machine-readable result line on stdout.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use crate::cases::{fnv1a, Case, Points};
+use crate::result::{Outcome, RunResult};
+
+/// The programs the bench knows, with the dimension each one handles.
+pub const PROGRAMS: &[(&str, usize)] = &[
+    ("delone", 2),
+    ("triangle", 2),
+    ("spade", 2),
+    ("delaunator", 2),
+    ("delone", 3),
+    ("tetgen", 3),
+];
+
+/// Whether `program` handles `dim`-dimensional input.
+pub fn supports(program: &str, dim: usize) -> bool {
+    PROGRAMS.iter().any(|&(p, d)| p == program && d == dim)
+}
+
+/// Sizes up to this many points are "small": warm-up run plus the median of
+/// `repeat` timed runs. Larger ones are timed once, without warm-up.
+pub const SMALL: usize = 200_000;
+
+/// Memory figures from `/proc/self/status`, in kB.
+fn proc_status_kb(key: &str) -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    s.lines().find_map(|l| {
+        let rest = l.strip_prefix(key)?.strip_prefix(':')?;
+        rest.trim().trim_end_matches("kB").trim().parse().ok()
+    })
+}
+
+fn vm_rss() -> Option<u64> {
+    proc_status_kb("VmRSS")
+}
+
+fn vm_hwm() -> Option<u64> {
+    proc_status_kb("VmHWM")
+}
+
+/// Resets the peak-RSS counter (Linux ≥ 4.0: write `5` to clear_refs).
+fn reset_hwm() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// What one run of a program produced.
+struct Run {
+    seconds: f64,
+    elements: usize,
+    /// Hash of the full output (delone only; used by the determinism check).
+    hash: Option<u64>,
+    /// Outcome of delone's independent validator, when asked for.
+    valid: Option<Result<(), String>>,
+}
+
+fn hash_u32s<'a>(groups: impl Iterator<Item = &'a [u32]>) -> u64 {
+    fnv1a(groups.flat_map(|g| g.iter().flat_map(|v| v.to_le_bytes())))
+}
+
+/// Builds the program's input (untimed), then times only the
+/// triangulation call. `on_ready` runs between the two (used to reset
+/// and sample the memory counters). With `check`, delone's output is also
+/// run through delone's own validator (untimed).
+fn run_once(
+    program: &str,
+    pts: &Points,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    match (program, pts) {
+        ("delone", Points::D2(p)) => {
+            on_ready();
+            let t = Instant::now();
+            let r = delone::triangulate(black_box(p));
+            let seconds = t.elapsed().as_secs_f64();
+            let m = r.map_err(|e| e.to_string())?;
+            let hash = hash_u32s(
+                m.triangles
+                    .iter()
+                    .map(|t| &t[..])
+                    .chain(m.neighbors.iter().map(|t| &t[..]))
+                    .chain(std::iter::once(&m.vertex_map[..])),
+            );
+            let valid = check.then(|| delone::tri::validate(p, &m).map_err(|v| v.to_string()));
+            Ok(Run {
+                seconds,
+                elements: m.triangles.len(),
+                hash: Some(hash),
+                valid,
+            })
+        }
+        ("delone", Points::D3(p)) => {
+            on_ready();
+            let t = Instant::now();
+            let r = delone::tetrahedralize(black_box(p));
+            let seconds = t.elapsed().as_secs_f64();
+            let m = r.map_err(|e| e.to_string())?;
+            let hash = hash_u32s(
+                m.tets
+                    .iter()
+                    .map(|t| &t[..])
+                    .chain(m.neighbors.iter().map(|t| &t[..]))
+                    .chain(std::iter::once(&m.vertex_map[..])),
+            );
+            let valid = check.then(|| delone::tet::validate(p, &m).map_err(|v| v.to_string()));
+            Ok(Run {
+                seconds,
+                elements: m.tets.len(),
+                hash: Some(hash),
+                valid,
+            })
+        }
+        ("triangle", Points::D2(p)) => {
+            let mut g = tritet::Trigen::new(p.len(), None, None, None).map_err(str::to_string)?;
+            for (i, q) in p.iter().enumerate() {
+                g.set_point(i, 0, q[0], q[1]).map_err(str::to_string)?;
+            }
+            on_ready();
+            let t = Instant::now();
+            let r = g.generate_delaunay(false);
+            let seconds = t.elapsed().as_secs_f64();
+            r.map_err(str::to_string)?;
+            Ok(Run {
+                seconds,
+                elements: g.out_ncell(),
+                hash: None,
+                valid: None,
+            })
+        }
+        ("tetgen", Points::D3(p)) => {
+            let mut g = tritet::Tetgen::new(p.len(), None, None, None).map_err(str::to_string)?;
+            for (i, q) in p.iter().enumerate() {
+                g.set_point(i, 0, q[0], q[1], q[2])
+                    .map_err(str::to_string)?;
+            }
+            on_ready();
+            let t = Instant::now();
+            let r = g.generate_delaunay(false);
+            let seconds = t.elapsed().as_secs_f64();
+            r.map_err(str::to_string)?;
+            Ok(Run {
+                seconds,
+                elements: g.out_ncell(),
+                hash: None,
+                valid: None,
+            })
+        }
+        ("spade", Points::D2(p)) => {
+            use spade::{DelaunayTriangulation, Point2, Triangulation};
+            let v: Vec<Point2<f64>> = p.iter().map(|q| Point2::new(q[0], q[1])).collect();
+            on_ready();
+            let t = Instant::now();
+            let r = DelaunayTriangulation::<Point2<f64>>::bulk_load(v);
+            let seconds = t.elapsed().as_secs_f64();
+            let d = r.map_err(|e| format!("{e:?}"))?;
+            Ok(Run {
+                seconds,
+                elements: d.num_inner_faces(),
+                hash: None,
+                valid: None,
+            })
+        }
+        ("delaunator", Points::D2(p)) => {
+            let v: Vec<delaunator::Point> = p
+                .iter()
+                .map(|q| delaunator::Point { x: q[0], y: q[1] })
+                .collect();
+            on_ready();
+            let t = Instant::now();
+            let d = delaunator::triangulate(black_box(&v));
+            let seconds = t.elapsed().as_secs_f64();
+            Ok(Run {
+                seconds,
+                elements: d.triangles.len() / 3,
+                hash: None,
+                valid: None,
+            })
+        }
+        _ => Err(format!(
+            "program `{program}` does not handle {}D input",
+            match pts {
+                Points::D2(_) => 2,
+                Points::D3(_) => 3,
+            }
+        )),
+    }
+}
+
+/// Median of a non-empty list (mean of the middle two for even lengths).
+pub fn median(xs: &[f64]) -> f64 {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    if v.is_empty() {
+        f64::NAN
+    } else if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
+/// Runs `program` on `case` and returns the measured result.
+pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
+    let pts = case.generate();
+    let n = pts.len();
+    let base_kb = vm_rss();
+    let mut res = RunResult {
+        case: case.name.clone(),
+        program: program.to_string(),
+        n,
+        seconds: f64::NAN,
+        runs: 0,
+        peak_kb: None,
+        base_kb,
+        call_kb: None,
+        elements: 0,
+        deterministic: None,
+        valid: None,
+        outcome: Outcome::Ok,
+    };
+    if !supports(program, case.dim) {
+        res.outcome = Outcome::Error(format!(
+            "program `{program}` does not handle {}D input",
+            case.dim
+        ));
+        return res;
+    }
+
+    let small = n <= SMALL;
+    let timed = if small { repeat.max(1) } else { 1 };
+    let warmup = usize::from(small);
+
+    // Memory figures come from the first run, in the still-fresh process:
+    // later runs would inherit heap pages the allocator kept from earlier
+    // ones, which distorts both the peak and the per-call rise.
+    let mut peak_kb = base_kb;
+    let mut call_kb: Option<u64> = None;
+    let mut times = Vec::with_capacity(timed);
+    let mut hashes = Vec::new();
+
+    for i in 0..warmup + timed {
+        let first = i == 0;
+        let mut pre_kb = None;
+        let mut reset = false;
+        let mut on_ready = || {
+            if first {
+                // The peak so far (input generation and conversion), then a
+                // reset so that the call's own peak can be seen.
+                peak_kb = peak_kb.max(vm_hwm());
+                reset = reset_hwm();
+                pre_kb = vm_rss();
+            }
+        };
+        let run = run_once(program, &pts, &mut on_ready, false);
+        if first {
+            let hwm = vm_hwm();
+            peak_kb = peak_kb.max(hwm);
+            if let (true, Some(h), Some(p)) = (reset, hwm, pre_kb) {
+                call_kb = Some(h.saturating_sub(p));
+            }
+            res.peak_kb = peak_kb;
+            res.call_kb = call_kb;
+        }
+        match run {
+            Ok(r) => {
+                if i >= warmup {
+                    times.push(r.seconds);
+                }
+                hashes.extend(r.hash);
+                res.elements = r.elements;
+            }
+            Err(e) => {
+                res.outcome = Outcome::Error(e);
+                return res;
+            }
+        }
+    }
+    res.seconds = median(&times);
+    res.runs = times.len();
+
+    // One more, untimed run of delone (the memory figures are already
+    // taken): its output goes through delone's validator, and the full
+    // output of every run must hash the same (determinism).
+    if program == "delone" {
+        let mut nothing = || {};
+        match run_once(program, &pts, &mut nothing, true) {
+            Ok(r) => {
+                hashes.extend(r.hash);
+                match r.valid {
+                    Some(Ok(())) => res.valid = Some(true),
+                    Some(Err(v)) => {
+                        res.valid = Some(false);
+                        res.outcome = Outcome::Invalid(v);
+                    }
+                    None => {}
+                }
+            }
+            Err(e) => res.outcome = Outcome::Error(format!("check run: {e}")),
+        }
+        if hashes.len() >= 2 {
+            res.deterministic = Some(hashes.iter().all(|&h| h == hashes[0]));
+        }
+    }
+    res
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    /// Triangle and TetGen are not thread-safe, and the memory counters are
+    /// per process: run the tests that call programs one at a time.
+    static SERIAL: Mutex<()> = Mutex::new(());
+
+    fn serial() -> std::sync::MutexGuard<'static, ()> {
+        SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    #[test]
+    fn median_odd_even() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&[5.0]), 5.0);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn references_agree_on_small_random_input() {
+        let _g = serial();
+        // For points in general position all 2D references must produce
+        // the same number of triangles, 2n - 2 - h.
+        let c = Case::parse("2d-uniform-2000").unwrap();
+        let counts: Vec<usize> = ["triangle", "spade", "delaunator"]
+            .iter()
+            .map(|p| {
+                let r = run_child(&c, p, 1);
+                assert_eq!(r.outcome, Outcome::Ok, "{p}");
+                assert!(r.seconds >= 0.0);
+                r.elements
+            })
+            .collect();
+        assert!(counts[0] > 3900 && counts[0] < 3998, "{counts:?}");
+        assert!(counts.iter().all(|&c| c == counts[0]), "{counts:?}");
+    }
+
+    #[test]
+    fn tetgen_runs() {
+        let _g = serial();
+        let c = Case::parse("3d-uniform-1000").unwrap();
+        let r = run_child(&c, "tetgen", 1);
+        assert_eq!(r.outcome, Outcome::Ok);
+        // Uniform random points: about 6.5 tets per point.
+        assert!(r.elements > 5000 && r.elements < 8000, "{}", r.elements);
+    }
+
+    #[test]
+    fn wrong_dimension_is_an_error_not_a_crash() {
+        let _g = serial();
+        let c = Case::parse("3d-uniform-100").unwrap();
+        let r = run_child(&c, "spade", 1);
+        assert!(matches!(r.outcome, Outcome::Error(_)));
+    }
+
+    #[test]
+    fn memory_counters_readable_on_linux() {
+        if cfg!(target_os = "linux") {
+            let rss = vm_rss().unwrap();
+            let hwm = vm_hwm().unwrap();
+            assert!(rss > 0 && hwm >= rss);
+        }
+    }
+}
