@@ -10,7 +10,16 @@ fn main() {
         .unwrap_or(1_000_000);
     let mut r = delone::geom::SplitMix64::new(42);
     let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-    let pts: Vec<[f64; 3]> = if std::env::var("GRID").is_ok() {
+    let pts: Vec<[f64; 3]> = if std::env::var("SPHERE").is_ok() {
+        (0..n)
+            .map(|_| {
+                let z = 2.0 * u() - 1.0;
+                let t = std::f64::consts::TAU * u();
+                let r = (1.0 - z * z).sqrt();
+                [r * t.cos(), r * t.sin(), z]
+            })
+            .collect()
+    } else if std::env::var("GRID").is_ok() {
         let k = (n as f64).cbrt().round() as usize;
         (0..k * k * k)
             .map(|i| [(i % k) as f64, (i / k % k) as f64, (i / k / k) as f64])
