@@ -36,25 +36,8 @@ use delone_predicates::{insphere_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
+pub use crate::Inserted;
 use crate::{Error, Violation, NONE};
-
-/// Outcome of [`Delaunay3::insert`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Inserted {
-    /// The point became vertex `id` (its index among all points given so far).
-    Vertex(u32),
-    /// The point is bit-identical to the existing vertex `original`; it was
-    /// recorded as a duplicate and not inserted.
-    Duplicate {
-        /// Index of the duplicate point.
-        id: u32,
-        /// The vertex it coincides with.
-        original: u32,
-    },
-    /// No tetrahedron exists yet (fewer than four affinely independent points so
-    /// far); the point is kept and inserted as soon as one does.
-    Pending(u32),
-}
 
 /// Where a query point lies, as answered by [`Delaunay3::locate`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

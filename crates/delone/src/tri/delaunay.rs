@@ -39,6 +39,7 @@ use delone_predicates::{incircle, incircle_sos, orient2d};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::{pow2_scale, scaled, TriMesh};
 use crate::geom::{brio_order, SplitMix64};
+pub use crate::Inserted;
 use crate::{Error, Violation, NONE};
 
 /// Largest number of points (ids must stay below the reserved ids).
@@ -46,33 +47,6 @@ const MAX_POINTS: usize = (u32::MAX - 2) as usize;
 
 /// How often (in insertions) the progress callback is called.
 const PROGRESS_EVERY: usize = 1 << 16;
-
-/// The result of [`Delaunay2::insert`].
-///
-/// ```
-/// use delone::tri::{Delaunay2, Inserted};
-/// let mut d = Delaunay2::new();
-/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Pending(0));
-/// assert_eq!(d.insert([0.0, 0.0]).unwrap(), Inserted::Duplicate { id: 1, original: 0 });
-/// assert_eq!(d.insert([1.0, 0.0]).unwrap(), Inserted::Pending(2));
-/// assert_eq!(d.insert([0.0, 1.0]).unwrap(), Inserted::Vertex(3));
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Inserted {
-    /// The point became vertex `id` (its index in [`Delaunay2::points`]).
-    Vertex(u32),
-    /// The point has the same coordinates as an earlier point and was not
-    /// inserted (it still gets an index in [`Delaunay2::points`]).
-    Duplicate {
-        /// Index of the duplicate point.
-        id: u32,
-        /// The vertex (or pending point) it coincides with.
-        original: u32,
-    },
-    /// No triangle exists yet (all points so far are collinear); the point is
-    /// kept and becomes a vertex as soon as a triangle exists.
-    Pending(u32),
-}
 
 /// Where a query point lies, as answered by [`Delaunay2::locate`].
 ///
