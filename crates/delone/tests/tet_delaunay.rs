@@ -368,3 +368,15 @@ fn degenerate_inputs_give_the_same_tets_whatever_the_insertion_order() {
         assert_eq!(a, b);
     }
 }
+
+#[test]
+fn extreme_magnitudes() {
+    let base = uniform(500, 71);
+    for s in [1e-300, 1e-150, 1e-80, 1e80, 1e150, 1e300] {
+        let pts: Vec<[f64; 3]> = base.iter().map(|p| p.map(|c| c * s)).collect();
+        let mesh = check_all(&pts);
+        assert!(!mesh.tets.is_empty(), "scale {s}");
+    }
+    let g: Vec<[f64; 3]> = grid(5).iter().map(|p| p.map(|c| c * 1e-200)).collect();
+    check_all(&g);
+}

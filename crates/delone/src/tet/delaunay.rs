@@ -158,7 +158,14 @@ struct Core {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct Delaunay3<'a> {
+    /// The points by id: the caller's (borrowed by `from_points`, owned when
+    /// inserting one by one), multiplied by `scale` when their magnitudes are
+    /// extreme.
     points: Cow<'a, [[f64; 3]]>,
+    /// Exact power-of-two factors applied to the caller's coordinates (see
+    /// [`crate::geom::pow2_scale`]); chosen from the first point when
+    /// inserting one by one.
+    scale: Option<(f64, f64)>,
     core: Core,
     /// Per point: itself when inserted, its original when a duplicate, NONE
     /// while pending.
@@ -258,6 +265,10 @@ impl<'a> Delaunay3<'a> {
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
         check_coords(points)?;
+        // Extreme magnitudes are scaled by an exact power of two (a copy);
+        // ordinary inputs are borrowed as they are.
+        let (cow, scale) = crate::geom::rescaled(points);
+        let points: &[[f64; 3]] = &cow;
         let n = points.len();
         let mut order = crate::geom::brio_order(points);
         // The first tetrahedron: the first four affinely independent points
@@ -282,7 +293,8 @@ impl<'a> Delaunay3<'a> {
         debug_assert_eq!(&order[..4], &basis[..]);
 
         let mut dt = Delaunay3 {
-            points: Cow::Borrowed(points),
+            points: Cow::Borrowed(&[]),
+            scale: Some(scale),
             core: Core::default(),
             vertex_map: vec![NONE; n],
             duplicates: Vec::new(),
@@ -312,6 +324,7 @@ impl<'a> Delaunay3<'a> {
             }
         }
         dt.duplicates.sort_unstable();
+        dt.points = cow;
         progress(n, n);
         Ok(dt)
     }
@@ -340,6 +353,10 @@ impl<'a> Delaunay3<'a> {
         if id >= MAX_POINTS {
             return Err(Error::CapacityExceeded { requested: id + 1 });
         }
+        let s = *self
+            .scale
+            .get_or_insert_with(|| crate::geom::pow2_scale(crate::geom::max_abs(&[p])));
+        let p = crate::geom::scaled(p, s);
         self.points.to_mut().push(p);
         self.vertex_map.push(NONE);
         let id = id as u32;
@@ -391,6 +408,7 @@ impl<'a> Delaunay3<'a> {
         if self.core.v.is_empty() {
             return Location::Empty;
         }
+        let p = &crate::geom::scaled(*p, self.scale.unwrap_or((1.0, 1.0)));
         let mut rng = self.core.rng;
         let t = self.core.walk(&self.points, p, self.core.last, &mut rng);
         let tv = self.core.v[t as usize];
@@ -403,7 +421,9 @@ impl<'a> Delaunay3<'a> {
         }
     }
 
-    /// All points given so far (inserted, duplicate or pending), by id.
+    /// All points given so far (inserted, duplicate or pending), by id, as the
+    /// kernel works on them: the caller's coordinates, multiplied by an exact
+    /// power of two when their magnitudes are extreme (beyond 2^±60).
     ///
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];

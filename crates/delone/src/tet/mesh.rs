@@ -69,6 +69,10 @@ impl TetMesh {
 /// assert!(delone::tet::validate(&pts, &bad).is_err());
 /// ```
 pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
+    // Huge or tiny coordinates are scaled by an exact power of two first, so
+    // that the exact predicates neither overflow nor underflow.
+    let (points, _) = crate::geom::rescaled(points);
+    let points = &points[..];
     let n = points.len();
     let nt = mesh.tets.len();
     if mesh.neighbors.len() != nt || mesh.vertex_map.len() != n {

@@ -33,7 +33,8 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use delone_predicates::{incircle, orient2d};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
-use super::{pow2_scale, scaled, Delaunay2};
+use super::Delaunay2;
+use crate::geom::{pow2_scale, scaled};
 use crate::model::pslg::Pslg;
 use crate::{Error, Violation, NONE};
 

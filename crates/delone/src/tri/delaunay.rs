@@ -37,8 +37,9 @@ use std::borrow::Cow;
 use delone_predicates::{incircle, incircle_sos, orient2d};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
-use super::{pow2_scale, scaled, TriMesh};
+use super::TriMesh;
 use crate::geom::{brio_order, SplitMix64};
+use crate::geom::{pow2_scale, scaled};
 pub use crate::Inserted;
 use crate::{Error, Violation, NONE};
 

@@ -65,17 +65,8 @@ fn err(kind: &'static str, detail: String) -> Result<(), Violation> {
 pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
     // Huge or tiny coordinates are scaled by an exact power of two first, so
     // that the exact predicates neither overflow nor underflow.
-    let max_abs = points
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let s = super::pow2_scale(max_abs);
-    let scaled_points: Vec<[f64; 2]>;
-    let points = if s == (1.0, 1.0) {
-        points
-    } else {
-        scaled_points = points.iter().map(|&p| super::scaled(p, s)).collect();
-        &scaled_points[..]
-    };
+    let (points, _) = crate::geom::rescaled(points);
+    let points = &points[..];
     let n = points.len();
     let nt = mesh.triangles.len();
     if mesh.neighbors.len() != nt {
