@@ -25,6 +25,7 @@
 //! run time, since the true lengths are usually tiny thanks to zero elimination)
 //! and only if one overflows with the worst-case capacities, which cannot overflow.
 
+use crate::dd;
 use crate::expansion::{two_diff, two_sum, Exp};
 use crate::{Point2, Point3, U};
 
@@ -164,6 +165,9 @@ pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     if exact && on_coarse_grid(&[ac[0], ac[1], bc[0], bc[1]], 33_554_432.0) {
         return ac[0] * bc[1] - ac[1] * bc[0];
     }
+    if let Some(v) = dd::orient2d(a, b, c) {
+        return v;
+    }
     let e = Exp::<2>::product(ac[0], bc[1]).sub::<2, 4>(&Exp::<2>::product(ac[1], bc[0]));
     if exact {
         return e.approx();
@@ -222,6 +226,9 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
         )
     {
         return dot(&ad, &cross(&bd, &cd));
+    }
+    if let Some(v) = dd::orient3d(a, b, c, d) {
+        return v;
     }
     let e = det3(&ad, &bd, &cd);
     if exact {
@@ -345,6 +352,9 @@ pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: 
                 ad[0] * bd[1] - bd[0] * ad[1],
             ],
         );
+    }
+    if let Some(v) = dd::incircle([a, b, c, d], &w) {
+        return v;
     }
     // Worst-case capacities: 2*4*6 = 48, 96, 144.
     let q = [&ad, &bd, &cd];
@@ -470,6 +480,9 @@ pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
         let d = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| dot(a, &cross(b, c));
         return (l(&q[1]) * d(&q[0], &q[2], &q[3]) - l(&q[0]) * d(&q[1], &q[2], &q[3]))
             + (l(&q[3]) * d(&q[0], &q[1], &q[2]) - l(&q[2]) * d(&q[0], &q[1], &q[3]));
+    }
+    if let Some(v) = dd::insphere(p, &w) {
+        return v;
     }
     // Worst-case capacities: 2*24*8 = 384, 768, 1536.
     let qr = [&q[0], &q[1], &q[2], &q[3]];

@@ -130,6 +130,7 @@
 //!   predicates*, Real Numbers and Computers (2008).
 #![forbid(unsafe_code)]
 
+mod dd;
 mod exact;
 mod expansion;
 mod semi;
