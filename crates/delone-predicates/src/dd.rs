@@ -161,7 +161,12 @@ pub(crate) fn insphere_g<T: Ring>(p: [[T; 3]; 4], w: [T; 4]) -> T {
     let acd = d3(a[2], c[2], d[2], cd, ad, ac);
     let abd = d3(a[2], b[2], d[2], bd, ad, ab);
     let abc = d3(a[2], b[2], c[2], bc, ac, ab);
-    let l = |s: [T; 3], w: T| s[0].mul(s[0]).add(s[1].mul(s[1])).add(s[2].mul(s[2])).sub(w);
+    let l = |s: [T; 3], w: T| {
+        s[0].mul(s[0])
+            .add(s[1].mul(s[1]))
+            .add(s[2].mul(s[2]))
+            .sub(w)
+    };
     let (la, lb, lc, ld) = (l(a, w[0]), l(b, w[1]), l(c, w[2]), l(d, w[3]));
     lb.mul(acd)
         .sub(la.mul(bcd))
