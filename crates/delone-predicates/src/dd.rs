@@ -358,3 +358,331 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod soundness {
+    //! The double-double stage against independent exact references (`robust`,
+    //! the homogeneous expansion determinant) on near-degenerate inputs.
+    use super::*;
+    use crate::exact::{incircle_homogeneous, insphere_homogeneous};
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in `[-1, 1)`.
+        fn f(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+        fn pick<T: Copy>(&mut self, v: &[T]) -> T {
+            v[(self.next() % v.len() as u64) as usize]
+        }
+    }
+
+    fn c2(p: &[f64; 2]) -> robust::Coord<f64> {
+        robust::Coord { x: p[0], y: p[1] }
+    }
+    fn c3(p: &[f64; 3]) -> robust::Coord3D<f64> {
+        robust::Coord3D {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+        }
+    }
+    fn r_o2(p: &[[f64; 2]]) -> f64 {
+        robust::orient2d(c2(&p[0]), c2(&p[1]), c2(&p[2])).signum0()
+    }
+    fn r_o3(p: &[[f64; 3]]) -> f64 {
+        robust::orient3d(c3(&p[0]), c3(&p[1]), c3(&p[2]), c3(&p[3])).signum0()
+    }
+    fn r_ic(p: &[[f64; 2]]) -> f64 {
+        robust::incircle(c2(&p[0]), c2(&p[1]), c2(&p[2]), c2(&p[3])).signum0()
+    }
+    fn r_is(p: &[[f64; 3]]) -> f64 {
+        robust::insphere(c3(&p[0]), c3(&p[1]), c3(&p[2]), c3(&p[3]), c3(&p[4])).signum0()
+    }
+    trait Sign0 {
+        fn signum0(self) -> f64;
+    }
+    impl Sign0 for f64 {
+        fn signum0(self) -> f64 {
+            if self == 0.0 {
+                0.0
+            } else {
+                self.signum()
+            }
+        }
+    }
+
+    /// Tallies of one family: certified, deferred, certified close to the bound.
+    #[derive(Default, Debug)]
+    struct Tally {
+        certified: usize,
+        deferred: usize,
+        tight: usize,
+    }
+    impl Tally {
+        /// Checks one stage result against the exact sign `exact`; `bound` is the
+        /// stage's bound `k·u²·Mᵈ` for this input.
+        fn check(&mut self, got: Option<f64>, exact: f64, bound: f64, what: &str) {
+            match got {
+                Some(v) => {
+                    assert_eq!(v.signum0(), exact, "{what}");
+                    assert_ne!(exact, 0.0, "{what}: an exact tie was certified");
+                    self.certified += 1;
+                    if v.abs() < 64.0 * bound {
+                        self.tight += 1;
+                    }
+                }
+                None => self.deferred += 1,
+            }
+        }
+    }
+
+    fn max_diff<const D: usize>(p: &[[f64; D]]) -> f64 {
+        let last = p[p.len() - 1];
+        p.iter()
+            .flat_map(|q| (0..D).map(move |k| (q[k] - last[k]).abs()))
+            .fold(0.0, f64::max)
+    }
+
+    /// Points rounded from random circles and spheres (every determinant within
+    /// rounding of zero, the situation of the sphere benchmark): all certified by
+    /// this stage, with the exact sign, at scales from 2^-120 to 2^100.
+    #[test]
+    fn rounded_circles_and_spheres_are_certified() {
+        let mut r = Rng(1);
+        for i in 0..20_000 {
+            let s = 2f64.powi([-120, -40, -3, 0, 1, 7, 30, 100][i % 8]);
+            let (o, rad) = ([r.f() * s, r.f() * s, r.f() * s], (1.5 + r.f()) * s);
+            let p2: [[f64; 2]; 4] = std::array::from_fn(|_| {
+                let t = std::f64::consts::PI * r.f();
+                [o[0] + rad * t.cos(), o[1] + rad * t.sin()]
+            });
+            let ex = r_ic(&p2);
+            let got = incircle([&p2[0], &p2[1], &p2[2], &p2[3]], &[0.0; 4]);
+            assert_eq!(got.map(f64::signum0), Some(ex), "incircle {p2:?}");
+            let p3: [[f64; 3]; 5] = std::array::from_fn(|_| {
+                let d = [r.f(), r.f(), r.f()];
+                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                std::array::from_fn(|k| o[k] + rad * d[k] / n)
+            });
+            let ex = r_is(&p3);
+            let got = insphere([&p3[0], &p3[1], &p3[2], &p3[3], &p3[4]], &[0.0; 5]);
+            assert_eq!(got.map(f64::signum0), Some(ex), "insphere {p3:?}");
+            // Points rounded from random lines and planes.
+            let (d, e) = ([r.f(), r.f(), r.f()], [r.f(), r.f(), r.f()]);
+            let l2: [[f64; 2]; 3] = std::array::from_fn(|_| {
+                let t = r.f() * s;
+                [o[0] + t * d[0], o[1] + t * d[1]]
+            });
+            assert_eq!(orient2d(&l2[0], &l2[1], &l2[2]).map(f64::signum0), {
+                let ex = r_o2(&l2);
+                (ex != 0.0).then_some(ex)
+            });
+            let l3: [[f64; 3]; 4] = std::array::from_fn(|_| {
+                let (t, w) = (r.f() * s, r.f() * s);
+                std::array::from_fn(|k| o[k] + t * d[k] + w * e[k])
+            });
+            assert_eq!(orient3d(&l3[0], &l3[1], &l3[2], &l3[3]).map(f64::signum0), {
+                let ex = r_o3(&l3);
+                (ex != 0.0).then_some(ex)
+            });
+        }
+    }
+
+    /// Exactly degenerate integer configurations translated so that the last point
+    /// is the origin, which is then moved by `δ = ±2^-j·M` per coordinate for `j`
+    /// sweeping 40..140: the exact determinant sweeps through the stage's bound
+    /// (`≈ k·u²·Mᵈ`, `u² = 2^-106`). Certified signs must be exact, exact ties must
+    /// defer, and both outcomes must occur close to the bound.
+    #[test]
+    fn perturbed_ties_sweep_through_the_bound() {
+        let circle: Vec<[f64; 2]> = [(3.0, 4.0), (4.0, 3.0), (5.0, 0.0), (0.0, 5.0)]
+            .iter()
+            .flat_map(|&(x, y): &(f64, f64)| [[x, y], [-x, y], [x, -y], [-x, -y]])
+            .collect();
+        let mut sphere = Vec::new();
+        for x in -3i32..=3 {
+            for y in -3i32..=3 {
+                for z in -3i32..=3 {
+                    if x * x + y * y + z * z == 9 {
+                        sphere.push([x as f64, y as f64, z as f64]);
+                    }
+                }
+            }
+        }
+        let mut r = Rng(2);
+        let (mut t_o2, mut t_o3, mut t_ic, mut t_is) =
+            (Tally::default(), Tally::default(), Tally::default(), Tally::default());
+        for i in 0..40_000 {
+            let j = 40 + (i % 101) as i32;
+            let scale = 2f64.powi((r.next() % 41) as i32 - 20);
+            let delta = |r: &mut Rng| {
+                if r.next() % 4 == 0 {
+                    0.0
+                } else {
+                    r.f() * 2f64.powi(-j) * 8.0 * scale
+                }
+            };
+            // incircle: four distinct circle points, the last one moved to the origin.
+            let mut p: [[f64; 2]; 4] = std::array::from_fn(|_| r.pick(&circle));
+            let last = p[3];
+            for q in &mut p {
+                *q = [(q[0] - last[0]) * scale, (q[1] - last[1]) * scale];
+            }
+            p[3] = [delta(&mut r), delta(&mut r)];
+            let m = max_diff(&p);
+            let got = incircle([&p[0], &p[1], &p[2], &p[3]], &[0.0; 4]);
+            t_ic.check(got, r_ic(&p), coef(IC_K) * m.powi(4), &format!("{p:?}"));
+            // orient2d: three points of a line through the origin.
+            let dir = [r.pick(&[1.0, 3.0, -5.0]), r.pick(&[2.0, -7.0, 1.0])];
+            let mut q: [[f64; 2]; 3] = std::array::from_fn(|_| {
+                let t = r.pick(&[-9.0, -2.0, 1.0, 4.0, 11.0]) * scale;
+                [t * dir[0], t * dir[1]]
+            });
+            q[2] = [delta(&mut r), delta(&mut r)];
+            let m = max_diff(&q);
+            let got = orient2d(&q[0], &q[1], &q[2]);
+            t_o2.check(got, r_o2(&q), coef(O2_K) * m * m, &format!("{q:?}"));
+            // insphere: five sphere points, the last one moved to the origin.
+            let mut p: [[f64; 3]; 5] = std::array::from_fn(|_| r.pick(&sphere));
+            let last = p[4];
+            for q in &mut p {
+                *q = std::array::from_fn(|k| (q[k] - last[k]) * scale);
+            }
+            p[4] = [delta(&mut r), delta(&mut r), delta(&mut r)];
+            let m = max_diff(&p);
+            let got = insphere([&p[0], &p[1], &p[2], &p[3], &p[4]], &[0.0; 5]);
+            t_is.check(got, r_is(&p), coef(IS_K) * m.powi(5), &format!("{p:?}"));
+            // orient3d: four points of a plane through the origin.
+            let (u, v) = (r.pick(&sphere), r.pick(&sphere));
+            let mut q: [[f64; 3]; 4] = std::array::from_fn(|_| {
+                let (s, t) = (r.pick(&[-3.0, 1.0, 2.0]), r.pick(&[-1.0, 5.0, 3.0]));
+                std::array::from_fn(|k| (s * u[k] + t * v[k]) * scale)
+            });
+            q[3] = [delta(&mut r), delta(&mut r), delta(&mut r)];
+            let m = max_diff(&q);
+            let got = orient3d(&q[0], &q[1], &q[2], &q[3]);
+            t_o3.check(got, r_o3(&q), coef(O3_K) * m.powi(3), &format!("{q:?}"));
+        }
+        for (name, t) in [("o2", t_o2), ("o3", t_o3), ("ic", t_ic), ("is", t_is)] {
+            println!("{name}: {t:?}");
+            assert!(t.certified > 1000 && t.deferred > 1000, "{name}: {t:?}");
+            assert!(t.tight > 20, "{name}: {t:?}");
+        }
+    }
+
+    /// Integer grids rotated by a rounded angle: many near-cocircular and
+    /// near-cospherical quadruples; every certified sign exact.
+    #[test]
+    fn rotated_grids() {
+        let mut r = Rng(3);
+        let mut certified = 0;
+        for _ in 0..20_000 {
+            let th = r.f();
+            let (c, s) = (th.cos(), th.sin());
+            let rot = |x: f64, y: f64| [c * x - s * y, s * x + c * y];
+            let g = |r: &mut Rng| (r.next() % 5) as f64;
+            let p: [[f64; 2]; 4] = std::array::from_fn(|_| rot(g(&mut r), g(&mut r)));
+            let got = incircle([&p[0], &p[1], &p[2], &p[3]], &[0.0; 4]);
+            if let Some(v) = got {
+                assert_eq!(v.signum0(), r_ic(&p), "{p:?}");
+                certified += 1;
+            }
+            let q: [[f64; 3]; 5] = std::array::from_fn(|_| {
+                let [x, y] = rot(g(&mut r), g(&mut r));
+                let [y, z] = [c * y - s * g(&mut r), 0.0];
+                [x, y, z + g(&mut r) * c]
+            });
+            if let Some(v) = insphere([&q[0], &q[1], &q[2], &q[3], &q[4]], &[0.0; 5]) {
+                assert_eq!(v.signum0(), r_is(&q), "{q:?}");
+                certified += 1;
+            }
+        }
+        assert!(certified > 10_000);
+    }
+
+    /// Weighted tests near the power tie (the last weight chosen so that the last
+    /// point is almost orthogonal), against the homogeneous exact determinant;
+    /// including exact ties on integers, which must defer.
+    #[test]
+    fn weighted_near_ties() {
+        let mut r = Rng(4);
+        let (mut cert, mut deferred) = (0, 0);
+        for i in 0..5_000 {
+            let exact_tie = i % 3 == 0;
+            let v = |r: &mut Rng| {
+                if exact_tie {
+                    (r.next() % 16) as f64
+                } else {
+                    r.f()
+                }
+            };
+            // 2D: power of d w.r.t. the orthocircle of weighted a, b, c ≈ 0 by
+            // choosing w_d from the lifted plane through them (in floating point).
+            let p: [[f64; 2]; 4] = std::array::from_fn(|_| [v(&mut r), v(&mut r)]);
+            let mut w = [v(&mut r), v(&mut r), v(&mut r), 0.0];
+            let lift = |q: &[f64; 2], w: f64| q[0] * q[0] + q[1] * q[1] - w;
+            // Plane z = αx + βy + γ through the three lifted points (Cramer).
+            let det = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+                a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                    + a[2] * (b[0] * c[1] - b[1] * c[0])
+            };
+            let rows = [0, 1, 2].map(|k| [p[k][0], p[k][1], 1.0]);
+            let z = [0, 1, 2].map(|k| lift(&p[k], w[k]));
+            let dd0 = det(rows[0], rows[1], rows[2]);
+            if dd0 == 0.0 {
+                continue;
+            }
+            let col = |c: usize| {
+                let mut m = rows;
+                for k in 0..3 {
+                    m[k][c] = z[k];
+                }
+                det(m[0], m[1], m[2]) / dd0
+            };
+            let (al, be, ga) = (col(0), col(1), col(2));
+            w[3] = lift(&p[3], 0.0) - (al * p[3][0] + be * p[3][1] + ga);
+            let pr = [&p[0], &p[1], &p[2], &p[3]];
+            let ex = incircle_homogeneous(pr, w).signum0();
+            match incircle(pr, &w) {
+                Some(v) => {
+                    assert_eq!(v.signum0(), ex, "{p:?} {w:?}");
+                    cert += 1;
+                }
+                None => deferred += 1,
+            }
+            // 3D: same with a random last weight near the lifted hyperplane, via the
+            // exact reference only (sign agreement whenever certified).
+            let q: [[f64; 3]; 5] = std::array::from_fn(|_| [v(&mut r), v(&mut r), v(&mut r)]);
+            let w3 = [v(&mut r), v(&mut r), v(&mut r), v(&mut r), v(&mut r)];
+            let qr = [&q[0], &q[1], &q[2], &q[3], &q[4]];
+            if let Some(v) = insphere(qr, &w3) {
+                assert_eq!(v.signum0(), insphere_homogeneous(qr, w3).signum0());
+            }
+        }
+        assert!(cert > 1000 && deferred > 100, "{cert} {deferred}");
+    }
+
+    /// Out-of-range and non-finite inputs defer to the exact stages.
+    #[test]
+    fn range_guard() {
+        let big = 2f64.powi(151);
+        let p = [[0.0, 0.0], [big, 0.0], [0.0, big], [big, big * 0.999]];
+        assert!(incircle([&p[0], &p[1], &p[2], &p[3]], &[0.0; 4]).is_none());
+        let q = [[0.0, 0.0], [f64::NAN, 0.0], [0.0, 1.0], [0.3, 0.3]];
+        assert!(incircle([&q[0], &q[1], &q[2], &q[3]], &[0.0; 4]).is_none());
+        assert!(orient2d(&q[0], &q[1], &q[2]).is_none());
+        let inf = [[0.0, 0.0, 0.0], [f64::INFINITY, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(orient3d(&inf[0], &inf[1], &inf[2], &[0.1, 0.2, 0.3]).is_none());
+        // Just inside the range, a clear case is certified.
+        let s = 2f64.powi(149);
+        assert!(orient2d(&[0.0, 0.0], &[s, 0.0], &[0.0, s]).is_some());
+    }
+}

@@ -155,6 +155,19 @@ fn on_coarse_grid(vals: &[f64], lim: f64) -> bool {
     big <= lim * f64::from_bits(((low + 1023) as u64) << 52)
 }
 
+/// Exact weighted in-circle by the homogeneous determinant only (stage B), for
+/// tests that need a reference independent of the other stages.
+#[cfg(test)]
+pub(crate) fn incircle_homogeneous(p: [&Point2; 4], w: [f64; 4]) -> f64 {
+    incircle_b::<120, 240, 480>(p, w).unwrap_or(f64::NAN)
+}
+
+/// Exact weighted in-sphere by the homogeneous determinant only (stage B).
+#[cfg(test)]
+pub(crate) fn insphere_homogeneous(p: [&Point3; 5], w: [f64; 5]) -> f64 {
+    insphere_b::<1344, 2688, 5376, 6720>(p, w).unwrap_or(f64::NAN)
+}
+
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
