@@ -7,7 +7,10 @@
 //! filter), or over 4096 near-degenerate inputs rounded from exact configurations
 //! (`orient2d_line`, `orient3d_plane`, `incircle_circle`, `insphere_sphere`: points on
 //! a random line / plane / circle / sphere, so every determinant is within rounding
-//! of zero and the filters fail). Instructions per call are
+//! of zero and the filters fail), or over exact ties whose coordinate differences
+//! are not representable (`orient2d_tie`, `incircle_tie`: random points on the
+//! x axis; `orient3d_tie`, `insphere_tie`: random points in the plane z = 0 — every
+//! stage but the homogeneous expansion one must defer). Instructions per call are
 //! `(Ir(REPS) − Ir(0)) / (REPS · 4096)`:
 //!
 //! ```text
@@ -92,7 +95,13 @@ fn main() {
             })
         })
         .collect();
+    // Exact ties with inexact differences: z = 0 (and y = 0 for the 2D tests).
+    let flat: Vec<[[f64; 3]; 5]> = pts
+        .iter()
+        .map(|q| q.map(|p| [p[0] * 1e3, p[1] * 1e-3, 0.0]))
+        .collect();
     let p2 = |p: &[f64; 3]| [p[0], p[1]];
+    let x2 = |p: &[f64; 3]| [p[0], 0.0];
     let c2 = |p: &[f64; 3]| Coord { x: p[0], y: p[1] };
     let d2 = |p: &[f64; 2]| Coord { x: p[0], y: p[1] };
     let c3 = |p: &[f64; 3]| Coord3D {
@@ -127,6 +136,12 @@ fn main() {
         "orient3d_plane" => run!(planes, q => orient3d(&q[0], &q[1], &q[2], &q[3])),
         "incircle_circle" => run!(circles, q => incircle(&q[0], &q[1], &q[2], &q[3])),
         "insphere_sphere" => run!(near, q => insphere(&q[0], &q[1], &q[2], &q[3], &q[4])),
+        "orient2d_tie" => run!(flat, q => orient2d(&x2(&q[0]), &x2(&q[1]), &x2(&q[2]))),
+        "incircle_tie" => {
+            run!(flat, q => incircle(&x2(&q[0]), &x2(&q[1]), &x2(&q[2]), &x2(&q[3])))
+        }
+        "orient3d_tie" => run!(flat, q => orient3d(&q[0], &q[1], &q[2], &q[3])),
+        "insphere_tie" => run!(flat, q => insphere(&q[0], &q[1], &q[2], &q[3], &q[4])),
         "robust_orient2d_line" => {
             run!(lines, q => robust::orient2d(d2(&q[0]), d2(&q[1]), d2(&q[2])))
         }

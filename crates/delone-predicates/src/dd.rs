@@ -47,12 +47,15 @@
 //! the unit tests), which checks that the constants below dominate the propagated
 //! `E` (they are rounded up with a relative margin `2⁻²⁰`):
 //!
-//! | predicate | degree `d` | propagated `E/u²` | constant `k` |
-//! |-----------|-----------:|------------------:|-------------:|
-//! | orient2d  | 2          | see `tests`        | [`O2_K`]     |
-//! | orient3d  | 3          |                   | [`O3_K`]     |
-//! | incircle  | 4          |                   | [`IC_K`]     |
-//! | insphere  | 5          |                   | [`IS_K`]     |
+//! | predicate           | degree `d` | propagated `E/u²` | constant `k` | `H` (units `Mᵈ`) |
+//! |---------------------|-----------:|------------------:|-------------:|-----------------:|
+//! | orient2d            | 2          | 30                | 32           | 2                |
+//! | orient3d            | 3          | 348               | 352          | 6                |
+//! | incircle (weighted) | 4          | 1908              | 1920         | 18               |
+//! | insphere (weighted) | 5          | 20600             | 20608        | 96               |
+//!
+//! (The unweighted tests use the same code with zero weights; the bound counts the
+//! weight leaf anyway, a harmless overestimate.)
 //!
 //! The sign of `ṽ = h + l` is that of `fl(h + l)`; it is certified when
 //! `|fl(h + l)| > k·u²·Mᵈ + T`: `|ṽ| ≥ |fl(h + l)|/(1+u)`, and the bound, computed
@@ -226,8 +229,7 @@ fn weight_leaves<const D: usize>(w: &[f64], m: &mut f64) -> [Dd; D] {
 /// Sign certification of the result `v` of a degree-`d` formula with constant `c`.
 #[inline(always)]
 fn certify(v: Dd, m: f64, md: f64, c: f64) -> Option<f64> {
-    // `m <= HUGE` is false for NaN.
-    if !(m <= HUGE) {
+    if m.is_nan() || m > HUGE {
         return None;
     }
     let s = v.h + v.l;
@@ -489,10 +491,13 @@ mod soundness {
                 let (t, w) = (r.f() * s, r.f() * s);
                 std::array::from_fn(|k| o[k] + t * d[k] + w * e[k])
             });
-            assert_eq!(orient3d(&l3[0], &l3[1], &l3[2], &l3[3]).map(f64::signum0), {
-                let ex = r_o3(&l3);
-                (ex != 0.0).then_some(ex)
-            });
+            assert_eq!(
+                orient3d(&l3[0], &l3[1], &l3[2], &l3[3]).map(f64::signum0),
+                {
+                    let ex = r_o3(&l3);
+                    (ex != 0.0).then_some(ex)
+                }
+            );
         }
     }
 
@@ -518,13 +523,17 @@ mod soundness {
             }
         }
         let mut r = Rng(2);
-        let (mut t_o2, mut t_o3, mut t_ic, mut t_is) =
-            (Tally::default(), Tally::default(), Tally::default(), Tally::default());
+        let (mut t_o2, mut t_o3, mut t_ic, mut t_is) = (
+            Tally::default(),
+            Tally::default(),
+            Tally::default(),
+            Tally::default(),
+        );
         for i in 0..40_000 {
-            let j = 40 + (i % 101) as i32;
+            let j = 40 + (i % 101);
             let scale = 2f64.powi((r.next() % 41) as i32 - 20);
             let delta = |r: &mut Rng| {
-                if r.next() % 4 == 0 {
+                if r.next().is_multiple_of(4) {
                     0.0
                 } else {
                     r.f() * 2f64.powi(-j) * 8.0 * scale

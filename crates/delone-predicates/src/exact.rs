@@ -1,7 +1,9 @@
 //! Exact (slow) stages of the predicates, reached only when the floating-point
 //! filter cannot certify the sign.
 //!
-//! Each predicate goes through up to four steps:
+//! Each predicate goes through up to five steps (after the coarse-grid shortcut
+//! and the double-double stage of the `dd` module, which certifies every
+//! non-negligible near-degenerate decision):
 //!
 //! * **Stage A** — the translated determinant (differences to the last point) is
 //!   evaluated *exactly on the rounded differences* with short expansions. If every
@@ -421,10 +423,30 @@ fn insphere_b<const P: usize, const S1: usize, const S2: usize, const R: usize>(
     p: [&Point3; 5],
     w: [f64; 5],
 ) -> Option<f64> {
-    let d3 = |i: usize, j: usize, k: usize| det3(p[i], p[j], p[k]);
+    // The ten 3x3 minors `det3(p_i, p_j, p_k)`, `i < j < k`, each computed once.
+    const TRIPLES: [[usize; 3]; 10] = [
+        [0, 1, 2],
+        [0, 1, 3],
+        [0, 1, 4],
+        [0, 2, 3],
+        [0, 2, 4],
+        [0, 3, 4],
+        [1, 2, 3],
+        [1, 2, 4],
+        [1, 3, 4],
+        [2, 3, 4],
+    ];
+    let minors: [Exp<24>; 10] = std::array::from_fn(|t| {
+        let [i, j, k] = TRIPLES[t];
+        det3(p[i], p[j], p[k])
+    });
+    let d3 = |i: usize, j: usize, k: usize| -> &Exp<24> {
+        let t = TRIPLES.iter().position(|&x| x == [i, j, k]).unwrap_or(0);
+        &minors[t]
+    };
     let o = |q: [usize; 4]| -> Exp<96> {
-        let s1: Exp<48> = d3(q[0], q[2], q[3]).sub(&d3(q[1], q[2], q[3]));
-        let s2: Exp<48> = d3(q[0], q[1], q[2]).sub(&d3(q[0], q[1], q[3]));
+        let s1: Exp<48> = d3(q[0], q[2], q[3]).sub(d3(q[1], q[2], q[3]));
+        let s2: Exp<48> = d3(q[0], q[1], q[2]).sub(d3(q[0], q[1], q[3]));
         s1.add(&s2)
     };
     let term = |r: usize| -> Option<Exp<P>> {
