@@ -1,7 +1,9 @@
 //! Exact (slow) stages of the predicates, reached only when the floating-point
 //! filter cannot certify the sign.
 //!
-//! Each predicate goes through up to four steps:
+//! Each predicate goes through up to five steps (after the coarse-grid shortcut
+//! and the double-double stage of the `dd` module, which certifies every
+//! non-negligible near-degenerate decision):
 //!
 //! * **Stage A** — the translated determinant (differences to the last point) is
 //!   evaluated *exactly on the rounded differences* with short expansions. If every
@@ -25,6 +27,7 @@
 //! run time, since the true lengths are usually tiny thanks to zero elimination)
 //! and only if one overflows with the worst-case capacities, which cannot overflow.
 
+use crate::dd;
 use crate::expansion::{two_diff, two_sum, Exp};
 use crate::{Point2, Point3, U};
 
@@ -154,6 +157,19 @@ fn on_coarse_grid(vals: &[f64], lim: f64) -> bool {
     big <= lim * f64::from_bits(((low + 1023) as u64) << 52)
 }
 
+/// Exact weighted in-circle by the homogeneous determinant only (stage B), for
+/// tests that need a reference independent of the other stages.
+#[cfg(test)]
+pub(crate) fn incircle_homogeneous(p: [&Point2; 4], w: [f64; 4]) -> f64 {
+    incircle_b::<120, 240, 480>(p, w).unwrap_or(f64::NAN)
+}
+
+/// Exact weighted in-sphere by the homogeneous determinant only (stage B).
+#[cfg(test)]
+pub(crate) fn insphere_homogeneous(p: [&Point3; 5], w: [f64; 5]) -> f64 {
+    insphere_b::<1344, 2688, 5376, 6720>(p, w).unwrap_or(f64::NAN)
+}
+
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
@@ -163,6 +179,9 @@ pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     // 2 monomials of degree 2: 2·(2^25)^2 < 2^53.
     if exact && on_coarse_grid(&[ac[0], ac[1], bc[0], bc[1]], 33_554_432.0) {
         return ac[0] * bc[1] - ac[1] * bc[0];
+    }
+    if let Some(v) = dd::orient2d(a, b, c) {
+        return v;
     }
     let e = Exp::<2>::product(ac[0], bc[1]).sub::<2, 4>(&Exp::<2>::product(ac[1], bc[0]));
     if exact {
@@ -222,6 +241,9 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
         )
     {
         return dot(&ad, &cross(&bd, &cd));
+    }
+    if let Some(v) = dd::orient3d(a, b, c, d) {
+        return v;
     }
     let e = det3(&ad, &bd, &cd);
     if exact {
@@ -346,6 +368,9 @@ pub(crate) fn incircle_exact(a: &Point2, b: &Point2, c: &Point2, d: &Point2, w: 
             ],
         );
     }
+    if let Some(v) = dd::incircle([a, b, c, d], &w) {
+        return v;
+    }
     // Worst-case capacities: 2*4*6 = 48, 96, 144.
     let q = [&ad, &bd, &cd];
     let r = incircle_a::<16, 32, 32>(q, w, &fin).or_else(|| incircle_a::<48, 96, 144>(q, w, &fin));
@@ -398,10 +423,30 @@ fn insphere_b<const P: usize, const S1: usize, const S2: usize, const R: usize>(
     p: [&Point3; 5],
     w: [f64; 5],
 ) -> Option<f64> {
-    let d3 = |i: usize, j: usize, k: usize| det3(p[i], p[j], p[k]);
+    // The ten 3x3 minors `det3(p_i, p_j, p_k)`, `i < j < k`, each computed once.
+    const TRIPLES: [[usize; 3]; 10] = [
+        [0, 1, 2],
+        [0, 1, 3],
+        [0, 1, 4],
+        [0, 2, 3],
+        [0, 2, 4],
+        [0, 3, 4],
+        [1, 2, 3],
+        [1, 2, 4],
+        [1, 3, 4],
+        [2, 3, 4],
+    ];
+    let minors: [Exp<24>; 10] = std::array::from_fn(|t| {
+        let [i, j, k] = TRIPLES[t];
+        det3(p[i], p[j], p[k])
+    });
+    let d3 = |i: usize, j: usize, k: usize| -> &Exp<24> {
+        let t = TRIPLES.iter().position(|&x| x == [i, j, k]).unwrap_or(0);
+        &minors[t]
+    };
     let o = |q: [usize; 4]| -> Exp<96> {
-        let s1: Exp<48> = d3(q[0], q[2], q[3]).sub(&d3(q[1], q[2], q[3]));
-        let s2: Exp<48> = d3(q[0], q[1], q[2]).sub(&d3(q[0], q[1], q[3]));
+        let s1: Exp<48> = d3(q[0], q[2], q[3]).sub(d3(q[1], q[2], q[3]));
+        let s2: Exp<48> = d3(q[0], q[1], q[2]).sub(d3(q[0], q[1], q[3]));
         s1.add(&s2)
     };
     let term = |r: usize| -> Option<Exp<P>> {
@@ -470,6 +515,9 @@ pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
         let d = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| dot(a, &cross(b, c));
         return (l(&q[1]) * d(&q[0], &q[2], &q[3]) - l(&q[0]) * d(&q[1], &q[2], &q[3]))
             + (l(&q[3]) * d(&q[0], &q[1], &q[2]) - l(&q[2]) * d(&q[0], &q[1], &q[3]));
+    }
+    if let Some(v) = dd::insphere(p, &w) {
+        return v;
     }
     // Worst-case capacities: 2*24*8 = 384, 768, 1536.
     let qr = [&q[0], &q[1], &q[2], &q[3]];

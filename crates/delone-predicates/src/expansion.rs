@@ -264,20 +264,32 @@ impl<const N: usize> Exp<N> {
         if 2 * self.len * o.len > K {
             return None;
         }
-        let mut acc = [0.0; K];
         let oc = o.comps();
-        let mut len = scale_into(self.comps(), oc[0], &mut acc);
-        if oc.len() > 1 {
-            let mut tmp = [0.0; K];
-            let mut part = [0.0; K];
-            for &b in &oc[1..] {
-                let pl = scale_into(self.comps(), b, &mut part);
-                let tl = sum_into(&acc[..len], &part[..pl], 1.0, &mut tmp);
-                acc[..tl].copy_from_slice(&tmp[..tl]);
-                len = tl;
-            }
+        let mut out = Exp {
+            len: 0,
+            c: [0.0; K],
+        };
+        if oc.len() == 1 {
+            out.len = scale_into(self.comps(), oc[0], &mut out.c);
+            return Some(out);
         }
-        Some(Exp { len, c: acc })
+        // Accumulate the partial products ping-ponging between two buffers (no
+        // copies); `part` only needs the `2·len(self)` components of one partial.
+        let mut other = [0.0; K];
+        let mut part = [0.0; K];
+        let mut len = scale_into(self.comps(), oc[0], &mut out.c);
+        let (mut cur, mut nxt) = (&mut out.c, &mut other);
+        for &b in &oc[1..] {
+            let pl = scale_into(self.comps(), b, &mut part[..2 * self.len]);
+            len = sum_into(&cur[..len], &part[..pl], 1.0, &mut nxt[..]);
+            std::mem::swap(&mut cur, &mut nxt);
+        }
+        // `cur` holds the result; it is `out.c` after an even number of swaps.
+        if oc.len().is_multiple_of(2) {
+            out.c[..len].copy_from_slice(&other[..len]);
+        }
+        out.len = len;
+        Some(out)
     }
 
     /// An approximation of the value with the exact sign: the largest component.
