@@ -7,9 +7,11 @@
 pub mod delaunay;
 pub mod mesh;
 mod topo;
+pub mod voronoi;
 
 pub use delaunay::{Delaunay2, Inserted, Location};
 pub use mesh::{validate, TriMesh};
+pub use voronoi::{lloyd, Voronoi2};
 
 use crate::Error;
 
