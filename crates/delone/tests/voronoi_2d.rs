@@ -138,6 +138,20 @@ fn check(pts: &[[f64; 2]], bbox: Box2, samples: usize) {
             cell.neighbors.len(),
             cell.vertices.len() + usize::from(on_hull[r])
         );
+        if let Some(rays) = cell.rays {
+            // Both rays point outward: every point lies behind them.
+            for d in rays {
+                let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+                assert!(len > 0.0);
+                for q in pts {
+                    let x = (q[0] - pts[r][0]) * d[0] + (q[1] - pts[r][1]) * d[1];
+                    assert!(
+                        x <= 1e-9 * len * len.max(1.0),
+                        "site {s}: ray {d:?} not outward"
+                    );
+                }
+            }
+        }
         if !on_hull[r] {
             // Bounded and convex (non-strictly: cocircular vertices repeat).
             let poly: Vec<[f64; 2]> = cell
