@@ -134,10 +134,25 @@ fn check(pts: &[[f64; 2]], bbox: Box2, samples: usize) {
         let cell = v.cell(s);
         assert_eq!(cell, v.cell(r));
         assert_eq!(cell.is_unbounded(), on_hull[r], "site {s}");
-        assert_eq!(
-            cell.neighbors.len(),
-            cell.vertices.len() + usize::from(on_hull[r])
-        );
+        assert_eq!(cell.neighbors.len(), cell.vertices.len());
+        assert_eq!(cell.ray_neighbor != NONE, on_hull[r]);
+        // The neighbours are exactly the Delaunay neighbours.
+        let mut nb: Vec<u32> = cell.neighbors.to_vec();
+        if on_hull[r] {
+            nb.push(cell.ray_neighbor);
+        }
+        nb.sort_unstable();
+        let mut expect: Vec<u32> = mesh
+            .triangles
+            .iter()
+            .filter(|tv| tv.contains(&(r as u32)))
+            .flatten()
+            .copied()
+            .filter(|&q| q as usize != r)
+            .collect();
+        expect.sort_unstable();
+        expect.dedup();
+        assert_eq!(nb, expect, "site {s}");
         if let Some(rays) = cell.rays {
             // Both rays point outward: every point lies behind them.
             for d in rays {

@@ -66,8 +66,12 @@ pub struct Cell2<'a> {
     pub rays: Option<[[f64; 2]; 2]>,
     /// The Delaunay neighbours of the site, i.e. the sites across the cell's
     /// edges, counterclockwise: `neighbors[k]` is across the edge arriving at
-    /// `vertices[k]`; an unbounded cell has one more, across its last ray.
+    /// `vertices[k]` (for an unbounded cell, `neighbors[0]` is across the
+    /// first ray).
     pub neighbors: &'a [u32],
+    /// For an unbounded cell, the neighbour across its last ray (completing
+    /// [`Cell2::neighbors`]); [`NONE`] for a bounded cell.
+    pub ray_neighbor: u32,
 }
 
 impl Cell2<'_> {
@@ -109,14 +113,12 @@ pub struct Voronoi2 {
     pub cell_offsets: Vec<u32>,
     /// The cells' vertex ids, cell after cell (see [`Cell2::vertices`]).
     pub cell_vertices: Vec<u32>,
-    /// For every input point, the ray directions of its cell (see
-    /// [`Cell2::rays`]).
-    pub cell_rays: Vec<Option<[[f64; 2]; 2]>>,
-    /// `neighbor_offsets[p]..neighbor_offsets[p + 1]` is the range of
-    /// [`Voronoi2::cell_neighbors`] of input point `p` (empty for duplicates).
-    pub neighbor_offsets: Vec<u32>,
-    /// The cells' neighbour sites, cell after cell (see [`Cell2::neighbors`]).
+    /// The cells' neighbour sites, parallel to [`Voronoi2::cell_vertices`]
+    /// (see [`Cell2::neighbors`]).
     pub cell_neighbors: Vec<u32>,
+    /// The unbounded cells, sorted by site: `(site, [first, last], site
+    /// across the last ray)` (see [`Cell2::rays`], [`Cell2::ray_neighbor`]).
+    pub hull_cells: Vec<(u32, [[f64; 2]; 2], u32)>,
     /// For every input point, the site whose cell it shares (itself unless it
     /// duplicates an earlier point), as in [`TriMesh::vertex_map`].
     pub vertex_map: Vec<u32>,
@@ -209,91 +211,90 @@ impl Voronoi2 {
                 });
             }
         }
-        // Start corner per vertex: for hull vertices the clockwise-most
-        // triangle (whose edge v -> next is on the hull).
-        let mut start = vec![(NONE, 0u8); n];
-        let mut degree = vec![0u32; n];
-        let mut hull = vec![false; n];
+        // Start corner per vertex (4 * triangle + corner): for hull vertices
+        // the clockwise-most triangle (whose edge v -> next is on the hull).
+        // One packed record per vertex keeps the random accesses few.
+        let mut star = vec![(u64::MAX, 0u32); n];
         for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
             for i in 0..3 {
-                let v = tv[i] as usize;
-                degree[v] += 1;
-                if nb[(i + 2) % 3] == NONE {
-                    start[v] = (t as u32, i as u8);
-                    hull[v] = true;
-                } else if start[v].0 == NONE {
-                    start[v] = (t as u32, i as u8);
+                let st = &mut star[tv[i] as usize];
+                st.1 += 1;
+                if nb[(i + 2) % 3] == NONE || st.0 == u64::MAX {
+                    st.0 = 4 * t as u64 + i as u64;
                 }
             }
         }
+        // Offsets, and the start corners marked per triangle (bit i).
         let mut cell_offsets = Vec::with_capacity(n + 1);
-        let mut neighbor_offsets = Vec::with_capacity(n + 1);
-        let (mut total, mut total_nb) = (0u32, 0u32);
+        let mut marks = vec![0u8; tris.len()];
+        let mut total = 0u32;
         cell_offsets.push(0);
-        neighbor_offsets.push(0);
-        for (&d, &h) in degree.iter().zip(&hull) {
-            total += d;
-            total_nb += d + u32::from(h);
+        for &(start, degree) in &star {
+            total += degree;
             cell_offsets.push(total);
-            neighbor_offsets.push(total_nb);
+            if start != u64::MAX {
+                marks[(start >> 2) as usize] |= 1 << (start & 3);
+            }
         }
+        drop(star);
         let mut cell_vertices = vec![0u32; total as usize];
-        let mut cell_neighbors = vec![0u32; total_nb as usize];
-        let mut cell_rays = vec![None; n];
-        for v in 0..n {
-            let (t0, i0) = start[v];
-            if t0 == NONE {
+        let mut cell_neighbors = vec![0u32; total as usize];
+        let mut hull_cells = Vec::new();
+        // Walk the stars in triangle order (spatially coherent), each from
+        // its start corner.
+        for (t0, tv0) in tris.iter().enumerate() {
+            let m = marks[t0];
+            if m == 0 {
                 continue;
             }
-            let (lo, hi) = (cell_offsets[v] as usize, cell_offsets[v + 1] as usize);
-            let nlo = neighbor_offsets[v] as usize;
-            let (mut t, mut i) = (t0, i0 as usize);
-            let mut k = lo;
-            let mut kn = nlo;
-            loop {
-                let tv = &tris[t as usize];
-                if k < hi {
-                    cell_vertices[k] = t;
-                    cell_neighbors[kn] = tv[(i + 1) % 3];
+            for i0 in 0..3 {
+                if m & (1 << i0) == 0 {
+                    continue;
                 }
-                k += 1;
-                kn += 1;
-                // Counterclockwise around v: across the edge (v, tv[i + 2]).
-                let u = nbs[t as usize][(i + 1) % 3];
-                if u == NONE {
-                    // Hull: the boundary leaves along the normal of (prev, v).
-                    let ft = &tris[t0 as usize];
-                    let i0 = i0 as usize;
-                    let first = outward(p(ft[i0]), p(ft[(i0 + 1) % 3]));
-                    let last = outward(p(tv[(i + 2) % 3]), p(tv[i]));
-                    cell_rays[v] = Some([first, last]);
-                    if k == hi {
-                        cell_neighbors[kn] = tv[(i + 2) % 3];
+                let v = tv0[i0] as usize;
+                let t0 = t0 as u32;
+                let (lo, hi) = (cell_offsets[v] as usize, cell_offsets[v + 1] as usize);
+                let (mut t, mut i) = (t0, i0);
+                let mut k = lo;
+                loop {
+                    let tv = &tris[t as usize];
+                    if k < hi {
+                        cell_vertices[k] = t;
+                        cell_neighbors[k] = tv[(i + 1) % 3];
                     }
-                    break;
+                    k += 1;
+                    // Counterclockwise around v: across the edge (v, tv[i + 2]).
+                    let u = nbs[t as usize][(i + 1) % 3];
+                    if u == NONE {
+                        // Hull: the boundary leaves along the normal of (prev, v).
+                        let first = outward(p(tv0[i0]), p(tv0[(i0 + 1) % 3]));
+                        let last = outward(p(tv[(i + 2) % 3]), p(tv[i]));
+                        hull_cells.push((v as u32, [first, last], tv[(i + 2) % 3]));
+                        break;
+                    }
+                    if u == t0 || k >= hi {
+                        break;
+                    }
+                    let uv = &tris[u as usize];
+                    i = if uv[0] == v as u32 {
+                        0
+                    } else if uv[1] == v as u32 {
+                        1
+                    } else {
+                        2
+                    };
+                    t = u;
                 }
-                if u == t0 || k >= hi {
-                    break;
-                }
-                let uv = &tris[u as usize];
-                i = if uv[0] == v as u32 {
-                    0
-                } else if uv[1] == v as u32 {
-                    1
-                } else {
-                    2
-                };
-                t = u;
             }
         }
+        hull_cells.sort_unstable_by_key(|h| h.0);
         Voronoi2 {
             vertices,
             edges,
             cell_offsets,
             cell_vertices,
-            cell_rays,
-            neighbor_offsets,
             cell_neighbors,
+            hull_cells,
             vertex_map: mesh.vertex_map.clone(),
         }
     }
@@ -312,15 +313,20 @@ impl Voronoi2 {
     /// ```
     pub fn cell(&self, p: usize) -> Cell2<'_> {
         let s = self.vertex_map.get(p).map_or(p, |&r| r as usize);
+        let hull = self
+            .hull_cells
+            .binary_search_by_key(&(s as u32), |h| h.0)
+            .ok()
+            .map(|k| &self.hull_cells[k]);
         let (lo, hi) = (
             self.cell_offsets[s] as usize,
             self.cell_offsets[s + 1] as usize,
         );
         Cell2 {
             vertices: &self.cell_vertices[lo..hi],
-            rays: self.cell_rays[s],
-            neighbors: &self.cell_neighbors
-                [self.neighbor_offsets[s] as usize..self.neighbor_offsets[s + 1] as usize],
+            rays: hull.map(|h| h.1),
+            neighbors: &self.cell_neighbors[lo..hi],
+            ray_neighbor: hull.map_or(NONE, |h| h.2),
         }
     }
 
@@ -344,7 +350,7 @@ impl Voronoi2 {
     /// }
     /// ```
     pub fn cells_clipped(&self, points: &[[f64; 2]], bbox: Box2) -> ClippedCells2 {
-        let n = self.cell_rays.len();
+        let n = self.cell_offsets.len().saturating_sub(1);
         let mut out = ClippedCells2 {
             offsets: Vec::with_capacity(n + 1),
             polygon_points: Vec::with_capacity(self.cell_vertices.len() + 4 * n),
@@ -381,7 +387,8 @@ impl Voronoi2 {
                 poly.extend(cell.vertices.iter().map(|&t| self.vertices[t as usize]));
             } else {
                 poly.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
-                for &q in cell.neighbors {
+                let extra = (cell.ray_neighbor != NONE).then_some(&cell.ray_neighbor);
+                for &q in cell.neighbors.iter().chain(extra) {
                     clip_bisector(&mut poly, &mut tmp, &site, &points[q as usize]);
                     if poly.is_empty() {
                         break;
