@@ -107,10 +107,11 @@ pub struct Voronoi2 {
     pub vertices: Vec<[f64; 2]>,
     /// Voronoi edges, one per Delaunay edge, in order of their first triangle.
     pub edges: Vec<VoronoiEdge2>,
-    /// `cell_offsets[p]..cell_offsets[p + 1]` is the range of
+    /// `cell_ranges[p][0]..cell_ranges[p][1]` is the range of
     /// [`Voronoi2::cell_vertices`] of input point `p` (empty for duplicates;
-    /// use [`Voronoi2::cell`], which resolves them).
-    pub cell_offsets: Vec<u32>,
+    /// use [`Voronoi2::cell`], which resolves them). Cells are stored in an
+    /// order that follows the triangles (for speed), not the points.
+    pub cell_ranges: Vec<[u32; 2]>,
     /// The cells' vertex ids, cell after cell (see [`Cell2::vertices`]).
     pub cell_vertices: Vec<u32>,
     /// The cells' neighbour sites, parallel to [`Voronoi2::cell_vertices`]
@@ -211,37 +212,39 @@ impl Voronoi2 {
                 });
             }
         }
-        // Start corner per vertex (4 * triangle + corner): for hull vertices
-        // the clockwise-most triangle (whose edge v -> next is on the hull).
-        // One packed record per vertex keeps the random accesses few.
-        let mut star = vec![(u64::MAX, 0u32); n];
-        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+        // A start corner (4 * triangle + corner) per vertex: any corner
+        // (plain stores, last one wins), then for hull vertices the
+        // clockwise-most triangle (whose edge v -> next is on the hull).
+        let mut start = vec![u64::MAX; n];
+        for (t, tv) in tris.iter().enumerate() {
             for i in 0..3 {
-                let st = &mut star[tv[i] as usize];
-                st.1 += 1;
-                if nb[(i + 2) % 3] == NONE || st.0 == u64::MAX {
-                    st.0 = 4 * t as u64 + i as u64;
+                start[tv[i] as usize] = 4 * t as u64 + i as u64;
+            }
+        }
+        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+            if nb.contains(&NONE) {
+                for i in 0..3 {
+                    if nb[(i + 2) % 3] == NONE {
+                        start[tv[i] as usize] = 4 * t as u64 + i as u64;
+                    }
                 }
             }
         }
-        // Offsets, and the start corners marked per triangle (bit i).
-        let mut cell_offsets = Vec::with_capacity(n + 1);
+        // The start corners marked per triangle (bit i).
         let mut marks = vec![0u8; tris.len()];
-        let mut total = 0u32;
-        cell_offsets.push(0);
-        for &(start, degree) in &star {
-            total += degree;
-            cell_offsets.push(total);
-            if start != u64::MAX {
-                marks[(start >> 2) as usize] |= 1 << (start & 3);
+        for &st in &start {
+            if st != u64::MAX {
+                marks[(st >> 2) as usize] |= 1 << (st & 3);
             }
         }
-        drop(star);
-        let mut cell_vertices = vec![0u32; total as usize];
-        let mut cell_neighbors = vec![0u32; total as usize];
+        drop(start);
+        let mut cell_ranges = vec![[0u32; 2]; n];
+        let mut cell_vertices = Vec::with_capacity(3 * tris.len());
+        let mut cell_neighbors = Vec::with_capacity(3 * tris.len());
         let mut hull_cells = Vec::new();
         // Walk the stars in triangle order (spatially coherent), each from
-        // its start corner.
+        // its start corner, appending the cells.
+        let limit = 3 * tris.len();
         for (t0, tv0) in tris.iter().enumerate() {
             let m = marks[t0];
             if m == 0 {
@@ -253,16 +256,12 @@ impl Voronoi2 {
                 }
                 let v = tv0[i0] as usize;
                 let t0 = t0 as u32;
-                let (lo, hi) = (cell_offsets[v] as usize, cell_offsets[v + 1] as usize);
+                let lo = cell_vertices.len();
                 let (mut t, mut i) = (t0, i0);
-                let mut k = lo;
                 loop {
                     let tv = &tris[t as usize];
-                    if k < hi {
-                        cell_vertices[k] = t;
-                        cell_neighbors[k] = tv[(i + 1) % 3];
-                    }
-                    k += 1;
+                    cell_vertices.push(t);
+                    cell_neighbors.push(tv[(i + 1) % 3]);
                     // Counterclockwise around v: across the edge (v, tv[i + 2]).
                     let u = nbs[t as usize][(i + 1) % 3];
                     if u == NONE {
@@ -272,7 +271,7 @@ impl Voronoi2 {
                         hull_cells.push((v as u32, [first, last], tv[(i + 2) % 3]));
                         break;
                     }
-                    if u == t0 || k >= hi {
+                    if u == t0 || cell_vertices.len() >= limit {
                         break;
                     }
                     let uv = &tris[u as usize];
@@ -285,13 +284,14 @@ impl Voronoi2 {
                     };
                     t = u;
                 }
+                cell_ranges[v] = [lo as u32, cell_vertices.len() as u32];
             }
         }
         hull_cells.sort_unstable_by_key(|h| h.0);
         Voronoi2 {
             vertices,
             edges,
-            cell_offsets,
+            cell_ranges,
             cell_vertices,
             cell_neighbors,
             hull_cells,
@@ -318,10 +318,7 @@ impl Voronoi2 {
             .binary_search_by_key(&(s as u32), |h| h.0)
             .ok()
             .map(|k| &self.hull_cells[k]);
-        let (lo, hi) = (
-            self.cell_offsets[s] as usize,
-            self.cell_offsets[s + 1] as usize,
-        );
+        let [lo, hi] = self.cell_ranges[s].map(|x| x as usize);
         Cell2 {
             vertices: &self.cell_vertices[lo..hi],
             rays: hull.map(|h| h.1),
@@ -350,7 +347,7 @@ impl Voronoi2 {
     /// }
     /// ```
     pub fn cells_clipped(&self, points: &[[f64; 2]], bbox: Box2) -> ClippedCells2 {
-        let n = self.cell_offsets.len().saturating_sub(1);
+        let n = self.cell_ranges.len();
         let mut out = ClippedCells2 {
             offsets: Vec::with_capacity(n + 1),
             polygon_points: Vec::with_capacity(self.cell_vertices.len() + 4 * n),
