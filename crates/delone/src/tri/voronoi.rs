@@ -32,13 +32,33 @@ pub struct VoronoiEdge2 {
     /// The Voronoi vertices at its ends (triangle indices). For a ray
     /// (a Delaunay hull edge) `vertices[1]` is [`NONE`].
     pub vertices: [u32; 2],
-    /// For a ray, its direction: the outward normal of the hull edge, of the
-    /// hull edge's length (exact: `(b.y - a.y, a.x - b.x)`); `[0, 0]` for a
-    /// segment.
-    pub direction: [f64; 2],
 }
 
 impl VoronoiEdge2 {
+    /// For a ray, its direction: the outward normal of the hull edge
+    /// `sites[0] → sites[1]`, of the hull edge's length (exact:
+    /// `(b.y - a.y, a.x - b.x)`); `[0, 0]` for a segment. `points` are the
+    /// input points of the diagram.
+    ///
+    /// # Panics
+    /// If the sites are not indices of `points`.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let bottom = v.edges.iter().find(|e| e.sites == [0, 1]).unwrap();
+    /// assert_eq!(bottom.direction(&pts), [0.0, -1.0]);
+    /// ```
+    pub fn direction(&self, points: &[[f64; 2]]) -> [f64; 2] {
+        if self.is_ray() {
+            let [a, b] = self.sites.map(|s| &points[s as usize]);
+            outward(a, b)
+        } else {
+            [0.0, 0.0]
+        }
+    }
+
     /// Whether the edge is a ray (unbounded).
     ///
     /// ```
@@ -204,11 +224,6 @@ impl Voronoi2 {
                 edges.push(VoronoiEdge2 {
                     sites: [a, b],
                     vertices: [t as u32, u],
-                    direction: if u == NONE {
-                        outward(p(a), p(b))
-                    } else {
-                        [0.0, 0.0]
-                    },
                 });
             }
         }
