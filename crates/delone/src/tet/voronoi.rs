@@ -76,6 +76,8 @@ pub struct Face3<'a> {
     /// directions; the boundary arrives from infinity along `-first` at
     /// `vertices[0]` and leaves from the last vertex along `last`.
     pub rays: Option<[[f64; 3]; 2]>,
+    /// The boundary edges (see [`Voronoi3::face_edge_ids`]).
+    pub edges: &'a [u32],
 }
 
 /// Per-face data of a [`Voronoi3`].
@@ -116,6 +118,14 @@ pub struct Voronoi3 {
     pub face_offsets: Vec<u32>,
     /// The faces' vertex ids, face after face.
     pub face_vertices: Vec<u32>,
+    /// `face_edge_offsets[f]..face_edge_offsets[f + 1]` is the range of
+    /// [`Voronoi3::face_edge_ids`] of face `f`.
+    pub face_edge_offsets: Vec<u32>,
+    /// The faces' boundary edges (indices into [`Voronoi3::edges`]), face
+    /// after face, in the order of the face's vertices: for a bounded face
+    /// edge `k` joins vertex `k` to vertex `k + 1` (cyclically); an unbounded
+    /// face starts with its first ray and ends with its last.
+    pub face_edge_ids: Vec<u32>,
     /// `cell_offsets[p]..cell_offsets[p + 1]` is the range of
     /// [`Voronoi3::cell_face_ids`] of input point `p` (empty for duplicates).
     pub cell_offsets: Vec<u32>,
@@ -226,6 +236,8 @@ impl Voronoi3 {
             .collect();
         let mut unbounded = vec![false; n];
         let mut edges = Vec::with_capacity(tets.len() * 2 + 4);
+        // The Voronoi edge of every (tetrahedron, facet).
+        let mut edge_of = vec![NONE; 4 * tets.len()];
         for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
             for f in 0..4 {
                 let u = nb[f];
@@ -243,6 +255,13 @@ impl Voronoi3 {
                 } else {
                     [0.0; 3]
                 };
+                let id = edges.len() as u32;
+                edge_of[4 * t + f] = id;
+                if u != NONE {
+                    if let Some(g) = nbs[u as usize].iter().position(|&x| x == t as u32) {
+                        edge_of[4 * u as usize + g] = id;
+                    }
+                }
                 edges.push(VoronoiEdge3 {
                     sites: s,
                     vertices: [t as u32, u],
@@ -255,6 +274,9 @@ impl Voronoi3 {
         let mut faces = Vec::with_capacity(tets.len() + n);
         let mut face_offsets = vec![0u32];
         let mut face_vertices: Vec<u32> = Vec::with_capacity(tets.len() * 6);
+        let mut face_edge_offsets = vec![0u32];
+        let mut face_edge_ids: Vec<u32> = Vec::with_capacity(tets.len() * 7);
+        let crossing = |t: u32, c: u32| edge_of[4 * t as usize + pos(&tets[t as usize], c)];
         let ccw = |t: u32, a: u32, b: u32, c: u32, d: u32| -> Option<(u32, u32, u32)> {
             let tv = &tets[t as usize];
             let u = nbs[t as usize][pos(tv, c)];
@@ -310,8 +332,14 @@ impl Voronoi3 {
                 let mut s = first;
                 let mut last;
                 steps = 0;
+                if !closed {
+                    // The first ray: the hull facet opposite d.
+                    face_edge_ids.push(crossing(first.0, first.2));
+                }
                 loop {
                     face_vertices.push(s.0);
+                    // The edge crossed next (a ray at the end of an open face).
+                    face_edge_ids.push(crossing(s.0, s.1));
                     last = s;
                     match ccw(s.0, a, b, s.1, s.2) {
                         Some(nx) if nx.0 != first.0 && steps <= limit => s = nx,
@@ -330,6 +358,7 @@ impl Voronoi3 {
                     ]
                 });
                 face_offsets.push(face_vertices.len() as u32);
+                face_edge_offsets.push(face_edge_ids.len() as u32);
                 faces.push(FaceInfo3 {
                     sites: [a, b],
                     rays,
@@ -361,6 +390,8 @@ impl Voronoi3 {
             faces,
             face_offsets,
             face_vertices,
+            face_edge_offsets,
+            face_edge_ids,
             cell_offsets,
             cell_face_ids,
             unbounded,
@@ -388,6 +419,8 @@ impl Voronoi3 {
             vertices: &self.face_vertices
                 [self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize],
             rays: info.rays,
+            edges: &self.face_edge_ids
+                [self.face_edge_offsets[f] as usize..self.face_edge_offsets[f + 1] as usize],
         }
     }
 
