@@ -1,5 +1,6 @@
 //! 2D Voronoi diagrams, clipped cells and Lloyd relaxation, checked against
 //! brute force.
+#![allow(clippy::needless_range_loop)]
 
 use std::path::PathBuf;
 

@@ -1,5 +1,6 @@
 //! 3D Voronoi diagrams, clipped cells and Lloyd relaxation, checked against
 //! brute force.
+#![allow(clippy::needless_range_loop)]
 
 use delone::geom::SplitMix64;
 use delone::tet::voronoi::{Box3, ClippedCells3, Polyhedron};

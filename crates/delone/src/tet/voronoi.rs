@@ -230,10 +230,7 @@ impl Voronoi3 {
         let tets = &mesh.tets;
         let nbs = &mesh.neighbors;
         let p = |v: u32| &points[v as usize];
-        let vertices: Vec<[f64; 3]> = tets
-            .iter()
-            .map(|tv| circumcenter(tv.map(|x| p(x))))
-            .collect();
+        let vertices: Vec<[f64; 3]> = tets.iter().map(|tv| circumcenter(tv.map(&p))).collect();
         let mut unbounded = vec![false; n];
         let mut edges = Vec::with_capacity(tets.len() * 2 + 4);
         // The Voronoi edge of every (tetrahedron, facet).
