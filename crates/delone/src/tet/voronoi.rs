@@ -36,6 +36,9 @@ const EDGES: [[usize; 4]; 6] = [
     [2, 3, 0, 1],
 ];
 
+/// `EDGE_INDEX[i][j]`: the index in [`EDGES`] of the local edge `{i, j}`.
+const EDGE_INDEX: [[usize; 4]; 4] = [[0, 0, 1, 2], [0, 0, 3, 4], [1, 3, 0, 5], [2, 4, 5, 0]];
+
 /// One Voronoi edge: the dual of a Delaunay triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VoronoiEdge3 {
@@ -291,40 +294,41 @@ impl Voronoi3 {
             Some((u, other(&tets[u as usize], a, b, c), c))
         };
         let limit = tets.len() + 1;
+        // Bit k of done[t]: local edge k of t already belongs to a face.
+        let mut done = vec![0u8; tets.len()];
+        let local_edge = |tv: &[u32; 4], a: u32, b: u32| {
+            let (i, j) = (pos(tv, a), pos(tv, b));
+            EDGE_INDEX[i][j]
+        };
         for (t, tv) in tets.iter().enumerate() {
             let t = t as u32;
-            for e in EDGES {
+            for (k, e) in EDGES.iter().enumerate() {
+                if done[t as usize] & (1 << k) != 0 {
+                    continue;
+                }
                 let [a, b, c, d] = e.map(|i| tv[i]);
-                // Ownership: no lower-indexed tetrahedron around the edge.
-                let mut owner = true;
+                // Is the ring around (a, b) closed? Walk counterclockwise.
                 let mut closed = false;
                 let (mut s, mut steps) = ((t, c, d), 0usize);
                 while let Some(nx) = ccw(s.0, a, b, s.1, s.2) {
                     steps += 1;
-                    if nx.0 == t {
-                        closed = true;
-                        break;
-                    }
-                    if nx.0 < t || steps > limit {
-                        owner = false;
+                    if nx.0 == t || steps > limit {
+                        closed = nx.0 == t;
                         break;
                     }
                     s = nx;
                 }
+                // An open ring starts at its clockwise end.
                 let mut first = (t, c, d);
-                if owner && !closed {
+                if !closed {
                     steps = 0;
                     while let Some(nx) = cw(first.0, a, b, first.1, first.2) {
                         steps += 1;
-                        if nx.0 < t || steps > limit {
-                            owner = false;
+                        if steps > limit {
                             break;
                         }
                         first = nx;
                     }
-                }
-                if !owner {
-                    continue;
                 }
                 let mut s = first;
                 let mut last;
@@ -335,6 +339,8 @@ impl Voronoi3 {
                 }
                 loop {
                     face_vertices.push(s.0);
+                    let st = &tets[s.0 as usize];
+                    done[s.0 as usize] |= 1 << local_edge(st, a, b);
                     // The edge crossed next (a ray at the end of an open face).
                     face_edge_ids.push(crossing(s.0, s.1));
                     last = s;
@@ -839,6 +845,14 @@ mod tests {
                 }
             }
             assert_eq!(inv % 2, 0, "{e:?}");
+        }
+    }
+
+    #[test]
+    fn edge_index_inverts_edges() {
+        for (k, e) in EDGES.iter().enumerate() {
+            assert_eq!(EDGE_INDEX[e[0]][e[1]], k);
+            assert_eq!(EDGE_INDEX[e[1]][e[0]], k);
         }
     }
 
