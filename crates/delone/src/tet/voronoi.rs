@@ -307,20 +307,53 @@ impl Voronoi3 {
                     continue;
                 }
                 let [a, b, c, d] = e.map(|i| tv[i]);
-                // Is the ring around (a, b) closed? Walk counterclockwise.
-                let mut closed = false;
-                let (mut s, mut steps) = ((t, c, d), 0usize);
-                while let Some(nx) = ccw(s.0, a, b, s.1, s.2) {
-                    steps += 1;
-                    if nx.0 == t || steps > limit {
-                        closed = nx.0 == t;
+                // Walk counterclockwise from t; if the ring turns out open,
+                // start again from its clockwise end.
+                let (v0, e0) = (face_vertices.len(), face_edge_ids.len());
+                let mut first = (t, c, d);
+                let mut closed = true;
+                let mut rays = None;
+                loop {
+                    let mut s = first;
+                    let mut steps = 0usize;
+                    if !closed {
+                        // The first ray: the hull facet opposite d.
+                        face_edge_ids.push(crossing(first.0, first.2));
+                    }
+                    let mut hit_hull = false;
+                    loop {
+                        face_vertices.push(s.0);
+                        let st = &tets[s.0 as usize];
+                        done[s.0 as usize] |= 1 << local_edge(st, a, b);
+                        // The edge crossed next (the last ray of an open face).
+                        face_edge_ids.push(crossing(s.0, s.1));
+                        match ccw(s.0, a, b, s.1, s.2) {
+                            Some(nx) if nx.0 != first.0 && steps <= limit => s = nx,
+                            Some(_) => break,
+                            None => {
+                                hit_hull = true;
+                                break;
+                            }
+                        }
+                        steps += 1;
+                    }
+                    if !hit_hull {
                         break;
                     }
-                    s = nx;
-                }
-                // An open ring starts at its clockwise end.
-                let mut first = (t, c, d);
-                if !closed {
+                    if !closed {
+                        let (pa, pb) = (p(a), p(b));
+                        let ab = sub(pb, pa);
+                        // Hull triangle (a, b, c) of the first tetrahedron and
+                        // (a, b, d) of the last, normals pointing away from them.
+                        rays = Some([
+                            cross(&sub(p(first.1), pa), &ab),
+                            cross(&ab, &sub(p(s.2), pa)),
+                        ]);
+                        break;
+                    }
+                    closed = false;
+                    face_vertices.truncate(v0);
+                    face_edge_ids.truncate(e0);
                     steps = 0;
                     while let Some(nx) = cw(first.0, a, b, first.1, first.2) {
                         steps += 1;
@@ -330,36 +363,6 @@ impl Voronoi3 {
                         first = nx;
                     }
                 }
-                let mut s = first;
-                let mut last;
-                steps = 0;
-                if !closed {
-                    // The first ray: the hull facet opposite d.
-                    face_edge_ids.push(crossing(first.0, first.2));
-                }
-                loop {
-                    face_vertices.push(s.0);
-                    let st = &tets[s.0 as usize];
-                    done[s.0 as usize] |= 1 << local_edge(st, a, b);
-                    // The edge crossed next (a ray at the end of an open face).
-                    face_edge_ids.push(crossing(s.0, s.1));
-                    last = s;
-                    match ccw(s.0, a, b, s.1, s.2) {
-                        Some(nx) if nx.0 != first.0 && steps <= limit => s = nx,
-                        _ => break,
-                    }
-                    steps += 1;
-                }
-                let rays = (!closed).then(|| {
-                    let (pa, pb) = (p(a), p(b));
-                    let ab = sub(pb, pa);
-                    // Hull triangle (a, b, c) of the first tetrahedron and
-                    // (a, b, d) of the last, normals pointing away from them.
-                    [
-                        cross(&sub(p(first.1), pa), &ab),
-                        cross(&ab, &sub(p(last.2), pa)),
-                    ]
-                });
                 face_offsets.push(face_vertices.len() as u32);
                 face_edge_offsets.push(face_edge_ids.len() as u32);
                 faces.push(FaceInfo3 {
