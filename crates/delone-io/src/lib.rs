@@ -12,6 +12,10 @@
 //! * surfaces into a [`Surface`]: [`read_off`], [`read_stl`] (ASCII and
 //!   binary), [`read_ply`] (ASCII and binary), [`read_obj`], [`read_medit`],
 //!   or [`read_surface`] by file extension;
+//! * Voronoi diagrams: [`write_voronoi_node`], [`write_voronoi_edge`]
+//!   (Triangle and TetGen `-v`), [`write_voronoi_face`], [`write_voronoi_cell`]
+//!   (TetGen);
+//! * pictures: [`write_svg`] (2D triangles, polygons, points);
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -41,7 +45,9 @@ mod poly;
 mod read;
 mod stl;
 mod surface;
+mod svg;
 pub mod topo;
+mod voronoi;
 mod vtk;
 mod write;
 
@@ -55,5 +61,7 @@ pub use poly::{read_poly, write_poly, PolyFile};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
+pub use svg::{write_svg, SvgLayer, SvgStyle};
+pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, write_voronoi_node};
 pub use vtk::{write_vtk_legacy, write_vtu, DataArray, Values, VtuFormat};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

@@ -9,9 +9,11 @@ pub mod delaunay;
 pub mod intersect;
 pub mod local;
 pub mod mesh;
+pub mod voronoi;
 
 pub use delaunay::{Delaunay3, Inserted, Location};
 pub use mesh::{validate, TetMesh};
+pub use voronoi::{lloyd, Voronoi3};
 
 use crate::Error;
 

@@ -8,10 +8,12 @@ pub mod constrain;
 pub mod delaunay;
 pub mod mesh;
 mod topo;
+pub mod voronoi;
 
 pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
 pub use mesh::{validate, TriMesh};
+pub use voronoi::{lloyd, Voronoi2};
 
 use crate::Error;
 

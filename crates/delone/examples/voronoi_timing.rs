@@ -1,0 +1,58 @@
+//! Times Voronoi extraction against triangulation on seeded uniform random
+//! points (2D, and 3D with `--3d`).
+//!
+//! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d]`
+use std::time::Instant;
+
+use delone::geom::SplitMix64;
+
+fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let r = f();
+        best = best.min(t0.elapsed().as_secs_f64());
+        out = Some(r);
+    }
+    (best, out.expect("at least one repeat"))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args
+        .get(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
+    let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3).max(1);
+    let mut rng = SplitMix64::new(42);
+    let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    if args.iter().any(|a| a == "--3d") {
+        let pts: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
+        let (tt, mesh) = best(reps, || {
+            delone::tetrahedralize(&pts).expect("tetrahedralize")
+        });
+        let (tv, v) = best(reps, || delone::tet::Voronoi3::new(&pts, &mesh));
+        let bbox = [[0.0; 3], [1.0; 3]];
+        let (tc, c) = best(1, || v.cells_clipped(&pts, bbox));
+        let vol: f64 = c.volume.iter().sum();
+        println!(
+            "3D n={n}: tetrahedralize {tt:.3}s, Voronoi3 {tv:.3}s ({:.2}x), clip {tc:.3}s; {} faces, volume sum {vol}",
+            tv / tt,
+            v.faces.len()
+        );
+    } else {
+        let pts: Vec<[f64; 2]> = (0..n).map(|_| [unit(), unit()]).collect();
+        let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
+        let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh));
+        let bbox = [[0.0; 2], [1.0; 2]];
+        let (tc, c) = best(reps, || v.cells_clipped(&pts, bbox));
+        let area: f64 = c.area.iter().sum();
+        println!(
+            "2D n={n}: triangulate {tt:.3}s, Voronoi2 {tv:.3}s ({:.2}x), clip {tc:.3}s ({:.2}x); {} edges, area sum {area}",
+            tv / tt,
+            tc / tt,
+            v.edges.len()
+        );
+    }
+}

@@ -1,0 +1,559 @@
+//! 2D Voronoi diagrams as the dual of a Delaunay triangulation, cells clipped
+//! to a box, and Lloyd relaxation towards a centroidal Voronoi tessellation.
+//!
+//! * [`Voronoi2::new`] — vertices (circumcentres, one per triangle), edges
+//!   (one per Delaunay edge: a segment, or a ray for a hull edge) and cells
+//!   (one per input point, counterclockwise).
+//! * [`Voronoi2::cells_clipped`] — every cell intersected with an
+//!   axis-aligned box, with area and centroid.
+//! * [`lloyd`] — Lloyd's algorithm in a box.
+//!
+//! # References
+//! * G. Voronoi (1908); B. Delaunay (1934) — the duality used here.
+//! * S. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28 (1982).
+//! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
+//!   applications and algorithms", SIAM Review 41 (1999).
+
+use delone_predicates::orient2d;
+
+use super::TriMesh;
+use crate::{Error, NONE};
+
+/// An axis-aligned box `[min, max]`.
+pub type Box2 = [[f64; 2]; 2];
+
+/// One Voronoi edge: the dual of a Delaunay edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VoronoiEdge2 {
+    /// The two sites (input point indices) whose cells the edge separates:
+    /// `sites[0] → sites[1]` is the Delaunay edge seen counterclockwise from
+    /// the triangle `vertices[0]`.
+    pub sites: [u32; 2],
+    /// The Voronoi vertices at its ends (triangle indices). For a ray
+    /// (a Delaunay hull edge) `vertices[1]` is [`NONE`].
+    pub vertices: [u32; 2],
+}
+
+impl VoronoiEdge2 {
+    /// For a ray, its direction: the outward normal of the hull edge
+    /// `sites[0] → sites[1]`, of the hull edge's length (exact:
+    /// `(b.y - a.y, a.x - b.x)`); `[0, 0]` for a segment. `points` are the
+    /// input points of the diagram.
+    ///
+    /// # Panics
+    /// If the sites are not indices of `points`.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let bottom = v.edges.iter().find(|e| e.sites == [0, 1]).unwrap();
+    /// assert_eq!(bottom.direction(&pts), [0.0, -1.0]);
+    /// ```
+    pub fn direction(&self, points: &[[f64; 2]]) -> [f64; 2] {
+        if self.is_ray() {
+            let [a, b] = self.sites.map(|s| &points[s as usize]);
+            outward(a, b)
+        } else {
+            [0.0, 0.0]
+        }
+    }
+
+    /// Whether the edge is a ray (unbounded).
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// assert!(v.edges.iter().all(|e| e.is_ray()));
+    /// ```
+    pub fn is_ray(&self) -> bool {
+        self.vertices[1] == NONE
+    }
+}
+
+/// One Voronoi cell, as returned by [`Voronoi2::cell`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cell2<'a> {
+    /// The Voronoi vertices (triangle indices) of the cell, counterclockwise
+    /// around the site. Degenerate (cocircular) inputs may repeat a position
+    /// under different ids.
+    pub vertices: &'a [u32],
+    /// For an unbounded cell (a hull site): `[first, last]`, the directions of
+    /// the two rays. The boundary arrives from infinity along `-first` at
+    /// `vertices[0]` and leaves from the last vertex to infinity along `last`.
+    /// `None` for a bounded cell.
+    pub rays: Option<[[f64; 2]; 2]>,
+    /// The Delaunay neighbours of the site, i.e. the sites across the cell's
+    /// edges, counterclockwise: `neighbors[k]` is across the edge arriving at
+    /// `vertices[k]` (for an unbounded cell, `neighbors[0]` is across the
+    /// first ray).
+    pub neighbors: &'a [u32],
+    /// For an unbounded cell, the neighbour across its last ray (completing
+    /// [`Cell2::neighbors`]); [`NONE`] for a bounded cell.
+    pub ray_neighbor: u32,
+}
+
+impl Cell2<'_> {
+    /// Whether the cell is unbounded (its site is on the convex hull).
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0], [1.0, 0.9]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// assert!(v.cell(0).is_unbounded());
+    /// assert!(!v.cell(4).is_unbounded());
+    /// ```
+    pub fn is_unbounded(&self) -> bool {
+        self.rays.is_some()
+    }
+}
+
+/// The Voronoi diagram of a point set, dual of its Delaunay triangulation.
+///
+/// ```
+/// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0], [1.0, 0.9]];
+/// let mesh = delone::triangulate(&pts).unwrap();
+/// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+/// assert_eq!(v.vertices.len(), mesh.triangles.len());
+/// assert_eq!(v.edges.len(), 8); // one per Delaunay edge
+/// let c = v.cell(4); // the inner site: a bounded quadrilateral
+/// assert_eq!(c.vertices.len(), 4);
+/// assert!(c.rays.is_none());
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Voronoi2 {
+    /// Voronoi vertices: `vertices[t]` is the circumcentre of triangle `t`.
+    pub vertices: Vec<[f64; 2]>,
+    /// Voronoi edges, one per Delaunay edge, in order of their first triangle.
+    pub edges: Vec<VoronoiEdge2>,
+    /// `cell_ranges[p][0]..cell_ranges[p][1]` is the range of
+    /// [`Voronoi2::cell_vertices`] of input point `p` (empty for duplicates;
+    /// use [`Voronoi2::cell`], which resolves them). Cells are stored in an
+    /// order that follows the triangles (for speed), not the points.
+    pub cell_ranges: Vec<[u32; 2]>,
+    /// The cells' vertex ids, cell after cell (see [`Cell2::vertices`]).
+    pub cell_vertices: Vec<u32>,
+    /// The cells' neighbour sites, parallel to [`Voronoi2::cell_vertices`]
+    /// (see [`Cell2::neighbors`]).
+    pub cell_neighbors: Vec<u32>,
+    /// The unbounded cells, sorted by site: `(site, [first, last], site
+    /// across the last ray)` (see [`Cell2::rays`], [`Cell2::ray_neighbor`]).
+    pub hull_cells: Vec<(u32, [[f64; 2]; 2], u32)>,
+    /// For every input point, the site whose cell it shares (itself unless it
+    /// duplicates an earlier point), as in [`TriMesh::vertex_map`].
+    pub vertex_map: Vec<u32>,
+}
+
+/// Circumcentre of triangle `abc` (counterclockwise), computed relative to
+/// the corner opposite the longest edge (no cancellation for slivers).
+#[inline]
+pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2] {
+    let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let (la, lb, lc) = (l2(b, c), l2(c, a), l2(a, b));
+    // Rotate (keeping the orientation) so that `a` is opposite the longest edge.
+    let (a, b, c) = if la >= lb && la >= lc {
+        (a, b, c)
+    } else if lb >= lc {
+        (b, c, a)
+    } else {
+        (c, a, b)
+    };
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
+    let d2 = dx * dx + dy * dy;
+    let e2 = ex * ex + ey * ey;
+    // Relative to the corner between the two shorter edges the plain
+    // determinant is accurate (orient2d's magnitude need not be); its sign
+    // comes from the exact predicate when rounding leaves it in doubt.
+    let mut det = dx * ey - dy * ex;
+    if det <= 0.0 {
+        det = orient2d(a, b, c);
+        if det <= 0.0 {
+            // Only for a degenerate (collinear) triangle, never in a TriMesh.
+            det = f64::MIN_POSITIVE;
+        }
+    }
+    let k = 0.5 / det;
+    [
+        a[0] + (ey * d2 - dy * e2) * k,
+        a[1] + (dx * e2 - ex * d2) * k,
+    ]
+}
+
+/// Outward normal of the hull edge `a → b` (interior on the left), of the
+/// edge's length.
+#[inline]
+fn outward(a: &[f64; 2], b: &[f64; 2]) -> [f64; 2] {
+    [b[1] - a[1], a[0] - b[0]]
+}
+
+impl Voronoi2 {
+    /// Builds the Voronoi diagram of `points` from their Delaunay
+    /// triangulation `mesh` (as returned by [`crate::triangulate`]).
+    ///
+    /// Runs in linear time. A `mesh` that does not belong to `points` gives a
+    /// meaningless (but memory-safe, panic-free for in-range ids) result;
+    /// check it with [`super::validate`] when in doubt.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// // Both triangles of the square share its centre as circumcentre.
+    /// assert!(v.vertices.iter().all(|c| (c[0] - 0.5).abs() < 1e-15 && (c[1] - 0.5).abs() < 1e-15));
+    /// ```
+    pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
+        let n = points.len();
+        let tris = &mesh.triangles;
+        let nbs = &mesh.neighbors;
+        let p = |v: u32| &points[v as usize];
+        let vertices: Vec<[f64; 2]> = tris
+            .iter()
+            .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
+            .collect();
+        // Edges: interior ones once (from the lower triangle), hull ones as rays.
+        let mut edges = Vec::with_capacity(tris.len() * 3 / 2 + 3);
+        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+            for i in 0..3 {
+                let u = nb[i];
+                if u != NONE && u <= t as u32 {
+                    continue;
+                }
+                let (a, b) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
+                edges.push(VoronoiEdge2 {
+                    sites: [a, b],
+                    vertices: [t as u32, u],
+                });
+            }
+        }
+        // A start corner (4 * triangle + corner) per vertex: any corner
+        // (plain stores, last one wins), then for hull vertices the
+        // clockwise-most triangle (whose edge v -> next is on the hull).
+        let mut start = vec![u64::MAX; n];
+        for (t, tv) in tris.iter().enumerate() {
+            for i in 0..3 {
+                start[tv[i] as usize] = 4 * t as u64 + i as u64;
+            }
+        }
+        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+            if nb.contains(&NONE) {
+                for i in 0..3 {
+                    if nb[(i + 2) % 3] == NONE {
+                        start[tv[i] as usize] = 4 * t as u64 + i as u64;
+                    }
+                }
+            }
+        }
+        // The start corners marked per triangle (bit i).
+        let mut marks = vec![0u8; tris.len()];
+        for &st in &start {
+            if st != u64::MAX {
+                marks[(st >> 2) as usize] |= 1 << (st & 3);
+            }
+        }
+        drop(start);
+        let mut cell_ranges = vec![[0u32; 2]; n];
+        let mut cell_vertices = Vec::with_capacity(3 * tris.len());
+        let mut cell_neighbors = Vec::with_capacity(3 * tris.len());
+        let mut hull_cells = Vec::new();
+        // Walk the stars in triangle order (spatially coherent), each from
+        // its start corner, appending the cells.
+        let limit = 3 * tris.len();
+        for (t0, tv0) in tris.iter().enumerate() {
+            let m = marks[t0];
+            if m == 0 {
+                continue;
+            }
+            for i0 in 0..3 {
+                if m & (1 << i0) == 0 {
+                    continue;
+                }
+                let v = tv0[i0] as usize;
+                let t0 = t0 as u32;
+                let lo = cell_vertices.len();
+                let (mut t, mut i) = (t0, i0);
+                loop {
+                    let tv = &tris[t as usize];
+                    cell_vertices.push(t);
+                    cell_neighbors.push(tv[(i + 1) % 3]);
+                    // Counterclockwise around v: across the edge (v, tv[i + 2]).
+                    let u = nbs[t as usize][(i + 1) % 3];
+                    if u == NONE {
+                        // Hull: the boundary leaves along the normal of (prev, v).
+                        let first = outward(p(tv0[i0]), p(tv0[(i0 + 1) % 3]));
+                        let last = outward(p(tv[(i + 2) % 3]), p(tv[i]));
+                        hull_cells.push((v as u32, [first, last], tv[(i + 2) % 3]));
+                        break;
+                    }
+                    if u == t0 || cell_vertices.len() >= limit {
+                        break;
+                    }
+                    let uv = &tris[u as usize];
+                    i = if uv[0] == v as u32 {
+                        0
+                    } else if uv[1] == v as u32 {
+                        1
+                    } else {
+                        2
+                    };
+                    t = u;
+                }
+                cell_ranges[v] = [lo as u32, cell_vertices.len() as u32];
+            }
+        }
+        hull_cells.sort_unstable_by_key(|h| h.0);
+        Voronoi2 {
+            vertices,
+            edges,
+            cell_ranges,
+            cell_vertices,
+            cell_neighbors,
+            hull_cells,
+            vertex_map: mesh.vertex_map.clone(),
+        }
+    }
+
+    /// The cell of input point `p` (a duplicate gets its original's cell).
+    ///
+    /// # Panics
+    /// If `p` is not an index of the input points.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// assert_eq!(v.cell(3), v.cell(1));
+    /// assert!(v.cell(0).is_unbounded());
+    /// ```
+    pub fn cell(&self, p: usize) -> Cell2<'_> {
+        let s = self.vertex_map.get(p).map_or(p, |&r| r as usize);
+        let hull = self
+            .hull_cells
+            .binary_search_by_key(&(s as u32), |h| h.0)
+            .ok()
+            .map(|k| &self.hull_cells[k]);
+        let [lo, hi] = self.cell_ranges[s].map(|x| x as usize);
+        Cell2 {
+            vertices: &self.cell_vertices[lo..hi],
+            rays: hull.map(|h| h.1),
+            neighbors: &self.cell_neighbors[lo..hi],
+            ray_neighbor: hull.map_or(NONE, |h| h.2),
+        }
+    }
+
+    /// Every cell intersected with the box `bbox = [min, max]`, as convex
+    /// polygons with area and centroid, one per input point (duplicates get
+    /// a copy of their original's polygon).
+    ///
+    /// A bounded cell inside the box is its Voronoi polygon; any other cell is
+    /// computed by clipping the box with the bisectors of its site and each
+    /// Delaunay neighbour, so unbounded cells need no artificial far points.
+    /// A cell that misses the box is empty (area `0`, centroid = its site).
+    ///
+    /// ```
+    /// let pts = [[0.25, 0.25], [0.75, 0.25], [0.25, 0.75], [0.75, 0.75]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [1.0, 1.0]]);
+    /// for p in 0..4 {
+    ///     assert!((c.area[p] - 0.25).abs() < 1e-15);
+    ///     assert!((c.centroid[p][0] - pts[p][0]).abs() < 1e-15);
+    /// }
+    /// ```
+    pub fn cells_clipped(&self, points: &[[f64; 2]], bbox: Box2) -> ClippedCells2 {
+        let n = self.cell_ranges.len();
+        let mut out = ClippedCells2 {
+            offsets: Vec::with_capacity(n + 1),
+            polygon_points: Vec::with_capacity(self.cell_vertices.len() + 4 * n),
+            area: vec![0.0; n],
+            centroid: vec![[0.0; 2]; n],
+        };
+        out.offsets.push(0);
+        let [lo, hi] = bbox;
+        let inside =
+            |q: &[f64; 2]| q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1];
+        let mut poly: Vec<[f64; 2]> = Vec::with_capacity(32);
+        let mut tmp: Vec<[f64; 2]> = Vec::with_capacity(32);
+        for s in 0..n {
+            let r = self.vertex_map.get(s).map_or(s, |&r| r as usize);
+            if r != s && r < s {
+                let (a, b) = (out.offsets[r] as usize, out.offsets[r + 1] as usize);
+                out.polygon_points.extend_from_within(a..b);
+                out.area[s] = out.area[r];
+                out.centroid[s] = out.centroid[r];
+                out.offsets.push(out.polygon_points.len() as u32);
+                continue;
+            }
+            let site = points[s];
+            let cell = self.cell(s);
+            poly.clear();
+            if cell.vertices.is_empty() {
+                // Not a vertex of the mesh: no cell.
+            } else if cell.rays.is_none()
+                && cell
+                    .vertices
+                    .iter()
+                    .all(|&t| inside(&self.vertices[t as usize]))
+            {
+                poly.extend(cell.vertices.iter().map(|&t| self.vertices[t as usize]));
+            } else {
+                poly.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
+                let extra = (cell.ray_neighbor != NONE).then_some(&cell.ray_neighbor);
+                for &q in cell.neighbors.iter().chain(extra) {
+                    clip_bisector(&mut poly, &mut tmp, &site, &points[q as usize]);
+                    if poly.is_empty() {
+                        break;
+                    }
+                }
+            }
+            let (area, centroid) = area_centroid(&poly, &site);
+            out.area[s] = area;
+            out.centroid[s] = centroid;
+            out.polygon_points.extend_from_slice(&poly);
+            out.offsets.push(out.polygon_points.len() as u32);
+        }
+        out
+    }
+}
+
+/// Voronoi cells clipped to a box, as returned by [`Voronoi2::cells_clipped`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ClippedCells2 {
+    /// `offsets[p]..offsets[p + 1]` is the range of
+    /// [`ClippedCells2::polygon_points`] of input point `p`.
+    pub offsets: Vec<u32>,
+    /// The corners of the clipped cells, counterclockwise, cell after cell.
+    pub polygon_points: Vec<[f64; 2]>,
+    /// Area of each clipped cell.
+    pub area: Vec<f64>,
+    /// Centroid of each clipped cell (the site itself for an empty cell).
+    pub centroid: Vec<[f64; 2]>,
+}
+
+impl ClippedCells2 {
+    /// The clipped polygon of input point `p` (counterclockwise).
+    ///
+    /// # Panics
+    /// If `p` is not an index of the input points.
+    ///
+    /// ```
+    /// let pts = [[0.25, 0.5], [0.75, 0.5], [0.5, 0.9]];
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [1.0, 1.0]]);
+    /// assert!(c.polygon(0).len() >= 4);
+    /// ```
+    pub fn polygon(&self, p: usize) -> &[[f64; 2]] {
+        &self.polygon_points[self.offsets[p] as usize..self.offsets[p + 1] as usize]
+    }
+}
+
+/// Keeps the part of convex polygon `poly` closer to `p` than to `q`.
+fn clip_bisector(poly: &mut Vec<[f64; 2]>, tmp: &mut Vec<[f64; 2]>, p: &[f64; 2], q: &[f64; 2]) {
+    // Side of x: (x - p)·(q - p) - |q - p|²/2  (<= 0 keeps x).
+    let (nx, ny) = (q[0] - p[0], q[1] - p[1]);
+    let h = 0.5 * (nx * nx + ny * ny);
+    if h == 0.0 {
+        return;
+    }
+    let side = |x: &[f64; 2]| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h;
+    let mut any_out = false;
+    let mut any_in = false;
+    for x in poly.iter() {
+        if side(x) > 0.0 {
+            any_out = true;
+        } else {
+            any_in = true;
+        }
+    }
+    if !any_out {
+        return;
+    }
+    if !any_in {
+        poly.clear();
+        return;
+    }
+    tmp.clear();
+    let m = poly.len();
+    for k in 0..m {
+        let a = poly[k];
+        let b = poly[(k + 1) % m];
+        let (sa, sb) = (side(&a), side(&b));
+        if sa <= 0.0 {
+            tmp.push(a);
+        }
+        if (sa <= 0.0) != (sb <= 0.0) {
+            // Crossing point, computed from the inside end (so that the two
+            // cells sharing the edge compute it alike up to rounding).
+            let (x, y, sx, sy) = if sa <= 0.0 {
+                (a, b, sa, sb)
+            } else {
+                (b, a, sb, sa)
+            };
+            if sx < 0.0 {
+                let t = sx / (sx - sy);
+                tmp.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
+            }
+        }
+    }
+    std::mem::swap(poly, tmp);
+}
+
+/// Area and centroid of a counterclockwise polygon, computed relative to
+/// `origin` (a nearby point, for precision). An empty or degenerate polygon
+/// gives area `0` and `origin` as centroid.
+pub(crate) fn area_centroid(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, [f64; 2]) {
+    let m = poly.len();
+    if m < 3 {
+        return (0.0, *origin);
+    }
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for k in 0..m {
+        let p = poly[k];
+        let q = poly[(k + 1) % m];
+        let (px, py) = (p[0] - origin[0], p[1] - origin[1]);
+        let (qx, qy) = (q[0] - origin[0], q[1] - origin[1]);
+        let c = px * qy - qx * py;
+        a2 += c;
+        cx += (px + qx) * c;
+        cy += (py + qy) * c;
+    }
+    if a2 <= 0.0 {
+        return (0.0, *origin);
+    }
+    (
+        0.5 * a2,
+        [origin[0] + cx / (3.0 * a2), origin[1] + cy / (3.0 * a2)],
+    )
+}
+
+/// Lloyd relaxation in a box: `iterations` times, triangulate the points,
+/// clip their Voronoi cells to `bbox` and move every point to the centroid
+/// of its clipped cell. Points outside the box (empty cells) stay where they
+/// are; duplicates move together. Deterministic.
+///
+/// # Errors
+/// The errors of [`crate::triangulate`] (on the input or, for degenerate
+/// inputs, on an intermediate iterate).
+///
+/// ```
+/// let pts: Vec<[f64; 2]> = (0..20).map(|i| [(i as f64 * 0.37) % 1.0, (i as f64 * 0.61) % 1.0]).collect();
+/// let out = delone::tri::lloyd(&pts, [[0.0, 0.0], [1.0, 1.0]], 10).unwrap();
+/// assert_eq!(out.len(), 20);
+/// assert!(out.iter().all(|p| (0.0..=1.0).contains(&p[0]) && (0.0..=1.0).contains(&p[1])));
+/// ```
+pub fn lloyd(points: &[[f64; 2]], bbox: Box2, iterations: usize) -> Result<Vec<[f64; 2]>, Error> {
+    let mut pts = points.to_vec();
+    for _ in 0..iterations {
+        let mesh = super::triangulate(&pts)?;
+        let v = Voronoi2::new(&pts, &mesh);
+        let c = v.cells_clipped(&pts, bbox);
+        for (p, (&a, &g)) in pts.iter_mut().zip(c.area.iter().zip(&c.centroid)) {
+            if a > 0.0 {
+                *p = g;
+            }
+        }
+    }
+    Ok(pts)
+}

@@ -1,0 +1,357 @@
+//! 3D Voronoi diagrams, clipped cells and Lloyd relaxation, checked against
+//! brute force.
+#![allow(clippy::needless_range_loop)]
+
+use delone::geom::SplitMix64;
+use delone::tet::voronoi::{Box3, ClippedCells3, Polyhedron};
+use delone::tet::{lloyd, Voronoi3};
+use delone::NONE;
+
+fn unit(r: &mut SplitMix64) -> f64 {
+    (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn random(n: usize, seed: u64, lo: f64, hi: f64) -> Vec<[f64; 3]> {
+    let mut r = SplitMix64::new(seed);
+    (0..n)
+        .map(|_| {
+            [
+                lo + (hi - lo) * unit(&mut r),
+                lo + (hi - lo) * unit(&mut r),
+                lo + (hi - lo) * unit(&mut r),
+            ]
+        })
+        .collect()
+}
+
+fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    let d = sub(a, b);
+    dot(&d, &d).sqrt()
+}
+
+/// Newell normal of a polygon (twice its vector area).
+fn newell(pts: &[[f64; 3]]) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    for k in 0..pts.len() {
+        let (a, b) = (pts[k], pts[(k + 1) % pts.len()]);
+        n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+        n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+        n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+    }
+    n
+}
+
+/// Smallest signed distance from `x` to the faces' planes (positive inside).
+fn inside_margin(poly: &Polyhedron, x: &[f64; 3]) -> f64 {
+    let mut worst = f64::INFINITY;
+    for f in &poly.faces {
+        let pts: Vec<[f64; 3]> = f.iter().map(|&v| poly.vertices[v as usize]).collect();
+        let n = newell(&pts);
+        let len = dot(&n, &n).sqrt();
+        if len < 1e-12 {
+            continue;
+        }
+        worst = worst.min(-dot(&sub(x, &pts[0]), &n) / len);
+    }
+    worst
+}
+
+/// Volume by the divergence theorem, independent of the library.
+fn volume(poly: &Polyhedron) -> f64 {
+    poly.faces
+        .iter()
+        .map(|f| {
+            let pts: Vec<[f64; 3]> = f.iter().map(|&v| poly.vertices[v as usize]).collect();
+            dot(&newell(&pts), &pts[0]) / 6.0
+        })
+        .sum()
+}
+
+fn box_volume(b: Box3) -> f64 {
+    (0..3).map(|k| b[1][k] - b[0][k]).product()
+}
+
+/// CVT energy: sum over cells of the integral of |x - site|² (tetrahedron
+/// fans from the site, exact quadrature).
+fn energy(sites: &[[f64; 3]], cells: &ClippedCells3) -> f64 {
+    let mut e = 0.0;
+    for (s, site) in sites.iter().enumerate() {
+        let poly = &cells.cells[s];
+        for f in &poly.faces {
+            let v: Vec<[f64; 3]> = f
+                .iter()
+                .map(|&i| sub(&poly.vertices[i as usize], site))
+                .collect();
+            for k in 1..v.len() - 1 {
+                let (a, b, c) = (v[0], v[k], v[k + 1]);
+                let cr = [
+                    b[1] * c[2] - b[2] * c[1],
+                    b[2] * c[0] - b[0] * c[2],
+                    b[0] * c[1] - b[1] * c[0],
+                ];
+                let vol = dot(&a, &cr) / 6.0;
+                e += vol / 10.0
+                    * (dot(&a, &a)
+                        + dot(&b, &b)
+                        + dot(&c, &c)
+                        + dot(&a, &b)
+                        + dot(&a, &c)
+                        + dot(&b, &c));
+            }
+        }
+    }
+    e
+}
+
+fn check(pts: &[[f64; 3]], bbox: Box3, samples: usize) -> ClippedCells3 {
+    let mesh = delone::tetrahedralize(pts).unwrap();
+    let v = Voronoi3::new(pts, &mesh);
+    let size = (0..3).map(|k| bbox[1][k] - bbox[0][k]).fold(0.0, f64::max);
+    // Voronoi vertices are equidistant from their tetrahedron's corners.
+    for (t, tv) in mesh.tets.iter().enumerate() {
+        let c = v.vertices[t];
+        let d = tv.map(|q| dist(&c, &pts[q as usize]));
+        for k in 1..4 {
+            assert!((d[k] - d[0]).abs() <= 1e-9 * d[0], "tet {t}: {d:?}");
+        }
+    }
+    // Counts: one edge per Delaunay triangle, one face per Delaunay edge.
+    let hull = mesh
+        .neighbors
+        .iter()
+        .flatten()
+        .filter(|&&u| u == NONE)
+        .count();
+    assert_eq!(v.edges.len(), (4 * mesh.tets.len() + hull) / 2);
+    assert_eq!(v.edges.iter().filter(|e| e.is_ray()).count(), hull);
+    let mut dedges: Vec<(u32, u32)> = mesh
+        .tets
+        .iter()
+        .flat_map(|tv| {
+            (0..4).flat_map(move |i| (i + 1..4).map(move |j| (tv[i].min(tv[j]), tv[i].max(tv[j]))))
+        })
+        .collect();
+    dedges.sort_unstable();
+    dedges.dedup();
+    let mut vedges: Vec<(u32, u32)> = v
+        .faces
+        .iter()
+        .map(|f| (f.sites[0].min(f.sites[1]), f.sites[0].max(f.sites[1])))
+        .collect();
+    vedges.sort_unstable();
+    assert_eq!(vedges, dedges);
+    let on_hull: Vec<bool> = {
+        let mut h = vec![false; pts.len()];
+        for f in mesh.hull_faces() {
+            for q in f {
+                h[q as usize] = true;
+            }
+        }
+        h
+    };
+    // Faces: vertices around the Delaunay edge, on its bisector, in counterclockwise order.
+    for fi in 0..v.faces.len() {
+        let f = v.face(fi);
+        let [a, b] = f.sites.map(|s| pts[s as usize]);
+        let axis = sub(&b, &a);
+        for &t in f.vertices {
+            let c = v.vertices[t as usize];
+            let (da, db) = (dist(&c, &a), dist(&c, &b));
+            assert!((da - db).abs() <= 1e-9 * da, "face {fi}");
+        }
+        assert_eq!(
+            f.rays.is_some(),
+            on_hull[f.sites[0] as usize] && on_hull[f.sites[1] as usize] && {
+                // a hull edge has a hull triangle through it
+                mesh.hull_faces()
+                    .any(|h| h.contains(&f.sites[0]) && h.contains(&f.sites[1]))
+            }
+        );
+        if f.rays.is_none() && f.vertices.len() >= 3 {
+            let poly: Vec<[f64; 3]> = f.vertices.iter().map(|&t| v.vertices[t as usize]).collect();
+            let n = newell(&poly);
+            assert!(
+                dot(&n, &axis) >= -1e-9 * dot(&axis, &axis) * size,
+                "face {fi} orientation"
+            );
+        }
+        if let Some([r0, r1]) = f.rays {
+            // Rays point away from the Delaunay edge's other tetrahedra: outward.
+            for r in [r0, r1] {
+                assert!(
+                    dot(&r, &axis).abs() <= 1e-9 * dot(&r, &r).sqrt() * dot(&axis, &axis).sqrt()
+                );
+                // Every point lies behind the outward hull plane through a.
+                for p in pts {
+                    assert!(
+                        dot(&r, &sub(p, &a)) <= 1e-9 * dot(&r, &r).sqrt() * size,
+                        "face {fi}: ray not outward"
+                    );
+                }
+            }
+        }
+    }
+    // Cells: bounded iff interior; bounded cells are convex (every Voronoi
+    // vertex of the cell is on the site's side of every bisector).
+    for s in 0..pts.len() {
+        let r = mesh.vertex_map[s] as usize;
+        assert_eq!(v.is_unbounded(s), on_hull[r]);
+        if on_hull[r] {
+            continue;
+        }
+        let nbs: Vec<u32> = v.neighbors(s).collect();
+        for &f in v.cell_faces(s) {
+            let face = v.face(f as usize);
+            assert!(face.rays.is_none());
+            for &t in face.vertices {
+                let c = v.vertices[t as usize];
+                let ds = dist(&c, &pts[r]);
+                for &q in &nbs {
+                    assert!(
+                        ds <= dist(&c, &pts[q as usize]) + 1e-9 * size,
+                        "cell {s} not convex"
+                    );
+                }
+            }
+        }
+    }
+    // Clipped cells tile the box.
+    let c = v.cells_clipped(pts, bbox);
+    let mut total = 0.0;
+    for s in 0..pts.len() {
+        let vol = volume(&c.cells[s]);
+        assert!(
+            (vol - c.volume[s]).abs() <= 1e-9 * box_volume(bbox),
+            "cell {s}: {vol} vs {}",
+            c.volume[s]
+        );
+        if mesh.vertex_map[s] as usize == s {
+            total += c.volume[s];
+        }
+        if c.volume[s] > 0.0 {
+            assert!(inside_margin(&c.cells[s], &c.centroid[s]) >= -1e-9 * size);
+        }
+    }
+    let rel = (total - box_volume(bbox)).abs() / box_volume(bbox);
+    assert!(
+        rel <= 1e-9,
+        "volumes sum to {total}, box {}",
+        box_volume(bbox)
+    );
+    // Samples lie in the clipped cell of a nearest site.
+    let mut rng = SplitMix64::new(9);
+    for _ in 0..samples {
+        let x: [f64; 3] =
+            std::array::from_fn(|k| bbox[0][k] + (bbox[1][k] - bbox[0][k]) * unit(&mut rng));
+        let best = pts
+            .iter()
+            .map(|p| dist(p, &x))
+            .fold(f64::INFINITY, f64::min);
+        let mut found = false;
+        for s in 0..pts.len() {
+            if mesh.vertex_map[s] as usize != s || c.cells[s].faces.is_empty() {
+                continue;
+            }
+            let m = inside_margin(&c.cells[s], &x);
+            let d = dist(&x, &pts[s]);
+            if m > 1e-9 * size {
+                assert!(
+                    d - best <= 1e-9 * size,
+                    "sample {x:?} in cell {s} but a site is closer"
+                );
+            }
+            if m >= -1e-9 * size && d - best <= 1e-9 * size {
+                found = true;
+            }
+        }
+        assert!(found, "sample {x:?} is in no nearest site's cell");
+    }
+    c
+}
+
+#[test]
+fn random_points_in_cube() {
+    check(&random(300, 1, 0.0, 1.0), [[0.0; 3], [1.0; 3]], 1000);
+}
+
+#[test]
+fn sites_outside_and_offset_box() {
+    check(&random(200, 2, -0.5, 1.5), [[0.0; 3], [1.0; 3]], 500);
+    check(
+        &random(200, 3, 10.0, 11.0),
+        [[9.8, 10.2, 10.0], [11.5, 10.9, 10.7]],
+        500,
+    );
+}
+
+#[test]
+fn grid_is_cospherical() {
+    let pts: Vec<[f64; 3]> = (0..216)
+        .map(|k| [(k % 6) as f64, (k / 6 % 6) as f64, (k / 36) as f64])
+        .collect();
+    let bbox = [[-0.5; 3], [5.5; 3]];
+    let c = check(&pts, bbox, 300);
+    for s in 0..pts.len() {
+        assert!(
+            (c.volume[s] - 1.0).abs() < 1e-12,
+            "cell {s}: {}",
+            c.volume[s]
+        );
+        assert!(dist(&c.centroid[s], &pts[s]) < 1e-12);
+    }
+}
+
+#[test]
+fn cospherical_with_centre_and_duplicates() {
+    // Cube corners and octahedron vertices on one sphere, its centre, duplicates.
+    let mut pts: Vec<[f64; 3]> = (0..8)
+        .map(|k| {
+            let s = 1.0 / 3f64.sqrt();
+            [
+                if k & 1 == 0 { -s } else { s },
+                if k & 2 == 0 { -s } else { s },
+                if k & 4 == 0 { -s } else { s },
+            ]
+        })
+        .collect();
+    for k in 0..3 {
+        for sgn in [-1.0, 1.0] {
+            let mut p = [0.0; 3];
+            p[k] = sgn;
+            pts.push(p);
+        }
+    }
+    pts.push([0.0; 3]);
+    pts.push(pts[2]);
+    pts.push([0.0; 3]);
+    let c = check(&pts, [[-2.0; 3], [2.0; 3]], 1000);
+    assert_eq!(c.cells[15], c.cells[2]);
+    assert_eq!(c.volume[16], c.volume[14]);
+}
+
+#[test]
+fn lloyd_energy_decreases() {
+    let bbox = [[0.0; 3], [1.0; 3]];
+    let mut pts = random(100, 11, 0.0, 1.0);
+    let mut prev = f64::INFINITY;
+    let mut first = 0.0;
+    for it in 0..10 {
+        let mesh = delone::tetrahedralize(&pts).unwrap();
+        let e = energy(&pts, &Voronoi3::new(&pts, &mesh).cells_clipped(&pts, bbox));
+        if it == 0 {
+            first = e;
+        }
+        assert!(e <= prev * (1.0 + 1e-12), "iteration {it}: {e} > {prev}");
+        prev = e;
+        pts = lloyd(&pts, bbox, 1).unwrap();
+    }
+    assert!(prev < 0.95 * first, "energy {first} -> {prev}");
+}
