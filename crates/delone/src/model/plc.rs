@@ -6,7 +6,7 @@
 //! the facet's holes and a boundary marker), optional free segments, volume
 //! holes and regions. [`Plc::validate`] checks it exactly;
 //! [`Plc::merge_duplicate_points`] merges exactly coincident points.
-//! Self-intersection and closedness checks live in [`crate::tet::validate`](mod@crate::tet::validate).
+//! Self-intersection and closedness checks live in [`crate::tet::intersect`].
 
 use crate::error::{Error, FacetDefect};
 use delone_predicates::{orient2d, orient3d};
