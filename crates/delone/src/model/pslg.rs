@@ -100,7 +100,7 @@ impl Pslg {
     /// is the check for callers who want clean input.
     ///
     /// # Errors
-    /// [`Error::InvalidCoordinate`], [`Error::InvalidMarkerPoint`],
+    /// [`Error::InvalidCoordinate`], [`Error::InvalidSeedPoint`],
     /// [`Error::SegmentOutOfRange`], [`Error::ZeroLengthSegment`],
     /// [`Error::DuplicateVertex`], [`Error::DuplicateSegment`].
     ///

@@ -391,7 +391,7 @@ enum Start {
 /// vertices (reported).
 ///
 /// # Errors
-/// [`Error::InvalidCoordinate`] (NaN/infinite point), [`Error::InvalidMarkerPoint`]
+/// [`Error::InvalidCoordinate`] (NaN/infinite point), [`Error::InvalidSeedPoint`]
 /// (NaN/infinite hole or region point), [`Error::SegmentOutOfRange`], the
 /// kernel's [`Error::TooFewPoints`] / [`Error::Degenerate`] /
 /// [`Error::CapacityExceeded`], and [`Error::SegmentIntersection`] when a
