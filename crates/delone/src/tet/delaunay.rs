@@ -122,13 +122,19 @@ impl EdgeTable {
 /// The combinatorial part of the kernel: tetrahedra, adjacency, marks and
 /// scratch space. Geometry enters only through the `pts` argument.
 #[derive(Debug, Clone, Default)]
-struct Core {
-    v: Vec<[u32; 4]>,
-    adj: Vec<[u32; 4]>,
-    mark: Vec<u8>,
-    free: Vec<u32>,
-    finite: usize,
-    last: u32,
+pub(crate) struct Core {
+    /// Vertices of every slot (`DEAD` in `[0]` for a free slot).
+    pub(crate) v: Vec<[u32; 4]>,
+    /// Packed adjacency words `4 * tet + facet`.
+    pub(crate) adj: Vec<[u32; 4]>,
+    /// Per-slot scratch mark (0 outside an operation).
+    pub(crate) mark: Vec<u8>,
+    /// Free slots.
+    pub(crate) free: Vec<u32>,
+    /// Number of finite live cells.
+    pub(crate) finite: usize,
+    /// Start cell of the next walk.
+    pub(crate) last: u32,
     rng: u32,
     /// Set once an insertion ran out of index space; the structure then
     /// refuses further insertions.
@@ -161,12 +167,12 @@ pub struct Delaunay3<'a> {
     /// The points by id: the caller's (borrowed by `from_points`, owned when
     /// inserting one by one), multiplied by `scale` when their magnitudes are
     /// extreme.
-    points: Cow<'a, [[f64; 3]]>,
+    pub(crate) points: Cow<'a, [[f64; 3]]>,
     /// Exact power-of-two factors applied to the caller's coordinates (see
     /// [`crate::geom::pow2_scale`]); chosen from the first point when
     /// inserting one by one.
-    scale: Option<(f64, f64)>,
-    core: Core,
+    pub(crate) scale: Option<(f64, f64)>,
+    pub(crate) core: Core,
     /// Per point: itself when inserted, its original when a duplicate, NONE
     /// while pending.
     vertex_map: Vec<u32>,
@@ -814,7 +820,7 @@ impl Core {
 
     /// A slot for a new tetrahedron.
     #[inline(always)]
-    fn alloc(&mut self, tv: [u32; 4]) -> u32 {
+    pub(crate) fn alloc(&mut self, tv: [u32; 4]) -> u32 {
         self.finite += usize::from(tv[3] != INF);
         if let Some(t) = self.free.pop() {
             self.v[t as usize] = tv;
@@ -840,7 +846,7 @@ impl Core {
     }
 
     #[inline(always)]
-    fn release(&mut self, t: u32) {
+    pub(crate) fn release(&mut self, t: u32) {
         let tv = &mut self.v[t as usize];
         if tv[3] != INF {
             self.finite -= 1;
@@ -851,7 +857,7 @@ impl Core {
     }
 
     #[inline]
-    fn link(&mut self, t: u32, f: usize, u: u32, g: usize) {
+    pub(crate) fn link(&mut self, t: u32, f: usize, u: u32, g: usize) {
         self.adj[t as usize][f] = 4 * u + g as u32;
         self.adj[u as usize][g] = 4 * t + f as u32;
     }
@@ -894,7 +900,7 @@ impl Core {
     /// Visibility walk from `start` towards `p`. Returns a finite tetrahedron
     /// whose closure contains `p`, or a ghost whose hull facet has `p`
     /// strictly on its outer side.
-    fn walk(&self, pts: &[[f64; 3]], p: &[f64; 3], start: u32, rng: &mut u32) -> u32 {
+    pub(crate) fn walk(&self, pts: &[[f64; 3]], p: &[f64; 3], start: u32, rng: &mut u32) -> u32 {
         let mut t = start;
         if self.v[t as usize][3] == INF {
             t = self.adj[t as usize][3] >> 2;
