@@ -121,6 +121,7 @@ fn accept_2d(name: &str, points: &[[f64; 2]]) {
         neighbors,
         vertex_map,
         duplicates,
+        hidden: vec![],
     };
     delone::tri::validate(points, &mesh).unwrap_or_else(|v| panic!("{name}: {v}"));
     let _ = std::fs::remove_dir_all(&dir);
@@ -137,6 +138,7 @@ fn accept_3d(name: &str, points: &[[f64; 3]]) {
         neighbors,
         vertex_map,
         duplicates,
+        hidden: vec![],
     };
     delone::tet::validate(points, &mesh).unwrap_or_else(|v| panic!("{name}: {v}"));
     let _ = std::fs::remove_dir_all(&dir);

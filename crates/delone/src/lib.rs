@@ -54,6 +54,9 @@ pub enum Inserted {
     /// No triangle/tetrahedron exists yet (all points so far are collinear /
     /// coplanar); the point is kept and becomes a vertex as soon as one does.
     Pending(u32),
+    /// Regular (weighted) triangulations only: the point's power cell is
+    /// empty, so it is not a vertex ("hidden" or redundant point).
+    Hidden(u32),
 }
 
 /// Marker for "no element" in index arrays (a missing neighbour, an unused slot).

@@ -382,6 +382,7 @@ fn many_duplicates() {
                 assert!(original < id);
                 assert_eq!(pts[original as usize], p);
             }
+            Inserted::Hidden(v) => panic!("unweighted point {v} reported hidden"),
         }
     }
     d.check_topology().unwrap();

@@ -720,6 +720,7 @@ impl<'a> Delaunay3<'a> {
             neighbors,
             vertex_map,
             duplicates,
+            hidden: Vec::new(),
         }
     }
 }
@@ -728,6 +729,7 @@ impl<'a> Delaunay3<'a> {
 fn record(vertex_map: &mut [u32], duplicates: &mut Vec<(u32, u32)>, r: Inserted) {
     match r {
         Inserted::Vertex(id) | Inserted::Pending(id) => vertex_map[id as usize] = id,
+        Inserted::Hidden(id) => vertex_map[id as usize] = NONE,
         Inserted::Duplicate { id, original } => {
             vertex_map[id as usize] = original;
             let at = duplicates.partition_point(|d| d.0 < id);

@@ -20,6 +20,11 @@ pub struct TetMesh {
     /// Input points that duplicate a lower-indexed one, as `(duplicate, original)`,
     /// sorted by duplicate.
     pub duplicates: Vec<(u32, u32)>,
+    /// Input points left out of a *regular* (weighted) triangulation
+    /// because their power cell is empty ("hidden" or redundant points),
+    /// sorted; their `vertex_map` entry is [`crate::NONE`]. Always empty for
+    /// unweighted input.
+    pub hidden: Vec<u32>,
 }
 
 impl TetMesh {

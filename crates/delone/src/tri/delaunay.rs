@@ -1172,6 +1172,7 @@ impl<'a> Delaunay2<'a> {
             neighbors: tri_adj,
             vertex_map: vmap,
             duplicates,
+            hidden: Vec::new(),
         }
     }
 }

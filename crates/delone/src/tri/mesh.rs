@@ -25,6 +25,11 @@ pub struct TriMesh {
     /// Input points that duplicate an earlier one, as `(duplicate, original)`,
     /// in increasing order of the duplicate.
     pub duplicates: Vec<(u32, u32)>,
+    /// Input points left out of a *regular* (weighted) triangulation
+    /// because their power cell is empty ("hidden" or redundant points),
+    /// sorted; their `vertex_map` entry is [`crate::NONE`]. Always empty for
+    /// unweighted input.
+    pub hidden: Vec<u32>,
 }
 
 /// Coordinates as a sortable key; `-0.0` and `0.0` give the same key (the
@@ -293,6 +298,7 @@ mod tests {
             neighbors: vec![[NONE, 1, NONE], [NONE, NONE, 0]],
             vertex_map: vec![0, 1, 2, 3],
             duplicates: vec![],
+            hidden: vec![],
         };
         (pts, mesh)
     }
@@ -352,6 +358,7 @@ mod tests {
             neighbors: vec![[1, NONE, NONE], [NONE, NONE, 0]],
             vertex_map: vec![0, 1, 2, 3],
             duplicates: vec![],
+            hidden: vec![],
         };
         let v = validate(&pts, &mesh).unwrap_err();
         assert_eq!(v.kind, "hull", "{v}");
