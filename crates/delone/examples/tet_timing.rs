@@ -37,8 +37,16 @@ fn main() {
         pts
     };
     drop(order);
+    let weights: Option<Vec<f64>> = std::env::var("WEIGHTS").ok().map(|_| {
+        (0..n)
+            .map(|_| 0.01 * (n as f64).powf(-2.0 / 3.0) * u())
+            .collect()
+    });
     let t = Instant::now();
-    let mesh = delone::tetrahedralize(&pts).unwrap();
+    let mesh = match &weights {
+        Some(w) => delone::tet::regular_tetrahedralization(&pts, w).unwrap(),
+        None => delone::tetrahedralize(&pts).unwrap(),
+    };
     let total = t.elapsed().as_secs_f64();
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
     let hwm = status
@@ -47,7 +55,8 @@ fn main() {
         .unwrap_or("VmHWM: ?")
         .to_string();
     println!(
-        "n={n} tets={} time={total:.3}s (sort {sort:.3}s) tets/point={:.2} {hwm}",
+        "n={n} hidden={} tets={} time={total:.3}s (sort {sort:.3}s) tets/point={:.2} {hwm}",
+        mesh.hidden.len(),
         mesh.tets.len(),
         mesh.tets.len() as f64 / n as f64
     );

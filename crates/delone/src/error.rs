@@ -32,6 +32,18 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
+    /// Weight `index` of a weighted point set is NaN or infinite.
+    InvalidWeight {
+        /// 0-based index of the point.
+        index: usize,
+    },
+    /// A weighted point set has a different number of weights than points.
+    WeightCount {
+        /// Number of points.
+        points: usize,
+        /// Number of weights.
+        weights: usize,
+    },
     /// A hole or region seed point (of a PSLG or PLC) has a NaN or infinite coordinate.
     InvalidSeedPoint {
         /// `"hole"`, `"region"` or `"facet hole"` (PLC), `"hole"` or `"region"` (PSLG).
@@ -161,6 +173,12 @@ impl fmt::Display for Error {
                 f,
                 "{requested} points exceed the u32 index space of delone"
             ),
+            Error::InvalidWeight { index } => {
+                write!(f, "the weight of point {index} is NaN or infinite")
+            }
+            Error::WeightCount { points, weights } => {
+                write!(f, "{points} points but {weights} weights")
+            }
             Error::InvalidSeedPoint { kind, index } => {
                 write!(f, "{kind} {index} has a NaN or infinite coordinate")
             }

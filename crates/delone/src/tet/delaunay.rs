@@ -32,7 +32,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{insphere_sos, orient3d};
+use delone_predicates::{insphere_sos, insphere_weighted_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -141,6 +141,11 @@ pub(crate) struct Core {
     overflow: bool,
     cavity: Vec<u32>,
     kept: Vec<u32>,
+    /// Vertices hidden by the last weighted insertion.
+    hidden_now: Vec<u32>,
+    /// Per-vertex stamps for `find_hidden` (weighted triangulations only).
+    vstamp: Vec<u32>,
+    vstamp_next: u32,
     created: Vec<u32>,
     edges: EdgeTable,
 }
@@ -172,6 +177,11 @@ pub struct Delaunay3<'a> {
     /// [`crate::geom::pow2_scale`]); chosen from the first point when
     /// inserting one by one.
     pub(crate) scale: Option<(f64, f64)>,
+    /// Weights by id (scaled by the square of `scale`) for a regular
+    /// triangulation; `None` for a Delaunay triangulation.
+    pub(crate) weights: Option<Cow<'a, [f64]>>,
+    /// Points left out of the regular triangulation (empty power cell).
+    hidden: Vec<u32>,
     pub(crate) core: Core,
     /// Per point: itself when inserted, its original when a duplicate, NONE
     /// while pending.
@@ -270,11 +280,79 @@ impl<'a> Delaunay3<'a> {
         points: &'a [[f64; 3]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
+        Self::build(points, None, progress)
+    }
+
+    /// The regular (weighted Delaunay) tetrahedralization of `points` with
+    /// `weights`: the dual of their power diagram. Points whose power cell is
+    /// empty are left out and listed by [`Delaunay3::hidden`]. With all
+    /// weights zero the result is exactly the Delaunay tetrahedralization.
+    ///
+    /// # Errors
+    /// As [`Delaunay3::from_points`], plus [`Error::InvalidWeight`] for a NaN
+    /// or infinite weight and [`Error::WeightCount`] when the lengths differ.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0], [1.0, 1.0, 1.0]];
+    /// // The last point is light: its power cell is empty.
+    /// let dt = delone::tet::Delaunay3::from_weighted_points(&pts, &[0.0, 0.0, 0.0, 0.0, -10.0]).unwrap();
+    /// assert_eq!(dt.hidden(), &[4]);
+    /// assert_eq!(dt.num_tets(), 1);
+    /// ```
+    pub fn from_weighted_points(points: &'a [[f64; 3]], weights: &'a [f64]) -> Result<Self, Error> {
+        Self::build(points, Some(weights), &mut |_, _| {})
+    }
+
+    /// [`Delaunay3::from_weighted_points`] with a progress callback.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let mut calls = 0;
+    /// delone::tet::Delaunay3::from_weighted_points_with_progress(&pts, &[0.0; 4], &mut |_, _| calls += 1).unwrap();
+    /// assert!(calls >= 1);
+    /// ```
+    pub fn from_weighted_points_with_progress(
+        points: &'a [[f64; 3]],
+        weights: &'a [f64],
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
+        Self::build(points, Some(weights), progress)
+    }
+
+    fn build(
+        points: &'a [[f64; 3]],
+        weights: Option<&'a [f64]>,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
         check_coords(points)?;
+        if let Some(w) = weights {
+            if w.len() != points.len() {
+                return Err(Error::WeightCount {
+                    points: points.len(),
+                    weights: w.len(),
+                });
+            }
+            if let Some(index) = w.iter().position(|x| !x.is_finite()) {
+                return Err(Error::InvalidWeight { index });
+            }
+        }
         // Extreme magnitudes are scaled by an exact power of two (a copy);
         // ordinary inputs are borrowed as they are.
         let (cow, scale) = crate::geom::rescaled(points);
         let points: &[[f64; 3]] = &cow;
+        // Power distances scale with the square of the coordinates.
+        let wcow: Option<Cow<'a, [f64]>> = weights.map(|w| {
+            if scale == (1.0, 1.0) {
+                Cow::Borrowed(w)
+            } else {
+                Cow::Owned(
+                    w.iter()
+                        .map(|&x| x * scale.0 * scale.0 * scale.1 * scale.1)
+                        .collect(),
+                )
+            }
+        });
+        let wts: &[f64] = wcow.as_deref().unwrap_or(&[]);
         let n = points.len();
         let mut order = crate::geom::brio_order(points);
         // The first tetrahedron: the first four affinely independent points
@@ -301,6 +379,8 @@ impl<'a> Delaunay3<'a> {
         let mut dt = Delaunay3 {
             points: Cow::Borrowed(&[]),
             scale: Some(scale),
+            weights: None,
+            hidden: Vec::new(),
             core: Core::default(),
             vertex_map: vec![NONE; n],
             duplicates: Vec::new(),
@@ -319,11 +399,21 @@ impl<'a> Delaunay3<'a> {
             dt.vertex_map[b as usize] = b;
         }
         for (k, &id) in order[4..].iter().enumerate() {
-            if let Inserted::Duplicate { id, original } = dt.core.insert(points, id)? {
-                dt.vertex_map[id as usize] = original;
-                dt.duplicates.push((id, original));
-            } else {
-                dt.vertex_map[id as usize] = id;
+            let r = dt.core.insert_any(points, wts, id)?;
+            match r {
+                Inserted::Duplicate { id, original } => {
+                    dt.vertex_map[id as usize] = original;
+                    dt.duplicates.push((id, original));
+                }
+                Inserted::Hidden(id) => dt.hidden.push(id),
+                _ => dt.vertex_map[id as usize] = id,
+            }
+            if !wts.is_empty() {
+                for &q in &dt.core.hidden_now {
+                    dt.vertex_map[q as usize] = NONE;
+                    dt.hidden.push(q);
+                }
+                dt.core.hidden_now.clear();
             }
             if (k + 5) % PROGRESS_STEP == 0 {
                 progress(k + 5, n);
@@ -331,6 +421,7 @@ impl<'a> Delaunay3<'a> {
         }
         dt.duplicates.sort_unstable();
         dt.points = cow;
+        dt.weights = wcow;
         progress(n, n);
         Ok(dt)
     }
@@ -352,9 +443,41 @@ impl<'a> Delaunay3<'a> {
     /// assert!(dt.insert([f64::NAN, 0.0, 0.0]).is_err());
     /// ```
     pub fn insert(&mut self, p: [f64; 3]) -> Result<Inserted, Error> {
+        self.insert_impl(p, None)
+    }
+
+    /// Inserts one weighted point into a regular triangulation (earlier
+    /// points inserted without a weight have weight 0). The point may turn
+    /// out hidden, and it may hide existing vertices (see
+    /// [`Delaunay3::hidden`]).
+    ///
+    /// # Errors
+    /// As [`Delaunay3::insert`], plus [`Error::InvalidWeight`].
+    ///
+    /// ```
+    /// use delone::{tet::Delaunay3, Inserted};
+    /// let mut dt = Delaunay3::new();
+    /// for p in [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0]] {
+    ///     dt.insert_weighted(p, 0.0).unwrap();
+    /// }
+    /// assert_eq!(dt.insert_weighted([1.0, 1.0, 1.0], -10.0).unwrap(), Inserted::Hidden(4));
+    /// // A heavy point hides the light vertex at its place.
+    /// assert_eq!(dt.insert_weighted([0.0, 0.0, 0.0], 1.0).unwrap(), Inserted::Vertex(5));
+    /// assert_eq!(dt.hidden(), &[0, 4]);
+    /// dt.check_topology().unwrap();
+    /// dt.check_delaunay().unwrap();
+    /// ```
+    pub fn insert_weighted(&mut self, p: [f64; 3], w: f64) -> Result<Inserted, Error> {
+        self.insert_impl(p, Some(w))
+    }
+
+    fn insert_impl(&mut self, p: [f64; 3], w: Option<f64>) -> Result<Inserted, Error> {
         let id = self.points.len();
         if !p.iter().all(|c| c.is_finite()) {
             return Err(Error::InvalidCoordinate { index: id });
+        }
+        if w.is_some_and(|w| !w.is_finite()) {
+            return Err(Error::InvalidWeight { index: id });
         }
         if id >= MAX_POINTS {
             return Err(Error::CapacityExceeded { requested: id + 1 });
@@ -363,40 +486,62 @@ impl<'a> Delaunay3<'a> {
             .scale
             .get_or_insert_with(|| crate::geom::pow2_scale(crate::geom::max_abs(&[p])));
         let p = crate::geom::scaled(p, s);
+        if w.is_some() && self.weights.is_none() {
+            self.weights = Some(Cow::Owned(vec![0.0; id]));
+        }
+        if let Some(ws) = self.weights.as_mut() {
+            ws.to_mut().push(w.unwrap_or(0.0) * s.0 * s.0 * s.1 * s.1);
+        }
         self.points.to_mut().push(p);
         self.vertex_map.push(NONE);
         let id = id as u32;
         let pts: &[[f64; 3]] = &self.points;
-        if !self.core.v.is_empty() {
-            let r = self.core.insert(pts, id)?;
-            record(&mut self.vertex_map, &mut self.duplicates, r);
-            return Ok(r);
-        }
-        // No tetrahedron yet: keep the point, catch duplicates by comparison.
-        if let Some(&orig) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
+        let wts: &[f64] = self.weights.as_deref().unwrap_or(&[]);
+        let same = |q: u32| {
+            pts[q as usize] == p && (wts.is_empty() || wts[q as usize] == wts[id as usize])
+        };
+        let mut results = Vec::new();
+        let r = if !self.core.v.is_empty() {
+            let r = self.core.insert_any(pts, wts, id)?;
+            results.push(r);
+            r
+        } else if let Some(&orig) = self.pending.iter().find(|&&q| same(q)) {
+            // No tetrahedron yet: keep the point, catch duplicates by comparison.
             let r = Inserted::Duplicate { id, original: orig };
+            results.push(r);
+            r
+        } else {
+            self.pending.push(id);
+            self.vertex_map[id as usize] = id;
+            if extends_basis(pts, &self.basis, id) {
+                self.basis.push(id);
+            }
+            if self.basis.len() < 4 {
+                return Ok(Inserted::Pending(id));
+            }
+            let b = [self.basis[0], self.basis[1], self.basis[2], self.basis[3]];
+            self.core.start(pts, b);
+            self.basis.clear();
+            for q in std::mem::take(&mut self.pending) {
+                if !b.contains(&q) {
+                    results.push(self.core.insert_any(pts, wts, q)?);
+                }
+            }
+            Inserted::Vertex(id)
+        };
+        for r in results {
             record(&mut self.vertex_map, &mut self.duplicates, r);
-            return Ok(r);
-        }
-        self.pending.push(id);
-        self.vertex_map[id as usize] = id;
-        if extends_basis(pts, &self.basis, id) {
-            self.basis.push(id);
-        }
-        if self.basis.len() < 4 {
-            return Ok(Inserted::Pending(id));
-        }
-        let b = [self.basis[0], self.basis[1], self.basis[2], self.basis[3]];
-        self.core.start(pts, b);
-        let pending = std::mem::take(&mut self.pending);
-        for q in pending {
-            if !b.contains(&q) {
-                let r = self.core.insert(pts, q)?;
-                record(&mut self.vertex_map, &mut self.duplicates, r);
+            if let Inserted::Hidden(q) = r {
+                self.hidden.push(q);
             }
         }
-        self.basis.clear();
-        Ok(Inserted::Vertex(id))
+        for &q in &self.core.hidden_now {
+            self.vertex_map[q as usize] = NONE;
+            self.hidden.push(q);
+        }
+        self.core.hidden_now.clear();
+        self.hidden.sort_unstable();
+        Ok(r)
     }
 
     /// Locates `p`: the finite tetrahedron containing it (closed), the vertex
@@ -475,6 +620,17 @@ impl<'a> Delaunay3<'a> {
     /// ```
     pub fn duplicates(&self) -> &[(u32, u32)] {
         &self.duplicates
+    }
+
+    /// Points left out of a regular triangulation because their power cell
+    /// is empty, sorted (always empty without weights).
+    ///
+    /// ```
+    /// let dt = delone::tet::Delaunay3::new();
+    /// assert!(dt.hidden().is_empty());
+    /// ```
+    pub fn hidden(&self) -> &[u32] {
+        &self.hidden
     }
 
     /// The finite tetrahedra, positively oriented.
@@ -647,7 +803,7 @@ impl<'a> Delaunay3<'a> {
     /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_delaunay().unwrap();
     /// ```
     pub fn check_delaunay(&self) -> Result<(), Violation> {
-        use delone_predicates::insphere;
+        use delone_predicates::{insphere, insphere_weighted};
         let c = &self.core;
         let pts: &[[f64; 3]] = &self.points;
         let p = |q: u32| &pts[q as usize];
@@ -686,7 +842,25 @@ impl<'a> Delaunay3<'a> {
                     continue;
                 }
                 // insphere > 0 means inside for orient3d > 0; ours are negative.
-                if insphere(p(tv[1]), p(tv[0]), p(tv[2]), p(tv[3]), p(apex)) > 0.0 {
+                let inside = match self.weights.as_deref() {
+                    None => insphere(p(tv[1]), p(tv[0]), p(tv[2]), p(tv[3]), p(apex)),
+                    Some(w) => {
+                        let w = |q: u32| w[q as usize];
+                        insphere_weighted(
+                            p(tv[1]),
+                            p(tv[0]),
+                            p(tv[2]),
+                            p(tv[3]),
+                            p(apex),
+                            w(tv[1]),
+                            w(tv[0]),
+                            w(tv[2]),
+                            w(tv[3]),
+                            w(apex),
+                        )
+                    }
+                };
+                if inside > 0.0 {
                     return Err(Violation::new(
                         "delaunay",
                         format!(
@@ -713,14 +887,28 @@ impl<'a> Delaunay3<'a> {
             // Pending points never made it into a tetrahedron.
             vertex_map[q as usize] = NONE;
         }
+        // Copies of a point that was later hidden are hidden too.
+        let mut hidden = self.hidden;
+        let mut duplicates = self.duplicates;
+        if !hidden.is_empty() {
+            duplicates.retain(|&(d, o)| {
+                let gone = vertex_map[o as usize] == NONE;
+                if gone {
+                    vertex_map[d as usize] = NONE;
+                    hidden.push(d);
+                }
+                !gone
+            });
+            hidden.sort_unstable();
+        }
         let (mut tets, neighbors) = self.core.into_arrays();
-        let duplicates = lowest_representatives(&mut vertex_map, self.duplicates, &mut tets);
+        let duplicates = lowest_representatives(&mut vertex_map, duplicates, &mut tets);
         TetMesh {
             tets,
             neighbors,
             vertex_map,
             duplicates,
-            hidden: Vec::new(),
+            hidden,
         }
     }
 }
@@ -933,20 +1121,49 @@ impl Core {
         }
     }
 
-    /// Does the circumsphere of finite tet `t` contain point `id`?
+    /// Does the circumsphere of finite tet `t` contain point `id`? With
+    /// `W`, the power test: is `id` closer, in power distance, to the
+    /// orthogonal sphere of `t`'s weighted vertices than orthogonal to it?
     #[inline]
-    fn finite_conflict(&self, pts: &[[f64; 3]], t: u32, id: u32) -> bool {
+    fn finite_conflict<const W: bool>(
+        &self,
+        pts: &[[f64; 3]],
+        wts: &[f64],
+        t: u32,
+        id: u32,
+    ) -> bool {
         let [a, b, c, d] = self.v[t as usize];
         let q = |i: u32| &pts[i as usize];
         // Swap a and b: insphere's convention wants orient3d > 0.
-        insphere_sos(q(b), q(a), q(c), q(d), q(id), b, a, c, d, id) > 0
+        if W {
+            let w = |i: u32| wts[i as usize];
+            insphere_weighted_sos(
+                q(b),
+                q(a),
+                q(c),
+                q(d),
+                q(id),
+                w(b),
+                w(a),
+                w(c),
+                w(d),
+                w(id),
+                b,
+                a,
+                c,
+                d,
+                id,
+            ) > 0
+        } else {
+            insphere_sos(q(b), q(a), q(c), q(d), q(id), b, a, c, d, id) > 0
+        }
     }
 
     #[inline]
-    fn in_conflict(&self, pts: &[[f64; 3]], t: u32, id: u32) -> bool {
+    fn in_conflict<const W: bool>(&self, pts: &[[f64; 3]], wts: &[f64], t: u32, id: u32) -> bool {
         let tv = self.v[t as usize];
         if tv[3] != INF {
-            return self.finite_conflict(pts, t, id);
+            return self.finite_conflict::<W>(pts, wts, t, id);
         }
         // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
         // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
@@ -956,20 +1173,35 @@ impl Core {
         if o != 0.0 {
             o < 0.0
         } else {
-            self.finite_conflict(pts, self.adj[t as usize][3] >> 2, id)
+            self.finite_conflict::<W>(pts, wts, self.adj[t as usize][3] >> 2, id)
         }
     }
 
-    /// Inserts point `id`: locate, cavity, stellate.
-    fn insert(&mut self, pts: &[[f64; 3]], id: u32) -> Result<Inserted, Error> {
+    /// Inserts point `id`: locate, cavity, stellate. With `W` (weights in
+    /// `wts`), the power test decides conflicts: the new point may turn out
+    /// hidden, and vertices whose whole star falls in the cavity become
+    /// hidden (listed in `self.hidden_now`).
+    fn insert<const W: bool>(
+        &mut self,
+        pts: &[[f64; 3]],
+        wts: &[f64],
+        id: u32,
+    ) -> Result<Inserted, Error> {
         let p = &pts[id as usize];
         let mut rng = self.rng;
         let t0 = self.walk(pts, p, self.last, &mut rng);
         self.rng = rng;
         let tv0 = self.v[t0 as usize];
         if tv0[3] != INF {
-            if let Some(&q) = tv0.iter().find(|&&q| pts[q as usize] == *p) {
+            let same =
+                |q: u32| pts[q as usize] == *p && (!W || wts[q as usize] == wts[id as usize]);
+            if let Some(&q) = tv0.iter().find(|&&q| same(q)) {
                 return Ok(Inserted::Duplicate { id, original: q });
+            }
+            // Inside the hull, a weighted point below no power sphere of the
+            // cell containing it has an empty power cell.
+            if W && !self.finite_conflict::<W>(pts, wts, t0, id) {
+                return Ok(Inserted::Hidden(id));
             }
         }
         if self.v.len() + (1 << 20) > MAX_TETS || self.overflow {
@@ -1003,7 +1235,7 @@ impl Core {
                 match self.mark[u as usize] {
                     MARK_CAVITY => continue,
                     MARK_NONE => {
-                        if self.in_conflict(pts, u, id) {
+                        if self.in_conflict::<W>(pts, wts, u, id) {
                             self.mark[u as usize] = MARK_CAVITY;
                             cavity.push(u);
                             continue;
@@ -1033,6 +1265,9 @@ impl Core {
         }
         for &u in &kept {
             self.mark[u as usize] = MARK_NONE;
+        }
+        if W {
+            self.find_hidden(&cavity, &created, id);
         }
         for &t in &cavity {
             self.release(t);
@@ -1075,6 +1310,49 @@ impl Core {
             });
         }
         Ok(Inserted::Vertex(id))
+    }
+
+    /// [`Core::insert`] for either kind of triangulation (`wts` empty for
+    /// Delaunay).
+    fn insert_any(&mut self, pts: &[[f64; 3]], wts: &[f64], id: u32) -> Result<Inserted, Error> {
+        if wts.is_empty() {
+            self.insert::<false>(pts, wts, id)
+        } else {
+            if self.vstamp.len() < pts.len() {
+                self.vstamp.resize(pts.len(), 0);
+            }
+            self.insert::<true>(pts, wts, id)
+        }
+    }
+
+    /// Regular triangulations: the vertices of the cavity cells that are not
+    /// on the cavity boundary lose their whole star, so their power cell is
+    /// now empty. Collected into `hidden_now` (cavity cells still intact),
+    /// with a per-vertex stamp (weighted triangulations only).
+    fn find_hidden(&mut self, cavity: &[u32], created: &[u32], id: u32) {
+        self.hidden_now.clear();
+        if self.vstamp_next > u32::MAX - 4 {
+            self.vstamp.iter_mut().for_each(|x| *x = 0);
+            self.vstamp_next = 0;
+        }
+        let rim = self.vstamp_next + 1;
+        let seen = rim + 1;
+        self.vstamp_next = seen;
+        for &n in created {
+            for q in self.v[n as usize] {
+                if q != INF && q != id {
+                    self.vstamp[q as usize] = rim;
+                }
+            }
+        }
+        for &t in cavity {
+            for q in self.v[t as usize] {
+                if q != INF && q != id && self.vstamp[q as usize] < rim {
+                    self.vstamp[q as usize] = seen;
+                    self.hidden_now.push(q);
+                }
+            }
+        }
     }
 
     /// Removes ghosts and dead slots in place; returns tets and plain

@@ -1,6 +1,6 @@
 //! The flat output of the 3D kernel and its independent validator.
 
-use delone_predicates::{insphere, orient3d};
+use delone_predicates::{insphere, insphere_weighted, orient3d};
 
 use super::local::FACET;
 use crate::{Violation, NONE};
@@ -74,10 +74,50 @@ impl TetMesh {
 /// assert!(delone::tet::validate(&pts, &bad).is_err());
 /// ```
 pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
+    validate_impl(points, None, mesh)
+}
+
+/// [`validate`] for a *regular* (weighted Delaunay) tetrahedralization: the
+/// empty-sphere test becomes the power test with `weights`, and every point
+/// in [`TetMesh::hidden`] must really have an empty power cell (it lies in a
+/// tetrahedron whose orthogonal sphere it does not conflict with — found by a
+/// linear search, `O(hidden × tets)`).
+///
+/// ```
+/// let pts = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0], [1.0, 1.0, 1.0]];
+/// let w = [0.0, 0.0, 0.0, 0.0, -10.0];
+/// let mesh = delone::tet::Delaunay3::from_weighted_points(&pts, &w).unwrap().into_mesh();
+/// delone::tet::validate_regular(&pts, &w, &mesh).unwrap();
+/// // With weight 0 the fifth point must be a vertex: claiming it hidden is wrong.
+/// assert!(delone::tet::validate_regular(&pts, &[0.0; 5], &mesh).is_err());
+/// ```
+pub fn validate_regular(
+    points: &[[f64; 3]],
+    weights: &[f64],
+    mesh: &TetMesh,
+) -> Result<(), Violation> {
+    if weights.len() != points.len() {
+        return Err(Violation::new(
+            "sizes",
+            format!("{} weights for {} points", weights.len(), points.len()),
+        ));
+    }
+    validate_impl(points, Some(weights), mesh)
+}
+
+fn validate_impl(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    mesh: &TetMesh,
+) -> Result<(), Violation> {
     // Huge or tiny coordinates are scaled by an exact power of two first, so
-    // that the exact predicates neither overflow nor underflow.
-    let (points, _) = crate::geom::rescaled(points);
+    // that the exact predicates neither overflow nor underflow (weights by
+    // its square).
+    let (points, s) = crate::geom::rescaled(points);
     let points = &points[..];
+    let scaled_weights: Option<Vec<f64>> =
+        weights.map(|w| w.iter().map(|&x| x * s.0 * s.0 * s.1 * s.1).collect());
+    let weights = scaled_weights.as_deref();
     let n = points.len();
     let nt = mesh.tets.len();
     if mesh.neighbors.len() != nt || mesh.vertex_map.len() != n {
@@ -178,7 +218,7 @@ pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
             if (u as usize) > t {
                 faces += 1;
                 let apex = ut[g];
-                if insphere(p(tv[1]), p(tv[0]), p(tv[2]), p(tv[3]), p(apex)) > 0.0 {
+                if conflict(points, weights, [tv[1], tv[0], tv[2], tv[3]], apex) {
                     return Err(Violation::new(
                         "delaunay",
                         format!(
@@ -190,6 +230,7 @@ pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
         }
     }
     check_hull(points, mesh, &mut hull_edges)?;
+    check_hidden(points, weights, mesh)?;
     let mut edges: Vec<(u32, u32)> = Vec::with_capacity(nt * 6);
     for tv in &mesh.tets {
         for i in 0..4 {
@@ -210,6 +251,81 @@ pub fn validate(points: &[[f64; 3]], mesh: &TetMesh) -> Result<(), Violation> {
                 edges.len()
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Is `q` strictly in conflict with the (orthogonal) sphere of the
+/// tetrahedron `t`, given with `orient3d(t) > 0`?
+fn conflict(points: &[[f64; 3]], weights: Option<&[f64]>, t: [u32; 4], q: u32) -> bool {
+    let p = |i: u32| &points[i as usize];
+    match weights {
+        None => insphere(p(t[0]), p(t[1]), p(t[2]), p(t[3]), p(q)) > 0.0,
+        Some(w) => {
+            let w = |i: u32| w[i as usize];
+            insphere_weighted(
+                p(t[0]),
+                p(t[1]),
+                p(t[2]),
+                p(t[3]),
+                p(q),
+                w(t[0]),
+                w(t[1]),
+                w(t[2]),
+                w(t[3]),
+                w(q),
+            ) > 0.0
+        }
+    }
+}
+
+/// Hidden points are unused, listed once, and (with weights) really hidden:
+/// inside some tetrahedron whose sphere they do not conflict with. Without
+/// weights no point may be hidden.
+fn check_hidden(
+    points: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    mesh: &TetMesh,
+) -> Result<(), Violation> {
+    if weights.is_none() && !mesh.hidden.is_empty() {
+        return Err(Violation::new(
+            "hidden",
+            format!("{} hidden points without weights", mesh.hidden.len()),
+        ));
+    }
+    if mesh.hidden.windows(2).any(|w| w[0] >= w[1]) {
+        return Err(Violation::new(
+            "hidden",
+            "hidden list not sorted and unique",
+        ));
+    }
+    let p = |i: u32| &points[i as usize];
+    for &h in &mesh.hidden {
+        if h as usize >= points.len() || mesh.vertex_map[h as usize] != NONE {
+            return Err(Violation::new(
+                "hidden",
+                format!("hidden point {h} is mapped to a vertex"),
+            ));
+        }
+        let q = p(h);
+        // Not strictly beyond any facet (orient3d > 0 means beyond).
+        let inside = |t: &[u32; 4]| {
+            FACET
+                .iter()
+                .all(|fv| orient3d(p(t[fv[0]]), p(t[fv[1]]), p(t[fv[2]]), q) <= 0.0)
+        };
+        let Some(t) = mesh.tets.iter().find(|t| inside(t)) else {
+            return Err(Violation::new(
+                "hidden",
+                format!("hidden point {h} lies outside the hull"),
+            ));
+        };
+        if conflict(points, weights, [t[1], t[0], t[2], t[3]], h) {
+            return Err(Violation::new(
+                "hidden",
+                format!("point {h} is listed hidden but has a non-empty power cell (tet {t:?})"),
+            ));
+        }
     }
     Ok(())
 }
