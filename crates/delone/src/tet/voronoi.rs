@@ -137,8 +137,11 @@ pub struct Voronoi3 {
     /// Whether each input point's cell is unbounded (its site is on the hull).
     pub unbounded: Vec<bool>,
     /// For every input point, the site whose cell it shares (see
-    /// [`TetMesh::vertex_map`]).
+    /// [`TetMesh::vertex_map`]; [`crate::NONE`] for a point hidden in a
+    /// power diagram, whose cell is empty).
     pub vertex_map: Vec<u32>,
+    /// The sites' weights for a power diagram (empty for a Voronoi diagram).
+    pub weights: Vec<f64>,
 }
 
 #[inline]
@@ -160,9 +163,12 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Circumcentre of the positive tetrahedron `q`, computed relative to the
-/// corner with the shortest incident edges (less cancellation for slivers).
-pub(crate) fn circumcenter(q: [&[f64; 3]; 4]) -> [f64; 3] {
+/// Orthocentre (power centre) of the positive tetrahedron `q` with weights
+/// `wq`: the point with equal power distance `|x - q_i|² - w_i` to the four
+/// weighted corners; zero weights give the circumcentre. Computed relative to
+/// the corner with the shortest incident edges (less cancellation for
+/// slivers).
+pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     let l2 = |a: &[f64; 3], b: &[f64; 3]| {
         let d = sub(a, b);
         dot(&d, &d)
@@ -177,12 +183,14 @@ pub(crate) fn circumcenter(q: [&[f64; 3]; 4]) -> [f64; 3] {
     }
     let o = (0..4).fold(0, |m, i| if sum[i] < sum[m] { i } else { m });
     // An even permutation putting corner o first keeps the orientation.
-    let [a, b, c, d] = match o {
-        0 => [q[0], q[1], q[2], q[3]],
-        1 => [q[1], q[0], q[3], q[2]],
-        2 => [q[2], q[3], q[0], q[1]],
-        _ => [q[3], q[2], q[1], q[0]],
+    let perm = match o {
+        0 => [0, 1, 2, 3],
+        1 => [1, 0, 3, 2],
+        2 => [2, 3, 0, 1],
+        _ => [3, 2, 1, 0],
     };
+    let [a, b, c, d] = perm.map(|i| q[i]);
+    let [wa, wb, wc, wd] = perm.map(|i| wq[i]);
     let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
     let (vw, wu, uv) = (cross(&v, &w), cross(&w, &u), cross(&u, &v));
     let mut det = dot(&u, &vw);
@@ -192,7 +200,12 @@ pub(crate) fn circumcenter(q: [&[f64; 3]; 4]) -> [f64; 3] {
             det = f64::MIN_POSITIVE;
         }
     }
-    let (lu, lv, lw) = (dot(&u, &u), dot(&v, &v), dot(&w, &w));
+    // Power distances: |x - a|² - wa = |x - b|² - wb, ... relative to a.
+    let (lu, lv, lw) = (
+        dot(&u, &u) + wa - wb,
+        dot(&v, &v) + wa - wc,
+        dot(&w, &w) + wa - wd,
+    );
     let k = 0.5 / det;
     [
         a[0] + (lu * vw[0] + lv * wu[0] + lw * uv[0]) * k,
@@ -229,11 +242,38 @@ impl Voronoi3 {
     /// assert!(v.faces.iter().all(|f| f.rays.is_some())); // all on the hull
     /// ```
     pub fn new(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
+        Self::build(points, &[], mesh)
+    }
+
+    /// The power diagram of weighted `points` from their regular
+    /// tetrahedralization `mesh` (as returned by
+    /// [`crate::tet::regular_tetrahedralization`]): vertices are orthocentres,
+    /// faces lie on radical planes, hidden points have empty cells.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0], [1.0, 1.0, 1.0]];
+    /// let w = [0.0, 0.0, 0.0, 0.0, -10.0];
+    /// let mesh = delone::tet::regular_tetrahedralization(&pts, &w).unwrap();
+    /// let v = delone::tet::Voronoi3::new_power(&pts, &w, &mesh);
+    /// assert!(v.cell_faces(4).is_empty()); // hidden
+    /// let c = v.cells_clipped(&pts, [[-1.0; 3], [5.0; 3]]);
+    /// assert_eq!(c.volume[4], 0.0);
+    /// assert!((c.volume.iter().sum::<f64>() - 216.0).abs() < 1e-9);
+    /// ```
+    pub fn new_power(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
+        Self::build(points, weights, mesh)
+    }
+
+    fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
         let n = points.len();
         let tets = &mesh.tets;
         let nbs = &mesh.neighbors;
         let p = |v: u32| &points[v as usize];
-        let vertices: Vec<[f64; 3]> = tets.iter().map(|tv| circumcenter(tv.map(&p))).collect();
+        let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
+        let vertices: Vec<[f64; 3]> = tets
+            .iter()
+            .map(|tv| orthocenter(tv.map(&p), tv.map(w)))
+            .collect();
         let mut unbounded = vec![false; n];
         let mut edges = Vec::with_capacity(tets.len() * 2 + 4);
         // The Voronoi edge of every (tetrahedron, facet).
@@ -402,6 +442,7 @@ impl Voronoi3 {
             cell_face_ids,
             unbounded,
             vertex_map: mesh.vertex_map.clone(),
+            weights: weights.to_vec(),
         }
     }
 
@@ -431,7 +472,10 @@ impl Voronoi3 {
     }
 
     fn rep(&self, p: usize) -> usize {
-        self.vertex_map.get(p).map_or(p, |&r| r as usize)
+        match self.vertex_map.get(p) {
+            Some(&r) if r != NONE => r as usize,
+            _ => p,
+        }
     }
 
     /// The faces of the cell of input point `p` (a duplicate gets its
@@ -540,8 +584,9 @@ impl Voronoi3 {
                 Polyhedron::default()
             } else {
                 work.reset_box(bbox);
+                let w = |v: usize| self.weights.get(v).copied().unwrap_or(0.0);
                 for &(_, q) in &nb {
-                    if !work.clip(&site, &points[q as usize]) {
+                    if !work.clip(&site, &points[q as usize], w(s) - w(q as usize)) {
                         break;
                     }
                 }
@@ -654,13 +699,16 @@ impl Clipper {
         }
     }
 
-    /// Keeps the part closer to `p` than to `q`; returns false when empty.
-    fn clip(&mut self, p: &[f64; 3], q: &[f64; 3]) -> bool {
+    /// Keeps the part closer to `p` than to `q` in power distance, `dw`
+    /// being `w_p - w_q` (0 for the Voronoi diagram): the half-space
+    /// `(x - p)·(q - p) <= (|q - p|² + dw) / 2`. Returns false when empty.
+    fn clip(&mut self, p: &[f64; 3], q: &[f64; 3], dw: f64) -> bool {
         let nrm = sub(q, p);
-        let h = 0.5 * dot(&nrm, &nrm);
-        if h == 0.0 {
+        let len2 = dot(&nrm, &nrm);
+        if len2 == 0.0 {
             return true;
         }
+        let h = 0.5 * (len2 + dw);
         self.side.clear();
         let (mut any_out, mut any_in) = (false, false);
         for x in &self.verts {
@@ -867,7 +915,7 @@ mod tests {
             [0.0, 2.0, 0.0],
             [0.0, 0.0, 2.0],
         ];
-        let c = circumcenter([&q[0], &q[1], &q[2], &q[3]]);
+        let c = orthocenter([&q[0], &q[1], &q[2], &q[3]], [0.0; 4]);
         assert_eq!(c, [1.0, 1.0, 1.0]);
     }
 }
