@@ -32,6 +32,20 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
+    /// The weight of input point `index` is NaN or infinite (regular
+    /// triangulations), or too large for the exact predicates.
+    InvalidWeight {
+        /// 0-based index of the point.
+        index: usize,
+    },
+    /// A regular triangulation was given a number of weights different from
+    /// the number of points.
+    WeightCount {
+        /// Number of points.
+        points: usize,
+        /// Number of weights.
+        weights: usize,
+    },
     /// A hole or region seed point (of a PSLG or PLC) has a NaN or infinite coordinate.
     InvalidSeedPoint {
         /// `"hole"`, `"region"` or `"facet hole"` (PLC), `"hole"` or `"region"` (PSLG).
@@ -179,6 +193,12 @@ impl fmt::Display for Error {
                 "facets {} and {} intersect ({count} intersecting pair(s) in total)",
                 facets.0, facets.1
             ),
+            Error::InvalidWeight { index } => {
+                write!(f, "point {index} has a NaN, infinite or too large weight")
+            }
+            Error::WeightCount { points, weights } => {
+                write!(f, "{points} points but {weights} weights")
+            }
             Error::SegmentOutOfRange { segment, point } => {
                 write!(f, "segment {segment} names point {point}, which does not exist")
             }
