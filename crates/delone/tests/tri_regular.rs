@@ -392,3 +392,27 @@ fn validator_rejects_wrong_regular_meshes() {
     bad.hidden.pop();
     assert!(validate_regular(&pts, &w, &bad).is_err());
 }
+
+#[test]
+fn huge_and_tiny_scales_with_weights() {
+    // Coordinates scaled by s and weights by s²: the same regular
+    // triangulation (the kernel rescales by exact powers of two).
+    let pts = random(500, 31);
+    let w = random_weights(500, 0.002, 32);
+    let base = regular_triangulation(&pts, &w).unwrap();
+    assert!(!base.hidden.is_empty());
+    for s in [2f64.powi(300), 2f64.powi(-300), 1024.0] {
+        let p: Vec<[f64; 2]> = pts.iter().map(|q| [q[0] * s, q[1] * s]).collect();
+        let ws: Vec<f64> = w.iter().map(|x| x * s * s).collect();
+        let mesh = regular_triangulation(&p, &ws).unwrap();
+        assert_eq!(mesh, base, "scale {s:e}");
+        validate_regular(&p, &ws, &mesh).unwrap();
+    }
+    // A weight beyond the exact range is refused, naming the point.
+    let mut big = w.clone();
+    big[3] = 1e300;
+    assert_eq!(
+        regular_triangulation(&pts, &big).unwrap_err(),
+        Error::InvalidWeight { index: 3 }
+    );
+}
