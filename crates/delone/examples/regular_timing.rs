@@ -24,6 +24,7 @@ fn main() {
     let w: Vec<f64> = (0..n).map(|_| unit(&mut rng) * scale / n as f64).collect();
     let (mut best_d, mut best_r) = (f64::INFINITY, f64::INFINITY);
     let (mut tris_d, mut tris_r, mut hidden) = (0, 0, 0);
+    let mut best_v = f64::INFINITY;
     for _ in 0..reps {
         let t0 = Instant::now();
         let mesh = delone::triangulate(&pts).expect("triangulate");
@@ -35,12 +36,17 @@ fn main() {
         best_r = best_r.min(t0.elapsed().as_secs_f64());
         tris_r = mesh.triangles.len();
         hidden = mesh.hidden.len();
+        let t0 = Instant::now();
+        let v = delone::tri::Voronoi2::new_power(&pts, &w, &mesh);
+        best_v = best_v.min(t0.elapsed().as_secs_f64());
+        assert_eq!(v.vertices.len(), tris_r);
         if check {
             delone::tri::validate_regular(&pts, &w, &mesh).expect("valid");
         }
     }
     println!(
-        "n={n} delaunay: {tris_d} triangles {best_d:.3}s | regular: {tris_r} triangles, {hidden} hidden, {best_r:.3}s | ratio {:.2}",
-        best_r / best_d
+        "n={n} delaunay: {tris_d} triangles {best_d:.3}s | regular: {tris_r} triangles, {hidden} hidden, {best_r:.3}s | ratio {:.2} | power diagram {best_v:.3}s ({:.2}x the regular triangulation)",
+        best_r / best_d,
+        best_v / best_r
     );
 }
