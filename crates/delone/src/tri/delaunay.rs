@@ -463,7 +463,9 @@ impl<'a> Delaunay2<'a> {
     /// Inserts one point and returns its id (its index in
     /// [`Delaunay2::points`]) or, for a point equal to an existing vertex, that
     /// vertex. Works from the first point on: until three non-collinear points
-    /// exist, points are kept pending and no triangle exists.
+    /// exist, points are kept pending and no triangle exists. On a regular
+    /// triangulation (see [`Delaunay2::insert_weighted`]) the point gets
+    /// weight 0.
     ///
     /// # Errors
     /// [`Error::InvalidCoordinate`] (with the index the point would have had)
