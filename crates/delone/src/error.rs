@@ -32,14 +32,12 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
-    /// The weight of input point `index` is NaN or infinite (regular
-    /// triangulations), or too large for the exact predicates.
+    /// Weight `index` of a weighted point set is NaN or infinite.
     InvalidWeight {
         /// 0-based index of the point.
         index: usize,
     },
-    /// A regular triangulation was given a number of weights different from
-    /// the number of points.
+    /// A weighted point set has a different number of weights than points.
     WeightCount {
         /// Number of points.
         points: usize,
@@ -175,6 +173,12 @@ impl fmt::Display for Error {
                 f,
                 "{requested} points exceed the u32 index space of delone"
             ),
+            Error::InvalidWeight { index } => {
+                write!(f, "the weight of point {index} is NaN or infinite")
+            }
+            Error::WeightCount { points, weights } => {
+                write!(f, "{points} points but {weights} weights")
+            }
             Error::InvalidSeedPoint { kind, index } => {
                 write!(f, "{kind} {index} has a NaN or infinite coordinate")
             }
@@ -193,12 +197,6 @@ impl fmt::Display for Error {
                 "facets {} and {} intersect ({count} intersecting pair(s) in total)",
                 facets.0, facets.1
             ),
-            Error::InvalidWeight { index } => {
-                write!(f, "point {index} has a NaN, infinite or too large weight")
-            }
-            Error::WeightCount { points, weights } => {
-                write!(f, "{points} points but {weights} weights")
-            }
             Error::SegmentOutOfRange { segment, point } => {
                 write!(f, "segment {segment} names point {point}, which does not exist")
             }
