@@ -49,6 +49,16 @@ pub struct Opts {
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
     pub region_attributes: bool,
+    /// `-v`: Voronoi (power, with `-w`) diagram output (.v.node, .v.edge;
+    /// tet also .v.face, .v.cell).
+    pub voronoi: bool,
+    /// tri `-w`: regular (weighted Delaunay) triangulation; weights from
+    /// FILE.weight, else node attribute 1.
+    pub weights: bool,
+    /// tri `--lloyd N`: N Lloyd iterations in the bounding box first.
+    pub lloyd: Option<usize>,
+    /// tri `--svg FILE`: an SVG picture of the mesh (and cells with -v).
+    pub svg: Option<PathBuf>,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -75,7 +85,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'u') => "user-defined constraint",
         (Mode::Tri, 'D') => "conforming Delaunay",
         (Mode::Tri, 'j') => "jettison unused vertices",
-        (Mode::Tri, 'v') => "Voronoi diagram output",
         (Mode::Tri, 'g') => "OFF output",
         (Mode::Tri, 'P') => "no .poly output",
         (Mode::Tri, 'O') => "ignore holes",
@@ -104,7 +113,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'c') => "convex hull retention",
         (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
-        (Mode::Tet, 'v') => "Voronoi diagram output",
         (Mode::Tet, 'g') => "Medit output",
         (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
         _ => return None,
@@ -114,6 +122,8 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
 fn letter(mode: Mode, c: char, o: &mut Opts) -> Result<Option<Command>, Usage> {
     match (mode, c) {
         (_, 'z') => o.zero = true,
+        (_, 'v') => o.voronoi = true,
+        (Mode::Tri, 'w') => o.weights = true,
         (Mode::Tri, 'p') => o.pslg = true,
         (Mode::Tri, 'c') => o.convex_hull = true,
         (Mode::Tri, 'A') => o.region_attributes = true,
@@ -215,6 +225,13 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                     o.vtu_ascii = true
                 }
                 "vtu" => o.vtu = Some(value("--vtu", inline, &mut it)?.into()),
+                "svg" if mode == Mode::Tri => o.svg = Some(value("--svg", inline, &mut it)?.into()),
+                "lloyd" if mode == Mode::Tri => {
+                    let v = value("--lloyd", inline, &mut it)?;
+                    o.lloyd = Some(v.parse().map_err(|_| {
+                        Usage(format!("--lloyd needs a number of iterations, not {v:?}"))
+                    })?)
+                }
                 "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
                 _ => {
                     return Err(Usage(format!(
@@ -298,5 +315,24 @@ mod tests {
         assert_eq!(msg(Mode::Tri, &["-o"]), "-o needs a value");
         assert!(msg(Mode::Tri, &["-o2", "x"]).contains("-o (second-order"));
         assert!(matches!(p(Mode::Tet, &["-zh"]), Ok(Command::Help)));
+        assert!(msg(Mode::Tri, &["--lloyd", "x", "f"]).starts_with("--lloyd needs a number"));
+        assert!(msg(Mode::Tet, &["--lloyd", "3", "f"]).starts_with("unknown option --lloyd"));
+    }
+
+    #[test]
+    fn voronoi_weights_lloyd_svg() {
+        let Ok(Command::Run(o)) = p(
+            Mode::Tri,
+            &["-vw", "--lloyd", "5", "--svg=pic.svg", "x.node"],
+        ) else {
+            panic!()
+        };
+        assert!(o.voronoi && o.weights);
+        assert_eq!(o.lloyd, Some(5));
+        assert_eq!(o.svg, Some("pic.svg".into()));
+        let Ok(Command::Run(o)) = p(Mode::Tet, &["-v", "y"]) else {
+            panic!()
+        };
+        assert!(o.voronoi);
     }
 }

@@ -32,6 +32,13 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
          index: 1 unless the input starts at 0).
     -e   Also write the edges to FILE.1.edge (boundary marker 1 on the hull).
     -n   Also write the neighbours to FILE.1.neigh (-1 for none).
+    -v   Also write the Voronoi diagram (the power diagram with -w) to
+         FILE.1.v.node and FILE.1.v.edge (rays: second vertex -1, then
+         the direction).
+    -w   Regular (weighted Delaunay) triangulation: weights from FILE.weight
+         if it exists (header: number of points; then `index weight` or
+         `weight` per line), else the first node attribute. Points with
+         empty power cells (hidden) are left out of the mesh and reported.
     -N   Do not write the .node file.
     -E   Do not write the .ele file.
     -I   No iteration numbers: write FILE.node / FILE.ele (refused when this
@@ -45,7 +52,7 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -V   Verbose (repeat for more: -VV): phase details, duplicates by index,
          hull size.
     -h   This help.
-    Not implemented yet (error, exit code 2): -p -r -q -a -u -A -c -D -j -v -g
+    Not implemented yet (error, exit code 2): -p -r -q -a -u -A -c -D -j -g
     -P -O -X -Y -S -i -l -s -o2.
 
 OPTIONS:
@@ -53,6 +60,12 @@ OPTIONS:
                                   appended) with the point markers.
     --vtu-ascii                   Write that .vtu as ASCII (default path
                                   FILE.1.vtu if no -o/--vtu is given).
+    --lloyd N                     Move the points by N Lloyd iterations
+                                  (centroidal Voronoi) in their bounding box
+                                  before meshing; FILE.1.node gets them.
+    --svg FILE.svg                Draw the mesh (and with -v the cells
+                                  clipped to the bounding box; hidden
+                                  points in red) as SVG.
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version
@@ -79,6 +92,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          hull, 0 inside).
     -e   Also write the edges to FILE.1.edge (marker 1 on the hull).
     -n   Also write the neighbours to FILE.1.neigh (-1 for none).
+    -v   Also write the Voronoi diagram to FILE.1.v.node, .v.edge, .v.face
+         and .v.cell (TetGen's layout).
     -k   Also write FILE.1.vtk (legacy ASCII VTK, for ParaView).
     -N   Do not write the .node file.
     -E   Do not write the .ele file.
@@ -93,7 +108,7 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -V   Verbose (repeat for more: -VV).
     -h   This help.
     Not implemented yet (error, exit code 2): -p -Y -r -q -R -A -m -a -i -O -S
-    -T -X -M -w -c -d -D -v -g -o2 -o/.
+    -T -X -M -w -c -d -D -g -o2 -o/.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary

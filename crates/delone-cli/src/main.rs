@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 mod args;
+mod dual;
 mod help;
 mod pslg;
 mod run;

@@ -258,6 +258,11 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
 /// Runs one subcommand. Returns the exit code on success (0, or 1 when
 /// `-C` found a violation).
 pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
+    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some() || o.svg.is_some()) {
+        return Err(usage_err(
+            "-v, -w, --lloyd and --svg are not supported with -p yet",
+        ));
+    }
     if mode == Mode::Tri && o.pslg {
         return crate::pslg::run(o);
     }
@@ -364,24 +369,62 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
 
     match mode {
         Mode::Tri => {
-            let pts = node.points::<2>().unwrap_or_default();
+            let mut pts = node.points::<2>().unwrap_or_default();
+            if let Some(k) = o.lloyd {
+                pts = crate::dual::lloyd(&pts, k).map_err(|e| mesh_error(&names.node, &node, e))?;
+                rep.push(format!(
+                    "  --lloyd: {k} Lloyd iteration(s) in the bounding box"
+                ));
+            }
+            let weights = if o.weights {
+                let (w, source) = crate::dual::read_weights(&names.node, &node)?;
+                rep.push(format!("  -w: weights from {source}"));
+                Some(w)
+            } else {
+                None
+            };
             let t1 = Instant::now();
-            let mut prog = Progress::new(!quiet, "triangulating");
-            let res = delone::tri::Delaunay2::from_points_with_progress(&pts, &mut |d, t| {
-                prog.update(d, t)
-            });
-            prog.finish();
+            let res = match &weights {
+                Some(w) => delone::tri::Delaunay2::from_weighted_points(&pts, w),
+                None => {
+                    let mut prog = Progress::new(!quiet, "triangulating");
+                    let r = delone::tri::Delaunay2::from_points_with_progress(&pts, &mut |d, t| {
+                        prog.update(d, t)
+                    });
+                    prog.finish();
+                    r
+                }
+            };
             let mesh = res
                 .map_err(|e| mesh_error(&names.node, &node, e))?
                 .into_mesh();
             let t_mesh = t1.elapsed();
             let check = if o.check {
                 let t = Instant::now();
-                let r = delone::tri::validate(&pts, &mesh).map_err(|v| v.to_string());
-                Some((r, t.elapsed()))
+                let r = match &weights {
+                    Some(w) => delone::tri::validate_regular(&pts, w, &mesh),
+                    None => delone::tri::validate(&pts, &mesh),
+                };
+                Some((r.map_err(|v| v.to_string()), t.elapsed()))
             } else {
                 None
             };
+            let t_extra = Instant::now();
+            let mut extra = Vec::new();
+            if let Some(l) = crate::dual::hidden_line(&mesh, first) {
+                rep.push(l);
+            }
+            let vor = o
+                .voronoi
+                .then(|| crate::dual::voronoi2(&pts, weights.as_deref(), &mesh));
+            if let Some(v) = &vor {
+                crate::dual::write_tri_voronoi(ob, &pts, v, first, &mut extra)?;
+            }
+            if let Some(svg) = &o.svg {
+                crate::dual::write_svg(svg, &pts, &mesh, vor.as_ref(), &mut extra)?;
+            }
+            drop(vor);
+            let t_extra = t_extra.elapsed();
             let m = MeshOut {
                 cells: mesh.triangles,
                 neighbors: mesh.neighbors,
@@ -405,7 +448,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some(&edges),
                 None,
             )?;
-            let t_write = t_write + t_derive;
+            let mut written = written;
+            written.extend(extra);
+            let t_write = t_write + t_derive + t_extra;
             summarize(
                 mode, o, &node, &m, &edges, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,
@@ -430,6 +475,12 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             } else {
                 None
             };
+            let t_extra = Instant::now();
+            let mut extra = Vec::new();
+            if o.voronoi {
+                crate::dual::write_tet_voronoi(ob, &pts, &mesh, first, &mut extra)?;
+            }
+            let t_extra = t_extra.elapsed();
             let m = MeshOut {
                 cells: mesh.tets,
                 neighbors: mesh.neighbors,
@@ -461,7 +512,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 edges.as_ref(),
                 Some(&faces),
             )?;
-            let t_write = t_write + t_derive;
+            let mut written = written;
+            written.extend(extra);
+            let t_write = t_write + t_derive + t_extra;
             summarize(
                 mode, o, &node, &m, &faces, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,

@@ -34,7 +34,9 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{incircle, incircle_sos, orient2d};
+use delone_predicates::{
+    incircle, incircle_sos, incircle_weighted, incircle_weighted_sos, orient2d,
+};
 
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::TriMesh;
@@ -136,6 +138,19 @@ pub struct Delaunay2<'a> {
     vmap: Vec<u32>,
     /// Internal ids inserted before the first triangle existed (all collinear).
     pending: Vec<u32>,
+    /// Regular triangulation: true once a weight was given (then `w` has one
+    /// entry per internal id and every decision uses the power test).
+    weighted: bool,
+    /// Weights by internal id, scaled like the coordinates (squared factors).
+    w: Vec<f64>,
+    /// Input indices of the points found hidden (directly, or swallowed by a
+    /// later cavity), in the order found; duplicates of them are resolved by
+    /// [`Delaunay2::hidden`].
+    hidden: Vec<u32>,
+    /// Per-slot cavity marks of the weighted search (a cavity with interior
+    /// vertices is not a tree) and the current stamp.
+    mark: Vec<u32>,
+    stamp: u32,
     // Scratch buffers reused across insertions.
     stack: Vec<u32>,
     cavity: Vec<u32>,
@@ -194,6 +209,24 @@ fn check_input(points: &[[f64; 2]]) -> Result<f64, Error> {
     Ok(max_abs)
 }
 
+/// A weight scaled like squared coordinates (`scale` from `pow2_scale`;
+/// every factor a power of two, so exact barring overflow).
+#[inline]
+fn scaled_weight(w: f64, s: (f64, f64)) -> f64 {
+    w * s.0 * s.0 * s.1 * s.1
+}
+
+/// Largest scaled weight magnitude accepted: keeps the exact power test's
+/// products (weight times squared coordinate differences, coordinates below
+/// `2^61` after scaling) clear of overflow.
+const MAX_WEIGHT: f64 = 1.0e250;
+
+/// Is a scaled weight usable (finite and not absurdly large)?
+#[inline]
+fn weight_ok(w: f64) -> bool {
+    w.is_finite() && w.abs() <= MAX_WEIGHT
+}
+
 /// Number of distinct points (used only on the error path).
 fn count_distinct(points: &[[f64; 2]]) -> usize {
     let mut keys: Vec<(u64, u64)> = points
@@ -244,6 +277,11 @@ impl<'a> Delaunay2<'a> {
             jump_rng: SplitMix64::new(0x6a09_e667_f3bc_c908),
             vmap: Vec::new(),
             pending: Vec::new(),
+            weighted: false,
+            w: Vec::new(),
+            hidden: Vec::new(),
+            mark: Vec::new(),
+            stamp: 0,
             stack: Vec::new(),
             cavity: Vec::new(),
             boundary: Vec::new(),
@@ -287,18 +325,80 @@ impl<'a> Delaunay2<'a> {
         points: &'a [[f64; 2]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
+        Self::build::<false>(points, &[], progress)
+    }
+
+    /// Builds the *regular* (weighted Delaunay) triangulation of `points` with
+    /// `weights`: the projection of the lower convex hull of the lifted points
+    /// `(x, y, x² + y² − w)`. Its dual is the power diagram. A point whose
+    /// power cell is empty is *hidden*: it is not a vertex and is listed by
+    /// [`Delaunay2::hidden`] (and [`TriMesh::hidden`]). Points with equal
+    /// coordinates and equal weights are duplicates; with equal coordinates
+    /// and different weights the lighter one is hidden.
+    ///
+    /// Conflicts are decided by the exact power test with Simulation of
+    /// Simplicity by input index, so with all weights zero the result is
+    /// exactly (bit for bit) [`Delaunay2::from_points`]'s.
+    ///
+    /// # Errors
+    /// Those of [`Delaunay2::from_points`], plus [`Error::WeightCount`] if
+    /// `weights.len() != points.len()` and [`Error::InvalidWeight`] for a NaN
+    /// or infinite weight (or one beyond about `1e250` times the squared
+    /// coordinate scale).
+    ///
+    /// ```
+    /// use delone::tri::Delaunay2;
+    /// let pts = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 4.0], [2.0, 2.0]];
+    /// // A light centre point is hidden by its heavy neighbours.
+    /// let d = Delaunay2::from_weighted_points(&pts, &[9.0, 9.0, 9.0, 9.0, 0.0]).unwrap();
+    /// assert_eq!(d.hidden(), vec![4]);
+    /// assert_eq!(d.num_triangles(), 2);
+    /// d.check_topology().unwrap();
+    /// d.check_delaunay().unwrap();
+    /// ```
+    pub fn from_weighted_points(points: &'a [[f64; 2]], weights: &[f64]) -> Result<Self, Error> {
+        if weights.len() != points.len() {
+            return Err(Error::WeightCount {
+                points: points.len(),
+                weights: weights.len(),
+            });
+        }
+        Self::build::<true>(points, weights, &mut |_, _| {})
+    }
+
+    /// The kernel of both builders; `W` selects the power test (`weights`
+    /// is ignored and may be empty when `W` is false).
+    fn build<const W: bool>(
+        points: &'a [[f64; 2]],
+        weights: &[f64],
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
         let max_abs = check_input(points)?;
         let n = points.len();
         let mut d = Delaunay2::empty(Cow::Borrowed(points));
-        let order = brio_order(points);
-        progress(0, n);
         // Internal ids are insertion ranks: gather the points in that order.
         d.scale = pow2_scale(max_abs);
         let s = d.scale;
+        if W {
+            d.weighted = true;
+            for (index, &w) in weights.iter().enumerate() {
+                if !weight_ok(scaled_weight(w, s)) {
+                    return Err(Error::InvalidWeight { index });
+                }
+            }
+        }
+        let order = brio_order(points);
+        progress(0, n);
         d.xy = order
             .iter()
             .map(|&i| scaled(points[i as usize], s))
             .collect();
+        if W {
+            d.w = order
+                .iter()
+                .map(|&i| scaled_weight(weights[i as usize], s))
+                .collect();
+        }
         d.ids = order;
         let xy = &d.xy;
         // The first triangle: the first point, the first one different from
@@ -338,7 +438,7 @@ impl<'a> Delaunay2<'a> {
         let rest = (1..pc).filter(|&k| k != pb).chain(pc + 1..n as u32);
         let mut done = 3;
         for r in rest {
-            d.insert_point(r);
+            d.insert_point::<W>(r);
             done += 1;
             if done % PROGRESS_EVERY == 0 {
                 progress(done, n);
@@ -363,7 +463,9 @@ impl<'a> Delaunay2<'a> {
     /// Inserts one point and returns its id (its index in
     /// [`Delaunay2::points`]) or, for a point equal to an existing vertex, that
     /// vertex. Works from the first point on: until three non-collinear points
-    /// exist, points are kept pending and no triangle exists.
+    /// exist, points are kept pending and no triangle exists. On a regular
+    /// triangulation (see [`Delaunay2::insert_weighted`]) the point gets
+    /// weight 0.
     ///
     /// # Errors
     /// [`Error::InvalidCoordinate`] (with the index the point would have had)
@@ -382,6 +484,52 @@ impl<'a> Delaunay2<'a> {
     /// d.check_topology().unwrap();
     /// ```
     pub fn insert(&mut self, p: [f64; 2]) -> Result<Inserted, Error> {
+        if self.weighted {
+            return self.insert_weighted(p, 0.0);
+        }
+        self.insert_impl::<false>(p, 0.0)
+    }
+
+    /// Inserts one weighted point into a regular triangulation (see
+    /// [`Delaunay2::from_weighted_points`]). Returns [`Inserted::Hidden`] if
+    /// its power cell is empty; vertices whose cells the new point swallows
+    /// become hidden too (see [`Delaunay2::hidden`]). The first call on a
+    /// kernel built without weights gives every existing point weight 0.
+    ///
+    /// # Errors
+    /// Those of [`Delaunay2::insert`], and [`Error::InvalidWeight`] for a NaN
+    /// or infinite weight. The triangulation is unchanged on error.
+    ///
+    /// ```
+    /// use delone::tri::{Delaunay2, Inserted};
+    /// let mut d = Delaunay2::new();
+    /// for p in [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 4.0]] {
+    ///     d.insert_weighted(p, 1.0).unwrap();
+    /// }
+    /// // Too light to show: hidden.
+    /// assert_eq!(d.insert_weighted([2.0, 2.0], -8.0).unwrap(), Inserted::Hidden(4));
+    /// assert_eq!(d.insert_weighted([2.1, 2.0], 3.0).unwrap(), Inserted::Vertex(5));
+    /// assert_eq!(d.num_triangles(), 4);
+    /// // A much heavier point next to vertex 5 swallows its star.
+    /// assert_eq!(d.insert_weighted([2.0, 2.0], 10.0).unwrap(), Inserted::Vertex(6));
+    /// assert_eq!(d.hidden(), vec![4, 5]);
+    /// assert_eq!(d.num_vertices(), 5);
+    /// d.check_topology().unwrap();
+    /// d.check_delaunay().unwrap();
+    /// ```
+    pub fn insert_weighted(&mut self, p: [f64; 2], w: f64) -> Result<Inserted, Error> {
+        let id = self.input.len();
+        if !weight_ok(scaled_weight(w, self.scale)) {
+            return Err(Error::InvalidWeight { index: id });
+        }
+        if !self.weighted {
+            self.weighted = true;
+            self.w = vec![0.0; self.xy.len()];
+        }
+        self.insert_impl::<true>(p, w)
+    }
+
+    fn insert_impl<const W: bool>(&mut self, p: [f64; 2], w: f64) -> Result<Inserted, Error> {
         let id = self.input.len();
         if id >= MAX_POINTS {
             return Err(Error::CapacityExceeded { requested: id + 1 });
@@ -398,17 +546,31 @@ impl<'a> Delaunay2<'a> {
         }
         let p = scaled(p, self.scale);
         self.xy.push(p);
+        if W {
+            self.w.push(scaled_weight(w, self.scale));
+        }
         self.ids.push(id);
         self.vmap.push(id);
         if !self.tri_v.is_empty() {
             // Points given one by one may come in any order: start the walk
             // from the nearest of a few sampled triangles (jump and walk).
             self.last = self.jump_start(&p) as u32;
-            return Ok(self.insert_point(id));
+            return Ok(self.insert_point::<W>(id));
         }
         // No triangle yet: all pending points are distinct and collinear.
         let pts = &self.xy;
-        if let Some(&original) = self.pending.iter().find(|&&q| pts[q as usize] == p) {
+        if let Some(k) = self.pending.iter().position(|&q| pts[q as usize] == p) {
+            let original = self.pending[k];
+            if W && self.w[original as usize] != self.w[id as usize] {
+                // Same place, different weights: the lighter one is hidden.
+                if self.w[id as usize] < self.w[original as usize] {
+                    self.hidden.push(id);
+                    return Ok(Inserted::Hidden(id));
+                }
+                self.hidden.push(original);
+                self.pending[k] = id;
+                return Ok(Inserted::Pending(id));
+            }
             self.vmap[id as usize] = original;
             self.duplicates.push((id, original));
             return Ok(Inserted::Duplicate { id, original });
@@ -419,7 +581,7 @@ impl<'a> Delaunay2<'a> {
                 let rest: Vec<u32> = self.pending.drain(..).skip(2).collect();
                 self.first_triangle(a, b, id);
                 for q in rest {
-                    self.insert_point(q);
+                    self.insert_point::<W>(q);
                 }
                 return Ok(Inserted::Vertex(id));
             }
@@ -536,9 +698,9 @@ impl<'a> Delaunay2<'a> {
         ghost.unwrap_or(self.last as usize)
     }
 
-    /// Is triangle `t` in conflict with point `ip` at `p`?
+    /// Is triangle `t` in conflict with point `ip` at `p`? (`W`: power test.)
     #[inline(always)]
-    fn in_conflict(&self, t: usize, p: &[f64; 2], ip: u32) -> bool {
+    fn in_conflict<const W: bool>(&self, t: usize, p: &[f64; 2], ip: u32) -> bool {
         let v = self.tri_v[t];
         if is_ghost(&v) {
             let pts = &self.xy;
@@ -549,15 +711,24 @@ impl<'a> Delaunay2<'a> {
             // On the hull edge's line: in conflict iff the finite triangle
             // across it is (i.e. iff `p` lies strictly inside the edge).
             let (n, _) = unpack(self.tri_adj[t][2]);
-            return self.circle_conflict(self.tri_v[n], p, ip);
+            return self.circle_conflict::<W>(self.tri_v[n], p, ip);
         }
-        self.circle_conflict(v, p, ip)
+        self.circle_conflict::<W>(v, p, ip)
     }
 
-    /// Is `p` (vertex `ip`) inside the circumcircle of finite triangle `v`?
+    /// Is `p` (vertex `ip`) inside the circumcircle of finite triangle `v`
+    /// (`W`: in power conflict with it)?
     #[inline(always)]
-    fn circle_conflict(&self, v: [u32; 3], p: &[f64; 2], ip: u32) -> bool {
+    fn circle_conflict<const W: bool>(&self, v: [u32; 3], p: &[f64; 2], ip: u32) -> bool {
         let pts = &self.xy;
+        if W {
+            let (w, id) = (&self.w, &self.ids);
+            let [a, b, c] = v.map(|x| x as usize);
+            let i = ip as usize;
+            return incircle_weighted_sos(
+                &pts[a], &pts[b], &pts[c], p, w[a], w[b], w[c], w[i], id[a], id[b], id[c], id[i],
+            ) > 0;
+        }
         let det = incircle(
             &pts[v[0] as usize],
             &pts[v[1] as usize],
@@ -612,7 +783,7 @@ impl<'a> Delaunay2<'a> {
 
     /// Inserts internal vertex `ip` into an existing triangulation
     /// (Bowyer–Watson). Returns input indices.
-    fn insert_point(&mut self, ip: u32) -> Inserted {
+    fn insert_point<const W: bool>(&mut self, ip: u32) -> Inserted {
         let p = self.xy[ip as usize];
         let mut rng = self.rng;
         let t = self.walk(&p, self.last as usize, &mut rng);
@@ -620,7 +791,19 @@ impl<'a> Delaunay2<'a> {
         let v = self.tri_v[t];
         if !is_ghost(&v) {
             for &x in &v {
+                if W && self.xy[x as usize] == p && self.w[x as usize] < self.w[ip as usize] {
+                    // A heavier point on a vertex: its cavity swallows the
+                    // vertex's star (the seed `t` is strictly in conflict).
+                    break;
+                }
                 if self.xy[x as usize] == p {
+                    if W && self.w[x as usize] != self.w[ip as usize] {
+                        // Lighter than the vertex at its place: hidden.
+                        self.last = t as u32;
+                        let id = self.ids[ip as usize];
+                        self.hidden.push(id);
+                        return Inserted::Hidden(id);
+                    }
                     self.last = t as u32;
                     let id = self.ids[ip as usize];
                     // The point that currently names the vertex.
@@ -645,7 +828,18 @@ impl<'a> Delaunay2<'a> {
                 }
             }
         }
-        self.dig_cavity(t, &p, ip);
+        if W {
+            if !self.in_conflict::<true>(t, &p, ip) {
+                // Lifted above the lower hull: an empty power cell.
+                self.last = t as u32;
+                let id = self.ids[ip as usize];
+                self.hidden.push(id);
+                return Inserted::Hidden(id);
+            }
+            self.dig_cavity_weighted(t, &p, ip);
+        } else {
+            self.dig_cavity(t, &p, ip);
+        }
         self.stellate(ip);
         self.num_vertices += 1;
         Inserted::Vertex(self.ids[ip as usize])
@@ -678,7 +872,7 @@ impl<'a> Delaunay2<'a> {
             let (c, e) = unpack(w);
             let wn = self.tri_adj[c][e];
             let (n, j) = unpack(wn);
-            if cavity.len() < limit && self.in_conflict(n, p, ip) {
+            if cavity.len() < limit && self.in_conflict::<false>(n, p, ip) {
                 cavity.push(n as u32);
                 stack.push(pack(n, PREV[j]));
                 stack.push(pack(n, NEXT[j]));
@@ -691,6 +885,101 @@ impl<'a> Delaunay2<'a> {
         self.stack = stack;
         self.cavity = cavity;
         self.boundary = boundary;
+    }
+
+    /// The cavity of a weighted point (power conflicts), like
+    /// [`Self::dig_cavity`] but with marks: the cavity may contain interior
+    /// vertices (their stars are swallowed: they become hidden), so its dual
+    /// graph need not be a tree. Without interior vertices the search visits
+    /// the triangles in the same order as the unweighted one (so zero weights
+    /// give the same slots, hence the same output); with them the boundary is
+    /// put back into counterclockwise cyclic order and the interior vertices
+    /// are recorded as hidden.
+    fn dig_cavity_weighted(&mut self, t: usize, p: &[f64; 2], ip: u32) {
+        let mut stack = std::mem::take(&mut self.stack);
+        let mut cavity = std::mem::take(&mut self.cavity);
+        let mut boundary = std::mem::take(&mut self.boundary);
+        let mut mark = std::mem::take(&mut self.mark);
+        mark.resize(self.tri_v.len(), 0);
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            mark.fill(0);
+            self.stamp = 1;
+        }
+        let stamp = self.stamp;
+        stack.clear();
+        cavity.clear();
+        boundary.clear();
+        cavity.push(t as u32);
+        mark[t] = stamp;
+        stack.extend_from_slice(&[pack(t, 2), pack(t, 1), pack(t, 0)]);
+        while let Some(w) = stack.pop() {
+            let (c, e) = unpack(w);
+            let wn = self.tri_adj[c][e];
+            let (n, j) = unpack(wn);
+            if mark[n] == stamp {
+                // Both sides in the cavity: an edge at an interior vertex.
+                continue;
+            }
+            if self.in_conflict::<true>(n, p, ip) {
+                mark[n] = stamp;
+                cavity.push(n as u32);
+                stack.push(pack(n, PREV[j]));
+                stack.push(pack(n, NEXT[j]));
+            } else {
+                let (a, b) = edge(&self.tri_v[c], e);
+                boundary.push((a, b, wn));
+            }
+        }
+        if boundary.len() != cavity.len() + 2 {
+            self.hide_interior(&cavity, &mut boundary);
+        }
+        self.mark = mark;
+        self.stack = stack;
+        self.cavity = cavity;
+        self.boundary = boundary;
+    }
+
+    /// For a cavity with interior vertices: orders `boundary` as a
+    /// counterclockwise cycle (each edge starts where the previous one ends;
+    /// a disk's boundary visits every vertex once) and records the cavity's
+    /// vertices that are not on it as hidden.
+    #[cold]
+    fn hide_interior(&mut self, cavity: &[u32], boundary: &mut Vec<(u32, u32, u32)>) {
+        let m = boundary.len();
+        let mut by_start: Vec<(u32, u32)> = boundary
+            .iter()
+            .enumerate()
+            .map(|(k, e)| (e.0, k as u32))
+            .collect();
+        by_start.sort_unstable();
+        let mut ordered = Vec::with_capacity(m);
+        let mut k = 0usize;
+        for _ in 0..m {
+            ordered.push(boundary[k]);
+            let b = boundary[k].1;
+            match by_start.binary_search_by_key(&b, |e| e.0) {
+                Ok(i) => k = by_start[i].1 as usize,
+                Err(_) => break,
+            }
+        }
+        debug_assert_eq!(ordered.len(), m, "cavity boundary is not a cycle");
+        if ordered.len() == m {
+            *boundary = ordered;
+        }
+        let mut inner: Vec<u32> = cavity
+            .iter()
+            .flat_map(|&c| self.tri_v[c as usize])
+            .filter(|&x| x != INF)
+            .collect();
+        inner.sort_unstable();
+        inner.dedup();
+        for x in inner {
+            if by_start.binary_search_by_key(&x, |e| e.0).is_err() {
+                self.num_vertices -= 1;
+                self.hidden.push(self.ids[x as usize]);
+            }
+        }
     }
 
     /// Takes a free triangle slot (from the free list or a new one).
@@ -721,7 +1010,8 @@ impl<'a> Delaunay2<'a> {
             .filter(|&&c| is_ghost(&self.tri_v[c as usize]))
             .count();
         for &c in &self.cavity[reuse..] {
-            // Only reachable on a corrupted cavity: free the extra slots.
+            // A weighted cavity with interior vertices has more triangles
+            // than its star: free the extra slots.
             let c = c as usize;
             self.tri_v[c] = [DEAD; 3];
             self.tri_adj[c] = [self.free_head, NONE, NONE];
@@ -859,6 +1149,47 @@ impl<'a> Delaunay2<'a> {
     /// ```
     pub fn duplicates(&self) -> &[(u32, u32)] {
         &self.duplicates
+    }
+
+    /// The hidden points of a regular triangulation (input indices, sorted):
+    /// points whose power cell is empty, including duplicates of such points.
+    /// Always empty without weights.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.5, 0.5], [0.0, 0.0]];
+    /// let d = delone::tri::Delaunay2::from_weighted_points(&pts, &[1.0, 1.0, 1.0, -1.0, 0.0]).unwrap();
+    /// // Point 3 is too light; point 4 sits on point 0 with a smaller weight.
+    /// assert_eq!(d.hidden(), vec![3, 4]);
+    /// ```
+    pub fn hidden(&self) -> Vec<u32> {
+        if self.hidden.is_empty() {
+            return Vec::new();
+        }
+        let n = self.vmap.len();
+        let root = |mut r: u32| {
+            while self.vmap[r as usize] != r {
+                r = self.vmap[r as usize];
+            }
+            r
+        };
+        let mut is_hidden = vec![false; n];
+        for &h in &self.hidden {
+            is_hidden[root(h) as usize] = true;
+        }
+        (0..n as u32)
+            .filter(|&i| is_hidden[root(i) as usize])
+            .collect()
+    }
+
+    /// Whether weights were given (a regular triangulation).
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+    /// assert!(!delone::tri::Delaunay2::from_points(&pts).unwrap().is_weighted());
+    /// assert!(delone::tri::Delaunay2::from_weighted_points(&pts, &[0.0; 3]).unwrap().is_weighted());
+    /// ```
+    pub fn is_weighted(&self) -> bool {
+        self.weighted
     }
 
     /// Number of finite triangles.
@@ -1057,7 +1388,8 @@ impl<'a> Delaunay2<'a> {
     }
 
     /// Checks that every edge between two finite triangles is locally Delaunay
-    /// (exact incircle; cocircular neighbours are allowed).
+    /// (exact incircle; cocircular neighbours are allowed); for a regular
+    /// triangulation, locally regular (exact power test).
     ///
     /// ```
     /// let d = delone::tri::Delaunay2::from_points(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]).unwrap();
@@ -1076,13 +1408,23 @@ impl<'a> Delaunay2<'a> {
                     continue;
                 }
                 let d = u[j];
-                if incircle(
-                    &pts[v[0] as usize],
-                    &pts[v[1] as usize],
-                    &pts[v[2] as usize],
-                    &pts[d as usize],
-                ) > 0.0
-                {
+                let [a, b, c] = v.map(|x| x as usize);
+                let det = if self.weighted {
+                    let w = &self.w;
+                    incircle_weighted(
+                        &pts[a],
+                        &pts[b],
+                        &pts[c],
+                        &pts[d as usize],
+                        w[a],
+                        w[b],
+                        w[c],
+                        w[d as usize],
+                    )
+                } else {
+                    incircle(&pts[a], &pts[b], &pts[c], &pts[d as usize])
+                };
+                if det > 0.0 {
                     return Err(Violation::new(
                         "delaunay",
                         format!("vertex {d} of triangle {n} is inside the circumcircle of triangle {t} {v:?}"),
@@ -1130,11 +1472,12 @@ impl<'a> Delaunay2<'a> {
     /// delone::tri::validate(&pts, &mesh).unwrap();
     /// ```
     pub fn into_mesh(self) -> TriMesh {
+        let hidden = self.hidden();
         let Delaunay2 {
             mut tri_v,
             mut tri_adj,
-            vmap,
-            duplicates,
+            mut vmap,
+            mut duplicates,
             ids,
             xy,
             ..
@@ -1167,12 +1510,18 @@ impl<'a> Delaunay2<'a> {
         // save the few ghost slots.
         drop(map);
         drop(ids);
+        if !hidden.is_empty() {
+            for &h in &hidden {
+                vmap[h as usize] = NONE;
+            }
+            duplicates.retain(|&(dup, _)| vmap[dup as usize] != NONE);
+        }
         TriMesh {
             triangles: tri_v,
             neighbors: tri_adj,
             vertex_map: vmap,
             duplicates,
-            hidden: Vec::new(),
+            hidden,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The flat output of the 2D kernel and its independent validator.
 
-use delone_predicates::{incircle, orient2d};
+use delone_predicates::{incircle, incircle_weighted, orient2d};
 
 use crate::{Violation, NONE};
 
@@ -68,10 +68,66 @@ fn err(kind: &'static str, detail: String) -> Result<(), Violation> {
 /// assert!(delone::tri::validate(&pts, &mesh).is_err());
 /// ```
 pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
+    validate_impl(points, None, mesh)
+}
+
+/// Checks a *regular* triangulation `mesh` of `points` with `weights` (as
+/// returned by [`super::regular_triangulation`]) independently of the kernel,
+/// with exact predicates. Everything [`validate`] checks, except that
+///
+/// * every interior edge is locally *regular* (exact power test: the lifted
+///   apex across the edge is not strictly below the lifted triangle's plane);
+/// * equal points are duplicates only with equal weights; the points listed
+///   in [`TriMesh::hidden`] (sorted) are exactly those not used and not
+///   duplicates, their `vertex_map` entry is [`NONE`];
+/// * every hidden point is really hidden: it lies in the closed hull, and
+///   its lifted point is on or above the lifted triangle containing it
+///   (located by a walk; exact orientation and power tests).
+///
+/// Local regularity of every edge makes the lifted surface convex, so these
+/// checks together certify the regular triangulation.
+///
+/// # Errors
+/// The first [`Violation`] found; [`Violation::kind`] `"size"` if
+/// `weights.len() != points.len()`.
+///
+/// ```
+/// let pts = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 4.0], [2.0, 2.0]];
+/// let w = [1.0, 1.0, 1.0, 1.0, -8.0];
+/// let mut mesh = delone::tri::regular_triangulation(&pts, &w).unwrap();
+/// delone::tri::validate_regular(&pts, &w, &mesh).unwrap();
+/// // Claiming that the light centre point is a vertex's duplicate is caught.
+/// mesh.hidden.clear();
+/// assert!(delone::tri::validate_regular(&pts, &w, &mesh).is_err());
+/// ```
+pub fn validate_regular(
+    points: &[[f64; 2]],
+    weights: &[f64],
+    mesh: &TriMesh,
+) -> Result<(), Violation> {
+    if weights.len() != points.len() {
+        return err(
+            "size",
+            format!("{} points but {} weights", points.len(), weights.len()),
+        );
+    }
+    validate_impl(points, Some(weights), mesh)
+}
+
+fn validate_impl(
+    points: &[[f64; 2]],
+    weights: Option<&[f64]>,
+    mesh: &TriMesh,
+) -> Result<(), Violation> {
     // Huge or tiny coordinates are scaled by an exact power of two first, so
-    // that the exact predicates neither overflow nor underflow.
-    let (points, _) = crate::geom::rescaled(points);
+    // that the exact predicates neither overflow nor underflow (weights are
+    // scaled by the square of the same factor).
+    let (points, s) = crate::geom::rescaled(points);
     let points = &points[..];
+    let weights: Option<Vec<f64>> =
+        weights.map(|w| w.iter().map(|&x| x * s.0 * s.0 * s.1 * s.1).collect());
+    let weights = weights.as_deref();
+    let wkey = |i: usize| weights.map_or(0, |w| (w[i] + 0.0).to_bits());
     let n = points.len();
     let nt = mesh.triangles.len();
     if mesh.neighbors.len() != nt {
@@ -114,19 +170,36 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
     }
     // Duplicates: group equal points, the smallest index represents them.
     let mut ids: Vec<u32> = (0..n as u32).collect();
-    ids.sort_unstable_by_key(|&i| (key(&points[i as usize]), i));
+    ids.sort_unstable_by_key(|&i| (key(&points[i as usize]), wkey(i as usize), i));
+    let same = |i: u32, j: u32| {
+        key(&points[i as usize]) == key(&points[j as usize]) && wkey(i as usize) == wkey(j as usize)
+    };
     let mut rep = vec![0u32; n];
     for (k, &i) in ids.iter().enumerate() {
-        rep[i as usize] = if k > 0 && key(&points[ids[k - 1] as usize]) == key(&points[i as usize])
-        {
+        rep[i as usize] = if k > 0 && same(ids[k - 1], i) {
             rep[ids[k - 1] as usize]
         } else {
             i
         };
     }
     let mut expected_dups = Vec::new();
+    let mut expected_hidden = Vec::new();
     for i in 0..n {
         let r = rep[i];
+        if weights.is_some() && !used[r as usize] {
+            // Hidden (with all its duplicates).
+            if mesh.vertex_map[i] != NONE {
+                return err(
+                    "vertex_map",
+                    format!(
+                        "point {i} is not a vertex, but maps to {}",
+                        mesh.vertex_map[i]
+                    ),
+                );
+            }
+            expected_hidden.push(i as u32);
+            continue;
+        }
         if mesh.vertex_map[i] != r {
             return err(
                 "vertex_map",
@@ -154,6 +227,16 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
                 "duplicates list has {} entries, expected {}",
                 mesh.duplicates.len(),
                 expected_dups.len()
+            ),
+        );
+    }
+    if mesh.hidden != expected_hidden {
+        return err(
+            "hidden",
+            format!(
+                "hidden list has {} entries, expected {} (the unused points)",
+                mesh.hidden.len(),
+                expected_hidden.len()
             ),
         );
     }
@@ -204,8 +287,16 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
                 }
                 // Locally Delaunay: the apex of u is not inside t's circle.
                 let d = mesh.triangles[u as usize][j as usize];
-                let [p, q, r] = mesh.triangles[t as usize].map(|x| &points[x as usize]);
-                if incircle(p, q, r, &points[d as usize]) > 0.0 {
+                let tv = mesh.triangles[t as usize];
+                let [p, q, r] = tv.map(|x| &points[x as usize]);
+                let det = match weights {
+                    Some(w) => {
+                        let [wp, wq, wr] = tv.map(|x| w[x as usize]);
+                        incircle_weighted(p, q, r, &points[d as usize], wp, wq, wr, w[d as usize])
+                    }
+                    None => incircle(p, q, r, &points[d as usize]),
+                };
+                if det > 0.0 {
                     return err(
                         "delaunay",
                         format!(
@@ -281,6 +372,87 @@ pub fn validate(points: &[[f64; 2]], mesh: &TriMesh) -> Result<(), Violation> {
             "euler",
             format!("V={v} F={f} hull edges={h} violate V - E + F = 1"),
         );
+    }
+    if let Some(w) = weights {
+        check_hidden(points, w, mesh)?;
+    }
+    Ok(())
+}
+
+/// Every hidden point lies in the closed hull and on or above the lifted
+/// triangle that contains it. The mesh's topology is already validated.
+fn check_hidden(points: &[[f64; 2]], w: &[f64], mesh: &TriMesh) -> Result<(), Violation> {
+    // Visit the hidden points in Morton order so that each walk starts near
+    // the previous answer.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for &h in &mesh.hidden {
+        let p = points[h as usize];
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let morton = |p: &[f64; 2]| {
+        let mut code = 0u64;
+        for k in 0..2 {
+            let span = hi[k] - lo[k];
+            let c = if span > 0.0 {
+                (((p[k] - lo[k]) / span) * 65535.0) as u64
+            } else {
+                0
+            };
+            for bit in 0..16 {
+                code |= ((c >> bit) & 1) << (2 * bit + k);
+            }
+        }
+        code
+    };
+    let mut order = mesh.hidden.clone();
+    order.sort_by_key(|&h| (morton(&points[h as usize]), h));
+    let mut t = 0usize;
+    let mut rng = 0x2545_f491u32;
+    let limit = 4 * mesh.triangles.len() + 64;
+    for &h in &order {
+        let q = &points[h as usize];
+        let mut steps = 0;
+        'walk: loop {
+            steps += 1;
+            if steps > limit {
+                return err("hidden", format!("hidden point {h} could not be located"));
+            }
+            let v = mesh.triangles[t];
+            rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let r = (rng >> 16) as usize % 3;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                let (a, b) = (v[(e + 1) % 3], v[(e + 2) % 3]);
+                if orient2d(&points[a as usize], &points[b as usize], q) < 0.0 {
+                    let u = mesh.neighbors[t][e];
+                    if u == NONE {
+                        return err(
+                            "hidden",
+                            format!(
+                                "hidden point {h} is outside the hull (beyond edge ({a}, {b}))"
+                            ),
+                        );
+                    }
+                    t = u as usize;
+                    continue 'walk;
+                }
+            }
+            break;
+        }
+        let v = mesh.triangles[t];
+        let [a, b, c] = v.map(|x| &points[x as usize]);
+        let [wa, wb, wc] = v.map(|x| w[x as usize]);
+        if incircle_weighted(a, b, c, q, wa, wb, wc, w[h as usize]) > 0.0 {
+            return err(
+                "hidden",
+                format!(
+                    "hidden point {h} is in power conflict with triangle {t} {v:?} containing it"
+                ),
+            );
+        }
     }
     Ok(())
 }

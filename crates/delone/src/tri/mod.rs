@@ -12,7 +12,7 @@ pub mod voronoi;
 
 pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
-pub use mesh::{validate, TriMesh};
+pub use mesh::{validate, validate_regular, TriMesh};
 pub use voronoi::{lloyd, Voronoi2};
 
 use crate::Error;
@@ -36,4 +36,25 @@ use crate::Error;
 /// ```
 pub fn triangulate(points: &[[f64; 2]]) -> Result<TriMesh, Error> {
     Ok(Delaunay2::from_points(points)?.into_mesh())
+}
+
+/// Regular (weighted Delaunay) triangulation of `points` with `weights`,
+/// the dual of their power diagram: see [`Delaunay2::from_weighted_points`].
+/// Points whose power cell is empty are listed in [`TriMesh::hidden`] (their
+/// [`TriMesh::vertex_map`] entry is [`crate::NONE`]). With all weights zero
+/// the result equals [`triangulate`]'s exactly.
+///
+/// # Errors
+/// Those of [`triangulate`], plus [`Error::WeightCount`] and
+/// [`Error::InvalidWeight`] (naming the point).
+///
+/// ```
+/// let pts = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 4.0], [2.0, 2.0]];
+/// let mesh = delone::tri::regular_triangulation(&pts, &[1.0, 1.0, 1.0, 1.0, -8.0]).unwrap();
+/// assert_eq!(mesh.hidden, vec![4]);
+/// assert_eq!(mesh.vertex_map[4], delone::NONE);
+/// delone::tri::validate_regular(&pts, &[1.0, 1.0, 1.0, 1.0, -8.0], &mesh).unwrap();
+/// ```
+pub fn regular_triangulation(points: &[[f64; 2]], weights: &[f64]) -> Result<TriMesh, Error> {
+    Ok(Delaunay2::from_weighted_points(points, weights)?.into_mesh())
 }

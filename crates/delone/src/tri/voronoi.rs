@@ -7,10 +7,16 @@
 //! * [`Voronoi2::cells_clipped`] — every cell intersected with an
 //!   axis-aligned box, with area and centroid.
 //! * [`lloyd`] — Lloyd's algorithm in a box.
+//! * [`Voronoi2::new_power`] — the power diagram of weighted points, dual of
+//!   their regular triangulation: vertices are the power centres
+//!   (orthocentres) of the triangles, edges lie on radical axes, hidden
+//!   points have empty cells.
 //!
 //! # References
 //! * G. Voronoi (1908); B. Delaunay (1934) — the duality used here.
 //! * S. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28 (1982).
+//! * F. Aurenhammer, "Power diagrams: properties, algorithms and
+//!   applications", SIAM J. Comput. 16 (1987).
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
@@ -141,8 +147,12 @@ pub struct Voronoi2 {
     /// across the last ray)` (see [`Cell2::rays`], [`Cell2::ray_neighbor`]).
     pub hull_cells: Vec<(u32, [[f64; 2]; 2], u32)>,
     /// For every input point, the site whose cell it shares (itself unless it
-    /// duplicates an earlier point), as in [`TriMesh::vertex_map`].
+    /// duplicates an earlier point), as in [`TriMesh::vertex_map`]; [`NONE`]
+    /// for a hidden point of a power diagram (its cell is empty).
     pub vertex_map: Vec<u32>,
+    /// The weights of a power diagram (by input point; empty for a Voronoi
+    /// diagram). Used by [`Voronoi2::cells_clipped`] for the radical axes.
+    pub weights: Vec<f64>,
 }
 
 /// Circumcentre of triangle `abc` (counterclockwise), computed relative to
@@ -181,6 +191,48 @@ pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2]
     ]
 }
 
+/// Power centre (orthocentre) of the weighted triangle `abc`
+/// (counterclockwise): the point with equal power distance
+/// `|x - p|² - w_p` to the three weighted points. Computed like
+/// [`circumcenter`] (which it equals for zero weights, bit for bit).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn power_center(
+    a: &[f64; 2],
+    b: &[f64; 2],
+    c: &[f64; 2],
+    wa: f64,
+    wb: f64,
+    wc: f64,
+) -> [f64; 2] {
+    let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let (la, lb, lc) = (l2(b, c), l2(c, a), l2(a, b));
+    let (a, b, c, wa, wb, wc) = if la >= lb && la >= lc {
+        (a, b, c, wa, wb, wc)
+    } else if lb >= lc {
+        (b, c, a, wb, wc, wa)
+    } else {
+        (c, a, b, wc, wa, wb)
+    };
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
+    // 2 x·d = |d|² + w_a - w_b and 2 x·e = |e|² + w_a - w_c (x relative to a).
+    let d2 = (dx * dx + dy * dy) + (wa - wb);
+    let e2 = (ex * ex + ey * ey) + (wa - wc);
+    let mut det = dx * ey - dy * ex;
+    if det <= 0.0 {
+        det = orient2d(a, b, c);
+        if det <= 0.0 {
+            det = f64::MIN_POSITIVE;
+        }
+    }
+    let k = 0.5 / det;
+    [
+        a[0] + (ey * d2 - dy * e2) * k,
+        a[1] + (dx * e2 - ex * d2) * k,
+    ]
+}
+
 /// Outward normal of the hull edge `a → b` (interior on the left), of the
 /// edge's length.
 #[inline]
@@ -204,14 +256,56 @@ impl Voronoi2 {
     /// assert!(v.vertices.iter().all(|c| (c[0] - 0.5).abs() < 1e-15 && (c[1] - 0.5).abs() < 1e-15));
     /// ```
     pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
+        Self::build(points, None, mesh)
+    }
+
+    /// Builds the power diagram of `points` with `weights` from their regular
+    /// triangulation `mesh` (as returned by
+    /// [`super::regular_triangulation`]): the cell of site `p` is the set of
+    /// points `x` where the power distance `|x - p|² - w_p` is smallest.
+    /// Vertices are the power centres of the triangles, edges lie on the
+    /// radical axes of Delaunay-adjacent sites (rays for hull edges, along
+    /// the hull edge's outward normal), hidden points have empty cells
+    /// (their [`Voronoi2::vertex_map`] entry is [`NONE`]). With all weights
+    /// zero it equals [`Voronoi2::new`] except for the stored weights.
+    ///
+    /// Missing weights (a shorter slice) count as zero.
+    ///
+    /// ```
+    /// use delone::tri::{regular_triangulation, Voronoi2};
+    /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0]];
+    /// let w = [1.0, 0.0, 0.0, 0.0];
+    /// let mesh = regular_triangulation(&pts, &w).unwrap();
+    /// let v = Voronoi2::new_power(&pts, &w, &mesh);
+    /// // The heavier site 0 pushes the radical axes away from itself.
+    /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [2.0, 2.0]]);
+    /// assert!(c.area[0] > 1.0 && c.area[3] < 1.0);
+    /// assert!((c.area.iter().sum::<f64>() - 4.0).abs() < 1e-12);
+    /// ```
+    pub fn new_power(points: &[[f64; 2]], weights: &[f64], mesh: &TriMesh) -> Voronoi2 {
+        let mut w = weights.to_vec();
+        w.resize(points.len(), 0.0);
+        Self::build(points, Some(&w), mesh)
+    }
+
+    fn build(points: &[[f64; 2]], weights: Option<&[f64]>, mesh: &TriMesh) -> Voronoi2 {
         let n = points.len();
         let tris = &mesh.triangles;
         let nbs = &mesh.neighbors;
         let p = |v: u32| &points[v as usize];
-        let vertices: Vec<[f64; 2]> = tris
-            .iter()
-            .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
-            .collect();
+        let vertices: Vec<[f64; 2]> = match weights {
+            None => tris
+                .iter()
+                .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
+                .collect(),
+            Some(w) => tris
+                .iter()
+                .map(|t| {
+                    let [wa, wb, wc] = t.map(|x| w[x as usize]);
+                    power_center(p(t[0]), p(t[1]), p(t[2]), wa, wb, wc)
+                })
+                .collect(),
+        };
         // Edges: interior ones once (from the lower triangle), hull ones as rays.
         let mut edges = Vec::with_capacity(tris.len() * 3 / 2 + 3);
         for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
@@ -311,6 +405,7 @@ impl Voronoi2 {
             cell_neighbors,
             hull_cells,
             vertex_map: mesh.vertex_map.clone(),
+            weights: weights.map_or_else(Vec::new, <[f64]>::to_vec),
         }
     }
 
@@ -328,6 +423,15 @@ impl Voronoi2 {
     /// ```
     pub fn cell(&self, p: usize) -> Cell2<'_> {
         let s = self.vertex_map.get(p).map_or(p, |&r| r as usize);
+        if s == NONE as usize {
+            // A hidden point of a power diagram.
+            return Cell2 {
+                vertices: &[],
+                rays: None,
+                neighbors: &[],
+                ray_neighbor: NONE,
+            };
+        }
         let hull = self
             .hull_cells
             .binary_search_by_key(&(s as u32), |h| h.0)
@@ -350,6 +454,8 @@ impl Voronoi2 {
     /// computed by clipping the box with the bisectors of its site and each
     /// Delaunay neighbour, so unbounded cells need no artificial far points.
     /// A cell that misses the box is empty (area `0`, centroid = its site).
+    /// For a power diagram the clipping lines are the radical axes, and
+    /// hidden points get empty cells.
     ///
     /// ```
     /// let pts = [[0.25, 0.25], [0.75, 0.25], [0.25, 0.75], [0.75, 0.75]];
@@ -400,8 +506,10 @@ impl Voronoi2 {
             } else {
                 poly.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
                 let extra = (cell.ray_neighbor != NONE).then_some(&cell.ray_neighbor);
+                let ws = self.weights.get(s).copied().unwrap_or(0.0);
                 for &q in cell.neighbors.iter().chain(extra) {
-                    clip_bisector(&mut poly, &mut tmp, &site, &points[q as usize]);
+                    let wq = self.weights.get(q as usize).copied().unwrap_or(0.0);
+                    clip_bisector(&mut poly, &mut tmp, &site, &points[q as usize], ws - wq);
                     if poly.is_empty() {
                         break;
                     }
@@ -449,14 +557,23 @@ impl ClippedCells2 {
     }
 }
 
-/// Keeps the part of convex polygon `poly` closer to `p` than to `q`.
-fn clip_bisector(poly: &mut Vec<[f64; 2]>, tmp: &mut Vec<[f64; 2]>, p: &[f64; 2], q: &[f64; 2]) {
-    // Side of x: (x - p)·(q - p) - |q - p|²/2  (<= 0 keeps x).
+/// Keeps the part of convex polygon `poly` closer to `p` than to `q` in
+/// power distance, where `dw = w_p - w_q` (0 for the bisector; otherwise
+/// the radical axis).
+fn clip_bisector(
+    poly: &mut Vec<[f64; 2]>,
+    tmp: &mut Vec<[f64; 2]>,
+    p: &[f64; 2],
+    q: &[f64; 2],
+    dw: f64,
+) {
+    // Side of x: (x - p)·(q - p) - (|q - p|² + w_p - w_q)/2  (<= 0 keeps x).
     let (nx, ny) = (q[0] - p[0], q[1] - p[1]);
-    let h = 0.5 * (nx * nx + ny * ny);
-    if h == 0.0 {
+    let n2 = nx * nx + ny * ny;
+    if n2 == 0.0 {
         return;
     }
+    let h = 0.5 * (n2 + dw);
     let side = |x: &[f64; 2]| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h;
     let mut any_out = false;
     let mut any_in = false;
