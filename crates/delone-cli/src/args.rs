@@ -52,8 +52,8 @@ pub struct Opts {
     /// `-v`: Voronoi (power, with `-w`) diagram output (.v.node, .v.edge;
     /// tet also .v.face, .v.cell).
     pub voronoi: bool,
-    /// tri `-w`: regular (weighted Delaunay) triangulation; weights from
-    /// FILE.weight, else node attribute 1.
+    /// `-w`: regular (weighted Delaunay) triangulation/tetrahedralization;
+    /// weights from FILE.weight, else node attribute 1.
     pub weights: bool,
     /// tri `--lloyd N`: N Lloyd iterations in the bounding box first.
     pub lloyd: Option<usize>,
@@ -109,7 +109,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
         (Mode::Tet, 'M') => "no merging of coplanar facets",
-        (Mode::Tet, 'w') => "weighted Delaunay",
         (Mode::Tet, 'c') => "convex hull retention",
         (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
@@ -123,7 +122,7 @@ fn letter(mode: Mode, c: char, o: &mut Opts) -> Result<Option<Command>, Usage> {
     match (mode, c) {
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
-        (Mode::Tri, 'w') => o.weights = true,
+        (_, 'w') => o.weights = true,
         (Mode::Tri, 'p') => o.pslg = true,
         (Mode::Tri, 'c') => o.convex_hull = true,
         (Mode::Tri, 'A') => o.region_attributes = true,

@@ -199,11 +199,15 @@ pub fn write_tri_voronoi(
 pub fn write_tet_voronoi(
     out_base: &Path,
     pts: &[[f64; 3]],
+    weights: Option<&[f64]>,
     mesh: &delone::TetMesh,
     first: u32,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), Failure> {
-    let v = delone::tet::Voronoi3::new(pts, mesh);
+    let v = match weights {
+        Some(w) => delone::tet::Voronoi3::new_power(pts, w, mesh),
+        None => delone::tet::Voronoi3::new(pts, mesh),
+    };
     write(&with_ext(out_base, "v.node"), written, |f| {
         delone_io::write_voronoi_node(f, &v.vertices, first)
     })?;
@@ -291,21 +295,20 @@ pub fn write_svg(
 }
 
 /// The report line for hidden points (empty when there are none).
-pub fn hidden_line(mesh: &TriMesh, first: u32) -> Option<String> {
-    if mesh.hidden.is_empty() {
+pub fn hidden_line(hidden: &[u32], first: u32) -> Option<String> {
+    if hidden.is_empty() {
         return None;
     }
-    let show: Vec<String> = mesh
-        .hidden
+    let show: Vec<String> = hidden
         .iter()
         .take(10)
         .map(|&h| (u64::from(h) + u64::from(first)).to_string())
         .collect();
     Some(format!(
         "  hidden points (empty power cells): {}{}{}",
-        mesh.hidden.len(),
+        hidden.len(),
         if show.is_empty() { "" } else { ": " },
-        show.join(" ") + if mesh.hidden.len() > 10 { " ..." } else { "" }
+        show.join(" ") + if hidden.len() > 10 { " ..." } else { "" }
     ))
 }
 

@@ -92,8 +92,13 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          hull, 0 inside).
     -e   Also write the edges to FILE.1.edge (marker 1 on the hull).
     -n   Also write the neighbours to FILE.1.neigh (-1 for none).
-    -v   Also write the Voronoi diagram to FILE.1.v.node, .v.edge, .v.face
-         and .v.cell (TetGen's layout).
+    -v   Also write the Voronoi diagram (the power diagram with -w) to
+         FILE.1.v.node, .v.edge, .v.face and .v.cell (TetGen's layout).
+    -w   Regular (weighted Delaunay) tetrahedralization: weights from
+         FILE.weight if it exists (header: number of points; then
+         `index weight` or `weight` per line), else the first node
+         attribute. Points with empty power cells (hidden) are left out of
+         the mesh and reported.
     -k   Also write FILE.1.vtk (legacy ASCII VTK, for ParaView).
     -N   Do not write the .node file.
     -E   Do not write the .ele file.
@@ -108,7 +113,7 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -V   Verbose (repeat for more: -VV).
     -h   This help.
     Not implemented yet (error, exit code 2): -p -Y -r -q -R -A -m -a -i -O -S
-    -T -X -M -w -c -d -D -g -o2 -o/.
+    -T -X -M -c -d -D -g -o2 -o/.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary

@@ -411,7 +411,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             };
             let t_extra = Instant::now();
             let mut extra = Vec::new();
-            if let Some(l) = crate::dual::hidden_line(&mesh, first) {
+            if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
                 rep.push(l);
             }
             let vor = o
@@ -458,11 +458,22 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         }
         Mode::Tet => {
             let pts = node.points::<3>().unwrap_or_default();
+            let weights = if o.weights {
+                let (w, source) = crate::dual::read_weights(&names.node, &node)?;
+                rep.push(format!("  -w: weights from {source}"));
+                Some(w)
+            } else {
+                None
+            };
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");
-            let res = delone::tet::Delaunay3::from_points_with_progress(&pts, &mut |d, t| {
-                prog.update(d, t)
-            });
+            let mut tick = |d, t| prog.update(d, t);
+            let res = match &weights {
+                Some(w) => {
+                    delone::tet::Delaunay3::from_weighted_points_with_progress(&pts, w, &mut tick)
+                }
+                None => delone::tet::Delaunay3::from_points_with_progress(&pts, &mut tick),
+            };
             prog.finish();
             let mesh = res
                 .map_err(|e| mesh_error(&names.node, &node, e))?
@@ -470,15 +481,28 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             let t_mesh = t1.elapsed();
             let check = if o.check {
                 let t = Instant::now();
-                let r = delone::tet::validate(&pts, &mesh).map_err(|v| v.to_string());
-                Some((r, t.elapsed()))
+                let r = match &weights {
+                    Some(w) => delone::tet::validate_regular(&pts, w, &mesh),
+                    None => delone::tet::validate(&pts, &mesh),
+                };
+                Some((r.map_err(|v| v.to_string()), t.elapsed()))
             } else {
                 None
             };
             let t_extra = Instant::now();
             let mut extra = Vec::new();
+            if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
+                rep.push(l);
+            }
             if o.voronoi {
-                crate::dual::write_tet_voronoi(ob, &pts, &mesh, first, &mut extra)?;
+                crate::dual::write_tet_voronoi(
+                    ob,
+                    &pts,
+                    weights.as_deref(),
+                    &mesh,
+                    first,
+                    &mut extra,
+                )?;
             }
             let t_extra = t_extra.elapsed();
             let m = MeshOut {

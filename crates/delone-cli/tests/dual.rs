@@ -308,3 +308,44 @@ fn options_refused_with_pslg() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("not supported with -p"));
 }
+
+#[test]
+fn tet_weighted_with_power_diagram_and_check() {
+    let dir = tmp("tetw");
+    let mut r = SplitMix64::new(9);
+    let pts: Vec<[f64; 3]> = (0..200)
+        .map(|_| [unit(&mut r), unit(&mut r), unit(&mut r)])
+        .collect();
+    let ws: Vec<f64> = (0..200).map(|_| 0.05 * unit(&mut r)).collect();
+    let mut s = format!("{} 3 1 0\n", pts.len());
+    for (i, p) in pts.iter().enumerate() {
+        s += &format!("{} {:e} {:e} {:e} {:e}\n", i + 1, p[0], p[1], p[2], ws[i]);
+    }
+    std::fs::write(dir.join("w.node"), s).unwrap();
+    let o = run(&dir, &["tet", "-wvC", "w"]);
+    ok(&o);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("hidden points"), "{out}");
+    assert!(out.contains("passed"), "{out}");
+    // The .ele matches the library's regular tetrahedralization (with the
+    // weights as parsed back from the file).
+    let parsed: Vec<f64> = ws
+        .iter()
+        .map(|w| format!("{w:e}").parse().unwrap())
+        .collect();
+    let mesh = delone::tet::regular_tetrahedralization(&pts, &parsed).unwrap();
+    let ele = lines(&dir, "w.1.ele");
+    assert_eq!(ele.len(), mesh.tets.len() + 1);
+    let v = delone::tet::Voronoi3::new_power(&pts, &parsed, &mesh);
+    assert_eq!(lines(&dir, "w.1.v.node").len(), v.vertices.len() + 1);
+    // Zero weights: byte-identical .ele to the unweighted run.
+    let mut z = format!("{} 3 1 0\n", pts.len());
+    for (i, p) in pts.iter().enumerate() {
+        z += &format!("{} {:e} {:e} {:e} 0\n", i + 1, p[0], p[1], p[2]);
+    }
+    std::fs::write(dir.join("z.node"), z).unwrap();
+    ok(&run(&dir, &["tet", "-wQ", "z"]));
+    let weighted = std::fs::read(dir.join("z.1.ele")).unwrap();
+    ok(&run(&dir, &["tet", "-Q", "z"]));
+    assert_eq!(weighted, std::fs::read(dir.join("z.1.ele")).unwrap());
+}
