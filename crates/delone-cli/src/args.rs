@@ -59,6 +59,9 @@ pub struct Opts {
     pub lloyd: Option<usize>,
     /// tri `--svg FILE`: an SVG picture of the mesh (and cells with -v).
     pub svg: Option<PathBuf>,
+    /// tet `--cells-vtu FILE`: the Voronoi (power, with -w) cells clipped to
+    /// the points' bounding box, as VTK polyhedra.
+    pub cells_vtu: Option<PathBuf>,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -225,6 +228,9 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 }
                 "vtu" => o.vtu = Some(value("--vtu", inline, &mut it)?.into()),
                 "svg" if mode == Mode::Tri => o.svg = Some(value("--svg", inline, &mut it)?.into()),
+                "cells-vtu" if mode == Mode::Tet => {
+                    o.cells_vtu = Some(value("--cells-vtu", inline, &mut it)?.into())
+                }
                 "lloyd" if mode == Mode::Tri => {
                     let v = value("--lloyd", inline, &mut it)?;
                     o.lloyd = Some(v.parse().map_err(|_| {

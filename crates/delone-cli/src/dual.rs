@@ -12,6 +12,7 @@
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
+use delone::tet::Voronoi3;
 use delone::tri::{TriMesh, Voronoi2};
 use delone_io::{NodeFile, SvgLayer, SvgStyle};
 
@@ -194,20 +195,60 @@ pub fn write_tri_voronoi(
     })
 }
 
-/// `-v` in 3D: `<out>.v.node`, `.v.edge`, `.v.face`, `.v.cell` (TetGen's
-/// layout).
-pub fn write_tet_voronoi(
-    out_base: &Path,
+/// The Voronoi diagram (power diagram with weights) of a tetrahedralization.
+pub fn voronoi3(pts: &[[f64; 3]], weights: Option<&[f64]>, mesh: &delone::TetMesh) -> Voronoi3 {
+    match weights {
+        Some(w) => Voronoi3::new_power(pts, w, mesh),
+        None => Voronoi3::new(pts, mesh),
+    }
+}
+
+/// `--cells-vtu`: the cells clipped to the points' bounding box, as VTK
+/// polyhedra with the (output-numbered) site as cell data.
+pub fn write_tet_cells_vtu(
+    path: &Path,
     pts: &[[f64; 3]],
-    weights: Option<&[f64]>,
-    mesh: &delone::TetMesh,
+    v: &Voronoi3,
     first: u32,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), Failure> {
-    let v = match weights {
-        Some(w) => delone::tet::Voronoi3::new_power(pts, w, mesh),
-        None => delone::tet::Voronoi3::new(pts, mesh),
-    };
+    let mut bbox = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+    for p in pts {
+        for k in 0..3 {
+            bbox[0][k] = bbox[0][k].min(p[k]);
+            bbox[1][k] = bbox[1][k].max(p[k]);
+        }
+    }
+    let cells = v.cells_clipped(pts, bbox);
+    let polys: Vec<delone_io::PolyhedronRef<'_>> = cells
+        .cells
+        .iter()
+        .map(|c| (&c.vertices[..], &c.faces[..]))
+        .collect();
+    let sites: Vec<i32> = cells
+        .cells
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| !c.faces.is_empty())
+        .map(|(i, _)| i as i32 + first as i32)
+        .collect();
+    let site = [delone_io::DataArray {
+        name: "site",
+        values: delone_io::Values::Int32(&sites),
+    }];
+    write(path, written, |f| {
+        delone_io::write_vtu_polyhedra(f, &polys, &site, delone_io::VtuFormat::Binary)
+    })
+}
+
+/// `-v` in 3D: `<out>.v.node`, `.v.edge`, `.v.face`, `.v.cell` (TetGen's
+/// layout) of the diagram `v`.
+pub fn write_tet_voronoi(
+    out_base: &Path,
+    v: &Voronoi3,
+    first: u32,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), Failure> {
     write(&with_ext(out_base, "v.node"), written, |f| {
         delone_io::write_voronoi_node(f, &v.vertices, first)
     })?;

@@ -120,6 +120,9 @@ OPTIONS:
                                   appended) with the point markers.
     --vtu-ascii                   Write that .vtu as ASCII (default path
                                   FILE.1.vtu if no -o/--vtu is given).
+    --cells-vtu FILE.vtu          Write the Voronoi cells (power cells with
+                                  -w) clipped to the points' bounding box as
+                                  VTK polyhedra, with the site index.
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

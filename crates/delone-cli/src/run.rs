@@ -494,16 +494,15 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
                 rep.push(l);
             }
-            if o.voronoi {
-                crate::dual::write_tet_voronoi(
-                    ob,
-                    &pts,
-                    weights.as_deref(),
-                    &mesh,
-                    first,
-                    &mut extra,
-                )?;
+            let vor = (o.voronoi || o.cells_vtu.is_some())
+                .then(|| crate::dual::voronoi3(&pts, weights.as_deref(), &mesh));
+            if let (Some(path), Some(v)) = (&o.cells_vtu, &vor) {
+                crate::dual::write_tet_cells_vtu(path, &pts, v, first, &mut extra)?;
             }
+            if let Some(v) = vor.as_ref().filter(|_| o.voronoi) {
+                crate::dual::write_tet_voronoi(ob, v, first, &mut extra)?;
+            }
+            drop(vor);
             let t_extra = t_extra.elapsed();
             let m = MeshOut {
                 cells: mesh.tets,

@@ -349,3 +349,28 @@ fn tet_weighted_with_power_diagram_and_check() {
     ok(&run(&dir, &["tet", "-Q", "z"]));
     assert_eq!(weighted, std::fs::read(dir.join("z.1.ele")).unwrap());
 }
+
+#[test]
+fn tet_cells_as_vtk_polyhedra() {
+    let dir = tmp("tetcells");
+    let mut r = SplitMix64::new(10);
+    let pts: Vec<[f64; 3]> = (0..100)
+        .map(|_| [unit(&mut r), unit(&mut r), unit(&mut r)])
+        .collect();
+    let mut s = format!("{} 3 0 0\n", pts.len());
+    for (i, p) in pts.iter().enumerate() {
+        s += &format!("{} {:e} {:e} {:e}\n", i + 1, p[0], p[1], p[2]);
+    }
+    std::fs::write(dir.join("c.node"), s).unwrap();
+    ok(&run(&dir, &["tet", "-Q", "--cells-vtu", "cells.vtu", "c"]));
+    let text = String::from_utf8_lossy(&std::fs::read(dir.join("cells.vtu")).unwrap()).into_owned();
+    assert!(
+        text.contains("NumberOfCells=\"100\""),
+        "{}",
+        &text[..300.min(text.len())]
+    );
+    assert!(text.contains("Name=\"faceoffsets\""));
+    // Not a tri option.
+    let o = run(&dir, &["tri", "--cells-vtu", "x.vtu", "c"]);
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -63,5 +63,7 @@ pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
 pub use svg::{write_svg, SvgLayer, SvgStyle};
 pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, write_voronoi_node};
-pub use vtk::{write_vtk_legacy, write_vtu, DataArray, Values, VtuFormat};
+pub use vtk::{
+    write_vtk_legacy, write_vtu, write_vtu_polyhedra, DataArray, PolyhedronRef, Values, VtuFormat,
+};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

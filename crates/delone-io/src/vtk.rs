@@ -425,3 +425,200 @@ pub fn write_vtk_legacy<W: Write, const D: usize, const K: usize>(
     }
     Ok(o.finish()?)
 }
+
+/// One polyhedron for [`write_vtu_polyhedra`]: its corner coordinates and
+/// its faces as lists of indices into those corners (counterclockwise seen
+/// from outside).
+pub type PolyhedronRef<'a> = (&'a [[f64; 3]], &'a [Vec<u32>]);
+
+/// Writes convex (or any closed) polyhedra, e.g. clipped Voronoi or power
+/// cells, as a `.vtu` of VTK_POLYHEDRON cells (type 42, with the `faces` and
+/// `faceoffsets` arrays ParaView reads). Each polyhedron keeps its own
+/// corners. Empty polyhedra (no faces) are skipped; `cell_data` arrays then
+/// hold one value per *written* cell.
+///
+/// # Errors
+/// [`IoError::InvalidInput`] if a face names a missing corner or a data array
+/// has the wrong length; [`IoError::Io`] if the writer fails.
+///
+/// ```
+/// use delone_io::{write_vtu_polyhedra, VtuFormat};
+/// // A unit tetrahedron.
+/// let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let f = vec![vec![0, 2, 1], vec![0, 1, 3], vec![1, 2, 3], vec![0, 3, 2]];
+/// let mut out = Vec::new();
+/// write_vtu_polyhedra(&mut out, &[(&v[..], &f[..])], &[], VtuFormat::Ascii).unwrap();
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.contains("Name=\"faces\"") && text.contains("42"));
+/// ```
+pub fn write_vtu_polyhedra<W: Write>(
+    out: W,
+    polys: &[PolyhedronRef<'_>],
+    cell_data: &[DataArray<'_>],
+    format: VtuFormat,
+) -> Result<(), IoError> {
+    let kept: Vec<&PolyhedronRef<'_>> = polys.iter().filter(|p| !p.1.is_empty()).collect();
+    let m = kept.len();
+    if let Some(a) = cell_data.iter().find(|a| a.values.len() != m) {
+        return Err(IoError::InvalidInput {
+            message: format!(
+                "cell data {:?} has {} values for {m} polyhedra",
+                a.name,
+                a.values.len()
+            ),
+        });
+    }
+    let mut points: Vec<f64> = Vec::new();
+    let mut connectivity: Vec<i64> = Vec::new();
+    let mut offsets: Vec<i64> = Vec::with_capacity(m);
+    let mut faces: Vec<i64> = Vec::new();
+    let mut faceoffsets: Vec<i64> = Vec::with_capacity(m);
+    for (k, (verts, fs)) in kept.iter().enumerate() {
+        let base = (points.len() / 3) as i64;
+        for p in verts.iter() {
+            points.extend_from_slice(p);
+        }
+        connectivity.extend((0..verts.len() as i64).map(|i| base + i));
+        offsets.push(connectivity.len() as i64);
+        faces.push(fs.len() as i64);
+        for f in fs.iter() {
+            if let Some(&bad) = f.iter().find(|&&v| v as usize >= verts.len()) {
+                return Err(IoError::InvalidInput {
+                    message: format!(
+                        "polyhedron {k}: a face names corner {bad} of {}",
+                        verts.len()
+                    ),
+                });
+            }
+            faces.push(f.len() as i64);
+            faces.extend(f.iter().map(|&v| base + i64::from(v)));
+        }
+        faceoffsets.push(faces.len() as i64);
+    }
+    let n = points.len() / 3;
+    let mut o = Out::new(out);
+    o.str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"");
+    o.uint(n as u64);
+    o.str("\" NumberOfCells=\"");
+    o.uint(m as u64);
+    o.str("\">\n");
+    let ascii = format == VtuFormat::Ascii;
+    // Every array in document order: (section to open first, type, name,
+    // components, values).
+    let mut arrays: Vec<(&str, &str, &str, usize, PolyArr<'_>)> = Vec::new();
+    for a in cell_data {
+        let v = match a.values {
+            Values::Int32(v) => ("Int32", PolyArr::I32(v)),
+            Values::Float64(v) => ("Float64", PolyArr::F64(v)),
+        };
+        arrays.push(("CellData", v.0, a.name, 1, v.1));
+    }
+    arrays.push(("Points", "Float64", "Points", 3, PolyArr::F64(&points)));
+    arrays.push((
+        "Cells",
+        "Int64",
+        "connectivity",
+        1,
+        PolyArr::I64(&connectivity),
+    ));
+    arrays.push(("Cells", "Int64", "offsets", 1, PolyArr::I64(&offsets)));
+    arrays.push(("Cells", "UInt8", "types", 1, PolyArr::U8(42, m)));
+    arrays.push(("Cells", "Int64", "faces", 1, PolyArr::I64(&faces)));
+    arrays.push((
+        "Cells",
+        "Int64",
+        "faceoffsets",
+        1,
+        PolyArr::I64(&faceoffsets),
+    ));
+    let mut offset: u64 = 0;
+    let mut section = "";
+    for (sec, ty, name, comps, a) in &arrays {
+        if *sec != section {
+            if !section.is_empty() {
+                o.str("</");
+                o.str(section);
+                o.str(">\n");
+            }
+            o.str("<");
+            o.str(sec);
+            o.str(">\n");
+            section = sec;
+        }
+        o.str("<DataArray type=\"");
+        o.str(ty);
+        o.str("\" Name=\"");
+        o.str(&xml_escape(name));
+        o.str("\"");
+        if *comps > 1 {
+            o.str(" NumberOfComponents=\"");
+            o.uint(*comps as u64);
+            o.str("\"");
+        }
+        if ascii {
+            o.str(" format=\"ascii\">\n");
+            match a {
+                PolyArr::I32(v) => ascii_ints(&mut o, v.iter().map(|&x| i64::from(x)))?,
+                PolyArr::I64(v) => ascii_ints(&mut o, v.iter().copied())?,
+                PolyArr::U8(t, k) => ascii_ints(&mut o, (0..*k).map(|_| i64::from(*t)))?,
+                PolyArr::F64(v) => {
+                    for (i, &x) in v.iter().enumerate() {
+                        o.float(x);
+                        o.byte(if i % 8 == 7 { b'\n' } else { b' ' });
+                        o.maybe_flush()?;
+                    }
+                    o.str("\n</DataArray>\n");
+                }
+            }
+        } else {
+            o.str(" format=\"appended\" offset=\"");
+            o.uint(offset);
+            o.str("\"/>\n");
+            offset += 8 + a.bytes();
+        }
+    }
+    o.str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
+    if !ascii {
+        o.str("<AppendedData encoding=\"raw\">\n_");
+        for (_, _, _, _, a) in arrays {
+            o.buf.extend_from_slice(&a.bytes().to_le_bytes());
+            match a {
+                PolyArr::I32(v) => v
+                    .iter()
+                    .for_each(|x| o.buf.extend_from_slice(&x.to_le_bytes())),
+                PolyArr::F64(v) => v
+                    .iter()
+                    .for_each(|x| o.buf.extend_from_slice(&x.to_le_bytes())),
+                PolyArr::I64(v) => v
+                    .iter()
+                    .for_each(|x| o.buf.extend_from_slice(&x.to_le_bytes())),
+                PolyArr::U8(t, k) => o.buf.extend(std::iter::repeat_n(t, k)),
+            }
+            o.maybe_flush()?;
+        }
+        o.str("\n</AppendedData>\n");
+    }
+    o.str("</VTKFile>\n");
+    Ok(o.finish()?)
+}
+
+/// A data array of [`write_vtu_polyhedra`].
+enum PolyArr<'b> {
+    I32(&'b [i32]),
+    F64(&'b [f64]),
+    I64(&'b [i64]),
+    /// A constant byte repeated.
+    U8(u8, usize),
+}
+
+impl PolyArr<'_> {
+    /// Size in bytes of the raw appended data.
+    fn bytes(&self) -> u64 {
+        match self {
+            PolyArr::I32(v) => 4 * v.len() as u64,
+            PolyArr::F64(v) => 8 * v.len() as u64,
+            PolyArr::I64(v) => 8 * v.len() as u64,
+            PolyArr::U8(_, k) => *k as u64,
+        }
+    }
+}
