@@ -6,12 +6,14 @@
 
 pub mod constrain;
 pub mod delaunay;
+pub mod domain;
 pub mod mesh;
 mod topo;
 pub mod voronoi;
 
 pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
+pub use domain::{lloyd_in_domain, DomainCells2};
 pub use mesh::{validate, validate_regular, TriMesh};
 pub use voronoi::{lloyd, Voronoi2};
 
