@@ -59,7 +59,10 @@ fn winding(ring: &[[f64; 2]], x: &[f64; 2]) -> i32 {
 /// The rings oriented by nesting depth (even: counterclockwise, odd:
 /// clockwise), with their bounding boxes; rings of fewer than 3 corners are
 /// dropped.
-fn oriented(rings: &[Vec<[f64; 2]>]) -> Vec<(Vec<[f64; 2]>, [[f64; 2]; 2])> {
+/// A ring's corners and its bounding box.
+type Ring = (Vec<[f64; 2]>, [[f64; 2]; 2]);
+
+fn oriented(rings: &[Vec<[f64; 2]>]) -> Vec<Ring> {
     let rings: Vec<&Vec<[f64; 2]>> = rings.iter().filter(|r| r.len() >= 3).collect();
     rings
         .iter()
@@ -173,7 +176,7 @@ impl Voronoi2 {
         }
         let boxed = self.cells_clipped(points, bb);
         let mut tmp = Vec::new();
-        for s in 0..n {
+        for (s, &site) in points.iter().enumerate() {
             let cell = boxed.polygon(s);
             if cell.len() < 3 {
                 continue;
@@ -185,7 +188,6 @@ impl Voronoi2 {
                     cb[1][k] = cb[1][k].max(p[k]);
                 }
             }
-            let site = points[s];
             let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
             for (ring, rb) in &rings {
                 let overlap = (0..2).all(|k| rb[0][k] <= cb[1][k] && cb[0][k] <= rb[1][k]);
