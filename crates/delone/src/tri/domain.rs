@@ -216,6 +216,74 @@ impl Voronoi2 {
     }
 }
 
+/// The boundary of a triangle mesh (edges without a neighbour) chained into
+/// closed rings of coordinates — e.g. the domain of a carved constrained
+/// triangulation ([`crate::tri::Cdt`]), to clip Voronoi cells to a PSLG's
+/// domain with [`Voronoi2::cells_in_domain`]. `neighbors[t][i]` is the
+/// triangle across the edge opposite vertex `i` ([`crate::NONE`] if none).
+/// A vertex where the boundary pinches may split or join rings; signed
+/// areas, and therefore clipped areas and centroids, are right either way.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri};
+/// // A square with a square hole.
+/// let mut g = Pslg::new(
+///     vec![[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0], [1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]],
+///     vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]],
+/// );
+/// g.holes.push([2.0, 2.0]);
+/// let cdt = tri::constrained_triangulation(&g, tri::CdtOptions::default()).unwrap();
+/// let rings = tri::boundary_rings(&cdt.points, &cdt.triangles, &cdt.neighbors);
+/// assert_eq!(rings.len(), 2);
+/// let sites = [[0.5, 0.5], [3.5, 3.5], [3.5, 0.5]];
+/// let v = tri::Voronoi2::new(&sites, &delone::triangulate(&sites).unwrap());
+/// let cells = v.cells_in_domain(&sites, &rings);
+/// assert!((cells.area.iter().sum::<f64>() - 12.0).abs() < 1e-12);
+/// ```
+pub fn boundary_rings(
+    points: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    neighbors: &[[u32; 3]],
+) -> Vec<Vec<[f64; 2]>> {
+    // Directed boundary edges a -> b (counterclockwise around the mesh).
+    let mut next: Vec<(u32, u32)> = Vec::new();
+    for (t, nb) in triangles.iter().zip(neighbors) {
+        for i in 0..3 {
+            if nb[i] == crate::NONE {
+                next.push((t[(i + 1) % 3], t[(i + 2) % 3]));
+            }
+        }
+    }
+    next.sort_unstable();
+    let mut used = vec![false; next.len()];
+    let mut rings = Vec::new();
+    for start in 0..next.len() {
+        if used[start] {
+            continue;
+        }
+        let mut ring = Vec::new();
+        let mut k = start;
+        loop {
+            used[k] = true;
+            let (a, b) = next[k];
+            ring.push(points[a as usize]);
+            // The first unused edge leaving b.
+            let from = next.partition_point(|e| e.0 < b);
+            match (from..next.len())
+                .take_while(|&j| next[j].0 == b)
+                .find(|&j| !used[j])
+            {
+                Some(j) => k = j,
+                None => break,
+            }
+        }
+        if ring.len() >= 3 {
+            rings.push(ring);
+        }
+    }
+    rings
+}
+
 /// Lloyd relaxation inside a polygonal domain (outer rings and holes, see
 /// [`Voronoi2::cells_in_domain`]): `iterations` times, triangulate, clip the
 /// cells to the domain and move each site to the centroid of its part.

@@ -13,7 +13,7 @@ pub mod voronoi;
 
 pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
-pub use domain::{lloyd_in_domain, DomainCells2};
+pub use domain::{boundary_rings, lloyd_in_domain, DomainCells2};
 pub use mesh::{validate, validate_regular, TriMesh};
 pub use voronoi::{lloyd, Voronoi2};
 
