@@ -376,13 +376,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                     "  --lloyd: {k} Lloyd iteration(s) in the bounding box"
                 ));
             }
-            let weights = if o.weights {
-                let (w, source) = crate::dual::read_weights(&names.node, &node)?;
-                rep.push(format!("  -w: weights from {source}"));
-                Some(w)
-            } else {
-                None
-            };
+            let weights = read_weights_if(o.weights, &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let res = match &weights {
                 Some(w) => delone::tri::Delaunay2::from_weighted_points(&pts, w),
@@ -399,16 +393,10 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| mesh_error(&names.node, &node, e))?
                 .into_mesh();
             let t_mesh = t1.elapsed();
-            let check = if o.check {
-                let t = Instant::now();
-                let r = match &weights {
-                    Some(w) => delone::tri::validate_regular(&pts, w, &mesh),
-                    None => delone::tri::validate(&pts, &mesh),
-                };
-                Some((r.map_err(|v| v.to_string()), t.elapsed()))
-            } else {
-                None
-            };
+            let check = timed_check(o.check, || match &weights {
+                Some(w) => delone::tri::validate_regular(&pts, w, &mesh),
+                None => delone::tri::validate(&pts, &mesh),
+            });
             let t_extra = Instant::now();
             let mut extra = Vec::new();
             if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
@@ -458,13 +446,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         }
         Mode::Tet => {
             let pts = node.points::<3>().unwrap_or_default();
-            let weights = if o.weights {
-                let (w, source) = crate::dual::read_weights(&names.node, &node)?;
-                rep.push(format!("  -w: weights from {source}"));
-                Some(w)
-            } else {
-                None
-            };
+            let weights = read_weights_if(o.weights, &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");
             let mut tick = |d, t| prog.update(d, t);
@@ -479,16 +461,10 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| mesh_error(&names.node, &node, e))?
                 .into_mesh();
             let t_mesh = t1.elapsed();
-            let check = if o.check {
-                let t = Instant::now();
-                let r = match &weights {
-                    Some(w) => delone::tet::validate_regular(&pts, w, &mesh),
-                    None => delone::tet::validate(&pts, &mesh),
-                };
-                Some((r.map_err(|v| v.to_string()), t.elapsed()))
-            } else {
-                None
-            };
+            let check = timed_check(o.check, || match &weights {
+                Some(w) => delone::tet::validate_regular(&pts, w, &mesh),
+                None => delone::tet::validate(&pts, &mesh),
+            });
             let t_extra = Instant::now();
             let mut extra = Vec::new();
             if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
@@ -743,6 +719,34 @@ fn summarize<const K: usize, const B: usize>(
         }
     }
     Ok(code)
+}
+
+/// The weights for `-w` (FILE.weight or the first node attribute), noting the
+/// source in the report; `None` without `-w`.
+fn read_weights_if(
+    wanted: bool,
+    node_path: &Path,
+    node: &NodeFile,
+    rep: &mut Report,
+) -> Result<Option<Vec<f64>>, Failure> {
+    if !wanted {
+        return Ok(None);
+    }
+    let (w, source) = crate::dual::read_weights(node_path, node)?;
+    rep.push(format!("  -w: weights from {source}"));
+    Ok(Some(w))
+}
+
+/// Runs the validator for `-C` and times it; `None` without `-C`.
+fn timed_check(
+    enabled: bool,
+    check: impl FnOnce() -> Result<(), delone::Violation>,
+) -> Option<(Result<(), String>, Duration)> {
+    enabled.then(|| {
+        let t = Instant::now();
+        let r = check().map_err(|v| v.to_string());
+        (r, t.elapsed())
+    })
 }
 
 #[cfg(test)]
