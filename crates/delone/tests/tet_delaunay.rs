@@ -79,21 +79,23 @@ fn incremental_and_bulk_agree_on_tet_count() {
     for &p in &pts {
         dt.insert(p).unwrap();
     }
-    let mut a: Vec<[u32; 4]> = dt.tets().map(canon).collect();
-    let mut b: Vec<[u32; 4]> = tetrahedralize(&pts)
-        .unwrap()
-        .tets
-        .into_iter()
-        .map(canon)
-        .collect();
-    a.sort_unstable();
-    b.sort_unstable();
-    assert_eq!(a, b);
+    assert_eq!(
+        tet_set(dt.tets()),
+        tet_set(tetrahedralize(&pts).unwrap().tets)
+    );
 }
 
-fn canon(mut t: [u32; 4]) -> [u32; 4] {
-    t.sort_unstable();
-    t
+/// The tetrahedra as a sorted set of sorted vertex quadruples.
+fn tet_set(tets: impl IntoIterator<Item = [u32; 4]>) -> Vec<[u32; 4]> {
+    let mut v: Vec<[u32; 4]> = tets
+        .into_iter()
+        .map(|mut t| {
+            t.sort_unstable();
+            t
+        })
+        .collect();
+    v.sort_unstable();
+    v
 }
 
 #[test]
@@ -356,16 +358,10 @@ fn degenerate_inputs_give_the_same_tets_whatever_the_insertion_order() {
         for &p in &pts {
             dt.insert(p).unwrap();
         }
-        let mut a: Vec<[u32; 4]> = dt.tets().map(canon).collect();
-        let mut b: Vec<[u32; 4]> = tetrahedralize(&pts)
-            .unwrap()
-            .tets
-            .into_iter()
-            .map(canon)
-            .collect();
-        a.sort_unstable();
-        b.sort_unstable();
-        assert_eq!(a, b);
+        assert_eq!(
+            tet_set(dt.tets()),
+            tet_set(tetrahedralize(&pts).unwrap().tets)
+        );
     }
 }
 
@@ -424,10 +420,10 @@ fn random_small_degenerate_lattices() {
             // depends on the order when the group is in a cospherical tie.
             continue;
         }
-        let mut a: Vec<[u32; 4]> = inc.tets.into_iter().map(canon).collect();
-        let mut b: Vec<[u32; 4]> = mesh.tets.into_iter().map(canon).collect();
-        a.sort_unstable();
-        b.sort_unstable();
-        assert_eq!(a, b, "case {case}: order-dependent result");
+        assert_eq!(
+            tet_set(inc.tets),
+            tet_set(mesh.tets),
+            "case {case}: order-dependent result"
+        );
     }
 }
