@@ -1,0 +1,240 @@
+//! The refined input surface: input edges split into chains of subsegments,
+//! Steiner points and the input triangles they lie on, and the exact test of
+//! whether an input triangle is a union of mesh faces.
+
+use std::collections::{HashMap, HashSet};
+
+use super::missing::{ekey, fkey, TET_EDGES};
+use crate::tet::local::{DEAD, INF};
+use crate::tet::Delaunay3;
+
+/// Where a vertex lies on the input surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// An input point (or a point not on the surface).
+    Input,
+    /// A Steiner point on input edge `e`.
+    OnEdge(u32),
+    /// A Steiner point inside input triangle `t`.
+    OnTri(u32),
+}
+
+/// The refined surface.
+#[derive(Debug, Clone)]
+pub(crate) struct Surface {
+    /// Input triangles.
+    pub(crate) tris: Vec<[u32; 3]>,
+    /// Input edges, `[a, b]` with `a < b`, sorted.
+    pub(crate) edges: Vec<[u32; 2]>,
+    /// Per input edge: its vertices from `edges[e][0]` to `edges[e][1]`.
+    pub(crate) chains: Vec<Vec<u32>>,
+    /// Per input triangle: the indices of its edges `(t0,t1), (t1,t2), (t2,t0)`.
+    pub(crate) tri_edges: Vec<[u32; 3]>,
+    /// Per input edge: the triangles that use it.
+    pub(crate) edge_tris: Vec<Vec<u32>>,
+    /// Per vertex: the input triangles it lies on (sorted).
+    pub(crate) vtris: Vec<Vec<u32>>,
+    /// Per vertex: its kind.
+    pub(crate) kind: Vec<Kind>,
+}
+
+/// The mesh edges and faces of the current tetrahedralization.
+pub(crate) struct Skeleton {
+    /// Every finite edge, mapped to one tetrahedron slot containing it.
+    pub(crate) edges: HashMap<(u32, u32), u32>,
+    /// Every finite face (sorted vertex triple).
+    pub(crate) faces: Vec<[u32; 3]>,
+}
+
+impl Skeleton {
+    pub(crate) fn of(dt: &Delaunay3<'_>) -> Skeleton {
+        let c = &dt.core;
+        let mut edges = HashMap::new();
+        let mut faces = Vec::new();
+        for (t, tv) in c.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for (i, j) in TET_EDGES {
+                edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
+            }
+            for f in 0..4 {
+                let u = (c.adj[t][f] >> 2) as usize;
+                if u < t && !c.v[u].contains(&INF) {
+                    continue;
+                }
+                let k = [tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]];
+                faces.push(fkey(k));
+            }
+        }
+        faces.sort_unstable();
+        Skeleton { edges, faces }
+    }
+}
+
+impl Surface {
+    pub(crate) fn new(n: usize, tris: &[[u32; 3]]) -> Surface {
+        let mut keys: Vec<(u32, u32)> = tris
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let index: HashMap<(u32, u32), u32> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| (k, i as u32))
+            .collect();
+        let mut edge_tris = vec![Vec::new(); keys.len()];
+        let mut tri_edges = Vec::with_capacity(tris.len());
+        let mut vtris = vec![Vec::new(); n];
+        for (ti, t) in tris.iter().enumerate() {
+            let mut te = [0u32; 3];
+            for k in 0..3 {
+                let e = index[&ekey(t[k], t[(k + 1) % 3])];
+                te[k] = e;
+                edge_tris[e as usize].push(ti as u32);
+                vtris[t[k] as usize].push(ti as u32);
+            }
+            tri_edges.push(te);
+        }
+        for l in &mut vtris {
+            l.sort_unstable();
+            l.dedup();
+        }
+        Surface {
+            tris: tris.to_vec(),
+            edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
+            chains: keys.iter().map(|&(a, b)| vec![a, b]).collect(),
+            tri_edges,
+            edge_tris,
+            vtris,
+            kind: vec![Kind::Input; n],
+        }
+    }
+
+    /// Records Steiner vertex `id` on edge `e` between chain positions `i`
+    /// and `i + 1`.
+    pub(crate) fn add_on_edge(&mut self, id: u32, e: u32, i: usize) {
+        self.grow(id);
+        self.chains[e as usize].insert(i + 1, id);
+        self.kind[id as usize] = Kind::OnEdge(e);
+        self.vtris[id as usize] = self.edge_tris[e as usize].clone();
+    }
+
+    /// Records Steiner vertex `id` inside triangle `t`.
+    pub(crate) fn add_on_tri(&mut self, id: u32, t: u32) {
+        self.grow(id);
+        self.kind[id as usize] = Kind::OnTri(t);
+        self.vtris[id as usize] = vec![t];
+    }
+
+    fn grow(&mut self, id: u32) {
+        let n = id as usize + 1;
+        if self.kind.len() < n {
+            self.kind.resize(n, Kind::Input);
+            self.vtris.resize(n, Vec::new());
+        }
+    }
+
+    /// Bit `k` set when vertex `w` lies on local edge `k` of triangle `t`.
+    fn edge_mask(&self, w: u32, t: usize) -> u8 {
+        let tv = self.tris[t];
+        match self.kind[w as usize] {
+            Kind::Input => {
+                let mut m = 0;
+                for k in 0..3 {
+                    if tv[k] == w || tv[(k + 1) % 3] == w {
+                        m |= 1 << k;
+                    }
+                }
+                m
+            }
+            Kind::OnEdge(e) => {
+                let mut m = 0;
+                for k in 0..3 {
+                    if self.tri_edges[t][k] == e {
+                        m |= 1 << k;
+                    }
+                }
+                m
+            }
+            Kind::OnTri(_) => 0,
+        }
+    }
+
+    /// The input triangles a mesh face lies on (by vertex membership), the
+    /// face not being three points of one edge chain.
+    pub(crate) fn face_triangles(&self, f: [u32; 3], out: &mut Vec<u32>) {
+        out.clear();
+        let get = |w: u32| self.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
+        let (a, b, c) = (get(f[0]), get(f[1]), get(f[2]));
+        for &t in a {
+            if b.binary_search(&t).is_ok() && c.binary_search(&t).is_ok() {
+                let m = self.edge_mask(f[0], t as usize)
+                    & self.edge_mask(f[1], t as usize)
+                    & self.edge_mask(f[2], t as usize);
+                if m == 0 {
+                    out.push(t);
+                }
+            }
+        }
+    }
+
+    /// The subsegments on the boundary of triangle `t`.
+    pub(crate) fn boundary(&self, t: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.tri_edges[t]
+            .iter()
+            .flat_map(move |&e| self.chains[e as usize].windows(2).map(|w| ekey(w[0], w[1])))
+    }
+
+    /// Per input triangle, the mesh faces lying on it, and whether they
+    /// cover it exactly: the faces' edges used once are exactly the
+    /// subsegments of its boundary, every other edge is used twice. (Faces
+    /// of a valid tetrahedralization never overlap, so a set of them inside
+    /// the triangle whose mod-2 boundary is the triangle's boundary covers
+    /// it exactly once.)
+    pub(crate) fn coverage(&self, sk: &Skeleton) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
+        let mut on = vec![Vec::new(); self.tris.len()];
+        let mut buf = Vec::new();
+        for &f in &sk.faces {
+            self.face_triangles(f, &mut buf);
+            for &t in &buf {
+                on[t as usize].push(f);
+            }
+        }
+        let covered = (0..self.tris.len())
+            .map(|t| self.covers(t, &on[t]))
+            .collect();
+        (on, covered)
+    }
+
+    fn covers(&self, t: usize, faces: &[[u32; 3]]) -> bool {
+        if faces.is_empty() {
+            return false;
+        }
+        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        for f in faces {
+            for k in 0..3 {
+                *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        let bnd: HashSet<(u32, u32)> = self.boundary(t).collect();
+        for b in &bnd {
+            if count.get(b) != Some(&1) {
+                return false;
+            }
+        }
+        count
+            .iter()
+            .all(|(e, &c)| if bnd.contains(e) { c == 1 } else { c == 2 })
+    }
+
+    /// Vertices lying on triangle `t`: corners, edge Steiner points, inner
+    /// Steiner points.
+    pub(crate) fn on_triangle(&self, w: u32, t: usize) -> bool {
+        self.vtris
+            .get(w as usize)
+            .is_some_and(|l| l.binary_search(&(t as u32)).is_ok())
+    }
+}
