@@ -129,7 +129,7 @@ pub fn check_recovered(
             ),
         );
     }
-    let tol_dev = rec.report.max_deviation * s.0 * s.1 * (1.0 + 1e-6);
+    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
     let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
     let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
     for (bi, (&f, &ti)) in rec.boundary.iter().zip(&rec.boundary_triangle).enumerate() {

@@ -128,7 +128,15 @@ pub(crate) fn edge_point(a: &P, b: &P, u: &P, v: &P, shell_from: Option<bool>) -
     if collinear(a, b, &p) {
         return Some((p, 0.0));
     }
-    Some((p, line_distance(a, b, &p)))
+    Some((p, inexact_distance(line_distance(a, b, &p), &p)))
+}
+
+/// A positive stand-in for the distance of an inexact point (the floating
+/// distance can round to zero), at least one unit in the last place of its
+/// largest coordinate.
+fn inexact_distance(d: f64, p: &P) -> f64 {
+    let m = p.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    d.max(m * f64::EPSILON).max(f64::MIN_POSITIVE)
 }
 
 /// Distance of `p` to the line `a b` (floating).
@@ -199,7 +207,7 @@ pub(crate) fn facet_point(a: &P, b: &P, c: &P, p: &P, q: &P) -> (P, f64) {
     if orient3d(a, b, c, &x) == 0.0 {
         (x, 0.0)
     } else {
-        (x, plane_distance(a, b, c, &x))
+        (x, inexact_distance(plane_distance(a, b, c, &x), &x))
     }
 }
 
