@@ -313,11 +313,11 @@ fn corpus(max_tris: usize) -> Option<(usize, usize)> {
 #[test]
 fn small_closed_models() {
     // Every result that is returned passes check_recovered (inside `run`);
-    // failures are typed errors, printed. At least the smallest models must
-    // succeed.
+    // failures are typed errors, printed. All models up to 400 triangles are
+    // recovered today.
     if let Some((ok, all)) = corpus(400) {
         assert!(all > 0);
-        assert!(ok > 0, "no model recovered");
+        assert_eq!(ok, all, "some small closed models were not recovered");
     }
 }
 
@@ -352,5 +352,30 @@ fn debug_hole() {
     }
     for q in [2usize, 3, 4, 21] {
         println!("p{q} = {:?}", r.points[q]);
+    }
+}
+
+#[test]
+#[ignore]
+fn debug_model() {
+    let dir = data_dir().unwrap();
+    let name = std::env::var("MODEL").unwrap();
+    let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(name)).unwrap());
+    let _ = run("model", &pts, &tris);
+    let r = recover(
+        &pts,
+        &tris,
+        &RecoverOptions {
+            flips: false,
+            ..Default::default()
+        },
+    );
+    match r {
+        Ok(r) => println!(
+            "noflips: ok steiner {} check {:?}",
+            r.report.steiner(),
+            check_recovered(&pts, &tris, &r)
+        ),
+        Err(e) => println!("noflips: {e}"),
     }
 }

@@ -413,8 +413,14 @@ impl State {
                 hi[k] = hi[k].max(p[k]);
             }
         }
+        // Edges with an end on `t` cannot cross its interior (exactly); with
+        // inexact Steiner points on its sides they could seem to, so they
+        // are left out.
         list.iter()
             .filter(|((p, q), _)| {
+                if self.surf.on_triangle(*p, t) || self.surf.on_triangle(*q, t) {
+                    return false;
+                }
                 let (p, q) = (&pts[*p as usize], &pts[*q as usize]);
                 (0..3).all(|k| p[k].max(q[k]) >= lo[k] && p[k].min(q[k]) <= hi[k])
                     && place::crosses(&a, &b, &c, p, q)
@@ -463,6 +469,7 @@ impl State {
     }
 
     fn run(&mut self, dt: &mut Delaunay3<'_>) -> Result<(), RecoverError> {
+        let mut use_flips = self.opts.flips;
         loop {
             self.report.rounds += 1;
             let sk = Skeleton::of(dt);
@@ -476,7 +483,7 @@ impl State {
                 }
                 continue;
             }
-            let (_, covered) = self.surf.coverage(&sk);
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
                 return Ok(());
@@ -484,55 +491,75 @@ impl State {
             let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
             list.sort_unstable();
             let mut progress = false;
+            let mut deferred = false;
             for &t in &uncovered {
                 if !self.steiner_left() {
                     return Err(self.budget_error(0, uncovered.len()));
                 }
                 let cross = self.crossing_edges(dt, &list, t);
                 if cross.is_empty() {
+                    progress |= self.split_hole(dt, t, &on[t])?;
                     continue;
                 }
-                if self.opts.flips
+                if use_flips
                     && cross
                         .iter()
                         .any(|&(k, tet)| self.flippable(dt, t, k, tet).is_some())
                 {
+                    deferred = true;
                     continue;
                 }
                 progress |= self.split_facet(dt, t, cross[0].0)?;
             }
-            if !progress {
-                break;
+            if progress {
+                continue;
             }
+            if deferred {
+                // Try the flips on a copy: keep it if they recover every
+                // triangle, else go on splitting without flips.
+                let mut trial = dt.clone();
+                if let Some(n) = self.flip_phase(&mut trial) {
+                    *dt = trial;
+                    self.report.flips32 += n;
+                    return Ok(());
+                }
+                use_flips = false;
+                continue;
+            }
+            return Err(RecoverError::Unrecovered {
+                triangles: uncovered,
+                steiner: self.report.steiner(),
+            });
         }
-        // Flip phase: no Delaunay insertion after this point.
+    }
+
+    /// Applies 3-2 flips that create faces on missing triangles until all
+    /// are recovered (returns the number of flips) or no flip applies
+    /// (`None`). No Delaunay insertion may follow a flip.
+    fn flip_phase(&self, dt: &mut Delaunay3<'_>) -> Option<usize> {
+        let mut flips = 0;
         loop {
             let sk = Skeleton::of(dt);
-            let (_, covered) = self.surf.coverage(&sk);
+            let (_, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
-                return Ok(());
+                return Some(flips);
             }
             let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
             list.sort_unstable();
             let mut flipped = false;
-            if self.opts.flips {
-                for &t in &uncovered {
-                    for (k, tet) in self.crossing_edges(dt, &list, t) {
-                        if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
-                            flip::flip32(&mut dt.core, &ring, k.0, k.1, r, orient);
-                            self.report.flips32 += 1;
-                            flipped = true;
-                            break;
-                        }
+            for &t in &uncovered {
+                for (k, tet) in self.crossing_edges(dt, &list, t) {
+                    if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
+                        flip::flip32(&mut dt.core, &ring, k.0, k.1, r, orient);
+                        flips += 1;
+                        flipped = true;
+                        break;
                     }
                 }
             }
             if !flipped {
-                return Err(RecoverError::Unrecovered {
-                    triangles: uncovered,
-                    steiner: self.report.steiner(),
-                });
+                return None;
             }
         }
     }
@@ -550,6 +577,67 @@ impl State {
         let tv = self.surf.tris[t];
         let [a, b, c] = tv.map(g);
         let (x, dev) = place::facet_point(&a, &b, &c, &g(k.0), &g(k.1));
+        self.insert_in_facet(dt, t, x, dev)
+    }
+
+    /// Splits the longest edge around the uncovered part of triangle `t`
+    /// (used when no mesh edge is found crossing it, which inexact Steiner
+    /// points on its sides can cause): a boundary subsegment is split on its
+    /// edge, another edge at its midpoint as a point of `t`.
+    fn split_hole(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Result<bool, RecoverError> {
+        let holes = self.surf.hole_edges(t, faces);
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
+        let len2 = |(u, v): (u32, u32)| {
+            let d = place::sub(&g(u), &g(v));
+            place::dot(&d, &d)
+        };
+        let Some(&(u, v)) = holes
+            .iter()
+            .max_by(|&&x, &&y| len2(x).total_cmp(&len2(y)).then(y.cmp(&x)))
+        else {
+            return Ok(false);
+        };
+        for &e in &self.surf.tri_edges[t] {
+            let chain = &self.surf.chains[e as usize];
+            if let Some(w) = chain.windows(2).find(|w| ekey(w[0], w[1]) == (u, v)) {
+                let (a, b) = (w[0], w[1]);
+                return self.split_edge(dt, e, a, b);
+            }
+        }
+        let tv = self.surf.tris[t];
+        let [a, b, c] = tv.map(g);
+        let (pu, pv) = (g(u), g(v));
+        let mut x = [0, 1, 2].map(|k| 0.5 * (pu[k] + pv[k]));
+        for k in 0..3 {
+            if a[k] == b[k] && b[k] == c[k] {
+                x[k] = a[k];
+            }
+        }
+        let dev = if delone_predicates::orient3d(&a, &b, &c, &x) == 0.0 {
+            0.0
+        } else {
+            place::plane_distance(&a, &b, &c, &x).max(f64::MIN_POSITIVE)
+        };
+        self.insert_in_facet(dt, t, x, dev)
+    }
+
+    /// Inserts `x` (on triangle `t` up to `dev`) unless it encroaches a
+    /// boundary subsegment of `t` (then that is split) or is not inside `t`.
+    fn insert_in_facet(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+        x: [f64; 3],
+        dev: f64,
+    ) -> Result<bool, RecoverError> {
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
         for &e in &self.surf.tri_edges[t] {
             let chain = &self.surf.chains[e as usize];
             for w in chain.windows(2) {
@@ -559,6 +647,7 @@ impl State {
                 }
             }
         }
+        let [a, b, c] = self.surf.tris[t].map(g);
         if !place::inside_triangle(&a, &b, &c, &x) {
             return Ok(false);
         }
@@ -580,7 +669,7 @@ impl State {
         unscale: f64,
     ) -> Result<Recovered, RecoverError> {
         let sk = Skeleton::of(dt);
-        let (on, _) = self.surf.coverage(&sk);
+        let (on, _) = self.surf.coverage(&sk, dt.points());
         let constraint: HashSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let core = &dt.core;
         let depth = carve::depths(core, &constraint);

@@ -5,7 +5,8 @@
 use std::collections::{HashMap, HashSet};
 
 use super::missing::{ekey, fkey, TET_EDGES};
-use crate::tet::local::{DEAD, INF};
+use super::place::{cross, dot, sub};
+use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
 
 /// Where a vertex lies on the input surface.
@@ -44,6 +45,8 @@ pub(crate) struct Skeleton {
     pub(crate) edges: HashMap<(u32, u32), u32>,
     /// Every finite face (sorted vertex triple).
     pub(crate) faces: Vec<[u32; 3]>,
+    /// Every finite tetrahedron (positively oriented).
+    pub(crate) tets: Vec<[u32; 4]>,
 }
 
 impl Skeleton {
@@ -51,10 +54,12 @@ impl Skeleton {
         let c = &dt.core;
         let mut edges = HashMap::new();
         let mut faces = Vec::new();
+        let mut tets = Vec::new();
         for (t, tv) in c.v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
+            tets.push(*tv);
             for (i, j) in TET_EDGES {
                 edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
             }
@@ -68,7 +73,7 @@ impl Skeleton {
             }
         }
         faces.sort_unstable();
-        Skeleton { edges, faces }
+        Skeleton { edges, faces, tets }
     }
 }
 
@@ -194,7 +199,17 @@ impl Surface {
     /// of a valid tetrahedralization never overlap, so a set of them inside
     /// the triangle whose mod-2 boundary is the triangle's boundary covers
     /// it exactly once.)
-    pub(crate) fn coverage(&self, sk: &Skeleton) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
+    ///
+    /// A tetrahedron whose four vertices all lie on one input triangle (a
+    /// sliver made by Steiner points that are not exactly on it) has all
+    /// four faces "on" the triangle; only its faces whose outward normal
+    /// points to the triangle's positive side are kept, so the sliver joins
+    /// the region below the triangle.
+    pub(crate) fn coverage(
+        &self,
+        sk: &Skeleton,
+        pts: &[[f64; 3]],
+    ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
         let mut on = vec![Vec::new(); self.tris.len()];
         let mut buf = Vec::new();
         for &f in &sk.faces {
@@ -203,10 +218,63 @@ impl Surface {
                 on[t as usize].push(f);
             }
         }
+        let mut drop: Vec<(u32, [u32; 3])> = Vec::new();
+        let mut common = Vec::new();
+        for tv in &sk.tets {
+            self.face_triangles([tv[0], tv[1], tv[2]], &mut buf);
+            if buf.is_empty() {
+                continue;
+            }
+            self.face_triangles([tv[0], tv[1], tv[3]], &mut common);
+            for &t in buf.iter().filter(|t| common.contains(t)) {
+                if !self.on_triangle(tv[3], t as usize) {
+                    continue;
+                }
+                let [a, b, c] = self.tris[t as usize].map(|w| pts[w as usize]);
+                let nt = cross(&sub(&b, &a), &sub(&c, &a));
+                for fv in FACET {
+                    let [x, y, z] = fv.map(|i| pts[tv[i] as usize]);
+                    // Outward normal of the face: reverse of FACET order.
+                    let n = cross(&sub(&z, &x), &sub(&y, &x));
+                    if dot(&n, &nt) <= 0.0 {
+                        drop.push((t, fkey(fv.map(|i| tv[i]))));
+                    }
+                }
+            }
+        }
+        for (t, f) in drop {
+            on[t as usize].retain(|&g| g != f);
+        }
         let covered = (0..self.tris.len())
             .map(|t| self.covers(t, &on[t]))
             .collect();
         (on, covered)
+    }
+
+    /// The edges around the uncovered part of triangle `t`: boundary
+    /// subsegments no face on `t` uses, and other edges used by one face
+    /// only. Sorted.
+    pub(crate) fn hole_edges(&self, t: usize, faces: &[[u32; 3]]) -> Vec<(u32, u32)> {
+        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        for f in faces {
+            for k in 0..3 {
+                *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        let bnd: HashSet<(u32, u32)> = self.boundary(t).collect();
+        let mut out: Vec<(u32, u32)> = bnd
+            .iter()
+            .filter(|e| !count.contains_key(e))
+            .copied()
+            .collect();
+        out.extend(
+            count
+                .iter()
+                .filter(|(e, &c)| c == 1 && !bnd.contains(e))
+                .map(|(&e, _)| e),
+        );
+        out.sort_unstable();
+        out
     }
 
     fn covers(&self, t: usize, faces: &[[u32; 3]]) -> bool {
