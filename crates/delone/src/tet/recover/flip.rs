@@ -82,3 +82,51 @@ pub(crate) fn flip32(
     core.last = a;
     [a, b]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tet::recover::missing;
+    use crate::tet::Delaunay3;
+
+    #[test]
+    fn flip32_creates_the_ring_face() {
+        // p and q close to the plane of r0 r1 r2: the Delaunay
+        // tetrahedralization has edge p q with three tetrahedra around it.
+        let s = 3f64.sqrt() / 2.0;
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [-0.5, s, 0.0],
+            [-0.5, -s, 0.0],
+            [0.0, 0.0, 0.1],
+            [0.0, 0.0, -0.1],
+        ];
+        let mut dt = Delaunay3::from_points(&pts).unwrap();
+        assert_eq!(dt.num_tets(), 3);
+        assert!(!missing(&[[0, 1, 2]], dt.tets()).triangles.is_empty());
+        let t = dt
+            .core
+            .v
+            .iter()
+            .position(|tv| {
+                tv[0] != DEAD && !tv.contains(&INF) && tv.contains(&3) && tv.contains(&4)
+            })
+            .unwrap() as u32;
+        let r = ring(&dt.core, t, 3, 4, 8).unwrap();
+        assert_eq!(r.len(), 3);
+        let orient = delone_predicates::orient3d(&pts[0], &pts[1], &pts[2], &pts[3]) < 0.0;
+        flip32(&mut dt.core, &r, 3, 4, [0, 1, 2], orient);
+        dt.check_topology().unwrap();
+        assert_eq!(dt.num_tets(), 2);
+        assert!(missing(&[[0, 1, 2]], dt.tets()).is_empty());
+        // A ring through a ghost cell is refused.
+        let hull = dt
+            .core
+            .v
+            .iter()
+            .position(|tv| tv[0] != DEAD && tv.contains(&INF))
+            .unwrap();
+        let tv = dt.core.v[hull];
+        assert!(ring(&dt.core, hull as u32, tv[0], tv[1], 8).is_none());
+    }
+}
