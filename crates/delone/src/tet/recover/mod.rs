@@ -671,6 +671,11 @@ impl State {
         let sk = Skeleton::of(dt);
         let (on, _) = self.surf.coverage(&sk, dt.points());
         let constraint: HashSet<[u32; 3]> = on.iter().flatten().copied().collect();
+        let face_tri: std::collections::HashMap<[u32; 3], u32> = on
+            .iter()
+            .enumerate()
+            .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
+            .collect();
         let core = &dt.core;
         let depth = carve::depths(core, &constraint);
         let inside = |t: usize| {
@@ -688,7 +693,6 @@ impl State {
         let mut neighbors = Vec::with_capacity(tets.len());
         let mut boundary = Vec::new();
         let mut boundary_triangle = Vec::new();
-        let mut buf = Vec::new();
         for t in 0..core.v.len() {
             if !inside(t) {
                 continue;
@@ -702,9 +706,13 @@ impl State {
                 } else {
                     let [x, y, z] = FACET[f].map(|i| tv[i]);
                     let face = [x, z, y];
-                    self.surf.face_triangles(missing::fkey(face), &mut buf);
                     boundary.push(face);
-                    boundary_triangle.push(buf.first().copied().unwrap_or(crate::NONE));
+                    boundary_triangle.push(
+                        face_tri
+                            .get(&missing::fkey(face))
+                            .copied()
+                            .unwrap_or(crate::NONE),
+                    );
                 }
             }
             neighbors.push(nb);

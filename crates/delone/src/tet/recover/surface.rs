@@ -171,7 +171,19 @@ impl Surface {
     /// The input triangles a mesh face lies on (by vertex membership), the
     /// face not being three points of one edge chain.
     pub(crate) fn face_triangles(&self, f: [u32; 3], out: &mut Vec<u32>) {
+        self.face_triangles_split(f, out, &mut Vec::new());
+    }
+
+    /// Like [`Surface::face_triangles`], also listing in `flat` the input
+    /// triangles on which the face is three points of one edge chain.
+    pub(crate) fn face_triangles_split(
+        &self,
+        f: [u32; 3],
+        out: &mut Vec<u32>,
+        flat: &mut Vec<u32>,
+    ) {
         out.clear();
+        flat.clear();
         let get = |w: u32| self.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
         let (a, b, c) = (get(f[0]), get(f[1]), get(f[2]));
         for &t in a {
@@ -181,6 +193,8 @@ impl Surface {
                     & self.edge_mask(f[2], t as usize);
                 if m == 0 {
                     out.push(t);
+                } else {
+                    flat.push(t);
                 }
             }
         }
@@ -212,11 +226,14 @@ impl Surface {
     ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
         let mut on = vec![Vec::new(); self.tris.len()];
         let mut buf = Vec::new();
+        let mut flat_buf = Vec::new();
+        let mut flat: Vec<(u32, [u32; 3])> = Vec::new();
         for &f in &sk.faces {
-            self.face_triangles(f, &mut buf);
+            self.face_triangles_split(f, &mut buf, &mut flat_buf);
             for &t in &buf {
                 on[t as usize].push(f);
             }
+            flat.extend(flat_buf.iter().map(|&t| (t, f)));
         }
         let mut drop: Vec<(u32, [u32; 3])> = Vec::new();
         let mut common = Vec::new();
@@ -244,6 +261,34 @@ impl Surface {
         }
         for (t, f) in drop {
             on[t as usize].retain(|&g| g != f);
+        }
+        // Chords: with inexact Steiner points on an edge, a mesh edge
+        // joining two vertices of its chain can coexist with the
+        // subsegments between them, the thin face of three chain points
+        // closing the gap. Such a face joins the triangle whose faces use
+        // the chord, until no more apply.
+        let mut changed = true;
+        while changed && !flat.is_empty() {
+            changed = false;
+            let mut rest = Vec::new();
+            for (t, f) in flat {
+                let bnd = |e: (u32, u32)| self.boundary(t as usize).any(|b| b == e);
+                let uses = |e: (u32, u32)| {
+                    on[t as usize]
+                        .iter()
+                        .any(|g| (0..3).any(|k| ekey(g[k], g[(k + 1) % 3]) == e))
+                };
+                let chord = (0..3)
+                    .map(|k| ekey(f[k], f[(k + 1) % 3]))
+                    .any(|e| !bnd(e) && uses(e));
+                if chord {
+                    on[t as usize].push(f);
+                    changed = true;
+                } else {
+                    rest.push((t, f));
+                }
+            }
+            flat = rest;
         }
         let covered = (0..self.tris.len())
             .map(|t| self.covers(t, &on[t]))
