@@ -205,28 +205,21 @@ fn thin_split_box() {
 }
 
 #[test]
-#[ignore]
-fn debug_box() {
-    let (pts, tris) = thin_box();
-    let r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
-    println!("tri12 {:?}", tris[12]);
-    for (f, t) in r.boundary.iter().zip(&r.boundary_triangle) {
-        if *t == 12 {
-            println!("face {f:?}");
-        }
-    }
-    for q in 0..r.points.len() {
-        println!("p{q} {:?}", r.points[q]);
-    }
-}
-
-#[test]
 fn invalid_input_gives_typed_errors() {
     let (pts, tris) = cube();
     let open = &tris[..11];
     assert!(matches!(
         recover(&pts, open, &RecoverOptions::default()),
         Err(RecoverError::OpenSurface { .. })
+    ));
+    // Two overlapping cubes: a self-intersecting (closed) surface.
+    let mut pts2 = pts.clone();
+    pts2.extend(pts.iter().map(|p| p.map(|c| c + 0.5)));
+    let mut tris2 = tris.clone();
+    tris2.extend(tris.iter().map(|t| t.map(|v| v + 8)));
+    assert!(matches!(
+        recover(&pts2, &tris2, &RecoverOptions::default()),
+        Err(RecoverError::Input(delone::Error::SelfIntersection { .. }))
     ));
     let mut bad = tris.clone();
     bad[0][0] = 99;
@@ -327,39 +320,15 @@ fn medium_closed_models() {
     corpus(6000);
 }
 
+/// One model of the corpus, named by the `MODEL` environment variable
+/// (e.g. `MODEL=surf/off/cgal_u.off`), with and without flips.
 #[test]
-#[ignore]
-fn debug_hole() {
-    let dir = data_dir().unwrap();
-    let (pts, tris) =
-        read_off(&std::fs::read_to_string(dir.join("surf/off/cgal_hole.off")).unwrap());
-    let r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
-    println!(
-        "npts {} input {} inexact {:?}",
-        r.points.len(),
-        pts.len(),
-        r.inexact
-    );
-    println!("tri 27 = {:?}", tris[27]);
-    for (i, (f, t)) in r
-        .boundary
-        .iter()
-        .zip(&r.boundary_triangle)
-        .enumerate()
-        .take(5)
-    {
-        println!("face {i} {f:?} on {t}");
-    }
-    for q in [2usize, 3, 4, 21] {
-        println!("p{q} = {:?}", r.points[q]);
-    }
-}
-
-#[test]
-#[ignore]
-fn debug_model() {
-    let dir = data_dir().unwrap();
-    let name = std::env::var("MODEL").unwrap();
+#[ignore = "manual: set MODEL"]
+fn one_model() {
+    let (Some(dir), Ok(name)) = (data_dir(), std::env::var("MODEL")) else {
+        println!("set MODEL and provide shared/data");
+        return;
+    };
     let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(name)).unwrap());
     let _ = run("model", &pts, &tris);
     let r = recover(
@@ -372,10 +341,27 @@ fn debug_model() {
     );
     match r {
         Ok(r) => println!(
-            "noflips: ok steiner {} check {:?}",
+            "no flips: steiner {}, check {:?}",
             r.report.steiner(),
             check_recovered(&pts, &tris, &r)
         ),
-        Err(e) => println!("noflips: {e}"),
+        Err(e) => println!("no flips: {e}"),
     }
+}
+
+#[test]
+fn recovery_is_deterministic() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    let Ok(text) = std::fs::read_to_string(dir.join("surf/off/cgal_u.off")) else {
+        println!("cgal_u.off not found; skipping");
+        return;
+    };
+    let (pts, tris) = read_off(&text);
+    let a = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+    let b = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+    assert_eq!(a, b);
+    assert!(a.report.steiner() > 0);
 }

@@ -156,8 +156,15 @@ pub fn check_recovered(
         let [ta, tb, tc] = tri.map(|q| sp[q as usize]);
         for &q in &f {
             let p = sp[q as usize];
+            // An inexact point is within the reported deviation of the
+            // plane, or (for a point on a side, which is the better
+            // conditioned test on needle-shaped triangles) of a side's line.
             let on = orient3d(&ta, &tb, &tc, &p) == 0.0
-                || (inexact(q) && plane_distance(&ta, &tb, &tc, &p) <= tol_dev);
+                || (inexact(q)
+                    && (plane_distance(&ta, &tb, &tc, &p) <= tol_dev
+                        || line_distance(&ta, &tb, &p) <= tol_dev
+                        || line_distance(&tb, &tc, &p) <= tol_dev
+                        || line_distance(&tc, &ta, &p) <= tol_dev));
             if !on {
                 return bad(
                     "constraint",
