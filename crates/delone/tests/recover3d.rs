@@ -320,6 +320,12 @@ fn medium_closed_models() {
     corpus(6000);
 }
 
+#[test]
+#[ignore = "slow: the closed models up to 30000 triangles"]
+fn large_closed_models() {
+    corpus(30000);
+}
+
 /// One model of the corpus, named by the `MODEL` environment variable
 /// (e.g. `MODEL=surf/off/cgal_u.off`), with and without flips.
 #[test]

@@ -395,7 +395,55 @@ impl State {
         out
     }
 
-    /// Mesh edges crossing the interior of input triangle `t`, sorted.
+    /// Mesh edges crossing the interior of input triangle `t`, sorted: first
+    /// searched among the tetrahedra around the edges bounding its
+    /// uncovered part (any tetrahedron meeting the uncovered part next to
+    /// such an edge has an edge crossing `t`), then, if none is found there,
+    /// among all edges.
+    fn find_crossing(
+        &self,
+        dt: &Delaunay3<'_>,
+        sk: &Skeleton,
+        list: &[((u32, u32), u32)],
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
+        let core = &dt.core;
+        let mut local: Vec<((u32, u32), u32)> = Vec::new();
+        let mut seen: HashSet<u32> = HashSet::new();
+        for (u, v) in self.surf.hole_edges(t, faces) {
+            let Some(&start) = sk.edges.get(&(u, v)) else {
+                continue;
+            };
+            let mut stack = vec![start];
+            while let Some(x) = stack.pop() {
+                let xv = core.v[x as usize];
+                if xv[0] == DEAD || !xv.contains(&u) || !xv.contains(&v) || !seen.insert(x) {
+                    continue;
+                }
+                if !xv.contains(&INF) {
+                    for (i, j) in missing::TET_EDGES {
+                        local.push((ekey(xv[i], xv[j]), x));
+                    }
+                }
+                for f in 0..4 {
+                    if xv[f] != u && xv[f] != v {
+                        stack.push(core.adj[x as usize][f] >> 2);
+                    }
+                }
+            }
+        }
+        local.sort_unstable();
+        local.dedup_by_key(|e| e.0);
+        let found = self.crossing_edges(dt, &local, t);
+        if found.is_empty() {
+            self.crossing_edges(dt, list, t)
+        } else {
+            found
+        }
+    }
+
+    /// Mesh edges of `list` crossing the interior of input triangle `t`.
     fn crossing_edges(
         &self,
         dt: &Delaunay3<'_>,
@@ -496,7 +544,7 @@ impl State {
                 if !self.steiner_left() {
                     return Err(self.budget_error(0, uncovered.len()));
                 }
-                let cross = self.crossing_edges(dt, &list, t);
+                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
                 if cross.is_empty() {
                     progress |= self.split_hole(dt, t, &on[t])?;
                     continue;
@@ -540,7 +588,7 @@ impl State {
         let mut flips = 0;
         loop {
             let sk = Skeleton::of(dt);
-            let (_, covered) = self.surf.coverage(&sk, dt.points());
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
                 return Some(flips);
@@ -549,7 +597,7 @@ impl State {
             list.sort_unstable();
             let mut flipped = false;
             for &t in &uncovered {
-                for (k, tet) in self.crossing_edges(dt, &list, t) {
+                for (k, tet) in self.find_crossing(dt, &sk, &list, t, &on[t]) {
                     if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
                         flip::flip32(&mut dt.core, &ring, k.0, k.1, r, orient);
                         flips += 1;
