@@ -426,8 +426,8 @@ impl State {
                         local.push((ekey(xv[i], xv[j]), x));
                     }
                 }
-                for f in 0..4 {
-                    if xv[f] != u && xv[f] != v {
+                for (f, &w) in xv.iter().enumerate() {
+                    if w != u && w != v {
                         stack.push(core.adj[x as usize][f] >> 2);
                     }
                 }
