@@ -17,32 +17,47 @@
 //!    edge are refined with it; repeated until every subsegment is an edge;
 //! 4. **facet recovery** — an input triangle is recovered when the mesh faces
 //!    on it cover it exactly (see below). For a missing one, the mesh edges
-//!    crossing its interior are found exactly; if one such edge can be
-//!    removed by a 3-2 flip that creates a face on the triangle, the triangle
-//!    waits for the flip phase; otherwise a Steiner point is inserted where
-//!    the edge crosses it (or, when that point encroaches a boundary
-//!    subsegment of the triangle, the subsegment is split instead, Shewchuk's
-//!    rule). Segment and facet rounds alternate until nothing is missing, the
-//!    Steiner budget is exhausted ([`RecoverError::SteinerBudget`]) or no
-//!    progress is possible. Then the pending 3-2 flips are applied (after
-//!    which no more Delaunay insertions happen, since flips break the
-//!    Delaunay property the insertion relies on), and triangles still missing
-//!    are reported by index ([`RecoverError::Unrecovered`]) — never looped on;
-//! 5. **carving** — a 0-1 breadth-first search from the outside counts the
+//!    crossing its interior are found exactly (first among the tetrahedra
+//!    around the edges bounding its uncovered part, then among all edges);
+//!    if one such edge can be removed by a 3-2 flip that creates a face on
+//!    the triangle, the triangle is deferred; otherwise a Steiner point is
+//!    inserted where the edge crosses it (or, when that point encroaches a
+//!    boundary subsegment of the triangle, the subsegment is split instead,
+//!    Shewchuk's rule). When no crossing edge is found (possible only
+//!    because of inexact Steiner points), the longest edge around the
+//!    uncovered part is split. Segment and facet rounds alternate until
+//!    nothing is missing, the Steiner budget is exhausted
+//!    ([`RecoverError::SteinerBudget`]) or no progress is possible;
+//! 5. **flips** — when only deferred triangles remain, the 3-2 flips are
+//!    tried on a copy of the mesh; the copy is kept when they recover every
+//!    triangle (no Delaunay insertion follows, since flips break the Delaunay
+//!    property insertion relies on), else splitting resumes without flips.
+//!    Triangles that neither splitting nor flips recover are reported by
+//!    index ([`RecoverError::Unrecovered`]) — never looped on;
+//! 6. **carving** — a 0-1 breadth-first search from the outside counts the
 //!    constraint faces crossed; odd cells are inside.
 //!
 //! Every Steiner point lies on the surface (on an input edge or triangle):
-//! this stage makes a *conforming* tetrahedralization of the surface plus
-//! flips; it never needs interior Steiner points (the Schönhardt polyhedron is
-//! recovered by splitting its edges and faces). Surface preservation (`-Y`,
-//! no Steiner points on the surface) is not implemented yet.
+//! this stage makes a *conforming* Delaunay tetrahedralization of the surface
+//! (plus a few flips); it never needs interior Steiner points. The Schönhardt
+//! polyhedron is recovered by splitting its reflex edges. The price is the
+//! number of Steiner points on models with small angles or long, thin
+//! coplanar triangles (see the tests' figures); a constrained (CDT)
+//! recovery that inserts Steiner points only where no tetrahedralization
+//! exists is the next stage. Surface preservation (`-Y`, no Steiner points
+//! on the surface) is not implemented yet.
 //!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
 //! points of one edge of `T` are the faces on `T`. `T` is covered when the
 //! edges of these faces used once are exactly the subsegments of `T`'s
 //! boundary and every other edge is used twice: faces of a tetrahedralization
-//! do not overlap, so such a set covers `T` exactly once.
+//! do not overlap, so such a set covers `T` exactly once. Two consequences
+//! of inexact Steiner points are handled explicitly: a flat tetrahedron with
+//! all four vertices on `T` contributes only its faces looking to `T`'s
+//! positive side, and a mesh edge joining two non-consecutive points of a
+//! side's chain (a chord) is accepted together with the thin faces of chain
+//! points that close the gap.
 //!
 //! # References
 //! J. R. Shewchuk, *Constrained Delaunay tetrahedralizations and provably good
