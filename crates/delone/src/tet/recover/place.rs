@@ -230,3 +230,67 @@ pub(crate) fn crosses(a: &P, b: &P, c: &P, p: &P, q: &P) -> bool {
     let s3 = orient3d(p, q, c, a);
     (s1 > 0.0 && s2 > 0.0 && s3 > 0.0) || (s1 < 0.0 && s2 < 0.0 && s3 < 0.0)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edge_points_are_exact_on_axis_parallel_and_dyadic_edges() {
+        let (a, b) = ([0.0, 1.0, 2.0], [3.0, 1.0, 2.0]);
+        let (p, dev) = edge_point(&a, &b, &a, &b, None).unwrap();
+        assert_eq!((p, dev), ([1.5, 1.0, 2.0], 0.0));
+        // Concentric shells: from an input vertex, a power-of-two distance.
+        let (p, dev) = edge_point(&a, &b, &a, &[2.5, 1.0, 2.0], Some(true)).unwrap();
+        assert_eq!((p, dev), ([1.0, 1.0, 2.0], 0.0));
+        let (c, d) = ([0.0, 0.0, 0.0], [1.0, 2.0, 4.0]);
+        let (p, dev) = edge_point(&c, &d, &c, &d, None).unwrap();
+        assert_eq!((p, dev), ([0.5, 1.0, 2.0], 0.0));
+        assert!(collinear(&c, &d, &p));
+    }
+
+    #[test]
+    fn inexact_edge_points_report_a_positive_deviation() {
+        let (a, b) = ([0.1, 0.7, 0.3], [0.9, 0.2, 1.7]);
+        let mut u = a;
+        let mut inexact = 0;
+        for _ in 0..20 {
+            let (p, dev) = edge_point(&a, &b, &u, &b, None).unwrap();
+            assert_eq!(dev == 0.0, collinear(&a, &b, &p));
+            assert!(dev < 1e-15);
+            inexact += usize::from(dev > 0.0);
+            u = p;
+        }
+        assert!(
+            inexact > 0,
+            "expected some rounded points on a generic segment"
+        );
+        // Nothing fits strictly between two adjacent floats.
+        let x = 1.0f64;
+        let y = f64::from_bits(x.to_bits() + 1);
+        assert!(edge_point(
+            &[x, 0.0, 0.0],
+            &[y, 0.0, 0.0],
+            &[x, 0.0, 0.0],
+            &[y, 0.0, 0.0],
+            None
+        )
+        .is_none());
+    }
+
+    #[test]
+    fn crossings_are_proper_only() {
+        let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        assert!(crosses(&a, &b, &c, &[0.2, 0.2, 1.0], &[0.2, 0.2, -1.0]));
+        // Through an edge, a vertex, outside, or touching the plane: no.
+        assert!(!crosses(&a, &b, &c, &[0.5, 0.0, 1.0], &[0.5, 0.0, -1.0]));
+        assert!(!crosses(&a, &b, &c, &[0.0, 0.0, 1.0], &[0.0, 0.0, -1.0]));
+        assert!(!crosses(&a, &b, &c, &[2.0, 2.0, 1.0], &[2.0, 2.0, -1.0]));
+        assert!(!crosses(&a, &b, &c, &[0.2, 0.2, 0.0], &[0.2, 0.2, -1.0]));
+        let (x, dev) = facet_point(&a, &b, &c, &[0.25, 0.25, 1.0], &[0.25, 0.25, -3.0]);
+        assert_eq!((x, dev), ([0.25, 0.25, 0.0], 0.0));
+        assert!(inside_triangle(&a, &b, &c, &x));
+        assert!(encroaches(&a, &b, &[0.5, 0.1, 0.0]));
+        assert!(!encroaches(&a, &b, &[0.5, 0.6, 0.0]));
+    }
+}
