@@ -8,15 +8,16 @@
 //! fill stopped by constraint faces; nested closed surfaces (a solid with a
 //! cavity) are handled too.
 
-use std::collections::{HashSet, VecDeque};
+use std::collections::VecDeque;
 
 use super::missing::fkey;
+use super::surface::IdSet;
 use crate::tet::delaunay::Core;
 use crate::tet::local::{DEAD, INF};
 
 /// Per slot: the least number of constraint faces crossed from outside
 /// (`u32::MAX` for dead slots).
-pub(crate) fn depths(core: &Core, constraint: &HashSet<[u32; 3]>) -> Vec<u32> {
+pub(crate) fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
     let n = core.v.len();
     let mut depth = vec![u32::MAX; n];
     let mut dq = VecDeque::new();

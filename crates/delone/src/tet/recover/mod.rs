@@ -82,7 +82,7 @@ pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 
 use self::missing::ekey;
-use self::surface::{Skeleton, Surface};
+use self::surface::{IdMap, IdSet, Skeleton, Surface};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -425,7 +425,7 @@ impl State {
     ) -> Vec<((u32, u32), u32)> {
         let core = &dt.core;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
-        let mut seen: HashSet<u32> = HashSet::new();
+        let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
             let Some(&start) = sk.edges.get(&(u, v)) else {
                 continue;
@@ -733,8 +733,8 @@ impl State {
     ) -> Result<Recovered, RecoverError> {
         let sk = Skeleton::of(dt);
         let (on, _) = self.surf.coverage(&sk, dt.points());
-        let constraint: HashSet<[u32; 3]> = on.iter().flatten().copied().collect();
-        let face_tri: std::collections::HashMap<[u32; 3], u32> = on
+        let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
+        let face_tri: IdMap<[u32; 3], u32> = on
             .iter()
             .enumerate()
             .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))

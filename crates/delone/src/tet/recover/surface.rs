@@ -3,11 +3,53 @@
 //! whether an input triangle is a union of mesh faces.
 
 use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use super::missing::{ekey, fkey, TET_EDGES};
 use super::place::{cross, dot, sub};
 use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
+
+/// A small deterministic multiplicative hasher for vertex-id keys (the
+/// default SipHash dominated the profile of the recovery rounds).
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct IdHasher(u64);
+
+const K: u64 = 0x9E37_79B9_7F4A_7C15;
+
+impl Hasher for IdHasher {
+    #[inline]
+    fn finish(&self) -> u64 {
+        let h = self.0.wrapping_mul(K);
+        h ^ (h >> 32)
+    }
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for c in bytes.chunks(4) {
+            let mut w = [0u8; 4];
+            w[..c.len()].copy_from_slice(c);
+            self.write_u32(u32::from_le_bytes(w));
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0.rotate_left(26) ^ u64::from(x)).wrapping_mul(K);
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.write_u32(x as u32);
+        self.write_u32((x >> 32) as u32);
+    }
+    #[inline]
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+/// A hash map keyed by vertex ids, with [`IdHasher`].
+pub(crate) type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
+/// A hash set of vertex-id keys, with [`IdHasher`].
+pub(crate) type IdSet<K> = HashSet<K, BuildHasherDefault<IdHasher>>;
 
 /// Where a vertex lies on the input surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,7 +84,7 @@ pub(crate) struct Surface {
 /// The mesh edges and faces of the current tetrahedralization.
 pub(crate) struct Skeleton {
     /// Every finite edge, mapped to one tetrahedron slot containing it.
-    pub(crate) edges: HashMap<(u32, u32), u32>,
+    pub(crate) edges: IdMap<(u32, u32), u32>,
     /// Every finite face (sorted vertex triple).
     pub(crate) faces: Vec<[u32; 3]>,
     /// Every finite tetrahedron (positively oriented).
@@ -52,7 +94,7 @@ pub(crate) struct Skeleton {
 impl Skeleton {
     pub(crate) fn of(dt: &Delaunay3<'_>) -> Skeleton {
         let c = &dt.core;
-        let mut edges = HashMap::new();
+        let mut edges = IdMap::default();
         let mut faces = Vec::new();
         let mut tets = Vec::new();
         for (t, tv) in c.v.iter().enumerate() {
@@ -300,13 +342,13 @@ impl Surface {
     /// subsegments no face on `t` uses, and other edges used by one face
     /// only. Sorted.
     pub(crate) fn hole_edges(&self, t: usize, faces: &[[u32; 3]]) -> Vec<(u32, u32)> {
-        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut count: IdMap<(u32, u32), u32> = IdMap::default();
         for f in faces {
             for k in 0..3 {
                 *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
             }
         }
-        let bnd: HashSet<(u32, u32)> = self.boundary(t).collect();
+        let bnd: IdSet<(u32, u32)> = self.boundary(t).collect();
         let mut out: Vec<(u32, u32)> = bnd
             .iter()
             .filter(|e| !count.contains_key(e))
@@ -326,13 +368,13 @@ impl Surface {
         if faces.is_empty() {
             return false;
         }
-        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut count: IdMap<(u32, u32), u32> = IdMap::default();
         for f in faces {
             for k in 0..3 {
                 *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
             }
         }
-        let bnd: HashSet<(u32, u32)> = self.boundary(t).collect();
+        let bnd: IdSet<(u32, u32)> = self.boundary(t).collect();
         for b in &bnd {
             if count.get(b) != Some(&1) {
                 return false;
