@@ -535,7 +535,7 @@ impl State {
         let mut use_flips = self.opts.flips;
         loop {
             self.report.rounds += 1;
-            let sk = Skeleton::of(dt);
+            let sk = Skeleton::of(dt, false);
             let subs = self.missing_subsegments(&sk);
             if !subs.is_empty() {
                 for &(e, u, v) in &subs {
@@ -546,6 +546,7 @@ impl State {
                 }
                 continue;
             }
+            let sk = Skeleton::of(dt, true);
             let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
@@ -602,7 +603,7 @@ impl State {
     fn flip_phase(&self, dt: &mut Delaunay3<'_>) -> Option<usize> {
         let mut flips = 0;
         loop {
-            let sk = Skeleton::of(dt);
+            let sk = Skeleton::of(dt, true);
             let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
@@ -731,7 +732,7 @@ impl State {
         input: &[[f64; 3]],
         unscale: f64,
     ) -> Result<Recovered, RecoverError> {
-        let sk = Skeleton::of(dt);
+        let sk = Skeleton::of(dt, true);
         let (on, _) = self.surf.coverage(&sk, dt.points());
         let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let face_tri: IdMap<[u32; 3], u32> = on

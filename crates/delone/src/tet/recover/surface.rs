@@ -92,19 +92,24 @@ pub(crate) struct Skeleton {
 }
 
 impl Skeleton {
-    pub(crate) fn of(dt: &Delaunay3<'_>) -> Skeleton {
+    /// The edges, and with `with_faces` the faces and tetrahedra, in slot
+    /// order (deterministic).
+    pub(crate) fn of(dt: &Delaunay3<'_>, with_faces: bool) -> Skeleton {
         let c = &dt.core;
-        let mut edges = IdMap::default();
+        let mut edges = IdMap::with_capacity_and_hasher(c.finite * 2, Default::default());
         let mut faces = Vec::new();
         let mut tets = Vec::new();
         for (t, tv) in c.v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
-            tets.push(*tv);
             for (i, j) in TET_EDGES {
                 edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
             }
+            if !with_faces {
+                continue;
+            }
+            tets.push(*tv);
             for f in 0..4 {
                 let u = (c.adj[t][f] >> 2) as usize;
                 if u < t && !c.v[u].contains(&INF) {
@@ -114,7 +119,6 @@ impl Skeleton {
                 faces.push(fkey(k));
             }
         }
-        faces.sort_unstable();
         Skeleton { edges, faces, tets }
     }
 }
