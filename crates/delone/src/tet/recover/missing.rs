@@ -59,6 +59,9 @@ pub(crate) const TET_EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2
 /// let m = missing(&[[0, 1, 2], [3, 4, 0]], dt.tets());
 /// assert_eq!(m.edges, vec![[3, 4]]);
 /// assert_eq!(m.triangles, vec![1]);
+/// // The same from the flat mesh.
+/// let mesh = delone::tetrahedralize(&pts).unwrap();
+/// assert_eq!(missing(&[[0, 1, 2], [3, 4, 0]], mesh.tets.iter().copied()), m);
 /// ```
 pub fn missing(triangles: &[[u32; 3]], tets: impl IntoIterator<Item = [u32; 4]>) -> Missing {
     let mut edges = HashSet::new();
