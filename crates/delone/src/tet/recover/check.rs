@@ -80,6 +80,9 @@ pub fn check_recovered(
             "the input points are not a prefix of the output points".into(),
         );
     }
+    if let Some(i) = triangles.iter().position(|t| t.iter().any(|&q| q as usize >= points.len())) {
+        return bad("range", format!("input triangle {i} names a missing point"));
+    }
     // Tetrahedra.
     for (t, tv) in m.tets.iter().enumerate() {
         for (i, &q) in tv.iter().enumerate() {
