@@ -138,7 +138,7 @@ fn schonhardt_needs_steiner_points() {
         &tris,
         &RecoverOptions {
             max_steiner: 0,
-            flips: true,
+            ..Default::default()
         },
     )
     .unwrap_err();

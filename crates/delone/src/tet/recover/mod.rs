@@ -101,6 +101,10 @@ pub struct RecoverOptions {
     pub max_steiner: usize,
     /// Try 3-2 flips before splitting a missing triangle. Default true.
     pub flips: bool,
+    /// Split a missing subsegment at the projection of the vertex that
+    /// encroaches it most (Si & Gärtner's reference point) rather than at
+    /// its midpoint. Default true.
+    pub reference_points: bool,
 }
 
 impl Default for RecoverOptions {
@@ -108,6 +112,7 @@ impl Default for RecoverOptions {
         RecoverOptions {
             max_steiner: 100_000,
             flips: true,
+            reference_points: true,
         }
     }
 }
@@ -320,6 +325,46 @@ pub fn recover(
     st.finish(&dt, points, unscale)
 }
 
+/// The vertex next to `u` or `v` (in their stars) strictly inside the
+/// diametral ball of `u v` that sees it under the largest angle.
+fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
+    let core = &dt.core;
+    let pts = dt.points();
+    let mut best: Option<(f64, u32)> = None;
+    let (pu, pv) = (pts[u as usize], pts[v as usize]);
+    let mut rng = 0x9E37_79B9u32;
+    for w in [u, v] {
+        let start = core.walk(pts, &pts[w as usize], core.last, &mut rng);
+        let mut seen: IdSet<u32> = IdSet::default();
+        let mut stack = vec![start];
+        while let Some(x) = stack.pop() {
+            let xv = core.v[x as usize];
+            if xv[0] == DEAD || !xv.contains(&w) || !seen.insert(x) {
+                continue;
+            }
+            for (f, &q) in xv.iter().enumerate() {
+                if q == w {
+                    continue;
+                }
+                stack.push(core.adj[x as usize][f] >> 2);
+                if q == INF || q == u || q == v {
+                    continue;
+                }
+                let p = pts[q as usize];
+                let (du, dv) = (place::sub(&pu, &p), place::sub(&pv, &p));
+                let d = place::dot(&du, &dv);
+                if d < 0.0 {
+                    let c = d / (place::dot(&du, &du) * place::dot(&dv, &dv)).sqrt();
+                    if best.is_none_or(|(bc, bq)| c < bc || (c == bc && q < bq)) {
+                        best = Some((c, q));
+                    }
+                }
+            }
+        }
+    }
+    best.map(|(_, q)| q)
+}
+
 struct State {
     surf: Surface,
     report: RecoverReport,
@@ -384,10 +429,16 @@ impl State {
             (false, true) => Some(false),
             _ => None,
         };
+        let reference = if shell.is_none() && self.opts.reference_points {
+            encroacher(dt, u, v)
+        } else {
+            None
+        };
         let pts = dt.points();
         let g = |w: u32| pts[w as usize];
         let too_short = RecoverError::SegmentTooShort { edge: [a, b] };
-        let Some((p, dev)) = place::edge_point(&g(a), &g(b), &g(u), &g(v), shell) else {
+        let rp = reference.map(g);
+        let Some((p, dev)) = place::edge_point(&g(a), &g(b), &g(u), &g(v), shell, rp.as_ref()) else {
             return Err(too_short);
         };
         let Some(id) = self.insert(dt, p, dev)? else {

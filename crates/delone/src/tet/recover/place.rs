@@ -76,7 +76,14 @@ fn strictly_between(u: &P, v: &P, p: &P) -> bool {
 /// lies exactly on the segment. `shell_from`: `Some(true)` when `u` is an input
 /// vertex and `v` is not, `Some(false)` for the reverse, `None` otherwise.
 /// `None` when no point strictly between `u` and `v` is representable.
-pub(crate) fn edge_point(a: &P, b: &P, u: &P, v: &P, shell_from: Option<bool>) -> Option<(P, f64)> {
+pub(crate) fn edge_point(
+    a: &P,
+    b: &P,
+    u: &P,
+    v: &P,
+    shell_from: Option<bool>,
+    reference: Option<&P>,
+) -> Option<(P, f64)> {
     let ab = sub(b, a);
     let len2 = dot(&ab, &ab);
     if len2 == 0.0 || !len2.is_finite() {
@@ -86,6 +93,17 @@ pub(crate) fn edge_point(a: &P, b: &P, u: &P, v: &P, shell_from: Option<bool>) -
     let su = dot(&sub(u, a), &ab) / len2;
     let sv = dot(&sub(v, a), &ab) / len2;
     let mut target = 0.5 * (su + sv);
+    if let (None, Some(r)) = (shell_from, reference) {
+        // Si & Gärtner's reference point: split at the projection of the
+        // vertex that encroaches the subsegment most, kept in the middle
+        // 60% so that neither piece is tiny.
+        let sr = dot(&sub(r, a), &ab) / len2;
+        let (lo, hi) = (su.min(sv), su.max(sv));
+        let m = 0.2 * (hi - lo);
+        if sr.is_finite() {
+            target = sr.clamp(lo + m, hi - m);
+        }
+    }
     if let Some(from_u) = shell_from {
         let (o, so, other) = if from_u { (u, su, sv) } else { (v, sv, su) };
         let l = dot(
@@ -238,13 +256,13 @@ mod tests {
     #[test]
     fn edge_points_are_exact_on_axis_parallel_and_dyadic_edges() {
         let (a, b) = ([0.0, 1.0, 2.0], [3.0, 1.0, 2.0]);
-        let (p, dev) = edge_point(&a, &b, &a, &b, None).unwrap();
+        let (p, dev) = edge_point(&a, &b, &a, &b, None, None).unwrap();
         assert_eq!((p, dev), ([1.5, 1.0, 2.0], 0.0));
         // Concentric shells: from an input vertex, a power-of-two distance.
-        let (p, dev) = edge_point(&a, &b, &a, &[2.5, 1.0, 2.0], Some(true)).unwrap();
+        let (p, dev) = edge_point(&a, &b, &a, &[2.5, 1.0, 2.0], Some(true), None).unwrap();
         assert_eq!((p, dev), ([1.0, 1.0, 2.0], 0.0));
         let (c, d) = ([0.0, 0.0, 0.0], [1.0, 2.0, 4.0]);
-        let (p, dev) = edge_point(&c, &d, &c, &d, None).unwrap();
+        let (p, dev) = edge_point(&c, &d, &c, &d, None, None).unwrap();
         assert_eq!((p, dev), ([0.5, 1.0, 2.0], 0.0));
         assert!(collinear(&c, &d, &p));
     }
@@ -255,7 +273,7 @@ mod tests {
         let mut u = a;
         let mut inexact = 0;
         for _ in 0..20 {
-            let (p, dev) = edge_point(&a, &b, &u, &b, None).unwrap();
+            let (p, dev) = edge_point(&a, &b, &u, &b, None, None).unwrap();
             assert_eq!(dev == 0.0, collinear(&a, &b, &p));
             assert!(dev < 1e-15);
             inexact += usize::from(dev > 0.0);
@@ -273,6 +291,7 @@ mod tests {
             &[y, 0.0, 0.0],
             &[x, 0.0, 0.0],
             &[y, 0.0, 0.0],
+            None,
             None
         )
         .is_none());
