@@ -80,7 +80,10 @@ pub fn check_recovered(
             "the input points are not a prefix of the output points".into(),
         );
     }
-    if let Some(i) = triangles.iter().position(|t| t.iter().any(|&q| q as usize >= points.len())) {
+    if let Some(i) = triangles
+        .iter()
+        .position(|t| t.iter().any(|&q| q as usize >= points.len()))
+    {
         return bad("range", format!("input triangle {i} names a missing point"));
     }
     // Tetrahedra.

@@ -438,7 +438,8 @@ impl State {
         let g = |w: u32| pts[w as usize];
         let too_short = RecoverError::SegmentTooShort { edge: [a, b] };
         let rp = reference.map(g);
-        let Some((p, dev)) = place::edge_point(&g(a), &g(b), &g(u), &g(v), shell, rp.as_ref()) else {
+        let Some((p, dev)) = place::edge_point(&g(a), &g(b), &g(u), &g(v), shell, rp.as_ref())
+        else {
             return Err(too_short);
         };
         let Some(id) = self.insert(dt, p, dev)? else {

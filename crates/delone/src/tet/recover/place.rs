@@ -95,13 +95,13 @@ pub(crate) fn edge_point(
     let mut target = 0.5 * (su + sv);
     if let (None, Some(r)) = (shell_from, reference) {
         // Si & Gärtner's reference point: split at the projection of the
-        // vertex that encroaches the subsegment most, kept in the middle
-        // 60% so that neither piece is tiny.
+        // vertex that encroaches the subsegment most, used when it falls in
+        // the middle 60% (neither piece tiny), else the midpoint.
         let sr = dot(&sub(r, a), &ab) / len2;
         let (lo, hi) = (su.min(sv), su.max(sv));
         let m = 0.2 * (hi - lo);
-        if sr.is_finite() {
-            target = sr.clamp(lo + m, hi - m);
+        if sr >= lo + m && sr <= hi - m {
+            target = sr;
         }
     }
     if let Some(from_u) = shell_from {
