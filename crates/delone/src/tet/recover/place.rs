@@ -23,6 +23,12 @@
 //! symbolically, Diazzi et al. 2023) would remove this deviation; they are
 //! not implemented yet.
 //!
+//! Where the split goes: a missing subsegment is split at the projection of
+//! the vertex that encroaches it most (the one in the stars of its ends,
+//! strictly inside its diametral ball, seeing it under the largest angle —
+//! Si & Gärtner's reference point) when that projection falls in the middle
+//! 60% of the subsegment, else at its midpoint; on the corpus this saves
+//! about a quarter of the Steiner points over plain midpoints.
 //! Splits of a subsegment that has an input vertex at exactly one end are
 //! placed on "concentric shells" (distance a power of two from that vertex,
 //! Ruppert 1995, Shewchuk 2002), so that subsegments meeting at a small input
