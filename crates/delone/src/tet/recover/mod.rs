@@ -11,8 +11,8 @@
 //!    ([`super::Delaunay3`]); [`missing`] tells which input edges and
 //!    triangles are absent;
 //! 3. **segment recovery** — every missing subsegment is split by a Steiner
-//!    point on it ([`place`](self) explains where and how exactness is
-//!    checked), inserted by the Delaunay kernel (so the mesh stays a valid
+//!    point on it (the notes of the private `place` module explain where,
+//!    and how exactness is checked), inserted by the Delaunay kernel (so the mesh stays a valid
 //!    Delaunay tetrahedralization), and the input triangles sharing that
 //!    edge are refined with it; repeated until every subsegment is an edge;
 //! 4. **facet recovery** — an input triangle is recovered when the mesh faces
