@@ -9,6 +9,7 @@ pub mod delaunay;
 pub mod intersect;
 pub mod local;
 pub mod mesh;
+pub mod recover;
 pub mod voronoi;
 
 pub use delaunay::{Delaunay3, Inserted, Location};

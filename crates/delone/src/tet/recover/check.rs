@@ -1,0 +1,307 @@
+//! An independent checker of a [`Recovered`] tetrahedralization.
+
+use std::collections::HashMap;
+
+use delone_predicates::orient3d;
+
+use super::missing::{ekey, fkey};
+use super::place::{collinear, cross, dot, inside_triangle, line_distance, plane_distance, sub};
+use super::Recovered;
+use crate::{Violation, NONE};
+
+/// The volume enclosed by a closed triangulated surface, by the divergence
+/// theorem: the sum over triangles `a b c` of `a · (b × c) / 6` (positive
+/// when the triangles are oriented counterclockwise seen from outside).
+///
+/// ```
+/// use delone::tet::recover::surface_volume;
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let v = surface_volume(&pts, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]);
+/// assert!((v - 1.0 / 6.0).abs() < 1e-15);
+/// ```
+pub fn surface_volume(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|w| points[w as usize]);
+            dot(&a, &cross(&b, &c)) / 6.0
+        })
+        .sum()
+}
+
+fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
+    dot(
+        &sub(&p[1], &p[0]),
+        &cross(&sub(&p[2], &p[0]), &sub(&p[3], &p[0])),
+    ) / 6.0
+}
+
+/// Checks a [`Recovered`] result against its input surface, independently of
+/// how it was built:
+///
+/// * every tetrahedron has distinct in-range vertices and positive volume
+///   (exact);
+/// * neighbour links are symmetric and join equal faces; the faces without
+///   neighbour are exactly `boundary`, oriented outward (exact);
+/// * every boundary face lies on the input triangle it names: its vertices
+///   exactly on the triangle's plane (within the reported deviation for the
+///   listed inexact Steiner points) and inside it;
+/// * every input triangle is the union of its boundary faces: their edges
+///   used once lie on the triangle's sides and chain each side from end to
+///   end, every other edge is used twice, and the areas add up;
+/// * the tetrahedra's volume equals the surface's enclosed volume
+///   ([`surface_volume`]) up to rounding.
+///
+/// ```
+/// use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+/// let mut r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// check_recovered(&pts, &tris, &r).unwrap();
+/// r.mesh.tets[0].swap(0, 1);
+/// assert!(check_recovered(&pts, &tris, &r).is_err());
+/// ```
+pub fn check_recovered(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    rec: &Recovered,
+) -> Result<(), Violation> {
+    let (scaled, s) = crate::geom::rescaled(&rec.points);
+    let sp = &scaled[..];
+    let n = sp.len();
+    let m = &rec.mesh;
+    let bad = |kind, d: String| Err(Violation::new(kind, d));
+    if m.neighbors.len() != m.tets.len() || rec.boundary.len() != rec.boundary_triangle.len() {
+        return bad("sizes", "array lengths disagree".into());
+    }
+    if points.len() > n || rec.points[..points.len()] != *points {
+        return bad(
+            "points",
+            "the input points are not a prefix of the output points".into(),
+        );
+    }
+    if let Some(i) = triangles
+        .iter()
+        .position(|t| t.iter().any(|&q| q as usize >= points.len()))
+    {
+        return bad("range", format!("input triangle {i} names a missing point"));
+    }
+    // Tetrahedra.
+    for (t, tv) in m.tets.iter().enumerate() {
+        for (i, &q) in tv.iter().enumerate() {
+            if q as usize >= n || tv[..i].contains(&q) {
+                return bad("range", format!("tet {t} has bad vertex {q}"));
+            }
+        }
+        let p = tv.map(|q| sp[q as usize]);
+        if orient3d(&p[0], &p[1], &p[2], &p[3]) >= 0.0 {
+            return bad("orientation", format!("tet {t} is not positive"));
+        }
+    }
+    // Adjacency and boundary.
+    let face = |tv: [u32; 4], i: usize| fkey([tv[(i + 1) % 4], tv[(i + 2) % 4], tv[(i + 3) % 4]]);
+    let mut free: HashMap<[u32; 3], (usize, usize)> = HashMap::new();
+    for (t, (tv, nb)) in m.tets.iter().zip(&m.neighbors).enumerate() {
+        for (i, &nbi) in nb.iter().enumerate() {
+            let k = face(*tv, i);
+            if nbi == NONE {
+                if free.insert(k, (t, i)).is_some() {
+                    return bad("boundary", format!("face {k:?} is on the boundary twice"));
+                }
+                continue;
+            }
+            let u = nbi as usize;
+            let Some(uv) = m.tets.get(u) else {
+                return bad("adjacency", format!("tet {t} names missing neighbour {u}"));
+            };
+            match (0..4).find(|&j| face(*uv, j) == k) {
+                Some(j) if m.neighbors[u][j] == t as u32 => {}
+                _ => {
+                    return bad(
+                        "adjacency",
+                        format!("tets {t} and {u} are not mutual neighbours"),
+                    )
+                }
+            }
+        }
+    }
+    if free.len() != rec.boundary.len() {
+        return bad(
+            "boundary",
+            format!(
+                "{} free faces, {} boundary faces",
+                free.len(),
+                rec.boundary.len()
+            ),
+        );
+    }
+    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
+    let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
+    let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
+    for (bi, (&f, &ti)) in rec.boundary.iter().zip(&rec.boundary_triangle).enumerate() {
+        let Some(&(t, i)) = free.get(&fkey(f)) else {
+            return bad(
+                "boundary",
+                format!("boundary face {bi} {f:?} is not a free face"),
+            );
+        };
+        let w = m.tets[t][i];
+        let [a, b, c] = f.map(|q| sp[q as usize]);
+        if orient3d(&a, &b, &c, &sp[w as usize]) <= 0.0 {
+            return bad(
+                "boundary",
+                format!("boundary face {bi} is not oriented outward"),
+            );
+        }
+        let Some(tri) = triangles.get(ti as usize) else {
+            return bad(
+                "constraint",
+                format!("boundary face {bi} names no input triangle"),
+            );
+        };
+        let [ta, tb, tc] = tri.map(|q| sp[q as usize]);
+        for &q in &f {
+            let p = sp[q as usize];
+            // An inexact point is within the reported deviation of the
+            // plane, or (for a point on a side, which is the better
+            // conditioned test on needle-shaped triangles) of a side's line.
+            let on = orient3d(&ta, &tb, &tc, &p) == 0.0
+                || (inexact(q)
+                    && (plane_distance(&ta, &tb, &tc, &p) <= tol_dev
+                        || line_distance(&ta, &tb, &p) <= tol_dev
+                        || line_distance(&tb, &tc, &p) <= tol_dev
+                        || line_distance(&tc, &ta, &p) <= tol_dev));
+            if !on {
+                return bad(
+                    "constraint",
+                    format!("boundary face {bi}: vertex {q} is off the plane of triangle {ti}"),
+                );
+            }
+            if !tri.contains(&q) && !inside_closed(&ta, &tb, &tc, &p) {
+                return bad(
+                    "constraint",
+                    format!("boundary face {bi}: vertex {q} is outside triangle {ti}"),
+                );
+            }
+        }
+        per_tri[ti as usize].push(f);
+    }
+    // Each input triangle is the union of its faces.
+    for (ti, faces) in per_tri.iter().enumerate() {
+        let tri = triangles[ti];
+        let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut area = 0.0;
+        for f in faces {
+            for k in 0..3 {
+                *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+            }
+            let [a, b, c] = f.map(|q| sp[q as usize]);
+            let n = cross(&sub(&b, &a), &sub(&c, &a));
+            area += 0.5 * dot(&n, &n).sqrt();
+        }
+        let [a, b, c] = tri.map(|q| sp[q as usize]);
+        let n = cross(&sub(&b, &a), &sub(&c, &a));
+        let want = 0.5 * dot(&n, &n).sqrt();
+        if (area - want).abs() > 1e-9 * want {
+            return bad(
+                "constraint",
+                format!("triangle {ti}: faces' area {area} differs from {want}"),
+            );
+        }
+        let mut once: Vec<(u32, u32)> = Vec::new();
+        for (&e, &c) in &count {
+            match c {
+                1 => once.push(e),
+                2 => {}
+                _ => {
+                    return bad(
+                        "constraint",
+                        format!("triangle {ti}: edge {e:?} in {c} faces"),
+                    )
+                }
+            }
+        }
+        once.sort_unstable();
+        let mut used = 0;
+        for k in 0..3 {
+            let (x, y) = (tri[k], tri[(k + 1) % 3]);
+            let (px, py) = (sp[x as usize], sp[y as usize]);
+            let on_side = |q: u32| {
+                let p = sp[q as usize];
+                q == x
+                    || q == y
+                    || collinear(&px, &py, &p)
+                    || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev)
+            };
+            let side: Vec<(u32, u32)> = once
+                .iter()
+                .copied()
+                .filter(|&(u, v)| on_side(u) && on_side(v))
+                .collect();
+            // Walk from x to y along the side's edges, never stepping back.
+            let mut prev = NONE;
+            let mut cur = x;
+            let mut steps = 0;
+            while cur != y {
+                let next = side.iter().find_map(|&(u, v)| match () {
+                    _ if u == cur && v != prev => Some(v),
+                    _ if v == cur && u != prev => Some(u),
+                    _ => None,
+                });
+                let Some(nx) = next else {
+                    return bad(
+                        "constraint",
+                        format!("triangle {ti}: side {x}-{y} breaks at {cur}"),
+                    );
+                };
+                steps += 1;
+                if steps > side.len() {
+                    return bad(
+                        "constraint",
+                        format!("triangle {ti}: side {x}-{y} does not chain"),
+                    );
+                }
+                prev = cur;
+                cur = nx;
+            }
+            used += steps;
+        }
+        if used != once.len() {
+            return bad(
+                "constraint",
+                format!(
+                    "triangle {ti}: {} edges used once but its sides have {used}",
+                    once.len()
+                ),
+            );
+        }
+    }
+    // Volume.
+    let vol: f64 = m
+        .tets
+        .iter()
+        .map(|tv| tet_volume(tv.map(|q| rec.points[q as usize])))
+        .sum();
+    let want = surface_volume(points, triangles).abs();
+    if (vol - want).abs() > 1e-9 * want.max(f64::MIN_POSITIVE) {
+        return bad(
+            "volume",
+            format!("tetrahedra volume {vol} differs from enclosed volume {want}"),
+        );
+    }
+    Ok(())
+}
+
+/// `p` (on the plane of `a b c`) inside the closed triangle.
+fn inside_closed(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], p: &[f64; 3]) -> bool {
+    inside_triangle(a, b, c, p)
+        || on_segment_line(a, b, p)
+        || on_segment_line(b, c, p)
+        || on_segment_line(c, a, p)
+}
+
+fn on_segment_line(a: &[f64; 3], b: &[f64; 3], p: &[f64; 3]) -> bool {
+    let d = sub(b, a);
+    let s = dot(&sub(p, a), &d);
+    s >= 0.0 && s <= dot(&d, &d) && line_distance(a, b, p) <= 1e-12 * dot(&d, &d).sqrt()
+}

@@ -1,0 +1,865 @@
+//! Boundary recovery: a tetrahedralization of the inside of a closed
+//! triangulated surface whose faces include (a refinement of) every input
+//! triangle.
+//!
+//! The pipeline of [`recover`]:
+//!
+//! 1. **validation** — indices, coordinates, degenerate triangles and exact
+//!    self-intersections ([`super::intersect::check_self_intersections`]),
+//!    closedness ([`super::intersect::manifold_report`]);
+//! 2. **Delaunay** tetrahedralization of the surface vertices
+//!    ([`super::Delaunay3`]); [`missing`] tells which input edges and
+//!    triangles are absent;
+//! 3. **segment recovery** — every missing subsegment is split by a Steiner
+//!    point on it (the notes of the private `place` module explain where,
+//!    and how exactness is checked), inserted by the Delaunay kernel (so the mesh stays a valid
+//!    Delaunay tetrahedralization), and the input triangles sharing that
+//!    edge are refined with it; repeated until every subsegment is an edge;
+//! 4. **facet recovery** — an input triangle is recovered when the mesh faces
+//!    on it cover it exactly (see below). For a missing one, the mesh edges
+//!    crossing its interior are found exactly (first among the tetrahedra
+//!    around the edges bounding its uncovered part, then among all edges);
+//!    if one such edge can be removed by a 3-2 flip that creates a face on
+//!    the triangle, the triangle is deferred; otherwise a Steiner point is
+//!    inserted where the edge crosses it (or, when that point encroaches a
+//!    boundary subsegment of the triangle, the subsegment is split instead,
+//!    Shewchuk's rule). When no crossing edge is found (possible only
+//!    because of inexact Steiner points), the longest edge around the
+//!    uncovered part is split. Segment and facet rounds alternate until
+//!    nothing is missing, the Steiner budget is exhausted
+//!    ([`RecoverError::SteinerBudget`]) or no progress is possible;
+//! 5. **flips** — when only deferred triangles remain, the 3-2 flips are
+//!    tried on a copy of the mesh; the copy is kept when they recover every
+//!    triangle (no Delaunay insertion follows, since flips break the Delaunay
+//!    property insertion relies on), else splitting resumes without flips.
+//!    Triangles that neither splitting nor flips recover are reported by
+//!    index ([`RecoverError::Unrecovered`]) — never looped on;
+//! 6. **carving** — a 0-1 breadth-first search from the outside counts the
+//!    constraint faces crossed; odd cells are inside.
+//!
+//! Every Steiner point lies on the surface (on an input edge or triangle):
+//! this stage makes a *conforming* Delaunay tetrahedralization of the surface
+//! (plus a few flips); it never needs interior Steiner points. The Schönhardt
+//! polyhedron is recovered by splitting its reflex edges. The price is the
+//! number of Steiner points on models with small angles or long, thin
+//! coplanar triangles (see the tests' figures); a constrained (CDT)
+//! recovery that inserts Steiner points only where no tetrahedralization
+//! exists is the next stage. Surface preservation (`-Y`, no Steiner points
+//! on the surface) is not implemented yet.
+//!
+//! Exact coverage test: the mesh faces whose three vertices all lie on input
+//! triangle `T` (as recorded when they were created) and are not three
+//! points of one edge of `T` are the faces on `T`. `T` is covered when the
+//! edges of these faces used once are exactly the subsegments of `T`'s
+//! boundary and every other edge is used twice: faces of a tetrahedralization
+//! do not overlap, so such a set covers `T` exactly once. Two consequences
+//! of inexact Steiner points are handled explicitly: a flat tetrahedron with
+//! all four vertices on `T` contributes only its faces looking to `T`'s
+//! positive side, and a mesh edge joining two non-consecutive points of a
+//! side's chain (a chord) is accepted together with the thin faces of chain
+//! points that close the gap.
+//!
+//! # References
+//! J. R. Shewchuk, *Constrained Delaunay tetrahedralizations and provably good
+//! boundary recovery* (2002); H. Si, K. Gärtner, *Meshing piecewise linear
+//! complexes by constrained Delaunay tetrahedralizations* (2005);
+//! L. Diazzi, D. Panozzo, A. Vaxman, M. Attene, *Constrained Delaunay
+//! tetrahedrization: a robust and practical approach* (2023);
+//! J. Ruppert, *A Delaunay refinement algorithm for quality 2-dimensional
+//! mesh generation* (1995).
+
+mod carve;
+mod check;
+mod flip;
+mod missing;
+mod place;
+mod surface;
+
+use std::collections::HashSet;
+use std::fmt;
+
+pub use check::{check_recovered, surface_volume};
+pub use missing::{missing, Missing};
+
+use self::missing::ekey;
+use self::surface::{IdMap, IdSet, Skeleton, Surface};
+use super::intersect::{check_self_intersections, manifold_report};
+use super::local::{DEAD, FACET, INF};
+use super::{Delaunay3, TetMesh};
+use crate::{Error, Inserted};
+
+/// Options of [`recover`].
+///
+/// ```
+/// let o = delone::tet::recover::RecoverOptions::default();
+/// assert!(o.flips && o.max_steiner > 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RecoverOptions {
+    /// Most Steiner points allowed; [`RecoverError::SteinerBudget`] beyond.
+    /// Default 100 000.
+    pub max_steiner: usize,
+    /// Try 3-2 flips before splitting a missing triangle. Default true.
+    pub flips: bool,
+    /// Split a missing subsegment at the projection of the vertex that
+    /// encroaches it most (Si & Gärtner's reference point) rather than at
+    /// its midpoint. Default true.
+    pub reference_points: bool,
+}
+
+impl Default for RecoverOptions {
+    fn default() -> Self {
+        RecoverOptions {
+            max_steiner: 100_000,
+            flips: true,
+            reference_points: true,
+        }
+    }
+}
+
+/// What [`recover`] did.
+///
+/// ```
+/// let r = delone::tet::recover::RecoverReport::default();
+/// assert_eq!(r.steiner(), 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RecoverReport {
+    /// Steiner points inserted on input edges.
+    pub steiner_on_edges: usize,
+    /// Steiner points inserted inside input triangles.
+    pub steiner_on_facets: usize,
+    /// Steiner points inserted off the surface (none at this stage).
+    pub steiner_interior: usize,
+    /// Steiner points whose rounded coordinates are not exactly on their
+    /// edge's line or triangle's plane.
+    pub inexact_steiner: usize,
+    /// Largest distance of an inexact Steiner point to its line or plane
+    /// (in the input's units; 0 when all are exact).
+    pub max_deviation: f64,
+    /// 3-2 flips performed.
+    pub flips32: usize,
+    /// Rounds of the segment/facet loop.
+    pub rounds: usize,
+    /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
+    pub hull_tets: usize,
+}
+
+impl RecoverReport {
+    /// All Steiner points.
+    ///
+    /// ```
+    /// let mut r = delone::tet::recover::RecoverReport::default();
+    /// r.steiner_on_edges = 2;
+    /// r.steiner_on_facets = 1;
+    /// assert_eq!(r.steiner(), 3);
+    /// ```
+    pub fn steiner(&self) -> usize {
+        self.steiner_on_edges + self.steiner_on_facets + self.steiner_interior
+    }
+}
+
+/// The result of [`recover`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recovered {
+    /// The input points followed by the Steiner points.
+    pub points: Vec<[f64; 3]>,
+    /// The tetrahedra inside the surface, positively oriented; neighbours
+    /// across the surface are [`crate::NONE`].
+    pub mesh: TetMesh,
+    /// The boundary faces, oriented outward (counterclockwise seen from
+    /// outside), each a refinement piece of an input triangle.
+    pub boundary: Vec<[u32; 3]>,
+    /// For each boundary face, the index of the input triangle it lies on.
+    pub boundary_triangle: Vec<u32>,
+    /// Steiner points (ids) not exactly on their edge or triangle.
+    pub inexact: Vec<u32>,
+    /// Counts.
+    pub report: RecoverReport,
+}
+
+/// Why [`recover`] failed.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum RecoverError {
+    /// The input is invalid (bad index or coordinate, degenerate triangle,
+    /// self-intersection, duplicate vertex).
+    Input(Error),
+    /// The surface is not closed: `edge` is in `count` triangles (not 2).
+    OpenSurface {
+        /// The first offending edge `[min, max]`.
+        edge: [u32; 2],
+        /// How many offending edges there are.
+        count: usize,
+    },
+    /// The Steiner budget ran out.
+    SteinerBudget {
+        /// The budget.
+        limit: usize,
+        /// Subsegments missing when it ran out.
+        missing_subsegments: usize,
+        /// Input triangles not yet recovered when it ran out.
+        missing_triangles: usize,
+    },
+    /// A missing subsegment of input edge `edge` is too short to hold a
+    /// Steiner point between its ends in floating point.
+    SegmentTooShort {
+        /// The input edge `[min, max]`.
+        edge: [u32; 2],
+    },
+    /// These input triangles could not be recovered (neither a Steiner point
+    /// nor a flip made progress).
+    Unrecovered {
+        /// Input triangle indices, ascending.
+        triangles: Vec<usize>,
+        /// Steiner points inserted before giving up.
+        steiner: usize,
+    },
+}
+
+impl From<Error> for RecoverError {
+    fn from(e: Error) -> Self {
+        RecoverError::Input(e)
+    }
+}
+
+impl fmt::Display for RecoverError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RecoverError::Input(e) => write!(f, "invalid input: {e}"),
+            RecoverError::OpenSurface { edge, count } => write!(
+                f,
+                "surface is not closed: edge {}-{} is not shared by exactly two triangles ({count} such edges)",
+                edge[0], edge[1]
+            ),
+            RecoverError::SteinerBudget {
+                limit,
+                missing_subsegments,
+                missing_triangles,
+            } => write!(
+                f,
+                "Steiner budget of {limit} points exhausted with {missing_subsegments} subsegments and {missing_triangles} triangles missing"
+            ),
+            RecoverError::SegmentTooShort { edge } => write!(
+                f,
+                "a subsegment of edge {}-{} is too short to split in floating point",
+                edge[0], edge[1]
+            ),
+            RecoverError::Unrecovered { triangles, steiner } => write!(
+                f,
+                "{} triangle(s) could not be recovered (first: {}) after {steiner} Steiner points",
+                triangles.len(),
+                triangles.first().copied().unwrap_or(0)
+            ),
+        }
+    }
+}
+
+impl std::error::Error for RecoverError {}
+
+/// Tetrahedralizes the inside of the closed triangulated surface
+/// (`points`, `triangles`), recovering every input triangle as a union of
+/// mesh faces (see the [module documentation](self)).
+///
+/// # Errors
+/// [`RecoverError::Input`] for invalid input (with the offending items),
+/// [`RecoverError::OpenSurface`], [`RecoverError::SteinerBudget`],
+/// [`RecoverError::SegmentTooShort`], [`RecoverError::Unrecovered`].
+///
+/// ```
+/// use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+/// // A unit cube, two triangles per side.
+/// let pts: Vec<[f64; 3]> = (0..8)
+///     .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+///     .collect();
+/// let tris = [
+///     [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+///     [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
+/// ];
+/// let r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// check_recovered(&pts, &tris, &r).unwrap();
+/// assert_eq!(r.boundary.len(), 12 + 2 * r.report.steiner());
+/// ```
+pub fn recover(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    opts: &RecoverOptions,
+) -> Result<Recovered, RecoverError> {
+    check_self_intersections(points, triangles)?;
+    let man = manifold_report(triangles);
+    if !man.is_closed() {
+        let mut bad: Vec<[u32; 2]> = man
+            .boundary_edges
+            .iter()
+            .chain(&man.nonmanifold_edges)
+            .copied()
+            .collect();
+        bad.sort_unstable();
+        return Err(RecoverError::OpenSurface {
+            edge: bad[0],
+            count: bad.len(),
+        });
+    }
+    let (cow, scale) = crate::geom::rescaled(points);
+    let scaled: Vec<[f64; 3]> = cow.into_owned();
+    let mut dt = Delaunay3::from_points(&scaled)?;
+    let used: HashSet<u32> = triangles.iter().flatten().copied().collect();
+    if let Some(&(d, o)) = dt.duplicates().iter().find(|(d, _)| used.contains(d)) {
+        return Err(Error::DuplicateVertex {
+            index: d as usize,
+            original: o as usize,
+        }
+        .into());
+    }
+    let unscale = 1.0 / (scale.0 * scale.1);
+    let mut st = State {
+        surf: Surface::new(points.len(), triangles),
+        report: RecoverReport::default(),
+        inexact: Vec::new(),
+        max_dev_scaled: 0.0,
+        opts: opts.clone(),
+    };
+    st.run(&mut dt)?;
+    st.report.max_deviation = st.max_dev_scaled * unscale;
+    st.report.hull_tets = dt.num_tets();
+    st.finish(&dt, points, unscale)
+}
+
+/// The vertex next to `u` or `v` (in their stars) strictly inside the
+/// diametral ball of `u v` that sees it under the largest angle.
+fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
+    let core = &dt.core;
+    let pts = dt.points();
+    let mut best: Option<(f64, u32)> = None;
+    let (pu, pv) = (pts[u as usize], pts[v as usize]);
+    let mut rng = 0x9E37_79B9u32;
+    for w in [u, v] {
+        let start = core.walk(pts, &pts[w as usize], core.last, &mut rng);
+        let mut seen: IdSet<u32> = IdSet::default();
+        let mut stack = vec![start];
+        while let Some(x) = stack.pop() {
+            let xv = core.v[x as usize];
+            if xv[0] == DEAD || !xv.contains(&w) || !seen.insert(x) {
+                continue;
+            }
+            for (f, &q) in xv.iter().enumerate() {
+                if q == w {
+                    continue;
+                }
+                stack.push(core.adj[x as usize][f] >> 2);
+                if q == INF || q == u || q == v {
+                    continue;
+                }
+                let p = pts[q as usize];
+                let (du, dv) = (place::sub(&pu, &p), place::sub(&pv, &p));
+                let d = place::dot(&du, &dv);
+                if d < 0.0 {
+                    let c = d / (place::dot(&du, &du) * place::dot(&dv, &dv)).sqrt();
+                    if best.is_none_or(|(bc, bq)| c < bc || (c == bc && q < bq)) {
+                        best = Some((c, q));
+                    }
+                }
+            }
+        }
+    }
+    best.map(|(_, q)| q)
+}
+
+struct State {
+    surf: Surface,
+    report: RecoverReport,
+    inexact: Vec<u32>,
+    max_dev_scaled: f64,
+    opts: RecoverOptions,
+}
+
+impl State {
+    fn steiner_left(&self) -> bool {
+        self.report.steiner() < self.opts.max_steiner
+    }
+
+    fn budget_error(&self, sub: usize, tri: usize) -> RecoverError {
+        RecoverError::SteinerBudget {
+            limit: self.opts.max_steiner,
+            missing_subsegments: sub,
+            missing_triangles: tri,
+        }
+    }
+
+    /// Inserts a Steiner point; `None` when it coincides with a vertex.
+    fn insert(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        p: [f64; 3],
+        dev: f64,
+    ) -> Result<Option<u32>, RecoverError> {
+        match dt.insert(p)? {
+            Inserted::Vertex(id) => {
+                if dev > 0.0 {
+                    self.inexact.push(id);
+                    self.report.inexact_steiner += 1;
+                    self.max_dev_scaled = self.max_dev_scaled.max(dev);
+                }
+                Ok(Some(id))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// Splits subsegment `u → v` of input edge `e` (in chain order). Returns
+    /// false when it is no longer a subsegment (split earlier this round).
+    fn split_edge(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        e: u32,
+        u: u32,
+        v: u32,
+    ) -> Result<bool, RecoverError> {
+        let chain = &self.surf.chains[e as usize];
+        let Some(i) = chain.iter().position(|&w| w == u) else {
+            return Ok(false);
+        };
+        if chain.get(i + 1) != Some(&v) {
+            return Ok(false);
+        }
+        let [a, b] = self.surf.edges[e as usize];
+        let ends = |w: u32| w == a || w == b;
+        let shell = match (ends(u), ends(v)) {
+            (true, false) => Some(true),
+            (false, true) => Some(false),
+            _ => None,
+        };
+        let reference = if shell.is_none() && self.opts.reference_points {
+            encroacher(dt, u, v)
+        } else {
+            None
+        };
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
+        let too_short = RecoverError::SegmentTooShort { edge: [a, b] };
+        let rp = reference.map(g);
+        let Some((p, dev)) = place::edge_point(&g(a), &g(b), &g(u), &g(v), shell, rp.as_ref())
+        else {
+            return Err(too_short);
+        };
+        let Some(id) = self.insert(dt, p, dev)? else {
+            return Err(too_short);
+        };
+        self.surf.add_on_edge(id, e, i);
+        self.report.steiner_on_edges += 1;
+        Ok(true)
+    }
+
+    fn missing_subsegments(&self, sk: &Skeleton) -> Vec<(u32, u32, u32)> {
+        let mut out = Vec::new();
+        for (e, chain) in self.surf.chains.iter().enumerate() {
+            for w in chain.windows(2) {
+                if !sk.edges.contains_key(&ekey(w[0], w[1])) {
+                    out.push((e as u32, w[0], w[1]));
+                }
+            }
+        }
+        out
+    }
+
+    /// Mesh edges crossing the interior of input triangle `t`, sorted: first
+    /// searched among the tetrahedra around the edges bounding its
+    /// uncovered part (any tetrahedron meeting the uncovered part next to
+    /// such an edge has an edge crossing `t`), then, if none is found there,
+    /// among all edges.
+    fn find_crossing(
+        &self,
+        dt: &Delaunay3<'_>,
+        sk: &Skeleton,
+        list: &[((u32, u32), u32)],
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
+        let core = &dt.core;
+        let mut local: Vec<((u32, u32), u32)> = Vec::new();
+        let mut seen: IdSet<u32> = IdSet::default();
+        for (u, v) in self.surf.hole_edges(t, faces) {
+            let Some(&start) = sk.edges.get(&(u, v)) else {
+                continue;
+            };
+            let mut stack = vec![start];
+            while let Some(x) = stack.pop() {
+                let xv = core.v[x as usize];
+                if xv[0] == DEAD || !xv.contains(&u) || !xv.contains(&v) || !seen.insert(x) {
+                    continue;
+                }
+                if !xv.contains(&INF) {
+                    for (i, j) in missing::TET_EDGES {
+                        local.push((ekey(xv[i], xv[j]), x));
+                    }
+                }
+                for (f, &w) in xv.iter().enumerate() {
+                    if w != u && w != v {
+                        stack.push(core.adj[x as usize][f] >> 2);
+                    }
+                }
+            }
+        }
+        local.sort_unstable();
+        local.dedup_by_key(|e| e.0);
+        let found = self.crossing_edges(dt, &local, t);
+        if found.is_empty() {
+            self.crossing_edges(dt, list, t)
+        } else {
+            found
+        }
+    }
+
+    /// Mesh edges of `list` crossing the interior of input triangle `t`.
+    fn crossing_edges(
+        &self,
+        dt: &Delaunay3<'_>,
+        list: &[((u32, u32), u32)],
+        t: usize,
+    ) -> Vec<((u32, u32), u32)> {
+        let pts = dt.points();
+        let tv = self.surf.tris[t];
+        let [a, b, c] = tv.map(|w| pts[w as usize]);
+        let mut lo = a;
+        let mut hi = a;
+        for p in [b, c] {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        // Edges with an end on `t` cannot cross its interior (exactly); with
+        // inexact Steiner points on its sides they could seem to, so they
+        // are left out.
+        list.iter()
+            .filter(|((p, q), _)| {
+                if self.surf.on_triangle(*p, t) || self.surf.on_triangle(*q, t) {
+                    return false;
+                }
+                let (p, q) = (&pts[*p as usize], &pts[*q as usize]);
+                (0..3).all(|k| p[k].max(q[k]) >= lo[k] && p[k].min(q[k]) <= hi[k])
+                    && place::crosses(&a, &b, &c, p, q)
+            })
+            .copied()
+            .collect()
+    }
+
+    /// A 3-2 flip that removes crossing edge `p q` of triangle `t` and
+    /// creates a face on `t`: the ring and the orientation flag.
+    fn flippable(
+        &self,
+        dt: &Delaunay3<'_>,
+        t: usize,
+        (p, q): (u32, u32),
+        tet: u32,
+    ) -> Option<(Vec<u32>, [u32; 3], bool)> {
+        let core = &dt.core;
+        let tv = *core.v.get(tet as usize)?;
+        if tv[0] == DEAD || !tv.contains(&p) || !tv.contains(&q) {
+            return None;
+        }
+        let ring = flip::ring(core, tet, p, q, 3)?;
+        if ring.len() != 3 {
+            return None;
+        }
+        let mut r: Vec<u32> = ring
+            .iter()
+            .flat_map(|&x| core.v[x as usize])
+            .filter(|&w| w != p && w != q)
+            .collect();
+        r.sort_unstable();
+        r.dedup();
+        if r.len() != 3 || !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
+            return None;
+        }
+        let pts = dt.points();
+        let g = |w: u32| &pts[w as usize];
+        let r = [r[0], r[1], r[2]];
+        if !place::crosses(g(r[0]), g(r[1]), g(r[2]), g(p), g(q)) {
+            return None;
+        }
+        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign).
+        let orient = delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0;
+        Some((ring, r, orient))
+    }
+
+    fn run(&mut self, dt: &mut Delaunay3<'_>) -> Result<(), RecoverError> {
+        let mut use_flips = self.opts.flips;
+        loop {
+            self.report.rounds += 1;
+            let sk = Skeleton::of(dt, false);
+            let subs = self.missing_subsegments(&sk);
+            if !subs.is_empty() {
+                for &(e, u, v) in &subs {
+                    if !self.steiner_left() {
+                        return Err(self.budget_error(subs.len(), 0));
+                    }
+                    self.split_edge(dt, e, u, v)?;
+                }
+                continue;
+            }
+            let sk = Skeleton::of(dt, true);
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+            if uncovered.is_empty() {
+                return Ok(());
+            }
+            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            list.sort_unstable();
+            let mut progress = false;
+            let mut deferred = false;
+            for &t in &uncovered {
+                if !self.steiner_left() {
+                    return Err(self.budget_error(0, uncovered.len()));
+                }
+                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                if cross.is_empty() {
+                    progress |= self.split_hole(dt, t, &on[t])?;
+                    continue;
+                }
+                if use_flips
+                    && cross
+                        .iter()
+                        .any(|&(k, tet)| self.flippable(dt, t, k, tet).is_some())
+                {
+                    deferred = true;
+                    continue;
+                }
+                progress |= self.split_facet(dt, t, cross[0].0)?;
+            }
+            if progress {
+                continue;
+            }
+            if deferred {
+                // Try the flips on a copy: keep it if they recover every
+                // triangle, else go on splitting without flips.
+                let mut trial = dt.clone();
+                if let Some(n) = self.flip_phase(&mut trial) {
+                    *dt = trial;
+                    self.report.flips32 += n;
+                    return Ok(());
+                }
+                use_flips = false;
+                continue;
+            }
+            return Err(RecoverError::Unrecovered {
+                triangles: uncovered,
+                steiner: self.report.steiner(),
+            });
+        }
+    }
+
+    /// Applies 3-2 flips that create faces on missing triangles until all
+    /// are recovered (returns the number of flips) or no flip applies
+    /// (`None`). No Delaunay insertion may follow a flip.
+    fn flip_phase(&self, dt: &mut Delaunay3<'_>) -> Option<usize> {
+        let mut flips = 0;
+        loop {
+            let sk = Skeleton::of(dt, true);
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+            if uncovered.is_empty() {
+                return Some(flips);
+            }
+            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            list.sort_unstable();
+            let mut flipped = false;
+            for &t in &uncovered {
+                for (k, tet) in self.find_crossing(dt, &sk, &list, t, &on[t]) {
+                    if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
+                        flip::flip32(&mut dt.core, &ring, k.0, k.1, r, orient);
+                        flips += 1;
+                        flipped = true;
+                        break;
+                    }
+                }
+            }
+            if !flipped {
+                return None;
+            }
+        }
+    }
+
+    /// Splits missing triangle `t` where mesh edge `k` crosses it, or the
+    /// boundary subsegment that point encroaches. False when neither works.
+    fn split_facet(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+        k: (u32, u32),
+    ) -> Result<bool, RecoverError> {
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
+        let tv = self.surf.tris[t];
+        let [a, b, c] = tv.map(g);
+        let (x, dev) = place::facet_point(&a, &b, &c, &g(k.0), &g(k.1));
+        self.insert_in_facet(dt, t, x, dev)
+    }
+
+    /// Splits the longest edge around the uncovered part of triangle `t`
+    /// (used when no mesh edge is found crossing it, which inexact Steiner
+    /// points on its sides can cause): a boundary subsegment is split on its
+    /// edge, another edge at its midpoint as a point of `t`.
+    fn split_hole(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Result<bool, RecoverError> {
+        let holes = self.surf.hole_edges(t, faces);
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
+        let len2 = |(u, v): (u32, u32)| {
+            let d = place::sub(&g(u), &g(v));
+            place::dot(&d, &d)
+        };
+        let Some(&(u, v)) = holes
+            .iter()
+            .max_by(|&&x, &&y| len2(x).total_cmp(&len2(y)).then(y.cmp(&x)))
+        else {
+            return Ok(false);
+        };
+        for &e in &self.surf.tri_edges[t] {
+            let chain = &self.surf.chains[e as usize];
+            if let Some(w) = chain.windows(2).find(|w| ekey(w[0], w[1]) == (u, v)) {
+                let (a, b) = (w[0], w[1]);
+                return self.split_edge(dt, e, a, b);
+            }
+        }
+        let tv = self.surf.tris[t];
+        let [a, b, c] = tv.map(g);
+        let (pu, pv) = (g(u), g(v));
+        let mut x = [0, 1, 2].map(|k| 0.5 * (pu[k] + pv[k]));
+        for k in 0..3 {
+            if a[k] == b[k] && b[k] == c[k] {
+                x[k] = a[k];
+            }
+        }
+        let dev = if delone_predicates::orient3d(&a, &b, &c, &x) == 0.0 {
+            0.0
+        } else {
+            place::plane_distance(&a, &b, &c, &x).max(f64::MIN_POSITIVE)
+        };
+        self.insert_in_facet(dt, t, x, dev)
+    }
+
+    /// Inserts `x` (on triangle `t` up to `dev`) unless it encroaches a
+    /// boundary subsegment of `t` (then that is split) or is not inside `t`.
+    fn insert_in_facet(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+        x: [f64; 3],
+        dev: f64,
+    ) -> Result<bool, RecoverError> {
+        let pts = dt.points();
+        let g = |w: u32| pts[w as usize];
+        for &e in &self.surf.tri_edges[t] {
+            let chain = &self.surf.chains[e as usize];
+            for w in chain.windows(2) {
+                if place::encroaches(&g(w[0]), &g(w[1]), &x) {
+                    let (u, v) = (w[0], w[1]);
+                    return self.split_edge(dt, e, u, v);
+                }
+            }
+        }
+        let [a, b, c] = self.surf.tris[t].map(g);
+        if !place::inside_triangle(&a, &b, &c, &x) {
+            return Ok(false);
+        }
+        match self.insert(dt, x, dev)? {
+            Some(id) => {
+                self.surf.add_on_tri(id, t as u32);
+                self.report.steiner_on_facets += 1;
+                Ok(true)
+            }
+            None => Ok(false),
+        }
+    }
+
+    /// Carves and builds the output.
+    fn finish(
+        self,
+        dt: &Delaunay3<'_>,
+        input: &[[f64; 3]],
+        unscale: f64,
+    ) -> Result<Recovered, RecoverError> {
+        let sk = Skeleton::of(dt, true);
+        let (on, _) = self.surf.coverage(&sk, dt.points());
+        let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
+        let face_tri: IdMap<[u32; 3], u32> = on
+            .iter()
+            .enumerate()
+            .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
+            .collect();
+        let core = &dt.core;
+        let depth = carve::depths(core, &constraint);
+        let inside = |t: usize| {
+            let tv = core.v[t];
+            tv[0] != DEAD && !tv.contains(&INF) && depth[t] % 2 == 1 && depth[t] != u32::MAX
+        };
+        let mut new_id = vec![crate::NONE; core.v.len()];
+        let mut tets = Vec::new();
+        for (t, id) in new_id.iter_mut().enumerate() {
+            if inside(t) {
+                *id = tets.len() as u32;
+                tets.push(core.v[t]);
+            }
+        }
+        let mut neighbors = Vec::with_capacity(tets.len());
+        let mut boundary = Vec::new();
+        let mut boundary_triangle = Vec::new();
+        for t in 0..core.v.len() {
+            if !inside(t) {
+                continue;
+            }
+            let tv = core.v[t];
+            let mut nb = [crate::NONE; 4];
+            for (f, n) in nb.iter_mut().enumerate() {
+                let u = (core.adj[t][f] >> 2) as usize;
+                if inside(u) {
+                    *n = new_id[u];
+                } else {
+                    let [x, y, z] = FACET[f].map(|i| tv[i]);
+                    let face = [x, z, y];
+                    boundary.push(face);
+                    boundary_triangle.push(
+                        face_tri
+                            .get(&missing::fkey(face))
+                            .copied()
+                            .unwrap_or(crate::NONE),
+                    );
+                }
+            }
+            neighbors.push(nb);
+        }
+        let pts = dt.points();
+        let points: Vec<[f64; 3]> = (0..pts.len())
+            .map(|i| {
+                if i < input.len() {
+                    input[i]
+                } else {
+                    pts[i].map(|c| c * unscale)
+                }
+            })
+            .collect();
+        let mut vertex_map: Vec<u32> = (0..points.len() as u32).collect();
+        for &(d, o) in dt.duplicates() {
+            vertex_map[d as usize] = o;
+        }
+        Ok(Recovered {
+            points,
+            mesh: TetMesh {
+                tets,
+                neighbors,
+                vertex_map,
+                duplicates: dt.duplicates().to_vec(),
+                hidden: Vec::new(),
+            },
+            boundary,
+            boundary_triangle,
+            inexact: self.inexact,
+            report: self.report,
+        })
+    }
+}

@@ -1,0 +1,399 @@
+//! The refined input surface: input edges split into chains of subsegments,
+//! Steiner points and the input triangles they lie on, and the exact test of
+//! whether an input triangle is a union of mesh faces.
+
+use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
+
+use super::missing::{ekey, fkey, TET_EDGES};
+use super::place::{cross, dot, sub};
+use crate::tet::local::{DEAD, FACET, INF};
+use crate::tet::Delaunay3;
+
+/// A small deterministic multiplicative hasher for vertex-id keys (the
+/// default SipHash dominated the profile of the recovery rounds).
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct IdHasher(u64);
+
+const K: u64 = 0x9E37_79B9_7F4A_7C15;
+
+impl Hasher for IdHasher {
+    #[inline]
+    fn finish(&self) -> u64 {
+        let h = self.0.wrapping_mul(K);
+        h ^ (h >> 32)
+    }
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for c in bytes.chunks(4) {
+            let mut w = [0u8; 4];
+            w[..c.len()].copy_from_slice(c);
+            self.write_u32(u32::from_le_bytes(w));
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0.rotate_left(26) ^ u64::from(x)).wrapping_mul(K);
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.write_u32(x as u32);
+        self.write_u32((x >> 32) as u32);
+    }
+    #[inline]
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+/// A hash map keyed by vertex ids, with [`IdHasher`].
+pub(crate) type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
+/// A hash set of vertex-id keys, with [`IdHasher`].
+pub(crate) type IdSet<K> = HashSet<K, BuildHasherDefault<IdHasher>>;
+
+/// Where a vertex lies on the input surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// An input point (or a point not on the surface).
+    Input,
+    /// A Steiner point on input edge `e`.
+    OnEdge(u32),
+    /// A Steiner point inside input triangle `t`.
+    OnTri(u32),
+}
+
+/// The refined surface.
+#[derive(Debug, Clone)]
+pub(crate) struct Surface {
+    /// Input triangles.
+    pub(crate) tris: Vec<[u32; 3]>,
+    /// Input edges, `[a, b]` with `a < b`, sorted.
+    pub(crate) edges: Vec<[u32; 2]>,
+    /// Per input edge: its vertices from `edges[e][0]` to `edges[e][1]`.
+    pub(crate) chains: Vec<Vec<u32>>,
+    /// Per input triangle: the indices of its edges `(t0,t1), (t1,t2), (t2,t0)`.
+    pub(crate) tri_edges: Vec<[u32; 3]>,
+    /// Per input edge: the triangles that use it.
+    pub(crate) edge_tris: Vec<Vec<u32>>,
+    /// Per vertex: the input triangles it lies on (sorted).
+    pub(crate) vtris: Vec<Vec<u32>>,
+    /// Per vertex: its kind.
+    pub(crate) kind: Vec<Kind>,
+}
+
+/// The mesh edges and faces of the current tetrahedralization.
+pub(crate) struct Skeleton {
+    /// Every finite edge, mapped to one tetrahedron slot containing it.
+    pub(crate) edges: IdMap<(u32, u32), u32>,
+    /// Every finite face (sorted vertex triple).
+    pub(crate) faces: Vec<[u32; 3]>,
+    /// Every finite tetrahedron (positively oriented).
+    pub(crate) tets: Vec<[u32; 4]>,
+}
+
+impl Skeleton {
+    /// The edges, and with `with_faces` the faces and tetrahedra, in slot
+    /// order (deterministic).
+    pub(crate) fn of(dt: &Delaunay3<'_>, with_faces: bool) -> Skeleton {
+        let c = &dt.core;
+        let mut edges = IdMap::with_capacity_and_hasher(c.finite * 2, Default::default());
+        let mut faces = Vec::new();
+        let mut tets = Vec::new();
+        for (t, tv) in c.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for (i, j) in TET_EDGES {
+                edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
+            }
+            if !with_faces {
+                continue;
+            }
+            tets.push(*tv);
+            for f in 0..4 {
+                let u = (c.adj[t][f] >> 2) as usize;
+                if u < t && !c.v[u].contains(&INF) {
+                    continue;
+                }
+                let k = [tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]];
+                faces.push(fkey(k));
+            }
+        }
+        Skeleton { edges, faces, tets }
+    }
+}
+
+impl Surface {
+    pub(crate) fn new(n: usize, tris: &[[u32; 3]]) -> Surface {
+        let mut keys: Vec<(u32, u32)> = tris
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let index: HashMap<(u32, u32), u32> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| (k, i as u32))
+            .collect();
+        let mut edge_tris = vec![Vec::new(); keys.len()];
+        let mut tri_edges = Vec::with_capacity(tris.len());
+        let mut vtris = vec![Vec::new(); n];
+        for (ti, t) in tris.iter().enumerate() {
+            let mut te = [0u32; 3];
+            for k in 0..3 {
+                let e = index[&ekey(t[k], t[(k + 1) % 3])];
+                te[k] = e;
+                edge_tris[e as usize].push(ti as u32);
+                vtris[t[k] as usize].push(ti as u32);
+            }
+            tri_edges.push(te);
+        }
+        for l in &mut vtris {
+            l.sort_unstable();
+            l.dedup();
+        }
+        Surface {
+            tris: tris.to_vec(),
+            edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
+            chains: keys.iter().map(|&(a, b)| vec![a, b]).collect(),
+            tri_edges,
+            edge_tris,
+            vtris,
+            kind: vec![Kind::Input; n],
+        }
+    }
+
+    /// Records Steiner vertex `id` on edge `e` between chain positions `i`
+    /// and `i + 1`.
+    pub(crate) fn add_on_edge(&mut self, id: u32, e: u32, i: usize) {
+        self.grow(id);
+        self.chains[e as usize].insert(i + 1, id);
+        self.kind[id as usize] = Kind::OnEdge(e);
+        self.vtris[id as usize] = self.edge_tris[e as usize].clone();
+    }
+
+    /// Records Steiner vertex `id` inside triangle `t`.
+    pub(crate) fn add_on_tri(&mut self, id: u32, t: u32) {
+        self.grow(id);
+        self.kind[id as usize] = Kind::OnTri(t);
+        self.vtris[id as usize] = vec![t];
+    }
+
+    fn grow(&mut self, id: u32) {
+        let n = id as usize + 1;
+        if self.kind.len() < n {
+            self.kind.resize(n, Kind::Input);
+            self.vtris.resize(n, Vec::new());
+        }
+    }
+
+    /// Bit `k` set when vertex `w` lies on local edge `k` of triangle `t`.
+    fn edge_mask(&self, w: u32, t: usize) -> u8 {
+        let tv = self.tris[t];
+        match self.kind[w as usize] {
+            Kind::Input => {
+                let mut m = 0;
+                for k in 0..3 {
+                    if tv[k] == w || tv[(k + 1) % 3] == w {
+                        m |= 1 << k;
+                    }
+                }
+                m
+            }
+            Kind::OnEdge(e) => {
+                let mut m = 0;
+                for k in 0..3 {
+                    if self.tri_edges[t][k] == e {
+                        m |= 1 << k;
+                    }
+                }
+                m
+            }
+            Kind::OnTri(_) => 0,
+        }
+    }
+
+    /// The input triangles a mesh face lies on (by vertex membership), the
+    /// face not being three points of one edge chain.
+    pub(crate) fn face_triangles(&self, f: [u32; 3], out: &mut Vec<u32>) {
+        self.face_triangles_split(f, out, &mut Vec::new());
+    }
+
+    /// Like [`Surface::face_triangles`], also listing in `flat` the input
+    /// triangles on which the face is three points of one edge chain.
+    pub(crate) fn face_triangles_split(
+        &self,
+        f: [u32; 3],
+        out: &mut Vec<u32>,
+        flat: &mut Vec<u32>,
+    ) {
+        out.clear();
+        flat.clear();
+        let get = |w: u32| self.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
+        let (a, b, c) = (get(f[0]), get(f[1]), get(f[2]));
+        for &t in a {
+            if b.binary_search(&t).is_ok() && c.binary_search(&t).is_ok() {
+                let m = self.edge_mask(f[0], t as usize)
+                    & self.edge_mask(f[1], t as usize)
+                    & self.edge_mask(f[2], t as usize);
+                if m == 0 {
+                    out.push(t);
+                } else {
+                    flat.push(t);
+                }
+            }
+        }
+    }
+
+    /// The subsegments on the boundary of triangle `t`.
+    pub(crate) fn boundary(&self, t: usize) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.tri_edges[t]
+            .iter()
+            .flat_map(move |&e| self.chains[e as usize].windows(2).map(|w| ekey(w[0], w[1])))
+    }
+
+    /// Per input triangle, the mesh faces lying on it, and whether they
+    /// cover it exactly: the faces' edges used once are exactly the
+    /// subsegments of its boundary, every other edge is used twice. (Faces
+    /// of a valid tetrahedralization never overlap, so a set of them inside
+    /// the triangle whose mod-2 boundary is the triangle's boundary covers
+    /// it exactly once.)
+    ///
+    /// A tetrahedron whose four vertices all lie on one input triangle (a
+    /// sliver made by Steiner points that are not exactly on it) has all
+    /// four faces "on" the triangle; only its faces whose outward normal
+    /// points to the triangle's positive side are kept, so the sliver joins
+    /// the region below the triangle.
+    pub(crate) fn coverage(
+        &self,
+        sk: &Skeleton,
+        pts: &[[f64; 3]],
+    ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
+        let mut on = vec![Vec::new(); self.tris.len()];
+        let mut buf = Vec::new();
+        let mut flat_buf = Vec::new();
+        let mut flat: Vec<(u32, [u32; 3])> = Vec::new();
+        for &f in &sk.faces {
+            self.face_triangles_split(f, &mut buf, &mut flat_buf);
+            for &t in &buf {
+                on[t as usize].push(f);
+            }
+            flat.extend(flat_buf.iter().map(|&t| (t, f)));
+        }
+        let mut drop: Vec<(u32, [u32; 3])> = Vec::new();
+        let mut common = Vec::new();
+        for tv in &sk.tets {
+            self.face_triangles([tv[0], tv[1], tv[2]], &mut buf);
+            if buf.is_empty() {
+                continue;
+            }
+            self.face_triangles([tv[0], tv[1], tv[3]], &mut common);
+            for &t in buf.iter().filter(|t| common.contains(t)) {
+                if !self.on_triangle(tv[3], t as usize) {
+                    continue;
+                }
+                let [a, b, c] = self.tris[t as usize].map(|w| pts[w as usize]);
+                let nt = cross(&sub(&b, &a), &sub(&c, &a));
+                for fv in FACET {
+                    let [x, y, z] = fv.map(|i| pts[tv[i] as usize]);
+                    // Outward normal of the face: reverse of FACET order.
+                    let n = cross(&sub(&z, &x), &sub(&y, &x));
+                    if dot(&n, &nt) <= 0.0 {
+                        drop.push((t, fkey(fv.map(|i| tv[i]))));
+                    }
+                }
+            }
+        }
+        for (t, f) in drop {
+            on[t as usize].retain(|&g| g != f);
+        }
+        // Chords: with inexact Steiner points on an edge, a mesh edge
+        // joining two vertices of its chain can coexist with the
+        // subsegments between them, the thin face of three chain points
+        // closing the gap. Such a face joins the triangle whose faces use
+        // the chord, until no more apply.
+        let mut changed = true;
+        while changed && !flat.is_empty() {
+            changed = false;
+            let mut rest = Vec::new();
+            for (t, f) in flat {
+                let bnd = |e: (u32, u32)| self.boundary(t as usize).any(|b| b == e);
+                let uses = |e: (u32, u32)| {
+                    on[t as usize]
+                        .iter()
+                        .any(|g| (0..3).any(|k| ekey(g[k], g[(k + 1) % 3]) == e))
+                };
+                let chord = (0..3)
+                    .map(|k| ekey(f[k], f[(k + 1) % 3]))
+                    .any(|e| !bnd(e) && uses(e));
+                if chord {
+                    on[t as usize].push(f);
+                    changed = true;
+                } else {
+                    rest.push((t, f));
+                }
+            }
+            flat = rest;
+        }
+        let covered = (0..self.tris.len())
+            .map(|t| self.covers(t, &on[t]))
+            .collect();
+        (on, covered)
+    }
+
+    /// The edges around the uncovered part of triangle `t`: boundary
+    /// subsegments no face on `t` uses, and other edges used by one face
+    /// only. Sorted.
+    pub(crate) fn hole_edges(&self, t: usize, faces: &[[u32; 3]]) -> Vec<(u32, u32)> {
+        let mut count: IdMap<(u32, u32), u32> = IdMap::default();
+        for f in faces {
+            for k in 0..3 {
+                *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        let bnd: IdSet<(u32, u32)> = self.boundary(t).collect();
+        let mut out: Vec<(u32, u32)> = bnd
+            .iter()
+            .filter(|e| !count.contains_key(e))
+            .copied()
+            .collect();
+        out.extend(
+            count
+                .iter()
+                .filter(|(e, &c)| c == 1 && !bnd.contains(e))
+                .map(|(&e, _)| e),
+        );
+        out.sort_unstable();
+        out
+    }
+
+    fn covers(&self, t: usize, faces: &[[u32; 3]]) -> bool {
+        if faces.is_empty() {
+            return false;
+        }
+        let mut count: IdMap<(u32, u32), u32> = IdMap::default();
+        for f in faces {
+            for k in 0..3 {
+                *count.entry(ekey(f[k], f[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        let bnd: IdSet<(u32, u32)> = self.boundary(t).collect();
+        for b in &bnd {
+            if count.get(b) != Some(&1) {
+                return false;
+            }
+        }
+        count
+            .iter()
+            .all(|(e, &c)| if bnd.contains(e) { c == 1 } else { c == 2 })
+    }
+
+    /// Vertices lying on triangle `t`: corners, edge Steiner points, inner
+    /// Steiner points.
+    pub(crate) fn on_triangle(&self, w: u32, t: usize) -> bool {
+        self.vtris
+            .get(w as usize)
+            .is_some_and(|l| l.binary_search(&(t as u32)).is_ok())
+    }
+}
