@@ -112,7 +112,14 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -Q   Quiet: no summary, no progress.
     -V   Verbose (repeat for more: -VV).
     -h   This help.
-    Not implemented yet (error, exit code 2): -p -Y -r -q -R -A -m -a -i -O -S
+    -p   Mesh the inside of a closed PLC or surface: FILE.poly / FILE.smesh
+         (TetGen; tried in that order when FILE has no extension), or
+         FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is conforming:
+         missing edges and facets are split by Steiner points on them.
+         Writes FILE.1.node/.ele/.face (facet markers), -n .neigh, -o .vtu;
+         -C checks that every facet is a union of mesh faces, orientation,
+         adjacency and the enclosed volume.
+    Not implemented yet (error, exit code 2): -Y -r -q -R -A -m -a -i -O -S
     -T -X -M -c -d -D -g -o2 -o/.
 
 OPTIONS:

@@ -5,6 +5,7 @@
 mod args;
 mod dual;
 mod help;
+mod plc;
 mod pslg;
 mod run;
 

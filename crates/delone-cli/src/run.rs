@@ -263,6 +263,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             "-v, -w, --lloyd and --svg are not supported with -p yet",
         ));
     }
+    if mode == Mode::Tet && o.pslg {
+        return crate::plc::run(o);
+    }
     if mode == Mode::Tri && o.pslg {
         return crate::pslg::run(o);
     }

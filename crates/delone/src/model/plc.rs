@@ -140,6 +140,105 @@ impl Plc {
             .collect()
     }
 
+    /// Triangulates every facet in its own plane with the 2D constrained
+    /// Delaunay triangulation (facet polygons, interior segments and facet
+    /// holes respected, the outside of the outer polygon removed), without
+    /// new points. Returns the triangles and, for each, its facet index.
+    ///
+    /// # Errors
+    /// [`Error::DegenerateFacet`] (with [`FacetDefect::ZeroArea`]) for a facet
+    /// whose polygons span no plane; the errors of
+    /// [`crate::tri::constrained_triangulation`] (e.g. crossing edges inside
+    /// a facet), and [`Error::DegenerateFacet`] with
+    /// [`FacetDefect::TooFewVertices`] when a facet would need new points.
+    ///
+    /// ```
+    /// use delone::model::plc::{Facet, Plc};
+    /// // A unit cube with quadrilateral facets.
+    /// let mut plc = Plc::new((0..8).map(|k| [(k & 1) as f64, (k >> 1 & 1) as f64, (k >> 2) as f64]).collect());
+    /// for q in [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]] {
+    ///     plc.facets.push(Facet::polygon(q.to_vec()));
+    /// }
+    /// let (tris, facet) = plc.triangulate_facets().unwrap();
+    /// assert_eq!(tris.len(), 12);
+    /// assert_eq!(facet[11], 5);
+    /// ```
+    pub fn triangulate_facets(&self) -> Result<(Vec<[u32; 3]>, Vec<u32>), Error> {
+        use crate::model::pslg::Pslg;
+        use crate::tri::{constrained_triangulation, CdtOptions};
+        let mut tris = Vec::new();
+        let mut owner = Vec::new();
+        for (fi, f) in self.facets.iter().enumerate() {
+            if let [p] = f.polygons.as_slice() {
+                if p.len() == 3 && f.holes.is_empty() {
+                    tris.push([p[0], p[1], p[2]]);
+                    owner.push(fi as u32);
+                    continue;
+                }
+            }
+            let zero = Error::DegenerateFacet {
+                index: fi,
+                defect: FacetDefect::ZeroArea,
+            };
+            // Newell normal over all polygons; drop its largest axis.
+            let mut n = [0.0f64; 3];
+            for poly in &f.polygons {
+                let m = poly.len();
+                for k in 0..m {
+                    let a = self.points.get(poly[k] as usize).ok_or(zero.clone())?;
+                    let b = self
+                        .points
+                        .get(poly[(k + 1) % m] as usize)
+                        .ok_or(zero.clone())?;
+                    n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+                    n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+                    n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+                }
+            }
+            let axis = (0..3).fold(0, |m, k| if n[k].abs() > n[m].abs() { k } else { m });
+            if n[axis] == 0.0 {
+                return Err(zero);
+            }
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let mut ids: Vec<u32> = f.polygons.iter().flatten().copied().collect();
+            ids.sort_unstable();
+            ids.dedup();
+            let local = |q: u32| ids.binary_search(&q).unwrap_or(0) as u32;
+            let mut g = Pslg::new(
+                ids.iter()
+                    .map(|&q| {
+                        let p = self.points[q as usize];
+                        [p[u], p[v]]
+                    })
+                    .collect(),
+                Vec::new(),
+            );
+            for poly in &f.polygons {
+                let m = poly.len();
+                if m < 2 {
+                    continue;
+                }
+                let edges = if m == 2 { 1 } else { m };
+                for k in 0..edges {
+                    g.segments.push([local(poly[k]), local(poly[(k + 1) % m])]);
+                }
+            }
+            g.holes = f.holes.iter().map(|h| [h[u], h[v]]).collect();
+            let cdt = constrained_triangulation(&g, CdtOptions::default())?;
+            if cdt.points.len() != ids.len() {
+                return Err(Error::DegenerateFacet {
+                    index: fi,
+                    defect: FacetDefect::TooFewVertices,
+                });
+            }
+            for t in &cdt.triangles {
+                tris.push(t.map(|q| ids[q as usize]));
+                owner.push(fi as u32);
+            }
+        }
+        Ok((tris, owner))
+    }
+
     /// Checks the PLC exactly and returns the first problem found, naming the
     /// offending item:
     ///

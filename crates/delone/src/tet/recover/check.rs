@@ -282,7 +282,7 @@ pub fn check_recovered(
         .iter()
         .map(|tv| tet_volume(tv.map(|q| rec.points[q as usize])))
         .sum();
-    let want = surface_volume(points, triangles).abs();
+    let want = surface_volume(points, &oriented_like(triangles, rec)).abs();
     if (vol - want).abs() > 1e-9 * want.max(f64::MIN_POSITIVE) {
         return bad(
             "volume",
@@ -290,6 +290,69 @@ pub fn check_recovered(
         );
     }
     Ok(())
+}
+
+/// The input triangles oriented consistently within each connected
+/// component (input files need not be), each component turned to agree with
+/// the outward boundary faces of `rec` that lie on it — so the divergence
+/// theorem gives the enclosed volume, cavities included.
+fn oriented_like(triangles: &[[u32; 3]], rec: &Recovered) -> Vec<[u32; 3]> {
+    let mut tris = triangles.to_vec();
+    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
+        }
+    }
+    let has_dir = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+    // One boundary face per input triangle, to fix each component's sign.
+    let mut face_on: Vec<Option<[u32; 3]>> = vec![None; tris.len()];
+    for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
+        if let Some(slot) = face_on.get_mut(t as usize) {
+            slot.get_or_insert(*f);
+        }
+    }
+    let normal = |t: &[u32; 3], pts: &[[f64; 3]]| {
+        let [a, b, c] = t.map(|q| pts[q as usize]);
+        cross(&sub(&b, &a), &sub(&c, &a))
+    };
+    let mut seen = vec![false; tris.len()];
+    for start in 0..tris.len() {
+        if seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        let mut comp = vec![start];
+        let mut k = 0;
+        while k < comp.len() {
+            let i = comp[k];
+            k += 1;
+            let t = tris[i];
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                for &j in &by_edge[&(a.min(b), a.max(b))] {
+                    if seen[j] {
+                        continue;
+                    }
+                    seen[j] = true;
+                    if has_dir(&tris[j], a, b) {
+                        tris[j].swap(0, 1);
+                    }
+                    comp.push(j);
+                }
+            }
+        }
+        let agree = comp.iter().find_map(|&i| {
+            face_on[i].map(|f| dot(&normal(&tris[i], &rec.points), &normal(&f, &rec.points)) >= 0.0)
+        });
+        if agree == Some(false) {
+            for &i in &comp {
+                tris[i].swap(0, 1);
+            }
+        }
+    }
+    tris
 }
 
 /// `p` (on the plane of `a b c`) inside the closed triangle.

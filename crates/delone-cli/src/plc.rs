@@ -1,0 +1,254 @@
+//! `delone tet -p`: tetrahedral mesh of the inside of a closed PLC or
+//! surface mesh (TetGen `.poly`/`.smesh`, OFF, STL, PLY, OBJ, Medit
+//! `.mesh`), by conforming boundary recovery.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use delone::model::plc::{Facet, Plc};
+use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+
+use crate::args::Opts;
+use crate::run::Failure;
+
+fn input_err(message: impl Into<String>) -> Failure {
+    Failure {
+        message: message.into(),
+        code: 1,
+    }
+}
+
+fn with_ext(base: &Path, ext: &str) -> PathBuf {
+    let mut s = base.as_os_str().to_owned();
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+const EXTENSIONS: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mesh", "node"];
+
+/// The input file (`FILE.ext`, or `FILE` with `.poly` / `.smesh` tried as
+/// TetGen does), its extension, and the output base (`FILE.1`, or `FILE`
+/// with `-I`).
+fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
+    let given = o.input.clone();
+    let ext = given
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .filter(|e| EXTENSIONS.contains(&e.as_str()));
+    let (path, ext, base) = match ext {
+        Some(e) => {
+            let base = given.with_extension("");
+            (given, e, base)
+        }
+        None => {
+            let found = ["poly", "smesh"]
+                .into_iter()
+                .map(|e| (with_ext(&given, e), e))
+                .find(|(p, _)| p.is_file())
+                .ok_or_else(|| {
+                    input_err(format!(
+                        "cannot find {}.poly or {}.smesh",
+                        given.display(),
+                        given.display()
+                    ))
+                })?;
+            (found.0, found.1.to_string(), given)
+        }
+    };
+    if ext == "node" {
+        return Err(Failure {
+            message: "delone tet -p needs a PLC or surface file (.poly, .smesh, .off, .stl, .ply, .obj, .mesh)".into(),
+            code: 2,
+        });
+    }
+    let mut out = if o.no_iteration {
+        base
+    } else {
+        with_ext(&base, "1")
+    };
+    if let Some(dir) = &o.output_dir {
+        if let Some(f) = out.file_name() {
+            out = dir.join(f);
+        }
+    }
+    Ok((path, ext, out))
+}
+
+/// Reads the input as a PLC (TetGen formats) or a surface (the others),
+/// with the marker of each facet.
+fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))?;
+    let err = |e: delone_io::IoError| input_err(format!("{}: {e}", path.display()));
+    match ext {
+        "poly" | "smesh" => {
+            let f = if ext == "poly" {
+                delone_io::read_poly3d(&bytes).map_err(err)?
+            } else {
+                delone_io::read_smesh(&bytes).map_err(err)?
+            };
+            let mut plc = Plc::new(f.points);
+            for facet in f.facets {
+                plc.facets.push(Facet {
+                    polygons: facet.polygons,
+                    holes: facet.holes,
+                    marker: facet.marker,
+                });
+            }
+            Ok((plc, f.first_index))
+        }
+        _ => {
+            let mut s = delone_io::read_surface(&bytes, ext).map_err(err)?;
+            s.merge_exact_duplicates();
+            let mut plc = Plc::new(s.points);
+            for face in s.faces {
+                let mut f = Facet::polygon(face);
+                f.marker = 1;
+                plc.facets.push(f);
+            }
+            Ok((plc, 1))
+        }
+    }
+}
+
+fn write(
+    path: &Path,
+    f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
+) -> Result<(), Failure> {
+    let file = std::fs::File::create(path)
+        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+/// Runs `delone tet -p`. Returns the exit code (1 when `-C` finds a
+/// violation).
+pub fn run(o: &Opts) -> Result<i32, Failure> {
+    let t_all = Instant::now();
+    let (path, ext, out) = names(o)?;
+    let (plc, first_in) = read(&path, &ext)?;
+    let name = path.display();
+    plc.validate()
+        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let (triangles, facet_of) = plc
+        .triangulate_facets()
+        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let t_read = t_all.elapsed();
+    let t1 = Instant::now();
+    let rec = recover(&plc.points, &triangles, &RecoverOptions::default())
+        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let t_mesh = t1.elapsed();
+    let mut code = 0;
+    let mut lines = Vec::new();
+    if o.check {
+        match check_recovered(&plc.points, &triangles, &rec) {
+            Ok(()) => lines.push(
+                "check (-C): every input facet is a union of mesh faces, tetrahedra positive, volume preserved"
+                    .to_string(),
+            ),
+            Err(v) => {
+                lines.push(format!("check FAILED: {v}"));
+                code = 1;
+            }
+        }
+    }
+    if let Some(dir) = &o.output_dir {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
+    }
+    let t2 = Instant::now();
+    let first = if o.zero { 0 } else { first_in };
+    let mut written = Vec::new();
+    if !o.no_node {
+        let p = with_ext(&out, "node");
+        write(&p, |f| {
+            delone_io::write_node(f, &rec.points, &[], 0, None, first)
+        })?;
+        written.push(p);
+    }
+    if !o.no_ele {
+        let p = with_ext(&out, "ele");
+        write(&p, |f| {
+            delone_io::write_ele(f, &rec.mesh.tets, &[], 0, first)
+        })?;
+        written.push(p);
+    }
+    if !o.no_face {
+        let p = with_ext(&out, "face");
+        let markers: Vec<i32> = rec
+            .boundary_triangle
+            .iter()
+            .map(|&t| plc.facets[facet_of[t as usize] as usize].marker)
+            .collect();
+        write(&p, |f| {
+            delone_io::write_face(
+                f,
+                &rec.boundary,
+                (!o.no_bound).then_some(&markers[..]),
+                first,
+            )
+        })?;
+        written.push(p);
+    }
+    if o.neigh {
+        let p = with_ext(&out, "neigh");
+        write(&p, |f| {
+            delone_io::write_neigh(f, &rec.mesh.neighbors, first)
+        })?;
+        written.push(p);
+    }
+    if let Some(p) = &o.vtu {
+        write(p, |f| {
+            delone_io::write_vtu(
+                f,
+                &rec.points,
+                &rec.mesh.tets,
+                &[],
+                &[],
+                delone_io::VtuFormat::Binary,
+            )
+        })?;
+        written.push(p.clone());
+    }
+    let t_write = t2.elapsed();
+    if !o.quiet {
+        let r = &rec.report;
+        println!(
+            "delone tet -p: {name} ({} points, {} facets)",
+            plc.points.len(),
+            plc.facets.len()
+        );
+        println!(
+            "  tetrahedra: {}   boundary faces: {}   Steiner points: {} (on edges {}, on facets {}, interior {})",
+            rec.mesh.tets.len(),
+            rec.boundary.len(),
+            r.steiner(),
+            r.steiner_on_edges,
+            r.steiner_on_facets,
+            r.steiner_interior
+        );
+        if r.inexact_steiner > 0 {
+            println!(
+                "  {} Steiner point(s) rounded off their edge/facet (largest deviation {:e})",
+                r.inexact_steiner, r.max_deviation
+            );
+        }
+        for l in &lines {
+            println!("  {l}");
+        }
+        println!(
+            "  time: read {:.3} s, recover {:.3} s, write {:.3} s, total {:.3} s",
+            t_read.as_secs_f64(),
+            t_mesh.as_secs_f64(),
+            t_write.as_secs_f64(),
+            t_all.elapsed().as_secs_f64()
+        );
+        let w: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+        println!("  wrote {}", w.join(", "));
+    } else {
+        for l in lines.iter().filter(|l| l.starts_with("check FAILED")) {
+            eprintln!("delone: {l}");
+        }
+    }
+    Ok(code)
+}
