@@ -454,7 +454,12 @@ fn usage_errors() {
         2,
         "switch -a (maximum area constraint) is not implemented yet",
     );
-    expect_err(&d, &["tet", "-pq1.4", "x"], 2, "switch -p (PLC input");
+    expect_err(
+        &d,
+        &["tet", "-pq1.4", "x"],
+        2,
+        "switch -q (quality mesh) is not implemented yet",
+    );
     expect_err(
         &d,
         &["tet", "-a0.1", "x"],
