@@ -7,11 +7,13 @@
 pub mod constrain;
 pub mod delaunay;
 pub mod mesh;
+pub mod refine;
 mod topo;
 
 pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
 pub use mesh::{validate, TriMesh};
+pub use refine::{refine, RefineOptions, RefineReport, Refined};
 
 use crate::Error;
 
