@@ -7,8 +7,11 @@
 //!
 //! 1. **Encroached subsegments** are split first. A subsegment is encroached
 //!    when the apex of a triangle beside it lies strictly inside its
-//!    diametral circle (`(u - w) · (v - w) < 0`, decided in floating point
-//!    with an error bound; a tie within rounding counts as not encroached).
+//!    diametral lens: it sees the subsegment at an angle larger than
+//!    180° − 2θ for an angle bound θ ≤ 45° (Chew's and Shewchuk's lens), or
+//!    larger than 90° (the diametral circle) otherwise — decided in floating
+//!    point with an error bound; a tie within rounding counts as not
+//!    encroached.
 //!    A subsegment with exactly one end at a vertex of the input CDT is split
 //!    on a *concentric shell* (at a power-of-two distance from that end, the
 //!    one nearest to half its length), otherwise at its midpoint; split points
@@ -227,19 +230,22 @@ struct Mesh {
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
     nfixed: usize,
+    /// Squared cosine of the encroachment angle (see [`encroaches`]).
+    cos2: f64,
     subs: Vec<Sub>,
     parents: Vec<Parent>,
     flips: usize,
 }
 
-/// Encroachment of `(u, v)` by `w`: `w` strictly inside the diametral circle,
-/// beyond rounding error.
-fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2]) -> bool {
+/// Encroachment of `(u, v)` by `w`: `w` sees the subsegment at an angle
+/// larger than the one whose squared cosine is `cos2` (0: the diametral
+/// circle, 90°; more: a diametral lens), beyond rounding error.
+fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2], cos2: f64) -> bool {
     let (ax, ay) = (u[0] - w[0], u[1] - w[1]);
     let (bx, by) = (v[0] - w[0], v[1] - w[1]);
     let dot = ax * bx + ay * by;
     let err = 8.0 * f64::EPSILON * ((ax * bx).abs() + (ay * by).abs());
-    dot < -err
+    dot < -err && (cos2 == 0.0 || dot * dot > cos2 * (ax * ax + ay * ay) * (bx * bx + by * by))
 }
 
 fn dist2(a: &[f64; 2], b: &[f64; 2]) -> f64 {
@@ -589,7 +595,7 @@ impl Mesh {
                 let s = self.sb[t][e];
                 if s != NONE {
                     let [u, w] = self.subs[s as usize].v;
-                    if encroaches(self.p(u), self.p(w), c) && !out.contains(&s) {
+                    if encroaches(self.p(u), self.p(w), c, self.cos2) && !out.contains(&s) {
                         out.push(s);
                     }
                     continue;
@@ -774,6 +780,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         vt: vec![0; nfixed],
         vpar: vec![NONE; nfixed],
         nfixed,
+        cos2: 0.0,
         subs: Vec::new(),
         parents: Vec::new(),
         flips: 0,
@@ -847,6 +854,11 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         },
         s2: sf * sf,
     };
+    // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
+    // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
+    if angle > 0.0 && angle <= 45.0 {
+        m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
+    }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
     let mut report = RefineReport::default();
 
@@ -890,7 +902,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         }
         let [u, w] = m.subs[s as usize].v;
         let apex = m.tv[t][e];
-        if encroaches(m.p(u), m.p(w), m.p(apex)) {
+        if encroaches(m.p(u), m.p(w), m.p(apex), m.cos2) {
             enc.push_back(s);
         }
     };
