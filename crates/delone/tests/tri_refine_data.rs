@@ -218,3 +218,59 @@ fn every_shared_poly_q20_q30_q34() {
         }
     }
 }
+
+#[test]
+fn area_bounds_global_and_regional() {
+    let Some(dir) = data_dir() else {
+        println!("note: shared/data not found; skipping");
+        return;
+    };
+    for (file, area) in [
+        ("la.poly", 0.05),
+        ("square_circle_hole.poly", 0.001),
+        ("A.poly", 0.001),
+    ] {
+        let g = load(&dir.join("2d").join(file));
+        let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+        let opts = RefineOptions {
+            min_angle: Some(30.0),
+            max_area: Some(area),
+            regional_areas: true,
+            ..Default::default()
+        };
+        let r = refine(&cdt, &opts).unwrap();
+        println!("{file} q30 a{area}: {} triangles", r.mesh.triangles.len());
+        check_quality(file, &g, &cdt, &r, 30.0, Some(area));
+        // Regional bounds (la.poly has six regions with area bounds).
+        for (t, v) in r.mesh.triangles.iter().enumerate() {
+            let ma = r.mesh.max_areas[t];
+            if ma > 0.0 {
+                assert!(
+                    area_of(&r.mesh.points, v) <= ma * (1.0 + 1e-12),
+                    "{file}: triangle {t} above its region's bound"
+                );
+            }
+        }
+        // Area alone (no angle bound).
+        let r = refine(
+            &cdt,
+            &RefineOptions {
+                min_angle: None,
+                max_area: Some(area),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        check_cdt(&g, &r.mesh).unwrap();
+        assert!(r.report.met);
+        assert!(r
+            .mesh
+            .triangles
+            .iter()
+            .all(|v| area_of(&r.mesh.points, v) <= area * (1.0 + 1e-12)));
+    }
+}
+
+fn area_of(p: &[[f64; 2]], v: &[u32; 3]) -> f64 {
+    area(p, v)
+}

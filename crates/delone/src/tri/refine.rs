@@ -24,9 +24,9 @@
 //!    split instead) or would encroach a subsegment that would become visible
 //!    from it (those are split instead; the triangle goes back in the queue).
 //! 3. **Small input angles.** A skinny triangle whose shortest edge joins two
-//!    Steiner vertices on two segments meeting at an input vertex at an angle
-//!    smaller than the bound, at equal distance from it (on the same shell), is
-//!    left alone: its small angle is forced by the input. Such triangles are
+//!    vertices on two segments meeting at an input vertex at an angle
+//!    smaller than the bound is left alone: its small angle is forced by the
+//!    input (splitting it would only crowd the wedge). Such triangles are
 //!    listed in [`RefineReport::unfixable`].
 //! 4. A Steiner-point budget ([`RefineOptions::max_steiner`], Triangle's `-S`)
 //!    stops the refinement; the report says whether every bound was met.
@@ -230,6 +230,8 @@ struct Mesh {
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
     nfixed: usize,
+    /// The chains (parents) each fixed vertex is an end of.
+    vchains: Vec<Vec<u32>>,
     /// Squared cosine of the encroachment angle (see [`encroaches`]).
     cos2: f64,
     subs: Vec<Sub>,
@@ -687,34 +689,48 @@ impl Mesh {
     }
 
     /// Skinny triangle whose shortest edge spans a small input angle:
-    /// the apex and the input angle (degrees), if `(u, v)` qualifies.
-    fn small_angle_apex(&self, u: u32, v: u32, bound: f64) -> Option<(u32, f64)> {
-        let (pu, pv) = (self.vpar[u as usize], self.vpar[v as usize]);
-        if pu == NONE || pv == NONE || pu == pv {
-            return None;
-        }
-        let (a, b) = (self.parents[pu as usize], self.parents[pv as usize]);
-        let z = if a.a == b.a || a.a == b.b {
-            a.a
-        } else if a.b == b.a || a.b == b.b {
-            a.b
-        } else {
-            return None;
+    /// the apex and the input angle (degrees), if `u` and `v` lie on two
+    /// segment chains that meet at a vertex other than `u` and `v` at an angle
+    /// below `bound` (`w`, the triangle's third vertex, is not used).
+    fn small_angle_apex(&self, u: u32, v: u32, w: u32, bound: f64) -> Option<(u32, f64)> {
+        let chains = |x: u32| -> &[u32] {
+            let p = self.vpar[x as usize];
+            if p != NONE {
+                std::slice::from_ref(&self.vpar[x as usize])
+            } else {
+                self.vchains.get(x as usize).map_or(&[], |c| c.as_slice())
+            }
         };
-        let (du, dv) = (dist2(self.p(z), self.p(u)), dist2(self.p(z), self.p(v)));
-        if (du - dv).abs() > 1e-6 * du.max(dv) {
-            return None;
+        let mut best: Option<(u32, f64)> = None;
+        for &pu in chains(u) {
+            for &pv in chains(v) {
+                if pu == pv {
+                    continue;
+                }
+                let (a, b) = (self.parents[pu as usize], self.parents[pv as usize]);
+                for z in [a.a, a.b] {
+                    if z == u || z == v || (z != b.a && z != b.b) {
+                        continue;
+                    }
+                    let oa = if a.a == z { a.b } else { a.a };
+                    let ob = if b.a == z { b.b } else { b.a };
+                    let pz = self.p(z);
+                    let (ux, uy) = (self.p(oa)[0] - pz[0], self.p(oa)[1] - pz[1]);
+                    let (vx, vy) = (self.p(ob)[0] - pz[0], self.p(ob)[1] - pz[1]);
+                    let ang = (ux * vy - uy * vx)
+                        .abs()
+                        .atan2(ux * vx + uy * vy)
+                        .to_degrees();
+                    // (Requiring `w` inside the wedge was tried: refinement
+                    // then cascades on la.poly at 30°.)
+                    let _ = w;
+                    if ang < bound && best.is_none_or(|(_, x)| ang < x) {
+                        best = Some((z, ang));
+                    }
+                }
+            }
         }
-        let oa = if a.a == z { a.b } else { a.a };
-        let ob = if b.a == z { b.b } else { b.a };
-        let pz = self.p(z);
-        let (ux, uy) = (self.p(oa)[0] - pz[0], self.p(oa)[1] - pz[1]);
-        let (vx, vy) = (self.p(ob)[0] - pz[0], self.p(ob)[1] - pz[1]);
-        let ang = (ux * vy - uy * vx)
-            .abs()
-            .atan2(ux * vx + uy * vy)
-            .to_degrees();
-        (ang < bound).then_some((z, ang))
+        best
     }
 }
 
@@ -780,6 +796,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         vt: vec![0; nfixed],
         vpar: vec![NONE; nfixed],
         nfixed,
+        vchains: vec![Vec::new(); nfixed],
         cos2: 0.0,
         subs: Vec::new(),
         parents: Vec::new(),
@@ -838,6 +855,10 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             }
         }
     }
+    for (k, par) in m.parents.iter().enumerate() {
+        m.vchains[par.a as usize].push(k as u32);
+        m.vchains[par.b as usize].push(k as u32);
+    }
     let angle = options.min_angle.map_or(0.0, |a| a.clamp(0.0, 60.0));
     let crit = Crit {
         sin2: angle.to_radians().sin().powi(2),
@@ -876,7 +897,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         }
         if s2 < crit.sin2 {
             let (u, w) = edge(&v, k);
-            if m.small_angle_apex(u, w, crit.angle).is_some() {
+            if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
                 return None;
             }
             return Some(s2.to_bits());
@@ -1082,7 +1103,7 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
         }
         met = false;
         let (u, w) = edge(v, k);
-        let reason = match m.small_angle_apex(u, w, crit.angle) {
+        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
             Some((apex, input_angle)) if !(d > abound) => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
