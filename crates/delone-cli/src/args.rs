@@ -128,9 +128,6 @@ fn number(c: char, num: &str) -> Result<Option<f64>, Usage> {
 }
 
 fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command>, Usage> {
-    if !num.is_empty() && !matches!((mode, c), (Mode::Tri, 'q' | 'a' | 'S')) {
-        return Err(Usage(format!("switch -{c} takes no number (got {num})")));
-    }
     match (mode, c) {
         (Mode::Tri, 'q') => {
             let a = number(c, num)?.unwrap_or(20.0);
@@ -275,7 +272,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if c.is_ascii_alphabetic() {
+            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S') {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }
@@ -355,10 +352,6 @@ mod tests {
         assert_eq!(
             msg(Mode::Tri, &["-a0", "x"]),
             "-a0: the maximum area must be positive"
-        );
-        assert_eq!(
-            msg(Mode::Tri, &["-p2", "x"]),
-            "switch -p takes no number (got 2)"
         );
         assert!(msg(Mode::Tri, &["-k", "x"]).starts_with("unknown switch -k for delone tri"));
         assert!(msg(Mode::Tet, &["-x"]).starts_with("unknown switch -x"));

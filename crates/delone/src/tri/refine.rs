@@ -564,8 +564,8 @@ impl Mesh {
                 return Walk::OnEdge(t, e);
             }
             let mut exit = None;
-            for e in 0..3 {
-                if o[e] >= 0.0 {
+            for (e, &oe) in o.iter().enumerate() {
+                if oe >= 0.0 {
                     continue;
                 }
                 let (x, y) = edge(&v, e);
@@ -1104,7 +1104,7 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
         met = false;
         let (u, w) = edge(v, k);
         let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
-            Some((apex, input_angle)) if !(d > abound) => {
+            Some((apex, input_angle)) if d <= abound => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
             _ if report.limit_reached => UnfixableReason::SteinerLimit,
