@@ -62,6 +62,14 @@ pub struct Opts {
     /// tet `--cells-vtu FILE`: the Voronoi (power, with -w) cells clipped to
     /// the points' bounding box, as VTK polyhedra.
     pub cells_vtu: Option<PathBuf>,
+    /// tri `-q[angle]`: quality mesh with this minimum angle (degrees).
+    pub min_angle: Option<f64>,
+    /// tri `-a`: area constraints (regional; global too if a number follows).
+    pub area: bool,
+    /// tri `-a<area>`: global maximum triangle area.
+    pub max_area: Option<f64>,
+    /// tri `-S<n>`: Steiner point budget.
+    pub max_steiner: Option<usize>,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -69,7 +77,7 @@ pub struct Opts {
 /// What the command line asks for.
 #[derive(Debug)]
 pub enum Command {
-    Run(Opts),
+    Run(Box<Opts>),
     Help,
     Version,
 }
@@ -83,8 +91,6 @@ pub struct Usage(pub String);
 fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     Some(match (mode, c) {
         (Mode::Tri, 'r') => "refinement of a previous mesh",
-        (Mode::Tri, 'q') => "quality mesh",
-        (Mode::Tri, 'a') => "maximum area constraint",
         (Mode::Tri, 'u') => "user-defined constraint",
         (Mode::Tri, 'D') => "conforming Delaunay",
         (Mode::Tri, 'j') => "jettison unused vertices",
@@ -93,7 +99,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'O') => "ignore holes",
         (Mode::Tri, 'X') => "no exact arithmetic",
         (Mode::Tri, 'Y') => "no Steiner points on the boundary",
-        (Mode::Tri, 'S') => "Steiner point limit",
         (Mode::Tri, 'i') => "incremental algorithm choice",
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
@@ -120,8 +125,40 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     })
 }
 
-fn letter(mode: Mode, c: char, o: &mut Opts) -> Result<Option<Command>, Usage> {
+/// A number glued to a switch letter (`-q30`, `-a0.01`, `-S100`), if any.
+fn number(c: char, num: &str) -> Result<Option<f64>, Usage> {
+    if num.is_empty() {
+        return Ok(None);
+    }
+    match num.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
+        _ => Err(Usage(format!("-{c}{num}: {num} is not a number"))),
+    }
+}
+
+fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command>, Usage> {
     match (mode, c) {
+        (Mode::Tri, 'q') => {
+            let a = number(c, num)?.unwrap_or(20.0);
+            if a > 60.0 {
+                return Err(Usage(format!(
+                    "-q{num}: the minimum angle must be at most 60"
+                )));
+            }
+            o.min_angle = Some(a)
+        }
+        (Mode::Tri, 'a') => {
+            o.area = true;
+            if let Some(x) = number(c, num)? {
+                if x <= 0.0 {
+                    return Err(Usage(format!("-a{num}: the maximum area must be positive")));
+                }
+                o.max_area = Some(x);
+            }
+        }
+        (Mode::Tri, 'S') => {
+            o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize);
+        }
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
         (_, 'w') => o.weights = true,
@@ -250,17 +287,34 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             o.vtu = Some(value("-o", None, &mut it)?.into());
             continue;
         }
-        for c in a[1..].chars() {
-            if let Some(cmd) = letter(mode, c, &mut o)? {
+        let chars: Vec<char> = a[1..].chars().collect();
+        let mut k = 0;
+        while k < chars.len() {
+            let c = chars[k];
+            k += 1;
+            let start = k;
+            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S') {
+                while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
+                    k += 1;
+                }
+            }
+            let num: String = chars[start..k].iter().collect();
+            if let Some(cmd) = letter(mode, c, &num, &mut o)? {
                 return Ok(cmd);
             }
         }
         o.switches.push_str(&a[1..]);
     }
+    if mode == Mode::Tri && (o.min_angle.is_some() || o.area || o.max_steiner.is_some()) && !o.pslg
+    {
+        return Err(Usage(
+            "-q, -a and -S refine a PSLG: use them with -p (refining a .node/.ele mesh, -r, is not implemented yet)".into(),
+        ));
+    }
     match input {
         Some(i) => {
             o.input = i.into();
-            Ok(Command::Run(o))
+            Ok(Command::Run(Box::new(o)))
         }
         None => Err(Usage(format!(
             "no input file (usage: delone {} [-switches] FILE[.node]; see delone {} --help)",
@@ -309,8 +363,16 @@ mod tests {
             "switch -D (conforming Delaunay) is not implemented yet"
         );
         assert_eq!(
-            msg(Mode::Tri, &["-q", "x"]),
-            "switch -q (quality mesh) is not implemented yet"
+            msg(Mode::Tri, &["-q61", "x"]),
+            "-q61: the minimum angle must be at most 60"
+        );
+        assert_eq!(
+            msg(Mode::Tri, &["-q3.0.1", "x"]),
+            "-q3.0.1: 3.0.1 is not a number"
+        );
+        assert_eq!(
+            msg(Mode::Tri, &["-a0", "x"]),
+            "-a0: the maximum area must be positive"
         );
         assert!(msg(Mode::Tri, &["-k", "x"]).starts_with("unknown switch -k for delone tri"));
         assert!(msg(Mode::Tet, &["-x"]).starts_with("unknown switch -x"));
@@ -338,5 +400,24 @@ mod tests {
             panic!()
         };
         assert!(o.voronoi);
+    }
+
+    #[test]
+    fn quality_switches() {
+        let run = |a: &[&str]| match p(Mode::Tri, a) {
+            Ok(Command::Run(o)) => o,
+            other => panic!("{other:?}"),
+        };
+        let o = run(&["-pq", "x"]);
+        assert_eq!((o.min_angle, o.area, o.max_area), (Some(20.0), false, None));
+        let o = run(&["-pq34.5a0.01eS100", "x"]);
+        assert_eq!(o.min_angle, Some(34.5));
+        assert!(o.area && o.edges);
+        assert_eq!(o.max_area, Some(0.01));
+        assert_eq!(o.max_steiner, Some(100));
+        let o = run(&["-pa", "x"]);
+        assert_eq!((o.min_angle, o.area, o.max_area), (None, true, None));
+        let o = run(&["-pqa.5", "x"]);
+        assert_eq!((o.min_angle, o.max_area), (Some(20.0), Some(0.5)));
     }
 }

@@ -52,8 +52,14 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -V   Verbose (repeat for more: -VV): phase details, duplicates by index,
          hull size.
     -h   This help.
-    Not implemented yet (error, exit code 2): -p -r -q -a -u -A -c -D -j -g
-    -P -O -X -Y -S -i -l -s -o2.
+    -q[angle]  With -p: quality mesh, no angle below `angle` degrees (default
+         20; up to about 34 terminates in practice), except next to smaller
+         input angles (reported with -V).
+    -a[area]  With -p: no triangle larger than `area`; without a number, the
+         regional area bounds of the .poly.
+    -S<n>  At most n Steiner points in the refinement.
+    Not implemented yet (error, exit code 2): -r -u -D -j -g
+    -P -O -X -Y -i -l -s -o2.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary

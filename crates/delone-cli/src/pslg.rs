@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone::tri::refine::{refine, RefineOptions, RefineReport, UnfixableReason};
 use delone_io::topo;
 
 use crate::args::Opts;
@@ -59,6 +60,31 @@ fn write(
     let file = std::fs::File::create(path)
         .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+/// Smallest and largest angle (degrees) of a mesh.
+fn angle_range(p: &[[f64; 2]], tris: &[[u32; 3]]) -> (f64, f64) {
+    let mut lo = 180.0f64;
+    let mut hi = 0.0f64;
+    for v in tris {
+        for k in 0..3 {
+            let a = p[v[k] as usize];
+            let b = p[v[(k + 1) % 3] as usize];
+            let c = p[v[(k + 2) % 3] as usize];
+            let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+            let (vx, vy) = (c[0] - a[0], c[1] - a[1]);
+            let ang = (ux * vy - uy * vx)
+                .abs()
+                .atan2(ux * vx + uy * vy)
+                .to_degrees();
+            lo = lo.min(ang);
+            hi = hi.max(ang);
+        }
+    }
+    if tris.is_empty() {
+        lo = 0.0;
+    }
+    (lo, hi)
 }
 
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
@@ -133,6 +159,25 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         input_err(format!("{}: {e}{what}", poly_path.display()))
     })?;
     let t_mesh = t1.elapsed();
+    let t1 = Instant::now();
+    let refining = o.min_angle.is_some() || o.area || o.max_steiner.is_some();
+    let (cdt, rep): (_, Option<RefineReport>) = if refining {
+        let r = refine(
+            &cdt,
+            &RefineOptions {
+                min_angle: o.min_angle,
+                max_area: o.max_area,
+                regional_areas: o.area,
+                max_steiner: o.max_steiner,
+                off_centers: true,
+            },
+        )
+        .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
+        (r.mesh, Some(r.report))
+    } else {
+        (cdt, None)
+    };
+    let t_refine = t1.elapsed();
     let mut code = 0;
     let mut lines = Vec::new();
     if o.check {
@@ -140,6 +185,25 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             Ok(()) => lines.push("check: constrained Delaunay triangulation is valid".to_string()),
             Err(v) => {
                 lines.push(format!("check FAILED: {v}"));
+                code = 1;
+            }
+        }
+        if let (Some(r), Some(q)) = (&rep, o.min_angle) {
+            let small = r
+                .unfixable
+                .iter()
+                .filter(|u| matches!(u.reason, UnfixableReason::SmallInputAngle { .. }))
+                .count();
+            if r.unfixable.len() == small {
+                lines.push(format!(
+                    "check: minimum angle {:.4} (bound {q}); {small} triangles below it, all at input angles smaller than the bound",
+                    r.min_angle
+                ));
+            } else {
+                lines.push(format!(
+                    "check FAILED: {} triangles violate the bounds for other reasons than small input angles",
+                    r.unfixable.len() - small
+                ));
                 code = 1;
             }
         }
@@ -258,14 +322,59 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             cdt.report.duplicate_points.len(),
             cdt.report.duplicate_segments.len()
         );
+        if let Some(r) = &rep {
+            println!(
+                "  refinement: {} Steiner points ({} on segments, {} circumcentres/off-centres, {} rejected circumcentres); bounds {}",
+                r.segment_splits + r.circumcenters,
+                r.segment_splits,
+                r.circumcenters,
+                r.rejected_circumcenters,
+                if r.met { "met" } else if r.limit_reached { "NOT met (Steiner limit reached)" } else { "NOT met" }
+            );
+        }
         if o.verbose > 0 {
             println!(
-                "  read {:.3} s, mesh {:.3} s ({} flips), write {:.3} s",
+                "  read {:.3} s, mesh {:.3} s ({} flips), refine {:.3} s, write {:.3} s",
                 t_read.as_secs_f64(),
                 t_mesh.as_secs_f64(),
                 cdt.report.flips,
+                t_refine.as_secs_f64(),
                 t_write.as_secs_f64()
             );
+            let (lo, hi) = match &rep {
+                Some(r) => (r.min_angle, r.max_angle),
+                None => angle_range(&cdt.points, &cdt.triangles),
+            };
+            println!(
+                "  {} vertices, {} triangles; minimum angle {lo:.4}, maximum angle {hi:.4}",
+                cdt.points.len(),
+                cdt.triangles.len()
+            );
+            if let Some(r) = &rep {
+                for u in r
+                    .unfixable
+                    .iter()
+                    .take(if o.verbose > 1 { usize::MAX } else { 10 })
+                {
+                    let why = match u.reason {
+                        UnfixableReason::SmallInputAngle { apex, input_angle } => format!(
+                            "input angle {input_angle:.3} at vertex {}",
+                            apex as usize + first as usize
+                        ),
+                        UnfixableReason::SteinerLimit => "Steiner limit".into(),
+                        UnfixableReason::Precision => "floating-point precision".into(),
+                    };
+                    println!(
+                        "  unfixed triangle {}: minimum angle {:.3}, area {:.3e} ({why})",
+                        u.triangle as usize + first as usize,
+                        u.min_angle,
+                        u.area
+                    );
+                }
+                if r.unfixable.len() > 10 && o.verbose < 2 {
+                    println!("  ... {} more (-VV lists all)", r.unfixable.len() - 10);
+                }
+            }
         }
         for l in &lines {
             println!("  {l}");

@@ -446,13 +446,13 @@ fn usage_errors() {
         &d,
         &["tri", "-q", "x"],
         2,
-        "switch -q (quality mesh) is not implemented yet",
+        "-q, -a and -S refine a PSLG: use them with -p",
     );
     expect_err(
         &d,
-        &["tri", "-pa.1", "x"],
+        &["tri", "-pq61", "x"],
         2,
-        "switch -a (maximum area constraint) is not implemented yet",
+        "-q61: the minimum angle must be at most 60",
     );
     expect_err(
         &d,

@@ -8,6 +8,7 @@ pub mod constrain;
 pub mod delaunay;
 pub mod domain;
 pub mod mesh;
+pub mod refine;
 mod topo;
 pub mod voronoi;
 
@@ -15,6 +16,7 @@ pub use constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
 pub use delaunay::{Delaunay2, Inserted, Location};
 pub use domain::{boundary_rings, lloyd_in_domain, DomainCells2};
 pub use mesh::{validate, validate_regular, TriMesh};
+pub use refine::{refine, RefineOptions, RefineReport, Refined};
 pub use voronoi::{lloyd, Voronoi2};
 
 use crate::Error;

@@ -1,0 +1,156 @@
+//! Quality refinement on synthetic PSLGs: tiny input angles terminate with
+//! the small angles reported, the Steiner budget is honoured, results are
+//! deterministic, and every result is a valid constrained Delaunay mesh.
+
+use delone::model::pslg::Pslg;
+use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone::tri::refine::{refine, RefineOptions, UnfixableReason};
+
+fn min_angle(p: &[[f64; 2]], v: &[u32; 3]) -> f64 {
+    let mut lo = 180.0f64;
+    for k in 0..3 {
+        let a = p[v[k] as usize];
+        let b = p[v[(k + 1) % 3] as usize];
+        let c = p[v[(k + 2) % 3] as usize];
+        let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+        let (vx, vy) = (c[0] - a[0], c[1] - a[1]);
+        lo = lo.min(
+            (ux * vy - uy * vx)
+                .abs()
+                .atan2(ux * vx + uy * vy)
+                .to_degrees(),
+        );
+    }
+    lo
+}
+
+/// A square with two segments from one corner, `deg` degrees apart (the
+/// other angles at that corner are at least 37.5°).
+fn wedge(deg: f64) -> Pslg {
+    let a = (45.0 - 0.5 * deg).to_radians();
+    let b = a + deg.to_radians();
+    Pslg::new(
+        vec![
+            [0.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 4.0],
+            [0.0, 4.0],
+            [3.0 * a.cos(), 3.0 * a.sin()],
+            [3.0 * b.cos(), 3.0 * b.sin()],
+        ],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0], [0, 4], [0, 5]],
+    )
+}
+
+#[test]
+fn tiny_input_angles_terminate() {
+    for deg in [0.1, 1.0, 5.0, 15.0] {
+        let g = wedge(deg);
+        let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+        for q in [20.0, 30.0, 34.0] {
+            let opts = RefineOptions {
+                min_angle: Some(q),
+                ..Default::default()
+            };
+            let r = refine(&cdt, &opts).unwrap();
+            check_cdt(&g, &r.mesh).unwrap_or_else(|v| panic!("{deg}° q{q}: {v}"));
+            assert!(!r.report.limit_reached, "{deg}° q{q}");
+            println!(
+                "{deg}° q{q}: {} triangles, min angle {:.3}, {} unfixable",
+                r.mesh.triangles.len(),
+                r.report.min_angle,
+                r.report.unfixable.len()
+            );
+            // Every triangle below the bound is reported, at the small angle
+            // at vertex 0 (the only input angle below 45°).
+            let low: Vec<usize> = (0..r.mesh.triangles.len())
+                .filter(|&t| min_angle(&r.mesh.points, &r.mesh.triangles[t]) < q - 1e-9)
+                .collect();
+            assert_eq!(low.len(), r.report.unfixable.len());
+            for u in &r.report.unfixable {
+                assert!(low.contains(&(u.triangle as usize)));
+                match u.reason {
+                    UnfixableReason::SmallInputAngle { apex, input_angle } => {
+                        assert_eq!(apex, 0);
+                        assert!((input_angle - deg).abs() < 1e-6, "{input_angle} vs {deg}");
+                    }
+                    other => panic!("{deg}° q{q}: {other:?}"),
+                }
+            }
+            if deg >= q {
+                assert!(r.report.met);
+            }
+        }
+    }
+}
+
+#[test]
+fn steiner_budget_and_determinism() {
+    let g = wedge(3.0);
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let opts = RefineOptions {
+        min_angle: Some(30.0),
+        max_area: Some(0.001),
+        max_steiner: Some(50),
+        ..Default::default()
+    };
+    let r = refine(&cdt, &opts).unwrap();
+    assert!(r.report.limit_reached && !r.report.met);
+    assert_eq!(r.report.segment_splits + r.report.circumcenters, 50);
+    assert_eq!(r.mesh.points.len(), cdt.points.len() + 50);
+    assert!(r
+        .report
+        .unfixable
+        .iter()
+        .any(|u| u.reason == UnfixableReason::SteinerLimit));
+    check_cdt(&g, &r.mesh).unwrap();
+    let full = RefineOptions {
+        max_steiner: None,
+        ..opts
+    };
+    let a = refine(&cdt, &full).unwrap();
+    let b = refine(&cdt, &full).unwrap();
+    assert_eq!(a, b);
+    assert!(a.report.segment_splits + a.report.circumcenters > 50);
+}
+
+#[test]
+fn random_pslgs_refine_validly() {
+    // Random segments (crossing ones too) inside a box, with a xorshift generator.
+    let mut s = 0x9e37_79b9_7f4a_7c15u64;
+    let mut rnd = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..20 {
+        let mut pts = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let mut segs = vec![[0, 1], [1, 2], [2, 3], [3, 0]];
+        for _ in 0..6 {
+            let n = pts.len() as u32;
+            pts.push([0.05 + 0.9 * rnd(), 0.05 + 0.9 * rnd()]);
+            pts.push([0.05 + 0.9 * rnd(), 0.05 + 0.9 * rnd()]);
+            segs.push([n, n + 1]);
+        }
+        let g = Pslg::new(pts, segs);
+        let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+        let r = refine(
+            &cdt,
+            &RefineOptions {
+                min_angle: Some(25.0),
+                max_steiner: Some(200_000),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        check_cdt(&g, &r.mesh).unwrap_or_else(|v| panic!("case {case}: {v}"));
+        assert!(!r.report.limit_reached, "case {case}");
+        for u in &r.report.unfixable {
+            assert!(
+                matches!(u.reason, UnfixableReason::SmallInputAngle { .. }),
+                "case {case}: {u:?}"
+            );
+        }
+    }
+}
