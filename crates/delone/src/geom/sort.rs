@@ -63,9 +63,64 @@ const fn key_bits(d: usize) -> u32 {
 }
 
 /// Hilbert index of a point whose coordinates were quantized to `bits` bits per
-/// axis (Skilling's transpose algorithm), for `D` = 2 or 3 axes.
+/// axis, for `D` = 2 or 3 axes: the quadrant-rotation recurrence in 2D (a
+/// few operations per level), Skilling's transpose algorithm in 3D.
 #[inline]
-fn hilbert_key<const D: usize>(mut x: [u32; D], bits: u32) -> u64 {
+fn hilbert_key<const D: usize>(x: [u32; D], bits: u32) -> u64 {
+    if D == 2 {
+        hilbert_key_2d(x[0], x[1], bits)
+    } else {
+        hilbert_key_skilling(x, bits)
+    }
+}
+
+/// 2D Hilbert index: at each level from the top, the quadrant (rx, ry) of the
+/// point in the current frame gives the digit `(3 rx) ^ ry`, and the frame is
+/// reflected and swapped when `ry = 0` (the classic quadrant-rotation
+/// recurrence). The frame is kept as two flags (complement, swap), so each
+/// level is a handful of branch-free bit operations.
+#[inline]
+fn hilbert_key_2d(x: u32, y: u32, bits: u32) -> u64 {
+    let (mut c, mut s) = (0u32, 0u32);
+    let mut d = 0u64;
+    for b in (0..bits).rev() {
+        let ax = ((x >> b) & 1) ^ c;
+        let ay = ((y >> b) & 1) ^ c;
+        let t = s & (ax ^ ay);
+        let (qx, qy) = (ax ^ t, ay ^ t);
+        d = (d << 2) | u64::from((3 * qx) ^ qy);
+        let flip = 1 ^ qy;
+        c ^= qx & flip;
+        s ^= flip;
+    }
+    d
+}
+
+/// The quadrant-rotation recurrence written out (reference for the tests).
+#[cfg(test)]
+fn hilbert_key_2d_reference(mut x: u32, mut y: u32, bits: u32) -> u64 {
+    let n = 1u32 << bits;
+    let mut d = 0u64;
+    let mut s = n >> 1;
+    while s > 0 {
+        let rx = u32::from(x & s != 0);
+        let ry = u32::from(y & s != 0);
+        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        if ry == 0 {
+            if rx == 1 {
+                x = n - 1 - x;
+                y = n - 1 - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s >>= 1;
+    }
+    d
+}
+
+/// Skilling's transpose algorithm (any dimension).
+#[inline]
+fn hilbert_key_skilling<const D: usize>(mut x: [u32; D], bits: u32) -> u64 {
     let m = 1u32 << (bits - 1);
     // Inverse undo excess work.
     let mut q = m;
@@ -213,6 +268,21 @@ mod tests {
             assert_eq!(w[1].0, w[0].0 + 1);
             let d = w[0].1[0].abs_diff(w[1].1[0]) + w[0].1[1].abs_diff(w[1].1[1]);
             assert_eq!(d, 1);
+        }
+    }
+
+    #[test]
+    fn hilbert_2d_state_machine_matches_the_recurrence() {
+        let mut r = SplitMix64::new(3);
+        for bits in [1, 2, 5, 15, 16] {
+            for _ in 0..2000 {
+                let x = r.below(1 << bits);
+                let y = r.below(1 << bits);
+                assert_eq!(
+                    hilbert_key_2d(x, y, bits),
+                    hilbert_key_2d_reference(x, y, bits)
+                );
+            }
         }
     }
 
