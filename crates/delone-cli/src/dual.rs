@@ -18,6 +18,12 @@ use delone_io::{NodeFile, SvgLayer, SvgStyle};
 
 use crate::run::Failure;
 
+/// A mesh that does not fit its own points: a bug in delone, reported as
+/// an error rather than a crash.
+fn internal(e: delone::Error) -> Failure {
+    fail(format!("internal error: {e}"))
+}
+
 fn fail(message: impl Into<String>) -> Failure {
     Failure {
         message: message.into(),
@@ -158,10 +164,14 @@ pub fn lloyd(pts: &[[f64; 2]], iterations: usize) -> Result<Vec<[f64; 2]>, delon
 }
 
 /// The Voronoi (or, with weights, power) diagram of a 2D mesh.
-pub fn voronoi2(pts: &[[f64; 2]], weights: Option<&[f64]>, mesh: &TriMesh) -> Voronoi2 {
+pub fn voronoi2(
+    pts: &[[f64; 2]],
+    weights: Option<&[f64]>,
+    mesh: &TriMesh,
+) -> Result<Voronoi2, Failure> {
     match weights {
-        Some(w) => Voronoi2::new_power(pts, w, mesh),
-        None => Voronoi2::new(pts, mesh),
+        Some(w) => Voronoi2::new_power(pts, w, mesh).map_err(internal),
+        None => Voronoi2::new(pts, mesh).map_err(internal),
     }
 }
 
@@ -196,10 +206,14 @@ pub fn write_tri_voronoi(
 }
 
 /// The Voronoi diagram (power diagram with weights) of a tetrahedralization.
-pub fn voronoi3(pts: &[[f64; 3]], weights: Option<&[f64]>, mesh: &delone::TetMesh) -> Voronoi3 {
+pub fn voronoi3(
+    pts: &[[f64; 3]],
+    weights: Option<&[f64]>,
+    mesh: &delone::TetMesh,
+) -> Result<Voronoi3, Failure> {
     match weights {
-        Some(w) => Voronoi3::new_power(pts, w, mesh),
-        None => Voronoi3::new(pts, mesh),
+        Some(w) => Voronoi3::new_power(pts, w, mesh).map_err(internal),
+        None => Voronoi3::new(pts, mesh).map_err(internal),
     }
 }
 

@@ -407,7 +407,8 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             }
             let vor = o
                 .voronoi
-                .then(|| crate::dual::voronoi2(&pts, weights.as_deref(), &mesh));
+                .then(|| crate::dual::voronoi2(&pts, weights.as_deref(), &mesh))
+                .transpose()?;
             if let Some(v) = &vor {
                 crate::dual::write_tri_voronoi(ob, &pts, v, first, &mut extra)?;
             }
@@ -474,7 +475,8 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 rep.push(l);
             }
             let vor = (o.voronoi || o.cells_vtu.is_some())
-                .then(|| crate::dual::voronoi3(&pts, weights.as_deref(), &mesh));
+                .then(|| crate::dual::voronoi3(&pts, weights.as_deref(), &mesh))
+                .transpose()?;
             if let (Some(path), Some(v)) = (&o.cells_vtu, &vor) {
                 crate::dual::write_tet_cells_vtu(path, &pts, v, first, &mut extra)?;
             }

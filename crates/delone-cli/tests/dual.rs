@@ -80,7 +80,7 @@ fn voronoi_files_match_the_library() {
     write_node2(&dir, "pts", &pts, None);
     ok(&run(&dir, &["tri", "-vQ", "pts"]));
     let mesh = delone::triangulate(&pts).unwrap();
-    let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     let node = lines(&dir, "pts.1.v.node");
     assert_eq!(node[0][0], v.vertices.len().to_string());
     for (k, w) in node[1..].iter().enumerate() {
@@ -135,7 +135,7 @@ fn weights_from_attribute_and_weight_file() {
             assert!(mesh.hidden.binary_search(x).is_err());
         }
     }
-    let v = delone::tri::Voronoi2::new_power(&pts, &w, &mesh);
+    let v = delone::tri::Voronoi2::new_power(&pts, &w, &mesh).unwrap();
     assert_eq!(lines(&dir, "a.1.v.node").len(), v.vertices.len() + 1);
     // A .weight file wins over the attribute (here: weights negated, in
     // shuffled `index weight` lines, with comments).
@@ -251,7 +251,9 @@ fn svg_picture() {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let cells = delone::tri::Voronoi2::new_power(&pts, &w, &reg).cells_clipped(&pts, [lo, hi]);
+    let cells = delone::tri::Voronoi2::new_power(&pts, &w, &reg)
+        .unwrap()
+        .cells_clipped(&pts, [lo, hi]);
     let nonempty = (0..pts.len())
         .filter(|&i| cells.polygon(i).len() >= 2)
         .count();
@@ -274,7 +276,7 @@ fn tet_voronoi_files() {
     std::fs::write(dir.join("c.node"), s).unwrap();
     ok(&run(&dir, &["tet", "-vQ", "c"]));
     let mesh = delone::tetrahedralize(&pts).unwrap();
-    let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     let node = lines(&dir, "c.1.v.node");
     assert_eq!(node.len(), v.vertices.len() + 1);
     let edge = lines(&dir, "c.1.v.edge");
@@ -336,7 +338,7 @@ fn tet_weighted_with_power_diagram_and_check() {
     let mesh = delone::tet::regular_tetrahedralization(&pts, &parsed).unwrap();
     let ele = lines(&dir, "w.1.ele");
     assert_eq!(ele.len(), mesh.tets.len() + 1);
-    let v = delone::tet::Voronoi3::new_power(&pts, &parsed, &mesh);
+    let v = delone::tet::Voronoi3::new_power(&pts, &parsed, &mesh).unwrap();
     assert_eq!(lines(&dir, "w.1.v.node").len(), v.vertices.len() + 1);
     // Zero weights: byte-identical .ele to the unweighted run.
     let mut z = format!("{} 3 1 0\n", pts.len());

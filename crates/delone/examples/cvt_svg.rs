@@ -30,7 +30,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let bbox = [[0.0, 0.0], [1.0, 1.0]];
     let cvt = delone::tri::lloyd(&pts, bbox, iterations)?;
     let mesh = delone::triangulate(&cvt)?;
-    let cells = delone::tri::Voronoi2::new(&cvt, &mesh).cells_clipped(&cvt, bbox);
+    let cells = delone::tri::Voronoi2::new(&cvt, &mesh)
+        .unwrap()
+        .cells_clipped(&cvt, bbox);
     // Colour cells by their number of sides (hexagons dominate in a CVT).
     let fills: Vec<[u8; 3]> = (0..cvt.len())
         .map(|p| fill_for(cells.polygon(p).len()))

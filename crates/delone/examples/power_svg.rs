@@ -23,7 +23,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let bbox = [[0.0, 0.0], [1.0, 1.0]];
     let mesh = delone::tri::regular_triangulation(&pts, &weights)?;
     delone::tri::validate_regular(&pts, &weights, &mesh)?;
-    let cells = delone::tri::Voronoi2::new_power(&pts, &weights, &mesh).cells_clipped(&pts, bbox);
+    let cells = delone::tri::Voronoi2::new_power(&pts, &weights, &mesh)
+        .unwrap()
+        .cells_clipped(&pts, bbox);
     // Heavier sites get deeper blues.
     let wmax = weights.iter().cloned().fold(f64::MIN_POSITIVE, f64::max);
     let fills: Vec<[u8; 3]> = weights

@@ -37,7 +37,7 @@ fn main() {
         tris_r = mesh.triangles.len();
         hidden = mesh.hidden.len();
         let t0 = Instant::now();
-        let v = delone::tri::Voronoi2::new_power(&pts, &w, &mesh);
+        let v = delone::tri::Voronoi2::new_power(&pts, &w, &mesh).unwrap();
         best_v = best_v.min(t0.elapsed().as_secs_f64());
         assert_eq!(v.vertices.len(), tris_r);
         if check {

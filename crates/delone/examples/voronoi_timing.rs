@@ -32,7 +32,7 @@ fn main() {
         let (tt, mesh) = best(reps, || {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
-        let (tv, v) = best(reps, || delone::tet::Voronoi3::new(&pts, &mesh));
+        let (tv, v) = best(reps, || delone::tet::Voronoi3::new(&pts, &mesh).unwrap());
         let bbox = [[0.0; 3], [1.0; 3]];
         let (tc, c) = best(1, || v.cells_clipped(&pts, bbox));
         let vol: f64 = c.volume.iter().sum();
@@ -44,7 +44,7 @@ fn main() {
     } else {
         let pts: Vec<[f64; 2]> = (0..n).map(|_| [unit(), unit()]).collect();
         let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
-        let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh));
+        let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
         let bbox = [[0.0; 2], [1.0; 2]];
         let (tc, c) = best(reps, || v.cells_clipped(&pts, bbox));
         let area: f64 = c.area.iter().sum();

@@ -32,6 +32,12 @@ pub enum Error {
         /// Number of points requested.
         requested: usize,
     },
+    /// A mesh handed to a function together with points does not belong to
+    /// them (vertex ids out of range, array lengths that differ).
+    InconsistentMesh {
+        /// What does not fit, naming the element.
+        reason: String,
+    },
     /// Weight `index` of a weighted point set is NaN or infinite.
     InvalidWeight {
         /// 0-based index of the point.
@@ -173,6 +179,9 @@ impl fmt::Display for Error {
                 f,
                 "{requested} points exceed the u32 index space of delone"
             ),
+            Error::InconsistentMesh { reason } => {
+                write!(f, "the mesh does not belong to these points: {reason}")
+            }
             Error::InvalidWeight { index } => {
                 write!(f, "the weight of point {index} is NaN or infinite")
             }

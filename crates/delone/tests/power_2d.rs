@@ -86,7 +86,7 @@ fn power_cells_tile_the_box() {
     ] {
         let (pts, w) = weighted(n, ws, seed);
         let mesh = regular_triangulation(&pts, &w).unwrap();
-        let v = Voronoi2::new_power(&pts, &w, &mesh);
+        let v = Voronoi2::new_power(&pts, &w, &mesh).unwrap();
         for bbox in [[[0.0, 0.0], [1.0, 1.0]], [[-0.5, 0.2], [1.5, 0.7]]] {
             let c = v.cells_clipped(&pts, bbox);
             let box_area = (bbox[1][0] - bbox[0][0]) * (bbox[1][1] - bbox[0][1]);
@@ -108,7 +108,7 @@ fn samples_lie_in_the_cell_of_least_power() {
     let (pts, w) = weighted(300, 0.01, 7);
     let mesh = regular_triangulation(&pts, &w).unwrap();
     assert!(!mesh.hidden.is_empty());
-    let v = Voronoi2::new_power(&pts, &w, &mesh);
+    let v = Voronoi2::new_power(&pts, &w, &mesh).unwrap();
     let bbox = [[-0.1, -0.1], [1.1, 1.1]];
     let c = v.cells_clipped(&pts, bbox);
     let mut r = SplitMix64::new(8);
@@ -143,7 +143,7 @@ fn hidden_points_are_exactly_the_empty_cells() {
         let n = 10 + (seed as usize % 25);
         let (pts, w) = weighted(n, 0.03 + 0.01 * (seed % 4) as f64, 100 + seed);
         let mesh = regular_triangulation(&pts, &w).unwrap();
-        let v = Voronoi2::new_power(&pts, &w, &mesh);
+        let v = Voronoi2::new_power(&pts, &w, &mesh).unwrap();
         // A box far larger than every power centre: clipped cells are the
         // cells (restricted to the box), nonempty iff the site is visible.
         let big = [[-1e4, -1e4], [1e4, 1e4]];
@@ -172,8 +172,9 @@ fn hidden_points_are_exactly_the_empty_cells() {
 fn zero_weights_give_the_voronoi_diagram() {
     let (pts, _) = weighted(2000, 0.0, 9);
     let zeros = vec![0.0; pts.len()];
-    let vor = Voronoi2::new(&pts, &triangulate(&pts).unwrap());
-    let mut pow = Voronoi2::new_power(&pts, &zeros, &regular_triangulation(&pts, &zeros).unwrap());
+    let vor = Voronoi2::new(&pts, &triangulate(&pts).unwrap()).unwrap();
+    let mut pow =
+        Voronoi2::new_power(&pts, &zeros, &regular_triangulation(&pts, &zeros).unwrap()).unwrap();
     assert_eq!(pow.weights, zeros);
     let bbox = [[0.0, 0.0], [1.0, 1.0]];
     assert_eq!(vor.cells_clipped(&pts, bbox), pow.cells_clipped(&pts, bbox));
@@ -185,7 +186,7 @@ fn zero_weights_give_the_voronoi_diagram() {
 fn power_vertices_are_equidistant() {
     let (pts, w) = weighted(1000, 0.005, 11);
     let mesh = regular_triangulation(&pts, &w).unwrap();
-    let v = Voronoi2::new_power(&pts, &w, &mesh);
+    let v = Voronoi2::new_power(&pts, &w, &mesh).unwrap();
     for (t, tv) in mesh.triangles.iter().enumerate() {
         let x = v.vertices[t];
         let d = tv.map(|s| power(&x, &pts[s as usize], w[s as usize]));

@@ -97,7 +97,7 @@ fn energy(sites: &[[f64; 2]], cells: &ClippedCells2, vmap: &[u32]) -> f64 {
 /// Every property of the brief on one point set and box.
 fn check(pts: &[[f64; 2]], bbox: Box2, samples: usize) {
     let mesh = delone::triangulate(pts).unwrap();
-    let v = Voronoi2::new(pts, &mesh);
+    let v = Voronoi2::new(pts, &mesh).unwrap();
     // Voronoi vertices are equidistant from their triangle's corners.
     for (t, tv) in mesh.triangles.iter().enumerate() {
         let c = v.vertices[t];
@@ -270,7 +270,7 @@ fn grid_is_cocircular() {
         .collect();
     check(&pts, [[-0.5, -0.5], [19.5, 19.5]], 1000);
     let mesh = delone::triangulate(&pts).unwrap();
-    let v = Voronoi2::new(&pts, &mesh);
+    let v = Voronoi2::new(&pts, &mesh).unwrap();
     let c = v.cells_clipped(&pts, [[-0.5, -0.5], [19.5, 19.5]]);
     for s in 0..pts.len() {
         assert!(
@@ -295,7 +295,7 @@ fn cocircular_with_centre_and_duplicates() {
     pts.push([0.0, 0.0]);
     check(&pts, [[-2.0, -2.0], [2.0, 2.0]], 2000);
     let mesh = delone::triangulate(&pts).unwrap();
-    let v = Voronoi2::new(&pts, &mesh);
+    let v = Voronoi2::new(&pts, &mesh).unwrap();
     let c = v.cells_clipped(&pts, [[-2.0, -2.0], [2.0, 2.0]]);
     assert_eq!(c.polygon(17), c.polygon(3));
     assert_eq!(c.area[18], c.area[16]);
@@ -361,7 +361,7 @@ fn lloyd_energy_decreases() {
     let mut first = 0.0;
     for it in 0..30 {
         let mesh = delone::triangulate(&pts).unwrap();
-        let v = Voronoi2::new(&pts, &mesh);
+        let v = Voronoi2::new(&pts, &mesh).unwrap();
         let e = energy(&pts, &v.cells_clipped(&pts, bbox), &mesh.vertex_map);
         if it == 0 {
             first = e;
@@ -378,4 +378,23 @@ fn lloyd_energy_decreases() {
     let a = lloyd(&random(50, 5, 0.0, 1.0), bbox, 2).unwrap();
     let b = lloyd(&lloyd(&random(50, 5, 0.0, 1.0), bbox, 1).unwrap(), bbox, 1).unwrap();
     assert_eq!(a, b);
+}
+
+#[test]
+fn a_mesh_of_other_points_is_an_error_not_a_panic() {
+    let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+    let mesh = delone::triangulate(&pts).unwrap();
+    let err = delone::tri::Voronoi2::new(&pts[..3], &mesh).unwrap_err();
+    assert!(
+        matches!(err, delone::Error::InconsistentMesh { .. }),
+        "{err}"
+    );
+    let err = delone::tri::Voronoi2::new_power(&pts, &[0.0; 3], &mesh).unwrap_err();
+    assert_eq!(
+        err,
+        delone::Error::WeightCount {
+            points: 4,
+            weights: 3
+        }
+    );
 }

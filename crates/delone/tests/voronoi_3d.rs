@@ -113,7 +113,7 @@ fn energy(sites: &[[f64; 3]], cells: &ClippedCells3) -> f64 {
 
 fn check(pts: &[[f64; 3]], bbox: Box3, samples: usize) -> ClippedCells3 {
     let mesh = delone::tetrahedralize(pts).unwrap();
-    let v = Voronoi3::new(pts, &mesh);
+    let v = Voronoi3::new(pts, &mesh).unwrap();
     let size = (0..3).map(|k| bbox[1][k] - bbox[0][k]).fold(0.0, f64::max);
     // Voronoi vertices are equidistant from their tetrahedron's corners.
     for (t, tv) in mesh.tets.iter().enumerate() {
@@ -345,7 +345,12 @@ fn lloyd_energy_decreases() {
     let mut first = 0.0;
     for it in 0..10 {
         let mesh = delone::tetrahedralize(&pts).unwrap();
-        let e = energy(&pts, &Voronoi3::new(&pts, &mesh).cells_clipped(&pts, bbox));
+        let e = energy(
+            &pts,
+            &Voronoi3::new(&pts, &mesh)
+                .unwrap()
+                .cells_clipped(&pts, bbox),
+        );
         if it == 0 {
             first = e;
         }
@@ -371,7 +376,7 @@ fn power_cells_tile_the_box_and_contain_their_points() {
             !mesh.hidden.is_empty() || n > 1000,
             "n={n}: expect hidden points"
         );
-        let v = Voronoi3::new_power(&pts, &ws, &mesh);
+        let v = Voronoi3::new_power(&pts, &ws, &mesh).unwrap();
         let bbox = [[-0.5; 3], [1.5; 3]];
         let cells = v.cells_clipped(&pts, bbox);
         let total: f64 = cells.volume.iter().sum();
@@ -411,8 +416,8 @@ fn zero_weights_give_the_voronoi_diagram() {
         .collect();
     let zero = vec![0.0; pts.len()];
     let mesh = regular_tetrahedralization(&pts, &zero).unwrap();
-    let a = Voronoi3::new_power(&pts, &zero, &mesh);
-    let b = Voronoi3::new(&pts, &delone::tetrahedralize(&pts).unwrap());
+    let a = Voronoi3::new_power(&pts, &zero, &mesh).unwrap();
+    let b = Voronoi3::new(&pts, &delone::tetrahedralize(&pts).unwrap()).unwrap();
     assert_eq!(a.vertices, b.vertices);
     assert_eq!(a.faces, b.faces);
     let bbox = [[0.0; 3], [1.0; 3]];
@@ -420,4 +425,24 @@ fn zero_weights_give_the_voronoi_diagram() {
         a.cells_clipped(&pts, bbox).volume,
         b.cells_clipped(&pts, bbox).volume
     );
+}
+
+#[test]
+fn a_mesh_of_other_points_is_an_error_not_a_panic() {
+    let pts = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let mesh = delone::tetrahedralize(&pts).unwrap();
+    let err = Voronoi3::new(&pts[..4], &mesh).unwrap_err();
+    assert!(
+        matches!(err, delone::Error::InconsistentMesh { .. }),
+        "{err}"
+    );
+    let mut broken = mesh.clone();
+    broken.neighbors.pop();
+    assert!(Voronoi3::new(&pts, &broken).is_err());
 }

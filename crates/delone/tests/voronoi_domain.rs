@@ -60,7 +60,7 @@ fn cells_tile_the_domain_and_contain_their_points() {
     for (n, seed) in [(10, 1), (200, 2), (3000, 3)] {
         let pts = sites(n, seed);
         let mesh = delone::triangulate(&pts).unwrap();
-        let v = Voronoi2::new(&pts, &mesh);
+        let v = Voronoi2::new(&pts, &mesh).unwrap();
         let c = v.cells_in_domain(&pts, &domain());
         let total: f64 = c.area.iter().sum();
         assert!((total - 2.75).abs() < 1e-9, "n={n}: {total}");

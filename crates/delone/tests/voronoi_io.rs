@@ -21,7 +21,7 @@ fn triangle_v_files() {
         .map(|_| [(r.next_u64() >> 11) as f64, (r.next_u64() >> 11) as f64])
         .collect();
     let mesh = delone::triangulate(&pts).unwrap();
-    let v = Voronoi2::new(&pts, &mesh);
+    let v = Voronoi2::new(&pts, &mesh).unwrap();
     let mut node = Vec::new();
     delone_io::write_voronoi_node(&mut node, &v.vertices, 1).unwrap();
     let back = delone_io::read_node(&node).unwrap().points::<2>().unwrap();
@@ -54,7 +54,7 @@ fn tetgen_v_files() {
     let mut unit = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     let pts: Vec<[f64; 3]> = (0..150).map(|_| [unit(), unit(), unit()]).collect();
     let mesh = delone::tetrahedralize(&pts).unwrap();
-    let v = Voronoi3::new(&pts, &mesh);
+    let v = Voronoi3::new(&pts, &mesh).unwrap();
     // Face edges join the face's vertices; rays only at the ends of open faces.
     for f in 0..v.faces.len() {
         let face = v.face(f);

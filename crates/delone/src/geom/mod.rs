@@ -1,6 +1,7 @@
 //! Geometry helpers shared by the 2D and 3D kernels: insertion order
 //! (BRIO + Hilbert curve) and small vector utilities.
 
+pub mod check;
 pub mod scale;
 pub mod sort;
 

@@ -58,7 +58,7 @@ impl VoronoiEdge3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// assert_eq!(v.edges.iter().filter(|e| e.is_ray()).count(), 4);
     /// ```
     pub fn is_ray(&self) -> bool {
@@ -102,7 +102,7 @@ pub struct FaceInfo3 {
 /// }
 /// pts.push([1.0, 1.1, 0.9]);
 /// let mesh = delone::tetrahedralize(&pts).unwrap();
-/// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+/// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
 /// assert_eq!(v.vertices.len(), mesh.tets.len());
 /// assert!(!v.is_unbounded(8)); // the inner site
 /// assert_eq!(v.cell_faces(8).len(), 8); // one face per cube corner
@@ -237,12 +237,17 @@ impl Voronoi3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// assert_eq!(v.faces.len(), 9); // the Delaunay edges
     /// assert!(v.faces.iter().all(|f| f.rays.is_some())); // all on the hull
     /// ```
-    pub fn new(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
-        Self::build(points, &[], mesh)
+    ///
+    /// # Errors
+    /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
+    pub fn new(points: &[[f64; 3]], mesh: &TetMesh) -> Result<Voronoi3, Error> {
+        let ids = mesh.vertex_map.len();
+        crate::geom::check::mesh_fits(points.len(), &mesh.tets, &mesh.neighbors, ids, None)?;
+        Ok(Self::build(points, &[], mesh))
     }
 
     /// The power diagram of weighted `points` from their regular
@@ -254,14 +259,25 @@ impl Voronoi3 {
     /// let pts = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0], [1.0, 1.0, 1.0]];
     /// let w = [0.0, 0.0, 0.0, 0.0, -10.0];
     /// let mesh = delone::tet::regular_tetrahedralization(&pts, &w).unwrap();
-    /// let v = delone::tet::Voronoi3::new_power(&pts, &w, &mesh);
+    /// let v = delone::tet::Voronoi3::new_power(&pts, &w, &mesh).unwrap();
     /// assert!(v.cell_faces(4).is_empty()); // hidden
     /// let c = v.cells_clipped(&pts, [[-1.0; 3], [5.0; 3]]);
     /// assert_eq!(c.volume[4], 0.0);
     /// assert!((c.volume.iter().sum::<f64>() - 216.0).abs() < 1e-9);
     /// ```
-    pub fn new_power(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
-        Self::build(points, weights, mesh)
+    ///
+    /// # Errors
+    /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`,
+    /// [`Error::WeightCount`] when `weights` has another length.
+    pub fn new_power(
+        points: &[[f64; 3]],
+        weights: &[f64],
+        mesh: &TetMesh,
+    ) -> Result<Voronoi3, Error> {
+        let ids = mesh.vertex_map.len();
+        let n = points.len();
+        crate::geom::check::mesh_fits(n, &mesh.tets, &mesh.neighbors, ids, Some(weights.len()))?;
+        Ok(Self::build(points, weights, mesh))
     }
 
     fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
@@ -454,7 +470,7 @@ impl Voronoi3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// let f = v.face(0);
     /// assert_eq!(f.vertices, &[0]);
     /// assert!(f.rays.is_some());
@@ -487,7 +503,7 @@ impl Voronoi3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0; 3]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// assert_eq!(v.cell_faces(0).len(), 3);
     /// assert_eq!(v.cell_faces(4), v.cell_faces(0));
     /// ```
@@ -504,7 +520,7 @@ impl Voronoi3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// assert!(delone::tet::Voronoi3::new(&pts, &mesh).is_unbounded(2));
+    /// assert!(delone::tet::Voronoi3::new(&pts, &mesh).unwrap().is_unbounded(2));
     /// ```
     pub fn is_unbounded(&self, p: usize) -> bool {
         self.unbounded[self.rep(p)]
@@ -516,7 +532,7 @@ impl Voronoi3 {
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// let mut nb: Vec<u32> = v.neighbors(0).collect();
     /// nb.sort();
     /// assert_eq!(nb, [1, 2, 3]);
@@ -548,7 +564,7 @@ impl Voronoi3 {
     ///     pts.push([0.25 + 0.5 * (k & 1) as f64, 0.25 + 0.5 * (k >> 1 & 1) as f64, 0.25 + 0.5 * (k >> 2) as f64]);
     /// }
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// let c = v.cells_clipped(&pts, [[0.0; 3], [1.0; 3]]);
     /// for p in 0..8 {
     ///     assert!((c.volume[p] - 0.125).abs() < 1e-15);
@@ -618,7 +634,7 @@ impl Polyhedron {
     /// ```
     /// let pts = [[0.5, 0.5, 0.5], [2.0, 0.5, 0.5], [0.5, 2.0, 0.5], [0.5, 0.5, 2.0]];
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh);
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// let c = v.cells_clipped(&pts, [[0.0; 3], [1.0; 3]]);
     /// let (vol, _) = c.cells[0].volume_centroid(&[0.0; 3]);
     /// assert!((vol - 1.0).abs() < 1e-15); // the whole box is closest to site 0
@@ -869,7 +885,7 @@ pub fn lloyd(points: &[[f64; 3]], bbox: Box3, iterations: usize) -> Result<Vec<[
     let mut pts = points.to_vec();
     for _ in 0..iterations {
         let mesh = super::tetrahedralize(&pts)?;
-        let v = Voronoi3::new(&pts, &mesh);
+        let v = Voronoi3::new(&pts, &mesh)?;
         let c = v.cells_clipped(&pts, bbox);
         for (p, (&vol, &g)) in pts.iter_mut().zip(c.volume.iter().zip(&c.centroid)) {
             if vol > 0.0 {

@@ -150,7 +150,7 @@ impl Voronoi2 {
     /// let hole = vec![[0.4, 0.4], [0.6, 0.4], [0.6, 0.6], [0.4, 0.6]];
     /// let pts = [[0.25, 0.25], [0.75, 0.25], [0.25, 0.75], [0.75, 0.75]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// let c = v.cells_in_domain(&pts, &[outer, hole]);
     /// let total: f64 = c.area.iter().sum();
     /// assert!((total - 0.96).abs() < 1e-12);
@@ -236,7 +236,7 @@ impl Voronoi2 {
 /// let rings = tri::boundary_rings(&cdt.points, &cdt.triangles, &cdt.neighbors);
 /// assert_eq!(rings.len(), 2);
 /// let sites = [[0.5, 0.5], [3.5, 3.5], [3.5, 0.5]];
-/// let v = tri::Voronoi2::new(&sites, &delone::triangulate(&sites).unwrap());
+/// let v = tri::Voronoi2::new(&sites, &delone::triangulate(&sites).unwrap()).unwrap();
 /// let cells = v.cells_in_domain(&sites, &rings);
 /// assert!((cells.area.iter().sum::<f64>() - 12.0).abs() < 1e-12);
 /// ```
@@ -306,7 +306,7 @@ pub fn lloyd_in_domain(
     let mut pts = points.to_vec();
     for _ in 0..iterations {
         let mesh = super::triangulate(&pts)?;
-        let c = Voronoi2::new(&pts, &mesh).cells_in_domain(&pts, rings);
+        let c = Voronoi2::new(&pts, &mesh)?.cells_in_domain(&pts, rings);
         for (p, (&a, &g)) in pts.iter_mut().zip(c.area.iter().zip(&c.centroid)) {
             if a > 0.0 {
                 *p = g;

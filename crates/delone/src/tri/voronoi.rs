@@ -52,7 +52,7 @@ impl VoronoiEdge2 {
     /// ```
     /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// let bottom = v.edges.iter().find(|e| e.sites == [0, 1]).unwrap();
     /// assert_eq!(bottom.direction(&pts), [0.0, -1.0]);
     /// ```
@@ -70,7 +70,7 @@ impl VoronoiEdge2 {
     /// ```
     /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// assert!(v.edges.iter().all(|e| e.is_ray()));
     /// ```
     pub fn is_ray(&self) -> bool {
@@ -106,7 +106,7 @@ impl Cell2<'_> {
     /// ```
     /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0], [1.0, 0.9]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// assert!(v.cell(0).is_unbounded());
     /// assert!(!v.cell(4).is_unbounded());
     /// ```
@@ -120,7 +120,7 @@ impl Cell2<'_> {
 /// ```
 /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0], [1.0, 0.9]];
 /// let mesh = delone::triangulate(&pts).unwrap();
-/// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+/// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
 /// assert_eq!(v.vertices.len(), mesh.triangles.len());
 /// assert_eq!(v.edges.len(), 8); // one per Delaunay edge
 /// let c = v.cell(4); // the inner site: a bounded quadrilateral
@@ -251,12 +251,17 @@ impl Voronoi2 {
     /// ```
     /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// // Both triangles of the square share its centre as circumcentre.
     /// assert!(v.vertices.iter().all(|c| (c[0] - 0.5).abs() < 1e-15 && (c[1] - 0.5).abs() < 1e-15));
     /// ```
-    pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
-        Self::build(points, None, mesh)
+    ///
+    /// # Errors
+    /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
+    pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Result<Voronoi2, Error> {
+        let ids = mesh.vertex_map.len();
+        crate::geom::check::mesh_fits(points.len(), &mesh.triangles, &mesh.neighbors, ids, None)?;
+        Ok(Self::build(points, None, mesh))
     }
 
     /// Builds the power diagram of `points` with `weights` from their regular
@@ -276,16 +281,31 @@ impl Voronoi2 {
     /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0]];
     /// let w = [1.0, 0.0, 0.0, 0.0];
     /// let mesh = regular_triangulation(&pts, &w).unwrap();
-    /// let v = Voronoi2::new_power(&pts, &w, &mesh);
+    /// let v = Voronoi2::new_power(&pts, &w, &mesh).unwrap();
     /// // The heavier site 0 pushes the radical axes away from itself.
     /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [2.0, 2.0]]);
     /// assert!(c.area[0] > 1.0 && c.area[3] < 1.0);
     /// assert!((c.area.iter().sum::<f64>() - 4.0).abs() < 1e-12);
     /// ```
-    pub fn new_power(points: &[[f64; 2]], weights: &[f64], mesh: &TriMesh) -> Voronoi2 {
-        let mut w = weights.to_vec();
-        w.resize(points.len(), 0.0);
-        Self::build(points, Some(&w), mesh)
+    ///
+    /// # Errors
+    /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`,
+    /// [`Error::WeightCount`] when `weights` has another length.
+    pub fn new_power(
+        points: &[[f64; 2]],
+        weights: &[f64],
+        mesh: &TriMesh,
+    ) -> Result<Voronoi2, Error> {
+        let ids = mesh.vertex_map.len();
+        let n = points.len();
+        crate::geom::check::mesh_fits(
+            n,
+            &mesh.triangles,
+            &mesh.neighbors,
+            ids,
+            Some(weights.len()),
+        )?;
+        Ok(Self::build(points, Some(weights), mesh))
     }
 
     fn build(points: &[[f64; 2]], weights: Option<&[f64]>, mesh: &TriMesh) -> Voronoi2 {
@@ -417,7 +437,7 @@ impl Voronoi2 {
     /// ```
     /// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// assert_eq!(v.cell(3), v.cell(1));
     /// assert!(v.cell(0).is_unbounded());
     /// ```
@@ -460,7 +480,7 @@ impl Voronoi2 {
     /// ```
     /// let pts = [[0.25, 0.25], [0.75, 0.25], [0.25, 0.75], [0.75, 0.75]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [1.0, 1.0]]);
     /// for p in 0..4 {
     ///     assert!((c.area[p] - 0.25).abs() < 1e-15);
@@ -548,7 +568,7 @@ impl ClippedCells2 {
     /// ```
     /// let pts = [[0.25, 0.5], [0.75, 0.5], [0.5, 0.9]];
     /// let mesh = delone::triangulate(&pts).unwrap();
-    /// let v = delone::tri::Voronoi2::new(&pts, &mesh);
+    /// let v = delone::tri::Voronoi2::new(&pts, &mesh).unwrap();
     /// let c = v.cells_clipped(&pts, [[0.0, 0.0], [1.0, 1.0]]);
     /// assert!(c.polygon(0).len() >= 4);
     /// ```
@@ -664,7 +684,7 @@ pub fn lloyd(points: &[[f64; 2]], bbox: Box2, iterations: usize) -> Result<Vec<[
     let mut pts = points.to_vec();
     for _ in 0..iterations {
         let mesh = super::triangulate(&pts)?;
-        let v = Voronoi2::new(&pts, &mesh);
+        let v = Voronoi2::new(&pts, &mesh)?;
         let c = v.cells_clipped(&pts, bbox);
         for (p, (&a, &g)) in pts.iter_mut().zip(c.area.iter().zip(&c.centroid)) {
             if a > 0.0 {

@@ -1,0 +1,54 @@
+//! Consistency of a (points, mesh) pair handed to post-processing
+//! (Voronoi and power diagrams).
+
+use crate::{Error, NONE};
+
+/// Checks that `cells` name only existing points, that `neighbors` has one
+/// row per cell naming existing cells (or [`NONE`]), that `vertex_map` has
+/// one entry per point, and that `weights` (if any) has one per point.
+///
+/// ```
+/// use delone::geom::check::mesh_fits;
+/// let cells = [[0u32, 1, 2]];
+/// let nb = [[delone::NONE; 3]];
+/// assert!(mesh_fits(3, &cells, &nb, 3, None).is_ok());
+/// assert!(mesh_fits(2, &cells, &nb, 2, None).is_err());
+/// ```
+pub fn mesh_fits<const K: usize>(
+    points: usize,
+    cells: &[[u32; K]],
+    neighbors: &[[u32; K]],
+    vertex_map: usize,
+    weights: Option<usize>,
+) -> Result<(), Error> {
+    let bad = |reason: String| Err(Error::InconsistentMesh { reason });
+    if neighbors.len() != cells.len() {
+        return bad(format!(
+            "{} cells but {} neighbour rows",
+            cells.len(),
+            neighbors.len()
+        ));
+    }
+    if vertex_map != points {
+        return bad(format!("{points} points but a vertex map of {vertex_map}"));
+    }
+    if let Some(w) = weights {
+        if w != points {
+            return Err(Error::WeightCount { points, weights: w });
+        }
+    }
+    for (t, (c, nb)) in cells.iter().zip(neighbors).enumerate() {
+        if let Some(&v) = c.iter().find(|&&v| v as usize >= points) {
+            return bad(format!(
+                "cell {t} names point {v}, but there are {points} points"
+            ));
+        }
+        if let Some(&u) = nb.iter().find(|&&u| u != NONE && u as usize >= cells.len()) {
+            return bad(format!(
+                "cell {t} names neighbour {u}, but there are {} cells",
+                cells.len()
+            ));
+        }
+    }
+    Ok(())
+}
