@@ -281,15 +281,39 @@ impl Voronoi3 {
     }
 
     fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
+        let tets = &mesh.tets;
+        let p = |v: u32| &points[v as usize];
+        let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
+        let centres = || -> Vec<[f64; 3]> {
+            tets.iter()
+                .map(|tv| orthocenter(tv.map(&p), tv.map(w)))
+                .collect()
+        };
+        // Centres and combinatorics are independent: two threads for large
+        // meshes, each writing only its own arrays (same result whatever the
+        // thread count).
+        let mut v = if tets.len() >= 1 << 15 {
+            std::thread::scope(|sc| {
+                let job = sc.spawn(centres);
+                let mut v = Self::topology(points, mesh);
+                v.vertices = job.join().unwrap_or_else(|_| centres());
+                v
+            })
+        } else {
+            let mut v = Self::topology(points, mesh);
+            v.vertices = centres();
+            v
+        };
+        v.weights = weights.to_vec();
+        v
+    }
+
+    /// Everything but the vertex coordinates: edges, faces, cells.
+    fn topology(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
         let n = points.len();
         let tets = &mesh.tets;
         let nbs = &mesh.neighbors;
         let p = |v: u32| &points[v as usize];
-        let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
-        let vertices: Vec<[f64; 3]> = tets
-            .iter()
-            .map(|tv| orthocenter(tv.map(&p), tv.map(w)))
-            .collect();
         let mut unbounded = vec![false; n];
         let mut edges = Vec::with_capacity(tets.len() * 2 + 4);
         // The Voronoi edge of every (tetrahedron, facet).
@@ -447,7 +471,7 @@ impl Voronoi3 {
             }
         }
         Voronoi3 {
-            vertices,
+            vertices: Vec::new(),
             edges,
             faces,
             face_offsets,
@@ -458,7 +482,7 @@ impl Voronoi3 {
             cell_face_ids,
             unbounded,
             vertex_map: mesh.vertex_map.clone(),
-            weights: weights.to_vec(),
+            weights: Vec::new(),
         }
     }
 

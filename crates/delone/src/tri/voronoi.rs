@@ -309,23 +309,51 @@ impl Voronoi2 {
     }
 
     fn build(points: &[[f64; 2]], weights: Option<&[f64]>, mesh: &TriMesh) -> Voronoi2 {
+        let tris = &mesh.triangles;
+        let p = |v: u32| &points[v as usize];
+        let centres = || -> Vec<[f64; 2]> {
+            match weights {
+                None => tris
+                    .iter()
+                    .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
+                    .collect(),
+                Some(w) => tris
+                    .iter()
+                    .map(|t| {
+                        let [wa, wb, wc] = t.map(|x| w[x as usize]);
+                        power_center(p(t[0]), p(t[1]), p(t[2]), wa, wb, wc)
+                    })
+                    .collect(),
+            }
+        };
+        // The centres (random point reads, arithmetic) and the combinatorial
+        // part below are independent: compute them on two threads for large
+        // meshes. Each writes only its own arrays, so the result is the same
+        // whatever the thread count.
+        if tris.len() >= 1 << 16 {
+            return std::thread::scope(|sc| {
+                let job = sc.spawn(centres);
+                let mut v = Self::topology(points, mesh);
+                match job.join() {
+                    Ok(vertices) => v.vertices = vertices,
+                    Err(_) => v.vertices = centres(),
+                }
+                v.weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
+                v
+            });
+        }
+        let mut v = Self::topology(points, mesh);
+        v.vertices = centres();
+        v.weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
+        v
+    }
+
+    /// Everything but the vertex coordinates: edges, cells, hull rays.
+    fn topology(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
         let n = points.len();
         let tris = &mesh.triangles;
         let nbs = &mesh.neighbors;
         let p = |v: u32| &points[v as usize];
-        let vertices: Vec<[f64; 2]> = match weights {
-            None => tris
-                .iter()
-                .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
-                .collect(),
-            Some(w) => tris
-                .iter()
-                .map(|t| {
-                    let [wa, wb, wc] = t.map(|x| w[x as usize]);
-                    power_center(p(t[0]), p(t[1]), p(t[2]), wa, wb, wc)
-                })
-                .collect(),
-        };
         // Edges: interior ones once (from the lower triangle), hull ones as rays.
         let mut edges = Vec::with_capacity(tris.len() * 3 / 2 + 3);
         for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
@@ -418,14 +446,14 @@ impl Voronoi2 {
         }
         hull_cells.sort_unstable_by_key(|h| h.0);
         Voronoi2 {
-            vertices,
+            vertices: Vec::new(),
             edges,
             cell_ranges,
             cell_vertices,
             cell_neighbors,
             hull_cells,
             vertex_map: mesh.vertex_map.clone(),
-            weights: weights.map_or_else(Vec::new, <[f64]>::to_vec),
+            weights: Vec::new(),
         }
     }
 
