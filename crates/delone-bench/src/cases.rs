@@ -595,7 +595,13 @@ mod tests {
         assert_eq!((c.dim, c.kind), (3, Kind::Surf));
         assert_eq!(c.data.as_deref(), Some("c3d_spot"));
         assert_eq!(c.describe(), "c3d_spot.off surface");
-        for bad in ["3d-surf-", "3d-surf-a/b", "3d-surf-..", "2d-surf-x", "3d-surf-a b"] {
+        for bad in [
+            "3d-surf-",
+            "3d-surf-a/b",
+            "3d-surf-..",
+            "2d-surf-x",
+            "3d-surf-a b",
+        ] {
             assert!(Case::parse(bad).is_err(), "{bad}");
         }
     }
