@@ -252,6 +252,11 @@ fn run_surf(
             let r = g.generate_mesh(false, false, None, None);
             let seconds = t.elapsed().as_secs_f64();
             r.map_err(e)?;
+            if g.out_ncell() == 0 {
+                // TetGen reports some inputs it rejects (e.g. intersecting
+                // facets) only on its console and returns an empty mesh.
+                return Err("TetGen produced no tetrahedra (input rejected?)".into());
+            }
             Ok(Run {
                 seconds,
                 elements: g.out_ncell(),
@@ -580,6 +585,82 @@ mod tests {
         let c = Case::parse("3d-uniform-100").unwrap();
         let r = run_child(&c, "spade", 1);
         assert!(matches!(r.outcome, Outcome::Error(_)));
+    }
+
+    #[test]
+    fn file_families_run_only_their_programs() {
+        let poly = Case::parse("2d-poly-la-q30").unwrap();
+        let surf = Case::parse("3d-surf-c3d_spot").unwrap();
+        assert!(handles("delone", &poly) && handles("triangle", &poly));
+        assert!(!handles("spade", &poly) && !handles("delaunator", &poly));
+        assert!(!handles("tetgen", &poly));
+        assert!(handles("delone", &surf) && handles("tetgen", &surf));
+        assert!(!handles("triangle", &surf));
+        let pts = Case::parse("2d-uniform-100").unwrap();
+        assert!(handles("spade", &pts) && !handles("tetgen", &pts));
+    }
+
+    fn info_value(info: &str, key: &str) -> Option<f64> {
+        info.split(',')
+            .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+            .and_then(|v| v.parse().ok())
+    }
+
+    #[test]
+    fn poly_case_runs_delone_and_triangle() {
+        if crate::cases::data_dir().is_none() {
+            println!("note: shared data directory not found; skipping");
+            return;
+        }
+        let _g = serial();
+        let c = Case::parse("2d-poly-double_hex-q30").unwrap();
+        let d = run_child(&c, "delone", 1);
+        assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
+        assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
+        assert!(
+            info_value(&d.info, "min_angle").unwrap() >= 30.0,
+            "{}",
+            d.info
+        );
+        assert!(info_value(&d.info, "steiner").unwrap() > 0.0, "{}", d.info);
+        let t = run_child(&c, "triangle", 1);
+        assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
+        // Both refine the same domain to the same angle bound: the triangle
+        // counts should be close (they differ by where Steiner points go).
+        let (a, b) = (d.elements as f64, t.elements as f64);
+        assert!(a > 0.0 && (a / b - 1.0).abs() < 0.3, "{a} vs {b}");
+        // The CDT alone adds no Steiner point to this input.
+        let p = run_child(&Case::parse("2d-poly-double_hex-p").unwrap(), "delone", 1);
+        assert_eq!(p.outcome, Outcome::Ok);
+        assert!(p.elements > 0 && p.elements < d.elements);
+        assert_eq!(info_value(&p.info, "steiner"), Some(0.0));
+    }
+
+    #[test]
+    fn surf_case_runs_delone_and_tetgen() {
+        if crate::cases::data_dir().is_none() {
+            println!("note: shared data directory not found; skipping");
+            return;
+        }
+        let _g = serial();
+        let c = Case::parse("3d-surf-cgal_blob_closed").unwrap();
+        let d = run_child(&c, "delone", 1);
+        assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
+        assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
+        assert!(d.elements >= d.n / 2, "{d:?}");
+        let t = run_child(&c, "tetgen", 1);
+        assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
+        assert!(t.elements > 0);
+        // A self-intersecting surface is an error for both, not a crash.
+        let bad = Case::parse("3d-surf-c3d_suzanne").unwrap();
+        assert!(matches!(
+            run_child(&bad, "delone", 1).outcome,
+            Outcome::Error(_)
+        ));
+        assert!(matches!(
+            run_child(&bad, "tetgen", 1).outcome,
+            Outcome::Error(_)
+        ));
     }
 
     #[test]

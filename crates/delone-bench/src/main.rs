@@ -439,6 +439,17 @@ mod tests {
         ] {
             assert!(parse_args(&args(bad)).is_err(), "{bad}");
         }
+        let Ok(Mode::Bench(o)) = parse_args(&args(
+            "--cases 2d-poly-la-q30a0.001,2d-poly-la-p,3d-surf-c3d_spot",
+        )) else {
+            panic!()
+        };
+        assert_eq!(o.cases.len(), 3);
+        assert!(parse_args(&args("--cases 2d-poly-la-q30a")).is_err());
+        assert!(matches!(
+            parse_args(&args("--child 2d-poly-la-q30a0.001 triangle")),
+            Ok(Mode::Child { .. })
+        ));
         assert!(matches!(
             parse_args(&args("--child 3d-grid-27 tetgen --repeat 2")),
             Ok(Mode::Child { repeat: 2, .. })
