@@ -36,6 +36,10 @@ pub fn handles(program: &str, case: &Case) -> bool {
 /// `repeat` timed runs. Larger ones are timed once, without warm-up.
 pub const SMALL: usize = 200_000;
 
+/// A warm-up run longer than this (seconds) is taken as the single timed
+/// run instead of being repeated.
+pub const SLOW: f64 = 2.0;
+
 /// Memory figures from `/proc/self/status`, in kB.
 fn proc_status_kb(key: &str) -> Option<u64> {
     let s = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -487,12 +491,19 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
         }
         match run {
             Ok(r) => {
-                if i >= warmup {
+                // A warm-up run this slow (a small input with a huge
+                // output, e.g. a tiny area bound) counts as the one timed
+                // run: repeating it would only multiply the wait.
+                let slow_warmup = i < warmup && r.seconds > SLOW;
+                if i >= warmup || slow_warmup {
                     times.push(r.seconds);
                 }
                 hashes.extend(r.hash);
                 res.elements = r.elements;
                 res.info = r.info;
+                if slow_warmup {
+                    break;
+                }
             }
             Err(e) => {
                 res.outcome = Outcome::Error(e);
