@@ -4,9 +4,21 @@
 //! `2d-uniform-1e6` or `3d-grid-1e6`. The size is the requested number of
 //! points (`1e5`, `100000`, ...); grids round it to a whole side length
 //! (`2d-grid-1e6` is 1000×1000, `3d-grid-1e6` is 100³).
+//!
+//! Two more families read real inputs from the shared data directory (see
+//! [`data_dir`]) instead of generating points:
+//!
+//! - `2d-poly-NAME-qANGLEaAREA` (either part may be left out; `q` alone is
+//!   20°) and `2d-poly-NAME-p` (constrained triangulation only):
+//!   `2d/NAME.poly`, meshed with quality bounds;
+//! - `3d-surf-MODEL`: `surf/off/MODEL.off`, a closed triangle surface whose
+//!   faces are recovered in a tetrahedralization.
 
 use std::f64::consts::TAU;
 use std::fmt;
+use std::path::PathBuf;
+
+use delone::model::pslg::{Pslg, Region};
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny, fast, well-mixed 64-bit PRNG.
 /// Fully deterministic for a given seed, on every platform.
@@ -47,6 +59,10 @@ pub enum Kind {
     Circle,
     /// Uniform random points on the unit sphere (3D only).
     Sphere,
+    /// A `.poly` file (2D only), meshed with quality bounds.
+    Poly,
+    /// A closed triangle surface from an `.off` file (3D only).
+    Surf,
 }
 
 impl Kind {
@@ -56,12 +72,14 @@ impl Kind {
             Kind::Grid => "grid",
             Kind::Circle => "circle",
             Kind::Sphere => "sphere",
+            Kind::Poly => "poly",
+            Kind::Surf => "surface",
         }
     }
 }
 
 /// One benchmark case.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Case {
     /// The name as given (used to re-create the case in the child process).
     pub name: String,
@@ -69,8 +87,138 @@ pub struct Case {
     pub dim: usize,
     /// Point-set shape.
     pub kind: Kind,
-    /// Requested size (before grid rounding).
+    /// Requested size (before grid rounding; 0 for the file families).
     pub requested: usize,
+    /// The data file's base name (`Poly` and `Surf` cases).
+    pub data: Option<String>,
+    /// Quality refinement of a `Poly` case: `None` for the constrained
+    /// triangulation alone (`-p`).
+    pub quality: Option<Quality>,
+}
+
+/// Quality bounds of a `2d-poly-…-q…a…` case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quality {
+    /// Minimum angle in degrees (`None`: no angle bound).
+    pub min_angle: Option<f64>,
+    /// Maximum triangle area (`None`: no area bound).
+    pub max_area: Option<f64>,
+}
+
+/// A `.poly` input ready for meshing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PolyInput {
+    /// The planar straight-line graph.
+    pub pslg: Pslg,
+    /// The quality bounds (`None`: constrained triangulation only).
+    pub quality: Option<Quality>,
+}
+
+/// A closed triangle surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfInput {
+    /// Vertex coordinates.
+    pub points: Vec<[f64; 3]>,
+    /// Triangles (fan-triangulated faces).
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The input of a case: generated points or a file's content.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Input {
+    /// A point set.
+    Points(Points),
+    /// A planar straight-line graph with quality bounds.
+    Poly(PolyInput),
+    /// A closed triangle surface.
+    Surf(SurfInput),
+}
+
+impl Input {
+    /// Number of input points.
+    pub fn len(&self) -> usize {
+        match self {
+            Input::Points(p) => p.len(),
+            Input::Poly(p) => p.pslg.points.len(),
+            Input::Surf(s) => s.points.len(),
+        }
+    }
+}
+
+/// The shared data directory: `$DELONE_BENCH_DATA` if set, else the first
+/// `shared/data` found walking up from this crate's directory.
+pub fn data_dir() -> Option<PathBuf> {
+    if let Some(d) = std::env::var_os("DELONE_BENCH_DATA") {
+        return Some(PathBuf::from(d));
+    }
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    here.ancestors()
+        .map(|a| a.join("shared").join("data"))
+        .find(|d| d.is_dir())
+}
+
+/// Names of the files with extension `ext` in `sub` of the data directory,
+/// sorted (empty if the directory is missing).
+pub fn data_names(sub: &str, ext: &str) -> Vec<String> {
+    let Some(dir) = data_dir().map(|d| d.join(sub)) else {
+        return Vec::new();
+    };
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter_map(|e| {
+            let n = e.file_name().into_string().ok()?;
+            n.strip_suffix(ext)?.strip_suffix('.').map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+fn read_data(sub: &str, file: &str) -> Result<Vec<u8>, String> {
+    let dir = data_dir().ok_or("shared data directory not found (set DELONE_BENCH_DATA)")?;
+    let path = dir.join(sub).join(file);
+    std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
+}
+
+/// A data-file base name: letters, digits and `_` only (no path parts).
+fn is_data_name(s: &str) -> bool {
+    !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// A positive finite number.
+fn positive(s: &str) -> Option<f64> {
+    s.parse::<f64>().ok().filter(|v| v.is_finite() && *v > 0.0)
+}
+
+/// Parses the quality part of a poly case: `p`, `q`, `qANGLE`, `aAREA`,
+/// `qANGLEaAREA`, `qaAREA`.
+fn parse_quality(spec: &str) -> Option<Option<Quality>> {
+    if spec == "p" {
+        return Some(None);
+    }
+    let (q, a) = match spec.split_once('a') {
+        Some((q, a)) => (q, Some(a)),
+        None => (spec, None),
+    };
+    let min_angle = match q.strip_prefix('q') {
+        Some("") => Some(20.0),
+        Some(v) => Some(positive(v).filter(|&v| v < 60.0)?),
+        None if q.is_empty() => None,
+        None => return None,
+    };
+    let max_area = match a {
+        Some(v) => Some(positive(v)?),
+        None => None,
+    };
+    if min_angle.is_none() && max_area.is_none() {
+        return None;
+    }
+    Some(Some(Quality {
+        min_angle,
+        max_area,
+    }))
 }
 
 /// Points of either dimension.
@@ -100,7 +248,7 @@ impl fmt::Display for BadCase {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only)",
+            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 3d-surf-MODEL)",
             self.0
         )
     }
@@ -132,6 +280,34 @@ impl Case {
     /// Parses a case name such as `2d-uniform-1e5`.
     pub fn parse(name: &str) -> Result<Case, BadCase> {
         let bad = || BadCase(name.to_string());
+        if let Some(rest) = name.strip_prefix("2d-poly-") {
+            let (file, spec) = rest.split_once('-').ok_or_else(bad)?;
+            let quality = parse_quality(spec).ok_or_else(bad)?;
+            if !is_data_name(file) {
+                return Err(bad());
+            }
+            return Ok(Case {
+                name: name.to_string(),
+                dim: 2,
+                kind: Kind::Poly,
+                requested: 0,
+                data: Some(file.to_string()),
+                quality,
+            });
+        }
+        if let Some(model) = name.strip_prefix("3d-surf-") {
+            if !is_data_name(model) {
+                return Err(bad());
+            }
+            return Ok(Case {
+                name: name.to_string(),
+                dim: 3,
+                kind: Kind::Surf,
+                requested: 0,
+                data: Some(model.to_string()),
+                quality: None,
+            });
+        }
         let mut parts = name.split('-');
         let (Some(d), Some(k), Some(s), None) =
             (parts.next(), parts.next(), parts.next(), parts.next())
@@ -159,7 +335,63 @@ impl Case {
             dim,
             kind,
             requested: size.round() as usize,
+            data: None,
+            quality: None,
         })
+    }
+
+    /// Builds the case's input: generates the points, or reads the data
+    /// file (an error names the file and the problem).
+    pub fn load(&self) -> Result<Input, String> {
+        let data = self.data.as_deref().unwrap_or_default();
+        match self.kind {
+            Kind::Poly => {
+                let bytes = read_data("2d", &format!("{data}.poly"))?;
+                let poly = delone_io::read_poly(&bytes).map_err(|e| format!("{data}.poly: {e}"))?;
+                let node = if poly.node.is_empty() {
+                    let b = read_data("2d", &format!("{data}.node"))?;
+                    delone_io::read_node(&b).map_err(|e| format!("{data}.node: {e}"))?
+                } else {
+                    poly.node.clone()
+                };
+                let points = node
+                    .points::<2>()
+                    .ok_or_else(|| format!("{data}: points are not 2D"))?;
+                let segments = poly
+                    .segments_zero_based(node.first_index)
+                    .map_err(|e| format!("{data}.poly: {e}"))?;
+                let pslg = Pslg {
+                    points,
+                    point_markers: node.markers.clone().unwrap_or_default(),
+                    segments,
+                    segment_markers: poly.segment_markers.clone().unwrap_or_default(),
+                    holes: poly.holes.clone(),
+                    regions: poly
+                        .regions
+                        .iter()
+                        .map(|r| Region {
+                            point: [r[0], r[1]],
+                            attribute: r[2],
+                            max_area: r[3],
+                        })
+                        .collect(),
+                };
+                Ok(Input::Poly(PolyInput {
+                    pslg,
+                    quality: self.quality,
+                }))
+            }
+            Kind::Surf => {
+                let bytes = read_data("surf/off", &format!("{data}.off"))?;
+                let s = delone_io::read_off(&bytes).map_err(|e| format!("{data}.off: {e}"))?;
+                let triangles = s.triangles();
+                Ok(Input::Surf(SurfInput {
+                    points: s.points,
+                    triangles,
+                }))
+            }
+            _ => Ok(Input::Points(self.generate())),
+        }
     }
 
     /// Grid side length (points per axis) for a grid case.
@@ -172,6 +404,7 @@ impl Case {
     pub fn n(&self) -> usize {
         match self.kind {
             Kind::Grid => self.grid_side().pow(self.dim as u32),
+            Kind::Poly | Kind::Surf => self.load().map_or(0, |i| i.len()),
             _ => self.requested,
         }
     }
@@ -183,6 +416,18 @@ impl Case {
                 let s = self.grid_side();
                 vec![s.to_string(); self.dim].join("x") + " grid"
             }
+            Kind::Poly => {
+                let d = self.data.as_deref().unwrap_or_default();
+                match self.quality {
+                    None => format!("{d}.poly, CDT only"),
+                    Some(q) => format!(
+                        "{d}.poly, min angle {}, max area {}",
+                        q.min_angle.map_or("-".into(), |a| a.to_string()),
+                        q.max_area.map_or("-".into(), |a| a.to_string())
+                    ),
+                }
+            }
+            Kind::Surf => format!("{}.off surface", self.data.as_deref().unwrap_or_default()),
             k => format!("{} {}", k.name(), self.dim),
         }
     }
@@ -300,6 +545,89 @@ mod tests {
         for name in DEFAULT_CASES.iter().chain(QUICK_CASES) {
             assert!(Case::parse(name).is_ok(), "{name}");
         }
+    }
+
+    #[test]
+    fn parse_poly_cases() {
+        let c = Case::parse("2d-poly-la-q30a0.001").unwrap();
+        assert_eq!((c.dim, c.kind), (2, Kind::Poly));
+        assert_eq!(c.data.as_deref(), Some("la"));
+        assert_eq!(
+            c.quality,
+            Some(Quality {
+                min_angle: Some(30.0),
+                max_area: Some(0.001)
+            })
+        );
+        let c = Case::parse("2d-poly-square_circle_hole-p").unwrap();
+        assert_eq!(c.data.as_deref(), Some("square_circle_hole"));
+        assert_eq!(c.quality, None);
+        let q = |name: &str| Case::parse(name).unwrap().quality.unwrap();
+        assert_eq!(q("2d-poly-A-q").min_angle, Some(20.0));
+        assert_eq!(q("2d-poly-A-q").max_area, None);
+        assert_eq!(q("2d-poly-A-q25.5").min_angle, Some(25.5));
+        assert_eq!(q("2d-poly-A-a0.5").min_angle, None);
+        assert_eq!(q("2d-poly-A-a0.5").max_area, Some(0.5));
+        assert_eq!(q("2d-poly-A-qa1e-3").max_area, Some(0.001));
+        assert_eq!(q("2d-poly-A-qa1e-3").min_angle, Some(20.0));
+        for bad in [
+            "2d-poly-la",
+            "2d-poly--p",
+            "2d-poly-la-",
+            "2d-poly-la-x",
+            "2d-poly-la-q30a",
+            "2d-poly-la-qxa1",
+            "2d-poly-la-q-5",
+            "2d-poly-la-q70",
+            "2d-poly-la-a0",
+            "2d-poly-la-anan",
+            "2d-poly-la-pq",
+            "2d-poly-../la-p",
+            "3d-poly-la-p",
+        ] {
+            assert!(Case::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn parse_surf_cases() {
+        let c = Case::parse("3d-surf-c3d_spot").unwrap();
+        assert_eq!((c.dim, c.kind), (3, Kind::Surf));
+        assert_eq!(c.data.as_deref(), Some("c3d_spot"));
+        assert_eq!(c.describe(), "c3d_spot.off surface");
+        for bad in [
+            "3d-surf-",
+            "3d-surf-a/b",
+            "3d-surf-..",
+            "2d-surf-x",
+            "3d-surf-a b",
+        ] {
+            assert!(Case::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn file_cases_load_from_shared_data() {
+        if data_dir().is_none() {
+            println!("note: shared data directory not found; skipping");
+            return;
+        }
+        let Ok(Input::Poly(p)) = Case::parse("2d-poly-box-p").unwrap().load() else {
+            panic!("box.poly must load as a PSLG")
+        };
+        assert!(p.pslg.points.len() >= 3 && !p.pslg.segments.is_empty());
+        let n = p.pslg.points.len() as u32;
+        assert!(p.pslg.segments.iter().flatten().all(|&v| v < n));
+        let c = Case::parse("3d-surf-c3d_spot").unwrap();
+        let Ok(Input::Surf(s)) = c.load() else {
+            panic!("c3d_spot.off must load as a surface")
+        };
+        assert_eq!(c.n(), s.points.len());
+        assert!(s.triangles.len() >= 4);
+        let missing = Case::parse("3d-surf-no_such_model").unwrap();
+        let err = missing.load().unwrap_err();
+        assert!(err.contains("no_such_model.off"), "{err}");
+        assert_eq!(missing.n(), 0);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use crate::cases::{fnv1a, Case, Points};
+use crate::cases::{fnv1a, Case, Input, Kind, Points, PolyInput, SurfInput};
 use crate::result::{Outcome, RunResult};
 
 /// The programs the bench knows, with the dimension each one handles.
@@ -22,9 +22,23 @@ pub fn supports(program: &str, dim: usize) -> bool {
     PROGRAMS.iter().any(|&(p, d)| p == program && d == dim)
 }
 
+/// Whether `program` handles `case`: by dimension for the point sets; only
+/// delone and Triangle for `2d-poly-…`, delone and TetGen for `3d-surf-…`.
+pub fn handles(program: &str, case: &Case) -> bool {
+    match case.kind {
+        Kind::Poly => matches!(program, "delone" | "triangle"),
+        Kind::Surf => matches!(program, "delone" | "tetgen"),
+        _ => supports(program, case.dim),
+    }
+}
+
 /// Sizes up to this many points are "small": warm-up run plus the median of
 /// `repeat` timed runs. Larger ones are timed once, without warm-up.
 pub const SMALL: usize = 200_000;
+
+/// A warm-up run longer than this (seconds) is taken as the single timed
+/// run instead of being repeated.
+pub const SLOW: f64 = 2.0;
 
 /// Memory figures from `/proc/self/status`, in kB.
 fn proc_status_kb(key: &str) -> Option<u64> {
@@ -56,6 +70,16 @@ struct Run {
     hash: Option<u64>,
     /// Outcome of delone's independent validator, when asked for.
     valid: Option<Result<(), String>>,
+    /// Extra figures (see [`RunResult::info`]).
+    info: String,
+}
+
+fn hash_points<const D: usize>(points: &[[f64; D]]) -> u64 {
+    fnv1a(
+        points
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|c| c.to_bits().to_le_bytes())),
+    )
 }
 
 fn hash_u32s<'a>(groups: impl Iterator<Item = &'a [u32]>) -> u64 {
@@ -67,6 +91,190 @@ fn hash_u32s<'a>(groups: impl Iterator<Item = &'a [u32]>) -> u64 {
 /// and sample the memory counters). With `check`, delone's output is also
 /// run through delone's own validator (untimed).
 fn run_once(
+    program: &str,
+    input: &Input,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    match input {
+        Input::Points(p) => run_points(program, p, on_ready, check),
+        Input::Poly(p) => run_poly(program, p, on_ready, check),
+        Input::Surf(s) => run_surf(program, s, on_ready, check),
+    }
+}
+
+/// `2d-poly-…`: delone's constrained triangulation (+ refinement) against
+/// Triangle's `-p` (+ quality) through tritet.
+fn run_poly(
+    program: &str,
+    input: &PolyInput,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+    use delone::tri::refine::{refine, RefineOptions};
+    let g = &input.pslg;
+    match program {
+        "delone" => {
+            on_ready();
+            let t = Instant::now();
+            let r =
+                constrained_triangulation(black_box(g), CdtOptions::default()).and_then(|cdt| {
+                    match input.quality {
+                        None => Ok((cdt, None)),
+                        Some(q) => {
+                            let opts = RefineOptions {
+                                min_angle: q.min_angle,
+                                max_area: q.max_area,
+                                ..Default::default()
+                            };
+                            refine(&cdt, &opts).map(|r| (r.mesh, Some(r.report)))
+                        }
+                    }
+                });
+            let seconds = t.elapsed().as_secs_f64();
+            let (m, report) = r.map_err(|e| e.to_string())?;
+            let hash = hash_u32s(
+                m.triangles
+                    .iter()
+                    .map(|t| &t[..])
+                    .chain(m.neighbors.iter().map(|t| &t[..])),
+            ) ^ hash_points(&m.points).rotate_left(17);
+            let valid = check.then(|| check_cdt(g, &m).map_err(|v| v.to_string()));
+            let mut info = format!("steiner={}", m.points.len() - g.points.len());
+            if let Some(r) = report {
+                info.push_str(&format!(
+                    ",min_angle={:.2},met={}",
+                    r.min_angle,
+                    if r.met { "yes" } else { "no" }
+                ));
+            }
+            Ok(Run {
+                seconds,
+                elements: m.triangles.len(),
+                hash: Some(hash),
+                valid,
+                info,
+            })
+        }
+        "triangle" => {
+            let e = |m: &str| m.to_string();
+            let (np, ns, nr, nh) = (
+                g.points.len(),
+                g.segments.len(),
+                g.regions.len(),
+                g.holes.len(),
+            );
+            let some = |n: usize| (n > 0).then_some(n);
+            let mut tg = tritet::Trigen::new(np, some(ns), some(nr), some(nh)).map_err(e)?;
+            for (i, p) in g.points.iter().enumerate() {
+                let marker = g.point_markers.get(i).copied().unwrap_or(0);
+                tg.set_point(i, marker, p[0], p[1]).map_err(e)?;
+            }
+            for (i, s) in g.segments.iter().enumerate() {
+                let marker = g.segment_markers.get(i).copied().unwrap_or(0);
+                tg.set_segment(i, marker, s[0] as usize, s[1] as usize)
+                    .map_err(e)?;
+            }
+            for (i, h) in g.holes.iter().enumerate() {
+                tg.set_hole(i, h[0], h[1]).map_err(e)?;
+            }
+            for (i, r) in g.regions.iter().enumerate() {
+                let area = (r.max_area > 0.0).then_some(r.max_area);
+                tg.set_region(i, r.attribute as i32, r.point[0], r.point[1], area)
+                    .map_err(e)?;
+            }
+            let (area, angle) = input
+                .quality
+                .map_or((None, None), |q| (q.max_area, q.min_angle));
+            on_ready();
+            let t = Instant::now();
+            let r = tg.generate_mesh(false, false, true, area, angle);
+            let seconds = t.elapsed().as_secs_f64();
+            r.map_err(e)?;
+            Ok(Run {
+                seconds,
+                elements: tg.out_ncell(),
+                hash: None,
+                valid: None,
+                info: format!("steiner={}", tg.out_npoint().saturating_sub(np)),
+            })
+        }
+        _ => Err(format!("program `{program}` does not handle .poly input")),
+    }
+}
+
+/// `3d-surf-…`: delone's boundary recovery against TetGen's `-p` through
+/// tritet (which always adds `-q`, see the README).
+fn run_surf(
+    program: &str,
+    input: &SurfInput,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+    let (p, tris) = (&input.points, &input.triangles);
+    match program {
+        "delone" => {
+            let opts = RecoverOptions::default();
+            on_ready();
+            let t = Instant::now();
+            let r = recover(black_box(p), black_box(tris), &opts);
+            let seconds = t.elapsed().as_secs_f64();
+            let r = r.map_err(|e| e.to_string())?;
+            let m = &r.mesh;
+            let hash = hash_u32s(
+                m.tets
+                    .iter()
+                    .map(|t| &t[..])
+                    .chain(m.neighbors.iter().map(|t| &t[..]))
+                    .chain(r.boundary.iter().map(|t| &t[..])),
+            ) ^ hash_points(&r.points).rotate_left(17);
+            let valid = check.then(|| check_recovered(p, tris, &r).map_err(|v| v.to_string()));
+            Ok(Run {
+                seconds,
+                elements: m.tets.len(),
+                hash: Some(hash),
+                valid,
+                info: format!("steiner={}", r.report.steiner()),
+            })
+        }
+        "tetgen" => {
+            let e = |m: &str| m.to_string();
+            let mut g =
+                tritet::Tetgen::new(p.len(), Some(vec![3; tris.len()]), None, None).map_err(e)?;
+            for (i, q) in p.iter().enumerate() {
+                g.set_point(i, 0, q[0], q[1], q[2]).map_err(e)?;
+            }
+            for (i, t) in tris.iter().enumerate() {
+                for (m, &v) in t.iter().enumerate() {
+                    g.set_facet_point(i, m, v as usize).map_err(e)?;
+                }
+            }
+            on_ready();
+            let t = Instant::now();
+            let r = g.generate_mesh(false, false, None, None);
+            let seconds = t.elapsed().as_secs_f64();
+            r.map_err(e)?;
+            if g.out_ncell() == 0 {
+                // TetGen reports some inputs it rejects (e.g. intersecting
+                // facets) only on its console and returns an empty mesh.
+                return Err("TetGen produced no tetrahedra (input rejected?)".into());
+            }
+            Ok(Run {
+                seconds,
+                elements: g.out_ncell(),
+                hash: None,
+                valid: None,
+                info: format!("steiner={}", g.out_npoint().saturating_sub(p.len())),
+            })
+        }
+        _ => Err(format!("program `{program}` does not handle surface input")),
+    }
+}
+
+/// The generated point-set cases.
+fn run_points(
     program: &str,
     pts: &Points,
     on_ready: &mut dyn FnMut(),
@@ -92,6 +300,7 @@ fn run_once(
                 elements: m.triangles.len(),
                 hash: Some(hash),
                 valid,
+                info: String::new(),
             })
         }
         ("delone", Points::D3(p)) => {
@@ -113,6 +322,7 @@ fn run_once(
                 elements: m.tets.len(),
                 hash: Some(hash),
                 valid,
+                info: String::new(),
             })
         }
         ("triangle", Points::D2(p)) => {
@@ -130,6 +340,7 @@ fn run_once(
                 elements: g.out_ncell(),
                 hash: None,
                 valid: None,
+                info: String::new(),
             })
         }
         ("tetgen", Points::D3(p)) => {
@@ -148,6 +359,7 @@ fn run_once(
                 elements: g.out_ncell(),
                 hash: None,
                 valid: None,
+                info: String::new(),
             })
         }
         ("spade", Points::D2(p)) => {
@@ -163,6 +375,7 @@ fn run_once(
                 elements: d.num_inner_faces(),
                 hash: None,
                 valid: None,
+                info: String::new(),
             })
         }
         ("delaunator", Points::D2(p)) => {
@@ -179,6 +392,7 @@ fn run_once(
                 elements: d.triangles.len() / 3,
                 hash: None,
                 valid: None,
+                info: String::new(),
             })
         }
         _ => Err(format!(
@@ -207,8 +421,8 @@ pub fn median(xs: &[f64]) -> f64 {
 
 /// Runs `program` on `case` and returns the measured result.
 pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
-    let pts = case.generate();
-    let n = pts.len();
+    let loaded = case.load();
+    let n = loaded.as_ref().map_or(0, Input::len);
     let base_kb = vm_rss();
     let mut res = RunResult {
         case: case.name.clone(),
@@ -222,9 +436,17 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
         elements: 0,
         deterministic: None,
         valid: None,
+        info: String::new(),
         outcome: Outcome::Ok,
     };
-    if !supports(program, case.dim) {
+    let pts = match loaded {
+        Ok(p) => p,
+        Err(e) => {
+            res.outcome = Outcome::Error(e);
+            return res;
+        }
+    };
+    if !handles(program, case) {
         res.outcome = Outcome::Error(format!(
             "program `{program}` does not handle {}D input",
             case.dim
@@ -269,11 +491,19 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
         }
         match run {
             Ok(r) => {
-                if i >= warmup {
+                // A warm-up run this slow (a small input with a huge
+                // output, e.g. a tiny area bound) counts as the one timed
+                // run: repeating it would only multiply the wait.
+                let slow_warmup = i < warmup && r.seconds > SLOW;
+                if i >= warmup || slow_warmup {
                     times.push(r.seconds);
                 }
                 hashes.extend(r.hash);
                 res.elements = r.elements;
+                res.info = r.info;
+                if slow_warmup {
+                    break;
+                }
             }
             Err(e) => {
                 res.outcome = Outcome::Error(e);
@@ -366,6 +596,82 @@ mod tests {
         let c = Case::parse("3d-uniform-100").unwrap();
         let r = run_child(&c, "spade", 1);
         assert!(matches!(r.outcome, Outcome::Error(_)));
+    }
+
+    #[test]
+    fn file_families_run_only_their_programs() {
+        let poly = Case::parse("2d-poly-la-q30").unwrap();
+        let surf = Case::parse("3d-surf-c3d_spot").unwrap();
+        assert!(handles("delone", &poly) && handles("triangle", &poly));
+        assert!(!handles("spade", &poly) && !handles("delaunator", &poly));
+        assert!(!handles("tetgen", &poly));
+        assert!(handles("delone", &surf) && handles("tetgen", &surf));
+        assert!(!handles("triangle", &surf));
+        let pts = Case::parse("2d-uniform-100").unwrap();
+        assert!(handles("spade", &pts) && !handles("tetgen", &pts));
+    }
+
+    fn info_value(info: &str, key: &str) -> Option<f64> {
+        info.split(',')
+            .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+            .and_then(|v| v.parse().ok())
+    }
+
+    #[test]
+    fn poly_case_runs_delone_and_triangle() {
+        if crate::cases::data_dir().is_none() {
+            println!("note: shared data directory not found; skipping");
+            return;
+        }
+        let _g = serial();
+        let c = Case::parse("2d-poly-double_hex-q30").unwrap();
+        let d = run_child(&c, "delone", 1);
+        assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
+        assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
+        assert!(
+            info_value(&d.info, "min_angle").unwrap() >= 30.0,
+            "{}",
+            d.info
+        );
+        assert!(info_value(&d.info, "steiner").unwrap() > 0.0, "{}", d.info);
+        let t = run_child(&c, "triangle", 1);
+        assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
+        // Both refine the same domain to the same angle bound: the triangle
+        // counts should be close (they differ by where Steiner points go).
+        let (a, b) = (d.elements as f64, t.elements as f64);
+        assert!(a > 0.0 && (a / b - 1.0).abs() < 0.3, "{a} vs {b}");
+        // The CDT alone adds no Steiner point to this input.
+        let p = run_child(&Case::parse("2d-poly-double_hex-p").unwrap(), "delone", 1);
+        assert_eq!(p.outcome, Outcome::Ok);
+        assert!(p.elements > 0 && p.elements < d.elements);
+        assert_eq!(info_value(&p.info, "steiner"), Some(0.0));
+    }
+
+    #[test]
+    fn surf_case_runs_delone_and_tetgen() {
+        if crate::cases::data_dir().is_none() {
+            println!("note: shared data directory not found; skipping");
+            return;
+        }
+        let _g = serial();
+        let c = Case::parse("3d-surf-cgal_blob_closed").unwrap();
+        let d = run_child(&c, "delone", 1);
+        assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
+        assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
+        assert!(d.elements >= d.n / 2, "{d:?}");
+        let t = run_child(&c, "tetgen", 1);
+        assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
+        assert!(t.elements > 0);
+        // A self-intersecting surface is an error for both, not a crash.
+        let bad = Case::parse("3d-surf-c3d_suzanne").unwrap();
+        assert!(matches!(
+            run_child(&bad, "delone", 1).outcome,
+            Outcome::Error(_)
+        ));
+        assert!(matches!(
+            run_child(&bad, "tetgen", 1).outcome,
+            Outcome::Error(_)
+        ));
     }
 
     #[test]

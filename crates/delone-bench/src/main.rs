@@ -17,7 +17,7 @@ use std::process::{Command, ExitCode, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 use cases::{Case, DEFAULT_CASES, QUICK_CASES};
-use child::{supports, PROGRAMS, SMALL};
+use child::{handles, PROGRAMS, SMALL};
 use result::{Outcome, RunResult};
 
 const USAGE: &str = "\
@@ -27,7 +27,11 @@ options:
   --quick            only the ~1e5-point cases (fast smoke run)
   --cases LIST       comma-separated case names, e.g. 2d-uniform-1e6,3d-grid-1e6
                      (form {2d,3d}-{uniform,grid,circle,sphere}-SIZE; circle is 2D,
-                     sphere 3D; `all` = the default suite, `quick` = the quick suite)
+                     sphere 3D; `all` = the default suite, `quick` = the quick suite;
+                     meshing cases on ../shared/data, not in any suite:
+                     2d-poly-NAME-qANGLEaAREA (2d/NAME.poly refined, delone vs triangle),
+                     2d-poly-NAME-p (constrained triangulation only),
+                     3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen))
   --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
@@ -291,7 +295,7 @@ fn bench(opts: &Options) {
         .flat_map(|c| {
             opts.programs
                 .iter()
-                .filter(move |p| supports(p, c.dim))
+                .filter(move |p| handles(p, c))
                 .map(move |p| (c, p.as_str()))
         })
         .collect();
@@ -355,6 +359,14 @@ fn main() -> ExitCode {
             println!("default cases: {}", DEFAULT_CASES.join(", "));
             println!("quick cases:   {}", QUICK_CASES.join(", "));
             println!("programs:      {}", program_names().join(", "));
+            println!(
+                "file cases (need the shared data directory{}):",
+                cases::data_dir().map_or(", not found".into(), |d| format!(" {}", d.display()))
+            );
+            println!("  2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p (delone, triangle); NAME one of:");
+            println!("    {}", cases::data_names("2d", "poly").join(", "));
+            println!("  3d-surf-MODEL (delone, tetgen); MODEL one of:");
+            println!("    {}", cases::data_names("surf/off", "off").join(", "));
             ExitCode::SUCCESS
         }
         Ok(Mode::Child {
@@ -427,6 +439,17 @@ mod tests {
         ] {
             assert!(parse_args(&args(bad)).is_err(), "{bad}");
         }
+        let Ok(Mode::Bench(o)) = parse_args(&args(
+            "--cases 2d-poly-la-q30a0.001,2d-poly-la-p,3d-surf-c3d_spot",
+        )) else {
+            panic!()
+        };
+        assert_eq!(o.cases.len(), 3);
+        assert!(parse_args(&args("--cases 2d-poly-la-q30a")).is_err());
+        assert!(matches!(
+            parse_args(&args("--child 2d-poly-la-q30a0.001 triangle")),
+            Ok(Mode::Child { .. })
+        ));
         assert!(matches!(
             parse_args(&args("--child 3d-grid-27 tetgen --repeat 2")),
             Ok(Mode::Child { repeat: 2, .. })

@@ -44,6 +44,9 @@ pub struct RunResult {
     pub deterministic: Option<bool>,
     /// Whether delone's validator accepted the output (delone only).
     pub valid: Option<bool>,
+    /// Extra figures of the file cases, `key=value` pairs joined by `,`
+    /// without spaces (e.g. `steiner=12,min_angle=30.1`); empty if none.
+    pub info: String,
     /// How it ended.
     pub outcome: Outcome,
 }
@@ -92,6 +95,7 @@ impl RunResult {
             elements: 0,
             deterministic: None,
             valid: None,
+            info: String::new(),
             outcome: Outcome::Failed(reason),
         }
     }
@@ -119,7 +123,7 @@ impl RunResult {
             Outcome::Failed(m) => ("failed", m.replace(['\n', '\r'], " ")),
         };
         format!(
-            "{TAG} case={} program={} n={} seconds={:e} runs={} peak_kb={} base_kb={} call_kb={} elements={} deterministic={} valid={} outcome={kind} {msg}",
+            "{TAG} case={} program={} n={} seconds={:e} runs={} peak_kb={} base_kb={} call_kb={} elements={} deterministic={} valid={} info={} outcome={kind} {msg}",
             self.case,
             self.program,
             self.n,
@@ -131,6 +135,11 @@ impl RunResult {
             self.elements,
             opt(self.deterministic.map(yes_no)),
             opt(self.valid.map(yes_no)),
+            if self.info.is_empty() {
+                "-".to_string()
+            } else {
+                self.info.replace(char::is_whitespace, "_")
+            },
         )
         .trim_end()
         .to_string()
@@ -177,6 +186,10 @@ impl RunResult {
         let elements = num(get("elements")?)?;
         let deterministic = parse_yes_no(&get("deterministic")?)?;
         let valid = parse_yes_no(&get("valid")?)?;
+        let info = match get("info").as_deref() {
+            Ok("-") | Err(_) => String::new(),
+            Ok(i) => i.to_string(),
+        };
         let (kind, msg) = tail.split_once(' ').unwrap_or((tail, ""));
         let msg = msg.trim().to_string();
         let outcome = match kind {
@@ -198,6 +211,7 @@ impl RunResult {
             elements,
             deterministic,
             valid,
+            info,
             outcome,
         })
     }
@@ -220,6 +234,7 @@ mod tests {
             elements: 199_980,
             deterministic: None,
             valid: None,
+            info: String::new(),
             outcome: Outcome::Ok,
         }
     }
@@ -231,6 +246,8 @@ mod tests {
         r.deterministic = Some(false);
         r.valid = Some(true);
         r.call_kb = None;
+        assert_eq!(RunResult::from_line(&r.to_line()).unwrap(), r);
+        r.info = "steiner=12,min_angle=30.02".into();
         assert_eq!(RunResult::from_line(&r.to_line()).unwrap(), r);
         r.valid = Some(false);
         r.outcome = Outcome::Invalid("tet 3 is not Delaunay".into());
