@@ -3,44 +3,10 @@
 
 use std::path::PathBuf;
 
-use delone::model::pslg::{Pslg, Region};
 use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
 
-/// `shared/data`, found by walking up from the crate directory.
-fn data_dir() -> Option<PathBuf> {
-    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let c = d.join("shared/data");
-        if c.is_dir() {
-            return Some(c);
-        }
-        if !d.pop() {
-            return None;
-        }
-    }
-}
-
-fn load(path: &std::path::Path) -> Pslg {
-    let f = delone_io::read_poly(&std::fs::read(path).unwrap()).unwrap();
-    let points = f.node.points::<2>().unwrap();
-    let segments = f.segments_zero_based(f.node.first_index).unwrap();
-    Pslg {
-        point_markers: f.node.markers.clone().unwrap_or_default(),
-        points,
-        segments,
-        segment_markers: f.segment_markers.clone().unwrap_or_default(),
-        holes: f.holes.clone(),
-        regions: f
-            .regions
-            .iter()
-            .map(|r| Region {
-                point: [r[0], r[1]],
-                attribute: r[2],
-                max_area: r[3],
-            })
-            .collect(),
-    }
-}
+mod common;
+use common::{data_dir, load_poly as load};
 
 #[test]
 fn every_shared_poly() {
