@@ -1,23 +1,154 @@
-//! Carving: which tetrahedra are inside the recovered surface.
+//! Carving: which tetrahedra of the recovered tetrahedralization form the
+//! domain, and which region each belongs to.
 //!
-//! A breadth-first search from the ghost cells (outside, depth 0) crosses
-//! faces; crossing a constraint face (a face lying on an input triangle)
-//! increases the depth by one, any other face keeps it (a 0-1 search on a
-//! deque, so every cell gets its least number of surface crossings). Cells
-//! at odd depth are inside. For one closed surface this is the usual flood
-//! fill stopped by constraint faces; nested closed surfaces (a solid with a
-//! cavity) are handled too.
+//! The constraint faces (mesh faces lying on input triangles) cut the cells
+//! of the whole tetrahedralization (ghosts included) into **components**:
+//! the classes of cells connected across non-constraint faces, found by a
+//! flood fill in slot order (so the numbering is deterministic). Every
+//! component also gets its **depth**, the least number of constraint faces
+//! crossed from outside (a 0-1 breadth-first search on a deque; the depth is
+//! the same for all cells of a component, since crossing a non-constraint
+//! face costs nothing).
+//!
+//! Which components are kept:
+//!
+//! * the **exterior** (the component of the ghost cells, depth 0) only with
+//!   [`Domain::convex_hull`] (TetGen's `-c`), and then as a region of its own;
+//! * a component holding a **hole point** never;
+//! * a component holding a **region point** always (even at even depth);
+//! * any other component when its depth is odd. For one closed surface this
+//!   is the usual "inside"; a closed surface nested in another (a cavity of a
+//!   solid, as surface meshes describe it) is removed by this parity rule,
+//!   unless a region point says it is material. Facets that divide the
+//!   inside into several closed parts (internal facets: every edge in two or
+//!   more input triangles) give several components at depth 1, each a region.
+//!
+//! Seeds (hole and region points) are located exactly: a visibility walk to
+//! the closed tetrahedron containing the point, then the star of the point
+//! (the tetrahedra whose closure contains it, gathered across the faces that
+//! contain it, all tested by [`orient3d`]). A seed on a constraint face,
+//! edge or vertex is ambiguous and rejected with
+//! [`RecoverError::SeedOnSurface`](super::RecoverError::SeedOnSurface); a
+//! seed outside the convex hull of the input lies in the exterior. Holes take
+//! precedence over regions; of several region points in one component the
+//! first listed wins. Seeds are scaled by the same exact power of two as the
+//! input points (inexact only if a seed is many orders of magnitude outside
+//! the input's range).
+//!
+//! Region attributes: a seeded region has its seed's attribute; the kept
+//! exterior has 0; any other region without a seed is numbered
+//! `m + 1, m + 2, …` in component order, where `m` is the floor of the
+//! largest seed attribute (0 when there is none or it is negative), so every
+//! region gets its own attribute.
 
 use std::collections::VecDeque;
 
+use delone_predicates::orient3d;
+
 use super::missing::fkey;
 use super::surface::IdSet;
+use super::RecoverError;
+use crate::model::plc::Region;
 use crate::tet::delaunay::Core;
-use crate::tet::local::{DEAD, INF};
+use crate::tet::local::{DEAD, FACET, INF};
+
+/// What to keep of the tetrahedralization of a PLC: hole points, region
+/// points (with their attributes and volume bounds), and whether the part
+/// outside the surface up to the convex hull is kept (TetGen's `-c`).
+///
+/// ```
+/// use delone::model::plc::Region;
+/// use delone::tet::recover::Domain;
+/// let d = Domain {
+///     holes: vec![[0.5, 0.5, 0.5]],
+///     regions: vec![Region { point: [2.0, 0.5, 0.5], attribute: 7.0, max_volume: None }],
+///     convex_hull: false,
+/// };
+/// assert_eq!(d.regions.len(), 1);
+/// assert!(!Domain::default().convex_hull);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Domain {
+    /// One point inside each volume hole.
+    pub holes: Vec<[f64; 3]>,
+    /// Region points with their attributes and optional volume bounds.
+    pub regions: Vec<Region>,
+    /// Keep the tetrahedra outside the surface (up to the convex hull).
+    pub convex_hull: bool,
+}
+
+/// One region of a carved mesh (a component of the domain bounded by input
+/// facets).
+///
+/// ```
+/// let r = delone::tet::recover::MeshRegion {
+///     attribute: 1.0, max_volume: None, seed: None, exterior: false, tets: 5, volume: 1.0,
+/// };
+/// assert_eq!(r.tets, 5);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRegion {
+    /// Regional attribute (TetGen `-A`).
+    pub attribute: f64,
+    /// Volume bound of the region's seed, if it has a positive one.
+    pub max_volume: Option<f64>,
+    /// The index of the region point (in [`Domain::regions`]) that names it.
+    pub seed: Option<usize>,
+    /// The region outside the surface, kept by [`Domain::convex_hull`].
+    pub exterior: bool,
+    /// Number of tetrahedra.
+    pub tets: usize,
+    /// Sum of the tetrahedra's volumes (input units).
+    pub volume: f64,
+}
+
+/// The carving of a whole tetrahedralization.
+pub(crate) struct Carved {
+    /// Per slot: the region index of a kept finite cell, else `u32::MAX`.
+    pub(crate) region: Vec<u32>,
+    /// The regions (volume left 0, tets counted).
+    pub(crate) regions: Vec<MeshRegion>,
+    /// Components removed because a hole point lies in them.
+    pub(crate) holes_removed: usize,
+}
+
+/// Is face `f` of cell `t` a constraint face?
+fn is_constraint(core: &Core, constraint: &IdSet<[u32; 3]>, t: usize, f: usize) -> bool {
+    let tv = core.v[t];
+    let k = fkey([tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]]);
+    !k.contains(&INF) && constraint.contains(&k)
+}
+
+/// Per slot: the component (`u32::MAX` for dead slots), and the number of
+/// components.
+fn components(core: &Core, constraint: &IdSet<[u32; 3]>) -> (Vec<u32>, usize) {
+    let n = core.v.len();
+    let mut comp = vec![u32::MAX; n];
+    let mut count = 0u32;
+    let mut stack = Vec::new();
+    for s in 0..n {
+        if core.v[s][0] == DEAD || comp[s] != u32::MAX {
+            continue;
+        }
+        comp[s] = count;
+        stack.push(s);
+        while let Some(t) = stack.pop() {
+            for f in 0..4 {
+                let u = (core.adj[t][f] >> 2) as usize;
+                if comp[u] == u32::MAX && !is_constraint(core, constraint, t, f) {
+                    comp[u] = count;
+                    stack.push(u);
+                }
+            }
+        }
+        count += 1;
+    }
+    (comp, count as usize)
+}
 
 /// Per slot: the least number of constraint faces crossed from outside
 /// (`u32::MAX` for dead slots).
-pub(crate) fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
+fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
     let n = core.v.len();
     let mut depth = vec![u32::MAX; n];
     let mut dq = VecDeque::new();
@@ -28,12 +159,10 @@ pub(crate) fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
         }
     }
     while let Some(t) = dq.pop_front() {
-        let tv = core.v[t as usize];
         let d = depth[t as usize];
         for f in 0..4 {
             let u = (core.adj[t as usize][f] >> 2) as usize;
-            let k = fkey([tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]]);
-            let cost = u32::from(!k.contains(&INF) && constraint.contains(&k));
+            let cost = u32::from(is_constraint(core, constraint, t as usize, f));
             let nd = d + cost;
             if nd < depth[u] {
                 depth[u] = nd;
@@ -46,4 +175,172 @@ pub(crate) fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
         }
     }
     depth
+}
+
+/// The component of seed point `p` (scaled like `pts`), or `Err(())` when
+/// `p` lies on a constraint face (or edge or vertex).
+fn locate(
+    core: &Core,
+    pts: &[[f64; 3]],
+    constraint: &IdSet<[u32; 3]>,
+    comp: &[u32],
+    p: &[f64; 3],
+) -> Result<u32, ()> {
+    let Some(start) = core
+        .v
+        .iter()
+        .position(|tv| tv[0] != DEAD && !tv.contains(&INF))
+    else {
+        // No finite cell: everything is exterior.
+        return Ok(core
+            .v
+            .iter()
+            .position(|tv| tv[0] != DEAD)
+            .map_or(u32::MAX, |s| comp[s]));
+    };
+    let mut rng = 0x2545_F491u32;
+    let t = core.walk(pts, p, start as u32, &mut rng) as usize;
+    if core.v[t][3] == INF {
+        return Ok(comp[t]);
+    }
+    // The star of p: finite cells whose closure holds p, connected across
+    // the faces through p.
+    let mut seen: IdSet<u32> = IdSet::default();
+    let mut stack = vec![t];
+    seen.insert(t as u32);
+    while let Some(x) = stack.pop() {
+        let tv = core.v[x];
+        for (f, idx) in FACET.iter().enumerate() {
+            let [a, b, c] = idx.map(|i| &pts[tv[i] as usize]);
+            if orient3d(a, b, c, p) != 0.0 {
+                continue;
+            }
+            if is_constraint(core, constraint, x, f) {
+                return Err(());
+            }
+            let u = core.adj[x][f] >> 2;
+            if core.v[u as usize].contains(&INF) {
+                continue;
+            }
+            if seen.insert(u) {
+                stack.push(u as usize);
+            }
+        }
+    }
+    Ok(comp[t])
+}
+
+/// Carves the tetrahedralization `core` of the (scaled) points `pts` whose
+/// constraint faces are `constraint`, as the [module documentation](self)
+/// says. `scale` is the factor pair the input was scaled by.
+pub(crate) fn carve(
+    core: &Core,
+    pts: &[[f64; 3]],
+    constraint: &IdSet<[u32; 3]>,
+    domain: &Domain,
+    scale: (f64, f64),
+) -> Result<Carved, RecoverError> {
+    let (comp, ncomp) = components(core, constraint);
+    let depth = depths(core, constraint);
+    let mut cdepth = vec![u32::MAX; ncomp];
+    let mut exterior = u32::MAX;
+    for (s, &c) in comp.iter().enumerate() {
+        if c == u32::MAX {
+            continue;
+        }
+        cdepth[c as usize] = cdepth[c as usize].min(depth[s]);
+        if exterior == u32::MAX && core.v[s].contains(&INF) {
+            exterior = c;
+        }
+    }
+    let scaled = |p: &[f64; 3]| crate::geom::scaled(*p, scale);
+    let mut hole = vec![false; ncomp];
+    for (index, h) in domain.holes.iter().enumerate() {
+        let c = locate(core, pts, constraint, &comp, &scaled(h)).map_err(|()| {
+            RecoverError::SeedOnSurface {
+                kind: "hole",
+                index,
+            }
+        })?;
+        if let Some(x) = hole.get_mut(c as usize) {
+            *x = true;
+        }
+    }
+    let mut seed: Vec<Option<usize>> = vec![None; ncomp];
+    for (index, r) in domain.regions.iter().enumerate() {
+        let c = locate(core, pts, constraint, &comp, &scaled(&r.point)).map_err(|()| {
+            RecoverError::SeedOnSurface {
+                kind: "region",
+                index,
+            }
+        })?;
+        if let Some(x) = seed.get_mut(c as usize) {
+            x.get_or_insert(index);
+        }
+    }
+    let keep = |c: usize| {
+        if hole[c] {
+            false
+        } else if c as u32 == exterior {
+            domain.convex_hull
+        } else {
+            seed[c].is_some() || cdepth[c] % 2 == 1
+        }
+    };
+    let holes_removed = (0..ncomp).filter(|&c| hole[c]).count();
+    let max_attr = domain
+        .regions
+        .iter()
+        .map(|r| r.attribute)
+        .filter(|a| a.is_finite())
+        .fold(0.0f64, f64::max)
+        .floor();
+    let mut next_auto = max_attr + 1.0;
+    let mut order: Vec<usize> = Vec::new();
+    if exterior != u32::MAX && keep(exterior as usize) {
+        order.push(exterior as usize);
+    }
+    order.extend((0..ncomp).filter(|&c| c as u32 != exterior && keep(c)));
+    let mut region_of = vec![u32::MAX; ncomp];
+    let mut regions = Vec::with_capacity(order.len());
+    for (i, &c) in order.iter().enumerate() {
+        region_of[c] = i as u32;
+        let is_ext = c as u32 == exterior;
+        let (attribute, max_volume) = match seed[c] {
+            Some(s) => {
+                let r = &domain.regions[s];
+                (r.attribute, r.max_volume.filter(|&v| v > 0.0))
+            }
+            None if is_ext => (0.0, None),
+            None => {
+                next_auto += 1.0;
+                (next_auto - 1.0, None)
+            }
+        };
+        regions.push(MeshRegion {
+            attribute,
+            max_volume,
+            seed: seed[c],
+            exterior: is_ext,
+            tets: 0,
+            volume: 0.0,
+        });
+    }
+    let mut region = vec![u32::MAX; core.v.len()];
+    for (s, r) in region.iter_mut().enumerate() {
+        let c = comp[s];
+        if c == u32::MAX || core.v[s].contains(&INF) {
+            continue;
+        }
+        let g = region_of[c as usize];
+        if g != u32::MAX {
+            *r = g;
+            regions[g as usize].tets += 1;
+        }
+    }
+    Ok(Carved {
+        region,
+        regions,
+        holes_removed,
+    })
 }

@@ -29,7 +29,7 @@ pub fn surface_volume(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> f64 {
         .sum()
 }
 
-fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
+pub(crate) fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
     dot(
         &sub(&p[1], &p[0]),
         &cross(&sub(&p[2], &p[0]), &sub(&p[3], &p[0])),
@@ -138,20 +138,87 @@ pub fn check_recovered(
     let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
     let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
     let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
-    for (bi, (&f, &ti)) in rec.boundary.iter().zip(&rec.boundary_triangle).enumerate() {
-        let Some(&(t, i)) = free.get(&fkey(f)) else {
-            return bad(
-                "boundary",
-                format!("boundary face {bi} {f:?} is not a free face"),
-            );
-        };
-        let w = m.tets[t][i];
-        let [a, b, c] = f.map(|q| sp[q as usize]);
-        if orient3d(&a, &b, &c, &sp[w as usize]) <= 0.0 {
-            return bad(
-                "boundary",
-                format!("boundary face {bi} is not oriented outward"),
-            );
+    // Per input triangle: 1 on the boundary, 2 interior.
+    let mut side = vec![0u8; triangles.len()];
+    let hull_kept = rec.regions.iter().any(|r| r.exterior);
+    // Divergence-theorem terms of the boundary faces off the surface.
+    let mut hull_volume = 0.0;
+    if m.tets.len() != rec.tet_region.len()
+        || rec.interior_faces.len() != rec.interior_triangle.len()
+    {
+        return bad("sizes", "region or interior face arrays disagree".into());
+    }
+    if let Some(t) = rec
+        .tet_region
+        .iter()
+        .position(|&g| g as usize >= rec.regions.len())
+    {
+        return bad("regions", format!("tet {t} names a missing region"));
+    }
+    let mut inner: HashMap<[u32; 3], usize> = rec
+        .interior_faces
+        .iter()
+        .enumerate()
+        .map(|(k, f)| (fkey(*f), k))
+        .collect();
+    if inner.len() != rec.interior_faces.len() {
+        return bad("interior", "an interior face is listed twice".into());
+    }
+    for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
+        for (i, &nbi) in nb.iter().enumerate() {
+            if nbi != NONE {
+                inner.remove(&face(*tv, i));
+            }
+        }
+    }
+    if let Some((f, _)) = inner.iter().min_by_key(|(_, &k)| k) {
+        return bad(
+            "interior",
+            format!("interior face {f:?} is not between two tetrahedra"),
+        );
+    }
+    let faces_on = rec
+        .boundary
+        .iter()
+        .zip(&rec.boundary_triangle)
+        .map(|(f, t)| (f, t, true))
+        .chain(
+            rec.interior_faces
+                .iter()
+                .zip(&rec.interior_triangle)
+                .map(|(f, t)| (f, t, false)),
+        );
+    for (bi, (&f, &ti, on_boundary)) in faces_on.enumerate() {
+        if on_boundary {
+            let Some(&(t, i)) = free.get(&fkey(f)) else {
+                return bad(
+                    "boundary",
+                    format!("boundary face {bi} {f:?} is not a free face"),
+                );
+            };
+            let w = m.tets[t][i];
+            let [a, b, c] = f.map(|q| sp[q as usize]);
+            if orient3d(&a, &b, &c, &sp[w as usize]) <= 0.0 {
+                return bad(
+                    "boundary",
+                    format!("boundary face {bi} is not oriented outward"),
+                );
+            }
+            if ti == NONE && hull_kept {
+                let [a, b, c] = f.map(|q| rec.points[q as usize]);
+                hull_volume += dot(&a, &cross(&b, &c)) / 6.0;
+                continue;
+            }
+        }
+        let want_side = if on_boundary { 1 } else { 2 };
+        if let Some(sd) = side.get_mut(ti as usize) {
+            if *sd != 0 && *sd != want_side {
+                return bad(
+                    "constraint",
+                    format!("input triangle {ti} has faces both on the boundary and inside"),
+                );
+            }
+            *sd = want_side;
         }
         let Some(tri) = triangles.get(ti as usize) else {
             return bad(
@@ -187,8 +254,15 @@ pub fn check_recovered(
         per_tri[ti as usize].push(f);
     }
     // Each input triangle is the union of its faces.
+    // A triangle with no face at all lies outside the domain (between two
+    // removed parts), which needs a hole or internal facets.
+    let man = crate::tet::intersect::manifold_report(triangles);
+    let may_vanish = rec.report.holes_removed > 0 || !man.nonmanifold_edges.is_empty();
     for (ti, faces) in per_tri.iter().enumerate() {
         let tri = triangles[ti];
+        if faces.is_empty() && may_vanish {
+            continue;
+        }
         let mut count: HashMap<(u32, u32), u32> = HashMap::new();
         let mut area = 0.0;
         for f in faces {
@@ -276,83 +350,56 @@ pub fn check_recovered(
             );
         }
     }
-    // Volume.
+    // Volume: the tetrahedra fill exactly the part bounded by the input
+    // triangles on the boundary (each oriented like its boundary faces, so
+    // holes and cavities count negatively), plus hull faces under `-c`.
     let vol: f64 = m
         .tets
         .iter()
         .map(|tv| tet_volume(tv.map(|q| rec.points[q as usize])))
         .sum();
-    let want = surface_volume(points, &oriented_like(triangles, rec)).abs();
-    if (vol - want).abs() > 1e-9 * want.max(f64::MIN_POSITIVE) {
+    let mut want = hull_volume;
+    let mut scale = hull_volume.abs();
+    for (ti, faces) in per_tri.iter().enumerate() {
+        if side[ti] != 1 {
+            continue;
+        }
+        let tri = triangles[ti];
+        let n = normal(&tri, &rec.points);
+        let mut sign = 0.0;
+        for f in faces {
+            let d = dot(&n, &normal(f, &rec.points));
+            let sg = if d > 0.0 { 1.0 } else { -1.0 };
+            if sign != 0.0 && sg != sign {
+                return bad(
+                    "boundary",
+                    format!("the boundary faces on input triangle {ti} face both ways"),
+                );
+            }
+            sign = sg;
+        }
+        let [a, b, c] = tri.map(|q| rec.points[q as usize]);
+        let term = dot(&a, &cross(&b, &c)) / 6.0;
+        want += sign * term;
+        scale += term.abs();
+    }
+    let region_sum: f64 = rec.regions.iter().map(|r| r.volume).sum();
+    if (vol - want).abs() > 1e-9 * scale.max(vol.abs()).max(f64::MIN_POSITIVE)
+        || (region_sum - vol).abs() > 1e-9 * vol.abs().max(f64::MIN_POSITIVE)
+    {
         return bad(
             "volume",
-            format!("tetrahedra volume {vol} differs from enclosed volume {want}"),
+            format!(
+                "tetrahedra volume {vol} (regions {region_sum}) differs from enclosed volume {want}"
+            ),
         );
     }
     Ok(())
 }
 
-/// The input triangles oriented consistently within each connected
-/// component (input files need not be), each component turned to agree with
-/// the outward boundary faces of `rec` that lie on it — so the divergence
-/// theorem gives the enclosed volume, cavities included.
-fn oriented_like(triangles: &[[u32; 3]], rec: &Recovered) -> Vec<[u32; 3]> {
-    let mut tris = triangles.to_vec();
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (i, t) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
-        }
-    }
-    let has_dir = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
-    // One boundary face per input triangle, to fix each component's sign.
-    let mut face_on: Vec<Option<[u32; 3]>> = vec![None; tris.len()];
-    for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
-        if let Some(slot) = face_on.get_mut(t as usize) {
-            slot.get_or_insert(*f);
-        }
-    }
-    let normal = |t: &[u32; 3], pts: &[[f64; 3]]| {
-        let [a, b, c] = t.map(|q| pts[q as usize]);
-        cross(&sub(&b, &a), &sub(&c, &a))
-    };
-    let mut seen = vec![false; tris.len()];
-    for start in 0..tris.len() {
-        if seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        let mut comp = vec![start];
-        let mut k = 0;
-        while k < comp.len() {
-            let i = comp[k];
-            k += 1;
-            let t = tris[i];
-            for e in 0..3 {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                for &j in &by_edge[&(a.min(b), a.max(b))] {
-                    if seen[j] {
-                        continue;
-                    }
-                    seen[j] = true;
-                    if has_dir(&tris[j], a, b) {
-                        tris[j].swap(0, 1);
-                    }
-                    comp.push(j);
-                }
-            }
-        }
-        let agree = comp.iter().find_map(|&i| {
-            face_on[i].map(|f| dot(&normal(&tris[i], &rec.points), &normal(&f, &rec.points)) >= 0.0)
-        });
-        if agree == Some(false) {
-            for &i in &comp {
-                tris[i].swap(0, 1);
-            }
-        }
-    }
-    tris
+fn normal(t: &[u32; 3], pts: &[[f64; 3]]) -> [f64; 3] {
+    let [a, b, c] = t.map(|q| pts[q as usize]);
+    cross(&sub(&b, &a), &sub(&c, &a))
 }
 
 /// `p` (on the plane of `a b c`) inside the closed triangle.

@@ -34,8 +34,13 @@
 //!    property insertion relies on), else splitting resumes without flips.
 //!    Triangles that neither splitting nor flips recover are reported by
 //!    index ([`RecoverError::Unrecovered`]) — never looped on;
-//! 6. **carving** — a 0-1 breadth-first search from the outside counts the
-//!    constraint faces crossed; odd cells are inside.
+//! 6. **carving** — the constraint faces cut the cells into components;
+//!    the exterior, hole components and even-depth cavities are removed,
+//!    the rest are regions ([`Domain`], the `carve` module's notes).
+//!
+//! The input must have every edge in two or more triangles: a closed
+//! surface, or facets that divide space into several closed parts
+//! (internal facets, non-manifold edges), each then a region of its own.
 //!
 //! Every Steiner point lies on the surface (on an input edge or triangle):
 //! this stage makes a *conforming* Delaunay tetrahedralization of the surface
@@ -78,6 +83,7 @@ mod surface;
 use std::collections::HashSet;
 use std::fmt;
 
+pub use carve::{Domain, MeshRegion};
 pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 
@@ -143,6 +149,8 @@ pub struct RecoverReport {
     pub rounds: usize,
     /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
     pub hull_tets: usize,
+    /// Components removed because a hole point lies in them.
+    pub holes_removed: usize,
 }
 
 impl RecoverReport {
@@ -164,14 +172,27 @@ impl RecoverReport {
 pub struct Recovered {
     /// The input points followed by the Steiner points.
     pub points: Vec<[f64; 3]>,
-    /// The tetrahedra inside the surface, positively oriented; neighbours
-    /// across the surface are [`crate::NONE`].
+    /// The tetrahedra of the domain, positively oriented; neighbours
+    /// across the domain's boundary are [`crate::NONE`] (tetrahedra on both
+    /// sides of an internal facet stay neighbours).
     pub mesh: TetMesh,
     /// The boundary faces, oriented outward (counterclockwise seen from
-    /// outside), each a refinement piece of an input triangle.
+    /// outside), each a refinement piece of an input triangle (or, with
+    /// [`Domain::convex_hull`], a convex hull face off the surface).
     pub boundary: Vec<[u32; 3]>,
-    /// For each boundary face, the index of the input triangle it lies on.
+    /// For each boundary face, the index of the input triangle it lies on
+    /// ([`crate::NONE`] for a hull face off the surface).
     pub boundary_triangle: Vec<u32>,
+    /// Faces on input triangles between two tetrahedra of the domain
+    /// (internal facets, region interfaces), each once, oriented outward
+    /// from the lower-numbered of its two tetrahedra.
+    pub interior_faces: Vec<[u32; 3]>,
+    /// For each interior face, the index of the input triangle it lies on.
+    pub interior_triangle: Vec<u32>,
+    /// Per tetrahedron: its region (index into `regions`).
+    pub tet_region: Vec<u32>,
+    /// The regions of the domain.
+    pub regions: Vec<MeshRegion>,
     /// Steiner points (ids) not exactly on their edge or triangle.
     pub inexact: Vec<u32>,
     /// Counts.
@@ -185,7 +206,7 @@ pub enum RecoverError {
     /// The input is invalid (bad index or coordinate, degenerate triangle,
     /// self-intersection, duplicate vertex).
     Input(Error),
-    /// The surface is not closed: `edge` is in `count` triangles (not 2).
+    /// The surface is not closed: `edge` is in fewer than two triangles.
     OpenSurface {
         /// The first offending edge `[min, max]`.
         edge: [u32; 2],
@@ -215,6 +236,14 @@ pub enum RecoverError {
         /// Steiner points inserted before giving up.
         steiner: usize,
     },
+    /// Hole or region point `index` lies on the input surface (on a face,
+    /// edge or vertex of the recovered facets), so its region is ambiguous.
+    SeedOnSurface {
+        /// `"hole"` or `"region"`.
+        kind: &'static str,
+        /// Index of the point in [`Domain::holes`] or [`Domain::regions`].
+        index: usize,
+    },
 }
 
 impl From<Error> for RecoverError {
@@ -229,7 +258,7 @@ impl fmt::Display for RecoverError {
             RecoverError::Input(e) => write!(f, "invalid input: {e}"),
             RecoverError::OpenSurface { edge, count } => write!(
                 f,
-                "surface is not closed: edge {}-{} is not shared by exactly two triangles ({count} such edges)",
+                "surface is not closed: edge {}-{} is in only one triangle ({count} such edges)",
                 edge[0], edge[1]
             ),
             RecoverError::SteinerBudget {
@@ -250,6 +279,10 @@ impl fmt::Display for RecoverError {
                 "{} triangle(s) could not be recovered (first: {}) after {steiner} Steiner points",
                 triangles.len(),
                 triangles.first().copied().unwrap_or(0)
+            ),
+            RecoverError::SeedOnSurface { kind, index } => write!(
+                f,
+                "{kind} point {index} lies on the input surface (its region is ambiguous)"
             ),
         }
     }
@@ -285,15 +318,54 @@ pub fn recover(
     triangles: &[[u32; 3]],
     opts: &RecoverOptions,
 ) -> Result<Recovered, RecoverError> {
+    recover_domain(points, triangles, opts, &Domain::default())
+}
+
+/// [`recover`] with hole and region points and the `-c` choice: the
+/// triangles may also divide space into several closed parts (every edge
+/// in two or more triangles), each a region (see [`Domain`]).
+///
+/// # Errors
+/// As [`recover`], and [`RecoverError::SeedOnSurface`] for a hole or region
+/// point on the surface.
+///
+/// ```
+/// use delone::model::plc::Region;
+/// use delone::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
+/// // Two unit cubes side by side sharing the square x = 1 (an internal facet).
+/// let pts: Vec<[f64; 3]> = (0..12)
+///     .map(|i| [(i % 3) as f64, ((i / 3) % 2) as f64, (i / 6) as f64])
+///     .collect();
+/// let q = |a: u32, b: u32, c: u32, d: u32| [[a, b, c], [a, c, d]];
+/// let mut tris = Vec::new();
+/// for f in [q(0, 3, 4, 1), q(1, 4, 5, 2), q(6, 7, 10, 9), q(7, 8, 11, 10), q(0, 1, 7, 6),
+///           q(1, 2, 8, 7), q(3, 9, 10, 4), q(4, 10, 11, 5), q(0, 6, 9, 3), q(2, 5, 11, 8),
+///           q(1, 4, 10, 7)] {
+///     tris.extend(f);
+/// }
+/// let dom = Domain {
+///     regions: vec![Region { point: [1.5, 0.5, 0.5], attribute: 7.0, max_volume: None }],
+///     ..Domain::default()
+/// };
+/// let r = recover_domain(&pts, &tris, &RecoverOptions::default(), &dom).unwrap();
+/// check_recovered(&pts, &tris, &r).unwrap();
+/// assert_eq!(r.regions.len(), 2);
+/// // The seeded cube has attribute 7, the other one the next free number.
+/// assert!(r.regions.iter().any(|g| g.seed == Some(0) && g.attribute == 7.0));
+/// assert!(r.regions.iter().any(|g| g.seed.is_none() && g.attribute == 8.0));
+/// assert!(r.regions.iter().all(|g| (g.volume - 1.0).abs() < 1e-12));
+/// assert!(r.interior_faces.len() >= 2); // the square x = 1, maybe refined
+/// ```
+pub fn recover_domain(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    opts: &RecoverOptions,
+    domain: &Domain,
+) -> Result<Recovered, RecoverError> {
     check_self_intersections(points, triangles)?;
     let man = manifold_report(triangles);
-    if !man.is_closed() {
-        let mut bad: Vec<[u32; 2]> = man
-            .boundary_edges
-            .iter()
-            .chain(&man.nonmanifold_edges)
-            .copied()
-            .collect();
+    if !man.boundary_edges.is_empty() {
+        let mut bad: Vec<[u32; 2]> = man.boundary_edges.clone();
         bad.sort_unstable();
         return Err(RecoverError::OpenSurface {
             edge: bad[0],
@@ -322,7 +394,7 @@ pub fn recover(
     st.run(&mut dt)?;
     st.report.max_deviation = st.max_dev_scaled * unscale;
     st.report.hull_tets = dt.num_tets();
-    st.finish(&dt, points, unscale)
+    st.finish(&dt, points, scale, domain)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -779,11 +851,13 @@ impl State {
 
     /// Carves and builds the output.
     fn finish(
-        self,
+        mut self,
         dt: &Delaunay3<'_>,
         input: &[[f64; 3]],
-        unscale: f64,
+        scale: (f64, f64),
+        domain: &Domain,
     ) -> Result<Recovered, RecoverError> {
+        let unscale = 1.0 / (scale.0 * scale.1);
         let sk = Skeleton::of(dt, true);
         let (on, _) = self.surf.coverage(&sk, dt.points());
         let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
@@ -793,22 +867,25 @@ impl State {
             .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
             .collect();
         let core = &dt.core;
-        let depth = carve::depths(core, &constraint);
-        let inside = |t: usize| {
-            let tv = core.v[t];
-            tv[0] != DEAD && !tv.contains(&INF) && depth[t] % 2 == 1 && depth[t] != u32::MAX
-        };
+        let carved = carve::carve(core, dt.points(), &constraint, domain, scale)?;
+        self.report.holes_removed = carved.holes_removed;
+        let mut regions = carved.regions;
+        let inside = |t: usize| carved.region[t] != u32::MAX;
         let mut new_id = vec![crate::NONE; core.v.len()];
         let mut tets = Vec::new();
+        let mut tet_region = Vec::new();
         for (t, id) in new_id.iter_mut().enumerate() {
             if inside(t) {
                 *id = tets.len() as u32;
                 tets.push(core.v[t]);
+                tet_region.push(carved.region[t]);
             }
         }
         let mut neighbors = Vec::with_capacity(tets.len());
         let mut boundary = Vec::new();
         let mut boundary_triangle = Vec::new();
+        let mut interior_faces = Vec::new();
+        let mut interior_triangle = Vec::new();
         for t in 0..core.v.len() {
             if !inside(t) {
                 continue;
@@ -817,18 +894,20 @@ impl State {
             let mut nb = [crate::NONE; 4];
             for (f, n) in nb.iter_mut().enumerate() {
                 let u = (core.adj[t][f] >> 2) as usize;
+                let [x, y, z] = FACET[f].map(|i| tv[i]);
+                let face = [x, z, y];
+                let on_tri = face_tri.get(&missing::fkey(face)).copied();
                 if inside(u) {
                     *n = new_id[u];
+                    if let Some(ti) = on_tri {
+                        if new_id[t] < new_id[u] {
+                            interior_faces.push(face);
+                            interior_triangle.push(ti);
+                        }
+                    }
                 } else {
-                    let [x, y, z] = FACET[f].map(|i| tv[i]);
-                    let face = [x, z, y];
                     boundary.push(face);
-                    boundary_triangle.push(
-                        face_tri
-                            .get(&missing::fkey(face))
-                            .copied()
-                            .unwrap_or(crate::NONE),
-                    );
+                    boundary_triangle.push(on_tri.unwrap_or(crate::NONE));
                 }
             }
             neighbors.push(nb);
@@ -847,6 +926,9 @@ impl State {
         for &(d, o) in dt.duplicates() {
             vertex_map[d as usize] = o;
         }
+        for (tv, &g) in tets.iter().zip(&tet_region) {
+            regions[g as usize].volume += check::tet_volume(tv.map(|q| points[q as usize]));
+        }
         Ok(Recovered {
             points,
             mesh: TetMesh {
@@ -858,6 +940,10 @@ impl State {
             },
             boundary,
             boundary_triangle,
+            interior_faces,
+            interior_triangle,
+            tet_region,
+            regions,
             inexact: self.inexact,
             report: self.report,
         })
