@@ -70,6 +70,12 @@ pub struct Opts {
     pub max_area: Option<f64>,
     /// tri `-S<n>`: Steiner point budget.
     pub max_steiner: Option<usize>,
+    /// tet `-g`: Medit `.mesh` output next to the other files.
+    pub medit_out: bool,
+    /// tet `--medit FILE`: Medit `.mesh` output to FILE.
+    pub medit: Option<PathBuf>,
+    /// tet `--gmsh FILE`: Gmsh `.msh` 4.1 output to FILE.
+    pub gmsh: Option<PathBuf>,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -107,7 +113,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'r') => "refinement of a previous mesh",
         (Mode::Tet, 'q') => "quality mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
-        (Mode::Tet, 'A') => "regional attributes",
         (Mode::Tet, 'm') => "sizing function (.mtr)",
         (Mode::Tet, 'a') => "maximum volume constraint",
         (Mode::Tet, 'i') => "insertion of additional points",
@@ -116,10 +121,8 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
         (Mode::Tet, 'M') => "no merging of coplanar facets",
-        (Mode::Tet, 'c') => "convex hull retention",
         (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
-        (Mode::Tet, 'g') => "Medit output",
         (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
         _ => return None,
     })
@@ -163,8 +166,9 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'v') => o.voronoi = true,
         (_, 'w') => o.weights = true,
         (_, 'p') => o.pslg = true,
-        (Mode::Tri, 'c') => o.convex_hull = true,
-        (Mode::Tri, 'A') => o.region_attributes = true,
+        (_, 'c') => o.convex_hull = true,
+        (_, 'A') => o.region_attributes = true,
+        (Mode::Tet, 'g') => o.medit_out = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),
         (_, 'C') => o.check = true,
@@ -264,6 +268,12 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 }
                 "vtu" => o.vtu = Some(value("--vtu", inline, &mut it)?.into()),
                 "svg" if mode == Mode::Tri => o.svg = Some(value("--svg", inline, &mut it)?.into()),
+                "medit" if mode == Mode::Tet => {
+                    o.medit = Some(value("--medit", inline, &mut it)?.into())
+                }
+                "gmsh" if mode == Mode::Tet => {
+                    o.gmsh = Some(value("--gmsh", inline, &mut it)?.into())
+                }
                 "cells-vtu" if mode == Mode::Tet => {
                     o.cells_vtu = Some(value("--cells-vtu", inline, &mut it)?.into())
                 }

@@ -122,11 +122,20 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          (TetGen; tried in that order when FILE has no extension), or
          FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is conforming:
          missing edges and facets are split by Steiner points on them.
-         Writes FILE.1.node/.ele/.face (facet markers), -n .neigh, -o .vtu;
+         Writes FILE.1.node/.ele/.face (boundary faces and faces on internal
+         facets, with facet markers; -f all faces), -e .edge (marker of a
+         facet holding the edge, else 0), -n .neigh, -o .vtu;
          -C checks that every facet is a union of mesh faces, orientation,
-         adjacency and the enclosed volume.
-    Not implemented yet (error, exit code 2): -Y -r -q -R -A -m -a -i -O -S
-    -T -X -M -c -d -D -g -o2 -o/.
+         adjacency and the volume (regions add up to the enclosed volume).
+         Hole points remove their region; region points give attributes;
+         facets may divide the inside into several regions.
+    -A   With -p: regional attribute of each tetrahedron in the .ele file
+         (the region point's; unnamed regions numbered after the largest).
+    -c   With -p: keep the tetrahedra outside the surface (convex hull).
+    -g   With -p: also write FILE.1.mesh (Medit; references = facet markers
+         and region attributes).
+    Not implemented yet (error, exit code 2): -Y -r -q -R -m -a -i -O -S
+    -T -X -M -d -D -o2 -o/.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary
@@ -136,6 +145,9 @@ OPTIONS:
     --cells-vtu FILE.vtu          Write the Voronoi cells (power cells with
                                   -w) clipped to the points' bounding box as
                                   VTK polyhedra, with the site index.
+    --medit FILE.mesh             With -p: write the mesh as Medit .mesh.
+    --gmsh FILE.msh               With -p: write the mesh as Gmsh .msh 4.1
+                                  (ASCII; physical tags = markers/regions).
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

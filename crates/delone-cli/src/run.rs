@@ -272,6 +272,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     if o.convex_hull || o.region_attributes {
         return Err(usage_err("switches -c and -A need -p (PSLG input)"));
     }
+    if o.medit_out || o.medit.is_some() || o.gmsh.is_some() {
+        return Err(usage_err("-g, --medit and --gmsh need -p (PLC input)"));
+    }
     let t_all = Instant::now();
     let names = names(&o.input, o.no_iteration, o.output_dir.as_deref())?;
     let dim = match mode {

@@ -16,6 +16,8 @@
 //!   (Triangle and TetGen `-v`), [`write_voronoi_face`], [`write_voronoi_cell`]
 //!   (TetGen);
 //! * pictures: [`write_svg`] (2D triangles, polygons, points);
+//! * volume meshes for other tools: [`write_medit`] (Medit `.mesh`) and
+//!   [`write_gmsh`] (Gmsh `.msh` 4.1 ASCII);
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -35,6 +37,7 @@
 #![forbid(unsafe_code)]
 
 mod error;
+mod gmsh;
 mod medit;
 mod obj;
 mod off;
@@ -52,7 +55,8 @@ mod vtk;
 mod write;
 
 pub use error::IoError;
-pub use medit::read_medit;
+pub use gmsh::write_gmsh;
+pub use medit::{read_medit, write_medit};
 pub use obj::read_obj;
 pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
