@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use delone::model::plc::{Facet, Plc};
-use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+use delone::model::plc::{Facet, Plc, Region};
+use delone::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
 
 use crate::args::Opts;
 use crate::run::Failure;
@@ -18,7 +18,7 @@ fn input_err(message: impl Into<String>) -> Failure {
     }
 }
 
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
+pub(crate) fn with_ext(base: &Path, ext: &str) -> PathBuf {
     let mut s = base.as_os_str().to_owned();
     s.push(".");
     s.push(ext);
@@ -89,6 +89,16 @@ fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
                 delone_io::read_smesh(&bytes).map_err(err)?
             };
             let mut plc = Plc::new(f.points);
+            plc.holes = f.holes;
+            plc.regions = f
+                .regions
+                .into_iter()
+                .map(|r| Region {
+                    point: r.point,
+                    attribute: r.attribute,
+                    max_volume: r.max_volume,
+                })
+                .collect();
             for facet in f.facets {
                 plc.facets.push(Facet {
                     polygons: facet.polygons,
@@ -112,7 +122,7 @@ fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
     }
 }
 
-fn write(
+pub(crate) fn write(
     path: &Path,
     f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
@@ -135,7 +145,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let rec = recover(&plc.points, &triangles, &RecoverOptions::default())
+    let domain = Domain {
+        holes: plc.holes.clone(),
+        regions: plc.regions.clone(),
+        convex_hull: o.convex_hull,
+    };
+    let rec = recover_domain(&plc.points, &triangles, &RecoverOptions::default(), &domain)
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
@@ -166,50 +181,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         })?;
         written.push(p);
     }
-    if !o.no_ele {
-        let p = with_ext(&out, "ele");
-        write(&p, |f| {
-            delone_io::write_ele(f, &rec.mesh.tets, &[], 0, first)
-        })?;
-        written.push(p);
-    }
-    if !o.no_face {
-        let p = with_ext(&out, "face");
-        let markers: Vec<i32> = rec
-            .boundary_triangle
-            .iter()
-            .map(|&t| plc.facets[facet_of[t as usize] as usize].marker)
-            .collect();
-        write(&p, |f| {
-            delone_io::write_face(
-                f,
-                &rec.boundary,
-                (!o.no_bound).then_some(&markers[..]),
-                first,
-            )
-        })?;
-        written.push(p);
-    }
-    if o.neigh {
-        let p = with_ext(&out, "neigh");
-        write(&p, |f| {
-            delone_io::write_neigh(f, &rec.mesh.neighbors, first)
-        })?;
-        written.push(p);
-    }
-    if let Some(p) = &o.vtu {
-        write(p, |f| {
-            delone_io::write_vtu(
-                f,
-                &rec.points,
-                &rec.mesh.tets,
-                &[],
-                &[],
-                delone_io::VtuFormat::Binary,
-            )
-        })?;
-        written.push(p.clone());
-    }
+    let facet_marker: Vec<i32> = facet_of
+        .iter()
+        .map(|&f| plc.facets[f as usize].marker)
+        .collect();
+    let out_mesh = crate::tetout::TetOutput::new(&rec, &facet_marker);
+    written.extend(out_mesh.write_all(o, &out, first)?);
     let t_write = t2.elapsed();
     if !o.quiet {
         let r = &rec.report;
@@ -227,6 +204,31 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             r.steiner_on_facets,
             r.steiner_interior
         );
+        if o.verbose > 0 {
+            println!(
+                "  regions: {}   holes: {} point(s), {} region(s) removed   hull tetrahedra before carving: {}",
+                rec.regions.len(),
+                plc.holes.len(),
+                r.holes_removed,
+                r.hull_tets
+            );
+            for (i, g) in rec.regions.iter().enumerate() {
+                println!(
+                    "    region {i}: attribute {}, {} tetrahedra, volume {:e}{}{}",
+                    g.attribute,
+                    g.tets,
+                    g.volume,
+                    g.seed
+                        .map_or(String::new(), |s| format!(", region point {s}")),
+                    if g.exterior {
+                        ", outside the surface (-c)"
+                    } else {
+                        ""
+                    }
+                );
+            }
+            println!("  recovery: {} rounds, {} 3-2 flips", r.rounds, r.flips32);
+        }
         if r.inexact_steiner > 0 {
             println!(
                 "  {} Steiner point(s) rounded off their edge/facet (largest deviation {:e})",

@@ -1,0 +1,243 @@
+//! Output files of `delone tet -p`: `.ele` (with `-A` region attributes),
+//! `.face` (boundary faces and faces on internal facets with their facet
+//! markers; every face with `-f`), `.edge` (`-e`), `.neigh` (`-n`), `.vtu`,
+//! Medit `.mesh` (`-g`, `--medit`) and Gmsh `.msh` 4.1 (`--gmsh`).
+//!
+//! Markers: a face on an input facet carries the facet's marker, any other
+//! face 0; an edge carries the marker of the lowest-numbered facet holding
+//! it, else 0. Medit references and Gmsh physical tags of the tetrahedra
+//! are the region attributes when they are integers (else the region
+//! number, from 1).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use delone::tet::recover::Recovered;
+use delone::NONE;
+
+use crate::args::Opts;
+use crate::plc::{with_ext, write};
+use crate::run::Failure;
+
+fn fkey(f: [u32; 3]) -> [u32; 3] {
+    let mut k = f;
+    k.sort_unstable();
+    k
+}
+
+/// The recovered mesh with the per-item data its output files need.
+pub struct TetOutput<'a> {
+    rec: &'a Recovered,
+    /// Faces on input facets (boundary first, then interior) and hull faces.
+    faces: Vec<[u32; 3]>,
+    /// Their markers.
+    face_marker: Vec<i32>,
+    /// Input triangle of each constraint face (`NONE` for hull faces).
+    face_triangle: Vec<u32>,
+    /// Per input triangle: its facet's marker.
+    tri_marker: &'a [i32],
+}
+
+impl<'a> TetOutput<'a> {
+    /// Gathers the faces of `rec` with the markers of their input triangles
+    /// (`tri_marker[t]` is the marker of triangle `t`'s facet).
+    pub fn new(rec: &'a Recovered, tri_marker: &'a [i32]) -> Self {
+        let mut faces = Vec::with_capacity(rec.boundary.len() + rec.interior_faces.len());
+        let mut face_triangle = Vec::with_capacity(faces.capacity());
+        for (f, &t) in rec
+            .boundary
+            .iter()
+            .zip(&rec.boundary_triangle)
+            .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
+        {
+            faces.push(*f);
+            face_triangle.push(t);
+        }
+        let face_marker = face_triangle
+            .iter()
+            .map(|&t| tri_marker.get(t as usize).copied().unwrap_or(0))
+            .collect();
+        TetOutput {
+            rec,
+            faces,
+            face_marker,
+            face_triangle,
+            tri_marker,
+        }
+    }
+
+    /// Per tetrahedron: its region attribute.
+    pub fn attributes(&self) -> Vec<f64> {
+        self.rec
+            .tet_region
+            .iter()
+            .map(|&g| self.rec.regions[g as usize].attribute)
+            .collect()
+    }
+
+    /// Per tetrahedron: an integer reference (attribute if integral, else
+    /// region number from 1).
+    pub fn tet_refs(&self) -> Vec<i32> {
+        self.rec
+            .tet_region
+            .iter()
+            .map(|&g| {
+                let a = self.rec.regions[g as usize].attribute;
+                if a.fract() == 0.0 && a.abs() <= f64::from(i32::MAX) {
+                    a as i32
+                } else {
+                    g as i32 + 1
+                }
+            })
+            .collect()
+    }
+
+    /// Every face of the mesh once (TetGen `-f`), with markers.
+    fn all_faces(&self) -> Result<(Vec<[u32; 3]>, Vec<i32>), Failure> {
+        let m = &self.rec.mesh;
+        let e = delone_io::topo::tet_faces(&m.tets, &m.neighbors, true).map_err(|e| Failure {
+            message: format!("face extraction: {e}"),
+            code: 1,
+        })?;
+        let by: HashMap<[u32; 3], i32> = self
+            .faces
+            .iter()
+            .zip(&self.face_marker)
+            .map(|(f, &mk)| (fkey(*f), mk))
+            .collect();
+        let markers = e
+            .items
+            .iter()
+            .map(|f| by.get(&fkey(*f)).copied().unwrap_or(0))
+            .collect();
+        Ok((e.items, markers))
+    }
+
+    /// Every edge once, with the marker of the lowest-numbered input
+    /// triangle (so facet) holding it, else 0.
+    fn edges(&self) -> Result<(Vec<[u32; 2]>, Vec<i32>), Failure> {
+        let m = &self.rec.mesh;
+        let e = delone_io::topo::tet_edges(&m.tets, &m.neighbors).map_err(|e| Failure {
+            message: format!("edge extraction: {e}"),
+            code: 1,
+        })?;
+        let mut by: HashMap<(u32, u32), u32> = HashMap::new();
+        for (f, &t) in self.faces.iter().zip(&self.face_triangle) {
+            if t == NONE {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (f[k], f[(k + 1) % 3]);
+                let slot = by.entry((a.min(b), a.max(b))).or_insert(t);
+                *slot = (*slot).min(t);
+            }
+        }
+        let markers = e
+            .items
+            .iter()
+            .map(|&[a, b]| {
+                by.get(&(a.min(b), a.max(b)))
+                    .and_then(|&t| self.tri_marker.get(t as usize).copied())
+                    .unwrap_or(0)
+            })
+            .collect();
+        Ok((e.items, markers))
+    }
+
+    /// Writes the files `o` asks for (all but `.node`) next to `out`;
+    /// returns their paths.
+    pub fn write_all(&self, o: &Opts, out: &Path, first: u32) -> Result<Vec<PathBuf>, Failure> {
+        let rec = self.rec;
+        let mut written = Vec::new();
+        if !o.no_ele {
+            let p = with_ext(out, "ele");
+            let attrs = if o.region_attributes {
+                self.attributes()
+            } else {
+                Vec::new()
+            };
+            let n = usize::from(o.region_attributes);
+            write(&p, |f| {
+                delone_io::write_ele(f, &rec.mesh.tets, &attrs, n, first)
+            })?;
+            written.push(p);
+        }
+        if !o.no_face {
+            let p = with_ext(out, "face");
+            let (faces, markers) = if o.all_faces {
+                self.all_faces()?
+            } else {
+                (self.faces.clone(), self.face_marker.clone())
+            };
+            write(&p, |f| {
+                delone_io::write_face(f, &faces, (!o.no_bound).then_some(&markers[..]), first)
+            })?;
+            written.push(p);
+            if o.edges {
+                let p = with_ext(out, "edge");
+                let (edges, markers) = self.edges()?;
+                write(&p, |f| {
+                    delone_io::write_edge(f, &edges, (!o.no_bound).then_some(&markers[..]), first)
+                })?;
+                written.push(p);
+            }
+        }
+        if o.neigh {
+            let p = with_ext(out, "neigh");
+            write(&p, |f| {
+                delone_io::write_neigh(f, &rec.mesh.neighbors, first)
+            })?;
+            written.push(p);
+        }
+        if let Some(p) = &o.vtu {
+            write(p, |f| {
+                delone_io::write_vtu(
+                    f,
+                    &rec.points,
+                    &rec.mesh.tets,
+                    &[],
+                    &[],
+                    if o.vtu_ascii {
+                        delone_io::VtuFormat::Ascii
+                    } else {
+                        delone_io::VtuFormat::Binary
+                    },
+                )
+            })?;
+            written.push(p.clone());
+        }
+        let mut medit = o.medit.clone();
+        if o.medit_out && medit.is_none() {
+            medit = Some(with_ext(out, "mesh"));
+        }
+        if let Some(p) = &medit {
+            let refs = self.tet_refs();
+            write(p, |f| {
+                delone_io::write_medit(
+                    f,
+                    &rec.points,
+                    &self.faces,
+                    &self.face_marker,
+                    &rec.mesh.tets,
+                    &refs,
+                )
+            })?;
+            written.push(p.clone());
+        }
+        if let Some(p) = &o.gmsh {
+            let refs = self.tet_refs();
+            write(p, |f| {
+                delone_io::write_gmsh(
+                    f,
+                    &rec.points,
+                    &self.faces,
+                    &self.face_marker,
+                    &rec.mesh.tets,
+                    &refs,
+                )
+            })?;
+            written.push(p.clone());
+        }
+        Ok(written)
+    }
+}
