@@ -1,0 +1,199 @@
+//! `delone tet -p` with domains and the volume-mesh outputs: TetGen's
+//! example PLC (regions, holes, an internal facet) with `-A`, `.face`
+//! markers, `-e`, `-f`, `-n`, Medit (`-g`) and Gmsh (`--gmsh`); `-c`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_delone");
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("delone-tetdom-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+/// The rows of a TetGen output file (header skipped), as numbers.
+fn table(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .collect()
+}
+
+/// The `-V` region lines: (volume, outside the surface).
+fn volumes(out: &str) -> Vec<(f64, bool)> {
+    out.lines()
+        .filter(|l| l.trim_start().starts_with("region "))
+        .map(|l| {
+            let v = l.split("volume ").nth(1).unwrap();
+            let v = v.split(',').next().unwrap();
+            let v: f64 = v.parse().unwrap();
+            let v = (v * 1e12).round() / 1e12;
+            (v, l.contains("outside the surface (-c)"))
+        })
+        .collect()
+}
+
+fn example() -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|a| a.join("shared/data/3d_plc/tetgen_example.poly"))
+        .find(|d| d.is_file());
+    if p.is_none() {
+        eprintln!("note: shared/data/3d_plc not found; skipping");
+    }
+    p
+}
+
+#[test]
+fn tetgen_example_with_attributes_markers_and_other_formats() {
+    let Some(src) = example() else { return };
+    let dir = tmp("example");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    let o = run(&dir, &["tet", "-pACVeng", "--gmsh", "ex.msh", "ex.poly"]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(stdout.contains("regions: 2"), "{stdout}");
+    assert!(stdout.contains("check (-C)"), "{stdout}");
+    // .ele: one attribute, the region points' 10 and 20.
+    let ele = table(&dir.join("ex.1.ele"));
+    let mut attrs: Vec<i64> = ele.iter().map(|r| r[5] as i64).collect();
+    attrs.sort_unstable();
+    attrs.dedup();
+    assert_eq!(attrs, vec![10, 20]);
+    assert!(std::fs::read_to_string(dir.join("ex.1.ele"))
+        .unwrap()
+        .starts_with(&format!("{} 4 1\n", ele.len())));
+    // .face: boundary faces plus the internal facet (marker 9, facet 2 of
+    // the file), with the file's markers 1..4 and 9.
+    let face = table(&dir.join("ex.1.face"));
+    let mut markers: Vec<i64> = face.iter().map(|r| r[4] as i64).collect();
+    markers.sort_unstable();
+    markers.dedup();
+    assert_eq!(markers, vec![1, 2, 3, 4, 9]);
+    let internal = face.iter().filter(|r| r[4] == 9.0).count();
+    assert!(internal >= 2);
+    // .edge: markers from facets, and edges off the facets have 0.
+    let edge = table(&dir.join("ex.1.edge"));
+    assert!(edge.iter().any(|r| r[3] == 0.0) && edge.iter().any(|r| r[3] == 9.0));
+    // .neigh: tetrahedra across the internal facet stay neighbours, so the
+    // -1 entries are exactly the boundary faces (all but the internal ones).
+    let neigh = table(&dir.join("ex.1.neigh"));
+    let none = neigh
+        .iter()
+        .flat_map(|r| &r[1..])
+        .filter(|&&v| v == -1.0)
+        .count();
+    assert_eq!(none, face.len() - internal);
+    // Medit: read back with our reader — same points, the .face triangles.
+    let mesh = std::fs::read(dir.join("ex.1.mesh")).unwrap();
+    let s = delone_io::read_medit(&mesh).unwrap();
+    let node = table(&dir.join("ex.1.node"));
+    assert_eq!(s.points.len(), node.len());
+    assert_eq!(s.faces.len(), face.len());
+    for (f, row) in s.faces.iter().zip(&face) {
+        let want: Vec<u32> = row[1..4].iter().map(|&v| v as u32 - 1).collect();
+        assert_eq!(f, &want);
+    }
+    let text = String::from_utf8(mesh).unwrap();
+    assert!(text.contains(&format!("Tetrahedra\n{}\n", ele.len())));
+    // Gmsh: header, one volume entity per region with its attribute as the
+    // physical tag, every element once.
+    let msh = std::fs::read_to_string(dir.join("ex.msh")).unwrap();
+    assert!(msh.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 5 2\n"));
+    let els: Vec<&str> = msh.lines().skip_while(|l| *l != "$Elements").collect();
+    let head: Vec<usize> = els[1].split(' ').map(|t| t.parse().unwrap()).collect();
+    assert_eq!(
+        head,
+        vec![7, face.len() + ele.len(), 1, face.len() + ele.len()]
+    );
+}
+
+#[test]
+fn all_faces_and_convex_hull() {
+    let Some(src) = example() else { return };
+    let dir = tmp("hull");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    let o = run(&dir, &["tet", "-pfQ", "ex.poly"]);
+    assert!(o.status.success());
+    let ele = table(&dir.join("ex.1.ele"));
+    let face = table(&dir.join("ex.1.face"));
+    // Every face once: 4 per tetrahedron, shared ones once.
+    let free = {
+        let o = run(&dir, &["tet", "-pnQ", "ex.poly"]);
+        assert!(o.status.success());
+        table(&dir.join("ex.1.neigh"))
+            .iter()
+            .flat_map(|r| r[1..].to_vec())
+            .filter(|&v| v == -1.0)
+            .count()
+    };
+    assert_eq!(face.len(), (4 * ele.len() + free) / 2);
+    // -c: the example is a box, so nothing outside it but the notch (a
+    // hole): the same tetrahedra count plus none — and the volume check
+    // passes. A non-convex surface gains tetrahedra.
+    let o = run(&dir, &["tet", "-pcCQ", "ex.poly"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let l_shape = "OFF\n12 20 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n\
+                   0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n\
+                   3 0 3 1\n3 1 3 2\n3 0 5 3\n3 3 5 4\n\
+                   3 6 7 9\n3 7 8 9\n3 6 9 11\n3 9 10 11\n\
+                   3 0 1 7\n3 0 7 6\n3 1 2 8\n3 1 8 7\n3 2 3 9\n3 2 9 8\n\
+                   3 3 4 10\n3 3 10 9\n3 4 5 11\n3 4 11 10\n3 5 0 6\n3 5 6 11\n";
+    std::fs::write(dir.join("l.off"), l_shape).unwrap();
+    let o = run(&dir, &["tet", "-pCVA", "l.off"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    assert_eq!(volumes(&out), vec![(3.0, false)], "{out}");
+    let o = run(&dir, &["tet", "-pcCVA", "l.off"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    let v = volumes(&out);
+    assert_eq!(v.len(), 2, "{out}");
+    assert!(v[0].1 && (v[0].0 - 0.5).abs() < 1e-12, "{out}");
+    assert!(!v[1].1 && (v[1].0 - 3.0).abs() < 1e-12, "{out}");
+    let attrs: Vec<f64> = table(&dir.join("l.1.ele")).iter().map(|r| r[5]).collect();
+    assert!(attrs.contains(&0.0) && attrs.contains(&1.0));
+}
+
+#[test]
+fn seed_on_the_surface_and_switches_without_p() {
+    let dir = tmp("seed");
+    let poly = "8 3 0 0\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n\
+                6 0\n1\n4 1 2 3 4\n1\n4 5 6 7 8\n1\n4 1 2 6 5\n1\n4 2 3 7 6\n1\n4 3 4 8 7\n1\n4 4 1 5 8\n\
+                1\n1 0.5 0.5 1\n0\n";
+    std::fs::write(dir.join("c.poly"), poly).unwrap();
+    let o = run(&dir, &["tet", "-p", "c.poly"]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("hole point 0 lies on the input surface"),
+        "{err}"
+    );
+    std::fs::write(
+        dir.join("p.node"),
+        "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n",
+    )
+    .unwrap();
+    for args in [["tet", "-g", "p.node"], ["tet", "-c", "p.node"]] {
+        let o = run(&dir, &args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+    }
+}
