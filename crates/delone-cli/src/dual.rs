@@ -267,7 +267,10 @@ pub fn write_tet_voronoi(
         delone_io::write_voronoi_node(f, &v.vertices, first)
     })?;
     let ends: Vec<[u32; 2]> = v.edges.iter().map(|e| e.vertices).collect();
-    let dirs: Vec<[f64; 3]> = v.edges.iter().map(|e| e.direction).collect();
+    let mut dirs = vec![[0.0; 3]; v.edges.len()];
+    for (&e, d) in v.ray_edges.iter().zip(&v.ray_directions) {
+        dirs[e as usize] = *d;
+    }
     write(&with_ext(out_base, "v.edge"), written, |f| {
         delone_io::write_voronoi_edge(f, &ends, &dirs, v.vertices.len(), first)
     })?;
