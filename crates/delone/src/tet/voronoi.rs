@@ -474,6 +474,7 @@ impl Voronoi3 {
         let mut ray_directions = Vec::with_capacity(hull);
         for t in 0..nt {
             let c = cells[t];
+            #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
             for f in 0..4 {
                 let u = c.n[f];
                 if u != NONE && (u as usize) < t {
