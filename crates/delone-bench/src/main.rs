@@ -9,6 +9,8 @@
 
 mod cases;
 mod child;
+#[allow(dead_code)] // the reference executables, for cases and tests
+mod refbin;
 mod report;
 mod result;
 

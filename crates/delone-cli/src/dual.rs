@@ -267,23 +267,41 @@ pub fn write_tet_voronoi(
         delone_io::write_voronoi_node(f, &v.vertices, first)
     })?;
     let ends: Vec<[u32; 2]> = v.edges.iter().map(|e| e.vertices).collect();
-    let dirs: Vec<[f64; 3]> = v.edges.iter().map(|e| e.direction).collect();
+    let mut dirs = vec![[0.0; 3]; v.edges.len()];
+    for (&e, d) in v.ray_edges.iter().zip(&v.ray_directions) {
+        // TetGen writes unit directions.
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        dirs[e as usize] = if len > 0.0 { d.map(|x| x / len) } else { *d };
+    }
     write(&with_ext(out_base, "v.edge"), written, |f| {
         delone_io::write_voronoi_edge(f, &ends, &dirs, v.vertices.len(), first)
     })?;
     let cells: Vec<[u32; 2]> = v.faces.iter().map(|f| f.sites).collect();
+    // TetGen ends an unbounded face's edges and an unbounded cell's faces
+    // with -1 (u32::MAX for the writer).
+    let (mut offsets, mut ids) = (vec![0u32], Vec::with_capacity(v.face_edge_ids.len()));
+    let mut open = v.open_faces.iter().peekable();
+    for fi in 0..v.faces.len() {
+        ids.extend_from_slice(v.face(fi).edges);
+        if open.next_if(|&&o| o as usize == fi).is_some() {
+            ids.push(u32::MAX);
+        }
+        offsets.push(ids.len() as u32);
+    }
     write(&with_ext(out_base, "v.face"), written, |f| {
-        delone_io::write_voronoi_face(
-            f,
-            &cells,
-            &v.face_edge_offsets,
-            &v.face_edge_ids,
-            v.edges.len(),
-            first,
-        )
+        delone_io::write_voronoi_face(f, &cells, &offsets, &ids, v.edges.len(), first)
     })?;
+    let (mut offsets, mut ids) = (vec![0u32], Vec::with_capacity(v.cell_face_ids.len()));
+    for p in 0..v.cell_offsets.len().saturating_sub(1) {
+        let fs = &v.cell_face_ids[v.cell_offsets[p] as usize..v.cell_offsets[p + 1] as usize];
+        ids.extend_from_slice(fs);
+        if !fs.is_empty() && v.unbounded[p] {
+            ids.push(u32::MAX);
+        }
+        offsets.push(ids.len() as u32);
+    }
     write(&with_ext(out_base, "v.cell"), written, |f| {
-        delone_io::write_voronoi_cell(f, &v.cell_offsets, &v.cell_face_ids, v.faces.len(), first)
+        delone_io::write_voronoi_cell(f, &offsets, &ids, v.faces.len(), first)
     })
 }
 

@@ -294,13 +294,89 @@ fn tet_voronoi_files() {
     let cell = lines(&dir, "c.1.v.cell");
     assert_eq!(cell[0], [pts.len().to_string()]);
     // Every face bounds exactly the two cells it names.
+    // (TetGen's layout: an unbounded cell's list ends with -1, counted.)
     let mut count = vec![0usize; v.faces.len()];
-    for w in &cell[1..] {
+    for (p, w) in cell[1..].iter().enumerate() {
+        let k: usize = w[1].parse().unwrap();
+        assert_eq!(w.len(), 2 + k, "cell {p}");
+        assert_eq!(
+            w.last().map(|x| x == "-1"),
+            Some(v.is_unbounded(p)),
+            "cell {p}"
+        );
         for x in &w[2..] {
-            count[x.parse::<usize>().unwrap() - 1] += 1;
+            if x != "-1" {
+                count[x.parse::<usize>().unwrap() - 1] += 1;
+            }
         }
     }
     assert!(count.iter().all(|&c| c == 2));
+    // An unbounded face's edge list ends with -1 too.
+    for (f, w) in face[1..].iter().enumerate() {
+        assert_eq!(
+            w.last().map(|x| x == "-1"),
+            Some(v.face(f).rays.is_some()),
+            "face {f}"
+        );
+    }
+}
+
+/// The TetGen `-v` layout on one tetrahedron, checked by hand: one Voronoi
+/// vertex (the circumcentre (1, 1, 1)), four rays with unit outward
+/// directions, six unbounded faces (two rays and the closing -1 each), four
+/// unbounded cells (three faces and -1 each).
+#[test]
+fn tet_voronoi_layout_of_one_tetrahedron() {
+    let dir = tmp("tet1");
+    std::fs::write(
+        dir.join("t.node"),
+        "4 3 0 0\n1 0 0 0\n2 2 0 0\n3 0 2 0\n4 0 0 2\n",
+    )
+    .unwrap();
+    ok(&run(&dir, &["tet", "-vQ", "t"]));
+    assert_eq!(
+        lines(&dir, "t.1.v.node"),
+        [vec!["1", "3", "0", "0"], vec!["1", "1", "1", "1"]]
+    );
+    let edge = lines(&dir, "t.1.v.edge");
+    assert_eq!(edge[0], ["4", "0"]);
+    let mut dirs: Vec<Vec<String>> = edge[1..]
+        .iter()
+        .map(|w| {
+            assert_eq!(&w[1..3], ["1", "-1"]);
+            w[3..]
+                .iter()
+                .map(|x| format!("{:.12}", x.parse::<f64>().unwrap()))
+                .collect()
+        })
+        .collect();
+    dirs.sort();
+    let s = format!("{:.12}", (1.0f64 / 3.0).sqrt());
+    let m = format!("{:.12}", -1.0);
+    let z = format!("{:.12}", 0.0);
+    let expect = [
+        vec![m.clone(), z.clone(), z.clone()],
+        vec![z.clone(), m.clone(), z.clone()],
+        vec![z.clone(), z.clone(), m.clone()],
+        vec![s.clone(), s.clone(), s.clone()],
+    ];
+    let mut expect = expect.to_vec();
+    expect.sort();
+    assert_eq!(dirs, expect);
+    let face = lines(&dir, "t.1.v.face");
+    assert_eq!(face[0], ["6", "0"]);
+    for w in &face[1..] {
+        assert_eq!(w.len(), 7, "{w:?}");
+        assert_eq!(w[3], "3");
+        assert_eq!(w[6], "-1");
+    }
+    let cell = lines(&dir, "t.1.v.cell");
+    assert_eq!(cell[0], ["4"]);
+    for w in &cell[1..] {
+        assert_eq!(w.len(), 6, "{w:?}");
+        assert_eq!(w[1], "4");
+        assert_eq!(w[5], "-1");
+    }
 }
 
 #[test]

@@ -17,6 +17,15 @@
 //!
 //! Every index is shifted by `first_index` (1 in Triangle/TetGen by default,
 //! 0 with their `-z` switch); the ray marker `-1` is not.
+//!
+//! Checked against the real programs (built by `delone-bench`'s `refbin`):
+//! the layouts match. TetGen ends the edge list of an *unbounded* face, and
+//! the face list of an unbounded cell, with a `-1` entry (counted in the
+//! length): pass `u32::MAX` as that entry and it is written as `-1`. TetGen
+//! writes 3D ray directions as unit vectors, Triangle 2D ones unnormalised
+//! (the callers in `delone` follow both). The *order* of vertices, edges and
+//! faces differs from theirs (ours follows delone's tetrahedra/triangles);
+//! the counts agree for points in general position.
 
 use std::io::Write;
 
@@ -112,7 +121,7 @@ fn check_csr(what: &str, offsets: &[u32], items: &[u32], bound: usize) -> Result
             items.len()
         )));
     }
-    if let Some(k) = items.iter().position(|&x| x as usize >= bound) {
+    if let Some(k) = items.iter().position(|&x| x != NONE && x as usize >= bound) {
         return Err(IoError::invalid(format!(
             "{what} entry {k} is {}, beyond {bound}",
             items[k]
@@ -162,14 +171,22 @@ pub fn write_voronoi_face<W: Write>(
         o.uint(i as u64 + f);
         for &x in c {
             o.byte(b' ');
-            o.uint(u64::from(x) + f);
+            if x == NONE {
+                o.str("-1");
+            } else {
+                o.uint(u64::from(x) + f);
+            }
         }
         let es = &edge_ids[offsets[i] as usize..offsets[i + 1] as usize];
         o.byte(b' ');
         o.uint(es.len() as u64);
         for &e in es {
             o.byte(b' ');
-            o.uint(u64::from(e) + f);
+            if e == NONE {
+                o.str("-1");
+            } else {
+                o.uint(u64::from(e) + f);
+            }
         }
         o.nl()?;
     }
@@ -208,7 +225,11 @@ pub fn write_voronoi_cell<W: Write>(
         o.uint(fs.len() as u64);
         for &x in fs {
             o.byte(b' ');
-            o.uint(u64::from(x) + f);
+            if x == NONE {
+                o.str("-1");
+            } else {
+                o.uint(u64::from(x) + f);
+            }
         }
         o.nl()?;
     }

@@ -1,10 +1,30 @@
 //! Times Voronoi extraction against triangulation on seeded uniform random
 //! points (2D, and 3D with `--3d`).
 //!
-//! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d]`
+//! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d] [--no-clip]`
 use std::time::Instant;
 
 use delone::geom::SplitMix64;
+
+/// CPU seconds (user + system, all threads) of this process so far, from
+/// `/proc/self/stat` (Linux; 0 elsewhere). On a loaded machine the CPU time
+/// of a phase is steadier than its wall time.
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesised command name; utime and stime are
+    // fields 14 and 15 of the whole line, in clock ticks (100 per second).
+    let rest = stat.rsplit_once(')').map_or("", |r| r.1);
+    let f: Vec<f64> = rest
+        .split_whitespace()
+        .map(|x| x.parse().unwrap_or(0.0))
+        .collect();
+    if f.len() < 13 {
+        return 0.0;
+    }
+    (f[11] + f[12]) / 100.0
+}
 
 fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
@@ -29,13 +49,25 @@ fn main() {
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     if args.iter().any(|a| a == "--3d") {
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
+        let c0 = cpu_seconds();
         let (tt, mesh) = best(reps, || {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
+        let c1 = cpu_seconds();
         let (tv, v) = best(reps, || delone::tet::Voronoi3::new(&pts, &mesh).unwrap());
+        let c2 = cpu_seconds();
+        let (ct, cv) = (c1 - c0, c2 - c1);
+        println!(
+            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x)",
+            cv / ct
+        );
         let bbox = [[0.0; 3], [1.0; 3]];
-        let (tc, c) = best(1, || v.cells_clipped(&pts, bbox));
-        let vol: f64 = c.volume.iter().sum();
+        let (tc, vol) = if args.iter().any(|a| a == "--no-clip") {
+            (0.0, f64::NAN)
+        } else {
+            let (tc, c) = best(1, || v.cells_clipped(&pts, bbox));
+            (tc, c.volume.iter().sum())
+        };
         println!(
             "3D n={n}: tetrahedralize {tt:.3}s, Voronoi3 {tv:.3}s ({:.2}x), clip {tc:.3}s; {} faces, volume sum {vol}",
             tv / tt,

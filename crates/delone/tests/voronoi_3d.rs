@@ -446,3 +446,49 @@ fn a_mesh_of_other_points_is_an_error_not_a_panic() {
     broken.neighbors.pop();
     assert!(Voronoi3::new(&pts, &broken).is_err());
 }
+
+/// Meshes of 2^15 tetrahedra or more are walked in Morton order: the same
+/// checks, plus the face–edge incidences and the edge ends.
+#[test]
+fn large_mesh_in_morton_order() {
+    let pts = random(6000, 11, 0.0, 1.0);
+    let mesh = delone::tetrahedralize(&pts).unwrap();
+    assert!(mesh.tets.len() >= 1 << 15, "{} tets", mesh.tets.len());
+    check(&pts, [[0.0; 3], [1.0; 3]], 60);
+    let v = Voronoi3::new(&pts, &mesh).unwrap();
+    // Edge e joins the two tetrahedra sharing its triangle.
+    for (e, ed) in v.edges.iter().enumerate() {
+        let mut s = ed.sites;
+        s.sort_unstable();
+        for &t in &ed.vertices {
+            if t == NONE {
+                continue;
+            }
+            let tv = mesh.tets[t as usize];
+            assert!(s.iter().all(|x| tv.contains(x)), "edge {e}");
+        }
+        if ed.vertices[1] != NONE {
+            let [a, b] = ed.vertices.map(|t| t as usize);
+            assert!(mesh.neighbors[a].contains(&(b as u32)), "edge {e}");
+        }
+    }
+    // Face edges join consecutive face vertices; open faces start and end with rays.
+    for f in 0..v.faces.len() {
+        let face = v.face(f);
+        let m = face.vertices.len();
+        let open = face.rays.is_some();
+        assert_eq!(face.edges.len(), m + usize::from(open));
+        let inner = if open { &face.edges[1..m] } else { face.edges };
+        for (k, &e) in inner.iter().enumerate() {
+            let ends = v.edges[e as usize].vertices;
+            let (x, y) = (face.vertices[k], face.vertices[(k + 1) % m]);
+            assert!(ends == [x, y] || ends == [y, x], "face {f} edge {k}");
+        }
+        if open {
+            let (a, b) = (face.edges[0] as usize, face.edges[m] as usize);
+            assert_eq!(v.edges[a].vertices, [face.vertices[0], NONE]);
+            assert_eq!(v.edges[b].vertices, [face.vertices[m - 1], NONE]);
+            assert_ne!(v.direction(a), [0.0; 3]);
+        }
+    }
+}

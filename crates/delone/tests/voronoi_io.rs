@@ -80,7 +80,7 @@ fn tetgen_v_files() {
         }
     }
     let ends: Vec<[u32; 2]> = v.edges.iter().map(|e| e.vertices).collect();
-    let dirs: Vec<[f64; 3]> = v.edges.iter().map(|e| e.direction).collect();
+    let dirs: Vec<[f64; 3]> = (0..v.edges.len()).map(|e| v.direction(e)).collect();
     let mut edge = Vec::new();
     delone_io::write_voronoi_edge(&mut edge, &ends, &dirs, v.vertices.len(), 0).unwrap();
     let rays = lines(edge)

@@ -45,11 +45,9 @@ pub struct VoronoiEdge3 {
     /// The three sites of the Delaunay triangle.
     pub sites: [u32; 3],
     /// The Voronoi vertices at its ends (tetrahedron indices); for a ray (a
-    /// hull triangle) `vertices[1]` is [`NONE`].
+    /// hull triangle) `vertices[1]` is [`NONE`]; its direction is
+    /// [`Voronoi3::direction`].
     pub vertices: [u32; 2],
-    /// For a ray, its direction: the outward normal of the hull triangle, of
-    /// twice its area; `[0, 0, 0]` for a segment.
-    pub direction: [f64; 3],
 }
 
 impl VoronoiEdge3 {
@@ -83,13 +81,12 @@ pub struct Face3<'a> {
     pub edges: &'a [u32],
 }
 
-/// Per-face data of a [`Voronoi3`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Per-face data of a [`Voronoi3`] (the ray directions of unbounded faces
+/// are kept apart, in [`Voronoi3::open_faces`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FaceInfo3 {
     /// See [`Face3::sites`].
     pub sites: [u32; 2],
-    /// See [`Face3::rays`].
-    pub rays: Option<[[f64; 3]; 2]>,
 }
 
 /// The Voronoi diagram of a 3D point set, dual of its Delaunay
@@ -112,10 +109,25 @@ pub struct FaceInfo3 {
 pub struct Voronoi3 {
     /// Voronoi vertices: `vertices[t]` is the circumcentre of tetrahedron `t`.
     pub vertices: Vec<[f64; 3]>,
-    /// Voronoi edges, one per Delaunay triangle.
+    /// Voronoi edges, one per Delaunay triangle. For meshes under 2^15
+    /// tetrahedra they come in the order of `(t, f)` (tetrahedron, local
+    /// facet), each triangle taken from its lower tetrahedron; larger meshes
+    /// use the same rule with the tetrahedra renumbered along a Morton curve
+    /// (for speed; still deterministic). [`Voronoi3::faces`] follow the
+    /// same tetrahedron order.
     pub edges: Vec<VoronoiEdge3>,
+    /// The rays among [`Voronoi3::edges`], increasing.
+    pub ray_edges: Vec<u32>,
+    /// `ray_directions[k]` is the direction of ray `ray_edges[k]`: the
+    /// outward normal of its hull triangle, of twice the triangle's area.
+    pub ray_directions: Vec<[f64; 3]>,
     /// Voronoi faces, one per Delaunay edge.
     pub faces: Vec<FaceInfo3>,
+    /// The unbounded faces (Delaunay hull edges), increasing.
+    pub open_faces: Vec<u32>,
+    /// `open_face_rays[k]` are the rays of face `open_faces[k]` (see
+    /// [`Face3::rays`]).
+    pub open_face_rays: Vec<[[f64; 3]; 2]>,
     /// `face_offsets[f]..face_offsets[f + 1]` is the range of
     /// [`Voronoi3::face_vertices`] of face `f`.
     pub face_offsets: Vec<u32>,
@@ -214,6 +226,96 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     ]
 }
 
+/// One tetrahedron's record for the face walk of [`Voronoi3::topology`]:
+/// one cache line holding its vertices, neighbours, the Voronoi edge of each
+/// facet and the bits of its local edges already swept.
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+struct Walk {
+    v: [u32; 4],
+    n: [u32; 4],
+    e: [u32; 4],
+    done: u32,
+    /// The tetrahedron's index in the mesh.
+    orig: u32,
+}
+
+/// For meshes of at least 2^15 tetrahedra, `(perm, inv)`: the tetrahedra
+/// sorted by the Morton code of their first vertex (ties by index; an LSD
+/// radix sort, deterministic), `perm[new] = old` and `inv[old] = new`.
+fn spatial_order(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Option<(Vec<u32>, Vec<u32>)> {
+    let nt = tets.len();
+    if nt < 1 << 15 {
+        return None;
+    }
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for q in points {
+        for i in 0..3 {
+            lo[i] = lo[i].min(q[i]);
+            hi[i] = hi[i].max(q[i]);
+        }
+    }
+    // About one grid cell per tetrahedron: `bits` per axis.
+    let bits = ((usize::BITS - nt.leading_zeros()).div_ceil(3)).clamp(1, 10);
+    let cells = (1u32 << bits) as f64;
+    let scale: [f64; 3] = std::array::from_fn(|i| {
+        let w = hi[i] - lo[i];
+        if w > 0.0 && w.is_finite() {
+            cells / w
+        } else {
+            0.0
+        }
+    });
+    let spread = |x: u32| -> u64 {
+        // Bits of x at every third position.
+        let mut r = 0u64;
+        for b in 0..bits {
+            r |= u64::from((x >> b) & 1) << (3 * b);
+        }
+        r
+    };
+    let mut keys: Vec<u64> = tets
+        .iter()
+        .enumerate()
+        .map(|(t, tv)| {
+            let q = points[tv[0] as usize];
+            let mut key = 0u64;
+            for i in 0..3 {
+                let c = ((q[i] - lo[i]) * scale[i]).clamp(0.0, cells - 1.0) as u32;
+                key |= spread(c) << i;
+            }
+            (key << 32) | t as u64
+        })
+        .collect();
+    let mut tmp = vec![0u64; nt];
+    let mut shift = 32;
+    while shift < 32 + 3 * bits {
+        let mut count = [0usize; 1 << 11];
+        for &w in &keys {
+            count[((w >> shift) & 0x7ff) as usize] += 1;
+        }
+        let mut sum = 0;
+        for c in count.iter_mut() {
+            (*c, sum) = (sum, sum + *c);
+        }
+        for &w in &keys {
+            let b = ((w >> shift) & 0x7ff) as usize;
+            tmp[count[b]] = w;
+            count[b] += 1;
+        }
+        std::mem::swap(&mut keys, &mut tmp);
+        shift += 11;
+    }
+    drop(tmp);
+    let perm: Vec<u32> = keys.iter().map(|&w| w as u32).collect();
+    let mut inv = vec![0u32; nt];
+    for (new, &old) in perm.iter().enumerate() {
+        inv[old as usize] = new as u32;
+    }
+    Some((perm, inv))
+}
+
 /// Local index of vertex `x` in `tv` (0 if absent, which a valid mesh never
 /// asks for).
 #[inline]
@@ -239,7 +341,7 @@ impl Voronoi3 {
     /// let mesh = delone::tetrahedralize(&pts).unwrap();
     /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
     /// assert_eq!(v.faces.len(), 9); // the Delaunay edges
-    /// assert!(v.faces.iter().all(|f| f.rays.is_some())); // all on the hull
+    /// assert_eq!(v.open_faces.len(), 9); // all on the hull
     /// ```
     ///
     /// # Errors
@@ -309,149 +411,188 @@ impl Voronoi3 {
     }
 
     /// Everything but the vertex coordinates: edges, faces, cells.
+    ///
+    /// Three streaming passes over the tetrahedra, no hash table:
+    /// 1. edges — every facet is numbered by the lower of its two
+    ///    tetrahedra (hull facets by their only one), the higher one reads
+    ///    the number back from its neighbour's record;
+    /// 2. faces — tetrahedron by tetrahedron, every local edge not yet
+    ///    swept is swept: the ring of tetrahedra around the Delaunay edge is
+    ///    walked once, marking the edge in every tetrahedron it passes, so
+    ///    each Delaunay edge is emitted once, by the lowest tetrahedron of
+    ///    its ring;
+    /// 3. cells — a counting sort of the faces by site (CSR).
+    ///
+    /// The walk reads one 64-byte [`Walk`] record per step (vertices,
+    /// neighbours, facet edges and the swept bits together).
     fn topology(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
         let n = points.len();
-        let tets = &mesh.tets;
-        let nbs = &mesh.neighbors;
+        let nt = mesh.tets.len();
         let p = |v: u32| &points[v as usize];
+        let mut hull = 0usize;
+        // Walk records in a spatially coherent order (large meshes): the
+        // tetrahedra sorted by the Morton code of their first vertex, so
+        // that the ring walks below stay in cache.
+        let order = spatial_order(points, &mesh.tets);
+        let mut cells: Vec<Walk> = match &order {
+            None => mesh
+                .tets
+                .iter()
+                .zip(&mesh.neighbors)
+                .enumerate()
+                .map(|(t, (v, nb))| {
+                    hull += nb.iter().filter(|&&u| u == NONE).count();
+                    Walk {
+                        v: *v,
+                        n: *nb,
+                        e: [NONE; 4],
+                        done: 0,
+                        orig: t as u32,
+                    }
+                })
+                .collect(),
+            Some((perm, inv)) => perm
+                .iter()
+                .map(|&old| {
+                    let nb = mesh.neighbors[old as usize];
+                    hull += nb.iter().filter(|&&u| u == NONE).count();
+                    Walk {
+                        v: mesh.tets[old as usize],
+                        n: nb.map(|u| if u == NONE { NONE } else { inv[u as usize] }),
+                        e: [NONE; 4],
+                        done: 0,
+                        orig: old,
+                    }
+                })
+                .collect(),
+        };
+        drop(order);
+        // 1. Edges.
         let mut unbounded = vec![false; n];
-        let mut edges = Vec::with_capacity(tets.len() * 2 + 4);
-        // The Voronoi edge of every (tetrahedron, facet).
-        let mut edge_of = vec![NONE; 4 * tets.len()];
-        for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
+        let mut edges = Vec::with_capacity((4 * nt + hull) / 2);
+        let mut ray_edges = Vec::with_capacity(hull);
+        let mut ray_directions = Vec::with_capacity(hull);
+        for t in 0..nt {
+            let c = cells[t];
+            #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
             for f in 0..4 {
-                let u = nb[f];
-                if u != NONE && u <= t as u32 {
-                    continue;
+                let u = c.n[f];
+                if u != NONE && (u as usize) < t {
+                    let cu = &cells[u as usize];
+                    if let Some(g) = (0..4).find(|&g| cu.n[g] == t as u32) {
+                        if cu.e[g] != NONE {
+                            cells[t].e[f] = cu.e[g];
+                            continue;
+                        }
+                    }
                 }
-                let s = FACET[f].map(|i| tv[i]);
-                let direction = if u == NONE {
+                let s = FACET[f].map(|i| c.v[i]);
+                let id = edges.len() as u32;
+                if u == NONE {
                     for &x in &s {
                         unbounded[x as usize] = true;
                     }
                     // FACET[f] sees vertex f on its positive side: outward
                     // is the opposite normal.
-                    cross(&sub(p(s[2]), p(s[0])), &sub(p(s[1]), p(s[0])))
-                } else {
-                    [0.0; 3]
-                };
-                let id = edges.len() as u32;
-                edge_of[4 * t + f] = id;
-                if u != NONE {
-                    if let Some(g) = nbs[u as usize].iter().position(|&x| x == t as u32) {
-                        edge_of[4 * u as usize + g] = id;
-                    }
+                    ray_edges.push(id);
+                    ray_directions.push(cross(&sub(p(s[2]), p(s[0])), &sub(p(s[1]), p(s[0]))));
                 }
+                cells[t].e[f] = id;
+                let far = if u == NONE {
+                    NONE
+                } else {
+                    cells[u as usize].orig
+                };
                 edges.push(VoronoiEdge3 {
                     sites: s,
-                    vertices: [t as u32, u],
-                    direction,
+                    vertices: [c.orig, far],
                 });
             }
         }
-        // Faces: each Delaunay edge is built by the lowest-indexed
-        // tetrahedron around it.
-        let mut faces = Vec::with_capacity(tets.len() + n);
-        let mut face_offsets = vec![0u32];
-        let mut face_vertices: Vec<u32> = Vec::with_capacity(tets.len() * 6);
-        let mut face_edge_offsets = vec![0u32];
-        let mut face_edge_ids: Vec<u32> = Vec::with_capacity(tets.len() * 7);
-        let crossing = |t: u32, c: u32| edge_of[4 * t as usize + pos(&tets[t as usize], c)];
-        let ccw = |t: u32, a: u32, b: u32, c: u32, d: u32| -> Option<(u32, u32, u32)> {
-            let tv = &tets[t as usize];
-            let u = nbs[t as usize][pos(tv, c)];
-            if u == NONE {
-                return None;
-            }
-            Some((u, d, other(&tets[u as usize], a, b, d)))
-        };
-        let cw = |t: u32, a: u32, b: u32, c: u32, d: u32| -> Option<(u32, u32, u32)> {
-            let tv = &tets[t as usize];
-            let u = nbs[t as usize][pos(tv, d)];
-            if u == NONE {
-                return None;
-            }
-            Some((u, other(&tets[u as usize], a, b, c), c))
-        };
-        let limit = tets.len() + 1;
-        // Bit k of done[t]: local edge k of t already belongs to a face.
-        let mut done = vec![0u8; tets.len()];
-        let local_edge = |tv: &[u32; 4], a: u32, b: u32| {
-            let (i, j) = (pos(tv, a), pos(tv, b));
-            EDGE_INDEX[i][j]
-        };
-        for (t, tv) in tets.iter().enumerate() {
-            let t = t as u32;
-            for (k, e) in EDGES.iter().enumerate() {
-                if done[t as usize] & (1 << k) != 0 {
+        // 2. Faces. Euler: Delaunay edges = V + F - T - 1 (V <= n).
+        let nf = (n + edges.len()).saturating_sub(nt + 1);
+        let mut faces = Vec::with_capacity(nf);
+        let mut face_offsets = Vec::with_capacity(nf + 1);
+        face_offsets.push(0u32);
+        let mut face_edge_offsets = Vec::with_capacity(nf + 1);
+        face_edge_offsets.push(0u32);
+        let mut face_vertices: Vec<u32> = Vec::with_capacity(6 * nt);
+        let mut face_edge_ids: Vec<u32> = Vec::with_capacity(6 * nt + hull * 3 / 2);
+        let mut open_faces = Vec::new();
+        let mut open_face_rays = Vec::new();
+        let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
+        let limit = nt + 1;
+        for t in 0..nt {
+            for (k, lk) in EDGES.iter().enumerate() {
+                if cells[t].done & (1 << k) != 0 {
                     continue;
                 }
-                let [a, b, c, d] = e.map(|i| tv[i]);
-                // Walk counterclockwise from t; if the ring turns out open,
-                // start again from its clockwise end.
+                let [a, b, c, d] = lk.map(|i| cells[t].v[i]);
                 let (v0, e0) = (face_vertices.len(), face_edge_ids.len());
-                let mut first = (t, c, d);
-                let mut closed = true;
-                let mut rays = None;
-                loop {
-                    let mut s = first;
+                // Counterclockwise around a -> b: at (s, c, d) cross the
+                // facet opposite c, (a, b, d), into the next tetrahedron.
+                let (mut s, mut sc, mut sd) = (t as u32, c, d);
+                let mut steps = 0usize;
+                let hit_hull = loop {
+                    let cs = &mut cells[s as usize];
+                    cs.done |= 1 << EDGE_INDEX[pos(&cs.v, a)][pos(&cs.v, b)];
+                    let pc = pos(&cs.v, sc);
+                    face_vertices.push(cs.orig);
+                    face_edge_ids.push(cs.e[pc]);
+                    let u = cs.n[pc];
+                    if u == NONE {
+                        break true;
+                    }
+                    if u == t as u32 || steps > limit {
+                        break false;
+                    }
+                    steps += 1;
+                    let nd = other(&cells[u as usize].v, a, b, sd);
+                    (s, sc, sd) = (u, sd, nd);
+                };
+                if hit_hull {
+                    // Open ring: the part clockwise from t comes first.
+                    let (pa, pb) = (p(a), p(b));
+                    let ab = sub(pb, pa);
+                    let last = cross(&ab, &sub(p(sd), pa));
+                    fwd_v.clear();
+                    fwd_e.clear();
+                    fwd_v.extend(face_vertices.drain(v0..));
+                    fwd_e.extend(face_edge_ids.drain(e0..));
+                    back_v.clear();
+                    back_e.clear();
+                    let (mut s, mut sc, mut sd) = (t as u32, c, d);
                     let mut steps = 0usize;
-                    if !closed {
-                        // The first ray: the hull facet opposite d.
-                        face_edge_ids.push(crossing(first.0, first.2));
-                    }
-                    let mut hit_hull = false;
                     loop {
-                        face_vertices.push(s.0);
-                        let st = &tets[s.0 as usize];
-                        done[s.0 as usize] |= 1 << local_edge(st, a, b);
-                        // The edge crossed next (the last ray of an open face).
-                        face_edge_ids.push(crossing(s.0, s.1));
-                        match ccw(s.0, a, b, s.1, s.2) {
-                            Some(nx) if nx.0 != first.0 && steps <= limit => s = nx,
-                            Some(_) => break,
-                            None => {
-                                hit_hull = true;
-                                break;
-                            }
-                        }
-                        steps += 1;
-                    }
-                    if !hit_hull {
-                        break;
-                    }
-                    if !closed {
-                        let (pa, pb) = (p(a), p(b));
-                        let ab = sub(pb, pa);
-                        // Hull triangle (a, b, c) of the first tetrahedron and
-                        // (a, b, d) of the last, normals pointing away from them.
-                        rays = Some([
-                            cross(&sub(p(first.1), pa), &ab),
-                            cross(&ab, &sub(p(s.2), pa)),
-                        ]);
-                        break;
-                    }
-                    closed = false;
-                    face_vertices.truncate(v0);
-                    face_edge_ids.truncate(e0);
-                    steps = 0;
-                    while let Some(nx) = cw(first.0, a, b, first.1, first.2) {
-                        steps += 1;
-                        if steps > limit {
+                        let cs = &cells[s as usize];
+                        let pd = pos(&cs.v, sd);
+                        back_e.push(cs.e[pd]);
+                        let u = cs.n[pd];
+                        if u == NONE || steps > limit {
                             break;
                         }
-                        first = nx;
+                        steps += 1;
+                        let cu = &mut cells[u as usize];
+                        cu.done |= 1 << EDGE_INDEX[pos(&cu.v, a)][pos(&cu.v, b)];
+                        let nc = other(&cu.v, a, b, sc);
+                        back_v.push(cu.orig);
+                        (s, sc, sd) = (u, nc, sc);
                     }
+                    let first = cross(&sub(p(sc), pa), &ab);
+                    face_vertices.extend(back_v.iter().rev());
+                    face_vertices.extend(&fwd_v);
+                    face_edge_ids.extend(back_e.iter().rev());
+                    face_edge_ids.extend(&fwd_e);
+                    open_faces.push(faces.len() as u32);
+                    open_face_rays.push([first, last]);
                 }
                 face_offsets.push(face_vertices.len() as u32);
                 face_edge_offsets.push(face_edge_ids.len() as u32);
-                faces.push(FaceInfo3 {
-                    sites: [a, b],
-                    rays,
-                });
+                faces.push(FaceInfo3 { sites: [a, b] });
             }
         }
-        // Cells: the faces around each site.
+        drop(cells);
+        // 3. Cells: the faces around each site.
         let mut count = vec![0u32; n + 1];
         for f in &faces {
             for &s in &f.sites {
@@ -473,7 +614,11 @@ impl Voronoi3 {
         Voronoi3 {
             vertices: Vec::new(),
             edges,
+            ray_edges,
+            ray_directions,
             faces,
+            open_faces,
+            open_face_rays,
             face_offsets,
             face_vertices,
             face_edge_offsets,
@@ -483,6 +628,29 @@ impl Voronoi3 {
             unbounded,
             vertex_map: mesh.vertex_map.clone(),
             weights: Vec::new(),
+        }
+    }
+
+    /// The direction of edge `e`: for a ray the outward normal of its hull
+    /// triangle, of twice the triangle's area; `[0, 0, 0]` for a segment.
+    ///
+    /// # Panics
+    /// If `e` is not an edge index.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
+    /// let down = (0..4).find(|&e| v.edges[e].sites.iter().all(|&s| s != 3)).unwrap();
+    /// assert_eq!(v.direction(down), [0.0, 0.0, -1.0]);
+    /// ```
+    pub fn direction(&self, e: usize) -> [f64; 3] {
+        match self.ray_edges.binary_search(&(e as u32)) {
+            Ok(k) => self.ray_directions[k],
+            Err(_) => {
+                assert!(e < self.edges.len(), "edge {e} out of range");
+                [0.0; 3]
+            }
         }
     }
 
@@ -505,7 +673,11 @@ impl Voronoi3 {
             sites: info.sites,
             vertices: &self.face_vertices
                 [self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize],
-            rays: info.rays,
+            rays: self
+                .open_faces
+                .binary_search(&(f as u32))
+                .ok()
+                .map(|k| self.open_face_rays[k]),
             edges: &self.face_edge_ids
                 [self.face_edge_offsets[f] as usize..self.face_edge_offsets[f + 1] as usize],
         }

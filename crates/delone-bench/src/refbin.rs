@@ -1,0 +1,213 @@
+//! Reference executables: the `tetgen` and `triangle` command-line programs,
+//! built on first use from the C/C++ sources that the `tritet` crate bundles
+//! (black-box use only: we run them and read their files).
+//!
+//! The sources are looked up at run time — `$DELONE_TRITET_SRC` (a `c_code`
+//! directory) if set, else `$CARGO_HOME/registry/src/*/tritet-*/c_code`
+//! (`~/.cargo` without `CARGO_HOME`), the highest version first — and
+//! compiled with `g++ -O2` / `gcc -O2` (override with `$CXX` / `$CC`) into
+//! `<target>/refbin/` (`$CARGO_TARGET_DIR` or the workspace's `target`),
+//! where later calls find them. Nothing is compiled at build time, so CI
+//! does not pay for it.
+//!
+//! The bundled `tetgen.h` defines `TETLIBRARY`; the executable is built from
+//! a three-line wrapper in `refbin/` that includes the header, undefines the
+//! symbol and then includes `tetgen.cxx`, so its `main` is compiled.
+//!
+//! Use (inside this crate):
+//!
+//! ```text
+//! let tetgen = refbin::tetgen()?;
+//! Command::new(tetgen).arg("-v").arg("cube.node").status()
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The directory of the cached executables: `<target>/refbin`.
+pub fn dir() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target"));
+    target.join("refbin")
+}
+
+/// The bundled sources of the `tritet` crate (its `c_code` directory).
+///
+/// # Errors
+/// A message when no `tritet-*/c_code` directory with `tetgen.cxx` is found.
+pub fn sources() -> Result<PathBuf, String> {
+    if let Some(d) = std::env::var_os("DELONE_TRITET_SRC") {
+        let d = PathBuf::from(d);
+        return if d.join("tetgen.cxx").is_file() {
+            Ok(d)
+        } else {
+            Err(format!(
+                "DELONE_TRITET_SRC={} has no tetgen.cxx",
+                d.display()
+            ))
+        };
+    }
+    let home = std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
+        .ok_or("neither CARGO_HOME nor HOME is set")?;
+    let registry = home.join("registry").join("src");
+    let mut found: Vec<(Vec<u64>, PathBuf)> = Vec::new();
+    let indexes = std::fs::read_dir(&registry)
+        .map_err(|e| format!("cannot read {}: {e}", registry.display()))?;
+    for index in indexes.flatten() {
+        let Ok(crates) = std::fs::read_dir(index.path()) else {
+            continue;
+        };
+        for c in crates.flatten() {
+            let name = c.file_name().to_string_lossy().into_owned();
+            let Some(version) = name.strip_prefix("tritet-") else {
+                continue;
+            };
+            let code = c.path().join("c_code");
+            if code.join("tetgen.cxx").is_file() {
+                let key = version
+                    .split(['.', '-'])
+                    .map(|x| x.parse().unwrap_or(0))
+                    .collect();
+                found.push((key, code));
+            }
+        }
+    }
+    found.sort();
+    found
+        .pop()
+        .map(|(_, p)| p)
+        .ok_or_else(|| format!("no tritet-*/c_code/tetgen.cxx under {}", registry.display()))
+}
+
+fn compile(exe: &Path, compiler: &str, args: &[&std::ffi::OsStr]) -> Result<(), String> {
+    let out = Command::new(compiler)
+        .args(args)
+        .arg("-o")
+        .arg(exe)
+        .output()
+        .map_err(|e| format!("cannot run {compiler}: {e}"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        let tail: Vec<&str> = err.lines().rev().take(20).collect();
+        return Err(format!(
+            "{compiler} failed building {}:\n{}",
+            exe.display(),
+            tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+        ));
+    }
+    Ok(())
+}
+
+/// The `tetgen` executable, compiled on first use (`tetgen.cxx` +
+/// `predicates.cxx`, `-O2`, without `TETLIBRARY`).
+///
+/// # Errors
+/// A message when the sources are missing or the compiler fails.
+pub fn tetgen() -> Result<PathBuf, String> {
+    let d = dir();
+    let exe = d.join("tetgen");
+    if exe.is_file() {
+        return Ok(exe);
+    }
+    let src = sources()?;
+    std::fs::create_dir_all(&d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
+    let wrapper = d.join("tetgen_main.cxx");
+    std::fs::write(
+        &wrapper,
+        "#include \"tetgen.h\"\n#undef TETLIBRARY\n#include \"tetgen.cxx\"\n",
+    )
+    .map_err(|e| format!("cannot write {}: {e}", wrapper.display()))?;
+    let cxx = std::env::var("CXX").unwrap_or_else(|_| "g++".into());
+    let include = format!("-I{}", src.display());
+    let tmp = d.join(format!("tetgen.{}.tmp", std::process::id()));
+    compile(
+        &tmp,
+        &cxx,
+        &[
+            "-O2".as_ref(),
+            "-w".as_ref(),
+            include.as_ref(),
+            wrapper.as_os_str(),
+            src.join("predicates.cxx").as_os_str(),
+            "-lm".as_ref(),
+        ],
+    )?;
+    std::fs::rename(&tmp, &exe).map_err(|e| format!("cannot move to {}: {e}", exe.display()))?;
+    Ok(exe)
+}
+
+/// The `triangle` executable, compiled on first use (`triangle.c`, `-O2`,
+/// without `TRILIBRARY`: the bundled file defines that symbol itself, so a
+/// copy without that one line is compiled in `refbin/`, with `-DVOID=void`).
+///
+/// # Errors
+/// A message when `triangle.c` is not bundled or the compiler fails.
+pub fn triangle() -> Result<PathBuf, String> {
+    let d = dir();
+    let exe = d.join("triangle");
+    if exe.is_file() {
+        return Ok(exe);
+    }
+    let src = sources()?;
+    let c = src.join("triangle.c");
+    if !c.is_file() {
+        return Err(format!("{} has no triangle.c", src.display()));
+    }
+    std::fs::create_dir_all(&d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
+    let text =
+        std::fs::read_to_string(&c).map_err(|e| format!("cannot read {}: {e}", c.display()))?;
+    let exe_c = d.join("triangle_exe.c");
+    let body: String = text
+        .lines()
+        .filter(|l| l.trim() != "#define TRILIBRARY")
+        .flat_map(|l| [l, "\n"])
+        .collect();
+    std::fs::write(&exe_c, body).map_err(|e| format!("cannot write {}: {e}", exe_c.display()))?;
+    let cc = std::env::var("CC").unwrap_or_else(|_| "gcc".into());
+    let tmp = d.join(format!("triangle.{}.tmp", std::process::id()));
+    compile(
+        &tmp,
+        &cc,
+        &[
+            "-O2".as_ref(),
+            "-w".as_ref(),
+            "-DVOID=void".as_ref(),
+            exe_c.as_os_str(),
+            "-lm".as_ref(),
+        ],
+    )?;
+    std::fs::rename(&tmp, &exe).map_err(|e| format!("cannot move to {}: {e}", exe.display()))?;
+    Ok(exe)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Slow (compiles TetGen): `cargo test -p delone-bench -- --ignored refbin`.
+    #[test]
+    #[ignore]
+    fn refbin_builds_and_runs() {
+        let out = Command::new(triangle().unwrap())
+            .arg("-h")
+            .output()
+            .unwrap();
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Triangle"));
+        let dir = std::env::temp_dir().join(format!("refbin{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let node = dir.join("t.node");
+        std::fs::write(&node, "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n").unwrap();
+        let st = Command::new(tetgen().unwrap())
+            .arg("-Q")
+            .arg(&node)
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let ele = std::fs::read_to_string(dir.join("t.1.ele")).unwrap();
+        assert!(ele.starts_with("1  4  0"), "{ele}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
