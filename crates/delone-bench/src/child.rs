@@ -15,6 +15,7 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("delaunator", 2),
     ("delone", 3),
     ("tetgen", 3),
+    ("tetgen-p", 3),
 ];
 
 /// Whether `program` handles `dim`-dimensional input.
@@ -27,7 +28,8 @@ pub fn supports(program: &str, dim: usize) -> bool {
 pub fn handles(program: &str, case: &Case) -> bool {
     match case.kind {
         Kind::Poly => matches!(program, "delone" | "triangle"),
-        Kind::Surf => matches!(program, "delone" | "tetgen"),
+        Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
+        _ if program == "tetgen-p" => false,
         _ => supports(program, case.dim),
     }
 }
@@ -72,6 +74,9 @@ struct Run {
     valid: Option<Result<(), String>>,
     /// Extra figures (see [`RunResult::info`]).
     info: String,
+    /// Peak resident memory of an external program's process (kB), which
+    /// replaces this process's own figure.
+    external_peak_kb: Option<u64>,
 }
 
 fn hash_points<const D: usize>(points: &[[f64; D]]) -> u64 {
@@ -155,6 +160,7 @@ fn run_poly(
                 hash: Some(hash),
                 valid,
                 info,
+                external_peak_kb: None,
             })
         }
         "triangle" => {
@@ -198,6 +204,7 @@ fn run_poly(
                 hash: None,
                 valid: None,
                 info: format!("steiner={}", tg.out_npoint().saturating_sub(np)),
+                external_peak_kb: None,
             })
         }
         _ => Err(format!("program `{program}` does not handle .poly input")),
@@ -237,6 +244,7 @@ fn run_surf(
                 hash: Some(hash),
                 valid,
                 info: format!("steiner={}", r.report.steiner()),
+                external_peak_kb: None,
             })
         }
         "tetgen" => {
@@ -267,6 +275,19 @@ fn run_surf(
                 hash: None,
                 valid: None,
                 info: format!("steiner={}", g.out_npoint().saturating_sub(p.len())),
+                external_peak_kb: None,
+            })
+        }
+        "tetgen-p" => {
+            on_ready();
+            let r = crate::refbin::run_tetgen_p(p, tris)?;
+            Ok(Run {
+                seconds: r.seconds,
+                elements: r.tets,
+                hash: None,
+                valid: None,
+                info: format!("steiner={}", r.steiner),
+                external_peak_kb: r.peak_kb,
             })
         }
         _ => Err(format!("program `{program}` does not handle surface input")),
@@ -301,6 +322,7 @@ fn run_points(
                 hash: Some(hash),
                 valid,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         ("delone", Points::D3(p)) => {
@@ -323,6 +345,7 @@ fn run_points(
                 hash: Some(hash),
                 valid,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         ("triangle", Points::D2(p)) => {
@@ -341,6 +364,7 @@ fn run_points(
                 hash: None,
                 valid: None,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         ("tetgen", Points::D3(p)) => {
@@ -360,6 +384,7 @@ fn run_points(
                 hash: None,
                 valid: None,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         ("spade", Points::D2(p)) => {
@@ -376,6 +401,7 @@ fn run_points(
                 hash: None,
                 valid: None,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         ("delaunator", Points::D2(p)) => {
@@ -393,6 +419,7 @@ fn run_points(
                 hash: None,
                 valid: None,
                 info: String::new(),
+                external_peak_kb: None,
             })
         }
         _ => Err(format!(
@@ -485,6 +512,10 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
             peak_kb = peak_kb.max(hwm);
             if let (true, Some(h), Some(p)) = (reset, hwm, pre_kb) {
                 call_kb = Some(h.saturating_sub(p));
+            }
+            if let Some(ext) = run.as_ref().ok().and_then(|r| r.external_peak_kb) {
+                peak_kb = Some(ext);
+                call_kb = Some(ext);
             }
             res.peak_kb = peak_kb;
             res.call_kb = call_kb;

@@ -183,6 +183,122 @@ pub fn triangle() -> Result<PathBuf, String> {
     Ok(exe)
 }
 
+/// What one run of the external `tetgen -p` reported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TetgenRun {
+    /// Seconds of TetGen's meshing phases as it prints them (Delaunay,
+    /// surface mesh, constrained Delaunay, exterior removal, optimization):
+    /// file input and output are left out, as they are for delone.
+    pub seconds: f64,
+    /// Tetrahedra in the output.
+    pub tets: usize,
+    /// Output points minus input points.
+    pub steiner: usize,
+    /// Peak resident memory of the process (kB), sampled from
+    /// `/proc/PID/status` every millisecond (the last millisecond of growth
+    /// may be missed).
+    pub peak_kb: Option<u64>,
+}
+
+/// The value after `key` on a line of TetGen's summary, e.g. `Mesh points: 3024`.
+fn field(out: &str, key: &str) -> Option<f64> {
+    out.lines()
+        .filter_map(|l| l.trim().strip_prefix(key))
+        .filter_map(|r| r.trim().parse::<f64>().ok())
+        .next_back()
+}
+
+/// Runs the reference `tetgen -p` (boundary recovery only, no quality) on a
+/// closed triangle surface written to a temporary `.off` file.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or rejects the input.
+pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
+    use std::fmt::Write as _;
+    let exe = tetgen()?;
+    let dir = std::env::temp_dir().join(format!("delone-bench-tg{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let off = dir.join("s.off");
+    let mut text = format!("OFF\n{} {} 0\n", points.len(), triangles.len());
+    for q in points {
+        let _ = writeln!(text, "{:?} {:?} {:?}", q[0], q[1], q[2]);
+    }
+    for t in triangles {
+        let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
+    }
+    std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
+    let mut child = Command::new(exe)
+        .arg("-pNEF")
+        .arg(&off)
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot run tetgen: {e}"))?;
+    let status_file = format!("/proc/{}/status", child.id());
+    let mut peak: Option<u64> = None;
+    let stdout = child.stdout.take();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        if let Some(mut o) = stdout {
+            use std::io::Read as _;
+            let _ = o.read_to_string(&mut s);
+        }
+        s
+    });
+    let status = loop {
+        if let Ok(text) = std::fs::read_to_string(&status_file) {
+            let hwm = text
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|r| r.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
+            peak = peak.max(hwm);
+        }
+        match child.try_wait() {
+            Ok(Some(st)) => break st,
+            Ok(None) => std::thread::sleep(std::time::Duration::from_millis(1)),
+            Err(e) => return Err(format!("waiting for tetgen: {e}")),
+        }
+    };
+    let out = reader.join().unwrap_or_default();
+    std::fs::remove_dir_all(&dir).ok();
+    if !status.success() {
+        let last = out
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("");
+        return Err(format!("tetgen -p failed ({status}): {last}"));
+    }
+    let seconds = [
+        "Delaunay seconds:",
+        "Surface mesh seconds:",
+        "Constrained Delaunay seconds:",
+        "Exterior tets removal seconds:",
+        "Optimization seconds:",
+    ]
+    .iter()
+    .filter_map(|k| field(&out, k))
+    .sum::<f64>();
+    let tets = field(&out, "Mesh tetrahedra:").unwrap_or(0.0) as usize;
+    if tets == 0 {
+        let last = out
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("");
+        return Err(format!("tetgen -p produced no tetrahedra: {last}"));
+    }
+    let input = field(&out, "Input points:").unwrap_or(0.0) as usize;
+    let mesh = field(&out, "Mesh points:").unwrap_or(0.0) as usize;
+    Ok(TetgenRun {
+        seconds,
+        tets,
+        steiner: mesh.saturating_sub(input),
+        peak_kb: peak,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,5 +325,32 @@ mod tests {
         let ele = std::fs::read_to_string(dir.join("t.1.ele")).unwrap();
         assert!(ele.starts_with("1  4  0"), "{ele}");
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// Slow (compiles TetGen): `cargo test -p delone-bench -- --ignored refbin`.
+    #[test]
+    #[ignore]
+    fn refbin_tetgen_p_on_a_cube() {
+        let pts: Vec<[f64; 3]> = (0..8)
+            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+            .collect();
+        let tris = [
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        let r = run_tetgen_p(&pts, &tris).unwrap();
+        assert!(r.tets >= 5 && r.tets <= 6, "{r:?}");
+        assert_eq!(r.steiner, 0);
+        assert!(r.peak_kb.is_some_and(|k| k > 0));
     }
 }
