@@ -15,7 +15,9 @@
 //! * Voronoi diagrams: [`write_voronoi_node`], [`write_voronoi_edge`]
 //!   (Triangle and TetGen `-v`), [`write_voronoi_face`], [`write_voronoi_cell`]
 //!   (TetGen);
-//! * pictures: [`write_svg`] (2D triangles, polygons, points);
+//! * pictures: one scene ([`SvgLayer`]s: triangles, filled triangles,
+//!   polygons, segments, points, crosses, a legend) and two back ends,
+//!   [`write_svg`] and [`write_png`] (our own rasterizer, [`render`]);
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -42,6 +44,7 @@ mod out;
 mod plc;
 mod ply;
 mod poly;
+mod raster;
 mod read;
 mod stl;
 mod surface;
@@ -58,10 +61,11 @@ pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
 pub use ply::read_ply;
 pub use poly::{read_poly, write_poly, PolyFile};
+pub use raster::{render, write_png, Raster};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
-pub use svg::{write_svg, SvgLayer, SvgStyle};
+pub use svg::{parse_colour, write_svg, SvgLayer, SvgStyle};
 pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, write_voronoi_node};
 pub use vtk::{
     write_vtk_legacy, write_vtu, write_vtu_polyhedra, DataArray, PolyhedronRef, Values, VtuFormat,
