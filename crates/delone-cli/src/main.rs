@@ -8,6 +8,7 @@ mod help;
 mod plc;
 mod pslg;
 mod run;
+mod tri_out;
 
 use args::{Command, Mode, Usage};
 

@@ -258,9 +258,9 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
 /// Runs one subcommand. Returns the exit code on success (0, or 1 when
 /// `-C` found a violation).
 pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
-    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some() || o.svg.is_some()) {
+    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some()) {
         return Err(usage_err(
-            "-v, -w, --lloyd and --svg are not supported with -p yet",
+            "-v, -w and --lloyd are not supported with -p yet",
         ));
     }
     if mode == Mode::Tet && o.pslg {
