@@ -412,8 +412,15 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             if let Some(v) = &vor {
                 crate::dual::write_tri_voronoi(ob, &pts, v, first, &mut extra)?;
             }
-            if let Some(svg) = &o.svg {
-                crate::dual::write_svg(svg, &pts, &mesh, vor.as_ref(), &mut extra)?;
+            if o.svg.is_some() || o.png.is_some() {
+                crate::dual::write_picture(o, &pts, &mesh, vor.as_ref(), &mut extra)?;
+            }
+            let stats = crate::tri_out::stats_if(o, &pts, &mesh.triangles, None, &mut extra)?;
+            for l in stats
+                .iter()
+                .flat_map(|st| st.to_string().lines().map(String::from).collect::<Vec<_>>())
+            {
+                rep.push(format!("  {l}"));
             }
             drop(vor);
             let t_extra = t_extra.elapsed();
@@ -428,6 +435,28 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
             let t_derive = t_derive.elapsed();
+            let planned: Vec<_> = if o.second_order {
+                let markers = node_markers(&node, &hull, &m.vertex_map);
+                crate::tri_out::write_plain_second_order(
+                    o,
+                    &planned,
+                    &crate::tri_out::Plain {
+                        node: &node,
+                        points: &pts,
+                        triangles: &m.cells,
+                        neighbors: &m.neighbors,
+                        markers: &markers,
+                        first,
+                    },
+                    &mut extra,
+                )?;
+                planned
+                    .into_iter()
+                    .filter(|(k, _)| !matches!(*k, "node" | "ele" | "vtu"))
+                    .collect()
+            } else {
+                planned
+            };
             let (written, t_write) = write_outputs(
                 mode,
                 o,

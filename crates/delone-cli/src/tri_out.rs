@@ -602,6 +602,79 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     Ok((written, stats))
 }
 
+/// A plain `delone tri` mesh (no `-p`) for `-o2`.
+pub struct Plain<'a> {
+    /// The input `.node` file (attributes).
+    pub node: &'a NodeFile,
+    /// Points.
+    pub points: &'a [[f64; 2]],
+    /// Triangles.
+    pub triangles: &'a [[u32; 3]],
+    /// Neighbours.
+    pub neighbors: &'a [[u32; 3]],
+    /// Output point markers.
+    pub markers: &'a [i32],
+    /// First index of the output numbering.
+    pub first: u32,
+}
+
+/// `-o2` without `-p`: the planned `.node`, `.ele` and `.vtu` files with
+/// quadratic triangles (midpoint markers 1 on the hull, attributes averaged).
+pub fn write_plain_second_order(
+    o: &Opts,
+    planned: &[(&'static str, PathBuf)],
+    m: &Plain<'_>,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), Failure> {
+    let q = Quadratic::new(m.points, m.triangles, m.neighbors);
+    let hull = boundary_keys(m.triangles, m.neighbors);
+    let na = m.node.n_attributes;
+    let mut pts = m.points.to_vec();
+    pts.extend_from_slice(&q.points);
+    let mut at = m.node.attributes.clone();
+    let mut mk = m.markers.to_vec();
+    for e in &q.edges {
+        for k in 0..na {
+            at.push(0.5 * (at[e[0] as usize * na + k] + at[e[1] as usize * na + k]));
+        }
+        mk.push(i32::from(hull.binary_search(&key(e[0], e[1])).is_ok()));
+    }
+    let bound = !o.no_bound;
+    for (kind, path) in planned {
+        match *kind {
+            "node" => write(path, written, |f| {
+                delone_io::write_node(f, &pts, &at, na, bound.then_some(&mk[..]), m.first)
+            })?,
+            "ele" => write(path, written, |f| {
+                delone_io::write_ele(f, &q.triangles, &[], 0, m.first)
+            })?,
+            "vtu" => {
+                let pd = [DataArray {
+                    name: "marker",
+                    values: Values::Int32(&mk),
+                }];
+                let fmt = if o.vtu_ascii {
+                    VtuFormat::Ascii
+                } else {
+                    VtuFormat::Binary
+                };
+                write(path, written, |f| {
+                    delone_io::write_vtu(
+                        f,
+                        &pts,
+                        &q.vtk_order(),
+                        &pd[..usize::from(bound)],
+                        &[],
+                        fmt,
+                    )
+                })?
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// With `-V` or `--stats-json FILE`: the statistics (JSON written to FILE).
 pub fn stats_if(
     o: &Opts,
@@ -829,7 +902,9 @@ mod tests {
 
     /// The unit square split by its diagonal 0-2, plus the midpoint 4 of
     /// the bottom edge: triangles [0,4,2], [4,1,2], [0,2,3].
-    fn square() -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 3]>) {
+    type Mesh = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 3]>);
+
+    fn square() -> Mesh {
         let pts = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.0]];
         let tris = vec![[0, 4, 2], [4, 1, 2], [0, 2, 3]];
         let nbrs = vec![[1, 2, NONE], [NONE, 0, NONE], [NONE, NONE, 0]];
