@@ -254,3 +254,55 @@ fn stats_json_and_png() {
     let svg = std::fs::read_to_string(d.join("k.svg")).unwrap();
     assert!(svg.contains("<text"), "the quality legend");
 }
+
+#[test]
+fn voronoi_and_lloyd_pictures_as_png_and_help() {
+    let d = tmp("vor");
+    let mut s = String::from("30 2 0 0\n");
+    let mut x = 12345u64;
+    for i in 0..30 {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let a = (x >> 11) as f64 / (1u64 << 53) as f64;
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let b = (x >> 11) as f64 / (1u64 << 53) as f64;
+        s += &format!("{} {a} {b}\n", i + 1);
+    }
+    std::fs::write(d.join("pts.node"), s).unwrap();
+    run(
+        &d,
+        &[
+            "-vQ",
+            "--lloyd",
+            "2",
+            "--png",
+            "v.png",
+            "--png-width",
+            "64",
+            "pts",
+        ],
+    );
+    let png = std::fs::read(d.join("v.png")).unwrap();
+    assert_eq!(u32::from_be_bytes(png[16..20].try_into().unwrap()), 84);
+    let out = run(&d, &["-V", "--stats-json", "p.json", "-o2", "pts"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Smallest angle"));
+    let j = std::fs::read_to_string(d.join("p.json")).unwrap();
+    assert!(j.contains("\"steiner_points\": null"), "{j}");
+    let ele = rows(&d, "pts.1.ele");
+    assert_eq!(ele[0][1], 6.0);
+    let help = run(&d, &["--help"]);
+    let h = String::from_utf8_lossy(&help.stdout);
+    for l in [
+        "-o2",
+        "-P",
+        "--png",
+        "--png-width",
+        "--svg-quality",
+        "--stats-json",
+    ] {
+        assert!(h.contains(&format!("    {l} ")), "help lacks {l}");
+    }
+}
