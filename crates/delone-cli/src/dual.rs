@@ -372,6 +372,11 @@ pub fn write_picture(
     if o.svg_quality {
         layers.push(SvgLayer::Legend { entries: &legend });
     }
+    let view = if o.svg_quality {
+        crate::tri_out::legend_room(view, o)
+    } else {
+        view
+    };
     crate::tri_out::emit(o, view, &layers, written)
 }
 

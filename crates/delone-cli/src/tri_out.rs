@@ -476,6 +476,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     if !o.no_poly {
         // The subsegments, then the boundary edges that are not (-c hulls).
         let look = segment_lookup(&bounding);
+        let hull = boundary_keys(&cdt.triangles, &cdt.neighbors);
         let mut segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.0).collect();
         let mut sm: Vec<i32> = bounding
             .iter()
@@ -483,14 +484,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
                 if m != 0 {
                     m
                 } else {
-                    let k = key(s[0], s[1]);
-                    i32::from(
-                        edges
-                            .items
-                            .iter()
-                            .zip(&edges.boundary)
-                            .any(|(e, &b)| b && key(e[0], e[1]) == k),
-                    )
+                    i32::from(hull.binary_search(&key(s[0], s[1])).is_ok())
                 }
             })
             .collect();
@@ -828,6 +822,19 @@ pub fn emit(
     Ok(())
 }
 
+/// The view widened on the left so that the legend box (about 124 px from
+/// the picture's left margin) does not cover the mesh.
+pub fn legend_room(view: [[f64; 2]; 2], o: &Opts) -> [[f64; 2]; 2] {
+    let px = style(o).width;
+    let w = view[1][0] - view[0][0];
+    let room = 124.0;
+    if px <= 2.0 * room {
+        return view;
+    }
+    let e = room * w / (px - room);
+    [[view[0][0] - e, view[0][1]], view[1]]
+}
+
 /// `--svg` / `--png` of a `-p` mesh.
 pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Result<(), Failure> {
     if o.svg.is_none() && o.png.is_none() {
@@ -893,6 +900,11 @@ pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Resu
     if o.svg_quality {
         layers.push(SvgLayer::Legend { entries: &legend });
     }
+    let view = if o.svg_quality {
+        legend_room(view, o)
+    } else {
+        view
+    };
     emit(o, view, &layers, written)
 }
 
