@@ -435,6 +435,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
             let t_derive = t_derive.elapsed();
+            let t_o2 = Instant::now();
             let planned: Vec<_> = if o.second_order {
                 let markers = node_markers(&node, &hull, &m.vertex_map);
                 crate::tri_out::write_plain_second_order(
@@ -457,6 +458,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             } else {
                 planned
             };
+            let t_o2 = t_o2.elapsed();
             let (written, t_write) = write_outputs(
                 mode,
                 o,
@@ -471,7 +473,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             )?;
             let mut written = written;
             written.extend(extra);
-            let t_write = t_write + t_derive + t_extra;
+            let t_write = t_write + t_derive + t_extra + t_o2;
             summarize(
                 mode, o, &node, &m, &edges, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,

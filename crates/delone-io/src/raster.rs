@@ -90,9 +90,11 @@ impl Raster {
         let oa = a + da * (1.0 - a);
         for (k, &ck) in c.iter().enumerate() {
             let v = (f64::from(ck) * a + f64::from(self.rgba[i + k]) * da * (1.0 - a)) / oa;
-            self.rgba[i + k] = v.round().clamp(0.0, 255.0) as u8;
+            // `as u8` saturates; +0.5 rounds the non-negative value (cheaper
+            // than `round`, a library call on baseline x86-64).
+            self.rgba[i + k] = (v + 0.5) as u8;
         }
-        self.rgba[i + 3] = (oa * 255.0).round().clamp(0.0, 255.0) as u8;
+        self.rgba[i + 3] = (oa * 255.0 + 0.5) as u8;
     }
 
     /// Fills a polygon (pixel coordinates, even-odd rule) with `c`: a pixel
@@ -126,8 +128,8 @@ impl Raster {
             }
             xs.sort_by(f64::total_cmp);
             for pair in xs.chunks_exact(2) {
-                let c0 = ((pair[0] - 0.5).ceil().max(0.0)) as i64;
-                let c1 = ((pair[1] - 0.5).ceil().min(f64::from(self.width))) as i64;
+                let c0 = ceil_pos(pair[0] - 0.5);
+                let c1 = ceil_pos((pair[1] - 0.5).min(f64::from(self.width)));
                 for x in c0..c1 {
                     self.blend(x, row, c, 1.0);
                 }
@@ -144,15 +146,13 @@ impl Raster {
         let r = (0.5 * w).max(0.5);
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len2 = dx * dx + dy * dy;
-        let dist = |px: f64, py: f64| -> f64 {
-            let t = if len2 > 0.0 {
-                (((px - a[0]) * dx + (py - a[1]) * dy) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
+        let inv = if len2 > 0.0 { 1.0 / len2 } else { 0.0 };
+        let dist2 = |px: f64, py: f64| -> f64 {
+            let t = (((px - a[0]) * dx + (py - a[1]) * dy) * inv).clamp(0.0, 1.0);
             let (qx, qy) = (a[0] + t * dx - px, a[1] + t * dy - py);
-            (qx * qx + qy * qy).sqrt()
+            qx * qx + qy * qy
         };
+        let far2 = (r + 0.5) * (r + 0.5);
         let reach = r + 1.0;
         // Walk the major axis; `sw` swaps x and y.
         let sw = dy.abs() > dx.abs();
@@ -168,7 +168,7 @@ impl Raster {
         let m1 = (q[0] + reach).ceil().min(lim_major);
         let len = len2.sqrt();
         let cos = if len > 0.0 { (q[0] - p[0]) / len } else { 1.0 };
-        let half = reach / cos.max(1e-9) + 1.0;
+        let half = reach / cos.max(1e-9) + 0.5;
         let mut m = m0;
         while m < m1 {
             let xc = (m + 0.5).clamp(p[0], q[0]);
@@ -182,13 +182,13 @@ impl Raster {
             } else {
                 (p[1].min(q[1]) - reach, p[1].max(q[1]) + reach)
             };
-            let n0 = lo.floor().max(0.0) as i64;
-            let n1 = hi.ceil().min(lim_minor) as i64;
+            let n0 = floor_pos(lo);
+            let n1 = ceil_pos(hi.min(lim_minor));
             for n in n0..n1 {
                 let (x, y) = if sw { (n, m as i64) } else { (m as i64, n) };
-                let d = dist(x as f64 + 0.5, y as f64 + 0.5);
-                let cov = (r + 0.5 - d).clamp(0.0, 1.0);
-                if cov > 0.0 {
+                let d2 = dist2(x as f64 + 0.5, y as f64 + 0.5);
+                if d2 < far2 {
+                    let cov = (r + 0.5 - d2.sqrt()).min(1.0);
                     self.blend(x, y, c, cov * alpha);
                 }
             }
@@ -264,6 +264,20 @@ impl Raster {
             }
         }
     }
+}
+
+/// `floor(max(x, 0))` without a library call (NaN gives 0).
+#[inline]
+fn floor_pos(x: f64) -> i64 {
+    x.max(0.0) as i64
+}
+
+/// `ceil(max(x, 0))` without a library call (NaN gives 0).
+#[inline]
+fn ceil_pos(x: f64) -> i64 {
+    let x = x.max(0.0);
+    let i = x as i64;
+    i + i64::from((i as f64) < x)
 }
 
 /// The 3×5 glyph of `c` (rows top to bottom, bit 2 = left column).
@@ -522,6 +536,16 @@ mod tests {
             margin: 0.0,
             background: Some("white".into()),
         }
+    }
+
+    #[test]
+    fn rounding_helpers() {
+        for x in [0.0, 0.2, 1.0, 1.5, 7.999, 1e6 + 0.5] {
+            assert_eq!(floor_pos(x), (x as f64).floor() as i64);
+            assert_eq!(ceil_pos(x), (x as f64).ceil() as i64);
+        }
+        assert_eq!((floor_pos(-3.5), ceil_pos(-3.5)), (0, 0));
+        assert_eq!(ceil_pos(f64::NAN), 0);
     }
 
     #[test]
