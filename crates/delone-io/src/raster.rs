@@ -541,8 +541,8 @@ mod tests {
     #[test]
     fn rounding_helpers() {
         for x in [0.0, 0.2, 1.0, 1.5, 7.999, 1e6 + 0.5] {
-            assert_eq!(floor_pos(x), (x as f64).floor() as i64);
-            assert_eq!(ceil_pos(x), (x as f64).ceil() as i64);
+            assert_eq!(floor_pos(x), x.floor() as i64);
+            assert_eq!(ceil_pos(x), x.ceil() as i64);
         }
         assert_eq!((floor_pos(-3.5), ceil_pos(-3.5)), (0, 0));
         assert_eq!(ceil_pos(f64::NAN), 0);
