@@ -306,3 +306,24 @@ fn voronoi_and_lloyd_pictures_as_png_and_help() {
         assert!(h.contains(&format!("    {l} ")), "help lacks {l}");
     }
 }
+
+#[test]
+fn crossing_vertices_interpolate_along_their_segment() {
+    let d = tmp("cross");
+    // Segments 1-3 and 2-4 of the square cross at (1, 1); the attribute
+    // x + 2y is linear, so interpolating along either segment gives 3.
+    std::fs::write(
+        d.join("x.poly"),
+        "4 2 1 0\n1 0 0 0\n2 2 0 2\n3 2 2 6\n4 0 2 4\n2 1\n1 1 3 4\n2 2 4 6\n0\n",
+    )
+    .unwrap();
+    run(&d, &["-pcQ", "x.poly"]);
+    let node = rows(&d, "x.1.node");
+    assert_eq!(node[0], vec![5.0, 2.0, 1.0, 1.0]);
+    assert_eq!(node[5][..4], [5.0, 1.0, 1.0, 3.0]);
+    // On both marked segments: one of their markers.
+    assert!(node[5][4] == 4.0 || node[5][4] == 6.0, "{:?}", node[5]);
+    // The hull corners: on a marked segment (4 or 6), never 1.
+    assert_eq!(node[1][4], 4.0);
+    assert_eq!(node[2][4], 6.0);
+}
