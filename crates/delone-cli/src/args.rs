@@ -78,6 +78,18 @@ pub struct Opts {
     pub gmsh: Option<PathBuf>,
     /// The switch letters as given, for messages.
     pub switches: String,
+    /// tri `-P`: no .poly output.
+    pub no_poly: bool,
+    /// tri `-o2`: quadratic (6-node) triangles.
+    pub second_order: bool,
+    /// tri `--png FILE`: a PNG picture (the same scene as --svg).
+    pub png: Option<PathBuf>,
+    /// tri `--png-width N`: picture width in pixels (SVG and PNG; default 800).
+    pub png_width: Option<u32>,
+    /// tri `--svg-quality`: colour the triangles by minimum angle.
+    pub svg_quality: bool,
+    /// tri `--stats-json FILE`: mesh quality statistics as JSON.
+    pub stats_json: Option<PathBuf>,
 }
 
 /// What the command line asks for.
@@ -101,14 +113,12 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'D') => "conforming Delaunay",
         (Mode::Tri, 'j') => "jettison unused vertices",
         (Mode::Tri, 'g') => "OFF output",
-        (Mode::Tri, 'P') => "no .poly output",
         (Mode::Tri, 'O') => "ignore holes",
         (Mode::Tri, 'X') => "no exact arithmetic",
         (Mode::Tri, 'Y') => "no Steiner points on the boundary",
         (Mode::Tri, 'i') => "incremental algorithm choice",
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
-        (Mode::Tri, 'o') => "second-order elements, -o2",
         (Mode::Tet, 'Y') => "boundary preservation",
         (Mode::Tet, 'r') => "refinement of a previous mesh",
         (Mode::Tet, 'q') => "quality mesh",
@@ -161,6 +171,15 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         }
         (Mode::Tri, 'S') => {
             o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize);
+        }
+        (Mode::Tri, 'P') => o.no_poly = true,
+        (Mode::Tri, 'o') => {
+            if num != "2" {
+                return Err(Usage(format!(
+                    "-o{num}: only -o2 (quadratic triangles) is known; -o FILE takes a separate file name"
+                )));
+            }
+            o.second_order = true
         }
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
@@ -274,6 +293,27 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 "gmsh" if mode == Mode::Tet => {
                     o.gmsh = Some(value("--gmsh", inline, &mut it)?.into())
                 }
+                "png" if mode == Mode::Tri => o.png = Some(value("--png", inline, &mut it)?.into()),
+                "stats-json" if mode == Mode::Tri => {
+                    o.stats_json = Some(value("--stats-json", inline, &mut it)?.into())
+                }
+                "svg-quality" if mode == Mode::Tri => {
+                    flag()?;
+                    o.svg_quality = true
+                }
+                "png-width" if mode == Mode::Tri => {
+                    let v = value("--png-width", inline, &mut it)?;
+                    o.png_width = Some(
+                        v.parse()
+                            .ok()
+                            .filter(|&w: &u32| (16..=16384).contains(&w))
+                            .ok_or_else(|| {
+                                Usage(format!(
+                                    "--png-width needs a width of 16 to 16384 pixels, not {v:?}"
+                                ))
+                            })?,
+                    )
+                }
                 "cells-vtu" if mode == Mode::Tet => {
                     o.cells_vtu = Some(value("--cells-vtu", inline, &mut it)?.into())
                 }
@@ -303,7 +343,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S') {
+            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S' | 'o') {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }
@@ -389,7 +429,8 @@ mod tests {
         assert!(msg(Mode::Tet, &["a", "b"]).starts_with("more than one input file"));
         assert!(msg(Mode::Tet, &[]).starts_with("no input file"));
         assert_eq!(msg(Mode::Tri, &["-o"]), "-o needs a value");
-        assert!(msg(Mode::Tri, &["-o2", "x"]).contains("-o (second-order"));
+        assert!(msg(Mode::Tri, &["-o3", "x"]).starts_with("-o3: only -o2"));
+        assert!(msg(Mode::Tri, &["--png-width", "3", "x"]).starts_with("--png-width needs"));
         assert!(matches!(p(Mode::Tet, &["-zh"]), Ok(Command::Help)));
         assert!(msg(Mode::Tri, &["--lloyd", "x", "f"]).starts_with("--lloyd needs a number"));
         assert!(msg(Mode::Tet, &["--lloyd", "3", "f"]).starts_with("unknown option --lloyd"));
@@ -410,6 +451,30 @@ mod tests {
             panic!()
         };
         assert!(o.voronoi);
+    }
+
+    #[test]
+    fn output_switches() {
+        let Ok(Command::Run(o)) = p(
+            Mode::Tri,
+            &[
+                "-pq30o2PeB",
+                "--png",
+                "a.png",
+                "--png-width=300",
+                "--svg-quality",
+                "--stats-json",
+                "s.json",
+                "x",
+            ],
+        ) else {
+            panic!()
+        };
+        assert!(o.second_order && o.no_poly && o.edges && o.no_bound && o.svg_quality);
+        assert_eq!(o.min_angle, Some(30.0));
+        assert_eq!(o.png, Some("a.png".into()));
+        assert_eq!(o.png_width, Some(300));
+        assert_eq!(o.stats_json, Some("s.json".into()));
     }
 
     #[test]

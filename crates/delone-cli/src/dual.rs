@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use delone::tet::Voronoi3;
 use delone::tri::{TriMesh, Voronoi2};
-use delone_io::{NodeFile, SvgLayer, SvgStyle};
+use delone_io::{NodeFile, SvgLayer};
 
 use crate::run::Failure;
 
@@ -312,10 +312,11 @@ pub fn pastel(i: usize) -> [u8; 3] {
     [c(0), c(8), c(16)]
 }
 
-/// `--svg FILE`: the mesh, and with `-v` the cells clipped to the points'
-/// bounding box (hidden points drawn as hollow red dots).
-pub fn write_svg(
-    path: &Path,
+/// `--svg FILE` / `--png FILE`: the mesh, and with `-v` the cells clipped
+/// to the points' bounding box (hidden points drawn as red dots); with
+/// `--svg-quality` the triangles coloured by minimum angle.
+pub fn write_picture(
+    o: &crate::args::Opts,
     pts: &[[f64; 2]],
     mesh: &TriMesh,
     voronoi: Option<&Voronoi2>,
@@ -336,6 +337,23 @@ pub fn write_svg(
     let hidden: Vec<[f64; 2]> = mesh.hidden.iter().map(|&h| pts[h as usize]).collect();
     let n = pts.len().max(1) as f64;
     let radius = (300.0 / n.sqrt()).clamp(0.5, 3.0);
+    let quality: Vec<[u8; 3]> = if o.svg_quality {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| pts[v as usize]);
+                crate::tri_out::quality_colour(
+                    delone::tri::quality::TriangleQuality::new(a, b, c).min_angle,
+                )
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let legend: Vec<([u8; 3], &str)> = crate::tri_out::QUALITY_CLASSES
+        .iter()
+        .map(|c| (c.1, c.2))
+        .collect();
     let mut layers = Vec::new();
     if let Some(c) = &cells {
         layers.push(SvgLayer::Polygons {
@@ -344,6 +362,13 @@ pub fn write_svg(
             fills: &fills,
             stroke: "#555555",
             width: 0.6,
+        });
+    }
+    if o.svg_quality {
+        layers.push(SvgLayer::FilledTriangles {
+            points: pts,
+            triangles: &mesh.triangles,
+            fills: &quality,
         });
     }
     layers.push(SvgLayer::Triangles {
@@ -362,9 +387,15 @@ pub fn write_svg(
         radius,
         fill: "red",
     });
-    write(path, written, |f| {
-        delone_io::write_svg(f, view, &layers, &SvgStyle::default())
-    })
+    if o.svg_quality {
+        layers.push(SvgLayer::Legend { entries: &legend });
+    }
+    let view = if o.svg_quality {
+        crate::tri_out::legend_room(view, o)
+    } else {
+        view
+    };
+    crate::tri_out::emit(o, view, &layers, written)
 }
 
 /// The report line for hidden points (empty when there are none).

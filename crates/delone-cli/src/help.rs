@@ -58,8 +58,17 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -a[area]  With -p: no triangle larger than `area`; without a number, the
          regional area bounds of the .poly.
     -S<n>  At most n Steiner points in the refinement.
+    -A   With -p: regional attribute per triangle in the .ele file.
+    -P   With -p: do not write the .poly file (segments with markers,
+         holes, regions).
+    -o2  Quadratic triangles: 6 nodes each (corners, then the midpoints of
+         the edges opposite corners 1, 2, 3), midpoints appended to the
+         .node file; the .vtu gets VTK quadratic triangles (type 22).
+    Markers (-p) follow Triangle: a point's own nonzero marker, else that of
+    a marked segment through it, else 1 on the boundary, else 0; edges and
+    output segments: the segment's nonzero marker, else 1 on the boundary.
     Not implemented yet (error, exit code 2): -r -u -D -j -g
-    -P -O -X -Y -i -l -s -o2.
+    -O -X -Y -i -l -s.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary
@@ -71,7 +80,17 @@ OPTIONS:
                                   before meshing; FILE.1.node gets them.
     --svg FILE.svg                Draw the mesh (and with -v the cells
                                   clipped to the bounding box; hidden
-                                  points in red) as SVG.
+                                  points in red; with -p the segments
+                                  thick and the holes as red crosses) as SVG.
+    --png FILE.png                The same picture as PNG.
+    --png-width N                 Picture width in pixels (default 800).
+    --svg-quality                 Colour the triangles by minimum angle
+                                  (legend in the corner).
+    --stats-json FILE.json        Mesh quality statistics (counts, areas,
+                                  edge lengths, angles, angle histogram in
+                                  10-degree bins, aspect ratio = longest
+                                  edge / shortest altitude, Steiner points
+                                  by kind) as JSON; -V prints them.
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

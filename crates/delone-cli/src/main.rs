@@ -9,6 +9,7 @@ mod plc;
 mod pslg;
 mod run;
 mod tetout;
+mod tri_out;
 
 use args::{Command, Mode, Usage};
 

@@ -1,12 +1,12 @@
 //! `delone tri -p`: constrained Delaunay triangulation of a `.poly` PSLG.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone::tri::quality::SteinerCounts;
 use delone::tri::refine::{refine, RefineOptions, RefineReport, UnfixableReason};
-use delone_io::topo;
 
 use crate::args::Opts;
 use crate::run::Failure;
@@ -16,13 +16,6 @@ fn input_err(message: impl Into<String>) -> Failure {
         message: message.into(),
         code: 1,
     }
-}
-
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut s = base.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
 }
 
 /// `FILE` or `FILE.poly` → (`FILE.poly`, `FILE`); the output base gets
@@ -51,15 +44,6 @@ fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
         }
     }
     (poly, node, out)
-}
-
-fn write(
-    path: &Path,
-    f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
-) -> Result<(), Failure> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
-    f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
 /// Smallest and largest angle (degrees) of a mesh.
@@ -161,6 +145,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_mesh = t1.elapsed();
     let t1 = Instant::now();
     let refining = o.min_angle.is_some() || o.area || o.max_steiner.is_some();
+    // The unrefined mesh, to interpolate point attributes at Steiner points.
+    let initial = (refining && node.n_attributes > 0).then(|| cdt.clone());
     let (cdt, rep): (_, Option<RefineReport>) = if refining {
         let r = refine(
             &cdt,
@@ -214,95 +200,22 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     }
     let t2 = Instant::now();
     let first = if o.zero { 0 } else { node.first_index };
-    let n_in = g.points.len();
-    // Point markers: input markers; Steiner vertices take their segment's.
-    let mut markers: Vec<i32> = (0..cdt.points.len())
-        .map(|i| if i < n_in { g.point_marker(i) } else { 0 })
-        .collect();
-    for c in &cdt.report.crossings {
-        markers[c.vertex as usize] = g.segment_marker(c.segments[0] as usize);
-    }
+    let steiner = SteinerCounts {
+        crossings: cdt.report.crossings.len(),
+        segment_splits: rep.as_ref().map_or(0, |r| r.segment_splits),
+        interior: rep.as_ref().map_or(0, |r| r.circumcenters),
+    };
+    let (written, stats) = crate::tri_out::write_pslg(&crate::tri_out::PslgOut {
+        o,
+        out: &out,
+        g: &g,
+        node: &node,
+        cdt: &cdt,
+        initial: initial.as_ref(),
+        first,
+        steiner,
+    })?;
     let bounding: Vec<_> = cdt.segments.iter().filter(|s| s.bounding).collect();
-    if !o.no_bound {
-        for s in &bounding {
-            for &v in &s.v {
-                if markers[v as usize] == 0 {
-                    markers[v as usize] = s.marker;
-                }
-            }
-        }
-    }
-    if !o.no_node {
-        let path = with_ext(&out, "node");
-        write(&path, |f| {
-            delone_io::write_node(
-                f,
-                &cdt.points,
-                &[],
-                0,
-                (!o.no_bound).then_some(&markers[..]),
-                first,
-            )
-        })?;
-    }
-    if !o.no_ele {
-        let path = with_ext(&out, "ele");
-        let (attrs, na) = if o.region_attributes {
-            (cdt.attributes.clone(), 1)
-        } else {
-            (Vec::new(), 0)
-        };
-        write(&path, |f| {
-            delone_io::write_ele(f, &cdt.triangles, &attrs, na, first)
-        })?;
-    }
-    {
-        let path = with_ext(&out, "poly");
-        let segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.v).collect();
-        let sm: Vec<i32> = bounding.iter().map(|s| s.marker).collect();
-        write(&path, |f| {
-            delone_io::write_poly(
-                f,
-                &[],
-                &segs,
-                (!o.no_bound).then_some(&sm[..]),
-                &g.holes,
-                &[],
-                first,
-            )
-        })?;
-    }
-    if o.edges || o.neigh {
-        let edges = topo::tri_edges(&cdt.triangles, &cdt.neighbors)
-            .map_err(|e| input_err(format!("internal error: {e}")))?;
-        if o.edges {
-            // Segment edges carry their segment's marker, other hull edges 1.
-            let segm: std::collections::HashMap<(u32, u32), i32> = bounding
-                .iter()
-                .map(|s| ((s.v[0].min(s.v[1]), s.v[0].max(s.v[1])), s.marker))
-                .collect();
-            let em: Vec<i32> = edges
-                .items
-                .iter()
-                .zip(edges.markers())
-                .map(|(e, m)| {
-                    segm.get(&(e[0].min(e[1]), e[0].max(e[1])))
-                        .copied()
-                        .map(|x| if x == 0 && m != 0 { m } else { x })
-                        .unwrap_or(m)
-                })
-                .collect();
-            let path = with_ext(&out, "edge");
-            write(&path, |f| {
-                delone_io::write_edge(f, &edges.items, (!o.no_bound).then_some(&em[..]), first)
-            })?;
-        }
-        if o.neigh {
-            let nb: Vec<[u32; 3]> = cdt.neighbors.clone();
-            let path = with_ext(&out, "neigh");
-            write(&path, |f| delone_io::write_neigh(f, &nb, first))?;
-        }
-    }
     let t_write = t2.elapsed();
     if !o.quiet {
         println!(
@@ -376,10 +289,16 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 }
             }
         }
+        if let Some(st) = &stats {
+            for l in st.to_string().lines() {
+                println!("  {l}");
+            }
+        }
         for l in &lines {
             println!("  {l}");
         }
-        println!("  output: {}.{{node,ele,poly}}", out.display());
+        let list: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+        println!("  wrote {}", list.join(", "));
     } else if code != 0 {
         for l in &lines {
             eprintln!("{l}");

@@ -258,9 +258,9 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
 /// Runs one subcommand. Returns the exit code on success (0, or 1 when
 /// `-C` found a violation).
 pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
-    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some() || o.svg.is_some()) {
+    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some()) {
         return Err(usage_err(
-            "-v, -w, --lloyd and --svg are not supported with -p yet",
+            "-v, -w and --lloyd are not supported with -p yet",
         ));
     }
     if mode == Mode::Tet && o.pslg {
@@ -415,8 +415,15 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             if let Some(v) = &vor {
                 crate::dual::write_tri_voronoi(ob, &pts, v, first, &mut extra)?;
             }
-            if let Some(svg) = &o.svg {
-                crate::dual::write_svg(svg, &pts, &mesh, vor.as_ref(), &mut extra)?;
+            if o.svg.is_some() || o.png.is_some() {
+                crate::dual::write_picture(o, &pts, &mesh, vor.as_ref(), &mut extra)?;
+            }
+            let stats = crate::tri_out::stats_if(o, &pts, &mesh.triangles, None, &mut extra)?;
+            for l in stats
+                .iter()
+                .flat_map(|st| st.to_string().lines().map(String::from).collect::<Vec<_>>())
+            {
+                rep.push(format!("  {l}"));
             }
             drop(vor);
             let t_extra = t_extra.elapsed();
@@ -431,6 +438,30 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
             let t_derive = t_derive.elapsed();
+            let t_o2 = Instant::now();
+            let planned: Vec<_> = if o.second_order {
+                let markers = node_markers(&node, &hull, &m.vertex_map);
+                crate::tri_out::write_plain_second_order(
+                    o,
+                    &planned,
+                    &crate::tri_out::Plain {
+                        node: &node,
+                        points: &pts,
+                        triangles: &m.cells,
+                        neighbors: &m.neighbors,
+                        markers: &markers,
+                        first,
+                    },
+                    &mut extra,
+                )?;
+                planned
+                    .into_iter()
+                    .filter(|(k, _)| !matches!(*k, "node" | "ele" | "vtu"))
+                    .collect()
+            } else {
+                planned
+            };
+            let t_o2 = t_o2.elapsed();
             let (written, t_write) = write_outputs(
                 mode,
                 o,
@@ -445,7 +476,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             )?;
             let mut written = written;
             written.extend(extra);
-            let t_write = t_write + t_derive + t_extra;
+            let t_write = t_write + t_derive + t_extra + t_o2;
             summarize(
                 mode, o, &node, &m, &edges, check, &mut rep, t_read, t_mesh, t_write, &written,
                 t_all,

@@ -689,7 +689,11 @@ fn tri_p_square_with_hole_crossing_and_region() {
     assert!(ele.lines().skip(1).all(|l| l.ends_with(" 20")), "{ele}");
     let poly_out = String::from_utf8(read(&d, "sq.1.poly")).unwrap();
     assert!(poly_out.starts_with("0 2 0 1\n9 1\n"), "{poly_out}");
-    assert!(poly_out.ends_with("1\n1 1.5 1.5\n"), "{poly_out}");
+    // The holes, then the regions (as Triangle writes them).
+    assert!(
+        poly_out.ends_with("1\n1 1.5 1.5\n2\n1 0.5 3.5 10 -1\n2 3.9 0.2 20 -1\n"),
+        "{poly_out}"
+    );
     for f in ["sq.1.edge", "sq.1.neigh"] {
         assert!(d.join(f).exists(), "{f}");
     }

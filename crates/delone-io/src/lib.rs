@@ -18,6 +18,9 @@
 //! * pictures: [`write_svg`] (2D triangles, polygons, points);
 //! * volume meshes for other tools: [`write_medit`] (Medit `.mesh`) and
 //!   [`write_gmsh`] (Gmsh `.msh` 4.1 ASCII);
+//! * pictures: one scene ([`SvgLayer`]s: triangles, filled triangles,
+//!   polygons, segments, points, crosses, a legend) and two back ends,
+//!   [`write_svg`] and [`write_png`] (our own rasterizer, [`render`]);
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -45,6 +48,7 @@ mod out;
 mod plc;
 mod ply;
 mod poly;
+mod raster;
 mod read;
 mod stl;
 mod surface;
@@ -62,10 +66,11 @@ pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
 pub use ply::read_ply;
 pub use poly::{read_poly, write_poly, PolyFile};
+pub use raster::{render, write_png, Raster};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
-pub use svg::{write_svg, SvgLayer, SvgStyle};
+pub use svg::{parse_colour, write_svg, SvgLayer, SvgStyle};
 pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, write_voronoi_node};
 pub use vtk::{
     write_vtk_legacy, write_vtu, write_vtu_polyhedra, DataArray, PolyhedronRef, Values, VtuFormat,

@@ -2,7 +2,9 @@
 //! data) and the legacy ASCII `.vtk` format TetGen writes with `-k`.
 //!
 //! Points of 2D meshes get `z = 0` (VTK points always have 3 components).
-//! Cell types: triangles are VTK type 5, tetrahedra type 10, edges type 3.
+//! Cell types: triangles are VTK type 5, tetrahedra type 10, edges type 3,
+//! 6-node cells quadratic triangles (type 22: corners, then the midpoints of
+//! edges 0–1, 1–2, 2–0).
 
 use std::io::Write;
 
@@ -68,8 +70,9 @@ fn cell_type(k: usize) -> Result<u8, IoError> {
         2 => Ok(3),
         3 => Ok(5),
         4 => Ok(10),
+        6 => Ok(22),
         _ => Err(IoError::invalid(format!(
-            "VTK output supports cells of 2, 3 or 4 vertices, not {k}"
+            "VTK output supports cells of 2, 3, 4 or 6 vertices, not {k}"
         ))),
     }
 }

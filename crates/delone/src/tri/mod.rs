@@ -8,6 +8,7 @@ pub mod constrain;
 pub mod delaunay;
 pub mod domain;
 pub mod mesh;
+pub mod quality;
 pub mod refine;
 mod topo;
 pub mod voronoi;
