@@ -1340,7 +1340,28 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             .find(|x| inside(x));
         let mut created = None;
         let mut split_other = None;
-        let placed = cand.and_then(|x| w.insert_point(t, x));
+        // An existing vertex close to the crossing that is within the
+        // Steiner bound of both input segments (typically the crossing of
+        // a collinear overlapping segment, a few ulps away) is reused:
+        // without this, nearly coincident crossings creep along the line.
+        let (n, j) = unpack(w.ta[t][i]);
+        let near_both = |w: &Work, v: u32| {
+            v != INF
+                && [(sa, sb), (oa, ob)].iter().all(|&(u, z)| {
+                    v == u || v == z || near_segment(w.p(u), w.p(z), w.p(v))
+                })
+        };
+        let snap = cand.and_then(|x| {
+            let d2 = |u: &[f64; 2]| (u[0] - x[0]).powi(2) + (u[1] - x[1]).powi(2);
+            [a, b, p, q, w.tv[t][i], w.tv[n][j]]
+                .into_iter()
+                .filter(|&v| near_both(w, v))
+                .min_by(|&u, &v| d2(w.p(u)).total_cmp(&d2(w.p(v))))
+        });
+        let placed = match snap {
+            Some(v) => Some(Placed::Existing(v)),
+            None => cand.and_then(|x| w.insert_point(t, x)),
+        };
         let v = match placed {
             Some(Placed::Existing(v)) => v,
             Some(Placed::New(v, split)) => {
