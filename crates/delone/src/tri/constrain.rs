@@ -1408,6 +1408,18 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             w.unconstrain(p, q);
         }
         for &l in &labels {
+            // A segment sharing p - q goes through `v` only if `v` is within
+            // the Steiner bound of it; otherwise it is inserted again whole
+            // (and crosses the new pieces at its own vertex).
+            let (la, lb) = self.seg_ends[l as usize];
+            if l != other
+                && v != p
+                && v != q
+                && !(v == la || v == lb || near_segment(w.p(la), w.p(lb), w.p(v)))
+            {
+                self.pending.push((p, q, l));
+                continue;
+            }
             if v != p && v != q {
                 if created.is_some() && l == other {
                     self.report.crossings.push(Crossing {
