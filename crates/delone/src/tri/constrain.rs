@@ -1340,6 +1340,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             .find(|x| inside(x));
         let mut created = None;
         let mut split_other = None;
+        let mut fallback = false;
         // An existing vertex close to the crossing that is within the
         // Steiner bound of both input segments (typically the crossing of
         // a collinear overlapping segment, a few ulps away) is reused:
@@ -1347,9 +1348,8 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         let (n, j) = unpack(w.ta[t][i]);
         let near_both = |w: &Work, v: u32| {
             v != INF
-                && [(sa, sb), (oa, ob)].iter().all(|&(u, z)| {
-                    v == u || v == z || near_segment(w.p(u), w.p(z), w.p(v))
-                })
+                && (v == a || v == b || near_segment(w.p(sa), w.p(sb), w.p(v)))
+                && (v == p || v == q || near_segment(w.p(oa), w.p(ob), w.p(v)))
         };
         let snap = cand.and_then(|x| {
             let d2 = |u: &[f64; 2]| (u[0] - x[0]).powi(2) + (u[1] - x[1]).powi(2);
@@ -1370,6 +1370,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
                 v
             }
             None => {
+                fallback = true;
                 // Nearest end of the two pieces to the crossing.
                 let Some(x) = cand.or(from_pieces).or(from_input) else {
                     return false;
@@ -1412,10 +1413,10 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             // the Steiner bound of it; otherwise it is inserted again whole
             // (and crosses the new pieces at its own vertex).
             let (la, lb) = self.seg_ends[l as usize];
-            if l != other
+            if (l != other || !fallback)
                 && v != p
                 && v != q
-                && !(v == la || v == lb || near_segment(w.p(la), w.p(lb), w.p(v)))
+                && !near_segment(w.p(la), w.p(lb), w.p(v))
             {
                 self.pending.push((p, q, l));
                 continue;
