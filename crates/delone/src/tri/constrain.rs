@@ -691,8 +691,13 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     let s2 = scale.0 * scale.1;
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
     let _ = s2;
+    // Each seed's walk starts where the previous one ended (seeds listed
+    // in a spatially coherent order cost O(1) walks each).
+    let mut last = 0usize;
     for h in &pslg.holes {
-        if let Some(t) = w.locate(&sc(*h)) {
+        let found = w.locate_from(last, &sc(*h));
+        if let Some(t) = found {
+            last = t;
             if alive[t] {
                 alive[t] = false;
                 stack.push(t);
@@ -702,7 +707,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let mut region = vec![NONE; nt];
     for (ri, r) in pslg.regions.iter().enumerate() {
-        let Some(t0) = w.locate(&sc(r.point)) else {
+        let Some(t0) = w.locate_from(last, &sc(r.point)) else {
             continue;
         };
         if !alive[t0] {
@@ -792,6 +797,64 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         vertex_map: vmap,
         report,
     })
+}
+
+/// For every query point, the lowest-numbered triangle that contains it
+/// strictly (bucket grid over the triangles' bounding boxes: a triangle that
+/// contains a point is in that point's cell, and cell lists are in triangle
+/// order, so the answer equals a linear search's).
+fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<Option<usize>> {
+    if q.is_empty() || tris.is_empty() {
+        return vec![None; q.len()];
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
+    let cell = |x: f64, k: usize| -> usize {
+        let w = hi[k] - lo[k];
+        if !(w > 0.0) {
+            return 0;
+        }
+        let c = ((x - lo[k]) / w * g as f64).floor();
+        if c.is_nan() || c < 0.0 {
+            0
+        } else {
+            (c as usize).min(g - 1)
+        }
+    };
+    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); g * g];
+    for (t, v) in tris.iter().enumerate() {
+        let c = v.map(|x| pts[x as usize]);
+        let (x0, x1) = (
+            cell(c[0][0].min(c[1][0]).min(c[2][0]), 0),
+            cell(c[0][0].max(c[1][0]).max(c[2][0]), 0),
+        );
+        let (y0, y1) = (
+            cell(c[0][1].min(c[1][1]).min(c[2][1]), 1),
+            cell(c[0][1].max(c[1][1]).max(c[2][1]), 1),
+        );
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                cells[y * g + x].push(t as u32);
+            }
+        }
+    }
+    q.iter()
+        .map(|p| {
+            if !(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1]) {
+                return None;
+            }
+            cells[cell(p[1], 1) * g + cell(p[0], 0)]
+                .iter()
+                .map(|&t| t as usize)
+                .find(|&t| strictly_inside(pts, &tris[t], p))
+        })
+        .collect()
 }
 
 /// Strictly inside triangle `v`?
@@ -1007,25 +1070,23 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
             ));
         }
     }
-    for (h, p) in pslg.holes.iter().enumerate() {
-        let p = &scaled(*p, scale);
-        if let Some(t) = cdt
-            .triangles
-            .iter()
-            .position(|v| strictly_inside(pts, v, p))
-        {
+    let seeds: Vec<[f64; 2]> = pslg
+        .holes
+        .iter()
+        .chain(pslg.regions.iter().map(|r| &r.point))
+        .map(|p| scaled(*p, scale))
+        .collect();
+    let found = first_containing(pts, &cdt.triangles, &seeds);
+    for (h, _) in pslg.holes.iter().enumerate() {
+        if let Some(t) = found[h] {
             return Err(Violation::new(
                 "hole",
                 format!("hole {h} lies inside kept triangle {t}"),
             ));
         }
     }
-    for (r, reg) in pslg.regions.iter().enumerate() {
-        if let Some(t) = cdt
-            .triangles
-            .iter()
-            .position(|v| strictly_inside(pts, v, &scaled(reg.point, scale)))
-        {
+    for (r, _) in pslg.regions.iter().enumerate() {
+        if let Some(t) = found[pslg.holes.len() + r] {
             let got = cdt.regions[t];
             if got == NONE || (got as usize) < r {
                 return Err(Violation::new(
