@@ -34,6 +34,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod area;
 mod error;
 mod medit;
 mod obj;
@@ -51,6 +52,7 @@ mod voronoi;
 mod vtk;
 mod write;
 
+pub use area::read_area;
 pub use error::IoError;
 pub use medit::read_medit;
 pub use obj::read_obj;
