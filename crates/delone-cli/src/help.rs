@@ -58,7 +58,10 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -a[area]  With -p: no triangle larger than `area`; without a number, the
          regional area bounds of the .poly.
     -S<n>  At most n Steiner points in the refinement.
-    Not implemented yet (error, exit code 2): -r -u -D -j -g
+    -r   Refine an existing mesh: FILE.node + FILE.ele (+ FILE.poly's
+         segments if present; with -a and no number, FILE.area's
+         per-triangle bounds); `delone tri -rq30 mesh.1` writes mesh.2.*.
+    Not implemented yet (error, exit code 2): -u -D -j -g
     -P -O -X -Y -i -l -s -o2.
 
 OPTIONS:

@@ -7,6 +7,7 @@ mod dual;
 mod help;
 mod plc;
 mod pslg;
+mod remesh;
 mod run;
 
 use args::{Command, Mode, Usage};

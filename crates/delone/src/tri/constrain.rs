@@ -1059,10 +1059,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
             for &(x, lab) in adj.get(&c).map(|v| v.as_slice()).unwrap_or(&[]) {
                 // Refinement splits subsegments without recording the new
                 // vertices: a subsegment labelled with the segment counts.
-                let good = x == b
-                    || same
-                        .iter()
-                        .any(|&g| lab == g || recorded.contains(&(x, g)));
+                let good = x == b || same.iter().any(|&g| lab == g || recorded.contains(&(x, g)));
                 if good && seen.insert(x) {
                     st.push(x);
                 }
