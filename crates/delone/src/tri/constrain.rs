@@ -817,7 +817,7 @@ fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<
     let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
     let cell = |x: f64, k: usize| -> usize {
         let w = hi[k] - lo[k];
-        if !(w > 0.0) {
+        if w.is_nan() || w <= 0.0 {
             return 0;
         }
         let c = ((x - lo[k]) / w * g as f64).floor();
@@ -868,10 +868,14 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// Independent checker of a [`Cdt`] against its input, with exact
 /// predicates: counterclockwise triangles, symmetric adjacency across
 /// matching edges, every bounding subsegment an edge of the mesh, every input
-/// segment a chain of subsegments from one end to the other (through vertices
-/// exactly on it, its reported crossing and split vertices, and Steiner
-/// vertices within 1e-9 times the input's extent of it — those of
-/// overlapping segments), the constrained
+/// segment a chain of subsegments from one end to the other through vertices
+/// recorded as splitting it (`report.crossings` and `report.vertex_splits`,
+/// or subsegments labelled with it, which is how refinement splits), every
+/// recorded vertex strictly between the ends of its segment and within
+/// [`STEINER_ULPS`] ulps (of the largest coordinate involved) of its line —
+/// a crossing is the exact intersection of the two input lines rounded to
+/// the nearest doubles (half an ulp per coordinate), so no tolerance relative
+/// to the input's extent is needed — , the constrained
 /// Delaunay property (the apex across an edge that is not a subsegment is
 /// never strictly inside the circumcircle), hole points not strictly inside
 /// any triangle, and regions constant across unconstrained edges, each region

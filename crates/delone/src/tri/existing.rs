@@ -127,11 +127,11 @@ impl Cdt {
         }
         let mut neighbors = vec![[NONE; 3]; nt];
         let mut out_boundary = vec![0u8; np];
-        for (t, v) in m.triangles.iter().enumerate() {
-            for e in 0..3 {
+        for (t, (v, nb)) in m.triangles.iter().zip(neighbors.iter_mut()).enumerate() {
+            for (e, slot) in nb.iter_mut().enumerate() {
                 let (a, b) = edge(v, e);
                 match half.get(&(b, a)) {
-                    Some(&n) => neighbors[t][e] = n,
+                    Some(&n) => *slot = n,
                     None => {
                         out_boundary[a as usize] += 1;
                         if out_boundary[a as usize] > 1 {
