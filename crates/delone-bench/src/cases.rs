@@ -11,6 +11,9 @@
 //! - `2d-poly-NAME-qANGLEaAREA` (either part may be left out; `q` alone is
 //!   20°) and `2d-poly-NAME-p` (constrained triangulation only):
 //!   `2d/NAME.poly`, meshed with quality bounds;
+//! - `2d-segs-SIZE` and `2d-holes-SIZE`: generated PSLGs of about SIZE
+//!   segments (a jittered grid with random non-crossing segments; a square
+//!   with octagonal holes), constrained triangulation only (`-p`);
 //! - `3d-surf-MODEL`: `surf/off/MODEL.off`, a closed triangle surface whose
 //!   faces are recovered in a tetrahedralization.
 
@@ -63,6 +66,13 @@ pub enum Kind {
     Poly,
     /// A closed triangle surface from an `.off` file (3D only).
     Surf,
+    /// A generated PSLG (2D only): a jittered grid with a random
+    /// non-crossing subset of its grid edges and cell diagonals as segments,
+    /// triangulated with `-p`.
+    Segs,
+    /// A generated PSLG (2D only): a square with many small polygonal holes,
+    /// triangulated with `-p`.
+    Holes,
 }
 
 impl Kind {
@@ -74,6 +84,8 @@ impl Kind {
             Kind::Sphere => "sphere",
             Kind::Poly => "poly",
             Kind::Surf => "surface",
+            Kind::Segs => "segments",
+            Kind::Holes => "holes",
         }
     }
 }
@@ -248,7 +260,7 @@ impl fmt::Display for BadCase {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 3d-surf-MODEL)",
+            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL)",
             self.0
         )
     }
@@ -324,6 +336,8 @@ impl Case {
             ("grid", _) => Kind::Grid,
             ("circle", 2) => Kind::Circle,
             ("sphere", 3) => Kind::Sphere,
+            ("segs", 2) => Kind::Segs,
+            ("holes", 2) => Kind::Holes,
             _ => return Err(bad()),
         };
         let size: f64 = s.parse().map_err(|_| bad())?;
@@ -390,8 +404,84 @@ impl Case {
                     triangles,
                 }))
             }
+            Kind::Segs | Kind::Holes => Ok(Input::Poly(PolyInput {
+                pslg: self.generate_pslg(),
+                quality: None,
+            })),
             _ => Ok(Input::Points(self.generate())),
         }
+    }
+
+    /// Generates the PSLG of a `2d-segs-SIZE` / `2d-holes-SIZE` case
+    /// (deterministically; SIZE is the approximate number of segments).
+    ///
+    /// `segs`: a `side × side` grid jittered by at most 0.2 per coordinate
+    /// (so its grid edges and one diagonal per cell never cross), each of
+    /// those 3 edges per cell kept with probability 1/2.
+    /// `holes`: the square `[0, k]²` (its boundary split every unit) with a
+    /// jittered octagon hole in every unit cell, hole point at the centre.
+    pub fn generate_pslg(&self) -> Pslg {
+        let mut rng = SplitMix64::new(self.seed());
+        let mut points = Vec::new();
+        let mut segments = Vec::new();
+        let mut holes = Vec::new();
+        if self.kind == Kind::Segs {
+            let side = ((self.requested as f64 / 1.5).sqrt().ceil() as usize).max(2);
+            for j in 0..side {
+                for i in 0..side {
+                    let jx = 0.4 * rng.next_f64() - 0.2;
+                    let jy = 0.4 * rng.next_f64() - 0.2;
+                    points.push([i as f64 + jx, j as f64 + jy]);
+                }
+            }
+            let id = |i: usize, j: usize| (j * side + i) as u32;
+            for j in 0..side {
+                for i in 0..side {
+                    if i + 1 < side && rng.next_u64() & 1 == 0 {
+                        segments.push([id(i, j), id(i + 1, j)]);
+                    }
+                    if j + 1 < side && rng.next_u64() & 1 == 0 {
+                        segments.push([id(i, j), id(i, j + 1)]);
+                    }
+                    if i + 1 < side && j + 1 < side && rng.next_u64() & 1 == 0 {
+                        segments.push([id(i, j), id(i + 1, j + 1)]);
+                    }
+                }
+            }
+        } else {
+            let k = ((self.requested as f64 / 8.0).sqrt().ceil() as usize).max(1);
+            // Boundary: 4k points counterclockwise.
+            for i in 0..k {
+                points.push([i as f64, 0.0]);
+            }
+            for i in 0..k {
+                points.push([k as f64, i as f64]);
+            }
+            for i in 0..k {
+                points.push([(k - i) as f64, k as f64]);
+            }
+            for i in 0..k {
+                points.push([0.0, (k - i) as f64]);
+            }
+            let nb = 4 * k as u32;
+            segments.extend((0..nb).map(|i| [i, (i + 1) % nb]));
+            for j in 0..k {
+                for i in 0..k {
+                    let c = [i as f64 + 0.5, j as f64 + 0.5];
+                    let base = points.len() as u32;
+                    for e in 0..8 {
+                        let a = TAU * (e as f64 + 0.3 * rng.next_f64()) / 8.0;
+                        let r = 0.15 + 0.2 * rng.next_f64();
+                        points.push([c[0] + r * a.cos(), c[1] + r * a.sin()]);
+                    }
+                    segments.extend((0..8).map(|e| [base + e, base + (e + 1) % 8]));
+                    holes.push(c);
+                }
+            }
+        }
+        let mut g = Pslg::new(points, segments);
+        g.holes = holes;
+        g
     }
 
     /// Grid side length (points per axis) for a grid case.
@@ -404,7 +494,9 @@ impl Case {
     pub fn n(&self) -> usize {
         match self.kind {
             Kind::Grid => self.grid_side().pow(self.dim as u32),
-            Kind::Poly | Kind::Surf => self.load().map_or(0, |i| i.len()),
+            Kind::Poly | Kind::Surf | Kind::Segs | Kind::Holes => {
+                self.load().map_or(0, |i| i.len())
+            }
             _ => self.requested,
         }
     }
@@ -428,6 +520,8 @@ impl Case {
                 }
             }
             Kind::Surf => format!("{}.off surface", self.data.as_deref().unwrap_or_default()),
+            Kind::Segs => "jittered grid, random non-crossing segments, CDT only".to_string(),
+            Kind::Holes => "square with octagonal holes, CDT only".to_string(),
             k => format!("{} {}", k.name(), self.dim),
         }
     }
@@ -587,6 +681,25 @@ mod tests {
         ] {
             assert!(Case::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn generated_pslg_cases() {
+        use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+        for name in ["2d-segs-3000", "2d-holes-3000"] {
+            let c = Case::parse(name).unwrap();
+            let Ok(Input::Poly(p)) = c.load() else {
+                panic!("{name}: not a PSLG");
+            };
+            let g = &p.pslg;
+            assert!(g.segments.len() > 2000 && g.segments.len() < 4000, "{name}");
+            let cdt = constrained_triangulation(g, CdtOptions::default()).unwrap();
+            // Non-crossing by construction: no Steiner points.
+            assert!(cdt.report.crossings.is_empty(), "{name}");
+            check_cdt(g, &cdt).unwrap();
+            assert_eq!(c.load().unwrap(), Input::Poly(p.clone()));
+        }
+        assert!(Case::parse("3d-segs-1e3").is_err());
     }
 
     #[test]

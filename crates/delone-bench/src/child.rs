@@ -27,7 +27,7 @@ pub fn supports(program: &str, dim: usize) -> bool {
 /// delone and Triangle for `2d-poly-…`, delone and TetGen for `3d-surf-…`.
 pub fn handles(program: &str, case: &Case) -> bool {
     match case.kind {
-        Kind::Poly => matches!(program, "delone" | "triangle"),
+        Kind::Poly | Kind::Segs | Kind::Holes => matches!(program, "delone" | "triangle"),
         Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
         _ if program == "tetgen-p" => false,
         _ => supports(program, case.dim),

@@ -45,6 +45,8 @@ pub struct Opts {
     pub input: PathBuf,
     /// tri `-p`: read a PSLG (.poly) and build its constrained Delaunay triangulation.
     pub pslg: bool,
+    /// tri `-r`: refine an existing mesh (FILE.node + FILE.ele).
+    pub refine_mesh: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
@@ -108,7 +110,6 @@ pub struct Usage(pub String);
 /// with a few words on what they do.
 fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     Some(match (mode, c) {
-        (Mode::Tri, 'r') => "refinement of a previous mesh",
         (Mode::Tri, 'u') => "user-defined constraint",
         (Mode::Tri, 'D') => "conforming Delaunay",
         (Mode::Tri, 'j') => "jettison unused vertices",
@@ -185,6 +186,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'v') => o.voronoi = true,
         (_, 'w') => o.weights = true,
         (_, 'p') => o.pslg = true,
+        (Mode::Tri, 'r') => o.refine_mesh = true,
         (_, 'c') => o.convex_hull = true,
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
@@ -355,10 +357,18 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
         }
         o.switches.push_str(&a[1..]);
     }
-    if mode == Mode::Tri && (o.min_angle.is_some() || o.area || o.max_steiner.is_some()) && !o.pslg
+    if mode == Mode::Tri
+        && (o.min_angle.is_some() || o.area || o.max_steiner.is_some())
+        && !o.pslg
+        && !o.refine_mesh
     {
         return Err(Usage(
-            "-q, -a and -S refine a PSLG: use them with -p (refining a .node/.ele mesh, -r, is not implemented yet)".into(),
+            "-q, -a and -S refine a PSLG (-p) or an existing mesh (-r)".into(),
+        ));
+    }
+    if o.pslg && o.refine_mesh {
+        return Err(Usage(
+            "-p and -r together are not supported: -r reads FILE.poly's segments itself".into(),
         ));
     }
     match input {

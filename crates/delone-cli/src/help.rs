@@ -67,7 +67,10 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     Markers (-p) follow Triangle: a point's own nonzero marker, else that of
     a marked segment through it, else 1 on the boundary, else 0; edges and
     output segments: the segment's nonzero marker, else 1 on the boundary.
-    Not implemented yet (error, exit code 2): -r -u -D -j -g
+    -r   Refine an existing mesh: FILE.node + FILE.ele (+ FILE.poly's
+         segments if present; with -a and no number, FILE.area's
+         per-triangle bounds); `delone tri -rq30 mesh.1` writes mesh.2.*.
+    Not implemented yet (error, exit code 2): -u -D -j -g
     -O -X -Y -i -l -s.
 
 OPTIONS:

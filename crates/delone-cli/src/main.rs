@@ -7,6 +7,7 @@ mod dual;
 mod help;
 mod plc;
 mod pslg;
+mod remesh;
 mod run;
 mod tetout;
 mod tri_out;

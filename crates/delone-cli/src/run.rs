@@ -269,6 +269,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     if mode == Mode::Tri && o.pslg {
         return crate::pslg::run(o);
     }
+    if mode == Mode::Tri && o.refine_mesh {
+        return crate::remesh::run(o);
+    }
     if o.convex_hull || o.region_attributes {
         return Err(usage_err("switches -c and -A need -p (PSLG input)"));
     }

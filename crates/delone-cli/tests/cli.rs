@@ -428,6 +428,40 @@ fn tet_switches_f_e_n_k_f_and_vtu() {
     );
 }
 
+#[test]
+fn refine_an_existing_mesh() {
+    let d = tmp("remesh");
+    std::fs::write(
+        d.join("sq.poly"),
+        "4 2 0 1\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n4 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n0\n",
+    )
+    .unwrap();
+    let o = run(&d, &["tri", "-pC", "sq.poly"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = run(&d, &["tri", "-rq30a0.01C", "sq.1"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("check: constrained Delaunay triangulation is valid"));
+    let ele = std::fs::read_to_string(d.join("sq.2.ele")).unwrap();
+    let n: usize = ele.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(n > 100, "{n} triangles");
+    // -a without a number reads sq.2.area: every triangle at most 0.0005.
+    let area: String = std::iter::once(format!("{n}\n"))
+        .chain((1..=n).map(|i| format!("{i} 0.0005\n")))
+        .collect();
+    std::fs::write(d.join("sq.2.area"), area).unwrap();
+    let o = run(&d, &["tri", "-raC", "sq.2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let ele = std::fs::read_to_string(d.join("sq.3.ele")).unwrap();
+    let n3: usize = ele.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(n3 >= 2000, "{n3} triangles");
+    // A missing .area file is an error naming it.
+    expect_err(&d, &["tri", "-ra", "sq.1"], 1, "sq.1.area");
+    // A clockwise triangle is named.
+    std::fs::write(d.join("bad.node"), "3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n").unwrap();
+    std::fs::write(d.join("bad.ele"), "1 3 0\n1 1 3 2\n").unwrap();
+    expect_err(&d, &["tri", "-rq", "bad"], 1, "triangle 0");
+}
+
 // ---------------------------------------------------------------- errors
 
 fn expect_err(dir: &Path, args: &[&str], code: i32, needle: &str) {
@@ -446,7 +480,7 @@ fn usage_errors() {
         &d,
         &["tri", "-q", "x"],
         2,
-        "-q, -a and -S refine a PSLG: use them with -p",
+        "-q, -a and -S refine a PSLG (-p) or an existing mesh (-r)",
     );
     expect_err(
         &d,

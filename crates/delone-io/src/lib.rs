@@ -39,6 +39,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod area;
 mod error;
 mod gmsh;
 mod medit;
@@ -58,6 +59,7 @@ mod voronoi;
 mod vtk;
 mod write;
 
+pub use area::read_area;
 pub use error::IoError;
 pub use gmsh::write_gmsh;
 pub use medit::{read_medit, write_medit};

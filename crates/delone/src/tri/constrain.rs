@@ -324,20 +324,6 @@ impl Work {
         Some(s)
     }
 
-    /// Marks the edge `u - w` (both half-edges) as part of segment `s`
-    /// (an existing label wins).
-    fn constrain(&mut self, u: u32, w: u32, s: u32) -> bool {
-        let Some((t, i)) = self.find_edge(u, w) else {
-            return false;
-        };
-        let (n, j) = unpack(self.ta[t][i]);
-        if self.con[t][i] == NONE {
-            self.con[t][i] = s;
-            self.con[n][j] = s;
-        }
-        true
-    }
-
     /// Finite triangle containing `p` (closed), or `None` outside the hull.
     fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
         let mut t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
@@ -472,9 +458,14 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         .saturating_add(1 << 20);
     let mut steps = 0usize;
     let mut first_of: HashMap<(u32, u32), u32> = HashMap::new();
+    // Labels beyond the first of edges shared by several segments.
+    let mut multi: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    // Internal end vertices of every segment (for exact crossing lines).
+    let mut seg_ends: Vec<(u32, u32)> = vec![(0, 0); pslg.segments.len()];
     for (s, seg) in pslg.segments.iter().enumerate() {
         let a = ext2int[vmap[seg[0] as usize] as usize];
         let b = ext2int[vmap[seg[1] as usize] as usize];
+        seg_ends[s] = (a, b);
         if a == b {
             report.skipped_segments.push(s as u32);
             continue;
@@ -549,12 +540,12 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         };
         let (mut t, mut i) = match start {
             Start::Done => {
-                w.constrain(a, b, s);
+                constrain_label(&mut w, &mut multi, a, b, s);
                 continue;
             }
             Start::Vertex(p) => {
                 report.vertex_splits.push((out_id(p), s));
-                w.constrain(a, p, s);
+                constrain_label(&mut w, &mut multi, a, p, s);
                 pending.push((p, b, s));
                 continue;
             }
@@ -568,56 +559,18 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             let (p, q) = edge(&w.tv[t], i);
             let other = w.con[t][i];
             if other != NONE {
-                // A constrained edge crosses the segment: split both.
-                let (pp, pq) = (*w.p(p), *w.p(q));
-                let sp = side(&pa, &pb, &pp);
-                let sq = side(&pa, &pb, &pq);
-                let f = (sp / (sp - sq)).clamp(0.0, 1.0);
-                let x1 = [pp[0] + f * (pq[0] - pp[0]), pp[1] + f * (pq[1] - pp[1])];
-                let ta_ = side(&pp, &pq, &pa);
-                let tb_ = side(&pp, &pq, &pb);
-                let g = (ta_ / (ta_ - tb_)).clamp(0.0, 1.0);
-                let x2 = [pa[0] + g * (pb[0] - pa[0]), pa[1] + g * (pb[1] - pa[1])];
-                let mid = [0.5 * (x1[0] + x2[0]), 0.5 * (x1[1] + x2[1])];
-                let mut made = None;
-                for x in [x1, x2, mid] {
-                    made = w.split_edge(t, i, x);
-                    if made.is_some() {
-                        break;
-                    }
-                }
-                let Some(sx) = made else {
-                    // The rounded crossing does not fit strictly inside the
-                    // edge (the segment passes within rounding distance of
-                    // an end of the crossed edge, typically an earlier
-                    // Steiner vertex): route the segment through the nearer
-                    // end instead, and report it as a vertex split.
-                    let d2 = |u: &[f64; 2]| (u[0] - x1[0]).powi(2) + (u[1] - x1[1]).powi(2);
-                    let v = if d2(&pp) <= d2(&pq) { p } else { q };
-                    let pv = *w.p(v);
-                    let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
-                    let off = side(&pa, &pb, &pv).abs() / len;
-                    let ext = pa[0]
-                        .abs()
-                        .max(pa[1].abs())
-                        .max(pb[0].abs())
-                        .max(pb[1].abs());
-                    let near = off <= 1e-9 * ext;
-                    if v == a || v == b || !near {
-                        return Err(unresolved(s, other));
-                    }
-                    report.vertex_splits.push((out_id(v), s));
-                    pending.push((v, b, s));
-                    pending.push((a, v, s));
-                    steiner = true;
-                    break;
+                // A constrained edge crosses the segment: a vertex at the
+                // crossing splits both (see `resolve_crossing`).
+                let mut cx = Crossings {
+                    multi: &mut multi,
+                    report: &mut report,
+                    pending: &mut pending,
+                    seg_ends: &seg_ends,
+                    out_id: &out_id,
                 };
-                report.crossings.push(Crossing {
-                    vertex: sx,
-                    segments: [s, other],
-                });
-                pending.push((sx, b, s));
-                pending.push((a, sx, s));
+                if !cx.resolve(&mut w, s, a, b, t, i) {
+                    return Err(unresolved(s, other));
+                }
                 steiner = true;
                 break;
             }
@@ -687,7 +640,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                 newe.push((x, d));
             }
         }
-        if !w.constrain(a, end, s) {
+        if !constrain_label(&mut w, &mut multi, a, end, s) {
             return Err(unresolved(s, s));
         }
         let mut st: Vec<(u32, u32)> = newe
@@ -738,8 +691,13 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     let s2 = scale.0 * scale.1;
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
     let _ = s2;
+    // Each seed's walk starts where the previous one ended (seeds listed
+    // in a spatially coherent order cost O(1) walks each).
+    let mut last = 0usize;
     for h in &pslg.holes {
-        if let Some(t) = w.locate(&sc(*h)) {
+        let found = w.locate_from(last, &sc(*h));
+        if let Some(t) = found {
+            last = t;
             if alive[t] {
                 alive[t] = false;
                 stack.push(t);
@@ -749,7 +707,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let mut region = vec![NONE; nt];
     for (ri, r) in pslg.regions.iter().enumerate() {
-        let Some(t0) = w.locate(&sc(r.point)) else {
+        let Some(t0) = w.locate_from(last, &sc(r.point)) else {
             continue;
         };
         if !alive[t0] {
@@ -841,6 +799,64 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     })
 }
 
+/// For every query point, the lowest-numbered triangle that contains it
+/// strictly (bucket grid over the triangles' bounding boxes: a triangle that
+/// contains a point is in that point's cell, and cell lists are in triangle
+/// order, so the answer equals a linear search's).
+fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<Option<usize>> {
+    if q.is_empty() || tris.is_empty() {
+        return vec![None; q.len()];
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in pts {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
+    let cell = |x: f64, k: usize| -> usize {
+        let w = hi[k] - lo[k];
+        if w.is_nan() || w <= 0.0 {
+            return 0;
+        }
+        let c = ((x - lo[k]) / w * g as f64).floor();
+        if c.is_nan() || c < 0.0 {
+            0
+        } else {
+            (c as usize).min(g - 1)
+        }
+    };
+    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); g * g];
+    for (t, v) in tris.iter().enumerate() {
+        let c = v.map(|x| pts[x as usize]);
+        let (x0, x1) = (
+            cell(c[0][0].min(c[1][0]).min(c[2][0]), 0),
+            cell(c[0][0].max(c[1][0]).max(c[2][0]), 0),
+        );
+        let (y0, y1) = (
+            cell(c[0][1].min(c[1][1]).min(c[2][1]), 1),
+            cell(c[0][1].max(c[1][1]).max(c[2][1]), 1),
+        );
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                cells[y * g + x].push(t as u32);
+            }
+        }
+    }
+    q.iter()
+        .map(|p| {
+            if !(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1]) {
+                return None;
+            }
+            cells[cell(p[1], 1) * g + cell(p[0], 0)]
+                .iter()
+                .map(|&t| t as usize)
+                .find(|&t| strictly_inside(pts, &tris[t], p))
+        })
+        .collect()
+}
+
 /// Strictly inside triangle `v`?
 fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
     (0..3).all(|e| {
@@ -852,10 +868,14 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// Independent checker of a [`Cdt`] against its input, with exact
 /// predicates: counterclockwise triangles, symmetric adjacency across
 /// matching edges, every bounding subsegment an edge of the mesh, every input
-/// segment a chain of subsegments from one end to the other (through vertices
-/// exactly on it, its reported crossing and split vertices, and Steiner
-/// vertices within 1e-9 times the input's extent of it — those of
-/// overlapping segments), the constrained
+/// segment a chain of subsegments from one end to the other through vertices
+/// recorded as splitting it (`report.crossings` and `report.vertex_splits`,
+/// or subsegments labelled with it, which is how refinement splits), every
+/// recorded vertex strictly between the ends of its segment and within
+/// [`STEINER_ULPS`] ulps (of the largest coordinate involved) of its line —
+/// a crossing is the exact intersection of the two input lines rounded to
+/// the nearest doubles (half an ulp per coordinate), so no tolerance relative
+/// to the input's extent is needed — , the constrained
 /// Delaunay property (the apex across an edge that is not a subsegment is
 /// never strictly inside the circumcircle), hole points not strictly inside
 /// any triangle, and regions constant across unconstrained edges, each region
@@ -977,21 +997,42 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         adj.entry(a).or_default().push((b, s.segment));
         adj.entry(b).or_default().push((a, s.segment));
     }
-    let crossing_of: HashSet<(u32, u32)> = cdt
+    // Every vertex recorded as splitting a segment (crossings and vertex
+    // splits) lies within `STEINER_ULPS` ulps of that segment's line and
+    // strictly between its ends.
+    let recorded: HashSet<(u32, u32)> = cdt
         .report
         .crossings
         .iter()
         .flat_map(|c| [(c.vertex, c.segments[0]), (c.vertex, c.segments[1])])
+        .chain(cdt.report.vertex_splits.iter().copied())
         .collect();
-    // Distance tolerance for Steiner vertices (rounded crossings of nearly
-    // parallel segments stray further than a few ulps): a small fraction of the
-    // input's extent.
-    let ext = pts
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let tol = 1e-9 * ext;
-    let split_of: HashSet<(u32, u32)> = cdt.report.vertex_splits.iter().copied().collect();
     let vm = |i: u32| cdt.vertex_map.get(i as usize).copied().unwrap_or(i);
+    let mut rec_sorted: Vec<(u32, u32)> = recorded.iter().copied().collect();
+    rec_sorted.sort_unstable();
+    for &(x, g) in &rec_sorted {
+        let Some(seg) = pslg.segments.get(g as usize) else {
+            return Err(Violation::new(
+                "conformity",
+                format!("vertex {x} is recorded for segment {g}, which does not exist"),
+            ));
+        };
+        let (a, b) = (vm(seg[0]) as usize, vm(seg[1]) as usize);
+        if x as usize >= pts.len() || a >= pts.len() || b >= pts.len() {
+            return Err(Violation::new(
+                "vertex",
+                format!("vertex {x} recorded for segment {g} out of range"),
+            ));
+        }
+        if !near_segment(&pts[a], &pts[b], &pts[x as usize]) {
+            return Err(Violation::new(
+                "conformity",
+                format!(
+                    "vertex {x} recorded as splitting segment {g} ({a},{b}) is not within {STEINER_ULPS} ulps of it"
+                ),
+            ));
+        }
+    }
     // Segments with the same two ends (after merging duplicate points) share
     // their subsegments and crossings.
     let key = |seg: &[u32; 2]| {
@@ -1007,26 +1048,8 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         if a == b {
             continue;
         }
-        let (pa, pb) = (pts[a as usize], pts[b as usize]);
-        let on = |x: u32| {
-            let p = &pts[x as usize];
-            orient2d(&pa, &pb, p) == 0.0
-                && (p[0] - pa[0]) * (pb[0] - pa[0]) + (p[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
-                && (p[0] - pb[0]) * (pa[0] - pb[0]) + (p[1] - pb[1]) * (pa[1] - pb[1]) > 0.0
-        };
-        // Within rounding distance of the segment (a Steiner vertex of an
-        // overlapping or crossing segment that this one was routed through).
-        let near = |x: u32| {
-            let p = &pts[x as usize];
-            let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
-            let len2 = dx * dx + dy * dy;
-            let t = ((p[0] - pa[0]) * dx + (p[1] - pa[1]) * dy) / len2;
-            let cross = dx * (p[1] - pa[1]) - dy * (p[0] - pa[0]);
-            x as usize >= pslg.points.len()
-                && t > 0.0
-                && t < 1.0
-                && cross * cross <= (tol * tol) * len2
-        };
+        // A chain of subsegments from `a` to `b` through vertices recorded
+        // as splitting this segment (or a duplicate of it).
         let same = &group[&key(seg)];
         let mut seen = HashSet::new();
         let mut st = vec![a];
@@ -1038,12 +1061,9 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
                 break;
             }
             for &(x, lab) in adj.get(&c).map(|v| v.as_slice()).unwrap_or(&[]) {
-                let good = x == b
-                    || on(x)
-                    || near(x)
-                    || same.iter().any(|&g| {
-                        lab == g || crossing_of.contains(&(x, g)) || split_of.contains(&(x, g))
-                    });
+                // Refinement splits subsegments without recording the new
+                // vertices: a subsegment labelled with the segment counts.
+                let good = x == b || same.iter().any(|&g| lab == g || recorded.contains(&(x, g)));
                 if good && seen.insert(x) {
                     st.push(x);
                 }
@@ -1056,25 +1076,23 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
             ));
         }
     }
-    for (h, p) in pslg.holes.iter().enumerate() {
-        let p = &scaled(*p, scale);
-        if let Some(t) = cdt
-            .triangles
-            .iter()
-            .position(|v| strictly_inside(pts, v, p))
-        {
+    let seeds: Vec<[f64; 2]> = pslg
+        .holes
+        .iter()
+        .chain(pslg.regions.iter().map(|r| &r.point))
+        .map(|p| scaled(*p, scale))
+        .collect();
+    let found = first_containing(pts, &cdt.triangles, &seeds);
+    for (h, _) in pslg.holes.iter().enumerate() {
+        if let Some(t) = found[h] {
             return Err(Violation::new(
                 "hole",
                 format!("hole {h} lies inside kept triangle {t}"),
             ));
         }
     }
-    for (r, reg) in pslg.regions.iter().enumerate() {
-        if let Some(t) = cdt
-            .triangles
-            .iter()
-            .position(|v| strictly_inside(pts, v, &scaled(reg.point, scale)))
-        {
+    for (r, _) in pslg.regions.iter().enumerate() {
+        if let Some(t) = found[pslg.holes.len() + r] {
             let got = cdt.regions[t];
             if got == NONE || (got as usize) < r {
                 return Err(Violation::new(
@@ -1085,4 +1103,410 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
         }
     }
     Ok(())
+}
+
+// ---------------------------------------------------------------------------
+// Double-double arithmetic for segment crossings.
+//
+// The crossing of the lines `A + t (B - A)` and `C + u (D - C)` is computed
+// with ~104-bit intermediate precision: the differences are exact (TwoDiff),
+// the cross products are accumulated from exact TwoProducts, and the point is
+// formed on the line A-B. The relative error of the result before the final
+// rounding is below 2^-100 of the magnitude of the terms, so the double that
+// comes out is within half an ulp (per coordinate) of the exact crossing plus
+// a negligible amount: its distance from either line is at most
+// `ulp(M) / sqrt(2) + O(2^-100 M)`, where `M` is the largest coordinate
+// magnitude involved. `check_cdt` accepts Steiner vertices within
+// `STEINER_ULPS` ulps of each of their lines.
+
+/// Exact sum `a + b = s + e`.
+#[inline]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// Exact product `a * b = p + e`.
+#[inline]
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+/// Double-double sum.
+#[inline]
+fn dd_add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (s, e) = two_sum(a.0, b.0);
+    let e = e + a.1 + b.1;
+    two_sum(s, e)
+}
+
+/// Double-double product.
+#[inline]
+fn dd_mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (p, e) = two_prod(a.0, b.0);
+    let e = e + (a.0 * b.1 + a.1 * b.0);
+    two_sum(p, e)
+}
+
+/// Double-double cross product `u x v` of double-double vectors.
+#[inline]
+fn dd_cross(u: [(f64, f64); 2], v: [(f64, f64); 2]) -> (f64, f64) {
+    let l = dd_mul(u[0], v[1]);
+    let r = dd_mul(u[1], v[0]);
+    dd_add(l, (-r.0, -r.1))
+}
+
+/// Exact difference `b - a` as a double-double vector.
+#[inline]
+fn dd_diff(a: &[f64; 2], b: &[f64; 2]) -> [(f64, f64); 2] {
+    let x = two_sum(b[0], -a[0]);
+    let y = two_sum(b[1], -a[1]);
+    [x, y]
+}
+
+/// The crossing of the lines `a-b` and `c-d`, rounded to doubles, or `None`
+/// when they are parallel (or the result is not finite).
+fn line_crossing(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], d: &[f64; 2]) -> Option<[f64; 2]> {
+    let u = dd_diff(a, b);
+    let v = dd_diff(c, d);
+    let w = dd_diff(a, c);
+    let den = dd_cross(u, v);
+    if den.0 == 0.0 {
+        return None;
+    }
+    let num = dd_cross(w, v);
+    // t = num / den in double-double (one Newton correction).
+    let th = num.0 / den.0;
+    let r = dd_add(num, {
+        let p = dd_mul((th, 0.0), den);
+        (-p.0, -p.1)
+    });
+    let t = two_sum(th, r.0 / den.0);
+    let x = dd_add((a[0], 0.0), dd_mul(t, u[0]));
+    let y = dd_add((a[1], 0.0), dd_mul(t, u[1]));
+    let p = [x.0 + x.1, y.0 + y.1];
+    (p[0].is_finite() && p[1].is_finite()).then_some(p)
+}
+
+/// Unit in the last place of the largest magnitude `m` (for `m > 0`).
+fn ulp_of(m: f64) -> f64 {
+    if m == 0.0 || !m.is_finite() {
+        return f64::MIN_POSITIVE;
+    }
+    let e = ((m.abs().to_bits() >> 52) & 0x7ff) as i32 - 1023;
+    (2.0f64).powi(e - 52).max(f64::MIN_POSITIVE)
+}
+
+/// Distance bound (in ulps of the largest coordinate magnitude involved)
+/// within which a Steiner vertex must lie of every segment it splits.
+pub const STEINER_ULPS: f64 = 4.0;
+
+/// True if `x` is within [`STEINER_ULPS`] ulps of the line `a-b` and
+/// projects strictly inside the segment (double-double evaluation; the
+/// evaluation error is below 2^-100 of the terms).
+fn near_segment(a: &[f64; 2], b: &[f64; 2], x: &[f64; 2]) -> bool {
+    let m = [a, b, x]
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let u = dd_diff(a, b);
+    let v = dd_diff(a, x);
+    let cr = dd_cross(u, v);
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let tol = STEINER_ULPS * ulp_of(m) * len * (1.0 + 1e-12);
+    let dot = dd_add(dd_mul(u[0], v[0]), dd_mul(u[1], v[1]));
+    let len2 = dd_add(dd_mul(u[0], u[0]), dd_mul(u[1], u[1]));
+    let rest = dd_add(len2, (-dot.0, -dot.1));
+    (cr.0 + cr.1).abs() <= tol && dot.0 > 0.0 && rest.0 > 0.0
+}
+
+/// Result of inserting a crossing point.
+enum Placed {
+    /// The point equals this existing vertex.
+    Existing(u32),
+    /// A new vertex; if it fell exactly on a constrained edge, that edge's
+    /// two ends (the edge was split, both halves keep its labels).
+    New(u32, Option<(u32, u32)>),
+}
+
+/// Segment crossings and the vertex insertion they need.
+impl Work {
+    /// Finite triangle containing `p` (closed), walking from `t`; `None`
+    /// outside the hull.
+    fn locate_from(&mut self, mut t: usize, p: &[f64; 2]) -> Option<usize> {
+        if self.tv[t][0] == DEAD || is_ghost(&self.tv[t]) {
+            return self.locate(p);
+        }
+        let limit = 4 * self.tv.len() + 64;
+        'walk: for _ in 0..limit {
+            let v = self.tv[t];
+            self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let r = ((self.rng >> 16) % 3) as usize;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                let (a, b) = edge(&v, e);
+                if orient2d(self.p(a), self.p(b), p) < 0.0 {
+                    let (n, _) = unpack(self.ta[t][e]);
+                    if is_ghost(&self.tv[n]) {
+                        return None;
+                    }
+                    t = n;
+                    continue 'walk;
+                }
+            }
+            return Some(t);
+        }
+        self.locate(p)
+    }
+
+    /// Inserts the point `x` into the constrained triangulation (near
+    /// triangle `hint`) and restores the constrained Delaunay property.
+    /// `None` if `x` is outside the hull or on a hull edge.
+    fn insert_point(&mut self, hint: usize, x: [f64; 2]) -> Option<Placed> {
+        let t = self.locate_from(hint, &x)?;
+        let v = self.tv[t];
+        for &u in &v {
+            if *self.p(u) == x {
+                return Some(Placed::Existing(u));
+            }
+        }
+        let o: Vec<f64> = (0..3)
+            .map(|e| {
+                let (a, b) = edge(&v, e);
+                orient2d(self.p(a), self.p(b), &x)
+            })
+            .collect();
+        if let Some(e) = (0..3).find(|&e| o[e] == 0.0) {
+            let (p, q) = edge(&v, e);
+            let labelled = self.con[t][e] != NONE;
+            let s = self.split_edge(t, e, x)?;
+            return Some(Placed::New(s, labelled.then_some((p, q))));
+        }
+        // 1 -> 3 split of t = [v0, v1, v2].
+        let s = self.xy.len() as u32;
+        self.xy.push(x);
+        self.vt.push(t as u32);
+        let (old, c) = (self.ta[t], self.con[t]);
+        let t1 = self.tv.len();
+        let t2 = t1 + 1;
+        self.tv.push([v[0], s, v[2]]);
+        self.tv.push([v[0], v[1], s]);
+        self.tv[t] = [s, v[1], v[2]];
+        self.ta[t] = [old[0], pack(t1, 0), pack(t2, 0)];
+        self.con[t] = [c[0], NONE, NONE];
+        self.ta.push([pack(t, 1), old[1], pack(t2, 1)]);
+        self.con.push([NONE, c[1], NONE]);
+        self.ta.push([pack(t, 2), pack(t1, 2), old[2]]);
+        self.con.push([NONE, NONE, c[2]]);
+        for (k, w) in [(t1, 1usize), (t2, 2)] {
+            let (o, l) = unpack(self.ta[k][w]);
+            self.ta[o][l] = pack(k, w);
+        }
+        for k in [t, t1, t2] {
+            self.set_vt(k);
+        }
+        let mut st = vec![(v[1], v[2]), (v[2], v[0]), (v[0], v[1])];
+        self.legalize(&mut st);
+        Some(Placed::New(s, None))
+    }
+
+    /// Removes the constraint label of edge `u - w` (if it is an edge) and
+    /// restores the Delaunay property around it.
+    fn unconstrain(&mut self, u: u32, w: u32) {
+        if let Some((t, i)) = self.find_edge(u, w) {
+            let (n, j) = unpack(self.ta[t][i]);
+            self.con[t][i] = NONE;
+            self.con[n][j] = NONE;
+            self.legalize(&mut vec![(u, w)]);
+        }
+    }
+}
+
+/// Key of the undirected edge `u - w`.
+#[inline]
+fn ukey(u: u32, w: u32) -> (u32, u32) {
+    (u.min(w), u.max(w))
+}
+
+/// Marks the edge `u - v` as part of segment `s`: the first label goes in
+/// the half-edges, further ones in `multi`. False if `u - v` is not an edge.
+fn constrain_label(
+    w: &mut Work,
+    multi: &mut HashMap<(u32, u32), Vec<u32>>,
+    u: u32,
+    v: u32,
+    s: u32,
+) -> bool {
+    let Some((t, i)) = w.find_edge(u, v) else {
+        return false;
+    };
+    let (n, j) = unpack(w.ta[t][i]);
+    let c = w.con[t][i];
+    if c == NONE {
+        w.con[t][i] = s;
+        w.con[n][j] = s;
+    } else if c != s {
+        let e = multi.entry(ukey(u, v)).or_default();
+        if !e.contains(&s) {
+            e.push(s);
+        }
+    }
+    true
+}
+
+/// The bookkeeping a crossing touches.
+struct Crossings<'a, F: Fn(u32) -> u32> {
+    multi: &'a mut HashMap<(u32, u32), Vec<u32>>,
+    report: &'a mut CdtReport,
+    pending: &'a mut Vec<(u32, u32, u32)>,
+    seg_ends: &'a [(u32, u32)],
+    out_id: &'a F,
+}
+
+impl<F: Fn(u32) -> u32> Crossings<'_, F> {
+    /// All labels of the constrained edge `u - v` (first the one in the
+    /// half-edges), removing the extra ones from `multi`.
+    fn take_labels(&mut self, w: &Work, u: u32, v: u32, first: u32) -> Vec<u32> {
+        let mut l = vec![first];
+        if let Some(more) = self.multi.remove(&ukey(u, v)) {
+            l.extend(more.into_iter().filter(|&x| x != first));
+        }
+        let _ = w;
+        l
+    }
+
+    /// The piece `a - b` of segment `s` crosses the constrained edge `i` of
+    /// triangle `t` (`p - q`). Puts a vertex `v` at the crossing (computed
+    /// from the input lines of the two segments in double-double precision,
+    /// inserted as a vertex of the constrained triangulation; an existing
+    /// vertex if the rounded point coincides with one, or the nearest end
+    /// when the rounded point does not fall strictly inside both pieces),
+    /// takes the constraint off `p - q` and queues `a - v`, `v - b` for `s`
+    /// and `p - v`, `v - q` for every segment `p - q` belonged to. The new
+    /// pieces are inserted like any segment, so a piece that the rounding
+    /// made cross another constraint is split again: the process only ever
+    /// adds vertices, and the caller's step budget bounds it.
+    fn resolve(&mut self, w: &mut Work, s: u32, a: u32, b: u32, t: usize, i: usize) -> bool {
+        let (p, q) = edge(&w.tv[t], i);
+        let other = w.con[t][i];
+        let (pa, pb, pp, pq) = (*w.p(a), *w.p(b), *w.p(p), *w.p(q));
+        let between = |x: &[f64; 2], u: &[f64; 2], v: &[f64; 2]| {
+            let d = [v[0] - u[0], v[1] - u[1]];
+            let f = (x[0] - u[0]) * d[0] + (x[1] - u[1]) * d[1];
+            f > 0.0 && f < d[0] * d[0] + d[1] * d[1]
+        };
+        let inside = |x: &[f64; 2]| between(x, &pa, &pb) && between(x, &pp, &pq);
+        let (sa, sb) = self.seg_ends[s as usize];
+        let (oa, ob) = self.seg_ends[other as usize];
+        let from_input = line_crossing(w.p(sa), w.p(sb), w.p(oa), w.p(ob));
+        let from_pieces = line_crossing(&pa, &pb, &pp, &pq);
+        let cand = [from_input, from_pieces]
+            .into_iter()
+            .flatten()
+            .find(|x| inside(x));
+        let mut created = None;
+        let mut split_other = None;
+        let mut fallback = false;
+        // An existing vertex close to the crossing that is within the
+        // Steiner bound of both input segments (typically the crossing of
+        // a collinear overlapping segment, a few ulps away) is reused:
+        // without this, nearly coincident crossings creep along the line.
+        let (n, j) = unpack(w.ta[t][i]);
+        let near_both = |w: &Work, v: u32| {
+            v != INF
+                && (v == a || v == b || near_segment(w.p(sa), w.p(sb), w.p(v)))
+                && (v == p || v == q || near_segment(w.p(oa), w.p(ob), w.p(v)))
+        };
+        let snap = cand.and_then(|x| {
+            let d2 = |u: &[f64; 2]| (u[0] - x[0]).powi(2) + (u[1] - x[1]).powi(2);
+            [a, b, p, q, w.tv[t][i], w.tv[n][j]]
+                .into_iter()
+                .filter(|&v| near_both(w, v))
+                .min_by(|&u, &v| d2(w.p(u)).total_cmp(&d2(w.p(v))))
+        });
+        let placed = match snap {
+            Some(v) => Some(Placed::Existing(v)),
+            None => cand.and_then(|x| w.insert_point(t, x)),
+        };
+        let v = match placed {
+            Some(Placed::Existing(v)) => v,
+            Some(Placed::New(v, split)) => {
+                created = Some(v);
+                split_other = split;
+                v
+            }
+            None => {
+                fallback = true;
+                // Nearest end of the two pieces to the crossing.
+                let Some(x) = cand.or(from_pieces).or(from_input) else {
+                    return false;
+                };
+                let d2 = |u: &[f64; 2]| (u[0] - x[0]).powi(2) + (u[1] - x[1]).powi(2);
+                let mut best = p;
+                for c in [q, a, b] {
+                    if d2(w.p(c)) < d2(w.p(best)) {
+                        best = c;
+                    }
+                }
+                best
+            }
+        };
+        // The edge the new vertex fell on exactly, if not p - q: its
+        // pieces keep its labels; the vertex splits every one of them.
+        if let Some((e0, e1)) = split_other {
+            if ukey(e0, e1) != ukey(p, q) {
+                if let Some((tt, ii)) = w.find_edge(e0, v) {
+                    let c = w.con[tt][ii];
+                    let labels = self.take_labels(w, e0, e1, c);
+                    for &l in &labels {
+                        self.report.vertex_splits.push(((self.out_id)(v), l));
+                        if l != c {
+                            for (x, y) in [(e0, v), (v, e1)] {
+                                self.multi.entry(ukey(x, y)).or_default().push(l);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // Take p - q out (if it still exists) and queue its pieces.
+        let labels = self.take_labels(w, p, q, other);
+        if w.find_edge(p, q).is_some() {
+            w.unconstrain(p, q);
+        }
+        for &l in &labels {
+            // A segment sharing p - q goes through `v` only if `v` is within
+            // the Steiner bound of it; otherwise it is inserted again whole
+            // (and crosses the new pieces at its own vertex).
+            let (la, lb) = self.seg_ends[l as usize];
+            if (l != other || !fallback)
+                && v != p
+                && v != q
+                && !near_segment(w.p(la), w.p(lb), w.p(v))
+            {
+                self.pending.push((p, q, l));
+                continue;
+            }
+            if v != p && v != q {
+                if created.is_some() && l == other {
+                    self.report.crossings.push(Crossing {
+                        vertex: v,
+                        segments: [s, other],
+                    });
+                } else {
+                    self.report.vertex_splits.push(((self.out_id)(v), l));
+                }
+            }
+            self.pending.push((v, q, l));
+            self.pending.push((p, v, l));
+        }
+        // A new vertex records `s` in its crossing.
+        if v != a && v != b && created.is_none() {
+            self.report.vertex_splits.push(((self.out_id)(v), s));
+        }
+        self.pending.push((v, b, s));
+        self.pending.push((a, v, s));
+        true
+    }
 }

@@ -7,6 +7,7 @@
 pub mod constrain;
 pub mod delaunay;
 pub mod domain;
+pub mod existing;
 pub mod mesh;
 pub mod quality;
 pub mod refine;
