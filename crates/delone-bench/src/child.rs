@@ -16,6 +16,7 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("delone", 3),
     ("tetgen", 3),
     ("tetgen-p", 3),
+    ("triangle-p", 2),
 ];
 
 /// Whether `program` handles `dim`-dimensional input.
@@ -27,9 +28,11 @@ pub fn supports(program: &str, dim: usize) -> bool {
 /// delone and Triangle for `2d-poly-…`, delone and TetGen for `3d-surf-…`.
 pub fn handles(program: &str, case: &Case) -> bool {
     match case.kind {
-        Kind::Poly | Kind::Segs | Kind::Holes => matches!(program, "delone" | "triangle"),
+        Kind::Poly | Kind::Segs | Kind::Holes => {
+            matches!(program, "delone" | "triangle" | "triangle-p")
+        }
         Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
-        _ if program == "tetgen-p" => false,
+        _ if program == "tetgen-p" || program == "triangle-p" => false,
         _ => supports(program, case.dim),
     }
 }
@@ -205,6 +208,23 @@ fn run_poly(
                 valid: None,
                 info: format!("steiner={}", tg.out_npoint().saturating_sub(np)),
                 external_peak_kb: None,
+            })
+        }
+        "triangle-p" => {
+            on_ready();
+            let q = input.quality;
+            let r = crate::refbin::run_triangle_p(
+                g,
+                q.and_then(|q| q.min_angle),
+                q.and_then(|q| q.max_area),
+            )?;
+            Ok(Run {
+                seconds: r.seconds,
+                elements: r.triangles,
+                hash: None,
+                valid: None,
+                info: format!("steiner={}", r.steiner),
+                external_peak_kb: r.peak_kb,
             })
         }
         _ => Err(format!("program `{program}` does not handle .poly input")),

@@ -216,8 +216,7 @@ fn field(out: &str, key: &str) -> Option<f64> {
 pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
     use std::fmt::Write as _;
     let exe = tetgen()?;
-    let dir = std::env::temp_dir().join(format!("delone-bench-tg{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let dir = scratch("tg")?;
     let off = dir.join("s.off");
     let mut text = format!("OFF\n{} {} 0\n", points.len(), triangles.len());
     for q in points {
@@ -227,49 +226,9 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
         let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
     }
     std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
-    let mut child = Command::new(exe)
-        .arg("-pNEF")
-        .arg(&off)
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .map_err(|e| format!("cannot run tetgen: {e}"))?;
-    let status_file = format!("/proc/{}/status", child.id());
-    let mut peak: Option<u64> = None;
-    let stdout = child.stdout.take();
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        if let Some(mut o) = stdout {
-            use std::io::Read as _;
-            let _ = o.read_to_string(&mut s);
-        }
-        s
-    });
-    let status = loop {
-        if let Ok(text) = std::fs::read_to_string(&status_file) {
-            let hwm = text
-                .lines()
-                .find_map(|l| l.strip_prefix("VmHWM:"))
-                .and_then(|r| r.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
-            peak = peak.max(hwm);
-        }
-        match child.try_wait() {
-            Ok(Some(st)) => break st,
-            Ok(None) => std::thread::sleep(std::time::Duration::from_millis(1)),
-            Err(e) => return Err(format!("waiting for tetgen: {e}")),
-        }
-    };
-    let out = reader.join().unwrap_or_default();
+    let run = run_sampled(&exe, &["-pNEF".as_ref(), off.as_os_str()], &dir);
     std::fs::remove_dir_all(&dir).ok();
-    if !status.success() {
-        let last = out
-            .lines()
-            .rev()
-            .find(|l| !l.trim().is_empty())
-            .unwrap_or("");
-        return Err(format!("tetgen -p failed ({status}): {last}"));
-    }
+    let (out, peak) = run?;
     let seconds = [
         "Delaunay seconds:",
         "Surface mesh seconds:",
@@ -296,6 +255,146 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
         tets,
         steiner: mesh.saturating_sub(input),
         peak_kb: peak,
+    })
+}
+
+/// What one run of the external `triangle` reported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriangleRun {
+    /// Seconds of Triangle's meshing phases as it prints them with `-V`
+    /// (Delaunay, segments, holes, quality; millisecond resolution): file
+    /// input and output are left out, as they are for delone.
+    pub seconds: f64,
+    /// Triangles in the output.
+    pub triangles: usize,
+    /// Output vertices minus input vertices.
+    pub steiner: usize,
+    /// Peak resident memory of the process (kB), sampled as for TetGen.
+    pub peak_kb: Option<u64>,
+}
+
+/// Runs `exe` with `args` in `dir`, sampling its peak RSS every
+/// millisecond; returns (standard output, peak kB).
+fn run_sampled(
+    exe: &Path,
+    args: &[&std::ffi::OsStr],
+    dir: &Path,
+) -> Result<(String, Option<u64>), String> {
+    let mut child = Command::new(exe)
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot run {}: {e}", exe.display()))?;
+    let status_file = format!("/proc/{}/status", child.id());
+    let mut peak: Option<u64> = None;
+    let stdout = child.stdout.take();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        if let Some(mut o) = stdout {
+            use std::io::Read as _;
+            let _ = o.read_to_string(&mut s);
+        }
+        s
+    });
+    let status = loop {
+        if let Ok(text) = std::fs::read_to_string(&status_file) {
+            let hwm = text
+                .lines()
+                .find_map(|l| l.strip_prefix("VmHWM:"))
+                .and_then(|r| r.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
+            peak = peak.max(hwm);
+        }
+        match child.try_wait() {
+            Ok(Some(st)) => break st,
+            Ok(None) => std::thread::sleep(std::time::Duration::from_millis(1)),
+            Err(e) => return Err(format!("waiting for {}: {e}", exe.display())),
+        }
+    };
+    let out = reader.join().unwrap_or_default();
+    if !status.success() {
+        let last = out
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("");
+        return Err(format!("{} failed ({status}): {last}", exe.display()));
+    }
+    Ok((out, peak))
+}
+
+/// A fresh temporary directory for one reference run.
+fn scratch(tag: &str) -> Result<PathBuf, String> {
+    let dir = std::env::temp_dir().join(format!("delone-bench-{tag}{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    Ok(dir)
+}
+
+/// Runs the reference `triangle -p` (plus `q[angle]` / `a[area]` when
+/// given) on `pslg`, written to a temporary `.poly` file.
+///
+/// # Errors
+/// A message when Triangle cannot be built or run, or fails.
+pub fn run_triangle_p(
+    pslg: &delone::model::pslg::Pslg,
+    min_angle: Option<f64>,
+    max_area: Option<f64>,
+) -> Result<TriangleRun, String> {
+    use std::fmt::Write as _;
+    let exe = triangle()?;
+    let dir = scratch("tri")?;
+    let file = dir.join("s.poly");
+    let mut t = format!("{} 2 0 1\n", pslg.points.len());
+    for (i, q) in pslg.points.iter().enumerate() {
+        let m = pslg.point_markers.get(i).copied().unwrap_or(0);
+        let _ = writeln!(t, "{i} {:?} {:?} {m}", q[0], q[1]);
+    }
+    let _ = writeln!(t, "{} 1", pslg.segments.len());
+    for (i, s) in pslg.segments.iter().enumerate() {
+        let m = pslg.segment_markers.get(i).copied().unwrap_or(0);
+        let _ = writeln!(t, "{i} {} {} {m}", s[0], s[1]);
+    }
+    let _ = writeln!(t, "{}", pslg.holes.len());
+    for (i, h) in pslg.holes.iter().enumerate() {
+        let _ = writeln!(t, "{i} {:?} {:?}", h[0], h[1]);
+    }
+    let _ = writeln!(t, "{}", pslg.regions.len());
+    for (i, r) in pslg.regions.iter().enumerate() {
+        let _ = writeln!(
+            t,
+            "{i} {:?} {:?} {:?} {:?}",
+            r.point[0], r.point[1], r.attribute, r.max_area
+        );
+    }
+    std::fs::write(&file, t).map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+    let mut sw = String::from("-pzNEPV");
+    if let Some(a) = min_angle {
+        let _ = write!(sw, "q{a}");
+    }
+    if let Some(a) = max_area {
+        let _ = write!(sw, "a{a:?}");
+    }
+    let run = run_sampled(&exe, &[sw.as_ref(), file.as_os_str()], &dir);
+    std::fs::remove_dir_all(&dir).ok();
+    let (out, peak_kb) = run?;
+    let ms = [
+        "Delaunay milliseconds:",
+        "Segment milliseconds:",
+        "Hole milliseconds:",
+        "Quality milliseconds:",
+    ]
+    .iter()
+    .filter_map(|k| field(&out, k))
+    .sum::<f64>();
+    let triangles = field(&out, "Mesh triangles:").unwrap_or(0.0) as usize;
+    let input = field(&out, "Input vertices:").unwrap_or(0.0) as usize;
+    let mesh = field(&out, "Mesh vertices:").unwrap_or(0.0) as usize;
+    Ok(TriangleRun {
+        seconds: ms / 1000.0,
+        triangles,
+        steiner: mesh.saturating_sub(input),
+        peak_kb,
     })
 }
 
@@ -352,5 +451,39 @@ mod tests {
         assert!(r.tets >= 5 && r.tets <= 6, "{r:?}");
         assert_eq!(r.steiner, 0);
         assert!(r.peak_kb.is_some_and(|k| k > 0));
+    }
+
+    /// Slow (compiles Triangle): `cargo test -p delone-bench -- --ignored refbin`.
+    #[test]
+    #[ignore]
+    fn refbin_triangle_p_on_a_square_with_a_hole() {
+        let g = delone::model::pslg::Pslg {
+            points: vec![
+                [0., 0.],
+                [4., 0.],
+                [4., 4.],
+                [0., 4.],
+                [1., 1.],
+                [3., 1.],
+                [3., 3.],
+                [1., 3.],
+            ],
+            segments: vec![
+                [0, 1],
+                [1, 2],
+                [2, 3],
+                [3, 0],
+                [4, 5],
+                [5, 6],
+                [6, 7],
+                [7, 4],
+            ],
+            holes: vec![[2., 2.]],
+            ..Default::default()
+        };
+        let r = run_triangle_p(&g, None, None).unwrap();
+        assert_eq!((r.triangles, r.steiner), (8, 0), "{r:?}");
+        let q = run_triangle_p(&g, Some(30.0), Some(0.1)).unwrap();
+        assert!(q.triangles > 100 && q.steiner > 50, "{q:?}");
     }
 }
