@@ -76,6 +76,10 @@ pub(crate) struct CMesh<'a> {
     pub(crate) dt: Delaunay3<'a>,
     /// Per vertex: a live tetrahedron containing it (or `DEAD`).
     vt: Vec<u32>,
+    /// 2-3 flips performed.
+    pub(crate) flips23: usize,
+    /// Edge removals performed.
+    pub(crate) removals: usize,
 }
 
 impl<'a> CMesh<'a> {
@@ -92,7 +96,12 @@ impl<'a> CMesh<'a> {
                 }
             }
         }
-        CMesh { dt, vt }
+        CMesh {
+            dt,
+            vt,
+            flips23: 0,
+            removals: 0,
+        }
     }
 
     /// The points (input, then inserted).
@@ -264,13 +273,14 @@ impl<'a> CMesh<'a> {
             return false;
         }
         self.replace(&[t, u], &new);
+        self.flips23 += 1;
         true
     }
 
     /// Removes edge `a b` (contained in `t`): the tetrahedra around it are
     /// replaced by a triangulation of its ring joined to `a` and `b`, the
     /// one of least total cost (`tri_cost` per ring triangle, `edge_cost`
-    /// per new ring chord) among those whose tetrahedra are all positive.
+    /// per new ring chord; both get the points) among those whose tetrahedra are all positive.
     /// Returns the cost, or `None` (nothing changed) when no such
     /// triangulation exists, a ghost is met or the ring is too long.
     pub(crate) fn remove_edge(
@@ -278,8 +288,8 @@ impl<'a> CMesh<'a> {
         t: u32,
         a: u32,
         b: u32,
-        tri_cost: &dyn Fn([u32; 3]) -> i64,
-        edge_cost: &dyn Fn(u32, u32) -> i64,
+        tri_cost: &dyn Fn(&[[f64; 3]], [u32; 3]) -> i64,
+        edge_cost: &dyn Fn(&[[f64; 3]], u32, u32) -> i64,
     ) -> Option<i64> {
         let (tets, r) = self.edge_ring(t, a, b)?;
         let n = r.len();
@@ -298,7 +308,7 @@ impl<'a> CMesh<'a> {
                 let chord = if i == 0 && j == n - 1 {
                     0
                 } else {
-                    edge_cost(r[i], r[j])
+                    edge_cost(self.pts(), r[i], r[j])
                 };
                 for k in i + 1..j {
                     let (l, rr) = (best[i * n + k], best[k * n + j]);
@@ -311,7 +321,7 @@ impl<'a> CMesh<'a> {
                     {
                         continue;
                     }
-                    let c = l + rr + tri_cost(tri) + chord;
+                    let c = l + rr + tri_cost(self.pts(), tri) + chord;
                     if c < best[i * n + j] {
                         best[i * n + j] = c;
                         choice[i * n + j] = k;
@@ -336,6 +346,7 @@ impl<'a> CMesh<'a> {
             stack.push((k, j));
         }
         self.replace(&tets, &new);
+        self.removals += 1;
         Some(total)
     }
 
@@ -534,7 +545,7 @@ mod tests {
         let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         assert_eq!(finite_tets(&m), 3);
         let t = m.find_edge(3, 4).unwrap();
-        assert_eq!(m.remove_edge(t, 3, 4, &|_| 0, &|_, _| 0), Some(0));
+        assert_eq!(m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0), Some(0));
         m.check().unwrap();
         assert_eq!(finite_tets(&m), 2);
         assert!(!has_edge(&m, 3, 4));
@@ -598,7 +609,7 @@ mod tests {
         let (tets, ring) = m.edge_ring(t, 6, 7).unwrap();
         assert_eq!((tets.len(), ring.len()), (6, 6));
         let before = finite_tets(&m);
-        m.remove_edge(t, 6, 7, &|_| 0, &|_, _| 1).unwrap();
+        m.remove_edge(t, 6, 7, &|_, _| 0, &|_, _, _| 1).unwrap();
         m.check().unwrap();
         assert_eq!(finite_tets(&m), before - 6 + 8);
         // Insert the centre back with the face 0-2-4 protected (if

@@ -69,6 +69,7 @@
 //! mesh generation* (1995).
 
 mod carve;
+mod cdt;
 mod check;
 mod flip;
 mod missing;
@@ -85,6 +86,7 @@ use self::missing::ekey;
 use self::surface::{IdMap, IdSet, Skeleton, Surface};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
+use super::cmesh::CMesh;
 use super::{Delaunay3, TetMesh};
 use crate::{Error, Inserted};
 
@@ -105,6 +107,16 @@ pub struct RecoverOptions {
     /// encroaches it most (Si & Gärtner's reference point) rather than at
     /// its midpoint. Default true.
     pub reference_points: bool,
+    /// Constrained recovery: recover missing subsegments and triangles by
+    /// flips (2-3 flips, edge removal) on a mesh that need not stay
+    /// Delaunay, inserting Steiner points only where the flips fail.
+    /// False: the conforming recovery (every missing item is split).
+    /// Default true.
+    pub constrained: bool,
+    /// Surface preservation (TetGen's `-Y`): no Steiner point on any input
+    /// edge or triangle; where flips fail, Steiner points go inside the
+    /// domain only. Implies `constrained`. Default false.
+    pub preserve_surface: bool,
 }
 
 impl Default for RecoverOptions {
@@ -113,6 +125,8 @@ impl Default for RecoverOptions {
             max_steiner: 100_000,
             flips: true,
             reference_points: true,
+            constrained: true,
+            preserve_surface: false,
         }
     }
 }
@@ -137,8 +151,17 @@ pub struct RecoverReport {
     /// Largest distance of an inexact Steiner point to its line or plane
     /// (in the input's units; 0 when all are exact).
     pub max_deviation: f64,
-    /// 3-2 flips performed.
+    /// 3-2 flips performed (conforming path).
     pub flips32: usize,
+    /// 2-3 flips performed by the constrained recovery (final round).
+    pub flips23: usize,
+    /// Edge removals (3-2, 4-4, n to 2n-4 flips) performed by the
+    /// constrained recovery (final round).
+    pub edge_removals: usize,
+    /// Subsegments recovered by flips (final round).
+    pub segments_by_flips: usize,
+    /// Input triangles recovered by flips (final round).
+    pub triangles_by_flips: usize,
     /// Rounds of the segment/facet loop.
     pub rounds: usize,
     /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
@@ -318,11 +341,17 @@ pub fn recover(
         inexact: Vec::new(),
         max_dev_scaled: 0.0,
         opts: opts.clone(),
+        tri_inner: IdMap::default(),
     };
-    st.run(&mut dt)?;
+    let out = if opts.constrained || opts.preserve_surface {
+        st.run_cdt(&mut dt)?.dt
+    } else {
+        st.run(&mut dt)?;
+        dt
+    };
     st.report.max_deviation = st.max_dev_scaled * unscale;
-    st.report.hull_tets = dt.num_tets();
-    st.finish(&dt, points, unscale)
+    st.report.hull_tets = out.num_tets();
+    st.finish(&out, points, unscale)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -371,6 +400,8 @@ struct State {
     inexact: Vec<u32>,
     max_dev_scaled: f64,
     opts: RecoverOptions,
+    /// Per input triangle: the Steiner points inside it.
+    tri_inner: IdMap<u32, Vec<u32>>,
 }
 
 impl State {
@@ -583,6 +614,146 @@ impl State {
         Some((ring, r, orient))
     }
 
+    /// The constrained recovery (see the `cdt` module): each round copies
+    /// the Delaunay tetrahedralization into a [`CMesh`] and recovers the
+    /// missing subsegments, then the missing triangles, by flips. Items the
+    /// flips cannot recover are split in the Delaunay tetrahedralization
+    /// (exactly as the conforming path does: same placement, protection and
+    /// encroachment rules) and the round starts again from it — so Steiner
+    /// points go only where flips failed, and the number of rounds is
+    /// bounded like the conforming path's (each round splits at least one
+    /// item or fails with a typed error).
+    fn run_cdt<'a>(&mut self, dt: &mut Delaunay3<'a>) -> Result<CMesh<'a>, RecoverError> {
+        loop {
+            self.report.rounds += 1;
+            let sk = Skeleton::of(dt, true);
+            let (on, _) = self.surf.coverage(&sk, dt.points());
+            let mut prot = cdt::Protected::default();
+            for f in on.iter().flatten() {
+                prot.add_face(*f);
+            }
+            for chain in &self.surf.chains {
+                for w in chain.windows(2) {
+                    prot.edges.insert(ekey(w[0], w[1]));
+                }
+            }
+            let mut cm = CMesh::new(dt.clone());
+            let subs = self.missing_subsegments(&sk);
+            let mut failed = Vec::new();
+            for &(e, u, v) in &subs {
+                if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                    failed.push((e, u, v));
+                }
+            }
+            if !failed.is_empty() {
+                if self.opts.preserve_surface {
+                    return Err(RecoverError::Unrecovered {
+                        triangles: self.edge_triangles(&failed),
+                        steiner: self.report.steiner(),
+                    });
+                }
+                for &(e, u, v) in &failed {
+                    if !self.steiner_left() {
+                        return Err(self.budget_error(failed.len(), 0));
+                    }
+                    self.split_edge(dt, e, u, v)?;
+                }
+                continue;
+            }
+            let segments_by_flips = subs.len();
+            let mut uncovered = self.uncovered(&cm);
+            let by_flips = uncovered.len();
+            if !uncovered.is_empty() {
+                for &t in &uncovered {
+                    let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                    cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+                }
+                uncovered = self.uncovered(&cm);
+            }
+            if uncovered.is_empty() {
+                self.report.flips23 = cm.flips23;
+                self.report.edge_removals = cm.removals;
+                self.report.segments_by_flips = segments_by_flips;
+                self.report.triangles_by_flips = by_flips;
+                return Ok(cm);
+            }
+            if self.opts.preserve_surface {
+                return Err(RecoverError::Unrecovered {
+                    triangles: uncovered,
+                    steiner: self.report.steiner(),
+                });
+            }
+            // Split the triangles the flips could not recover, in the
+            // Delaunay tetrahedralization.
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            list.sort_unstable();
+            let mut progress = false;
+            for &t in &uncovered {
+                if !self.steiner_left() {
+                    return Err(self.budget_error(0, uncovered.len()));
+                }
+                if covered[t] {
+                    progress |= self.split_longest_subsegment(dt, t)?;
+                    continue;
+                }
+                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                progress |= if cross.is_empty() {
+                    self.split_hole(dt, t, &on[t])?
+                } else {
+                    self.split_facet(dt, t, cross[0].0)?
+                };
+            }
+            if !progress {
+                return Err(RecoverError::Unrecovered {
+                    triangles: uncovered,
+                    steiner: self.report.steiner(),
+                });
+            }
+        }
+    }
+
+    /// Input triangles not covered by faces of `cm`, ascending.
+    fn uncovered(&self, cm: &CMesh<'_>) -> Vec<usize> {
+        let sk = Skeleton::of(&cm.dt, true);
+        let (_, covered) = self.surf.coverage(&sk, cm.pts());
+        (0..covered.len()).filter(|&t| !covered[t]).collect()
+    }
+
+    /// The input triangles using the input edges of `subs`, ascending.
+    fn edge_triangles(&self, subs: &[(u32, u32, u32)]) -> Vec<usize> {
+        let mut out: Vec<usize> = subs
+            .iter()
+            .flat_map(|&(e, _, _)| self.surf.edge_tris[e as usize].iter().map(|&t| t as usize))
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Splits the longest boundary subsegment of triangle `t`.
+    fn split_longest_subsegment(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+    ) -> Result<bool, RecoverError> {
+        let pts = dt.points();
+        let mut best: Option<(f64, u32, u32, u32)> = None;
+        for &e in &self.surf.tri_edges[t] {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let d = place::sub(&pts[w[0] as usize], &pts[w[1] as usize]);
+                let l = place::dot(&d, &d);
+                if best.is_none_or(|b| l > b.0) {
+                    best = Some((l, e, w[0], w[1]));
+                }
+            }
+        }
+        match best {
+            Some((_, e, u, v)) => self.split_edge(dt, e, u, v),
+            None => Ok(false),
+        }
+    }
+
     fn run(&mut self, dt: &mut Delaunay3<'_>) -> Result<(), RecoverError> {
         let mut use_flips = self.opts.flips;
         loop {
@@ -770,6 +941,7 @@ impl State {
         match self.insert(dt, x, dev)? {
             Some(id) => {
                 self.surf.add_on_tri(id, t as u32);
+                self.tri_inner.entry(t as u32).or_default().push(id);
                 self.report.steiner_on_facets += 1;
                 Ok(true)
             }
