@@ -45,6 +45,8 @@ pub struct Opts {
     pub input: PathBuf,
     /// tri `-p`: read a PSLG (.poly) and build its constrained Delaunay triangulation.
     pub pslg: bool,
+    /// tet `-pY`: surface preservation (no Steiner point on the input surface).
+    pub preserve_surface: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
@@ -103,7 +105,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
         (Mode::Tri, 'o') => "second-order elements, -o2",
-        (Mode::Tet, 'Y') => "boundary preservation",
         (Mode::Tet, 'r') => "refinement of a previous mesh",
         (Mode::Tet, 'q') => "quality mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
@@ -164,6 +165,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'w') => o.weights = true,
         (_, 'p') => o.pslg = true,
         (Mode::Tri, 'c') => o.convex_hull = true,
+        (Mode::Tet, 'Y') => o.preserve_surface = true,
         (Mode::Tri, 'A') => o.region_attributes = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),

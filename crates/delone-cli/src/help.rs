@@ -120,12 +120,15 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -h   This help.
     -p   Mesh the inside of a closed PLC or surface: FILE.poly / FILE.smesh
          (TetGen; tried in that order when FILE has no extension), or
-         FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is conforming:
-         missing edges and facets are split by Steiner points on them.
+         FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is constrained:
+         missing edges and facets are recovered by flips, split by Steiner
+         points on them only where flips fail.
+    -Y   With -p: no Steiner point on the input surface (interior only);
+         an error names the triangles that flips cannot recover.
          Writes FILE.1.node/.ele/.face (facet markers), -n .neigh, -o .vtu;
          -C checks that every facet is a union of mesh faces, orientation,
          adjacency and the enclosed volume.
-    Not implemented yet (error, exit code 2): -Y -r -q -R -A -m -a -i -O -S
+    Not implemented yet (error, exit code 2): -r -q -R -A -m -a -i -O -S
     -T -X -M -c -d -D -g -o2 -o/.
 
 OPTIONS:

@@ -135,7 +135,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let rec = recover(&plc.points, &triangles, &RecoverOptions::default())
+    let ropts = RecoverOptions {
+        preserve_surface: o.preserve_surface,
+        ..Default::default()
+    };
+    let rec = recover(&plc.points, &triangles, &ropts)
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;

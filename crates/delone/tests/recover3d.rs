@@ -371,3 +371,79 @@ fn recovery_is_deterministic() {
     assert_eq!(a, b);
     assert!(a.report.steiner() > 0);
 }
+
+/// The closed, clean corpus with the constrained recovery (checked) next to
+/// the conforming one: Steiner points by kind and times. `CORPUS_MAX` bounds
+/// the triangle count (default 30 000); `CORPUS_ONLY` keeps the paths that
+/// contain it; `CONFORMING=0` skips the conforming run.
+#[test]
+#[ignore = "slow: prints constrained vs conforming Steiner counts"]
+fn corpus_constrained_vs_conforming() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    let max: usize = std::env::var("CORPUS_MAX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(30_000);
+    let only = std::env::var("CORPUS_ONLY").unwrap_or_default();
+    let conforming = std::env::var("CONFORMING").map_or(true, |s| s != "0");
+    let list = std::fs::read_to_string(dir.join("sets/closed_clean.txt")).unwrap();
+    let (mut ok, mut all) = (0, 0);
+    for line in list.lines() {
+        let mut it = line.split_whitespace();
+        let (Some(path), Some(n)) = (it.next(), it.next()) else {
+            continue;
+        };
+        if n.parse::<usize>().unwrap_or(usize::MAX) > max || !path.contains(&only) {
+            continue;
+        }
+        let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(path)).unwrap());
+        all += 1;
+        let t0 = Instant::now();
+        let r = recover(&pts, &tris, &RecoverOptions::default());
+        let t_cdt = t0.elapsed().as_secs_f64();
+        let cdt = match &r {
+            Ok(r) => {
+                check_recovered(&pts, &tris, r).unwrap_or_else(|v| panic!("{path}: {v:?}"));
+                ok += 1;
+                let p = &r.report;
+                format!(
+                    "steiner {} (e {} f {} i {}) segflips {} triflips {} f23 {} er {} rounds {}",
+                    p.steiner(),
+                    p.steiner_on_edges,
+                    p.steiner_on_facets,
+                    p.steiner_interior,
+                    p.segments_by_flips,
+                    p.triangles_by_flips,
+                    p.flips23,
+                    p.edge_removals,
+                    p.rounds
+                )
+            }
+            Err(e) => format!("FAILED {e}"),
+        };
+        let conf = if conforming {
+            let t0 = Instant::now();
+            let r = recover(
+                &pts,
+                &tris,
+                &RecoverOptions {
+                    constrained: false,
+                    ..Default::default()
+                },
+            );
+            let t = t0.elapsed().as_secs_f64();
+            match r {
+                Ok(r) => format!("conforming steiner {} {t:.2}s", r.report.steiner()),
+                Err(e) => format!("conforming FAILED {e}"),
+            }
+        } else {
+            String::new()
+        };
+        println!("{path} {n}: {cdt} {t_cdt:.2}s | {conf}");
+    }
+    println!("constrained: {ok}/{all} recovered and checked");
+    assert_eq!(ok, all);
+}

@@ -165,6 +165,18 @@ impl<'a> CMesh<'a> {
     /// is `tets[i]`, positively oriented. `None` through a ghost or beyond
     /// [`MAX_RING`].
     pub(crate) fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+        self.edge_ring_with(t, a, b, false)
+    }
+
+    /// [`CMesh::edge_ring`]; with `ghosts`, rings through ghost cells are
+    /// returned too ([`INF`] then appears in the ring).
+    pub(crate) fn edge_ring_with(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        ghosts: bool,
+    ) -> Option<(Vec<u32>, Vec<u32>)> {
         let c = self.core();
         let tv = c.v[t as usize];
         if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
@@ -182,7 +194,7 @@ impl<'a> CMesh<'a> {
         let mut ring = Vec::new();
         loop {
             let cv = c.v[cur as usize];
-            if cv.contains(&INF) || tets.len() >= MAX_RING {
+            if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
                 return None;
             }
             tets.push(cur);
@@ -282,7 +294,12 @@ impl<'a> CMesh<'a> {
     /// one of least total cost (`tri_cost` per ring triangle, `edge_cost`
     /// per new ring chord; both get the points) among those whose tetrahedra are all positive.
     /// Returns the cost, or `None` (nothing changed) when no such
-    /// triangulation exists, a ghost is met or the ring is too long.
+    /// triangulation exists or the ring is too long.
+    ///
+    /// A convex-hull edge `a b` whose two hull faces `a b c`, `a b d` are
+    /// coplanar is removed too (the hull's 2-2 flip): the ring minus the
+    /// infinite vertex is an open chain `c … d` closed by the new hull edge
+    /// `c d`, and the two new hull faces `c d a`, `c d b` get ghost cells.
     pub(crate) fn remove_edge(
         &mut self,
         t: u32,
@@ -291,7 +308,27 @@ impl<'a> CMesh<'a> {
         tri_cost: &dyn Fn(&[[f64; 3]], [u32; 3]) -> i64,
         edge_cost: &dyn Fn(&[[f64; 3]], u32, u32) -> i64,
     ) -> Option<i64> {
-        let (tets, r) = self.edge_ring(t, a, b)?;
+        let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
+        let mut ghosts = Vec::new();
+        if let Some(k) = r.iter().position(|&w| w == INF) {
+            r.rotate_left(k + 1);
+            r.pop();
+            let (c0, d0) = (r[0], *r.last()?);
+            let p = self.pts();
+            let g = |w: u32| &p[w as usize];
+            if r.len() < 3 || orient3d(g(a), g(b), g(c0), g(d0)) != 0.0 {
+                return None;
+            }
+            let inner = g(r[1]);
+            for e in [a, b] {
+                let f = if orient3d(g(c0), g(d0), g(e), inner) > 0.0 {
+                    [c0, d0, e, INF]
+                } else {
+                    [d0, c0, e, INF]
+                };
+                ghosts.push(f);
+            }
+        }
         let n = r.len();
         if n < 3 {
             return None;
@@ -345,6 +382,7 @@ impl<'a> CMesh<'a> {
             stack.push((i, k));
             stack.push((k, j));
         }
+        new.extend(ghosts);
         self.replace(&tets, &new);
         self.removals += 1;
         Some(total)
@@ -589,6 +627,29 @@ mod tests {
             }
         }
         assert_eq!(m2.dt.core.v, before);
+    }
+
+    #[test]
+    fn hull_diagonal_of_a_flat_quad_is_flipped() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.5, 1.0],
+        ];
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let (a, b, c, d) = if has_edge(&m, 0, 2) { (0, 2, 1, 3) } else { (1, 3, 0, 2) };
+        let t = m.find_edge(a, b).unwrap();
+        assert!(m.edge_ring(t, a, b).is_none());
+        assert!(m.remove_edge(t, a, b, &|_, _| 0, &|_, _, _| 0).is_some());
+        m.check().unwrap();
+        assert!(!has_edge(&m, a, b) && has_edge(&m, c, d));
+        assert_eq!(finite_tets(&m), 2);
+        // A hull edge between non-coplanar hull faces is kept.
+        let t = m.find_edge(0, 4).unwrap();
+        assert!(m.remove_edge(t, 0, 4, &|_, _| 0, &|_, _, _| 0).is_none());
+        m.check().unwrap();
     }
 
     #[test]

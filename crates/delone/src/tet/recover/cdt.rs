@@ -116,29 +116,110 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
     0
 }
 
-/// Shrinks the ring of edge `a b` (in `t`) by one 2-3 flip of a face
-/// around it. False when none applies.
-fn shrink_ring(cm: &mut CMesh<'_>, t: u32, a: u32, b: u32, prot: &Protected) -> bool {
-    let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
+type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
+
+/// Removes edge `a b` by edge removal; when its ring admits no valid
+/// triangulation, first shrinks the ring by 2-3 flips of the faces around
+/// it, and when such a flip is not valid (an edge `a r` or `b r` of the face
+/// is in the way), removes that edge the same way with `depth - 1`
+/// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
+/// beyond `depth` levels).
+fn remove_edge_deep(
+    cm: &mut CMesh<'_>,
+    a: u32,
+    b: u32,
+    depth: u32,
+    prot: &Protected,
+    tri: TriCost<'_>,
+    chord: EdgeCost<'_>,
+) -> bool {
+    let mut budget = WORK;
+    remove_edge_budget(cm, a, b, depth, prot, tri, chord, &mut budget)
+}
+
+/// Most edge-removal attempts one [`remove_edge_deep`] call makes.
+const WORK: usize = 64;
+
+#[allow(clippy::too_many_arguments)]
+fn remove_edge_budget(
+    cm: &mut CMesh<'_>,
+    a: u32,
+    b: u32,
+    depth: u32,
+    prot: &Protected,
+    tri: TriCost<'_>,
+    chord: EdgeCost<'_>,
+    budget: &mut usize,
+) -> bool {
+    if prot.edge(a, b) || *budget == 0 {
         return false;
+    }
+    *budget -= 1;
+    let Some(t) = cm.find_edge(a, b) else {
+        return true;
     };
-    let n = ring.len();
-    for i in 0..n {
-        // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
-        if prot.face([a, b, ring[i]]) {
-            continue;
-        }
-        let x = tets[i];
-        let tv = cm.dt.core.v[x as usize];
-        let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
-            continue;
+    if cm.remove_edge(t, a, b, tri, chord).is_some() {
+        return true;
+    }
+    if depth == 0 {
+        return false;
+    }
+    for _ in 0..crate::tet::cmesh::MAX_RING {
+        let Some(t) = cm.find_edge(a, b) else {
+            return true;
         };
-        if cm.flip23(x, f) {
+        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+            return false;
+        };
+        let n = ring.len();
+        let mut progress = false;
+        for i in 0..n {
+            // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
+            if prot.face([a, b, ring[i]]) {
+                continue;
+            }
+            let x = tets[i];
+            let tv = cm.dt.core.v[x as usize];
+            let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
+                continue;
+            };
+            if n > 3 && cm.flip23(x, f) {
+                progress = true;
+                break;
+            }
+        }
+        if !progress && depth > 1 {
+            for &r in &ring {
+                if *budget == 0 {
+                    return false;
+                }
+                if remove_edge_budget(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
+                    && cm.find_edge(a, r).is_none()
+                    || remove_edge_budget(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
+                        && cm.find_edge(b, r).is_none()
+                {
+                    progress = true;
+                    break;
+                }
+            }
+        }
+        if !progress || *budget == 0 {
+            return false;
+        }
+        *budget -= 1;
+        let Some(t) = cm.find_edge(a, b) else {
+            return true;
+        };
+        if cm.remove_edge(t, a, b, tri, chord).is_some() {
             return true;
         }
     }
     false
 }
+
+/// Flip depth of segment and facet recovery.
+const DEPTH: u32 = 2;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
@@ -156,28 +237,15 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
                     } else {
                         for k in 0..3 {
                             let (a, b) = (fv[k], fv[(k + 1) % 3]);
-                            if !prot.edge(a, b) && cm.remove_edge(t, a, b, &zero, &zero2).is_some()
-                            {
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
                                 progress = true;
                                 break;
                             }
                         }
-                        if !progress {
-                            for k in 0..3 {
-                                let (a, b) = (fv[k], fv[(k + 1) % 3]);
-                                if !prot.edge(a, b) && shrink_ring(cm, t, a, b, prot) {
-                                    progress = true;
-                                    break;
-                                }
-                            }
-                        }
                     }
                 }
-                Hit::Edge(t, a, b) => {
-                    if !prot.edge(a, b)
-                        && (cm.remove_edge(t, a, b, &zero, &zero2).is_some()
-                            || shrink_ring(cm, t, a, b, prot))
-                    {
+                Hit::Edge(_, a, b) => {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
                         progress = true;
                     }
                 }
@@ -188,6 +256,15 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
             }
         }
         if !progress {
+            if std::env::var("DELONE_DEBUG").is_ok() {
+                let h = |s, e| match first_hit(cm, s, e) {
+                    Hit::Done => "done".to_string(),
+                    Hit::Face(t, f) => format!("face {:?}", face(cm.dt.core.v[t as usize], f)),
+                    Hit::Edge(_, a, b) => format!("edge {a}-{b}"),
+                    Hit::Blocked => "blocked".to_string(),
+                };
+                eprintln!("  seg {u}-{v}: {} / {}", h(u, v), h(v, u));
+            }
             return false;
         }
     }
@@ -296,8 +373,8 @@ pub(crate) fn recover_facet(
             }
         }
         if !progress {
-            for &((p, q), x) in &cross {
-                if !prot.edge(p, q) && shrink_ring(cm, x, p, q, prot) {
+            for &((p, q), _) in &cross {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost) {
                     progress = true;
                     break;
                 }

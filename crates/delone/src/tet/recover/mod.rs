@@ -394,6 +394,9 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
+/// Rounds after which surface preservation gives up.
+const MAX_INTERIOR_ROUNDS: usize = 64;
+
 struct State {
     surf: Surface,
     report: RecoverReport,
@@ -645,12 +648,14 @@ impl State {
                     failed.push((e, u, v));
                 }
             }
+            if std::env::var("DELONE_DEBUG").is_ok() {
+                eprintln!("round {}: missing subsegments {}, failed {}", self.report.rounds, subs.len(), failed.len());
+            }
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
-                    return Err(RecoverError::Unrecovered {
-                        triangles: self.edge_triangles(&failed),
-                        steiner: self.report.steiner(),
-                    });
+                    let tris = self.edge_triangles(&failed);
+                    self.interior_points(dt, tris)?;
+                    continue;
                 }
                 for &(e, u, v) in &failed {
                     if !self.steiner_left() {
@@ -678,10 +683,8 @@ impl State {
                 return Ok(cm);
             }
             if self.opts.preserve_surface {
-                return Err(RecoverError::Unrecovered {
-                    triangles: uncovered,
-                    steiner: self.report.steiner(),
-                });
+                self.interior_points(dt, uncovered)?;
+                continue;
             }
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization.
@@ -711,6 +714,60 @@ impl State {
                 });
             }
         }
+    }
+
+    /// Surface preservation: for each of the triangles `tris` (which flips
+    /// could not recover, or whose edges they could not), inserts into the
+    /// Delaunay tetrahedralization the two points at distance `h` (a third
+    /// of its shortest edge) from its centroid along its normal, when they
+    /// are inside the convex hull and not within `h` of a vertex of the
+    /// triangle's neighbourhood — never a point on the surface. Points
+    /// outside the domain are harmless (carving drops their tetrahedra).
+    /// Fails with [`RecoverError::Unrecovered`] when nothing can be added
+    /// or after [`MAX_INTERIOR_ROUNDS`] rounds, so it never loops.
+    fn interior_points(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        tris: Vec<usize>,
+    ) -> Result<(), RecoverError> {
+        let give_up = |st: &Self, tris: Vec<usize>| RecoverError::Unrecovered {
+            triangles: tris,
+            steiner: st.report.steiner(),
+        };
+        if self.report.rounds > MAX_INTERIOR_ROUNDS {
+            return Err(give_up(self, tris));
+        }
+        let mut added = 0;
+        for &t in tris.iter().take(256) {
+            if !self.steiner_left() {
+                return Err(self.budget_error(0, tris.len()));
+            }
+            let pts = dt.points();
+            let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+            let n = place::cross(&place::sub(&b, &a), &place::sub(&c, &a));
+            let nl = place::dot(&n, &n).sqrt();
+            let e = [place::sub(&b, &a), place::sub(&c, &b), place::sub(&a, &c)]
+                .map(|d| place::dot(&d, &d).sqrt());
+            let h = e[0].min(e[1]).min(e[2]) / 3.0;
+            if nl == 0.0 || h == 0.0 {
+                continue;
+            }
+            for sign in [1.0, -1.0] {
+                let p: [f64; 3] =
+                    [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0 + sign * h * n[k] / nl);
+                if !matches!(dt.locate(&p), super::Location::InTet(_)) {
+                    continue;
+                }
+                if let Inserted::Vertex(_) = dt.insert(p)? {
+                    self.report.steiner_interior += 1;
+                    added += 1;
+                }
+            }
+        }
+        if added == 0 {
+            return Err(give_up(self, tris));
+        }
+        Ok(())
     }
 
     /// Input triangles not covered by faces of `cm`, ascending.
