@@ -139,8 +139,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         preserve_surface: o.preserve_surface,
         ..Default::default()
     };
-    let rec = recover(&plc.points, &triangles, &ropts)
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let rec =
+        recover(&plc.points, &triangles, &ropts).map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines = Vec::new();

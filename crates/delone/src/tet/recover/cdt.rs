@@ -32,7 +32,7 @@
 use super::missing::{ekey, fkey, TET_EDGES};
 use super::place;
 use super::surface::{IdSet, Surface};
-use crate::tet::cmesh::{face, CMesh};
+use crate::tet::cmesh::{face, CMesh, EdgeCost, TriCost};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
 
@@ -67,8 +67,8 @@ enum Hit {
     Done,
     /// Through the interior of the face opposite local vertex `f` of `t`.
     Face(u32, usize),
-    /// Through the interior of edge `a b` of tetrahedron `t`.
-    Edge(u32, u32, u32),
+    /// Through the interior of edge `a b`.
+    Edge(u32, u32),
     /// Through a vertex, or lost (inexact data).
     Blocked,
 }
@@ -99,9 +99,9 @@ fn first_hit(cm: &CMesh<'_>, s: u32, e: u32) -> Hit {
         }
         return match (o1 == 0, o2 == 0, o3 == 0) {
             (false, false, false) => Hit::Face(t, is),
-            (true, false, false) => Hit::Edge(t, x, y),
-            (false, true, false) => Hit::Edge(t, y, z),
-            (false, false, true) => Hit::Edge(t, z, x),
+            (true, false, false) => Hit::Edge(x, y),
+            (false, true, false) => Hit::Edge(y, z),
+            (false, false, true) => Hit::Edge(z, x),
             _ => Hit::Blocked,
         };
     }
@@ -115,9 +115,6 @@ fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
 fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
     0
 }
-
-type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
-type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 
 /// Removes edge `a b` by edge removal; when its ring admits no valid
 /// triangulation, first shrinks the ring by 2-3 flips of the faces around
@@ -139,7 +136,7 @@ fn remove_edge_deep(
 }
 
 /// Most edge-removal attempts one [`remove_edge_deep`] call makes.
-const WORK: usize = 64;
+const WORK: usize = 16;
 
 #[allow(clippy::too_many_arguments)]
 fn remove_edge_budget(
@@ -223,7 +220,7 @@ const DEPTH: u32 = 2;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
-    const CAP: usize = 400;
+    const CAP: usize = 48;
     for _ in 0..CAP {
         let mut progress = false;
         for (s, e) in [(u, v), (v, u)] {
@@ -244,7 +241,7 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
                         }
                     }
                 }
-                Hit::Edge(_, a, b) => {
+                Hit::Edge(a, b) => {
                     if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
                         progress = true;
                     }
@@ -256,15 +253,6 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
             }
         }
         if !progress {
-            if std::env::var("DELONE_DEBUG").is_ok() {
-                let h = |s, e| match first_hit(cm, s, e) {
-                    Hit::Done => "done".to_string(),
-                    Hit::Face(t, f) => format!("face {:?}", face(cm.dt.core.v[t as usize], f)),
-                    Hit::Edge(_, a, b) => format!("edge {a}-{b}"),
-                    Hit::Blocked => "blocked".to_string(),
-                };
-                eprintln!("  seg {u}-{v}: {} / {}", h(u, v), h(v, u));
-            }
             return false;
         }
     }

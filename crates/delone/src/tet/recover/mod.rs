@@ -37,15 +37,26 @@
 //! 6. **carving** — a 0-1 breadth-first search from the outside counts the
 //!    constraint faces crossed; odd cells are inside.
 //!
-//! Every Steiner point lies on the surface (on an input edge or triangle):
-//! this stage makes a *conforming* Delaunay tetrahedralization of the surface
-//! (plus a few flips); it never needs interior Steiner points. The Schönhardt
-//! polyhedron is recovered by splitting its reflex edges. The price is the
-//! number of Steiner points on models with small angles or long, thin
-//! coplanar triangles (see the tests' figures); a constrained (CDT)
-//! recovery that inserts Steiner points only where no tetrahedralization
-//! exists is the next stage. Surface preservation (`-Y`, no Steiner points
-//! on the surface) is not implemented yet.
+//! Steps 3–5 above are the *conforming* path
+//! ([`RecoverOptions::constrained`] false): every Steiner point lies on the
+//! surface. The default is the **constrained** path (the private `cdt`
+//! module, on the mutable mesh of the private `tet::cmesh` module): each round copies the
+//! Delaunay tetrahedralization into a mesh that need not stay Delaunay and
+//! recovers missing subsegments, then missing triangles, by 2-3 flips and
+//! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
+//! edge ring; coplanar hull faces by the hull 2-2 flip); only the items the
+//! flips cannot recover are split in the Delaunay tetrahedralization
+//! (steps 3–4, same placement and protection rules), and the round starts
+//! again. Flips never destroy a subsegment or a face already on an input
+//! triangle. Each round either finishes, splits at least one item, or fails
+//! with a typed error, so the loop is bounded by the Steiner budget.
+//!
+//! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split: where
+//! flips fail, points off the failing triangles (along their normals, inside
+//! the hull) are inserted instead, at most `MAX_INTERIOR_ROUNDS` rounds,
+//! then [`RecoverError::Unrecovered`]. This is not yet the cavity
+//! retriangulation of Si & Gärtner: the Schönhardt polyhedron and very
+//! thin boxes are reported as unrecovered under `-Y` today.
 //!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
@@ -84,9 +95,9 @@ pub use missing::{missing, Missing};
 
 use self::missing::ekey;
 use self::surface::{IdMap, IdSet, Skeleton, Surface};
+use super::cmesh::CMesh;
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
-use super::cmesh::CMesh;
 use super::{Delaunay3, TetMesh};
 use crate::{Error, Inserted};
 
@@ -342,6 +353,7 @@ pub fn recover(
         max_dev_scaled: 0.0,
         opts: opts.clone(),
         tri_inner: IdMap::default(),
+        interior_tries: IdMap::default(),
     };
     let out = if opts.constrained || opts.preserve_surface {
         st.run_cdt(&mut dt)?.dt
@@ -405,6 +417,8 @@ struct State {
     opts: RecoverOptions,
     /// Per input triangle: the Steiner points inside it.
     tri_inner: IdMap<u32, Vec<u32>>,
+    /// Per input triangle: interior points tried for it (`-Y`).
+    interior_tries: IdMap<u32, usize>,
 }
 
 impl State {
@@ -648,9 +662,6 @@ impl State {
                     failed.push((e, u, v));
                 }
             }
-            if std::env::var("DELONE_DEBUG").is_ok() {
-                eprintln!("round {}: missing subsegments {}, failed {}", self.report.rounds, subs.len(), failed.len());
-            }
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
                     let tris = self.edge_triangles(&failed);
@@ -718,8 +729,8 @@ impl State {
 
     /// Surface preservation: for each of the triangles `tris` (which flips
     /// could not recover, or whose edges they could not), inserts into the
-    /// Delaunay tetrahedralization the two points at distance `h` (a third
-    /// of its shortest edge) from its centroid along its normal, when they
+    /// Delaunay tetrahedralization the two points at distance `h` (a fraction
+    /// of its shortest edge, another one at each try) from its centroid along its normal, when they
     /// are inside the convex hull and not within `h` of a vertex of the
     /// triangle's neighbourhood — never a point on the surface. Points
     /// outside the domain are harmless (carving drops their tetrahedra).
@@ -748,19 +759,32 @@ impl State {
             let nl = place::dot(&n, &n).sqrt();
             let e = [place::sub(&b, &a), place::sub(&c, &b), place::sub(&a, &c)]
                 .map(|d| place::dot(&d, &d).sqrt());
-            let h = e[0].min(e[1]).min(e[2]) / 3.0;
-            if nl == 0.0 || h == 0.0 {
-                continue;
-            }
-            for sign in [1.0, -1.0] {
-                let p: [f64; 3] =
-                    [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0 + sign * h * n[k] / nl);
-                if !matches!(dt.locate(&p), super::Location::InTet(_)) {
-                    continue;
+            // Another distance each time the triangle comes back, so a
+            // new point is tried (1/3, 2/3, 1/6, 1, 1/12, … of its
+            // shortest edge), until one lands inside the hull.
+            for _ in 0..10 {
+                let k = self.interior_tries.entry(t as u32).or_insert(0);
+                let f = [1.0 / 3.0, 2.0 / 3.0, 1.0 / 6.0, 1.0, 1.0 / 12.0][*k % 5]
+                    / f64::from(1u32 << (*k / 5).min(20));
+                *k += 1;
+                let h = e[0].min(e[1]).min(e[2]) * f;
+                if nl == 0.0 || h == 0.0 {
+                    break;
                 }
-                if let Inserted::Vertex(_) = dt.insert(p)? {
-                    self.report.steiner_interior += 1;
-                    added += 1;
+                let before = added;
+                for sign in [1.0, -1.0] {
+                    let p: [f64; 3] =
+                        [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0 + sign * h * n[k] / nl);
+                    if !matches!(dt.locate(&p), super::Location::InTet(_)) {
+                        continue;
+                    }
+                    if let Inserted::Vertex(_) = dt.insert(p)? {
+                        self.report.steiner_interior += 1;
+                        added += 1;
+                    }
+                }
+                if added > before {
+                    break;
                 }
             }
         }
