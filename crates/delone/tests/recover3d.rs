@@ -607,3 +607,17 @@ fn constrained_recovery_beats_conforming_on_small_models() {
         assert!(c.report.segments_by_flips > 0);
     }
 }
+
+#[test]
+fn surface_preservation_on_a_small_model() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    let (pts, tris) = read_off(&std::fs::read_to_string(dir.join("surf/off/cgal_u.off")).unwrap());
+    let r = checked("cgal_u -Y", &pts, &tris, &preserve());
+    let p = &r.report;
+    assert_eq!((p.steiner_on_edges, p.steiner_on_facets), (0, 0), "{p:?}");
+    // The surface is exactly the input: one boundary face per triangle.
+    assert_eq!(r.boundary.len(), tris.len());
+}
