@@ -55,8 +55,10 @@
 //! flips fail, points off the failing triangles (along their normals, inside
 //! the hull) are inserted instead, at most `MAX_INTERIOR_ROUNDS` rounds,
 //! then [`RecoverError::Unrecovered`]. This is not yet the cavity
-//! retriangulation of Si & Gärtner: the Schönhardt polyhedron and very
-//! thin boxes are reported as unrecovered under `-Y` today.
+//! retriangulation of Si & Gärtner: the first point tried for a group of
+//! failing triangles is the centroid of their vertices (which recovers the
+//! Schönhardt polyhedron twisted by 20°), but the 30° and 45° twists and
+//! very thin boxes are reported as unrecovered under `-Y` today.
 //!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
@@ -354,6 +356,7 @@ pub fn recover(
         opts: opts.clone(),
         tri_inner: IdMap::default(),
         interior_tries: IdMap::default(),
+        group_tries: HashSet::new(),
     };
     let out = if opts.constrained || opts.preserve_surface {
         st.run_cdt(&mut dt)?.dt
@@ -419,6 +422,8 @@ struct State {
     tri_inner: IdMap<u32, Vec<u32>>,
     /// Per input triangle: interior points tried for it (`-Y`).
     interior_tries: IdMap<u32, usize>,
+    /// Groups of failing triangles whose centroid was tried (`-Y`).
+    group_tries: HashSet<Vec<usize>>,
 }
 
 impl State {
@@ -749,6 +754,26 @@ impl State {
             return Err(give_up(self, tris));
         }
         let mut added = 0;
+        // First try for a group: the centroid of all its triangles'
+        // vertices (the kernel of a Schönhardt-like twisted prism).
+        if self.group_tries.insert(tris.clone()) {
+            let pts = dt.points();
+            let mut vs: Vec<u32> = tris.iter().flat_map(|&t| self.surf.tris[t]).collect();
+            vs.sort_unstable();
+            vs.dedup();
+            let mut p = [0.0; 3];
+            for &w in &vs {
+                for k in 0..3 {
+                    p[k] += pts[w as usize][k] / vs.len() as f64;
+                }
+            }
+            if matches!(dt.locate(&p), super::Location::InTet(_)) {
+                if let Inserted::Vertex(_) = dt.insert(p)? {
+                    self.report.steiner_interior += 1;
+                    return Ok(());
+                }
+            }
+        }
         for &t in tris.iter().take(256) {
             if !self.steiner_left() {
                 return Err(self.budget_error(0, tris.len()));
