@@ -47,6 +47,8 @@ pub struct Opts {
     pub pslg: bool,
     /// tri `-r`: refine an existing mesh (FILE.node + FILE.ele).
     pub refine_mesh: bool,
+    /// tet `-pY`: surface preservation (no Steiner point on the input surface).
+    pub preserve_surface: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
@@ -120,7 +122,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'i') => "incremental algorithm choice",
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
-        (Mode::Tet, 'Y') => "boundary preservation",
         (Mode::Tet, 'r') => "refinement of a previous mesh",
         (Mode::Tet, 'q') => "quality mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
@@ -190,6 +191,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'c') => o.convex_hull = true,
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
+        (Mode::Tet, 'Y') => o.preserve_surface = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),
         (_, 'C') => o.check = true,

@@ -142,8 +142,9 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -h   This help.
     -p   Mesh the inside of a closed PLC or surface: FILE.poly / FILE.smesh
          (TetGen; tried in that order when FILE has no extension), or
-         FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is conforming:
-         missing edges and facets are split by Steiner points on them.
+         FILE.off/.stl/.ply/.obj/.mesh. Boundary recovery is constrained:
+         missing edges and facets are recovered by flips, split by Steiner
+         points on them only where flips fail.
          Writes FILE.1.node/.ele/.face (boundary faces and faces on internal
          facets, with facet markers; -f all faces), -e .edge (marker of a
          facet holding the edge, else 0), -n .neigh, -o .vtu;
@@ -156,7 +157,9 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -c   With -p: keep the tetrahedra outside the surface (convex hull).
     -g   With -p: also write FILE.1.mesh (Medit; references = facet markers
          and region attributes).
-    Not implemented yet (error, exit code 2): -Y -r -q -R -m -a -i -O -S
+    -Y   With -p: no Steiner point on the input surface (interior only);
+         an error names the triangles that flips cannot recover.
+    Not implemented yet (error, exit code 2): -r -q -R -m -a -i -O -S
     -T -X -M -d -D -o2 -o/.
 
 OPTIONS:

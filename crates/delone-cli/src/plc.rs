@@ -150,7 +150,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         regions: plc.regions.clone(),
         convex_hull: o.convex_hull,
     };
-    let rec = recover_domain(&plc.points, &triangles, &RecoverOptions::default(), &domain)
+    let ropts = RecoverOptions {
+        preserve_surface: o.preserve_surface,
+        ..Default::default()
+    };
+    let rec = recover_domain(&plc.points, &triangles, &ropts, &domain)
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;

@@ -371,3 +371,256 @@ fn recovery_is_deterministic() {
     assert_eq!(a, b);
     assert!(a.report.steiner() > 0);
 }
+
+/// The closed, clean corpus with the constrained recovery (checked) next to
+/// the conforming one: Steiner points by kind and times. `CORPUS_MAX` bounds
+/// the triangle count (default 30 000); `CORPUS_ONLY` keeps the paths that
+/// contain it; `CONFORMING=0` skips the conforming run.
+#[test]
+#[ignore = "slow: prints constrained vs conforming Steiner counts"]
+fn corpus_constrained_vs_conforming() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    let max: usize = std::env::var("CORPUS_MAX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(30_000);
+    let only = std::env::var("CORPUS_ONLY").unwrap_or_default();
+    let conforming = std::env::var("CONFORMING").map_or(true, |s| s != "0");
+    let list = std::fs::read_to_string(dir.join("sets/closed_clean.txt")).unwrap();
+    let (mut ok, mut all) = (0, 0);
+    for line in list.lines() {
+        let mut it = line.split_whitespace();
+        let (Some(path), Some(n)) = (it.next(), it.next()) else {
+            continue;
+        };
+        if n.parse::<usize>().unwrap_or(usize::MAX) > max || !path.contains(&only) {
+            continue;
+        }
+        let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(path)).unwrap());
+        all += 1;
+        let t0 = Instant::now();
+        let r = recover(&pts, &tris, &RecoverOptions::default());
+        let t_cdt = t0.elapsed().as_secs_f64();
+        let cdt = match &r {
+            Ok(r) => {
+                check_recovered(&pts, &tris, r).unwrap_or_else(|v| panic!("{path}: {v:?}"));
+                ok += 1;
+                let p = &r.report;
+                format!(
+                    "steiner {} (e {} f {} i {}) segflips {} triflips {} f23 {} er {} rounds {}",
+                    p.steiner(),
+                    p.steiner_on_edges,
+                    p.steiner_on_facets,
+                    p.steiner_interior,
+                    p.segments_by_flips,
+                    p.triangles_by_flips,
+                    p.flips23,
+                    p.edge_removals,
+                    p.rounds
+                )
+            }
+            Err(e) => format!("FAILED {e}"),
+        };
+        let conf = if conforming {
+            let t0 = Instant::now();
+            let r = recover(
+                &pts,
+                &tris,
+                &RecoverOptions {
+                    constrained: false,
+                    ..Default::default()
+                },
+            );
+            let t = t0.elapsed().as_secs_f64();
+            match r {
+                Ok(r) => format!("conforming steiner {} {t:.2}s", r.report.steiner()),
+                Err(e) => format!("conforming FAILED {e}"),
+            }
+        } else {
+            String::new()
+        };
+        println!("{path} {n}: {cdt} {t_cdt:.2}s | {conf}");
+    }
+    println!("constrained: {ok}/{all} recovered and checked");
+    assert_eq!(ok, all);
+}
+
+fn preserve() -> RecoverOptions {
+    RecoverOptions {
+        preserve_surface: true,
+        ..Default::default()
+    }
+}
+
+fn checked(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], o: &RecoverOptions) -> Recovered {
+    let r = recover(pts, tris, o).unwrap_or_else(|e| panic!("{name}: {e}"));
+    check_recovered(pts, tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
+    r
+}
+
+#[test]
+fn schonhardt_with_surface_preservation() {
+    // The 20 degree twist is recovered with interior points only. Known
+    // limitation: at 30 and 45 degrees flips plus interior points do not
+    // recover every reflex diagonal (the cavity retriangulation that would
+    // is not built yet); the result must then be a typed error naming the
+    // triangles, never a loop or a surface Steiner point.
+    for twist in [20.0, 30.0, 45.0] {
+        let (pts, tris) = schonhardt(twist);
+        match recover(&pts, &tris, &preserve()) {
+            Ok(r) => {
+                check_recovered(&pts, &tris, &r).unwrap();
+                println!("schonhardt {twist} -Y: {:?}", r.report);
+                let p = &r.report;
+                assert_eq!((p.steiner_on_edges, p.steiner_on_facets), (0, 0), "{p:?}");
+                assert_eq!(r.boundary.len(), tris.len());
+            }
+            Err(RecoverError::Unrecovered { triangles, steiner }) => {
+                println!("schonhardt {twist} -Y: unrecovered {triangles:?} after {steiner}");
+                assert!(twist > 20.0, "the 20 degree twist is recovered with -Y");
+                assert!(!triangles.is_empty() && triangles.iter().all(|&t| t >= 2));
+            }
+            Err(e) => panic!("{e:?}"),
+        }
+    }
+}
+
+/// A box `[0,w]×[0,1]×[0,h]` whose six sides are each split into an
+/// `n × n` grid of coplanar triangle pairs (coplanar facets sharing edges;
+/// thin when `h` is small).
+fn grid_box(n: usize, w: f64, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts: Vec<[f64; 3]> = Vec::new();
+    let mut id = std::collections::BTreeMap::new();
+    let mut tris = Vec::new();
+    let mut vid = |p: [i64; 3], pts: &mut Vec<[f64; 3]>| -> u32 {
+        *id.entry(p).or_insert_with(|| {
+            let s = n as f64;
+            pts.push([p[0] as f64 / s * w, p[1] as f64 / s, p[2] as f64 / s * h]);
+            (pts.len() - 1) as u32
+        })
+    };
+    let n = n as i64;
+    // (axis fixed, value, u axis, v axis, flip orientation)
+    for (ax, val, flip) in [
+        (0, 0, true),
+        (0, n, false),
+        (1, 0, false),
+        (1, n, true),
+        (2, 0, true),
+        (2, n, false),
+    ] {
+        let (ua, va) = ((ax + 1) % 3, (ax + 2) % 3);
+        for i in 0..n {
+            for j in 0..n {
+                let q = |di: i64, dj: i64| {
+                    let mut p = [0i64; 3];
+                    p[ax] = val;
+                    p[ua] = i + di;
+                    p[va] = j + dj;
+                    p
+                };
+                let [a, b, c, d] = [q(0, 0), q(1, 0), q(1, 1), q(0, 1)].map(|p| vid(p, &mut pts));
+                let (t1, t2) = if (i + j) % 2 == 0 {
+                    ([a, b, c], [a, c, d])
+                } else {
+                    ([a, b, d], [b, c, d])
+                };
+                for t in [t1, t2] {
+                    tris.push(if flip { [t[0], t[2], t[1]] } else { t });
+                }
+            }
+        }
+    }
+    (pts, tris)
+}
+
+#[test]
+fn coplanar_and_thin_boxes_need_few_steiner_points() {
+    for (n, w, h, y_ok) in [
+        (3, 1.0, 1.0, true),
+        (4, 3.0, 0.05, true),
+        (5, 10.0, 0.001, false),
+    ] {
+        let (pts, tris) = grid_box(n, w, h);
+        let c = checked("grid box", &pts, &tris, &RecoverOptions::default());
+        let y = if y_ok {
+            checked("grid box -Y", &pts, &tris, &preserve())
+        } else {
+            // Known limitation of -Y on very thin boxes: a typed error.
+            let e = recover(&pts, &tris, &preserve());
+            assert!(
+                matches!(e, Ok(_) | Err(RecoverError::Unrecovered { .. })),
+                "{e:?}"
+            );
+            c.clone()
+        };
+        let conf = checked(
+            "grid box conforming",
+            &pts,
+            &tris,
+            &RecoverOptions {
+                constrained: false,
+                ..Default::default()
+            },
+        );
+        assert!(c.report.steiner() <= conf.report.steiner());
+        if y_ok {
+            assert_eq!(y.report.steiner_on_edges + y.report.steiner_on_facets, 0);
+        }
+        println!(
+            "grid box {n} {w}x{h}: constrained {} conforming {} -Y {}",
+            c.report.steiner(),
+            conf.report.steiner(),
+            y.report.steiner()
+        );
+    }
+}
+
+#[test]
+fn constrained_recovery_beats_conforming_on_small_models() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    for name in [
+        "surf/off/cgal_u.off",
+        "surf/off/cgal_part.off",
+        "surf/off/cgal_helmet.off",
+    ] {
+        let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(name)).unwrap());
+        let c = checked(name, &pts, &tris, &RecoverOptions::default());
+        let conf = checked(
+            name,
+            &pts,
+            &tris,
+            &RecoverOptions {
+                constrained: false,
+                ..Default::default()
+            },
+        );
+        println!(
+            "{name}: constrained {} conforming {}",
+            c.report.steiner(),
+            conf.report.steiner()
+        );
+        assert!(c.report.steiner() * 2 < conf.report.steiner(), "{name}");
+        assert!(c.report.segments_by_flips > 0);
+    }
+}
+
+#[test]
+fn surface_preservation_on_a_small_model() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    let (pts, tris) = read_off(&std::fs::read_to_string(dir.join("surf/off/cgal_u.off")).unwrap());
+    let r = checked("cgal_u -Y", &pts, &tris, &preserve());
+    let p = &r.report;
+    assert_eq!((p.steiner_on_edges, p.steiner_on_facets), (0, 0), "{p:?}");
+    // The surface is exactly the input: one boundary face per triangle.
+    assert_eq!(r.boundary.len(), tris.len());
+}

@@ -5,6 +5,7 @@
 //! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
 //! * [`intersect`] — exact self-intersection and closedness checks of triangulated surfaces.
 
+pub(crate) mod cmesh;
 pub mod delaunay;
 pub mod intersect;
 pub mod local;

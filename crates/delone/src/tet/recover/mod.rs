@@ -42,15 +42,28 @@
 //! surface, or facets that divide space into several closed parts
 //! (internal facets, non-manifold edges), each then a region of its own.
 //!
-//! Every Steiner point lies on the surface (on an input edge or triangle):
-//! this stage makes a *conforming* Delaunay tetrahedralization of the surface
-//! (plus a few flips); it never needs interior Steiner points. The Schönhardt
-//! polyhedron is recovered by splitting its reflex edges. The price is the
-//! number of Steiner points on models with small angles or long, thin
-//! coplanar triangles (see the tests' figures); a constrained (CDT)
-//! recovery that inserts Steiner points only where no tetrahedralization
-//! exists is the next stage. Surface preservation (`-Y`, no Steiner points
-//! on the surface) is not implemented yet.
+//! Steps 3–5 above are the *conforming* path
+//! ([`RecoverOptions::constrained`] false): every Steiner point lies on the
+//! surface. The default is the **constrained** path (the private `cdt`
+//! module, on the mutable mesh of the private `tet::cmesh` module): each round copies the
+//! Delaunay tetrahedralization into a mesh that need not stay Delaunay and
+//! recovers missing subsegments, then missing triangles, by 2-3 flips and
+//! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
+//! edge ring; coplanar hull faces by the hull 2-2 flip); only the items the
+//! flips cannot recover are split in the Delaunay tetrahedralization
+//! (steps 3–4, same placement and protection rules), and the round starts
+//! again. Flips never destroy a subsegment or a face already on an input
+//! triangle. Each round either finishes, splits at least one item, or fails
+//! with a typed error, so the loop is bounded by the Steiner budget.
+//!
+//! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split: where
+//! flips fail, points off the failing triangles (along their normals, inside
+//! the hull) are inserted instead, at most `MAX_INTERIOR_ROUNDS` rounds,
+//! then [`RecoverError::Unrecovered`]. This is not yet the cavity
+//! retriangulation of Si & Gärtner: the first point tried for a group of
+//! failing triangles is the centroid of their vertices (which recovers the
+//! Schönhardt polyhedron twisted by 20°), but the 30° and 45° twists and
+//! very thin boxes are reported as unrecovered under `-Y` today.
 //!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
@@ -74,6 +87,7 @@
 //! mesh generation* (1995).
 
 mod carve;
+mod cdt;
 mod check;
 mod flip;
 mod missing;
@@ -89,6 +103,7 @@ pub use missing::{missing, Missing};
 
 use self::missing::ekey;
 use self::surface::{IdMap, IdSet, Skeleton, Surface};
+use super::cmesh::CMesh;
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -111,6 +126,16 @@ pub struct RecoverOptions {
     /// encroaches it most (Si & Gärtner's reference point) rather than at
     /// its midpoint. Default true.
     pub reference_points: bool,
+    /// Constrained recovery: recover missing subsegments and triangles by
+    /// flips (2-3 flips, edge removal) on a mesh that need not stay
+    /// Delaunay, inserting Steiner points only where the flips fail.
+    /// False: the conforming recovery (every missing item is split).
+    /// Default true.
+    pub constrained: bool,
+    /// Surface preservation (TetGen's `-Y`): no Steiner point on any input
+    /// edge or triangle; where flips fail, Steiner points go inside the
+    /// domain only. Implies `constrained`. Default false.
+    pub preserve_surface: bool,
 }
 
 impl Default for RecoverOptions {
@@ -119,6 +144,8 @@ impl Default for RecoverOptions {
             max_steiner: 100_000,
             flips: true,
             reference_points: true,
+            constrained: true,
+            preserve_surface: false,
         }
     }
 }
@@ -143,8 +170,17 @@ pub struct RecoverReport {
     /// Largest distance of an inexact Steiner point to its line or plane
     /// (in the input's units; 0 when all are exact).
     pub max_deviation: f64,
-    /// 3-2 flips performed.
+    /// 3-2 flips performed (conforming path).
     pub flips32: usize,
+    /// 2-3 flips performed by the constrained recovery (final round).
+    pub flips23: usize,
+    /// Edge removals (3-2, 4-4, n to 2n-4 flips) performed by the
+    /// constrained recovery (final round).
+    pub edge_removals: usize,
+    /// Subsegments recovered by flips (final round).
+    pub segments_by_flips: usize,
+    /// Input triangles recovered by flips (final round).
+    pub triangles_by_flips: usize,
     /// Rounds of the segment/facet loop.
     pub rounds: usize,
     /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
@@ -390,11 +426,19 @@ pub fn recover_domain(
         inexact: Vec::new(),
         max_dev_scaled: 0.0,
         opts: opts.clone(),
+        tri_inner: IdMap::default(),
+        interior_tries: IdMap::default(),
+        group_tries: HashSet::new(),
     };
-    st.run(&mut dt)?;
+    let out = if opts.constrained || opts.preserve_surface {
+        st.run_cdt(&mut dt)?.dt
+    } else {
+        st.run(&mut dt)?;
+        dt
+    };
     st.report.max_deviation = st.max_dev_scaled * unscale;
-    st.report.hull_tets = dt.num_tets();
-    st.finish(&dt, points, scale, domain)
+    st.report.hull_tets = out.num_tets();
+    st.finish(&out, points, scale, domain)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -437,12 +481,21 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
+/// Rounds after which surface preservation gives up.
+const MAX_INTERIOR_ROUNDS: usize = 64;
+
 struct State {
     surf: Surface,
     report: RecoverReport,
     inexact: Vec<u32>,
     max_dev_scaled: f64,
     opts: RecoverOptions,
+    /// Per input triangle: the Steiner points inside it.
+    tri_inner: IdMap<u32, Vec<u32>>,
+    /// Per input triangle: interior points tried for it (`-Y`).
+    interior_tries: IdMap<u32, usize>,
+    /// Groups of failing triangles whose centroid was tried (`-Y`).
+    group_tries: HashSet<Vec<usize>>,
 }
 
 impl State {
@@ -655,6 +708,230 @@ impl State {
         Some((ring, r, orient))
     }
 
+    /// The constrained recovery (see the `cdt` module): each round copies
+    /// the Delaunay tetrahedralization into a [`CMesh`] and recovers the
+    /// missing subsegments, then the missing triangles, by flips. Items the
+    /// flips cannot recover are split in the Delaunay tetrahedralization
+    /// (exactly as the conforming path does: same placement, protection and
+    /// encroachment rules) and the round starts again from it — so Steiner
+    /// points go only where flips failed, and the number of rounds is
+    /// bounded like the conforming path's (each round splits at least one
+    /// item or fails with a typed error).
+    fn run_cdt<'a>(&mut self, dt: &mut Delaunay3<'a>) -> Result<CMesh<'a>, RecoverError> {
+        loop {
+            self.report.rounds += 1;
+            let sk = Skeleton::of(dt, true);
+            let (on, _) = self.surf.coverage(&sk, dt.points());
+            let mut prot = cdt::Protected::default();
+            for f in on.iter().flatten() {
+                prot.add_face(*f);
+            }
+            for chain in &self.surf.chains {
+                for w in chain.windows(2) {
+                    prot.edges.insert(ekey(w[0], w[1]));
+                }
+            }
+            let mut cm = CMesh::new(dt.clone());
+            let subs = self.missing_subsegments(&sk);
+            let mut failed = Vec::new();
+            for &(e, u, v) in &subs {
+                if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                    failed.push((e, u, v));
+                }
+            }
+            if !failed.is_empty() {
+                if self.opts.preserve_surface {
+                    let tris = self.edge_triangles(&failed);
+                    self.interior_points(dt, tris)?;
+                    continue;
+                }
+                for &(e, u, v) in &failed {
+                    if !self.steiner_left() {
+                        return Err(self.budget_error(failed.len(), 0));
+                    }
+                    self.split_edge(dt, e, u, v)?;
+                }
+                continue;
+            }
+            let segments_by_flips = subs.len();
+            let mut uncovered = self.uncovered(&cm);
+            let by_flips = uncovered.len();
+            if !uncovered.is_empty() {
+                for &t in &uncovered {
+                    let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                    cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+                }
+                uncovered = self.uncovered(&cm);
+            }
+            if uncovered.is_empty() {
+                self.report.flips23 = cm.flips23;
+                self.report.edge_removals = cm.removals;
+                self.report.segments_by_flips = segments_by_flips;
+                self.report.triangles_by_flips = by_flips;
+                return Ok(cm);
+            }
+            if self.opts.preserve_surface {
+                self.interior_points(dt, uncovered)?;
+                continue;
+            }
+            // Split the triangles the flips could not recover, in the
+            // Delaunay tetrahedralization.
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            list.sort_unstable();
+            let mut progress = false;
+            for &t in &uncovered {
+                if !self.steiner_left() {
+                    return Err(self.budget_error(0, uncovered.len()));
+                }
+                if covered[t] {
+                    progress |= self.split_longest_subsegment(dt, t)?;
+                    continue;
+                }
+                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                progress |= if cross.is_empty() {
+                    self.split_hole(dt, t, &on[t])?
+                } else {
+                    self.split_facet(dt, t, cross[0].0)?
+                };
+            }
+            if !progress {
+                return Err(RecoverError::Unrecovered {
+                    triangles: uncovered,
+                    steiner: self.report.steiner(),
+                });
+            }
+        }
+    }
+
+    /// Surface preservation: for each of the triangles `tris` (which flips
+    /// could not recover, or whose edges they could not), inserts into the
+    /// Delaunay tetrahedralization the two points at distance `h` (a fraction
+    /// of its shortest edge, another one at each try) from its centroid along its normal, when they
+    /// are inside the convex hull and not within `h` of a vertex of the
+    /// triangle's neighbourhood — never a point on the surface. Points
+    /// outside the domain are harmless (carving drops their tetrahedra).
+    /// Fails with [`RecoverError::Unrecovered`] when nothing can be added
+    /// or after [`MAX_INTERIOR_ROUNDS`] rounds, so it never loops.
+    fn interior_points(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        tris: Vec<usize>,
+    ) -> Result<(), RecoverError> {
+        let give_up = |st: &Self, tris: Vec<usize>| RecoverError::Unrecovered {
+            triangles: tris,
+            steiner: st.report.steiner(),
+        };
+        if self.report.rounds > MAX_INTERIOR_ROUNDS {
+            return Err(give_up(self, tris));
+        }
+        let mut added = 0;
+        // First try for a group: the centroid of all its triangles'
+        // vertices (the kernel of a Schönhardt-like twisted prism).
+        if self.group_tries.insert(tris.clone()) {
+            let pts = dt.points();
+            let mut vs: Vec<u32> = tris.iter().flat_map(|&t| self.surf.tris[t]).collect();
+            vs.sort_unstable();
+            vs.dedup();
+            let mut p = [0.0; 3];
+            for &w in &vs {
+                for k in 0..3 {
+                    p[k] += pts[w as usize][k] / vs.len() as f64;
+                }
+            }
+            if matches!(dt.locate(&p), super::Location::InTet(_)) {
+                if let Inserted::Vertex(_) = dt.insert(p)? {
+                    self.report.steiner_interior += 1;
+                    return Ok(());
+                }
+            }
+        }
+        for &t in tris.iter().take(256) {
+            if !self.steiner_left() {
+                return Err(self.budget_error(0, tris.len()));
+            }
+            let pts = dt.points();
+            let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+            let n = place::cross(&place::sub(&b, &a), &place::sub(&c, &a));
+            let nl = place::dot(&n, &n).sqrt();
+            let e = [place::sub(&b, &a), place::sub(&c, &b), place::sub(&a, &c)]
+                .map(|d| place::dot(&d, &d).sqrt());
+            // Another distance each time the triangle comes back, so a
+            // new point is tried (1/3, 2/3, 1/6, 1, 1/12, … of its
+            // shortest edge), until one lands inside the hull.
+            for _ in 0..10 {
+                let k = self.interior_tries.entry(t as u32).or_insert(0);
+                let f = [1.0 / 3.0, 2.0 / 3.0, 1.0 / 6.0, 1.0, 1.0 / 12.0][*k % 5]
+                    / f64::from(1u32 << (*k / 5).min(20));
+                *k += 1;
+                let h = e[0].min(e[1]).min(e[2]) * f;
+                if nl == 0.0 || h == 0.0 {
+                    break;
+                }
+                let before = added;
+                for sign in [1.0, -1.0] {
+                    let p: [f64; 3] =
+                        [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0 + sign * h * n[k] / nl);
+                    if !matches!(dt.locate(&p), super::Location::InTet(_)) {
+                        continue;
+                    }
+                    if let Inserted::Vertex(_) = dt.insert(p)? {
+                        self.report.steiner_interior += 1;
+                        added += 1;
+                    }
+                }
+                if added > before {
+                    break;
+                }
+            }
+        }
+        if added == 0 {
+            return Err(give_up(self, tris));
+        }
+        Ok(())
+    }
+
+    /// Input triangles not covered by faces of `cm`, ascending.
+    fn uncovered(&self, cm: &CMesh<'_>) -> Vec<usize> {
+        let sk = Skeleton::of(&cm.dt, true);
+        let (_, covered) = self.surf.coverage(&sk, cm.pts());
+        (0..covered.len()).filter(|&t| !covered[t]).collect()
+    }
+
+    /// The input triangles using the input edges of `subs`, ascending.
+    fn edge_triangles(&self, subs: &[(u32, u32, u32)]) -> Vec<usize> {
+        let mut out: Vec<usize> = subs
+            .iter()
+            .flat_map(|&(e, _, _)| self.surf.edge_tris[e as usize].iter().map(|&t| t as usize))
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Splits the longest boundary subsegment of triangle `t`.
+    fn split_longest_subsegment(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        t: usize,
+    ) -> Result<bool, RecoverError> {
+        let pts = dt.points();
+        let mut best: Option<(f64, u32, u32, u32)> = None;
+        for &e in &self.surf.tri_edges[t] {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let d = place::sub(&pts[w[0] as usize], &pts[w[1] as usize]);
+                let l = place::dot(&d, &d);
+                if best.is_none_or(|b| l > b.0) {
+                    best = Some((l, e, w[0], w[1]));
+                }
+            }
+        }
+        match best {
+            Some((_, e, u, v)) => self.split_edge(dt, e, u, v),
+            None => Ok(false),
+        }
+    }
+
     fn run(&mut self, dt: &mut Delaunay3<'_>) -> Result<(), RecoverError> {
         let mut use_flips = self.opts.flips;
         loop {
@@ -842,6 +1119,7 @@ impl State {
         match self.insert(dt, x, dev)? {
             Some(id) => {
                 self.surf.add_on_tri(id, t as u32);
+                self.tri_inner.entry(t as u32).or_default().push(id);
                 self.report.steiner_on_facets += 1;
                 Ok(true)
             }
@@ -886,6 +1164,7 @@ impl State {
         let mut boundary_triangle = Vec::new();
         let mut interior_faces = Vec::new();
         let mut interior_triangle = Vec::new();
+        let mut interior_between = Vec::new();
         for t in 0..core.v.len() {
             if !inside(t) {
                 continue;
@@ -903,6 +1182,7 @@ impl State {
                         if new_id[t] < new_id[u] {
                             interior_faces.push(face);
                             interior_triangle.push(ti);
+                            interior_between.push(carved.region[t] != carved.region[u]);
                         }
                     }
                 } else {
@@ -912,6 +1192,22 @@ impl State {
             }
             neighbors.push(nb);
         }
+        // A face listed on an input triangle that also has boundary faces,
+        // with the same region on both sides, is not a separator: with
+        // rounded (inexact) Steiner points, faces of points recorded on a
+        // triangle can lie inside the domain next to it. Only faces on
+        // internal facets (triangles with no boundary face) or between two
+        // regions are reported as interior faces.
+        let has_boundary: IdSet<u32> = boundary_triangle.iter().copied().collect();
+        let keep: Vec<bool> = interior_triangle
+            .iter()
+            .zip(&interior_between)
+            .map(|(ti, &between)| between || !has_boundary.contains(ti))
+            .collect();
+        let mut flags = keep.iter();
+        interior_faces.retain(|_| flags.next().copied().unwrap_or(true));
+        let mut flags = keep.iter();
+        interior_triangle.retain(|_| flags.next().copied().unwrap_or(true));
         let pts = dt.points();
         let points: Vec<[f64; 3]> = (0..pts.len())
             .map(|i| {

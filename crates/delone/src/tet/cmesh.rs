@@ -1,0 +1,728 @@
+//! A mutable tetrahedral mesh that need not stay Delaunay: flips, edge
+//! removal, star-shaped (constrained) insertion, and an invariant checker.
+//!
+//! It wraps the kernel's [`Delaunay3`] (same flat arrays: `v`, packed
+//! adjacency `adj` with words `4 * tet + facet`, ghost cells with
+//! [`INF`] in position 3, a free list) and adds a vertex → tetrahedron hint
+//! table so that stars and edge rings are found locally. Once a flip has
+//! been applied, the kernel's own Delaunay insertion must no longer be used
+//! on the wrapped structure; insert through [`CMesh::insert_constrained`]
+//! or [`CMesh::cone`] instead.
+//!
+//! Operations (all combinatorial decisions by exact `orient3d`/`insphere`;
+//! an operation whose result would contain a tetrahedron that is not
+//! strictly positive is refused and leaves the mesh untouched):
+//!
+//! * [`CMesh::flip23`] — two tetrahedra sharing a face become three
+//!   sharing the edge between the two apexes (valid iff that edge crosses
+//!   the face's interior);
+//! * [`CMesh::remove_edge`] — the `n` tetrahedra around an edge become the
+//!   `2n - 4` tetrahedra joining a triangulation of the ring polygon to the
+//!   edge's two ends (Shewchuk's edge removal; `n = 3` is the 3-2 flip,
+//!   `n = 4` the 4-4 flip). The triangulation is chosen by dynamic
+//!   programming over the ring (O(n³)) among those whose tetrahedra are all
+//!   positive, minimising a caller-supplied cost (e.g. new edges crossing a
+//!   facet to recover);
+//! * [`CMesh::cone`] — replaces a set of tetrahedra by the cone of its
+//!   boundary to a new point, if that point sees every boundary face;
+//! * [`CMesh::insert_constrained`] — Bowyer–Watson insertion whose cavity
+//!   grows only across faces the caller does not protect, shrunk until it
+//!   is star-shaped from the new point and keeps every protected edge;
+//! * [`CMesh::check`] — topology, orientation and the vertex hints.
+//!
+//! Nothing here recurses; rings are capped ([`MAX_RING`]).
+
+use std::collections::HashMap;
+
+use delone_predicates::{insphere, orient3d};
+
+use super::delaunay::Core;
+use super::local::{DEAD, FACET, INF};
+use super::Delaunay3;
+
+/// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
+pub(crate) type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
+/// Cost of a new ring chord in [`CMesh::remove_edge`] (gets the points).
+pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
+
+/// Longest edge ring [`CMesh::remove_edge`] handles.
+pub(crate) const MAX_RING: usize = 24;
+
+/// The sorted key of a triangle.
+#[inline]
+pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
+    let mut k = t;
+    k.sort_unstable();
+    k
+}
+
+/// The face of `tv` opposite local vertex `f`, in `FACET` order.
+#[inline]
+pub(crate) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
+    FACET[f].map(|i| tv[i])
+}
+
+/// True when `q` is an even permutation of `tv` (same orientation).
+fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
+    let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
+    let mut inv = 0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            inv += usize::from(pos[i] > pos[j]);
+        }
+    }
+    inv % 2 == 0
+}
+
+/// A mutable tetrahedralization (see the module documentation).
+#[derive(Debug, Clone)]
+pub(crate) struct CMesh<'a> {
+    /// The wrapped arrays and points.
+    pub(crate) dt: Delaunay3<'a>,
+    /// Per vertex: a live tetrahedron containing it (or `DEAD`).
+    vt: Vec<u32>,
+    /// 2-3 flips performed.
+    pub(crate) flips23: usize,
+    /// Edge removals performed.
+    pub(crate) removals: usize,
+}
+
+impl<'a> CMesh<'a> {
+    /// Wraps a tetrahedralization.
+    pub(crate) fn new(dt: Delaunay3<'a>) -> Self {
+        let mut vt = vec![DEAD; dt.points().len()];
+        for (t, tv) in dt.core.v.iter().enumerate() {
+            if tv[0] == DEAD {
+                continue;
+            }
+            for &w in tv {
+                if w != INF && vt[w as usize] == DEAD {
+                    vt[w as usize] = t as u32;
+                }
+            }
+        }
+        CMesh {
+            dt,
+            vt,
+            flips23: 0,
+            removals: 0,
+        }
+    }
+
+    /// The points (input, then inserted).
+    #[inline]
+    pub(crate) fn pts(&self) -> &[[f64; 3]] {
+        self.dt.points()
+    }
+
+    #[inline]
+    fn core(&self) -> &Core {
+        &self.dt.core
+    }
+
+    /// True when finite `tv` is strictly positive.
+    #[inline]
+    pub(crate) fn positive(&self, tv: [u32; 4]) -> bool {
+        let p = self.pts();
+        let g = |i: usize| &p[tv[i] as usize];
+        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+    }
+
+    /// Live tetrahedra (ghosts included) containing vertex `u`.
+    pub(crate) fn star(&self, u: u32) -> Vec<u32> {
+        let c = self.core();
+        let mut start = self.vt.get(u as usize).copied().unwrap_or(DEAD);
+        if start == DEAD || c.v[start as usize][0] == DEAD || !c.v[start as usize].contains(&u) {
+            match c.v.iter().position(|tv| tv[0] != DEAD && tv.contains(&u)) {
+                Some(t) => start = t as u32,
+                None => return Vec::new(),
+            }
+        }
+        let mut out = vec![start];
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = c.v[t as usize];
+            for (f, &w) in tv.iter().enumerate() {
+                if w == u {
+                    continue;
+                }
+                let n = c.adj[t as usize][f] >> 2;
+                if !out.contains(&n) {
+                    out.push(n);
+                }
+            }
+        }
+        out
+    }
+
+    /// A live tetrahedron containing edge `u v`.
+    pub(crate) fn find_edge(&self, u: u32, v: u32) -> Option<u32> {
+        let c = self.core();
+        self.star(u)
+            .into_iter()
+            .find(|&t| c.v[t as usize].contains(&v))
+    }
+
+    /// The tetrahedra around edge `a b` (starting at `t`, which contains it)
+    /// and the ring vertices, so that `[a, b, ring[i], ring[i + 1]]` (cyclic)
+    /// is `tets[i]`, positively oriented. `None` through a ghost or beyond
+    /// [`MAX_RING`].
+    pub(crate) fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+        self.edge_ring_with(t, a, b, false)
+    }
+
+    /// [`CMesh::edge_ring`]; with `ghosts`, rings through ghost cells are
+    /// returned too ([`INF`] then appears in the ring).
+    pub(crate) fn edge_ring_with(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        ghosts: bool,
+    ) -> Option<(Vec<u32>, Vec<u32>)> {
+        let c = self.core();
+        let tv = c.v[t as usize];
+        if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
+            return None;
+        }
+        let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
+        let (c0, d0) = (o.next()?, o.next()?);
+        let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
+            (c0, d0)
+        } else {
+            (d0, c0)
+        };
+        let mut cur = t;
+        let mut tets = Vec::new();
+        let mut ring = Vec::new();
+        loop {
+            let cv = c.v[cur as usize];
+            if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
+                return None;
+            }
+            tets.push(cur);
+            ring.push(x);
+            let ix = cv.iter().position(|&w| w == x)?;
+            let next = c.adj[cur as usize][ix] >> 2;
+            if next == t {
+                return Some((tets, ring));
+            }
+            let nv = c.v[next as usize];
+            let z = *nv.iter().find(|&&w| w != a && w != b && w != y)?;
+            cur = next;
+            x = y;
+            y = z;
+        }
+    }
+
+    /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
+    /// everything by face keys. Returns the new slots.
+    fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
+        let mut outer: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * new.len());
+        {
+            let c = &self.dt.core;
+            for &t in old {
+                let tv = c.v[t as usize];
+                for f in 0..4 {
+                    let w = c.adj[t as usize][f];
+                    if !old.contains(&(w >> 2)) {
+                        outer.insert(fkey(face(tv, f)), w);
+                    }
+                }
+            }
+        }
+        let c = &mut self.dt.core;
+        for &t in old {
+            c.release(t);
+        }
+        let ids: Vec<u32> = new.iter().map(|&tv| c.alloc(tv)).collect();
+        let mut open: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        for (&x, &tv) in ids.iter().zip(new) {
+            for f in 0..4 {
+                let k = fkey(face(tv, f));
+                if let Some(w) = outer.remove(&k) {
+                    c.link(x, f, w >> 2, (w & 3) as usize);
+                } else if let Some((y, g)) = open.remove(&k) {
+                    c.link(x, f, y, g);
+                } else {
+                    open.insert(k, (x, f));
+                }
+            }
+        }
+        debug_assert!(
+            outer.is_empty() && open.is_empty(),
+            "replace: unmatched faces"
+        );
+        if let Some(&x) = ids.first() {
+            c.last = x;
+        }
+        for (&x, tv) in ids.iter().zip(new) {
+            for &w in tv {
+                if w != INF {
+                    if self.vt.len() <= w as usize {
+                        self.vt.resize(w as usize + 1, DEAD);
+                    }
+                    self.vt[w as usize] = x;
+                }
+            }
+        }
+        ids
+    }
+
+    /// 2-3 flip of the face opposite local vertex `f` of tetrahedron `t`:
+    /// false (nothing changed) when a ghost is involved or the edge between
+    /// the two apexes does not cross the face's interior.
+    pub(crate) fn flip23(&mut self, t: u32, f: usize) -> bool {
+        let c = self.core();
+        let tv = c.v[t as usize];
+        if tv[0] == DEAD {
+            return false;
+        }
+        let w = c.adj[t as usize][f];
+        let (u, g) = (w >> 2, (w & 3) as usize);
+        let uv = c.v[u as usize];
+        if tv.contains(&INF) || uv.contains(&INF) {
+            return false;
+        }
+        let (p, q) = (tv[f], uv[g]);
+        let [x, y, z] = face(tv, f);
+        let new = [[x, y, q, p], [y, z, q, p], [z, x, q, p]];
+        if !new.iter().all(|&n| self.positive(n)) {
+            return false;
+        }
+        self.replace(&[t, u], &new);
+        self.flips23 += 1;
+        true
+    }
+
+    /// Removes edge `a b` (contained in `t`): the tetrahedra around it are
+    /// replaced by a triangulation of its ring joined to `a` and `b`, the
+    /// one of least total cost (`tri_cost` per ring triangle, `edge_cost`
+    /// per new ring chord; both get the points) among those whose tetrahedra are all positive.
+    /// Returns the cost, or `None` (nothing changed) when no such
+    /// triangulation exists or the ring is too long.
+    ///
+    /// A convex-hull edge `a b` whose two hull faces `a b c`, `a b d` are
+    /// coplanar is removed too (the hull's 2-2 flip): the ring minus the
+    /// infinite vertex is an open chain `c … d` closed by the new hull edge
+    /// `c d`, and the two new hull faces `c d a`, `c d b` get ghost cells.
+    pub(crate) fn remove_edge(
+        &mut self,
+        t: u32,
+        a: u32,
+        b: u32,
+        tri_cost: TriCost<'_>,
+        edge_cost: EdgeCost<'_>,
+    ) -> Option<i64> {
+        let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
+        let mut ghosts = Vec::new();
+        if let Some(k) = r.iter().position(|&w| w == INF) {
+            r.rotate_left(k + 1);
+            r.pop();
+            let (c0, d0) = (r[0], *r.last()?);
+            let p = self.pts();
+            let g = |w: u32| &p[w as usize];
+            if r.len() < 3 || orient3d(g(a), g(b), g(c0), g(d0)) != 0.0 {
+                return None;
+            }
+            let inner = g(r[1]);
+            for e in [a, b] {
+                let f = if orient3d(g(c0), g(d0), g(e), inner) > 0.0 {
+                    [c0, d0, e, INF]
+                } else {
+                    [d0, c0, e, INF]
+                };
+                ghosts.push(f);
+            }
+        }
+        let n = r.len();
+        if n < 3 {
+            return None;
+        }
+        const NO: i64 = i64::MAX / 4;
+        let mut best = vec![NO; n * n];
+        let mut choice = vec![0usize; n * n];
+        for i in 0..n - 1 {
+            best[i * n + i + 1] = 0;
+        }
+        for len in 2..n {
+            for i in 0..n - len {
+                let j = i + len;
+                let chord = if i == 0 && j == n - 1 {
+                    0
+                } else {
+                    edge_cost(self.pts(), r[i], r[j])
+                };
+                for k in i + 1..j {
+                    let (l, rr) = (best[i * n + k], best[k * n + j]);
+                    if l >= NO || rr >= NO {
+                        continue;
+                    }
+                    let tri = [r[i], r[k], r[j]];
+                    if !self.positive([tri[0], tri[1], tri[2], b])
+                        || !self.positive([tri[0], tri[2], tri[1], a])
+                    {
+                        continue;
+                    }
+                    let c = l + rr + tri_cost(self.pts(), tri) + chord;
+                    if c < best[i * n + j] {
+                        best[i * n + j] = c;
+                        choice[i * n + j] = k;
+                    }
+                }
+            }
+        }
+        let total = best[n - 1];
+        if total >= NO {
+            return None;
+        }
+        let mut new = Vec::with_capacity(2 * (n - 2));
+        let mut stack = vec![(0usize, n - 1)];
+        while let Some((i, j)) = stack.pop() {
+            if j < i + 2 {
+                continue;
+            }
+            let k = choice[i * n + j];
+            new.push([r[i], r[k], r[j], b]);
+            new.push([r[i], r[j], r[k], a]);
+            stack.push((i, k));
+            stack.push((k, j));
+        }
+        new.extend(ghosts);
+        self.replace(&tets, &new);
+        self.removals += 1;
+        Some(total)
+    }
+
+    /// Replaces the finite tetrahedra `cavity` (a connected set) by the cone
+    /// of its boundary faces to the new point `p`, which must see every
+    /// boundary face strictly from inside; `None` (nothing changed)
+    /// otherwise. Returns the new vertex id.
+    // Used by the tests today and by 3D refinement next.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub(crate) fn cone(&mut self, cavity: &[u32], p: [f64; 3]) -> Option<u32> {
+        let id = self.pts().len() as u32;
+        let new = {
+            let c = self.core();
+            let pts = self.pts();
+            let mut new = Vec::new();
+            for &t in cavity {
+                let tv = c.v[t as usize];
+                if tv[0] == DEAD || tv.contains(&INF) {
+                    return None;
+                }
+                for f in 0..4 {
+                    if cavity.contains(&(c.adj[t as usize][f] >> 2)) {
+                        continue;
+                    }
+                    let [x, y, z] = face(tv, f);
+                    let g = |w: u32| &pts[w as usize];
+                    if orient3d(g(x), g(y), g(z), &p) >= 0.0 {
+                        return None;
+                    }
+                    new.push([x, y, z, id]);
+                }
+            }
+            new
+        };
+        self.dt.points.to_mut().push(p);
+        self.vt.push(DEAD);
+        self.replace(cavity, &new);
+        Some(id)
+    }
+
+    /// Inserts `p` by a constrained Bowyer–Watson cavity: the tetrahedra
+    /// whose circumsphere strictly contains `p`, connected to the one
+    /// containing it across faces for which `protected_face` is false;
+    /// tetrahedra are then dropped from the cavity until every protected
+    /// edge (`protected_edge`) survives and `p` sees every boundary face.
+    /// `None` (nothing changed) when `p` is outside the hull, on a vertex,
+    /// or the containing tetrahedron itself must be dropped.
+    // Used by the tests today and by 3D refinement next.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub(crate) fn insert_constrained(
+        &mut self,
+        p: [f64; 3],
+        protected_face: &dyn Fn([u32; 3]) -> bool,
+        protected_edge: &dyn Fn(u32, u32) -> bool,
+    ) -> Option<u32> {
+        let mut rng = 0x2545_F491u32;
+        let c = self.core();
+        let pts = self.pts();
+        let t0 = c.walk(pts, &p, c.last, &mut rng);
+        let tv0 = c.v[t0 as usize];
+        if tv0.contains(&INF) || tv0.iter().any(|&w| pts[w as usize] == p) {
+            return None;
+        }
+        let inside = |t: u32| {
+            let tv = c.v[t as usize];
+            if tv.contains(&INF) {
+                return false;
+            }
+            let g = |i: usize| &pts[tv[i] as usize];
+            insphere(g(1), g(0), g(2), g(3), &p) > 0.0
+        };
+        let mut cav = vec![t0];
+        let mut i = 0;
+        while i < cav.len() {
+            let t = cav[i];
+            i += 1;
+            let tv = c.v[t as usize];
+            for f in 0..4 {
+                let n = c.adj[t as usize][f] >> 2;
+                if cav.contains(&n) || protected_face(fkey(face(tv, f))) || !inside(n) {
+                    continue;
+                }
+                cav.push(n);
+            }
+        }
+        // Shrink: drop a tetrahedron owning an invisible boundary face or a
+        // protected edge that would become interior, until none is left.
+        loop {
+            let mut drop = None;
+            'scan: for &t in &cav {
+                let tv = c.v[t as usize];
+                for f in 0..4 {
+                    if cav.contains(&(c.adj[t as usize][f] >> 2)) {
+                        continue;
+                    }
+                    let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
+                    if orient3d(x, y, z, &p) >= 0.0 {
+                        drop = Some(t);
+                        break 'scan;
+                    }
+                }
+                for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                    let (a, b) = (tv[i], tv[j]);
+                    if !protected_edge(a, b) {
+                        continue;
+                    }
+                    // Interior iff every tetrahedron around it is in the cavity.
+                    let interior = match self.edge_ring(t, a, b) {
+                        Some((ring, _)) => ring.iter().all(|x| cav.contains(x)),
+                        None => false,
+                    };
+                    if interior {
+                        drop = Some(t);
+                        break 'scan;
+                    }
+                }
+            }
+            match drop {
+                None => break,
+                Some(t) if t == t0 => return None,
+                Some(t) => cav.retain(|&x| x != t),
+            }
+        }
+        self.cone(&cav, p)
+    }
+
+    /// Checks the invariants: the kernel's topology and orientation checks,
+    /// and that every vertex hint names a live tetrahedron containing it.
+    // Used by the tests today and by 3D refinement next.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub(crate) fn check(&self) -> Result<(), String> {
+        self.dt.check_topology().map_err(|e| format!("{e:?}"))?;
+        let c = self.core();
+        for (w, &t) in self.vt.iter().enumerate() {
+            if t == DEAD {
+                continue;
+            }
+            let tv = c.v[t as usize];
+            if tv[0] == DEAD || !tv.contains(&(w as u32)) {
+                return Err(format!("vertex {w}: hint {t} does not contain it"));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn finite_tets(m: &CMesh<'_>) -> usize {
+        m.dt.num_tets()
+    }
+
+    fn has_edge(m: &CMesh<'_>, a: u32, b: u32) -> bool {
+        m.find_edge(a, b).is_some()
+    }
+
+    #[test]
+    fn rings_are_positively_ordered() {
+        let pts: Vec<[f64; 3]> = (0..40)
+            .map(|i| {
+                let x = (i as f64 * 0.618_034).fract();
+                let y = (i as f64 * 0.414_213_5).fract();
+                let z = (i as f64 * 0.732_050_8).fract();
+                [x, y, z]
+            })
+            .collect();
+        let m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        m.check().unwrap();
+        let mut rings = 0;
+        for (t, tv) in m.dt.core.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            if let Some((tets, r)) = m.edge_ring(t as u32, tv[0], tv[1]) {
+                rings += 1;
+                for i in 0..r.len() {
+                    let q = [tv[0], tv[1], r[i], r[(i + 1) % r.len()]];
+                    assert!(m.positive(q));
+                    let x = m.dt.core.v[tets[i] as usize];
+                    assert!(q.iter().all(|w| x.contains(w)));
+                }
+            }
+        }
+        assert!(rings > 10);
+    }
+
+    #[test]
+    fn flips_and_edge_removal_keep_the_mesh_valid() {
+        // Three points around the z axis and two poles: edge 3-4 has three
+        // tetrahedra around it; removing it is the 3-2 flip, and the 2-3
+        // flip of the new face brings it back.
+        let s = 3f64.sqrt() / 2.0;
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [-0.5, s, 0.0],
+            [-0.5, -s, 0.0],
+            [0.0, 0.0, 0.1],
+            [0.0, 0.0, -0.1],
+        ];
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        assert_eq!(finite_tets(&m), 3);
+        let t = m.find_edge(3, 4).unwrap();
+        assert_eq!(m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0), Some(0));
+        m.check().unwrap();
+        assert_eq!(finite_tets(&m), 2);
+        assert!(!has_edge(&m, 3, 4));
+        let t = m
+            .star(3)
+            .into_iter()
+            .find(|&t| {
+                let tv = m.dt.core.v[t as usize];
+                !tv.contains(&INF) && tv.contains(&0) && tv.contains(&1) && tv.contains(&2)
+            })
+            .unwrap();
+        let f = m.dt.core.v[t as usize]
+            .iter()
+            .position(|&w| w == 3)
+            .unwrap();
+        assert!(m.flip23(t, f));
+        m.check().unwrap();
+        assert_eq!(finite_tets(&m), 3);
+        assert!(has_edge(&m, 3, 4));
+        // A 2-3 flip whose apex edge misses the face is refused.
+        let pts2 = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.2, 0.2, 1.0],
+            [3.0, 3.0, -0.1],
+        ];
+        let mut m2 = CMesh::new(Delaunay3::from_points(&pts2).unwrap());
+        let before = m2.dt.core.v.clone();
+        for t in 0..m2.dt.core.v.len() as u32 {
+            for f in 0..4 {
+                let tv = m2.dt.core.v[t as usize];
+                if tv[0] == DEAD || tv.contains(&INF) {
+                    continue;
+                }
+                let nb = m2.dt.core.v[(m2.dt.core.adj[t as usize][f] >> 2) as usize];
+                if nb.contains(&INF) {
+                    continue;
+                }
+                // Apexes 3 and 4 around face 0-1-2: 3-4 misses it.
+                if face(tv, f).iter().all(|w| [0, 1, 2].contains(w)) {
+                    assert!(!m2.flip23(t, f));
+                }
+            }
+        }
+        assert_eq!(m2.dt.core.v, before);
+    }
+
+    #[test]
+    fn hull_diagonal_of_a_flat_quad_is_flipped() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.5, 1.0],
+        ];
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let (a, b, c, d) = if has_edge(&m, 0, 2) {
+            (0, 2, 1, 3)
+        } else {
+            (1, 3, 0, 2)
+        };
+        let t = m.find_edge(a, b).unwrap();
+        assert!(m.edge_ring(t, a, b).is_none());
+        assert!(m.remove_edge(t, a, b, &|_, _| 0, &|_, _, _| 0).is_some());
+        m.check().unwrap();
+        assert!(!has_edge(&m, a, b) && has_edge(&m, c, d));
+        assert_eq!(finite_tets(&m), 2);
+        // A hull edge between non-coplanar hull faces is kept.
+        let t = m.find_edge(0, 4).unwrap();
+        assert!(m.remove_edge(t, 0, 4, &|_, _| 0, &|_, _, _| 0).is_none());
+        m.check().unwrap();
+    }
+
+    #[test]
+    fn edge_removal_of_larger_rings_and_constrained_insertion() {
+        // A ring of six points around the z axis: edge 6-7 has six
+        // tetrahedra around it; removing it gives 2 * 6 - 4 = 8.
+        let mut pts: Vec<[f64; 3]> = (0..6)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::PI / 3.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        pts.push([0.0, 0.0, 0.05]);
+        pts.push([0.0, 0.0, -0.05]);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let mut m = CMesh::new(dt);
+        let t = m.find_edge(6, 7).unwrap();
+        let (tets, ring) = m.edge_ring(t, 6, 7).unwrap();
+        assert_eq!((tets.len(), ring.len()), (6, 6));
+        let before = finite_tets(&m);
+        m.remove_edge(t, 6, 7, &|_, _| 0, &|_, _, _| 1).unwrap();
+        m.check().unwrap();
+        assert_eq!(finite_tets(&m), before - 6 + 8);
+        // Insert the centre back with the face 0-2-4 protected (if
+        // present) and edge 0-3 protected: the mesh stays valid and the
+        // protected items survive.
+        let prot: Vec<[u32; 3]> = vec![fkey([0, 2, 4])];
+        let had =
+            m.dt.tets()
+                .any(|tv| (0..4).any(|f| fkey(face(tv, f)) == prot[0]));
+        let id = m
+            .insert_constrained([0.01, 0.02, 0.0], &|k| prot.contains(&k), &|a, b| {
+                (a.min(b), a.max(b)) == (0, 3)
+            })
+            .unwrap();
+        m.check().unwrap();
+        assert_eq!(id, 8);
+        if had {
+            assert!(m
+                .dt
+                .tets()
+                .any(|tv| (0..4).any(|f| fkey(face(tv, f)) == prot[0])));
+        }
+        // Cone refused when the point does not see the cavity's faces.
+        let t = m
+            .star(0)
+            .into_iter()
+            .find(|&t| !m.dt.core.v[t as usize].contains(&INF))
+            .unwrap();
+        let n = m.pts().len();
+        assert!(m.cone(&[t], [50.0, 50.0, 50.0]).is_none());
+        assert_eq!(m.pts().len(), n);
+        m.check().unwrap();
+    }
+}

@@ -1,0 +1,377 @@
+//! Constrained recovery by flips on a [`CMesh`]: missing subsegments and
+//! missing input triangles are recovered by 2-3 flips and edge removals,
+//! without Steiner points, whenever the flips find a way.
+//!
+//! **Segments** (walk from one end): the segment `u v` leaves `u` through
+//! the interior of the face opposite `u` in some tetrahedron of `u`'s star,
+//! or through the interior of an edge of that face (exact `orient3d` signs
+//! of `v` against the three planes through `u` and the face's edges). A
+//! crossed face is flipped away by a 2-3 flip (which makes the segment's
+//! first crossing move one tetrahedron further); when that flip is not
+//! valid, or when an edge is crossed, the blocking edge is removed by edge
+//! removal, or its ring is first shrunk by 2-3 flips of the faces around
+//! it. Both ends are tried alternately; a segment that makes no progress,
+//! meets a vertex on its interior, or exceeds its flip budget, fails (the
+//! caller then splits it).
+//!
+//! **Triangles**: the mesh edges crossing the interior of a missing
+//! triangle `T` are found by a breadth-first search from the stars of the
+//! vertices on `T` through tetrahedra that touch `T` or have an edge
+//! crossing it. Each crossing edge is removed by edge removal choosing the
+//! ring triangulation with the fewest new edges crossing `T` (Shewchuk's
+//! rule: when the ring holds `T`'s vertices, the triangulation containing
+//! `T` has no crossing chord); when no crossing edge can be removed, the
+//! rings are shrunk by 2-3 flips. With no crossing edge left and every
+//! subsegment present, `T` is a union of mesh faces.
+//!
+//! Nothing ever destroys a *protected* item: subsegments, the faces already
+//! lying on input triangles and their edges are never flipped away (2-3
+//! flips destroy only the flipped face, edge removal only the removed edge
+//! and the faces around it).
+
+use super::missing::{ekey, fkey, TET_EDGES};
+use super::place;
+use super::surface::{IdSet, Surface};
+use crate::tet::cmesh::{face, CMesh, EdgeCost, TriCost};
+use crate::tet::local::{DEAD, INF};
+use delone_predicates::orient3d;
+
+/// Items flips must keep.
+#[derive(Debug, Default)]
+pub(crate) struct Protected {
+    /// Edges (sorted pairs): subsegments and edges of protected faces.
+    pub(crate) edges: IdSet<(u32, u32)>,
+    /// Faces (sorted triples) lying on input triangles.
+    pub(crate) faces: IdSet<[u32; 3]>,
+}
+
+impl Protected {
+    fn edge(&self, a: u32, b: u32) -> bool {
+        self.edges.contains(&ekey(a, b))
+    }
+    fn face(&self, f: [u32; 3]) -> bool {
+        self.faces.contains(&fkey(f))
+    }
+    /// Protects face `f` and its edges.
+    pub(crate) fn add_face(&mut self, f: [u32; 3]) {
+        self.faces.insert(fkey(f));
+        for k in 0..3 {
+            self.edges.insert(ekey(f[k], f[(k + 1) % 3]));
+        }
+    }
+}
+
+/// Where segment `s → e` leaves `s`.
+enum Hit {
+    /// The segment is an edge.
+    Done,
+    /// Through the interior of the face opposite local vertex `f` of `t`.
+    Face(u32, usize),
+    /// Through the interior of edge `a b`.
+    Edge(u32, u32),
+    /// Through a vertex, or lost (inexact data).
+    Blocked,
+}
+
+fn sgn(x: f64) -> i32 {
+    (x > 0.0) as i32 - (x < 0.0) as i32
+}
+
+fn first_hit(cm: &CMesh<'_>, s: u32, e: u32) -> Hit {
+    let pts = cm.pts();
+    let g = |w: u32| &pts[w as usize];
+    for t in cm.star(s) {
+        let tv = cm.dt.core.v[t as usize];
+        if tv.contains(&e) {
+            return Hit::Done;
+        }
+        if tv.contains(&INF) {
+            continue;
+        }
+        let is = tv.iter().position(|&w| w == s).unwrap_or(0);
+        let [x, y, z] = face(tv, is);
+        let side = |a: u32, b: u32, c: u32| {
+            sgn(orient3d(g(s), g(a), g(b), g(e))) * sgn(orient3d(g(s), g(a), g(b), g(c)))
+        };
+        let (o1, o2, o3) = (side(x, y, z), side(y, z, x), side(z, x, y));
+        if o1 < 0 || o2 < 0 || o3 < 0 {
+            continue;
+        }
+        return match (o1 == 0, o2 == 0, o3 == 0) {
+            (false, false, false) => Hit::Face(t, is),
+            (true, false, false) => Hit::Edge(x, y),
+            (false, true, false) => Hit::Edge(y, z),
+            (false, false, true) => Hit::Edge(z, x),
+            _ => Hit::Blocked,
+        };
+    }
+    Hit::Blocked
+}
+
+fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
+    0
+}
+
+fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
+    0
+}
+
+/// Removes edge `a b` by edge removal; when its ring admits no valid
+/// triangulation, first shrinks the ring by 2-3 flips of the faces around
+/// it, and when such a flip is not valid (an edge `a r` or `b r` of the face
+/// is in the way), removes that edge the same way with `depth - 1`
+/// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
+/// beyond `depth` levels).
+fn remove_edge_deep(
+    cm: &mut CMesh<'_>,
+    a: u32,
+    b: u32,
+    depth: u32,
+    prot: &Protected,
+    tri: TriCost<'_>,
+    chord: EdgeCost<'_>,
+) -> bool {
+    let mut budget = WORK;
+    remove_edge_budget(cm, a, b, depth, prot, tri, chord, &mut budget)
+}
+
+/// Most edge-removal attempts one [`remove_edge_deep`] call makes.
+const WORK: usize = 16;
+
+#[allow(clippy::too_many_arguments)]
+fn remove_edge_budget(
+    cm: &mut CMesh<'_>,
+    a: u32,
+    b: u32,
+    depth: u32,
+    prot: &Protected,
+    tri: TriCost<'_>,
+    chord: EdgeCost<'_>,
+    budget: &mut usize,
+) -> bool {
+    if prot.edge(a, b) || *budget == 0 {
+        return false;
+    }
+    *budget -= 1;
+    let Some(t) = cm.find_edge(a, b) else {
+        return true;
+    };
+    if cm.remove_edge(t, a, b, tri, chord).is_some() {
+        return true;
+    }
+    if depth == 0 {
+        return false;
+    }
+    for _ in 0..crate::tet::cmesh::MAX_RING {
+        let Some(t) = cm.find_edge(a, b) else {
+            return true;
+        };
+        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+            return false;
+        };
+        let n = ring.len();
+        let mut progress = false;
+        for i in 0..n {
+            // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
+            if prot.face([a, b, ring[i]]) {
+                continue;
+            }
+            let x = tets[i];
+            let tv = cm.dt.core.v[x as usize];
+            let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
+                continue;
+            };
+            if n > 3 && cm.flip23(x, f) {
+                progress = true;
+                break;
+            }
+        }
+        if !progress && depth > 1 {
+            for &r in &ring {
+                if *budget == 0 {
+                    return false;
+                }
+                if remove_edge_budget(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
+                    && cm.find_edge(a, r).is_none()
+                    || remove_edge_budget(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
+                        && cm.find_edge(b, r).is_none()
+                {
+                    progress = true;
+                    break;
+                }
+            }
+        }
+        if !progress || *budget == 0 {
+            return false;
+        }
+        *budget -= 1;
+        let Some(t) = cm.find_edge(a, b) else {
+            return true;
+        };
+        if cm.remove_edge(t, a, b, tri, chord).is_some() {
+            return true;
+        }
+    }
+    false
+}
+
+/// Flip depth of segment and facet recovery.
+const DEPTH: u32 = 2;
+
+/// Recovers subsegment `u v` by flips; false when they fail.
+pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
+    const CAP: usize = 48;
+    for _ in 0..CAP {
+        let mut progress = false;
+        for (s, e) in [(u, v), (v, u)] {
+            match first_hit(cm, s, e) {
+                Hit::Done => return true,
+                Hit::Face(t, f) => {
+                    let tv = cm.dt.core.v[t as usize];
+                    let fv = face(tv, f);
+                    if !prot.face(fv) && cm.flip23(t, f) {
+                        progress = true;
+                    } else {
+                        for k in 0..3 {
+                            let (a, b) = (fv[k], fv[(k + 1) % 3]);
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
+                                progress = true;
+                                break;
+                            }
+                        }
+                    }
+                }
+                Hit::Edge(a, b) => {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
+                        progress = true;
+                    }
+                }
+                Hit::Blocked => {}
+            }
+            if progress {
+                break;
+            }
+        }
+        if !progress {
+            return false;
+        }
+    }
+    cm.find_edge(u, v).is_some()
+}
+
+/// The vertices lying on input triangle `t`: its chains and inner points.
+fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> {
+    let mut out: Vec<u32> = surf.tri_edges[t]
+        .iter()
+        .flat_map(|&e| surf.chains[e as usize].iter().copied())
+        .chain(extra.iter().copied())
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Mesh edges crossing the interior of input triangle `t` (see the module
+/// documentation), sorted, each with a tetrahedron containing it.
+fn crossing_edges(
+    cm: &CMesh<'_>,
+    surf: &Surface,
+    t: usize,
+    inner: &[u32],
+) -> Vec<((u32, u32), u32)> {
+    let pts = cm.pts();
+    let g = |w: u32| &pts[w as usize];
+    let [a, b, c] = surf.tris[t].map(g);
+    let crosses = |p: u32, q: u32| {
+        !surf.on_triangle(p, t) && !surf.on_triangle(q, t) && place::crosses(a, b, c, g(p), g(q))
+    };
+    let core = &cm.dt.core;
+    let mut seen: IdSet<u32> = IdSet::default();
+    let mut stack: Vec<u32> = Vec::new();
+    for w in tri_vertices(surf, t, inner) {
+        for x in cm.star(w) {
+            if seen.insert(x) {
+                stack.push(x);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    while let Some(x) = stack.pop() {
+        let xv = core.v[x as usize];
+        if xv[0] == DEAD || xv.contains(&INF) {
+            continue;
+        }
+        let touches = xv.iter().any(|&w| surf.on_triangle(w, t));
+        let mut crossing = false;
+        for (i, j) in TET_EDGES {
+            if crosses(xv[i], xv[j]) {
+                crossing = true;
+                out.push((ekey(xv[i], xv[j]), x));
+            }
+        }
+        if !(touches || crossing) {
+            continue;
+        }
+        for f in 0..4 {
+            let n = core.adj[x as usize][f] >> 2;
+            if seen.insert(n) {
+                stack.push(n);
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup_by_key(|e| e.0);
+    out
+}
+
+/// Recovers input triangle `t` by flips (no crossing edge left); false when
+/// they fail. `inner`: Steiner points inside `t`.
+pub(crate) fn recover_facet(
+    cm: &mut CMesh<'_>,
+    surf: &Surface,
+    t: usize,
+    inner: &[u32],
+    prot: &Protected,
+) -> bool {
+    let mut cross = crossing_edges(cm, surf, t, inner);
+    let cap = 16 + 4 * cross.len();
+    let tv = surf.tris[t];
+    for _ in 0..cap {
+        if cross.is_empty() {
+            return true;
+        }
+        let [ta, tb, tc] = tv.map(|w| cm.pts()[w as usize]);
+        // New ring chords crossing `t` cost one each.
+        let cost = |pts: &[[f64; 3]], a: u32, b: u32| -> i64 {
+            let on = |w: u32| surf.on_triangle(w, t);
+            i64::from(
+                !on(a)
+                    && !on(b)
+                    && place::crosses(&ta, &tb, &tc, &pts[a as usize], &pts[b as usize]),
+            )
+        };
+        let mut progress = false;
+        for &((p, q), x) in &cross {
+            if prot.edge(p, q) {
+                continue;
+            }
+            if cm.remove_edge(x, p, q, &zero, &cost).is_some() {
+                progress = true;
+                break;
+            }
+        }
+        if !progress {
+            for &((p, q), _) in &cross {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost) {
+                    progress = true;
+                    break;
+                }
+            }
+        }
+        if !progress {
+            return false;
+        }
+        cross = crossing_edges(cm, surf, t, inner);
+    }
+    cross.is_empty()
+}
