@@ -31,7 +31,10 @@
 //! 4. A Steiner-point budget ([`RefineOptions::max_steiner`], Triangle's `-S`)
 //!    stops the refinement; the report says whether every bound was met.
 //!
-//! Insertion is by Lawson flips that never flip a subsegment, so the result is
+//! Insertion is Bowyer–Watson: the cavity of a new point (the triangles whose
+//! circumcircle strictly contains it, reached without crossing a subsegment)
+//! is found once — for a circumcentre, its boundary subsegments are the ones
+//! tested for encroachment — and replaced by a fan; so the result is
 //! again a constrained Delaunay triangulation (checked by
 //! [`check_cdt`](super::constrain::check_cdt)). All orientation and incircle
 //! decisions use exact predicates on coordinates scaled by an exact power of
@@ -153,8 +156,8 @@ pub struct RefineReport {
     /// Circumcentres not inserted because they encroached a subsegment or lay
     /// beyond one (a subsegment was split instead).
     pub rejected_circumcenters: usize,
-    /// Edge flips done.
-    pub flips: usize,
+    /// Triangles replaced by Bowyer–Watson cavities (the work done).
+    pub cavity_triangles: usize,
     /// The smallest angle of the output, in degrees.
     pub min_angle: f64,
     /// The largest angle of the output, in degrees.
@@ -236,7 +239,40 @@ struct Mesh {
     cos2: f64,
     subs: Vec<Sub>,
     parents: Vec<Parent>,
-    flips: usize,
+    /// Cavity stamp of every triangle.
+    mark: Vec<u32>,
+    /// Per vertex: stamp and the cavity boundary edge starting there.
+    vmark: Vec<[u32; 2]>,
+    stamp: u32,
+    /// Scratch of [`Mesh::insert`]: cavity, its boundary, encroached
+    /// subsegments, new triangles.
+    cav: Vec<u32>,
+    bnd: Vec<Bnd>,
+    hit: Vec<u32>,
+    fan: Vec<u32>,
+    /// Triangles replaced by cavities.
+    replaced: usize,
+}
+
+/// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
+#[derive(Clone, Copy)]
+struct Bnd {
+    a: u32,
+    b: u32,
+    /// Packed neighbour outside the cavity, or `NONE`.
+    adj: u32,
+    /// Its subsegment, or `NONE`.
+    sb: u32,
+    orig: u32,
+    /// The new triangle on it.
+    slot: u32,
+}
+
+/// Outcome of [`Mesh::insert`].
+enum Ins {
+    Done(u32),
+    Encroached,
+    Failed,
 }
 
 /// Encroachment of `(u, v)` by `w`: `w` sees the subsegment at an angle
@@ -304,63 +340,26 @@ impl Mesh {
         &self.xy[v as usize]
     }
 
-    fn set_vt(&mut self, t: usize) {
-        for &x in &self.tv[t] {
-            self.vt[x as usize] = t as u32;
-        }
-    }
-
-    /// Sets the back pointer of the neighbour across edge `w` of `k`.
-    fn link(&mut self, k: usize, w: usize) {
-        let x = self.ta[k][w];
-        if x != NONE {
-            let (o, l) = unpack(x);
-            self.ta[o][l] = pack(k, w);
-        }
-    }
-
-    /// Triangles around `u`, starting anywhere.
-    fn star(&self, u: u32) -> Vec<usize> {
+    /// The half-edge `u -> w` as (triangle, local edge), by rotating around
+    /// `u` (both ways: `u` may be on the boundary).
+    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
         let start = self.vt[u as usize] as usize;
-        let mut out = vec![start];
-        // Counterclockwise.
-        let mut t = start;
-        let mut closed = false;
-        for _ in 0..self.tv.len() {
-            let k = self.tv[t].iter().position(|&x| x == u).unwrap_or(0);
-            let x = self.ta[t][NEXT[k]];
-            if x == NONE {
-                break;
-            }
-            t = unpack(x).0;
-            if t == start {
-                closed = true;
-                break;
-            }
-            out.push(t);
-        }
-        if !closed {
+        for dir in [NEXT, PREV] {
             let mut t = start;
             for _ in 0..self.tv.len() {
-                let k = self.tv[t].iter().position(|&x| x == u).unwrap_or(0);
-                let x = self.ta[t][PREV[k]];
+                let v = self.tv[t];
+                let k = v.iter().position(|&x| x == u)?;
+                if v[NEXT[k]] == w {
+                    return Some((t, PREV[k]));
+                }
+                let x = self.ta[t][dir[k]];
                 if x == NONE {
                     break;
                 }
                 t = unpack(x).0;
-                out.push(t);
-            }
-        }
-        out
-    }
-
-    /// The half-edge `u -> w` as (triangle, local edge).
-    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        for t in self.star(u) {
-            let v = self.tv[t];
-            let k = v.iter().position(|&x| x == u)?;
-            if v[NEXT[k]] == w {
-                return Some((t, PREV[k]));
+                if t == start {
+                    return None;
+                }
             }
         }
         None
@@ -371,173 +370,177 @@ impl Mesh {
         self.find_edge(u, w).or_else(|| self.find_edge(w, u))
     }
 
-    /// Flips edge `i` of `t` (strictly convex quadrilateral, unconstrained).
-    fn flip(&mut self, t: usize, i: usize) {
-        let (n, j) = unpack(self.ta[t][i]);
-        let vt = self.tv[t];
-        let vn = self.tv[n];
-        let a = vt[i];
-        let (x, y) = edge(&vt, i);
-        let d = vn[j];
-        let t_ax = (self.ta[t][PREV[i]], self.sb[t][PREV[i]]);
-        let t_ya = (self.ta[t][NEXT[i]], self.sb[t][NEXT[i]]);
-        let n_dy = (self.ta[n][PREV[j]], self.sb[n][PREV[j]]);
-        let n_xd = (self.ta[n][NEXT[j]], self.sb[n][NEXT[j]]);
-        self.tv[t] = [a, x, d];
-        self.tv[n] = [d, y, a];
-        self.ta[t] = [n_xd.0, pack(n, 1), t_ax.0];
-        self.sb[t] = [n_xd.1, NONE, t_ax.1];
-        self.ta[n] = [t_ya.0, pack(t, 1), n_dy.0];
-        self.sb[n] = [t_ya.1, NONE, n_dy.1];
-        for (k, w) in [(t, 0usize), (t, 2), (n, 0), (n, 2)] {
-            self.link(k, w);
-        }
-        self.set_vt(t);
-        self.set_vt(n);
-        self.flips += 1;
-    }
-
-    /// Lawson flips after inserting `p`: `stack` holds the link edges
-    /// `(x, y)` of `p` (triangle `[p, x, y]` counterclockwise).
-    fn legalize(&mut self, p: u32, stack: &mut Vec<(u32, u32)>) {
-        while let Some((x, y)) = stack.pop() {
-            let Some((t, i)) = self.find_edge(x, y) else {
-                continue;
-            };
-            if self.tv[t][i] != p || self.sb[t][i] != NONE || self.ta[t][i] == NONE {
-                continue;
-            }
-            let (n, j) = unpack(self.ta[t][i]);
-            let d = self.tv[n][j];
-            let v = self.tv[t];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(d)) > 0.0 {
-                self.flip(t, i);
-                stack.push((x, d));
-                stack.push((d, y));
-            }
-        }
-    }
-
     fn new_tri(&mut self) -> usize {
         self.tv.push([0; 3]);
         self.ta.push([NONE; 3]);
         self.sb.push([NONE; 3]);
         self.orig.push(NONE);
+        self.mark.push(0);
         self.tv.len() - 1
     }
 
-    fn new_vertex(&mut self, x: [f64; 2], t: usize, par: u32) -> u32 {
-        let s = self.xy.len() as u32;
-        self.xy.push(x);
-        self.vt.push(t as u32);
-        self.vpar.push(par);
-        s
-    }
-
-    /// Splits triangle `t` at a point strictly inside it.
-    fn split_tri(&mut self, t: usize, x: [f64; 2]) -> u32 {
-        let [v0, v1, v2] = self.tv[t];
-        let p = self.new_vertex(x, t, NONE);
-        let (a0, a1, a2) = (self.ta[t][0], self.ta[t][1], self.ta[t][2]);
-        let (s0, s1, s2) = (self.sb[t][0], self.sb[t][1], self.sb[t][2]);
-        let t1 = self.new_tri();
-        let t2 = self.new_tri();
-        let o = self.orig[t];
-        self.orig[t1] = o;
-        self.orig[t2] = o;
-        self.tv[t] = [v0, v1, p];
-        self.ta[t] = [pack(t1, 1), pack(t2, 0), a2];
-        self.sb[t] = [NONE, NONE, s2];
-        self.tv[t1] = [v1, v2, p];
-        self.ta[t1] = [pack(t2, 1), pack(t, 0), a0];
-        self.sb[t1] = [NONE, NONE, s0];
-        self.tv[t2] = [v2, v0, p];
-        self.ta[t2] = [pack(t, 1), pack(t1, 0), a1];
-        self.sb[t2] = [NONE, NONE, s1];
-        for k in [t, t1, t2] {
-            self.link(k, 2);
-            self.set_vt(k);
+    fn next_stamp(&mut self) -> u32 {
+        if self.stamp == u32::MAX {
+            self.mark.fill(0);
+            self.vmark.fill([0, 0]);
+            self.stamp = 0;
         }
-        let mut st = vec![(v0, v1), (v1, v2), (v2, v0)];
-        self.legalize(p, &mut st);
-        p
+        self.stamp += 1;
+        self.stamp
     }
 
-    /// Whether `x` splits edge `i` of `t` (and its twin) into
-    /// counterclockwise triangles.
-    fn can_split(&self, t: usize, i: usize, x: &[f64; 2]) -> bool {
-        let ok = |t: usize, i: usize| {
-            let v = self.tv[t];
-            let a = self.p(v[i]);
-            let (p, q) = edge(&v, i);
-            orient2d(a, self.p(p), x) > 0.0 && orient2d(a, x, self.p(q)) > 0.0
+    /// Bowyer–Watson insertion of `c` in the constrained triangulation: the
+    /// cavity is grown from triangle `start` across unconstrained edges (and
+    /// across subsegment `split`, the one `c` splits) to every triangle whose
+    /// circumcircle strictly contains `c` (exact test), then replaced by a fan
+    /// around `c`. With `check_enc`, subsegments on the cavity boundary that
+    /// `c` encroaches are collected in `self.hit` and nothing is inserted.
+    /// Nothing is changed either unless `c` sees every boundary edge strictly
+    /// on its left and the boundary is one simple cycle (or one chain, when
+    /// `split` is a boundary subsegment): the result is always a valid mesh.
+    /// `halves`: `(u, label, w, label)` of the two pieces of `split`.
+    /// The new triangles are left in `self.fan`.
+    fn insert(
+        &mut self,
+        start: usize,
+        c: [f64; 2],
+        split: u32,
+        halves: [u32; 4],
+        check_enc: bool,
+    ) -> Ins {
+        let stamp = self.next_stamp();
+        self.cav.clear();
+        self.bnd.clear();
+        self.hit.clear();
+        self.mark[start] = stamp;
+        self.cav.push(start as u32);
+        let mut open = 0usize;
+        let mut i = 0;
+        while i < self.cav.len() {
+            let t = self.cav[i] as usize;
+            i += 1;
+            for e in 0..3 {
+                let s = self.sb[t][e];
+                let x = self.ta[t][e];
+                if s == NONE || s == split {
+                    // Crossing the subsegment being split?
+                    let crossing = s != NONE;
+                    if x == NONE {
+                        if crossing {
+                            open += 1;
+                            continue;
+                        }
+                    } else {
+                        let n = unpack(x).0;
+                        if self.mark[n] == stamp {
+                            continue;
+                        }
+                        let v = self.tv[n];
+                        if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0
+                        {
+                            self.mark[n] = stamp;
+                            self.cav.push(n as u32);
+                            continue;
+                        }
+                    }
+                } else if check_enc {
+                    let [u, w] = self.subs[s as usize].v;
+                    if encroaches(self.p(u), self.p(w), &c, self.cos2) && !self.hit.contains(&s) {
+                        self.hit.push(s);
+                    }
+                }
+                let (a, b) = edge(&self.tv[t], e);
+                self.bnd.push(Bnd {
+                    a,
+                    b,
+                    adj: x,
+                    sb: s,
+                    orig: self.orig[t],
+                    slot: 0,
+                });
+            }
+        }
+        if !self.hit.is_empty() {
+            return Ins::Encroached;
+        }
+        // Validity of the star.
+        let nb = self.bnd.len();
+        if nb + open != self.cav.len() + 2 {
+            return Ins::Failed;
+        }
+        for k in 0..nb {
+            let b = self.bnd[k];
+            if orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0
+                || (b.adj != NONE && self.mark[unpack(b.adj).0] == stamp)
+                || self.vmark[b.a as usize][0] == stamp
+            {
+                return Ins::Failed;
+            }
+            self.vmark[b.a as usize] = [stamp, k as u32];
+        }
+        let unmatched = self
+            .bnd
+            .iter()
+            .filter(|b| self.vmark[b.b as usize][0] != stamp)
+            .count();
+        if unmatched != open {
+            return Ins::Failed;
+        }
+        // The fan.
+        let p = self.xy.len() as u32;
+        self.xy.push(c);
+        self.vpar.push(NONE);
+        self.vmark.push([0, 0]);
+        self.vt.push(self.cav[0]);
+        self.replaced += self.cav.len();
+        self.fan.clear();
+        for k in 0..nb {
+            let s = if k < self.cav.len() {
+                self.cav[k] as usize
+            } else {
+                self.new_tri()
+            };
+            self.bnd[k].slot = s as u32;
+            self.fan.push(s as u32);
+        }
+        let label = |x: u32| {
+            if x == halves[0] {
+                halves[1]
+            } else if x == halves[2] {
+                halves[3]
+            } else {
+                NONE
+            }
         };
-        if !ok(t, i) {
-            return false;
-        }
-        let w = self.ta[t][i];
-        w == NONE || {
-            let (n, j) = unpack(w);
-            ok(n, j)
-        }
-    }
-
-    /// Splits edge `i` of `t` at `x` (checked by [`Self::can_split`]); the two
-    /// halves get labels `l1` (`p` side) and `l2` (`q` side), where `t`
-    /// holds the edge as `p -> q`.
-    fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2], l: [u32; 2], par: u32) -> u32 {
-        let w = self.ta[t][i];
-        let vt = self.tv[t];
-        let a = vt[i];
-        let (p, q) = edge(&vt, i);
-        let s = self.new_vertex(x, t, par);
-        let t_ap = (self.ta[t][PREV[i]], self.sb[t][PREV[i]]);
-        let t_qa = (self.ta[t][NEXT[i]], self.sb[t][NEXT[i]]);
-        let t2 = self.new_tri();
-        self.orig[t2] = self.orig[t];
-        let mut st = vec![(a, p), (q, a)];
-        if w == NONE {
-            self.tv[t] = [a, p, s];
-            self.ta[t] = [NONE, pack(t2, 2), t_ap.0];
-            self.sb[t] = [l[0], NONE, t_ap.1];
-            self.tv[t2] = [a, s, q];
-            self.ta[t2] = [NONE, t_qa.0, pack(t, 1)];
-            self.sb[t2] = [l[1], t_qa.1, NONE];
-            self.link(t, 2);
-            self.link(t2, 1);
-            self.set_vt(t);
-            self.set_vt(t2);
-        } else {
-            let (n, j) = unpack(w);
-            let vn = self.tv[n];
-            let d = vn[j];
-            let n_pd = (self.ta[n][NEXT[j]], self.sb[n][NEXT[j]]);
-            let n_dq = (self.ta[n][PREV[j]], self.sb[n][PREV[j]]);
-            let n2 = self.new_tri();
-            self.orig[n2] = self.orig[n];
-            self.tv[t] = [a, p, s];
-            self.ta[t] = [pack(n2, 0), pack(t2, 2), t_ap.0];
-            self.sb[t] = [l[0], NONE, t_ap.1];
-            self.tv[t2] = [a, s, q];
-            self.ta[t2] = [pack(n, 0), t_qa.0, pack(t, 1)];
-            self.sb[t2] = [l[1], t_qa.1, NONE];
-            self.tv[n] = [d, q, s];
-            self.ta[n] = [pack(t2, 0), pack(n2, 2), n_dq.0];
-            self.sb[n] = [l[1], NONE, n_dq.1];
-            self.tv[n2] = [d, s, p];
-            self.ta[n2] = [pack(t, 0), n_pd.0, pack(n, 1)];
-            self.sb[n2] = [l[0], n_pd.1, NONE];
-            for (k, e) in [(t, 2usize), (t2, 1), (n, 2), (n2, 1)] {
-                self.link(k, e);
+        for k in 0..nb {
+            let b = self.bnd[k];
+            let s = b.slot as usize;
+            let vm = self.vmark[b.b as usize];
+            let next = if vm[0] == stamp {
+                pack(self.bnd[vm[1] as usize].slot as usize, 2)
+            } else {
+                NONE
+            };
+            self.tv[s] = [p, b.a, b.b];
+            self.ta[s] = [b.adj, next, NONE];
+            self.sb[s] = [b.sb, label(b.b), label(b.a)];
+            self.orig[s] = b.orig;
+            self.vt[b.a as usize] = s as u32;
+            if b.adj != NONE {
+                let (o, l) = unpack(b.adj);
+                self.ta[o][l] = pack(s, 0);
             }
-            for k in [t, t2, n, n2] {
-                self.set_vt(k);
-            }
-            st.push((d, q));
-            st.push((p, d));
         }
-        self.legalize(s, &mut st);
-        s
+        for k in 0..nb {
+            let s = self.bnd[k].slot as usize;
+            let x = self.ta[s][1];
+            if x != NONE {
+                self.ta[unpack(x).0][2] = pack(s, 1);
+            }
+            self.vt[self.bnd[k].b as usize] = s as u32;
+        }
+        self.vt[p as usize] = self.fan[0];
+        Ins::Done(p)
     }
 
     /// Walks from triangle `t` toward `c` along the line from its centroid,
@@ -586,39 +589,6 @@ impl Mesh {
         Walk::Lost
     }
 
-    /// Subsegments that would become visible from `c` if it were inserted
-    /// in `t0` (and `t1`), i.e. on the boundary of its Bowyer–Watson cavity,
-    /// and that `c` encroaches.
-    fn cavity_encroached(&self, starts: &[usize], c: &[f64; 2], out: &mut Vec<u32>) {
-        let mut seen: Vec<usize> = starts.to_vec();
-        let mut st: Vec<usize> = starts.to_vec();
-        while let Some(t) = st.pop() {
-            for e in 0..3 {
-                let s = self.sb[t][e];
-                if s != NONE {
-                    let [u, w] = self.subs[s as usize].v;
-                    if encroaches(self.p(u), self.p(w), c, self.cos2) && !out.contains(&s) {
-                        out.push(s);
-                    }
-                    continue;
-                }
-                let x = self.ta[t][e];
-                if x == NONE {
-                    continue;
-                }
-                let n = unpack(x).0;
-                if seen.contains(&n) {
-                    continue;
-                }
-                let v = self.tv[n];
-                if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), c) > 0.0 {
-                    seen.push(n);
-                    st.push(n);
-                }
-            }
-        }
-    }
-
     /// The point splitting subsegment `s`, and its parameter.
     fn split_point(&self, s: &Sub) -> ([f64; 2], f64) {
         let par = self.parents[s.parent as usize];
@@ -657,20 +627,18 @@ impl Mesh {
         }
         let (x, tm) = self.split_point(&sub);
         let [u, w] = sub.v;
-        let Some((t, i)) = self.find_either(u, w) else {
+        let Some((t, _)) = self.find_either(u, w) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
-        if !self.can_split(t, i, &x) {
+        // Halves: k = u..new, k+1 = new..w.
+        let k = self.subs.len() as u32;
+        let Ins::Done(nv) = self.insert(t, x, s, [u, k, w, k + 1], false) else {
             self.subs[s as usize].stuck = true;
             return None;
-        }
-        let (p, _) = edge(&self.tv[t], i);
-        let k = self.subs.len() as u32;
-        // Halves: k = u..new, k+1 = new..w.
-        let l = if p == u { [k, k + 1] } else { [k + 1, k] };
+        };
+        self.vpar[nv as usize] = sub.parent;
         self.subs[s as usize].alive = false;
-        let nv = self.xy.len() as u32;
         self.subs.push(Sub {
             v: [u, nv],
             t: [sub.t[0], tm],
@@ -685,7 +653,7 @@ impl Mesh {
             alive: true,
             stuck: false,
         });
-        Some(self.split_edge(t, i, x, l, sub.parent))
+        Some(nv)
     }
 
     /// Skinny triangle whose shortest edge spans a small input angle:
@@ -800,10 +768,19 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         cos2: 0.0,
         subs: Vec::new(),
         parents: Vec::new(),
-        flips: 0,
+        mark: vec![0; nt],
+        vmark: vec![[0, 0]; nfixed],
+        stamp: 0,
+        cav: Vec::new(),
+        bnd: Vec::new(),
+        hit: Vec::new(),
+        fan: Vec::new(),
+        replaced: 0,
     };
     for t in 0..nt {
-        m.set_vt(t);
+        for &x in &m.tv[t] {
+            m.vt[x as usize] = t as u32;
+        }
         for e in 0..3 {
             let n = cdt.neighbors[t][e];
             if n == NONE {
@@ -904,15 +881,12 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         }
         None
     };
-    let canon = |v: [u32; 3]| {
-        let k = (0..3).min_by_key(|&i| v[i]).unwrap_or(0);
-        [v[k], v[NEXT[k]], v[PREV[k]]]
-    };
-    let mut heap: BinaryHeap<Reverse<(u64, [u32; 3])>> = BinaryHeap::new();
+    type Heap = BinaryHeap<Reverse<(u64, u32, [u32; 3])>>;
+    let mut heap: Heap = BinaryHeap::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(Reverse((k, canon(m.tv[t]))));
+            heap.push(Reverse((k, t as u32, m.tv[t])));
         }
     }
     // Subsegments encroached by an apex.
@@ -932,26 +906,19 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             check_sub(&m, t, e, &mut enc);
         }
     }
-    let after_insert = |m: &Mesh,
-                        p: u32,
-                        heap: &mut BinaryHeap<Reverse<(u64, [u32; 3])>>,
-                        enc: &mut VecDeque<u32>| {
-        for t in m.star(p) {
+    // The new triangles: bad ones are queued, their subsegments checked.
+    let after_insert = |m: &Mesh, heap: &mut Heap, enc: &mut VecDeque<u32>| {
+        for &t in &m.fan {
+            let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(Reverse((k, canon(m.tv[t]))));
+                heap.push(Reverse((k, t as u32, m.tv[t])));
             }
             for e in 0..3 {
                 check_sub(m, t, e, enc);
-                let x = m.ta[t][e];
-                if x != NONE && m.sb[t][e] != NONE {
-                    let (n, j) = unpack(x);
-                    check_sub(m, n, j, enc);
-                }
             }
         }
     };
     let mut steiner = 0usize;
-    let mut tmp: Vec<u32> = Vec::new();
     loop {
         if enc.is_empty() && heap.is_empty() {
             break;
@@ -961,23 +928,21 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             break;
         }
         if let Some(s) = enc.pop_front() {
-            if let Some(p) = m.split_sub(s) {
+            if m.split_sub(s).is_some() {
                 steiner += 1;
                 report.segment_splits += 1;
-                after_insert(&m, p, &mut heap, &mut enc);
+                after_insert(&m, &mut heap, &mut enc);
             }
             continue;
         }
-        let Some(Reverse((_, v))) = heap.pop() else {
+        let Some(Reverse((_, t, v))) = heap.pop() else {
             break;
         };
-        let Some((t, i)) = m.find_edge(v[1], v[2]) else {
-            continue;
-        };
-        if m.tv[t][i] != v[0] {
+        let t = t as usize;
+        if m.tv[t] != v {
             continue;
         }
-        let tv = m.tv[t];
+        let tv = v;
         let mut c = circumcenter(m.p(tv[0]), m.p(tv[1]), m.p(tv[2]));
         if crit.off > 0.0 {
             // Üngör's off-centre: on the bisector of the shortest edge, at
@@ -998,54 +963,47 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             continue;
         }
         let at = match m.walk(t, &c) {
-            Walk::Inside(x) => (x, None),
-            Walk::OnEdge(x, e) => (x, Some(e)),
-            Walk::Blocked(s) => {
+            Walk::Inside(x) => Ok(x),
+            Walk::OnEdge(x, e) if m.sb[x][e] == NONE => Ok(x),
+            // On a subsegment: that one is encroached.
+            Walk::OnEdge(x, e) => Err(m.sb[x][e]),
+            Walk::Blocked(s) => Err(s),
+            Walk::Vertex | Walk::Lost => continue,
+        };
+        let at = match at {
+            Ok(x) => x,
+            Err(s) => {
                 report.rejected_circumcenters += 1;
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
-                    heap.push(Reverse((0, v)));
+                    heap.push(Reverse((0, t as u32, v)));
                 }
                 continue;
             }
-            Walk::Vertex | Walk::Lost => continue,
         };
-        tmp.clear();
-        let mut starts = vec![at.0];
-        if let Some(e) = at.1 {
-            if m.ta[at.0][e] != NONE {
-                starts.push(unpack(m.ta[at.0][e]).0);
+        match m.insert(at, c, NONE, [NONE; 4], true) {
+            Ins::Done(_) => {
+                steiner += 1;
+                report.circumcenters += 1;
+                after_insert(&m, &mut heap, &mut enc);
             }
-        }
-        m.cavity_encroached(&starts, &c, &mut tmp);
-        if !tmp.is_empty() {
-            report.rejected_circumcenters += 1;
-            let mut any = false;
-            for &s in &tmp {
-                if !m.subs[s as usize].stuck {
-                    enc.push_back(s);
-                    any = true;
+            Ins::Encroached => {
+                report.rejected_circumcenters += 1;
+                let mut any = false;
+                for &s in &m.hit {
+                    if !m.subs[s as usize].stuck {
+                        enc.push_back(s);
+                        any = true;
+                    }
+                }
+                if any {
+                    heap.push(Reverse((0, t as u32, v)));
                 }
             }
-            if any {
-                heap.push(Reverse((0, v)));
-            }
-            continue;
+            Ins::Failed => {}
         }
-        let p = match at {
-            (x, None) => m.split_tri(x, c),
-            (x, Some(e)) => {
-                if m.sb[x][e] != NONE || !m.can_split(x, e, &c) {
-                    continue;
-                }
-                m.split_edge(x, e, c, [NONE, NONE], NONE)
-            }
-        };
-        steiner += 1;
-        report.circumcenters += 1;
-        after_insert(&m, p, &mut heap, &mut enc);
     }
-    report.flips = m.flips;
+    report.cavity_triangles = m.replaced;
     Ok(finish(cdt, m, &crit, scale, report))
 }
 
