@@ -50,8 +50,7 @@
 //! A. Üngör, *Off-centers: a new type of Steiner points for computing
 //! size-optimal quality-guaranteed Delaunay triangulations*, LATIN 2004.
 
-use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, VecDeque};
+use std::collections::{HashMap, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
@@ -702,6 +701,68 @@ impl Mesh {
     }
 }
 
+/// Bad triangles waiting, in buckets by badness: bucket 0 for triangles
+/// whose circumcentre was rejected (retried right after the subsegment
+/// splits), then angle buckets (worst first, by sin² of the smallest angle
+/// over the bound's), then area buckets (largest area ratio first, quarter
+/// octaves). Within a bucket the newest triangle comes first: it was just
+/// made, so it is still in cache (the order changes the mesh only slightly).
+struct Queue {
+    buckets: Vec<Vec<(u32, [u32; 3])>>,
+    /// No non-empty bucket below this one.
+    lo: usize,
+    len: usize,
+}
+
+const ANGLE_BUCKETS: u32 = 64;
+const AREA_BUCKETS: u32 = 160;
+
+impl Queue {
+    fn new() -> Self {
+        Queue {
+            buckets: vec![Vec::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
+            lo: 0,
+            len: 0,
+        }
+    }
+
+    /// `q` = sin² of the smallest angle over sin² of the bound, in [0, 1).
+    fn angle_bucket(q: f64) -> u32 {
+        1 + ((q * ANGLE_BUCKETS as f64) as u32).min(ANGLE_BUCKETS - 1)
+    }
+
+    /// `r` = area over the bound, above 1.
+    fn area_bucket(r: f64) -> u32 {
+        // Quarter octaves from the exponent and the top two mantissa bits.
+        let k = ((r.to_bits() >> 50) as u32)
+            .saturating_sub(1023 << 2)
+            .min(AREA_BUCKETS - 1);
+        1 + ANGLE_BUCKETS + (AREA_BUCKETS - 1 - k)
+    }
+
+    fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
+        let b = b as usize;
+        self.buckets[b].push((t, v));
+        self.lo = self.lo.min(b);
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<(u32, [u32; 3])> {
+        while self.lo < self.buckets.len() {
+            if let Some(x) = self.buckets[self.lo].pop() {
+                self.len -= 1;
+                return Some(x);
+            }
+            self.lo += 1;
+        }
+        None
+    }
+
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
 /// Criteria in scaled units.
 struct Crit {
     /// sin² of the angle bound (0: none).
@@ -860,33 +921,40 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     let limit = options.max_steiner.unwrap_or(usize::MAX);
     let mut report = RefineReport::default();
 
-    // Badness key (smaller is worse) of triangle t, if it is to be fixed.
-    let bad = |m: &Mesh, t: usize| -> Option<u64> {
+    // Queue bucket (smaller is worse) of triangle t, if it is to be fixed.
+    let inv_sin2 = if crit.sin2 > 0.0 {
+        1.0 / crit.sin2
+    } else {
+        0.0
+    };
+    let bad = |m: &Mesh, t: usize| -> Option<u32> {
         let v = m.tv[t];
         let (s2, d, k) = shape(m.p(v[0]), m.p(v[1]), m.p(v[2]));
         let mut abound = crit.area2;
-        let ma = cdt.max_areas[m.orig[t] as usize];
-        if crit.regional && ma > 0.0 {
-            abound = abound.min(2.0 * ma * crit.s2);
+        if crit.regional {
+            let ma = cdt.max_areas[m.orig[t] as usize];
+            if ma > 0.0 {
+                abound = abound.min(2.0 * ma * crit.s2);
+            }
         }
         if d > abound {
-            return Some((1.0 + abound / d).to_bits());
+            return Some(Queue::area_bucket(d / abound));
         }
         if s2 < crit.sin2 {
             let (u, w) = edge(&v, k);
             if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
                 return None;
             }
-            return Some(s2.to_bits());
+            return Some(Queue::angle_bucket(s2 * inv_sin2));
         }
         None
     };
-    type Heap = BinaryHeap<Reverse<(u64, u32, [u32; 3])>>;
-    let mut heap: Heap = BinaryHeap::new();
+    type Heap = Queue;
+    let mut heap = Queue::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(Reverse((k, t as u32, m.tv[t])));
+            heap.push(k, t as u32, m.tv[t]);
         }
     }
     // Subsegments encroached by an apex.
@@ -911,7 +979,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         for &t in &m.fan {
             let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(Reverse((k, t as u32, m.tv[t])));
+                heap.push(k, t as u32, m.tv[t]);
             }
             for e in 0..3 {
                 check_sub(m, t, e, enc);
@@ -935,7 +1003,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             }
             continue;
         }
-        let Some(Reverse((_, t, v))) = heap.pop() else {
+        let Some((t, v)) = heap.pop() else {
             break;
         };
         let t = t as usize;
@@ -976,7 +1044,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
                 report.rejected_circumcenters += 1;
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
-                    heap.push(Reverse((0, t as u32, v)));
+                    heap.push(0, t as u32, v);
                 }
                 continue;
             }
@@ -997,7 +1065,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
                     }
                 }
                 if any {
-                    heap.push(Reverse((0, t as u32, v)));
+                    heap.push(0, t as u32, v);
                 }
             }
             Ins::Failed => {}
@@ -1039,24 +1107,43 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
         });
     }
     segments.extend(cdt.segments.iter().filter(|s| !s.bounding).copied());
-    report.min_angle = 180.0;
-    report.max_angle = 0.0;
+    // The extreme angles: the triangles with the smallest sin² of the
+    // smallest angle and the smallest cosine of the largest angle, measured
+    // exactly at the end (atan2 only there).
+    let mut lo_t = (f64::INFINITY, usize::MAX);
+    let mut hi_t = (f64::INFINITY, usize::MAX);
     let mut met = true;
     for (t, v) in triangles.iter().enumerate() {
         let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let ang = angles(a, b, c);
-        let lo = ang.iter().copied().fold(180.0f64, f64::min);
-        report.min_angle = report.min_angle.min(lo);
-        report.max_angle = report
-            .max_angle
-            .max(ang.iter().copied().fold(0.0, f64::max));
         let (s2, d, k) = shape(a, b, c);
+        if s2 < lo_t.0 {
+            lo_t = (s2, t);
+        }
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let j = if l[0] >= l[1] && l[0] >= l[2] {
+            0
+        } else if l[1] >= l[2] {
+            1
+        } else {
+            2
+        };
+        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
+        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
+        if cos < hi_t.0 {
+            hi_t = (cos, t);
+        }
         let mut abound = crit.area2;
         if crit.regional && max_areas[t] > 0.0 {
             abound = abound.min(2.0 * max_areas[t] * crit.s2);
         }
+        let too_big = d > abound;
+        let lo = if s2 < crit.sin2 || too_big {
+            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
+        } else {
+            180.0
+        };
         let angle_bad = s2 < crit.sin2 && lo < crit.angle;
-        if !(d > abound || angle_bad) {
+        if !(too_big || angle_bad) {
             continue;
         }
         met = false;
@@ -1075,6 +1162,20 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
             reason,
         });
     }
+    let ang = |t: usize| {
+        let v = triangles[t];
+        angles(m.p(v[0]), m.p(v[1]), m.p(v[2]))
+    };
+    report.min_angle = if lo_t.1 == usize::MAX {
+        180.0
+    } else {
+        ang(lo_t.1).iter().copied().fold(180.0f64, f64::min)
+    };
+    report.max_angle = if hi_t.1 == usize::MAX {
+        0.0
+    } else {
+        ang(hi_t.1).iter().copied().fold(0.0f64, f64::max)
+    };
     if triangles.is_empty() {
         report.min_angle = 0.0;
     }
