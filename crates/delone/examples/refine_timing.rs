@@ -103,6 +103,20 @@ fn main() {
             println!("    within 1, 0.1, ...: {rads:?}");
         }
     }
+    if let Some(out) = std::env::var_os("REFINE_DUMP") {
+        // Plain text: points, then triangles (for drawing while debugging).
+        let mut s = String::new();
+        for p in &r.mesh.points {
+            s.push_str(&format!("p {} {}\n", p[0], p[1]));
+        }
+        for t in &r.mesh.triangles {
+            s.push_str(&format!("t {} {} {}\n", t[0], t[1], t[2]));
+        }
+        for g in &r.mesh.segments {
+            s.push_str(&format!("s {} {}\n", g.v[0], g.v[1]));
+        }
+        std::fs::write(out, s).expect("write dump");
+    }
     for u in r.report.unfixable.iter().take(10) {
         println!("  unfixable {:?}", u);
     }

@@ -221,13 +221,9 @@ enum Walk {
 
 struct Mesh {
     xy: Vec<[f64; 2]>,
-    tv: Vec<[u32; 3]>,
-    /// Packed adjacency or `NONE` on the boundary.
-    ta: Vec<[u32; 3]>,
-    /// Subsegment on each half-edge, or `NONE`.
-    sb: Vec<[u32; 3]>,
-    /// The input triangle a triangle descends from (region, attributes).
-    orig: Vec<u32>,
+    /// The triangles, one record each (one cache line for what a cavity
+    /// search reads).
+    tr: Vec<Tri>,
     vt: Vec<u32>,
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
@@ -238,19 +234,32 @@ struct Mesh {
     cos2: f64,
     subs: Vec<Sub>,
     parents: Vec<Parent>,
-    /// Cavity stamp of every triangle.
-    mark: Vec<u32>,
-    /// Per vertex: stamp and the cavity boundary edge starting there.
-    vmark: Vec<[u32; 2]>,
     stamp: u32,
     /// Scratch of [`Mesh::insert`]: cavity, its boundary, encroached
     /// subsegments, new triangles.
     cav: Vec<u32>,
     bnd: Vec<Bnd>,
     hit: Vec<u32>,
+    /// Depth-first stack: triangle, next edge, edges left.
+    stack: Vec<(u32, u8, u8)>,
     fan: Vec<u32>,
     /// Triangles replaced by cavities.
     replaced: usize,
+}
+
+/// A triangle of the working mesh.
+#[derive(Clone, Copy)]
+struct Tri {
+    /// Counterclockwise vertices.
+    v: [u32; 3],
+    /// Packed adjacency or `NONE` on the boundary.
+    a: [u32; 3],
+    /// Subsegment on each half-edge, or `NONE`.
+    s: [u32; 3],
+    /// The input triangle it descends from (region, attributes).
+    orig: u32,
+    /// Cavity stamp.
+    mark: u32,
 }
 
 /// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
@@ -263,8 +272,6 @@ struct Bnd {
     /// Its subsegment, or `NONE`.
     sb: u32,
     orig: u32,
-    /// The new triangle on it.
-    slot: u32,
 }
 
 /// Outcome of [`Mesh::insert`].
@@ -345,13 +352,13 @@ impl Mesh {
         let start = self.vt[u as usize] as usize;
         for dir in [NEXT, PREV] {
             let mut t = start;
-            for _ in 0..self.tv.len() {
-                let v = self.tv[t];
+            for _ in 0..self.tr.len() {
+                let v = self.tr[t].v;
                 let k = v.iter().position(|&x| x == u)?;
                 if v[NEXT[k]] == w {
                     return Some((t, PREV[k]));
                 }
-                let x = self.ta[t][dir[k]];
+                let x = self.tr[t].a[dir[k]];
                 if x == NONE {
                     break;
                 }
@@ -370,18 +377,21 @@ impl Mesh {
     }
 
     fn new_tri(&mut self) -> usize {
-        self.tv.push([0; 3]);
-        self.ta.push([NONE; 3]);
-        self.sb.push([NONE; 3]);
-        self.orig.push(NONE);
-        self.mark.push(0);
-        self.tv.len() - 1
+        self.tr.push(Tri {
+            v: [0; 3],
+            a: [NONE; 3],
+            s: [NONE; 3],
+            orig: NONE,
+            mark: 0,
+        });
+        self.tr.len() - 1
     }
 
     fn next_stamp(&mut self) -> u32 {
         if self.stamp == u32::MAX {
-            self.mark.fill(0);
-            self.vmark.fill([0, 0]);
+            for t in &mut self.tr {
+                t.mark = 0;
+            }
             self.stamp = 0;
         }
         self.stamp += 1;
@@ -411,85 +421,100 @@ impl Mesh {
         self.cav.clear();
         self.bnd.clear();
         self.hit.clear();
-        self.mark[start] = stamp;
+        self.stack.clear();
+        self.tr[start].mark = stamp;
         self.cav.push(start as u32);
-        let mut open = 0usize;
-        let mut i = 0;
-        while i < self.cav.len() {
-            let t = self.cav[i] as usize;
-            i += 1;
-            for e in 0..3 {
-                let s = self.sb[t][e];
-                let x = self.ta[t][e];
-                if s == NONE || s == split {
-                    // Crossing the subsegment being split?
-                    let crossing = s != NONE;
-                    if x == NONE {
-                        if crossing {
-                            open += 1;
-                            continue;
-                        }
-                    } else {
-                        let n = unpack(x).0;
-                        if self.mark[n] == stamp {
-                            continue;
-                        }
-                        let v = self.tv[n];
-                        if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0
-                        {
-                            self.mark[n] = stamp;
-                            self.cav.push(n as u32);
-                            continue;
-                        }
+        // A split starts across its subsegment, so the other side is reached
+        // first.
+        let e0 = if split == NONE {
+            0
+        } else {
+            self.tr[start]
+                .s
+                .iter()
+                .position(|&x| x == split)
+                .unwrap_or(0)
+        };
+        self.stack.push((start as u32, e0 as u8, 3));
+        // Where the chain starts when `split` is a boundary subsegment.
+        let mut gap = usize::MAX;
+        // Depth-first, each triangle's edges counterclockwise from the one
+        // after its entry edge: the boundary comes out in counterclockwise
+        // order.
+        while let Some(top) = self.stack.last_mut() {
+            if top.2 == 0 {
+                self.stack.pop();
+                continue;
+            }
+            let (t, e) = (top.0 as usize, top.1 as usize);
+            top.1 = NEXT[e] as u8;
+            top.2 -= 1;
+            let tri = &self.tr[t];
+            let s = tri.s[e];
+            let x = tri.a[e];
+            if s == NONE || s == split {
+                // Crossing the subsegment being split?
+                let crossing = s != NONE;
+                if x == NONE {
+                    if crossing {
+                        gap = self.bnd.len();
+                        continue;
                     }
-                } else if check_enc {
-                    let [u, w] = self.subs[s as usize].v;
-                    if encroaches(self.p(u), self.p(w), &c, self.cos2) && !self.hit.contains(&s) {
-                        self.hit.push(s);
+                } else {
+                    let (n, j) = unpack(x);
+                    if self.tr[n].mark == stamp {
+                        continue;
+                    }
+                    let v = self.tr[n].v;
+                    if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
+                        self.tr[n].mark = stamp;
+                        self.cav.push(n as u32);
+                        self.stack.push((n as u32, NEXT[j] as u8, 2));
+                        continue;
                     }
                 }
-                let (a, b) = edge(&self.tv[t], e);
-                self.bnd.push(Bnd {
-                    a,
-                    b,
-                    adj: x,
-                    sb: s,
-                    orig: self.orig[t],
-                    slot: 0,
-                });
+            } else if check_enc {
+                let [u, w] = self.subs[s as usize].v;
+                if encroaches(self.p(u), self.p(w), &c, self.cos2) && !self.hit.contains(&s) {
+                    self.hit.push(s);
+                }
             }
+            let (a, b) = edge(&tri.v, e);
+            self.bnd.push(Bnd {
+                a,
+                b,
+                adj: x,
+                sb: s,
+                orig: tri.orig,
+            });
         }
         if !self.hit.is_empty() {
             return Ins::Encroached;
         }
-        // Validity of the star.
+        // Validity of the star: one boundary cycle (or chain) around `c`,
+        // seen counterclockwise, with no vertex inside the cavity.
         let nb = self.bnd.len();
-        if nb + open != self.cav.len() + 2 {
+        let open = usize::from(gap != usize::MAX);
+        if nb + open != self.cav.len() + 2 || nb < 2 {
             return Ins::Failed;
+        }
+        if open == 1 {
+            self.bnd.rotate_left(gap);
         }
         for k in 0..nb {
             let b = self.bnd[k];
-            if orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0
-                || (b.adj != NONE && self.mark[unpack(b.adj).0] == stamp)
-                || self.vmark[b.a as usize][0] == stamp
+            let next = self.bnd[(k + 1) % nb];
+            if (b.b != next.a && (open == 0 || k + 1 < nb))
+                || orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0
             {
                 return Ins::Failed;
             }
-            self.vmark[b.a as usize] = [stamp, k as u32];
         }
-        let unmatched = self
-            .bnd
-            .iter()
-            .filter(|b| self.vmark[b.b as usize][0] != stamp)
-            .count();
-        if unmatched != open {
-            return Ins::Failed;
-        }
-        // The fan.
+        // The fan: triangle k = [p, a_k, b_k], linked to k + 1 across
+        // `b_k -> p`.
         let p = self.xy.len() as u32;
         self.xy.push(c);
         self.vpar.push(NONE);
-        self.vmark.push([0, 0]);
         self.vt.push(self.cav[0]);
         self.replaced += self.cav.len();
         self.fan.clear();
@@ -499,7 +524,6 @@ impl Mesh {
             } else {
                 self.new_tri()
             };
-            self.bnd[k].slot = s as u32;
             self.fan.push(s as u32);
         }
         let label = |x: u32| {
@@ -513,30 +537,38 @@ impl Mesh {
         };
         for k in 0..nb {
             let b = self.bnd[k];
-            let s = b.slot as usize;
-            let vm = self.vmark[b.b as usize];
-            let next = if vm[0] == stamp {
-                pack(self.bnd[vm[1] as usize].slot as usize, 2)
+            let s = self.fan[k] as usize;
+            let next = if k + 1 < nb {
+                pack(self.fan[k + 1] as usize, 2)
+            } else if open == 0 {
+                pack(self.fan[0] as usize, 2)
             } else {
                 NONE
             };
-            self.tv[s] = [p, b.a, b.b];
-            self.ta[s] = [b.adj, next, NONE];
-            self.sb[s] = [b.sb, label(b.b), label(b.a)];
-            self.orig[s] = b.orig;
+            let prev = if k > 0 {
+                pack(self.fan[k - 1] as usize, 1)
+            } else if open == 0 {
+                pack(self.fan[nb - 1] as usize, 1)
+            } else {
+                NONE
+            };
+            let tri = &mut self.tr[s];
+            tri.v = [p, b.a, b.b];
+            tri.a = [b.adj, next, prev];
+            tri.s = if split == NONE {
+                [b.sb, NONE, NONE]
+            } else {
+                [b.sb, label(b.b), label(b.a)]
+            };
+            tri.orig = b.orig;
             self.vt[b.a as usize] = s as u32;
             if b.adj != NONE {
                 let (o, l) = unpack(b.adj);
-                self.ta[o][l] = pack(s, 0);
+                self.tr[o].a[l] = pack(s, 0);
             }
         }
-        for k in 0..nb {
-            let s = self.bnd[k].slot as usize;
-            let x = self.ta[s][1];
-            if x != NONE {
-                self.ta[unpack(x).0][2] = pack(s, 1);
-            }
-            self.vt[self.bnd[k].b as usize] = s as u32;
+        if open == 1 {
+            self.vt[self.bnd[nb - 1].b as usize] = self.fan[nb - 1];
         }
         self.vt[p as usize] = self.fan[0];
         Ins::Done(p)
@@ -545,11 +577,11 @@ impl Mesh {
     /// Walks from triangle `t` toward `c` along the line from its centroid,
     /// never crossing a subsegment.
     fn walk(&self, mut t: usize, c: &[f64; 2]) -> Walk {
-        let v = self.tv[t];
+        let v = self.tr[t].v;
         let (a, b, d) = (self.p(v[0]), self.p(v[1]), self.p(v[2]));
         let g = [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0];
-        for _ in 0..self.tv.len() + 8 {
-            let v = self.tv[t];
+        for _ in 0..self.tr.len() + 8 {
+            let v = self.tr[t].v;
             let o: [f64; 3] = std::array::from_fn(|e| {
                 let (x, y) = edge(&v, e);
                 orient2d(self.p(x), self.p(y), c)
@@ -577,13 +609,13 @@ impl Mesh {
                 }
             }
             let e = exit.unwrap_or_else(|| o.iter().position(|&x| x < 0.0).unwrap_or(0));
-            if self.sb[t][e] != NONE {
-                return Walk::Blocked(self.sb[t][e]);
+            if self.tr[t].s[e] != NONE {
+                return Walk::Blocked(self.tr[t].s[e]);
             }
-            if self.ta[t][e] == NONE {
+            if self.tr[t].a[e] == NONE {
                 return Walk::Lost;
             }
-            t = unpack(self.ta[t][e]).0;
+            t = unpack(self.tr[t].a[e]).0;
         }
         Walk::Lost
     }
@@ -708,7 +740,8 @@ impl Mesh {
 /// octaves). Within a bucket the newest triangle comes first: it was just
 /// made, so it is still in cache (the order changes the mesh only slightly).
 struct Queue {
-    buckets: Vec<Vec<(u32, [u32; 3])>>,
+    buckets: Vec<VecDeque<(u32, [u32; 3])>>,
+    fifo: bool,
     /// No non-empty bucket below this one.
     lo: usize,
     len: usize,
@@ -720,7 +753,8 @@ const AREA_BUCKETS: u32 = 160;
 impl Queue {
     fn new() -> Self {
         Queue {
-            buckets: vec![Vec::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
+            buckets: vec![VecDeque::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
+            fifo: std::env::var_os("REFINE_FIFO").is_some(),
             lo: 0,
             len: 0,
         }
@@ -742,14 +776,18 @@ impl Queue {
 
     fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
         let b = b as usize;
-        self.buckets[b].push((t, v));
+        self.buckets[b].push_back((t, v));
         self.lo = self.lo.min(b);
         self.len += 1;
     }
 
     fn pop(&mut self) -> Option<(u32, [u32; 3])> {
         while self.lo < self.buckets.len() {
-            if let Some(x) = self.buckets[self.lo].pop() {
+            if let Some(x) = if self.fifo {
+                self.buckets[self.lo].pop_front()
+            } else {
+                self.buckets[self.lo].pop_back()
+            } {
                 self.len -= 1;
                 return Some(x);
             }
@@ -775,6 +813,46 @@ struct Crit {
     off: f64,
     /// Doubled-area scale factor (scaled² → input units).
     s2: f64,
+}
+
+/// Queue bucket (smaller is worse) of triangle `t`, if it is to be fixed.
+#[inline]
+fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> Option<u32> {
+    let v = m.tr[t].v;
+    let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
+    let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let mut abound = crit.area2;
+    if crit.regional {
+        let ma = max_areas[m.tr[t].orig as usize];
+        if ma > 0.0 {
+            abound = abound.min(2.0 * ma * crit.s2);
+        }
+    }
+    if d > abound {
+        return Some(Queue::area_bucket(d / abound));
+    }
+    if crit.sin2 == 0.0 {
+        return None;
+    }
+    let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+    let k = if l[0] <= l[1] && l[0] <= l[2] {
+        0
+    } else if l[1] <= l[2] {
+        1
+    } else {
+        2
+    };
+    let xy = l[NEXT[k]] * l[PREV[k]];
+    // sin² of the smallest angle, d² / xy, below the bound's?
+    if d * d >= crit.sin2 * xy {
+        return None;
+    }
+    let (u, w) = edge(&v, k);
+    if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
+        return None;
+    }
+    let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
+    Some(Queue::angle_bucket(s2 / crit.sin2))
 }
 
 /// Refines a constrained Delaunay triangulation until every triangle meets
@@ -818,10 +896,15 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     let nt = cdt.triangles.len();
     let mut m = Mesh {
         xy: cdt.points.iter().map(|&p| scaled(p, scale)).collect(),
-        tv: cdt.triangles.clone(),
-        ta: vec![[NONE; 3]; nt],
-        sb: vec![[NONE; 3]; nt],
-        orig: (0..nt as u32).collect(),
+        tr: (0..nt)
+            .map(|t| Tri {
+                v: cdt.triangles[t],
+                a: [NONE; 3],
+                s: [NONE; 3],
+                orig: t as u32,
+                mark: 0,
+            })
+            .collect(),
         vt: vec![0; nfixed],
         vpar: vec![NONE; nfixed],
         nfixed,
@@ -829,8 +912,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         cos2: 0.0,
         subs: Vec::new(),
         parents: Vec::new(),
-        mark: vec![0; nt],
-        vmark: vec![[0, 0]; nfixed],
+        stack: Vec::new(),
         stamp: 0,
         cav: Vec::new(),
         bnd: Vec::new(),
@@ -839,7 +921,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         replaced: 0,
     };
     for t in 0..nt {
-        for &x in &m.tv[t] {
+        for &x in &m.tr[t].v {
             m.vt[x as usize] = t as u32;
         }
         for e in 0..3 {
@@ -851,7 +933,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             let Some(j) = (0..3).find(|&j| edge(&cdt.triangles[n as usize], j) == (b, a)) else {
                 continue;
             };
-            m.ta[t][e] = pack(n as usize, j);
+            m.tr[t].a[e] = pack(n as usize, j);
         }
     }
     // Subsegments: the bounding input ones, then hull edges (`-c`).
@@ -865,12 +947,12 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     }
     for t in 0..nt {
         for e in 0..3 {
-            if m.sb[t][e] != NONE {
+            if m.tr[t].s[e] != NONE {
                 continue;
             }
-            let (a, b) = edge(&m.tv[t], e);
+            let (a, b) = edge(&m.tr[t].v, e);
             let out = seg_of.get(&(a.min(b), a.max(b))).copied();
-            if out.is_none() && m.ta[t][e] != NONE {
+            if out.is_none() && m.tr[t].a[e] != NONE {
                 continue;
             }
             let k = m.subs.len() as u32;
@@ -886,10 +968,10 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
                 alive: true,
                 stuck: false,
             });
-            m.sb[t][e] = k;
-            if m.ta[t][e] != NONE {
-                let (n, j) = unpack(m.ta[t][e]);
-                m.sb[n][j] = k;
+            m.tr[t].s[e] = k;
+            if m.tr[t].a[e] != NONE {
+                let (n, j) = unpack(m.tr[t].a[e]);
+                m.tr[n].s[j] = k;
             }
         }
     }
@@ -915,56 +997,29 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
-    if angle > 0.0 && angle <= 45.0 {
+    if angle > 0.0 && angle <= 45.0 && std::env::var_os("REFINE_CIRCLE").is_none() {
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
     let mut report = RefineReport::default();
 
-    // Queue bucket (smaller is worse) of triangle t, if it is to be fixed.
-    let inv_sin2 = if crit.sin2 > 0.0 {
-        1.0 / crit.sin2
-    } else {
-        0.0
-    };
-    let bad = |m: &Mesh, t: usize| -> Option<u32> {
-        let v = m.tv[t];
-        let (s2, d, k) = shape(m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let mut abound = crit.area2;
-        if crit.regional {
-            let ma = cdt.max_areas[m.orig[t] as usize];
-            if ma > 0.0 {
-                abound = abound.min(2.0 * ma * crit.s2);
-            }
-        }
-        if d > abound {
-            return Some(Queue::area_bucket(d / abound));
-        }
-        if s2 < crit.sin2 {
-            let (u, w) = edge(&v, k);
-            if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
-                return None;
-            }
-            return Some(Queue::angle_bucket(s2 * inv_sin2));
-        }
-        None
-    };
+    let bad = |m: &Mesh, t: usize| bad_bucket(m, &crit, &cdt.max_areas, t);
     type Heap = Queue;
     let mut heap = Queue::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(k, t as u32, m.tv[t]);
+            heap.push(k, t as u32, m.tr[t].v);
         }
     }
     // Subsegments encroached by an apex.
     let check_sub = |m: &Mesh, t: usize, e: usize, enc: &mut VecDeque<u32>| {
-        let s = m.sb[t][e];
+        let s = m.tr[t].s[e];
         if s == NONE {
             return;
         }
         let [u, w] = m.subs[s as usize].v;
-        let apex = m.tv[t][e];
+        let apex = m.tr[t].v[e];
         if encroaches(m.p(u), m.p(w), m.p(apex), m.cos2) {
             enc.push_back(s);
         }
@@ -979,10 +1034,17 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         for &t in &m.fan {
             let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(k, t as u32, m.tv[t]);
+                heap.push(k, t as u32, m.tr[t].v);
             }
+            let tri = &m.tr[t];
             for e in 0..3 {
-                check_sub(m, t, e, enc);
+                let s = tri.s[e];
+                if s != NONE {
+                    let [u, w] = m.subs[s as usize].v;
+                    if encroaches(m.p(u), m.p(w), m.p(tri.v[e]), m.cos2) {
+                        enc.push_back(s);
+                    }
+                }
             }
         }
     };
@@ -1007,7 +1069,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             break;
         };
         let t = t as usize;
-        if m.tv[t] != v {
+        if m.tr[t].v != v {
             continue;
         }
         let tv = v;
@@ -1032,9 +1094,9 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         }
         let at = match m.walk(t, &c) {
             Walk::Inside(x) => Ok(x),
-            Walk::OnEdge(x, e) if m.sb[x][e] == NONE => Ok(x),
+            Walk::OnEdge(x, e) if m.tr[x].s[e] == NONE => Ok(x),
             // On a subsegment: that one is encroached.
-            Walk::OnEdge(x, e) => Err(m.sb[x][e]),
+            Walk::OnEdge(x, e) => Err(m.tr[x].s[e]),
             Walk::Blocked(s) => Err(s),
             Walk::Vertex | Walk::Lost => continue,
         };
@@ -1077,19 +1139,20 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
 
 /// Builds the output mesh and the final statistics.
 fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: RefineReport) -> Refined {
-    let nt = m.tv.len();
+    let nt = m.tr.len();
     let mut points = cdt.points.clone();
     points.extend(
         m.xy[m.nfixed..]
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    let triangles = m.tv.clone();
+    let triangles: Vec<[u32; 3]> = m.tr.iter().map(|t| t.v).collect();
     let neighbors: Vec<[u32; 3]> =
-        m.ta.iter()
+        m.tr.iter()
+            .map(|t| t.a)
             .map(|a| a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }))
             .collect();
-    let o = |t: usize| m.orig[t] as usize;
+    let o = |t: usize| m.tr[t].orig as usize;
     let regions = (0..nt).map(|t| cdt.regions[o(t)]).collect();
     let attributes = (0..nt).map(|t| cdt.attributes[o(t)]).collect();
     let max_areas: Vec<f64> = (0..nt).map(|t| cdt.max_areas[o(t)]).collect();
