@@ -47,7 +47,22 @@ fn main() {
         regional_areas: std::env::var_os("REFINE_REGIONAL").is_some(),
         off_centers: std::env::var_os("REFINE_NO_OFF").is_none(),
     };
-    let r = refine(&cdt, &opts).expect("refine");
+    let r = if let Some(pre) = std::env::var("REFINE_PRE")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        let r0 = refine(
+            &cdt,
+            &RefineOptions {
+                min_angle: Some(pre),
+                ..opts
+            },
+        )
+        .expect("refine");
+        refine(&r0.mesh, &opts).expect("refine")
+    } else {
+        refine(&cdt, &opts).expect("refine")
+    };
     let t2 = Instant::now();
     println!(
         "{path}: cdt {} triangles {:.3} s; refined {} triangles, {} points ({} segment splits, {} circumcentres, {} rejected), min angle {:.3}, max angle {:.3}, met {}, limit {}, {} unfixable, {:.3} s",

@@ -740,8 +740,7 @@ impl Mesh {
 /// octaves). Within a bucket the newest triangle comes first: it was just
 /// made, so it is still in cache (the order changes the mesh only slightly).
 struct Queue {
-    buckets: Vec<VecDeque<(u32, [u32; 3])>>,
-    fifo: bool,
+    buckets: Vec<Vec<(u32, [u32; 3])>>,
     /// No non-empty bucket below this one.
     lo: usize,
     len: usize,
@@ -753,8 +752,7 @@ const AREA_BUCKETS: u32 = 160;
 impl Queue {
     fn new() -> Self {
         Queue {
-            buckets: vec![VecDeque::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
-            fifo: std::env::var_os("REFINE_FIFO").is_some(),
+            buckets: vec![Vec::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
             lo: 0,
             len: 0,
         }
@@ -776,18 +774,14 @@ impl Queue {
 
     fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
         let b = b as usize;
-        self.buckets[b].push_back((t, v));
+        self.buckets[b].push((t, v));
         self.lo = self.lo.min(b);
         self.len += 1;
     }
 
     fn pop(&mut self) -> Option<(u32, [u32; 3])> {
         while self.lo < self.buckets.len() {
-            if let Some(x) = if self.fifo {
-                self.buckets[self.lo].pop_front()
-            } else {
-                self.buckets[self.lo].pop_back()
-            } {
+            if let Some(x) = self.buckets[self.lo].pop() {
                 self.len -= 1;
                 return Some(x);
             }
@@ -997,7 +991,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
-    if angle > 0.0 && angle <= 45.0 && std::env::var_os("REFINE_CIRCLE").is_none() {
+    if angle > 0.0 && angle <= 45.0 {
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
