@@ -154,3 +154,46 @@ fn random_pslgs_refine_validly() {
         }
     }
 }
+
+#[test]
+fn cavity_insertion_report_and_interior_segments() {
+    // A rectangle split by a slanted interior segment: both sides of it are
+    // refined (its splits open cavities on both sides), its pieces stay
+    // edges, and the report's figures agree with the mesh.
+    let g = Pslg::new(
+        vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [0.0, 1.0],
+            [1.0, 0.0],
+            [1.1, 1.0],
+        ],
+        vec![[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let opts = RefineOptions {
+        min_angle: Some(32.0),
+        max_area: Some(0.002),
+        ..Default::default()
+    };
+    let r = refine(&cdt, &opts).unwrap();
+    check_cdt(&g, &r.mesh).unwrap();
+    assert!(r.report.met, "{:?}", r.report.unfixable.first());
+    let steiner = r.mesh.points.len() - cdt.points.len();
+    assert_eq!(steiner, r.report.segment_splits + r.report.circumcenters);
+    // Every insertion replaces at least one triangle; each adds two.
+    assert!(r.report.cavity_triangles >= steiner);
+    // Euler for a disc: T = 2V - B - 2 (B boundary edges = boundary vertices).
+    let b = r
+        .mesh
+        .neighbors
+        .iter()
+        .flatten()
+        .filter(|&&n| n == delone::NONE)
+        .count();
+    assert_eq!(r.mesh.triangles.len(), 2 * r.mesh.points.len() - b - 2);
+    for (t, v) in r.mesh.triangles.iter().enumerate() {
+        assert!(min_angle(&r.mesh.points, v) >= 32.0, "triangle {t}");
+    }
+}

@@ -1252,3 +1252,35 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
         report,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn queue_buckets_are_ordered_worst_first() {
+        // Angle buckets: a smaller sin² ratio is worse (a smaller bucket).
+        let qs = [0.0, 0.01, 0.2, 0.5, 0.9, 0.999];
+        for w in qs.windows(2) {
+            assert!(Queue::angle_bucket(w[0]) <= Queue::angle_bucket(w[1]));
+        }
+        assert!(Queue::angle_bucket(0.0) < Queue::angle_bucket(0.999));
+        // Area buckets: a larger area ratio is worse, and after every angle
+        // bucket.
+        let rs = [1.0, 1.3, 2.0, 17.0, 1e6, 1e300];
+        for w in rs.windows(2) {
+            assert!(Queue::area_bucket(w[0]) >= Queue::area_bucket(w[1]));
+        }
+        assert!(Queue::area_bucket(4.0) < Queue::area_bucket(1.5));
+        assert!(Queue::area_bucket(1e300) > Queue::angle_bucket(0.999));
+        // Pop: lowest bucket first, newest first within a bucket.
+        let mut q = Queue::new();
+        q.push(5, 1, [1, 2, 3]);
+        q.push(3, 2, [4, 5, 6]);
+        q.push(5, 3, [7, 8, 9]);
+        q.push(0, 4, [0, 1, 2]);
+        let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|x| x.0)).collect();
+        assert_eq!(order, vec![4, 2, 3, 1]);
+        assert!(q.is_empty());
+    }
+}
