@@ -18,9 +18,12 @@
 //!    are computed from the ends of the original subsegment, so they stay
 //!    within a few ulps of the input segment.
 //! 2. **Bad triangles** (minimum angle below the bound, or area above the
-//!    global or regional bound) are taken worst first from a priority queue
-//!    (ties broken by vertex ids, so the result is deterministic) and their
-//!    circumcentre is inserted — unless it lies beyond a subsegment (that one is
+//!    global or regional bound) are taken from a bucket queue: skinny ones
+//!    before large ones, worst bucket first (64 buckets by sin² of the
+//!    smallest angle, quarter octaves of the area ratio), newest first within
+//!    a bucket (it was just made, so it is in cache; deterministic). Their
+//!    circumcentre (or off-centre) is located by a walk from the triangle and
+//!    inserted — unless it lies beyond a subsegment (that one is
 //!    split instead) or would encroach a subsegment that would become visible
 //!    from it (those are split instead; the triangle goes back in the queue).
 //! 3. **Small input angles.** A skinny triangle whose shortest edge joins two
@@ -34,7 +37,11 @@
 //! Insertion is Bowyer–Watson: the cavity of a new point (the triangles whose
 //! circumcircle strictly contains it, reached without crossing a subsegment)
 //! is found once — for a circumcentre, its boundary subsegments are the ones
-//! tested for encroachment — and replaced by a fan; so the result is
+//! tested for encroachment — and replaced by a fan. The depth-first cavity
+//! search meets the boundary in counterclockwise order, so the fan is linked
+//! in sequence; a cavity that is not one simple cycle seen counterclockwise
+//! from the new point (possible only through rounding of a split point) is
+//! refused and nothing changes. The result is
 //! again a constrained Delaunay triangulation (checked by
 //! [`check_cdt`](super::constrain::check_cdt)). All orientation and incircle
 //! decisions use exact predicates on coordinates scaled by an exact power of
@@ -210,15 +217,6 @@ struct Sub {
     stuck: bool,
 }
 
-/// Where a walk toward a point ended.
-enum Walk {
-    Inside(usize),
-    OnEdge(usize, usize),
-    Vertex,
-    Blocked(u32),
-    Lost,
-}
-
 struct Mesh {
     xy: Vec<[f64; 2]>,
     /// The triangles, one record each (one cache line for what a cavity
@@ -278,6 +276,8 @@ struct Bnd {
 enum Ins {
     Done(u32),
     Encroached,
+    /// The point lies beyond (or on) this subsegment of the cavity boundary.
+    Blocked(u32),
     Failed,
 }
 
@@ -494,6 +494,17 @@ impl Mesh {
         // Validity of the star: one boundary cycle (or chain) around `c`,
         // seen counterclockwise, with no vertex inside the cavity.
         let nb = self.bnd.len();
+        for k in 0..nb {
+            let b = self.bnd[k];
+            if orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0 {
+                // Beyond (or on) a subsegment: that one is in the way.
+                return if check_enc && b.sb != NONE {
+                    Ins::Blocked(b.sb)
+                } else {
+                    Ins::Failed
+                };
+            }
+        }
         let open = usize::from(gap != usize::MAX);
         if nb + open != self.cav.len() + 2 || nb < 2 {
             return Ins::Failed;
@@ -501,14 +512,13 @@ impl Mesh {
         if open == 1 {
             self.bnd.rotate_left(gap);
         }
-        for k in 0..nb {
-            let b = self.bnd[k];
-            let next = self.bnd[(k + 1) % nb];
-            if (b.b != next.a && (open == 0 || k + 1 < nb))
-                || orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0
-            {
+        for k in 0..nb - 1 {
+            if self.bnd[k].b != self.bnd[k + 1].a {
                 return Ins::Failed;
             }
+        }
+        if open == 0 && self.bnd[nb - 1].b != self.bnd[0].a {
+            return Ins::Failed;
         }
         // The fan: triangle k = [p, a_k, b_k], linked to k + 1 across
         // `b_k -> p`.
@@ -572,52 +582,6 @@ impl Mesh {
         }
         self.vt[p as usize] = self.fan[0];
         Ins::Done(p)
-    }
-
-    /// Walks from triangle `t` toward `c` along the line from its centroid,
-    /// never crossing a subsegment.
-    fn walk(&self, mut t: usize, c: &[f64; 2]) -> Walk {
-        let v = self.tr[t].v;
-        let (a, b, d) = (self.p(v[0]), self.p(v[1]), self.p(v[2]));
-        let g = [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0];
-        for _ in 0..self.tr.len() + 8 {
-            let v = self.tr[t].v;
-            let o: [f64; 3] = std::array::from_fn(|e| {
-                let (x, y) = edge(&v, e);
-                orient2d(self.p(x), self.p(y), c)
-            });
-            if o.iter().all(|&x| x > 0.0) {
-                return Walk::Inside(t);
-            }
-            if o.iter().all(|&x| x >= 0.0) {
-                let zeros = o.iter().filter(|&&x| x == 0.0).count();
-                if zeros > 1 {
-                    return Walk::Vertex;
-                }
-                let e = o.iter().position(|&x| x == 0.0).unwrap_or(0);
-                return Walk::OnEdge(t, e);
-            }
-            let mut exit = None;
-            for (e, &oe) in o.iter().enumerate() {
-                if oe >= 0.0 {
-                    continue;
-                }
-                let (x, y) = edge(&v, e);
-                if orient2d(&g, c, self.p(x)) <= 0.0 && orient2d(&g, c, self.p(y)) >= 0.0 {
-                    exit = Some(e);
-                    break;
-                }
-            }
-            let e = exit.unwrap_or_else(|| o.iter().position(|&x| x < 0.0).unwrap_or(0));
-            if self.tr[t].s[e] != NONE {
-                return Walk::Blocked(self.tr[t].s[e]);
-            }
-            if self.tr[t].a[e] == NONE {
-                return Walk::Lost;
-            }
-            t = unpack(self.tr[t].a[e]).0;
-        }
-        Walk::Lost
     }
 
     /// The point splitting subsegment `s`, and its parameter.
@@ -1086,26 +1050,9 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         if !(c[0].is_finite() && c[1].is_finite()) {
             continue;
         }
-        let at = match m.walk(t, &c) {
-            Walk::Inside(x) => Ok(x),
-            Walk::OnEdge(x, e) if m.tr[x].s[e] == NONE => Ok(x),
-            // On a subsegment: that one is encroached.
-            Walk::OnEdge(x, e) => Err(m.tr[x].s[e]),
-            Walk::Blocked(s) => Err(s),
-            Walk::Vertex | Walk::Lost => continue,
-        };
-        let at = match at {
-            Ok(x) => x,
-            Err(s) => {
-                report.rejected_circumcenters += 1;
-                if !m.subs[s as usize].stuck {
-                    enc.push_back(s);
-                    heap.push(0, t as u32, v);
-                }
-                continue;
-            }
-        };
-        match m.insert(at, c, NONE, [NONE; 4], true) {
+        // The triangle's circumcircle contains `c`, so the cavity can grow
+        // from it: no point location needed.
+        match m.insert(t, c, NONE, [NONE; 4], true) {
             Ins::Done(_) => {
                 steiner += 1;
                 report.circumcenters += 1;
@@ -1121,6 +1068,13 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
                     }
                 }
                 if any {
+                    heap.push(0, t as u32, v);
+                }
+            }
+            Ins::Blocked(s) => {
+                report.rejected_circumcenters += 1;
+                if !m.subs[s as usize].stuck {
+                    enc.push_back(s);
                     heap.push(0, t as u32, v);
                 }
             }
