@@ -197,3 +197,50 @@ fn cavity_insertion_report_and_interior_segments() {
         assert!(min_angle(&r.mesh.points, v) >= 32.0, "triangle {t}");
     }
 }
+
+#[test]
+fn user_test_refines_where_asked() {
+    use delone::tri::refine::refine_with;
+    // Fine triangles left of x = 1 only; the angle bound everywhere.
+    let g = Pslg::new(
+        vec![[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.0, 1.0]],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let opts = RefineOptions {
+        min_angle: Some(25.0),
+        ..Default::default()
+    };
+    let left = |t: &[[f64; 2]; 3], area: f64| t.iter().any(|p| p[0] < 1.0) && area > 0.002;
+    let r = refine_with(&cdt, &opts, &left).unwrap();
+    check_cdt(&g, &r.mesh).unwrap();
+    assert!(r.report.met, "{:?}", r.report.unfixable.first());
+    let p = &r.mesh.points;
+    let (mut n_left, mut n_right) = (0, 0);
+    for v in &r.mesh.triangles {
+        let t = [p[v[0] as usize], p[v[1] as usize], p[v[2] as usize]];
+        let area = 0.5
+            * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1])
+                - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]));
+        assert!(!left(&t, area), "{t:?} still unsuitable");
+        assert!(min_angle(p, v) >= 25.0);
+        if t.iter().all(|q| q[0] > 2.0) {
+            n_right += 1;
+        } else if t.iter().all(|q| q[0] < 1.0) {
+            n_left += 1;
+        }
+    }
+    // The left third is much finer than the right third.
+    assert!(n_left > 10 * n_right.max(1), "{n_left} vs {n_right}");
+    // Same input, same output.
+    assert_eq!(refine_with(&cdt, &opts, &left).unwrap(), r);
+    // A test that is never satisfied stops at the budget and is reported.
+    let never = |_: &[[f64; 2]; 3], _: f64| true;
+    let capped = RefineOptions {
+        max_steiner: Some(40),
+        ..opts
+    };
+    let r = refine_with(&cdt, &capped, &never).unwrap();
+    assert!(r.report.limit_reached && !r.report.met);
+    assert_eq!(r.report.unfixable.len(), r.mesh.triangles.len());
+}

@@ -759,8 +759,16 @@ impl Queue {
     }
 }
 
+/// A user's test of a triangle (its corners counterclockwise and its area,
+/// in input units): true if it must be refined (Triangle's `-u`).
+pub type UserTest<'a> = &'a dyn Fn(&[[f64; 2]; 3], f64) -> bool;
+
 /// Criteria in scaled units.
-struct Crit {
+struct Crit<'a> {
+    /// The user's test, if any.
+    user: Option<UserTest<'a>>,
+    /// Scale factors of the coordinates (divide by both for input units).
+    scale: (f64, f64),
     /// sin² of the angle bound (0: none).
     sin2: f64,
     angle: f64,
@@ -789,28 +797,45 @@ fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> Option<u32>
     if d > abound {
         return Some(Queue::area_bucket(d / abound));
     }
-    if crit.sin2 == 0.0 {
-        return None;
+    if crit.sin2 > 0.0 {
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let k = if l[0] <= l[1] && l[0] <= l[2] {
+            0
+        } else if l[1] <= l[2] {
+            1
+        } else {
+            2
+        };
+        let xy = l[NEXT[k]] * l[PREV[k]];
+        // sin² of the smallest angle, d² / xy, below the bound's?
+        if d * d < crit.sin2 * xy {
+            let (u, w) = edge(&v, k);
+            if m.small_angle_apex(u, w, v[k], crit.angle).is_none() {
+                let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
+                return Some(Queue::angle_bucket(s2 / crit.sin2));
+            }
+        }
     }
-    let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
-    let k = if l[0] <= l[1] && l[0] <= l[2] {
-        0
-    } else if l[1] <= l[2] {
-        1
-    } else {
-        2
-    };
-    let xy = l[NEXT[k]] * l[PREV[k]];
-    // sin² of the smallest angle, d² / xy, below the bound's?
-    if d * d >= crit.sin2 * xy {
-        return None;
+    if let Some(f) = crit.user {
+        if f(&crit.input(m, &v), 0.5 * d / crit.s2) {
+            // Last, with the least oversized triangles.
+            return Some(Queue::area_bucket(1.0));
+        }
     }
-    let (u, w) = edge(&v, k);
-    if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
-        return None;
+    None
+}
+
+impl Crit<'_> {
+    /// A triangle's corners in input units.
+    fn input(&self, m: &Mesh, v: &[u32; 3]) -> [[f64; 2]; 3] {
+        v.map(|x| {
+            let p = m.p(x);
+            [
+                p[0] / self.scale.1 / self.scale.0,
+                p[1] / self.scale.1 / self.scale.0,
+            ]
+        })
     }
-    let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
-    Some(Queue::angle_bucket(s2 / crit.sin2))
 }
 
 /// Refines a constrained Delaunay triangulation until every triangle meets
@@ -837,6 +862,47 @@ fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> Option<u32>
 /// check_cdt(&g, &r.mesh).unwrap();
 /// ```
 pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
+    refine_inner(cdt, options, None)
+}
+
+/// [`refine`] with a user's test as well (Triangle's `-u`): a triangle is
+/// also refined while `unsuitable(corners, area)` says so (corners
+/// counterclockwise, in input units). The test must be deterministic for
+/// the result to be; one that never accepts small triangles only stops at
+/// [`RefineOptions::max_steiner`]. Triangles it still rejects at the end are
+/// listed as unfixable.
+///
+/// # Errors
+/// As [`refine`].
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+/// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+/// // Small triangles at the corner (0, 0) only.
+/// let near = |t: &[[f64; 2]; 3], area: f64| {
+///     t.iter().any(|p| p[0] * p[0] + p[1] * p[1] < 0.1) && area > 1e-3
+/// };
+/// let r = refine_with(&cdt, &RefineOptions::default(), &near).unwrap();
+/// assert!(r.report.met);
+/// check_cdt(&g, &r.mesh).unwrap();
+/// let plain = refine(&cdt, &RefineOptions::default()).unwrap();
+/// assert!(r.mesh.triangles.len() > plain.mesh.triangles.len() + 20);
+/// ```
+pub fn refine_with(
+    cdt: &Cdt,
+    options: &RefineOptions,
+    unsuitable: UserTest<'_>,
+) -> Result<Refined, Error> {
+    refine_inner(cdt, options, Some(unsuitable))
+}
+
+fn refine_inner(
+    cdt: &Cdt,
+    options: &RefineOptions,
+    user: Option<UserTest<'_>>,
+) -> Result<Refined, Error> {
     if let Some(index) = cdt
         .points
         .iter()
@@ -939,6 +1005,8 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     }
     let angle = options.min_angle.map_or(0.0, |a| a.clamp(0.0, 60.0));
     let crit = Crit {
+        user,
+        scale,
         sin2: angle.to_radians().sin().powi(2),
         angle,
         area2: options
@@ -1154,13 +1222,17 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
             180.0
         };
         let angle_bad = s2 < crit.sin2 && lo < crit.angle;
-        if !(too_big || angle_bad) {
+        let user_bad = !(too_big || angle_bad)
+            && crit
+                .user
+                .is_some_and(|f| f(&crit.input(&m, v), 0.5 * d / crit.s2));
+        if !(too_big || angle_bad || user_bad) {
             continue;
         }
         met = false;
         let (u, w) = edge(v, k);
         let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
-            Some((apex, input_angle)) if d <= abound => {
+            Some((apex, input_angle)) if d <= abound && !user_bad => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
             _ if report.limit_reached => UnfixableReason::SteinerLimit,
