@@ -1,12 +1,16 @@
 //! Times constrained triangulation + quality refinement of a `.poly` file.
 //!
 //! `cargo run --release -p delone --example refine_timing -- FILE.poly [ANGLE] [AREA] [MAX_STEINER] [-c]`
+//!
+//! Environment: `REFINE_NO_OFF` (circumcentres only), `REFINE_REGIONAL`, `REFINE_Y=1|2`
+//! (`-Y`, `-YY`), `REFINE_PRE=ANGLE` (refine at ANGLE first), `REFINE_HIST`,
+//! `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
 
 use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::constrain::{constrained_triangulation, CdtOptions};
-use delone::tri::refine::{refine, RefineOptions};
+use delone::tri::refine::{refine, RefineOptions, SegmentSplits};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -46,6 +50,11 @@ fn main() {
         max_steiner: num(3).map(|x| x as usize),
         regional_areas: std::env::var_os("REFINE_REGIONAL").is_some(),
         off_centers: std::env::var_os("REFINE_NO_OFF").is_none(),
+        segment_splits: match std::env::var("REFINE_Y").as_deref() {
+            Ok("1") => SegmentSplits::Interior,
+            Ok("2") => SegmentSplits::None,
+            _ => SegmentSplits::All,
+        },
     };
     let r = if let Some(pre) = std::env::var("REFINE_PRE")
         .ok()

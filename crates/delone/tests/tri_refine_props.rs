@@ -244,3 +244,67 @@ fn user_test_refines_where_asked() {
     assert!(r.report.limit_reached && !r.report.met);
     assert_eq!(r.report.unfixable.len(), r.mesh.triangles.len());
 }
+
+#[test]
+fn segment_splits_can_be_forbidden() {
+    use delone::tri::refine::SegmentSplits;
+    // A rectangle with an interior segment.
+    let g = Pslg::new(
+        vec![
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [0.0, 1.0],
+            [1.0, 0.3],
+            [2.0, 0.6],
+        ],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 5]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let n = cdt.points.len() as u32;
+    for (mode, boundary_whole, interior_whole) in [
+        (SegmentSplits::All, false, false),
+        (SegmentSplits::Interior, true, false),
+        (SegmentSplits::None, true, true),
+    ] {
+        let opts = RefineOptions {
+            min_angle: Some(28.0),
+            max_area: Some(0.01),
+            segment_splits: mode,
+            ..Default::default()
+        };
+        let r = refine(&cdt, &opts).unwrap();
+        check_cdt(&g, &r.mesh).unwrap();
+        // Boundary edges (one triangle) and subsegments of the interior
+        // segment: split only where allowed.
+        let boundary_steiner = r
+            .mesh
+            .triangles
+            .iter()
+            .zip(&r.mesh.neighbors)
+            .flat_map(|(v, nb)| {
+                (0..3)
+                    .filter(move |&e| nb[e] == delone::NONE)
+                    .map(move |e| v[(e + 1) % 3].max(v[(e + 2) % 3]))
+            })
+            .any(|x| x >= n);
+        let interior_pieces = r.mesh.segments.iter().filter(|s| s.segment == 4).count();
+        assert_eq!(!boundary_steiner, boundary_whole, "{mode:?}");
+        if interior_whole {
+            assert_eq!(interior_pieces, 1, "{mode:?}");
+        }
+        if mode == SegmentSplits::All {
+            assert!(boundary_steiner && interior_pieces > 1);
+        }
+        assert!(r.report.circumcenters > 0, "{mode:?}");
+        // What could not be met is reported, with the reason.
+        assert_eq!(r.report.met, r.report.unfixable.is_empty());
+        if mode != SegmentSplits::All {
+            for u in &r.report.unfixable {
+                assert_eq!(u.reason, UnfixableReason::NoSegmentSplits, "{mode:?}");
+            }
+        } else {
+            assert!(r.report.met);
+        }
+    }
+}

@@ -90,6 +90,33 @@ pub struct RefineOptions {
     /// Insert off-centres instead of circumcentres when they are nearer the
     /// shortest edge (Üngör; Triangle's default). Default true.
     pub off_centers: bool,
+    /// Which subsegments may be split (Triangle's `-Y`, `-YY`). Default
+    /// [`SegmentSplits::All`].
+    pub segment_splits: SegmentSplits,
+}
+
+/// Which subsegments refinement may split.
+///
+/// A subsegment that may not be split is never encroached (a point may be
+/// inserted near it), but a point beyond it cannot be inserted: triangles
+/// that only such a point would fix are reported with
+/// [`UnfixableReason::NoSegmentSplits`].
+///
+/// ```
+/// use delone::tri::refine::{RefineOptions, SegmentSplits};
+/// let o = RefineOptions { segment_splits: SegmentSplits::Interior, ..Default::default() };
+/// assert_ne!(o, RefineOptions::default());
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum SegmentSplits {
+    /// Every subsegment (the default).
+    #[default]
+    All,
+    /// Only subsegments with triangles on both sides: no Steiner point on the
+    /// boundary of the domain (Triangle's `-Y`).
+    Interior,
+    /// None: no Steiner point on any segment (Triangle's `-YY`).
+    None,
 }
 
 impl Default for RefineOptions {
@@ -100,6 +127,7 @@ impl Default for RefineOptions {
             regional_areas: false,
             max_steiner: None,
             off_centers: true,
+            segment_splits: SegmentSplits::All,
         }
     }
 }
@@ -126,6 +154,10 @@ pub enum UnfixableReason {
     /// Floating point could not place a Steiner point for it (a subsegment
     /// too short to split, or a circumcentre that could not be located).
     Precision,
+    /// The options forbid splitting the subsegment that is in the way
+    /// ([`RefineOptions::segment_splits`]; reported instead of
+    /// [`Self::Precision`] whenever splits are restricted).
+    NoSegmentSplits,
 }
 
 /// A triangle of the output that violates a bound.
@@ -213,8 +245,10 @@ struct Sub {
     t: [f64; 2],
     parent: u32,
     alive: bool,
-    /// Gave up splitting it (floating point).
+    /// Gave up splitting it (floating point), or it is protected.
     stuck: bool,
+    /// The options forbid splitting it (it is never encroached).
+    protected: bool,
 }
 
 struct Mesh {
@@ -474,8 +508,12 @@ impl Mesh {
                     }
                 }
             } else if check_enc {
-                let [u, w] = self.subs[s as usize].v;
-                if encroaches(self.p(u), self.p(w), &c, self.cos2) && !self.hit.contains(&s) {
+                let sub = &self.subs[s as usize];
+                let [u, w] = sub.v;
+                if !sub.protected
+                    && encroaches(self.p(u), self.p(w), &c, self.cos2)
+                    && !self.hit.contains(&s)
+                {
                     self.hit.push(s);
                 }
             }
@@ -640,6 +678,7 @@ impl Mesh {
             parent: sub.parent,
             alive: true,
             stuck: false,
+            protected: false,
         });
         self.subs.push(Sub {
             v: [nv, w],
@@ -647,6 +686,7 @@ impl Mesh {
             parent: sub.parent,
             alive: true,
             stuck: false,
+            protected: false,
         });
         Some(nv)
     }
@@ -985,12 +1025,18 @@ fn refine_inner(
                 b,
                 out: out.unwrap_or(NONE),
             });
+            let protected = match options.segment_splits {
+                SegmentSplits::All => false,
+                SegmentSplits::Interior => m.tr[t].a[e] == NONE,
+                SegmentSplits::None => true,
+            };
             m.subs.push(Sub {
                 v: [a, b],
                 t: [0.0, 1.0],
                 parent: k,
                 alive: true,
-                stuck: false,
+                stuck: protected,
+                protected,
             });
             m.tr[t].s[e] = k;
             if m.tr[t].a[e] != NONE {
@@ -1150,11 +1196,19 @@ fn refine_inner(
         }
     }
     report.cavity_triangles = m.replaced;
-    Ok(finish(cdt, m, &crit, scale, report))
+    let restricted = options.segment_splits != SegmentSplits::All;
+    Ok(finish(cdt, m, &crit, scale, restricted, report))
 }
 
 /// Builds the output mesh and the final statistics.
-fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: RefineReport) -> Refined {
+fn finish(
+    cdt: &Cdt,
+    m: Mesh,
+    crit: &Crit,
+    scale: (f64, f64),
+    restricted: bool,
+    mut report: RefineReport,
+) -> Refined {
     let nt = m.tr.len();
     let mut points = cdt.points.clone();
     points.extend(
@@ -1236,6 +1290,7 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
             _ if report.limit_reached => UnfixableReason::SteinerLimit,
+            _ if restricted => UnfixableReason::NoSegmentSplits,
             _ => UnfixableReason::Precision,
         };
         report.unfixable.push(Unfixable {
