@@ -156,6 +156,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 regional_areas: o.area,
                 max_steiner: o.max_steiner,
                 off_centers: true,
+                ..Default::default()
             },
         )
         .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
@@ -276,6 +277,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                         ),
                         UnfixableReason::SteinerLimit => "Steiner limit".into(),
                         UnfixableReason::Precision => "floating-point precision".into(),
+                        UnfixableReason::NoSegmentSplits => "segment splitting is off".into(),
                     };
                     println!(
                         "  unfixed triangle {}: minimum angle {:.3}, area {:.3e} ({why})",

@@ -1,12 +1,16 @@
 //! Times constrained triangulation + quality refinement of a `.poly` file.
 //!
 //! `cargo run --release -p delone --example refine_timing -- FILE.poly [ANGLE] [AREA] [MAX_STEINER] [-c]`
+//!
+//! Environment: `REFINE_NO_OFF` (circumcentres only), `REFINE_REGIONAL`, `REFINE_Y=1|2`
+//! (`-Y`, `-YY`), `REFINE_PRE=ANGLE` (refine at ANGLE first), `REFINE_HIST`,
+//! `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
 
 use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::constrain::{constrained_triangulation, CdtOptions};
-use delone::tri::refine::{refine, RefineOptions};
+use delone::tri::refine::{refine, RefineOptions, SegmentSplits};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -46,8 +50,28 @@ fn main() {
         max_steiner: num(3).map(|x| x as usize),
         regional_areas: std::env::var_os("REFINE_REGIONAL").is_some(),
         off_centers: std::env::var_os("REFINE_NO_OFF").is_none(),
+        segment_splits: match std::env::var("REFINE_Y").as_deref() {
+            Ok("1") => SegmentSplits::Interior,
+            Ok("2") => SegmentSplits::None,
+            _ => SegmentSplits::All,
+        },
     };
-    let r = refine(&cdt, &opts).expect("refine");
+    let r = if let Some(pre) = std::env::var("REFINE_PRE")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        let r0 = refine(
+            &cdt,
+            &RefineOptions {
+                min_angle: Some(pre),
+                ..opts
+            },
+        )
+        .expect("refine");
+        refine(&r0.mesh, &opts).expect("refine")
+    } else {
+        refine(&cdt, &opts).expect("refine")
+    };
     let t2 = Instant::now();
     println!(
         "{path}: cdt {} triangles {:.3} s; refined {} triangles, {} points ({} segment splits, {} circumcentres, {} rejected), min angle {:.3}, max angle {:.3}, met {}, limit {}, {} unfixable, {:.3} s",
@@ -102,6 +126,20 @@ fn main() {
             }
             println!("    within 1, 0.1, ...: {rads:?}");
         }
+    }
+    if let Some(out) = std::env::var_os("REFINE_DUMP") {
+        // Plain text: points, then triangles (for drawing while debugging).
+        let mut s = String::new();
+        for p in &r.mesh.points {
+            s.push_str(&format!("p {} {}\n", p[0], p[1]));
+        }
+        for t in &r.mesh.triangles {
+            s.push_str(&format!("t {} {} {}\n", t[0], t[1], t[2]));
+        }
+        for g in &r.mesh.segments {
+            s.push_str(&format!("s {} {}\n", g.v[0], g.v[1]));
+        }
+        std::fs::write(out, s).expect("write dump");
     }
     for u in r.report.unfixable.iter().take(10) {
         println!("  unfixable {:?}", u);

@@ -154,3 +154,157 @@ fn random_pslgs_refine_validly() {
         }
     }
 }
+
+#[test]
+fn cavity_insertion_report_and_interior_segments() {
+    // A rectangle split by a slanted interior segment: both sides of it are
+    // refined (its splits open cavities on both sides), its pieces stay
+    // edges, and the report's figures agree with the mesh.
+    let g = Pslg::new(
+        vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [0.0, 1.0],
+            [1.0, 0.0],
+            [1.1, 1.0],
+        ],
+        vec![[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let opts = RefineOptions {
+        min_angle: Some(32.0),
+        max_area: Some(0.002),
+        ..Default::default()
+    };
+    let r = refine(&cdt, &opts).unwrap();
+    check_cdt(&g, &r.mesh).unwrap();
+    assert!(r.report.met, "{:?}", r.report.unfixable.first());
+    let steiner = r.mesh.points.len() - cdt.points.len();
+    assert_eq!(steiner, r.report.segment_splits + r.report.circumcenters);
+    // Every insertion replaces at least one triangle; each adds two.
+    assert!(r.report.cavity_triangles >= steiner);
+    // Euler for a disc: T = 2V - B - 2 (B boundary edges = boundary vertices).
+    let b = r
+        .mesh
+        .neighbors
+        .iter()
+        .flatten()
+        .filter(|&&n| n == delone::NONE)
+        .count();
+    assert_eq!(r.mesh.triangles.len(), 2 * r.mesh.points.len() - b - 2);
+    for (t, v) in r.mesh.triangles.iter().enumerate() {
+        assert!(min_angle(&r.mesh.points, v) >= 32.0, "triangle {t}");
+    }
+}
+
+#[test]
+fn user_test_refines_where_asked() {
+    use delone::tri::refine::refine_with;
+    // Fine triangles left of x = 1 only; the angle bound everywhere.
+    let g = Pslg::new(
+        vec![[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.0, 1.0]],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let opts = RefineOptions {
+        min_angle: Some(25.0),
+        ..Default::default()
+    };
+    let left = |t: &[[f64; 2]; 3], area: f64| t.iter().any(|p| p[0] < 1.0) && area > 0.002;
+    let r = refine_with(&cdt, &opts, &left).unwrap();
+    check_cdt(&g, &r.mesh).unwrap();
+    assert!(r.report.met, "{:?}", r.report.unfixable.first());
+    let p = &r.mesh.points;
+    let (mut n_left, mut n_right) = (0, 0);
+    for v in &r.mesh.triangles {
+        let t = [p[v[0] as usize], p[v[1] as usize], p[v[2] as usize]];
+        let area = 0.5
+            * ((t[1][0] - t[0][0]) * (t[2][1] - t[0][1])
+                - (t[1][1] - t[0][1]) * (t[2][0] - t[0][0]));
+        assert!(!left(&t, area), "{t:?} still unsuitable");
+        assert!(min_angle(p, v) >= 25.0);
+        if t.iter().all(|q| q[0] > 2.0) {
+            n_right += 1;
+        } else if t.iter().all(|q| q[0] < 1.0) {
+            n_left += 1;
+        }
+    }
+    // The left third is much finer than the right third.
+    assert!(n_left > 10 * n_right.max(1), "{n_left} vs {n_right}");
+    // Same input, same output.
+    assert_eq!(refine_with(&cdt, &opts, &left).unwrap(), r);
+    // A test that is never satisfied stops at the budget and is reported.
+    let never = |_: &[[f64; 2]; 3], _: f64| true;
+    let capped = RefineOptions {
+        max_steiner: Some(40),
+        ..opts
+    };
+    let r = refine_with(&cdt, &capped, &never).unwrap();
+    assert!(r.report.limit_reached && !r.report.met);
+    assert_eq!(r.report.unfixable.len(), r.mesh.triangles.len());
+}
+
+#[test]
+fn segment_splits_can_be_forbidden() {
+    use delone::tri::refine::SegmentSplits;
+    // A rectangle with an interior segment.
+    let g = Pslg::new(
+        vec![
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [0.0, 1.0],
+            [1.0, 0.3],
+            [2.0, 0.6],
+        ],
+        vec![[0, 1], [1, 2], [2, 3], [3, 0], [4, 5]],
+    );
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    let n = cdt.points.len() as u32;
+    for (mode, boundary_whole, interior_whole) in [
+        (SegmentSplits::All, false, false),
+        (SegmentSplits::Interior, true, false),
+        (SegmentSplits::None, true, true),
+    ] {
+        let opts = RefineOptions {
+            min_angle: Some(28.0),
+            max_area: Some(0.01),
+            segment_splits: mode,
+            ..Default::default()
+        };
+        let r = refine(&cdt, &opts).unwrap();
+        check_cdt(&g, &r.mesh).unwrap();
+        // Boundary edges (one triangle) and subsegments of the interior
+        // segment: split only where allowed.
+        let boundary_steiner = r
+            .mesh
+            .triangles
+            .iter()
+            .zip(&r.mesh.neighbors)
+            .flat_map(|(v, nb)| {
+                (0..3)
+                    .filter(move |&e| nb[e] == delone::NONE)
+                    .map(move |e| v[(e + 1) % 3].max(v[(e + 2) % 3]))
+            })
+            .any(|x| x >= n);
+        let interior_pieces = r.mesh.segments.iter().filter(|s| s.segment == 4).count();
+        assert_eq!(!boundary_steiner, boundary_whole, "{mode:?}");
+        if interior_whole {
+            assert_eq!(interior_pieces, 1, "{mode:?}");
+        }
+        if mode == SegmentSplits::All {
+            assert!(boundary_steiner && interior_pieces > 1);
+        }
+        assert!(r.report.circumcenters > 0, "{mode:?}");
+        // What could not be met is reported, with the reason.
+        assert_eq!(r.report.met, r.report.unfixable.is_empty());
+        if mode != SegmentSplits::All {
+            for u in &r.report.unfixable {
+                assert_eq!(u.reason, UnfixableReason::NoSegmentSplits, "{mode:?}");
+            }
+        } else {
+            assert!(r.report.met);
+        }
+    }
+}

@@ -18,9 +18,12 @@
 //!    are computed from the ends of the original subsegment, so they stay
 //!    within a few ulps of the input segment.
 //! 2. **Bad triangles** (minimum angle below the bound, or area above the
-//!    global or regional bound) are taken worst first from a priority queue
-//!    (ties broken by vertex ids, so the result is deterministic) and their
-//!    circumcentre is inserted — unless it lies beyond a subsegment (that one is
+//!    global or regional bound) are taken from a bucket queue: skinny ones
+//!    before large ones, worst bucket first (64 buckets by sin² of the
+//!    smallest angle, quarter octaves of the area ratio), newest first within
+//!    a bucket (it was just made, so it is in cache; deterministic). Their
+//!    circumcentre (or off-centre) is located by a walk from the triangle and
+//!    inserted — unless it lies beyond a subsegment (that one is
 //!    split instead) or would encroach a subsegment that would become visible
 //!    from it (those are split instead; the triangle goes back in the queue).
 //! 3. **Small input angles.** A skinny triangle whose shortest edge joins two
@@ -31,7 +34,14 @@
 //! 4. A Steiner-point budget ([`RefineOptions::max_steiner`], Triangle's `-S`)
 //!    stops the refinement; the report says whether every bound was met.
 //!
-//! Insertion is by Lawson flips that never flip a subsegment, so the result is
+//! Insertion is Bowyer–Watson: the cavity of a new point (the triangles whose
+//! circumcircle strictly contains it, reached without crossing a subsegment)
+//! is found once — for a circumcentre, its boundary subsegments are the ones
+//! tested for encroachment — and replaced by a fan. The depth-first cavity
+//! search meets the boundary in counterclockwise order, so the fan is linked
+//! in sequence; a cavity that is not one simple cycle seen counterclockwise
+//! from the new point (possible only through rounding of a split point) is
+//! refused and nothing changes. The result is
 //! again a constrained Delaunay triangulation (checked by
 //! [`check_cdt`](super::constrain::check_cdt)). All orientation and incircle
 //! decisions use exact predicates on coordinates scaled by an exact power of
@@ -47,8 +57,7 @@
 //! A. Üngör, *Off-centers: a new type of Steiner points for computing
 //! size-optimal quality-guaranteed Delaunay triangulations*, LATIN 2004.
 
-use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, VecDeque};
+use std::collections::{HashMap, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
@@ -81,6 +90,33 @@ pub struct RefineOptions {
     /// Insert off-centres instead of circumcentres when they are nearer the
     /// shortest edge (Üngör; Triangle's default). Default true.
     pub off_centers: bool,
+    /// Which subsegments may be split (Triangle's `-Y`, `-YY`). Default
+    /// [`SegmentSplits::All`].
+    pub segment_splits: SegmentSplits,
+}
+
+/// Which subsegments refinement may split.
+///
+/// A subsegment that may not be split is never encroached (a point may be
+/// inserted near it), but a point beyond it cannot be inserted: triangles
+/// that only such a point would fix are reported with
+/// [`UnfixableReason::NoSegmentSplits`].
+///
+/// ```
+/// use delone::tri::refine::{RefineOptions, SegmentSplits};
+/// let o = RefineOptions { segment_splits: SegmentSplits::Interior, ..Default::default() };
+/// assert_ne!(o, RefineOptions::default());
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum SegmentSplits {
+    /// Every subsegment (the default).
+    #[default]
+    All,
+    /// Only subsegments with triangles on both sides: no Steiner point on the
+    /// boundary of the domain (Triangle's `-Y`).
+    Interior,
+    /// None: no Steiner point on any segment (Triangle's `-YY`).
+    None,
 }
 
 impl Default for RefineOptions {
@@ -91,6 +127,7 @@ impl Default for RefineOptions {
             regional_areas: false,
             max_steiner: None,
             off_centers: true,
+            segment_splits: SegmentSplits::All,
         }
     }
 }
@@ -117,6 +154,10 @@ pub enum UnfixableReason {
     /// Floating point could not place a Steiner point for it (a subsegment
     /// too short to split, or a circumcentre that could not be located).
     Precision,
+    /// The options forbid splitting the subsegment that is in the way
+    /// ([`RefineOptions::segment_splits`]; reported instead of
+    /// [`Self::Precision`] whenever splits are restricted).
+    NoSegmentSplits,
 }
 
 /// A triangle of the output that violates a bound.
@@ -153,8 +194,8 @@ pub struct RefineReport {
     /// Circumcentres not inserted because they encroached a subsegment or lay
     /// beyond one (a subsegment was split instead).
     pub rejected_circumcenters: usize,
-    /// Edge flips done.
-    pub flips: usize,
+    /// Triangles replaced by Bowyer–Watson cavities (the work done).
+    pub cavity_triangles: usize,
     /// The smallest angle of the output, in degrees.
     pub min_angle: f64,
     /// The largest angle of the output, in degrees.
@@ -204,28 +245,17 @@ struct Sub {
     t: [f64; 2],
     parent: u32,
     alive: bool,
-    /// Gave up splitting it (floating point).
+    /// Gave up splitting it (floating point), or it is protected.
     stuck: bool,
-}
-
-/// Where a walk toward a point ended.
-enum Walk {
-    Inside(usize),
-    OnEdge(usize, usize),
-    Vertex,
-    Blocked(u32),
-    Lost,
+    /// The options forbid splitting it (it is never encroached).
+    protected: bool,
 }
 
 struct Mesh {
     xy: Vec<[f64; 2]>,
-    tv: Vec<[u32; 3]>,
-    /// Packed adjacency or `NONE` on the boundary.
-    ta: Vec<[u32; 3]>,
-    /// Subsegment on each half-edge, or `NONE`.
-    sb: Vec<[u32; 3]>,
-    /// The input triangle a triangle descends from (region, attributes).
-    orig: Vec<u32>,
+    /// The triangles, one record each (one cache line for what a cavity
+    /// search reads).
+    tr: Vec<Tri>,
     vt: Vec<u32>,
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
@@ -236,7 +266,53 @@ struct Mesh {
     cos2: f64,
     subs: Vec<Sub>,
     parents: Vec<Parent>,
-    flips: usize,
+    stamp: u32,
+    /// Scratch of [`Mesh::insert`]: cavity, its boundary, encroached
+    /// subsegments, new triangles.
+    cav: Vec<u32>,
+    bnd: Vec<Bnd>,
+    hit: Vec<u32>,
+    /// Depth-first stack: triangle, next edge, edges left.
+    stack: Vec<(u32, u8, u8)>,
+    fan: Vec<u32>,
+    /// Triangles replaced by cavities.
+    replaced: usize,
+}
+
+/// A triangle of the working mesh.
+#[derive(Clone, Copy)]
+struct Tri {
+    /// Counterclockwise vertices.
+    v: [u32; 3],
+    /// Packed adjacency or `NONE` on the boundary.
+    a: [u32; 3],
+    /// Subsegment on each half-edge, or `NONE`.
+    s: [u32; 3],
+    /// The input triangle it descends from (region, attributes).
+    orig: u32,
+    /// Cavity stamp.
+    mark: u32,
+}
+
+/// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
+#[derive(Clone, Copy)]
+struct Bnd {
+    a: u32,
+    b: u32,
+    /// Packed neighbour outside the cavity, or `NONE`.
+    adj: u32,
+    /// Its subsegment, or `NONE`.
+    sb: u32,
+    orig: u32,
+}
+
+/// Outcome of [`Mesh::insert`].
+enum Ins {
+    Done(u32),
+    Encroached,
+    /// The point lies beyond (or on) this subsegment of the cavity boundary.
+    Blocked(u32),
+    Failed,
 }
 
 /// Encroachment of `(u, v)` by `w`: `w` sees the subsegment at an angle
@@ -304,63 +380,26 @@ impl Mesh {
         &self.xy[v as usize]
     }
 
-    fn set_vt(&mut self, t: usize) {
-        for &x in &self.tv[t] {
-            self.vt[x as usize] = t as u32;
-        }
-    }
-
-    /// Sets the back pointer of the neighbour across edge `w` of `k`.
-    fn link(&mut self, k: usize, w: usize) {
-        let x = self.ta[k][w];
-        if x != NONE {
-            let (o, l) = unpack(x);
-            self.ta[o][l] = pack(k, w);
-        }
-    }
-
-    /// Triangles around `u`, starting anywhere.
-    fn star(&self, u: u32) -> Vec<usize> {
+    /// The half-edge `u -> w` as (triangle, local edge), by rotating around
+    /// `u` (both ways: `u` may be on the boundary).
+    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
         let start = self.vt[u as usize] as usize;
-        let mut out = vec![start];
-        // Counterclockwise.
-        let mut t = start;
-        let mut closed = false;
-        for _ in 0..self.tv.len() {
-            let k = self.tv[t].iter().position(|&x| x == u).unwrap_or(0);
-            let x = self.ta[t][NEXT[k]];
-            if x == NONE {
-                break;
-            }
-            t = unpack(x).0;
-            if t == start {
-                closed = true;
-                break;
-            }
-            out.push(t);
-        }
-        if !closed {
+        for dir in [NEXT, PREV] {
             let mut t = start;
-            for _ in 0..self.tv.len() {
-                let k = self.tv[t].iter().position(|&x| x == u).unwrap_or(0);
-                let x = self.ta[t][PREV[k]];
+            for _ in 0..self.tr.len() {
+                let v = self.tr[t].v;
+                let k = v.iter().position(|&x| x == u)?;
+                if v[NEXT[k]] == w {
+                    return Some((t, PREV[k]));
+                }
+                let x = self.tr[t].a[dir[k]];
                 if x == NONE {
                     break;
                 }
                 t = unpack(x).0;
-                out.push(t);
-            }
-        }
-        out
-    }
-
-    /// The half-edge `u -> w` as (triangle, local edge).
-    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        for t in self.star(u) {
-            let v = self.tv[t];
-            let k = v.iter().position(|&x| x == u)?;
-            if v[NEXT[k]] == w {
-                return Some((t, PREV[k]));
+                if t == start {
+                    return None;
+                }
             }
         }
         None
@@ -371,252 +410,216 @@ impl Mesh {
         self.find_edge(u, w).or_else(|| self.find_edge(w, u))
     }
 
-    /// Flips edge `i` of `t` (strictly convex quadrilateral, unconstrained).
-    fn flip(&mut self, t: usize, i: usize) {
-        let (n, j) = unpack(self.ta[t][i]);
-        let vt = self.tv[t];
-        let vn = self.tv[n];
-        let a = vt[i];
-        let (x, y) = edge(&vt, i);
-        let d = vn[j];
-        let t_ax = (self.ta[t][PREV[i]], self.sb[t][PREV[i]]);
-        let t_ya = (self.ta[t][NEXT[i]], self.sb[t][NEXT[i]]);
-        let n_dy = (self.ta[n][PREV[j]], self.sb[n][PREV[j]]);
-        let n_xd = (self.ta[n][NEXT[j]], self.sb[n][NEXT[j]]);
-        self.tv[t] = [a, x, d];
-        self.tv[n] = [d, y, a];
-        self.ta[t] = [n_xd.0, pack(n, 1), t_ax.0];
-        self.sb[t] = [n_xd.1, NONE, t_ax.1];
-        self.ta[n] = [t_ya.0, pack(t, 1), n_dy.0];
-        self.sb[n] = [t_ya.1, NONE, n_dy.1];
-        for (k, w) in [(t, 0usize), (t, 2), (n, 0), (n, 2)] {
-            self.link(k, w);
-        }
-        self.set_vt(t);
-        self.set_vt(n);
-        self.flips += 1;
-    }
-
-    /// Lawson flips after inserting `p`: `stack` holds the link edges
-    /// `(x, y)` of `p` (triangle `[p, x, y]` counterclockwise).
-    fn legalize(&mut self, p: u32, stack: &mut Vec<(u32, u32)>) {
-        while let Some((x, y)) = stack.pop() {
-            let Some((t, i)) = self.find_edge(x, y) else {
-                continue;
-            };
-            if self.tv[t][i] != p || self.sb[t][i] != NONE || self.ta[t][i] == NONE {
-                continue;
-            }
-            let (n, j) = unpack(self.ta[t][i]);
-            let d = self.tv[n][j];
-            let v = self.tv[t];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(d)) > 0.0 {
-                self.flip(t, i);
-                stack.push((x, d));
-                stack.push((d, y));
-            }
-        }
-    }
-
     fn new_tri(&mut self) -> usize {
-        self.tv.push([0; 3]);
-        self.ta.push([NONE; 3]);
-        self.sb.push([NONE; 3]);
-        self.orig.push(NONE);
-        self.tv.len() - 1
+        self.tr.push(Tri {
+            v: [0; 3],
+            a: [NONE; 3],
+            s: [NONE; 3],
+            orig: NONE,
+            mark: 0,
+        });
+        self.tr.len() - 1
     }
 
-    fn new_vertex(&mut self, x: [f64; 2], t: usize, par: u32) -> u32 {
-        let s = self.xy.len() as u32;
-        self.xy.push(x);
-        self.vt.push(t as u32);
-        self.vpar.push(par);
-        s
-    }
-
-    /// Splits triangle `t` at a point strictly inside it.
-    fn split_tri(&mut self, t: usize, x: [f64; 2]) -> u32 {
-        let [v0, v1, v2] = self.tv[t];
-        let p = self.new_vertex(x, t, NONE);
-        let (a0, a1, a2) = (self.ta[t][0], self.ta[t][1], self.ta[t][2]);
-        let (s0, s1, s2) = (self.sb[t][0], self.sb[t][1], self.sb[t][2]);
-        let t1 = self.new_tri();
-        let t2 = self.new_tri();
-        let o = self.orig[t];
-        self.orig[t1] = o;
-        self.orig[t2] = o;
-        self.tv[t] = [v0, v1, p];
-        self.ta[t] = [pack(t1, 1), pack(t2, 0), a2];
-        self.sb[t] = [NONE, NONE, s2];
-        self.tv[t1] = [v1, v2, p];
-        self.ta[t1] = [pack(t2, 1), pack(t, 0), a0];
-        self.sb[t1] = [NONE, NONE, s0];
-        self.tv[t2] = [v2, v0, p];
-        self.ta[t2] = [pack(t, 1), pack(t1, 0), a1];
-        self.sb[t2] = [NONE, NONE, s1];
-        for k in [t, t1, t2] {
-            self.link(k, 2);
-            self.set_vt(k);
+    fn next_stamp(&mut self) -> u32 {
+        if self.stamp == u32::MAX {
+            for t in &mut self.tr {
+                t.mark = 0;
+            }
+            self.stamp = 0;
         }
-        let mut st = vec![(v0, v1), (v1, v2), (v2, v0)];
-        self.legalize(p, &mut st);
-        p
+        self.stamp += 1;
+        self.stamp
     }
 
-    /// Whether `x` splits edge `i` of `t` (and its twin) into
-    /// counterclockwise triangles.
-    fn can_split(&self, t: usize, i: usize, x: &[f64; 2]) -> bool {
-        let ok = |t: usize, i: usize| {
-            let v = self.tv[t];
-            let a = self.p(v[i]);
-            let (p, q) = edge(&v, i);
-            orient2d(a, self.p(p), x) > 0.0 && orient2d(a, x, self.p(q)) > 0.0
-        };
-        if !ok(t, i) {
-            return false;
-        }
-        let w = self.ta[t][i];
-        w == NONE || {
-            let (n, j) = unpack(w);
-            ok(n, j)
-        }
-    }
-
-    /// Splits edge `i` of `t` at `x` (checked by [`Self::can_split`]); the two
-    /// halves get labels `l1` (`p` side) and `l2` (`q` side), where `t`
-    /// holds the edge as `p -> q`.
-    fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2], l: [u32; 2], par: u32) -> u32 {
-        let w = self.ta[t][i];
-        let vt = self.tv[t];
-        let a = vt[i];
-        let (p, q) = edge(&vt, i);
-        let s = self.new_vertex(x, t, par);
-        let t_ap = (self.ta[t][PREV[i]], self.sb[t][PREV[i]]);
-        let t_qa = (self.ta[t][NEXT[i]], self.sb[t][NEXT[i]]);
-        let t2 = self.new_tri();
-        self.orig[t2] = self.orig[t];
-        let mut st = vec![(a, p), (q, a)];
-        if w == NONE {
-            self.tv[t] = [a, p, s];
-            self.ta[t] = [NONE, pack(t2, 2), t_ap.0];
-            self.sb[t] = [l[0], NONE, t_ap.1];
-            self.tv[t2] = [a, s, q];
-            self.ta[t2] = [NONE, t_qa.0, pack(t, 1)];
-            self.sb[t2] = [l[1], t_qa.1, NONE];
-            self.link(t, 2);
-            self.link(t2, 1);
-            self.set_vt(t);
-            self.set_vt(t2);
+    /// Bowyer–Watson insertion of `c` in the constrained triangulation: the
+    /// cavity is grown from triangle `start` across unconstrained edges (and
+    /// across subsegment `split`, the one `c` splits) to every triangle whose
+    /// circumcircle strictly contains `c` (exact test), then replaced by a fan
+    /// around `c`. With `check_enc`, subsegments on the cavity boundary that
+    /// `c` encroaches are collected in `self.hit` and nothing is inserted.
+    /// Nothing is changed either unless `c` sees every boundary edge strictly
+    /// on its left and the boundary is one simple cycle (or one chain, when
+    /// `split` is a boundary subsegment): the result is always a valid mesh.
+    /// `halves`: `(u, label, w, label)` of the two pieces of `split`.
+    /// The new triangles are left in `self.fan`.
+    fn insert(
+        &mut self,
+        start: usize,
+        c: [f64; 2],
+        split: u32,
+        halves: [u32; 4],
+        check_enc: bool,
+    ) -> Ins {
+        let stamp = self.next_stamp();
+        self.cav.clear();
+        self.bnd.clear();
+        self.hit.clear();
+        self.stack.clear();
+        self.tr[start].mark = stamp;
+        self.cav.push(start as u32);
+        // A split starts across its subsegment, so the other side is reached
+        // first.
+        let e0 = if split == NONE {
+            0
         } else {
-            let (n, j) = unpack(w);
-            let vn = self.tv[n];
-            let d = vn[j];
-            let n_pd = (self.ta[n][NEXT[j]], self.sb[n][NEXT[j]]);
-            let n_dq = (self.ta[n][PREV[j]], self.sb[n][PREV[j]]);
-            let n2 = self.new_tri();
-            self.orig[n2] = self.orig[n];
-            self.tv[t] = [a, p, s];
-            self.ta[t] = [pack(n2, 0), pack(t2, 2), t_ap.0];
-            self.sb[t] = [l[0], NONE, t_ap.1];
-            self.tv[t2] = [a, s, q];
-            self.ta[t2] = [pack(n, 0), t_qa.0, pack(t, 1)];
-            self.sb[t2] = [l[1], t_qa.1, NONE];
-            self.tv[n] = [d, q, s];
-            self.ta[n] = [pack(t2, 0), pack(n2, 2), n_dq.0];
-            self.sb[n] = [l[1], NONE, n_dq.1];
-            self.tv[n2] = [d, s, p];
-            self.ta[n2] = [pack(t, 0), n_pd.0, pack(n, 1)];
-            self.sb[n2] = [l[0], n_pd.1, NONE];
-            for (k, e) in [(t, 2usize), (t2, 1), (n, 2), (n2, 1)] {
-                self.link(k, e);
+            self.tr[start]
+                .s
+                .iter()
+                .position(|&x| x == split)
+                .unwrap_or(0)
+        };
+        self.stack.push((start as u32, e0 as u8, 3));
+        // Where the chain starts when `split` is a boundary subsegment.
+        let mut gap = usize::MAX;
+        // Depth-first, each triangle's edges counterclockwise from the one
+        // after its entry edge: the boundary comes out in counterclockwise
+        // order.
+        while let Some(top) = self.stack.last_mut() {
+            if top.2 == 0 {
+                self.stack.pop();
+                continue;
             }
-            for k in [t, t2, n, n2] {
-                self.set_vt(k);
-            }
-            st.push((d, q));
-            st.push((p, d));
-        }
-        self.legalize(s, &mut st);
-        s
-    }
-
-    /// Walks from triangle `t` toward `c` along the line from its centroid,
-    /// never crossing a subsegment.
-    fn walk(&self, mut t: usize, c: &[f64; 2]) -> Walk {
-        let v = self.tv[t];
-        let (a, b, d) = (self.p(v[0]), self.p(v[1]), self.p(v[2]));
-        let g = [(a[0] + b[0] + d[0]) / 3.0, (a[1] + b[1] + d[1]) / 3.0];
-        for _ in 0..self.tv.len() + 8 {
-            let v = self.tv[t];
-            let o: [f64; 3] = std::array::from_fn(|e| {
-                let (x, y) = edge(&v, e);
-                orient2d(self.p(x), self.p(y), c)
-            });
-            if o.iter().all(|&x| x > 0.0) {
-                return Walk::Inside(t);
-            }
-            if o.iter().all(|&x| x >= 0.0) {
-                let zeros = o.iter().filter(|&&x| x == 0.0).count();
-                if zeros > 1 {
-                    return Walk::Vertex;
-                }
-                let e = o.iter().position(|&x| x == 0.0).unwrap_or(0);
-                return Walk::OnEdge(t, e);
-            }
-            let mut exit = None;
-            for (e, &oe) in o.iter().enumerate() {
-                if oe >= 0.0 {
-                    continue;
-                }
-                let (x, y) = edge(&v, e);
-                if orient2d(&g, c, self.p(x)) <= 0.0 && orient2d(&g, c, self.p(y)) >= 0.0 {
-                    exit = Some(e);
-                    break;
-                }
-            }
-            let e = exit.unwrap_or_else(|| o.iter().position(|&x| x < 0.0).unwrap_or(0));
-            if self.sb[t][e] != NONE {
-                return Walk::Blocked(self.sb[t][e]);
-            }
-            if self.ta[t][e] == NONE {
-                return Walk::Lost;
-            }
-            t = unpack(self.ta[t][e]).0;
-        }
-        Walk::Lost
-    }
-
-    /// Subsegments that would become visible from `c` if it were inserted
-    /// in `t0` (and `t1`), i.e. on the boundary of its Bowyer–Watson cavity,
-    /// and that `c` encroaches.
-    fn cavity_encroached(&self, starts: &[usize], c: &[f64; 2], out: &mut Vec<u32>) {
-        let mut seen: Vec<usize> = starts.to_vec();
-        let mut st: Vec<usize> = starts.to_vec();
-        while let Some(t) = st.pop() {
-            for e in 0..3 {
-                let s = self.sb[t][e];
-                if s != NONE {
-                    let [u, w] = self.subs[s as usize].v;
-                    if encroaches(self.p(u), self.p(w), c, self.cos2) && !out.contains(&s) {
-                        out.push(s);
-                    }
-                    continue;
-                }
-                let x = self.ta[t][e];
+            let (t, e) = (top.0 as usize, top.1 as usize);
+            top.1 = NEXT[e] as u8;
+            top.2 -= 1;
+            let tri = &self.tr[t];
+            let s = tri.s[e];
+            let x = tri.a[e];
+            if s == NONE || s == split {
+                // Crossing the subsegment being split?
+                let crossing = s != NONE;
                 if x == NONE {
-                    continue;
+                    if crossing {
+                        gap = self.bnd.len();
+                        continue;
+                    }
+                } else {
+                    let (n, j) = unpack(x);
+                    if self.tr[n].mark == stamp {
+                        continue;
+                    }
+                    let v = self.tr[n].v;
+                    if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
+                        self.tr[n].mark = stamp;
+                        self.cav.push(n as u32);
+                        self.stack.push((n as u32, NEXT[j] as u8, 2));
+                        continue;
+                    }
                 }
-                let n = unpack(x).0;
-                if seen.contains(&n) {
-                    continue;
-                }
-                let v = self.tv[n];
-                if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), c) > 0.0 {
-                    seen.push(n);
-                    st.push(n);
+            } else if check_enc {
+                let sub = &self.subs[s as usize];
+                let [u, w] = sub.v;
+                if !sub.protected
+                    && encroaches(self.p(u), self.p(w), &c, self.cos2)
+                    && !self.hit.contains(&s)
+                {
+                    self.hit.push(s);
                 }
             }
+            let (a, b) = edge(&tri.v, e);
+            self.bnd.push(Bnd {
+                a,
+                b,
+                adj: x,
+                sb: s,
+                orig: tri.orig,
+            });
         }
+        if !self.hit.is_empty() {
+            return Ins::Encroached;
+        }
+        // Validity of the star: one boundary cycle (or chain) around `c`,
+        // seen counterclockwise, with no vertex inside the cavity.
+        let nb = self.bnd.len();
+        for k in 0..nb {
+            let b = self.bnd[k];
+            if orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0 {
+                // Beyond (or on) a subsegment: that one is in the way.
+                return if check_enc && b.sb != NONE {
+                    Ins::Blocked(b.sb)
+                } else {
+                    Ins::Failed
+                };
+            }
+        }
+        let open = usize::from(gap != usize::MAX);
+        if nb + open != self.cav.len() + 2 || nb < 2 {
+            return Ins::Failed;
+        }
+        if open == 1 {
+            self.bnd.rotate_left(gap);
+        }
+        for k in 0..nb - 1 {
+            if self.bnd[k].b != self.bnd[k + 1].a {
+                return Ins::Failed;
+            }
+        }
+        if open == 0 && self.bnd[nb - 1].b != self.bnd[0].a {
+            return Ins::Failed;
+        }
+        // The fan: triangle k = [p, a_k, b_k], linked to k + 1 across
+        // `b_k -> p`.
+        let p = self.xy.len() as u32;
+        self.xy.push(c);
+        self.vpar.push(NONE);
+        self.vt.push(self.cav[0]);
+        self.replaced += self.cav.len();
+        self.fan.clear();
+        for k in 0..nb {
+            let s = if k < self.cav.len() {
+                self.cav[k] as usize
+            } else {
+                self.new_tri()
+            };
+            self.fan.push(s as u32);
+        }
+        let label = |x: u32| {
+            if x == halves[0] {
+                halves[1]
+            } else if x == halves[2] {
+                halves[3]
+            } else {
+                NONE
+            }
+        };
+        for k in 0..nb {
+            let b = self.bnd[k];
+            let s = self.fan[k] as usize;
+            let next = if k + 1 < nb {
+                pack(self.fan[k + 1] as usize, 2)
+            } else if open == 0 {
+                pack(self.fan[0] as usize, 2)
+            } else {
+                NONE
+            };
+            let prev = if k > 0 {
+                pack(self.fan[k - 1] as usize, 1)
+            } else if open == 0 {
+                pack(self.fan[nb - 1] as usize, 1)
+            } else {
+                NONE
+            };
+            let tri = &mut self.tr[s];
+            tri.v = [p, b.a, b.b];
+            tri.a = [b.adj, next, prev];
+            tri.s = if split == NONE {
+                [b.sb, NONE, NONE]
+            } else {
+                [b.sb, label(b.b), label(b.a)]
+            };
+            tri.orig = b.orig;
+            self.vt[b.a as usize] = s as u32;
+            if b.adj != NONE {
+                let (o, l) = unpack(b.adj);
+                self.tr[o].a[l] = pack(s, 0);
+            }
+        }
+        if open == 1 {
+            self.vt[self.bnd[nb - 1].b as usize] = self.fan[nb - 1];
+        }
+        self.vt[p as usize] = self.fan[0];
+        Ins::Done(p)
     }
 
     /// The point splitting subsegment `s`, and its parameter.
@@ -657,26 +660,25 @@ impl Mesh {
         }
         let (x, tm) = self.split_point(&sub);
         let [u, w] = sub.v;
-        let Some((t, i)) = self.find_either(u, w) else {
+        let Some((t, _)) = self.find_either(u, w) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
-        if !self.can_split(t, i, &x) {
+        // Halves: k = u..new, k+1 = new..w.
+        let k = self.subs.len() as u32;
+        let Ins::Done(nv) = self.insert(t, x, s, [u, k, w, k + 1], false) else {
             self.subs[s as usize].stuck = true;
             return None;
-        }
-        let (p, _) = edge(&self.tv[t], i);
-        let k = self.subs.len() as u32;
-        // Halves: k = u..new, k+1 = new..w.
-        let l = if p == u { [k, k + 1] } else { [k + 1, k] };
+        };
+        self.vpar[nv as usize] = sub.parent;
         self.subs[s as usize].alive = false;
-        let nv = self.xy.len() as u32;
         self.subs.push(Sub {
             v: [u, nv],
             t: [sub.t[0], tm],
             parent: sub.parent,
             alive: true,
             stuck: false,
+            protected: false,
         });
         self.subs.push(Sub {
             v: [nv, w],
@@ -684,8 +686,9 @@ impl Mesh {
             parent: sub.parent,
             alive: true,
             stuck: false,
+            protected: false,
         });
-        Some(self.split_edge(t, i, x, l, sub.parent))
+        Some(nv)
     }
 
     /// Skinny triangle whose shortest edge spans a small input angle:
@@ -734,8 +737,78 @@ impl Mesh {
     }
 }
 
+/// Bad triangles waiting, in buckets by badness: bucket 0 for triangles
+/// whose circumcentre was rejected (retried right after the subsegment
+/// splits), then angle buckets (worst first, by sin² of the smallest angle
+/// over the bound's), then area buckets (largest area ratio first, quarter
+/// octaves). Within a bucket the newest triangle comes first: it was just
+/// made, so it is still in cache (the order changes the mesh only slightly).
+struct Queue {
+    buckets: Vec<Vec<(u32, [u32; 3])>>,
+    /// No non-empty bucket below this one.
+    lo: usize,
+    len: usize,
+}
+
+const ANGLE_BUCKETS: u32 = 64;
+const AREA_BUCKETS: u32 = 160;
+
+impl Queue {
+    fn new() -> Self {
+        Queue {
+            buckets: vec![Vec::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
+            lo: 0,
+            len: 0,
+        }
+    }
+
+    /// `q` = sin² of the smallest angle over sin² of the bound, in [0, 1).
+    fn angle_bucket(q: f64) -> u32 {
+        1 + ((q * ANGLE_BUCKETS as f64) as u32).min(ANGLE_BUCKETS - 1)
+    }
+
+    /// `r` = area over the bound, above 1.
+    fn area_bucket(r: f64) -> u32 {
+        // Quarter octaves from the exponent and the top two mantissa bits.
+        let k = ((r.to_bits() >> 50) as u32)
+            .saturating_sub(1023 << 2)
+            .min(AREA_BUCKETS - 1);
+        1 + ANGLE_BUCKETS + (AREA_BUCKETS - 1 - k)
+    }
+
+    fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
+        let b = b as usize;
+        self.buckets[b].push((t, v));
+        self.lo = self.lo.min(b);
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<(u32, [u32; 3])> {
+        while self.lo < self.buckets.len() {
+            if let Some(x) = self.buckets[self.lo].pop() {
+                self.len -= 1;
+                return Some(x);
+            }
+            self.lo += 1;
+        }
+        None
+    }
+
+    fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+/// A user's test of a triangle (its corners counterclockwise and its area,
+/// in input units): true if it must be refined (Triangle's `-u`).
+pub type UserTest<'a> = &'a dyn Fn(&[[f64; 2]; 3], f64) -> bool;
+
 /// Criteria in scaled units.
-struct Crit {
+struct Crit<'a> {
+    /// The user's test, if any.
+    user: Option<UserTest<'a>>,
+    /// Scale factors of the coordinates (divide by both for input units).
+    scale: (f64, f64),
     /// sin² of the angle bound (0: none).
     sin2: f64,
     angle: f64,
@@ -746,6 +819,63 @@ struct Crit {
     off: f64,
     /// Doubled-area scale factor (scaled² → input units).
     s2: f64,
+}
+
+/// Queue bucket (smaller is worse) of triangle `t`, if it is to be fixed.
+#[inline]
+fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> Option<u32> {
+    let v = m.tr[t].v;
+    let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
+    let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let mut abound = crit.area2;
+    if crit.regional {
+        let ma = max_areas[m.tr[t].orig as usize];
+        if ma > 0.0 {
+            abound = abound.min(2.0 * ma * crit.s2);
+        }
+    }
+    if d > abound {
+        return Some(Queue::area_bucket(d / abound));
+    }
+    if crit.sin2 > 0.0 {
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let k = if l[0] <= l[1] && l[0] <= l[2] {
+            0
+        } else if l[1] <= l[2] {
+            1
+        } else {
+            2
+        };
+        let xy = l[NEXT[k]] * l[PREV[k]];
+        // sin² of the smallest angle, d² / xy, below the bound's?
+        if d * d < crit.sin2 * xy {
+            let (u, w) = edge(&v, k);
+            if m.small_angle_apex(u, w, v[k], crit.angle).is_none() {
+                let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
+                return Some(Queue::angle_bucket(s2 / crit.sin2));
+            }
+        }
+    }
+    if let Some(f) = crit.user {
+        if f(&crit.input(m, &v), 0.5 * d / crit.s2) {
+            // Last, with the least oversized triangles.
+            return Some(Queue::area_bucket(1.0));
+        }
+    }
+    None
+}
+
+impl Crit<'_> {
+    /// A triangle's corners in input units.
+    fn input(&self, m: &Mesh, v: &[u32; 3]) -> [[f64; 2]; 3] {
+        v.map(|x| {
+            let p = m.p(x);
+            [
+                p[0] / self.scale.1 / self.scale.0,
+                p[1] / self.scale.1 / self.scale.0,
+            ]
+        })
+    }
 }
 
 /// Refines a constrained Delaunay triangulation until every triangle meets
@@ -772,6 +902,47 @@ struct Crit {
 /// check_cdt(&g, &r.mesh).unwrap();
 /// ```
 pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
+    refine_inner(cdt, options, None)
+}
+
+/// [`refine`] with a user's test as well (Triangle's `-u`): a triangle is
+/// also refined while `unsuitable(corners, area)` says so (corners
+/// counterclockwise, in input units). The test must be deterministic for
+/// the result to be; one that never accepts small triangles only stops at
+/// [`RefineOptions::max_steiner`]. Triangles it still rejects at the end are
+/// listed as unfixable.
+///
+/// # Errors
+/// As [`refine`].
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+/// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+/// // Small triangles at the corner (0, 0) only.
+/// let near = |t: &[[f64; 2]; 3], area: f64| {
+///     t.iter().any(|p| p[0] * p[0] + p[1] * p[1] < 0.1) && area > 1e-3
+/// };
+/// let r = refine_with(&cdt, &RefineOptions::default(), &near).unwrap();
+/// assert!(r.report.met);
+/// check_cdt(&g, &r.mesh).unwrap();
+/// let plain = refine(&cdt, &RefineOptions::default()).unwrap();
+/// assert!(r.mesh.triangles.len() > plain.mesh.triangles.len() + 20);
+/// ```
+pub fn refine_with(
+    cdt: &Cdt,
+    options: &RefineOptions,
+    unsuitable: UserTest<'_>,
+) -> Result<Refined, Error> {
+    refine_inner(cdt, options, Some(unsuitable))
+}
+
+fn refine_inner(
+    cdt: &Cdt,
+    options: &RefineOptions,
+    user: Option<UserTest<'_>>,
+) -> Result<Refined, Error> {
     if let Some(index) = cdt
         .points
         .iter()
@@ -789,10 +960,15 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     let nt = cdt.triangles.len();
     let mut m = Mesh {
         xy: cdt.points.iter().map(|&p| scaled(p, scale)).collect(),
-        tv: cdt.triangles.clone(),
-        ta: vec![[NONE; 3]; nt],
-        sb: vec![[NONE; 3]; nt],
-        orig: (0..nt as u32).collect(),
+        tr: (0..nt)
+            .map(|t| Tri {
+                v: cdt.triangles[t],
+                a: [NONE; 3],
+                s: [NONE; 3],
+                orig: t as u32,
+                mark: 0,
+            })
+            .collect(),
         vt: vec![0; nfixed],
         vpar: vec![NONE; nfixed],
         nfixed,
@@ -800,10 +976,18 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         cos2: 0.0,
         subs: Vec::new(),
         parents: Vec::new(),
-        flips: 0,
+        stack: Vec::new(),
+        stamp: 0,
+        cav: Vec::new(),
+        bnd: Vec::new(),
+        hit: Vec::new(),
+        fan: Vec::new(),
+        replaced: 0,
     };
     for t in 0..nt {
-        m.set_vt(t);
+        for &x in &m.tr[t].v {
+            m.vt[x as usize] = t as u32;
+        }
         for e in 0..3 {
             let n = cdt.neighbors[t][e];
             if n == NONE {
@@ -813,7 +997,7 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             let Some(j) = (0..3).find(|&j| edge(&cdt.triangles[n as usize], j) == (b, a)) else {
                 continue;
             };
-            m.ta[t][e] = pack(n as usize, j);
+            m.tr[t].a[e] = pack(n as usize, j);
         }
     }
     // Subsegments: the bounding input ones, then hull edges (`-c`).
@@ -827,12 +1011,12 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     }
     for t in 0..nt {
         for e in 0..3 {
-            if m.sb[t][e] != NONE {
+            if m.tr[t].s[e] != NONE {
                 continue;
             }
-            let (a, b) = edge(&m.tv[t], e);
+            let (a, b) = edge(&m.tr[t].v, e);
             let out = seg_of.get(&(a.min(b), a.max(b))).copied();
-            if out.is_none() && m.ta[t][e] != NONE {
+            if out.is_none() && m.tr[t].a[e] != NONE {
                 continue;
             }
             let k = m.subs.len() as u32;
@@ -841,17 +1025,23 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
                 b,
                 out: out.unwrap_or(NONE),
             });
+            let protected = match options.segment_splits {
+                SegmentSplits::All => false,
+                SegmentSplits::Interior => m.tr[t].a[e] == NONE,
+                SegmentSplits::None => true,
+            };
             m.subs.push(Sub {
                 v: [a, b],
                 t: [0.0, 1.0],
                 parent: k,
                 alive: true,
-                stuck: false,
+                stuck: protected,
+                protected,
             });
-            m.sb[t][e] = k;
-            if m.ta[t][e] != NONE {
-                let (n, j) = unpack(m.ta[t][e]);
-                m.sb[n][j] = k;
+            m.tr[t].s[e] = k;
+            if m.tr[t].a[e] != NONE {
+                let (n, j) = unpack(m.tr[t].a[e]);
+                m.tr[n].s[j] = k;
             }
         }
     }
@@ -861,6 +1051,8 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     }
     let angle = options.min_angle.map_or(0.0, |a| a.clamp(0.0, 60.0));
     let crit = Crit {
+        user,
+        scale,
         sin2: angle.to_radians().sin().powi(2),
         angle,
         area2: options
@@ -883,46 +1075,23 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
     let limit = options.max_steiner.unwrap_or(usize::MAX);
     let mut report = RefineReport::default();
 
-    // Badness key (smaller is worse) of triangle t, if it is to be fixed.
-    let bad = |m: &Mesh, t: usize| -> Option<u64> {
-        let v = m.tv[t];
-        let (s2, d, k) = shape(m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let mut abound = crit.area2;
-        let ma = cdt.max_areas[m.orig[t] as usize];
-        if crit.regional && ma > 0.0 {
-            abound = abound.min(2.0 * ma * crit.s2);
-        }
-        if d > abound {
-            return Some((1.0 + abound / d).to_bits());
-        }
-        if s2 < crit.sin2 {
-            let (u, w) = edge(&v, k);
-            if m.small_angle_apex(u, w, v[k], crit.angle).is_some() {
-                return None;
-            }
-            return Some(s2.to_bits());
-        }
-        None
-    };
-    let canon = |v: [u32; 3]| {
-        let k = (0..3).min_by_key(|&i| v[i]).unwrap_or(0);
-        [v[k], v[NEXT[k]], v[PREV[k]]]
-    };
-    let mut heap: BinaryHeap<Reverse<(u64, [u32; 3])>> = BinaryHeap::new();
+    let bad = |m: &Mesh, t: usize| bad_bucket(m, &crit, &cdt.max_areas, t);
+    type Heap = Queue;
+    let mut heap = Queue::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(Reverse((k, canon(m.tv[t]))));
+            heap.push(k, t as u32, m.tr[t].v);
         }
     }
     // Subsegments encroached by an apex.
     let check_sub = |m: &Mesh, t: usize, e: usize, enc: &mut VecDeque<u32>| {
-        let s = m.sb[t][e];
+        let s = m.tr[t].s[e];
         if s == NONE {
             return;
         }
         let [u, w] = m.subs[s as usize].v;
-        let apex = m.tv[t][e];
+        let apex = m.tr[t].v[e];
         if encroaches(m.p(u), m.p(w), m.p(apex), m.cos2) {
             enc.push_back(s);
         }
@@ -932,26 +1101,26 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             check_sub(&m, t, e, &mut enc);
         }
     }
-    let after_insert = |m: &Mesh,
-                        p: u32,
-                        heap: &mut BinaryHeap<Reverse<(u64, [u32; 3])>>,
-                        enc: &mut VecDeque<u32>| {
-        for t in m.star(p) {
+    // The new triangles: bad ones are queued, their subsegments checked.
+    let after_insert = |m: &Mesh, heap: &mut Heap, enc: &mut VecDeque<u32>| {
+        for &t in &m.fan {
+            let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(Reverse((k, canon(m.tv[t]))));
+                heap.push(k, t as u32, m.tr[t].v);
             }
+            let tri = &m.tr[t];
             for e in 0..3 {
-                check_sub(m, t, e, enc);
-                let x = m.ta[t][e];
-                if x != NONE && m.sb[t][e] != NONE {
-                    let (n, j) = unpack(x);
-                    check_sub(m, n, j, enc);
+                let s = tri.s[e];
+                if s != NONE {
+                    let [u, w] = m.subs[s as usize].v;
+                    if encroaches(m.p(u), m.p(w), m.p(tri.v[e]), m.cos2) {
+                        enc.push_back(s);
+                    }
                 }
             }
         }
     };
     let mut steiner = 0usize;
-    let mut tmp: Vec<u32> = Vec::new();
     loop {
         if enc.is_empty() && heap.is_empty() {
             break;
@@ -961,23 +1130,21 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
             break;
         }
         if let Some(s) = enc.pop_front() {
-            if let Some(p) = m.split_sub(s) {
+            if m.split_sub(s).is_some() {
                 steiner += 1;
                 report.segment_splits += 1;
-                after_insert(&m, p, &mut heap, &mut enc);
+                after_insert(&m, &mut heap, &mut enc);
             }
             continue;
         }
-        let Some(Reverse((_, v))) = heap.pop() else {
+        let Some((t, v)) = heap.pop() else {
             break;
         };
-        let Some((t, i)) = m.find_edge(v[1], v[2]) else {
-            continue;
-        };
-        if m.tv[t][i] != v[0] {
+        let t = t as usize;
+        if m.tr[t].v != v {
             continue;
         }
-        let tv = m.tv[t];
+        let tv = v;
         let mut c = circumcenter(m.p(tv[0]), m.p(tv[1]), m.p(tv[2]));
         if crit.off > 0.0 {
             // Üngör's off-centre: on the bisector of the shortest edge, at
@@ -997,73 +1164,65 @@ pub fn refine(cdt: &Cdt, options: &RefineOptions) -> Result<Refined, Error> {
         if !(c[0].is_finite() && c[1].is_finite()) {
             continue;
         }
-        let at = match m.walk(t, &c) {
-            Walk::Inside(x) => (x, None),
-            Walk::OnEdge(x, e) => (x, Some(e)),
-            Walk::Blocked(s) => {
+        // The triangle's circumcircle contains `c`, so the cavity can grow
+        // from it: no point location needed.
+        match m.insert(t, c, NONE, [NONE; 4], true) {
+            Ins::Done(_) => {
+                steiner += 1;
+                report.circumcenters += 1;
+                after_insert(&m, &mut heap, &mut enc);
+            }
+            Ins::Encroached => {
+                report.rejected_circumcenters += 1;
+                let mut any = false;
+                for &s in &m.hit {
+                    if !m.subs[s as usize].stuck {
+                        enc.push_back(s);
+                        any = true;
+                    }
+                }
+                if any {
+                    heap.push(0, t as u32, v);
+                }
+            }
+            Ins::Blocked(s) => {
                 report.rejected_circumcenters += 1;
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
-                    heap.push(Reverse((0, v)));
+                    heap.push(0, t as u32, v);
                 }
-                continue;
             }
-            Walk::Vertex | Walk::Lost => continue,
-        };
-        tmp.clear();
-        let mut starts = vec![at.0];
-        if let Some(e) = at.1 {
-            if m.ta[at.0][e] != NONE {
-                starts.push(unpack(m.ta[at.0][e]).0);
-            }
+            Ins::Failed => {}
         }
-        m.cavity_encroached(&starts, &c, &mut tmp);
-        if !tmp.is_empty() {
-            report.rejected_circumcenters += 1;
-            let mut any = false;
-            for &s in &tmp {
-                if !m.subs[s as usize].stuck {
-                    enc.push_back(s);
-                    any = true;
-                }
-            }
-            if any {
-                heap.push(Reverse((0, v)));
-            }
-            continue;
-        }
-        let p = match at {
-            (x, None) => m.split_tri(x, c),
-            (x, Some(e)) => {
-                if m.sb[x][e] != NONE || !m.can_split(x, e, &c) {
-                    continue;
-                }
-                m.split_edge(x, e, c, [NONE, NONE], NONE)
-            }
-        };
-        steiner += 1;
-        report.circumcenters += 1;
-        after_insert(&m, p, &mut heap, &mut enc);
     }
-    report.flips = m.flips;
-    Ok(finish(cdt, m, &crit, scale, report))
+    report.cavity_triangles = m.replaced;
+    let restricted = options.segment_splits != SegmentSplits::All;
+    Ok(finish(cdt, m, &crit, scale, restricted, report))
 }
 
 /// Builds the output mesh and the final statistics.
-fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: RefineReport) -> Refined {
-    let nt = m.tv.len();
+fn finish(
+    cdt: &Cdt,
+    m: Mesh,
+    crit: &Crit,
+    scale: (f64, f64),
+    restricted: bool,
+    mut report: RefineReport,
+) -> Refined {
+    let nt = m.tr.len();
     let mut points = cdt.points.clone();
     points.extend(
         m.xy[m.nfixed..]
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    let triangles = m.tv.clone();
+    let triangles: Vec<[u32; 3]> = m.tr.iter().map(|t| t.v).collect();
     let neighbors: Vec<[u32; 3]> =
-        m.ta.iter()
+        m.tr.iter()
+            .map(|t| t.a)
             .map(|a| a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }))
             .collect();
-    let o = |t: usize| m.orig[t] as usize;
+    let o = |t: usize| m.tr[t].orig as usize;
     let regions = (0..nt).map(|t| cdt.regions[o(t)]).collect();
     let attributes = (0..nt).map(|t| cdt.attributes[o(t)]).collect();
     let max_areas: Vec<f64> = (0..nt).map(|t| cdt.max_areas[o(t)]).collect();
@@ -1081,33 +1240,57 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
         });
     }
     segments.extend(cdt.segments.iter().filter(|s| !s.bounding).copied());
-    report.min_angle = 180.0;
-    report.max_angle = 0.0;
+    // The extreme angles: the triangles with the smallest sin² of the
+    // smallest angle and the smallest cosine of the largest angle, measured
+    // exactly at the end (atan2 only there).
+    let mut lo_t = (f64::INFINITY, usize::MAX);
+    let mut hi_t = (f64::INFINITY, usize::MAX);
     let mut met = true;
     for (t, v) in triangles.iter().enumerate() {
         let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let ang = angles(a, b, c);
-        let lo = ang.iter().copied().fold(180.0f64, f64::min);
-        report.min_angle = report.min_angle.min(lo);
-        report.max_angle = report
-            .max_angle
-            .max(ang.iter().copied().fold(0.0, f64::max));
         let (s2, d, k) = shape(a, b, c);
+        if s2 < lo_t.0 {
+            lo_t = (s2, t);
+        }
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let j = if l[0] >= l[1] && l[0] >= l[2] {
+            0
+        } else if l[1] >= l[2] {
+            1
+        } else {
+            2
+        };
+        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
+        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
+        if cos < hi_t.0 {
+            hi_t = (cos, t);
+        }
         let mut abound = crit.area2;
         if crit.regional && max_areas[t] > 0.0 {
             abound = abound.min(2.0 * max_areas[t] * crit.s2);
         }
+        let too_big = d > abound;
+        let lo = if s2 < crit.sin2 || too_big {
+            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
+        } else {
+            180.0
+        };
         let angle_bad = s2 < crit.sin2 && lo < crit.angle;
-        if !(d > abound || angle_bad) {
+        let user_bad = !(too_big || angle_bad)
+            && crit
+                .user
+                .is_some_and(|f| f(&crit.input(&m, v), 0.5 * d / crit.s2));
+        if !(too_big || angle_bad || user_bad) {
             continue;
         }
         met = false;
         let (u, w) = edge(v, k);
         let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
-            Some((apex, input_angle)) if d <= abound => {
+            Some((apex, input_angle)) if d <= abound && !user_bad => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
             _ if report.limit_reached => UnfixableReason::SteinerLimit,
+            _ if restricted => UnfixableReason::NoSegmentSplits,
             _ => UnfixableReason::Precision,
         };
         report.unfixable.push(Unfixable {
@@ -1117,6 +1300,20 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
             reason,
         });
     }
+    let ang = |t: usize| {
+        let v = triangles[t];
+        angles(m.p(v[0]), m.p(v[1]), m.p(v[2]))
+    };
+    report.min_angle = if lo_t.1 == usize::MAX {
+        180.0
+    } else {
+        ang(lo_t.1).iter().copied().fold(180.0f64, f64::min)
+    };
+    report.max_angle = if hi_t.1 == usize::MAX {
+        0.0
+    } else {
+        ang(hi_t.1).iter().copied().fold(0.0f64, f64::max)
+    };
     if triangles.is_empty() {
         report.min_angle = 0.0;
     }
@@ -1134,5 +1331,37 @@ fn finish(cdt: &Cdt, m: Mesh, crit: &Crit, scale: (f64, f64), mut report: Refine
             report: cdt.report.clone(),
         },
         report,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn queue_buckets_are_ordered_worst_first() {
+        // Angle buckets: a smaller sin² ratio is worse (a smaller bucket).
+        let qs = [0.0, 0.01, 0.2, 0.5, 0.9, 0.999];
+        for w in qs.windows(2) {
+            assert!(Queue::angle_bucket(w[0]) <= Queue::angle_bucket(w[1]));
+        }
+        assert!(Queue::angle_bucket(0.0) < Queue::angle_bucket(0.999));
+        // Area buckets: a larger area ratio is worse, and after every angle
+        // bucket.
+        let rs = [1.0, 1.3, 2.0, 17.0, 1e6, 1e300];
+        for w in rs.windows(2) {
+            assert!(Queue::area_bucket(w[0]) >= Queue::area_bucket(w[1]));
+        }
+        assert!(Queue::area_bucket(4.0) < Queue::area_bucket(1.5));
+        assert!(Queue::area_bucket(1e300) > Queue::angle_bucket(0.999));
+        // Pop: lowest bucket first, newest first within a bucket.
+        let mut q = Queue::new();
+        q.push(5, 1, [1, 2, 3]);
+        q.push(3, 2, [4, 5, 6]);
+        q.push(5, 3, [7, 8, 9]);
+        q.push(0, 4, [0, 1, 2]);
+        let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|x| x.0)).collect();
+        assert_eq!(order, vec![4, 2, 3, 1]);
+        assert!(q.is_empty());
     }
 }
