@@ -150,6 +150,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             regional_areas: o.area,
             max_steiner: o.max_steiner,
             off_centers: true,
+            ..Default::default()
         },
     )
     .map_err(|e| input_err(format!("{base}: {e}")))?;
