@@ -70,6 +70,10 @@ pub struct Opts {
     pub max_area: Option<f64>,
     /// tri `-S<n>`: Steiner point budget.
     pub max_steiner: Option<usize>,
+    /// tet `-q[ratio]`: quality mesh with this radius-edge bound.
+    pub tet_ratio: Option<f64>,
+    /// tet `--stats-json FILE`: quality statistics as JSON.
+    pub stats_json: Option<PathBuf>,
     /// The switch letters as given, for messages.
     pub switches: String,
 }
@@ -105,14 +109,11 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'o') => "second-order elements, -o2",
         (Mode::Tet, 'Y') => "boundary preservation",
         (Mode::Tet, 'r') => "refinement of a previous mesh",
-        (Mode::Tet, 'q') => "quality mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
         (Mode::Tet, 'A') => "regional attributes",
         (Mode::Tet, 'm') => "sizing function (.mtr)",
-        (Mode::Tet, 'a') => "maximum volume constraint",
         (Mode::Tet, 'i') => "insertion of additional points",
         (Mode::Tet, 'O') => "mesh optimization",
-        (Mode::Tet, 'S') => "Steiner point limit",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
         (Mode::Tet, 'M') => "no merging of coplanar facets",
@@ -159,6 +160,12 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (Mode::Tri, 'S') => {
             o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize);
         }
+        (Mode::Tet, 'q') => o.tet_ratio = Some(number(c, num)?.unwrap_or(2.0)),
+        (Mode::Tet, 'a') => {
+            o.area = true;
+            o.max_area = number(c, num)?.filter(|&x| x > 0.0);
+        }
+        (Mode::Tet, 'S') => o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
         (_, 'w') => o.weights = true,
@@ -273,6 +280,9 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                         Usage(format!("--lloyd needs a number of iterations, not {v:?}"))
                     })?)
                 }
+                "stats-json" if mode == Mode::Tet => {
+                    o.stats_json = Some(value("--stats-json", inline, &mut it)?.into())
+                }
                 "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
                 _ => {
                     return Err(Usage(format!(
@@ -293,7 +303,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S') {
+            if matches!(c, 'q' | 'a' | 'S') {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }
@@ -309,6 +319,13 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
     {
         return Err(Usage(
             "-q, -a and -S refine a PSLG: use them with -p (refining a .node/.ele mesh, -r, is not implemented yet)".into(),
+        ));
+    }
+    if mode == Mode::Tet && (o.tet_ratio.is_some() || o.area || o.max_steiner.is_some()) && !o.pslg
+    {
+        return Err(Usage(
+            "-q, -a and -S refine a PLC or surface: use them with -p (-r is not implemented yet)"
+                .into(),
         ));
     }
     match input {

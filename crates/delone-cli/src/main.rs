@@ -8,6 +8,7 @@ mod help;
 mod plc;
 mod pslg;
 mod run;
+mod tetq;
 
 use args::{Command, Mode, Usage};
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delone::model::plc::{Facet, Plc};
-use delone::tet::recover::{check_recovered, recover, RecoverOptions};
+use delone::tet::recover::check_recovered;
 
 use crate::args::Opts;
 use crate::run::Failure;
@@ -135,11 +135,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let rec = recover(&plc.points, &triangles, &RecoverOptions::default())
+    let (rec, refined) = crate::tetq::mesh(o, &plc.points, &triangles)
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
-    let mut lines = Vec::new();
+    let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
     if o.check {
         match check_recovered(&plc.points, &triangles, &rec) {
             Ok(()) => lines.push(
