@@ -158,7 +158,8 @@ fn refinement_is_deterministic() {
 
 #[test]
 fn schonhardt_is_refined() {
-    for twist in [30.0] {
+    let twist = 30.0;
+    {
         let (p, t) = schonhardt(twist);
         let r = run(&format!("schonhardt{twist}"), &p, &t, &opts(2.0));
         assert!(!r.report.budget_exhausted);
@@ -253,7 +254,7 @@ fn corpus_medium_models() {
 
 #[test]
 fn no_bound_keeps_the_recovered_mesh() {
-    for twist in [30.0] {
+    for twist in [30.0, 45.0] {
         let (p, t) = schonhardt(twist);
         let r = run("schonhardt-noq", &p, &t, &opts(f64::INFINITY));
         assert_eq!(r.report.steiner(), 0);

@@ -51,6 +51,8 @@
 //! it runs out the refinement stops and the mesh is returned with the
 //! boundary still conforming ([`RefineReport::budget_exhausted`]).
 
+#![allow(clippy::needless_range_loop)] // local facet indices address several arrays at once
+
 mod geom;
 
 use std::collections::{BTreeSet, BinaryHeap, HashMap, HashSet, VecDeque};
