@@ -80,6 +80,8 @@ pub struct Opts {
     pub medit: Option<PathBuf>,
     /// tet `--gmsh FILE`: Gmsh `.msh` 4.1 output to FILE.
     pub gmsh: Option<PathBuf>,
+    /// tet `-q[ratio]`: quality mesh with this radius-edge bound.
+    pub tet_ratio: Option<f64>,
     /// The switch letters as given, for messages.
     pub switches: String,
     /// tri `-P`: no .poly output.
@@ -92,7 +94,7 @@ pub struct Opts {
     pub png_width: Option<u32>,
     /// tri `--svg-quality`: colour the triangles by minimum angle.
     pub svg_quality: bool,
-    /// tri `--stats-json FILE`: mesh quality statistics as JSON.
+    /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
     pub stats_json: Option<PathBuf>,
 }
 
@@ -123,13 +125,10 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
         (Mode::Tet, 'r') => "refinement of a previous mesh",
-        (Mode::Tet, 'q') => "quality mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
         (Mode::Tet, 'm') => "sizing function (.mtr)",
-        (Mode::Tet, 'a') => "maximum volume constraint",
         (Mode::Tet, 'i') => "insertion of additional points",
         (Mode::Tet, 'O') => "mesh optimization",
-        (Mode::Tet, 'S') => "Steiner point limit",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
         (Mode::Tet, 'M') => "no merging of coplanar facets",
@@ -183,6 +182,12 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
             }
             o.second_order = true
         }
+        (Mode::Tet, 'q') => o.tet_ratio = Some(number(c, num)?.unwrap_or(2.0)),
+        (Mode::Tet, 'a') => {
+            o.area = true;
+            o.max_area = number(c, num)?.filter(|&x| x > 0.0);
+        }
+        (Mode::Tet, 'S') => o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
         (_, 'w') => o.weights = true,
@@ -298,9 +303,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                     o.gmsh = Some(value("--gmsh", inline, &mut it)?.into())
                 }
                 "png" if mode == Mode::Tri => o.png = Some(value("--png", inline, &mut it)?.into()),
-                "stats-json" if mode == Mode::Tri => {
-                    o.stats_json = Some(value("--stats-json", inline, &mut it)?.into())
-                }
+                "stats-json" => o.stats_json = Some(value("--stats-json", inline, &mut it)?.into()),
                 "svg-quality" if mode == Mode::Tri => {
                     flag()?;
                     o.svg_quality = true
@@ -347,7 +350,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if mode == Mode::Tri && matches!(c, 'q' | 'a' | 'S' | 'o') {
+            if matches!(c, 'q' | 'a' | 'S') || (mode == Mode::Tri && c == 'o') {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }
@@ -371,6 +374,13 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
     if o.pslg && o.refine_mesh {
         return Err(Usage(
             "-p and -r together are not supported: -r reads FILE.poly's segments itself".into(),
+        ));
+    }
+    if mode == Mode::Tet && (o.tet_ratio.is_some() || o.area || o.max_steiner.is_some()) && !o.pslg
+    {
+        return Err(Usage(
+            "-q, -a and -S refine a PLC or surface: use them with -p (-r is not implemented yet)"
+                .into(),
         ));
     }
     match input {

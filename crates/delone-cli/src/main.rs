@@ -10,6 +10,7 @@ mod pslg;
 mod remesh;
 mod run;
 mod tetout;
+mod tetq;
 mod tri_out;
 
 use args::{Command, Mode, Usage};

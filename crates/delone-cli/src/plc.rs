@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delone::model::plc::{Facet, Plc, Region};
-use delone::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
+use delone::tet::recover::{check_recovered, Domain, RecoverOptions};
 
 use crate::args::Opts;
 use crate::run::Failure;
@@ -154,11 +154,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         preserve_surface: o.preserve_surface,
         ..Default::default()
     };
-    let rec = recover_domain(&plc.points, &triangles, &ropts, &domain)
+    let (rec, refined) = crate::tetq::mesh(o, &plc.points, &triangles, &ropts, &domain)
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
-    let mut lines = Vec::new();
+    let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
     if o.check {
         match check_recovered(&plc.points, &triangles, &rec) {
             Ok(()) => lines.push(

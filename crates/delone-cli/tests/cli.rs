@@ -490,16 +490,11 @@ fn usage_errors() {
     );
     expect_err(
         &d,
-        &["tet", "-pq1.4", "x"],
+        &["tet", "-q1.4", "x"],
         2,
-        "switch -q (quality mesh) is not implemented yet",
+        "-q, -a and -S refine a PLC or surface: use them with -p",
     );
-    expect_err(
-        &d,
-        &["tet", "-a0.1", "x"],
-        2,
-        "switch -a (maximum volume constraint)",
-    );
+    expect_err(&d, &["tet", "-a0.1", "x"], 2, "use them with -p");
     expect_err(
         &d,
         &["tri", "-k", "x"],

@@ -146,7 +146,11 @@ pub(crate) struct Core {
     /// Per-vertex stamps for `find_hidden` (weighted triangulations only).
     vstamp: Vec<u32>,
     vstamp_next: u32,
-    created: Vec<u32>,
+    /// Slots created by the last insertion (ghosts included).
+    pub(crate) created: Vec<u32>,
+    /// When `Some`, each insertion refills it with the vertices of the
+    /// cells it removed (the refinement stage needs them).
+    pub(crate) removed: Option<Vec<[u32; 4]>>,
     edges: EdgeTable,
 }
 
@@ -1268,6 +1272,10 @@ impl Core {
         }
         if W {
             self.find_hidden(&cavity, &created, id);
+        }
+        if let Some(r) = self.removed.as_mut() {
+            r.clear();
+            r.extend(cavity.iter().map(|&t| self.v[t as usize]));
         }
         for &t in &cavity {
             self.release(t);

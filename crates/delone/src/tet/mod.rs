@@ -10,7 +10,9 @@ pub mod delaunay;
 pub mod intersect;
 pub mod local;
 pub mod mesh;
+pub mod quality;
 pub mod recover;
+pub mod refine;
 pub mod voronoi;
 
 pub use delaunay::{Delaunay3, Inserted, Location};

@@ -280,6 +280,11 @@ pub enum RecoverError {
         /// Index of the point in [`Domain::holes`] or [`Domain::regions`].
         index: usize,
     },
+    /// The input asks for something this version cannot do yet.
+    Unsupported {
+        /// What is missing.
+        what: &'static str,
+    },
 }
 
 impl From<Error> for RecoverError {
@@ -320,6 +325,7 @@ impl fmt::Display for RecoverError {
                 f,
                 "{kind} point {index} lies on the input surface (its region is ambiguous)"
             ),
+            RecoverError::Unsupported { what } => write!(f, "not implemented yet: {what}"),
         }
     }
 }

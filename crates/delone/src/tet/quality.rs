@@ -1,0 +1,415 @@
+//! Quality measures of tetrahedra and a summary of a whole mesh.
+//!
+//! * [`dihedral_angles`] — the six dihedral angles (degrees), computed from
+//!   inward face normals with `atan2(|n_k × n_l|, -n_k · n_l)`, which stays
+//!   accurate near 0° and 180° (an `acos` of a dot product does not);
+//! * [`radius_edge_ratio`] — circumradius over shortest edge (√6/4 ≈ 0.612
+//!   for the regular tetrahedron, unbounded for slivers only through the
+//!   circumradius: slivers can have a small ratio, which is why the dihedral
+//!   angles are reported too);
+//! * [`volume`] — signed volume (positive for positively oriented
+//!   tetrahedra, [`super::local`] convention);
+//! * [`shape_quality`] — `6√2 · volume / rms_edge³`, scale invariant, 1 for
+//!   the regular tetrahedron and 0 for a flat one;
+//! * [`TetStats`] — counts, extremes, dihedral-angle and radius-edge
+//!   histograms of a list of tetrahedra, with a JSON rendering.
+
+use std::fmt::Write as _;
+
+fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm(a: &[f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The local vertex pairs of the six edges, in the order of
+/// [`dihedral_angles`]' result.
+pub const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// Signed volume of tetrahedron `p` (positive when `(p1-p0)×(p2-p0)·(p3-p0) > 0`).
+///
+/// ```
+/// use delone::tet::quality::volume;
+/// let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// assert!((volume(&t) - 1.0 / 6.0).abs() < 1e-15);
+/// ```
+pub fn volume(p: &[[f64; 3]; 4]) -> f64 {
+    let (a, b, c) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
+    dot(&a, &cross(&b, &c)) / 6.0
+}
+
+/// The circumcentre of tetrahedron `p` (`None` when it is flat).
+///
+/// ```
+/// use delone::tet::quality::circumcenter;
+/// let t = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]];
+/// let c = circumcenter(&t).unwrap();
+/// assert!(c.iter().all(|&x| (x - 1.0).abs() < 1e-15));
+/// ```
+pub fn circumcenter(p: &[[f64; 3]; 4]) -> Option<[f64; 3]> {
+    let (a, b, c) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
+    let bc = cross(&b, &c);
+    let ca = cross(&c, &a);
+    let ab = cross(&a, &b);
+    let den = 2.0 * dot(&a, &bc);
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let (la, lb, lc) = (dot(&a, &a), dot(&b, &b), dot(&c, &c));
+    let o: [f64; 3] = std::array::from_fn(|k| (la * bc[k] + lb * ca[k] + lc * ab[k]) / den);
+    let r = [p[0][0] + o[0], p[0][1] + o[1], p[0][2] + o[2]];
+    r.iter().all(|x| x.is_finite()).then_some(r)
+}
+
+/// Lengths of the six edges, in [`EDGES`] order.
+///
+/// ```
+/// use delone::tet::quality::edge_lengths;
+/// let t = [[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 1.0]];
+/// assert_eq!(edge_lengths(&t)[3], 5.0);
+/// ```
+pub fn edge_lengths(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    EDGES.map(|(i, j)| norm(&sub(&p[j], &p[i])))
+}
+
+/// Circumradius over shortest edge (infinite for a flat tetrahedron).
+///
+/// ```
+/// use delone::tet::quality::radius_edge_ratio;
+/// let s = 1.0 / 2f64.sqrt();
+/// let reg = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]
+///     .map(|v: [f64; 3]| v.map(|x| x * s));
+/// assert!((radius_edge_ratio(&reg) - 6f64.sqrt() / 4.0).abs() < 1e-12);
+/// ```
+pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
+    let Some(c) = circumcenter(p) else {
+        return f64::INFINITY;
+    };
+    let r = norm(&sub(&c, &p[0]));
+    let e = edge_lengths(p).into_iter().fold(f64::INFINITY, f64::min);
+    if e > 0.0 {
+        r / e
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The six dihedral angles in degrees, at the edges in [`EDGES`] order.
+/// A flat tetrahedron has angles 0° and 180°.
+///
+/// ```
+/// use delone::tet::quality::dihedral_angles;
+/// let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let d = dihedral_angles(&t);
+/// assert!((d[0] - 90.0).abs() < 1e-12); // edge 0-1 (the x axis)
+/// assert!((d[3] - 54.735_610_317_245_35).abs() < 1e-9); // edge 1-2
+/// ```
+pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    // Inward normal of the face opposite vertex k.
+    let normal = |k: usize| {
+        let [a, b, c] = [(k + 1) % 4, (k + 2) % 4, (k + 3) % 4].map(|i| p[i]);
+        let n = cross(&sub(&b, &a), &sub(&c, &a));
+        if dot(&n, &sub(&p[k], &a)) < 0.0 {
+            n.map(|x| -x)
+        } else {
+            n
+        }
+    };
+    let n = [normal(0), normal(1), normal(2), normal(3)];
+    EDGES.map(|(i, j)| {
+        // The faces at edge i-j are those opposite the other two vertices.
+        let (k, l) = match (i, j) {
+            (0, 1) => (2, 3),
+            (0, 2) => (1, 3),
+            (0, 3) => (1, 2),
+            (1, 2) => (0, 3),
+            (1, 3) => (0, 2),
+            _ => (0, 1),
+        };
+        let s = norm(&cross(&n[k], &n[l]));
+        let c = -dot(&n[k], &n[l]);
+        s.atan2(c).to_degrees()
+    })
+}
+
+/// `6√2 · volume / rms_edge³`: 1 for the regular tetrahedron, 0 for a flat
+/// one, negative for an inverted one; invariant under scaling.
+///
+/// ```
+/// use delone::tet::quality::shape_quality;
+/// let reg = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]];
+/// assert!((shape_quality(&reg) - 1.0).abs() < 1e-12);
+/// let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+/// assert_eq!(shape_quality(&flat), 0.0);
+/// ```
+pub fn shape_quality(p: &[[f64; 3]; 4]) -> f64 {
+    let l = edge_lengths(p);
+    let rms = (l.iter().map(|x| x * x).sum::<f64>() / 6.0).sqrt();
+    if rms == 0.0 {
+        return 0.0;
+    }
+    6.0 * std::f64::consts::SQRT_2 * volume(p) / (rms * rms * rms)
+}
+
+/// Upper ends of the dihedral-angle histogram bins, degrees (the first bin
+/// starts at 0). Fine bins near 0° and 180°, where slivers and caps live.
+pub const DIHEDRAL_BINS: [f64; 22] = [
+    1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0, 100.0, 110.0, 120.0,
+    130.0, 140.0, 150.0, 160.0, 170.0, 180.0,
+];
+
+/// Upper ends of the radius-edge ratio histogram bins (the last is open).
+pub const RATIO_BINS: [f64; 10] = [
+    0.7,
+    0.8,
+    1.0,
+    1.2,
+    1.414,
+    1.6,
+    2.0,
+    3.0,
+    10.0,
+    f64::INFINITY,
+];
+
+/// A summary of the quality of a set of tetrahedra.
+///
+/// ```
+/// use delone::tet::quality::TetStats;
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let s = TetStats::of(&pts, &[[0, 1, 2, 3]]);
+/// assert_eq!(s.tets, 1);
+/// assert!((s.min_dihedral - 54.7356).abs() < 1e-3);
+/// assert_eq!(s.max_dihedral, 90.0);
+/// assert_eq!(s.dihedral_histogram.iter().sum::<usize>(), 6);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TetStats {
+    /// Number of tetrahedra.
+    pub tets: usize,
+    /// Smallest dihedral angle (degrees); 180 when there are no tetrahedra.
+    pub min_dihedral: f64,
+    /// Largest dihedral angle (degrees); 0 when there are no tetrahedra.
+    pub max_dihedral: f64,
+    /// Dihedral angles per bin of [`DIHEDRAL_BINS`] (six per tetrahedron).
+    pub dihedral_histogram: Vec<usize>,
+    /// Smallest radius-edge ratio.
+    pub min_radius_edge: f64,
+    /// Largest radius-edge ratio.
+    pub max_radius_edge: f64,
+    /// Mean radius-edge ratio.
+    pub mean_radius_edge: f64,
+    /// Tetrahedra per bin of [`RATIO_BINS`].
+    pub radius_edge_histogram: Vec<usize>,
+    /// Smallest volume.
+    pub min_volume: f64,
+    /// Largest volume.
+    pub max_volume: f64,
+    /// Sum of the volumes.
+    pub total_volume: f64,
+    /// Smallest [`shape_quality`].
+    pub min_shape: f64,
+    /// Mean [`shape_quality`].
+    pub mean_shape: f64,
+    /// Shortest edge length (over all tetrahedra).
+    pub min_edge: f64,
+    /// Longest edge length.
+    pub max_edge: f64,
+}
+
+fn bin(bins: &[f64], x: f64) -> usize {
+    bins.iter().position(|&b| x < b).unwrap_or(bins.len() - 1)
+}
+
+impl TetStats {
+    /// The statistics of `tets` (vertex ids into `points`).
+    ///
+    /// Tetrahedra naming a missing point are skipped.
+    ///
+    /// ```
+    /// use delone::tet::quality::TetStats;
+    /// let s = TetStats::of(&[], &[]);
+    /// assert_eq!(s.tets, 0);
+    /// ```
+    pub fn of(points: &[[f64; 3]], tets: &[[u32; 4]]) -> TetStats {
+        let mut s = TetStats {
+            min_dihedral: 180.0,
+            dihedral_histogram: vec![0; DIHEDRAL_BINS.len()],
+            radius_edge_histogram: vec![0; RATIO_BINS.len()],
+            min_radius_edge: f64::INFINITY,
+            min_volume: f64::INFINITY,
+            max_volume: f64::NEG_INFINITY,
+            min_shape: f64::INFINITY,
+            min_edge: f64::INFINITY,
+            ..TetStats::default()
+        };
+        let (mut sum_ratio, mut sum_shape) = (0.0, 0.0);
+        for tv in tets {
+            if tv.iter().any(|&q| q as usize >= points.len()) {
+                continue;
+            }
+            let p = tv.map(|q| points[q as usize]);
+            s.tets += 1;
+            for a in dihedral_angles(&p) {
+                s.min_dihedral = s.min_dihedral.min(a);
+                s.max_dihedral = s.max_dihedral.max(a);
+                s.dihedral_histogram[bin(&DIHEDRAL_BINS, a)] += 1;
+            }
+            let r = radius_edge_ratio(&p);
+            s.min_radius_edge = s.min_radius_edge.min(r);
+            s.max_radius_edge = s.max_radius_edge.max(r);
+            sum_ratio += r;
+            s.radius_edge_histogram[bin(&RATIO_BINS, r)] += 1;
+            let v = volume(&p);
+            s.min_volume = s.min_volume.min(v);
+            s.max_volume = s.max_volume.max(v);
+            s.total_volume += v;
+            let q = shape_quality(&p);
+            s.min_shape = s.min_shape.min(q);
+            sum_shape += q;
+            for l in edge_lengths(&p) {
+                s.min_edge = s.min_edge.min(l);
+                s.max_edge = s.max_edge.max(l);
+            }
+        }
+        if s.tets > 0 {
+            s.mean_radius_edge = sum_ratio / s.tets as f64;
+            s.mean_shape = sum_shape / s.tets as f64;
+        } else {
+            s.min_radius_edge = 0.0;
+            s.min_volume = 0.0;
+            s.max_volume = 0.0;
+            s.min_shape = 0.0;
+            s.min_edge = 0.0;
+        }
+        s
+    }
+
+    /// The statistics as a JSON object (numbers with `f64`'s shortest
+    /// round-trip form; infinities as `null`).
+    ///
+    /// ```
+    /// use delone::tet::quality::TetStats;
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let j = TetStats::of(&pts, &[[0, 1, 2, 3]]).to_json();
+    /// assert!(j.starts_with('{') && j.contains("\"tets\": 1"));
+    /// ```
+    pub fn to_json(&self) -> String {
+        let num = |x: f64| {
+            if x.is_finite() {
+                format!("{x:?}")
+            } else {
+                "null".to_string()
+            }
+        };
+        let list = |v: &[f64]| v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(", ");
+        let counts = |v: &[usize]| {
+            v.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut s = String::from("{\n");
+        let _ = writeln!(s, "  \"tets\": {},", self.tets);
+        for (k, x) in [
+            ("min_dihedral", self.min_dihedral),
+            ("max_dihedral", self.max_dihedral),
+            ("min_radius_edge", self.min_radius_edge),
+            ("max_radius_edge", self.max_radius_edge),
+            ("mean_radius_edge", self.mean_radius_edge),
+            ("min_volume", self.min_volume),
+            ("max_volume", self.max_volume),
+            ("total_volume", self.total_volume),
+            ("min_shape", self.min_shape),
+            ("mean_shape", self.mean_shape),
+            ("min_edge", self.min_edge),
+            ("max_edge", self.max_edge),
+        ] {
+            let _ = writeln!(s, "  \"{k}\": {},", num(x));
+        }
+        let _ = writeln!(s, "  \"dihedral_bins\": [{}],", list(&DIHEDRAL_BINS));
+        let _ = writeln!(
+            s,
+            "  \"dihedral_histogram\": [{}],",
+            counts(&self.dihedral_histogram)
+        );
+        let _ = writeln!(s, "  \"radius_edge_bins\": [{}],", list(&RATIO_BINS));
+        let _ = writeln!(
+            s,
+            "  \"radius_edge_histogram\": [{}]",
+            counts(&self.radius_edge_histogram)
+        );
+        s.push('}');
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regular_tet_angles() {
+        let reg = [
+            [1.0, 1.0, 1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, 1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ];
+        let want = (1.0f64 / 3.0).acos().to_degrees(); // 70.5288°
+        for a in dihedral_angles(&reg) {
+            assert!((a - want).abs() < 1e-10, "{a}");
+        }
+        assert!((volume(&reg) - 8.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sliver_angles() {
+        // Four points near a square's corners, slightly lifted alternately:
+        // dihedral angles near 0 and 180 degrees, radius-edge ratio ~0.707.
+        let h = 1e-3;
+        let s = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, h],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, h],
+        ];
+        let s = if volume(&s) < 0.0 {
+            [s[1], s[0], s[2], s[3]]
+        } else {
+            s
+        };
+        let d = dihedral_angles(&s);
+        let min = d.iter().cloned().fold(180.0, f64::min);
+        let max = d.iter().cloned().fold(0.0, f64::max);
+        assert!(min < 1.0 && max > 179.0, "{d:?}");
+        assert!((radius_edge_ratio(&s) - 0.5f64.sqrt()).abs() < 1e-3);
+        assert!(shape_quality(&s).abs() < 1e-2);
+        // Angles of a tetrahedron: at each vertex, the three dihedral angles
+        // at its edges sum to more than 180 degrees.
+        let at0 = d[0] + d[1] + d[2];
+        assert!(at0 > 180.0 - 1e-9);
+    }
+
+    #[test]
+    fn histogram_bins() {
+        assert_eq!(bin(&DIHEDRAL_BINS, 0.5), 0);
+        assert_eq!(bin(&DIHEDRAL_BINS, 90.0), 13);
+        assert_eq!(bin(&DIHEDRAL_BINS, 180.0), DIHEDRAL_BINS.len() - 1);
+        assert_eq!(bin(&RATIO_BINS, 2.5), 7);
+    }
+}

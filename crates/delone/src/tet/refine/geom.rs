@@ -1,0 +1,129 @@
+//! Small geometric helpers of the refinement (floating point; the exact
+//! decisions use `delone_predicates`).
+
+use delone_predicates::orient2d;
+
+pub(crate) type P = [f64; 3];
+
+pub(crate) fn sub(a: &P, b: &P) -> P {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(crate) fn dot(a: &P, b: &P) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(crate) fn cross(a: &P, b: &P) -> P {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub(crate) fn dist2(a: &P, b: &P) -> f64 {
+    let d = sub(a, b);
+    dot(&d, &d)
+}
+
+/// Relative slack of the strict "inside a ball" tests: a point on the
+/// sphere up to rounding (cospherical and cocircular configurations, grids)
+/// does not encroach.
+const SLACK: f64 = 1e-10;
+
+/// Is `p` strictly inside the diametral ball of segment `u v`?
+pub(crate) fn encroaches_segment(u: &P, v: &P, p: &P) -> bool {
+    let (a, b) = (sub(u, p), sub(v, p));
+    dot(&a, &b) < -SLACK * (dot(&a, &a) + dot(&b, &b))
+}
+
+/// Circumcentre of triangle `a b c` (in its plane) and squared radius.
+pub(crate) fn tri_circumcenter(a: &P, b: &P, c: &P) -> Option<(P, f64)> {
+    let (ab, ac) = (sub(b, a), sub(c, a));
+    let n = cross(&ab, &ac);
+    let den = 2.0 * dot(&n, &n);
+    if den == 0.0 || !den.is_finite() {
+        return None;
+    }
+    let t1 = cross(&n, &ab);
+    let t2 = cross(&ac, &n);
+    let (l1, l2) = (dot(&ac, &ac), dot(&ab, &ab));
+    let o: P = std::array::from_fn(|k| (l1 * t1[k] + l2 * t2[k]) / den);
+    let x = [a[0] + o[0], a[1] + o[1], a[2] + o[2]];
+    x.iter().all(|v| v.is_finite()).then_some((x, dot(&o, &o)))
+}
+
+/// Is `p` strictly inside the equatorial ball of triangle `a b c`?
+pub(crate) fn encroaches_face(a: &P, b: &P, c: &P, p: &P) -> bool {
+    match tri_circumcenter(a, b, c) {
+        Some((x, r2)) => dist2(&x, p) < r2 * (1.0 - SLACK),
+        None => false,
+    }
+}
+
+/// Distance of `p` to the line `a b`.
+pub(crate) fn line_distance(a: &P, b: &P, p: &P) -> f64 {
+    let d = sub(b, a);
+    let l = dot(&d, &d).sqrt();
+    if l == 0.0 {
+        return dist2(a, p).sqrt();
+    }
+    (cross(&d, &sub(p, a)).iter().map(|x| x * x).sum::<f64>()).sqrt() / l
+}
+
+/// Distance of `p` to the plane of `a b c`.
+pub(crate) fn plane_distance(a: &P, b: &P, c: &P, p: &P) -> f64 {
+    let n = cross(&sub(b, a), &sub(c, a));
+    let l = dot(&n, &n).sqrt();
+    if l == 0.0 {
+        return 0.0;
+    }
+    (dot(&n, &sub(p, a)) / l).abs()
+}
+
+/// The coordinate axis most normal to triangle `a b c`.
+fn dominant_axis(a: &P, b: &P, c: &P) -> usize {
+    let n = cross(&sub(b, a), &sub(c, a));
+    let m = n.map(f64::abs);
+    if m[0] >= m[1] && m[0] >= m[2] {
+        0
+    } else if m[1] >= m[2] {
+        1
+    } else {
+        2
+    }
+}
+
+/// Where `p` (near the plane of `a b c`) is, seen along the dominant axis:
+/// `Some(true)` strictly inside, `Some(false)` on a side (closed, not
+/// inside), `None` outside. Exact for the projected coordinates.
+pub(crate) fn in_triangle(a: &P, b: &P, c: &P, p: &P) -> Option<bool> {
+    let k = dominant_axis(a, b, c);
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let q = |x: &P| [x[i], x[j]];
+    let s = orient2d(&q(a), &q(b), &q(c)).signum();
+    if s == 0.0 {
+        return None;
+    }
+    let o = [
+        orient2d(&q(a), &q(b), &q(p)) * s,
+        orient2d(&q(b), &q(c), &q(p)) * s,
+        orient2d(&q(c), &q(a), &q(p)) * s,
+    ];
+    if o.iter().any(|&x| x < 0.0) {
+        None
+    } else {
+        Some(o.iter().all(|&x| x > 0.0))
+    }
+}
+
+/// Closest point to `p` on the line `a b`, as a parameter along `a → b`.
+pub(crate) fn param(a: &P, b: &P, p: &P) -> f64 {
+    let d = sub(b, a);
+    let l = dot(&d, &d);
+    if l == 0.0 {
+        0.0
+    } else {
+        dot(&sub(p, a), &d) / l
+    }
+}
