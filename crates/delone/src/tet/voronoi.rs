@@ -267,13 +267,13 @@ fn spatial_order(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Option<(Vec<u32>, Ve
             0.0
         }
     });
+    // Bits of x (at most 10 of them) at every third position.
     let spread = |x: u32| -> u64 {
-        // Bits of x at every third position.
-        let mut r = 0u64;
-        for b in 0..bits {
-            r |= u64::from((x >> b) & 1) << (3 * b);
-        }
-        r
+        let mut x = u64::from(x) & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
     };
     let mut keys: Vec<u64> = tets
         .iter()
@@ -291,21 +291,21 @@ fn spatial_order(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Option<(Vec<u32>, Ve
     let mut tmp = vec![0u64; nt];
     let mut shift = 32;
     while shift < 32 + 3 * bits {
-        let mut count = [0usize; 1 << 11];
+        let mut count = [0usize; 1 << 12];
         for &w in &keys {
-            count[((w >> shift) & 0x7ff) as usize] += 1;
+            count[((w >> shift) & 0xfff) as usize] += 1;
         }
         let mut sum = 0;
         for c in count.iter_mut() {
             (*c, sum) = (sum, sum + *c);
         }
         for &w in &keys {
-            let b = ((w >> shift) & 0x7ff) as usize;
+            let b = ((w >> shift) & 0xfff) as usize;
             tmp[count[b]] = w;
             count[b] += 1;
         }
         std::mem::swap(&mut keys, &mut tmp);
-        shift += 11;
+        shift += 12;
     }
     drop(tmp);
     let perm: Vec<u32> = keys.iter().map(|&w| w as u32).collect();
