@@ -107,7 +107,7 @@ fn entity_lines<W: Write>(
 
 /// Writes a Gmsh `.msh` 4.1 ASCII file with the points, the triangles
 /// (`face_tags`, e.g. facet markers) and the tetrahedra (`tet_tags`, e.g.
-/// region numbers); see the [module documentation](self) for the layout.
+/// region numbers); sections MeshFormat, Entities (one per tag), Nodes and Elements.
 ///
 /// # Errors
 /// [`IoError::InvalidInput`] if a tag array does not match its elements or
