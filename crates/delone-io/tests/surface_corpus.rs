@@ -113,6 +113,9 @@ fn every_off_reads() {
     let mut n = 0;
     for e in std::fs::read_dir(dir.join("surf/off")).unwrap() {
         let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "off") {
+            continue; // e.g. mesher outputs someone wrote next to the models
+        }
         if std::fs::metadata(&p).unwrap().len() > 4_000_000 {
             continue;
         }
