@@ -414,6 +414,12 @@ impl Voronoi3 {
     ///
     /// The walk reads one 64-byte [`Walk`] record per step (vertices,
     /// neighbours, facet edges and the swept bits together).
+    ///
+    /// Measured and rejected (1M uniform points, same output): advancing 4
+    /// or 8 ring walks in lock-step to overlap their cache misses made the
+    /// face pass slower (1.8 s -> 2.0-2.1 s CPU: with the Morton order most
+    /// steps hit the cache, the lane bookkeeping does not pay); feeding the
+    /// tetrahedra already in Morton order saves only 3-10% of the whole.
     fn topology(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
         let n = points.len();
         let nt = mesh.tets.len();
