@@ -563,8 +563,13 @@ mod tests {
         assert_eq!(o.no_segment_splits, 1);
         let o = run(&["-pqYYY", "x"]);
         assert_eq!(o.no_segment_splits, 2);
-        let o = run(&["-rYjD", "x"]);
-        assert!(o.jettison && o.conforming_delaunay && o.no_segment_splits == 1);
+        let o = run(&["-rYD", "x"]);
+        assert!(o.refine_mesh && o.conforming_delaunay && o.no_segment_splits == 1);
+        let o = run(&["-pjD", "x"]);
+        assert!(o.jettison && o.conforming_delaunay);
+        assert!(
+            matches!(p(Mode::Tri, &["-rj", "x"]), Err(Usage(m)) if m.starts_with("-j with -r"))
+        );
         let o = run(&["-cj", "x"]);
         assert!(o.jettison && o.convex_hull);
     }
