@@ -331,6 +331,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                         ),
                         UnfixableReason::SteinerLimit => "Steiner limit".into(),
                         UnfixableReason::Precision => "floating-point precision".into(),
+                        UnfixableReason::ConformingDelaunay => {
+                            "quality refinement stopped to finish -D".into()
+                        }
                         UnfixableReason::NoSegmentSplits => "segment splitting is off".into(),
                     };
                     println!(

@@ -181,8 +181,24 @@ fn shared_polys() {
         let g = load_poly(&path);
         let convex_hull = name == "box.poly";
         let cdt = constrained_triangulation(&g, CdtOptions { convex_hull }).unwrap();
-        for q in [None, Some(20.0)] {
+        for q in [None, Some(20.0), Some(34.0)] {
             let r = conforming(&cdt, q);
+            // At 34° (beyond the guarantees) la.poly stops its quality
+            // refinement to let the splits finish; the reason says so.
+            assert!(
+                r.report.unfixable.iter().all(|u| matches!(
+                    u.reason,
+                    UnfixableReason::SmallInputAngle { .. } | UnfixableReason::ConformingDelaunay
+                )),
+                "{name} q{q:?}"
+            );
+            if q == Some(20.0) {
+                assert!(r
+                    .report
+                    .unfixable
+                    .iter()
+                    .all(|u| matches!(u.reason, UnfixableReason::SmallInputAngle { .. })));
+            }
             println!(
                 "{name} -D q{q:?}: {} -> {} triangles, {} segment splits, {} circumcentres",
                 cdt.triangles.len(),

@@ -182,6 +182,10 @@ pub enum UnfixableReason {
     /// ([`RefineOptions::segment_splits`]; reported instead of
     /// [`Self::Precision`] whenever splits are restricted).
     NoSegmentSplits,
+    /// With [`RefineOptions::conforming_delaunay`]: quality refinement was
+    /// stopped so that the conforming-Delaunay splits could finish (they and
+    /// a high angle bound kept feeding each other near small input angles).
+    ConformingDelaunay,
 }
 
 /// A triangle of the output that violates a bound.
@@ -1114,7 +1118,7 @@ fn refine_inner(
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
-    if angle > 0.0 && angle <= 45.0 && !options.conforming_delaunay {
+    if angle > 0.0 && angle <= 45.0 {
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
@@ -1166,10 +1170,28 @@ fn refine_inner(
         }
     };
     let mut steiner = 0usize;
+    // Rounds of -D splits after the queues ran empty. Past 64 rounds, or
+    // when quality refinement after the first round has added 8 times the
+    // points there were, bad triangles are no longer fixed: near small input
+    // angles and with high angle bounds the two can feed each other.
+    const GABRIEL_ROUNDS: usize = 64;
+    let mut gabriel_rounds = 0usize;
+    let mut quality_cap = usize::MAX;
+    let mut quality = true;
     loop {
-        if enc.is_empty() && heap.is_empty() {
+        if enc.is_empty() && (heap.is_empty() || !quality) {
             // -D: split the subsegments any vertex encroaches, until none.
             if options.conforming_delaunay && m.scan_encroached(false, &mut enc) > 0 {
+                gabriel_rounds += 1;
+                if gabriel_rounds == 1 {
+                    quality_cap = steiner + 8 * (steiner + nfixed) + 1024;
+                }
+                if gabriel_rounds > GABRIEL_ROUNDS {
+                    // Splits and quality refinement keep feeding each other
+                    // (high angle bounds near small input angles): finish
+                    // with splits alone, which terminate (concentric shells).
+                    quality = false;
+                }
                 continue;
             }
             break;
@@ -1184,6 +1206,10 @@ fn refine_inner(
                 report.segment_splits += 1;
                 after_insert(&m, &mut heap, &mut enc);
             }
+            continue;
+        }
+        if steiner > quality_cap {
+            quality = false;
             continue;
         }
         let Some((t, v)) = heap.pop() else {
@@ -1252,6 +1278,13 @@ fn refine_inner(
         0
     };
     let mut r = finish(cdt, m, &crit, scale, restricted, report);
+    if !quality {
+        for u in &mut r.report.unfixable {
+            if u.reason == UnfixableReason::Precision {
+                u.reason = UnfixableReason::ConformingDelaunay;
+            }
+        }
+    }
     r.report.encroached_subsegments = left;
     r.report.met &= left == 0;
     Ok(r)
