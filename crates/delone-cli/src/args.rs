@@ -96,6 +96,13 @@ pub struct Opts {
     pub svg_quality: bool,
     /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
     pub stats_json: Option<PathBuf>,
+    /// tri `-D`: conforming Delaunay (every triangle truly Delaunay).
+    pub conforming_delaunay: bool,
+    /// tri `-Y` (1: no Steiner point on the boundary) / `-YY` (2: none on
+    /// any segment).
+    pub no_segment_splits: u8,
+    /// tri `-j`: jettison vertices no triangle uses from the output .node.
+    pub jettison: bool,
 }
 
 /// What the command line asks for.
@@ -114,13 +121,9 @@ pub struct Usage(pub String);
 /// with a few words on what they do.
 fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     Some(match (mode, c) {
-        (Mode::Tri, 'u') => "user-defined constraint",
-        (Mode::Tri, 'D') => "conforming Delaunay",
-        (Mode::Tri, 'j') => "jettison unused vertices",
         (Mode::Tri, 'g') => "OFF output",
         (Mode::Tri, 'O') => "ignore holes",
         (Mode::Tri, 'X') => "no exact arithmetic",
-        (Mode::Tri, 'Y') => "no Steiner points on the boundary",
         (Mode::Tri, 'i') => "incremental algorithm choice",
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
@@ -174,6 +177,17 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
             o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize);
         }
         (Mode::Tri, 'P') => o.no_poly = true,
+        (Mode::Tri, 'D') => o.conforming_delaunay = true,
+        (Mode::Tri, 'Y') => o.no_segment_splits = (o.no_segment_splits + 1).min(2),
+        (Mode::Tri, 'j') => o.jettison = true,
+        (Mode::Tri, 'u') => {
+            return Err(Usage(
+                "-u (user-defined triangle test) needs the library API refine_with \
+                 (delone::tri::refine::refine_with takes the test as a closure); \
+                 the command line has no way to give one"
+                    .into(),
+            ))
+        }
         (Mode::Tri, 'o') => {
             if num != "2" {
                 return Err(Usage(format!(
@@ -371,6 +385,21 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             "-q, -a and -S refine a PSLG (-p) or an existing mesh (-r)".into(),
         ));
     }
+    if mode == Mode::Tri
+        && (o.conforming_delaunay || o.no_segment_splits > 0)
+        && !o.pslg
+        && !o.refine_mesh
+    {
+        return Err(Usage(
+            "-D and -Y apply to segments: use them with a PSLG (-p) or an existing mesh (-r)"
+                .into(),
+        ));
+    }
+    if o.jettison && o.refine_mesh {
+        return Err(Usage(
+            "-j with -r is not supported: -r keeps every vertex of the input mesh".into(),
+        ));
+    }
     if o.pslg && o.refine_mesh {
         return Err(Usage(
             "-p and -r together are not supported: -r reads FILE.poly's segments itself".into(),
@@ -431,9 +460,13 @@ mod tests {
             Ok(c) => panic!("{c:?}"),
         };
         assert_eq!(
-            msg(Mode::Tri, &["-pD", "x"]),
-            "switch -D (conforming Delaunay) is not implemented yet"
+            msg(Mode::Tri, &["-g", "x"]),
+            "switch -g (OFF output) is not implemented yet"
         );
+        assert!(msg(Mode::Tri, &["-pu", "x"])
+            .starts_with("-u (user-defined triangle test) needs the library API refine_with"));
+        assert!(msg(Mode::Tri, &["-D", "x"]).starts_with("-D and -Y apply to segments"));
+        assert!(msg(Mode::Tri, &["-Y", "x"]).starts_with("-D and -Y apply to segments"));
         assert_eq!(
             msg(Mode::Tri, &["-q61", "x"]),
             "-q61: the minimum angle must be at most 60"
@@ -516,5 +549,28 @@ mod tests {
         assert_eq!((o.min_angle, o.area, o.max_area), (None, true, None));
         let o = run(&["-pqa.5", "x"]);
         assert_eq!((o.min_angle, o.max_area), (Some(20.0), Some(0.5)));
+    }
+
+    #[test]
+    fn conforming_splits_jettison() {
+        let run = |a: &[&str]| match p(Mode::Tri, a) {
+            Ok(Command::Run(o)) => o,
+            other => panic!("{other:?}"),
+        };
+        let o = run(&["-pD", "x"]);
+        assert!(o.conforming_delaunay && o.no_segment_splits == 0 && !o.jettison);
+        let o = run(&["-pqY", "x"]);
+        assert_eq!(o.no_segment_splits, 1);
+        let o = run(&["-pqYYY", "x"]);
+        assert_eq!(o.no_segment_splits, 2);
+        let o = run(&["-rYD", "x"]);
+        assert!(o.refine_mesh && o.conforming_delaunay && o.no_segment_splits == 1);
+        let o = run(&["-pjD", "x"]);
+        assert!(o.jettison && o.conforming_delaunay);
+        assert!(
+            matches!(p(Mode::Tri, &["-rj", "x"]), Err(Usage(m)) if m.starts_with("-j with -r"))
+        );
+        let o = run(&["-cj", "x"]);
+        assert!(o.jettison && o.convex_hull);
     }
 }

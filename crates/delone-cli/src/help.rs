@@ -70,8 +70,21 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -r   Refine an existing mesh: FILE.node + FILE.ele (+ FILE.poly's
          segments if present; with -a and no number, FILE.area's
          per-triangle bounds); `delone tri -rq30 mesh.1` writes mesh.2.*.
-    Not implemented yet (error, exit code 2): -u -D -j -g
-    -O -X -Y -i -l -s.
+    -D   With -p or -r: conforming Delaunay: subsegments are split (on
+         concentric shells) until no vertex lies inside any subsegment's
+         diametral circle, so every triangle is truly Delaunay (its
+         circumcircle holds no vertex); with -q, -a as well. -C checks it.
+    -Y   With -p or -r: no Steiner point on the boundary (segments with a
+         triangle on one side only); -YY: none on any segment. Triangles
+         that only a boundary split would fix are reported.
+    -j   Jettison: the output .node keeps only the vertices of triangles
+         (duplicates and points in holes are left out), renumbered;
+         .ele, .edge, .poly and .vtu use the new numbers.
+    -c   With -p: keep the convex hull (no removal of exterior triangles).
+         Without -p: also write the convex hull as segments to FILE.1.poly.
+    -u   Refused: a user's triangle test is a closure in the library API
+         (delone::tri::refine::refine_with).
+    Not implemented yet (error, exit code 2): -g -O -X -i -l -s.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary

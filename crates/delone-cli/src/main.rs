@@ -5,6 +5,7 @@
 mod args;
 mod dual;
 mod help;
+mod jettison;
 mod plc;
 mod pslg;
 mod remesh;

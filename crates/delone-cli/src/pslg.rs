@@ -4,9 +4,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
+use delone::tri::conforming::check_conforming_delaunay;
 use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
 use delone::tri::quality::SteinerCounts;
-use delone::tri::refine::{refine, RefineOptions, RefineReport, UnfixableReason};
+use delone::tri::refine::{refine, RefineOptions, RefineReport, SegmentSplits, UnfixableReason};
 
 use crate::args::Opts;
 use crate::run::Failure;
@@ -69,6 +70,53 @@ fn angle_range(p: &[[f64; 2]], tris: &[[u32; 3]]) -> (f64, f64) {
         lo = 0.0;
     }
     (lo, hi)
+}
+
+/// Triangle's `-Y` / `-YY` as [`SegmentSplits`].
+pub fn segment_splits(o: &Opts) -> SegmentSplits {
+    match o.no_segment_splits {
+        0 => SegmentSplits::All,
+        1 => SegmentSplits::Interior,
+        _ => SegmentSplits::None,
+    }
+}
+
+/// `-C` with `-D`: every triangle truly Delaunay (exact incircle against
+/// every mesh vertex).
+pub fn check_conforming(
+    o: &Opts,
+    points: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    lines: &mut Vec<String>,
+) -> i32 {
+    if !(o.check && o.conforming_delaunay) {
+        return 0;
+    }
+    match check_conforming_delaunay(points, triangles) {
+        Ok(()) => {
+            lines.push("check: conforming Delaunay (every circumcircle empty of vertices)".into());
+            0
+        }
+        Err(v) => {
+            lines.push(format!("check FAILED: not conforming Delaunay: {v}"));
+            1
+        }
+    }
+}
+
+/// The summary line of `-D` (None without it).
+pub fn conforming_line(o: &Opts, r: &RefineReport) -> Option<String> {
+    o.conforming_delaunay.then(|| {
+        if r.encroached_subsegments == 0 {
+            "  conforming Delaunay: every subsegment has an empty diametral circle".to_string()
+        } else {
+            format!(
+                "  conforming Delaunay NOT met: {} subsegments still have a vertex in their diametral circle ({})",
+                r.encroached_subsegments,
+                if r.limit_reached { "Steiner limit reached" } else if o.no_segment_splits > 0 { "-Y forbids splitting them" } else { "too short to split" }
+            )
+        }
+    })
 }
 
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
@@ -144,7 +192,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     })?;
     let t_mesh = t1.elapsed();
     let t1 = Instant::now();
-    let refining = o.min_angle.is_some() || o.area || o.max_steiner.is_some();
+    let refining =
+        o.min_angle.is_some() || o.area || o.max_steiner.is_some() || o.conforming_delaunay;
     // The unrefined mesh, to interpolate point attributes at Steiner points.
     let initial = (refining && node.n_attributes > 0).then(|| cdt.clone());
     let (cdt, rep): (_, Option<RefineReport>) = if refining {
@@ -156,7 +205,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 regional_areas: o.area,
                 max_steiner: o.max_steiner,
                 off_centers: true,
-                ..Default::default()
+                segment_splits: segment_splits(o),
+                conforming_delaunay: o.conforming_delaunay,
             },
         )
         .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
@@ -195,6 +245,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             }
         }
     }
+    code = code.max(check_conforming(o, &cdt.points, &cdt.triangles, &mut lines));
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -245,6 +296,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.rejected_circumcenters,
                 if r.met { "met" } else if r.limit_reached { "NOT met (Steiner limit reached)" } else { "NOT met" }
             );
+            if let Some(l) = conforming_line(o, r) {
+                println!("{l}");
+            }
         }
         if o.verbose > 0 {
             println!(
@@ -277,6 +331,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                         ),
                         UnfixableReason::SteinerLimit => "Steiner limit".into(),
                         UnfixableReason::Precision => "floating-point precision".into(),
+                        UnfixableReason::ConformingDelaunay => {
+                            "quality refinement stopped to finish -D".into()
+                        }
                         UnfixableReason::NoSegmentSplits => "segment splitting is off".into(),
                     };
                     println!(
@@ -290,6 +347,18 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                     println!("  ... {} more (-VV lists all)", r.unfixable.len() - 10);
                 }
             }
+        }
+        if o.jettison {
+            let mut used = vec![false; cdt.points.len()];
+            for t in &cdt.triangles {
+                for &v in t {
+                    used[v as usize] = true;
+                }
+            }
+            println!(
+                "  -j: {} unused vertices left out of the .node",
+                used.iter().filter(|&&u| !u).count()
+            );
         }
         if let Some(st) = &stats {
             for l in st.to_string().lines() {

@@ -150,7 +150,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             regional_areas: o.area,
             max_steiner: o.max_steiner,
             off_centers: true,
-            ..Default::default()
+            segment_splits: crate::pslg::segment_splits(o),
+            conforming_delaunay: o.conforming_delaunay,
         },
     )
     .map_err(|e| input_err(format!("{base}: {e}")))?;
@@ -169,6 +170,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             }
         }
     }
+    code = code.max(crate::pslg::check_conforming(
+        o,
+        &m.points,
+        &m.triangles,
+        &mut lines,
+    ));
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -245,6 +252,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             r.report.max_angle,
             if r.report.met { "met" } else { "NOT met" }
         );
+        if let Some(l) = crate::pslg::conforming_line(o, &r.report) {
+            println!("{l}");
+        }
         if o.verbose > 0 {
             println!(
                 "  read {:.3} s, refine {:.3} s",

@@ -272,8 +272,11 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     if mode == Mode::Tri && o.refine_mesh {
         return crate::remesh::run(o);
     }
-    if o.convex_hull || o.region_attributes {
+    if (o.convex_hull && mode == Mode::Tet) || o.region_attributes {
         return Err(usage_err("switches -c and -A need -p (PSLG input)"));
+    }
+    if o.jettison && (o.voronoi || o.weights) {
+        return Err(usage_err("-j with -v or -w is not supported"));
     }
     if o.medit_out || o.medit.is_some() || o.gmsh.is_some() {
         return Err(usage_err("-g, --medit and --gmsh need -p (PLC input)"));
@@ -430,26 +433,56 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             }
             drop(vor);
             let t_extra = t_extra.elapsed();
-            let m = MeshOut {
+            let mut m = MeshOut {
                 cells: mesh.triangles,
                 neighbors: mesh.neighbors,
                 vertex_map: mesh.vertex_map,
                 duplicates: mesh.duplicates,
             };
             let t_derive = Instant::now();
-            let edges = topo::tri_edges(&m.cells, &m.neighbors)
+            let mut edges = topo::tri_edges(&m.cells, &m.neighbors)
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
+            // -j: the .node keeps only the vertices of the triangles.
+            let jet = o.jettison.then(|| {
+                let r = crate::jettison::Renumber::new(node.len(), &m.cells, node.len());
+                r.apply(&mut m.cells);
+                r.apply(&mut edges.items);
+                m.vertex_map = (0..r.kept.len() as u32).collect();
+                rep.push(format!(
+                    "  -j: {} unused vertices left out of the .node",
+                    r.dropped()
+                ));
+                (
+                    crate::jettison::node_file(&node, &r),
+                    r.rows(&pts, 1),
+                    r.rows(&hull, 1),
+                )
+            });
+            let (node_w, pts_w, hull_w) = match &jet {
+                Some((n, p, h)) => (n, &p[..], &h[..]),
+                None => (&node, &pts[..], &hull[..]),
+            };
+            if o.convex_hull {
+                crate::jettison::write_hull_poly(
+                    ob,
+                    &edges.items,
+                    &edges.boundary,
+                    !o.no_bound,
+                    first,
+                    &mut extra,
+                )?;
+            }
             let t_derive = t_derive.elapsed();
             let t_o2 = Instant::now();
             let planned: Vec<_> = if o.second_order {
-                let markers = node_markers(&node, &hull, &m.vertex_map);
+                let markers = node_markers(node_w, hull_w, &m.vertex_map);
                 crate::tri_out::write_plain_second_order(
                     o,
                     &planned,
                     &crate::tri_out::Plain {
-                        node: &node,
-                        points: &pts,
+                        node: node_w,
+                        points: pts_w,
                         triangles: &m.cells,
                         neighbors: &m.neighbors,
                         markers: &markers,
@@ -468,12 +501,12 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             let (written, t_write) = write_outputs(
                 mode,
                 o,
-                &node,
-                &pts,
+                node_w,
+                pts_w,
                 &m,
                 &planned,
                 first,
-                &hull,
+                hull_w,
                 Some(&edges),
                 None,
             )?;

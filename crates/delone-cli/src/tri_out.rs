@@ -16,6 +16,7 @@
 //! * `--svg`, `--png`: the mesh, segments thick, holes as red crosses, with
 //!   `--svg-quality` triangles coloured by minimum angle with a legend.
 
+use std::borrow::Cow;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
@@ -26,6 +27,7 @@ use delone::NONE;
 use delone_io::{DataArray, NodeFile, SvgLayer, SvgStyle, Values, VtuFormat};
 
 use crate::args::Opts;
+use crate::jettison::Renumber;
 use crate::run::Failure;
 
 fn fail(message: impl Into<String>) -> Failure {
@@ -52,6 +54,21 @@ fn write(
     f(file).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
     written.push(path.to_path_buf());
     Ok(())
+}
+
+/// `items` with -j's renumbering applied (borrowed unchanged without -j).
+fn renumbered<'a, const K: usize>(
+    jet: Option<&Renumber>,
+    items: &'a [[u32; K]],
+) -> Cow<'a, [[u32; K]]> {
+    match jet {
+        Some(r) => {
+            let mut v = items.to_vec();
+            r.apply(&mut v);
+            Cow::Owned(v)
+        }
+        None => Cow::Borrowed(items),
+    }
 }
 
 #[inline]
@@ -456,6 +473,18 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     let pts = all_pts.as_deref().unwrap_or(&cdt.points);
     let at = all_attrs.as_deref().unwrap_or(&attrs);
     let mk = all_markers.as_deref().unwrap_or(&markers);
+    // -j: only the vertices of the triangles (and the -o2 midpoints), renumbered.
+    let jet = o
+        .jettison
+        .then(|| Renumber::new(pts.len(), &cdt.triangles, cdt.points.len()));
+    let jrows = jet
+        .as_ref()
+        .map(|r| (r.rows(pts, 1), r.rows(at, na), r.rows(mk, 1)));
+    let (pts, at, mk) = match &jrows {
+        Some((p, a, m)) => (&p[..], &a[..], &m[..]),
+        None => (pts, at, mk),
+    };
+    let jet = jet.as_ref();
     let first = p.first;
     if !o.no_node {
         write(&with_ext(p.out, "node"), &mut written, |f| {
@@ -469,8 +498,8 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     };
     if !o.no_ele {
         write(&with_ext(p.out, "ele"), &mut written, |f| match &quad {
-            Some(q) => delone_io::write_ele(f, &q.triangles, &eattrs, nea, first),
-            None => delone_io::write_ele(f, &cdt.triangles, &eattrs, nea, first),
+            Some(q) => delone_io::write_ele(f, &renumbered(jet, &q.triangles), &eattrs, nea, first),
+            None => delone_io::write_ele(f, &renumbered(jet, &cdt.triangles), &eattrs, nea, first),
         })?;
     }
     if !o.no_poly {
@@ -502,6 +531,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             .iter()
             .map(|r| [r.point[0], r.point[1], r.attribute, r.max_area])
             .collect();
+        let segs = renumbered(jet, &segs);
         write(&with_ext(p.out, "poly"), &mut written, |f| {
             delone_io::write_poly(
                 f,
@@ -516,7 +546,12 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     }
     if o.edges {
         write(&with_ext(p.out, "edge"), &mut written, |f| {
-            delone_io::write_edge(f, &edges.items, bound.then_some(&emark[..]), first)
+            delone_io::write_edge(
+                f,
+                &renumbered(jet, &edges.items),
+                bound.then_some(&emark[..]),
+                first,
+            )
         })?;
     }
     if o.neigh {
@@ -571,8 +606,10 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             VtuFormat::Binary
         };
         write(&path, &mut written, |f| match &quad {
-            Some(q) => delone_io::write_vtu(f, pts, &q.vtk_order(), &pd, &cd, fmt),
-            None => delone_io::write_vtu(f, pts, &cdt.triangles, &pd, &cd, fmt),
+            Some(q) => {
+                delone_io::write_vtu(f, pts, &renumbered(jet, &q.vtk_order()), &pd, &cd, fmt)
+            }
+            None => delone_io::write_vtu(f, pts, &renumbered(jet, &cdt.triangles), &pd, &cd, fmt),
         })?;
     }
     let stats = stats_if(

@@ -55,6 +55,7 @@ fn main() {
             Ok("2") => SegmentSplits::None,
             _ => SegmentSplits::All,
         },
+        conforming_delaunay: std::env::var_os("REFINE_D").is_some(),
     };
     let r = if let Some(pre) = std::env::var("REFINE_PRE")
         .ok()

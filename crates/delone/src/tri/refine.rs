@@ -93,6 +93,29 @@ pub struct RefineOptions {
     /// Which subsegments may be split (Triangle's `-Y`, `-YY`). Default
     /// [`SegmentSplits::All`].
     pub segment_splits: SegmentSplits,
+    /// Conforming Delaunay (Triangle's `-D`): also split every subsegment
+    /// whose diametral circle strictly contains a mesh vertex (not only the
+    /// apex of a triangle beside it), with the concentric-shell rule, until
+    /// none does; every triangle of the result is then truly Delaunay (its
+    /// circumcircle holds no mesh vertex; see
+    /// [`check_conforming_delaunay`](super::conforming::check_conforming_delaunay)).
+    /// Encroachment uses the diametral circle, not the lens. With no angle or
+    /// area bound only subsegments are split. Protected subsegments
+    /// ([`Self::segment_splits`]) are never split, so the property may then
+    /// be unmet ([`RefineReport::met`] false). Default false.
+    ///
+    /// ```
+    /// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
+    /// // A thin rectangle and a point inside: its long sides are not Gabriel.
+    /// let g = Pslg::new(vec![[0.0, 0.0], [10.0, 0.0], [10.0, 1.0], [0.0, 1.0], [5.0, 0.5]],
+    ///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+    /// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    /// let o = RefineOptions { min_angle: None, conforming_delaunay: true, ..Default::default() };
+    /// let r = refine(&cdt, &o).unwrap();
+    /// assert!(r.report.met && r.report.circumcenters == 0 && r.report.segment_splits > 0);
+    /// delone::tri::conforming::check_conforming_delaunay(&r.mesh.points, &r.mesh.triangles).unwrap();
+    /// ```
+    pub conforming_delaunay: bool,
 }
 
 /// Which subsegments refinement may split.
@@ -128,6 +151,7 @@ impl Default for RefineOptions {
             max_steiner: None,
             off_centers: true,
             segment_splits: SegmentSplits::All,
+            conforming_delaunay: false,
         }
     }
 }
@@ -158,6 +182,10 @@ pub enum UnfixableReason {
     /// ([`RefineOptions::segment_splits`]; reported instead of
     /// [`Self::Precision`] whenever splits are restricted).
     NoSegmentSplits,
+    /// With [`RefineOptions::conforming_delaunay`]: quality refinement was
+    /// stopped so that the conforming-Delaunay splits could finish (they and
+    /// a high angle bound kept feeding each other near small input angles).
+    ConformingDelaunay,
 }
 
 /// A triangle of the output that violates a bound.
@@ -206,6 +234,10 @@ pub struct RefineReport {
     pub limit_reached: bool,
     /// The triangles that violate a bound, with the reason.
     pub unfixable: Vec<Unfixable>,
+    /// With [`RefineOptions::conforming_delaunay`]: subsegments left whose
+    /// diametral circle holds a mesh vertex (protected, too short to split,
+    /// or the budget ran out); 0 means the mesh is conforming Delaunay.
+    pub encroached_subsegments: usize,
 }
 
 /// A refined mesh: the triangulation (same layout as a [`Cdt`]; its `report`
@@ -691,6 +723,23 @@ impl Mesh {
         Some(nv)
     }
 
+    /// Conforming Delaunay: queues the live subsegments (with `stuck`, also
+    /// those that cannot be split) whose diametral circle strictly holds a
+    /// mesh vertex; returns how many.
+    fn scan_encroached(&self, stuck: bool, enc: &mut VecDeque<u32>) -> usize {
+        let ids: Vec<u32> = (0..self.subs.len() as u32)
+            .filter(|&s| {
+                let x = &self.subs[s as usize];
+                x.alive && (stuck || !x.stuck)
+            })
+            .collect();
+        let pairs: Vec<[u32; 2]> = ids.iter().map(|&s| self.subs[s as usize].v).collect();
+        let tris: Vec<[u32; 3]> = self.tr.iter().map(|t| t.v).collect();
+        let hit = super::conforming::encroached(&self.xy, &tris, &pairs);
+        enc.extend(hit.iter().map(|&k| ids[k]));
+        hit.len()
+    }
+
     /// Skinny triangle whose shortest edge spans a small input angle:
     /// the apex and the input angle (degrees), if `u` and `v` lie on two
     /// segment chains that meet at a vertex other than `u` and `v` at an angle
@@ -1121,8 +1170,30 @@ fn refine_inner(
         }
     };
     let mut steiner = 0usize;
+    // Rounds of -D splits after the queues ran empty. Past 64 rounds, or
+    // when quality refinement after the first round has added 8 times the
+    // points there were, bad triangles are no longer fixed: near small input
+    // angles and with high angle bounds the two can feed each other.
+    const GABRIEL_ROUNDS: usize = 64;
+    let mut gabriel_rounds = 0usize;
+    let mut quality_cap = usize::MAX;
+    let mut quality = true;
     loop {
-        if enc.is_empty() && heap.is_empty() {
+        if enc.is_empty() && (heap.is_empty() || !quality) {
+            // -D: split the subsegments any vertex encroaches, until none.
+            if options.conforming_delaunay && m.scan_encroached(false, &mut enc) > 0 {
+                gabriel_rounds += 1;
+                if gabriel_rounds == 1 {
+                    quality_cap = steiner + 8 * (steiner + nfixed) + 1024;
+                }
+                if gabriel_rounds > GABRIEL_ROUNDS {
+                    // Splits and quality refinement keep feeding each other
+                    // (high angle bounds near small input angles): finish
+                    // with splits alone, which terminate (concentric shells).
+                    quality = false;
+                }
+                continue;
+            }
             break;
         }
         if steiner >= limit || m.xy.len() >= (u32::MAX - 8) as usize {
@@ -1135,6 +1206,10 @@ fn refine_inner(
                 report.segment_splits += 1;
                 after_insert(&m, &mut heap, &mut enc);
             }
+            continue;
+        }
+        if steiner > quality_cap {
+            quality = false;
             continue;
         }
         let Some((t, v)) = heap.pop() else {
@@ -1197,7 +1272,22 @@ fn refine_inner(
     }
     report.cavity_triangles = m.replaced;
     let restricted = options.segment_splits != SegmentSplits::All;
-    Ok(finish(cdt, m, &crit, scale, restricted, report))
+    let left = if options.conforming_delaunay {
+        m.scan_encroached(true, &mut VecDeque::new())
+    } else {
+        0
+    };
+    let mut r = finish(cdt, m, &crit, scale, restricted, report);
+    if !quality {
+        for u in &mut r.report.unfixable {
+            if u.reason == UnfixableReason::Precision {
+                u.reason = UnfixableReason::ConformingDelaunay;
+            }
+        }
+    }
+    r.report.encroached_subsegments = left;
+    r.report.met &= left == 0;
+    Ok(r)
 }
 
 /// Builds the output mesh and the final statistics.
