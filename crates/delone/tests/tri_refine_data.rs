@@ -242,10 +242,10 @@ fn area_of(p: &[[f64; 2]], v: &[u32; 3]) -> f64 {
     area(p, v)
 }
 
-/// Subsegments are split on concentric shells only at small input angles:
-/// face.poly (no angle below 60° between segments at its corners that would
-/// need shells) stays near the size Triangle reaches at 34° (162 triangles)
-/// and 30° (132); with shells at every input vertex it took 313 at 34°.
+/// Subsegments are split on concentric shells only at input angles below
+/// 60°: face.poly stays near the size Triangle reaches at 34° (162
+/// triangles) and 30° (132); with shells at every input vertex it took 313
+/// at 34°.
 #[test]
 fn face_q34_is_not_over_refined() {
     let Some(dir) = data_dir() else {
