@@ -241,3 +241,30 @@ fn area_bounds_global_and_regional() {
 fn area_of(p: &[[f64; 2]], v: &[u32; 3]) -> f64 {
     area(p, v)
 }
+
+/// Subsegments are split on concentric shells only at input angles below
+/// 60°: face.poly stays near the size Triangle reaches at 34° (162
+/// triangles) and 30° (132); with shells at every input vertex it took 313
+/// at 34°.
+#[test]
+fn face_q34_is_not_over_refined() {
+    let Some(dir) = data_dir() else {
+        eprintln!("shared data missing: skipped");
+        return;
+    };
+    let g = load(&dir.join("2d").join("face.poly"));
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    for (angle, at_most) in [(34.0, 180), (30.0, 146)] {
+        let opts = RefineOptions {
+            min_angle: Some(angle),
+            ..Default::default()
+        };
+        let r = refine(&cdt, &opts).unwrap();
+        assert!(r.report.met, "q{angle}: {:?}", r.report.unfixable);
+        let n = r.mesh.triangles.len();
+        assert!(
+            n <= at_most,
+            "q{angle}: {n} triangles, expected at most {at_most}"
+        );
+    }
+}
