@@ -457,26 +457,35 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         .saturating_mul(pslg.segments.len().max(16))
         .saturating_add(1 << 20);
     let mut steps = 0usize;
-    let mut first_of: HashMap<(u32, u32), u32> = HashMap::new();
     // Labels beyond the first of edges shared by several segments.
     let mut multi: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
     // Internal end vertices of every segment (for exact crossing lines).
-    let mut seg_ends: Vec<(u32, u32)> = vec![(0, 0); pslg.segments.len()];
-    for (s, seg) in pslg.segments.iter().enumerate() {
-        let a = ext2int[vmap[seg[0] as usize] as usize];
-        let b = ext2int[vmap[seg[1] as usize] as usize];
-        seg_ends[s] = (a, b);
+    let seg_ends: Vec<(u32, u32)> = pslg
+        .segments
+        .iter()
+        .map(|seg| {
+            (
+                ext2int[vmap[seg[0] as usize] as usize],
+                ext2int[vmap[seg[1] as usize] as usize],
+            )
+        })
+        .collect();
+    drop(ext2int);
+    let first = first_segments(&seg_ends, w.xy.len());
+    pending.reserve(seg_ends.len());
+    for (s, &(a, b)) in seg_ends.iter().enumerate() {
         if a == b {
             report.skipped_segments.push(s as u32);
             continue;
         }
-        let orig = *first_of.entry((a.min(b), a.max(b))).or_insert(s as u32);
+        let orig = first[s];
         if orig != s as u32 {
             report.duplicate_segments.push((s as u32, orig));
             continue;
         }
         pending.push((a, b, s as u32));
     }
+    drop(first);
     pending.reverse();
     let unresolved = |s: u32, o: u32| Error::SegmentIntersection {
         segment: s as usize,
@@ -488,6 +497,11 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             return Err(unresolved(s, s));
         }
         if a == b {
+            continue;
+        }
+        // Already an edge (the common case): label it, no predicate needed.
+        if let Some((t, i)) = w.find_edge(a, b) {
+            label_half_edge(&mut w, &mut multi, t, i, a, b, s);
             continue;
         }
         let (pa, pb) = (*w.p(a), *w.p(b));
@@ -1341,6 +1355,21 @@ fn constrain_label(
     let Some((t, i)) = w.find_edge(u, v) else {
         return false;
     };
+    label_half_edge(w, multi, t, i, u, v, s);
+    true
+}
+
+/// Marks edge `i` of `t` (the edge `u - v`) as part of segment `s`.
+#[inline]
+fn label_half_edge(
+    w: &mut Work,
+    multi: &mut HashMap<(u32, u32), Vec<u32>>,
+    t: usize,
+    i: usize,
+    u: u32,
+    v: u32,
+    s: u32,
+) {
     let (n, j) = unpack(w.ta[t][i]);
     let c = w.con[t][i];
     if c == NONE {
@@ -1352,7 +1381,45 @@ fn constrain_label(
             e.push(s);
         }
     }
-    true
+}
+
+/// For every segment `(a, b)` (internal vertex ids below `nv`), the first
+/// segment with the same two ends (itself if none earlier). Linear time:
+/// segments are bucketed by their lower end (counting sort), each bucket
+/// sorted by (upper end, index).
+fn first_segments(ends: &[(u32, u32)], nv: usize) -> Vec<u32> {
+    let mut head = vec![0u32; nv + 1];
+    for &(a, b) in ends {
+        head[a.min(b) as usize + 1] += 1;
+    }
+    for k in 0..nv {
+        head[k + 1] += head[k];
+    }
+    let mut fill = head.clone();
+    let mut ord = vec![0u64; ends.len()];
+    for (s, &(a, b)) in ends.iter().enumerate() {
+        let lo = a.min(b) as usize;
+        ord[fill[lo] as usize] = (u64::from(a.max(b)) << 32) | s as u64;
+        fill[lo] += 1;
+    }
+    drop(fill);
+    let mut first: Vec<u32> = (0..ends.len() as u32).collect();
+    for k in 0..nv {
+        let bucket = &mut ord[head[k] as usize..head[k + 1] as usize];
+        if bucket.len() < 2 {
+            continue;
+        }
+        bucket.sort_unstable();
+        let mut run = bucket[0];
+        for &x in &bucket[1..] {
+            if x >> 32 == run >> 32 {
+                first[(x & 0xffff_ffff) as usize] = (run & 0xffff_ffff) as u32;
+            } else {
+                run = x;
+            }
+        }
+    }
+    first
 }
 
 /// The bookkeeping a crossing touches.
