@@ -472,7 +472,6 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         .collect();
     drop(ext2int);
     let first = first_segments(&seg_ends, w.xy.len());
-    pending.reserve(seg_ends.len());
     for (s, &(a, b)) in seg_ends.iter().enumerate() {
         if a == b {
             report.skipped_segments.push(s as u32);
@@ -481,17 +480,29 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         let orig = first[s];
         if orig != s as u32 {
             report.duplicate_segments.push((s as u32, orig));
-            continue;
         }
-        pending.push((a, b, s as u32));
     }
-    drop(first);
-    pending.reverse();
     let unresolved = |s: u32, o: u32| Error::SegmentIntersection {
         segment: s as usize,
         other: o as usize,
     };
-    while let Some((a, b, s)) = pending.pop() {
+    // Segments in input order; the pieces a segment is split into are
+    // pushed on `pending` and inserted before the next segment.
+    let mut next_seg = 0usize;
+    loop {
+        let Some((a, b, s)) = pending.pop().or_else(|| {
+            while next_seg < seg_ends.len() {
+                let s = next_seg;
+                next_seg += 1;
+                let (a, b) = seg_ends[s];
+                if a != b && first[s] == s as u32 {
+                    return Some((a, b, s as u32));
+                }
+            }
+            None
+        }) else {
+            break;
+        };
         steps += 1;
         if steps > budget {
             return Err(unresolved(s, s));
@@ -744,38 +755,14 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
     }
 
-    // Output.
-    let mut map = vec![NONE; nt];
-    let mut k = 0u32;
-    for t in 0..nt {
-        if alive[t] {
-            map[t] = k;
-            k += 1;
-        }
-    }
-    let mut points = pslg.points.clone();
-    points.extend(
-        w.xy[n..]
-            .iter()
-            .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
-    );
-    let mut triangles = Vec::with_capacity(k as usize);
-    let mut neighbors = Vec::with_capacity(k as usize);
-    let mut regions = Vec::with_capacity(k as usize);
-    let mut attributes = Vec::with_capacity(k as usize);
-    let mut max_areas = Vec::with_capacity(k as usize);
-    for t in 0..nt {
-        if !alive[t] {
-            continue;
-        }
-        triangles.push(w.tv[t].map(out_id));
-        neighbors.push(w.ta[t].map(|x| map[unpack(x).0]));
-        let r = region[t];
-        regions.push(r);
-        let reg = pslg.regions.get(r as usize);
-        attributes.push(reg.map_or(0.0, |g| g.attribute));
-        max_areas.push(reg.map_or(-1.0, |g| g.max_area));
-    }
+    // Output. The subsegments first (they need the labels), then the
+    // kernel's arrays are compacted in place into the triangles and their
+    // neighbours (no second copy of the mesh).
+    drop(pending);
+    drop(first);
+    drop(seg_ends);
+    drop(multi);
+    w.vt = Vec::new();
     let mut segments = Vec::new();
     for t in 0..nt {
         let v = w.tv[t];
@@ -800,6 +787,45 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             });
         }
     }
+    w.con = Vec::new();
+    // Old slot -> output triangle.
+    let mut map = vec![NONE; nt];
+    let mut k = 0u32;
+    for t in 0..nt {
+        if alive[t] {
+            map[t] = k;
+            k += 1;
+        }
+    }
+    let mut points = pslg.points.clone();
+    points.extend(
+        w.xy[n..]
+            .iter()
+            .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
+    );
+    w.xy = Vec::new();
+    let mut triangles = std::mem::take(&mut w.tv);
+    let mut neighbors = std::mem::take(&mut w.ta);
+    let mut regions = Vec::with_capacity(k as usize);
+    let mut attributes = Vec::with_capacity(k as usize);
+    let mut max_areas = Vec::with_capacity(k as usize);
+    let mut kk = 0usize;
+    for t in 0..nt {
+        if !alive[t] {
+            continue;
+        }
+        // kk <= t: slot t is read before slot kk is written.
+        triangles[kk] = triangles[t].map(out_id);
+        neighbors[kk] = neighbors[t].map(|x| map[unpack(x).0]);
+        kk += 1;
+        let r = region[t];
+        regions.push(r);
+        let reg = pslg.regions.get(r as usize);
+        attributes.push(reg.map_or(0.0, |g| g.attribute));
+        max_areas.push(reg.map_or(-1.0, |g| g.max_area));
+    }
+    triangles.truncate(kk);
+    neighbors.truncate(kk);
     Ok(Cdt {
         points,
         triangles,
