@@ -429,11 +429,14 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             w.set_vt(t);
         }
     }
-    // Input index -> internal vertex.
+    // Internal vertex -> output id (its input point's representative), and
+    // input index -> internal vertex.
+    let out: Vec<u32> = ids[..n].iter().map(|&i| vmap[i as usize]).collect();
+    drop(ids);
     let mut ext2int = vec![NONE; n];
     for x in 0..n {
         if w.vt[x] != NONE {
-            ext2int[vmap[ids[x] as usize] as usize] = x as u32;
+            ext2int[out[x] as usize] = x as u32;
         }
     }
     let mut report = CdtReport::default();
@@ -444,7 +447,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let out_id = |x: u32| -> u32 {
         if (x as usize) < n {
-            vmap[ids[x as usize] as usize]
+            out[x as usize]
         } else {
             x
         }
@@ -763,6 +766,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     drop(seg_ends);
     drop(multi);
     w.vt = Vec::new();
+    let ghost: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && is_ghost(v)).collect();
     let mut segments = Vec::new();
     for t in 0..nt {
         let v = w.tv[t];
@@ -775,7 +779,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                 continue;
             }
             let (nn, _) = unpack(w.ta[t][e]);
-            if !is_ghost(&w.tv[nn]) && nn < t {
+            if nn < t && !ghost[nn] {
                 continue;
             }
             let (x, y) = edge(&v, e);
