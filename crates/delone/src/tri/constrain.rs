@@ -474,37 +474,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         })
         .collect();
     drop(ext2int);
-    let (first, head, ord) = first_segments(&seg_ends, w.xy.len());
-    // Segments that are already edges (usually most of them) are labelled
-    // in one pass over the triangles, whose slot order is spatially
-    // coherent: no search around a vertex, no random access per segment.
-    let mut done = vec![false; seg_ends.len()];
-    for t in 0..nslots {
-        let v = w.tv[t];
-        if v[0] == DEAD || is_ghost(&v) {
-            continue;
-        }
-        for e in 0..3 {
-            let (x, y) = edge(&v, e);
-            let (lo, hi) = (x.min(y) as usize, u64::from(x.max(y)));
-            for &key in &ord[head[lo] as usize..head[lo + 1] as usize] {
-                if key >> 32 > hi {
-                    break;
-                }
-                if key >> 32 == hi {
-                    // The first segment of a run of equal ones.
-                    let sg = (key & 0xffff_ffff) as u32;
-                    if !done[sg as usize] {
-                        done[sg as usize] = true;
-                        label_half_edge(&mut w, &mut multi, t, e, x, y, sg);
-                    }
-                    break;
-                }
-            }
-        }
-    }
-    drop(head);
-    drop(ord);
+    let first = first_segments(&seg_ends, w.xy.len());
     for (s, &(a, b)) in seg_ends.iter().enumerate() {
         if a == b {
             report.skipped_segments.push(s as u32);
@@ -528,7 +498,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                 let s = next_seg;
                 next_seg += 1;
                 let (a, b) = seg_ends[s];
-                if a != b && first[s] == s as u32 && !done[s] {
+                if a != b && first[s] == s as u32 {
                     return Some((a, b, s as u32));
                 }
             }
@@ -793,7 +763,6 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     // neighbours (no second copy of the mesh).
     drop(pending);
     drop(first);
-    drop(done);
     drop(seg_ends);
     drop(multi);
     w.vt = Vec::new();
@@ -1436,16 +1405,6 @@ fn label_half_edge(
     if c == NONE {
         w.con[t][i] = s;
         w.con[n][j] = s;
-    } else if c > s {
-        // The lowest segment index goes in the half-edges (the first input
-        // segment, whatever the labelling order), the others in `multi`.
-        w.con[t][i] = s;
-        w.con[n][j] = s;
-        let e = multi.entry(ukey(u, v)).or_default();
-        e.retain(|&x| x != s);
-        if !e.contains(&c) {
-            e.push(c);
-        }
     } else if c != s {
         let e = multi.entry(ukey(u, v)).or_default();
         if !e.contains(&s) {
@@ -1455,11 +1414,10 @@ fn label_half_edge(
 }
 
 /// For every segment `(a, b)` (internal vertex ids below `nv`), the first
-/// segment with the same two ends (itself if none earlier), and the buckets:
-/// `ord[head[v]..head[v + 1]]` holds `(upper end << 32) | index` of the
-/// segments whose lower end is `v`, sorted. Linear time (counting sort by
-/// the lower end; buckets are small).
-fn first_segments(ends: &[(u32, u32)], nv: usize) -> (Vec<u32>, Vec<u32>, Vec<u64>) {
+/// segment with the same two ends (itself if none earlier). Linear time:
+/// segments are bucketed by their lower end (counting sort), each bucket
+/// sorted by (upper end, index).
+fn first_segments(ends: &[(u32, u32)], nv: usize) -> Vec<u32> {
     let mut head = vec![0u32; nv + 1];
     for &(a, b) in ends {
         head[a.min(b) as usize + 1] += 1;
@@ -1491,7 +1449,7 @@ fn first_segments(ends: &[(u32, u32)], nv: usize) -> (Vec<u32>, Vec<u32>, Vec<u6
             }
         }
     }
-    (first, head, ord)
+    first
 }
 
 /// The bookkeeping a crossing touches.
