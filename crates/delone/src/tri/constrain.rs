@@ -492,20 +492,17 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     // Segments in input order; the pieces a segment is split into are
     // pushed on `pending` and inserted before the next segment.
     let mut next_seg = 0usize;
-    loop {
-        let Some((a, b, s)) = pending.pop().or_else(|| {
-            while next_seg < seg_ends.len() {
-                let s = next_seg;
-                next_seg += 1;
-                let (a, b) = seg_ends[s];
-                if a != b && first[s] == s as u32 {
-                    return Some((a, b, s as u32));
-                }
+    while let Some((a, b, s)) = pending.pop().or_else(|| {
+        while next_seg < seg_ends.len() {
+            let s = next_seg;
+            next_seg += 1;
+            let (a, b) = seg_ends[s];
+            if a != b && first[s] == s as u32 {
+                return Some((a, b, s as u32));
             }
-            None
-        }) else {
-            break;
-        };
+        }
+        None
+    }) {
         steps += 1;
         if steps > budget {
             return Err(unresolved(s, s));
