@@ -668,12 +668,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         if !constrain_label(&mut w, &mut multi, a, end, s) {
             return Err(unresolved(s, s));
         }
-        let mut st: Vec<(u32, u32)> = newe
-            .iter()
-            .copied()
-            .filter(|&(x, y)| !((x == a && y == end) || (x == end && y == a)))
-            .collect();
-        w.legalize(&mut st);
+        // The new edges (but the segment) seed the Lawson flips; the
+        // buffer is reused from segment to segment.
+        newe.retain(|&(x, y)| !((x == a && y == end) || (x == end && y == a)));
+        w.legalize(&mut newe);
     }
     report.flips = w.flips;
 
