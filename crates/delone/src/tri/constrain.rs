@@ -429,11 +429,14 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             w.set_vt(t);
         }
     }
-    // Input index -> internal vertex.
+    // Internal vertex -> output id (its input point's representative), and
+    // input index -> internal vertex.
+    let out: Vec<u32> = ids[..n].iter().map(|&i| vmap[i as usize]).collect();
+    drop(ids);
     let mut ext2int = vec![NONE; n];
     for x in 0..n {
         if w.vt[x] != NONE {
-            ext2int[vmap[ids[x] as usize] as usize] = x as u32;
+            ext2int[out[x] as usize] = x as u32;
         }
     }
     let mut report = CdtReport::default();
@@ -444,7 +447,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let out_id = |x: u32| -> u32 {
         if (x as usize) < n {
-            vmap[ids[x as usize] as usize]
+            out[x as usize]
         } else {
             x
         }
@@ -457,37 +460,59 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         .saturating_mul(pslg.segments.len().max(16))
         .saturating_add(1 << 20);
     let mut steps = 0usize;
-    let mut first_of: HashMap<(u32, u32), u32> = HashMap::new();
     // Labels beyond the first of edges shared by several segments.
     let mut multi: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
     // Internal end vertices of every segment (for exact crossing lines).
-    let mut seg_ends: Vec<(u32, u32)> = vec![(0, 0); pslg.segments.len()];
-    for (s, seg) in pslg.segments.iter().enumerate() {
-        let a = ext2int[vmap[seg[0] as usize] as usize];
-        let b = ext2int[vmap[seg[1] as usize] as usize];
-        seg_ends[s] = (a, b);
+    let seg_ends: Vec<(u32, u32)> = pslg
+        .segments
+        .iter()
+        .map(|seg| {
+            (
+                ext2int[vmap[seg[0] as usize] as usize],
+                ext2int[vmap[seg[1] as usize] as usize],
+            )
+        })
+        .collect();
+    drop(ext2int);
+    let first = first_segments(&seg_ends, w.xy.len());
+    for (s, &(a, b)) in seg_ends.iter().enumerate() {
         if a == b {
             report.skipped_segments.push(s as u32);
             continue;
         }
-        let orig = *first_of.entry((a.min(b), a.max(b))).or_insert(s as u32);
+        let orig = first[s];
         if orig != s as u32 {
             report.duplicate_segments.push((s as u32, orig));
-            continue;
         }
-        pending.push((a, b, s as u32));
     }
-    pending.reverse();
     let unresolved = |s: u32, o: u32| Error::SegmentIntersection {
         segment: s as usize,
         other: o as usize,
     };
-    while let Some((a, b, s)) = pending.pop() {
+    // Segments in input order; the pieces a segment is split into are
+    // pushed on `pending` and inserted before the next segment.
+    let mut next_seg = 0usize;
+    while let Some((a, b, s)) = pending.pop().or_else(|| {
+        while next_seg < seg_ends.len() {
+            let s = next_seg;
+            next_seg += 1;
+            let (a, b) = seg_ends[s];
+            if a != b && first[s] == s as u32 {
+                return Some((a, b, s as u32));
+            }
+        }
+        None
+    }) {
         steps += 1;
         if steps > budget {
             return Err(unresolved(s, s));
         }
         if a == b {
+            continue;
+        }
+        // Already an edge (the common case): label it, no predicate needed.
+        if let Some((t, i)) = w.find_edge(a, b) {
+            label_half_edge(&mut w, &mut multi, t, i, a, b, s);
             continue;
         }
         let (pa, pb) = (*w.p(a), *w.p(b));
@@ -643,12 +668,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         if !constrain_label(&mut w, &mut multi, a, end, s) {
             return Err(unresolved(s, s));
         }
-        let mut st: Vec<(u32, u32)> = newe
-            .iter()
-            .copied()
-            .filter(|&(x, y)| !((x == a && y == end) || (x == end && y == a)))
-            .collect();
-        w.legalize(&mut st);
+        // The new edges (but the segment) seed the Lawson flips; the
+        // buffer is reused from segment to segment.
+        newe.retain(|&(x, y)| !((x == a && y == end) || (x == end && y == a)));
+        w.legalize(&mut newe);
     }
     report.flips = w.flips;
 
@@ -730,7 +753,41 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
     }
 
-    // Output.
+    // Output. The subsegments first (they need the labels), then the
+    // kernel's arrays are compacted in place into the triangles and their
+    // neighbours (no second copy of the mesh).
+    drop(pending);
+    drop(first);
+    drop(seg_ends);
+    drop(multi);
+    w.vt = Vec::new();
+    let ghost: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && is_ghost(v)).collect();
+    let mut segments = Vec::new();
+    for t in 0..nt {
+        let v = w.tv[t];
+        if v[0] == DEAD || is_ghost(&v) {
+            continue;
+        }
+        for e in 0..3 {
+            let c = w.con[t][e];
+            if c == NONE {
+                continue;
+            }
+            let (nn, _) = unpack(w.ta[t][e]);
+            if nn < t && !ghost[nn] {
+                continue;
+            }
+            let (x, y) = edge(&v, e);
+            segments.push(Subsegment {
+                v: [out_id(x), out_id(y)],
+                marker: pslg.segment_marker(c as usize),
+                segment: c,
+                bounding: alive[t] || alive[nn],
+            });
+        }
+    }
+    w.con = Vec::new();
+    // Old slot -> output triangle.
     let mut map = vec![NONE; nt];
     let mut k = 0u32;
     for t in 0..nt {
@@ -745,47 +802,29 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    let mut triangles = Vec::with_capacity(k as usize);
-    let mut neighbors = Vec::with_capacity(k as usize);
+    w.xy = Vec::new();
+    let mut triangles = std::mem::take(&mut w.tv);
+    let mut neighbors = std::mem::take(&mut w.ta);
     let mut regions = Vec::with_capacity(k as usize);
     let mut attributes = Vec::with_capacity(k as usize);
     let mut max_areas = Vec::with_capacity(k as usize);
+    let mut kk = 0usize;
     for t in 0..nt {
         if !alive[t] {
             continue;
         }
-        triangles.push(w.tv[t].map(out_id));
-        neighbors.push(w.ta[t].map(|x| map[unpack(x).0]));
+        // kk <= t: slot t is read before slot kk is written.
+        triangles[kk] = triangles[t].map(out_id);
+        neighbors[kk] = neighbors[t].map(|x| map[unpack(x).0]);
+        kk += 1;
         let r = region[t];
         regions.push(r);
         let reg = pslg.regions.get(r as usize);
         attributes.push(reg.map_or(0.0, |g| g.attribute));
         max_areas.push(reg.map_or(-1.0, |g| g.max_area));
     }
-    let mut segments = Vec::new();
-    for t in 0..nt {
-        let v = w.tv[t];
-        if v[0] == DEAD || is_ghost(&v) {
-            continue;
-        }
-        for e in 0..3 {
-            let c = w.con[t][e];
-            if c == NONE {
-                continue;
-            }
-            let (nn, _) = unpack(w.ta[t][e]);
-            if !is_ghost(&w.tv[nn]) && nn < t {
-                continue;
-            }
-            let (x, y) = edge(&v, e);
-            segments.push(Subsegment {
-                v: [out_id(x), out_id(y)],
-                marker: pslg.segment_marker(c as usize),
-                segment: c,
-                bounding: alive[t] || alive[nn],
-            });
-        }
-    }
+    triangles.truncate(kk);
+    neighbors.truncate(kk);
     Ok(Cdt {
         points,
         triangles,
@@ -1341,6 +1380,21 @@ fn constrain_label(
     let Some((t, i)) = w.find_edge(u, v) else {
         return false;
     };
+    label_half_edge(w, multi, t, i, u, v, s);
+    true
+}
+
+/// Marks edge `i` of `t` (the edge `u - v`) as part of segment `s`.
+#[inline]
+fn label_half_edge(
+    w: &mut Work,
+    multi: &mut HashMap<(u32, u32), Vec<u32>>,
+    t: usize,
+    i: usize,
+    u: u32,
+    v: u32,
+    s: u32,
+) {
     let (n, j) = unpack(w.ta[t][i]);
     let c = w.con[t][i];
     if c == NONE {
@@ -1352,7 +1406,45 @@ fn constrain_label(
             e.push(s);
         }
     }
-    true
+}
+
+/// For every segment `(a, b)` (internal vertex ids below `nv`), the first
+/// segment with the same two ends (itself if none earlier). Linear time:
+/// segments are bucketed by their lower end (counting sort), each bucket
+/// sorted by (upper end, index).
+fn first_segments(ends: &[(u32, u32)], nv: usize) -> Vec<u32> {
+    let mut head = vec![0u32; nv + 1];
+    for &(a, b) in ends {
+        head[a.min(b) as usize + 1] += 1;
+    }
+    for k in 0..nv {
+        head[k + 1] += head[k];
+    }
+    let mut fill = head.clone();
+    let mut ord = vec![0u64; ends.len()];
+    for (s, &(a, b)) in ends.iter().enumerate() {
+        let lo = a.min(b) as usize;
+        ord[fill[lo] as usize] = (u64::from(a.max(b)) << 32) | s as u64;
+        fill[lo] += 1;
+    }
+    drop(fill);
+    let mut first: Vec<u32> = (0..ends.len() as u32).collect();
+    for k in 0..nv {
+        let bucket = &mut ord[head[k] as usize..head[k + 1] as usize];
+        if bucket.len() < 2 {
+            continue;
+        }
+        bucket.sort_unstable();
+        let mut run = bucket[0];
+        for &x in &bucket[1..] {
+            if x >> 32 == run >> 32 {
+                first[(x & 0xffff_ffff) as usize] = (run & 0xffff_ffff) as u32;
+            } else {
+                run = x;
+            }
+        }
+    }
+    first
 }
 
 /// The bookkeeping a crossing touches.
