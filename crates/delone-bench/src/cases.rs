@@ -315,7 +315,7 @@ impl Case {
         if let Some(rest) = name.strip_prefix("3d-surfq-") {
             let (model, b) = rest.rsplit_once("-q").ok_or_else(bad)?;
             let b: f64 = b.parse().map_err(|_| bad())?;
-            if !is_data_name(model) || !(b.is_finite() && b > 1.0) {
+            if !(is_data_name(model) && b.is_finite() && b > 1.0) {
                 return Err(bad());
             }
             return Ok(Case {

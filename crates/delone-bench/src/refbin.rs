@@ -331,8 +331,11 @@ pub fn run_tetgen_pq(
     })
 }
 
+/// Points and tetrahedra of a TetGen output.
+type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
+
 /// Reads TetGen's `.node` and `.ele` files (first index 0 or 1).
-fn read_node_ele(node: &Path, ele: &Path) -> Option<(Vec<[f64; 3]>, Vec<[u32; 4]>)> {
+fn read_node_ele(node: &Path, ele: &Path) -> Option<NodeEle> {
     fn rows(text: &str) -> impl Iterator<Item = Vec<&str>> {
         text.lines()
             .map(|l| l.split('#').next().unwrap_or(""))
