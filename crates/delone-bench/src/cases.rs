@@ -111,7 +111,8 @@ pub struct Case {
 /// Quality bounds of a `2d-poly-…-q…a…` case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Quality {
-    /// Minimum angle in degrees (`None`: no angle bound).
+    /// Minimum angle in degrees (`None`: no angle bound); for a
+    /// `3d-surfq-…-qB` case, the radius-edge bound B.
     pub min_angle: Option<f64>,
     /// Maximum triangle area (`None`: no area bound).
     pub max_area: Option<f64>,
@@ -133,6 +134,8 @@ pub struct SurfInput {
     pub points: Vec<[f64; 3]>,
     /// Triangles (fan-triangulated faces).
     pub triangles: Vec<[u32; 3]>,
+    /// Radius-edge bound of a `3d-surfq-…-qB` case (`None`: recovery only).
+    pub ratio: Option<f64>,
 }
 
 /// The input of a case: generated points or a file's content.
@@ -260,7 +263,7 @@ impl fmt::Display for BadCase {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL)",
+            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL, 3d-surfq-MODEL-qB)",
             self.0
         )
     }
@@ -305,6 +308,26 @@ impl Case {
                 requested: 0,
                 data: Some(file.to_string()),
                 quality,
+            });
+        }
+        // `3d-surfq-MODEL-qB`: refinement to radius-edge ratio B (kept in
+        // `Quality::min_angle`).
+        if let Some(rest) = name.strip_prefix("3d-surfq-") {
+            let (model, b) = rest.rsplit_once("-q").ok_or_else(bad)?;
+            let b: f64 = b.parse().map_err(|_| bad())?;
+            if !(is_data_name(model) && b.is_finite() && b > 1.0) {
+                return Err(bad());
+            }
+            return Ok(Case {
+                name: name.to_string(),
+                dim: 3,
+                kind: Kind::Surf,
+                requested: 0,
+                data: Some(model.to_string()),
+                quality: Some(Quality {
+                    min_angle: Some(b),
+                    max_area: None,
+                }),
             });
         }
         if let Some(model) = name.strip_prefix("3d-surf-") {
@@ -402,6 +425,7 @@ impl Case {
                 Ok(Input::Surf(SurfInput {
                     points: s.points,
                     triangles,
+                    ratio: self.quality.and_then(|q| q.min_angle),
                 }))
             }
             Kind::Segs | Kind::Holes => Ok(Input::Poly(PolyInput {
@@ -706,6 +730,19 @@ mod tests {
     fn parse_surf_cases() {
         let c = Case::parse("3d-surf-c3d_spot").unwrap();
         assert_eq!((c.dim, c.kind), (3, Kind::Surf));
+        let q = Case::parse("3d-surfq-cgal_sphere-q1.414").unwrap();
+        assert_eq!(
+            (q.kind, q.data.as_deref()),
+            (Kind::Surf, Some("cgal_sphere"))
+        );
+        assert_eq!(q.quality.and_then(|x| x.min_angle), Some(1.414));
+        for bad in [
+            "3d-surfq-cgal_sphere",
+            "3d-surfq-cgal_sphere-q0.9",
+            "3d-surfq--q2",
+        ] {
+            assert!(Case::parse(bad).is_err(), "{bad}");
+        }
         assert_eq!(c.data.as_deref(), Some("c3d_spot"));
         assert_eq!(c.describe(), "c3d_spot.off surface");
         for bad in [

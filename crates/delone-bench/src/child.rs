@@ -17,6 +17,7 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("tetgen", 3),
     ("tetgen-p", 3),
     ("triangle-p", 2),
+    ("tetgen-pq", 3),
 ];
 
 /// Whether `program` handles `dim`-dimensional input.
@@ -31,8 +32,9 @@ pub fn handles(program: &str, case: &Case) -> bool {
         Kind::Poly | Kind::Segs | Kind::Holes => {
             matches!(program, "delone" | "triangle" | "triangle-p")
         }
+        Kind::Surf if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
         Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
-        _ if program == "tetgen-p" || program == "triangle-p" => false,
+        _ if matches!(program, "tetgen-p" | "tetgen-pq" | "triangle-p") => false,
         _ => supports(program, case.dim),
     }
 }
@@ -241,6 +243,9 @@ fn run_surf(
 ) -> Result<Run, String> {
     use delone::tet::recover::{check_recovered, recover, RecoverOptions};
     let (p, tris) = (&input.points, &input.triangles);
+    if let Some(q) = input.ratio {
+        return run_surfq(program, p, tris, q, on_ready, check);
+    }
     match program {
         "delone" => {
             let opts = RecoverOptions::default();
@@ -311,6 +316,72 @@ fn run_surf(
             })
         }
         _ => Err(format!("program `{program}` does not handle surface input")),
+    }
+}
+
+/// `3d-surfq-…-qB`: delone's refinement (`-pqB`) against TetGen's
+/// `-pqB` executable; the info column gives the Steiner points and the
+/// minimum dihedral angle of the output.
+fn run_surfq(
+    program: &str,
+    p: &[[f64; 3]],
+    tris: &[[u32; 3]],
+    q: f64,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    use delone::tet::quality::TetStats;
+    use delone::tet::recover::check_recovered;
+    use delone::tet::refine::{refine, RefineOptions};
+    match program {
+        "delone" => {
+            let opts = RefineOptions {
+                max_radius_edge: q,
+                ..RefineOptions::default()
+            };
+            on_ready();
+            let t = Instant::now();
+            let r = refine(black_box(p), black_box(tris), &opts);
+            let seconds = t.elapsed().as_secs_f64();
+            let r = r.map_err(|e| e.to_string())?;
+            let m = &r.rec.mesh;
+            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
+            let valid = check.then(|| check_recovered(p, tris, &r.rec).map_err(|v| v.to_string()));
+            let s = TetStats::of(&r.rec.points, &m.tets);
+            Ok(Run {
+                seconds,
+                elements: m.tets.len(),
+                hash: Some(hash),
+                valid,
+                info: format!(
+                    "steiner={} mindih={:.2} bad={}",
+                    r.rec.report.steiner() + r.report.steiner(),
+                    s.min_dihedral,
+                    r.report.remaining_bad
+                ),
+                external_peak_kb: None,
+            })
+        }
+        "tetgen-pq" => {
+            on_ready();
+            let r = crate::refbin::run_tetgen_pq(p, tris, q)?;
+            Ok(Run {
+                seconds: r.run.seconds,
+                elements: r.run.tets,
+                hash: None,
+                valid: None,
+                info: format!(
+                    "steiner={} mindih={}",
+                    r.run.steiner,
+                    r.min_dihedral
+                        .map_or_else(|| "?".to_string(), |d| format!("{d:.2}"))
+                ),
+                external_peak_kb: r.run.peak_kb,
+            })
+        }
+        _ => Err(format!(
+            "program `{program}` does not handle 3d-surfq cases"
+        )),
     }
 }
 

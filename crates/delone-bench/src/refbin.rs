@@ -258,6 +258,113 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
     })
 }
 
+/// What one run of the external `tetgen -pqB` reported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TetgenQRun {
+    /// Times (meshing phases, refinement and optimization included),
+    /// tetrahedra, Steiner points, peak memory.
+    pub run: TetgenRun,
+    /// Minimum dihedral angle (degrees) of the output, from its `.node`
+    /// and `.ele` files (`None` when they could not be read).
+    pub min_dihedral: Option<f64>,
+}
+
+/// Runs the reference `tetgen -pqB` (quality refinement with radius-edge
+/// bound `ratio`) on a closed triangle surface and reads its output mesh
+/// for the minimum dihedral angle.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or rejects the input.
+pub fn run_tetgen_pq(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    ratio: f64,
+) -> Result<TetgenQRun, String> {
+    use std::fmt::Write as _;
+    let exe = tetgen()?;
+    let dir = scratch("tgq")?;
+    let off = dir.join("s.off");
+    let mut text = format!("OFF\n{} {} 0\n", points.len(), triangles.len());
+    for q in points {
+        let _ = writeln!(text, "{:?} {:?} {:?}", q[0], q[1], q[2]);
+    }
+    for t in triangles {
+        let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
+    }
+    std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
+    let sw = format!("-pq{ratio}F");
+    let run = run_sampled(&exe, &[sw.as_ref(), off.as_os_str()], &dir);
+    let mesh = read_node_ele(&dir.join("s.1.node"), &dir.join("s.1.ele"));
+    std::fs::remove_dir_all(&dir).ok();
+    let (out, peak) = run?;
+    let seconds = [
+        "Delaunay seconds:",
+        "Surface mesh seconds:",
+        "Constrained Delaunay seconds:",
+        "Exterior tets removal seconds:",
+        "Refinement seconds:",
+        "Optimization seconds:",
+    ]
+    .iter()
+    .filter_map(|k| field(&out, k))
+    .sum::<f64>();
+    let tets = field(&out, "Mesh tetrahedra:").unwrap_or(0.0) as usize;
+    if tets == 0 {
+        let last = out
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("");
+        return Err(format!("tetgen {sw} produced no tetrahedra: {last}"));
+    }
+    let input = field(&out, "Input points:").unwrap_or(0.0) as usize;
+    let np = field(&out, "Mesh points:").unwrap_or(0.0) as usize;
+    let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
+    Ok(TetgenQRun {
+        run: TetgenRun {
+            seconds,
+            tets,
+            steiner: np.saturating_sub(input),
+            peak_kb: peak,
+        },
+        min_dihedral,
+    })
+}
+
+/// Points and tetrahedra of a TetGen output.
+type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
+
+/// Reads TetGen's `.node` and `.ele` files (first index 0 or 1).
+fn read_node_ele(node: &Path, ele: &Path) -> Option<NodeEle> {
+    fn rows(text: &str) -> impl Iterator<Item = Vec<&str>> {
+        text.lines()
+            .map(|l| l.split('#').next().unwrap_or(""))
+            .map(|l| l.split_whitespace().collect::<Vec<_>>())
+            .filter(|w| !w.is_empty())
+    }
+    let nt = std::fs::read_to_string(node).ok()?;
+    let et = std::fs::read_to_string(ele).ok()?;
+    let mut first = None;
+    let mut pts = Vec::new();
+    for w in rows(&nt).skip(1) {
+        let i: i64 = w.first()?.parse().ok()?;
+        first.get_or_insert(i);
+        let c = |k: usize| w.get(k).and_then(|x| x.parse::<f64>().ok());
+        pts.push([c(1)?, c(2)?, c(3)?]);
+    }
+    let base = first.unwrap_or(0);
+    let mut tets = Vec::new();
+    for w in rows(&et).skip(1) {
+        let v = |k: usize| {
+            w.get(k)
+                .and_then(|x| x.parse::<i64>().ok())
+                .and_then(|x| u32::try_from(x - base).ok())
+        };
+        tets.push([v(1)?, v(2)?, v(3)?, v(4)?]);
+    }
+    Some((pts, tets))
+}
+
 /// What one run of the external `triangle` reported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangleRun {

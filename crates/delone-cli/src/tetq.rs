@@ -51,7 +51,7 @@ pub fn report(
     let mut lines = Vec::new();
     if let Some(r) = refined {
         lines.push(format!(
-            "refinement: {} points (on segments {}, on facets {}, interior {}); {} circumcentres rejected, {} bad tetrahedra skipped, {} above the bound{}",
+            "refinement: {} points (on segments {}, on facets {}, interior {}); {} circumcentres rejected, {} bad tetrahedra skipped, {} above the bound ({} flat on a plane of the input){}",
             r.steiner(),
             r.on_segments,
             r.on_facets,
@@ -59,6 +59,7 @@ pub fn report(
             r.rejected,
             r.skipped,
             r.remaining_bad,
+            r.flat,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
     }

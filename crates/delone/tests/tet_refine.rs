@@ -231,7 +231,7 @@ fn corpus(max_tris: usize, qs: &[f64]) {
             // Bad cells may remain only where the refinement reported
             // skipping them (small input angles, thin features).
             assert!(
-                r.report.remaining_bad <= r.report.skipped,
+                r.report.remaining_bad <= r.report.skipped + r.report.flat,
                 "{rel}: {} bad, {} skipped",
                 r.report.remaining_bad,
                 r.report.skipped
@@ -240,8 +240,43 @@ fn corpus(max_tris: usize, qs: &[f64]) {
     }
 }
 
+/// The small corpus models on which the refinement terminates with a
+/// conforming mesh today (the others: see the ignored test below).
 #[test]
-#[ignore = "known failures: coverage repair gives up on some corpus models (first stage)"]
+fn corpus_models_that_terminate() {
+    let Some(dir) = data_dir() else { return };
+    for (name, qs) in [
+        ("cgal_star", &[2.0, 1.414][..]),
+        ("cgal_sphere", &[2.0, 1.414][..]),
+        ("cgal_blob_closed", &[2.0][..]),
+    ] {
+        let rel = format!("surf/off/{name}.off");
+        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
+            eprintln!("note: {rel} missing; skipping");
+            continue;
+        };
+        let s = delone_io::read_off(&bytes).unwrap();
+        let t = s.triangles();
+        for &q in qs {
+            let o = RefineOptions {
+                max_steiner: 20 * t.len() + 5000,
+                ..opts(q)
+            };
+            let r = run(&rel, &s.points, &t, &o);
+            assert!(!r.report.budget_exhausted, "{rel} q{q}");
+            assert!(
+                r.report.remaining_bad <= r.report.skipped + r.report.flat,
+                "{rel} q{q}: {} bad, {} skipped, {} flat",
+                r.report.remaining_bad,
+                r.report.skipped,
+                r.report.flat
+            );
+        }
+    }
+}
+
+#[test]
+#[ignore = "known failures: coverage repair gives up, or runs long, on most small corpus models"]
 fn corpus_small_models_q2_and_q1414() {
     corpus(700, &[2.0, 1.414]);
 }

@@ -127,6 +127,12 @@ pub struct RefineReport {
     pub budget_exhausted: bool,
     /// Output cells whose radius-edge ratio is above the bound.
     pub remaining_bad: usize,
+    /// Of [`Self::remaining_bad`], the nearly flat cells whose four
+    /// vertices all lie on one plane of coplanar input triangles (inexact
+    /// Steiner points on that plane, a hair off it); they are not split,
+    /// since their circumcentres lie far outside and splitting the boundary
+    /// for them would run away.
+    pub flat: usize,
 }
 
 impl RefineReport {
@@ -253,6 +259,10 @@ fn ekey(a: u32, b: u32) -> (u32, u32) {
 /// (protection against runaway refinement at small input angles).
 const SEGMENT_FLOOR: f64 = 1.0 / 4096.0;
 
+/// Radius-edge ratio above which a rejected cell counts as flat (see
+/// [`State::split_cell`]).
+const FLAT_RATIO: f64 = 1e6;
+
 const TET_EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
 /// A bad cell in the priority queue: worst first, then by vertices.
@@ -273,6 +283,8 @@ struct State {
     edge_tris: Vec<[u32; 2]>,
     chains: Vec<Vec<u32>>,
     tri_edges: Vec<[u32; 3]>,
+    /// Plane group of each input triangle (coplanar neighbours share one).
+    plane: Vec<u32>,
     subsegs: HashMap<(u32, u32), u32>,
     subfaces: HashMap<[u32; 3], u32>,
     facet_faces: Vec<BTreeSet<[u32; 3]>>,
@@ -377,12 +389,14 @@ impl State {
             .max_volume
             .filter(|v| *v > 0.0)
             .map_or(f64::INFINITY, |v| v * s * s * s);
+        let plane = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
         let mut st = State {
             n_in,
             tris: triangles.to_vec(),
             vfacets,
             edge_tris,
             chains,
+            plane,
             tri_edges,
             subsegs,
             subfaces: HashMap::new(),
@@ -468,6 +482,19 @@ impl State {
         })
     }
 
+    /// Do the four vertices of a cell lie on one plane of coplanar input
+    /// triangles (each on a triangle of that plane)?
+    fn flat_on_plane(&self, tv: [u32; 4]) -> bool {
+        let groups = |q: u32| {
+            self.vfacets
+                .get(q as usize)
+                .into_iter()
+                .flatten()
+                .map(|&t| self.plane[t as usize])
+        };
+        groups(tv[0]).any(|g| tv[1..].iter().all(|&q| groups(q).any(|h| h == g)))
+    }
+
     /// Queues what cell `t` shows: encroached subsegments and subfaces
     /// (by its own vertices), and itself when bad.
     fn check_cell(&mut self, dt: &Delaunay3<'_>, t: u32) {
@@ -499,7 +526,7 @@ impl State {
                 }
             }
         }
-        if self.inside.get(t as usize) == Some(&true) {
+        if self.inside.get(t as usize) == Some(&true) && !self.flat_on_plane(tv) {
             let p = tv.map(|q| *g(q));
             let r = quality::radius_edge_ratio(&p);
             let v = quality::volume(&p);
@@ -937,6 +964,13 @@ impl State {
             return;
         }
         self.report.rejected += 1;
+        if quality::radius_edge_ratio(&p) > FLAT_RATIO {
+            // A nearly flat cell (four points a hair off one plane): its
+            // circumcentre is far away, and splitting the boundary it
+            // encroaches there would run away.
+            self.report.skipped += 1;
+            return;
+        }
         // Split the encroached pieces that are not much smaller than the
         // cell's shortest edge.
         let g = |q: u32| pts[q as usize];
@@ -1100,6 +1134,9 @@ impl State {
             let p = tv.map(|q| pts[q as usize]);
             if quality::radius_edge_ratio(&p) > self.bound {
                 self.report.remaining_bad += 1;
+                if self.flat_on_plane(*tv) {
+                    self.report.flat += 1;
+                }
             }
         }
         self.inexact.sort_unstable();
@@ -1205,5 +1242,60 @@ fn carve(core: &super::delaunay::Core, subfaces: &HashMap<[u32; 3], u32>) -> Vec
         .iter()
         .zip(&depth)
         .map(|(tv, &d)| tv[0] != DEAD && tv[3] != INF && d != u32::MAX && d % 2 == 1)
+        .collect()
+}
+
+/// Relative distance below which a neighbour's fourth vertex counts as on
+/// the plane of a triangle (input coordinates printed with 7 digits make
+/// flat regions a few 1e-8 off).
+const COPLANAR_TOL: f64 = 1e-6;
+
+/// Groups the input triangles into planes: neighbours across an input edge
+/// whose fourth vertex is coplanar (exactly, or within [`COPLANAR_TOL`] of
+/// the triangle's size) share a group (union-find; the
+/// group id is the smallest triangle index of the group).
+fn plane_groups(
+    pts: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    edge_tris: &[[u32; 2]],
+    tri_edges: &[[u32; 3]],
+) -> Vec<u32> {
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            let up = p[p[x as usize] as usize];
+            p[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    for (t, tri) in triangles.iter().enumerate() {
+        for &e in &tri_edges[t] {
+            let [t1, t2] = edge_tris[e as usize];
+            let u = if t1 as usize == t { t2 } else { t1 };
+            if u as usize == t {
+                continue;
+            }
+            let other = triangles[u as usize];
+            let Some(&d) = other.iter().find(|q| !tri.contains(q)) else {
+                continue;
+            };
+            let g = |q: u32| &pts[q as usize];
+            let (pa, pb, pc, pd) = (g(tri[0]), g(tri[1]), g(tri[2]), g(d));
+            let span = [pb, pc, pd]
+                .iter()
+                .fold(0.0f64, |m, q| m.max(dist2(pa, q)))
+                .sqrt();
+            if delone_predicates::orient3d(pa, pb, pc, pd) == 0.0
+                || plane_distance(pa, pb, pc, pd) <= COPLANAR_TOL * span
+            {
+                let (a, b) = (find(&mut parent, t as u32), find(&mut parent, u));
+                let (lo, hi) = (a.min(b), a.max(b));
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    (0..triangles.len() as u32)
+        .map(|t| find(&mut parent, t))
         .collect()
 }
