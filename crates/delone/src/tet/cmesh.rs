@@ -85,6 +85,10 @@ pub(crate) struct CMesh<'a> {
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
+    /// Vertices of the tetrahedra created since the last
+    /// [`CMesh::take_touched`] (unsorted, with repeats): every face created
+    /// or destroyed since then has all its vertices here.
+    touched: Vec<u32>,
 }
 
 impl<'a> CMesh<'a> {
@@ -106,7 +110,18 @@ impl<'a> CMesh<'a> {
             vt,
             flips23: 0,
             removals: 0,
+            touched: Vec::new(),
         }
+    }
+
+    /// The vertices of the tetrahedra created since the previous call
+    /// (sorted, distinct): a face not having all its vertices in this list
+    /// was neither created nor destroyed since then.
+    pub(crate) fn take_touched(&mut self) -> Vec<u32> {
+        let mut out = std::mem::take(&mut self.touched);
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// The points (input, then inserted).
@@ -265,6 +280,7 @@ impl<'a> CMesh<'a> {
                         self.vt.resize(w as usize + 1, DEAD);
                     }
                     self.vt[w as usize] = x;
+                    self.touched.push(w);
                 }
             }
         }

@@ -436,15 +436,16 @@ pub fn recover_domain(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
     };
-    let out = if opts.constrained || opts.preserve_surface {
-        st.run_cdt(&mut dt)?.dt
+    let (out, on) = if opts.constrained || opts.preserve_surface {
+        let (cm, on) = st.run_cdt(&mut dt)?;
+        (cm.dt, Some(on))
     } else {
         st.run(&mut dt)?;
-        dt
+        (dt, None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
     st.report.hull_tets = out.num_tets();
-    st.finish(&out, points, scale, domain)
+    st.finish(&out, on, points, scale, domain)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -723,11 +724,14 @@ impl State {
     /// points go only where flips failed, and the number of rounds is
     /// bounded like the conforming path's (each round splits at least one
     /// item or fails with a typed error).
-    fn run_cdt<'a>(&mut self, dt: &mut Delaunay3<'a>) -> Result<CMesh<'a>, RecoverError> {
+    fn run_cdt<'a>(
+        &mut self,
+        dt: &mut Delaunay3<'a>,
+    ) -> Result<(CMesh<'a>, Vec<Vec<[u32; 3]>>), RecoverError> {
         loop {
             self.report.rounds += 1;
             let sk = Skeleton::of(dt, true);
-            let (on, _) = self.surf.coverage(&sk, dt.points());
+            let (on, covered) = self.surf.coverage(&sk, dt.points());
             let mut prot = cdt::Protected::default();
             for f in on.iter().flatten() {
                 prot.add_face(*f);
@@ -760,29 +764,35 @@ impl State {
                 continue;
             }
             let segments_by_flips = subs.len();
-            let mut uncovered = self.uncovered(&cm);
+            // Coverage on `cm`, updated only where the flips changed faces.
+            let mut on_cm = on.clone();
+            let mut covered_cm = covered.clone();
+            let dt_uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+            self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
+            let mut uncovered: Vec<usize> =
+                (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             let by_flips = uncovered.len();
             if !uncovered.is_empty() {
                 for &t in &uncovered {
                     let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
                     cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
                 }
-                uncovered = self.uncovered(&cm);
+                self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
+                uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             }
             if uncovered.is_empty() {
                 self.report.flips23 = cm.flips23;
                 self.report.edge_removals = cm.removals;
                 self.report.segments_by_flips = segments_by_flips;
                 self.report.triangles_by_flips = by_flips;
-                return Ok(cm);
+                return Ok((cm, on_cm));
             }
             if self.opts.preserve_surface {
                 self.interior_points(dt, uncovered)?;
                 continue;
             }
             // Split the triangles the flips could not recover, in the
-            // Delaunay tetrahedralization.
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            // Delaunay tetrahedralization (`on`, `covered`: its coverage).
             let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
             list.sort_unstable();
             let mut progress = false;
@@ -897,11 +907,46 @@ impl State {
         Ok(())
     }
 
-    /// Input triangles not covered by faces of `cm`, ascending.
-    fn uncovered(&self, cm: &CMesh<'_>) -> Vec<usize> {
-        let sk = Skeleton::of(&cm.dt, true);
-        let (_, covered) = self.surf.coverage(&sk, cm.pts());
-        (0..covered.len()).filter(|&t| !covered[t]).collect()
+    /// Updates the coverage `on`, `covered` (exact for `cm` before the
+    /// operations logged since the last [`CMesh::take_touched`]) for `cm`
+    /// now: recomputes, locally, the triangles of `extra` and those having a
+    /// vertex of a tetrahedron created since (the others kept every face
+    /// with its vertices on them).
+    fn refresh_coverage(
+        &self,
+        cm: &mut CMesh<'_>,
+        extra: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        let touched = cm.take_touched();
+        let mut cands: Vec<usize> = extra.to_vec();
+        for &w in &touched {
+            if let Some(l) = self.surf.vtris.get(w as usize) {
+                cands.extend(l.iter().map(|&t| t as usize));
+            }
+        }
+        cands.sort_unstable();
+        cands.dedup();
+        let core = &cm.dt.core;
+        let mut slots: Vec<u32> = Vec::new();
+        for t in cands {
+            let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
+            slots.clear();
+            for w in cdt::tri_vertices(&self.surf, t, inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
+            on[t] = f;
+            covered[t] = c;
+        }
     }
 
     /// The input triangles using the input edges of `subs`, ascending.
@@ -1133,17 +1178,21 @@ impl State {
         }
     }
 
-    /// Carves and builds the output.
+    /// Carves and builds the output; `on`: the faces on each input
+    /// triangle when known (computed here otherwise).
     fn finish(
         mut self,
         dt: &Delaunay3<'_>,
+        on: Option<Vec<Vec<[u32; 3]>>>,
         input: &[[f64; 3]],
         scale: (f64, f64),
         domain: &Domain,
     ) -> Result<Recovered, RecoverError> {
         let unscale = 1.0 / (scale.0 * scale.1);
-        let sk = Skeleton::of(dt, true);
-        let (on, _) = self.surf.coverage(&sk, dt.points());
+        let on = on.unwrap_or_else(|| {
+            let sk = Skeleton::of(dt, true);
+            self.surf.coverage(&sk, dt.points()).0
+        });
         let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let face_tri: IdMap<[u32; 3], u32> = on
             .iter()
