@@ -85,10 +85,9 @@ pub(crate) struct CMesh<'a> {
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
-    /// Vertices of the tetrahedra created since the last
-    /// [`CMesh::take_touched`] (unsorted, with repeats): every face created
-    /// or destroyed since then has all its vertices here.
-    touched: Vec<u32>,
+    /// Finite faces (sorted triples) of the tetrahedra created or removed
+    /// since the last [`CMesh::take_touched`] (unsorted, with repeats).
+    touched: Vec<[u32; 3]>,
 }
 
 impl<'a> CMesh<'a> {
@@ -114,10 +113,11 @@ impl<'a> CMesh<'a> {
         }
     }
 
-    /// The vertices of the tetrahedra created since the previous call
-    /// (sorted, distinct): a face not having all its vertices in this list
-    /// was neither created nor destroyed since then.
-    pub(crate) fn take_touched(&mut self) -> Vec<u32> {
+    /// The finite faces (sorted triples; sorted, distinct) of the
+    /// tetrahedra created or removed since the previous call: every face
+    /// created or destroyed since then, and every face of a tetrahedron
+    /// created or destroyed since then, is in this list.
+    pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
         let mut out = std::mem::take(&mut self.touched);
         out.sort_unstable();
         out.dedup();
@@ -248,6 +248,18 @@ impl<'a> CMesh<'a> {
                 }
             }
         }
+        for tv in old
+            .iter()
+            .map(|&t| self.dt.core.v[t as usize])
+            .chain(new.iter().copied())
+        {
+            for f in 0..4 {
+                let k = face(tv, f);
+                if !k.contains(&INF) {
+                    self.touched.push(fkey(k));
+                }
+            }
+        }
         let c = &mut self.dt.core;
         for &t in old {
             c.release(t);
@@ -280,7 +292,6 @@ impl<'a> CMesh<'a> {
                         self.vt.resize(w as usize + 1, DEAD);
                     }
                     self.vt[w as usize] = x;
-                    self.touched.push(w);
                 }
             }
         }

@@ -909,9 +909,9 @@ impl State {
 
     /// Updates the coverage `on`, `covered` (exact for `cm` before the
     /// operations logged since the last [`CMesh::take_touched`]) for `cm`
-    /// now: recomputes, locally, the triangles of `extra` and those having a
-    /// vertex of a tetrahedron created since (the others kept every face
-    /// with its vertices on them).
+    /// now: recomputes, locally, the triangles of `extra` and those on
+    /// which a face of a tetrahedron created or removed since lies (the
+    /// others kept every face and tetrahedron with its vertices on them).
     fn refresh_coverage(
         &self,
         cm: &mut CMesh<'_>,
@@ -921,10 +921,10 @@ impl State {
     ) {
         let touched = cm.take_touched();
         let mut cands: Vec<usize> = extra.to_vec();
-        for &w in &touched {
-            if let Some(l) = self.surf.vtris.get(w as usize) {
-                cands.extend(l.iter().map(|&t| t as usize));
-            }
+        let (mut out, mut flat) = (Vec::new(), Vec::new());
+        for &f in &touched {
+            self.surf.face_triangles_split(f, &mut out, &mut flat);
+            cands.extend(out.iter().chain(&flat).map(|&t| t as usize));
         }
         cands.sort_unstable();
         cands.dedup();
