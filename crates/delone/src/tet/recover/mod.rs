@@ -488,6 +488,16 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
+/// What a round of the constrained recovery hands to the next one: the
+/// coverage and missing subsegments of the Delaunay tetrahedralization it
+/// started from, and how many points it had.
+struct RoundState {
+    on: Vec<Vec<[u32; 3]>>,
+    covered: Vec<bool>,
+    missing: Vec<(u32, u32, u32)>,
+    old_len: usize,
+}
+
 /// Rounds after which surface preservation gives up.
 const MAX_INTERIOR_ROUNDS: usize = 64;
 
@@ -728,10 +738,22 @@ impl State {
         &mut self,
         dt: &mut Delaunay3<'a>,
     ) -> Result<(CMesh<'a>, Vec<Vec<[u32; 3]>>), RecoverError> {
+        // From the second round on, the coverage and the missing
+        // subsegments of `dt` are updated near the points the previous round
+        // inserted (see `Self::update_round`) instead of recomputed.
+        let mut prev: Option<RoundState> = None;
         loop {
             self.report.rounds += 1;
-            let sk = Skeleton::of(dt, true);
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let mut cm = CMesh::new(dt.clone());
+            let (on, covered, subs) = match prev.take() {
+                None => {
+                    let sk = Skeleton::of(dt, true);
+                    let (on, covered) = self.surf.coverage(&sk, dt.points());
+                    let subs = self.missing_subsegments(&sk);
+                    (on, covered, subs)
+                }
+                Some(st) => self.update_round(&cm, st),
+            };
             let mut prot = cdt::Protected::default();
             for f in on.iter().flatten() {
                 prot.add_face(*f);
@@ -741,8 +763,7 @@ impl State {
                     prot.edges.insert(ekey(w[0], w[1]));
                 }
             }
-            let mut cm = CMesh::new(dt.clone());
-            let subs = self.missing_subsegments(&sk);
+            let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
                 if !cdt::recover_segment(&mut cm, u, v, &prot) {
@@ -753,14 +774,20 @@ impl State {
                 if self.opts.preserve_surface {
                     let tris = self.edge_triangles(&failed);
                     self.interior_points(dt, tris)?;
-                    continue;
-                }
-                for &(e, u, v) in &failed {
-                    if !self.steiner_left() {
-                        return Err(self.budget_error(failed.len(), 0));
+                } else {
+                    for &(e, u, v) in &failed {
+                        if !self.steiner_left() {
+                            return Err(self.budget_error(failed.len(), 0));
+                        }
+                        self.split_edge(dt, e, u, v)?;
                     }
-                    self.split_edge(dt, e, u, v)?;
                 }
+                prev = Some(RoundState {
+                    on,
+                    covered,
+                    missing: subs,
+                    old_len,
+                });
                 continue;
             }
             let segments_by_flips = subs.len();
@@ -789,10 +816,17 @@ impl State {
             }
             if self.opts.preserve_surface {
                 self.interior_points(dt, uncovered)?;
+                prev = Some(RoundState {
+                    on,
+                    covered,
+                    missing: subs,
+                    old_len,
+                });
                 continue;
             }
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
+            let sk = Skeleton::of(dt, false);
             let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
             list.sort_unstable();
             let mut progress = false;
@@ -817,6 +851,120 @@ impl State {
                     steiner: self.report.steiner(),
                 });
             }
+            prev = Some(RoundState {
+                on,
+                covered,
+                missing: subs,
+                old_len,
+            });
+        }
+    }
+
+    /// The coverage and the missing subsegments of the Delaunay
+    /// tetrahedralization wrapped (unflipped) in `cm`, from those of the
+    /// previous round (`st`) and the points inserted since (ids from
+    /// `st.old_len`). A Delaunay insertion changes only tetrahedra whose
+    /// vertices end up adjacent to an inserted point, so only the triangles
+    /// and subsegments at the vertices of the inserted points' stars can
+    /// change (with the subsegments missing before, now maybe split).
+    #[allow(clippy::type_complexity)]
+    fn update_round(
+        &self,
+        cm: &CMesh<'_>,
+        st: RoundState,
+    ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>, Vec<(u32, u32, u32)>) {
+        let RoundState {
+            mut on,
+            mut covered,
+            missing,
+            old_len,
+        } = st;
+        let core = &cm.dt.core;
+        let mut near: Vec<u32> = Vec::new();
+        for p in old_len as u32..cm.pts().len() as u32 {
+            near.push(p);
+            for x in cm.star(p) {
+                near.extend(core.v[x as usize].iter().filter(|&&w| w != INF));
+            }
+        }
+        near.extend(missing.iter().flat_map(|&(_, u, v)| [u, v]));
+        near.sort_unstable();
+        near.dedup();
+        let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+        let mut edges: Vec<u32> = Vec::new();
+        for &w in &near {
+            if let Some(l) = self.surf.vtris.get(w as usize) {
+                for &t in l {
+                    tris.push(t as usize);
+                    edges.extend(self.surf.tri_edges[t as usize]);
+                }
+            }
+        }
+        tris.sort_unstable();
+        tris.dedup();
+        edges.sort_unstable();
+        edges.dedup();
+        let mut slots: Vec<u32> = Vec::new();
+        for t in tris {
+            let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
+            slots.clear();
+            for w in cdt::tri_vertices(&self.surf, t, inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
+            on[t] = f;
+            covered[t] = c;
+        }
+        // Subsegments at a vertex of `near`, in the global order (by edge,
+        // then along its chain).
+        let mut subs = Vec::new();
+        for e in edges {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let (u, v) = (w[0], w[1]);
+                if (near.binary_search(&u).is_ok() || near.binary_search(&v).is_ok())
+                    && cm.find_edge(u, v).is_none()
+                {
+                    subs.push((e, u, v));
+                }
+            }
+        }
+        #[cfg(debug_assertions)]
+        self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
+        (on, covered, subs)
+    }
+
+    /// Debug builds: the incrementally kept coverage (and missing
+    /// subsegments) equal the global computation.
+    #[cfg(debug_assertions)]
+    fn debug_same_coverage(
+        &self,
+        dt: &Delaunay3<'_>,
+        on: &[Vec<[u32; 3]>],
+        covered: &[bool],
+        subs: Option<&[(u32, u32, u32)]>,
+    ) {
+        let sk = Skeleton::of(dt, true);
+        let (g_on, g_covered) = self.surf.coverage(&sk, dt.points());
+        assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
+        for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
+            let (mut a, mut b) = (a.clone(), b.clone());
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b, "incremental coverage faces differ on triangle {t}");
+        }
+        if let Some(subs) = subs {
+            assert_eq!(
+                self.missing_subsegments(&sk),
+                subs,
+                "missing subsegments differ"
+            );
         }
     }
 
@@ -947,6 +1095,8 @@ impl State {
             on[t] = f;
             covered[t] = c;
         }
+        #[cfg(debug_assertions)]
+        self.debug_same_coverage(&cm.dt, on, covered, None);
     }
 
     /// The input triangles using the input edges of `subs`, ascending.
