@@ -145,39 +145,64 @@ impl<'a> CMesh<'a> {
 
     /// Live tetrahedra (ghosts included) containing vertex `u`.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
+        let mut out = Vec::new();
+        self.star_until(u, &mut out, |_| false);
+        out
+    }
+
+    /// Walks the star of `u` into `out` (breadth first from the hint),
+    /// stopping early at the first tetrahedron for which `stop` holds;
+    /// returns it.
+    fn star_until(&self, u: u32, out: &mut Vec<u32>, stop: impl Fn(u32) -> bool) -> Option<u32> {
         let c = self.core();
         let mut start = self.vt.get(u as usize).copied().unwrap_or(DEAD);
         if start == DEAD || c.v[start as usize][0] == DEAD || !c.v[start as usize].contains(&u) {
             match c.v.iter().position(|tv| tv[0] != DEAD && tv.contains(&u)) {
                 Some(t) => start = t as u32,
-                None => return Vec::new(),
+                None => return None,
             }
         }
-        let mut out = vec![start];
+        out.clear();
+        out.push(start);
+        // Large stars (thin models) use a set; small ones a linear search.
+        let mut seen: Option<crate::tet::recover::IdSet<u32>> = None;
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
             i += 1;
+            if stop(t) {
+                return Some(t);
+            }
             let tv = c.v[t as usize];
             for (f, &w) in tv.iter().enumerate() {
                 if w == u {
                     continue;
                 }
                 let n = c.adj[t as usize][f] >> 2;
-                if !out.contains(&n) {
+                let new = match &mut seen {
+                    Some(set) => set.insert(n),
+                    None if out.len() >= 48 => {
+                        let mut set: crate::tet::recover::IdSet<u32> =
+                            out.iter().copied().collect();
+                        let new = set.insert(n);
+                        seen = Some(set);
+                        new
+                    }
+                    None => !out.contains(&n),
+                };
+                if new {
                     out.push(n);
                 }
             }
         }
-        out
+        None
     }
 
     /// A live tetrahedron containing edge `u v`.
     pub(crate) fn find_edge(&self, u: u32, v: u32) -> Option<u32> {
         let c = self.core();
-        self.star(u)
-            .into_iter()
-            .find(|&t| c.v[t as usize].contains(&v))
+        let mut buf = Vec::new();
+        self.star_until(u, &mut buf, |t| c.v[t as usize].contains(&v))
     }
 
     /// The tetrahedra around edge `a b` (starting at `t`, which contains it)
