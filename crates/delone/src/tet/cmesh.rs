@@ -88,6 +88,12 @@ pub(crate) struct CMesh<'a> {
     /// Finite faces (sorted triples) of the tetrahedra created or removed
     /// since the last [`CMesh::take_touched`] (unsorted, with repeats).
     touched: Vec<[u32; 3]>,
+    /// Edge removals known to be impossible: `[a, b, ring…]` with the ring
+    /// rotated to start at its least vertex. Whether a removal is possible
+    /// depends only on this (exact signs), so a failure is never retried;
+    /// the set may be carried over to another mesh on the same points
+    /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
+    failed: crate::tet::recover::IdSet<Vec<u32>>,
 }
 
 impl<'a> CMesh<'a> {
@@ -110,6 +116,7 @@ impl<'a> CMesh<'a> {
             flips23: 0,
             removals: 0,
             touched: Vec::new(),
+            failed: Default::default(),
         }
     }
 
@@ -122,6 +129,17 @@ impl<'a> CMesh<'a> {
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
+    pub(crate) fn take_failed(&mut self) -> crate::tet::recover::IdSet<Vec<u32>> {
+        std::mem::take(&mut self.failed)
+    }
+
+    /// Sets the known impossible edge removals, from [`CMesh::take_failed`]
+    /// of a mesh whose points are a prefix of (or equal to) these points.
+    pub(crate) fn set_failed(&mut self, failed: crate::tet::recover::IdSet<Vec<u32>>) {
+        self.failed = failed;
     }
 
     /// The points (input, then inserted).
@@ -369,6 +387,33 @@ impl<'a> CMesh<'a> {
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
         let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
+        let key = {
+            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+            let mut k = Vec::with_capacity(r.len() + 2);
+            k.extend([a, b]);
+            k.extend(r[m..].iter().chain(&r[..m]));
+            k
+        };
+        if self.failed.contains(&key) {
+            return None;
+        }
+        let out = self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
+        if out.is_none() {
+            self.failed.insert(key);
+        }
+        out
+    }
+
+    /// [`CMesh::remove_edge`] once the ring is known.
+    fn remove_ring(
+        &mut self,
+        tets: Vec<u32>,
+        r: &mut Vec<u32>,
+        a: u32,
+        b: u32,
+        tri_cost: TriCost<'_>,
+        edge_cost: EdgeCost<'_>,
+    ) -> Option<i64> {
         let mut ghosts = Vec::new();
         if let Some(k) = r.iter().position(|&w| w == INF) {
             r.rotate_left(k + 1);

@@ -743,9 +743,12 @@ impl State {
         // subsegments of `dt` are updated near the points the previous round
         // inserted (see `Self::update_round`) instead of recomputed.
         let mut prev: Option<RoundState> = None;
+        // Edge removals found impossible in earlier rounds (same points).
+        let mut failed_removals = IdSet::default();
         loop {
             self.report.rounds += 1;
             let mut cm = CMesh::new(dt.clone());
+            cm.set_failed(std::mem::take(&mut failed_removals));
             let (on, covered, subs) = match prev.take() {
                 None => {
                     let sk = Skeleton::of(dt, true);
@@ -783,6 +786,7 @@ impl State {
                         self.split_edge(dt, e, u, v)?;
                     }
                 }
+                failed_removals = cm.take_failed();
                 prev = Some(RoundState {
                     on,
                     covered,
@@ -817,6 +821,7 @@ impl State {
             }
             if self.opts.preserve_surface {
                 self.interior_points(dt, uncovered)?;
+                failed_removals = cm.take_failed();
                 prev = Some(RoundState {
                     on,
                     covered,
@@ -852,6 +857,7 @@ impl State {
                     steiner: self.report.steiner(),
                 });
             }
+            failed_removals = cm.take_failed();
             prev = Some(RoundState {
                 on,
                 covered,
