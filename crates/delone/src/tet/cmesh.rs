@@ -48,6 +48,10 @@ pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
+/// Shortest ring whose failed removal is memoized (shorter ones are
+/// cheaper to retry than to remember).
+const MEMO_RING: usize = 6;
+
 /// The sorted key of a triangle.
 #[inline]
 pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
@@ -88,8 +92,9 @@ pub(crate) struct CMesh<'a> {
     /// Finite faces (sorted triples) of the tetrahedra created or removed
     /// since the last [`CMesh::take_touched`] (unsorted, with repeats).
     touched: Vec<[u32; 3]>,
-    /// Edge removals known to be impossible: `[a, b, ring…]` with the ring
-    /// rotated to start at its least vertex. Whether a removal is possible
+    /// Edge removals known to be impossible (rings of [`MEMO_RING`] or more
+    /// vertices): `[a, b, ring…]` with the ring rotated to start at its
+    /// least vertex. Whether a removal is possible
     /// depends only on this (exact signs), so a failure is never retried;
     /// the set may be carried over to another mesh on the same points
     /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
@@ -387,6 +392,9 @@ impl<'a> CMesh<'a> {
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
         let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
+        if r.len() < MEMO_RING {
+            return self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
+        }
         let key = {
             let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
             let mut k = Vec::with_capacity(r.len() + 2);
@@ -741,6 +749,68 @@ mod tests {
             }
         }
         assert_eq!(m2.dt.core.v, before);
+    }
+
+    #[test]
+    fn touched_faces_and_failed_removals_are_logged() {
+        let s = 3f64.sqrt() / 2.0;
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [-0.5, s, 0.0],
+            [-0.5, -s, 0.0],
+            [0.0, 0.0, 0.1],
+            [0.0, 0.0, -0.1],
+        ];
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        assert!(m.take_touched().is_empty());
+        let t = m.find_edge(3, 4).unwrap();
+        m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0).unwrap();
+        let touched = m.take_touched();
+        // The removed faces around 3-4 and the new face 0-1-2 are logged.
+        assert!(touched.contains(&[0, 1, 2]));
+        assert!(touched.contains(&[0, 3, 4]) || touched.contains(&[1, 3, 4]));
+        assert!(m.take_touched().is_empty());
+        // Random points: every interior-edge removal that fails is
+        // memoized and fails again; a failure changes nothing.
+        let pts: Vec<[f64; 3]> = (0..40)
+            .map(|i| {
+                let x = (i as f64 * 0.618_034).fract();
+                let y = (i as f64 * 0.414_213_5).fract();
+                let z = (i as f64 * 0.732_050_8).fract();
+                [x, y, z]
+            })
+            .collect();
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut failures = 0;
+        for t in 0..m.dt.core.v.len() as u32 {
+            let tv = m.dt.core.v[t as usize];
+            if tv[0] == DEAD || tv.contains(&INF) || m.edge_ring(t, tv[0], tv[1]).is_none() {
+                continue;
+            }
+            let before = m.dt.core.v.clone();
+            let n = m.failed.len();
+            let long = m
+                .edge_ring(t, tv[0], tv[1])
+                .is_some_and(|(_, r)| r.len() >= MEMO_RING);
+            if m.remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                .is_none()
+                && long
+            {
+                // One new key, or the same edge seen from another slot.
+                failures += 1;
+                let k = m.failed.len();
+                assert!(k == n + 1 || k == n && n > 0);
+                assert!(m
+                    .remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                    .is_none());
+                assert_eq!(m.failed.len(), k);
+                assert_eq!(m.dt.core.v, before);
+            } else if !long {
+                assert_eq!(m.failed.len(), n);
+            }
+        }
+        assert!(failures > 0);
+        m.check().unwrap();
     }
 
     #[test]
