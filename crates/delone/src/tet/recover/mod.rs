@@ -489,11 +489,14 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
+/// Per input triangle, the mesh faces lying on it.
+type FacesOn = Vec<Vec<[u32; 3]>>;
+
 /// What a round of the constrained recovery hands to the next one: the
 /// coverage and missing subsegments of the Delaunay tetrahedralization it
 /// started from, and how many points it had.
 struct RoundState {
-    on: Vec<Vec<[u32; 3]>>,
+    on: FacesOn,
     covered: Vec<bool>,
     missing: Vec<(u32, u32, u32)>,
     old_len: usize,
@@ -738,7 +741,7 @@ impl State {
     fn run_cdt<'a>(
         &mut self,
         dt: &mut Delaunay3<'a>,
-    ) -> Result<(CMesh<'a>, Vec<Vec<[u32; 3]>>), RecoverError> {
+    ) -> Result<(CMesh<'a>, FacesOn), RecoverError> {
         // From the second round on, the coverage and the missing
         // subsegments of `dt` are updated near the points the previous round
         // inserted (see `Self::update_round`) instead of recomputed.
@@ -874,12 +877,11 @@ impl State {
     /// vertices end up adjacent to an inserted point, so only the triangles
     /// and subsegments at the vertices of the inserted points' stars can
     /// change (with the subsegments missing before, now maybe split).
-    #[allow(clippy::type_complexity)]
     fn update_round(
         &self,
         cm: &CMesh<'_>,
         st: RoundState,
-    ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>, Vec<(u32, u32, u32)>) {
+    ) -> (FacesOn, Vec<bool>, Vec<(u32, u32, u32)>) {
         let RoundState {
             mut on,
             mut covered,
