@@ -489,6 +489,10 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
+/// Coverage is recomputed globally when more than one triangle in this
+/// many needs it (locally otherwise).
+const GLOBAL_FRACTION: usize = 16;
+
 /// Per input triangle, the mesh faces lying on it.
 type FacesOn = Vec<Vec<[u32; 3]>>;
 
@@ -913,24 +917,7 @@ impl State {
         tris.dedup();
         edges.sort_unstable();
         edges.dedup();
-        let mut slots: Vec<u32> = Vec::new();
-        for t in tris {
-            let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
-            slots.clear();
-            for w in cdt::tri_vertices(&self.surf, t, inner) {
-                slots.extend(cm.star(w));
-            }
-            slots.sort_unstable();
-            slots.dedup();
-            let tets: Vec<[u32; 4]> = slots
-                .iter()
-                .map(|&x| core.v[x as usize])
-                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-                .collect();
-            let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
-            on[t] = f;
-            covered[t] = c;
-        }
+        self.recompute(cm, &tris, &mut on, &mut covered);
         // Subsegments at a vertex of `near`, in the global order (by edge,
         // then along its chain).
         let mut subs = Vec::new();
@@ -1085,9 +1072,32 @@ impl State {
         }
         cands.sort_unstable();
         cands.dedup();
+        self.recompute(cm, &cands, on, covered);
+        #[cfg(debug_assertions)]
+        self.debug_same_coverage(&cm.dt, on, covered, None);
+    }
+
+    /// Recomputes the coverage of triangles `cands` on `cm`: locally, or
+    /// globally when they are many (same result, cheaper then).
+    fn recompute(
+        &self,
+        cm: &CMesh<'_>,
+        cands: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+            let sk = Skeleton::of(&cm.dt, true);
+            let (g_on, g_covered) = self.surf.coverage(&sk, cm.pts());
+            for (t, f) in g_on.into_iter().enumerate() {
+                on[t] = f;
+            }
+            covered.copy_from_slice(&g_covered);
+            return;
+        }
         let core = &cm.dt.core;
         let mut slots: Vec<u32> = Vec::new();
-        for t in cands {
+        for &t in cands {
             let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
             slots.clear();
             for w in cdt::tri_vertices(&self.surf, t, inner) {
@@ -1104,8 +1114,6 @@ impl State {
             on[t] = f;
             covered[t] = c;
         }
-        #[cfg(debug_assertions)]
-        self.debug_same_coverage(&cm.dt, on, covered, None);
     }
 
     /// The input triangles using the input edges of `subs`, ascending.
