@@ -48,6 +48,10 @@ pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
+/// Shortest ring whose failed removal is memoized (shorter ones are
+/// cheaper to retry than to remember).
+const MEMO_RING: usize = 6;
+
 /// The sorted key of a triangle.
 #[inline]
 pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
@@ -85,6 +89,16 @@ pub(crate) struct CMesh<'a> {
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
+    /// Finite faces (sorted triples) of the tetrahedra created or removed
+    /// since the last [`CMesh::take_touched`] (unsorted, with repeats).
+    touched: Vec<[u32; 3]>,
+    /// Edge removals known to be impossible (rings of [`MEMO_RING`] or more
+    /// vertices): `[a, b, ring…]` with the ring rotated to start at its
+    /// least vertex. Whether a removal is possible
+    /// depends only on this (exact signs), so a failure is never retried;
+    /// the set may be carried over to another mesh on the same points
+    /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
+    failed: crate::tet::recover::IdSet<Vec<u32>>,
 }
 
 impl<'a> CMesh<'a> {
@@ -106,7 +120,31 @@ impl<'a> CMesh<'a> {
             vt,
             flips23: 0,
             removals: 0,
+            touched: Vec::new(),
+            failed: Default::default(),
         }
+    }
+
+    /// The finite faces (sorted triples; sorted, distinct) of the
+    /// tetrahedra created or removed since the previous call: every face
+    /// created or destroyed since then, and every face of a tetrahedron
+    /// created or destroyed since then, is in this list.
+    pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
+        let mut out = std::mem::take(&mut self.touched);
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
+    pub(crate) fn take_failed(&mut self) -> crate::tet::recover::IdSet<Vec<u32>> {
+        std::mem::take(&mut self.failed)
+    }
+
+    /// Sets the known impossible edge removals, from [`CMesh::take_failed`]
+    /// of a mesh whose points are a prefix of (or equal to) these points.
+    pub(crate) fn set_failed(&mut self, failed: crate::tet::recover::IdSet<Vec<u32>>) {
+        self.failed = failed;
     }
 
     /// The points (input, then inserted).
@@ -130,39 +168,64 @@ impl<'a> CMesh<'a> {
 
     /// Live tetrahedra (ghosts included) containing vertex `u`.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
+        let mut out = Vec::new();
+        self.star_until(u, &mut out, |_| false);
+        out
+    }
+
+    /// Walks the star of `u` into `out` (breadth first from the hint),
+    /// stopping early at the first tetrahedron for which `stop` holds;
+    /// returns it.
+    fn star_until(&self, u: u32, out: &mut Vec<u32>, stop: impl Fn(u32) -> bool) -> Option<u32> {
         let c = self.core();
         let mut start = self.vt.get(u as usize).copied().unwrap_or(DEAD);
         if start == DEAD || c.v[start as usize][0] == DEAD || !c.v[start as usize].contains(&u) {
             match c.v.iter().position(|tv| tv[0] != DEAD && tv.contains(&u)) {
                 Some(t) => start = t as u32,
-                None => return Vec::new(),
+                None => return None,
             }
         }
-        let mut out = vec![start];
+        out.clear();
+        out.push(start);
+        // Large stars (thin models) use a set; small ones a linear search.
+        let mut seen: Option<crate::tet::recover::IdSet<u32>> = None;
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
             i += 1;
+            if stop(t) {
+                return Some(t);
+            }
             let tv = c.v[t as usize];
             for (f, &w) in tv.iter().enumerate() {
                 if w == u {
                     continue;
                 }
                 let n = c.adj[t as usize][f] >> 2;
-                if !out.contains(&n) {
+                let new = match &mut seen {
+                    Some(set) => set.insert(n),
+                    None if out.len() >= 48 => {
+                        let mut set: crate::tet::recover::IdSet<u32> =
+                            out.iter().copied().collect();
+                        let new = set.insert(n);
+                        seen = Some(set);
+                        new
+                    }
+                    None => !out.contains(&n),
+                };
+                if new {
                     out.push(n);
                 }
             }
         }
-        out
+        None
     }
 
     /// A live tetrahedron containing edge `u v`.
     pub(crate) fn find_edge(&self, u: u32, v: u32) -> Option<u32> {
         let c = self.core();
-        self.star(u)
-            .into_iter()
-            .find(|&t| c.v[t as usize].contains(&v))
+        let mut buf = Vec::new();
+        self.star_until(u, &mut buf, |t| c.v[t as usize].contains(&v))
     }
 
     /// The tetrahedra around edge `a b` (starting at `t`, which contains it)
@@ -230,6 +293,18 @@ impl<'a> CMesh<'a> {
                     if !old.contains(&(w >> 2)) {
                         outer.insert(fkey(face(tv, f)), w);
                     }
+                }
+            }
+        }
+        for tv in old
+            .iter()
+            .map(|&t| self.dt.core.v[t as usize])
+            .chain(new.iter().copied())
+        {
+            for f in 0..4 {
+                let k = face(tv, f);
+                if !k.contains(&INF) {
+                    self.touched.push(fkey(k));
                 }
             }
         }
@@ -317,6 +392,36 @@ impl<'a> CMesh<'a> {
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
         let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
+        if r.len() < MEMO_RING {
+            return self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
+        }
+        let key = {
+            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+            let mut k = Vec::with_capacity(r.len() + 2);
+            k.extend([a, b]);
+            k.extend(r[m..].iter().chain(&r[..m]));
+            k
+        };
+        if self.failed.contains(&key) {
+            return None;
+        }
+        let out = self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
+        if out.is_none() {
+            self.failed.insert(key);
+        }
+        out
+    }
+
+    /// [`CMesh::remove_edge`] once the ring is known.
+    fn remove_ring(
+        &mut self,
+        tets: Vec<u32>,
+        r: &mut Vec<u32>,
+        a: u32,
+        b: u32,
+        tri_cost: TriCost<'_>,
+        edge_cost: EdgeCost<'_>,
+    ) -> Option<i64> {
         let mut ghosts = Vec::new();
         if let Some(k) = r.iter().position(|&w| w == INF) {
             r.rotate_left(k + 1);
@@ -644,6 +749,68 @@ mod tests {
             }
         }
         assert_eq!(m2.dt.core.v, before);
+    }
+
+    #[test]
+    fn touched_faces_and_failed_removals_are_logged() {
+        let s = 3f64.sqrt() / 2.0;
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [-0.5, s, 0.0],
+            [-0.5, -s, 0.0],
+            [0.0, 0.0, 0.1],
+            [0.0, 0.0, -0.1],
+        ];
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        assert!(m.take_touched().is_empty());
+        let t = m.find_edge(3, 4).unwrap();
+        m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0).unwrap();
+        let touched = m.take_touched();
+        // The removed faces around 3-4 and the new face 0-1-2 are logged.
+        assert!(touched.contains(&[0, 1, 2]));
+        assert!(touched.contains(&[0, 3, 4]) || touched.contains(&[1, 3, 4]));
+        assert!(m.take_touched().is_empty());
+        // Random points: every interior-edge removal that fails is
+        // memoized and fails again; a failure changes nothing.
+        let pts: Vec<[f64; 3]> = (0..40)
+            .map(|i| {
+                let x = (i as f64 * 0.618_034).fract();
+                let y = (i as f64 * 0.414_213_5).fract();
+                let z = (i as f64 * 0.732_050_8).fract();
+                [x, y, z]
+            })
+            .collect();
+        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut failures = 0;
+        for t in 0..m.dt.core.v.len() as u32 {
+            let tv = m.dt.core.v[t as usize];
+            if tv[0] == DEAD || tv.contains(&INF) || m.edge_ring(t, tv[0], tv[1]).is_none() {
+                continue;
+            }
+            let before = m.dt.core.v.clone();
+            let n = m.failed.len();
+            let long = m
+                .edge_ring(t, tv[0], tv[1])
+                .is_some_and(|(_, r)| r.len() >= MEMO_RING);
+            if m.remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                .is_none()
+                && long
+            {
+                // One new key, or the same edge seen from another slot.
+                failures += 1;
+                let k = m.failed.len();
+                assert!(k == n + 1 || k == n && n > 0);
+                assert!(m
+                    .remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                    .is_none());
+                assert_eq!(m.failed.len(), k);
+                assert_eq!(m.dt.core.v, before);
+            } else if !long {
+                assert_eq!(m.failed.len(), n);
+            }
+        }
+        assert!(failures > 0);
+        m.check().unwrap();
     }
 
     #[test]

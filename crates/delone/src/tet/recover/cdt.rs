@@ -260,7 +260,7 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
 }
 
 /// The vertices lying on input triangle `t`: its chains and inner points.
-fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> {
+pub(crate) fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> {
     let mut out: Vec<u32> = surf.tri_edges[t]
         .iter()
         .flat_map(|&e| surf.chains[e as usize].iter().copied())

@@ -102,7 +102,8 @@ pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 
 use self::missing::ekey;
-use self::surface::{IdMap, IdSet, Skeleton, Surface};
+pub(crate) use self::surface::IdSet;
+use self::surface::{IdMap, Skeleton, Surface};
 use super::cmesh::CMesh;
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
@@ -436,15 +437,16 @@ pub fn recover_domain(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
     };
-    let out = if opts.constrained || opts.preserve_surface {
-        st.run_cdt(&mut dt)?.dt
+    let (out, on) = if opts.constrained || opts.preserve_surface {
+        let (cm, on) = st.run_cdt(&mut dt)?;
+        (cm.dt, Some(on))
     } else {
         st.run(&mut dt)?;
-        dt
+        (dt, None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
     st.report.hull_tets = out.num_tets();
-    st.finish(&out, points, scale, domain)
+    st.finish(&out, on, points, scale, domain)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -485,6 +487,23 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
         }
     }
     best.map(|(_, q)| q)
+}
+
+/// Coverage is recomputed globally when more than one triangle in this
+/// many needs it (locally otherwise).
+const GLOBAL_FRACTION: usize = 16;
+
+/// Per input triangle, the mesh faces lying on it.
+type FacesOn = Vec<Vec<[u32; 3]>>;
+
+/// What a round of the constrained recovery hands to the next one: the
+/// coverage and missing subsegments of the Delaunay tetrahedralization it
+/// started from, and how many points it had.
+struct RoundState {
+    on: FacesOn,
+    covered: Vec<bool>,
+    missing: Vec<(u32, u32, u32)>,
+    old_len: usize,
 }
 
 /// Rounds after which surface preservation gives up.
@@ -723,11 +742,29 @@ impl State {
     /// points go only where flips failed, and the number of rounds is
     /// bounded like the conforming path's (each round splits at least one
     /// item or fails with a typed error).
-    fn run_cdt<'a>(&mut self, dt: &mut Delaunay3<'a>) -> Result<CMesh<'a>, RecoverError> {
+    fn run_cdt<'a>(
+        &mut self,
+        dt: &mut Delaunay3<'a>,
+    ) -> Result<(CMesh<'a>, FacesOn), RecoverError> {
+        // From the second round on, the coverage and the missing
+        // subsegments of `dt` are updated near the points the previous round
+        // inserted (see `Self::update_round`) instead of recomputed.
+        let mut prev: Option<RoundState> = None;
+        // Edge removals found impossible in earlier rounds (same points).
+        let mut failed_removals = IdSet::default();
         loop {
             self.report.rounds += 1;
-            let sk = Skeleton::of(dt, true);
-            let (on, _) = self.surf.coverage(&sk, dt.points());
+            let mut cm = CMesh::new(dt.clone());
+            cm.set_failed(std::mem::take(&mut failed_removals));
+            let (on, covered, subs) = match prev.take() {
+                None => {
+                    let sk = Skeleton::of(dt, true);
+                    let (on, covered) = self.surf.coverage(&sk, dt.points());
+                    let subs = self.missing_subsegments(&sk);
+                    (on, covered, subs)
+                }
+                Some(st) => self.update_round(&cm, st),
+            };
             let mut prot = cdt::Protected::default();
             for f in on.iter().flatten() {
                 prot.add_face(*f);
@@ -737,8 +774,7 @@ impl State {
                     prot.edges.insert(ekey(w[0], w[1]));
                 }
             }
-            let mut cm = CMesh::new(dt.clone());
-            let subs = self.missing_subsegments(&sk);
+            let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
                 if !cdt::recover_segment(&mut cm, u, v, &prot) {
@@ -749,40 +785,61 @@ impl State {
                 if self.opts.preserve_surface {
                     let tris = self.edge_triangles(&failed);
                     self.interior_points(dt, tris)?;
-                    continue;
-                }
-                for &(e, u, v) in &failed {
-                    if !self.steiner_left() {
-                        return Err(self.budget_error(failed.len(), 0));
+                } else {
+                    for &(e, u, v) in &failed {
+                        if !self.steiner_left() {
+                            return Err(self.budget_error(failed.len(), 0));
+                        }
+                        self.split_edge(dt, e, u, v)?;
                     }
-                    self.split_edge(dt, e, u, v)?;
                 }
+                failed_removals = cm.take_failed();
+                prev = Some(RoundState {
+                    on,
+                    covered,
+                    missing: subs,
+                    old_len,
+                });
                 continue;
             }
             let segments_by_flips = subs.len();
-            let mut uncovered = self.uncovered(&cm);
+            // Coverage on `cm`, updated only where the flips changed faces.
+            let mut on_cm = on.clone();
+            let mut covered_cm = covered.clone();
+            let dt_uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+            self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
+            let mut uncovered: Vec<usize> =
+                (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             let by_flips = uncovered.len();
             if !uncovered.is_empty() {
                 for &t in &uncovered {
                     let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
                     cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
                 }
-                uncovered = self.uncovered(&cm);
+                self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
+                uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             }
             if uncovered.is_empty() {
                 self.report.flips23 = cm.flips23;
                 self.report.edge_removals = cm.removals;
                 self.report.segments_by_flips = segments_by_flips;
                 self.report.triangles_by_flips = by_flips;
-                return Ok(cm);
+                return Ok((cm, on_cm));
             }
             if self.opts.preserve_surface {
                 self.interior_points(dt, uncovered)?;
+                failed_removals = cm.take_failed();
+                prev = Some(RoundState {
+                    on,
+                    covered,
+                    missing: subs,
+                    old_len,
+                });
                 continue;
             }
             // Split the triangles the flips could not recover, in the
-            // Delaunay tetrahedralization.
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            // Delaunay tetrahedralization (`on`, `covered`: its coverage).
+            let sk = Skeleton::of(dt, false);
             let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
             list.sort_unstable();
             let mut progress = false;
@@ -807,6 +864,103 @@ impl State {
                     steiner: self.report.steiner(),
                 });
             }
+            failed_removals = cm.take_failed();
+            prev = Some(RoundState {
+                on,
+                covered,
+                missing: subs,
+                old_len,
+            });
+        }
+    }
+
+    /// The coverage and the missing subsegments of the Delaunay
+    /// tetrahedralization wrapped (unflipped) in `cm`, from those of the
+    /// previous round (`st`) and the points inserted since (ids from
+    /// `st.old_len`). A Delaunay insertion changes only tetrahedra whose
+    /// vertices end up adjacent to an inserted point, so only the triangles
+    /// and subsegments at the vertices of the inserted points' stars can
+    /// change (with the subsegments missing before, now maybe split).
+    fn update_round(
+        &self,
+        cm: &CMesh<'_>,
+        st: RoundState,
+    ) -> (FacesOn, Vec<bool>, Vec<(u32, u32, u32)>) {
+        let RoundState {
+            mut on,
+            mut covered,
+            missing,
+            old_len,
+        } = st;
+        let core = &cm.dt.core;
+        let mut near: Vec<u32> = Vec::new();
+        for p in old_len as u32..cm.pts().len() as u32 {
+            near.push(p);
+            for x in cm.star(p) {
+                near.extend(core.v[x as usize].iter().filter(|&&w| w != INF));
+            }
+        }
+        near.extend(missing.iter().flat_map(|&(_, u, v)| [u, v]));
+        near.sort_unstable();
+        near.dedup();
+        let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+        let mut edges: Vec<u32> = Vec::new();
+        for &w in &near {
+            if let Some(l) = self.surf.vtris.get(w as usize) {
+                for &t in l {
+                    tris.push(t as usize);
+                    edges.extend(self.surf.tri_edges[t as usize]);
+                }
+            }
+        }
+        tris.sort_unstable();
+        tris.dedup();
+        edges.sort_unstable();
+        edges.dedup();
+        self.recompute(cm, &tris, &mut on, &mut covered);
+        // Subsegments at a vertex of `near`, in the global order (by edge,
+        // then along its chain).
+        let mut subs = Vec::new();
+        for e in edges {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let (u, v) = (w[0], w[1]);
+                if (near.binary_search(&u).is_ok() || near.binary_search(&v).is_ok())
+                    && cm.find_edge(u, v).is_none()
+                {
+                    subs.push((e, u, v));
+                }
+            }
+        }
+        #[cfg(debug_assertions)]
+        self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
+        (on, covered, subs)
+    }
+
+    /// Debug builds: the incrementally kept coverage (and missing
+    /// subsegments) equal the global computation.
+    #[cfg(debug_assertions)]
+    fn debug_same_coverage(
+        &self,
+        dt: &Delaunay3<'_>,
+        on: &[Vec<[u32; 3]>],
+        covered: &[bool],
+        subs: Option<&[(u32, u32, u32)]>,
+    ) {
+        let sk = Skeleton::of(dt, true);
+        let (g_on, g_covered) = self.surf.coverage(&sk, dt.points());
+        assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
+        for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
+            let (mut a, mut b) = (a.clone(), b.clone());
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b, "incremental coverage faces differ on triangle {t}");
+        }
+        if let Some(subs) = subs {
+            assert_eq!(
+                self.missing_subsegments(&sk),
+                subs,
+                "missing subsegments differ"
+            );
         }
     }
 
@@ -897,11 +1051,69 @@ impl State {
         Ok(())
     }
 
-    /// Input triangles not covered by faces of `cm`, ascending.
-    fn uncovered(&self, cm: &CMesh<'_>) -> Vec<usize> {
-        let sk = Skeleton::of(&cm.dt, true);
-        let (_, covered) = self.surf.coverage(&sk, cm.pts());
-        (0..covered.len()).filter(|&t| !covered[t]).collect()
+    /// Updates the coverage `on`, `covered` (exact for `cm` before the
+    /// operations logged since the last [`CMesh::take_touched`]) for `cm`
+    /// now: recomputes, locally, the triangles of `extra` and those on
+    /// which a face of a tetrahedron created or removed since lies (the
+    /// others kept every face and tetrahedron with its vertices on them).
+    fn refresh_coverage(
+        &self,
+        cm: &mut CMesh<'_>,
+        extra: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        let touched = cm.take_touched();
+        let mut cands: Vec<usize> = extra.to_vec();
+        let (mut out, mut flat) = (Vec::new(), Vec::new());
+        for &f in &touched {
+            self.surf.face_triangles_split(f, &mut out, &mut flat);
+            cands.extend(out.iter().chain(&flat).map(|&t| t as usize));
+        }
+        cands.sort_unstable();
+        cands.dedup();
+        self.recompute(cm, &cands, on, covered);
+        #[cfg(debug_assertions)]
+        self.debug_same_coverage(&cm.dt, on, covered, None);
+    }
+
+    /// Recomputes the coverage of triangles `cands` on `cm`: locally, or
+    /// globally when they are many (same result, cheaper then).
+    fn recompute(
+        &self,
+        cm: &CMesh<'_>,
+        cands: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+            let sk = Skeleton::of(&cm.dt, true);
+            let (g_on, g_covered) = self.surf.coverage(&sk, cm.pts());
+            for (t, f) in g_on.into_iter().enumerate() {
+                on[t] = f;
+            }
+            covered.copy_from_slice(&g_covered);
+            return;
+        }
+        let core = &cm.dt.core;
+        let mut slots: Vec<u32> = Vec::new();
+        for &t in cands {
+            let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
+            slots.clear();
+            for w in cdt::tri_vertices(&self.surf, t, inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
+            on[t] = f;
+            covered[t] = c;
+        }
     }
 
     /// The input triangles using the input edges of `subs`, ascending.
@@ -1133,17 +1345,21 @@ impl State {
         }
     }
 
-    /// Carves and builds the output.
+    /// Carves and builds the output; `on`: the faces on each input
+    /// triangle when known (computed here otherwise).
     fn finish(
         mut self,
         dt: &Delaunay3<'_>,
+        on: Option<Vec<Vec<[u32; 3]>>>,
         input: &[[f64; 3]],
         scale: (f64, f64),
         domain: &Domain,
     ) -> Result<Recovered, RecoverError> {
         let unscale = 1.0 / (scale.0 * scale.1);
-        let sk = Skeleton::of(dt, true);
-        let (on, _) = self.surf.coverage(&sk, dt.points());
+        let on = on.unwrap_or_else(|| {
+            let sk = Skeleton::of(dt, true);
+            self.surf.coverage(&sk, dt.points()).0
+        });
         let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let face_tri: IdMap<[u32; 3], u32> = on
             .iter()

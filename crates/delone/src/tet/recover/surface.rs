@@ -342,6 +342,92 @@ impl Surface {
         (on, covered)
     }
 
+    /// [`Surface::coverage`] for the one input triangle `t`, from `tets`:
+    /// the distinct finite tetrahedra having a vertex on `t` (every face
+    /// with its three vertices on `t` is a face of one of them). Gives the
+    /// same faces (sorted) and the same verdict as the global computation
+    /// gives for `t`, at the cost of `t`'s neighbourhood only.
+    pub(crate) fn coverage_local(
+        &self,
+        t: usize,
+        tets: &[[u32; 4]],
+        pts: &[[f64; 3]],
+    ) -> (Vec<[u32; 3]>, bool) {
+        let tt = t as u32;
+        let on_t = |w: u32| self.on_triangle(w, t);
+        let mut on = Vec::new();
+        let mut flat = Vec::new();
+        let mut buf = Vec::new();
+        let mut flat_buf = Vec::new();
+        for tv in tets {
+            for f in 0..4 {
+                let k = fkey([tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]]);
+                if !k.iter().all(|&w| on_t(w)) {
+                    continue;
+                }
+                self.face_triangles_split(k, &mut buf, &mut flat_buf);
+                if buf.contains(&tt) {
+                    on.push(k);
+                } else if flat_buf.contains(&tt) {
+                    flat.push(k);
+                }
+            }
+        }
+        on.sort_unstable();
+        on.dedup();
+        flat.sort_unstable();
+        flat.dedup();
+        let mut drop: Vec<[u32; 3]> = Vec::new();
+        for tv in tets {
+            if !tv.iter().all(|&w| on_t(w)) {
+                continue;
+            }
+            self.face_triangles([tv[0], tv[1], tv[2]], &mut buf);
+            if !buf.contains(&tt) {
+                continue;
+            }
+            self.face_triangles([tv[0], tv[1], tv[3]], &mut buf);
+            if !buf.contains(&tt) {
+                continue;
+            }
+            let [a, b, c] = self.tris[t].map(|w| pts[w as usize]);
+            let nt = cross(&sub(&b, &a), &sub(&c, &a));
+            for fv in FACET {
+                let [x, y, z] = fv.map(|i| pts[tv[i] as usize]);
+                let n = cross(&sub(&z, &x), &sub(&y, &x));
+                if dot(&n, &nt) <= 0.0 {
+                    drop.push(fkey(fv.map(|i| tv[i])));
+                }
+            }
+        }
+        on.retain(|f| !drop.contains(f));
+        // Chords (see `coverage`): closure, so the order does not matter.
+        let mut changed = true;
+        while changed && !flat.is_empty() {
+            changed = false;
+            let mut rest = Vec::new();
+            for f in flat {
+                let bnd = |e: (u32, u32)| self.boundary(t).any(|b| b == e);
+                let uses = |e: (u32, u32)| {
+                    on.iter()
+                        .any(|g| (0..3).any(|k| ekey(g[k], g[(k + 1) % 3]) == e))
+                };
+                let chord = (0..3)
+                    .map(|k| ekey(f[k], f[(k + 1) % 3]))
+                    .any(|e| !bnd(e) && uses(e));
+                if chord {
+                    on.push(f);
+                    changed = true;
+                } else {
+                    rest.push(f);
+                }
+            }
+            flat = rest;
+        }
+        let covered = self.covers(t, &on);
+        (on, covered)
+    }
+
     /// The edges around the uncovered part of triangle `t`: boundary
     /// subsegments no face on `t` uses, and other edges used by one face
     /// only. Sorted.
