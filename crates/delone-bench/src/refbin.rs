@@ -208,12 +208,14 @@ fn field(out: &str, key: &str) -> Option<f64> {
         .next_back()
 }
 
-/// Runs the reference `tetgen -p` (boundary recovery only, no quality) on a
-/// closed triangle surface written to a temporary `.off` file.
-///
-/// # Errors
-/// A message when TetGen cannot be built or run, or rejects the input.
-pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
+/// Writes the surface to a temporary `.off`, runs `tetgen SWITCHES` on it
+/// and parses its summary; with `read_mesh`, also reads the output mesh.
+fn run_tetgen(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    switches: &str,
+    read_mesh: bool,
+) -> Result<(TetgenRun, Option<NodeEle>), String> {
     use std::fmt::Write as _;
     let exe = tetgen()?;
     let dir = scratch("tg")?;
@@ -226,14 +228,21 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
         let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
     }
     std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
-    let run = run_sampled(&exe, &["-pNEF".as_ref(), off.as_os_str()], &dir);
+    let run = run_sampled(&exe, &[switches.as_ref(), off.as_os_str()], &dir);
+    let mesh = if read_mesh {
+        read_node_ele(&dir.join("s.1.node"), &dir.join("s.1.ele"))
+    } else {
+        None
+    };
     std::fs::remove_dir_all(&dir).ok();
     let (out, peak) = run?;
+    // Phases absent from a run (e.g. refinement under bare -p) count 0.
     let seconds = [
         "Delaunay seconds:",
         "Surface mesh seconds:",
         "Constrained Delaunay seconds:",
         "Exterior tets removal seconds:",
+        "Refinement seconds:",
         "Optimization seconds:",
     ]
     .iter()
@@ -246,16 +255,26 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
             .rev()
             .find(|l| !l.trim().is_empty())
             .unwrap_or("");
-        return Err(format!("tetgen -p produced no tetrahedra: {last}"));
+        return Err(format!("tetgen {switches} produced no tetrahedra: {last}"));
     }
     let input = field(&out, "Input points:").unwrap_or(0.0) as usize;
-    let mesh = field(&out, "Mesh points:").unwrap_or(0.0) as usize;
-    Ok(TetgenRun {
+    let np = field(&out, "Mesh points:").unwrap_or(0.0) as usize;
+    let run = TetgenRun {
         seconds,
         tets,
-        steiner: mesh.saturating_sub(input),
+        steiner: np.saturating_sub(input),
         peak_kb: peak,
-    })
+    };
+    Ok((run, mesh))
+}
+
+/// Runs the reference `tetgen -p` (boundary recovery only, no quality) on a
+/// closed triangle surface written to a temporary `.off` file.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or rejects the input.
+pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
+    run_tetgen(points, triangles, "-pNEF", false).map(|(r, _)| r)
 }
 
 /// What one run of the external `tetgen -pqB` reported.
@@ -280,55 +299,9 @@ pub fn run_tetgen_pq(
     triangles: &[[u32; 3]],
     ratio: f64,
 ) -> Result<TetgenQRun, String> {
-    use std::fmt::Write as _;
-    let exe = tetgen()?;
-    let dir = scratch("tgq")?;
-    let off = dir.join("s.off");
-    let mut text = format!("OFF\n{} {} 0\n", points.len(), triangles.len());
-    for q in points {
-        let _ = writeln!(text, "{:?} {:?} {:?}", q[0], q[1], q[2]);
-    }
-    for t in triangles {
-        let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
-    }
-    std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
-    let sw = format!("-pq{ratio}F");
-    let run = run_sampled(&exe, &[sw.as_ref(), off.as_os_str()], &dir);
-    let mesh = read_node_ele(&dir.join("s.1.node"), &dir.join("s.1.ele"));
-    std::fs::remove_dir_all(&dir).ok();
-    let (out, peak) = run?;
-    let seconds = [
-        "Delaunay seconds:",
-        "Surface mesh seconds:",
-        "Constrained Delaunay seconds:",
-        "Exterior tets removal seconds:",
-        "Refinement seconds:",
-        "Optimization seconds:",
-    ]
-    .iter()
-    .filter_map(|k| field(&out, k))
-    .sum::<f64>();
-    let tets = field(&out, "Mesh tetrahedra:").unwrap_or(0.0) as usize;
-    if tets == 0 {
-        let last = out
-            .lines()
-            .rev()
-            .find(|l| !l.trim().is_empty())
-            .unwrap_or("");
-        return Err(format!("tetgen {sw} produced no tetrahedra: {last}"));
-    }
-    let input = field(&out, "Input points:").unwrap_or(0.0) as usize;
-    let np = field(&out, "Mesh points:").unwrap_or(0.0) as usize;
+    let (run, mesh) = run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?;
     let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
-    Ok(TetgenQRun {
-        run: TetgenRun {
-            seconds,
-            tets,
-            steiner: np.saturating_sub(input),
-            peak_kb: peak,
-        },
-        min_dihedral,
-    })
+    Ok(TetgenQRun { run, min_dihedral })
 }
 
 /// Points and tetrahedra of a TetGen output.
