@@ -326,25 +326,9 @@ impl Work {
 
     /// Finite triangle containing `p` (closed), or `None` outside the hull.
     fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
-        let mut t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
-        let limit = 4 * self.tv.len() + 64;
-        'walk: for _ in 0..limit {
-            let v = self.tv[t];
-            self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            let r = ((self.rng >> 16) % 3) as usize;
-            for k in 0..3 {
-                let e = (r + k) % 3;
-                let (a, b) = edge(&v, e);
-                if orient2d(self.p(a), self.p(b), p) < 0.0 {
-                    let (n, _) = unpack(self.ta[t][e]);
-                    if is_ghost(&self.tv[n]) {
-                        return None;
-                    }
-                    t = n;
-                    continue 'walk;
-                }
-            }
-            return Some(t);
+        let t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
+        if let Ok(found) = self.walk(t, p) {
+            return found;
         }
         // Safety net (not reached with exact predicates on a valid mesh).
         self.tv.iter().position(|v| {
@@ -1273,10 +1257,22 @@ enum Placed {
 impl Work {
     /// Finite triangle containing `p` (closed), walking from `t`; `None`
     /// outside the hull.
-    fn locate_from(&mut self, mut t: usize, p: &[f64; 2]) -> Option<usize> {
+    fn locate_from(&mut self, t: usize, p: &[f64; 2]) -> Option<usize> {
         if self.tv[t][0] == DEAD || is_ghost(&self.tv[t]) {
             return self.locate(p);
         }
+        match self.walk(t, p) {
+            Ok(found) => found,
+            Err(()) => self.locate(p),
+        }
+    }
+
+    /// Stochastic visibility walk from the finite triangle `t` towards `p`:
+    /// `Ok(Some(t))` for the triangle containing `p` (closed), `Ok(None)`
+    /// when the walk leaves the hull, `Err(())` when the step limit is hit
+    /// (not reached with exact predicates on a valid mesh; callers fall
+    /// back to a scan).
+    fn walk(&mut self, mut t: usize, p: &[f64; 2]) -> Result<Option<usize>, ()> {
         let limit = 4 * self.tv.len() + 64;
         'walk: for _ in 0..limit {
             let v = self.tv[t];
@@ -1288,15 +1284,15 @@ impl Work {
                 if orient2d(self.p(a), self.p(b), p) < 0.0 {
                     let (n, _) = unpack(self.ta[t][e]);
                     if is_ghost(&self.tv[n]) {
-                        return None;
+                        return Ok(None);
                     }
                     t = n;
                     continue 'walk;
                 }
             }
-            return Some(t);
+            return Ok(Some(t));
         }
-        self.locate(p)
+        Err(())
     }
 
     /// Inserts the point `x` into the constrained triangulation (near
