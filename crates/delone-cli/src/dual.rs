@@ -16,26 +16,12 @@ use delone::tet::Voronoi3;
 use delone::tri::{TriMesh, Voronoi2};
 use delone_io::{NodeFile, SvgLayer};
 
-use crate::run::Failure;
+use crate::run::{input_err as fail, with_ext, Failure};
 
 /// A mesh that does not fit its own points: a bug in delone, reported as
 /// an error rather than a crash.
 fn internal(e: delone::Error) -> Failure {
     fail(format!("internal error: {e}"))
-}
-
-fn fail(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
-
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut s = base.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
 }
 
 /// Parses a `.weight` file for `n` points whose indices start at `first`.

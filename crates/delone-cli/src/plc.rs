@@ -9,21 +9,7 @@ use delone::model::plc::{Facet, Plc, Region};
 use delone::tet::recover::{check_recovered, Domain, RecoverOptions};
 
 use crate::args::Opts;
-use crate::run::Failure;
-
-fn input_err(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
-
-pub(crate) fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut s = base.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
-}
+use crate::run::{input_err, with_ext, Failure};
 
 const EXTENSIONS: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mesh", "node"];
 

@@ -10,14 +10,7 @@ use delone::tri::quality::SteinerCounts;
 use delone::tri::refine::{refine, RefineOptions, RefineReport, SegmentSplits, UnfixableReason};
 
 use crate::args::Opts;
-use crate::run::Failure;
-
-fn input_err(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
+use crate::run::{input_err, Failure};
 
 /// `FILE` or `FILE.poly` → (`FILE.poly`, `FILE`); the output base gets
 /// Triangle's iteration number (`FILE.1`) unless `-I`.
@@ -26,24 +19,7 @@ fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
     let base = s.strip_suffix(".poly").unwrap_or(&s).to_string();
     let poly = PathBuf::from(format!("{base}.poly"));
     let node = PathBuf::from(format!("{base}.node"));
-    let out = if o.no_iteration {
-        base.clone()
-    } else {
-        match base.rsplit_once('.') {
-            Some((stem, n))
-                if !n.is_empty() && n.len() < 10 && n.bytes().all(|b| b.is_ascii_digit()) =>
-            {
-                format!("{stem}.{}", n.parse::<u64>().unwrap_or(0) + 1)
-            }
-            _ => format!("{base}.1"),
-        }
-    };
-    let mut out = PathBuf::from(out);
-    if let Some(dir) = &o.output_dir {
-        if let Some(f) = out.file_name() {
-            out = dir.join(f);
-        }
-    }
+    let out = crate::run::output_base(&base, o.no_iteration, o.output_dir.as_deref());
     (poly, node, out)
 }
 

@@ -11,14 +11,7 @@ use delone::tri::existing::ExistingMesh;
 use delone::tri::refine::{refine, RefineOptions};
 
 use crate::args::Opts;
-use crate::run::Failure;
-
-fn input_err(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
+use crate::run::{input_err, Failure};
 
 fn read(path: &Path) -> Result<Vec<u8>, Failure> {
     std::fs::read(path).map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))
@@ -41,24 +34,7 @@ fn names(o: &Opts) -> (String, PathBuf) {
         .find_map(|x| s.strip_suffix(x))
         .unwrap_or(&s)
         .to_string();
-    let out = if o.no_iteration {
-        base.clone()
-    } else {
-        match base.rsplit_once('.') {
-            Some((stem, n))
-                if !n.is_empty() && n.len() < 10 && n.bytes().all(|b| b.is_ascii_digit()) =>
-            {
-                format!("{stem}.{}", n.parse::<u64>().unwrap_or(0) + 1)
-            }
-            _ => format!("{base}.1"),
-        }
-    };
-    let mut out = PathBuf::from(out);
-    if let Some(dir) = &o.output_dir {
-        if let Some(f) = out.file_name() {
-            out = dir.join(f);
-        }
-    }
+    let out = crate::run::output_base(&base, o.no_iteration, o.output_dir.as_deref());
     (base, out)
 }
 

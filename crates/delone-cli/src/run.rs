@@ -17,7 +17,8 @@ pub struct Failure {
     pub code: i32,
 }
 
-fn input_err(message: impl Into<String>) -> Failure {
+/// An input or output failure (exit code 1).
+pub(crate) fn input_err(message: impl Into<String>) -> Failure {
     Failure {
         message: message.into(),
         code: 1,
@@ -70,8 +71,16 @@ pub fn names(
         return Err(usage_err(format!("{s}: not a file name")));
     }
     let node = PathBuf::from(format!("{base}.node"));
+    let out_base = output_base(&base, no_iteration, output_dir);
+    Ok(Names { node, out_base })
+}
+
+/// The output base for input base name `base` (no extension): Triangle's
+/// and TetGen's iteration number (`FILE` → `FILE.1`, `FILE.1` → `FILE.2`)
+/// unless `no_iteration`, moved into `output_dir` when given.
+pub(crate) fn output_base(base: &str, no_iteration: bool, output_dir: Option<&Path>) -> PathBuf {
     let out = if no_iteration {
-        base.clone()
+        base.to_string()
     } else {
         // An iteration number is a trailing ".<digits>" in the file name.
         let (stem, num) = match base.rsplit_once('.') {
@@ -82,13 +91,13 @@ pub fn names(
                     && !stem.is_empty()
                     && !stem.ends_with('/') =>
             {
-                (stem.to_string(), n.parse::<u64>().unwrap_or(0))
+                (stem, n.parse::<u64>().unwrap_or(0))
             }
-            _ => (base.clone(), 0),
+            _ => (base, 0),
         };
         format!("{stem}.{}", num + 1)
     };
-    let out_base = match output_dir {
+    match output_dir {
         Some(dir) => {
             let file = Path::new(&out)
                 .file_name()
@@ -97,11 +106,11 @@ pub fn names(
             dir.join(file)
         }
         None => PathBuf::from(out),
-    };
-    Ok(Names { node, out_base })
+    }
 }
 
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
+/// `base` + `.` + `ext`.
+pub(crate) fn with_ext(base: &Path, ext: &str) -> PathBuf {
     let mut s = base.as_os_str().to_owned();
     s.push(".");
     s.push(ext);

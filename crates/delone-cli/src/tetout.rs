@@ -16,8 +16,8 @@ use delone::tet::recover::Recovered;
 use delone::NONE;
 
 use crate::args::Opts;
-use crate::plc::{with_ext, write};
-use crate::run::Failure;
+use crate::plc::write;
+use crate::run::{with_ext, Failure};
 
 fn fkey(f: [u32; 3]) -> [u32; 3] {
     let mut k = f;

@@ -28,21 +28,7 @@ use delone_io::{DataArray, NodeFile, SvgLayer, SvgStyle, Values, VtuFormat};
 
 use crate::args::Opts;
 use crate::jettison::Renumber;
-use crate::run::Failure;
-
-fn fail(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
-
-fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut s = base.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
-}
+use crate::run::{input_err as fail, with_ext, Failure};
 
 fn write(
     path: &Path,
