@@ -238,6 +238,9 @@ impl<'a> TetOutput<'a> {
             })?;
             written.push(p.clone());
         }
+        if let Some(p) = &o.png {
+            crate::cutaway::write_png(o, p, &rec.points, &rec.mesh.tets, &mut written)?;
+        }
         Ok(written)
     }
 }
