@@ -322,6 +322,31 @@ fn run_surf(
 /// `3d-surfq-…-qB`: delone's refinement (`-pqB`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
+/// delone's quality mesh of a closed surface at radius-edge bound `q`
+/// (what `delone tet -pqQ` does): the timed arm and the dihedral chart.
+pub fn delone_quality(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    q: f64,
+) -> Result<delone::tet::refine::Refined, delone::tet::recover::RecoverError> {
+    use delone::tet::refine::{refine, RefineOptions};
+    let opts = RefineOptions {
+        max_radius_edge: q,
+        ..RefineOptions::default()
+    };
+    refine(points, triangles, &opts)
+}
+
+/// [`delone_quality`]'s points and tetrahedra.
+pub fn delone_quality_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    q: f64,
+) -> Result<(Vec<[f64; 3]>, Vec<[u32; 4]>), String> {
+    let r = delone_quality(points, triangles, q).map_err(|e| e.to_string())?;
+    Ok((r.rec.points, r.rec.mesh.tets))
+}
+
 fn run_surfq(
     program: &str,
     p: &[[f64; 3]],
@@ -332,16 +357,11 @@ fn run_surfq(
 ) -> Result<Run, String> {
     use delone::tet::quality::TetStats;
     use delone::tet::recover::check_recovered;
-    use delone::tet::refine::{refine, RefineOptions};
     match program {
         "delone" => {
-            let opts = RefineOptions {
-                max_radius_edge: q,
-                ..RefineOptions::default()
-            };
             on_ready();
             let t = Instant::now();
-            let r = refine(black_box(p), black_box(tris), &opts);
+            let r = delone_quality(black_box(p), black_box(tris), q);
             let seconds = t.elapsed().as_secs_f64();
             let r = r.map_err(|e| e.to_string())?;
             let m = &r.rec.mesh;

@@ -304,8 +304,23 @@ pub fn run_tetgen_pq(
     Ok(TetgenQRun { run, min_dihedral })
 }
 
+/// Runs `tetgen -pqB` like [`run_tetgen_pq`] and returns its output mesh.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, rejects the input, or its
+/// output files cannot be read.
+pub fn tetgen_pq_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    ratio: f64,
+) -> Result<NodeEle, String> {
+    run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?
+        .1
+        .ok_or_else(|| "cannot read TetGen's output mesh".to_string())
+}
+
 /// Points and tetrahedra of a TetGen output.
-type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
+pub type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
 
 /// Reads TetGen's `.node` and `.ele` files (first index 0 or 1).
 fn read_node_ele(node: &Path, ele: &Path) -> Option<NodeEle> {
