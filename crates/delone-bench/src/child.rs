@@ -342,7 +342,7 @@ pub fn delone_quality_mesh(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     q: f64,
-) -> Result<(Vec<[f64; 3]>, Vec<[u32; 4]>), String> {
+) -> Result<crate::refbin::NodeEle, String> {
     let r = delone_quality(points, triangles, q).map_err(|e| e.to_string())?;
     Ok((r.rec.points, r.rec.mesh.tets))
 }
