@@ -49,6 +49,8 @@ pub struct Opts {
     pub refine_mesh: bool,
     /// tet `-pY`: surface preservation (no Steiner point on the input surface).
     pub preserve_surface: bool,
+    /// tet `-M`: no merging of coplanar facets.
+    pub no_merge: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
@@ -138,7 +140,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'O') => "mesh optimization",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
-        (Mode::Tet, 'M') => "no merging of coplanar facets",
         (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
         (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
@@ -215,6 +216,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
         (Mode::Tet, 'Y') => o.preserve_surface = true,
+        (Mode::Tet, 'M') => o.no_merge = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),
         (_, 'C') => o.check = true,

@@ -172,11 +172,16 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          and region attributes).
     -Y   With -p: no Steiner point on the input surface (interior only);
          an error names the triangles that flips cannot recover.
+    -M   With -p: no merging of coplanar facets. By default edge-adjacent,
+         exactly coplanar, consistently oriented triangles of facets with
+         the same marker are merged into one facet and re-triangulated
+         (Delaunay edges on the plane kept), so edges between them are not
+         segments; -M keeps every input triangle as given (also with -Y).
     -q[B] With -p: quality mesh by Delaunay refinement, no tetrahedron with a
          radius-edge ratio above B (default 2.0); -V reports dihedral angles.
     -a[V] With -p: no tetrahedron larger than volume V.
     -S<n> At most n Steiner points in the refinement.
-    Not implemented yet (error, exit code 2): -r -R -m -i -O -T -X -M -d -D
+    Not implemented yet (error, exit code 2): -r -R -m -i -O -T -X -d -D
     -o2 -o/.
 
 OPTIONS:
