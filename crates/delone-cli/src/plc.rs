@@ -220,6 +220,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 );
             }
             println!("  recovery: {} rounds, {} 3-2 flips", r.rounds, r.flips32);
+            println!(
+                "  coplanar facets: {} group(s) merged and re-triangulated, {} kept as given (-M: no merging)",
+                r.coplanar_groups, r.coplanar_kept
+            );
         }
         if r.inexact_steiner > 0 {
             println!(
