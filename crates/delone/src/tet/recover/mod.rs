@@ -8,7 +8,11 @@
 //!    self-intersections ([`super::intersect::check_self_intersections`]),
 //!    closedness ([`super::intersect::manifold_report`]);
 //! 2. **Delaunay** tetrahedralization of the surface vertices
-//!    ([`super::Delaunay3`]); [`missing`] tells which input edges and
+//!    ([`super::Delaunay3`]); then, with [`RecoverOptions::merge_coplanar`],
+//!    groups of coplanar input triangles are re-triangulated using the
+//!    Delaunay edges on their plane (the private `merge` module); the
+//!    result, [`Recovered::surface`], is what the next steps recover
+//!    ("input triangles" below); [`missing`] tells which edges and
 //!    triangles are absent;
 //! 3. **segment recovery** — every missing subsegment is split by a Steiner
 //!    point on it (the notes of the private `place` module explain where,
@@ -295,7 +299,8 @@ pub enum RecoverError {
     /// These input triangles could not be recovered (neither a Steiner point
     /// nor a flip made progress).
     Unrecovered {
-        /// Input triangle indices, ascending.
+        /// Input triangle indices, ascending (for a merged coplanar group,
+        /// an input triangle of the group, see [`Recovered::surface_origin`]).
         triangles: Vec<usize>,
         /// Steiner points inserted before giving up.
         steiner: usize,
@@ -525,11 +530,27 @@ pub fn recover_marked(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
     };
+    // Unrecovered triangles are named by input index.
+    let origin = |e: RecoverError| match e {
+        RecoverError::Unrecovered { triangles, steiner } => {
+            let mut t: Vec<usize> = triangles
+                .iter()
+                .map(|&t| merged.origin.get(t).map_or(t, |&o| o as usize))
+                .collect();
+            t.sort_unstable();
+            t.dedup();
+            RecoverError::Unrecovered {
+                triangles: t,
+                steiner,
+            }
+        }
+        e => e,
+    };
     let (out, on) = if opts.constrained || opts.preserve_surface {
-        let (cm, on) = st.run_cdt(&mut dt)?;
+        let (cm, on) = st.run_cdt(&mut dt).map_err(origin)?;
         (cm.dt, Some(on))
     } else {
-        st.run(&mut dt)?;
+        st.run(&mut dt).map_err(origin)?;
         (dt, None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
