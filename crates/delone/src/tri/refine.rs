@@ -283,6 +283,9 @@ const SHELL_ANGLE: f64 = 60.0;
 #[derive(Clone, Copy)]
 struct Sub {
     v: [u32; 2],
+    /// A packed half-edge carrying it (kept up to date by every fan that
+    /// borders it).
+    he: u32,
     /// Parameters of `v` along the parent (0 at `a`, 1 at `b`).
     t: [f64; 2],
     parent: u32,
@@ -295,10 +298,12 @@ struct Sub {
 
 struct Mesh {
     xy: Vec<[f64; 2]>,
-    /// The triangles, one record each (one cache line for what a cavity
-    /// search reads).
+    /// The triangles, one 32-byte aligned record each (half a cache line
+    /// for everything a cavity search reads).
     tr: Vec<Tri>,
-    vt: Vec<u32>,
+    /// Subsegment on each half-edge of a triangle (meaningful only where
+    /// the triangle's flag bit says there is one; see [`Tri::mark`]).
+    sides: Vec<[u32; 3]>,
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
     nfixed: usize,
@@ -321,20 +326,26 @@ struct Mesh {
     replaced: usize,
 }
 
-/// A triangle of the working mesh.
+/// A triangle of the working mesh: 32 bytes, aligned, so that one record
+/// never straddles two cache lines.
 #[derive(Clone, Copy)]
+#[repr(C, align(32))]
 struct Tri {
     /// Counterclockwise vertices.
     v: [u32; 3],
     /// Packed adjacency or `NONE` on the boundary.
     a: [u32; 3],
-    /// Subsegment on each half-edge, or `NONE`.
-    s: [u32; 3],
     /// The input triangle it descends from (region, attributes).
     orig: u32,
-    /// Cavity stamp.
+    /// Bits 0–2: half-edge `e` carries a subsegment (its id is in
+    /// [`Mesh::sides`]); the other bits: cavity stamp (a multiple of
+    /// [`STAMP_STEP`]).
     mark: u32,
 }
+
+/// Stamps step over the three subsegment flag bits of [`Tri::mark`].
+const STAMP_STEP: u32 = 8;
+const FLAGS: u32 = STAMP_STEP - 1;
 
 /// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
 #[derive(Clone, Copy)]
@@ -422,55 +433,92 @@ impl Mesh {
         &self.xy[v as usize]
     }
 
-    /// The half-edge `u -> w` as (triangle, local edge), by rotating around
-    /// `u` (both ways: `u` may be on the boundary).
-    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        let start = self.vt[u as usize] as usize;
-        for dir in [NEXT, PREV] {
-            let mut t = start;
-            for _ in 0..self.tr.len() {
-                let v = self.tr[t].v;
-                let k = v.iter().position(|&x| x == u)?;
-                if v[NEXT[k]] == w {
-                    return Some((t, PREV[k]));
-                }
-                let x = self.tr[t].a[dir[k]];
-                if x == NONE {
-                    break;
-                }
-                t = unpack(x).0;
-                if t == start {
-                    return None;
+    /// Reserves room for the triangles an area bound will make (about
+    /// 1.6 per bound's worth of area; twice that is reserved, at most 2²⁴):
+    /// the 32-byte aligned records are copied, not reallocated in place,
+    /// when the vector grows. Untouched capacity costs no resident memory.
+    fn reserve_for_areas(&mut self, crit: &Crit, max_areas: &[f64], limit: usize) {
+        if !crit.area2.is_finite() && !crit.regional {
+            return;
+        }
+        let mut ratio = 0.0;
+        for t in &self.tr {
+            let (a, b, c) = (self.p(t.v[0]), self.p(t.v[1]), self.p(t.v[2]));
+            let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            let mut bound = crit.area2;
+            if crit.regional {
+                let ma = max_areas[t.orig as usize];
+                if ma > 0.0 {
+                    bound = bound.min(2.0 * ma * crit.s2);
                 }
             }
+            if bound.is_finite() && bound > 0.0 {
+                ratio += d / bound;
+            }
         }
-        None
+        let nt = (3.2 * ratio).min((1u64 << 24) as f64) as usize;
+        let nt = nt.min(limit.saturating_mul(2));
+        if nt > self.tr.len() {
+            let more = nt - self.tr.len();
+            // Best effort: without the room the vectors grow as usual.
+            let _ = self.tr.try_reserve_exact(more);
+            let _ = self.sides.try_reserve_exact(more);
+            let _ = self.xy.try_reserve_exact(more / 2);
+            let _ = self.vpar.try_reserve_exact(more / 2);
+        }
     }
 
-    /// The half-edge `u -> w` or `w -> u`.
-    fn find_either(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        self.find_edge(u, w).or_else(|| self.find_edge(w, u))
+    /// A triangle beside live subsegment `s` ([`Sub::he`], checked).
+    fn tri_of_sub(&self, s: u32) -> Option<usize> {
+        let he = self.subs[s as usize].he;
+        if he == NONE {
+            return None;
+        }
+        let (t, e) = unpack(he);
+        (t < self.tr.len() && self.sub_at(t, e) == s).then_some(t)
     }
 
     fn new_tri(&mut self) -> usize {
         self.tr.push(Tri {
             v: [0; 3],
             a: [NONE; 3],
-            s: [NONE; 3],
             orig: NONE,
             mark: 0,
         });
+        self.sides.push([NONE; 3]);
         self.tr.len() - 1
     }
 
+    /// The subsegment on half-edge `e` of triangle `t`, or `NONE`.
+    #[inline]
+    fn sub_at(&self, t: usize, e: usize) -> u32 {
+        if self.tr[t].mark >> e & 1 != 0 {
+            self.sides[t][e]
+        } else {
+            NONE
+        }
+    }
+
+    /// Sets the subsegment on half-edge `e` of triangle `t` (`NONE`: none).
+    #[inline]
+    fn set_sub(&mut self, t: usize, e: usize, s: u32) {
+        self.sides[t][e] = s;
+        let bit = 1 << e;
+        if s == NONE {
+            self.tr[t].mark &= !bit;
+        } else {
+            self.tr[t].mark |= bit;
+        }
+    }
+
     fn next_stamp(&mut self) -> u32 {
-        if self.stamp == u32::MAX {
+        if self.stamp > u32::MAX - 2 * STAMP_STEP {
             for t in &mut self.tr {
-                t.mark = 0;
+                t.mark &= FLAGS;
             }
             self.stamp = 0;
         }
-        self.stamp += 1;
+        self.stamp += STAMP_STEP;
         self.stamp
     }
 
@@ -498,17 +546,15 @@ impl Mesh {
         self.bnd.clear();
         self.hit.clear();
         self.stack.clear();
-        self.tr[start].mark = stamp;
+        self.tr[start].mark = (self.tr[start].mark & FLAGS) | stamp;
         self.cav.push(start as u32);
         // A split starts across its subsegment, so the other side is reached
         // first.
         let e0 = if split == NONE {
             0
         } else {
-            self.tr[start]
-                .s
-                .iter()
-                .position(|&x| x == split)
+            (0..3)
+                .position(|e| self.sub_at(start, e) == split)
                 .unwrap_or(0)
         };
         self.stack.push((start as u32, e0 as u8, 3));
@@ -526,7 +572,11 @@ impl Mesh {
             top.1 = NEXT[e] as u8;
             top.2 -= 1;
             let tri = &self.tr[t];
-            let s = tri.s[e];
+            let s = if tri.mark >> e & 1 != 0 {
+                self.sides[t][e]
+            } else {
+                NONE
+            };
             let x = tri.a[e];
             if s == NONE || s == split {
                 // Crossing the subsegment being split?
@@ -538,12 +588,13 @@ impl Mesh {
                     }
                 } else {
                     let (n, j) = unpack(x);
-                    if self.tr[n].mark == stamp {
+                    let nm = self.tr[n].mark;
+                    if nm & !FLAGS == stamp {
                         continue;
                     }
                     let v = self.tr[n].v;
                     if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
-                        self.tr[n].mark = stamp;
+                        self.tr[n].mark = (nm & FLAGS) | stamp;
                         self.cav.push(n as u32);
                         self.stack.push((n as u32, NEXT[j] as u8, 2));
                         continue;
@@ -605,7 +656,6 @@ impl Mesh {
         let p = self.xy.len() as u32;
         self.xy.push(c);
         self.vpar.push(NONE);
-        self.vt.push(self.cav[0]);
         self.replaced += self.cav.len();
         self.fan.clear();
         for k in 0..nb {
@@ -642,25 +692,30 @@ impl Mesh {
             } else {
                 NONE
             };
-            let tri = &mut self.tr[s];
-            tri.v = [p, b.a, b.b];
-            tri.a = [b.adj, next, prev];
-            tri.s = if split == NONE {
+            let sides = if split == NONE {
                 [b.sb, NONE, NONE]
             } else {
                 [b.sb, label(b.b), label(b.a)]
             };
+            let flags = (0..3).fold(0, |f, e| f | u32::from(sides[e] != NONE) << e);
+            if flags != 0 {
+                // (Read only where a flag is set.)
+                self.sides[s] = sides;
+            }
+            let tri = &mut self.tr[s];
+            tri.v = [p, b.a, b.b];
+            tri.a = [b.adj, next, prev];
+            // The cavity's stamp stays (no search is under way).
+            tri.mark = (tri.mark & !FLAGS) | flags;
             tri.orig = b.orig;
-            self.vt[b.a as usize] = s as u32;
+            if b.sb != NONE {
+                self.subs[b.sb as usize].he = pack(s, 0);
+            }
             if b.adj != NONE {
                 let (o, l) = unpack(b.adj);
                 self.tr[o].a[l] = pack(s, 0);
             }
         }
-        if open == 1 {
-            self.vt[self.bnd[nb - 1].b as usize] = self.fan[nb - 1];
-        }
-        self.vt[p as usize] = self.fan[0];
         Ins::Done(p)
     }
 
@@ -708,7 +763,7 @@ impl Mesh {
         }
         let (x, tm) = self.split_point(&sub);
         let [u, w] = sub.v;
-        let Some((t, _)) = self.find_either(u, w) else {
+        let Some(t) = self.tri_of_sub(s) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
@@ -722,6 +777,7 @@ impl Mesh {
         self.subs[s as usize].alive = false;
         self.subs.push(Sub {
             v: [u, nv],
+            he: NONE,
             t: [sub.t[0], tm],
             parent: sub.parent,
             alive: true,
@@ -730,12 +786,23 @@ impl Mesh {
         });
         self.subs.push(Sub {
             v: [nv, w],
+            he: NONE,
             t: [tm, sub.t[1]],
             parent: sub.parent,
             alive: true,
             stuck: false,
             protected: false,
         });
+        // The halves lie on fan edges 1 and 2.
+        for i in 0..self.fan.len() {
+            let f = self.fan[i] as usize;
+            for e in 1..3 {
+                let x = self.sub_at(f, e);
+                if x == k || x == k + 1 {
+                    self.subs[x as usize].he = pack(f, e);
+                }
+            }
+        }
         Some(nv)
     }
 
@@ -808,8 +875,12 @@ impl Mesh {
 /// over the bound's), then area buckets (largest area ratio first, quarter
 /// octaves). Within a bucket the newest triangle comes first: it was just
 /// made, so it is still in cache (the order changes the mesh only slightly).
+///
+/// An entry is (triangle, its first vertex): a triangle record is reused
+/// only by a fan around a new vertex, which becomes the first vertex of
+/// every fan triangle, so a changed first vertex marks a stale entry.
 struct Queue {
-    buckets: Vec<Vec<(u32, [u32; 3])>>,
+    buckets: Vec<Vec<(u32, u32)>>,
     /// No non-empty bucket below this one.
     lo: usize,
     len: usize,
@@ -841,14 +912,14 @@ impl Queue {
         1 + ANGLE_BUCKETS + (AREA_BUCKETS - 1 - k)
     }
 
-    fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
+    fn push(&mut self, b: u32, t: u32, v0: u32) {
         let b = b as usize;
-        self.buckets[b].push((t, v));
+        self.buckets[b].push((t, v0));
         self.lo = self.lo.min(b);
         self.len += 1;
     }
 
-    fn pop(&mut self) -> Option<(u32, [u32; 3])> {
+    fn pop(&mut self) -> Option<(u32, u32)> {
         while self.lo < self.buckets.len() {
             if let Some(x) = self.buckets[self.lo].pop() {
                 self.len -= 1;
@@ -1029,12 +1100,11 @@ fn refine_inner(
             .map(|t| Tri {
                 v: cdt.triangles[t],
                 a: [NONE; 3],
-                s: [NONE; 3],
                 orig: t as u32,
                 mark: 0,
             })
             .collect(),
-        vt: vec![0; nfixed],
+        sides: vec![[NONE; 3]; nt],
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: vec![Vec::new(); nfixed],
@@ -1050,9 +1120,6 @@ fn refine_inner(
         replaced: 0,
     };
     for t in 0..nt {
-        for &x in &m.tr[t].v {
-            m.vt[x as usize] = t as u32;
-        }
         for e in 0..3 {
             let n = cdt.neighbors[t][e];
             if n == NONE {
@@ -1076,7 +1143,7 @@ fn refine_inner(
     }
     for t in 0..nt {
         for e in 0..3 {
-            if m.tr[t].s[e] != NONE {
+            if m.sub_at(t, e) != NONE {
                 continue;
             }
             let (a, b) = edge(&m.tr[t].v, e);
@@ -1098,16 +1165,17 @@ fn refine_inner(
             };
             m.subs.push(Sub {
                 v: [a, b],
+                he: pack(t, e),
                 t: [0.0, 1.0],
                 parent: k,
                 alive: true,
                 stuck: protected,
                 protected,
             });
-            m.tr[t].s[e] = k;
+            m.set_sub(t, e, k);
             if m.tr[t].a[e] != NONE {
                 let (n, j) = unpack(m.tr[t].a[e]);
-                m.tr[n].s[j] = k;
+                m.set_sub(n, j, k);
             }
         }
     }
@@ -1160,6 +1228,7 @@ fn refine_inner(
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
+    m.reserve_for_areas(&crit, &cdt.max_areas, limit);
     let mut report = RefineReport::default();
 
     let bad = |m: &Mesh, t: usize| bad_bucket(m, &crit, &cdt.max_areas, t);
@@ -1168,12 +1237,12 @@ fn refine_inner(
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(k, t as u32, m.tr[t].v);
+            heap.push(k, t as u32, m.tr[t].v[0]);
         }
     }
     // Subsegments encroached by an apex.
     let check_sub = |m: &Mesh, t: usize, e: usize, enc: &mut VecDeque<u32>| {
-        let s = m.tr[t].s[e];
+        let s = m.sub_at(t, e);
         if s == NONE {
             return;
         }
@@ -1193,11 +1262,11 @@ fn refine_inner(
         for &t in &m.fan {
             let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(k, t as u32, m.tr[t].v);
+                heap.push(k, t as u32, m.tr[t].v[0]);
             }
             let tri = &m.tr[t];
             for e in 0..3 {
-                let s = tri.s[e];
+                let s = m.sub_at(t, e);
                 if s != NONE {
                     let [u, w] = m.subs[s as usize].v;
                     if encroaches(m.p(u), m.p(w), m.p(tri.v[e]), m.cos2) {
@@ -1250,13 +1319,14 @@ fn refine_inner(
             quality = false;
             continue;
         }
-        let Some((t, v)) = heap.pop() else {
+        let Some((t, v0)) = heap.pop() else {
             break;
         };
         let t = t as usize;
-        if m.tr[t].v != v {
+        if m.tr[t].v[0] != v0 {
             continue;
         }
+        let v = m.tr[t].v;
         let tv = v;
         let mut c = circumcenter(m.p(tv[0]), m.p(tv[1]), m.p(tv[2]));
         if crit.off > 0.0 {
@@ -1295,14 +1365,14 @@ fn refine_inner(
                     }
                 }
                 if any {
-                    heap.push(0, t as u32, v);
+                    heap.push(0, t as u32, v0);
                 }
             }
             Ins::Blocked(s) => {
                 report.rejected_circumcenters += 1;
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
-                    heap.push(0, t as u32, v);
+                    heap.push(0, t as u32, v0);
                 }
             }
             Ins::Failed => {}
@@ -1315,6 +1385,9 @@ fn refine_inner(
     } else {
         0
     };
+    // Free the queues before the output is built (peak memory).
+    drop(heap);
+    drop(enc);
     let mut r = finish(cdt, m, &crit, scale, restricted, report);
     if !quality {
         for u in &mut r.report.unfixable {
@@ -1337,23 +1410,38 @@ fn finish(
     restricted: bool,
     mut report: RefineReport,
 ) -> Refined {
+    let mut m = m;
+    // What the output no longer needs goes first (peak memory).
+    m.sides = Vec::new();
+    m.cav = Vec::new();
+    m.bnd = Vec::new();
+    m.fan = Vec::new();
+    m.stack = Vec::new();
     let nt = m.tr.len();
-    let mut points = cdt.points.clone();
+    let mut points = Vec::with_capacity(m.xy.len());
+    points.extend_from_slice(&cdt.points);
     points.extend(
         m.xy[m.nfixed..]
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    let triangles: Vec<[u32; 3]> = m.tr.iter().map(|t| t.v).collect();
-    let neighbors: Vec<[u32; 3]> =
-        m.tr.iter()
-            .map(|t| t.a)
-            .map(|a| a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }))
-            .collect();
-    let o = |t: usize| m.tr[t].orig as usize;
-    let regions = (0..nt).map(|t| cdt.regions[o(t)]).collect();
-    let attributes = (0..nt).map(|t| cdt.attributes[o(t)]).collect();
-    let max_areas: Vec<f64> = (0..nt).map(|t| cdt.max_areas[o(t)]).collect();
+    // One pass over the triangle records for every per-triangle output.
+    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(nt);
+    let mut neighbors: Vec<[u32; 3]> = Vec::with_capacity(nt);
+    let mut regions = Vec::with_capacity(nt);
+    let mut attributes = Vec::with_capacity(nt);
+    let mut max_areas: Vec<f64> = Vec::with_capacity(nt);
+    for tri in &m.tr {
+        let o = tri.orig as usize;
+        triangles.push(tri.v);
+        neighbors.push(
+            tri.a
+                .map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }),
+        );
+        regions.push(cdt.regions[o]);
+        attributes.push(cdt.attributes[o]);
+        max_areas.push(cdt.max_areas[o]);
+    }
     let mut segments = Vec::new();
     for s in m.subs.iter().filter(|s| s.alive) {
         let par = m.parents[s.parent as usize];
@@ -1484,10 +1572,10 @@ mod tests {
         assert!(Queue::area_bucket(1e300) > Queue::angle_bucket(0.999));
         // Pop: lowest bucket first, newest first within a bucket.
         let mut q = Queue::new();
-        q.push(5, 1, [1, 2, 3]);
-        q.push(3, 2, [4, 5, 6]);
-        q.push(5, 3, [7, 8, 9]);
-        q.push(0, 4, [0, 1, 2]);
+        q.push(5, 1, 1);
+        q.push(3, 2, 4);
+        q.push(5, 3, 7);
+        q.push(0, 4, 0);
         let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|x| x.0)).collect();
         assert_eq!(order, vec![4, 2, 3, 1]);
         assert!(q.is_empty());
