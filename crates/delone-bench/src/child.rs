@@ -615,6 +615,8 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
     let mut peak_kb = base_kb;
     let mut call_kb: Option<u64> = None;
     let mut times = Vec::with_capacity(timed);
+    // The note of each timed run: the median run's is reported.
+    let mut infos: Vec<(f64, String)> = Vec::with_capacity(timed);
     let mut hashes = Vec::new();
 
     for i in 0..warmup + timed {
@@ -652,6 +654,7 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
                 let slow_warmup = i < warmup && r.seconds > SLOW;
                 if i >= warmup || slow_warmup {
                     times.push(r.seconds);
+                    infos.push((r.seconds, r.info.clone()));
                 }
                 hashes.extend(r.hash);
                 res.elements = r.elements;
@@ -668,6 +671,13 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
     }
     res.seconds = median(&times);
     res.runs = times.len();
+    if let Some((_, info)) = infos.iter().min_by(|a, b| {
+        (a.0 - res.seconds)
+            .abs()
+            .total_cmp(&(b.0 - res.seconds).abs())
+    }) {
+        res.info.clone_from(info);
+    }
 
     // One more, untimed run of delone (the memory figures are already
     // taken): its output goes through delone's validator, and the full
