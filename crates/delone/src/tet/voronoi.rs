@@ -194,13 +194,10 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
         }
     }
     let o = (0..4).fold(0, |m, i| if sum[i] < sum[m] { i } else { m });
-    // An even permutation putting corner o first keeps the orientation.
-    let perm = match o {
-        0 => [0, 1, 2, 3],
-        1 => [1, 0, 3, 2],
-        2 => [2, 3, 0, 1],
-        _ => [3, 2, 1, 0],
-    };
+    // An even permutation putting corner o first keeps the orientation:
+    // [o, o ^ 1, o ^ 2, o ^ 3] (a double transposition, or the identity);
+    // indexed rather than matched, for no branch to mispredict.
+    let perm = [o, o ^ 1, o ^ 2, o ^ 3];
     let [a, b, c, d] = perm.map(|i| q[i]);
     let [wa, wb, wc, wd] = perm.map(|i| wq[i]);
     let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
@@ -493,69 +490,70 @@ fn face_pass(
     out
 }
 
-/// For meshes of at least 2^15 tetrahedra, `(perm, inv)`: the tetrahedra
-/// sorted by the Morton code of the grid cell holding their first vertex
-/// (a grid of up to 2^18 cells, about 8 to 32 tetrahedra per cell), ties by
-/// index; `perm[new] = old` and `inv[old] = new`. One counting sort pass,
-/// deterministic.
-fn spatial_order(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Option<(Vec<u32>, Vec<u32>)> {
-    let nt = tets.len();
-    if nt < 1 << 15 {
-        return None;
-    }
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for q in points {
-        for i in 0..3 {
-            lo[i] = lo[i].min(q[i]);
-            hi[i] = hi[i].max(q[i]);
+/// The Morton grid ordering the walk records of meshes of at least 2^15
+/// tetrahedra: the tetrahedra are sorted by the Morton code of the grid cell
+/// holding their first vertex (a grid of up to 2^18 cells, about 8 to 32
+/// tetrahedra per cell), ties by index — one counting sort, deterministic.
+struct Grid {
+    lo: [f64; 3],
+    scale: [f64; 3],
+    cells: f64,
+    bits: u32,
+    /// `spread[x]`: the 6 bits of x at every third position.
+    spread: [u32; 64],
+}
+
+impl Grid {
+    /// The grid for `nt` tetrahedra over `points` (`None` under 2^15).
+    fn new(points: &[[f64; 3]], nt: usize) -> Option<Grid> {
+        if nt < 1 << 15 {
+            return None;
         }
-    }
-    // `bits` per axis: 2^(3 bits) cells, at least 8 tetrahedra each.
-    let bits = ((usize::BITS - nt.leading_zeros()).saturating_sub(3) / 3).clamp(1, 6);
-    let cells = (1u32 << bits) as f64;
-    let scale: [f64; 3] = std::array::from_fn(|i| {
-        let w = hi[i] - lo[i];
-        if w > 0.0 && w.is_finite() {
-            cells / w
-        } else {
-            0.0
-        }
-    });
-    // SPREAD[x]: the 6 bits of x at every third position.
-    let spread: [u32; 64] =
-        std::array::from_fn(|x| (0..6).fold(0, |k, i| k | ((x as u32 >> i) & 1) << (3 * i)));
-    // Keys first, then turned in place into the new positions.
-    let mut inv: Vec<u32> = tets
-        .iter()
-        .map(|tv| {
-            let q = points[tv[0] as usize];
-            let mut key = 0u32;
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for q in points {
             for i in 0..3 {
-                let c = ((q[i] - lo[i]) * scale[i]).clamp(0.0, cells - 1.0) as usize;
-                key |= spread[c & 63] << i;
+                lo[i] = lo[i].min(q[i]);
+                hi[i] = hi[i].max(q[i]);
             }
-            key
+        }
+        // `bits` per axis: 2^(3 bits) cells, at least 8 tetrahedra each.
+        let bits = ((usize::BITS - nt.leading_zeros()).saturating_sub(3) / 3).clamp(1, 6);
+        let cells = (1u32 << bits) as f64;
+        let scale: [f64; 3] = std::array::from_fn(|i| {
+            let w = hi[i] - lo[i];
+            if w > 0.0 && w.is_finite() {
+                cells / w
+            } else {
+                0.0
+            }
+        });
+        let spread =
+            std::array::from_fn(|x| (0..6).fold(0, |k, i| k | ((x as u32 >> i) & 1) << (3 * i)));
+        Some(Grid {
+            lo,
+            scale,
+            cells,
+            bits,
+            spread,
         })
-        .collect();
-    let mut count = vec![0u32; (1 << (3 * bits)) + 1];
-    for &k in &inv {
-        count[k as usize + 1] += 1;
     }
-    for i in 1..count.len() {
-        count[i] += count[i - 1];
+
+    /// The number of keys.
+    fn keys(&self) -> usize {
+        1 << (3 * self.bits)
     }
-    for x in inv.iter_mut() {
-        let k = *x as usize;
-        *x = count[k];
-        count[k] += 1;
+
+    /// The Morton key of the cell holding `q`.
+    #[inline]
+    fn key(&self, q: &[f64; 3]) -> u32 {
+        let mut key = 0u32;
+        for i in 0..3 {
+            let c = ((q[i] - self.lo[i]) * self.scale[i]).clamp(0.0, self.cells - 1.0) as usize;
+            key |= self.spread[c & 63] << i;
+        }
+        key
     }
-    drop(count);
-    let mut perm = vec![0u32; nt];
-    for (old, &new) in inv.iter().enumerate() {
-        perm[new as usize] = old as u32;
-    }
-    Some((perm, inv))
 }
 
 /// Local index of vertex `x` in `tv` (0 if absent, which a valid mesh never
@@ -691,35 +689,84 @@ impl Voronoi3 {
         let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
         let k = chunk_count(nt, threads);
         let bounds: Vec<usize> = (0..=k).map(|i| nt * i / k).collect();
-        // Walk records in a spatially coherent order (large meshes): the
-        // tetrahedra sorted by the Morton code of their first vertex, so
-        // that the ring walks stay in cache.
-        let (perm, inv) = match spatial_order(points, tets) {
-            Some((perm, inv)) => (perm, Some(inv)),
-            None => ((0..nt as u32).collect(), None),
-        };
-        // A. Records (chunk by chunk of the new order) and circumcentres
-        // (chunk by chunk of the mesh order); per chunk the facets it will
-        // number (hull facets and those whose neighbour comes later).
-        let mut recs = vec![Rec::default(); nt];
+        let grid = Grid::new(points, nt);
+        // A. Circumcentres, and for large meshes the Morton keys of the
+        // tetrahedra (one pass over the mesh, chunk by chunk) with each
+        // chunk's key histogram.
         let mut vertices = vec![[0.0f64; 3]; nt];
-        let jobs: Vec<_> = split_mut(&mut recs, &bounds)
+        let mut inv = vec![0u32; if grid.is_some() { nt } else { 0 }];
+        let key_chunks = if grid.is_some() {
+            split_mut(&mut inv, &bounds)
+        } else {
+            (0..k).map(|_| &mut [][..]).collect()
+        };
+        let jobs: Vec<_> = split_mut(&mut vertices, &bounds)
             .into_iter()
-            .zip(split_mut(&mut vertices, &bounds))
+            .zip(key_chunks)
             .collect();
-        let owned: Vec<usize> = run_all(jobs, |i, (rc, vc)| {
-            let lo = bounds[i];
-            for (c, tv) in vc.iter_mut().zip(&tets[lo..]) {
+        let hist = run_all(jobs, |i, (vc, kc)| {
+            let chunk = &tets[bounds[i]..bounds[i + 1]];
+            for (c, tv) in vc.iter_mut().zip(chunk) {
                 *c = orthocenter(tv.map(p), tv.map(w));
             }
+            let Some(g) = &grid else {
+                return Vec::new();
+            };
+            let mut hist = vec![0u32; g.keys()];
+            for (x, tv) in kc.iter_mut().zip(chunk) {
+                *x = g.key(p(tv[0]));
+                hist[*x as usize] += 1;
+            }
+            hist
+        });
+        // The walk order (large meshes): `perm[new] = old`, `inv[old] =
+        // new`, a stable counting sort of the keys, each chunk placing its
+        // own tetrahedra.
+        let perm: Vec<u32> = if let Some(g) = &grid {
+            let mut start = vec![vec![0u32; g.keys()]; k];
+            let mut at = 0u32;
+            for c in 0..g.keys() {
+                for i in 0..k {
+                    start[i][c] = at;
+                    at += hist[i][c];
+                }
+            }
+            drop(hist);
+            let jobs: Vec<_> = split_mut(&mut inv, &bounds)
+                .into_iter()
+                .zip(start)
+                .collect();
+            run_all(jobs, |_, (kc, mut st)| {
+                for x in kc.iter_mut() {
+                    let c = *x as usize;
+                    *x = st[c];
+                    st[c] += 1;
+                }
+            });
+            let mut perm = vec![0u32; nt];
+            for (old, &new) in inv.iter().enumerate() {
+                perm[new as usize] = old as u32;
+            }
+            perm
+        } else {
+            (0..nt as u32).collect()
+        };
+        // Records (chunk by chunk of the walk order); per chunk the facets
+        // it will number (hull facets and those whose neighbour comes
+        // later).
+        let mut recs = vec![Rec::default(); nt];
+        let inv = &inv;
+        let owned: Vec<usize> = run_all(split_mut(&mut recs, &bounds), |i, rc| {
+            let lo = bounds[i];
             let mut owned = 0;
             for (j, r) in rc.iter_mut().enumerate() {
                 let t = lo + j;
                 let old = perm[t] as usize;
                 let nb = mesh.neighbors[old];
-                let nb = match &inv {
-                    Some(inv) => nb.map(|u| if u == NONE { NONE } else { inv[u as usize] }),
-                    None => nb,
+                let nb = if inv.is_empty() {
+                    nb
+                } else {
+                    nb.map(|u| if u == NONE { NONE } else { inv[u as usize] })
                 };
                 owned += nb.iter().filter(|&&u| u == NONE || u as usize > t).count();
                 *r = Rec {
@@ -808,25 +855,43 @@ impl Voronoi3 {
             open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
             open_face_rays.extend_from_slice(&x.open_face_rays);
         }
-        // D. Cells: the faces around each site.
+        // D. Cells: the faces around each site, a counting sort; each
+        // thread takes a range of sites (scanning all faces).
+        let sb: Vec<usize> = (0..=k).map(|i| n * i / k).collect();
         let mut count = vec![0u32; n + 1];
-        for f in &faces {
-            for &s in &f.sites {
-                count[s as usize + 1] += 1;
+        let fs = &faces[..];
+        run_all(split_mut(&mut count[1..], &sb), |i, cc| {
+            let (lo, len) = (sb[i], cc.len());
+            // One spare counter at `len` for the sites of other ranges.
+            let mut c = vec![0u32; len + 1];
+            for f in fs {
+                for &s in &f.sites {
+                    c[(s as usize).wrapping_sub(lo).min(len)] += 1;
+                }
             }
-        }
+            cc.copy_from_slice(&c[..len]);
+        });
         for i in 0..n {
             count[i + 1] += count[i];
         }
-        let cell_offsets = count.clone();
-        let mut fill = count;
+        let cell_offsets = count;
         let mut cell_face_ids = vec![0u32; *cell_offsets.last().unwrap_or(&0) as usize];
-        for (fi, f) in faces.iter().enumerate() {
-            for &s in &f.sites {
-                cell_face_ids[fill[s as usize] as usize] = fi as u32;
-                fill[s as usize] += 1;
+        let cb: Vec<usize> = sb.iter().map(|&s| cell_offsets[s] as usize).collect();
+        let cell_offsets_ref = &cell_offsets;
+        run_all(split_mut(&mut cell_face_ids, &cb), |i, out| {
+            let (lo, hi) = (sb[i], sb[i + 1]);
+            let base = cb[i] as u32;
+            let mut fill: Vec<u32> = cell_offsets_ref[lo..hi].iter().map(|&o| o - base).collect();
+            for (fi, f) in fs.iter().enumerate() {
+                for &s in &f.sites {
+                    let j = (s as usize).wrapping_sub(lo);
+                    if j < fill.len() {
+                        out[fill[j] as usize] = fi as u32;
+                        fill[j] += 1;
+                    }
+                }
             }
-        }
+        });
         Voronoi3 {
             vertices,
             edges,
