@@ -282,6 +282,16 @@ fn run_all<I: Send, R: Send>(items: Vec<I>, f: impl Fn(usize, I) -> R + Sync) ->
     })
 }
 
+/// The parts one after the other (the first part's vector extended).
+fn concat(parts: Vec<Vec<u32>>) -> Vec<u32> {
+    let mut parts = parts.into_iter();
+    let mut out = parts.next().unwrap_or_default();
+    for x in parts {
+        out.extend_from_slice(&x);
+    }
+    out
+}
+
 /// The edges numbered by one chunk of tetrahedra.
 #[derive(Default)]
 struct EdgePart {
@@ -546,6 +556,7 @@ impl Grid {
 
     /// The Morton key of the cell holding `q`.
     #[inline]
+    #[allow(clippy::needless_range_loop)] // i indexes q, lo and scale
     fn key(&self, q: &[f64; 3]) -> u32 {
         let mut key = 0u32;
         for i in 0..3 {
@@ -800,60 +811,88 @@ impl Voronoi3 {
                 e[t as usize][f as usize] = e[u as usize][g];
             }
         }
-        let mut parts = parts.into_iter();
-        let EdgePart {
-            mut edges,
-            mut ray_edges,
-            mut ray_directions,
-            ..
-        } = parts.next().unwrap_or_default();
-        for x in parts {
-            edges.extend_from_slice(&x.edges);
-            ray_edges.extend_from_slice(&x.ray_edges);
-            ray_directions.extend_from_slice(&x.ray_directions);
-        }
-        let mut unbounded = vec![false; n];
-        for &r in &ray_edges {
-            for &s in &edges[r as usize].sites {
-                unbounded[s as usize] = true;
-            }
-        }
         // C. Faces: the ring walks, chunk by chunk.
         let e = &e[..];
         let face_parts = run_all((0..k).collect(), |i, _| {
             face_pass(points, recs, e, &perm, bounds[i], bounds[i + 1], i == 0)
         });
         drop(perm);
-        let mut face_parts = face_parts.into_iter();
-        let first = face_parts.next().unwrap_or_default();
-        let FacePart {
-            mut faces,
-            ends: fo,
-            mut face_vertices,
-            edge_ends: feo,
-            mut face_edge_ids,
-            mut open_faces,
-            mut open_face_rays,
-        } = first;
-        let mut face_offsets = Vec::with_capacity(fo.len() * k + 1);
-        face_offsets.push(0);
-        face_offsets.extend_from_slice(&fo);
-        let mut face_edge_offsets = Vec::with_capacity(feo.len() * k + 1);
-        face_edge_offsets.push(0);
-        face_edge_offsets.extend_from_slice(&feo);
+        // The parts put together, the two largest arrays on a second thread.
+        let mut fv_parts = Vec::with_capacity(k);
+        let mut fe_parts = Vec::with_capacity(k);
+        let mut rest = Vec::with_capacity(k);
+        let (mut bv, mut be) = (0u32, 0u32);
         for x in face_parts {
-            let (bf, bv, be) = (
-                faces.len() as u32,
-                face_vertices.len() as u32,
-                face_edge_ids.len() as u32,
-            );
-            faces.extend_from_slice(&x.faces);
-            face_offsets.extend(x.ends.iter().map(|&o| o + bv));
-            face_vertices.extend_from_slice(&x.face_vertices);
-            face_edge_offsets.extend(x.edge_ends.iter().map(|&o| o + be));
-            face_edge_ids.extend_from_slice(&x.face_edge_ids);
-            open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
-            open_face_rays.extend_from_slice(&x.open_face_rays);
+            let lens = (x.face_vertices.len() as u32, x.face_edge_ids.len() as u32);
+            fv_parts.push(x.face_vertices);
+            fe_parts.push(x.face_edge_ids);
+            rest.push((
+                bv,
+                be,
+                x.faces,
+                x.ends,
+                x.edge_ends,
+                x.open_faces,
+                x.open_face_rays,
+            ));
+            bv += lens.0;
+            be += lens.1;
+        }
+        let big = move || (concat(fv_parts), concat(fe_parts));
+        let small = move || {
+            let mut parts = parts.into_iter();
+            let EdgePart {
+                mut edges,
+                mut ray_edges,
+                mut ray_directions,
+                ..
+            } = parts.next().unwrap_or_default();
+            for x in parts {
+                edges.extend_from_slice(&x.edges);
+                ray_edges.extend_from_slice(&x.ray_edges);
+                ray_directions.extend_from_slice(&x.ray_directions);
+            }
+            let nf: usize = rest.iter().map(|x| x.2.len()).sum();
+            let mut faces = Vec::with_capacity(nf);
+            let mut face_offsets = Vec::with_capacity(nf + 1);
+            face_offsets.push(0);
+            let mut face_edge_offsets = Vec::with_capacity(nf + 1);
+            face_edge_offsets.push(0);
+            let (mut open_faces, mut open_face_rays) = (Vec::new(), Vec::new());
+            for (bv, be, f, fo, feo, of, ofr) in rest {
+                let bf = faces.len() as u32;
+                faces.extend_from_slice(&f);
+                face_offsets.extend(fo.iter().map(|&o| o + bv));
+                face_edge_offsets.extend(feo.iter().map(|&o| o + be));
+                open_faces.extend(of.iter().map(|&f| f + bf));
+                open_face_rays.extend_from_slice(&ofr);
+            }
+            (
+                (edges, ray_edges, ray_directions),
+                (
+                    faces,
+                    face_offsets,
+                    face_edge_offsets,
+                    open_faces,
+                    open_face_rays,
+                ),
+            )
+        };
+        let (((edges, ray_edges, ray_directions), fs), (face_vertices, face_edge_ids)) = if k > 1 {
+            std::thread::scope(|sc| {
+                let h = sc.spawn(big);
+                let x = small();
+                (x, h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            })
+        } else {
+            (small(), big())
+        };
+        let (faces, face_offsets, face_edge_offsets, open_faces, open_face_rays) = fs;
+        let mut unbounded = vec![false; n];
+        for &r in &ray_edges {
+            for &s in &edges[r as usize].sites {
+                unbounded[s as usize] = true;
+            }
         }
         // D. Cells: the faces around each site, a counting sort; each
         // thread takes a range of sites (scanning all faces).
