@@ -92,13 +92,21 @@ fn main() {
         );
     } else {
         let pts: Vec<[f64; 2]> = (0..n).map(|_| [unit(), unit()]).collect();
+        let c0 = cpu_seconds();
         let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
+        let c1 = cpu_seconds();
         let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+        let c2 = cpu_seconds();
+        let (ct, cv) = (c1 - c0, c2 - c1);
+        println!(
+            "2D n={n}: CPU time (all repeats) triangulate {ct:.2}s, Voronoi2 {cv:.2}s ({:.2}x)",
+            cv / ct
+        );
         let bbox = [[0.0; 2], [1.0; 2]];
         let (tc, c) = best(reps, || v.cells_clipped(&pts, bbox));
         let area: f64 = c.area.iter().sum();
         println!(
-            "2D n={n}: triangulate {tt:.3}s, Voronoi2 {tv:.3}s ({:.2}x), clip {tc:.3}s ({:.2}x); {} edges, area sum {area}",
+            "2D n={n}: wall triangulate {tt:.3}s, Voronoi2 {tv:.3}s ({:.2}x), clip {tc:.3}s ({:.2}x); {} edges, area sum {area}",
             tv / tt,
             tc / tt,
             v.edges.len()

@@ -692,6 +692,39 @@ impl Voronoi3 {
         Ok(Self::build(points, weights, mesh, threads))
     }
 
+    /// Everything, in passes over the tetrahedra cut into `k` contiguous
+    /// chunks, one thread per chunk (`k = 1` for small meshes), no hash
+    /// table:
+    /// * A — circumcentres (mesh order) and, for meshes of 2^15 tetrahedra
+    ///   or more, the Morton keys of the tetrahedra with per-chunk
+    ///   histograms; then a stable counting sort gives the walk order, each
+    ///   chunk placing its own tetrahedra;
+    /// * B — 32-byte walk records (`Rec`: vertices and neighbours, in the
+    ///   walk order), then the edges: every facet is numbered by the lower
+    ///   of its two tetrahedra (hull facets by their only one), the higher
+    ///   one copying the number back (a short serial fix-up for facets whose
+    ///   lower tetrahedron is in an earlier chunk);
+    /// * C — faces: tetrahedron by tetrahedron, every local edge not yet
+    ///   swept is swept, walking the ring of tetrahedra around the Delaunay
+    ///   edge and marking it in every tetrahedron of the chunk it passes;
+    ///   the face is emitted when no tetrahedron of the ring lies in an
+    ///   earlier chunk — by the lowest tetrahedron of its ring, as with one
+    ///   chunk. The swept bits, facet edges and mesh indices are side arrays;
+    /// * D — the parts put together in chunk order, then the cells by a
+    ///   counting sort of the faces by site, each thread a range of sites.
+    ///
+    /// Every part is written in chunk order and numbered from the sizes of
+    /// the earlier chunks, so for a valid mesh the result is the same bit
+    /// for bit whatever `k`.
+    ///
+    /// Measured and rejected (1M uniform points, same output): advancing 4
+    /// or 8 ring walks in lock-step to overlap their cache misses (slower:
+    /// with the Morton order most steps hit the cache); feeding the
+    /// tetrahedra already in Morton order (3-10% of the whole); building the
+    /// records and numbering the edges in one pass (slower: the interleaved
+    /// work starves the record gathers of memory-level parallelism); walking
+    /// with bare tetrahedron and facet handles and resolving them to mesh
+    /// indices and edge numbers afterwards (no gain).
     fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh, threads: usize) -> Voronoi3 {
         let tets = &mesh.tets;
         let nt = tets.len();
