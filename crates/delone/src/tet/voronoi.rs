@@ -15,6 +15,8 @@
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
+use std::sync::Mutex;
+
 use delone_predicates::orient3d;
 
 use super::local::FACET;
@@ -263,20 +265,33 @@ fn split_mut<'a, T>(mut s: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
 }
 
 /// `f(i, item)` for every item, the first on this thread and the others on
-/// scoped threads; the results in item order.
+/// scoped threads; the results in item order. An item whose thread cannot
+/// be started runs on this thread.
 fn run_all<I: Send, R: Send>(items: Vec<I>, f: impl Fn(usize, I) -> R + Sync) -> Vec<R> {
     if items.len() <= 1 {
         return items.into_iter().map(|x| f(0, x)).collect();
     }
     let f = &f;
+    // Each item waits in a slot for whoever runs it.
+    let slots: Vec<Mutex<Option<I>>> = items.into_iter().map(|x| Mutex::new(Some(x))).collect();
+    let slots = &slots;
+    let take = move |i: usize| slots[i].lock().ok().and_then(|mut s| s.take());
     std::thread::scope(|sc| {
-        let mut it = items.into_iter().enumerate();
-        let first = it.next();
-        let handles: Vec<_> = it.map(|(i, x)| sc.spawn(move || f(i, x))).collect();
-        let mut out = Vec::with_capacity(handles.len() + 1);
-        out.extend(first.map(|(i, x)| f(i, x)));
-        for h in handles {
-            out.push(h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+        let handles: Vec<_> = (1..slots.len())
+            .map(|i| {
+                std::thread::Builder::new()
+                    .spawn_scoped(sc, move || take(i).map(|x| f(i, x)))
+                    .ok()
+            })
+            .collect();
+        let mut out = Vec::with_capacity(slots.len());
+        out.extend(take(0).map(|x| f(0, x)));
+        for (j, h) in handles.into_iter().enumerate() {
+            let done = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+            match done {
+                Some(r) => out.push(r),
+                None => out.extend(take(j + 1).map(|x| f(j + 1, x))),
+            }
         }
         out
     })
@@ -871,7 +886,13 @@ impl Voronoi3 {
             bv += lens.0;
             be += lens.1;
         }
-        let big = move || (concat(fv_parts), concat(fe_parts));
+        let big = Mutex::new(Some((fv_parts, fe_parts)));
+        let big = || {
+            big.lock()
+                .ok()
+                .and_then(|mut s| s.take())
+                .map(|(v, e)| (concat(v), concat(e)))
+        };
         let small = move || {
             let mut parts = parts.into_iter();
             let EdgePart {
@@ -911,15 +932,18 @@ impl Voronoi3 {
                 ),
             )
         };
-        let (((edges, ray_edges, ray_directions), fs), (face_vertices, face_edge_ids)) = if k > 1 {
+        let (((edges, ray_edges, ray_directions), fs), big) = if k > 1 {
             std::thread::scope(|sc| {
-                let h = sc.spawn(big);
+                let h = std::thread::Builder::new().spawn_scoped(sc, big).ok();
                 let x = small();
-                (x, h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                let y = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+                // The thread could not be started: do its part here.
+                (x, y.or_else(big))
             })
         } else {
             (small(), big())
         };
+        let (face_vertices, face_edge_ids) = big.unwrap_or_default();
         let (faces, face_offsets, face_edge_offsets, open_faces, open_face_rays) = fs;
         let mut unbounded = vec![false; n];
         for &r in &ray_edges {
