@@ -765,14 +765,15 @@ impl Voronoi3 {
             .collect();
         let hist = run_all(jobs, |i, (vc, kc)| {
             let chunk = &tets[bounds[i]..bounds[i + 1]];
-            for (c, tv) in vc.iter_mut().zip(chunk) {
-                *c = orthocenter(tv.map(p), tv.map(w));
-            }
             let Some(g) = &grid else {
+                for (c, tv) in vc.iter_mut().zip(chunk) {
+                    *c = orthocenter(tv.map(p), tv.map(w));
+                }
                 return Vec::new();
             };
             let mut hist = vec![0u32; g.keys()];
-            for (x, tv) in kc.iter_mut().zip(chunk) {
+            for ((c, x), tv) in vc.iter_mut().zip(kc.iter_mut()).zip(chunk) {
+                *c = orthocenter(tv.map(p), tv.map(w));
                 *x = g.key(p(tv[0]));
                 hist[*x as usize] += 1;
             }
