@@ -1,7 +1,11 @@
 //! Times Voronoi extraction against triangulation on seeded uniform random
 //! points (2D, and 3D with `--3d`).
 //!
-//! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d] [--no-clip]`
+//! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d] [--no-clip] [--threads N]`
+//!
+//! `--threads N` (3D): the extraction's thread count (default: the
+//! available parallelism, at most 8). Wall times are the best of the
+//! repeats; CPU times (user + system, all threads) cover all repeats.
 use std::time::Instant;
 
 use delone::geom::SplitMix64;
@@ -45,6 +49,12 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(1_000_000);
     let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3).max(1);
+    let threads: usize = args
+        .iter()
+        .position(|a| a == "--threads")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
     let mut rng = SplitMix64::new(42);
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     if args.iter().any(|a| a == "--3d") {
@@ -54,12 +64,19 @@ fn main() {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
         let c1 = cpu_seconds();
-        let (tv, v) = best(reps, || delone::tet::Voronoi3::new(&pts, &mesh).unwrap());
+        let (tv, v) = best(reps, || {
+            delone::tet::Voronoi3::with_threads(&pts, &mesh, threads).unwrap()
+        });
         let c2 = cpu_seconds();
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
-            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x)",
-            cv / ct
+            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads",
+            cv / ct,
+            if threads == 0 {
+                delone::tet::Voronoi3::default_threads()
+            } else {
+                threads
+            }
         );
         let bbox = [[0.0; 3], [1.0; 3]];
         let (tc, vol) = if args.iter().any(|a| a == "--no-clip") {
@@ -69,19 +86,27 @@ fn main() {
             (tc, c.volume.iter().sum())
         };
         println!(
-            "3D n={n}: tetrahedralize {tt:.3}s, Voronoi3 {tv:.3}s ({:.2}x), clip {tc:.3}s; {} faces, volume sum {vol}",
+            "3D n={n}: wall tetrahedralize {tt:.3}s, Voronoi3 {tv:.3}s ({:.2}x), clip {tc:.3}s; {} faces, volume sum {vol}",
             tv / tt,
             v.faces.len()
         );
     } else {
         let pts: Vec<[f64; 2]> = (0..n).map(|_| [unit(), unit()]).collect();
+        let c0 = cpu_seconds();
         let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
+        let c1 = cpu_seconds();
         let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+        let c2 = cpu_seconds();
+        let (ct, cv) = (c1 - c0, c2 - c1);
+        println!(
+            "2D n={n}: CPU time (all repeats) triangulate {ct:.2}s, Voronoi2 {cv:.2}s ({:.2}x)",
+            cv / ct
+        );
         let bbox = [[0.0; 2], [1.0; 2]];
         let (tc, c) = best(reps, || v.cells_clipped(&pts, bbox));
         let area: f64 = c.area.iter().sum();
         println!(
-            "2D n={n}: triangulate {tt:.3}s, Voronoi2 {tv:.3}s ({:.2}x), clip {tc:.3}s ({:.2}x); {} edges, area sum {area}",
+            "2D n={n}: wall triangulate {tt:.3}s, Voronoi2 {tv:.3}s ({:.2}x), clip {tc:.3}s ({:.2}x); {} edges, area sum {area}",
             tv / tt,
             tc / tt,
             v.edges.len()

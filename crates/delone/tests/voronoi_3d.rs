@@ -492,3 +492,62 @@ fn large_mesh_in_morton_order() {
         }
     }
 }
+
+/// The chunked multi-thread extraction gives the same diagram bit for bit
+/// whatever the thread count, and the same as one thread: for Voronoi and
+/// power diagrams, on meshes large enough to be cut into several chunks
+/// (2^14 tetrahedra each at least), with and without the Morton order.
+#[test]
+fn any_thread_count_gives_the_same_diagram() {
+    for (n, seed) in [(3000, 5), (9000, 6)] {
+        let pts = random(n, seed, -1.0, 2.0);
+        let mesh = delone::tetrahedralize(&pts).unwrap();
+        let one = Voronoi3::with_threads(&pts, &mesh, 1).unwrap();
+        assert_eq!(one.vertices.len(), mesh.tets.len());
+        for threads in [2, 3, 5] {
+            let many = Voronoi3::with_threads(&pts, &mesh, threads).unwrap();
+            assert!(one == many, "n {n}, {threads} threads");
+            assert_eq!(
+                one.vertices
+                    .iter()
+                    .map(|x| x.map(f64::to_bits))
+                    .collect::<Vec<_>>(),
+                many.vertices
+                    .iter()
+                    .map(|x| x.map(f64::to_bits))
+                    .collect::<Vec<_>>()
+            );
+        }
+        let mut r = SplitMix64::new(seed + 100);
+        let ws: Vec<f64> = (0..n).map(|_| 0.01 * unit(&mut r)).collect();
+        let reg = regular_tetrahedralization(&pts, &ws).unwrap();
+        let one = Voronoi3::power_with_threads(&pts, &ws, &reg, 1).unwrap();
+        for threads in [2, 4] {
+            let many = Voronoi3::power_with_threads(&pts, &ws, &reg, threads).unwrap();
+            assert!(one == many, "power, n {n}, {threads} threads");
+        }
+    }
+}
+
+/// A mesh whose neighbour links are broken (not a tetrahedralization, but
+/// within range) gives some diagram, deterministically for each thread
+/// count, and no panic. (Bit-identity across thread counts is promised for
+/// valid meshes only.)
+#[test]
+fn broken_neighbour_links_do_not_panic() {
+    let pts = random(9000, 8, 0.0, 1.0);
+    let mut mesh = delone::tetrahedralize(&pts).unwrap();
+    let nt = mesh.tets.len() as u32;
+    let mut r = SplitMix64::new(3);
+    for _ in 0..200 {
+        let t = (r.next_u64() % nt as u64) as usize;
+        let f = (r.next_u64() % 4) as usize;
+        mesh.neighbors[t][f] = (r.next_u64() % nt as u64) as u32;
+    }
+    for threads in [1, 2, 3] {
+        let a = Voronoi3::with_threads(&pts, &mesh, threads).unwrap();
+        let b = Voronoi3::with_threads(&pts, &mesh, threads).unwrap();
+        assert!(a == b, "{threads} threads");
+        assert_eq!(a.vertices.len(), mesh.tets.len());
+    }
+}

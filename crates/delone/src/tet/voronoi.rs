@@ -15,6 +15,8 @@
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
+use std::sync::Mutex;
+
 use delone_predicates::orient3d;
 
 use super::local::FACET;
@@ -194,13 +196,10 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
         }
     }
     let o = (0..4).fold(0, |m, i| if sum[i] < sum[m] { i } else { m });
-    // An even permutation putting corner o first keeps the orientation.
-    let perm = match o {
-        0 => [0, 1, 2, 3],
-        1 => [1, 0, 3, 2],
-        2 => [2, 3, 0, 1],
-        _ => [3, 2, 1, 0],
-    };
+    // An even permutation putting corner o first keeps the orientation:
+    // [o, o ^ 1, o ^ 2, o ^ 3] (a double transposition, or the identity);
+    // indexed rather than matched, for no branch to mispredict.
+    let perm = [o, o ^ 1, o ^ 2, o ^ 3];
     let [a, b, c, d] = perm.map(|i| q[i]);
     let [wa, wb, wc, wd] = perm.map(|i| wq[i]);
     let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
@@ -226,83 +225,361 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     ]
 }
 
-/// One tetrahedron's record for the face walk of [`Voronoi3::topology`]:
-/// one cache line holding its vertices, neighbours, the Voronoi edge of each
-/// facet and the bits of its local edges already swept.
-#[derive(Clone, Copy)]
-#[repr(C, align(64))]
-struct Walk {
+/// One tetrahedron's record for the ring walks: its vertices and
+/// neighbours (tetrahedra in the walk order), 32 bytes, two per cache line.
+/// What the walk does not steer by (the Voronoi edge of each facet, the
+/// tetrahedron's index in the mesh, the swept bits) lives in side arrays.
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(32))]
+struct Rec {
     v: [u32; 4],
     n: [u32; 4],
-    e: [u32; 4],
-    done: u32,
-    /// The tetrahedron's index in the mesh.
-    orig: u32,
 }
 
-/// For meshes of at least 2^15 tetrahedra, `(perm, inv)`: the tetrahedra
-/// sorted by the Morton code of the grid cell holding their first vertex
-/// (a grid of up to 2^18 cells, about 8 to 32 tetrahedra per cell), ties by
-/// index; `perm[new] = old` and `inv[old] = new`. One counting sort pass,
-/// deterministic.
-fn spatial_order(points: &[[f64; 3]], tets: &[[u32; 4]]) -> Option<(Vec<u32>, Vec<u32>)> {
-    let nt = tets.len();
-    if nt < 1 << 15 {
-        return None;
+/// At most this many threads by default (see [`Voronoi3::default_threads`]).
+const MAX_THREADS: usize = 8;
+
+/// At least this many tetrahedra per chunk.
+const MIN_CHUNK: usize = 1 << 14;
+
+/// The number of chunks (threads) for `nt` tetrahedra and at most `threads`
+/// threads (`0`: the default).
+fn chunk_count(nt: usize, threads: usize) -> usize {
+    let t = if threads == 0 {
+        Voronoi3::default_threads()
+    } else {
+        threads
+    };
+    t.min(nt / MIN_CHUNK).max(1)
+}
+
+/// `s` cut at `bounds` (`bounds[0] = 0`, last `= s.len()`, increasing).
+fn split_mut<'a, T>(mut s: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(bounds.len());
+    for w in bounds.windows(2) {
+        let (a, b) = std::mem::take(&mut s).split_at_mut(w[1] - w[0]);
+        out.push(a);
+        s = b;
     }
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for q in points {
-        for i in 0..3 {
-            lo[i] = lo[i].min(q[i]);
-            hi[i] = hi[i].max(q[i]);
-        }
+    out
+}
+
+/// `f(i, item)` for every item, the first on this thread and the others on
+/// scoped threads; the results in item order. An item whose thread cannot
+/// be started runs on this thread.
+fn run_all<I: Send, R: Send>(items: Vec<I>, f: impl Fn(usize, I) -> R + Sync) -> Vec<R> {
+    if items.len() <= 1 {
+        return items.into_iter().map(|x| f(0, x)).collect();
     }
-    // `bits` per axis: 2^(3 bits) cells, at least 8 tetrahedra each.
-    let bits = ((usize::BITS - nt.leading_zeros()).saturating_sub(3) / 3).clamp(1, 6);
-    let cells = (1u32 << bits) as f64;
-    let scale: [f64; 3] = std::array::from_fn(|i| {
-        let w = hi[i] - lo[i];
-        if w > 0.0 && w.is_finite() {
-            cells / w
-        } else {
-            0.0
-        }
-    });
-    // SPREAD[x]: the 6 bits of x at every third position.
-    let spread: [u32; 64] =
-        std::array::from_fn(|x| (0..6).fold(0, |k, i| k | ((x as u32 >> i) & 1) << (3 * i)));
-    // Keys first, then turned in place into the new positions.
-    let mut inv: Vec<u32> = tets
-        .iter()
-        .map(|tv| {
-            let q = points[tv[0] as usize];
-            let mut key = 0u32;
-            for i in 0..3 {
-                let c = ((q[i] - lo[i]) * scale[i]).clamp(0.0, cells - 1.0) as usize;
-                key |= spread[c & 63] << i;
+    let f = &f;
+    // Each item waits in a slot for whoever runs it.
+    let slots: Vec<Mutex<Option<I>>> = items.into_iter().map(|x| Mutex::new(Some(x))).collect();
+    let slots = &slots;
+    let take = move |i: usize| slots[i].lock().ok().and_then(|mut s| s.take());
+    std::thread::scope(|sc| {
+        let handles: Vec<_> = (1..slots.len())
+            .map(|i| {
+                std::thread::Builder::new()
+                    .spawn_scoped(sc, move || take(i).map(|x| f(i, x)))
+                    .ok()
+            })
+            .collect();
+        let mut out = Vec::with_capacity(slots.len());
+        out.extend(take(0).map(|x| f(0, x)));
+        for (j, h) in handles.into_iter().enumerate() {
+            let done = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+            match done {
+                Some(r) => out.push(r),
+                None => out.extend(take(j + 1).map(|x| f(j + 1, x))),
             }
-            key
+        }
+        out
+    })
+}
+
+/// The parts one after the other (the first part's vector extended).
+fn concat(parts: Vec<Vec<u32>>) -> Vec<u32> {
+    let mut parts = parts.into_iter();
+    let mut out = parts.next().unwrap_or_default();
+    for x in parts {
+        out.extend_from_slice(&x);
+    }
+    out
+}
+
+/// The edges numbered by one chunk of tetrahedra.
+#[derive(Default)]
+struct EdgePart {
+    edges: Vec<VoronoiEdge3>,
+    ray_edges: Vec<u32>,
+    ray_directions: Vec<[f64; 3]>,
+    /// Facets `(t, f)` whose lower tetrahedron is in an earlier chunk.
+    fix: Vec<(u32, u8)>,
+}
+
+/// Numbers the facets of the chunk `lo..lo + ec.len()` owned by it (hull
+/// facets, and those whose other tetrahedron comes later or does not link
+/// back), from `base` on; the others copy their number from the lower
+/// tetrahedron (`fix` when it is in an earlier chunk).
+fn edge_pass(
+    points: &[[f64; 3]],
+    recs: &[Rec],
+    perm: &[u32],
+    ec: &mut [[u32; 4]],
+    lo: usize,
+    base: usize,
+    cap: usize,
+) -> EdgePart {
+    let p = |v: u32| &points[v as usize];
+    let mut out = EdgePart {
+        edges: Vec::with_capacity(cap),
+        ..EdgePart::default()
+    };
+    for j in 0..ec.len() {
+        let t = lo + j;
+        let c = recs[t];
+        #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
+        for f in 0..4 {
+            let u = c.n[f];
+            if u != NONE && (u as usize) < t {
+                if let Some(g) = recs[u as usize].n.iter().position(|&y| y == t as u32) {
+                    if u as usize >= lo {
+                        ec[j][f] = ec[u as usize - lo][g];
+                    } else {
+                        out.fix.push((t as u32, f as u8));
+                    }
+                    continue;
+                }
+            }
+            let s = FACET[f].map(|i| c.v[i]);
+            let id = (base + out.edges.len()) as u32;
+            if u == NONE {
+                // FACET[f] sees vertex f on its positive side: outward
+                // is the opposite normal.
+                out.ray_edges.push(id);
+                out.ray_directions
+                    .push(cross(&sub(p(s[2]), p(s[0])), &sub(p(s[1]), p(s[0]))));
+            }
+            ec[j][f] = id;
+            let far = if u == NONE { NONE } else { perm[u as usize] };
+            out.edges.push(VoronoiEdge3 {
+                sites: s,
+                vertices: [perm[t], far],
+            });
+        }
+    }
+    out
+}
+
+/// The faces emitted by one chunk of tetrahedra; offsets are the ends of
+/// the faces, relative to this part.
+#[derive(Default)]
+struct FacePart {
+    faces: Vec<FaceInfo3>,
+    ends: Vec<u32>,
+    face_vertices: Vec<u32>,
+    edge_ends: Vec<u32>,
+    face_edge_ids: Vec<u32>,
+    open_faces: Vec<u32>,
+    open_face_rays: Vec<[[f64; 3]; 2]>,
+}
+
+/// The faces of the chunk `lo..hi`: tetrahedron by tetrahedron, every local
+/// edge not yet swept is swept — the ring of tetrahedra around the Delaunay
+/// edge is walked once, marking the edge in every tetrahedron of the chunk
+/// it passes. The face is emitted when no tetrahedron of its ring lies in an
+/// earlier chunk, i.e. by the lowest tetrahedron of its ring, as with one
+/// chunk. `whole` reserves room for the faces of all chunks.
+fn face_pass(
+    points: &[[f64; 3]],
+    recs: &[Rec],
+    e: &[[u32; 4]],
+    perm: &[u32],
+    lo: usize,
+    hi: usize,
+    whole: bool,
+) -> FacePart {
+    let p = |v: u32| &points[v as usize];
+    let nt = recs.len();
+    let mine = hi - lo;
+    // Euler: about 7/6 Delaunay edges per tetrahedron for random points.
+    let (nf, nv) = if whole {
+        (nt * 6 / 5 + 64, 6 * nt + nt / 8 + 64)
+    } else {
+        (mine * 6 / 5 + 64, 6 * mine + mine / 8 + 64)
+    };
+    let mut out = FacePart {
+        faces: Vec::with_capacity(nf),
+        ends: Vec::with_capacity(nf),
+        face_vertices: Vec::with_capacity(nv),
+        edge_ends: Vec::with_capacity(nf),
+        face_edge_ids: Vec::with_capacity(nv),
+        ..FacePart::default()
+    };
+    let mut done = vec![0u8; mine];
+    let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
+    let limit = nt + 1;
+    let fv = &mut out.face_vertices;
+    let fe = &mut out.face_edge_ids;
+    for t in lo..hi {
+        for (k, lk) in EDGES.iter().enumerate() {
+            if done[t - lo] & (1 << k) != 0 {
+                continue;
+            }
+            let [a, b, c, d] = lk.map(|i| recs[t].v[i]);
+            let (v0, e0) = (fv.len(), fe.len());
+            // Counterclockwise around a -> b: at (s, c, d) cross the
+            // facet opposite c, (a, b, d), into the next tetrahedron.
+            let (mut s, mut sc, mut sd) = (t as u32, c, d);
+            let mut steps = 0usize;
+            let mut foreign = false;
+            let hit_hull = loop {
+                let cs = &recs[s as usize];
+                let su = s as usize;
+                if su >= lo {
+                    if su < hi {
+                        done[su - lo] |= 1 << EDGE_INDEX[pos(&cs.v, a)][pos(&cs.v, b)];
+                    }
+                } else {
+                    foreign = true;
+                }
+                let pc = pos(&cs.v, sc);
+                fv.push(perm[su]);
+                fe.push(e[su][pc]);
+                let u = cs.n[pc];
+                if u == NONE {
+                    break true;
+                }
+                if u == t as u32 || steps > limit {
+                    break false;
+                }
+                steps += 1;
+                let nd = other(&recs[u as usize].v, a, b, sd);
+                (s, sc, sd) = (u, sd, nd);
+            };
+            if hit_hull {
+                // Open ring: the part clockwise from t comes first.
+                let (pa, pb) = (p(a), p(b));
+                let ab = sub(pb, pa);
+                let last = cross(&ab, &sub(p(sd), pa));
+                fwd_v.clear();
+                fwd_e.clear();
+                fwd_v.extend(fv.drain(v0..));
+                fwd_e.extend(fe.drain(e0..));
+                back_v.clear();
+                back_e.clear();
+                let (mut s, mut sc, mut sd) = (t as u32, c, d);
+                let mut steps = 0usize;
+                loop {
+                    let cs = &recs[s as usize];
+                    let pd = pos(&cs.v, sd);
+                    back_e.push(e[s as usize][pd]);
+                    let u = cs.n[pd];
+                    if u == NONE || steps > limit {
+                        break;
+                    }
+                    steps += 1;
+                    let uu = u as usize;
+                    let cu = &recs[uu];
+                    if uu >= lo {
+                        if uu < hi {
+                            done[uu - lo] |= 1 << EDGE_INDEX[pos(&cu.v, a)][pos(&cu.v, b)];
+                        }
+                    } else {
+                        foreign = true;
+                    }
+                    let nc = other(&cu.v, a, b, sc);
+                    back_v.push(perm[uu]);
+                    (s, sc, sd) = (u, nc, sc);
+                }
+                if foreign {
+                    continue;
+                }
+                let first = cross(&sub(p(sc), pa), &ab);
+                fv.extend(back_v.iter().rev());
+                fv.extend(&fwd_v);
+                fe.extend(back_e.iter().rev());
+                fe.extend(&fwd_e);
+                out.open_faces.push(out.faces.len() as u32);
+                out.open_face_rays.push([first, last]);
+            } else if foreign {
+                fv.truncate(v0);
+                fe.truncate(e0);
+                continue;
+            }
+            out.ends.push(fv.len() as u32);
+            out.edge_ends.push(fe.len() as u32);
+            out.faces.push(FaceInfo3 { sites: [a, b] });
+        }
+    }
+    out
+}
+
+/// The Morton grid ordering the walk records of meshes of at least 2^15
+/// tetrahedra: the tetrahedra are sorted by the Morton code of the grid cell
+/// holding their first vertex (a grid of up to 2^18 cells, about 8 to 32
+/// tetrahedra per cell), ties by index — one counting sort, deterministic.
+struct Grid {
+    lo: [f64; 3],
+    scale: [f64; 3],
+    cells: f64,
+    bits: u32,
+    /// `spread[x]`: the 6 bits of x at every third position.
+    spread: [u32; 64],
+}
+
+impl Grid {
+    /// The grid for `nt` tetrahedra over `points` (`None` under 2^15).
+    fn new(points: &[[f64; 3]], nt: usize) -> Option<Grid> {
+        if nt < 1 << 15 {
+            return None;
+        }
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for q in points {
+            for i in 0..3 {
+                lo[i] = lo[i].min(q[i]);
+                hi[i] = hi[i].max(q[i]);
+            }
+        }
+        // `bits` per axis: 2^(3 bits) cells, at least 8 tetrahedra each.
+        let bits = ((usize::BITS - nt.leading_zeros()).saturating_sub(3) / 3).clamp(1, 6);
+        let cells = (1u32 << bits) as f64;
+        let scale: [f64; 3] = std::array::from_fn(|i| {
+            let w = hi[i] - lo[i];
+            if w > 0.0 && w.is_finite() {
+                cells / w
+            } else {
+                0.0
+            }
+        });
+        let spread =
+            std::array::from_fn(|x| (0..6).fold(0, |k, i| k | ((x as u32 >> i) & 1) << (3 * i)));
+        Some(Grid {
+            lo,
+            scale,
+            cells,
+            bits,
+            spread,
         })
-        .collect();
-    let mut count = vec![0u32; (1 << (3 * bits)) + 1];
-    for &k in &inv {
-        count[k as usize + 1] += 1;
     }
-    for i in 1..count.len() {
-        count[i] += count[i - 1];
+
+    /// The number of keys.
+    fn keys(&self) -> usize {
+        1 << (3 * self.bits)
     }
-    for x in inv.iter_mut() {
-        let k = *x as usize;
-        *x = count[k];
-        count[k] += 1;
+
+    /// The Morton key of the cell holding `q`.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // i indexes q, lo and scale
+    fn key(&self, q: &[f64; 3]) -> u32 {
+        let mut key = 0u32;
+        for i in 0..3 {
+            let c = ((q[i] - self.lo[i]) * self.scale[i]).clamp(0.0, self.cells - 1.0) as usize;
+            key |= self.spread[c & 63] << i;
+        }
+        key
     }
-    drop(count);
-    let mut perm = vec![0u32; nt];
-    for (old, &new) in inv.iter().enumerate() {
-        perm[new as usize] = old as u32;
-    }
-    Some((perm, inv))
 }
 
 /// Local index of vertex `x` in `tv` (0 if absent, which a valid mesh never
@@ -336,9 +613,46 @@ impl Voronoi3 {
     /// # Errors
     /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
     pub fn new(points: &[[f64; 3]], mesh: &TetMesh) -> Result<Voronoi3, Error> {
+        Self::with_threads(points, mesh, 0)
+    }
+
+    /// [`Voronoi3::new`] on at most `threads` threads (`0`: the default,
+    /// [`Voronoi3::default_threads`]). Meshes are cut into chunks of at least
+    /// 2^14 tetrahedra, one per thread; the result is the same bit for bit
+    /// whatever the thread count.
+    ///
+    /// ```
+    /// let pts: Vec<[f64; 3]> = (0..50)
+    ///     .map(|i| [(i as f64 * 0.37) % 1.0, (i as f64 * 0.61) % 1.0, (i as f64 * 0.23) % 1.0])
+    ///     .collect();
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// let one = delone::tet::Voronoi3::with_threads(&pts, &mesh, 1).unwrap();
+    /// assert_eq!(one, delone::tet::Voronoi3::with_threads(&pts, &mesh, 2).unwrap());
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
+    pub fn with_threads(
+        points: &[[f64; 3]],
+        mesh: &TetMesh,
+        threads: usize,
+    ) -> Result<Voronoi3, Error> {
         let ids = mesh.vertex_map.len();
         crate::geom::check::mesh_fits(points.len(), &mesh.tets, &mesh.neighbors, ids, None)?;
-        Ok(Self::build(points, &[], mesh))
+        Ok(Self::build(points, &[], mesh, threads))
+    }
+
+    /// The default thread count of [`Voronoi3::new`]: the available
+    /// parallelism, at most 8.
+    ///
+    /// ```
+    /// let t = delone::tet::Voronoi3::default_threads();
+    /// assert!((1..=8).contains(&t));
+    /// ```
+    pub fn default_threads() -> usize {
+        std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(MAX_THREADS)
     }
 
     /// The power diagram of weighted `points` from their regular
@@ -365,249 +679,318 @@ impl Voronoi3 {
         weights: &[f64],
         mesh: &TetMesh,
     ) -> Result<Voronoi3, Error> {
+        Self::power_with_threads(points, weights, mesh, 0)
+    }
+
+    /// [`Voronoi3::new_power`] on at most `threads` threads (`0`: the
+    /// default), as [`Voronoi3::with_threads`].
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0], [1.0, 1.0, 1.0]];
+    /// let w = [0.0, 0.0, 0.0, 0.0, 0.5];
+    /// let mesh = delone::tet::regular_tetrahedralization(&pts, &w).unwrap();
+    /// let v = delone::tet::Voronoi3::power_with_threads(&pts, &w, &mesh, 1).unwrap();
+    /// assert_eq!(v.weights, w);
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Voronoi3::new_power`].
+    pub fn power_with_threads(
+        points: &[[f64; 3]],
+        weights: &[f64],
+        mesh: &TetMesh,
+        threads: usize,
+    ) -> Result<Voronoi3, Error> {
         let ids = mesh.vertex_map.len();
         let n = points.len();
         crate::geom::check::mesh_fits(n, &mesh.tets, &mesh.neighbors, ids, Some(weights.len()))?;
-        Ok(Self::build(points, weights, mesh))
+        Ok(Self::build(points, weights, mesh, threads))
     }
 
-    fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh) -> Voronoi3 {
-        let tets = &mesh.tets;
-        let p = |v: u32| &points[v as usize];
-        let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
-        let centres = || -> Vec<[f64; 3]> {
-            tets.iter()
-                .map(|tv| orthocenter(tv.map(&p), tv.map(w)))
-                .collect()
-        };
-        // Centres and combinatorics are independent: two threads for large
-        // meshes, each writing only its own arrays (same result whatever the
-        // thread count).
-        let mut v = if tets.len() >= 1 << 15 {
-            std::thread::scope(|sc| {
-                let job = sc.spawn(centres);
-                let mut v = Self::topology(points, mesh);
-                v.vertices = job.join().unwrap_or_else(|_| centres());
-                v
-            })
-        } else {
-            let mut v = Self::topology(points, mesh);
-            v.vertices = centres();
-            v
-        };
-        v.weights = weights.to_vec();
-        v
-    }
-
-    /// Everything but the vertex coordinates: edges, faces, cells.
+    /// Everything, in passes over the tetrahedra cut into `k` contiguous
+    /// chunks, one thread per chunk (`k = 1` for small meshes), no hash
+    /// table:
+    /// * A — circumcentres (mesh order) and, for meshes of 2^15 tetrahedra
+    ///   or more, the Morton keys of the tetrahedra with per-chunk
+    ///   histograms; then a stable counting sort gives the walk order, each
+    ///   chunk placing its own tetrahedra;
+    /// * B — 32-byte walk records (`Rec`: vertices and neighbours, in the
+    ///   walk order), then the edges: every facet is numbered by the lower
+    ///   of its two tetrahedra (hull facets by their only one), the higher
+    ///   one copying the number back (a short serial fix-up for facets whose
+    ///   lower tetrahedron is in an earlier chunk);
+    /// * C — faces: tetrahedron by tetrahedron, every local edge not yet
+    ///   swept is swept, walking the ring of tetrahedra around the Delaunay
+    ///   edge and marking it in every tetrahedron of the chunk it passes;
+    ///   the face is emitted when no tetrahedron of the ring lies in an
+    ///   earlier chunk — by the lowest tetrahedron of its ring, as with one
+    ///   chunk. The swept bits, facet edges and mesh indices are side arrays;
+    /// * D — the parts put together in chunk order, then the cells by a
+    ///   counting sort of the faces by site, each thread a range of sites.
     ///
-    /// Three streaming passes over the tetrahedra, no hash table:
-    /// 1. edges — every facet is numbered by the lower of its two
-    ///    tetrahedra (hull facets by their only one), the higher one reads
-    ///    the number back from its neighbour's record;
-    /// 2. faces — tetrahedron by tetrahedron, every local edge not yet
-    ///    swept is swept: the ring of tetrahedra around the Delaunay edge is
-    ///    walked once, marking the edge in every tetrahedron it passes, so
-    ///    each Delaunay edge is emitted once, by the lowest tetrahedron of
-    ///    its ring;
-    /// 3. cells — a counting sort of the faces by site (CSR).
-    ///
-    /// The walk reads one 64-byte [`Walk`] record per step (vertices,
-    /// neighbours, facet edges and the swept bits together).
+    /// Every part is written in chunk order and numbered from the sizes of
+    /// the earlier chunks, so for a valid mesh the result is the same bit
+    /// for bit whatever `k`.
     ///
     /// Measured and rejected (1M uniform points, same output): advancing 4
-    /// or 8 ring walks in lock-step to overlap their cache misses made the
-    /// face pass slower (1.8 s -> 2.0-2.1 s CPU: with the Morton order most
-    /// steps hit the cache, the lane bookkeeping does not pay); feeding the
-    /// tetrahedra already in Morton order saves only 3-10% of the whole.
-    fn topology(points: &[[f64; 3]], mesh: &TetMesh) -> Voronoi3 {
+    /// or 8 ring walks in lock-step to overlap their cache misses (slower:
+    /// with the Morton order most steps hit the cache); feeding the
+    /// tetrahedra already in Morton order (3-10% of the whole); building the
+    /// records and numbering the edges in one pass (slower: the interleaved
+    /// work starves the record gathers of memory-level parallelism); walking
+    /// with bare tetrahedron and facet handles and resolving them to mesh
+    /// indices and edge numbers afterwards (no gain).
+    fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh, threads: usize) -> Voronoi3 {
+        let tets = &mesh.tets;
+        let nt = tets.len();
         let n = points.len();
-        let nt = mesh.tets.len();
         let p = |v: u32| &points[v as usize];
-        let mut hull = 0usize;
-        // Walk records in a spatially coherent order (large meshes): the
-        // tetrahedra sorted by the Morton code of their first vertex, so
-        // that the ring walks below stay in cache.
-        let order = spatial_order(points, &mesh.tets);
-        let mut cells: Vec<Walk> = match &order {
-            None => mesh
-                .tets
-                .iter()
-                .zip(&mesh.neighbors)
-                .enumerate()
-                .map(|(t, (v, nb))| {
-                    hull += nb.iter().filter(|&&u| u == NONE).count();
-                    Walk {
-                        v: *v,
-                        n: *nb,
-                        e: [NONE; 4],
-                        done: 0,
-                        orig: t as u32,
-                    }
-                })
-                .collect(),
-            Some((perm, inv)) => perm
-                .iter()
-                .map(|&old| {
-                    let nb = mesh.neighbors[old as usize];
-                    hull += nb.iter().filter(|&&u| u == NONE).count();
-                    Walk {
-                        v: mesh.tets[old as usize],
-                        n: nb.map(|u| if u == NONE { NONE } else { inv[u as usize] }),
-                        e: [NONE; 4],
-                        done: 0,
-                        orig: old,
-                    }
-                })
-                .collect(),
+        let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
+        let k = chunk_count(nt, threads);
+        let bounds: Vec<usize> = (0..=k).map(|i| nt * i / k).collect();
+        let grid = Grid::new(points, nt);
+        // A. Circumcentres, and for large meshes the Morton keys of the
+        // tetrahedra (one pass over the mesh, chunk by chunk) with each
+        // chunk's key histogram.
+        let mut vertices = vec![[0.0f64; 3]; nt];
+        let mut inv = vec![0u32; if grid.is_some() { nt } else { 0 }];
+        let key_chunks = if grid.is_some() {
+            split_mut(&mut inv, &bounds)
+        } else {
+            (0..k).map(|_| &mut [][..]).collect()
         };
-        drop(order);
-        // 1. Edges.
-        let mut unbounded = vec![false; n];
-        let mut edges = Vec::with_capacity((4 * nt + hull) / 2);
-        let mut ray_edges = Vec::with_capacity(hull);
-        let mut ray_directions = Vec::with_capacity(hull);
-        for t in 0..nt {
-            let c = cells[t];
-            #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
-            for f in 0..4 {
-                let u = c.n[f];
-                if u != NONE && (u as usize) < t {
-                    let cu = &cells[u as usize];
-                    if let Some(g) = (0..4).find(|&g| cu.n[g] == t as u32) {
-                        if cu.e[g] != NONE {
-                            cells[t].e[f] = cu.e[g];
-                            continue;
-                        }
-                    }
+        let jobs: Vec<_> = split_mut(&mut vertices, &bounds)
+            .into_iter()
+            .zip(key_chunks)
+            .collect();
+        let hist = run_all(jobs, |i, (vc, kc)| {
+            let chunk = &tets[bounds[i]..bounds[i + 1]];
+            let Some(g) = &grid else {
+                for (c, tv) in vc.iter_mut().zip(chunk) {
+                    *c = orthocenter(tv.map(p), tv.map(w));
                 }
-                let s = FACET[f].map(|i| c.v[i]);
-                let id = edges.len() as u32;
-                if u == NONE {
-                    for &x in &s {
-                        unbounded[x as usize] = true;
-                    }
-                    // FACET[f] sees vertex f on its positive side: outward
-                    // is the opposite normal.
-                    ray_edges.push(id);
-                    ray_directions.push(cross(&sub(p(s[2]), p(s[0])), &sub(p(s[1]), p(s[0]))));
+                return Vec::new();
+            };
+            let mut hist = vec![0u32; g.keys()];
+            for ((c, x), tv) in vc.iter_mut().zip(kc.iter_mut()).zip(chunk) {
+                *c = orthocenter(tv.map(p), tv.map(w));
+                *x = g.key(p(tv[0]));
+                hist[*x as usize] += 1;
+            }
+            hist
+        });
+        // The walk order (large meshes): `perm[new] = old`, `inv[old] =
+        // new`, a stable counting sort of the keys, each chunk placing its
+        // own tetrahedra.
+        let perm: Vec<u32> = if let Some(g) = &grid {
+            let mut start = vec![vec![0u32; g.keys()]; k];
+            let mut at = 0u32;
+            for c in 0..g.keys() {
+                for i in 0..k {
+                    start[i][c] = at;
+                    at += hist[i][c];
                 }
-                cells[t].e[f] = id;
-                let far = if u == NONE {
-                    NONE
+            }
+            drop(hist);
+            let jobs: Vec<_> = split_mut(&mut inv, &bounds)
+                .into_iter()
+                .zip(start)
+                .collect();
+            run_all(jobs, |_, (kc, mut st)| {
+                for x in kc.iter_mut() {
+                    let c = *x as usize;
+                    *x = st[c];
+                    st[c] += 1;
+                }
+            });
+            let mut perm = vec![0u32; nt];
+            for (old, &new) in inv.iter().enumerate() {
+                perm[new as usize] = old as u32;
+            }
+            perm
+        } else {
+            (0..nt as u32).collect()
+        };
+        // Records (chunk by chunk of the walk order); per chunk the facets
+        // it will number (hull facets and those whose neighbour comes
+        // later).
+        let mut recs = vec![Rec::default(); nt];
+        let inv = &inv;
+        let owned: Vec<usize> = run_all(split_mut(&mut recs, &bounds), |i, rc| {
+            let lo = bounds[i];
+            let mut owned = 0;
+            for (j, r) in rc.iter_mut().enumerate() {
+                let t = lo + j;
+                let old = perm[t] as usize;
+                let nb = mesh.neighbors[old];
+                let nb = if inv.is_empty() {
+                    nb
                 } else {
-                    cells[u as usize].orig
+                    nb.map(|u| if u == NONE { NONE } else { inv[u as usize] })
                 };
-                edges.push(VoronoiEdge3 {
-                    sites: s,
-                    vertices: [c.orig, far],
-                });
+                owned += nb.iter().filter(|&&u| u == NONE || u as usize > t).count();
+                *r = Rec {
+                    v: tets[old],
+                    n: nb,
+                };
+            }
+            owned
+        });
+        let recs = &recs[..];
+        // B. Edges: every facet numbered by the lower of its tetrahedra.
+        let mut e = vec![[0u32; 4]; nt];
+        let total: usize = owned.iter().sum();
+        let mut base = vec![0usize; k + 1];
+        for i in 0..k {
+            base[i + 1] = base[i] + owned[i];
+        }
+        let mut parts = run_all(split_mut(&mut e, &bounds), |i, ec| {
+            let cap = if i == 0 { total } else { owned[i] };
+            edge_pass(points, recs, &perm, ec, bounds[i], base[i], cap)
+        });
+        if parts.iter().zip(&owned).any(|(x, &o)| x.edges.len() != o) {
+            // Only a mesh whose neighbour links are not mutual gets here:
+            // one chunk numbers everything.
+            parts = vec![edge_pass(points, recs, &perm, &mut e, 0, 0, total)];
+        }
+        for x in &parts {
+            for &(t, f) in &x.fix {
+                let u = recs[t as usize].n[f as usize];
+                let g = recs[u as usize].n.iter().position(|&y| y == t).unwrap_or(0);
+                e[t as usize][f as usize] = e[u as usize][g];
             }
         }
-        // 2. Faces. Euler: Delaunay edges = V + F - T - 1 (V <= n).
-        let nf = (n + edges.len()).saturating_sub(nt + 1);
-        let mut faces = Vec::with_capacity(nf);
-        let mut face_offsets = Vec::with_capacity(nf + 1);
-        face_offsets.push(0u32);
-        let mut face_edge_offsets = Vec::with_capacity(nf + 1);
-        face_edge_offsets.push(0u32);
-        let mut face_vertices: Vec<u32> = Vec::with_capacity(6 * nt);
-        let mut face_edge_ids: Vec<u32> = Vec::with_capacity(6 * nt + hull * 3 / 2);
-        let mut open_faces = Vec::new();
-        let mut open_face_rays = Vec::new();
-        let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
-        let limit = nt + 1;
-        for t in 0..nt {
-            for (k, lk) in EDGES.iter().enumerate() {
-                if cells[t].done & (1 << k) != 0 {
-                    continue;
-                }
-                let [a, b, c, d] = lk.map(|i| cells[t].v[i]);
-                let (v0, e0) = (face_vertices.len(), face_edge_ids.len());
-                // Counterclockwise around a -> b: at (s, c, d) cross the
-                // facet opposite c, (a, b, d), into the next tetrahedron.
-                let (mut s, mut sc, mut sd) = (t as u32, c, d);
-                let mut steps = 0usize;
-                let hit_hull = loop {
-                    let cs = &mut cells[s as usize];
-                    cs.done |= 1 << EDGE_INDEX[pos(&cs.v, a)][pos(&cs.v, b)];
-                    let pc = pos(&cs.v, sc);
-                    face_vertices.push(cs.orig);
-                    face_edge_ids.push(cs.e[pc]);
-                    let u = cs.n[pc];
-                    if u == NONE {
-                        break true;
-                    }
-                    if u == t as u32 || steps > limit {
-                        break false;
-                    }
-                    steps += 1;
-                    let nd = other(&cells[u as usize].v, a, b, sd);
-                    (s, sc, sd) = (u, sd, nd);
-                };
-                if hit_hull {
-                    // Open ring: the part clockwise from t comes first.
-                    let (pa, pb) = (p(a), p(b));
-                    let ab = sub(pb, pa);
-                    let last = cross(&ab, &sub(p(sd), pa));
-                    fwd_v.clear();
-                    fwd_e.clear();
-                    fwd_v.extend(face_vertices.drain(v0..));
-                    fwd_e.extend(face_edge_ids.drain(e0..));
-                    back_v.clear();
-                    back_e.clear();
-                    let (mut s, mut sc, mut sd) = (t as u32, c, d);
-                    let mut steps = 0usize;
-                    loop {
-                        let cs = &cells[s as usize];
-                        let pd = pos(&cs.v, sd);
-                        back_e.push(cs.e[pd]);
-                        let u = cs.n[pd];
-                        if u == NONE || steps > limit {
-                            break;
-                        }
-                        steps += 1;
-                        let cu = &mut cells[u as usize];
-                        cu.done |= 1 << EDGE_INDEX[pos(&cu.v, a)][pos(&cu.v, b)];
-                        let nc = other(&cu.v, a, b, sc);
-                        back_v.push(cu.orig);
-                        (s, sc, sd) = (u, nc, sc);
-                    }
-                    let first = cross(&sub(p(sc), pa), &ab);
-                    face_vertices.extend(back_v.iter().rev());
-                    face_vertices.extend(&fwd_v);
-                    face_edge_ids.extend(back_e.iter().rev());
-                    face_edge_ids.extend(&fwd_e);
-                    open_faces.push(faces.len() as u32);
-                    open_face_rays.push([first, last]);
-                }
-                face_offsets.push(face_vertices.len() as u32);
-                face_edge_offsets.push(face_edge_ids.len() as u32);
-                faces.push(FaceInfo3 { sites: [a, b] });
+        // C. Faces: the ring walks, chunk by chunk.
+        let e = &e[..];
+        let face_parts = run_all((0..k).collect(), |i, _| {
+            face_pass(points, recs, e, &perm, bounds[i], bounds[i + 1], i == 0)
+        });
+        drop(perm);
+        // The parts put together, the two largest arrays on a second thread.
+        let mut fv_parts = Vec::with_capacity(k);
+        let mut fe_parts = Vec::with_capacity(k);
+        let mut rest = Vec::with_capacity(k);
+        let (mut bv, mut be) = (0u32, 0u32);
+        for x in face_parts {
+            let lens = (x.face_vertices.len() as u32, x.face_edge_ids.len() as u32);
+            fv_parts.push(x.face_vertices);
+            fe_parts.push(x.face_edge_ids);
+            rest.push((
+                bv,
+                be,
+                x.faces,
+                x.ends,
+                x.edge_ends,
+                x.open_faces,
+                x.open_face_rays,
+            ));
+            bv += lens.0;
+            be += lens.1;
+        }
+        let big = Mutex::new(Some((fv_parts, fe_parts)));
+        let big = || {
+            big.lock()
+                .ok()
+                .and_then(|mut s| s.take())
+                .map(|(v, e)| (concat(v), concat(e)))
+        };
+        let small = move || {
+            let mut parts = parts.into_iter();
+            let EdgePart {
+                mut edges,
+                mut ray_edges,
+                mut ray_directions,
+                ..
+            } = parts.next().unwrap_or_default();
+            for x in parts {
+                edges.extend_from_slice(&x.edges);
+                ray_edges.extend_from_slice(&x.ray_edges);
+                ray_directions.extend_from_slice(&x.ray_directions);
+            }
+            let nf: usize = rest.iter().map(|x| x.2.len()).sum();
+            let mut faces = Vec::with_capacity(nf);
+            let mut face_offsets = Vec::with_capacity(nf + 1);
+            face_offsets.push(0);
+            let mut face_edge_offsets = Vec::with_capacity(nf + 1);
+            face_edge_offsets.push(0);
+            let (mut open_faces, mut open_face_rays) = (Vec::new(), Vec::new());
+            for (bv, be, f, fo, feo, of, ofr) in rest {
+                let bf = faces.len() as u32;
+                faces.extend_from_slice(&f);
+                face_offsets.extend(fo.iter().map(|&o| o + bv));
+                face_edge_offsets.extend(feo.iter().map(|&o| o + be));
+                open_faces.extend(of.iter().map(|&f| f + bf));
+                open_face_rays.extend_from_slice(&ofr);
+            }
+            (
+                (edges, ray_edges, ray_directions),
+                (
+                    faces,
+                    face_offsets,
+                    face_edge_offsets,
+                    open_faces,
+                    open_face_rays,
+                ),
+            )
+        };
+        let (((edges, ray_edges, ray_directions), fs), big) = if k > 1 {
+            std::thread::scope(|sc| {
+                let h = std::thread::Builder::new().spawn_scoped(sc, big).ok();
+                let x = small();
+                let y = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+                // The thread could not be started: do its part here.
+                (x, y.or_else(big))
+            })
+        } else {
+            (small(), big())
+        };
+        let (face_vertices, face_edge_ids) = big.unwrap_or_default();
+        let (faces, face_offsets, face_edge_offsets, open_faces, open_face_rays) = fs;
+        let mut unbounded = vec![false; n];
+        for &r in &ray_edges {
+            for &s in &edges[r as usize].sites {
+                unbounded[s as usize] = true;
             }
         }
-        drop(cells);
-        // 3. Cells: the faces around each site.
+        // D. Cells: the faces around each site, a counting sort; each
+        // thread takes a range of sites (scanning all faces).
+        let sb: Vec<usize> = (0..=k).map(|i| n * i / k).collect();
         let mut count = vec![0u32; n + 1];
-        for f in &faces {
-            for &s in &f.sites {
-                count[s as usize + 1] += 1;
+        let fs = &faces[..];
+        run_all(split_mut(&mut count[1..], &sb), |i, cc| {
+            let (lo, len) = (sb[i], cc.len());
+            // One spare counter at `len` for the sites of other ranges.
+            let mut c = vec![0u32; len + 1];
+            for f in fs {
+                for &s in &f.sites {
+                    c[(s as usize).wrapping_sub(lo).min(len)] += 1;
+                }
             }
-        }
+            cc.copy_from_slice(&c[..len]);
+        });
         for i in 0..n {
             count[i + 1] += count[i];
         }
-        let cell_offsets = count.clone();
-        let mut fill = count;
+        let cell_offsets = count;
         let mut cell_face_ids = vec![0u32; *cell_offsets.last().unwrap_or(&0) as usize];
-        for (fi, f) in faces.iter().enumerate() {
-            for &s in &f.sites {
-                cell_face_ids[fill[s as usize] as usize] = fi as u32;
-                fill[s as usize] += 1;
+        let cb: Vec<usize> = sb.iter().map(|&s| cell_offsets[s] as usize).collect();
+        let cell_offsets_ref = &cell_offsets;
+        run_all(split_mut(&mut cell_face_ids, &cb), |i, out| {
+            let (lo, hi) = (sb[i], sb[i + 1]);
+            let base = cb[i] as u32;
+            let mut fill: Vec<u32> = cell_offsets_ref[lo..hi].iter().map(|&o| o - base).collect();
+            for (fi, f) in fs.iter().enumerate() {
+                for &s in &f.sites {
+                    let j = (s as usize).wrapping_sub(lo);
+                    if j < fill.len() {
+                        out[fill[j] as usize] = fi as u32;
+                        fill[j] += 1;
+                    }
+                }
             }
-        }
+        });
         Voronoi3 {
-            vertices: Vec::new(),
+            vertices,
             edges,
             ray_edges,
             ray_directions,
@@ -622,7 +1005,7 @@ impl Voronoi3 {
             cell_face_ids,
             unbounded,
             vertex_map: mesh.vertex_map.clone(),
-            weights: Vec::new(),
+            weights: weights.to_vec(),
         }
     }
 
