@@ -758,9 +758,10 @@ impl State {
             cm.set_failed(std::mem::take(&mut failed_removals));
             let (on, covered, subs) = match prev.take() {
                 None => {
-                    let sk = Skeleton::of(dt, true);
-                    let (on, covered) = self.surf.coverage(&sk, dt.points());
-                    let subs = self.missing_subsegments(&sk);
+                    let (on, covered) = self.coverage_all(&cm);
+                    let subs = self.missing_subsegments_cm(&cm, &covered);
+                    #[cfg(debug_assertions)]
+                    self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
                     (on, covered, subs)
                 }
                 Some(st) => self.update_round(&cm, st),
@@ -1087,14 +1088,82 @@ impl State {
         covered: &mut [bool],
     ) {
         if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
-            let sk = Skeleton::of(&cm.dt, true);
-            let (g_on, g_covered) = self.surf.coverage(&sk, cm.pts());
+            let (g_on, g_covered) = self.coverage_all(cm);
             for (t, f) in g_on.into_iter().enumerate() {
                 on[t] = f;
             }
             covered.copy_from_slice(&g_covered);
             return;
         }
+        self.recompute_local(cm, cands, on, covered);
+    }
+
+    /// The coverage of every input triangle on `cm`: the same faces (as
+    /// sets) and verdicts as [`Surface::coverage`], faster. A *plain*
+    /// triangle (no Steiner point on it, [`Surface::plain`]) can have only
+    /// its own three corners as a face on it, and is covered exactly when
+    /// that face exists: one pass over the faces of the tetrahedra with a
+    /// hash lookup each finds them. The others (few: those next to Steiner
+    /// points) are computed locally, from the stars of their vertices.
+    fn coverage_all(&self, cm: &CMesh<'_>) -> (FacesOn, Vec<bool>) {
+        let n = self.surf.tris.len();
+        let mut on: FacesOn = vec![Vec::new(); n];
+        let mut covered = vec![false; n];
+        let core = &cm.dt.core;
+        for (x, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for f in 0..4 {
+                // Each interior face once (from its lower slot).
+                let u = (core.adj[x][f] >> 2) as usize;
+                if u < x && !core.v[u].contains(&INF) {
+                    continue;
+                }
+                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                for t in self.surf.triangles_with_key(&k) {
+                    let t = t as usize;
+                    if self.surf.plain(t) {
+                        on[t] = vec![k];
+                        covered[t] = true;
+                    }
+                }
+            }
+        }
+        let rest: Vec<usize> = (0..n).filter(|&t| !self.surf.plain(t)).collect();
+        self.recompute_local(cm, &rest, &mut on, &mut covered);
+        (on, covered)
+    }
+
+    /// The subsegments that are not edges of `cm`, in the order of
+    /// [`Self::missing_subsegments`], given the coverage of `cm`: a
+    /// subsegment of an input edge with a covered triangle is an edge of a
+    /// face on it; only the chains of edges with no covered triangle are
+    /// searched (locally, around their vertices).
+    fn missing_subsegments_cm(&self, cm: &CMesh<'_>, covered: &[bool]) -> Vec<(u32, u32, u32)> {
+        let mut out = Vec::new();
+        for (e, chain) in self.surf.chains.iter().enumerate() {
+            if self.surf.edge_tris[e].iter().any(|&t| covered[t as usize]) {
+                continue;
+            }
+            for w in chain.windows(2) {
+                if cm.find_edge(w[0], w[1]).is_none() {
+                    out.push((e as u32, w[0], w[1]));
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::recompute`] of triangles `cands`, each from the stars of its
+    /// vertices.
+    fn recompute_local(
+        &self,
+        cm: &CMesh<'_>,
+        cands: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
         let core = &cm.dt.core;
         let mut slots: Vec<u32> = Vec::new();
         for &t in cands {
