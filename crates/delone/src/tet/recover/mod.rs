@@ -418,8 +418,11 @@ pub fn recover_domain(
     let (cow, scale) = crate::geom::rescaled(points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
     let mut dt = Delaunay3::from_points(&scaled)?;
-    let used: HashSet<u32> = triangles.iter().flatten().copied().collect();
-    if let Some(&(d, o)) = dt.duplicates().iter().find(|(d, _)| used.contains(d)) {
+    let mut used = vec![false; points.len()];
+    for &w in triangles.iter().flatten() {
+        used[w as usize] = true;
+    }
+    if let Some(&(d, o)) = dt.duplicates().iter().find(|(d, _)| used[*d as usize]) {
         return Err(Error::DuplicateVertex {
             index: d as usize,
             original: o as usize,
@@ -660,6 +663,28 @@ impl State {
         }
     }
 
+    /// [`Self::find_crossing`] with the list of all edges built (sorted)
+    /// only when the local search finds nothing.
+    fn find_crossing_lazy(
+        &self,
+        dt: &Delaunay3<'_>,
+        sk: &Skeleton,
+        all: &mut Option<Vec<((u32, u32), u32)>>,
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
+        let found = self.find_crossing(dt, sk, &[], t, faces);
+        if !found.is_empty() {
+            return found;
+        }
+        let list = all.get_or_insert_with(|| {
+            let mut l: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            l.sort_unstable();
+            l
+        });
+        self.crossing_edges(dt, list, t)
+    }
+
     /// Mesh edges of `list` crossing the interior of input triangle `t`.
     fn crossing_edges(
         &self,
@@ -767,6 +792,9 @@ impl State {
                 Some(st) => self.update_round(&cm, st),
             };
             let mut prot = cdt::Protected::default();
+            let nf: usize = on.iter().map(Vec::len).sum();
+            prot.faces.reserve(nf);
+            prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
             for f in on.iter().flatten() {
                 prot.add_face(*f);
             }
@@ -841,8 +869,10 @@ impl State {
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
             let sk = Skeleton::of(dt, false);
-            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
-            list.sort_unstable();
+            // All edges, sorted: built only if a local search finds nothing
+            // (sorting every edge of a large mesh each round was a
+            // dominant cost).
+            let mut all: Option<Vec<((u32, u32), u32)>> = None;
             let mut progress = false;
             for &t in &uncovered {
                 if !self.steiner_left() {
@@ -852,7 +882,7 @@ impl State {
                     progress |= self.split_longest_subsegment(dt, t)?;
                     continue;
                 }
-                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                let cross = self.find_crossing_lazy(dt, &sk, &mut all, t, &on[t]);
                 progress |= if cross.is_empty() {
                     self.split_hole(dt, t, &on[t])?
                 } else {

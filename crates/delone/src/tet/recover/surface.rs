@@ -138,7 +138,7 @@ impl Surface {
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        let index: HashMap<(u32, u32), u32> = keys
+        let index: IdMap<(u32, u32), u32> = keys
             .iter()
             .enumerate()
             .map(|(i, &k)| (k, i as u32))
