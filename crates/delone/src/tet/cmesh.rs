@@ -136,6 +136,17 @@ impl<'a> CMesh<'a> {
         out
     }
 
+    /// How many faces were logged since the last [`CMesh::take_touched`]
+    /// (with repeats).
+    pub(crate) fn touched_len(&self) -> usize {
+        self.touched.len()
+    }
+
+    /// Forgets the faces logged since the last [`CMesh::take_touched`].
+    pub(crate) fn clear_touched(&mut self) {
+        self.touched.clear();
+    }
+
     /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
     pub(crate) fn take_failed(&mut self) -> crate::tet::recover::IdSet<Vec<u32>> {
         std::mem::take(&mut self.failed)

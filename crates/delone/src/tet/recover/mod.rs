@@ -500,12 +500,11 @@ const GLOBAL_FRACTION: usize = 16;
 type FacesOn = Vec<Vec<[u32; 3]>>;
 
 /// What a round of the constrained recovery hands to the next one: the
-/// coverage and missing subsegments of the Delaunay tetrahedralization it
-/// started from, and how many points it had.
+/// coverage of the Delaunay tetrahedralization it started from, and how
+/// many points it had.
 struct RoundState {
     on: FacesOn,
     covered: Vec<bool>,
-    missing: Vec<(u32, u32, u32)>,
     old_len: usize,
 }
 
@@ -803,6 +802,12 @@ impl State {
                     prot.edges.insert(ekey(w[0], w[1]));
                 }
             }
+            eprintln!(
+                "TMP round {} setup {:?} subs {}",
+                self.report.rounds,
+                __t.elapsed(),
+                subs.len()
+            );
             let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
@@ -826,7 +831,6 @@ impl State {
                 prev = Some(RoundState {
                     on,
                     covered,
-                    missing: subs,
                     old_len,
                 });
                 continue;
@@ -840,6 +844,11 @@ impl State {
             let mut uncovered: Vec<usize> =
                 (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             let by_flips = uncovered.len();
+            eprintln!(
+                "TMP refresh {:?} uncovered {}",
+                __t.elapsed(),
+                uncovered.len()
+            );
             if !uncovered.is_empty() {
                 for &t in &uncovered {
                     let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
@@ -848,6 +857,11 @@ impl State {
                 self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
                 uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             }
+            eprintln!(
+                "TMP facets {:?} still uncovered {}",
+                __t.elapsed(),
+                uncovered.len()
+            );
             if uncovered.is_empty() {
                 self.report.flips23 = cm.flips23;
                 self.report.edge_removals = cm.removals;
@@ -861,7 +875,6 @@ impl State {
                 prev = Some(RoundState {
                     on,
                     covered,
-                    missing: subs,
                     old_len,
                 });
                 continue;
@@ -899,7 +912,6 @@ impl State {
             prev = Some(RoundState {
                 on,
                 covered,
-                missing: subs,
                 old_len,
             });
         }
@@ -910,8 +922,10 @@ impl State {
     /// previous round (`st`) and the points inserted since (ids from
     /// `st.old_len`). A Delaunay insertion changes only tetrahedra whose
     /// vertices end up adjacent to an inserted point, so only the triangles
-    /// and subsegments at the vertices of the inserted points' stars can
-    /// change (with the subsegments missing before, now maybe split).
+    /// at the vertices of the inserted points' stars (which include the
+    /// triangles whose sides were split) and those uncovered before can
+    /// change; the missing subsegments then follow from the coverage
+    /// ([`Self::missing_subsegments_cm`]).
     fn update_round(
         &self,
         cm: &CMesh<'_>,
@@ -920,7 +934,6 @@ impl State {
         let RoundState {
             mut on,
             mut covered,
-            missing,
             old_len,
         } = st;
         let core = &cm.dt.core;
@@ -931,37 +944,20 @@ impl State {
                 near.extend(core.v[x as usize].iter().filter(|&&w| w != INF));
             }
         }
-        near.extend(missing.iter().flat_map(|&(_, u, v)| [u, v]));
         near.sort_unstable();
         near.dedup();
         let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-        let mut edges: Vec<u32> = Vec::new();
         for &w in &near {
             if let Some(l) = self.surf.vtris.get(w as usize) {
-                for &t in l {
-                    tris.push(t as usize);
-                    edges.extend(self.surf.tri_edges[t as usize]);
-                }
+                tris.extend(l.iter().map(|&t| t as usize));
             }
         }
         tris.sort_unstable();
         tris.dedup();
-        edges.sort_unstable();
-        edges.dedup();
         self.recompute(cm, &tris, &mut on, &mut covered);
-        // Subsegments at a vertex of `near`, in the global order (by edge,
-        // then along its chain).
-        let mut subs = Vec::new();
-        for e in edges {
-            for w in self.surf.chains[e as usize].windows(2) {
-                let (u, v) = (w[0], w[1]);
-                if (near.binary_search(&u).is_ok() || near.binary_search(&v).is_ok())
-                    && cm.find_edge(u, v).is_none()
-                {
-                    subs.push((e, u, v));
-                }
-            }
-        }
+        // Subsegments of edges with a covered triangle are present; the
+        // others are searched.
+        let subs = self.missing_subsegments_cm(cm, &covered);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
         (on, covered, subs)
@@ -1094,6 +1090,19 @@ impl State {
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
     ) {
+        if cm.touched_len() > 2 * cm.dt.core.v.len() {
+            // Many flips: the global pass is cheaper than sorting and
+            // looking up every logged face.
+            cm.clear_touched();
+            let (g_on, g_covered) = self.coverage_all(cm);
+            for (t, f) in g_on.into_iter().enumerate() {
+                on[t] = f;
+            }
+            covered.copy_from_slice(&g_covered);
+            #[cfg(debug_assertions)]
+            self.debug_same_coverage(&cm.dt, on, covered, None);
+            return;
+        }
         let touched = cm.take_touched();
         let mut cands: Vec<usize> = extra.to_vec();
         let (mut out, mut flat) = (Vec::new(), Vec::new());
@@ -1459,14 +1468,37 @@ impl State {
             let sk = Skeleton::of(dt, true);
             self.surf.coverage(&sk, dt.points()).0
         });
-        let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let face_tri: IdMap<[u32; 3], u32> = on
             .iter()
             .enumerate()
             .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
             .collect();
         let core = &dt.core;
-        let carved = carve::carve(core, dt.points(), &constraint, domain, scale)?;
+        // Per slot and face: the input triangle it lies on (one lookup per
+        // face, then flags instead of hashing in carving and output).
+        let mut marks = vec![[crate::NONE; 4]; core.v.len()];
+        for (t, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD {
+                continue;
+            }
+            for f in 0..4 {
+                let w = core.adj[t][f];
+                let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
+                if u < t {
+                    continue;
+                }
+                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                if k.contains(&INF) {
+                    continue;
+                }
+                if let Some(&ti) = face_tri.get(&k) {
+                    marks[t][f] = ti;
+                    marks[u][g] = ti;
+                }
+            }
+        }
+        drop(face_tri);
+        let carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
         let mut regions = carved.regions;
         let inside = |t: usize| carved.region[t] != u32::MAX;
@@ -1496,7 +1528,7 @@ impl State {
                 let u = (core.adj[t][f] >> 2) as usize;
                 let [x, y, z] = FACET[f].map(|i| tv[i]);
                 let face = [x, z, y];
-                let on_tri = face_tri.get(&missing::fkey(face)).copied();
+                let on_tri = Some(marks[t][f]).filter(|&x| x != crate::NONE);
                 if inside(u) {
                     *n = new_id[u];
                     if let Some(ti) = on_tri {
