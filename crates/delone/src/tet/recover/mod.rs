@@ -802,12 +802,6 @@ impl State {
                     prot.edges.insert(ekey(w[0], w[1]));
                 }
             }
-            eprintln!(
-                "TMP round {} setup {:?} subs {}",
-                self.report.rounds,
-                __t.elapsed(),
-                subs.len()
-            );
             let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
@@ -844,11 +838,6 @@ impl State {
             let mut uncovered: Vec<usize> =
                 (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             let by_flips = uncovered.len();
-            eprintln!(
-                "TMP refresh {:?} uncovered {}",
-                __t.elapsed(),
-                uncovered.len()
-            );
             if !uncovered.is_empty() {
                 for &t in &uncovered {
                     let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
@@ -857,11 +846,6 @@ impl State {
                 self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
                 uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
             }
-            eprintln!(
-                "TMP facets {:?} still uncovered {}",
-                __t.elapsed(),
-                uncovered.len()
-            );
             if uncovered.is_empty() {
                 self.report.flips23 = cm.flips23;
                 self.report.edge_removals = cm.removals;
