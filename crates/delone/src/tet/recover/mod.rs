@@ -1190,6 +1190,18 @@ impl State {
         let core = &cm.dt.core;
         let mut slots: Vec<u32> = Vec::new();
         for &t in cands {
+            if self.surf.plain(t) {
+                // Only its own corners can make a face on it.
+                let [a, b, c] = self.surf.tris[t];
+                let found = cm.find_face(a, b, c).is_some();
+                on[t] = if found {
+                    vec![missing::fkey([a, b, c])]
+                } else {
+                    Vec::new()
+                };
+                covered[t] = found;
+                continue;
+            }
             let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
             slots.clear();
             for w in cdt::tri_vertices(&self.surf, t, inner) {
