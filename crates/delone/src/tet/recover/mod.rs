@@ -1137,13 +1137,13 @@ impl State {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
-            for f in 0..4 {
+            for (f, idx) in FACET.iter().enumerate() {
                 // Each interior face once (from its lower slot).
                 let u = (core.adj[x][f] >> 2) as usize;
                 if u < x && !core.v[u].contains(&INF) {
                     continue;
                 }
-                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                let k = missing::fkey(idx.map(|i| tv[i]));
                 for t in self.surf.triangles_with_key(&k) {
                     let t = t as usize;
                     if self.surf.plain(t) {
