@@ -52,9 +52,7 @@ pub const SLOW: f64 = 2.0;
 /// with TetGen's printed phase seconds, which are CPU time (`clock()`): on a
 /// busy machine wall time would charge delone for the other processes.
 fn thread_cpu_seconds() -> Option<f64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: u64 = s.split_whitespace().next()?.parse().ok()?;
-    Some(ns as f64 * 1e-9)
+    thread_cpu_ns().map(|ns| ns as f64 * 1e-9)
 }
 
 /// Measures `f`: CPU seconds of this thread when available, else wall.
@@ -134,6 +132,30 @@ fn run_once(
     }
 }
 
+/// CPU time of the calling thread so far, in nanoseconds (Linux
+/// `/proc/thread-self/schedstat`), if available.
+fn thread_cpu_ns() -> Option<u64> {
+    schedstat_ns("/proc/thread-self/schedstat")
+}
+
+/// The first field of a `schedstat` file: nanoseconds spent on a CPU.
+pub(crate) fn schedstat_ns(path: &str) -> Option<u64> {
+    std::fs::read_to_string(path)
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// The `2d-poly` note fields: CPU seconds of the timed work (when known),
+/// and wall seconds of its two phases (constrained triangulation with
+/// holes; refinement).
+fn phase_info(cpu: Option<f64>, cdt: f64, refine: f64) -> String {
+    let cpu = cpu.map_or(String::new(), |c| format!(",cpu={c:.3}"));
+    format!("{cpu},cdt_s={cdt:.3},refine_s={refine:.3}")
+}
+
 /// `2d-poly-…`: delone's constrained triangulation (+ refinement) against
 /// Triangle's `-p` (+ quality) through tritet.
 fn run_poly(
@@ -148,9 +170,12 @@ fn run_poly(
     match program {
         "delone" => {
             on_ready();
+            let cpu0 = thread_cpu_ns();
             let t = Instant::now();
+            let mut cdt_seconds = 0.0;
             let r =
                 constrained_triangulation(black_box(g), CdtOptions::default()).and_then(|cdt| {
+                    cdt_seconds = t.elapsed().as_secs_f64();
                     match input.quality {
                         None => Ok((cdt, None)),
                         Some(q) => {
@@ -164,6 +189,9 @@ fn run_poly(
                     }
                 });
             let seconds = t.elapsed().as_secs_f64();
+            let cpu = cpu0
+                .zip(thread_cpu_ns())
+                .map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
             let (m, report) = r.map_err(|e| e.to_string())?;
             let hash = hash_u32s(
                 m.triangles
@@ -180,6 +208,7 @@ fn run_poly(
                     if r.met { "yes" } else { "no" }
                 ));
             }
+            info.push_str(&phase_info(cpu, cdt_seconds, seconds - cdt_seconds));
             Ok(Run {
                 seconds,
                 elements: m.triangles.len(),
@@ -241,12 +270,14 @@ fn run_poly(
                 q.and_then(|q| q.min_angle),
                 q.and_then(|q| q.max_area),
             )?;
+            let info = format!("steiner={}", r.steiner)
+                + &phase_info(r.cpu_seconds, r.phase_ms[0] / 1e3, r.phase_ms[1] / 1e3);
             Ok(Run {
                 seconds: r.seconds,
                 elements: r.triangles,
                 hash: None,
                 valid: None,
-                info: format!("steiner={}", r.steiner),
+                info,
                 external_peak_kb: r.peak_kb,
             })
         }
@@ -341,6 +372,31 @@ fn run_surf(
 /// `3d-surfq-…-qB`: delone's refinement (`-pqB`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
+/// delone's quality mesh of a closed surface at radius-edge bound `q`
+/// (what `delone tet -pqQ` does): the timed arm and the dihedral chart.
+pub fn delone_quality(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    q: f64,
+) -> Result<delone::tet::refine::Refined, delone::tet::recover::RecoverError> {
+    use delone::tet::refine::{refine, RefineOptions};
+    let opts = RefineOptions {
+        max_radius_edge: q,
+        ..RefineOptions::default()
+    };
+    refine(points, triangles, &opts)
+}
+
+/// [`delone_quality`]'s points and tetrahedra.
+pub fn delone_quality_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    q: f64,
+) -> Result<crate::refbin::NodeEle, String> {
+    let r = delone_quality(points, triangles, q).map_err(|e| e.to_string())?;
+    Ok((r.rec.points, r.rec.mesh.tets))
+}
+
 fn run_surfq(
     program: &str,
     p: &[[f64; 3]],
@@ -351,15 +407,10 @@ fn run_surfq(
 ) -> Result<Run, String> {
     use delone::tet::quality::TetStats;
     use delone::tet::recover::check_recovered;
-    use delone::tet::refine::{refine, RefineOptions};
     match program {
         "delone" => {
-            let opts = RefineOptions {
-                max_radius_edge: q,
-                ..RefineOptions::default()
-            };
             on_ready();
-            let (r, seconds) = cpu_timed(|| refine(black_box(p), black_box(tris), &opts));
+            let (r, seconds) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
             let r = r.map_err(|e| e.to_string())?;
             let m = &r.rec.mesh;
             let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
@@ -599,6 +650,8 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
     let mut peak_kb = base_kb;
     let mut call_kb: Option<u64> = None;
     let mut times = Vec::with_capacity(timed);
+    // The note of each timed run: the median run's is reported.
+    let mut infos: Vec<(f64, String)> = Vec::with_capacity(timed);
     let mut hashes = Vec::new();
 
     for i in 0..warmup + timed {
@@ -636,6 +689,7 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
                 let slow_warmup = i < warmup && r.seconds > SLOW;
                 if i >= warmup || slow_warmup {
                     times.push(r.seconds);
+                    infos.push((r.seconds, r.info.clone()));
                 }
                 hashes.extend(r.hash);
                 res.elements = r.elements;
@@ -652,6 +706,13 @@ pub fn run_child(case: &Case, program: &str, repeat: usize) -> RunResult {
     }
     res.seconds = median(&times);
     res.runs = times.len();
+    if let Some((_, info)) = infos.iter().min_by(|a, b| {
+        (a.0 - res.seconds)
+            .abs()
+            .total_cmp(&(b.0 - res.seconds).abs())
+    }) {
+        res.info.clone_from(info);
+    }
 
     // One more, untimed run of delone (the memory figures are already
     // taken): its output goes through delone's validator, and the full

@@ -8,6 +8,7 @@
 #![forbid(unsafe_code)]
 
 mod cases;
+mod chart;
 mod child;
 #[allow(dead_code)] // the reference executables, for cases and tests
 mod refbin;
@@ -40,6 +41,9 @@ options:
   --timeout SECS     kill a child after this many seconds (default 600)
   --markdown         print the table as Markdown
   --list             list the default and quick cases and the programs
+  --dihedral-chart MODEL RATIO OUT.svg
+                     mesh surf/off/MODEL.off with delone and TetGen at -pqRATIO and
+                     draw both dihedral-angle distributions as an SVG bar chart
   -h, --help         this text
 ";
 
@@ -61,6 +65,11 @@ enum Mode {
     },
     Help,
     List,
+    Chart {
+        model: String,
+        ratio: String,
+        out: String,
+    },
 }
 
 fn program_names() -> Vec<&'static str> {
@@ -115,6 +124,12 @@ fn parse_args(args: &[String]) -> Result<Mode, String> {
         match args[i].as_str() {
             "-h" | "--help" => return Ok(Mode::Help),
             "--list" => return Ok(Mode::List),
+            "--dihedral-chart" => {
+                let model = value(&mut i, "--dihedral-chart")?;
+                let ratio = value(&mut i, "--dihedral-chart")?;
+                let out = value(&mut i, "--dihedral-chart")?;
+                return Ok(Mode::Chart { model, ratio, out });
+            }
             "--quick" => quick = true,
             "--markdown" => markdown = true,
             "--cases" => cases = Some(parse_cases(&value(&mut i, "--cases")?)?),
@@ -357,6 +372,16 @@ fn main() -> ExitCode {
             print!("{USAGE}");
             ExitCode::SUCCESS
         }
+        Ok(Mode::Chart { model, ratio, out }) => match chart::run(&model, &ratio, &out) {
+            Ok(summary) => {
+                println!("{summary}\nwrote {out}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("delone-bench: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Ok(Mode::List) => {
             println!("default cases: {}", DEFAULT_CASES.join(", "));
             println!("quick cases:   {}", QUICK_CASES.join(", "));

@@ -235,7 +235,7 @@ fn run_tetgen(
         None
     };
     std::fs::remove_dir_all(&dir).ok();
-    let (out, peak) = run?;
+    let (out, peak, _) = run?;
     // Phases absent from a run (e.g. refinement under bare -p) count 0.
     let seconds = [
         "Delaunay seconds:",
@@ -304,8 +304,23 @@ pub fn run_tetgen_pq(
     Ok(TetgenQRun { run, min_dihedral })
 }
 
+/// Runs `tetgen -pqB` like [`run_tetgen_pq`] and returns its output mesh.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, rejects the input, or its
+/// output files cannot be read.
+pub fn tetgen_pq_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    ratio: f64,
+) -> Result<NodeEle, String> {
+    run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?
+        .1
+        .ok_or_else(|| "cannot read TetGen's output mesh".to_string())
+}
+
 /// Points and tetrahedra of a TetGen output.
-type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
+pub type NodeEle = (Vec<[f64; 3]>, Vec<[u32; 4]>);
 
 /// Reads TetGen's `.node` and `.ele` files (first index 0 or 1).
 fn read_node_ele(node: &Path, ele: &Path) -> Option<NodeEle> {
@@ -351,15 +366,22 @@ pub struct TriangleRun {
     pub steiner: usize,
     /// Peak resident memory of the process (kB), sampled as for TetGen.
     pub peak_kb: Option<u64>,
+    /// CPU time of the whole process (seconds, from `/proc/PID/schedstat`
+    /// sampled every millisecond: up to a millisecond short; includes
+    /// reading the `.poly` file, which is small for the `2d-poly` cases).
+    pub cpu_seconds: Option<f64>,
+    /// Milliseconds of Triangle's phases as printed: Delaunay + segments +
+    /// holes, and quality refinement.
+    pub phase_ms: [f64; 2],
 }
 
-/// Runs `exe` with `args` in `dir`, sampling its peak RSS every
-/// millisecond; returns (standard output, peak kB).
+/// Runs `exe` with `args` in `dir`, sampling its peak RSS and CPU time
+/// every millisecond; returns (standard output, peak kB, CPU seconds).
 fn run_sampled(
     exe: &Path,
     args: &[&std::ffi::OsStr],
     dir: &Path,
-) -> Result<(String, Option<u64>), String> {
+) -> Result<(String, Option<u64>, Option<f64>), String> {
     let mut child = Command::new(exe)
         .args(args)
         .current_dir(dir)
@@ -368,7 +390,9 @@ fn run_sampled(
         .spawn()
         .map_err(|e| format!("cannot run {}: {e}", exe.display()))?;
     let status_file = format!("/proc/{}/status", child.id());
+    let sched_file = format!("/proc/{}/schedstat", child.id());
     let mut peak: Option<u64> = None;
+    let mut cpu_ns: Option<u64> = None;
     let stdout = child.stdout.take();
     let reader = std::thread::spawn(move || {
         let mut s = String::new();
@@ -386,6 +410,9 @@ fn run_sampled(
                 .and_then(|r| r.trim().trim_end_matches("kB").trim().parse::<u64>().ok());
             peak = peak.max(hwm);
         }
+        if let Some(ns) = crate::child::schedstat_ns(&sched_file) {
+            cpu_ns = cpu_ns.max(Some(ns));
+        }
         match child.try_wait() {
             Ok(Some(st)) => break st,
             Ok(None) => std::thread::sleep(std::time::Duration::from_millis(1)),
@@ -401,7 +428,7 @@ fn run_sampled(
             .unwrap_or("");
         return Err(format!("{} failed ({status}): {last}", exe.display()));
     }
-    Ok((out, peak))
+    Ok((out, peak, cpu_ns.map(|ns| ns as f64 * 1e-9)))
 }
 
 /// A fresh temporary directory for one reference run.
@@ -457,16 +484,17 @@ pub fn run_triangle_p(
     }
     let run = run_sampled(&exe, &[sw.as_ref(), file.as_os_str()], &dir);
     std::fs::remove_dir_all(&dir).ok();
-    let (out, peak_kb) = run?;
-    let ms = [
-        "Delaunay milliseconds:",
-        "Segment milliseconds:",
-        "Hole milliseconds:",
-        "Quality milliseconds:",
-    ]
-    .iter()
-    .filter_map(|k| field(&out, k))
-    .sum::<f64>();
+    let (out, peak_kb, cpu_seconds) = run?;
+    let ms = |keys: &[&str]| keys.iter().filter_map(|k| field(&out, k)).sum::<f64>();
+    let phase_ms = [
+        ms(&[
+            "Delaunay milliseconds:",
+            "Segment milliseconds:",
+            "Hole milliseconds:",
+        ]),
+        ms(&["Quality milliseconds:"]),
+    ];
+    let ms = phase_ms[0] + phase_ms[1];
     let triangles = field(&out, "Mesh triangles:").unwrap_or(0.0) as usize;
     let input = field(&out, "Input vertices:").unwrap_or(0.0) as usize;
     let mesh = field(&out, "Mesh vertices:").unwrap_or(0.0) as usize;
@@ -475,6 +503,8 @@ pub fn run_triangle_p(
         triangles,
         steiner: mesh.saturating_sub(input),
         peak_kb,
+        cpu_seconds,
+        phase_ms,
     })
 }
 

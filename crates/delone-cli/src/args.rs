@@ -49,6 +49,8 @@ pub struct Opts {
     pub refine_mesh: bool,
     /// tet `-pY`: surface preservation (no Steiner point on the input surface).
     pub preserve_surface: bool,
+    /// tet `-M`: no merging of coplanar facets.
+    pub no_merge: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
     pub convex_hull: bool,
     /// tri `-A`: regional attributes in the .ele output.
@@ -92,6 +94,10 @@ pub struct Opts {
     pub png: Option<PathBuf>,
     /// tri `--png-width N`: picture width in pixels (SVG and PNG; default 800).
     pub png_width: Option<u32>,
+    /// tet `--cut x|y|z[=F]|none`: the cut of the `--png` picture.
+    pub cut: Option<Option<(usize, f64)>>,
+    /// tet `--view AZ,EL`: camera azimuth and elevation of `--png`, degrees.
+    pub view: Option<(f64, f64)>,
     /// tri `--svg-quality`: colour the triangles by minimum angle.
     pub svg_quality: bool,
     /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
@@ -134,7 +140,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'O') => "mesh optimization",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
-        (Mode::Tet, 'M') => "no merging of coplanar facets",
         (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
         (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
@@ -211,6 +216,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
         (Mode::Tet, 'Y') => o.preserve_surface = true,
+        (Mode::Tet, 'M') => o.no_merge = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),
         (_, 'C') => o.check = true,
@@ -240,6 +246,24 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         }
     }
     Ok(None)
+}
+
+/// `x`, `y`, `z` with an optional `=FRACTION`, or `none`.
+fn parse_cut(v: &str) -> Option<Option<(usize, f64)>> {
+    if v == "none" {
+        return Some(None);
+    }
+    let (axis, frac) = v.split_once('=').unwrap_or((v, "0.5"));
+    let axis = ["x", "y", "z"].iter().position(|&a| a == axis)?;
+    let frac: f64 = frac.parse().ok().filter(|f: &f64| f.is_finite())?;
+    Some(Some((axis, frac)))
+}
+
+/// `AZIMUTH,ELEVATION` in degrees.
+fn parse_view(v: &str) -> Option<(f64, f64)> {
+    let (a, e) = v.split_once(',')?;
+    let (a, e): (f64, f64) = (a.trim().parse().ok()?, e.trim().parse().ok()?);
+    (a.is_finite() && e.is_finite()).then_some((a, e))
 }
 
 fn value(
@@ -316,13 +340,29 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 "gmsh" if mode == Mode::Tet => {
                     o.gmsh = Some(value("--gmsh", inline, &mut it)?.into())
                 }
-                "png" if mode == Mode::Tri => o.png = Some(value("--png", inline, &mut it)?.into()),
+                "png" => o.png = Some(value("--png", inline, &mut it)?.into()),
+                "cut" if mode == Mode::Tet => {
+                    let v = value("--cut", inline, &mut it)?;
+                    o.cut = Some(parse_cut(&v).ok_or_else(|| {
+                        Usage(format!(
+                            "--cut needs x, y or z (optionally =FRACTION) or none, not {v:?}"
+                        ))
+                    })?)
+                }
+                "view" if mode == Mode::Tet => {
+                    let v = value("--view", inline, &mut it)?;
+                    o.view = Some(parse_view(&v).ok_or_else(|| {
+                        Usage(format!(
+                            "--view needs AZIMUTH,ELEVATION in degrees, not {v:?}"
+                        ))
+                    })?)
+                }
                 "stats-json" => o.stats_json = Some(value("--stats-json", inline, &mut it)?.into()),
                 "svg-quality" if mode == Mode::Tri => {
                     flag()?;
                     o.svg_quality = true
                 }
-                "png-width" if mode == Mode::Tri => {
+                "png-width" => {
                     let v = value("--png-width", inline, &mut it)?;
                     o.png_width = Some(
                         v.parse()
@@ -427,6 +467,17 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn cutaway_options() {
+        assert_eq!(parse_cut("none"), Some(None));
+        assert_eq!(parse_cut("y"), Some(Some((1, 0.5))));
+        assert_eq!(parse_cut("z=0.25"), Some(Some((2, 0.25))));
+        assert_eq!(parse_cut("w"), None);
+        assert_eq!(parse_cut("x=nan"), None);
+        assert_eq!(parse_view("30,-10"), Some((30.0, -10.0)));
+        assert_eq!(parse_view("30"), None);
+    }
+
     use super::*;
 
     fn p(mode: Mode, args: &[&str]) -> Result<Command, Usage> {

@@ -172,8 +172,17 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          and region attributes).
     -Y   With -p: no Steiner point on the input surface (interior only);
          an error names the triangles that flips cannot recover.
-    Not implemented yet (error, exit code 2): -r -q -R -m -a -i -O -S
-    -T -X -M -d -D -o2 -o/.
+    -M   With -p: no merging of coplanar facets. By default edge-adjacent,
+         exactly coplanar, consistently oriented triangles of facets with
+         the same marker are merged into one facet and re-triangulated
+         (Delaunay edges on the plane kept), so edges between them are not
+         segments; -M keeps every input triangle as given (also with -Y).
+    -q[B] With -p: quality mesh by Delaunay refinement, no tetrahedron with a
+         radius-edge ratio above B (default 2.0); -V reports dihedral angles.
+    -a[V] With -p: no tetrahedron larger than volume V.
+    -S<n> At most n Steiner points in the refinement.
+    Not implemented yet (error, exit code 2): -r -R -m -i -O -T -X -d -D
+    -o2 -o/.
 
 OPTIONS:
     -o FILE.vtu, --vtu FILE.vtu   Also write the mesh as VTK XML (.vtu, binary
@@ -186,6 +195,19 @@ OPTIONS:
     --medit FILE.mesh             With -p: write the mesh as Medit .mesh.
     --gmsh FILE.msh               With -p: write the mesh as Gmsh .msh 4.1
                                   (ASCII; physical tags = markers/regions).
+    --png FILE.png                A cut-away picture of the mesh: the
+                                  tetrahedra on the low side of the cut,
+                                  faces exposed by the cut coloured by their
+                                  tetrahedron's minimum dihedral angle
+                                  (dark red < 5, red < 10, orange < 15,
+                                  yellow < 20, light green < 30 degrees,
+                                  green above), boundary faces blue-grey.
+    --cut x|y|z[=F]|none          The cut: at fraction F (default 0.5) of the
+                                  bounding box along the axis (default x).
+    --view AZ,EL                  Camera azimuth and elevation in degrees
+                                  (default -60,25).
+    --png-width N                 Picture width in pixels (default 800;
+                                  height 3/4 of it).
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

@@ -3,6 +3,7 @@
 #![forbid(unsafe_code)]
 
 mod args;
+mod cutaway;
 mod dual;
 mod help;
 mod jettison;

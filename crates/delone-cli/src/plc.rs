@@ -138,10 +138,16 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     };
     let ropts = RecoverOptions {
         preserve_surface: o.preserve_surface,
+        merge_coplanar: !o.no_merge,
         ..Default::default()
     };
-    let (rec, refined) = crate::tetq::mesh(o, &plc.points, &triangles, &ropts, &domain)
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let facet_marker: Vec<i32> = facet_of
+        .iter()
+        .map(|&f| plc.facets[f as usize].marker)
+        .collect();
+    let (rec, refined) =
+        crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
+            .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
@@ -171,10 +177,6 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         })?;
         written.push(p);
     }
-    let facet_marker: Vec<i32> = facet_of
-        .iter()
-        .map(|&f| plc.facets[f as usize].marker)
-        .collect();
     let out_mesh = crate::tetout::TetOutput::new(&rec, &facet_marker);
     written.extend(out_mesh.write_all(o, &out, first)?);
     let t_write = t2.elapsed();
@@ -218,6 +220,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 );
             }
             println!("  recovery: {} rounds, {} 3-2 flips", r.rounds, r.flips32);
+            println!(
+                "  coplanar facets: {} group(s) merged and re-triangulated, {} kept as given (-M: no merging)",
+                r.coplanar_groups, r.coplanar_kept
+            );
         }
         if r.inexact_steiner > 0 {
             println!(

@@ -562,6 +562,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             if let Some(v) = vor.as_ref().filter(|_| o.voronoi) {
                 crate::dual::write_tet_voronoi(ob, v, first, &mut extra)?;
             }
+            if let Some(p) = &o.png {
+                crate::cutaway::write_png(o, p, &pts, &mesh.tets, &mut extra)?;
+            }
             drop(vor);
             let t_extra = t_extra.elapsed();
             let m = MeshOut {

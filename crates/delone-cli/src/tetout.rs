@@ -32,7 +32,8 @@ pub struct TetOutput<'a> {
     faces: Vec<[u32; 3]>,
     /// Their markers.
     face_marker: Vec<i32>,
-    /// Input triangle of each constraint face (`NONE` for hull faces).
+    /// Input triangle of each constraint face (`NONE` for hull faces), via
+    /// `Recovered::surface_origin`.
     face_triangle: Vec<u32>,
     /// Per input triangle: its facet's marker.
     tri_marker: &'a [i32],
@@ -51,7 +52,13 @@ impl<'a> TetOutput<'a> {
             .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
         {
             faces.push(*f);
-            face_triangle.push(t);
+            // Faces name triangles of `rec.surface`; markers come from the
+            // input triangle (facet) each of those replaces.
+            face_triangle.push(if t == NONE {
+                NONE
+            } else {
+                rec.surface_origin.get(t as usize).copied().unwrap_or(t)
+            });
         }
         let face_marker = face_triangle
             .iter()
@@ -237,6 +244,9 @@ impl<'a> TetOutput<'a> {
                 )
             })?;
             written.push(p.clone());
+        }
+        if let Some(p) = &o.png {
+            crate::cutaway::write_png(o, p, &rec.points, &rec.mesh.tets, &mut written)?;
         }
         Ok(written)
     }

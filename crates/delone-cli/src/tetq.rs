@@ -2,23 +2,24 @@
 //! the quality statistics (`-V`, `--stats-json FILE`).
 
 use delone::tet::quality::{TetStats, DIHEDRAL_BINS};
-use delone::tet::recover::{recover_domain, Domain, RecoverOptions, Recovered};
+use delone::tet::recover::{recover_marked, Domain, RecoverOptions, Recovered};
 use delone::tet::refine::{refine, RefineOptions, RefineReport};
 
 use crate::args::Opts;
 
 /// Recovery alone (`-p`), or recovery and refinement when `-q`/`-a` is
-/// given. Returns the mesh, the refinement report if any, and the name of
+/// given (`markers`: per input triangle, its facet's marker). Returns the mesh, the refinement report if any, and the name of
 /// the stage for timing lines.
 pub fn mesh(
     o: &Opts,
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
+    markers: &[i32],
     ropts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<(Recovered, Option<RefineReport>), String> {
     if o.tet_ratio.is_none() && o.max_area.is_none() {
-        return recover_domain(points, triangles, ropts, domain)
+        return recover_marked(points, triangles, markers, ropts, domain)
             .map(|r| (r, None))
             .map_err(|e| e.to_string());
     }

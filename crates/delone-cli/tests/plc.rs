@@ -125,6 +125,34 @@ fn cube_with_cavity_poly() {
 }
 
 #[test]
+fn cutaway_png_of_the_cavity_cube() {
+    let dir = tmp("png");
+    std::fs::write(dir.join("box.poly"), CUBE_WITH_CAVITY).unwrap();
+    let o = run(
+        &dir,
+        &[
+            "tet", "-pQ", "--png", "cut.png", "--cut", "y=0.4", "--view", "20,30", "box",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let png = std::fs::read(dir.join("cut.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    // Same command, same bytes.
+    let o = run(
+        &dir,
+        &[
+            "tet", "-pQ", "--png", "cut2.png", "--cut", "y=0.4", "--view", "20,30", "box",
+        ],
+    );
+    assert!(o.status.success());
+    assert_eq!(png, std::fs::read(dir.join("cut2.png")).unwrap());
+    // A bad cut is a usage error naming the option.
+    let o = run(&dir, &["tet", "-p", "--png", "x.png", "--cut", "w", "box"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--cut"));
+}
+
+#[test]
 fn open_surface_is_a_clear_error() {
     let dir = tmp("open");
     std::fs::write(

@@ -21,6 +21,9 @@
 //! * pictures: one scene ([`SvgLayer`]s: triangles, filled triangles,
 //!   polygons, segments, points, crosses, a legend) and two back ends,
 //!   [`write_svg`] and [`write_png`] (our own rasterizer, [`render`]);
+//! * cut-away pictures of tetrahedral meshes: [`render_tets`] (depth
+//!   buffer, flat shading, faces exposed by the cut coloured per
+//!   tetrahedron);
 //! * VTK: [`write_vtu`] (XML, ASCII or raw binary appended) and
 //!   [`write_vtk_legacy`] (TetGen's `-k` output).
 //!
@@ -51,6 +54,7 @@ mod ply;
 mod poly;
 mod raster;
 mod read;
+mod render3d;
 mod stl;
 mod surface;
 mod svg;
@@ -68,8 +72,9 @@ pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
 pub use ply::read_ply;
 pub use poly::{read_poly, write_poly, PolyFile};
-pub use raster::{render, write_png, Raster};
+pub use raster::{render, write_png, write_raster_png, Raster};
 pub use read::{read_ele, read_node, EleFile, NodeFile};
+pub use render3d::{render_tets, CutawayStyle};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
 pub use svg::{parse_colour, write_svg, SvgLayer, SvgStyle};

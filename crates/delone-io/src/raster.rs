@@ -75,7 +75,7 @@ impl Raster {
     /// Blends `c` with opacity `a` (0..=1) over pixel `(x, y)`; ignores
     /// pixels outside.
     #[inline]
-    fn blend(&mut self, x: i64, y: i64, c: [u8; 3], a: f64) {
+    pub(crate) fn blend(&mut self, x: i64, y: i64, c: [u8; 3], a: f64) {
         if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) || a <= 0.0 {
             return;
         }
@@ -514,6 +514,21 @@ pub fn write_png<W: Write>(
     style: &SvgStyle,
 ) -> Result<(), IoError> {
     let img = render(&view, layers, style)?;
+    write_raster_png(out, &img)
+}
+
+/// Encodes a [`Raster`] as an RGBA PNG.
+///
+/// # Errors
+/// [`IoError::Io`] when writing fails.
+///
+/// ```
+/// let img = delone_io::Raster { width: 1, height: 1, rgba: vec![9, 9, 9, 255] };
+/// let mut out = Vec::new();
+/// delone_io::write_raster_png(&mut out, &img).unwrap();
+/// assert_eq!(&out[..8], b"\x89PNG\r\n\x1a\n");
+/// ```
+pub fn write_raster_png<W: Write>(out: W, img: &Raster) -> Result<(), IoError> {
     let mut enc = png::Encoder::new(out, img.width, img.height);
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);

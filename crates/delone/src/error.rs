@@ -140,6 +140,13 @@ pub enum FacetDefect {
         /// points.
         vertex: u32,
     },
+    /// A point of the facet (a corner, or an isolated point given as a
+    /// one-corner polygon) lies outside the facet's outer boundary or in one
+    /// of its holes.
+    PointOutside {
+        /// The point.
+        vertex: u32,
+    },
 }
 
 impl fmt::Display for FacetDefect {
@@ -150,6 +157,9 @@ impl fmt::Display for FacetDefect {
             FacetDefect::ZeroArea => write!(f, "has zero area (all points collinear)"),
             FacetDefect::NonPlanar { vertex } => {
                 write!(f, "is not planar (point {vertex} is off its plane)")
+            }
+            FacetDefect::PointOutside { vertex } => {
+                write!(f, "has point {vertex} outside its boundary or in a hole")
             }
         }
     }

@@ -23,7 +23,8 @@ use std::collections::HashMap;
 pub struct Facet {
     /// Polygons of the facet (point indices): the outer boundary, the
     /// boundaries of holes, and segments or points the facet must contain
-    /// (TetGen's facet polygons). Polygons with 2 corners are segments.
+    /// (TetGen's facet polygons). Polygons with 2 corners are segments,
+    /// polygons with one corner isolated points of the facet.
     pub polygons: Vec<Vec<u32>>,
     /// One point inside each hole of the facet.
     pub holes: Vec<[f64; 3]>,
@@ -150,7 +151,9 @@ impl Plc {
     /// whose polygons span no plane; the errors of
     /// [`crate::tri::constrained_triangulation`] (e.g. crossing edges inside
     /// a facet), and [`Error::DegenerateFacet`] with
-    /// [`FacetDefect::TooFewVertices`] when a facet would need new points.
+    /// [`FacetDefect::TooFewVertices`] when a facet would need new points,
+    /// [`FacetDefect::PointOutside`] when one of its points is left out of
+    /// its triangles (outside the boundary or in a hole).
     ///
     /// ```
     /// use delone::model::plc::{Facet, Plc};
@@ -231,9 +234,19 @@ impl Plc {
                     defect: FacetDefect::TooFewVertices,
                 });
             }
+            let mut used = vec![false; ids.len()];
             for t in &cdt.triangles {
                 tris.push(t.map(|q| ids[q as usize]));
                 owner.push(fi as u32);
+                for &q in t {
+                    used[q as usize] = true;
+                }
+            }
+            if let Some(k) = used.iter().position(|&u| !u) {
+                return Err(Error::DegenerateFacet {
+                    index: fi,
+                    defect: FacetDefect::PointOutside { vertex: ids[k] },
+                });
             }
         }
         Ok((tris, owner))
@@ -245,9 +258,10 @@ impl Plc {
     /// * [`Error::InvalidCoordinate`] — a point with a NaN/infinite coordinate;
     /// * [`Error::InvalidSeedPoint`] — the same for a hole or region point;
     /// * [`Error::IndexOutOfRange`] — a facet or segment refers to a missing point;
-    /// * [`Error::DegenerateFacet`] — a facet with no polygon or a polygon of
-    ///   fewer than 3 corners (segments inside a facet, with 2 corners, are
-    ///   allowed), a point repeated in a polygon (by index or by
+    /// * [`Error::DegenerateFacet`] — a facet with no polygon, an empty
+    ///   polygon, or only polygons of fewer than 3 corners (segments and
+    ///   isolated points inside a facet, with 2 and 1 corners, are allowed
+    ///   next to a boundary polygon), a point repeated in a polygon (by index or by
     ///   coordinates), all points collinear (zero area), or points off the
     ///   facet's plane (exact [`orient3d`]). For a segment (listed by its index
     ///   in [`Plc::segments`]) the defect is `TooFewVertices` when both ends
@@ -351,7 +365,7 @@ impl Plc {
                     });
                 }
             }
-            if p.len() < 2 {
+            if p.is_empty() {
                 return bad(FacetDefect::TooFewVertices);
             }
             // Repeated corners, by index or by (exact) coordinates.

@@ -21,8 +21,9 @@
 //! 2. **Bad triangles** (minimum angle below the bound, or area above the
 //!    global or regional bound) are taken from a bucket queue: skinny ones
 //!    before large ones, worst bucket first (64 buckets by sin² of the
-//!    smallest angle, quarter octaves of the area ratio), newest first within
-//!    a bucket (it was just made, so it is in cache; deterministic). Their
+//!    smallest angle, quarter octaves of the area ratio); oldest first
+//!    within an angle bucket, newest first within an area bucket (it was
+//!    just made, so it is in cache; deterministic). Their
 //!    circumcentre (or off-centre) is located by a walk from the triangle and
 //!    inserted — unless it lies beyond a subsegment (that one is
 //!    split instead) or would encroach a subsegment that would become visible
@@ -283,6 +284,9 @@ const SHELL_ANGLE: f64 = 60.0;
 #[derive(Clone, Copy)]
 struct Sub {
     v: [u32; 2],
+    /// A packed half-edge carrying it (kept up to date by every fan that
+    /// borders it).
+    he: u32,
     /// Parameters of `v` along the parent (0 at `a`, 1 at `b`).
     t: [f64; 2],
     parent: u32,
@@ -295,10 +299,12 @@ struct Sub {
 
 struct Mesh {
     xy: Vec<[f64; 2]>,
-    /// The triangles, one record each (one cache line for what a cavity
-    /// search reads).
+    /// The triangles, one 32-byte aligned record each (half a cache line
+    /// for everything a cavity search reads).
     tr: Vec<Tri>,
-    vt: Vec<u32>,
+    /// Subsegment on each half-edge of a triangle (meaningful only where
+    /// the triangle's flag bit says there is one; see [`Tri::mark`]).
+    sides: Vec<[u32; 3]>,
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
     nfixed: usize,
@@ -321,20 +327,26 @@ struct Mesh {
     replaced: usize,
 }
 
-/// A triangle of the working mesh.
+/// A triangle of the working mesh: 32 bytes, aligned, so that one record
+/// never straddles two cache lines.
 #[derive(Clone, Copy)]
+#[repr(C, align(32))]
 struct Tri {
     /// Counterclockwise vertices.
     v: [u32; 3],
     /// Packed adjacency or `NONE` on the boundary.
     a: [u32; 3],
-    /// Subsegment on each half-edge, or `NONE`.
-    s: [u32; 3],
     /// The input triangle it descends from (region, attributes).
     orig: u32,
-    /// Cavity stamp.
+    /// Bits 0–2: half-edge `e` carries a subsegment (its id is in
+    /// [`Mesh::sides`]); the other bits: cavity stamp (a multiple of
+    /// [`STAMP_STEP`]).
     mark: u32,
 }
+
+/// Stamps step over the three subsegment flag bits of [`Tri::mark`].
+const STAMP_STEP: u32 = 8;
+const FLAGS: u32 = STAMP_STEP - 1;
 
 /// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
 #[derive(Clone, Copy)]
@@ -422,55 +434,92 @@ impl Mesh {
         &self.xy[v as usize]
     }
 
-    /// The half-edge `u -> w` as (triangle, local edge), by rotating around
-    /// `u` (both ways: `u` may be on the boundary).
-    fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        let start = self.vt[u as usize] as usize;
-        for dir in [NEXT, PREV] {
-            let mut t = start;
-            for _ in 0..self.tr.len() {
-                let v = self.tr[t].v;
-                let k = v.iter().position(|&x| x == u)?;
-                if v[NEXT[k]] == w {
-                    return Some((t, PREV[k]));
-                }
-                let x = self.tr[t].a[dir[k]];
-                if x == NONE {
-                    break;
-                }
-                t = unpack(x).0;
-                if t == start {
-                    return None;
+    /// Reserves room for the triangles an area bound will make (about
+    /// 1.6 per bound's worth of area; twice that is reserved, at most 2²⁴):
+    /// the 32-byte aligned records are copied, not reallocated in place,
+    /// when the vector grows. Untouched capacity costs no resident memory.
+    fn reserve_for_areas(&mut self, crit: &Crit, max_areas: &[f64], limit: usize) {
+        if !crit.area2.is_finite() && !crit.regional {
+            return;
+        }
+        let mut ratio = 0.0;
+        for t in &self.tr {
+            let (a, b, c) = (self.p(t.v[0]), self.p(t.v[1]), self.p(t.v[2]));
+            let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            let mut bound = crit.area2;
+            if crit.regional {
+                let ma = max_areas[t.orig as usize];
+                if ma > 0.0 {
+                    bound = bound.min(2.0 * ma * crit.s2);
                 }
             }
+            if bound.is_finite() && bound > 0.0 {
+                ratio += d / bound;
+            }
         }
-        None
+        let nt = (3.2 * ratio).min((1u64 << 24) as f64) as usize;
+        let nt = nt.min(limit.saturating_mul(2));
+        if nt > self.tr.len() {
+            let more = nt - self.tr.len();
+            // Best effort: without the room the vectors grow as usual.
+            let _ = self.tr.try_reserve_exact(more);
+            let _ = self.sides.try_reserve_exact(more);
+            let _ = self.xy.try_reserve_exact(more / 2);
+            let _ = self.vpar.try_reserve_exact(more / 2);
+        }
     }
 
-    /// The half-edge `u -> w` or `w -> u`.
-    fn find_either(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        self.find_edge(u, w).or_else(|| self.find_edge(w, u))
+    /// A triangle beside live subsegment `s` ([`Sub::he`], checked).
+    fn tri_of_sub(&self, s: u32) -> Option<usize> {
+        let he = self.subs[s as usize].he;
+        if he == NONE {
+            return None;
+        }
+        let (t, e) = unpack(he);
+        (t < self.tr.len() && self.sub_at(t, e) == s).then_some(t)
     }
 
     fn new_tri(&mut self) -> usize {
         self.tr.push(Tri {
             v: [0; 3],
             a: [NONE; 3],
-            s: [NONE; 3],
             orig: NONE,
             mark: 0,
         });
+        self.sides.push([NONE; 3]);
         self.tr.len() - 1
     }
 
+    /// The subsegment on half-edge `e` of triangle `t`, or `NONE`.
+    #[inline]
+    fn sub_at(&self, t: usize, e: usize) -> u32 {
+        if self.tr[t].mark >> e & 1 != 0 {
+            self.sides[t][e]
+        } else {
+            NONE
+        }
+    }
+
+    /// Sets the subsegment on half-edge `e` of triangle `t` (`NONE`: none).
+    #[inline]
+    fn set_sub(&mut self, t: usize, e: usize, s: u32) {
+        self.sides[t][e] = s;
+        let bit = 1 << e;
+        if s == NONE {
+            self.tr[t].mark &= !bit;
+        } else {
+            self.tr[t].mark |= bit;
+        }
+    }
+
     fn next_stamp(&mut self) -> u32 {
-        if self.stamp == u32::MAX {
+        if self.stamp > u32::MAX - 2 * STAMP_STEP {
             for t in &mut self.tr {
-                t.mark = 0;
+                t.mark &= FLAGS;
             }
             self.stamp = 0;
         }
-        self.stamp += 1;
+        self.stamp += STAMP_STEP;
         self.stamp
     }
 
@@ -498,17 +547,15 @@ impl Mesh {
         self.bnd.clear();
         self.hit.clear();
         self.stack.clear();
-        self.tr[start].mark = stamp;
+        self.tr[start].mark = (self.tr[start].mark & FLAGS) | stamp;
         self.cav.push(start as u32);
         // A split starts across its subsegment, so the other side is reached
         // first.
         let e0 = if split == NONE {
             0
         } else {
-            self.tr[start]
-                .s
-                .iter()
-                .position(|&x| x == split)
+            (0..3)
+                .position(|e| self.sub_at(start, e) == split)
                 .unwrap_or(0)
         };
         self.stack.push((start as u32, e0 as u8, 3));
@@ -526,7 +573,11 @@ impl Mesh {
             top.1 = NEXT[e] as u8;
             top.2 -= 1;
             let tri = &self.tr[t];
-            let s = tri.s[e];
+            let s = if tri.mark >> e & 1 != 0 {
+                self.sides[t][e]
+            } else {
+                NONE
+            };
             let x = tri.a[e];
             if s == NONE || s == split {
                 // Crossing the subsegment being split?
@@ -538,12 +589,13 @@ impl Mesh {
                     }
                 } else {
                     let (n, j) = unpack(x);
-                    if self.tr[n].mark == stamp {
+                    let nm = self.tr[n].mark;
+                    if nm & !FLAGS == stamp {
                         continue;
                     }
                     let v = self.tr[n].v;
                     if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
-                        self.tr[n].mark = stamp;
+                        self.tr[n].mark = (nm & FLAGS) | stamp;
                         self.cav.push(n as u32);
                         self.stack.push((n as u32, NEXT[j] as u8, 2));
                         continue;
@@ -605,7 +657,6 @@ impl Mesh {
         let p = self.xy.len() as u32;
         self.xy.push(c);
         self.vpar.push(NONE);
-        self.vt.push(self.cav[0]);
         self.replaced += self.cav.len();
         self.fan.clear();
         for k in 0..nb {
@@ -642,25 +693,30 @@ impl Mesh {
             } else {
                 NONE
             };
-            let tri = &mut self.tr[s];
-            tri.v = [p, b.a, b.b];
-            tri.a = [b.adj, next, prev];
-            tri.s = if split == NONE {
+            let sides = if split == NONE {
                 [b.sb, NONE, NONE]
             } else {
                 [b.sb, label(b.b), label(b.a)]
             };
+            let flags = (0..3).fold(0, |f, e| f | u32::from(sides[e] != NONE) << e);
+            if flags != 0 {
+                // (Read only where a flag is set.)
+                self.sides[s] = sides;
+            }
+            let tri = &mut self.tr[s];
+            tri.v = [p, b.a, b.b];
+            tri.a = [b.adj, next, prev];
+            // The cavity's stamp stays (no search is under way).
+            tri.mark = (tri.mark & !FLAGS) | flags;
             tri.orig = b.orig;
-            self.vt[b.a as usize] = s as u32;
+            if b.sb != NONE {
+                self.subs[b.sb as usize].he = pack(s, 0);
+            }
             if b.adj != NONE {
                 let (o, l) = unpack(b.adj);
                 self.tr[o].a[l] = pack(s, 0);
             }
         }
-        if open == 1 {
-            self.vt[self.bnd[nb - 1].b as usize] = self.fan[nb - 1];
-        }
-        self.vt[p as usize] = self.fan[0];
         Ins::Done(p)
     }
 
@@ -708,7 +764,7 @@ impl Mesh {
         }
         let (x, tm) = self.split_point(&sub);
         let [u, w] = sub.v;
-        let Some((t, _)) = self.find_either(u, w) else {
+        let Some(t) = self.tri_of_sub(s) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
@@ -722,6 +778,7 @@ impl Mesh {
         self.subs[s as usize].alive = false;
         self.subs.push(Sub {
             v: [u, nv],
+            he: NONE,
             t: [sub.t[0], tm],
             parent: sub.parent,
             alive: true,
@@ -730,12 +787,23 @@ impl Mesh {
         });
         self.subs.push(Sub {
             v: [nv, w],
+            he: NONE,
             t: [tm, sub.t[1]],
             parent: sub.parent,
             alive: true,
             stuck: false,
             protected: false,
         });
+        // The halves lie on fan edges 1 and 2.
+        for i in 0..self.fan.len() {
+            let f = self.fan[i] as usize;
+            for e in 1..3 {
+                let x = self.sub_at(f, e);
+                if x == k || x == k + 1 {
+                    self.subs[x as usize].he = pack(f, e);
+                }
+            }
+        }
         Some(nv)
     }
 
@@ -806,13 +874,23 @@ impl Mesh {
 /// whose circumcentre was rejected (retried right after the subsegment
 /// splits), then angle buckets (worst first, by sin² of the smallest angle
 /// over the bound's), then area buckets (largest area ratio first, quarter
-/// octaves). Within a bucket the newest triangle comes first: it was just
-/// made, so it is still in cache (the order changes the mesh only slightly).
+/// octaves). Within an angle bucket the oldest triangle comes first (first
+/// in, first out: at 34° on double_hex this keeps the count within a few
+/// per cent of Triangle's, where newest-first made 12% more); within the
+/// other buckets the newest comes first: it was just made, so it is still
+/// in cache. Either order costs the same cache misses on the large shared
+/// inputs (callgrind).
+///
+/// An entry is (triangle, its first vertex): a triangle record is reused
+/// only by a fan around a new vertex, which becomes the first vertex of
+/// every fan triangle, so a changed first vertex marks a stale entry.
 struct Queue {
-    buckets: Vec<Vec<(u32, [u32; 3])>>,
+    buckets: Vec<Vec<(u32, u32)>>,
     /// No non-empty bucket below this one.
     lo: usize,
     len: usize,
+    /// Angle buckets: the next entry to pop (first in, first out).
+    head: Vec<usize>,
 }
 
 const ANGLE_BUCKETS: u32 = 64;
@@ -824,6 +902,7 @@ impl Queue {
             buckets: vec![Vec::new(); (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
             lo: 0,
             len: 0,
+            head: vec![0; (1 + ANGLE_BUCKETS + AREA_BUCKETS) as usize],
         }
     }
 
@@ -841,16 +920,32 @@ impl Queue {
         1 + ANGLE_BUCKETS + (AREA_BUCKETS - 1 - k)
     }
 
-    fn push(&mut self, b: u32, t: u32, v: [u32; 3]) {
+    fn push(&mut self, b: u32, t: u32, v0: u32) {
         let b = b as usize;
-        self.buckets[b].push((t, v));
+        self.buckets[b].push((t, v0));
         self.lo = self.lo.min(b);
         self.len += 1;
     }
 
-    fn pop(&mut self) -> Option<(u32, [u32; 3])> {
+    fn pop(&mut self) -> Option<(u32, u32)> {
         while self.lo < self.buckets.len() {
-            if let Some(x) = self.buckets[self.lo].pop() {
+            let b = self.lo;
+            if (1..=ANGLE_BUCKETS as usize).contains(&b) {
+                // First in, first out.
+                let (q, h) = (&mut self.buckets[b], &mut self.head[b]);
+                if *h < q.len() {
+                    let x = q[*h];
+                    *h += 1;
+                    self.len -= 1;
+                    if *h >= 4096 && 2 * *h >= q.len() {
+                        q.drain(..*h);
+                        *h = 0;
+                    }
+                    return Some(x);
+                }
+                q.clear();
+                *h = 0;
+            } else if let Some(x) = self.buckets[b].pop() {
                 self.len -= 1;
                 return Some(x);
             }
@@ -1029,12 +1124,11 @@ fn refine_inner(
             .map(|t| Tri {
                 v: cdt.triangles[t],
                 a: [NONE; 3],
-                s: [NONE; 3],
                 orig: t as u32,
                 mark: 0,
             })
             .collect(),
-        vt: vec![0; nfixed],
+        sides: vec![[NONE; 3]; nt],
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: vec![Vec::new(); nfixed],
@@ -1050,9 +1144,6 @@ fn refine_inner(
         replaced: 0,
     };
     for t in 0..nt {
-        for &x in &m.tr[t].v {
-            m.vt[x as usize] = t as u32;
-        }
         for e in 0..3 {
             let n = cdt.neighbors[t][e];
             if n == NONE {
@@ -1076,7 +1167,7 @@ fn refine_inner(
     }
     for t in 0..nt {
         for e in 0..3 {
-            if m.tr[t].s[e] != NONE {
+            if m.sub_at(t, e) != NONE {
                 continue;
             }
             let (a, b) = edge(&m.tr[t].v, e);
@@ -1098,16 +1189,17 @@ fn refine_inner(
             };
             m.subs.push(Sub {
                 v: [a, b],
+                he: pack(t, e),
                 t: [0.0, 1.0],
                 parent: k,
                 alive: true,
                 stuck: protected,
                 protected,
             });
-            m.tr[t].s[e] = k;
+            m.set_sub(t, e, k);
             if m.tr[t].a[e] != NONE {
                 let (n, j) = unpack(m.tr[t].a[e]);
-                m.tr[n].s[j] = k;
+                m.set_sub(n, j, k);
             }
         }
     }
@@ -1143,12 +1235,14 @@ fn refine_inner(
             .filter(|a| *a > 0.0)
             .map_or(f64::INFINITY, |a| 2.0 * a * sf * sf),
         regional: options.regional_areas,
-        // 0.92 of the distance giving the bound exactly: measured at
-        // 33°–34.5° on face, double_hex, la and A.poly, it keeps the counts
-        // near Triangle's (0.95 let cascades of small triangles start on
-        // double_hex and la at 34°; the count is chaotic in this factor).
+        // 0.9 of the distance giving the bound exactly: measured at 34° on
+        // face, double_hex(2, 3), la and A.poly (with first-in-first-out
+        // angle buckets), it keeps the counts within 10% of Triangle's
+        // (0.95 let cascades of small triangles start on double_hex and la
+        // at 34°; the count is chaotic in this factor: la at 34° cascades
+        // with 0.455 and gives twice the triangles with 0.445).
         off: if options.off_centers && angle > 0.0 {
-            0.46 / (0.5 * angle.to_radians()).tan()
+            0.45 / (0.5 * angle.to_radians()).tan()
         } else {
             0.0
         },
@@ -1160,6 +1254,7 @@ fn refine_inner(
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
+    m.reserve_for_areas(&crit, &cdt.max_areas, limit);
     let mut report = RefineReport::default();
 
     let bad = |m: &Mesh, t: usize| bad_bucket(m, &crit, &cdt.max_areas, t);
@@ -1168,12 +1263,12 @@ fn refine_inner(
     let mut enc: VecDeque<u32> = VecDeque::new();
     for t in 0..nt {
         if let Some(k) = bad(&m, t) {
-            heap.push(k, t as u32, m.tr[t].v);
+            heap.push(k, t as u32, m.tr[t].v[0]);
         }
     }
     // Subsegments encroached by an apex.
     let check_sub = |m: &Mesh, t: usize, e: usize, enc: &mut VecDeque<u32>| {
-        let s = m.tr[t].s[e];
+        let s = m.sub_at(t, e);
         if s == NONE {
             return;
         }
@@ -1193,11 +1288,11 @@ fn refine_inner(
         for &t in &m.fan {
             let t = t as usize;
             if let Some(k) = bad(m, t) {
-                heap.push(k, t as u32, m.tr[t].v);
+                heap.push(k, t as u32, m.tr[t].v[0]);
             }
             let tri = &m.tr[t];
             for e in 0..3 {
-                let s = tri.s[e];
+                let s = m.sub_at(t, e);
                 if s != NONE {
                     let [u, w] = m.subs[s as usize].v;
                     if encroaches(m.p(u), m.p(w), m.p(tri.v[e]), m.cos2) {
@@ -1250,13 +1345,14 @@ fn refine_inner(
             quality = false;
             continue;
         }
-        let Some((t, v)) = heap.pop() else {
+        let Some((t, v0)) = heap.pop() else {
             break;
         };
         let t = t as usize;
-        if m.tr[t].v != v {
+        if m.tr[t].v[0] != v0 {
             continue;
         }
+        let v = m.tr[t].v;
         let tv = v;
         let mut c = circumcenter(m.p(tv[0]), m.p(tv[1]), m.p(tv[2]));
         if crit.off > 0.0 {
@@ -1295,14 +1391,14 @@ fn refine_inner(
                     }
                 }
                 if any {
-                    heap.push(0, t as u32, v);
+                    heap.push(0, t as u32, v0);
                 }
             }
             Ins::Blocked(s) => {
                 report.rejected_circumcenters += 1;
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
-                    heap.push(0, t as u32, v);
+                    heap.push(0, t as u32, v0);
                 }
             }
             Ins::Failed => {}
@@ -1315,6 +1411,9 @@ fn refine_inner(
     } else {
         0
     };
+    // Free the queues before the output is built (peak memory).
+    drop(heap);
+    drop(enc);
     let mut r = finish(cdt, m, &crit, scale, restricted, report);
     if !quality {
         for u in &mut r.report.unfixable {
@@ -1337,23 +1436,38 @@ fn finish(
     restricted: bool,
     mut report: RefineReport,
 ) -> Refined {
+    let mut m = m;
+    // What the output no longer needs goes first (peak memory).
+    m.sides = Vec::new();
+    m.cav = Vec::new();
+    m.bnd = Vec::new();
+    m.fan = Vec::new();
+    m.stack = Vec::new();
     let nt = m.tr.len();
-    let mut points = cdt.points.clone();
+    let mut points = Vec::with_capacity(m.xy.len());
+    points.extend_from_slice(&cdt.points);
     points.extend(
         m.xy[m.nfixed..]
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    let triangles: Vec<[u32; 3]> = m.tr.iter().map(|t| t.v).collect();
-    let neighbors: Vec<[u32; 3]> =
-        m.tr.iter()
-            .map(|t| t.a)
-            .map(|a| a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }))
-            .collect();
-    let o = |t: usize| m.tr[t].orig as usize;
-    let regions = (0..nt).map(|t| cdt.regions[o(t)]).collect();
-    let attributes = (0..nt).map(|t| cdt.attributes[o(t)]).collect();
-    let max_areas: Vec<f64> = (0..nt).map(|t| cdt.max_areas[o(t)]).collect();
+    // One pass over the triangle records for every per-triangle output.
+    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(nt);
+    let mut neighbors: Vec<[u32; 3]> = Vec::with_capacity(nt);
+    let mut regions = Vec::with_capacity(nt);
+    let mut attributes = Vec::with_capacity(nt);
+    let mut max_areas: Vec<f64> = Vec::with_capacity(nt);
+    for tri in &m.tr {
+        let o = tri.orig as usize;
+        triangles.push(tri.v);
+        neighbors.push(
+            tri.a
+                .map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }),
+        );
+        regions.push(cdt.regions[o]);
+        attributes.push(cdt.attributes[o]);
+        max_areas.push(cdt.max_areas[o]);
+    }
     let mut segments = Vec::new();
     for s in m.subs.iter().filter(|s| s.alive) {
         let par = m.parents[s.parent as usize];
@@ -1482,14 +1596,32 @@ mod tests {
         }
         assert!(Queue::area_bucket(4.0) < Queue::area_bucket(1.5));
         assert!(Queue::area_bucket(1e300) > Queue::angle_bucket(0.999));
-        // Pop: lowest bucket first, newest first within a bucket.
+        // Pop: lowest bucket first; oldest first within an angle bucket,
+        // newest first within the others.
         let mut q = Queue::new();
-        q.push(5, 1, [1, 2, 3]);
-        q.push(3, 2, [4, 5, 6]);
-        q.push(5, 3, [7, 8, 9]);
-        q.push(0, 4, [0, 1, 2]);
+        let area = Queue::area_bucket(2.0);
+        q.push(5, 1, 1);
+        q.push(area, 5, 9);
+        q.push(3, 2, 4);
+        q.push(5, 3, 7);
+        q.push(area, 6, 9);
+        q.push(0, 4, 0);
+        q.push(0, 7, 0);
         let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|x| x.0)).collect();
-        assert_eq!(order, vec![4, 2, 3, 1]);
+        assert_eq!(order, vec![7, 4, 2, 1, 3, 6, 5]);
         assert!(q.is_empty());
+        // A long angle bucket drops its popped front.
+        for t in 0..10_000 {
+            q.push(7, t, 0);
+        }
+        for t in 0..9_000 {
+            assert_eq!(q.pop(), Some((t, 0)));
+        }
+        assert!(q.buckets[7].len() < 10_000);
+        q.push(7, 42, 0);
+        let rest: Vec<u32> = std::iter::from_fn(|| q.pop().map(|x| x.0)).collect();
+        assert_eq!(rest.len(), 1_001);
+        assert_eq!(rest[..2], [9_000, 9_001]);
+        assert_eq!(rest[1_000], 42);
     }
 }

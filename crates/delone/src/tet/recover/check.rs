@@ -72,6 +72,13 @@ pub fn check_recovered(
     triangles: &[[u32; 3]],
     rec: &Recovered,
 ) -> Result<(), Violation> {
+    // The mesh conforms to `rec.surface`, which must cover the input.
+    let triangles: &[[u32; 3]] = if rec.surface.is_empty() && rec.surface_origin.is_empty() {
+        triangles
+    } else {
+        super::merge::check_surface(points, triangles, rec)?;
+        &rec.surface
+    };
     let (scaled, s) = crate::geom::rescaled(&rec.points);
     let sp = &scaled[..];
     let n = sp.len();

@@ -8,7 +8,11 @@
 //!    self-intersections ([`super::intersect::check_self_intersections`]),
 //!    closedness ([`super::intersect::manifold_report`]);
 //! 2. **Delaunay** tetrahedralization of the surface vertices
-//!    ([`super::Delaunay3`]); [`missing`] tells which input edges and
+//!    ([`super::Delaunay3`]); then, with [`RecoverOptions::merge_coplanar`],
+//!    groups of coplanar input triangles are re-triangulated using the
+//!    Delaunay edges on their plane (the private `merge` module); the
+//!    result, [`Recovered::surface`], is what the next steps recover
+//!    ("input triangles" below); [`missing`] tells which edges and
 //!    triangles are absent;
 //! 3. **segment recovery** — every missing subsegment is split by a Steiner
 //!    point on it (the notes of the private `place` module explain where,
@@ -90,6 +94,7 @@ mod carve;
 mod cdt;
 mod check;
 mod flip;
+mod merge;
 mod missing;
 mod place;
 mod surface;
@@ -137,6 +142,14 @@ pub struct RecoverOptions {
     /// edge or triangle; where flips fail, Steiner points go inside the
     /// domain only. Implies `constrained`. Default false.
     pub preserve_surface: bool,
+    /// Merge edge-adjacent, exactly coplanar, consistently oriented input
+    /// triangles (with equal markers, see [`recover_marked`]) into facets
+    /// and re-triangulate each facet before recovery, reusing the edges of
+    /// the Delaunay tetrahedralization on its plane (the private `merge`
+    /// module; TetGen's default, its `-M` turns it off). The mesh then
+    /// conforms to [`Recovered::surface`], which covers exactly the same
+    /// surface. Ignored (no merging) with `preserve_surface`. Default true.
+    pub merge_coplanar: bool,
 }
 
 impl Default for RecoverOptions {
@@ -147,6 +160,7 @@ impl Default for RecoverOptions {
             reference_points: true,
             constrained: true,
             preserve_surface: false,
+            merge_coplanar: true,
         }
     }
 }
@@ -188,6 +202,12 @@ pub struct RecoverReport {
     pub hull_tets: usize,
     /// Components removed because a hole point lies in them.
     pub holes_removed: usize,
+    /// Groups of coplanar input triangles merged and re-triangulated
+    /// ([`RecoverOptions::merge_coplanar`]).
+    pub coplanar_groups: usize,
+    /// Groups of coplanar input triangles kept as given because their
+    /// re-triangulation failed.
+    pub coplanar_kept: usize,
 }
 
 impl RecoverReport {
@@ -213,18 +233,29 @@ pub struct Recovered {
     /// across the domain's boundary are [`crate::NONE`] (tetrahedra on both
     /// sides of an internal facet stay neighbours).
     pub mesh: TetMesh,
+    /// The triangles the mesh conforms to: the input triangles, except
+    /// that each group of coplanar input triangles merged by
+    /// [`RecoverOptions::merge_coplanar`] is replaced by another
+    /// triangulation of the same region (same vertices and boundary).
+    /// Without merging, a copy of the input triangles.
+    pub surface: Vec<[u32; 3]>,
+    /// For each triangle of `surface`: an input triangle of its group (so of
+    /// the same facet, e.g. for markers); itself when not merged.
+    pub surface_origin: Vec<u32>,
     /// The boundary faces, oriented outward (counterclockwise seen from
-    /// outside), each a refinement piece of an input triangle (or, with
-    /// [`Domain::convex_hull`], a convex hull face off the surface).
+    /// outside), each a refinement piece of a triangle of `surface` (or,
+    /// with [`Domain::convex_hull`], a convex hull face off the surface).
     pub boundary: Vec<[u32; 3]>,
-    /// For each boundary face, the index of the input triangle it lies on
-    /// ([`crate::NONE`] for a hull face off the surface).
+    /// For each boundary face, the index **in `surface`** of the triangle
+    /// it lies on ([`crate::NONE`] for a hull face off the surface); the
+    /// input triangle is `surface_origin[boundary_triangle[i]]`.
     pub boundary_triangle: Vec<u32>,
     /// Faces on input triangles between two tetrahedra of the domain
     /// (internal facets, region interfaces), each once, oriented outward
     /// from the lower-numbered of its two tetrahedra.
     pub interior_faces: Vec<[u32; 3]>,
-    /// For each interior face, the index of the input triangle it lies on.
+    /// For each interior face, the index in `surface` of the triangle it
+    /// lies on (see `boundary_triangle`).
     pub interior_triangle: Vec<u32>,
     /// Per tetrahedron: its region (index into `regions`).
     pub tet_region: Vec<u32>,
@@ -268,7 +299,8 @@ pub enum RecoverError {
     /// These input triangles could not be recovered (neither a Steiner point
     /// nor a flip made progress).
     Unrecovered {
-        /// Input triangle indices, ascending.
+        /// Input triangle indices, ascending (for a merged coplanar group,
+        /// an input triangle of the group, see [`Recovered::surface_origin`]).
         triangles: Vec<usize>,
         /// Steiner points inserted before giving up.
         steiner: usize,
@@ -280,6 +312,14 @@ pub enum RecoverError {
         kind: &'static str,
         /// Index of the point in [`Domain::holes`] or [`Domain::regions`].
         index: usize,
+    },
+    /// [`recover_marked`]: the markers are neither empty nor one per
+    /// triangle.
+    MarkerCount {
+        /// The number of triangles.
+        expected: usize,
+        /// The number of markers.
+        got: usize,
     },
     /// The input asks for something this version cannot do yet.
     Unsupported {
@@ -326,6 +366,9 @@ impl fmt::Display for RecoverError {
                 f,
                 "{kind} point {index} lies on the input surface (its region is ambiguous)"
             ),
+            RecoverError::MarkerCount { expected, got } => {
+                write!(f, "{got} triangle markers for {expected} triangles")
+            }
             RecoverError::Unsupported { what } => write!(f, "not implemented yet: {what}"),
         }
     }
@@ -405,6 +448,50 @@ pub fn recover_domain(
     opts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<Recovered, RecoverError> {
+    recover_marked(points, triangles, &[], opts, domain)
+}
+
+/// [`recover_domain`] with a marker per input triangle (for a PLC, the
+/// marker of its facet): coplanar triangles with different markers are
+/// never merged ([`RecoverOptions::merge_coplanar`]). `markers` empty: no
+/// markers.
+///
+/// # Errors
+/// As [`recover_domain`]; [`RecoverError::MarkerCount`] when `markers` is
+/// neither empty nor one per triangle.
+///
+/// ```
+/// use delone::tet::recover::{check_recovered, recover_marked, Domain, RecoverOptions};
+/// // A unit cube, two triangles per side; the bottom's two triangles carry
+/// // different markers, so only the five other sides are merged.
+/// let pts: Vec<[f64; 3]> = (0..8)
+///     .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+///     .collect();
+/// let tris = [
+///     [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+///     [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
+/// ];
+/// let mut markers = vec![1; 12];
+/// markers[0] = 2;
+/// let r = recover_marked(&pts, &tris, &markers, &RecoverOptions::default(), &Domain::default())
+///     .unwrap();
+/// check_recovered(&pts, &tris, &r).unwrap();
+/// assert_eq!(r.report.coplanar_groups, 5);
+/// assert_eq!(r.surface.len(), 12);
+/// ```
+pub fn recover_marked(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    markers: &[i32],
+    opts: &RecoverOptions,
+    domain: &Domain,
+) -> Result<Recovered, RecoverError> {
+    if !markers.is_empty() && markers.len() != triangles.len() {
+        return Err(RecoverError::MarkerCount {
+            expected: triangles.len(),
+            got: markers.len(),
+        });
+    }
     check_self_intersections(points, triangles)?;
     let man = manifold_report(triangles);
     if !man.boundary_edges.is_empty() {
@@ -430,6 +517,12 @@ pub fn recover_domain(
         .into());
     }
     let unscale = 1.0 / (scale.0 * scale.1);
+    let merged = if opts.merge_coplanar && !opts.preserve_surface {
+        merge::merge(points, triangles, markers, &dt)
+    } else {
+        merge::Merged::identity(triangles)
+    };
+    let triangles = &merged.tris[..];
     let mut st = State {
         surf: Surface::new(points.len(), triangles),
         report: RecoverReport::default(),
@@ -440,16 +533,37 @@ pub fn recover_domain(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
     };
+    // Unrecovered triangles are named by input index.
+    let origin = |e: RecoverError| match e {
+        RecoverError::Unrecovered { triangles, steiner } => {
+            let mut t: Vec<usize> = triangles
+                .iter()
+                .map(|&t| merged.origin.get(t).map_or(t, |&o| o as usize))
+                .collect();
+            t.sort_unstable();
+            t.dedup();
+            RecoverError::Unrecovered {
+                triangles: t,
+                steiner,
+            }
+        }
+        e => e,
+    };
     let (out, on) = if opts.constrained || opts.preserve_surface {
-        let (cm, on) = st.run_cdt(&mut dt)?;
+        let (cm, on) = st.run_cdt(&mut dt).map_err(origin)?;
         (cm.dt, Some(on))
     } else {
-        st.run(&mut dt)?;
+        st.run(&mut dt).map_err(origin)?;
         (dt, None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
     st.report.hull_tets = out.num_tets();
-    st.finish(&out, on, points, scale, domain)
+    st.report.coplanar_groups = merged.groups;
+    st.report.coplanar_kept = merged.kept;
+    let mut rec = st.finish(&out, on, points, scale, domain)?;
+    rec.surface = merged.tris;
+    rec.surface_origin = merged.origin;
+    Ok(rec)
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -1583,6 +1697,8 @@ impl State {
                 duplicates: dt.duplicates().to_vec(),
                 hidden: Vec::new(),
             },
+            surface: Vec::new(),
+            surface_origin: Vec::new(),
             boundary,
             boundary_triangle,
             interior_faces,

@@ -200,6 +200,7 @@ pub fn refine(
         flips: false,
         constrained: false,
         preserve_surface: false,
+        merge_coplanar: false,
         ..opts.recover.clone()
     };
     let rec = recover(points, triangles, &ropts)?;
@@ -236,6 +237,13 @@ pub fn refine_recovered(
             what: "refinement of a domain with several regions or internal facets",
         });
     }
+    // `rec` conforms to its own surface (coplanar input triangles may be
+    // merged and re-triangulated).
+    let triangles: &[[u32; 3]] = if rec.surface.is_empty() {
+        triangles
+    } else {
+        &rec.surface
+    };
     let (cow, scale) = crate::geom::rescaled(&rec.points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
     let mut dt = Delaunay3::from_points(&scaled)?;
@@ -1168,6 +1176,8 @@ impl State {
                     duplicates: dt.duplicates().to_vec(),
                     hidden: Vec::new(),
                 },
+                surface: rec.surface.clone(),
+                surface_origin: rec.surface_origin.clone(),
                 boundary,
                 boundary_triangle,
                 interior_faces: Vec::new(),

@@ -1,0 +1,644 @@
+//! Merging of coplanar input triangles into facets before recovery
+//! (TetGen's default; `-M` turns it off).
+//!
+//! **Groups.** Two input triangles are merged when they share an edge that
+//! is in exactly these two triangles, lie exactly on one plane (exact
+//! `orient3d = 0`), are consistently oriented (the edge is used in opposite
+//! directions and the triangles lie on opposite sides of it, so their
+//! normals agree) and carry the same marker (when markers are given: the
+//! facet markers of a PLC). Groups are the connected components of this
+//! relation (union–find), named by their lowest triangle index.
+//!
+//! **Re-triangulation.** A group of two or more triangles covers a planar
+//! polygon, maybe with holes. It is triangulated again so that the
+//! recovery has the easiest job: every vertex of the group stays, and so
+//! does every *kept* edge — each edge of the group except those shared by
+//! exactly two of its triangles (the group's boundary, plus non-manifold
+//! edges inside it). Inside, the edges of the Delaunay tetrahedralization
+//! (the one the recovery starts from) joining two vertices of the group and
+//! crossing no kept edge are imposed as well, so the mesh already holds
+//! those edges (and the Delaunay faces on the plane); a 2D constrained
+//! Delaunay triangulation ([`crate::tri::constrain::constrained_triangulation`],
+//! on the two coordinates of the plane's dominant normal axis, kept and
+//! Delaunay edges as segments) completes the rest. Its triangles inside the
+//! region are found by flood fill from the group's oriented boundary edges
+//! (a triangle on the left of a boundary edge, in the group's orientation,
+//! is inside; on its right, outside), across the edges that are not
+//! boundary edges. Every decision uses exact predicates.
+//!
+//! Whenever anything is unexpected (the 2D triangulation adds or merges a
+//! point, a component is both inside and outside, the triangle count or
+//! the area differs), the group keeps its original triangles.
+
+use std::collections::{HashMap, HashSet};
+
+use delone_predicates::{orient2d, orient3d};
+
+use super::missing::ekey;
+use super::place::{cross, sub};
+use super::Recovered;
+use crate::model::pslg::Pslg;
+use crate::tet::local::{DEAD, INF};
+use crate::tet::Delaunay3;
+use crate::tri::constrain::{constrained_triangulation, CdtOptions};
+use crate::{Violation, NONE};
+
+/// The surface the recovery conforms to.
+pub(crate) struct Merged {
+    /// Triangles (input ones and re-triangulated groups).
+    pub tris: Vec<[u32; 3]>,
+    /// Per triangle: an input triangle of the same group.
+    pub origin: Vec<u32>,
+    /// Groups of two or more triangles re-triangulated.
+    pub groups: usize,
+    /// Groups of two or more triangles kept as given (re-triangulation
+    /// failed).
+    pub kept: usize,
+}
+
+impl Merged {
+    /// The input triangles unchanged.
+    pub fn identity(triangles: &[[u32; 3]]) -> Self {
+        Merged {
+            tris: triangles.to_vec(),
+            origin: (0..triangles.len() as u32).collect(),
+            groups: 0,
+            kept: 0,
+        }
+    }
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let p = parent[parent[x as usize] as usize];
+        parent[x as usize] = p;
+        x = p;
+    }
+    x
+}
+
+/// The axis dropped to project the plane of `a b c` (the largest normal
+/// component whose projected orientation is exactly nonzero) and the sign
+/// of that orientation; `None` for a degenerate triangle.
+fn projection(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Option<(usize, f64)> {
+    let n = cross(&sub(b, a), &sub(c, a));
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&i, &j| n[j].abs().total_cmp(&n[i].abs()).then(i.cmp(&j)));
+    for k in axes {
+        let o = orient2d(&proj(a, k), &proj(b, k), &proj(c, k));
+        if o != 0.0 {
+            return Some((k, o.signum()));
+        }
+    }
+    None
+}
+
+/// `p` without coordinate `k` (a right-handed frame of the other two).
+fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
+    [p[(k + 1) % 3], p[(k + 2) % 3]]
+}
+
+/// Per input triangle: its group (the lowest triangle index in it). See
+/// the module notes for when two triangles are merged; `marker` is empty
+/// or has one marker per triangle.
+pub(crate) fn coplanar_groups(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    marker: &[i32],
+) -> Vec<u32> {
+    let mut by_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    for (t, tv) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            by_edge
+                .entry(ekey(tv[k], tv[(k + 1) % 3]))
+                .or_default()
+                .push(t as u32);
+        }
+    }
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    let g = |q: u32| &points[q as usize];
+    for (&(u, v), ts) in &by_edge {
+        if ts.len() != 2 || ts[0] == ts[1] {
+            continue;
+        }
+        let (t1, t2) = (ts[0] as usize, ts[1] as usize);
+        if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
+            continue;
+        }
+        let (a, b) = (triangles[t1], triangles[t2]);
+        // Directed use of u -> v in each.
+        let dir = |tv: [u32; 3]| (0..3).any(|k| tv[k] == u && tv[(k + 1) % 3] == v);
+        if dir(a) == dir(b) {
+            continue;
+        }
+        let Some(&c) = a.iter().find(|&&q| q != u && q != v) else {
+            continue;
+        };
+        let Some(&d) = b.iter().find(|&&q| q != u && q != v) else {
+            continue;
+        };
+        if orient3d(g(a[0]), g(a[1]), g(a[2]), g(d)) != 0.0 {
+            continue;
+        }
+        let Some((k, _)) = projection(g(a[0]), g(a[1]), g(a[2])) else {
+            continue;
+        };
+        let (pu, pv) = (proj(g(u), k), proj(g(v), k));
+        let (oc, od) = (
+            orient2d(&pu, &pv, &proj(g(c), k)),
+            orient2d(&pu, &pv, &proj(g(d), k)),
+        );
+        // Opposite sides of the edge: same normal (the edge is used in
+        // opposite directions).
+        if oc == 0.0 || od == 0.0 || (oc > 0.0) == (od > 0.0) {
+            continue;
+        }
+        let (r1, r2) = (find(&mut parent, t1 as u32), find(&mut parent, t2 as u32));
+        if r1 != r2 {
+            let (lo, hi) = (r1.min(r2), r1.max(r2));
+            parent[hi as usize] = lo;
+        }
+    }
+    (0..triangles.len() as u32)
+        .map(|t| find(&mut parent, t))
+        .collect()
+}
+
+/// Merges the coplanar groups of (`points`, `triangles`) and
+/// re-triangulates each (see the module notes), using the edges of `dt`
+/// (a Delaunay tetrahedralization of `points`, same ids).
+pub(crate) fn merge(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    marker: &[i32],
+    dt: &Delaunay3<'_>,
+) -> Merged {
+    let group = coplanar_groups(points, triangles, marker);
+    let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for tv in triangles {
+        for k in 0..3 {
+            *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
+    for (t, &r) in group.iter().enumerate() {
+        members[r as usize].push(t as u32);
+    }
+    // Groups of two or more triangles: dense ids, and per vertex the
+    // groups holding it.
+    let big: Vec<u32> = (0..triangles.len() as u32)
+        .filter(|&r| members[r as usize].len() >= 2)
+        .collect();
+    if big.is_empty() {
+        return Merged::identity(triangles);
+    }
+    let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+    for (gi, &r) in big.iter().enumerate() {
+        for &t in &members[r as usize] {
+            for q in triangles[t as usize] {
+                let l = &mut vgroups[q as usize];
+                if l.last() != Some(&(gi as u32)) {
+                    l.push(gi as u32);
+                }
+            }
+        }
+    }
+    // Delaunay edges between two vertices of one group.
+    let mut cand: Vec<(u32, u32, u32)> = Vec::new();
+    let core = &dt.core;
+    for tv in &core.v {
+        if tv[0] == DEAD || tv.contains(&INF) {
+            continue;
+        }
+        for (i, j) in super::missing::TET_EDGES {
+            let (u, v) = ekey(tv[i], tv[j]);
+            let (Some(gu), Some(gv)) = (vgroups.get(u as usize), vgroups.get(v as usize)) else {
+                continue;
+            };
+            for g in gu {
+                if gv.contains(g) {
+                    cand.push((*g, u, v));
+                }
+            }
+        }
+    }
+    cand.sort_unstable();
+    cand.dedup();
+    let mut new_tris: Vec<Option<Vec<[u32; 3]>>> = vec![None; big.len()];
+    let mut start = 0;
+    let mut kept = 0;
+    for (gi, &r) in big.iter().enumerate() {
+        let mut end = start;
+        while end < cand.len() && cand[end].0 == gi as u32 {
+            end += 1;
+        }
+        let dt_edges: Vec<(u32, u32)> = cand[start..end].iter().map(|c| (c.1, c.2)).collect();
+        start = end;
+        let tris: Vec<[u32; 3]> = members[r as usize]
+            .iter()
+            .map(|&t| triangles[t as usize])
+            .collect();
+        let out = retriangulate(points, &tris, &dt_edges, &|e| {
+            edge_uses.get(&e).copied().unwrap_or(0) != 2
+        });
+        match out {
+            Some(o) => new_tris[gi] = Some(o),
+            None => kept += 1,
+        }
+    }
+    let mut gidx: HashMap<u32, usize> = HashMap::new();
+    for (gi, &r) in big.iter().enumerate() {
+        gidx.insert(r, gi);
+    }
+    let mut out = Merged {
+        tris: Vec::with_capacity(triangles.len()),
+        origin: Vec::with_capacity(triangles.len()),
+        groups: big.len() - kept,
+        kept,
+    };
+    for (t, tv) in triangles.iter().enumerate() {
+        let r = group[t];
+        match gidx.get(&r).and_then(|&gi| new_tris[gi].as_ref()) {
+            Some(nt) => {
+                if r as usize == t {
+                    out.tris.extend_from_slice(nt);
+                    out.origin.extend(std::iter::repeat_n(r, nt.len()));
+                }
+            }
+            None => {
+                out.tris.push(*tv);
+                out.origin.push(t as u32);
+            }
+        }
+    }
+    out
+}
+
+/// Directed edges of `tris` whose reverse is not among them (the oriented
+/// boundary of the group), sorted, with multiplicity.
+fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let mut count: HashMap<(u32, u32), i64> = HashMap::new();
+    for tv in tris {
+        for k in 0..3 {
+            let (u, v) = (tv[k], tv[(k + 1) % 3]);
+            *count.entry((u, v)).or_insert(0) += 1;
+            *count.entry((v, u)).or_insert(0) -= 1;
+        }
+    }
+    let mut out = Vec::new();
+    for (&e, &c) in &count {
+        for _ in 0..c.max(0) {
+            out.push(e);
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// Re-triangulates one group (`tris`, coplanar and consistently oriented)
+/// with the Delaunay edges `dt_edges` between its vertices; `None` when
+/// anything is unexpected.
+fn retriangulate(
+    points: &[[f64; 3]],
+    tris: &[[u32; 3]],
+    dt_edges: &[(u32, u32)],
+    nonmanifold: &dyn Fn((u32, u32)) -> bool,
+) -> Option<Vec<[u32; 3]>> {
+    let g = |q: u32| &points[q as usize];
+    let [a, b, c] = tris[0];
+    let (k, sign) = projection(g(a), g(b), g(c))?;
+    let mut verts: Vec<u32> = tris.iter().flatten().copied().collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let local = |q: u32| verts.binary_search(&q).ok().map(|i| i as u32);
+    let xy: Vec<[f64; 2]> = verts.iter().map(|&q| proj(g(q), k)).collect();
+    // Kept edges: the oriented boundary's, and every edge of the group not
+    // in exactly two input triangles (`nonmanifold`, global ids).
+    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for tv in tris {
+        for i in 0..3 {
+            *uses.entry(ekey(tv[i], tv[(i + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    // Oriented boundary, normalised to counterclockwise in the projection.
+    let boundary: HashSet<(u32, u32)> = oriented_boundary(tris)
+        .into_iter()
+        .map(|(u, v)| if sign > 0.0 { (u, v) } else { (v, u) })
+        .filter_map(|(u, v)| Some((local(u)?, local(v)?)))
+        .collect();
+    let mut seg_set: HashSet<(u32, u32)> = HashSet::new();
+    for (&e, &n) in &uses {
+        let (u, v) = (local(e.0)?, local(e.1)?);
+        let on_boundary = boundary.contains(&(u, v)) || boundary.contains(&(v, u));
+        if n != 2 || on_boundary || nonmanifold(e) {
+            seg_set.insert(ekey(u, v));
+        }
+    }
+    let mut kept: Vec<(u32, u32)> = seg_set.iter().copied().collect();
+    kept.sort_unstable();
+    let bbox = |(u, v): (u32, u32)| {
+        let (p, q) = (xy[u as usize], xy[v as usize]);
+        [
+            p[0].min(q[0]),
+            p[1].min(q[1]),
+            p[0].max(q[0]),
+            p[1].max(q[1]),
+        ]
+    };
+    let kept_boxes: Vec<[f64; 4]> = kept.iter().map(|&e| bbox(e)).collect();
+    let mut segments: Vec<[u32; 2]> = kept.iter().map(|&(u, v)| [u, v]).collect();
+    for &(u, v) in dt_edges {
+        let (u, v) = ekey(local(u)?, local(v)?);
+        if seg_set.contains(&(u, v)) {
+            continue;
+        }
+        let bx = bbox((u, v));
+        let (pu, pv) = (xy[u as usize], xy[v as usize]);
+        let crosses = kept.iter().zip(&kept_boxes).any(|(&(x, y), b)| {
+            if x == u || x == v || y == u || y == v {
+                return false;
+            }
+            if b[0] > bx[2] || bx[0] > b[2] || b[1] > bx[3] || bx[1] > b[3] {
+                return false;
+            }
+            let (px, py) = (xy[x as usize], xy[y as usize]);
+            let (o1, o2) = (orient2d(&px, &py, &pu), orient2d(&px, &py, &pv));
+            let (o3, o4) = (orient2d(&pu, &pv, &px), orient2d(&pu, &pv, &py));
+            // Proper crossings and touchings both exclude the edge.
+            (o1 * o2 <= 0.0) && (o3 * o4 <= 0.0)
+        });
+        if !crosses {
+            segments.push([u, v]);
+        }
+    }
+    let pslg = Pslg::new(xy.clone(), segments);
+    let cdt = constrained_triangulation(&pslg, CdtOptions { convex_hull: true }).ok()?;
+    let r = &cdt.report;
+    if cdt.points.len() != verts.len()
+        || !r.crossings.is_empty()
+        || !r.vertex_splits.is_empty()
+        || !r.duplicate_points.is_empty()
+    {
+        return None;
+    }
+    // Flood fill from the oriented boundary edges.
+    let nt = cdt.triangles.len();
+    let mut label = vec![0u8; nt];
+    let mut stack: Vec<usize> = Vec::new();
+    for (t, tv) in cdt.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
+            let want = if boundary.contains(&(x, y)) {
+                1
+            } else if boundary.contains(&(y, x)) {
+                2
+            } else {
+                continue;
+            };
+            if label[t] != 0 && label[t] != want {
+                return None;
+            }
+            if label[t] == 0 {
+                label[t] = want;
+                stack.push(t);
+            }
+        }
+    }
+    while let Some(t) = stack.pop() {
+        let tv = cdt.triangles[t];
+        for i in 0..3 {
+            let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
+            if boundary.contains(&(x, y)) || boundary.contains(&(y, x)) {
+                continue;
+            }
+            let n = cdt.neighbors[t][i];
+            if n == NONE {
+                continue;
+            }
+            let n = n as usize;
+            if label[n] == 0 {
+                label[n] = label[t];
+                stack.push(n);
+            } else if label[n] != label[t] {
+                return None;
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let mut area_new = 0.0;
+    for (t, tv) in cdt.triangles.iter().enumerate() {
+        if label[t] != 1 {
+            continue;
+        }
+        let [x, y, z] = tv.map(|q| verts[q as usize]);
+        let [p, q, s] = tv.map(|q| xy[q as usize]);
+        area_new += orient2d(&p, &q, &s).abs();
+        out.push(if sign > 0.0 { [x, y, z] } else { [x, z, y] });
+    }
+    let area_old: f64 = tris
+        .iter()
+        .map(|tv| {
+            let [p, q, s] = tv.map(|w| proj(g(w), k));
+            orient2d(&p, &q, &s).abs()
+        })
+        .sum();
+    if out.len() != tris.len() || (area_new - area_old).abs() > 1e-9 * area_old {
+        return None;
+    }
+    Some(out)
+}
+
+/// Checks that `rec.surface` replaces the input triangles faithfully: in
+/// range, `surface_origin` naming input triangles, and for every coplanar
+/// group of the input (merged regardless of markers), the surface triangles
+/// of that group lie exactly on its plane, are oriented like it (same sign
+/// of the projected orientation, never degenerate), have the same oriented
+/// boundary (directed edges whose reverse is absent) and the same area.
+/// Together these make the group's new triangles cover exactly its region
+/// once.
+pub(crate) fn check_surface(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    rec: &Recovered,
+) -> Result<(), Violation> {
+    let bad = |d: String| Err(Violation::new("surface", d));
+    if rec.surface.len() != rec.surface_origin.len() {
+        return bad("surface and surface_origin lengths differ".into());
+    }
+    if let Some(i) = rec
+        .surface
+        .iter()
+        .position(|t| t.iter().any(|&q| q as usize >= points.len()))
+    {
+        return bad(format!("surface triangle {i} names a missing point"));
+    }
+    if let Some(i) = rec
+        .surface_origin
+        .iter()
+        .position(|&o| o as usize >= triangles.len())
+    {
+        return bad(format!(
+            "surface triangle {i} names a missing input triangle"
+        ));
+    }
+    let group = coplanar_groups(points, triangles, &[]);
+    let mut old: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+    for (t, &r) in group.iter().enumerate() {
+        old.entry(r).or_default().push(triangles[t]);
+    }
+    let mut new: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+    for (s, &o) in rec.surface.iter().zip(&rec.surface_origin) {
+        new.entry(group[o as usize]).or_default().push(*s);
+    }
+    let mut roots: Vec<u32> = old.keys().copied().collect();
+    roots.sort_unstable();
+    let g = |q: u32| &points[q as usize];
+    for r in roots {
+        let ot = &old[&r];
+        let Some(nt) = new.get(&r) else {
+            return bad(format!(
+                "the group of input triangle {r} has no surface triangle"
+            ));
+        };
+        if ot.len() == 1 && nt.len() == 1 {
+            let (mut x, mut y) = (ot[0], nt[0]);
+            let rot = |t: &mut [u32; 3]| {
+                let i = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+                t.rotate_left(i);
+            };
+            rot(&mut x);
+            rot(&mut y);
+            if x != y {
+                return bad(format!("input triangle {r} is replaced by {y:?}"));
+            }
+            continue;
+        }
+        let [a, b, c] = ot[0];
+        let Some((k, sign)) = projection(g(a), g(b), g(c)) else {
+            return bad(format!("input triangle {r} is degenerate"));
+        };
+        let mut area_new = 0.0;
+        for tv in nt {
+            if tv.iter().any(|&q| orient3d(g(a), g(b), g(c), g(q)) != 0.0) {
+                return bad(format!(
+                    "surface triangle {tv:?} is off the plane of input triangle {r}"
+                ));
+            }
+            let [p, q, s] = tv.map(|w| proj(g(w), k));
+            let o = orient2d(&p, &q, &s);
+            if o == 0.0 || o.signum() != sign {
+                return bad(format!(
+                    "surface triangle {tv:?} is degenerate or flipped in the group of input triangle {r}"
+                ));
+            }
+            area_new += o.abs();
+        }
+        let area_old: f64 = ot
+            .iter()
+            .map(|tv| {
+                let [p, q, s] = tv.map(|w| proj(g(w), k));
+                orient2d(&p, &q, &s).abs()
+            })
+            .sum();
+        if oriented_boundary(ot) != oriented_boundary(nt) {
+            return bad(format!(
+                "the surface triangles of the group of input triangle {r} have another boundary"
+            ));
+        }
+        if (area_new - area_old).abs() > 1e-9 * area_old {
+            return bad(format!(
+                "the surface triangles of the group of input triangle {r}: area {area_new} instead of {area_old}"
+            ));
+        }
+    }
+    if new.keys().any(|r| !old.contains_key(r)) {
+        return bad("a surface triangle names an unknown group".into());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube, each side an n × n grid of squares, two triangles
+    /// each, oriented outward.
+    fn grid_cube(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let mut pts = Vec::new();
+        let mut id: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut tris = Vec::new();
+        let mut vid = |p: [u32; 3], pts: &mut Vec<[f64; 3]>| {
+            *id.entry(p).or_insert_with(|| {
+                pts.push(p.map(|c| f64::from(c) / f64::from(n)));
+                pts.len() as u32 - 1
+            })
+        };
+        for axis in 0..3 {
+            for side in [0, n] {
+                for i in 0..n {
+                    for j in 0..n {
+                        let q = |di: u32, dj: u32| {
+                            let mut p = [0; 3];
+                            p[axis] = side;
+                            p[(axis + 1) % 3] = i + di;
+                            p[(axis + 2) % 3] = j + dj;
+                            p
+                        };
+                        let c = [q(0, 0), q(1, 0), q(1, 1), q(0, 1)].map(|p| vid(p, &mut pts));
+                        let (t1, t2) = if side == n {
+                            ([c[0], c[1], c[2]], [c[0], c[2], c[3]])
+                        } else {
+                            ([c[0], c[2], c[1]], [c[0], c[3], c[2]])
+                        };
+                        tris.push(t1);
+                        tris.push(t2);
+                    }
+                }
+            }
+        }
+        (pts, tris)
+    }
+
+    #[test]
+    fn groups_of_a_grid_cube_are_its_six_sides() {
+        let (pts, tris) = grid_cube(3);
+        let g = coplanar_groups(&pts, &tris, &[]);
+        let mut roots: Vec<u32> = g.clone();
+        roots.sort_unstable();
+        roots.dedup();
+        assert_eq!(roots.len(), 6);
+        // Markers split a side in two.
+        let mut mk = vec![0; tris.len()];
+        mk[0] = 1;
+        let g2 = coplanar_groups(&pts, &tris, &mk);
+        let mut r2 = g2.clone();
+        r2.sort_unstable();
+        r2.dedup();
+        assert_eq!(r2.len(), 7);
+    }
+
+    #[test]
+    fn a_fold_is_not_merged() {
+        // Two triangles sharing an edge, bent (not coplanar), then flat.
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.5],
+        ];
+        let tris = [[0, 1, 2], [1, 3, 2]];
+        assert_eq!(coplanar_groups(&pts, &tris, &[]), vec![0, 1]);
+        let flat = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        assert_eq!(coplanar_groups(&flat, &tris, &[]), vec![0, 0]);
+        // Same plane but inconsistent orientation.
+        assert_eq!(
+            coplanar_groups(&flat, &[[0, 1, 2], [1, 2, 3]], &[]),
+            vec![0, 1]
+        );
+    }
+}

@@ -1,0 +1,412 @@
+//! Hand-made hard inputs for 3D boundary recovery (issue 4's acceptance):
+//! a Chazelle-style notched box, coplanar facets sharing edges, nearly
+//! coplanar facets, a facet with a hole, and two solids touching at one
+//! point (a vertex of one lying inside a facet of the other). Every case is
+//! checked with `check_recovered` and against its volume computed here from
+//! the construction, independently of the mesher.
+
+use delone::model::plc::{Facet, Plc};
+use delone::tet::quality::volume;
+use delone::tet::recover::{
+    check_recovered, recover, recover_domain, Domain, RecoverOptions, Recovered,
+};
+
+fn mesh_volume(r: &Recovered) -> f64 {
+    r.mesh
+        .tets
+        .iter()
+        .map(|t| volume(&t.map(|v| r.points[v as usize])))
+        .sum()
+}
+
+fn checked(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], expect_volume: f64) -> Recovered {
+    let r = recover(pts, tris, &RecoverOptions::default())
+        .unwrap_or_else(|e| panic!("{name}: recovery failed: {e}"));
+    check_recovered(pts, tris, &r).unwrap_or_else(|e| panic!("{name}: check failed: {e}"));
+    let v = mesh_volume(&r);
+    assert!(
+        (v - expect_volume).abs() <= 1e-9 * expect_volume.abs().max(1.0),
+        "{name}: volume {v} instead of {expect_volume}"
+    );
+    r
+}
+
+/// Counterclockwise quad `a b c d` (seen from outside) as two triangles.
+fn quad(tris: &mut Vec<[u32; 3]>, q: [u32; 4]) {
+    tris.push([q[0], q[1], q[2]]);
+    tris.push([q[0], q[2], q[3]]);
+}
+
+/// Breakpoints of `k` V-shaped notches of half-width `w` across `0..len`,
+/// with the depth factor (0 or 1) at each.
+fn notch_profile(k: usize, len: f64, w: f64) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, 0.0)];
+    for i in 0..k {
+        let c = (i as f64 + 0.5) * len / k as f64;
+        out.extend([(c - w, 0.0), (c, 1.0), (c + w, 0.0)]);
+    }
+    out.push((len, 0.0));
+    out
+}
+
+/// Chazelle-style polyhedron: a `len × len × h` box whose top has `k`
+/// V-notches of depth `d` running along y and whose bottom has `k` running
+/// along x, so that the two families of grooves nearly meet (the classic
+/// input needing many Steiner points). Returns the surface and its volume.
+fn chazelle(k: usize, len: f64, h: f64, d: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, f64) {
+    let w = 0.3 * len / k as f64;
+    let xs = notch_profile(k, len, w); // top: z = h - d·f(x)
+    let ys = notch_profile(k, len, w); // bottom: z = d·f(y)
+    let (nx, ny) = (xs.len(), ys.len());
+    let mut pts = Vec::new();
+    // Top grid, then bottom grid.
+    for &(x, fx) in &xs {
+        for &(y, _) in &ys {
+            pts.push([x, y, h - d * fx]);
+        }
+    }
+    for &(x, _) in &xs {
+        for &(y, fy) in &ys {
+            pts.push([x, y, d * fy]);
+        }
+    }
+    let top = |i: usize, j: usize| (i * ny + j) as u32;
+    let bot = |i: usize, j: usize| (nx * ny + i * ny + j) as u32;
+    let mut tris = Vec::new();
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            quad(
+                &mut tris,
+                [top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1)],
+            );
+            quad(
+                &mut tris,
+                [bot(i, j), bot(i, j + 1), bot(i + 1, j + 1), bot(i + 1, j)],
+            );
+        }
+    }
+    // Sides x = 0 and x = len (outward -x and +x).
+    for j in 0..ny - 1 {
+        quad(
+            &mut tris,
+            [bot(0, j), top(0, j), top(0, j + 1), bot(0, j + 1)],
+        );
+        let l = nx - 1;
+        quad(
+            &mut tris,
+            [bot(l, j), bot(l, j + 1), top(l, j + 1), top(l, j)],
+        );
+    }
+    // Sides y = 0 and y = len (outward -y and +y).
+    for i in 0..nx - 1 {
+        quad(
+            &mut tris,
+            [bot(i, 0), bot(i + 1, 0), top(i + 1, 0), top(i, 0)],
+        );
+        let l = ny - 1;
+        quad(
+            &mut tris,
+            [bot(i, l), top(i, l), top(i + 1, l), bot(i + 1, l)],
+        );
+    }
+    // Each notch removes a prism of cross-section w·d and length len.
+    let vol = len * len * h - 2.0 * k as f64 * len * w * d;
+    (pts, tris, vol)
+}
+
+fn chazelle_case(k: usize, d: f64) {
+    {
+        let (pts, tris, vol) = chazelle(k, 1.0, 1.0, d);
+        let r = checked(&format!("chazelle k={k}"), &pts, &tris, vol);
+        println!(
+            "chazelle k={k}: {} triangles, {} tetrahedra, Steiner points {} (edges {}, facets {}, interior {})",
+            tris.len(),
+            r.mesh.tets.len(),
+            r.report.steiner(),
+            r.report.steiner_on_edges,
+            r.report.steiner_on_facets,
+            r.report.steiner_interior
+        );
+        assert!(r.mesh.tets.len() >= tris.len() / 3);
+    }
+}
+
+#[test]
+fn chazelle_notched_box() {
+    chazelle_case(3, 0.45);
+}
+
+#[test]
+fn chazelle_notched_box_five_grooves() {
+    // With coplanar triangles merged into facets (the default, as in
+    // TetGen) this needs no Steiner point; without merging both delone and
+    // TetGen (-pM) split thousands of edges.
+    chazelle_case(5, 0.48);
+}
+
+#[test]
+fn chazelle_grooves_all_but_touching() {
+    // The grooves come within 1e-6 of each other.
+    let (pts, tris, vol) = chazelle(3, 1.0, 1.0, 0.5 - 5e-7);
+    checked("chazelle thin", &pts, &tris, vol);
+}
+
+/// A `n × n` grid box `[0,1]² × [0,1]` whose top vertices are lifted by
+/// `lift(i, j)`: many (nearly) coplanar facets sharing edges.
+fn lifted_box(n: usize, lift: impl Fn(usize, usize) -> f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            pts.push([i as f64 / n as f64, j as f64 / n as f64, 1.0 + lift(i, j)]);
+        }
+    }
+    let top = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+    let b = pts.len() as u32;
+    pts.extend([
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]);
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            quad(
+                &mut tris,
+                [top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1)],
+            );
+        }
+    }
+    quad(&mut tris, [b, b + 3, b + 2, b + 1]); // bottom
+                                               // Side y = 0: bottom edge b..b+1, top row j = 0.
+    let fan = |tris: &mut Vec<[u32; 3]>, c0: u32, c1: u32, row: Vec<u32>| {
+        // Polygon c0, c1, row (from c1's end back to c0's end), fanned from c0.
+        let mut poly = vec![c0, c1];
+        poly.extend(row);
+        for k in 1..poly.len() - 1 {
+            tris.push([poly[0], poly[k], poly[k + 1]]);
+        }
+    };
+    fan(
+        &mut tris,
+        b,
+        b + 1,
+        (0..=n).rev().map(|i| top(i, 0)).collect(),
+    );
+    fan(
+        &mut tris,
+        b + 1,
+        b + 2,
+        (0..=n).rev().map(|j| top(n, j)).collect(),
+    );
+    fan(
+        &mut tris,
+        b + 2,
+        b + 3,
+        (0..=n).map(|i| top(i, n)).collect(),
+    );
+    fan(&mut tris, b + 3, b, (0..=n).map(|j| top(0, j)).collect());
+    (pts, tris)
+}
+
+#[test]
+fn coplanar_and_nearly_coplanar_facets() {
+    // Exactly coplanar: the flat top is 2·n² triangles sharing edges.
+    let (pts, tris) = lifted_box(6, |_, _| 0.0);
+    checked("flat top", &pts, &tris, 1.0);
+    // Nearly coplanar: interior top vertices lifted by ±1e-9 in a
+    // checkerboard, so neighbouring facets meet at angles near 180°.
+    let lift = |i: usize, j: usize| {
+        if i == 0 || j == 0 || i == 6 || j == 6 {
+            0.0
+        } else if (i + j).is_multiple_of(2) {
+            1e-9
+        } else {
+            -1e-9
+        }
+    };
+    let (pts, tris) = lifted_box(6, lift);
+    // The volume: the lifted top is a piecewise-linear surface; compute it
+    // by the divergence theorem from the surface itself.
+    let vol: f64 = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| pts[v as usize]);
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum();
+    assert!((vol - 1.0).abs() < 1e-8);
+    checked("nearly flat top", &pts, &tris, vol);
+}
+
+#[test]
+fn facet_with_a_hole_closed_by_a_well() {
+    // The cube [0,2]³ whose top facet has a square hole [0.5,1.5]², closed by
+    // a well 1 deep: four walls and a floor.
+    let mut pts: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                2.0 * (i & 1) as f64,
+                2.0 * ((i >> 1) & 1) as f64,
+                2.0 * ((i >> 2) & 1) as f64,
+            ]
+        })
+        .collect();
+    for z in [2.0, 1.0] {
+        for (x, y) in [(0.5, 0.5), (1.5, 0.5), (1.5, 1.5), (0.5, 1.5)] {
+            pts.push([x, y, z]);
+        }
+    }
+    let mut plc = Plc::new(pts);
+    let poly = |v: &[u32]| Facet::polygon(v.to_vec());
+    plc.facets.push(poly(&[0, 2, 3, 1])); // bottom
+    plc.facets.push(poly(&[0, 1, 5, 4]));
+    plc.facets.push(poly(&[1, 3, 7, 5]));
+    plc.facets.push(poly(&[3, 2, 6, 7]));
+    plc.facets.push(poly(&[2, 0, 4, 6]));
+    plc.facets.push(Facet {
+        polygons: vec![vec![4, 5, 7, 6], vec![8, 9, 10, 11]],
+        holes: vec![[1.0, 1.0, 2.0]],
+        marker: 0,
+    });
+    for k in 0..4u32 {
+        let (a, b) = (8 + k, 8 + (k + 1) % 4);
+        plc.facets.push(poly(&[a, b, b + 4, a + 4]));
+    }
+    plc.facets.push(poly(&[12, 13, 14, 15])); // floor of the well
+    plc.validate().unwrap();
+    let (tris, _) = plc.triangulate_facets().unwrap();
+    // Orient every triangle outward: the solid is the cube minus the well.
+    let tris: Vec<[u32; 3]> = tris
+        .iter()
+        .map(|&t| orient_outward(&plc.points, t, in_cube_minus_well))
+        .collect();
+    let r = checked("facet with a hole", &plc.points, &tris, 8.0 - 1.0);
+    assert!(r.boundary.len() >= tris.len());
+}
+
+fn in_cube_minus_well(p: [f64; 3]) -> bool {
+    let inside_cube = p.iter().all(|&c| c > 0.0 && c < 2.0);
+    let in_well = p[0] > 0.5 && p[0] < 1.5 && p[1] > 0.5 && p[1] < 1.5 && p[2] > 1.0;
+    inside_cube && !in_well
+}
+
+/// Orients `t` so that a point a little in front of its centroid along its
+/// normal is outside (`inside` false).
+fn orient_outward(pts: &[[f64; 3]], t: [u32; 3], inside: impl Fn([f64; 3]) -> bool) -> [u32; 3] {
+    let [a, b, c] = t.map(|v| pts[v as usize]);
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    let g = [
+        (a[0] + b[0] + c[0]) / 3.0 + 1e-3 * n[0] / len,
+        (a[1] + b[1] + c[1]) / 3.0 + 1e-3 * n[1] / len,
+        (a[2] + b[2] + c[2]) / 3.0 + 1e-3 * n[2] / len,
+    ];
+    if inside(g) {
+        [t[0], t[2], t[1]]
+    } else {
+        t
+    }
+}
+
+#[test]
+fn solids_touching_at_one_point() {
+    // A cube [0,1]³ and an upside-down pyramid whose apex touches the
+    // centre of the cube's top facet: the apex is a vertex of the top
+    // facet's triangulation (an isolated point of that facet in the PLC).
+    let mut pts: Vec<[f64; 3]> = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    pts.push([0.5, 0.5, 1.0]); // 8: apex on the top facet
+    pts.extend([
+        [0.0, 0.0, 2.0],
+        [1.0, 0.0, 2.0],
+        [1.0, 1.0, 2.0],
+        [0.0, 1.0, 2.0],
+    ]); // 9..12
+    let mut plc = Plc::new(pts);
+    let poly = |v: &[u32]| Facet::polygon(v.to_vec());
+    for f in [
+        [0, 2, 3, 1],
+        [0, 1, 5, 4],
+        [1, 3, 7, 5],
+        [3, 2, 6, 7],
+        [2, 0, 4, 6],
+    ] {
+        plc.facets.push(poly(&f));
+    }
+    plc.facets.push(Facet {
+        polygons: vec![vec![4, 5, 7, 6], vec![8]], // the top with the apex in it
+        holes: Vec::new(),
+        marker: 0,
+    });
+    for k in 0..4u32 {
+        plc.facets.push(poly(&[8, 9 + (k + 1) % 4, 9 + k]));
+    }
+    plc.facets.push(poly(&[9, 10, 11, 12]));
+    plc.validate().unwrap();
+    let (tris, _) = plc.triangulate_facets().unwrap();
+    let inside = |p: [f64; 3]| {
+        let cube = p.iter().all(|&c| c > 0.0 && c < 1.0);
+        // Pyramid: above z = 1, within the square shrinking to the apex.
+        let h = p[2] - 1.0;
+        let pyr =
+            h > 0.0 && h < 1.0 && (p[0] - 0.5).abs() < 0.5 * h && (p[1] - 0.5).abs() < 0.5 * h;
+        cube || pyr
+    };
+    let tris: Vec<[u32; 3]> = tris
+        .iter()
+        .map(|&t| orient_outward(&plc.points, t, inside))
+        .collect();
+    let top_has_apex = tris.iter().filter(|t| t.contains(&8)).count();
+    assert!(top_has_apex >= 4 + 4, "apex in {top_has_apex} triangles");
+    let r = recover_domain(
+        &plc.points,
+        &tris,
+        &RecoverOptions::default(),
+        &Domain::default(),
+    )
+    .unwrap();
+    check_recovered(&plc.points, &tris, &r).unwrap();
+    let v = mesh_volume(&r);
+    assert!((v - (1.0 + 1.0 / 3.0)).abs() < 1e-12, "volume {v}");
+}
+
+#[test]
+fn isolated_facet_point_outside_the_facet_is_named() {
+    use delone::{Error, FacetDefect};
+    let pts = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 2.0, 0.0], // 4: outside the square, on its plane
+        [0.5, 0.5, 0.0], // 5: inside
+    ];
+    let mut plc = Plc::new(pts);
+    plc.facets.push(Facet {
+        polygons: vec![vec![0, 1, 2, 3], vec![5]],
+        holes: Vec::new(),
+        marker: 0,
+    });
+    plc.validate().unwrap();
+    let (tris, _) = plc.triangulate_facets().unwrap();
+    assert_eq!(tris.len(), 4); // fanned around the isolated point
+    plc.facets[0].polygons[1] = vec![4];
+    plc.validate().unwrap();
+    assert_eq!(
+        plc.triangulate_facets(),
+        Err(Error::DegenerateFacet {
+            index: 0,
+            defect: FacetDefect::PointOutside { vertex: 4 }
+        })
+    );
+}
