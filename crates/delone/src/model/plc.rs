@@ -383,13 +383,17 @@ impl Plc {
         let Some(&b) = corners.iter().find(|&&v| pt(v) != pt(a)) else {
             return bad(FacetDefect::ZeroArea);
         };
-        let Some(&c) = corners.iter().find(|&&v| !collinear(pt(a), pt(b), pt(v))) else {
+        // (A corner equal to `a` or `b` is collinear with them: skipped.)
+        let Some(&c) = corners
+            .iter()
+            .find(|&&v| pt(v) != pt(a) && pt(v) != pt(b) && !collinear(pt(a), pt(b), pt(v)))
+        else {
             return bad(FacetDefect::ZeroArea);
         };
-        if let Some(&d) = corners
-            .iter()
-            .find(|&&v| orient3d(pt(a), pt(b), pt(c), pt(v)) != 0.0)
-        {
+        if let Some(&d) = corners.iter().find(|&&v| {
+            // The three chosen corners are coplanar with themselves.
+            v != a && v != b && v != c && orient3d(pt(a), pt(b), pt(c), pt(v)) != 0.0
+        }) {
             return bad(FacetDefect::NonPlanar { vertex: d });
         }
         Ok(())

@@ -136,6 +136,17 @@ impl<'a> CMesh<'a> {
         out
     }
 
+    /// How many faces were logged since the last [`CMesh::take_touched`]
+    /// (with repeats).
+    pub(crate) fn touched_len(&self) -> usize {
+        self.touched.len()
+    }
+
+    /// Forgets the faces logged since the last [`CMesh::take_touched`].
+    pub(crate) fn clear_touched(&mut self) {
+        self.touched.clear();
+    }
+
     /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
     pub(crate) fn take_failed(&mut self) -> crate::tet::recover::IdSet<Vec<u32>> {
         std::mem::take(&mut self.failed)
@@ -226,6 +237,16 @@ impl<'a> CMesh<'a> {
         let c = self.core();
         let mut buf = Vec::new();
         self.star_until(u, &mut buf, |t| c.v[t as usize].contains(&v))
+    }
+
+    /// A live tetrahedron (ghosts included) having face `a b c`.
+    pub(crate) fn find_face(&self, a: u32, b: u32, c: u32) -> Option<u32> {
+        let core = self.core();
+        let mut buf = Vec::new();
+        self.star_until(a, &mut buf, |t| {
+            let tv = core.v[t as usize];
+            tv.contains(&b) && tv.contains(&c)
+        })
     }
 
     /// The tetrahedra around edge `a b` (starting at `t`, which contains it)
@@ -702,9 +723,11 @@ mod tests {
         let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         assert_eq!(finite_tets(&m), 3);
         let t = m.find_edge(3, 4).unwrap();
+        assert!(m.find_face(0, 1, 2).is_none() && m.find_face(0, 3, 4).is_some());
         assert_eq!(m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0), Some(0));
         m.check().unwrap();
         assert_eq!(finite_tets(&m), 2);
+        assert!(m.find_face(2, 0, 1).is_some() && m.find_face(0, 3, 4).is_none());
         assert!(!has_edge(&m, 3, 4));
         let t = m
             .star(3)

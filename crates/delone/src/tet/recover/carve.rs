@@ -45,7 +45,6 @@ use std::collections::VecDeque;
 
 use delone_predicates::orient3d;
 
-use super::missing::fkey;
 use super::surface::IdSet;
 use super::RecoverError;
 use crate::model::plc::Region;
@@ -112,16 +111,16 @@ pub(crate) struct Carved {
     pub(crate) holes_removed: usize,
 }
 
-/// Is face `f` of cell `t` a constraint face?
-fn is_constraint(core: &Core, constraint: &IdSet<[u32; 3]>, t: usize, f: usize) -> bool {
-    let tv = core.v[t];
-    let k = fkey([tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]]);
-    !k.contains(&INF) && constraint.contains(&k)
+/// Is face `f` of cell `t` a constraint face? (`marks`: per slot and
+/// face, the input triangle the face lies on, `u32::MAX` for none.)
+#[inline]
+fn is_constraint(marks: &[[u32; 4]], t: usize, f: usize) -> bool {
+    marks[t][f] != u32::MAX
 }
 
 /// Per slot: the component (`u32::MAX` for dead slots), and the number of
 /// components.
-fn components(core: &Core, constraint: &IdSet<[u32; 3]>) -> (Vec<u32>, usize) {
+fn components(core: &Core, marks: &[[u32; 4]]) -> (Vec<u32>, usize) {
     let n = core.v.len();
     let mut comp = vec![u32::MAX; n];
     let mut count = 0u32;
@@ -135,7 +134,7 @@ fn components(core: &Core, constraint: &IdSet<[u32; 3]>) -> (Vec<u32>, usize) {
         while let Some(t) = stack.pop() {
             for f in 0..4 {
                 let u = (core.adj[t][f] >> 2) as usize;
-                if comp[u] == u32::MAX && !is_constraint(core, constraint, t, f) {
+                if comp[u] == u32::MAX && !is_constraint(marks, t, f) {
                     comp[u] = count;
                     stack.push(u);
                 }
@@ -148,7 +147,7 @@ fn components(core: &Core, constraint: &IdSet<[u32; 3]>) -> (Vec<u32>, usize) {
 
 /// Per slot: the least number of constraint faces crossed from outside
 /// (`u32::MAX` for dead slots).
-fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
+fn depths(core: &Core, marks: &[[u32; 4]]) -> Vec<u32> {
     let n = core.v.len();
     let mut depth = vec![u32::MAX; n];
     let mut dq = VecDeque::new();
@@ -162,7 +161,7 @@ fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
         let d = depth[t as usize];
         for f in 0..4 {
             let u = (core.adj[t as usize][f] >> 2) as usize;
-            let cost = u32::from(is_constraint(core, constraint, t as usize, f));
+            let cost = u32::from(is_constraint(marks, t as usize, f));
             let nd = d + cost;
             if nd < depth[u] {
                 depth[u] = nd;
@@ -182,7 +181,7 @@ fn depths(core: &Core, constraint: &IdSet<[u32; 3]>) -> Vec<u32> {
 fn locate(
     core: &Core,
     pts: &[[f64; 3]],
-    constraint: &IdSet<[u32; 3]>,
+    marks: &[[u32; 4]],
     comp: &[u32],
     p: &[f64; 3],
 ) -> Result<u32, ()> {
@@ -215,7 +214,7 @@ fn locate(
             if orient3d(a, b, c, p) != 0.0 {
                 continue;
             }
-            if is_constraint(core, constraint, x, f) {
+            if is_constraint(marks, x, f) {
                 return Err(());
             }
             let u = core.adj[x][f] >> 2;
@@ -231,17 +230,18 @@ fn locate(
 }
 
 /// Carves the tetrahedralization `core` of the (scaled) points `pts` whose
-/// constraint faces are `constraint`, as the [module documentation](self)
-/// says. `scale` is the factor pair the input was scaled by.
+/// constraint faces are marked in `marks` (per slot and face: the input
+/// triangle the face lies on, `u32::MAX` for none; both sides of a face
+/// marked alike), as the [module documentation](self) says. `scale` is the factor pair the input was scaled by.
 pub(crate) fn carve(
     core: &Core,
     pts: &[[f64; 3]],
-    constraint: &IdSet<[u32; 3]>,
+    marks: &[[u32; 4]],
     domain: &Domain,
     scale: (f64, f64),
 ) -> Result<Carved, RecoverError> {
-    let (comp, ncomp) = components(core, constraint);
-    let depth = depths(core, constraint);
+    let (comp, ncomp) = components(core, marks);
+    let depth = depths(core, marks);
     let mut cdepth = vec![u32::MAX; ncomp];
     let mut exterior = u32::MAX;
     for (s, &c) in comp.iter().enumerate() {
@@ -256,7 +256,7 @@ pub(crate) fn carve(
     let scaled = |p: &[f64; 3]| crate::geom::scaled(*p, scale);
     let mut hole = vec![false; ncomp];
     for (index, h) in domain.holes.iter().enumerate() {
-        let c = locate(core, pts, constraint, &comp, &scaled(h)).map_err(|()| {
+        let c = locate(core, pts, marks, &comp, &scaled(h)).map_err(|()| {
             RecoverError::SeedOnSurface {
                 kind: "hole",
                 index,
@@ -268,7 +268,7 @@ pub(crate) fn carve(
     }
     let mut seed: Vec<Option<usize>> = vec![None; ncomp];
     for (index, r) in domain.regions.iter().enumerate() {
-        let c = locate(core, pts, constraint, &comp, &scaled(&r.point)).map_err(|()| {
+        let c = locate(core, pts, marks, &comp, &scaled(&r.point)).map_err(|()| {
             RecoverError::SeedOnSurface {
                 kind: "region",
                 index,

@@ -31,7 +31,7 @@
 
 use super::missing::{ekey, fkey, TET_EDGES};
 use super::place;
-use super::surface::{IdSet, Surface};
+use super::surface::{IdMap, IdSet, Surface};
 use crate::tet::cmesh::{face, CMesh, EdgeCost, TriCost};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
@@ -282,8 +282,20 @@ fn crossing_edges(
     let pts = cm.pts();
     let g = |w: u32| &pts[w as usize];
     let [a, b, c] = surf.tris[t].map(g);
-    let crosses = |p: u32, q: u32| {
-        !surf.on_triangle(p, t) && !surf.on_triangle(q, t) && place::crosses(a, b, c, g(p), g(q))
+    // The side of `t`'s plane of each vertex met (0 also for vertices on
+    // `t`, which no crossing edge has), computed once: an edge can cross
+    // only if its ends are strictly on opposite sides — the first test of
+    // `place::crosses`, whose remaining three tests follow.
+    let mut side: IdMap<u32, i8> = IdMap::default();
+    let mut side_of = |w: u32| -> i8 {
+        *side.entry(w).or_insert_with(|| {
+            if surf.on_triangle(w, t) {
+                0
+            } else {
+                let o = orient3d(a, b, c, g(w));
+                i8::from(o > 0.0) - i8::from(o < 0.0)
+            }
+        })
     };
     let core = &cm.dt.core;
     let mut seen: IdSet<u32> = IdSet::default();
@@ -302,9 +314,17 @@ fn crossing_edges(
             continue;
         }
         let touches = xv.iter().any(|&w| surf.on_triangle(w, t));
+        let sides = xv.map(&mut side_of);
         let mut crossing = false;
         for (i, j) in TET_EDGES {
-            if crosses(xv[i], xv[j]) {
+            if sides[i] * sides[j] >= 0 {
+                continue;
+            }
+            let (p, q) = (g(xv[i]), g(xv[j]));
+            let s1 = orient3d(p, q, a, b);
+            let s2 = orient3d(p, q, b, c);
+            let s3 = orient3d(p, q, c, a);
+            if (s1 > 0.0 && s2 > 0.0 && s3 > 0.0) || (s1 < 0.0 && s2 < 0.0 && s3 < 0.0) {
                 crossing = true;
                 out.push((ekey(xv[i], xv[j]), x));
             }

@@ -505,8 +505,11 @@ pub fn recover_marked(
     let (cow, scale) = crate::geom::rescaled(points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
     let mut dt = Delaunay3::from_points(&scaled)?;
-    let used: HashSet<u32> = triangles.iter().flatten().copied().collect();
-    if let Some(&(d, o)) = dt.duplicates().iter().find(|(d, _)| used.contains(d)) {
+    let mut used = vec![false; points.len()];
+    for &w in triangles.iter().flatten() {
+        used[w as usize] = true;
+    }
+    if let Some(&(d, o)) = dt.duplicates().iter().find(|(d, _)| used[*d as usize]) {
         return Err(Error::DuplicateVertex {
             index: d as usize,
             original: o as usize,
@@ -611,12 +614,11 @@ const GLOBAL_FRACTION: usize = 16;
 type FacesOn = Vec<Vec<[u32; 3]>>;
 
 /// What a round of the constrained recovery hands to the next one: the
-/// coverage and missing subsegments of the Delaunay tetrahedralization it
-/// started from, and how many points it had.
+/// coverage of the Delaunay tetrahedralization it started from, and how
+/// many points it had.
 struct RoundState {
     on: FacesOn,
     covered: Vec<bool>,
-    missing: Vec<(u32, u32, u32)>,
     old_len: usize,
 }
 
@@ -774,6 +776,28 @@ impl State {
         }
     }
 
+    /// [`Self::find_crossing`] with the list of all edges built (sorted)
+    /// only when the local search finds nothing.
+    fn find_crossing_lazy(
+        &self,
+        dt: &Delaunay3<'_>,
+        sk: &Skeleton,
+        all: &mut Option<Vec<((u32, u32), u32)>>,
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
+        let found = self.find_crossing(dt, sk, &[], t, faces);
+        if !found.is_empty() {
+            return found;
+        }
+        let list = all.get_or_insert_with(|| {
+            let mut l: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
+            l.sort_unstable();
+            l
+        });
+        self.crossing_edges(dt, list, t)
+    }
+
     /// Mesh edges of `list` crossing the interior of input triangle `t`.
     fn crossing_edges(
         &self,
@@ -872,14 +896,18 @@ impl State {
             cm.set_failed(std::mem::take(&mut failed_removals));
             let (on, covered, subs) = match prev.take() {
                 None => {
-                    let sk = Skeleton::of(dt, true);
-                    let (on, covered) = self.surf.coverage(&sk, dt.points());
-                    let subs = self.missing_subsegments(&sk);
+                    let (on, covered) = self.coverage_all(&cm);
+                    let subs = self.missing_subsegments_cm(&cm, &covered);
+                    #[cfg(debug_assertions)]
+                    self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
                     (on, covered, subs)
                 }
                 Some(st) => self.update_round(&cm, st),
             };
             let mut prot = cdt::Protected::default();
+            let nf: usize = on.iter().map(Vec::len).sum();
+            prot.faces.reserve(nf);
+            prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
             for f in on.iter().flatten() {
                 prot.add_face(*f);
             }
@@ -911,7 +939,6 @@ impl State {
                 prev = Some(RoundState {
                     on,
                     covered,
-                    missing: subs,
                     old_len,
                 });
                 continue;
@@ -946,7 +973,6 @@ impl State {
                 prev = Some(RoundState {
                     on,
                     covered,
-                    missing: subs,
                     old_len,
                 });
                 continue;
@@ -954,8 +980,10 @@ impl State {
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
             let sk = Skeleton::of(dt, false);
-            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
-            list.sort_unstable();
+            // All edges, sorted: built only if a local search finds nothing
+            // (sorting every edge of a large mesh each round was a
+            // dominant cost).
+            let mut all: Option<Vec<((u32, u32), u32)>> = None;
             let mut progress = false;
             for &t in &uncovered {
                 if !self.steiner_left() {
@@ -965,7 +993,7 @@ impl State {
                     progress |= self.split_longest_subsegment(dt, t)?;
                     continue;
                 }
-                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                let cross = self.find_crossing_lazy(dt, &sk, &mut all, t, &on[t]);
                 progress |= if cross.is_empty() {
                     self.split_hole(dt, t, &on[t])?
                 } else {
@@ -982,7 +1010,6 @@ impl State {
             prev = Some(RoundState {
                 on,
                 covered,
-                missing: subs,
                 old_len,
             });
         }
@@ -993,8 +1020,10 @@ impl State {
     /// previous round (`st`) and the points inserted since (ids from
     /// `st.old_len`). A Delaunay insertion changes only tetrahedra whose
     /// vertices end up adjacent to an inserted point, so only the triangles
-    /// and subsegments at the vertices of the inserted points' stars can
-    /// change (with the subsegments missing before, now maybe split).
+    /// at the vertices of the inserted points' stars (which include the
+    /// triangles whose sides were split) and those uncovered before can
+    /// change; the missing subsegments then follow from the coverage
+    /// ([`Self::missing_subsegments_cm`]).
     fn update_round(
         &self,
         cm: &CMesh<'_>,
@@ -1003,7 +1032,6 @@ impl State {
         let RoundState {
             mut on,
             mut covered,
-            missing,
             old_len,
         } = st;
         let core = &cm.dt.core;
@@ -1014,37 +1042,20 @@ impl State {
                 near.extend(core.v[x as usize].iter().filter(|&&w| w != INF));
             }
         }
-        near.extend(missing.iter().flat_map(|&(_, u, v)| [u, v]));
         near.sort_unstable();
         near.dedup();
         let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-        let mut edges: Vec<u32> = Vec::new();
         for &w in &near {
             if let Some(l) = self.surf.vtris.get(w as usize) {
-                for &t in l {
-                    tris.push(t as usize);
-                    edges.extend(self.surf.tri_edges[t as usize]);
-                }
+                tris.extend(l.iter().map(|&t| t as usize));
             }
         }
         tris.sort_unstable();
         tris.dedup();
-        edges.sort_unstable();
-        edges.dedup();
         self.recompute(cm, &tris, &mut on, &mut covered);
-        // Subsegments at a vertex of `near`, in the global order (by edge,
-        // then along its chain).
-        let mut subs = Vec::new();
-        for e in edges {
-            for w in self.surf.chains[e as usize].windows(2) {
-                let (u, v) = (w[0], w[1]);
-                if (near.binary_search(&u).is_ok() || near.binary_search(&v).is_ok())
-                    && cm.find_edge(u, v).is_none()
-                {
-                    subs.push((e, u, v));
-                }
-            }
-        }
+        // Subsegments of edges with a covered triangle are present; the
+        // others are searched.
+        let subs = self.missing_subsegments_cm(cm, &covered);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
         (on, covered, subs)
@@ -1177,6 +1188,19 @@ impl State {
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
     ) {
+        if cm.touched_len() > 2 * cm.dt.core.v.len() {
+            // Many flips: the global pass is cheaper than sorting and
+            // looking up every logged face.
+            cm.clear_touched();
+            let (g_on, g_covered) = self.coverage_all(cm);
+            for (t, f) in g_on.into_iter().enumerate() {
+                on[t] = f;
+            }
+            covered.copy_from_slice(&g_covered);
+            #[cfg(debug_assertions)]
+            self.debug_same_coverage(&cm.dt, on, covered, None);
+            return;
+        }
         let touched = cm.take_touched();
         let mut cands: Vec<usize> = extra.to_vec();
         let (mut out, mut flat) = (Vec::new(), Vec::new());
@@ -1201,17 +1225,97 @@ impl State {
         covered: &mut [bool],
     ) {
         if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
-            let sk = Skeleton::of(&cm.dt, true);
-            let (g_on, g_covered) = self.surf.coverage(&sk, cm.pts());
+            let (g_on, g_covered) = self.coverage_all(cm);
             for (t, f) in g_on.into_iter().enumerate() {
                 on[t] = f;
             }
             covered.copy_from_slice(&g_covered);
             return;
         }
+        self.recompute_local(cm, cands, on, covered);
+    }
+
+    /// The coverage of every input triangle on `cm`: the same faces (as
+    /// sets) and verdicts as [`Surface::coverage`], faster. A *plain*
+    /// triangle (no Steiner point on it, [`Surface::plain`]) can have only
+    /// its own three corners as a face on it, and is covered exactly when
+    /// that face exists: one pass over the faces of the tetrahedra with a
+    /// hash lookup each finds them. The others (few: those next to Steiner
+    /// points) are computed locally, from the stars of their vertices.
+    fn coverage_all(&self, cm: &CMesh<'_>) -> (FacesOn, Vec<bool>) {
+        let n = self.surf.tris.len();
+        let mut on: FacesOn = vec![Vec::new(); n];
+        let mut covered = vec![false; n];
+        let core = &cm.dt.core;
+        for (x, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for (f, idx) in FACET.iter().enumerate() {
+                // Each interior face once (from its lower slot).
+                let u = (core.adj[x][f] >> 2) as usize;
+                if u < x && !core.v[u].contains(&INF) {
+                    continue;
+                }
+                let k = missing::fkey(idx.map(|i| tv[i]));
+                for t in self.surf.triangles_with_key(&k) {
+                    let t = t as usize;
+                    if self.surf.plain(t) {
+                        on[t] = vec![k];
+                        covered[t] = true;
+                    }
+                }
+            }
+        }
+        let rest: Vec<usize> = (0..n).filter(|&t| !self.surf.plain(t)).collect();
+        self.recompute_local(cm, &rest, &mut on, &mut covered);
+        (on, covered)
+    }
+
+    /// The subsegments that are not edges of `cm`, in the order of
+    /// [`Self::missing_subsegments`], given the coverage of `cm`: a
+    /// subsegment of an input edge with a covered triangle is an edge of a
+    /// face on it; only the chains of edges with no covered triangle are
+    /// searched (locally, around their vertices).
+    fn missing_subsegments_cm(&self, cm: &CMesh<'_>, covered: &[bool]) -> Vec<(u32, u32, u32)> {
+        let mut out = Vec::new();
+        for (e, chain) in self.surf.chains.iter().enumerate() {
+            if self.surf.edge_tris[e].iter().any(|&t| covered[t as usize]) {
+                continue;
+            }
+            for w in chain.windows(2) {
+                if cm.find_edge(w[0], w[1]).is_none() {
+                    out.push((e as u32, w[0], w[1]));
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::recompute`] of triangles `cands`, each from the stars of its
+    /// vertices.
+    fn recompute_local(
+        &self,
+        cm: &CMesh<'_>,
+        cands: &[usize],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
         let core = &cm.dt.core;
         let mut slots: Vec<u32> = Vec::new();
         for &t in cands {
+            if self.surf.plain(t) {
+                // Only its own corners can make a face on it.
+                let [a, b, c] = self.surf.tris[t];
+                let found = cm.find_face(a, b, c).is_some();
+                on[t] = if found {
+                    vec![missing::fkey([a, b, c])]
+                } else {
+                    Vec::new()
+                };
+                covered[t] = found;
+                continue;
+            }
             let inner = self.tri_inner.get(&(t as u32)).map_or(&[][..], |v| &v[..]);
             slots.clear();
             for w in cdt::tri_vertices(&self.surf, t, inner) {
@@ -1474,14 +1578,37 @@ impl State {
             let sk = Skeleton::of(dt, true);
             self.surf.coverage(&sk, dt.points()).0
         });
-        let constraint: IdSet<[u32; 3]> = on.iter().flatten().copied().collect();
         let face_tri: IdMap<[u32; 3], u32> = on
             .iter()
             .enumerate()
             .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
             .collect();
         let core = &dt.core;
-        let carved = carve::carve(core, dt.points(), &constraint, domain, scale)?;
+        // Per slot and face: the input triangle it lies on (one lookup per
+        // face, then flags instead of hashing in carving and output).
+        let mut marks = vec![[crate::NONE; 4]; core.v.len()];
+        for (t, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD {
+                continue;
+            }
+            for f in 0..4 {
+                let w = core.adj[t][f];
+                let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
+                if u < t {
+                    continue;
+                }
+                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                if k.contains(&INF) {
+                    continue;
+                }
+                if let Some(&ti) = face_tri.get(&k) {
+                    marks[t][f] = ti;
+                    marks[u][g] = ti;
+                }
+            }
+        }
+        drop(face_tri);
+        let carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
         let mut regions = carved.regions;
         let inside = |t: usize| carved.region[t] != u32::MAX;
@@ -1511,7 +1638,7 @@ impl State {
                 let u = (core.adj[t][f] >> 2) as usize;
                 let [x, y, z] = FACET[f].map(|i| tv[i]);
                 let face = [x, z, y];
-                let on_tri = face_tri.get(&missing::fkey(face)).copied();
+                let on_tri = Some(marks[t][f]).filter(|&x| x != crate::NONE);
                 if inside(u) {
                     *n = new_id[u];
                     if let Some(ti) = on_tri {

@@ -79,6 +79,13 @@ pub(crate) struct Surface {
     pub(crate) vtris: Vec<Vec<u32>>,
     /// Per vertex: its kind.
     pub(crate) kind: Vec<Kind>,
+    /// Input triangle by sorted vertex triple (the first such triangle).
+    tri_index: IdMap<[u32; 3], u32>,
+    /// Per input triangle: the next one with the same vertices
+    /// (`u32::MAX`: none).
+    tri_same: Vec<u32>,
+    /// Per input triangle: how many Steiner points lie inside it.
+    inner: Vec<u32>,
 }
 
 /// The mesh edges and faces of the current tetrahedralization.
@@ -131,7 +138,7 @@ impl Surface {
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        let index: HashMap<(u32, u32), u32> = keys
+        let index: IdMap<(u32, u32), u32> = keys
             .iter()
             .enumerate()
             .map(|(i, &k)| (k, i as u32))
@@ -153,7 +160,25 @@ impl Surface {
             l.sort_unstable();
             l.dedup();
         }
+        let mut tri_index: IdMap<[u32; 3], u32> =
+            IdMap::with_capacity_and_hasher(tris.len(), Default::default());
+        let mut tri_same = vec![u32::MAX; tris.len()];
+        let mut last: IdMap<[u32; 3], u32> = IdMap::default();
+        for (ti, t) in tris.iter().enumerate() {
+            let k = fkey(*t);
+            if let Some(&first) = tri_index.get(&k) {
+                // A repeated triangle: chain it after the last one.
+                let prev = last.get(&k).copied().unwrap_or(first);
+                tri_same[prev as usize] = ti as u32;
+                last.insert(k, ti as u32);
+            } else {
+                tri_index.insert(k, ti as u32);
+            }
+        }
         Surface {
+            tri_index,
+            tri_same,
+            inner: vec![0; tris.len()],
             tris: tris.to_vec(),
             edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
             chains: keys.iter().map(|&(a, b)| vec![a, b]).collect(),
@@ -178,6 +203,28 @@ impl Surface {
         self.grow(id);
         self.kind[id as usize] = Kind::OnTri(t);
         self.vtris[id as usize] = vec![t];
+        self.inner[t as usize] += 1;
+    }
+
+    /// True when no Steiner point lies on input triangle `t` (its sides
+    /// are unsplit and nothing was inserted inside it): then the only mesh
+    /// face that can lie on `t` is its own three corners.
+    #[inline]
+    pub(crate) fn plain(&self, t: usize) -> bool {
+        self.inner[t] == 0
+            && self.tri_edges[t]
+                .iter()
+                .all(|&e| self.chains[e as usize].len() == 2)
+    }
+
+    /// The input triangles whose three corners are the vertices of the
+    /// sorted triple `k` (usually none or one), in index order.
+    pub(crate) fn triangles_with_key(&self, k: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
+        let first = self.tri_index.get(k).copied().unwrap_or(u32::MAX);
+        std::iter::successors((first != u32::MAX).then_some(first), move |&t| {
+            let n = self.tri_same[t as usize];
+            (n != u32::MAX).then_some(n)
+        })
     }
 
     fn grow(&mut self, id: u32) {
