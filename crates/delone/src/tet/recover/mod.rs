@@ -87,6 +87,7 @@
 //! mesh generation* (1995).
 
 mod carve;
+mod cavity;
 mod cdt;
 mod check;
 mod flip;
@@ -783,6 +784,9 @@ impl State {
             }
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
+                    if let Some(done) = self.preserve_by_cavities(&cm)? {
+                        return Ok(self.cavity_done(done));
+                    }
                     let tris = self.edge_triangles(&failed);
                     self.interior_points(dt, tris)?;
                 } else {
@@ -827,6 +831,9 @@ impl State {
                 return Ok((cm, on_cm));
             }
             if self.opts.preserve_surface {
+                if let Some(done) = self.preserve_by_cavities(&cm)? {
+                    return Ok(self.cavity_done(done));
+                }
                 self.interior_points(dt, uncovered)?;
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
