@@ -63,8 +63,14 @@ type P = [f64; 3];
 
 /// Passes over the missing edges and triangles.
 const PASSES: usize = 12;
-/// Most tetrahedra a cavity grows by.
-const MAX_GROW: usize = 48;
+/// Unfinished calls of [`State::preserve_by_cavities`] after which it is
+/// no longer tried (the fallback rounds go on alone).
+const MAX_FAILED_CALLS: usize = 8;
+/// Most growth steps of a cavity (each adds every tetrahedron behind a
+/// face the best point found does not see).
+const MAX_GROW: usize = 8;
+/// Most tetrahedra in a grown cavity.
+const MAX_CAVITY: usize = 128;
 
 /// A polyhedron being filled: its boundary faces, each oriented inward
 /// (`[f, x]` positive for `x` inside), with the removed tetrahedron owning
@@ -160,8 +166,8 @@ fn kernel_point(pts: &[P], faces: &[[u32; 3]]) -> (Option<P>, P) {
     if planes.len() != faces.len() || diam == 0.0 {
         return (None, best);
     }
-    let iters = (40 * planes.len()).clamp(200, 4000);
-    for round in 0..10 {
+    let iters = (8 * planes.len()).clamp(64, 1024);
+    for round in 0..6 {
         let margin = diam * 0.1 / f64::from(1u32 << (2 * round));
         let mut q = centre;
         for _ in 0..iters {
@@ -457,8 +463,8 @@ fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
         .is_some_and(|(_, ring)| ring.contains(&f[2]))
 }
 
-/// Grows `reg` (and `set`, sorted) by the tetrahedron behind one boundary
-/// face not seen from `from` (the least such face key that can grow);
+/// Grows `reg` (and `set`, sorted) by the tetrahedra behind the boundary
+/// faces not seen from `from` that can grow;
 /// `side`: keep to this closed side of the plane of these points. False
 /// when nothing can grow.
 fn grow(
@@ -494,22 +500,29 @@ fn grow(
         }
         cands.push((fkey(f), i, n));
     }
-    let Some(&(_, _, n)) = cands.iter().min() else {
+    if set.len() + cands.len() > MAX_CAVITY {
         return false;
-    };
-    let nv = c.v[n as usize];
-    for g in 0..4 {
-        let gf = face(nv, g);
-        let r = rev(gf);
-        if let Some(pos) = reg.faces.iter().position(|x| okey(x.0) == r) {
-            reg.faces.swap_remove(pos);
-        } else {
-            reg.faces.push((gf, n, g));
+    }
+    cands.sort_unstable();
+    let mut grown = false;
+    for (_, _, n) in cands {
+        let Err(pos) = set.binary_search(&n) else {
+            continue;
+        };
+        set.insert(pos, n);
+        grown = true;
+        let nv = c.v[n as usize];
+        for g in 0..4 {
+            let gf = face(nv, g);
+            let r = rev(gf);
+            if let Some(pos) = reg.faces.iter().position(|x| okey(x.0) == r) {
+                reg.faces.swap_remove(pos);
+            } else {
+                reg.faces.push((gf, n, g));
+            }
         }
     }
-    let pos = set.binary_search(&n).unwrap_or_else(|e| e);
-    set.insert(pos, n);
-    true
+    grown
 }
 
 impl State {
@@ -702,6 +715,9 @@ impl State {
         &mut self,
         cm: &CMesh<'a>,
     ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
+        if self.cavity_fails >= MAX_FAILED_CALLS {
+            return Ok(None);
+        }
         let mut w = cm.clone();
         let mut prot = Protected::default();
         for e in &self.surf.edges {
@@ -780,6 +796,7 @@ impl State {
                 break;
             }
         }
+        self.cavity_fails += 1;
         Ok(None)
     }
 }
