@@ -30,12 +30,13 @@
 //!    also tested exactly against every input triangle near it (closed
 //!    triangle, `orient3d` and `orient2d`): a Steiner point never lies on
 //!    the surface;
-//! 3. otherwise the polyhedron grows by the tetrahedron behind a boundary
-//!    face that the best point found does not see (never across an input
+//! 3. otherwise the polyhedron grows by the tetrahedra behind the boundary
+//!    faces that the best point found does not see (never across an input
 //!    face, never through a ghost, and for a triangle cavity only by
 //!    tetrahedra on the same closed side of `T`'s plane), at most
-//!    [`MAX_GROW`] times — the bounded form of cavity expansion; when
-//!    nothing is left to try the item stays missing and the caller reports
+//!    [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra — the bounded form of
+//!    cavity expansion; when nothing is left to try the item stays missing
+//!    and the caller falls back to its interior-point rounds, then reports
 //!    it ([`RecoverError::Unrecovered`]).
 //!
 //! **Validation** before anything changes: every new tetrahedron strictly
@@ -47,8 +48,15 @@
 //! once, so the new tetrahedra tile it; every vertex and every protected
 //! edge and face of the removed tetrahedra survives.
 //!
-//! Everything is bounded: [`PASSES`] passes over the missing items, at most
-//! one or two new points per item per pass, the Steiner budget.
+//! Everything is bounded: [`PASSES`] passes over the missing items (the
+//! first without new points), at most two new points per item per pass,
+//! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
+//! recovery.
+//!
+//! Known weakness: a missing *edge* whose ends cannot cone its cavity gets
+//! a kernel point and is left to the flips of the next pass, which need
+//! not recover it; such edges can cost several points (TetGen's `-pY`
+//! places fewer on the corpus).
 
 use super::cdt::{self, Protected};
 use super::missing::{ekey, fkey};
