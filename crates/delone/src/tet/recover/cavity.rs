@@ -739,6 +739,7 @@ impl State {
         }
         let edges = self.surf.edges.clone();
         let mut added = 0usize;
+        let (mut best_left, mut stalled) = (usize::MAX, 0);
         for pass in 0..PASSES {
             // Steiner points only from the second pass on: first every
             // cone from an existing vertex is tried.
@@ -765,7 +766,15 @@ impl State {
                 }
             }
             if missing_edges {
-                if !progress && pass > 0 {
+                // Give up when two passes in a row leave as many edges
+                // missing (new points alone are no progress).
+                let left = edges
+                    .iter()
+                    .filter(|&&[a, b]| w.find_edge(a, b).is_none())
+                    .count();
+                stalled = if left < best_left { 0 } else { stalled + 1 };
+                best_left = best_left.min(left);
+                if (!progress && pass > 0) || stalled >= 2 {
                     break;
                 }
                 continue;
