@@ -303,7 +303,7 @@ impl<'a> CMesh<'a> {
 
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
     /// everything by face keys. Returns the new slots.
-    fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
+    pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
         let mut outer: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * new.len());
         {
             let c = &self.dt.core;

@@ -60,14 +60,17 @@
 //! triangle. Each round either finishes, splits at least one item, or fails
 //! with a typed error, so the loop is bounded by the Steiner budget.
 //!
-//! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split: where
-//! flips fail, points off the failing triangles (along their normals, inside
-//! the hull) are inserted instead, at most `MAX_INTERIOR_ROUNDS` rounds,
-//! then [`RecoverError::Unrecovered`]. This is not yet the cavity
-//! retriangulation of Si & Gärtner: the first point tried for a group of
-//! failing triangles is the centroid of their vertices (which recovers the
-//! Schönhardt polyhedron twisted by 20°), but the 30° and 45° twists and
-//! very thin boxes are reported as unrecovered under `-Y` today.
+//! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split:
+//! where the flips fail, the private `cavity` module retriangulates the
+//! cavity of each missing edge or triangle (Si & Gärtner's cavity
+//! retriangulation: the tetrahedra crossing a missing triangle, split by it
+//! into an upper and a lower polyhedron, each filled by a cone from one of
+//! its vertices or from a new point strictly inside its kernel, growing the
+//! cavity a bounded number of times), with exact validation and Steiner
+//! points strictly off the surface. What it cannot finish falls back to
+//! points off the failing triangles (along their normals) inserted in the
+//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds, then
+//! [`RecoverError::Unrecovered`].
 //!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
@@ -91,6 +94,7 @@
 //! mesh generation* (1995).
 
 mod carve;
+mod cavity;
 mod cdt;
 mod check;
 mod flip;
@@ -532,6 +536,7 @@ pub fn recover_marked(
         tri_inner: IdMap::default(),
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
+        cavity_fails: 0,
     };
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
@@ -637,6 +642,8 @@ struct State {
     interior_tries: IdMap<u32, usize>,
     /// Groups of failing triangles whose centroid was tried (`-Y`).
     group_tries: HashSet<Vec<usize>>,
+    /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
+    cavity_fails: usize,
 }
 
 impl State {
@@ -925,6 +932,9 @@ impl State {
             }
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
+                    if let Some(done) = self.preserve_by_cavities(&cm)? {
+                        return Ok(self.cavity_done(done));
+                    }
                     let tris = self.edge_triangles(&failed);
                     self.interior_points(dt, tris)?;
                 } else {
@@ -968,6 +978,9 @@ impl State {
                 return Ok((cm, on_cm));
             }
             if self.opts.preserve_surface {
+                if let Some(done) = self.preserve_by_cavities(&cm)? {
+                    return Ok(self.cavity_done(done));
+                }
                 self.interior_points(dt, uncovered)?;
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {

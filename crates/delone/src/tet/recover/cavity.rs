@@ -1,0 +1,829 @@
+//! Surface preservation (`-Y`) by cavity retriangulation, in the spirit of
+//! Si & Gärtner (2005): missing input edges and triangles are recovered
+//! without any Steiner point on the surface, on the flipped mesh
+//! ([`CMesh`]) of the last constrained round.
+//!
+//! **Missing triangle** `T = a b c` whose three edges are mesh edges: the
+//! cavity `C` is the set of tetrahedra having an edge that crosses the
+//! interior of `T` (exact [`place::crosses`]). Because `T`'s edges are mesh
+//! edges and no vertex lies inside `T` (every Steiner point of `-Y` is off
+//! the surface), a tetrahedron meets the interior of `T` iff it has such an
+//! edge, the plane section of every cavity tetrahedron lies inside `T`, and
+//! every boundary face of `C` has all its vertices on one closed side of
+//! `T`'s plane. So `T` splits `C` into an upper and a lower polyhedron, each
+//! bounded by its boundary faces of `C` and by `T` (a face whose vertices are
+//! on both sides makes the attempt fail; nothing is assumed).
+//!
+//! **Missing edge** `a b`: the cavity is the set of tetrahedra meeting the
+//! open segment (a superset is harmless), and the goal is a
+//! retriangulation in which `a b` is an edge.
+//!
+//! **Filling a polyhedron** from its boundary faces, tried in order:
+//! 1. the cone from one of its vertices `v` (no new point), when `v` sees
+//!    every boundary face not incident to it strictly from inside — for an
+//!    edge cavity only the ends `a`, `b`, whose cone contains `a b`;
+//! 2. the cone from a new point `p` strictly inside the kernel (every
+//!    boundary face seen strictly from inside, exact `orient3d`), found in
+//!    floating point by relaxation towards the half-spaces with a shrinking
+//!    margin (Agmon–Motzkin) and accepted only after the exact test. `p` is
+//!    then strictly inside the polyhedron, so on no cavity face, and it is
+//!    also tested exactly against every input triangle near it (closed
+//!    triangle, `orient3d` and `orient2d`): a Steiner point never lies on
+//!    the surface;
+//! 3. otherwise the polyhedron grows by the tetrahedra behind the boundary
+//!    faces that the best point found does not see (never across an input
+//!    face, never through a ghost, and for a triangle cavity only by
+//!    tetrahedra on the same closed side of `T`'s plane), at most
+//!    [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra — the bounded form of
+//!    cavity expansion; when nothing is left to try the item stays missing
+//!    and the caller falls back to its interior-point rounds, then reports
+//!    it ([`RecoverError::Unrecovered`]).
+//!
+//! **Validation** before anything changes: every new tetrahedron strictly
+//! positive (exact); the oriented faces of the new tetrahedra, as a chain,
+//! have exactly the removed set's boundary as boundary (each inner face used
+//! once in each orientation, each boundary face once in its own
+//! orientation) — with all tetrahedra positive, the winding number of that
+//! boundary then says every point of the removed region is covered exactly
+//! once, so the new tetrahedra tile it; every vertex and every protected
+//! edge and face of the removed tetrahedra survives.
+//!
+//! Everything is bounded: [`PASSES`] passes over the missing items (the
+//! first without new points), at most two new points per item per pass,
+//! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
+//! recovery.
+//!
+//! Known weakness: a missing *edge* whose ends cannot cone its cavity gets
+//! a kernel point and is left to the flips of the next pass, which need
+//! not recover it; such edges can cost several points (TetGen's `-pY`
+//! places fewer on the corpus).
+
+use super::cdt::{self, Protected};
+use super::missing::{ekey, fkey};
+use super::place::{self, cross, dot, sub};
+use super::surface::{IdMap, IdSet};
+use super::{FacesOn, RecoverError, State};
+use crate::tet::cmesh::{face, CMesh};
+use crate::tet::local::{DEAD, INF};
+use delone_predicates::{orient2d, orient3d};
+
+type P = [f64; 3];
+
+/// Passes over the missing edges and triangles.
+const PASSES: usize = 12;
+/// Unfinished calls of [`State::preserve_by_cavities`] after which it is
+/// no longer tried (the fallback rounds go on alone).
+const MAX_FAILED_CALLS: usize = 8;
+/// Most growth steps of a cavity (each adds every tetrahedron behind a
+/// face the best point found does not see).
+const MAX_GROW: usize = 8;
+/// Most tetrahedra in a grown cavity.
+const MAX_CAVITY: usize = 128;
+
+/// A polyhedron being filled: its boundary faces, each oriented inward
+/// (`[f, x]` positive for `x` inside), with the removed tetrahedron owning
+/// it and its local index (`DEAD` for the missing triangle itself).
+#[derive(Debug, Clone, Default)]
+struct Region {
+    faces: Vec<([u32; 3], u32, usize)>,
+}
+
+impl Region {
+    fn tris(&self) -> Vec<[u32; 3]> {
+        self.faces.iter().map(|f| f.0).collect()
+    }
+
+    fn vertices(&self) -> Vec<u32> {
+        let mut v: Vec<u32> = self.faces.iter().flat_map(|f| f.0).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+}
+
+/// `f` rotated so that its least vertex comes first (same orientation).
+fn okey(f: [u32; 3]) -> [u32; 3] {
+    let m = (0..3).min_by_key(|&i| f[i]).unwrap_or(0);
+    [f[m], f[(m + 1) % 3], f[(m + 2) % 3]]
+}
+
+fn rev(f: [u32; 3]) -> [u32; 3] {
+    okey([f[0], f[2], f[1]])
+}
+
+/// Exact: `x` sees face `f` (inward oriented) strictly from inside.
+fn sees(pts: &[P], f: [u32; 3], x: &P) -> bool {
+    let [a, b, c] = f.map(|w| &pts[w as usize]);
+    orient3d(a, b, c, x) < 0.0
+}
+
+/// Boundary faces of the tetrahedron set `set` (sorted ids), inward.
+fn boundary_of(cm: &CMesh<'_>, set: &[u32]) -> Region {
+    let c = &cm.dt.core;
+    let mut r = Region::default();
+    for &t in set {
+        let tv = c.v[t as usize];
+        for f in 0..4 {
+            let n = c.adj[t as usize][f] >> 2;
+            if set.binary_search(&n).is_err() {
+                r.faces.push((face(tv, f), t, f));
+            }
+        }
+    }
+    r
+}
+
+/// A point strictly inside the kernel of the polyhedron bounded by the
+/// inward faces `faces` (exactly checked), or `None` with the best point
+/// tried.
+fn kernel_point(pts: &[P], faces: &[[u32; 3]]) -> (Option<P>, P) {
+    let mut planes: Vec<(P, P)> = Vec::with_capacity(faces.len());
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    let mut centre = [0.0; 3];
+    let mut n: f64 = 0.0;
+    for f in faces {
+        let [x, y, z] = f.map(|w| pts[w as usize]);
+        let nv = cross(&sub(&y, &x), &sub(&z, &x));
+        let l = dot(&nv, &nv).sqrt();
+        for p in [x, y, z] {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+                centre[k] += p[k];
+            }
+            n += 1.0;
+        }
+        if l > 0.0 && l.is_finite() {
+            planes.push((x, nv.map(|c| c / l)));
+        }
+    }
+    let centre = centre.map(|c| c / n.max(1.0));
+    let d = sub(&hi, &lo);
+    let diam = dot(&d, &d).sqrt();
+    let ok = |p: &P| faces.iter().all(|&f| sees(pts, f, p));
+    let slack = |p: &P| {
+        planes
+            .iter()
+            .map(|(x, nv)| dot(&sub(p, x), nv))
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let mut best = centre;
+    let mut best_s = slack(&centre).map_or(f64::NEG_INFINITY, |s| s.1);
+    if planes.len() != faces.len() || diam == 0.0 {
+        return (None, best);
+    }
+    let iters = (8 * planes.len()).clamp(64, 1024);
+    for round in 0..6 {
+        let margin = diam * 0.1 / f64::from(1u32 << (2 * round));
+        let mut q = centre;
+        for _ in 0..iters {
+            let Some((i, s)) = slack(&q) else { break };
+            if s > best_s {
+                best_s = s;
+                best = q;
+            }
+            if s >= margin {
+                break;
+            }
+            let nv = planes[i].1;
+            for k in 0..3 {
+                q[k] += 1.5 * (margin - s) * nv[k];
+            }
+        }
+        if let Some((_, s)) = slack(&q) {
+            if s > best_s {
+                best_s = s;
+                best = q;
+            }
+        }
+        if ok(&q) {
+            return (Some(q), q);
+        }
+    }
+    if ok(&best) {
+        return (Some(best), best);
+    }
+    (None, best)
+}
+
+/// The tetrahedra filling `faces` as the cone from vertex `v` (every face
+/// not incident to `v` seen strictly), or `None`.
+fn cone_from(pts: &[P], faces: &[[u32; 3]], v: u32) -> Option<Vec<[u32; 4]>> {
+    let p = &pts[v as usize];
+    let mut out = Vec::new();
+    for &f in faces {
+        if f.contains(&v) {
+            continue;
+        }
+        if !sees(pts, f, p) {
+            return None;
+        }
+        out.push([f[0], f[1], f[2], v]);
+    }
+    Some(out)
+}
+
+/// How a region was filled.
+struct Fill {
+    tets: Vec<[u32; 4]>,
+    /// The new point (id `tets` use), if any.
+    point: Option<P>,
+}
+
+/// Fills `faces` by a cone from one of `apexes`, else (when `steiner`) from
+/// a new kernel point with id `new_id`. `Err(best point)` otherwise.
+fn fill(
+    pts: &[P],
+    faces: &[[u32; 3]],
+    apexes: &[u32],
+    steiner: bool,
+    new_id: u32,
+) -> Result<Fill, P> {
+    for &v in apexes {
+        if let Some(tets) = cone_from(pts, faces, v) {
+            return Ok(Fill { tets, point: None });
+        }
+    }
+    let (p, best) = kernel_point(pts, faces);
+    match p {
+        Some(p) if steiner => Ok(Fill {
+            tets: faces.iter().map(|f| [f[0], f[1], f[2], new_id]).collect(),
+            point: Some(p),
+        }),
+        _ => Err(best),
+    }
+}
+
+/// Exact validation of replacing the tetrahedra `old` (sorted) by `new`
+/// (see the module documentation).
+fn valid_replacement(
+    cm: &CMesh<'_>,
+    pts: &[P],
+    old: &[u32],
+    new: &[[u32; 4]],
+    prot: &Protected,
+) -> bool {
+    let c = &cm.dt.core;
+    if new
+        .iter()
+        .any(|tv| tv.iter().any(|&w| w == INF || w as usize >= pts.len()))
+    {
+        return false;
+    }
+    let positive = |tv: &[u32; 4]| {
+        let g = |i: usize| &pts[tv[i] as usize];
+        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+    };
+    if !new.iter().all(positive) {
+        return false;
+    }
+    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
+    let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
+    let mut new_faces: IdSet<[u32; 3]> = IdSet::default();
+    let mut new_verts: IdSet<u32> = IdSet::default();
+    for &tv in new {
+        for f in 0..4 {
+            let k = okey(face(tv, f));
+            *count.entry(k).or_insert(0) += 1;
+            new_faces.insert(fkey(k));
+        }
+        for i in 0..4 {
+            new_verts.insert(tv[i]);
+            for j in i + 1..4 {
+                new_edges.insert(ekey(tv[i], tv[j]));
+            }
+        }
+    }
+    if count.values().any(|&n| n != 1) {
+        return false;
+    }
+    let bnd = boundary_of(cm, old);
+    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
+    for k in &bset {
+        if !count.contains_key(k) || count.contains_key(&rev(*k)) {
+            return false;
+        }
+    }
+    for k in count.keys() {
+        if !bset.contains(k) && !count.contains_key(&rev(*k)) {
+            return false;
+        }
+    }
+    for &t in old {
+        let tv = c.v[t as usize];
+        for i in 0..4 {
+            if !new_verts.contains(&tv[i]) {
+                return false;
+            }
+            for j in i + 1..4 {
+                let e = ekey(tv[i], tv[j]);
+                if prot.edges.contains(&e) && !new_edges.contains(&e) {
+                    return false;
+                }
+            }
+        }
+        for f in 0..4 {
+            let k = fkey(face(tv, f));
+            if prot.faces.contains(&k) && !new_faces.contains(&k) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Finite live tetrahedra around vertex `w` (ghosts excluded).
+fn finite_star(cm: &CMesh<'_>, w: u32) -> Vec<u32> {
+    let c = &cm.dt.core;
+    cm.star(w)
+        .into_iter()
+        .filter(|&t| {
+            let tv = c.v[t as usize];
+            tv[0] != DEAD && !tv.contains(&INF)
+        })
+        .collect()
+}
+
+/// True when closed segment `p q` may meet closed triangle `a b c`
+/// (exact signs; coplanar configurations count as meeting).
+fn seg_meets_tri(a: &P, b: &P, c: &P, p: &P, q: &P) -> bool {
+    let op = orient3d(a, b, c, p);
+    let oq = orient3d(a, b, c, q);
+    if (op > 0.0 && oq > 0.0) || (op < 0.0 && oq < 0.0) {
+        return false;
+    }
+    if op == 0.0 && oq == 0.0 {
+        return true;
+    }
+    let s1 = orient3d(p, q, a, b);
+    let s2 = orient3d(p, q, b, c);
+    let s3 = orient3d(p, q, c, a);
+    (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) || (s1 <= 0.0 && s2 <= 0.0 && s3 <= 0.0)
+}
+
+/// The tetrahedra meeting the open segment `a b` (a superset; sorted).
+fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
+    let c = &cm.dt.core;
+    let pts = cm.pts();
+    let (pa, pb) = (pts[a as usize], pts[b as usize]);
+    let meets = |t: u32| -> bool {
+        let tv = c.v[t as usize];
+        if tv[0] == DEAD || tv.contains(&INF) {
+            return false;
+        }
+        for (s, e) in [(a, b), (b, a)] {
+            if let Some(i) = tv.iter().position(|&w| w == s) {
+                // In the closed cone at `s` towards `e`.
+                let pe = &pts[e as usize];
+                return (0..4).filter(|&f| f != i).all(|f| {
+                    let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
+                    orient3d(x, y, z, pe) <= 0.0
+                });
+            }
+        }
+        (0..4).any(|f| {
+            let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
+            seg_meets_tri(x, y, z, &pa, &pb)
+        })
+    };
+    let mut seen: IdSet<u32> = IdSet::default();
+    let mut out = Vec::new();
+    let mut stack: Vec<u32> = finite_star(cm, a)
+        .into_iter()
+        .filter(|&t| meets(t))
+        .collect();
+    for &t in &stack {
+        seen.insert(t);
+    }
+    while let Some(t) = stack.pop() {
+        out.push(t);
+        if out.len() > 4096 {
+            break;
+        }
+        for f in 0..4 {
+            let n = c.adj[t as usize][f] >> 2;
+            if seen.insert(n) && meets(n) {
+                stack.push(n);
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The tetrahedra with an edge crossing the interior of triangle `tri`
+/// (sorted).
+fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
+    let c = &cm.dt.core;
+    let pts = cm.pts();
+    let [a, b, cc] = tri.map(|w| &pts[w as usize]);
+    let crossing = |t: u32| -> bool {
+        let tv = c.v[t as usize];
+        if tv[0] == DEAD || tv.contains(&INF) {
+            return false;
+        }
+        crate::tet::recover::missing::TET_EDGES
+            .iter()
+            .any(|&(i, j)| {
+                !tri.contains(&tv[i])
+                    && !tri.contains(&tv[j])
+                    && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
+            })
+    };
+    let mut seen: IdSet<u32> = IdSet::default();
+    let mut stack = Vec::new();
+    for w in tri {
+        for t in finite_star(cm, w) {
+            if seen.insert(t) && crossing(t) {
+                stack.push(t);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    while let Some(t) = stack.pop() {
+        out.push(t);
+        if out.len() > 4096 {
+            break;
+        }
+        for f in 0..4 {
+            let n = c.adj[t as usize][f] >> 2;
+            if seen.insert(n) && crossing(n) {
+                stack.push(n);
+            }
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// A face of the mesh with these vertices exists.
+fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
+    let c = &cm.dt.core;
+    let Some(t) = cm.find_edge(f[0], f[1]) else {
+        return false;
+    };
+    if c.v[t as usize].contains(&f[2]) {
+        return true;
+    }
+    cm.edge_ring_with(t, f[0], f[1], true)
+        .is_some_and(|(_, ring)| ring.contains(&f[2]))
+}
+
+/// Grows `reg` (and `set`, sorted) by the tetrahedra behind the boundary
+/// faces not seen from `from` that can grow;
+/// `side`: keep to this closed side of the plane of these points. False
+/// when nothing can grow.
+fn grow(
+    cm: &CMesh<'_>,
+    reg: &mut Region,
+    set: &mut Vec<u32>,
+    taken: &IdSet<u32>,
+    from: &P,
+    side: Option<(&[P; 3], f64)>,
+    prot: &Protected,
+) -> bool {
+    let c = &cm.dt.core;
+    let pts = cm.pts();
+    let mut cands: Vec<([u32; 3], usize, u32)> = Vec::new();
+    for (i, &(f, t, k)) in reg.faces.iter().enumerate() {
+        if t == DEAD || sees(pts, f, from) || prot.faces.contains(&fkey(f)) {
+            continue;
+        }
+        let n = c.adj[t as usize][k] >> 2;
+        let nv = c.v[n as usize];
+        if nv[0] == DEAD || nv.contains(&INF) || taken.contains(&n) || set.binary_search(&n).is_ok()
+        {
+            continue;
+        }
+        if let Some((tri, s)) = side {
+            let ok = nv.iter().all(|&w| {
+                let o = orient3d(&tri[0], &tri[1], &tri[2], &pts[w as usize]);
+                o == 0.0 || (o > 0.0) == (s > 0.0)
+            });
+            if !ok {
+                continue;
+            }
+        }
+        cands.push((fkey(f), i, n));
+    }
+    if set.len() + cands.len() > MAX_CAVITY {
+        return false;
+    }
+    cands.sort_unstable();
+    let mut grown = false;
+    for (_, _, n) in cands {
+        let Err(pos) = set.binary_search(&n) else {
+            continue;
+        };
+        set.insert(pos, n);
+        grown = true;
+        let nv = c.v[n as usize];
+        for g in 0..4 {
+            let gf = face(nv, g);
+            let r = rev(gf);
+            if let Some(pos) = reg.faces.iter().position(|x| okey(x.0) == r) {
+                reg.faces.swap_remove(pos);
+            } else {
+                reg.faces.push((gf, n, g));
+            }
+        }
+    }
+    grown
+}
+
+impl State {
+    /// Exact: `p` lies on no input triangle (closed).
+    fn off_surface(&self, pts: &[P], p: &P) -> bool {
+        for tv in &self.surf.tris {
+            let [a, b, c] = tv.map(|w| &pts[w as usize]);
+            if (0..3).any(|k| p[k] < a[k].min(b[k]).min(c[k]) || p[k] > a[k].max(b[k]).max(c[k])) {
+                continue;
+            }
+            if orient3d(a, b, c, p) != 0.0 {
+                continue;
+            }
+            let ax = place::dominant_axis(a, b, c);
+            let pr = |q: &P| match ax {
+                0 => [q[1], q[2]],
+                1 => [q[2], q[0]],
+                _ => [q[0], q[1]],
+            };
+            let (a2, b2, c2, p2) = (pr(a), pr(b), pr(c), pr(p));
+            let s = orient2d(&a2, &b2, &c2);
+            let s1 = orient2d(&a2, &b2, &p2) * s;
+            let s2 = orient2d(&b2, &c2, &p2) * s;
+            let s3 = orient2d(&c2, &a2, &p2) * s;
+            if s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0 {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Applies fills for the regions of the removed set `set`: validates,
+    /// adds the new points, replaces. Returns the number of new points, or
+    /// `None` (nothing changed).
+    fn apply(
+        &self,
+        cm: &mut CMesh<'_>,
+        set: &[u32],
+        fills: Vec<Fill>,
+        prot: &Protected,
+    ) -> Option<usize> {
+        let mut pts: Vec<P> = cm.pts().to_vec();
+        let mut new = Vec::new();
+        let mut added = 0;
+        for f in fills {
+            if let Some(p) = f.point {
+                if !self.off_surface(&pts, &p) {
+                    return None;
+                }
+                pts.push(p);
+                added += 1;
+            }
+            new.extend(f.tets);
+        }
+        if !valid_replacement(cm, &pts, set, &new, prot) {
+            return None;
+        }
+        for p in &pts[cm.pts().len()..] {
+            cm.dt.points.to_mut().push(*p);
+        }
+        cm.replace(set, &new);
+        Some(added)
+    }
+
+    /// Retriangulates the cavity of missing edge `a b`. `Some(points added)`
+    /// on a change.
+    fn edge_by_cavity(
+        &self,
+        cm: &mut CMesh<'_>,
+        a: u32,
+        b: u32,
+        prot: &Protected,
+        steiner: bool,
+    ) -> Option<usize> {
+        let mut set = segment_cavity(cm, a, b);
+        if set.is_empty() {
+            return None;
+        }
+        let mut reg = boundary_of(cm, &set);
+        let none = IdSet::default();
+        // First the cones from the ends (they contain `a b`), growing the
+        // cavity towards the faces the end does not see.
+        for apex in [a, b] {
+            let (mut s2, mut r2) = (set.clone(), reg.clone());
+            for _ in 0..=MAX_GROW {
+                if let Some(tets) = cone_from(cm.pts(), &r2.tris(), apex) {
+                    let fills = vec![Fill { tets, point: None }];
+                    if let Some(k) = self.apply(cm, &s2, fills, prot) {
+                        return Some(k);
+                    }
+                    break;
+                }
+                let from = cm.pts()[apex as usize];
+                if !grow(cm, &mut r2, &mut s2, &none, &from, None, prot) {
+                    break;
+                }
+            }
+        }
+        if !steiner {
+            return None;
+        }
+        let id = cm.pts().len() as u32;
+        for _ in 0..=MAX_GROW {
+            match fill(cm.pts(), &reg.tris(), &[], true, id) {
+                Ok(f) => return self.apply(cm, &set, vec![f], prot),
+                Err(best) => {
+                    if !grow(cm, &mut reg, &mut set, &none, &best, None, prot) {
+                        return None;
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Retriangulates the cavity of missing triangle `tri` (its edges
+    /// present) so that it becomes a face. `Some(points added)` on success.
+    fn facet_by_cavity(
+        &self,
+        cm: &mut CMesh<'_>,
+        tri: [u32; 3],
+        prot: &Protected,
+        steiner: bool,
+    ) -> Option<usize> {
+        let mut set = facet_cavity(cm, tri);
+        if set.is_empty() {
+            return None;
+        }
+        let pts = cm.pts();
+        let tp = tri.map(|w| pts[w as usize]);
+        let side_of = |w: u32| orient3d(&tp[0], &tp[1], &tp[2], &pts[w as usize]);
+        let bnd = boundary_of(cm, &set);
+        let mut sides = [Region::default(), Region::default()];
+        for &(f, t, k) in &bnd.faces {
+            let mut s = 0.0;
+            for w in f {
+                if tri.contains(&w) {
+                    continue;
+                }
+                let o = side_of(w);
+                if o == 0.0 || (s != 0.0 && (o > 0.0) != (s > 0.0)) {
+                    return None;
+                }
+                s = o;
+            }
+            if s == 0.0 {
+                return None;
+            }
+            sides[usize::from(s > 0.0)].faces.push((f, t, k));
+        }
+        // The triangle, inward for each side: [a, b, c, x] is positive for
+        // x with orient3d < 0 (side 0).
+        sides[0].faces.push((tri, DEAD, 0));
+        sides[1].faces.push(([tri[0], tri[2], tri[1]], DEAD, 0));
+        let mut fills = Vec::new();
+        let mut next_id = pts.len() as u32;
+        for (si, reg) in sides.iter_mut().enumerate() {
+            let sign = if si == 0 { -1.0 } else { 1.0 };
+            let mut done = None;
+            for _ in 0..=MAX_GROW {
+                let apexes = reg.vertices();
+                match fill(cm.pts(), &reg.tris(), &apexes, steiner, next_id) {
+                    Ok(f) => {
+                        done = Some(f);
+                        break;
+                    }
+                    Err(best) => {
+                        let taken: IdSet<u32> = IdSet::default();
+                        if !grow(cm, reg, &mut set, &taken, &best, Some((&tp, sign)), prot) {
+                            break;
+                        }
+                    }
+                }
+            }
+            let f = done?;
+            if f.point.is_some() {
+                next_id += 1;
+            }
+            fills.push(f);
+        }
+        self.apply(cm, &set, fills, prot)
+    }
+
+    /// Surface preservation on the flipped mesh `cm`: recovers the missing
+    /// input edges and triangles by flips and cavity retriangulation with
+    /// interior Steiner points only. `Some` (the mesh and the face on each
+    /// input triangle) when everything is recovered; `None` leaves the
+    /// caller's fallback to act (nothing of `cm` is changed).
+    pub(super) fn preserve_by_cavities<'a>(
+        &mut self,
+        cm: &CMesh<'a>,
+    ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
+        if self.cavity_fails >= MAX_FAILED_CALLS {
+            return Ok(None);
+        }
+        let mut w = cm.clone();
+        let mut prot = Protected::default();
+        for e in &self.surf.edges {
+            prot.edges.insert(ekey(e[0], e[1]));
+        }
+        let tris = self.surf.tris.clone();
+        for &t in &tris {
+            if has_face(&w, t) {
+                prot.add_face(t);
+            }
+        }
+        let edges = self.surf.edges.clone();
+        let mut added = 0usize;
+        let (mut best_left, mut stalled) = (usize::MAX, 0);
+        for pass in 0..PASSES {
+            // Steiner points only from the second pass on: first every
+            // cone from an existing vertex is tried.
+            let steiner = pass > 0 && self.report.steiner() + added < self.opts.max_steiner;
+            let mut progress = false;
+            let mut missing_edges = false;
+            for &[a, b] in &edges {
+                if w.find_edge(a, b).is_some() {
+                    continue;
+                }
+                if cdt::recover_segment(&mut w, a, b, &prot) {
+                    progress = true;
+                    continue;
+                }
+                match self.edge_by_cavity(&mut w, a, b, &prot, steiner) {
+                    Some(k) => {
+                        added += k;
+                        progress = true;
+                        if w.find_edge(a, b).is_none() {
+                            missing_edges = true;
+                        }
+                    }
+                    None => missing_edges = true,
+                }
+            }
+            if missing_edges {
+                // Give up when two passes in a row leave as many edges
+                // missing (new points alone are no progress).
+                let left = edges
+                    .iter()
+                    .filter(|&&[a, b]| w.find_edge(a, b).is_none())
+                    .count();
+                stalled = if left < best_left { 0 } else { stalled + 1 };
+                best_left = best_left.min(left);
+                if (!progress && pass > 0) || stalled >= 2 {
+                    break;
+                }
+                continue;
+            }
+            let mut missing_tris = false;
+            for (t, &tri) in tris.iter().enumerate() {
+                if has_face(&w, tri) {
+                    continue;
+                }
+                cdt::recover_facet(&mut w, &self.surf, t, &[], &prot);
+                if has_face(&w, tri) {
+                    prot.add_face(tri);
+                    progress = true;
+                    continue;
+                }
+                match self.facet_by_cavity(&mut w, tri, &prot, steiner) {
+                    Some(k) if has_face(&w, tri) => {
+                        added += k;
+                        prot.add_face(tri);
+                        progress = true;
+                    }
+                    Some(k) => {
+                        added += k;
+                        progress = true;
+                        missing_tris = true;
+                    }
+                    None => missing_tris = true,
+                }
+            }
+            if !missing_tris {
+                let on: FacesOn = tris.iter().map(|&t| vec![fkey(t)]).collect();
+                self.report.steiner_interior += added;
+                return Ok(Some((w, on)));
+            }
+            if !progress && pass > 0 {
+                break;
+            }
+        }
+        self.cavity_fails += 1;
+        Ok(None)
+    }
+}
+
+impl State {
+    /// Records the flip counts of a mesh finished by
+    /// [`State::preserve_by_cavities`] and hands it on.
+    pub(super) fn cavity_done<'a>(&mut self, done: (CMesh<'a>, FacesOn)) -> (CMesh<'a>, FacesOn) {
+        self.report.flips23 = done.0.flips23;
+        self.report.edge_removals = done.0.removals;
+        done
+    }
+}

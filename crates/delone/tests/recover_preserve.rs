@@ -1,0 +1,298 @@
+//! Surface preservation (`-Y`): hard hand-made cases (Schönhardt prisms,
+//! a thin box, a notched box) and the small closed clean corpus models are
+//! recovered with interior Steiner points only; every Steiner point is
+//! checked exactly to lie on no input triangle.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
+use delone_predicates::{orient2d, orient3d};
+
+fn preserve() -> RecoverOptions {
+    RecoverOptions {
+        preserve_surface: true,
+        ..Default::default()
+    }
+}
+
+/// Exact: `p` lies on the closed triangle `a b c`.
+fn on_triangle(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], p: &[f64; 3]) -> bool {
+    if orient3d(a, b, c, p) != 0.0 {
+        return false;
+    }
+    // Project along an axis on which the triangle does not degenerate.
+    for ax in 0..3 {
+        let pr = |q: &[f64; 3]| match ax {
+            0 => [q[1], q[2]],
+            1 => [q[2], q[0]],
+            _ => [q[0], q[1]],
+        };
+        let (a2, b2, c2, p2) = (pr(a), pr(b), pr(c), pr(p));
+        let s = orient2d(&a2, &b2, &c2);
+        if s == 0.0 {
+            continue;
+        }
+        let s1 = orient2d(&a2, &b2, &p2) * s;
+        let s2 = orient2d(&b2, &c2, &p2) * s;
+        let s3 = orient2d(&c2, &a2, &p2) * s;
+        return s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0;
+    }
+    false
+}
+
+/// Recovers with `-Y`, checks the result and that the surface is exactly
+/// the input (no Steiner point on it, one boundary face per triangle).
+fn check_y(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]]) -> Recovered {
+    let t0 = Instant::now();
+    let r = recover(pts, tris, &preserve()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    check_recovered(pts, tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
+    let p = &r.report;
+    assert_eq!((p.steiner_on_edges, p.steiner_on_facets), (0, 0), "{name}");
+    assert_eq!(r.points.len(), pts.len() + p.steiner_interior, "{name}");
+    for (i, q) in r.points[pts.len()..].iter().enumerate() {
+        for t in tris {
+            let [a, b, c] = t.map(|w| &pts[w as usize]);
+            assert!(
+                !on_triangle(a, b, c, q),
+                "{name}: Steiner point {i} {q:?} lies on triangle {t:?}"
+            );
+        }
+    }
+    assert_eq!(r.boundary.len(), tris.len(), "{name}");
+    let v_in = delone::tet::recover::surface_volume(pts, tris).abs();
+    let v_out: f64 = r.regions.iter().map(|g| g.volume).sum();
+    assert!(
+        (v_in - v_out).abs() <= 1e-9 * v_in,
+        "{name}: {v_in} vs {v_out}"
+    );
+    println!(
+        "{name}: -Y ok, {} tris, {} tets, interior Steiner {}, flips23 {}, removals {}, rounds {}, {ms:.1} ms",
+        tris.len(),
+        r.mesh.tets.len(),
+        p.steiner_interior,
+        p.flips23,
+        p.edge_removals,
+        p.rounds
+    );
+    r
+}
+
+/// Schönhardt's twisted prism: the top triangle rotated by `twist` degrees,
+/// each side quadrilateral split by its reflex diagonal.
+fn schonhardt(twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    for i in 0..3 {
+        let a = (120.0 * i as f64).to_radians();
+        pts.push([a.cos(), a.sin(), 0.0]);
+    }
+    for i in 0..3 {
+        let a = (120.0 * i as f64 + twist).to_radians();
+        pts.push([a.cos(), a.sin(), 1.0]);
+    }
+    let hull: Vec<[u32; 3]> = delone::tetrahedralize(&pts).unwrap().hull_faces().collect();
+    let hull_edge = |a: u32, b: u32| {
+        hull.iter().any(|f| {
+            (0..3).any(|k| (f[k] == a && f[(k + 1) % 3] == b) || (f[k] == b && f[(k + 1) % 3] == a))
+        })
+    };
+    let mut tris = vec![[0, 2, 1], [3, 4, 5]];
+    for i in 0..3u32 {
+        let j = (i + 1) % 3;
+        let (a0, a1, b0, b1) = (i, j, i + 3, j + 3);
+        if hull_edge(a0, b1) {
+            // Reflex diagonal a1-b0.
+            tris.push([a0, a1, b0]);
+            tris.push([a1, b1, b0]);
+        } else {
+            tris.push([a0, a1, b1]);
+            tris.push([a0, b1, b0]);
+        }
+    }
+    (pts, tris)
+}
+
+/// A box `[0,w]×[0,d]×[0,h]` (two triangles per side).
+fn boxed(w: f64, d: f64, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let pts: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                (i & 1) as f64 * w,
+                ((i >> 1) & 1) as f64 * d,
+                ((i >> 2) & 1) as f64 * h,
+            ]
+        })
+        .collect();
+    let tris = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    (pts, tris)
+}
+
+/// A Chazelle-style box: `n` thin wedge notches cut into the top along x
+/// and `n` into the bottom along y, their edges nearly touching inside, as
+/// a closed triangulated surface (a height field on top and bottom).
+fn notched_box(n: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    // Top: z = 1 except along the lines x = (i + 0.5) / n, where a notch
+    // reaches down to z = 0.55; bottom: z = 0 except along y = (j + 0.5) / n
+    // where a notch reaches up to z = 0.45. Grid columns: 0, notch, ... 1.
+    let mut xs = vec![0.0];
+    for i in 0..n {
+        let c = (i as f64 + 0.5) / n as f64;
+        xs.extend([c - 0.1 / n as f64, c, c + 0.1 / n as f64]);
+    }
+    xs.push(1.0);
+    let ys = xs.clone();
+    let m = xs.len();
+    let mut pts: Vec<[f64; 3]> = Vec::new();
+    let is_notch = |k: usize| k % 3 == 2 && k + 1 < m;
+    // Top grid vertices (ids i * m + j), bottom grid (m * m + ...).
+    for &x in &xs {
+        for (j, &y) in ys.iter().enumerate() {
+            let _ = j;
+            pts.push([x, y, 1.0]);
+        }
+    }
+    for &x in &xs {
+        for &y in &ys {
+            pts.push([x, y, 0.0]);
+        }
+    }
+    for i in 0..m {
+        for j in 0..m {
+            if is_notch(i) && j > 0 && j + 1 < m {
+                pts[i * m + j][2] = 0.55;
+            }
+            if is_notch(j) && i > 0 && i + 1 < m {
+                pts[m * m + i * m + j][2] = 0.45;
+            }
+        }
+    }
+    let top = |i: usize, j: usize| (i * m + j) as u32;
+    let bot = |i: usize, j: usize| (m * m + i * m + j) as u32;
+    let mut tris = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            // Top faces outward (+z): counterclockwise seen from above.
+            tris.push([top(i, j), top(i + 1, j), top(i + 1, j + 1)]);
+            tris.push([top(i, j), top(i + 1, j + 1), top(i, j + 1)]);
+            tris.push([bot(i, j), bot(i + 1, j + 1), bot(i + 1, j)]);
+            tris.push([bot(i, j), bot(i, j + 1), bot(i + 1, j + 1)]);
+        }
+    }
+    // Sides: the boundary rows of both grids are flat (z = 1 and z = 0).
+    let ring: Vec<(usize, usize)> = (0..m - 1)
+        .map(|k| (k, 0))
+        .chain((0..m - 1).map(|k| (m - 1, k)))
+        .chain((0..m - 1).map(|k| (m - 1 - k, m - 1)))
+        .chain((0..m - 1).map(|k| (0, m - 1 - k)))
+        .collect();
+    for k in 0..ring.len() {
+        let (i0, j0) = ring[k];
+        let (i1, j1) = ring[(k + 1) % ring.len()];
+        tris.push([bot(i0, j0), bot(i1, j1), top(i1, j1)]);
+        tris.push([bot(i0, j0), top(i1, j1), top(i0, j0)]);
+    }
+    (pts, tris)
+}
+
+#[test]
+fn schonhardt_prisms() {
+    for twist in [10.0, 20.0, 30.0, 45.0, 55.0] {
+        let (pts, tris) = schonhardt(twist);
+        let r = check_y(&format!("schonhardt {twist}"), &pts, &tris);
+        assert!(r.report.steiner_interior >= 1);
+    }
+}
+
+#[test]
+fn thin_and_notched_boxes() {
+    for (w, d, h) in [(10.0, 1.0, 0.001), (1.0, 1.0, 1e-6), (100.0, 0.01, 1.0)] {
+        let (pts, tris) = boxed(w, d, h);
+        check_y(&format!("box {w}x{d}x{h}"), &pts, &tris);
+    }
+    for n in [1, 2, 3] {
+        let (pts, tris) = notched_box(n);
+        check_y(&format!("notched box {n}"), &pts, &tris);
+    }
+}
+
+fn data_dir() -> Option<PathBuf> {
+    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    loop {
+        let c = d.join("shared/data");
+        if c.is_dir() {
+            return Some(c);
+        }
+        if !d.pop() {
+            println!("note: shared/data not found; skipping");
+            return None;
+        }
+    }
+}
+
+/// The closed clean corpus models whose triangle count is in `range`:
+/// with `all`, every one must be recovered under `-Y`; otherwise the
+/// outcomes are tallied (a failure must be a typed error, a success must
+/// pass every check).
+fn corpus(range: std::ops::RangeInclusive<usize>, all: bool) {
+    let Some(dir) = data_dir() else { return };
+    let list = std::fs::read_to_string(dir.join("sets/closed_clean.txt")).unwrap();
+    let (mut ok, mut failed, mut steiner) = (0, Vec::new(), 0);
+    for l in list.lines().filter(|l| !l.trim().is_empty()) {
+        let mut it = l.split_whitespace();
+        let rel = it.next().unwrap();
+        let nf: usize = it.next().unwrap().parse().unwrap();
+        if !range.contains(&nf) {
+            continue;
+        }
+        // DELONE_Y_MODEL=name restricts the run to the models matching it.
+        if std::env::var("DELONE_Y_MODEL").is_ok_and(|m| !rel.contains(&m)) {
+            continue;
+        }
+        let s = delone_io::read_off(&std::fs::read(dir.join(rel)).unwrap()).unwrap();
+        let tris = s.triangles();
+        if all {
+            steiner += check_y(rel, &s.points, &tris).report.steiner_interior;
+            ok += 1;
+            continue;
+        }
+        match recover(&s.points, &tris, &preserve()) {
+            Ok(_) => {
+                steiner += check_y(rel, &s.points, &tris).report.steiner_interior;
+                ok += 1;
+            }
+            Err(e) => {
+                println!("{rel}: -Y failed: {e}");
+                failed.push(rel.to_string());
+            }
+        }
+    }
+    println!(
+        "-Y: {ok} closed clean models recovered and checked ({steiner} interior Steiner points), {} failed: {failed:?}",
+        failed.len()
+    );
+}
+
+#[test]
+fn small_closed_clean_models() {
+    corpus(0..=330, true);
+}
+
+#[test]
+#[ignore = "medium and large models: cargo test --release -p delone --test recover_preserve -- --ignored"]
+fn larger_closed_clean_models() {
+    corpus(331..=usize::MAX, false);
+}
