@@ -53,6 +53,7 @@
 
 #![allow(clippy::needless_range_loop)] // local facet indices address several arrays at once
 
+mod cdr;
 mod geom;
 
 use std::collections::{BTreeSet, BinaryHeap, HashMap, HashSet, VecDeque};
@@ -194,15 +195,7 @@ pub fn refine(
     triangles: &[[u32; 3]],
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
-    // The conforming path: its mesh is the Delaunay tetrahedralization of
-    // the input and Steiner points, which the refinement rebuilds.
-    let ropts = RecoverOptions {
-        flips: false,
-        constrained: false,
-        preserve_surface: false,
-        ..opts.recover.clone()
-    };
-    let rec = recover(points, triangles, &ropts)?;
+    let rec = recover(points, triangles, &opts.recover)?;
     refine_recovered(points, triangles, &rec, opts)
 }
 
@@ -226,6 +219,20 @@ pub fn refine(
 /// assert_eq!(r.rec.mesh.tets.len(), 1); // the regular-ish corner tet is good
 /// ```
 pub fn refine_recovered(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    rec: &Recovered,
+    opts: &RefineOptions,
+) -> Result<Refined, RecoverError> {
+    let mut st = cdr::Cdr::new(points, triangles, rec, opts)?;
+    st.run();
+    st.finish(rec)
+}
+
+/// The previous (conforming, rebuild-the-Delaunay) refinement, kept for
+/// comparison until the constrained one replaces it everywhere.
+#[allow(dead_code)]
+fn refine_recovered_old(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     rec: &Recovered,
