@@ -3,7 +3,7 @@
 
 use delone::tet::quality::{TetStats, DIHEDRAL_BINS};
 use delone::tet::recover::{recover_domain, Domain, RecoverOptions, Recovered};
-use delone::tet::refine::{refine, RefineOptions, RefineReport};
+use delone::tet::refine::{refine_recovered, RefineOptions, RefineReport};
 
 use crate::args::Opts;
 
@@ -22,10 +22,8 @@ pub fn mesh(
             .map(|r| (r, None))
             .map_err(|e| e.to_string());
     }
-    if !domain.holes.is_empty() || !domain.regions.is_empty() || domain.convex_hull {
-        return Err(
-            "refinement (-q/-a) of domains with holes, regions or -c is not implemented yet".into(),
-        );
+    if domain.convex_hull {
+        return Err("refinement (-q/-a) with -c is not implemented yet".into());
     }
     if ropts.preserve_surface {
         return Err("refinement (-q/-a) with -Y is not implemented yet".into());
@@ -38,7 +36,8 @@ pub fn mesh(
     if let Some(s) = o.max_steiner {
         opts.max_steiner = s;
     }
-    let r = refine(points, triangles, &opts).map_err(|e| e.to_string())?;
+    let rec = recover_domain(points, triangles, ropts, domain).map_err(|e| e.to_string())?;
+    let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
     Ok((r.rec, Some(r.report)))
 }
 

@@ -754,26 +754,22 @@ impl Cdr {
         if cav.len() >= MAX_CAVITY {
             return None;
         }
-        for _ in 0..256 {
+        for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
                     let (mid, ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
                     debug_assert_eq!(self.vtris.len(), self.p.len());
-                    for &t in &ids {
-                        let q = self.tv[t as usize].map(|q| self.p[q as usize]);
-                        let r = quality::radius_edge_ratio(&q);
-                        if r > 1e6 && std::env::var("CDR_DEBUG").is_ok() {
-                            eprintln!("flat new tet r={r:e} dis={} split={split:?} tris={:?} cav={} vol={:e}", dis.len(), &self.vtris[self.vtris.len()-1], cav.len(), quality::volume(&q));
-                        }
-                    }
                     for t in ids {
                         self.check_tet(t);
                     }
                     return Some(mid);
                 }
                 Err(Some(t)) => cav.retain(|&x| x != t),
-                Err(None) => return None,
+                Err(None) => {
+                    if split.is_some() {}
+                    return None;
+                }
             }
         }
         None
@@ -786,7 +782,8 @@ impl Cdr {
         };
         t != NONE
             && tris.iter().any(|&u| {
-                self.group.get(u as usize).is_some() && self.group[u as usize] == self.group[t as usize]
+                self.group.get(u as usize).is_some()
+                    && self.group[u as usize] == self.group[t as usize]
             })
     }
 
@@ -806,7 +803,11 @@ impl Cdr {
     /// Records the deviation of a new point on input edge `ie`.
     fn on_line(&mut self, id: u32, ie: u32) {
         let [a, b] = self.iedges[ie as usize];
-        let d = line_distance(&self.p[a as usize], &self.p[b as usize], &self.p[id as usize]);
+        let d = line_distance(
+            &self.p[a as usize],
+            &self.p[b as usize],
+            &self.p[id as usize],
+        );
         self.max_dev = self.max_dev.max(d);
         self.inexact.push(id);
     }
@@ -883,30 +884,6 @@ impl Cdr {
                 self.report.unsplittable += 1;
                 false
             }
-        }
-    }
-
-    /// Splits edge `e` (not a subsegment) of subfaces of triangle `tri`
-    /// at its midpoint (the fallback of R2).
-    fn split_facet_edge(&mut self, e: (u32, u32), tri: u32) -> bool {
-        let dis = self.faces_on(e, tri);
-        if dis.len() != 2 {
-            return false;
-        }
-        let (pa, pb) = (self.p[e.0 as usize], self.p[e.1 as usize]);
-        let mut m: P = std::array::from_fn(|k| 0.5 * (pa[k] + pb[k]));
-        self.snap(&mut m, tri);
-        if m == pa || m == pb {
-            return false;
-        }
-        let req = self.around_edge(e.0, e.1);
-        match self.insert(m, &req, &dis, None, vec![tri]) {
-            Some(id) => {
-                self.on_plane(id, tri);
-                self.report.on_facets += 1;
-                true
-            }
-            None => false,
         }
     }
 
@@ -1035,14 +1012,32 @@ impl Cdr {
         if tri == NONE {
             return false;
         }
-        let Some((mut c, _)) = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2])) else {
+        let Some((mut c, _)) = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+        else {
             return false;
         };
         self.snap(&mut c, tri);
         let s0 = match self.locate_on_facet(k, tri, &c) {
             Ok(f) => f,
-            Err(Some(e)) => return self.split_segment(e),
-            Err(None) => return self.face_fallback(k, tri),
+            Err(Some(e)) => {
+                // The circumcentre lies outside the facet, beyond `e`:
+                // split `e` (Ruppert's rule; the facet's triangulation need
+                // not be Delaunay, so `e` may not be encroached by it).
+                let short = [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])]
+                    .iter()
+                    .map(|x| dist2(&self.pt(x.0), &self.pt(x.1)))
+                    .fold(f64::INFINITY, f64::min);
+                if dist2(&self.pt(e.0), &self.pt(e.1)) >= short {
+                    return self.split_segment(e);
+                }
+                // Much smaller than the subface: a small input angle or a
+                // thin feature; leave the subface.
+                self.report.skipped += 1;
+                return false;
+            }
+            Err(None) => {
+                return self.face_fallback(k);
+            }
         };
         // The facet-local cavity.
         let mut d = vec![s0];
@@ -1058,7 +1053,9 @@ impl Cdr {
                     if d.contains(&h) {
                         continue;
                     }
-                    let Some((x, r2)) = tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2])) else {
+                    let Some((x, r2)) =
+                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
+                    else {
                         continue;
                     };
                     if dist2(&x, &c) < r2 * (1.0 - 1e-12) {
@@ -1070,7 +1067,7 @@ impl Cdr {
         if !self.inside_cavity(&d, tri, &c) {
             d = vec![s0];
             if !self.inside_cavity(&d, tri, &c) {
-                return self.face_fallback(k, tri);
+                return self.face_fallback(k);
             }
         }
         let mut req: Vec<u32> = d.iter().flat_map(|&f| self.face_tets(f)).collect();
@@ -1083,7 +1080,9 @@ impl Cdr {
             let tv = self.tv[t as usize];
             for (a, b) in EDGES {
                 let e = ekey(tv[a], tv[b]);
-                if self.segs.contains_key(&e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c) {
+                if self.segs.contains_key(&e)
+                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
+                {
                     enc.push(e);
                 }
             }
@@ -1105,12 +1104,16 @@ impl Cdr {
                 self.report.on_facets += 1;
                 true
             }
-            None => self.face_fallback(k, tri),
+            None => self.face_fallback(k),
         }
     }
 
-    /// Splits the longest edge of subface `k`.
-    fn face_fallback(&mut self, k: [u32; 3], tri: u32) -> bool {
+    /// The fallback of R2 when the circumcentre cannot be inserted: the
+    /// longest edge of subface `k` is split when it is a subsegment (R1 is
+    /// robust); otherwise the subface is left (counted as skipped: a
+    /// midpoint inside the facet next to a non-Delaunay facet triangulation
+    /// makes flat cells).
+    fn face_fallback(&mut self, k: [u32; 3]) -> bool {
         let g = |q: u32| self.p[q as usize];
         let e = [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])]
             .into_iter()
@@ -1123,7 +1126,8 @@ impl Cdr {
         if self.segs.contains_key(&e) {
             self.split_segment(e)
         } else {
-            self.split_facet_edge(e, tri)
+            self.report.skipped += 1;
+            false
         }
     }
 
@@ -1183,7 +1187,17 @@ impl Cdr {
                 self.report.skipped += 1;
                 return;
             }
-            Err(Some(k)) => (Vec::new(), vec![k]),
+            Err(Some(k)) => {
+                let [a, b, d] = k.map(|q| self.pt(q));
+                if !encroaches_face(&a, &b, &d, &c) {
+                    // Outside, behind a subface it does not encroach: the
+                    // mesh is not constrained Delaunay there (recovery
+                    // flips); leave the cell.
+                    self.report.skipped += 1;
+                    return;
+                }
+                (Vec::new(), vec![k])
+            }
             Ok(t) => {
                 let cav = self.grow(&[t], &c);
                 let mut segs = Vec::new();
@@ -1200,7 +1214,8 @@ impl Cdr {
                     }
                     for (i, j) in EDGES {
                         let e = ekey(uv[i], uv[j]);
-                        if self.segs.contains_key(&e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
+                        if self.segs.contains_key(&e)
+                            && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
                         {
                             segs.push(e);
                         }
@@ -1231,7 +1246,8 @@ impl Cdr {
         let faces: Vec<[u32; 3]> = faces
             .into_iter()
             .filter(|k| {
-                let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2])).map_or(0.0, |x| x.1);
+                let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+                    .map_or(0.0, |x| x.1);
                 2.0 * r2.sqrt() >= lmin
             })
             .collect();
@@ -1304,7 +1320,7 @@ impl Cdr {
     }
 
     /// The output.
-    pub(super) fn finish(mut self, rec: &Recovered) -> Result<Refined, RecoverError> {
+    pub(super) fn finish(mut self, rec: &Recovered) -> Refined {
         let n = self.tv.len();
         let mut new_id = vec![NONE; n];
         let mut tets = Vec::new();
@@ -1356,8 +1372,12 @@ impl Cdr {
         }
         for tv in &tets {
             let p = tv.map(|q| points[q as usize]);
-            if quality::radius_edge_ratio(&p) > self.bound {
+            let r = quality::radius_edge_ratio(&p);
+            if r > self.bound {
                 self.report.remaining_bad += 1;
+                if r > FLAT_RATIO {
+                    self.report.flat += 1;
+                }
             }
         }
         let mut regions = rec.regions.clone();
@@ -1377,7 +1397,7 @@ impl Cdr {
         self.inexact.dedup();
         let mut report = rec.report.clone();
         report.max_deviation = self.max_dev * unscale;
-        Ok(Refined {
+        Refined {
             rec: Recovered {
                 points,
                 mesh: TetMesh {
@@ -1397,7 +1417,7 @@ impl Cdr {
                 report,
             },
             report: self.report,
-        })
+        }
     }
 }
 
