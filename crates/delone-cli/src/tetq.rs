@@ -3,7 +3,7 @@
 
 use delone::tet::quality::{TetStats, DIHEDRAL_BINS};
 use delone::tet::recover::{recover_marked, Domain, RecoverOptions, Recovered};
-use delone::tet::refine::{refine, RefineOptions, RefineReport};
+use delone::tet::refine::{refine_recovered, RefineOptions, RefineReport};
 
 use crate::args::Opts;
 
@@ -23,10 +23,8 @@ pub fn mesh(
             .map(|r| (r, None))
             .map_err(|e| e.to_string());
     }
-    if !domain.holes.is_empty() || !domain.regions.is_empty() || domain.convex_hull {
-        return Err(
-            "refinement (-q/-a) of domains with holes, regions or -c is not implemented yet".into(),
-        );
+    if domain.convex_hull {
+        return Err("refinement (-q/-a) with -c is not implemented yet".into());
     }
     if ropts.preserve_surface {
         return Err("refinement (-q/-a) with -Y is not implemented yet".into());
@@ -39,7 +37,14 @@ pub fn mesh(
     if let Some(s) = o.max_steiner {
         opts.max_steiner = s;
     }
-    let r = refine(points, triangles, &opts).map_err(|e| e.to_string())?;
+    // The refinement's subfaces are the input triangles: no coplanar merging
+    // before it (yet).
+    let ropts = RecoverOptions {
+        merge_coplanar: false,
+        ..ropts.clone()
+    };
+    let rec = recover_marked(points, triangles, markers, &ropts, domain).map_err(|e| e.to_string())?;
+    let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
     Ok((r.rec, Some(r.report)))
 }
 

@@ -1,8 +1,6 @@
 //! Small geometric helpers of the refinement (floating point; the exact
 //! decisions use `delone_predicates`).
 
-use delone_predicates::orient2d;
-
 pub(crate) type P = [f64; 3];
 
 pub(crate) fn sub(a: &P, b: &P) -> P {
@@ -79,51 +77,4 @@ pub(crate) fn plane_distance(a: &P, b: &P, c: &P, p: &P) -> f64 {
         return 0.0;
     }
     (dot(&n, &sub(p, a)) / l).abs()
-}
-
-/// The coordinate axis most normal to triangle `a b c`.
-fn dominant_axis(a: &P, b: &P, c: &P) -> usize {
-    let n = cross(&sub(b, a), &sub(c, a));
-    let m = n.map(f64::abs);
-    if m[0] >= m[1] && m[0] >= m[2] {
-        0
-    } else if m[1] >= m[2] {
-        1
-    } else {
-        2
-    }
-}
-
-/// Where `p` (near the plane of `a b c`) is, seen along the dominant axis:
-/// `Some(true)` strictly inside, `Some(false)` on a side (closed, not
-/// inside), `None` outside. Exact for the projected coordinates.
-pub(crate) fn in_triangle(a: &P, b: &P, c: &P, p: &P) -> Option<bool> {
-    let k = dominant_axis(a, b, c);
-    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-    let q = |x: &P| [x[i], x[j]];
-    let s = orient2d(&q(a), &q(b), &q(c)).signum();
-    if s == 0.0 {
-        return None;
-    }
-    let o = [
-        orient2d(&q(a), &q(b), &q(p)) * s,
-        orient2d(&q(b), &q(c), &q(p)) * s,
-        orient2d(&q(c), &q(a), &q(p)) * s,
-    ];
-    if o.iter().any(|&x| x < 0.0) {
-        None
-    } else {
-        Some(o.iter().all(|&x| x > 0.0))
-    }
-}
-
-/// Closest point to `p` on the line `a b`, as a parameter along `a → b`.
-pub(crate) fn param(a: &P, b: &P, p: &P) -> f64 {
-    let d = sub(b, a);
-    let l = dot(&d, &d);
-    if l == 0.0 {
-        0.0
-    } else {
-        dot(&sub(p, a), &d) / l
-    }
 }

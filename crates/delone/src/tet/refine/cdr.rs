@@ -1,0 +1,1426 @@
+//! Constrained Delaunay refinement on the domain mesh of a [`Recovered`]
+//! (see the [module documentation](super) for the rules and why every
+//! step keeps the mesh valid).
+//!
+//! The structure is the carved domain only: flat arrays of tetrahedra,
+//! neighbour words `4 * tet + facet` ([`NONE`] across the domain
+//! boundary), a 4-bit mask per tetrahedron telling which of its faces are
+//! subfaces, the region per tetrahedron, and side tables keyed by sorted
+//! vertex triples / pairs (subface → input triangle, edge → subfaces,
+//! subsegment → input edge) consulted only when a constraint is touched.
+
+#![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap, VecDeque};
+
+use delone_predicates::{insphere, orient3d};
+
+use super::geom::{
+    cross, dist2, dot, encroaches_face, encroaches_segment, line_distance, plane_distance, sub,
+    tri_circumcenter, P,
+};
+use super::{plane_groups, Bad, RefineOptions, RefineReport, Refined, FLAT_RATIO, SEGMENT_FLOOR};
+use crate::tet::local::{DEAD, FACET};
+use crate::tet::quality;
+use crate::tet::recover::{RecoverError, Recovered};
+use crate::tet::TetMesh;
+use crate::NONE;
+
+const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// Largest cavity grown for one insertion.
+const MAX_CAVITY: usize = 50_000;
+
+fn fkey(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+fn ekey(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+#[inline]
+fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
+    FACET[f].map(|i| tv[i])
+}
+
+/// A planned re-triangulation of a cavity (see [`Cdr::plan`]).
+struct Plan {
+    /// New tetrahedra `[x, y, z, new]`, their region, the outer neighbour
+    /// word of face 3 and whether face 3 is a subface.
+    tets: Vec<([u32; 4], u32, u32, bool)>,
+    /// New subfaces: the edge of the dissolved subfaces' boundary and the
+    /// input triangle.
+    subs: Vec<((u32, u32), u32)>,
+}
+
+/// Why a plan failed: drop this (non-required) tetrahedron and retry, or
+/// give up.
+type PlanErr = Option<u32>;
+
+pub(super) struct Cdr {
+    /// Points (rescaled): input, recovery's Steiner points, then new ones.
+    p: Vec<P>,
+    n_in: usize,
+    tv: Vec<[u32; 4]>,
+    nb: Vec<[u32; 4]>,
+    mask: Vec<u8>,
+    reg: Vec<u32>,
+    free: Vec<u32>,
+    /// Per vertex a live tetrahedron holding it.
+    vt: Vec<u32>,
+    stamp: Vec<u32>,
+    epoch: u32,
+    /// Subface → input triangle ([`NONE`] for a hull face off the surface).
+    ftri: HashMap<[u32; 3], u32>,
+    /// Edge → the subfaces holding it.
+    sedges: HashMap<(u32, u32), Vec<[u32; 3]>>,
+    /// Subsegment → input edge.
+    segs: HashMap<(u32, u32), u32>,
+    iedges: Vec<[u32; 2]>,
+    tris: Vec<[u32; 3]>,
+    normals: Vec<P>,
+    /// Plane group of each input triangle (coplanar neighbours share one).
+    group: Vec<u32>,
+    /// Input triangles each vertex lies on.
+    vtris: Vec<Vec<u32>>,
+    segq: VecDeque<(u32, u32)>,
+    faceq: VecDeque<[u32; 3]>,
+    badq: BinaryHeap<Bad>,
+    bound: f64,
+    /// Per region: the volume bound (rescaled).
+    max_vol: Vec<f64>,
+    budget: usize,
+    pub(super) report: RefineReport,
+    inexact: Vec<u32>,
+    /// Largest deviation of a new point from its line or plane (rescaled).
+    max_dev: f64,
+    s: f64,
+}
+
+impl Cdr {
+    pub(super) fn new(
+        points: &[[f64; 3]],
+        triangles: &[[u32; 3]],
+        rec: &Recovered,
+        opts: &RefineOptions,
+    ) -> Result<Cdr, RecoverError> {
+        let (cow, scale) = crate::geom::rescaled(&rec.points);
+        let s = scale.0 * scale.1;
+        let p: Vec<P> = cow.into_owned();
+        let tv = rec.mesh.tets.clone();
+        let nt = tv.len();
+        let bad = || RecoverError::Unsupported {
+            what: "refinement of a mesh whose neighbour links disagree",
+        };
+        let fk = |t: [u32; 4], i: usize| fkey(face(t, i));
+        let mut nb = vec![[NONE; 4]; nt];
+        for t in 0..nt {
+            for i in 0..4 {
+                let u = *rec
+                    .mesh
+                    .neighbors
+                    .get(t)
+                    .and_then(|n| n.get(i))
+                    .ok_or_else(bad)?;
+                if u == NONE {
+                    continue;
+                }
+                let k = fk(tv[t], i);
+                let uv = *tv.get(u as usize).ok_or_else(bad)?;
+                let j = (0..4).find(|&j| fk(uv, j) == k).ok_or_else(bad)?;
+                nb[t][i] = 4 * u + j as u32;
+            }
+        }
+        let mut ftri: HashMap<[u32; 3], u32> = HashMap::new();
+        let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();
+        let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
+        let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); p.len()];
+        let listed = rec
+            .boundary
+            .iter()
+            .zip(&rec.boundary_triangle)
+            .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
+        for (f, &t) in listed {
+            let k = fkey(*f);
+            if ftri.insert(k, t).is_some() {
+                continue;
+            }
+            for (a, b) in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
+                sedges.entry((a, b)).or_default().push(k);
+            }
+            if let Some(l) = per_tri.get_mut(t as usize) {
+                l.push(k);
+                for &q in &k {
+                    if !vtris[q as usize].contains(&t) {
+                        vtris[q as usize].push(t);
+                    }
+                }
+            }
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            for &q in tri {
+                if !vtris[q as usize].contains(&(t as u32)) {
+                    vtris[q as usize].push(t as u32);
+                }
+            }
+        }
+        let mut mask = vec![0u8; nt];
+        for t in 0..nt {
+            for i in 0..4 {
+                if ftri.contains_key(&fk(tv[t], i)) {
+                    mask[t] |= 1 << i;
+                }
+            }
+        }
+        // Input edges, and the subsegments: the edges of a triangle's faces
+        // used once lie on its sides.
+        let mut emap: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut iedges = Vec::new();
+        let mut edge_tris: Vec<[u32; 2]> = Vec::new();
+        let mut tri_edges = vec![[0u32; 3]; triangles.len()];
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let e = ekey(tri[k], tri[(k + 1) % 3]);
+                let i = *emap.entry(e).or_insert_with(|| {
+                    iedges.push([e.0, e.1]);
+                    edge_tris.push([t as u32, t as u32]);
+                    (iedges.len() - 1) as u32
+                });
+                edge_tris[i as usize][1] = t as u32;
+                tri_edges[t][k] = i;
+            }
+        }
+        let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
+        let mut segs: HashMap<(u32, u32), u32> = HashMap::new();
+        for (t, faces) in per_tri.iter().enumerate() {
+            let mut es: Vec<(u32, u32)> = faces
+                .iter()
+                .flat_map(|k| [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])])
+                .collect();
+            es.sort_unstable();
+            let tri = triangles[t];
+            let mut i = 0;
+            while i < es.len() {
+                let mut j = i;
+                while j < es.len() && es[j] == es[i] {
+                    j += 1;
+                }
+                if j - i == 1 {
+                    let e = es[i];
+                    let score = |k: usize| {
+                        let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                        let (pa, pb) = (p[a as usize], p[b as usize]);
+                        let l = dist2(&pa, &pb).sqrt();
+                        [e.0, e.1]
+                            .iter()
+                            .map(|&q| {
+                                if q == a || q == b {
+                                    0.0
+                                } else {
+                                    line_distance(&pa, &pb, &p[q as usize]) / l
+                                }
+                            })
+                            .fold(0.0, f64::max)
+                    };
+                    let k = (0..3)
+                        .min_by(|&x, &y| score(x).total_cmp(&score(y)))
+                        .unwrap_or(0);
+                    let ie = emap[&ekey(tri[k], tri[(k + 1) % 3])];
+                    segs.entry(e).or_insert(ie);
+                }
+                i = j;
+            }
+        }
+        let normals = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|q| p[q as usize]);
+                cross(&sub(&b, &a), &sub(&c, &a))
+            })
+            .collect();
+        let s3 = s * s * s;
+        let gv = opts.max_volume.filter(|v| *v > 0.0);
+        let max_vol = rec
+            .regions
+            .iter()
+            .map(|r| {
+                let v = match (gv, r.max_volume.filter(|v| *v > 0.0)) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                };
+                v.map_or(f64::INFINITY, |v| v * s3)
+            })
+            .collect();
+        let mut vt = vec![DEAD; p.len()];
+        for (t, x) in tv.iter().enumerate() {
+            for &q in x {
+                vt[q as usize] = t as u32;
+            }
+        }
+        let mut st = Cdr {
+            n_in: points.len(),
+            stamp: vec![0; nt],
+            epoch: 0,
+            reg: rec.tet_region.clone(),
+            free: Vec::new(),
+            vt,
+            tv,
+            nb,
+            mask,
+            ftri,
+            sedges,
+            segs,
+            iedges,
+            tris: triangles.to_vec(),
+            normals,
+            group,
+            vtris,
+            segq: VecDeque::new(),
+            faceq: VecDeque::new(),
+            badq: BinaryHeap::new(),
+            bound: opts.max_radius_edge,
+            max_vol,
+            budget: opts.max_steiner,
+            report: RefineReport {
+                recover: rec.report.clone(),
+                ..RefineReport::default()
+            },
+            inexact: rec.inexact.clone(),
+            max_dev: rec.report.max_deviation * s,
+            s,
+            p,
+        };
+        st.reg.resize(nt, 0);
+        for t in 0..nt as u32 {
+            st.check_tet(t);
+        }
+        Ok(st)
+    }
+
+    #[inline]
+    fn pt(&self, q: u32) -> P {
+        self.p[q as usize]
+    }
+
+    fn alive(&self, t: u32) -> bool {
+        self.tv.get(t as usize).is_some_and(|x| x[0] != DEAD)
+    }
+
+    fn out_of_budget(&mut self) -> bool {
+        if self.report.steiner() >= self.budget {
+            self.report.budget_exhausted = true;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Does vertex `w` lie on an input triangle sharing an input vertex
+    /// with one of `tris`? (Then its encroachment is not acted on: see the
+    /// module documentation, protection at small input angles.)
+    fn near(&self, w: u32, tris: &[u32]) -> bool {
+        let Some(wt) = self.vtris.get(w as usize) else {
+            return false;
+        };
+        wt.iter().any(|&a| {
+            let ta = self.tris[a as usize];
+            tris.iter().any(|&b| {
+                self.tris
+                    .get(b as usize)
+                    .is_some_and(|tb| tb.iter().any(|q| ta.contains(q)))
+            })
+        })
+    }
+
+    fn seg_tris(&self, e: (u32, u32)) -> Vec<u32> {
+        self.sedges
+            .get(&e)
+            .map(|l| l.iter().filter_map(|k| self.ftri.get(k).copied()).collect())
+            .unwrap_or_default()
+    }
+
+    fn seg_encroached_by(&self, e: (u32, u32), w: u32) -> bool {
+        let g = |q: u32| &self.p[q as usize];
+        encroaches_segment(g(e.0), g(e.1), g(w)) && !self.near(w, &self.seg_tris(e))
+    }
+
+    fn face_encroached_by(&self, k: [u32; 3], w: u32) -> bool {
+        let g = |q: u32| &self.p[q as usize];
+        let t = self.ftri.get(&k).copied().unwrap_or(NONE);
+        t != NONE && encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w)) && !self.near(w, &[t])
+    }
+
+    /// Badness key of tetrahedron `t`, when it breaks a bound.
+    fn badness(&self, t: u32) -> Option<u64> {
+        let tv = self.tv[t as usize];
+        let p = tv.map(|q| self.p[q as usize]);
+        let r = quality::radius_edge_ratio(&p);
+        let v = quality::volume(&p).abs();
+        let mv = self
+            .max_vol
+            .get(self.reg[t as usize] as usize)
+            .copied()
+            .unwrap_or(f64::INFINITY);
+        if r > self.bound {
+            Some((1e6 + r.min(1e12)).to_bits())
+        } else if v > mv {
+            Some((v / mv).min(1e6).to_bits())
+        } else {
+            None
+        }
+    }
+
+    /// Queues what tetrahedron `t` shows: encroached subfaces and
+    /// subsegments (by its own vertices), and itself when bad.
+    fn check_tet(&mut self, t: u32) {
+        let tv = self.tv[t as usize];
+        for f in 0..4 {
+            if self.mask[t as usize] >> f & 1 == 1 {
+                let k = fkey(face(tv, f));
+                if self.face_encroached_by(k, tv[f]) {
+                    self.faceq.push_back(k);
+                }
+            }
+        }
+        for (i, j) in EDGES {
+            let e = ekey(tv[i], tv[j]);
+            if self.segs.contains_key(&e)
+                && (0..4)
+                    .filter(|&k| k != i && k != j)
+                    .any(|k| self.seg_encroached_by(e, tv[k]))
+            {
+                self.segq.push_back(e);
+            }
+        }
+        if let Some(key) = self.badness(t) {
+            self.badq.push(Bad {
+                key,
+                verts: Reverse(tv),
+                slot: t,
+            });
+        }
+    }
+
+    /// A live tetrahedron holding vertex `v`.
+    fn tet_of(&self, v: u32) -> Option<u32> {
+        let t = *self.vt.get(v as usize)?;
+        if self.alive(t) && self.tv[t as usize].contains(&v) {
+            return Some(t);
+        }
+        self.tv
+            .iter()
+            .position(|x| x[0] != DEAD && x.contains(&v))
+            .map(|t| t as u32)
+    }
+
+    /// The tetrahedra holding edge `a b` (those reachable around it).
+    fn around_edge(&self, a: u32, b: u32) -> Vec<u32> {
+        let Some(s) = self.tet_of(a) else {
+            return Vec::new();
+        };
+        // Walk the star of `a` to a tetrahedron holding `b`.
+        let mut star = vec![s];
+        let mut i = 0;
+        let mut t0 = None;
+        while i < star.len() && star.len() < 100_000 {
+            let t = star[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            if tv.contains(&b) {
+                t0 = Some(t);
+                break;
+            }
+            for f in 0..4 {
+                let w = self.nb[t as usize][f];
+                if tv[f] != a && w != NONE && !star.contains(&(w >> 2)) {
+                    star.push(w >> 2);
+                }
+            }
+        }
+        let Some(t0) = t0 else {
+            return Vec::new();
+        };
+        let mut out = vec![t0];
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let w = self.nb[t as usize][f];
+                if tv[f] != a && tv[f] != b && w != NONE && !out.contains(&(w >> 2)) {
+                    out.push(w >> 2);
+                }
+            }
+        }
+        out
+    }
+
+    /// The tetrahedra (one or two) with face `k`.
+    fn face_tets(&self, k: [u32; 3]) -> Vec<u32> {
+        let mut v = self.around_edge(k[0], k[1]);
+        v.retain(|&t| self.tv[t as usize].contains(&k[2]));
+        v
+    }
+
+    fn in_sphere(&self, t: u32, m: &P) -> bool {
+        let tv = self.tv[t as usize];
+        let g = |i: usize| &self.p[tv[i] as usize];
+        insphere(g(1), g(0), g(2), g(3), m) > 0.0
+    }
+
+    fn next_epoch(&mut self) {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.epoch = 1;
+        }
+        if self.stamp.len() < self.tv.len() {
+            self.stamp.resize(self.tv.len(), 0);
+        }
+    }
+
+    /// The Bowyer–Watson cavity of `m` grown from `seeds` across faces that
+    /// are not subfaces.
+    fn grow(&mut self, seeds: &[u32], m: &P) -> Vec<u32> {
+        self.next_epoch();
+        let mut cav: Vec<u32> = Vec::new();
+        for &t in seeds {
+            if self.stamp[t as usize] != self.epoch {
+                self.stamp[t as usize] = self.epoch;
+                cav.push(t);
+            }
+        }
+        let mut i = 0;
+        while i < cav.len() && cav.len() < MAX_CAVITY {
+            let t = cav[i];
+            i += 1;
+            for f in 0..4 {
+                let w = self.nb[t as usize][f];
+                if w == NONE || self.mask[t as usize] >> f & 1 == 1 {
+                    continue;
+                }
+                let u = w >> 2;
+                if self.stamp[u as usize] == self.epoch || !self.in_sphere(u, m) {
+                    continue;
+                }
+                self.stamp[u as usize] = self.epoch;
+                cav.push(u);
+            }
+        }
+        cav
+    }
+
+    /// Plans the cone of the cavity's boundary to the new point `m`, the
+    /// subfaces `dis` (faces of the cavity) replaced by the cone of their
+    /// boundary edges; `split` is the subsegment being split (its edge
+    /// disappears). Every check of the module documentation is made here.
+    fn plan(
+        &mut self,
+        cav: &[u32],
+        required: &[u32],
+        dis: &[[u32; 3]],
+        split: Option<(u32, u32)>,
+        m: &P,
+        tris: &[u32],
+    ) -> Result<Plan, PlanErr> {
+        self.next_epoch();
+        for &t in cav {
+            self.stamp[t as usize] = self.epoch;
+        }
+        let drop = |t: u32| {
+            if required.contains(&t) {
+                None
+            } else {
+                Some(t)
+            }
+        };
+        // Boundary edges of the dissolved subfaces.
+        let mut dedges: Vec<((u32, u32), u32)> = Vec::new();
+        for k in dis {
+            let tri = self.ftri.get(k).copied().unwrap_or(NONE);
+            for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
+                dedges.push((e, tri));
+            }
+        }
+        dedges.sort_unstable();
+        let mut bd: Vec<((u32, u32), u32)> = Vec::new();
+        let mut i = 0;
+        while i < dedges.len() {
+            let mut j = i;
+            while j < dedges.len() && dedges[j].0 == dedges[i].0 {
+                j += 1;
+            }
+            if j - i == 1 {
+                bd.push(dedges[i]);
+            }
+            i = j;
+        }
+        let mut tets = Vec::new();
+        let mut bedges: Vec<(u32, u32)> = Vec::new();
+        let mid = self.p.len() as u32;
+        for &t in cav {
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let w = self.nb[t as usize][f];
+                let sub = self.mask[t as usize] >> f & 1 == 1;
+                let k = fkey(face(tv, f));
+                let is_dis = sub && dis.contains(&k);
+                if w != NONE && self.stamp[(w >> 2) as usize] == self.epoch {
+                    if sub && !is_dis {
+                        // A subface inside the cavity would be lost.
+                        return Err(drop(t).or_else(|| drop(w >> 2)));
+                    }
+                    continue;
+                }
+                if is_dis {
+                    if w != NONE {
+                        return Err(None);
+                    }
+                    continue;
+                }
+                let [x, y, z] = face(tv, f);
+                let g = |q: u32| &self.p[q as usize];
+                if sub && self.coplanar(&k, tris) {
+                    // The new point is (topologically) on this subface's
+                    // plane: its cone would be flat.
+                    return Err(drop(t));
+                }
+                if orient3d(g(x), g(y), g(z), m) >= 0.0 {
+                    return Err(drop(t));
+                }
+                tets.push(([x, y, z, mid], self.reg[t as usize], w, sub));
+                bedges.extend([ekey(x, y), ekey(y, z), ekey(x, z)]);
+            }
+        }
+        bedges.sort_unstable();
+        bedges.dedup();
+        let mut verts: Vec<u32> = tets.iter().flat_map(|x| x.0[..3].to_vec()).collect();
+        verts.sort_unstable();
+        verts.dedup();
+        for &t in cav {
+            let tv = self.tv[t as usize];
+            for &v in &tv {
+                if verts.binary_search(&v).is_err() {
+                    let o = cav
+                        .iter()
+                        .copied()
+                        .find(|&u| !required.contains(&u) && self.tv[u as usize].contains(&v));
+                    return Err(o);
+                }
+            }
+            for (i, j) in EDGES {
+                let e = ekey(tv[i], tv[j]);
+                if Some(e) != split
+                    && self.segs.contains_key(&e)
+                    && bedges.binary_search(&e).is_err()
+                {
+                    let o = cav.iter().copied().find(|&u| {
+                        let x = self.tv[u as usize];
+                        !required.contains(&u) && x.contains(&e.0) && x.contains(&e.1)
+                    });
+                    return Err(o);
+                }
+            }
+        }
+        // Faces through the new point: matched at most twice; unmatched
+        // only on the dissolved subfaces' boundary; every boundary edge
+        // present; regions agree across faces that are not subfaces.
+        let mut fm: Vec<((u32, u32), usize)> = Vec::with_capacity(3 * tets.len());
+        for (n, x) in tets.iter().enumerate() {
+            let [a, b, c, _] = x.0;
+            fm.extend([(ekey(a, b), n), (ekey(b, c), n), (ekey(a, c), n)]);
+        }
+        fm.sort_unstable();
+        let mut i = 0;
+        let mut seen_bd = 0;
+        while i < fm.len() {
+            let mut j = i;
+            while j < fm.len() && fm[j].0 == fm[i].0 {
+                j += 1;
+            }
+            let e = fm[i].0;
+            let on_bd = bd.iter().any(|x| x.0 == e);
+            seen_bd += usize::from(on_bd);
+            match j - i {
+                1 if !on_bd => return Err(None),
+                2 if !on_bd && tets[fm[i].1].1 != tets[fm[i + 1].1].1 => return Err(None),
+                1 | 2 => {}
+                _ => return Err(None),
+            }
+            i = j;
+        }
+        if seen_bd != bd.len() {
+            return Err(None);
+        }
+        Ok(Plan { tets, subs: bd })
+    }
+
+    /// Applies a plan: returns the new vertex and tetrahedra.
+    fn commit(&mut self, cav: &[u32], dis: &[[u32; 3]], plan: Plan, m: P) -> (u32, Vec<u32>) {
+        let mid = self.p.len() as u32;
+        self.p.push(m);
+        self.vt.push(DEAD);
+        for &t in cav {
+            self.tv[t as usize][0] = DEAD;
+            self.free.push(t);
+        }
+        for k in dis {
+            self.ftri.remove(k);
+            for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
+                if let Some(l) = self.sedges.get_mut(&e) {
+                    l.retain(|x| x != k);
+                    if l.is_empty() {
+                        self.sedges.remove(&e);
+                    }
+                }
+            }
+        }
+        let mut ids = Vec::with_capacity(plan.tets.len());
+        for &(tv, reg, outer, sub) in &plan.tets {
+            let id = match self.free.pop() {
+                Some(t) => {
+                    self.tv[t as usize] = tv;
+                    self.reg[t as usize] = reg;
+                    self.mask[t as usize] = 0;
+                    self.nb[t as usize] = [NONE; 4];
+                    t
+                }
+                None => {
+                    self.tv.push(tv);
+                    self.reg.push(reg);
+                    self.mask.push(0);
+                    self.nb.push([NONE; 4]);
+                    self.stamp.push(0);
+                    (self.tv.len() - 1) as u32
+                }
+            };
+            self.nb[id as usize][3] = outer;
+            if outer != NONE {
+                self.nb[(outer >> 2) as usize][(outer & 3) as usize] = 4 * id + 3;
+            }
+            if sub {
+                self.mask[id as usize] |= 8;
+            }
+            for &q in &tv {
+                self.vt[q as usize] = id;
+            }
+            ids.push(id);
+        }
+        let mut open: HashMap<(u32, u32), (u32, usize)> = HashMap::new();
+        for &id in &ids {
+            let tv = self.tv[id as usize];
+            for f in 0..3 {
+                let k = fkey(face(tv, f));
+                let e = (k[0], k[1]); // the new vertex is the largest id
+                let on_bd = plan.subs.iter().any(|x| x.0 == e);
+                if on_bd {
+                    self.mask[id as usize] |= 1 << f;
+                }
+                if let Some((u, g)) = open.remove(&e) {
+                    self.nb[id as usize][f] = 4 * u + g as u32;
+                    self.nb[u as usize][g] = 4 * id + f as u32;
+                } else {
+                    open.insert(e, (id, f));
+                }
+            }
+        }
+        for &((a, b), tri) in &plan.subs {
+            let k = [a, b, mid];
+            self.ftri.insert(k, tri);
+            for e in [(a, b), (a, mid), (b, mid)] {
+                self.sedges.entry(e).or_default().push(k);
+            }
+        }
+        (mid, ids)
+    }
+
+    /// Inserts `m`: cavity grown from `required` (which must all stay),
+    /// subfaces `dis` dissolved, subsegment `split` split. `None` (nothing
+    /// changed) when no valid cavity exists.
+    fn insert(
+        &mut self,
+        m: P,
+        required: &[u32],
+        dis: &[[u32; 3]],
+        split: Option<(u32, u32)>,
+        tris: Vec<u32>,
+    ) -> Option<u32> {
+        if required.is_empty() {
+            return None;
+        }
+        let mut cav = self.grow(required, &m);
+        if cav.len() >= MAX_CAVITY {
+            return None;
+        }
+        for _ in 0..64 {
+            match self.plan(&cav, required, dis, split, &m, &tris) {
+                Ok(plan) => {
+                    let (mid, ids) = self.commit(&cav, dis, plan, m);
+                    self.vtris.push(tris);
+                    debug_assert_eq!(self.vtris.len(), self.p.len());
+                    for t in ids {
+                        self.check_tet(t);
+                    }
+                    return Some(mid);
+                }
+                Err(Some(t)) => cav.retain(|&x| x != t),
+                Err(None) => return None,
+            }
+        }
+        None
+    }
+
+    /// Is subface `k` on the plane of one of `tris`?
+    fn coplanar(&self, k: &[u32; 3], tris: &[u32]) -> bool {
+        let Some(&t) = self.ftri.get(k) else {
+            return false;
+        };
+        t != NONE
+            && tris.iter().any(|&u| {
+                self.group.get(u as usize).is_some()
+                    && self.group[u as usize] == self.group[t as usize]
+            })
+    }
+
+    /// The subfaces of input triangle `tri` holding edge `e`.
+    fn faces_on(&self, e: (u32, u32), tri: u32) -> Vec<[u32; 3]> {
+        self.sedges
+            .get(&e)
+            .map(|l| {
+                l.iter()
+                    .copied()
+                    .filter(|k| self.ftri.get(k) == Some(&tri))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Records the deviation of a new point on input edge `ie`.
+    fn on_line(&mut self, id: u32, ie: u32) {
+        let [a, b] = self.iedges[ie as usize];
+        let d = line_distance(
+            &self.p[a as usize],
+            &self.p[b as usize],
+            &self.p[id as usize],
+        );
+        self.max_dev = self.max_dev.max(d);
+        self.inexact.push(id);
+    }
+
+    /// Records the deviation of a new point on input triangle `t`.
+    fn on_plane(&mut self, id: u32, t: u32) {
+        let [a, b, c] = self.tris[t as usize].map(|q| self.p[q as usize]);
+        let x = self.p[id as usize];
+        if orient3d(&a, &b, &c, &x) != 0.0 {
+            self.max_dev = self.max_dev.max(plane_distance(&a, &b, &c, &x));
+            self.inexact.push(id);
+        }
+    }
+
+    /// R1: splits subsegment `e` (midpoint, or a concentric shell around
+    /// an input vertex at one end).
+    fn split_segment(&mut self, e: (u32, u32)) -> bool {
+        let Some(&ie) = self.segs.get(&e) else {
+            return false;
+        };
+        let (a, b) = e;
+        let (pa, pb) = (self.p[a as usize], self.p[b as usize]);
+        let l = dist2(&pa, &pb).sqrt();
+        let [ia, ib] = self.iedges[ie as usize];
+        let li = dist2(&self.p[ia as usize], &self.p[ib as usize]).sqrt();
+        if l < SEGMENT_FLOOR * li {
+            self.report.unsplittable += 1;
+            return false;
+        }
+        let (ina, inb) = ((a as usize) < self.n_in, (b as usize) < self.n_in);
+        let mut t = 0.5;
+        if ina != inb {
+            let d = 2f64.powi((l / 2.0).log2().round() as i32);
+            t = if ina { d / l } else { 1.0 - d / l };
+            if !(0.2..=0.8).contains(&t) {
+                t = 0.5;
+            }
+        }
+        let mut m: P = std::array::from_fn(|k| {
+            if pa[k] == pb[k] {
+                pa[k]
+            } else {
+                pa[k] + t * (pb[k] - pa[k])
+            }
+        });
+        if m == pa || m == pb {
+            self.report.unsplittable += 1;
+            return false;
+        }
+        for k in 0..3 {
+            if !(pa[k].min(pb[k])..=pa[k].max(pb[k])).contains(&m[k]) {
+                m[k] = 0.5 * (pa[k] + pb[k]);
+            }
+        }
+        let dis = self.sedges.get(&e).cloned().unwrap_or_default();
+        let req = self.around_edge(a, b);
+        let tris: Vec<u32> = {
+            let mut v = self.seg_tris(e);
+            v.sort_unstable();
+            v.dedup();
+            v.retain(|&t| t != NONE);
+            v
+        };
+        match self.insert(m, &req, &dis, Some(e), tris) {
+            Some(id) => {
+                self.segs.remove(&e);
+                self.segs.insert(ekey(a, id), ie);
+                self.segs.insert(ekey(id, b), ie);
+                self.on_line(id, ie);
+                self.report.on_segments += 1;
+                true
+            }
+            None => {
+                self.report.unsplittable += 1;
+                false
+            }
+        }
+    }
+
+    /// Snaps `m` to an axis-parallel input triangle's plane.
+    fn snap(&self, m: &mut P, tri: u32) {
+        let [a, b, c] = self.tris[tri as usize].map(|q| self.p[q as usize]);
+        for k in 0..3 {
+            if a[k] == b[k] && b[k] == c[k] {
+                m[k] = a[k];
+            }
+        }
+    }
+
+    /// Subface `k` of triangle `tri` with its vertices ordered
+    /// counterclockwise seen along the triangle's normal.
+    fn oriented(&self, k: [u32; 3], tri: u32) -> [u32; 3] {
+        let n = self.normals[tri as usize];
+        let [a, b, c] = k.map(|q| self.p[q as usize]);
+        if dot(&cross(&sub(&b, &a), &sub(&c, &a)), &n) >= 0.0 {
+            k
+        } else {
+            [k[0], k[2], k[1]]
+        }
+    }
+
+    /// Walks the subfaces of `tri` from `start` towards `m`: the subface
+    /// holding it, or `Err(Some(e))` when a subsegment `e` is in the way.
+    fn locate_on_facet(&self, start: [u32; 3], tri: u32, m: &P) -> Result<[u32; 3], PlanSeg> {
+        let n = self.normals[tri as usize];
+        let mut cur = start;
+        let mut prev: Option<[u32; 3]> = None;
+        for _ in 0..100_000 {
+            let o = self.oriented(cur, tri);
+            let mut next = None;
+            for i in 0..3 {
+                let (x, y) = (o[i], o[(i + 1) % 3]);
+                let (px, py) = (self.p[x as usize], self.p[y as usize]);
+                if dot(&cross(&sub(&py, &px), &sub(m, &px)), &n) < 0.0 {
+                    let e = ekey(x, y);
+                    if self.segs.contains_key(&e) {
+                        return Err(Some(e));
+                    }
+                    let nx = self.faces_on(e, tri).into_iter().find(|&f| f != cur);
+                    match nx {
+                        Some(f) if Some(f) != prev => {
+                            next = Some(f);
+                            break;
+                        }
+                        Some(_) => continue,
+                        None => return Err(None),
+                    }
+                }
+            }
+            match next {
+                None => return Ok(cur),
+                Some(f) => {
+                    prev = Some(cur);
+                    cur = f;
+                }
+            }
+        }
+        Err(None)
+    }
+
+    /// Is `m` strictly inside the polygon bounded by the oriented edges of
+    /// the subfaces `d`' boundary? (Exact sign against a plane through each
+    /// edge along the triangle's normal, compared with the third vertex.)
+    fn inside_cavity(&self, d: &[[u32; 3]], tri: u32, m: &P) -> bool {
+        let n = self.normals[tri as usize];
+        let nl = dot(&n, &n).sqrt();
+        let mut es: Vec<((u32, u32), u32)> = Vec::new();
+        for k in d {
+            for (x, y, z) in [(k[0], k[1], k[2]), (k[0], k[2], k[1]), (k[1], k[2], k[0])] {
+                es.push(((x, y), z));
+            }
+        }
+        es.sort_unstable();
+        let mut deg: Vec<u32> = Vec::new();
+        let mut verts: Vec<u32> = d.iter().flatten().copied().collect();
+        verts.sort_unstable();
+        verts.dedup();
+        let mut i = 0;
+        while i < es.len() {
+            let mut j = i;
+            while j < es.len() && es[j].0 == es[i].0 {
+                j += 1;
+            }
+            if j - i == 1 {
+                let ((x, y), z) = es[i];
+                deg.extend([x, y]);
+                let (px, py) = (self.p[x as usize], self.p[y as usize]);
+                let l = dist2(&px, &py).sqrt();
+                let q: P = std::array::from_fn(|k| px[k] + n[k] / nl * l);
+                let sz = orient3d(&px, &py, &q, &self.p[z as usize]);
+                let sm = orient3d(&px, &py, &q, m);
+                if sz == 0.0 || sm == 0.0 || (sz > 0.0) != (sm > 0.0) {
+                    return false;
+                }
+            }
+            i = j;
+        }
+        deg.sort_unstable();
+        // A disk: every vertex on the boundary, twice.
+        let mut k = 0;
+        let mut nverts = 0;
+        while k < deg.len() {
+            let mut j = k;
+            while j < deg.len() && deg[j] == deg[k] {
+                j += 1;
+            }
+            if j - k != 2 {
+                return false;
+            }
+            nverts += 1;
+            k = j;
+        }
+        nverts == verts.len()
+    }
+
+    /// R2: splits subface `k` at its circumcentre (or the subsegment it
+    /// encroaches, or, failing that, its longest edge).
+    fn split_face(&mut self, k: [u32; 3]) -> bool {
+        let Some(&tri) = self.ftri.get(&k) else {
+            return false;
+        };
+        if tri == NONE {
+            return false;
+        }
+        let Some((mut c, _)) = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+        else {
+            return false;
+        };
+        self.snap(&mut c, tri);
+        let s0 = match self.locate_on_facet(k, tri, &c) {
+            Ok(f) => f,
+            Err(Some(e)) => {
+                // The circumcentre lies outside the facet, beyond `e`:
+                // split `e` (Ruppert's rule; the facet's triangulation need
+                // not be Delaunay, so `e` may not be encroached by it).
+                let short = [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])]
+                    .iter()
+                    .map(|x| dist2(&self.pt(x.0), &self.pt(x.1)))
+                    .fold(f64::INFINITY, f64::min);
+                if dist2(&self.pt(e.0), &self.pt(e.1)) >= short {
+                    return self.split_segment(e);
+                }
+                // Much smaller than the subface: a small input angle or a
+                // thin feature; leave the subface.
+                self.report.skipped += 1;
+                return false;
+            }
+            Err(None) => {
+                return self.face_fallback(k);
+            }
+        };
+        // The facet-local cavity.
+        let mut d = vec![s0];
+        let mut i = 0;
+        while i < d.len() {
+            let f = d[i];
+            i += 1;
+            for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
+                if self.segs.contains_key(&e) {
+                    continue;
+                }
+                for h in self.faces_on(e, tri) {
+                    if d.contains(&h) {
+                        continue;
+                    }
+                    let Some((x, r2)) =
+                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
+                    else {
+                        continue;
+                    };
+                    if dist2(&x, &c) < r2 * (1.0 - 1e-12) {
+                        d.push(h);
+                    }
+                }
+            }
+        }
+        if !self.inside_cavity(&d, tri, &c) {
+            d = vec![s0];
+            if !self.inside_cavity(&d, tri, &c) {
+                return self.face_fallback(k);
+            }
+        }
+        let mut req: Vec<u32> = d.iter().flat_map(|&f| self.face_tets(f)).collect();
+        req.sort_unstable();
+        req.dedup();
+        // Encroached subsegments: split them instead.
+        let cav = self.grow(&req, &c);
+        let mut enc: Vec<(u32, u32)> = Vec::new();
+        for &t in &cav {
+            let tv = self.tv[t as usize];
+            for (a, b) in EDGES {
+                let e = ekey(tv[a], tv[b]);
+                if self.segs.contains_key(&e)
+                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
+                {
+                    enc.push(e);
+                }
+            }
+        }
+        if !enc.is_empty() {
+            enc.sort_unstable();
+            enc.dedup();
+            let mut progress = false;
+            for e in enc {
+                if !self.out_of_budget() {
+                    progress |= self.split_segment(e);
+                }
+            }
+            return progress;
+        }
+        match self.insert(c, &req, &d, None, vec![tri]) {
+            Some(id) => {
+                self.on_plane(id, tri);
+                self.report.on_facets += 1;
+                true
+            }
+            None => self.face_fallback(k),
+        }
+    }
+
+    /// The fallback of R2 when the circumcentre cannot be inserted: the
+    /// longest edge of subface `k` is split when it is a subsegment (R1 is
+    /// robust); otherwise the subface is left (counted as skipped: a
+    /// midpoint inside the facet next to a non-Delaunay facet triangulation
+    /// makes flat cells).
+    fn face_fallback(&mut self, k: [u32; 3]) -> bool {
+        let g = |q: u32| self.p[q as usize];
+        let e = [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])]
+            .into_iter()
+            .max_by(|x, y| {
+                dist2(&g(x.0), &g(x.1))
+                    .total_cmp(&dist2(&g(y.0), &g(y.1)))
+                    .then(y.cmp(x))
+            })
+            .unwrap_or((k[0], k[1]));
+        if self.segs.contains_key(&e) {
+            self.split_segment(e)
+        } else {
+            self.report.skipped += 1;
+            false
+        }
+    }
+
+    /// Walks from `t` towards `c`: `Ok(t)` the tetrahedron holding it,
+    /// `Err(Some(face))` the subface in the way, `Err(None)` lost.
+    fn locate(&self, mut t: u32, c: &P) -> Result<u32, Option<[u32; 3]>> {
+        let mut prev = NONE;
+        for step in 0..200_000usize {
+            let tv = self.tv[t as usize];
+            let mut next = None;
+            for j in 0..4 {
+                let f = (j + step) % 4;
+                let [x, y, z] = face(tv, f).map(|q| &self.p[q as usize]);
+                if orient3d(x, y, z, c) > 0.0 {
+                    let w = self.nb[t as usize][f];
+                    if w == NONE || self.mask[t as usize] >> f & 1 == 1 {
+                        return Err(Some(fkey(face(tv, f))));
+                    }
+                    if w >> 2 == prev {
+                        continue;
+                    }
+                    next = Some(w >> 2);
+                    break;
+                }
+            }
+            match next {
+                None => return Ok(t),
+                Some(u) => {
+                    prev = t;
+                    t = u;
+                }
+            }
+        }
+        Err(None)
+    }
+
+    /// R3 on a bad tetrahedron.
+    fn split_cell(&mut self, b: Bad) {
+        let tv = b.verts.0;
+        if self.tv.get(b.slot as usize) != Some(&tv) {
+            return;
+        }
+        let p = tv.map(|q| self.p[q as usize]);
+        if quality::radius_edge_ratio(&p) > FLAT_RATIO {
+            self.report.skipped += 1;
+            return;
+        }
+        let Some(c) = quality::circumcenter(&p) else {
+            self.report.skipped += 1;
+            return;
+        };
+        let lmin = quality::edge_lengths(&p)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        let (segs, faces) = match self.locate(b.slot, &c) {
+            Err(None) => {
+                self.report.skipped += 1;
+                return;
+            }
+            Err(Some(k)) => {
+                let [a, b, d] = k.map(|q| self.pt(q));
+                if !encroaches_face(&a, &b, &d, &c) {
+                    // Outside, behind a subface it does not encroach: the
+                    // mesh is not constrained Delaunay there (recovery
+                    // flips); leave the cell.
+                    self.report.skipped += 1;
+                    return;
+                }
+                (Vec::new(), vec![k])
+            }
+            Ok(t) => {
+                let cav = self.grow(&[t], &c);
+                let mut segs = Vec::new();
+                let mut faces = Vec::new();
+                for &u in &cav {
+                    let uv = self.tv[u as usize];
+                    for f in 0..4 {
+                        if self.mask[u as usize] >> f & 1 == 1 {
+                            let k = fkey(face(uv, f));
+                            if encroaches_face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]), &c) {
+                                faces.push(k);
+                            }
+                        }
+                    }
+                    for (i, j) in EDGES {
+                        let e = ekey(uv[i], uv[j]);
+                        if self.segs.contains_key(&e)
+                            && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
+                        {
+                            segs.push(e);
+                        }
+                    }
+                }
+                if segs.is_empty() && faces.is_empty() {
+                    if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
+                        self.report.interior += 1;
+                    } else {
+                        self.report.skipped += 1;
+                    }
+                    return;
+                }
+                segs.sort_unstable();
+                segs.dedup();
+                faces.sort_unstable();
+                faces.dedup();
+                (segs, faces)
+            }
+        };
+        self.report.rejected += 1;
+        // Split the encroached pieces not much smaller than the cell's
+        // shortest edge.
+        let segs: Vec<(u32, u32)> = segs
+            .into_iter()
+            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
+            .collect();
+        let faces: Vec<[u32; 3]> = faces
+            .into_iter()
+            .filter(|k| {
+                let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+                    .map_or(0.0, |x| x.1);
+                2.0 * r2.sqrt() >= lmin
+            })
+            .collect();
+        let mut progress = false;
+        for e in segs {
+            if !self.out_of_budget() {
+                progress |= self.split_segment(e);
+            }
+        }
+        for k in faces {
+            if !self.out_of_budget() {
+                progress |= self.split_face(k);
+            }
+        }
+        if progress {
+            self.badq.push(b);
+        } else {
+            self.report.skipped += 1;
+        }
+    }
+
+    /// Is subsegment `e` still encroached by a vertex next to it?
+    fn seg_still_encroached(&self, e: (u32, u32)) -> bool {
+        self.segs.contains_key(&e)
+            && self.around_edge(e.0, e.1).into_iter().any(|t| {
+                self.tv[t as usize]
+                    .iter()
+                    .any(|&w| w != e.0 && w != e.1 && self.seg_encroached_by(e, w))
+            })
+    }
+
+    fn face_still_encroached(&self, k: [u32; 3]) -> bool {
+        self.ftri.contains_key(&k)
+            && self.face_tets(k).into_iter().any(|t| {
+                self.tv[t as usize]
+                    .iter()
+                    .any(|&w| !k.contains(&w) && self.face_encroached_by(k, w))
+            })
+    }
+
+    pub(super) fn run(&mut self) {
+        let mut guard: usize = 0;
+        let guard_max = 64 * (self.budget + self.p.len()) + 1_000_000;
+        loop {
+            guard += 1;
+            if guard > guard_max {
+                self.report.budget_exhausted = true;
+                return;
+            }
+            if let Some(e) = self.segq.pop_front() {
+                if self.seg_still_encroached(e) && !self.out_of_budget() {
+                    self.split_segment(e);
+                }
+                continue;
+            }
+            if let Some(k) = self.faceq.pop_front() {
+                if self.face_still_encroached(k) && !self.out_of_budget() {
+                    self.split_face(k);
+                }
+                continue;
+            }
+            let Some(b) = self.badq.pop() else {
+                return;
+            };
+            if self.out_of_budget() {
+                return;
+            }
+            self.split_cell(b);
+        }
+    }
+
+    /// The output.
+    pub(super) fn finish(mut self, rec: &Recovered) -> Refined {
+        let n = self.tv.len();
+        let mut new_id = vec![NONE; n];
+        let mut tets = Vec::new();
+        let mut tet_region = Vec::new();
+        for t in 0..n {
+            if self.tv[t][0] != DEAD {
+                new_id[t] = tets.len() as u32;
+                tets.push(self.tv[t]);
+                tet_region.push(self.reg[t]);
+            }
+        }
+        let unscale = 1.0 / self.s;
+        let points: Vec<[f64; 3]> = (0..self.p.len())
+            .map(|i| {
+                if i < rec.points.len() {
+                    rec.points[i]
+                } else {
+                    self.p[i].map(|c| c * unscale)
+                }
+            })
+            .collect();
+        let mut neighbors = Vec::with_capacity(tets.len());
+        let mut boundary = Vec::new();
+        let mut boundary_triangle = Vec::new();
+        let mut interior_faces = Vec::new();
+        let mut interior_triangle = Vec::new();
+        for t in 0..n {
+            let tv = self.tv[t];
+            if tv[0] == DEAD {
+                continue;
+            }
+            let mut nbr = [NONE; 4];
+            for (f, x) in nbr.iter_mut().enumerate() {
+                let w = self.nb[t][f];
+                let [a, b, c] = face(tv, f);
+                let k = fkey([a, b, c]);
+                if w == NONE {
+                    boundary.push([a, c, b]);
+                    boundary_triangle.push(self.ftri.get(&k).copied().unwrap_or(NONE));
+                } else {
+                    *x = new_id[(w >> 2) as usize];
+                    if self.mask[t] >> f & 1 == 1 && new_id[t] < *x {
+                        interior_faces.push([a, c, b]);
+                        interior_triangle.push(self.ftri.get(&k).copied().unwrap_or(NONE));
+                    }
+                }
+            }
+            neighbors.push(nbr);
+        }
+        for tv in &tets {
+            let p = tv.map(|q| points[q as usize]);
+            let r = quality::radius_edge_ratio(&p);
+            if r > self.bound {
+                self.report.remaining_bad += 1;
+                if r > FLAT_RATIO {
+                    self.report.flat += 1;
+                }
+            }
+        }
+        let mut regions = rec.regions.clone();
+        for r in &mut regions {
+            r.tets = 0;
+            r.volume = 0.0;
+        }
+        for (tv, &g) in tets.iter().zip(&tet_region) {
+            if let Some(r) = regions.get_mut(g as usize) {
+                r.tets += 1;
+                r.volume += quality::volume(&tv.map(|q| points[q as usize]));
+            }
+        }
+        let mut vertex_map = rec.mesh.vertex_map.clone();
+        vertex_map.extend(vertex_map.len() as u32..points.len() as u32);
+        self.inexact.sort_unstable();
+        self.inexact.dedup();
+        let mut report = rec.report.clone();
+        report.max_deviation = self.max_dev * unscale;
+        Refined {
+            rec: Recovered {
+                points,
+                mesh: TetMesh {
+                    tets,
+                    neighbors,
+                    vertex_map,
+                    duplicates: rec.mesh.duplicates.clone(),
+                    hidden: rec.mesh.hidden.clone(),
+                },
+                boundary,
+                boundary_triangle,
+                interior_faces,
+                interior_triangle,
+                tet_region,
+                regions,
+                inexact: self.inexact,
+                surface: rec.surface.clone(),
+                surface_origin: rec.surface_origin.clone(),
+                report,
+            },
+            report: self.report,
+        }
+    }
+}
+
+/// `Err` of [`Cdr::locate_on_facet`]: the subsegment in the way, or lost.
+type PlanSeg = Option<(u32, u32)>;
