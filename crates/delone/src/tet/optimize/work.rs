@@ -1,0 +1,677 @@
+//! The mutable working mesh of [`super::optimize`]: flat arrays of a finished
+//! domain mesh (no ghost cells: a face without neighbour is on the domain's
+//! boundary and is never destroyed), the protected interface faces, and the
+//! local operations — 2-3 flip, edge removal by a max-min dynamic programme
+//! (3-2 and 4-4 flips included), vertex smoothing, vertex insertion and its
+//! undo.
+//!
+//! Every operation is judged in floating point by [`quality`] and, before it
+//! is applied, checked by exact `orient3d` on every tetrahedron it creates:
+//! a result that is not strictly positive is refused and nothing changes.
+
+use std::collections::{HashMap, HashSet};
+
+use delone_predicates::orient3d;
+
+use crate::NONE;
+
+/// Value of `tv[0]` of a free slot.
+pub(super) const DEAD: u32 = u32::MAX;
+
+/// Longest edge ring tried by [`Work::plan_edge_removal`].
+pub(super) const MAX_RING: usize = 16;
+
+/// Local vertices of the face opposite vertex `f`, ordered so that
+/// `(face, v_f)` is positive.
+const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+
+fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm(a: &[f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The quality of a tetrahedron: the smallest sine of its six dihedral
+/// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
+/// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
+/// or -1 when it is flat or inverted (floating point).
+pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
+    let e1 = sub(p[1], p[0]);
+    let e2 = sub(p[2], p[0]);
+    let e3 = sub(p[3], p[0]);
+    let det = dot(&e1, &cross(&e2, &e3));
+    if det.is_nan() || det <= 0.0 {
+        return -1.0;
+    }
+    // |area normal| of the face opposite each vertex (twice its area).
+    let e12 = sub(p[2], p[1]);
+    let e13 = sub(p[3], p[1]);
+    let n = [
+        norm(&cross(&e12, &e13)),
+        norm(&cross(&e2, &e3)),
+        norm(&cross(&e1, &e3)),
+        norm(&cross(&e1, &e2)),
+    ];
+    // Edge (i, j) lies on the faces opposite the other two vertices:
+    // sin θ_ij = 6V · |e_ij| / (|N_k| |N_l|).
+    let l = [
+        (norm(&e1), 2, 3),
+        (norm(&e2), 1, 3),
+        (norm(&e3), 1, 2),
+        (norm(&e12), 0, 3),
+        (norm(&e13), 0, 2),
+        (norm(&sub(p[3], p[2])), 0, 1),
+    ];
+    let mut q = f64::INFINITY;
+    for (len, k, m) in l {
+        let d = n[k] * n[m];
+        if d <= 0.0 {
+            return -1.0;
+        }
+        q = q.min(det * len / d);
+    }
+    if q.is_finite() {
+        q
+    } else {
+        -1.0
+    }
+}
+
+/// The sorted key of a face.
+#[inline]
+pub(super) fn fkey(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The face of `tv` opposite local vertex `f`, in [`FACET`] order.
+#[inline]
+pub(super) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
+    FACET[f].map(|i| tv[i])
+}
+
+/// A planned change: tetrahedra to remove and their replacement, with the
+/// worst quality of the replacement.
+pub(super) struct Plan {
+    /// Slots removed.
+    pub old: Vec<u32>,
+    /// New tetrahedra.
+    pub new: Vec<[u32; 4]>,
+    /// The smallest quality of `new`.
+    pub q: f64,
+    /// Size of the edge ring (0 for a 2-3 flip).
+    pub ring: usize,
+}
+
+/// The working mesh.
+#[derive(Debug, Clone)]
+pub(super) struct Work {
+    /// Points (rescaled coordinates).
+    pub p: Vec<[f64; 3]>,
+    /// Tetrahedra (positive); `DEAD` in position 0 for free slots.
+    pub tv: Vec<[u32; 4]>,
+    /// Neighbour across the face opposite each vertex, or [`NONE`].
+    pub nb: Vec<[u32; 4]>,
+    /// Region per slot.
+    pub reg: Vec<u32>,
+    /// Cached [`quality`] per slot.
+    pub q: Vec<f64>,
+    /// Free slots.
+    free: Vec<u32>,
+    /// Per vertex: a live slot containing it (a hint).
+    vt: Vec<u32>,
+    /// Per vertex: on the boundary or an interface (never moved or removed).
+    pub fixed: Vec<bool>,
+    /// Interface faces (sorted keys): never destroyed.
+    prot: HashSet<[u32; 3]>,
+}
+
+impl Work {
+    /// Builds the working mesh; `interior` are the protected interface
+    /// faces. Vertices of boundary and interface faces are fixed.
+    pub(super) fn new(
+        p: Vec<[f64; 3]>,
+        tets: &[[u32; 4]],
+        nbs: &[[u32; 4]],
+        reg: &[u32],
+        interior: &[[u32; 3]],
+    ) -> Work {
+        let n = p.len();
+        let mut fixed = vec![false; n];
+        let mut vt = vec![DEAD; n];
+        for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
+            for f in 0..4 {
+                if nb[f] == NONE {
+                    for w in face(*tv, f) {
+                        fixed[w as usize] = true;
+                    }
+                }
+            }
+            for &w in tv {
+                vt[w as usize] = t as u32;
+            }
+        }
+        for f in interior {
+            for &w in f {
+                fixed[w as usize] = true;
+            }
+        }
+        let prot = interior.iter().map(|&f| fkey(f)).collect();
+        let q = tets
+            .iter()
+            .map(|tv| quality(tv.map(|w| &p[w as usize])))
+            .collect();
+        Work {
+            p,
+            tv: tets.to_vec(),
+            nb: nbs.to_vec(),
+            reg: reg.to_vec(),
+            q,
+            free: Vec::new(),
+            vt,
+            fixed,
+            prot,
+        }
+    }
+
+    /// True when slot `t` is live.
+    #[inline]
+    pub(super) fn live(&self, t: u32) -> bool {
+        self.tv[t as usize][0] != DEAD
+    }
+
+    /// Quality of `tv` from the current points.
+    #[inline]
+    pub(super) fn qual(&self, tv: [u32; 4]) -> f64 {
+        quality(tv.map(|w| &self.p[w as usize]))
+    }
+
+    /// Exact: `tv` is strictly positive.
+    #[inline]
+    pub(super) fn positive(&self, tv: [u32; 4]) -> bool {
+        let g = |i: usize| &self.p[tv[i] as usize];
+        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+    }
+
+    /// True when sorted face `k` is a protected interface face.
+    #[inline]
+    pub(super) fn is_protected(&self, k: [u32; 3]) -> bool {
+        self.prot.contains(&k)
+    }
+
+    /// True when the face opposite `f` in `t` may be destroyed.
+    #[inline]
+    fn open_face(&self, t: u32, f: usize) -> bool {
+        let n = self.nb[t as usize][f];
+        n != NONE
+            && self.reg[n as usize] == self.reg[t as usize]
+            && !self.prot.contains(&fkey(face(self.tv[t as usize], f)))
+    }
+
+    /// The live slots containing vertex `v`.
+    pub(super) fn star(&self, v: u32) -> Vec<u32> {
+        let mut start = self.vt[v as usize];
+        if start == DEAD || !self.live(start) || !self.tv[start as usize].contains(&v) {
+            match (0..self.tv.len()).find(|&t| self.tv[t][0] != DEAD && self.tv[t].contains(&v)) {
+                Some(t) => start = t as u32,
+                None => return Vec::new(),
+            }
+        }
+        let mut out = vec![start];
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                if tv[f] == v {
+                    continue;
+                }
+                let n = self.nb[t as usize][f];
+                if n != NONE && !out.contains(&n) {
+                    out.push(n);
+                }
+            }
+        }
+        out
+    }
+
+    /// The slots around interior edge `a b` (starting at `t`) and the ring,
+    /// `[a, b, ring[i], ring[i + 1]]` (cyclic) being slot `i`; `None` on
+    /// the boundary, across an interface, or beyond [`MAX_RING`].
+    fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+        let tv = self.tv[t as usize];
+        let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
+        let (c0, d0) = (o.next()?, o.next()?);
+        let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
+            (c0, d0)
+        } else {
+            (d0, c0)
+        };
+        let mut cur = t;
+        let mut tets = Vec::new();
+        let mut ring = Vec::new();
+        loop {
+            if tets.len() >= MAX_RING {
+                return None;
+            }
+            tets.push(cur);
+            ring.push(x);
+            let cv = self.tv[cur as usize];
+            let ix = cv.iter().position(|&w| w == x)?;
+            if !self.open_face(cur, ix) {
+                return None;
+            }
+            let next = self.nb[cur as usize][ix];
+            if next == t {
+                return Some((tets, ring));
+            }
+            let nv = self.tv[next as usize];
+            let z = *nv.iter().find(|&&w| w != a && w != b && w != y)?;
+            cur = next;
+            x = y;
+            y = z;
+        }
+    }
+
+    /// The best removal of edge `a b` of slot `t`: the triangulation of its
+    /// ring maximising the smallest quality of the `2n - 4` new tetrahedra
+    /// (dynamic programming over the ring, O(n³)). `None` when the edge
+    /// cannot be removed (boundary, interface, ring too long, no valid
+    /// triangulation).
+    pub(super) fn plan_edge_removal(&self, t: u32, a: u32, b: u32) -> Option<Plan> {
+        let (tets, r) = self.edge_ring(t, a, b)?;
+        let n = r.len();
+        if n < 3 {
+            return None;
+        }
+        let mut best = vec![f64::NEG_INFINITY; n * n];
+        let mut choice = vec![0usize; n * n];
+        for i in 0..n - 1 {
+            best[i * n + i + 1] = f64::INFINITY;
+        }
+        for len in 2..n {
+            for i in 0..n - len {
+                let j = i + len;
+                for k in i + 1..j {
+                    let (l, rr) = (best[i * n + k], best[k * n + j]);
+                    let bound = l.min(rr);
+                    if bound <= best[i * n + j] || bound <= 0.0 {
+                        continue;
+                    }
+                    let q1 = self.qual([r[i], r[k], r[j], b]);
+                    let q2 = self.qual([r[i], r[j], r[k], a]);
+                    let v = bound.min(q1).min(q2);
+                    if v > best[i * n + j] {
+                        best[i * n + j] = v;
+                        choice[i * n + j] = k;
+                    }
+                }
+            }
+        }
+        let q = best[n - 1];
+        if q <= 0.0 {
+            return None;
+        }
+        let mut new = Vec::with_capacity(2 * (n - 2));
+        let mut stack = vec![(0usize, n - 1)];
+        while let Some((i, j)) = stack.pop() {
+            if j < i + 2 {
+                continue;
+            }
+            let k = choice[i * n + j];
+            new.push([r[i], r[k], r[j], b]);
+            new.push([r[i], r[j], r[k], a]);
+            stack.push((i, k));
+            stack.push((k, j));
+        }
+        Some(Plan {
+            old: tets,
+            new,
+            q,
+            ring: n,
+        })
+    }
+
+    /// The 2-3 flip of the face opposite `f` in `t`, if allowed.
+    pub(super) fn plan_flip23(&self, t: u32, f: usize) -> Option<Plan> {
+        if !self.open_face(t, f) {
+            return None;
+        }
+        let u = self.nb[t as usize][f];
+        let tv = self.tv[t as usize];
+        let uv = self.tv[u as usize];
+        let p = tv[f];
+        let q = *uv.iter().find(|w| !tv.contains(w))?;
+        let [x, y, z] = face(tv, f);
+        let new = vec![[x, y, q, p], [y, z, q, p], [z, x, q, p]];
+        let qm = new
+            .iter()
+            .map(|&n| self.qual(n))
+            .fold(f64::INFINITY, f64::min);
+        (qm > 0.0).then_some(Plan {
+            old: vec![t, u],
+            new,
+            q: qm,
+            ring: 0,
+        })
+    }
+
+    /// Smallest cached quality of `slots`.
+    pub(super) fn min_q(&self, slots: &[u32]) -> f64 {
+        slots
+            .iter()
+            .map(|&t| self.q[t as usize])
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Applies `plan` if every new tetrahedron is exactly positive; returns
+    /// the new slots.
+    pub(super) fn apply(&mut self, plan: &Plan) -> Option<Vec<u32>> {
+        if !plan.new.iter().all(|&tv| self.positive(tv)) {
+            return None;
+        }
+        let region = self.reg[plan.old[0] as usize];
+        Some(self.replace(&plan.old, &plan.new, region))
+    }
+
+    /// Replaces slots `old` (connected, one region) by `new`, relinking by
+    /// face keys.
+    pub(super) fn replace(&mut self, old: &[u32], new: &[[u32; 4]], region: u32) -> Vec<u32> {
+        // Outer faces: key -> (outside slot or NONE, its face index).
+        let mut outer: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        for &t in old {
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let n = self.nb[t as usize][f];
+                if n != NONE && old.contains(&n) {
+                    continue;
+                }
+                let g = if n == NONE {
+                    0
+                } else {
+                    (0..4).find(|&g| self.nb[n as usize][g] == t).unwrap_or(0)
+                };
+                outer.insert(fkey(face(tv, f)), (n, g));
+            }
+        }
+        for &t in old {
+            self.tv[t as usize] = [DEAD; 4];
+            self.nb[t as usize] = [NONE; 4];
+            self.free.push(t);
+        }
+        let mut ids = Vec::with_capacity(new.len());
+        for &tv in new {
+            let q = self.qual(tv);
+            let id = match self.free.pop() {
+                Some(s) => {
+                    self.tv[s as usize] = tv;
+                    self.nb[s as usize] = [NONE; 4];
+                    self.reg[s as usize] = region;
+                    self.q[s as usize] = q;
+                    s
+                }
+                None => {
+                    self.tv.push(tv);
+                    self.nb.push([NONE; 4]);
+                    self.reg.push(region);
+                    self.q.push(q);
+                    (self.tv.len() - 1) as u32
+                }
+            };
+            ids.push(id);
+        }
+        let mut open: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        for (&x, &tv) in ids.iter().zip(new) {
+            for f in 0..4 {
+                let k = fkey(face(tv, f));
+                if let Some((n, g)) = outer.remove(&k) {
+                    self.nb[x as usize][f] = n;
+                    if n != NONE {
+                        self.nb[n as usize][g] = x;
+                    }
+                } else if let Some((y, g)) = open.remove(&k) {
+                    self.nb[x as usize][f] = y;
+                    self.nb[y as usize][g] = x;
+                } else {
+                    open.insert(k, (x, f));
+                }
+            }
+            for &w in &tv {
+                if self.vt.len() <= w as usize {
+                    self.vt.resize(w as usize + 1, DEAD);
+                }
+                self.vt[w as usize] = x;
+            }
+        }
+        debug_assert!(outer.is_empty() && open.is_empty(), "replace: unmatched");
+        ids
+    }
+
+    /// Moves free vertex `v` to raise the smallest quality of its star
+    /// (optimisation-based smoothing: a search direction from the gradients
+    /// of the near-worst tetrahedra, a backtracking line search, exact
+    /// orientation of the result). Returns true when it moved.
+    pub(super) fn smooth(&mut self, v: u32) -> bool {
+        if self.fixed[v as usize] {
+            return false;
+        }
+        let star = self.star(v);
+        if star.is_empty() {
+            return false;
+        }
+        let home = self.p[v as usize];
+        // Length scale: the shortest edge at v.
+        let mut len = f64::INFINITY;
+        for &t in &star {
+            for &w in &self.tv[t as usize] {
+                if w != v {
+                    len = len.min(norm(&sub(&self.p[w as usize], &home)));
+                }
+            }
+        }
+        if !(len > 0.0 && len.is_finite()) {
+            return false;
+        }
+        let quals = |w: &Work, x: [f64; 3]| -> Vec<f64> {
+            star.iter()
+                .map(|&t| {
+                    let tv = w.tv[t as usize];
+                    let pts = tv.map(|u| if u == v { x } else { w.p[u as usize] });
+                    quality([&pts[0], &pts[1], &pts[2], &pts[3]])
+                })
+                .collect()
+        };
+        let mut x = home;
+        let mut qs = quals(self, x);
+        let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut moved = false;
+        let h = 1e-7 * len;
+        for _ in 0..12 {
+            // Gradients of the near-active tetrahedra.
+            let mut grads: Vec<[f64; 3]> = Vec::new();
+            for (i, &t) in star.iter().enumerate() {
+                if qs[i] > cur + 1e-3 {
+                    continue;
+                }
+                let tv = self.tv[t as usize];
+                let at = |y: [f64; 3]| {
+                    let pts = tv.map(|u| if u == v { y } else { self.p[u as usize] });
+                    quality([&pts[0], &pts[1], &pts[2], &pts[3]])
+                };
+                let mut g = [0.0; 3];
+                for (k, gk) in g.iter_mut().enumerate() {
+                    let mut y = x;
+                    y[k] += h;
+                    let mut z = x;
+                    z[k] -= h;
+                    *gk = (at(y) - at(z)) / (2.0 * h);
+                }
+                grads.push(g);
+            }
+            let d = min_norm_point(&grads);
+            let dn = norm(&d);
+            if !(dn > 0.0) || !dn.is_finite() {
+                break;
+            }
+            // Backtracking line search from a step of len/4.
+            let mut step = 0.25 * len / dn;
+            let mut accepted = false;
+            for _ in 0..16 {
+                let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
+                let qy = quals(self, y);
+                let m = qy.iter().copied().fold(f64::INFINITY, f64::min);
+                if m > cur + 1e-9 {
+                    x = y;
+                    qs = qy;
+                    cur = m;
+                    accepted = true;
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+            moved = true;
+        }
+        if !moved {
+            return false;
+        }
+        // Exact check of the moved star.
+        self.p[v as usize] = x;
+        if !star.iter().all(|&t| self.positive(self.tv[t as usize])) {
+            self.p[v as usize] = home;
+            return false;
+        }
+        for (i, &t) in star.iter().enumerate() {
+            self.q[t as usize] = qs[i];
+        }
+        true
+    }
+
+    /// Inserts a new point `x` inside the cavity `cav` (live slots of one
+    /// region, connected across open faces) as the cone of the cavity's
+    /// boundary; `None` unless `x` sees every boundary face strictly.
+    /// Returns the new vertex and slots; [`Work::undo_insert`] reverts it.
+    pub(super) fn insert(&mut self, cav: &[u32], x: [f64; 3]) -> Option<(u32, Vec<u32>)> {
+        let id = self.p.len() as u32;
+        let mut new = Vec::new();
+        for &t in cav {
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let n = self.nb[t as usize][f];
+                if n != NONE && cav.contains(&n) {
+                    continue;
+                }
+                let [a, b, c] = face(tv, f);
+                let g = |w: u32| &self.p[w as usize];
+                if orient3d(g(a), g(b), g(c), &x) >= 0.0 {
+                    return None;
+                }
+                new.push([a, b, c, id]);
+            }
+        }
+        self.p.push(x);
+        self.fixed.push(false);
+        self.vt.push(DEAD);
+        let region = self.reg[cav[0] as usize];
+        let ids = self.replace(cav, &new, region);
+        Some((id, ids))
+    }
+
+    /// Reverts [`Work::insert`] (the last point): the star of `id` is
+    /// replaced by `old` again.
+    pub(super) fn undo_insert(&mut self, id: u32, old: &[[u32; 4]]) {
+        let star = self.star(id);
+        let region = self.reg[star[0] as usize];
+        self.replace(&star, old, region);
+        self.p.pop();
+        self.fixed.pop();
+        self.vt.pop();
+    }
+}
+
+/// True when `q` is an even permutation of `tv`.
+fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
+    let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
+    let mut inv = 0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            inv += usize::from(pos[i] > pos[j]);
+        }
+    }
+    inv % 2 == 0
+}
+
+/// The point of least norm in the convex hull of `g` (Gilbert's
+/// algorithm, a few iterations): the steepest ascent direction of the
+/// minimum of the functions whose gradients these are.
+fn min_norm_point(g: &[[f64; 3]]) -> [f64; 3] {
+    let Some(&first) = g.first() else {
+        return [0.0; 3];
+    };
+    let mut x = first;
+    for _ in 0..32 {
+        let Some(&s) = g.iter().min_by(|a, b| dot(a, &x).total_cmp(&dot(b, &x))) else {
+            break;
+        };
+        let xx = dot(&x, &x);
+        if xx - dot(&s, &x) <= 1e-12 * xx {
+            break;
+        }
+        let d = sub(&s, &x);
+        let dd = dot(&d, &d);
+        if dd == 0.0 {
+            break;
+        }
+        let lam = (-dot(&x, &d) / dd).clamp(0.0, 1.0);
+        x = [x[0] + lam * d[0], x[1] + lam * d[1], x[2] + lam * d[2]];
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quality_of_regular_and_flat() {
+        let reg = [
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, -1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ];
+        let want = (1.0f64 / 3.0).acos().sin();
+        let q = quality([&reg[0], &reg[1], &reg[2], &reg[3]]);
+        assert!((q - want).abs() < 1e-12, "{q}");
+        let inv = quality([&reg[1], &reg[0], &reg[2], &reg[3]]);
+        assert_eq!(inv, -1.0);
+        let d = crate::tet::quality::dihedral_angles(&[reg[0], reg[1], reg[2], reg[3]]);
+        let m = d
+            .iter()
+            .map(|a| a.to_radians().sin())
+            .fold(f64::INFINITY, f64::min);
+        assert!((m - q).abs() < 1e-12);
+    }
+
+    #[test]
+    fn min_norm_point_of_opposite_gradients() {
+        let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+        assert!((x[0]).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
+        let y = min_norm_point(&[[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]);
+        assert!(norm(&y) < 1e-12);
+    }
+}
