@@ -258,6 +258,9 @@ pub fn optimize(
     }
     let thr = opts.target_dihedral.clamp(0.0, 90.0).to_radians().sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
+    // Per slot: the tetrahedron and clock of its last failed attempt; it
+    // is not retried until a star of one of its vertices changes.
+    let mut failed: std::collections::HashMap<[u32; 4], u64> = Default::default();
     for _ in 0..opts.max_passes {
         report.passes += 1;
         let mut bad: Vec<(f64, u32, [u32; 4])> = (0..w.tv.len() as u32)
@@ -267,11 +270,28 @@ pub fn optimize(
         bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut changed = 0;
         for (_, t, tv) in bad {
-            if w.tv[t as usize] != tv {
-                continue;
+            // An undone insertion may have moved the tetrahedron to
+            // another slot.
+            let t = if w.tv[t as usize] == tv {
+                t
+            } else {
+                match w.star(tv[0]).into_iter().find(|&u| w.tv[u as usize] == tv) {
+                    Some(u) => u,
+                    None => continue,
+                }
+            };
+            let mut key = tv;
+            key.sort_unstable();
+            if let Some(&at) = failed.get(&key) {
+                if tv.iter().all(|&v| w.stamp[v as usize] < at) {
+                    continue;
+                }
             }
             if improve(&mut w, t, opts, budget, &mut report) {
                 changed += 1;
+            } else {
+                w.clock += 1;
+                failed.insert(key, w.clock);
             }
         }
         if changed == 0 {

@@ -135,6 +135,11 @@ pub(super) struct Work {
     pub fixed: Vec<bool>,
     /// Interface faces (sorted keys): never destroyed.
     prot: HashSet<[u32; 3]>,
+    /// Per vertex: the [`Work::clock`] of the last change of its star
+    /// (a tetrahedron created or removed, a vertex of it moved).
+    pub stamp: Vec<u64>,
+    /// Counts changes.
+    pub clock: u64,
 }
 
 impl Work {
@@ -182,6 +187,8 @@ impl Work {
             vt,
             fixed,
             prot,
+            stamp: vec![0; n],
+            clock: 1,
         }
     }
 
@@ -389,6 +396,7 @@ impl Work {
     /// Replaces slots `old` (connected, one region) by `new`, relinking by
     /// face keys.
     pub(super) fn replace(&mut self, old: &[u32], new: &[[u32; 4]], region: u32) -> Vec<u32> {
+        self.clock += 1;
         // Outer faces: key -> (outside slot or NONE, its face index).
         let mut outer: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
         for &t in old {
@@ -453,6 +461,10 @@ impl Work {
                     self.vt.resize(w as usize + 1, DEAD);
                 }
                 self.vt[w as usize] = x;
+                if self.stamp.len() <= w as usize {
+                    self.stamp.resize(w as usize + 1, 0);
+                }
+                self.stamp[w as usize] = self.clock;
             }
         }
         debug_assert!(outer.is_empty() && open.is_empty(), "replace: unmatched");
@@ -484,39 +496,41 @@ impl Work {
         if !(len > 0.0 && len.is_finite()) {
             return false;
         }
-        let quals = |w: &Work, x: [f64; 3]| -> Vec<f64> {
-            star.iter()
-                .map(|&t| {
-                    let tv = w.tv[t as usize];
-                    let pts = tv.map(|u| if u == v { x } else { w.p[u as usize] });
-                    quality([&pts[0], &pts[1], &pts[2], &pts[3]])
-                })
-                .collect()
+        // Each star tetrahedron's points, with the slot of `v`.
+        let local: Vec<([[f64; 3]; 4], usize)> = star
+            .iter()
+            .map(|&t| {
+                let tv = self.tv[t as usize];
+                let k = tv.iter().position(|&u| u == v).unwrap_or(0);
+                (tv.map(|u| self.p[u as usize]), k)
+            })
+            .collect();
+        let at = |i: usize, x: [f64; 3]| {
+            let (mut pts, k) = local[i];
+            pts[k] = x;
+            quality([&pts[0], &pts[1], &pts[2], &pts[3]])
         };
         let mut x = home;
-        let mut qs = quals(self, x);
+        let mut qs: Vec<f64> = (0..local.len()).map(|i| at(i, x)).collect();
         let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
         let mut moved = false;
         let h = 1e-7 * len;
-        for _ in 0..12 {
+        let mut order: Vec<usize> = (0..local.len()).collect();
+        let mut qy = qs.clone();
+        for _ in 0..8 {
             // Gradients of the near-active tetrahedra.
             let mut grads: Vec<[f64; 3]> = Vec::new();
-            for (i, &t) in star.iter().enumerate() {
-                if qs[i] > cur + 1e-3 {
+            for (i, &qi) in qs.iter().enumerate() {
+                if qi > cur + 1e-3 {
                     continue;
                 }
-                let tv = self.tv[t as usize];
-                let at = |y: [f64; 3]| {
-                    let pts = tv.map(|u| if u == v { y } else { self.p[u as usize] });
-                    quality([&pts[0], &pts[1], &pts[2], &pts[3]])
-                };
                 let mut g = [0.0; 3];
                 for (k, gk) in g.iter_mut().enumerate() {
                     let mut y = x;
                     y[k] += h;
                     let mut z = x;
                     z[k] -= h;
-                    *gk = (at(y) - at(z)) / (2.0 * h);
+                    *gk = (at(i, y) - at(i, z)) / (2.0 * h);
                 }
                 grads.push(g);
             }
@@ -525,21 +539,28 @@ impl Work {
             if !(dn > 0.0) || !dn.is_finite() {
                 break;
             }
+            // Worst first, so that a failing step is seen early.
+            order.sort_by(|&a, &b| qs[a].total_cmp(&qs[b]));
             // Backtracking line search from a step of len/4.
             let mut step = 0.25 * len / dn;
             let mut accepted = false;
-            for _ in 0..16 {
+            'search: for _ in 0..10 {
                 let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
-                let qy = quals(self, y);
-                let m = qy.iter().copied().fold(f64::INFINITY, f64::min);
-                if m > cur + 1e-9 {
-                    x = y;
-                    qs = qy;
-                    cur = m;
-                    accepted = true;
-                    break;
-                }
                 step *= 0.5;
+                let mut m = f64::INFINITY;
+                for &i in &order {
+                    let q = at(i, y);
+                    if q <= cur + 1e-6 {
+                        continue 'search;
+                    }
+                    qy[i] = q;
+                    m = m.min(q);
+                }
+                x = y;
+                std::mem::swap(&mut qs, &mut qy);
+                cur = m;
+                accepted = true;
+                break;
             }
             if !accepted {
                 break;
@@ -555,8 +576,12 @@ impl Work {
             self.p[v as usize] = home;
             return false;
         }
+        self.clock += 1;
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
+            for w in self.tv[t as usize] {
+                self.stamp[w as usize] = self.clock;
+            }
         }
         true
     }
@@ -586,6 +611,7 @@ impl Work {
         self.p.push(x);
         self.fixed.push(false);
         self.vt.push(DEAD);
+        self.stamp.push(0);
         let region = self.reg[cav[0] as usize];
         let ids = self.replace(cav, &new, region);
         Some((id, ids))
@@ -600,6 +626,7 @@ impl Work {
         self.p.pop();
         self.fixed.pop();
         self.vt.pop();
+        self.stamp.pop();
     }
 }
 
