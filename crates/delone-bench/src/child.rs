@@ -319,7 +319,8 @@ fn run_surf(
     }
 }
 
-/// `3d-surfq-…-qB`: delone's refinement (`-pqB`) against TetGen's
+/// `3d-surfq-…-qB`: delone's refinement and optimisation (`-pqB`, with
+/// its default `-O`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
 fn run_surfq(
@@ -341,9 +342,19 @@ fn run_surfq(
             };
             on_ready();
             let t = Instant::now();
-            let r = refine(black_box(p), black_box(tris), &opts);
+            // `-pqB` optimises by default (`-O`), as the CLI does.
+            let o = delone::tet::optimize::OptimizeOptions {
+                input_points: Some(p.len()),
+                ..Default::default()
+            };
+            let r = refine(black_box(p), black_box(tris), &opts)
+                .map_err(|e| e.to_string())
+                .and_then(|mut r| {
+                    delone::tet::optimize::optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
+                    Ok(r)
+                });
             let seconds = t.elapsed().as_secs_f64();
-            let r = r.map_err(|e| e.to_string())?;
+            let r = r?;
             let m = &r.rec.mesh;
             let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
             let valid = check.then(|| check_recovered(p, tris, &r.rec).map_err(|v| v.to_string()));

@@ -172,7 +172,13 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          and region attributes).
     -Y   With -p: no Steiner point on the input surface (interior only);
          an error names the triangles that flips cannot recover.
-    Not implemented yet (error, exit code 2): -r -q -R -m -a -i -O -S
+    -O[level] Mesh optimisation after -q/-a (on by default there; -O0 off,
+         -O with plain -p optimises the recovered mesh): edge removal,
+         2-3/3-2/4-4 flips, smoothing and insertion of interior vertices,
+         raising the smallest dihedral-angle sine; the surface stays as it
+         is. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
+         -V prints the dihedral angles before and after.
+    Not implemented yet (error, exit code 2): -r -q -R -m -a -i -S
     -T -X -M -d -D -o2 -o/.
 
 OPTIONS:

@@ -140,11 +140,16 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         preserve_surface: o.preserve_surface,
         ..Default::default()
     };
-    let (rec, refined) = crate::tetq::mesh(o, &plc.points, &triangles, &ropts, &domain)
+    let (mut rec, refined) = crate::tetq::mesh(o, &plc.points, &triangles, &ropts, &domain)
+        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let optimized = crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.is_some())
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
+    if let Some(r) = &optimized {
+        lines.extend(crate::tetq::optimize_lines(o, r));
+    }
     if o.check {
         match check_recovered(&plc.points, &triangles, &rec) {
             Ok(()) => lines.push(
