@@ -367,7 +367,10 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if matches!(c, 'q' | 'a' | 'S') || (mode == Mode::Tri && c == 'o') || (mode == Mode::Tet && c == 'O') {
+            if matches!(c, 'q' | 'a' | 'S')
+                || (mode == Mode::Tri && c == 'o')
+                || (mode == Mode::Tet && c == 'O')
+            {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }

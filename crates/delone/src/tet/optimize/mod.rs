@@ -257,12 +257,20 @@ pub fn optimize(
         *f = true;
     }
     let thr = opts.target_dihedral.clamp(0.0, 90.0).to_radians().sin();
+    let thr_insert = (0.5 * opts.target_dihedral.clamp(0.0, 90.0))
+        .to_radians()
+        .sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
     // Per slot: the tetrahedron and clock of its last failed attempt; it
     // is not retried until a star of one of its vertices changes.
     let mut failed: std::collections::HashMap<[u32; 4], u64> = Default::default();
+    let mut stale = 0;
     for _ in 0..opts.max_passes {
         report.passes += 1;
+        let worst = (0..w.tv.len() as u32)
+            .filter(|&t| w.live(t))
+            .map(|t| w.q[t as usize])
+            .fold(f64::INFINITY, f64::min);
         let mut bad: Vec<(f64, u32, [u32; 4])> = (0..w.tv.len() as u32)
             .filter(|&t| w.live(t) && w.q[t as usize] < thr)
             .map(|t| (w.q[t as usize], t, w.tv[t as usize]))
@@ -287,7 +295,7 @@ pub fn optimize(
                     continue;
                 }
             }
-            if improve(&mut w, t, opts, budget, &mut report) {
+            if improve(&mut w, t, opts, budget, thr_insert, &mut report) {
                 changed += 1;
             } else {
                 w.clock += 1;
@@ -295,6 +303,15 @@ pub fn optimize(
             }
         }
         if changed == 0 {
+            break;
+        }
+        // Stop when the worst tetrahedron has not improved in two passes.
+        let now = (0..w.tv.len() as u32)
+            .filter(|&t| w.live(t))
+            .map(|t| w.q[t as usize])
+            .fold(f64::INFINITY, f64::min);
+        stale = if now > worst + 1e-4 { 0 } else { stale + 1 };
+        if stale >= 2 {
             break;
         }
     }
@@ -310,6 +327,7 @@ fn improve(
     t: u32,
     opts: &OptimizeOptions,
     budget: usize,
+    insert_below: f64,
     report: &mut OptimizeReport,
 ) -> bool {
     if opts.flips {
@@ -354,7 +372,8 @@ fn improve(
             return true;
         }
     }
-    if opts.insert && report.inserted < budget {
+    // Insertion (the most expensive try) only for the really bad ones.
+    if opts.insert && report.inserted < budget && w.q[t as usize] < insert_below {
         return try_insert(w, t, opts, report);
     }
     false

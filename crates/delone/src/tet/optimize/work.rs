@@ -38,6 +38,7 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
         a[0] * b[1] - a[1] * b[0],
     ]
 }
+#[inline]
 fn norm(a: &[f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
@@ -54,33 +55,35 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     if det.is_nan() || det <= 0.0 {
         return -1.0;
     }
-    // |area normal| of the face opposite each vertex (twice its area).
+    // Squared |area normal| of the face opposite each vertex.
     let e12 = sub(p[2], p[1]);
     let e13 = sub(p[3], p[1]);
+    let sq = |a: [f64; 3]| dot(&a, &a);
     let n = [
-        norm(&cross(&e12, &e13)),
-        norm(&cross(&e2, &e3)),
-        norm(&cross(&e1, &e3)),
-        norm(&cross(&e1, &e2)),
+        sq(cross(&e12, &e13)),
+        sq(cross(&e2, &e3)),
+        sq(cross(&e1, &e3)),
+        sq(cross(&e1, &e2)),
     ];
     // Edge (i, j) lies on the faces opposite the other two vertices:
-    // sin θ_ij = 6V · |e_ij| / (|N_k| |N_l|).
+    // sin θ_ij = 6V · |e_ij| / (|N_k| |N_l|); compared squared.
     let l = [
-        (norm(&e1), 2, 3),
-        (norm(&e2), 1, 3),
-        (norm(&e3), 1, 2),
-        (norm(&e12), 0, 3),
-        (norm(&e13), 0, 2),
-        (norm(&sub(p[3], p[2])), 0, 1),
+        (sq(e1), 2, 3),
+        (sq(e2), 1, 3),
+        (sq(e3), 1, 2),
+        (sq(e12), 0, 3),
+        (sq(e13), 0, 2),
+        (sq(sub(p[3], p[2])), 0, 1),
     ];
-    let mut q = f64::INFINITY;
-    for (len, k, m) in l {
+    let mut q2 = f64::INFINITY;
+    for (len2, k, m) in l {
         let d = n[k] * n[m];
-        if d <= 0.0 {
+        if !(d > 0.0) {
             return -1.0;
         }
-        q = q.min(det * len / d);
+        q2 = q2.min(len2 / d);
     }
+    let q = det * q2.sqrt();
     if q.is_finite() {
         q
     } else {
@@ -140,6 +143,9 @@ pub(super) struct Work {
     pub stamp: Vec<u64>,
     /// Counts changes.
     pub clock: u64,
+    /// Per vertex: the clock of its last failed smoothing (retried only
+    /// once its star has changed since).
+    smooth_fail: Vec<u64>,
 }
 
 impl Work {
@@ -189,6 +195,7 @@ impl Work {
             prot,
             stamp: vec![0; n],
             clock: 1,
+            smooth_fail: vec![0; n],
         }
     }
 
@@ -476,9 +483,19 @@ impl Work {
     /// of the near-worst tetrahedra, a backtracking line search, exact
     /// orientation of the result). Returns true when it moved.
     pub(super) fn smooth(&mut self, v: u32) -> bool {
-        if self.fixed[v as usize] {
+        if self.fixed[v as usize] || self.smooth_fail[v as usize] > self.stamp[v as usize] {
             return false;
         }
+        let moved = self.smooth_once(v);
+        if !moved {
+            self.clock += 1;
+            self.smooth_fail[v as usize] = self.clock;
+        }
+        moved
+    }
+
+    /// [`Work::smooth`] without the memo.
+    fn smooth_once(&mut self, v: u32) -> bool {
         let star = self.star(v);
         if star.is_empty() {
             return false;
@@ -513,6 +530,7 @@ impl Work {
         let mut x = home;
         let mut qs: Vec<f64> = (0..local.len()).map(|i| at(i, x)).collect();
         let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
+        let q_home = cur;
         let mut moved = false;
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
@@ -540,7 +558,7 @@ impl Work {
                 break;
             }
             // Worst first, so that a failing step is seen early.
-            order.sort_by(|&a, &b| qs[a].total_cmp(&qs[b]));
+            order.sort_unstable_by(|&a, &b| qs[a].total_cmp(&qs[b]));
             // Backtracking line search from a step of len/4.
             let mut step = 0.25 * len / dn;
             let mut accepted = false;
@@ -567,7 +585,8 @@ impl Work {
             }
             moved = true;
         }
-        if !moved {
+        // Only a worthwhile gain counts (no endless micro-moves).
+        if !moved || cur < q_home + 1e-3 {
             return false;
         }
         // Exact check of the moved star.
@@ -612,6 +631,7 @@ impl Work {
         self.fixed.push(false);
         self.vt.push(DEAD);
         self.stamp.push(0);
+        self.smooth_fail.push(0);
         let region = self.reg[cav[0] as usize];
         let ids = self.replace(cav, &new, region);
         Some((id, ids))
@@ -627,6 +647,7 @@ impl Work {
         self.fixed.pop();
         self.vt.pop();
         self.stamp.pop();
+        self.smooth_fail.pop();
     }
 }
 
