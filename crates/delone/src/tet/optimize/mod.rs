@@ -396,23 +396,56 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         }
     }
     let old_q = w.min_q(&cav);
-    let old: Vec<[u32; 4]> = cav.iter().map(|&c| w.tv[c as usize]).collect();
     let c = {
         let p = tv.map(|x| w.p[x as usize]);
         std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
     };
+    w.begin();
     let Some((id, _)) = w.insert(&cav, c) else {
+        w.rollback();
         return false;
+    };
+    // Settle the new vertex: smooth it, then improve the worst of the new
+    // tetrahedra by flips and smoothing (no nested insertion).
+    let mut scratch = OptimizeReport::default();
+    let local = OptimizeOptions {
+        insert: false,
+        ..opts.clone()
     };
     if opts.smooth {
         w.smooth(id);
     }
-    let star = w.star(id);
-    if w.min_q(&star) > old_q + 1e-12 {
+    for _ in 0..3 {
+        let mut bad: Vec<(f64, u32, [u32; 4])> = w
+            .touched
+            .clone()
+            .into_iter()
+            .filter_map(|tv| w.slot_of(tv).map(|s| (w.q[s as usize], s, tv)))
+            .filter(|x| x.0 <= old_q + 0.1)
+            .collect();
+        bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+        bad.dedup_by_key(|x| x.2);
+        let mut any = false;
+        for (_, _, tv) in bad {
+            if let Some(s) = w.slot_of(tv) {
+                any |= improve(w, s, &local, 0, 0.0, &mut scratch);
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    if w.touched_min() > w.lost + 1e-9 {
+        w.commit();
         report.inserted += 1;
+        report.flips23 += scratch.flips23;
+        report.flips32 += scratch.flips32;
+        report.flips44 += scratch.flips44;
+        report.edge_removals += scratch.edge_removals;
+        report.smoothed += scratch.smoothed;
         true
     } else {
-        w.undo_insert(id, &old);
+        w.rollback();
         report.insert_undone += 1;
         false
     }

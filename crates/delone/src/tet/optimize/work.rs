@@ -146,6 +146,29 @@ pub(super) struct Work {
     /// Per vertex: the clock of its last failed smoothing (retried only
     /// once its star has changed since).
     smooth_fail: Vec<u64>,
+    /// The open transaction's undo log ([`Work::begin`]).
+    log: Option<Vec<Undo>>,
+    /// Tetrahedra created, or whose shape changed, in the open
+    /// transaction (some may be gone since).
+    pub touched: Vec<[u32; 4]>,
+    /// Smallest quality, before the transaction, of the tetrahedra it
+    /// destroyed or reshaped.
+    pub lost: f64,
+}
+
+/// One undoable step of a transaction.
+#[derive(Debug, Clone)]
+enum Undo {
+    /// `old` (of `region`) was replaced by `new`.
+    Replace {
+        old: Vec<[u32; 4]>,
+        new: Vec<[u32; 4]>,
+        region: u32,
+    },
+    /// Vertex `v` moved from `from`.
+    Move { v: u32, from: [f64; 3] },
+    /// A point was added.
+    AddPoint,
 }
 
 impl Work {
@@ -196,6 +219,9 @@ impl Work {
             stamp: vec![0; n],
             clock: 1,
             smooth_fail: vec![0; n],
+            log: None,
+            touched: Vec::new(),
+            lost: f64::INFINITY,
         }
     }
 
@@ -404,6 +430,20 @@ impl Work {
     /// face keys.
     pub(super) fn replace(&mut self, old: &[u32], new: &[[u32; 4]], region: u32) -> Vec<u32> {
         self.clock += 1;
+        if let Some(log) = &mut self.log {
+            for &t in old {
+                let tv = self.tv[t as usize];
+                if !self.touched.contains(&tv) {
+                    self.lost = self.lost.min(self.q[t as usize]);
+                }
+            }
+            log.push(Undo::Replace {
+                old: old.iter().map(|&t| self.tv[t as usize]).collect(),
+                new: new.to_vec(),
+                region,
+            });
+            self.touched.extend_from_slice(new);
+        }
         // Outer faces: key -> (outside slot or NONE, its face index).
         let mut outer: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
         for &t in old {
@@ -596,6 +636,17 @@ impl Work {
             return false;
         }
         self.clock += 1;
+        if let Some(log) = &mut self.log {
+            for &t in &star {
+                let tv = self.tv[t as usize];
+                if !self.touched.contains(&tv) {
+                    self.lost = self.lost.min(self.q[t as usize]);
+                }
+            }
+            log.push(Undo::Move { v, from: home });
+            self.touched
+                .extend(star.iter().map(|&t| self.tv[t as usize]));
+        }
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.tv[t as usize] {
@@ -627,6 +678,9 @@ impl Work {
                 new.push([a, b, c, id]);
             }
         }
+        if let Some(log) = &mut self.log {
+            log.push(Undo::AddPoint);
+        }
         self.p.push(x);
         self.fixed.push(false);
         self.vt.push(DEAD);
@@ -637,17 +691,78 @@ impl Work {
         Some((id, ids))
     }
 
-    /// Reverts [`Work::insert`] (the last point): the star of `id` is
-    /// replaced by `old` again.
-    pub(super) fn undo_insert(&mut self, id: u32, old: &[[u32; 4]]) {
-        let star = self.star(id);
-        let region = self.reg[star[0] as usize];
-        self.replace(&star, old, region);
-        self.p.pop();
-        self.fixed.pop();
-        self.vt.pop();
-        self.stamp.pop();
-        self.smooth_fail.pop();
+    /// Opens a transaction: every change until [`Work::commit`] or
+    /// [`Work::rollback`] is logged (no nesting).
+    pub(super) fn begin(&mut self) {
+        self.log = Some(Vec::new());
+        self.touched.clear();
+        self.lost = f64::INFINITY;
+    }
+
+    /// Keeps the transaction's changes.
+    pub(super) fn commit(&mut self) {
+        self.log = None;
+        self.touched.clear();
+    }
+
+    /// The live slot holding exactly `tv`, if any.
+    pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
+        let h = self.vt.get(tv[0] as usize).copied().unwrap_or(DEAD);
+        if h != DEAD && self.tv[h as usize] == tv {
+            return Some(h);
+        }
+        self.star(tv[0])
+            .into_iter()
+            .find(|&t| self.tv[t as usize] == tv)
+    }
+
+    /// Smallest quality of the transaction's live touched tetrahedra.
+    pub(super) fn touched_min(&self) -> f64 {
+        let mut m = f64::INFINITY;
+        for &tv in &self.touched {
+            if let Some(t) = self.slot_of(tv) {
+                m = m.min(self.q[t as usize]);
+            }
+        }
+        m
+    }
+
+    /// Undoes the transaction's changes, newest first.
+    pub(super) fn rollback(&mut self) {
+        let Some(log) = self.log.take() else {
+            return;
+        };
+        self.touched.clear();
+        for u in log.into_iter().rev() {
+            match u {
+                Undo::Replace { old, new, region } => {
+                    let slots: Option<Vec<u32>> = new.iter().map(|&tv| self.slot_of(tv)).collect();
+                    if let Some(slots) = slots {
+                        self.replace(&slots, &old, region);
+                    } else {
+                        debug_assert!(false, "rollback: a tetrahedron is missing");
+                    }
+                }
+                Undo::Move { v, from } => {
+                    self.p[v as usize] = from;
+                    self.clock += 1;
+                    for t in self.star(v) {
+                        let tv = self.tv[t as usize];
+                        self.q[t as usize] = self.qual(tv);
+                        for w in tv {
+                            self.stamp[w as usize] = self.clock;
+                        }
+                    }
+                }
+                Undo::AddPoint => {
+                    self.p.pop();
+                    self.fixed.pop();
+                    self.vt.pop();
+                    self.stamp.pop();
+                    self.smooth_fail.pop();
+                }
+            }
+        }
     }
 }
 
