@@ -311,7 +311,7 @@ pub fn optimize(
             .map(|t| w.q[t as usize])
             .fold(f64::INFINITY, f64::min);
         stale = if now > worst + 1e-4 { 0 } else { stale + 1 };
-        if stale >= 2 {
+        if stale >= 4 {
             break;
         }
     }
@@ -395,7 +395,6 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
             cav.push(n);
         }
     }
-    let old_q = w.min_q(&cav);
     let c = {
         let p = tv.map(|x| w.p[x as usize]);
         std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
@@ -421,7 +420,8 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
             .clone()
             .into_iter()
             .filter_map(|tv| w.slot_of(tv).map(|s| (w.q[s as usize], s, tv)))
-            .filter(|x| x.0 <= old_q + 0.1)
+            // Only those at or below the bar decide the outcome.
+            .filter(|x| x.0 <= w.lost + 0.1)
             .collect();
         bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
         bad.dedup_by_key(|x| x.2);
@@ -531,9 +531,9 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
     let mut owner: std::collections::HashMap<[u32; 3], (usize, usize)> = Default::default();
-    for (t, tv) in tets.iter().enumerate() {
-        for f in 0..4 {
-            if nbs[t][f] != NONE {
+    for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
+        for (f, &n) in nb.iter().enumerate() {
+            if n != NONE {
                 owner.entry(fkey(work::face(*tv, f))).or_insert((t, f));
             }
         }

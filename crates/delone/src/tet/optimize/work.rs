@@ -78,7 +78,7 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let mut q2 = f64::INFINITY;
     for (len2, k, m) in l {
         let d = n[k] * n[m];
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return -1.0;
         }
         q2 = q2.min(len2 / d);
@@ -154,6 +154,10 @@ pub(super) struct Work {
     /// Smallest quality, before the transaction, of the tetrahedra it
     /// destroyed or reshaped.
     pub lost: f64,
+    /// Set of `touched`.
+    touched_set: HashSet<[u32; 4]>,
+    /// Visit marks of [`Work::star`] and their epoch.
+    marks: std::cell::RefCell<(Vec<u32>, u32)>,
 }
 
 /// One undoable step of a transaction.
@@ -185,8 +189,8 @@ impl Work {
         let mut fixed = vec![false; n];
         let mut vt = vec![DEAD; n];
         for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
-            for f in 0..4 {
-                if nb[f] == NONE {
+            for (f, &n) in nb.iter().enumerate() {
+                if n == NONE {
                     for w in face(*tv, f) {
                         fixed[w as usize] = true;
                     }
@@ -222,6 +226,8 @@ impl Work {
             log: None,
             touched: Vec::new(),
             lost: f64::INFINITY,
+            touched_set: HashSet::new(),
+            marks: Default::default(),
         }
     }
 
@@ -268,18 +274,30 @@ impl Work {
                 None => return Vec::new(),
             }
         }
+        let mut marks = self.marks.borrow_mut();
+        let (mark, epoch) = &mut *marks;
+        *epoch = epoch.wrapping_add(1);
+        if *epoch == 0 {
+            mark.iter_mut().for_each(|m| *m = 0);
+            *epoch = 1;
+        }
+        if mark.len() < self.tv.len() {
+            mark.resize(self.tv.len(), 0);
+        }
         let mut out = vec![start];
+        mark[start as usize] = *epoch;
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
             i += 1;
             let tv = self.tv[t as usize];
-            for f in 0..4 {
-                if tv[f] == v {
+            for (f, &u) in tv.iter().enumerate() {
+                if u == v {
                     continue;
                 }
                 let n = self.nb[t as usize][f];
-                if n != NONE && !out.contains(&n) {
+                if n != NONE && mark[n as usize] != *epoch {
+                    mark[n as usize] = *epoch;
                     out.push(n);
                 }
             }
@@ -433,7 +451,7 @@ impl Work {
         if let Some(log) = &mut self.log {
             for &t in old {
                 let tv = self.tv[t as usize];
-                if !self.touched.contains(&tv) {
+                if !self.touched_set.contains(&tv) {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
@@ -443,6 +461,7 @@ impl Work {
                 region,
             });
             self.touched.extend_from_slice(new);
+            self.touched_set.extend(new.iter().copied());
         }
         // Outer faces: key -> (outside slot or NONE, its face index).
         let mut outer: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
@@ -575,8 +594,8 @@ impl Work {
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
-        for _ in 0..8 {
-            // Gradients of the near-active tetrahedra.
+        for _ in 0..6 {
+            // Gradients of the near-active tetrahedra (forward differences).
             let mut grads: Vec<[f64; 3]> = Vec::new();
             for (i, &qi) in qs.iter().enumerate() {
                 if qi > cur + 1e-3 {
@@ -586,23 +605,24 @@ impl Work {
                 for (k, gk) in g.iter_mut().enumerate() {
                     let mut y = x;
                     y[k] += h;
-                    let mut z = x;
-                    z[k] -= h;
-                    *gk = (at(i, y) - at(i, z)) / (2.0 * h);
+                    *gk = (at(i, y) - qi) / h;
                 }
                 grads.push(g);
             }
             let d = min_norm_point(&grads);
             let dn = norm(&d);
-            if !(dn > 0.0) || !dn.is_finite() {
+            if dn.is_nan() || dn <= 0.0 || !dn.is_finite() {
                 break;
             }
             // Worst first, so that a failing step is seen early.
-            order.sort_unstable_by(|&a, &b| qs[a].total_cmp(&qs[b]));
+            // The near-active ones first.
+            order.clear();
+            order.extend((0..qs.len()).filter(|&i| qs[i] <= cur + 1e-3));
+            order.extend((0..qs.len()).filter(|&i| qs[i] > cur + 1e-3));
             // Backtracking line search from a step of len/4.
             let mut step = 0.25 * len / dn;
             let mut accepted = false;
-            'search: for _ in 0..10 {
+            'search: for _ in 0..7 {
                 let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
                 step *= 0.5;
                 let mut m = f64::INFINITY;
@@ -639,13 +659,17 @@ impl Work {
         if let Some(log) = &mut self.log {
             for &t in &star {
                 let tv = self.tv[t as usize];
-                if !self.touched.contains(&tv) {
+                if !self.touched_set.contains(&tv) {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
             log.push(Undo::Move { v, from: home });
-            self.touched
-                .extend(star.iter().map(|&t| self.tv[t as usize]));
+            for &t in &star {
+                let tv = self.tv[t as usize];
+                if self.touched_set.insert(tv) {
+                    self.touched.push(tv);
+                }
+            }
         }
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
@@ -696,6 +720,7 @@ impl Work {
     pub(super) fn begin(&mut self) {
         self.log = Some(Vec::new());
         self.touched.clear();
+        self.touched_set.clear();
         self.lost = f64::INFINITY;
     }
 
@@ -703,13 +728,16 @@ impl Work {
     pub(super) fn commit(&mut self) {
         self.log = None;
         self.touched.clear();
+        self.touched_set.clear();
     }
 
     /// The live slot holding exactly `tv`, if any.
     pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
-        let h = self.vt.get(tv[0] as usize).copied().unwrap_or(DEAD);
-        if h != DEAD && self.tv[h as usize] == tv {
-            return Some(h);
+        for w in tv {
+            let h = self.vt.get(w as usize).copied().unwrap_or(DEAD);
+            if h != DEAD && self.tv[h as usize] == tv {
+                return Some(h);
+            }
         }
         self.star(tv[0])
             .into_iter()
@@ -733,6 +761,7 @@ impl Work {
             return;
         };
         self.touched.clear();
+        self.touched_set.clear();
         for u in log.into_iter().rev() {
             match u {
                 Undo::Replace { old, new, region } => {
