@@ -9,7 +9,7 @@
 //! is applied, checked by exact `orient3d` on every tetrahedron it creates:
 //! a result that is not strictly positive is refused and nothing changes.
 
-use std::collections::{HashMap, HashSet};
+use crate::tet::recover::IdSet;
 
 use delone_predicates::orient3d;
 
@@ -137,7 +137,7 @@ pub(super) struct Work {
     /// Per vertex: on the boundary or an interface (never moved or removed).
     pub fixed: Vec<bool>,
     /// Interface faces (sorted keys): never destroyed.
-    prot: HashSet<[u32; 3]>,
+    prot: IdSet<[u32; 3]>,
     /// Per vertex: the [`Work::clock`] of the last change of its star
     /// (a tetrahedron created or removed, a vertex of it moved).
     pub stamp: Vec<u64>,
@@ -155,7 +155,7 @@ pub(super) struct Work {
     /// destroyed or reshaped.
     pub lost: f64,
     /// Set of `touched`.
-    touched_set: HashSet<[u32; 4]>,
+    touched_set: IdSet<[u32; 4]>,
     /// Visit marks of [`Work::star`] and their epoch.
     marks: std::cell::RefCell<(Vec<u32>, u32)>,
 }
@@ -226,7 +226,7 @@ impl Work {
             log: None,
             touched: Vec::new(),
             lost: f64::INFINITY,
-            touched_set: HashSet::new(),
+            touched_set: IdSet::default(),
             marks: Default::default(),
         }
     }
@@ -464,7 +464,8 @@ impl Work {
             self.touched_set.extend(new.iter().copied());
         }
         // Outer faces: key -> (outside slot or NONE, its face index).
-        let mut outer: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        // (Small sets: linear searches beat hashing.)
+        let mut outer: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
         for &t in old {
             let tv = self.tv[t as usize];
             for f in 0..4 {
@@ -477,7 +478,7 @@ impl Work {
                 } else {
                     (0..4).find(|&g| self.nb[n as usize][g] == t).unwrap_or(0)
                 };
-                outer.insert(fkey(face(tv, f)), (n, g));
+                outer.push((fkey(face(tv, f)), n, g));
             }
         }
         for &t in old {
@@ -506,20 +507,22 @@ impl Work {
             };
             ids.push(id);
         }
-        let mut open: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        let mut open: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
                 let k = fkey(face(tv, f));
-                if let Some((n, g)) = outer.remove(&k) {
+                if let Some(i) = outer.iter().position(|o| o.0 == k) {
+                    let (_, n, g) = outer.swap_remove(i);
                     self.nb[x as usize][f] = n;
                     if n != NONE {
                         self.nb[n as usize][g] = x;
                     }
-                } else if let Some((y, g)) = open.remove(&k) {
+                } else if let Some(i) = open.iter().position(|o| o.0 == k) {
+                    let (_, y, g) = open.swap_remove(i);
                     self.nb[x as usize][f] = y;
                     self.nb[y as usize][g] = x;
                 } else {
-                    open.insert(k, (x, f));
+                    open.push((k, x, f));
                 }
             }
             for &w in &tv {
