@@ -40,6 +40,12 @@ use crate::NONE;
 use work::{fkey, Plan, Work, DEAD};
 
 /// Options of [`optimize`].
+///
+/// ```
+/// use delone::tet::optimize::OptimizeOptions;
+/// let o = OptimizeOptions { target_dihedral: 30.0, ..Default::default() };
+/// assert!(o.flips && o.smooth && o.insert);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizeOptions {
     /// Dihedral angle target (degrees): tetrahedra with an angle below it
@@ -109,6 +115,11 @@ impl OptimizeOptions {
 }
 
 /// Why a tetrahedron is still below the target after [`optimize`].
+///
+/// ```
+/// use delone::tet::optimize::StuckReason;
+/// assert_eq!(StuckReason::SurfaceFaces.to_string(), "two faces on the fixed surface");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 #[non_exhaustive]
 pub enum StuckReason {
@@ -133,6 +144,12 @@ impl fmt::Display for StuckReason {
 }
 
 /// A tetrahedron left below the target.
+///
+/// ```
+/// use delone::tet::optimize::{Stuck, StuckReason};
+/// let s = Stuck { tet: 3, dihedral: [4.0, 170.0], reason: StuckReason::NoImprovement };
+/// assert!(s.dihedral[0] < 15.0);
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stuck {
     /// Its index in the optimised mesh.
@@ -144,6 +161,12 @@ pub struct Stuck {
 }
 
 /// What [`optimize`] did.
+///
+/// ```
+/// use delone::tet::optimize::OptimizeReport;
+/// let r = OptimizeReport::default();
+/// assert_eq!(r.flips23 + r.flips32 + r.flips44 + r.edge_removals, 0);
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct OptimizeReport {
     /// Quality before.
@@ -175,6 +198,17 @@ pub struct OptimizeReport {
 }
 
 /// Why [`optimize`] refused its input.
+///
+/// ```
+/// use delone::tet::optimize::{optimize, OptimizeError, OptimizeOptions};
+/// use delone::tet::recover::{recover, RecoverOptions};
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+/// let mut r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// r.mesh.tets[0][0] = 99;
+/// let e = optimize(&mut r, &OptimizeOptions::default()).unwrap_err();
+/// assert!(matches!(e, OptimizeError::InvalidMesh { tet: 0, .. }));
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum OptimizeError {
