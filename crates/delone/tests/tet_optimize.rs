@@ -243,3 +243,61 @@ fn refined_corpus_models_reach_the_bounds() {
         );
     }
 }
+
+#[test]
+fn squashed_interior_vertices_are_smoothed_back() {
+    // Refine a cube, then drag every interior vertex most of the way to a
+    // neighbour (as long as its tetrahedra stay clearly positive): slivers
+    // and caps that only smoothing and flips can repair.
+    let (pts, tris) = cube();
+    let mut r = refine(
+        &pts,
+        &tris,
+        &RefineOptions {
+            max_volume: Some(0.005),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .rec;
+    let on_surface: std::collections::BTreeSet<u32> =
+        r.boundary.iter().flatten().copied().collect();
+    let n = r.points.len() as u32;
+    let mut moved = 0;
+    for v in pts.len() as u32..n {
+        if on_surface.contains(&v) {
+            continue;
+        }
+        let star: Vec<usize> = (0..r.mesh.tets.len())
+            .filter(|&t| r.mesh.tets[t].contains(&v))
+            .collect();
+        let Some(&u) = r.mesh.tets[star[0]].iter().find(|&&u| u != v) else {
+            continue;
+        };
+        let (a, b) = (r.points[v as usize], r.points[u as usize]);
+        for f in [0.9, 0.8, 0.6, 0.4] {
+            let p: [f64; 3] = std::array::from_fn(|k| a[k] + f * (b[k] - a[k]));
+            let ok = star.iter().all(|&t| {
+                let q = r.mesh.tets[t].map(|w| if w == v { p } else { r.points[w as usize] });
+                delone::tet::quality::volume(&q) > 1e-9
+            });
+            if ok {
+                r.points[v as usize] = p;
+                moved += 1;
+                break;
+            }
+        }
+    }
+    assert!(moved > 0);
+    check_recovered(&pts, &tris, &r).unwrap();
+    let before = TetStats::of(&r.points, &r.mesh.tets);
+    assert!(before.min_dihedral < 10.0, "{}", before.min_dihedral);
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::level(2));
+    assert!(rep.smoothed > 0);
+    assert!(
+        rep.after.min_dihedral >= 15.0,
+        "{} -> {}",
+        before.min_dihedral,
+        rep.after.min_dihedral
+    );
+}
