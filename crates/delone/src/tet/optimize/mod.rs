@@ -51,7 +51,7 @@ pub struct OptimizeOptions {
     /// Dihedral angle target (degrees): tetrahedra with an angle below it
     /// or above `180 -` it are worked on. Default 40.
     pub target_dihedral: f64,
-    /// Most passes over the bad tetrahedra. Default 10.
+    /// Most passes over the bad tetrahedra. Default 6.
     pub max_passes: usize,
     /// Use edge removal and 2-3 / 3-2 / 4-4 flips. Default true.
     pub flips: bool,
@@ -75,7 +75,7 @@ impl Default for OptimizeOptions {
     fn default() -> Self {
         OptimizeOptions {
             target_dihedral: 40.0,
-            max_passes: 10,
+            max_passes: 6,
             flips: true,
             smooth: true,
             insert: true,
