@@ -369,22 +369,31 @@ fn run_surf(
     }
 }
 
-/// `3d-surfq-…-qB`: delone's refinement (`-pqB`) against TetGen's
+/// `3d-surfq-…-qB`: delone's refinement and optimisation (`-pqB`, with
+/// its default `-O`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
 /// delone's quality mesh of a closed surface at radius-edge bound `q`
-/// (what `delone tet -pqQ` does): the timed arm and the dihedral chart.
+/// (what `delone tet -pqQ` does: refinement, then the default `-O`
+/// optimisation): the timed arm and the dihedral chart.
 pub fn delone_quality(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     q: f64,
-) -> Result<delone::tet::refine::Refined, delone::tet::recover::RecoverError> {
+) -> Result<delone::tet::refine::Refined, String> {
+    use delone::tet::optimize::{optimize, OptimizeOptions};
     use delone::tet::refine::{refine, RefineOptions};
     let opts = RefineOptions {
         max_radius_edge: q,
         ..RefineOptions::default()
     };
-    refine(points, triangles, &opts)
+    let mut r = refine(points, triangles, &opts).map_err(|e| e.to_string())?;
+    let o = OptimizeOptions {
+        input_points: Some(points.len()),
+        ..Default::default()
+    };
+    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
+    Ok(r)
 }
 
 /// [`delone_quality`]'s points and tetrahedra.
@@ -393,7 +402,7 @@ pub fn delone_quality_mesh(
     triangles: &[[u32; 3]],
     q: f64,
 ) -> Result<crate::refbin::NodeEle, String> {
-    let r = delone_quality(points, triangles, q).map_err(|e| e.to_string())?;
+    let r = delone_quality(points, triangles, q)?;
     Ok((r.rec.points, r.rec.mesh.tets))
 }
 
@@ -410,8 +419,10 @@ fn run_surfq(
     match program {
         "delone" => {
             on_ready();
+            // `-pqB` optimises by default (`-O`), as the CLI does: see
+            // `delone_quality`.
             let (r, seconds) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
-            let r = r.map_err(|e| e.to_string())?;
+            let r = r?;
             let m = &r.rec.mesh;
             let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
             let valid = check.then(|| check_recovered(p, tris, &r.rec).map_err(|v| v.to_string()));

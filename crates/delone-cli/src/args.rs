@@ -84,6 +84,9 @@ pub struct Opts {
     pub gmsh: Option<PathBuf>,
     /// tet `-q[ratio]`: quality mesh with this radius-edge bound.
     pub tet_ratio: Option<f64>,
+    /// tet `-O[level]`: mesh optimisation level (`-O0` off; default 3 with
+    /// `-q`/`-a`, off otherwise).
+    pub tet_optimize: Option<u32>,
     /// The switch letters as given, for messages.
     pub switches: String,
     /// tri `-P`: no .poly output.
@@ -137,7 +140,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'R') => "mesh coarsening",
         (Mode::Tet, 'm') => "sizing function (.mtr)",
         (Mode::Tet, 'i') => "insertion of additional points",
-        (Mode::Tet, 'O') => "mesh optimization",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
         (Mode::Tet, 'd') => "self-intersection detection",
@@ -206,6 +208,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
             o.area = true;
             o.max_area = number(c, num)?.filter(|&x| x > 0.0);
         }
+        (Mode::Tet, 'O') => o.tet_optimize = Some(number(c, num)?.unwrap_or(3.0).max(0.0) as u32),
         (Mode::Tet, 'S') => o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),
         (_, 'z') => o.zero = true,
         (_, 'v') => o.voronoi = true,
@@ -404,7 +407,10 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             let c = chars[k];
             k += 1;
             let start = k;
-            if matches!(c, 'q' | 'a' | 'S') || (mode == Mode::Tri && c == 'o') {
+            if matches!(c, 'q' | 'a' | 'S')
+                || (mode == Mode::Tri && c == 'o')
+                || (mode == Mode::Tet && c == 'O')
+            {
                 while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
                     k += 1;
                 }

@@ -181,7 +181,13 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          radius-edge ratio above B (default 2.0); -V reports dihedral angles.
     -a[V] With -p: no tetrahedron larger than volume V.
     -S<n> At most n Steiner points in the refinement.
-    Not implemented yet (error, exit code 2): -r -R -m -i -O -T -X -d -D
+    -O[level] Mesh optimisation after -q/-a (on by default there; -O0 off,
+         -O with plain -p optimises the recovered mesh): edge removal,
+         2-3/3-2/4-4 flips, smoothing and insertion of interior vertices,
+         raising the smallest dihedral-angle sine; the surface stays as it
+         is. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
+         -V prints the dihedral angles before and after.
+    Not implemented yet (error, exit code 2): -r -R -m -i -T -X -d -D
     -o2 -o/.
 
 OPTIONS:

@@ -145,12 +145,17 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .iter()
         .map(|&f| plc.facets[f as usize].marker)
         .collect();
-    let (rec, refined) =
+    let (mut rec, refined) =
         crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
             .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let optimized = crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.is_some())
+        .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
+    if let Some(r) = &optimized {
+        lines.extend(crate::tetq::optimize_lines(o, r));
+    }
     if o.check {
         match check_recovered(&plc.points, &triangles, &rec) {
             Ok(()) => lines.push(

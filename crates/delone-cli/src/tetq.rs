@@ -1,6 +1,7 @@
 //! `delone tet -pq[B] -a[V] -S[n]`: Delaunay refinement after recovery, and
 //! the quality statistics (`-V`, `--stats-json FILE`).
 
+use delone::tet::optimize::{optimize, OptimizeOptions, OptimizeReport};
 use delone::tet::quality::{TetStats, DIHEDRAL_BINS};
 use delone::tet::recover::{recover_marked, Domain, RecoverOptions, Recovered};
 use delone::tet::refine::{refine_recovered, RefineOptions, RefineReport};
@@ -46,6 +47,72 @@ pub fn mesh(
     let rec = recover_marked(points, triangles, markers, &ropts, domain).map_err(|e| e.to_string())?;
     let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
     Ok((r.rec, Some(r.report)))
+}
+
+/// Mesh optimisation (`-O`): on by default after refinement, on request
+/// after plain recovery; `None` when off.
+pub fn optimize_mesh(
+    o: &Opts,
+    points: &[[f64; 3]],
+    rec: &mut Recovered,
+    refined: bool,
+) -> Result<Option<OptimizeReport>, String> {
+    let level = o.tet_optimize.unwrap_or(if refined { 3 } else { 0 });
+    if level == 0 {
+        return Ok(None);
+    }
+    let opts = OptimizeOptions {
+        input_points: Some(points.len()),
+        ..OptimizeOptions::level(level)
+    };
+    optimize(rec, &opts).map(Some).map_err(|e| e.to_string())
+}
+
+/// Summary lines of the optimisation (dihedral angles before and after
+/// with `-V`).
+pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
+    let mut lines = vec![format!(
+        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}; {} vertex moves, {} vertices inserted ({} tried and undone); {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
+        r.passes,
+        r.flips23,
+        r.flips32,
+        r.flips44,
+        r.edge_removals,
+        r.smoothed,
+        r.inserted,
+        r.insert_undone,
+        r.stuck_counts.iter().sum::<usize>(),
+        r.stuck_counts[0],
+        r.stuck_counts[1],
+        r.stuck_counts[2],
+    )];
+    if o.verbose > 0 {
+        lines.push(format!(
+            "optimization: dihedral {:.2}..{:.2} deg -> {:.2}..{:.2} deg, shape min {:.4} -> {:.4}, {} -> {} tetrahedra",
+            r.before.min_dihedral,
+            r.before.max_dihedral,
+            r.after.min_dihedral,
+            r.after.max_dihedral,
+            r.before.min_shape,
+            r.after.min_shape,
+            r.before.tets,
+            r.after.tets
+        ));
+        let mut lo = 0.0;
+        let mut h = String::from("dihedral histogram before optimization:");
+        for (b, n) in DIHEDRAL_BINS.iter().zip(&r.before.dihedral_histogram) {
+            h.push_str(&format!(" {lo}-{b}:{n}"));
+            lo = *b;
+        }
+        lines.push(h);
+        for s in r.stuck.iter().take(if o.verbose > 1 { 32 } else { 3 }) {
+            lines.push(format!(
+                "  tet {} left at {:.2}..{:.2} deg: {}",
+                s.tet, s.dihedral[0], s.dihedral[1], s.reason
+            ));
+        }
+    }
+    lines
 }
 
 /// Report lines for `-V` (and the refinement summary), and the JSON file.

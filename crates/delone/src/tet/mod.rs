@@ -10,6 +10,7 @@ pub mod delaunay;
 pub mod intersect;
 pub mod local;
 pub mod mesh;
+pub mod optimize;
 pub mod quality;
 pub mod recover;
 pub mod refine;

@@ -1,0 +1,633 @@
+//! Mesh optimisation of a finished tetrahedral mesh (`-O`): slivers and
+//! other poorly shaped tetrahedra are removed by local operations, after
+//! Klingner & Shewchuk ("Aggressive tetrahedral mesh improvement", 2007) and
+//! Freitag & Ollivier-Gooch (1997).
+//!
+//! The quality of a tetrahedron is the smallest sine of its six dihedral
+//! angles (scale invariant, small for an angle near 0° *or* near 180°).
+//! Tetrahedra below the target (`sin` of [`OptimizeOptions::target_dihedral`])
+//! are visited worst first, and for each one the first of these that raises
+//! the worst quality of the tetrahedra it touches is applied (hill climbing):
+//!
+//! 1. **topological**: removal of each of its six edges (the `n`
+//!    tetrahedra around the edge become `2n - 4`, the triangulation of the
+//!    ring chosen by dynamic programming to maximise the *minimum* quality;
+//!    `n = 3` is the 3-2 flip, `n = 4` the 4-4 flip) or the 2-3 flip of each
+//!    of its faces — the best of them;
+//! 2. **smoothing** of each of its free vertices: the vertex moves along
+//!    the steepest ascent direction of the minimum quality of its star (the
+//!    least-norm point of the near-active gradients) with a backtracking
+//!    line search, never inverting a tetrahedron (exact `orient3d` on the
+//!    result);
+//! 3. **insertion** of a vertex at the tetrahedron's centroid, in the
+//!    cavity made of it and its neighbours, followed by smoothing of the
+//!    new vertex; undone unless the cavity's worst quality improves.
+//!
+//! Passes repeat until one changes nothing (or [`OptimizeOptions::max_passes`]).
+//! Everything on the domain's boundary and on internal facets stays exactly
+//! as it is: boundary and interface faces are never destroyed and their
+//! vertices never move, every tetrahedron keeps its region, so the volume,
+//! the regions and [`super::recover::check_recovered`] are preserved. The
+//! order of work is deterministic (ties broken by slot).
+
+mod work;
+
+use std::fmt;
+
+use super::quality::TetStats;
+use super::recover::Recovered;
+use crate::NONE;
+use work::{fkey, Plan, Work, DEAD};
+
+/// Options of [`optimize`].
+///
+/// ```
+/// use delone::tet::optimize::OptimizeOptions;
+/// let o = OptimizeOptions { target_dihedral: 30.0, ..Default::default() };
+/// assert!(o.flips && o.smooth && o.insert);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizeOptions {
+    /// Dihedral angle target (degrees): tetrahedra with an angle below it
+    /// or above `180 -` it are worked on. Default 40.
+    pub target_dihedral: f64,
+    /// Most passes over the bad tetrahedra. Default 6.
+    pub max_passes: usize,
+    /// Use edge removal and 2-3 / 3-2 / 4-4 flips. Default true.
+    pub flips: bool,
+    /// Use vertex smoothing. Default true.
+    pub smooth: bool,
+    /// Insert vertices where nothing else helps. Default true.
+    pub insert: bool,
+    /// Most vertices inserted (in addition to the mesh's). Default: a
+    /// tenth of the number of tetrahedra.
+    pub max_inserted: Option<usize>,
+    /// How many of the mesh's points are input points: those never move
+    /// (`check_recovered` wants them unchanged), even when they are not on
+    /// a face of the surface. `None`: every point that is not a Steiner
+    /// point of the recovery (`points.len() - report.steiner()`) — pass
+    /// the input's count for a refined mesh, whose refinement points would
+    /// otherwise stay in place.
+    pub input_points: Option<usize>,
+}
+
+impl Default for OptimizeOptions {
+    fn default() -> Self {
+        OptimizeOptions {
+            target_dihedral: 40.0,
+            max_passes: 6,
+            flips: true,
+            smooth: true,
+            insert: true,
+            max_inserted: None,
+            input_points: None,
+        }
+    }
+}
+
+impl OptimizeOptions {
+    /// Options for a TetGen-like level (`-O<level>`): 0 does nothing, 1
+    /// flips only, 2 flips and smoothing, 3 and above everything (with more
+    /// passes for higher levels).
+    ///
+    /// ```
+    /// use delone::tet::optimize::OptimizeOptions;
+    /// assert_eq!(OptimizeOptions::level(0).max_passes, 0);
+    /// assert!(!OptimizeOptions::level(1).smooth);
+    /// assert!(OptimizeOptions::level(3).insert);
+    /// ```
+    pub fn level(level: u32) -> Self {
+        let d = OptimizeOptions::default();
+        match level {
+            0 => OptimizeOptions { max_passes: 0, ..d },
+            1 => OptimizeOptions {
+                smooth: false,
+                insert: false,
+                ..d
+            },
+            2 => OptimizeOptions { insert: false, ..d },
+            l => OptimizeOptions {
+                max_passes: d.max_passes + 5 * (l as usize - 3),
+                ..d
+            },
+        }
+    }
+}
+
+/// Why a tetrahedron is still below the target after [`optimize`].
+///
+/// ```
+/// use delone::tet::optimize::StuckReason;
+/// assert_eq!(StuckReason::SurfaceFaces.to_string(), "two faces on the fixed surface");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[non_exhaustive]
+pub enum StuckReason {
+    /// Two or more of its faces are on the boundary or an internal facet:
+    /// its worst angle is (nearly) an angle of the input surface.
+    SurfaceFaces,
+    /// All four vertices are on the fixed surface (none can move) and no
+    /// flip or insertion helped.
+    AllVerticesFixed,
+    /// No operation improved it.
+    NoImprovement,
+}
+
+impl fmt::Display for StuckReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StuckReason::SurfaceFaces => "two faces on the fixed surface",
+            StuckReason::AllVerticesFixed => "all four vertices on the fixed surface",
+            StuckReason::NoImprovement => "no operation improved it",
+        })
+    }
+}
+
+/// A tetrahedron left below the target.
+///
+/// ```
+/// use delone::tet::optimize::{Stuck, StuckReason};
+/// let s = Stuck { tet: 3, dihedral: [4.0, 170.0], reason: StuckReason::NoImprovement };
+/// assert!(s.dihedral[0] < 15.0);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stuck {
+    /// Its index in the optimised mesh.
+    pub tet: usize,
+    /// Its smallest and largest dihedral angles (degrees).
+    pub dihedral: [f64; 2],
+    /// Why it could not be improved.
+    pub reason: StuckReason,
+}
+
+/// What [`optimize`] did.
+///
+/// ```
+/// use delone::tet::optimize::OptimizeReport;
+/// let r = OptimizeReport::default();
+/// assert_eq!(r.flips23 + r.flips32 + r.flips44 + r.edge_removals, 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct OptimizeReport {
+    /// Quality before.
+    pub before: TetStats,
+    /// Quality after.
+    pub after: TetStats,
+    /// Passes run.
+    pub passes: usize,
+    /// 2-3 flips.
+    pub flips23: usize,
+    /// 3-2 flips (edge removals with 3 tetrahedra around the edge).
+    pub flips32: usize,
+    /// 4-4 flips.
+    pub flips44: usize,
+    /// Edge removals with 5 or more tetrahedra around the edge.
+    pub edge_removals: usize,
+    /// Accepted vertex moves.
+    pub smoothed: usize,
+    /// Vertices inserted.
+    pub inserted: usize,
+    /// Insertions tried and undone.
+    pub insert_undone: usize,
+    /// Tetrahedra below the target afterwards, per reason (in
+    /// [`StuckReason`] order: surface faces, all vertices fixed, no
+    /// improvement).
+    pub stuck_counts: [usize; 3],
+    /// The worst of them (at most 32), worst first.
+    pub stuck: Vec<Stuck>,
+}
+
+/// Why [`optimize`] refused its input.
+///
+/// ```
+/// use delone::tet::optimize::{optimize, OptimizeError, OptimizeOptions};
+/// use delone::tet::recover::{recover, RecoverOptions};
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+/// let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+/// let mut r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// r.mesh.tets[0][0] = 99;
+/// let e = optimize(&mut r, &OptimizeOptions::default()).unwrap_err();
+/// assert!(matches!(e, OptimizeError::InvalidMesh { tet: 0, .. }));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum OptimizeError {
+    /// The mesh is inconsistent: array sizes, a vertex or neighbour out of
+    /// range, or a tetrahedron that is not positive.
+    InvalidMesh {
+        /// The offending tetrahedron (or the array length for size errors).
+        tet: usize,
+        /// What is wrong.
+        what: &'static str,
+    },
+}
+
+impl fmt::Display for OptimizeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OptimizeError::InvalidMesh { tet, what } => {
+                write!(f, "cannot optimise: tetrahedron {tet}: {what}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for OptimizeError {}
+
+/// Improves the tetrahedra of `rec` in place (see the [module
+/// documentation](self)): the boundary, internal facets, regions and volume
+/// are kept; points may be moved (interior ones only) and added.
+///
+/// # Errors
+/// [`OptimizeError::InvalidMesh`] when `rec` is not a consistent mesh.
+///
+/// ```
+/// use delone::tet::optimize::{optimize, OptimizeOptions};
+/// use delone::tet::recover::check_recovered;
+/// use delone::tet::refine::{refine, RefineOptions};
+/// // A unit cube refined to small volumes, then optimised.
+/// let pts: Vec<[f64; 3]> = (0..8)
+///     .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+///     .collect();
+/// let tris = [
+///     [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+///     [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
+/// ];
+/// let mut r = refine(&pts, &tris, &RefineOptions { max_volume: Some(0.01), ..Default::default() })
+///     .unwrap()
+///     .rec;
+/// let opts = OptimizeOptions { input_points: Some(pts.len()), ..Default::default() };
+/// let rep = optimize(&mut r, &opts).unwrap();
+/// check_recovered(&pts, &tris, &r).unwrap();
+/// assert!(rep.after.min_dihedral > rep.before.min_dihedral);
+/// ```
+pub fn optimize(
+    rec: &mut Recovered,
+    opts: &OptimizeOptions,
+) -> Result<OptimizeReport, OptimizeError> {
+    validate_input(rec)?;
+    let before = TetStats::of(&rec.points, &rec.mesh.tets);
+    let mut report = OptimizeReport {
+        before: before.clone(),
+        after: before,
+        ..OptimizeReport::default()
+    };
+    if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
+        return Ok(report);
+    }
+    let (scaled, s) = crate::geom::rescaled(&rec.points);
+    let mut w = Work::new(
+        scaled.into_owned(),
+        &rec.mesh.tets,
+        &rec.mesh.neighbors,
+        &rec.tet_region,
+        &rec.interior_faces,
+    );
+    let n_in = opts
+        .input_points
+        .unwrap_or(rec.points.len().saturating_sub(rec.report.steiner()))
+        .min(rec.points.len());
+    for f in &mut w.fixed[..n_in] {
+        *f = true;
+    }
+    let thr = opts.target_dihedral.clamp(0.0, 90.0).to_radians().sin();
+    let thr_insert = (0.5 * opts.target_dihedral.clamp(0.0, 90.0))
+        .to_radians()
+        .sin();
+    let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
+    // Per slot: the tetrahedron and clock of its last failed attempt; it
+    // is not retried until a star of one of its vertices changes.
+    let mut failed: std::collections::HashMap<[u32; 4], u64> = Default::default();
+    let mut stale = 0;
+    for _ in 0..opts.max_passes {
+        report.passes += 1;
+        let worst = (0..w.tv.len() as u32)
+            .filter(|&t| w.live(t))
+            .map(|t| w.q[t as usize])
+            .fold(f64::INFINITY, f64::min);
+        let mut bad: Vec<(f64, u32, [u32; 4])> = (0..w.tv.len() as u32)
+            .filter(|&t| w.live(t) && w.q[t as usize] < thr)
+            .map(|t| (w.q[t as usize], t, w.tv[t as usize]))
+            .collect();
+        bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut changed = 0;
+        for (_, t, tv) in bad {
+            // An undone insertion may have moved the tetrahedron to
+            // another slot.
+            let t = if w.tv[t as usize] == tv {
+                t
+            } else {
+                match w.star(tv[0]).into_iter().find(|&u| w.tv[u as usize] == tv) {
+                    Some(u) => u,
+                    None => continue,
+                }
+            };
+            let mut key = tv;
+            key.sort_unstable();
+            if let Some(&at) = failed.get(&key) {
+                if tv.iter().all(|&v| w.stamp[v as usize] < at) {
+                    continue;
+                }
+            }
+            if improve(&mut w, t, opts, budget, thr_insert, &mut report) {
+                changed += 1;
+            } else {
+                w.clock += 1;
+                failed.insert(key, w.clock);
+            }
+        }
+        if changed == 0 {
+            break;
+        }
+        // Stop when the worst tetrahedron has not improved in two passes.
+        let now = (0..w.tv.len() as u32)
+            .filter(|&t| w.live(t))
+            .map(|t| w.q[t as usize])
+            .fold(f64::INFINITY, f64::min);
+        stale = if now > worst + 1e-4 { 0 } else { stale + 1 };
+        if stale >= 4 {
+            break;
+        }
+    }
+    write_back(rec, &w, s);
+    report.after = TetStats::of(&rec.points, &rec.mesh.tets);
+    stuck(rec, &w, thr, &mut report);
+    Ok(report)
+}
+
+/// One attempt on slot `t`: topological, then smoothing, then insertion.
+fn improve(
+    w: &mut Work,
+    t: u32,
+    opts: &OptimizeOptions,
+    budget: usize,
+    insert_below: f64,
+    report: &mut OptimizeReport,
+) -> bool {
+    if opts.flips {
+        let tv = w.tv[t as usize];
+        let mut best: Option<Plan> = None;
+        let mut consider = |p: Option<Plan>, w: &Work| {
+            if let Some(p) = p {
+                let old = w.min_q(&p.old);
+                if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
+                    best = Some(p);
+                }
+            }
+        };
+        for (i, j) in super::quality::EDGES {
+            consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+        }
+        for f in 0..4 {
+            consider(w.plan_flip23(t, f), w);
+        }
+        if let Some(p) = best {
+            if w.apply(&p).is_some() {
+                match p.ring {
+                    0 => report.flips23 += 1,
+                    3 => report.flips32 += 1,
+                    4 => report.flips44 += 1,
+                    _ => report.edge_removals += 1,
+                }
+                return true;
+            }
+        }
+    }
+    if opts.smooth {
+        let tv = w.tv[t as usize];
+        let mut any = false;
+        for v in tv {
+            if w.smooth(v) {
+                report.smoothed += 1;
+                any = true;
+            }
+        }
+        if any {
+            return true;
+        }
+    }
+    // Insertion (the most expensive try) only for the really bad ones.
+    if opts.insert && report.inserted < budget && w.q[t as usize] < insert_below {
+        return try_insert(w, t, opts, report);
+    }
+    false
+}
+
+/// Inserts the centroid of `t` in the cavity of `t` and its neighbours
+/// across open faces, smooths it, and keeps it when the worst quality
+/// improved (else undoes it).
+fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut OptimizeReport) -> bool {
+    let tv = w.tv[t as usize];
+    let mut cav = vec![t];
+    for f in 0..4 {
+        let n = w.nb[t as usize][f];
+        if n != NONE
+            && w.reg[n as usize] == w.reg[t as usize]
+            && !w.fixed_face(t, f)
+            && !cav.contains(&n)
+        {
+            cav.push(n);
+        }
+    }
+    let c = {
+        let p = tv.map(|x| w.p[x as usize]);
+        std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
+    };
+    w.begin();
+    let Some((id, _)) = w.insert(&cav, c) else {
+        w.rollback();
+        return false;
+    };
+    // Settle the new vertex: smooth it, then improve the worst of the new
+    // tetrahedra by flips and smoothing (no nested insertion).
+    let mut scratch = OptimizeReport::default();
+    let local = OptimizeOptions {
+        insert: false,
+        ..opts.clone()
+    };
+    if opts.smooth {
+        w.smooth(id);
+    }
+    for _ in 0..3 {
+        let mut bad: Vec<(f64, u32, [u32; 4])> = w
+            .touched
+            .clone()
+            .into_iter()
+            .filter_map(|tv| w.slot_of(tv).map(|s| (w.q[s as usize], s, tv)))
+            // Only those at or below the bar decide the outcome.
+            .filter(|x| x.0 <= w.lost + 0.1)
+            .collect();
+        bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+        bad.dedup_by_key(|x| x.2);
+        let mut any = false;
+        for (_, _, tv) in bad {
+            if let Some(s) = w.slot_of(tv) {
+                any |= improve(w, s, &local, 0, 0.0, &mut scratch);
+            }
+        }
+        if !any {
+            break;
+        }
+    }
+    if w.touched_min() > w.lost + 1e-9 {
+        w.commit();
+        report.inserted += 1;
+        report.flips23 += scratch.flips23;
+        report.flips32 += scratch.flips32;
+        report.flips44 += scratch.flips44;
+        report.edge_removals += scratch.edge_removals;
+        report.smoothed += scratch.smoothed;
+        true
+    } else {
+        w.rollback();
+        report.insert_undone += 1;
+        false
+    }
+}
+
+impl Work {
+    /// True when the face opposite `f` in `t` is a protected interface.
+    fn fixed_face(&self, t: u32, f: usize) -> bool {
+        self.is_protected(fkey(work::face(self.tv[t as usize], f)))
+    }
+}
+
+/// Checks sizes, ranges and float orientation of the input.
+fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
+    let m = &rec.mesh;
+    let n = rec.points.len();
+    let bad = |tet, what| Err(OptimizeError::InvalidMesh { tet, what });
+    if m.neighbors.len() != m.tets.len() || rec.tet_region.len() != m.tets.len() {
+        return bad(
+            m.tets.len(),
+            "tets, neighbors and tet_region differ in length",
+        );
+    }
+    for (t, (tv, nb)) in m.tets.iter().zip(&m.neighbors).enumerate() {
+        if tv.iter().any(|&v| v as usize >= n) {
+            return bad(t, "names a missing point");
+        }
+        if nb.iter().any(|&x| x != NONE && x as usize >= m.tets.len()) {
+            return bad(t, "names a missing neighbour");
+        }
+    }
+    if rec
+        .interior_faces
+        .iter()
+        .flatten()
+        .any(|&v| v as usize >= n)
+    {
+        return bad(0, "an interior face names a missing point");
+    }
+    Ok(())
+}
+
+/// Writes the live tetrahedra (in slot order) and the points back.
+fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
+    let mut map = vec![NONE; w.tv.len()];
+    let mut k = 0u32;
+    for (t, tv) in w.tv.iter().enumerate() {
+        if tv[0] != DEAD {
+            map[t] = k;
+            k += 1;
+        }
+    }
+    let mut tets = Vec::with_capacity(k as usize);
+    let mut nbs = Vec::with_capacity(k as usize);
+    let mut reg = Vec::with_capacity(k as usize);
+    for (t, tv) in w.tv.iter().enumerate() {
+        if tv[0] == DEAD {
+            continue;
+        }
+        tets.push(*tv);
+        nbs.push(w.nb[t].map(|x| if x == NONE { NONE } else { map[x as usize] }));
+        reg.push(w.reg[t]);
+    }
+    // Points: moved interior points and new ones, scaled back (exact
+    // powers of two).
+    let unscale = |p: [f64; 3]| {
+        if s == (1.0, 1.0) {
+            p
+        } else {
+            p.map(|c| c / s.0 / s.1)
+        }
+    };
+    let n0 = rec.points.len();
+    for (i, p) in w.p.iter().enumerate() {
+        if i < n0 {
+            if !w.fixed[i] {
+                rec.points[i] = unscale(*p);
+            }
+        } else {
+            rec.points.push(unscale(*p));
+        }
+    }
+    // Interface faces: outward from the lower-numbered of their two
+    // tetrahedra.
+    let mut owner: std::collections::HashMap<[u32; 3], (usize, usize)> = Default::default();
+    for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
+        for (f, &n) in nb.iter().enumerate() {
+            if n != NONE {
+                owner.entry(fkey(work::face(*tv, f))).or_insert((t, f));
+            }
+        }
+    }
+    for f in rec.interior_faces.iter_mut() {
+        if let Some(&(t, i)) = owner.get(&fkey(*f)) {
+            // FACET order sees the opposite vertex on its positive side, so
+            // the reversed face is outward from `t`.
+            let [a, b, c] = work::face(tets[t], i);
+            *f = [a, c, b];
+        }
+    }
+    // Region counts and volumes.
+    for r in rec.regions.iter_mut() {
+        r.tets = 0;
+        r.volume = 0.0;
+    }
+    for (tv, &g) in tets.iter().zip(&reg) {
+        if let Some(r) = rec.regions.get_mut(g as usize) {
+            r.tets += 1;
+            r.volume += super::quality::volume(&tv.map(|v| rec.points[v as usize]));
+        }
+    }
+    rec.mesh.tets = tets;
+    rec.mesh.neighbors = nbs;
+    rec.tet_region = reg;
+}
+
+/// Fills the stuck counts and list.
+fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
+    let mut list = Vec::new();
+    for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
+        let p = tv.map(|v| rec.points[v as usize]);
+        let q = work::quality([&p[0], &p[1], &p[2], &p[3]]);
+        if q >= thr {
+            continue;
+        }
+        let surface_faces = (0..4)
+            .filter(|&f| nb[f] == NONE || w.is_protected(fkey(work::face(*tv, f))))
+            .count();
+        let reason = if surface_faces >= 2 {
+            StuckReason::SurfaceFaces
+        } else if tv.iter().all(|&v| w.fixed[v as usize]) {
+            StuckReason::AllVerticesFixed
+        } else {
+            StuckReason::NoImprovement
+        };
+        report.stuck_counts[reason as usize] += 1;
+        let d = super::quality::dihedral_angles(&p);
+        let lo = d.iter().copied().fold(180.0, f64::min);
+        let hi = d.iter().copied().fold(0.0, f64::max);
+        list.push((
+            q,
+            Stuck {
+                tet: t,
+                dihedral: [lo, hi],
+                reason,
+            },
+        ));
+    }
+    list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
+    report.stuck = list.into_iter().take(32).map(|x| x.1).collect();
+}

@@ -1,0 +1,872 @@
+//! The mutable working mesh of [`super::optimize`]: flat arrays of a finished
+//! domain mesh (no ghost cells: a face without neighbour is on the domain's
+//! boundary and is never destroyed), the protected interface faces, and the
+//! local operations — 2-3 flip, edge removal by a max-min dynamic programme
+//! (3-2 and 4-4 flips included), vertex smoothing, vertex insertion and its
+//! undo.
+//!
+//! Every operation is judged in floating point by [`quality`] and, before it
+//! is applied, checked by exact `orient3d` on every tetrahedron it creates:
+//! a result that is not strictly positive is refused and nothing changes.
+
+use crate::tet::recover::IdSet;
+
+use delone_predicates::orient3d;
+
+use crate::NONE;
+
+/// Value of `tv[0]` of a free slot.
+pub(super) const DEAD: u32 = u32::MAX;
+
+/// Longest edge ring tried by [`Work::plan_edge_removal`].
+pub(super) const MAX_RING: usize = 16;
+
+/// Local vertices of the face opposite vertex `f`, ordered so that
+/// `(face, v_f)` is positive.
+const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+
+fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+#[inline]
+fn norm(a: &[f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The quality of a tetrahedron: the smallest sine of its six dihedral
+/// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
+/// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
+/// or -1 when it is flat or inverted (floating point).
+pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
+    let e1 = sub(p[1], p[0]);
+    let e2 = sub(p[2], p[0]);
+    let e3 = sub(p[3], p[0]);
+    let det = dot(&e1, &cross(&e2, &e3));
+    if det.is_nan() || det <= 0.0 {
+        return -1.0;
+    }
+    // Squared |area normal| of the face opposite each vertex.
+    let e12 = sub(p[2], p[1]);
+    let e13 = sub(p[3], p[1]);
+    let sq = |a: [f64; 3]| dot(&a, &a);
+    let n = [
+        sq(cross(&e12, &e13)),
+        sq(cross(&e2, &e3)),
+        sq(cross(&e1, &e3)),
+        sq(cross(&e1, &e2)),
+    ];
+    // Edge (i, j) lies on the faces opposite the other two vertices:
+    // sin θ_ij = 6V · |e_ij| / (|N_k| |N_l|); compared squared.
+    let l = [
+        (sq(e1), 2, 3),
+        (sq(e2), 1, 3),
+        (sq(e3), 1, 2),
+        (sq(e12), 0, 3),
+        (sq(e13), 0, 2),
+        (sq(sub(p[3], p[2])), 0, 1),
+    ];
+    let mut q2 = f64::INFINITY;
+    for (len2, k, m) in l {
+        let d = n[k] * n[m];
+        if d.is_nan() || d <= 0.0 {
+            return -1.0;
+        }
+        q2 = q2.min(len2 / d);
+    }
+    let q = det * q2.sqrt();
+    if q.is_finite() {
+        q
+    } else {
+        -1.0
+    }
+}
+
+/// The sorted key of a face.
+#[inline]
+pub(super) fn fkey(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The face of `tv` opposite local vertex `f`, in [`FACET`] order.
+#[inline]
+pub(super) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
+    FACET[f].map(|i| tv[i])
+}
+
+/// A planned change: tetrahedra to remove and their replacement, with the
+/// worst quality of the replacement.
+pub(super) struct Plan {
+    /// Slots removed.
+    pub old: Vec<u32>,
+    /// New tetrahedra.
+    pub new: Vec<[u32; 4]>,
+    /// The smallest quality of `new`.
+    pub q: f64,
+    /// Size of the edge ring (0 for a 2-3 flip).
+    pub ring: usize,
+}
+
+/// The working mesh.
+#[derive(Debug, Clone)]
+pub(super) struct Work {
+    /// Points (rescaled coordinates).
+    pub p: Vec<[f64; 3]>,
+    /// Tetrahedra (positive); `DEAD` in position 0 for free slots.
+    pub tv: Vec<[u32; 4]>,
+    /// Neighbour across the face opposite each vertex, or [`NONE`].
+    pub nb: Vec<[u32; 4]>,
+    /// Region per slot.
+    pub reg: Vec<u32>,
+    /// Cached [`quality`] per slot.
+    pub q: Vec<f64>,
+    /// Free slots.
+    free: Vec<u32>,
+    /// Per vertex: a live slot containing it (a hint).
+    vt: Vec<u32>,
+    /// Per vertex: on the boundary or an interface (never moved or removed).
+    pub fixed: Vec<bool>,
+    /// Interface faces (sorted keys): never destroyed.
+    prot: IdSet<[u32; 3]>,
+    /// Per vertex: the [`Work::clock`] of the last change of its star
+    /// (a tetrahedron created or removed, a vertex of it moved).
+    pub stamp: Vec<u64>,
+    /// Counts changes.
+    pub clock: u64,
+    /// Per vertex: the clock of its last failed smoothing (retried only
+    /// once its star has changed since).
+    smooth_fail: Vec<u64>,
+    /// The open transaction's undo log ([`Work::begin`]).
+    log: Option<Vec<Undo>>,
+    /// Tetrahedra created, or whose shape changed, in the open
+    /// transaction (some may be gone since).
+    pub touched: Vec<[u32; 4]>,
+    /// Smallest quality, before the transaction, of the tetrahedra it
+    /// destroyed or reshaped.
+    pub lost: f64,
+    /// Set of `touched`.
+    touched_set: IdSet<[u32; 4]>,
+    /// Visit marks of [`Work::star`] and their epoch.
+    marks: std::cell::RefCell<(Vec<u32>, u32)>,
+}
+
+/// One undoable step of a transaction.
+#[derive(Debug, Clone)]
+enum Undo {
+    /// `old` (of `region`) was replaced by `new`.
+    Replace {
+        old: Vec<[u32; 4]>,
+        new: Vec<[u32; 4]>,
+        region: u32,
+    },
+    /// Vertex `v` moved from `from`.
+    Move { v: u32, from: [f64; 3] },
+    /// A point was added.
+    AddPoint,
+}
+
+impl Work {
+    /// Builds the working mesh; `interior` are the protected interface
+    /// faces. Vertices of boundary and interface faces are fixed.
+    pub(super) fn new(
+        p: Vec<[f64; 3]>,
+        tets: &[[u32; 4]],
+        nbs: &[[u32; 4]],
+        reg: &[u32],
+        interior: &[[u32; 3]],
+    ) -> Work {
+        let n = p.len();
+        let mut fixed = vec![false; n];
+        let mut vt = vec![DEAD; n];
+        for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
+            for (f, &n) in nb.iter().enumerate() {
+                if n == NONE {
+                    for w in face(*tv, f) {
+                        fixed[w as usize] = true;
+                    }
+                }
+            }
+            for &w in tv {
+                vt[w as usize] = t as u32;
+            }
+        }
+        for f in interior {
+            for &w in f {
+                fixed[w as usize] = true;
+            }
+        }
+        let prot = interior.iter().map(|&f| fkey(f)).collect();
+        let q = tets
+            .iter()
+            .map(|tv| quality(tv.map(|w| &p[w as usize])))
+            .collect();
+        Work {
+            p,
+            tv: tets.to_vec(),
+            nb: nbs.to_vec(),
+            reg: reg.to_vec(),
+            q,
+            free: Vec::new(),
+            vt,
+            fixed,
+            prot,
+            stamp: vec![0; n],
+            clock: 1,
+            smooth_fail: vec![0; n],
+            log: None,
+            touched: Vec::new(),
+            lost: f64::INFINITY,
+            touched_set: IdSet::default(),
+            marks: Default::default(),
+        }
+    }
+
+    /// True when slot `t` is live.
+    #[inline]
+    pub(super) fn live(&self, t: u32) -> bool {
+        self.tv[t as usize][0] != DEAD
+    }
+
+    /// Quality of `tv` from the current points.
+    #[inline]
+    pub(super) fn qual(&self, tv: [u32; 4]) -> f64 {
+        quality(tv.map(|w| &self.p[w as usize]))
+    }
+
+    /// Exact: `tv` is strictly positive.
+    #[inline]
+    pub(super) fn positive(&self, tv: [u32; 4]) -> bool {
+        let g = |i: usize| &self.p[tv[i] as usize];
+        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+    }
+
+    /// True when sorted face `k` is a protected interface face.
+    #[inline]
+    pub(super) fn is_protected(&self, k: [u32; 3]) -> bool {
+        self.prot.contains(&k)
+    }
+
+    /// True when the face opposite `f` in `t` may be destroyed.
+    #[inline]
+    fn open_face(&self, t: u32, f: usize) -> bool {
+        let n = self.nb[t as usize][f];
+        n != NONE
+            && self.reg[n as usize] == self.reg[t as usize]
+            && !self.prot.contains(&fkey(face(self.tv[t as usize], f)))
+    }
+
+    /// The live slots containing vertex `v`.
+    pub(super) fn star(&self, v: u32) -> Vec<u32> {
+        let mut start = self.vt[v as usize];
+        if start == DEAD || !self.live(start) || !self.tv[start as usize].contains(&v) {
+            match (0..self.tv.len()).find(|&t| self.tv[t][0] != DEAD && self.tv[t].contains(&v)) {
+                Some(t) => start = t as u32,
+                None => return Vec::new(),
+            }
+        }
+        let mut marks = self.marks.borrow_mut();
+        let (mark, epoch) = &mut *marks;
+        *epoch = epoch.wrapping_add(1);
+        if *epoch == 0 {
+            mark.iter_mut().for_each(|m| *m = 0);
+            *epoch = 1;
+        }
+        if mark.len() < self.tv.len() {
+            mark.resize(self.tv.len(), 0);
+        }
+        let mut out = vec![start];
+        mark[start as usize] = *epoch;
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            for (f, &u) in tv.iter().enumerate() {
+                if u == v {
+                    continue;
+                }
+                let n = self.nb[t as usize][f];
+                if n != NONE && mark[n as usize] != *epoch {
+                    mark[n as usize] = *epoch;
+                    out.push(n);
+                }
+            }
+        }
+        out
+    }
+
+    /// The slots around interior edge `a b` (starting at `t`) and the ring,
+    /// `[a, b, ring[i], ring[i + 1]]` (cyclic) being slot `i`; `None` on
+    /// the boundary, across an interface, or beyond [`MAX_RING`].
+    fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+        let tv = self.tv[t as usize];
+        let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
+        let (c0, d0) = (o.next()?, o.next()?);
+        let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
+            (c0, d0)
+        } else {
+            (d0, c0)
+        };
+        let mut cur = t;
+        let mut tets = Vec::new();
+        let mut ring = Vec::new();
+        loop {
+            if tets.len() >= MAX_RING {
+                return None;
+            }
+            tets.push(cur);
+            ring.push(x);
+            let cv = self.tv[cur as usize];
+            let ix = cv.iter().position(|&w| w == x)?;
+            if !self.open_face(cur, ix) {
+                return None;
+            }
+            let next = self.nb[cur as usize][ix];
+            if next == t {
+                return Some((tets, ring));
+            }
+            let nv = self.tv[next as usize];
+            let z = *nv.iter().find(|&&w| w != a && w != b && w != y)?;
+            cur = next;
+            x = y;
+            y = z;
+        }
+    }
+
+    /// The best removal of edge `a b` of slot `t`: the triangulation of its
+    /// ring maximising the smallest quality of the `2n - 4` new tetrahedra
+    /// (dynamic programming over the ring, O(n³)). `None` when the edge
+    /// cannot be removed (boundary, interface, ring too long, no valid
+    /// triangulation).
+    pub(super) fn plan_edge_removal(&self, t: u32, a: u32, b: u32) -> Option<Plan> {
+        let (tets, r) = self.edge_ring(t, a, b)?;
+        let n = r.len();
+        if n < 3 {
+            return None;
+        }
+        let mut best = vec![f64::NEG_INFINITY; n * n];
+        let mut choice = vec![0usize; n * n];
+        for i in 0..n - 1 {
+            best[i * n + i + 1] = f64::INFINITY;
+        }
+        for len in 2..n {
+            for i in 0..n - len {
+                let j = i + len;
+                for k in i + 1..j {
+                    let (l, rr) = (best[i * n + k], best[k * n + j]);
+                    let bound = l.min(rr);
+                    if bound <= best[i * n + j] || bound <= 0.0 {
+                        continue;
+                    }
+                    let q1 = self.qual([r[i], r[k], r[j], b]);
+                    let q2 = self.qual([r[i], r[j], r[k], a]);
+                    let v = bound.min(q1).min(q2);
+                    if v > best[i * n + j] {
+                        best[i * n + j] = v;
+                        choice[i * n + j] = k;
+                    }
+                }
+            }
+        }
+        let q = best[n - 1];
+        if q <= 0.0 {
+            return None;
+        }
+        let mut new = Vec::with_capacity(2 * (n - 2));
+        let mut stack = vec![(0usize, n - 1)];
+        while let Some((i, j)) = stack.pop() {
+            if j < i + 2 {
+                continue;
+            }
+            let k = choice[i * n + j];
+            new.push([r[i], r[k], r[j], b]);
+            new.push([r[i], r[j], r[k], a]);
+            stack.push((i, k));
+            stack.push((k, j));
+        }
+        Some(Plan {
+            old: tets,
+            new,
+            q,
+            ring: n,
+        })
+    }
+
+    /// The 2-3 flip of the face opposite `f` in `t`, if allowed.
+    pub(super) fn plan_flip23(&self, t: u32, f: usize) -> Option<Plan> {
+        if !self.open_face(t, f) {
+            return None;
+        }
+        let u = self.nb[t as usize][f];
+        let tv = self.tv[t as usize];
+        let uv = self.tv[u as usize];
+        let p = tv[f];
+        let q = *uv.iter().find(|w| !tv.contains(w))?;
+        let [x, y, z] = face(tv, f);
+        let new = vec![[x, y, q, p], [y, z, q, p], [z, x, q, p]];
+        let qm = new
+            .iter()
+            .map(|&n| self.qual(n))
+            .fold(f64::INFINITY, f64::min);
+        (qm > 0.0).then_some(Plan {
+            old: vec![t, u],
+            new,
+            q: qm,
+            ring: 0,
+        })
+    }
+
+    /// Smallest cached quality of `slots`.
+    pub(super) fn min_q(&self, slots: &[u32]) -> f64 {
+        slots
+            .iter()
+            .map(|&t| self.q[t as usize])
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Applies `plan` if every new tetrahedron is exactly positive; returns
+    /// the new slots.
+    pub(super) fn apply(&mut self, plan: &Plan) -> Option<Vec<u32>> {
+        if !plan.new.iter().all(|&tv| self.positive(tv)) {
+            return None;
+        }
+        let region = self.reg[plan.old[0] as usize];
+        Some(self.replace(&plan.old, &plan.new, region))
+    }
+
+    /// Replaces slots `old` (connected, one region) by `new`, relinking by
+    /// face keys.
+    pub(super) fn replace(&mut self, old: &[u32], new: &[[u32; 4]], region: u32) -> Vec<u32> {
+        self.clock += 1;
+        if let Some(log) = &mut self.log {
+            for &t in old {
+                let tv = self.tv[t as usize];
+                if !self.touched_set.contains(&tv) {
+                    self.lost = self.lost.min(self.q[t as usize]);
+                }
+            }
+            log.push(Undo::Replace {
+                old: old.iter().map(|&t| self.tv[t as usize]).collect(),
+                new: new.to_vec(),
+                region,
+            });
+            self.touched.extend_from_slice(new);
+            self.touched_set.extend(new.iter().copied());
+        }
+        // Outer faces: key -> (outside slot or NONE, its face index).
+        // (Small sets: linear searches beat hashing.)
+        let mut outer: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
+        for &t in old {
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let n = self.nb[t as usize][f];
+                if n != NONE && old.contains(&n) {
+                    continue;
+                }
+                let g = if n == NONE {
+                    0
+                } else {
+                    (0..4).find(|&g| self.nb[n as usize][g] == t).unwrap_or(0)
+                };
+                outer.push((fkey(face(tv, f)), n, g));
+            }
+        }
+        for &t in old {
+            self.tv[t as usize] = [DEAD; 4];
+            self.nb[t as usize] = [NONE; 4];
+            self.free.push(t);
+        }
+        let mut ids = Vec::with_capacity(new.len());
+        for &tv in new {
+            let q = self.qual(tv);
+            let id = match self.free.pop() {
+                Some(s) => {
+                    self.tv[s as usize] = tv;
+                    self.nb[s as usize] = [NONE; 4];
+                    self.reg[s as usize] = region;
+                    self.q[s as usize] = q;
+                    s
+                }
+                None => {
+                    self.tv.push(tv);
+                    self.nb.push([NONE; 4]);
+                    self.reg.push(region);
+                    self.q.push(q);
+                    (self.tv.len() - 1) as u32
+                }
+            };
+            ids.push(id);
+        }
+        let mut open: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
+        for (&x, &tv) in ids.iter().zip(new) {
+            for f in 0..4 {
+                let k = fkey(face(tv, f));
+                if let Some(i) = outer.iter().position(|o| o.0 == k) {
+                    let (_, n, g) = outer.swap_remove(i);
+                    self.nb[x as usize][f] = n;
+                    if n != NONE {
+                        self.nb[n as usize][g] = x;
+                    }
+                } else if let Some(i) = open.iter().position(|o| o.0 == k) {
+                    let (_, y, g) = open.swap_remove(i);
+                    self.nb[x as usize][f] = y;
+                    self.nb[y as usize][g] = x;
+                } else {
+                    open.push((k, x, f));
+                }
+            }
+            for &w in &tv {
+                if self.vt.len() <= w as usize {
+                    self.vt.resize(w as usize + 1, DEAD);
+                }
+                self.vt[w as usize] = x;
+                if self.stamp.len() <= w as usize {
+                    self.stamp.resize(w as usize + 1, 0);
+                }
+                self.stamp[w as usize] = self.clock;
+            }
+        }
+        debug_assert!(outer.is_empty() && open.is_empty(), "replace: unmatched");
+        ids
+    }
+
+    /// Moves free vertex `v` to raise the smallest quality of its star
+    /// (optimisation-based smoothing: a search direction from the gradients
+    /// of the near-worst tetrahedra, a backtracking line search, exact
+    /// orientation of the result). Returns true when it moved.
+    pub(super) fn smooth(&mut self, v: u32) -> bool {
+        if self.fixed[v as usize] || self.smooth_fail[v as usize] > self.stamp[v as usize] {
+            return false;
+        }
+        let moved = self.smooth_once(v);
+        if !moved {
+            self.clock += 1;
+            self.smooth_fail[v as usize] = self.clock;
+        }
+        moved
+    }
+
+    /// [`Work::smooth`] without the memo.
+    fn smooth_once(&mut self, v: u32) -> bool {
+        let star = self.star(v);
+        if star.is_empty() {
+            return false;
+        }
+        let home = self.p[v as usize];
+        // Length scale: the shortest edge at v.
+        let mut len = f64::INFINITY;
+        for &t in &star {
+            for &w in &self.tv[t as usize] {
+                if w != v {
+                    len = len.min(norm(&sub(&self.p[w as usize], &home)));
+                }
+            }
+        }
+        if !(len > 0.0 && len.is_finite()) {
+            return false;
+        }
+        // Each star tetrahedron's points, with the slot of `v`.
+        let local: Vec<([[f64; 3]; 4], usize)> = star
+            .iter()
+            .map(|&t| {
+                let tv = self.tv[t as usize];
+                let k = tv.iter().position(|&u| u == v).unwrap_or(0);
+                (tv.map(|u| self.p[u as usize]), k)
+            })
+            .collect();
+        let at = |i: usize, x: [f64; 3]| {
+            let (mut pts, k) = local[i];
+            pts[k] = x;
+            quality([&pts[0], &pts[1], &pts[2], &pts[3]])
+        };
+        let mut x = home;
+        let mut qs: Vec<f64> = (0..local.len()).map(|i| at(i, x)).collect();
+        let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
+        let q_home = cur;
+        let mut moved = false;
+        let h = 1e-7 * len;
+        let mut order: Vec<usize> = (0..local.len()).collect();
+        let mut qy = qs.clone();
+        for _ in 0..6 {
+            // Gradients of the near-active tetrahedra (forward differences).
+            let mut grads: Vec<[f64; 3]> = Vec::new();
+            for (i, &qi) in qs.iter().enumerate() {
+                if qi > cur + 1e-3 {
+                    continue;
+                }
+                let mut g = [0.0; 3];
+                for (k, gk) in g.iter_mut().enumerate() {
+                    let mut y = x;
+                    y[k] += h;
+                    *gk = (at(i, y) - qi) / h;
+                }
+                grads.push(g);
+            }
+            let d = min_norm_point(&grads);
+            let dn = norm(&d);
+            if dn.is_nan() || dn <= 0.0 || !dn.is_finite() {
+                break;
+            }
+            // Worst first, so that a failing step is seen early.
+            // The near-active ones first.
+            order.clear();
+            order.extend((0..qs.len()).filter(|&i| qs[i] <= cur + 1e-3));
+            order.extend((0..qs.len()).filter(|&i| qs[i] > cur + 1e-3));
+            // Backtracking line search from a step of len/4.
+            let mut step = 0.25 * len / dn;
+            let mut accepted = false;
+            'search: for _ in 0..7 {
+                let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
+                step *= 0.5;
+                let mut m = f64::INFINITY;
+                for &i in &order {
+                    let q = at(i, y);
+                    if q <= cur + 1e-6 {
+                        continue 'search;
+                    }
+                    qy[i] = q;
+                    m = m.min(q);
+                }
+                x = y;
+                std::mem::swap(&mut qs, &mut qy);
+                cur = m;
+                accepted = true;
+                break;
+            }
+            if !accepted {
+                break;
+            }
+            moved = true;
+        }
+        // Only a worthwhile gain counts (no endless micro-moves).
+        if !moved || cur < q_home + 1e-3 {
+            return false;
+        }
+        // Exact check of the moved star.
+        self.p[v as usize] = x;
+        if !star.iter().all(|&t| self.positive(self.tv[t as usize])) {
+            self.p[v as usize] = home;
+            return false;
+        }
+        self.clock += 1;
+        if let Some(log) = &mut self.log {
+            for &t in &star {
+                let tv = self.tv[t as usize];
+                if !self.touched_set.contains(&tv) {
+                    self.lost = self.lost.min(self.q[t as usize]);
+                }
+            }
+            log.push(Undo::Move { v, from: home });
+            for &t in &star {
+                let tv = self.tv[t as usize];
+                if self.touched_set.insert(tv) {
+                    self.touched.push(tv);
+                }
+            }
+        }
+        for (i, &t) in star.iter().enumerate() {
+            self.q[t as usize] = qs[i];
+            for w in self.tv[t as usize] {
+                self.stamp[w as usize] = self.clock;
+            }
+        }
+        true
+    }
+
+    /// Inserts a new point `x` inside the cavity `cav` (live slots of one
+    /// region, connected across open faces) as the cone of the cavity's
+    /// boundary; `None` unless `x` sees every boundary face strictly.
+    /// Returns the new vertex and slots; [`Work::undo_insert`] reverts it.
+    pub(super) fn insert(&mut self, cav: &[u32], x: [f64; 3]) -> Option<(u32, Vec<u32>)> {
+        let id = self.p.len() as u32;
+        let mut new = Vec::new();
+        for &t in cav {
+            let tv = self.tv[t as usize];
+            for f in 0..4 {
+                let n = self.nb[t as usize][f];
+                if n != NONE && cav.contains(&n) {
+                    continue;
+                }
+                let [a, b, c] = face(tv, f);
+                let g = |w: u32| &self.p[w as usize];
+                if orient3d(g(a), g(b), g(c), &x) >= 0.0 {
+                    return None;
+                }
+                new.push([a, b, c, id]);
+            }
+        }
+        if let Some(log) = &mut self.log {
+            log.push(Undo::AddPoint);
+        }
+        self.p.push(x);
+        self.fixed.push(false);
+        self.vt.push(DEAD);
+        self.stamp.push(0);
+        self.smooth_fail.push(0);
+        let region = self.reg[cav[0] as usize];
+        let ids = self.replace(cav, &new, region);
+        Some((id, ids))
+    }
+
+    /// Opens a transaction: every change until [`Work::commit`] or
+    /// [`Work::rollback`] is logged (no nesting).
+    pub(super) fn begin(&mut self) {
+        self.log = Some(Vec::new());
+        self.touched.clear();
+        self.touched_set.clear();
+        self.lost = f64::INFINITY;
+    }
+
+    /// Keeps the transaction's changes.
+    pub(super) fn commit(&mut self) {
+        self.log = None;
+        self.touched.clear();
+        self.touched_set.clear();
+    }
+
+    /// The live slot holding exactly `tv`, if any.
+    pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
+        for w in tv {
+            let h = self.vt.get(w as usize).copied().unwrap_or(DEAD);
+            if h != DEAD && self.tv[h as usize] == tv {
+                return Some(h);
+            }
+        }
+        self.star(tv[0])
+            .into_iter()
+            .find(|&t| self.tv[t as usize] == tv)
+    }
+
+    /// Smallest quality of the transaction's live touched tetrahedra.
+    pub(super) fn touched_min(&self) -> f64 {
+        let mut m = f64::INFINITY;
+        for &tv in &self.touched {
+            if let Some(t) = self.slot_of(tv) {
+                m = m.min(self.q[t as usize]);
+            }
+        }
+        m
+    }
+
+    /// Undoes the transaction's changes, newest first.
+    pub(super) fn rollback(&mut self) {
+        let Some(log) = self.log.take() else {
+            return;
+        };
+        self.touched.clear();
+        self.touched_set.clear();
+        for u in log.into_iter().rev() {
+            match u {
+                Undo::Replace { old, new, region } => {
+                    let slots: Option<Vec<u32>> = new.iter().map(|&tv| self.slot_of(tv)).collect();
+                    if let Some(slots) = slots {
+                        self.replace(&slots, &old, region);
+                    } else {
+                        debug_assert!(false, "rollback: a tetrahedron is missing");
+                    }
+                }
+                Undo::Move { v, from } => {
+                    self.p[v as usize] = from;
+                    self.clock += 1;
+                    for t in self.star(v) {
+                        let tv = self.tv[t as usize];
+                        self.q[t as usize] = self.qual(tv);
+                        for w in tv {
+                            self.stamp[w as usize] = self.clock;
+                        }
+                    }
+                }
+                Undo::AddPoint => {
+                    self.p.pop();
+                    self.fixed.pop();
+                    self.vt.pop();
+                    self.stamp.pop();
+                    self.smooth_fail.pop();
+                }
+            }
+        }
+    }
+}
+
+/// True when `q` is an even permutation of `tv`.
+fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
+    let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
+    let mut inv = 0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            inv += usize::from(pos[i] > pos[j]);
+        }
+    }
+    inv % 2 == 0
+}
+
+/// The point of least norm in the convex hull of `g` (Gilbert's
+/// algorithm, a few iterations): the steepest ascent direction of the
+/// minimum of the functions whose gradients these are.
+fn min_norm_point(g: &[[f64; 3]]) -> [f64; 3] {
+    let Some(&first) = g.first() else {
+        return [0.0; 3];
+    };
+    let mut x = first;
+    for _ in 0..32 {
+        let Some(&s) = g.iter().min_by(|a, b| dot(a, &x).total_cmp(&dot(b, &x))) else {
+            break;
+        };
+        let xx = dot(&x, &x);
+        if xx - dot(&s, &x) <= 1e-12 * xx {
+            break;
+        }
+        let d = sub(&s, &x);
+        let dd = dot(&d, &d);
+        if dd == 0.0 {
+            break;
+        }
+        let lam = (-dot(&x, &d) / dd).clamp(0.0, 1.0);
+        x = [x[0] + lam * d[0], x[1] + lam * d[1], x[2] + lam * d[2]];
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quality_of_regular_and_flat() {
+        let reg = [
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, -1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ];
+        let want = (1.0f64 / 3.0).acos().sin();
+        let q = quality([&reg[0], &reg[1], &reg[2], &reg[3]]);
+        assert!((q - want).abs() < 1e-12, "{q}");
+        let inv = quality([&reg[1], &reg[0], &reg[2], &reg[3]]);
+        assert_eq!(inv, -1.0);
+        let d = crate::tet::quality::dihedral_angles(&[reg[0], reg[1], reg[2], reg[3]]);
+        let m = d
+            .iter()
+            .map(|a| a.to_radians().sin())
+            .fold(f64::INFINITY, f64::min);
+        assert!((m - q).abs() < 1e-12);
+    }
+
+    #[test]
+    fn min_norm_point_of_opposite_gradients() {
+        let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
+        assert!((x[0]).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
+        let y = min_norm_point(&[[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]);
+        assert!(norm(&y) < 1e-12);
+    }
+}

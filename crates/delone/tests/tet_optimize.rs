@@ -1,0 +1,303 @@
+//! Mesh optimisation (`delone::tet::optimize`): hand-made slivers and
+//! refined corpus models keep their boundary and volume, pass
+//! `check_recovered`, and reach the dihedral-angle bounds.
+
+use std::path::PathBuf;
+
+use delone::tet::optimize::{optimize, OptimizeOptions};
+use delone::tet::quality::TetStats;
+use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
+use delone::tet::refine::{refine, RefineOptions};
+
+fn data_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|a| a.join("shared/data/surf/off"))
+        .find(|d| d.is_dir())
+        .unwrap_or_default()
+}
+
+fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut toks = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .flat_map(str::split_whitespace);
+    assert_eq!(toks.next(), Some("OFF"));
+    let nv: usize = toks.next().unwrap().parse().unwrap();
+    let nf: usize = toks.next().unwrap().parse().unwrap();
+    let _ne = toks.next();
+    let pts = (0..nv)
+        .map(|_| std::array::from_fn(|_| toks.next().unwrap().parse().unwrap()))
+        .collect();
+    let mut tris = Vec::with_capacity(nf);
+    for _ in 0..nf {
+        let k: usize = toks.next().unwrap().parse().unwrap();
+        let v: Vec<u32> = (0..k)
+            .map(|_| toks.next().unwrap().parse().unwrap())
+            .collect();
+        for i in 1..k - 1 {
+            tris.push([v[0], v[i], v[i + 1]]);
+        }
+    }
+    (pts, tris)
+}
+
+fn cube() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let pts = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    let tris = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    (pts, tris)
+}
+
+/// Every boundary face and its input triangle, sorted.
+fn surface(r: &Recovered) -> Vec<([u32; 3], u32)> {
+    let mut v: Vec<_> = r
+        .boundary
+        .iter()
+        .copied()
+        .zip(r.boundary_triangle.iter().copied())
+        .collect();
+    v.sort_unstable();
+    v
+}
+
+fn total_volume(r: &Recovered) -> f64 {
+    TetStats::of(&r.points, &r.mesh.tets).total_volume
+}
+
+/// Optimises `r` and checks the invariants; returns the report.
+fn run(
+    pts: &[[f64; 3]],
+    tris: &[[u32; 3]],
+    r: &mut Recovered,
+    opts: &OptimizeOptions,
+) -> delone::tet::optimize::OptimizeReport {
+    let surf = surface(r);
+    let vol = total_volume(r);
+    let fixed: Vec<[f64; 3]> = r.points.clone();
+    let opts = OptimizeOptions {
+        input_points: Some(pts.len()),
+        ..opts.clone()
+    };
+    let rep = optimize(r, &opts).unwrap();
+    check_recovered(pts, tris, r).unwrap();
+    assert_eq!(surface(r), surf, "the boundary changed");
+    assert!((total_volume(r) - vol).abs() <= 1e-9 * vol.abs());
+    // Boundary vertices did not move.
+    for f in &r.boundary {
+        for &v in f {
+            assert_eq!(r.points[v as usize], fixed[v as usize]);
+        }
+    }
+    assert_eq!(r.points[..pts.len()], *pts);
+    assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
+    assert_eq!(rep.after.tets, r.mesh.tets.len());
+    rep
+}
+
+#[test]
+fn interior_slivers_in_a_cube_are_removed() {
+    // A cube with interior points on a nearly flat square: the Delaunay
+    // recovery makes slivers between them.
+    let (mut pts, tris) = cube();
+    let h = 1e-3;
+    for (x, y, z) in [
+        (0.3, 0.3, 0.5),
+        (0.7, 0.3, 0.5 + h),
+        (0.7, 0.7, 0.5),
+        (0.3, 0.7, 0.5 + h),
+        (0.5, 0.5, 0.2),
+        (0.5, 0.5, 0.8),
+    ] {
+        pts.push([x, y, z]);
+    }
+    // Interior points need an input triangle to be kept: recover the cube,
+    // then add the points by Delaunay refinement is not possible here, so
+    // use them as isolated vertices of the recovery input.
+    let mut r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+    let before = TetStats::of(&r.points, &r.mesh.tets);
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::default());
+    assert_eq!(rep.before, before);
+    assert!(
+        rep.after.min_dihedral > before.min_dihedral,
+        "{} -> {}",
+        before.min_dihedral,
+        rep.after.min_dihedral
+    );
+    // Deterministic.
+    let mut r2 = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+    optimize(&mut r2, &OptimizeOptions::default()).unwrap();
+    assert_eq!(r2, r);
+}
+
+#[test]
+fn level_zero_changes_nothing() {
+    let (pts, tris) = cube();
+    let mut r = refine(
+        &pts,
+        &tris,
+        &RefineOptions {
+            max_volume: Some(0.01),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .rec;
+    let copy = r.clone();
+    let rep = optimize(&mut r, &OptimizeOptions::level(0)).unwrap();
+    assert_eq!(r, copy);
+    assert_eq!(rep.before, rep.after);
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::default());
+    assert!(rep.after.min_dihedral > rep.before.min_dihedral);
+    assert!(
+        rep.after.min_dihedral >= 15.0,
+        "{:?}",
+        rep.after.min_dihedral
+    );
+}
+
+#[test]
+fn refined_corpus_models_reach_the_bounds() {
+    let dir = data_dir();
+    if !dir.is_dir() {
+        eprintln!("note: {} missing, skipped", dir.display());
+        return;
+    }
+    for (name, q, min_want) in [
+        ("cgal_sphere", 1.414, 15.0),
+        ("cgal_star", 2.0, 15.0),
+        // Few interior vertices (the refinement leaves most points on the
+        // surface), so less room: the bound reached today.
+        ("cgal_blob_closed", 2.0, 4.5),
+    ] {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
+        let (pts, tris) = read_off(&text);
+        let t0 = std::time::Instant::now();
+        let mut r = refine(
+            &pts,
+            &tris,
+            &RefineOptions {
+                max_radius_edge: q,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .rec;
+        let t_ref = t0.elapsed().as_secs_f64();
+        let t1 = std::time::Instant::now();
+        let mut o = OptimizeOptions::default();
+        if let Some(t) = std::env::var("TETOPT_TARGET")
+            .ok()
+            .and_then(|s| s.parse().ok())
+        {
+            o.target_dihedral = t;
+        }
+        let rep = run(&pts, &tris, &mut r, &o);
+        let t_opt = t1.elapsed().as_secs_f64();
+        eprintln!(
+            "{name} q{q}: {} -> {} tets, dihedral {:.2}..{:.2} -> {:.2}..{:.2}; \
+             23:{} 32:{} 44:{} er:{} sm:{} ins:{} (undone {}) passes {}; stuck {:?}; \
+             refine {t_ref:.2}s optimise {t_opt:.2}s",
+            rep.before.tets,
+            rep.after.tets,
+            rep.before.min_dihedral,
+            rep.before.max_dihedral,
+            rep.after.min_dihedral,
+            rep.after.max_dihedral,
+            rep.flips23,
+            rep.flips32,
+            rep.flips44,
+            rep.edge_removals,
+            rep.smoothed,
+            rep.inserted,
+            rep.insert_undone,
+            rep.passes,
+            rep.stuck_counts,
+        );
+        for s in rep.stuck.iter().take(5) {
+            eprintln!("  stuck tet {} {:?} {}", s.tet, s.dihedral, s.reason);
+        }
+        assert!(
+            rep.after.min_dihedral >= min_want,
+            "{name}: min dihedral {}",
+            rep.after.min_dihedral
+        );
+        assert!(
+            rep.after.max_dihedral <= 180.0 - min_want,
+            "{name}: max dihedral {}",
+            rep.after.max_dihedral
+        );
+    }
+}
+
+#[test]
+fn squashed_interior_vertices_are_smoothed_back() {
+    // Refine a cube, then drag every interior vertex most of the way to a
+    // neighbour (as long as its tetrahedra stay clearly positive): slivers
+    // and caps that only smoothing and flips can repair.
+    let (pts, tris) = cube();
+    let mut r = refine(
+        &pts,
+        &tris,
+        &RefineOptions {
+            max_volume: Some(0.005),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .rec;
+    let on_surface: std::collections::BTreeSet<u32> =
+        r.boundary.iter().flatten().copied().collect();
+    let n = r.points.len() as u32;
+    let mut moved = 0;
+    for v in pts.len() as u32..n {
+        if on_surface.contains(&v) {
+            continue;
+        }
+        let star: Vec<usize> = (0..r.mesh.tets.len())
+            .filter(|&t| r.mesh.tets[t].contains(&v))
+            .collect();
+        let Some(&u) = r.mesh.tets[star[0]].iter().find(|&&u| u != v) else {
+            continue;
+        };
+        let (a, b) = (r.points[v as usize], r.points[u as usize]);
+        for f in [0.9, 0.8, 0.6, 0.4] {
+            let p: [f64; 3] = std::array::from_fn(|k| a[k] + f * (b[k] - a[k]));
+            let ok = star.iter().all(|&t| {
+                let q = r.mesh.tets[t].map(|w| if w == v { p } else { r.points[w as usize] });
+                delone::tet::quality::volume(&q) > 1e-9
+            });
+            if ok {
+                r.points[v as usize] = p;
+                moved += 1;
+                break;
+            }
+        }
+    }
+    assert!(moved > 0);
+    check_recovered(&pts, &tris, &r).unwrap();
+    let before = TetStats::of(&r.points, &r.mesh.tets);
+    assert!(before.min_dihedral < 10.0, "{}", before.min_dihedral);
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::level(2));
+    assert!(rep.smoothed > 0);
+    assert!(
+        rep.after.min_dihedral >= 15.0,
+        "{} -> {}",
+        before.min_dihedral,
+        rep.after.min_dihedral
+    );
+}
