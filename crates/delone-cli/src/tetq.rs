@@ -44,7 +44,8 @@ pub fn mesh(
         merge_coplanar: false,
         ..ropts.clone()
     };
-    let rec = recover_marked(points, triangles, markers, &ropts, domain).map_err(|e| e.to_string())?;
+    let rec =
+        recover_marked(points, triangles, markers, &ropts, domain).map_err(|e| e.to_string())?;
     let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
     Ok((r.rec, Some(r.report)))
 }

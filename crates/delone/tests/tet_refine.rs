@@ -367,6 +367,7 @@ fn plc_domain(path: &Path) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, Domain) {
 /// always passes the checker with the volume preserved; the refinement
 /// stops by itself or at the budget.
 #[test]
+#[ignore = "slow (~12 min in a debug build): cargo test --release -p delone --test tet_refine -- --ignored"]
 fn corpus_models_that_terminate() {
     let Some(dir) = data_dir() else { return };
     let mut n = 0;
@@ -392,6 +393,24 @@ fn corpus_models_that_terminate() {
         }
     }
     assert!(n >= 40, "{n} runs");
+}
+
+/// The CI subset of the above: every PLC of `3d_plc` (holes, regions,
+/// internal facets) at q2 with a small budget.
+#[test]
+fn plc_corpus_refines_with_a_small_budget() {
+    let Some(dir) = data_dir() else { return };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("3d_plc"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10);
+    for path in files {
+        let (p, t, dom) = plc_domain(&path);
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        run_domain(&name, &p, &t, &dom, 2.0, 150);
+    }
 }
 
 /// Models on which the refinement stops by itself (not at the budget)
