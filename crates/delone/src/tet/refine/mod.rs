@@ -253,7 +253,7 @@ pub fn refine(
 }
 
 /// Refines a [`Recovered`] mesh of (`points`, `triangles`) made by
-/// [`recover`](super::recover::recover) or [`recover_domain`](super::recover::recover_domain) (any path; holes, regions and internal
+/// [`recover`](super::recover::recover) or [`recover_domain`] (any path; holes, regions and internal
 /// facets included): the mesh is refined in place, its boundary and
 /// interior faces kept as constraints (see the [module documentation](self)).
 ///
