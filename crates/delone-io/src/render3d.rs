@@ -74,7 +74,7 @@ struct Face {
 }
 
 /// Renders a cut-away picture of the tetrahedral mesh (`points`, `tets`)
-/// (see the [module documentation](self)). `tet_colour`, when given, has
+/// (boundary faces and the faces exposed by the cut, depth-buffered and flat shaded). `tet_colour`, when given, has
 /// one colour per tetrahedron for the faces the cut exposes.
 ///
 /// # Errors
