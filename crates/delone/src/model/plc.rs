@@ -546,8 +546,10 @@ mod tests {
             })
         ));
 
+        // An empty polygon is too few vertices; a one-corner polygon (an
+        // isolated point of the facet) is allowed.
         let mut p = cube();
-        p.facets[2].polygons.push(vec![4]);
+        p.facets[2].polygons.push(vec![]);
         assert_eq!(
             p.validate(),
             Err(Error::DegenerateFacet {
@@ -555,6 +557,9 @@ mod tests {
                 defect: FacetDefect::TooFewVertices
             })
         );
+        let mut p = cube();
+        p.facets[2].polygons.push(vec![4]);
+        assert_eq!(p.validate(), Ok(()));
 
         // A facet with a hole polygon and an interior segment is fine.
         let mut p = cube();
