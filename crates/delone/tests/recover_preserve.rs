@@ -9,6 +9,9 @@ use std::time::Instant;
 use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
 use delone_predicates::{orient2d, orient3d};
 
+mod solids;
+use solids::{cuboid as boxed, schonhardt};
+
 fn preserve() -> RecoverOptions {
     RecoverOptions {
         preserve_surface: true,
@@ -77,68 +80,6 @@ fn check_y(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]]) -> Recovered {
         p.rounds
     );
     r
-}
-
-/// Schönhardt's twisted prism: the top triangle rotated by `twist` degrees,
-/// each side quadrilateral split by its reflex diagonal.
-fn schonhardt(twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut pts = Vec::new();
-    for i in 0..3 {
-        let a = (120.0 * i as f64).to_radians();
-        pts.push([a.cos(), a.sin(), 0.0]);
-    }
-    for i in 0..3 {
-        let a = (120.0 * i as f64 + twist).to_radians();
-        pts.push([a.cos(), a.sin(), 1.0]);
-    }
-    let hull: Vec<[u32; 3]> = delone::tetrahedralize(&pts).unwrap().hull_faces().collect();
-    let hull_edge = |a: u32, b: u32| {
-        hull.iter().any(|f| {
-            (0..3).any(|k| (f[k] == a && f[(k + 1) % 3] == b) || (f[k] == b && f[(k + 1) % 3] == a))
-        })
-    };
-    let mut tris = vec![[0, 2, 1], [3, 4, 5]];
-    for i in 0..3u32 {
-        let j = (i + 1) % 3;
-        let (a0, a1, b0, b1) = (i, j, i + 3, j + 3);
-        if hull_edge(a0, b1) {
-            // Reflex diagonal a1-b0.
-            tris.push([a0, a1, b0]);
-            tris.push([a1, b1, b0]);
-        } else {
-            tris.push([a0, a1, b1]);
-            tris.push([a0, b1, b0]);
-        }
-    }
-    (pts, tris)
-}
-
-/// A box `[0,w]×[0,d]×[0,h]` (two triangles per side).
-fn boxed(w: f64, d: f64, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let pts: Vec<[f64; 3]> = (0..8)
-        .map(|i| {
-            [
-                (i & 1) as f64 * w,
-                ((i >> 1) & 1) as f64 * d,
-                ((i >> 2) & 1) as f64 * h,
-            ]
-        })
-        .collect();
-    let tris = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    (pts, tris)
 }
 
 /// A Chazelle-style box: `n` thin wedge notches cut into the top along x

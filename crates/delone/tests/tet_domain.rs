@@ -9,34 +9,8 @@ use delone::tet::recover::{
     check_recovered, recover_domain, Domain, RecoverError, RecoverOptions, Recovered,
 };
 
-/// The 12 triangles of the axis-aligned box `lo..hi`, appended to `pts` and
-/// `tris` (outward orientation).
-fn add_box(pts: &mut Vec<[f64; 3]>, tris: &mut Vec<[u32; 3]>, lo: [f64; 3], hi: [f64; 3]) {
-    let b = pts.len() as u32;
-    for i in 0..8 {
-        pts.push([
-            if i & 1 == 0 { lo[0] } else { hi[0] },
-            if i & 2 == 0 { lo[1] } else { hi[1] },
-            if i & 4 == 0 { lo[2] } else { hi[2] },
-        ]);
-    }
-    for t in [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ] {
-        tris.push(t.map(|v| v + b));
-    }
-}
+mod solids;
+use solids::add_box;
 
 fn volume(r: &Recovered) -> f64 {
     r.regions.iter().map(|g| g.volume).sum()

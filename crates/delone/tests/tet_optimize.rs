@@ -9,6 +9,9 @@ use delone::tet::quality::TetStats;
 use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
 use delone::tet::refine::{refine, RefineOptions};
 
+mod solids;
+use solids::cube;
+
 fn data_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .ancestors()
@@ -39,27 +42,6 @@ fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
             tris.push([v[0], v[i], v[i + 1]]);
         }
     }
-    (pts, tris)
-}
-
-fn cube() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let pts = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
-    let tris = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
     (pts, tris)
 }
 

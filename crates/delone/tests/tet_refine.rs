@@ -13,63 +13,11 @@ use delone::tet::recover::{
 };
 use delone::tet::refine::{refine, refine_recovered, RefineOptions, Refined};
 
-fn cube(side: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let pts: Vec<[f64; 3]> = (0..8)
-        .map(|i| {
-            [
-                (i & 1) as f64 * side,
-                ((i >> 1) & 1) as f64 * side,
-                ((i >> 2) & 1) as f64 * side,
-            ]
-        })
-        .collect();
-    let tris = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    (pts, tris)
-}
+mod solids;
+use solids::{cuboid, schonhardt};
 
-/// Schönhardt's twisted prism (each side split by its reflex diagonal).
-fn schonhardt(twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut pts = Vec::new();
-    for i in 0..3 {
-        let a = (120.0 * i as f64).to_radians();
-        pts.push([a.cos(), a.sin(), 0.0]);
-    }
-    for i in 0..3 {
-        let a = (120.0 * i as f64 + twist).to_radians();
-        pts.push([a.cos(), a.sin(), 1.0]);
-    }
-    let hull: Vec<[u32; 3]> = delone::tetrahedralize(&pts).unwrap().hull_faces().collect();
-    let hull_edge = |a: u32, b: u32| {
-        hull.iter().any(|f| {
-            (0..3).any(|k| (f[k] == a && f[(k + 1) % 3] == b) || (f[k] == b && f[(k + 1) % 3] == a))
-        })
-    };
-    let mut tris = vec![[0, 2, 1], [3, 4, 5]];
-    for i in 0..3u32 {
-        let j = (i + 1) % 3;
-        let (a0, a1, b0, b1) = (i, j, i + 3, j + 3);
-        if hull_edge(a0, b1) {
-            tris.push([a0, a1, b0]);
-            tris.push([a1, b1, b0]);
-        } else {
-            tris.push([a0, a1, b1]);
-            tris.push([a0, b1, b0]);
-        }
-    }
-    (pts, tris)
+fn cube_of(side: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    cuboid(side, side, side)
 }
 
 /// Runs the refinement and every check; returns the result.
@@ -129,7 +77,7 @@ fn opts(q: f64) -> RefineOptions {
 
 #[test]
 fn cube_with_volume_bound_meets_both_bounds() {
-    let (p, t) = cube(1.0);
+    let (p, t) = cube_of(1.0);
     for q in [2.0, 1.414, 1.2] {
         let o = RefineOptions {
             max_volume: Some(0.001),
@@ -155,7 +103,7 @@ fn cube_with_volume_bound_meets_both_bounds() {
 
 #[test]
 fn refinement_is_deterministic() {
-    let (p, t) = cube(1.0);
+    let (p, t) = cube_of(1.0);
     let o = RefineOptions {
         max_volume: Some(0.002),
         ..opts(1.414)
@@ -187,7 +135,7 @@ fn schonhardt_is_refined() {
 
 #[test]
 fn steiner_budget_stops_refinement() {
-    let (p, t) = cube(1.0);
+    let (p, t) = cube_of(1.0);
     let o = RefineOptions {
         max_volume: Some(1e-6),
         max_steiner: 200,
@@ -457,7 +405,7 @@ fn no_bound_keeps_the_recovered_mesh() {
         let r = run("schonhardt-noq", &p, &t, &opts(f64::INFINITY));
         assert_eq!(r.report.steiner(), 0);
     }
-    let (p, t) = cube(1.0);
+    let (p, t) = cube_of(1.0);
     let r = run("cube-noq", &p, &t, &opts(f64::INFINITY));
     assert_eq!(r.report.steiner(), 0);
 }
