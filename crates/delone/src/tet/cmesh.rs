@@ -60,6 +60,27 @@ pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
     k
 }
 
+/// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring
+/// `r` (`n` vertices) that the dynamic program chose (`choice[i * n + j]` is
+/// the apex `k` of the triangle on chord `i j`), each triangle joined to the
+/// edge's two ends `a` and `b`.
+pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32; 4]> {
+    let n = r.len();
+    let mut new = Vec::with_capacity(2 * n.saturating_sub(2));
+    let mut stack = vec![(0usize, n - 1)];
+    while let Some((i, j)) = stack.pop() {
+        if j < i + 2 {
+            continue;
+        }
+        let k = choice[i * n + j];
+        new.push([r[i], r[k], r[j], b]);
+        new.push([r[i], r[j], r[k], a]);
+        stack.push((i, k));
+        stack.push((k, j));
+    }
+    new
+}
+
 /// The face of `tv` opposite local vertex `f`, in `FACET` order.
 #[inline]
 pub(crate) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
@@ -504,18 +525,7 @@ impl<'a> CMesh<'a> {
         if total >= NO {
             return None;
         }
-        let mut new = Vec::with_capacity(2 * (n - 2));
-        let mut stack = vec![(0usize, n - 1)];
-        while let Some((i, j)) = stack.pop() {
-            if j < i + 2 {
-                continue;
-            }
-            let k = choice[i * n + j];
-            new.push([r[i], r[k], r[j], b]);
-            new.push([r[i], r[j], r[k], a]);
-            stack.push((i, k));
-            stack.push((k, j));
-        }
+        let mut new = ring_tets(r, &choice, a, b);
         new.extend(ghosts);
         self.replace(&tets, &new);
         self.removals += 1;

@@ -382,18 +382,7 @@ impl Work {
         if q <= 0.0 {
             return None;
         }
-        let mut new = Vec::with_capacity(2 * (n - 2));
-        let mut stack = vec![(0usize, n - 1)];
-        while let Some((i, j)) = stack.pop() {
-            if j < i + 2 {
-                continue;
-            }
-            let k = choice[i * n + j];
-            new.push([r[i], r[k], r[j], b]);
-            new.push([r[i], r[j], r[k], a]);
-            stack.push((i, k));
-            stack.push((k, j));
-        }
+        let new = crate::tet::cmesh::ring_tets(&r, &choice, a, b);
         Some(Plan {
             old: tets,
             new,
