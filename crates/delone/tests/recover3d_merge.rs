@@ -7,64 +7,14 @@ use delone::tet::recover::{
     check_recovered, recover, recover_marked, Domain, RecoverError, RecoverOptions, Recovered,
 };
 
+mod solids;
+use solids::{chazelle, quad};
+
 fn no_merge() -> RecoverOptions {
     RecoverOptions {
         merge_coplanar: false,
         ..RecoverOptions::default()
     }
-}
-
-fn quad(tris: &mut Vec<[u32; 3]>, q: [u32; 4]) {
-    tris.push([q[0], q[1], q[2]]);
-    tris.push([q[0], q[2], q[3]]);
-}
-
-/// Chazelle-style notched box (as in `recover3d_hard.rs`): a unit box whose
-/// top has `k` V-grooves of depth `d` along y and whose bottom has `k`
-/// along x, every face a grid of triangles.
-fn chazelle(k: usize, d: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let w = 0.3 / k as f64;
-    let mut prof = vec![(0.0, 0.0)];
-    for i in 0..k {
-        let c = (i as f64 + 0.5) / k as f64;
-        prof.extend([(c - w, 0.0), (c, 1.0), (c + w, 0.0)]);
-    }
-    prof.push((1.0, 0.0));
-    let n = prof.len();
-    let mut pts = Vec::new();
-    for &(x, fx) in &prof {
-        for &(y, _) in &prof {
-            pts.push([x, y, 1.0 - d * fx]);
-        }
-    }
-    for &(x, _) in &prof {
-        for &(y, fy) in &prof {
-            pts.push([x, y, d * fy]);
-        }
-    }
-    let top = |i: usize, j: usize| (i * n + j) as u32;
-    let bot = |i: usize, j: usize| (n * n + i * n + j) as u32;
-    let mut t = Vec::new();
-    for i in 0..n - 1 {
-        for j in 0..n - 1 {
-            quad(
-                &mut t,
-                [top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1)],
-            );
-            quad(
-                &mut t,
-                [bot(i, j), bot(i, j + 1), bot(i + 1, j + 1), bot(i + 1, j)],
-            );
-        }
-    }
-    let l = n - 1;
-    for j in 0..n - 1 {
-        quad(&mut t, [bot(0, j), top(0, j), top(0, j + 1), bot(0, j + 1)]);
-        quad(&mut t, [bot(l, j), bot(l, j + 1), top(l, j + 1), top(l, j)]);
-        quad(&mut t, [bot(j, 0), bot(j + 1, 0), top(j + 1, 0), top(j, 0)]);
-        quad(&mut t, [bot(j, l), top(j, l), top(j + 1, l), bot(j + 1, l)]);
-    }
-    (pts, t)
 }
 
 /// A unit cube whose sides are `n × n` grids of squares, two triangles
@@ -138,7 +88,7 @@ fn merged_surface_covers_the_input() {
 
 #[test]
 fn chazelle_box_needs_no_steiner_point_when_merged() {
-    let (pts, tris) = chazelle(3, 0.45);
+    let (pts, tris, _) = chazelle(3, 1.0, 1.0, 0.45);
     let merged = checked(&pts, &tris, &RecoverOptions::default());
     let plain = checked(&pts, &tris, &no_merge());
     println!(
@@ -157,7 +107,7 @@ fn chazelle_box_needs_no_steiner_point_when_merged() {
 #[test]
 #[ignore = "slow in debug builds (the unmerged run needs thousands of Steiner points)"]
 fn chazelle_five_grooves_merged_vs_not() {
-    let (pts, tris) = chazelle(5, 0.48);
+    let (pts, tris, _) = chazelle(5, 1.0, 1.0, 0.48);
     let merged = checked(&pts, &tris, &RecoverOptions::default());
     assert_eq!(merged.report.steiner(), 0);
     let plain = checked(&pts, &tris, &no_merge());

@@ -85,3 +85,86 @@ pub fn schonhardt(twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     }
     (pts, tris)
 }
+
+/// Counterclockwise quad `a b c d` (seen from outside) as two triangles.
+pub fn quad(tris: &mut Vec<[u32; 3]>, q: [u32; 4]) {
+    tris.push([q[0], q[1], q[2]]);
+    tris.push([q[0], q[2], q[3]]);
+}
+
+/// Breakpoints of `k` V-shaped notches of half-width `w` across `0..len`,
+/// with the depth factor (0 or 1) at each.
+pub fn notch_profile(k: usize, len: f64, w: f64) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, 0.0)];
+    for i in 0..k {
+        let c = (i as f64 + 0.5) * len / k as f64;
+        out.extend([(c - w, 0.0), (c, 1.0), (c + w, 0.0)]);
+    }
+    out.push((len, 0.0));
+    out
+}
+
+/// Chazelle-style polyhedron: a `len × len × h` box whose top has `k`
+/// V-notches of depth `d` running along y and whose bottom has `k` running
+/// along x, so that the two families of grooves nearly meet (the classic
+/// input needing many Steiner points). Returns the surface and its volume.
+pub fn chazelle(k: usize, len: f64, h: f64, d: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, f64) {
+    let w = 0.3 * len / k as f64;
+    let xs = notch_profile(k, len, w); // top: z = h - d·f(x)
+    let ys = notch_profile(k, len, w); // bottom: z = d·f(y)
+    let (nx, ny) = (xs.len(), ys.len());
+    let mut pts = Vec::new();
+    // Top grid, then bottom grid.
+    for &(x, fx) in &xs {
+        for &(y, _) in &ys {
+            pts.push([x, y, h - d * fx]);
+        }
+    }
+    for &(x, _) in &xs {
+        for &(y, fy) in &ys {
+            pts.push([x, y, d * fy]);
+        }
+    }
+    let top = |i: usize, j: usize| (i * ny + j) as u32;
+    let bot = |i: usize, j: usize| (nx * ny + i * ny + j) as u32;
+    let mut tris = Vec::new();
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            quad(
+                &mut tris,
+                [top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1)],
+            );
+            quad(
+                &mut tris,
+                [bot(i, j), bot(i, j + 1), bot(i + 1, j + 1), bot(i + 1, j)],
+            );
+        }
+    }
+    // Sides x = 0 and x = len (outward -x and +x).
+    for j in 0..ny - 1 {
+        quad(
+            &mut tris,
+            [bot(0, j), top(0, j), top(0, j + 1), bot(0, j + 1)],
+        );
+        let l = nx - 1;
+        quad(
+            &mut tris,
+            [bot(l, j), bot(l, j + 1), top(l, j + 1), top(l, j)],
+        );
+    }
+    // Sides y = 0 and y = len (outward -y and +y).
+    for i in 0..nx - 1 {
+        quad(
+            &mut tris,
+            [bot(i, 0), bot(i + 1, 0), top(i + 1, 0), top(i, 0)],
+        );
+        let l = ny - 1;
+        quad(
+            &mut tris,
+            [bot(i, l), top(i, l), top(i + 1, l), bot(i + 1, l)],
+        );
+    }
+    // Each notch removes a prism of cross-section w·d and length len.
+    let vol = len * len * h - 2.0 * k as f64 * len * w * d;
+    (pts, tris, vol)
+}
