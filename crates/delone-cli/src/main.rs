@@ -8,6 +8,7 @@ mod dual;
 mod help;
 mod jettison;
 mod plc;
+mod progress;
 mod pslg;
 mod remesh;
 mod run;
@@ -58,7 +59,7 @@ fn main() {
             }
         ),
         Ok(Command::Version) => println!("delone {}", env!("CARGO_PKG_VERSION")),
-        Ok(Command::Run(opts)) => match run::run(mode, &opts) {
+        Ok(Command::Run(opts)) => match progress::observe(!opts.quiet, || run::run(mode, &opts)) {
             Ok(0) => {}
             Ok(code) => std::process::exit(code),
             Err(f) => fail(&f.message, f.code),

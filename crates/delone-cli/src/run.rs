@@ -1,7 +1,7 @@
 //! One run of `delone tri` / `delone tet`: read, mesh, check, write, report.
 
 use std::fs::File;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -9,6 +9,7 @@ use delone_io::topo::{self, Entities};
 use delone_io::{DataArray, NodeFile, Values, VtuFormat};
 
 use crate::args::{Mode, Opts};
+use crate::progress::Progress;
 
 /// A failed run: message and exit code (1 input/mesh, 2 usage).
 #[derive(Debug)]
@@ -121,69 +122,6 @@ fn same_file(a: &Path, b: &Path) -> bool {
     match (a.canonicalize(), b.canonicalize()) {
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,
-    }
-}
-
-/// Progress reporting on stderr once a phase lasts longer than a second.
-struct Progress {
-    enabled: bool,
-    tty: bool,
-    start: Instant,
-    last: Option<Instant>,
-    label: &'static str,
-}
-
-impl Progress {
-    fn new(enabled: bool, label: &'static str) -> Self {
-        Progress {
-            enabled,
-            tty: std::io::stderr().is_terminal(),
-            start: Instant::now(),
-            last: None,
-            label,
-        }
-    }
-
-    fn update(&mut self, done: usize, total: usize) {
-        if !self.enabled || self.start.elapsed() < Duration::from_secs(1) {
-            return;
-        }
-        let every = if self.tty {
-            Duration::from_millis(200)
-        } else {
-            Duration::from_secs(2)
-        };
-        if self.last.is_some_and(|l| l.elapsed() < every) {
-            return;
-        }
-        self.last = Some(Instant::now());
-        let pct = if total == 0 {
-            100.0
-        } else {
-            100.0 * done as f64 / total as f64
-        };
-        let mut err = std::io::stderr().lock();
-        if self.tty {
-            let w = 30usize;
-            let fill = ((pct / 100.0) * w as f64) as usize;
-            let _ = write!(
-                err,
-                "\r{}: [{}{}] {:5.1}% ({done}/{total} points)",
-                self.label,
-                "#".repeat(fill.min(w)),
-                " ".repeat(w - fill.min(w)),
-                pct
-            );
-        } else {
-            let _ = writeln!(err, "{}: {pct:.0}% ({done}/{total} points)", self.label);
-        }
-        let _ = err.flush();
-    }
-
-    fn finish(&mut self) {
-        if self.enabled && self.tty && self.last.is_some() {
-            let _ = writeln!(std::io::stderr());
-        }
     }
 }
 

@@ -20,6 +20,7 @@
 pub mod error;
 pub mod geom;
 pub mod model;
+pub mod progress;
 pub mod tet;
 pub mod tri;
 

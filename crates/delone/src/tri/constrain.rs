@@ -491,6 +491,16 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         if steps > budget {
             return Err(unresolved(s, s));
         }
+        if steps % 4096 == 1 {
+            // Input segments taken so far (pieces of split segments do not count).
+            let total = seg_ends.len() as u64;
+            crate::progress::report(
+                "inserting segments",
+                next_seg as u64,
+                Some(total),
+                "segments",
+            );
+        }
         if a == b {
             continue;
         }
