@@ -34,8 +34,12 @@ options:
                      meshing cases on ../shared/data, not in any suite:
                      2d-poly-NAME-qANGLEaAREA (2d/NAME.poly refined, delone vs triangle),
                      2d-poly-NAME-p (constrained triangulation only),
-                     3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen))
-  --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen
+                     2d-segs-SIZE / 2d-holes-SIZE (generated PSLGs, plain CDT),
+                     3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen),
+                     3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation))
+  --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen,
+                     triangle-p (Triangle's executable, -p/-pq cases), tetgen-p
+                     (TetGen -p executable), tetgen-pq (TetGen -pqB executable)
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
   --timeout SECS     kill a child after this many seconds (default 600)
