@@ -36,7 +36,10 @@ options:
                      2d-poly-NAME-p (constrained triangulation only),
                      2d-segs-SIZE / 2d-holes-SIZE (generated PSLGs, plain CDT),
                      3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen),
-                     3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation))
+                     3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation);
+                     model sets: 3d-surf-@SET and 3d-surfq-@SET-qB run every model of
+                     shared/data/sets/SET.txt, `@SET<N` / `@SET>N` only those with fewer /
+                     more than N triangles, e.g. 3d-surfq-@closed_clean<30000-q1.414)
   --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen,
                      triangle-p (Triangle's executable, -p/-pq cases), tetgen-p
                      (TetGen -p executable), tetgen-pq (TetGen -pqB executable)
@@ -100,11 +103,68 @@ fn parse_cases(list: &str) -> Result<Vec<Case>, String> {
                     out.push(Case::parse(n).map_err(|e| e.to_string())?);
                 }
             }
+            None if name.contains("-@") => {
+                for n in expand_set(name)? {
+                    out.push(Case::parse(&n).map_err(|e| e.to_string())?);
+                }
+            }
             None => out.push(Case::parse(name).map_err(|e| e.to_string())?),
         }
     }
     if out.is_empty() {
         return Err("--cases: empty list".into());
+    }
+    Ok(out)
+}
+
+/// Expands `3d-surf-@SET[<N|>N]` and `3d-surfq-@SET[<N|>N]-qB` into one
+/// case per surface model listed in `shared/data/sets/SET.txt` (lines
+/// `surf/off/NAME.off<TAB>triangles`), optionally only the models with
+/// fewer (`<N`) or more (`>N`) input triangles than N.
+fn expand_set(name: &str) -> Result<Vec<String>, String> {
+    let (prefix, rest) = name.split_once("-@").unwrap_or((name, ""));
+    if prefix != "3d-surf" && prefix != "3d-surfq" {
+        return Err(format!(
+            "`{name}`: model sets are for 3d-surf and 3d-surfq cases"
+        ));
+    }
+    let (set, suffix) = match rest.rsplit_once("-q") {
+        Some((s, b)) if prefix == "3d-surfq" => (s, format!("-q{b}")),
+        _ if prefix == "3d-surfq" => return Err(format!("`{name}`: missing -qB")),
+        _ => (rest, String::new()),
+    };
+    let (set, keep): (&str, Box<dyn Fn(usize) -> bool>) = if let Some((s, n)) = set.split_once('<')
+    {
+        let n: usize = n.parse().map_err(|_| format!("`{name}`: bad bound"))?;
+        (s, Box::new(move |t| t < n))
+    } else if let Some((s, n)) = set.split_once('>') {
+        let n: usize = n.parse().map_err(|_| format!("`{name}`: bad bound"))?;
+        (s, Box::new(move |t| t > n))
+    } else {
+        (set, Box::new(|_| true))
+    };
+    let dir = cases::data_dir().ok_or("shared/data not found")?;
+    let path = dir.join("sets").join(format!("{set}.txt"));
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| format!("`{name}`: {}: {e}", path.display()))?;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let mut f = line.split_whitespace();
+        let (Some(file), Some(count)) = (f.next(), f.next()) else {
+            continue;
+        };
+        let Some(model) = file
+            .strip_prefix("surf/off/")
+            .and_then(|m| m.strip_suffix(".off"))
+        else {
+            continue;
+        };
+        if count.parse().is_ok_and(|t: usize| keep(t)) {
+            out.push(format!("{prefix}-{model}{suffix}"));
+        }
+    }
+    if out.is_empty() {
+        return Err(format!("`{name}`: no model in {}", path.display()));
     }
     Ok(out)
 }
