@@ -3,8 +3,9 @@
 //!
 //! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d] [--no-clip] [--threads N]`
 //!
-//! `--threads N` (3D): the extraction's thread count (default: the
-//! available parallelism, at most 8). Wall times are the best of the
+//! `--threads N`: the extraction's thread count (default: the available
+//! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
+//! wall time of each phase of the extraction. Wall times are the best of the
 //! repeats; CPU times (user + system, all threads) cover all repeats.
 use std::time::Instant;
 
@@ -42,6 +43,16 @@ fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (best, out.expect("at least one repeat"))
 }
 
+/// The sum of the phase times (the extraction's wall time when non-empty).
+fn tt_of(phases: &[(&str, f64)], whole: f64) -> f64 {
+    let s: f64 = phases.iter().map(|p| p.1).sum();
+    if s > 0.0 {
+        s
+    } else {
+        whole
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args
@@ -64,10 +75,18 @@ fn main() {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
         let c1 = cpu_seconds();
-        let (tv, v) = best(reps, || {
-            delone::tet::Voronoi3::with_threads(&pts, &mesh, threads).unwrap()
+        let (tv, (v, phases)) = best(reps, || {
+            delone::tet::Voronoi3::with_phase_times(&pts, &mesh, threads).unwrap()
         });
         let c2 = cpu_seconds();
+        let list: Vec<String> = phases
+            .iter()
+            .map(|(name, t)| format!("{name} {t:.3}s ({:.2}x)", t / tt_of(&phases, tv)))
+            .collect();
+        println!(
+            "3D phases (last repeat; share of the extraction): {}",
+            list.join(", ")
+        );
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
             "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads",
@@ -95,7 +114,9 @@ fn main() {
         let c0 = cpu_seconds();
         let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
         let c1 = cpu_seconds();
-        let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+        let (tv, v) = best(reps, || {
+            delone::tri::Voronoi2::with_threads(&pts, &mesh, threads).unwrap()
+        });
         let c2 = cpu_seconds();
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(

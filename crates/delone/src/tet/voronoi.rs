@@ -236,6 +236,31 @@ struct Rec {
     n: [u32; 4],
 }
 
+/// Phase wall times, recorded when `on` (see [`Voronoi3::with_phase_times`]).
+#[derive(Default)]
+struct Phases {
+    on: bool,
+    at: Option<std::time::Instant>,
+    times: Vec<(&'static str, f64)>,
+}
+
+impl Phases {
+    fn start(&mut self) {
+        if self.on {
+            self.at = Some(std::time::Instant::now());
+        }
+    }
+
+    /// Ends phase `name` (and starts the next).
+    fn lap(&mut self, name: &'static str) {
+        if let Some(t) = self.at {
+            let now = std::time::Instant::now();
+            self.times.push((name, (now - t).as_secs_f64()));
+            self.at = Some(now);
+        }
+    }
+}
+
 /// At most this many threads by default (see [`Voronoi3::default_threads`]).
 const MAX_THREADS: usize = 8;
 
@@ -639,7 +664,42 @@ impl Voronoi3 {
     ) -> Result<Voronoi3, Error> {
         let ids = mesh.vertex_map.len();
         crate::geom::check::mesh_fits(points.len(), &mesh.tets, &mesh.neighbors, ids, None)?;
-        Ok(Self::build(points, &[], mesh, threads))
+        Ok(Self::build(
+            points,
+            &[],
+            mesh,
+            threads,
+            &mut Phases::default(),
+        ))
+    }
+
+    /// [`Voronoi3::with_threads`], also returning the wall time in seconds
+    /// of each phase of the extraction, in order (for profiling; the names
+    /// are not stable).
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// let (v, phases) = delone::tet::Voronoi3::with_phase_times(&pts, &mesh, 1).unwrap();
+    /// assert_eq!(v, delone::tet::Voronoi3::new(&pts, &mesh).unwrap());
+    /// assert!(phases.iter().all(|p| p.1 >= 0.0));
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Voronoi3::new`].
+    pub fn with_phase_times(
+        points: &[[f64; 3]],
+        mesh: &TetMesh,
+        threads: usize,
+    ) -> Result<(Voronoi3, Vec<(&'static str, f64)>), Error> {
+        let ids = mesh.vertex_map.len();
+        crate::geom::check::mesh_fits(points.len(), &mesh.tets, &mesh.neighbors, ids, None)?;
+        let mut ph = Phases {
+            on: true,
+            ..Phases::default()
+        };
+        let v = Self::build(points, &[], mesh, threads, &mut ph);
+        Ok((v, ph.times))
     }
 
     /// The default thread count of [`Voronoi3::new`]: the available
@@ -704,7 +764,13 @@ impl Voronoi3 {
         let ids = mesh.vertex_map.len();
         let n = points.len();
         crate::geom::check::mesh_fits(n, &mesh.tets, &mesh.neighbors, ids, Some(weights.len()))?;
-        Ok(Self::build(points, weights, mesh, threads))
+        Ok(Self::build(
+            points,
+            weights,
+            mesh,
+            threads,
+            &mut Phases::default(),
+        ))
     }
 
     /// Everything, in passes over the tetrahedra cut into `k` contiguous
@@ -740,7 +806,14 @@ impl Voronoi3 {
     /// work starves the record gathers of memory-level parallelism); walking
     /// with bare tetrahedron and facet handles and resolving them to mesh
     /// indices and edge numbers afterwards (no gain).
-    fn build(points: &[[f64; 3]], weights: &[f64], mesh: &TetMesh, threads: usize) -> Voronoi3 {
+    fn build(
+        points: &[[f64; 3]],
+        weights: &[f64],
+        mesh: &TetMesh,
+        threads: usize,
+        ph: &mut Phases,
+    ) -> Voronoi3 {
+        ph.start();
         let tets = &mesh.tets;
         let nt = tets.len();
         let n = points.len();
@@ -779,6 +852,7 @@ impl Voronoi3 {
             }
             hist
         });
+        ph.lap("centres");
         // The walk order (large meshes): `perm[new] = old`, `inv[old] =
         // new`, a stable counting sort of the keys, each chunk placing its
         // own tetrahedra.
@@ -811,6 +885,7 @@ impl Voronoi3 {
         } else {
             (0..nt as u32).collect()
         };
+        ph.lap("order");
         // Records (chunk by chunk of the walk order); per chunk the facets
         // it will number (hull facets and those whose neighbour comes
         // later).
@@ -837,6 +912,7 @@ impl Voronoi3 {
             owned
         });
         let recs = &recs[..];
+        ph.lap("records");
         // B. Edges: every facet numbered by the lower of its tetrahedra.
         let mut e = vec![[0u32; 4]; nt];
         let total: usize = owned.iter().sum();
@@ -860,12 +936,14 @@ impl Voronoi3 {
                 e[t as usize][f as usize] = e[u as usize][g];
             }
         }
+        ph.lap("edges");
         // C. Faces: the ring walks, chunk by chunk.
         let e = &e[..];
         let face_parts = run_all((0..k).collect(), |i, _| {
             face_pass(points, recs, e, &perm, bounds[i], bounds[i + 1], i == 0)
         });
         drop(perm);
+        ph.lap("faces");
         // The parts put together, the two largest arrays on a second thread.
         let mut fv_parts = Vec::with_capacity(k);
         let mut fe_parts = Vec::with_capacity(k);
@@ -946,6 +1024,7 @@ impl Voronoi3 {
         };
         let (face_vertices, face_edge_ids) = big.unwrap_or_default();
         let (faces, face_offsets, face_edge_offsets, open_faces, open_face_rays) = fs;
+        ph.lap("join");
         let mut unbounded = vec![false; n];
         for &r in &ray_edges {
             for &s in &edges[r as usize].sites {
@@ -989,6 +1068,7 @@ impl Voronoi3 {
                 }
             }
         });
+        ph.lap("cells");
         Voronoi3 {
             vertices,
             edges,
