@@ -5,7 +5,8 @@
 //!
 //! `--threads N`: the extraction's thread count (default: the available
 //! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
-//! wall time of each phase of the extraction. Wall times are the best of the
+//! wall time of each phase of the extraction; `--hash` (3D): a digest of
+//! the whole diagram (to compare versions bit for bit). Wall times are the best of the
 //! repeats; CPU times (user + system, all threads) cover all repeats.
 use std::time::Instant;
 
@@ -79,6 +80,44 @@ fn main() {
             delone::tet::Voronoi3::with_phase_times(&pts, &mesh, threads).unwrap()
         });
         let c2 = cpu_seconds();
+        if args.iter().any(|a| a == "--hash") {
+            // A digest of the whole diagram, to compare versions bit for bit.
+            let mut h = 0xcbf2_9ce4_8422_2325u64;
+            let mut eat = |x: u64| h = (h ^ x).wrapping_mul(0x100_0000_01b3);
+            v.vertices.iter().flatten().for_each(|x| eat(x.to_bits()));
+            for e in &v.edges {
+                e.sites
+                    .iter()
+                    .chain(&e.vertices)
+                    .for_each(|&x| eat(x as u64));
+            }
+            v.ray_directions
+                .iter()
+                .flatten()
+                .for_each(|x| eat(x.to_bits()));
+            v.faces
+                .iter()
+                .for_each(|f| f.sites.iter().for_each(|&x| eat(x as u64)));
+            v.open_face_rays
+                .iter()
+                .flatten()
+                .flatten()
+                .for_each(|x| eat(x.to_bits()));
+            for a in [
+                &v.ray_edges,
+                &v.open_faces,
+                &v.face_offsets,
+                &v.face_vertices,
+                &v.face_edge_offsets,
+                &v.face_edge_ids,
+                &v.cell_offsets,
+                &v.cell_face_ids,
+            ] {
+                a.iter().for_each(|&x| eat(x as u64));
+            }
+            v.unbounded.iter().for_each(|&x| eat(x as u64));
+            println!("3D digest {h:016x}");
+        }
         let list: Vec<String> = phases
             .iter()
             .map(|(name, t)| format!("{name} {t:.3}s ({:.2}x)", t / tt_of(&phases, tv)))

@@ -367,7 +367,7 @@ fn edge_pass(
         for f in 0..4 {
             let u = c.n[f];
             if u != NONE && (u as usize) < t {
-                if let Some(g) = recs[u as usize].n.iter().position(|&y| y == t as u32) {
+                if let Some(g) = back(&recs[u as usize].n, t as u32) {
                     if u as usize >= lo {
                         ec[j][f] = ec[u as usize - lo][g];
                     } else {
@@ -447,10 +447,13 @@ fn face_pass(
     let fv = &mut out.face_vertices;
     let fe = &mut out.face_edge_ids;
     for t in lo..hi {
-        for (k, lk) in EDGES.iter().enumerate() {
-            if done[t - lo] & (1 << k) != 0 {
-                continue;
-            }
+        // The edges of t not yet swept: walking a ring through t marks
+        // only that ring's edge in t, so this set is fixed up front.
+        let mut todo = !done[t - lo] & 63;
+        while todo != 0 {
+            let k = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            let lk = &EDGES[k];
             let [a, b, c, d] = lk.map(|i| recs[t].v[i]);
             let (v0, e0) = (fv.len(), fe.len());
             // Counterclockwise around a -> b: at (s, c, d) cross the
@@ -608,19 +611,30 @@ impl Grid {
 }
 
 /// Local index of vertex `x` in `tv` (0 if absent, which a valid mesh never
-/// asks for).
+/// asks for; at most 3 in any case).
 #[inline]
 fn pos(tv: &[u32; 4], x: u32) -> usize {
-    tv.iter().position(|&y| y == x).unwrap_or(0)
+    // Branch-free (which slot holds `x` is unpredictable): the slots of a
+    // valid tetrahedron are distinct, so at most one term is set, and the
+    // result is at most 3 whatever `tv` holds.
+    (tv[1] == x) as usize | ((tv[2] == x) as usize) << 1 | (tv[3] == x) as usize * 3
+}
+
+/// The slot of `nb` linking back to tetrahedron `t`, if any (branch-free
+/// but for the answer, as `pos`).
+#[inline]
+fn back(nb: &[u32; 4], t: u32) -> Option<usize> {
+    let e = nb.map(|y| y == t);
+    (e[0] | e[1] | e[2] | e[3]).then_some(pos(nb, t))
 }
 
 /// The vertex of `tv` other than `a`, `b`, `c`.
 #[inline]
 fn other(tv: &[u32; 4], a: u32, b: u32, c: u32) -> u32 {
-    tv.iter()
-        .copied()
-        .find(|&y| y != a && y != b && y != c)
-        .unwrap_or(tv[0])
+    // Branch-free, as `pos`; for a valid tetrahedron exactly one slot is
+    // not among `a`, `b`, `c`, and the result is always one of `tv`.
+    let off = |y: u32| ((y != a) & (y != b) & (y != c)) as usize;
+    tv[off(tv[1]) | off(tv[2]) << 1 | off(tv[3]) * 3]
 }
 
 impl Voronoi3 {
