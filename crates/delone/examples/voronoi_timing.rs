@@ -122,10 +122,12 @@ fn main() {
             .iter()
             .map(|(name, t)| format!("{name} {t:.3}s ({:.2}x)", t / tt_of(&phases, tv)))
             .collect();
-        println!(
-            "3D phases (last repeat; share of the extraction): {}",
-            list.join(", ")
-        );
+        if args.iter().any(|a| a == "--phases") {
+            println!(
+                "3D phases (last repeat; share of the extraction): {}",
+                list.join(", ")
+            );
+        }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
             "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads",

@@ -183,40 +183,50 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 /// the corner with the shortest incident edges (less cancellation for
 /// slivers).
 pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
-    let l2 = |a: &[f64; 3], b: &[f64; 3]| {
-        let d = sub(a, b);
-        dot(&d, &d)
-    };
-    let mut sum = [0.0f64; 4];
-    for i in 0..4 {
-        for j in i + 1..4 {
-            let l = l2(q[i], q[j]);
-            sum[i] += l;
-            sum[j] += l;
-        }
-    }
+    // The six edge vectors and their squared lengths, computed once: the
+    // vectors from the chosen corner are among them (up to sign, which
+    // negation gives exactly).
+    let ev = [
+        sub(q[1], q[0]),
+        sub(q[2], q[0]),
+        sub(q[3], q[0]),
+        sub(q[2], q[1]),
+        sub(q[3], q[1]),
+        sub(q[3], q[2]),
+    ];
+    let l = ev.map(|e| dot(&e, &e));
+    let sum = [
+        l[0] + l[1] + l[2],
+        l[0] + l[3] + l[4],
+        l[1] + l[3] + l[5],
+        l[2] + l[4] + l[5],
+    ];
     let o = (0..4).fold(0, |m, i| if sum[i] < sum[m] { i } else { m });
     // An even permutation putting corner o first keeps the orientation:
     // [o, o ^ 1, o ^ 2, o ^ 3] (a double transposition, or the identity);
-    // indexed rather than matched, for no branch to mispredict.
-    let perm = [o, o ^ 1, o ^ 2, o ^ 3];
-    let [a, b, c, d] = perm.map(|i| q[i]);
-    let [wa, wb, wc, wd] = perm.map(|i| wq[i]);
-    let (u, v, w) = (sub(b, a), sub(c, a), sub(d, a));
+    // indexed rather than matched, for no branch to mispredict. `FROM[o]`
+    // gives the edge vectors `q[o ^ i] - q[o]` (i = 1, 2, 3) as (index in
+    // `ev`, sign).
+    const FROM: [[(usize, f64); 3]; 4] = [
+        [(0, 1.0), (1, 1.0), (2, 1.0)],
+        [(0, -1.0), (4, 1.0), (3, 1.0)],
+        [(5, 1.0), (1, -1.0), (3, -1.0)],
+        [(5, -1.0), (4, -1.0), (2, -1.0)],
+    ];
+    let [u, v, w] = FROM[o].map(|(i, s)| ev[i].map(|x| s * x));
+    let [lu0, lv0, lw0] = FROM[o].map(|(i, _)| l[i]);
+    let a = q[o];
+    let [wa, wb, wc, wd] = [o, o ^ 1, o ^ 2, o ^ 3].map(|i| wq[i]);
     let (vw, wu, uv) = (cross(&v, &w), cross(&w, &u), cross(&u, &v));
     let mut det = dot(&u, &vw);
     if det <= 0.0 {
-        det = -orient3d(a, b, c, d);
+        det = -orient3d(a, q[o ^ 1], q[o ^ 2], q[o ^ 3]);
         if det <= 0.0 {
             det = f64::MIN_POSITIVE;
         }
     }
     // Power distances: |x - a|² - wa = |x - b|² - wb, ... relative to a.
-    let (lu, lv, lw) = (
-        dot(&u, &u) + wa - wb,
-        dot(&v, &v) + wa - wc,
-        dot(&w, &w) + wa - wd,
-    );
+    let (lu, lv, lw) = (lu0 + wa - wb, lv0 + wa - wc, lw0 + wa - wd);
     let k = 0.5 / det;
     [
         a[0] + (lu * vw[0] + lv * wu[0] + lw * uv[0]) * k,
