@@ -6,7 +6,9 @@
 //! `--threads N`: the extraction's thread count (default: the available
 //! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
 //! wall time of each phase of the extraction; `--hash` (3D): a digest of
-//! the whole diagram (to compare versions bit for bit). Wall times are the best of the
+//! the whole diagram (to compare versions bit for bit). `--regular`: times
+//! the regular (weighted) triangulation against the unweighted one instead,
+//! weights uniform in `[0, n^(-2/d))` (the squared point spacing). Wall times are the best of the
 //! repeats; CPU times (user + system, all threads) cover all repeats.
 use std::time::Instant;
 
@@ -69,6 +71,42 @@ fn main() {
         .unwrap_or(0);
     let mut rng = SplitMix64::new(42);
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    if args.iter().any(|a| a == "--regular") {
+        // Regular against unweighted triangulation of the same points, the
+        // weights uniform in [0, spacing²) (a few percent hidden).
+        let d3 = args.iter().any(|a| a == "--3d");
+        let dim = if d3 { 3 } else { 2 };
+        let pts: Vec<Vec<f64>> = (0..n).map(|_| (0..dim).map(|_| unit()).collect()).collect();
+        let spacing2 = (n as f64).powf(-2.0 / dim as f64);
+        let w: Vec<f64> = (0..n).map(|_| unit() * spacing2).collect();
+        let c0 = cpu_seconds();
+        let (tu, hidden) = if d3 {
+            let p: Vec<[f64; 3]> = pts.iter().map(|q| [q[0], q[1], q[2]]).collect();
+            let (tu, _) = best(reps, || delone::tetrahedralize(&p).expect("tetrahedralize"));
+            let c1 = cpu_seconds();
+            let (tr, m) = best(reps, || {
+                delone::tet::regular_tetrahedralization(&p, &w).expect("regular")
+            });
+            ((tu, tr, c1), m.hidden.len())
+        } else {
+            let p: Vec<[f64; 2]> = pts.iter().map(|q| [q[0], q[1]]).collect();
+            let (tu, _) = best(reps, || delone::triangulate(&p).expect("triangulate"));
+            let c1 = cpu_seconds();
+            let (tr, m) = best(reps, || {
+                delone::tri::regular_triangulation(&p, &w).expect("regular")
+            });
+            ((tu, tr, c1), m.hidden.len())
+        };
+        let ((tu, tr, c1), c2) = (tu, cpu_seconds());
+        println!(
+            "{dim}D n={n} regular/unweighted: wall {tr:.3}s / {tu:.3}s ({:.2}x), CPU {:.2}s / {:.2}s ({:.2}x); {hidden} hidden",
+            tr / tu,
+            c2 - c1,
+            c1 - c0,
+            (c2 - c1) / (c1 - c0)
+        );
+        return;
+    }
     if args.iter().any(|a| a == "--3d") {
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
         let c0 = cpu_seconds();

@@ -627,7 +627,7 @@ fn pos(tv: &[u32; 4], x: u32) -> usize {
     // Branch-free (which slot holds `x` is unpredictable): the slots of a
     // valid tetrahedron are distinct, so at most one term is set, and the
     // result is at most 3 whatever `tv` holds.
-    (tv[1] == x) as usize | ((tv[2] == x) as usize) << 1 | (tv[3] == x) as usize * 3
+    (tv[1] == x) as usize | ((tv[2] == x) as usize) << 1 | ((tv[3] == x) as usize * 3)
 }
 
 /// The slot of `nb` linking back to tetrahedron `t`, if any (branch-free
@@ -644,7 +644,7 @@ fn other(tv: &[u32; 4], a: u32, b: u32, c: u32) -> u32 {
     // Branch-free, as `pos`; for a valid tetrahedron exactly one slot is
     // not among `a`, `b`, `c`, and the result is always one of `tv`.
     let off = |y: u32| ((y != a) & (y != b) & (y != c)) as usize;
-    tv[off(tv[1]) | off(tv[2]) << 1 | off(tv[3]) * 3]
+    tv[off(tv[1]) | (off(tv[2]) << 1) | (off(tv[3]) * 3)]
 }
 
 impl Voronoi3 {
@@ -711,6 +711,7 @@ impl Voronoi3 {
     ///
     /// # Errors
     /// As [`Voronoi3::new`].
+    #[allow(clippy::type_complexity)]
     pub fn with_phase_times(
         points: &[[f64; 3]],
         mesh: &TetMesh,
