@@ -407,7 +407,7 @@ fn edge_pass(
 }
 
 /// The faces emitted by one chunk of tetrahedra; offsets are the ends of
-/// the faces, relative to this part.
+/// the faces, relative to this part (preceded by a 0 in the first part).
 #[derive(Default)]
 struct FacePart {
     faces: Vec<FaceInfo3>,
@@ -451,6 +451,11 @@ fn face_pass(
         face_edge_ids: Vec::with_capacity(nv),
         ..FacePart::default()
     };
+    if whole {
+        // The first part's offsets become the whole's: the leading 0.
+        out.ends.push(0);
+        out.edge_ends.push(0);
+    }
     let mut done = vec![0u8; mine];
     let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
     let limit = nt + 1;
@@ -1010,13 +1015,19 @@ impl Voronoi3 {
                 ray_edges.extend_from_slice(&x.ray_edges);
                 ray_directions.extend_from_slice(&x.ray_directions);
             }
-            let nf: usize = rest.iter().map(|x| x.2.len()).sum();
-            let mut faces = Vec::with_capacity(nf);
-            let mut face_offsets = Vec::with_capacity(nf + 1);
-            face_offsets.push(0);
-            let mut face_edge_offsets = Vec::with_capacity(nf + 1);
-            face_edge_offsets.push(0);
-            let (mut open_faces, mut open_face_rays) = (Vec::new(), Vec::new());
+            // The first part's arrays (its offsets start with the leading
+            // 0) are the base, moved, not copied.
+            let mut rest = rest.into_iter();
+            let (
+                mut faces,
+                mut face_offsets,
+                mut face_edge_offsets,
+                mut open_faces,
+                mut open_face_rays,
+            ) = match rest.next() {
+                Some((_, _, f, fo, feo, of, ofr)) => (f, fo, feo, of, ofr),
+                None => (vec![], vec![0], vec![0], vec![], vec![]),
+            };
             for (bv, be, f, fo, feo, of, ofr) in rest {
                 let bf = faces.len() as u32;
                 faces.extend_from_slice(&f);
