@@ -835,7 +835,15 @@ impl Voronoi3 {
     /// records and numbering the edges in one pass (slower: the interleaved
     /// work starves the record gathers of memory-level parallelism); walking
     /// with bare tetrahedron and facet handles and resolving them to mesh
-    /// indices and edge numbers afterwards (no gain).
+    /// indices and edge numbers afterwards (no gain); computing the
+    /// circumcentres in the walk order (point reads local, but the scattered
+    /// writes of the centres cost more: 0.28 of the extraction against 0.20).
+    ///
+    /// The slot lookups of the walks (`pos`, `other`, `back`) are branch-free:
+    /// which slot holds a vertex is unpredictable, and early-exit loops cost
+    /// about 19 mispredicted branches per tetrahedron (callgrind branch
+    /// simulation, 200k points: 26.2M mispredictions in the extraction
+    /// before, 6.8M after, for 15% more instructions).
     fn build(
         points: &[[f64; 3]],
         weights: &[f64],
