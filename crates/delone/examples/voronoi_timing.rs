@@ -3,8 +3,12 @@
 //!
 //! `cargo run --release -p delone --example voronoi_timing -- [n] [repeats] [--3d] [--no-clip] [--threads N]`
 //!
-//! `--threads N` (3D): the extraction's thread count (default: the
-//! available parallelism, at most 8). Wall times are the best of the
+//! `--threads N`: the extraction's thread count (default: the available
+//! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
+//! wall time of each phase of the extraction; `--hash` (3D): a digest of
+//! the whole diagram (to compare versions bit for bit). `--regular`: times
+//! the regular (weighted) triangulation against the unweighted one instead,
+//! weights uniform in `[0, n^(-2/d))` (the squared point spacing). Wall times are the best of the
 //! repeats; CPU times (user + system, all threads) cover all repeats.
 use std::time::Instant;
 
@@ -42,6 +46,16 @@ fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (best, out.expect("at least one repeat"))
 }
 
+/// The sum of the phase times (the extraction's wall time when non-empty).
+fn tt_of(phases: &[(&str, f64)], whole: f64) -> f64 {
+    let s: f64 = phases.iter().map(|p| p.1).sum();
+    if s > 0.0 {
+        s
+    } else {
+        whole
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args
@@ -57,6 +71,42 @@ fn main() {
         .unwrap_or(0);
     let mut rng = SplitMix64::new(42);
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    if args.iter().any(|a| a == "--regular") {
+        // Regular against unweighted triangulation of the same points, the
+        // weights uniform in [0, spacing²) (a few percent hidden).
+        let d3 = args.iter().any(|a| a == "--3d");
+        let dim = if d3 { 3 } else { 2 };
+        let pts: Vec<Vec<f64>> = (0..n).map(|_| (0..dim).map(|_| unit()).collect()).collect();
+        let spacing2 = (n as f64).powf(-2.0 / dim as f64);
+        let w: Vec<f64> = (0..n).map(|_| unit() * spacing2).collect();
+        let c0 = cpu_seconds();
+        let (tu, hidden) = if d3 {
+            let p: Vec<[f64; 3]> = pts.iter().map(|q| [q[0], q[1], q[2]]).collect();
+            let (tu, _) = best(reps, || delone::tetrahedralize(&p).expect("tetrahedralize"));
+            let c1 = cpu_seconds();
+            let (tr, m) = best(reps, || {
+                delone::tet::regular_tetrahedralization(&p, &w).expect("regular")
+            });
+            ((tu, tr, c1), m.hidden.len())
+        } else {
+            let p: Vec<[f64; 2]> = pts.iter().map(|q| [q[0], q[1]]).collect();
+            let (tu, _) = best(reps, || delone::triangulate(&p).expect("triangulate"));
+            let c1 = cpu_seconds();
+            let (tr, m) = best(reps, || {
+                delone::tri::regular_triangulation(&p, &w).expect("regular")
+            });
+            ((tu, tr, c1), m.hidden.len())
+        };
+        let ((tu, tr, c1), c2) = (tu, cpu_seconds());
+        println!(
+            "{dim}D n={n} regular/unweighted: wall {tr:.3}s / {tu:.3}s ({:.2}x), CPU {:.2}s / {:.2}s ({:.2}x); {hidden} hidden",
+            tr / tu,
+            c2 - c1,
+            c1 - c0,
+            (c2 - c1) / (c1 - c0)
+        );
+        return;
+    }
     if args.iter().any(|a| a == "--3d") {
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
         let c0 = cpu_seconds();
@@ -64,10 +114,58 @@ fn main() {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
         let c1 = cpu_seconds();
-        let (tv, v) = best(reps, || {
-            delone::tet::Voronoi3::with_threads(&pts, &mesh, threads).unwrap()
+        let (tv, (v, phases)) = best(reps, || {
+            delone::tet::Voronoi3::with_phase_times(&pts, &mesh, threads).unwrap()
         });
         let c2 = cpu_seconds();
+        if args.iter().any(|a| a == "--hash") {
+            // A digest of the whole diagram, to compare versions bit for bit.
+            let mut h = 0xcbf2_9ce4_8422_2325u64;
+            let mut eat = |x: u64| h = (h ^ x).wrapping_mul(0x100_0000_01b3);
+            v.vertices.iter().flatten().for_each(|x| eat(x.to_bits()));
+            for e in &v.edges {
+                e.sites
+                    .iter()
+                    .chain(&e.vertices)
+                    .for_each(|&x| eat(x as u64));
+            }
+            v.ray_directions
+                .iter()
+                .flatten()
+                .for_each(|x| eat(x.to_bits()));
+            v.faces
+                .iter()
+                .for_each(|f| f.sites.iter().for_each(|&x| eat(x as u64)));
+            v.open_face_rays
+                .iter()
+                .flatten()
+                .flatten()
+                .for_each(|x| eat(x.to_bits()));
+            for a in [
+                &v.ray_edges,
+                &v.open_faces,
+                &v.face_offsets,
+                &v.face_vertices,
+                &v.face_edge_offsets,
+                &v.face_edge_ids,
+                &v.cell_offsets,
+                &v.cell_face_ids,
+            ] {
+                a.iter().for_each(|&x| eat(x as u64));
+            }
+            v.unbounded.iter().for_each(|&x| eat(x as u64));
+            println!("3D digest {h:016x}");
+        }
+        let list: Vec<String> = phases
+            .iter()
+            .map(|(name, t)| format!("{name} {t:.3}s ({:.2}x)", t / tt_of(&phases, tv)))
+            .collect();
+        if args.iter().any(|a| a == "--phases") {
+            println!(
+                "3D phases (last repeat; share of the extraction): {}",
+                list.join(", ")
+            );
+        }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
             "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads",
@@ -95,7 +193,9 @@ fn main() {
         let c0 = cpu_seconds();
         let (tt, mesh) = best(reps, || delone::triangulate(&pts).expect("triangulate"));
         let c1 = cpu_seconds();
-        let (tv, v) = best(reps, || delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+        let (tv, v) = best(reps, || {
+            delone::tri::Voronoi2::with_threads(&pts, &mesh, threads).unwrap()
+        });
         let c2 = cpu_seconds();
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(

@@ -398,3 +398,34 @@ fn a_mesh_of_other_points_is_an_error_not_a_panic() {
         }
     );
 }
+
+#[test]
+fn any_thread_count_gives_the_same_diagram() {
+    // Over 2^16 triangles: the default splits the work over two threads.
+    let pts = random(40_000, 11, 0.0, 1.0);
+    let mesh = delone::triangulate(&pts).unwrap();
+    assert!(mesh.triangles.len() >= 1 << 16);
+    let one = delone::tri::Voronoi2::with_threads(&pts, &mesh, 1).unwrap();
+    let two = delone::tri::Voronoi2::with_threads(&pts, &mesh, 2).unwrap();
+    assert_eq!(one, two);
+    assert_eq!(one, delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+    // The parts really are there: one vertex per triangle, one edge per
+    // Delaunay edge, every site's cell closing around it.
+    assert_eq!(one.vertices.len(), mesh.triangles.len());
+    let hull = mesh
+        .neighbors
+        .iter()
+        .flatten()
+        .filter(|&&u| u == NONE)
+        .count();
+    assert_eq!(one.edges.len(), (3 * mesh.triangles.len() + hull) / 2);
+    let total: usize = (0..pts.len()).map(|p| one.cell(p).vertices.len()).sum();
+    assert_eq!(total, 3 * mesh.triangles.len());
+    // Power diagram with zero weights: the same, plus the weights.
+    let w = vec![0.0; pts.len()];
+    let rmesh = delone::tri::regular_triangulation(&pts, &w).unwrap();
+    let mut p = delone::tri::Voronoi2::new_power(&pts, &w, &rmesh).unwrap();
+    assert_eq!(p.weights, w);
+    p.weights.clear();
+    assert_eq!(p, delone::tri::Voronoi2::new(&pts, &rmesh).unwrap());
+}

@@ -261,7 +261,32 @@ impl Voronoi2 {
     pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Result<Voronoi2, Error> {
         let ids = mesh.vertex_map.len();
         crate::geom::check::mesh_fits(points.len(), &mesh.triangles, &mesh.neighbors, ids, None)?;
-        Ok(Self::build(points, None, mesh))
+        Ok(Self::build(points, None, mesh, 0))
+    }
+
+    /// [`Voronoi2::new`] on at most `threads` threads (`0`: the default,
+    /// two for meshes of 2^16 triangles or more). The result is the same
+    /// bit for bit whatever the thread count.
+    ///
+    /// ```
+    /// let pts: Vec<[f64; 2]> = (0..50)
+    ///     .map(|i| [(i as f64 * 0.37) % 1.0, (i as f64 * 0.61) % 1.0])
+    ///     .collect();
+    /// let mesh = delone::triangulate(&pts).unwrap();
+    /// let one = delone::tri::Voronoi2::with_threads(&pts, &mesh, 1).unwrap();
+    /// assert_eq!(one, delone::tri::Voronoi2::new(&pts, &mesh).unwrap());
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Voronoi2::new`].
+    pub fn with_threads(
+        points: &[[f64; 2]],
+        mesh: &TriMesh,
+        threads: usize,
+    ) -> Result<Voronoi2, Error> {
+        let ids = mesh.vertex_map.len();
+        crate::geom::check::mesh_fits(points.len(), &mesh.triangles, &mesh.neighbors, ids, None)?;
+        Ok(Self::build(points, None, mesh, threads))
     }
 
     /// Builds the power diagram of `points` with `weights` from their regular
@@ -305,10 +330,15 @@ impl Voronoi2 {
             ids,
             Some(weights.len()),
         )?;
-        Ok(Self::build(points, Some(weights), mesh))
+        Ok(Self::build(points, Some(weights), mesh, 0))
     }
 
-    fn build(points: &[[f64; 2]], weights: Option<&[f64]>, mesh: &TriMesh) -> Voronoi2 {
+    fn build(
+        points: &[[f64; 2]],
+        weights: Option<&[f64]>,
+        mesh: &TriMesh,
+        threads: usize,
+    ) -> Voronoi2 {
         let tris = &mesh.triangles;
         let p = |v: u32| &points[v as usize];
         let centres = || -> Vec<[f64; 2]> {
@@ -326,37 +356,37 @@ impl Voronoi2 {
                     .collect(),
             }
         };
-        // The centres (random point reads, arithmetic) and the combinatorial
-        // part below are independent: compute them on two threads for large
-        // meshes. Each writes only its own arrays, so the result is the same
-        // whatever the thread count.
-        if tris.len() >= 1 << 16 {
+        // Three independent parts, each writing only its own arrays (so the
+        // result is the same whatever the thread count): the centres (random
+        // point reads, arithmetic), the edges (one sequential pass) and the
+        // cells (star walks). For large meshes the centres and edges run on a
+        // second thread, the cells on this one.
+        let weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
+        if tris.len() >= 1 << 16 && threads != 1 {
             return std::thread::scope(|sc| {
-                let job = sc.spawn(centres);
-                let mut v = Self::topology(points, mesh);
-                match job.join() {
-                    Ok(vertices) => v.vertices = vertices,
-                    Err(_) => v.vertices = centres(),
-                }
-                v.weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
+                let job = std::thread::Builder::new()
+                    .spawn_scoped(sc, || (centres(), Self::edges(mesh)))
+                    .ok();
+                let mut v = Self::cells(points, mesh);
+                let done = job.and_then(|h| h.join().ok());
+                (v.vertices, v.edges) = done.unwrap_or_else(|| (centres(), Self::edges(mesh)));
+                v.weights = weights;
                 v
             });
         }
-        let mut v = Self::topology(points, mesh);
+        let mut v = Self::cells(points, mesh);
         v.vertices = centres();
-        v.weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
+        v.edges = Self::edges(mesh);
+        v.weights = weights;
         v
     }
 
-    /// Everything but the vertex coordinates: edges, cells, hull rays.
-    fn topology(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
-        let n = points.len();
+    /// The edges: interior ones once (from the lower triangle), hull ones
+    /// as rays.
+    fn edges(mesh: &TriMesh) -> Vec<VoronoiEdge2> {
         let tris = &mesh.triangles;
-        let nbs = &mesh.neighbors;
-        let p = |v: u32| &points[v as usize];
-        // Edges: interior ones once (from the lower triangle), hull ones as rays.
         let mut edges = Vec::with_capacity(tris.len() * 3 / 2 + 3);
-        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+        for (t, (tv, nb)) in tris.iter().zip(&mesh.neighbors).enumerate() {
             for i in 0..3 {
                 let u = nb[i];
                 if u != NONE && u <= t as u32 {
@@ -369,6 +399,15 @@ impl Voronoi2 {
                 });
             }
         }
+        edges
+    }
+
+    /// The cells and hull rays (no vertex coordinates, no edges).
+    fn cells(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
+        let n = points.len();
+        let tris = &mesh.triangles;
+        let nbs = &mesh.neighbors;
+        let p = |v: u32| &points[v as usize];
         // A start corner (4 * triangle + corner) per vertex: any corner
         // (plain stores, last one wins), then for hull vertices the
         // clockwise-most triangle (whose edge v -> next is on the hull).
@@ -447,7 +486,7 @@ impl Voronoi2 {
         hull_cells.sort_unstable_by_key(|h| h.0);
         Voronoi2 {
             vertices: Vec::new(),
-            edges,
+            edges: Vec::new(),
             cell_ranges,
             cell_vertices,
             cell_neighbors,
