@@ -391,7 +391,11 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 }
                 "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
                 "threads" if mode == Mode::Tri => {
-                    o.threads = Some(crate::threads::parse(&value("--threads", inline, &mut it)?)?)
+                    o.threads = Some(crate::threads::parse(&value(
+                        "--threads",
+                        inline,
+                        &mut it,
+                    )?)?)
                 }
                 _ => {
                     return Err(Usage(format!(

@@ -1337,7 +1337,17 @@ fn refine_inner(
     } else {
         m.reserve_for_areas(&crit, &cdt.max_areas, limit, None);
         let mut steiner = 0;
-        run(&mut m, &crit, &cdt.max_areas, options, limit, &mut steiner, &mut report, None)
+        run(
+            &mut m,
+            &crit,
+            &cdt.max_areas,
+            options,
+            limit,
+            &mut steiner,
+            &mut report,
+            None,
+            None,
+        )
     };
     report.cavity_triangles = m.replaced;
     let restricted = options.segment_splits != SegmentSplits::All;
@@ -1363,7 +1373,8 @@ fn refine_inner(
 /// subsegments among `scan` (all triangles when `None`), then splits and
 /// inserts until both queues are empty (or the budget `limit` on
 /// `*steiner` runs out). Returns false if quality refinement was stopped
-/// for the conforming-Delaunay splits.
+/// for the conforming-Delaunay splits. Bad triangles given up on (no
+/// point could be inserted for them) are pushed on `dropped`.
 #[allow(clippy::too_many_arguments)]
 fn run(
     m: &mut Mesh,
@@ -1374,6 +1385,7 @@ fn run(
     steiner: &mut usize,
     report: &mut RefineReport,
     scan: Option<&[u32]>,
+    mut dropped: Option<&mut Vec<u32>>,
 ) -> bool {
     let bad = |m: &Mesh, t: usize| bad_bucket(m, crit, max_areas, t);
     type Heap = Queue;
@@ -1430,7 +1442,7 @@ fn run(
             }
         }
     };
-        // Rounds of -D splits after the queues ran empty. Past 64 rounds, or
+    // Rounds of -D splits after the queues ran empty. Past 64 rounds, or
     // when quality refinement after the first round has added 8 times the
     // points there were, bad triangles are no longer fixed: near small input
     // angles and with high angle bounds the two can feed each other.
@@ -1498,6 +1510,9 @@ fn run(
             }
         }
         if !(c[0].is_finite() && c[1].is_finite()) {
+            if let Some(d) = dropped.as_deref_mut() {
+                d.push(t as u32);
+            }
             continue;
         }
         // The triangle's circumcircle contains `c`, so the cavity can grow
@@ -1519,6 +1534,8 @@ fn run(
                 }
                 if any {
                     heap.push(0, t as u32, v0);
+                } else if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
                 }
             }
             Ins::Blocked(s) => {
@@ -1526,9 +1543,15 @@ fn run(
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
                     heap.push(0, t as u32, v0);
+                } else if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
                 }
             }
-            Ins::Failed => {}
+            Ins::Failed => {
+                if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
+                }
+            }
         }
     }
     drop(heap);

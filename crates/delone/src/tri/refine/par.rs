@@ -104,6 +104,7 @@ pub(super) fn refine_parallel(
         &mut steiner,
         report,
         None,
+        None,
     );
 
     // 2. Partition.
@@ -112,14 +113,13 @@ pub(super) fn refine_parallel(
     let ns0 = m.subs.len();
     let mut part = vec![0u32; nt0];
     {
-        let cen: Vec<[f64; 2]> = m
-            .tr
-            .iter()
-            .map(|t| {
-                let (a, b, c) = (m.p(t.v[0]), m.p(t.v[1]), m.p(t.v[2]));
-                [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]
-            })
-            .collect();
+        let cen: Vec<[f64; 2]> =
+            m.tr.iter()
+                .map(|t| {
+                    let (a, b, c) = (m.p(t.v[0]), m.p(t.v[1]), m.p(t.v[2]));
+                    [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]
+                })
+                .collect();
         let w: Vec<f64> = (0..nt0)
             .map(|t| m.area_ratio(crit, max_areas, t).max(0.05))
             .collect();
@@ -171,48 +171,30 @@ pub(super) fn refine_parallel(
         }
     }
 
-    // 3. Parts.
-    let mut copies: Vec<Mesh> = Vec::with_capacity(threads);
-    for p in 0..threads as u32 {
+    // 3. Parts: part 0 in `m` itself, the others in copies.
+    let mut copies: Vec<Mesh> = Vec::with_capacity(threads - 1);
+    for p in 1..threads as u32 {
         let mut pm = m.clone();
-        pm.subs.reserve(np);
-        for c in &cuts {
-            let (t, e, alive) = if c.pt == p {
-                (c.t, c.e, true)
-            } else if c.pn == p {
-                (c.n, c.j, true)
-            } else {
-                (c.t, c.e, false)
-            };
-            let k = pm.subs.len() as u32;
-            let (a, b) = edge(&pm.tr[t].v, e);
-            pm.subs.push(Sub {
-                v: [a, b],
-                he: pack(t, e),
-                t: [0.0, 1.0],
-                parent: 0,
-                alive,
-                stuck: true,
-                protected: true,
-            });
-            if alive {
-                pm.tr[t].a[e] = NONE;
-                pm.set_sub(t, e, k);
-            }
-        }
+        cut_part(&mut pm, p, &cuts);
         copies.push(pm);
     }
+    cut_part(m, 0, &cuts);
+    // Room for everything (untouched capacity costs no resident memory):
+    // the stitch then appends without moving the arrays.
+    m.reserve_for_areas(crit, max_areas, usize::MAX, None);
     let detached = crit.detached();
-    let results: Vec<(Mesh, RefineReport)> = std::thread::scope(|sc| {
+    let mut drops = Vec::new();
+    let results: Vec<(Mesh, RefineReport, Vec<u32>)> = std::thread::scope(|sc| {
         let handles: Vec<_> = copies
             .into_iter()
-            .zip(&lists)
+            .zip(&lists[1..])
             .map(|(mut pm, list)| {
                 sc.spawn(move || {
                     let crit = detached.crit();
                     pm.reserve_for_areas(&crit, max_areas, usize::MAX, Some(list));
                     let mut rep = RefineReport::default();
                     let mut st = 0usize;
+                    let mut dr = Vec::new();
                     run(
                         &mut pm,
                         &crit,
@@ -222,11 +204,23 @@ pub(super) fn refine_parallel(
                         &mut st,
                         &mut rep,
                         Some(list),
+                        Some(&mut dr),
                     );
-                    (pm, rep)
+                    (pm, rep, dr)
                 })
             })
             .collect();
+        run(
+            m,
+            crit,
+            max_areas,
+            options,
+            usize::MAX,
+            &mut steiner,
+            report,
+            Some(&lists[0]),
+            Some(&mut drops),
+        );
         handles
             .into_iter()
             .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
@@ -234,23 +228,32 @@ pub(super) fn refine_parallel(
     });
 
     // 4. Stitch.
-    let (mut nv, mut nt, mut ns) = (nv0, nt0, ns0);
+    let (mut nv, mut nt, mut ns) = (m.xy.len(), m.tr.len(), m.subs.len());
     let mut offs = Vec::with_capacity(threads);
-    for (pm, _) in &results {
+    for (pm, _, _) in &results {
         offs.push((nv, nt, ns));
         nv += pm.xy.len() - nv0;
         nt += pm.tr.len() - nt0;
         ns += pm.subs.len() - ns0 - np;
     }
-    m.xy.reserve_exact(nv - nv0);
-    m.vpar.reserve_exact(nv - nv0);
-    m.tr.reserve_exact(nt - nt0);
-    m.sides.reserve_exact(nt - nt0);
-    m.subs.reserve_exact(ns - ns0);
+    m.xy.reserve_exact(nv - m.xy.len());
+    m.vpar.reserve_exact(nv - m.vpar.len());
+    m.tr.reserve_exact(nt - m.tr.len());
+    m.sides.reserve_exact(nt - m.sides.len());
+    m.subs.reserve_exact(ns - m.subs.len());
     // Merged half-edges of each cut: [side of `t`, side of `n`].
     let mut cut_he = vec![[NONE; 2]; np];
-    for (p, (pm, rep)) in results.into_iter().enumerate() {
-        let (vo, to, so) = offs[p];
+    for (j, c) in cuts.iter().enumerate() {
+        let he = m.subs[ns0 + j].he;
+        if c.pt == 0 {
+            cut_he[j][0] = he;
+        } else if c.pn == 0 {
+            cut_he[j][1] = he;
+        }
+    }
+    for (i, (pm, rep, dr)) in results.into_iter().enumerate() {
+        let p = i + 1;
+        let (vo, to, so) = offs[i];
         let rv = |x: u32| {
             if (x as usize) < nv0 {
                 x
@@ -319,8 +322,8 @@ pub(super) fn refine_parallel(
                 cut_he[j][1] = he;
             }
         }
-        for s in 0..ns0 {
-            if owner[s] == p as u32 {
+        for (s, &o) in owner.iter().enumerate() {
+            if o == p as u32 {
                 let x = pm.subs[s];
                 m.subs[s] = Sub { he: ra(x.he), ..x };
             }
@@ -335,29 +338,37 @@ pub(super) fn refine_parallel(
         m.xy.extend_from_slice(&pm.xy[nv0..]);
         m.vpar.extend_from_slice(&pm.vpar[nv0..]);
         m.replaced += pm.replaced;
+        drops.extend(dr.iter().map(|&t| rt(t as usize) as u32));
         report.segment_splits += rep.segment_splits;
         report.circumcenters += rep.circumcenters;
         report.rejected_circumcenters += rep.rejected_circumcenters;
         // `pm` is dropped here (peak memory: one part at a time).
     }
-    let mut stack = Vec::new();
+    // The cut subsegments of part 0 are gone.
+    for s in &mut m.subs[ns0..ns0 + np] {
+        s.alive = false;
+        s.he = NONE;
+    }
+    let mut stack = Vec::with_capacity(np);
     for (j, c) in cuts.iter().enumerate() {
         let [h0, h1] = cut_he[j];
         let (t0, e0) = unpack(h0);
         let (t1, e1) = unpack(h1);
         m.tr[t0].a[e0] = h1;
         m.tr[t1].a[e1] = h0;
+        m.set_sub(t0, e0, c.sub);
+        m.set_sub(t1, e1, c.sub);
         if c.sub != NONE {
-            m.set_sub(t0, e0, c.sub);
-            m.set_sub(t1, e1, c.sub);
             m.subs[c.sub as usize].he = h0;
         } else {
             stack.push(h0);
         }
+        drops.extend([t0 as u32, t1 as u32]);
     }
-    m.restore_delaunay(&mut stack);
+    m.restore_delaunay(&mut stack, &mut drops);
 
-    // 5. Finish.
+    // 5. Finish: the triangles the parts gave up on, those beside the cuts
+    // and those the flips made.
     run(
         m,
         crit,
@@ -366,8 +377,40 @@ pub(super) fn refine_parallel(
         usize::MAX,
         &mut steiner,
         report,
+        Some(&drops),
         None,
     )
+}
+
+/// Makes the cuts of part `p` protected subsegments of `pm` (ids from
+/// `pm.subs.len()`, one per cut, dead where the cut does not touch `p`)
+/// with no neighbour across.
+fn cut_part(pm: &mut Mesh, p: u32, cuts: &[Cut]) {
+    pm.subs.reserve(cuts.len());
+    for c in cuts {
+        let (t, e, alive) = if c.pt == p {
+            (c.t, c.e, true)
+        } else if c.pn == p {
+            (c.n, c.j, true)
+        } else {
+            (c.t, c.e, false)
+        };
+        let k = pm.subs.len() as u32;
+        let (a, b) = edge(&pm.tr[t].v, e);
+        pm.subs.push(Sub {
+            v: [a, b],
+            he: if alive { pack(t, e) } else { NONE },
+            t: [0.0, 1.0],
+            parent: 0,
+            alive,
+            stuck: true,
+            protected: true,
+        });
+        if alive {
+            pm.tr[t].a[e] = NONE;
+            pm.set_sub(t, e, k);
+        }
+    }
 }
 
 /// Splits `ids` into `parts` parts of about equal weight `w`, numbered from
@@ -457,7 +500,8 @@ impl Crit<'_> {
 impl Mesh {
     /// Lawson flips from the half-edges on `stack` until every edge without
     /// a subsegment is locally Delaunay (exact incircle).
-    fn restore_delaunay(&mut self, stack: &mut Vec<u32>) {
+    /// The flipped triangles are pushed on `touched`.
+    fn restore_delaunay(&mut self, stack: &mut Vec<u32>, touched: &mut Vec<u32>) {
         while let Some(h) = stack.pop() {
             let (t, e) = unpack(h);
             if self.sub_at(t, e) != NONE {
@@ -472,6 +516,7 @@ impl Mesh {
             let vn = self.tr[n].v[j];
             if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn)) > 0.0 {
                 self.flip(t, e);
+                touched.extend([t as u32, n as u32]);
                 stack.extend([pack(t, 0), pack(t, 2), pack(n, 0), pack(n, 2)]);
             }
         }
@@ -505,7 +550,12 @@ impl Mesh {
             orig: on,
             mark: 0,
         };
-        for (tt, ee, x, s) in [(t, 0, xc, sc), (t, 2, xb, sb), (n, 0, xa, sa), (n, 2, xd, sd)] {
+        for (tt, ee, x, s) in [
+            (t, 0, xc, sc),
+            (t, 2, xb, sb),
+            (n, 0, xa, sa),
+            (n, 2, xd, sd),
+        ] {
             self.set_sub(tt, ee, s);
             if x != NONE {
                 let (o, l) = unpack(x);
