@@ -4,7 +4,8 @@
 //!
 //! Environment: `REFINE_NO_OFF` (circumcentres only), `REFINE_REGIONAL`, `REFINE_Y=1|2`
 //! (`-Y`, `-YY`), `REFINE_PRE=ANGLE` (refine at ANGLE first), `REFINE_HIST`,
-//! `REFINE_THREADS=N` (threads; default all), `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
+//! `REFINE_THREADS=N` (threads; default all), `REFINE_PAR_MIN=N` (parallel from N
+//! predicted triangles), `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
 
 use std::time::Instant;
 
@@ -60,6 +61,10 @@ fn main() {
             .ok()
             .and_then(|s| s.parse().ok())
             .unwrap_or_else(delone::tri::refine::default_threads),
+        parallel_min_triangles: std::env::var("REFINE_PAR_MIN")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(delone::tri::refine::PARALLEL_MIN_TRIANGLES),
     };
     let r = if let Some(pre) = std::env::var("REFINE_PRE")
         .ok()

@@ -8,19 +8,21 @@
 //!    equal predicted work (area over the area bound) by recursive
 //!    bisection of their centroids along the longer side of the parts'
 //!    bounding boxes (ties by triangle id): geometry only, never timing.
-//! 3. **Parts** (one thread each, `std::thread::scope`): each part refines a
-//!    copy of the coarse mesh, starting from its own triangles, with the
-//!    edges between parts as protected subsegments (Triangle's `-Y`
-//!    behaviour: never split, never encroached; a triangle that only a point
-//!    beyond one would fix is left). Cavities never cross them, so a part
-//!    only changes its own triangles.
-//! 4. **Stitch** (one thread): the parts' new vertices, triangles and
-//!    subsegments are appended in part order, renumbered, the edges between
-//!    parts linked again (ordinary edges, or the input subsegment they
-//!    carry), and Lawson flips from those edges restore the constrained
-//!    Delaunay property.
-//! 5. **Finish** (one thread): the ordinary refinement loop over every
-//!    triangle fixes what the parts left near their borders.
+//! 3. **Parts** (one thread each, `std::thread::scope`; part 0 in the mesh
+//!    itself, the others in copies of the coarse mesh): each part refines
+//!    from its own triangles, with the edges between parts (*cuts*) as
+//!    subsegments that may not be split and have nothing across them: a
+//!    cavity never crosses one, so a part only changes its own triangles. A
+//!    point beyond a cut, or encroaching one, is not inserted: the triangle
+//!    is left for the finish (so no slivers pile up along the cuts).
+//! 4. **Stitch** (one thread): the other parts' new vertices, triangles and
+//!    subsegments are appended in part order, renumbered, the cuts linked
+//!    again (ordinary edges, or the input subsegment they carry), and
+//!    Lawson flips from them restore the constrained Delaunay property.
+//! 5. **Finish** (one thread): the ordinary refinement loop, seeded with
+//!    the triangles the parts left, those beside the cuts and those the
+//!    flips made (on la.poly at `-q30a0.001`, 2 parts: 51 cuts, 2,234
+//!    triangles to look at, 1,500 points inserted, out of 368,000).
 //!
 //! The output depends only on the input, the options and `T`.
 
@@ -44,15 +46,12 @@ pub(super) fn threads_for(
     options: &RefineOptions,
 ) -> usize {
     let t = options.threads.min(64);
-    if t <= 1
-        || options.conforming_delaunay
-        || options.max_steiner.is_some()
-        || crit.user.is_some()
-        || (!crit.area2.is_finite() && !crit.regional)
+    if t <= 1 || options.conforming_delaunay || options.max_steiner.is_some() || crit.user.is_some()
     {
         return 1;
     }
-    if predicted(m, crit, max_areas) < super::PARALLEL_MIN_TRIANGLES as f64 {
+    let min = options.parallel_min_triangles;
+    if min > 0 && predicted(m, crit, max_areas) < min as f64 {
         1
     } else {
         t
@@ -404,7 +403,7 @@ fn cut_part(pm: &mut Mesh, p: u32, cuts: &[Cut]) {
             parent: 0,
             alive,
             stuck: true,
-            protected: true,
+            protected: false,
         });
         if alive {
             pm.tr[t].a[e] = NONE;
