@@ -1379,7 +1379,7 @@ fn refine_inner(
     } else {
         0
     };
-    let mut r = finish(cdt, m, &crit, scale, restricted, report);
+    let mut r = finish(cdt, m, &crit, scale, restricted, report, threads);
     if !quality {
         for u in &mut r.report.unfixable {
             if u.reason == UnfixableReason::Precision {
@@ -1582,6 +1582,92 @@ fn run(
     quality
 }
 
+/// The extreme angles and the bad triangles among `triangles[from..]`
+/// (see [`finish`]).
+struct Assessed {
+    /// (sin² of the smallest angle, triangle), first of the smallest.
+    lo: (f64, usize),
+    /// (cosine of the largest angle, triangle), first of the smallest.
+    hi: (f64, usize),
+    met: bool,
+    unfixable: Vec<Unfixable>,
+}
+
+fn assess(
+    m: &Mesh,
+    crit: &Crit,
+    triangles: &[[u32; 3]],
+    max_areas: &[f64],
+    from: usize,
+    limit_reached: bool,
+    restricted: bool,
+) -> Assessed {
+    let mut unfixable = Vec::new();
+    let mut lo_t = (f64::INFINITY, usize::MAX);
+    let mut hi_t = (f64::INFINITY, usize::MAX);
+    let mut met = true;
+    for (t, v) in triangles.iter().enumerate().skip(from) {
+        let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
+        let (s2, d, k) = shape(a, b, c);
+        if s2 < lo_t.0 {
+            lo_t = (s2, t);
+        }
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let j = if l[0] >= l[1] && l[0] >= l[2] {
+            0
+        } else if l[1] >= l[2] {
+            1
+        } else {
+            2
+        };
+        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
+        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
+        if cos < hi_t.0 {
+            hi_t = (cos, t);
+        }
+        let mut abound = crit.area2;
+        if crit.regional && max_areas[t] > 0.0 {
+            abound = abound.min(2.0 * max_areas[t] * crit.s2);
+        }
+        let too_big = d > abound;
+        let lo = if s2 < crit.sin2 || too_big {
+            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
+        } else {
+            180.0
+        };
+        let angle_bad = s2 < crit.sin2 && lo < crit.angle;
+        let user_bad = !(too_big || angle_bad)
+            && crit
+                .user
+                .is_some_and(|f| f(&crit.input(m, v), 0.5 * d / crit.s2));
+        if !(too_big || angle_bad || user_bad) {
+            continue;
+        }
+        met = false;
+        let (u, w) = edge(v, k);
+        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
+            Some((apex, input_angle)) if d <= abound && !user_bad => {
+                UnfixableReason::SmallInputAngle { apex, input_angle }
+            }
+            _ if limit_reached => UnfixableReason::SteinerLimit,
+            _ if restricted => UnfixableReason::NoSegmentSplits,
+            _ => UnfixableReason::Precision,
+        };
+        unfixable.push(Unfixable {
+            triangle: t as u32,
+            min_angle: lo,
+            area: 0.5 * d / crit.s2,
+            reason,
+        });
+    }
+    Assessed {
+        lo: lo_t,
+        hi: hi_t,
+        met,
+        unfixable,
+    }
+}
+
 /// Builds the output mesh and the final statistics.
 fn finish(
     cdt: &Cdt,
@@ -1590,6 +1676,7 @@ fn finish(
     scale: (f64, f64),
     restricted: bool,
     mut report: RefineReport,
+    threads: usize,
 ) -> Refined {
     let mut m = m;
     // What the output no longer needs goes first (peak memory).
@@ -1639,63 +1726,68 @@ fn finish(
     segments.extend(cdt.segments.iter().filter(|s| !s.bounding).copied());
     // The extreme angles: the triangles with the smallest sin² of the
     // smallest angle and the smallest cosine of the largest angle, measured
-    // exactly at the end (atan2 only there).
+    // exactly at the end (atan2 only there). In `threads` chunks, combined
+    // in order (the same result for any number of chunks).
+    let limit_reached = report.limit_reached;
+    let chunks = if threads > 1 && crit.user.is_none() && triangles.len() >= 1 << 13 {
+        threads
+    } else {
+        1
+    };
+    let step = triangles.len().div_ceil(chunks).max(1);
+    let parts: Vec<Assessed> = if chunks == 1 {
+        vec![assess(
+            &m,
+            crit,
+            &triangles,
+            &max_areas,
+            0,
+            limit_reached,
+            restricted,
+        )]
+    } else {
+        let detached = par::Detached::from(crit);
+        let (mr, tr, ma) = (&m, &triangles, &max_areas);
+        std::thread::scope(|sc| {
+            let handles: Vec<_> = (1..chunks)
+                .map(|k| {
+                    sc.spawn(move || {
+                        let crit = detached.crit();
+                        let end = ((k + 1) * step).min(tr.len());
+                        let lo = (k * step).min(end);
+                        assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)
+                    })
+                })
+                .collect();
+            let mut v = vec![assess(
+                mr,
+                crit,
+                &tr[..step.min(tr.len())],
+                ma,
+                0,
+                limit_reached,
+                restricted,
+            )];
+            v.extend(
+                handles
+                    .into_iter()
+                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+            );
+            v
+        })
+    };
     let mut lo_t = (f64::INFINITY, usize::MAX);
     let mut hi_t = (f64::INFINITY, usize::MAX);
     let mut met = true;
-    for (t, v) in triangles.iter().enumerate() {
-        let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let (s2, d, k) = shape(a, b, c);
-        if s2 < lo_t.0 {
-            lo_t = (s2, t);
+    for p in parts {
+        if p.lo.0 < lo_t.0 {
+            lo_t = p.lo;
         }
-        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
-        let j = if l[0] >= l[1] && l[0] >= l[2] {
-            0
-        } else if l[1] >= l[2] {
-            1
-        } else {
-            2
-        };
-        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
-        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
-        if cos < hi_t.0 {
-            hi_t = (cos, t);
+        if p.hi.0 < hi_t.0 {
+            hi_t = p.hi;
         }
-        let mut abound = crit.area2;
-        if crit.regional && max_areas[t] > 0.0 {
-            abound = abound.min(2.0 * max_areas[t] * crit.s2);
-        }
-        let too_big = d > abound;
-        let lo = if s2 < crit.sin2 || too_big {
-            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
-        } else {
-            180.0
-        };
-        let angle_bad = s2 < crit.sin2 && lo < crit.angle;
-        let user_bad = !(too_big || angle_bad)
-            && crit
-                .user
-                .is_some_and(|f| f(&crit.input(&m, v), 0.5 * d / crit.s2));
-        if !(too_big || angle_bad || user_bad) {
-            continue;
-        }
-        met = false;
-        let (u, w) = edge(v, k);
-        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
-            Some((apex, input_angle)) if d <= abound && !user_bad => {
-                UnfixableReason::SmallInputAngle { apex, input_angle }
-            }
-            _ if report.limit_reached => UnfixableReason::SteinerLimit,
-            _ if restricted => UnfixableReason::NoSegmentSplits,
-            _ => UnfixableReason::Precision,
-        };
-        report.unfixable.push(Unfixable {
-            triangle: t as u32,
-            min_angle: lo,
-            area: 0.5 * d / crit.s2,
-            reason,
-        });
+        met &= p.met;
+        report.unfixable.extend(p.unfixable);
     }
     let ang = |t: usize| {
         let v = triangles[t];

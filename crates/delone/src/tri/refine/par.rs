@@ -465,8 +465,14 @@ pub(super) struct Detached {
     coarse: f64,
 }
 
+impl From<&Crit<'_>> for Detached {
+    fn from(c: &Crit<'_>) -> Self {
+        c.detached()
+    }
+}
+
 impl Detached {
-    fn crit(self) -> Crit<'static> {
+    pub(super) fn crit(self) -> Crit<'static> {
         Crit {
             user: None,
             scale: self.scale,
