@@ -112,6 +112,8 @@ pub struct Opts {
     pub no_segment_splits: u8,
     /// tri `-j`: jettison vertices no triangle uses from the output .node.
     pub jettison: bool,
+    /// tri `--threads N`: threads for quality refinement (default: all).
+    pub threads: Option<usize>,
 }
 
 /// What the command line asks for.
@@ -388,6 +390,13 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                     })?)
                 }
                 "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
+                "threads" if mode == Mode::Tri => {
+                    o.threads = Some(crate::threads::parse(&value(
+                        "--threads",
+                        inline,
+                        &mut it,
+                    )?)?)
+                }
                 _ => {
                     return Err(Usage(format!(
                         "unknown option --{name} (see delone {} --help)",

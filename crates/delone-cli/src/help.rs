@@ -94,6 +94,8 @@ OPTIONS:
     --lloyd N                     Move the points by N Lloyd iterations
                                   (centroidal Voronoi) in their bounding box
                                   before meshing; FILE.1.node gets them.
+    --threads N                   Threads for quality refinement (default:
+                                  the available cores, at most 8).
     --svg FILE.svg                Draw the mesh (and with -v the cells
                                   clipped to the bounding box; hidden
                                   points in red; with -p the segments

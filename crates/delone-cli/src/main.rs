@@ -14,6 +14,7 @@ mod remesh;
 mod run;
 mod tetout;
 mod tetq;
+mod threads;
 mod tri_out;
 
 use args::{Command, Mode, Usage};

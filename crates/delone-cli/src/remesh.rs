@@ -128,6 +128,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             off_centers: true,
             segment_splits: crate::pslg::segment_splits(o),
             conforming_delaunay: o.conforming_delaunay,
+            threads: crate::threads::effective(o.threads),
+            ..RefineOptions::default()
         },
     )
     .map_err(|e| input_err(format!("{base}: {e}")))?;

@@ -4,7 +4,8 @@
 //!
 //! Environment: `REFINE_NO_OFF` (circumcentres only), `REFINE_REGIONAL`, `REFINE_Y=1|2`
 //! (`-Y`, `-YY`), `REFINE_PRE=ANGLE` (refine at ANGLE first), `REFINE_HIST`,
-//! `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
+//! `REFINE_THREADS=N` (threads; default all), `REFINE_PAR_MIN=N` (parallel from N
+//! predicted triangles), `REFINE_DUMP=FILE` (points, triangles, subsegments as text).
 
 use std::time::Instant;
 
@@ -56,6 +57,14 @@ fn main() {
             _ => SegmentSplits::All,
         },
         conforming_delaunay: std::env::var_os("REFINE_D").is_some(),
+        threads: std::env::var("REFINE_THREADS")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(delone::tri::refine::default_threads),
+        parallel_min_triangles: std::env::var("REFINE_PAR_MIN")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(delone::tri::refine::PARALLEL_MIN_TRIANGLES),
     };
     let r = if let Some(pre) = std::env::var("REFINE_PRE")
         .ok()

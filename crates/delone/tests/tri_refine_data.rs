@@ -199,42 +199,53 @@ fn area_bounds_global_and_regional() {
     ] {
         let g = load(&dir.join("2d").join(file));
         let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
-        let opts = RefineOptions {
-            min_angle: Some(30.0),
-            max_area: Some(area),
-            regional_areas: true,
-            ..Default::default()
-        };
-        let r = refine(&cdt, &opts).unwrap();
-        println!("{file} q30 a{area}: {} triangles", r.mesh.triangles.len());
-        check_quality(file, &g, &cdt, &r, 30.0, Some(area));
-        // Regional bounds (la.poly has six regions with area bounds).
-        for (t, v) in r.mesh.triangles.iter().enumerate() {
-            let ma = r.mesh.max_areas[t];
-            if ma > 0.0 {
-                assert!(
-                    area_of(&r.mesh.points, v) <= ma * (1.0 + 1e-12),
-                    "{file}: triangle {t} above its region's bound"
-                );
-            }
-        }
-        // Area alone (no angle bound).
-        let r = refine(
-            &cdt,
-            &RefineOptions {
-                min_angle: None,
+        // One thread, and two in parallel parts (even below the size where
+        // that pays).
+        for threads in [1, 2] {
+            let opts = RefineOptions {
+                min_angle: Some(30.0),
                 max_area: Some(area),
+                regional_areas: true,
+                threads,
+                parallel_min_triangles: 0,
                 ..Default::default()
-            },
-        )
-        .unwrap();
-        check_cdt(&g, &r.mesh).unwrap();
-        assert!(r.report.met);
-        assert!(r
-            .mesh
-            .triangles
-            .iter()
-            .all(|v| area_of(&r.mesh.points, v) <= area * (1.0 + 1e-12)));
+            };
+            let r = refine(&cdt, &opts).unwrap();
+            println!(
+                "{file} q30 a{area} threads {threads}: {} triangles",
+                r.mesh.triangles.len()
+            );
+            check_quality(file, &g, &cdt, &r, 30.0, Some(area));
+            // Regional bounds (la.poly has six regions with area bounds).
+            for (t, v) in r.mesh.triangles.iter().enumerate() {
+                let ma = r.mesh.max_areas[t];
+                if ma > 0.0 {
+                    assert!(
+                        area_of(&r.mesh.points, v) <= ma * (1.0 + 1e-12),
+                        "{file}: triangle {t} above its region's bound"
+                    );
+                }
+            }
+            // Area alone (no angle bound).
+            let r = refine(
+                &cdt,
+                &RefineOptions {
+                    min_angle: None,
+                    max_area: Some(area),
+                    threads,
+                    parallel_min_triangles: 0,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            check_cdt(&g, &r.mesh).unwrap();
+            assert!(r.report.met);
+            assert!(r
+                .mesh
+                .triangles
+                .iter()
+                .all(|v| area_of(&r.mesh.points, v) <= area * (1.0 + 1e-12)));
+        }
     }
 }
 
@@ -266,5 +277,60 @@ fn face_q34_is_not_over_refined() {
             n <= at_most,
             "q{angle}: {n} triangles, expected at most {at_most}"
         );
+    }
+}
+
+/// Every shared PSLG refined in 2 and 3 parallel parts (`-q30` with an area
+/// bound of 1/3000 of its bounding box): a valid constrained Delaunay mesh
+/// meeting the bounds except at small input angles, deterministic, and
+/// within 10% of the one-thread triangle count.
+#[test]
+fn every_shared_poly_in_parallel_parts() {
+    let Some(dir) = data_dir() else {
+        println!("note: shared/data not found; skipping");
+        return;
+    };
+    let mut names: Vec<PathBuf> = std::fs::read_dir(dir.join("2d"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "poly"))
+        .collect();
+    names.sort();
+    for p in &names {
+        let g = load(p);
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        let convex_hull = name == "box.poly";
+        let cdt = constrained_triangulation(&g, CdtOptions { convex_hull }).unwrap();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for q in &cdt.points {
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        let area = (hi[0] - lo[0]) * (hi[1] - lo[1]) / 3000.0;
+        let one = RefineOptions {
+            min_angle: Some(30.0),
+            max_area: Some(area),
+            threads: 1,
+            ..Default::default()
+        };
+        let n1 = refine(&cdt, &one).unwrap().mesh.triangles.len();
+        for threads in [2, 3] {
+            let opts = RefineOptions {
+                threads,
+                parallel_min_triangles: 0,
+                ..one
+            };
+            let r = refine(&cdt, &opts).unwrap();
+            let n = r.mesh.triangles.len();
+            println!("{name} q30 a{area:.3e} threads {threads}: {n} triangles (1 thread: {n1})");
+            check_quality(&name, &g, &cdt, &r, 30.0, Some(area));
+            assert!(
+                (n as f64 - n1 as f64).abs() <= 0.1 * n1 as f64,
+                "{name}: {n} triangles with {threads} threads, {n1} with one"
+            );
+            assert_eq!(r, refine(&cdt, &opts).unwrap(), "{name}: not deterministic");
+        }
     }
 }

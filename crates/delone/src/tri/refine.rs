@@ -36,6 +36,22 @@
 //! 4. A Steiner-point budget ([`RefineOptions::max_steiner`], Triangle's `-S`)
 //!    stops the refinement; the report says whether every bound was met.
 //!
+//! # Parallel refinement
+//!
+//! With [`RefineOptions::threads`] above 1 and an area bound predicting at
+//! least [`RefineOptions::parallel_min_triangles`] triangles, the mesh is
+//! refined sequentially to about 1/64 of its final size (area bounds × 64),
+//! its triangles are split by recursive coordinate bisection into parts of
+//! equal predicted work, each part is refined in its own thread with the
+//! edges between parts fixed (never split; a point beyond or encroaching
+//! one is not inserted), the parts are stitched back (Lawson flips across
+//! the former part edges restore the constrained Delaunay property), and
+//! the triangles left near the part edges are refined sequentially. The
+//! result depends on the input, the options and the thread count only
+//! (not on timing); one thread gives the sequential result. The triangle
+//! count stays within a fraction of a per cent of the sequential one on
+//! the large shared PSLGs.
+//!
 //! Insertion is Bowyer–Watson: the cavity of a new point (the triangles whose
 //! circumcircle strictly contains it, reached without crossing a subsegment)
 //! is found once — for a circumcentre, its boundary subsegments are the ones
@@ -60,6 +76,7 @@
 //! size-optimal quality-guaranteed Delaunay triangulations*, LATIN 2004.
 
 use std::collections::{HashMap, VecDeque};
+use std::sync::Arc;
 
 use delone_predicates::{incircle, orient2d};
 
@@ -67,6 +84,8 @@ use super::constrain::{Cdt, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
 use crate::{Error, NONE};
+
+mod par;
 
 /// Options of [`refine`], named by meaning; each names Triangle's switch.
 ///
@@ -118,7 +137,51 @@ pub struct RefineOptions {
     /// delone::tri::conforming::check_conforming_delaunay(&r.mesh.points, &r.mesh.triangles).unwrap();
     /// ```
     pub conforming_delaunay: bool,
+    /// Threads to refine with (see [`default_threads`], the default). With
+    /// more than one, a large refinement (an area bound predicting at least
+    /// [`Self::parallel_min_triangles`] triangles) is done in parallel parts: see
+    /// the [module docs](self#parallel-refinement). The result depends on
+    /// the number of threads used, never on timing. The parallel path is not
+    /// taken with [`Self::conforming_delaunay`], [`Self::max_steiner`] or a
+    /// user's test ([`refine_with`]). 0 counts as 1.
+    ///
+    /// ```
+    /// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
+    /// let g = Pslg::new(vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+    ///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+    /// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    /// // (`parallel_min_triangles: 0`: in parallel although the mesh is small.)
+    /// let o = RefineOptions { min_angle: Some(30.0), max_area: Some(0.05), threads: 2,
+    ///                         parallel_min_triangles: 0, ..Default::default() };
+    /// let a = refine(&cdt, &o).unwrap();
+    /// assert!(a.report.met && a.mesh.triangles.len() > 2000);
+    /// check_cdt(&g, &a.mesh).unwrap();
+    /// assert_eq!(a, refine(&cdt, &o).unwrap()); // deterministic
+    /// ```
+    pub threads: usize,
+    /// Predicted output size (triangles, from the area bounds) below which
+    /// refinement stays on one thread whatever [`Self::threads`] says.
+    /// Default [`PARALLEL_MIN_TRIANGLES`]; 0 takes the parallel path for
+    /// every mesh (tests).
+    pub parallel_min_triangles: usize,
 }
+
+/// The default [`RefineOptions::threads`]: the available parallelism,
+/// at most 8.
+///
+/// ```
+/// let t = delone::tri::refine::default_threads();
+/// assert!((1..=8).contains(&t));
+/// ```
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(8)
+}
+
+/// The default [`RefineOptions::parallel_min_triangles`]: below this size
+/// a second thread does not pay (measured on the shared PSLGs).
+pub const PARALLEL_MIN_TRIANGLES: usize = 50_000;
 
 /// Which subsegments refinement may split.
 ///
@@ -154,6 +217,8 @@ impl Default for RefineOptions {
             off_centers: true,
             segment_splits: SegmentSplits::All,
             conforming_delaunay: false,
+            threads: default_threads(),
+            parallel_min_triangles: PARALLEL_MIN_TRIANGLES,
         }
     }
 }
@@ -297,6 +362,7 @@ struct Sub {
     protected: bool,
 }
 
+#[derive(Clone)]
 struct Mesh {
     xy: Vec<[f64; 2]>,
     /// The triangles, one 32-byte aligned record each (half a cache line
@@ -309,11 +375,11 @@ struct Mesh {
     vpar: Vec<u32>,
     nfixed: usize,
     /// The chains (parents) each fixed vertex is an end of.
-    vchains: Vec<Vec<u32>>,
+    vchains: Arc<Vec<Vec<u32>>>,
     /// Squared cosine of the encroachment angle (see [`encroaches`]).
     cos2: f64,
     subs: Vec<Sub>,
-    parents: Vec<Parent>,
+    parents: Arc<Vec<Parent>>,
     stamp: u32,
     /// Scratch of [`Mesh::insert`]: cavity, its boundary, encroached
     /// subsegments, new triangles.
@@ -438,12 +504,43 @@ impl Mesh {
     /// 1.6 per bound's worth of area; twice that is reserved, at most 2²⁴):
     /// the 32-byte aligned records are copied, not reallocated in place,
     /// when the vector grows. Untouched capacity costs no resident memory.
-    fn reserve_for_areas(&mut self, crit: &Crit, max_areas: &[f64], limit: usize) {
+    /// `part`: only these triangles will be refined (all when `None`).
+    fn reserve_for_areas(
+        &mut self,
+        crit: &Crit,
+        max_areas: &[f64],
+        limit: usize,
+        part: Option<&[u32]>,
+    ) {
         if !crit.area2.is_finite() && !crit.regional {
             return;
         }
-        let mut ratio = 0.0;
-        for t in &self.tr {
+        let ratio = match part {
+            Some(ts) => ts
+                .iter()
+                .map(|&t| self.area_ratio(crit, max_areas, t as usize))
+                .sum(),
+            None => (0..self.tr.len())
+                .map(|t| self.area_ratio(crit, max_areas, t))
+                .sum::<f64>(),
+        };
+        let base = if part.is_some() { 0 } else { self.tr.len() };
+        let nt = (3.2 * ratio).min((1u64 << 24) as f64) as usize;
+        let nt = nt.min(limit.saturating_mul(2));
+        if nt > base {
+            let more = nt - base;
+            // Best effort: without the room the vectors grow as usual.
+            let _ = self.tr.try_reserve_exact(more);
+            let _ = self.sides.try_reserve_exact(more);
+            let _ = self.xy.try_reserve_exact(more / 2);
+            let _ = self.vpar.try_reserve_exact(more / 2);
+        }
+    }
+
+    /// Area of triangle `t` over its area bound (0 without one).
+    fn area_ratio(&self, crit: &Crit, max_areas: &[f64], t: usize) -> f64 {
+        let t = &self.tr[t];
+        {
             let (a, b, c) = (self.p(t.v[0]), self.p(t.v[1]), self.p(t.v[2]));
             let d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
             let mut bound = crit.area2;
@@ -454,18 +551,10 @@ impl Mesh {
                 }
             }
             if bound.is_finite() && bound > 0.0 {
-                ratio += d / bound;
+                d / bound
+            } else {
+                0.0
             }
-        }
-        let nt = (3.2 * ratio).min((1u64 << 24) as f64) as usize;
-        let nt = nt.min(limit.saturating_mul(2));
-        if nt > self.tr.len() {
-            let more = nt - self.tr.len();
-            // Best effort: without the room the vectors grow as usual.
-            let _ = self.tr.try_reserve_exact(more);
-            let _ = self.sides.try_reserve_exact(more);
-            let _ = self.xy.try_reserve_exact(more / 2);
-            let _ = self.vpar.try_reserve_exact(more / 2);
         }
     }
 
@@ -964,6 +1053,7 @@ impl Queue {
 pub type UserTest<'a> = &'a dyn Fn(&[[f64; 2]; 3], f64) -> bool;
 
 /// Criteria in scaled units.
+#[derive(Clone, Copy)]
 struct Crit<'a> {
     /// The user's test, if any.
     user: Option<UserTest<'a>>,
@@ -979,6 +1069,9 @@ struct Crit<'a> {
     off: f64,
     /// Doubled-area scale factor (scaled² → input units).
     s2: f64,
+    /// Factor on every area bound (1; more for the coarse stage of the
+    /// parallel refinement).
+    coarse: f64,
 }
 
 /// Queue bucket (smaller is worse) of triangle `t`, if it is to be fixed.
@@ -994,6 +1087,7 @@ fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> Option<u32>
             abound = abound.min(2.0 * ma * crit.s2);
         }
     }
+    abound *= crit.coarse;
     if d > abound {
         return Some(Queue::area_bucket(d / abound));
     }
@@ -1131,10 +1225,10 @@ fn refine_inner(
         sides: vec![[NONE; 3]; nt],
         vpar: vec![NONE; nfixed],
         nfixed,
-        vchains: vec![Vec::new(); nfixed],
+        vchains: Arc::new(vec![Vec::new(); nfixed]),
         cos2: 0.0,
         subs: Vec::new(),
-        parents: Vec::new(),
+        parents: Arc::new(Vec::new()),
         stack: Vec::new(),
         stamp: 0,
         cav: Vec::new(),
@@ -1176,7 +1270,7 @@ fn refine_inner(
                 continue;
             }
             let k = m.subs.len() as u32;
-            m.parents.push(Parent {
+            Arc::make_mut(&mut m.parents).push(Parent {
                 a,
                 b,
                 out: out.unwrap_or(NONE),
@@ -1203,16 +1297,19 @@ fn refine_inner(
             }
         }
     }
-    for (k, par) in m.parents.iter().enumerate() {
-        m.vchains[par.a as usize].push(k as u32);
-        m.vchains[par.b as usize].push(k as u32);
+    {
+        let vchains = Arc::make_mut(&mut m.vchains);
+        for (k, par) in m.parents.iter().enumerate() {
+            vchains[par.a as usize].push(k as u32);
+            vchains[par.b as usize].push(k as u32);
+        }
     }
     for k in 0..m.parents.len() {
         let par = m.parents[k];
         for (i, (z, o)) in [(par.a, par.b), (par.b, par.a)].into_iter().enumerate() {
             let pz = *m.p(z);
             let (ux, uy) = (m.p(o)[0] - pz[0], m.p(o)[1] - pz[1]);
-            m.parents[k].shell[i] = m.vchains[z as usize].iter().any(|&j| {
+            let shell = m.vchains[z as usize].iter().any(|&j| {
                 let q = m.parents[j as usize];
                 let o2 = if q.a == z { q.b } else { q.a };
                 let (vx, vy) = (m.p(o2)[0] - pz[0], m.p(o2)[1] - pz[1]);
@@ -1222,6 +1319,7 @@ fn refine_inner(
                     .to_degrees();
                 j as usize != k && ang < SHELL_ANGLE
             });
+            Arc::make_mut(&mut m.parents)[k].shell[i] = shell;
         }
     }
     let angle = options.min_angle.map_or(0.0, |a| a.clamp(0.0, 60.0));
@@ -1247,6 +1345,7 @@ fn refine_inner(
             0.0
         },
         s2: sf * sf,
+        coarse: 1.0,
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
@@ -1254,15 +1353,75 @@ fn refine_inner(
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
     let limit = options.max_steiner.unwrap_or(usize::MAX);
-    m.reserve_for_areas(&crit, &cdt.max_areas, limit);
     let mut report = RefineReport::default();
+    let threads = par::threads_for(&m, &crit, &cdt.max_areas, options);
+    let quality = if threads > 1 {
+        par::refine_parallel(&mut m, &crit, &cdt.max_areas, options, threads, &mut report)
+    } else {
+        m.reserve_for_areas(&crit, &cdt.max_areas, limit, None);
+        let mut steiner = 0;
+        run(
+            &mut m,
+            &crit,
+            &cdt.max_areas,
+            options,
+            limit,
+            &mut steiner,
+            &mut report,
+            None,
+            None,
+        )
+    };
+    report.cavity_triangles = m.replaced;
+    let restricted = options.segment_splits != SegmentSplits::All;
+    let left = if options.conforming_delaunay {
+        m.scan_encroached(true, &mut VecDeque::new())
+    } else {
+        0
+    };
+    let mut r = finish(cdt, m, &crit, scale, restricted, report, threads);
+    if !quality {
+        for u in &mut r.report.unfixable {
+            if u.reason == UnfixableReason::Precision {
+                u.reason = UnfixableReason::ConformingDelaunay;
+            }
+        }
+    }
+    r.report.encroached_subsegments = left;
+    r.report.met &= left == 0;
+    Ok(r)
+}
 
-    let bad = |m: &Mesh, t: usize| bad_bucket(m, &crit, &cdt.max_areas, t);
+/// The refinement loop: queues the bad triangles and encroached
+/// subsegments among `scan` (all triangles when `None`), then splits and
+/// inserts until both queues are empty (or the budget `limit` on
+/// `*steiner` runs out). Returns false if quality refinement was stopped
+/// for the conforming-Delaunay splits. Bad triangles given up on (no
+/// point could be inserted for them) are pushed on `dropped`.
+#[allow(clippy::too_many_arguments)]
+fn run(
+    m: &mut Mesh,
+    crit: &Crit,
+    max_areas: &[f64],
+    options: &RefineOptions,
+    limit: usize,
+    steiner: &mut usize,
+    report: &mut RefineReport,
+    scan: Option<&[u32]>,
+    mut dropped: Option<&mut Vec<u32>>,
+) -> bool {
+    let bad = |m: &Mesh, t: usize| bad_bucket(m, crit, max_areas, t);
     type Heap = Queue;
     let mut heap = Queue::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
-    for t in 0..nt {
-        if let Some(k) = bad(&m, t) {
+    let all = 0..m.tr.len() as u32;
+    let seeds: &mut dyn Iterator<Item = u32> = match scan {
+        Some(ts) => &mut ts.iter().copied(),
+        None => &mut all.clone(),
+    };
+    for t in seeds {
+        let t = t as usize;
+        if let Some(k) = bad(m, t) {
             heap.push(k, t as u32, m.tr[t].v[0]);
         }
     }
@@ -1278,9 +1437,13 @@ fn refine_inner(
             enc.push_back(s);
         }
     };
-    for t in 0..nt {
+    let seeds: &mut dyn Iterator<Item = u32> = match scan {
+        Some(ts) => &mut ts.iter().copied(),
+        None => &mut all.clone(),
+    };
+    for t in seeds {
         for e in 0..3 {
-            check_sub(&m, t, e, &mut enc);
+            check_sub(m, t as usize, e, &mut enc);
         }
     }
     // The new triangles: bad ones are queued, their subsegments checked.
@@ -1302,7 +1465,6 @@ fn refine_inner(
             }
         }
     };
-    let mut steiner = 0usize;
     // Rounds of -D splits after the queues ran empty. Past 64 rounds, or
     // when quality refinement after the first round has added 8 times the
     // points there were, bad triangles are no longer fixed: near small input
@@ -1317,7 +1479,7 @@ fn refine_inner(
             if options.conforming_delaunay && m.scan_encroached(false, &mut enc) > 0 {
                 gabriel_rounds += 1;
                 if gabriel_rounds == 1 {
-                    quality_cap = steiner + 8 * (steiner + nfixed) + 1024;
+                    quality_cap = *steiner + 8 * (*steiner + m.nfixed) + 1024;
                 }
                 if gabriel_rounds > GABRIEL_ROUNDS {
                     // Splits and quality refinement keep feeding each other
@@ -1329,19 +1491,19 @@ fn refine_inner(
             }
             break;
         }
-        if steiner >= limit || m.xy.len() >= (u32::MAX - 8) as usize {
+        if *steiner >= limit || m.xy.len() >= (u32::MAX - 8) as usize {
             report.limit_reached = true;
             break;
         }
         if let Some(s) = enc.pop_front() {
             if m.split_sub(s).is_some() {
-                steiner += 1;
+                *steiner += 1;
                 report.segment_splits += 1;
-                after_insert(&m, &mut heap, &mut enc);
+                after_insert(m, &mut heap, &mut enc);
             }
             continue;
         }
-        if steiner > quality_cap {
+        if *steiner > quality_cap {
             quality = false;
             continue;
         }
@@ -1371,15 +1533,18 @@ fn refine_inner(
             }
         }
         if !(c[0].is_finite() && c[1].is_finite()) {
+            if let Some(d) = dropped.as_deref_mut() {
+                d.push(t as u32);
+            }
             continue;
         }
         // The triangle's circumcircle contains `c`, so the cavity can grow
         // from it: no point location needed.
         match m.insert(t, c, NONE, [NONE; 4], true) {
             Ins::Done(_) => {
-                steiner += 1;
+                *steiner += 1;
                 report.circumcenters += 1;
-                after_insert(&m, &mut heap, &mut enc);
+                after_insert(m, &mut heap, &mut enc);
             }
             Ins::Encroached => {
                 report.rejected_circumcenters += 1;
@@ -1392,6 +1557,8 @@ fn refine_inner(
                 }
                 if any {
                     heap.push(0, t as u32, v0);
+                } else if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
                 }
             }
             Ins::Blocked(s) => {
@@ -1399,32 +1566,106 @@ fn refine_inner(
                 if !m.subs[s as usize].stuck {
                     enc.push_back(s);
                     heap.push(0, t as u32, v0);
+                } else if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
                 }
             }
-            Ins::Failed => {}
-        }
-    }
-    report.cavity_triangles = m.replaced;
-    let restricted = options.segment_splits != SegmentSplits::All;
-    let left = if options.conforming_delaunay {
-        m.scan_encroached(true, &mut VecDeque::new())
-    } else {
-        0
-    };
-    // Free the queues before the output is built (peak memory).
-    drop(heap);
-    drop(enc);
-    let mut r = finish(cdt, m, &crit, scale, restricted, report);
-    if !quality {
-        for u in &mut r.report.unfixable {
-            if u.reason == UnfixableReason::Precision {
-                u.reason = UnfixableReason::ConformingDelaunay;
+            Ins::Failed => {
+                if let Some(d) = dropped.as_deref_mut() {
+                    d.push(t as u32);
+                }
             }
         }
     }
-    r.report.encroached_subsegments = left;
-    r.report.met &= left == 0;
-    Ok(r)
+    drop(heap);
+    drop(enc);
+    quality
+}
+
+/// The extreme angles and the bad triangles among `triangles[from..]`
+/// (see [`finish`]).
+struct Assessed {
+    /// (sin² of the smallest angle, triangle), first of the smallest.
+    lo: (f64, usize),
+    /// (cosine of the largest angle, triangle), first of the smallest.
+    hi: (f64, usize),
+    met: bool,
+    unfixable: Vec<Unfixable>,
+}
+
+fn assess(
+    m: &Mesh,
+    crit: &Crit,
+    triangles: &[[u32; 3]],
+    max_areas: &[f64],
+    from: usize,
+    limit_reached: bool,
+    restricted: bool,
+) -> Assessed {
+    let mut unfixable = Vec::new();
+    let mut lo_t = (f64::INFINITY, usize::MAX);
+    let mut hi_t = (f64::INFINITY, usize::MAX);
+    let mut met = true;
+    for (t, v) in triangles.iter().enumerate().skip(from) {
+        let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
+        let (s2, d, k) = shape(a, b, c);
+        if s2 < lo_t.0 {
+            lo_t = (s2, t);
+        }
+        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
+        let j = if l[0] >= l[1] && l[0] >= l[2] {
+            0
+        } else if l[1] >= l[2] {
+            1
+        } else {
+            2
+        };
+        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
+        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
+        if cos < hi_t.0 {
+            hi_t = (cos, t);
+        }
+        let mut abound = crit.area2;
+        if crit.regional && max_areas[t] > 0.0 {
+            abound = abound.min(2.0 * max_areas[t] * crit.s2);
+        }
+        let too_big = d > abound;
+        let lo = if s2 < crit.sin2 || too_big {
+            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
+        } else {
+            180.0
+        };
+        let angle_bad = s2 < crit.sin2 && lo < crit.angle;
+        let user_bad = !(too_big || angle_bad)
+            && crit
+                .user
+                .is_some_and(|f| f(&crit.input(m, v), 0.5 * d / crit.s2));
+        if !(too_big || angle_bad || user_bad) {
+            continue;
+        }
+        met = false;
+        let (u, w) = edge(v, k);
+        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
+            Some((apex, input_angle)) if d <= abound && !user_bad => {
+                UnfixableReason::SmallInputAngle { apex, input_angle }
+            }
+            _ if limit_reached => UnfixableReason::SteinerLimit,
+            _ if restricted => UnfixableReason::NoSegmentSplits,
+            _ => UnfixableReason::Precision,
+        };
+        unfixable.push(Unfixable {
+            triangle: t as u32,
+            min_angle: lo,
+            area: 0.5 * d / crit.s2,
+            reason,
+        });
+    }
+    Assessed {
+        lo: lo_t,
+        hi: hi_t,
+        met,
+        unfixable,
+    }
 }
 
 /// Builds the output mesh and the final statistics.
@@ -1435,6 +1676,7 @@ fn finish(
     scale: (f64, f64),
     restricted: bool,
     mut report: RefineReport,
+    threads: usize,
 ) -> Refined {
     let mut m = m;
     // What the output no longer needs goes first (peak memory).
@@ -1484,63 +1726,68 @@ fn finish(
     segments.extend(cdt.segments.iter().filter(|s| !s.bounding).copied());
     // The extreme angles: the triangles with the smallest sin² of the
     // smallest angle and the smallest cosine of the largest angle, measured
-    // exactly at the end (atan2 only there).
+    // exactly at the end (atan2 only there). In `threads` chunks, combined
+    // in order (the same result for any number of chunks).
+    let limit_reached = report.limit_reached;
+    let chunks = if threads > 1 && crit.user.is_none() && triangles.len() >= 1 << 13 {
+        threads
+    } else {
+        1
+    };
+    let step = triangles.len().div_ceil(chunks).max(1);
+    let parts: Vec<Assessed> = if chunks == 1 {
+        vec![assess(
+            &m,
+            crit,
+            &triangles,
+            &max_areas,
+            0,
+            limit_reached,
+            restricted,
+        )]
+    } else {
+        let detached = par::Detached::from(crit);
+        let (mr, tr, ma) = (&m, &triangles, &max_areas);
+        std::thread::scope(|sc| {
+            let handles: Vec<_> = (1..chunks)
+                .map(|k| {
+                    sc.spawn(move || {
+                        let crit = detached.crit();
+                        let end = ((k + 1) * step).min(tr.len());
+                        let lo = (k * step).min(end);
+                        assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)
+                    })
+                })
+                .collect();
+            let mut v = vec![assess(
+                mr,
+                crit,
+                &tr[..step.min(tr.len())],
+                ma,
+                0,
+                limit_reached,
+                restricted,
+            )];
+            v.extend(
+                handles
+                    .into_iter()
+                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+            );
+            v
+        })
+    };
     let mut lo_t = (f64::INFINITY, usize::MAX);
     let mut hi_t = (f64::INFINITY, usize::MAX);
     let mut met = true;
-    for (t, v) in triangles.iter().enumerate() {
-        let (a, b, c) = (m.p(v[0]), m.p(v[1]), m.p(v[2]));
-        let (s2, d, k) = shape(a, b, c);
-        if s2 < lo_t.0 {
-            lo_t = (s2, t);
+    for p in parts {
+        if p.lo.0 < lo_t.0 {
+            lo_t = p.lo;
         }
-        let l = [dist2(b, c), dist2(c, a), dist2(a, b)];
-        let j = if l[0] >= l[1] && l[0] >= l[2] {
-            0
-        } else if l[1] >= l[2] {
-            1
-        } else {
-            2
-        };
-        let (x, y) = (l[NEXT[j]], l[PREV[j]]);
-        let cos = (x + y - l[j]) / (2.0 * (x * y).sqrt());
-        if cos < hi_t.0 {
-            hi_t = (cos, t);
+        if p.hi.0 < hi_t.0 {
+            hi_t = p.hi;
         }
-        let mut abound = crit.area2;
-        if crit.regional && max_areas[t] > 0.0 {
-            abound = abound.min(2.0 * max_areas[t] * crit.s2);
-        }
-        let too_big = d > abound;
-        let lo = if s2 < crit.sin2 || too_big {
-            angles(a, b, c).iter().copied().fold(180.0f64, f64::min)
-        } else {
-            180.0
-        };
-        let angle_bad = s2 < crit.sin2 && lo < crit.angle;
-        let user_bad = !(too_big || angle_bad)
-            && crit
-                .user
-                .is_some_and(|f| f(&crit.input(&m, v), 0.5 * d / crit.s2));
-        if !(too_big || angle_bad || user_bad) {
-            continue;
-        }
-        met = false;
-        let (u, w) = edge(v, k);
-        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
-            Some((apex, input_angle)) if d <= abound && !user_bad => {
-                UnfixableReason::SmallInputAngle { apex, input_angle }
-            }
-            _ if report.limit_reached => UnfixableReason::SteinerLimit,
-            _ if restricted => UnfixableReason::NoSegmentSplits,
-            _ => UnfixableReason::Precision,
-        };
-        report.unfixable.push(Unfixable {
-            triangle: t as u32,
-            min_angle: lo,
-            area: 0.5 * d / crit.s2,
-            reason,
-        });
+        met &= p.met;
+        report.unfixable.extend(p.unfixable);
     }
     let ang = |t: usize| {
         let v = triangles[t];
