@@ -23,7 +23,19 @@
 //!    cavity made of it and its neighbours, followed by smoothing of the
 //!    new vertex; undone unless the cavity's worst quality improves.
 //!
-//! Passes repeat until one changes nothing (or [`OptimizeOptions::max_passes`]).
+//! The work is organised in stages of rising thresholds (10°, 20°, 30°,
+//! then the target): each stage keeps a queue of the tetrahedra below its
+//! threshold, worst first, pushes the tetrahedra each success creates or
+//! reshapes, and skips a tetrahedron that failed until the star of one of
+//! its vertices changes; a stage ends when a round over its queue succeeds
+//! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
+//! tetrahedron) are spent. The whole run stops when its budget of quality
+//! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
+//! treated first, so the budget cuts the least useful work. Quality is
+//! cached per slot; the edge-removal programme prunes every sub-polygon
+//! that cannot beat the ring's worst tetrahedron, and the smoothing line
+//! search leaves out the star tetrahedra far above the worst (checked once
+//! at the end).
 //! Everything on the domain's boundary and on internal facets stays exactly
 //! as it is: boundary and interface faces are never destroyed and their
 //! vertices never move, every tetrahedron keeps its region, so the volume,
@@ -77,7 +89,8 @@ pub struct OptimizeOptions {
     /// Dihedral angle target (degrees): tetrahedra with an angle below it
     /// or above `180 -` it are worked on. Default 40.
     pub target_dihedral: f64,
-    /// Most passes over the bad tetrahedra. Default 6.
+    /// Attempts per tetrahedron queued at the start of a stage (0: do
+    /// nothing). Default 6.
     pub max_passes: usize,
     /// Use edge removal and 2-3 / 3-2 / 4-4 flips. Default true.
     pub flips: bool,
@@ -208,6 +221,12 @@ pub struct OptimizeReport {
     pub after: TetStats,
     /// Stages run (thresholds 10°, 20°, 30°, then the target).
     pub passes: usize,
+    /// The smallest dihedral angle of the input surface (degrees): at each
+    /// edge of the boundary or of an internal facet, the angle of each
+    /// region around it (the sum of its tetrahedra's angles there). No
+    /// tetrahedron at that edge can have a smaller angle, so the mesh's
+    /// minimum cannot exceed it; 360 when there is no such edge.
+    pub input_min_dihedral: f64,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -310,6 +329,7 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
+        report.input_min_dihedral = input_min_dihedral(rec);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -389,6 +409,7 @@ pub fn optimize(
     report.evaluations = w.evals.get();
     write_back(rec, &w, s);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
+    report.input_min_dihedral = input_min_dihedral(rec);
     stuck(rec, &w, target.to_radians().sin(), &mut report);
     Ok(report)
 }
@@ -653,6 +674,40 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     rec.mesh.tets = tets;
     rec.mesh.neighbors = nbs;
     rec.tet_region = reg;
+}
+
+/// See [`OptimizeReport::input_min_dihedral`].
+fn input_min_dihedral(rec: &Recovered) -> f64 {
+    use std::collections::{BTreeMap, HashSet};
+    let m = &rec.mesh;
+    let prot: HashSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
+    let mut edges: HashSet<[u32; 2]> = HashSet::new();
+    for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
+        for (f, &n) in nb.iter().enumerate() {
+            let fc = work::face(*tv, f);
+            if n == NONE || prot.contains(&fkey(fc)) {
+                for k in 0..3 {
+                    let (a, b) = (fc[k], fc[(k + 1) % 3]);
+                    edges.insert([a.min(b), a.max(b)]);
+                }
+            }
+        }
+    }
+    let mut sum: BTreeMap<([u32; 2], u32), f64> = BTreeMap::new();
+    for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
+        let mut d = None;
+        for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
+            let (a, b) = (tv[i], tv[j]);
+            let k = [a.min(b), a.max(b)];
+            if edges.contains(&k) {
+                let d = d.get_or_insert_with(|| {
+                    super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]))
+                });
+                *sum.entry((k, g)).or_insert(0.0) += d[e];
+            }
+        }
+    }
+    sum.values().copied().fold(360.0, f64::min)
 }
 
 /// Fills the stuck counts and list.
