@@ -49,7 +49,7 @@ use std::collections::BinaryHeap;
 use std::fmt;
 
 use super::quality::TetStats;
-use super::recover::Recovered;
+use super::recover::{IdMap, IdSet, Recovered};
 use crate::NONE;
 use work::{fkey, Plan, Work, DEAD};
 
@@ -353,7 +353,7 @@ pub fn optimize(
     // Per tetrahedron (sorted vertices): the clock of its last failed
     // attempt; it is not retried until a star of one of its vertices
     // changes.
-    let mut failed: std::collections::HashMap<[u32; 4], u64> = Default::default();
+    let mut failed: IdMap<[u32; 4], u64> = Default::default();
     // Stages of rising thresholds: the worst tetrahedra first, so that the
     // effort goes where the minimum is decided.
     let mut stages: Vec<f64> = STAGES.iter().copied().filter(|&d| d < target).collect();
@@ -422,7 +422,7 @@ fn sorted(mut tv: [u32; 4]) -> [u32; 4] {
 
 /// True when slot `t` failed before and none of its vertices' stars
 /// changed since.
-fn blocked(w: &Work, failed: &std::collections::HashMap<[u32; 4], u64>, t: u32) -> bool {
+fn blocked(w: &Work, failed: &IdMap<[u32; 4], u64>, t: u32) -> bool {
     let tv = w.tv[t as usize];
     failed
         .get(&sorted(tv))
@@ -644,7 +644,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     }
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
-    let mut owner: std::collections::HashMap<[u32; 3], (usize, usize)> = Default::default();
+    let mut owner: IdMap<[u32; 3], (usize, usize)> = Default::default();
     for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
         for (f, &n) in nb.iter().enumerate() {
             if n != NONE {
@@ -678,10 +678,9 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
 
 /// See [`OptimizeReport::input_min_dihedral`].
 fn input_min_dihedral(rec: &Recovered) -> f64 {
-    use std::collections::{BTreeMap, HashSet};
     let m = &rec.mesh;
-    let prot: HashSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
-    let mut edges: HashSet<[u32; 2]> = HashSet::new();
+    let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
+    let mut edges: IdSet<[u32; 2]> = IdSet::default();
     for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
         for (f, &n) in nb.iter().enumerate() {
             let fc = work::face(*tv, f);
@@ -693,7 +692,8 @@ fn input_min_dihedral(rec: &Recovered) -> f64 {
             }
         }
     }
-    let mut sum: BTreeMap<([u32; 2], u32), f64> = BTreeMap::new();
+    // (Order-free: only the minimum of the sums is read.)
+    let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
     for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
         let mut d = None;
         for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
