@@ -148,13 +148,20 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let (mut rec, refined) =
         crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
             .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let t_opt = Instant::now();
     let optimized = crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.is_some())
         .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let t_opt = t_opt.elapsed();
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
     if let Some(r) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, r));
+        lines.push(format!(
+            "optimization: {:.3} s of the {:.3} s of meshing",
+            t_opt.as_secs_f64(),
+            t_mesh.as_secs_f64()
+        ));
     }
     if o.check {
         match check_recovered(&plc.points, &triangles, &rec) {

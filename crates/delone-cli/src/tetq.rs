@@ -99,6 +99,12 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
             r.before.tets,
             r.after.tets
         ));
+        lines.push(format!(
+            "optimization: smallest dihedral angle of the input surface {:.2} deg (the bound at its edges); {} quality evaluations{}",
+            r.input_min_dihedral,
+            r.evaluations,
+            if r.effort_exhausted { ", effort budget spent" } else { "" }
+        ));
         let mut lo = 0.0;
         let mut h = String::from("dihedral histogram before optimization:");
         for (b, n) in DIHEDRAL_BINS.iter().zip(&r.before.dihedral_histogram) {

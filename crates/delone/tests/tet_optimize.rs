@@ -145,6 +145,12 @@ fn level_zero_changes_nothing() {
     assert_eq!(rep.before, rep.after);
     let rep = run(&pts, &tris, &mut r, &OptimizeOptions::default());
     assert!(rep.after.min_dihedral > rep.before.min_dihedral);
+    // The cube's edges are right angles.
+    assert!(
+        (rep.input_min_dihedral - 90.0).abs() < 1e-9,
+        "{}",
+        rep.input_min_dihedral
+    );
     assert!(
         rep.after.min_dihedral >= 15.0,
         "{:?}",
@@ -162,9 +168,8 @@ fn refined_corpus_models_reach_the_bounds() {
     for (name, q, min_want) in [
         ("cgal_sphere", 1.414, 15.0),
         ("cgal_star", 2.0, 15.0),
-        // Few interior vertices (the refinement leaves most points on the
-        // surface), so less room: the bound reached today.
-        ("cgal_blob_closed", 2.0, 4.5),
+        ("cgal_blob_closed", 2.0, 15.0),
+        ("cgal_knot1", 2.0, 15.0),
     ] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
         let (pts, tris) = read_off(&text);
@@ -213,6 +218,8 @@ fn refined_corpus_models_reach_the_bounds() {
         for s in rep.stuck.iter().take(5) {
             eprintln!("  stuck tet {} {:?} {}", s.tet, s.dihedral, s.reason);
         }
+        // No tetrahedron at a surface edge can beat the surface's angle.
+        assert!(rep.input_min_dihedral >= rep.after.min_dihedral - 1e-9);
         assert!(
             rep.after.min_dihedral >= min_want,
             "{name}: min dihedral {}",

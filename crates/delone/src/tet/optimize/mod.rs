@@ -23,7 +23,19 @@
 //!    cavity made of it and its neighbours, followed by smoothing of the
 //!    new vertex; undone unless the cavity's worst quality improves.
 //!
-//! Passes repeat until one changes nothing (or [`OptimizeOptions::max_passes`]).
+//! The work is organised in stages of rising thresholds (10°, 20°, 30°,
+//! then the target): each stage keeps a queue of the tetrahedra below its
+//! threshold, worst first, pushes the tetrahedra each success creates or
+//! reshapes, and skips a tetrahedron that failed until the star of one of
+//! its vertices changes; a stage ends when a round over its queue succeeds
+//! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
+//! tetrahedron) are spent. The whole run stops when its budget of quality
+//! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
+//! treated first, so the budget cuts the least useful work. Quality is
+//! cached per slot; the edge-removal programme prunes every sub-polygon
+//! that cannot beat the ring's worst tetrahedron, and the smoothing line
+//! search leaves out the star tetrahedra far above the worst (checked once
+//! at the end).
 //! Everything on the domain's boundary and on internal facets stays exactly
 //! as it is: boundary and interface faces are never destroyed and their
 //! vertices never move, every tetrahedron keeps its region, so the volume,
@@ -32,12 +44,38 @@
 
 mod work;
 
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 use std::fmt;
 
 use super::quality::TetStats;
-use super::recover::Recovered;
+use super::recover::{IdMap, IdSet, Recovered};
 use crate::NONE;
 use work::{fkey, Plan, Work, DEAD};
+
+/// Thresholds (degrees) of the stages below the target.
+const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
+
+/// A queued tetrahedron: quality, slot, vertices; the heap pops the worst
+/// (ties by slot).
+struct Entry(f64, u32, [u32; 4]);
+
+impl PartialEq for Entry {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
+    }
+}
 
 /// Options of [`optimize`].
 ///
@@ -51,7 +89,8 @@ pub struct OptimizeOptions {
     /// Dihedral angle target (degrees): tetrahedra with an angle below it
     /// or above `180 -` it are worked on. Default 40.
     pub target_dihedral: f64,
-    /// Most passes over the bad tetrahedra. Default 6.
+    /// Attempts per tetrahedron queued at the start of a stage (0: do
+    /// nothing). Default 6.
     pub max_passes: usize,
     /// Use edge removal and 2-3 / 3-2 / 4-4 flips. Default true.
     pub flips: bool,
@@ -62,6 +101,11 @@ pub struct OptimizeOptions {
     /// Most vertices inserted (in addition to the mesh's). Default: a
     /// tenth of the number of tetrahedra.
     pub max_inserted: Option<usize>,
+    /// Work allowed, in quality evaluations per tetrahedron of the input
+    /// mesh plus 2000 (a deterministic measure of time: the worst tetrahedra are
+    /// worked on first, so a budget cuts where it matters least).
+    /// Default 100; `f64::INFINITY` for no limit.
+    pub effort: f64,
     /// How many of the mesh's points are input points: those never move
     /// (`check_recovered` wants them unchanged), even when they are not on
     /// a face of the surface. `None`: every point that is not a Steiner
@@ -80,6 +124,7 @@ impl Default for OptimizeOptions {
             smooth: true,
             insert: true,
             max_inserted: None,
+            effort: 100.0,
             input_points: None,
         }
     }
@@ -108,6 +153,7 @@ impl OptimizeOptions {
             2 => OptimizeOptions { insert: false, ..d },
             l => OptimizeOptions {
                 max_passes: d.max_passes + 5 * (l as usize - 3),
+                effort: d.effort * f64::from(1 + 2 * (l - 3)),
                 ..d
             },
         }
@@ -173,8 +219,18 @@ pub struct OptimizeReport {
     pub before: TetStats,
     /// Quality after.
     pub after: TetStats,
-    /// Passes run.
+    /// Stages run (thresholds 10°, 20°, 30°, then the target).
     pub passes: usize,
+    /// The smallest dihedral angle of the input surface (degrees): at each
+    /// edge of the boundary or of an internal facet, the angle of each
+    /// region around it (the sum of its tetrahedra's angles there). No
+    /// tetrahedron at that edge can have a smaller angle, so the mesh's
+    /// minimum cannot exceed it; 360 when there is no such edge.
+    pub input_min_dihedral: f64,
+    /// Quality evaluations spent.
+    pub evaluations: u64,
+    /// True when [`OptimizeOptions::effort`] ran out.
+    pub effort_exhausted: bool,
     /// 2-3 flips.
     pub flips23: usize,
     /// 3-2 flips (edge removals with 3 tetrahedra around the edge).
@@ -273,6 +329,7 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
+        report.input_min_dihedral = input_min_dihedral(rec);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -290,75 +347,93 @@ pub fn optimize(
     for f in &mut w.fixed[..n_in] {
         *f = true;
     }
-    let thr = opts.target_dihedral.clamp(0.0, 90.0).to_radians().sin();
-    let thr_insert = (0.5 * opts.target_dihedral.clamp(0.0, 90.0))
-        .to_radians()
-        .sin();
+    let target = opts.target_dihedral.clamp(0.0, 90.0);
+    let thr_insert = (0.5 * target).to_radians().sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
-    // Per slot: the tetrahedron and clock of its last failed attempt; it
-    // is not retried until a star of one of its vertices changes.
-    let mut failed: std::collections::HashMap<[u32; 4], u64> = Default::default();
-    let mut stale = 0;
-    for _ in 0..opts.max_passes {
+    // Per tetrahedron (sorted vertices): the clock of its last failed
+    // attempt; it is not retried until a star of one of its vertices
+    // changes.
+    let mut failed: IdMap<[u32; 4], u64> = Default::default();
+    // Stages of rising thresholds: the worst tetrahedra first, so that the
+    // effort goes where the minimum is decided.
+    let mut stages: Vec<f64> = STAGES.iter().copied().filter(|&d| d < target).collect();
+    stages.push(target);
+    // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
+    let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
+    'stages: for deg in stages {
+        let thr = deg.to_radians().sin();
         report.passes += 1;
-        let worst = (0..w.tv.len() as u32)
-            .filter(|&t| w.live(t))
-            .map(|t| w.q[t as usize])
-            .fold(f64::INFINITY, f64::min);
-        let mut bad: Vec<(f64, u32, [u32; 4])> = (0..w.tv.len() as u32)
-            .filter(|&t| w.live(t) && w.q[t as usize] < thr)
-            .map(|t| (w.q[t as usize], t, w.tv[t as usize]))
-            .collect();
-        bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut changed = 0;
-        for (_, t, tv) in bad {
-            // An undone insertion may have moved the tetrahedron to
-            // another slot.
-            let t = if w.tv[t as usize] == tv {
-                t
-            } else {
-                match w.star(tv[0]).into_iter().find(|&u| w.tv[u as usize] == tv) {
-                    Some(u) => u,
-                    None => continue,
-                }
-            };
-            let mut key = tv;
-            key.sort_unstable();
-            if let Some(&at) = failed.get(&key) {
-                if tv.iter().all(|&v| w.stamp[v as usize] < at) {
+        // Rounds: the queue of the bad tetrahedra not known to be stuck,
+        // worst first, grown by the tetrahedra each success makes; until a
+        // round succeeds nowhere or the stage's attempts are spent.
+        let mut attempts = None;
+        loop {
+            let mut heap: BinaryHeap<Entry> = (0..w.tv.len() as u32)
+                .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
+                .map(|t| Entry(w.q[t as usize], t, w.tv[t as usize]))
+                .collect();
+            let left = attempts.get_or_insert(opts.max_passes * heap.len());
+            let mut any = false;
+            w.dirty.clear();
+            while let Some(Entry(q, t, tv)) = heap.pop() {
+                // Stale entries: the slot changed since it was queued.
+                if w.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
                     continue;
                 }
+                if *left == 0 {
+                    break;
+                }
+                if w.evals.get() as f64 > allowed {
+                    report.effort_exhausted = true;
+                    break 'stages;
+                }
+                *left -= 1;
+                if improve(&mut w, t, 1.0, opts, budget, thr_insert, &mut report) {
+                    any = true;
+                    for u in std::mem::take(&mut w.dirty) {
+                        if w.live(u) && w.q[u as usize] < thr {
+                            heap.push(Entry(w.q[u as usize], u, w.tv[u as usize]));
+                        }
+                    }
+                } else {
+                    w.dirty.clear();
+                    w.clock += 1;
+                    failed.insert(sorted(tv), w.clock);
+                }
             }
-            if improve(&mut w, t, opts, budget, thr_insert, &mut report) {
-                changed += 1;
-            } else {
-                w.clock += 1;
-                failed.insert(key, w.clock);
+            if !any || *left == 0 {
+                break;
             }
-        }
-        if changed == 0 {
-            break;
-        }
-        // Stop when the worst tetrahedron has not improved in two passes.
-        let now = (0..w.tv.len() as u32)
-            .filter(|&t| w.live(t))
-            .map(|t| w.q[t as usize])
-            .fold(f64::INFINITY, f64::min);
-        stale = if now > worst + 1e-4 { 0 } else { stale + 1 };
-        if stale >= 4 {
-            break;
         }
     }
+    report.evaluations = w.evals.get();
     write_back(rec, &w, s);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    stuck(rec, &w, thr, &mut report);
+    report.input_min_dihedral = input_min_dihedral(rec);
+    stuck(rec, &w, target.to_radians().sin(), &mut report);
     Ok(report)
+}
+
+/// The vertices of `tv`, sorted.
+fn sorted(mut tv: [u32; 4]) -> [u32; 4] {
+    tv.sort_unstable();
+    tv
+}
+
+/// True when slot `t` failed before and none of its vertices' stars
+/// changed since.
+fn blocked(w: &Work, failed: &IdMap<[u32; 4], u64>, t: u32) -> bool {
+    let tv = w.tv[t as usize];
+    failed
+        .get(&sorted(tv))
+        .is_some_and(|&at| tv.iter().all(|&v| w.stamp[v as usize] < at))
 }
 
 /// One attempt on slot `t`: topological, then smoothing, then insertion.
 fn improve(
     w: &mut Work,
     t: u32,
+    edge_below: f64,
     opts: &OptimizeOptions,
     budget: usize,
     insert_below: f64,
@@ -375,8 +450,13 @@ fn improve(
                 }
             }
         };
-        for (i, j) in super::quality::EDGES {
-            consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+        // Only the edges with a bad dihedral angle (the others are rarely
+        // worth removing, and each removal plan costs O(n³) qualities).
+        let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
+        for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
+            if s[e] < edge_below {
+                consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+            }
         }
         for f in 0..4 {
             consider(w.plan_flip23(t, f), w);
@@ -462,7 +542,7 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         let mut any = false;
         for (_, _, tv) in bad {
             if let Some(s) = w.slot_of(tv) {
-                any |= improve(w, s, &local, 0, 0.0, &mut scratch);
+                any |= improve(w, s, 1.0, &local, 0, 0.0, &mut scratch);
             }
         }
         if !any {
@@ -564,7 +644,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     }
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
-    let mut owner: std::collections::HashMap<[u32; 3], (usize, usize)> = Default::default();
+    let mut owner: IdMap<[u32; 3], (usize, usize)> = Default::default();
     for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
         for (f, &n) in nb.iter().enumerate() {
             if n != NONE {
@@ -594,6 +674,40 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     rec.mesh.tets = tets;
     rec.mesh.neighbors = nbs;
     rec.tet_region = reg;
+}
+
+/// See [`OptimizeReport::input_min_dihedral`].
+fn input_min_dihedral(rec: &Recovered) -> f64 {
+    let m = &rec.mesh;
+    let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
+    let mut edges: IdSet<[u32; 2]> = IdSet::default();
+    for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
+        for (f, &n) in nb.iter().enumerate() {
+            let fc = work::face(*tv, f);
+            if n == NONE || prot.contains(&fkey(fc)) {
+                for k in 0..3 {
+                    let (a, b) = (fc[k], fc[(k + 1) % 3]);
+                    edges.insert([a.min(b), a.max(b)]);
+                }
+            }
+        }
+    }
+    // (Order-free: only the minimum of the sums is read.)
+    let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
+    for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
+        let mut d = None;
+        for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
+            let (a, b) = (tv[i], tv[j]);
+            let k = [a.min(b), a.max(b)];
+            if edges.contains(&k) {
+                let d = d.get_or_insert_with(|| {
+                    super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]))
+                });
+                *sum.entry((k, g)).or_insert(0.0) += d[e];
+            }
+        }
+    }
+    sum.values().copied().fold(360.0, f64::min)
 }
 
 /// Fills the stuck counts and list.

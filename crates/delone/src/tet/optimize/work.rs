@@ -18,6 +18,10 @@ use crate::NONE;
 /// Value of `tv[0]` of a free slot.
 pub(super) const DEAD: u32 = u32::MAX;
 
+/// Star tetrahedra whose quality is this much above the worst are left out
+/// of the line search of [`Work::smooth`] (checked once at the end).
+const FAR: f64 = 0.2;
+
 /// Longest edge ring tried by [`Work::plan_edge_removal`].
 pub(super) const MAX_RING: usize = 16;
 
@@ -55,7 +59,6 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     if det.is_nan() || det <= 0.0 {
         return -1.0;
     }
-    // Squared |area normal| of the face opposite each vertex.
     let e12 = sub(p[2], p[1]);
     let e13 = sub(p[3], p[1]);
     let sq = |a: [f64; 3]| dot(&a, &a);
@@ -65,8 +68,7 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
         sq(cross(&e1, &e3)),
         sq(cross(&e1, &e2)),
     ];
-    // Edge (i, j) lies on the faces opposite the other two vertices:
-    // sin θ_ij = 6V · |e_ij| / (|N_k| |N_l|); compared squared.
+    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)`.
     let l = [
         (sq(e1), 2, 3),
         (sq(e2), 1, 3),
@@ -89,6 +91,49 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     } else {
         -1.0
     }
+}
+
+/// The sines of the six dihedral angles of a positive tetrahedron, at the
+/// edges in [`crate::tet::quality::EDGES`] order (no trigonometry: `sin θ_ij
+/// = 6V · |e_ij| / (|N_k| |N_l|)` from the face area normals); `None` when
+/// it is flat or inverted (floating point).
+pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
+    let e1 = sub(p[1], p[0]);
+    let e2 = sub(p[2], p[0]);
+    let e3 = sub(p[3], p[0]);
+    let det = dot(&e1, &cross(&e2, &e3));
+    if det.is_nan() || det <= 0.0 {
+        return None;
+    }
+    // Squared |area normal| of the face opposite each vertex.
+    let e12 = sub(p[2], p[1]);
+    let e13 = sub(p[3], p[1]);
+    let sq = |a: [f64; 3]| dot(&a, &a);
+    let n = [
+        sq(cross(&e12, &e13)),
+        sq(cross(&e2, &e3)),
+        sq(cross(&e1, &e3)),
+        sq(cross(&e1, &e2)),
+    ];
+    // Edge (i, j) lies on the faces opposite the other two vertices.
+    let l = [
+        (sq(e1), 2, 3),
+        (sq(e2), 1, 3),
+        (sq(e3), 1, 2),
+        (sq(e12), 0, 3),
+        (sq(e13), 0, 2),
+        (sq(sub(p[3], p[2])), 0, 1),
+    ];
+    let mut out = [0.0; 6];
+    for (o, (len2, k, m)) in out.iter_mut().zip(l) {
+        let d = n[k] * n[m];
+        let s = det * (len2 / d).sqrt();
+        if !(d > 0.0 && s.is_finite()) {
+            return None;
+        }
+        *o = s;
+    }
+    Some(out)
 }
 
 /// The sorted key of a face.
@@ -156,6 +201,10 @@ pub(super) struct Work {
     pub lost: f64,
     /// Set of `touched`.
     touched_set: IdSet<[u32; 4]>,
+    /// Quality evaluations so far (the work measure of the effort budget).
+    pub evals: std::cell::Cell<u64>,
+    /// Slots created or reshaped since the caller last drained it.
+    pub dirty: Vec<u32>,
     /// Visit marks of [`Work::star`] and their epoch.
     marks: std::cell::RefCell<(Vec<u32>, u32)>,
 }
@@ -227,6 +276,8 @@ impl Work {
             touched: Vec::new(),
             lost: f64::INFINITY,
             touched_set: IdSet::default(),
+            dirty: Vec::new(),
+            evals: Default::default(),
             marks: Default::default(),
         }
     }
@@ -240,6 +291,7 @@ impl Work {
     /// Quality of `tv` from the current points.
     #[inline]
     pub(super) fn qual(&self, tv: [u32; 4]) -> f64 {
+        self.evals.set(self.evals.get() + 1);
         quality(tv.map(|w| &self.p[w as usize]))
     }
 
@@ -354,6 +406,9 @@ impl Work {
         if n < 3 {
             return None;
         }
+        // Only a result better than the worst of the ring's tetrahedra is
+        // of use: sub-polygons and triangles at or below it are pruned.
+        let need = self.min_q(&tets).max(0.0);
         let mut best = vec![f64::NEG_INFINITY; n * n];
         let mut choice = vec![0usize; n * n];
         for i in 0..n - 1 {
@@ -365,10 +420,13 @@ impl Work {
                 for k in i + 1..j {
                     let (l, rr) = (best[i * n + k], best[k * n + j]);
                     let bound = l.min(rr);
-                    if bound <= best[i * n + j] || bound <= 0.0 {
+                    if bound <= best[i * n + j] || bound <= need {
                         continue;
                     }
                     let q1 = self.qual([r[i], r[k], r[j], b]);
+                    if q1 <= need || q1 <= best[i * n + j] {
+                        continue;
+                    }
                     let q2 = self.qual([r[i], r[j], r[k], a]);
                     let v = bound.min(q1).min(q2);
                     if v > best[i * n + j] {
@@ -379,7 +437,7 @@ impl Work {
             }
         }
         let q = best[n - 1];
-        if q <= 0.0 {
+        if q <= need {
             return None;
         }
         let new = crate::tet::cmesh::ring_tets(&r, &choice, a, b);
@@ -526,6 +584,7 @@ impl Work {
             }
         }
         debug_assert!(outer.is_empty() && open.is_empty(), "replace: unmatched");
+        self.dirty.extend_from_slice(&ids);
         ids
     }
 
@@ -573,13 +632,16 @@ impl Work {
                 (tv.map(|u| self.p[u as usize]), k)
             })
             .collect();
+        let evals = &self.evals;
         let at = |i: usize, x: [f64; 3]| {
+            evals.set(evals.get() + 1);
             let (mut pts, k) = local[i];
             pts[k] = x;
             quality([&pts[0], &pts[1], &pts[2], &pts[3]])
         };
         let mut x = home;
-        let mut qs: Vec<f64> = (0..local.len()).map(|i| at(i, x)).collect();
+        // At home: the cached qualities.
+        let mut qs: Vec<f64> = star.iter().map(|&t| self.q[t as usize]).collect();
         let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
         let q_home = cur;
         let mut moved = false;
@@ -608,9 +670,11 @@ impl Work {
             }
             // Worst first, so that a failing step is seen early.
             // The near-active ones first.
+            // Those far above the worst are not evaluated during the search
+            // (a step rarely changes them much); the final check does.
             order.clear();
             order.extend((0..qs.len()).filter(|&i| qs[i] <= cur + 1e-3));
-            order.extend((0..qs.len()).filter(|&i| qs[i] > cur + 1e-3));
+            order.extend((0..qs.len()).filter(|&i| qs[i] > cur + 1e-3 && qs[i] <= cur + FAR));
             // Backtracking line search from a step of len/4.
             let mut step = 0.25 * len / dn;
             let mut accepted = false;
@@ -641,6 +705,13 @@ impl Work {
         if !moved || cur < q_home + 1e-3 {
             return false;
         }
+        // The whole star at the new place.
+        for (i, q) in qs.iter_mut().enumerate() {
+            *q = at(i, x);
+        }
+        if qs.iter().any(|&q| q < q_home + 1e-3) {
+            return false;
+        }
         // Exact check of the moved star.
         self.p[v as usize] = x;
         if !star.iter().all(|&t| self.positive(self.tv[t as usize])) {
@@ -663,6 +734,7 @@ impl Work {
                 }
             }
         }
+        self.dirty.extend_from_slice(&star);
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.tv[t as usize] {
@@ -768,6 +840,7 @@ impl Work {
                     self.p[v as usize] = from;
                     self.clock += 1;
                     for t in self.star(v) {
+                        self.dirty.push(t);
                         let tv = self.tv[t as usize];
                         self.q[t as usize] = self.qual(tv);
                         for w in tv {

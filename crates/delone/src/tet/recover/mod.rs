@@ -111,8 +111,8 @@ pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 
 use self::missing::ekey;
-pub(crate) use self::surface::IdSet;
-use self::surface::{IdMap, Skeleton, Surface};
+pub(crate) use self::surface::{IdMap, IdSet};
+use self::surface::{Skeleton, Surface};
 use super::cmesh::CMesh;
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
