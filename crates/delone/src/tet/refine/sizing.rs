@@ -398,8 +398,8 @@ impl Background {
         let cen = |tv: &[u32; 4]| {
             let mut c = [0.0; 3];
             for &q in tv {
-                for k in 0..3 {
-                    c[k] += 0.25 * self.points[q as usize][k];
+                for (ck, pk) in c.iter_mut().zip(self.points[q as usize]) {
+                    *ck += 0.25 * pk;
                 }
             }
             c
