@@ -109,6 +109,7 @@
 //! constrained Delaunay refinement* (2014).
 
 mod cdr;
+pub mod existing;
 mod geom;
 pub mod sizing;
 
