@@ -18,6 +18,8 @@
 //!
 //! [`check_recovered`]: crate::tet::recover::check_recovered
 
+#![allow(clippy::needless_range_loop)] // local face indices address several arrays
+
 use std::fmt;
 
 use delone_predicates::orient3d;
