@@ -13,6 +13,7 @@ mod remesh;
 mod run;
 mod tetout;
 mod tetq;
+mod tetr;
 mod tri_out;
 
 use args::{Command, Mode, Usage};
