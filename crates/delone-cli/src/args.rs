@@ -47,6 +47,8 @@ pub struct Opts {
     pub pslg: bool,
     /// tri `-r`: refine an existing mesh (FILE.node + FILE.ele).
     pub refine_mesh: bool,
+    /// tet `-m`: sizing from FILE.mtr or a background mesh FILE.b.*.
+    pub sizing: bool,
     /// tet `-pY`: surface preservation (no Steiner point on the input surface).
     pub preserve_surface: bool,
     /// tet `-M`: no merging of coplanar facets.
@@ -138,9 +140,7 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tri, 'i') => "incremental algorithm choice",
         (Mode::Tri, 'l') => "vertical cuts only in divide-and-conquer",
         (Mode::Tri, 's') => "segment splitting",
-        (Mode::Tet, 'r') => "refinement of a previous mesh",
         (Mode::Tet, 'R') => "mesh coarsening",
-        (Mode::Tet, 'm') => "sizing function (.mtr)",
         (Mode::Tet, 'i') => "insertion of additional points",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
@@ -217,6 +217,8 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'w') => o.weights = true,
         (_, 'p') => o.pslg = true,
         (Mode::Tri, 'r') => o.refine_mesh = true,
+        (Mode::Tet, 'r') => o.refine_mesh = true,
+        (Mode::Tet, 'm') => o.sizing = true,
         (_, 'c') => o.convex_hull = true,
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
@@ -460,11 +462,13 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
             "-p and -r together are not supported: -r reads FILE.poly's segments itself".into(),
         ));
     }
-    if mode == Mode::Tet && (o.tet_ratio.is_some() || o.area || o.max_steiner.is_some()) && !o.pslg
+    if mode == Mode::Tet
+        && (o.tet_ratio.is_some() || o.area || o.max_steiner.is_some() || o.sizing)
+        && !o.pslg
+        && !o.refine_mesh
     {
         return Err(Usage(
-            "-q, -a and -S refine a PLC or surface: use them with -p (-r is not implemented yet)"
-                .into(),
+            "-q, -a, -m and -S refine a PLC or surface (-p) or an existing mesh (-r)".into(),
         ));
     }
     match input {

@@ -183,13 +183,23 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          radius-edge ratio above B (default 2.0); -V reports dihedral angles.
     -a[V] With -p: no tetrahedron larger than volume V.
     -S<n> At most n Steiner points in the refinement.
+    -m   With -p or -r: sizing (target edge length) from FILE.b.node +
+         FILE.b.ele + FILE.b.mtr (background mesh) if they exist, else from
+         FILE.mtr (one size per input point; sizes <= 0: no constraint),
+         interpolated linearly. No tetrahedron keeps a circumradius above
+         0.61 h (the regular tetrahedron of edge h), no boundary triangle
+         one above 0.58 h.
+    -r   Refine an existing mesh FILE.node + FILE.ele (+ FILE.face markers)
+         with -q/-a/-m: its boundary faces, faces between tetrahedra of
+         different attributes and listed faces are kept as constraints;
+         FILE.1 gives FILE.2.*.
     -O[level] Mesh optimisation after -q/-a (on by default there; -O0 off,
          -O with plain -p optimises the recovered mesh): edge removal,
          2-3/3-2/4-4 flips, smoothing and insertion of interior vertices,
          raising the smallest dihedral-angle sine; the surface stays as it
          is. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
          -V prints the dihedral angles before and after.
-    Not implemented yet (error, exit code 2): -r -R -m -i -T -X -d -D
+    Not implemented yet (error, exit code 2): -R -i -T -X -d -D
     -o2 -o/.
 
 OPTIONS:

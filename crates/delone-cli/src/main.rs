@@ -14,6 +14,7 @@ mod remesh;
 mod run;
 mod tetout;
 mod tetq;
+mod tetr;
 mod threads;
 mod tri_out;
 

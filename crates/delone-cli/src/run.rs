@@ -216,6 +216,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     if mode == Mode::Tri && o.pslg {
         return crate::pslg::run(o);
     }
+    if mode == Mode::Tet && o.refine_mesh {
+        return crate::tetr::run(o);
+    }
     if mode == Mode::Tri && o.refine_mesh {
         return crate::remesh::run(o);
     }

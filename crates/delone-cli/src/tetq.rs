@@ -19,7 +19,7 @@ pub fn mesh(
     ropts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<(Recovered, Option<RefineReport>), String> {
-    if o.tet_ratio.is_none() && o.max_area.is_none() {
+    if o.tet_ratio.is_none() && o.max_area.is_none() && !o.sizing {
         return recover_marked(points, triangles, markers, ropts, domain)
             .map(|r| (r, None))
             .map_err(|e| e.to_string());
@@ -33,6 +33,7 @@ pub fn mesh(
     let mut opts = RefineOptions {
         max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
         max_volume: o.max_area,
+        sizing: crate::tetr::plc_sizing(o, points)?,
         ..RefineOptions::default()
     };
     if let Some(s) = o.max_steiner {

@@ -5,7 +5,7 @@
 //!
 //! * Triangle/TetGen family: [`read_node`], [`read_ele`], [`write_node`],
 //!   [`write_ele`], [`write_neigh`], [`write_edge`], [`write_face`],
-//!   [`read_poly`], [`write_poly`], with the
+//!   [`read_poly`], [`write_poly`], [`read_face`], [`read_mtr`] (sizes), with the
 //!   derived edges and faces from [`topo`];
 //! * 3D PLCs: [`read_poly3d`] (TetGen `.poly`) and [`read_smesh`] into a
 //!   [`PlcFile`];
@@ -46,6 +46,7 @@ mod area;
 mod error;
 mod gmsh;
 mod medit;
+mod mtr;
 mod obj;
 mod off;
 mod out;
@@ -67,6 +68,7 @@ pub use area::read_area;
 pub use error::IoError;
 pub use gmsh::write_gmsh;
 pub use medit::{read_medit, write_medit};
+pub use mtr::{read_face, read_mtr, FaceFile};
 pub use obj::read_obj;
 pub use off::read_off;
 pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};

@@ -98,6 +98,7 @@ pub(super) struct Cdr {
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
+    sizer: super::sizing::Sizer,
 }
 
 impl Cdr {
@@ -291,6 +292,7 @@ impl Cdr {
             inexact: rec.inexact.clone(),
             max_dev: rec.report.max_deviation * s,
             s,
+            sizer: super::sizing::Sizer::new(&opts.sizing, s),
             p,
         };
         st.reg.resize(nt, 0);
@@ -364,10 +366,11 @@ impl Cdr {
             .get(self.reg[t as usize] as usize)
             .copied()
             .unwrap_or(f64::INFINITY);
+        let big = if v > mv { v / mv } else { 0.0 }.max(self.sizer.cell(&p));
         if r > self.bound {
             Some((1e6 + r.min(1e12)).to_bits())
-        } else if v > mv {
-            Some((v / mv).min(1e6).to_bits())
+        } else if big > 1.0 {
+            Some(big.min(1e6).to_bits())
         } else {
             None
         }
@@ -380,7 +383,7 @@ impl Cdr {
         for f in 0..4 {
             if self.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
-                if self.face_encroached_by(k, tv[f]) {
+                if self.face_encroached_by(k, tv[f]) || self.face_too_big(k) {
                     self.faceq.push_back(k);
                 }
             }
@@ -1278,13 +1281,22 @@ impl Cdr {
             })
     }
 
+    /// Is subface `k` (on an input triangle) bigger than the sizing allows?
+    fn face_too_big(&self, k: [u32; 3]) -> bool {
+        self.ftri.get(&k).is_some_and(|&t| t != NONE)
+            && self
+                .sizer
+                .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+    }
+
     fn face_still_encroached(&self, k: [u32; 3]) -> bool {
-        self.ftri.contains_key(&k)
-            && self.face_tets(k).into_iter().any(|t| {
-                self.tv[t as usize]
-                    .iter()
-                    .any(|&w| !k.contains(&w) && self.face_encroached_by(k, w))
-            })
+        self.face_too_big(k)
+            || self.ftri.contains_key(&k)
+                && self.face_tets(k).into_iter().any(|t| {
+                    self.tv[t as usize]
+                        .iter()
+                        .any(|&w| !k.contains(&w) && self.face_encroached_by(k, w))
+                })
     }
 
     pub(super) fn run(&mut self) {
@@ -1372,6 +1384,9 @@ impl Cdr {
         for tv in &tets {
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
+            if self.sizer.cell(&tv.map(|q| self.p[q as usize])) > 1.0 {
+                self.report.remaining_too_big += 1;
+            }
             if r > self.bound {
                 self.report.remaining_bad += 1;
                 if r > FLAT_RATIO {

@@ -109,7 +109,9 @@
 //! constrained Delaunay refinement* (2014).
 
 mod cdr;
+pub mod existing;
 mod geom;
+pub mod sizing;
 
 use self::geom::{dist2, plane_distance};
 use super::recover::{
@@ -136,6 +138,9 @@ pub struct RefineOptions {
     pub max_steiner: usize,
     /// Options of the recovery stage of [`refine`].
     pub recover: RecoverOptions,
+    /// Local target edge length (`-m`): a closure or a background mesh;
+    /// default none. See [`sizing`] for the rule.
+    pub sizing: sizing::Sizing,
 }
 
 impl Default for RefineOptions {
@@ -145,6 +150,7 @@ impl Default for RefineOptions {
             max_volume: None,
             max_steiner: 1_000_000,
             recover: RecoverOptions::default(),
+            sizing: sizing::Sizing::None,
         }
     }
 }
@@ -177,6 +183,8 @@ pub struct RefineReport {
     pub budget_exhausted: bool,
     /// Output cells whose radius-edge ratio is above the bound.
     pub remaining_bad: usize,
+    /// Output cells bigger than the sizing allows ([`RefineOptions::sizing`]).
+    pub remaining_too_big: usize,
     /// Of [`Self::remaining_bad`], the nearly flat cells (radius-edge
     /// ratio above 10⁶: four points a hair off one plane, or a wedge at a
     /// sharp input edge); they are not split, since their circumcentres lie
