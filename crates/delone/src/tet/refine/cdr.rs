@@ -27,6 +27,9 @@ use crate::tet::recover::{RecoverError, Recovered};
 use crate::tet::TetMesh;
 use crate::NONE;
 
+#[path = "cdrflip.rs"]
+mod flip;
+
 const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
 /// Largest cavity grown for one insertion.
@@ -294,7 +297,13 @@ impl Cdr {
             p,
         };
         st.reg.resize(nt, 0);
-        for t in 0..nt as u32 {
+        // The recovered mesh is not constrained Delaunay (recovery flips and
+        // carves): restore the property, so cavities are Delaunay cavities.
+        st.flip_delaunay(None);
+        for t in 0..st.tv.len() as u32 {
+            if !st.alive(t) {
+                continue;
+            }
             st.check_tet(t);
         }
         Ok(st)
@@ -759,11 +768,18 @@ impl Cdr {
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
-                    let (mid, ids) = self.commit(&cav, dis, plan, m);
+                    let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
                     debug_assert_eq!(self.vtris.len(), self.p.len());
+                    // The cavity may have been shrunk: flip back to
+                    // constrained Delaunay around the new point.
+                    ids.extend(self.flip_delaunay(Some(&ids)));
+                    ids.sort_unstable();
+                    ids.dedup();
                     for t in ids {
-                        self.check_tet(t);
+                        if self.alive(t) {
+                            self.check_tet(t);
+                        }
                     }
                     return Some(mid);
                 }
@@ -1189,9 +1205,9 @@ impl Cdr {
             Err(Some(k)) => {
                 let [a, b, d] = k.map(|q| self.pt(q));
                 if !encroaches_face(&a, &b, &d, &c) {
-                    // Outside, behind a subface it does not encroach: the
-                    // mesh is not constrained Delaunay there (recovery
-                    // flips); leave the cell.
+                    // Outside, behind a subface it does not encroach (near
+                    // a cell the flips could not make constrained
+                    // Delaunay): leave the cell.
                     self.report.skipped += 1;
                     return;
                 }
