@@ -1048,6 +1048,7 @@ impl Cdr {
                 // Much smaller than the subface: a small input angle or a
                 // thin feature; leave the subface.
                 self.report.skipped += 1;
+                self.report.skipped_small += 1;
                 return false;
             }
             Err(None) => {
@@ -1142,6 +1143,7 @@ impl Cdr {
             self.split_segment(e)
         } else {
             self.report.skipped += 1;
+            self.report.skipped_refused += 1;
             false
         }
     }
@@ -1188,10 +1190,12 @@ impl Cdr {
         let p = tv.map(|q| self.p[q as usize]);
         if quality::radius_edge_ratio(&p) > FLAT_RATIO {
             self.report.skipped += 1;
+            self.report.skipped_flat += 1;
             return;
         }
         let Some(c) = quality::circumcenter(&p) else {
             self.report.skipped += 1;
+            self.report.skipped_flat += 1;
             return;
         };
         let lmin = quality::edge_lengths(&p)
@@ -1200,6 +1204,7 @@ impl Cdr {
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
+                self.report.skipped_refused += 1;
                 return;
             }
             Err(Some(k)) => {
@@ -1209,6 +1214,7 @@ impl Cdr {
                     // a cell the flips could not make constrained
                     // Delaunay): leave the cell.
                     self.report.skipped += 1;
+                    self.report.skipped_behind += 1;
                     return;
                 }
                 (Vec::new(), vec![k])
@@ -1241,6 +1247,7 @@ impl Cdr {
                         self.report.interior += 1;
                     } else {
                         self.report.skipped += 1;
+                        self.report.skipped_refused += 1;
                     }
                     return;
                 }
@@ -1281,6 +1288,7 @@ impl Cdr {
             self.badq.push(b);
         } else {
             self.report.skipped += 1;
+            self.report.skipped_small += 1;
         }
     }
 
@@ -1385,13 +1393,23 @@ impl Cdr {
             }
             neighbors.push(nbr);
         }
-        for tv in &tets {
+        for t in 0..n {
+            let tv = self.tv[t];
+            if tv[0] == DEAD {
+                continue;
+            }
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
             if r > self.bound {
                 self.report.remaining_bad += 1;
                 if r > FLAT_RATIO {
                     self.report.flat += 1;
+                }
+                let on_seg = EDGES
+                    .iter()
+                    .any(|&(i, j)| self.segs.contains_key(&ekey(tv[i], tv[j])));
+                if self.mask[t] != 0 || on_seg {
+                    self.report.remaining_at_boundary += 1;
                 }
             }
         }
