@@ -26,6 +26,12 @@
 //!   region ([`MeshRegion::max_volume`](super::recover::MeshRegion), with
 //!   [`RefineOptions::max_volume`] as the global one).
 //!
+//! **Constrained Delaunay.** Before refinement the mesh is flipped to
+//! constrained Delaunay (2-3 and 3-2 flips of faces that are not
+//! subfaces, exact `insphere`; Shewchuk 2003), and again around every new
+//! point (its cavity may have been shrunk). Degenerate configurations that
+//! would need 4-4 flips are left.
+//!
 //! **Insertion.** A point `m` is inserted with a Bowyer–Watson cavity
 //! (exact `insphere`) grown from *required* tetrahedra only across faces
 //! that are not subfaces; the cavity is replaced by the cone of its
