@@ -132,15 +132,20 @@ pub fn report(
     let mut lines = Vec::new();
     if let Some(r) = refined {
         lines.push(format!(
-            "refinement: {} points (on segments {}, on facets {}, interior {}); {} circumcentres rejected, {} bad tetrahedra skipped, {} above the bound ({} flat on a plane of the input){}",
+            "refinement: {} points (on segments {}, on facets {}, interior {}); {} circumcentres rejected, {} bad tetrahedra skipped ({} flat, {} behind a subface, {} near small pieces, {} refused), {} above the bound ({} flat on a plane of the input, {} at the boundary){}",
             r.steiner(),
             r.on_segments,
             r.on_facets,
             r.interior,
             r.rejected,
             r.skipped,
+            r.skipped_flat,
+            r.skipped_behind,
+            r.skipped_small,
+            r.skipped_refused,
             r.remaining_bad,
             r.flat,
+            r.remaining_at_boundary,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
     }

@@ -451,3 +451,80 @@ fn two_regions_are_refined() {
     }
     assert!(!r.rec.interior_faces.is_empty());
 }
+
+/// Unconstrained interior faces of `rec` that are not locally Delaunay
+/// although a 2-3 flip would remove them (exact predicates).
+fn flippable_non_delaunay(rec: &delone::tet::recover::Recovered) -> (usize, usize) {
+    use delone_predicates::{insphere, orient3d};
+    use std::collections::{BTreeMap, BTreeSet};
+    let p = &rec.points;
+    let key = |mut f: [u32; 3]| {
+        f.sort_unstable();
+        f
+    };
+    let constrained: BTreeSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| key(f)).collect();
+    let mut faces: BTreeMap<[u32; 3], Vec<(usize, u32)>> = BTreeMap::new();
+    for (t, tv) in rec.mesh.tets.iter().enumerate() {
+        for i in 0..4 {
+            let f = [tv[(i + 1) % 4], tv[(i + 2) % 4], tv[(i + 3) % 4]];
+            faces.entry(key(f)).or_default().push((t, tv[i]));
+        }
+    }
+    let g = |q: u32| &p[q as usize];
+    let mut n = 0;
+    let mut all = 0;
+    for (k, l) in &faces {
+        if l.len() != 2 || constrained.contains(k) {
+            continue;
+        }
+        let ((t, _), (_, e)) = (l[0], l[1]);
+        let tv = rec.mesh.tets[t];
+        if insphere(g(tv[1]), g(tv[0]), g(tv[2]), g(tv[3]), g(e)) <= 0.0 {
+            continue;
+        }
+        all += 1;
+        let d = l[0].1;
+        let s = [(k[0], k[1]), (k[1], k[2]), (k[2], k[0])]
+            .map(|(x, y)| orient3d(g(x), g(y), g(d), g(e)));
+        if s.iter().all(|&v| v < 0.0) || s.iter().all(|&v| v > 0.0) {
+            n += 1;
+        }
+    }
+    (n, all)
+}
+
+/// The refinement starts from a constrained Delaunay mesh: the flips of
+/// its first stage leave no unconstrained face that is not locally
+/// Delaunay and 2-3 flippable (the recovered mesh has some).
+#[test]
+fn refinement_restores_constrained_delaunay() {
+    let Some(dir) = data_dir() else { return };
+    for name in [
+        "cgal_blob_closed",
+        "cgal_sphere",
+        "cgal_star",
+        "cgal_fandisk",
+    ] {
+        let rel = format!("surf/off/{name}.off");
+        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
+            eprintln!("note: {rel} missing; skipping");
+            continue;
+        };
+        let s = delone_io::read_off(&bytes).unwrap();
+        let t = s.triangles();
+        let ro = RecoverOptions {
+            merge_coplanar: false,
+            ..RecoverOptions::default()
+        };
+        let rec = recover_domain(&s.points, &t, &ro, &Domain::default()).unwrap();
+        let before = flippable_non_delaunay(&rec);
+        let r = refine_recovered(&s.points, &t, &rec, &opts(f64::INFINITY)).unwrap();
+        check_recovered(&s.points, &t, &r.rec).unwrap();
+        let after = flippable_non_delaunay(&r.rec);
+        println!("{name}: (2-3 flippable, all) non-Delaunay faces {before:?} -> {after:?}");
+        assert_eq!(after.0, 0, "{name}");
+        assert!(after.1 <= before.1, "{name}");
+        let r2 = run_domain(&rel, &s.points, &t, &Domain::default(), 2.0, 2000);
+        assert_eq!(flippable_non_delaunay(&r2.rec).0, 0, "{name} after q2");
+    }
+}

@@ -27,6 +27,9 @@ use crate::tet::recover::{RecoverError, Recovered};
 use crate::tet::TetMesh;
 use crate::NONE;
 
+#[path = "cdrflip.rs"]
+mod flip;
+
 const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
 /// Largest cavity grown for one insertion.
@@ -296,7 +299,13 @@ impl Cdr {
             p,
         };
         st.reg.resize(nt, 0);
-        for t in 0..nt as u32 {
+        // The recovered mesh is not constrained Delaunay (recovery flips and
+        // carves): restore the property, so cavities are Delaunay cavities.
+        st.flip_delaunay(None);
+        for t in 0..st.tv.len() as u32 {
+            if !st.alive(t) {
+                continue;
+            }
             st.check_tet(t);
         }
         Ok(st)
@@ -762,11 +771,18 @@ impl Cdr {
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
-                    let (mid, ids) = self.commit(&cav, dis, plan, m);
+                    let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
                     debug_assert_eq!(self.vtris.len(), self.p.len());
+                    // The cavity may have been shrunk: flip back to
+                    // constrained Delaunay around the new point.
+                    ids.extend(self.flip_delaunay(Some(&ids)));
+                    ids.sort_unstable();
+                    ids.dedup();
                     for t in ids {
-                        self.check_tet(t);
+                        if self.alive(t) {
+                            self.check_tet(t);
+                        }
                     }
                     return Some(mid);
                 }
@@ -1035,6 +1051,7 @@ impl Cdr {
                 // Much smaller than the subface: a small input angle or a
                 // thin feature; leave the subface.
                 self.report.skipped += 1;
+                self.report.skipped_small += 1;
                 return false;
             }
             Err(None) => {
@@ -1129,6 +1146,7 @@ impl Cdr {
             self.split_segment(e)
         } else {
             self.report.skipped += 1;
+            self.report.skipped_refused += 1;
             false
         }
     }
@@ -1175,10 +1193,12 @@ impl Cdr {
         let p = tv.map(|q| self.p[q as usize]);
         if quality::radius_edge_ratio(&p) > FLAT_RATIO {
             self.report.skipped += 1;
+            self.report.skipped_flat += 1;
             return;
         }
         let Some(c) = quality::circumcenter(&p) else {
             self.report.skipped += 1;
+            self.report.skipped_flat += 1;
             return;
         };
         let lmin = quality::edge_lengths(&p)
@@ -1187,15 +1207,17 @@ impl Cdr {
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
+                self.report.skipped_refused += 1;
                 return;
             }
             Err(Some(k)) => {
                 let [a, b, d] = k.map(|q| self.pt(q));
                 if !encroaches_face(&a, &b, &d, &c) {
-                    // Outside, behind a subface it does not encroach: the
-                    // mesh is not constrained Delaunay there (recovery
-                    // flips); leave the cell.
+                    // Outside, behind a subface it does not encroach (near
+                    // a cell the flips could not make constrained
+                    // Delaunay): leave the cell.
                     self.report.skipped += 1;
+                    self.report.skipped_behind += 1;
                     return;
                 }
                 (Vec::new(), vec![k])
@@ -1228,6 +1250,7 @@ impl Cdr {
                         self.report.interior += 1;
                     } else {
                         self.report.skipped += 1;
+                        self.report.skipped_refused += 1;
                     }
                     return;
                 }
@@ -1268,6 +1291,7 @@ impl Cdr {
             self.badq.push(b);
         } else {
             self.report.skipped += 1;
+            self.report.skipped_small += 1;
         }
     }
 
@@ -1381,7 +1405,11 @@ impl Cdr {
             }
             neighbors.push(nbr);
         }
-        for tv in &tets {
+        for t in 0..n {
+            let tv = self.tv[t];
+            if tv[0] == DEAD {
+                continue;
+            }
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
             if self.sizer.cell(&tv.map(|q| self.p[q as usize])) > 1.0 {
@@ -1391,6 +1419,12 @@ impl Cdr {
                 self.report.remaining_bad += 1;
                 if r > FLAT_RATIO {
                     self.report.flat += 1;
+                }
+                let on_seg = EDGES
+                    .iter()
+                    .any(|&(i, j)| self.segs.contains_key(&ekey(tv[i], tv[j])));
+                if self.mask[t] != 0 || on_seg {
+                    self.report.remaining_at_boundary += 1;
                 }
             }
         }

@@ -26,6 +26,12 @@
 //!   region ([`MeshRegion::max_volume`](super::recover::MeshRegion), with
 //!   [`RefineOptions::max_volume`] as the global one).
 //!
+//! **Constrained Delaunay.** Before refinement the mesh is flipped to
+//! constrained Delaunay (2-3 and 3-2 flips of faces that are not
+//! subfaces, exact `insphere`; Shewchuk 2003), and again around every new
+//! point (its cavity may have been shrunk). Degenerate configurations that
+//! would need 4-4 flips are left.
+//!
 //! **Insertion.** A point `m` is inserted with a Bowyer–Watson cavity
 //! (exact `insphere`) grown from *required* tetrahedra only across faces
 //! that are not subfaces; the cavity is replaced by the cone of its
@@ -177,6 +183,21 @@ pub struct RefineReport {
     /// have made much shorter edges (small input angles, thin features), or
     /// their circumcentre could not be placed.
     pub skipped: usize,
+    /// Of [`Self::skipped`]: nearly flat cells (radius-edge ratio above
+    /// 10⁶) or cells without a circumcentre.
+    pub skipped_flat: usize,
+    /// Of [`Self::skipped`]: the circumcentre lies behind a subface it does
+    /// not encroach (the mesh is not constrained Delaunay there).
+    pub skipped_behind: usize,
+    /// Of [`Self::skipped`]: the encroached boundary pieces are much smaller
+    /// than the cell (small input angles, thin features).
+    pub skipped_small: usize,
+    /// Of [`Self::skipped`]: the insertion plan was refused (no valid
+    /// cavity, or the point could not be located).
+    pub skipped_refused: usize,
+    /// Of [`Self::remaining_bad`]: cells with a face on a subface or an
+    /// edge on a subsegment (next to the input surface).
+    pub remaining_at_boundary: usize,
     /// Subsegments too short to split in floating point.
     pub unsplittable: usize,
     /// The Steiner budget ran out before every bad cell was split.
