@@ -48,6 +48,11 @@ pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
+/// Most tetrahedra in the cavity of [`CMesh::insert_near`] (breadth first
+/// from the one containing the point): in a mesh that is not Delaunay, flat
+/// tetrahedra with huge circumspheres would otherwise make cavities large.
+const MAX_CAVITY: usize = 48;
+
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 6;
@@ -639,7 +644,11 @@ impl<'a> CMesh<'a> {
             let tv = c.v[t as usize];
             for f in 0..4 {
                 let n = c.adj[t as usize][f] >> 2;
-                if cav.contains(&n) || protected_face(fkey(face(tv, f))) || !inside(n) {
+                if cav.len() >= MAX_CAVITY
+                    || cav.contains(&n)
+                    || protected_face(fkey(face(tv, f)))
+                    || !inside(n)
+                {
                     continue;
                 }
                 cav.push(n);
