@@ -55,14 +55,15 @@
 //! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
 //! edge ring; coplanar hull faces by the hull 2-2 flip); only the items the
 //! flips cannot recover are split (steps 3–4, same placement and protection
-//! rules). A split goes into both meshes at once: into the Delaunay
-//! tetrahedralization, and into the flipped mesh by a constrained cavity
-//! insertion that keeps every subsegment and every face already on an input
-//! triangle (`CMesh::insert_near`); the halves of a split subsegment (and
-//! then the missing triangles) are recovered by flips in the flipped mesh,
-//! with no restart. Only when the flipped mesh refuses a point, or a
-//! triangle stays missing after a few splits in it, does the round start
-//! again from the Delaunay tetrahedralization (which has every point).
+//! rules) in the Delaunay tetrahedralization, and the round starts again
+//! from it. In the first `MAX_CM_ROUNDS` rounds (none today, see that
+//! constant) a split instead goes into both meshes at once: into the
+//! Delaunay tetrahedralization, and into the flipped mesh by a constrained
+//! cavity insertion that keeps every subsegment and every face already on
+//! an input triangle (`CMesh::insert_near`); the halves of a split
+//! subsegment (and then the missing triangles) are recovered by flips in
+//! the flipped mesh, with no restart, until the flipped mesh refuses a
+//! point or a triangle stays missing after a few splits in it.
 //! Flips never destroy a subsegment or a face already on an input
 //! triangle. Each round either finishes, splits at least one item, or fails
 //! with a typed error, so the loop is bounded by the Steiner budget.
