@@ -814,7 +814,33 @@ impl State {
             }
         }
         self.cavity_fails += 1;
+        // What is still missing on the best mesh reached: the fallback
+        // adds its interior points there only.
+        let mut left: Vec<usize> = Vec::new();
+        for (e, &[a, b]) in edges.iter().enumerate() {
+            if w.find_edge(a, b).is_none() {
+                left.extend(self.surf.edge_tris[e].iter().map(|&t| t as usize));
+            }
+        }
+        if left.is_empty() {
+            left.extend((0..tris.len()).filter(|&t| !has_face(&w, tris[t])));
+        }
+        left.sort_unstable();
+        left.dedup();
+        self.cavity_left = left;
         Ok(None)
+    }
+
+    /// The triangles the `-Y` fallback should place interior points at:
+    /// those the last unfinished [`State::preserve_by_cavities`] call left
+    /// missing (or next to a missing edge), else `default`.
+    pub(super) fn fallback_targets(&mut self, default: Vec<usize>) -> Vec<usize> {
+        let left = std::mem::take(&mut self.cavity_left);
+        if left.is_empty() {
+            default
+        } else {
+            left
+        }
     }
 }
 

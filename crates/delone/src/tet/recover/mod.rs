@@ -522,7 +522,11 @@ pub fn recover_marked(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
-        merge::merge(points, triangles, markers, &dt)
+        let mut m = merge::merge(points, triangles, markers, &dt);
+        if opts.constrained {
+            merge::adapt(points, &mut m, &dt);
+        }
+        m
     } else {
         merge::Merged::identity(triangles)
     };
@@ -537,6 +541,7 @@ pub fn recover_marked(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
         cavity_fails: 0,
+        cavity_left: Vec::new(),
     };
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
@@ -644,6 +649,8 @@ struct State {
     group_tries: HashSet<Vec<usize>>,
     /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
     cavity_fails: usize,
+    /// Triangles left missing by the last unfinished cavity call (`-Y`).
+    cavity_left: Vec<usize>,
 }
 
 impl State {
@@ -936,6 +943,7 @@ impl State {
                         return Ok(self.cavity_done(done));
                     }
                     let tris = self.edge_triangles(&failed);
+                    let tris = self.fallback_targets(tris);
                     self.interior_points(dt, tris)?;
                 } else {
                     for &(e, u, v) in &failed {
@@ -981,6 +989,7 @@ impl State {
                 if let Some(done) = self.preserve_by_cavities(&cm)? {
                     return Ok(self.cavity_done(done));
                 }
+                let uncovered = self.fallback_targets(uncovered);
                 self.interior_points(dt, uncovered)?;
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
