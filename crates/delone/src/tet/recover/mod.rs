@@ -97,6 +97,7 @@ mod carve;
 mod cavity;
 mod cdt;
 mod check;
+mod compact;
 mod flip;
 mod merge;
 mod missing;
@@ -542,6 +543,7 @@ pub fn recover_marked(
         group_tries: HashSet::new(),
         cavity_fails: 0,
         cavity_left: Vec::new(),
+        cavity_best: (usize::MAX, 0),
     };
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
@@ -573,6 +575,7 @@ pub fn recover_marked(
     let mut rec = st.finish(&out, on, points, scale, domain)?;
     rec.surface = merged.tris;
     rec.surface_origin = merged.origin;
+    compact::drop_unused_steiner(&mut rec, points.len());
     Ok(rec)
 }
 
@@ -651,6 +654,9 @@ struct State {
     cavity_fails: usize,
     /// Triangles left missing by the last unfinished cavity call (`-Y`).
     cavity_left: Vec<usize>,
+    /// Fewest items left missing by an unfinished cavity call, and the
+    /// unfinished calls since (`-Y`).
+    cavity_best: (usize, usize),
 }
 
 impl State {
