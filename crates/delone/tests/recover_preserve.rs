@@ -229,11 +229,11 @@ fn corpus(range: std::ops::RangeInclusive<usize>, all: bool) {
 
 #[test]
 fn small_closed_clean_models() {
-    corpus(0..=330, true);
+    corpus(0..=700, true);
 }
 
 #[test]
 #[ignore = "medium and large models: cargo test --release -p delone --test recover_preserve -- --ignored"]
 fn larger_closed_clean_models() {
-    corpus(331..=usize::MAX, false);
+    corpus(701..=usize::MAX, false);
 }

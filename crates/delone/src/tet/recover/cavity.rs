@@ -51,7 +51,12 @@
 //! Everything is bounded: [`PASSES`] passes over the missing items (the
 //! first without new points), at most two new points per item per pass,
 //! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
-//! recovery.
+//! recovery, or [`MAX_STALLED_CALLS`] in a row that leave no fewer items
+//! missing than the best call: then `-Y` fails with
+//! [`RecoverError::Unrecovered`] naming what is left (instead of running
+//! the fallback rounds to their limit). After an unfinished call the
+//! fallback places its interior points only at the items that call left
+//! missing ([`State::fallback_targets`]).
 //!
 //! Known weakness: a missing *edge* whose ends cannot cone its cavity gets
 //! a kernel point and is left to the flips of the next pass, which need
@@ -74,6 +79,10 @@ const PASSES: usize = 12;
 /// Unfinished calls of [`State::preserve_by_cavities`] after which it is
 /// no longer tried (the fallback rounds go on alone).
 const MAX_FAILED_CALLS: usize = 8;
+/// Unfinished calls in a row that leave no fewer items missing than the
+/// best call so far, after which `-Y` gives up
+/// ([`RecoverError::Unrecovered`]).
+const MAX_STALLED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
 const MAX_GROW: usize = 8;
@@ -174,7 +183,7 @@ fn kernel_point(pts: &[P], faces: &[[u32; 3]]) -> (Option<P>, P) {
     if planes.len() != faces.len() || diam == 0.0 {
         return (None, best);
     }
-    let iters = (8 * planes.len()).clamp(64, 1024);
+    let iters = (2 * planes.len()).clamp(32, 256);
     for round in 0..6 {
         let margin = diam * 0.1 / f64::from(1u32 << (2 * round));
         let mut q = centre;
@@ -814,7 +823,48 @@ impl State {
             }
         }
         self.cavity_fails += 1;
+        // What is still missing on the best mesh reached: the fallback
+        // adds its interior points there only.
+        let mut left: Vec<usize> = Vec::new();
+        for (e, &[a, b]) in edges.iter().enumerate() {
+            if w.find_edge(a, b).is_none() {
+                left.extend(self.surf.edge_tris[e].iter().map(|&t| t as usize));
+            }
+        }
+        if left.is_empty() {
+            left.extend((0..tris.len()).filter(|&t| !has_face(&w, tris[t])));
+        }
+        left.sort_unstable();
+        left.dedup();
+        // Give up (typed error, no more rounds) when the calls stop
+        // reducing what is left missing.
+        let (best, since) = &mut self.cavity_best;
+        if left.len() < *best {
+            *best = left.len();
+            *since = 0;
+        } else {
+            *since += 1;
+        }
+        if *since >= MAX_STALLED_CALLS || self.cavity_fails >= MAX_FAILED_CALLS {
+            return Err(RecoverError::Unrecovered {
+                triangles: left,
+                steiner: self.report.steiner(),
+            });
+        }
+        self.cavity_left = left;
         Ok(None)
+    }
+
+    /// The triangles the `-Y` fallback should place interior points at:
+    /// those the last unfinished [`State::preserve_by_cavities`] call left
+    /// missing (or next to a missing edge), else `default`.
+    pub(super) fn fallback_targets(&mut self, default: Vec<usize>) -> Vec<usize> {
+        let left = std::mem::take(&mut self.cavity_left);
+        if left.is_empty() {
+            default
+        } else {
+            left
+        }
     }
 }
 

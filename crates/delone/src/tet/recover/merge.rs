@@ -34,10 +34,12 @@ use std::collections::{HashMap, HashSet};
 
 use delone_predicates::{orient2d, orient3d};
 
+use super::cdt;
 use super::missing::ekey;
 use super::place::{cross, sub};
 use super::Recovered;
 use crate::model::pslg::Pslg;
+use crate::tet::cmesh::CMesh;
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
 use crate::tri::constrain::{constrained_triangulation, CdtOptions};
@@ -272,6 +274,172 @@ pub(crate) fn merge(
         }
     }
     out
+}
+
+/// Rounds of [`adapt`] (each one costs about one recovery round).
+const ADAPT_ROUNDS: usize = 6;
+
+/// Adapts the triangulation of each merged group to the flips the
+/// recovery can do (the brief's "a missing edge inside a planar group need
+/// not be recovered: only its boundary and area matter").
+///
+/// A probe reproduces the first round of the constrained recovery on a
+/// copy of `dt`: every edge of `merged.tris` missing from the mesh is
+/// recovered by flips ([`cdt::recover_segment`], all surface edges and the
+/// faces already on surface triangles protected). When an edge *inside* a
+/// merged group (in exactly two triangles of the surface, both of that
+/// group) cannot be recovered, the group is re-triangulated with the edges
+/// the probe's mesh now has between its vertices imposed (instead of the
+/// Delaunay ones): edges on the group's plane that the flips produced,
+/// among them those that block the failed edge. The group keeps its
+/// vertices, its boundary and its area (the checks of [`retriangulate`]),
+/// so the surface it covers is unchanged. Repeated while some group
+/// changes, at most [`ADAPT_ROUNDS`] times; returns the number of groups
+/// re-triangulated.
+pub(crate) fn adapt(points: &[[f64; 3]], merged: &mut Merged, dt: &Delaunay3<'_>) -> usize {
+    if merged.groups == 0 {
+        return 0;
+    }
+    let mut changed_total = 0;
+    // Group sizes (by origin) in the surface.
+    let mut size: HashMap<u32, usize> = HashMap::new();
+    for &o in &merged.origin {
+        *size.entry(o).or_insert(0) += 1;
+    }
+    // Groups whose re-triangulation gave nothing new (not tried again).
+    let mut stuck: HashSet<u32> = HashSet::new();
+    for _ in 0..ADAPT_ROUNDS {
+        let mut edge_tris: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        for (t, tv) in merged.tris.iter().enumerate() {
+            for k in 0..3 {
+                edge_tris
+                    .entry(ekey(tv[k], tv[(k + 1) % 3]))
+                    .or_default()
+                    .push(t as u32);
+            }
+        }
+        let mut edges: Vec<(u32, u32)> = edge_tris.keys().copied().collect();
+        edges.sort_unstable();
+        let mut cm = CMesh::new(dt.clone());
+        let mut prot = cdt::Protected::default();
+        for &e in &edges {
+            prot.edges.insert(e);
+        }
+        for tv in &merged.tris {
+            if cm.find_face(tv[0], tv[1], tv[2]).is_some() {
+                prot.add_face(*tv);
+            }
+        }
+        let mut bad: Vec<u32> = Vec::new();
+        for &(u, v) in &edges {
+            if cm.find_edge(u, v).is_some() || cdt::recover_segment(&mut cm, u, v, &prot) {
+                continue;
+            }
+            let ts = &edge_tris[&(u, v)];
+            if ts.len() != 2 {
+                continue;
+            }
+            let (o1, o2) = (merged.origin[ts[0] as usize], merged.origin[ts[1] as usize]);
+            if o1 == o2 && size[&o1] >= 2 && !stuck.contains(&o1) {
+                bad.push(o1);
+            }
+        }
+        bad.sort_unstable();
+        bad.dedup();
+        if bad.is_empty() {
+            break;
+        }
+        // Mesh edges between two vertices of one bad group.
+        let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+        let mut members: Vec<Vec<[u32; 3]>> = vec![Vec::new(); bad.len()];
+        for (t, tv) in merged.tris.iter().enumerate() {
+            if let Ok(gi) = bad.binary_search(&merged.origin[t]) {
+                members[gi].push(*tv);
+                for &q in tv {
+                    let l = &mut vgroups[q as usize];
+                    if !l.contains(&(gi as u32)) {
+                        l.push(gi as u32);
+                    }
+                }
+            }
+        }
+        let mut cand: Vec<(u32, u32, u32)> = Vec::new();
+        for tv in &cm.dt.core.v {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for (i, j) in super::missing::TET_EDGES {
+                let (u, v) = ekey(tv[i], tv[j]);
+                let (Some(gu), Some(gv)) = (vgroups.get(u as usize), vgroups.get(v as usize))
+                else {
+                    continue;
+                };
+                for g in gu {
+                    if gv.contains(g) {
+                        cand.push((*g, u, v));
+                    }
+                }
+            }
+        }
+        cand.sort_unstable();
+        cand.dedup();
+        let nonmanifold = |e: (u32, u32)| edge_tris.get(&e).map_or(0, Vec::len) != 2;
+        let mut replace: HashMap<u32, Vec<[u32; 3]>> = HashMap::new();
+        for (gi, &r) in bad.iter().enumerate() {
+            let lo = cand.partition_point(|c| c.0 < gi as u32);
+            let hi = cand.partition_point(|c| c.0 <= gi as u32);
+            let es: Vec<(u32, u32)> = cand[lo..hi].iter().map(|c| (c.1, c.2)).collect();
+            let old = &members[gi];
+            let new = retriangulate(points, old, &es, &nonmanifold);
+            let same = |n: &Vec<[u32; 3]>| {
+                let norm = |v: &[[u32; 3]]| {
+                    let mut x: Vec<[u32; 3]> = v.iter().map(|&t| fkey_rot(t)).collect();
+                    x.sort_unstable();
+                    x
+                };
+                norm(n) == norm(old)
+            };
+            match new {
+                Some(n) if !same(&n) => {
+                    replace.insert(r, n);
+                }
+                _ => {
+                    stuck.insert(r);
+                }
+            }
+        }
+        if replace.is_empty() {
+            break;
+        }
+        changed_total += replace.len();
+        let mut tris = Vec::with_capacity(merged.tris.len());
+        let mut origin = Vec::with_capacity(merged.tris.len());
+        for (t, tv) in merged.tris.iter().enumerate() {
+            let o = merged.origin[t];
+            match replace.remove(&o) {
+                Some(n) => {
+                    origin.extend(std::iter::repeat_n(o, n.len()));
+                    tris.extend(n);
+                    // Later triangles of this group are skipped.
+                    replace.insert(o, Vec::new());
+                }
+                None => {
+                    tris.push(*tv);
+                    origin.push(o);
+                }
+            }
+        }
+        merged.tris = tris;
+        merged.origin = origin;
+    }
+    changed_total
+}
+
+/// `t` rotated to start at its least vertex (orientation kept).
+fn fkey_rot(mut t: [u32; 3]) -> [u32; 3] {
+    let i = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+    t.rotate_left(i);
+    t
 }
 
 /// Directed edges of `tris` whose reverse is not among them (the oriented

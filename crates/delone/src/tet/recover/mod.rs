@@ -105,6 +105,7 @@ mod carve;
 mod cavity;
 mod cdt;
 mod check;
+mod compact;
 mod flip;
 mod merge;
 mod missing;
@@ -530,7 +531,11 @@ pub fn recover_marked(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
-        merge::merge(points, triangles, markers, &dt)
+        let mut m = merge::merge(points, triangles, markers, &dt);
+        if opts.constrained {
+            merge::adapt(points, &mut m, &dt);
+        }
+        m
     } else {
         merge::Merged::identity(triangles)
     };
@@ -545,6 +550,8 @@ pub fn recover_marked(
         interior_tries: IdMap::default(),
         group_tries: HashSet::new(),
         cavity_fails: 0,
+        cavity_left: Vec::new(),
+        cavity_best: (usize::MAX, 0),
     };
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
@@ -576,6 +583,7 @@ pub fn recover_marked(
     let mut rec = st.finish(&out, on, points, scale, domain)?;
     rec.surface = merged.tris;
     rec.surface_origin = merged.origin;
+    compact::drop_unused_steiner(&mut rec, points.len());
     Ok(rec)
 }
 
@@ -681,6 +689,11 @@ struct State {
     group_tries: HashSet<Vec<usize>>,
     /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
     cavity_fails: usize,
+    /// Triangles left missing by the last unfinished cavity call (`-Y`).
+    cavity_left: Vec<usize>,
+    /// Fewest items left missing by an unfinished cavity call, and the
+    /// unfinished calls since (`-Y`).
+    cavity_best: (usize, usize),
 }
 
 impl State {
@@ -1309,6 +1322,7 @@ impl State {
                         return Ok(self.cavity_done(done));
                     }
                     let tris = self.edge_triangles(&failed);
+                    let tris = self.fallback_targets(tris);
                     self.interior_points(dt, tris)?;
                 } else {
                     for &(e, u, v) in &failed {
@@ -1373,6 +1387,7 @@ impl State {
                 if let Some(done) = self.preserve_by_cavities(&cm)? {
                     return Ok(self.cavity_done(done));
                 }
+                let uncovered = self.fallback_targets(uncovered);
                 self.interior_points(dt, uncovered)?;
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
