@@ -492,9 +492,9 @@ fn usage_errors() {
         &d,
         &["tet", "-q1.4", "x"],
         2,
-        "-q, -a and -S refine a PLC or surface: use them with -p",
+        "-q, -a, -m and -S refine a PLC or surface (-p) or an existing mesh (-r)",
     );
-    expect_err(&d, &["tet", "-a0.1", "x"], 2, "use them with -p");
+    expect_err(&d, &["tet", "-a0.1", "x"], 2, "or an existing mesh (-r)");
     expect_err(
         &d,
         &["tri", "-k", "x"],
