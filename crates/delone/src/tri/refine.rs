@@ -1473,7 +1473,12 @@ fn run(
     let mut gabriel_rounds = 0usize;
     let mut quality_cap = usize::MAX;
     let mut quality = true;
+    let mut turns: u64 = 0;
     loop {
+        turns += 1;
+        if turns % 8192 == 0 {
+            crate::progress::report("refining", *steiner as u64, None, "Steiner points");
+        }
         if enc.is_empty() && (heap.is_empty() || !quality) {
             // -D: split the subsegments any vertex encroaches, until none.
             if options.conforming_delaunay && m.scan_encroached(false, &mut enc) > 0 {

@@ -360,6 +360,7 @@ pub fn optimize(
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
+    let mut pops: u64 = 0;
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
         report.passes += 1;
@@ -376,6 +377,12 @@ pub fn optimize(
             let mut any = false;
             w.dirty.clear();
             while let Some(Entry(q, t, tv)) = heap.pop() {
+                pops += 1;
+                if pops % 1024 == 0 {
+                    let total = allowed.is_finite().then_some(allowed as u64);
+                    let done = w.evals.get().min(total.unwrap_or(u64::MAX));
+                    crate::progress::report("optimising", done, total, "evaluations");
+                }
                 // Stale entries: the slot changed since it was queued.
                 if w.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
                     continue;

@@ -1283,6 +1283,8 @@ impl State {
         let mut failed_removals = IdSet::default();
         loop {
             self.report.rounds += 1;
+            let r = self.report.rounds as u64;
+            crate::progress::report("recovering the surface", r, None, "rounds");
             let mut cm = CMesh::new(dt.clone());
             cm.set_failed(std::mem::take(&mut failed_removals));
             let (on, covered, subs) = match prev.take() {
@@ -1803,6 +1805,8 @@ impl State {
         let mut use_flips = self.opts.flips;
         loop {
             self.report.rounds += 1;
+            let r = self.report.rounds as u64;
+            crate::progress::report("recovering the surface", r, None, "rounds");
             let sk = Skeleton::of(dt, false);
             let subs = self.missing_subsegments(&sk);
             if !subs.is_empty() {
