@@ -1476,7 +1476,7 @@ fn run(
     let mut turns: u64 = 0;
     loop {
         turns += 1;
-        if turns % 8192 == 0 {
+        if turns.is_multiple_of(8192) {
             crate::progress::report("refining", *steiner as u64, None, "Steiner points");
         }
         if enc.is_empty() && (heap.is_empty() || !quality) {

@@ -378,7 +378,7 @@ pub fn optimize(
             w.dirty.clear();
             while let Some(Entry(q, t, tv)) = heap.pop() {
                 pops += 1;
-                if pops % 1024 == 0 {
+                if pops.is_multiple_of(1024) {
                     let total = allowed.is_finite().then_some(allowed as u64);
                     let done = w.evals.get().min(total.unwrap_or(u64::MAX));
                     crate::progress::report("optimising", done, total, "evaluations");

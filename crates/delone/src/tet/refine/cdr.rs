@@ -1328,7 +1328,7 @@ impl Cdr {
         let guard_max = 64 * (self.budget + self.p.len()) + 1_000_000;
         loop {
             guard += 1;
-            if guard % 4096 == 0 {
+            if guard.is_multiple_of(4096) {
                 crate::progress::report("refining", self.p.len() as u64, None, "points");
             }
             if guard > guard_max {
