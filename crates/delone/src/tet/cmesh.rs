@@ -48,11 +48,6 @@ pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
-/// Most tetrahedra in the cavity of [`CMesh::insert_near`] (breadth first
-/// from the one containing the point): in a mesh that is not Delaunay, flat
-/// tetrahedra with huge circumspheres would otherwise make cavities large.
-const MAX_CAVITY: usize = 48;
-
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 6;
@@ -256,17 +251,6 @@ impl<'a> CMesh<'a> {
             }
         }
         None
-    }
-
-    /// A live tetrahedron containing vertex `u` (its hint), or [`DEAD`].
-    pub(crate) fn vertex_tet(&self, u: u32) -> u32 {
-        let t = self.vt.get(u as usize).copied().unwrap_or(DEAD);
-        let c = self.core();
-        if t != DEAD && c.v[t as usize][0] != DEAD && c.v[t as usize].contains(&u) {
-            t
-        } else {
-            DEAD
-        }
     }
 
     /// A live tetrahedron containing edge `u v`.
@@ -552,6 +536,8 @@ impl<'a> CMesh<'a> {
     /// of its boundary faces to the new point `p`, which must see every
     /// boundary face strictly from inside; `None` (nothing changed)
     /// otherwise. Returns the new vertex id.
+    // Used by the tests today and by 3D refinement next.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn cone(&mut self, cavity: &[u32], p: [f64; 3]) -> Option<u32> {
         let id = self.pts().len() as u32;
         let new = {
@@ -589,11 +575,8 @@ impl<'a> CMesh<'a> {
     /// tetrahedra are then dropped from the cavity until every protected
     /// edge (`protected_edge`) survives and `p` sees every boundary face.
     /// `None` (nothing changed) when `p` is outside the hull, on a vertex,
-    /// or the containing tetrahedron itself must be dropped. A protected
-    /// face never ends up inside the cavity (a tetrahedron reached from
-    /// both sides of one is dropped), so protected faces and edges all
-    /// survive.
-    // Used by the tests and by boundary recovery (`insert_near`).
+    /// or the containing tetrahedron itself must be dropped.
+    // Used by the tests today and by 3D refinement next.
     #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn insert_constrained(
         &mut self,
@@ -601,29 +584,10 @@ impl<'a> CMesh<'a> {
         protected_face: &dyn Fn([u32; 3]) -> bool,
         protected_edge: &dyn Fn(u32, u32) -> bool,
     ) -> Option<u32> {
-        let start = self.core().last;
-        self.insert_near(p, start, protected_face, protected_edge)
-    }
-
-    /// [`CMesh::insert_constrained`], the walk to `p` starting at
-    /// tetrahedron `start` (at the last one created when `start` is not a
-    /// live slot, e.g. [`DEAD`]).
-    pub(crate) fn insert_near(
-        &mut self,
-        p: [f64; 3],
-        start: u32,
-        protected_face: &dyn Fn([u32; 3]) -> bool,
-        protected_edge: &dyn Fn(u32, u32) -> bool,
-    ) -> Option<u32> {
         let mut rng = 0x2545_F491u32;
         let c = self.core();
         let pts = self.pts();
-        let start = if (start as usize) < c.v.len() && c.v[start as usize][0] != DEAD {
-            start
-        } else {
-            c.last
-        };
-        let t0 = c.walk(pts, &p, start, &mut rng);
+        let t0 = c.walk(pts, &p, c.last, &mut rng);
         let tv0 = c.v[t0 as usize];
         if tv0.contains(&INF) || tv0.iter().any(|&w| pts[w as usize] == p) {
             return None;
@@ -644,32 +608,20 @@ impl<'a> CMesh<'a> {
             let tv = c.v[t as usize];
             for f in 0..4 {
                 let n = c.adj[t as usize][f] >> 2;
-                if cav.len() >= MAX_CAVITY
-                    || cav.contains(&n)
-                    || protected_face(fkey(face(tv, f)))
-                    || !inside(n)
-                {
+                if cav.contains(&n) || protected_face(fkey(face(tv, f))) || !inside(n) {
                     continue;
                 }
                 cav.push(n);
             }
         }
-        // Shrink: drop a tetrahedron owning an invisible boundary face, or
-        // one on either side of a protected face inside the cavity, or one
-        // around a protected edge that would become interior (another one
-        // than the tetrahedron containing `p` when there is a choice),
-        // until none is left.
+        // Shrink: drop a tetrahedron owning an invisible boundary face or a
+        // protected edge that would become interior, until none is left.
         loop {
             let mut drop = None;
             'scan: for &t in &cav {
                 let tv = c.v[t as usize];
                 for f in 0..4 {
-                    let n = c.adj[t as usize][f] >> 2;
-                    if cav.contains(&n) {
-                        if protected_face(fkey(face(tv, f))) {
-                            drop = Some(if t == t0 { n } else { t });
-                            break 'scan;
-                        }
+                    if cav.contains(&(c.adj[t as usize][f] >> 2)) {
                         continue;
                     }
                     let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
@@ -683,19 +635,14 @@ impl<'a> CMesh<'a> {
                     if !protected_edge(a, b) {
                         continue;
                     }
-                    // Interior iff every tetrahedron around it is in the
-                    // cavity (a ring too long to walk counts as interior).
-                    match self.edge_ring_with(t, a, b, true) {
-                        Some((ring, _)) => {
-                            if ring.iter().all(|x| cav.contains(x)) {
-                                drop = ring.iter().copied().find(|&x| x != t0).or(Some(t));
-                                break 'scan;
-                            }
-                        }
-                        None => {
-                            drop = Some(t);
-                            break 'scan;
-                        }
+                    // Interior iff every tetrahedron around it is in the cavity.
+                    let interior = match self.edge_ring(t, a, b) {
+                        Some((ring, _)) => ring.iter().all(|x| cav.contains(x)),
+                        None => false,
+                    };
+                    if interior {
+                        drop = Some(t);
+                        break 'scan;
                     }
                 }
             }

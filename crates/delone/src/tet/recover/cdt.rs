@@ -273,7 +273,7 @@ pub(crate) fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> 
 
 /// Mesh edges crossing the interior of input triangle `t` (see the module
 /// documentation), sorted, each with a tetrahedron containing it.
-pub(crate) fn crossing_edges(
+fn crossing_edges(
     cm: &CMesh<'_>,
     surf: &Surface,
     t: usize,

@@ -54,17 +54,9 @@
 //! recovers missing subsegments, then missing triangles, by 2-3 flips and
 //! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
 //! edge ring; coplanar hull faces by the hull 2-2 flip); only the items the
-//! flips cannot recover are split (steps 3–4, same placement and protection
-//! rules) in the Delaunay tetrahedralization, and the round starts again
-//! from it. In the first `MAX_CM_ROUNDS` rounds (none today, see that
-//! constant) a split instead goes into both meshes at once: into the
-//! Delaunay tetrahedralization, and into the flipped mesh by a constrained
-//! cavity insertion that keeps every subsegment and every face already on
-//! an input triangle (`CMesh::insert_near`); the halves of a split
-//! subsegment (and then the missing triangles) are recovered by flips in
-//! the flipped mesh, with no restart, until the flipped mesh refuses a
-//! point or a triangle stays missing after a few splits in it.
-//! Flips never destroy a subsegment or a face already on an input
+//! flips cannot recover are split in the Delaunay tetrahedralization
+//! (steps 3–4, same placement and protection rules), and the round starts
+//! again. Flips never destroy a subsegment or a face already on an input
 //! triangle. Each round either finishes, splits at least one item, or fails
 //! with a typed error, so the loop is bounded by the Steiner budget.
 //!
@@ -643,35 +635,6 @@ struct RoundState {
     old_len: usize,
 }
 
-/// What [`State::split_in_both`] did.
-enum Split {
-    /// The new vertex is in both meshes.
-    Both(u32),
-    /// Only the Delaunay tetrahedralization has a new vertex.
-    DelaunayOnly,
-    /// Nothing was inserted.
-    Unchanged,
-}
-
-/// Rounds of the constrained recovery that split subsegments and
-/// triangles straight into the flipped mesh; later rounds split only in
-/// the Delaunay tetrahedralization. 0 today: on the corpus, splitting in
-/// a flipped mesh far from Delaunay cascades on hard models (cgal_anchor
-/// 1104 → 1465–2038 Steiner points, vtk_vase 10× slower) and saves a
-/// round only on some large ones (vtk_turbineblade, wm_armadillo); the
-/// machinery is kept, correct (52/52 closed models checked with it on),
-/// for the next attempt.
-const MAX_CM_ROUNDS: usize = 0;
-
-/// Most split-and-flip passes over the missing triangles of one round of
-/// the constrained recovery before it restarts from the Delaunay
-/// tetrahedralization.
-const MAX_FACET_STEPS: usize = 64;
-
-/// Most splits for one missing triangle in one round of the constrained
-/// recovery (it is left to the next round beyond).
-const MAX_FACET_TRIES: usize = 4;
-
 /// Rounds after which surface preservation gives up.
 const MAX_INTERIOR_ROUNDS: usize = 64;
 
@@ -697,12 +660,6 @@ struct State {
 }
 
 impl State {
-    /// True while this round may split straight into the flipped mesh
-    /// (the first [`MAX_CM_ROUNDS`] rounds).
-    fn split_in_cm(&self) -> bool {
-        self.report.rounds.saturating_sub(MAX_CM_ROUNDS) == 0
-    }
-
     fn steiner_left(&self) -> bool {
         self.report.steiner() < self.opts.max_steiner
     }
@@ -744,23 +701,12 @@ impl State {
         u: u32,
         v: u32,
     ) -> Result<bool, RecoverError> {
-        Ok(self.split_edge_id(dt, e, u, v)?.is_some())
-    }
-
-    /// [`Self::split_edge`], returning the new vertex.
-    fn split_edge_id(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        e: u32,
-        u: u32,
-        v: u32,
-    ) -> Result<Option<u32>, RecoverError> {
         let chain = &self.surf.chains[e as usize];
         let Some(i) = chain.iter().position(|&w| w == u) else {
-            return Ok(None);
+            return Ok(false);
         };
         if chain.get(i + 1) != Some(&v) {
-            return Ok(None);
+            return Ok(false);
         }
         let [a, b] = self.surf.edges[e as usize];
         let ends = |w: u32| w == a || w == b;
@@ -787,324 +733,7 @@ impl State {
         };
         self.surf.add_on_edge(id, e, i);
         self.report.steiner_on_edges += 1;
-        Ok(Some(id))
-    }
-
-    /// Splits subsegment `u → v` of input edge `e` in the Delaunay
-    /// tetrahedralization `dt` ([`Self::split_edge`]: same placement) and
-    /// inserts the same point into the flipped mesh `cm` (which has the
-    /// same points) by a constrained cavity that keeps every protected face
-    /// and edge ([`CMesh::insert_near`]). [`Split::DelaunayOnly`] when
-    /// `cm` refuses the point (or `dt` did not take it): then `cm` no
-    /// longer has `dt`'s points and the round must restart from `dt`.
-    fn split_in_both(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        e: u32,
-        u: u32,
-        v: u32,
-    ) -> Result<Split, RecoverError> {
-        let n = dt.points().len();
-        debug_assert_eq!(n, cm.pts().len());
-        let Some(id) = self.split_edge_id(dt, e, u, v)? else {
-            return Ok(if dt.points().len() == n {
-                Split::Unchanged
-            } else {
-                Split::DelaunayOnly
-            });
-        };
-        let p = dt.points()[id as usize];
-        let start = cm.vertex_tet(u);
-        // When `u v` is an edge of `cm`, it and the protected faces around
-        // it are split with it (their halves are protected instead).
-        let uv = ekey(u, v);
-        let around: Vec<u32> = match cm.find_edge(u, v) {
-            Some(t) => cm
-                .edge_ring_with(t, u, v, true)
-                .map(|(_, r)| r)
-                .unwrap_or_default()
-                .into_iter()
-                .filter(|&r| r != INF && prot.faces.contains(&missing::fkey([u, v, r])))
-                .collect(),
-            None => Vec::new(),
-        };
-        let got = cm.insert_near(
-            p,
-            start,
-            &|k| prot.faces.contains(&k) && !(k.contains(&u) && k.contains(&v)),
-            &|a, b| ekey(a, b) != uv && prot.edges.contains(&ekey(a, b)),
-        );
-        Ok(match got {
-            Some(x) if x == id => {
-                for (a, b) in [(u, id), (id, v)] {
-                    prot.edges.insert(ekey(a, b));
-                    for &r in &around {
-                        prot.add_face([a, b, r]);
-                    }
-                }
-                Split::Both(id)
-            }
-            _ => Split::DelaunayOnly,
-        })
-    }
-
-    /// Recovers the subsegments `work` in `cm` by flips; one the flips
-    /// cannot recover is split at once in both meshes
-    /// ([`Self::split_in_both`]) and its halves join the work list. Once
-    /// `cm` refuses a point (`in_sync` becomes false), or with surface
-    /// preservation, the subsegments that fail are only collected in
-    /// `failed`.
-    fn segments_in_cm(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        mut work: Vec<(u32, u32, u32)>,
-        in_sync: &mut bool,
-        failed: &mut Vec<(u32, u32, u32)>,
-    ) -> Result<(), RecoverError> {
-        let mut i = 0;
-        let mut cm_splits = 0usize;
-        while i < work.len() {
-            let (e, u, v) = work[i];
-            i += 1;
-            if cdt::recover_segment(cm, u, v, prot) {
-                continue;
-            }
-            // A half of a subsegment split in `cm` that the flips cannot
-            // recover either waits for the next round (the flipped mesh
-            // around it is far from Delaunay; splitting it again there
-            // cascades).
-            let n0 = dt.points().len() as u32;
-            let fresh = |w: u32| w >= n0 - (cm_splits as u32);
-            if !*in_sync
-                || self.opts.preserve_surface
-                || !self.split_in_cm()
-                || fresh(u)
-                || fresh(v)
-            {
-                failed.push((e, u, v));
-                continue;
-            }
-            if !self.steiner_left() {
-                return Err(self.budget_error(work.len() - i + 1, 0));
-            }
-            match self.split_in_both(dt, cm, prot, e, u, v)? {
-                Split::Both(id) => {
-                    cm_splits += 1;
-                    work.extend([(e, u, id), (e, id, v)]);
-                }
-                Split::DelaunayOnly => *in_sync = false,
-                Split::Unchanged => failed.push((e, u, v)),
-            }
-        }
-        Ok(())
-    }
-
-    /// Splits the missing triangles `uncovered` of `cm` in both meshes
-    /// (where a mesh edge of `cm` the flips could not remove crosses one,
-    /// or the boundary subsegment that point encroaches — the rules of
-    /// [`Self::split_facet`]), recovers the new subsegments and then the
-    /// triangles by flips, and repeats while that makes progress and the
-    /// meshes stay in sync. Returns the triangles still missing (`on`,
-    /// `covered`: the coverage of `cm`, kept up to date).
-    #[allow(clippy::too_many_arguments)]
-    fn facets_in_cm(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        mut uncovered: Vec<usize>,
-        on: &mut [Vec<[u32; 3]>],
-        covered: &mut [bool],
-        in_sync: &mut bool,
-    ) -> Result<Vec<usize>, RecoverError> {
-        let mut tries: IdMap<usize, usize> = IdMap::default();
-        let max_tries = if self.split_in_cm() {
-            MAX_FACET_TRIES
-        } else {
-            0
-        };
-        for _ in 0..MAX_FACET_STEPS {
-            if uncovered.is_empty() || !*in_sync {
-                break;
-            }
-            let mut segs = Vec::new();
-            let mut progress = false;
-            for &t in &uncovered {
-                if !self.steiner_left() {
-                    return Err(self.budget_error(0, uncovered.len()));
-                }
-                let n = tries.entry(t).or_insert(0usize);
-                if *n >= max_tries {
-                    continue;
-                }
-                *n += 1;
-                match self.split_facet_cm(dt, cm, prot, t, &on[t], &mut segs)? {
-                    Split::Both(_) => progress = true,
-                    Split::DelaunayOnly => {
-                        *in_sync = false;
-                        break;
-                    }
-                    Split::Unchanged => {}
-                }
-            }
-            if !progress || !*in_sync {
-                break;
-            }
-            let mut failed = Vec::new();
-            self.segments_in_cm(dt, cm, prot, segs, in_sync, &mut failed)?;
-            if !failed.is_empty() {
-                *in_sync = false;
-            }
-            if !*in_sync {
-                break;
-            }
-            self.refresh_coverage(cm, &uncovered, on, covered);
-            let missing: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            for &t in &missing {
-                let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
-                cdt::recover_facet(cm, &self.surf, t, &inner, prot);
-            }
-            self.refresh_coverage(cm, &missing, on, covered);
-            uncovered = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            for &t in &missing {
-                if covered[t] {
-                    for f in &on[t] {
-                        prot.add_face(*f);
-                    }
-                }
-            }
-        }
-        Ok(uncovered)
-    }
-
-    /// One split for missing triangle `t` of `cm` (see
-    /// [`Self::facets_in_cm`]); a split subsegment's halves go to `segs`.
-    fn split_facet_cm(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        t: usize,
-        faces: &[[u32; 3]],
-        segs: &mut Vec<(u32, u32, u32)>,
-    ) -> Result<Split, RecoverError> {
-        let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
-        let cross = cdt::crossing_edges(cm, &self.surf, t, &inner);
-        let Some(&((p, q), _)) = cross.first() else {
-            return self.split_hole_cm(dt, cm, prot, t, faces, segs);
-        };
-        let pts = cm.pts();
-        let g = |w: u32| pts[w as usize];
-        let [a, b, c] = self.surf.tris[t].map(g);
-        let (x, dev) = place::facet_point(&a, &b, &c, &g(p), &g(q));
-        self.facet_point_cm(dt, cm, prot, t, x, dev, p, segs)
-    }
-
-    /// [`Self::split_hole`] in both meshes: the longest edge around the
-    /// uncovered part of `t` is split (a boundary subsegment on its edge,
-    /// another edge at its midpoint as a point of `t`).
-    fn split_hole_cm(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        t: usize,
-        faces: &[[u32; 3]],
-        segs: &mut Vec<(u32, u32, u32)>,
-    ) -> Result<Split, RecoverError> {
-        let holes = self.surf.hole_edges(t, faces);
-        let pts = cm.pts();
-        let g = |w: u32| pts[w as usize];
-        let len2 = |(u, v): (u32, u32)| {
-            let d = place::sub(&g(u), &g(v));
-            place::dot(&d, &d)
-        };
-        let Some(&(u, v)) = holes
-            .iter()
-            .max_by(|&&x, &&y| len2(x).total_cmp(&len2(y)).then(y.cmp(&x)))
-        else {
-            return Ok(Split::Unchanged);
-        };
-        for &e in &self.surf.tri_edges[t] {
-            let chain = &self.surf.chains[e as usize];
-            if let Some(w) = chain.windows(2).find(|w| ekey(w[0], w[1]) == (u, v)) {
-                let (a, b) = (w[0], w[1]);
-                let out = self.split_in_both(dt, cm, prot, e, a, b)?;
-                if let Split::Both(id) = out {
-                    segs.extend([(e, a, id), (e, id, b)]);
-                }
-                return Ok(out);
-            }
-        }
-        let [a, b, c] = self.surf.tris[t].map(g);
-        let (pu, pv) = (g(u), g(v));
-        let mut x = [0, 1, 2].map(|k| 0.5 * (pu[k] + pv[k]));
-        for k in 0..3 {
-            if a[k] == b[k] && b[k] == c[k] {
-                x[k] = a[k];
-            }
-        }
-        let dev = if delone_predicates::orient3d(&a, &b, &c, &x) == 0.0 {
-            0.0
-        } else {
-            place::plane_distance(&a, &b, &c, &x).max(f64::MIN_POSITIVE)
-        };
-        self.facet_point_cm(dt, cm, prot, t, x, dev, u, segs)
-    }
-
-    /// [`Self::insert_in_facet`] in both meshes (`near`: a vertex near `x`
-    /// where the walk in `cm` starts).
-    #[allow(clippy::too_many_arguments)]
-    fn facet_point_cm(
-        &mut self,
-        dt: &mut Delaunay3<'_>,
-        cm: &mut CMesh<'_>,
-        prot: &mut cdt::Protected,
-        t: usize,
-        x: [f64; 3],
-        dev: f64,
-        near: u32,
-        segs: &mut Vec<(u32, u32, u32)>,
-    ) -> Result<Split, RecoverError> {
-        let pts = cm.pts();
-        let g = |w: u32| pts[w as usize];
-        let [a, b, c] = self.surf.tris[t].map(g);
-        for &e in &self.surf.tri_edges[t] {
-            let chain = &self.surf.chains[e as usize];
-            for w in chain.windows(2) {
-                if place::encroaches(&g(w[0]), &g(w[1]), &x) {
-                    let (u, v) = (w[0], w[1]);
-                    let out = self.split_in_both(dt, cm, prot, e, u, v)?;
-                    if let Split::Both(id) = out {
-                        segs.extend([(e, u, id), (e, id, v)]);
-                    }
-                    return Ok(out);
-                }
-            }
-        }
-        if !place::inside_triangle(&a, &b, &c, &x) {
-            return Ok(Split::Unchanged);
-        }
-        let n = dt.points().len();
-        let Some(id) = self.insert(dt, x, dev)? else {
-            return Ok(Split::Unchanged);
-        };
-        self.surf.add_on_tri(id, t as u32);
-        self.tri_inner.entry(t as u32).or_default().push(id);
-        self.report.steiner_on_facets += 1;
-        debug_assert_eq!(id as usize, n);
-        let start = cm.vertex_tet(near);
-        let got = cm.insert_near(x, start, &|k| prot.faces.contains(&k), &|a, b| {
-            prot.edges.contains(&ekey(a, b))
-        });
-        Ok(match got {
-            Some(y) if y == id => Split::Both(id),
-            _ => Split::DelaunayOnly,
-        })
+        Ok(true)
     }
 
     fn missing_subsegments(&self, sk: &Skeleton) -> Vec<(u32, u32, u32)> {
@@ -1311,14 +940,12 @@ impl State {
             }
             let old_len = dt.points().len();
             let mut failed = Vec::new();
-            // Subsegments the flips cannot recover are split at once, in
-            // both `dt` and `cm` (same new id), and their halves recovered
-            // by flips in `cm` — no restart — while that works
-            // (`in_sync`, see `Self::split_in_both`).
-            let mut in_sync = true;
-            let segments_by_flips = subs.len();
-            self.segments_in_cm(dt, &mut cm, &mut prot, subs, &mut in_sync, &mut failed)?;
-            if !failed.is_empty() || !in_sync {
+            for &(e, u, v) in &subs {
+                if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                    failed.push((e, u, v));
+                }
+            }
+            if !failed.is_empty() {
                 if self.opts.preserve_surface {
                     if let Some(done) = self.preserve_by_cavities(&cm)? {
                         return Ok(self.cavity_done(done));
@@ -1342,6 +969,7 @@ impl State {
                 });
                 continue;
             }
+            let segments_by_flips = subs.len();
             // Coverage on `cm`, updated only where the flips changed faces.
             let mut on_cm = on.clone();
             let mut covered_cm = covered.clone();
@@ -1356,28 +984,8 @@ impl State {
                     cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
                 }
                 self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
-                let flipped = uncovered;
                 uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
-                if !uncovered.is_empty() && !self.opts.preserve_surface {
-                    for &t in &flipped {
-                        if covered_cm[t] {
-                            for f in &on_cm[t] {
-                                prot.add_face(*f);
-                            }
-                        }
-                    }
-                    uncovered = self.facets_in_cm(
-                        dt,
-                        &mut cm,
-                        &mut prot,
-                        uncovered,
-                        &mut on_cm,
-                        &mut covered_cm,
-                        &mut in_sync,
-                    )?;
-                }
             }
-            let inserted = dt.points().len() > old_len;
             if uncovered.is_empty() {
                 self.report.flips23 = cm.flips23;
                 self.report.edge_removals = cm.removals;
@@ -1391,17 +999,6 @@ impl State {
                 }
                 let uncovered = self.fallback_targets(uncovered);
                 self.interior_points(dt, uncovered)?;
-                failed_removals = cm.take_failed();
-                prev = Some(RoundState {
-                    on,
-                    covered,
-                    old_len,
-                });
-                continue;
-            }
-            if inserted || !in_sync {
-                // `on`, `covered` are the coverage of `dt` before this
-                // round's splits: the next round updates them first.
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
                     on,
