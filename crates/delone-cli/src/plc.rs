@@ -163,22 +163,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             t_mesh.as_secs_f64()
         ));
     }
-    if o.check {
-        match check_recovered(&plc.points, &triangles, &rec) {
-            Ok(()) => lines.push(
-                "check (-C): every input facet is a union of mesh faces, tetrahedra positive, volume preserved"
-                    .to_string(),
-            ),
-            Err(v) => {
-                lines.push(format!("check FAILED: {v}"));
-                code = 1;
-            }
-        }
-    }
-    if let Some(dir) = &o.output_dir {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
-    }
+    code |= crate::tetq::check_and_prepare(
+        o,
+        || check_recovered(&plc.points, &triangles, &rec),
+        "every input facet is a union of mesh faces",
+        &mut lines,
+    )?;
     let t2 = Instant::now();
     let first = if o.zero { 0 } else { first_in };
     let mut written = Vec::new();

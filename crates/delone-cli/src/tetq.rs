@@ -182,3 +182,31 @@ pub fn report(
     }
     Ok(lines)
 }
+
+/// `-C`: runs `check` and adds its line to `lines` (exit code 1 when it
+/// fails, else 0); then creates `--output-dir` if given.
+pub fn check_and_prepare<E: std::fmt::Display>(
+    o: &Opts,
+    check: impl FnOnce() -> Result<(), E>,
+    what: &str,
+    lines: &mut Vec<String>,
+) -> Result<i32, crate::run::Failure> {
+    let mut code = 0;
+    if o.check {
+        match check() {
+            Ok(()) => lines.push(format!(
+                "check (-C): {what}, tetrahedra positive, volume preserved"
+            )),
+            Err(v) => {
+                lines.push(format!("check FAILED: {v}"));
+                code = 1;
+            }
+        }
+    }
+    if let Some(dir) = &o.output_dir {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            crate::run::input_err(format!("cannot create directory {}: {e}", dir.display()))
+        })?;
+    }
+    Ok(code)
+}

@@ -181,23 +181,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if let Some(x) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, x));
     }
-    let mut code = 0;
-    if o.check {
-        match check_recovered(&points, &r.triangles, &rec) {
-            Ok(()) => lines.push(
-                "check (-C): every boundary/interface face of the input mesh is a union of mesh faces, tetrahedra positive, volume preserved"
-                    .to_string(),
-            ),
-            Err(v) => {
-                lines.push(format!("check FAILED: {v}"));
-                code = 1;
-            }
-        }
-    }
-    if let Some(dir) = &o.output_dir {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
-    }
+    let code = crate::tetq::check_and_prepare(
+        o,
+        || check_recovered(&points, &r.triangles, &rec),
+        "every boundary/interface face of the input mesh is a union of mesh faces",
+        &mut lines,
+    )?;
     let first = if o.zero { 0 } else { first_in };
     let mut written = Vec::new();
     if !o.no_node {
