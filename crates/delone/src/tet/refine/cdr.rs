@@ -320,6 +320,28 @@ impl Cdr {
         self.tv.get(t as usize).is_some_and(|x| x[0] != DEAD)
     }
 
+    /// A new tetrahedron `tv` of region `reg` (no subface marks, no
+    /// neighbours yet) in a free slot or a new one; its slot.
+    fn new_tet(&mut self, tv: [u32; 4], reg: u32) -> u32 {
+        match self.free.pop() {
+            Some(t) => {
+                self.tv[t as usize] = tv;
+                self.reg[t as usize] = reg;
+                self.mask[t as usize] = 0;
+                self.nb[t as usize] = [NONE; 4];
+                t
+            }
+            None => {
+                self.tv.push(tv);
+                self.reg.push(reg);
+                self.mask.push(0);
+                self.nb.push([NONE; 4]);
+                self.stamp.push(0);
+                (self.tv.len() - 1) as u32
+            }
+        }
+    }
+
     fn out_of_budget(&mut self) -> bool {
         if self.report.steiner() >= self.budget {
             self.report.budget_exhausted = true;
@@ -693,23 +715,7 @@ impl Cdr {
         }
         let mut ids = Vec::with_capacity(plan.tets.len());
         for &(tv, reg, outer, sub) in &plan.tets {
-            let id = match self.free.pop() {
-                Some(t) => {
-                    self.tv[t as usize] = tv;
-                    self.reg[t as usize] = reg;
-                    self.mask[t as usize] = 0;
-                    self.nb[t as usize] = [NONE; 4];
-                    t
-                }
-                None => {
-                    self.tv.push(tv);
-                    self.reg.push(reg);
-                    self.mask.push(0);
-                    self.nb.push([NONE; 4]);
-                    self.stamp.push(0);
-                    (self.tv.len() - 1) as u32
-                }
-            };
+            let id = self.new_tet(tv, reg);
             self.nb[id as usize][3] = outer;
             if outer != NONE {
                 self.nb[(outer >> 2) as usize][(outer & 3) as usize] = 4 * id + 3;

@@ -183,23 +183,7 @@ impl Cdr {
         }
         let mut ids = Vec::with_capacity(new.len());
         for &tv in new {
-            let id = match self.free.pop() {
-                Some(t) => {
-                    self.tv[t as usize] = tv;
-                    self.reg[t as usize] = reg;
-                    self.mask[t as usize] = 0;
-                    self.nb[t as usize] = [NONE; 4];
-                    t
-                }
-                None => {
-                    self.tv.push(tv);
-                    self.reg.push(reg);
-                    self.mask.push(0);
-                    self.nb.push([NONE; 4]);
-                    self.stamp.push(0);
-                    (self.tv.len() - 1) as u32
-                }
-            };
+            let id = self.new_tet(tv, reg);
             for &q in &tv {
                 self.vt[q as usize] = id;
             }
