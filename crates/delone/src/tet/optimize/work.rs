@@ -47,57 +47,15 @@ fn norm(a: &[f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// The quality of a tetrahedron: the smallest sine of its six dihedral
-/// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
-/// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
-/// or -1 when it is flat or inverted (floating point).
-pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
-    let e1 = sub(p[1], p[0]);
-    let e2 = sub(p[2], p[0]);
-    let e3 = sub(p[3], p[0]);
-    let det = dot(&e1, &cross(&e2, &e3));
-    if det.is_nan() || det <= 0.0 {
-        return -1.0;
-    }
-    let e12 = sub(p[2], p[1]);
-    let e13 = sub(p[3], p[1]);
-    let sq = |a: [f64; 3]| dot(&a, &a);
-    let n = [
-        sq(cross(&e12, &e13)),
-        sq(cross(&e2, &e3)),
-        sq(cross(&e1, &e3)),
-        sq(cross(&e1, &e2)),
-    ];
-    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)`.
-    let l = [
-        (sq(e1), 2, 3),
-        (sq(e2), 1, 3),
-        (sq(e3), 1, 2),
-        (sq(e12), 0, 3),
-        (sq(e13), 0, 2),
-        (sq(sub(p[3], p[2])), 0, 1),
-    ];
-    let mut q2 = f64::INFINITY;
-    for (len2, k, m) in l {
-        let d = n[k] * n[m];
-        if d.is_nan() || d <= 0.0 {
-            return -1.0;
-        }
-        q2 = q2.min(len2 / d);
-    }
-    let q = det * q2.sqrt();
-    if q.is_finite() {
-        q
-    } else {
-        -1.0
-    }
-}
-
-/// The sines of the six dihedral angles of a positive tetrahedron, at the
-/// edges in [`crate::tet::quality::EDGES`] order (no trigonometry: `sin θ_ij
-/// = 6V · |e_ij| / (|N_k| |N_l|)` from the face area normals); `None` when
-/// it is flat or inverted (floating point).
-pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
+/// Six times the volume of a positive tetrahedron and, for each of its
+/// edges in [`crate::tet::quality::EDGES`] order, `(|e|², k, l)`: the squared
+/// length and the two faces (by opposite vertex) that meet there, with the
+/// squared area normals `|N|²` of the four faces; `None` when it is flat or
+/// inverted (floating point). The dihedral sine at an edge is
+/// `6V · |e| / (|N_k| |N_l|)`.
+#[inline]
+#[allow(clippy::type_complexity)]
+fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
     let e1 = sub(p[1], p[0]);
     let e2 = sub(p[2], p[0]);
     let e3 = sub(p[3], p[0]);
@@ -124,6 +82,39 @@ pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
         (sq(e13), 0, 2),
         (sq(sub(p[3], p[2])), 0, 1),
     ];
+    Some((det, n, l))
+}
+
+/// The quality of a tetrahedron: the smallest sine of its six dihedral
+/// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
+/// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
+/// or -1 when it is flat or inverted (floating point).
+pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
+    let Some((det, n, l)) = dihedral_terms(p) else {
+        return -1.0;
+    };
+    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)`.
+    let mut q2 = f64::INFINITY;
+    for (len2, k, m) in l {
+        let d = n[k] * n[m];
+        if d.is_nan() || d <= 0.0 {
+            return -1.0;
+        }
+        q2 = q2.min(len2 / d);
+    }
+    let q = det * q2.sqrt();
+    if q.is_finite() {
+        q
+    } else {
+        -1.0
+    }
+}
+
+/// The sines of the six dihedral angles of a positive tetrahedron, at the
+/// edges in [`crate::tet::quality::EDGES`] order (see [`dihedral_terms`]);
+/// `None` when it is flat or inverted (floating point).
+pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
+    let (det, n, l) = dihedral_terms(p)?;
     let mut out = [0.0; 6];
     for (o, (len2, k, m)) in out.iter_mut().zip(l) {
         let d = n[k] * n[m];
