@@ -7,26 +7,8 @@ use delone::tet::recover::check_recovered;
 use delone::tet::refine::sizing::{cell_radius_bound, Background, Sizing};
 use delone::tet::refine::{refine, RefineOptions};
 
-fn cube() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let pts: Vec<[f64; 3]> = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
-    let tris = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    (pts, tris)
-}
+mod solids;
+use solids::cube;
 
 fn norm(p: [f64; 3]) -> f64 {
     (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
