@@ -233,22 +233,20 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.inexact_steiner, r.max_deviation
             );
         }
-        for l in &lines {
-            println!("  {l}");
-        }
-        println!(
-            "  time: read {:.3} s, recover {:.3} s, write {:.3} s, total {:.3} s",
-            t_read.as_secs_f64(),
-            t_mesh.as_secs_f64(),
-            t_write.as_secs_f64(),
-            t_all.elapsed().as_secs_f64()
-        );
-        let w: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-        println!("  wrote {}", w.join(", "));
-    } else {
-        for l in lines.iter().filter(|l| l.starts_with("check FAILED")) {
-            eprintln!("delone: {l}");
-        }
     }
+    crate::tetq::print_tail(
+        o.quiet,
+        &lines,
+        || {
+            format!(
+                "time: read {:.3} s, recover {:.3} s, write {:.3} s, total {:.3} s",
+                t_read.as_secs_f64(),
+                t_mesh.as_secs_f64(),
+                t_write.as_secs_f64(),
+                t_all.elapsed().as_secs_f64()
+            )
+        },
+        &written,
+    );
     Ok(code)
 }

@@ -210,3 +210,26 @@ pub fn check_and_prepare<E: std::fmt::Display>(
     }
     Ok(code)
 }
+
+/// The end of a `tet -p/-q/-r` summary: the report `lines`, the timing line
+/// and the files written on stdout; with `-Q` only a failed `-C` check, on
+/// stderr.
+pub fn print_tail(
+    quiet: bool,
+    lines: &[String],
+    time: impl FnOnce() -> String,
+    written: &[std::path::PathBuf],
+) {
+    if quiet {
+        for l in lines.iter().filter(|l| l.starts_with("check FAILED")) {
+            eprintln!("delone: {l}");
+        }
+        return;
+    }
+    for l in lines {
+        println!("  {l}");
+    }
+    println!("  {}", time());
+    let w: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    println!("  wrote {}", w.join(", "));
+}
