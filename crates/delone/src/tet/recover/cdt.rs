@@ -259,11 +259,13 @@ pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protect
     cm.find_edge(u, v).is_some()
 }
 
-/// The vertices lying on input triangle `t`: its chains and inner points.
+/// The vertices lying on input triangle `t`: its corners, chains and inner
+/// points.
 pub(crate) fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> {
     let mut out: Vec<u32> = surf.tri_edges[t]
         .iter()
         .flat_map(|&e| surf.chains[e as usize].iter().copied())
+        .chain(surf.tris[t])
         .chain(extra.iter().copied())
         .collect();
     out.sort_unstable();
@@ -273,7 +275,7 @@ pub(crate) fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> 
 
 /// Mesh edges crossing the interior of input triangle `t` (see the module
 /// documentation), sorted, each with a tetrahedron containing it.
-fn crossing_edges(
+pub(crate) fn crossing_edges(
     cm: &CMesh<'_>,
     surf: &Surface,
     t: usize,

@@ -82,7 +82,7 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 /// The axis dropped to project the plane of `a b c` (the largest normal
 /// component whose projected orientation is exactly nonzero) and the sign
 /// of that orientation; `None` for a degenerate triangle.
-fn projection(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Option<(usize, f64)> {
+pub(super) fn projection(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Option<(usize, f64)> {
     let n = cross(&sub(b, a), &sub(c, a));
     let mut axes = [0usize, 1, 2];
     axes.sort_by(|&i, &j| n[j].abs().total_cmp(&n[i].abs()).then(i.cmp(&j)));
@@ -96,7 +96,7 @@ fn projection(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Option<(usize, f64)> 
 }
 
 /// `p` without coordinate `k` (a right-handed frame of the other two).
-fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
+pub(super) fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
     [p[(k + 1) % 3], p[(k + 2) % 3]]
 }
 
@@ -275,6 +275,11 @@ pub(crate) fn merge(
     }
     out
 }
+
+/// The constrained recovery treats each merged group as one polygon facet
+/// (the `polygon` module) instead of recovering its triangles; [`adapt`]
+/// is then not needed.
+pub(crate) const POLYGONS: bool = true;
 
 /// Rounds of [`adapt`] (each one costs about one recovery round).
 const ADAPT_ROUNDS: usize = 6;

@@ -102,6 +102,7 @@ mod flip;
 mod merge;
 mod missing;
 mod place;
+mod polygon;
 mod surface;
 
 use std::collections::HashSet;
@@ -523,8 +524,11 @@ pub fn recover_marked(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
+        // The constrained path recovers each merged group as one polygon
+        // (the `polygon` module); the conforming path needs the group's
+        // triangles themselves, so their edges are adapted to the flips.
         let mut m = merge::merge(points, triangles, markers, &dt);
-        if opts.constrained {
+        if opts.constrained && !merge::POLYGONS {
             merge::adapt(points, &mut m, &dt);
         }
         m
@@ -544,7 +548,11 @@ pub fn recover_marked(
         cavity_fails: 0,
         cavity_left: Vec::new(),
         cavity_best: (usize::MAX, 0),
+        poly: polygon::Polygons::default(),
     };
+    if opts.constrained && !opts.preserve_surface && merge::POLYGONS {
+        st.poly = polygon::Polygons::new(&mut st.surf, &merged.origin, dt.points());
+    }
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
         RecoverError::Unrecovered { triangles, steiner } => {
@@ -657,6 +665,8 @@ struct State {
     /// Fewest items left missing by an unfinished cavity call, and the
     /// unfinished calls since (`-Y`).
     cavity_best: (usize, usize),
+    /// Merged groups recovered as polygons (constrained path).
+    poly: polygon::Polygons,
 }
 
 impl State {
@@ -1015,9 +1025,16 @@ impl State {
             // dominant cost).
             let mut all: Option<Vec<((u32, u32), u32)>> = None;
             let mut progress = false;
+            let mut group_done = vec![false; self.poly.groups.len()];
             for &t in &uncovered {
                 if !self.steiner_left() {
                     return Err(self.budget_error(0, uncovered.len()));
+                }
+                if let Some(g) = self.poly.group(t) {
+                    if !std::mem::replace(&mut group_done[g as usize], true) {
+                        progress |= self.split_group(dt, &cm, g, covered[t])?;
+                    }
+                    continue;
                 }
                 if covered[t] {
                     progress |= self.split_longest_subsegment(dt, t)?;
@@ -1102,7 +1119,8 @@ impl State {
         subs: Option<&[(u32, u32, u32)]>,
     ) {
         let sk = Skeleton::of(dt, true);
-        let (g_on, g_covered) = self.surf.coverage(&sk, dt.points());
+        let (mut g_on, mut g_covered) = self.surf.coverage(&sk, dt.points());
+        self.groups_global(sk.tets.iter().copied(), dt.points(), &mut g_on, &mut g_covered);
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
         for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
             let (mut a, mut b) = (a.clone(), b.clone());
@@ -1237,6 +1255,11 @@ impl State {
         for &f in &touched {
             self.surf.face_triangles_split(f, &mut out, &mut flat);
             cands.extend(out.iter().chain(&flat).map(|&t| t as usize));
+            if !self.poly.is_empty() {
+                for g in self.poly.face_groups(&self.surf, f) {
+                    cands.push(self.poly.groups[g as usize].tris[0] as usize);
+                }
+            }
         }
         cands.sort_unstable();
         cands.dedup();
@@ -1297,8 +1320,16 @@ impl State {
                 }
             }
         }
-        let rest: Vec<usize> = (0..n).filter(|&t| !self.surf.plain(t)).collect();
+        let rest: Vec<usize> = (0..n)
+            .filter(|&t| !self.surf.plain(t) && self.poly.group(t).is_none())
+            .collect();
         self.recompute_local(cm, &rest, &mut on, &mut covered);
+        let tets = core
+            .v
+            .iter()
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .copied();
+        self.groups_global(tets, cm.pts(), &mut on, &mut covered);
         (on, covered)
     }
 
@@ -1333,7 +1364,12 @@ impl State {
     ) {
         let core = &cm.dt.core;
         let mut slots: Vec<u32> = Vec::new();
+        let mut groups: Vec<u32> = Vec::new();
         for &t in cands {
+            if let Some(g) = self.poly.group(t) {
+                groups.push(g);
+                continue;
+            }
             if self.surf.plain(t) {
                 // Only its own corners can make a face on it.
                 let [a, b, c] = self.surf.tris[t];
@@ -1361,6 +1397,128 @@ impl State {
             let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
             on[t] = f;
             covered[t] = c;
+        }
+        groups.sort_unstable();
+        groups.dedup();
+        for g in groups {
+            slots.clear();
+            for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let c = self.poly.cover(&self.surf, g, &tets, cm.pts());
+            self.set_group(g, c, on, covered);
+        }
+    }
+
+    /// Stores the coverage of group `g`: its faces on its first triangle,
+    /// its verdict on all of them.
+    fn set_group(&self, g: u32, c: polygon::Cover, on: &mut [Vec<[u32; 3]>], covered: &mut [bool]) {
+        let tris = &self.poly.groups[g as usize].tris;
+        for &t in tris {
+            on[t as usize].clear();
+            covered[t as usize] = c.covered;
+        }
+        on[tris[0] as usize] = c.faces;
+    }
+
+    /// The coverage of every group, from all finite tetrahedra `tets`.
+    fn groups_global(
+        &self,
+        tets: impl Iterator<Item = [u32; 4]>,
+        pts: &[[f64; 3]],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        if self.poly.is_empty() {
+            return;
+        }
+        let mut bucket: Vec<Vec<[u32; 4]>> = vec![Vec::new(); self.poly.groups.len()];
+        for tv in tets {
+            let mut gs: Vec<u32> = Vec::new();
+            for fv in FACET {
+                gs.extend(self.poly.face_groups(&self.surf, fv.map(|i| tv[i])));
+            }
+            gs.sort_unstable();
+            gs.dedup();
+            for g in gs {
+                bucket[g as usize].push(tv);
+            }
+        }
+        for (g, tets) in bucket.iter().enumerate() {
+            let c = self.poly.cover(&self.surf, g as u32, tets, pts);
+            self.set_group(g as u32, c, on, covered);
+        }
+    }
+
+    /// Steiner points for merged group `g`, which the flips on `cm` could
+    /// not cover (`dt_covered`: it was covered in `dt`): where a mesh edge
+    /// of `cm` still crosses one of its triangles (or the boundary
+    /// subsegment that point encroaches); else a boundary subsegment with
+    /// no face on its inner side, else its longest boundary subsegment.
+    fn split_group(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        cm: &CMesh<'_>,
+        g: u32,
+        dt_covered: bool,
+    ) -> Result<bool, RecoverError> {
+        let tris = self.poly.groups[g as usize].tris.clone();
+        let mut progress = false;
+        if !dt_covered {
+            for &t in &tris {
+                let t = t as usize;
+                let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                let cross = cdt::crossing_edges(cm, &self.surf, t, &inner);
+                let Some(&((p, q), _)) = cross.first() else {
+                    continue;
+                };
+                let pts = cm.pts();
+                let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+                let (x, dev) =
+                    place::facet_point(&a, &b, &c, &pts[p as usize], &pts[q as usize]);
+                progress |= self.insert_in_facet(dt, t, x, dev)?;
+            }
+            if progress {
+                return Ok(true);
+            }
+            let mut slots: Vec<u32> = Vec::new();
+            for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let core = &cm.dt.core;
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let c = self.poly.cover(&self.surf, g, &tets, cm.pts());
+            if let Some(&(e, u, v)) = c.bare.first() {
+                return self.split_edge(dt, e, u, v);
+            }
+        }
+        let pts = dt.points();
+        let mut best: Option<(f64, u32, u32, u32)> = None;
+        for &(e, _) in &self.poly.groups[g as usize].bnd {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let d = place::sub(&pts[w[0] as usize], &pts[w[1] as usize]);
+                let l = place::dot(&d, &d);
+                if best.is_none_or(|b| l > b.0) {
+                    best = Some((l, e, w[0], w[1]));
+                }
+            }
+        }
+        match best {
+            Some((_, e, u, v)) => self.split_edge(dt, e, u, v),
+            None => Ok(false),
         }
     }
 

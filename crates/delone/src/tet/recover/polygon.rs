@@ -1,0 +1,394 @@
+//! Merged coplanar groups recovered as **polygon facets** (constrained
+//! path).
+//!
+//! A group of coplanar input triangles merged by the `merge` module covers
+//! a planar polygon `P` (maybe with holes). Only the polygon matters, not
+//! how it is triangulated, so:
+//!
+//! * **segments** are the group's *boundary* edges only — edges of its
+//!   triangles not shared by exactly two of them (shared with a triangle
+//!   off the plane, or non-manifold). The edges inside the group are
+//!   *soft*: their chains are emptied ([`Polygons::new`]), so they are
+//!   never missing subsegments, never protected from flips and never
+//!   split. Steiner points on a group's boundary split a segment, exactly
+//!   as on any other input edge (the `place` module);
+//! * the group is **recovered** when the mesh faces on its plane inside
+//!   `P` cover `P` exactly ([`Polygons::cover`]): the faces whose three
+//!   vertices lie on the group (corners of its triangles, Steiner points
+//!   on its boundary, Steiner points inside its triangles) are the
+//!   candidates; a flood fill starts, for every boundary subsegment, from
+//!   the candidate face on its inner side (exact `orient2d` in the plane's
+//!   projection) and crosses only edges that are not boundary
+//!   subsegments. `P` is covered when every boundary subsegment has its
+//!   inner face and every other edge of a reached face has exactly one
+//!   other candidate face: the reached faces then form a 2-chain whose
+//!   boundary (mod 2) is `∂P`, so (faces of a tetrahedralization never
+//!   overlap) they cover `P` exactly once. A reached face cannot leave
+//!   `P`: `∂P` is then made of mesh edges, and no mesh face is crossed by
+//!   a mesh edge;
+//! * the faces on a covered group are all listed on the group's first
+//!   triangle (its *representative*): the output names that triangle
+//!   ([`super::Recovered::boundary_triangle`]), whose input triangle
+//!   (`surface_origin`) carries the group's marker, and
+//!   [`super::check_recovered`] checks the union per group.
+//!
+//! When the flips cannot cover a group, points are inserted where a mesh
+//! edge still crosses one of its triangles (the rounds of the constrained
+//! recovery, `place::facet_point`, Shewchuk's rule: a point encroaching a
+//! boundary subsegment splits the subsegment instead). Such a point is on
+//! the plane up to rounding only (a rational point of the plane is not
+//! representable in `f64` in general); it is recorded as inexact with its
+//! deviation, like every Steiner point inside an input triangle. Points on
+//! boundary segments are placed by `place::edge_point` (exact when the
+//! segment allows it). On the corpus, the flips make interior points rare.
+
+use delone_predicates::orient2d;
+
+use super::merge::{proj, projection};
+use super::missing::{ekey, fkey};
+use super::place::{cross, dot, sub};
+use super::surface::{IdMap, IdSet, Kind, Surface};
+use crate::tet::local::FACET;
+
+/// One merged group.
+#[derive(Debug, Clone)]
+pub(crate) struct Group {
+    /// Its triangles (surface indices, ascending); the first is the
+    /// representative.
+    pub(crate) tris: Vec<u32>,
+    /// Its boundary edge uses: (surface edge, whether a triangle of the
+    /// group runs along it from `edges[e][0]` to `edges[e][1]`). The
+    /// group lies on the left of each use, in its orientation.
+    pub(crate) bnd: Vec<(u32, bool)>,
+    /// Axis dropped by the projection to the plane, and the sign of the
+    /// projected orientation of the group's triangles.
+    k: usize,
+    sign: f64,
+}
+
+/// The merged groups of a surface (see the module notes).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Polygons {
+    /// Per surface triangle: its group, or `u32::MAX`.
+    pub(crate) of_tri: Vec<u32>,
+    /// The groups.
+    pub(crate) groups: Vec<Group>,
+}
+
+/// What [`Polygons::cover`] found for one group.
+pub(crate) struct Cover {
+    /// The faces reached by the flood fill (sorted triples, sorted).
+    pub(crate) faces: Vec<[u32; 3]>,
+    /// Whether they cover the polygon exactly.
+    pub(crate) covered: bool,
+    /// Boundary subsegments with no face on their inner side: (edge, and
+    /// its ends in chain order).
+    pub(crate) bare: Vec<(u32, u32, u32)>,
+}
+
+impl Polygons {
+    /// The groups of `surf` given `origin` (per surface triangle, the
+    /// input triangle naming its group: groups are the sets of two or more
+    /// triangles with one origin), with `pts` the (scaled) points. Empties
+    /// the chains of the soft edges of `surf`.
+    pub(crate) fn new(surf: &mut Surface, origin: &[u32], pts: &[[f64; 3]]) -> Polygons {
+        let n = surf.tris.len();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&t| (origin.get(t as usize).copied().unwrap_or(t), t));
+        let mut of_tri = vec![u32::MAX; n];
+        let mut groups: Vec<Group> = Vec::new();
+        let mut i = 0;
+        while i < order.len() {
+            let o = |t: u32| origin.get(t as usize).copied().unwrap_or(t);
+            let mut j = i + 1;
+            while j < order.len() && o(order[j]) == o(order[i]) {
+                j += 1;
+            }
+            if j - i >= 2 {
+                let tris: Vec<u32> = order[i..j].to_vec();
+                let [a, b, c] = surf.tris[tris[0] as usize].map(|w| &pts[w as usize]);
+                if let Some((k, sign)) = projection(a, b, c) {
+                    let g = groups.len() as u32;
+                    for &t in &tris {
+                        of_tri[t as usize] = g;
+                    }
+                    groups.push(Group {
+                        tris,
+                        bnd: Vec::new(),
+                        k,
+                        sign,
+                    });
+                }
+            }
+            i = j;
+        }
+        // Soft edges: in exactly two triangles, both of one group.
+        let mut soft = vec![false; surf.edges.len()];
+        for (e, ts) in surf.edge_tris.iter().enumerate() {
+            if ts.len() == 2 {
+                let g = of_tri[ts[0] as usize];
+                soft[e] = g != u32::MAX && g == of_tri[ts[1] as usize] && ts[0] != ts[1];
+            }
+        }
+        for (g, grp) in groups.iter_mut().enumerate() {
+            for &t in &grp.tris {
+                let tv = surf.tris[t as usize];
+                for k in 0..3 {
+                    let e = surf.tri_edges[t as usize][k];
+                    if !soft[e as usize] {
+                        grp.bnd.push((e, tv[k] == surf.edges[e as usize][0]));
+                    }
+                }
+            }
+            grp.bnd.sort_unstable();
+            debug_assert!(grp.tris.iter().all(|&t| of_tri[t as usize] == g as u32));
+        }
+        for (e, s) in soft.iter().enumerate() {
+            if *s {
+                surf.chains[e].clear();
+            }
+        }
+        Polygons { of_tri, groups }
+    }
+
+    /// The group of surface triangle `t`.
+    #[inline]
+    pub(crate) fn group(&self, t: usize) -> Option<u32> {
+        self.of_tri.get(t).copied().filter(|&g| g != u32::MAX)
+    }
+
+    /// True when there is no group.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.groups.is_empty()
+    }
+
+    /// The groups vertex `w` lies on (pushed to `out`, maybe repeated).
+    fn vertex_groups(&self, surf: &Surface, w: u32, out: &mut Vec<u32>) {
+        if let Some(l) = surf.vtris.get(w as usize) {
+            out.extend(l.iter().filter_map(|&t| self.group(t as usize)));
+        }
+    }
+
+    /// The groups on which all three vertices of face `f` lie, ascending.
+    pub(crate) fn face_groups(&self, surf: &Surface, f: [u32; 3]) -> Vec<u32> {
+        let mut a = Vec::new();
+        self.vertex_groups(surf, f[0], &mut a);
+        if a.is_empty() {
+            return a;
+        }
+        a.sort_unstable();
+        a.dedup();
+        let mut b = Vec::new();
+        for &w in &f[1..] {
+            b.clear();
+            self.vertex_groups(surf, w, &mut b);
+            a.retain(|g| b.contains(g));
+            if a.is_empty() {
+                break;
+            }
+        }
+        a
+    }
+
+    /// True when vertex `w` lies on group `g`.
+    fn on_group(&self, surf: &Surface, w: u32, g: u32) -> bool {
+        surf.vtris
+            .get(w as usize)
+            .is_some_and(|l| l.iter().any(|&t| self.group(t as usize) == Some(g)))
+    }
+
+    /// The vertices of group `g`: the corners of its triangles, the chains
+    /// of its boundary edges and `inner(t)` of its triangles. Sorted.
+    pub(crate) fn vertices(&self, surf: &Surface, g: u32, inner: &IdMap<u32, Vec<u32>>) -> Vec<u32> {
+        let grp = &self.groups[g as usize];
+        let mut out: Vec<u32> = Vec::new();
+        for &t in &grp.tris {
+            out.extend(surf.tris[t as usize]);
+            if let Some(l) = inner.get(&t) {
+                out.extend(l);
+            }
+        }
+        for &(e, _) in &grp.bnd {
+            out.extend(&surf.chains[e as usize]);
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Face `f` is three points of one boundary chain of the group.
+    fn flat(surf: &Surface, f: [u32; 3]) -> bool {
+        f.iter().any(|&w| match surf.kind.get(w as usize) {
+            Some(Kind::OnEdge(e)) => f.iter().all(|&x| on_edge(surf, x, *e)),
+            _ => false,
+        })
+    }
+
+    /// The coverage of group `g` (see the module notes) from `tets`: finite
+    /// tetrahedra including every one with a face on the group (repeats
+    /// allowed).
+    pub(crate) fn cover(
+        &self,
+        surf: &Surface,
+        g: u32,
+        tets: &[[u32; 4]],
+        pts: &[[f64; 3]],
+    ) -> Cover {
+        let grp = &self.groups[g as usize];
+        let on = |w: u32| self.on_group(surf, w, g);
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        let mut flat: Vec<[u32; 3]> = Vec::new();
+        let mut drop: Vec<[u32; 3]> = Vec::new();
+        let [a, b, c] = surf.tris[grp.tris[0] as usize].map(|w| pts[w as usize]);
+        let nt = cross(&sub(&b, &a), &sub(&c, &a));
+        for tv in tets {
+            let ons = tv.map(on);
+            if ons.iter().filter(|&&x| x).count() < 3 {
+                continue;
+            }
+            for (f, idx) in FACET.iter().enumerate() {
+                if !ons[(f + 1) % 4] || !ons[(f + 2) % 4] || !ons[(f + 3) % 4] {
+                    continue;
+                }
+                let k = fkey(idx.map(|i| tv[i]));
+                if Self::flat(surf, k) {
+                    flat.push(k);
+                } else {
+                    faces.push(k);
+                }
+            }
+            if ons.iter().all(|&x| x) {
+                // A flat tetrahedron (inexact Steiner points): only its
+                // faces looking to the group's positive side count.
+                for fv in FACET {
+                    let [x, y, z] = fv.map(|i| pts[tv[i] as usize]);
+                    let n = cross(&sub(&z, &x), &sub(&y, &x));
+                    if dot(&n, &nt) <= 0.0 {
+                        drop.push(fkey(fv.map(|i| tv[i])));
+                    }
+                }
+            }
+        }
+        faces.sort_unstable();
+        faces.dedup();
+        drop.sort_unstable();
+        drop.dedup();
+        faces.retain(|f| drop.binary_search(f).is_err());
+        flat.sort_unstable();
+        flat.dedup();
+        // Boundary subsegments, directed with the group on their left.
+        let mut subs: Vec<(u32, u32, u32, bool)> = Vec::new();
+        for &(e, fwd) in &grp.bnd {
+            for w in surf.chains[e as usize].windows(2) {
+                subs.push(if fwd {
+                    (e, w[0], w[1], fwd)
+                } else {
+                    (e, w[1], w[0], fwd)
+                });
+            }
+        }
+        let bset: IdSet<(u32, u32)> = subs.iter().map(|&(_, u, v, _)| ekey(u, v)).collect();
+        // Chords (inexact Steiner points, see `Surface::coverage`): a flat
+        // face joins when one of its edges is a non-boundary edge of a face.
+        let mut edge_faces: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
+        let add = |edge_faces: &mut IdMap<(u32, u32), Vec<u32>>, f: [u32; 3], i: u32| {
+            for k in 0..3 {
+                edge_faces
+                    .entry(ekey(f[k], f[(k + 1) % 3]))
+                    .or_default()
+                    .push(i);
+            }
+        };
+        for (i, f) in faces.iter().enumerate() {
+            add(&mut edge_faces, *f, i as u32);
+        }
+        let n_plain = faces.len();
+        let mut changed = true;
+        while changed && !flat.is_empty() {
+            changed = false;
+            let mut rest = Vec::new();
+            for f in flat {
+                let chord = (0..3)
+                    .map(|k| ekey(f[k], f[(k + 1) % 3]))
+                    .any(|e| !bset.contains(&e) && edge_faces.contains_key(&e));
+                if chord {
+                    let i = faces.len() as u32;
+                    faces.push(f);
+                    add(&mut edge_faces, f, i);
+                    changed = true;
+                } else {
+                    rest.push(f);
+                }
+            }
+            flat = rest;
+        }
+        let p2 = |w: u32| proj(&pts[w as usize], grp.k);
+        let mut reached = vec![false; faces.len()];
+        let mut stack: Vec<u32> = Vec::new();
+        let mut bare = Vec::new();
+        let mut covered = true;
+        for &(e, u, v, fwd) in &subs {
+            let (pu, pv) = (p2(u), p2(v));
+            let seed = edge_faces.get(&ekey(u, v)).and_then(|l| {
+                l.iter().copied().find(|&i| {
+                    let f = faces[i as usize];
+                    let w = f.iter().copied().find(|&x| x != u && x != v).unwrap_or(u);
+                    let o = orient2d(&pu, &pv, &p2(w));
+                    o * grp.sign > 0.0 || (i as usize >= n_plain && o == 0.0)
+                })
+            });
+            match seed {
+                Some(i) => {
+                    if !reached[i as usize] {
+                        reached[i as usize] = true;
+                        stack.push(i);
+                    }
+                }
+                None => {
+                    covered = false;
+                    bare.push(if fwd { (e, u, v) } else { (e, v, u) });
+                }
+            }
+        }
+        while let Some(i) = stack.pop() {
+            let f = faces[i as usize];
+            for k in 0..3 {
+                let e = ekey(f[k], f[(k + 1) % 3]);
+                if bset.contains(&e) {
+                    continue;
+                }
+                let l = &edge_faces[&e];
+                if l.len() != 2 {
+                    covered = false;
+                    continue;
+                }
+                let j = if l[0] == i { l[1] } else { l[0] };
+                if !reached[j as usize] {
+                    reached[j as usize] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        let mut out: Vec<[u32; 3]> = faces
+            .iter()
+            .zip(&reached)
+            .filter(|(_, &r)| r)
+            .map(|(f, _)| *f)
+            .collect();
+        out.sort_unstable();
+        Cover {
+            covered: covered && !out.is_empty(),
+            faces: out,
+            bare,
+        }
+    }
+}
+
+/// Vertex `w` lies on input edge `e` (an end or a Steiner point on it).
+fn on_edge(surf: &Surface, w: u32, e: u32) -> bool {
+    match surf.kind.get(w as usize) {
+        Some(Kind::OnEdge(x)) => *x == e,
+        Some(Kind::Input) | None => surf.edges[e as usize].contains(&w),
+        Some(Kind::OnTri(_)) => false,
+    }
+}
