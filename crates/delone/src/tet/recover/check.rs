@@ -79,6 +79,10 @@ pub fn check_recovered(
         super::merge::check_surface(points, triangles, rec)?;
         &rec.surface
     };
+    // Coverage units: a merged group (two or more surface triangles with
+    // one origin) is checked as one polygon, named by its first triangle;
+    // any other triangle by itself.
+    let unit = units(triangles.len(), &rec.surface_origin);
     let (scaled, s) = crate::geom::rescaled(&rec.points);
     let sp = &scaled[..];
     let n = sp.len();
@@ -224,6 +228,8 @@ pub fn check_recovered(
             }
         }
         let want_side = if on_boundary { 1 } else { 2 };
+        let grouped = unit.get(ti as usize).is_some_and(|&u| u.1);
+        let ti = unit.get(ti as usize).map_or(ti, |&u| u.0);
         if let Some(sd) = side.get_mut(ti as usize) {
             if *sd != 0 && *sd != want_side {
                 return bad(
@@ -257,7 +263,9 @@ pub fn check_recovered(
                     format!("boundary face {bi}: vertex {q} is off the plane of triangle {ti}"),
                 );
             }
-            if !tri.contains(&q) && !inside_closed(&ta, &tb, &tc, &p) {
+            // A merged group's faces are checked against its polygon by
+            // the union test below.
+            if !grouped && !tri.contains(&q) && !inside_closed(&ta, &tb, &tc, &p) {
                 return bad(
                     "constraint",
                     format!("boundary face {bi}: vertex {q} is outside triangle {ti}"),
@@ -271,8 +279,12 @@ pub fn check_recovered(
     // removed parts), which needs a hole or internal facets.
     let man = crate::tet::intersect::manifold_report(triangles);
     let may_vanish = rec.report.holes_removed > 0 || !man.nonmanifold_edges.is_empty();
+    let members = unit_members(&unit);
     for (ti, faces) in per_tri.iter().enumerate() {
-        let tri = triangles[ti];
+        if unit[ti].0 != ti as u32 {
+            continue;
+        }
+        let mem: Vec<[u32; 3]> = members[ti].iter().map(|&t| triangles[t as usize]).collect();
         if faces.is_empty() && may_vanish {
             continue;
         }
@@ -286,9 +298,14 @@ pub fn check_recovered(
             let n = cross(&sub(&b, &a), &sub(&c, &a));
             area += 0.5 * dot(&n, &n).sqrt();
         }
-        let [a, b, c] = tri.map(|q| sp[q as usize]);
-        let n = cross(&sub(&b, &a), &sub(&c, &a));
-        let want = 0.5 * dot(&n, &n).sqrt();
+        let want: f64 = mem
+            .iter()
+            .map(|tri| {
+                let [a, b, c] = tri.map(|q| sp[q as usize]);
+                let n = cross(&sub(&b, &a), &sub(&c, &a));
+                0.5 * dot(&n, &n).sqrt()
+            })
+            .sum();
         if (area - want).abs() > 1e-9 * want {
             return bad(
                 "constraint",
@@ -310,15 +327,28 @@ pub fn check_recovered(
         }
         once.sort_unstable();
         let mut used = 0;
-        for k in 0..3 {
-            let (x, y) = (tri[k], tri[(k + 1) % 3]);
+        let sides: Vec<(u32, u32)> = if mem.len() == 1 {
+            let tri = mem[0];
+            (0..3).map(|k| (tri[k], tri[(k + 1) % 3])).collect()
+        } else {
+            super::merge::oriented_boundary(&mem)
+        };
+        for (x, y) in sides {
             let (px, py) = (sp[x as usize], sp[y as usize]);
+            let d = sub(&py, &px);
+            // On the closed side x–y (for a polygon, collinear sides
+            // elsewhere must not count).
+            let within = |p: &[f64; 3]| {
+                let s = dot(&sub(p, &px), &d);
+                s >= 0.0 && s <= dot(&d, &d)
+            };
             let on_side = |q: u32| {
                 let p = sp[q as usize];
                 q == x
                     || q == y
-                    || collinear(&px, &py, &p)
-                    || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev)
+                    || (within(&p)
+                        && (collinear(&px, &py, &p)
+                            || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev)))
             };
             let side: Vec<(u32, u32)> = once
                 .iter()
@@ -380,14 +410,17 @@ pub fn check_recovered(
         let tri = triangles[ti];
         // The orientation of the triangle's boundary faces, by their summed
         // (area-weighted) normals: tiny faces next to inexact Steiner
-        // points may lean either way.
+        // points may lean either way. (A merged group's triangles share
+        // its faces and its orientation.)
         let n = normal(&tri, &rec.points);
         let d: f64 = faces.iter().map(|f| dot(&n, &normal(f, &rec.points))).sum();
         let sign = if d > 0.0 { 1.0 } else { -1.0 };
-        let [a, b, c] = tri.map(|q| rec.points[q as usize]);
-        let term = dot(&a, &cross(&b, &c)) / 6.0;
-        want += sign * term;
-        scale += term.abs();
+        for &t in &members[ti] {
+            let [a, b, c] = triangles[t as usize].map(|q| rec.points[q as usize]);
+            let term = dot(&a, &cross(&b, &c)) / 6.0;
+            want += sign * term;
+            scale += term.abs();
+        }
     }
     let region_sum: f64 = rec.regions.iter().map(|r| r.volume).sum();
     if (vol - want).abs() > 1e-9 * scale.max(vol.abs()).max(f64::MIN_POSITIVE)
@@ -401,6 +434,32 @@ pub fn check_recovered(
         );
     }
     Ok(())
+}
+
+/// Per surface triangle: its coverage unit (the first triangle of its
+/// merged group, or itself) and whether it is in a merged group (two or
+/// more triangles with one origin).
+fn units(n: usize, origin: &[u32]) -> Vec<(u32, bool)> {
+    let mut first: HashMap<u32, (u32, usize)> = HashMap::new();
+    for (t, &o) in origin.iter().enumerate().take(n) {
+        let e = first.entry(o).or_insert((t as u32, 0));
+        e.1 += 1;
+    }
+    (0..n)
+        .map(|t| match origin.get(t).and_then(|o| first.get(o)) {
+            Some(&(f, c)) if c >= 2 => (f, true),
+            _ => (t as u32, false),
+        })
+        .collect()
+}
+
+/// Per unit (indexed by its first triangle): its triangles, ascending.
+fn unit_members(unit: &[(u32, bool)]) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); unit.len()];
+    for (t, &(u, _)) in unit.iter().enumerate() {
+        out[u as usize].push(t as u32);
+    }
+    out
 }
 
 fn normal(t: &[u32; 3], pts: &[[f64; 3]]) -> [f64; 3] {

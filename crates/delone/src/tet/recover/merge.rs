@@ -449,7 +449,7 @@ fn fkey_rot(mut t: [u32; 3]) -> [u32; 3] {
 
 /// Directed edges of `tris` whose reverse is not among them (the oriented
 /// boundary of the group), sorted, with multiplicity.
-fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
+pub(super) fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
     let mut count: HashMap<(u32, u32), i64> = HashMap::new();
     for tv in tris {
         for k in 0..3 {
