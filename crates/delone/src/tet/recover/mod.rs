@@ -1120,7 +1120,12 @@ impl State {
     ) {
         let sk = Skeleton::of(dt, true);
         let (mut g_on, mut g_covered) = self.surf.coverage(&sk, dt.points());
-        self.groups_global(sk.tets.iter().copied(), dt.points(), &mut g_on, &mut g_covered);
+        self.groups_global(
+            sk.tets.iter().copied(),
+            dt.points(),
+            &mut g_on,
+            &mut g_covered,
+        );
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
         for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
             let (mut a, mut b) = (a.clone(), b.clone());
@@ -1440,15 +1445,25 @@ impl State {
             return;
         }
         let mut bucket: Vec<Vec<[u32; 4]>> = vec![Vec::new(); self.poly.groups.len()];
+        let mut gs: Vec<u32> = Vec::new();
         for tv in tets {
-            let mut gs: Vec<u32> = Vec::new();
-            for fv in FACET {
-                gs.extend(self.poly.face_groups(&self.surf, fv.map(|i| tv[i])));
+            // Every face holds the first or the second vertex.
+            gs.clear();
+            self.poly.vertex_groups(&self.surf, tv[0], &mut gs);
+            self.poly.vertex_groups(&self.surf, tv[1], &mut gs);
+            if gs.is_empty() {
+                continue;
             }
             gs.sort_unstable();
             gs.dedup();
-            for g in gs {
-                bucket[g as usize].push(tv);
+            for &g in &gs {
+                let n = tv
+                    .iter()
+                    .filter(|&&w| self.poly.on_group(&self.surf, w, g))
+                    .count();
+                if n >= 3 {
+                    bucket[g as usize].push(tv);
+                }
             }
         }
         for (g, tets) in bucket.iter().enumerate() {
@@ -1481,8 +1496,7 @@ impl State {
                 };
                 let pts = cm.pts();
                 let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
-                let (x, dev) =
-                    place::facet_point(&a, &b, &c, &pts[p as usize], &pts[q as usize]);
+                let (x, dev) = place::facet_point(&a, &b, &c, &pts[p as usize], &pts[q as usize]);
                 progress |= self.insert_in_facet(dt, t, x, dev)?;
             }
             if progress {

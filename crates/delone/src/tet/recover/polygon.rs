@@ -163,7 +163,7 @@ impl Polygons {
     }
 
     /// The groups vertex `w` lies on (pushed to `out`, maybe repeated).
-    fn vertex_groups(&self, surf: &Surface, w: u32, out: &mut Vec<u32>) {
+    pub(crate) fn vertex_groups(&self, surf: &Surface, w: u32, out: &mut Vec<u32>) {
         if let Some(l) = surf.vtris.get(w as usize) {
             out.extend(l.iter().filter_map(|&t| self.group(t as usize)));
         }
@@ -191,7 +191,7 @@ impl Polygons {
     }
 
     /// True when vertex `w` lies on group `g`.
-    fn on_group(&self, surf: &Surface, w: u32, g: u32) -> bool {
+    pub(crate) fn on_group(&self, surf: &Surface, w: u32, g: u32) -> bool {
         surf.vtris
             .get(w as usize)
             .is_some_and(|l| l.iter().any(|&t| self.group(t as usize) == Some(g)))
@@ -199,7 +199,12 @@ impl Polygons {
 
     /// The vertices of group `g`: the corners of its triangles, the chains
     /// of its boundary edges and `inner(t)` of its triangles. Sorted.
-    pub(crate) fn vertices(&self, surf: &Surface, g: u32, inner: &IdMap<u32, Vec<u32>>) -> Vec<u32> {
+    pub(crate) fn vertices(
+        &self,
+        surf: &Surface,
+        g: u32,
+        inner: &IdMap<u32, Vec<u32>>,
+    ) -> Vec<u32> {
         let grp = &self.groups[g as usize];
         let mut out: Vec<u32> = Vec::new();
         for &t in &grp.tris {
@@ -375,9 +380,23 @@ impl Polygons {
             .filter(|(_, &r)| r)
             .map(|(f, _)| *f)
             .collect();
+        covered &= !out.is_empty();
+        if !covered {
+            // With a gap in the boundary the fill may have left the
+            // polygon: keep only faces inside one of its triangles (these
+            // are protected from flips by the recovery).
+            out.retain(|f| {
+                let l = |w: u32| surf.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
+                l(f[0]).iter().any(|t| {
+                    self.group(*t as usize) == Some(g)
+                        && l(f[1]).binary_search(t).is_ok()
+                        && l(f[2]).binary_search(t).is_ok()
+                })
+            });
+        }
         out.sort_unstable();
         Cover {
-            covered: covered && !out.is_empty(),
+            covered,
             faces: out,
             bare,
         }
