@@ -185,3 +185,85 @@ fn tampered_surfaces_are_rejected() {
     bad.surface_origin.remove(0);
     assert!(check_recovered(&pts, &tris, &bad).is_err());
 }
+
+/// A merged group is recovered as one polygon: its faces are listed on its
+/// first surface triangle, and `check_recovered` checks their union against
+/// the group — faces relabelled to a coplanar neighbouring group (another
+/// marker) break both groups' unions and are rejected.
+#[test]
+fn groups_are_checked_as_polygons() {
+    let (pts, tris) = grid_cube(2);
+    // The side x = 0 (triangles 0..8) becomes two groups: 0..4 and 4..8.
+    let mut markers = vec![1; tris.len()];
+    for m in markers.iter_mut().take(4) {
+        *m = 2;
+    }
+    let r = recover_marked(
+        &pts,
+        &tris,
+        &markers,
+        &RecoverOptions::default(),
+        &Domain::default(),
+    )
+    .unwrap();
+    check_recovered(&pts, &tris, &r).unwrap();
+    let first = |o: u32| r.surface_origin.iter().position(|&x| x == o).unwrap() as u32;
+    let (a, b) = (first(0), first(4));
+    // Every face of a group names its first triangle.
+    let group_of = |t: u32| r.surface_origin[t as usize];
+    assert!(r.boundary_triangle.iter().all(|&t| t == first(group_of(t))));
+    let on_a = r.boundary_triangle.iter().filter(|&&t| t == a).count();
+    assert!(on_a >= 4);
+    // Naming another triangle of the same group is fine.
+    let mut ok = r.clone();
+    let other_a = (0..r.surface.len() as u32)
+        .find(|&t| group_of(t) == 0 && t != a)
+        .unwrap();
+    for t in ok.boundary_triangle.iter_mut().filter(|t| **t == a) {
+        *t = other_a;
+    }
+    check_recovered(&pts, &tris, &ok).unwrap();
+    // Moving one face of group A to group B (same plane) breaks the unions.
+    let mut bad = r.clone();
+    let i = bad.boundary_triangle.iter().position(|&t| t == a).unwrap();
+    bad.boundary_triangle[i] = b;
+    let e = check_recovered(&pts, &tris, &bad).unwrap_err();
+    assert!(format!("{e:?}").contains("constraint"), "{e:?}");
+}
+
+/// cgal_oblong (840 triangles, many coplanar groups): recovering each
+/// merged group as a polygon needs no more Steiner points than TetGen's
+/// `-p` (18); recovering the groups' triangles needed 559.
+#[test]
+fn oblong_needs_few_steiner_points() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/surf/off/cgal_oblong.off"
+    );
+    let Ok(text) = std::fs::read_to_string(path) else {
+        println!("{path} not found; skipping");
+        return;
+    };
+    let mut toks = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .flat_map(str::split_whitespace);
+    assert_eq!(toks.next(), Some("OFF"));
+    let mut num = || toks.next().unwrap().parse::<f64>().unwrap();
+    let (nv, nf, _) = (num() as usize, num() as usize, num());
+    let pts: Vec<[f64; 3]> = (0..nv).map(|_| [num(), num(), num()]).collect();
+    let tris: Vec<[u32; 3]> = (0..nf)
+        .map(|_| {
+            assert_eq!(num(), 3.0);
+            [num() as u32, num() as u32, num() as u32]
+        })
+        .collect();
+    let r = checked(&pts, &tris, &RecoverOptions::default());
+    println!(
+        "cgal_oblong: {} Steiner points, {} groups",
+        r.report.steiner(),
+        r.report.coplanar_groups
+    );
+    assert!(r.report.steiner() <= 18);
+    assert!(r.report.coplanar_groups > 100);
+}

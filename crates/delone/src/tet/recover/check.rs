@@ -52,6 +52,10 @@ pub(crate) fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
 ///   from end to end, every other edge is used twice, and the areas add up.
 ///   A triangle may have no face only when a hole removed a region or the
 ///   input has internal facets (both its sides are then outside the domain);
+///   a merged coplanar group (two or more `surface` triangles with one
+///   `surface_origin`) is checked the same way as one polygon: its faces'
+///   vertices on its plane, edges used once chaining its boundary sides,
+///   other edges used twice, areas adding up;
 /// * regions: every tetrahedron names one, the regions' volumes add up;
 /// * the tetrahedra's volume equals the volume bounded by the input
 ///   triangles on the boundary, each oriented like its boundary faces (so

@@ -72,6 +72,13 @@
 //! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds, then
 //! [`RecoverError::Unrecovered`].
 //!
+//! On the constrained path, each group of coplanar triangles merged by
+//! [`RecoverOptions::merge_coplanar`] is recovered as **one polygon
+//! facet** (the private `polygon` module): only its boundary edges are
+//! segments, the edges inside it need not be mesh edges, and it is covered
+//! when the mesh faces on its plane inside it cover it exactly (a flood
+//! fill bounded by its boundary subsegments).
+//!
 //! Exact coverage test: the mesh faces whose three vertices all lie on input
 //! triangle `T` (as recorded when they were created) and are not three
 //! points of one edge of `T` are the faces on `T`. `T` is covered when the
@@ -254,7 +261,10 @@ pub struct Recovered {
     pub boundary: Vec<[u32; 3]>,
     /// For each boundary face, the index **in `surface`** of the triangle
     /// it lies on ([`crate::NONE`] for a hull face off the surface); the
-    /// input triangle is `surface_origin[boundary_triangle[i]]`.
+    /// input triangle is `surface_origin[boundary_triangle[i]]`. With the
+    /// constrained recovery, a merged coplanar group is recovered as one
+    /// polygon: its faces need not lie inside single triangles of the
+    /// group, and all name the group's first triangle in `surface`.
     pub boundary_triangle: Vec<u32>,
     /// Faces on input triangles between two tetrahedra of the domain
     /// (internal facets, region interfaces), each once, oriented outward
@@ -524,14 +534,7 @@ pub fn recover_marked(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
-        // The constrained path recovers each merged group as one polygon
-        // (the `polygon` module); the conforming path needs the group's
-        // triangles themselves, so their edges are adapted to the flips.
-        let mut m = merge::merge(points, triangles, markers, &dt);
-        if opts.constrained && !merge::POLYGONS {
-            merge::adapt(points, &mut m, &dt);
-        }
-        m
+        merge::merge(points, triangles, markers, &dt)
     } else {
         merge::Merged::identity(triangles)
     };
@@ -550,7 +553,8 @@ pub fn recover_marked(
         cavity_best: (usize::MAX, 0),
         poly: polygon::Polygons::default(),
     };
-    if opts.constrained && !opts.preserve_surface && merge::POLYGONS {
+    if opts.constrained && !opts.preserve_surface {
+        // Each merged group is recovered as one polygon facet.
         st.poly = polygon::Polygons::new(&mut st.surf, &merged.origin, dt.points());
     }
     // Unrecovered triangles are named by input index.
