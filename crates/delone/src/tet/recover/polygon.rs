@@ -133,10 +133,10 @@ impl Polygons {
         for (g, grp) in groups.iter_mut().enumerate() {
             for &t in &grp.tris {
                 let tv = surf.tris[t as usize];
-                for k in 0..3 {
-                    let e = surf.tri_edges[t as usize][k];
+                // Edge k of `t` runs from tv[k] to tv[k + 1].
+                for (&e, &from) in surf.tri_edges[t as usize].iter().zip(&tv) {
                     if !soft[e as usize] {
-                        grp.bnd.push((e, tv[k] == surf.edges[e as usize][0]));
+                        grp.bnd.push((e, from == surf.edges[e as usize][0]));
                     }
                 }
             }
