@@ -198,14 +198,35 @@ impl Cdr {
             }
         }
         let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
+        // A merged coplanar group's faces all name its first triangle
+        // (`Recovered::boundary_triangle`): its subsegments lie on the sides
+        // of any of its triangles (same `surface_origin`).
+        let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
+        for (t, &o) in rec.surface_origin.iter().enumerate().take(triangles.len()) {
+            members.entry(o).or_default().push(t as u32);
+        }
         let mut segs: HashMap<(u32, u32), u32> = HashMap::new();
         for (t, faces) in per_tri.iter().enumerate() {
+            if faces.is_empty() {
+                continue;
+            }
+            let sides: Vec<[u32; 2]> = rec
+                .surface_origin
+                .get(t)
+                .and_then(|o| members.get(o))
+                .filter(|m| m.len() >= 2)
+                .map_or_else(|| vec![t as u32], |m| m.clone())
+                .iter()
+                .flat_map(|&u| {
+                    let tri = triangles[u as usize];
+                    (0..3).map(move |k| [tri[k], tri[(k + 1) % 3]])
+                })
+                .collect();
             let mut es: Vec<(u32, u32)> = faces
                 .iter()
                 .flat_map(|k| [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])])
                 .collect();
             es.sort_unstable();
-            let tri = triangles[t];
             let mut i = 0;
             while i < es.len() {
                 let mut j = i;
@@ -214,8 +235,10 @@ impl Cdr {
                 }
                 if j - i == 1 {
                     let e = es[i];
+                    // Distance to the side's line (relative), plus 1 when
+                    // off the side's extent (collinear sides of a polygon).
                     let score = |k: usize| {
-                        let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                        let [a, b] = sides[k];
                         let (pa, pb) = (p[a as usize], p[b as usize]);
                         let l = dist2(&pa, &pb).sqrt();
                         [e.0, e.1]
@@ -224,15 +247,18 @@ impl Cdr {
                                 if q == a || q == b {
                                     0.0
                                 } else {
-                                    line_distance(&pa, &pb, &p[q as usize]) / l
+                                    let pq = p[q as usize];
+                                    let s = dot(&sub(&pq, &pa), &sub(&pb, &pa)) / (l * l);
+                                    let off = if (0.0..=1.0).contains(&s) { 0.0 } else { 1.0 };
+                                    line_distance(&pa, &pb, &pq) / l + off
                                 }
                             })
                             .fold(0.0, f64::max)
                     };
-                    let k = (0..3)
+                    let k = (0..sides.len())
                         .min_by(|&x, &y| score(x).total_cmp(&score(y)))
                         .unwrap_or(0);
-                    let ie = emap[&ekey(tri[k], tri[(k + 1) % 3])];
+                    let ie = emap[&ekey(sides[k][0], sides[k][1])];
                     segs.entry(e).or_insert(ie);
                 }
                 i = j;
