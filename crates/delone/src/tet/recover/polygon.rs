@@ -48,7 +48,10 @@ use super::merge::{proj, projection};
 use super::missing::{ekey, fkey};
 use super::place::{cross, dot, sub};
 use super::surface::{IdMap, IdSet, Kind, Surface};
-use crate::tet::local::FACET;
+use super::{RecoverError, State};
+use crate::tet::cmesh::CMesh;
+use crate::tet::local::{DEAD, FACET, INF};
+use crate::tet::Delaunay3;
 
 /// One merged group.
 #[derive(Debug, Clone)]
@@ -409,5 +412,129 @@ fn on_edge(surf: &Surface, w: u32, e: u32) -> bool {
         Some(Kind::OnEdge(x)) => *x == e,
         Some(Kind::Input) | None => surf.edges[e as usize].contains(&w),
         Some(Kind::OnTri(_)) => false,
+    }
+}
+
+/// The recovery's use of the groups (hooks called from the rounds).
+impl State {
+    /// Stores the coverage of group `g`: its faces on its first triangle,
+    /// its verdict on all of them.
+    pub(super) fn set_group(
+        &self,
+        g: u32,
+        c: Cover,
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        let tris = &self.poly.groups[g as usize].tris;
+        for &t in tris {
+            on[t as usize].clear();
+            covered[t as usize] = c.covered;
+        }
+        on[tris[0] as usize] = c.faces;
+    }
+
+    /// The coverage of every group, from all finite tetrahedra `tets`.
+    pub(super) fn groups_global(
+        &self,
+        tets: impl Iterator<Item = [u32; 4]>,
+        pts: &[[f64; 3]],
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        if self.poly.is_empty() {
+            return;
+        }
+        let mut bucket: Vec<Vec<[u32; 4]>> = vec![Vec::new(); self.poly.groups.len()];
+        let mut gs: Vec<u32> = Vec::new();
+        for tv in tets {
+            // Every face holds the first or the second vertex.
+            gs.clear();
+            self.poly.vertex_groups(&self.surf, tv[0], &mut gs);
+            self.poly.vertex_groups(&self.surf, tv[1], &mut gs);
+            if gs.is_empty() {
+                continue;
+            }
+            gs.sort_unstable();
+            gs.dedup();
+            for &g in &gs {
+                let n = tv
+                    .iter()
+                    .filter(|&&w| self.poly.on_group(&self.surf, w, g))
+                    .count();
+                if n >= 3 {
+                    bucket[g as usize].push(tv);
+                }
+            }
+        }
+        for (g, tets) in bucket.iter().enumerate() {
+            let c = self.poly.cover(&self.surf, g as u32, tets, pts);
+            self.set_group(g as u32, c, on, covered);
+        }
+    }
+
+    /// Steiner points for merged group `g`, which the flips on `cm` could
+    /// not cover (`dt_covered`: it was covered in `dt`): where a mesh edge
+    /// of `cm` still crosses one of its triangles (or the boundary
+    /// subsegment that point encroaches); else a boundary subsegment with
+    /// no face on its inner side, else its longest boundary subsegment.
+    pub(super) fn split_group(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        cm: &CMesh<'_>,
+        g: u32,
+        dt_covered: bool,
+    ) -> Result<bool, RecoverError> {
+        let tris = self.poly.groups[g as usize].tris.clone();
+        let mut progress = false;
+        if !dt_covered {
+            for &t in &tris {
+                let t = t as usize;
+                let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                let cross = super::cdt::crossing_edges(cm, &self.surf, t, &inner);
+                let Some(&((p, q), _)) = cross.first() else {
+                    continue;
+                };
+                let pts = cm.pts();
+                let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+                let (x, dev) =
+                    super::place::facet_point(&a, &b, &c, &pts[p as usize], &pts[q as usize]);
+                progress |= self.insert_in_facet(dt, t, x, dev)?;
+            }
+            if progress {
+                return Ok(true);
+            }
+            let mut slots: Vec<u32> = Vec::new();
+            for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
+                slots.extend(cm.star(w));
+            }
+            slots.sort_unstable();
+            slots.dedup();
+            let core = &cm.dt.core;
+            let tets: Vec<[u32; 4]> = slots
+                .iter()
+                .map(|&x| core.v[x as usize])
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .collect();
+            let c = self.poly.cover(&self.surf, g, &tets, cm.pts());
+            if let Some(&(e, u, v)) = c.bare.first() {
+                return self.split_edge(dt, e, u, v);
+            }
+        }
+        let pts = dt.points();
+        let mut best: Option<(f64, u32, u32, u32)> = None;
+        for &(e, _) in &self.poly.groups[g as usize].bnd {
+            for w in self.surf.chains[e as usize].windows(2) {
+                let d = sub(&pts[w[0] as usize], &pts[w[1] as usize]);
+                let l = dot(&d, &d);
+                if best.is_none_or(|b| l > b.0) {
+                    best = Some((l, e, w[0], w[1]));
+                }
+            }
+        }
+        match best {
+            Some((_, e, u, v)) => self.split_edge(dt, e, u, v),
+            None => Ok(false),
+        }
     }
 }
