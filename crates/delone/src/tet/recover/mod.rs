@@ -1407,23 +1407,7 @@ impl State {
             on[t] = f;
             covered[t] = c;
         }
-        groups.sort_unstable();
-        groups.dedup();
-        for g in groups {
-            slots.clear();
-            for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
-                slots.extend(cm.star(w));
-            }
-            slots.sort_unstable();
-            slots.dedup();
-            let tets: Vec<[u32; 4]> = slots
-                .iter()
-                .map(|&x| core.v[x as usize])
-                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-                .collect();
-            let c = self.poly.cover(&self.surf, g, &tets, cm.pts());
-            self.set_group(g, c, on, covered);
-        }
+        self.groups_local(cm, groups, on, covered);
     }
 
     /// The input triangles using the input edges of `subs`, ascending.

@@ -417,6 +417,41 @@ fn on_edge(surf: &Surface, w: u32, e: u32) -> bool {
 
 /// The recovery's use of the groups (hooks called from the rounds).
 impl State {
+    /// The finite tetrahedra of `cm` around the vertices of group `g`.
+    fn group_tets(&self, cm: &CMesh<'_>, g: u32) -> Vec<[u32; 4]> {
+        let mut slots: Vec<u32> = Vec::new();
+        for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
+            slots.extend(cm.star(w));
+        }
+        slots.sort_unstable();
+        slots.dedup();
+        let core = &cm.dt.core;
+        slots
+            .iter()
+            .map(|&x| core.v[x as usize])
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .collect()
+    }
+
+    /// Recomputes the coverage of `groups` (repeats allowed) on `cm`,
+    /// locally.
+    pub(super) fn groups_local(
+        &self,
+        cm: &CMesh<'_>,
+        mut groups: Vec<u32>,
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
+        groups.sort_unstable();
+        groups.dedup();
+        for g in groups {
+            let c = self
+                .poly
+                .cover(&self.surf, g, &self.group_tets(cm, g), cm.pts());
+            self.set_group(g, c, on, covered);
+        }
+    }
+
     /// Stores the coverage of group `g`: its faces on its first triangle,
     /// its verdict on all of them.
     pub(super) fn set_group(
@@ -504,19 +539,9 @@ impl State {
             if progress {
                 return Ok(true);
             }
-            let mut slots: Vec<u32> = Vec::new();
-            for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
-                slots.extend(cm.star(w));
-            }
-            slots.sort_unstable();
-            slots.dedup();
-            let core = &cm.dt.core;
-            let tets: Vec<[u32; 4]> = slots
-                .iter()
-                .map(|&x| core.v[x as usize])
-                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-                .collect();
-            let c = self.poly.cover(&self.surf, g, &tets, cm.pts());
+            let c = self
+                .poly
+                .cover(&self.surf, g, &self.group_tets(cm, g), cm.pts());
             if let Some(&(e, u, v)) = c.bare.first() {
                 return self.split_edge(dt, e, u, v);
             }
