@@ -36,11 +36,15 @@
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
 //! at the end).
-//! Everything on the domain's boundary and on internal facets stays exactly
-//! as it is: boundary and interface faces are never destroyed and their
-//! vertices never move, every tetrahedron keeps its region, so the volume,
-//! the regions and [`super::recover::check_recovered`] are preserved. The
-//! order of work is deterministic (ties broken by slot).
+//! The domain's boundary and internal facets keep their faces: boundary and
+//! interface faces are never destroyed, input points never move, and a
+//! Steiner point of the surface moves only within its input triangle's
+//! plane or along its input edge, landing exactly on it (or, if the
+//! refinement had already rounded it off, within the reported deviation;
+//! see [`OptimizeOptions::smooth_boundary`]); every tetrahedron keeps its
+//! region, so the surface, the volume, the regions and
+//! [`super::recover::check_recovered`] are preserved. The order of work is
+//! deterministic (ties broken by slot).
 
 mod work;
 
@@ -51,7 +55,7 @@ use std::fmt;
 use super::quality::TetStats;
 use super::recover::{IdMap, IdSet, Recovered};
 use crate::NONE;
-use work::{fkey, Plan, Work, DEAD};
+use work::{fkey, Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
@@ -96,6 +100,14 @@ pub struct OptimizeOptions {
     pub flips: bool,
     /// Use vertex smoothing. Default true.
     pub smooth: bool,
+    /// Let smoothing move the Steiner points of the surface too: one inside
+    /// an input triangle within that triangle's plane, one on an input edge
+    /// along the edge (input points never move). A moved point lies exactly
+    /// on its plane or line (exact `orient3d` / collinearity) — or, when it
+    /// was already off it by rounding (listed in
+    /// [`Recovered::inexact`](super::recover::Recovered::inexact)), within
+    /// the reported deviation — else the move is refused. Default true.
+    pub smooth_boundary: bool,
     /// Insert vertices where nothing else helps. Default true.
     pub insert: bool,
     /// Most vertices inserted (in addition to the mesh's). Default: a
@@ -122,6 +134,7 @@ impl Default for OptimizeOptions {
             max_passes: 6,
             flips: true,
             smooth: true,
+            smooth_boundary: true,
             insert: true,
             max_inserted: None,
             effort: 100.0,
@@ -346,6 +359,12 @@ pub fn optimize(
         .min(rec.points.len());
     for f in &mut w.fixed[..n_in] {
         *f = true;
+    }
+    if opts.smooth_boundary {
+        set_slides(rec, n_in, &mut w, s);
+    }
+    for v in &mut w.slide[..n_in] {
+        *v = Slide::Fixed;
     }
     let target = opts.target_dihedral.clamp(0.0, 90.0);
     let thr_insert = (0.5 * target).to_radians().sin();
@@ -642,7 +661,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     let n0 = rec.points.len();
     for (i, p) in w.p.iter().enumerate() {
         if i < n0 {
-            if !w.fixed[i] {
+            if w.slide[i] != Slide::Fixed {
                 rec.points[i] = unscale(*p);
             }
         } else {
@@ -681,6 +700,59 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     rec.mesh.tets = tets;
     rec.mesh.neighbors = nbs;
     rec.tet_region = reg;
+}
+
+/// The sliding freedom of the Steiner points on the surface (see
+/// [`OptimizeOptions::smooth_boundary`]): a point whose surface faces all
+/// lie on one triangle of `rec.surface` slides in its plane, one on the
+/// common edge of all the triangles its faces lie on slides along it, any
+/// other stays fixed.
+fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
+    let n = rec.points.len();
+    // Per surface vertex: the surface triangles of its faces.
+    let mut on: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let faces = rec
+        .boundary
+        .iter()
+        .zip(&rec.boundary_triangle)
+        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
+    for (f, &t) in faces {
+        for &v in f {
+            if let Some(l) = on.get_mut(v as usize) {
+                if !l.contains(&t) {
+                    l.push(t);
+                }
+            }
+        }
+    }
+    for (v, l) in on.iter().enumerate().skip(n_in) {
+        if !w.fixed[v] || l.is_empty() {
+            continue;
+        }
+        let tri = |t: u32| rec.surface.get(t as usize).copied();
+        let Some(tris) = l.iter().map(|&t| tri(t)).collect::<Option<Vec<_>>>() else {
+            continue; // a hull face off the surface
+        };
+        w.slide[v] = if let [t] = tris[..] {
+            Slide::Plane(t)
+        } else {
+            let common: Vec<u32> = tris[0]
+                .iter()
+                .copied()
+                .filter(|c| tris.iter().all(|t| t.contains(c)))
+                .collect();
+            match common[..] {
+                [a, b] => Slide::Line([a, b]),
+                _ => Slide::Fixed,
+            }
+        };
+    }
+    for &v in &rec.inexact {
+        if let Some(x) = w.inexact.get_mut(v as usize) {
+            *x = true;
+        }
+    }
+    w.tol = rec.report.max_deviation * s.0 * s.1;
 }
 
 /// See [`OptimizeReport::input_min_dihedral`].
@@ -731,7 +803,7 @@ fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
             .count();
         let reason = if surface_faces >= 2 {
             StuckReason::SurfaceFaces
-        } else if tv.iter().all(|&v| w.fixed[v as usize]) {
+        } else if tv.iter().all(|&v| w.slide[v as usize] == Slide::Fixed) {
             StuckReason::AllVerticesFixed
         } else {
             StuckReason::NoImprovement
