@@ -206,7 +206,16 @@ impl fmt::Display for StuckReason {
 ///
 /// ```
 /// use delone::tet::optimize::{Stuck, StuckReason};
-/// let s = Stuck { tet: 3, dihedral: [4.0, 170.0], reason: StuckReason::NoImprovement };
+/// use delone::tet::quality::TetShape;
+/// let s = Stuck {
+///     tet: 3,
+///     dihedral: [4.0, 170.0],
+///     reason: StuckReason::NoImprovement,
+///     shape: TetShape::Sliver,
+///     surface_faces: 0,
+///     input_vertices: 2,
+///     fixed_vertices: 3,
+/// };
 /// assert!(s.dihedral[0] < 15.0);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -217,6 +226,15 @@ pub struct Stuck {
     pub dihedral: [f64; 2],
     /// Why it could not be improved.
     pub reason: StuckReason,
+    /// Its kind ([`tet_shape`](super::quality::tet_shape)).
+    pub shape: super::quality::TetShape,
+    /// How many of its faces are on the boundary or an internal facet.
+    pub surface_faces: usize,
+    /// How many of its vertices are input points.
+    pub input_vertices: usize,
+    /// How many of its vertices could not move (input points, and surface
+    /// points with neither a planar nor a straight neighbourhood).
+    pub fixed_vertices: usize,
 }
 
 /// What [`optimize`] did.
@@ -240,6 +258,9 @@ pub struct OptimizeReport {
     /// tetrahedron at that edge can have a smaller angle, so the mesh's
     /// minimum cannot exceed it; 360 when there is no such edge.
     pub input_min_dihedral: f64,
+    /// The surface edge (point ids, smaller first) where
+    /// `input_min_dihedral` is found; `None` when there is no such edge.
+    pub input_min_edge: Option<[u32; 2]>,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -342,7 +363,7 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        report.input_min_dihedral = input_min_dihedral(rec);
+        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -435,8 +456,8 @@ pub fn optimize(
     report.evaluations = w.evals.get();
     write_back(rec, &w, s);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    report.input_min_dihedral = input_min_dihedral(rec);
-    stuck(rec, &w, target.to_radians().sin(), &mut report);
+    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+    stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
     Ok(report)
 }
 
@@ -756,7 +777,7 @@ fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
 }
 
 /// See [`OptimizeReport::input_min_dihedral`].
-fn input_min_dihedral(rec: &Recovered) -> f64 {
+fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     let m = &rec.mesh;
     let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
     let mut edges: IdSet<[u32; 2]> = IdSet::default();
@@ -771,7 +792,6 @@ fn input_min_dihedral(rec: &Recovered) -> f64 {
             }
         }
     }
-    // (Order-free: only the minimum of the sums is read.)
     let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
     for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
         let mut d = None;
@@ -786,11 +806,15 @@ fn input_min_dihedral(rec: &Recovered) -> f64 {
             }
         }
     }
-    sum.values().copied().fold(360.0, f64::min)
+    // The smallest sum, ties by edge (deterministic).
+    sum.into_iter()
+        .map(|((e, _), a)| (a, e))
+        .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
+        .map_or((360.0, None), |(a, e)| (a, Some(e)))
 }
 
 /// Fills the stuck counts and list.
-fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
+fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut OptimizeReport) {
     let mut list = Vec::new();
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
@@ -818,6 +842,13 @@ fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
                 tet: t,
                 dihedral: [lo, hi],
                 reason,
+                shape: super::quality::tet_shape(&p),
+                surface_faces,
+                input_vertices: tv.iter().filter(|&&v| (v as usize) < n_in).count(),
+                fixed_vertices: tv
+                    .iter()
+                    .filter(|&&v| w.slide[v as usize] == Slide::Fixed)
+                    .count(),
             },
         ));
     }
