@@ -561,7 +561,9 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
     };
     w.begin();
-    let Some((id, _)) = w.insert(&cav, c) else {
+    // The centroid may not see every face of the larger cavity (a sliver's
+    // neighbours); it always sees the faces of `t` itself.
+    let Some((id, _)) = w.insert(&cav, c).or_else(|| w.insert(&[t], c)) else {
         w.rollback();
         return false;
     };
