@@ -5,29 +5,38 @@ use delone::tet::optimize::{OptimizeReport, Stuck};
 
 use crate::args::Opts;
 
-/// The input's bound on the smallest dihedral angle and whether the mesh's
-/// minimum is set by it.
+/// The input's bound on the smallest dihedral angle (from the input
+/// triangles, and from the meshed surface after refinement) and whether the
+/// mesh's minimum is set by it.
 pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
-    let Some([a, b]) = r.input_min_edge else {
-        return "optimization: no surface edge bounds the dihedral angles".into();
-    };
-    let bound = r.input_min_dihedral;
     let min = r.after.min_dihedral;
-    let verdict = if min >= bound - 1e-6 {
-        "the mesh's minimum is this bound (set by the input)".to_string()
-    } else {
-        format!(
-            "the mesh's minimum {min:.2} deg is below it (not forced by the input{})",
-            if bound < 15.0 {
-                "; the input itself is below 15 deg"
-            } else {
-                ""
-            }
-        )
+    let input = match r.triangles_min_edge {
+        Some([a, b]) => format!(
+            "input triangles' smallest dihedral angle {:.2} deg at input edge {a}-{b}",
+            r.triangles_min_dihedral
+        ),
+        None => "no input edge between two boundary triangles".to_string(),
     };
-    format!(
-        "optimization: bound by the input: its smallest dihedral angle is {bound:.2} deg, at surface edge {a}-{b}; {verdict}"
-    )
+    let meshed = match r.input_min_edge {
+        Some([a, b]) => format!(
+            "meshed surface's {:.2} deg at edge {a}-{b}",
+            r.input_min_dihedral
+        ),
+        None => "no meshed surface edge".to_string(),
+    };
+    let bound = r.input_min_dihedral.min(r.triangles_min_dihedral);
+    let verdict = if min >= bound - 1e-6 {
+        if r.triangles_min_dihedral <= r.input_min_dihedral + 1e-6 {
+            "the mesh's minimum is the input's own angle"
+        } else {
+            "the mesh's minimum is set by the meshed surface, not by the input"
+        }
+    } else if bound < 15.0 {
+        "the mesh's minimum is below both; the bound is below 15 deg"
+    } else {
+        "the mesh's minimum is below both (not forced by the input)"
+    };
+    format!("optimization: bound: {input}; {meshed}; {verdict}")
 }
 
 /// One tetrahedron left below the target: angles, why, its shape, and how

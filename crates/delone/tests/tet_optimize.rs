@@ -296,3 +296,51 @@ fn squashed_interior_vertices_are_smoothed_back() {
         rep.after.min_dihedral
     );
 }
+
+#[test]
+fn surface_steiner_points_slide_within_their_facet_or_edge() {
+    // A refined cube: Steiner points on its faces and edges.
+    let (pts, tris) = cube();
+    let refined = refine(
+        &pts,
+        &tris,
+        &RefineOptions {
+            max_volume: Some(0.002),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .rec;
+    let on_bounds = |p: &[f64; 3]| p.iter().filter(|&&c| c == 0.0 || c == 1.0).count();
+    let moved = |smooth_boundary: bool| {
+        let mut r = refined.clone();
+        let opts = OptimizeOptions {
+            smooth_boundary,
+            target_dihedral: 50.0,
+            ..Default::default()
+        };
+        let rep = run(&pts, &tris, &mut r, &opts);
+        let mut n = 0;
+        for f in &r.boundary {
+            for &v in f {
+                let (old, new) = (refined.points[v as usize], r.points[v as usize]);
+                if old != new {
+                    n += 1;
+                    // Still on the same face(s) of the cube, exactly.
+                    for k in 0..3 {
+                        if old[k] == 0.0 || old[k] == 1.0 {
+                            assert_eq!(new[k], old[k], "vertex {v} left its facet");
+                        }
+                    }
+                    assert_eq!(on_bounds(&new), on_bounds(&old));
+                }
+            }
+        }
+        (n, rep)
+    };
+    let (fixed, _) = moved(false);
+    assert_eq!(fixed, 0, "surface points moved with smooth_boundary off");
+    let (n, rep) = moved(true);
+    assert!(n > 0, "no surface Steiner point moved");
+    assert!(rep.after.min_dihedral >= rep.before.min_dihedral);
+}

@@ -261,6 +261,15 @@ pub struct OptimizeReport {
     /// The surface edge (point ids, smaller first) where
     /// `input_min_dihedral` is found; `None` when there is no such edge.
     pub input_min_edge: Option<[u32; 2]>,
+    /// The smallest dihedral angle inside the domain between two input
+    /// triangles (of `Recovered::surface`) on the boundary that share an
+    /// edge (degrees; 360 when there is none): the input's own bound,
+    /// whatever the refinement did to the surface. Edges with more than two
+    /// triangles are left out.
+    pub triangles_min_dihedral: f64,
+    /// The input edge (point ids, smaller first) where
+    /// `triangles_min_dihedral` is found.
+    pub triangles_min_edge: Option<[u32; 2]>,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -364,6 +373,7 @@ pub fn optimize(
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
         (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+        (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -457,6 +467,7 @@ pub fn optimize(
     write_back(rec, &w, s);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
     (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+    (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
     stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
     Ok(report)
 }
@@ -776,6 +787,68 @@ fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
         }
     }
     w.tol = rec.report.max_deviation * s.0 * s.1;
+}
+
+/// See [`OptimizeReport::triangles_min_dihedral`].
+fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
+    let pt = |v: u32| rec.points[v as usize];
+    let normal = |f: [u32; 3]| {
+        let [a, b, c] = f.map(pt);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // Outward orientation of each surface triangle on the boundary: that of
+    // its boundary faces.
+    let mut sign = vec![0.0f64; rec.surface.len()];
+    for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
+        if let Some(tri) = rec.surface.get(t as usize) {
+            if sign[t as usize] == 0.0 {
+                sign[t as usize] = dot(normal(*f), normal(*tri)).signum();
+            }
+        }
+    }
+    let mut at: IdMap<[u32; 2], Vec<u32>> = IdMap::default();
+    for (t, tri) in rec.surface.iter().enumerate() {
+        if sign[t] != 0.0 {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                at.entry([a.min(b), a.max(b)]).or_default().push(t as u32);
+            }
+        }
+    }
+    let mut best: (f64, Option<[u32; 2]>) = (360.0, None);
+    let mut keys: Vec<_> = at.into_iter().filter(|(_, l)| l.len() == 2).collect();
+    keys.sort_unstable();
+    for (e, l) in keys {
+        let (t1, t2) = (l[0] as usize, l[1] as usize);
+        let unit = |t: usize| {
+            let n = normal(rec.surface[t]).map(|x| x * sign[t]);
+            let m = dot(n, n).sqrt();
+            n.map(|x| x / m)
+        };
+        let (n1, n2) = (unit(t1), unit(t2));
+        let mut ang = (-dot(n1, n2)).clamp(-1.0, 1.0).acos().to_degrees();
+        // Reflex when the far vertex of the second triangle is outside the
+        // first one's plane.
+        let d = rec.surface[t2]
+            .into_iter()
+            .find(|v| !e.contains(v))
+            .map_or([0.0; 3], pt);
+        let a = pt(e[0]);
+        if dot(n1, [d[0] - a[0], d[1] - a[1], d[2] - a[2]]) > 0.0 {
+            ang = 360.0 - ang;
+        }
+        if ang.is_finite() && ang < best.0 {
+            best = (ang, Some(e));
+        }
+    }
+    best
 }
 
 /// See [`OptimizeReport::input_min_dihedral`].
