@@ -398,7 +398,7 @@ pub fn optimize(
         *v = Slide::Fixed;
     }
     let target = opts.target_dihedral.clamp(0.0, 90.0);
-    let thr_insert = (0.5 * target).to_radians().sin();
+    let thr_insert = (0.6 * target).to_radians().sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
     // Per tetrahedron (sorted vertices): the clock of its last failed
     // attempt; it is not retried until a star of one of its vertices
