@@ -743,24 +743,36 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
 /// other stays fixed.
 fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
     let n = rec.points.len();
-    // Per surface vertex: the surface triangles of its faces.
+    // Per surface vertex: the surface triangles of its faces, and the other
+    // vertices of those faces (each twice when the faces close around it).
     let mut on: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut link: Vec<Vec<u32>> = vec![Vec::new(); n];
     let faces = rec
         .boundary
         .iter()
         .zip(&rec.boundary_triangle)
         .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
     for (f, &t) in faces {
-        for &v in f {
-            if let Some(l) = on.get_mut(v as usize) {
-                if !l.contains(&t) {
-                    l.push(t);
-                }
+        for (k, &v) in f.iter().enumerate() {
+            if (v as usize) < n_in || v as usize >= n {
+                continue;
             }
+            let l = &mut on[v as usize];
+            if !l.contains(&t) {
+                l.push(t);
+            }
+            link[v as usize].extend([f[(k + 1) % 3], f[(k + 2) % 3]]);
         }
     }
     for (v, l) in on.iter().enumerate().skip(n_in) {
         if !w.fixed[v] || l.is_empty() {
+            continue;
+        }
+        // Only a closed fan of faces (not the free edge of an internal
+        // facet, nor a non-manifold point) may slide.
+        let mut k = std::mem::take(&mut link[v]);
+        k.sort_unstable();
+        if k.len() < 6 || k.chunks(2).any(|c| c[0] != c[1]) || k.windows(3).any(|c| c[0] == c[2]) {
             continue;
         }
         let tri = |t: u32| rec.surface.get(t as usize).copied();
