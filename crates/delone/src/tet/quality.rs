@@ -161,7 +161,7 @@ pub enum TetShape {
     /// with dihedral angles near 180°.
     Sliver,
     /// No short edge, one vertex near the opposite face: the three edges
-    /// of that face have obtuse dihedral angles.
+    /// at that vertex have obtuse dihedral angles.
     Cap,
     /// One short edge (two vertices close together).
     Wedge,
@@ -183,7 +183,7 @@ impl std::fmt::Display for TetShape {
 
 /// Classifies a tetrahedron as one of the [`TetShape`]s (meaningful for a
 /// poorly shaped one): an edge is short when it is below 0.3 times the
-/// longest; without short edges, a cap when the three edges of one face
+/// longest; without short edges, a cap when the three edges at one vertex
 /// have dihedral angles above 90°, else a sliver.
 ///
 /// ```
@@ -210,12 +210,13 @@ pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
         _ => return TetShape::Needle,
     }
     let d = dihedral_angles(p);
-    // The face opposite vertex k has the edges without k.
+    // A vertex near the opposite face: its three edges (between the nearly
+    // coplanar side faces) have angles near 180°.
     let cap = (0..4).any(|k| {
         EDGES
             .iter()
             .zip(&d)
-            .filter(|((i, j), _)| *i != k && *j != k)
+            .filter(|((i, j), _)| *i == k || *j == k)
             .all(|(_, &a)| a > 90.0)
     });
     if cap {
