@@ -14,6 +14,7 @@ mod remesh;
 mod run;
 mod tetout;
 mod tetq;
+mod tetq_bound;
 mod tetr;
 mod threads;
 mod tri_out;

@@ -106,6 +106,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
             r.evaluations,
             if r.effort_exhausted { ", effort budget spent" } else { "" }
         ));
+        lines.push(crate::tetq_bound::bound_line(o, r));
         let mut lo = 0.0;
         let mut h = String::from("dihedral histogram before optimization:");
         for (b, n) in DIHEDRAL_BINS.iter().zip(&r.before.dihedral_histogram) {
@@ -114,10 +115,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
         }
         lines.push(h);
         for s in r.stuck.iter().take(if o.verbose > 1 { 32 } else { 3 }) {
-            lines.push(format!(
-                "  tet {} left at {:.2}..{:.2} deg: {}",
-                s.tet, s.dihedral[0], s.dihedral[1], s.reason
-            ));
+            lines.push(crate::tetq_bound::stuck_line(s));
         }
     }
     lines

@@ -146,6 +146,86 @@ pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
     })
 }
 
+/// The kind of a poorly shaped tetrahedron (after Cheng, Dey & Shewchuk,
+/// *Delaunay Mesh Generation*, §1.4).
+///
+/// ```
+/// use delone::tet::quality::{tet_shape, TetShape};
+/// assert_eq!(TetShape::Sliver.to_string(), "sliver");
+/// let _ = tet_shape(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[non_exhaustive]
+pub enum TetShape {
+    /// No short edge, four vertices near a circle: two opposite edges
+    /// with dihedral angles near 180°.
+    Sliver,
+    /// No short edge, one vertex near the opposite face: the three edges
+    /// at that vertex have obtuse dihedral angles.
+    Cap,
+    /// One short edge (two vertices close together).
+    Wedge,
+    /// Two or more short edges (three vertices close together, or one
+    /// far from the other three).
+    Needle,
+}
+
+impl std::fmt::Display for TetShape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            TetShape::Sliver => "sliver",
+            TetShape::Cap => "cap",
+            TetShape::Wedge => "wedge",
+            TetShape::Needle => "needle",
+        })
+    }
+}
+
+/// Classifies a tetrahedron as one of the [`TetShape`]s (meaningful for a
+/// poorly shaped one): an edge is short when it is below 0.3 times the
+/// longest; without short edges, a cap when the three edges at one vertex
+/// have dihedral angles above 90°, else a sliver.
+///
+/// ```
+/// use delone::tet::quality::{tet_shape, TetShape};
+/// // Four points near the square's circle, lifted alternately: a sliver.
+/// let s = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.01], [1.0, 1.0, 0.0], [0.0, 1.0, 0.01]];
+/// assert_eq!(tet_shape(&s), TetShape::Sliver);
+/// // A vertex just above the middle of a triangle: a cap.
+/// let c = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.35, 0.3, 0.01]];
+/// assert_eq!(tet_shape(&c), TetShape::Cap);
+/// // Two vertices close together: a wedge.
+/// let w = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.05, 0.0, 0.05]];
+/// assert_eq!(tet_shape(&w), TetShape::Wedge);
+/// // One vertex far from the other three: a needle.
+/// let n = [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 1.0]];
+/// assert_eq!(tet_shape(&n), TetShape::Needle);
+/// ```
+pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
+    let l = edge_lengths(p);
+    let longest = l.iter().copied().fold(0.0, f64::max);
+    match l.iter().filter(|&&x| x < 0.3 * longest).count() {
+        0 => {}
+        1 => return TetShape::Wedge,
+        _ => return TetShape::Needle,
+    }
+    let d = dihedral_angles(p);
+    // A vertex near the opposite face: its three edges (between the nearly
+    // coplanar side faces) have angles near 180°.
+    let cap = (0..4).any(|k| {
+        EDGES
+            .iter()
+            .zip(&d)
+            .filter(|((i, j), _)| *i == k || *j == k)
+            .all(|(_, &a)| a > 90.0)
+    });
+    if cap {
+        TetShape::Cap
+    } else {
+        TetShape::Sliver
+    }
+}
+
 /// `6√2 · volume / rms_edge³`: 1 for the regular tetrahedron, 0 for a flat
 /// one, negative for an inverted one; invariant under scaling.
 ///

@@ -36,11 +36,15 @@
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
 //! at the end).
-//! Everything on the domain's boundary and on internal facets stays exactly
-//! as it is: boundary and interface faces are never destroyed and their
-//! vertices never move, every tetrahedron keeps its region, so the volume,
-//! the regions and [`super::recover::check_recovered`] are preserved. The
-//! order of work is deterministic (ties broken by slot).
+//! The domain's boundary and internal facets keep their faces: boundary and
+//! interface faces are never destroyed, input points never move, and a
+//! Steiner point of the surface moves only within its input triangle's
+//! plane or along its input edge, landing exactly on it (or, if the
+//! refinement had already rounded it off, within the reported deviation;
+//! see [`OptimizeOptions::smooth_boundary`]); every tetrahedron keeps its
+//! region, so the surface, the volume, the regions and
+//! [`super::recover::check_recovered`] are preserved. The order of work is
+//! deterministic (ties broken by slot).
 
 mod work;
 
@@ -51,7 +55,7 @@ use std::fmt;
 use super::quality::TetStats;
 use super::recover::{IdMap, IdSet, Recovered};
 use crate::NONE;
-use work::{fkey, Plan, Work, DEAD};
+use work::{fkey, Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
@@ -96,6 +100,14 @@ pub struct OptimizeOptions {
     pub flips: bool,
     /// Use vertex smoothing. Default true.
     pub smooth: bool,
+    /// Let smoothing move the Steiner points of the surface too: one inside
+    /// an input triangle within that triangle's plane, one on an input edge
+    /// along the edge (input points never move). A moved point lies exactly
+    /// on its plane or line (exact `orient3d` / collinearity) — or, when it
+    /// was already off it by rounding (listed in
+    /// [`Recovered::inexact`](super::recover::Recovered::inexact)), within
+    /// the reported deviation — else the move is refused. Default true.
+    pub smooth_boundary: bool,
     /// Insert vertices where nothing else helps. Default true.
     pub insert: bool,
     /// Most vertices inserted (in addition to the mesh's). Default: a
@@ -122,6 +134,7 @@ impl Default for OptimizeOptions {
             max_passes: 6,
             flips: true,
             smooth: true,
+            smooth_boundary: true,
             insert: true,
             max_inserted: None,
             effort: 100.0,
@@ -193,7 +206,16 @@ impl fmt::Display for StuckReason {
 ///
 /// ```
 /// use delone::tet::optimize::{Stuck, StuckReason};
-/// let s = Stuck { tet: 3, dihedral: [4.0, 170.0], reason: StuckReason::NoImprovement };
+/// use delone::tet::quality::TetShape;
+/// let s = Stuck {
+///     tet: 3,
+///     dihedral: [4.0, 170.0],
+///     reason: StuckReason::NoImprovement,
+///     shape: TetShape::Sliver,
+///     surface_faces: 0,
+///     input_vertices: 2,
+///     fixed_vertices: 3,
+/// };
 /// assert!(s.dihedral[0] < 15.0);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -204,6 +226,15 @@ pub struct Stuck {
     pub dihedral: [f64; 2],
     /// Why it could not be improved.
     pub reason: StuckReason,
+    /// Its kind ([`tet_shape`](super::quality::tet_shape)).
+    pub shape: super::quality::TetShape,
+    /// How many of its faces are on the boundary or an internal facet.
+    pub surface_faces: usize,
+    /// How many of its vertices are input points.
+    pub input_vertices: usize,
+    /// How many of its vertices could not move (input points, and surface
+    /// points with neither a planar nor a straight neighbourhood).
+    pub fixed_vertices: usize,
 }
 
 /// What [`optimize`] did.
@@ -227,6 +258,18 @@ pub struct OptimizeReport {
     /// tetrahedron at that edge can have a smaller angle, so the mesh's
     /// minimum cannot exceed it; 360 when there is no such edge.
     pub input_min_dihedral: f64,
+    /// The surface edge (point ids, smaller first) where
+    /// `input_min_dihedral` is found; `None` when there is no such edge.
+    pub input_min_edge: Option<[u32; 2]>,
+    /// The smallest dihedral angle inside the domain between two input
+    /// triangles (of `Recovered::surface`) on the boundary that share an
+    /// edge (degrees; 360 when there is none): the input's own bound,
+    /// whatever the refinement did to the surface. Edges with more than two
+    /// triangles are left out.
+    pub triangles_min_dihedral: f64,
+    /// The input edge (point ids, smaller first) where
+    /// `triangles_min_dihedral` is found.
+    pub triangles_min_edge: Option<[u32; 2]>,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -329,7 +372,8 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        report.input_min_dihedral = input_min_dihedral(rec);
+        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+        (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -347,8 +391,14 @@ pub fn optimize(
     for f in &mut w.fixed[..n_in] {
         *f = true;
     }
+    if opts.smooth_boundary {
+        set_slides(rec, n_in, &mut w, s);
+    }
+    for v in &mut w.slide[..n_in] {
+        *v = Slide::Fixed;
+    }
     let target = opts.target_dihedral.clamp(0.0, 90.0);
-    let thr_insert = (0.5 * target).to_radians().sin();
+    let thr_insert = (0.6 * target).to_radians().sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
     // Per tetrahedron (sorted vertices): the clock of its last failed
     // attempt; it is not retried until a star of one of its vertices
@@ -416,8 +466,9 @@ pub fn optimize(
     report.evaluations = w.evals.get();
     write_back(rec, &w, s);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    report.input_min_dihedral = input_min_dihedral(rec);
-    stuck(rec, &w, target.to_radians().sin(), &mut report);
+    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+    (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+    stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
     Ok(report)
 }
 
@@ -521,7 +572,9 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
     };
     w.begin();
-    let Some((id, _)) = w.insert(&cav, c) else {
+    // The centroid may not see every face of the larger cavity (a sliver's
+    // neighbours); it always sees the faces of `t` itself.
+    let Some((id, _)) = w.insert(&cav, c).or_else(|| w.insert(&[t], c)) else {
         w.rollback();
         return false;
     };
@@ -642,7 +695,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     let n0 = rec.points.len();
     for (i, p) in w.p.iter().enumerate() {
         if i < n0 {
-            if !w.fixed[i] {
+            if w.slide[i] != Slide::Fixed {
                 rec.points[i] = unscale(*p);
             }
         } else {
@@ -683,8 +736,135 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     rec.tet_region = reg;
 }
 
+/// The sliding freedom of the Steiner points on the surface (see
+/// [`OptimizeOptions::smooth_boundary`]): a point whose surface faces all
+/// lie on one triangle of `rec.surface` slides in its plane, one on the
+/// common edge of all the triangles its faces lie on slides along it, any
+/// other stays fixed.
+fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
+    let n = rec.points.len();
+    // Per surface vertex: the surface triangles of its faces, and the other
+    // vertices of those faces (each twice when the faces close around it).
+    let mut on: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut link: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let faces = rec
+        .boundary
+        .iter()
+        .zip(&rec.boundary_triangle)
+        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
+    for (f, &t) in faces {
+        for (k, &v) in f.iter().enumerate() {
+            if (v as usize) < n_in || v as usize >= n {
+                continue;
+            }
+            let l = &mut on[v as usize];
+            if !l.contains(&t) {
+                l.push(t);
+            }
+            link[v as usize].extend([f[(k + 1) % 3], f[(k + 2) % 3]]);
+        }
+    }
+    for (v, l) in on.iter().enumerate().skip(n_in) {
+        if !w.fixed[v] || l.is_empty() {
+            continue;
+        }
+        // Only a closed fan of faces (not the free edge of an internal
+        // facet, nor a non-manifold point) may slide.
+        let mut k = std::mem::take(&mut link[v]);
+        k.sort_unstable();
+        if k.len() < 6 || k.chunks(2).any(|c| c[0] != c[1]) || k.windows(3).any(|c| c[0] == c[2]) {
+            continue;
+        }
+        let tri = |t: u32| rec.surface.get(t as usize).copied();
+        let Some(tris) = l.iter().map(|&t| tri(t)).collect::<Option<Vec<_>>>() else {
+            continue; // a hull face off the surface
+        };
+        w.slide[v] = if let [t] = tris[..] {
+            Slide::Plane(t)
+        } else {
+            let common: Vec<u32> = tris[0]
+                .iter()
+                .copied()
+                .filter(|c| tris.iter().all(|t| t.contains(c)))
+                .collect();
+            match common[..] {
+                [a, b] => Slide::Line([a, b]),
+                _ => Slide::Fixed,
+            }
+        };
+    }
+    for &v in &rec.inexact {
+        if let Some(x) = w.inexact.get_mut(v as usize) {
+            *x = true;
+        }
+    }
+    w.tol = rec.report.max_deviation * s.0 * s.1;
+}
+
+/// See [`OptimizeReport::triangles_min_dihedral`].
+fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
+    let pt = |v: u32| rec.points[v as usize];
+    let normal = |f: [u32; 3]| {
+        let [a, b, c] = f.map(pt);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // Outward orientation of each surface triangle on the boundary: that of
+    // its boundary faces.
+    let mut sign = vec![0.0f64; rec.surface.len()];
+    for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
+        if let Some(tri) = rec.surface.get(t as usize) {
+            if sign[t as usize] == 0.0 {
+                sign[t as usize] = dot(normal(*f), normal(*tri)).signum();
+            }
+        }
+    }
+    let mut at: IdMap<[u32; 2], Vec<u32>> = IdMap::default();
+    for (t, tri) in rec.surface.iter().enumerate() {
+        if sign[t] != 0.0 {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                at.entry([a.min(b), a.max(b)]).or_default().push(t as u32);
+            }
+        }
+    }
+    let mut best: (f64, Option<[u32; 2]>) = (360.0, None);
+    let mut keys: Vec<_> = at.into_iter().filter(|(_, l)| l.len() == 2).collect();
+    keys.sort_unstable();
+    for (e, l) in keys {
+        let (t1, t2) = (l[0] as usize, l[1] as usize);
+        let unit = |t: usize| {
+            let n = normal(rec.surface[t]).map(|x| x * sign[t]);
+            let m = dot(n, n).sqrt();
+            n.map(|x| x / m)
+        };
+        let (n1, n2) = (unit(t1), unit(t2));
+        let mut ang = (-dot(n1, n2)).clamp(-1.0, 1.0).acos().to_degrees();
+        // Reflex when the far vertex of the second triangle is outside the
+        // first one's plane.
+        let d = rec.surface[t2]
+            .into_iter()
+            .find(|v| !e.contains(v))
+            .map_or([0.0; 3], pt);
+        let a = pt(e[0]);
+        if dot(n1, [d[0] - a[0], d[1] - a[1], d[2] - a[2]]) > 0.0 {
+            ang = 360.0 - ang;
+        }
+        if ang.is_finite() && ang < best.0 {
+            best = (ang, Some(e));
+        }
+    }
+    best
+}
+
 /// See [`OptimizeReport::input_min_dihedral`].
-fn input_min_dihedral(rec: &Recovered) -> f64 {
+fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     let m = &rec.mesh;
     let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
     let mut edges: IdSet<[u32; 2]> = IdSet::default();
@@ -699,7 +879,6 @@ fn input_min_dihedral(rec: &Recovered) -> f64 {
             }
         }
     }
-    // (Order-free: only the minimum of the sums is read.)
     let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
     for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
         let mut d = None;
@@ -714,11 +893,15 @@ fn input_min_dihedral(rec: &Recovered) -> f64 {
             }
         }
     }
-    sum.values().copied().fold(360.0, f64::min)
+    // The smallest sum, ties by edge (deterministic).
+    sum.into_iter()
+        .map(|((e, _), a)| (a, e))
+        .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
+        .map_or((360.0, None), |(a, e)| (a, Some(e)))
 }
 
 /// Fills the stuck counts and list.
-fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
+fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut OptimizeReport) {
     let mut list = Vec::new();
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
@@ -731,7 +914,7 @@ fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
             .count();
         let reason = if surface_faces >= 2 {
             StuckReason::SurfaceFaces
-        } else if tv.iter().all(|&v| w.fixed[v as usize]) {
+        } else if tv.iter().all(|&v| w.slide[v as usize] == Slide::Fixed) {
             StuckReason::AllVerticesFixed
         } else {
             StuckReason::NoImprovement
@@ -746,6 +929,13 @@ fn stuck(rec: &Recovered, w: &Work, thr: f64, report: &mut OptimizeReport) {
                 tet: t,
                 dihedral: [lo, hi],
                 reason,
+                shape: super::quality::tet_shape(&p),
+                surface_faces,
+                input_vertices: tv.iter().filter(|&&v| (v as usize) < n_in).count(),
+                fixed_vertices: tv
+                    .iter()
+                    .filter(|&&v| w.slide[v as usize] == Slide::Fixed)
+                    .count(),
             },
         ));
     }

@@ -11,7 +11,7 @@
 
 use crate::tet::recover::IdSet;
 
-use delone_predicates::orient3d;
+use delone_predicates::{orient2d, orient3d};
 
 use crate::NONE;
 
@@ -140,6 +140,28 @@ pub(super) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
     FACET[f].map(|i| tv[i])
 }
 
+/// How a vertex may move in [`Work::smooth`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Slide {
+    /// Anywhere (an interior vertex).
+    Free,
+    /// Never (an input point, or a surface point without a planar or
+    /// straight neighbourhood).
+    Fixed,
+    /// Within the plane of surface triangle `[a, b, c]` (a Steiner point
+    /// inside that triangle: all its surface faces lie on it).
+    Plane([u32; 3]),
+    /// Along the line of input edge `[a, b]` (a Steiner point on it).
+    Line([u32; 2]),
+}
+
+/// Exact collinearity of three points (all three coordinate projections).
+fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    [(0, 1), (1, 2), (2, 0)]
+        .iter()
+        .all(|&(i, j)| orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0)
+}
+
 /// A planned change: tetrahedra to remove and their replacement, with the
 /// worst quality of the replacement.
 pub(super) struct Plan {
@@ -170,8 +192,17 @@ pub(super) struct Work {
     free: Vec<u32>,
     /// Per vertex: a live slot containing it (a hint).
     vt: Vec<u32>,
-    /// Per vertex: on the boundary or an interface (never moved or removed).
+    /// Per vertex: on the boundary or an interface (never removed; moved
+    /// only as its [`Slide`] allows).
     pub fixed: Vec<bool>,
+    /// Per vertex: how it may move (`Free` for interior vertices).
+    pub slide: Vec<Slide>,
+    /// Per vertex: it already lies off its plane or line by rounding (a
+    /// listed inexact Steiner point), so a move may leave it off by at most
+    /// [`Work::tol`]; every other sliding vertex stays exactly on it.
+    pub inexact: Vec<bool>,
+    /// Largest distance (rescaled) of an inexact point to its plane or line.
+    pub tol: f64,
     /// Interface faces (sorted keys): never destroyed.
     prot: IdSet<[u32; 3]>,
     /// Per vertex: the [`Work::clock`] of the last change of its star
@@ -246,6 +277,10 @@ impl Work {
             }
         }
         let prot = interior.iter().map(|&f| fkey(f)).collect();
+        let slide = fixed
+            .iter()
+            .map(|&f| if f { Slide::Fixed } else { Slide::Free })
+            .collect();
         let q = tets
             .iter()
             .map(|tv| quality(tv.map(|w| &p[w as usize])))
@@ -259,6 +294,9 @@ impl Work {
             free: Vec::new(),
             vt,
             fixed,
+            slide,
+            inexact: vec![false; n],
+            tol: 0.0,
             prot,
             stamp: vec![0; n],
             clock: 1,
@@ -584,7 +622,9 @@ impl Work {
     /// of the near-worst tetrahedra, a backtracking line search, exact
     /// orientation of the result). Returns true when it moved.
     pub(super) fn smooth(&mut self, v: u32) -> bool {
-        if self.fixed[v as usize] || self.smooth_fail[v as usize] > self.stamp[v as usize] {
+        if self.slide[v as usize] == Slide::Fixed
+            || self.smooth_fail[v as usize] > self.stamp[v as usize]
+        {
             return false;
         }
         let moved = self.smooth_once(v);
@@ -652,7 +692,7 @@ impl Work {
                     y[k] += h;
                     *gk = (at(i, y) - qi) / h;
                 }
-                grads.push(g);
+                grads.push(self.tangent(v, g));
             }
             let d = min_norm_point(&grads);
             let dn = norm(&d);
@@ -672,6 +712,9 @@ impl Work {
             'search: for _ in 0..7 {
                 let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
                 step *= 0.5;
+                let Some(y) = self.snap(v, y) else {
+                    continue 'search;
+                };
                 let mut m = f64::INFINITY;
                 for &i in &order {
                     let q = at(i, y);
@@ -735,6 +778,71 @@ impl Work {
         true
     }
 
+    /// The part of direction `g` along which vertex `v` may slide.
+    fn tangent(&self, v: u32, g: [f64; 3]) -> [f64; 3] {
+        let pt = |w: u32| &self.p[w as usize];
+        match self.slide[v as usize] {
+            Slide::Free | Slide::Fixed => g,
+            Slide::Plane([a, b, c]) => {
+                let n = cross(&sub(pt(b), pt(a)), &sub(pt(c), pt(a)));
+                let s = dot(&g, &n) / dot(&n, &n);
+                [g[0] - s * n[0], g[1] - s * n[1], g[2] - s * n[2]]
+            }
+            Slide::Line([a, b]) => {
+                let u = sub(pt(b), pt(a));
+                let s = dot(&g, &u) / dot(&u, &u);
+                [s * u[0], s * u[1], s * u[2]]
+            }
+        }
+    }
+
+    /// Where vertex `v` lands when asked to move to `y`: `y` itself for a
+    /// free vertex; for a sliding one, `y` projected to its plane or line
+    /// and rounded, accepted only when it lies there exactly (exact
+    /// `orient3d` / collinearity) or, for an already inexact point, within
+    /// [`Work::tol`] of it — so the surface stays the input's as exactly as
+    /// it was. `None` when refused.
+    fn snap(&self, v: u32, y: [f64; 3]) -> Option<[f64; 3]> {
+        let pt = |w: u32| &self.p[w as usize];
+        let loose = self.inexact[v as usize];
+        match self.slide[v as usize] {
+            Slide::Free => Some(y),
+            Slide::Fixed => None,
+            Slide::Plane([a, b, c]) => {
+                let (pa, pb, pc) = (pt(a), pt(b), pt(c));
+                let n = cross(&sub(pb, pa), &sub(pc, pa));
+                let nn = dot(&n, &n);
+                let s = dot(&n, &sub(&y, pa)) / nn;
+                let mut x = [y[0] - s * n[0], y[1] - s * n[1], y[2] - s * n[2]];
+                for k in 0..3 {
+                    if pa[k] == pb[k] && pb[k] == pc[k] {
+                        x[k] = pa[k];
+                    }
+                }
+                let ok = orient3d(pa, pb, pc, &x) == 0.0
+                    || (loose && dot(&n, &sub(&x, pa)).abs() / nn.sqrt() <= self.tol);
+                ok.then_some(x)
+            }
+            Slide::Line([a, b]) => {
+                let (pa, pb) = (pt(a), pt(b));
+                let u = sub(pb, pa);
+                let uu = dot(&u, &u);
+                let s = dot(&u, &sub(&y, pa)) / uu;
+                let mut x = [0, 1, 2].map(|k| s.mul_add(u[k], pa[k]));
+                for k in 0..3 {
+                    if pa[k] == pb[k] {
+                        x[k] = pa[k];
+                    }
+                }
+                let ok = collinear(pa, pb, &x) || {
+                    let c = cross(&u, &sub(&x, pa));
+                    loose && (dot(&c, &c) / uu).sqrt() <= self.tol
+                };
+                ok.then_some(x)
+            }
+        }
+    }
+
     /// Inserts a new point `x` inside the cavity `cav` (live slots of one
     /// region, connected across open faces) as the cone of the cavity's
     /// boundary; `None` unless `x` sees every boundary face strictly.
@@ -762,6 +870,8 @@ impl Work {
         }
         self.p.push(x);
         self.fixed.push(false);
+        self.slide.push(Slide::Free);
+        self.inexact.push(false);
         self.vt.push(DEAD);
         self.stamp.push(0);
         self.smooth_fail.push(0);
@@ -842,6 +952,8 @@ impl Work {
                 Undo::AddPoint => {
                     self.p.pop();
                     self.fixed.pop();
+                    self.slide.pop();
+                    self.inexact.pop();
                     self.vt.pop();
                     self.stamp.pop();
                     self.smooth_fail.pop();
