@@ -30,7 +30,6 @@
 use crate::error::Error;
 use crate::model::plc::{collinear, key};
 use delone_predicates::{orient2d, orient3d};
-use std::collections::HashMap;
 
 type P = [f64; 3];
 
@@ -83,13 +82,7 @@ impl SelfIntersections {
 /// ```
 pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersections {
     let n = points.len();
-    // Identify exactly coincident points: canonical id = first occurrence.
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
-    let canon: Vec<u32> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| *first.entry(key(p)).or_insert(i as u32))
-        .collect();
+    let canon = canonical_ids(points);
     let mut out = SelfIntersections::default();
     // Triangles taking part in the pair tests.
     let mut live: Vec<u32> = Vec::with_capacity(triangles.len());
@@ -228,6 +221,27 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     out
 }
 
+/// Per point, the smallest index of a point with exactly the same
+/// coordinates (`-0.0` and `0.0` are the same): a sort by coordinate key,
+/// so no hashing and a deterministic result.
+fn canonical_ids(points: &[P]) -> Vec<u32> {
+    let mut order: Vec<([u64; 3], u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i as u32))
+        .collect();
+    order.sort_unstable();
+    let mut canon = vec![0u32; points.len()];
+    let mut first = 0usize;
+    for k in 0..order.len() {
+        if order[k].0 != order[first].0 {
+            first = k;
+        }
+        canon[order[k].1 as usize] = order[first].1;
+    }
+    canon
+}
+
 /// [`self_intersections`] as a typed result.
 ///
 /// # Errors
@@ -283,41 +297,97 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 /// Exact intersection test of two non-degenerate triangles given by
 /// canonical vertex ids (equal id = same point), excluding the contacts
 /// their shared vertices allow.
+///
+/// The sides of each triangle's vertices with respect to the other's plane
+/// are computed once (a shared vertex is on the plane without a predicate
+/// call). When the unshared vertices of one triangle lie strictly on one
+/// side of the other's plane, the triangles meet at most in their shared
+/// vertices: that settles almost every pair of a closed surface with two or
+/// four predicate calls. The rest reuse those signs in the edge tests.
 fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     let p = |v: u32| &pts[v as usize];
-    let shared: Vec<(usize, usize)> = (0..3)
-        .flat_map(|i| (0..3).map(move |j| (i, j)))
-        .filter(|&(i, j)| a[i] == b[j])
-        .collect();
-    match shared.len() {
-        0 => {
-            (0..3).any(|k| seg_tri(p(a[k]), p(a[(k + 1) % 3]), p(b[0]), p(b[1]), p(b[2])))
-                || (0..3).any(|k| seg_tri(p(b[k]), p(b[(k + 1) % 3]), p(a[0]), p(a[1]), p(a[2])))
-        }
-        1 => {
-            let (i, j) = shared[0];
-            let (a1, a2) = (a[(i + 1) % 3], a[(i + 2) % 3]);
-            let (b1, b2) = (b[(j + 1) % 3], b[(j + 2) % 3]);
-            seg_tri(p(a1), p(a2), p(b[0]), p(b[1]), p(b[2]))
-                || seg_tri(p(b1), p(b2), p(a[0]), p(a[1]), p(a[2]))
-        }
-        2 => {
-            let (u, v) = (a[shared[0].0], a[shared[1].0]);
-            let c = a[3 - shared[0].0 - shared[1].0];
-            let f = b[3 - shared[0].1 - shared[1].1];
-            if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
-                return false;
+    // in_b[i]: the position in `b` of a[i], or 3; in_a likewise. The
+    // vertices of a non-degenerate triangle are distinct points, so each
+    // vertex matches at most once.
+    let mut in_b = [3usize; 3];
+    let mut in_a = [3usize; 3];
+    let mut shared = 0;
+    for i in 0..3 {
+        for j in 0..3 {
+            if a[i] == b[j] {
+                in_b[i] = j;
+                in_a[j] = i;
+                shared += 1;
             }
-            let (x, y) = proj_axes(p(u), p(v), p(c));
-            let q = |w: u32| [p(w)[x], p(w)[y]];
-            let sc = orient2d(&q(u), &q(v), &q(c));
-            let sf = orient2d(&q(u), &q(v), &q(f));
-            // sc != 0 (T1 is non-degenerate); f on the line uv would make
-            // T2 degenerate, which the caller excludes.
-            sc.signum() == sf.signum()
         }
-        _ => true,
     }
+    if shared >= 3 {
+        return true;
+    }
+    if shared == 2 {
+        // The shared edge uv; c and f the third vertices of a and b.
+        let ic = (0..3).find(|&i| in_b[i] == 3).unwrap_or(0);
+        let jf = (0..3).find(|&j| in_a[j] == 3).unwrap_or(0);
+        let (u, v) = (a[(ic + 1) % 3], a[(ic + 2) % 3]);
+        let (c, f) = (a[ic], b[jf]);
+        if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
+            return false;
+        }
+        let (x, y) = proj_axes(p(u), p(v), p(c));
+        let q = |w: u32| [p(w)[x], p(w)[y]];
+        let sc = orient2d(&q(u), &q(v), &q(c));
+        let sf = orient2d(&q(u), &q(v), &q(f));
+        // sc != 0 (a is non-degenerate); f on the line uv would make b
+        // degenerate, which the caller excludes.
+        return sc.signum() == sf.signum();
+    }
+    let (pa, pb) = (a.map(p), b.map(p));
+    // Sides of b's vertices w.r.t. the plane of a, and of a's w.r.t. b's.
+    let side = |t: [&P; 3], q: &P, on: bool| -> i8 {
+        if on {
+            0
+        } else {
+            sign(orient3d(t[0], t[1], t[2], q))
+        }
+    };
+    let sb = [0, 1, 2].map(|j| side(pa, pb[j], in_a[j] < 3));
+    if strictly_one_side(sb, in_a) {
+        return false;
+    }
+    let sa = [0, 1, 2].map(|i| side(pb, pa[i], in_b[i] < 3));
+    if strictly_one_side(sa, in_b) {
+        return false;
+    }
+    if shared == 0 {
+        (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
+            || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
+    } else {
+        // One shared vertex: only the edges opposite it can meet the other
+        // triangle anywhere else (see the module docs).
+        let i = (0..3).find(|&i| in_b[i] < 3).unwrap_or(0);
+        let j = in_b[i];
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+        seg_tri_signs(pa[i1], pa[i2], sa[i1], sa[i2], pb)
+            || seg_tri_signs(pb[j1], pb[j2], sb[j1], sb[j2], pa)
+    }
+}
+
+/// The signs `s` of the vertices not marked shared (`shared[k] < 3`) are
+/// all `+1` or all `-1`.
+#[inline]
+fn strictly_one_side(s: [i8; 3], shared: [usize; 3]) -> bool {
+    let mut seen = 0i8;
+    for k in 0..3 {
+        if shared[k] < 3 {
+            continue;
+        }
+        if s[k] == 0 || (seen != 0 && s[k] != seen) {
+            return false;
+        }
+        seen = s[k];
+    }
+    seen != 0
 }
 
 /// Two coordinate axes onto which the (non-degenerate) triangle `abc`
@@ -343,9 +413,16 @@ fn sign(x: f64) -> i8 {
 
 /// Does the closed segment `pq` meet the closed non-degenerate triangle
 /// `abc`? Exact.
+#[cfg(test)]
 fn seg_tri(p: &P, q: &P, a: &P, b: &P, c: &P) -> bool {
     let op = sign(orient3d(a, b, c, p));
     let oq = sign(orient3d(a, b, c, q));
+    seg_tri_signs(p, q, op, oq, [a, b, c])
+}
+
+/// [`seg_tri`] given `op`, `oq`: the signs of `orient3d(a, b, c, p)` and
+/// `orient3d(a, b, c, q)`.
+fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
     if op == oq && op != 0 {
         return false;
     }
@@ -460,39 +537,89 @@ impl ManifoldReport {
 /// assert_eq!(r.nonmanifold_edges, vec![[0, 1]]);
 /// ```
 pub fn manifold_report(triangles: &[[u32; 3]]) -> ManifoldReport {
-    // (min, max, +1 if traversed min->max else -1)
-    let mut e: Vec<(u32, u32, i8)> = Vec::with_capacity(3 * triangles.len());
+    // Every edge is filed under its smaller endpoint as `max << 1 | dir`
+    // (dir 1: traversed min -> max); a counting sort by the smaller
+    // endpoint, then an insertion sort of each (small) bucket, lists the
+    // edges in (min, max) order without a global sort.
+    let len = 3 * triangles.len();
+    let nv = triangles
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&m| m as usize + 1);
+    if nv > 4 * len + 1024 {
+        // Sparse vertex ids: buckets would waste memory; sort instead.
+        let mut e: Vec<u64> = Vec::with_capacity(len);
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let (lo, hi) = (a.min(b), a.max(b));
+                e.push((u64::from(lo) << 33) | (u64::from(hi) << 1) | u64::from(a < b));
+            }
+        }
+        e.sort_unstable();
+        let mut r = ManifoldReport::default();
+        classify(&e, |x| ((x >> 33) as u32, (x >> 1) as u32), &mut r);
+        return r;
+    }
+    let mut start = vec![0u32; nv + 1];
+    for t in triangles {
+        for k in 0..3 {
+            start[t[k].min(t[(k + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut items = vec![0u64; len];
     for t in triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            if a < b {
-                e.push((a, b, 1));
-            } else {
-                e.push((b, a, -1));
-            }
+            let lo = a.min(b) as usize;
+            items[fill[lo] as usize] = (u64::from(a.max(b)) << 1) | u64::from(a < b);
+            fill[lo] += 1;
         }
     }
-    e.sort_unstable();
+    drop(fill);
     let mut r = ManifoldReport::default();
+    for v in 0..nv {
+        let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
+        for i in 1..bucket.len() {
+            let x = bucket[i];
+            let mut j = i;
+            while j > 0 && bucket[j - 1] > x {
+                bucket[j] = bucket[j - 1];
+                j -= 1;
+            }
+            bucket[j] = x;
+        }
+        classify(bucket, |x| (v as u32, (x >> 1) as u32), &mut r);
+    }
+    r
+}
+
+/// Adds the edges of `e` (sorted, equal edges adjacent; `edge` gives the
+/// `(min, max)` of an entry, bit 0 its direction) to the report.
+fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport) {
     let mut i = 0;
     while i < e.len() {
+        let (lo, hi) = edge(e[i]);
         let mut j = i + 1;
-        while j < e.len() && e[j].0 == e[i].0 && e[j].1 == e[i].1 {
+        while j < e.len() && edge(e[j]) == (lo, hi) {
             j += 1;
         }
-        let edge = [e[i].0, e[i].1];
         match j - i {
-            1 => r.boundary_edges.push(edge),
+            1 => r.boundary_edges.push([lo, hi]),
             2 => {
-                if e[i].2 == e[i + 1].2 {
-                    r.inconsistent_edges.push(edge);
+                if (e[i] & 1) == (e[i + 1] & 1) {
+                    r.inconsistent_edges.push([lo, hi]);
                 }
             }
-            _ => r.nonmanifold_edges.push(edge),
+            _ => r.nonmanifold_edges.push([lo, hi]),
         }
         i = j;
     }
-    r
 }
 
 #[cfg(test)]
@@ -556,6 +683,155 @@ mod tests {
             let got = self_intersections(&pts, &tris);
             assert_eq!(got.pairs, brute(&pts, &tris), "round {round}");
         }
+    }
+
+    /// The narrow phase as it was before the side filter (one shared
+    /// vertex list per pair, every edge test from scratch): the reference
+    /// the filtered version must agree with.
+    fn triangles_intersect_ref(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+        let p = |v: u32| &pts[v as usize];
+        let shared: Vec<(usize, usize)> = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .filter(|&(i, j)| a[i] == b[j])
+            .collect();
+        match shared.len() {
+            0 => {
+                (0..3).any(|k| seg_tri(p(a[k]), p(a[(k + 1) % 3]), p(b[0]), p(b[1]), p(b[2])))
+                    || (0..3)
+                        .any(|k| seg_tri(p(b[k]), p(b[(k + 1) % 3]), p(a[0]), p(a[1]), p(a[2])))
+            }
+            1 => {
+                let (i, j) = shared[0];
+                let (a1, a2) = (a[(i + 1) % 3], a[(i + 2) % 3]);
+                let (b1, b2) = (b[(j + 1) % 3], b[(j + 2) % 3]);
+                seg_tri(p(a1), p(a2), p(b[0]), p(b[1]), p(b[2]))
+                    || seg_tri(p(b1), p(b2), p(a[0]), p(a[1]), p(a[2]))
+            }
+            2 => {
+                let (u, v) = (a[shared[0].0], a[shared[1].0]);
+                let c = a[3 - shared[0].0 - shared[1].0];
+                let f = b[3 - shared[0].1 - shared[1].1];
+                if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
+                    return false;
+                }
+                let (x, y) = proj_axes(p(u), p(v), p(c));
+                let q = |w: u32| [p(w)[x], p(w)[y]];
+                orient2d(&q(u), &q(v), &q(c)).signum() == orient2d(&q(u), &q(v), &q(f)).signum()
+            }
+            _ => true,
+        }
+    }
+
+    #[test]
+    fn side_filter_agrees_with_reference_on_every_pair() {
+        let mut r = rng(0x0bad_cafe_dead_beef);
+        let mut pairs = [0usize; 2];
+        for round in 0..40 {
+            // Small lattices (many exact coplanar, collinear, touching and
+            // shared-vertex configurations) and a finer one.
+            let span = if round % 2 == 0 { 3 } else { 7 };
+            let np = 8 + round / 2;
+            let pts: Vec<P> = (0..np)
+                .map(|_| [0, 1, 2].map(|_| (r() % span) as f64 * 0.5))
+                .collect();
+            let canon = canonical_ids(&pts);
+            let tris: Vec<[u32; 3]> = (0..30)
+                .map(|_| [0, 1, 2].map(|_| (r() % np as u64) as u32))
+                .filter(|t| {
+                    let [a, b, c] = t.map(|v| &pts[v as usize]);
+                    !collinear(a, b, c)
+                })
+                .map(|t| t.map(|v| canon[v as usize]))
+                .collect();
+            for i in 0..tris.len() {
+                for j in i + 1..tris.len() {
+                    let want = triangles_intersect_ref(&pts, tris[i], tris[j]);
+                    assert_eq!(
+                        triangles_intersect(&pts, tris[i], tris[j]),
+                        want,
+                        "round {round}: {:?} {:?}",
+                        tris[i],
+                        tris[j]
+                    );
+                    pairs[usize::from(want)] += 1;
+                }
+            }
+        }
+        // Both outcomes were exercised.
+        assert!(pairs[0] > 100 && pairs[1] > 100, "{pairs:?}");
+    }
+
+    #[test]
+    fn canonical_ids_name_the_first_equal_point() {
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [-0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        assert_eq!(canonical_ids(&pts), vec![0, 1, 0, 1, 4]);
+    }
+
+    /// The edge classification by one global sort of `(min, max, dir)`.
+    fn manifold_ref(triangles: &[[u32; 3]]) -> ManifoldReport {
+        let mut e: Vec<(u32, u32, i8)> = Vec::new();
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                e.push(if a < b { (a, b, 1) } else { (b, a, -1) });
+            }
+        }
+        e.sort_unstable();
+        let mut r = ManifoldReport::default();
+        for g in e.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            let edge = [g[0].0, g[0].1];
+            match g.len() {
+                1 => r.boundary_edges.push(edge),
+                2 if g[0].2 == g[1].2 => r.inconsistent_edges.push(edge),
+                2 => {}
+                _ => r.nonmanifold_edges.push(edge),
+            }
+        }
+        r
+    }
+
+    #[test]
+    fn manifold_report_matches_a_global_sort() {
+        let mut r = rng(0x5eed_0f_ed9e5);
+        for round in 0..40 {
+            // Dense ids (bucket path) and, every fourth round, sparse huge
+            // ids (sort path).
+            let np = 6 + round as u64;
+            let sparse = round % 4 == 3;
+            let tris: Vec<[u32; 3]> = (0..3 * np)
+                .map(|_| {
+                    [0, 1, 2].map(|_| {
+                        let v = (r() % np) as u32;
+                        if sparse {
+                            v * 97_003 + 1_000_000
+                        } else {
+                            v
+                        }
+                    })
+                })
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+            assert_eq!(manifold_report(&tris), manifold_ref(&tris), "round {round}");
+        }
+        // A closed octahedron and its flipped copy.
+        let oct = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        assert!(manifold_report(&oct).is_oriented_closed());
+        assert_eq!(manifold_report(&oct), manifold_ref(&oct));
     }
 
     #[test]
