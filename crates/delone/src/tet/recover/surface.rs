@@ -132,32 +132,90 @@ impl Skeleton {
 
 impl Surface {
     pub(crate) fn new(n: usize, tris: &[[u32; 3]]) -> Surface {
-        let mut keys: Vec<(u32, u32)> = tris
+        // Edge ids in (min, max) order without a global sort or a map: each
+        // side `3 t + k` is filed under its smaller endpoint (counting sort),
+        // each small bucket is sorted by (larger endpoint, side), and equal
+        // runs are one edge. Sides of one edge stay in triangle order.
+        let nv = tris
             .iter()
-            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
-            .collect();
-        keys.sort_unstable();
-        keys.dedup();
-        let index: IdMap<(u32, u32), u32> = keys
-            .iter()
-            .enumerate()
-            .map(|(i, &k)| (k, i as u32))
-            .collect();
-        let mut edge_tris = vec![Vec::new(); keys.len()];
-        let mut tri_edges = Vec::with_capacity(tris.len());
-        let mut vtris = vec![Vec::new(); n];
-        for (ti, t) in tris.iter().enumerate() {
-            let mut te = [0u32; 3];
-            for k in 0..3 {
-                let e = index[&ekey(t[k], t[(k + 1) % 3])];
-                te[k] = e;
-                edge_tris[e as usize].push(ti as u32);
-                vtris[t[k] as usize].push(ti as u32);
+            .flatten()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0)
+            .max(n);
+        let side = |s: usize| {
+            let t = &tris[s / 3];
+            let k = s % 3;
+            ekey(t[k], t[(k + 1) % 3])
+        };
+        let mut start = vec![0u32; nv + 1];
+        for s in 0..3 * tris.len() {
+            start[side(s).0 as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        // (larger endpoint << 32 | side) per side, bucketed by smaller one.
+        let mut items = vec![0u64; 3 * tris.len()];
+        for s in 0..3 * tris.len() {
+            let (lo, hi) = side(s);
+            items[fill[lo as usize] as usize] = (u64::from(hi) << 32) | s as u64;
+            fill[lo as usize] += 1;
+        }
+        drop(fill);
+        let mut keys: Vec<(u32, u32)> = Vec::with_capacity(3 * tris.len() / 2 + 1);
+        let mut edge_tris: Vec<Vec<u32>> = Vec::with_capacity(3 * tris.len() / 2 + 1);
+        let mut tri_edges = vec![[0u32; 3]; tris.len()];
+        for v in 0..nv {
+            let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
+            for i in 1..bucket.len() {
+                let x = bucket[i];
+                let mut j = i;
+                while j > 0 && bucket[j - 1] > x {
+                    bucket[j] = bucket[j - 1];
+                    j -= 1;
+                }
+                bucket[j] = x;
             }
-            tri_edges.push(te);
+            let mut i = 0;
+            while i < bucket.len() {
+                let hi = (bucket[i] >> 32) as u32;
+                let mut j = i + 1;
+                while j < bucket.len() && (bucket[j] >> 32) as u32 == hi {
+                    j += 1;
+                }
+                let e = keys.len() as u32;
+                keys.push((v as u32, hi));
+                let mut ts = Vec::with_capacity(j - i);
+                for &x in &bucket[i..j] {
+                    let s = (x & 0xFFFF_FFFF) as usize;
+                    tri_edges[s / 3][s % 3] = e;
+                    ts.push((s / 3) as u32);
+                }
+                edge_tris.push(ts);
+                i = j;
+            }
+        }
+        drop(items);
+        // Triangles per vertex, in index order (sized by a count first).
+        let mut count = vec![0u32; n];
+        for t in tris {
+            for &w in t {
+                count[w as usize] += 1;
+            }
+        }
+        let mut vtris: Vec<Vec<u32>> = count
+            .iter()
+            .map(|&c| Vec::with_capacity(c as usize))
+            .collect();
+        drop(count);
+        for (ti, t) in tris.iter().enumerate() {
+            for &w in t {
+                vtris[w as usize].push(ti as u32);
+            }
         }
         for l in &mut vtris {
-            l.sort_unstable();
             l.dedup();
         }
         let mut tri_index: IdMap<[u32; 3], u32> =
@@ -528,5 +586,77 @@ impl Surface {
         self.vtris
             .get(w as usize)
             .is_some_and(|l| l.binary_search(&(t as u32)).is_ok())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Edges, their triangles and the triangles per vertex by a global sort
+    /// and a map (the construction `Surface::new` replaced).
+    #[allow(clippy::type_complexity)]
+    fn reference(
+        n: usize,
+        tris: &[[u32; 3]],
+    ) -> (Vec<[u32; 2]>, Vec<[u32; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
+        let mut keys: Vec<(u32, u32)> = tris
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let index: HashMap<(u32, u32), u32> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| (k, i as u32))
+            .collect();
+        let mut edge_tris = vec![Vec::new(); keys.len()];
+        let mut tri_edges = Vec::new();
+        let mut vtris = vec![Vec::new(); n];
+        for (ti, t) in tris.iter().enumerate() {
+            let mut te = [0u32; 3];
+            for k in 0..3 {
+                let e = index[&ekey(t[k], t[(k + 1) % 3])];
+                te[k] = e;
+                edge_tris[e as usize].push(ti as u32);
+                vtris[t[k] as usize].push(ti as u32);
+            }
+            tri_edges.push(te);
+        }
+        for l in &mut vtris {
+            l.sort_unstable();
+            l.dedup();
+        }
+        let edges = keys.iter().map(|&(a, b)| [a, b]).collect();
+        (edges, tri_edges, edge_tris, vtris)
+    }
+
+    #[test]
+    fn bucketed_edges_match_sorted_edges() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        for round in 0..30 {
+            let n = 5 + round;
+            // Random triangles (repeated edges, repeated triangles, unused
+            // vertices) over n points.
+            let tris: Vec<[u32; 3]> = (0..2 * n)
+                .map(|_| [0, 1, 2].map(|_| (r() % n as u64) as u32))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+            let surf = Surface::new(n, &tris);
+            let (edges, tri_edges, edge_tris, vtris) = reference(n, &tris);
+            assert_eq!(surf.edges, edges);
+            assert_eq!(surf.tri_edges, tri_edges);
+            assert_eq!(surf.edge_tris, edge_tris);
+            assert_eq!(surf.vtris, vtris);
+            let chains: Vec<Vec<u32>> = edges.iter().map(|e| e.to_vec()).collect();
+            assert_eq!(surf.chains, chains);
+        }
     }
 }
