@@ -152,16 +152,16 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
             (c as usize).min(dims[k] - 1)
         }
     };
-    let ranges: Vec<([usize; 3], [usize; 3])> = bb
+    let ranges: Vec<([u32; 3], [u32; 3])> = bb
         .iter()
         .map(|(lo, hi)| {
             (
-                [0, 1, 2].map(|k| cell(lo[k], k)),
-                [0, 1, 2].map(|k| cell(hi[k], k)),
+                [0, 1, 2].map(|k| cell(lo[k], k) as u32),
+                [0, 1, 2].map(|k| cell(hi[k], k) as u32),
             )
         })
         .collect();
-    let cid = |c: [usize; 3]| (c[2] * dims[1] + c[1]) * dims[0] + c[0];
+    let cid = |c: [u32; 3]| (c[2] as usize * dims[1] + c[1] as usize) * dims[0] + c[0] as usize;
     let ncell = dims[0] * dims[1] * dims[2];
     let mut start = vec![0u32; ncell + 1];
     for (lo, hi) in &ranges {
@@ -189,23 +189,43 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
             }
         }
     }
+    drop(fill);
     // Narrow phase: each pair is tested in the lowest cell both occupy.
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
+    // A cell's boxes are first copied side by side (one pass over the
+    // cell's list), so the all-pairs box test reads contiguous memory; the
+    // lowest-common-cell test runs only for overlapping boxes.
+    let mut cell_bb: Vec<(P, P)> = Vec::new();
+    let mut cell_lo: Vec<[u32; 3]> = Vec::new();
+    for z in 0..dims[2] as u32 {
+        for y in 0..dims[1] as u32 {
+            for x in 0..dims[0] as u32 {
                 let c = cid([x, y, z]);
                 let here = &items[start[c] as usize..start[c + 1] as usize];
-                for (k, &i) in here.iter().enumerate() {
-                    let (bi, ri) = (&bb[i as usize], &ranges[i as usize]);
-                    for &j in &here[k + 1..] {
-                        let (bj, rj) = (&bb[j as usize], &ranges[j as usize]);
-                        if [0, 1, 2].map(|a| ri.0[a].max(rj.0[a])) != [x, y, z] {
+                if here.len() < 2 {
+                    continue;
+                }
+                cell_bb.clear();
+                cell_lo.clear();
+                for &i in here {
+                    cell_bb.push(bb[i as usize]);
+                    cell_lo.push(ranges[i as usize].0);
+                }
+                for (k, (bi, ri)) in cell_bb.iter().zip(&cell_lo).enumerate() {
+                    for (l, bj) in cell_bb.iter().enumerate().skip(k + 1) {
+                        if bi.1[0] < bj.0[0]
+                            || bj.1[0] < bi.0[0]
+                            || bi.1[1] < bj.0[1]
+                            || bj.1[1] < bi.0[1]
+                            || bi.1[2] < bj.0[2]
+                            || bj.1[2] < bi.0[2]
+                        {
                             continue;
                         }
-                        if (0..3).any(|a| bi.1[a] < bj.0[a] || bj.1[a] < bi.0[a]) {
+                        let rj = &cell_lo[l];
+                        if ri[0].max(rj[0]) != x || ri[1].max(rj[1]) != y || ri[2].max(rj[2]) != z {
                             continue;
                         }
-                        let (ti, tj) = (live[i as usize], live[j as usize]);
+                        let (ti, tj) = (live[here[k] as usize], live[here[l] as usize]);
                         let vi = triangles[ti as usize].map(|v| canon[v as usize]);
                         let vj = triangles[tj as usize].map(|v| canon[v as usize]);
                         if triangles_intersect(points, vi, vj) {
