@@ -170,20 +170,49 @@ fn fast_f64(tok: &[u8]) -> Option<f64> {
         }
         exp += if eneg { -e } else { e };
     }
-    if i != s.len() || m > (1u64 << 53) {
+    if i != s.len() {
         return None;
     }
-    let x = m as f64;
     let v = if m == 0 {
         0.0
-    } else if (0..=22).contains(&exp) {
-        x * POW10[exp as usize]
-    } else if (-22..0).contains(&exp) {
-        x / POW10[(-exp) as usize]
+    } else if m <= (1u64 << 53) && (-22..=22).contains(&exp) {
+        let x = m as f64;
+        if exp >= 0 {
+            x * POW10[exp as usize]
+        } else {
+            x / POW10[(-exp) as usize]
+        }
+    } else if (0..=19).contains(&exp) {
+        // m·10^e < 2^64·10^19 < 2^128 is an exact integer; the conversion
+        // rounds it to nearest.
+        (u128::from(m) * 10u128.pow(exp as u32)) as f64
+    } else if (-27..0).contains(&exp) {
+        quotient(m, (-exp) as u32)?
     } else {
         return None;
     };
     Some(if neg { -v } else { v })
+}
+
+/// `m / 10^k` correctly rounded (`m > 0`, `k ≤ 27`), by integer division:
+/// `q = ⌊m·2^s / 10^k⌋` with `m·2^s` as large as fits below 2^127, the
+/// remainder folded into bit 0 as a sticky bit. With at least 55
+/// significant bits in `q`, bit 0 lies below the rounding bit of a 53-bit
+/// significand, so rounding `q | sticky` to nearest (the `u128 → f64`
+/// conversion) rounds the exact quotient, and the scaling by `2^-s` is
+/// exact. `None` when `q` is too short (the caller falls back).
+fn quotient(m: u64, k: u32) -> Option<f64> {
+    let d = 10u128.pow(k);
+    let s = 127 - (64 - m.leading_zeros());
+    let num = u128::from(m) << s;
+    let (q, r) = (num / d, num % d);
+    if 128 - q.leading_zeros() < 55 {
+        return None;
+    }
+    let q = q | u128::from(r != 0);
+    // 2^-s exactly (s ≤ 127: a normal double).
+    let scale = f64::from_bits(u64::from(1023 - s) << 52);
+    Some(q as f64 * scale)
 }
 
 pub(crate) fn show(tok: &[u8]) -> String {
@@ -672,6 +701,21 @@ mod tests {
     }
 
     #[test]
+    fn long_significands_take_the_integer_paths() {
+        // 17 significant digits (more than 2^53): the quotient path.
+        for t in ["-0.16766200000000001", "-0.0073921400000000002", "106.10069274902344"] {
+            let got = fast_f64(t.as_bytes()).expect("fast path");
+            assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
+        }
+        // Large integers: the product path.
+        for t in ["1234567890123456789", "98765432109876543e2"] {
+            let got = fast_f64(t.as_bytes()).expect("fast path");
+            assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
+        }
+        assert_eq!(quotient(1, 27), None);
+    }
+
+    #[test]
     fn fast_number_paths_match_str_parse() {
         let mut r = xorshift(0xfeed_beef_0123_4567);
         let fixed = [
@@ -706,6 +750,16 @@ mod tests {
                 t.push_str(&(r() % 40).to_string());
             }
             toks.push(t);
+        }
+        for _ in 0..20_000 {
+            // Printed like `%.17g` and `%.9g` (the corpus files).
+            let mant = (r() >> 11) as f64 / (1u64 << 53) as f64;
+            let e = (r() % 40) as i32 - 25;
+            let x = mant * 10f64.powi(e) * if r() % 2 == 0 { -1.0 } else { 1.0 };
+            toks.push(format!("{x:.17}"));
+            toks.push(format!("{:.17e}", x));
+            toks.push(format!("{x:.9}"));
+            toks.push(format!("{x}"));
         }
         for t in &toks {
             let want = t.parse::<f64>().ok();

@@ -329,15 +329,24 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     // in_b[i]: the position in `b` of a[i], or 3; in_a likewise. The
     // vertices of a non-degenerate triangle are distinct points, so each
     // vertex matches at most once.
-    let mut in_b = [3usize; 3];
-    let mut in_a = [3usize; 3];
-    let mut shared = 0;
+    // Bit 3i + j: a[i] == b[j] (branch-free; most pairs share nothing).
+    let mut eq = 0u32;
     for i in 0..3 {
         for j in 0..3 {
-            if a[i] == b[j] {
+            eq |= u32::from(a[i] == b[j]) << (3 * i + j);
+        }
+    }
+    if eq == 0 {
+        return disjoint_vertices_intersect(pts, a, b);
+    }
+    let mut in_b = [3usize; 3];
+    let mut in_a = [3usize; 3];
+    let shared = eq.count_ones();
+    for i in 0..3 {
+        for j in 0..3 {
+            if eq & (1 << (3 * i + j)) != 0 {
                 in_b[i] = j;
                 in_a[j] = i;
-                shared += 1;
             }
         }
     }
@@ -378,19 +387,29 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     if strictly_one_side(sa, in_b) {
         return false;
     }
-    if shared == 0 {
-        (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
-            || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
-    } else {
-        // One shared vertex: only the edges opposite it can meet the other
-        // triangle anywhere else (see the module docs).
-        let i = (0..3).find(|&i| in_b[i] < 3).unwrap_or(0);
-        let j = in_b[i];
-        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-        seg_tri_signs(pa[i1], pa[i2], sa[i1], sa[i2], pb)
-            || seg_tri_signs(pb[j1], pb[j2], sb[j1], sb[j2], pa)
+    // One shared vertex: only the edges opposite it can meet the other
+    // triangle anywhere else (see the module docs).
+    let i = (0..3).find(|&i| in_b[i] < 3).unwrap_or(0);
+    let j = in_b[i];
+    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    seg_tri_signs(pa[i1], pa[i2], sa[i1], sa[i2], pb)
+        || seg_tri_signs(pb[j1], pb[j2], sb[j1], sb[j2], pa)
+}
+
+/// [`triangles_intersect`] for two triangles without a common vertex.
+fn disjoint_vertices_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+    let (pa, pb) = (a.map(|v| &pts[v as usize]), b.map(|v| &pts[v as usize]));
+    let sb = pb.map(|q| sign(orient3d(pa[0], pa[1], pa[2], q)));
+    if sb[0] == sb[1] && sb[1] == sb[2] && sb[0] != 0 {
+        return false;
     }
+    let sa = pa.map(|q| sign(orient3d(pb[0], pb[1], pb[2], q)));
+    if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
+        return false;
+    }
+    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
+        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
 }
 
 /// The signs `s` of the vertices not marked shared (`shared[k] < 3`) are
