@@ -62,6 +62,64 @@ pub(crate) enum Kind {
     OnTri(u32),
 }
 
+/// Lists of ids stored back to back: list `i` is
+/// `items[start[i]..start[i + 1]]` (indexing gives a slice).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub(crate) struct Lists {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Lists {
+    /// The number of lists.
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+}
+
+impl std::ops::Index<usize> for Lists {
+    type Output = [u32];
+    #[inline]
+    fn index(&self, i: usize) -> &[u32] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+}
+
+/// The vertices of an input edge in order: its two ends until a Steiner
+/// point splits it (no allocation for the many edges never split), then a
+/// vector. Reads as a slice.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum Chain {
+    /// An unsplit edge.
+    Two([u32; 2]),
+    /// A split edge: ends and Steiner points in order.
+    Many(Vec<u32>),
+}
+
+impl Chain {
+    /// Inserts `id` at position `i` (as [`Vec::insert`]).
+    pub(crate) fn insert(&mut self, i: usize, id: u32) {
+        if let Chain::Two(ab) = *self {
+            *self = Chain::Many(ab.to_vec());
+        }
+        if let Chain::Many(v) = self {
+            v.insert(i, id);
+        }
+    }
+}
+
+impl std::ops::Deref for Chain {
+    type Target = [u32];
+    #[inline]
+    fn deref(&self) -> &[u32] {
+        match self {
+            Chain::Two(ab) => ab,
+            Chain::Many(v) => v,
+        }
+    }
+}
+
 /// The refined surface.
 #[derive(Debug, Clone)]
 pub(crate) struct Surface {
@@ -70,11 +128,12 @@ pub(crate) struct Surface {
     /// Input edges, `[a, b]` with `a < b`, sorted.
     pub(crate) edges: Vec<[u32; 2]>,
     /// Per input edge: its vertices from `edges[e][0]` to `edges[e][1]`.
-    pub(crate) chains: Vec<Vec<u32>>,
+    pub(crate) chains: Vec<Chain>,
     /// Per input triangle: the indices of its edges `(t0,t1), (t1,t2), (t2,t0)`.
     pub(crate) tri_edges: Vec<[u32; 3]>,
-    /// Per input edge: the triangles that use it.
-    pub(crate) edge_tris: Vec<Vec<u32>>,
+    /// Per input edge: the triangles that use it (one flat array, no
+    /// allocation per edge).
+    pub(crate) edge_tris: Lists,
     /// Per vertex: the input triangles it lies on (sorted).
     pub(crate) vtris: Vec<Vec<u32>>,
     /// Per vertex: its kind.
@@ -165,7 +224,11 @@ impl Surface {
         }
         drop(fill);
         let mut keys: Vec<(u32, u32)> = Vec::with_capacity(3 * tris.len() / 2 + 1);
-        let mut edge_tris: Vec<Vec<u32>> = Vec::with_capacity(3 * tris.len() / 2 + 1);
+        let mut edge_tris = Lists {
+            start: Vec::with_capacity(3 * tris.len() / 2 + 2),
+            items: Vec::with_capacity(3 * tris.len()),
+        };
+        edge_tris.start.push(0);
         let mut tri_edges = vec![[0u32; 3]; tris.len()];
         for v in 0..nv {
             let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
@@ -187,13 +250,12 @@ impl Surface {
                 }
                 let e = keys.len() as u32;
                 keys.push((v as u32, hi));
-                let mut ts = Vec::with_capacity(j - i);
                 for &x in &bucket[i..j] {
                     let s = (x & 0xFFFF_FFFF) as usize;
                     tri_edges[s / 3][s % 3] = e;
-                    ts.push((s / 3) as u32);
+                    edge_tris.items.push((s / 3) as u32);
                 }
-                edge_tris.push(ts);
+                edge_tris.start.push(edge_tris.items.len() as u32);
                 i = j;
             }
         }
@@ -239,7 +301,7 @@ impl Surface {
             inner: vec![0; tris.len()],
             tris: tris.to_vec(),
             edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
-            chains: keys.iter().map(|&(a, b)| vec![a, b]).collect(),
+            chains: keys.iter().map(|&(a, b)| Chain::Two([a, b])).collect(),
             tri_edges,
             edge_tris,
             vtris,
@@ -253,7 +315,7 @@ impl Surface {
         self.grow(id);
         self.chains[e as usize].insert(i + 1, id);
         self.kind[id as usize] = Kind::OnEdge(e);
-        self.vtris[id as usize] = self.edge_tris[e as usize].clone();
+        self.vtris[id as usize] = self.edge_tris[e as usize].to_vec();
     }
 
     /// Records Steiner vertex `id` inside triangle `t`.
@@ -653,10 +715,15 @@ mod tests {
             let (edges, tri_edges, edge_tris, vtris) = reference(n, &tris);
             assert_eq!(surf.edges, edges);
             assert_eq!(surf.tri_edges, tri_edges);
-            assert_eq!(surf.edge_tris, edge_tris);
+            assert_eq!(surf.edge_tris.len(), edge_tris.len());
+            for (e, l) in edge_tris.iter().enumerate() {
+                assert_eq!(&surf.edge_tris[e], &l[..]);
+            }
             assert_eq!(surf.vtris, vtris);
-            let chains: Vec<Vec<u32>> = edges.iter().map(|e| e.to_vec()).collect();
-            assert_eq!(surf.chains, chains);
+            assert_eq!(surf.chains.len(), edges.len());
+            for (c, e) in surf.chains.iter().zip(&edges) {
+                assert_eq!(&c[..], &e[..]);
+            }
         }
     }
 }
