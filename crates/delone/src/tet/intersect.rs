@@ -103,6 +103,15 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     if live.len() < 2 {
         return out;
     }
+    // Per live triangle: canonical vertex ids and its plane.
+    let tri_c: Vec<[u32; 3]> = live
+        .iter()
+        .map(|&t| triangles[t as usize].map(|v| canon[v as usize]))
+        .collect();
+    let planes: Vec<Plane> = tri_c
+        .iter()
+        .map(|t| Plane::new(t.map(|v| &points[v as usize])))
+        .collect();
     // Bounding boxes and the grid.
     let bb: Vec<(P, P)> = live
         .iter()
@@ -225,10 +234,15 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
                         if ri[0].max(rj[0]) != x || ri[1].max(rj[1]) != y || ri[2].max(rj[2]) != z {
                             continue;
                         }
-                        let (ti, tj) = (live[here[k] as usize], live[here[l] as usize]);
-                        let vi = triangles[ti as usize].map(|v| canon[v as usize]);
-                        let vj = triangles[tj as usize].map(|v| canon[v as usize]);
-                        if triangles_intersect(points, vi, vj) {
+                        let (li, lj) = (here[k] as usize, here[l] as usize);
+                        let (ti, tj) = (live[li], live[lj]);
+                        if intersect_with_planes(
+                            points,
+                            tri_c[li],
+                            tri_c[lj],
+                            &planes[li],
+                            &planes[lj],
+                        ) {
                             out.pairs.push((ti.min(tj), ti.max(tj)));
                         }
                     }
@@ -325,6 +339,67 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 /// vertices: that settles almost every pair of a closed surface with two or
 /// four predicate calls. The rest reuse those signs in the edge tests.
 fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+    let plane = |t: [u32; 3]| Plane::new(t.map(|v| &pts[v as usize]));
+    intersect_with_planes(pts, a, b, &plane(a), &plane(b))
+}
+
+/// The plane of a triangle `(o, p1, p2)` for a cheap filtered side test:
+/// the normal `n = (p1 − o) × (p2 − o)` and, per component, the sum of the
+/// magnitudes of its two products.
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    o: P,
+    n: [f64; 3],
+    nabs: [f64; 3],
+}
+
+/// The error bound factor of the side test: the one of
+/// [`delone_predicates::orient3d`]'s filter, `(8 + 256u)·u`, `u = 2⁻⁵³`.
+const SIDE_BOUND: f64 = (8.0 + 256.0 * f64::EPSILON / 2.0) * (f64::EPSILON / 2.0);
+
+impl Plane {
+    fn new([o, p1, p2]: [&P; 3]) -> Plane {
+        let e1 = [p1[0] - o[0], p1[1] - o[1], p1[2] - o[2]];
+        let e2 = [p2[0] - o[0], p2[1] - o[1], p2[2] - o[2]];
+        let (x1, x2) = (e1[1] * e2[2], e1[2] * e2[1]);
+        let (y1, y2) = (e1[2] * e2[0], e1[0] * e2[2]);
+        let (z1, z2) = (e1[0] * e2[1], e1[1] * e2[0]);
+        Plane {
+            o: *o,
+            n: [x1 - x2, y1 - y2, z1 - z2],
+            nabs: [
+                x1.abs() + x2.abs(),
+                y1.abs() + y2.abs(),
+                z1.abs() + z2.abs(),
+            ],
+        }
+    }
+
+    /// The sign of `orient3d(t[0], t[1], t[2], q)` for the triangle `t`
+    /// this plane was made from (same vertex order). `det = (q − o)·n` is
+    /// the 3×3 determinant `[q − o; p1 − o; p2 − o]` expanded along its
+    /// first row: every factor is a rounded coordinate difference and each
+    /// term a difference of two products, the same shape as `orient3d`'s
+    /// floating-point stage, so the same bound on `|det̂ − det|` (the
+    /// factor times the permanent) certifies the sign. Subtracting the
+    /// first row from the others shows `orient3d(o, p1, p2, q) = −det`.
+    /// Uncertain cases (and tiny or non-finite bounds) take the exact
+    /// predicate.
+    #[inline]
+    fn side(&self, t: [&P; 3], q: &P) -> i8 {
+        let m = [q[0] - self.o[0], q[1] - self.o[1], q[2] - self.o[2]];
+        let det = m[0] * self.n[0] + m[1] * self.n[1] + m[2] * self.n[2];
+        let perm = m[0].abs() * self.nabs[0] + m[1].abs() * self.nabs[1] + m[2].abs() * self.nabs[2];
+        let bound = SIDE_BOUND * perm;
+        if det.abs() > bound && bound > 1e-280 {
+            return -sign(det);
+        }
+        sign(orient3d(t[0], t[1], t[2], q))
+    }
+}
+
+/// [`triangles_intersect`] with the planes of `a` and `b` given.
+fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b: &Plane) -> bool {
     let p = |v: u32| &pts[v as usize];
     // in_b[i]: the position in `b` of a[i], or 3; in_a likewise. The
     // vertices of a non-degenerate triangle are distinct points, so each
@@ -337,7 +412,7 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
         }
     }
     if eq == 0 {
-        return disjoint_vertices_intersect(pts, a, b);
+        return disjoint_vertices_intersect(pts, a, b, pl_a, pl_b);
     }
     let mut in_b = [3usize; 3];
     let mut in_a = [3usize; 3];
@@ -359,7 +434,8 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
         let jf = (0..3).find(|&j| in_a[j] == 3).unwrap_or(0);
         let (u, v) = (a[(ic + 1) % 3], a[(ic + 2) % 3]);
         let (c, f) = (a[ic], b[jf]);
-        if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
+        // (u, v, c) is a rotation of a: zero exactly when f is on a's plane.
+        if pl_a.side(a.map(p), p(f)) != 0 {
             return false;
         }
         let (x, y) = proj_axes(p(u), p(v), p(c));
@@ -372,18 +448,18 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     }
     let (pa, pb) = (a.map(p), b.map(p));
     // Sides of b's vertices w.r.t. the plane of a, and of a's w.r.t. b's.
-    let side = |t: [&P; 3], q: &P, on: bool| -> i8 {
+    let side = |pl: &Plane, t: [&P; 3], q: &P, on: bool| -> i8 {
         if on {
             0
         } else {
-            sign(orient3d(t[0], t[1], t[2], q))
+            pl.side(t, q)
         }
     };
-    let sb = [0, 1, 2].map(|j| side(pa, pb[j], in_a[j] < 3));
+    let sb = [0, 1, 2].map(|j| side(pl_a, pa, pb[j], in_a[j] < 3));
     if strictly_one_side(sb, in_a) {
         return false;
     }
-    let sa = [0, 1, 2].map(|i| side(pb, pa[i], in_b[i] < 3));
+    let sa = [0, 1, 2].map(|i| side(pl_b, pb, pa[i], in_b[i] < 3));
     if strictly_one_side(sa, in_b) {
         return false;
     }
@@ -398,13 +474,19 @@ fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
 }
 
 /// [`triangles_intersect`] for two triangles without a common vertex.
-fn disjoint_vertices_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+fn disjoint_vertices_intersect(
+    pts: &[P],
+    a: [u32; 3],
+    b: [u32; 3],
+    pl_a: &Plane,
+    pl_b: &Plane,
+) -> bool {
     let (pa, pb) = (a.map(|v| &pts[v as usize]), b.map(|v| &pts[v as usize]));
-    let sb = pb.map(|q| sign(orient3d(pa[0], pa[1], pa[2], q)));
+    let sb = pb.map(|q| pl_a.side(pa, q));
     if sb[0] == sb[1] && sb[1] == sb[2] && sb[0] != 0 {
         return false;
     }
-    let sa = pa.map(|q| sign(orient3d(pb[0], pb[1], pb[2], q)));
+    let sa = pa.map(|q| pl_b.side(pb, q));
     if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
         return false;
     }
@@ -798,6 +880,28 @@ mod tests {
         }
         // Both outcomes were exercised.
         assert!(pairs[0] > 100 && pairs[1] > 100, "{pairs:?}");
+    }
+
+    #[test]
+    fn plane_side_is_the_orient3d_sign() {
+        let mut r = rng(0x0123_4567_89ab_cdef);
+        let mut f = || (r() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for round in 0..20_000 {
+            let t = [[f(), f(), f()], [f(), f(), f()], [f(), f(), f()]];
+            let tr = [&t[0], &t[1], &t[2]];
+            // Random points, points near the plane, and points exactly on
+            // it (an affine combination with dyadic weights when exact).
+            let q = match round % 3 {
+                0 => [f(), f(), f()],
+                1 => {
+                    let (u, v) = (f(), f());
+                    [0, 1, 2].map(|k| t[0][k] + u * (t[1][k] - t[0][k]) + v * (t[2][k] - t[0][k]))
+                }
+                _ => [0, 1, 2].map(|k| 0.5 * (t[0][k] + t[1][k])),
+            };
+            let pl = Plane::new(tr);
+            assert_eq!(pl.side(tr, &q), sign(orient3d(&t[0], &t[1], &t[2], &q)));
+        }
     }
 
     #[test]
