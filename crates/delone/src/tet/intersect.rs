@@ -338,6 +338,7 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 /// side of the other's plane, the triangles meet at most in their shared
 /// vertices: that settles almost every pair of a closed surface with two or
 /// four predicate calls. The rest reuse those signs in the edge tests.
+#[cfg(test)]
 fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     let plane = |t: [u32; 3]| Plane::new(t.map(|v| &pts[v as usize]));
     intersect_with_planes(pts, a, b, &plane(a), &plane(b))
@@ -398,7 +399,7 @@ impl Plane {
     }
 }
 
-/// [`triangles_intersect`] with the planes of `a` and `b` given.
+/// The triangle-pair test (`triangles_intersect`) with the planes of `a` and `b` given.
 fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b: &Plane) -> bool {
     let p = |v: u32| &pts[v as usize];
     // in_b[i]: the position in `b` of a[i], or 3; in_a likewise. The
@@ -473,7 +474,7 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
         || seg_tri_signs(pb[j1], pb[j2], sb[j1], sb[j2], pa)
 }
 
-/// [`triangles_intersect`] for two triangles without a common vertex.
+/// The triangle-pair test for two triangles without a common vertex.
 fn disjoint_vertices_intersect(
     pts: &[P],
     a: [u32; 3],
