@@ -696,14 +696,23 @@ mod tests {
             while let Some(l) = rec.next(&mut toks) {
                 got.push((l, toks.clone()));
             }
-            assert_eq!(got, records_ref(&input), "{:?}", String::from_utf8_lossy(&input));
+            assert_eq!(
+                got,
+                records_ref(&input),
+                "{:?}",
+                String::from_utf8_lossy(&input)
+            );
         }
     }
 
     #[test]
     fn long_significands_take_the_integer_paths() {
         // 17 significant digits (more than 2^53): the quotient path.
-        for t in ["-0.16766200000000001", "-0.0073921400000000002", "106.10069274902344"] {
+        for t in [
+            "-0.16766200000000001",
+            "-0.0073921400000000002",
+            "106.10069274902344",
+        ] {
             let got = fast_f64(t.as_bytes()).expect("fast path");
             assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
         }
@@ -719,12 +728,45 @@ mod tests {
     fn fast_number_paths_match_str_parse() {
         let mut r = xorshift(0xfeed_beef_0123_4567);
         let fixed = [
-            "0", "-0", "+0", "-0.0", "1.", ".5", "-.5", "1e22", "1e23", "9007199254740993",
-            "9007199254740992", "0.1", "123456789012345678", "1234567890123456789",
-            "12345678901234567890", "4.35e-22", "1e-22", "1e-23", "0.000000000000000000000001",
-            "2.2250738585072014e-308", "1e", "e5", ".", "-", "+", "1e+5", "1E-5", "1.5e0007",
-            "1.0000000000000000000001", "00000000000000000000000012.5", "1_0", "0x10", "inf",
-            "-nan", "1.2.3", "1e5.0", "--1", "+-1", "5e1000000",
+            "0",
+            "-0",
+            "+0",
+            "-0.0",
+            "1.",
+            ".5",
+            "-.5",
+            "1e22",
+            "1e23",
+            "9007199254740993",
+            "9007199254740992",
+            "0.1",
+            "123456789012345678",
+            "1234567890123456789",
+            "12345678901234567890",
+            "4.35e-22",
+            "1e-22",
+            "1e-23",
+            "0.000000000000000000000001",
+            "2.2250738585072014e-308",
+            "1e",
+            "e5",
+            ".",
+            "-",
+            "+",
+            "1e+5",
+            "1E-5",
+            "1.5e0007",
+            "1.0000000000000000000001",
+            "00000000000000000000000012.5",
+            "1_0",
+            "0x10",
+            "inf",
+            "-nan",
+            "1.2.3",
+            "1e5.0",
+            "--1",
+            "+-1",
+            "5e1000000",
         ];
         let mut toks: Vec<String> = fixed.iter().map(|s| s.to_string()).collect();
         for _ in 0..20_000 {
@@ -765,8 +807,16 @@ mod tests {
             let want = t.parse::<f64>().ok();
             let got = parse_f64(t.as_bytes(), 1, "x").ok();
             assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t}");
-            assert_eq!(parse_int(t.as_bytes(), 1, "x").ok(), t.parse::<i64>().ok(), "{t}");
-            assert_eq!(parse_count(t.as_bytes(), 1, "x").ok(), t.parse::<usize>().ok(), "{t}");
+            assert_eq!(
+                parse_int(t.as_bytes(), 1, "x").ok(),
+                t.parse::<i64>().ok(),
+                "{t}"
+            );
+            assert_eq!(
+                parse_count(t.as_bytes(), 1, "x").ok(),
+                t.parse::<usize>().ok(),
+                "{t}"
+            );
         }
     }
 

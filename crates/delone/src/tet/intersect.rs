@@ -390,7 +390,8 @@ impl Plane {
     fn side(&self, t: [&P; 3], q: &P) -> i8 {
         let m = [q[0] - self.o[0], q[1] - self.o[1], q[2] - self.o[2]];
         let det = m[0] * self.n[0] + m[1] * self.n[1] + m[2] * self.n[2];
-        let perm = m[0].abs() * self.nabs[0] + m[1].abs() * self.nabs[1] + m[2].abs() * self.nabs[2];
+        let perm =
+            m[0].abs() * self.nabs[0] + m[1].abs() * self.nabs[1] + m[2].abs() * self.nabs[2];
         let bound = SIDE_BOUND * perm;
         if det.abs() > bound && bound > 1e-280 {
             return -sign(det);
@@ -400,78 +401,66 @@ impl Plane {
 }
 
 /// The triangle-pair test (`triangles_intersect`) with the planes of `a` and `b` given.
+#[inline]
 fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b: &Plane) -> bool {
+    // Bit 3i + j: a[i] == b[j]. The vertices of a non-degenerate triangle
+    // are distinct points, so each vertex matches at most once.
+    let eq = u32::from(a[0] == b[0])
+        | u32::from(a[0] == b[1]) << 1
+        | u32::from(a[0] == b[2]) << 2
+        | u32::from(a[1] == b[0]) << 3
+        | u32::from(a[1] == b[1]) << 4
+        | u32::from(a[1] == b[2]) << 5
+        | u32::from(a[2] == b[0]) << 6
+        | u32::from(a[2] == b[1]) << 7
+        | u32::from(a[2] == b[2]) << 8;
     let p = |v: u32| &pts[v as usize];
-    // in_b[i]: the position in `b` of a[i], or 3; in_a likewise. The
-    // vertices of a non-degenerate triangle are distinct points, so each
-    // vertex matches at most once.
-    // Bit 3i + j: a[i] == b[j] (branch-free; most pairs share nothing).
-    let mut eq = 0u32;
-    for i in 0..3 {
-        for j in 0..3 {
-            eq |= u32::from(a[i] == b[j]) << (3 * i + j);
-        }
-    }
-    if eq == 0 {
-        return disjoint_vertices_intersect(pts, a, b, pl_a, pl_b);
-    }
-    let mut in_b = [3usize; 3];
-    let mut in_a = [3usize; 3];
-    let shared = eq.count_ones();
-    for i in 0..3 {
-        for j in 0..3 {
-            if eq & (1 << (3 * i + j)) != 0 {
-                in_b[i] = j;
-                in_a[j] = i;
+    match eq.count_ones() {
+        0 => disjoint_vertices_intersect(pts, a, b, pl_a, pl_b),
+        1 => {
+            // One shared vertex a[i] = b[j]: the triangles meet elsewhere
+            // only if the edge opposite it in one meets the other (see the
+            // module docs). If the other two vertices of one triangle lie
+            // strictly on one side of the other's plane, they cannot.
+            let k = eq.trailing_zeros() as usize;
+            let (i, j) = (k / 3, k % 3);
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let (pa, pb) = (a.map(p), b.map(p));
+            let (sb1, sb2) = (pl_a.side(pa, pb[j1]), pl_a.side(pa, pb[j2]));
+            if sb1 == sb2 && sb1 != 0 {
+                return false;
             }
+            let (sa1, sa2) = (pl_b.side(pb, pa[i1]), pl_b.side(pb, pa[i2]));
+            if sa1 == sa2 && sa1 != 0 {
+                return false;
+            }
+            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb)
+                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa)
         }
-    }
-    if shared >= 3 {
-        return true;
-    }
-    if shared == 2 {
-        // The shared edge uv; c and f the third vertices of a and b.
-        let ic = (0..3).find(|&i| in_b[i] == 3).unwrap_or(0);
-        let jf = (0..3).find(|&j| in_a[j] == 3).unwrap_or(0);
-        let (u, v) = (a[(ic + 1) % 3], a[(ic + 2) % 3]);
-        let (c, f) = (a[ic], b[jf]);
-        // (u, v, c) is a rotation of a: zero exactly when f is on a's plane.
-        if pl_a.side(a.map(p), p(f)) != 0 {
-            return false;
+        2 => {
+            // The shared edge uv; c and f the third vertices of a and b.
+            let k1 = eq.trailing_zeros() as usize;
+            let k2 = (eq & (eq - 1)).trailing_zeros() as usize;
+            let ic = 3 - k1 / 3 - k2 / 3;
+            let jf = 3 - k1 % 3 - k2 % 3;
+            let (u, v) = (a[(ic + 1) % 3], a[(ic + 2) % 3]);
+            let (c, f) = (a[ic], b[jf]);
+            // (u, v, c) is a rotation of a: zero exactly when f is on a's
+            // plane.
+            if pl_a.side(a.map(p), p(f)) != 0 {
+                return false;
+            }
+            let (x, y) = proj_axes(p(u), p(v), p(c));
+            let q = |w: u32| [p(w)[x], p(w)[y]];
+            let sc = orient2d(&q(u), &q(v), &q(c));
+            let sf = orient2d(&q(u), &q(v), &q(f));
+            // sc != 0 (a is non-degenerate); f on the line uv would make b
+            // degenerate, which the caller excludes.
+            sc.signum() == sf.signum()
         }
-        let (x, y) = proj_axes(p(u), p(v), p(c));
-        let q = |w: u32| [p(w)[x], p(w)[y]];
-        let sc = orient2d(&q(u), &q(v), &q(c));
-        let sf = orient2d(&q(u), &q(v), &q(f));
-        // sc != 0 (a is non-degenerate); f on the line uv would make b
-        // degenerate, which the caller excludes.
-        return sc.signum() == sf.signum();
+        _ => true,
     }
-    let (pa, pb) = (a.map(p), b.map(p));
-    // Sides of b's vertices w.r.t. the plane of a, and of a's w.r.t. b's.
-    let side = |pl: &Plane, t: [&P; 3], q: &P, on: bool| -> i8 {
-        if on {
-            0
-        } else {
-            pl.side(t, q)
-        }
-    };
-    let sb = [0, 1, 2].map(|j| side(pl_a, pa, pb[j], in_a[j] < 3));
-    if strictly_one_side(sb, in_a) {
-        return false;
-    }
-    let sa = [0, 1, 2].map(|i| side(pl_b, pb, pa[i], in_b[i] < 3));
-    if strictly_one_side(sa, in_b) {
-        return false;
-    }
-    // One shared vertex: only the edges opposite it can meet the other
-    // triangle anywhere else (see the module docs).
-    let i = (0..3).find(|&i| in_b[i] < 3).unwrap_or(0);
-    let j = in_b[i];
-    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-    seg_tri_signs(pa[i1], pa[i2], sa[i1], sa[i2], pb)
-        || seg_tri_signs(pb[j1], pb[j2], sb[j1], sb[j2], pa)
 }
 
 /// The triangle-pair test for two triangles without a common vertex.
@@ -493,23 +482,6 @@ fn disjoint_vertices_intersect(
     }
     (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
         || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
-}
-
-/// The signs `s` of the vertices not marked shared (`shared[k] < 3`) are
-/// all `+1` or all `-1`.
-#[inline]
-fn strictly_one_side(s: [i8; 3], shared: [usize; 3]) -> bool {
-    let mut seen = 0i8;
-    for k in 0..3 {
-        if shared[k] < 3 {
-            continue;
-        }
-        if s[k] == 0 || (seen != 0 && s[k] != seen) {
-            return false;
-        }
-        seen = s[k];
-    }
-    seen != 0
 }
 
 /// Two coordinate axes onto which the (non-degenerate) triangle `abc`
