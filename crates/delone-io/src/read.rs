@@ -784,9 +784,9 @@ mod tests {
                 }
                 t.push(char::from(b'0' + (r() % 10) as u8));
             }
-            if r() % 3 == 0 {
-                t.push(if r() % 2 == 0 { 'e' } else { 'E' });
-                if r() % 2 == 0 {
+            if r().is_multiple_of(3) {
+                t.push(if r().is_multiple_of(2) { 'e' } else { 'E' });
+                if r().is_multiple_of(2) {
                     t.push('-');
                 }
                 t.push_str(&(r() % 40).to_string());
@@ -797,7 +797,7 @@ mod tests {
             // Printed like `%.17g` and `%.9g` (the corpus files).
             let mant = (r() >> 11) as f64 / (1u64 << 53) as f64;
             let e = (r() % 40) as i32 - 25;
-            let x = mant * 10f64.powi(e) * if r() % 2 == 0 { -1.0 } else { 1.0 };
+            let x = mant * 10f64.powi(e) * if r().is_multiple_of(2) { -1.0 } else { 1.0 };
             toks.push(format!("{x:.17}"));
             toks.push(format!("{:.17e}", x));
             toks.push(format!("{x:.9}"));
