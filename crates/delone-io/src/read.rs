@@ -24,31 +24,195 @@ impl<'a> Records<'a> {
 
     /// Fills `toks` with the tokens of the next non-empty record and returns
     /// its line number, or `None` at the end of the input.
+    ///
+    /// One pass over the bytes of each line: tokens are runs of bytes that
+    /// are neither ASCII whitespace nor `#`; a `#` ends the record.
     pub(crate) fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
+        let rest = self.rest;
+        let mut i = 0;
         loop {
-            if self.rest.is_empty() {
+            if i >= rest.len() {
+                self.rest = &rest[rest.len()..];
                 return None;
             }
             self.line += 1;
-            let (line, rest) = match self.rest.iter().position(|&b| b == b'\n') {
-                Some(p) => (&self.rest[..p], &self.rest[p + 1..]),
-                None => (self.rest, &self.rest[self.rest.len()..]),
-            };
-            self.rest = rest;
-            let line = match line.iter().position(|&b| b == b'#') {
-                Some(p) => &line[..p],
-                None => line,
-            };
             toks.clear();
-            toks.extend(
-                line.split(|b| b.is_ascii_whitespace())
-                    .filter(|t| !t.is_empty()),
-            );
+            let mut start = usize::MAX;
+            // Scan the line up to its newline (or a comment).
+            while i < rest.len() {
+                let b = rest[i];
+                if b == b'\n' || b == b'#' {
+                    break;
+                }
+                if b.is_ascii_whitespace() {
+                    if start != usize::MAX {
+                        toks.push(&rest[start..i]);
+                        start = usize::MAX;
+                    }
+                } else if start == usize::MAX {
+                    start = i;
+                }
+                i += 1;
+            }
+            if start != usize::MAX {
+                toks.push(&rest[start..i]);
+            }
+            // Skip a comment, then the newline.
+            if i < rest.len() && rest[i] == b'#' {
+                i += rest[i..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .unwrap_or(rest.len() - i);
+            }
+            i += 1;
             if !toks.is_empty() {
+                self.rest = &rest[i.min(rest.len())..];
                 return Some(self.line);
             }
         }
     }
+}
+
+/// Plain decimal integers (`[+-]?[0-9]{1,18}`) without the `str` machinery;
+/// `None` for anything else (the caller falls back to `str::parse`).
+#[inline]
+fn fast_int(tok: &[u8]) -> Option<i64> {
+    let (neg, digits) = match tok.first()? {
+        b'-' => (true, &tok[1..]),
+        b'+' => (false, &tok[1..]),
+        _ => (false, tok),
+    };
+    if digits.is_empty() || digits.len() > 18 {
+        return None;
+    }
+    let mut v: i64 = 0;
+    for &b in digits {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            return None;
+        }
+        v = v * 10 + i64::from(d);
+    }
+    Some(if neg { -v } else { v })
+}
+
+/// Exact powers of ten representable in an `f64`.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// Clinger's fast path for `[+-]?digits[.digits][(e|E)[+-]?digits]`: when
+/// the decimal significand `m` is at most 2^53 and the decimal exponent `e`
+/// at most 22 in magnitude, both `m` and `10^|e|` are exact doubles, so one
+/// IEEE multiplication or division gives the correctly rounded value — the
+/// same double as `str::parse`. `None` for anything else (more digits,
+/// larger exponents, `inf`/`nan`, malformed text): the caller falls back to
+/// `str::parse`.
+#[inline]
+fn fast_f64(tok: &[u8]) -> Option<f64> {
+    let (neg, s) = match tok.first()? {
+        b'-' => (true, &tok[1..]),
+        b'+' => (false, &tok[1..]),
+        _ => (false, tok),
+    };
+    let mut i = 0;
+    let mut m: u64 = 0;
+    let mut nd = 0usize; // significant digits accumulated
+    let mut any = false;
+    let mut exp: i64 = 0;
+    while i < s.len() && s[i].is_ascii_digit() {
+        let d = u64::from(s[i] - b'0');
+        if m != 0 || d != 0 {
+            nd += 1;
+        }
+        m = m.wrapping_mul(10).wrapping_add(d);
+        any = true;
+        i += 1;
+    }
+    if i < s.len() && s[i] == b'.' {
+        i += 1;
+        while i < s.len() && s[i].is_ascii_digit() {
+            let d = u64::from(s[i] - b'0');
+            if m != 0 || d != 0 {
+                nd += 1;
+            }
+            m = m.wrapping_mul(10).wrapping_add(d);
+            exp -= 1;
+            any = true;
+            i += 1;
+        }
+    }
+    if !any || nd > 19 {
+        return None;
+    }
+    if i < s.len() && (s[i] == b'e' || s[i] == b'E') {
+        i += 1;
+        let eneg = match s.get(i) {
+            Some(b'-') => {
+                i += 1;
+                true
+            }
+            Some(b'+') => {
+                i += 1;
+                false
+            }
+            _ => false,
+        };
+        let start = i;
+        let mut e: i64 = 0;
+        while i < s.len() && s[i].is_ascii_digit() && i - start < 6 {
+            e = e * 10 + i64::from(s[i] - b'0');
+            i += 1;
+        }
+        if i == start {
+            return None;
+        }
+        exp += if eneg { -e } else { e };
+    }
+    if i != s.len() {
+        return None;
+    }
+    let v = if m == 0 {
+        0.0
+    } else if m <= (1u64 << 53) && (-22..=22).contains(&exp) {
+        let x = m as f64;
+        if exp >= 0 {
+            x * POW10[exp as usize]
+        } else {
+            x / POW10[(-exp) as usize]
+        }
+    } else if (0..=19).contains(&exp) {
+        // m·10^e < 2^64·10^19 < 2^128 is an exact integer; the conversion
+        // rounds it to nearest.
+        (u128::from(m) * 10u128.pow(exp as u32)) as f64
+    } else if (-27..0).contains(&exp) {
+        quotient(m, (-exp) as u32)?
+    } else {
+        return None;
+    };
+    Some(if neg { -v } else { v })
+}
+
+/// `m / 10^k` correctly rounded (`m > 0`, `k ≤ 27`), by integer division:
+/// `q = ⌊m·2^s / 10^k⌋` with `m·2^s` as large as fits below 2^127, the
+/// remainder folded into bit 0 as a sticky bit. With at least 55
+/// significant bits in `q`, bit 0 lies below the rounding bit of a 53-bit
+/// significand, so rounding `q | sticky` to nearest (the `u128 → f64`
+/// conversion) rounds the exact quotient, and the scaling by `2^-s` is
+/// exact. `None` when `q` is too short (the caller falls back).
+fn quotient(m: u64, k: u32) -> Option<f64> {
+    let d = 10u128.pow(k);
+    let s = 127 - (64 - m.leading_zeros());
+    let num = u128::from(m) << s;
+    let (q, r) = (num / d, num % d);
+    if 128 - q.leading_zeros() < 55 {
+        return None;
+    }
+    let q = q | u128::from(r != 0);
+    // 2^-s exactly (s ≤ 127: a normal double).
+    let scale = f64::from_bits(u64::from(1023 - s) << 52);
+    Some(q as f64 * scale)
 }
 
 pub(crate) fn show(tok: &[u8]) -> String {
@@ -61,6 +225,9 @@ pub(crate) fn show(tok: &[u8]) -> String {
 }
 
 pub(crate) fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoError> {
+    if let Some(v) = fast_int(tok) {
+        return Ok(v);
+    }
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<i64>().ok())
@@ -68,6 +235,9 @@ pub(crate) fn parse_int(tok: &[u8], line: usize, what: &str) -> Result<i64, IoEr
 }
 
 pub(crate) fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, IoError> {
+    if let Some(v) = fast_int(tok).filter(|&v| v >= 0 && tok[0] != b'-') {
+        return Ok(v as usize);
+    }
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<usize>().ok())
@@ -77,6 +247,9 @@ pub(crate) fn parse_count(tok: &[u8], line: usize, what: &str) -> Result<usize, 
 /// Parses a real number; `nan`, `inf`, `infinity` (any case, with sign) are
 /// accepted so that the mesher can report which point carries them.
 pub(crate) fn parse_f64(tok: &[u8], line: usize, what: &str) -> Result<f64, IoError> {
+    if let Some(v) = fast_f64(tok) {
+        return Ok(v);
+    }
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<f64>().ok())
@@ -472,6 +645,180 @@ pub fn read_ele(input: &[u8], node_first_index: u32) -> Result<EleFile, IoError>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The old tokenizer: split at newlines, cut comments, split at ASCII
+    /// whitespace.
+    fn records_ref(input: &[u8]) -> Vec<(usize, Vec<&[u8]>)> {
+        let mut out = Vec::new();
+        let mut rest = input;
+        let mut line = 0;
+        while !rest.is_empty() {
+            line += 1;
+            let (l, r) = match rest.iter().position(|&b| b == b'\n') {
+                Some(p) => (&rest[..p], &rest[p + 1..]),
+                None => (rest, &rest[rest.len()..]),
+            };
+            rest = r;
+            let l = &l[..l.iter().position(|&b| b == b'#').unwrap_or(l.len())];
+            let toks: Vec<&[u8]> = l
+                .split(|b| b.is_ascii_whitespace())
+                .filter(|t| !t.is_empty())
+                .collect();
+            if !toks.is_empty() {
+                out.push((line, toks));
+            }
+        }
+        out
+    }
+
+    fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+        let mut s = seed;
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        }
+    }
+
+    #[test]
+    fn one_pass_tokenizer_matches_split() {
+        let mut r = xorshift(0x1234_5678_9abc_def1);
+        let alphabet = b"ab1.# \t\r\n\n\x0c-e";
+        for round in 0..300 {
+            let len = (r() % 60) as usize + round % 3;
+            let input: Vec<u8> = (0..len)
+                .map(|_| alphabet[(r() % alphabet.len() as u64) as usize])
+                .collect();
+            let mut rec = Records::new(&input);
+            let mut toks = Vec::new();
+            let mut got = Vec::new();
+            while let Some(l) = rec.next(&mut toks) {
+                got.push((l, toks.clone()));
+            }
+            assert_eq!(
+                got,
+                records_ref(&input),
+                "{:?}",
+                String::from_utf8_lossy(&input)
+            );
+        }
+    }
+
+    #[test]
+    fn long_significands_take_the_integer_paths() {
+        // 17 significant digits (more than 2^53): the quotient path.
+        for t in [
+            "-0.16766200000000001",
+            "-0.0073921400000000002",
+            "106.10069274902344",
+        ] {
+            let got = fast_f64(t.as_bytes()).expect("fast path");
+            assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
+        }
+        // Large integers: the product path.
+        for t in ["1234567890123456789", "98765432109876543e2"] {
+            let got = fast_f64(t.as_bytes()).expect("fast path");
+            assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
+        }
+        assert_eq!(quotient(1, 27), None);
+    }
+
+    #[test]
+    fn fast_number_paths_match_str_parse() {
+        let mut r = xorshift(0xfeed_beef_0123_4567);
+        let fixed = [
+            "0",
+            "-0",
+            "+0",
+            "-0.0",
+            "1.",
+            ".5",
+            "-.5",
+            "1e22",
+            "1e23",
+            "9007199254740993",
+            "9007199254740992",
+            "0.1",
+            "123456789012345678",
+            "1234567890123456789",
+            "12345678901234567890",
+            "4.35e-22",
+            "1e-22",
+            "1e-23",
+            "0.000000000000000000000001",
+            "2.2250738585072014e-308",
+            "1e",
+            "e5",
+            ".",
+            "-",
+            "+",
+            "1e+5",
+            "1E-5",
+            "1.5e0007",
+            "1.0000000000000000000001",
+            "00000000000000000000000012.5",
+            "1_0",
+            "0x10",
+            "inf",
+            "-nan",
+            "1.2.3",
+            "1e5.0",
+            "--1",
+            "+-1",
+            "5e1000000",
+        ];
+        let mut toks: Vec<String> = fixed.iter().map(|s| s.to_string()).collect();
+        for _ in 0..20_000 {
+            let digits = (r() % 20) as usize + 1;
+            let mut t = String::new();
+            match r() % 3 {
+                0 => t.push('-'),
+                1 => t.push('+'),
+                _ => {}
+            }
+            let dot = (r() % (digits as u64 + 2)) as usize;
+            for k in 0..digits {
+                if k == dot {
+                    t.push('.');
+                }
+                t.push(char::from(b'0' + (r() % 10) as u8));
+            }
+            if r().is_multiple_of(3) {
+                t.push(if r().is_multiple_of(2) { 'e' } else { 'E' });
+                if r().is_multiple_of(2) {
+                    t.push('-');
+                }
+                t.push_str(&(r() % 40).to_string());
+            }
+            toks.push(t);
+        }
+        for _ in 0..20_000 {
+            // Printed like `%.17g` and `%.9g` (the corpus files).
+            let mant = (r() >> 11) as f64 / (1u64 << 53) as f64;
+            let e = (r() % 40) as i32 - 25;
+            let x = mant * 10f64.powi(e) * if r().is_multiple_of(2) { -1.0 } else { 1.0 };
+            toks.push(format!("{x:.17}"));
+            toks.push(format!("{:.17e}", x));
+            toks.push(format!("{x:.9}"));
+            toks.push(format!("{x}"));
+        }
+        for t in &toks {
+            let want = t.parse::<f64>().ok();
+            let got = parse_f64(t.as_bytes(), 1, "x").ok();
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t}");
+            assert_eq!(
+                parse_int(t.as_bytes(), 1, "x").ok(),
+                t.parse::<i64>().ok(),
+                "{t}"
+            );
+            assert_eq!(
+                parse_count(t.as_bytes(), 1, "x").ok(),
+                t.parse::<usize>().ok(),
+                "{t}"
+            );
+        }
+    }
 
     #[test]
     fn comments_blank_lines_and_whitespace() {

@@ -339,6 +339,21 @@ impl Plc {
 
     fn check_facet(&self, index: usize, f: &Facet) -> Result<(), Error> {
         let n = self.points.len();
+        // Fast path for the common case, a single valid triangle: corners
+        // in range, pairwise distinct points, not collinear (then it is
+        // planar). Anything else takes the general checks below, which
+        // name the defect.
+        if let [p] = &f.polygons[..] {
+            if let [a, b, c] = p[..] {
+                if [a, b, c].iter().all(|&v| (v as usize) < n) {
+                    let [pa, pb, pc] = [a, b, c].map(|v| &self.points[v as usize]);
+                    let [ka, kb, kc] = [pa, pb, pc].map(key);
+                    if ka != kb && kb != kc && ka != kc && !collinear(pa, pb, pc) {
+                        return Ok(());
+                    }
+                }
+            }
+        }
         let bad = |defect| Err(Error::DegenerateFacet { index, defect });
         if f.polygons.is_empty() || f.polygons.iter().all(|p| p.len() < 3) {
             for p in &f.polygons {

@@ -30,7 +30,6 @@
 use crate::error::Error;
 use crate::model::plc::{collinear, key};
 use delone_predicates::{orient2d, orient3d};
-use std::collections::HashMap;
 
 type P = [f64; 3];
 
@@ -83,13 +82,7 @@ impl SelfIntersections {
 /// ```
 pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersections {
     let n = points.len();
-    // Identify exactly coincident points: canonical id = first occurrence.
-    let mut first: HashMap<[u64; 3], u32> = HashMap::with_capacity(n);
-    let canon: Vec<u32> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| *first.entry(key(p)).or_insert(i as u32))
-        .collect();
+    let canon = canonical_ids(points);
     let mut out = SelfIntersections::default();
     // Triangles taking part in the pair tests.
     let mut live: Vec<u32> = Vec::with_capacity(triangles.len());
@@ -110,6 +103,15 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     if live.len() < 2 {
         return out;
     }
+    // Per live triangle: canonical vertex ids and its plane.
+    let tri_c: Vec<[u32; 3]> = live
+        .iter()
+        .map(|&t| triangles[t as usize].map(|v| canon[v as usize]))
+        .collect();
+    let planes: Vec<Plane> = tri_c
+        .iter()
+        .map(|t| Plane::new(t.map(|v| &points[v as usize])))
+        .collect();
     // Bounding boxes and the grid.
     let bb: Vec<(P, P)> = live
         .iter()
@@ -159,16 +161,16 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
             (c as usize).min(dims[k] - 1)
         }
     };
-    let ranges: Vec<([usize; 3], [usize; 3])> = bb
+    let ranges: Vec<([u32; 3], [u32; 3])> = bb
         .iter()
         .map(|(lo, hi)| {
             (
-                [0, 1, 2].map(|k| cell(lo[k], k)),
-                [0, 1, 2].map(|k| cell(hi[k], k)),
+                [0, 1, 2].map(|k| cell(lo[k], k) as u32),
+                [0, 1, 2].map(|k| cell(hi[k], k) as u32),
             )
         })
         .collect();
-    let cid = |c: [usize; 3]| (c[2] * dims[1] + c[1]) * dims[0] + c[0];
+    let cid = |c: [u32; 3]| (c[2] as usize * dims[1] + c[1] as usize) * dims[0] + c[0] as usize;
     let ncell = dims[0] * dims[1] * dims[2];
     let mut start = vec![0u32; ncell + 1];
     for (lo, hi) in &ranges {
@@ -196,26 +198,51 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
             }
         }
     }
+    drop(fill);
     // Narrow phase: each pair is tested in the lowest cell both occupy.
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
+    // A cell's boxes are first copied side by side (one pass over the
+    // cell's list), so the all-pairs box test reads contiguous memory; the
+    // lowest-common-cell test runs only for overlapping boxes.
+    let mut cell_bb: Vec<(P, P)> = Vec::new();
+    let mut cell_lo: Vec<[u32; 3]> = Vec::new();
+    for z in 0..dims[2] as u32 {
+        for y in 0..dims[1] as u32 {
+            for x in 0..dims[0] as u32 {
                 let c = cid([x, y, z]);
                 let here = &items[start[c] as usize..start[c + 1] as usize];
-                for (k, &i) in here.iter().enumerate() {
-                    let (bi, ri) = (&bb[i as usize], &ranges[i as usize]);
-                    for &j in &here[k + 1..] {
-                        let (bj, rj) = (&bb[j as usize], &ranges[j as usize]);
-                        if [0, 1, 2].map(|a| ri.0[a].max(rj.0[a])) != [x, y, z] {
+                if here.len() < 2 {
+                    continue;
+                }
+                cell_bb.clear();
+                cell_lo.clear();
+                for &i in here {
+                    cell_bb.push(bb[i as usize]);
+                    cell_lo.push(ranges[i as usize].0);
+                }
+                for (k, (bi, ri)) in cell_bb.iter().zip(&cell_lo).enumerate() {
+                    for (l, bj) in cell_bb.iter().enumerate().skip(k + 1) {
+                        if bi.1[0] < bj.0[0]
+                            || bj.1[0] < bi.0[0]
+                            || bi.1[1] < bj.0[1]
+                            || bj.1[1] < bi.0[1]
+                            || bi.1[2] < bj.0[2]
+                            || bj.1[2] < bi.0[2]
+                        {
                             continue;
                         }
-                        if (0..3).any(|a| bi.1[a] < bj.0[a] || bj.1[a] < bi.0[a]) {
+                        let rj = &cell_lo[l];
+                        if ri[0].max(rj[0]) != x || ri[1].max(rj[1]) != y || ri[2].max(rj[2]) != z {
                             continue;
                         }
-                        let (ti, tj) = (live[i as usize], live[j as usize]);
-                        let vi = triangles[ti as usize].map(|v| canon[v as usize]);
-                        let vj = triangles[tj as usize].map(|v| canon[v as usize]);
-                        if triangles_intersect(points, vi, vj) {
+                        let (li, lj) = (here[k] as usize, here[l] as usize);
+                        let (ti, tj) = (live[li], live[lj]);
+                        if intersect_with_planes(
+                            points,
+                            tri_c[li],
+                            tri_c[lj],
+                            &planes[li],
+                            &planes[lj],
+                        ) {
                             out.pairs.push((ti.min(tj), ti.max(tj)));
                         }
                     }
@@ -226,6 +253,27 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     out.pairs.sort_unstable();
     out.pairs.dedup();
     out
+}
+
+/// Per point, the smallest index of a point with exactly the same
+/// coordinates (`-0.0` and `0.0` are the same): a sort by coordinate key,
+/// so no hashing and a deterministic result.
+fn canonical_ids(points: &[P]) -> Vec<u32> {
+    let mut order: Vec<([u64; 3], u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i as u32))
+        .collect();
+    order.sort_unstable();
+    let mut canon = vec![0u32; points.len()];
+    let mut first = 0usize;
+    for k in 0..order.len() {
+        if order[k].0 != order[first].0 {
+            first = k;
+        }
+        canon[order[k].1 as usize] = order[first].1;
+    }
+    canon
 }
 
 /// [`self_intersections`] as a typed result.
@@ -283,41 +331,157 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 /// Exact intersection test of two non-degenerate triangles given by
 /// canonical vertex ids (equal id = same point), excluding the contacts
 /// their shared vertices allow.
+///
+/// The sides of each triangle's vertices with respect to the other's plane
+/// are computed once (a shared vertex is on the plane without a predicate
+/// call). When the unshared vertices of one triangle lie strictly on one
+/// side of the other's plane, the triangles meet at most in their shared
+/// vertices: that settles almost every pair of a closed surface with two or
+/// four predicate calls. The rest reuse those signs in the edge tests.
+#[cfg(test)]
 fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
-    let p = |v: u32| &pts[v as usize];
-    let shared: Vec<(usize, usize)> = (0..3)
-        .flat_map(|i| (0..3).map(move |j| (i, j)))
-        .filter(|&(i, j)| a[i] == b[j])
-        .collect();
-    match shared.len() {
-        0 => {
-            (0..3).any(|k| seg_tri(p(a[k]), p(a[(k + 1) % 3]), p(b[0]), p(b[1]), p(b[2])))
-                || (0..3).any(|k| seg_tri(p(b[k]), p(b[(k + 1) % 3]), p(a[0]), p(a[1]), p(a[2])))
+    let plane = |t: [u32; 3]| Plane::new(t.map(|v| &pts[v as usize]));
+    intersect_with_planes(pts, a, b, &plane(a), &plane(b))
+}
+
+/// The plane of a triangle `(o, p1, p2)` for a cheap filtered side test:
+/// the normal `n = (p1 − o) × (p2 − o)` and, per component, the sum of the
+/// magnitudes of its two products.
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    o: P,
+    n: [f64; 3],
+    nabs: [f64; 3],
+}
+
+/// The error bound factor of the side test: the one of
+/// [`delone_predicates::orient3d`]'s filter, `(8 + 256u)·u`, `u = 2⁻⁵³`.
+const SIDE_BOUND: f64 = (8.0 + 256.0 * f64::EPSILON / 2.0) * (f64::EPSILON / 2.0);
+
+impl Plane {
+    fn new([o, p1, p2]: [&P; 3]) -> Plane {
+        let e1 = [p1[0] - o[0], p1[1] - o[1], p1[2] - o[2]];
+        let e2 = [p2[0] - o[0], p2[1] - o[1], p2[2] - o[2]];
+        let (x1, x2) = (e1[1] * e2[2], e1[2] * e2[1]);
+        let (y1, y2) = (e1[2] * e2[0], e1[0] * e2[2]);
+        let (z1, z2) = (e1[0] * e2[1], e1[1] * e2[0]);
+        Plane {
+            o: *o,
+            n: [x1 - x2, y1 - y2, z1 - z2],
+            nabs: [
+                x1.abs() + x2.abs(),
+                y1.abs() + y2.abs(),
+                z1.abs() + z2.abs(),
+            ],
         }
+    }
+
+    /// The sign of `orient3d(t[0], t[1], t[2], q)` for the triangle `t`
+    /// this plane was made from (same vertex order). `det = (q − o)·n` is
+    /// the 3×3 determinant `[q − o; p1 − o; p2 − o]` expanded along its
+    /// first row: every factor is a rounded coordinate difference and each
+    /// term a difference of two products, the same shape as `orient3d`'s
+    /// floating-point stage, so the same bound on `|det̂ − det|` (the
+    /// factor times the permanent) certifies the sign. Subtracting the
+    /// first row from the others shows `orient3d(o, p1, p2, q) = −det`.
+    /// Uncertain cases (and tiny or non-finite bounds) take the exact
+    /// predicate.
+    #[inline]
+    fn side(&self, t: [&P; 3], q: &P) -> i8 {
+        let m = [q[0] - self.o[0], q[1] - self.o[1], q[2] - self.o[2]];
+        let det = m[0] * self.n[0] + m[1] * self.n[1] + m[2] * self.n[2];
+        let perm =
+            m[0].abs() * self.nabs[0] + m[1].abs() * self.nabs[1] + m[2].abs() * self.nabs[2];
+        let bound = SIDE_BOUND * perm;
+        if det.abs() > bound && bound > 1e-280 {
+            return -sign(det);
+        }
+        sign(orient3d(t[0], t[1], t[2], q))
+    }
+}
+
+/// The triangle-pair test (`triangles_intersect`) with the planes of `a` and `b` given.
+#[inline]
+fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b: &Plane) -> bool {
+    // Bit 3i + j: a[i] == b[j]. The vertices of a non-degenerate triangle
+    // are distinct points, so each vertex matches at most once.
+    let eq = u32::from(a[0] == b[0])
+        | u32::from(a[0] == b[1]) << 1
+        | u32::from(a[0] == b[2]) << 2
+        | u32::from(a[1] == b[0]) << 3
+        | u32::from(a[1] == b[1]) << 4
+        | u32::from(a[1] == b[2]) << 5
+        | u32::from(a[2] == b[0]) << 6
+        | u32::from(a[2] == b[1]) << 7
+        | u32::from(a[2] == b[2]) << 8;
+    let p = |v: u32| &pts[v as usize];
+    match eq.count_ones() {
+        0 => disjoint_vertices_intersect(pts, a, b, pl_a, pl_b),
         1 => {
-            let (i, j) = shared[0];
-            let (a1, a2) = (a[(i + 1) % 3], a[(i + 2) % 3]);
-            let (b1, b2) = (b[(j + 1) % 3], b[(j + 2) % 3]);
-            seg_tri(p(a1), p(a2), p(b[0]), p(b[1]), p(b[2]))
-                || seg_tri(p(b1), p(b2), p(a[0]), p(a[1]), p(a[2]))
+            // One shared vertex a[i] = b[j]: the triangles meet elsewhere
+            // only if the edge opposite it in one meets the other (see the
+            // module docs). If the other two vertices of one triangle lie
+            // strictly on one side of the other's plane, they cannot.
+            let k = eq.trailing_zeros() as usize;
+            let (i, j) = (k / 3, k % 3);
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let (pa, pb) = (a.map(p), b.map(p));
+            let (sb1, sb2) = (pl_a.side(pa, pb[j1]), pl_a.side(pa, pb[j2]));
+            if sb1 == sb2 && sb1 != 0 {
+                return false;
+            }
+            let (sa1, sa2) = (pl_b.side(pb, pa[i1]), pl_b.side(pb, pa[i2]));
+            if sa1 == sa2 && sa1 != 0 {
+                return false;
+            }
+            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb)
+                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa)
         }
         2 => {
-            let (u, v) = (a[shared[0].0], a[shared[1].0]);
-            let c = a[3 - shared[0].0 - shared[1].0];
-            let f = b[3 - shared[0].1 - shared[1].1];
-            if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
+            // The shared edge uv; c and f the third vertices of a and b.
+            let k1 = eq.trailing_zeros() as usize;
+            let k2 = (eq & (eq - 1)).trailing_zeros() as usize;
+            let ic = 3 - k1 / 3 - k2 / 3;
+            let jf = 3 - k1 % 3 - k2 % 3;
+            let (u, v) = (a[(ic + 1) % 3], a[(ic + 2) % 3]);
+            let (c, f) = (a[ic], b[jf]);
+            // (u, v, c) is a rotation of a: zero exactly when f is on a's
+            // plane.
+            if pl_a.side(a.map(p), p(f)) != 0 {
                 return false;
             }
             let (x, y) = proj_axes(p(u), p(v), p(c));
             let q = |w: u32| [p(w)[x], p(w)[y]];
             let sc = orient2d(&q(u), &q(v), &q(c));
             let sf = orient2d(&q(u), &q(v), &q(f));
-            // sc != 0 (T1 is non-degenerate); f on the line uv would make
-            // T2 degenerate, which the caller excludes.
+            // sc != 0 (a is non-degenerate); f on the line uv would make b
+            // degenerate, which the caller excludes.
             sc.signum() == sf.signum()
         }
         _ => true,
     }
+}
+
+/// The triangle-pair test for two triangles without a common vertex.
+fn disjoint_vertices_intersect(
+    pts: &[P],
+    a: [u32; 3],
+    b: [u32; 3],
+    pl_a: &Plane,
+    pl_b: &Plane,
+) -> bool {
+    let (pa, pb) = (a.map(|v| &pts[v as usize]), b.map(|v| &pts[v as usize]));
+    let sb = pb.map(|q| pl_a.side(pa, q));
+    if sb[0] == sb[1] && sb[1] == sb[2] && sb[0] != 0 {
+        return false;
+    }
+    let sa = pa.map(|q| pl_b.side(pb, q));
+    if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
+        return false;
+    }
+    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
+        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
 }
 
 /// Two coordinate axes onto which the (non-degenerate) triangle `abc`
@@ -343,9 +507,16 @@ fn sign(x: f64) -> i8 {
 
 /// Does the closed segment `pq` meet the closed non-degenerate triangle
 /// `abc`? Exact.
+#[cfg(test)]
 fn seg_tri(p: &P, q: &P, a: &P, b: &P, c: &P) -> bool {
     let op = sign(orient3d(a, b, c, p));
     let oq = sign(orient3d(a, b, c, q));
+    seg_tri_signs(p, q, op, oq, [a, b, c])
+}
+
+/// [`seg_tri`] given `op`, `oq`: the signs of `orient3d(a, b, c, p)` and
+/// `orient3d(a, b, c, q)`.
+fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
     if op == oq && op != 0 {
         return false;
     }
@@ -460,39 +631,89 @@ impl ManifoldReport {
 /// assert_eq!(r.nonmanifold_edges, vec![[0, 1]]);
 /// ```
 pub fn manifold_report(triangles: &[[u32; 3]]) -> ManifoldReport {
-    // (min, max, +1 if traversed min->max else -1)
-    let mut e: Vec<(u32, u32, i8)> = Vec::with_capacity(3 * triangles.len());
+    // Every edge is filed under its smaller endpoint as `max << 1 | dir`
+    // (dir 1: traversed min -> max); a counting sort by the smaller
+    // endpoint, then an insertion sort of each (small) bucket, lists the
+    // edges in (min, max) order without a global sort.
+    let len = 3 * triangles.len();
+    let nv = triangles
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&m| m as usize + 1);
+    if nv > 4 * len + 1024 {
+        // Sparse vertex ids: buckets would waste memory; sort instead.
+        let mut e: Vec<u64> = Vec::with_capacity(len);
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let (lo, hi) = (a.min(b), a.max(b));
+                e.push((u64::from(lo) << 33) | (u64::from(hi) << 1) | u64::from(a < b));
+            }
+        }
+        e.sort_unstable();
+        let mut r = ManifoldReport::default();
+        classify(&e, |x| ((x >> 33) as u32, (x >> 1) as u32), &mut r);
+        return r;
+    }
+    let mut start = vec![0u32; nv + 1];
+    for t in triangles {
+        for k in 0..3 {
+            start[t[k].min(t[(k + 1) % 3]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut items = vec![0u64; len];
     for t in triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            if a < b {
-                e.push((a, b, 1));
-            } else {
-                e.push((b, a, -1));
-            }
+            let lo = a.min(b) as usize;
+            items[fill[lo] as usize] = (u64::from(a.max(b)) << 1) | u64::from(a < b);
+            fill[lo] += 1;
         }
     }
-    e.sort_unstable();
+    drop(fill);
     let mut r = ManifoldReport::default();
+    for v in 0..nv {
+        let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
+        for i in 1..bucket.len() {
+            let x = bucket[i];
+            let mut j = i;
+            while j > 0 && bucket[j - 1] > x {
+                bucket[j] = bucket[j - 1];
+                j -= 1;
+            }
+            bucket[j] = x;
+        }
+        classify(bucket, |x| (v as u32, (x >> 1) as u32), &mut r);
+    }
+    r
+}
+
+/// Adds the edges of `e` (sorted, equal edges adjacent; `edge` gives the
+/// `(min, max)` of an entry, bit 0 its direction) to the report.
+fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport) {
     let mut i = 0;
     while i < e.len() {
+        let (lo, hi) = edge(e[i]);
         let mut j = i + 1;
-        while j < e.len() && e[j].0 == e[i].0 && e[j].1 == e[i].1 {
+        while j < e.len() && edge(e[j]) == (lo, hi) {
             j += 1;
         }
-        let edge = [e[i].0, e[i].1];
         match j - i {
-            1 => r.boundary_edges.push(edge),
+            1 => r.boundary_edges.push([lo, hi]),
             2 => {
-                if e[i].2 == e[i + 1].2 {
-                    r.inconsistent_edges.push(edge);
+                if (e[i] & 1) == (e[i + 1] & 1) {
+                    r.inconsistent_edges.push([lo, hi]);
                 }
             }
-            _ => r.nonmanifold_edges.push(edge),
+            _ => r.nonmanifold_edges.push([lo, hi]),
         }
         i = j;
     }
-    r
 }
 
 #[cfg(test)]
@@ -556,6 +777,177 @@ mod tests {
             let got = self_intersections(&pts, &tris);
             assert_eq!(got.pairs, brute(&pts, &tris), "round {round}");
         }
+    }
+
+    /// The narrow phase as it was before the side filter (one shared
+    /// vertex list per pair, every edge test from scratch): the reference
+    /// the filtered version must agree with.
+    fn triangles_intersect_ref(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+        let p = |v: u32| &pts[v as usize];
+        let shared: Vec<(usize, usize)> = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .filter(|&(i, j)| a[i] == b[j])
+            .collect();
+        match shared.len() {
+            0 => {
+                (0..3).any(|k| seg_tri(p(a[k]), p(a[(k + 1) % 3]), p(b[0]), p(b[1]), p(b[2])))
+                    || (0..3)
+                        .any(|k| seg_tri(p(b[k]), p(b[(k + 1) % 3]), p(a[0]), p(a[1]), p(a[2])))
+            }
+            1 => {
+                let (i, j) = shared[0];
+                let (a1, a2) = (a[(i + 1) % 3], a[(i + 2) % 3]);
+                let (b1, b2) = (b[(j + 1) % 3], b[(j + 2) % 3]);
+                seg_tri(p(a1), p(a2), p(b[0]), p(b[1]), p(b[2]))
+                    || seg_tri(p(b1), p(b2), p(a[0]), p(a[1]), p(a[2]))
+            }
+            2 => {
+                let (u, v) = (a[shared[0].0], a[shared[1].0]);
+                let c = a[3 - shared[0].0 - shared[1].0];
+                let f = b[3 - shared[0].1 - shared[1].1];
+                if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
+                    return false;
+                }
+                let (x, y) = proj_axes(p(u), p(v), p(c));
+                let q = |w: u32| [p(w)[x], p(w)[y]];
+                orient2d(&q(u), &q(v), &q(c)).signum() == orient2d(&q(u), &q(v), &q(f)).signum()
+            }
+            _ => true,
+        }
+    }
+
+    #[test]
+    fn side_filter_agrees_with_reference_on_every_pair() {
+        let mut r = rng(0x0bad_cafe_dead_beef);
+        let mut pairs = [0usize; 2];
+        for round in 0..40 {
+            // Small lattices (many exact coplanar, collinear, touching and
+            // shared-vertex configurations) and a finer one.
+            let span = if round % 2 == 0 { 3 } else { 7 };
+            let np = 8 + round / 2;
+            let pts: Vec<P> = (0..np)
+                .map(|_| [0, 1, 2].map(|_| (r() % span) as f64 * 0.5))
+                .collect();
+            let canon = canonical_ids(&pts);
+            let tris: Vec<[u32; 3]> = (0..30)
+                .map(|_| [0, 1, 2].map(|_| (r() % np as u64) as u32))
+                .filter(|t| {
+                    let [a, b, c] = t.map(|v| &pts[v as usize]);
+                    !collinear(a, b, c)
+                })
+                .map(|t| t.map(|v| canon[v as usize]))
+                .collect();
+            for i in 0..tris.len() {
+                for j in i + 1..tris.len() {
+                    let want = triangles_intersect_ref(&pts, tris[i], tris[j]);
+                    assert_eq!(
+                        triangles_intersect(&pts, tris[i], tris[j]),
+                        want,
+                        "round {round}: {:?} {:?}",
+                        tris[i],
+                        tris[j]
+                    );
+                    pairs[usize::from(want)] += 1;
+                }
+            }
+        }
+        // Both outcomes were exercised.
+        assert!(pairs[0] > 100 && pairs[1] > 100, "{pairs:?}");
+    }
+
+    #[test]
+    fn plane_side_is_the_orient3d_sign() {
+        let mut r = rng(0x0123_4567_89ab_cdef);
+        let mut f = || (r() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for round in 0..20_000 {
+            let t = [[f(), f(), f()], [f(), f(), f()], [f(), f(), f()]];
+            let tr = [&t[0], &t[1], &t[2]];
+            // Random points, points near the plane, and points exactly on
+            // it (an affine combination with dyadic weights when exact).
+            let q = match round % 3 {
+                0 => [f(), f(), f()],
+                1 => {
+                    let (u, v) = (f(), f());
+                    [0, 1, 2].map(|k| t[0][k] + u * (t[1][k] - t[0][k]) + v * (t[2][k] - t[0][k]))
+                }
+                _ => [0, 1, 2].map(|k| 0.5 * (t[0][k] + t[1][k])),
+            };
+            let pl = Plane::new(tr);
+            assert_eq!(pl.side(tr, &q), sign(orient3d(&t[0], &t[1], &t[2], &q)));
+        }
+    }
+
+    #[test]
+    fn canonical_ids_name_the_first_equal_point() {
+        let pts = [
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [-0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        assert_eq!(canonical_ids(&pts), vec![0, 1, 0, 1, 4]);
+    }
+
+    /// The edge classification by one global sort of `(min, max, dir)`.
+    fn manifold_ref(triangles: &[[u32; 3]]) -> ManifoldReport {
+        let mut e: Vec<(u32, u32, i8)> = Vec::new();
+        for t in triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                e.push(if a < b { (a, b, 1) } else { (b, a, -1) });
+            }
+        }
+        e.sort_unstable();
+        let mut r = ManifoldReport::default();
+        for g in e.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            let edge = [g[0].0, g[0].1];
+            match g.len() {
+                1 => r.boundary_edges.push(edge),
+                2 if g[0].2 == g[1].2 => r.inconsistent_edges.push(edge),
+                2 => {}
+                _ => r.nonmanifold_edges.push(edge),
+            }
+        }
+        r
+    }
+
+    #[test]
+    fn manifold_report_matches_a_global_sort() {
+        let mut r = rng(0x05ee_d0fe_d9e5);
+        for round in 0..40 {
+            // Dense ids (bucket path) and, every fourth round, sparse huge
+            // ids (sort path).
+            let np = 6 + round as u64;
+            let sparse = round % 4 == 3;
+            let tris: Vec<[u32; 3]> = (0..3 * np)
+                .map(|_| {
+                    [0, 1, 2].map(|_| {
+                        let v = (r() % np) as u32;
+                        if sparse {
+                            v * 97_003 + 1_000_000
+                        } else {
+                            v
+                        }
+                    })
+                })
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+            assert_eq!(manifold_report(&tris), manifold_ref(&tris), "round {round}");
+        }
+        // A closed octahedron and its flipped copy.
+        let oct = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        assert!(manifold_report(&oct).is_oriented_closed());
+        assert_eq!(manifold_report(&oct), manifold_ref(&oct));
     }
 
     #[test]

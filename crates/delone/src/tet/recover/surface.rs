@@ -62,6 +62,64 @@ pub(crate) enum Kind {
     OnTri(u32),
 }
 
+/// Lists of ids stored back to back: list `i` is
+/// `items[start[i]..start[i + 1]]` (indexing gives a slice).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub(crate) struct Lists {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Lists {
+    /// The number of lists.
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
+        self.start.len().saturating_sub(1)
+    }
+}
+
+impl std::ops::Index<usize> for Lists {
+    type Output = [u32];
+    #[inline]
+    fn index(&self, i: usize) -> &[u32] {
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+}
+
+/// The vertices of an input edge in order: its two ends until a Steiner
+/// point splits it (no allocation for the many edges never split), then a
+/// vector. Reads as a slice.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum Chain {
+    /// An unsplit edge.
+    Two([u32; 2]),
+    /// A split edge: ends and Steiner points in order.
+    Many(Vec<u32>),
+}
+
+impl Chain {
+    /// Inserts `id` at position `i` (as [`Vec::insert`]).
+    pub(crate) fn insert(&mut self, i: usize, id: u32) {
+        if let Chain::Two(ab) = *self {
+            *self = Chain::Many(ab.to_vec());
+        }
+        if let Chain::Many(v) = self {
+            v.insert(i, id);
+        }
+    }
+}
+
+impl std::ops::Deref for Chain {
+    type Target = [u32];
+    #[inline]
+    fn deref(&self) -> &[u32] {
+        match self {
+            Chain::Two(ab) => ab,
+            Chain::Many(v) => v,
+        }
+    }
+}
+
 /// The refined surface.
 #[derive(Debug, Clone)]
 pub(crate) struct Surface {
@@ -70,11 +128,12 @@ pub(crate) struct Surface {
     /// Input edges, `[a, b]` with `a < b`, sorted.
     pub(crate) edges: Vec<[u32; 2]>,
     /// Per input edge: its vertices from `edges[e][0]` to `edges[e][1]`.
-    pub(crate) chains: Vec<Vec<u32>>,
+    pub(crate) chains: Vec<Chain>,
     /// Per input triangle: the indices of its edges `(t0,t1), (t1,t2), (t2,t0)`.
     pub(crate) tri_edges: Vec<[u32; 3]>,
-    /// Per input edge: the triangles that use it.
-    pub(crate) edge_tris: Vec<Vec<u32>>,
+    /// Per input edge: the triangles that use it (one flat array, no
+    /// allocation per edge).
+    pub(crate) edge_tris: Lists,
     /// Per vertex: the input triangles it lies on (sorted).
     pub(crate) vtris: Vec<Vec<u32>>,
     /// Per vertex: its kind.
@@ -132,32 +191,93 @@ impl Skeleton {
 
 impl Surface {
     pub(crate) fn new(n: usize, tris: &[[u32; 3]]) -> Surface {
-        let mut keys: Vec<(u32, u32)> = tris
+        // Edge ids in (min, max) order without a global sort or a map: each
+        // side `3 t + k` is filed under its smaller endpoint (counting sort),
+        // each small bucket is sorted by (larger endpoint, side), and equal
+        // runs are one edge. Sides of one edge stay in triangle order.
+        let nv = tris
             .iter()
-            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
-            .collect();
-        keys.sort_unstable();
-        keys.dedup();
-        let index: IdMap<(u32, u32), u32> = keys
-            .iter()
-            .enumerate()
-            .map(|(i, &k)| (k, i as u32))
-            .collect();
-        let mut edge_tris = vec![Vec::new(); keys.len()];
-        let mut tri_edges = Vec::with_capacity(tris.len());
-        let mut vtris = vec![Vec::new(); n];
-        for (ti, t) in tris.iter().enumerate() {
-            let mut te = [0u32; 3];
-            for k in 0..3 {
-                let e = index[&ekey(t[k], t[(k + 1) % 3])];
-                te[k] = e;
-                edge_tris[e as usize].push(ti as u32);
-                vtris[t[k] as usize].push(ti as u32);
+            .flatten()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0)
+            .max(n);
+        let side = |s: usize| {
+            let t = &tris[s / 3];
+            let k = s % 3;
+            ekey(t[k], t[(k + 1) % 3])
+        };
+        let mut start = vec![0u32; nv + 1];
+        for s in 0..3 * tris.len() {
+            start[side(s).0 as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        // (larger endpoint << 32 | side) per side, bucketed by smaller one.
+        let mut items = vec![0u64; 3 * tris.len()];
+        for s in 0..3 * tris.len() {
+            let (lo, hi) = side(s);
+            items[fill[lo as usize] as usize] = (u64::from(hi) << 32) | s as u64;
+            fill[lo as usize] += 1;
+        }
+        drop(fill);
+        let mut keys: Vec<(u32, u32)> = Vec::with_capacity(3 * tris.len() / 2 + 1);
+        let mut edge_tris = Lists {
+            start: Vec::with_capacity(3 * tris.len() / 2 + 2),
+            items: Vec::with_capacity(3 * tris.len()),
+        };
+        edge_tris.start.push(0);
+        let mut tri_edges = vec![[0u32; 3]; tris.len()];
+        for v in 0..nv {
+            let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
+            for i in 1..bucket.len() {
+                let x = bucket[i];
+                let mut j = i;
+                while j > 0 && bucket[j - 1] > x {
+                    bucket[j] = bucket[j - 1];
+                    j -= 1;
+                }
+                bucket[j] = x;
             }
-            tri_edges.push(te);
+            let mut i = 0;
+            while i < bucket.len() {
+                let hi = (bucket[i] >> 32) as u32;
+                let mut j = i + 1;
+                while j < bucket.len() && (bucket[j] >> 32) as u32 == hi {
+                    j += 1;
+                }
+                let e = keys.len() as u32;
+                keys.push((v as u32, hi));
+                for &x in &bucket[i..j] {
+                    let s = (x & 0xFFFF_FFFF) as usize;
+                    tri_edges[s / 3][s % 3] = e;
+                    edge_tris.items.push((s / 3) as u32);
+                }
+                edge_tris.start.push(edge_tris.items.len() as u32);
+                i = j;
+            }
+        }
+        drop(items);
+        // Triangles per vertex, in index order (sized by a count first).
+        let mut count = vec![0u32; n];
+        for t in tris {
+            for &w in t {
+                count[w as usize] += 1;
+            }
+        }
+        let mut vtris: Vec<Vec<u32>> = count
+            .iter()
+            .map(|&c| Vec::with_capacity(c as usize))
+            .collect();
+        drop(count);
+        for (ti, t) in tris.iter().enumerate() {
+            for &w in t {
+                vtris[w as usize].push(ti as u32);
+            }
         }
         for l in &mut vtris {
-            l.sort_unstable();
             l.dedup();
         }
         let mut tri_index: IdMap<[u32; 3], u32> =
@@ -181,7 +301,7 @@ impl Surface {
             inner: vec![0; tris.len()],
             tris: tris.to_vec(),
             edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
-            chains: keys.iter().map(|&(a, b)| vec![a, b]).collect(),
+            chains: keys.iter().map(|&(a, b)| Chain::Two([a, b])).collect(),
             tri_edges,
             edge_tris,
             vtris,
@@ -195,7 +315,7 @@ impl Surface {
         self.grow(id);
         self.chains[e as usize].insert(i + 1, id);
         self.kind[id as usize] = Kind::OnEdge(e);
-        self.vtris[id as usize] = self.edge_tris[e as usize].clone();
+        self.vtris[id as usize] = self.edge_tris[e as usize].to_vec();
     }
 
     /// Records Steiner vertex `id` inside triangle `t`.
@@ -528,5 +648,82 @@ impl Surface {
         self.vtris
             .get(w as usize)
             .is_some_and(|l| l.binary_search(&(t as u32)).is_ok())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Edges, their triangles and the triangles per vertex by a global sort
+    /// and a map (the construction `Surface::new` replaced).
+    #[allow(clippy::type_complexity)]
+    fn reference(
+        n: usize,
+        tris: &[[u32; 3]],
+    ) -> (Vec<[u32; 2]>, Vec<[u32; 3]>, Vec<Vec<u32>>, Vec<Vec<u32>>) {
+        let mut keys: Vec<(u32, u32)> = tris
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| ekey(t[k], t[(k + 1) % 3])))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let index: HashMap<(u32, u32), u32> = keys
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| (k, i as u32))
+            .collect();
+        let mut edge_tris = vec![Vec::new(); keys.len()];
+        let mut tri_edges = Vec::new();
+        let mut vtris = vec![Vec::new(); n];
+        for (ti, t) in tris.iter().enumerate() {
+            let mut te = [0u32; 3];
+            for k in 0..3 {
+                let e = index[&ekey(t[k], t[(k + 1) % 3])];
+                te[k] = e;
+                edge_tris[e as usize].push(ti as u32);
+                vtris[t[k] as usize].push(ti as u32);
+            }
+            tri_edges.push(te);
+        }
+        for l in &mut vtris {
+            l.sort_unstable();
+            l.dedup();
+        }
+        let edges = keys.iter().map(|&(a, b)| [a, b]).collect();
+        (edges, tri_edges, edge_tris, vtris)
+    }
+
+    #[test]
+    fn bucketed_edges_match_sorted_edges() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        for round in 0..30 {
+            let n = 5 + round;
+            // Random triangles (repeated edges, repeated triangles, unused
+            // vertices) over n points.
+            let tris: Vec<[u32; 3]> = (0..2 * n)
+                .map(|_| [0, 1, 2].map(|_| (r() % n as u64) as u32))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+            let surf = Surface::new(n, &tris);
+            let (edges, tri_edges, edge_tris, vtris) = reference(n, &tris);
+            assert_eq!(surf.edges, edges);
+            assert_eq!(surf.tri_edges, tri_edges);
+            assert_eq!(surf.edge_tris.len(), edge_tris.len());
+            for (e, l) in edge_tris.iter().enumerate() {
+                assert_eq!(&surf.edge_tris[e], &l[..]);
+            }
+            assert_eq!(surf.vtris, vtris);
+            assert_eq!(surf.chains.len(), edges.len());
+            for (c, e) in surf.chains.iter().zip(&edges) {
+                assert_eq!(&c[..], &e[..]);
+            }
+        }
     }
 }
