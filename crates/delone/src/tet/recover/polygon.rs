@@ -127,7 +127,8 @@ impl Polygons {
         }
         // Soft edges: in exactly two triangles, both of one group.
         let mut soft = vec![false; surf.edges.len()];
-        for (e, ts) in surf.edge_tris.iter().enumerate() {
+        for e in 0..surf.edge_tris.len() {
+            let ts = &surf.edge_tris[e];
             if ts.len() == 2 {
                 let g = of_tri[ts[0] as usize];
                 soft[e] = g != u32::MAX && g == of_tri[ts[1] as usize] && ts[0] != ts[1];
@@ -217,7 +218,7 @@ impl Polygons {
             }
         }
         for &(e, _) in &grp.bnd {
-            out.extend(&surf.chains[e as usize]);
+            out.extend(surf.chains[e as usize].iter());
         }
         out.sort_unstable();
         out.dedup();

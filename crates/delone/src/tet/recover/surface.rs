@@ -72,7 +72,6 @@ pub(crate) struct Lists {
 
 impl Lists {
     /// The number of lists.
-    #[cfg(test)]
     pub(crate) fn len(&self) -> usize {
         self.start.len().saturating_sub(1)
     }
@@ -98,6 +97,11 @@ pub(crate) enum Chain {
 }
 
 impl Chain {
+    /// Empties the chain (an edge that is no longer a segment).
+    pub(crate) fn clear(&mut self) {
+        *self = Chain::Many(Vec::new());
+    }
+
     /// Inserts `id` at position `i` (as [`Vec::insert`]).
     pub(crate) fn insert(&mut self, i: usize, id: u32) {
         if let Chain::Two(ab) = *self {
