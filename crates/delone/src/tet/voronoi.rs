@@ -434,7 +434,8 @@ fn face_pass(
     hi: usize,
     whole: bool,
 ) -> FacePart {
-    let p = |v: u32| &points[v as usize];
+    // Checked: a vertex found by `xor4` in an invalid mesh may name no point.
+    let p = |v: u32| points.get(v as usize).unwrap_or(&[0.0; 3]);
     let nt = recs.len();
     let mine = hi - lo;
     // Euler: about 7/6 Delaunay edges per tetrahedron for random points.
@@ -459,8 +460,10 @@ fn face_pass(
     let mut done = vec![0u8; mine];
     let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
     let limit = nt + 1;
-    let fv = &mut out.face_vertices;
-    let fe = &mut out.face_edge_ids;
+    // Local vectors (not behind `&mut out`), for their lengths to stay in
+    // registers.
+    let mut fv = std::mem::take(&mut out.face_vertices);
+    let mut fe = std::mem::take(&mut out.face_edge_ids);
     for t in lo..hi {
         // The edges of t not yet swept: walking a ring through t marks
         // only that ring's edge in t, so this set is fixed up front.
@@ -470,23 +473,26 @@ fn face_pass(
             todo &= todo - 1;
             let lk = &EDGES[k];
             let [a, b, c, d] = lk.map(|i| recs[t].v[i]);
+            let ab = a ^ b;
             let (v0, e0) = (fv.len(), fe.len());
             // Counterclockwise around a -> b: at (s, c, d) cross the
             // facet opposite c, (a, b, d), into the next tetrahedron.
+            // In every tetrahedron of the ring the two vertices off the
+            // edge are (c, d): their slots name the edge (`off_edge`).
             let (mut s, mut sc, mut sd) = (t as u32, c, d);
             let mut steps = 0usize;
             let mut foreign = false;
             let hit_hull = loop {
                 let cs = &recs[s as usize];
                 let su = s as usize;
+                let pc = pos(&cs.v, sc);
                 if su >= lo {
                     if su < hi {
-                        done[su - lo] |= 1 << EDGE_INDEX[pos(&cs.v, a)][pos(&cs.v, b)];
+                        done[su - lo] |= 1 << off_edge(pc, pos(&cs.v, sd));
                     }
                 } else {
                     foreign = true;
                 }
-                let pc = pos(&cs.v, sc);
                 fv.push(perm[su]);
                 fe.push(e[su][pc]);
                 let u = cs.n[pc];
@@ -497,25 +503,25 @@ fn face_pass(
                     break false;
                 }
                 steps += 1;
-                let nd = other(&recs[u as usize].v, a, b, sd);
+                let nd = xor4(&recs[u as usize].v) ^ ab ^ sd;
                 (s, sc, sd) = (u, sd, nd);
             };
             if hit_hull {
                 // Open ring: the part clockwise from t comes first.
                 let (pa, pb) = (p(a), p(b));
-                let ab = sub(pb, pa);
-                let last = cross(&ab, &sub(p(sd), pa));
+                let ab_vec = sub(pb, pa);
+                let last = cross(&ab_vec, &sub(p(sd), pa));
                 fwd_v.clear();
                 fwd_e.clear();
                 fwd_v.extend(fv.drain(v0..));
                 fwd_e.extend(fe.drain(e0..));
                 back_v.clear();
                 back_e.clear();
-                let (mut s, mut sc, mut sd) = (t as u32, c, d);
+                let (mut s, mut sc) = (t as u32, c);
+                let mut pd = pos(&recs[t].v, d);
                 let mut steps = 0usize;
                 loop {
                     let cs = &recs[s as usize];
-                    let pd = pos(&cs.v, sd);
                     back_e.push(e[s as usize][pd]);
                     let u = cs.n[pd];
                     if u == NONE || steps > limit {
@@ -524,21 +530,23 @@ fn face_pass(
                     steps += 1;
                     let uu = u as usize;
                     let cu = &recs[uu];
+                    // Crossing (a, b, c) into u = (a, b, c, nc).
+                    let nc = xor4(&cu.v) ^ ab ^ sc;
+                    let pcu = pos(&cu.v, sc);
                     if uu >= lo {
                         if uu < hi {
-                            done[uu - lo] |= 1 << EDGE_INDEX[pos(&cu.v, a)][pos(&cu.v, b)];
+                            done[uu - lo] |= 1 << off_edge(pcu, pos(&cu.v, nc));
                         }
                     } else {
                         foreign = true;
                     }
-                    let nc = other(&cu.v, a, b, sc);
                     back_v.push(perm[uu]);
-                    (s, sc, sd) = (u, nc, sc);
+                    (s, sc, pd) = (u, nc, pcu);
                 }
                 if foreign {
                     continue;
                 }
-                let first = cross(&sub(p(sc), pa), &ab);
+                let first = cross(&sub(p(sc), pa), &ab_vec);
                 fv.extend(back_v.iter().rev());
                 fv.extend(&fwd_v);
                 fe.extend(back_e.iter().rev());
@@ -555,6 +563,8 @@ fn face_pass(
             out.faces.push(FaceInfo3 { sites: [a, b] });
         }
     }
+    out.face_vertices = fv;
+    out.face_edge_ids = fe;
     out
 }
 
@@ -643,13 +653,20 @@ fn back(nb: &[u32; 4], t: u32) -> Option<usize> {
     (e[0] | e[1] | e[2] | e[3]).then_some(pos(nb, t))
 }
 
-/// The vertex of `tv` other than `a`, `b`, `c`.
+/// The index in [`EDGES`] of the local edge whose two other vertices are in
+/// slots `x` and `y` (`x != y`): the complement of `{x, y}`.
 #[inline]
-fn other(tv: &[u32; 4], a: u32, b: u32, c: u32) -> u32 {
-    // Branch-free, as `pos`; for a valid tetrahedron exactly one slot is
-    // not among `a`, `b`, `c`, and the result is always one of `tv`.
-    let off = |y: u32| ((y != a) & (y != b) & (y != c)) as usize;
-    tv[off(tv[1]) | (off(tv[2]) << 1) | (off(tv[3]) * 3)]
+fn off_edge(x: usize, y: usize) -> usize {
+    5 - EDGE_INDEX[x][y]
+}
+
+/// The XOR of the four vertices of `tv`: for a valid tetrahedron holding
+/// `a`, `b`, `c`, the fourth vertex is `xor4(tv) ^ a ^ b ^ c` (branch-free;
+/// for an invalid mesh it may name no point, so the face pass reads points
+/// through a checked lookup).
+#[inline]
+fn xor4(tv: &[u32; 4]) -> u32 {
+    tv[0] ^ tv[1] ^ tv[2] ^ tv[3]
 }
 
 impl Voronoi3 {
