@@ -182,7 +182,11 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 /// weighted corners; zero weights give the circumcentre. Computed relative to
 /// the corner with the shortest incident edges (less cancellation for
 /// slivers).
-pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
+///
+/// `WEIGHTED = false` ignores `wq`: the circumcentre, the same bits as with
+/// zero weights (`x + 0 - 0 = x` for the non-negative squared lengths).
+#[inline]
+fn centre<const WEIGHTED: bool>(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     // The six edge vectors and their squared lengths, computed once: the
     // vectors from the chosen corner are among them (up to sign, which
     // negation gives exactly).
@@ -216,7 +220,6 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     let [u, v, w] = FROM[o].map(|(i, s)| ev[i].map(|x| s * x));
     let [lu0, lv0, lw0] = FROM[o].map(|(i, _)| l[i]);
     let a = q[o];
-    let [wa, wb, wc, wd] = [o, o ^ 1, o ^ 2, o ^ 3].map(|i| wq[i]);
     let (vw, wu, uv) = (cross(&v, &w), cross(&w, &u), cross(&u, &v));
     let mut det = dot(&u, &vw);
     if det <= 0.0 {
@@ -226,7 +229,12 @@ pub(crate) fn orthocenter(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
         }
     }
     // Power distances: |x - a|² - wa = |x - b|² - wb, ... relative to a.
-    let (lu, lv, lw) = (lu0 + wa - wb, lv0 + wa - wc, lw0 + wa - wd);
+    let (lu, lv, lw) = if WEIGHTED {
+        let [wa, wb, wc, wd] = [o, o ^ 1, o ^ 2, o ^ 3].map(|i| wq[i]);
+        (lu0 + wa - wb, lv0 + wa - wc, lw0 + wa - wd)
+    } else {
+        (lu0, lv0, lw0)
+    };
     let k = 0.5 / det;
     [
         a[0] + (lu * vw[0] + lv * wu[0] + lw * uv[0]) * k,
@@ -891,18 +899,38 @@ impl Voronoi3 {
             .into_iter()
             .zip(key_chunks)
             .collect();
+        // The Morton key of every point (a tetrahedron takes its first
+        // vertex's), chunk by chunk of the points.
+        let pb: Vec<usize> = (0..=k).map(|i| n * i / k).collect();
+        let mut pkey = vec![0u32; if grid.is_some() { n } else { 0 }];
+        if let Some(g) = &grid {
+            run_all(split_mut(&mut pkey, &pb), |i, kc| {
+                for (x, q) in kc.iter_mut().zip(&points[pb[i]..pb[i + 1]]) {
+                    *x = g.key(q);
+                }
+            });
+        }
+        let pkey = &pkey[..];
+        let weighted = !weights.is_empty();
+        let centre_of = |tv: &[u32; 4]| {
+            if weighted {
+                centre::<true>(tv.map(p), tv.map(w))
+            } else {
+                centre::<false>(tv.map(p), [0.0; 4])
+            }
+        };
         let hist = run_all(jobs, |i, (vc, kc)| {
             let chunk = &tets[bounds[i]..bounds[i + 1]];
-            let Some(g) = &grid else {
+            if grid.is_none() {
                 for (c, tv) in vc.iter_mut().zip(chunk) {
-                    *c = orthocenter(tv.map(p), tv.map(w));
+                    *c = centre_of(tv);
                 }
                 return Vec::new();
-            };
-            let mut hist = vec![0u32; g.keys()];
+            }
+            let mut hist = vec![0u32; 1 << (3 * grid.as_ref().map_or(0, |g| g.bits))];
             for ((c, x), tv) in vc.iter_mut().zip(kc.iter_mut()).zip(chunk) {
-                *c = orthocenter(tv.map(p), tv.map(w));
-                *x = g.key(p(tv[0]));
+                *c = centre_of(tv);
+                *x = pkey[tv[0] as usize];
                 hist[*x as usize] += 1;
             }
             hist
@@ -1646,7 +1674,7 @@ mod tests {
             [0.0, 2.0, 0.0],
             [0.0, 0.0, 2.0],
         ];
-        let c = orthocenter([&q[0], &q[1], &q[2], &q[3]], [0.0; 4]);
+        let c = centre::<true>([&q[0], &q[1], &q[2], &q[3]], [0.0; 4]);
         assert_eq!(c, [1.0, 1.0, 1.0]);
     }
 }
