@@ -5,7 +5,7 @@
 //!
 //! `--threads N`: the extraction's thread count (default: the available
 //! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
-//! wall time of each phase of the extraction; `--hash` (3D): a digest of
+//! wall time of each phase of the extraction; `--hash`: a digest of
 //! the whole diagram (to compare versions bit for bit). `--regular`: times
 //! the regular (weighted) triangulation against the unweighted one instead,
 //! weights uniform in `[0, n^(-2/d))` (the squared point spacing). Wall times are the best of the
@@ -212,6 +212,27 @@ fn main() {
             delone::tri::Voronoi2::with_threads(&pts, &mesh, threads).unwrap()
         });
         let c2 = cpu_seconds();
+        if args.iter().any(|a| a == "--hash") {
+            // A digest of the whole diagram, to compare versions bit for bit.
+            let mut h = 0xcbf2_9ce4_8422_2325u64;
+            let mut eat = |x: u64| h = (h ^ x).wrapping_mul(0x100_0000_01b3);
+            v.vertices.iter().flatten().for_each(|x| eat(x.to_bits()));
+            for e in &v.edges {
+                e.sites
+                    .iter()
+                    .chain(&e.vertices)
+                    .for_each(|&x| eat(x as u64));
+            }
+            v.cell_ranges.iter().flatten().for_each(|&x| eat(x as u64));
+            v.cell_vertices.iter().for_each(|&x| eat(x as u64));
+            v.cell_neighbors.iter().for_each(|&x| eat(x as u64));
+            for (s, rays, o) in &v.hull_cells {
+                eat(*s as u64);
+                rays.iter().flatten().for_each(|x| eat(x.to_bits()));
+                eat(*o as u64);
+            }
+            println!("2D digest {h:016x}");
+        }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
             "2D n={n}: CPU time (all repeats) triangulate {ct:.2}s, Voronoi2 {cv:.2}s ({:.2}x)",
