@@ -164,7 +164,8 @@ pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2]
     // Rotate (keeping the orientation) so that `a` is opposite the longest
     // edge: rotation 0 if `la >= lb && la >= lc`, else 1 if `lb >= lc`, else
     // 2 — chosen by index, not by branches (which one is unpredictable).
-    let r = (!((la >= lb) & (la >= lc))) as usize * (1 + (!(lb >= lc)) as usize);
+    let (first, second) = ((la >= lb) & (la >= lc), lb >= lc);
+    let r = usize::from(!first) * (2 - usize::from(second));
     let q = [a, b, c];
     let (a, b, c) = (q[r], q[NEXT[r]], q[PREV[r]]);
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
