@@ -5,7 +5,7 @@
 //!
 //! `--threads N`: the extraction's thread count (default: the available
 //! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
-//! wall time of each phase of the extraction; `--hash` (3D): a digest of
+//! wall time of each phase of the extraction; `--hash`: a digest of
 //! the whole diagram (to compare versions bit for bit). `--regular`: times
 //! the regular (weighted) triangulation against the unweighted one instead,
 //! weights uniform in `[0, n^(-2/d))` (the squared point spacing). Wall times are the best of the
@@ -32,6 +32,20 @@ fn cpu_seconds() -> f64 {
         return 0.0;
     }
     (f[11] + f[12]) / 100.0
+}
+
+/// Minor page faults of this process so far (`/proc/self/stat`; 0
+/// elsewhere): fresh memory touched, a large part of the extraction's
+/// system time.
+fn minor_faults() -> u64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0;
+    };
+    let rest = stat.rsplit_once(')').map_or("", |r| r.1);
+    rest.split_whitespace()
+        .nth(7)
+        .and_then(|x| x.parse().ok())
+        .unwrap_or(0)
 }
 
 fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
@@ -113,11 +127,11 @@ fn main() {
         let (tt, mesh) = best(reps, || {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
-        let c1 = cpu_seconds();
+        let (c1, f1) = (cpu_seconds(), minor_faults());
         let (tv, (v, phases)) = best(reps, || {
             delone::tet::Voronoi3::with_phase_times(&pts, &mesh, threads).unwrap()
         });
-        let c2 = cpu_seconds();
+        let (c2, f2) = (cpu_seconds(), minor_faults());
         if args.iter().any(|a| a == "--hash") {
             // A digest of the whole diagram, to compare versions bit for bit.
             let mut h = 0xcbf2_9ce4_8422_2325u64;
@@ -168,13 +182,14 @@ fn main() {
         }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
-            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads",
+            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads; {:.0} MB of fresh pages per extraction",
             cv / ct,
             if threads == 0 {
                 delone::tet::Voronoi3::default_threads()
             } else {
                 threads
-            }
+            },
+            (f2 - f1) as f64 * 4096.0 / 1e6 / reps as f64
         );
         let bbox = [[0.0; 3], [1.0; 3]];
         let (tc, vol) = if args.iter().any(|a| a == "--no-clip") {
@@ -197,6 +212,27 @@ fn main() {
             delone::tri::Voronoi2::with_threads(&pts, &mesh, threads).unwrap()
         });
         let c2 = cpu_seconds();
+        if args.iter().any(|a| a == "--hash") {
+            // A digest of the whole diagram, to compare versions bit for bit.
+            let mut h = 0xcbf2_9ce4_8422_2325u64;
+            let mut eat = |x: u64| h = (h ^ x).wrapping_mul(0x100_0000_01b3);
+            v.vertices.iter().flatten().for_each(|x| eat(x.to_bits()));
+            for e in &v.edges {
+                e.sites
+                    .iter()
+                    .chain(&e.vertices)
+                    .for_each(|&x| eat(x as u64));
+            }
+            v.cell_ranges.iter().flatten().for_each(|&x| eat(x as u64));
+            v.cell_vertices.iter().for_each(|&x| eat(x as u64));
+            v.cell_neighbors.iter().for_each(|&x| eat(x as u64));
+            for (s, rays, o) in &v.hull_cells {
+                eat(*s as u64);
+                rays.iter().flatten().for_each(|x| eat(x.to_bits()));
+                eat(*o as u64);
+            }
+            println!("2D digest {h:016x}");
+        }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
             "2D n={n}: CPU time (all repeats) triangulate {ct:.2}s, Voronoi2 {cv:.2}s ({:.2}x)",

@@ -161,14 +161,13 @@ pub struct Voronoi2 {
 pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2] {
     let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let (la, lb, lc) = (l2(b, c), l2(c, a), l2(a, b));
-    // Rotate (keeping the orientation) so that `a` is opposite the longest edge.
-    let (a, b, c) = if la >= lb && la >= lc {
-        (a, b, c)
-    } else if lb >= lc {
-        (b, c, a)
-    } else {
-        (c, a, b)
-    };
+    // Rotate (keeping the orientation) so that `a` is opposite the longest
+    // edge: rotation 0 if `la >= lb && la >= lc`, else 1 if `lb >= lc`, else
+    // 2 — chosen by index, not by branches (which one is unpredictable).
+    let (first, second) = ((la >= lb) & (la >= lc), lb >= lc);
+    let r = usize::from(!first) * (2 - usize::from(second));
+    let q = [a, b, c];
+    let (a, b, c) = (q[r], q[NEXT[r]], q[PREV[r]]);
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
     let d2 = dx * dx + dy * dy;
@@ -232,6 +231,10 @@ pub(crate) fn power_center(
         a[1] + (dx * e2 - ex * d2) * k,
     ]
 }
+
+/// The next and previous corner of a triangle.
+const NEXT: [usize; 3] = [1, 2, 0];
+const PREV: [usize; 3] = [2, 0, 1];
 
 /// Outward normal of the hull edge `a → b` (interior on the left), of the
 /// edge's length.
@@ -392,7 +395,7 @@ impl Voronoi2 {
                 if u != NONE && u <= t as u32 {
                     continue;
                 }
-                let (a, b) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
+                let (a, b) = (tv[NEXT[i]], tv[PREV[i]]);
                 edges.push(VoronoiEdge2 {
                     sites: [a, b],
                     vertices: [t as u32, u],
@@ -420,7 +423,7 @@ impl Voronoi2 {
         for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
             if nb.contains(&NONE) {
                 for i in 0..3 {
-                    if nb[(i + 2) % 3] == NONE {
+                    if nb[PREV[i]] == NONE {
                         start[tv[i] as usize] = 4 * t as u64 + i as u64;
                     }
                 }
@@ -456,28 +459,26 @@ impl Voronoi2 {
                 let (mut t, mut i) = (t0, i0);
                 loop {
                     let tv = &tris[t as usize];
+                    let nx = NEXT[i];
                     cell_vertices.push(t);
-                    cell_neighbors.push(tv[(i + 1) % 3]);
+                    cell_neighbors.push(tv[nx]);
                     // Counterclockwise around v: across the edge (v, tv[i + 2]).
-                    let u = nbs[t as usize][(i + 1) % 3];
+                    let u = nbs[t as usize][nx];
                     if u == NONE {
                         // Hull: the boundary leaves along the normal of (prev, v).
-                        let first = outward(p(tv0[i0]), p(tv0[(i0 + 1) % 3]));
-                        let last = outward(p(tv[(i + 2) % 3]), p(tv[i]));
-                        hull_cells.push((v as u32, [first, last], tv[(i + 2) % 3]));
+                        let first = outward(p(tv0[i0]), p(tv0[NEXT[i0]]));
+                        let last = outward(p(tv[PREV[i]]), p(tv[i]));
+                        hull_cells.push((v as u32, [first, last], tv[PREV[i]]));
                         break;
                     }
                     if u == t0 || cell_vertices.len() >= limit {
                         break;
                     }
+                    // The corner of v in u, branch-free (which corner is
+                    // unpredictable); at most 2 whatever an invalid mesh holds.
                     let uv = &tris[u as usize];
-                    i = if uv[0] == v as u32 {
-                        0
-                    } else if uv[1] == v as u32 {
-                        1
-                    } else {
-                        2
-                    };
+                    let vv = v as u32;
+                    i = ((uv[1] == vv) as usize | ((uv[2] == vv) as usize) << 1).min(2);
                     t = u;
                 }
                 cell_ranges[v] = [lo as u32, cell_vertices.len() as u32];
