@@ -127,11 +127,11 @@ impl Polygons {
         }
         // Soft edges: in exactly two triangles, both of one group.
         let mut soft = vec![false; surf.edges.len()];
-        for e in 0..surf.edge_tris.len() {
+        for (e, s) in soft.iter_mut().enumerate() {
             let ts = &surf.edge_tris[e];
             if ts.len() == 2 {
                 let g = of_tri[ts[0] as usize];
-                soft[e] = g != u32::MAX && g == of_tri[ts[1] as usize] && ts[0] != ts[1];
+                *s = g != u32::MAX && g == of_tri[ts[1] as usize] && ts[0] != ts[1];
             }
         }
         for (g, grp) in groups.iter_mut().enumerate() {

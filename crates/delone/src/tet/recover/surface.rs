@@ -72,6 +72,7 @@ pub(crate) struct Lists {
 
 impl Lists {
     /// The number of lists.
+    #[cfg(test)]
     pub(crate) fn len(&self) -> usize {
         self.start.len().saturating_sub(1)
     }
