@@ -81,6 +81,18 @@ pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32
     new
 }
 
+/// Replacements recorded by a [`CMesh`] while logging
+/// ([`CMesh::start_log`]): per operation, the tetrahedra it removed and
+/// those it created, as vertex tuples. [`CMesh::replay`] applies them to
+/// another mesh on (a superset of) the same points.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct OpLog {
+    /// The removed, then the created tetrahedra of each operation.
+    tets: Vec<[u32; 4]>,
+    /// Per operation: start in `tets`, removed count, created count.
+    ops: Vec<(u32, u16, u16)>,
+}
+
 /// The face of `tv` opposite local vertex `f`, in `FACET` order.
 #[inline]
 pub(crate) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
@@ -120,8 +132,11 @@ pub(crate) struct CMesh<'a> {
     /// the set may be carried over to another mesh on the same points
     /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
     failed: crate::tet::recover::IdSet<Vec<u32>>,
+    /// The replacements since [`CMesh::start_log`], when logging.
+    log: Option<OpLog>,
 }
 
+impl OpLog { pub(crate) fn ops_len(&self) -> usize { self.ops.len() } }
 impl<'a> CMesh<'a> {
     /// Wraps a tetrahedralization.
     pub(crate) fn new(dt: Delaunay3<'a>) -> Self {
@@ -143,7 +158,135 @@ impl<'a> CMesh<'a> {
             removals: 0,
             touched: Vec::new(),
             failed: Default::default(),
+            log: None,
         }
+    }
+
+    /// Starts recording every replacement (flip, edge removal) in a fresh
+    /// [`OpLog`].
+    pub(crate) fn start_log(&mut self) {
+        self.log = Some(OpLog::default());
+    }
+
+    /// Stops recording and returns what was recorded.
+    pub(crate) fn take_log(&mut self) -> Option<OpLog> {
+        self.log.take()
+    }
+
+    /// Re-applies the operations of `log` (recorded on another mesh of a
+    /// prefix of these points), in order, each only when every tetrahedron
+    /// it removed is a tetrahedron of this mesh (same vertex set) and
+    /// `allowed(removed, created)` holds; the others are skipped. Such a
+    /// replacement is valid here exactly as it was there: the removed
+    /// tetrahedra are the same geometric cells, so the created ones fill the
+    /// same region with the same (exact) orientations and the same
+    /// boundary faces. Counts as the flips and removals it re-applies;
+    /// returns how many it re-applied.
+    pub(crate) fn replay(
+        &mut self,
+        log: &OpLog,
+        allowed: &dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool,
+    ) -> usize {
+        let mut done = 0;
+        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        for &(s, no, nn) in &log.ops {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            if !self.locate_tets(old, &mut slots, &mut buf) {
+                if std::env::var("DBGX").is_ok() { eprintln!("miss op {s} {:?} -> {:?}", old, new); }
+                continue;
+            }
+            if !allowed(old, new) {
+                eprintln!("DBG prot reject");
+                continue;
+            }
+            self.replace(&slots, new);
+            // Only a 2-3 flip turns two tetrahedra into three.
+            if (no, nn) == (2, 3) {
+                self.flips23 += 1;
+            } else {
+                self.removals += 1;
+            }
+            done += 1;
+        }
+        done
+    }
+
+    /// The number of operations logged so far (a mark for
+    /// [`CMesh::rollback`]); 0 when not logging.
+    pub(crate) fn log_mark(&self) -> usize {
+        self.log.as_ref().map_or(0, |l| l.ops.len())
+    }
+
+    /// Undoes, newest first, the operations logged since `mark`
+    /// ([`CMesh::log_mark`]) and forgets them: each created set of
+    /// tetrahedra is replaced back by the removed one (valid for the same
+    /// reason as [`CMesh::replay`]).
+    pub(crate) fn rollback(&mut self, mark: usize) {
+        let Some(mut log) = self.log.take() else {
+            return;
+        };
+        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        for &(s, no, nn) in log.ops[mark.min(log.ops.len())..].iter().rev() {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            let found = self.locate_tets(new, &mut slots, &mut buf);
+            debug_assert!(found, "rollback: a created tetrahedron is gone");
+            if !found {
+                break;
+            }
+            self.replace(&slots, old);
+            if (no, nn) == (2, 3) {
+                self.flips23 -= 1;
+            } else {
+                self.removals -= 1;
+            }
+        }
+        if let Some(&(s, _, _)) = log.ops.get(mark) {
+            log.tets.truncate(s as usize);
+            log.ops.truncate(mark);
+        }
+        self.log = Some(log);
+    }
+
+    /// The slots of tetrahedra `old` (vertex tuples, each adjacent to an
+    /// earlier one) into `slots`; false when one is not in the mesh.
+    fn locate_tets(&self, old: &[[u32; 4]], slots: &mut Vec<u32>, buf: &mut Vec<u32>) -> bool {
+        slots.clear();
+        let c = self.core();
+        let same = |t: u32, q: &[u32; 4]| {
+            let tv = c.v[t as usize];
+            tv[0] != DEAD && q.iter().all(|w| tv.contains(w))
+        };
+        let Some((first, rest)) = old.split_first() else {
+            return false;
+        };
+        let Some(&w) = first.iter().find(|&&w| w != INF) else {
+            return false;
+        };
+        if self.vt.get(w as usize).is_none_or(|&t| t == DEAD) {
+            return false;
+        }
+        let Some(t0) = self.star_until(w, buf, |t| same(t, first)) else {
+            return false;
+        };
+        slots.push(t0);
+        'next: for q in rest {
+            for i in 0..slots.len() {
+                for f in 0..4 {
+                    let n = c.adj[slots[i] as usize][f] >> 2;
+                    if same(n, q) {
+                        if slots.contains(&n) {
+                            return false;
+                        }
+                        slots.push(n);
+                        continue 'next;
+                    }
+                }
+            }
+            return false;
+        }
+        true
     }
 
     /// The finite faces (sorted triples; sorted, distinct) of the
@@ -349,6 +492,13 @@ impl<'a> CMesh<'a> {
                     self.touched.push(fkey(k));
                 }
             }
+        }
+        if let Some(log) = &mut self.log {
+            let start = log.tets.len() as u32;
+            log.tets
+                .extend(old.iter().map(|&t| self.dt.core.v[t as usize]));
+            log.tets.extend_from_slice(new);
+            log.ops.push((start, old.len() as u16, new.len() as u16));
         }
         let c = &mut self.dt.core;
         for &t in old {

@@ -114,7 +114,7 @@ pub use missing::{missing, Missing};
 use self::missing::ekey;
 pub(crate) use self::surface::{IdMap, IdSet};
 use self::surface::{Skeleton, Surface};
-use super::cmesh::CMesh;
+use super::cmesh::{CMesh, OpLog};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -910,6 +910,9 @@ impl State {
         let mut prev: Option<RoundState> = None;
         // Edge removals found impossible in earlier rounds (same points).
         let mut failed_removals = IdSet::default();
+        // The flips and edge removals of the previous round, re-applied
+        // first where they still apply (see below).
+        let mut prev_log: Option<OpLog> = None;
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
@@ -938,13 +941,30 @@ impl State {
                     prot.edges.insert(ekey(w[0], w[1]));
                 }
             }
+            // The previous round's operations are replayed on this round's
+            // Delaunay tetrahedralization: it differs from the previous one
+            // only around the points inserted since, so nearly every
+            // operation finds the very tetrahedra it replaced and is re-applied
+            // (valid by construction, see `CMesh::replay`) unless it would
+            // destroy an item protected now; only what is left missing is
+            // searched and flipped again.
+            if !self.opts.preserve_surface {
+                cm.start_log();
+                if let Some(log) = prev_log.take() {
+                    let n = cm.replay(&log, &|o, n| prot.kept_by(o, n));
+                    eprintln!("DBG replay {n} of {}", log.ops_len());
+                }
+            }
             let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
+                let mark = cm.log_mark();
                 if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                    cm.rollback(mark);
                     failed.push((e, u, v));
                 }
             }
+            eprintln!("DBG round {} subs {} failed {}", self.report.rounds, subs.len(), failed.len());
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
                     if let Some(done) = self.preserve_by_cavities(&cm)? {
@@ -961,6 +981,7 @@ impl State {
                         self.split_edge(dt, e, u, v)?;
                     }
                 }
+                prev_log = cm.take_log();
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
                     on,
@@ -1036,6 +1057,7 @@ impl State {
                     steiner: self.report.steiner(),
                 });
             }
+            prev_log = cm.take_log();
             failed_removals = cm.take_failed();
             prev = Some(RoundState {
                 on,
