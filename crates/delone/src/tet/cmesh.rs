@@ -32,12 +32,11 @@
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
 
-use std::collections::HashMap;
-
 use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
 use super::local::{DEAD, FACET, INF};
+use super::recover::IdMap;
 use super::Delaunay3;
 
 /// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
@@ -89,6 +88,9 @@ pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32
 pub(crate) struct OpLog {
     /// The removed, then the created tetrahedra of each operation.
     tets: Vec<[u32; 4]>,
+    /// The slot of each tetrahedron of `tets` where it was recorded (a
+    /// hint for finding it again).
+    slots: Vec<u32>,
     /// Per operation: start in `tets`, removed count, created count.
     ops: Vec<(u32, u16, u16)>,
 }
@@ -136,7 +138,6 @@ pub(crate) struct CMesh<'a> {
     log: Option<OpLog>,
 }
 
-impl OpLog { pub(crate) fn ops_len(&self) -> usize { self.ops.len() } }
 impl<'a> CMesh<'a> {
     /// Wraps a tetrahedralization.
     pub(crate) fn new(dt: Delaunay3<'a>) -> Self {
@@ -189,18 +190,30 @@ impl<'a> CMesh<'a> {
     ) -> usize {
         let mut done = 0;
         let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        // Recorded slot -> slot here of the same tetrahedron (when a
+        // replayed operation created it; else the recorded slot is tried).
+        let mut map: Vec<u32> = Vec::new();
         for &(s, no, nn) in &log.ops {
             let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
             let (old, new) = log.tets[s..s + no + nn].split_at(no);
-            if !self.locate_tets(old, &mut slots, &mut buf) {
-                if std::env::var("DBGX").is_ok() { eprintln!("miss op {s} {:?} -> {:?}", old, new); }
+            let (old_at, new_at) = log.slots[s..s + no + nn].split_at(no);
+            let hint = |i: usize| {
+                let r = old_at[i];
+                map.get(r as usize)
+                    .copied()
+                    .filter(|&x| x != DEAD)
+                    .unwrap_or(r)
+            };
+            if !self.locate_tets(old, hint, &mut slots, &mut buf) || !allowed(old, new) {
                 continue;
             }
-            if !allowed(old, new) {
-                eprintln!("DBG prot reject");
-                continue;
+            let ids = self.replace(&slots, new);
+            for (&r, &x) in new_at.iter().zip(&ids) {
+                if map.len() <= r as usize {
+                    map.resize(r as usize + 1, DEAD);
+                }
+                map[r as usize] = x;
             }
-            self.replace(&slots, new);
             // Only a 2-3 flip turns two tetrahedra into three.
             if (no, nn) == (2, 3) {
                 self.flips23 += 1;
@@ -230,7 +243,8 @@ impl<'a> CMesh<'a> {
         for &(s, no, nn) in log.ops[mark.min(log.ops.len())..].iter().rev() {
             let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
             let (old, new) = log.tets[s..s + no + nn].split_at(no);
-            let found = self.locate_tets(new, &mut slots, &mut buf);
+            let new_at = &log.slots[s + no..s + no + nn];
+            let found = self.locate_tets(new, |i| new_at[i], &mut slots, &mut buf);
             debug_assert!(found, "rollback: a created tetrahedron is gone");
             if !found {
                 break;
@@ -244,47 +258,56 @@ impl<'a> CMesh<'a> {
         }
         if let Some(&(s, _, _)) = log.ops.get(mark) {
             log.tets.truncate(s as usize);
+            log.slots.truncate(s as usize);
             log.ops.truncate(mark);
         }
         self.log = Some(log);
     }
 
     /// The slots of tetrahedra `old` (vertex tuples, each adjacent to an
-    /// earlier one) into `slots`; false when one is not in the mesh.
-    fn locate_tets(&self, old: &[[u32; 4]], slots: &mut Vec<u32>, buf: &mut Vec<u32>) -> bool {
+    /// earlier one) into `slots`, trying slot `hint(i)` for `old[i]` first;
+    /// false when one is not in the mesh.
+    fn locate_tets(
+        &self,
+        old: &[[u32; 4]],
+        hint: impl Fn(usize) -> u32,
+        slots: &mut Vec<u32>,
+        buf: &mut Vec<u32>,
+    ) -> bool {
         slots.clear();
         let c = self.core();
         let same = |t: u32, q: &[u32; 4]| {
-            let tv = c.v[t as usize];
+            let tv = c.v.get(t as usize).copied().unwrap_or([DEAD; 4]);
             tv[0] != DEAD && q.iter().all(|w| tv.contains(w))
         };
-        let Some((first, rest)) = old.split_first() else {
-            return false;
-        };
-        let Some(&w) = first.iter().find(|&&w| w != INF) else {
-            return false;
-        };
-        if self.vt.get(w as usize).is_none_or(|&t| t == DEAD) {
-            return false;
-        }
-        let Some(t0) = self.star_until(w, buf, |t| same(t, first)) else {
-            return false;
-        };
-        slots.push(t0);
-        'next: for q in rest {
-            for i in 0..slots.len() {
+        'next: for (i, q) in old.iter().enumerate() {
+            let h = hint(i);
+            if same(h, q) {
+                slots.push(h);
+                continue;
+            }
+            for j in 0..slots.len() {
                 for f in 0..4 {
-                    let n = c.adj[slots[i] as usize][f] >> 2;
+                    let n = c.adj[slots[j] as usize][f] >> 2;
                     if same(n, q) {
-                        if slots.contains(&n) {
-                            return false;
-                        }
                         slots.push(n);
                         continue 'next;
                     }
                 }
             }
-            return false;
+            if i > 0 {
+                return false;
+            }
+            let Some(&w) = q.iter().find(|&&w| w != INF) else {
+                return false;
+            };
+            if self.vt.get(w as usize).is_none_or(|&t| t == DEAD) {
+                return false;
+            }
+            match self.star_until(w, buf, |t| same(t, q)) {
+                Some(t) => slots.push(t),
+                None => return false,
+            }
         }
         true
     }
@@ -468,7 +491,8 @@ impl<'a> CMesh<'a> {
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
     /// everything by face keys. Returns the new slots.
     pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
-        let mut outer: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * new.len());
+        let mut outer: IdMap<[u32; 3], u32> = IdMap::default();
+        outer.reserve(2 * new.len());
         {
             let c = &self.dt.core;
             for &t in old {
@@ -493,19 +517,23 @@ impl<'a> CMesh<'a> {
                 }
             }
         }
+        let c = &mut self.dt.core;
         if let Some(log) = &mut self.log {
             let start = log.tets.len() as u32;
-            log.tets
-                .extend(old.iter().map(|&t| self.dt.core.v[t as usize]));
-            log.tets.extend_from_slice(new);
+            log.tets.extend(old.iter().map(|&t| c.v[t as usize]));
+            log.slots.extend_from_slice(old);
             log.ops.push((start, old.len() as u16, new.len() as u16));
         }
-        let c = &mut self.dt.core;
         for &t in old {
             c.release(t);
         }
         let ids: Vec<u32> = new.iter().map(|&tv| c.alloc(tv)).collect();
-        let mut open: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        if let Some(log) = &mut self.log {
+            log.tets.extend_from_slice(new);
+            log.slots.extend_from_slice(&ids);
+        }
+        let mut open: IdMap<[u32; 3], (u32, usize)> = IdMap::default();
+        open.reserve(2 * new.len());
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
                 let k = fkey(face(tv, f));

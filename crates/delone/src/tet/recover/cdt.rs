@@ -243,6 +243,9 @@ const DEPTH: u32 = 2;
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
     const CAP: usize = 48;
+    if cm.find_edge(u, v).is_some() {
+        return true;
+    }
     for _ in 0..CAP {
         let mut progress = false;
         for (s, e) in [(u, v), (v, u)] {

@@ -633,6 +633,8 @@ struct RoundState {
     on: FacesOn,
     covered: Vec<bool>,
     old_len: usize,
+    /// Its missing subsegments.
+    subs: Vec<(u32, u32, u32)>,
 }
 
 /// Rounds after which surface preservation gives up.
@@ -951,8 +953,7 @@ impl State {
             if !self.opts.preserve_surface {
                 cm.start_log();
                 if let Some(log) = prev_log.take() {
-                    let n = cm.replay(&log, &|o, n| prot.kept_by(o, n));
-                    eprintln!("DBG replay {n} of {}", log.ops_len());
+                    cm.replay(&log, &|o, n| prot.kept_by(o, n));
                 }
             }
             let old_len = dt.points().len();
@@ -964,7 +965,6 @@ impl State {
                     failed.push((e, u, v));
                 }
             }
-            eprintln!("DBG round {} subs {} failed {}", self.report.rounds, subs.len(), failed.len());
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
                     if let Some(done) = self.preserve_by_cavities(&cm)? {
@@ -987,6 +987,7 @@ impl State {
                     on,
                     covered,
                     old_len,
+                    subs,
                 });
                 continue;
             }
@@ -1025,6 +1026,7 @@ impl State {
                     on,
                     covered,
                     old_len,
+                    subs,
                 });
                 continue;
             }
@@ -1063,6 +1065,7 @@ impl State {
                 on,
                 covered,
                 old_len,
+                subs,
             });
         }
     }
@@ -1085,6 +1088,7 @@ impl State {
             mut on,
             mut covered,
             old_len,
+            subs,
         } = st;
         let core = &cm.dt.core;
         let mut near: Vec<u32> = Vec::new();
@@ -1096,7 +1100,7 @@ impl State {
         }
         near.sort_unstable();
         near.dedup();
-        let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+        let mut tris: Vec<usize> = Vec::new();
         for &w in &near {
             if let Some(l) = self.surf.vtris.get(w as usize) {
                 tris.extend(l.iter().map(|&t| t as usize));
@@ -1105,9 +1109,7 @@ impl State {
         tris.sort_unstable();
         tris.dedup();
         self.recompute(cm, &tris, &mut on, &mut covered);
-        // Subsegments of edges with a covered triangle are present; the
-        // others are searched.
-        let subs = self.missing_subsegments_cm(cm, &covered);
+        let subs = self.missing_subsegments_near(cm, &covered, &subs, &near);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
         (on, covered, subs)
@@ -1338,6 +1340,54 @@ impl State {
             for w in chain.windows(2) {
                 if cm.find_edge(w[0], w[1]).is_none() {
                     out.push((e as u32, w[0], w[1]));
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::missing_subsegments_cm`] from the missing subsegments `prev`
+    /// of the previous round's Delaunay tetrahedralization, when the stars
+    /// of only the vertices `near` (sorted) changed since (a Delaunay
+    /// insertion joins every vertex of the tetrahedra it removes to the new
+    /// point): a subsegment with no end in `near` is an edge now exactly
+    /// when it was one then, so only the others are looked up.
+    fn missing_subsegments_near(
+        &self,
+        cm: &CMesh<'_>,
+        covered: &[bool],
+        prev: &[(u32, u32, u32)],
+        near: &[u32],
+    ) -> Vec<(u32, u32, u32)> {
+        let was: IdSet<(u32, u32)> = prev.iter().map(|&(_, u, v)| (u, v)).collect();
+        let mut es: Vec<u32> = prev.iter().map(|s| s.0).collect();
+        for &w in near {
+            if let Some(l) = self.surf.vtris.get(w as usize) {
+                for &t in l {
+                    es.extend(&self.surf.tri_edges[t as usize]);
+                }
+            }
+        }
+        es.sort_unstable();
+        es.dedup();
+        let is_near = |w: u32| near.binary_search(&w).is_ok();
+        let mut out = Vec::new();
+        for e in es {
+            if self.surf.edge_tris[e as usize]
+                .iter()
+                .any(|&t| covered[t as usize])
+            {
+                continue;
+            }
+            for w in self.surf.chains[e as usize].windows(2) {
+                let (u, v) = (w[0], w[1]);
+                let missing = if is_near(u) || is_near(v) {
+                    cm.find_edge(u, v).is_none()
+                } else {
+                    was.contains(&(u, v))
+                };
+                if missing {
+                    out.push((e, u, v));
                 }
             }
         }
