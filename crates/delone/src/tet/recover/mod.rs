@@ -113,7 +113,7 @@ pub use missing::{missing, Missing};
 
 use self::missing::ekey;
 pub(crate) use self::surface::{IdMap, IdSet};
-use self::surface::{Skeleton, Surface};
+use self::surface::{Kind, Skeleton, Surface};
 use super::cmesh::{CMesh, OpLog};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
@@ -635,6 +635,8 @@ struct RoundState {
     old_len: usize,
     /// Its missing subsegments.
     subs: Vec<(u32, u32, u32)>,
+    /// Its protected items (see [`State::protected`]).
+    prot: Option<cdt::Protected>,
 }
 
 /// Rounds after which surface preservation gives up.
@@ -921,6 +923,8 @@ impl State {
             crate::progress::report("recovering the surface", r, None, "rounds");
             let mut cm = CMesh::new(dt.clone());
             cm.set_failed(std::mem::take(&mut failed_removals));
+            // The protected items, when `update_round` kept them up to date.
+            let mut kept_prot: Option<cdt::Protected> = None;
             let (on, covered, subs) = match prev.take() {
                 None => {
                     let (on, covered) = self.coverage_all(&cm);
@@ -929,19 +933,21 @@ impl State {
                     self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
                     (on, covered, subs)
                 }
-                Some(st) => self.update_round(&cm, st),
-            };
-            let mut prot = cdt::Protected::default();
-            let nf: usize = on.iter().map(Vec::len).sum();
-            prot.faces.reserve(nf);
-            prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
-            for f in on.iter().flatten() {
-                prot.add_face(*f);
-            }
-            for chain in &self.surf.chains {
-                for w in chain.windows(2) {
-                    prot.edges.insert(ekey(w[0], w[1]));
+                Some(mut st) => {
+                    let mut p = st.prot.take();
+                    let r = self.update_round(&cm, st, &mut p);
+                    kept_prot = p;
+                    r
                 }
+            };
+            let prot = match kept_prot.take() {
+                Some(p) => p,
+                None => self.protected(&on),
+            };
+            #[cfg(debug_assertions)]
+            {
+                let fresh = self.protected(&on);
+                assert!(fresh.faces == prot.faces && fresh.edges == prot.edges);
             }
             // The previous round's operations are replayed on this round's
             // Delaunay tetrahedralization: it differs from the previous one
@@ -988,6 +994,7 @@ impl State {
                     covered,
                     old_len,
                     subs,
+                    prot: Some(prot),
                 });
                 continue;
             }
@@ -1027,6 +1034,7 @@ impl State {
                     covered,
                     old_len,
                     subs,
+                    prot: Some(prot),
                 });
                 continue;
             }
@@ -1066,6 +1074,7 @@ impl State {
                 covered,
                 old_len,
                 subs,
+                prot: Some(prot),
             });
         }
     }
@@ -1079,16 +1088,22 @@ impl State {
     /// triangles whose sides were split) and those uncovered before can
     /// change; the missing subsegments then follow from the coverage
     /// ([`Self::missing_subsegments_cm`]).
+    ///
+    /// `prot`: the previous round's protected items, updated to
+    /// [`Self::protected`] of the new coverage (or `None` when that is
+    /// cheaper to build afresh).
     fn update_round(
         &self,
         cm: &CMesh<'_>,
         st: RoundState,
+        prot: &mut Option<cdt::Protected>,
     ) -> (FacesOn, Vec<bool>, Vec<(u32, u32, u32)>) {
         let RoundState {
             mut on,
             mut covered,
             old_len,
             subs,
+            ..
         } = st;
         let core = &cm.dt.core;
         let mut near: Vec<u32> = Vec::new();
@@ -1108,11 +1123,123 @@ impl State {
         }
         tris.sort_unstable();
         tris.dedup();
+        if tris.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+            *prot = None;
+        }
+        // Items that may stop being protected: the faces on the triangles
+        // recomputed, and the subsegments split since.
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        let mut chains: Vec<u32> = Vec::new();
+        if prot.is_some() {
+            for &t in &tris {
+                faces.extend(on[t].iter().map(|f| missing::fkey(*f)));
+            }
+            chains = (old_len..cm.pts().len())
+                .filter_map(|p| match self.surf.kind.get(p) {
+                    Some(Kind::OnEdge(e)) => Some(*e),
+                    _ => None,
+                })
+                .collect();
+            chains.sort_unstable();
+            chains.dedup();
+            for &e in &chains {
+                let old: Vec<u32> = self.surf.chains[e as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&w| (w as usize) < old_len)
+                    .collect();
+                edges.extend(old.windows(2).map(|w| ekey(w[0], w[1])));
+            }
+        }
         self.recompute(cm, &tris, &mut on, &mut covered);
+        if let Some(p) = prot {
+            for f in &faces {
+                edges.extend([(f[0], f[1]), (f[0], f[2]), (f[1], f[2])]);
+                if !self.face_on_some(&on, *f) {
+                    p.faces.remove(f);
+                }
+            }
+            edges.sort_unstable();
+            edges.dedup();
+            for e in &edges {
+                if !self.edge_protected(&on, *e) {
+                    p.edges.remove(e);
+                }
+            }
+            for &t in &tris {
+                for f in &on[t] {
+                    p.add_face(*f);
+                }
+            }
+            for &e in &chains {
+                for w in self.surf.chains[e as usize].windows(2) {
+                    p.edges.insert(ekey(w[0], w[1]));
+                }
+            }
+        }
         let subs = self.missing_subsegments_near(cm, &covered, &subs, &near);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
         (on, covered, subs)
+    }
+
+    /// The items the flips must keep, given the coverage `on` of the
+    /// Delaunay tetrahedralization: the faces on input triangles with their
+    /// edges, and every subsegment.
+    fn protected(&self, on: &FacesOn) -> cdt::Protected {
+        let mut prot = cdt::Protected::default();
+        let nf: usize = on.iter().map(Vec::len).sum();
+        prot.faces.reserve(nf);
+        prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
+        for f in on.iter().flatten() {
+            prot.add_face(*f);
+        }
+        for chain in &self.surf.chains {
+            for w in chain.windows(2) {
+                prot.edges.insert(ekey(w[0], w[1]));
+            }
+        }
+        prot
+    }
+
+    /// True when face `f` (sorted) is in `on` of an input triangle its
+    /// vertices lie on.
+    fn face_on_some(&self, on: &FacesOn, f: [u32; 3]) -> bool {
+        self.common_triangles(f[0], f[1])
+            .any(|t| on[t as usize].iter().any(|g| missing::fkey(*g) == f))
+    }
+
+    /// The input triangles both `a` and `b` lie on.
+    fn common_triangles(&self, a: u32, b: u32) -> impl Iterator<Item = u32> + '_ {
+        let get = |w: u32| self.surf.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
+        let lb = get(b);
+        get(a).iter().copied().filter(move |t| lb.binary_search(t).is_ok())
+    }
+
+    /// True when edge `e` (sorted) is protected by [`Self::protected`] of
+    /// `on`: a subsegment, or an edge of a face on an input triangle.
+    fn edge_protected(&self, on: &FacesOn, (a, b): (u32, u32)) -> bool {
+        let sub = [a, b].iter().any(|&w| {
+            let Some(Kind::OnEdge(e)) = self.surf.kind.get(w as usize).copied() else {
+                return false;
+            };
+            self.surf.chains[e as usize]
+                .windows(2)
+                .any(|x| ekey(x[0], x[1]) == (a, b))
+        });
+        let input = || {
+            self.surf
+                .edges
+                .binary_search(&[a, b])
+                .is_ok_and(|e| self.surf.chains[e].len() == 2)
+        };
+        sub || input()
+            || self.common_triangles(a, b).any(|t| {
+                on[t as usize]
+                    .iter()
+                    .any(|f| f.contains(&a) && f.contains(&b))
+            })
     }
 
     /// Debug builds: the incrementally kept coverage (and missing
