@@ -44,6 +44,10 @@ pub(crate) type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
 /// Cost of a new ring chord in [`CMesh::remove_edge`] (gets the points).
 pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 
+/// Whether [`CMesh::replay`] may replace the given tetrahedra (removed,
+/// created).
+pub(crate) type ReplayTest<'c> = &'c dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool;
+
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
@@ -183,11 +187,7 @@ impl<'a> CMesh<'a> {
     /// same region with the same (exact) orientations and the same
     /// boundary faces. Counts as the flips and removals it re-applies;
     /// returns how many it re-applied.
-    pub(crate) fn replay(
-        &mut self,
-        log: &OpLog,
-        allowed: &dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool,
-    ) -> usize {
+    pub(crate) fn replay(&mut self, log: &OpLog, allowed: ReplayTest<'_>) -> usize {
         let mut done = 0;
         let (mut slots, mut buf) = (Vec::new(), Vec::new());
         // Recorded slot -> slot here of the same tetrahedron (when a

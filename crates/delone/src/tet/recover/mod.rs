@@ -1214,7 +1214,10 @@ impl State {
     fn common_triangles(&self, a: u32, b: u32) -> impl Iterator<Item = u32> + '_ {
         let get = |w: u32| self.surf.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
         let lb = get(b);
-        get(a).iter().copied().filter(move |t| lb.binary_search(t).is_ok())
+        get(a)
+            .iter()
+            .copied()
+            .filter(move |t| lb.binary_search(t).is_ok())
     }
 
     /// True when edge `e` (sorted) is protected by [`Self::protected`] of
