@@ -1024,6 +1024,82 @@ mod tests {
         m.check().unwrap();
     }
 
+    /// The tetrahedra as sorted vertex sets, sorted.
+    fn tet_sets(m: &CMesh<'_>) -> Vec<[u32; 4]> {
+        let mut out: Vec<[u32; 4]> =
+            m.dt.core
+                .v
+                .iter()
+                .filter(|tv| tv[0] != DEAD)
+                .map(|tv| {
+                    let mut k = *tv;
+                    k.sort_unstable();
+                    k
+                })
+                .collect();
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn logged_operations_replay_and_roll_back() {
+        let pts: Vec<[f64; 3]> = (0..60)
+            .map(|i| {
+                let x = (i as f64 * 0.618_034).fract();
+                let y = (i as f64 * 0.414_213_5).fract();
+                let z = (i as f64 * 0.732_050_8).fract();
+                [x, y, z]
+            })
+            .collect();
+        let base = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let start = tet_sets(&base);
+        let mut m = base.clone();
+        m.start_log();
+        let mut ops = 0;
+        for t in 0..m.dt.core.v.len() as u32 {
+            for f in 0..4 {
+                if m.dt.core.v[t as usize][0] != DEAD && m.flip23(t, f) {
+                    ops += 1;
+                }
+            }
+            let tv = m.dt.core.v[t as usize];
+            if tv[0] != DEAD
+                && !tv.contains(&INF)
+                && m.remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                    .is_some()
+            {
+                ops += 1;
+            }
+        }
+        assert!(ops > 10);
+        m.check().unwrap();
+        let flipped = tet_sets(&m);
+        assert_ne!(flipped, start);
+        let log = m.take_log().unwrap();
+        // Replayed on the starting mesh: every operation applies, same result.
+        let mut r = base.clone();
+        assert_eq!(r.replay(&log, &|_, _| true), ops);
+        r.check().unwrap();
+        assert_eq!(tet_sets(&r), flipped);
+        assert_eq!((r.flips23, r.removals), (m.flips23, m.removals));
+        // Refused operations are skipped (and those depending on them).
+        let mut q = base.clone();
+        assert_eq!(q.replay(&log, &|_, _| false), 0);
+        assert_eq!(tet_sets(&q), start);
+        // Rolled back from half way: the mesh of that moment.
+        let mut h = base.clone();
+        h.start_log();
+        let half = h.replay(&log, &|_, _| true);
+        assert_eq!(half, ops);
+        h.rollback(ops / 2);
+        h.check().unwrap();
+        h.rollback(0);
+        h.check().unwrap();
+        assert_eq!(tet_sets(&h), start);
+        assert_eq!((h.flips23, h.removals), (0, 0));
+        assert_eq!(h.log_mark(), 0);
+    }
+
     #[test]
     fn hull_diagonal_of_a_flat_quad_is_flipped() {
         let pts = [

@@ -60,6 +60,19 @@
 //! triangle. Each round either finishes, splits at least one item, or fails
 //! with a typed error, so the loop is bounded by the Steiner budget.
 //!
+//! Rounds after the first do not redo the flips from scratch: the mesh
+//! records every flip and edge removal as "these tetrahedra (vertex sets)
+//! became those", and the next round first replays that log on its new
+//! Delaunay tetrahedralization. An operation is re-applied only when all
+//! the tetrahedra it removed are present (same vertex sets, so the same
+//! cells: the replacement is valid as it was) and it destroys nothing
+//! protected in the new round; the Delaunay tetrahedralization changed only
+//! around the points inserted since, so nearly all apply and only the
+//! items still missing there are searched. The flips of a segment whose
+//! recovery fails are rolled back, so the log holds no useless flips. The
+//! coverage, the missing subsegments and the protected items are updated
+//! near the new points instead of recomputed.
+//!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split:
 //! where the flips fail, the private `cavity` module retriangulates the
 //! cavity of each missing edge or triangle (Si & Gärtner's cavity
