@@ -32,18 +32,21 @@
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
 
-use std::collections::HashMap;
-
 use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
 use super::local::{DEAD, FACET, INF};
+use super::recover::IdMap;
 use super::Delaunay3;
 
 /// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
 pub(crate) type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
 /// Cost of a new ring chord in [`CMesh::remove_edge`] (gets the points).
 pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
+
+/// Whether [`CMesh::replay`] may replace the given tetrahedra (removed,
+/// created).
+pub(crate) type ReplayTest<'c> = &'c dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool;
 
 /// Longest edge ring [`CMesh::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
@@ -79,6 +82,21 @@ pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32
         stack.push((k, j));
     }
     new
+}
+
+/// Replacements recorded by a [`CMesh`] while logging
+/// ([`CMesh::start_log`]): per operation, the tetrahedra it removed and
+/// those it created, as vertex tuples. [`CMesh::replay`] applies them to
+/// another mesh on (a superset of) the same points.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct OpLog {
+    /// The removed, then the created tetrahedra of each operation.
+    tets: Vec<[u32; 4]>,
+    /// The slot of each tetrahedron of `tets` where it was recorded (a
+    /// hint for finding it again).
+    slots: Vec<u32>,
+    /// Per operation: start in `tets`, removed count, created count.
+    ops: Vec<(u32, u16, u16)>,
 }
 
 /// The face of `tv` opposite local vertex `f`, in `FACET` order.
@@ -120,6 +138,8 @@ pub(crate) struct CMesh<'a> {
     /// the set may be carried over to another mesh on the same points
     /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
     failed: crate::tet::recover::IdSet<Vec<u32>>,
+    /// The replacements since [`CMesh::start_log`], when logging.
+    log: Option<OpLog>,
 }
 
 impl<'a> CMesh<'a> {
@@ -143,7 +163,153 @@ impl<'a> CMesh<'a> {
             removals: 0,
             touched: Vec::new(),
             failed: Default::default(),
+            log: None,
         }
+    }
+
+    /// Starts recording every replacement (flip, edge removal) in a fresh
+    /// [`OpLog`].
+    pub(crate) fn start_log(&mut self) {
+        self.log = Some(OpLog::default());
+    }
+
+    /// Stops recording and returns what was recorded.
+    pub(crate) fn take_log(&mut self) -> Option<OpLog> {
+        self.log.take()
+    }
+
+    /// Re-applies the operations of `log` (recorded on another mesh of a
+    /// prefix of these points), in order, each only when every tetrahedron
+    /// it removed is a tetrahedron of this mesh (same vertex set) and
+    /// `allowed(removed, created)` holds; the others are skipped. Such a
+    /// replacement is valid here exactly as it was there: the removed
+    /// tetrahedra are the same geometric cells, so the created ones fill the
+    /// same region with the same (exact) orientations and the same
+    /// boundary faces. Counts as the flips and removals it re-applies;
+    /// returns how many it re-applied.
+    pub(crate) fn replay(&mut self, log: &OpLog, allowed: ReplayTest<'_>) -> usize {
+        let mut done = 0;
+        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        // Recorded slot -> slot here of the same tetrahedron (when a
+        // replayed operation created it; else the recorded slot is tried).
+        let mut map: Vec<u32> = Vec::new();
+        for &(s, no, nn) in &log.ops {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            let (old_at, new_at) = log.slots[s..s + no + nn].split_at(no);
+            let hint = |i: usize| {
+                let r = old_at[i];
+                map.get(r as usize)
+                    .copied()
+                    .filter(|&x| x != DEAD)
+                    .unwrap_or(r)
+            };
+            if !self.locate_tets(old, hint, &mut slots, &mut buf) || !allowed(old, new) {
+                continue;
+            }
+            let ids = self.replace(&slots, new);
+            for (&r, &x) in new_at.iter().zip(&ids) {
+                if map.len() <= r as usize {
+                    map.resize(r as usize + 1, DEAD);
+                }
+                map[r as usize] = x;
+            }
+            // Only a 2-3 flip turns two tetrahedra into three.
+            if (no, nn) == (2, 3) {
+                self.flips23 += 1;
+            } else {
+                self.removals += 1;
+            }
+            done += 1;
+        }
+        done
+    }
+
+    /// The number of operations logged so far (a mark for
+    /// [`CMesh::rollback`]); 0 when not logging.
+    pub(crate) fn log_mark(&self) -> usize {
+        self.log.as_ref().map_or(0, |l| l.ops.len())
+    }
+
+    /// Undoes, newest first, the operations logged since `mark`
+    /// ([`CMesh::log_mark`]) and forgets them: each created set of
+    /// tetrahedra is replaced back by the removed one (valid for the same
+    /// reason as [`CMesh::replay`]).
+    pub(crate) fn rollback(&mut self, mark: usize) {
+        let Some(mut log) = self.log.take() else {
+            return;
+        };
+        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        for &(s, no, nn) in log.ops[mark.min(log.ops.len())..].iter().rev() {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            let new_at = &log.slots[s + no..s + no + nn];
+            let found = self.locate_tets(new, |i| new_at[i], &mut slots, &mut buf);
+            debug_assert!(found, "rollback: a created tetrahedron is gone");
+            if !found {
+                break;
+            }
+            self.replace(&slots, old);
+            if (no, nn) == (2, 3) {
+                self.flips23 -= 1;
+            } else {
+                self.removals -= 1;
+            }
+        }
+        if let Some(&(s, _, _)) = log.ops.get(mark) {
+            log.tets.truncate(s as usize);
+            log.slots.truncate(s as usize);
+            log.ops.truncate(mark);
+        }
+        self.log = Some(log);
+    }
+
+    /// The slots of tetrahedra `old` (vertex tuples, each adjacent to an
+    /// earlier one) into `slots`, trying slot `hint(i)` for `old[i]` first;
+    /// false when one is not in the mesh.
+    fn locate_tets(
+        &self,
+        old: &[[u32; 4]],
+        hint: impl Fn(usize) -> u32,
+        slots: &mut Vec<u32>,
+        buf: &mut Vec<u32>,
+    ) -> bool {
+        slots.clear();
+        let c = self.core();
+        let same = |t: u32, q: &[u32; 4]| {
+            let tv = c.v.get(t as usize).copied().unwrap_or([DEAD; 4]);
+            tv[0] != DEAD && q.iter().all(|w| tv.contains(w))
+        };
+        'next: for (i, q) in old.iter().enumerate() {
+            let h = hint(i);
+            if same(h, q) {
+                slots.push(h);
+                continue;
+            }
+            for j in 0..slots.len() {
+                for f in 0..4 {
+                    let n = c.adj[slots[j] as usize][f] >> 2;
+                    if same(n, q) {
+                        slots.push(n);
+                        continue 'next;
+                    }
+                }
+            }
+            if i > 0 {
+                return false;
+            }
+            let Some(&w) = q.iter().find(|&&w| w != INF) else {
+                return false;
+            };
+            if self.vt.get(w as usize).is_none_or(|&t| t == DEAD) {
+                return false;
+            }
+            match self.star_until(w, buf, |t| same(t, q)) {
+                Some(t) => slots.push(t),
+                None => return false,
+            }
+        }
+        true
     }
 
     /// The finite faces (sorted triples; sorted, distinct) of the
@@ -325,7 +491,8 @@ impl<'a> CMesh<'a> {
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
     /// everything by face keys. Returns the new slots.
     pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
-        let mut outer: HashMap<[u32; 3], u32> = HashMap::with_capacity(2 * new.len());
+        let mut outer: IdMap<[u32; 3], u32> = IdMap::default();
+        outer.reserve(2 * new.len());
         {
             let c = &self.dt.core;
             for &t in old {
@@ -351,11 +518,22 @@ impl<'a> CMesh<'a> {
             }
         }
         let c = &mut self.dt.core;
+        if let Some(log) = &mut self.log {
+            let start = log.tets.len() as u32;
+            log.tets.extend(old.iter().map(|&t| c.v[t as usize]));
+            log.slots.extend_from_slice(old);
+            log.ops.push((start, old.len() as u16, new.len() as u16));
+        }
         for &t in old {
             c.release(t);
         }
         let ids: Vec<u32> = new.iter().map(|&tv| c.alloc(tv)).collect();
-        let mut open: HashMap<[u32; 3], (u32, usize)> = HashMap::with_capacity(2 * new.len());
+        if let Some(log) = &mut self.log {
+            log.tets.extend_from_slice(new);
+            log.slots.extend_from_slice(&ids);
+        }
+        let mut open: IdMap<[u32; 3], (u32, usize)> = IdMap::default();
+        open.reserve(2 * new.len());
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
                 let k = fkey(face(tv, f));
@@ -844,6 +1022,82 @@ mod tests {
         }
         assert!(failures > 0);
         m.check().unwrap();
+    }
+
+    /// The tetrahedra as sorted vertex sets, sorted.
+    fn tet_sets(m: &CMesh<'_>) -> Vec<[u32; 4]> {
+        let mut out: Vec<[u32; 4]> =
+            m.dt.core
+                .v
+                .iter()
+                .filter(|tv| tv[0] != DEAD)
+                .map(|tv| {
+                    let mut k = *tv;
+                    k.sort_unstable();
+                    k
+                })
+                .collect();
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn logged_operations_replay_and_roll_back() {
+        let pts: Vec<[f64; 3]> = (0..60)
+            .map(|i| {
+                let x = (i as f64 * 0.618_034).fract();
+                let y = (i as f64 * 0.414_213_5).fract();
+                let z = (i as f64 * 0.732_050_8).fract();
+                [x, y, z]
+            })
+            .collect();
+        let base = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let start = tet_sets(&base);
+        let mut m = base.clone();
+        m.start_log();
+        let mut ops = 0;
+        for t in 0..m.dt.core.v.len() as u32 {
+            for f in 0..4 {
+                if m.dt.core.v[t as usize][0] != DEAD && m.flip23(t, f) {
+                    ops += 1;
+                }
+            }
+            let tv = m.dt.core.v[t as usize];
+            if tv[0] != DEAD
+                && !tv.contains(&INF)
+                && m.remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
+                    .is_some()
+            {
+                ops += 1;
+            }
+        }
+        assert!(ops > 10);
+        m.check().unwrap();
+        let flipped = tet_sets(&m);
+        assert_ne!(flipped, start);
+        let log = m.take_log().unwrap();
+        // Replayed on the starting mesh: every operation applies, same result.
+        let mut r = base.clone();
+        assert_eq!(r.replay(&log, &|_, _| true), ops);
+        r.check().unwrap();
+        assert_eq!(tet_sets(&r), flipped);
+        assert_eq!((r.flips23, r.removals), (m.flips23, m.removals));
+        // Refused operations are skipped (and those depending on them).
+        let mut q = base.clone();
+        assert_eq!(q.replay(&log, &|_, _| false), 0);
+        assert_eq!(tet_sets(&q), start);
+        // Rolled back from half way: the mesh of that moment.
+        let mut h = base.clone();
+        h.start_log();
+        let half = h.replay(&log, &|_, _| true);
+        assert_eq!(half, ops);
+        h.rollback(ops / 2);
+        h.check().unwrap();
+        h.rollback(0);
+        h.check().unwrap();
+        assert_eq!(tet_sets(&h), start);
+        assert_eq!((h.flips23, h.removals), (0, 0));
+        assert_eq!(h.log_mark(), 0);
     }
 
     #[test]

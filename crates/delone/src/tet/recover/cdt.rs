@@ -52,6 +52,28 @@ impl Protected {
     fn face(&self, f: [u32; 3]) -> bool {
         self.faces.contains(&fkey(f))
     }
+    /// True when replacing tetrahedra `old` by `new` (same region) keeps
+    /// every protected edge and face of `old` (the test a replayed
+    /// operation must pass, [`crate::tet::cmesh::CMesh::replay`]).
+    pub(crate) fn kept_by(&self, old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
+        let in_new = |w: &[u32]| new.iter().any(|tv| w.iter().all(|x| tv.contains(x)));
+        for tv in old {
+            for (i, j) in TET_EDGES {
+                let (a, b) = (tv[i], tv[j]);
+                if a != INF && b != INF && !in_new(&[a, b]) && self.edge(a, b) {
+                    return false;
+                }
+            }
+            for f in 0..4 {
+                let fv = face(*tv, f);
+                if !fv.contains(&INF) && !in_new(&fv) && self.face(fv) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
     /// Protects face `f` and its edges.
     pub(crate) fn add_face(&mut self, f: [u32; 3]) {
         self.faces.insert(fkey(f));
@@ -221,6 +243,9 @@ const DEPTH: u32 = 2;
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
     const CAP: usize = 48;
+    if cm.find_edge(u, v).is_some() {
+        return true;
+    }
     for _ in 0..CAP {
         let mut progress = false;
         for (s, e) in [(u, v), (v, u)] {

@@ -60,6 +60,19 @@
 //! triangle. Each round either finishes, splits at least one item, or fails
 //! with a typed error, so the loop is bounded by the Steiner budget.
 //!
+//! Rounds after the first do not redo the flips from scratch: the mesh
+//! records every flip and edge removal as "these tetrahedra (vertex sets)
+//! became those", and the next round first replays that log on its new
+//! Delaunay tetrahedralization. An operation is re-applied only when all
+//! the tetrahedra it removed are present (same vertex sets, so the same
+//! cells: the replacement is valid as it was) and it destroys nothing
+//! protected in the new round; the Delaunay tetrahedralization changed only
+//! around the points inserted since, so nearly all apply and only the
+//! items still missing there are searched. The flips of a segment whose
+//! recovery fails are rolled back, so the log holds no useless flips. The
+//! coverage, the missing subsegments and the protected items are updated
+//! near the new points instead of recomputed.
+//!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split:
 //! where the flips fail, the private `cavity` module retriangulates the
 //! cavity of each missing edge or triangle (Si & Gärtner's cavity
@@ -121,8 +134,8 @@ pub use missing::{missing, Missing};
 
 use self::missing::ekey;
 pub(crate) use self::surface::{IdMap, IdSet};
-use self::surface::{Skeleton, Surface};
-use super::cmesh::CMesh;
+use self::surface::{Kind, Skeleton, Surface};
+use super::cmesh::{CMesh, OpLog};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -645,6 +658,10 @@ struct RoundState {
     on: FacesOn,
     covered: Vec<bool>,
     old_len: usize,
+    /// Its missing subsegments.
+    subs: Vec<(u32, u32, u32)>,
+    /// Its protected items (see [`State::protected`]).
+    prot: Option<cdt::Protected>,
 }
 
 /// Rounds after which surface preservation gives up.
@@ -924,12 +941,17 @@ impl State {
         let mut prev: Option<RoundState> = None;
         // Edge removals found impossible in earlier rounds (same points).
         let mut failed_removals = IdSet::default();
+        // The flips and edge removals of the previous round, re-applied
+        // first where they still apply (see below).
+        let mut prev_log: Option<OpLog> = None;
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
             crate::progress::report("recovering the surface", r, None, "rounds");
             let mut cm = CMesh::new(dt.clone());
             cm.set_failed(std::mem::take(&mut failed_removals));
+            // The protected items, when `update_round` kept them up to date.
+            let mut kept_prot: Option<cdt::Protected> = None;
             let (on, covered, subs) = match prev.take() {
                 None => {
                     let (on, covered) = self.coverage_all(&cm);
@@ -938,24 +960,41 @@ impl State {
                     self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
                     (on, covered, subs)
                 }
-                Some(st) => self.update_round(&cm, st),
+                Some(mut st) => {
+                    let mut p = st.prot.take();
+                    let r = self.update_round(&cm, st, &mut p);
+                    kept_prot = p;
+                    r
+                }
             };
-            let mut prot = cdt::Protected::default();
-            let nf: usize = on.iter().map(Vec::len).sum();
-            prot.faces.reserve(nf);
-            prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
-            for f in on.iter().flatten() {
-                prot.add_face(*f);
+            let prot = match kept_prot.take() {
+                Some(p) => p,
+                None => self.protected(&on),
+            };
+            #[cfg(debug_assertions)]
+            {
+                let fresh = self.protected(&on);
+                assert!(fresh.faces == prot.faces && fresh.edges == prot.edges);
             }
-            for chain in &self.surf.chains {
-                for w in chain.windows(2) {
-                    prot.edges.insert(ekey(w[0], w[1]));
+            // The previous round's operations are replayed on this round's
+            // Delaunay tetrahedralization: it differs from the previous one
+            // only around the points inserted since, so nearly every
+            // operation finds the very tetrahedra it replaced and is re-applied
+            // (valid by construction, see `CMesh::replay`) unless it would
+            // destroy an item protected now; only what is left missing is
+            // searched and flipped again.
+            if !self.opts.preserve_surface {
+                cm.start_log();
+                if let Some(log) = prev_log.take() {
+                    cm.replay(&log, &|o, n| prot.kept_by(o, n));
                 }
             }
             let old_len = dt.points().len();
             let mut failed = Vec::new();
             for &(e, u, v) in &subs {
+                let mark = cm.log_mark();
                 if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                    cm.rollback(mark);
                     failed.push((e, u, v));
                 }
             }
@@ -975,11 +1014,14 @@ impl State {
                         self.split_edge(dt, e, u, v)?;
                     }
                 }
+                prev_log = cm.take_log();
                 failed_removals = cm.take_failed();
                 prev = Some(RoundState {
                     on,
                     covered,
                     old_len,
+                    subs,
+                    prot: Some(prot),
                 });
                 continue;
             }
@@ -1018,6 +1060,8 @@ impl State {
                     on,
                     covered,
                     old_len,
+                    subs,
+                    prot: Some(prot),
                 });
                 continue;
             }
@@ -1057,11 +1101,14 @@ impl State {
                     steiner: self.report.steiner(),
                 });
             }
+            prev_log = cm.take_log();
             failed_removals = cm.take_failed();
             prev = Some(RoundState {
                 on,
                 covered,
                 old_len,
+                subs,
+                prot: Some(prot),
             });
         }
     }
@@ -1075,15 +1122,22 @@ impl State {
     /// triangles whose sides were split) and those uncovered before can
     /// change; the missing subsegments then follow from the coverage
     /// ([`Self::missing_subsegments_cm`]).
+    ///
+    /// `prot`: the previous round's protected items, updated to
+    /// [`Self::protected`] of the new coverage (or `None` when that is
+    /// cheaper to build afresh).
     fn update_round(
         &self,
         cm: &CMesh<'_>,
         st: RoundState,
+        prot: &mut Option<cdt::Protected>,
     ) -> (FacesOn, Vec<bool>, Vec<(u32, u32, u32)>) {
         let RoundState {
             mut on,
             mut covered,
             old_len,
+            subs,
+            ..
         } = st;
         let core = &cm.dt.core;
         let mut near: Vec<u32> = Vec::new();
@@ -1095,7 +1149,7 @@ impl State {
         }
         near.sort_unstable();
         near.dedup();
-        let mut tris: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
+        let mut tris: Vec<usize> = Vec::new();
         for &w in &near {
             if let Some(l) = self.surf.vtris.get(w as usize) {
                 tris.extend(l.iter().map(|&t| t as usize));
@@ -1103,13 +1157,126 @@ impl State {
         }
         tris.sort_unstable();
         tris.dedup();
+        if tris.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+            *prot = None;
+        }
+        // Items that may stop being protected: the faces on the triangles
+        // recomputed, and the subsegments split since.
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        let mut chains: Vec<u32> = Vec::new();
+        if prot.is_some() {
+            for &t in &tris {
+                faces.extend(on[t].iter().map(|f| missing::fkey(*f)));
+            }
+            chains = (old_len..cm.pts().len())
+                .filter_map(|p| match self.surf.kind.get(p) {
+                    Some(Kind::OnEdge(e)) => Some(*e),
+                    _ => None,
+                })
+                .collect();
+            chains.sort_unstable();
+            chains.dedup();
+            for &e in &chains {
+                let old: Vec<u32> = self.surf.chains[e as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&w| (w as usize) < old_len)
+                    .collect();
+                edges.extend(old.windows(2).map(|w| ekey(w[0], w[1])));
+            }
+        }
         self.recompute(cm, &tris, &mut on, &mut covered);
-        // Subsegments of edges with a covered triangle are present; the
-        // others are searched.
-        let subs = self.missing_subsegments_cm(cm, &covered);
+        if let Some(p) = prot {
+            for f in &faces {
+                edges.extend([(f[0], f[1]), (f[0], f[2]), (f[1], f[2])]);
+                if !self.face_on_some(&on, *f) {
+                    p.faces.remove(f);
+                }
+            }
+            edges.sort_unstable();
+            edges.dedup();
+            for e in &edges {
+                if !self.edge_protected(&on, *e) {
+                    p.edges.remove(e);
+                }
+            }
+            for &t in &tris {
+                for f in &on[t] {
+                    p.add_face(*f);
+                }
+            }
+            for &e in &chains {
+                for w in self.surf.chains[e as usize].windows(2) {
+                    p.edges.insert(ekey(w[0], w[1]));
+                }
+            }
+        }
+        let subs = self.missing_subsegments_near(cm, &covered, &subs, &near);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
         (on, covered, subs)
+    }
+
+    /// The items the flips must keep, given the coverage `on` of the
+    /// Delaunay tetrahedralization: the faces on input triangles with their
+    /// edges, and every subsegment.
+    fn protected(&self, on: &FacesOn) -> cdt::Protected {
+        let mut prot = cdt::Protected::default();
+        let nf: usize = on.iter().map(Vec::len).sum();
+        prot.faces.reserve(nf);
+        prot.edges.reserve(nf * 3 / 2 + self.surf.edges.len());
+        for f in on.iter().flatten() {
+            prot.add_face(*f);
+        }
+        for chain in &self.surf.chains {
+            for w in chain.windows(2) {
+                prot.edges.insert(ekey(w[0], w[1]));
+            }
+        }
+        prot
+    }
+
+    /// True when face `f` (sorted) is in `on` of an input triangle its
+    /// vertices lie on.
+    fn face_on_some(&self, on: &FacesOn, f: [u32; 3]) -> bool {
+        self.common_triangles(f[0], f[1])
+            .any(|t| on[t as usize].iter().any(|g| missing::fkey(*g) == f))
+    }
+
+    /// The input triangles both `a` and `b` lie on.
+    fn common_triangles(&self, a: u32, b: u32) -> impl Iterator<Item = u32> + '_ {
+        let get = |w: u32| self.surf.vtris.get(w as usize).map_or(&[][..], |l| &l[..]);
+        let lb = get(b);
+        get(a)
+            .iter()
+            .copied()
+            .filter(move |t| lb.binary_search(t).is_ok())
+    }
+
+    /// True when edge `e` (sorted) is protected by [`Self::protected`] of
+    /// `on`: a subsegment, or an edge of a face on an input triangle.
+    fn edge_protected(&self, on: &FacesOn, (a, b): (u32, u32)) -> bool {
+        let sub = [a, b].iter().any(|&w| {
+            let Some(Kind::OnEdge(e)) = self.surf.kind.get(w as usize).copied() else {
+                return false;
+            };
+            self.surf.chains[e as usize]
+                .windows(2)
+                .any(|x| ekey(x[0], x[1]) == (a, b))
+        });
+        let input = || {
+            self.surf
+                .edges
+                .binary_search(&[a, b])
+                .is_ok_and(|e| self.surf.chains[e].len() == 2)
+        };
+        sub || input()
+            || self.common_triangles(a, b).any(|t| {
+                on[t as usize]
+                    .iter()
+                    .any(|f| f.contains(&a) && f.contains(&b))
+            })
     }
 
     /// Debug builds: the incrementally kept coverage (and missing
@@ -1356,6 +1523,54 @@ impl State {
             for w in chain.windows(2) {
                 if cm.find_edge(w[0], w[1]).is_none() {
                     out.push((e as u32, w[0], w[1]));
+                }
+            }
+        }
+        out
+    }
+
+    /// [`Self::missing_subsegments_cm`] from the missing subsegments `prev`
+    /// of the previous round's Delaunay tetrahedralization, when the stars
+    /// of only the vertices `near` (sorted) changed since (a Delaunay
+    /// insertion joins every vertex of the tetrahedra it removes to the new
+    /// point): a subsegment with no end in `near` is an edge now exactly
+    /// when it was one then, so only the others are looked up.
+    fn missing_subsegments_near(
+        &self,
+        cm: &CMesh<'_>,
+        covered: &[bool],
+        prev: &[(u32, u32, u32)],
+        near: &[u32],
+    ) -> Vec<(u32, u32, u32)> {
+        let was: IdSet<(u32, u32)> = prev.iter().map(|&(_, u, v)| (u, v)).collect();
+        let mut es: Vec<u32> = prev.iter().map(|s| s.0).collect();
+        for &w in near {
+            if let Some(l) = self.surf.vtris.get(w as usize) {
+                for &t in l {
+                    es.extend(&self.surf.tri_edges[t as usize]);
+                }
+            }
+        }
+        es.sort_unstable();
+        es.dedup();
+        let is_near = |w: u32| near.binary_search(&w).is_ok();
+        let mut out = Vec::new();
+        for e in es {
+            if self.surf.edge_tris[e as usize]
+                .iter()
+                .any(|&t| covered[t as usize])
+            {
+                continue;
+            }
+            for w in self.surf.chains[e as usize].windows(2) {
+                let (u, v) = (w[0], w[1]);
+                let missing = if is_near(u) || is_near(v) {
+                    cm.find_edge(u, v).is_none()
+                } else {
+                    was.contains(&(u, v))
+                };
+                if missing {
+                    out.push((e, u, v));
                 }
             }
         }
