@@ -72,6 +72,8 @@ use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
+mod patch;
+
 type P = [f64; 3];
 
 /// Passes over the missing edges and triangles.
@@ -467,17 +469,10 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
     out
 }
 
-/// A face of the mesh with these vertices exists.
+/// A face of the mesh with these vertices exists (searched in the star of
+/// a vertex: no cap on the number of tetrahedra around an edge).
 fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
-    let c = &cm.dt.core;
-    let Some(t) = cm.find_edge(f[0], f[1]) else {
-        return false;
-    };
-    if c.v[t as usize].contains(&f[2]) {
-        return true;
-    }
-    cm.edge_ring_with(t, f[0], f[1], true)
-        .is_some_and(|(_, ring)| ring.contains(&f[2]))
+    cm.find_face(f[0], f[1], f[2]).is_some()
 }
 
 /// Grows `reg` (and `set`, sorted) by the tetrahedra behind the boundary
@@ -679,8 +674,13 @@ impl State {
                 if tri.contains(&w) {
                     continue;
                 }
+                // A vertex on the plane (outside `T`: a coplanar
+                // neighbour's) says nothing; the others decide.
                 let o = side_of(w);
-                if o == 0.0 || (s != 0.0 && (o > 0.0) != (s > 0.0)) {
+                if o == 0.0 {
+                    continue;
+                }
+                if s != 0.0 && (o > 0.0) != (s > 0.0) {
                     return None;
                 }
                 s = o;
@@ -755,12 +755,20 @@ impl State {
             let steiner = pass > 0 && self.report.steiner() + added < self.opts.max_steiner;
             let mut progress = false;
             let mut missing_edges = false;
-            for &[a, b] in &edges {
+            for (e, &[a, b]) in edges.iter().enumerate() {
                 if w.find_edge(a, b).is_some() {
                     continue;
                 }
                 if cdt::recover_segment(&mut w, a, b, &prot) {
                     progress = true;
+                    continue;
+                }
+                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner) {
+                    added += k;
+                    progress = true;
+                    for t in patch {
+                        prot.add_face(t);
+                    }
                     continue;
                 }
                 match self.edge_by_cavity(&mut w, a, b, &prot, steiner) {
