@@ -831,6 +831,7 @@ impl State {
             }
         }
         self.cavity_fails += 1;
+
         // What is still missing on the best mesh reached: the fallback
         // adds its interior points there only.
         let mut left: Vec<usize> = Vec::new();

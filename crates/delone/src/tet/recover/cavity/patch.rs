@@ -41,12 +41,13 @@
 //! exists in the cases where growth keeps the cavity local.
 
 use super::super::cdt::Protected;
-use super::super::missing::ekey;
+use super::super::missing::{ekey, fkey};
+use super::super::place;
 use super::super::surface::{IdMap, IdSet};
 use super::super::State;
 use super::{boundary_of, facet_cavity, fill, grow, segment_cavity, Fill, Region, MAX_GROW};
 use crate::tet::cmesh::CMesh;
-use crate::tet::local::DEAD;
+use crate::tet::local::{DEAD, INF};
 
 /// Most input triangles in a patch.
 const MAX_PATCH: usize = 24;
@@ -192,23 +193,51 @@ impl State {
             }
             pieces += 1;
         }
-        // Votes: +1 when the piece closes with the patch as oriented.
+        // Votes: +1 when the piece closes with the patch as oriented. At
+        // a border edge `p q` only the two boundary faces that enclose the
+        // patch triangle in the ring of tetrahedra around `p q` vote (the
+        // cavity may touch `p q` again elsewhere in the ring).
+        let at: IdMap<(u32, [u32; 3]), usize> = bnd
+            .faces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| ((f.1, fkey(f.0)), i))
+            .collect();
         let mut vote = vec![0i8; pieces];
-        for (i, f) in bnd.faces.iter().enumerate() {
+        for t in &patch {
             for k in 0..3 {
-                let (p, q) = (f.0[k], f.0[(k + 1) % 3]);
-                let Some(u) = uses.get(&ekey(p, q)) else {
-                    continue;
-                };
-                if u.len() != 1 {
+                let (p, q) = (t[k], t[(k + 1) % 3]);
+                if uses.get(&ekey(p, q)).map_or(0, Vec::len) != 1 {
                     continue;
                 }
-                let v = if u[0] == (q, p) { 1 } else { -1 };
-                let w = &mut vote[piece[i]];
-                if *w == -v {
-                    return None;
+                let r = t[(k + 2) % 3];
+                let exits = ring_exits(cm, &set, p, q, r);
+                let mut voters: Vec<usize> = Vec::new();
+                match exits {
+                    Some(ex) => {
+                        for (owner, x) in ex {
+                            voters.push(*at.get(&(owner, fkey([p, q, x])))?);
+                        }
+                    }
+                    // No ring (a ghost, or too many tetrahedra): every
+                    // boundary face at `p q` votes.
+                    None => voters.extend(
+                        bnd.faces
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, f)| f.0.contains(&p) && f.0.contains(&q))
+                            .map(|(i, _)| i),
+                    ),
                 }
-                *w = v;
+                for fi in voters {
+                    let f = bnd.faces[fi].0;
+                    let v = if directed(f, p, q) == (q, p) { 1 } else { -1 };
+                    let w = &mut vote[piece[fi]];
+                    if *w == -v {
+                        return None;
+                    }
+                    *w = v;
+                }
             }
         }
         if vote.contains(&0) {
@@ -260,4 +289,69 @@ fn directed(t: [u32; 3], p: u32, q: u32) -> (u32, u32) {
         }
     }
     (q, p)
+}
+
+/// The two boundary faces of the tetrahedron set `set` (sorted) that
+/// enclose the direction of triangle `p q r` in the ring around mesh edge
+/// `p q`, as (owning tetrahedron, third vertex); `None` when the ring is
+/// not available or the direction is not inside `set`.
+fn ring_exits(cm: &CMesh<'_>, set: &[u32], p: u32, q: u32, r: u32) -> Option<Vec<(u32, u32)>> {
+    let pts = cm.pts();
+    let (tets, ring) = edge_ring(cm, p, q)?;
+    let m = ring.len();
+    let [tp, tq, tr] = [p, q, r].map(|w| &pts[w as usize]);
+    let inside = |j: usize| set.binary_search(&tets[j % m]).is_ok();
+    let i = (0..m).find(|&j| {
+        inside(j)
+            && ring[j] != INF
+            && ring[(j + 1) % m] != INF
+            && place::crosses(
+                tp,
+                tq,
+                tr,
+                &pts[ring[j] as usize],
+                &pts[ring[(j + 1) % m] as usize],
+            )
+    })?;
+    // Forward exit: face (p, q, ring[j + 1]) of tets[j]; backward exit:
+    // face (p, q, ring[j]) of tets[j].
+    let mut exits = Vec::new();
+    if let Some(j) = (i..i + m).find(|&j| !inside(j + 1)) {
+        exits.push((tets[j % m], ring[(j + 1) % m]));
+    }
+    if let Some(j) = (i + 1..=i + m).rev().find(|&j| !inside(j - 1)) {
+        exits.push((tets[j % m], ring[j % m]));
+    }
+    (exits.len() == 2).then_some(exits)
+}
+
+/// The tetrahedra around mesh edge `p q` (ghosts included) and the ring
+/// vertices, `tets[i]` having `ring[i]` and `ring[i + 1]` (cyclic); no cap
+/// on the ring's length but the mesh's size.
+fn edge_ring(cm: &CMesh<'_>, p: u32, q: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+    let c = &cm.dt.core;
+    let t0 = cm.find_edge(p, q)?;
+    let mut o = c.v[t0 as usize].into_iter().filter(|&w| w != p && w != q);
+    let (mut x, mut y) = (o.next()?, o.next()?);
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    let mut cur = t0;
+    loop {
+        let cv = c.v[cur as usize];
+        if tets.len() > c.v.len() {
+            return None;
+        }
+        tets.push(cur);
+        ring.push(x);
+        let ix = cv.iter().position(|&w| w == x)?;
+        let next = c.adj[cur as usize][ix] >> 2;
+        if next == t0 {
+            return Some((tets, ring));
+        }
+        let z = *c.v[next as usize]
+            .iter()
+            .find(|&&w| w != p && w != q && w != y)?;
+        cur = next;
+        x = y;
+        y = z;
+    }
 }
