@@ -58,10 +58,28 @@
 //! fallback places its interior points only at the items that call left
 //! missing ([`State::fallback_targets`]).
 //!
-//! Known weakness: a missing *edge* whose ends cannot cone its cavity gets
-//! a kernel point and is left to the flips of the next pass, which need
-//! not recover it; such edges can cost several points (TetGen's `-pY`
-//! places fewer on the corpus).
+//! **Missing edges come with their triangles** (the `patch` submodule):
+//! when flips cannot recover an input edge, the connected set of missing
+//! input triangles around it is recovered at once, the two sides of that
+//! surface patch being filled like the two sides of one triangle; only
+//! when that fails is the edge's own cavity tried (cones from its ends,
+//! or a kernel point left to the flips of the next pass).
+//!
+//! **Cavity expansion without the failure Diazzi et al. (2023) describe.**
+//! Naive expansion adds the tetrahedra behind faces that block a fill
+//! and retries until a fill exists; it can swallow input faces already
+//! recovered, cross to the other side of the missing facet, or grow
+//! without end. Here growth never crosses a protected (already recovered)
+//! face, a ghost, or — for a single triangle — the triangle's plane; a
+//! patch's cavity already holds every tetrahedron meeting the patch, so
+//! a tetrahedron added beside it cannot meet the patch; growth is bounded
+//! by [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra; and nothing is
+//! applied unless the exact validation above passes, so a bad growth
+//! costs an attempt, never the mesh.
+//!
+//! The face and edge lookups used to decide what is missing search a
+//! vertex's star, not an edge ring, so edges with many tetrahedra around
+//! them (above the flip code's ring cap) are not mistaken for missing.
 
 use super::cdt::{self, Protected};
 use super::missing::{ekey, fkey};
@@ -71,6 +89,8 @@ use super::{FacesOn, RecoverError, State};
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
+
+mod patch;
 
 type P = [f64; 3];
 
@@ -467,17 +487,10 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
     out
 }
 
-/// A face of the mesh with these vertices exists.
+/// A face of the mesh with these vertices exists (searched in the star of
+/// a vertex: no cap on the number of tetrahedra around an edge).
 fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
-    let c = &cm.dt.core;
-    let Some(t) = cm.find_edge(f[0], f[1]) else {
-        return false;
-    };
-    if c.v[t as usize].contains(&f[2]) {
-        return true;
-    }
-    cm.edge_ring_with(t, f[0], f[1], true)
-        .is_some_and(|(_, ring)| ring.contains(&f[2]))
+    cm.find_face(f[0], f[1], f[2]).is_some()
 }
 
 /// Grows `reg` (and `set`, sorted) by the tetrahedra behind the boundary
@@ -679,8 +692,13 @@ impl State {
                 if tri.contains(&w) {
                     continue;
                 }
+                // A vertex on the plane (outside `T`: a coplanar
+                // neighbour's) says nothing; the others decide.
                 let o = side_of(w);
-                if o == 0.0 || (s != 0.0 && (o > 0.0) != (s > 0.0)) {
+                if o == 0.0 {
+                    continue;
+                }
+                if s != 0.0 && (o > 0.0) != (s > 0.0) {
                     return None;
                 }
                 s = o;
@@ -723,18 +741,14 @@ impl State {
         self.apply(cm, &set, fills, prot)
     }
 
-    /// Surface preservation on the flipped mesh `cm`: recovers the missing
-    /// input edges and triangles by flips and cavity retriangulation with
-    /// interior Steiner points only. `Some` (the mesh and the face on each
-    /// input triangle) when everything is recovered; `None` leaves the
-    /// caller's fallback to act (nothing of `cm` is changed).
-    pub(super) fn preserve_by_cavities<'a>(
-        &mut self,
+    /// One attempt of [`State::preserve_by_cavities`]: with `cone_first`,
+    /// a missing edge first tries the cones from its ends, else its patch
+    /// first. `Ok((mesh, faces, points added))`, or the mesh reached.
+    fn preserve_attempt<'a>(
+        &self,
         cm: &CMesh<'a>,
-    ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
-        if self.cavity_fails >= MAX_FAILED_CALLS {
-            return Ok(None);
-        }
+        cone_first: bool,
+    ) -> Result<(CMesh<'a>, FacesOn, usize), Box<CMesh<'a>>> {
         let mut w = cm.clone();
         let mut prot = Protected::default();
         for e in &self.surf.edges {
@@ -755,12 +769,30 @@ impl State {
             let steiner = pass > 0 && self.report.steiner() + added < self.opts.max_steiner;
             let mut progress = false;
             let mut missing_edges = false;
-            for &[a, b] in &edges {
+            for (e, &[a, b]) in edges.iter().enumerate() {
                 if w.find_edge(a, b).is_some() {
                     continue;
                 }
                 if cdt::recover_segment(&mut w, a, b, &prot) {
                     progress = true;
+                    continue;
+                }
+                // First a cone from an end (no new point), then the
+                // patch with its triangles, then the edge's own cavity
+                // with a kernel point.
+                if cone_first
+                    && self.edge_by_cavity(&mut w, a, b, &prot, false).is_some()
+                    && w.find_edge(a, b).is_some()
+                {
+                    progress = true;
+                    continue;
+                }
+                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner) {
+                    added += k;
+                    progress = true;
+                    for t in patch {
+                        prot.add_face(t);
+                    }
                     continue;
                 }
                 match self.edge_by_cavity(&mut w, a, b, &prot, steiner) {
@@ -815,14 +847,47 @@ impl State {
             }
             if !missing_tris {
                 let on: FacesOn = tris.iter().map(|&t| vec![fkey(t)]).collect();
-                self.report.steiner_interior += added;
-                return Ok(Some((w, on)));
+                return Ok((w, on, added));
             }
             if !progress && pass > 0 {
                 break;
             }
         }
+        Err(Box::new(w))
+    }
+
+    /// Surface preservation on the flipped mesh `cm`: recovers the missing
+    /// input edges and triangles by flips and cavity retriangulation with
+    /// interior Steiner points only. `Some` (the mesh and the face on each
+    /// input triangle) when everything is recovered; `None` leaves the
+    /// caller's fallback to act (nothing of `cm` is changed).
+    pub(super) fn preserve_by_cavities<'a>(
+        &mut self,
+        cm: &CMesh<'a>,
+    ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
+        if self.cavity_fails >= MAX_FAILED_CALLS {
+            return Ok(None);
+        }
+        // Two orders of the edge methods: neither is better on every
+        // model (each recovers models the other does not). What is left
+        // missing is taken from the first.
+        let mut first: Option<Box<CMesh<'a>>> = None;
+        for cone_first in [false, true] {
+            match self.preserve_attempt(cm, cone_first) {
+                Ok((done, on, added)) => {
+                    self.report.steiner_interior += added;
+                    return Ok(Some((done, on)));
+                }
+                Err(reached) => {
+                    first.get_or_insert(reached);
+                }
+            }
+        }
+        let w = first.map_or_else(|| cm.clone(), |b| *b);
+        let tris = &self.surf.tris;
+        let edges = &self.surf.edges;
         self.cavity_fails += 1;
+
         // What is still missing on the best mesh reached: the fallback
         // adds its interior points there only.
         let mut left: Vec<usize> = Vec::new();
