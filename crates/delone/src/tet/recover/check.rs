@@ -46,10 +46,14 @@ pub(crate) fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
 /// * every boundary face lies on the input triangle it names: its vertices
 ///   exactly on the triangle's plane (within the reported deviation for the
 ///   listed inexact Steiner points) and inside it;
-/// * every input triangle is the union of its faces (boundary faces, or
+/// * every facet is the union of its faces (boundary faces, or
 ///   interior faces between two tetrahedra on internal facets, never both):
-///   their edges used once lie on the triangle's sides and chain each side
+///   their edges used once lie on the facet's sides and chain each side
 ///   from end to end, every other edge is used twice, and the areas add up.
+///   A facet is a triangle of `rec.surface` (the input triangles when
+///   empty), or all of them with one `surface_origin` (a merged coplanar
+///   group, which refinement may re-triangulate across its inner edges);
+///   each face lies inside one of its facet's triangles.
 ///   A triangle may have no face only when a hole removed a region or the
 ///   input has internal facets (both its sides are then outside the domain);
 /// * regions: every tetrahedron names one, the regions' volumes add up;
@@ -150,6 +154,10 @@ pub fn check_recovered(
     }
     let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
     let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
+    // Faces are checked per facet: the surface triangles of one merged
+    // group (same `surface_origin`) together, since refinement may
+    // re-triangulate a planar facet across its surface triangles.
+    let (facet_of, members) = facets(triangles, &rec.surface_origin);
     let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
     // Per input triangle: 1 on the boundary, 2 interior.
     let mut side = vec![0u8; triangles.len()];
@@ -224,7 +232,10 @@ pub fn check_recovered(
             }
         }
         let want_side = if on_boundary { 1 } else { 2 };
-        if let Some(sd) = side.get_mut(ti as usize) {
+        if let Some(sd) = facet_of
+            .get(ti as usize)
+            .and_then(|&g| side.get_mut(g as usize))
+        {
             if *sd != 0 && *sd != want_side {
                 return bad(
                     "constraint",
@@ -240,6 +251,7 @@ pub fn check_recovered(
             );
         };
         let [ta, tb, tc] = tri.map(|q| sp[q as usize]);
+        let fac = &members[facet_of[ti as usize] as usize];
         for &q in &f {
             let p = sp[q as usize];
             // An inexact point is within the reported deviation of the
@@ -257,14 +269,19 @@ pub fn check_recovered(
                     format!("boundary face {bi}: vertex {q} is off the plane of triangle {ti}"),
                 );
             }
-            if !tri.contains(&q) && !inside_closed(&ta, &tb, &tc, &p) {
+            let inside = |t: &u32| {
+                let tt = triangles[*t as usize];
+                let [a, b, c] = tt.map(|w| sp[w as usize]);
+                tt.contains(&q) || inside_closed(&a, &b, &c, &p)
+            };
+            if !fac.iter().any(inside) {
                 return bad(
                     "constraint",
                     format!("boundary face {bi}: vertex {q} is outside triangle {ti}"),
                 );
             }
         }
-        per_tri[ti as usize].push(f);
+        per_tri[facet_of[ti as usize] as usize].push(f);
     }
     // Each input triangle is the union of its faces.
     // A triangle with no face at all lies outside the domain (between two
@@ -272,8 +289,7 @@ pub fn check_recovered(
     let man = crate::tet::intersect::manifold_report(triangles);
     let may_vanish = rec.report.holes_removed > 0 || !man.nonmanifold_edges.is_empty();
     for (ti, faces) in per_tri.iter().enumerate() {
-        let tri = triangles[ti];
-        if faces.is_empty() && may_vanish {
+        if members[ti].is_empty() || faces.is_empty() && may_vanish {
             continue;
         }
         let mut count: HashMap<(u32, u32), u32> = HashMap::new();
@@ -286,9 +302,14 @@ pub fn check_recovered(
             let n = cross(&sub(&b, &a), &sub(&c, &a));
             area += 0.5 * dot(&n, &n).sqrt();
         }
-        let [a, b, c] = tri.map(|q| sp[q as usize]);
-        let n = cross(&sub(&b, &a), &sub(&c, &a));
-        let want = 0.5 * dot(&n, &n).sqrt();
+        let want: f64 = members[ti]
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = triangles[t as usize].map(|q| sp[q as usize]);
+                let n = cross(&sub(&b, &a), &sub(&c, &a));
+                0.5 * dot(&n, &n).sqrt()
+            })
+            .sum();
         if (area - want).abs() > 1e-9 * want {
             return bad(
                 "constraint",
@@ -310,15 +331,18 @@ pub fn check_recovered(
         }
         once.sort_unstable();
         let mut used = 0;
-        for k in 0..3 {
-            let (x, y) = (tri[k], tri[(k + 1) % 3]);
+        for (x, y) in facet_sides(triangles, &members[ti]) {
             let (px, py) = (sp[x as usize], sp[y as usize]);
+            let d = sub(&py, &px);
             let on_side = |q: u32| {
                 let p = sp[q as usize];
+                let along = dot(&sub(&p, &px), &d);
                 q == x
                     || q == y
-                    || collinear(&px, &py, &p)
-                    || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev)
+                    // (between x and y: a facet may have collinear sides)
+                    || (0.0..=dot(&d, &d)).contains(&along)
+                        && (collinear(&px, &py, &p)
+                            || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev))
             };
             let side: Vec<(u32, u32)> = once
                 .iter()
@@ -338,14 +362,14 @@ pub fn check_recovered(
                 let Some(nx) = next else {
                     return bad(
                         "constraint",
-                        format!("triangle {ti}: side {x}-{y} breaks at {cur}"),
+                        format!("facet {ti}: side {x}-{y} breaks at {cur}"),
                     );
                 };
                 steps += 1;
                 if steps > side.len() {
                     return bad(
                         "constraint",
-                        format!("triangle {ti}: side {x}-{y} does not chain"),
+                        format!("facet {ti}: side {x}-{y} does not chain"),
                     );
                 }
                 prev = cur;
@@ -377,17 +401,18 @@ pub fn check_recovered(
         if side[ti] != 1 {
             continue;
         }
-        let tri = triangles[ti];
-        // The orientation of the triangle's boundary faces, by their summed
+        // The orientation of the facet's boundary faces, by their summed
         // (area-weighted) normals: tiny faces next to inexact Steiner
         // points may lean either way.
-        let n = normal(&tri, &rec.points);
+        let n = normal(&triangles[ti], &rec.points);
         let d: f64 = faces.iter().map(|f| dot(&n, &normal(f, &rec.points))).sum();
         let sign = if d > 0.0 { 1.0 } else { -1.0 };
-        let [a, b, c] = tri.map(|q| rec.points[q as usize]);
-        let term = dot(&a, &cross(&b, &c)) / 6.0;
-        want += sign * term;
-        scale += term.abs();
+        for &t in &members[ti] {
+            let [a, b, c] = triangles[t as usize].map(|q| rec.points[q as usize]);
+            let term = dot(&a, &cross(&b, &c)) / 6.0;
+            want += sign * term;
+            scale += term.abs();
+        }
     }
     let region_sum: f64 = rec.regions.iter().map(|r| r.volume).sum();
     if (vol - want).abs() > 1e-9 * scale.max(vol.abs()).max(f64::MIN_POSITIVE)
@@ -401,6 +426,42 @@ pub fn check_recovered(
         );
     }
     Ok(())
+}
+
+/// Per surface triangle its facet (the first surface triangle with the same
+/// `origin`; itself when `origin` does not match the surface), and per
+/// facet its surface triangles (empty for a triangle that is not first).
+pub(crate) fn facets(triangles: &[[u32; 3]], origin: &[u32]) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let n = triangles.len();
+    let mut facet_of: Vec<u32> = (0..n as u32).collect();
+    if origin.len() == n {
+        let mut first: HashMap<u32, u32> = HashMap::new();
+        for (t, &o) in origin.iter().enumerate() {
+            facet_of[t] = *first.entry(o).or_insert(t as u32);
+        }
+    }
+    let mut members = vec![Vec::new(); n];
+    for (t, &g) in facet_of.iter().enumerate() {
+        members[g as usize].push(t as u32);
+    }
+    (facet_of, members)
+}
+
+/// The sides of a facet (its surface triangles `members`): the directed
+/// edges whose reverse is not in the facet, sorted.
+pub(crate) fn facet_sides(triangles: &[[u32; 3]], members: &[u32]) -> Vec<(u32, u32)> {
+    let mut es: Vec<(u32, u32)> = members
+        .iter()
+        .flat_map(|&t| {
+            let v = triangles[t as usize];
+            [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])]
+        })
+        .collect();
+    es.sort_unstable();
+    es.iter()
+        .copied()
+        .filter(|&(a, b)| es.binary_search(&(b, a)).is_err())
+        .collect()
 }
 
 fn normal(t: &[u32; 3], pts: &[[f64; 3]]) -> [f64; 3] {
