@@ -72,13 +72,11 @@
 //!    instead, but only when they are not much smaller than the cell's
 //!    shortest edge (near small input angles the cell is left and counted
 //!    in [`RefineReport::skipped`]). A subface in the way that it does not
-//!    encroach is split as well when a vertex of the cell encroaches it
-//!    (in a constrained Delaunay mesh a circumcentre behind a subface
-//!    means an encroached subface) and it is not much smaller than the
-//!    cell; otherwise the cell is left ([`RefineReport::skipped_behind`]).
-//!    Nearly flat cells (radius-edge ratio above 10⁶: wedges at ridges
-//!    between nearly coplanar facets, or four points a hair off a facet's
-//!    plane) are left: splitting their boundary leaves flat cells again.
+//!    encroach leaves the cell ([`RefineReport::skipped_behind`]: wedges at
+//!    ridges, or where the flips could not restore constrained Delaunay).
+//!    Nearly flat cells (radius-edge ratio above 10⁶), and cells whose four
+//!    vertices lie on one plane group of (nearly) coplanar input triangles,
+//!    are left: splitting their boundary leaves flat cells again.
 //!
 //! Queues are processed in a fixed order (subsegments, subfaces, then bad
 //! cells), each item checked again when it is taken. Encroachment by a
