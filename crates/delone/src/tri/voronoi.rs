@@ -236,6 +236,118 @@ pub(crate) fn power_center(
 const NEXT: [usize; 3] = [1, 2, 0];
 const PREV: [usize; 3] = [2, 0, 1];
 
+/// The part of the triangles (in 64ths) whose stars the calling thread walks
+/// when [`Voronoi2`] runs on two threads; the other thread first computes
+/// the centres and edges. Balanced by instruction counts at 1M points
+/// (callgrind, one count per thread).
+const HEAD_64THS: usize = 52;
+
+/// The cells walked from one range of triangles.
+#[derive(Default)]
+struct WalkPart {
+    cell_vertices: Vec<u32>,
+    cell_neighbors: Vec<u32>,
+    hull_cells: Vec<(u32, [[f64; 2]; 2], u32)>,
+}
+
+/// The start corner of every vertex's star, marked per triangle (bit `i` of
+/// `marks[t]`: the star of corner `i` of triangle `t` starts there): any
+/// corner (plain stores, the last one wins), for hull vertices the
+/// clockwise-most triangle (whose edge v -> next is on the hull).
+fn start_marks(n: usize, mesh: &TriMesh) -> Vec<u8> {
+    let tris = &mesh.triangles;
+    let nbs = &mesh.neighbors;
+    let mut start = vec![u64::MAX; n];
+    for (t, tv) in tris.iter().enumerate() {
+        for i in 0..3 {
+            start[tv[i] as usize] = 4 * t as u64 + i as u64;
+        }
+    }
+    for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
+        if nb.contains(&NONE) {
+            for i in 0..3 {
+                if nb[PREV[i]] == NONE {
+                    start[tv[i] as usize] = 4 * t as u64 + i as u64;
+                }
+            }
+        }
+    }
+    let mut marks = vec![0u8; tris.len()];
+    for &st in &start {
+        if st != u64::MAX {
+            marks[(st >> 2) as usize] |= 1 << (st & 3);
+        }
+    }
+    marks
+}
+
+/// Walks the stars starting in the triangles `lo..lo + marks.len()` (in
+/// triangle order, each from its marked corner), appending the cells;
+/// `range(v, [a, b])` gets each site's range in the part's arrays. `cap`
+/// reserves room.
+fn walk(
+    points: &[[f64; 2]],
+    mesh: &TriMesh,
+    marks: &[u8],
+    lo: usize,
+    cap: usize,
+    mut range: impl FnMut(u32, [u32; 2]),
+) -> WalkPart {
+    let tris = &mesh.triangles;
+    let nbs = &mesh.neighbors;
+    let p = |v: u32| &points[v as usize];
+    let mut cell_vertices = Vec::with_capacity(cap);
+    let mut cell_neighbors = Vec::with_capacity(cap);
+    let mut hull_cells = Vec::new();
+    let limit = 3 * tris.len();
+    for (j, &m) in marks.iter().enumerate() {
+        if m == 0 {
+            continue;
+        }
+        let t0 = lo + j;
+        let tv0 = &tris[t0];
+        for i0 in 0..3 {
+            if m & (1 << i0) == 0 {
+                continue;
+            }
+            let v = tv0[i0] as usize;
+            let t0 = t0 as u32;
+            let first_at = cell_vertices.len();
+            let (mut t, mut i) = (t0, i0);
+            loop {
+                let tv = &tris[t as usize];
+                let nx = NEXT[i];
+                cell_vertices.push(t);
+                cell_neighbors.push(tv[nx]);
+                // Counterclockwise around v: across the edge (v, tv[i + 2]).
+                let u = nbs[t as usize][nx];
+                if u == NONE {
+                    // Hull: the boundary leaves along the normal of (prev, v).
+                    let first = outward(p(tv0[i0]), p(tv0[NEXT[i0]]));
+                    let last = outward(p(tv[PREV[i]]), p(tv[i]));
+                    hull_cells.push((v as u32, [first, last], tv[PREV[i]]));
+                    break;
+                }
+                if u == t0 || cell_vertices.len() >= limit {
+                    break;
+                }
+                // The corner of v in u, branch-free (which corner is
+                // unpredictable); at most 2 whatever an invalid mesh holds.
+                let uv = &tris[u as usize];
+                let vv = v as u32;
+                i = ((uv[1] == vv) as usize | ((uv[2] == vv) as usize) << 1).min(2);
+                t = u;
+            }
+            range(v as u32, [first_at as u32, cell_vertices.len() as u32]);
+        }
+    }
+    WalkPart {
+        cell_vertices,
+        cell_neighbors,
+        hull_cells,
+    }
+}
+
 /// Outward normal of the hull edge `a → b` (interior on the left), of the
 /// edge's length.
 #[inline]
@@ -362,26 +474,101 @@ impl Voronoi2 {
         // Three independent parts, each writing only its own arrays (so the
         // result is the same whatever the thread count): the centres (random
         // point reads, arithmetic), the edges (one sequential pass) and the
-        // cells (star walks). For large meshes the centres and edges run on a
-        // second thread, the cells on this one.
+        // cells (star walks). For large meshes a second thread computes the
+        // centres and the edges, then walks the stars starting in the last
+        // `1 - HEAD` of the triangles, while this thread finds the start
+        // corners and walks the stars starting in the first part: the two
+        // loads are about equal (1M points, callgrind). The tail's cells are
+        // appended to the head's (their ranges shifted), so the cells come
+        // in the same order as on one thread.
         let weights = weights.map_or_else(Vec::new, <[f64]>::to_vec);
-        if tris.len() >= 1 << 16 && threads != 1 {
+        let nt = tris.len();
+        if nt >= 1 << 16 && threads != 1 {
+            let mid = nt / 64 * HEAD_64THS;
+            let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<u8>>(1);
             return std::thread::scope(|sc| {
                 let job = std::thread::Builder::new()
-                    .spawn_scoped(sc, || (centres(), Self::edges(mesh)))
+                    .spawn_scoped(sc, move || {
+                        let (c, e) = (centres(), Self::edges(mesh));
+                        let tail = rx.recv().ok().map(|marks| {
+                            let mut ranges = Vec::new();
+                            let part =
+                                walk(points, mesh, &marks, mid, 3 * (nt - mid) + 64, |v, r| {
+                                    ranges.push((v, r));
+                                });
+                            (part, ranges)
+                        });
+                        (c, e, tail)
+                    })
                     .ok();
-                let mut v = Self::cells(points, mesh);
+                let mut marks = start_marks(points.len(), mesh);
+                let mut tail_marks = None;
+                if job.is_some() {
+                    let t = marks.split_off(mid);
+                    if let Err(back) = tx.send(t) {
+                        tail_marks = Some(back.0);
+                    }
+                }
+                drop(tx);
+                let mut cell_ranges = vec![[0u32; 2]; points.len()];
+                let mut head = walk(points, mesh, &marks, 0, 3 * nt, |v, r| {
+                    cell_ranges[v as usize] = r;
+                });
                 let done = job.and_then(|h| h.join().ok());
-                (v.vertices, v.edges) = done.unwrap_or_else(|| (centres(), Self::edges(mesh)));
-                v.weights = weights;
-                v
+                let (vertices, edges, tail) = match done {
+                    Some(x) => x,
+                    None => (centres(), Self::edges(mesh), None),
+                };
+                let tail = match (tail, tail_marks) {
+                    (Some(t), _) => Some(t),
+                    // The second thread never got the tail: walk it here.
+                    (None, Some(m)) => {
+                        let mut ranges = Vec::new();
+                        let part = walk(points, mesh, &m, mid, 3 * (nt - mid) + 64, |v, r| {
+                            ranges.push((v, r));
+                        });
+                        Some((part, ranges))
+                    }
+                    (None, None) => None,
+                };
+                if let Some((part, ranges)) = tail {
+                    let shift = head.cell_vertices.len() as u32;
+                    for (v, r) in ranges {
+                        cell_ranges[v as usize] = r.map(|x| x + shift);
+                    }
+                    head.cell_vertices.extend_from_slice(&part.cell_vertices);
+                    head.cell_neighbors.extend_from_slice(&part.cell_neighbors);
+                    head.hull_cells.extend_from_slice(&part.hull_cells);
+                }
+                head.hull_cells.sort_unstable_by_key(|h| h.0);
+                Voronoi2 {
+                    vertices,
+                    edges,
+                    cell_ranges,
+                    cell_vertices: head.cell_vertices,
+                    cell_neighbors: head.cell_neighbors,
+                    hull_cells: head.hull_cells,
+                    vertex_map: mesh.vertex_map.clone(),
+                    weights,
+                }
             });
         }
-        let mut v = Self::cells(points, mesh);
-        v.vertices = centres();
-        v.edges = Self::edges(mesh);
-        v.weights = weights;
-        v
+        let marks = start_marks(points.len(), mesh);
+        let mut cell_ranges = vec![[0u32; 2]; points.len()];
+        let mut part = walk(points, mesh, &marks, 0, 3 * nt, |v, r| {
+            cell_ranges[v as usize] = r;
+        });
+        part.hull_cells.sort_unstable_by_key(|h| h.0);
+        Voronoi2 {
+            vertices: centres(),
+            edges: Self::edges(mesh),
+            cell_ranges,
+            cell_vertices: part.cell_vertices,
+            cell_neighbors: part.cell_neighbors,
+            hull_cells: part.hull_cells,
+            vertex_map: mesh.vertex_map.clone(),
+            weights,
+        }
     }
 
     /// The edges: interior ones once (from the lower triangle), hull ones
@@ -403,98 +590,6 @@ impl Voronoi2 {
             }
         }
         edges
-    }
-
-    /// The cells and hull rays (no vertex coordinates, no edges).
-    fn cells(points: &[[f64; 2]], mesh: &TriMesh) -> Voronoi2 {
-        let n = points.len();
-        let tris = &mesh.triangles;
-        let nbs = &mesh.neighbors;
-        let p = |v: u32| &points[v as usize];
-        // A start corner (4 * triangle + corner) per vertex: any corner
-        // (plain stores, last one wins), then for hull vertices the
-        // clockwise-most triangle (whose edge v -> next is on the hull).
-        let mut start = vec![u64::MAX; n];
-        for (t, tv) in tris.iter().enumerate() {
-            for i in 0..3 {
-                start[tv[i] as usize] = 4 * t as u64 + i as u64;
-            }
-        }
-        for (t, (tv, nb)) in tris.iter().zip(nbs).enumerate() {
-            if nb.contains(&NONE) {
-                for i in 0..3 {
-                    if nb[PREV[i]] == NONE {
-                        start[tv[i] as usize] = 4 * t as u64 + i as u64;
-                    }
-                }
-            }
-        }
-        // The start corners marked per triangle (bit i).
-        let mut marks = vec![0u8; tris.len()];
-        for &st in &start {
-            if st != u64::MAX {
-                marks[(st >> 2) as usize] |= 1 << (st & 3);
-            }
-        }
-        drop(start);
-        let mut cell_ranges = vec![[0u32; 2]; n];
-        let mut cell_vertices = Vec::with_capacity(3 * tris.len());
-        let mut cell_neighbors = Vec::with_capacity(3 * tris.len());
-        let mut hull_cells = Vec::new();
-        // Walk the stars in triangle order (spatially coherent), each from
-        // its start corner, appending the cells.
-        let limit = 3 * tris.len();
-        for (t0, tv0) in tris.iter().enumerate() {
-            let m = marks[t0];
-            if m == 0 {
-                continue;
-            }
-            for i0 in 0..3 {
-                if m & (1 << i0) == 0 {
-                    continue;
-                }
-                let v = tv0[i0] as usize;
-                let t0 = t0 as u32;
-                let lo = cell_vertices.len();
-                let (mut t, mut i) = (t0, i0);
-                loop {
-                    let tv = &tris[t as usize];
-                    let nx = NEXT[i];
-                    cell_vertices.push(t);
-                    cell_neighbors.push(tv[nx]);
-                    // Counterclockwise around v: across the edge (v, tv[i + 2]).
-                    let u = nbs[t as usize][nx];
-                    if u == NONE {
-                        // Hull: the boundary leaves along the normal of (prev, v).
-                        let first = outward(p(tv0[i0]), p(tv0[NEXT[i0]]));
-                        let last = outward(p(tv[PREV[i]]), p(tv[i]));
-                        hull_cells.push((v as u32, [first, last], tv[PREV[i]]));
-                        break;
-                    }
-                    if u == t0 || cell_vertices.len() >= limit {
-                        break;
-                    }
-                    // The corner of v in u, branch-free (which corner is
-                    // unpredictable); at most 2 whatever an invalid mesh holds.
-                    let uv = &tris[u as usize];
-                    let vv = v as u32;
-                    i = ((uv[1] == vv) as usize | ((uv[2] == vv) as usize) << 1).min(2);
-                    t = u;
-                }
-                cell_ranges[v] = [lo as u32, cell_vertices.len() as u32];
-            }
-        }
-        hull_cells.sort_unstable_by_key(|h| h.0);
-        Voronoi2 {
-            vertices: Vec::new(),
-            edges: Vec::new(),
-            cell_ranges,
-            cell_vertices,
-            cell_neighbors,
-            hull_cells,
-            vertex_map: mesh.vertex_map.clone(),
-            weights: Vec::new(),
-        }
     }
 
     /// The cell of input point `p` (a duplicate gets its original's cell).
