@@ -861,20 +861,25 @@ mod tests {
         m.dt.num_tets()
     }
 
-    fn has_edge(m: &CMesh<'_>, a: u32, b: u32) -> bool {
-        m.find_edge(a, b).is_some()
-    }
-
-    #[test]
-    fn rings_are_positively_ordered() {
-        let pts: Vec<[f64; 3]> = (0..40)
+    /// `n` points scattered in the unit cube (irrational strides).
+    fn scattered(n: usize) -> Vec<[f64; 3]> {
+        (0..n)
             .map(|i| {
                 let x = (i as f64 * 0.618_034).fract();
                 let y = (i as f64 * 0.414_213_5).fract();
                 let z = (i as f64 * 0.732_050_8).fract();
                 [x, y, z]
             })
-            .collect();
+            .collect()
+    }
+
+    fn has_edge(m: &CMesh<'_>, a: u32, b: u32) -> bool {
+        m.find_edge(a, b).is_some()
+    }
+
+    #[test]
+    fn rings_are_positively_ordered() {
+        let pts = scattered(40);
         let m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         m.check().unwrap();
         let mut rings = 0;
@@ -983,14 +988,7 @@ mod tests {
         assert!(m.take_touched().is_empty());
         // Random points: every interior-edge removal that fails is
         // memoized and fails again; a failure changes nothing.
-        let pts: Vec<[f64; 3]> = (0..40)
-            .map(|i| {
-                let x = (i as f64 * 0.618_034).fract();
-                let y = (i as f64 * 0.414_213_5).fract();
-                let z = (i as f64 * 0.732_050_8).fract();
-                [x, y, z]
-            })
-            .collect();
+        let pts = scattered(40);
         let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         let mut failures = 0;
         for t in 0..m.dt.core.v.len() as u32 {
@@ -1043,14 +1041,7 @@ mod tests {
 
     #[test]
     fn logged_operations_replay_and_roll_back() {
-        let pts: Vec<[f64; 3]> = (0..60)
-            .map(|i| {
-                let x = (i as f64 * 0.618_034).fract();
-                let y = (i as f64 * 0.414_213_5).fract();
-                let z = (i as f64 * 0.732_050_8).fract();
-                [x, y, z]
-            })
-            .collect();
+        let pts = scattered(60);
         let base = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         let start = tet_sets(&base);
         let mut m = base.clone();

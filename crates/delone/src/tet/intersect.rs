@@ -679,15 +679,7 @@ pub fn manifold_report(triangles: &[[u32; 3]]) -> ManifoldReport {
     let mut r = ManifoldReport::default();
     for v in 0..nv {
         let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
-        for i in 1..bucket.len() {
-            let x = bucket[i];
-            let mut j = i;
-            while j > 0 && bucket[j - 1] > x {
-                bucket[j] = bucket[j - 1];
-                j -= 1;
-            }
-            bucket[j] = x;
-        }
+        sort_bucket(bucket);
         classify(bucket, |x| (v as u32, (x >> 1) as u32), &mut r);
     }
     r
@@ -695,6 +687,20 @@ pub fn manifold_report(triangles: &[[u32; 3]]) -> ManifoldReport {
 
 /// Adds the edges of `e` (sorted, equal edges adjacent; `edge` gives the
 /// `(min, max)` of an entry, bit 0 its direction) to the report.
+/// Sorts a per-vertex bucket of edge keys in place (insertion sort: the
+/// buckets hold a vertex's few incident edges).
+pub(crate) fn sort_bucket(bucket: &mut [u64]) {
+    for i in 1..bucket.len() {
+        let x = bucket[i];
+        let mut j = i;
+        while j > 0 && bucket[j - 1] > x {
+            bucket[j] = bucket[j - 1];
+            j -= 1;
+        }
+        bucket[j] = x;
+    }
+}
+
 fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport) {
     let mut i = 0;
     while i < e.len() {

@@ -237,15 +237,7 @@ impl Surface {
         let mut tri_edges = vec![[0u32; 3]; tris.len()];
         for v in 0..nv {
             let bucket = &mut items[start[v] as usize..start[v + 1] as usize];
-            for i in 1..bucket.len() {
-                let x = bucket[i];
-                let mut j = i;
-                while j > 0 && bucket[j - 1] > x {
-                    bucket[j] = bucket[j - 1];
-                    j -= 1;
-                }
-                bucket[j] = x;
-            }
+            crate::tet::intersect::sort_bucket(bucket);
             let mut i = 0;
             while i < bucket.len() {
                 let hi = (bucket[i] >> 32) as u32;
