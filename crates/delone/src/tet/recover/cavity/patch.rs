@@ -64,7 +64,7 @@ impl State {
             cm.find_edge(a, b).is_none()
         };
         let mut seen: Vec<u32> = Vec::new();
-        let mut stack: Vec<u32> = surf.edge_tris[e].clone();
+        let mut stack: Vec<u32> = surf.edge_tris[e].to_vec();
         stack.sort_unstable();
         let mut out: Vec<u32> = Vec::new();
         while let Some(t) = stack.pop() {
