@@ -363,12 +363,15 @@ struct EdgePart {
 /// largest id), from `base` on, and turns the chunk's per-tetrahedron
 /// prefix counts `pre` (relative to the chunk) into global ones: the owned
 /// facet `(t, f)` is edge `pre[t]` + the number of owned facets of `t`
-/// before `f` (see `facet_id`).
+/// before `f` (see `facet_id`). Also fills the chunk's `aux` words: the
+/// mirror slots (see `mirror`) and owned-facet ranks (see `facet_id`).
+#[allow(clippy::too_many_arguments)]
 fn edge_pass(
     points: &[[f64; 3]],
     recs: &[Rec],
     perm: &[u32],
     pre: &mut [u32],
+    aux: &mut [u16],
     lo: usize,
     base: usize,
     cap: usize,
@@ -378,10 +381,24 @@ fn edge_pass(
         edges: Vec::with_capacity(cap),
         ..EdgePart::default()
     };
-    for (j, x) in pre.iter_mut().enumerate() {
+    for (j, (x, ax)) in pre.iter_mut().zip(aux.iter_mut()).enumerate() {
         *x += base as u32;
         let t = lo + j;
         let c = recs[t];
+        // The slot in each neighbour of the vertex off the shared facet
+        // (0 for a hull facet, or where an invalid mesh has none).
+        let mut m = 0u16;
+        for (f, &u) in c.n.iter().enumerate() {
+            if let Some(cu) = recs.get(u as usize) {
+                m |= (pos(&cu.n, t as u32) as u16) << (2 * f);
+            }
+        }
+        // The rank of each slot's facet among the owned ones, 2 bits each.
+        let own = owned_mask(&c, t as u32);
+        for f in 1..4 {
+            m |= ((own & ((1 << f) - 1)).count_ones() as u16) << (8 + 2 * f);
+        }
+        *ax = m;
         #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
         for f in 0..4 {
             let u = c.n[f];
@@ -417,19 +434,26 @@ fn owned_mask(c: &Rec, t: u32) -> u32 {
         | ((c.n[3] > t) as u32) << 3
 }
 
-/// The edge number of the facet of `s` shared with its neighbour `u`
-/// (or `NONE`) crossing from `s` whose vertices are `a`, `b` (`ab = a ^ b`)
-/// and `x`: numbered by its owner (`s` if `u` comes later, else `u`) at
-/// `pre` of the owner plus its rank among the owner's owned facets; the
-/// facet's slot is that of the owner's vertex off it. Branch-free (the owner
-/// is unpredictable); clamped to `last` (only an invalid mesh needs it).
+/// The edge number of the facet of `s` in slot `ps` (the slot of the vertex
+/// off the facet), shared with its neighbour `u` (or `NONE`) in whose slot
+/// `pu` lies the vertex off the facet: numbered by its owner (`s` if `u`
+/// comes later, else `u`) at `pre` of the owner plus its rank among the
+/// owner's owned facets. Branch-free (the owner is unpredictable); clamped
+/// to `last` (only an invalid mesh needs it).
 #[inline]
-fn facet_id(recs: &[Rec], pre: &[u32], s: u32, u: u32, ab: u32, x: u32, last: u32) -> u32 {
-    let o = if u > s { s } else { u };
-    let c = &recs[o as usize];
-    let slot = pos(&c.v, xor4(&c.v) ^ ab ^ x);
-    let rank = (owned_mask(c, o) & ((1 << slot) - 1)).count_ones();
+fn facet_id(aux: &[u16], pre: &[u32], s: u32, u: u32, ps: usize, pu: usize, last: u32) -> u32 {
+    let (o, slot) = if u > s { (s, ps) } else { (u, pu) };
+    let rank = (aux[o as usize] >> (8 + 2 * slot)) as u32 & 3;
     (pre[o as usize] + rank).min(last)
+}
+
+/// The mirror slot of facet `f` of a tetrahedron with `aux` word `m`: the
+/// slot, in the neighbour across the facet, of the neighbour's vertex off
+/// the facet (bits `2f..2f + 2`; bits `8 + 2f..10 + 2f` are the rank of
+/// facet `f` among the tetrahedron's owned facets).
+#[inline]
+fn mirror(m: u16, f: usize) -> usize {
+    (m >> (2 * f)) as usize & 3
 }
 
 /// The faces emitted by one chunk of tetrahedra; offsets are the ends of
@@ -456,12 +480,13 @@ fn face_pass(
     points: &[[f64; 3]],
     recs: &[Rec],
     (pre, top): (&[u32], u32),
+    aux: &[u16],
     perm: &[u32],
     lo: usize,
     hi: usize,
     whole: bool,
 ) -> FacePart {
-    // Checked: a vertex found by `xor4` in an invalid mesh may name no point.
+    // Checked lookups (`mesh_fits` has checked the vertex ids; cheap).
     let p = |v: u32| points.get(v as usize).unwrap_or(&[0.0; 3]);
     let nt = recs.len();
     let mine = hi - lo;
@@ -499,30 +524,31 @@ fn face_pass(
             let k = todo.trailing_zeros() as usize;
             todo &= todo - 1;
             let lk = &EDGES[k];
-            let [a, b, c, d] = lk.map(|i| recs[t].v[i]);
-            let ab = a ^ b;
+            let [a, b] = [lk[0], lk[1]].map(|i| recs[t].v[i]);
             let (v0, e0) = (fv.len(), fe.len());
-            // Counterclockwise around a -> b: at (s, c, d) cross the
-            // facet opposite c, (a, b, d), into the next tetrahedron.
-            // In every tetrahedron of the ring the two vertices off the
-            // edge are (c, d): their slots name the edge (`off_edge`).
-            let (mut s, mut sc, mut sd) = (t as u32, c, d);
+            // Counterclockwise around a -> b: in tetrahedron s, with the
+            // two vertices off the edge (c, d) in slots (pc, pd), cross the
+            // facet opposite c, (a, b, d), into the next tetrahedron u,
+            // where the vertex off that facet is in the mirror slot (the
+            // new d) and d is found by one slot lookup (the new c). The
+            // slots (pc, pd) name the edge in s (`off_edge`).
+            let (mut s, mut pc, mut pd) = (t as u32, lk[2], lk[3]);
             let mut steps = 0usize;
             let mut foreign = false;
             let hit_hull = loop {
-                let cs = &recs[s as usize];
                 let su = s as usize;
-                let pc = pos(&cs.v, sc);
+                let cs = &recs[su];
                 if su >= lo {
                     if su < hi {
-                        done[su - lo] |= 1 << off_edge(pc, pos(&cs.v, sd));
+                        done[su - lo] |= off_edge(pc, pd);
                     }
                 } else {
                     foreign = true;
                 }
                 fv.push(perm[su]);
                 let u = cs.n[pc];
-                fe.push(facet_id(recs, pre, s, u, ab, sd, top));
+                let m = mirror(aux[su], pc);
+                fe.push(facet_id(aux, pre, s, u, pc, m, top));
                 if u == NONE {
                     break true;
                 }
@@ -530,46 +556,48 @@ fn face_pass(
                     break false;
                 }
                 steps += 1;
-                let nd = xor4(&recs[u as usize].v) ^ ab ^ sd;
-                (s, sc, sd) = (u, sd, nd);
+                let d = cs.v[pd];
+                (s, pc, pd) = (u, pos(&recs[u as usize].v, d), m);
             };
             if hit_hull {
                 // Open ring: the part clockwise from t comes first.
                 let (pa, pb) = (p(a), p(b));
                 let ab_vec = sub(pb, pa);
-                let last = cross(&ab_vec, &sub(p(sd), pa));
+                let last = cross(&ab_vec, &sub(p(recs[s as usize].v[pd]), pa));
                 fwd_v.clear();
                 fwd_e.clear();
                 fwd_v.extend(fv.drain(v0..));
                 fwd_e.extend(fe.drain(e0..));
                 back_v.clear();
                 back_e.clear();
-                let (mut s, mut sc) = (t as u32, c);
-                let mut pd = pos(&recs[t].v, d);
+                // Clockwise: cross the facet opposite d, (a, b, c); in the
+                // next tetrahedron the vertex off it (the new c) is in the
+                // mirror slot and c (the new d) is looked up.
+                let (mut s, mut pc, mut pd) = (t as u32, lk[2], lk[3]);
                 let mut steps = 0usize;
                 loop {
-                    let cs = &recs[s as usize];
+                    let su = s as usize;
+                    let cs = &recs[su];
                     let u = cs.n[pd];
-                    back_e.push(facet_id(recs, pre, s, u, ab, sc, top));
+                    let m = mirror(aux[su], pd);
+                    back_e.push(facet_id(aux, pre, s, u, pd, m, top));
                     if u == NONE || steps > limit {
                         break;
                     }
                     steps += 1;
                     let uu = u as usize;
-                    let cu = &recs[uu];
-                    // Crossing (a, b, c) into u = (a, b, c, nc).
-                    let nc = xor4(&cu.v) ^ ab ^ sc;
-                    let pcu = pos(&cu.v, sc);
+                    let pdu = pos(&recs[uu].v, cs.v[pc]);
                     if uu >= lo {
                         if uu < hi {
-                            done[uu - lo] |= 1 << off_edge(pcu, pos(&cu.v, nc));
+                            done[uu - lo] |= off_edge(m, pdu);
                         }
                     } else {
                         foreign = true;
                     }
                     back_v.push(perm[uu]);
-                    (s, sc, pd) = (u, nc, pcu);
+                    (s, pc, pd) = (u, m, pdu);
                 }
+                let sc = recs[s as usize].v[pc];
                 if foreign {
                     continue;
                 }
@@ -672,20 +700,24 @@ fn pos(tv: &[u32; 4], x: u32) -> usize {
     (tv[1] == x) as usize | ((tv[2] == x) as usize) << 1 | ((tv[3] == x) as usize * 3)
 }
 
-/// The index in [`EDGES`] of the local edge whose two other vertices are in
-/// slots `x` and `y` (`x != y`): the complement of `{x, y}`.
-#[inline]
-fn off_edge(x: usize, y: usize) -> usize {
-    5 - EDGE_INDEX[x][y]
-}
+/// `OFF_BIT[4 * x + y]`: the bit of the local edge whose two other vertices
+/// are in slots `x` and `y` (`x != y`), i.e. `1 << e` for the index `e` in
+/// [`EDGES`] of the complement of `{x, y}`.
+const OFF_BIT: [u8; 16] = {
+    let mut t = [0u8; 16];
+    let mut i = 0;
+    while i < 16 {
+        t[i] = 1 << (5 - EDGE_INDEX[i / 4][i % 4]);
+        i += 1;
+    }
+    t
+};
 
-/// The XOR of the four vertices of `tv`: for a valid tetrahedron holding
-/// `a`, `b`, `c`, the fourth vertex is `xor4(tv) ^ a ^ b ^ c` (branch-free;
-/// for an invalid mesh it may name no point, so the face pass reads points
-/// through a checked lookup).
+/// The bit of the local edge whose two other vertices are in slots `x` and
+/// `y` (see [`OFF_BIT`]).
 #[inline]
-fn xor4(tv: &[u32; 4]) -> u32 {
-    tv[0] ^ tv[1] ^ tv[2] ^ tv[3]
+fn off_edge(x: usize, y: usize) -> u8 {
+    OFF_BIT[(x << 2 | y) & 15]
 }
 
 impl Voronoi3 {
@@ -1050,9 +1082,15 @@ impl Voronoi3 {
         for i in 0..k {
             base[i + 1] = base[i] + owned[i];
         }
-        let parts = run_all(split_mut(&mut pre, &bounds), |i, pc| {
+        // Per tetrahedron, the mirror slots of its four facets (`mirror`).
+        let mut aux = vec![0u16; nt];
+        let jobs: Vec<_> = split_mut(&mut pre, &bounds)
+            .into_iter()
+            .zip(split_mut(&mut aux, &bounds))
+            .collect();
+        let parts = run_all(jobs, |i, (pc, mc)| {
             let cap = if i == 0 { total } else { owned[i] };
-            edge_pass(points, recs, &perm, pc, bounds[i], base[i], cap)
+            edge_pass(points, recs, &perm, pc, mc, bounds[i], base[i], cap)
         });
         ph.lap("edges");
         // C. Faces: the ring walks, chunk by chunk.
@@ -1063,6 +1101,7 @@ impl Voronoi3 {
                 points,
                 recs,
                 (pre, top),
+                &aux,
                 &perm,
                 bounds[i],
                 bounds[i + 1],
