@@ -15,6 +15,7 @@
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use delone_predicates::orient3d;
@@ -340,17 +341,100 @@ fn run_all<I: Send, R: Send>(items: Vec<I>, f: impl Fn(usize, I) -> R + Sync) ->
     })
 }
 
-/// The parts one after the other (the first part's vector extended).
-fn concat(parts: Vec<Vec<u32>>) -> Vec<u32> {
-    let mut parts = parts.into_iter();
-    let mut out = parts.next().unwrap_or_default();
-    for x in parts {
-        out.extend_from_slice(&x);
+/// `f(i, item)` for every item on at most `threads` threads (this one and
+/// scoped ones), each thread taking the next item not yet taken; the results
+/// in item order (`None` only if an item could not be run).
+fn run_dynamic<I: Send, R: Send>(
+    threads: usize,
+    items: Vec<I>,
+    f: impl Fn(usize, I) -> R + Sync,
+) -> Vec<Option<R>> {
+    let n = items.len();
+    if threads <= 1 || n <= 1 {
+        return items
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| Some(f(i, x)))
+            .collect();
     }
-    out
+    let slots: Vec<Mutex<Option<I>>> = items.into_iter().map(|x| Mutex::new(Some(x))).collect();
+    let results: Vec<Mutex<Option<R>>> = (0..n).map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    let (f, slots, results, next) = (&f, &slots, &results, &next);
+    let work = move || loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        if i >= n {
+            break;
+        }
+        if let Some(x) = slots[i].lock().ok().and_then(|mut s| s.take()) {
+            let r = f(i, x);
+            if let Ok(mut g) = results[i].lock() {
+                *g = Some(r);
+            }
+        }
+    };
+    std::thread::scope(|sc| {
+        let handles: Vec<_> = (1..threads.min(n))
+            .map(|_| std::thread::Builder::new().spawn_scoped(sc, work).ok())
+            .collect();
+        work();
+        for h in handles.into_iter().flatten() {
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        }
+    });
+    slots
+        .iter()
+        .zip(results)
+        .enumerate()
+        .map(|(i, (s, r))| {
+            // An item left behind (a poisoned lock): run it here.
+            let left = s.lock().ok().and_then(|mut s| s.take());
+            r.lock()
+                .ok()
+                .and_then(|mut r| r.take())
+                .or_else(|| left.map(|x| f(i, x)))
+        })
+        .collect()
 }
 
-/// The edges numbered by one chunk of tetrahedra.
+/// Moves the parts of `a` written at `starts[i]` (`(length, spill)` each)
+/// together after `a[..first]`, adding `add[i]` to the entries of part `i`;
+/// `a` is cut to the result. In place (`copy_within`) unless a part spilled.
+fn compact(
+    mut a: Vec<u32>,
+    first: usize,
+    starts: &[usize],
+    parts: &[(usize, Vec<u32>)],
+    add: &[u32],
+) -> Vec<u32> {
+    let win = |i: usize| starts.get(i + 1).copied().unwrap_or(a.len()) - starts[i];
+    if parts.iter().any(|p| !p.1.is_empty()) {
+        let mut out = a[..first].to_vec();
+        for (i, (len, spill)) in parts.iter().enumerate() {
+            let m = (*len).min(win(i));
+            out.extend(a[starts[i]..starts[i] + m].iter().map(|&x| x + add[i]));
+            out.extend(spill.iter().map(|&x| x + add[i]));
+        }
+        return out;
+    }
+    let mut at = first;
+    for (i, (len, _)) in parts.iter().enumerate() {
+        let from = starts[i];
+        if add[i] == 0 {
+            a.copy_within(from..from + len, at);
+        } else {
+            for j in 0..*len {
+                a[at + j] = a[from + j] + add[i];
+            }
+        }
+        at += len;
+    }
+    a.truncate(at);
+    a.shrink_to_fit();
+    a
+}
+
+/// The edges (see `edge_pass`).
 #[derive(Default)]
 struct EdgePart {
     edges: Vec<VoronoiEdge3>,
@@ -358,33 +442,18 @@ struct EdgePart {
     ray_directions: Vec<[f64; 3]>,
 }
 
-/// Numbers the facets of the chunk `lo..lo + pre.len()` owned by it (those
-/// whose other tetrahedron comes later: hull facets too, as `NONE` is the
-/// largest id), from `base` on, and turns the chunk's per-tetrahedron
-/// prefix counts `pre` (relative to the chunk) into global ones: the owned
-/// facet `(t, f)` is edge `pre[t]` + the number of owned facets of `t`
-/// before `f` (see `facet_id`). Also fills the chunk's `aux` words: the
-/// mirror slots (see `mirror`) and owned-facet ranks (see `facet_id`).
-#[allow(clippy::too_many_arguments)]
-fn edge_pass(
-    points: &[[f64; 3]],
-    recs: &[Rec],
-    perm: &[u32],
-    pre: &mut [u32],
-    aux: &mut [u16],
-    lo: usize,
-    base: usize,
-    cap: usize,
-) -> EdgePart {
-    let p = |v: u32| &points[v as usize];
-    let mut out = EdgePart {
-        edges: Vec::with_capacity(cap),
-        ..EdgePart::default()
-    };
+/// Turns the per-tetrahedron prefix counts `pre` of the chunk
+/// `lo..lo + pre.len()` (relative to the chunk) into global ones, adding
+/// `base`, and fills the chunk's `aux` words: the mirror slots (see
+/// `mirror`) and owned-facet ranks (see `facet_id`). The owned facets of a
+/// tetrahedron are those whose other tetrahedron comes later (hull facets
+/// too, as `NONE` is the largest id); the owned facet `(t, f)` is edge
+/// `pre[t]` + the number of owned facets of `t` before `f`.
+fn aux_pass(recs: &[Rec], pre: &mut [u32], aux: &mut [u16], lo: usize, base: usize) {
     for (j, (x, ax)) in pre.iter_mut().zip(aux.iter_mut()).enumerate() {
         *x += base as u32;
         let t = lo + j;
-        let c = recs[t];
+        let c = &recs[t];
         // The slot in each neighbour of the vertex off the shared facet
         // (0 for a hull facet, or where an invalid mesh has none).
         let mut m = 0u16;
@@ -394,11 +463,24 @@ fn edge_pass(
             }
         }
         // The rank of each slot's facet among the owned ones, 2 bits each.
-        let own = owned_mask(&c, t as u32);
+        let own = owned_mask(c, t as u32);
         for f in 1..4 {
             m |= ((own & ((1 << f) - 1)).count_ones() as u16) << (8 + 2 * f);
         }
         *ax = m;
+    }
+}
+
+/// The edges, in the order of `(t, f)` (walk order): every facet numbered
+/// by the lower of its two tetrahedra (hull facets by their only one), as
+/// `aux_pass` counts them; `cap` is their number.
+fn edge_pass(points: &[[f64; 3]], recs: &[Rec], perm: &[u32], cap: usize) -> EdgePart {
+    let p = |v: u32| &points[v as usize];
+    let mut out = EdgePart {
+        edges: Vec::with_capacity(cap),
+        ..EdgePart::default()
+    };
+    for (t, c) in recs.iter().enumerate() {
         #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
         for f in 0..4 {
             let u = c.n[f];
@@ -406,7 +488,7 @@ fn edge_pass(
                 continue;
             }
             let s = FACET[f].map(|i| c.v[i]);
-            let id = (base + out.edges.len()) as u32;
+            let id = out.edges.len() as u32;
             if u == NONE {
                 // FACET[f] sees vertex f on its positive side: outward
                 // is the opposite normal.
@@ -456,26 +538,63 @@ fn mirror(m: u16, f: usize) -> usize {
     (m >> (2 * f)) as usize & 3
 }
 
-/// The faces emitted by one chunk of tetrahedra; offsets are the ends of
-/// the faces, relative to this part (preceded by a 0 in the first part).
+/// A window of a shared output array (calloc'ed: its untouched pages cost
+/// nothing) written by one chunk, with a spill vector for what does not fit.
+struct Win<'a> {
+    buf: &'a mut [u32],
+    len: usize,
+    spill: Vec<u32>,
+}
+
+impl<'a> Win<'a> {
+    fn new(buf: &'a mut [u32]) -> Win<'a> {
+        Win {
+            buf,
+            len: 0,
+            spill: Vec::new(),
+        }
+    }
+
+    /// Appends `xs`.
+    fn extend(&mut self, xs: &[u32]) {
+        let at = self.len.min(self.buf.len());
+        let room = self.buf.len() - at;
+        let (a, b) = xs.split_at(xs.len().min(room));
+        self.buf[at..at + a.len()].copy_from_slice(a);
+        self.spill.extend_from_slice(b);
+        self.len += xs.len();
+    }
+
+    /// The length written and the spill.
+    fn done(self) -> (usize, Vec<u32>) {
+        (self.len, self.spill)
+    }
+}
+
+/// The faces emitted by one chunk of tetrahedra. The face vertices, edges
+/// and the ends of the faces in them (relative to this part) went to the
+/// chunk's windows: `(length, spill)` of each.
 #[derive(Default)]
 struct FacePart {
     faces: Vec<FaceInfo3>,
-    ends: Vec<u32>,
-    face_vertices: Vec<u32>,
-    edge_ends: Vec<u32>,
-    face_edge_ids: Vec<u32>,
     open_faces: Vec<u32>,
     open_face_rays: Vec<[[f64; 3]; 2]>,
+    /// Face vertices, face edges, face ends, face edge ends.
+    wins: [(usize, Vec<u32>); 4],
 }
+
+/// The four windows of a face chunk (see [`FacePart::wins`]).
+type Wins<'a> = [&'a mut [u32]; 4];
 
 /// The faces of the chunk `lo..hi`: tetrahedron by tetrahedron, every local
 /// edge not yet swept is swept — the ring of tetrahedra around the Delaunay
 /// edge is walked once, marking the edge in every tetrahedron of the chunk
 /// it passes. The face is emitted when no tetrahedron of its ring lies in an
 /// earlier chunk, i.e. by the lowest tetrahedron of its ring, as with one
-/// chunk. `whole` reserves room for the faces of all chunks; `(pre, top)`:
-/// the prefix counts of `facet_id` and the last edge number.
+/// chunk. `(pre, top)`: the prefix counts of `facet_id` and the last edge
+/// number; `wins`: where the chunk writes its face vertices, edges and
+/// ends (see [`FacePart::wins`]).
+#[allow(clippy::too_many_arguments)]
 fn face_pass(
     points: &[[f64; 3]],
     recs: &[Rec],
@@ -484,39 +603,40 @@ fn face_pass(
     perm: &[u32],
     lo: usize,
     hi: usize,
-    whole: bool,
+    wins: Wins,
 ) -> FacePart {
     // Checked lookups (`mesh_fits` has checked the vertex ids; cheap).
     let p = |v: u32| points.get(v as usize).unwrap_or(&[0.0; 3]);
     let nt = recs.len();
     let mine = hi - lo;
-    // Euler: about 7/6 Delaunay edges per tetrahedron for random points.
-    let (nf, nv) = if whole {
-        (nt * 6 / 5 + 64, 6 * nt + nt / 8 + 64)
-    } else {
-        (mine * 6 / 5 + 64, 6 * mine + mine / 8 + 64)
-    };
-    let mut out = FacePart {
-        faces: Vec::with_capacity(nf),
-        ends: Vec::with_capacity(nf),
-        face_vertices: Vec::with_capacity(nv),
-        edge_ends: Vec::with_capacity(nf),
-        face_edge_ids: Vec::with_capacity(nv),
-        ..FacePart::default()
-    };
-    if whole {
-        // The first part's offsets become the whole's: the leading 0.
-        out.ends.push(0);
-        out.edge_ends.push(0);
-    }
+    let mut out = FacePart::default();
+    let [wv, we, wo, weo] = wins;
+    let (mut wv, mut we, mut wo, mut weo) =
+        (Win::new(wv), Win::new(we), Win::new(wo), Win::new(weo));
+    // Staging vectors, flushed to the windows every few thousand entries:
+    // the walks push (their lengths stay in registers); `(bv, be)` are
+    // the lengths flushed so far.
+    const FLUSH: usize = 1 << 12;
+    let (mut bv, mut be) = (0u32, 0u32);
+    let mut ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
+    let mut edge_ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
     let mut done = vec![0u8; mine];
     let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
     let limit = nt + 1;
-    // Local vectors (not behind `&mut out`), for their lengths to stay in
-    // registers.
-    let mut fv = std::mem::take(&mut out.face_vertices);
-    let mut fe = std::mem::take(&mut out.face_edge_ids);
+    let mut fv: Vec<u32> = Vec::with_capacity(2 * FLUSH);
+    let mut fe: Vec<u32> = Vec::with_capacity(2 * FLUSH);
     for t in lo..hi {
+        if fv.len() >= FLUSH || fe.len() >= FLUSH || ends.len() >= FLUSH {
+            (bv, be) = (bv + fv.len() as u32, be + fe.len() as u32);
+            wv.extend(&fv);
+            we.extend(&fe);
+            wo.extend(&ends);
+            weo.extend(&edge_ends);
+            fv.clear();
+            fe.clear();
+            ends.clear();
+            edge_ends.clear();
+        }
         // The edges of t not yet swept: walking a ring through t marks
         // only that ring's edge in t, so this set is fixed up front.
         let mut todo = !done[t - lo] & 63;
@@ -613,13 +733,16 @@ fn face_pass(
                 fe.truncate(e0);
                 continue;
             }
-            out.ends.push(fv.len() as u32);
-            out.edge_ends.push(fe.len() as u32);
+            ends.push(bv + fv.len() as u32);
+            edge_ends.push(be + fe.len() as u32);
             out.faces.push(FaceInfo3 { sites: [a, b] });
         }
     }
-    out.face_vertices = fv;
-    out.face_edge_ids = fe;
+    wv.extend(&fv);
+    we.extend(&fe);
+    wo.extend(&ends);
+    weo.extend(&edge_ends);
+    out.wins = [wv.done(), we.done(), wo.done(), weo.done()];
     out
 }
 
@@ -1076,126 +1199,144 @@ impl Voronoi3 {
         });
         let recs = &recs[..];
         ph.lap("records");
-        // B. Edges: every facet numbered by the lower of its tetrahedra.
+        // B. Global prefix counts of the owned facets and the `aux` words
+        // (mirror slots and ranks) for the walks.
         let total: usize = owned.iter().sum();
         let mut base = vec![0usize; k + 1];
         for i in 0..k {
             base[i + 1] = base[i] + owned[i];
         }
-        // Per tetrahedron, the mirror slots of its four facets (`mirror`).
         let mut aux = vec![0u16; nt];
         let jobs: Vec<_> = split_mut(&mut pre, &bounds)
             .into_iter()
             .zip(split_mut(&mut aux, &bounds))
             .collect();
-        let parts = run_all(jobs, |i, (pc, mc)| {
-            let cap = if i == 0 { total } else { owned[i] };
-            edge_pass(points, recs, &perm, pc, mc, bounds[i], base[i], cap)
+        run_all(jobs, |i, (pc, ac)| {
+            aux_pass(recs, pc, ac, bounds[i], base[i])
         });
-        ph.lap("edges");
-        // C. Faces: the ring walks, chunk by chunk.
+        ph.lap("aux");
+        // C. The edges (one task, written in place) and the faces (the ring
+        // walks, in `m` chunks), as tasks taken by `k` threads. Each face
+        // chunk writes its face vertices, edges and ends into its window of
+        // the four shared arrays (calloc'ed: untouched slack costs nothing),
+        // sized from its share of the tetrahedra with slack; what does not
+        // fit spills (then the join copies).
         let pre = &pre[..];
+        let aux = &aux[..];
         let top = total.saturating_sub(1) as u32;
-        let face_parts = run_all((0..k).collect(), |i, _| {
-            face_pass(
-                points,
-                recs,
-                (pre, top),
-                &aux,
-                &perm,
-                bounds[i],
-                bounds[i + 1],
-                i == 0,
-            )
-        });
-        drop(perm);
-        ph.lap("faces");
-        // The parts put together, the two largest arrays on a second thread.
-        let mut fv_parts = Vec::with_capacity(k);
-        let mut fe_parts = Vec::with_capacity(k);
-        let mut rest = Vec::with_capacity(k);
-        let (mut bv, mut be) = (0u32, 0u32);
-        for x in face_parts {
-            let lens = (x.face_vertices.len() as u32, x.face_edge_ids.len() as u32);
-            fv_parts.push(x.face_vertices);
-            fe_parts.push(x.face_edge_ids);
-            rest.push((
-                bv,
-                be,
-                x.faces,
-                x.ends,
-                x.edge_ends,
-                x.open_faces,
-                x.open_face_rays,
-            ));
-            bv += lens.0;
-            be += lens.1;
-        }
-        let big = Mutex::new(Some((fv_parts, fe_parts)));
-        let big = || {
-            big.lock()
-                .ok()
-                .and_then(|mut s| s.take())
-                .map(|(v, e)| (concat(v), concat(e)))
-        };
-        let small = move || {
-            let mut parts = parts.into_iter();
-            let EdgePart {
-                mut edges,
-                mut ray_edges,
-                mut ray_directions,
-                ..
-            } = parts.next().unwrap_or_default();
-            for x in parts {
-                edges.extend_from_slice(&x.edges);
-                ray_edges.extend_from_slice(&x.ray_edges);
-                ray_directions.extend_from_slice(&x.ray_directions);
+        let m = if k > 1 { 2 * k } else { 1 };
+        let fb: Vec<usize> = (0..=m).map(|i| nt * i / m).collect();
+        // Window sizes per tetrahedron: 6 face vertices and 6 face edges
+        // (one more per open face); about 7/6 faces (Euler, random points).
+        let wsize = |j: usize, i: usize| {
+            let len = fb[i + 1] - fb[i];
+            if j < 2 {
+                6 * len + len / 8 + 256
+            } else {
+                len * 3 / 2 + 256
             }
-            // The first part's arrays (its offsets start with the leading
-            // 0) are the base, moved, not copied.
-            let mut rest = rest.into_iter();
-            let (
-                mut faces,
-                mut face_offsets,
-                mut face_edge_offsets,
-                mut open_faces,
-                mut open_face_rays,
-            ) = match rest.next() {
-                Some((_, _, f, fo, feo, of, ofr)) => (f, fo, feo, of, ofr),
-                None => (vec![], vec![0], vec![0], vec![], vec![]),
-            };
-            for (bv, be, f, fo, feo, of, ofr) in rest {
-                let bf = faces.len() as u32;
-                faces.extend_from_slice(&f);
-                face_offsets.extend(fo.iter().map(|&o| o + bv));
-                face_edge_offsets.extend(feo.iter().map(|&o| o + be));
-                open_faces.extend(of.iter().map(|&f| f + bf));
-                open_face_rays.extend_from_slice(&ofr);
-            }
-            (
-                (edges, ray_edges, ray_directions),
-                (
-                    faces,
-                    face_offsets,
-                    face_edge_offsets,
-                    open_faces,
-                    open_face_rays,
-                ),
-            )
         };
-        let (((edges, ray_edges, ray_directions), fs), big) = if k > 1 {
-            std::thread::scope(|sc| {
-                let h = std::thread::Builder::new().spawn_scoped(sc, big).ok();
-                let x = small();
-                let y = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
-                // The thread could not be started: do its part here.
-                (x, y.or_else(big))
+        // `starts[j][i]`: where chunk i writes in array j (the offsets
+        // arrays keep a leading 0).
+        let first = [0usize, 0, 1, 1];
+        let starts: Vec<Vec<usize>> = (0..4)
+            .map(|j| {
+                let mut at = first[j];
+                let mut v = Vec::with_capacity(m + 1);
+                for i in 0..m {
+                    v.push(at);
+                    at += wsize(j, i);
+                }
+                v.push(at);
+                v
             })
-        } else {
-            (small(), big())
-        };
-        let (face_vertices, face_edge_ids) = big.unwrap_or_default();
-        let (faces, face_offsets, face_edge_offsets, open_faces, open_face_rays) = fs;
+            .collect();
+        let mut arrays: Vec<Vec<u32>> = starts.iter().map(|s| vec![0u32; s[m]]).collect();
+        let mut wins: Vec<Vec<&mut [u32]>> = arrays
+            .iter_mut()
+            .zip(&starts)
+            .zip(first)
+            .map(|((a, st), f)| {
+                let rel: Vec<usize> = st.iter().map(|&x| x - f).collect();
+                split_mut(&mut a[f..], &rel)
+            })
+            .collect();
+        let mut tasks: Vec<Option<Wins>> = vec![None];
+        for _ in 0..m {
+            let w: [&mut [u32]; 4] = std::array::from_fn(|j| wins[j].remove(0));
+            tasks.push(Some(w));
+        }
+        drop(wins);
+        let perm = &perm[..];
+        let mut done = run_dynamic(k, tasks, |i, w| match w {
+            None => (Some(edge_pass(points, recs, perm, total)), None),
+            Some(w) => (
+                None,
+                Some(face_pass(
+                    points,
+                    recs,
+                    (pre, top),
+                    aux,
+                    perm,
+                    fb[i - 1],
+                    fb[i],
+                    w,
+                )),
+            ),
+        })
+        .into_iter();
+        let EdgePart {
+            edges,
+            ray_edges,
+            ray_directions,
+        } = done.next().flatten().and_then(|x| x.0).unwrap_or_default();
+        let face_parts: Vec<FacePart> = done
+            .map(|x| x.and_then(|x| x.1).unwrap_or_default())
+            .collect();
+        ph.lap("faces");
+        // The parts put together: the four arrays compacted in place (on
+        // up to k threads), the faces and open faces appended.
+        let mut adds = vec![vec![0u32; m]; 4];
+        let (mut bv, mut be) = (0u32, 0u32);
+        for (i, x) in face_parts.iter().enumerate() {
+            adds[2][i] = bv;
+            adds[3][i] = be;
+            bv = bv.wrapping_add(x.wins[0].0 as u32);
+            be = be.wrapping_add(x.wins[1].0 as u32);
+        }
+        let parts: Vec<Vec<(usize, Vec<u32>)>> = (0..4)
+            .map(|j| {
+                face_parts
+                    .iter()
+                    .map(|x| (x.wins[j].0, x.wins[j].1.clone()))
+                    .collect()
+            })
+            .collect();
+        let jobs: Vec<(usize, Vec<u32>)> = arrays.into_iter().enumerate().collect();
+        let mut joined = run_dynamic(k, jobs, |_, (j, a)| {
+            compact(a, first[j], &starts[j][..m], &parts[j], &adds[j])
+        })
+        .into_iter()
+        .map(|x| x.unwrap_or_default());
+        let mut next = || joined.next().unwrap_or_default();
+        let (face_vertices, face_edge_ids, face_offsets, face_edge_offsets) =
+            (next(), next(), next(), next());
+        let nf: usize = face_parts.iter().map(|x| x.faces.len()).sum();
+        let mut face_parts = face_parts.into_iter();
+        // The first part's vectors are the base (grown, not copied).
+        let FacePart {
+            mut faces,
+            mut open_faces,
+            mut open_face_rays,
+            ..
+        } = face_parts.next().unwrap_or_default();
+        faces.reserve_exact(nf - faces.len());
+        for x in face_parts {
+            let bf = faces.len() as u32;
+            faces.extend_from_slice(&x.faces);
+            open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
+            open_face_rays.extend_from_slice(&x.open_face_rays);
+        }
         ph.lap("join");
         let mut unbounded = vec![false; n];
         for &r in &ray_edges {
@@ -1746,6 +1887,55 @@ mod tests {
         for (k, e) in EDGES.iter().enumerate() {
             assert_eq!(EDGE_INDEX[e[0]][e[1]], k);
             assert_eq!(EDGE_INDEX[e[1]][e[0]], k);
+        }
+    }
+
+    /// Writes `parts` through windows of the sizes `wins` after a leading
+    /// `first` zeros, then compacts: the parts concatenated, plus `add`.
+    fn windows_round_trip(first: usize, wins: &[usize], parts: &[Vec<u32>], add: &[u32]) {
+        let mut starts = vec![first];
+        for w in wins {
+            starts.push(starts.last().unwrap() + w);
+        }
+        let mut a = vec![0u32; *starts.last().unwrap()];
+        let rel: Vec<usize> = starts.iter().map(|&x| x - first).collect();
+        let mut written = vec![];
+        for (buf, part) in split_mut(&mut a[first..], &rel).into_iter().zip(parts) {
+            let mut w = Win::new(buf);
+            // In two pieces, as the face pass flushes.
+            w.extend(&part[..part.len() / 2]);
+            w.extend(&part[part.len() / 2..]);
+            written.push(w.done());
+        }
+        let got = compact(a, first, &starts[..wins.len()], &written, add);
+        let mut want = vec![0u32; first];
+        for (p, &d) in parts.iter().zip(add) {
+            want.extend(p.iter().map(|&x| x + d));
+        }
+        assert_eq!(got, want);
+    }
+
+    #[test]
+    fn windows_compact_in_place_and_after_spills() {
+        let parts = vec![vec![1, 2, 3], vec![], vec![4, 5, 6, 7, 8], vec![9]];
+        // Room to spare: in place.
+        windows_round_trip(0, &[4, 2, 6, 3], &parts, &[0; 4]);
+        windows_round_trip(1, &[5, 1, 5, 1], &parts, &[0, 3, 3, 8]);
+        // Parts 0 and 2 spill.
+        windows_round_trip(0, &[2, 2, 1, 3], &parts, &[0; 4]);
+        windows_round_trip(1, &[0, 0, 0, 0], &parts, &[10, 20, 30, 40]);
+    }
+
+    #[test]
+    fn run_dynamic_keeps_item_order() {
+        for threads in [1, 2, 3, 8] {
+            let items: Vec<usize> = (0..17).collect();
+            let out = run_dynamic(threads, items, |i, x| {
+                assert_eq!(i, x);
+                x * x
+            });
+            let want: Vec<Option<usize>> = (0..17).map(|x| Some(x * x)).collect();
+            assert_eq!(out, want);
         }
     }
 
