@@ -412,19 +412,30 @@ fn compact(
         let mut out = a[..first].to_vec();
         for (i, (len, spill)) in parts.iter().enumerate() {
             let m = (*len).min(win(i));
-            out.extend(a[starts[i]..starts[i] + m].iter().map(|&x| x + add[i]));
-            out.extend(spill.iter().map(|&x| x + add[i]));
+            out.extend(
+                a[starts[i]..starts[i] + m]
+                    .iter()
+                    .map(|&x| x.wrapping_add(add[i])),
+            );
+            out.extend(spill.iter().map(|&x| x.wrapping_add(add[i])));
         }
         return out;
     }
     let mut at = first;
     for (i, (len, _)) in parts.iter().enumerate() {
-        let from = starts[i];
-        if add[i] == 0 {
-            a.copy_within(from..from + len, at);
+        let (from, d) = (starts[i], add[i]);
+        if d == 0 {
+            if from != at {
+                a.copy_within(from..from + len, at);
+            }
+        } else if at + len <= from {
+            let (lo, hi) = a.split_at_mut(from);
+            for (x, &y) in lo[at..at + len].iter_mut().zip(&hi[..*len]) {
+                *x = y.wrapping_add(d);
+            }
         } else {
             for j in 0..*len {
-                a[at + j] = a[from + j] + add[i];
+                a[at + j] = a[from + j].wrapping_add(d);
             }
         }
         at += len;
@@ -1080,19 +1091,28 @@ impl Voronoi3 {
         let k = chunk_count(nt, threads);
         let bounds: Vec<usize> = (0..=k).map(|i| nt * i / k).collect();
         let grid = Grid::new(points, nt);
+        // Finer chunks for the phases run as tasks (`run_dynamic`).
+        let m = if k > 1 { 2 * k } else { 1 };
+        let fb: Vec<usize> = (0..=m).map(|i| nt * i / m).collect();
         // A. Circumcentres, and for large meshes the Morton keys of the
         // tetrahedra (one pass over the mesh, chunk by chunk) with each
         // chunk's key histogram.
         let mut vertices = vec![[0.0f64; 3]; nt];
         let mut inv = vec![0u32; if grid.is_some() { nt } else { 0 }];
         let key_chunks = if grid.is_some() {
-            split_mut(&mut inv, &bounds)
+            split_mut(&mut inv, &fb)
         } else {
-            (0..k).map(|_| &mut [][..]).collect()
+            (0..m).map(|_| &mut [][..]).collect()
         };
-        let jobs: Vec<_> = split_mut(&mut vertices, &bounds)
-            .into_iter()
-            .zip(key_chunks)
+        // The first task allocates the walk records (their zero fill is
+        // not free: 32 bytes per tetrahedron), the others are the chunks.
+        let jobs: Vec<_> = std::iter::once(None)
+            .chain(
+                split_mut(&mut vertices, &fb)
+                    .into_iter()
+                    .zip(key_chunks)
+                    .map(Some),
+            )
             .collect();
         // The Morton key of every point (a tetrahedron takes its first
         // vertex's), chunk by chunk of the points.
@@ -1114,13 +1134,16 @@ impl Voronoi3 {
                 centre::<false>(tv.map(p), [0.0; 4])
             }
         };
-        let hist = run_all(jobs, |i, (vc, kc)| {
-            let chunk = &tets[bounds[i]..bounds[i + 1]];
+        let mut hist = run_dynamic(k, jobs, |i, job| {
+            let Some((vc, kc)) = job else {
+                return (Vec::new(), vec![Rec::default(); nt]);
+            };
+            let chunk = &tets[fb[i - 1]..fb[i]];
             if grid.is_none() {
                 for (c, tv) in vc.iter_mut().zip(chunk) {
                     *c = centre_of(tv);
                 }
-                return Vec::new();
+                return (Vec::new(), Vec::new());
             }
             let mut hist = vec![0u32; 1 << (3 * grid.as_ref().map_or(0, |g| g.bits))];
             for ((c, x), tv) in vc.iter_mut().zip(kc.iter_mut()).zip(chunk) {
@@ -1128,27 +1151,31 @@ impl Voronoi3 {
                 *x = pkey[tv[0] as usize];
                 hist[*x as usize] += 1;
             }
-            hist
-        });
+            (hist, Vec::new())
+        })
+        .into_iter()
+        .map(Option::unwrap_or_default);
+        let mut recs = hist.next().unwrap_or_default().1;
+        if recs.len() != nt {
+            recs = vec![Rec::default(); nt];
+        }
+        let hist: Vec<Vec<u32>> = hist.map(|x| x.0).collect();
         ph.lap("centres");
         // The walk order (large meshes): `perm[new] = old`, `inv[old] =
         // new`, a stable counting sort of the keys, each chunk placing its
         // own tetrahedra.
         let perm: Vec<u32> = if let Some(g) = &grid {
-            let mut start = vec![vec![0u32; g.keys()]; k];
+            let mut start = vec![vec![0u32; g.keys()]; m];
             let mut at = 0u32;
             for c in 0..g.keys() {
-                for i in 0..k {
+                for i in 0..m {
                     start[i][c] = at;
                     at += hist[i][c];
                 }
             }
             drop(hist);
-            let jobs: Vec<_> = split_mut(&mut inv, &bounds)
-                .into_iter()
-                .zip(start)
-                .collect();
-            run_all(jobs, |_, (kc, mut st)| {
+            let jobs: Vec<_> = split_mut(&mut inv, &fb).into_iter().zip(start).collect();
+            run_dynamic(k, jobs, |_, (kc, mut st)| {
                 for x in kc.iter_mut() {
                     let c = *x as usize;
                     *x = st[c];
@@ -1167,7 +1194,6 @@ impl Voronoi3 {
         // Records (chunk by chunk of the walk order); per chunk the facets
         // it will number (hull facets and those whose neighbour comes
         // later).
-        let mut recs = vec![Rec::default(); nt];
         // Per tetrahedron, the number of owned facets before it (first in
         // its chunk; `edge_pass` adds the chunk's base).
         let mut pre = vec![0u32; nt];
@@ -1224,8 +1250,6 @@ impl Voronoi3 {
         let pre = &pre[..];
         let aux = &aux[..];
         let top = total.saturating_sub(1) as u32;
-        let m = if k > 1 { 2 * k } else { 1 };
-        let fb: Vec<usize> = (0..=m).map(|i| nt * i / m).collect();
         // Window sizes per tetrahedron: 6 face vertices and 6 face edges
         // (one more per open face); about 7/6 faces (Euler, random points).
         let wsize = |j: usize, i: usize| {
