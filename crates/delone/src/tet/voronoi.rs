@@ -1005,32 +1005,54 @@ impl Voronoi3 {
         ))
     }
 
-    /// Everything, in passes over the tetrahedra cut into `k` contiguous
-    /// chunks, one thread per chunk (`k = 1` for small meshes), no hash
-    /// table:
+    /// Everything, in passes over the tetrahedra cut into contiguous chunks,
+    /// on `k` threads (`k = 1` for small meshes), no hash table. Passes
+    /// over `k` chunks give one chunk to each thread (`run_all`); those over
+    /// `m = 2k` finer chunks, plus an odd task, are tasks that each thread
+    /// takes as it becomes free (`run_dynamic`), which balances the odd task:
     /// * A — circumcentres (mesh order) and, for meshes of 2^15 tetrahedra
     ///   or more, the Morton keys of the tetrahedra with per-chunk
-    ///   histograms; then a stable counting sort gives the walk order, each
-    ///   chunk placing its own tetrahedra;
+    ///   histograms (`m` tasks), beside the allocation of the walk records
+    ///   (one task: their zero fill, 208 MB at 1M points, was serial); then
+    ///   a stable counting sort gives the walk order, each chunk placing its
+    ///   own tetrahedra;
     /// * B — 32-byte walk records (`Rec`: vertices and neighbours, in the
-    ///   walk order) with per-tetrahedron prefix counts of owned facets, then
-    ///   the edges: every facet is numbered by the lower of its two
-    ///   tetrahedra (hull facets by their only one). No per-facet id table:
-    ///   the walks derive a facet's number from its owner's prefix count and
-    ///   the facet's rank among the owner's owned facets (`facet_id`,
-    ///   branch-free);
-    /// * C — faces: tetrahedron by tetrahedron, every local edge not yet
+    ///   walk order) with per-tetrahedron prefix counts of owned facets;
+    ///   then (`aux_pass`) the global prefix counts and a 16-bit word per
+    ///   tetrahedron: the mirror slot of each facet (where the neighbour
+    ///   across it keeps its vertex off the facet) and the rank of each
+    ///   facet among the owned ones. Every facet is numbered by the lower of
+    ///   its two tetrahedra (hull facets by their only one); no per-facet id
+    ///   table: the walks derive a facet's number from its owner's prefix
+    ///   count and rank (`facet_id`, branch-free);
+    /// * C — one task writes all the edges (in place: no join), `m` tasks
+    ///   the faces: tetrahedron by tetrahedron, every local edge not yet
     ///   swept is swept, walking the ring of tetrahedra around the Delaunay
     ///   edge and marking it in every tetrahedron of the chunk it passes;
     ///   the face is emitted when no tetrahedron of the ring lies in an
     ///   earlier chunk — by the lowest tetrahedron of its ring, as with one
-    ///   chunk. The swept bits, facet edges and mesh indices are side arrays;
-    /// * D — the parts put together in chunk order, then the cells by a
-    ///   counting sort of the faces by site, each thread a range of sites.
+    ///   chunk. A walk step tracks the slots of the two vertices off the
+    ///   edge: the mirror slot gives one, one slot lookup (`pos`) the other.
+    ///   Each chunk writes its face vertices, face edges and face ends into
+    ///   its window of four shared calloc'ed arrays (sized from the chunk's
+    ///   share of the tetrahedra, with slack; untouched pages cost nothing),
+    ///   staged in small buffers so the walk loop keeps pushing;
+    /// * D — the windows compacted in place (`compact`; a chunk that
+    ///   overflowed its window spills, and then the join copies), the other
+    ///   face arrays appended, then the cells by a counting sort of the
+    ///   faces by site, each thread a range of sites.
     ///
     /// Every part is written in chunk order and numbered from the sizes of
     /// the earlier chunks, so for a valid mesh the result is the same bit
     /// for bit whatever `k`.
+    ///
+    /// Session 6 (same output; 200k points, one thread, callgrind): the
+    /// mirror slots and ranks cut the walks from three slot lookups per step
+    /// to one and drop the owner's mask from `facet_id`: 2.227G -> 1.927G
+    /// instructions in the extraction (the staging copies of the windows add
+    /// back 0.06G of `memcpy`, cheap cache-resident copies); the windows and
+    /// the single edge task cut the fresh pages at 1M points from 1604 MB to
+    /// 1327 MB and the join from about 0.07 of the extraction to 0.02.
     ///
     /// Measured and rejected (1M uniform points, same output): advancing 4
     /// or 8 ring walks in lock-step to overlap their cache misses (slower:
@@ -1043,14 +1065,14 @@ impl Voronoi3 {
     /// circumcentres in the walk order (point reads local, but the scattered
     /// writes of the centres cost more: 0.28 of the extraction against 0.20).
     ///
-    /// The slot lookups of the walks (`pos`, `other`) are branch-free:
+    /// The slot lookups of the walks (`pos`) are branch-free:
     /// which slot holds a vertex is unpredictable, and early-exit loops cost
     /// about 19 mispredicted branches per tetrahedron (callgrind branch
     /// simulation, 200k points: 26.2M mispredictions in the extraction
-    /// before, 6.8M after, for 15% more instructions). A walk step finds the
-    /// next tetrahedron's fourth vertex by XOR (`xor4`) and marks the swept
-    /// edge from the slots of the two vertices off the edge (`off_edge`): two
-    /// slot lookups per step instead of three and `other`. Unweighted
+    /// before, 6.8M after, for 15% more instructions). (Session 5: a walk
+    /// step found the next tetrahedron's fourth vertex by XOR and marked the
+    /// swept edge from the slots of the two vertices off the edge; session 6
+    /// tracks those slots instead, see above.) Unweighted
     /// circumcentres skip the weight terms (same bits) and the Morton key is
     /// computed once per point. Together, 200k points on one thread
     /// (callgrind): 2.54G instructions in the extraction before, 1.95G after.
@@ -1072,7 +1094,7 @@ impl Voronoi3 {
     /// about even in wall time on the loaded development machine.
     ///
     /// Where the time goes besides: at 1M points the extraction touches
-    /// about 1.7 GB of fresh pages (`voronoi_timing` prints it), 0.9 GB of
+    /// about 1.33 GB of fresh pages (`voronoi_timing` prints it), 0.9 GB of
     /// them the output itself; every first touch of a page is a page fault,
     /// about 0.5 s of system time per GB on the development machine.
     fn build(
@@ -1195,7 +1217,7 @@ impl Voronoi3 {
         // it will number (hull facets and those whose neighbour comes
         // later).
         // Per tetrahedron, the number of owned facets before it (first in
-        // its chunk; `edge_pass` adds the chunk's base).
+        // its chunk; `aux_pass` adds the chunk's base).
         let mut pre = vec![0u32; nt];
         let inv = &inv;
         let jobs: Vec<_> = split_mut(&mut recs, &bounds)
