@@ -669,13 +669,11 @@ fn face_pass(
             let hit_hull = loop {
                 let su = s as usize;
                 let cs = &recs[su];
-                if su >= lo {
-                    if su < hi {
-                        done[su - lo] |= off_edge(pc, pd);
-                    }
-                } else {
-                    foreign = true;
+                // Marked if in this chunk; an earlier one makes it foreign.
+                if let Some(x) = done.get_mut(su.wrapping_sub(lo)) {
+                    *x |= off_edge(pc, pd);
                 }
+                foreign |= su < lo;
                 fv.push(perm[su]);
                 let u = cs.n[pc];
                 let m = mirror(aux[su], pc);
@@ -718,13 +716,10 @@ fn face_pass(
                     steps += 1;
                     let uu = u as usize;
                     let pdu = pos(&recs[uu].v, cs.v[pc]);
-                    if uu >= lo {
-                        if uu < hi {
-                            done[uu - lo] |= off_edge(m, pdu);
-                        }
-                    } else {
-                        foreign = true;
+                    if let Some(x) = done.get_mut(uu.wrapping_sub(lo)) {
+                        *x |= off_edge(m, pdu);
                     }
+                    foreign |= uu < lo;
                     back_v.push(perm[uu]);
                     (s, pc, pd) = (u, m, pdu);
                 }
