@@ -1045,7 +1045,8 @@ impl Voronoi3 {
     /// mirror slots and ranks cut the walks from three slot lookups per step
     /// to one and drop the owner's mask from `facet_id`: 2.227G -> 1.927G
     /// instructions in the extraction (the staging copies of the windows add
-    /// back 0.06G of `memcpy`, cheap cache-resident copies); the windows and
+    /// back 0.06G of `memcpy`, cheap cache-resident copies; 1.968G in all
+    /// with a branch-light chunk test in the walks); the windows and
     /// the single edge task cut the fresh pages at 1M points from 1604 MB to
     /// 1327 MB and the join from about 0.07 of the extraction to 0.02.
     ///
