@@ -627,7 +627,7 @@ fn face_pass(
     // Staging vectors, flushed to the windows every few thousand entries:
     // the walks push (their lengths stay in registers); `(bv, be)` are
     // the lengths flushed so far.
-    const FLUSH: usize = 1 << 12;
+    const FLUSH: usize = 1 << 10;
     let (mut bv, mut be) = (0u32, 0u32);
     let mut ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
     let mut edge_ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
@@ -1044,9 +1044,12 @@ impl Voronoi3 {
     /// Session 6 (same output; 200k points, one thread, callgrind): the
     /// mirror slots and ranks cut the walks from three slot lookups per step
     /// to one and drop the owner's mask from `facet_id`: 2.227G -> 1.927G
-    /// instructions in the extraction (the staging copies of the windows add
-    /// back 0.06G of `memcpy`, cheap cache-resident copies; 1.968G in all
-    /// with a branch-light chunk test in the walks); the windows and
+    /// instructions in the extraction; 1.911G in all with the windows'
+    /// staging copies (cheap: 1024-entry buffers that stay in L1; 4096
+    /// cost 0.6M more L1 read misses, 1.968G instructions) and a
+    /// branch-light chunk test in the walks. L1 misses rise (11.5M -> 13.9M
+    /// read, 6.2M -> 6.8M write: the `aux` pass gathers the neighbours'
+    /// records, and the walks read `aux`), still a net gain. The windows and
     /// the single edge task cut the fresh pages at 1M points from 1604 MB to
     /// 1327 MB and the join from about 0.07 of the extraction to 0.02.
     ///
