@@ -106,22 +106,35 @@ pub(crate) fn coplanar_groups(
     triangles: &[[u32; 3]],
     marker: &[i32],
 ) -> Vec<u32> {
-    let mut by_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    // (edge, triangle) sorted: the triangles of each edge side by side
+    // (no map of lists). Union-find links roots to the lower one, so the
+    // groups do not depend on the order edges are visited in.
+    let mut by_edge: Vec<((u32, u32), u32)> = Vec::with_capacity(3 * triangles.len());
     for (t, tv) in triangles.iter().enumerate() {
         for k in 0..3 {
-            by_edge
-                .entry(ekey(tv[k], tv[(k + 1) % 3]))
-                .or_default()
-                .push(t as u32);
+            by_edge.push((ekey(tv[k], tv[(k + 1) % 3]), t as u32));
         }
     }
+    by_edge.sort_unstable();
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let g = |q: u32| &points[q as usize];
-    for (&(u, v), ts) in &by_edge {
-        if ts.len() != 2 || ts[0] == ts[1] {
+    let mut i = 0;
+    while i < by_edge.len() {
+        let mut j = i + 1;
+        while j < by_edge.len() && by_edge[j].0 == by_edge[i].0 {
+            j += 1;
+        }
+        let run = i..j;
+        i = j;
+        if run.len() != 2 {
             continue;
         }
-        let (t1, t2) = (ts[0] as usize, ts[1] as usize);
+        let ((u, v), t1) = by_edge[run.start];
+        let t2 = by_edge[run.start + 1].1;
+        if t1 == t2 {
+            continue;
+        }
+        let (t1, t2) = (t1 as usize, t2 as usize);
         if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
             continue;
         }
@@ -174,12 +187,6 @@ pub(crate) fn merge(
     dt: &Delaunay3<'_>,
 ) -> Merged {
     let group = coplanar_groups(points, triangles, marker);
-    let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
-    for tv in triangles {
-        for k in 0..3 {
-            *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
-        }
-    }
     let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
     for (t, &r) in group.iter().enumerate() {
         members[r as usize].push(t as u32);
@@ -191,6 +198,12 @@ pub(crate) fn merge(
         .collect();
     if big.is_empty() {
         return Merged::identity(triangles);
+    }
+    let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for tv in triangles {
+        for k in 0..3 {
+            *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
+        }
     }
     let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
     for (gi, &r) in big.iter().enumerate() {
