@@ -157,6 +157,9 @@ struct Walk {
     stamp: Vec<u32>,
     gen: u32,
     buf: Vec<u32>,
+    /// The visited set of [`CMesh::visit`] (stamps equal to `vgen`).
+    vstamp: Vec<u32>,
+    vgen: u32,
 }
 
 impl<'a> CMesh<'a> {
@@ -336,11 +339,18 @@ impl<'a> CMesh<'a> {
     /// tetrahedra created or removed since the previous call: every face
     /// created or destroyed since then, and every face of a tetrahedron
     /// created or destroyed since then, is in this list.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
         let mut out = std::mem::take(&mut self.touched);
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// [`CMesh::take_touched`] unsorted, with repeats (cheaper when the
+    /// caller deduplicates what it derives from the faces).
+    pub(crate) fn take_touched_raw(&mut self) -> Vec<[u32; 3]> {
+        std::mem::take(&mut self.touched)
     }
 
     /// How many faces were logged since the last [`CMesh::take_touched`]
@@ -386,7 +396,7 @@ impl<'a> CMesh<'a> {
 
     /// Live tetrahedra (ghosts included) containing vertex `u`.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(32);
         self.star_until(u, &mut out, |_| false);
         out
     }
@@ -439,6 +449,32 @@ impl<'a> CMesh<'a> {
             }
         }
         None
+    }
+
+    /// Empties the visited set of [`CMesh::visit`].
+    pub(crate) fn visit_begin(&self) {
+        let mut w = self.walk.borrow_mut();
+        w.vgen = w.vgen.wrapping_add(1);
+        if w.vgen == 0 {
+            w.vstamp.fill(0);
+            w.vgen = 1;
+        }
+    }
+
+    /// Adds slot `x` to the visited set; true when it was not in it (a
+    /// stamp per slot: no hashing). One set at a time
+    /// ([`CMesh::visit_begin`]).
+    pub(crate) fn visit(&self, x: u32) -> bool {
+        let mut w = self.walk.borrow_mut();
+        let w = &mut *w;
+        let n = self.dt.core.v.len();
+        if w.vstamp.len() < n {
+            w.vstamp.resize(n, 0);
+        }
+        let s = &mut w.vstamp[x as usize];
+        let new = *s != w.vgen;
+        *s = w.vgen;
+        new
     }
 
     /// [`CMesh::star_until`] into the reusable list.
@@ -494,8 +530,8 @@ impl<'a> CMesh<'a> {
             (d0, c0)
         };
         let mut cur = t;
-        let mut tets = Vec::new();
-        let mut ring = Vec::new();
+        let mut tets = Vec::with_capacity(8);
+        let mut ring = Vec::with_capacity(8);
         loop {
             let cv = c.v[cur as usize];
             if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
@@ -526,27 +562,25 @@ impl<'a> CMesh<'a> {
         let mut open = std::mem::take(&mut self.open);
         outer.clear();
         open.clear();
+        // Touched faces, each once per operation: the outer faces (shared
+        // by the removed and the created tetrahedra), the faces between two
+        // removed ones and those between two created ones (below).
+        let finite = |k: &[u32; 3]| !k.contains(&INF);
         {
             let c = &self.dt.core;
             for &t in old {
                 let tv = c.v[t as usize];
                 for f in 0..4 {
                     let w = c.adj[t as usize][f];
+                    let k = fkey(face(tv, f));
                     if !old.contains(&(w >> 2)) {
-                        outer.push((fkey(face(tv, f)), w));
+                        if finite(&k) {
+                            self.touched.push(k);
+                        }
+                        outer.push((k, w));
+                    } else if w >> 2 > t && finite(&k) {
+                        self.touched.push(k);
                     }
-                }
-            }
-        }
-        for tv in old
-            .iter()
-            .map(|&t| self.dt.core.v[t as usize])
-            .chain(new.iter().copied())
-        {
-            for f in 0..4 {
-                let k = face(tv, f);
-                if !k.contains(&INF) {
-                    self.touched.push(fkey(k));
                 }
             }
         }
@@ -574,6 +608,9 @@ impl<'a> CMesh<'a> {
                 } else if let Some(i) = open.iter().position(|e| e.0 == k) {
                     let w = open.swap_remove(i).1;
                     c.link(x, f, w >> 2, (w & 3) as usize);
+                    if finite(&k) {
+                        self.touched.push(k);
+                    }
                 } else {
                     open.push((k, 4 * x + f as u32));
                 }

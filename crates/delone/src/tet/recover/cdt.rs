@@ -325,11 +325,11 @@ pub(crate) fn crossing_edges(
         })
     };
     let core = &cm.dt.core;
-    let mut seen: IdSet<u32> = IdSet::default();
+    cm.visit_begin();
     let mut stack: Vec<u32> = Vec::new();
     for w in tri_vertices(surf, t, inner) {
         for x in cm.star(w) {
-            if seen.insert(x) {
+            if cm.visit(x) {
                 stack.push(x);
             }
         }
@@ -361,7 +361,7 @@ pub(crate) fn crossing_edges(
         }
         for f in 0..4 {
             let n = core.adj[x as usize][f] >> 2;
-            if seen.insert(n) {
+            if cm.visit(n) {
                 stack.push(n);
             }
         }

@@ -106,35 +106,58 @@ pub(crate) fn coplanar_groups(
     triangles: &[[u32; 3]],
     marker: &[i32],
 ) -> Vec<u32> {
-    // (edge, triangle) sorted: the triangles of each edge side by side
-    // (no map of lists). Union-find links roots to the lower one, so the
-    // groups do not depend on the order edges are visited in.
-    let mut by_edge: Vec<((u32, u32), u32)> = Vec::with_capacity(3 * triangles.len());
-    for (t, tv) in triangles.iter().enumerate() {
+    // The triangles of each edge side by side: (larger end, triangle)
+    // filed under the smaller end by a counting sort, each (short) bucket
+    // then sorted (no map of lists, no global sort). Union-find links roots
+    // to the lower one, so the groups do not depend on the visiting order.
+    let nv = triangles
+        .iter()
+        .flat_map(|tv| tv.iter())
+        .map(|&q| q as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut start = vec![0u32; nv + 1];
+    for tv in triangles {
         for k in 0..3 {
-            by_edge.push((ekey(tv[k], tv[(k + 1) % 3]), t as u32));
+            start[ekey(tv[k], tv[(k + 1) % 3]).0 as usize + 1] += 1;
         }
     }
-    by_edge.sort_unstable();
+    for i in 0..nv {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut by_edge: Vec<(u32, u32)> = vec![(0, 0); 3 * triangles.len()];
+    for (t, tv) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (lo, hi) = ekey(tv[k], tv[(k + 1) % 3]);
+            by_edge[fill[lo as usize] as usize] = (hi, t as u32);
+            fill[lo as usize] += 1;
+        }
+    }
+    drop(fill);
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let g = |q: u32| &points[q as usize];
-    let mut i = 0;
-    while i < by_edge.len() {
-        let mut j = i + 1;
-        while j < by_edge.len() && by_edge[j].0 == by_edge[i].0 {
-            j += 1;
+    let mut runs: Vec<(u32, u32, u32, usize)> = Vec::new();
+    for u in 0..nv {
+        let bucket = &mut by_edge[start[u] as usize..start[u + 1] as usize];
+        bucket.sort_unstable();
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
+                j += 1;
+            }
+            if j - i == 2 {
+                runs.push((u as u32, bucket[i].0, bucket[i].1, bucket[i + 1].1 as usize));
+            }
+            i = j;
         }
-        let run = i..j;
-        i = j;
-        if run.len() != 2 {
+    }
+    for (u, v, t1, t2) in runs {
+        if t1 as usize == t2 {
             continue;
         }
-        let ((u, v), t1) = by_edge[run.start];
-        let t2 = by_edge[run.start + 1].1;
-        if t1 == t2 {
-            continue;
-        }
-        let (t1, t2) = (t1 as usize, t2 as usize);
+        let (t1, t2) = (t1 as usize, t2);
         if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
             continue;
         }
