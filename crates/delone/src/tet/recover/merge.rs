@@ -210,17 +210,24 @@ pub(crate) fn merge(
     dt: &Delaunay3<'_>,
 ) -> Merged {
     let group = coplanar_groups(points, triangles, marker);
-    let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
-    for (t, &r) in group.iter().enumerate() {
-        members[r as usize].push(t as u32);
+    let mut size = vec![0u32; triangles.len()];
+    for &r in &group {
+        size[r as usize] += 1;
     }
     // Groups of two or more triangles: dense ids, and per vertex the
     // groups holding it.
     let big: Vec<u32> = (0..triangles.len() as u32)
-        .filter(|&r| members[r as usize].len() >= 2)
+        .filter(|&r| size[r as usize] >= 2)
         .collect();
     if big.is_empty() {
         return Merged::identity(triangles);
+    }
+    // Members of those groups only (no list per single triangle).
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
+    for (t, &r) in group.iter().enumerate() {
+        if size[r as usize] >= 2 {
+            members[r as usize].push(t as u32);
+        }
     }
     let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
     for tv in triangles {
