@@ -992,9 +992,16 @@ impl State {
             }
             let old_len = dt.points().len();
             let mut failed = Vec::new();
+            // A bounded effort per segment (rolled back when it fails),
+            // except under `-Y`.
+            let max_ops = if self.opts.preserve_surface {
+                usize::MAX / 2
+            } else {
+                cdt::SEG_OPS
+            };
             for &(e, u, v) in &subs {
                 let mark = cm.log_mark();
-                if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                if !cdt::recover_segment_within(&mut cm, u, v, &prot, max_ops) {
                     cm.rollback(mark);
                     failed.push((e, u, v));
                 }
