@@ -32,11 +32,12 @@
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
 
+use std::cell::RefCell;
+
 use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
 use super::local::{DEAD, FACET, INF};
-use super::recover::IdMap;
 use super::Delaunay3;
 
 /// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
@@ -140,6 +141,25 @@ pub(crate) struct CMesh<'a> {
     failed: crate::tet::recover::IdSet<Vec<u32>>,
     /// The replacements since [`CMesh::start_log`], when logging.
     log: Option<OpLog>,
+    /// Scratch of the star walks (a per-slot visit stamp, so a walk is
+    /// linear in the star's size, and a reusable list).
+    walk: RefCell<Walk>,
+    /// Scratch of [`CMesh::replace`]: open outer faces and open new faces.
+    outer: Vec<([u32; 3], u32)>,
+    open: Vec<([u32; 3], u32)>,
+}
+
+/// Scratch of [`CMesh::star_until`]: visit stamps per slot (equal to `gen`
+/// when visited by the current walk) and a list for
+/// [`CMesh::find_edge`]/[`CMesh::find_face`].
+#[derive(Debug, Default, Clone)]
+struct Walk {
+    stamp: Vec<u32>,
+    gen: u32,
+    buf: Vec<u32>,
+    /// The visited set of [`CMesh::visit`] (stamps equal to `vgen`).
+    vstamp: Vec<u32>,
+    vgen: u32,
 }
 
 impl<'a> CMesh<'a> {
@@ -164,6 +184,9 @@ impl<'a> CMesh<'a> {
             touched: Vec::new(),
             failed: Default::default(),
             log: None,
+            walk: RefCell::new(Walk::default()),
+            outer: Vec::new(),
+            open: Vec::new(),
         }
     }
 
@@ -316,11 +339,18 @@ impl<'a> CMesh<'a> {
     /// tetrahedra created or removed since the previous call: every face
     /// created or destroyed since then, and every face of a tetrahedron
     /// created or destroyed since then, is in this list.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
         let mut out = std::mem::take(&mut self.touched);
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// [`CMesh::take_touched`] unsorted, with repeats (cheaper when the
+    /// caller deduplicates what it derives from the faces).
+    pub(crate) fn take_touched_raw(&mut self) -> Vec<[u32; 3]> {
+        std::mem::take(&mut self.touched)
     }
 
     /// How many faces were logged since the last [`CMesh::take_touched`]
@@ -366,7 +396,7 @@ impl<'a> CMesh<'a> {
 
     /// Live tetrahedra (ghosts included) containing vertex `u`.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(32);
         self.star_until(u, &mut out, |_| false);
         out
     }
@@ -385,8 +415,20 @@ impl<'a> CMesh<'a> {
         }
         out.clear();
         out.push(start);
-        // Large stars (thin models) use a set; small ones a linear search.
-        let mut seen: Option<crate::tet::recover::IdSet<u32>> = None;
+        // Visited slots carry this walk's stamp (no search, no set).
+        let mut w = self.walk.borrow_mut();
+        let w = &mut *w;
+        w.gen = w.gen.wrapping_add(1);
+        if w.gen == 0 {
+            w.stamp.fill(0);
+            w.gen = 1;
+        }
+        if w.stamp.len() < c.v.len() {
+            w.stamp.resize(c.v.len(), 0);
+        }
+        let gen = w.gen;
+        let stamp = &mut w.stamp;
+        stamp[start as usize] = gen;
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
@@ -395,23 +437,13 @@ impl<'a> CMesh<'a> {
                 return Some(t);
             }
             let tv = c.v[t as usize];
-            for (f, &w) in tv.iter().enumerate() {
-                if w == u {
+            for (f, &x) in tv.iter().enumerate() {
+                if x == u {
                     continue;
                 }
                 let n = c.adj[t as usize][f] >> 2;
-                let new = match &mut seen {
-                    Some(set) => set.insert(n),
-                    None if out.len() >= 48 => {
-                        let mut set: crate::tet::recover::IdSet<u32> =
-                            out.iter().copied().collect();
-                        let new = set.insert(n);
-                        seen = Some(set);
-                        new
-                    }
-                    None => !out.contains(&n),
-                };
-                if new {
+                if stamp[n as usize] != gen {
+                    stamp[n as usize] = gen;
                     out.push(n);
                 }
             }
@@ -419,18 +451,50 @@ impl<'a> CMesh<'a> {
         None
     }
 
+    /// Empties the visited set of [`CMesh::visit`].
+    pub(crate) fn visit_begin(&self) {
+        let mut w = self.walk.borrow_mut();
+        w.vgen = w.vgen.wrapping_add(1);
+        if w.vgen == 0 {
+            w.vstamp.fill(0);
+            w.vgen = 1;
+        }
+    }
+
+    /// Adds slot `x` to the visited set; true when it was not in it (a
+    /// stamp per slot: no hashing). One set at a time
+    /// ([`CMesh::visit_begin`]).
+    pub(crate) fn visit(&self, x: u32) -> bool {
+        let mut w = self.walk.borrow_mut();
+        let w = &mut *w;
+        let n = self.dt.core.v.len();
+        if w.vstamp.len() < n {
+            w.vstamp.resize(n, 0);
+        }
+        let s = &mut w.vstamp[x as usize];
+        let new = *s != w.vgen;
+        *s = w.vgen;
+        new
+    }
+
+    /// [`CMesh::star_until`] into the reusable list.
+    fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
+        let mut buf = std::mem::take(&mut self.walk.borrow_mut().buf);
+        let r = self.star_until(u, &mut buf, stop);
+        self.walk.borrow_mut().buf = buf;
+        r
+    }
+
     /// A live tetrahedron containing edge `u v`.
     pub(crate) fn find_edge(&self, u: u32, v: u32) -> Option<u32> {
         let c = self.core();
-        let mut buf = Vec::new();
-        self.star_until(u, &mut buf, |t| c.v[t as usize].contains(&v))
+        self.star_find(u, |t| c.v[t as usize].contains(&v))
     }
 
     /// A live tetrahedron (ghosts included) having face `a b c`.
     pub(crate) fn find_face(&self, a: u32, b: u32, c: u32) -> Option<u32> {
         let core = self.core();
-        let mut buf = Vec::new();
-        self.star_until(a, &mut buf, |t| {
+        self.star_find(a, |t| {
             let tv = core.v[t as usize];
             tv.contains(&b) && tv.contains(&c)
         })
@@ -466,8 +530,8 @@ impl<'a> CMesh<'a> {
             (d0, c0)
         };
         let mut cur = t;
-        let mut tets = Vec::new();
-        let mut ring = Vec::new();
+        let mut tets = Vec::with_capacity(8);
+        let mut ring = Vec::with_capacity(8);
         loop {
             let cv = c.v[cur as usize];
             if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
@@ -491,29 +555,32 @@ impl<'a> CMesh<'a> {
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
     /// everything by face keys. Returns the new slots.
     pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
-        let mut outer: IdMap<[u32; 3], u32> = IdMap::default();
-        outer.reserve(2 * new.len());
+        // Faces are matched by linear search in two short lists (an
+        // operation has at most 2 * MAX_RING outer faces): cheaper than
+        // hashing for the 2-3 flips and small rings that dominate.
+        let mut outer = std::mem::take(&mut self.outer);
+        let mut open = std::mem::take(&mut self.open);
+        outer.clear();
+        open.clear();
+        // Touched faces, each once per operation: the outer faces (shared
+        // by the removed and the created tetrahedra), the faces between two
+        // removed ones and those between two created ones (below).
+        let finite = |k: &[u32; 3]| !k.contains(&INF);
         {
             let c = &self.dt.core;
             for &t in old {
                 let tv = c.v[t as usize];
                 for f in 0..4 {
                     let w = c.adj[t as usize][f];
+                    let k = fkey(face(tv, f));
                     if !old.contains(&(w >> 2)) {
-                        outer.insert(fkey(face(tv, f)), w);
+                        if finite(&k) {
+                            self.touched.push(k);
+                        }
+                        outer.push((k, w));
+                    } else if w >> 2 > t && finite(&k) {
+                        self.touched.push(k);
                     }
-                }
-            }
-        }
-        for tv in old
-            .iter()
-            .map(|&t| self.dt.core.v[t as usize])
-            .chain(new.iter().copied())
-        {
-            for f in 0..4 {
-                let k = face(tv, f);
-                if !k.contains(&INF) {
-                    self.touched.push(fkey(k));
                 }
             }
         }
@@ -532,17 +599,20 @@ impl<'a> CMesh<'a> {
             log.tets.extend_from_slice(new);
             log.slots.extend_from_slice(&ids);
         }
-        let mut open: IdMap<[u32; 3], (u32, usize)> = IdMap::default();
-        open.reserve(2 * new.len());
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
                 let k = fkey(face(tv, f));
-                if let Some(w) = outer.remove(&k) {
+                if let Some(i) = outer.iter().position(|e| e.0 == k) {
+                    let w = outer.swap_remove(i).1;
                     c.link(x, f, w >> 2, (w & 3) as usize);
-                } else if let Some((y, g)) = open.remove(&k) {
-                    c.link(x, f, y, g);
+                } else if let Some(i) = open.iter().position(|e| e.0 == k) {
+                    let w = open.swap_remove(i).1;
+                    c.link(x, f, w >> 2, (w & 3) as usize);
+                    if finite(&k) {
+                        self.touched.push(k);
+                    }
                 } else {
-                    open.insert(k, (x, f));
+                    open.push((k, 4 * x + f as u32));
                 }
             }
         }
@@ -550,6 +620,8 @@ impl<'a> CMesh<'a> {
             outer.is_empty() && open.is_empty(),
             "replace: unmatched faces"
         );
+        self.outer = outer;
+        self.open = open;
         if let Some(&x) = ids.first() {
             c.last = x;
         }

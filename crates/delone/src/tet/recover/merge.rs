@@ -106,22 +106,58 @@ pub(crate) fn coplanar_groups(
     triangles: &[[u32; 3]],
     marker: &[i32],
 ) -> Vec<u32> {
-    let mut by_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-    for (t, tv) in triangles.iter().enumerate() {
+    // The triangles of each edge side by side: (larger end, triangle)
+    // filed under the smaller end by a counting sort, each (short) bucket
+    // then sorted (no map of lists, no global sort). Union-find links roots
+    // to the lower one, so the groups do not depend on the visiting order.
+    let nv = triangles
+        .iter()
+        .flat_map(|tv| tv.iter())
+        .map(|&q| q as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut start = vec![0u32; nv + 1];
+    for tv in triangles {
         for k in 0..3 {
-            by_edge
-                .entry(ekey(tv[k], tv[(k + 1) % 3]))
-                .or_default()
-                .push(t as u32);
+            start[ekey(tv[k], tv[(k + 1) % 3]).0 as usize + 1] += 1;
         }
     }
+    for i in 0..nv {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut by_edge: Vec<(u32, u32)> = vec![(0, 0); 3 * triangles.len()];
+    for (t, tv) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (lo, hi) = ekey(tv[k], tv[(k + 1) % 3]);
+            by_edge[fill[lo as usize] as usize] = (hi, t as u32);
+            fill[lo as usize] += 1;
+        }
+    }
+    drop(fill);
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let g = |q: u32| &points[q as usize];
-    for (&(u, v), ts) in &by_edge {
-        if ts.len() != 2 || ts[0] == ts[1] {
+    let mut runs: Vec<(u32, u32, u32, usize)> = Vec::new();
+    for u in 0..nv {
+        let bucket = &mut by_edge[start[u] as usize..start[u + 1] as usize];
+        bucket.sort_unstable();
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
+                j += 1;
+            }
+            if j - i == 2 {
+                runs.push((u as u32, bucket[i].0, bucket[i].1, bucket[i + 1].1 as usize));
+            }
+            i = j;
+        }
+    }
+    for (u, v, t1, t2) in runs {
+        if t1 as usize == t2 {
             continue;
         }
-        let (t1, t2) = (ts[0] as usize, ts[1] as usize);
+        let (t1, t2) = (t1 as usize, t2);
         if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
             continue;
         }
@@ -174,23 +210,30 @@ pub(crate) fn merge(
     dt: &Delaunay3<'_>,
 ) -> Merged {
     let group = coplanar_groups(points, triangles, marker);
+    let mut size = vec![0u32; triangles.len()];
+    for &r in &group {
+        size[r as usize] += 1;
+    }
+    // Groups of two or more triangles: dense ids, and per vertex the
+    // groups holding it.
+    let big: Vec<u32> = (0..triangles.len() as u32)
+        .filter(|&r| size[r as usize] >= 2)
+        .collect();
+    if big.is_empty() {
+        return Merged::identity(triangles);
+    }
+    // Members of those groups only (no list per single triangle).
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
+    for (t, &r) in group.iter().enumerate() {
+        if size[r as usize] >= 2 {
+            members[r as usize].push(t as u32);
+        }
+    }
     let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
     for tv in triangles {
         for k in 0..3 {
             *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
         }
-    }
-    let mut members: Vec<Vec<u32>> = vec![Vec::new(); triangles.len()];
-    for (t, &r) in group.iter().enumerate() {
-        members[r as usize].push(t as u32);
-    }
-    // Groups of two or more triangles: dense ids, and per vertex the
-    // groups holding it.
-    let big: Vec<u32> = (0..triangles.len() as u32)
-        .filter(|&r| members[r as usize].len() >= 2)
-        .collect();
-    if big.is_empty() {
-        return Merged::identity(triangles);
     }
     let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
     for (gi, &r) in big.iter().enumerate() {

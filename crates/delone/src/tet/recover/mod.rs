@@ -841,12 +841,13 @@ impl State {
         if !found.is_empty() {
             return found;
         }
-        let list = all.get_or_insert_with(|| {
-            let mut l: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
-            l.sort_unstable();
-            l
-        });
-        self.crossing_edges(dt, list, t)
+        // Every edge, unsorted; only the (few) crossing ones are sorted,
+        // which gives the same list as filtering the sorted edges (each
+        // edge appears once).
+        let list = all.get_or_insert_with(|| sk.edges.iter().map(|(&k, &t)| (k, t)).collect());
+        let mut found = self.crossing_edges(dt, list, t);
+        found.sort_unstable();
+        found
     }
 
     /// Mesh edges of `list` crossing the interior of input triangle `t`.
@@ -991,9 +992,16 @@ impl State {
             }
             let old_len = dt.points().len();
             let mut failed = Vec::new();
+            // A bounded effort per segment (rolled back when it fails),
+            // except under `-Y`.
+            let max_ops = if self.opts.preserve_surface {
+                usize::MAX / 2
+            } else {
+                cdt::SEG_OPS
+            };
             for &(e, u, v) in &subs {
                 let mark = cm.log_mark();
-                if !cdt::recover_segment(&mut cm, u, v, &prot) {
+                if !cdt::recover_segment_within(&mut cm, u, v, &prot, max_ops) {
                     cm.rollback(mark);
                     failed.push((e, u, v));
                 }
@@ -1068,9 +1076,9 @@ impl State {
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
             let sk = Skeleton::of(dt, false);
-            // All edges, sorted: built only if a local search finds nothing
+            // All edges: listed only if a local search finds nothing
             // (sorting every edge of a large mesh each round was a
-            // dominant cost).
+            // dominant cost; only the crossing edges are sorted).
             let mut all: Option<Vec<((u32, u32), u32)>> = None;
             let mut progress = false;
             let mut group_done = vec![false; self.poly.groups.len()];
@@ -1425,20 +1433,32 @@ impl State {
             self.debug_same_coverage(&cm.dt, on, covered, None);
             return;
         }
-        let touched = cm.take_touched();
-        let mut cands: Vec<usize> = extra.to_vec();
+        // The logged faces (with repeats) are not sorted: each names its
+        // triangles directly, deduplicated by a flag per triangle.
+        let touched = cm.take_touched_raw();
+        let mut seen = vec![false; covered.len()];
+        let mut cands: Vec<usize> = Vec::new();
+        let mut add = |t: usize, cands: &mut Vec<usize>| {
+            if !std::mem::replace(&mut seen[t], true) {
+                cands.push(t);
+            }
+        };
+        for &t in extra {
+            add(t, &mut cands);
+        }
         let (mut out, mut flat) = (Vec::new(), Vec::new());
         for &f in &touched {
             self.surf.face_triangles_split(f, &mut out, &mut flat);
-            cands.extend(out.iter().chain(&flat).map(|&t| t as usize));
+            for &t in out.iter().chain(&flat) {
+                add(t as usize, &mut cands);
+            }
             if !self.poly.is_empty() {
                 for g in self.poly.face_groups(&self.surf, f) {
-                    cands.push(self.poly.groups[g as usize].tris[0] as usize);
+                    add(self.poly.groups[g as usize].tris[0] as usize, &mut cands);
                 }
             }
         }
         cands.sort_unstable();
-        cands.dedup();
         self.recompute(cm, &cands, on, covered);
         #[cfg(debug_assertions)]
         self.debug_same_coverage(&cm.dt, on, covered, None);
