@@ -60,6 +60,9 @@ use work::{fkey, Plan, Slide, Work, DEAD};
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
 
+/// Most tetrahedra in the Delaunay cavity of an inserted vertex.
+const MAX_CAVITY: usize = 48;
+
 /// A queued tetrahedron: quality, slot, vertices; the heap pops the worst
 /// (ties by slot).
 struct Entry(f64, u32, [u32; 4]);
@@ -571,10 +574,19 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         let p = tv.map(|x| w.p[x as usize]);
         std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
     };
+    // First the Delaunay cavity of the centroid (the tetrahedra of the
+    // region whose circumsphere holds it, grown across open faces): the
+    // new vertex then gets a star of fair size to be smoothed in.
+    let big = w.sphere_cavity(t, c, MAX_CAVITY);
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's
     // neighbours); it always sees the faces of `t` itself.
-    let Some((id, _)) = w.insert(&cav, c).or_else(|| w.insert(&[t], c)) else {
+    let Some((id, _)) = big
+        .filter(|b| b.len() > cav.len())
+        .and_then(|b| w.insert(&b, c))
+        .or_else(|| w.insert(&cav, c))
+        .or_else(|| w.insert(&[t], c))
+    else {
         w.rollback();
         return false;
     };
@@ -704,11 +716,15 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     }
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
+    // (Only faces with three fixed vertices can be interface faces.)
     let mut owner: IdMap<[u32; 3], (usize, usize)> = Default::default();
-    for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
-        for (f, &n) in nb.iter().enumerate() {
-            if n != NONE {
-                owner.entry(fkey(work::face(*tv, f))).or_insert((t, f));
+    if !rec.interior_faces.is_empty() {
+        for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
+            for (f, &n) in nb.iter().enumerate() {
+                let fc = work::face(*tv, f);
+                if n != NONE && fc.iter().all(|&v| w.fixed[v as usize]) {
+                    owner.entry(fkey(fc)).or_insert((t, f));
+                }
             }
         }
     }
@@ -871,7 +887,7 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
         for (f, &n) in nb.iter().enumerate() {
             let fc = work::face(*tv, f);
-            if n == NONE || prot.contains(&fkey(fc)) {
+            if n == NONE || (!prot.is_empty() && prot.contains(&fkey(fc))) {
                 for k in 0..3 {
                     let (a, b) = (fc[k], fc[(k + 1) % 3]);
                     edges.insert([a.min(b), a.max(b)]);
@@ -879,11 +895,24 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             }
         }
     }
+    // Only tetrahedra with two vertices on the surface can have such an
+    // edge (a cheap filter before the hash lookups).
+    let mut on = vec![false; rec.points.len()];
+    for e in &edges {
+        on[e[0] as usize] = true;
+        on[e[1] as usize] = true;
+    }
     let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
     for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
+        if tv.iter().filter(|&&v| on[v as usize]).count() < 2 {
+            continue;
+        }
         let mut d = None;
         for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
             let (a, b) = (tv[i], tv[j]);
+            if !(on[a as usize] && on[b as usize]) {
+                continue;
+            }
             let k = [a.min(b), a.max(b)];
             if edges.contains(&k) {
                 let d = d.get_or_insert_with(|| {

@@ -334,16 +334,21 @@ impl Work {
     /// True when sorted face `k` is a protected interface face.
     #[inline]
     pub(super) fn is_protected(&self, k: [u32; 3]) -> bool {
-        self.prot.contains(&k)
+        // A protected face has three fixed vertices (cheap tests first).
+        !self.prot.is_empty() && k.iter().all(|&v| self.fixed[v as usize]) && self.prot.contains(&k)
     }
 
     /// True when the face opposite `f` in `t` may be destroyed.
     #[inline]
     fn open_face(&self, t: u32, f: usize) -> bool {
         let n = self.nb[t as usize][f];
-        n != NONE
-            && self.reg[n as usize] == self.reg[t as usize]
-            && !self.prot.contains(&fkey(face(self.tv[t as usize], f)))
+        n != NONE && self.reg[n as usize] == self.reg[t as usize] && {
+            // A protected face has three fixed vertices (cheap test first).
+            let fc = face(self.tv[t as usize], f);
+            self.prot.is_empty()
+                || !fc.iter().all(|&v| self.fixed[v as usize])
+                || !self.prot.contains(&fkey(fc))
+        }
     }
 
     /// The live slots containing vertex `v`.
@@ -865,6 +870,14 @@ impl Work {
                 new.push([a, b, c, id]);
             }
         }
+        // No vertex may be swallowed (all its tetrahedra in the cavity).
+        for &t in cav {
+            for v in self.tv[t as usize] {
+                if !new.iter().any(|n| n[..3].contains(&v)) {
+                    return None;
+                }
+            }
+        }
         if let Some(log) = &mut self.log {
             log.push(Undo::AddPoint);
         }
@@ -878,6 +891,37 @@ impl Work {
         let region = self.reg[cav[0] as usize];
         let ids = self.replace(cav, &new, region);
         Some((id, ids))
+    }
+
+    /// The Delaunay cavity of point `x` from slot `t`: `t` and the
+    /// tetrahedra of its region, reached across open faces, whose
+    /// circumsphere holds `x` (floating point; [`Work::insert`] checks the
+    /// result exactly). `None` when it would exceed `max` tetrahedra.
+    pub(super) fn sphere_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
+        let mut cav = vec![t];
+        let mut i = 0;
+        while i < cav.len() {
+            let c = cav[i];
+            i += 1;
+            for f in 0..4 {
+                let n = self.nb[c as usize][f];
+                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
+                    continue;
+                }
+                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
+                let Some(o) = crate::tet::quality::circumcenter(&p) else {
+                    continue;
+                };
+                let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
+                if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
+                    if cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                }
+            }
+        }
+        Some(cav)
     }
 
     /// Opens a transaction: every change until [`Work::commit`] or
