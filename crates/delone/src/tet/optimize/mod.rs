@@ -19,9 +19,13 @@
 //!    least-norm point of the near-active gradients) with a backtracking
 //!    line search, never inverting a tetrahedron (exact `orient3d` on the
 //!    result);
-//! 3. **insertion** of a vertex at the tetrahedron's centroid, in the
-//!    cavity made of it and its neighbours, followed by smoothing of the
-//!    new vertex; undone unless the cavity's worst quality improves.
+//! 3. **insertion** of a vertex at the tetrahedron's centroid, in its
+//!    Delaunay cavity (the tetrahedra of the region, reached across open
+//!    faces, whose circumsphere holds it; at most 48) or else the cavity
+//!    made of it and its neighbours, followed by smoothing of the new
+//!    vertex and flips and smoothing of the worst new tetrahedra; undone
+//!    unless the cavity's worst quality improves. This is what removes
+//!    slivers whose four vertices are fixed.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
@@ -31,7 +35,10 @@
 //! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
 //! tetrahedron) are spent. The whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
-//! treated first, so the budget cuts the least useful work. Quality is
+//! treated first, so the budget cuts the least useful work. The stages
+//! above 20° (which mostly thin the histogram's tail once the worst are
+//! settled) may spend at most `0.4 effort` per tetrahedron (plus 8000
+//! evaluations' worth) of it, which bounds the time on large meshes. Quality is
 //! cached per slot; the edge-removal programme prunes every sub-polygon
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
@@ -59,6 +66,10 @@ use work::{fkey, Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
+
+/// Share of [`OptimizeOptions::effort`] per tetrahedron that the stages
+/// above 20° may spend (plus a fixed 8000 evaluations' worth).
+const POLISH: f64 = 0.4;
 
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
@@ -413,9 +424,16 @@ pub fn optimize(
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
+    // The polishing stages (above 20°, which mostly thin the histogram's
+    // tail once the worst are settled) get at most this much more.
+    let polish = opts.effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
+    let mut stop = allowed;
     let mut pops: u64 = 0;
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
+        if deg > 20.0 {
+            stop = allowed.min(w.evals.get() as f64 + polish);
+        }
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
         // worst first, grown by the tetrahedra each success makes; until a
@@ -443,7 +461,8 @@ pub fn optimize(
                 if *left == 0 {
                     break;
                 }
-                if w.evals.get() as f64 > allowed {
+
+                if w.evals.get() as f64 > stop {
                     report.effort_exhausted = true;
                     break 'stages;
                 }

@@ -53,7 +53,7 @@ fn norm(a: &[f64; 3]) -> f64 {
 /// squared area normals `|N|²` of the four faces; `None` when it is flat or
 /// inverted (floating point). The dihedral sine at an edge is
 /// `6V · |e| / (|N_k| |N_l|)`.
-#[inline]
+#[inline(always)]
 #[allow(clippy::type_complexity)]
 fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
     let e1 = sub(p[1], p[0]);
@@ -89,6 +89,7 @@ fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usi
 /// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
 /// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
 /// or -1 when it is flat or inverted (floating point).
+#[inline]
 pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let Some((det, n, l)) = dihedral_terms(p) else {
         return -1.0;
