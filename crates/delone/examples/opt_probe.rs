@@ -74,6 +74,18 @@ fn main() {
             rep.inserted,
             rep.smoothed,
         );
+        for st in rep.stuck.iter().take(6) {
+            println!(
+                "  stuck {:.2}..{:.2} {} {}: {} surface faces, {} input, {} fixed",
+                st.dihedral[0],
+                st.dihedral[1],
+                st.shape,
+                st.reason,
+                st.surface_faces,
+                st.input_vertices,
+                st.fixed_vertices
+            );
+        }
         if std::env::var_os("PROBE_CHECK").is_some() {
             delone::tet::recover::check_recovered(&s.points, &tris, &rec).expect("check");
         }

@@ -467,7 +467,15 @@ pub fn optimize(
                     break 'stages;
                 }
                 *left -= 1;
-                if improve(&mut w, t, 1.0, opts, budget, thr_insert, &mut report) {
+                if improve(
+                    &mut w,
+                    t,
+                    1.0,
+                    opts,
+                    budget,
+                    thr_insert.max(thr),
+                    &mut report,
+                ) {
                     any = true;
                     for u in std::mem::take(&mut w.dirty) {
                         if w.live(u) && w.q[u as usize] < thr {
@@ -578,6 +586,43 @@ fn improve(
 /// improved (else undoes it).
 fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut OptimizeReport) -> bool {
     let tv = w.tv[t as usize];
+    let p = tv.map(|x| w.p[x as usize]);
+    let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
+    if try_insert_at(w, t, c, true, opts, report) {
+        return true;
+    }
+    // Then the midpoints of its two edges with the worst dihedral angles
+    // (a sliver's diagonals, a cap's or wedge's bad edge), each in its
+    // Delaunay cavity, which holds every tetrahedron around that edge.
+    let Some(s) = work::sines([&p[0], &p[1], &p[2], &p[3]]) else {
+        return false;
+    };
+    let mut e: Vec<usize> = (0..6).collect();
+    e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
+    for &k in &e[..2] {
+        let Some(t) = w.slot_of(tv) else {
+            return false;
+        };
+        let (i, j) = super::quality::EDGES[k];
+        let m = std::array::from_fn(|d| 0.5 * (p[i][d] + p[j][d]));
+        if try_insert_at(w, t, m, false, opts, report) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Inserts point `c` in the Delaunay cavity of `t` (or, with `near`,
+/// else in `t` and its neighbours, else in `t`), smooths it and improves
+/// the worst new tetrahedra; keeps it when the worst quality improved.
+fn try_insert_at(
+    w: &mut Work,
+    t: u32,
+    c: [f64; 3],
+    near: bool,
+    opts: &OptimizeOptions,
+    report: &mut OptimizeReport,
+) -> bool {
     let mut cav = vec![t];
     for f in 0..4 {
         let n = w.nb[t as usize][f];
@@ -589,11 +634,7 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
             cav.push(n);
         }
     }
-    let c = {
-        let p = tv.map(|x| w.p[x as usize]);
-        std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
-    };
-    // First the Delaunay cavity of the centroid (the tetrahedra of the
+    // First the Delaunay cavity of the point (the tetrahedra of the
     // region whose circumsphere holds it, grown across open faces): the
     // new vertex then gets a star of fair size to be smoothed in.
     let big = w.sphere_cavity(t, c, MAX_CAVITY);
@@ -601,10 +642,10 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     // The centroid may not see every face of the larger cavity (a sliver's
     // neighbours); it always sees the faces of `t` itself.
     let Some((id, _)) = big
-        .filter(|b| b.len() > cav.len())
+        .filter(|b| !near || b.len() > cav.len())
         .and_then(|b| w.insert(&b, c))
-        .or_else(|| w.insert(&cav, c))
-        .or_else(|| w.insert(&[t], c))
+        .or_else(|| near.then(|| w.insert(&cav, c)).flatten())
+        .or_else(|| near.then(|| w.insert(&[t], c)).flatten())
     else {
         w.rollback();
         return false;
