@@ -1072,6 +1072,77 @@ mod tests {
         assert!((m - q).abs() < 1e-12);
     }
 
+    /// The octahedron `±x, ±y, ±z` as 8 tetrahedra around its centre
+    /// (vertex 6), positive, with neighbours.
+    fn octahedron() -> Work {
+        let p = vec![
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [0.0, 0.0, 0.0],
+        ];
+        let mut tets = Vec::new();
+        for x in [0, 1] {
+            for y in [2, 3] {
+                for z in [4, 5] {
+                    let mut tv = [x, y, z, 6u32];
+                    if quality(tv.map(|v| &p[v as usize])) < 0.0 {
+                        tv.swap(0, 1);
+                    }
+                    tets.push(tv);
+                }
+            }
+        }
+        let mut nbs = vec![[NONE; 4]; tets.len()];
+        for (t, tv) in tets.iter().enumerate() {
+            for f in 0..4 {
+                let k = fkey(face(*tv, f));
+                for (u, uv) in tets.iter().enumerate() {
+                    if u != t && (0..4).any(|g| fkey(face(*uv, g)) == k) {
+                        nbs[t][f] = u as u32;
+                    }
+                }
+            }
+        }
+        Work::new(p, &tets, &nbs, &[0; 8], &[])
+    }
+
+    #[test]
+    fn sphere_cavity_and_insert_keep_every_vertex() {
+        let mut w = octahedron();
+        assert!((0..8).all(|t| w.positive(w.tv[t])));
+        let x = [0.1, 0.1, 0.1];
+        let t0 = (0..8u32)
+            .find(|&t| w.tv[t as usize].iter().all(|&v| [0, 2, 4, 6].contains(&v)))
+            .unwrap();
+        // The circumsphere of an octant's tetrahedron (centre at (±½, ±½,
+        // ±½), radius √3/2) holds x only for the octants with at most one
+        // negative coordinate: x's own and its three face neighbours.
+        let cav = w.sphere_cavity(t0, x, 48).unwrap();
+        assert_eq!(cav.len(), 4);
+        assert_eq!(cav[0], t0);
+        for &t in &cav {
+            let neg = w.tv[t as usize]
+                .iter()
+                .filter(|&&v| [1, 3, 5].contains(&v))
+                .count();
+            assert!(neg <= 1, "{:?}", w.tv[t as usize]);
+        }
+        assert!(w.sphere_cavity(t0, x, 3).is_none());
+        // The whole octahedron would swallow the centre: refused.
+        let all: Vec<u32> = (0..8).collect();
+        assert!(w.insert(&all, x).is_none());
+        assert_eq!(w.p.len(), 7);
+        // The Delaunay cavity keeps it.
+        let (id, new) = w.insert(&cav, x).unwrap();
+        assert_eq!(id, 7);
+        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        assert!(!w.star(6).is_empty() && !w.star(7).is_empty());
+    }
+
     #[test]
     fn min_norm_point_of_opposite_gradients() {
         let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
