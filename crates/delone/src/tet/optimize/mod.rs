@@ -588,8 +588,15 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let tv = w.tv[t as usize];
     let p = tv.map(|x| w.p[x as usize]);
     let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
+    // First in the small cavity (it and its neighbours), then in the
+    // point's Delaunay cavity.
     if try_insert_at(w, t, c, true, opts, report) {
         return true;
+    }
+    match w.slot_of(tv) {
+        Some(t) if try_insert_at(w, t, c, false, opts, report) => return true,
+        Some(_) => {}
+        None => return false,
     }
     // Then the midpoints of its two edges with the worst dihedral angles
     // (a sliver's diagonals, a cap's or wedge's bad edge), each in its
@@ -612,9 +619,10 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     false
 }
 
-/// Inserts point `c` in the Delaunay cavity of `t` (or, with `near`,
-/// else in `t` and its neighbours, else in `t`), smooths it and improves
-/// the worst new tetrahedra; keeps it when the worst quality improved.
+/// Inserts point `c` in `t` and its neighbours, else in `t` (with
+/// `near`), or in its Delaunay cavity from `t` (without), smooths it and
+/// improves the worst new tetrahedra; keeps it when the worst quality
+/// improved.
 fn try_insert_at(
     w: &mut Work,
     t: u32,
@@ -634,19 +642,23 @@ fn try_insert_at(
             cav.push(n);
         }
     }
-    // First the Delaunay cavity of the point (the tetrahedra of the
-    // region whose circumsphere holds it, grown across open faces): the
+    // Without `near`: the Delaunay cavity of the point (the tetrahedra of
+    // the region whose circumsphere holds it, grown across open faces): the
     // new vertex then gets a star of fair size to be smoothed in.
-    let big = w.sphere_cavity(t, c, MAX_CAVITY);
+    let big = if near {
+        None
+    } else {
+        w.sphere_cavity(t, c, MAX_CAVITY)
+    };
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's
     // neighbours); it always sees the faces of `t` itself.
-    let Some((id, _)) = big
-        .filter(|b| !near || b.len() > cav.len())
-        .and_then(|b| w.insert(&b, c))
-        .or_else(|| near.then(|| w.insert(&cav, c)).flatten())
-        .or_else(|| near.then(|| w.insert(&[t], c)).flatten())
-    else {
+    let got = if near {
+        w.insert(&cav, c).or_else(|| w.insert(&[t], c))
+    } else {
+        big.and_then(|b| w.insert(&b, c))
+    };
+    let Some((id, _)) = got else {
         w.rollback();
         return false;
     };
