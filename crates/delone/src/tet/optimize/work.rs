@@ -1096,17 +1096,18 @@ mod tests {
                 }
             }
         }
-        let mut nbs = vec![[NONE; 4]; tets.len()];
-        for (t, tv) in tets.iter().enumerate() {
-            for f in 0..4 {
-                let k = fkey(face(*tv, f));
-                for (u, uv) in tets.iter().enumerate() {
-                    if u != t && (0..4).any(|g| fkey(face(*uv, g)) == k) {
-                        nbs[t][f] = u as u32;
-                    }
-                }
-            }
-        }
+        let nbs: Vec<[u32; 4]> = tets
+            .iter()
+            .enumerate()
+            .map(|(t, tv)| {
+                std::array::from_fn(|f| {
+                    let k = fkey(face(*tv, f));
+                    (0..tets.len())
+                        .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
+                        .map_or(NONE, |u| u as u32)
+                })
+            })
+            .collect();
         Work::new(p, &tets, &nbs, &[0; 8], &[])
     }
 
