@@ -19,9 +19,13 @@
 //!    least-norm point of the near-active gradients) with a backtracking
 //!    line search, never inverting a tetrahedron (exact `orient3d` on the
 //!    result);
-//! 3. **insertion** of a vertex at the tetrahedron's centroid, in the
-//!    cavity made of it and its neighbours, followed by smoothing of the
-//!    new vertex; undone unless the cavity's worst quality improves.
+//! 3. **insertion** of a vertex at the tetrahedron's centroid, in its
+//!    Delaunay cavity (the tetrahedra of the region, reached across open
+//!    faces, whose circumsphere holds it; at most 48) or else the cavity
+//!    made of it and its neighbours, followed by smoothing of the new
+//!    vertex and flips and smoothing of the worst new tetrahedra; undone
+//!    unless the cavity's worst quality improves. This is what removes
+//!    slivers whose four vertices are fixed.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
@@ -31,7 +35,10 @@
 //! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
 //! tetrahedron) are spent. The whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
-//! treated first, so the budget cuts the least useful work. Quality is
+//! treated first, so the budget cuts the least useful work. The stages
+//! above 20° (which mostly thin the histogram's tail once the worst are
+//! settled) may spend at most `0.4 effort` per tetrahedron (plus 8000
+//! evaluations' worth) of it, which bounds the time on large meshes. Quality is
 //! cached per slot; the edge-removal programme prunes every sub-polygon
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
@@ -59,6 +66,13 @@ use work::{fkey, Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
+
+/// Share of [`OptimizeOptions::effort`] per tetrahedron that the stages
+/// above 20° may spend (plus a fixed 8000 evaluations' worth).
+const POLISH: f64 = 0.4;
+
+/// Most tetrahedra in the Delaunay cavity of an inserted vertex.
+const MAX_CAVITY: usize = 48;
 
 /// A queued tetrahedron: quality, slot, vertices; the heap pops the worst
 /// (ties by slot).
@@ -410,9 +424,16 @@ pub fn optimize(
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
+    // The polishing stages (above 20°, which mostly thin the histogram's
+    // tail once the worst are settled) get at most this much more.
+    let polish = opts.effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
+    let mut stop = allowed;
     let mut pops: u64 = 0;
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
+        if deg > 20.0 {
+            stop = allowed.min(w.evals.get() as f64 + polish);
+        }
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
         // worst first, grown by the tetrahedra each success makes; until a
@@ -440,12 +461,21 @@ pub fn optimize(
                 if *left == 0 {
                     break;
                 }
-                if w.evals.get() as f64 > allowed {
+
+                if w.evals.get() as f64 > stop {
                     report.effort_exhausted = true;
                     break 'stages;
                 }
                 *left -= 1;
-                if improve(&mut w, t, 1.0, opts, budget, thr_insert, &mut report) {
+                if improve(
+                    &mut w,
+                    t,
+                    1.0,
+                    opts,
+                    budget,
+                    thr_insert.max(thr),
+                    &mut report,
+                ) {
                     any = true;
                     for u in std::mem::take(&mut w.dirty) {
                         if w.live(u) && w.q[u as usize] < thr {
@@ -556,6 +586,51 @@ fn improve(
 /// improved (else undoes it).
 fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut OptimizeReport) -> bool {
     let tv = w.tv[t as usize];
+    let p = tv.map(|x| w.p[x as usize]);
+    let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
+    // First in the small cavity (it and its neighbours), then in the
+    // point's Delaunay cavity.
+    if try_insert_at(w, t, c, true, opts, report) {
+        return true;
+    }
+    match w.slot_of(tv) {
+        Some(t) if try_insert_at(w, t, c, false, opts, report) => return true,
+        Some(_) => {}
+        None => return false,
+    }
+    // Then the midpoints of its two edges with the worst dihedral angles
+    // (a sliver's diagonals, a cap's or wedge's bad edge), each in its
+    // Delaunay cavity, which holds every tetrahedron around that edge.
+    let Some(s) = work::sines([&p[0], &p[1], &p[2], &p[3]]) else {
+        return false;
+    };
+    let mut e: Vec<usize> = (0..6).collect();
+    e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
+    for &k in &e[..2] {
+        let Some(t) = w.slot_of(tv) else {
+            return false;
+        };
+        let (i, j) = super::quality::EDGES[k];
+        let m = std::array::from_fn(|d| 0.5 * (p[i][d] + p[j][d]));
+        if try_insert_at(w, t, m, false, opts, report) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Inserts point `c` in `t` and its neighbours, else in `t` (with
+/// `near`), or in its Delaunay cavity from `t` (without), smooths it and
+/// improves the worst new tetrahedra; keeps it when the worst quality
+/// improved.
+fn try_insert_at(
+    w: &mut Work,
+    t: u32,
+    c: [f64; 3],
+    near: bool,
+    opts: &OptimizeOptions,
+    report: &mut OptimizeReport,
+) -> bool {
     let mut cav = vec![t];
     for f in 0..4 {
         let n = w.nb[t as usize][f];
@@ -567,14 +642,23 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
             cav.push(n);
         }
     }
-    let c = {
-        let p = tv.map(|x| w.p[x as usize]);
-        std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0)
+    // Without `near`: the Delaunay cavity of the point (the tetrahedra of
+    // the region whose circumsphere holds it, grown across open faces): the
+    // new vertex then gets a star of fair size to be smoothed in.
+    let big = if near {
+        None
+    } else {
+        w.sphere_cavity(t, c, MAX_CAVITY)
     };
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's
     // neighbours); it always sees the faces of `t` itself.
-    let Some((id, _)) = w.insert(&cav, c).or_else(|| w.insert(&[t], c)) else {
+    let got = if near {
+        w.insert(&cav, c).or_else(|| w.insert(&[t], c))
+    } else {
+        big.and_then(|b| w.insert(&b, c))
+    };
+    let Some((id, _)) = got else {
         w.rollback();
         return false;
     };
@@ -704,11 +788,15 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     }
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
+    // (Only faces with three fixed vertices can be interface faces.)
     let mut owner: IdMap<[u32; 3], (usize, usize)> = Default::default();
-    for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
-        for (f, &n) in nb.iter().enumerate() {
-            if n != NONE {
-                owner.entry(fkey(work::face(*tv, f))).or_insert((t, f));
+    if !rec.interior_faces.is_empty() {
+        for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
+            for (f, &n) in nb.iter().enumerate() {
+                let fc = work::face(*tv, f);
+                if n != NONE && fc.iter().all(|&v| w.fixed[v as usize]) {
+                    owner.entry(fkey(fc)).or_insert((t, f));
+                }
             }
         }
     }
@@ -871,7 +959,7 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
         for (f, &n) in nb.iter().enumerate() {
             let fc = work::face(*tv, f);
-            if n == NONE || prot.contains(&fkey(fc)) {
+            if n == NONE || (!prot.is_empty() && prot.contains(&fkey(fc))) {
                 for k in 0..3 {
                     let (a, b) = (fc[k], fc[(k + 1) % 3]);
                     edges.insert([a.min(b), a.max(b)]);
@@ -879,11 +967,24 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             }
         }
     }
+    // Only tetrahedra with two vertices on the surface can have such an
+    // edge (a cheap filter before the hash lookups).
+    let mut on = vec![false; rec.points.len()];
+    for e in &edges {
+        on[e[0] as usize] = true;
+        on[e[1] as usize] = true;
+    }
     let mut sum: IdMap<([u32; 2], u32), f64> = IdMap::default();
     for (tv, &g) in m.tets.iter().zip(&rec.tet_region) {
+        if tv.iter().filter(|&&v| on[v as usize]).count() < 2 {
+            continue;
+        }
         let mut d = None;
         for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
             let (a, b) = (tv[i], tv[j]);
+            if !(on[a as usize] && on[b as usize]) {
+                continue;
+            }
             let k = [a.min(b), a.max(b)];
             if edges.contains(&k) {
                 let d = d.get_or_insert_with(|| {

@@ -53,7 +53,7 @@ fn norm(a: &[f64; 3]) -> f64 {
 /// squared area normals `|N|²` of the four faces; `None` when it is flat or
 /// inverted (floating point). The dihedral sine at an edge is
 /// `6V · |e| / (|N_k| |N_l|)`.
-#[inline]
+#[inline(always)]
 #[allow(clippy::type_complexity)]
 fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
     let e1 = sub(p[1], p[0]);
@@ -89,6 +89,7 @@ fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usi
 /// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
 /// slivers, needles, caps and wedges alike — an angle near 0° or near 180°),
 /// or -1 when it is flat or inverted (floating point).
+#[inline]
 pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let Some((det, n, l)) = dihedral_terms(p) else {
         return -1.0;
@@ -334,16 +335,21 @@ impl Work {
     /// True when sorted face `k` is a protected interface face.
     #[inline]
     pub(super) fn is_protected(&self, k: [u32; 3]) -> bool {
-        self.prot.contains(&k)
+        // A protected face has three fixed vertices (cheap tests first).
+        !self.prot.is_empty() && k.iter().all(|&v| self.fixed[v as usize]) && self.prot.contains(&k)
     }
 
     /// True when the face opposite `f` in `t` may be destroyed.
     #[inline]
     fn open_face(&self, t: u32, f: usize) -> bool {
         let n = self.nb[t as usize][f];
-        n != NONE
-            && self.reg[n as usize] == self.reg[t as usize]
-            && !self.prot.contains(&fkey(face(self.tv[t as usize], f)))
+        n != NONE && self.reg[n as usize] == self.reg[t as usize] && {
+            // A protected face has three fixed vertices (cheap test first).
+            let fc = face(self.tv[t as usize], f);
+            self.prot.is_empty()
+                || !fc.iter().all(|&v| self.fixed[v as usize])
+                || !self.prot.contains(&fkey(fc))
+        }
     }
 
     /// The live slots containing vertex `v`.
@@ -865,6 +871,14 @@ impl Work {
                 new.push([a, b, c, id]);
             }
         }
+        // No vertex may be swallowed (all its tetrahedra in the cavity).
+        for &t in cav {
+            for v in self.tv[t as usize] {
+                if !new.iter().any(|n| n[..3].contains(&v)) {
+                    return None;
+                }
+            }
+        }
         if let Some(log) = &mut self.log {
             log.push(Undo::AddPoint);
         }
@@ -878,6 +892,37 @@ impl Work {
         let region = self.reg[cav[0] as usize];
         let ids = self.replace(cav, &new, region);
         Some((id, ids))
+    }
+
+    /// The Delaunay cavity of point `x` from slot `t`: `t` and the
+    /// tetrahedra of its region, reached across open faces, whose
+    /// circumsphere holds `x` (floating point; [`Work::insert`] checks the
+    /// result exactly). `None` when it would exceed `max` tetrahedra.
+    pub(super) fn sphere_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
+        let mut cav = vec![t];
+        let mut i = 0;
+        while i < cav.len() {
+            let c = cav[i];
+            i += 1;
+            for f in 0..4 {
+                let n = self.nb[c as usize][f];
+                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
+                    continue;
+                }
+                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
+                let Some(o) = crate::tet::quality::circumcenter(&p) else {
+                    continue;
+                };
+                let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
+                if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
+                    if cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                }
+            }
+        }
+        Some(cav)
     }
 
     /// Opens a transaction: every change until [`Work::commit`] or
@@ -1025,6 +1070,78 @@ mod tests {
             .map(|a| a.to_radians().sin())
             .fold(f64::INFINITY, f64::min);
         assert!((m - q).abs() < 1e-12);
+    }
+
+    /// The octahedron `±x, ±y, ±z` as 8 tetrahedra around its centre
+    /// (vertex 6), positive, with neighbours.
+    fn octahedron() -> Work {
+        let p = vec![
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [0.0, 0.0, 0.0],
+        ];
+        let mut tets = Vec::new();
+        for x in [0, 1] {
+            for y in [2, 3] {
+                for z in [4, 5] {
+                    let mut tv = [x, y, z, 6u32];
+                    if quality(tv.map(|v| &p[v as usize])) < 0.0 {
+                        tv.swap(0, 1);
+                    }
+                    tets.push(tv);
+                }
+            }
+        }
+        let nbs: Vec<[u32; 4]> = tets
+            .iter()
+            .enumerate()
+            .map(|(t, tv)| {
+                std::array::from_fn(|f| {
+                    let k = fkey(face(*tv, f));
+                    (0..tets.len())
+                        .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
+                        .map_or(NONE, |u| u as u32)
+                })
+            })
+            .collect();
+        Work::new(p, &tets, &nbs, &[0; 8], &[])
+    }
+
+    #[test]
+    fn sphere_cavity_and_insert_keep_every_vertex() {
+        let mut w = octahedron();
+        assert!((0..8).all(|t| w.positive(w.tv[t])));
+        let x = [0.1, 0.1, 0.1];
+        let t0 = (0..8u32)
+            .find(|&t| w.tv[t as usize].iter().all(|&v| [0, 2, 4, 6].contains(&v)))
+            .unwrap();
+        // The circumsphere of an octant's tetrahedron (centre at (±½, ±½,
+        // ±½), radius √3/2) holds x only for the octants with at most one
+        // negative coordinate: x's own and its three face neighbours.
+        let cav = w.sphere_cavity(t0, x, 48).unwrap();
+        assert_eq!(cav.len(), 4);
+        assert_eq!(cav[0], t0);
+        for &t in &cav {
+            let neg = w.tv[t as usize]
+                .iter()
+                .filter(|&&v| [1, 3, 5].contains(&v))
+                .count();
+            assert!(neg <= 1, "{:?}", w.tv[t as usize]);
+        }
+        assert!(w.sphere_cavity(t0, x, 3).is_none());
+        // The whole octahedron would swallow the centre: refused.
+        let all: Vec<u32> = (0..8).collect();
+        assert!(w.insert(&all, x).is_none());
+        assert_eq!(w.p.len(), 7);
+        // The Delaunay cavity keeps it.
+        let (id, new) = w.insert(&cav, x).unwrap();
+        assert_eq!(id, 7);
+        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        assert!(!w.star(6).is_empty() && !w.star(7).is_empty());
     }
 
     #[test]
