@@ -30,6 +30,7 @@ use crate::NONE;
 #[path = "cdrflip.rs"]
 mod flip;
 
+thread_local!(static WHY: std::cell::Cell<&'static str> = const { std::cell::Cell::new("") });
 const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
 /// Largest cavity grown for one insertion.
@@ -649,7 +650,9 @@ impl Cdr {
                     // plane: its cone would be flat.
                     return Err(drop(t));
                 }
-                if orient3d(g(x), g(y), g(z), m) >= 0.0 {
+                if orient3d(g(x), g(y), g(z), m) >= 0.0
+                    || self.flat([x, y, z, mid], Some((mid, tris)))
+                {
                     return Err(drop(t));
                 }
                 tets.push(([x, y, z, mid], self.reg[t as usize], w, sub));
@@ -803,6 +806,9 @@ impl Cdr {
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
+                    if std::env::var_os("DELONE_TRACE").is_some() {
+                        eprintln!("INS {} {} {} {} {:?} {:?} cav={} why={}", self.p.len(), if split.is_some() {"R1"} else if tris.is_empty() {"R3"} else {"R2"}, m[0], m[1], m[2], required, cav.len(), WHY.with(|w| w.get()));
+                    }
                     let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
                     debug_assert_eq!(self.vtris.len(), self.p.len());
@@ -823,6 +829,32 @@ impl Cdr {
             }
         }
         None
+    }
+
+    /// Do the four vertices of `t` lie on one plane group (each on an input
+    /// triangle of that group, new points by the triangles they were put
+    /// on)? Such a tetrahedron is flat in exact arithmetic: its positive
+    /// orientation would only be an accident of rounding new points, and
+    /// it would lie on the facet, sandwiched between its subfaces. Plans
+    /// and flips never build one.
+    pub(super) fn flat(&self, t: [u32; 4], extra: Option<(u32, &[u32])>) -> bool {
+        let tris_of = |q: u32| -> &[u32] {
+            match extra {
+                Some((v, l)) if v == q => l,
+                _ => self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()),
+            }
+        };
+        let first = tris_of(t[0]);
+        first.iter().any(|&a| {
+            let Some(&g) = self.group.get(a as usize) else {
+                return false;
+            };
+            t[1..].iter().all(|&q| {
+                tris_of(q)
+                    .iter()
+                    .any(|&b| self.group.get(b as usize) == Some(&g))
+            })
+        })
     }
 
     /// Is subface `k` on the plane of one of `tris`?
@@ -921,7 +953,33 @@ impl Cdr {
             v.retain(|&t| t != NONE);
             v
         };
-        match self.insert(m, &req, &dis, Some(e), tris) {
+        // Each facet at the subsegment re-triangulated Delaunay in its plane
+        // (facet-local cavities); failing that, only the subfaces holding it.
+        let mut grown: Vec<[u32; 3]> = Vec::new();
+        for &tri in &tris {
+            let seeds: Vec<[u32; 3]> = dis
+                .iter()
+                .copied()
+                .filter(|k| self.ftri.get(k) == Some(&tri))
+                .collect();
+            grown.extend(self.facet_cavity(seeds, tri, &m));
+        }
+        grown.extend(dis.iter().filter(|k| self.ftri.get(*k).is_none_or(|t| !tris.contains(t))));
+        grown.sort_unstable();
+        grown.dedup();
+        let mut done = None;
+        if grown.len() > dis.len() {
+            let mut req2: Vec<u32> = grown.iter().flat_map(|&f| self.face_tets(f)).collect();
+            req2.extend(&req);
+            req2.sort_unstable();
+            req2.dedup();
+            done = self.insert(m, &req2, &grown, Some(e), tris.clone());
+        }
+        let done = match done {
+            Some(id) => Some(id),
+            None => self.insert(m, &req, &dis, Some(e), tris),
+        };
+        match done {
             Some(id) => {
                 self.segs.remove(&e);
                 self.segs.insert(ekey(a, id), ie);
@@ -1053,6 +1111,41 @@ impl Cdr {
         nverts == verts.len()
     }
 
+    /// The facet-local Delaunay cavity of a point `c` on input triangle
+    /// `tri`: the subfaces of `tri` reached from `seeds` across edges that
+    /// are not subsegments whose circumcircle holds `c` (the seeds always
+    /// belong). Keeps the subfaces of a facet Delaunay in its plane, which
+    /// R1 needs as much as R2: dissolving only the subfaces holding a split
+    /// subsegment leaves skinny subfaces whose circumcentres fall beyond
+    /// the subsegment again, halving it towards its input vertex forever.
+    fn facet_cavity(&self, seeds: Vec<[u32; 3]>, tri: u32, c: &P) -> Vec<[u32; 3]> {
+        let mut d = seeds;
+        let mut i = 0;
+        while i < d.len() {
+            let f = d[i];
+            i += 1;
+            for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
+                if self.segs.contains_key(&e) {
+                    continue;
+                }
+                for h in self.faces_on(e, tri) {
+                    if d.contains(&h) {
+                        continue;
+                    }
+                    let Some((x, r2)) =
+                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
+                    else {
+                        continue;
+                    };
+                    if dist2(&x, c) < r2 * (1.0 - 1e-12) {
+                        d.push(h);
+                    }
+                }
+            }
+        }
+        d
+    }
+
     /// R2: splits subface `k` at its circumcentre (or the subsegment it
     /// encroaches, or, failing that, its longest edge).
     fn split_face(&mut self, k: [u32; 3]) -> bool {
@@ -1078,6 +1171,7 @@ impl Cdr {
                     .map(|x| dist2(&self.pt(x.0), &self.pt(x.1)))
                     .fold(f64::INFINITY, f64::min);
                 if dist2(&self.pt(e.0), &self.pt(e.1)) >= short {
+                    WHY.with(|w| w.set("L1113"));
                     return self.split_segment(e);
                 }
                 // Much smaller than the subface: a small input angle or a
@@ -1091,30 +1185,7 @@ impl Cdr {
             }
         };
         // The facet-local cavity.
-        let mut d = vec![s0];
-        let mut i = 0;
-        while i < d.len() {
-            let f = d[i];
-            i += 1;
-            for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
-                if self.segs.contains_key(&e) {
-                    continue;
-                }
-                for h in self.faces_on(e, tri) {
-                    if d.contains(&h) {
-                        continue;
-                    }
-                    let Some((x, r2)) =
-                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
-                    else {
-                        continue;
-                    };
-                    if dist2(&x, &c) < r2 * (1.0 - 1e-12) {
-                        d.push(h);
-                    }
-                }
-            }
-        }
+        let mut d = self.facet_cavity(vec![s0], tri, &c);
         if !self.inside_cavity(&d, tri, &c) {
             d = vec![s0];
             if !self.inside_cavity(&d, tri, &c) {
@@ -1144,6 +1215,7 @@ impl Cdr {
             let mut progress = false;
             for e in enc {
                 if !self.out_of_budget() {
+                    WHY.with(|w| w.set("L1179"));
                     progress |= self.split_segment(e);
                 }
             }
@@ -1175,6 +1247,7 @@ impl Cdr {
             })
             .unwrap_or((k[0], k[1]));
         if self.segs.contains_key(&e) {
+            WHY.with(|w| w.set("L1210"));
             self.split_segment(e)
         } else {
             self.report.skipped += 1;
@@ -1311,11 +1384,13 @@ impl Cdr {
         let mut progress = false;
         for e in segs {
             if !self.out_of_budget() {
+                WHY.with(|w| w.set("L1346"));
                 progress |= self.split_segment(e);
             }
         }
         for k in faces {
             if !self.out_of_budget() {
+                WHY.with(|w| w.set("L1351"));
                 progress |= self.split_face(k);
             }
         }
@@ -1369,12 +1444,14 @@ impl Cdr {
             }
             if let Some(e) = self.segq.pop_front() {
                 if self.seg_still_encroached(e) && !self.out_of_budget() {
+                    WHY.with(|w| w.set("L1404"));
                     self.split_segment(e);
                 }
                 continue;
             }
             if let Some(k) = self.faceq.pop_front() {
                 if self.face_still_encroached(k) && !self.out_of_budget() {
+                    WHY.with(|w| w.set("L1410"));
                     self.split_face(k);
                 }
                 continue;
@@ -1385,6 +1462,7 @@ impl Cdr {
             if self.out_of_budget() {
                 return;
             }
+            WHY.with(|w| w.set("cell"));
             self.split_cell(b);
         }
     }
