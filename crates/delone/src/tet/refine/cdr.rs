@@ -86,6 +86,9 @@ pub(super) struct Cdr {
     iedges: Vec<[u32; 2]>,
     tris: Vec<[u32; 3]>,
     normals: Vec<P>,
+    /// Local feature size of each input triangle (rescaled): the shortest
+    /// distance from one of its vertices to another input point.
+    tsize: Vec<f64>,
     /// Plane group of each input triangle (coplanar neighbours share one).
     group: Vec<u32>,
     /// Input triangles each vertex lies on.
@@ -291,7 +294,27 @@ impl Cdr {
                 vt[q as usize] = t as u32;
             }
         }
+        // Local feature size of each input triangle: the smallest distance
+        // from one of its vertices to another input point (the nearest
+        // neighbour is a mesh edge).
+        let n_in = points.len();
+        let mut dnn = vec![f64::INFINITY; n_in];
+        for x in &tv {
+            for (i, j) in EDGES {
+                let (a, b) = (x[i] as usize, x[j] as usize);
+                if a < n_in && b < n_in {
+                    let d = dist2(&p[a], &p[b]).sqrt();
+                    dnn[a] = dnn[a].min(d);
+                    dnn[b] = dnn[b].min(d);
+                }
+            }
+        }
+        let tsize: Vec<f64> = triangles
+            .iter()
+            .map(|t| t.iter().map(|&q| dnn.get(q as usize).copied().unwrap_or(f64::INFINITY)).fold(f64::INFINITY, f64::min))
+            .collect();
         let mut st = Cdr {
+            tsize,
             n_in: points.len(),
             stamp: vec![0; nt],
             epoch: 0,
@@ -807,7 +830,7 @@ impl Cdr {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
                     if std::env::var_os("DELONE_TRACE").is_some() {
-                        eprintln!("INS {} {} {} {} {:?} {:?} cav={} why={}", self.p.len(), if split.is_some() {"R1"} else if tris.is_empty() {"R3"} else {"R2"}, m[0], m[1], m[2], required, cav.len(), WHY.with(|w| w.get()));
+                        eprintln!("INS {} {} {} {} {:?} {:?} cav={} split={:?} why={}", self.p.len(), if split.is_some() {"R1"} else if tris.is_empty() {"R3"} else {"R2"}, m[0], m[1], m[2], required, cav.len(), split, WHY.with(|w| w.get()));
                     }
                     let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
@@ -1295,6 +1318,7 @@ impl Cdr {
         if self.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
+        let quality_bad = f64::from_bits(b.key) >= 1e6;
         let p = tv.map(|q| self.p[q as usize]);
         if quality::radius_edge_ratio(&p) > FLAT_RATIO {
             self.report.skipped += 1;
@@ -1371,14 +1395,16 @@ impl Cdr {
         // shortest edge.
         let segs: Vec<(u32, u32)> = segs
             .into_iter()
-            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
+            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin * kk())
             .collect();
         let faces: Vec<[u32; 3]> = faces
             .into_iter()
             .filter(|k| {
                 let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
                     .map_or(0.0, |x| x.1);
-                2.0 * r2.sqrt() >= lmin
+                2.0 * r2.sqrt() >= lmin * kf()
+                    && (!quality_bad
+                        || self.ftri.get(k).and_then(|&t| self.tsize.get(t as usize)).is_none_or(|&h| r2.sqrt() >= lam() * h))
             })
             .collect();
         let mut progress = false;
@@ -1586,3 +1612,12 @@ impl Cdr {
 
 /// `Err` of [`Cdr::locate_on_facet`]: the subsegment in the way, or lost.
 type PlanSeg = Option<(u32, u32)>;
+fn kk() -> f64 {
+    std::env::var("DELONE_K").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0)
+}
+fn kf() -> f64 {
+    std::env::var("DELONE_KF").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0)
+}
+fn lam() -> f64 {
+    std::env::var("DELONE_LAM").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0)
+}
