@@ -91,6 +91,11 @@ pub(super) struct Cdr {
     tsize: Vec<f64>,
     /// Plane group of each input triangle (coplanar neighbours share one).
     group: Vec<u32>,
+    /// Facet of each surface triangle: the surface triangles of one merged
+    /// coplanar group share one (R2 works on the whole facet).
+    facet: Vec<u32>,
+    /// Per facet id: does it hold two or more surface triangles?
+    merged: Vec<bool>,
     /// Input triangles each vertex lies on.
     vtris: Vec<Vec<u32>>,
     segq: VecDeque<(u32, u32)>,
@@ -202,43 +207,43 @@ impl Cdr {
             }
         }
         let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
-        // A merged coplanar group's faces all name its first triangle
-        // (`Recovered::boundary_triangle`): its subsegments lie on the sides
-        // of any of its triangles (same `surface_origin`).
-        let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
-        for (t, &o) in rec.surface_origin.iter().enumerate().take(triangles.len()) {
-            members.entry(o).or_default().push(t as u32);
-        }
+        let origin: &[u32] = if rec.surface.is_empty() {
+            &[]
+        } else {
+            &rec.surface_origin
+        };
+        let (facet, members) = crate::tet::recover::facets(triangles, origin);
+        let merged = members.iter().map(|m| m.len() >= 2).collect();
         let mut segs: HashMap<(u32, u32), u32> = HashMap::new();
-        for (t, faces) in per_tri.iter().enumerate() {
-            if faces.is_empty() {
+        for mem in &members {
+            if mem.is_empty() {
                 continue;
             }
-            let sides: Vec<[u32; 2]> = rec
-                .surface_origin
-                .get(t)
-                .and_then(|o| members.get(o))
-                .filter(|m| m.len() >= 2)
-                .map_or_else(|| vec![t as u32], |m| m.clone())
+            // A merged group's faces all name its first triangle
+            // (`Recovered::boundary_triangle`): its subsegments lie on the
+            // sides of any of its triangles.
+            let sides: Vec<[u32; 2]> = mem
                 .iter()
                 .flat_map(|&u| {
                     let tri = triangles[u as usize];
                     (0..3).map(move |k| [tri[k], tri[(k + 1) % 3]])
                 })
                 .collect();
-            let mut es: Vec<(u32, u32)> = faces
+            // Edges used once by the faces of the facet lie on its sides.
+            let mut es: Vec<((u32, u32), u32)> = mem
                 .iter()
-                .flat_map(|k| [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])])
+                .flat_map(|&t| per_tri[t as usize].iter().map(move |k| (k, t)))
+                .flat_map(|(k, t)| [((k[0], k[1]), t), ((k[0], k[2]), t), ((k[1], k[2]), t)])
                 .collect();
             es.sort_unstable();
             let mut i = 0;
             while i < es.len() {
                 let mut j = i;
-                while j < es.len() && es[j] == es[i] {
+                while j < es.len() && es[j].0 == es[i].0 {
                     j += 1;
                 }
                 if j - i == 1 {
-                    let e = es[i];
+                    let e = es[i].0;
                     // Distance to the side's line (relative), plus 1 when
                     // off the side's extent (collinear sides of a polygon).
                     let score = |k: usize| {
@@ -331,6 +336,8 @@ impl Cdr {
             tris: triangles.to_vec(),
             normals,
             group,
+            facet,
+            merged,
             vtris,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
@@ -401,9 +408,13 @@ impl Cdr {
         }
     }
 
-    /// Does vertex `w` lie on an input triangle sharing an input vertex
-    /// with one of `tris`? (Then its encroachment is not acted on: see the
-    /// module documentation, protection at small input angles.)
+    /// Does vertex `w` lie on a surface triangle that shares a vertex with
+    /// one of `tris`, other than a triangle of the same merged planar facet?
+    /// Then its encroachment is not acted on (protection at small input
+    /// angles, see the module documentation): on a curved surface every
+    /// input triangle is its own facet, and acting on the vertices of
+    /// needle-shaped neighbours would refine the surface down to their
+    /// width. Inside a merged planar facet there is no angle to protect.
     fn near(&self, w: u32, tris: &[u32]) -> bool {
         let Some(wt) = self.vtris.get(w as usize) else {
             return false;
@@ -411,9 +422,12 @@ impl Cdr {
         wt.iter().any(|&a| {
             let ta = self.tris[a as usize];
             tris.iter().any(|&b| {
-                self.tris
-                    .get(b as usize)
-                    .is_some_and(|tb| tb.iter().any(|q| ta.contains(q)))
+                let Some(tb) = self.tris.get(b as usize) else {
+                    return false;
+                };
+                let same = self.facet[a as usize] == self.facet[b as usize]
+                    && self.merged[self.facet[a as usize] as usize];
+                !same && tb.iter().any(|q| ta.contains(q))
             })
         })
     }
@@ -892,14 +906,19 @@ impl Cdr {
             })
     }
 
-    /// The subfaces of input triangle `tri` holding edge `e`.
+    /// The subfaces of the facet of surface triangle `tri` holding edge `e`.
     fn faces_on(&self, e: (u32, u32), tri: u32) -> Vec<[u32; 3]> {
+        let f = self.facet.get(tri as usize).copied();
         self.sedges
             .get(&e)
             .map(|l| {
                 l.iter()
                     .copied()
-                    .filter(|k| self.ftri.get(k) == Some(&tri))
+                    .filter(|k| {
+                        self.ftri
+                            .get(k)
+                            .is_some_and(|&t| self.facet.get(t as usize).copied() == f)
+                    })
                     .collect()
             })
             .unwrap_or_default()
@@ -1319,13 +1338,20 @@ impl Cdr {
             return;
         }
         let quality_bad = f64::from_bits(b.key) >= 1e6;
-        let p = tv.map(|q| self.p[q as usize]);
-        if quality::radius_edge_ratio(&p) > FLAT_RATIO {
+        if self.on_one_plane(tv) {
+            // Four vertices on (nearly) coplanar input triangles: the cell
+            // is as flat as the input there; splitting the boundary would
+            // make flat cells again, down to the segment floor.
             self.report.skipped += 1;
             self.report.skipped_flat += 1;
             return;
         }
-        let Some(c) = quality::circumcenter(&p) else {
+        let p = tv.map(|q| self.p[q as usize]);
+        let circ = quality::circumcenter(&p);
+        let Some(c) = circ.filter(|_| quality::radius_edge_ratio(&p) <= FLAT_RATIO) else {
+            // A flat cell (four points a hair off one plane, or a wedge at
+            // a ridge between nearly coplanar facets): splitting its
+            // boundary pieces leaves flat cells again, so it is left.
             self.report.skipped += 1;
             self.report.skipped_flat += 1;
             return;
@@ -1344,7 +1370,11 @@ impl Cdr {
                 if !encroaches_face(&a, &b, &d, &c) {
                     // Outside, behind a subface it does not encroach (near
                     // a cell the flips could not make constrained
-                    // Delaunay): leave the cell.
+                    // Delaunay, or a wedge at a ridge): leave the cell.
+                    // (Splitting the subface when a vertex of the cell
+                    // encroaches it was tried: it refines fandisk -pq2
+                    // further without fewer bad cells, and runs away on
+                    // cgal_hole -pq1.414.)
                     self.report.skipped += 1;
                     self.report.skipped_behind += 1;
                     return;
@@ -1426,6 +1456,24 @@ impl Cdr {
             self.report.skipped += 1;
             self.report.skipped_small += 1;
         }
+    }
+
+    /// Do the four vertices of `tv` all lie on input triangles of one plane
+    /// group (exactly or nearly coplanar triangles, see `plane_groups`)?
+    fn on_one_plane(&self, tv: [u32; 4]) -> bool {
+        let groups = |q: u32| -> Vec<u32> {
+            let mut g: Vec<u32> = self.vtris[q as usize]
+                .iter()
+                .filter_map(|&t| self.group.get(t as usize).copied())
+                .collect();
+            g.sort_unstable();
+            g.dedup();
+            g
+        };
+        let first = groups(tv[0]);
+        first
+            .iter()
+            .any(|g| tv[1..].iter().all(|&q| groups(q).binary_search(g).is_ok()))
     }
 
     /// Is subsegment `e` still encroached by a vertex next to it?
