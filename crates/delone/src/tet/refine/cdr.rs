@@ -107,6 +107,8 @@ pub(super) struct Cdr {
     budget: usize,
     pub(super) report: RefineReport,
     inexact: Vec<u32>,
+    /// Input edge of each point put on a segment by refinement.
+    vedge: HashMap<u32, u32>,
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
@@ -350,6 +352,7 @@ impl Cdr {
                 ..RefineReport::default()
             },
             inexact: rec.inexact.clone(),
+            vedge: HashMap::new(),
             max_dev: rec.report.max_deviation * s,
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
@@ -934,6 +937,31 @@ impl Cdr {
         );
         self.max_dev = self.max_dev.max(d);
         self.inexact.push(id);
+        self.vedge.insert(id, ie);
+    }
+
+    /// Is `u v` an edge between two points that concentric-shell splits put
+    /// at the same distance from an input vertex on two of its input edges?
+    /// Such an edge is as short as the input angle between the two edges
+    /// makes it: a cell that is bad because of it cannot be repaired by
+    /// splitting anything (the splits would halve the shells towards the
+    /// vertex forever), so it is left (Shewchuk's rule at small input
+    /// angles, as in Triangle's 2D refinement).
+    fn shell_pair(&self, u: u32, v: u32) -> bool {
+        let (Some(&eu), Some(&ev)) = (self.vedge.get(&u), self.vedge.get(&v)) else {
+            return false;
+        };
+        if eu == ev {
+            return false;
+        }
+        let (a, b) = (self.iedges[eu as usize], self.iedges[ev as usize]);
+        let Some(&s) = a.iter().find(|q| b.contains(q)) else {
+            return false;
+        };
+        let ps = self.p[s as usize];
+        let du = dist2(&ps, &self.p[u as usize]).sqrt();
+        let dv = dist2(&ps, &self.p[v as usize]).sqrt();
+        (du - dv).abs() <= 0.01 * du.max(dv)
     }
 
     /// Records the deviation of a new point on input triangle `t`.
@@ -1251,6 +1279,9 @@ impl Cdr {
                 }
             }
         }
+        let rf = dist2(&c, &self.pt(k[0])).sqrt();
+        let aa = std::env::var("DELONE_A").ok().and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
+        enc.retain(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= aa * rf);
         if !enc.is_empty() {
             enc.sort_unstable();
             enc.dedup();
@@ -1359,7 +1390,22 @@ impl Cdr {
         let lmin = quality::edge_lengths(&p)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
-        let (segs, faces) = match self.locate(b.slot, &c) {
+        if std::env::var_os("DELONE_NOSHELL").is_none() {
+            let short = EDGES
+                .iter()
+                .map(|&(i, j)| (tv[i], tv[j]))
+                .min_by(|x, y| {
+                    dist2(&self.pt(x.0), &self.pt(x.1))
+                        .total_cmp(&dist2(&self.pt(y.0), &self.pt(y.1)))
+                        .then(x.cmp(y))
+                });
+            if short.is_some_and(|(u, v)| self.shell_pair(u, v)) {
+                self.report.skipped += 1;
+                self.report.skipped_small += 1;
+                return;
+            }
+        }
+        let (segs, faces, inside) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
                 self.report.skipped_refused += 1;
@@ -1379,7 +1425,7 @@ impl Cdr {
                     self.report.skipped_behind += 1;
                     return;
                 }
-                (Vec::new(), vec![k])
+                (Vec::new(), vec![k], None)
             }
             Ok(t) => {
                 let cav = self.grow(&[t], &c);
@@ -1417,7 +1463,7 @@ impl Cdr {
                 segs.dedup();
                 faces.sort_unstable();
                 faces.dedup();
-                (segs, faces)
+                (segs, faces, Some(t))
             }
         };
         self.report.rejected += 1;
@@ -1438,6 +1484,15 @@ impl Cdr {
             })
             .collect();
         let mut progress = false;
+        if segs.is_empty() && faces.is_empty() && std::env::var_os("DELONE_B").is_some() {
+            if let Some(t) = inside {
+                WHY.with(|w| w.set("forced"));
+                if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
+                    self.report.interior += 1;
+                    return;
+                }
+            }
+        }
         for e in segs {
             if !self.out_of_budget() {
                 WHY.with(|w| w.set("L1346"));
