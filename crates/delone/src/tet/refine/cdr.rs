@@ -30,8 +30,11 @@ use crate::NONE;
 #[path = "cdrflip.rs"]
 mod flip;
 
-thread_local!(static WHY: std::cell::Cell<&'static str> = const { std::cell::Cell::new("") });
 const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// Input angle (degrees) below which a bad cell whose shortest edge joins
+/// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
+const SHELL_ANGLE: f64 = 30.0;
 
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
@@ -86,9 +89,6 @@ pub(super) struct Cdr {
     iedges: Vec<[u32; 2]>,
     tris: Vec<[u32; 3]>,
     normals: Vec<P>,
-    /// Local feature size of each input triangle (rescaled): the shortest
-    /// distance from one of its vertices to another input point.
-    tsize: Vec<f64>,
     /// Plane group of each input triangle (coplanar neighbours share one).
     group: Vec<u32>,
     /// Facet of each surface triangle: the surface triangles of one merged
@@ -301,27 +301,7 @@ impl Cdr {
                 vt[q as usize] = t as u32;
             }
         }
-        // Local feature size of each input triangle: the smallest distance
-        // from one of its vertices to another input point (the nearest
-        // neighbour is a mesh edge).
-        let n_in = points.len();
-        let mut dnn = vec![f64::INFINITY; n_in];
-        for x in &tv {
-            for (i, j) in EDGES {
-                let (a, b) = (x[i] as usize, x[j] as usize);
-                if a < n_in && b < n_in {
-                    let d = dist2(&p[a], &p[b]).sqrt();
-                    dnn[a] = dnn[a].min(d);
-                    dnn[b] = dnn[b].min(d);
-                }
-            }
-        }
-        let tsize: Vec<f64> = triangles
-            .iter()
-            .map(|t| t.iter().map(|&q| dnn.get(q as usize).copied().unwrap_or(f64::INFINITY)).fold(f64::INFINITY, f64::min))
-            .collect();
         let mut st = Cdr {
-            tsize,
             n_in: points.len(),
             stamp: vec![0; nt],
             epoch: 0,
@@ -846,9 +826,6 @@ impl Cdr {
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
-                    if std::env::var_os("DELONE_TRACE").is_some() {
-                        eprintln!("INS {} {} {} {} {:?} {:?} cav={} split={:?} why={}", self.p.len(), if split.is_some() {"R1"} else if tris.is_empty() {"R3"} else {"R2"}, m[0], m[1], m[2], required, cav.len(), split, WHY.with(|w| w.get()));
-                    }
                     let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
                     debug_assert_eq!(self.vtris.len(), self.p.len());
@@ -961,7 +938,14 @@ impl Cdr {
         let ps = self.p[s as usize];
         let du = dist2(&ps, &self.p[u as usize]).sqrt();
         let dv = dist2(&ps, &self.p[v as usize]).sqrt();
-        (du - dv).abs() <= 0.01 * du.max(dv)
+        if (du - dv).abs() > 0.01 * du.max(dv) {
+            return false;
+        }
+        // Only at a small input angle: the pair is closer than the shell
+        // radius times 2 sin(θ/2) for θ = SHELL_ANGLE. (At larger angles the
+        // shells do not cascade and the cells are refined as usual.)
+        let uv = dist2(&self.p[u as usize], &self.p[v as usize]).sqrt();
+        uv < 2.0 * (SHELL_ANGLE.to_radians() / 2.0).sin() * du.max(dv)
     }
 
     /// Records the deviation of a new point on input triangle `t`.
@@ -1034,7 +1018,10 @@ impl Cdr {
                 .collect();
             grown.extend(self.facet_cavity(seeds, tri, &m));
         }
-        grown.extend(dis.iter().filter(|k| self.ftri.get(*k).is_none_or(|t| !tris.contains(t))));
+        grown.extend(
+            dis.iter()
+                .filter(|k| self.ftri.get(*k).is_none_or(|t| !tris.contains(t))),
+        );
         grown.sort_unstable();
         grown.dedup();
         let mut done = None;
@@ -1241,7 +1228,6 @@ impl Cdr {
                     .map(|x| dist2(&self.pt(x.0), &self.pt(x.1)))
                     .fold(f64::INFINITY, f64::min);
                 if dist2(&self.pt(e.0), &self.pt(e.1)) >= short {
-                    WHY.with(|w| w.set("L1113"));
                     return self.split_segment(e);
                 }
                 // Much smaller than the subface: a small input angle or a
@@ -1279,16 +1265,12 @@ impl Cdr {
                 }
             }
         }
-        let rf = dist2(&c, &self.pt(k[0])).sqrt();
-        let aa = std::env::var("DELONE_A").ok().and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
-        enc.retain(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= aa * rf);
         if !enc.is_empty() {
             enc.sort_unstable();
             enc.dedup();
             let mut progress = false;
             for e in enc {
                 if !self.out_of_budget() {
-                    WHY.with(|w| w.set("L1179"));
                     progress |= self.split_segment(e);
                 }
             }
@@ -1320,7 +1302,6 @@ impl Cdr {
             })
             .unwrap_or((k[0], k[1]));
         if self.segs.contains_key(&e) {
-            WHY.with(|w| w.set("L1210"));
             self.split_segment(e)
         } else {
             self.report.skipped += 1;
@@ -1368,7 +1349,6 @@ impl Cdr {
         if self.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
-        let quality_bad = f64::from_bits(b.key) >= 1e6;
         if self.on_one_plane(tv) {
             // Four vertices on (nearly) coplanar input triangles: the cell
             // is as flat as the input there; splitting the boundary would
@@ -1390,22 +1370,19 @@ impl Cdr {
         let lmin = quality::edge_lengths(&p)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
-        if std::env::var_os("DELONE_NOSHELL").is_none() {
-            let short = EDGES
-                .iter()
-                .map(|&(i, j)| (tv[i], tv[j]))
-                .min_by(|x, y| {
-                    dist2(&self.pt(x.0), &self.pt(x.1))
-                        .total_cmp(&dist2(&self.pt(y.0), &self.pt(y.1)))
-                        .then(x.cmp(y))
-                });
+        {
+            let short = EDGES.iter().map(|&(i, j)| (tv[i], tv[j])).min_by(|x, y| {
+                dist2(&self.pt(x.0), &self.pt(x.1))
+                    .total_cmp(&dist2(&self.pt(y.0), &self.pt(y.1)))
+                    .then(x.cmp(y))
+            });
             if short.is_some_and(|(u, v)| self.shell_pair(u, v)) {
                 self.report.skipped += 1;
                 self.report.skipped_small += 1;
                 return;
             }
         }
-        let (segs, faces, inside) = match self.locate(b.slot, &c) {
+        let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
                 self.report.skipped_refused += 1;
@@ -1425,7 +1402,7 @@ impl Cdr {
                     self.report.skipped_behind += 1;
                     return;
                 }
-                (Vec::new(), vec![k], None)
+                (Vec::new(), vec![k])
             }
             Ok(t) => {
                 let cav = self.grow(&[t], &c);
@@ -1463,7 +1440,7 @@ impl Cdr {
                 segs.dedup();
                 faces.sort_unstable();
                 faces.dedup();
-                (segs, faces, Some(t))
+                (segs, faces)
             }
         };
         self.report.rejected += 1;
@@ -1471,37 +1448,24 @@ impl Cdr {
         // shortest edge.
         let segs: Vec<(u32, u32)> = segs
             .into_iter()
-            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin * kk())
+            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
             .collect();
         let faces: Vec<[u32; 3]> = faces
             .into_iter()
             .filter(|k| {
                 let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
                     .map_or(0.0, |x| x.1);
-                2.0 * r2.sqrt() >= lmin * kf()
-                    && (!quality_bad
-                        || self.ftri.get(k).and_then(|&t| self.tsize.get(t as usize)).is_none_or(|&h| r2.sqrt() >= lam() * h))
+                2.0 * r2.sqrt() >= lmin
             })
             .collect();
         let mut progress = false;
-        if segs.is_empty() && faces.is_empty() && std::env::var_os("DELONE_B").is_some() {
-            if let Some(t) = inside {
-                WHY.with(|w| w.set("forced"));
-                if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
-                    self.report.interior += 1;
-                    return;
-                }
-            }
-        }
         for e in segs {
             if !self.out_of_budget() {
-                WHY.with(|w| w.set("L1346"));
                 progress |= self.split_segment(e);
             }
         }
         for k in faces {
             if !self.out_of_budget() {
-                WHY.with(|w| w.set("L1351"));
                 progress |= self.split_face(k);
             }
         }
@@ -1573,14 +1537,12 @@ impl Cdr {
             }
             if let Some(e) = self.segq.pop_front() {
                 if self.seg_still_encroached(e) && !self.out_of_budget() {
-                    WHY.with(|w| w.set("L1404"));
                     self.split_segment(e);
                 }
                 continue;
             }
             if let Some(k) = self.faceq.pop_front() {
                 if self.face_still_encroached(k) && !self.out_of_budget() {
-                    WHY.with(|w| w.set("L1410"));
                     self.split_face(k);
                 }
                 continue;
@@ -1591,7 +1553,6 @@ impl Cdr {
             if self.out_of_budget() {
                 return;
             }
-            WHY.with(|w| w.set("cell"));
             self.split_cell(b);
         }
     }
@@ -1715,12 +1676,3 @@ impl Cdr {
 
 /// `Err` of [`Cdr::locate_on_facet`]: the subsegment in the way, or lost.
 type PlanSeg = Option<(u32, u32)>;
-fn kk() -> f64 {
-    std::env::var("DELONE_K").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0)
-}
-fn kf() -> f64 {
-    std::env::var("DELONE_KF").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0)
-}
-fn lam() -> f64 {
-    std::env::var("DELONE_LAM").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0)
-}
