@@ -152,7 +152,12 @@ pub fn check_recovered(
             ),
         );
     }
-    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
+    // The reported deviation is measured from one side's line or plane in
+    // one order of its points; measured from another side or order it may
+    // differ by rounding, so the tolerance has a floor of a few units in the
+    // last place of the (rescaled) coordinates.
+    let span = sp.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1 + 16.0 * f64::EPSILON * span;
     let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
     // Faces are checked per facet: the surface triangles of one merged
     // group (same `surface_origin`) together, since refinement may
