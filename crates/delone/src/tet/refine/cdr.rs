@@ -823,6 +823,9 @@ impl Cdr {
         if cav.len() >= MAX_CAVITY {
             return None;
         }
+        if !self.shrink(&mut cav, required, dis, &m, &tris) {
+            return None;
+        }
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
@@ -872,6 +875,62 @@ impl Cdr {
                     .any(|&b| self.group.get(b as usize) == Some(&g))
             })
         })
+    }
+
+    /// Cavity correction before planning: drops, pass after pass, every
+    /// tetrahedron that is not required and has a face on the cavity's
+    /// boundary that the new point `m` does not strictly see (or that is a
+    /// subface on `m`'s own plane, or would make a flat cone). The plan
+    /// drops such cells one at a time too; doing it in passes here keeps a
+    /// cavity that spans most of the mesh (points on a cylinder are nearly
+    /// cospherical) from failing after a fixed number of retries. `false`
+    /// when a required tetrahedron would have to go.
+    fn shrink(
+        &mut self,
+        cav: &mut Vec<u32>,
+        required: &[u32],
+        dis: &[[u32; 3]],
+        m: &P,
+        tris: &[u32],
+    ) -> bool {
+        let mid = self.p.len() as u32;
+        loop {
+            self.next_epoch();
+            for &t in cav.iter() {
+                self.stamp[t as usize] = self.epoch;
+            }
+            let mut drop: Vec<u32> = Vec::new();
+            for &t in cav.iter() {
+                let tv = self.tv[t as usize];
+                let hidden = (0..4).any(|f| {
+                    let w = self.nb[t as usize][f];
+                    if w != NONE && self.stamp[(w >> 2) as usize] == self.epoch {
+                        return false;
+                    }
+                    let sub = self.mask[t as usize] >> f & 1 == 1;
+                    let k = fkey(face(tv, f));
+                    if sub && dis.contains(&k) {
+                        return false;
+                    }
+                    let [x, y, z] = face(tv, f);
+                    let g = |q: u32| &self.p[q as usize];
+                    (sub && self.coplanar(&k, tris))
+                        || orient3d(g(x), g(y), g(z), m) >= 0.0
+                        || self.flat([x, y, z, mid], Some((mid, tris)))
+                });
+                if hidden {
+                    if required.contains(&t) {
+                        return false;
+                    }
+                    drop.push(t);
+                }
+            }
+            if drop.is_empty() {
+                return true;
+            }
+            drop.sort_unstable();
+            cav.retain(|t| drop.binary_search(t).is_err());
+        }
     }
 
     /// Is subface `k` on the plane of one of `tris`?
