@@ -39,14 +39,8 @@ pub fn mesh(
     if let Some(s) = o.max_steiner {
         opts.max_steiner = s;
     }
-    // The refinement's subfaces are the input triangles: no coplanar merging
-    // before it (yet).
-    let ropts = RecoverOptions {
-        merge_coplanar: false,
-        ..ropts.clone()
-    };
     let rec =
-        recover_marked(points, triangles, markers, &ropts, domain).map_err(|e| e.to_string())?;
+        recover_marked(points, triangles, markers, ropts, domain).map_err(|e| e.to_string())?;
     let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
     Ok((r.rec, Some(r.report)))
 }

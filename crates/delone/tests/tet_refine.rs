@@ -528,3 +528,104 @@ fn refinement_restores_constrained_delaunay() {
         assert_eq!(flippable_non_delaunay(&r2.rec).0, 0, "{name} after q2");
     }
 }
+
+/// A unit cube, each side an `n` × `n` grid of squares cut into two
+/// triangles, oriented outward.
+fn grid_cube(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    let mut id = std::collections::HashMap::new();
+    let mut tris = Vec::new();
+    for axis in 0..3 {
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let mut c = [0u32; 4];
+                    for (k, (di, dj)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+                        let mut p = [0u32; 3];
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = i + di;
+                        p[(axis + 2) % 3] = j + dj;
+                        c[k] = *id.entry(p).or_insert_with(|| {
+                            pts.push(p.map(|x| f64::from(x) / f64::from(n)));
+                            pts.len() as u32 - 1
+                        });
+                    }
+                    if side == n {
+                        tris.extend([[c[0], c[1], c[2]], [c[0], c[2], c[3]]]);
+                    } else {
+                        tris.extend([[c[0], c[2], c[1]], [c[0], c[3], c[2]]]);
+                    }
+                }
+            }
+        }
+    }
+    (pts, tris)
+}
+
+#[test]
+fn merged_planar_facets_are_refined_as_wholes() {
+    // Each side of the cube is one merged facet: its inner edges are not
+    // constraints, so refinement re-triangulates the sides across them
+    // (the checker verifies coverage per facet) and needs far fewer points
+    // on input edges than with every input triangle its own facet.
+    let (p, t) = grid_cube(6);
+    let o = RefineOptions {
+        max_volume: Some(0.0002),
+        ..opts(1.414)
+    };
+    let merged = run("grid cube, merged", &p, &t, &o);
+    assert_eq!(merged.report.remaining_bad, 0);
+    assert!(!merged.report.budget_exhausted);
+    let unmerged = run(
+        "grid cube, unmerged",
+        &p,
+        &t,
+        &RefineOptions {
+            recover: RecoverOptions {
+                merge_coplanar: false,
+                ..RecoverOptions::default()
+            },
+            // (it runs away: every input triangle is a facet of its own)
+            max_steiner: 3000,
+            ..o.clone()
+        },
+    );
+    assert!(
+        merged.report.on_segments < unmerged.report.on_segments,
+        "{} vs {} points on input edges",
+        merged.report.on_segments,
+        unmerged.report.on_segments
+    );
+    assert!(merged.report.on_facets > 0);
+    // Some boundary face crosses an inner edge of its facet: it is not
+    // inside the one surface triangle it names.
+    let sp = &merged.rec.points;
+    let crossing = merged
+        .rec
+        .boundary
+        .iter()
+        .zip(&merged.rec.boundary_triangle)
+        .filter(|(f, &ti)| {
+            let tri = merged.rec.surface[ti as usize];
+            f.iter().any(|&q| {
+                !tri.contains(&q) && {
+                    // Outside the (axis-aligned) triangle's bounding box.
+                    let lo = |k: usize| {
+                        tri.iter()
+                            .map(|&v| sp[v as usize][k])
+                            .fold(f64::MAX, f64::min)
+                    };
+                    let hi = |k: usize| {
+                        tri.iter()
+                            .map(|&v| sp[v as usize][k])
+                            .fold(f64::MIN, f64::max)
+                    };
+                    (0..3).any(|k| {
+                        sp[q as usize][k] < lo(k) - 1e-12 || sp[q as usize][k] > hi(k) + 1e-12
+                    })
+                }
+            })
+        })
+        .count();
+    assert!(crossing > 0, "no face crosses an inner edge of its facet");
+}

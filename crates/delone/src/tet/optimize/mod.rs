@@ -356,9 +356,10 @@ impl std::error::Error for OptimizeError {}
 ///
 /// ```
 /// use delone::tet::optimize::{optimize, OptimizeOptions};
-/// use delone::tet::recover::check_recovered;
+/// use delone::tet::recover::{check_recovered, RecoverOptions};
 /// use delone::tet::refine::{refine, RefineOptions};
-/// // A unit cube refined to small volumes, then optimised.
+/// // A unit cube refined to small volumes (every input triangle its own
+/// // facet), then optimised.
 /// let pts: Vec<[f64; 3]> = (0..8)
 ///     .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
 ///     .collect();
@@ -366,9 +367,9 @@ impl std::error::Error for OptimizeError {}
 ///     [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
 ///     [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
 /// ];
-/// let mut r = refine(&pts, &tris, &RefineOptions { max_volume: Some(0.01), ..Default::default() })
-///     .unwrap()
-///     .rec;
+/// let recover = RecoverOptions { merge_coplanar: false, ..Default::default() };
+/// let ro = RefineOptions { max_volume: Some(0.01), recover, ..Default::default() };
+/// let mut r = refine(&pts, &tris, &ro).unwrap().rec;
 /// let opts = OptimizeOptions { input_points: Some(pts.len()), ..Default::default() };
 /// let rep = optimize(&mut r, &opts).unwrap();
 /// check_recovered(&pts, &tris, &r).unwrap();

@@ -46,16 +46,16 @@ pub(crate) fn tet_volume(p: [[f64; 3]; 4]) -> f64 {
 /// * every boundary face lies on the input triangle it names: its vertices
 ///   exactly on the triangle's plane (within the reported deviation for the
 ///   listed inexact Steiner points) and inside it;
-/// * every input triangle is the union of its faces (boundary faces, or
+/// * every facet is the union of its faces (boundary faces, or
 ///   interior faces between two tetrahedra on internal facets, never both):
-///   their edges used once lie on the triangle's sides and chain each side
+///   their edges used once lie on the facet's sides and chain each side
 ///   from end to end, every other edge is used twice, and the areas add up.
+///   A facet is a triangle of `rec.surface` (the input triangles when
+///   empty), or all of them with one `surface_origin` (a merged coplanar
+///   group, which refinement may re-triangulate across its inner edges);
+///   each face lies inside one of its facet's triangles.
 ///   A triangle may have no face only when a hole removed a region or the
 ///   input has internal facets (both its sides are then outside the domain);
-///   a merged coplanar group (two or more `surface` triangles with one
-///   `surface_origin`) is checked the same way as one polygon: its faces'
-///   vertices on its plane, edges used once chaining its boundary sides,
-///   other edges used twice, areas adding up;
 /// * regions: every tetrahedron names one, the regions' volumes add up;
 /// * the tetrahedra's volume equals the volume bounded by the input
 ///   triangles on the boundary, each oriented like its boundary faces (so
@@ -83,10 +83,6 @@ pub fn check_recovered(
         super::merge::check_surface(points, triangles, rec)?;
         &rec.surface
     };
-    // Coverage units: a merged group (two or more surface triangles with
-    // one origin) is checked as one polygon, named by its first triangle;
-    // any other triangle by itself.
-    let unit = units(triangles.len(), &rec.surface_origin);
     let (scaled, s) = crate::geom::rescaled(&rec.points);
     let sp = &scaled[..];
     let n = sp.len();
@@ -156,8 +152,17 @@ pub fn check_recovered(
             ),
         );
     }
-    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1;
+    // The reported deviation is measured from one side's line or plane in
+    // one order of its points; measured from another side or order it may
+    // differ by rounding, so the tolerance has a floor of a few units in the
+    // last place of the (rescaled) coordinates.
+    let span = sp.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let tol_dev = 4.0 * rec.report.max_deviation * s.0 * s.1 + 16.0 * f64::EPSILON * span;
     let inexact = |q: u32| rec.inexact.binary_search(&q).is_ok() || rec.inexact.contains(&q);
+    // Faces are checked per facet: the surface triangles of one merged
+    // group (same `surface_origin`) together, since refinement may
+    // re-triangulate a planar facet across its surface triangles.
+    let (facet_of, members) = facets(triangles, &rec.surface_origin);
     let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
     // Per input triangle: 1 on the boundary, 2 interior.
     let mut side = vec![0u8; triangles.len()];
@@ -232,9 +237,10 @@ pub fn check_recovered(
             }
         }
         let want_side = if on_boundary { 1 } else { 2 };
-        let grouped = unit.get(ti as usize).is_some_and(|&u| u.1);
-        let ti = unit.get(ti as usize).map_or(ti, |&u| u.0);
-        if let Some(sd) = side.get_mut(ti as usize) {
+        if let Some(sd) = facet_of
+            .get(ti as usize)
+            .and_then(|&g| side.get_mut(g as usize))
+        {
             if *sd != 0 && *sd != want_side {
                 return bad(
                     "constraint",
@@ -250,6 +256,7 @@ pub fn check_recovered(
             );
         };
         let [ta, tb, tc] = tri.map(|q| sp[q as usize]);
+        let fac = &members[facet_of[ti as usize] as usize];
         for &q in &f {
             let p = sp[q as usize];
             // An inexact point is within the reported deviation of the
@@ -267,29 +274,27 @@ pub fn check_recovered(
                     format!("boundary face {bi}: vertex {q} is off the plane of triangle {ti}"),
                 );
             }
-            // A merged group's faces are checked against its polygon by
-            // the union test below.
-            if !grouped && !tri.contains(&q) && !inside_closed(&ta, &tb, &tc, &p) {
+            let inside = |t: &u32| {
+                let tt = triangles[*t as usize];
+                let [a, b, c] = tt.map(|w| sp[w as usize]);
+                tt.contains(&q) || inside_closed(&a, &b, &c, &p)
+            };
+            if !fac.iter().any(inside) {
                 return bad(
                     "constraint",
                     format!("boundary face {bi}: vertex {q} is outside triangle {ti}"),
                 );
             }
         }
-        per_tri[ti as usize].push(f);
+        per_tri[facet_of[ti as usize] as usize].push(f);
     }
     // Each input triangle is the union of its faces.
     // A triangle with no face at all lies outside the domain (between two
     // removed parts), which needs a hole or internal facets.
     let man = crate::tet::intersect::manifold_report(triangles);
     let may_vanish = rec.report.holes_removed > 0 || !man.nonmanifold_edges.is_empty();
-    let members = unit_members(&unit);
     for (ti, faces) in per_tri.iter().enumerate() {
-        if unit[ti].0 != ti as u32 {
-            continue;
-        }
-        let mem: Vec<[u32; 3]> = members[ti].iter().map(|&t| triangles[t as usize]).collect();
-        if faces.is_empty() && may_vanish {
+        if members[ti].is_empty() || faces.is_empty() && may_vanish {
             continue;
         }
         let mut count: HashMap<(u32, u32), u32> = HashMap::new();
@@ -302,10 +307,10 @@ pub fn check_recovered(
             let n = cross(&sub(&b, &a), &sub(&c, &a));
             area += 0.5 * dot(&n, &n).sqrt();
         }
-        let want: f64 = mem
+        let want: f64 = members[ti]
             .iter()
-            .map(|tri| {
-                let [a, b, c] = tri.map(|q| sp[q as usize]);
+            .map(|&t| {
+                let [a, b, c] = triangles[t as usize].map(|q| sp[q as usize]);
                 let n = cross(&sub(&b, &a), &sub(&c, &a));
                 0.5 * dot(&n, &n).sqrt()
             })
@@ -331,28 +336,18 @@ pub fn check_recovered(
         }
         once.sort_unstable();
         let mut used = 0;
-        let sides: Vec<(u32, u32)> = if mem.len() == 1 {
-            let tri = mem[0];
-            (0..3).map(|k| (tri[k], tri[(k + 1) % 3])).collect()
-        } else {
-            super::merge::oriented_boundary(&mem)
-        };
-        for (x, y) in sides {
+        for (x, y) in facet_sides(triangles, &members[ti]) {
             let (px, py) = (sp[x as usize], sp[y as usize]);
             let d = sub(&py, &px);
-            // On the closed side x–y (for a polygon, collinear sides
-            // elsewhere must not count).
-            let within = |p: &[f64; 3]| {
-                let s = dot(&sub(p, &px), &d);
-                s >= 0.0 && s <= dot(&d, &d)
-            };
             let on_side = |q: u32| {
                 let p = sp[q as usize];
+                let along = dot(&sub(&p, &px), &d);
                 q == x
                     || q == y
-                    || (within(&p)
+                    // (between x and y: a facet may have collinear sides)
+                    || (0.0..=dot(&d, &d)).contains(&along)
                         && (collinear(&px, &py, &p)
-                            || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev)))
+                            || (inexact(q) && line_distance(&px, &py, &p) <= tol_dev))
             };
             let side: Vec<(u32, u32)> = once
                 .iter()
@@ -372,14 +367,14 @@ pub fn check_recovered(
                 let Some(nx) = next else {
                     return bad(
                         "constraint",
-                        format!("triangle {ti}: side {x}-{y} breaks at {cur}"),
+                        format!("facet {ti}: side {x}-{y} breaks at {cur}"),
                     );
                 };
                 steps += 1;
                 if steps > side.len() {
                     return bad(
                         "constraint",
-                        format!("triangle {ti}: side {x}-{y} does not chain"),
+                        format!("facet {ti}: side {x}-{y} does not chain"),
                     );
                 }
                 prev = cur;
@@ -411,12 +406,10 @@ pub fn check_recovered(
         if side[ti] != 1 {
             continue;
         }
-        let tri = triangles[ti];
-        // The orientation of the triangle's boundary faces, by their summed
+        // The orientation of the facet's boundary faces, by their summed
         // (area-weighted) normals: tiny faces next to inexact Steiner
-        // points may lean either way. (A merged group's triangles share
-        // its faces and its orientation.)
-        let n = normal(&tri, &rec.points);
+        // points may lean either way.
+        let n = normal(&triangles[ti], &rec.points);
         let d: f64 = faces.iter().map(|f| dot(&n, &normal(f, &rec.points))).sum();
         let sign = if d > 0.0 { 1.0 } else { -1.0 };
         for &t in &members[ti] {
@@ -440,30 +433,40 @@ pub fn check_recovered(
     Ok(())
 }
 
-/// Per surface triangle: its coverage unit (the first triangle of its
-/// merged group, or itself) and whether it is in a merged group (two or
-/// more triangles with one origin).
-fn units(n: usize, origin: &[u32]) -> Vec<(u32, bool)> {
-    let mut first: HashMap<u32, (u32, usize)> = HashMap::new();
-    for (t, &o) in origin.iter().enumerate().take(n) {
-        let e = first.entry(o).or_insert((t as u32, 0));
-        e.1 += 1;
+/// Per surface triangle its facet (the first surface triangle with the same
+/// `origin`; itself when `origin` does not match the surface), and per
+/// facet its surface triangles (empty for a triangle that is not first).
+pub(crate) fn facets(triangles: &[[u32; 3]], origin: &[u32]) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let n = triangles.len();
+    let mut facet_of: Vec<u32> = (0..n as u32).collect();
+    if origin.len() == n {
+        let mut first: HashMap<u32, u32> = HashMap::new();
+        for (t, &o) in origin.iter().enumerate() {
+            facet_of[t] = *first.entry(o).or_insert(t as u32);
+        }
     }
-    (0..n)
-        .map(|t| match origin.get(t).and_then(|o| first.get(o)) {
-            Some(&(f, c)) if c >= 2 => (f, true),
-            _ => (t as u32, false),
-        })
-        .collect()
+    let mut members = vec![Vec::new(); n];
+    for (t, &g) in facet_of.iter().enumerate() {
+        members[g as usize].push(t as u32);
+    }
+    (facet_of, members)
 }
 
-/// Per unit (indexed by its first triangle): its triangles, ascending.
-fn unit_members(unit: &[(u32, bool)]) -> Vec<Vec<u32>> {
-    let mut out = vec![Vec::new(); unit.len()];
-    for (t, &(u, _)) in unit.iter().enumerate() {
-        out[u as usize].push(t as u32);
-    }
-    out
+/// The sides of a facet (its surface triangles `members`): the directed
+/// edges whose reverse is not in the facet, sorted.
+pub(crate) fn facet_sides(triangles: &[[u32; 3]], members: &[u32]) -> Vec<(u32, u32)> {
+    let mut es: Vec<(u32, u32)> = members
+        .iter()
+        .flat_map(|&t| {
+            let v = triangles[t as usize];
+            [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])]
+        })
+        .collect();
+    es.sort_unstable();
+    es.iter()
+        .copied()
+        .filter(|&(a, b)| es.binary_search(&(b, a)).is_err())
+        .collect()
 }
 
 fn normal(t: &[u32; 3], pts: &[[f64; 3]]) -> [f64; 3] {

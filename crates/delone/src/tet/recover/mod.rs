@@ -129,6 +129,7 @@ use std::collections::HashSet;
 use std::fmt;
 
 pub use carve::{Domain, MeshRegion};
+pub(crate) use check::facets;
 pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 

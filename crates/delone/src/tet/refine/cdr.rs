@@ -32,6 +32,10 @@ mod flip;
 
 const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
+/// Input angle (degrees) below which a bad cell whose shortest edge joins
+/// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
+const SHELL_ANGLE: f64 = 30.0;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -87,6 +91,11 @@ pub(super) struct Cdr {
     normals: Vec<P>,
     /// Plane group of each input triangle (coplanar neighbours share one).
     group: Vec<u32>,
+    /// Facet of each surface triangle: the surface triangles of one merged
+    /// coplanar group share one (R2 works on the whole facet).
+    facet: Vec<u32>,
+    /// Per facet id: does it hold two or more surface triangles?
+    merged: Vec<bool>,
     /// Input triangles each vertex lies on.
     vtris: Vec<Vec<u32>>,
     segq: VecDeque<(u32, u32)>,
@@ -98,6 +107,8 @@ pub(super) struct Cdr {
     budget: usize,
     pub(super) report: RefineReport,
     inexact: Vec<u32>,
+    /// Input edge of each point put on a segment by refinement.
+    vedge: HashMap<u32, u32>,
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
@@ -198,43 +209,43 @@ impl Cdr {
             }
         }
         let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
-        // A merged coplanar group's faces all name its first triangle
-        // (`Recovered::boundary_triangle`): its subsegments lie on the sides
-        // of any of its triangles (same `surface_origin`).
-        let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
-        for (t, &o) in rec.surface_origin.iter().enumerate().take(triangles.len()) {
-            members.entry(o).or_default().push(t as u32);
-        }
+        let origin: &[u32] = if rec.surface.is_empty() {
+            &[]
+        } else {
+            &rec.surface_origin
+        };
+        let (facet, members) = crate::tet::recover::facets(triangles, origin);
+        let merged = members.iter().map(|m| m.len() >= 2).collect();
         let mut segs: HashMap<(u32, u32), u32> = HashMap::new();
-        for (t, faces) in per_tri.iter().enumerate() {
-            if faces.is_empty() {
+        for mem in &members {
+            if mem.is_empty() {
                 continue;
             }
-            let sides: Vec<[u32; 2]> = rec
-                .surface_origin
-                .get(t)
-                .and_then(|o| members.get(o))
-                .filter(|m| m.len() >= 2)
-                .map_or_else(|| vec![t as u32], |m| m.clone())
+            // A merged group's faces all name its first triangle
+            // (`Recovered::boundary_triangle`): its subsegments lie on the
+            // sides of any of its triangles.
+            let sides: Vec<[u32; 2]> = mem
                 .iter()
                 .flat_map(|&u| {
                     let tri = triangles[u as usize];
                     (0..3).map(move |k| [tri[k], tri[(k + 1) % 3]])
                 })
                 .collect();
-            let mut es: Vec<(u32, u32)> = faces
+            // Edges used once by the faces of the facet lie on its sides.
+            let mut es: Vec<((u32, u32), u32)> = mem
                 .iter()
-                .flat_map(|k| [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])])
+                .flat_map(|&t| per_tri[t as usize].iter().map(move |k| (k, t)))
+                .flat_map(|(k, t)| [((k[0], k[1]), t), ((k[0], k[2]), t), ((k[1], k[2]), t)])
                 .collect();
             es.sort_unstable();
             let mut i = 0;
             while i < es.len() {
                 let mut j = i;
-                while j < es.len() && es[j] == es[i] {
+                while j < es.len() && es[j].0 == es[i].0 {
                     j += 1;
                 }
                 if j - i == 1 {
-                    let e = es[i];
+                    let e = es[i].0;
                     // Distance to the side's line (relative), plus 1 when
                     // off the side's extent (collinear sides of a polygon).
                     let score = |k: usize| {
@@ -307,6 +318,8 @@ impl Cdr {
             tris: triangles.to_vec(),
             normals,
             group,
+            facet,
+            merged,
             vtris,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
@@ -319,6 +332,7 @@ impl Cdr {
                 ..RefineReport::default()
             },
             inexact: rec.inexact.clone(),
+            vedge: HashMap::new(),
             max_dev: rec.report.max_deviation * s,
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
@@ -377,9 +391,13 @@ impl Cdr {
         }
     }
 
-    /// Does vertex `w` lie on an input triangle sharing an input vertex
-    /// with one of `tris`? (Then its encroachment is not acted on: see the
-    /// module documentation, protection at small input angles.)
+    /// Does vertex `w` lie on a surface triangle that shares a vertex with
+    /// one of `tris`, other than a triangle of the same merged planar facet?
+    /// Then its encroachment is not acted on (protection at small input
+    /// angles, see the module documentation): on a curved surface every
+    /// input triangle is its own facet, and acting on the vertices of
+    /// needle-shaped neighbours would refine the surface down to their
+    /// width. Inside a merged planar facet there is no angle to protect.
     fn near(&self, w: u32, tris: &[u32]) -> bool {
         let Some(wt) = self.vtris.get(w as usize) else {
             return false;
@@ -387,9 +405,12 @@ impl Cdr {
         wt.iter().any(|&a| {
             let ta = self.tris[a as usize];
             tris.iter().any(|&b| {
-                self.tris
-                    .get(b as usize)
-                    .is_some_and(|tb| tb.iter().any(|q| ta.contains(q)))
+                let Some(tb) = self.tris.get(b as usize) else {
+                    return false;
+                };
+                let same = self.facet[a as usize] == self.facet[b as usize]
+                    && self.merged[self.facet[a as usize] as usize];
+                !same && tb.iter().any(|q| ta.contains(q))
             })
         })
     }
@@ -649,7 +670,9 @@ impl Cdr {
                     // plane: its cone would be flat.
                     return Err(drop(t));
                 }
-                if orient3d(g(x), g(y), g(z), m) >= 0.0 {
+                if orient3d(g(x), g(y), g(z), m) >= 0.0
+                    || self.flat([x, y, z, mid], Some((mid, tris)))
+                {
                     return Err(drop(t));
                 }
                 tets.push(([x, y, z, mid], self.reg[t as usize], w, sub));
@@ -800,6 +823,9 @@ impl Cdr {
         if cav.len() >= MAX_CAVITY {
             return None;
         }
+        if !self.shrink(&mut cav, required, dis, &m, &tris) {
+            return None;
+        }
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
@@ -825,6 +851,88 @@ impl Cdr {
         None
     }
 
+    /// Do the four vertices of `t` lie on one plane group (each on an input
+    /// triangle of that group, new points by the triangles they were put
+    /// on)? Such a tetrahedron is flat in exact arithmetic: its positive
+    /// orientation would only be an accident of rounding new points, and
+    /// it would lie on the facet, sandwiched between its subfaces. Plans
+    /// and flips never build one.
+    pub(super) fn flat(&self, t: [u32; 4], extra: Option<(u32, &[u32])>) -> bool {
+        let tris_of = |q: u32| -> &[u32] {
+            match extra {
+                Some((v, l)) if v == q => l,
+                _ => self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()),
+            }
+        };
+        let first = tris_of(t[0]);
+        first.iter().any(|&a| {
+            let Some(&g) = self.group.get(a as usize) else {
+                return false;
+            };
+            t[1..].iter().all(|&q| {
+                tris_of(q)
+                    .iter()
+                    .any(|&b| self.group.get(b as usize) == Some(&g))
+            })
+        })
+    }
+
+    /// Cavity correction before planning: drops, pass after pass, every
+    /// tetrahedron that is not required and has a face on the cavity's
+    /// boundary that the new point `m` does not strictly see (or that is a
+    /// subface on `m`'s own plane, or would make a flat cone). The plan
+    /// drops such cells one at a time too; doing it in passes here keeps a
+    /// cavity that spans most of the mesh (points on a cylinder are nearly
+    /// cospherical) from failing after a fixed number of retries. `false`
+    /// when a required tetrahedron would have to go.
+    fn shrink(
+        &mut self,
+        cav: &mut Vec<u32>,
+        required: &[u32],
+        dis: &[[u32; 3]],
+        m: &P,
+        tris: &[u32],
+    ) -> bool {
+        let mid = self.p.len() as u32;
+        loop {
+            self.next_epoch();
+            for &t in cav.iter() {
+                self.stamp[t as usize] = self.epoch;
+            }
+            let mut drop: Vec<u32> = Vec::new();
+            for &t in cav.iter() {
+                let tv = self.tv[t as usize];
+                let hidden = (0..4).any(|f| {
+                    let w = self.nb[t as usize][f];
+                    if w != NONE && self.stamp[(w >> 2) as usize] == self.epoch {
+                        return false;
+                    }
+                    let sub = self.mask[t as usize] >> f & 1 == 1;
+                    let k = fkey(face(tv, f));
+                    if sub && dis.contains(&k) {
+                        return false;
+                    }
+                    let [x, y, z] = face(tv, f);
+                    let g = |q: u32| &self.p[q as usize];
+                    (sub && self.coplanar(&k, tris))
+                        || orient3d(g(x), g(y), g(z), m) >= 0.0
+                        || self.flat([x, y, z, mid], Some((mid, tris)))
+                });
+                if hidden {
+                    if required.contains(&t) {
+                        return false;
+                    }
+                    drop.push(t);
+                }
+            }
+            if drop.is_empty() {
+                return true;
+            }
+            drop.sort_unstable();
+            cav.retain(|t| drop.binary_search(t).is_err());
+        }
+    }
+
     /// Is subface `k` on the plane of one of `tris`?
     fn coplanar(&self, k: &[u32; 3], tris: &[u32]) -> bool {
         let Some(&t) = self.ftri.get(k) else {
@@ -837,14 +945,19 @@ impl Cdr {
             })
     }
 
-    /// The subfaces of input triangle `tri` holding edge `e`.
+    /// The subfaces of the facet of surface triangle `tri` holding edge `e`.
     fn faces_on(&self, e: (u32, u32), tri: u32) -> Vec<[u32; 3]> {
+        let f = self.facet.get(tri as usize).copied();
         self.sedges
             .get(&e)
             .map(|l| {
                 l.iter()
                     .copied()
-                    .filter(|k| self.ftri.get(k) == Some(&tri))
+                    .filter(|k| {
+                        self.ftri
+                            .get(k)
+                            .is_some_and(|&t| self.facet.get(t as usize).copied() == f)
+                    })
                     .collect()
             })
             .unwrap_or_default()
@@ -860,6 +973,38 @@ impl Cdr {
         );
         self.max_dev = self.max_dev.max(d);
         self.inexact.push(id);
+        self.vedge.insert(id, ie);
+    }
+
+    /// Is `u v` an edge between two points that concentric-shell splits put
+    /// at the same distance from an input vertex on two of its input edges?
+    /// Such an edge is as short as the input angle between the two edges
+    /// makes it: a cell that is bad because of it cannot be repaired by
+    /// splitting anything (the splits would halve the shells towards the
+    /// vertex forever), so it is left (Shewchuk's rule at small input
+    /// angles, as in Triangle's 2D refinement).
+    fn shell_pair(&self, u: u32, v: u32) -> bool {
+        let (Some(&eu), Some(&ev)) = (self.vedge.get(&u), self.vedge.get(&v)) else {
+            return false;
+        };
+        if eu == ev {
+            return false;
+        }
+        let (a, b) = (self.iedges[eu as usize], self.iedges[ev as usize]);
+        let Some(&s) = a.iter().find(|q| b.contains(q)) else {
+            return false;
+        };
+        let ps = self.p[s as usize];
+        let du = dist2(&ps, &self.p[u as usize]).sqrt();
+        let dv = dist2(&ps, &self.p[v as usize]).sqrt();
+        if (du - dv).abs() > 0.01 * du.max(dv) {
+            return false;
+        }
+        // Only at a small input angle: the pair is closer than the shell
+        // radius times 2 sin(θ/2) for θ = SHELL_ANGLE. (At larger angles the
+        // shells do not cascade and the cells are refined as usual.)
+        let uv = dist2(&self.p[u as usize], &self.p[v as usize]).sqrt();
+        uv < 2.0 * (SHELL_ANGLE.to_radians() / 2.0).sin() * du.max(dv)
     }
 
     /// Records the deviation of a new point on input triangle `t`.
@@ -921,7 +1066,36 @@ impl Cdr {
             v.retain(|&t| t != NONE);
             v
         };
-        match self.insert(m, &req, &dis, Some(e), tris) {
+        // Each facet at the subsegment re-triangulated Delaunay in its plane
+        // (facet-local cavities); failing that, only the subfaces holding it.
+        let mut grown: Vec<[u32; 3]> = Vec::new();
+        for &tri in &tris {
+            let seeds: Vec<[u32; 3]> = dis
+                .iter()
+                .copied()
+                .filter(|k| self.ftri.get(k) == Some(&tri))
+                .collect();
+            grown.extend(self.facet_cavity(seeds, tri, &m));
+        }
+        grown.extend(
+            dis.iter()
+                .filter(|k| self.ftri.get(*k).is_none_or(|t| !tris.contains(t))),
+        );
+        grown.sort_unstable();
+        grown.dedup();
+        let mut done = None;
+        if grown.len() > dis.len() {
+            let mut req2: Vec<u32> = grown.iter().flat_map(|&f| self.face_tets(f)).collect();
+            req2.extend(&req);
+            req2.sort_unstable();
+            req2.dedup();
+            done = self.insert(m, &req2, &grown, Some(e), tris.clone());
+        }
+        let done = match done {
+            Some(id) => Some(id),
+            None => self.insert(m, &req, &dis, Some(e), tris),
+        };
+        match done {
             Some(id) => {
                 self.segs.remove(&e);
                 self.segs.insert(ekey(a, id), ie);
@@ -1053,6 +1227,41 @@ impl Cdr {
         nverts == verts.len()
     }
 
+    /// The facet-local Delaunay cavity of a point `c` on input triangle
+    /// `tri`: the subfaces of `tri` reached from `seeds` across edges that
+    /// are not subsegments whose circumcircle holds `c` (the seeds always
+    /// belong). Keeps the subfaces of a facet Delaunay in its plane, which
+    /// R1 needs as much as R2: dissolving only the subfaces holding a split
+    /// subsegment leaves skinny subfaces whose circumcentres fall beyond
+    /// the subsegment again, halving it towards its input vertex forever.
+    fn facet_cavity(&self, seeds: Vec<[u32; 3]>, tri: u32, c: &P) -> Vec<[u32; 3]> {
+        let mut d = seeds;
+        let mut i = 0;
+        while i < d.len() {
+            let f = d[i];
+            i += 1;
+            for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
+                if self.segs.contains_key(&e) {
+                    continue;
+                }
+                for h in self.faces_on(e, tri) {
+                    if d.contains(&h) {
+                        continue;
+                    }
+                    let Some((x, r2)) =
+                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
+                    else {
+                        continue;
+                    };
+                    if dist2(&x, c) < r2 * (1.0 - 1e-12) {
+                        d.push(h);
+                    }
+                }
+            }
+        }
+        d
+    }
+
     /// R2: splits subface `k` at its circumcentre (or the subsegment it
     /// encroaches, or, failing that, its longest edge).
     fn split_face(&mut self, k: [u32; 3]) -> bool {
@@ -1091,30 +1300,7 @@ impl Cdr {
             }
         };
         // The facet-local cavity.
-        let mut d = vec![s0];
-        let mut i = 0;
-        while i < d.len() {
-            let f = d[i];
-            i += 1;
-            for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
-                if self.segs.contains_key(&e) {
-                    continue;
-                }
-                for h in self.faces_on(e, tri) {
-                    if d.contains(&h) {
-                        continue;
-                    }
-                    let Some((x, r2)) =
-                        tri_circumcenter(&self.pt(h[0]), &self.pt(h[1]), &self.pt(h[2]))
-                    else {
-                        continue;
-                    };
-                    if dist2(&x, &c) < r2 * (1.0 - 1e-12) {
-                        d.push(h);
-                    }
-                }
-            }
-        }
+        let mut d = self.facet_cavity(vec![s0], tri, &c);
         if !self.inside_cavity(&d, tri, &c) {
             d = vec![s0];
             if !self.inside_cavity(&d, tri, &c) {
@@ -1222,13 +1408,20 @@ impl Cdr {
         if self.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
-        let p = tv.map(|q| self.p[q as usize]);
-        if quality::radius_edge_ratio(&p) > FLAT_RATIO {
+        if self.on_one_plane(tv) {
+            // Four vertices on (nearly) coplanar input triangles: the cell
+            // is as flat as the input there; splitting the boundary would
+            // make flat cells again, down to the segment floor.
             self.report.skipped += 1;
             self.report.skipped_flat += 1;
             return;
         }
-        let Some(c) = quality::circumcenter(&p) else {
+        let p = tv.map(|q| self.p[q as usize]);
+        let circ = quality::circumcenter(&p);
+        let Some(c) = circ.filter(|_| quality::radius_edge_ratio(&p) <= FLAT_RATIO) else {
+            // A flat cell (four points a hair off one plane, or a wedge at
+            // a ridge between nearly coplanar facets): splitting its
+            // boundary pieces leaves flat cells again, so it is left.
             self.report.skipped += 1;
             self.report.skipped_flat += 1;
             return;
@@ -1236,6 +1429,18 @@ impl Cdr {
         let lmin = quality::edge_lengths(&p)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
+        {
+            let short = EDGES.iter().map(|&(i, j)| (tv[i], tv[j])).min_by(|x, y| {
+                dist2(&self.pt(x.0), &self.pt(x.1))
+                    .total_cmp(&dist2(&self.pt(y.0), &self.pt(y.1)))
+                    .then(x.cmp(y))
+            });
+            if short.is_some_and(|(u, v)| self.shell_pair(u, v)) {
+                self.report.skipped += 1;
+                self.report.skipped_small += 1;
+                return;
+            }
+        }
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
@@ -1247,7 +1452,11 @@ impl Cdr {
                 if !encroaches_face(&a, &b, &d, &c) {
                     // Outside, behind a subface it does not encroach (near
                     // a cell the flips could not make constrained
-                    // Delaunay): leave the cell.
+                    // Delaunay, or a wedge at a ridge): leave the cell.
+                    // (Splitting the subface when a vertex of the cell
+                    // encroaches it was tried: it refines fandisk -pq2
+                    // further without fewer bad cells, and runs away on
+                    // cgal_hole -pq1.414.)
                     self.report.skipped += 1;
                     self.report.skipped_behind += 1;
                     return;
@@ -1325,6 +1534,24 @@ impl Cdr {
             self.report.skipped += 1;
             self.report.skipped_small += 1;
         }
+    }
+
+    /// Do the four vertices of `tv` all lie on input triangles of one plane
+    /// group (exactly or nearly coplanar triangles, see `plane_groups`)?
+    fn on_one_plane(&self, tv: [u32; 4]) -> bool {
+        let groups = |q: u32| -> Vec<u32> {
+            let mut g: Vec<u32> = self.vtris[q as usize]
+                .iter()
+                .filter_map(|&t| self.group.get(t as usize).copied())
+                .collect();
+            g.sort_unstable();
+            g.dedup();
+            g
+        };
+        let first = groups(tv[0]);
+        first
+            .iter()
+            .any(|g| tv[1..].iter().all(|&q| groups(q).binary_search(g).is_ok()))
     }
 
     /// Is subsegment `e` still encroached by a vertex next to it?

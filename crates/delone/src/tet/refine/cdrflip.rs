@@ -115,6 +115,9 @@ impl Cdr {
                 orient3d(g(c[0]), g(c[1]), g(c[2]), g(c[3]))
             })
             .collect();
+        if cand.iter().any(|&c| self.flat(c, None)) {
+            return None;
+        }
         if sgn.iter().all(|&s| s < 0.0) {
             return Some(self.replace(&[t, u], &cand));
         }
@@ -153,7 +156,11 @@ impl Cdr {
             if !self.positive(n2) {
                 n2.swap(0, 1);
             }
-            if self.positive(n1) && self.positive(n2) {
+            if self.positive(n1)
+                && self.positive(n2)
+                && !self.flat(n1, None)
+                && !self.flat(n2, None)
+            {
                 return Some(self.replace(&[t, u, v], &[n1, n2]));
             }
         }

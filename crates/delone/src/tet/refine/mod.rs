@@ -11,13 +11,20 @@
 //!   the [`Recovered`] mesh, each with its input triangle. The mark is a
 //!   4-bit face mask per tetrahedron; a side table maps a subface to its
 //!   input triangle and an edge to the subfaces holding it;
-//! * **subsegments** — every mesh edge on an input edge (the edges used
-//!   once by the subfaces of an input triangle), *ridges and flat edges
-//!   alike*: an input triangle stays a union of mesh faces (what
-//!   [`super::recover::check_recovered`] demands), so a subface never
-//!   spans two input triangles even when they are coplanar. The facet of
-//!   rule R2 is therefore one input triangle; the plane groups of nearly
-//!   coplanar triangles serve only to recognise flat cones (below);
+//! * **facets** — the recovery merges exactly coplanar input triangles
+//!   into planar groups ([`RecoverOptions::merge_coplanar`], on by
+//!   default, as in TetGen) and re-triangulates each; a facet of the
+//!   refinement is such a group (the surface triangles with the same
+//!   [`Recovered::surface_origin`]), or one input triangle when not
+//!   merged. [`super::recover::check_recovered`] checks coverage per
+//!   facet, so subfaces may cross the group's inner edges;
+//! * **subsegments** — every mesh edge on a facet's side (the edges used
+//!   once by the subfaces of a facet), *ridges and flat edges between
+//!   distinct facets alike*; the inner edges of a merged facet are not
+//!   constraints, so R2's facet-local Delaunay cavity (below) re-triangulates
+//!   a planar facet across them, keeping it Delaunay in its plane. The
+//!   plane groups of nearly coplanar triangles serve only to recognise
+//!   flat cones (below);
 //! * **regions** — each tetrahedron carries its region; new tetrahedra
 //!   inherit the region of the cavity tetrahedron whose boundary face they
 //!   cone, and a plan whose new tetrahedra of different regions meet across
@@ -47,10 +54,10 @@
 //!    `c m a`, `c m b` replace them. Encroachment: a vertex of a
 //!    tetrahedron around it strictly inside its diametral ball;
 //! 2. **R2** — an encroached subface is split at its circumcentre `c`: a
-//!    walk over the subfaces of its input triangle finds the one holding
+//!    walk over the subfaces of its facet finds the one holding
 //!    `c`, or the subsegment in the way (then that subsegment is split, if
 //!    not much shorter than the subface); the facet-local Delaunay cavity
-//!    (subfaces of the same input triangle whose circumcircle holds `c`,
+//!    (subfaces of the same facet whose circumcircle holds `c`,
 //!    never across a subsegment) must be a disk with `c` strictly inside
 //!    (exact test per boundary edge); the tetrahedra on both sides of it
 //!    are required. A circumcentre encroaching a subsegment of the 3D
@@ -65,14 +72,20 @@
 //!    instead, but only when they are not much smaller than the cell's
 //!    shortest edge (near small input angles the cell is left and counted
 //!    in [`RefineReport::skipped`]). A subface in the way that it does not
-//!    encroach also leaves the cell (the mesh is not constrained Delaunay
-//!    there: recovery flips).
+//!    encroach leaves the cell ([`RefineReport::skipped_behind`]: wedges at
+//!    ridges, or where the flips could not restore constrained Delaunay).
+//!    Nearly flat cells (radius-edge ratio above 10⁶), and cells whose four
+//!    vertices lie on one plane group of (nearly) coplanar input triangles,
+//!    are left: splitting their boundary leaves flat cells again.
 //!
 //! Queues are processed in a fixed order (subsegments, subfaces, then bad
-//! cells), each item checked again when it is taken; vertices lying on an
-//! input triangle that shares an input vertex with the encroached piece's
-//! triangles do not count as encroaching (protection at small input
-//! angles, as in the earlier conforming version).
+//! cells), each item checked again when it is taken. Encroachment by a
+//! *circumcentre* is geometric (no protection). Encroachment by an
+//! existing vertex is not acted on when the vertex lies on a surface
+//! triangle sharing a vertex with the encroached piece's triangles, unless
+//! both are on the same merged planar facet (protection at small input
+//! angles and at the needle triangles of curved surfaces, where every
+//! input triangle is its own facet).
 //!
 //! **Why every new tetrahedron is positive and no subface is lost.** The
 //! plan of an insertion is computed before anything changes and refused
@@ -271,13 +284,7 @@ pub fn refine(
     triangles: &[[u32; 3]],
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
-    // No coplanar merging before refinement (yet): its subfaces are then
-    // the input triangles themselves.
-    let ropts = RecoverOptions {
-        merge_coplanar: false,
-        ..opts.recover.clone()
-    };
-    let rec = recover_domain(points, triangles, &ropts, &Domain::default())?;
+    let rec = recover_domain(points, triangles, &opts.recover, &Domain::default())?;
     refine_recovered(points, triangles, &rec, opts)
 }
 
