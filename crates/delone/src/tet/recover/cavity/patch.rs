@@ -50,7 +50,7 @@ use crate::tet::cmesh::CMesh;
 use crate::tet::local::{DEAD, INF};
 
 /// Most input triangles in a patch.
-const MAX_PATCH: usize = 24;
+const MAX_PATCH: usize = 4096;
 
 impl State {
     /// The patch of missing triangles around missing input edge `e`
