@@ -90,6 +90,7 @@ use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
+mod hull;
 mod patch;
 
 type P = [f64; 3];
@@ -286,13 +287,15 @@ fn fill(
 }
 
 /// Exact validation of replacing the tetrahedra `old` (sorted) by `new`
-/// (see the module documentation).
+/// (see the module documentation); vertices from `n_fixed` on (interior
+/// Steiner points of earlier rounds) may disappear.
 fn valid_replacement(
     cm: &CMesh<'_>,
     pts: &[P],
     old: &[u32],
     new: &[[u32; 4]],
     prot: &Protected,
+    n_fixed: usize,
 ) -> bool {
     let c = &cm.dt.core;
     if new
@@ -343,7 +346,7 @@ fn valid_replacement(
     for &t in old {
         let tv = c.v[t as usize];
         for i in 0..4 {
-            if !new_verts.contains(&tv[i]) {
+            if (tv[i] as usize) < n_fixed && !new_verts.contains(&tv[i]) {
                 return false;
             }
             for j in i + 1..4 {
@@ -556,6 +559,14 @@ fn grow(
 }
 
 impl State {
+    /// Vertices below this id must survive a replacement: the input points
+    /// (and any point registered on the surface); interior Steiner points
+    /// of `-Y` come after and may be swallowed by a cavity (unused ones
+    /// are dropped at the end, `compact`).
+    fn n_fixed(&self) -> usize {
+        self.surf.vtris.len()
+    }
+
     /// Exact: `p` lies on no input triangle (closed).
     fn off_surface(&self, pts: &[P], p: &P) -> bool {
         for tv in &self.surf.tris {
@@ -607,7 +618,7 @@ impl State {
             }
             new.extend(f.tets);
         }
-        if !valid_replacement(cm, &pts, set, &new, prot) {
+        if !valid_replacement(cm, &pts, set, &new, prot, self.n_fixed()) {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
@@ -738,7 +749,8 @@ impl State {
             }
             fills.push(f);
         }
-        self.apply(cm, &set, fills, prot)
+        let r = self.apply(cm, &set, fills, prot);
+        r
     }
 
     /// One attempt of [`State::preserve_by_cavities`]: with `cone_first`,

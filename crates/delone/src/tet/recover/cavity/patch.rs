@@ -133,6 +133,10 @@ impl State {
         steiner: bool,
     ) -> Option<(usize, Vec<[u32; 3]>)> {
         let patch = self.patch_of(cm, e)?;
+        // Flat on the convex hull: the hull faces give way to the patch.
+        if let Some(k) = self.hull_patch(cm, &patch, prot, steiner) {
+            return Some((k, patch));
+        }
         // Edge uses: border edges (one triangle) and interior ones.
         let mut uses: IdMap<(u32, u32), Vec<(u32, u32)>> = IdMap::default();
         for t in &patch {
@@ -276,7 +280,8 @@ impl State {
             }
             fills.push(f);
         }
-        let k = self.apply(cm, &set, fills, prot)?;
+        let k = self.apply(cm, &set, fills, prot);
+        let k = k?;
         Some((k, patch))
     }
 }
