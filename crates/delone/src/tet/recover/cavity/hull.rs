@@ -32,7 +32,7 @@ use super::super::cdt::Protected;
 use super::super::missing::{ekey, fkey};
 use super::super::surface::{IdMap, IdSet};
 use super::super::State;
-use super::{fill, okey, rev, Region};
+use super::{fill_side, okey, rev, Region};
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
@@ -40,16 +40,18 @@ use delone_predicates::orient3d;
 /// Most tetrahedra removed by one flat hull replacement.
 const MAX_SET: usize = 512;
 
+/// A patch lying flat on the convex hull: the finite tetrahedra to
+/// remove, the ghosts on its hull faces, and its triangles oriented inward.
+pub(super) struct Flat {
+    set: Vec<u32>,
+    ghosts: Vec<u32>,
+    inward: Vec<[u32; 3]>,
+}
+
 impl State {
-    /// Recovers the patch `patch` (consistently oriented triangles) when it
-    /// lies flat on the convex hull. `Some(points added)` on success.
-    pub(super) fn hull_patch(
-        &self,
-        cm: &mut CMesh<'_>,
-        patch: &[[u32; 3]],
-        prot: &Protected,
-        steiner: bool,
-    ) -> Option<usize> {
+    /// The flat hull data of `patch` (consistently oriented triangles), or
+    /// `None` when it does not lie flat on the convex hull.
+    pub(super) fn flat_hull(&self, cm: &CMesh<'_>, patch: &[[u32; 3]]) -> Option<Flat> {
         let pts = cm.pts();
         let c = &cm.dt.core;
         let p0 = patch.first()?.map(|w| pts[w as usize]);
@@ -129,30 +131,10 @@ impl State {
         if set.len() > MAX_SET {
             return None;
         }
-        let hull_faces: IdSet<[u32; 3]> = ghosts
-            .iter()
-            .map(|&g| {
-                let tv = c.v[g as usize];
-                fkey([tv[0], tv[1], tv[2]])
-            })
-            .collect();
-        let bnd = super::boundary_of(cm, &set);
-        let mut reg = Region::default();
-        let mut outer: Vec<[u32; 3]> = Vec::new();
-        for f in &bnd.faces {
-            if hull_faces.contains(&fkey(f.0)) {
-                continue;
-            }
-            if f.0.contains(&INF) {
-                return None;
-            }
-            reg.faces.push(*f);
-            outer.push(okey(f.0));
-        }
-        // The patch, oriented inward: seen positively from a region vertex
-        // off the plane.
-        let x = reg
-            .vertices()
+        // The patch, oriented inward: seen positively from the vertex of a
+        // hull tetrahedron off the plane.
+        let tv = c.v[set[0] as usize];
+        let x = tv
             .into_iter()
             .find(|&w| orient3d(&p0[0], &p0[1], &p0[2], &pts[w as usize]) != 0.0)?;
         let t0 = patch[0].map(|w| &pts[w as usize]);
@@ -161,13 +143,110 @@ impl State {
             .iter()
             .map(|t| if flip { [t[0], t[2], t[1]] } else { *t })
             .collect();
+        Some(Flat {
+            set,
+            ghosts,
+            inward,
+        })
+    }
+
+    /// The flat hull patches next to `flat` (sharing one of its
+    /// tetrahedra's hull faces' vertices, through a missing input edge).
+    pub(super) fn flat_neighbours(&self, cm: &CMesh<'_>, flat: &Flat) -> Vec<Vec<[u32; 3]>> {
+        let c = &cm.dt.core;
+        let mut out: Vec<Vec<[u32; 3]>> = Vec::new();
+        let mut tried: IdSet<usize> = IdSet::default();
+        let mut own: Vec<[u32; 3]> = flat.inward.iter().map(|t| fkey(*t)).collect();
+        own.sort_unstable();
+        for &t in &flat.set {
+            for f in 0..4 {
+                let n = c.adj[t as usize][f] >> 2;
+                if c.v[n as usize][3] != INF || flat.ghosts.contains(&n) {
+                    continue;
+                }
+                for w in face(c.v[t as usize], f) {
+                    let Some(ts) = self.surf.vtris.get(w as usize) else {
+                        continue;
+                    };
+                    for &it in ts {
+                        for &k in &self.surf.tri_edges[it as usize] {
+                            let [a, b] = self.surf.edges[k as usize];
+                            if !tried.insert(k as usize) || cm.find_edge(a, b).is_some() {
+                                continue;
+                            }
+                            if let Some(p) = self.patch_of(cm, k as usize) {
+                                let mut key = p.iter().map(|t| fkey(*t)).collect::<Vec<_>>();
+                                key.sort_unstable();
+                                let dup = out.iter().any(|q| {
+                                    let mut k2 = q.iter().map(|t| fkey(*t)).collect::<Vec<_>>();
+                                    k2.sort_unstable();
+                                    k2 == key
+                                });
+                                if !dup && key != own && out.len() < 8 {
+                                    out.push(p);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Recovers the `patches` (each consistently oriented) when each lies
+    /// flat on the convex hull, in one replacement. `Some(points added)`
+    /// on success.
+    pub(super) fn hull_patch(
+        &self,
+        cm: &mut CMesh<'_>,
+        patches: &[Vec<[u32; 3]>],
+        prot: &Protected,
+        steiner: bool,
+    ) -> Option<usize> {
+        let mut set: Vec<u32> = Vec::new();
+        let mut ghosts: Vec<u32> = Vec::new();
+        let mut inward: Vec<[u32; 3]> = Vec::new();
+        for p in patches {
+            let f = self.flat_hull(cm, p)?;
+            set.extend(f.set);
+            ghosts.extend(f.ghosts);
+            inward.extend(f.inward);
+        }
+        set.sort_unstable();
+        set.dedup();
+        ghosts.sort_unstable();
+        ghosts.dedup();
+        let c = &cm.dt.core;
+        let pts = cm.pts();
+        let hull_faces: IdSet<[u32; 3]> = ghosts
+            .iter()
+            .map(|&g| {
+                let tv = c.v[g as usize];
+                fkey([tv[0], tv[1], tv[2]])
+            })
+            .collect();
+        if hull_faces.len() != ghosts.len() {
+            return None;
+        }
+        let bnd = super::boundary_of(cm, &set);
+        let mut reg = Region::default();
+        for f in &bnd.faces {
+            if hull_faces.contains(&fkey(f.0)) {
+                continue;
+            }
+            if f.0.contains(&INF) {
+                return None;
+            }
+            reg.faces.push(*f);
+        }
         for t in &inward {
             reg.faces.push((*t, DEAD, 0));
-            outer.push(okey(*t));
         }
         let id = pts.len() as u32;
-        let f = fill(pts, &reg.tris(), &reg.vertices(), steiner, id).ok();
-        let f = f?;
+        let f = fill_side(cm, &mut reg, &mut set, None, prot, steiner, id)?;
+        let (pts, c) = (cm.pts(), &cm.dt.core);
+        let outer: Vec<[u32; 3]> = reg.faces.iter().map(|f| okey(f.0)).collect();
         // Validation (see the module documentation).
         let mut all: Vec<[f64; 3]> = pts.to_vec();
         if let Some(p) = f.point {
