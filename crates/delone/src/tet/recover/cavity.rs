@@ -109,6 +109,10 @@ const MAX_STALLED_CALLS: usize = 3;
 const MAX_GROW: usize = 8;
 /// Most whole layers a side grows by in its cones-only attempt.
 const MAX_LAYERS: usize = 2;
+/// Largest cavity grown by whole layers (small sides only: the layers
+/// are for Schönhardt-like prisms of a few tetrahedra, and cost time on
+/// large failing sides).
+const LAYER_CAVITY: usize = 24;
 /// Most tetrahedra in a grown cavity.
 const MAX_CAVITY: usize = 128;
 
@@ -323,6 +327,7 @@ fn fill_side(
                     if !grow(cm, &mut r2, &mut s2, &none, Some(&best), side, prot)
                         && (with_point
                             || layers >= MAX_LAYERS
+                            || s2.len() > LAYER_CAVITY
                             || !grow(cm, &mut r2, &mut s2, &none, None, side, prot))
                     {
                         break;
@@ -784,8 +789,7 @@ impl State {
             }
             fills.push(f);
         }
-        let r = self.apply(cm, &set, fills, prot);
-        r
+        self.apply(cm, &set, fills, prot)
     }
 
     /// One attempt of [`State::preserve_by_cavities`]: with `cone_first`,

@@ -281,8 +281,7 @@ impl State {
             }
             fills.push(f);
         }
-        let k = self.apply(cm, &set, fills, prot);
-        let k = k?;
+        let k = self.apply(cm, &set, fills, prot)?;
         Some((k, patch))
     }
 }
