@@ -136,6 +136,8 @@ pub struct SurfInput {
     pub triangles: Vec<[u32; 3]>,
     /// Radius-edge bound of a `3d-surfq-…-qB` case (`None`: recovery only).
     pub ratio: Option<f64>,
+    /// A `3d-surfY-…` case: recovery preserving the surface (`-Y`).
+    pub preserve: bool,
 }
 
 /// The input of a case: generated points or a file's content.
@@ -263,7 +265,7 @@ impl fmt::Display for BadCase {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL, 3d-surfq-MODEL-qB)",
+            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL, 3d-surfY-MODEL, 3d-surfq-MODEL-qB)",
             self.0
         )
     }
@@ -330,7 +332,11 @@ impl Case {
                 }),
             });
         }
-        if let Some(model) = name.strip_prefix("3d-surf-") {
+        // `3d-surfY-MODEL`: recovery with surface preservation (`-Y`).
+        if let Some(model) = name
+            .strip_prefix("3d-surf-")
+            .or_else(|| name.strip_prefix("3d-surfY-"))
+        {
             if !is_data_name(model) {
                 return Err(bad());
             }
@@ -426,6 +432,7 @@ impl Case {
                     points: s.points,
                     triangles,
                     ratio: self.quality.and_then(|q| q.min_angle),
+                    preserve: self.name.starts_with("3d-surfY-"),
                 }))
             }
             Kind::Segs | Kind::Holes => Ok(Input::Poly(PolyInput {

@@ -18,6 +18,7 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("tetgen-p", 3),
     ("triangle-p", 2),
     ("tetgen-pq", 3),
+    ("tetgen-pY", 3),
 ];
 
 /// Whether `program` handles `dim`-dimensional input.
@@ -33,8 +34,17 @@ pub fn handles(program: &str, case: &Case) -> bool {
             matches!(program, "delone" | "triangle" | "triangle-p")
         }
         Kind::Surf if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
+        Kind::Surf if case.name.starts_with("3d-surfY-") => {
+            matches!(program, "delone" | "tetgen-pY")
+        }
         Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
-        _ if matches!(program, "tetgen-p" | "tetgen-pq" | "triangle-p") => false,
+        _ if matches!(
+            program,
+            "tetgen-p" | "tetgen-pq" | "tetgen-pY" | "triangle-p"
+        ) =>
+        {
+            false
+        }
         _ => supports(program, case.dim),
     }
 }
@@ -300,7 +310,10 @@ fn run_surf(
     }
     match program {
         "delone" => {
-            let opts = RecoverOptions::default();
+            let opts = RecoverOptions {
+                preserve_surface: input.preserve,
+                ..RecoverOptions::default()
+            };
             on_ready();
             let (r, seconds) = cpu_timed(|| recover(black_box(p), black_box(tris), &opts));
             let r = r.map_err(|e| e.to_string())?;
@@ -353,9 +366,13 @@ fn run_surf(
                 external_peak_kb: None,
             })
         }
-        "tetgen-p" => {
+        "tetgen-p" | "tetgen-pY" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_p(p, tris)?;
+            let r = if program == "tetgen-pY" {
+                crate::refbin::run_tetgen_py(p, tris)?
+            } else {
+                crate::refbin::run_tetgen_p(p, tris)?
+            };
             Ok(Run {
                 seconds: r.seconds,
                 elements: r.tets,

@@ -36,13 +36,15 @@ options:
                      2d-poly-NAME-p (constrained triangulation only),
                      2d-segs-SIZE / 2d-holes-SIZE (generated PSLGs, plain CDT),
                      3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen),
+                     3d-surfY-MODEL (the same preserving the surface, -Y: delone vs tetgen-pY),
                      3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation);
                      model sets: 3d-surf-@SET and 3d-surfq-@SET-qB run every model of
                      shared/data/sets/SET.txt, `@SET<N` / `@SET>N` only those with fewer /
                      more than N triangles, e.g. 3d-surfq-@closed_clean<30000-q1.414)
   --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen,
                      triangle-p (Triangle's executable, -p/-pq cases), tetgen-p
-                     (TetGen -p executable), tetgen-pq (TetGen -pqB executable)
+                     (TetGen -p executable), tetgen-pq (TetGen -pqB executable),
+                     tetgen-pY (TetGen -pY executable)
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
   --timeout SECS     kill a child after this many seconds (default 600)
@@ -123,9 +125,9 @@ fn parse_cases(list: &str) -> Result<Vec<Case>, String> {
 /// fewer (`<N`) or more (`>N`) input triangles than N.
 fn expand_set(name: &str) -> Result<Vec<String>, String> {
     let (prefix, rest) = name.split_once("-@").unwrap_or((name, ""));
-    if prefix != "3d-surf" && prefix != "3d-surfq" {
+    if prefix != "3d-surf" && prefix != "3d-surfq" && prefix != "3d-surfY" {
         return Err(format!(
-            "`{name}`: model sets are for 3d-surf and 3d-surfq cases"
+            "`{name}`: model sets are for 3d-surf, 3d-surfY and 3d-surfq cases"
         ));
     }
     let (set, suffix) = match rest.rsplit_once("-q") {

@@ -277,6 +277,15 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
     run_tetgen(points, triangles, "-pNEF", false).map(|(r, _)| r)
 }
 
+/// Runs the reference `tetgen -pY` (boundary recovery preserving the
+/// surface: Steiner points only inside the volume) like [`run_tetgen_p`].
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or rejects the input.
+pub fn run_tetgen_py(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
+    run_tetgen(points, triangles, "-pYNEF", false).map(|(r, _)| r)
+}
+
 /// What one run of the external `tetgen -pqB` reported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TetgenQRun {

@@ -199,8 +199,9 @@ fn corpus(range: std::ops::RangeInclusive<usize>, all: bool) {
         if !range.contains(&nf) {
             continue;
         }
-        // DELONE_Y_MODEL=name restricts the run to the models matching it.
-        if std::env::var("DELONE_Y_MODEL").is_ok_and(|m| !rel.contains(&m)) {
+        // DELONE_Y_MODEL=name[,name...] restricts the run to the models
+        // matching one of the names.
+        if std::env::var("DELONE_Y_MODEL").is_ok_and(|m| !m.split(',').any(|n| rel.contains(n))) {
             continue;
         }
         let s = delone_io::read_off(&std::fs::read(dir.join(rel)).unwrap()).unwrap();

@@ -90,12 +90,13 @@ use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
+mod hull;
 mod patch;
 
 type P = [f64; 3];
 
 /// Passes over the missing edges and triangles.
-const PASSES: usize = 12;
+const PASSES: usize = 24;
 /// Unfinished calls of [`State::preserve_by_cavities`] after which it is
 /// no longer tried (the fallback rounds go on alone).
 const MAX_FAILED_CALLS: usize = 8;
@@ -106,6 +107,12 @@ const MAX_STALLED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
 const MAX_GROW: usize = 8;
+/// Most whole layers a side grows by in its cones-only attempt.
+const MAX_LAYERS: usize = 2;
+/// Largest cavity grown by whole layers (small sides only: the layers
+/// are for Schönhardt-like prisms of a few tetrahedra, and cost time on
+/// large failing sides).
+const LAYER_CAVITY: usize = 24;
 /// Most tetrahedra in a grown cavity.
 const MAX_CAVITY: usize = 128;
 
@@ -285,14 +292,66 @@ fn fill(
     }
 }
 
+/// Fills one side `reg` of a cavity (removed set `set`, both grown in
+/// place on success): first cones from its vertices only, growing towards
+/// the faces the best point found does not see, so no point is added
+/// where a larger cavity has a cone; then, with `steiner`, from the
+/// original region again with kernel points (new id `id`).
+fn fill_side(
+    cm: &CMesh<'_>,
+    reg: &mut Region,
+    set: &mut Vec<u32>,
+    side: Option<(&[P; 3], f64)>,
+    prot: &Protected,
+    steiner: bool,
+    id: u32,
+) -> Option<Fill> {
+    let none: IdSet<u32> = IdSet::default();
+    for with_point in [false, true] {
+        if with_point && !steiner {
+            break;
+        }
+        let (mut r2, mut s2) = (reg.clone(), set.clone());
+        let mut layers = 0;
+        for _ in 0..=MAX_GROW {
+            match fill(cm.pts(), &r2.tris(), &r2.vertices(), with_point, id) {
+                Ok(f) => {
+                    *reg = r2;
+                    *set = s2;
+                    return Some(f);
+                }
+                Err(best) => {
+                    // Cones only: when the best point sees every face (a
+                    // Schönhardt-like side), grow by a whole layer — a
+                    // vertex behind it may see the larger region.
+                    if !grow(cm, &mut r2, &mut s2, &none, Some(&best), side, prot)
+                        && (with_point
+                            || layers >= MAX_LAYERS
+                            || s2.len() > LAYER_CAVITY
+                            || !grow(cm, &mut r2, &mut s2, &none, None, side, prot))
+                    {
+                        break;
+                    }
+                    if !with_point {
+                        layers += 1;
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
 /// Exact validation of replacing the tetrahedra `old` (sorted) by `new`
-/// (see the module documentation).
+/// (see the module documentation); vertices from `n_fixed` on (interior
+/// Steiner points of earlier rounds) may disappear.
 fn valid_replacement(
     cm: &CMesh<'_>,
     pts: &[P],
     old: &[u32],
     new: &[[u32; 4]],
     prot: &Protected,
+    n_fixed: usize,
 ) -> bool {
     let c = &cm.dt.core;
     if new
@@ -343,7 +402,7 @@ fn valid_replacement(
     for &t in old {
         let tv = c.v[t as usize];
         for i in 0..4 {
-            if !new_verts.contains(&tv[i]) {
+            if (tv[i] as usize) < n_fixed && !new_verts.contains(&tv[i]) {
                 return false;
             }
             for j in i + 1..4 {
@@ -502,7 +561,7 @@ fn grow(
     reg: &mut Region,
     set: &mut Vec<u32>,
     taken: &IdSet<u32>,
-    from: &P,
+    from: Option<&P>,
     side: Option<(&[P; 3], f64)>,
     prot: &Protected,
 ) -> bool {
@@ -510,7 +569,7 @@ fn grow(
     let pts = cm.pts();
     let mut cands: Vec<([u32; 3], usize, u32)> = Vec::new();
     for (i, &(f, t, k)) in reg.faces.iter().enumerate() {
-        if t == DEAD || sees(pts, f, from) || prot.faces.contains(&fkey(f)) {
+        if t == DEAD || from.is_some_and(|p| sees(pts, f, p)) || prot.faces.contains(&fkey(f)) {
             continue;
         }
         let n = c.adj[t as usize][k] >> 2;
@@ -556,6 +615,14 @@ fn grow(
 }
 
 impl State {
+    /// Vertices below this id must survive a replacement: the input points
+    /// (and any point registered on the surface); interior Steiner points
+    /// of `-Y` come after and may be swallowed by a cavity (unused ones
+    /// are dropped at the end, `compact`).
+    fn n_fixed(&self) -> usize {
+        self.surf.vtris.len()
+    }
+
     /// Exact: `p` lies on no input triangle (closed).
     fn off_surface(&self, pts: &[P], p: &P) -> bool {
         for tv in &self.surf.tris {
@@ -607,7 +674,7 @@ impl State {
             }
             new.extend(f.tets);
         }
-        if !valid_replacement(cm, &pts, set, &new, prot) {
+        if !valid_replacement(cm, &pts, set, &new, prot, self.n_fixed()) {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
@@ -646,7 +713,7 @@ impl State {
                     break;
                 }
                 let from = cm.pts()[apex as usize];
-                if !grow(cm, &mut r2, &mut s2, &none, &from, None, prot) {
+                if !grow(cm, &mut r2, &mut s2, &none, Some(&from), None, prot) {
                     break;
                 }
             }
@@ -659,7 +726,7 @@ impl State {
             match fill(cm.pts(), &reg.tris(), &[], true, id) {
                 Ok(f) => return self.apply(cm, &set, vec![f], prot),
                 Err(best) => {
-                    if !grow(cm, &mut reg, &mut set, &none, &best, None, prot) {
+                    if !grow(cm, &mut reg, &mut set, &none, Some(&best), None, prot) {
                         return None;
                     }
                 }
@@ -716,23 +783,7 @@ impl State {
         let mut next_id = pts.len() as u32;
         for (si, reg) in sides.iter_mut().enumerate() {
             let sign = if si == 0 { -1.0 } else { 1.0 };
-            let mut done = None;
-            for _ in 0..=MAX_GROW {
-                let apexes = reg.vertices();
-                match fill(cm.pts(), &reg.tris(), &apexes, steiner, next_id) {
-                    Ok(f) => {
-                        done = Some(f);
-                        break;
-                    }
-                    Err(best) => {
-                        let taken: IdSet<u32> = IdSet::default();
-                        if !grow(cm, reg, &mut set, &taken, &best, Some((&tp, sign)), prot) {
-                            break;
-                        }
-                    }
-                }
-            }
-            let f = done?;
+            let f = fill_side(cm, reg, &mut set, Some((&tp, sign)), prot, steiner, next_id)?;
             if f.point.is_some() {
                 next_id += 1;
             }
@@ -763,10 +814,13 @@ impl State {
         let edges = self.surf.edges.clone();
         let mut added = 0usize;
         let (mut best_left, mut stalled) = (usize::MAX, 0);
-        for pass in 0..PASSES {
-            // Steiner points only from the second pass on: first every
-            // cone from an existing vertex is tried.
-            let steiner = pass > 0 && self.report.steiner() + added < self.opts.max_steiner;
+        // Steiner points only in a pass that follows a pass without
+        // progress: cones from existing vertices are tried until they stop
+        // helping (one recovered item often makes its neighbour's cone
+        // possible), then one pass with kernel points, then cones again.
+        let mut steiner_on = false;
+        for _pass in 0..PASSES {
+            let steiner = steiner_on && self.report.steiner() + added < self.opts.max_steiner;
             let mut progress = false;
             let mut missing_edges = false;
             for (e, &[a, b]) in edges.iter().enumerate() {
@@ -815,9 +869,10 @@ impl State {
                     .count();
                 stalled = if left < best_left { 0 } else { stalled + 1 };
                 best_left = best_left.min(left);
-                if (!progress && pass > 0) || stalled >= 2 {
+                if (!progress && steiner_on) || stalled >= 3 {
                     break;
                 }
+                steiner_on = !progress;
                 continue;
             }
             let mut missing_tris = false;
@@ -849,9 +904,10 @@ impl State {
                 let on: FacesOn = tris.iter().map(|&t| vec![fkey(t)]).collect();
                 return Ok((w, on, added));
             }
-            if !progress && pass > 0 {
+            if !progress && steiner_on {
                 break;
             }
+            steiner_on = !progress;
         }
         Err(Box::new(w))
     }

@@ -43,21 +43,21 @@
 use super::super::cdt::Protected;
 use super::super::missing::{ekey, fkey};
 use super::super::place;
-use super::super::surface::{IdMap, IdSet};
+use super::super::surface::IdMap;
 use super::super::State;
-use super::{boundary_of, facet_cavity, fill, grow, segment_cavity, Fill, Region, MAX_GROW};
+use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Region};
 use crate::tet::cmesh::CMesh;
 use crate::tet::local::{DEAD, INF};
 
 /// Most input triangles in a patch.
-const MAX_PATCH: usize = 24;
+const MAX_PATCH: usize = 4096;
 
 impl State {
     /// The patch of missing triangles around missing input edge `e`
     /// (index into the surface's edges), consistently oriented (from the
     /// first triangle's input orientation); `None` when it is too large,
     /// not orientable, or its border is not made of mesh edges.
-    fn patch_of(&self, cm: &CMesh<'_>, e: usize) -> Option<Vec<[u32; 3]>> {
+    pub(super) fn patch_of(&self, cm: &CMesh<'_>, e: usize) -> Option<Vec<[u32; 3]>> {
         let surf = &self.surf;
         let missing_edge = |k: usize| {
             let [a, b] = surf.edges[k];
@@ -133,6 +133,27 @@ impl State {
         steiner: bool,
     ) -> Option<(usize, Vec<[u32; 3]>)> {
         let patch = self.patch_of(cm, e)?;
+        // Flat on the convex hull: the hull faces give way to the patch.
+        if let Some(flat) = self.flat_hull(cm, &patch) {
+            let mut all = vec![patch.clone()];
+            if let Some(k) = self.hull_patch(cm, &all, prot, false) {
+                return Some((k, patch));
+            }
+            // With its flat hull neighbours at once: two hull quads
+            // meeting at a hull edge may form a Schönhardt prism
+            // together, which a joint replacement avoids.
+            all.extend(self.flat_neighbours(cm, &flat));
+            if all.len() > 1 {
+                if let Some(k) = self.hull_patch(cm, &all, prot, false) {
+                    return Some((k, all.concat()));
+                }
+            }
+            if steiner {
+                if let Some(k) = self.hull_patch(cm, &all[..1], prot, true) {
+                    return Some((k, patch));
+                }
+            }
+        }
         // Edge uses: border edges (one triangle) and interior ones.
         let mut uses: IdMap<(u32, u32), Vec<(u32, u32)>> = IdMap::default();
         for t in &patch {
@@ -253,24 +274,8 @@ impl State {
         }
         let mut fills: Vec<Fill> = Vec::new();
         let mut next_id = cm.pts().len() as u32;
-        let none: IdSet<u32> = IdSet::default();
         for reg in sides.iter_mut() {
-            let mut done = None;
-            for _ in 0..=MAX_GROW {
-                let apexes = reg.vertices();
-                match fill(cm.pts(), &reg.tris(), &apexes, steiner, next_id) {
-                    Ok(f) => {
-                        done = Some(f);
-                        break;
-                    }
-                    Err(best) => {
-                        if !grow(cm, reg, &mut set, &none, &best, None, prot) {
-                            break;
-                        }
-                    }
-                }
-            }
-            let f = done?;
+            let f = fill_side(cm, reg, &mut set, None, prot, steiner, next_id)?;
             if f.point.is_some() {
                 next_id += 1;
             }
