@@ -386,6 +386,45 @@ fn corpus_models_refined_completely() {
     }
 }
 
+/// Curved and faceted models that ran away at q1.414 before the
+/// refinement kept facets Delaunay on segment splits, stopped at shell
+/// pairs of small input angles and corrected cavities in passes: each must
+/// now stop by itself, far below the budget, with bad cells left only
+/// where the refinement reports why.
+#[test]
+fn curved_models_terminate_at_q1414() {
+    let Some(dir) = data_dir() else { return };
+    for (name, max_points) in [
+        ("wm_thingi37322", 2_000),
+        ("cgal_hole", 1_000),
+        ("cgal_blob_closed", 2_000),
+        ("cgal_pipe", 10_000),
+        ("cgal_eight", 10_000),
+        ("cgal_cactus", 10_000),
+        ("cgal_oblong", 10_000),
+        ("cgal_knot1", 10_000),
+    ] {
+        let rel = format!("surf/off/{name}.off");
+        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
+            eprintln!("note: {rel} missing; skipping");
+            continue;
+        };
+        let s = delone_io::read_off(&bytes).unwrap();
+        let t = s.triangles();
+        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 100_000);
+        assert!(!r.report.budget_exhausted, "{rel}");
+        let added = r.rec.points.len() - s.points.len();
+        assert!(added <= max_points, "{rel}: {added} points");
+        assert!(
+            r.report.remaining_bad <= r.report.skipped + r.report.flat,
+            "{rel}: {} bad, {} skipped, {} flat",
+            r.report.remaining_bad,
+            r.report.skipped,
+            r.report.flat
+        );
+    }
+}
+
 #[test]
 #[ignore = "slow: the small corpus models with the full budget (most stop at it today)"]
 fn corpus_small_models_q2_and_q1414() {
