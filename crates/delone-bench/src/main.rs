@@ -503,7 +503,7 @@ mod tests {
             panic!()
         };
         assert_eq!(o.cases.len(), DEFAULT_CASES.len());
-        assert_eq!(o.programs.len(), 8);
+        assert_eq!(o.programs.len(), 9);
         assert_eq!(o.repeat, 3);
         let Ok(Mode::Bench(o)) = parse_args(&args("--quick --repeat 7 --markdown")) else {
             panic!()
