@@ -48,10 +48,16 @@
 //!
 //! 1. **R1** — a subsegment `a b` is split at its midpoint, or on a
 //!    concentric shell (a power-of-two distance) around an input vertex at
-//!    one of its ends; the required tetrahedra are all those around `a b`,
-//!    the dissolved subfaces all those holding `a b` (every side of the
-//!    segment, any number of facets), so `a m`, `m b` and the faces
-//!    `c m a`, `c m b` replace them. Encroachment: a vertex of a
+//!    one of its ends; the required tetrahedra are all those around `a b`
+//!    and on both sides of the dissolved subfaces. The dissolved subfaces
+//!    are, per facet holding `a b`, its facet-local Delaunay cavity of `m`
+//!    (the subfaces holding `a b` and those reached from them, never across
+//!    a subsegment, whose circumcircle holds `m`), so each facet stays
+//!    Delaunay in its plane; if that plan is refused, only the subfaces
+//!    holding `a b` (every side of the segment, any number of facets). A
+//!    facet left non-Delaunay keeps skinny subfaces whose circumcentres
+//!    fall beyond their own subsegment, and R2 would halve that subsegment
+//!    towards its input vertex forever. Encroachment: a vertex of a
 //!    tetrahedron around it strictly inside its diametral ball;
 //! 2. **R2** — an encroached subface is split at its circumcentre `c`: a
 //!    walk over the subfaces of its facet finds the one holding
@@ -76,7 +82,21 @@
 //!    ridges, or where the flips could not restore constrained Delaunay).
 //!    Nearly flat cells (radius-edge ratio above 10⁶), and cells whose four
 //!    vertices lie on one plane group of (nearly) coplanar input triangles,
-//!    are left: splitting their boundary leaves flat cells again.
+//!    are left: splitting their boundary leaves flat cells again. So is a
+//!    cell whose shortest edge joins two concentric-shell points of one
+//!    input vertex on two of its input edges meeting at less than 30°:
+//!    splitting anything there only makes shorter shell pairs (Shewchuk's
+//!    rule at small input angles in 2D, here for segments in 3D).
+//!
+//! **Cavity correction.** Before an insertion is planned, the cavity is
+//! shrunk in passes: every tetrahedron that is not required and has a
+//! boundary face the new point does not strictly see (or a subface on the
+//! point's own plane, or a face whose cone would be flat) is dropped, and
+//! again for the faces this exposes. Near-cospherical points (a cylinder)
+//! give cavities spanning most of the mesh, which dropping one cell per
+//! retry could not fix. Plans and Delaunay flips also never build a
+//! tetrahedron whose four vertices lie on one plane group: positive only
+//! by the rounding of new points, it would lie flat on its facet.
 //!
 //! Queues are processed in a fixed order (subsegments, subfaces, then bad
 //! cells), each item checked again when it is taken. Encroachment by a
