@@ -856,7 +856,8 @@ impl Cdr {
     /// on)? Such a tetrahedron is flat in exact arithmetic: its positive
     /// orientation would only be an accident of rounding new points, and
     /// it would lie on the facet, sandwiched between its subfaces. Plans
-    /// and flips never build one.
+    /// and flips never build one, and R3 leaves one it finds (splitting its
+    /// boundary would make flat cells again).
     pub(super) fn flat(&self, t: [u32; 4], extra: Option<(u32, &[u32])>) -> bool {
         let tris_of = |q: u32| -> &[u32] {
             match extra {
@@ -1408,7 +1409,7 @@ impl Cdr {
         if self.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
-        if self.on_one_plane(tv) {
+        if self.flat(tv, None) {
             // Four vertices on (nearly) coplanar input triangles: the cell
             // is as flat as the input there; splitting the boundary would
             // make flat cells again, down to the segment floor.
@@ -1534,24 +1535,6 @@ impl Cdr {
             self.report.skipped += 1;
             self.report.skipped_small += 1;
         }
-    }
-
-    /// Do the four vertices of `tv` all lie on input triangles of one plane
-    /// group (exactly or nearly coplanar triangles, see `plane_groups`)?
-    fn on_one_plane(&self, tv: [u32; 4]) -> bool {
-        let groups = |q: u32| -> Vec<u32> {
-            let mut g: Vec<u32> = self.vtris[q as usize]
-                .iter()
-                .filter_map(|&t| self.group.get(t as usize).copied())
-                .collect();
-            g.sort_unstable();
-            g.dedup();
-            g
-        };
-        let first = groups(tv[0]);
-        first
-            .iter()
-            .any(|g| tv[1..].iter().all(|&q| groups(q).binary_search(g).is_ok()))
     }
 
     /// Is subsegment `e` still encroached by a vertex next to it?
