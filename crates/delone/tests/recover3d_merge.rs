@@ -8,49 +8,13 @@ use delone::tet::recover::{
 };
 
 mod solids;
-use solids::{chazelle, quad};
+use solids::{chazelle, grid_cube};
 
 fn no_merge() -> RecoverOptions {
     RecoverOptions {
         merge_coplanar: false,
         ..RecoverOptions::default()
     }
-}
-
-/// A unit cube whose sides are `n × n` grids of squares, two triangles
-/// each, the diagonals alternating.
-fn grid_cube(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut pts = Vec::new();
-    let mut ids = std::collections::BTreeMap::new();
-    let mut tris = Vec::new();
-    for axis in 0..3 {
-        for side in [0, n] {
-            for i in 0..n {
-                for j in 0..n {
-                    let mut c = [0u32; 4];
-                    for (k, (di, dj)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
-                        let mut p = [0u32; 3];
-                        p[axis] = side;
-                        p[(axis + 1) % 3] = i + di;
-                        p[(axis + 2) % 3] = j + dj;
-                        c[k] = *ids.entry(p).or_insert_with(|| {
-                            pts.push(p.map(|x| f64::from(x) / f64::from(n)));
-                            pts.len() as u32 - 1
-                        });
-                    }
-                    if side == 0 {
-                        c.reverse();
-                    }
-                    if (i + j) % 2 == 0 {
-                        quad(&mut tris, c);
-                    } else {
-                        quad(&mut tris, [c[1], c[2], c[3], c[0]]);
-                    }
-                }
-            }
-        }
-    }
-    (pts, tris)
 }
 
 fn checked(pts: &[[f64; 3]], tris: &[[u32; 3]], o: &RecoverOptions) -> Recovered {
@@ -61,7 +25,7 @@ fn checked(pts: &[[f64; 3]], tris: &[[u32; 3]], o: &RecoverOptions) -> Recovered
 
 #[test]
 fn merged_surface_covers_the_input() {
-    let (pts, tris) = grid_cube(4);
+    let (pts, tris) = grid_cube(4, true);
     let r = checked(&pts, &tris, &RecoverOptions::default());
     assert_eq!(r.report.coplanar_groups, 6);
     assert_eq!(r.report.coplanar_kept, 0);
@@ -116,7 +80,7 @@ fn chazelle_five_grooves_merged_vs_not() {
 
 #[test]
 fn markers_keep_facets_apart() {
-    let (pts, tris) = grid_cube(2);
+    let (pts, tris) = grid_cube(2, true);
     // Half of the side x = 0 gets another marker: seven groups.
     let mut markers = vec![1; tris.len()];
     for m in markers.iter_mut().take(4) {
@@ -159,7 +123,7 @@ fn markers_keep_facets_apart() {
 
 #[test]
 fn tampered_surfaces_are_rejected() {
-    let (pts, tris) = grid_cube(3);
+    let (pts, tris) = grid_cube(3, true);
     let r = checked(&pts, &tris, &RecoverOptions::default());
     // A flipped surface triangle.
     let mut bad = r.clone();
@@ -192,7 +156,7 @@ fn tampered_surfaces_are_rejected() {
 /// marker) break both groups' unions and are rejected.
 #[test]
 fn groups_are_checked_as_polygons() {
-    let (pts, tris) = grid_cube(2);
+    let (pts, tris) = grid_cube(2, true);
     // The side x = 0 (triangles 0..8) becomes two groups: 0..4 and 4..8.
     let mut markers = vec![1; tris.len()];
     for m in markers.iter_mut().take(4) {

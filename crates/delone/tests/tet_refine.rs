@@ -14,7 +14,7 @@ use delone::tet::recover::{
 use delone::tet::refine::{refine, refine_recovered, RefineOptions, Refined};
 
 mod solids;
-use solids::{cuboid, schonhardt};
+use solids::{cuboid, grid_cube, schonhardt};
 
 fn cube_of(side: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     cuboid(side, side, side)
@@ -568,46 +568,13 @@ fn refinement_restores_constrained_delaunay() {
     }
 }
 
-/// A unit cube, each side an `n` × `n` grid of squares cut into two
-/// triangles, oriented outward.
-fn grid_cube(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
-    let mut pts = Vec::new();
-    let mut id = std::collections::HashMap::new();
-    let mut tris = Vec::new();
-    for axis in 0..3 {
-        for side in [0, n] {
-            for i in 0..n {
-                for j in 0..n {
-                    let mut c = [0u32; 4];
-                    for (k, (di, dj)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
-                        let mut p = [0u32; 3];
-                        p[axis] = side;
-                        p[(axis + 1) % 3] = i + di;
-                        p[(axis + 2) % 3] = j + dj;
-                        c[k] = *id.entry(p).or_insert_with(|| {
-                            pts.push(p.map(|x| f64::from(x) / f64::from(n)));
-                            pts.len() as u32 - 1
-                        });
-                    }
-                    if side == n {
-                        tris.extend([[c[0], c[1], c[2]], [c[0], c[2], c[3]]]);
-                    } else {
-                        tris.extend([[c[0], c[2], c[1]], [c[0], c[3], c[2]]]);
-                    }
-                }
-            }
-        }
-    }
-    (pts, tris)
-}
-
 #[test]
 fn merged_planar_facets_are_refined_as_wholes() {
     // Each side of the cube is one merged facet: its inner edges are not
     // constraints, so refinement re-triangulates the sides across them
     // (the checker verifies coverage per facet) and needs far fewer points
     // on input edges than with every input triangle its own facet.
-    let (p, t) = grid_cube(6);
+    let (p, t) = grid_cube(6, false);
     let o = RefineOptions {
         max_volume: Some(0.0002),
         ..opts(1.414)

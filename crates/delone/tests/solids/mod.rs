@@ -92,6 +92,52 @@ pub fn quad(tris: &mut Vec<[u32; 3]>, q: [u32; 4]) {
     tris.push([q[0], q[2], q[3]]);
 }
 
+/// A unit cube whose sides are `n × n` grids of squares, two triangles
+/// each, oriented outward. With `alternate` the diagonals alternate from
+/// square to square; otherwise every square is cut along the same
+/// diagonal.
+pub fn grid_cube(n: u32, alternate: bool) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    let mut ids = std::collections::BTreeMap::new();
+    let mut tris = Vec::new();
+    for axis in 0..3 {
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let mut c = [0u32; 4];
+                    for (k, (di, dj)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+                        let mut p = [0u32; 3];
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = i + di;
+                        p[(axis + 2) % 3] = j + dj;
+                        c[k] = *ids.entry(p).or_insert_with(|| {
+                            pts.push(p.map(|x| f64::from(x) / f64::from(n)));
+                            pts.len() as u32 - 1
+                        });
+                    }
+                    if !alternate {
+                        if side == n {
+                            quad(&mut tris, c);
+                        } else {
+                            tris.extend([[c[0], c[2], c[1]], [c[0], c[3], c[2]]]);
+                        }
+                        continue;
+                    }
+                    if side == 0 {
+                        c.reverse();
+                    }
+                    if (i + j) % 2 == 0 {
+                        quad(&mut tris, c);
+                    } else {
+                        quad(&mut tris, [c[1], c[2], c[3], c[0]]);
+                    }
+                }
+            }
+        }
+    }
+    (pts, tris)
+}
+
 /// Breakpoints of `k` V-shaped notches of half-width `w` across `0..len`,
 /// with the depth factor (0 or 1) at each.
 pub fn notch_profile(k: usize, len: f64, w: f64) -> Vec<(f64, f64)> {
