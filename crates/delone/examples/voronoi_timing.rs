@@ -18,8 +18,15 @@ use delone::geom::SplitMix64;
 /// `/proc/self/stat` (Linux; 0 elsewhere). On a loaded machine the CPU time
 /// of a phase is steadier than its wall time.
 fn cpu_seconds() -> f64 {
+    let (u, s) = cpu_split();
+    u + s
+}
+
+/// User and system CPU seconds (all threads) of this process so far, from
+/// `/proc/self/stat` (Linux; zeros elsewhere).
+fn cpu_split() -> (f64, f64) {
     let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
+        return (0.0, 0.0);
     };
     // Fields after the parenthesised command name; utime and stime are
     // fields 14 and 15 of the whole line, in clock ticks (100 per second).
@@ -29,9 +36,9 @@ fn cpu_seconds() -> f64 {
         .map(|x| x.parse().unwrap_or(0.0))
         .collect();
     if f.len() < 13 {
-        return 0.0;
+        return (0.0, 0.0);
     }
-    (f[11] + f[12]) / 100.0
+    (f[11] / 100.0, f[12] / 100.0)
 }
 
 /// Minor page faults of this process so far (`/proc/self/stat`; 0
@@ -123,15 +130,15 @@ fn main() {
     }
     if args.iter().any(|a| a == "--3d") {
         let pts: Vec<[f64; 3]> = (0..n).map(|_| [unit(), unit(), unit()]).collect();
-        let c0 = cpu_seconds();
+        let (c0, s0) = (cpu_seconds(), cpu_split().1);
         let (tt, mesh) = best(reps, || {
             delone::tetrahedralize(&pts).expect("tetrahedralize")
         });
-        let (c1, f1) = (cpu_seconds(), minor_faults());
+        let (c1, f1, s1) = (cpu_seconds(), minor_faults(), cpu_split().1);
         let (tv, (v, phases)) = best(reps, || {
             delone::tet::Voronoi3::with_phase_times(&pts, &mesh, threads).unwrap()
         });
-        let (c2, f2) = (cpu_seconds(), minor_faults());
+        let (c2, f2, s2) = (cpu_seconds(), minor_faults(), cpu_split().1);
         if args.iter().any(|a| a == "--hash") {
             // A digest of the whole diagram, to compare versions bit for bit.
             let mut h = 0xcbf2_9ce4_8422_2325u64;
@@ -182,7 +189,9 @@ fn main() {
         }
         let (ct, cv) = (c1 - c0, c2 - c1);
         println!(
-            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s, Voronoi3 {cv:.2}s ({:.2}x), {} threads; {:.0} MB of fresh pages per extraction",
+            "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s (system {:.2}s), Voronoi3 {cv:.2}s (system {:.2}s) ({:.2}x), {} threads; {:.0} MB of fresh pages per extraction",
+            s1 - s0,
+            s2 - s1,
             cv / ct,
             if threads == 0 {
                 delone::tet::Voronoi3::default_threads()
