@@ -447,6 +447,38 @@ fn a_mesh_of_other_points_is_an_error_not_a_panic() {
     assert!(Voronoi3::new(&pts, &broken).is_err());
 }
 
+/// A bad vertex or neighbour id deep inside a mesh big enough for two
+/// threads: the same error as the serial check (cell and id named), for the
+/// plain and the power diagram, whatever the thread count.
+#[test]
+fn bad_ids_in_a_large_mesh_are_named() {
+    let pts = random(6000, 17, 0.0, 1.0);
+    let mesh = delone::tetrahedralize(&pts).unwrap();
+    let nt = mesh.tets.len();
+    assert!(nt >= 1 << 15, "{nt} tetrahedra: too few for two chunks");
+    let w = vec![0.0; pts.len()];
+    let t = nt - 5;
+    let mut bad_vertex = mesh.clone();
+    bad_vertex.tets[t][2] = pts.len() as u32;
+    let mut bad_neighbour = mesh.clone();
+    bad_neighbour.neighbors[t][1] = nt as u32;
+    for (m, want) in [
+        (&bad_vertex, format!("cell {t} names point {}", pts.len())),
+        (&bad_neighbour, format!("cell {t} names neighbour {nt}")),
+    ] {
+        for threads in [1, 2] {
+            let e = Voronoi3::with_threads(&pts, m, threads).unwrap_err();
+            assert!(e.to_string().contains(&want), "{e}");
+            let e = Voronoi3::power_with_threads(&pts, &w, m, threads).unwrap_err();
+            assert!(e.to_string().contains(&want), "{e}");
+        }
+        let e = Voronoi3::with_phase_times(&pts, m, 2).unwrap_err();
+        assert!(e.to_string().contains(&want), "{e}");
+    }
+    // A NONE neighbour is fine, and the intact mesh passes.
+    assert!(Voronoi3::with_threads(&pts, &mesh, 2).is_ok());
+}
+
 /// Meshes of 2^15 tetrahedra or more are walked in Morton order: the same
 /// checks, plus the face–edge incidences and the edge ends.
 #[test]

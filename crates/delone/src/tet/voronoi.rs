@@ -868,9 +868,9 @@ fn check_mesh(
         let ok = run_all((0..k).collect(), |_, i| {
             // The largest vertex id, and the largest neighbour id plus one
             // (`NONE` wraps to 0).
-            let tv = mesh.tets[b[i]..b[i + 1]].iter().flatten();
+            let tv = mesh.tets[b[i]..b[i + 1]].as_flattened().iter();
             let top = tv.fold(0u32, |m, &v| m.max(v));
-            let nb = mesh.neighbors[b[i]..b[i + 1]].iter().flatten();
+            let nb = mesh.neighbors[b[i]..b[i + 1]].as_flattened().iter();
             let top_nb = nb.fold(0u32, |m, &u| m.max(u.wrapping_add(1)));
             (top as usize) < n && (top_nb as usize) <= nt
         });
