@@ -1147,26 +1147,29 @@ impl Voronoi3 {
         let p = |v: u32| &points[v as usize];
         let w = |v: u32| weights.get(v as usize).copied().unwrap_or(0.0);
         let k = chunk_count(nt, threads);
-        let bounds: Vec<usize> = (0..=k).map(|i| nt * i / k).collect();
         let grid = Grid::new(points, nt);
         // Finer chunks for the phases run as tasks (`run_dynamic`).
         let m = if k > 1 { 2 * k } else { 1 };
         let fb: Vec<usize> = (0..=m).map(|i| nt * i / m).collect();
+        // Pass A runs as `ma = 4k` tasks (no seams to pay for here; finer
+        // tasks balance the odd one, the allocation of the records).
+        let ma = if k > 1 { 4 * k } else { 1 };
+        let ab: Vec<usize> = (0..=ma).map(|i| nt * i / ma).collect();
         // A. Circumcentres, and for large meshes the Morton keys of the
         // tetrahedra (one pass over the mesh, chunk by chunk) with each
         // chunk's key histogram.
         let mut vertices = vec![[0.0f64; 3]; nt];
         let mut inv = vec![0u32; if grid.is_some() { nt } else { 0 }];
         let key_chunks = if grid.is_some() {
-            split_mut(&mut inv, &fb)
+            split_mut(&mut inv, &ab)
         } else {
-            (0..m).map(|_| &mut [][..]).collect()
+            (0..ma).map(|_| &mut [][..]).collect()
         };
         // The first task allocates the walk records (their zero fill is
         // not free: 32 bytes per tetrahedron), the others are the chunks.
         let jobs: Vec<_> = std::iter::once(None)
             .chain(
-                split_mut(&mut vertices, &fb)
+                split_mut(&mut vertices, &ab)
                     .into_iter()
                     .zip(key_chunks)
                     .map(Some),
@@ -1184,7 +1187,7 @@ impl Voronoi3 {
             let Some((vc, kc)) = job else {
                 return (Vec::new(), vec![Rec::default(); nt]);
             };
-            let chunk = &tets[fb[i - 1]..fb[i]];
+            let chunk = &tets[ab[i - 1]..ab[i]];
             let Some(g) = &grid else {
                 for (c, tv) in vc.iter_mut().zip(chunk) {
                     *c = centre_of(tv);
@@ -1213,16 +1216,16 @@ impl Voronoi3 {
         // new`, a stable counting sort of the keys, each chunk placing its
         // own tetrahedra.
         let perm: Vec<u32> = if let Some(g) = &grid {
-            let mut start = vec![vec![0u32; g.keys()]; m];
+            let mut start = vec![vec![0u32; g.keys()]; ma];
             let mut at = 0u32;
             for c in 0..g.keys() {
-                for i in 0..m {
+                for i in 0..ma {
                     start[i][c] = at;
                     at += hist[i][c];
                 }
             }
             drop(hist);
-            let jobs: Vec<_> = split_mut(&mut inv, &fb).into_iter().zip(start).collect();
+            let jobs: Vec<_> = split_mut(&mut inv, &ab).into_iter().zip(start).collect();
             run_dynamic(k, jobs, |_, (kc, mut st)| {
                 for x in kc.iter_mut() {
                     let c = *x as usize;
@@ -1246,12 +1249,14 @@ impl Voronoi3 {
         // its chunk; `aux_pass` adds the chunk's base).
         let mut pre = vec![0u32; nt];
         let inv = &inv;
-        let jobs: Vec<_> = split_mut(&mut recs, &bounds)
+        // As `m` tasks (`run_dynamic`: a thread slowed down by others
+        // takes fewer).
+        let jobs: Vec<_> = split_mut(&mut recs, &fb)
             .into_iter()
-            .zip(split_mut(&mut pre, &bounds))
+            .zip(split_mut(&mut pre, &fb))
             .collect();
-        let owned: Vec<usize> = run_all(jobs, |i, (rc, pc)| {
-            let lo = bounds[i];
+        let owned: Vec<usize> = run_dynamic(k, jobs, |i, (rc, pc)| {
+            let lo = fb[i];
             let mut owned = 0;
             for (j, (r, x)) in rc.iter_mut().zip(pc.iter_mut()).enumerate() {
                 *x = owned as u32;
@@ -1270,21 +1275,23 @@ impl Voronoi3 {
                 };
             }
             owned
-        });
+        })
+        .into_iter()
+        .map(|x| x.unwrap_or(0))
+        .collect();
         let recs = &recs[..];
         ph.lap("records");
         // B. Global prefix counts of the owned facets and the `aux` words
         // (mirror slots and ranks) for the walks.
         let total: usize = owned.iter().sum();
-        let mut base = vec![0usize; k + 1];
-        for i in 0..k {
+        let mut base = vec![0usize; m + 1];
+        for i in 0..m {
             base[i + 1] = base[i] + owned[i];
         }
         // With them, as one more task, the edges (they need only the
         // records): about as much work as the `aux` words, so the `k`
         // threads stay busy here and the face tasks below are all alike.
-        // The `aux` tasks are the `m` finer chunks (each inside one chunk of
-        // the records: `m` is a multiple of `k`).
+        // The `aux` tasks are the chunks of the records.
         let mut aux = vec![0u16; nt];
         let perm = &perm[..];
         let jobs: Vec<_> = std::iter::once(None)
@@ -1299,7 +1306,7 @@ impl Voronoi3 {
             None => Some(edge_pass(points, recs, perm, total)),
             Some((pc, ac)) => {
                 let lo = fb[i - 1];
-                aux_pass(recs, pc, ac, lo, base[(i - 1) * k / m]);
+                aux_pass(recs, pc, ac, lo, base[i - 1]);
                 None
             }
         })
