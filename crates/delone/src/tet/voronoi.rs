@@ -244,16 +244,13 @@ fn centre<const WEIGHTED: bool>(q: [&[f64; 3]; 4], wq: [f64; 4]) -> [f64; 3] {
     ]
 }
 
-/// One tetrahedron's record for the ring walks: its vertices and
-/// neighbours (tetrahedra in the walk order), 32 bytes, two per cache line.
-/// What the walk does not steer by (the Voronoi edge of each facet, the
-/// tetrahedron's index in the mesh, the swept bits) lives in side arrays.
-#[derive(Clone, Copy, Default)]
-#[repr(C, align(32))]
-struct Rec {
-    v: [u32; 4],
-    n: [u32; 4],
-}
+/// One tetrahedron's record for the ring walks: `[vertices, neighbours]`
+/// (tetrahedra in the walk order), 32 bytes, two per cache line (placed at
+/// a 32-byte boundary, see `Voronoi3::build`). What the walk does not steer
+/// by (the Voronoi edge of each facet, the tetrahedron's index in the mesh,
+/// the swept bits) lives in side arrays. An array, not a struct: a zeroed
+/// table of them is allocated zeroed by the system (no fill).
+type Rec = [[u32; 4]; 2];
 
 /// Phase wall times, recorded when `on` (see [`Voronoi3::with_phase_times`]).
 #[derive(Default)]
@@ -468,9 +465,9 @@ fn aux_pass(recs: &[Rec], pre: &mut [u32], aux: &mut [u16], lo: usize, base: usi
         // The slot in each neighbour of the vertex off the shared facet
         // (0 for a hull facet, or where an invalid mesh has none).
         let mut m = 0u16;
-        for (f, &u) in c.n.iter().enumerate() {
+        for (f, &u) in c[1].iter().enumerate() {
             if let Some(cu) = recs.get(u as usize) {
-                m |= (pos(&cu.n, t as u32) as u16) << (2 * f);
+                m |= (pos(&cu[1], t as u32) as u16) << (2 * f);
             }
         }
         // The rank of each slot's facet among the owned ones, 2 bits each.
@@ -494,11 +491,11 @@ fn edge_pass(points: &[[f64; 3]], recs: &[Rec], perm: &[u32], cap: usize) -> Edg
     for (t, c) in recs.iter().enumerate() {
         #[allow(clippy::needless_range_loop)] // f indexes c.n, c.v and FACET
         for f in 0..4 {
-            let u = c.n[f];
+            let u = c[1][f];
             if u <= t as u32 {
                 continue;
             }
-            let s = FACET[f].map(|i| c.v[i]);
+            let s = FACET[f].map(|i| c[0][i]);
             let id = out.edges.len() as u32;
             if u == NONE {
                 // FACET[f] sees vertex f on its positive side: outward
@@ -521,10 +518,11 @@ fn edge_pass(points: &[[f64; 3]], recs: &[Rec], perm: &[u32], cap: usize) -> Edg
 /// neighbour comes later (or is `NONE`).
 #[inline]
 fn owned_mask(c: &Rec, t: u32) -> u32 {
-    (c.n[0] > t) as u32
-        | ((c.n[1] > t) as u32) << 1
-        | ((c.n[2] > t) as u32) << 2
-        | ((c.n[3] > t) as u32) << 3
+    let n = &c[1];
+    (n[0] > t) as u32
+        | ((n[1] > t) as u32) << 1
+        | ((n[2] > t) as u32) << 2
+        | ((n[3] > t) as u32) << 3
 }
 
 /// The edge number of the facet of `s` in slot `ps` (the slot of the vertex
@@ -655,7 +653,7 @@ fn face_pass(
             let k = todo.trailing_zeros() as usize;
             todo &= todo - 1;
             let lk = &EDGES[k];
-            let [a, b] = [lk[0], lk[1]].map(|i| recs[t].v[i]);
+            let [a, b] = [lk[0], lk[1]].map(|i| recs[t][0][i]);
             let (v0, e0) = (fv.len(), fe.len());
             // Counterclockwise around a -> b: in tetrahedron s, with the
             // two vertices off the edge (c, d) in slots (pc, pd), cross the
@@ -675,7 +673,7 @@ fn face_pass(
                 }
                 foreign |= su < lo;
                 fv.push(perm[su]);
-                let u = cs.n[pc];
+                let u = cs[1][pc];
                 let m = mirror(aux[su], pc);
                 fe.push(facet_id(aux, pre, s, u, pc, m, top));
                 if u == NONE {
@@ -685,14 +683,14 @@ fn face_pass(
                     break false;
                 }
                 steps += 1;
-                let d = cs.v[pd];
-                (s, pc, pd) = (u, pos(&recs[u as usize].v, d), m);
+                let d = cs[0][pd];
+                (s, pc, pd) = (u, pos(&recs[u as usize][0], d), m);
             };
             if hit_hull {
                 // Open ring: the part clockwise from t comes first.
                 let (pa, pb) = (p(a), p(b));
                 let ab_vec = sub(pb, pa);
-                let last = cross(&ab_vec, &sub(p(recs[s as usize].v[pd]), pa));
+                let last = cross(&ab_vec, &sub(p(recs[s as usize][0][pd]), pa));
                 fwd_v.clear();
                 fwd_e.clear();
                 fwd_v.extend(fv.drain(v0..));
@@ -707,7 +705,7 @@ fn face_pass(
                 loop {
                     let su = s as usize;
                     let cs = &recs[su];
-                    let u = cs.n[pd];
+                    let u = cs[1][pd];
                     let m = mirror(aux[su], pd);
                     back_e.push(facet_id(aux, pre, s, u, pd, m, top));
                     if u == NONE || steps > limit {
@@ -715,7 +713,7 @@ fn face_pass(
                     }
                     steps += 1;
                     let uu = u as usize;
-                    let pdu = pos(&recs[uu].v, cs.v[pc]);
+                    let pdu = pos(&recs[uu][0], cs[0][pc]);
                     if let Some(x) = done.get_mut(uu.wrapping_sub(lo)) {
                         *x |= off_edge(m, pdu);
                     }
@@ -723,7 +721,7 @@ fn face_pass(
                     back_v.push(perm[uu]);
                     (s, pc, pd) = (u, m, pdu);
                 }
-                let sc = recs[s as usize].v[pc];
+                let sc = recs[s as usize][0][pc];
                 if foreign {
                     continue;
                 }
@@ -1185,15 +1183,9 @@ impl Voronoi3 {
         } else {
             (0..ma).map(|_| &mut [][..]).collect()
         };
-        // The first task allocates the walk records (their zero fill is
-        // not free: 32 bytes per tetrahedron), the others are the chunks.
-        let jobs: Vec<_> = std::iter::once(None)
-            .chain(
-                split_mut(&mut vertices, &ab)
-                    .into_iter()
-                    .zip(key_chunks)
-                    .map(Some),
-            )
+        let jobs: Vec<_> = split_mut(&mut vertices, &ab)
+            .into_iter()
+            .zip(key_chunks)
             .collect();
         let weighted = !weights.is_empty();
         let centre_of = |tv: &[u32; 4]| {
@@ -1203,16 +1195,13 @@ impl Voronoi3 {
                 centre::<false>(tv.map(p), [0.0; 4])
             }
         };
-        let mut hist = run_dynamic(k, jobs, |i, job| {
-            let Some((vc, kc)) = job else {
-                return (Vec::new(), vec![Rec::default(); nt]);
-            };
-            let chunk = &tets[ab[i - 1]..ab[i]];
+        let hist: Vec<Vec<u32>> = run_dynamic(k, jobs, |i, (vc, kc)| {
+            let chunk = &tets[ab[i]..ab[i + 1]];
             let Some(g) = &grid else {
                 for (c, tv) in vc.iter_mut().zip(chunk) {
                     *c = centre_of(tv);
                 }
-                return (Vec::new(), Vec::new());
+                return Vec::new();
             };
             // The key of the first vertex, whose coordinates the centre has
             // just loaded (no lookup table: a random read per tetrahedron).
@@ -1222,15 +1211,11 @@ impl Voronoi3 {
                 *x = g.key(p(tv[0]));
                 hist[*x as usize] += 1;
             }
-            (hist, Vec::new())
+            hist
         })
         .into_iter()
-        .map(Option::unwrap_or_default);
-        let mut recs = hist.next().unwrap_or_default().1;
-        if recs.len() != nt {
-            recs = vec![Rec::default(); nt];
-        }
-        let hist: Vec<Vec<u32>> = hist.map(|x| x.0).collect();
+        .map(Option::unwrap_or_default)
+        .collect();
         ph.lap("centres");
         // The walk order (large meshes): `perm[new] = old`, `inv[old] =
         // new`, a stable counting sort of the keys, each chunk placing its
@@ -1269,9 +1254,17 @@ impl Voronoi3 {
         // its chunk; `aux_pass` adds the chunk's base).
         let mut pre = vec![0u32; nt];
         let inv = &inv;
+        // The records, zeroed by the system (no fill: the pass below writes
+        // every one), from a 32-byte boundary: the allocator gives 16-byte
+        // alignment, so one spare 16-byte row lets the table start at the
+        // next multiple of 32 (the address only places the table; the
+        // result does not depend on it).
+        let mut rec_rows = vec![[0u32; 4]; 2 * nt + 1];
+        let off = (rec_rows.as_ptr() as usize >> 4) & 1;
+        let recs: &mut [Rec] = rec_rows[off..off + 2 * nt].as_chunks_mut::<2>().0;
         // As `m` tasks (`run_dynamic`: a thread slowed down by others
         // takes fewer).
-        let jobs: Vec<_> = split_mut(&mut recs, &fb)
+        let jobs: Vec<_> = split_mut(&mut *recs, &fb)
             .into_iter()
             .zip(split_mut(&mut pre, &fb))
             .collect();
@@ -1289,17 +1282,14 @@ impl Voronoi3 {
                     nb.map(|u| if u == NONE { NONE } else { inv[u as usize] })
                 };
                 owned += nb.iter().filter(|&&u| u > t as u32).count();
-                *r = Rec {
-                    v: tets[old],
-                    n: nb,
-                };
+                *r = [tets[old], nb];
             }
             owned
         })
         .into_iter()
         .map(|x| x.unwrap_or(0))
         .collect();
-        let recs = &recs[..];
+        let recs = &*recs;
         ph.lap("records");
         // B. Global prefix counts of the owned facets and the `aux` words
         // (mirror slots and ranks) for the walks.
