@@ -810,7 +810,11 @@ impl Grid {
     fn key(&self, q: &[f64; 3]) -> u32 {
         let mut key = 0u32;
         for i in 0..3 {
-            let c = ((q[i] - self.lo[i]) * self.scale[i]).clamp(0.0, self.cells - 1.0) as usize;
+            // max and min, not clamp (cheaper: no range assertion, no NaN
+            // case): the same key, a NaN going to cell 0 either way.
+            let c = ((q[i] - self.lo[i]) * self.scale[i])
+                .max(0.0)
+                .min(self.cells - 1.0) as usize;
             key |= self.spread[c & 63] << i;
         }
         key
