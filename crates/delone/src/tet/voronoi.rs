@@ -1048,10 +1048,8 @@ impl Voronoi3 {
     /// * A — circumcentres (mesh order) and, for meshes of 2^15 tetrahedra
     ///   or more, the Morton keys of the tetrahedra (from the first vertex,
     ///   whose coordinates the centre has just loaded) with per-chunk
-    ///   histograms, beside the allocation of the walk records
-    ///   (one task: their zero fill, 208 MB at 1M points, was serial); then
-    ///   a stable counting sort gives the walk order, each chunk placing its
-    ///   own tetrahedra;
+    ///   histograms; then a stable counting sort gives the walk order, each
+    ///   chunk placing its own tetrahedra;
     /// * B — 32-byte walk records (`Rec`: vertices and neighbours, in the
     ///   walk order) with per-tetrahedron prefix counts of owned facets;
     ///   then (`aux_pass`, beside the edge task of C) the global prefix
@@ -1091,7 +1089,11 @@ impl Voronoi3 {
     /// tenth of the extraction's samples), the parallel mesh check, the
     /// edge task beside `aux_pass` (before, it ran among the face tasks and
     /// one thread ended the phase alone), the dynamic records pass and the
-    /// finer pass A. Measured and rejected: keying a tetrahedron by its
+    /// finer pass A, and the records zeroed by the system (`[[u32; 4]; 2]`
+    /// rows of a calloc'ed table; session 6 filled 208 MB of `Rec` structs
+    /// at 1M points in a task of pass A: 1.2% of the perf samples of a
+    /// whole one-thread run, tetrahedralization included). Measured and
+    /// rejected: keying a tetrahedron by its
     /// centroid instead of its first vertex (200k points: 6% fewer L1 read
     /// misses in the extraction, 1.8% more instructions, no clear gain,
     /// and another order); a branch-free fill of the cells through a spare
