@@ -591,11 +591,11 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
     // First in the small cavity (it and its neighbours), then in the
     // point's Delaunay cavity.
-    if try_insert_at(w, t, c, true, opts, report) {
+    if try_insert_at(w, t, c, Cavity::Near, opts, report) {
         return true;
     }
     match w.slot_of(tv) {
-        Some(t) if try_insert_at(w, t, c, false, opts, report) => return true,
+        Some(t) if try_insert_at(w, t, c, Cavity::Sphere, opts, report) => return true,
         Some(_) => {}
         None => return false,
     }
@@ -605,6 +605,14 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let Some(s) = work::sines([&p[0], &p[1], &p[2], &p[3]]) else {
         return false;
     };
+    // A flat tetrahedron whose four vertices are on the surface (a layer
+    // of them between surface points, left by the refinement along a flat
+    // or gently curved facet) has every point above on its own sheet:
+    // first a point lifted off it.
+    let on_surface = tv.iter().all(|&v| w.fixed[v as usize]);
+    if on_surface && try_lifted(w, tv, opts, report) {
+        return true;
+    }
     let mut e: Vec<usize> = (0..6).collect();
     e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
     for &k in &e[..2] {
@@ -613,11 +621,77 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         };
         let (i, j) = super::quality::EDGES[k];
         let m = std::array::from_fn(|d| 0.5 * (p[i][d] + p[j][d]));
-        if try_insert_at(w, t, m, false, opts, report) {
+        if try_insert_at(w, t, m, Cavity::Sphere, opts, report) {
+            return true;
+        }
+    }
+    // Last, a point lifted off a flat tetrahedron with a free vertex too.
+    !on_surface && s.iter().any(|&x| x < LIFT_BELOW) && try_lifted(w, tv, opts, report)
+}
+
+/// Tetrahedra with a dihedral sine below this (about 3°) that the other
+/// insertions did not help get the lifted points of [`try_lifted`].
+const LIFT_BELOW: f64 = 0.05;
+
+/// Inserts a point off the plane of the flat tetrahedron `tv`: above the
+/// centroid of its largest face, on either side, at 0.6 and 0.3 times the
+/// face's mean edge length, each in its Delaunay cavity (the insertion and
+/// its undo as in [`try_insert_at`]). A point on the outer side fails at
+/// once (it does not see the boundary faces of its cavity).
+fn try_lifted(
+    w: &mut Work,
+    tv: [u32; 4],
+    opts: &OptimizeOptions,
+    report: &mut OptimizeReport,
+) -> bool {
+    let p = tv.map(|x| w.p[x as usize]);
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    // The largest face: its normal is the sheet's.
+    let mut best = (0.0, [0.0; 3], [0.0; 3], 0.0);
+    for f in 0..4 {
+        let [a, b, c] = work::face([0, 1, 2, 3], f).map(|i| p[i as usize]);
+        let (u, v) = (sub(b, a), sub(c, a));
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let area = len(n);
+        if area > best.0 {
+            let g = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
+            let s = (len(u) + len(v) + len(sub(c, b))) / 3.0;
+            best = (area, n.map(|x| x / area), g, s);
+        }
+    }
+    let (area, n, g, s) = best;
+    if !(area > 0.0 && s > 0.0) {
+        return false;
+    }
+    for h in [0.6 * s, -0.6 * s, 0.3 * s, -0.3 * s] {
+        let x = std::array::from_fn(|k| h.mul_add(n[k], g[k]));
+        let Some(t) = w.slot_of(tv) else {
+            return false;
+        };
+        let Some(cav) = w.lifted_cavity(t, x, MAX_CAVITY) else {
+            continue;
+        };
+        if try_insert_at(w, t, x, Cavity::Given(cav), opts, report) {
             return true;
         }
     }
     false
+}
+
+/// The cavity of an insertion by [`try_insert_at`].
+enum Cavity {
+    /// The tetrahedron and its neighbours across open faces, else the
+    /// tetrahedron alone.
+    Near,
+    /// The point's Delaunay cavity from the tetrahedron.
+    Sphere,
+    /// This one.
+    Given(Vec<u32>),
 }
 
 /// Inserts point `c` in `t` and its neighbours, else in `t` (with
@@ -628,10 +702,11 @@ fn try_insert_at(
     w: &mut Work,
     t: u32,
     c: [f64; 3],
-    near: bool,
+    cavity: Cavity,
     opts: &OptimizeOptions,
     report: &mut OptimizeReport,
 ) -> bool {
+    let near = matches!(cavity, Cavity::Near);
     let mut cav = vec![t];
     for f in 0..4 {
         let n = w.nb[t as usize][f];
@@ -646,10 +721,10 @@ fn try_insert_at(
     // Without `near`: the Delaunay cavity of the point (the tetrahedra of
     // the region whose circumsphere holds it, grown across open faces): the
     // new vertex then gets a star of fair size to be smoothed in.
-    let big = if near {
-        None
-    } else {
-        w.sphere_cavity(t, c, MAX_CAVITY)
+    let big = match cavity {
+        Cavity::Near => None,
+        Cavity::Sphere => w.sphere_cavity(t, c, MAX_CAVITY),
+        Cavity::Given(b) => Some(b),
     };
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's

@@ -925,6 +925,88 @@ impl Work {
         Some(cav)
     }
 
+    /// The cavity of a point `x` off slot `t` (see `try_lifted`): the
+    /// slots walked through from `t` to the one holding `x`, grown by the
+    /// tetrahedra whose circumsphere holds `x`, then by the neighbour
+    /// behind every face that `x` does not see strictly (exact
+    /// `orient3d`) until `x` sees them all. `None` when the walk or the
+    /// growth needs a boundary, interface or region-changing face, or more
+    /// than `max` tetrahedra.
+    pub(super) fn lifted_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
+        let beyond = |c: u32, f: usize| {
+            let [a, b, d] = face(self.tv[c as usize], f);
+            let g = |w: u32| &self.p[w as usize];
+            orient3d(g(a), g(b), g(d), &x) >= 0.0
+        };
+        // The walk: across the face `x` is farthest beyond (a visibility
+        // walk; a face strictly seen from `x` is never crossed back).
+        let mut cav = vec![t];
+        let mut cur = t;
+        loop {
+            let next = (0..4).find(|&f| {
+                beyond(cur, f) && {
+                    let [a, b, d] = face(self.tv[cur as usize], f);
+                    let g = |w: u32| &self.p[w as usize];
+                    orient3d(g(a), g(b), g(d), &x) > 0.0
+                }
+            });
+            let Some(f) = next else { break };
+            if !self.open_face(cur, f) || cav.len() >= max {
+                return None;
+            }
+            cur = self.nb[cur as usize][f];
+            if cav.contains(&cur) {
+                return None;
+            }
+            cav.push(cur);
+        }
+        // Delaunay growth.
+        let mut i = 0;
+        while i < cav.len() {
+            let c = cav[i];
+            i += 1;
+            for f in 0..4 {
+                let n = self.nb[c as usize][f];
+                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
+                    continue;
+                }
+                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
+                let Some(o) = crate::tet::quality::circumcenter(&p) else {
+                    continue;
+                };
+                let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
+                if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
+                    if cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                }
+            }
+        }
+        // Visibility closure.
+        let mut grew = true;
+        while grew {
+            grew = false;
+            let mut k = 0;
+            while k < cav.len() {
+                let c = cav[k];
+                k += 1;
+                for f in 0..4 {
+                    let n = self.nb[c as usize][f];
+                    if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
+                        continue;
+                    }
+                    if n == NONE || !self.open_face(c, f) || cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                    grew = true;
+                }
+            }
+        }
+        Some(cav)
+    }
+
     /// Opens a transaction: every change until [`Work::commit`] or
     /// [`Work::rollback`] is logged (no nesting).
     pub(super) fn begin(&mut self) {
