@@ -668,7 +668,7 @@ fn try_lifted(
     if !(area > 0.0 && s > 0.0) {
         return false;
     }
-    for h in [0.6 * s, -0.6 * s, 0.3 * s, -0.3 * s] {
+    for h in [0.6, -0.6, 0.3, -0.3, 0.12, -0.12, 0.05, -0.05].map(|k| k * s) {
         let x = std::array::from_fn(|k| h.mul_add(n[k], g[k]));
         let Some(t) = w.slot_of(tv) else {
             return false;

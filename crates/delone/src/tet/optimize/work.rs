@@ -648,15 +648,21 @@ impl Work {
             return false;
         }
         let home = self.p[v as usize];
-        // Length scale: the shortest edge at v.
-        let mut len = f64::INFINITY;
+        // Length scale: the shortest edge at v, but at least a fifth of
+        // their mean (a near-duplicate neighbour, left by rounding, would
+        // otherwise pin v to steps of its own tiny distance).
+        let (mut len, mut sum, mut cnt) = (f64::INFINITY, 0.0, 0.0);
         for &t in &star {
             for &w in &self.tv[t as usize] {
                 if w != v {
-                    len = len.min(norm(&sub(&self.p[w as usize], &home)));
+                    let l = norm(&sub(&self.p[w as usize], &home));
+                    len = len.min(l);
+                    sum += l;
+                    cnt += 1.0;
                 }
             }
         }
+        len = len.max(0.2 * sum / cnt);
         if !(len > 0.0 && len.is_finite()) {
             return false;
         }
