@@ -528,6 +528,17 @@ fn improve(
     insert_below: f64,
     report: &mut OptimizeReport,
 ) -> bool {
+    // A flat tetrahedron on the surface (its four vertices fixed or
+    // sliding: neither smoothing nor flips among surface points lift it):
+    // a point off its sheet first.
+    if opts.insert
+        && report.inserted < budget
+        && w.q[t as usize] < LIFT_BELOW
+        && w.tv[t as usize].iter().all(|&v| w.fixed[v as usize])
+        && try_lifted(w, w.tv[t as usize], opts, report)
+    {
+        return true;
+    }
     if opts.flips {
         let tv = w.tv[t as usize];
         let mut best: Option<Plan> = None;
@@ -609,8 +620,9 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     // of them between surface points, left by the refinement along a flat
     // or gently curved facet) has every point above on its own sheet:
     // first a point lifted off it.
+    // (The flattest of them were tried first, by `improve`.)
     let on_surface = tv.iter().all(|&v| w.fixed[v as usize]);
-    if on_surface && try_lifted(w, tv, opts, report) {
+    if on_surface && s.iter().all(|&x| x >= LIFT_BELOW) && try_lifted(w, tv, opts, report) {
         return true;
     }
     let mut e: Vec<usize> = (0..6).collect();
