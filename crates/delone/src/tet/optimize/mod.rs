@@ -74,6 +74,10 @@ const POLISH: f64 = 0.4;
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
 
+/// Most tetrahedra in the cavity of a lifted point (see `try_lifted`):
+/// the layers of flat tetrahedra above a sheet can be many.
+const MAX_LIFTED_CAVITY: usize = 128;
+
 /// A queued tetrahedron: quality, slot, vertices; the heap pops the worst
 /// (ties by slot).
 struct Entry(f64, u32, [u32; 4]);
@@ -531,13 +535,21 @@ fn improve(
     // A flat tetrahedron on the surface (its four vertices fixed or
     // sliding: neither smoothing nor flips among surface points lift it):
     // a point off its sheet first.
+    let mut t = t;
+    let tv0 = w.tv[t as usize];
     if opts.insert
         && report.inserted < budget
         && w.q[t as usize] < LIFT_BELOW
-        && w.tv[t as usize].iter().all(|&v| w.fixed[v as usize])
-        && try_lifted(w, w.tv[t as usize], opts, report)
+        && tv0.iter().all(|&v| w.fixed[v as usize])
     {
-        return true;
+        if try_lifted(w, tv0, opts, report) {
+            return true;
+        }
+        // (Undone: the tetrahedron may be back in another slot.)
+        match w.slot_of(tv0) {
+            Some(s) => t = s,
+            None => return false,
+        }
     }
     if opts.flips {
         let tv = w.tv[t as usize];
@@ -622,7 +634,11 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     // first a point lifted off it.
     // (The flattest of them were tried first, by `improve`.)
     let on_surface = tv.iter().all(|&v| w.fixed[v as usize]);
-    if on_surface && s.iter().all(|&x| x >= LIFT_BELOW) && try_lifted(w, tv, opts, report) {
+    if on_surface
+        && s.iter().all(|&x| x >= LIFT_BELOW)
+        && s.iter().any(|&x| x < LIFT_SURFACE_BELOW)
+        && try_lifted(w, tv, opts, report)
+    {
         return true;
     }
     let mut e: Vec<usize> = (0..6).collect();
@@ -640,6 +656,11 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     // Last, a point lifted off a flat tetrahedron with a free vertex too.
     !on_surface && s.iter().any(|&x| x < LIFT_BELOW) && try_lifted(w, tv, opts, report)
 }
+
+/// Tetrahedra on the surface with a dihedral sine below this (20°) get
+/// the lifted points of [`try_lifted`] after the centroid (above it they
+/// would mostly add vertices for little gain).
+const LIFT_SURFACE_BELOW: f64 = 0.342;
 
 /// Tetrahedra with a dihedral sine below this (about 3°) that the other
 /// insertions did not help get the lifted points of [`try_lifted`].
@@ -685,7 +706,7 @@ fn try_lifted(
         let Some(t) = w.slot_of(tv) else {
             return false;
         };
-        let Some(cav) = w.lifted_cavity(t, x, MAX_CAVITY) else {
+        let Some(cav) = w.lifted_cavity(t, x, MAX_LIFTED_CAVITY) else {
             continue;
         };
         if try_insert_at(w, t, x, Cavity::Given(cav), opts, report) {
