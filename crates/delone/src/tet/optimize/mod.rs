@@ -991,8 +991,26 @@ fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
         };
     }
     for &v in &rec.inexact {
-        if let Some(x) = w.inexact.get_mut(v as usize) {
-            *x = true;
+        let Some(x) = w.inexact.get_mut(v as usize) else {
+            continue;
+        };
+        *x = true;
+        // An inexact point that is nevertheless exactly on the plane of one
+        // of its surface triangles stays exactly there: it may not move
+        // within the rounding tolerance (off that plane).
+        let p = rec.points[v as usize];
+        let exact_on = on[v as usize].iter().any(|&t| {
+            rec.surface.get(t as usize).is_some_and(|tri| {
+                let [a, b, c] = tri.map(|q| rec.points[q as usize]);
+                delone_predicates::orient3d(&a, &b, &c, &p) == 0.0
+            })
+        });
+        if exact_on {
+            match w.slide[v as usize] {
+                Slide::Line(_) => w.slide[v as usize] = Slide::Fixed,
+                Slide::Plane(_) => *x = false,
+                _ => {}
+            }
         }
     }
     w.tol = rec.report.max_deviation * s.0 * s.1;

@@ -1233,6 +1233,33 @@ mod tests {
     }
 
     #[test]
+    fn lifted_cavity_walks_to_the_point_and_is_visible_from_it() {
+        let mut w = octahedron();
+        let octant = |w: &Work, o: [u32; 3]| {
+            (0..8u32)
+                .find(|&t| o.iter().all(|v| w.tv[t as usize].contains(v)))
+                .unwrap()
+        };
+        let t0 = octant(&w, [0, 2, 4]);
+        // A point in the next octant: the walk reaches it, the Delaunay
+        // growth adds the octants whose circumsphere holds it (x's own and
+        // its three face neighbours, `t0` among them), and `x` sees every
+        // face of the result.
+        let x = [-0.2, 0.2, 0.2];
+        let cav = w.lifted_cavity(t0, x, 48).unwrap();
+        assert_eq!(cav.len(), 4);
+        assert!(cav.contains(&t0) && cav.contains(&octant(&w, [1, 2, 4])));
+        let (id, new) = w.insert(&cav, x).unwrap();
+        assert_eq!(id, 7);
+        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        // Outside the domain: the walk meets the boundary.
+        let w2 = octahedron();
+        assert!(w2.lifted_cavity(t0, [2.0, 0.1, 0.1], 48).is_none());
+        // Too small a limit.
+        assert!(w2.lifted_cavity(t0, x, 1).is_none());
+    }
+
+    #[test]
     fn min_norm_point_of_opposite_gradients() {
         let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
         assert!((x[0]).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
