@@ -25,7 +25,12 @@
 //!    made of it and its neighbours, followed by smoothing of the new
 //!    vertex and flips and smoothing of the worst new tetrahedra; undone
 //!    unless the cavity's worst quality improves. This is what removes
-//!    slivers whose four vertices are fixed.
+//!    slivers whose four vertices are fixed. A flat tetrahedron whose four
+//!    vertices are on the surface (a layer of them along a facet, where
+//!    every centroid or midpoint is on the sheet too) gets a point *lifted*
+//!    off its largest face along the normal, in the cavity reached by a
+//!    visibility walk and closed under visibility; for the flattest (below
+//!    about 3°) this is tried before anything else.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
