@@ -539,13 +539,20 @@ fn improve(
 ) -> bool {
     // A flat tetrahedron on the surface (its four vertices fixed or
     // sliding: neither smoothing nor flips among surface points lift it):
-    // a point off its sheet first.
+    // a point off its sheet first, unless a flip already makes it fair
+    // (that adds no vertex).
     let mut t = t;
     let tv0 = w.tv[t as usize];
+    let mut plan = if opts.flips {
+        best_flip(w, t, edge_below)
+    } else {
+        None
+    };
     if opts.insert
         && report.inserted < budget
         && w.q[t as usize] < LIFT_BELOW
         && tv0.iter().all(|&v| w.fixed[v as usize])
+        && plan.as_ref().is_none_or(|p| p.q < LIFT_FLIP_OK)
     {
         if try_lifted(w, tv0, opts, report) {
             return true;
@@ -555,39 +562,19 @@ fn improve(
             Some(s) => t = s,
             None => return false,
         }
+        if opts.flips {
+            plan = best_flip(w, t, edge_below);
+        }
     }
-    if opts.flips {
-        let tv = w.tv[t as usize];
-        let mut best: Option<Plan> = None;
-        let mut consider = |p: Option<Plan>, w: &Work| {
-            if let Some(p) = p {
-                let old = w.min_q(&p.old);
-                if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
-                    best = Some(p);
-                }
+    if let Some(p) = plan {
+        if w.apply(&p).is_some() {
+            match p.ring {
+                0 => report.flips23 += 1,
+                3 => report.flips32 += 1,
+                4 => report.flips44 += 1,
+                _ => report.edge_removals += 1,
             }
-        };
-        // Only the edges with a bad dihedral angle (the others are rarely
-        // worth removing, and each removal plan costs O(n³) qualities).
-        let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
-        for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
-            if s[e] < edge_below {
-                consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
-            }
-        }
-        for f in 0..4 {
-            consider(w.plan_flip23(t, f), w);
-        }
-        if let Some(p) = best {
-            if w.apply(&p).is_some() {
-                match p.ring {
-                    0 => report.flips23 += 1,
-                    3 => report.flips32 += 1,
-                    4 => report.flips44 += 1,
-                    _ => report.edge_removals += 1,
-                }
-                return true;
-            }
+            return true;
         }
     }
     if opts.smooth {
@@ -609,6 +596,38 @@ fn improve(
     }
     false
 }
+
+/// The best of the removals of `t`'s edges with a dihedral sine below
+/// `edge_below` and the 2-3 flips of its faces: the one whose new
+/// tetrahedra's worst quality is highest, if it beats the old ones'.
+fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
+    let tv = w.tv[t as usize];
+    let mut best: Option<Plan> = None;
+    let mut consider = |p: Option<Plan>, w: &Work| {
+        if let Some(p) = p {
+            let old = w.min_q(&p.old);
+            if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
+                best = Some(p);
+            }
+        }
+    };
+    // Only the edges with a bad dihedral angle (the others are rarely
+    // worth removing, and each removal plan costs O(n³) qualities).
+    let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
+    for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
+        if s[e] < edge_below {
+            consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+        }
+    }
+    for f in 0..4 {
+        consider(w.plan_flip23(t, f), w);
+    }
+    best
+}
+
+/// A flip whose worst new tetrahedron has a dihedral sine above this (20°)
+/// is preferred to a lifted insertion (see [`improve`]).
+const LIFT_FLIP_OK: f64 = 0.342;
 
 /// Inserts the centroid of `t` in the cavity of `t` and its neighbours
 /// across open faces, smooths it, and keeps it when the worst quality
