@@ -17,6 +17,8 @@
 //! below 15° although the input is not. Then, for those models, the `--worst`
 //! (default 4) worst tetrahedra: angles, shape, surface faces, input and
 //! fixed vertices. Not part of CI (it needs the shared data and minutes).
+//! With `TABLE_CHECK=1` each output is also checked by `check_recovered`
+//! (`ok` at the end of the row).
 
 use std::io::{BufRead, Write};
 use std::process::{Command, Stdio};
