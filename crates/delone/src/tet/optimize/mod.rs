@@ -25,7 +25,12 @@
 //!    made of it and its neighbours, followed by smoothing of the new
 //!    vertex and flips and smoothing of the worst new tetrahedra; undone
 //!    unless the cavity's worst quality improves. This is what removes
-//!    slivers whose four vertices are fixed.
+//!    slivers whose four vertices are fixed. A flat tetrahedron whose four
+//!    vertices are on the surface (a layer of them along a facet, where
+//!    every centroid or midpoint is on the sheet too) gets a point *lifted*
+//!    off its largest face along the normal, in the cavity reached by a
+//!    visibility walk and closed under visibility; for the flattest (below
+//!    about 3°) this is tried before anything else.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
@@ -73,6 +78,10 @@ const POLISH: f64 = 0.4;
 
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
+
+/// Most tetrahedra in the cavity of a lifted point (see `try_lifted`):
+/// the layers of flat tetrahedra above a sheet can be many.
+const MAX_LIFTED_CAVITY: usize = 128;
 
 /// A queued tetrahedron: quality, slot, vertices; the heap pops the worst
 /// (ties by slot).
@@ -528,38 +537,44 @@ fn improve(
     insert_below: f64,
     report: &mut OptimizeReport,
 ) -> bool {
-    if opts.flips {
-        let tv = w.tv[t as usize];
-        let mut best: Option<Plan> = None;
-        let mut consider = |p: Option<Plan>, w: &Work| {
-            if let Some(p) = p {
-                let old = w.min_q(&p.old);
-                if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
-                    best = Some(p);
-                }
-            }
-        };
-        // Only the edges with a bad dihedral angle (the others are rarely
-        // worth removing, and each removal plan costs O(n³) qualities).
-        let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
-        for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
-            if s[e] < edge_below {
-                consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
-            }
+    // A flat tetrahedron on the surface (its four vertices fixed or
+    // sliding: neither smoothing nor flips among surface points lift it):
+    // a point off its sheet first, unless a flip already makes it fair
+    // (that adds no vertex).
+    let mut t = t;
+    let tv0 = w.tv[t as usize];
+    let mut plan = if opts.flips {
+        best_flip(w, t, edge_below)
+    } else {
+        None
+    };
+    if opts.insert
+        && report.inserted < budget
+        && w.q[t as usize] < LIFT_BELOW
+        && tv0.iter().all(|&v| w.fixed[v as usize])
+        && plan.as_ref().is_none_or(|p| p.q < LIFT_FLIP_OK)
+    {
+        if try_lifted(w, tv0, opts, report) {
+            return true;
         }
-        for f in 0..4 {
-            consider(w.plan_flip23(t, f), w);
+        // (Undone: the tetrahedron may be back in another slot.)
+        match w.slot_of(tv0) {
+            Some(s) => t = s,
+            None => return false,
         }
-        if let Some(p) = best {
-            if w.apply(&p).is_some() {
-                match p.ring {
-                    0 => report.flips23 += 1,
-                    3 => report.flips32 += 1,
-                    4 => report.flips44 += 1,
-                    _ => report.edge_removals += 1,
-                }
-                return true;
+        if opts.flips {
+            plan = best_flip(w, t, edge_below);
+        }
+    }
+    if let Some(p) = plan {
+        if w.apply(&p).is_some() {
+            match p.ring {
+                0 => report.flips23 += 1,
+                3 => report.flips32 += 1,
+                4 => report.flips44 += 1,
+                _ => report.edge_removals += 1,
             }
+            return true;
         }
     }
     if opts.smooth {
@@ -582,6 +597,38 @@ fn improve(
     false
 }
 
+/// The best of the removals of `t`'s edges with a dihedral sine below
+/// `edge_below` and the 2-3 flips of its faces: the one whose new
+/// tetrahedra's worst quality is highest, if it beats the old ones'.
+fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
+    let tv = w.tv[t as usize];
+    let mut best: Option<Plan> = None;
+    let mut consider = |p: Option<Plan>, w: &Work| {
+        if let Some(p) = p {
+            let old = w.min_q(&p.old);
+            if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
+                best = Some(p);
+            }
+        }
+    };
+    // Only the edges with a bad dihedral angle (the others are rarely
+    // worth removing, and each removal plan costs O(n³) qualities).
+    let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
+    for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
+        if s[e] < edge_below {
+            consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+        }
+    }
+    for f in 0..4 {
+        consider(w.plan_flip23(t, f), w);
+    }
+    best
+}
+
+/// A flip whose worst new tetrahedron has a dihedral sine above this (20°)
+/// is preferred to a lifted insertion (see [`improve`]).
+const LIFT_FLIP_OK: f64 = 0.342;
+
 /// Inserts the centroid of `t` in the cavity of `t` and its neighbours
 /// across open faces, smooths it, and keeps it when the worst quality
 /// improved (else undoes it).
@@ -591,11 +638,11 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
     // First in the small cavity (it and its neighbours), then in the
     // point's Delaunay cavity.
-    if try_insert_at(w, t, c, true, opts, report) {
+    if try_insert_at(w, t, c, Cavity::Near, opts, report) {
         return true;
     }
     match w.slot_of(tv) {
-        Some(t) if try_insert_at(w, t, c, false, opts, report) => return true,
+        Some(t) if try_insert_at(w, t, c, Cavity::Sphere, opts, report) => return true,
         Some(_) => {}
         None => return false,
     }
@@ -605,6 +652,19 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let Some(s) = work::sines([&p[0], &p[1], &p[2], &p[3]]) else {
         return false;
     };
+    // A flat tetrahedron whose four vertices are on the surface (a layer
+    // of them between surface points, left by the refinement along a flat
+    // or gently curved facet) has every point above on its own sheet:
+    // first a point lifted off it.
+    // (The flattest of them were tried first, by `improve`.)
+    let on_surface = tv.iter().all(|&v| w.fixed[v as usize]);
+    if on_surface
+        && s.iter().all(|&x| x >= LIFT_BELOW)
+        && s.iter().any(|&x| x < LIFT_SURFACE_BELOW)
+        && try_lifted(w, tv, opts, report)
+    {
+        return true;
+    }
     let mut e: Vec<usize> = (0..6).collect();
     e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
     for &k in &e[..2] {
@@ -613,11 +673,82 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
         };
         let (i, j) = super::quality::EDGES[k];
         let m = std::array::from_fn(|d| 0.5 * (p[i][d] + p[j][d]));
-        if try_insert_at(w, t, m, false, opts, report) {
+        if try_insert_at(w, t, m, Cavity::Sphere, opts, report) {
+            return true;
+        }
+    }
+    // Last, a point lifted off a flat tetrahedron with a free vertex too.
+    !on_surface && s.iter().any(|&x| x < LIFT_BELOW) && try_lifted(w, tv, opts, report)
+}
+
+/// Tetrahedra on the surface with a dihedral sine below this (20°) get
+/// the lifted points of [`try_lifted`] after the centroid (above it they
+/// would mostly add vertices for little gain).
+const LIFT_SURFACE_BELOW: f64 = 0.342;
+
+/// Tetrahedra with a dihedral sine below this (about 3°) that the other
+/// insertions did not help get the lifted points of [`try_lifted`].
+const LIFT_BELOW: f64 = 0.05;
+
+/// Inserts a point off the plane of the flat tetrahedron `tv`: above the
+/// centroid of its largest face, on either side, at 0.6 and 0.3 times the
+/// face's mean edge length, each in its Delaunay cavity (the insertion and
+/// its undo as in [`try_insert_at`]). A point on the outer side fails at
+/// once (it does not see the boundary faces of its cavity).
+fn try_lifted(
+    w: &mut Work,
+    tv: [u32; 4],
+    opts: &OptimizeOptions,
+    report: &mut OptimizeReport,
+) -> bool {
+    let p = tv.map(|x| w.p[x as usize]);
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    // The largest face: its normal is the sheet's.
+    let mut best = (0.0, [0.0; 3], [0.0; 3], 0.0);
+    for f in 0..4 {
+        let [a, b, c] = work::face([0, 1, 2, 3], f).map(|i| p[i as usize]);
+        let (u, v) = (sub(b, a), sub(c, a));
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let area = len(n);
+        if area > best.0 {
+            let g = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
+            let s = (len(u) + len(v) + len(sub(c, b))) / 3.0;
+            best = (area, n.map(|x| x / area), g, s);
+        }
+    }
+    let (area, n, g, s) = best;
+    if !(area > 0.0 && s > 0.0) {
+        return false;
+    }
+    for h in [0.6, -0.6, 0.3, -0.3, 0.12, -0.12, 0.05, -0.05].map(|k| k * s) {
+        let x = std::array::from_fn(|k| h.mul_add(n[k], g[k]));
+        let Some(t) = w.slot_of(tv) else {
+            return false;
+        };
+        let Some(cav) = w.lifted_cavity(t, x, MAX_LIFTED_CAVITY) else {
+            continue;
+        };
+        if try_insert_at(w, t, x, Cavity::Given(cav), opts, report) {
             return true;
         }
     }
     false
+}
+
+/// The cavity of an insertion by [`try_insert_at`].
+enum Cavity {
+    /// The tetrahedron and its neighbours across open faces, else the
+    /// tetrahedron alone.
+    Near,
+    /// The point's Delaunay cavity from the tetrahedron.
+    Sphere,
+    /// This one.
+    Given(Vec<u32>),
 }
 
 /// Inserts point `c` in `t` and its neighbours, else in `t` (with
@@ -628,10 +759,11 @@ fn try_insert_at(
     w: &mut Work,
     t: u32,
     c: [f64; 3],
-    near: bool,
+    cavity: Cavity,
     opts: &OptimizeOptions,
     report: &mut OptimizeReport,
 ) -> bool {
+    let near = matches!(cavity, Cavity::Near);
     let mut cav = vec![t];
     for f in 0..4 {
         let n = w.nb[t as usize][f];
@@ -646,10 +778,10 @@ fn try_insert_at(
     // Without `near`: the Delaunay cavity of the point (the tetrahedra of
     // the region whose circumsphere holds it, grown across open faces): the
     // new vertex then gets a star of fair size to be smoothed in.
-    let big = if near {
-        None
-    } else {
-        w.sphere_cavity(t, c, MAX_CAVITY)
+    let big = match cavity {
+        Cavity::Near => None,
+        Cavity::Sphere => w.sphere_cavity(t, c, MAX_CAVITY),
+        Cavity::Given(b) => Some(b),
     };
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's
@@ -883,8 +1015,26 @@ fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
         };
     }
     for &v in &rec.inexact {
-        if let Some(x) = w.inexact.get_mut(v as usize) {
-            *x = true;
+        let Some(x) = w.inexact.get_mut(v as usize) else {
+            continue;
+        };
+        *x = true;
+        // An inexact point that is nevertheless exactly on the plane of one
+        // of its surface triangles stays exactly there: it may not move
+        // within the rounding tolerance (off that plane).
+        let p = rec.points[v as usize];
+        let exact_on = on[v as usize].iter().any(|&t| {
+            rec.surface.get(t as usize).is_some_and(|tri| {
+                let [a, b, c] = tri.map(|q| rec.points[q as usize]);
+                delone_predicates::orient3d(&a, &b, &c, &p) == 0.0
+            })
+        });
+        if exact_on {
+            match w.slide[v as usize] {
+                Slide::Line(_) => w.slide[v as usize] = Slide::Fixed,
+                Slide::Plane(_) => *x = false,
+                _ => {}
+            }
         }
     }
     w.tol = rec.report.max_deviation * s.0 * s.1;

@@ -648,15 +648,21 @@ impl Work {
             return false;
         }
         let home = self.p[v as usize];
-        // Length scale: the shortest edge at v.
-        let mut len = f64::INFINITY;
+        // Length scale: the shortest edge at v, but at least a fifth of
+        // their mean (a near-duplicate neighbour, left by rounding, would
+        // otherwise pin v to steps of its own tiny distance).
+        let (mut len, mut sum, mut cnt) = (f64::INFINITY, 0.0, 0.0);
         for &t in &star {
             for &w in &self.tv[t as usize] {
                 if w != v {
-                    len = len.min(norm(&sub(&self.p[w as usize], &home)));
+                    let l = norm(&sub(&self.p[w as usize], &home));
+                    len = len.min(l);
+                    sum += l;
+                    cnt += 1.0;
                 }
             }
         }
+        len = len.max(0.2 * sum / cnt);
         if !(len > 0.0 && len.is_finite()) {
             return false;
         }
@@ -925,6 +931,88 @@ impl Work {
         Some(cav)
     }
 
+    /// The cavity of a point `x` off slot `t` (see `try_lifted`): the
+    /// slots walked through from `t` to the one holding `x`, grown by the
+    /// tetrahedra whose circumsphere holds `x`, then by the neighbour
+    /// behind every face that `x` does not see strictly (exact
+    /// `orient3d`) until `x` sees them all. `None` when the walk or the
+    /// growth needs a boundary, interface or region-changing face, or more
+    /// than `max` tetrahedra.
+    pub(super) fn lifted_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
+        let beyond = |c: u32, f: usize| {
+            let [a, b, d] = face(self.tv[c as usize], f);
+            let g = |w: u32| &self.p[w as usize];
+            orient3d(g(a), g(b), g(d), &x) >= 0.0
+        };
+        // The walk: across the face `x` is farthest beyond (a visibility
+        // walk; a face strictly seen from `x` is never crossed back).
+        let mut cav = vec![t];
+        let mut cur = t;
+        loop {
+            let next = (0..4).find(|&f| {
+                beyond(cur, f) && {
+                    let [a, b, d] = face(self.tv[cur as usize], f);
+                    let g = |w: u32| &self.p[w as usize];
+                    orient3d(g(a), g(b), g(d), &x) > 0.0
+                }
+            });
+            let Some(f) = next else { break };
+            if !self.open_face(cur, f) || cav.len() >= max {
+                return None;
+            }
+            cur = self.nb[cur as usize][f];
+            if cav.contains(&cur) {
+                return None;
+            }
+            cav.push(cur);
+        }
+        // Delaunay growth.
+        let mut i = 0;
+        while i < cav.len() {
+            let c = cav[i];
+            i += 1;
+            for f in 0..4 {
+                let n = self.nb[c as usize][f];
+                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
+                    continue;
+                }
+                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
+                let Some(o) = crate::tet::quality::circumcenter(&p) else {
+                    continue;
+                };
+                let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
+                if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
+                    if cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                }
+            }
+        }
+        // Visibility closure.
+        let mut grew = true;
+        while grew {
+            grew = false;
+            let mut k = 0;
+            while k < cav.len() {
+                let c = cav[k];
+                k += 1;
+                for f in 0..4 {
+                    let n = self.nb[c as usize][f];
+                    if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
+                        continue;
+                    }
+                    if n == NONE || !self.open_face(c, f) || cav.len() >= max {
+                        return None;
+                    }
+                    cav.push(n);
+                    grew = true;
+                }
+            }
+        }
+        Some(cav)
+    }
+
     /// Opens a transaction: every change until [`Work::commit`] or
     /// [`Work::rollback`] is logged (no nesting).
     pub(super) fn begin(&mut self) {
@@ -1142,6 +1230,33 @@ mod tests {
         assert_eq!(id, 7);
         assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
         assert!(!w.star(6).is_empty() && !w.star(7).is_empty());
+    }
+
+    #[test]
+    fn lifted_cavity_walks_to_the_point_and_is_visible_from_it() {
+        let mut w = octahedron();
+        let octant = |w: &Work, o: [u32; 3]| {
+            (0..8u32)
+                .find(|&t| o.iter().all(|v| w.tv[t as usize].contains(v)))
+                .unwrap()
+        };
+        let t0 = octant(&w, [0, 2, 4]);
+        // A point in the next octant: the walk reaches it, the Delaunay
+        // growth adds the octants whose circumsphere holds it (x's own and
+        // its three face neighbours, `t0` among them), and `x` sees every
+        // face of the result.
+        let x = [-0.2, 0.2, 0.2];
+        let cav = w.lifted_cavity(t0, x, 48).unwrap();
+        assert_eq!(cav.len(), 4);
+        assert!(cav.contains(&t0) && cav.contains(&octant(&w, [1, 2, 4])));
+        let (id, new) = w.insert(&cav, x).unwrap();
+        assert_eq!(id, 7);
+        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        // Outside the domain: the walk meets the boundary.
+        let w2 = octahedron();
+        assert!(w2.lifted_cavity(t0, [2.0, 0.1, 0.1], 48).is_none());
+        // Too small a limit.
+        assert!(w2.lifted_cavity(t0, x, 1).is_none());
     }
 
     #[test]
