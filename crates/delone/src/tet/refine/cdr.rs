@@ -12,7 +12,7 @@
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, VecDeque};
+use std::collections::{BinaryHeap, HashMap, HashSet, VecDeque};
 
 use delone_predicates::{insphere, orient3d};
 
@@ -100,6 +100,14 @@ pub(super) struct Cdr {
     vtris: Vec<Vec<u32>>,
     segq: VecDeque<(u32, u32)>,
     faceq: VecDeque<[u32; 3]>,
+    /// Subsegments / subfaces in `segq` / `faceq` (each queued once).
+    queued_s: HashSet<(u32, u32)>,
+    queued_f: HashSet<[u32; 3]>,
+    /// Subsegments / subfaces whose split failed with the mesh unchanged:
+    /// not tried again (an unchanged neighbourhood fails the same way, and
+    /// retrying them for every cell that shows them spun for minutes).
+    failed_s: HashSet<(u32, u32)>,
+    failed_f: HashSet<[u32; 3]>,
     badq: BinaryHeap<Bad>,
     bound: f64,
     /// Per region: the volume bound (rescaled).
@@ -323,6 +331,10 @@ impl Cdr {
             vtris,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
+            queued_s: HashSet::new(),
+            queued_f: HashSet::new(),
+            failed_s: HashSet::new(),
+            failed_f: HashSet::new(),
             badq: BinaryHeap::new(),
             bound: opts.max_radius_edge,
             max_vol,
@@ -461,7 +473,11 @@ impl Cdr {
         for f in 0..4 {
             if self.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
-                if self.face_encroached_by(k, tv[f]) || self.face_too_big(k) {
+                if !self.queued_f.contains(&k)
+                    && !self.failed_f.contains(&k)
+                    && (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
+                {
+                    self.queued_f.insert(k);
                     self.faceq.push_back(k);
                 }
             }
@@ -469,10 +485,13 @@ impl Cdr {
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
             if self.segs.contains_key(&e)
+                && !self.queued_s.contains(&e)
+                && !self.failed_s.contains(&e)
                 && (0..4)
                     .filter(|&k| k != i && k != j)
                     .any(|k| self.seg_encroached_by(e, tv[k]))
             {
+                self.queued_s.insert(e);
                 self.segq.push_back(e);
             }
         }
@@ -1021,6 +1040,18 @@ impl Cdr {
     /// R1: splits subsegment `e` (midpoint, or a concentric shell around
     /// an input vertex at one end).
     fn split_segment(&mut self, e: (u32, u32)) -> bool {
+        if self.failed_s.contains(&e) {
+            return false;
+        }
+        let n = self.p.len();
+        let done = self.split_segment_at(e);
+        if !done && self.p.len() == n {
+            self.failed_s.insert(e);
+        }
+        done
+    }
+
+    fn split_segment_at(&mut self, e: (u32, u32)) -> bool {
         let Some(&ie) = self.segs.get(&e) else {
             return false;
         };
@@ -1266,6 +1297,18 @@ impl Cdr {
     /// R2: splits subface `k` at its circumcentre (or the subsegment it
     /// encroaches, or, failing that, its longest edge).
     fn split_face(&mut self, k: [u32; 3]) -> bool {
+        if self.failed_f.contains(&k) {
+            return false;
+        }
+        let n = self.p.len();
+        let done = self.split_face_at(k);
+        if !done && self.p.len() == n {
+            self.failed_f.insert(k);
+        }
+        done
+    }
+
+    fn split_face_at(&mut self, k: [u32; 3]) -> bool {
         let Some(&tri) = self.ftri.get(&k) else {
             return false;
         };
@@ -1487,6 +1530,23 @@ impl Cdr {
                         }
                     }
                 }
+                // A vertex of the cavity closer to the circumcentre than
+                // the cell's shortest edge: the cell is not Delaunay (its
+                // circumsphere reaches round a subface, near a reflex or
+                // sharp input feature), and the insertion would make an
+                // edge shorter than any of the cell's, the start of a
+                // cascade of ever shorter edges. Leave the cell (only when
+                // its shape is bad: a cell too big is split regardless).
+                if segs.is_empty()
+                    && faces.is_empty()
+                    && quality::radius_edge_ratio(&p) > self.bound
+                    && self.too_close(&cav, &c, lmin)
+                {
+                    self.report.skipped += 1;
+                    self.report.skipped_small += 1;
+                    self.report.skipped_close += 1;
+                    return;
+                }
                 if segs.is_empty() && faces.is_empty() {
                     if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
                         self.report.interior += 1;
@@ -1537,6 +1597,16 @@ impl Cdr {
         }
     }
 
+    /// Is a vertex of the tetrahedra `cav` closer than `lim` to `c`?
+    fn too_close(&self, cav: &[u32], c: &P, lim: f64) -> bool {
+        let l2 = lim * lim;
+        cav.iter().any(|&u| {
+            self.tv[u as usize]
+                .iter()
+                .any(|&q| dist2(&self.pt(q), c) < l2)
+        })
+    }
+
     /// Is subsegment `e` still encroached by a vertex next to it?
     fn seg_still_encroached(&self, e: (u32, u32)) -> bool {
         self.segs.contains_key(&e)
@@ -1578,12 +1648,14 @@ impl Cdr {
                 return;
             }
             if let Some(e) = self.segq.pop_front() {
+                self.queued_s.remove(&e);
                 if self.seg_still_encroached(e) && !self.out_of_budget() {
                     self.split_segment(e);
                 }
                 continue;
             }
             if let Some(k) = self.faceq.pop_front() {
+                self.queued_f.remove(&k);
                 if self.face_still_encroached(k) && !self.out_of_budget() {
                     self.split_face(k);
                 }

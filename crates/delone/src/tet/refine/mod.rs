@@ -225,6 +225,11 @@ pub struct RefineReport {
     /// Of [`Self::skipped`]: the encroached boundary pieces are much smaller
     /// than the cell (small input angles, thin features).
     pub skipped_small: usize,
+    /// Of [`Self::skipped_small`]: the circumcentre lies closer to a vertex
+    /// of its cavity than the cell's shortest edge (the cell's circumsphere
+    /// reaches round a subface, at a reflex or sharp input feature);
+    /// inserting it would start a cascade of ever shorter edges.
+    pub skipped_close: usize,
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
