@@ -36,6 +36,10 @@ const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 
 /// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
 const SHELL_ANGLE: f64 = 30.0;
 
+/// Dihedral input angle (degrees) below which a bad cell spanning the wedge
+/// between the two facets is left (see `Cdr::wedge`).
+const WEDGE_ANGLE: f64 = 30.0;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -1485,6 +1489,12 @@ impl Cdr {
                 return;
             }
         }
+        if self.wedge(tv) {
+            self.report.skipped += 1;
+            self.report.skipped_small += 1;
+            self.report.skipped_wedge += 1;
+            return;
+        }
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
@@ -1595,6 +1605,43 @@ impl Cdr {
             self.report.skipped += 1;
             self.report.skipped_small += 1;
         }
+    }
+
+    /// Do the four vertices of `t` lie on two input triangles of different
+    /// plane groups that share a vertex and meet at a dihedral angle below
+    /// [`WEDGE_ANGLE`] (normals nearly opposite)? Such a cell spans a sharp
+    /// wedge of the input: its circumcentre lies beyond one of the two
+    /// facets, and splitting that facet makes a narrower cell deeper in
+    /// the wedge, towards its edge, forever (Shewchuk & Si's small input
+    /// angles, here the dihedral ones). It is left.
+    fn wedge(&self, t: [u32; 4]) -> bool {
+        let tris = |q: u32| -> &[u32] { self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()) };
+        if t.iter().any(|&q| tris(q).is_empty()) {
+            return false;
+        }
+        let on = |q: u32, g: u32| tris(q).iter().any(|&x| self.group[x as usize] == g);
+        let lim = -(WEDGE_ANGLE.to_radians().cos());
+        let unit = |x: u32| {
+            let n = self.normals[x as usize];
+            let l = dot(&n, &n).sqrt();
+            n.map(|c| c / l)
+        };
+        let mut cand: Vec<u32> = t.iter().flat_map(|&q| tris(q).iter().copied()).collect();
+        cand.sort_unstable();
+        cand.dedup();
+        for (i, &a) in cand.iter().enumerate() {
+            let (ga, ta, na) = (self.group[a as usize], self.tris[a as usize], unit(a));
+            for &b in &cand[i + 1..] {
+                let gb = self.group[b as usize];
+                if ga == gb || !self.tris[b as usize].iter().any(|q| ta.contains(q)) {
+                    continue;
+                }
+                if dot(&na, &unit(b)) < lim && t.iter().all(|&q| on(q, ga) || on(q, gb)) {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Is a vertex of the tetrahedra `cav` closer than `lim` to `c`?

@@ -230,6 +230,11 @@ pub struct RefineReport {
     /// reaches round a subface, at a reflex or sharp input feature);
     /// inserting it would start a cascade of ever shorter edges.
     pub skipped_close: usize,
+    /// Of [`Self::skipped_small`]: cells spanning a sharp wedge of the
+    /// input (their vertices on two input triangles meeting at a dihedral
+    /// angle below 30°): splitting either facet for them would refine the
+    /// wedge towards its edge without end.
+    pub skipped_wedge: usize,
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
