@@ -40,6 +40,10 @@ const SHELL_ANGLE: f64 = 30.0;
 /// between the two facets is left (see `Cdr::wedge`).
 const WEDGE_ANGLE: f64 = 30.0;
 
+/// Height / longest side below which an input triangle counts as
+/// degenerate (see `Cdr::degenerate`).
+const DEGENERATE: f64 = 1e-4;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -102,6 +106,9 @@ pub(super) struct Cdr {
     merged: Vec<bool>,
     /// Input triangles each vertex lies on.
     vtris: Vec<Vec<u32>>,
+    /// Per input triangle: degenerate (a sliver of zero angle, its height
+    /// below [`DEGENERATE`] times its longest side)?
+    degenerate: Vec<bool>,
     segq: VecDeque<(u32, u32)>,
     faceq: VecDeque<[u32; 3]>,
     /// Subsegments / subfaces in `segq` / `faceq` (each queued once).
@@ -287,6 +294,16 @@ impl Cdr {
                 i = j;
             }
         }
+        let degenerate = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|q| p[q as usize]);
+                let n = cross(&sub(&b, &a), &sub(&c, &a));
+                let l2 = dist2(&a, &b).max(dist2(&b, &c)).max(dist2(&a, &c));
+                // height = |n| / longest side
+                dot(&n, &n).sqrt() < DEGENERATE * l2
+            })
+            .collect();
         let normals = triangles
             .iter()
             .map(|t| {
@@ -333,6 +350,7 @@ impl Cdr {
             facet,
             merged,
             vtris,
+            degenerate,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
             queued_s: HashSet::new(),
@@ -1316,7 +1334,7 @@ impl Cdr {
         let Some(&tri) = self.ftri.get(&k) else {
             return false;
         };
-        if tri == NONE {
+        if tri == NONE || self.degenerate[tri as usize] {
             return false;
         }
         let Some((mut c, _)) = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
@@ -1489,6 +1507,11 @@ impl Cdr {
                 return;
             }
         }
+        if tv.iter().any(|&q| self.on_degenerate(q)) {
+            self.report.skipped += 1;
+            self.report.skipped_small += 1;
+            return;
+        }
         if self.wedge(tv) {
             self.report.skipped += 1;
             self.report.skipped_small += 1;
@@ -1642,6 +1665,16 @@ impl Cdr {
             }
         }
         false
+    }
+
+    /// Does vertex `q` lie on a degenerate input triangle (a sliver of zero
+    /// angle)? Its subfaces are slivers too: every cell there is bad, and
+    /// splitting anything for them refines the sliver's whole length down
+    /// to its height. Such cells are left and the sliver is never split.
+    fn on_degenerate(&self, q: u32) -> bool {
+        self.vtris
+            .get(q as usize)
+            .is_some_and(|l| l.iter().any(|&t| self.degenerate[t as usize]))
     }
 
     /// Is a vertex of the tetrahedra `cav` closer than `lim` to `c`?
