@@ -1644,9 +1644,16 @@ impl Cdr {
         }
         let on = |q: u32, g: u32| tris(q).iter().any(|&x| self.group[x as usize] == g);
         let lim = -(WEDGE_ANGLE.to_radians().cos());
+        // The unit normal of triangle `x` turned towards the cell's
+        // centroid (facets of a PLC come in any orientation): the two
+        // normals of a thin wedge holding the cell are then nearly opposite.
+        let pts = t.map(|q| self.pt(q));
+        let g: P = std::array::from_fn(|k| 0.25 * pts.iter().map(|p| p[k]).sum::<f64>());
         let unit = |x: u32| {
             let n = self.normals[x as usize];
             let l = dot(&n, &n).sqrt();
+            let side = dot(&n, &sub(&g, &self.pt(self.tris[x as usize][0])));
+            let l = if side < 0.0 { -l } else { l };
             n.map(|c| c / l)
         };
         let mut cand: Vec<u32> = t.iter().flat_map(|&q| tris(q).iter().copied()).collect();
