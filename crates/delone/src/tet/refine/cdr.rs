@@ -1631,8 +1631,10 @@ impl Cdr {
     }
 
     /// Do the four vertices of `t` lie on two input triangles of different
-    /// plane groups that share a vertex and meet at a dihedral angle below
-    /// [`WEDGE_ANGLE`] (normals nearly opposite)? Such a cell spans a sharp
+    /// plane groups that share an edge and meet at a dihedral angle below
+    /// [`WEDGE_ANGLE`]? (Triangles sharing only a vertex are not tested:
+    /// the opening angle of a fan of needles on a smooth surface is small
+    /// too, and leaving cells there left thousands of bad cells.) Such a cell spans a sharp
     /// wedge of the input: its circumcentre lies beyond one of the two
     /// facets, and splitting that facet makes a narrower cell deeper in
     /// the wedge, towards its edge, forever (Shewchuk & Si's small input
@@ -1643,30 +1645,43 @@ impl Cdr {
             return false;
         }
         let on = |q: u32, g: u32| tris(q).iter().any(|&x| self.group[x as usize] == g);
-        let lim = -(WEDGE_ANGLE.to_radians().cos());
-        // The unit normal of triangle `x` turned towards the cell's
-        // centroid (facets of a PLC come in any orientation): the two
-        // normals of a thin wedge holding the cell are then nearly opposite.
-        let pts = t.map(|q| self.pt(q));
-        let g: P = std::array::from_fn(|k| 0.25 * pts.iter().map(|p| p[k]).sum::<f64>());
-        let unit = |x: u32| {
-            let n = self.normals[x as usize];
-            let l = dot(&n, &n).sqrt();
-            let side = dot(&n, &sub(&g, &self.pt(self.tris[x as usize][0])));
-            let l = if side < 0.0 { -l } else { l };
-            n.map(|c| c / l)
-        };
+        let lim = WEDGE_ANGLE.to_radians().cos();
         let mut cand: Vec<u32> = t.iter().flat_map(|&q| tris(q).iter().copied()).collect();
         cand.sort_unstable();
         cand.dedup();
         for (i, &a) in cand.iter().enumerate() {
-            let (ga, ta, na) = (self.group[a as usize], self.tris[a as usize], unit(a));
+            let (ga, ta) = (self.group[a as usize], self.tris[a as usize]);
             for &b in &cand[i + 1..] {
                 let gb = self.group[b as usize];
-                if ga == gb || !self.tris[b as usize].iter().any(|q| ta.contains(q)) {
+                let tb = self.tris[b as usize];
+                let shared: Vec<u32> = ta.iter().copied().filter(|q| tb.contains(q)).collect();
+                if ga == gb || shared.len() < 2 {
                     continue;
                 }
-                if dot(&na, &unit(b)) < lim && t.iter().all(|&q| on(q, ga) || on(q, gb)) {
+                // The opening angle between the two triangles, seen from
+                // what they share (across the shared edge, the dihedral
+                // angle): from the shared vertex towards each centroid,
+                // without the components along a shared edge. Independent
+                // of the facets' orientation (a PLC's come in any).
+                let s0 = self.pt(shared[0]);
+                let dir = |tr: [u32; 3]| -> P {
+                    let c: P = std::array::from_fn(|k| {
+                        tr.iter().map(|&q| self.p[q as usize][k]).sum::<f64>() / 3.0
+                    });
+                    let mut d = sub(&c, &s0);
+                    if shared.len() >= 2 {
+                        let e = sub(&self.pt(shared[1]), &s0);
+                        let f = dot(&d, &e) / dot(&e, &e);
+                        d = std::array::from_fn(|k| d[k] - f * e[k]);
+                    }
+                    d
+                };
+                let (da, db) = (dir(ta), dir(tb));
+                let den = (dot(&da, &da) * dot(&db, &db)).sqrt();
+                if den > 0.0
+                    && dot(&da, &db) > lim * den
+                    && t.iter().all(|&q| on(q, ga) || on(q, gb))
+                {
                     return true;
                 }
             }
