@@ -96,10 +96,10 @@
 //!      features), and inserting the point would make an edge shorter than
 //!      any of the cell's, the seed of a cascade of ever shorter edges
 //!      (cells bad only by size are split regardless);
-//!    * a cell whose four vertices lie on two input triangles sharing a
-//!      vertex and meeting at a dihedral angle below 30°
-//!      ([`RefineReport::skipped_wedge`]; the normals are turned towards
-//!      the cell, since a PLC's facets come in any orientation): its
+//!    * a cell whose four vertices lie on two input triangles sharing an
+//!      edge and meeting at a dihedral angle below 30°
+//!      ([`RefineReport::skipped_wedge`]; the angle is measured between
+//!      the half-planes, since a PLC's facets come in any orientation): its
 //!      circumcentre lies beyond one facet, and splitting that facet makes
 //!      a narrower cell deeper in the wedge, forever;
 //!    * a cell with a vertex on a degenerate input triangle (a zero-angle
@@ -254,8 +254,8 @@ pub struct RefineReport {
     /// inserting it would start a cascade of ever shorter edges.
     pub skipped_close: usize,
     /// Of [`Self::skipped_small`]: cells spanning a sharp wedge of the
-    /// input (their vertices on two input triangles meeting at a dihedral
-    /// angle below 30°): splitting either facet for them would refine the
+    /// input (their vertices on two input triangles sharing an edge at a
+    /// dihedral angle below 30°): splitting either facet for them would refine the
     /// wedge towards its edge without end.
     pub skipped_wedge: usize,
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
