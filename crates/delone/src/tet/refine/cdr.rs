@@ -12,7 +12,7 @@
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, VecDeque};
+use std::collections::{BinaryHeap, HashMap, HashSet, VecDeque};
 
 use delone_predicates::{insphere, orient3d};
 
@@ -35,6 +35,14 @@ const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 
 /// Input angle (degrees) below which a bad cell whose shortest edge joins
 /// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
 const SHELL_ANGLE: f64 = 30.0;
+
+/// Dihedral input angle (degrees) below which a bad cell spanning the wedge
+/// between the two facets is left (see `Cdr::wedge`).
+const WEDGE_ANGLE: f64 = 30.0;
+
+/// Height / longest side below which an input triangle counts as
+/// degenerate (see `Cdr::degenerate`).
+const DEGENERATE: f64 = 1e-4;
 
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
@@ -98,8 +106,19 @@ pub(super) struct Cdr {
     merged: Vec<bool>,
     /// Input triangles each vertex lies on.
     vtris: Vec<Vec<u32>>,
+    /// Per input triangle: degenerate (a sliver of zero angle, its height
+    /// below [`DEGENERATE`] times its longest side)?
+    degenerate: Vec<bool>,
     segq: VecDeque<(u32, u32)>,
     faceq: VecDeque<[u32; 3]>,
+    /// Subsegments / subfaces in `segq` / `faceq` (each queued once).
+    queued_s: HashSet<(u32, u32)>,
+    queued_f: HashSet<[u32; 3]>,
+    /// Subsegments / subfaces whose split failed with the mesh unchanged:
+    /// not tried again (an unchanged neighbourhood fails the same way, and
+    /// retrying them for every cell that shows them spun for minutes).
+    failed_s: HashSet<(u32, u32)>,
+    failed_f: HashSet<[u32; 3]>,
     badq: BinaryHeap<Bad>,
     bound: f64,
     /// Per region: the volume bound (rescaled).
@@ -275,6 +294,16 @@ impl Cdr {
                 i = j;
             }
         }
+        let degenerate = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|q| p[q as usize]);
+                let n = cross(&sub(&b, &a), &sub(&c, &a));
+                let l2 = dist2(&a, &b).max(dist2(&b, &c)).max(dist2(&a, &c));
+                // height = |n| / longest side
+                dot(&n, &n).sqrt() < DEGENERATE * l2
+            })
+            .collect();
         let normals = triangles
             .iter()
             .map(|t| {
@@ -321,8 +350,13 @@ impl Cdr {
             facet,
             merged,
             vtris,
+            degenerate,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
+            queued_s: HashSet::new(),
+            queued_f: HashSet::new(),
+            failed_s: HashSet::new(),
+            failed_f: HashSet::new(),
             badq: BinaryHeap::new(),
             bound: opts.max_radius_edge,
             max_vol,
@@ -461,7 +495,11 @@ impl Cdr {
         for f in 0..4 {
             if self.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
-                if self.face_encroached_by(k, tv[f]) || self.face_too_big(k) {
+                if !self.queued_f.contains(&k)
+                    && !self.failed_f.contains(&k)
+                    && (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
+                {
+                    self.queued_f.insert(k);
                     self.faceq.push_back(k);
                 }
             }
@@ -469,10 +507,13 @@ impl Cdr {
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
             if self.segs.contains_key(&e)
+                && !self.queued_s.contains(&e)
+                && !self.failed_s.contains(&e)
                 && (0..4)
                     .filter(|&k| k != i && k != j)
                     .any(|k| self.seg_encroached_by(e, tv[k]))
             {
+                self.queued_s.insert(e);
                 self.segq.push_back(e);
             }
         }
@@ -1021,6 +1062,18 @@ impl Cdr {
     /// R1: splits subsegment `e` (midpoint, or a concentric shell around
     /// an input vertex at one end).
     fn split_segment(&mut self, e: (u32, u32)) -> bool {
+        if self.failed_s.contains(&e) {
+            return false;
+        }
+        let n = self.p.len();
+        let done = self.split_segment_at(e);
+        if !done && self.p.len() == n {
+            self.failed_s.insert(e);
+        }
+        done
+    }
+
+    fn split_segment_at(&mut self, e: (u32, u32)) -> bool {
         let Some(&ie) = self.segs.get(&e) else {
             return false;
         };
@@ -1266,10 +1319,22 @@ impl Cdr {
     /// R2: splits subface `k` at its circumcentre (or the subsegment it
     /// encroaches, or, failing that, its longest edge).
     fn split_face(&mut self, k: [u32; 3]) -> bool {
+        if self.failed_f.contains(&k) {
+            return false;
+        }
+        let n = self.p.len();
+        let done = self.split_face_at(k);
+        if !done && self.p.len() == n {
+            self.failed_f.insert(k);
+        }
+        done
+    }
+
+    fn split_face_at(&mut self, k: [u32; 3]) -> bool {
         let Some(&tri) = self.ftri.get(&k) else {
             return false;
         };
-        if tri == NONE {
+        if tri == NONE || self.degenerate[tri as usize] {
             return false;
         }
         let Some((mut c, _)) = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
@@ -1442,6 +1507,17 @@ impl Cdr {
                 return;
             }
         }
+        if tv.iter().any(|&q| self.on_degenerate(q)) {
+            self.report.skipped += 1;
+            self.report.skipped_small += 1;
+            return;
+        }
+        if self.wedge(tv) {
+            self.report.skipped += 1;
+            self.report.skipped_small += 1;
+            self.report.skipped_wedge += 1;
+            return;
+        }
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
                 self.report.skipped += 1;
@@ -1486,6 +1562,23 @@ impl Cdr {
                             segs.push(e);
                         }
                     }
+                }
+                // A vertex of the cavity closer to the circumcentre than
+                // the cell's shortest edge: the cell is not Delaunay (its
+                // circumsphere reaches round a subface, near a reflex or
+                // sharp input feature), and the insertion would make an
+                // edge shorter than any of the cell's, the start of a
+                // cascade of ever shorter edges. Leave the cell (only when
+                // its shape is bad: a cell too big is split regardless).
+                if segs.is_empty()
+                    && faces.is_empty()
+                    && quality::radius_edge_ratio(&p) > self.bound
+                    && self.too_close(&cav, &c, lmin)
+                {
+                    self.report.skipped += 1;
+                    self.report.skipped_small += 1;
+                    self.report.skipped_close += 1;
+                    return;
                 }
                 if segs.is_empty() && faces.is_empty() {
                     if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
@@ -1537,6 +1630,85 @@ impl Cdr {
         }
     }
 
+    /// Do the four vertices of `t` lie on two input triangles of different
+    /// plane groups that share an edge and meet at a dihedral angle below
+    /// [`WEDGE_ANGLE`]? (Triangles sharing only a vertex are not tested:
+    /// the opening angle of a fan of needles on a smooth surface is small
+    /// too, and leaving cells there left thousands of bad cells.) Such a cell spans a sharp
+    /// wedge of the input: its circumcentre lies beyond one of the two
+    /// facets, and splitting that facet makes a narrower cell deeper in
+    /// the wedge, towards its edge, forever (Shewchuk & Si's small input
+    /// angles, here the dihedral ones). It is left.
+    fn wedge(&self, t: [u32; 4]) -> bool {
+        let tris = |q: u32| -> &[u32] { self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()) };
+        if t.iter().any(|&q| tris(q).is_empty()) {
+            return false;
+        }
+        let on = |q: u32, g: u32| tris(q).iter().any(|&x| self.group[x as usize] == g);
+        let lim = WEDGE_ANGLE.to_radians().cos();
+        let mut cand: Vec<u32> = t.iter().flat_map(|&q| tris(q).iter().copied()).collect();
+        cand.sort_unstable();
+        cand.dedup();
+        for (i, &a) in cand.iter().enumerate() {
+            let (ga, ta) = (self.group[a as usize], self.tris[a as usize]);
+            for &b in &cand[i + 1..] {
+                let gb = self.group[b as usize];
+                let tb = self.tris[b as usize];
+                let shared: Vec<u32> = ta.iter().copied().filter(|q| tb.contains(q)).collect();
+                if ga == gb || shared.len() < 2 {
+                    continue;
+                }
+                // The opening angle between the two triangles, seen from
+                // what they share (across the shared edge, the dihedral
+                // angle): from the shared vertex towards each centroid,
+                // without the components along a shared edge. Independent
+                // of the facets' orientation (a PLC's come in any).
+                let s0 = self.pt(shared[0]);
+                let dir = |tr: [u32; 3]| -> P {
+                    let c: P = std::array::from_fn(|k| {
+                        tr.iter().map(|&q| self.p[q as usize][k]).sum::<f64>() / 3.0
+                    });
+                    let mut d = sub(&c, &s0);
+                    if shared.len() >= 2 {
+                        let e = sub(&self.pt(shared[1]), &s0);
+                        let f = dot(&d, &e) / dot(&e, &e);
+                        d = std::array::from_fn(|k| d[k] - f * e[k]);
+                    }
+                    d
+                };
+                let (da, db) = (dir(ta), dir(tb));
+                let den = (dot(&da, &da) * dot(&db, &db)).sqrt();
+                if den > 0.0
+                    && dot(&da, &db) > lim * den
+                    && t.iter().all(|&q| on(q, ga) || on(q, gb))
+                {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Does vertex `q` lie on a degenerate input triangle (a sliver of zero
+    /// angle)? Its subfaces are slivers too: every cell there is bad, and
+    /// splitting anything for them refines the sliver's whole length down
+    /// to its height. Such cells are left and the sliver is never split.
+    fn on_degenerate(&self, q: u32) -> bool {
+        self.vtris
+            .get(q as usize)
+            .is_some_and(|l| l.iter().any(|&t| self.degenerate[t as usize]))
+    }
+
+    /// Is a vertex of the tetrahedra `cav` closer than `lim` to `c`?
+    fn too_close(&self, cav: &[u32], c: &P, lim: f64) -> bool {
+        let l2 = lim * lim;
+        cav.iter().any(|&u| {
+            self.tv[u as usize]
+                .iter()
+                .any(|&q| dist2(&self.pt(q), c) < l2)
+        })
+    }
+
     /// Is subsegment `e` still encroached by a vertex next to it?
     fn seg_still_encroached(&self, e: (u32, u32)) -> bool {
         self.segs.contains_key(&e)
@@ -1578,12 +1750,14 @@ impl Cdr {
                 return;
             }
             if let Some(e) = self.segq.pop_front() {
+                self.queued_s.remove(&e);
                 if self.seg_still_encroached(e) && !self.out_of_budget() {
                     self.split_segment(e);
                 }
                 continue;
             }
             if let Some(k) = self.faceq.pop_front() {
+                self.queued_f.remove(&k);
                 if self.face_still_encroached(k) && !self.out_of_budget() {
                     self.split_face(k);
                 }

@@ -87,6 +87,29 @@
 //!    input vertex on two of its input edges meeting at less than 30°:
 //!    splitting anything there only makes shorter shell pairs (Shewchuk's
 //!    rule at small input angles in 2D, here for segments in 3D).
+//!    Three more protections at sharp input features (Shewchuk & Si 2014:
+//!    where a bound cannot be met, stop there and report it), each counted
+//!    in [`RefineReport::skipped_small`]:
+//!    * a cell whose circumcentre lies closer to a vertex of its cavity
+//!      than the cell's shortest edge ([`RefineReport::skipped_close`]):
+//!      its circumsphere reaches round a subface (reflex or sharp input
+//!      features), and inserting the point would make an edge shorter than
+//!      any of the cell's, the seed of a cascade of ever shorter edges
+//!      (cells bad only by size are split regardless);
+//!    * a cell whose four vertices lie on two input triangles sharing an
+//!      edge and meeting at a dihedral angle below 30°
+//!      ([`RefineReport::skipped_wedge`]; the angle is measured between
+//!      the half-planes, since a PLC's facets come in any orientation): its
+//!      circumcentre lies beyond one facet, and splitting that facet makes
+//!      a narrower cell deeper in the wedge, forever;
+//!    * a cell with a vertex on a degenerate input triangle (a zero-angle
+//!      sliver, height below 10⁻⁴ of its longest side): every cell there
+//!      is bad, and R2 on the sliver would refine its whole length down to
+//!      its height. Such triangles are never split by R2.
+//!
+//!    A subsegment or subface whose split failed with the mesh unchanged
+//!    is not tried again, and each is queued at most once (a refused
+//!    subface retried for every cell showing it spun for minutes).
 //!
 //! **Cavity correction.** Before an insertion is planned, the cavity is
 //! shrunk in passes: every tetrahedron that is not required and has a
@@ -225,6 +248,16 @@ pub struct RefineReport {
     /// Of [`Self::skipped`]: the encroached boundary pieces are much smaller
     /// than the cell (small input angles, thin features).
     pub skipped_small: usize,
+    /// Of [`Self::skipped_small`]: the circumcentre lies closer to a vertex
+    /// of its cavity than the cell's shortest edge (the cell's circumsphere
+    /// reaches round a subface, at a reflex or sharp input feature);
+    /// inserting it would start a cascade of ever shorter edges.
+    pub skipped_close: usize,
+    /// Of [`Self::skipped_small`]: cells spanning a sharp wedge of the
+    /// input (their vertices on two input triangles sharing an edge at a
+    /// dihedral angle below 30°): splitting either facet for them would refine the
+    /// wedge towards its edge without end.
+    pub skipped_wedge: usize,
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
