@@ -40,12 +40,11 @@
 //! one side always meet, whatever the dihedral angle), so a kernel point
 //! exists in the cases where growth keeps the cavity local.
 
-use super::super::cdt::Protected;
 use super::super::missing::{ekey, fkey};
 use super::super::place;
 use super::super::surface::IdMap;
 use super::super::State;
-use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Region};
+use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Guard, Region};
 use crate::tet::cmesh::CMesh;
 use crate::tet::local::{DEAD, INF};
 
@@ -129,7 +128,7 @@ impl State {
         &self,
         cm: &mut CMesh<'_>,
         e: usize,
-        prot: &Protected,
+        prot: &Guard,
         steiner: bool,
     ) -> Option<(usize, Vec<[u32; 3]>)> {
         let patch = self.patch_of(cm, e)?;
