@@ -144,6 +144,28 @@ impl std::ops::DerefMut for Guard {
     }
 }
 
+/// Patch attempts known to fail on the mesh as it is: keyed by the
+/// Steiner flag and the patch's sorted face keys, valid while the mesh's
+/// count of touched faces ([`CMesh::touched_len`], which every
+/// replacement increases) stays at `stamp`. A patch reached again from
+/// another of its missing edges, on an unchanged mesh, is not computed
+/// again (the same cavity, the same failure).
+#[derive(Debug, Default)]
+struct Memo {
+    stamp: usize,
+    failed: IdSet<(bool, Vec<[u32; 3]>)>,
+}
+
+impl Memo {
+    /// Forgets everything when `cm` changed since the last call.
+    fn sync(&mut self, cm: &CMesh<'_>) {
+        if cm.touched_len() != self.stamp {
+            self.stamp = cm.touched_len();
+            self.failed.clear();
+        }
+    }
+}
+
 /// A polyhedron being filled: its boundary faces, each oriented inward
 /// (`[f, x]` positive for `x` inside), with the removed tetrahedron owning
 /// it and its local index (`DEAD` for the missing triangle itself).
@@ -854,6 +876,7 @@ impl State {
         // helping (one recovered item often makes its neighbour's cone
         // possible), then one pass with kernel points, then cones again.
         let mut steiner_on = false;
+        let mut memo = Memo::default();
         for _pass in 0..PASSES {
             let steiner = steiner_on && self.report.steiner() + added < self.opts.max_steiner;
             let mut progress = false;
@@ -876,7 +899,8 @@ impl State {
                     progress = true;
                     continue;
                 }
-                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner) {
+                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner, &mut memo)
+                {
                     added += k;
                     progress = true;
                     for t in patch {
