@@ -58,6 +58,20 @@
 //! fallback places its interior points only at the items that call left
 //! missing ([`State::fallback_targets`]).
 //!
+//! **Attempts.** Each call runs up to four attempts on copies of the
+//! mesh ([`ATTEMPTS`]): the two orders of the edge methods (cones from
+//! an edge's ends first, or its patch first), first with every vertex
+//! kept, then allowing a cavity to swallow interior Steiner points
+//! (those of earlier rounds and the attempt's own kernel points: vertices
+//! from [`State::n_fixed`] on, unused ones dropped at the end). Keeping
+//! them keeps cavities small and the kernels those points make
+//! (cgal_couplingdown needs it); swallowing frees a cavity from points
+//! the Delaunay rounds put in the way (cgal_u_arch needs it). The first
+//! attempt that recovers everything wins; otherwise what the first
+//! attempt left missing guides the fallback. Within an attempt a patch
+//! known to fail on the unchanged mesh is not computed again ([`Memo`]:
+//! the patch of every missing edge of one patch is the same cavity).
+//!
 //! **Missing edges come with their triangles** (the `patch` submodule):
 //! when flips cannot recover an input edge, the connected set of missing
 //! input triangles around it is recovered at once, the two sides of that
