@@ -58,6 +58,20 @@
 //! fallback places its interior points only at the items that call left
 //! missing ([`State::fallback_targets`]).
 //!
+//! **Attempts.** Each call runs up to four attempts on copies of the
+//! mesh ([`ATTEMPTS`]): the two orders of the edge methods (cones from
+//! an edge's ends first, or its patch first), first with every vertex
+//! kept, then allowing a cavity to swallow interior Steiner points
+//! (those of earlier rounds and the attempt's own kernel points: vertices
+//! from [`State::n_fixed`] on, unused ones dropped at the end). Keeping
+//! them keeps cavities small and the kernels those points make
+//! (cgal_couplingdown needs it); swallowing frees a cavity from points
+//! the Delaunay rounds put in the way (cgal_u_arch needs it). The first
+//! attempt that recovers everything wins; otherwise what the first
+//! attempt left missing guides the fallback. Within an attempt a patch
+//! known to fail on the unchanged mesh is not computed again ([`Memo`]:
+//! the patch of every missing edge of one patch is the same cavity).
+//!
 //! **Missing edges come with their triangles** (the `patch` submodule):
 //! when flips cannot recover an input edge, the connected set of missing
 //! input triangles around it is recovered at once, the two sides of that
@@ -95,6 +109,13 @@ mod patch;
 
 type P = [f64; 3];
 
+/// The attempts of [`State::preserve_by_cavities`], in order: (cones
+/// from an edge's ends before its patch, cavities may swallow interior
+/// Steiner points of earlier rounds). Neither choice is better on every
+/// model: swallowing frees a cavity from points the Delaunay rounds put
+/// in the way (cgal_u_arch), keeping them keeps cavities small and the
+/// kernels those points make (cgal_couplingdown).
+const ATTEMPTS: [(bool, bool); 4] = [(false, false), (true, false), (false, true), (true, true)];
 /// Passes over the missing edges and triangles.
 const PASSES: usize = 24;
 /// Unfinished calls of [`State::preserve_by_cavities`] after which it is
@@ -115,6 +136,49 @@ const MAX_LAYERS: usize = 2;
 const LAYER_CAVITY: usize = 24;
 /// Most tetrahedra in a grown cavity.
 const MAX_CAVITY: usize = 128;
+
+/// The items a replacement must keep: the protected edges and faces,
+/// and every vertex below `n_fixed` (see [`State::preserve_attempt`]).
+#[derive(Debug, Default)]
+struct Guard {
+    prot: Protected,
+    n_fixed: usize,
+}
+
+impl std::ops::Deref for Guard {
+    type Target = Protected;
+    fn deref(&self) -> &Protected {
+        &self.prot
+    }
+}
+
+impl std::ops::DerefMut for Guard {
+    fn deref_mut(&mut self) -> &mut Protected {
+        &mut self.prot
+    }
+}
+
+/// Patch attempts known to fail on the mesh as it is: keyed by the
+/// Steiner flag and the patch's sorted face keys, valid while the mesh's
+/// count of touched faces ([`CMesh::touched_len`], which every
+/// replacement increases) stays at `stamp`. A patch reached again from
+/// another of its missing edges, on an unchanged mesh, is not computed
+/// again (the same cavity, the same failure).
+#[derive(Debug, Default)]
+struct Memo {
+    stamp: usize,
+    failed: IdSet<(bool, Vec<[u32; 3]>)>,
+}
+
+impl Memo {
+    /// Forgets everything when `cm` changed since the last call.
+    fn sync(&mut self, cm: &CMesh<'_>) {
+        if cm.touched_len() != self.stamp {
+            self.stamp = cm.touched_len();
+            self.failed.clear();
+        }
+    }
+}
 
 /// A polyhedron being filled: its boundary faces, each oriented inward
 /// (`[f, x]` positive for `x` inside), with the removed tetrahedron owning
@@ -659,7 +723,7 @@ impl State {
         cm: &mut CMesh<'_>,
         set: &[u32],
         fills: Vec<Fill>,
-        prot: &Protected,
+        prot: &Guard,
     ) -> Option<usize> {
         let mut pts: Vec<P> = cm.pts().to_vec();
         let mut new = Vec::new();
@@ -674,7 +738,7 @@ impl State {
             }
             new.extend(f.tets);
         }
-        if !valid_replacement(cm, &pts, set, &new, prot, self.n_fixed()) {
+        if !valid_replacement(cm, &pts, set, &new, prot, prot.n_fixed) {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
@@ -691,7 +755,7 @@ impl State {
         cm: &mut CMesh<'_>,
         a: u32,
         b: u32,
-        prot: &Protected,
+        prot: &Guard,
         steiner: bool,
     ) -> Option<usize> {
         let mut set = segment_cavity(cm, a, b);
@@ -741,7 +805,7 @@ impl State {
         &self,
         cm: &mut CMesh<'_>,
         tri: [u32; 3],
-        prot: &Protected,
+        prot: &Guard,
         steiner: bool,
     ) -> Option<usize> {
         let mut set = facet_cavity(cm, tri);
@@ -794,14 +858,21 @@ impl State {
 
     /// One attempt of [`State::preserve_by_cavities`]: with `cone_first`,
     /// a missing edge first tries the cones from its ends, else its patch
-    /// first. `Ok((mesh, faces, points added))`, or the mesh reached.
+    /// first; with `swallow`, a cavity may remove interior Steiner points
+    /// (vertices from [`State::n_fixed`] on, its own kernel points
+    /// included), else no vertex may disappear. `Ok((mesh, faces, points
+    /// added))`, or the mesh reached.
     fn preserve_attempt<'a>(
         &self,
         cm: &CMesh<'a>,
         cone_first: bool,
+        swallow: bool,
     ) -> Result<(CMesh<'a>, FacesOn, usize), Box<CMesh<'a>>> {
         let mut w = cm.clone();
-        let mut prot = Protected::default();
+        let mut prot = Guard {
+            prot: Protected::default(),
+            n_fixed: if swallow { self.n_fixed() } else { usize::MAX },
+        };
         for e in &self.surf.edges {
             prot.edges.insert(ekey(e[0], e[1]));
         }
@@ -819,6 +890,7 @@ impl State {
         // helping (one recovered item often makes its neighbour's cone
         // possible), then one pass with kernel points, then cones again.
         let mut steiner_on = false;
+        let mut memo = Memo::default();
         for _pass in 0..PASSES {
             let steiner = steiner_on && self.report.steiner() + added < self.opts.max_steiner;
             let mut progress = false;
@@ -841,7 +913,8 @@ impl State {
                     progress = true;
                     continue;
                 }
-                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner) {
+                if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner, &mut memo)
+                {
                     added += k;
                     progress = true;
                     for t in patch {
@@ -924,12 +997,12 @@ impl State {
         if self.cavity_fails >= MAX_FAILED_CALLS {
             return Ok(None);
         }
-        // Two orders of the edge methods: neither is better on every
-        // model (each recovers models the other does not). What is left
-        // missing is taken from the first.
+        // The [`ATTEMPTS`]: none is better on every model (each recovers
+        // models another does not). What is left missing is taken from
+        // the first.
         let mut first: Option<Box<CMesh<'a>>> = None;
-        for cone_first in [false, true] {
-            match self.preserve_attempt(cm, cone_first) {
+        for (cone_first, swallow) in ATTEMPTS {
+            match self.preserve_attempt(cm, cone_first, swallow) {
                 Ok((done, on, added)) => {
                     self.report.steiner_interior += added;
                     return Ok(Some((done, on)));
@@ -939,24 +1012,8 @@ impl State {
                 }
             }
         }
-        let w = first.map_or_else(|| cm.clone(), |b| *b);
-        let tris = &self.surf.tris;
-        let edges = &self.surf.edges;
+        let left = self.left_missing(first.as_deref().unwrap_or(cm));
         self.cavity_fails += 1;
-
-        // What is still missing on the best mesh reached: the fallback
-        // adds its interior points there only.
-        let mut left: Vec<usize> = Vec::new();
-        for (e, &[a, b]) in edges.iter().enumerate() {
-            if w.find_edge(a, b).is_none() {
-                left.extend(self.surf.edge_tris[e].iter().map(|&t| t as usize));
-            }
-        }
-        if left.is_empty() {
-            left.extend((0..tris.len()).filter(|&t| !has_face(&w, tris[t])));
-        }
-        left.sort_unstable();
-        left.dedup();
         // Give up (typed error, no more rounds) when the calls stop
         // reducing what is left missing.
         let (best, since) = &mut self.cavity_best;
@@ -974,6 +1031,25 @@ impl State {
         }
         self.cavity_left = left;
         Ok(None)
+    }
+
+    /// What `w` still misses, for the fallback's interior points: the
+    /// input triangles at a missing input edge, else (every edge present)
+    /// the missing input triangles (sorted).
+    fn left_missing(&self, w: &CMesh<'_>) -> Vec<usize> {
+        let tris = &self.surf.tris;
+        let mut left: Vec<usize> = Vec::new();
+        for (e, &[a, b]) in self.surf.edges.iter().enumerate() {
+            if w.find_edge(a, b).is_none() {
+                left.extend(self.surf.edge_tris[e].iter().map(|&t| t as usize));
+            }
+        }
+        if left.is_empty() {
+            left.extend((0..tris.len()).filter(|&t| !has_face(w, tris[t])));
+        }
+        left.sort_unstable();
+        left.dedup();
+        left
     }
 
     /// The triangles the `-Y` fallback should place interior points at:

@@ -28,11 +28,10 @@
 //! exactly the old boundary with the hull faces swapped for the patch,
 //! every vertex and protected item kept).
 
-use super::super::cdt::Protected;
 use super::super::missing::{ekey, fkey};
 use super::super::surface::{IdMap, IdSet};
 use super::super::State;
-use super::{fill_side, okey, rev, Region};
+use super::{fill_side, okey, rev, Guard, Region};
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
@@ -201,7 +200,7 @@ impl State {
         &self,
         cm: &mut CMesh<'_>,
         patches: &[Vec<[u32; 3]>],
-        prot: &Protected,
+        prot: &Guard,
         steiner: bool,
     ) -> Option<usize> {
         let mut set: Vec<u32> = Vec::new();
@@ -299,7 +298,7 @@ impl State {
         for &t in &set {
             let tv = c.v[t as usize];
             for i in 0..4 {
-                if (tv[i] as usize) < self.n_fixed() && !new_verts.contains(&tv[i]) {
+                if (tv[i] as usize) < prot.n_fixed && !new_verts.contains(&tv[i]) {
                     return None;
                 }
                 for j in i + 1..4 {

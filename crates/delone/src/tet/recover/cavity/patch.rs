@@ -40,12 +40,11 @@
 //! one side always meet, whatever the dihedral angle), so a kernel point
 //! exists in the cases where growth keeps the cavity local.
 
-use super::super::cdt::Protected;
 use super::super::missing::{ekey, fkey};
 use super::super::place;
 use super::super::surface::IdMap;
 use super::super::State;
-use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Region};
+use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Guard, Memo, Region};
 use crate::tet::cmesh::CMesh;
 use crate::tet::local::{DEAD, INF};
 
@@ -129,10 +128,34 @@ impl State {
         &self,
         cm: &mut CMesh<'_>,
         e: usize,
-        prot: &Protected,
+        prot: &Guard,
         steiner: bool,
+        memo: &mut Memo,
     ) -> Option<(usize, Vec<[u32; 3]>)> {
         let patch = self.patch_of(cm, e)?;
+        memo.sync(cm);
+        let mut key: Vec<[u32; 3]> = patch.iter().map(|t| fkey(*t)).collect();
+        key.sort_unstable();
+        let key = (steiner, key);
+        if memo.failed.contains(&key) {
+            return None;
+        }
+        let r = self.patch_attempt(cm, patch, prot, steiner);
+        if r.is_none() {
+            memo.failed.insert(key);
+        }
+        r
+    }
+
+    /// [`State::patch_by_cavity`] on the patch `patch` (not known to
+    /// fail).
+    fn patch_attempt(
+        &self,
+        cm: &mut CMesh<'_>,
+        patch: Vec<[u32; 3]>,
+        prot: &Guard,
+        steiner: bool,
+    ) -> Option<(usize, Vec<[u32; 3]>)> {
         // Flat on the convex hull: the hull faces give way to the patch.
         if let Some(flat) = self.flat_hull(cm, &patch) {
             let mut all = vec![patch.clone()];
