@@ -1000,11 +1000,56 @@ impl State {
             } else {
                 cdt::SEG_OPS
             };
-            for &(e, u, v) in &subs {
+            // Per failed segment: the log length after its rollback and
+            // its range in `near_fail` (its ends and the vertices of the
+            // tetrahedra its flips removed before they were rolled back).
+            let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
+            let mut near_fail: Vec<u32> = Vec::new();
+            let attempt = |cm: &mut CMesh<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
                 let mark = cm.log_mark();
-                if !cdt::recover_segment_within(&mut cm, u, v, &prot, max_ops) {
-                    cm.rollback(mark);
+                if cdt::recover_segment_within(cm, u, v, &prot, ops) {
+                    return None;
+                }
+                let s = near.len();
+                near.extend([u, v]);
+                cm.removed_vertices_since(mark, |_, w| near.push(w));
+                cm.rollback(mark);
+                Some((cm.log_mark(), s, near.len()))
+            };
+            for &(e, u, v) in &subs {
+                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops) {
                     failed.push((e, u, v));
+                    fail_at.push(at);
+                }
+            }
+            let retry_ops = max_ops.min(cdt::SEG_OPS / 4);
+            // Failed segments are retried, in order, while a pass recovers
+            // at least one, each only when a later operation removed a
+            // tetrahedron at one of its vertices (else the same flips would
+            // fail the same way): the flips of the segments recovered after
+            // a failing one often clear its way, and each segment recovered
+            // so is a split (and often a round) saved.
+            while !failed.is_empty() && !self.opts.preserve_surface {
+                let lo = fail_at.iter().map(|a| a.0).min().unwrap_or(0);
+                // Per vertex: 1 + the last operation since `lo` that
+                // removed a tetrahedron at it (0: none).
+                let mut last = vec![0usize; cm.pts().len()];
+                cm.removed_vertices_since(lo, |op, w| last[w as usize] = op + 1);
+                let before = failed.len();
+                let (old_failed, old_at) =
+                    (std::mem::take(&mut failed), std::mem::take(&mut fail_at));
+                for (&(e, u, v), &(mark, s, t)) in old_failed.iter().zip(&old_at) {
+                    let changed = near_fail[s..t].iter().any(|&w| last[w as usize] > mark);
+                    if !changed {
+                        failed.push((e, u, v));
+                        fail_at.push((mark, s, t));
+                    } else if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, retry_ops) {
+                        failed.push((e, u, v));
+                        fail_at.push(at);
+                    }
+                }
+                if failed.len() == before {
+                    break;
                 }
             }
             if !failed.is_empty() {
@@ -1425,11 +1470,7 @@ impl State {
             // Many flips: the global pass is cheaper than sorting and
             // looking up every logged face.
             cm.clear_touched();
-            let (g_on, g_covered) = self.coverage_all(cm);
-            for (t, f) in g_on.into_iter().enumerate() {
-                on[t] = f;
-            }
-            covered.copy_from_slice(&g_covered);
+            self.coverage_all_into(cm, on, covered);
             #[cfg(debug_assertions)]
             self.debug_same_coverage(&cm.dt, on, covered, None);
             return;
@@ -1448,7 +1489,13 @@ impl State {
             add(t, &mut cands);
         }
         let (mut out, mut flat) = (Vec::new(), Vec::new());
+        // Past this many candidates `recompute` goes global anyway: the
+        // rest of the logged faces need not be looked up.
+        let global = self.surf.tris.len() / GLOBAL_FRACTION + 1;
         for &f in &touched {
+            if cands.len() >= global {
+                break;
+            }
             self.surf.face_triangles_split(f, &mut out, &mut flat);
             for &t in out.iter().chain(&flat) {
                 add(t as usize, &mut cands);
@@ -1475,11 +1522,7 @@ impl State {
         covered: &mut [bool],
     ) {
         if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
-            let (g_on, g_covered) = self.coverage_all(cm);
-            for (t, f) in g_on.into_iter().enumerate() {
-                on[t] = f;
-            }
-            covered.copy_from_slice(&g_covered);
+            self.coverage_all_into(cm, on, covered);
             return;
         }
         self.recompute_local(cm, cands, on, covered);
@@ -1496,6 +1539,18 @@ impl State {
         let n = self.surf.tris.len();
         let mut on: FacesOn = vec![Vec::new(); n];
         let mut covered = vec![false; n];
+        self.coverage_all_into(cm, &mut on, &mut covered);
+        (on, covered)
+    }
+
+    /// [`Self::coverage_all`] written over `on` and `covered` (one entry
+    /// per input triangle), reusing the lists' storage.
+    fn coverage_all_into(&self, cm: &CMesh<'_>, on: &mut [Vec<[u32; 3]>], covered: &mut [bool]) {
+        let n = self.surf.tris.len();
+        for f in on.iter_mut() {
+            f.clear();
+        }
+        covered.fill(false);
         let core = &cm.dt.core;
         for (x, tv) in core.v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
@@ -1511,7 +1566,8 @@ impl State {
                 for t in self.surf.triangles_with_key(&k) {
                     let t = t as usize;
                     if self.surf.plain(t) {
-                        on[t] = vec![k];
+                        on[t].clear();
+                        on[t].push(k);
                         covered[t] = true;
                     }
                 }
@@ -1520,14 +1576,13 @@ impl State {
         let rest: Vec<usize> = (0..n)
             .filter(|&t| !self.surf.plain(t) && self.poly.group(t).is_none())
             .collect();
-        self.recompute_local(cm, &rest, &mut on, &mut covered);
+        self.recompute_local(cm, &rest, on, covered);
         let tets = core
             .v
             .iter()
             .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
             .copied();
-        self.groups_global(tets, cm.pts(), &mut on, &mut covered);
-        (on, covered)
+        self.groups_global(tets, cm.pts(), on, covered);
     }
 
     /// The subsegments that are not edges of `cm`, in the order of
@@ -1619,11 +1674,10 @@ impl State {
                 // Only its own corners can make a face on it.
                 let [a, b, c] = self.surf.tris[t];
                 let found = cm.find_face(a, b, c).is_some();
-                on[t] = if found {
-                    vec![missing::fkey([a, b, c])]
-                } else {
-                    Vec::new()
-                };
+                on[t].clear();
+                if found {
+                    on[t].push(missing::fkey([a, b, c]));
+                }
                 covered[t] = found;
                 continue;
             }
