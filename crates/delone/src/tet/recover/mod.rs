@@ -69,7 +69,12 @@
 //! protected in the new round; the Delaunay tetrahedralization changed only
 //! around the points inserted since, so nearly all apply and only the
 //! items still missing there are searched. The flips of a segment whose
-//! recovery fails are rolled back, so the log holds no useless flips. The
+//! recovery fails are rolled back, so the log holds no useless flips; it
+//! is retried once the round's other segments are done, as long as a pass
+//! recovers one, when their flips removed a tetrahedron at one of its
+//! vertices (its failed flips' vertices included): they often clear its
+//! way, and each segment recovered so is a split, and often a round,
+//! saved. The
 //! coverage, the missing subsegments and the protected items are updated
 //! near the new points instead of recomputed.
 //!
