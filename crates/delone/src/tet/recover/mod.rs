@@ -1951,61 +1951,36 @@ impl State {
             let sk = Skeleton::of(dt, true);
             self.surf.coverage(&sk, dt.points()).0
         });
+        let face_tri: IdMap<[u32; 3], u32> = on
+            .iter()
+            .enumerate()
+            .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
+            .collect();
         let core = &dt.core;
-        // Per slot and face: the input triangle it lies on (flags instead
-        // of hashing in carving and output). Each face listed on a
-        // triangle is found in the star of its first vertex (a walk from
-        // one tetrahedron per vertex, visit stamps per slot); a face on
-        // several triangles gets the last one.
+        // Per slot and face: the input triangle it lies on (one lookup per
+        // face, then flags instead of hashing in carving and output).
         let mut marks = vec![[crate::NONE; 4]; core.v.len()];
-        let mut vt = vec![DEAD; dt.points().len()];
         for (t, tv) in core.v.iter().enumerate() {
             if tv[0] == DEAD {
                 continue;
             }
-            for &w in tv {
-                if w != INF && vt[w as usize] == DEAD {
-                    vt[w as usize] = t as u32;
-                }
-            }
-        }
-        let mut stamp = vec![0u32; core.v.len()];
-        let mut stack: Vec<u32> = Vec::new();
-        let mut gen = 0u32;
-        for (ti, fs) in on.iter().enumerate() {
-            for fv in fs {
-                let a = fv[0];
-                let Some(&start) = vt.get(a as usize).filter(|&&x| x != DEAD) else {
+            for f in 0..4 {
+                let w = core.adj[t][f];
+                let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
+                if u < t {
                     continue;
-                };
-                gen += 1;
-                stack.clear();
-                stack.push(start);
-                stamp[start as usize] = gen;
-                while let Some(x) = stack.pop() {
-                    let tv = core.v[x as usize];
-                    if tv.contains(&fv[1]) && tv.contains(&fv[2]) {
-                        if let Some(f) = tv.iter().position(|w| !fv.contains(w)) {
-                            let w = core.adj[x as usize][f];
-                            marks[x as usize][f] = ti as u32;
-                            marks[(w >> 2) as usize][(w & 3) as usize] = ti as u32;
-                        }
-                        break;
-                    }
-                    for (j, &y) in tv.iter().enumerate() {
-                        if y == a {
-                            continue;
-                        }
-                        let n = core.adj[x as usize][j] >> 2;
-                        if stamp[n as usize] != gen {
-                            stamp[n as usize] = gen;
-                            stack.push(n);
-                        }
-                    }
+                }
+                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                if k.contains(&INF) {
+                    continue;
+                }
+                if let Some(&ti) = face_tri.get(&k) {
+                    marks[t][f] = ti;
+                    marks[u][g] = ti;
                 }
             }
         }
-        drop((vt, stamp, stack));
+        drop(face_tri);
         let carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
         let mut regions = carved.regions;
