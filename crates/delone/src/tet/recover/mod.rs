@@ -798,11 +798,24 @@ impl State {
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
+        self.find_crossing_from(dt, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
+    }
+
+    /// [`Self::find_crossing`] with `start(u, v)` giving a tetrahedron
+    /// slot containing edge `u v` (`u < v`), if any.
+    fn find_crossing_from(
+        &self,
+        dt: &Delaunay3<'_>,
+        start: &dyn Fn(u32, u32) -> Option<u32>,
+        list: &[((u32, u32), u32)],
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
         let core = &dt.core;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
-            let Some(&start) = sk.edges.get(&(u, v)) else {
+            let Some(start) = start(u, v) else {
                 continue;
             };
             let mut stack = vec![start];
@@ -838,21 +851,58 @@ impl State {
     fn find_crossing_lazy(
         &self,
         dt: &Delaunay3<'_>,
-        sk: &Skeleton,
-        all: &mut Option<Vec<((u32, u32), u32)>>,
+        vt: &[u32],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let found = self.find_crossing(dt, sk, &[], t, faces);
+        let core = &dt.core;
+        // A tetrahedron with edge `u v`: the star of `u` walked from
+        // `vt[u]` (nothing when that slot no longer holds `u`).
+        let start = |u: u32, v: u32| -> Option<u32> {
+            let s = *vt.get(u as usize)?;
+            let sv = core.v.get(s as usize)?;
+            if sv[0] == DEAD || !sv.contains(&u) {
+                return None;
+            }
+            let mut seen: Vec<u32> = vec![s];
+            let mut i = 0;
+            while i < seen.len() {
+                let x = seen[i];
+                i += 1;
+                let xv = core.v[x as usize];
+                if xv.contains(&v) {
+                    return Some(x);
+                }
+                for (f, &w) in xv.iter().enumerate() {
+                    let n = core.adj[x as usize][f] >> 2;
+                    if w != u && !seen.contains(&n) {
+                        seen.push(n);
+                    }
+                }
+            }
+            None
+        };
+        let found = self.find_crossing_from(dt, &start, &[], t, faces);
         if !found.is_empty() {
             return found;
         }
-        // Every edge, unsorted; only the (few) crossing ones are sorted,
-        // which gives the same list as filtering the sorted edges (each
-        // edge appears once).
-        let list = all.get_or_insert_with(|| sk.edges.iter().map(|(&k, &t)| (k, t)).collect());
-        let mut found = self.crossing_edges(dt, list, t);
+        // Every finite edge, each tested once per tetrahedron holding it
+        // (no list of all edges is built); the crossing ones are sorted
+        // and each kept with its lowest slot.
+        let mut list: Vec<((u32, u32), u32)> = Vec::new();
+        let mut found = Vec::new();
+        for (x, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            list.clear();
+            for (i, j) in missing::TET_EDGES {
+                list.push((ekey(tv[i], tv[j]), x as u32));
+            }
+            found.extend(self.crossing_edges(dt, &list, t));
+        }
         found.sort_unstable();
+        found.dedup_by_key(|e| e.0);
         found
     }
 
@@ -1126,11 +1176,18 @@ impl State {
             }
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
-            let sk = Skeleton::of(dt, false);
-            // All edges: listed only if a local search finds nothing
-            // (sorting every edge of a large mesh each round was a
-            // dominant cost; only the crossing edges are sorted).
-            let mut all: Option<Vec<((u32, u32), u32)>> = None;
+            // Per vertex: a tetrahedron holding it (a start for the local
+            // searches; no map of all edges, see `find_crossing_lazy`).
+            let mut vt = vec![DEAD; dt.points().len()];
+            for (x, tv) in dt.core.v.iter().enumerate() {
+                if tv[0] != DEAD {
+                    for &w in tv {
+                        if w != INF && vt[w as usize] == DEAD {
+                            vt[w as usize] = x as u32;
+                        }
+                    }
+                }
+            }
             let mut progress = false;
             let mut group_done = vec![false; self.poly.groups.len()];
             for &t in &uncovered {
@@ -1147,7 +1204,7 @@ impl State {
                     progress |= self.split_longest_subsegment(dt, t)?;
                     continue;
                 }
-                let cross = self.find_crossing_lazy(dt, &sk, &mut all, t, &on[t]);
+                let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
                 progress |= if cross.is_empty() {
                     self.split_hole(dt, t, &on[t])?
                 } else {
