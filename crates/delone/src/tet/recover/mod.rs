@@ -889,10 +889,20 @@ impl State {
         // Every finite edge, each tested once per tetrahedron holding it
         // (no list of all edges is built); the crossing ones are sorted
         // and each kept with its lowest slot.
+        let pts = dt.points();
+        let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+        let lo = [0, 1, 2].map(|k| a[k].min(b[k]).min(c[k]));
+        let hi = [0, 1, 2].map(|k| a[k].max(b[k]).max(c[k]));
         let mut list: Vec<((u32, u32), u32)> = Vec::new();
         let mut found = Vec::new();
         for (x, tv) in core.v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            // A tetrahedron wholly on one side of `t`'s box has no edge
+            // meeting it (the test `crossing_edges` makes per edge).
+            let q = tv.map(|w| &pts[w as usize]);
+            if (0..3).any(|k| q.iter().all(|p| p[k] < lo[k]) || q.iter().all(|p| p[k] > hi[k])) {
                 continue;
             }
             list.clear();
