@@ -248,6 +248,26 @@ impl<'a> CMesh<'a> {
         done
     }
 
+    /// Calls `f(op, w)` for every vertex `w` (not [`INF`], with repeats)
+    /// of the tetrahedra removed by the operations logged since `mark`
+    /// ([`CMesh::log_mark`]), `op` being the operation's index in the log.
+    /// The tetrahedra an operation creates have the same vertices.
+    pub(crate) fn removed_vertices_since(&self, mark: usize, mut f: impl FnMut(usize, u32)) {
+        let Some(log) = &self.log else {
+            return;
+        };
+        for (i, &(s, no, _)) in log.ops.iter().enumerate().skip(mark) {
+            let s = s as usize;
+            for tv in &log.tets[s..s + usize::from(no)] {
+                for &w in tv {
+                    if w != INF {
+                        f(i, w);
+                    }
+                }
+            }
+        }
+    }
+
     /// The number of operations logged so far (a mark for
     /// [`CMesh::rollback`]); 0 when not logging.
     pub(crate) fn log_mark(&self) -> usize {

@@ -69,7 +69,12 @@
 //! protected in the new round; the Delaunay tetrahedralization changed only
 //! around the points inserted since, so nearly all apply and only the
 //! items still missing there are searched. The flips of a segment whose
-//! recovery fails are rolled back, so the log holds no useless flips. The
+//! recovery fails are rolled back, so the log holds no useless flips; it
+//! is retried once the round's other segments are done, as long as a pass
+//! recovers one, when their flips removed a tetrahedron at one of its
+//! vertices (its failed flips' vertices included): they often clear its
+//! way, and each segment recovered so is a split, and often a round,
+//! saved. The
 //! coverage, the missing subsegments and the protected items are updated
 //! near the new points instead of recomputed.
 //!
@@ -793,11 +798,24 @@ impl State {
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
+        self.find_crossing_from(dt, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
+    }
+
+    /// [`Self::find_crossing`] with `start(u, v)` giving a tetrahedron
+    /// slot containing edge `u v` (`u < v`), if any.
+    fn find_crossing_from(
+        &self,
+        dt: &Delaunay3<'_>,
+        start: &dyn Fn(u32, u32) -> Option<u32>,
+        list: &[((u32, u32), u32)],
+        t: usize,
+        faces: &[[u32; 3]],
+    ) -> Vec<((u32, u32), u32)> {
         let core = &dt.core;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
-            let Some(&start) = sk.edges.get(&(u, v)) else {
+            let Some(start) = start(u, v) else {
                 continue;
             };
             let mut stack = vec![start];
@@ -833,21 +851,68 @@ impl State {
     fn find_crossing_lazy(
         &self,
         dt: &Delaunay3<'_>,
-        sk: &Skeleton,
-        all: &mut Option<Vec<((u32, u32), u32)>>,
+        vt: &[u32],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let found = self.find_crossing(dt, sk, &[], t, faces);
+        let core = &dt.core;
+        // A tetrahedron with edge `u v`: the star of `u` walked from
+        // `vt[u]` (nothing when that slot no longer holds `u`).
+        let start = |u: u32, v: u32| -> Option<u32> {
+            let s = *vt.get(u as usize)?;
+            let sv = core.v.get(s as usize)?;
+            if sv[0] == DEAD || !sv.contains(&u) {
+                return None;
+            }
+            let mut seen: Vec<u32> = vec![s];
+            let mut i = 0;
+            while i < seen.len() {
+                let x = seen[i];
+                i += 1;
+                let xv = core.v[x as usize];
+                if xv.contains(&v) {
+                    return Some(x);
+                }
+                for (f, &w) in xv.iter().enumerate() {
+                    let n = core.adj[x as usize][f] >> 2;
+                    if w != u && !seen.contains(&n) {
+                        seen.push(n);
+                    }
+                }
+            }
+            None
+        };
+        let found = self.find_crossing_from(dt, &start, &[], t, faces);
         if !found.is_empty() {
             return found;
         }
-        // Every edge, unsorted; only the (few) crossing ones are sorted,
-        // which gives the same list as filtering the sorted edges (each
-        // edge appears once).
-        let list = all.get_or_insert_with(|| sk.edges.iter().map(|(&k, &t)| (k, t)).collect());
-        let mut found = self.crossing_edges(dt, list, t);
+        // Every finite edge, each tested once per tetrahedron holding it
+        // (no list of all edges is built); the crossing ones are sorted
+        // and each kept with its lowest slot.
+        let pts = dt.points();
+        let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
+        let lo = [0, 1, 2].map(|k| a[k].min(b[k]).min(c[k]));
+        let hi = [0, 1, 2].map(|k| a[k].max(b[k]).max(c[k]));
+        let mut list: Vec<((u32, u32), u32)> = Vec::new();
+        let mut found = Vec::new();
+        for (x, tv) in core.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            // A tetrahedron wholly on one side of `t`'s box has no edge
+            // meeting it (the test `crossing_edges` makes per edge).
+            let q = tv.map(|w| &pts[w as usize]);
+            if (0..3).any(|k| q.iter().all(|p| p[k] < lo[k]) || q.iter().all(|p| p[k] > hi[k])) {
+                continue;
+            }
+            list.clear();
+            for (i, j) in missing::TET_EDGES {
+                list.push((ekey(tv[i], tv[j]), x as u32));
+            }
+            found.extend(self.crossing_edges(dt, &list, t));
+        }
         found.sort_unstable();
+        found.dedup_by_key(|e| e.0);
         found
     }
 
@@ -1000,11 +1065,56 @@ impl State {
             } else {
                 cdt::SEG_OPS
             };
-            for &(e, u, v) in &subs {
+            // Per failed segment: the log length after its rollback and
+            // its range in `near_fail` (its ends and the vertices of the
+            // tetrahedra its flips removed before they were rolled back).
+            let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
+            let mut near_fail: Vec<u32> = Vec::new();
+            let attempt = |cm: &mut CMesh<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
                 let mark = cm.log_mark();
-                if !cdt::recover_segment_within(&mut cm, u, v, &prot, max_ops) {
-                    cm.rollback(mark);
+                if cdt::recover_segment_within(cm, u, v, &prot, ops) {
+                    return None;
+                }
+                let s = near.len();
+                near.extend([u, v]);
+                cm.removed_vertices_since(mark, |_, w| near.push(w));
+                cm.rollback(mark);
+                Some((cm.log_mark(), s, near.len()))
+            };
+            for &(e, u, v) in &subs {
+                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops) {
                     failed.push((e, u, v));
+                    fail_at.push(at);
+                }
+            }
+            let retry_ops = max_ops.min(cdt::SEG_OPS / 4);
+            // Failed segments are retried, in order, while a pass recovers
+            // at least one, each only when a later operation removed a
+            // tetrahedron at one of its vertices (else the same flips would
+            // fail the same way): the flips of the segments recovered after
+            // a failing one often clear its way, and each segment recovered
+            // so is a split (and often a round) saved.
+            while !failed.is_empty() && !self.opts.preserve_surface {
+                let lo = fail_at.iter().map(|a| a.0).min().unwrap_or(0);
+                // Per vertex: 1 + the last operation since `lo` that
+                // removed a tetrahedron at it (0: none).
+                let mut last = vec![0usize; cm.pts().len()];
+                cm.removed_vertices_since(lo, |op, w| last[w as usize] = op + 1);
+                let before = failed.len();
+                let (old_failed, old_at) =
+                    (std::mem::take(&mut failed), std::mem::take(&mut fail_at));
+                for (&(e, u, v), &(mark, s, t)) in old_failed.iter().zip(&old_at) {
+                    let changed = near_fail[s..t].iter().any(|&w| last[w as usize] > mark);
+                    if !changed {
+                        failed.push((e, u, v));
+                        fail_at.push((mark, s, t));
+                    } else if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, retry_ops) {
+                        failed.push((e, u, v));
+                        fail_at.push(at);
+                    }
+                }
+                if failed.len() == before {
+                    break;
                 }
             }
             if !failed.is_empty() {
@@ -1076,11 +1186,18 @@ impl State {
             }
             // Split the triangles the flips could not recover, in the
             // Delaunay tetrahedralization (`on`, `covered`: its coverage).
-            let sk = Skeleton::of(dt, false);
-            // All edges: listed only if a local search finds nothing
-            // (sorting every edge of a large mesh each round was a
-            // dominant cost; only the crossing edges are sorted).
-            let mut all: Option<Vec<((u32, u32), u32)>> = None;
+            // Per vertex: a tetrahedron holding it (a start for the local
+            // searches; no map of all edges, see `find_crossing_lazy`).
+            let mut vt = vec![DEAD; dt.points().len()];
+            for (x, tv) in dt.core.v.iter().enumerate() {
+                if tv[0] != DEAD {
+                    for &w in tv {
+                        if w != INF && vt[w as usize] == DEAD {
+                            vt[w as usize] = x as u32;
+                        }
+                    }
+                }
+            }
             let mut progress = false;
             let mut group_done = vec![false; self.poly.groups.len()];
             for &t in &uncovered {
@@ -1097,7 +1214,7 @@ impl State {
                     progress |= self.split_longest_subsegment(dt, t)?;
                     continue;
                 }
-                let cross = self.find_crossing_lazy(dt, &sk, &mut all, t, &on[t]);
+                let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
                 progress |= if cross.is_empty() {
                     self.split_hole(dt, t, &on[t])?
                 } else {
@@ -1425,11 +1542,7 @@ impl State {
             // Many flips: the global pass is cheaper than sorting and
             // looking up every logged face.
             cm.clear_touched();
-            let (g_on, g_covered) = self.coverage_all(cm);
-            for (t, f) in g_on.into_iter().enumerate() {
-                on[t] = f;
-            }
-            covered.copy_from_slice(&g_covered);
+            self.coverage_all_into(cm, on, covered);
             #[cfg(debug_assertions)]
             self.debug_same_coverage(&cm.dt, on, covered, None);
             return;
@@ -1448,7 +1561,13 @@ impl State {
             add(t, &mut cands);
         }
         let (mut out, mut flat) = (Vec::new(), Vec::new());
+        // Past this many candidates `recompute` goes global anyway: the
+        // rest of the logged faces need not be looked up.
+        let global = self.surf.tris.len() / GLOBAL_FRACTION + 1;
         for &f in &touched {
+            if cands.len() >= global {
+                break;
+            }
             self.surf.face_triangles_split(f, &mut out, &mut flat);
             for &t in out.iter().chain(&flat) {
                 add(t as usize, &mut cands);
@@ -1475,11 +1594,7 @@ impl State {
         covered: &mut [bool],
     ) {
         if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
-            let (g_on, g_covered) = self.coverage_all(cm);
-            for (t, f) in g_on.into_iter().enumerate() {
-                on[t] = f;
-            }
-            covered.copy_from_slice(&g_covered);
+            self.coverage_all_into(cm, on, covered);
             return;
         }
         self.recompute_local(cm, cands, on, covered);
@@ -1496,6 +1611,18 @@ impl State {
         let n = self.surf.tris.len();
         let mut on: FacesOn = vec![Vec::new(); n];
         let mut covered = vec![false; n];
+        self.coverage_all_into(cm, &mut on, &mut covered);
+        (on, covered)
+    }
+
+    /// [`Self::coverage_all`] written over `on` and `covered` (one entry
+    /// per input triangle), reusing the lists' storage.
+    fn coverage_all_into(&self, cm: &CMesh<'_>, on: &mut [Vec<[u32; 3]>], covered: &mut [bool]) {
+        let n = self.surf.tris.len();
+        for f in on.iter_mut() {
+            f.clear();
+        }
+        covered.fill(false);
         let core = &cm.dt.core;
         for (x, tv) in core.v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
@@ -1511,7 +1638,8 @@ impl State {
                 for t in self.surf.triangles_with_key(&k) {
                     let t = t as usize;
                     if self.surf.plain(t) {
-                        on[t] = vec![k];
+                        on[t].clear();
+                        on[t].push(k);
                         covered[t] = true;
                     }
                 }
@@ -1520,14 +1648,13 @@ impl State {
         let rest: Vec<usize> = (0..n)
             .filter(|&t| !self.surf.plain(t) && self.poly.group(t).is_none())
             .collect();
-        self.recompute_local(cm, &rest, &mut on, &mut covered);
+        self.recompute_local(cm, &rest, on, covered);
         let tets = core
             .v
             .iter()
             .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
             .copied();
-        self.groups_global(tets, cm.pts(), &mut on, &mut covered);
-        (on, covered)
+        self.groups_global(tets, cm.pts(), on, covered);
     }
 
     /// The subsegments that are not edges of `cm`, in the order of
@@ -1619,11 +1746,10 @@ impl State {
                 // Only its own corners can make a face on it.
                 let [a, b, c] = self.surf.tris[t];
                 let found = cm.find_face(a, b, c).is_some();
-                on[t] = if found {
-                    vec![missing::fkey([a, b, c])]
-                } else {
-                    Vec::new()
-                };
+                on[t].clear();
+                if found {
+                    on[t].push(missing::fkey([a, b, c]));
+                }
                 covered[t] = found;
                 continue;
             }
