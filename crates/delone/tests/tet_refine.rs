@@ -426,21 +426,31 @@ fn corpus_models_refined_completely() {
 /// where the refinement reports why.
 #[test]
 fn curved_models_terminate_at_q1414() {
+    models_terminate_at_q1414(
+        &[
+            ("wm_thingi37322", 2_000),
+            ("cgal_hole", 1_000),
+            ("cgal_blob_closed", 2_000),
+            ("cgal_pipe", 10_000),
+            ("cgal_eight", 10_000),
+            ("cgal_cactus", 10_000),
+            ("cgal_oblong", 10_000),
+            ("cgal_knot1", 10_000),
+            // Input dihedral angles of 8.6°: R2 split the two facets of the
+            // wedge for its cells towards the sharp edge (69 000 points before
+            // cells spanning sharp wedges were left).
+            ("igl_decimated_knight", 5_000),
+        ],
+        100_000,
+    );
+}
+
+/// Refines each model of `surf/off` at q1.414 with `budget` points: it
+/// must stop by itself, adding at most its number of points, with bad
+/// cells left only where the refinement reports why.
+fn models_terminate_at_q1414(models: &[(&str, usize)], budget: usize) {
     let Some(dir) = data_dir() else { return };
-    for (name, max_points) in [
-        ("wm_thingi37322", 2_000),
-        ("cgal_hole", 1_000),
-        ("cgal_blob_closed", 2_000),
-        ("cgal_pipe", 10_000),
-        ("cgal_eight", 10_000),
-        ("cgal_cactus", 10_000),
-        ("cgal_oblong", 10_000),
-        ("cgal_knot1", 10_000),
-        // Input dihedral angles of 8.6°: R2 split the two facets of the
-        // wedge for its cells towards the sharp edge (69 000 points before
-        // cells spanning sharp wedges were left).
-        ("igl_decimated_knight", 5_000),
-    ] {
+    for &(name, max_points) in models {
         let rel = format!("surf/off/{name}.off");
         let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
             eprintln!("note: {rel} missing; skipping");
@@ -448,7 +458,7 @@ fn curved_models_terminate_at_q1414() {
         };
         let s = delone_io::read_off(&bytes).unwrap();
         let t = s.triangles();
-        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 100_000);
+        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, budget);
         assert!(!r.report.budget_exhausted, "{rel}");
         let added = r.rec.points.len() - s.points.len();
         assert!(added <= max_points, "{rel}: {added} points");
@@ -515,31 +525,15 @@ fn sharp_wedges_terminate_at_q1414() {
 #[test]
 #[ignore = "slow in debug: run with --release -- --ignored"]
 fn sharp_models_terminate_at_q1414() {
-    let Some(dir) = data_dir() else { return };
-    for (name, max_points) in [
-        ("cgal_anchor", 40_000),
-        ("cgal_rotor", 40_000),
-        ("cgal_handle", 60_000),
-        ("cgal_triceratops", 200_000),
-    ] {
-        let rel = format!("surf/off/{name}.off");
-        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
-            eprintln!("note: {rel} missing; skipping");
-            continue;
-        };
-        let s = delone_io::read_off(&bytes).unwrap();
-        let t = s.triangles();
-        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 1_000_000);
-        assert!(!r.report.budget_exhausted, "{rel}");
-        let added = r.rec.points.len() - s.points.len();
-        assert!(added <= max_points, "{rel}: {added} points");
-        assert!(
-            r.report.remaining_bad <= r.report.skipped + r.report.flat,
-            "{rel}: {} bad, {} skipped",
-            r.report.remaining_bad,
-            r.report.skipped
-        );
-    }
+    models_terminate_at_q1414(
+        &[
+            ("cgal_anchor", 40_000),
+            ("cgal_rotor", 40_000),
+            ("cgal_handle", 60_000),
+            ("cgal_triceratops", 200_000),
+        ],
+        1_000_000,
+    );
 }
 
 #[test]

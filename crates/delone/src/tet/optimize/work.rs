@@ -906,6 +906,13 @@ impl Work {
     /// result exactly). `None` when it would exceed `max` tetrahedra.
     pub(super) fn sphere_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
         let mut cav = vec![t];
+        self.grow_by_spheres(&mut cav, x, max).then_some(cav)
+    }
+
+    /// Grows `cav` (in place, breadth first from its first slot) by the
+    /// tetrahedra of its region, reached across open faces, whose
+    /// circumsphere holds `x`. `false` when it would exceed `max`.
+    fn grow_by_spheres(&self, cav: &mut Vec<u32>, x: [f64; 3], max: usize) -> bool {
         let mut i = 0;
         while i < cav.len() {
             let c = cav[i];
@@ -922,13 +929,13 @@ impl Work {
                 let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
                 if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
                     if cav.len() >= max {
-                        return None;
+                        return false;
                     }
                     cav.push(n);
                 }
             }
         }
-        Some(cav)
+        true
     }
 
     /// The cavity of a point `x` off slot `t` (see `try_lifted`): the
@@ -939,23 +946,20 @@ impl Work {
     /// growth needs a boundary, interface or region-changing face, or more
     /// than `max` tetrahedra.
     pub(super) fn lifted_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
-        let beyond = |c: u32, f: usize| {
+        // Sign of `x` against face `f` of slot `c` (positive: beyond it).
+        let side = |c: u32, f: usize| {
             let [a, b, d] = face(self.tv[c as usize], f);
             let g = |w: u32| &self.p[w as usize];
-            orient3d(g(a), g(b), g(d), &x) >= 0.0
+            orient3d(g(a), g(b), g(d), &x)
         };
-        // The walk: across the face `x` is farthest beyond (a visibility
-        // walk; a face strictly seen from `x` is never crossed back).
+        let beyond = |c: u32, f: usize| side(c, f) >= 0.0;
+        // The walk: across the first face `x` lies strictly beyond (a
+        // visibility walk; a face strictly seen from `x` is never crossed
+        // back).
         let mut cav = vec![t];
         let mut cur = t;
         loop {
-            let next = (0..4).find(|&f| {
-                beyond(cur, f) && {
-                    let [a, b, d] = face(self.tv[cur as usize], f);
-                    let g = |w: u32| &self.p[w as usize];
-                    orient3d(g(a), g(b), g(d), &x) > 0.0
-                }
-            });
+            let next = (0..4).find(|&f| side(cur, f) > 0.0);
             let Some(f) = next else { break };
             if !self.open_face(cur, f) || cav.len() >= max {
                 return None;
@@ -967,27 +971,8 @@ impl Work {
             cav.push(cur);
         }
         // Delaunay growth.
-        let mut i = 0;
-        while i < cav.len() {
-            let c = cav[i];
-            i += 1;
-            for f in 0..4 {
-                let n = self.nb[c as usize][f];
-                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
-                    continue;
-                }
-                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
-                let Some(o) = crate::tet::quality::circumcenter(&p) else {
-                    continue;
-                };
-                let r2 = dot(&sub(&p[0], &o), &sub(&p[0], &o));
-                if dot(&sub(&x, &o), &sub(&x, &o)) < r2 {
-                    if cav.len() >= max {
-                        return None;
-                    }
-                    cav.push(n);
-                }
-            }
+        if !self.grow_by_spheres(&mut cav, x, max) {
+            return None;
         }
         // Visibility closure.
         let mut grew = true;
