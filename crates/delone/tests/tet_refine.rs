@@ -382,15 +382,7 @@ fn plc_corpus_terminates_at_q1414() {
         let (p, t, dom) = plc_domain(&path);
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let r = run_domain(&name, &p, &t, &dom, 1.414, 20_000);
-        assert!(!r.report.budget_exhausted, "{name}");
-        let added = r.rec.points.len() - p.len();
-        assert!(added <= 2_000, "{name}: {added} points");
-        assert!(
-            r.report.remaining_bad <= r.report.skipped + r.report.flat,
-            "{name}: {} bad, {} skipped",
-            r.report.remaining_bad,
-            r.report.skipped
-        );
+        assert_stops(&name, &r, p.len(), 2_000);
     }
 }
 
@@ -445,6 +437,22 @@ fn curved_models_terminate_at_q1414() {
     );
 }
 
+/// The refinement of `name` (`n_input` input points) stopped by itself,
+/// adding at most `max_points`, with bad cells left only where it reports
+/// why (skipped or flat).
+fn assert_stops(name: &str, r: &Refined, n_input: usize, max_points: usize) {
+    assert!(!r.report.budget_exhausted, "{name}");
+    let added = r.rec.points.len() - n_input;
+    assert!(added <= max_points, "{name}: {added} points");
+    assert!(
+        r.report.remaining_bad <= r.report.skipped + r.report.flat,
+        "{name}: {} bad, {} skipped, {} flat",
+        r.report.remaining_bad,
+        r.report.skipped,
+        r.report.flat
+    );
+}
+
 /// Refines each model of `surf/off` at q1.414 with `budget` points: it
 /// must stop by itself, adding at most its number of points, with bad
 /// cells left only where the refinement reports why.
@@ -459,16 +467,7 @@ fn models_terminate_at_q1414(models: &[(&str, usize)], budget: usize) {
         let s = delone_io::read_off(&bytes).unwrap();
         let t = s.triangles();
         let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, budget);
-        assert!(!r.report.budget_exhausted, "{rel}");
-        let added = r.rec.points.len() - s.points.len();
-        assert!(added <= max_points, "{rel}: {added} points");
-        assert!(
-            r.report.remaining_bad <= r.report.skipped + r.report.flat,
-            "{rel}: {} bad, {} skipped, {} flat",
-            r.report.remaining_bad,
-            r.report.skipped,
-            r.report.flat
-        );
+        assert_stops(&rel, &r, s.points.len(), max_points);
     }
 }
 
@@ -506,15 +505,7 @@ fn sharp_wedges_terminate_at_q1414() {
         let (p, t) = wedge_prism(deg, 1.0);
         let name = format!("wedge{deg}");
         let r = run_domain(&name, &p, &t, &Domain::default(), 1.414, 20_000);
-        assert!(!r.report.budget_exhausted, "{name}");
-        let added = r.rec.points.len() - p.len();
-        assert!(added <= 2_000, "{name}: {added} points");
-        assert!(
-            r.report.remaining_bad <= r.report.skipped + r.report.flat,
-            "{name}: {} bad, {} skipped",
-            r.report.remaining_bad,
-            r.report.skipped
-        );
+        assert_stops(&name, &r, p.len(), 2_000);
     }
 }
 
