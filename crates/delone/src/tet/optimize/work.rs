@@ -974,25 +974,22 @@ impl Work {
         if !self.grow_by_spheres(&mut cav, x, max) {
             return None;
         }
-        // Visibility closure.
-        let mut grew = true;
-        while grew {
-            grew = false;
-            let mut k = 0;
-            while k < cav.len() {
-                let c = cav[k];
-                k += 1;
-                for f in 0..4 {
-                    let n = self.nb[c as usize][f];
-                    if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
-                        continue;
-                    }
-                    if n == NONE || !self.open_face(c, f) || cav.len() >= max {
-                        return None;
-                    }
-                    cav.push(n);
-                    grew = true;
+        // Visibility closure: one pass over the growing list suffices, as a
+        // face only stops being a boundary face when its neighbour joins,
+        // and every joining slot is visited later in the same pass.
+        let mut k = 0;
+        while k < cav.len() {
+            let c = cav[k];
+            k += 1;
+            for f in 0..4 {
+                let n = self.nb[c as usize][f];
+                if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
+                    continue;
                 }
+                if n == NONE || !self.open_face(c, f) || cav.len() >= max {
+                    return None;
+                }
+                cav.push(n);
             }
         }
         Some(cav)
