@@ -147,6 +147,17 @@ fn steiner_budget_stops_refinement() {
     check_recovered(&p, &t, &r.rec).unwrap();
 }
 
+/// `surf/off/NAME.off` of the shared data (its relative path and surface),
+/// or `None` with a note when the file is missing.
+fn read_model(dir: &Path, name: &str) -> Option<(String, delone_io::Surface)> {
+    let rel = format!("surf/off/{name}.off");
+    let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
+        eprintln!("note: {rel} missing; skipping");
+        return None;
+    };
+    Some((rel, delone_io::read_off(&bytes).unwrap()))
+}
+
 fn data_dir() -> Option<PathBuf> {
     let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .ancestors()
@@ -396,12 +407,9 @@ fn corpus_models_refined_completely() {
         ("cgal_sphere", &[2.0, 1.414][..]),
         ("wm_hour_glass", &[2.0, 1.414][..]),
     ] {
-        let rel = format!("surf/off/{name}.off");
-        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
-            eprintln!("note: {rel} missing; skipping");
+        let Some((rel, s)) = read_model(&dir, name) else {
             continue;
         };
-        let s = delone_io::read_off(&bytes).unwrap();
         let t = s.triangles();
         for &q in qs {
             let r = run_domain(&rel, &s.points, &t, &Domain::default(), q, 100_000);
@@ -459,12 +467,9 @@ fn assert_stops(name: &str, r: &Refined, n_input: usize, max_points: usize) {
 fn models_terminate_at_q1414(models: &[(&str, usize)], budget: usize) {
     let Some(dir) = data_dir() else { return };
     for &(name, max_points) in models {
-        let rel = format!("surf/off/{name}.off");
-        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
-            eprintln!("note: {rel} missing; skipping");
+        let Some((rel, s)) = read_model(&dir, name) else {
             continue;
         };
-        let s = delone_io::read_off(&bytes).unwrap();
         let t = s.triangles();
         let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, budget);
         assert_stops(&rel, &r, s.points.len(), max_points);
@@ -646,12 +651,9 @@ fn refinement_restores_constrained_delaunay() {
         "cgal_star",
         "cgal_fandisk",
     ] {
-        let rel = format!("surf/off/{name}.off");
-        let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
-            eprintln!("note: {rel} missing; skipping");
+        let Some((rel, s)) = read_model(&dir, name) else {
             continue;
         };
-        let s = delone_io::read_off(&bytes).unwrap();
         let t = s.triangles();
         let ro = RecoverOptions {
             merge_coplanar: false,
