@@ -55,6 +55,27 @@ fn minor_faults() -> u64 {
         .unwrap_or(0)
 }
 
+/// The bytes of the arrays of a 3D diagram (their lengths, not
+/// capacities).
+fn output_bytes(v: &delone::tet::Voronoi3) -> usize {
+    use std::mem::size_of_val;
+    size_of_val(&v.vertices[..])
+        + size_of_val(&v.edges[..])
+        + size_of_val(&v.ray_edges[..])
+        + size_of_val(&v.ray_directions[..])
+        + size_of_val(&v.faces[..])
+        + size_of_val(&v.open_faces[..])
+        + size_of_val(&v.open_face_rays[..])
+        + size_of_val(&v.face_offsets[..])
+        + size_of_val(&v.face_vertices[..])
+        + size_of_val(&v.face_edge_ids[..])
+        + size_of_val(&v.cell_offsets[..])
+        + size_of_val(&v.cell_face_ids[..])
+        + size_of_val(&v.unbounded[..])
+        + size_of_val(&v.vertex_map[..])
+        + size_of_val(&v.weights[..])
+}
+
 fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
     let mut out = None;
@@ -167,7 +188,7 @@ fn main() {
                 &v.open_faces,
                 &v.face_offsets,
                 &v.face_vertices,
-                &v.face_edge_offsets,
+                &v.face_edge_offsets(),
                 &v.face_edge_ids,
                 &v.cell_offsets,
                 &v.cell_face_ids,
@@ -188,6 +209,11 @@ fn main() {
             );
         }
         let (ct, cv) = (c1 - c0, c2 - c1);
+        println!(
+            "3D n={n}: output {:.0} MB ({} bytes)",
+            output_bytes(&v) as f64 / 1e6,
+            output_bytes(&v)
+        );
         println!(
             "3D n={n}: CPU time (all repeats) tetrahedralize {ct:.2}s (system {:.2}s), Voronoi3 {cv:.2}s (system {:.2}s) ({:.2}x), {} threads; {:.0} MB of fresh pages per extraction",
             s1 - s0,

@@ -136,13 +136,14 @@ pub struct Voronoi3 {
     pub face_offsets: Vec<u32>,
     /// The faces' vertex ids, face after face.
     pub face_vertices: Vec<u32>,
-    /// `face_edge_offsets[f]..face_edge_offsets[f + 1]` is the range of
-    /// [`Voronoi3::face_edge_ids`] of face `f`.
-    pub face_edge_offsets: Vec<u32>,
     /// The faces' boundary edges (indices into [`Voronoi3::edges`]), face
     /// after face, in the order of the face's vertices: for a bounded face
     /// edge `k` joins vertex `k` to vertex `k + 1` (cyclically); an unbounded
-    /// face starts with its first ray and ends with its last.
+    /// face starts with its first ray and ends with its last. A face has as
+    /// many edges as vertices, one more if unbounded: face `f` starts at
+    /// `face_offsets[f]` plus the number of unbounded faces before `f`
+    /// ([`Voronoi3::face`] and [`Voronoi3::face_edge_offsets`] compute it;
+    /// not stored, 31 MB at 1M points).
     pub face_edge_ids: Vec<u32>,
     /// `cell_offsets[p]..cell_offsets[p + 1]` is the range of
     /// [`Voronoi3::cell_face_ids`] of input point `p` (empty for duplicates).
@@ -395,15 +396,17 @@ fn run_dynamic<I: Send, R: Send>(
 }
 
 /// Moves the parts of `a` written at `starts[i]` (`(length, spill)` each)
-/// together after `a[..first]`, adding `add[i]` to the entries of part `i`;
-/// `a` is cut to the result. In place (`copy_within`) unless a part spilled.
-fn compact(
-    mut a: Vec<u32>,
+/// together after `a[..first]`, adding `add[i]` to the entries of part `i`
+/// (by `plus`); `a` is cut to the result. In place (`copy_within`) unless a
+/// part spilled.
+fn compact<T: Copy>(
+    mut a: Vec<T>,
     first: usize,
     starts: &[usize],
-    parts: &[(usize, Vec<u32>)],
+    parts: &[(usize, Vec<T>)],
     add: &[u32],
-) -> Vec<u32> {
+    plus: impl Fn(T, u32) -> T,
+) -> Vec<T> {
     let win = |i: usize| starts.get(i + 1).copied().unwrap_or(a.len()) - starts[i];
     if parts.iter().any(|p| !p.1.is_empty()) {
         let mut out = a[..first].to_vec();
@@ -412,9 +415,9 @@ fn compact(
             out.extend(
                 a[starts[i]..starts[i] + m]
                     .iter()
-                    .map(|&x| x.wrapping_add(add[i])),
+                    .map(|&x| plus(x, add[i])),
             );
-            out.extend(spill.iter().map(|&x| x.wrapping_add(add[i])));
+            out.extend(spill.iter().map(|&x| plus(x, add[i])));
         }
         return out;
     }
@@ -428,11 +431,11 @@ fn compact(
         } else if at + len <= from {
             let (lo, hi) = a.split_at_mut(from);
             for (x, &y) in lo[at..at + len].iter_mut().zip(&hi[..*len]) {
-                *x = y.wrapping_add(d);
+                *x = plus(y, d);
             }
         } else {
             for j in 0..*len {
-                a[at + j] = a[from + j].wrapping_add(d);
+                a[at + j] = plus(a[from + j], d);
             }
         }
         at += len;
@@ -549,14 +552,14 @@ fn mirror(m: u16, f: usize) -> usize {
 
 /// A window of a shared output array (calloc'ed: its untouched pages cost
 /// nothing) written by one chunk, with a spill vector for what does not fit.
-struct Win<'a> {
-    buf: &'a mut [u32],
+struct Win<'a, T = u32> {
+    buf: &'a mut [T],
     len: usize,
-    spill: Vec<u32>,
+    spill: Vec<T>,
 }
 
-impl<'a> Win<'a> {
-    fn new(buf: &'a mut [u32]) -> Win<'a> {
+impl<'a, T: Copy> Win<'a, T> {
+    fn new(buf: &'a mut [T]) -> Win<'a, T> {
         Win {
             buf,
             len: 0,
@@ -565,7 +568,7 @@ impl<'a> Win<'a> {
     }
 
     /// Appends `xs`.
-    fn extend(&mut self, xs: &[u32]) {
+    fn extend(&mut self, xs: &[T]) {
         let at = self.len.min(self.buf.len());
         let room = self.buf.len() - at;
         let (a, b) = xs.split_at(xs.len().min(room));
@@ -575,7 +578,7 @@ impl<'a> Win<'a> {
     }
 
     /// The length written and the spill.
-    fn done(self) -> (usize, Vec<u32>) {
+    fn done(self) -> (usize, Vec<T>) {
         (self.len, self.spill)
     }
 }
@@ -585,15 +588,16 @@ impl<'a> Win<'a> {
 /// chunk's windows: `(length, spill)` of each.
 #[derive(Default)]
 struct FacePart {
-    faces: Vec<FaceInfo3>,
+    /// The faces' sites (window and spill, as `wins`).
+    sites: (usize, Vec<[u32; 2]>),
     open_faces: Vec<u32>,
     open_face_rays: Vec<[[f64; 3]; 2]>,
-    /// Face vertices, face edges, face ends, face edge ends.
-    wins: [(usize, Vec<u32>); 4],
+    /// Face vertices, face edges, face ends.
+    wins: [(usize, Vec<u32>); 3],
 }
 
-/// The four windows of a face chunk (see [`FacePart::wins`]).
-type Wins<'a> = [&'a mut [u32]; 4];
+/// The three windows of a face chunk (see [`FacePart::wins`]).
+type Wins<'a> = [&'a mut [u32]; 3];
 
 /// The faces of the chunk `lo..hi`: tetrahedron by tetrahedron, every local
 /// edge not yet swept is swept — the ring of tetrahedra around the Delaunay
@@ -612,23 +616,25 @@ fn face_pass(
     perm: &[u32],
     lo: usize,
     hi: usize,
-    wins: Wins,
+    (wins, wsites): (Wins, &mut [[u32; 2]]),
 ) -> FacePart {
     // Checked lookups (`mesh_fits` has checked the vertex ids; cheap).
     let p = |v: u32| points.get(v as usize).unwrap_or(&[0.0; 3]);
     let nt = recs.len();
     let mine = hi - lo;
     let mut out = FacePart::default();
-    let [wv, we, wo, weo] = wins;
-    let (mut wv, mut we, mut wo, mut weo) =
-        (Win::new(wv), Win::new(we), Win::new(wo), Win::new(weo));
+    let [wv, we, wo] = wins;
+    let (mut wv, mut we, mut wo) = (Win::new(wv), Win::new(we), Win::new(wo));
+    let mut ws = Win::new(wsites);
+    // Faces emitted so far.
+    let mut nf = 0u32;
     // Staging vectors, flushed to the windows every few thousand entries:
     // the walks push (their lengths stay in registers); `(bv, be)` are
     // the lengths flushed so far.
     const FLUSH: usize = 1 << 10;
-    let (mut bv, mut be) = (0u32, 0u32);
+    let mut bv = 0u32;
     let mut ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
-    let mut edge_ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
+    let mut sites: Vec<[u32; 2]> = Vec::with_capacity(FLUSH + 64);
     let mut done = vec![0u8; mine];
     let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
     let limit = nt + 1;
@@ -636,15 +642,15 @@ fn face_pass(
     let mut fe: Vec<u32> = Vec::with_capacity(2 * FLUSH);
     for t in lo..hi {
         if fv.len() >= FLUSH || fe.len() >= FLUSH || ends.len() >= FLUSH {
-            (bv, be) = (bv + fv.len() as u32, be + fe.len() as u32);
+            bv += fv.len() as u32;
             wv.extend(&fv);
             we.extend(&fe);
             wo.extend(&ends);
-            weo.extend(&edge_ends);
+            ws.extend(&sites);
             fv.clear();
             fe.clear();
             ends.clear();
-            edge_ends.clear();
+            sites.clear();
         }
         // The edges of t not yet swept: walking a ring through t marks
         // only that ring's edge in t, so this set is fixed up front.
@@ -730,7 +736,7 @@ fn face_pass(
                 fv.extend(&fwd_v);
                 fe.extend(back_e.iter().rev());
                 fe.extend(&fwd_e);
-                out.open_faces.push(out.faces.len() as u32);
+                out.open_faces.push(nf);
                 out.open_face_rays.push([first, last]);
             } else if foreign {
                 fv.truncate(v0);
@@ -738,15 +744,16 @@ fn face_pass(
                 continue;
             }
             ends.push(bv + fv.len() as u32);
-            edge_ends.push(be + fe.len() as u32);
-            out.faces.push(FaceInfo3 { sites: [a, b] });
+            sites.push([a, b]);
+            nf += 1;
         }
     }
     wv.extend(&fv);
     we.extend(&fe);
     wo.extend(&ends);
-    weo.extend(&edge_ends);
-    out.wins = [wv.done(), we.done(), wo.done(), weo.done()];
+    ws.extend(&sites);
+    out.wins = [wv.done(), we.done(), wo.done()];
+    out.sites = ws.done();
     out
 }
 
@@ -1350,9 +1357,9 @@ impl Voronoi3 {
                 len * 3 / 2 + 256
             }
         };
-        // `starts[j][i]`: where chunk i writes in array j (the offsets
-        // arrays keep a leading 0).
-        let first = [0usize, 0, 1, 1];
+        // `starts[j][i]`: where chunk i writes in array j (the face ends,
+        // j = 2, keep a leading 0; j = 3 are the faces' sites).
+        let first = [0usize, 0, 1, 0];
         let starts: Vec<Vec<usize>> = (0..4)
             .map(|j| {
                 let mut at = first[j];
@@ -1365,7 +1372,8 @@ impl Voronoi3 {
                 v
             })
             .collect();
-        let mut arrays: Vec<Vec<u32>> = starts.iter().map(|s| vec![0u32; s[m]]).collect();
+        let mut arrays: Vec<Vec<u32>> = starts[..3].iter().map(|s| vec![0u32; s[m]]).collect();
+        let mut site_array = vec![[0u32; 2]; starts[3][m]];
         let mut wins: Vec<Vec<&mut [u32]>> = arrays
             .iter_mut()
             .zip(&starts)
@@ -1375,11 +1383,14 @@ impl Voronoi3 {
                 split_mut(&mut a[f..], &rel)
             })
             .collect();
-        let mut tasks: Vec<Wins> = Vec::with_capacity(m);
+        let mut site_wins = split_mut(&mut site_array, &starts[3]).into_iter();
+        let mut tasks: Vec<(Wins, &mut [[u32; 2]])> = Vec::with_capacity(m);
         for _ in 0..m {
-            tasks.push(std::array::from_fn(|j| wins[j].remove(0)));
+            let w: Wins = std::array::from_fn(|j| wins[j].remove(0));
+            tasks.push((w, site_wins.next().unwrap_or_default()));
         }
         drop(wins);
+        drop(site_wins);
         let face_parts: Vec<FacePart> = run_dynamic(k, tasks, |i, w| {
             face_pass(points, recs, (pre, top), aux, perm, fb[i], fb[i + 1], w)
         })
@@ -1393,16 +1404,20 @@ impl Voronoi3 {
         } = edge_part.unwrap_or_default();
         ph.lap("faces");
         // The parts put together: the four arrays compacted in place (on
-        // up to k threads), the faces and open faces appended.
+        // up to k threads; the sites then become the faces in place, same
+        // size and alignment), the open faces appended.
         let mut adds = vec![vec![0u32; m]; 4];
-        let (mut bv, mut be) = (0u32, 0u32);
+        let (mut bv, mut bf) = (0u32, 0u32);
+        let mut open_faces = Vec::new();
+        let mut open_face_rays = Vec::new();
         for (i, x) in face_parts.iter().enumerate() {
             adds[2][i] = bv;
-            adds[3][i] = be;
             bv = bv.wrapping_add(x.wins[0].0 as u32);
-            be = be.wrapping_add(x.wins[1].0 as u32);
+            open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
+            open_face_rays.extend_from_slice(&x.open_face_rays);
+            bf = bf.wrapping_add(x.sites.0 as u32);
         }
-        let parts: Vec<Vec<(usize, Vec<u32>)>> = (0..4)
+        let parts: Vec<Vec<(usize, Vec<u32>)>> = (0..3)
             .map(|j| {
                 face_parts
                     .iter()
@@ -1410,31 +1425,30 @@ impl Voronoi3 {
                     .collect()
             })
             .collect();
-        let jobs: Vec<(usize, Vec<u32>)> = arrays.into_iter().enumerate().collect();
-        let mut joined = run_dynamic(k, jobs, |_, (j, a)| {
-            compact(a, first[j], &starts[j][..m], &parts[j], &adds[j])
+        let site_parts: Vec<(usize, Vec<[u32; 2]>)> =
+            face_parts.into_iter().map(|x| x.sites).collect();
+        enum Join {
+            Ids(usize, Vec<u32>),
+            Sites(Vec<[u32; 2]>),
+        }
+        let jobs: Vec<Join> = std::iter::once(Join::Sites(site_array))
+            .chain(arrays.into_iter().enumerate().map(|(j, a)| Join::Ids(j, a)))
+            .collect();
+        let mut joined = run_dynamic(k, jobs, |_, job| match job {
+            Join::Ids(j, a) => {
+                let add = |x: u32, d: u32| x.wrapping_add(d);
+                (compact(a, first[j], &starts[j][..m], &parts[j], &adds[j], add), vec![])
+            }
+            Join::Sites(a) => {
+                let a = compact(a, 0, &starts[3][..m], &site_parts, &adds[3], |x, _| x);
+                (vec![], a.into_iter().map(|sites| FaceInfo3 { sites }).collect())
+            }
         })
         .into_iter()
         .map(|x| x.unwrap_or_default());
-        let mut next = || joined.next().unwrap_or_default();
-        let (face_vertices, face_edge_ids, face_offsets, face_edge_offsets) =
-            (next(), next(), next(), next());
-        let nf: usize = face_parts.iter().map(|x| x.faces.len()).sum();
-        let mut face_parts = face_parts.into_iter();
-        // The first part's vectors are the base (grown, not copied).
-        let FacePart {
-            mut faces,
-            mut open_faces,
-            mut open_face_rays,
-            ..
-        } = face_parts.next().unwrap_or_default();
-        faces.reserve_exact(nf - faces.len());
-        for x in face_parts {
-            let bf = faces.len() as u32;
-            faces.extend_from_slice(&x.faces);
-            open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
-            open_face_rays.extend_from_slice(&x.open_face_rays);
-        }
+        let faces: Vec<FaceInfo3> = joined.next().unwrap_or_default().1;
+        let mut next = || joined.next().unwrap_or_default().0;
+        let (face_vertices, face_edge_ids, face_offsets) = (next(), next(), next());
         ph.lap("join");
         let mut unbounded = vec![false; n];
         for &r in &ray_edges {
@@ -1490,7 +1504,6 @@ impl Voronoi3 {
             open_face_rays,
             face_offsets,
             face_vertices,
-            face_edge_offsets,
             face_edge_ids,
             cell_offsets,
             cell_face_ids,
@@ -1538,18 +1551,52 @@ impl Voronoi3 {
     /// ```
     pub fn face(&self, f: usize) -> Face3<'_> {
         let info = self.faces[f];
+        let (lo, hi) = (
+            self.face_offsets[f] as usize,
+            self.face_offsets[f + 1] as usize,
+        );
+        // `k` unbounded faces before f: the edges start k further on (one
+        // more edge than vertices in each), and f has one more if open.
+        let (k, rays) = match self.open_faces.binary_search(&(f as u32)) {
+            Ok(k) => (k, Some(self.open_face_rays[k])),
+            Err(k) => (k, None),
+        };
         Face3 {
             sites: info.sites,
-            vertices: &self.face_vertices
-                [self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize],
-            rays: self
-                .open_faces
-                .binary_search(&(f as u32))
-                .ok()
-                .map(|k| self.open_face_rays[k]),
-            edges: &self.face_edge_ids
-                [self.face_edge_offsets[f] as usize..self.face_edge_offsets[f + 1] as usize],
+            vertices: &self.face_vertices[lo..hi],
+            rays,
+            edges: &self.face_edge_ids[lo + k..hi + k + usize::from(rays.is_some())],
         }
+    }
+
+    /// The offsets of the faces' edges in [`Voronoi3::face_edge_ids`]:
+    /// entries `[f]..[f + 1]` are the edges of face `f` (one leading `0`,
+    /// one entry per face after it). Computed (`face_offsets[f]` plus the
+    /// number of unbounded faces before `f`), not stored.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
+    /// let o = v.face_edge_offsets();
+    /// assert_eq!(o.len(), v.faces.len() + 1);
+    /// assert_eq!(*o.last().unwrap() as usize, v.face_edge_ids.len());
+    /// for f in 0..v.faces.len() {
+    ///     assert_eq!(&v.face_edge_ids[o[f] as usize..o[f + 1] as usize], v.face(f).edges);
+    /// }
+    /// ```
+    pub fn face_edge_offsets(&self) -> Vec<u32> {
+        let mut open = self.open_faces.iter().peekable();
+        let mut k = 0u32;
+        let mut out = Vec::with_capacity(self.face_offsets.len());
+        out.extend(self.face_offsets.first().copied());
+        for (f, &o) in self.face_offsets.iter().enumerate().skip(1) {
+            if open.next_if(|&&x| x as usize == f - 1).is_some() {
+                k += 1;
+            }
+            out.push(o + k);
+        }
+        out
     }
 
     fn rep(&self, p: usize) -> usize {
