@@ -94,7 +94,7 @@ fn tetgen_v_files() {
     delone_io::write_voronoi_face(
         &mut face,
         &cells,
-        &v.face_edge_offsets,
+        &v.face_edge_offsets(),
         &v.face_edge_ids,
         v.edges.len(),
         0,

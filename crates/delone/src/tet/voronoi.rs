@@ -1234,15 +1234,18 @@ impl Voronoi3 {
         // new`, a stable counting sort of the keys, each chunk placing its
         // own tetrahedra.
         let perm: Vec<u32> = if let Some(g) = &grid {
-            let mut start = vec![vec![0u32; g.keys()]; ma];
+            // The histograms become the start positions in place.
+            let mut start = hist;
             let mut at = 0u32;
             for c in 0..g.keys() {
-                for i in 0..ma {
-                    start[i][c] = at;
-                    at += hist[i][c];
+                for h in start.iter_mut() {
+                    let x = h.get(c).copied().unwrap_or(0);
+                    if let Some(y) = h.get_mut(c) {
+                        *y = at;
+                    }
+                    at += x;
                 }
             }
-            drop(hist);
             let jobs: Vec<_> = split_mut(&mut inv, &ab).into_iter().zip(start).collect();
             run_dynamic(k, jobs, |_, (kc, mut st)| {
                 for x in kc.iter_mut() {
@@ -1269,12 +1272,18 @@ impl Voronoi3 {
         let inv = &inv;
         // The records, zeroed by the system (no fill: the pass below writes
         // every one), from a 32-byte boundary: the allocator gives 16-byte
-        // alignment, so one spare 16-byte row lets the table start at the
+        // alignment, so a spare row of 8 words lets the table start at the
         // next multiple of 32 (the address only places the table; the
         // result does not depend on it).
-        let mut rec_rows = vec![[0u32; 4]; 2 * nt + 1];
-        let off = (rec_rows.as_ptr() as usize >> 4) & 1;
-        let recs: &mut [Rec] = rec_rows[off..off + 2 * nt].as_chunks_mut::<2>().0;
+        // A flat `u32` table, so that its pages, once the walks are done,
+        // hold the cells' face ids (`cell_face_ids`: no fresh pages).
+        let mut rec_words = vec![0u32; 8 * nt + 8];
+        let off = ((rec_words.as_ptr() as usize).wrapping_neg() & 31) / 4;
+        let recs: &mut [Rec] = rec_words[off..off + 8 * nt]
+            .as_chunks_mut::<4>()
+            .0
+            .as_chunks_mut::<2>()
+            .0;
         // As `m` tasks (`run_dynamic`: a thread slowed down by others
         // takes fewer).
         let jobs: Vec<_> = split_mut(&mut *recs, &fb)
@@ -1316,7 +1325,8 @@ impl Voronoi3 {
         // threads stay busy here and the face tasks below are all alike.
         // The `aux` tasks are the chunks of the records.
         let mut aux = vec![0u16; nt];
-        let perm = &perm[..];
+        let perm_vec = perm;
+        let perm = &perm_vec[..];
         let jobs: Vec<_> = std::iter::once(None)
             .chain(
                 split_mut(&mut pre, &fb)
@@ -1349,10 +1359,13 @@ impl Voronoi3 {
         let top = total.saturating_sub(1) as u32;
         // Window sizes per tetrahedron: 6 face vertices and 6 face edges
         // (one more per open face); about 7/6 faces (Euler, random points).
+        // The first chunk takes the rings across its seam: about 1% more at
+        // 200k points in 4 chunks (a spill makes the join copy the whole
+        // array into fresh pages), hence 1/4 of slack (untouched, free).
         let wsize = |j: usize, i: usize| {
             let len = fb[i + 1] - fb[i];
             if j < 2 {
-                6 * len + len / 8 + 256
+                6 * len + len / 4 + 1024
             } else {
                 len * 3 / 2 + 256
             }
@@ -1459,7 +1472,11 @@ impl Voronoi3 {
         // D. Cells: the faces around each site, a counting sort; each
         // thread takes a range of sites (scanning all faces).
         let sb: Vec<usize> = (0..=k).map(|i| n * i / k).collect();
-        let mut count = vec![0u32; n + 1];
+        // In the pages of `perm` (no fresh pages; zeroed).
+        let mut count = perm_vec;
+        count.clear();
+        count.resize(n + 1, 0);
+        count.shrink_to_fit();
         let fs = &faces[..];
         run_all(split_mut(&mut count[1..], &sb), |i, cc| {
             let (lo, len) = (sb[i], cc.len());
@@ -1476,7 +1493,11 @@ impl Voronoi3 {
             count[i + 1] += count[i];
         }
         let cell_offsets = count;
-        let mut cell_face_ids = vec![0u32; *cell_offsets.last().unwrap_or(&0) as usize];
+        // In the pages of the records: every entry is written below (each
+        // site's range gets exactly as many faces as were counted for it).
+        let mut cell_face_ids = rec_words;
+        cell_face_ids.resize(*cell_offsets.last().unwrap_or(&0) as usize, 0);
+        cell_face_ids.shrink_to_fit();
         let cb: Vec<usize> = sb.iter().map(|&s| cell_offsets[s] as usize).collect();
         let cell_offsets_ref = &cell_offsets;
         run_all(split_mut(&mut cell_face_ids, &cb), |i, out| {
