@@ -453,16 +453,18 @@ struct EdgePart {
     ray_directions: Vec<[f64; 3]>,
 }
 
-/// Turns the per-tetrahedron prefix counts `pre` of the chunk
-/// `lo..lo + pre.len()` (relative to the chunk) into global ones, adding
-/// `base`, and fills the chunk's `aux` words: the mirror slots (see
-/// `mirror`) and owned-facet ranks (see `facet_id`). The owned facets of a
-/// tetrahedron are those whose other tetrahedron comes later (hull facets
-/// too, as `NONE` is the largest id); the owned facet `(t, f)` is edge
-/// `pre[t]` + the number of owned facets of `t` before `f`.
+/// Fills the per-tetrahedron prefix counts `pre` of the chunk
+/// `lo..lo + pre.len()` (the number of owned facets before each
+/// tetrahedron, from `base` at the chunk's first) and the chunk's `aux`
+/// words: the mirror slots (see `mirror`) and owned-facet ranks (see
+/// `facet_id`). The owned facets of a tetrahedron are those whose other
+/// tetrahedron comes later (hull facets too, as `NONE` is the largest id);
+/// the owned facet `(t, f)` is edge `pre[t]` + the number of owned facets of
+/// `t` before `f`.
 fn aux_pass(recs: &[Rec], pre: &mut [u32], aux: &mut [u16], lo: usize, base: usize) {
+    let mut at = base as u32;
     for (j, (x, ax)) in pre.iter_mut().zip(aux.iter_mut()).enumerate() {
-        *x += base as u32;
+        *x = at;
         let t = lo + j;
         let c = &recs[t];
         // The slot in each neighbour of the vertex off the shared facet
@@ -475,6 +477,7 @@ fn aux_pass(recs: &[Rec], pre: &mut [u32], aux: &mut [u16], lo: usize, base: usi
         }
         // The rank of each slot's facet among the owned ones, 2 bits each.
         let own = owned_mask(c, t as u32);
+        at += own.count_ones();
         for f in 1..4 {
             m |= ((own & ((1 << f) - 1)).count_ones() as u16) << (8 + 2 * f);
         }
@@ -819,10 +822,12 @@ impl Grid {
         for i in 0..3 {
             // max and min, not clamp (cheaper: no range assertion, no NaN
             // case): the same key, a NaN going to cell 0 either way.
+            // `as i32`: a shorter conversion than `as usize` (no unsigned
+            // conversion on x86-64), the same value in `0..cells`.
             let c = ((q[i] - self.lo[i]) * self.scale[i])
                 .max(0.0)
-                .min(self.cells - 1.0) as usize;
-            key |= self.spread[c & 63] << i;
+                .min(self.cells - 1.0) as i32;
+            key |= self.spread[(c & 63) as usize] << i;
         }
         key
     }
@@ -1266,10 +1271,7 @@ impl Voronoi3 {
         // Records (chunk by chunk of the walk order); per chunk the facets
         // it will number (hull facets and those whose neighbour comes
         // later).
-        // Per tetrahedron, the number of owned facets before it (first in
-        // its chunk; `aux_pass` adds the chunk's base).
-        let mut pre = vec![0u32; nt];
-        let inv = &inv;
+        let inv_ref = &inv;
         // The records, zeroed by the system (no fill: the pass below writes
         // every one), from a 32-byte boundary: the allocator gives 16-byte
         // alignment, so a spare row of 8 words lets the table start at the
@@ -1286,22 +1288,18 @@ impl Voronoi3 {
             .0;
         // As `m` tasks (`run_dynamic`: a thread slowed down by others
         // takes fewer).
-        let jobs: Vec<_> = split_mut(&mut *recs, &fb)
-            .into_iter()
-            .zip(split_mut(&mut pre, &fb))
-            .collect();
-        let owned: Vec<usize> = run_dynamic(k, jobs, |i, (rc, pc)| {
+        let jobs: Vec<_> = split_mut(&mut *recs, &fb);
+        let owned: Vec<usize> = run_dynamic(k, jobs, |i, rc| {
             let lo = fb[i];
             let mut owned = 0;
-            for (j, (r, x)) in rc.iter_mut().zip(pc.iter_mut()).enumerate() {
-                *x = owned as u32;
+            for (j, r) in rc.iter_mut().enumerate() {
                 let t = lo + j;
                 let old = perm[t] as usize;
                 let nb = mesh.neighbors[old];
-                let nb = if inv.is_empty() {
+                let nb = if inv_ref.is_empty() {
                     nb
                 } else {
-                    nb.map(|u| if u == NONE { NONE } else { inv[u as usize] })
+                    nb.map(|u| if u == NONE { NONE } else { inv_ref[u as usize] })
                 };
                 owned += nb.iter().filter(|&&u| u > t as u32).count();
                 *r = [tets[old], nb];
@@ -1312,6 +1310,11 @@ impl Voronoi3 {
         .map(|x| x.unwrap_or(0))
         .collect();
         let recs = &*recs;
+        // Per tetrahedron, the number of owned facets before it (filled by
+        // `aux_pass`), in the pages of `inv` (no fresh pages: every entry
+        // is written).
+        let mut pre = inv;
+        pre.resize(nt, 0);
         ph.lap("records");
         // B. Global prefix counts of the owned facets and the `aux` words
         // (mirror slots and ranks) for the walks.
