@@ -412,11 +412,7 @@ fn compact<T: Copy>(
         let mut out = a[..first].to_vec();
         for (i, (len, spill)) in parts.iter().enumerate() {
             let m = (*len).min(win(i));
-            out.extend(
-                a[starts[i]..starts[i] + m]
-                    .iter()
-                    .map(|&x| plus(x, add[i])),
-            );
+            out.extend(a[starts[i]..starts[i] + m].iter().map(|&x| plus(x, add[i])));
             out.extend(spill.iter().map(|&x| plus(x, add[i])));
         }
         return out;
@@ -1082,14 +1078,17 @@ impl Voronoi3 {
     ///   earlier chunk — by the lowest tetrahedron of its ring, as with one
     ///   chunk. A walk step tracks the slots of the two vertices off the
     ///   edge: the mirror slot gives one, one slot lookup (`pos`) the other.
-    ///   Each chunk writes its face vertices, face edges and face ends into
-    ///   its window of four shared calloc'ed arrays (sized from the chunk's
-    ///   share of the tetrahedra, with slack; untouched pages cost nothing),
-    ///   staged in small buffers so the walk loop keeps pushing;
+    ///   Each chunk writes its face vertices, face edges, face ends and
+    ///   face sites into its window of four shared calloc'ed arrays (sized
+    ///   from the chunk's share of the tetrahedra, with slack; untouched
+    ///   pages cost nothing), staged in small buffers so the walk loop keeps
+    ///   pushing;
     /// * D — the windows compacted in place (`compact`; a chunk that
-    ///   overflowed its window spills, and then the join copies), the other
-    ///   face arrays appended, then the cells by a counting sort of the
-    ///   faces by site, each thread a range of sites.
+    ///   overflowed its window spills, and then the join copies), the sites
+    ///   turned into the faces in place (same size and alignment), the open
+    ///   faces appended, then the cells by a counting sort of the faces by
+    ///   site, each thread a range of sites, written into the pages of the
+    ///   records (`cell_face_ids`) and of `perm` (`cell_offsets`).
     ///
     /// Every part is written in chunk order and numbered from the sizes of
     /// the earlier chunks, so for a valid mesh the result is the same bit
@@ -1165,10 +1164,29 @@ impl Voronoi3 {
     /// slower (1.945G -> 2.227G instructions at 200k points, one thread);
     /// about even in wall time on the loaded development machine.
     ///
-    /// Where the time goes besides: at 1M points the extraction touches
-    /// about 1.33 GB of fresh pages (`voronoi_timing` prints it), 0.9 GB of
-    /// them the output itself; every first touch of a page is a page fault,
-    /// about 0.5 s of system time per GB on the development machine.
+    /// Where the time goes besides: at 1M points the extraction touched
+    /// about 1.28 GB of fresh pages in session 7 (`voronoi_timing` prints
+    /// it), 0.95 GB of them the output itself; every first touch of a page
+    /// is a page fault, about 0.5 s of system time per GB on the development
+    /// machine.
+    ///
+    /// Session 8 (same output, same digests): fewer fresh pages, 1278 MB ->
+    /// 1197 MB at 1M points on two threads (251 -> 227 MB at 200k points on
+    /// one thread, 345 -> 242 MB on two): `face_edge_offsets` is no longer
+    /// stored (31 MB; [`Voronoi3::face`] derives it from `face_offsets` and
+    /// the open faces before), the faces' sites go to calloc'ed windows like
+    /// the other face arrays and become the faces in place (before: per-chunk
+    /// vectors appended in the join, the appended part in fresh pages), the
+    /// cells' arrays and the prefix counts live in the pages of scratch
+    /// tables already dead (the records, `perm`, `inv`), the key histograms
+    /// become the sort's start positions in place, and the face windows have
+    /// 1/24 of slack instead of 1/48: at 200k points on two threads the first
+    /// chunk (which takes the rings across its seam) overflowed by about 1%
+    /// and the join then copied both 6-per-tetrahedron arrays into fresh
+    /// pages. Output: 950 MB -> 920 MB at 1M points. Instructions (200k
+    /// points, one thread, callgrind): 1.920G -> 1.929G (the sites' staging
+    /// copies; the Morton cell by an `i32` conversion and the prefix counts
+    /// filled by `aux_pass` save some back).
     fn build(
         points: &[[f64; 3]],
         weights: &[f64],
@@ -1453,11 +1471,17 @@ impl Voronoi3 {
         let mut joined = run_dynamic(k, jobs, |_, job| match job {
             Join::Ids(j, a) => {
                 let add = |x: u32, d: u32| x.wrapping_add(d);
-                (compact(a, first[j], &starts[j][..m], &parts[j], &adds[j], add), vec![])
+                (
+                    compact(a, first[j], &starts[j][..m], &parts[j], &adds[j], add),
+                    vec![],
+                )
             }
             Join::Sites(a) => {
                 let a = compact(a, 0, &starts[3][..m], &site_parts, &adds[3], |x, _| x);
-                (vec![], a.into_iter().map(|sites| FaceInfo3 { sites }).collect())
+                (
+                    vec![],
+                    a.into_iter().map(|sites| FaceInfo3 { sites }).collect(),
+                )
             }
         })
         .into_iter()
