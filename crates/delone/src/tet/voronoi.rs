@@ -2100,7 +2100,14 @@ mod tests {
             w.extend(&part[part.len() / 2..]);
             written.push(w.done());
         }
-        let got = compact(a, first, &starts[..wins.len()], &written, add);
+        let got = compact(
+            a,
+            first,
+            &starts[..wins.len()],
+            &written,
+            add,
+            u32::wrapping_add,
+        );
         let mut want = vec![0u32; first];
         for (p, &d) in parts.iter().zip(add) {
             want.extend(p.iter().map(|&x| x + d));
