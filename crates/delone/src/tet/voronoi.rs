@@ -1331,8 +1331,8 @@ impl Voronoi3 {
         // Per tetrahedron, the number of owned facets before it (filled by
         // `aux_pass`), in the pages of `inv` (no fresh pages: every entry
         // is written).
-        let mut pre = inv;
-        pre.resize(nt, 0);
+        let mut pre_vec = inv;
+        pre_vec.resize(nt, 0);
         ph.lap("records");
         // B. Global prefix counts of the owned facets and the `aux` words
         // (mirror slots and ranks) for the walks.
@@ -1350,7 +1350,7 @@ impl Voronoi3 {
         let perm = &perm_vec[..];
         let jobs: Vec<_> = std::iter::once(None)
             .chain(
-                split_mut(&mut pre, &fb)
+                split_mut(&mut pre_vec, &fb)
                     .into_iter()
                     .zip(split_mut(&mut aux, &fb))
                     .map(Some),
@@ -1375,7 +1375,7 @@ impl Voronoi3 {
         // the four shared arrays (calloc'ed: untouched slack costs nothing),
         // sized from its share of the tetrahedra with slack; what does not
         // fit spills (then the join copies).
-        let pre = &pre[..];
+        let pre = &pre_vec[..];
         let aux = &aux[..];
         let top = total.saturating_sub(1) as u32;
         // Window sizes per tetrahedron: 6 face vertices and 6 face edges
@@ -1496,26 +1496,40 @@ impl Voronoi3 {
                 unbounded[s as usize] = true;
             }
         }
-        // D. Cells: the faces around each site, a counting sort; each
-        // thread takes a range of sites (scanning all faces).
+        // D. Cells: the faces around each site, a counting sort. Each
+        // thread counts the sites of a range of faces (the first in the
+        // pages of the prefix counts, dead now), the counts are summed, then
+        // each thread fills a range of sites (scanning all faces).
         let sb: Vec<usize> = (0..=k).map(|i| n * i / k).collect();
+        let nf = faces.len();
+        let fsb: Vec<usize> = (0..=k).map(|i| nf * i / k).collect();
+        let fs = &faces[..];
+        let mut first_count = Some(pre_vec);
+        let items: Vec<Option<Vec<u32>>> = (0..k).map(|_| first_count.take()).collect();
+        let site_counts = run_all(items, |i, c| {
+            // One spare counter at `n` (only an invalid mesh has a site
+            // beyond: then it is not counted, as before).
+            let mut c = c.unwrap_or_default();
+            c.clear();
+            c.resize(n + 1, 0);
+            for f in &fs[fsb[i]..fsb[i + 1]] {
+                for &s in &f.sites {
+                    c[(s as usize).min(n)] += 1;
+                }
+            }
+            c
+        });
         // In the pages of `perm` (no fresh pages; zeroed).
         let mut count = perm_vec;
         count.clear();
         count.resize(n + 1, 0);
         count.shrink_to_fit();
-        let fs = &faces[..];
-        run_all(split_mut(&mut count[1..], &sb), |i, cc| {
-            let (lo, len) = (sb[i], cc.len());
-            // One spare counter at `len` for the sites of other ranges.
-            let mut c = vec![0u32; len + 1];
-            for f in fs {
-                for &s in &f.sites {
-                    c[(s as usize).wrapping_sub(lo).min(len)] += 1;
-                }
+        for c in &site_counts {
+            for (x, &y) in count[1..].iter_mut().zip(c) {
+                *x += y;
             }
-            cc.copy_from_slice(&c[..len]);
-        });
+        }
+        drop(site_counts);
         for i in 0..n {
             count[i + 1] += count[i];
         }
