@@ -6,7 +6,8 @@
 //! `--threads N`: the extraction's thread count (default: the available
 //! parallelism, at most 8, in 3D; two in 2D). `--phases` (3D): also the
 //! wall time of each phase of the extraction; `--hash`: a digest of
-//! the whole diagram (to compare versions bit for bit). `--regular`: times
+//! the whole diagram (to compare versions bit for bit). 3D also prints the
+//! bytes of the diagram's arrays and the fresh pages each extraction touches. `--regular`: times
 //! the regular (weighted) triangulation against the unweighted one instead,
 //! weights uniform in `[0, n^(-2/d))` (the squared point spacing). Wall times are the best of the
 //! repeats; CPU times (user + system, all threads) cover all repeats.
