@@ -57,22 +57,28 @@ pub const SMALL: usize = 200_000;
 /// run instead of being repeated.
 pub const SLOW: f64 = 2.0;
 
-/// CPU time of the calling thread in seconds (`/proc/thread-self/schedstat`,
-/// nanoseconds), or `None` where unavailable. The 3D surface cases compare
-/// with TetGen's printed phase seconds, which are CPU time (`clock()`): on a
-/// busy machine wall time would charge delone for the other processes.
-fn thread_cpu_seconds() -> Option<f64> {
-    thread_cpu_ns().map(|ns| ns as f64 * 1e-9)
+/// CPU time of the whole process in seconds, all threads together
+/// (including threads that have already ended), or `None` where
+/// unavailable. The 3D surface cases compare with TetGen's printed phase
+/// seconds, which are CPU time (`clock()`) of a single-threaded program: on
+/// a busy machine wall time would charge delone for the other processes,
+/// and the calling thread's time alone would hide the work delone does on
+/// its other threads.
+fn process_cpu_seconds() -> Option<f64> {
+    cpu_time::ProcessTime::try_now()
+        .ok()
+        .map(|t| t.as_duration().as_secs_f64())
 }
 
-/// Measures `f`: CPU seconds of this thread when available, else wall.
-fn cpu_timed<R>(f: impl FnOnce() -> R) -> (R, f64) {
-    let (c0, t) = (thread_cpu_seconds(), Instant::now());
+/// Measures `f`: CPU seconds of the whole process (all threads) when
+/// available, else wall; and the wall seconds.
+fn cpu_timed<R>(f: impl FnOnce() -> R) -> (R, f64, f64) {
+    let (c0, t) = (process_cpu_seconds(), Instant::now());
     let r = f();
     let wall = t.elapsed().as_secs_f64();
-    match (c0, thread_cpu_seconds()) {
-        (Some(a), Some(b)) => (r, b - a),
-        _ => (r, wall),
+    match (c0, process_cpu_seconds()) {
+        (Some(a), Some(b)) => (r, b - a, wall),
+        _ => (r, wall, wall),
     }
 }
 
@@ -315,7 +321,7 @@ fn run_surf(
                 ..RecoverOptions::default()
             };
             on_ready();
-            let (r, seconds) = cpu_timed(|| recover(black_box(p), black_box(tris), &opts));
+            let (r, seconds, wall) = cpu_timed(|| recover(black_box(p), black_box(tris), &opts));
             let r = r.map_err(|e| e.to_string())?;
             let m = &r.mesh;
             let hash = hash_u32s(
@@ -331,7 +337,7 @@ fn run_surf(
                 elements: m.tets.len(),
                 hash: Some(hash),
                 valid,
-                info: format!("steiner={}", r.report.steiner()),
+                info: format!("steiner={},wall={wall:.3}", r.report.steiner()),
                 external_peak_kb: None,
             })
         }
@@ -438,7 +444,7 @@ fn run_surfq(
             on_ready();
             // `-pqB` optimises by default (`-O`), as the CLI does: see
             // `delone_quality`.
-            let (r, seconds) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
+            let (r, seconds, wall) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
             let r = r?;
             let m = &r.rec.mesh;
             let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
@@ -450,7 +456,7 @@ fn run_surfq(
                 hash: Some(hash),
                 valid,
                 info: format!(
-                    "steiner={} mindih={:.2} bad={}",
+                    "steiner={} mindih={:.2} bad={} wall={wall:.3}",
                     r.rec.report.steiner() + r.report.steiner(),
                     s.min_dihedral,
                     r.report.remaining_bad
