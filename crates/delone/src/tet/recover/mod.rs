@@ -2087,11 +2087,13 @@ impl State {
             let sk = Skeleton::of(dt, true);
             self.surf.coverage(&sk, dt.points()).0
         });
-        let face_tri: IdMap<[u32; 3], u32> = on
-            .iter()
-            .enumerate()
-            .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
-            .collect();
+        // Face key -> input triangle (the last one listing it).
+        let face_tri = surface::TripleIndex::new(
+            dt.points().len(),
+            on.iter()
+                .enumerate()
+                .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32))),
+        );
         let core = &dt.core;
         // Per slot and face: the input triangle it lies on (one lookup per
         // face, then flags instead of hashing in carving and output).
@@ -2110,7 +2112,7 @@ impl State {
                 if k.contains(&INF) {
                     continue;
                 }
-                if let Some(&ti) = face_tri.get(&k) {
+                if let Some(ti) = face_tri.get(&k).last() {
                     marks[t][f] = ti;
                     marks[u][g] = ti;
                 }
