@@ -6,7 +6,9 @@
 //!
 //! 1. **validation** — indices, coordinates, degenerate triangles and exact
 //!    self-intersections ([`super::intersect::check_self_intersections`]),
-//!    closedness ([`super::intersect::manifold_report`]);
+//!    closedness ([`super::intersect::manifold_report`]) — for large inputs
+//!    on a second thread while step 2 builds the Delaunay
+//!    tetrahedralization (its verdict is checked first: same errors);
 //! 2. **Delaunay** tetrahedralization of the surface vertices
 //!    ([`super::Delaunay3`]); then, with [`RecoverOptions::merge_coplanar`],
 //!    groups of coplanar input triangles are re-triangulated using the
