@@ -176,6 +176,88 @@ fn invalid_input_gives_typed_errors() {
     ));
 }
 
+/// The surface of the box `[0, k]^3`, each side a `k` by `k` grid of
+/// squares, two triangles each (`12 k^2` triangles).
+fn grid_cube(k: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    let mut id = std::collections::BTreeMap::new();
+    let mut tris = Vec::new();
+    let mut at = |p: [u32; 3], pts: &mut Vec<[f64; 3]>| {
+        *id.entry(p).or_insert_with(|| {
+            pts.push(p.map(f64::from));
+            (pts.len() - 1) as u32
+        })
+    };
+    for axis in 0..3 {
+        for side in [0, k] {
+            for i in 0..k {
+                for j in 0..k {
+                    let q = |a: u32, b: u32| {
+                        let mut p = [0; 3];
+                        p[axis] = side;
+                        p[(axis + 1) % 3] = a;
+                        p[(axis + 2) % 3] = b;
+                        p
+                    };
+                    let v = [q(i, j), q(i + 1, j), q(i + 1, j + 1), q(i, j + 1)]
+                        .map(|p| at(p, &mut pts));
+                    if side == 0 {
+                        tris.extend([[v[0], v[2], v[1]], [v[0], v[3], v[2]]]);
+                    } else {
+                        tris.extend([[v[0], v[1], v[2]], [v[0], v[2], v[3]]]);
+                    }
+                }
+            }
+        }
+    }
+    (pts, tris)
+}
+
+/// Inputs large enough to be validated on a second thread while the
+/// Delaunay tetrahedralization is built give the errors of the sequential
+/// checks.
+#[test]
+fn large_invalid_inputs_give_the_sequential_errors() {
+    let (pts, tris) = grid_cube(19);
+    assert!(tris.len() >= 4096);
+    assert_eq!(
+        delone::tet::intersect::check_self_intersections(&pts, &tris),
+        Ok(())
+    );
+    let opts = RecoverOptions::default();
+    // A repeated triangle: a self-intersection.
+    let mut twice = tris.clone();
+    twice.push(tris[100]);
+    let want = delone::tet::intersect::check_self_intersections(&pts, &twice).unwrap_err();
+    assert!(matches!(want, delone::Error::SelfIntersection { .. }));
+    assert_eq!(
+        recover(&pts, &twice, &opts).unwrap_err(),
+        RecoverError::Input(want)
+    );
+    // A missing triangle: an open surface (three boundary edges).
+    let open = &tris[..tris.len() - 1];
+    match recover(&pts, open, &opts) {
+        Err(RecoverError::OpenSurface { count, .. }) => assert_eq!(count, 3),
+        other => panic!("expected OpenSurface, got {other:?}"),
+    }
+    // A bad index, and a bad coordinate.
+    let mut bad = tris.clone();
+    bad[4000][1] = pts.len() as u32;
+    assert!(matches!(
+        recover(&pts, &bad, &opts),
+        Err(RecoverError::Input(delone::Error::IndexOutOfRange {
+            index: 4000,
+            ..
+        }))
+    ));
+    let mut nan = pts.clone();
+    nan[tris[5][0] as usize][2] = f64::NAN;
+    assert!(matches!(
+        recover(&nan, &tris, &opts),
+        Err(RecoverError::Input(delone::Error::InvalidCoordinate { .. }))
+    ));
+}
+
 fn data_dir() -> Option<PathBuf> {
     let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     loop {

@@ -129,8 +129,9 @@ pub(crate) struct CMesh<'a> {
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
-    /// Finite faces (sorted triples) of the tetrahedra created or removed
-    /// since the last [`CMesh::take_touched`] (unsorted, with repeats).
+    /// Finite faces (sorted triples) removed or created by the
+    /// replacements since the last [`CMesh::take_touched`] (unsorted, with
+    /// repeats; at least one per replacement).
     touched: Vec<[u32; 3]>,
     /// Edge removals known to be impossible (rings of [`MEMO_RING`] or more
     /// vertices): `[a, b, ring…]` with the ring rotated to start at its
@@ -355,10 +356,11 @@ impl<'a> CMesh<'a> {
         true
     }
 
-    /// The finite faces (sorted triples; sorted, distinct) of the
-    /// tetrahedra created or removed since the previous call: every face
-    /// created or destroyed since then, and every face of a tetrahedron
-    /// created or destroyed since then, is in this list.
+    /// The finite faces (sorted triples; sorted, distinct) created or
+    /// destroyed by the replacements since the previous call; every
+    /// tetrahedron created or destroyed since then has a face in this list
+    /// (a replacement removes and creates two or more face-connected
+    /// tetrahedra, so each has a face inside it).
     #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
         let mut out = std::mem::take(&mut self.touched);
@@ -582,10 +584,17 @@ impl<'a> CMesh<'a> {
         let mut open = std::mem::take(&mut self.open);
         outer.clear();
         open.clear();
-        // Touched faces, each once per operation: the outer faces (shared
-        // by the removed and the created tetrahedra), the faces between two
-        // removed ones and those between two created ones (below).
+        // Touched faces, each once per operation: the faces between two
+        // removed tetrahedra and those between two created ones (below) —
+        // the faces that disappear or appear. The outer faces (shared by
+        // the removed and the created tetrahedra) stay; but every removed or
+        // created tetrahedron has a face inside the operation (both sets
+        // are connected and have two or more members), so a tetrahedron
+        // whose four vertices lie on some triangle is still seen through
+        // one of its faces.
         let finite = |k: &[u32; 3]| !k.contains(&INF);
+        let touched0 = self.touched.len();
+        let mut first_outer = None;
         {
             let c = &self.dt.core;
             for &t in old {
@@ -594,8 +603,8 @@ impl<'a> CMesh<'a> {
                     let w = c.adj[t as usize][f];
                     let k = fkey(face(tv, f));
                     if !old.contains(&(w >> 2)) {
-                        if finite(&k) {
-                            self.touched.push(k);
+                        if first_outer.is_none() && finite(&k) {
+                            first_outer = Some(k);
                         }
                         outer.push((k, w));
                     } else if w >> 2 > t && finite(&k) {
@@ -640,6 +649,13 @@ impl<'a> CMesh<'a> {
             outer.is_empty() && open.is_empty(),
             "replace: unmatched faces"
         );
+        // Every replacement logs at least one face (`touched_len` is a
+        // change stamp for callers).
+        if self.touched.len() == touched0 {
+            if let Some(k) = first_outer {
+                self.touched.push(k);
+            }
+        }
         self.outer = outer;
         self.open = open;
         if let Some(&x) = ids.first() {

@@ -338,11 +338,12 @@ pub(crate) fn crossing_edges(
     // `t`, which no crossing edge has), computed once: an edge can cross
     // only if its ends are strictly on opposite sides — the first test of
     // `place::crosses`, whose remaining three tests follow.
+    // Per vertex also whether it lies on `t` (2: on `t`, side 0).
     let mut side: IdMap<u32, i8> = IdMap::default();
     let mut side_of = |w: u32| -> i8 {
         *side.entry(w).or_insert_with(|| {
             if surf.on_triangle(w, t) {
-                0
+                2
             } else {
                 let o = orient3d(a, b, c, g(w));
                 i8::from(o > 0.0) - i8::from(o < 0.0)
@@ -365,8 +366,9 @@ pub(crate) fn crossing_edges(
         if xv[0] == DEAD || xv.contains(&INF) {
             continue;
         }
-        let touches = xv.iter().any(|&w| surf.on_triangle(w, t));
         let sides = xv.map(&mut side_of);
+        let touches = sides.contains(&2);
+        let sides = sides.map(|x| if x == 2 { 0 } else { x });
         let mut crossing = false;
         for (i, j) in TET_EDGES {
             if sides[i] * sides[j] >= 0 {

@@ -6,7 +6,9 @@
 //!
 //! 1. **validation** — indices, coordinates, degenerate triangles and exact
 //!    self-intersections ([`super::intersect::check_self_intersections`]),
-//!    closedness ([`super::intersect::manifold_report`]);
+//!    closedness ([`super::intersect::manifold_report`]) — for large inputs
+//!    on a second thread while step 2 builds the Delaunay
+//!    tetrahedralization (its verdict is checked first: same errors);
 //! 2. **Delaunay** tetrahedralization of the surface vertices
 //!    ([`super::Delaunay3`]); then, with [`RecoverOptions::merge_coplanar`],
 //!    groups of coplanar input triangles are re-triangulated using the
@@ -527,19 +529,9 @@ pub fn recover_marked(
             got: markers.len(),
         });
     }
-    check_self_intersections(points, triangles)?;
-    let man = manifold_report(triangles);
-    if !man.boundary_edges.is_empty() {
-        let mut bad: Vec<[u32; 2]> = man.boundary_edges.clone();
-        bad.sort_unstable();
-        return Err(RecoverError::OpenSurface {
-            edge: bad[0],
-            count: bad.len(),
-        });
-    }
     let (cow, scale) = crate::geom::rescaled(points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
-    let mut dt = Delaunay3::from_points(&scaled)?;
+    let mut dt = validate_and_build(points, triangles, &scaled)?;
     let mut used = vec![false; points.len()];
     for &w in triangles.iter().flatten() {
         used[w as usize] = true;
@@ -610,6 +602,56 @@ pub fn recover_marked(
     Ok(rec)
 }
 
+/// The input validation of [`recover_marked`]: exact self-intersections,
+/// then closedness.
+fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<(), RecoverError> {
+    check_self_intersections(points, triangles)?;
+    let man = manifold_report(triangles);
+    if !man.boundary_edges.is_empty() {
+        let mut bad: Vec<[u32; 2]> = man.boundary_edges.clone();
+        bad.sort_unstable();
+        return Err(RecoverError::OpenSurface {
+            edge: bad[0],
+            count: bad.len(),
+        });
+    }
+    Ok(())
+}
+
+/// Inputs with at least this many triangles are validated on a second
+/// thread (see [`validate_and_build`]).
+const PARALLEL_VALIDATION: usize = 4096;
+
+/// [`validate`] and the Delaunay tetrahedralization of `scaled` (the
+/// rescaled points). The Delaunay build needs only the points, so for
+/// large inputs ([`PARALLEL_VALIDATION`]) the validation runs on a second
+/// thread meanwhile (when one can be started; else one after the other).
+/// The validation's verdict is checked first, so the errors are those of
+/// running validation, then build; nothing depends on the threads.
+fn validate_and_build<'a>(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    scaled: &'a [[f64; 3]],
+) -> Result<Delaunay3<'a>, RecoverError> {
+    if triangles.len() >= PARALLEL_VALIDATION {
+        let both = std::thread::scope(|sc| {
+            let job = std::thread::Builder::new()
+                .name("delone-validate".into())
+                .spawn_scoped(sc, || validate(points, triangles))
+                .ok()?;
+            let built = Delaunay3::from_points(scaled);
+            let valid = job.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+            Some((valid, built))
+        });
+        if let Some((valid, built)) = both {
+            valid?;
+            return Ok(built?);
+        }
+    }
+    validate(points, triangles)?;
+    Ok(Delaunay3::from_points(scaled)?)
+}
+
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
 /// diametral ball of `u v` that sees it under the largest angle.
 fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
@@ -650,9 +692,18 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     best.map(|(_, q)| q)
 }
 
-/// Coverage is recomputed globally when more than one triangle in this
-/// many needs it (locally otherwise).
-const GLOBAL_FRACTION: usize = 16;
+/// Coverage is recomputed globally when the local recomputation of the
+/// triangles that need it would cost more than the global pass, with each
+/// input triangle's share of the global pass as unit
+/// ([`State::local_cost`]): a plain triangle costs about one unit (one
+/// face lookup in a vertex star), the others about [`LOCAL_COST`] (their
+/// vertices' stars). The global pass is chosen past `1 / GLOBAL_FRACTION`
+/// of its cost.
+const GLOBAL_FRACTION: usize = 2;
+
+/// Cost, in units of a plain triangle, of recomputing a triangle that is
+/// not plain, or belongs to a merged group, locally.
+const LOCAL_COST: usize = 8;
 
 /// Per input triangle, the mesh faces lying on it.
 type FacesOn = Vec<Vec<[u32; 3]>>;
@@ -1283,7 +1334,7 @@ impl State {
         }
         tris.sort_unstable();
         tris.dedup();
-        if tris.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+        if self.local_cost(&tris) * GLOBAL_FRACTION > self.surf.tris.len() {
             *prot = None;
         }
         // Items that may stop being protected: the faces on the triangles
@@ -1529,8 +1580,9 @@ impl State {
     /// Updates the coverage `on`, `covered` (exact for `cm` before the
     /// operations logged since the last [`CMesh::take_touched`]) for `cm`
     /// now: recomputes, locally, the triangles of `extra` and those on
-    /// which a face of a tetrahedron created or removed since lies (the
-    /// others kept every face and tetrahedron with its vertices on them).
+    /// which a face created or removed since lies (the others kept every
+    /// face and tetrahedron with its vertices on them: a tetrahedron
+    /// created or removed has such a face, [`CMesh::take_touched`]).
     fn refresh_coverage(
         &self,
         cm: &mut CMesh<'_>,
@@ -1561,14 +1613,16 @@ impl State {
             add(t, &mut cands);
         }
         let (mut out, mut flat) = (Vec::new(), Vec::new());
-        // Past this many candidates `recompute` goes global anyway: the
-        // rest of the logged faces need not be looked up.
+        // Past this cost `recompute` goes global anyway: the rest of the
+        // logged faces need not be looked up.
         let global = self.surf.tris.len() / GLOBAL_FRACTION + 1;
+        let mut cost = self.local_cost(&cands);
         for &f in &touched {
-            if cands.len() >= global {
+            if cost >= global {
                 break;
             }
             self.surf.face_triangles_split(f, &mut out, &mut flat);
+            let before = cands.len();
             for &t in out.iter().chain(&flat) {
                 add(t as usize, &mut cands);
             }
@@ -1577,6 +1631,7 @@ impl State {
                     add(self.poly.groups[g as usize].tris[0] as usize, &mut cands);
                 }
             }
+            cost += self.local_cost(&cands[before..]);
         }
         cands.sort_unstable();
         self.recompute(cm, &cands, on, covered);
@@ -1593,11 +1648,27 @@ impl State {
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
     ) {
-        if cands.len() * GLOBAL_FRACTION > self.surf.tris.len() {
+        if self.local_cost(cands) * GLOBAL_FRACTION > self.surf.tris.len() {
             self.coverage_all_into(cm, on, covered);
             return;
         }
         self.recompute_local(cm, cands, on, covered);
+    }
+
+    /// The estimated cost of [`Self::recompute_local`] of triangles
+    /// `cands`, in units of one triangle's share of the global pass (see
+    /// [`GLOBAL_FRACTION`]).
+    fn local_cost(&self, cands: &[usize]) -> usize {
+        cands
+            .iter()
+            .map(|&t| {
+                if self.surf.plain(t) && self.poly.group(t).is_none() {
+                    1
+                } else {
+                    LOCAL_COST
+                }
+            })
+            .sum()
     }
 
     /// The coverage of every input triangle on `cm`: the same faces (as
@@ -2018,11 +2089,13 @@ impl State {
             let sk = Skeleton::of(dt, true);
             self.surf.coverage(&sk, dt.points()).0
         });
-        let face_tri: IdMap<[u32; 3], u32> = on
-            .iter()
-            .enumerate()
-            .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32)))
-            .collect();
+        // Face key -> input triangle (the last one listing it).
+        let face_tri = surface::TripleIndex::new(
+            dt.points().len(),
+            on.iter()
+                .enumerate()
+                .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32))),
+        );
         let core = &dt.core;
         // Per slot and face: the input triangle it lies on (one lookup per
         // face, then flags instead of hashing in carving and output).
@@ -2041,7 +2114,7 @@ impl State {
                 if k.contains(&INF) {
                     continue;
                 }
-                if let Some(&ti) = face_tri.get(&k) {
+                if let Some(ti) = face_tri.get(&k).last() {
                     marks[t][f] = ti;
                     marks[u][g] = ti;
                 }

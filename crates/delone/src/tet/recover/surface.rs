@@ -125,6 +125,60 @@ impl std::ops::Deref for Chain {
     }
 }
 
+/// A map from sorted vertex triples to values, grouped by the triple's
+/// least vertex (compressed rows): a lookup scans the few triples of one
+/// vertex, with no hashing — cheaper than a hash map for the passes over
+/// every face of a tetrahedralization, where most lookups miss.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TripleIndex {
+    /// Per least vertex `a`: its entries are `rest[start[a]..start[a + 1]]`.
+    start: Vec<u32>,
+    /// `(b, c, value)` of each triple `[a, b, c]`, by `a`, then in the
+    /// order given.
+    rest: Vec<(u32, u32, u32)>,
+}
+
+impl TripleIndex {
+    /// The index of `items` (sorted triples with values; vertices below
+    /// `n`, others are left out), keeping their order within each key.
+    pub(crate) fn new(n: usize, items: impl Iterator<Item = ([u32; 3], u32)> + Clone) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for (k, _) in items.clone() {
+            if k.iter().all(|&w| (w as usize) < n) {
+                start[k[0] as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut rest = vec![(0, 0, 0); start[n] as usize];
+        for (k, x) in items {
+            if k.iter().all(|&w| (w as usize) < n) {
+                let at = &mut fill[k[0] as usize];
+                rest[*at as usize] = (k[1], k[2], x);
+                *at += 1;
+            }
+        }
+        TripleIndex { start, rest }
+    }
+
+    /// The values of sorted triple `k`, in the order given to
+    /// [`TripleIndex::new`].
+    #[inline]
+    pub(crate) fn get(&self, k: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
+        let a = k[0] as usize;
+        let row = match (self.start.get(a), self.start.get(a + 1)) {
+            (Some(&lo), Some(&hi)) => &self.rest[lo as usize..hi as usize],
+            _ => &[][..],
+        };
+        let (b, c) = (k[1], k[2]);
+        row.iter()
+            .filter(move |e| e.0 == b && e.1 == c)
+            .map(|e| e.2)
+    }
+}
+
 /// The refined surface.
 #[derive(Debug, Clone)]
 pub(crate) struct Surface {
@@ -144,10 +198,7 @@ pub(crate) struct Surface {
     /// Per vertex: its kind.
     pub(crate) kind: Vec<Kind>,
     /// Input triangle by sorted vertex triple (the first such triangle).
-    tri_index: IdMap<[u32; 3], u32>,
-    /// Per input triangle: the next one with the same vertices
-    /// (`u32::MAX`: none).
-    tri_same: Vec<u32>,
+    tri_index: TripleIndex,
     /// Per input triangle: how many Steiner points lie inside it.
     inner: Vec<u32>,
 }
@@ -277,24 +328,12 @@ impl Surface {
         for l in &mut vtris {
             l.dedup();
         }
-        let mut tri_index: IdMap<[u32; 3], u32> =
-            IdMap::with_capacity_and_hasher(tris.len(), Default::default());
-        let mut tri_same = vec![u32::MAX; tris.len()];
-        let mut last: IdMap<[u32; 3], u32> = IdMap::default();
-        for (ti, t) in tris.iter().enumerate() {
-            let k = fkey(*t);
-            if let Some(&first) = tri_index.get(&k) {
-                // A repeated triangle: chain it after the last one.
-                let prev = last.get(&k).copied().unwrap_or(first);
-                tri_same[prev as usize] = ti as u32;
-                last.insert(k, ti as u32);
-            } else {
-                tri_index.insert(k, ti as u32);
-            }
-        }
+        let tri_index = TripleIndex::new(
+            n,
+            tris.iter().enumerate().map(|(ti, t)| (fkey(*t), ti as u32)),
+        );
         Surface {
             tri_index,
-            tri_same,
             inner: vec![0; tris.len()],
             tris: tris.to_vec(),
             edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
@@ -337,11 +376,7 @@ impl Surface {
     /// The input triangles whose three corners are the vertices of the
     /// sorted triple `k` (usually none or one), in index order.
     pub(crate) fn triangles_with_key(&self, k: &[u32; 3]) -> impl Iterator<Item = u32> + '_ {
-        let first = self.tri_index.get(k).copied().unwrap_or(u32::MAX);
-        std::iter::successors((first != u32::MAX).then_some(first), move |&t| {
-            let n = self.tri_same[t as usize];
-            (n != u32::MAX).then_some(n)
-        })
+        self.tri_index.get(k)
     }
 
     fn grow(&mut self, id: u32) {
