@@ -2,7 +2,7 @@
 //! on the smallest dihedral angle against the optimised mesh's range, and
 //! what the worst tetrahedra left are.
 //!
-//! `cargo run --release -p delone --example opt_table -- [--ratio R] [--max-tris N] [--timeout S] [--worst K] LIST_OR_OFF...`
+//! `cargo run --release -p delone --example opt_table -- [--ratio R] [--max-tris N] [--timeout S] [--worst K] [--effort E] LIST_OR_OFF...`
 //!
 //! Each argument is an `.off` file or a list of them (a text file whose
 //! lines start with a path relative to the shared data directory, such as
@@ -16,7 +16,8 @@
 //! refinement and of the optimisation, and a mark `<15` when the output is
 //! below 15° although the input is not. Then, for those models, the `--worst`
 //! (default 4) worst tetrahedra: angles, shape, surface faces, input and
-//! fixed vertices. Not part of CI (it needs the shared data and minutes).
+//! fixed vertices. `--effort` overrides the optimiser's budget
+//! ([`OptimizeOptions::effort`], `inf` for none). Not part of CI (it needs the shared data and minutes).
 //! With `TABLE_CHECK=1` each output is also checked by `check_recovered`
 //! (`ok` at the end of the row).
 
@@ -47,7 +48,7 @@ fn data_dir(list: &str) -> std::path::PathBuf {
 
 /// One model, in this process: prints the row, then `#`-lines with the
 /// worst tetrahedra.
-fn one(path: &str, ratio: f64, worst: usize) {
+fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
     let s = match std::fs::read(path)
         .map_err(|e| e.to_string())
         .and_then(|b| delone_io::read_off(&b).map_err(|e| e.to_string()))
@@ -75,6 +76,7 @@ fn one(path: &str, ratio: f64, worst: usize) {
     let mut rec = r.rec;
     let opts = OptimizeOptions {
         input_points: Some(s.points.len()),
+        effort: effort.unwrap_or(OptimizeOptions::level(3).effort),
         ..OptimizeOptions::level(3)
     };
     let c0 = cpu();
@@ -134,6 +136,7 @@ fn main() {
     let mut max_tris = 8000usize;
     let mut timeout = 60.0;
     let mut worst = 4;
+    let mut effort = None;
     let mut files = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -148,9 +151,10 @@ fn main() {
             "--max-tris" => max_tris = val() as usize,
             "--timeout" => timeout = val(),
             "--worst" => worst = val() as usize,
+            "--effort" => effort = Some(val()),
             "--one" => {
                 let p = it.next().expect("a file");
-                one(p, ratio, worst);
+                one(p, ratio, worst, effort);
                 return;
             }
             _ if a.ends_with(".off") => files.push(a.clone()),
@@ -184,6 +188,10 @@ fn main() {
                 &ratio.to_string(),
                 "--worst",
                 &worst.to_string(),
+                "--effort",
+                &effort
+                    .unwrap_or(OptimizeOptions::level(3).effort)
+                    .to_string(),
                 "--one",
                 f,
             ])

@@ -76,6 +76,10 @@ const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
 /// above 20° may spend (plus a fixed 8000 evaluations' worth).
 const POLISH: f64 = 0.4;
 
+/// Multiple of the budget ([`OptimizeOptions::effort`]) that the stages up
+/// to 20° may spend.
+const LOW: f64 = 4.0;
+
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
 
@@ -437,12 +441,16 @@ pub fn optimize(
     // The polishing stages (above 20°, which mostly thin the histogram's
     // tail once the worst are settled) get at most this much more.
     let polish = opts.effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
-    let mut stop = allowed;
+    // The stages up to 20° decide the minimum: they may spend `LOW` times
+    // the budget (a mesh that the refinement left with many flat
+    // tetrahedra needs it; a fair one does not reach it).
+    let mut stop = LOW * allowed;
     let mut pops: u64 = 0;
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
         if deg > 20.0 {
-            stop = allowed.min(w.evals.get() as f64 + polish);
+            let now = w.evals.get() as f64;
+            stop = now + polish.min((allowed - now).max(0.0));
         }
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
