@@ -12,12 +12,18 @@
 //! child process stopped after `--timeout` seconds (default 60). One
 //! markdown row per model: triangles, the input triangles' smallest
 //! dihedral angle, the meshed surface's (the refined boundary's) bound,
-//! the dihedral range before and after, tetrahedra, CPU seconds of the
-//! refinement and of the optimisation, and a mark `<15` when the output is
-//! below 15° although the input is not. Then, for those models, the `--worst`
-//! (default 4) worst tetrahedra: angles, shape, surface faces, input and
-//! fixed vertices. `--effort` overrides the optimiser's budget
-//! ([`OptimizeOptions::effort`], `inf` for none). Not part of CI (it needs the shared data and minutes).
+//! the input triangles' smallest and largest angle, the dihedral range
+//! before and after, the input triangle at the worst tetrahedron left and
+//! its angles ([`Stuck::near_triangle`](delone::tet::optimize::Stuck)),
+//! tetrahedra, CPU seconds of the refinement and of the optimisation, and
+//! a mark `<15` when the output is below 15° (or above 165°) although the
+//! input's dihedral angles are not (`<15 at-feature` when the worst
+//! tetrahedron is at a needle or cap input triangle, below 15° or above
+//! 165°). Then, for those models, the `--worst` (default 4) worst
+//! tetrahedra: angles, shape, surface faces, input and fixed vertices,
+//! input triangle. `--effort` overrides the optimiser's budget
+//! ([`OptimizeOptions::effort`], `inf` for none). Not part of CI (it needs
+//! the shared data and minutes).
 //! With `TABLE_CHECK=1` each output is also checked by `check_recovered`
 //! (`ok` at the end of the row).
 
@@ -97,15 +103,26 @@ fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
         ""
     };
     let a = &rep.after;
+    let worst_at = rep
+        .stuck
+        .first()
+        .and_then(|w| {
+            w.near_triangle
+                .map(|t| format!("{t}: {:.2}..{:.2}", w.near_angles[0], w.near_angles[1]))
+        })
+        .unwrap_or_else(|| "-".into());
     println!(
-        "ROW {} | {:.2} | {:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {} | {:.2} | {:.2} | {}{}",
+        "ROW {} | {:.2} | {:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {} | {} | {:.2} | {:.2} | {}{}",
         tris.len(),
         rep.triangles_min_dihedral,
         rep.input_min_dihedral,
+        rep.triangles_min_angle,
+        rep.triangles_max_angle,
         rep.before.min_dihedral,
         rep.before.max_dihedral,
         a.min_dihedral,
         a.max_dihedral,
+        worst_at,
         a.tets,
         c_ref,
         c_opt,
@@ -118,14 +135,17 @@ fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
     );
     for st in rep.stuck.iter().take(worst) {
         println!(
-            "# {:.2}..{:.2} {}, {}; {} surface faces, {} input, {} fixed vertices",
+            "# {:.2}..{:.2} {}, {}; {} surface faces, {} input, {} fixed vertices; at input triangle {} ({:.2}..{:.2})",
             st.dihedral[0],
             st.dihedral[1],
             st.shape,
             st.reason,
             st.surface_faces,
             st.input_vertices,
-            st.fixed_vertices
+            st.fixed_vertices,
+            st.near_triangle.map_or(-1, i64::from),
+            st.near_angles[0],
+            st.near_angles[1]
         );
     }
 }
@@ -174,9 +194,9 @@ fn main() {
     }
     let me = std::env::current_exe().expect("own path");
     println!(
-        "| model | tris | input tris min | meshed bound | before | after | tets | refine s | opt s | stuck surf/fixed/none |"
+        "| model | tris | input tris min | meshed bound | tri angles | before | after | worst at tri: angles | tets | refine s | opt s | stuck surf/fixed/none |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut notes = Vec::new();
     for f in &files {
         let name = std::path::Path::new(f)
@@ -215,7 +235,7 @@ fn main() {
             let _ = std::io::Read::read_to_string(&mut so, &mut out);
         }
         let Some(_) = status else {
-            println!("| {name} | timeout {timeout} s |||||||||");
+            println!("| {name} | timeout {timeout} s |||||||||||");
             continue;
         };
         let mut bad = false;
@@ -224,13 +244,23 @@ fn main() {
                 let c: Vec<&str> = row.split(" | ").collect();
                 let num = |s: &str| s.trim().parse::<f64>().unwrap_or(0.0);
                 let input = num(c[1]).min(num(c[2]));
-                let out_min = c[4].split("..").next().map_or(0.0, num);
-                let out_max = c[4].split("..").nth(1).map_or(180.0, num);
+                let out_min = c[5].split("..").next().map_or(0.0, num);
+                let out_max = c[5].split("..").nth(1).map_or(180.0, num);
                 bad = input >= 15.0 && (out_min < 15.0 || out_max > 165.0);
-                let mark = if bad { " <15" } else { "" };
+                // At a needle or cap input triangle: a feature smaller
+                // than the mesh there.
+                let near = c[6].split(": ").nth(1).unwrap_or("");
+                let lo = near.split("..").next().map_or(90.0, num);
+                let hi = near.split("..").nth(1).map_or(90.0, num);
+                let feature = lo < 15.0 || hi > 165.0;
+                let mark = match (bad, feature) {
+                    (true, true) => " <15 at-feature",
+                    (true, false) => " <15",
+                    _ => "",
+                };
                 println!("| {name}{mark} | {row} |");
             } else if let Some(e) = line.strip_prefix("ERR ") {
-                println!("| {name} | error: {e} |||||||||");
+                println!("| {name} | error: {e} |||||||||||");
             } else if bad {
                 notes.push(format!("{name}: {}", line.trim_start_matches("# ")));
             }

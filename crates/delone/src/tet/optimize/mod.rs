@@ -242,6 +242,8 @@ impl fmt::Display for StuckReason {
 ///     surface_faces: 0,
 ///     input_vertices: 2,
 ///     fixed_vertices: 3,
+///     near_triangle: Some(7),
+///     near_angles: [2.5, 170.0],
 /// };
 /// assert!(s.dihedral[0] < 15.0);
 /// ```
@@ -262,6 +264,16 @@ pub struct Stuck {
     /// How many of its vertices could not move (input points, and surface
     /// points with neither a planar nor a straight neighbourhood).
     pub fixed_vertices: usize,
+    /// The input triangle at the tetrahedron: of the triangles of
+    /// [`Recovered::surface`] within its longest edge of its centroid, the
+    /// one with the smallest angle (else the nearest one), named by its
+    /// input triangle (`surface_origin`); `None` without a surface. A
+    /// small or flat angle there is a feature of the input smaller than
+    /// the mesh around it: the cause of most tetrahedra left below 15°.
+    pub near_triangle: Option<u32>,
+    /// The smallest and largest angle (degrees) of that triangle (of
+    /// `surface`: for a merged coplanar group, of its re-triangulation).
+    pub near_angles: [f64; 2],
 }
 
 /// What [`optimize`] did.
@@ -297,6 +309,22 @@ pub struct OptimizeReport {
     /// The input edge (point ids, smaller first) where
     /// `triangles_min_dihedral` is found.
     pub triangles_min_edge: Option<[u32; 2]>,
+    /// The smallest angle (degrees) of the triangles the mesh conforms to
+    /// ([`Recovered::surface`]: the input triangles, a merged coplanar
+    /// group re-triangulated); 180 when there are none. A needle (small
+    /// angle) or a cap (an angle near 180°) is a feature that the
+    /// refinement must resolve to reach the target near it; an angle of
+    /// (nearly) 0° forces a flat tetrahedron on it.
+    pub triangles_min_angle: f64,
+    /// The input triangle with that angle (`surface_origin` of the
+    /// surface triangle).
+    pub triangles_min_angle_triangle: Option<u32>,
+    /// The largest angle (degrees) of those triangles; 0 when there are
+    /// none. Near 180° it forces a dihedral angle near 180° on a
+    /// tetrahedron on it, unless its long edge is split.
+    pub triangles_max_angle: f64,
+    /// The input triangle with that angle.
+    pub triangles_max_angle_triangle: Option<u32>,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -402,6 +430,7 @@ pub fn optimize(
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
         (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
         (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+        triangle_angles(rec, &mut report);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -516,6 +545,7 @@ pub fn optimize(
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
     (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
     (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+    triangle_angles(rec, &mut report);
     stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
     Ok(report)
 }
@@ -1196,9 +1226,147 @@ fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut Optimize
                     .iter()
                     .filter(|&&v| w.slide[v as usize] == Slide::Fixed)
                     .count(),
+                near_triangle: None,
+                near_angles: [0.0; 2],
             },
         ));
     }
     list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
     report.stuck = list.into_iter().take(32).map(|x| x.1).collect();
+    let angles: Vec<[f64; 2]> = rec
+        .surface
+        .iter()
+        .map(|t| tri_angles(t.map(|v| rec.points[v as usize])))
+        .collect();
+    for st in &mut report.stuck {
+        let p = rec.mesh.tets[st.tet].map(|v| rec.points[v as usize]);
+        if let Some(i) = near_triangle(rec, &angles, &p) {
+            st.near_triangle = rec.surface_origin.get(i).copied().or(Some(i as u32));
+            st.near_angles = angles[i];
+        }
+    }
+}
+
+/// The smallest and largest angle (degrees) of a triangle (0 and 180 when
+/// it is degenerate).
+fn tri_angles(t: [[f64; 3]; 3]) -> [f64; 2] {
+    let mut lo = 180.0f64;
+    let mut hi = 0.0f64;
+    for k in 0..3 {
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let (nu, nv) = (work_norm(u), work_norm(v));
+        let x = if nu > 0.0 && nv > 0.0 {
+            ((u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv))
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees()
+        } else {
+            0.0
+        };
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if hi == 0.0 {
+        return [0.0, 180.0];
+    }
+    [lo, hi]
+}
+
+fn work_norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Fills the triangle-angle fields of the report.
+fn triangle_angles(rec: &Recovered, report: &mut OptimizeReport) {
+    report.triangles_min_angle = 180.0;
+    report.triangles_max_angle = 0.0;
+    for (i, t) in rec.surface.iter().enumerate() {
+        let [lo, hi] = tri_angles(t.map(|v| rec.points[v as usize]));
+        let origin = rec.surface_origin.get(i).copied().or(Some(i as u32));
+        if lo < report.triangles_min_angle {
+            report.triangles_min_angle = lo;
+            report.triangles_min_angle_triangle = origin;
+        }
+        if hi > report.triangles_max_angle {
+            report.triangles_max_angle = hi;
+            report.triangles_max_angle_triangle = origin;
+        }
+    }
+}
+
+/// The closest point of triangle `t` to `x` (Voronoi regions of its
+/// vertices, edges and interior).
+fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let at = |a: [f64; 3], d: [f64; 3], s: f64| std::array::from_fn(|k| s.mul_add(d[k], a[k]));
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(x, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(x, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return at(a, ab, d1 / (d1 - d3));
+    }
+    let cp = sub(x, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return at(a, ac, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let den = va + vb + vc;
+    if den.abs() < f64::MIN_POSITIVE {
+        return a;
+    }
+    let (v, w) = (vb / den, vc / den);
+    std::array::from_fn(|k| a[k] + ab[k] * v + ac[k] * w)
+}
+
+/// See [`Stuck::near_triangle`]: the index in `rec.surface`.
+fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Option<usize> {
+    let c: [f64; 3] = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
+    let reach = super::quality::edge_lengths(p)
+        .into_iter()
+        .fold(0.0f64, f64::max);
+    let mut nearest: Option<(f64, usize)> = None;
+    let mut worst: Option<(f64, usize)> = None;
+    for (i, t) in rec.surface.iter().enumerate() {
+        let q = t.map(|v| rec.points[v as usize]);
+        // The distance to its bounding box first (a lower bound).
+        let gap = (0..3)
+            .map(|k| {
+                let lo = q[0][k].min(q[1][k]).min(q[2][k]);
+                let hi = q[0][k].max(q[1][k]).max(q[2][k]);
+                (lo - c[k]).max(c[k] - hi).max(0.0)
+            })
+            .fold(0.0f64, f64::max);
+        if gap > reach && nearest.is_some_and(|(e, _)| gap >= e) {
+            continue;
+        }
+        let y = closest_on_triangle(c, q);
+        let d = work_norm([y[0] - c[0], y[1] - c[1], y[2] - c[2]]);
+        if nearest.is_none_or(|(e, _)| d < e) {
+            nearest = Some((d, i));
+        }
+        if d <= reach && worst.is_none_or(|(a, _)| angles[i][0] < a) {
+            worst = Some((angles[i][0], i));
+        }
+    }
+    worst.or(nearest).map(|x| x.1)
 }
