@@ -92,6 +92,18 @@ fn run(
         }
     }
     assert_eq!(r.points[..pts.len()], *pts);
+    // Every Steiner point is a vertex of the mesh (collapsed insertions
+    // are left out).
+    let mut used = vec![false; r.points.len()];
+    for tv in &r.mesh.tets {
+        for &v in tv {
+            used[v as usize] = true;
+        }
+    }
+    assert!(
+        used[pts.len()..].iter().all(|&u| u),
+        "a Steiner point is unused"
+    );
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
     assert_eq!(rep.after.tets, r.mesh.tets.len());
     rep
@@ -439,6 +451,8 @@ fn the_bound_names_the_needle_input_triangle_at_the_worst_tetrahedron() {
     };
     let mut r = refine(&pts, &tris, &ro).unwrap().rec;
     let rep = run(&pts, &tris, &mut r, &OptimizeOptions::level(3));
+    // Some inserted vertices were removed again.
+    assert!(rep.collapsed > 0);
     // The report's extremes are those of the input triangles it names.
     let t = rep.triangles_min_angle_triangle.unwrap() as usize;
     assert!((input_angles(&pts, tris[t])[0] - rep.triangles_min_angle).abs() < 1e-9);

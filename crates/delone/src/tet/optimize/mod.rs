@@ -31,6 +31,11 @@
 //!    off its largest face along the normal, in the cavity reached by a
 //!    visibility walk and closed under visibility; for the flattest (below
 //!    about 3°) this is tried before anything else.
+//! 4. **collapse** of a free vertex that the optimisation itself inserted
+//!    onto the neighbour that gives its star the best worst quality (the
+//!    tetrahedra around the edge vanish; valid when the new tetrahedra are
+//!    exactly positive and the link condition holds): an inserted point
+//!    that settled badly among fixed ones is taken out again.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
@@ -40,10 +45,15 @@
 //! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
 //! tetrahedron) are spent. The whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
-//! treated first, so the budget cuts the least useful work. The stages
+//! treated first, so the budget cuts the least useful work. The stages up
+//! to 20°, which decide the minimum, may spend four times the budget (a
+//! refined mesh with many flat tetrahedra left near small input features
+//! spends the plain budget before its worst are settled; a fair mesh
+//! finishes them well within it). The stages
 //! above 20° (which mostly thin the histogram's tail once the worst are
 //! settled) may spend at most `0.4 effort` per tetrahedron (plus 8000
-//! evaluations' worth) of it, which bounds the time on large meshes. Quality is
+//! evaluations' worth), and nothing beyond the plain budget, which bounds
+//! the time on large meshes. Quality is
 //! cached per slot; the edge-removal programme prunes every sub-polygon
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
@@ -343,6 +353,9 @@ pub struct OptimizeReport {
     pub inserted: usize,
     /// Insertions tried and undone.
     pub insert_undone: usize,
+    /// Vertices inserted by the optimisation and removed again (collapsed
+    /// onto a neighbour) where that improved their star.
+    pub collapsed: usize,
     /// Tetrahedra below the target afterwards, per reason (in
     /// [`StuckReason`] order: surface faces, all vertices fixed, no
     /// improvement).
@@ -448,6 +461,7 @@ pub fn optimize(
     for f in &mut w.fixed[..n_in] {
         *f = true;
     }
+    w.n0 = rec.points.len();
     if opts.smooth_boundary {
         set_slides(rec, n_in, &mut w, s);
     }
@@ -629,8 +643,23 @@ fn improve(
         }
     }
     // Insertion (the most expensive try) only for the really bad ones.
-    if opts.insert && report.inserted < budget && w.q[t as usize] < insert_below {
-        return try_insert(w, t, opts, report);
+    let tv = w.tv[t as usize];
+    if opts.insert
+        && report.inserted < budget
+        && w.q[t as usize] < insert_below
+        && try_insert(w, t, opts, report)
+    {
+        return true;
+    }
+    // Last, removal of a vertex the optimiser inserted, by collapsing it
+    // onto a neighbour (a point that settled badly among fixed ones).
+    if opts.insert && w.slot_of(tv).is_some() {
+        for v in tv {
+            if try_collapse(w, v) {
+                report.collapsed += 1;
+                return true;
+            }
+        }
     }
     false
 }
@@ -661,6 +690,109 @@ fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
         consider(w.plan_flip23(t, f), w);
     }
     best
+}
+
+/// Most tetrahedra in the star of a collapsed vertex.
+const MAX_COLLAPSE_STAR: usize = 64;
+
+/// Removes vertex `v` — a free vertex that the optimiser inserted — by
+/// collapsing its edge to the neighbour `u` that gives the best result:
+/// the tetrahedra around the edge vanish and `u` replaces `v` in the
+/// others (a cone from `u` over the faces of the star polyhedron). Valid
+/// when every new tetrahedron is exactly positive and the link condition
+/// holds (a vertex, edge or triangle in the links of both `u` and `v` is in
+/// the link of the edge), so that no tetrahedron is made twice; applied
+/// when the worst quality of the star rises.
+fn try_collapse(w: &mut Work, v: u32) -> bool {
+    if (v as usize) < w.n0 || w.fixed[v as usize] {
+        return false;
+    }
+    let star = w.star(v);
+    if star.is_empty() || star.len() > MAX_COLLAPSE_STAR {
+        return false;
+    }
+    let region = w.reg[star[0] as usize];
+    if star.iter().any(|&t| w.reg[t as usize] != region) {
+        return false;
+    }
+    let old_q = w.min_q(&star);
+    // The link of a vertex: its vertices, edges and triangles (sorted).
+    let link = |w: &Work, x: u32, star: &[u32]| {
+        let mut vs = Vec::new();
+        let mut es = Vec::new();
+        let mut fs = Vec::new();
+        for &t in star {
+            let mut o: Vec<u32> = w.tv[t as usize].into_iter().filter(|&y| y != x).collect();
+            o.sort_unstable();
+            vs.extend_from_slice(&o);
+            es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
+            fs.push([o[0], o[1], o[2]]);
+        }
+        vs.sort_unstable();
+        vs.dedup();
+        es.sort_unstable();
+        es.dedup();
+        fs.sort_unstable();
+        (vs, es, fs)
+    };
+    let (lv, le, lf) = link(w, v, &star);
+    let mut best: Option<Plan> = None;
+    for &u in &lv {
+        // The link of the edge: the other two vertices of its tetrahedra.
+        let mut ev = Vec::new();
+        let mut ee = Vec::new();
+        let mut new = Vec::with_capacity(star.len());
+        for &t in &star {
+            let tv = w.tv[t as usize];
+            if tv.contains(&u) {
+                let mut o: Vec<u32> = tv.into_iter().filter(|&y| y != u && y != v).collect();
+                o.sort_unstable();
+                ev.extend_from_slice(&o);
+                ee.push([o[0], o[1]]);
+            } else {
+                new.push(tv.map(|y| if y == v { u } else { y }));
+            }
+        }
+        ev.sort_unstable();
+        ev.dedup();
+        ee.sort_unstable();
+        // Positive and better, before the costlier link condition.
+        let mut q = f64::INFINITY;
+        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
+        let mut ok = true;
+        for &nt in &new {
+            q = q.min(w.qual(nt));
+            if q <= bar + 1e-12 || !w.positive(nt) {
+                ok = false;
+                break;
+            }
+        }
+        if !ok {
+            continue;
+        }
+        let ustar = w.star(u);
+        let (uv, ue, uf) = link(w, u, &ustar);
+        let shared_ok = uv
+            .iter()
+            .filter(|&&x| x != v && lv.binary_search(&x).is_ok())
+            .all(|x| ev.binary_search(x).is_ok())
+            && ue
+                .iter()
+                .filter(|e| !e.contains(&v) && le.binary_search(e).is_ok())
+                .all(|e| ee.binary_search(e).is_ok())
+            && !uf
+                .iter()
+                .any(|f| !f.contains(&v) && lf.binary_search(f).is_ok());
+        if shared_ok {
+            best = Some(Plan {
+                old: star.clone(),
+                new,
+                q,
+                ring: 0,
+            });
+        }
+    }
+    best.is_some_and(|p| w.apply(&p).is_some())
 }
 
 /// A flip whose worst new tetrahedron has a dihedral sine above this (20°)
@@ -927,6 +1059,24 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             k += 1;
         }
     }
+    // Points added by the optimisation and collapsed again are left out
+    // (the others keep their order).
+    let n0 = rec.points.len();
+    let mut used = vec![false; w.p.len().saturating_sub(n0)];
+    for tv in w.tv.iter().filter(|tv| tv[0] != DEAD) {
+        for &v in tv {
+            if let Some(u) = (v as usize).checked_sub(n0) {
+                used[u] = true;
+            }
+        }
+    }
+    let mut renum: Vec<u32> = Vec::with_capacity(used.len());
+    let mut next = n0 as u32;
+    for &u in &used {
+        renum.push(next);
+        next += u32::from(u);
+    }
+    let id = |v: u32| (v as usize).checked_sub(n0).map_or(v, |u| renum[u]);
     let mut tets = Vec::with_capacity(k as usize);
     let mut nbs = Vec::with_capacity(k as usize);
     let mut reg = Vec::with_capacity(k as usize);
@@ -934,7 +1084,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
         if tv[0] == DEAD {
             continue;
         }
-        tets.push(*tv);
+        tets.push(tv.map(id));
         nbs.push(w.nb[t].map(|x| if x == NONE { NONE } else { map[x as usize] }));
         reg.push(w.reg[t]);
     }
@@ -947,13 +1097,12 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             p.map(|c| c / s.0 / s.1)
         }
     };
-    let n0 = rec.points.len();
     for (i, p) in w.p.iter().enumerate() {
         if i < n0 {
             if w.slide[i] != Slide::Fixed {
                 rec.points[i] = unscale(*p);
             }
-        } else {
+        } else if used[i - n0] {
             rec.points.push(unscale(*p));
         }
     }
