@@ -24,7 +24,28 @@ pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
         ),
         None => "no meshed surface edge".to_string(),
     };
+    let tri = |t: Option<u32>| t.map_or_else(|| "-".to_string(), |t| t.to_string());
+    let angles = format!(
+        "input triangles' angles {:.2} deg (triangle {}) to {:.2} deg (triangle {})",
+        r.triangles_min_angle,
+        tri(r.triangles_min_angle_triangle),
+        r.triangles_max_angle,
+        tri(r.triangles_max_angle_triangle)
+    );
     let bound = r.input_min_dihedral.min(r.triangles_min_dihedral);
+    // The worst tetrahedron left, when it sits at a needle or cap input
+    // triangle (a feature smaller than the mesh around it).
+    let at_feature = r.stuck.first().and_then(|s| {
+        let [lo, hi] = s.near_angles;
+        let t = s.near_triangle?;
+        (lo < SMALL_ANGLE || hi > 180.0 - SMALL_ANGLE).then(|| {
+            format!(
+                "the worst tetrahedron ({:.2}..{:.2} deg) is at input triangle {t} with angles {lo:.2}..{hi:.2} deg, a feature smaller than the mesh there",
+                s.dihedral[0], s.dihedral[1]
+            )
+        })
+    });
+    let below = min < 15.0 || r.after.max_dihedral > 165.0;
     let verdict = if min >= bound - 1e-6 {
         if r.triangles_min_dihedral <= r.input_min_dihedral + 1e-6 {
             "the mesh's minimum is the input's own angle"
@@ -33,17 +54,29 @@ pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
         }
     } else if bound < 15.0 {
         "the mesh's minimum is below both; the bound is below 15 deg"
+    } else if let (true, Some(f)) = (below, &at_feature) {
+        f
     } else {
         "the mesh's minimum is below both (not forced by the input)"
     };
-    format!("optimization: bound: {input}; {meshed}; {verdict}")
+    format!("optimization: bound: {input}; {meshed}; {angles}; {verdict}")
 }
+
+/// An input triangle angle below this (or above 180 minus it), in
+/// degrees, marks a needle or cap in the bound line.
+const SMALL_ANGLE: f64 = 15.0;
 
 /// One tetrahedron left below the target: angles, why, its shape, and how
 /// its vertices and faces sit on the surface.
 pub fn stuck_line(s: &Stuck) -> String {
+    let near = s.near_triangle.map_or_else(String::new, |t| {
+        format!(
+            "; at input triangle {t} (angles {:.2}..{:.2} deg)",
+            s.near_angles[0], s.near_angles[1]
+        )
+    });
     format!(
-        "  tet {} left at {:.2}..{:.2} deg: {}; {}, {} surface faces, {} input and {} fixed vertices",
+        "  tet {} left at {:.2}..{:.2} deg: {}; {}, {} surface faces, {} input and {} fixed vertices{near}",
         s.tet,
         s.dihedral[0],
         s.dihedral[1],

@@ -2,7 +2,7 @@
 //! on the smallest dihedral angle against the optimised mesh's range, and
 //! what the worst tetrahedra left are.
 //!
-//! `cargo run --release -p delone --example opt_table -- [--ratio R] [--max-tris N] [--timeout S] [--worst K] LIST_OR_OFF...`
+//! `cargo run --release -p delone --example opt_table -- [--ratio R] [--max-tris N] [--timeout S] [--worst K] [--effort E] LIST_OR_OFF...`
 //!
 //! Each argument is an `.off` file or a list of them (a text file whose
 //! lines start with a path relative to the shared data directory, such as
@@ -12,11 +12,18 @@
 //! child process stopped after `--timeout` seconds (default 60). One
 //! markdown row per model: triangles, the input triangles' smallest
 //! dihedral angle, the meshed surface's (the refined boundary's) bound,
-//! the dihedral range before and after, tetrahedra, CPU seconds of the
-//! refinement and of the optimisation, and a mark `<15` when the output is
-//! below 15° although the input is not. Then, for those models, the `--worst`
-//! (default 4) worst tetrahedra: angles, shape, surface faces, input and
-//! fixed vertices. Not part of CI (it needs the shared data and minutes).
+//! the input triangles' smallest and largest angle, the dihedral range
+//! before and after, the input triangle at the worst tetrahedron left and
+//! its angles ([`Stuck::near_triangle`](delone::tet::optimize::Stuck)),
+//! tetrahedra, CPU seconds of the refinement and of the optimisation, and
+//! a mark `<15` when the output is below 15° (or above 165°) although the
+//! input's dihedral angles are not (`<15 at-feature` when the worst
+//! tetrahedron is at a needle or cap input triangle, below 15° or above
+//! 165°). Then, for those models, the `--worst` (default 4) worst
+//! tetrahedra: angles, shape, surface faces, input and fixed vertices,
+//! input triangle. `--effort` overrides the optimiser's budget
+//! ([`OptimizeOptions::effort`], `inf` for none). Not part of CI (it needs
+//! the shared data and minutes).
 //! With `TABLE_CHECK=1` each output is also checked by `check_recovered`
 //! (`ok` at the end of the row).
 
@@ -47,7 +54,7 @@ fn data_dir(list: &str) -> std::path::PathBuf {
 
 /// One model, in this process: prints the row, then `#`-lines with the
 /// worst tetrahedra.
-fn one(path: &str, ratio: f64, worst: usize) {
+fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
     let s = match std::fs::read(path)
         .map_err(|e| e.to_string())
         .and_then(|b| delone_io::read_off(&b).map_err(|e| e.to_string()))
@@ -75,6 +82,7 @@ fn one(path: &str, ratio: f64, worst: usize) {
     let mut rec = r.rec;
     let opts = OptimizeOptions {
         input_points: Some(s.points.len()),
+        effort: effort.unwrap_or(OptimizeOptions::level(3).effort),
         ..OptimizeOptions::level(3)
     };
     let c0 = cpu();
@@ -95,15 +103,26 @@ fn one(path: &str, ratio: f64, worst: usize) {
         ""
     };
     let a = &rep.after;
+    let worst_at = rep
+        .stuck
+        .first()
+        .and_then(|w| {
+            w.near_triangle
+                .map(|t| format!("{t}: {:.2}..{:.2}", w.near_angles[0], w.near_angles[1]))
+        })
+        .unwrap_or_else(|| "-".into());
     println!(
-        "ROW {} | {:.2} | {:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {} | {:.2} | {:.2} | {}{}",
+        "ROW {} | {:.2} | {:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {:.2}..{:.2} | {} | {} | {:.2} | {:.2} | {}{}",
         tris.len(),
         rep.triangles_min_dihedral,
         rep.input_min_dihedral,
+        rep.triangles_min_angle,
+        rep.triangles_max_angle,
         rep.before.min_dihedral,
         rep.before.max_dihedral,
         a.min_dihedral,
         a.max_dihedral,
+        worst_at,
         a.tets,
         c_ref,
         c_opt,
@@ -116,14 +135,17 @@ fn one(path: &str, ratio: f64, worst: usize) {
     );
     for st in rep.stuck.iter().take(worst) {
         println!(
-            "# {:.2}..{:.2} {}, {}; {} surface faces, {} input, {} fixed vertices",
+            "# {:.2}..{:.2} {}, {}; {} surface faces, {} input, {} fixed vertices; at input triangle {} ({:.2}..{:.2})",
             st.dihedral[0],
             st.dihedral[1],
             st.shape,
             st.reason,
             st.surface_faces,
             st.input_vertices,
-            st.fixed_vertices
+            st.fixed_vertices,
+            st.near_triangle.map_or(-1, i64::from),
+            st.near_angles[0],
+            st.near_angles[1]
         );
     }
 }
@@ -134,6 +156,7 @@ fn main() {
     let mut max_tris = 8000usize;
     let mut timeout = 60.0;
     let mut worst = 4;
+    let mut effort = None;
     let mut files = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -148,9 +171,10 @@ fn main() {
             "--max-tris" => max_tris = val() as usize,
             "--timeout" => timeout = val(),
             "--worst" => worst = val() as usize,
+            "--effort" => effort = Some(val()),
             "--one" => {
                 let p = it.next().expect("a file");
-                one(p, ratio, worst);
+                one(p, ratio, worst, effort);
                 return;
             }
             _ if a.ends_with(".off") => files.push(a.clone()),
@@ -170,9 +194,9 @@ fn main() {
     }
     let me = std::env::current_exe().expect("own path");
     println!(
-        "| model | tris | input tris min | meshed bound | before | after | tets | refine s | opt s | stuck surf/fixed/none |"
+        "| model | tris | input tris min | meshed bound | tri angles | before | after | worst at tri: angles | tets | refine s | opt s | stuck surf/fixed/none |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut notes = Vec::new();
     for f in &files {
         let name = std::path::Path::new(f)
@@ -184,6 +208,10 @@ fn main() {
                 &ratio.to_string(),
                 "--worst",
                 &worst.to_string(),
+                "--effort",
+                &effort
+                    .unwrap_or(OptimizeOptions::level(3).effort)
+                    .to_string(),
                 "--one",
                 f,
             ])
@@ -207,7 +235,7 @@ fn main() {
             let _ = std::io::Read::read_to_string(&mut so, &mut out);
         }
         let Some(_) = status else {
-            println!("| {name} | timeout {timeout} s |||||||||");
+            println!("| {name} | timeout {timeout} s |||||||||||");
             continue;
         };
         let mut bad = false;
@@ -216,13 +244,23 @@ fn main() {
                 let c: Vec<&str> = row.split(" | ").collect();
                 let num = |s: &str| s.trim().parse::<f64>().unwrap_or(0.0);
                 let input = num(c[1]).min(num(c[2]));
-                let out_min = c[4].split("..").next().map_or(0.0, num);
-                let out_max = c[4].split("..").nth(1).map_or(180.0, num);
+                let out_min = c[5].split("..").next().map_or(0.0, num);
+                let out_max = c[5].split("..").nth(1).map_or(180.0, num);
                 bad = input >= 15.0 && (out_min < 15.0 || out_max > 165.0);
-                let mark = if bad { " <15" } else { "" };
+                // At a needle or cap input triangle: a feature smaller
+                // than the mesh there.
+                let near = c[6].split(": ").nth(1).unwrap_or("");
+                let lo = near.split("..").next().map_or(90.0, num);
+                let hi = near.split("..").nth(1).map_or(90.0, num);
+                let feature = lo < 15.0 || hi > 165.0;
+                let mark = match (bad, feature) {
+                    (true, true) => " <15 at-feature",
+                    (true, false) => " <15",
+                    _ => "",
+                };
                 println!("| {name}{mark} | {row} |");
             } else if let Some(e) = line.strip_prefix("ERR ") {
-                println!("| {name} | error: {e} |||||||||");
+                println!("| {name} | error: {e} |||||||||||");
             } else if bad {
                 notes.push(format!("{name}: {}", line.trim_start_matches("# ")));
             }

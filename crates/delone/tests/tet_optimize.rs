@@ -92,6 +92,18 @@ fn run(
         }
     }
     assert_eq!(r.points[..pts.len()], *pts);
+    // Every Steiner point is a vertex of the mesh (collapsed insertions
+    // are left out).
+    let mut used = vec![false; r.points.len()];
+    for tv in &r.mesh.tets {
+        for &v in tv {
+            used[v as usize] = true;
+        }
+    }
+    assert!(
+        used[pts.len()..].iter().all(|&u| u),
+        "a Steiner point is unused"
+    );
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
     assert_eq!(rep.after.tets, r.mesh.tets.len());
     rep
@@ -402,4 +414,85 @@ fn flat_tetrahedra_along_facets_are_removed() {
         assert_eq!(again.points, r.points, "{name}: not deterministic");
         assert_eq!(again.mesh.tets, r.mesh.tets, "{name}: not deterministic");
     }
+}
+
+/// The smallest and largest angle (degrees) of input triangle `t`.
+fn input_angles(pts: &[[f64; 3]], t: [u32; 3]) -> [f64; 2] {
+    let p = t.map(|v| pts[v as usize]);
+    let mut a = [0.0; 3];
+    for (k, x) in a.iter_mut().enumerate() {
+        let (o, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+        let u: [f64; 3] = std::array::from_fn(|i| b[i] - o[i]);
+        let v: [f64; 3] = std::array::from_fn(|i| c[i] - o[i]);
+        let d = (0..3).map(|i| u[i] * v[i]).sum::<f64>();
+        let n = |w: [f64; 3]| w.iter().map(|c| c * c).sum::<f64>().sqrt();
+        *x = (d / (n(u) * n(v))).clamp(-1.0, 1.0).acos().to_degrees();
+    }
+    [
+        a.iter().copied().fold(180.0, f64::min),
+        a.iter().copied().fold(0.0, f64::max),
+    ]
+}
+
+#[test]
+fn the_bound_names_the_needle_input_triangle_at_the_worst_tetrahedron() {
+    // cgal_u has an input triangle with a 0.07° and a 179.85° angle: the
+    // tetrahedra around it are left below 15°, and the report says where.
+    let dir = data_dir();
+    if !dir.is_dir() {
+        eprintln!("note: {} missing, skipped", dir.display());
+        return;
+    }
+    let text = std::fs::read_to_string(dir.join("cgal_u.off")).unwrap();
+    let (pts, tris) = read_off(&text);
+    let ro = RefineOptions {
+        max_radius_edge: 1.414,
+        ..Default::default()
+    };
+    let mut r = refine(&pts, &tris, &ro).unwrap().rec;
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::level(3));
+    // Some inserted vertices were removed again.
+    assert!(rep.collapsed > 0);
+    // The report's extremes are those of the input triangles it names.
+    let t = rep.triangles_min_angle_triangle.unwrap() as usize;
+    assert!((input_angles(&pts, tris[t])[0] - rep.triangles_min_angle).abs() < 1e-9);
+    let t = rep.triangles_max_angle_triangle.unwrap() as usize;
+    assert!((input_angles(&pts, tris[t])[1] - rep.triangles_max_angle).abs() < 1e-9);
+    let worst = input_angles(&pts, tris[t]);
+    assert!(worst[0] < 1.0 && worst[1] > 179.0, "{worst:?}");
+    for tr in &tris {
+        let [lo, hi] = input_angles(&pts, *tr);
+        assert!(lo >= rep.triangles_min_angle - 1e-9 && hi <= rep.triangles_max_angle + 1e-9);
+    }
+    // The worst tetrahedron left is below 15° and at that needle.
+    let s = &rep.stuck[0];
+    assert!(s.dihedral[0] < 15.0);
+    assert!(s.dihedral[0] <= rep.after.min_dihedral + 1e-9);
+    let near = s.near_triangle.unwrap() as usize;
+    assert!(s.near_angles[0] < 1.0, "{:?}", s.near_angles);
+    assert_eq!(input_angles(&pts, tris[near]), s.near_angles);
+    // It is near the tetrahedron: within its longest edge.
+    let p = r.mesh.tets[s.tet].map(|v| r.points[v as usize]);
+    let reach = delone::tet::quality::edge_lengths(&p)
+        .into_iter()
+        .fold(0.0f64, f64::max);
+    let c: [f64; 3] = std::array::from_fn(|k| p.iter().map(|q| q[k]).sum::<f64>() / 4.0);
+    let d = tris[near]
+        .iter()
+        .map(|&v| {
+            let q = pts[v as usize];
+            (0..3).map(|k| (q[k] - c[k]).powi(2)).sum::<f64>().sqrt()
+        })
+        .fold(f64::INFINITY, f64::min);
+    // (A vertex of the triangle is at most its longest edge farther.)
+    let tri_len = (0..3)
+        .map(|k| {
+            let (a, b) = (
+                pts[tris[near][k] as usize],
+                pts[tris[near][(k + 1) % 3] as usize],
+            );
+            (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+        })
+        .fold(0.0f64, f64::max);
+    assert!(d <= reach + tri_len, "{d} > {reach} + {tri_len}");
 }

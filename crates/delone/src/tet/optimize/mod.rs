@@ -31,6 +31,11 @@
 //!    off its largest face along the normal, in the cavity reached by a
 //!    visibility walk and closed under visibility; for the flattest (below
 //!    about 3°) this is tried before anything else.
+//! 4. **collapse** of a free vertex that the optimisation itself inserted
+//!    onto the neighbour that gives its star the best worst quality (the
+//!    tetrahedra around the edge vanish; valid when the new tetrahedra are
+//!    exactly positive and the link condition holds): an inserted point
+//!    that settled badly among fixed ones is taken out again.
 //!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
@@ -40,10 +45,15 @@
 //! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
 //! tetrahedron) are spent. The whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
-//! treated first, so the budget cuts the least useful work. The stages
+//! treated first, so the budget cuts the least useful work. The stages up
+//! to 20°, which decide the minimum, may spend four times the budget (a
+//! refined mesh with many flat tetrahedra left near small input features
+//! spends the plain budget before its worst are settled; a fair mesh
+//! finishes them well within it). The stages
 //! above 20° (which mostly thin the histogram's tail once the worst are
 //! settled) may spend at most `0.4 effort` per tetrahedron (plus 8000
-//! evaluations' worth) of it, which bounds the time on large meshes. Quality is
+//! evaluations' worth), and nothing beyond the plain budget, which bounds
+//! the time on large meshes. Quality is
 //! cached per slot; the edge-removal programme prunes every sub-polygon
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
@@ -75,6 +85,10 @@ const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
 /// Share of [`OptimizeOptions::effort`] per tetrahedron that the stages
 /// above 20° may spend (plus a fixed 8000 evaluations' worth).
 const POLISH: f64 = 0.4;
+
+/// Multiple of the budget ([`OptimizeOptions::effort`]) that the stages up
+/// to 20° may spend.
+const LOW: f64 = 4.0;
 
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
@@ -238,6 +252,8 @@ impl fmt::Display for StuckReason {
 ///     surface_faces: 0,
 ///     input_vertices: 2,
 ///     fixed_vertices: 3,
+///     near_triangle: Some(7),
+///     near_angles: [2.5, 170.0],
 /// };
 /// assert!(s.dihedral[0] < 15.0);
 /// ```
@@ -258,6 +274,16 @@ pub struct Stuck {
     /// How many of its vertices could not move (input points, and surface
     /// points with neither a planar nor a straight neighbourhood).
     pub fixed_vertices: usize,
+    /// The input triangle at the tetrahedron: of the triangles of
+    /// [`Recovered::surface`] within its longest edge of its centroid, the
+    /// one with the smallest angle (else the nearest one), named by its
+    /// input triangle (`surface_origin`); `None` without a surface. A
+    /// small or flat angle there is a feature of the input smaller than
+    /// the mesh around it: the cause of most tetrahedra left below 15°.
+    pub near_triangle: Option<u32>,
+    /// The smallest and largest angle (degrees) of that triangle (of
+    /// `surface`: for a merged coplanar group, of its re-triangulation).
+    pub near_angles: [f64; 2],
 }
 
 /// What [`optimize`] did.
@@ -293,6 +319,22 @@ pub struct OptimizeReport {
     /// The input edge (point ids, smaller first) where
     /// `triangles_min_dihedral` is found.
     pub triangles_min_edge: Option<[u32; 2]>,
+    /// The smallest angle (degrees) of the triangles the mesh conforms to
+    /// ([`Recovered::surface`]: the input triangles, a merged coplanar
+    /// group re-triangulated); 180 when there are none. A needle (small
+    /// angle) or a cap (an angle near 180°) is a feature that the
+    /// refinement must resolve to reach the target near it; an angle of
+    /// (nearly) 0° forces a flat tetrahedron on it.
+    pub triangles_min_angle: f64,
+    /// The input triangle with that angle (`surface_origin` of the
+    /// surface triangle).
+    pub triangles_min_angle_triangle: Option<u32>,
+    /// The largest angle (degrees) of those triangles; 0 when there are
+    /// none. Near 180° it forces a dihedral angle near 180° on a
+    /// tetrahedron on it, unless its long edge is split.
+    pub triangles_max_angle: f64,
+    /// The input triangle with that angle.
+    pub triangles_max_angle_triangle: Option<u32>,
     /// Quality evaluations spent.
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
@@ -311,6 +353,9 @@ pub struct OptimizeReport {
     pub inserted: usize,
     /// Insertions tried and undone.
     pub insert_undone: usize,
+    /// Vertices inserted by the optimisation and removed again (collapsed
+    /// onto a neighbour) where that improved their star.
+    pub collapsed: usize,
     /// Tetrahedra below the target afterwards, per reason (in
     /// [`StuckReason`] order: surface faces, all vertices fixed, no
     /// improvement).
@@ -398,6 +443,7 @@ pub fn optimize(
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
         (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
         (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+        triangle_angles(rec, &mut report);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -415,6 +461,7 @@ pub fn optimize(
     for f in &mut w.fixed[..n_in] {
         *f = true;
     }
+    w.n0 = rec.points.len();
     if opts.smooth_boundary {
         set_slides(rec, n_in, &mut w, s);
     }
@@ -437,12 +484,16 @@ pub fn optimize(
     // The polishing stages (above 20°, which mostly thin the histogram's
     // tail once the worst are settled) get at most this much more.
     let polish = opts.effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
-    let mut stop = allowed;
+    // The stages up to 20° decide the minimum: they may spend `LOW` times
+    // the budget (a mesh that the refinement left with many flat
+    // tetrahedra needs it; a fair one does not reach it).
+    let mut stop = LOW * allowed;
     let mut pops: u64 = 0;
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
         if deg > 20.0 {
-            stop = allowed.min(w.evals.get() as f64 + polish);
+            let now = w.evals.get() as f64;
+            stop = now + polish.min((allowed - now).max(0.0));
         }
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
@@ -508,6 +559,7 @@ pub fn optimize(
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
     (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
     (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+    triangle_angles(rec, &mut report);
     stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
     Ok(report)
 }
@@ -591,8 +643,23 @@ fn improve(
         }
     }
     // Insertion (the most expensive try) only for the really bad ones.
-    if opts.insert && report.inserted < budget && w.q[t as usize] < insert_below {
-        return try_insert(w, t, opts, report);
+    let tv = w.tv[t as usize];
+    if opts.insert
+        && report.inserted < budget
+        && w.q[t as usize] < insert_below
+        && try_insert(w, t, opts, report)
+    {
+        return true;
+    }
+    // Last, removal of a vertex the optimiser inserted, by collapsing it
+    // onto a neighbour (a point that settled badly among fixed ones).
+    if opts.insert && w.slot_of(tv).is_some() {
+        for v in tv {
+            if try_collapse(w, v) {
+                report.collapsed += 1;
+                return true;
+            }
+        }
     }
     false
 }
@@ -623,6 +690,109 @@ fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
         consider(w.plan_flip23(t, f), w);
     }
     best
+}
+
+/// Most tetrahedra in the star of a collapsed vertex.
+const MAX_COLLAPSE_STAR: usize = 64;
+
+/// Removes vertex `v` — a free vertex that the optimiser inserted — by
+/// collapsing its edge to the neighbour `u` that gives the best result:
+/// the tetrahedra around the edge vanish and `u` replaces `v` in the
+/// others (a cone from `u` over the faces of the star polyhedron). Valid
+/// when every new tetrahedron is exactly positive and the link condition
+/// holds (a vertex, edge or triangle in the links of both `u` and `v` is in
+/// the link of the edge), so that no tetrahedron is made twice; applied
+/// when the worst quality of the star rises.
+fn try_collapse(w: &mut Work, v: u32) -> bool {
+    if (v as usize) < w.n0 || w.fixed[v as usize] {
+        return false;
+    }
+    let star = w.star(v);
+    if star.is_empty() || star.len() > MAX_COLLAPSE_STAR {
+        return false;
+    }
+    let region = w.reg[star[0] as usize];
+    if star.iter().any(|&t| w.reg[t as usize] != region) {
+        return false;
+    }
+    let old_q = w.min_q(&star);
+    // The link of a vertex: its vertices, edges and triangles (sorted).
+    let link = |w: &Work, x: u32, star: &[u32]| {
+        let mut vs = Vec::new();
+        let mut es = Vec::new();
+        let mut fs = Vec::new();
+        for &t in star {
+            let mut o: Vec<u32> = w.tv[t as usize].into_iter().filter(|&y| y != x).collect();
+            o.sort_unstable();
+            vs.extend_from_slice(&o);
+            es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
+            fs.push([o[0], o[1], o[2]]);
+        }
+        vs.sort_unstable();
+        vs.dedup();
+        es.sort_unstable();
+        es.dedup();
+        fs.sort_unstable();
+        (vs, es, fs)
+    };
+    let (lv, le, lf) = link(w, v, &star);
+    let mut best: Option<Plan> = None;
+    for &u in &lv {
+        // The link of the edge: the other two vertices of its tetrahedra.
+        let mut ev = Vec::new();
+        let mut ee = Vec::new();
+        let mut new = Vec::with_capacity(star.len());
+        for &t in &star {
+            let tv = w.tv[t as usize];
+            if tv.contains(&u) {
+                let mut o: Vec<u32> = tv.into_iter().filter(|&y| y != u && y != v).collect();
+                o.sort_unstable();
+                ev.extend_from_slice(&o);
+                ee.push([o[0], o[1]]);
+            } else {
+                new.push(tv.map(|y| if y == v { u } else { y }));
+            }
+        }
+        ev.sort_unstable();
+        ev.dedup();
+        ee.sort_unstable();
+        // Positive and better, before the costlier link condition.
+        let mut q = f64::INFINITY;
+        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
+        let mut ok = true;
+        for &nt in &new {
+            q = q.min(w.qual(nt));
+            if q <= bar + 1e-12 || !w.positive(nt) {
+                ok = false;
+                break;
+            }
+        }
+        if !ok {
+            continue;
+        }
+        let ustar = w.star(u);
+        let (uv, ue, uf) = link(w, u, &ustar);
+        let shared_ok = uv
+            .iter()
+            .filter(|&&x| x != v && lv.binary_search(&x).is_ok())
+            .all(|x| ev.binary_search(x).is_ok())
+            && ue
+                .iter()
+                .filter(|e| !e.contains(&v) && le.binary_search(e).is_ok())
+                .all(|e| ee.binary_search(e).is_ok())
+            && !uf
+                .iter()
+                .any(|f| !f.contains(&v) && lf.binary_search(f).is_ok());
+        if shared_ok {
+            best = Some(Plan {
+                old: star.clone(),
+                new,
+                q,
+                ring: 0,
+            });
+        }
+    }
+    best.is_some_and(|p| w.apply(&p).is_some())
 }
 
 /// A flip whose worst new tetrahedron has a dihedral sine above this (20°)
@@ -889,6 +1059,24 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             k += 1;
         }
     }
+    // Points added by the optimisation and collapsed again are left out
+    // (the others keep their order).
+    let n0 = rec.points.len();
+    let mut used = vec![false; w.p.len().saturating_sub(n0)];
+    for tv in w.tv.iter().filter(|tv| tv[0] != DEAD) {
+        for &v in tv {
+            if let Some(u) = (v as usize).checked_sub(n0) {
+                used[u] = true;
+            }
+        }
+    }
+    let mut renum: Vec<u32> = Vec::with_capacity(used.len());
+    let mut next = n0 as u32;
+    for &u in &used {
+        renum.push(next);
+        next += u32::from(u);
+    }
+    let id = |v: u32| (v as usize).checked_sub(n0).map_or(v, |u| renum[u]);
     let mut tets = Vec::with_capacity(k as usize);
     let mut nbs = Vec::with_capacity(k as usize);
     let mut reg = Vec::with_capacity(k as usize);
@@ -896,7 +1084,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
         if tv[0] == DEAD {
             continue;
         }
-        tets.push(*tv);
+        tets.push(tv.map(id));
         nbs.push(w.nb[t].map(|x| if x == NONE { NONE } else { map[x as usize] }));
         reg.push(w.reg[t]);
     }
@@ -909,13 +1097,12 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             p.map(|c| c / s.0 / s.1)
         }
     };
-    let n0 = rec.points.len();
     for (i, p) in w.p.iter().enumerate() {
         if i < n0 {
             if w.slide[i] != Slide::Fixed {
                 rec.points[i] = unscale(*p);
             }
-        } else {
+        } else if used[i - n0] {
             rec.points.push(unscale(*p));
         }
     }
@@ -1188,9 +1375,147 @@ fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut Optimize
                     .iter()
                     .filter(|&&v| w.slide[v as usize] == Slide::Fixed)
                     .count(),
+                near_triangle: None,
+                near_angles: [0.0; 2],
             },
         ));
     }
     list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
     report.stuck = list.into_iter().take(32).map(|x| x.1).collect();
+    let angles: Vec<[f64; 2]> = rec
+        .surface
+        .iter()
+        .map(|t| tri_angles(t.map(|v| rec.points[v as usize])))
+        .collect();
+    for st in &mut report.stuck {
+        let p = rec.mesh.tets[st.tet].map(|v| rec.points[v as usize]);
+        if let Some(i) = near_triangle(rec, &angles, &p) {
+            st.near_triangle = rec.surface_origin.get(i).copied().or(Some(i as u32));
+            st.near_angles = angles[i];
+        }
+    }
+}
+
+/// The smallest and largest angle (degrees) of a triangle (0 and 180 when
+/// it is degenerate).
+fn tri_angles(t: [[f64; 3]; 3]) -> [f64; 2] {
+    let mut lo = 180.0f64;
+    let mut hi = 0.0f64;
+    for k in 0..3 {
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let (nu, nv) = (work_norm(u), work_norm(v));
+        let x = if nu > 0.0 && nv > 0.0 {
+            ((u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv))
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees()
+        } else {
+            0.0
+        };
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    if hi == 0.0 {
+        return [0.0, 180.0];
+    }
+    [lo, hi]
+}
+
+fn work_norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// Fills the triangle-angle fields of the report.
+fn triangle_angles(rec: &Recovered, report: &mut OptimizeReport) {
+    report.triangles_min_angle = 180.0;
+    report.triangles_max_angle = 0.0;
+    for (i, t) in rec.surface.iter().enumerate() {
+        let [lo, hi] = tri_angles(t.map(|v| rec.points[v as usize]));
+        let origin = rec.surface_origin.get(i).copied().or(Some(i as u32));
+        if lo < report.triangles_min_angle {
+            report.triangles_min_angle = lo;
+            report.triangles_min_angle_triangle = origin;
+        }
+        if hi > report.triangles_max_angle {
+            report.triangles_max_angle = hi;
+            report.triangles_max_angle_triangle = origin;
+        }
+    }
+}
+
+/// The closest point of triangle `t` to `x` (Voronoi regions of its
+/// vertices, edges and interior).
+fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let at = |a: [f64; 3], d: [f64; 3], s: f64| std::array::from_fn(|k| s.mul_add(d[k], a[k]));
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(x, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(x, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return at(a, ab, d1 / (d1 - d3));
+    }
+    let cp = sub(x, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return at(a, ac, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let den = va + vb + vc;
+    if den.abs() < f64::MIN_POSITIVE {
+        return a;
+    }
+    let (v, w) = (vb / den, vc / den);
+    std::array::from_fn(|k| a[k] + ab[k] * v + ac[k] * w)
+}
+
+/// See [`Stuck::near_triangle`]: the index in `rec.surface`.
+fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Option<usize> {
+    let c: [f64; 3] = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
+    let reach = super::quality::edge_lengths(p)
+        .into_iter()
+        .fold(0.0f64, f64::max);
+    let mut nearest: Option<(f64, usize)> = None;
+    let mut worst: Option<(f64, usize)> = None;
+    for (i, t) in rec.surface.iter().enumerate() {
+        let q = t.map(|v| rec.points[v as usize]);
+        // The distance to its bounding box first (a lower bound).
+        let gap = (0..3)
+            .map(|k| {
+                let lo = q[0][k].min(q[1][k]).min(q[2][k]);
+                let hi = q[0][k].max(q[1][k]).max(q[2][k]);
+                (lo - c[k]).max(c[k] - hi).max(0.0)
+            })
+            .fold(0.0f64, f64::max);
+        if gap > reach && nearest.is_some_and(|(e, _)| gap >= e) {
+            continue;
+        }
+        let y = closest_on_triangle(c, q);
+        let d = work_norm([y[0] - c[0], y[1] - c[1], y[2] - c[2]]);
+        if nearest.is_none_or(|(e, _)| d < e) {
+            nearest = Some((d, i));
+        }
+        if d <= reach && worst.is_none_or(|(a, _)| angles[i][0] < a) {
+            worst = Some((angles[i][0], i));
+        }
+    }
+    worst.or(nearest).map(|x| x.1)
 }

@@ -230,6 +230,9 @@ pub(super) struct Work {
     pub dirty: Vec<u32>,
     /// Visit marks of [`Work::star`] and their epoch.
     marks: std::cell::RefCell<(Vec<u32>, u32)>,
+    /// Points of the mesh before the optimisation (those at or above may
+    /// be removed again).
+    pub n0: usize,
 }
 
 /// One undoable step of a transaction.
@@ -309,6 +312,7 @@ impl Work {
             dirty: Vec::new(),
             evals: Default::default(),
             marks: Default::default(),
+            n0: n,
         }
     }
 
