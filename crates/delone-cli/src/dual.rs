@@ -265,10 +265,11 @@ pub fn write_tet_voronoi(
     let cells: Vec<[u32; 2]> = v.faces.iter().map(|f| f.sites).collect();
     // TetGen ends an unbounded face's edges and an unbounded cell's faces
     // with -1 (u32::MAX for the writer).
-    let (mut offsets, mut ids) = (vec![0u32], Vec::with_capacity(v.face_edge_ids.len()));
+    let cap = v.face_vertices.len() + 2 * v.open_faces.len();
+    let (mut offsets, mut ids) = (vec![0u32], Vec::with_capacity(cap));
     let mut open = v.open_faces.iter().peekable();
     for fi in 0..v.faces.len() {
-        ids.extend_from_slice(v.face(fi).edges);
+        ids.extend(v.face(fi).edges);
         if open.next_if(|&&o| o as usize == fi).is_some() {
             ids.push(u32::MAX);
         }

@@ -69,7 +69,8 @@ fn output_bytes(v: &delone::tet::Voronoi3) -> usize {
         + size_of_val(&v.open_face_rays[..])
         + size_of_val(&v.face_offsets[..])
         + size_of_val(&v.face_vertices[..])
-        + size_of_val(&v.face_edge_ids[..])
+        + size_of_val(&v.open_face_edges[..])
+        + size_of_val(&v.vertex_edges[..])
         + size_of_val(&v.cell_offsets[..])
         + size_of_val(&v.cell_face_ids[..])
         + size_of_val(&v.unbounded[..])
@@ -184,13 +185,20 @@ fn main() {
                 .flatten()
                 .flatten()
                 .for_each(|x| eat(x.to_bits()));
+            // The faces' edges as the flat list and offsets the diagram
+            // stored up to session 8 (derived now: same digests).
+            let (mut edge_offsets, mut edge_ids) = (vec![0u32], vec![]);
+            for f in 0..v.faces.len() {
+                edge_ids.extend(v.face(f).edges);
+                edge_offsets.push(edge_ids.len() as u32);
+            }
             for a in [
                 &v.ray_edges,
                 &v.open_faces,
                 &v.face_offsets,
                 &v.face_vertices,
-                &v.face_edge_offsets(),
-                &v.face_edge_ids,
+                &edge_offsets,
+                &edge_ids,
                 &v.cell_offsets,
                 &v.cell_face_ids,
             ] {

@@ -504,20 +504,40 @@ fn large_mesh_in_morton_order() {
             assert!(mesh.neighbors[a].contains(&(b as u32)), "edge {e}");
         }
     }
+    // Every vertex's edges are the duals of its tetrahedron's facets, in
+    // slot order (the edge's triangle is the facet off slot i, and the
+    // tetrahedron is one of its ends).
+    assert_eq!(v.vertex_edges.len(), mesh.tets.len());
+    for (t, row) in v.vertex_edges.iter().enumerate() {
+        for (i, &e) in row.iter().enumerate() {
+            let ed = v.edges[e as usize];
+            let mut want: Vec<u32> = (0..4)
+                .filter(|&j| j != i)
+                .map(|j| mesh.tets[t][j])
+                .collect();
+            let mut got = ed.sites.to_vec();
+            want.sort_unstable();
+            got.sort_unstable();
+            assert_eq!(got, want, "vertex {t} slot {i}");
+            assert!(ed.vertices.contains(&(t as u32)), "vertex {t} slot {i}");
+        }
+    }
     // Face edges join consecutive face vertices; open faces start and end with rays.
     for f in 0..v.faces.len() {
         let face = v.face(f);
         let m = face.vertices.len();
         let open = face.rays.is_some();
         assert_eq!(face.edges.len(), m + usize::from(open));
-        let inner = if open { &face.edges[1..m] } else { face.edges };
+        let all: Vec<u32> = face.edges.collect();
+        assert_eq!(all.len(), m + usize::from(open));
+        let inner = if open { &all[1..m] } else { &all[..] };
         for (k, &e) in inner.iter().enumerate() {
             let ends = v.edges[e as usize].vertices;
             let (x, y) = (face.vertices[k], face.vertices[(k + 1) % m]);
             assert!(ends == [x, y] || ends == [y, x], "face {f} edge {k}");
         }
         if open {
-            let (a, b) = (face.edges[0] as usize, face.edges[m] as usize);
+            let (a, b) = (all[0] as usize, all[m] as usize);
             assert_eq!(v.edges[a].vertices, [face.vertices[0], NONE]);
             assert_eq!(v.edges[b].vertices, [face.vertices[m - 1], NONE]);
             assert_ne!(v.direction(a), [0.0; 3]);

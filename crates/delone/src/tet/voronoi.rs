@@ -15,7 +15,7 @@
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use delone_predicates::orient3d;
@@ -80,9 +80,111 @@ pub struct Face3<'a> {
     /// directions; the boundary arrives from infinity along `-first` at
     /// `vertices[0]` and leaves from the last vertex along `last`.
     pub rays: Option<[[f64; 3]; 2]>,
-    /// The boundary edges (see [`Voronoi3::face_edge_ids`]).
-    pub edges: &'a [u32],
+    /// The boundary edges (indices into [`Voronoi3::edges`]), in the order
+    /// of the vertices: for a bounded face edge `k` joins vertex `k` to
+    /// vertex `k + 1` (cyclically); an unbounded face starts with its first
+    /// ray and ends with its last. A face has as many edges as vertices, one
+    /// more if unbounded. Derived from [`Voronoi3::vertex_edges`] along the
+    /// vertices (not stored).
+    pub edges: FaceEdges<'a>,
 }
+
+/// The boundary edges of a face ([`Face3::edges`]): an iterator of edge
+/// indices, derived along the face's vertices (the edge joining two
+/// consecutive vertices is the one edge their [`Voronoi3::vertex_edges`]
+/// share).
+///
+/// ```
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
+/// let mesh = delone::tetrahedralize(&pts).unwrap();
+/// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
+/// for f in 0..v.faces.len() {
+///     let face = v.face(f);
+///     let edges: Vec<u32> = face.edges.collect();
+///     assert_eq!(edges.len(), face.vertices.len() + usize::from(face.rays.is_some()));
+///     assert_eq!(face.edges.len(), edges.len());
+///     assert_eq!(face.edges.get(0), Some(edges[0]));
+/// }
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FaceEdges<'a> {
+    vertex_edges: &'a [[u32; 4]],
+    vertices: &'a [u32],
+    rays: Option<[u32; 2]>,
+    at: usize,
+    end: usize,
+}
+
+impl FaceEdges<'_> {
+    /// Edge `i` of the face (counted from the start, whatever was already
+    /// iterated), or `None` past the end. An invalid diagram (consecutive
+    /// vertices sharing no edge) gives [`NONE`].
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// let mesh = delone::tetrahedralize(&pts).unwrap();
+    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
+    /// let e = v.face(0).edges;
+    /// assert!(v.edges[e.get(0).unwrap() as usize].is_ray());
+    /// assert!(e.get(2).is_none());
+    /// ```
+    pub fn get(&self, i: usize) -> Option<u32> {
+        let k = self.vertices.len();
+        let (j, rays) = match self.rays {
+            Some(r) => {
+                if i == 0 {
+                    return Some(r[0]);
+                }
+                if i == k {
+                    return Some(r[1]);
+                }
+                if i > k {
+                    return None;
+                }
+                (i - 1, true)
+            }
+            None => {
+                if i >= k {
+                    return None;
+                }
+                (i, false)
+            }
+        };
+        let a = self.vertices[j] as usize;
+        let b = self.vertices[if !rays && j + 1 == k { 0 } else { j + 1 }] as usize;
+        let (ea, eb) = match (self.vertex_edges.get(a), self.vertex_edges.get(b)) {
+            (Some(x), Some(y)) => (x, y),
+            _ => return Some(NONE),
+        };
+        // The one edge the two vertices share (branch-light: 16 compares).
+        let mut out = NONE;
+        for &x in ea {
+            if eb.contains(&x) {
+                out = x;
+            }
+        }
+        Some(out)
+    }
+}
+
+impl Iterator for FaceEdges<'_> {
+    type Item = u32;
+
+    fn next(&mut self) -> Option<u32> {
+        if self.at >= self.end {
+            return None;
+        }
+        self.at += 1;
+        self.get(self.at - 1)
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.end - self.at;
+        (n, Some(n))
+    }
+}
+
+impl ExactSizeIterator for FaceEdges<'_> {}
 
 /// Per-face data of a [`Voronoi3`] (the ray directions of unbounded faces
 /// are kept apart, in [`Voronoi3::open_faces`]).
@@ -136,15 +238,15 @@ pub struct Voronoi3 {
     pub face_offsets: Vec<u32>,
     /// The faces' vertex ids, face after face.
     pub face_vertices: Vec<u32>,
-    /// The faces' boundary edges (indices into [`Voronoi3::edges`]), face
-    /// after face, in the order of the face's vertices: for a bounded face
-    /// edge `k` joins vertex `k` to vertex `k + 1` (cyclically); an unbounded
-    /// face starts with its first ray and ends with its last. A face has as
-    /// many edges as vertices, one more if unbounded: face `f` starts at
-    /// `face_offsets[f]` plus the number of unbounded faces before `f`
-    /// ([`Voronoi3::face`] and [`Voronoi3::face_edge_offsets`] compute it;
-    /// not stored, 31 MB at 1M points).
-    pub face_edge_ids: Vec<u32>,
+    /// `open_face_edges[k]` are the first and last edges (rays) of face
+    /// `open_faces[k]` (see [`Face3::edges`]).
+    pub open_face_edges: Vec<[u32; 2]>,
+    /// The edges of every Voronoi vertex: `vertex_edges[t][i]` is the edge
+    /// (index into [`Voronoi3::edges`]) dual to the facet of tetrahedron `t`
+    /// opposite its vertex `i` (`mesh.tets[t][i]`). The faces' edges are
+    /// derived from it ([`Face3::edges`]): two consecutive vertices of a
+    /// face share exactly one edge.
+    pub vertex_edges: Vec<[u32; 4]>,
     /// `cell_offsets[p]..cell_offsets[p + 1]` is the range of
     /// [`Voronoi3::cell_face_ids`] of input point `p` (empty for duplicates).
     pub cell_offsets: Vec<u32>,
@@ -582,21 +684,22 @@ impl<'a, T: Copy> Win<'a, T> {
     }
 }
 
-/// The faces emitted by one chunk of tetrahedra. The face vertices, edges
-/// and the ends of the faces in them (relative to this part) went to the
-/// chunk's windows: `(length, spill)` of each.
+/// The faces emitted by one chunk of tetrahedra. The face vertices and the
+/// ends of the faces in them (relative to this part) went to the chunk's
+/// windows: `(length, spill)` of each.
 #[derive(Default)]
 struct FacePart {
     /// The faces' sites (window and spill, as `wins`).
     sites: (usize, Vec<[u32; 2]>),
     open_faces: Vec<u32>,
     open_face_rays: Vec<[[f64; 3]; 2]>,
-    /// Face vertices, face edges, face ends.
-    wins: [(usize, Vec<u32>); 3],
+    open_face_edges: Vec<[u32; 2]>,
+    /// Face vertices, face ends.
+    wins: [(usize, Vec<u32>); 2],
 }
 
-/// The three windows of a face chunk (see [`FacePart::wins`]).
-type Wins<'a> = [&'a mut [u32]; 3];
+/// The two windows of a face chunk (see [`FacePart::wins`]).
+type Wins<'a> = [&'a mut [u32]; 2];
 
 /// The faces of the chunk `lo..hi`: tetrahedron by tetrahedron, every local
 /// edge not yet swept is swept — the ring of tetrahedra around the Delaunay
@@ -604,8 +707,9 @@ type Wins<'a> = [&'a mut [u32]; 3];
 /// it passes. The face is emitted when no tetrahedron of its ring lies in an
 /// earlier chunk, i.e. by the lowest tetrahedron of its ring, as with one
 /// chunk. `(pre, top)`: the prefix counts of `facet_id` and the last edge
-/// number; `wins`: where the chunk writes its face vertices, edges and
-/// ends (see [`FacePart::wins`]).
+/// number; `wins`: where the chunk writes its face vertices and ends (see
+/// [`FacePart::wins`]); `vedges`: the vertices' edges (see
+/// [`Voronoi3::vertex_edges`]), written for the chunk's tetrahedra.
 #[allow(clippy::too_many_arguments)]
 fn face_pass(
     points: &[[f64; 3]],
@@ -616,14 +720,25 @@ fn face_pass(
     lo: usize,
     hi: usize,
     (wins, wsites): (Wins, &mut [[u32; 2]]),
+    vedges: &[[AtomicU32; 4]],
 ) -> FacePart {
     // Checked lookups (`mesh_fits` has checked the vertex ids; cheap).
     let p = |v: u32| points.get(v as usize).unwrap_or(&[0.0; 3]);
     let nt = recs.len();
     let mine = hi - lo;
     let mut out = FacePart::default();
-    let [wv, we, wo] = wins;
-    let (mut wv, mut we, mut wo) = (Win::new(wv), Win::new(we), Win::new(wo));
+    // The edges of the chunk's tetrahedra, by Voronoi vertex (mesh index).
+    for t in lo..hi {
+        let (c, a) = (&recs[t], aux[t]);
+        if let Some(row) = vedges.get(perm[t] as usize) {
+            for (f, x) in row.iter().enumerate() {
+                let id = facet_id(aux, pre, t as u32, c[1][f], f, mirror(a, f), top);
+                x.store(id, Ordering::Relaxed);
+            }
+        }
+    }
+    let [wv, wo] = wins;
+    let (mut wv, mut wo) = (Win::new(wv), Win::new(wo));
     let mut ws = Win::new(wsites);
     // Faces emitted so far.
     let mut nf = 0u32;
@@ -635,19 +750,16 @@ fn face_pass(
     let mut ends: Vec<u32> = Vec::with_capacity(FLUSH + 64);
     let mut sites: Vec<[u32; 2]> = Vec::with_capacity(FLUSH + 64);
     let mut done = vec![0u8; mine];
-    let (mut back_v, mut back_e, mut fwd_v, mut fwd_e) = (vec![], vec![], vec![], vec![]);
+    let (mut back_v, mut fwd_v) = (vec![], vec![]);
     let limit = nt + 1;
     let mut fv: Vec<u32> = Vec::with_capacity(2 * FLUSH);
-    let mut fe: Vec<u32> = Vec::with_capacity(2 * FLUSH);
     for t in lo..hi {
-        if fv.len() >= FLUSH || fe.len() >= FLUSH || ends.len() >= FLUSH {
+        if fv.len() >= FLUSH || ends.len() >= FLUSH {
             bv += fv.len() as u32;
             wv.extend(&fv);
-            we.extend(&fe);
             wo.extend(&ends);
             ws.extend(&sites);
             fv.clear();
-            fe.clear();
             ends.clear();
             sites.clear();
         }
@@ -659,7 +771,7 @@ fn face_pass(
             todo &= todo - 1;
             let lk = &EDGES[k];
             let [a, b] = [lk[0], lk[1]].map(|i| recs[t][0][i]);
-            let (v0, e0) = (fv.len(), fe.len());
+            let v0 = fv.len();
             // Counterclockwise around a -> b: in tetrahedron s, with the
             // two vertices off the edge (c, d) in slots (pc, pd), cross the
             // facet opposite c, (a, b, d), into the next tetrahedron u,
@@ -679,11 +791,10 @@ fn face_pass(
                 foreign |= su < lo;
                 fv.push(perm[su]);
                 let u = cs[1][pc];
-                let m = mirror(aux[su], pc);
-                fe.push(facet_id(aux, pre, s, u, pc, m, top));
                 if u == NONE {
                     break true;
                 }
+                let m = mirror(aux[su], pc);
                 if u == t as u32 || steps > limit {
                     break false;
                 }
@@ -696,12 +807,11 @@ fn face_pass(
                 let (pa, pb) = (p(a), p(b));
                 let ab_vec = sub(pb, pa);
                 let last = cross(&ab_vec, &sub(p(recs[s as usize][0][pd]), pa));
+                // The hull facet crossed last (the last ray).
+                let last_edge = facet_id(aux, pre, s, NONE, pc, 0, top);
                 fwd_v.clear();
-                fwd_e.clear();
                 fwd_v.extend(fv.drain(v0..));
-                fwd_e.extend(fe.drain(e0..));
                 back_v.clear();
-                back_e.clear();
                 // Clockwise: cross the facet opposite d, (a, b, c); in the
                 // next tetrahedron the vertex off it (the new c) is in the
                 // mirror slot and c (the new d) is looked up.
@@ -711,11 +821,10 @@ fn face_pass(
                     let su = s as usize;
                     let cs = &recs[su];
                     let u = cs[1][pd];
-                    let m = mirror(aux[su], pd);
-                    back_e.push(facet_id(aux, pre, s, u, pd, m, top));
                     if u == NONE || steps > limit {
                         break;
                     }
+                    let m = mirror(aux[su], pd);
                     steps += 1;
                     let uu = u as usize;
                     let pdu = pos(&recs[uu][0], cs[0][pc]);
@@ -731,15 +840,17 @@ fn face_pass(
                     continue;
                 }
                 let first = cross(&sub(p(sc), pa), &ab_vec);
+                // The hull facet the clockwise walk ended on (the first
+                // ray; an invalid mesh's overlong walk gives its facet).
+                let u = recs[s as usize][1][pd];
+                let first_edge = facet_id(aux, pre, s, u, pd, mirror(aux[s as usize], pd), top);
                 fv.extend(back_v.iter().rev());
                 fv.extend(&fwd_v);
-                fe.extend(back_e.iter().rev());
-                fe.extend(&fwd_e);
                 out.open_faces.push(nf);
                 out.open_face_rays.push([first, last]);
+                out.open_face_edges.push([first_edge, last_edge]);
             } else if foreign {
                 fv.truncate(v0);
-                fe.truncate(e0);
                 continue;
             }
             ends.push(bv + fv.len() as u32);
@@ -748,10 +859,9 @@ fn face_pass(
         }
     }
     wv.extend(&fv);
-    we.extend(&fe);
     wo.extend(&ends);
     ws.extend(&sites);
-    out.wins = [wv.done(), we.done(), wo.done()];
+    out.wins = [wv.done(), wo.done()];
     out.sites = ws.done();
     out
 }
@@ -1194,6 +1304,19 @@ impl Voronoi3 {
     /// `aux_pass` save some back). CPU time of the extraction at 1M points
     /// on two threads (loaded machine, 3 runs of 3 repeats): system time
     /// about 0.35 s less per extraction, the whole about 10% less.
+    ///
+    /// Session 8, second step (same digests: `voronoi_timing --hash` digests
+    /// the derived edge lists): the faces' edges are no longer stored
+    /// (`face_edge_ids`, about 6.1 ids per tetrahedron, 24 bytes) but derived
+    /// from [`Voronoi3::vertex_edges`] (16 bytes per tetrahedron) and the
+    /// open faces' rays; the walks no longer number a facet per step (only
+    /// the rays at a hull), the face tasks number the 4 facets of each of
+    /// their tetrahedra once, and the join compacts one array fewer. 200k
+    /// points, one thread: output 183.6 MB -> 172.8 MB, fresh pages
+    /// 227 -> 217 MB (244 -> 232 MB on two threads), instructions (callgrind,
+    /// `--toggle-collect='delone::tet::voronoi::Voronoi3::build'`) 1.931G ->
+    /// 1.819G. 1M points: output 920 MB -> 866 MB, fresh pages 1170 ->
+    /// 1112 MB on two threads (1132 -> 1078 MB on one).
     fn build(
         points: &[[f64; 3]],
         weights: &[f64],
@@ -1385,23 +1508,23 @@ impl Voronoi3 {
         let pre = &pre_vec[..];
         let aux = &aux[..];
         let top = total.saturating_sub(1) as u32;
-        // Window sizes per tetrahedron: 6 face vertices and 6 face edges
-        // (one more per open face); about 7/6 faces (Euler, random points).
+        // Window sizes per tetrahedron: 6 face vertices; about 7/6 faces
+        // (Euler, random points).
         // The first chunk takes the rings across its seam: about 1% more at
         // 200k points in 4 chunks (a spill makes the join copy the whole
         // array into fresh pages), hence 1/4 of slack (untouched, free).
         let wsize = |j: usize, i: usize| {
             let len = fb[i + 1] - fb[i];
-            if j < 2 {
+            if j < 1 {
                 6 * len + len / 4 + 1024
             } else {
                 len * 3 / 2 + 256
             }
         };
         // `starts[j][i]`: where chunk i writes in array j (the face ends,
-        // j = 2, keep a leading 0; j = 3 are the faces' sites).
-        let first = [0usize, 0, 1, 0];
-        let starts: Vec<Vec<usize>> = (0..4)
+        // j = 1, keep a leading 0; j = 2 are the faces' sites).
+        let first = [0usize, 1, 0];
+        let starts: Vec<Vec<usize>> = (0..3)
             .map(|j| {
                 let mut at = first[j];
                 let mut v = Vec::with_capacity(m + 1);
@@ -1413,8 +1536,8 @@ impl Voronoi3 {
                 v
             })
             .collect();
-        let mut arrays: Vec<Vec<u32>> = starts[..3].iter().map(|s| vec![0u32; s[m]]).collect();
-        let mut site_array = vec![[0u32; 2]; starts[3][m]];
+        let mut arrays: Vec<Vec<u32>> = starts[..2].iter().map(|s| vec![0u32; s[m]]).collect();
+        let mut site_array = vec![[0u32; 2]; starts[2][m]];
         let mut wins: Vec<Vec<&mut [u32]>> = arrays
             .iter_mut()
             .zip(&starts)
@@ -1424,7 +1547,7 @@ impl Voronoi3 {
                 split_mut(&mut a[f..], &rel)
             })
             .collect();
-        let mut site_wins = split_mut(&mut site_array, &starts[3]).into_iter();
+        let mut site_wins = split_mut(&mut site_array, &starts[2]).into_iter();
         let mut tasks: Vec<(Wins, &mut [[u32; 2]])> = Vec::with_capacity(m);
         for _ in 0..m {
             let w: Wins = std::array::from_fn(|j| wins[j].remove(0));
@@ -1432,12 +1555,20 @@ impl Voronoi3 {
         }
         drop(wins);
         drop(site_wins);
+        // The vertices' edges, written by the face tasks (each the rows of
+        // its tetrahedra, scattered by `perm`: relaxed atomic stores).
+        let vedges: Vec<[AtomicU32; 4]> = (0..nt).map(|_| Default::default()).collect();
         let face_parts: Vec<FacePart> = run_dynamic(k, tasks, |i, w| {
-            face_pass(points, recs, (pre, top), aux, perm, fb[i], fb[i + 1], w)
+            let (lo, hi) = (fb[i], fb[i + 1]);
+            face_pass(points, recs, (pre, top), aux, perm, lo, hi, w, &vedges)
         })
         .into_iter()
         .map(Option::unwrap_or_default)
         .collect();
+        let vertex_edges: Vec<[u32; 4]> = vedges
+            .into_iter()
+            .map(|r| r.map(AtomicU32::into_inner))
+            .collect();
         let EdgePart {
             edges,
             ray_edges,
@@ -1447,18 +1578,20 @@ impl Voronoi3 {
         // The parts put together: the four arrays compacted in place (on
         // up to k threads; the sites then become the faces in place, same
         // size and alignment), the open faces appended.
-        let mut adds = vec![vec![0u32; m]; 4];
+        let mut adds = vec![vec![0u32; m]; 3];
         let (mut bv, mut bf) = (0u32, 0u32);
         let mut open_faces = Vec::new();
         let mut open_face_rays = Vec::new();
+        let mut open_face_edges = Vec::new();
         for (i, x) in face_parts.iter().enumerate() {
-            adds[2][i] = bv;
+            adds[1][i] = bv;
             bv = bv.wrapping_add(x.wins[0].0 as u32);
             open_faces.extend(x.open_faces.iter().map(|&f| f + bf));
             open_face_rays.extend_from_slice(&x.open_face_rays);
+            open_face_edges.extend_from_slice(&x.open_face_edges);
             bf = bf.wrapping_add(x.sites.0 as u32);
         }
-        let parts: Vec<Vec<(usize, Vec<u32>)>> = (0..3)
+        let parts: Vec<Vec<(usize, Vec<u32>)>> = (0..2)
             .map(|j| {
                 face_parts
                     .iter()
@@ -1484,7 +1617,7 @@ impl Voronoi3 {
                 )
             }
             Join::Sites(a) => {
-                let a = compact(a, 0, &starts[3][..m], &site_parts, &adds[3], |x, _| x);
+                let a = compact(a, 0, &starts[2][..m], &site_parts, &adds[2], |x, _| x);
                 (
                     vec![],
                     a.into_iter().map(|sites| FaceInfo3 { sites }).collect(),
@@ -1495,7 +1628,7 @@ impl Voronoi3 {
         .map(|x| x.unwrap_or_default());
         let faces: Vec<FaceInfo3> = joined.next().unwrap_or_default().1;
         let mut next = || joined.next().unwrap_or_default().0;
-        let (face_vertices, face_edge_ids, face_offsets) = (next(), next(), next());
+        let (face_vertices, face_offsets) = (next(), next());
         ph.lap("join");
         let mut unbounded = vec![false; n];
         for &r in &ray_edges {
@@ -1573,7 +1706,8 @@ impl Voronoi3 {
             open_face_rays,
             face_offsets,
             face_vertices,
-            face_edge_ids,
+            open_face_edges,
+            vertex_edges,
             cell_offsets,
             cell_face_ids,
             unbounded,
@@ -1624,48 +1758,26 @@ impl Voronoi3 {
             self.face_offsets[f] as usize,
             self.face_offsets[f + 1] as usize,
         );
-        // `k` unbounded faces before f: the edges start k further on (one
-        // more edge than vertices in each), and f has one more if open.
-        let (k, rays) = match self.open_faces.binary_search(&(f as u32)) {
-            Ok(k) => (k, Some(self.open_face_rays[k])),
-            Err(k) => (k, None),
+        let (rays, ray_edges) = match self.open_faces.binary_search(&(f as u32)) {
+            Ok(k) => (
+                Some(self.open_face_rays[k]),
+                Some(self.open_face_edges.get(k).copied().unwrap_or([NONE; 2])),
+            ),
+            Err(_) => (None, None),
         };
+        let vertices = &self.face_vertices[lo..hi];
         Face3 {
             sites: info.sites,
-            vertices: &self.face_vertices[lo..hi],
+            vertices,
             rays,
-            edges: &self.face_edge_ids[lo + k..hi + k + usize::from(rays.is_some())],
+            edges: FaceEdges {
+                vertex_edges: &self.vertex_edges,
+                vertices,
+                rays: ray_edges,
+                at: 0,
+                end: vertices.len() + usize::from(rays.is_some()),
+            },
         }
-    }
-
-    /// The offsets of the faces' edges in [`Voronoi3::face_edge_ids`]:
-    /// entries `[f]..[f + 1]` are the edges of face `f` (one leading `0`,
-    /// one entry per face after it). Computed (`face_offsets[f]` plus the
-    /// number of unbounded faces before `f`), not stored.
-    ///
-    /// ```
-    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
-    /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// let v = delone::tet::Voronoi3::new(&pts, &mesh).unwrap();
-    /// let o = v.face_edge_offsets();
-    /// assert_eq!(o.len(), v.faces.len() + 1);
-    /// assert_eq!(*o.last().unwrap() as usize, v.face_edge_ids.len());
-    /// for f in 0..v.faces.len() {
-    ///     assert_eq!(&v.face_edge_ids[o[f] as usize..o[f + 1] as usize], v.face(f).edges);
-    /// }
-    /// ```
-    pub fn face_edge_offsets(&self) -> Vec<u32> {
-        let mut open = self.open_faces.iter().peekable();
-        let mut k = 0u32;
-        let mut out = Vec::with_capacity(self.face_offsets.len());
-        out.extend(self.face_offsets.first().copied());
-        for (f, &o) in self.face_offsets.iter().enumerate().skip(1) {
-            if open.next_if(|&&x| x as usize == f - 1).is_some() {
-                k += 1;
-            }
-            out.push(o + k);
-        }
-        out
     }
 
     fn rep(&self, p: usize) -> usize {
