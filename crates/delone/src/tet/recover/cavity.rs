@@ -106,6 +106,7 @@ use delone_predicates::{orient2d, orient3d};
 
 mod hull;
 mod patch;
+mod pull;
 
 type P = [f64; 3];
 

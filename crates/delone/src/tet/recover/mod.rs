@@ -593,7 +593,15 @@ pub fn recover_marked(
         e => e,
     };
     let (out, on) = if opts.constrained || opts.preserve_surface {
-        let (cm, on) = st.run_cdt(&mut dt).map_err(origin)?;
+        let (cm, on) = match st.run_cdt(&mut dt) {
+            // `-Y`: the fallback that always applies (the `cavity` module).
+            Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
+                let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
+                st = st2;
+                (cm, on)
+            }
+            r => r.map_err(origin)?,
+        };
         (cm.dt, Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
