@@ -36,8 +36,8 @@
 //!    tetrahedra on the same closed side of `T`'s plane), at most
 //!    [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra — the bounded form of
 //!    cavity expansion; when nothing is left to try the item stays missing
-//!    and the caller falls back to its interior-point rounds, then reports
-//!    it ([`RecoverError::Unrecovered`]).
+//!    and the caller falls back to its interior-point rounds, then to the
+//!    fallback that always applies (below).
 //!
 //! **Validation** before anything changes: every new tetrahedron strictly
 //! positive (exact); the oriented faces of the new tetrahedra, as a chain,
@@ -90,6 +90,21 @@
 //! by [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra; and nothing is
 //! applied unless the exact validation above passes, so a bad growth
 //! costs an attempt, never the mesh.
+//!
+//! **The fallback that always applies** (the `pull` submodule): when the
+//! cavities and the interior-point rounds give up
+//! ([`RecoverError::Unrecovered`]), the surface is recovered again
+//! without preservation (Steiner points on its edges and triangles, which
+//! always succeeds on a closed surface free of self-intersections), and
+//! every surface Steiner point is then removed from the surface: its star
+//! is split by the surface into wedges, the refinement of each input
+//! triangle around it is retriangulated without it (ear clipping), and
+//! each wedge is refilled by the cone from a new point just inside it
+//! (exact `orient3d`: a point near the removed one sees every face of
+//! the wedge strictly, by continuity). One surface point fewer per step,
+//! none added on the surface: it terminates with every input triangle a
+//! single face. Only what that step cannot validate exactly (rounding of
+//! inexact surface points) is reported as [`RecoverError::Unrecovered`].
 //!
 //! The face and edge lookups used to decide what is missing search a
 //! vertex's star, not an edge ring, so edges with many tetrahedra around
@@ -521,9 +536,20 @@ fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
     let c = &cm.dt.core;
     let pts = cm.pts();
     let (pa, pb) = (pts[a as usize], pts[b as usize]);
+    let lo = [0, 1, 2].map(|k| pa[k].min(pb[k]));
+    let hi = [0, 1, 2].map(|k| pa[k].max(pb[k]));
     let meets = |t: u32| -> bool {
         let tv = c.v[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
+            return false;
+        }
+        // Exact reject: a tetrahedron wholly on one side of the segment's
+        // bounding box misses it (this also stops the coplanar superset
+        // below from spreading along a plane far from the segment).
+        if (0..3).any(|k| {
+            tv.iter().all(|&w| pts[w as usize][k] < lo[k])
+                || tv.iter().all(|&w| pts[w as usize][k] > hi[k])
+        }) {
             return false;
         }
         for (s, e) in [(a, b), (b, a)] {

@@ -87,7 +87,10 @@
 //! cavity a bounded number of times), with exact validation and Steiner
 //! points strictly off the surface. What it cannot finish falls back to
 //! points off the failing triangles (along their normals) inserted in the
-//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds, then
+//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds; what
+//! is still missing then goes to the `cavity` module's fallback (recover
+//! with surface Steiner points, then pull each of them off the surface),
+//! and only what that cannot validate exactly to
 //! [`RecoverError::Unrecovered`].
 //!
 //! On the constrained path, each group of coplanar triangles merged by

@@ -59,6 +59,7 @@
 //! are dropped by carving and compaction.
 
 use super::super::missing::fkey;
+use super::super::place::{cross, dot, sub};
 use super::super::surface::{IdMap, IdSet};
 use super::super::{FacesOn, RecoverError, State};
 use super::{okey, rev};
@@ -71,6 +72,8 @@ type P = [f64; 3];
 
 /// Halvings of the step `h` tried for a new point.
 const HALVINGS: usize = 60;
+/// Most growth steps of a wedge.
+const MAX_GROW: usize = 4;
 
 impl State {
     /// The `-Y` fallback (module documentation): recovers `scaled` (the
@@ -140,27 +143,39 @@ impl State {
         surface_pts.sort_unstable();
         surface_pts.dedup();
         let mut added = 0;
-        for &s in &surface_pts {
-            match self.pull_one(cm, s, &mut face_tri) {
-                Some(k) => added += k,
-                None => {
-                    let mut tris: Vec<usize> = cm
-                        .star(s)
-                        .iter()
-                        .flat_map(|&t| {
-                            let tv = cm.dt.core.v[t as usize];
-                            (0..4).map(move |f| fkey(face(tv, f)))
-                        })
-                        .filter_map(|k| face_tri.get(&k).map(|&t| t as usize))
-                        .collect();
-                    tris.sort_unstable();
-                    tris.dedup();
-                    return Err(RecoverError::Unrecovered {
-                        triangles: tris,
-                        steiner: before + added,
-                    });
+        // A point that fails is retried after the others (their removal
+        // changes its star), as long as a pass removes one.
+        let mut pending = surface_pts;
+        loop {
+            let before_len = pending.len();
+            let mut failed = Vec::new();
+            for &s in &pending {
+                match self.pull_one(cm, s, &mut face_tri) {
+                    Some(k) => added += k,
+                    None => failed.push(s),
                 }
             }
+            pending = failed;
+            if pending.is_empty() || pending.len() == before_len {
+                break;
+            }
+        }
+        if let Some(&s) = pending.first() {
+            let mut tris: Vec<usize> = cm
+                .star(s)
+                .iter()
+                .flat_map(|&t| {
+                    let tv = cm.dt.core.v[t as usize];
+                    (0..4).map(move |f| fkey(face(tv, f)))
+                })
+                .filter_map(|k| face_tri.get(&k).map(|&t| t as usize))
+                .collect();
+            tris.sort_unstable();
+            tris.dedup();
+            return Err(RecoverError::Unrecovered {
+                triangles: tris,
+                steiner: before + added,
+            });
         }
         let left: Vec<usize> = (0..self.surf.tris.len())
             .filter(|&t| {
@@ -256,12 +271,14 @@ impl State {
         let mut all_pts: Vec<P> = pts.to_vec();
         let mut new: Vec<[u32; 4]> = Vec::new();
         let mut added = 0;
+        // Tetrahedra outside the star that wedges grew by.
+        let mut extra: Vec<u32> = Vec::new();
         for w in &wedges {
             let ghosts = w
                 .iter()
                 .filter(|&&i| c.v[star[i] as usize].contains(&INF))
                 .count();
-            let mut link: Vec<[u32; 3]> = Vec::new();
+            let mut link: Vec<([u32; 3], u32, usize)> = Vec::new();
             // Surface faces of the wedge (inward), per input triangle.
             let mut fans: Vec<([u32; 3], u32)> = Vec::new();
             for &i in w {
@@ -269,7 +286,7 @@ impl State {
                 for f in 0..4 {
                     let fv = face(tv, f);
                     if tv[f] == s {
-                        link.push(fv);
+                        link.push((fv, star[i], f));
                     } else if let Some(&ti) = face_tri.get(&fkey(fv)) {
                         fans.push((fv, ti));
                     }
@@ -311,62 +328,149 @@ impl State {
             if ghosts > 0 {
                 return None;
             }
-            bound.extend(link);
-            // Into the wedge: the inward normals of its surface faces.
+            // Into the wedge: the unit normals of its input triangles,
+            // oriented towards it, one per triangle (their sum points
+            // strictly into every one's open half-space); then other
+            // directions, each checked exactly.
             let sp = pts[s as usize];
-            let mut d = [0.0; 3];
-            for &(fv, _) in &fans {
-                let [a, b, cc] = fv.map(|w| pts[w as usize]);
-                let n = super::super::place::cross(
-                    &super::super::place::sub(&b, &a),
-                    &super::super::place::sub(&cc, &a),
-                );
-                let l = super::super::place::dot(&n, &n).sqrt();
-                if l > 0.0 {
-                    for k in 0..3 {
-                        d[k] += n[k] / l;
-                    }
+            let mut normals: Vec<P> = Vec::new();
+            let mut done: Vec<u32> = Vec::new();
+            for &(fv, ti) in &fans {
+                if done.contains(&ti) {
+                    continue;
                 }
+                done.push(ti);
+                let [a, b, cc] = fv.map(|w| pts[w as usize]);
+                let nf = cross(&sub(&b, &a), &sub(&cc, &a));
+                let [a, b, cc] = self.surf.tris[ti as usize].map(|w| pts[w as usize]);
+                let mut n = cross(&sub(&b, &a), &sub(&cc, &a));
+                let l = dot(&n, &n).sqrt();
+                if l == 0.0 || !l.is_finite() {
+                    return None;
+                }
+                let sg = if dot(&n, &nf) < 0.0 { -1.0 } else { 1.0 };
+                n = n.map(|x| sg * x / l);
+                normals.push(n);
             }
-            let dl = super::super::place::dot(&d, &d).sqrt();
             let mut reach = f64::INFINITY;
-            for f in &bound {
+            let mut centre = [0.0; 3];
+            let mut nc: f64 = 0.0;
+            for f in bound.iter().chain(link.iter().map(|l| &l.0)) {
                 for &x in f {
                     if x != s {
-                        let e = super::super::place::sub(&pts[x as usize], &sp);
-                        reach = reach.min(super::super::place::dot(&e, &e).sqrt());
+                        let e = sub(&pts[x as usize], &sp);
+                        reach = reach.min(dot(&e, &e).sqrt());
+                        for k in 0..3 {
+                            centre[k] += e[k];
+                        }
+                        nc += 1.0;
                     }
                 }
             }
-            if dl == 0.0 || !dl.is_finite() || !reach.is_finite() {
+            if !reach.is_finite() || reach == 0.0 {
                 return None;
             }
+            let mut dirs: Vec<P> = vec![normals
+                .iter()
+                .fold([0.0; 3], |d, n| [d[0] + n[0], d[1] + n[1], d[2] + n[2]])];
+            dirs.push(centre.map(|x| x / nc.max(1.0)));
+            dirs.extend(normals.iter().copied());
             let id = all_pts.len() as u32;
-            let mut h = 0.25 * reach;
             let mut found = None;
-            for _ in 0..HALVINGS {
-                let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
-                let sees = bound.iter().all(|f| {
-                    let [a, b, cc] = f.map(|w| &all_pts[w as usize]);
-                    orient3d(a, b, cc, &p) < 0.0
-                });
-                if sees {
-                    found = Some(p);
+            // Growth: the tetrahedra behind the faces opposite `s` that the
+            // best candidate does not see (nearly flat tetrahedra of
+            // inexact surface points), never across the surface.
+            let mut grown: Vec<u32> = Vec::new();
+            for _ in 0..=MAX_GROW {
+                let nb = bound.len();
+                let all: Vec<[u32; 3]> = bound
+                    .iter()
+                    .copied()
+                    .chain(link.iter().map(|l| l.0))
+                    .collect();
+                let mut fewest: Option<Vec<usize>> = None;
+                'dirs: for d in &dirs {
+                    let dl = dot(&d, &d).sqrt();
+                    if dl == 0.0 || !dl.is_finite() {
+                        continue;
+                    }
+                    let mut h = 0.25 * reach;
+                    for _ in 0..HALVINGS {
+                        let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
+                        let bad: Vec<usize> = (0..all.len())
+                            .filter(|&k| {
+                                let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
+                                orient3d(a, b, cc, &p) >= 0.0
+                            })
+                            .collect();
+                        if bad.is_empty() {
+                            found = Some(p);
+                            break 'dirs;
+                        }
+                        if bad.iter().all(|&k| k >= nb)
+                            && fewest.as_ref().is_none_or(|f| bad.len() < f.len())
+                        {
+                            fewest = Some(bad);
+                        }
+                        h *= 0.5;
+                    }
+                }
+                if found.is_some() {
                     break;
                 }
-                h *= 0.5;
+                let Some(bad) = fewest else { return None };
+                let mut more = false;
+                for k in bad {
+                    let (fv, t, f) = link[k - nb];
+                    let n = c.adj[t as usize][f] >> 2;
+                    let nv = c.v[n as usize];
+                    if face_tri.contains_key(&fkey(fv))
+                        || nv[0] == DEAD
+                        || nv.contains(&INF)
+                        || star.binary_search(&n).is_ok()
+                        || grown.contains(&n)
+                        || extra.contains(&n)
+                    {
+                        continue;
+                    }
+                    grown.push(n);
+                    more = true;
+                }
+                if !more {
+                    return None;
+                }
+                // The wedge's faces opposite `s`, with the grown tetrahedra.
+                let mut set: Vec<u32> = w.iter().map(|&i| star[i]).collect();
+                set.extend(&grown);
+                link.clear();
+                for &t in &set {
+                    let tv = c.v[t as usize];
+                    for f in 0..4 {
+                        let fv = face(tv, f);
+                        // Faces at `s` are its surface faces (new triangles).
+                        if !set.contains(&(c.adj[t as usize][f] >> 2)) && !fv.contains(&s) {
+                            link.push((fv, t, f));
+                        }
+                    }
+                }
             }
+            extra.extend(&grown);
             let p = found?;
             if !self.off_surface(&all_pts, &p) {
                 return None;
             }
             all_pts.push(p);
             added += 1;
-            for f in bound {
+            for f in bound.into_iter().chain(link.into_iter().map(|l| l.0)) {
                 new.push([f[0], f[1], f[2], id]);
             }
         }
-        let old: Vec<u32> = star.clone();
+        let mut old: Vec<u32> = star.clone();
+        old.extend(&extra);
+        old.sort_unstable();
+        if old.windows(2).any(|x| x[0] == x[1]) {
+            return None;
+        }
         if !valid_star(cm, &all_pts, &old, &new, s) {
             return None;
         }
@@ -460,20 +564,29 @@ fn polygon_without(pts: &[P], fan: &[[u32; 3]], s: u32, ax: usize) -> Option<Vec
     let mut out = Vec::new();
     while idx.len() > 3 {
         let n = idx.len();
-        let ear = (0..n).find(|&i| {
-            let (u, v, w) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
-            if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 {
-                return false;
-            }
-            idx.iter().all(|&x| {
-                x == u
-                    || x == v
-                    || x == w
-                    || orient2d(&p2[u], &p2[v], &p2[x]) < 0.0
-                    || orient2d(&p2[v], &p2[w], &p2[x]) < 0.0
-                    || orient2d(&p2[w], &p2[u], &p2[x]) < 0.0
+        // Of the ears, the roundest (twice its area over its longest edge
+        // squared): thin ears tilt out of the triangle's plane.
+        let ear = (0..n)
+            .filter(|&i| {
+                let (u, v, w) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
+                if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 {
+                    return false;
+                }
+                idx.iter().all(|&x| {
+                    x == u
+                        || x == v
+                        || x == w
+                        || orient2d(&p2[u], &p2[v], &p2[x]) < 0.0
+                        || orient2d(&p2[v], &p2[w], &p2[x]) < 0.0
+                        || orient2d(&p2[w], &p2[u], &p2[x]) < 0.0
+                })
             })
-        })?;
+            .map(|i| {
+                let (u, v, w) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
+                (roundness(&p2[u], &p2[v], &p2[w]), i)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))?
+            .1;
         let (u, v, w) = (idx[(ear + n - 1) % n], idx[ear], idx[(ear + 1) % n]);
         out.push([cyc[u], cyc[v], cyc[w]]);
         idx.remove(ear);
@@ -484,6 +597,18 @@ fn polygon_without(pts: &[P], fan: &[[u32; 3]], s: u32, ax: usize) -> Option<Vec
     }
     out.push([cyc[u], cyc[v], cyc[w]]);
     Some(out)
+}
+
+/// Twice the area of `a b c` over its longest edge squared.
+fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
+    let d2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let area2 = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+    let l = d2(a, b).max(d2(b, c)).max(d2(c, a));
+    if l > 0.0 {
+        area2 / l
+    } else {
+        0.0
+    }
 }
 
 /// Exact validation of replacing the star `old` (sorted) of `s` by `new`
