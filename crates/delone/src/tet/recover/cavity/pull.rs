@@ -390,7 +390,7 @@ impl State {
                     .collect();
                 let mut fewest: Option<Vec<usize>> = None;
                 'dirs: for d in &dirs {
-                    let dl = dot(&d, &d).sqrt();
+                    let dl = dot(d, d).sqrt();
                     if dl == 0.0 || !dl.is_finite() {
                         continue;
                     }
@@ -418,7 +418,7 @@ impl State {
                 if found.is_some() {
                     break;
                 }
-                let Some(bad) = fewest else { return None };
+                let bad = fewest?;
                 let mut more = false;
                 for k in bad {
                     let (fv, t, f) = link[k - nb];
