@@ -536,20 +536,9 @@ fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
     let c = &cm.dt.core;
     let pts = cm.pts();
     let (pa, pb) = (pts[a as usize], pts[b as usize]);
-    let lo = [0, 1, 2].map(|k| pa[k].min(pb[k]));
-    let hi = [0, 1, 2].map(|k| pa[k].max(pb[k]));
     let meets = |t: u32| -> bool {
         let tv = c.v[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
-            return false;
-        }
-        // Exact reject: a tetrahedron wholly on one side of the segment's
-        // bounding box misses it (this also stops the coplanar superset
-        // below from spreading along a plane far from the segment).
-        if (0..3).any(|k| {
-            tv.iter().all(|&w| pts[w as usize][k] < lo[k])
-                || tv.iter().all(|&w| pts[w as usize][k] > hi[k])
-        }) {
             return false;
         }
         for (s, e) in [(a, b), (b, a)] {
