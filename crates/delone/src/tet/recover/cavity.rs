@@ -36,8 +36,8 @@
 //!    tetrahedra on the same closed side of `T`'s plane), at most
 //!    [`MAX_GROW`] steps and [`MAX_CAVITY`] tetrahedra — the bounded form of
 //!    cavity expansion; when nothing is left to try the item stays missing
-//!    and the caller falls back to its interior-point rounds, then reports
-//!    it ([`RecoverError::Unrecovered`]).
+//!    and the caller falls back to its interior-point rounds, then to the
+//!    fallback that always applies (below).
 //!
 //! **Validation** before anything changes: every new tetrahedron strictly
 //! positive (exact); the oriented faces of the new tetrahedra, as a chain,
@@ -91,6 +91,21 @@
 //! applied unless the exact validation above passes, so a bad growth
 //! costs an attempt, never the mesh.
 //!
+//! **The fallback that always applies** (the `pull` submodule): when the
+//! cavities and the interior-point rounds give up
+//! ([`RecoverError::Unrecovered`]), the surface is recovered again
+//! without preservation (Steiner points on its edges and triangles, which
+//! always succeeds on a closed surface free of self-intersections), and
+//! every surface Steiner point is then removed from the surface: its star
+//! is split by the surface into wedges, the refinement of each input
+//! triangle around it is retriangulated without it (ear clipping), and
+//! each wedge is refilled by the cone from a new point just inside it
+//! (exact `orient3d`: a point near the removed one sees every face of
+//! the wedge strictly, by continuity). One surface point fewer per step,
+//! none added on the surface: it terminates with every input triangle a
+//! single face. Only what that step cannot validate exactly (rounding of
+//! inexact surface points) is reported as [`RecoverError::Unrecovered`].
+//!
 //! The face and edge lookups used to decide what is missing search a
 //! vertex's star, not an edge ring, so edges with many tetrahedra around
 //! them (above the flip code's ring cap) are not mistaken for missing.
@@ -106,6 +121,7 @@ use delone_predicates::{orient2d, orient3d};
 
 mod hull;
 mod patch;
+mod pull;
 
 type P = [f64; 3];
 

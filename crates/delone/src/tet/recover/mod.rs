@@ -89,7 +89,10 @@
 //! cavity a bounded number of times), with exact validation and Steiner
 //! points strictly off the surface. What it cannot finish falls back to
 //! points off the failing triangles (along their normals) inserted in the
-//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds, then
+//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds; what
+//! is still missing then goes to the `cavity` module's fallback (recover
+//! with surface Steiner points, then pull each of them off the surface),
+//! and only what that cannot validate exactly to
 //! [`RecoverError::Unrecovered`].
 //!
 //! On the constrained path, each group of coplanar triangles merged by
@@ -585,7 +588,15 @@ pub fn recover_marked(
         e => e,
     };
     let (out, on) = if opts.constrained || opts.preserve_surface {
-        let (cm, on) = st.run_cdt(&mut dt).map_err(origin)?;
+        let (cm, on) = match st.run_cdt(&mut dt) {
+            // `-Y`: the fallback that always applies (the `cavity` module).
+            Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
+                let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
+                st = st2;
+                (cm, on)
+            }
+            r => r.map_err(origin)?,
+        };
         (cm.dt, Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
