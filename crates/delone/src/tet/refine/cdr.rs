@@ -1618,13 +1618,22 @@ impl Cdr {
             .into_iter()
             .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
             .collect();
+        // Of the subfaces, only the one the circumcentre encroaches most
+        // deeply (nearest to its circumcentre relative to its radius): a
+        // circumcentre near a curved surface encroaches a fan of them
+        // (thingi37322: 14 pieces for one cell), and one split usually
+        // removes the cell; it is checked again afterwards.
+        let depth = |k: &[u32; 3]| {
+            tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+                .filter(|x| 2.0 * x.1.sqrt() >= lmin)
+                .map(|(x, r2)| dist2(&x, &c) / r2)
+        };
         let faces: Vec<[u32; 3]> = faces
             .into_iter()
-            .filter(|k| {
-                let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
-                    .map_or(0.0, |x| x.1);
-                2.0 * r2.sqrt() >= lmin
-            })
+            .filter_map(|k| depth(&k).map(|d| (d, k)))
+            .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
+            .map(|x| x.1)
+            .into_iter()
             .collect();
         // No split on behalf of this cell may make an edge shorter than
         // the cell's shortest edge (Shewchuk's insertion-radius argument:
@@ -1635,8 +1644,11 @@ impl Cdr {
         // reaches round a constraint or a small input angle: the split
         // would start a cascade of ever shorter edges (before this rule,
         // 2-6x the points on curved and sharp models, and more bad cells
-        // left, not fewer). The cell is left instead.
-        self.min_ir = lmin;
+        // left, not fewer). The cell is left instead. (A cell only too big
+        // is split regardless: volume and sizing bounds are the user's.)
+        if quality::radius_edge_ratio(&p) > self.bound {
+            self.min_ir = lmin;
+        }
         let mut progress = false;
         for e in segs {
             if !self.out_of_budget() {
