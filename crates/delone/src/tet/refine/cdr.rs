@@ -1646,7 +1646,11 @@ impl Cdr {
         // 2-6x the points on curved and sharp models, and more bad cells
         // left, not fewer). The cell is left instead. (A cell only too big
         // is split regardless: volume and sizing bounds are the user's.)
-        if quality::radius_edge_ratio(&p) > self.bound {
+        // Neither is a cell with two or more faces on the surface: no flip
+        // or smoothing can repair it later.
+        if quality::radius_edge_ratio(&p) > self.bound
+            && self.mask[b.slot as usize].count_ones() < 2
+        {
             self.min_ir = lmin;
         }
         let mut progress = false;
