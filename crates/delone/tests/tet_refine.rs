@@ -445,6 +445,33 @@ fn curved_models_terminate_at_q1414() {
     );
 }
 
+/// Rejected circumcentres must not cascade: before the insertion-radius
+/// rule (a piece split for a bad cell may not make an edge shorter than
+/// the cell's), one rejected circumcentre of thingi37322 split 14 pieces and
+/// the refinement made 5x TetGen's tetrahedra, dragknob 3x. The bounds
+/// are 1.3x / 1.6x TetGen 1.6's `-pq1.414` counts (71 and 2,108
+/// tetrahedra; before the optimiser, which inserts points of its own).
+#[test]
+fn rejected_circumcentres_do_not_cascade() {
+    let Some(dir) = data_dir() else { return };
+    for (name, tetgen, factor) in [
+        ("wm_thingi37322", 71.0, 1.3),
+        ("cgal_dragknob", 2108.0, 1.6),
+    ] {
+        let Some((rel, s)) = read_model(&dir, name) else {
+            continue;
+        };
+        let t = s.triangles();
+        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 100_000);
+        assert_stops(&rel, &r, s.points.len(), 10_000);
+        let n = r.rec.mesh.tets.len();
+        assert!(
+            n as f64 <= factor * tetgen,
+            "{rel}: {n} tetrahedra, TetGen {tetgen}"
+        );
+    }
+}
+
 /// The refinement of `name` (`n_input` input points) stopped by itself,
 /// adding at most `max_points`, with bad cells left only where it reports
 /// why (skipped or flat).

@@ -132,6 +132,13 @@ pub(super) struct Cdr {
     max_dev: f64,
     s: f64,
     sizer: super::sizing::Sizer,
+    /// While R3 splits the pieces a rejected circumcentre encroaches: the
+    /// shortest edge the split may create (the bad cell's shortest edge),
+    /// else 0.
+    min_ir: f64,
+    /// Set when [`Cdr::insert`] refused a point for [`Cdr::min_ir`] (the
+    /// piece is not marked as failed: it may be split for another reason).
+    ir_refused: bool,
 }
 
 impl Cdr {
@@ -371,6 +378,8 @@ impl Cdr {
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
             p,
+            min_ir: 0.0,
+            ir_refused: false,
         };
         st.reg.resize(nt, 0);
         // The recovered mesh is not constrained Delaunay (recovery flips and
@@ -867,6 +876,10 @@ impl Cdr {
         if !self.shrink(&mut cav, required, dis, &m, &tris) {
             return None;
         }
+        if self.min_ir > 0.0 && self.too_close(&cav, &m, self.min_ir) {
+            self.ir_refused = true;
+            return None;
+        }
         for _ in 0..64 {
             match self.plan(&cav, required, dis, split, &m, &tris) {
                 Ok(plan) => {
@@ -1066,8 +1079,9 @@ impl Cdr {
             return false;
         }
         let n = self.p.len();
+        self.ir_refused = false;
         let done = self.split_segment_at(e);
-        if !done && self.p.len() == n {
+        if !done && self.p.len() == n && !self.ir_refused {
             self.failed_s.insert(e);
         }
         done
@@ -1323,8 +1337,9 @@ impl Cdr {
             return false;
         }
         let n = self.p.len();
+        self.ir_refused = false;
         let done = self.split_face_at(k);
-        if !done && self.p.len() == n {
+        if !done && self.p.len() == n && !self.ir_refused {
             self.failed_f.insert(k);
         }
         done
@@ -1603,14 +1618,41 @@ impl Cdr {
             .into_iter()
             .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
             .collect();
+        // Of the subfaces, only the one the circumcentre encroaches most
+        // deeply (nearest to its circumcentre relative to its radius): a
+        // circumcentre near a curved surface encroaches a fan of them
+        // (thingi37322: 14 pieces for one cell), and one split usually
+        // removes the cell; it is checked again afterwards.
+        let depth = |k: &[u32; 3]| {
+            tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+                .filter(|x| 2.0 * x.1.sqrt() >= lmin)
+                .map(|(x, r2)| dist2(&x, &c) / r2)
+        };
         let faces: Vec<[u32; 3]> = faces
             .into_iter()
-            .filter(|k| {
-                let r2 = tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
-                    .map_or(0.0, |x| x.1);
-                2.0 * r2.sqrt() >= lmin
-            })
+            .filter_map(|k| depth(&k).map(|d| (d, k)))
+            .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
+            .map(|x| x.1)
+            .into_iter()
             .collect();
+        // No split on behalf of this cell may make an edge shorter than
+        // the cell's shortest edge (Shewchuk's insertion-radius argument:
+        // in a Delaunay mesh a piece encroached by the circumcentre of a
+        // cell of radius-edge ratio B is split at a point whose nearest
+        // vertex is at least the cell's circumradius / sqrt 2 away, i.e.
+        // its shortest edge for B = sqrt 2). Closer means the circumball
+        // reaches round a constraint or a small input angle: the split
+        // would start a cascade of ever shorter edges (before this rule,
+        // 2-6x the points on curved and sharp models, and more bad cells
+        // left, not fewer). The cell is left instead. (A cell only too big
+        // is split regardless: volume and sizing bounds are the user's.)
+        // Neither is a cell with two or more faces on the surface: no flip
+        // or smoothing can repair it later.
+        if quality::radius_edge_ratio(&p) > self.bound
+            && self.mask[b.slot as usize].count_ones() < 2
+        {
+            self.min_ir = lmin;
+        }
         let mut progress = false;
         for e in segs {
             if !self.out_of_budget() {
@@ -1622,6 +1664,7 @@ impl Cdr {
                 progress |= self.split_face(k);
             }
         }
+        self.min_ir = 0.0;
         if progress {
             self.badq.push(b);
         } else {

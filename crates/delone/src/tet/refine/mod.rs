@@ -77,7 +77,20 @@
 //!    diametral / equatorial ball holds it, reject it and are split
 //!    instead, but only when they are not much smaller than the cell's
 //!    shortest edge (near small input angles the cell is left and counted
-//!    in [`RefineReport::skipped`]). A subface in the way that it does not
+//!    in [`RefineReport::skipped`]). Of several encroached subfaces only
+//!    the one encroached most deeply (circumcentre nearest to its centre,
+//!    relative to its radius) is split, then the cell is checked again.
+//!    No split on behalf of a cell bad by shape may put a point closer to
+//!    a vertex of its cavity than the cell's shortest edge (Shewchuk's
+//!    insertion-radius argument: in a Delaunay mesh the split point of a
+//!    piece encroached by the circumcentre of a cell of radius-edge ratio
+//!    √2 is at least that far from every vertex); closer means the
+//!    circumball reaches round a constraint or into a small input angle,
+//!    where the split starts a cascade of ever shorter edges, so the
+//!    piece is not split and the cell is left (counted in
+//!    [`RefineReport::skipped_small`]; cells with two faces on the
+//!    surface, which no optimisation can repair, and cells only too big
+//!    are exempt). A subface in the way that it does not
 //!    encroach leaves the cell ([`RefineReport::skipped_behind`]: wedges at
 //!    ridges, or where the flips could not restore constrained Delaunay).
 //!    Nearly flat cells (radius-edge ratio above 10⁶), and cells whose four
