@@ -68,7 +68,7 @@ pub fn optimize_mesh(
 /// with `-V`).
 pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
     let mut lines = vec![format!(
-        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}; {} vertex moves, {} vertices inserted ({} tried and undone); {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
+        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}; {} vertex moves, {} vertices inserted ({} tried and undone, {} collapsed again); {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
         r.passes,
         r.flips23,
         r.flips32,
@@ -77,6 +77,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
         r.smoothed,
         r.inserted,
         r.insert_undone,
+        r.collapsed,
         r.stuck_counts.iter().sum::<usize>(),
         r.stuck_counts[0],
         r.stuck_counts[1],
