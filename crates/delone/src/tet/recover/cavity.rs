@@ -467,17 +467,8 @@ fn valid_replacement(
     if count.values().any(|&n| n != 1) {
         return false;
     }
-    let bnd = boundary_of(cm, old);
-    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
-    for k in &bset {
-        if !count.contains_key(k) || count.contains_key(&rev(*k)) {
-            return false;
-        }
-    }
-    for k in count.keys() {
-        if !bset.contains(k) && !count.contains_key(&rev(*k)) {
-            return false;
-        }
+    if !fills_boundary(cm, old, &count) {
+        return false;
     }
     for &t in old {
         let tv = c.v[t as usize];
@@ -1089,4 +1080,18 @@ impl State {
         self.report.edge_removals = done.0.removals;
         done
     }
+}
+
+/// Whether new cells whose oriented faces are the keys of `count` (each
+/// counted once) fill exactly the region of the `old` cells: every face of
+/// the region's boundary is a new face not matched from the other side, and
+/// every new face off that boundary is matched by its reverse.
+fn fills_boundary(cm: &CMesh<'_>, old: &[u32], count: &IdMap<[u32; 3], u32>) -> bool {
+    let bnd = boundary_of(cm, old);
+    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
+    bset.iter()
+        .all(|k| count.contains_key(k) && !count.contains_key(&rev(*k)))
+        && count
+            .keys()
+            .all(|k| bset.contains(k) || count.contains_key(&rev(*k)))
 }

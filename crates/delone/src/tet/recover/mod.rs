@@ -553,20 +553,7 @@ pub fn recover_marked(
         merge::Merged::identity(triangles)
     };
     let triangles = &merged.tris[..];
-    let mut st = State {
-        surf: Surface::new(points.len(), triangles),
-        report: RecoverReport::default(),
-        inexact: Vec::new(),
-        max_dev_scaled: 0.0,
-        opts: opts.clone(),
-        tri_inner: IdMap::default(),
-        interior_tries: IdMap::default(),
-        group_tries: HashSet::new(),
-        cavity_fails: 0,
-        cavity_left: Vec::new(),
-        cavity_best: (usize::MAX, 0),
-        poly: polygon::Polygons::default(),
-    };
+    let mut st = State::new(Surface::new(points.len(), triangles), opts.clone());
     if opts.constrained && !opts.preserve_surface {
         // Each merged group is recovered as one polygon facet.
         st.poly = polygon::Polygons::new(&mut st.surf, &merged.origin, dt.points());
@@ -759,6 +746,24 @@ struct State {
 }
 
 impl State {
+    /// A state with nothing recovered yet.
+    fn new(surf: Surface, opts: RecoverOptions) -> State {
+        State {
+            surf,
+            report: RecoverReport::default(),
+            inexact: Vec::new(),
+            max_dev_scaled: 0.0,
+            opts,
+            tri_inner: IdMap::default(),
+            interior_tries: IdMap::default(),
+            group_tries: HashSet::new(),
+            cavity_fails: 0,
+            cavity_left: Vec::new(),
+            cavity_best: (usize::MAX, 0),
+            poly: polygon::Polygons::default(),
+        }
+    }
+
     fn steiner_left(&self) -> bool {
         self.report.steiner() < self.opts.max_steiner
     }

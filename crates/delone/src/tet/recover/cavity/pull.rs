@@ -62,7 +62,7 @@ use super::super::missing::fkey;
 use super::super::place::{cross, dot, sub};
 use super::super::surface::{IdMap, IdSet};
 use super::super::{FacesOn, RecoverError, State};
-use super::{okey, rev};
+use super::okey;
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
@@ -89,20 +89,7 @@ impl State {
         opts.preserve_surface = false;
         opts.merge_coplanar = false;
         opts.constrained = true;
-        let mut st = State {
-            surf: self.surf.clone(),
-            report: super::super::RecoverReport::default(),
-            inexact: Vec::new(),
-            max_dev_scaled: 0.0,
-            opts,
-            tri_inner: IdMap::default(),
-            interior_tries: IdMap::default(),
-            group_tries: Default::default(),
-            cavity_fails: 0,
-            cavity_left: Vec::new(),
-            cavity_best: (usize::MAX, 0),
-            poly: Default::default(),
-        };
+        let mut st = State::new(self.surf.clone(), opts);
         let mut dt = Delaunay3::from_points(scaled)?;
         let (mut cm, on) = st.run_cdt(&mut dt)?;
         // `self.surf` is the unrefined surface (`st`'s has the points the
@@ -643,17 +630,8 @@ fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], s: u32) 
     if count.values().any(|&n| n != 1) {
         return false;
     }
-    let bnd = super::boundary_of(cm, old);
-    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
-    for k in &bset {
-        if !count.contains_key(k) || count.contains_key(&rev(*k)) {
-            return false;
-        }
-    }
-    for k in count.keys() {
-        if !bset.contains(k) && !count.contains_key(&rev(*k)) {
-            return false;
-        }
+    if !super::fills_boundary(cm, old, &count) {
+        return false;
     }
     let mut old_edges: IdSet<(u32, u32)> = IdSet::default();
     for &t in old {
@@ -688,23 +666,13 @@ mod tests {
     use super::*;
 
     fn state(n: usize, tris: &[[u32; 3]]) -> State {
-        State {
-            surf: Surface::new(n, tris),
-            report: Default::default(),
-            inexact: Vec::new(),
-            max_dev_scaled: 0.0,
-            opts: RecoverOptions {
+        State::new(
+            Surface::new(n, tris),
+            RecoverOptions {
                 preserve_surface: true,
                 ..Default::default()
             },
-            tri_inner: IdMap::default(),
-            interior_tries: IdMap::default(),
-            group_tries: Default::default(),
-            cavity_fails: 0,
-            cavity_left: Vec::new(),
-            cavity_best: (usize::MAX, 0),
-            poly: Default::default(),
-        }
+        )
     }
 
     /// The box `[0,w]×[0,d]×[0,h]`, two outward triangles per side.
