@@ -34,14 +34,9 @@ use std::time::{Duration, Instant};
 use delone::tet::optimize::{optimize, OptimizeOptions};
 use delone::tet::refine::{refine, RefineOptions};
 
-/// CPU time of this thread (seconds), from /proc; 0 when unavailable.
-fn cpu() -> f64 {
-    let s = std::fs::read_to_string("/proc/thread-self/stat").unwrap_or_default();
-    let rest = s.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let t = |i: usize| f.get(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
-    (t(11) + t(12)) / 100.0
-}
+#[path = "common/cpu.rs"]
+mod cpu;
+use cpu::cpu;
 
 /// The shared data directory of list file `list` (the parent of its
 /// directory, as for `sets/closed_clean.txt`).
