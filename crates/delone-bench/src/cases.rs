@@ -66,6 +66,10 @@ pub enum Kind {
     Poly,
     /// A closed triangle surface from an `.off` file (3D only).
     Surf,
+    /// A piecewise linear complex from a TetGen `.poly` / `.smesh` file in
+    /// `3d_plc` (3D only): `3d-plc-NAME` (recovery, `-p`) and
+    /// `3d-plcq-NAME-qB` (refinement to radius-edge B and optimisation).
+    Plc,
     /// A generated PSLG (2D only): a jittered grid with a random
     /// non-crossing subset of its grid edges and cell diagonals as segments,
     /// triangulated with `-p`.
@@ -84,6 +88,7 @@ impl Kind {
             Kind::Sphere => "sphere",
             Kind::Poly => "poly",
             Kind::Surf => "surface",
+            Kind::Plc => "plc",
             Kind::Segs => "segments",
             Kind::Holes => "holes",
         }
@@ -140,6 +145,19 @@ pub struct SurfInput {
     pub preserve: bool,
 }
 
+/// A piecewise linear complex (`3d-plc-…`, `3d-plcq-…`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlcInput {
+    /// The complex as read (points, polygonal facets, holes, regions).
+    pub plc: delone::model::plc::Plc,
+    /// The file's bytes and extension (`poly` or `smesh`), for TetGen.
+    pub bytes: Vec<u8>,
+    /// `poly` or `smesh`.
+    pub ext: &'static str,
+    /// Radius-edge bound of a `3d-plcq-…-qB` case (`None`: recovery only).
+    pub ratio: Option<f64>,
+}
+
 /// The input of a case: generated points or a file's content.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Input {
@@ -149,6 +167,8 @@ pub enum Input {
     Poly(PolyInput),
     /// A closed triangle surface.
     Surf(SurfInput),
+    /// A piecewise linear complex.
+    Plc(PlcInput),
 }
 
 impl Input {
@@ -158,6 +178,7 @@ impl Input {
             Input::Points(p) => p.len(),
             Input::Poly(p) => p.pslg.points.len(),
             Input::Surf(s) => s.points.len(),
+            Input::Plc(p) => p.plc.points.len(),
         }
     }
 }
@@ -265,7 +286,7 @@ impl fmt::Display for BadCase {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL, 3d-surfY-MODEL, 3d-surfq-MODEL-qB)",
+            "bad case name `{}` (expected {{2d,3d}}-{{uniform,grid,circle,sphere}}-SIZE, e.g. 2d-uniform-1e5; circle is 2D only, sphere 3D only; or 2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p, 2d-segs-SIZE, 2d-holes-SIZE, 3d-surf-MODEL, 3d-surfY-MODEL, 3d-surfq-MODEL-qB, 3d-plc-NAME, 3d-plcq-NAME-qB)",
             self.0
         )
     }
@@ -312,9 +333,10 @@ impl Case {
                 quality,
             });
         }
-        // `3d-surfq-MODEL-qB`: refinement to radius-edge ratio B (kept in
-        // `Quality::min_angle`).
-        if let Some(rest) = name.strip_prefix("3d-surfq-") {
+        // `3d-surfq-MODEL-qB` / `3d-plcq-NAME-qB`: refinement to radius-edge
+        // ratio B (kept in `Quality::min_angle`).
+        let surfq = name.strip_prefix("3d-surfq-").map(|r| (r, Kind::Surf));
+        if let Some((rest, kind)) = surfq.or_else(|| name.strip_prefix("3d-plcq-").map(|r| (r, Kind::Plc))) {
             let (model, b) = rest.rsplit_once("-q").ok_or_else(bad)?;
             let b: f64 = b.parse().map_err(|_| bad())?;
             if !(is_data_name(model) && b.is_finite() && b > 1.0) {
@@ -323,7 +345,7 @@ impl Case {
             return Ok(Case {
                 name: name.to_string(),
                 dim: 3,
-                kind: Kind::Surf,
+                kind,
                 requested: 0,
                 data: Some(model.to_string()),
                 quality: Some(Quality {
@@ -332,18 +354,20 @@ impl Case {
                 }),
             });
         }
-        // `3d-surfY-MODEL`: recovery with surface preservation (`-Y`).
-        if let Some(model) = name
+        // `3d-surfY-MODEL`: recovery with surface preservation (`-Y`);
+        // `3d-plc-NAME`: recovery of a PLC.
+        let surf = name
             .strip_prefix("3d-surf-")
             .or_else(|| name.strip_prefix("3d-surfY-"))
-        {
+            .map(|m| (m, Kind::Surf));
+        if let Some((model, kind)) = surf.or_else(|| name.strip_prefix("3d-plc-").map(|m| (m, Kind::Plc))) {
             if !is_data_name(model) {
                 return Err(bad());
             }
             return Ok(Case {
                 name: name.to_string(),
                 dim: 3,
-                kind: Kind::Surf,
+                kind,
                 requested: 0,
                 data: Some(model.to_string()),
                 quality: None,
@@ -433,6 +457,43 @@ impl Case {
                     triangles,
                     ratio: self.quality.and_then(|q| q.min_angle),
                     preserve: self.name.starts_with("3d-surfY-"),
+                }))
+            }
+            Kind::Plc => {
+                let (bytes, ext) = read_data("3d_plc", &format!("{data}.poly"))
+                    .map(|b| (b, "poly"))
+                    .or_else(|_| read_data("3d_plc", &format!("{data}.smesh")).map(|b| (b, "smesh")))?;
+                let err = |e: delone_io::IoError| format!("{data}.{ext}: {e}");
+                let f = if ext == "poly" {
+                    delone_io::read_poly3d(&bytes).map_err(err)?
+                } else {
+                    delone_io::read_smesh(&bytes).map_err(err)?
+                };
+                let mut plc = delone::model::plc::Plc::new(f.points);
+                plc.holes = f.holes;
+                plc.regions = f
+                    .regions
+                    .into_iter()
+                    .map(|r| delone::model::plc::Region {
+                        point: r.point,
+                        attribute: r.attribute,
+                        max_volume: r.max_volume,
+                    })
+                    .collect();
+                plc.facets = f
+                    .facets
+                    .into_iter()
+                    .map(|facet| delone::model::plc::Facet {
+                        polygons: facet.polygons,
+                        holes: facet.holes,
+                        marker: facet.marker,
+                    })
+                    .collect();
+                Ok(Input::Plc(PlcInput {
+                    plc,
+                    bytes,
+                    ext,
+                    ratio: self.quality.and_then(|q| q.min_angle),
                 }))
             }
             Kind::Segs | Kind::Holes => Ok(Input::Poly(PolyInput {
@@ -525,7 +586,7 @@ impl Case {
     pub fn n(&self) -> usize {
         match self.kind {
             Kind::Grid => self.grid_side().pow(self.dim as u32),
-            Kind::Poly | Kind::Surf | Kind::Segs | Kind::Holes => {
+            Kind::Poly | Kind::Surf | Kind::Plc | Kind::Segs | Kind::Holes => {
                 self.load().map_or(0, |i| i.len())
             }
             _ => self.requested,
@@ -551,6 +612,7 @@ impl Case {
                 }
             }
             Kind::Surf => format!("{}.off surface", self.data.as_deref().unwrap_or_default()),
+            Kind::Plc => format!("{} PLC", self.data.as_deref().unwrap_or_default()),
             Kind::Segs => "jittered grid, random non-crossing segments, CDT only".to_string(),
             Kind::Holes => "square with octagonal holes, CDT only".to_string(),
             k => format!("{} {}", k.name(), self.dim),

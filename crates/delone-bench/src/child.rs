@@ -4,7 +4,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use crate::cases::{fnv1a, Case, Input, Kind, Points, PolyInput, SurfInput};
+use crate::cases::{fnv1a, Case, Input, Kind, PlcInput, Points, PolyInput, SurfInput};
 use crate::result::{Outcome, RunResult};
 
 /// The programs the bench knows, with the dimension each one handles.
@@ -38,6 +38,8 @@ pub fn handles(program: &str, case: &Case) -> bool {
             matches!(program, "delone" | "tetgen-pY")
         }
         Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
+        Kind::Plc if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
+        Kind::Plc => matches!(program, "delone" | "tetgen-p"),
         _ if matches!(
             program,
             "tetgen-p" | "tetgen-pq" | "tetgen-pY" | "triangle-p"
@@ -145,6 +147,7 @@ fn run_once(
         Input::Points(p) => run_points(program, p, on_ready, check),
         Input::Poly(p) => run_poly(program, p, on_ready, check),
         Input::Surf(s) => run_surf(program, s, on_ready, check),
+        Input::Plc(p) => run_plc(program, p, on_ready, check),
     }
 }
 
@@ -484,6 +487,105 @@ fn run_surfq(
         _ => Err(format!(
             "program `{program}` does not handle 3d-surfq cases"
         )),
+    }
+}
+
+/// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it: facets
+/// triangulated, recovery with the facets' markers, holes and regions;
+/// with a bound, refinement and the default optimisation.
+fn delone_plc(
+    plc: &delone::model::plc::Plc,
+    ratio: Option<f64>,
+) -> Result<(delone::tet::recover::Recovered, Vec<[u32; 3]>, usize), String> {
+    use delone::tet::optimize::{optimize, OptimizeOptions};
+    use delone::tet::recover::{recover_marked, Domain, RecoverOptions};
+    use delone::tet::refine::{refine_recovered, RefineOptions};
+    plc.validate().map_err(|e| e.to_string())?;
+    let (triangles, facet_of) = plc.triangulate_facets().map_err(|e| e.to_string())?;
+    let markers: Vec<i32> = facet_of
+        .iter()
+        .map(|&f| plc.facets[f as usize].marker)
+        .collect();
+    let domain = Domain {
+        holes: plc.holes.clone(),
+        regions: plc.regions.clone(),
+        convex_hull: false,
+    };
+    let rec = recover_marked(
+        &plc.points,
+        &triangles,
+        &markers,
+        &RecoverOptions::default(),
+        &domain,
+    )
+    .map_err(|e| e.to_string())?;
+    let Some(q) = ratio else {
+        let steiner = rec.report.steiner();
+        return Ok((rec, triangles, steiner));
+    };
+    let opts = RefineOptions {
+        max_radius_edge: q,
+        ..RefineOptions::default()
+    };
+    let mut r = refine_recovered(&plc.points, &triangles, &rec, &opts).map_err(|e| e.to_string())?;
+    let o = OptimizeOptions {
+        input_points: Some(plc.points.len()),
+        ..Default::default()
+    };
+    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
+    let steiner = r.rec.report.steiner() + r.report.steiner();
+    Ok((r.rec, triangles, steiner))
+}
+
+/// `3d-plc-NAME` / `3d-plcq-NAME-qB`: delone against the `tetgen`
+/// executable run on the same file (`-p` / `-pqB`); the note gives the
+/// Steiner points and, when refining, the minimum dihedral angle.
+fn run_plc(
+    program: &str,
+    input: &PlcInput,
+    on_ready: &mut dyn FnMut(),
+    check: bool,
+) -> Result<Run, String> {
+    use delone::tet::quality::TetStats;
+    use delone::tet::recover::check_recovered;
+    let dihedral = |d: Option<f64>| match (input.ratio, d) {
+        (None, _) => String::new(),
+        (Some(_), Some(d)) => format!(" mindih={d:.2}"),
+        (Some(_), None) => " mindih=?".to_string(),
+    };
+    match program {
+        "delone" => {
+            on_ready();
+            let (r, seconds, wall) = cpu_timed(|| delone_plc(black_box(&input.plc), input.ratio));
+            let (rec, triangles, steiner) = r?;
+            let m = &rec.mesh;
+            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&rec.points);
+            let valid = check.then(|| {
+                check_recovered(&input.plc.points, &triangles, &rec).map_err(|v| v.to_string())
+            });
+            let d = TetStats::of(&rec.points, &m.tets).min_dihedral;
+            Ok(Run {
+                seconds,
+                elements: m.tets.len(),
+                hash: Some(hash),
+                valid,
+                info: format!("steiner={steiner}{} wall={wall:.3}", dihedral(Some(d))),
+                external_peak_kb: None,
+            })
+        }
+        "tetgen-p" | "tetgen-pq" => {
+            on_ready();
+            let r = crate::refbin::run_tetgen_plc(&input.bytes, input.ext, input.ratio)?;
+            Ok(Run {
+                seconds: r.run.seconds,
+                elements: r.run.tets,
+                hash: None,
+                valid: None,
+                info: format!("steiner={}{}", r.run.steiner, dihedral(r.min_dihedral)),
+                external_peak_kb: r.run.peak_kb,
+            })
+        }
+        _ => Err(format!("program `{program}` does not handle PLC input")),
     }
 }
 

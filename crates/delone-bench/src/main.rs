@@ -37,7 +37,10 @@ options:
                      2d-segs-SIZE / 2d-holes-SIZE (generated PSLGs, plain CDT),
                      3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen),
                      3d-surfY-MODEL (the same preserving the surface, -Y: delone vs tetgen-pY),
-                     3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation);
+                     3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation),
+                     3d-plc-NAME / 3d-plcq-NAME-qB (3d_plc/NAME.poly or .smesh, recovery /
+                     refinement: delone vs tetgen-p / tetgen-pq; 3d-plc-@all and
+                     3d-plcq-@all-qB run every PLC of 3d_plc);
                      model sets: 3d-surf-@SET and 3d-surfq-@SET-qB run every model of
                      shared/data/sets/SET.txt, `@SET<N` / `@SET>N` only those with fewer /
                      more than N triangles, e.g. 3d-surfq-@closed_clean<30000-q1.414)
@@ -125,6 +128,9 @@ fn parse_cases(list: &str) -> Result<Vec<Case>, String> {
 /// fewer (`<N`) or more (`>N`) input triangles than N.
 fn expand_set(name: &str) -> Result<Vec<String>, String> {
     let (prefix, rest) = name.split_once("-@").unwrap_or((name, ""));
+    if prefix == "3d-plc" || prefix == "3d-plcq" {
+        return expand_plcs(name, prefix, rest);
+    }
     if prefix != "3d-surf" && prefix != "3d-surfq" && prefix != "3d-surfY" {
         return Err(format!(
             "`{name}`: model sets are for 3d-surf, 3d-surfY and 3d-surfq cases"
@@ -169,6 +175,31 @@ fn expand_set(name: &str) -> Result<Vec<String>, String> {
         return Err(format!("`{name}`: no model in {}", path.display()));
     }
     Ok(out)
+}
+
+/// Expands `3d-plc-@all` and `3d-plcq-@all-qB` into one case per `.poly`
+/// or `.smesh` file of `shared/data/3d_plc`, in name order.
+fn expand_plcs(name: &str, prefix: &str, rest: &str) -> Result<Vec<String>, String> {
+    let suffix = match (prefix, rest.strip_prefix("all")) {
+        ("3d-plc", Some("")) => String::new(),
+        ("3d-plcq", Some(b)) if b.starts_with("-q") => b.to_string(),
+        _ => {
+            return Err(format!(
+                "`{name}`: expected 3d-plc-@all or 3d-plcq-@all-qB"
+            ))
+        }
+    };
+    let mut names = cases::data_names("3d_plc", "poly");
+    names.extend(cases::data_names("3d_plc", "smesh"));
+    names.sort();
+    names.dedup();
+    if names.is_empty() {
+        return Err(format!("`{name}`: no .poly or .smesh file in shared/data/3d_plc"));
+    }
+    Ok(names
+        .into_iter()
+        .map(|n| format!("{prefix}-{n}{suffix}"))
+        .collect())
 }
 
 fn parse_args(args: &[String]) -> Result<Mode, String> {

@@ -217,9 +217,6 @@ fn run_tetgen(
     read_mesh: bool,
 ) -> Result<(TetgenRun, Option<NodeEle>), String> {
     use std::fmt::Write as _;
-    let exe = tetgen()?;
-    let dir = scratch("tg")?;
-    let off = dir.join("s.off");
     let mut text = format!("OFF\n{} {} 0\n", points.len(), triangles.len());
     for q in points {
         let _ = writeln!(text, "{:?} {:?} {:?}", q[0], q[1], q[2]);
@@ -227,7 +224,22 @@ fn run_tetgen(
     for t in triangles {
         let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
     }
-    std::fs::write(&off, text).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
+    run_tetgen_bytes(text.as_bytes(), "off", switches, read_mesh)
+}
+
+/// Writes `bytes` to a temporary `s.EXT` (a TetGen input: `.off`,
+/// `.poly`, `.smesh`), runs `tetgen SWITCHES` on it and parses its
+/// summary; with `read_mesh`, also reads the output mesh.
+fn run_tetgen_bytes(
+    bytes: &[u8],
+    ext: &str,
+    switches: &str,
+    read_mesh: bool,
+) -> Result<(TetgenRun, Option<NodeEle>), String> {
+    let exe = tetgen()?;
+    let dir = scratch("tg")?;
+    let off = dir.join(format!("s.{ext}"));
+    std::fs::write(&off, bytes).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
     let run = run_sampled(&exe, &[switches.as_ref(), off.as_os_str()], &dir);
     let mesh = if read_mesh {
         read_node_ele(&dir.join("s.1.node"), &dir.join("s.1.ele"))
@@ -309,6 +321,19 @@ pub fn run_tetgen_pq(
     ratio: f64,
 ) -> Result<TetgenQRun, String> {
     let (run, mesh) = run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?;
+    let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
+    Ok(TetgenQRun { run, min_dihedral })
+}
+
+/// Runs the reference `tetgen -p` (`ratio` `None`) or `tetgen -pqB` on a
+/// TetGen PLC file's content (`ext` `poly` or `smesh`), reading the output
+/// mesh for the minimum dihedral angle when refining.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or rejects the input.
+pub fn run_tetgen_plc(bytes: &[u8], ext: &str, ratio: Option<f64>) -> Result<TetgenQRun, String> {
+    let switches = ratio.map_or_else(|| "-pNEF".to_string(), |q| format!("-pq{q}F"));
+    let (run, mesh) = run_tetgen_bytes(bytes, ext, &switches, ratio.is_some())?;
     let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
     Ok(TetgenQRun { run, min_dihedral })
 }

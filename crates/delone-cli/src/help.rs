@@ -181,7 +181,9 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          segments; -M keeps every input triangle as given (also with -Y).
     -q[B] With -p: quality mesh by Delaunay refinement, no tetrahedron with a
          radius-edge ratio above B (default 2.0); -V reports dihedral angles.
-    -a[V] With -p: no tetrahedron larger than volume V.
+    -a[V] With -p: no tetrahedron larger than volume V; with or without a
+         number, also the regional volume bounds of the .poly/.smesh (they
+         apply only with -a, as in TetGen).
     -S<n> At most n Steiner points in the refinement.
     -m   With -p or -r: sizing (target edge length) from FILE.b.node +
          FILE.b.ele + FILE.b.mtr (background mesh) if they exist, else from

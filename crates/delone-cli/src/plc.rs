@@ -131,9 +131,19 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
+    // Regional volume bounds apply only with `-a` (TetGen's rule, and
+    // `delone tri`'s for regional areas).
+    let regions = plc
+        .regions
+        .iter()
+        .map(|r| Region {
+            max_volume: r.max_volume.filter(|_| o.area),
+            ..r.clone()
+        })
+        .collect();
     let domain = Domain {
         holes: plc.holes.clone(),
-        regions: plc.regions.clone(),
+        regions,
         convex_hull: o.convex_hull,
     };
     let ropts = RecoverOptions {

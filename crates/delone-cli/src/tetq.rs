@@ -19,7 +19,7 @@ pub fn mesh(
     ropts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<(Recovered, Option<RefineReport>), String> {
-    if o.tet_ratio.is_none() && o.max_area.is_none() && !o.sizing {
+    if o.tet_ratio.is_none() && !o.area && !o.sizing {
         return recover_marked(points, triangles, markers, ropts, domain)
             .map(|r| (r, None))
             .map_err(|e| e.to_string());

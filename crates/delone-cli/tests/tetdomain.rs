@@ -197,3 +197,60 @@ fn seed_on_the_surface_and_switches_without_p() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
     }
 }
+
+/// Volume of the tetrahedra of `node`/`ele` rows (1-based files), per
+/// region attribute (column 5 of the `.ele`): (attribute, largest volume).
+fn largest_volumes(node: &[Vec<f64>], ele: &[Vec<f64>]) -> Vec<(i64, f64)> {
+    let p = |i: f64| {
+        let r = &node[i as usize - 1];
+        [r[1], r[2], r[3]]
+    };
+    let mut out: Vec<(i64, f64)> = Vec::new();
+    for r in ele {
+        let [a, b, c, d] = [p(r[1]), p(r[2]), p(r[3]), p(r[4])];
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let w = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+        let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+            + u[2] * (v[0] * w[1] - v[1] * w[0]);
+        let (attr, vol) = (r[5] as i64, det.abs() / 6.0);
+        match out.iter_mut().find(|(a, _)| *a == attr) {
+            Some(e) => e.1 = e.1.max(vol),
+            None => out.push((attr, vol)),
+        }
+    }
+    out.sort_by_key(|e| e.0);
+    out
+}
+
+/// The example's regions carry volume bounds 0.001 (attribute 10) and 0.01
+/// (attribute 20): as in TetGen they bind only with `-a`, so `-pq` alone
+/// makes a much coarser mesh, and `-pqa` keeps every tetrahedron within its
+/// region's bound.
+#[test]
+fn regional_volume_bounds_apply_only_with_a() {
+    let Some(src) = example() else { return };
+    let dir = tmp("regional");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    let o = run(&dir, &["tet", "-pq1.414AQ", "ex.poly"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let coarse = table(&dir.join("ex.1.ele")).len();
+    let o = run(&dir, &["tet", "-pq1.414aACQ", "ex.poly"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let node = table(&dir.join("ex.1.node"));
+    let ele = table(&dir.join("ex.1.ele"));
+    assert!(
+        ele.len() > 5 * coarse,
+        "-a: {} tetrahedra, without: {coarse}",
+        ele.len()
+    );
+    let largest = largest_volumes(&node, &ele);
+    assert_eq!(largest.len(), 2, "{largest:?}");
+    assert!(largest[0].0 == 10 && largest[0].1 <= 0.001 * (1.0 + 1e-9), "{largest:?}");
+    assert!(largest[1].0 == 20 && largest[1].1 <= 0.01 * (1.0 + 1e-9), "{largest:?}");
+    // Without -a some tetrahedron of region 10 is larger than its bound.
+    let o = run(&dir, &["tet", "-pq1.414AQ", "ex.poly"]);
+    assert!(o.status.success());
+    let largest = largest_volumes(&table(&dir.join("ex.1.node")), &table(&dir.join("ex.1.ele")));
+    assert!(largest[0].1 > 0.001, "{largest:?}");
+}
