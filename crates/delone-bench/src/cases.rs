@@ -336,7 +336,9 @@ impl Case {
         // `3d-surfq-MODEL-qB` / `3d-plcq-NAME-qB`: refinement to radius-edge
         // ratio B (kept in `Quality::min_angle`).
         let surfq = name.strip_prefix("3d-surfq-").map(|r| (r, Kind::Surf));
-        if let Some((rest, kind)) = surfq.or_else(|| name.strip_prefix("3d-plcq-").map(|r| (r, Kind::Plc))) {
+        if let Some((rest, kind)) =
+            surfq.or_else(|| name.strip_prefix("3d-plcq-").map(|r| (r, Kind::Plc)))
+        {
             let (model, b) = rest.rsplit_once("-q").ok_or_else(bad)?;
             let b: f64 = b.parse().map_err(|_| bad())?;
             if !(is_data_name(model) && b.is_finite() && b > 1.0) {
@@ -360,7 +362,9 @@ impl Case {
             .strip_prefix("3d-surf-")
             .or_else(|| name.strip_prefix("3d-surfY-"))
             .map(|m| (m, Kind::Surf));
-        if let Some((model, kind)) = surf.or_else(|| name.strip_prefix("3d-plc-").map(|m| (m, Kind::Plc))) {
+        if let Some((model, kind)) =
+            surf.or_else(|| name.strip_prefix("3d-plc-").map(|m| (m, Kind::Plc)))
+        {
             if !is_data_name(model) {
                 return Err(bad());
             }
@@ -462,7 +466,9 @@ impl Case {
             Kind::Plc => {
                 let (bytes, ext) = read_data("3d_plc", &format!("{data}.poly"))
                     .map(|b| (b, "poly"))
-                    .or_else(|_| read_data("3d_plc", &format!("{data}.smesh")).map(|b| (b, "smesh")))?;
+                    .or_else(|_| {
+                        read_data("3d_plc", &format!("{data}.smesh")).map(|b| (b, "smesh"))
+                    })?;
                 let err = |e: delone_io::IoError| format!("{data}.{ext}: {e}");
                 let f = if ext == "poly" {
                     delone_io::read_poly3d(&bytes).map_err(err)?

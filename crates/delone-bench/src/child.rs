@@ -417,7 +417,8 @@ pub fn delone_quality(
     let o = OptimizeOptions {
         input_points: Some(points.len()),
         ..Default::default()
-    };
+    }
+    .keeping(&opts);
     optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
     Ok(r)
 }
@@ -527,11 +528,13 @@ fn delone_plc(
         max_radius_edge: q,
         ..RefineOptions::default()
     };
-    let mut r = refine_recovered(&plc.points, &triangles, &rec, &opts).map_err(|e| e.to_string())?;
+    let mut r =
+        refine_recovered(&plc.points, &triangles, &rec, &opts).map_err(|e| e.to_string())?;
     let o = OptimizeOptions {
         input_points: Some(plc.points.len()),
         ..Default::default()
-    };
+    }
+    .keeping(&opts);
     optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
     let steiner = r.rec.report.steiner() + r.report.steiner();
     Ok((r.rec, triangles, steiner))

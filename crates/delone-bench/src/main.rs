@@ -183,18 +183,16 @@ fn expand_plcs(name: &str, prefix: &str, rest: &str) -> Result<Vec<String>, Stri
     let suffix = match (prefix, rest.strip_prefix("all")) {
         ("3d-plc", Some("")) => String::new(),
         ("3d-plcq", Some(b)) if b.starts_with("-q") => b.to_string(),
-        _ => {
-            return Err(format!(
-                "`{name}`: expected 3d-plc-@all or 3d-plcq-@all-qB"
-            ))
-        }
+        _ => return Err(format!("`{name}`: expected 3d-plc-@all or 3d-plcq-@all-qB")),
     };
     let mut names = cases::data_names("3d_plc", "poly");
     names.extend(cases::data_names("3d_plc", "smesh"));
     names.sort();
     names.dedup();
     if names.is_empty() {
-        return Err(format!("`{name}`: no .poly or .smesh file in shared/data/3d_plc"));
+        return Err(format!(
+            "`{name}`: no .poly or .smesh file in shared/data/3d_plc"
+        ));
     }
     Ok(names
         .into_iter()

@@ -105,6 +105,8 @@ pub struct Opts {
     pub view: Option<(f64, f64)>,
     /// tri `--svg-quality`: colour the triangles by minimum angle.
     pub svg_quality: bool,
+    /// tet `--keep-ratio`: the optimisation keeps the `-q` bound.
+    pub keep_ratio: bool,
     /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
     pub stats_json: Option<PathBuf>,
     /// tri `-D`: conforming Delaunay (every triangle truly Delaunay).
@@ -368,6 +370,10 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 "svg-quality" if mode == Mode::Tri => {
                     flag()?;
                     o.svg_quality = true
+                }
+                "keep-ratio" if mode == Mode::Tet => {
+                    flag()?;
+                    o.keep_ratio = true
                 }
                 "png-width" => {
                     let v = value("--png-width", inline, &mut it)?;

@@ -180,7 +180,9 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          (Delaunay edges on the plane kept), so edges between them are not
          segments; -M keeps every input triangle as given (also with -Y).
     -q[B] With -p: quality mesh by Delaunay refinement, no tetrahedron with a
-         radius-edge ratio above B (default 2.0); -V reports dihedral angles.
+         radius-edge ratio above B (default 2.0) — before the optimisation,
+         which may raise it (see -O, --keep-ratio); -V reports dihedral
+         angles.
     -a[V] With -p: no tetrahedron larger than volume V; with or without a
          number, also the regional volume bounds of the .poly/.smesh (they
          apply only with -a, as in TetGen).
@@ -200,7 +202,12 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          2-3/3-2/4-4 flips, smoothing and insertion of interior vertices,
          raising the smallest dihedral-angle sine; the surface stays as it
          is. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
-         -V prints the dihedral angles before and after.
+         -V prints the dihedral angles before and after. The
+         optimisation keeps the volume bounds (-a, regional); it trades the
+         -q radius-edge bound for dihedral angles (slivers have good
+         radius-edge ratios; -V reports the largest ratio left): give
+         --keep-ratio to keep that bound too (at a cost in dihedral angles),
+         or -O0 for the refinement's mesh as it is.
     Not implemented yet (error, exit code 2): -R -i -T -X -d -D
     -o2 -o/.
 
@@ -228,6 +235,8 @@ OPTIONS:
                                   (default -60,25).
     --png-width N                 Picture width in pixels (default 800;
                                   height 3/4 of it).
+    --keep-ratio                  With -q: the optimisation (-O) keeps the
+                                  radius-edge bound (see -O).
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

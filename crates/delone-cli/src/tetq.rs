@@ -57,8 +57,12 @@ pub fn optimize_mesh(
     if level == 0 {
         return Ok(None);
     }
+    // After refinement the optimisation keeps its volume bounds (-a and
+    // the regional ones), and with --keep-ratio the -q bound.
     let opts = OptimizeOptions {
         input_points: Some(points.len()),
+        max_radius_edge: o.tet_ratio.filter(|_| refined && o.keep_ratio),
+        max_volume: o.max_area.filter(|_| refined),
         ..OptimizeOptions::level(level)
     };
     optimize(rec, &opts).map(Some).map_err(|e| e.to_string())

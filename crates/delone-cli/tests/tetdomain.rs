@@ -246,11 +246,56 @@ fn regional_volume_bounds_apply_only_with_a() {
     );
     let largest = largest_volumes(&node, &ele);
     assert_eq!(largest.len(), 2, "{largest:?}");
-    assert!(largest[0].0 == 10 && largest[0].1 <= 0.001 * (1.0 + 1e-9), "{largest:?}");
-    assert!(largest[1].0 == 20 && largest[1].1 <= 0.01 * (1.0 + 1e-9), "{largest:?}");
+    assert!(
+        largest[0].0 == 10 && largest[0].1 <= 0.001 * (1.0 + 1e-9),
+        "{largest:?}"
+    );
+    assert!(
+        largest[1].0 == 20 && largest[1].1 <= 0.01 * (1.0 + 1e-9),
+        "{largest:?}"
+    );
     // Without -a some tetrahedron of region 10 is larger than its bound.
     let o = run(&dir, &["tet", "-pq1.414AQ", "ex.poly"]);
     assert!(o.status.success());
-    let largest = largest_volumes(&table(&dir.join("ex.1.node")), &table(&dir.join("ex.1.ele")));
+    let largest = largest_volumes(
+        &table(&dir.join("ex.1.node")),
+        &table(&dir.join("ex.1.ele")),
+    );
     assert!(largest[0].1 > 0.001, "{largest:?}");
+}
+
+/// The largest radius-edge ratio of the `-V` quality line.
+fn max_ratio(out: &str) -> f64 {
+    let l = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("quality: dihedral"))
+        .unwrap_or_else(|| panic!("no quality line in {out}"));
+    let r = l.split("radius-edge ").nth(1).unwrap();
+    let r = r.split(' ').next().unwrap().split("..").nth(1).unwrap();
+    r.parse().unwrap()
+}
+
+/// `--keep-ratio`: the optimisation keeps the `-q` bound, which it trades
+/// for dihedral angles otherwise.
+#[test]
+fn keep_ratio_keeps_the_radius_edge_bound() {
+    let Some(src) = example() else { return };
+    let dir = tmp("keepratio");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    let o = run(&dir, &["tet", "-pq1.2V", "ex.poly"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let free = max_ratio(&String::from_utf8_lossy(&o.stdout));
+    let o = run(&dir, &["tet", "-pq1.2VC", "--keep-ratio", "ex.poly"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let kept = max_ratio(&out);
+    assert!(kept <= 1.2 + 5e-4, "--keep-ratio: {kept} (without: {free})");
+    assert!(
+        free > 1.2 + 5e-4,
+        "without --keep-ratio: {free} (the test needs an input where -O raises it)"
+    );
 }

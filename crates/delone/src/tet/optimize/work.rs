@@ -9,6 +9,7 @@
 //! is applied, checked by exact `orient3d` on every tetrahedron it creates:
 //! a result that is not strictly positive is refused and nothing changes.
 
+use super::limits::Limits;
 use crate::tet::recover::IdSet;
 
 use delone_predicates::{orient2d, orient3d};
@@ -181,6 +182,8 @@ pub(super) struct Plan {
 pub(super) struct Work {
     /// Points (rescaled coordinates).
     pub p: Vec<[f64; 3]>,
+    /// The refinement's bounds that every operation keeps.
+    pub limits: Limits,
     /// Tetrahedra (positive); `DEAD` in position 0 for free slots.
     pub tv: Vec<[u32; 4]>,
     /// Neighbour across the face opposite each vertex, or [`NONE`].
@@ -291,6 +294,7 @@ impl Work {
             .collect();
         Work {
             p,
+            limits: Limits::none(),
             tv: tets.to_vec(),
             nb: nbs.to_vec(),
             reg: reg.to_vec(),
@@ -327,6 +331,26 @@ impl Work {
     pub(super) fn qual(&self, tv: [u32; 4]) -> f64 {
         self.evals.set(self.evals.get() + 1);
         quality(tv.map(|w| &self.p[w as usize]))
+    }
+
+    /// The worst [`Limits`] excess of tetrahedra `tvs` of `region`, with
+    /// vertex `at.0` (if any) placed at `at.1`.
+    fn excess(&self, tvs: &[[u32; 4]], region: u32, at: Option<(u32, [f64; 3])>) -> f64 {
+        let pt = |w: u32| match at {
+            Some((v, x)) if v == w => x,
+            _ => self.p[w as usize],
+        };
+        tvs.iter()
+            .map(|tv| self.limits.excess(&tv.map(pt), region))
+            .fold(0.0, f64::max)
+    }
+
+    /// The worst excess of live slots `slots`.
+    fn slots_excess(&self, slots: &[u32]) -> f64 {
+        slots
+            .iter()
+            .map(|&t| self.excess(&[self.tv[t as usize]], self.reg[t as usize], None))
+            .fold(0.0, f64::max)
     }
 
     /// Exact: `tv` is strictly positive.
@@ -527,6 +551,14 @@ impl Work {
             return None;
         }
         let region = self.reg[plan.old[0] as usize];
+        if !self.limits.is_none()
+            && !Limits::allows(
+                self.excess(&plan.new, region, None),
+                self.slots_excess(&plan.old),
+            )
+        {
+            return None;
+        }
         Some(self.replace(&plan.old, &plan.new, region))
     }
 
@@ -762,6 +794,18 @@ impl Work {
         if qs.iter().any(|&q| q < q_home + 1e-3) {
             return false;
         }
+        // The refinement's bounds (see `limits`): per region of the star.
+        if !self.limits.is_none() {
+            let (mut old, mut new) = (0.0f64, 0.0f64);
+            for &t in &star {
+                let (tv, r) = (self.tv[t as usize], self.reg[t as usize]);
+                old = old.max(self.excess(&[tv], r, None));
+                new = new.max(self.excess(&[tv], r, Some((v, x))));
+            }
+            if !Limits::allows(new, old) {
+                return false;
+            }
+        }
         // Exact check of the moved star.
         self.p[v as usize] = x;
         if !star.iter().all(|&t| self.positive(self.tv[t as usize])) {
@@ -889,6 +933,15 @@ impl Work {
                 }
             }
         }
+        let region = self.reg[cav[0] as usize];
+        if !self.limits.is_none()
+            && !Limits::allows(
+                self.excess(&new, region, Some((id, x))),
+                self.slots_excess(cav),
+            )
+        {
+            return None;
+        }
         if let Some(log) = &mut self.log {
             log.push(Undo::AddPoint);
         }
@@ -899,7 +952,6 @@ impl Work {
         self.vt.push(DEAD);
         self.stamp.push(0);
         self.smooth_fail.push(0);
-        let region = self.reg[cav[0] as usize];
         let ids = self.replace(cav, &new, region);
         Some((id, ids))
     }
