@@ -159,12 +159,14 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
             .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_opt = Instant::now();
-    let optimized = crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.is_some())
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
+    let optimized =
+        crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.as_ref().map(|r| &r.1))
+            .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_opt = t_opt.elapsed();
     let t_mesh = t1.elapsed();
     let mut code = 0;
-    let mut lines = crate::tetq::report(o, &rec, refined.as_ref()).map_err(input_err)?;
+    let mut lines =
+        crate::tetq::report(o, &rec, refined.as_ref().map(|r| &r.0)).map_err(input_err)?;
     if let Some(r) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, r));
         lines.push(format!(

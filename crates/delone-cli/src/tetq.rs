@@ -9,7 +9,7 @@ use delone::tet::refine::{refine_recovered, RefineOptions, RefineReport};
 use crate::args::Opts;
 
 /// Recovery alone (`-p`), or recovery and refinement when `-q`/`-a` is
-/// given (`markers`: per input triangle, its facet's marker). Returns the mesh, the refinement report if any, and the name of
+/// given (`markers`: per input triangle, its facet's marker). Returns the mesh, the refinement report and options if any, and the name of
 /// the stage for timing lines.
 pub fn mesh(
     o: &Opts,
@@ -18,7 +18,7 @@ pub fn mesh(
     markers: &[i32],
     ropts: &RecoverOptions,
     domain: &Domain,
-) -> Result<(Recovered, Option<RefineReport>), String> {
+) -> Result<(Recovered, Option<(RefineReport, RefineOptions)>), String> {
     if o.tet_ratio.is_none() && !o.area && !o.sizing {
         return recover_marked(points, triangles, markers, ropts, domain)
             .map(|r| (r, None))
@@ -42,7 +42,7 @@ pub fn mesh(
     let rec =
         recover_marked(points, triangles, markers, ropts, domain).map_err(|e| e.to_string())?;
     let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
-    Ok((r.rec, Some(r.report)))
+    Ok((r.rec, Some((r.report, opts))))
 }
 
 /// Mesh optimisation (`-O`): on by default after refinement, on request
@@ -51,20 +51,26 @@ pub fn optimize_mesh(
     o: &Opts,
     points: &[[f64; 3]],
     rec: &mut Recovered,
-    refined: bool,
+    refined: Option<&RefineOptions>,
 ) -> Result<Option<OptimizeReport>, String> {
-    let level = o.tet_optimize.unwrap_or(if refined { 3 } else { 0 });
+    let level = o
+        .tet_optimize
+        .unwrap_or(if refined.is_some() { 3 } else { 0 });
     if level == 0 {
         return Ok(None);
     }
-    // After refinement the optimisation keeps its volume bounds (-a and
-    // the regional ones), and with --keep-ratio the -q bound.
-    let opts = OptimizeOptions {
+    // After refinement the optimisation keeps its size bounds (-a, the
+    // regional volumes, -m), and with --keep-ratio the -q bound.
+    let mut opts = OptimizeOptions {
         input_points: Some(points.len()),
-        max_radius_edge: o.tet_ratio.filter(|_| refined && o.keep_ratio),
-        max_volume: o.max_area.filter(|_| refined),
         ..OptimizeOptions::level(level)
     };
+    if let Some(r) = refined {
+        opts = opts.keeping(r);
+        if o.keep_ratio {
+            opts.max_radius_edge = Some(r.max_radius_edge).filter(|b| b.is_finite());
+        }
+    }
     optimize(rec, &opts).map(Some).map_err(|e| e.to_string())
 }
 

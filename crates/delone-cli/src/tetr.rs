@@ -165,7 +165,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let mut rec = r.refined.rec;
     let report = r.refined.report;
-    let optimized = crate::tetq::optimize_mesh(o, &points, &mut rec, true)
+    let optimized = crate::tetq::optimize_mesh(o, &points, &mut rec, Some(&opts))
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     // Markers: a listed face's, else 1 (boundary and region interfaces).

@@ -172,6 +172,10 @@ pub struct OptimizeOptions {
     /// own bounds ([`MeshRegion::max_volume`](crate::tet::recover::MeshRegion))
     /// are always kept. Default `None`.
     pub max_volume: Option<f64>,
+    /// The refinement's sizing to keep (`-m`): no operation makes a
+    /// tetrahedron whose circumradius exceeds the refinement's bound
+    /// 0.612 h at its circumcentre. Default none.
+    pub sizing: crate::tet::refine::sizing::Sizing,
 }
 
 impl Default for OptimizeOptions {
@@ -188,15 +192,16 @@ impl Default for OptimizeOptions {
             input_points: None,
             max_radius_edge: None,
             max_volume: None,
+            sizing: crate::tet::refine::sizing::Sizing::None,
         }
     }
 }
 
 impl OptimizeOptions {
-    /// These options keeping the volume bounds of a refinement with `r`
-    /// (its global `max_volume`; the regions' own bounds are always kept),
-    /// so that `-O` after `-a` never leaves a tetrahedron the refinement
-    /// would have split. The radius-edge bound is **not** kept unless
+    /// These options keeping the size bounds of a refinement with `r`
+    /// (its global `max_volume` and its sizing; the regions' own volume
+    /// bounds are always kept), so that `-O` after `-a` or `-m` never
+    /// leaves a tetrahedron the refinement would have split for its size. The radius-edge bound is **not** kept unless
     /// [`OptimizeOptions::max_radius_edge`] is set as well: keeping it
     /// costs much of what the optimisation gains (on the closed corpus
     /// models at `-q1.414` the smallest dihedral angle fell from
@@ -215,6 +220,7 @@ impl OptimizeOptions {
     pub fn keeping(self, r: &crate::tet::refine::RefineOptions) -> Self {
         OptimizeOptions {
             max_volume: r.max_volume.filter(|v| *v > 0.0),
+            sizing: r.sizing.clone(),
             ..self
         }
     }
@@ -740,6 +746,8 @@ fn limits(rec: &Recovered, opts: &OptimizeOptions, s: (f64, f64)) -> limits::Lim
         .filter(|b| *b > 0.0)
         .unwrap_or(f64::INFINITY);
     let f = s.0 * s.1;
+    l.sizing = opts.sizing.clone();
+    l.scale = f;
     let global = opts.max_volume.filter(|v| *v > 0.0);
     l.vol = rec
         .regions
