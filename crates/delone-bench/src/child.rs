@@ -507,9 +507,19 @@ fn delone_plc(
         .iter()
         .map(|&f| plc.facets[f as usize].marker)
         .collect();
+    // Regional volume bounds bind only with -a, in TetGen as in delone's
+    // CLI: these cases run -p / -pqB.
+    let regions = plc
+        .regions
+        .iter()
+        .map(|r| delone::model::plc::Region {
+            max_volume: None,
+            ..r.clone()
+        })
+        .collect();
     let domain = Domain {
         holes: plc.holes.clone(),
-        regions: plc.regions.clone(),
+        regions,
         convex_hull: false,
     };
     let rec = recover_marked(
