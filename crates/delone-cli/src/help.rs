@@ -237,6 +237,13 @@ OPTIONS:
                                   height 3/4 of it).
     --keep-ratio                  With -q: the optimisation (-O) keeps the
                                   radius-edge bound (see -O).
+    --stats-json FILE.json        Mesh quality statistics (dihedral-angle and
+                                  radius-edge histograms, volumes, edges),
+                                  Steiner points by kind, the refinement's
+                                  cells left above the bound, the
+                                  optimisation's before/after, the input's
+                                  bounds and the worst tetrahedra left with
+                                  the reason.
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version

@@ -166,7 +166,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines =
-        crate::tetq::report(o, &rec, refined.as_ref().map(|r| &r.0)).map_err(input_err)?;
+        crate::tetq::report(o, &rec, refined.as_ref().map(|r| &r.0), optimized.as_ref())
+            .map_err(input_err)?;
     if let Some(r) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, r));
         lines.push(format!(

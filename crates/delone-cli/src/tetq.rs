@@ -131,6 +131,7 @@ pub fn report(
     o: &Opts,
     rec: &Recovered,
     refined: Option<&RefineReport>,
+    optimized: Option<&OptimizeReport>,
 ) -> Result<Vec<String>, String> {
     let mut lines = Vec::new();
     if let Some(r) = refined {
@@ -180,7 +181,7 @@ pub fn report(
         lines.push(h);
     }
     if let Some(p) = &o.stats_json {
-        std::fs::write(p, s.to_json() + "\n")
+        std::fs::write(p, crate::tetjson::document(&s, rec, refined, optimized))
             .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
     }
     Ok(lines)

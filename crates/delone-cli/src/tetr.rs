@@ -177,7 +177,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             _ => 1,
         })
         .collect();
-    let mut lines = crate::tetq::report(o, &rec, Some(&report)).map_err(input_err)?;
+    let mut lines =
+        crate::tetq::report(o, &rec, Some(&report), optimized.as_ref()).map_err(input_err)?;
     if let Some(x) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, x));
     }

@@ -299,3 +299,64 @@ fn keep_ratio_keeps_the_radius_edge_bound() {
         "without --keep-ratio: {free} (the test needs an input where -O raises it)"
     );
 }
+
+/// The number after `"key": ` at the first occurrence of `key` in `text`
+/// from `from` on.
+fn json_num(text: &str, from: &str, key: &str) -> f64 {
+    let t = &text[text.find(from).unwrap_or_else(|| panic!("no {from}"))..];
+    let t = &t[t
+        .find(&format!("\"{key}\": "))
+        .unwrap_or_else(|| panic!("no {key}"))
+        + key.len()
+        + 4..];
+    let end = t.find([',', '}', '\n']).unwrap();
+    t[..end].trim().parse().unwrap()
+}
+
+/// `--stats-json` of a quality mesh: the statistics, the Steiner points by
+/// kind, the refinement's and the optimisation's summaries, consistent
+/// with the `-V` lines and the files.
+#[test]
+fn tet_stats_json_reports_steiner_refinement_and_optimisation() {
+    let Some(src) = example() else { return };
+    let dir = tmp("statsjson");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    let o = run(
+        &dir,
+        &["tet", "-pq1.414V", "--stats-json", "s.json", "ex.poly"],
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let j = std::fs::read_to_string(dir.join("s.json")).unwrap();
+    let tets = json_num(&j, "{", "tets");
+    assert_eq!(tets as usize, table(&dir.join("ex.1.ele")).len());
+    // The optimised mesh is the written one.
+    assert_eq!(json_num(&j, "\"after\"", "tets"), tets);
+    assert_eq!(
+        json_num(&j, "\"after\"", "min_dihedral"),
+        json_num(&j, "{", "min_dihedral")
+    );
+    assert!(json_num(&j, "\"before\"", "min_dihedral") <= json_num(&j, "{", "min_dihedral"));
+    // Steiner points by kind add up to the points written.
+    let steiner: f64 = ["on_segments", "on_facets", "interior"]
+        .iter()
+        .map(|k| json_num(&j, "\"refinement\": {\"on_segments\"", k))
+        .sum::<f64>()
+        + ["on_edges", "on_facets", "interior"]
+            .iter()
+            .map(|k| json_num(&j, "\"recovery\"", k))
+            .sum::<f64>();
+    let opt = |k: &str| json_num(&j, "\"optimization\"", k);
+    let nodes = table(&dir.join("ex.1.node")).len() as f64;
+    assert_eq!(
+        28.0 + steiner + opt("inserted") - opt("collapsed"),
+        nodes,
+        "{j}"
+    );
+    assert!(j.contains("\"left_above_bound\": "), "{j}");
+    assert!(j.contains("\"worst_left\": [{\"tet\": "), "{j}");
+}
