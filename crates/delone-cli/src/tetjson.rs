@@ -56,6 +56,17 @@ fn range(s: &TetStats) -> String {
         ("max_dihedral", num(s.max_dihedral)),
         ("max_radius_edge", num(s.max_radius_edge)),
         ("tets", s.tets.to_string()),
+        (
+            "dihedral_histogram",
+            format!(
+                "[{}]",
+                s.dihedral_histogram
+                    .iter()
+                    .map(|n| n.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
     ])
 }
 
