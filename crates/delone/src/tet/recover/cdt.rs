@@ -256,11 +256,16 @@ const DEPTH: u32 = 2;
 /// Most flips and edge removals one segment may use in the rounds of the
 /// constrained path ([`recover_segment_within`]) before it counts as failed
 /// (and is split). Segments recovered on the large corpus models use at
-/// most 238 (p99 about 20), while half of the failing ones used more than
-/// 190 on flips that were rolled back anyway: the bound saves work on
-/// hopeless segments (same Steiner counts on the corpus). Not used with
-/// `-Y`, which keeps its flips.
-pub(crate) const SEG_OPS: usize = 256;
+/// most 238 (p99 about 20), while most failing ones run into the bound on
+/// flips that are rolled back anyway: the bound saves work on hopeless
+/// segments. Session 9 measured 256 (the previous value), 128, 96 and 64:
+/// 128 costs 2 more Steiner points on the whole `closed_clean` corpus
+/// (1254 instead of 1252; 108 → 111 on c3d_nefertiti, 143 → 145 on
+/// vtk_turbineblade) and fewer rounds (136 instead of 146), and saves 5–6%
+/// of the instructions of `recover` on the large models; 64 saves 10% but
+/// costs 12% more Steiner points. Not used with `-Y`, which keeps its
+/// flips.
+pub(crate) const SEG_OPS: usize = 128;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
