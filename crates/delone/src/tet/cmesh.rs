@@ -59,9 +59,12 @@ const MEMO_RING: usize = 6;
 /// The sorted key of a triangle.
 #[inline]
 pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
-    let mut k = t;
-    k.sort_unstable();
-    k
+    // A three-element sorting network (no call into the general sort).
+    let [a, b, c] = t;
+    let (a, b) = (a.min(b), a.max(b));
+    let (b, c) = (b.min(c), b.max(c));
+    let (a, b) = (a.min(b), a.max(b));
+    [a, b, c]
 }
 
 /// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring
@@ -146,8 +149,14 @@ pub(crate) struct CMesh<'a> {
     /// linear in the star's size, and a reusable list).
     walk: RefCell<Walk>,
     /// Scratch of [`CMesh::replace`]: open outer faces and open new faces.
-    outer: Vec<([u32; 3], u32)>,
-    open: Vec<([u32; 3], u32)>,
+    outer: Vec<(u128, u32)>,
+    open: Vec<(u128, u32)>,
+    /// Scratch of [`CMesh::remove_edge`]: the ring's tetrahedra and
+    /// vertices, and the dynamic program's tables.
+    ring_tets: Vec<u32>,
+    ring_verts: Vec<u32>,
+    dp_best: Vec<i64>,
+    dp_choice: Vec<usize>,
 }
 
 /// Scratch of [`CMesh::star_until`]: visit stamps per slot (equal to `gen`
@@ -188,6 +197,10 @@ impl<'a> CMesh<'a> {
             walk: RefCell::new(Walk::default()),
             outer: Vec::new(),
             open: Vec::new(),
+            ring_tets: Vec::new(),
+            ring_verts: Vec::new(),
+            dp_best: Vec::new(),
+            dp_choice: Vec::new(),
         }
     }
 
@@ -499,8 +512,9 @@ impl<'a> CMesh<'a> {
         new
     }
 
-    /// [`CMesh::star_until`] into the reusable list.
-    fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
+    /// The first tetrahedron, in [`CMesh::star`]'s order, of `u`'s star for
+    /// which `stop` holds (the walk stops there; no allocation).
+    pub(crate) fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
         let mut buf = std::mem::take(&mut self.walk.borrow_mut().buf);
         let r = self.star_until(u, &mut buf, stop);
         self.walk.borrow_mut().buf = buf;
@@ -539,35 +553,58 @@ impl<'a> CMesh<'a> {
         b: u32,
         ghosts: bool,
     ) -> Option<(Vec<u32>, Vec<u32>)> {
+        let mut tets = Vec::with_capacity(8);
+        let mut ring = Vec::with_capacity(8);
+        self.edge_ring_into(t, a, b, ghosts, &mut tets, &mut ring)
+            .then_some((tets, ring))
+    }
+
+    /// [`CMesh::edge_ring_with`] into the given lists (cleared first);
+    /// false (lists unspecified) where that returns `None`.
+    fn edge_ring_into(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        ghosts: bool,
+        tets: &mut Vec<u32>,
+        ring: &mut Vec<u32>,
+    ) -> bool {
+        tets.clear();
+        ring.clear();
         let c = self.core();
         let tv = c.v[t as usize];
         if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
-            return None;
+            return false;
         }
         let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
-        let (c0, d0) = (o.next()?, o.next()?);
+        let (Some(c0), Some(d0)) = (o.next(), o.next()) else {
+            return false;
+        };
         let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
             (c0, d0)
         } else {
             (d0, c0)
         };
         let mut cur = t;
-        let mut tets = Vec::with_capacity(8);
-        let mut ring = Vec::with_capacity(8);
         loop {
             let cv = c.v[cur as usize];
             if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
-                return None;
+                return false;
             }
             tets.push(cur);
             ring.push(x);
-            let ix = cv.iter().position(|&w| w == x)?;
+            let Some(ix) = cv.iter().position(|&w| w == x) else {
+                return false;
+            };
             let next = c.adj[cur as usize][ix] >> 2;
             if next == t {
-                return Some((tets, ring));
+                return true;
             }
             let nv = c.v[next as usize];
-            let z = *nv.iter().find(|&&w| w != a && w != b && w != y)?;
+            let Some(&z) = nv.iter().find(|&&w| w != a && w != b && w != y) else {
+                return false;
+            };
             cur = next;
             x = y;
             y = z;
@@ -593,6 +630,8 @@ impl<'a> CMesh<'a> {
         // whose four vertices lie on some triangle is still seen through
         // one of its faces.
         let finite = |k: &[u32; 3]| !k.contains(&INF);
+        // A sorted triple as one integer (one comparison per candidate).
+        let pack = |k: [u32; 3]| u128::from(k[0]) << 64 | u128::from(k[1]) << 32 | u128::from(k[2]);
         let touched0 = self.touched.len();
         let mut first_outer = None;
         {
@@ -606,7 +645,7 @@ impl<'a> CMesh<'a> {
                         if first_outer.is_none() && finite(&k) {
                             first_outer = Some(k);
                         }
-                        outer.push((k, w));
+                        outer.push((pack(k), w));
                     } else if w >> 2 > t && finite(&k) {
                         self.touched.push(k);
                     }
@@ -631,17 +670,18 @@ impl<'a> CMesh<'a> {
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
                 let k = fkey(face(tv, f));
-                if let Some(i) = outer.iter().position(|e| e.0 == k) {
+                let pk = pack(k);
+                if let Some(i) = outer.iter().position(|e| e.0 == pk) {
                     let w = outer.swap_remove(i).1;
                     c.link(x, f, w >> 2, (w & 3) as usize);
-                } else if let Some(i) = open.iter().position(|e| e.0 == k) {
+                } else if let Some(i) = open.iter().position(|e| e.0 == pk) {
                     let w = open.swap_remove(i).1;
                     c.link(x, f, w >> 2, (w & 3) as usize);
                     if finite(&k) {
                         self.touched.push(k);
                     }
                 } else {
-                    open.push((k, 4 * x + f as u32));
+                    open.push((pk, 4 * x + f as u32));
                 }
             }
         }
@@ -719,31 +759,42 @@ impl<'a> CMesh<'a> {
         tri_cost: TriCost<'_>,
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
-        let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
-        if r.len() < MEMO_RING {
-            return self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
-        }
-        let key = {
-            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
-            let mut k = Vec::with_capacity(r.len() + 2);
-            k.extend([a, b]);
-            k.extend(r[m..].iter().chain(&r[..m]));
-            k
+        // The ring lists are reused scratch (no allocation per call).
+        let (mut tets, mut r) = (
+            std::mem::take(&mut self.ring_tets),
+            std::mem::take(&mut self.ring_verts),
+        );
+        let out = if !self.edge_ring_into(t, a, b, true, &mut tets, &mut r) {
+            None
+        } else if r.len() < MEMO_RING {
+            self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)
+        } else {
+            let key = {
+                let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+                let mut k = Vec::with_capacity(r.len() + 2);
+                k.extend([a, b]);
+                k.extend(r[m..].iter().chain(&r[..m]));
+                k
+            };
+            if self.failed.contains(&key) {
+                None
+            } else {
+                let out = self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost);
+                if out.is_none() {
+                    self.failed.insert(key);
+                }
+                out
+            }
         };
-        if self.failed.contains(&key) {
-            return None;
-        }
-        let out = self.remove_ring(tets, &mut r, a, b, tri_cost, edge_cost);
-        if out.is_none() {
-            self.failed.insert(key);
-        }
+        self.ring_tets = tets;
+        self.ring_verts = r;
         out
     }
 
     /// [`CMesh::remove_edge`] once the ring is known.
     fn remove_ring(
         &mut self,
-        tets: Vec<u32>,
+        tets: &[u32],
         r: &mut Vec<u32>,
         a: u32,
         b: u32,
@@ -775,8 +826,14 @@ impl<'a> CMesh<'a> {
             return None;
         }
         const NO: i64 = i64::MAX / 4;
-        let mut best = vec![NO; n * n];
-        let mut choice = vec![0usize; n * n];
+        let (mut best, mut choice) = (
+            std::mem::take(&mut self.dp_best),
+            std::mem::take(&mut self.dp_choice),
+        );
+        best.clear();
+        best.resize(n * n, NO);
+        choice.clear();
+        choice.resize(n * n, 0);
         for i in 0..n - 1 {
             best[i * n + i + 1] = 0;
         }
@@ -808,12 +865,12 @@ impl<'a> CMesh<'a> {
             }
         }
         let total = best[n - 1];
-        if total >= NO {
-            return None;
-        }
-        let mut new = ring_tets(r, &choice, a, b);
+        let new = (total < NO).then(|| ring_tets(r, &choice, a, b));
+        self.dp_best = best;
+        self.dp_choice = choice;
+        let mut new = new?;
         new.extend(ghosts);
-        self.replace(&tets, &new);
+        self.replace(tets, &new);
         self.removals += 1;
         Some(total)
     }

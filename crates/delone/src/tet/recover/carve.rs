@@ -6,9 +6,9 @@
 //! the classes of cells connected across non-constraint faces, found by a
 //! flood fill in slot order (so the numbering is deterministic). Every
 //! component also gets its **depth**, the least number of constraint faces
-//! crossed from outside (a 0-1 breadth-first search on a deque; the depth is
-//! the same for all cells of a component, since crossing a non-constraint
-//! face costs nothing).
+//! crossed from outside (the same for all cells of a component, since
+//! crossing a non-constraint face costs nothing: a breadth-first search on
+//! the graph of components, one edge per constraint face between two).
 //!
 //! Which components are kept:
 //!
@@ -40,8 +40,6 @@
 //! `m + 1, m + 2, …` in component order, where `m` is the floor of the
 //! largest seed attribute (0 when there is none or it is negative), so every
 //! region gets its own attribute.
-
-use std::collections::VecDeque;
 
 use delone_predicates::orient3d;
 
@@ -145,31 +143,62 @@ fn components(core: &Core, marks: &[[u32; 4]]) -> (Vec<u32>, usize) {
     (comp, count as usize)
 }
 
-/// Per slot: the least number of constraint faces crossed from outside
-/// (`u32::MAX` for dead slots).
-fn depths(core: &Core, marks: &[[u32; 4]]) -> Vec<u32> {
-    let n = core.v.len();
-    let mut depth = vec![u32::MAX; n];
-    let mut dq = VecDeque::new();
-    for (t, tv) in core.v.iter().enumerate() {
-        if tv[0] != DEAD && tv.contains(&INF) {
-            depth[t] = 0;
-            dq.push_back(t as u32);
+/// Per component: the least number of constraint faces crossed from
+/// outside (`u32::MAX` when unreachable). Crossing a non-constraint face
+/// costs nothing, so every cell of a component has the same depth: a
+/// breadth-first search on the graph of components (an edge per constraint
+/// face between two of them) from those holding a ghost cell gives it
+/// without a pass over the cells per level.
+fn component_depths(core: &Core, marks: &[[u32; 4]], comp: &[u32], ncomp: usize) -> Vec<u32> {
+    // Component adjacency across constraint faces, as compressed rows.
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (t, m) in marks.iter().enumerate() {
+        let ct = comp[t];
+        if ct == u32::MAX {
+            continue;
+        }
+        for (f, &mk) in m.iter().enumerate() {
+            if mk == u32::MAX {
+                continue;
+            }
+            let cu = comp[(core.adj[t][f] >> 2) as usize];
+            if cu != ct && cu != u32::MAX {
+                pairs.push((ct, cu));
+            }
         }
     }
-    while let Some(t) = dq.pop_front() {
-        let d = depth[t as usize];
-        for f in 0..4 {
-            let u = (core.adj[t as usize][f] >> 2) as usize;
-            let cost = u32::from(is_constraint(marks, t as usize, f));
-            let nd = d + cost;
-            if nd < depth[u] {
-                depth[u] = nd;
-                if cost == 0 {
-                    dq.push_front(u as u32);
-                } else {
-                    dq.push_back(u as u32);
-                }
+    let mut start = vec![0u32; ncomp + 1];
+    for &(c, _) in &pairs {
+        start[c as usize + 1] += 1;
+    }
+    for i in 0..ncomp {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut next = vec![0u32; pairs.len()];
+    for &(c, d) in &pairs {
+        next[fill[c as usize] as usize] = d;
+        fill[c as usize] += 1;
+    }
+    let mut depth = vec![u32::MAX; ncomp];
+    let mut queue: Vec<u32> = Vec::new();
+    for (t, tv) in core.v.iter().enumerate() {
+        if tv[0] != DEAD && tv.contains(&INF) {
+            let c = comp[t] as usize;
+            if depth[c] != 0 {
+                depth[c] = 0;
+                queue.push(c as u32);
+            }
+        }
+    }
+    let mut i = 0;
+    while i < queue.len() {
+        let c = queue[i] as usize;
+        i += 1;
+        for &d in &next[start[c] as usize..start[c + 1] as usize] {
+            if depth[d as usize] == u32::MAX {
+                depth[d as usize] = depth[c] + 1;
+                queue.push(d);
             }
         }
     }
@@ -241,16 +270,12 @@ pub(crate) fn carve(
     scale: (f64, f64),
 ) -> Result<Carved, RecoverError> {
     let (comp, ncomp) = components(core, marks);
-    let depth = depths(core, marks);
-    let mut cdepth = vec![u32::MAX; ncomp];
+    let cdepth = component_depths(core, marks, &comp, ncomp);
     let mut exterior = u32::MAX;
     for (s, &c) in comp.iter().enumerate() {
-        if c == u32::MAX {
-            continue;
-        }
-        cdepth[c as usize] = cdepth[c as usize].min(depth[s]);
-        if exterior == u32::MAX && core.v[s].contains(&INF) {
+        if c != u32::MAX && core.v[s].contains(&INF) {
             exterior = c;
+            break;
         }
     }
     let scaled = |p: &[f64; 3]| crate::geom::scaled(*p, scale);

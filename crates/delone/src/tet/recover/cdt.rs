@@ -102,32 +102,45 @@ fn sgn(x: f64) -> i32 {
 fn first_hit(cm: &CMesh<'_>, s: u32, e: u32) -> Hit {
     let pts = cm.pts();
     let g = |w: u32| &pts[w as usize];
-    for t in cm.star(s) {
-        let tv = cm.dt.core.v[t as usize];
-        if tv.contains(&e) {
-            return Hit::Done;
-        }
+    let core = &cm.dt.core;
+    // The signs of `e` against the planes through `s` and the edges of the
+    // face opposite `s` in `t`, each times the orientation of `t` itself
+    // (`orient3d(s, x, y, z)`: the three rotations of `x y z` are even
+    // permutations, so one exact sign serves all three); `None` for a ghost.
+    let signs = |t: u32| -> Option<(i32, i32, i32, [u32; 3])> {
+        let tv = core.v[t as usize];
         if tv.contains(&INF) {
-            continue;
+            return None;
         }
         let is = tv.iter().position(|&w| w == s).unwrap_or(0);
         let [x, y, z] = face(tv, is);
-        let side = |a: u32, b: u32, c: u32| {
-            sgn(orient3d(g(s), g(a), g(b), g(e))) * sgn(orient3d(g(s), g(a), g(b), g(c)))
-        };
-        let (o1, o2, o3) = (side(x, y, z), side(y, z, x), side(z, x, y));
-        if o1 < 0 || o2 < 0 || o3 < 0 {
-            continue;
-        }
-        return match (o1 == 0, o2 == 0, o3 == 0) {
-            (false, false, false) => Hit::Face(t, is),
-            (true, false, false) => Hit::Edge(x, y),
-            (false, true, false) => Hit::Edge(y, z),
-            (false, false, true) => Hit::Edge(z, x),
-            _ => Hit::Blocked,
-        };
+        let o = sgn(orient3d(g(s), g(x), g(y), g(z)));
+        let side = |a: u32, b: u32| sgn(orient3d(g(s), g(a), g(b), g(e))) * o;
+        Some((side(x, y), side(y, z), side(z, x), [x, y, z]))
+    };
+    // The first tetrahedron of the star (breadth first, as `CMesh::star`
+    // lists it) holding `e` or whose three signs are all non-negative.
+    let found = cm.star_find(s, |t| {
+        let tv = core.v[t as usize];
+        tv.contains(&e) || signs(t).is_some_and(|(o1, o2, o3, _)| o1 >= 0 && o2 >= 0 && o3 >= 0)
+    });
+    let Some(t) = found else {
+        return Hit::Blocked;
+    };
+    if core.v[t as usize].contains(&e) {
+        return Hit::Done;
     }
-    Hit::Blocked
+    let Some((o1, o2, o3, [x, y, z])) = signs(t) else {
+        return Hit::Blocked;
+    };
+    let is = core.v[t as usize].iter().position(|&w| w == s).unwrap_or(0);
+    match (o1 == 0, o2 == 0, o3 == 0) {
+        (false, false, false) => Hit::Face(t, is),
+        (true, false, false) => Hit::Edge(x, y),
+        (false, true, false) => Hit::Edge(y, z),
+        (false, false, true) => Hit::Edge(z, x),
+        _ => Hit::Blocked,
+    }
 }
 
 fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
@@ -243,11 +256,16 @@ const DEPTH: u32 = 2;
 /// Most flips and edge removals one segment may use in the rounds of the
 /// constrained path ([`recover_segment_within`]) before it counts as failed
 /// (and is split). Segments recovered on the large corpus models use at
-/// most 238 (p99 about 20), while half of the failing ones used more than
-/// 190 on flips that were rolled back anyway: the bound saves work on
-/// hopeless segments (same Steiner counts on the corpus). Not used with
-/// `-Y`, which keeps its flips.
-pub(crate) const SEG_OPS: usize = 256;
+/// most 238 (p99 about 20), while most failing ones run into the bound on
+/// flips that are rolled back anyway: the bound saves work on hopeless
+/// segments. Session 9 measured 256 (the previous value), 128, 96 and 64:
+/// 128 costs 2 more Steiner points on the whole `closed_clean` corpus
+/// (1254 instead of 1252; 108 → 111 on c3d_nefertiti, 143 → 145 on
+/// vtk_turbineblade) and fewer rounds (136 instead of 146), and saves 5–6%
+/// of the instructions of `recover` on the large models; 64 saves 10% but
+/// costs 12% more Steiner points. Not used with `-Y`, which keeps its
+/// flips.
+pub(crate) const SEG_OPS: usize = 128;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {

@@ -37,9 +37,12 @@ pub(crate) fn ekey(a: u32, b: u32) -> (u32, u32) {
 /// The sorted key of a triangle.
 #[inline]
 pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
-    let mut k = t;
-    k.sort_unstable();
-    k
+    // A three-element sorting network (no call into the general sort).
+    let [a, b, c] = t;
+    let (a, b) = (a.min(b), a.max(b));
+    let (b, c) = (b.min(c), b.max(c));
+    let (a, b) = (a.min(b), a.max(b));
+    [a, b, c]
 }
 
 /// The six edges of a tetrahedron, as local vertex pairs.
