@@ -15,6 +15,7 @@ mod run;
 mod tetout;
 mod tetq;
 mod tetq_bound;
+mod tetq_left;
 mod tetr;
 mod threads;
 mod tri_out;
