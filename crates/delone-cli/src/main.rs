@@ -16,6 +16,7 @@ mod tetjson;
 mod tetout;
 mod tetq;
 mod tetq_bound;
+mod tetq_left;
 mod tetr;
 mod threads;
 mod tri_out;

@@ -152,6 +152,9 @@ pub fn report(
             r.remaining_at_boundary,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
+        if r.remaining_bad > 0 && o.verbose > 0 {
+            lines.push(crate::tetq_left::left_line(r));
+        }
     }
     let want_stats = o.verbose > 0 || o.stats_json.is_some();
     if !want_stats {

@@ -47,6 +47,7 @@ fn run(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], opts: &RefineOptions) ->
         .filter(|t| radius_edge_ratio(&t.map(|q| rp[q as usize])) > opts.max_radius_edge)
         .count();
     assert_eq!(bad, r.report.remaining_bad, "{name}");
+    assert_eq!(r.report.left.total(), bad, "{name}: {:?}", r.report.left);
     let s = TetStats::of(rp, &r.rec.mesh.tets);
     let rep = &r.report;
     println!(
@@ -255,6 +256,7 @@ fn run_domain(
         .filter(|t| radius_edge_ratio(&t.map(|x| rp[x as usize])) > q)
         .count();
     assert_eq!(bad, r.report.remaining_bad, "{name}");
+    assert_eq!(r.report.left.total(), bad, "{name}: {:?}", r.report.left);
     let rep = &r.report;
     assert!(rep.steiner() <= budget, "{name}");
     // Bad cells may remain only where the refinement reported skipping
@@ -486,6 +488,9 @@ fn assert_stops(name: &str, r: &Refined, n_input: usize, max_points: usize) {
         r.report.skipped,
         r.report.flat
     );
+    // Every cell left has the reason R3 gave up on it (none is merely
+    // unvisited when the budget did not run out).
+    assert_eq!(r.report.left.other, 0, "{name}: {:?}", r.report.left);
 }
 
 /// Refines each model of `surf/off` at q1.414 with `budget` points: it
@@ -538,6 +543,13 @@ fn sharp_wedges_terminate_at_q1414() {
         let name = format!("wedge{deg}");
         let r = run_domain(&name, &p, &t, &Domain::default(), 1.414, 20_000);
         assert_stops(&name, &r, p.len(), 2_000);
+        // The cells spanning the wedge are reported as such, next to a
+        // sharp input edge.
+        let l = &r.report.left;
+        eprintln!("{name}: left {l:?}");
+        if deg < 20.0 {
+            assert!(l.wedge > 0 && l.near_sharp > 0, "{name}: {l:?}");
+        }
     }
 }
 

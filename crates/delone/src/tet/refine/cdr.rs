@@ -44,6 +44,14 @@ const WEDGE_ANGLE: f64 = 30.0;
 /// degenerate (see `Cdr::degenerate`).
 const DEGENERATE: f64 = 1e-4;
 
+/// Smallest input-triangle angle (degrees) below which a left bad cell
+/// counts as near a needle ([`super::LeftBad::near_needle`]).
+const NEEDLE_ANGLE: f64 = 5.0;
+
+/// Angle between input half-planes (degrees) below which a left bad cell
+/// counts as near a sharp edge ([`super::LeftBad::near_sharp`]).
+const SHARP_ANGLE: f64 = 60.0;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -74,6 +82,20 @@ struct Plan {
 /// Why a plan failed: drop this (non-required) tetrahedron and retry, or
 /// give up.
 type PlanErr = Option<u32>;
+
+/// Why R3 last gave up on a bad cell (see [`super::LeftBad`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Left {
+    Flat,
+    Behind,
+    Close,
+    Radius,
+    Small,
+    Wedge,
+    Degenerate,
+    Shell,
+    Refused,
+}
 
 pub(super) struct Cdr {
     /// Points (rescaled): input, recovery's Steiner points, then new ones.
@@ -139,6 +161,8 @@ pub(super) struct Cdr {
     /// Set when [`Cdr::insert`] refused a point for [`Cdr::min_ir`] (the
     /// piece is not marked as failed: it may be split for another reason).
     ir_refused: bool,
+    /// The bad cells R3 gave up on (by vertices, as stored), and why.
+    left: HashMap<[u32; 4], Left>,
 }
 
 impl Cdr {
@@ -380,6 +404,7 @@ impl Cdr {
             p,
             min_ir: 0.0,
             ir_refused: false,
+            left: HashMap::new(),
         };
         st.reg.resize(nt, 0);
         // The recovered mesh is not constrained Delaunay (recovery flips and
@@ -1493,8 +1518,7 @@ impl Cdr {
             // Four vertices on (nearly) coplanar input triangles: the cell
             // is as flat as the input there; splitting the boundary would
             // make flat cells again, down to the segment floor.
-            self.report.skipped += 1;
-            self.report.skipped_flat += 1;
+            self.leave(tv, Left::Flat);
             return;
         }
         let p = tv.map(|q| self.p[q as usize]);
@@ -1503,8 +1527,7 @@ impl Cdr {
             // A flat cell (four points a hair off one plane, or a wedge at
             // a ridge between nearly coplanar facets): splitting its
             // boundary pieces leaves flat cells again, so it is left.
-            self.report.skipped += 1;
-            self.report.skipped_flat += 1;
+            self.leave(tv, Left::Flat);
             return;
         };
         let lmin = quality::edge_lengths(&p)
@@ -1517,26 +1540,21 @@ impl Cdr {
                     .then(x.cmp(y))
             });
             if short.is_some_and(|(u, v)| self.shell_pair(u, v)) {
-                self.report.skipped += 1;
-                self.report.skipped_small += 1;
+                self.leave(tv, Left::Shell);
                 return;
             }
         }
         if tv.iter().any(|&q| self.on_degenerate(q)) {
-            self.report.skipped += 1;
-            self.report.skipped_small += 1;
+            self.leave(tv, Left::Degenerate);
             return;
         }
         if self.wedge(tv) {
-            self.report.skipped += 1;
-            self.report.skipped_small += 1;
-            self.report.skipped_wedge += 1;
+            self.leave(tv, Left::Wedge);
             return;
         }
         let (segs, faces) = match self.locate(b.slot, &c) {
             Err(None) => {
-                self.report.skipped += 1;
-                self.report.skipped_refused += 1;
+                self.leave(tv, Left::Refused);
                 return;
             }
             Err(Some(k)) => {
@@ -1549,8 +1567,7 @@ impl Cdr {
                     // encroaches it was tried: it refines fandisk -pq2
                     // further without fewer bad cells, and runs away on
                     // cgal_hole -pq1.414.)
-                    self.report.skipped += 1;
-                    self.report.skipped_behind += 1;
+                    self.leave(tv, Left::Behind);
                     return;
                 }
                 (Vec::new(), vec![k])
@@ -1590,17 +1607,21 @@ impl Cdr {
                     && quality::radius_edge_ratio(&p) > self.bound
                     && self.too_close(&cav, &c, lmin)
                 {
-                    self.report.skipped += 1;
-                    self.report.skipped_small += 1;
-                    self.report.skipped_close += 1;
+                    self.leave(tv, Left::Close);
                     return;
                 }
                 if segs.is_empty() && faces.is_empty() {
                     if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
                         self.report.interior += 1;
+                        // The cell itself may have stayed out of the
+                        // cavity (a subface between it and its
+                        // circumcentre, or dropped by the cavity
+                        // correction): look at it again.
+                        if self.tv.get(b.slot as usize) == Some(&tv) {
+                            self.badq.push(b);
+                        }
                     } else {
-                        self.report.skipped += 1;
-                        self.report.skipped_refused += 1;
+                        self.leave(tv, Left::Refused);
                     }
                     return;
                 }
@@ -1654,23 +1675,110 @@ impl Cdr {
             self.min_ir = lmin;
         }
         let mut progress = false;
+        let mut radius = false;
         for e in segs {
             if !self.out_of_budget() {
                 progress |= self.split_segment(e);
+                radius |= self.ir_refused;
             }
         }
         for k in faces {
             if !self.out_of_budget() {
                 progress |= self.split_face(k);
+                radius |= self.ir_refused;
             }
         }
         self.min_ir = 0.0;
         if progress {
             self.badq.push(b);
+        } else if radius {
+            self.leave(tv, Left::Radius);
         } else {
-            self.report.skipped += 1;
-            self.report.skipped_small += 1;
+            self.leave(tv, Left::Small);
         }
+    }
+
+    /// Records that R3 leaves bad cell `tv`, and why (the skip counters).
+    fn leave(&mut self, tv: [u32; 4], why: Left) {
+        let r = &mut self.report;
+        r.skipped += 1;
+        match why {
+            Left::Flat => r.skipped_flat += 1,
+            Left::Behind => r.skipped_behind += 1,
+            Left::Refused => r.skipped_refused += 1,
+            _ => r.skipped_small += 1,
+        }
+        match why {
+            Left::Close => r.skipped_close += 1,
+            Left::Wedge => r.skipped_wedge += 1,
+            Left::Radius => r.skipped_radius += 1,
+            Left::Degenerate => r.skipped_degenerate += 1,
+            Left::Shell => r.skipped_shell += 1,
+            _ => {}
+        }
+        self.left.insert(tv, why);
+    }
+
+    /// The opening angle between input triangles `a` and `b` sharing an
+    /// edge, as `(d, n)` with `d / n` its cosine (`n > 0`): the angle
+    /// between the half-planes bounded by the shared edge (the dihedral
+    /// angle, measured from the edge towards each centroid without the
+    /// component along the edge; independent of the triangles'
+    /// orientation, as a PLC's facets come in any). `None` unless they
+    /// share an edge.
+    fn opening(&self, a: u32, b: u32) -> Option<(f64, f64)> {
+        let (ta, tb) = (self.tris[a as usize], self.tris[b as usize]);
+        let mut shared = ta.iter().copied().filter(|q| tb.contains(q));
+        let (Some(s0), Some(s1)) = (shared.next(), shared.next()) else {
+            return None;
+        };
+        let (p0, e) = (self.pt(s0), sub(&self.pt(s1), &self.pt(s0)));
+        let dir = |tr: [u32; 3]| -> P {
+            let c: P = std::array::from_fn(|k| {
+                tr.iter().map(|&q| self.p[q as usize][k]).sum::<f64>() / 3.0
+            });
+            let d = sub(&c, &p0);
+            let f = dot(&d, &e) / dot(&e, &e);
+            std::array::from_fn(|k| d[k] - f * e[k])
+        };
+        let (da, db) = (dir(ta), dir(tb));
+        let den = (dot(&da, &da) * dot(&db, &db)).sqrt();
+        (den > 0.0).then_some((dot(&da, &db), den))
+    }
+
+    /// The smallest angle (radians) of input triangle `t`.
+    fn tri_min_angle(&self, t: u32) -> f64 {
+        let [a, b, c] = self.tris[t as usize].map(|q| self.pt(q));
+        let ang = |o: &P, x: &P, y: &P| {
+            let (u, v) = (sub(x, o), sub(y, o));
+            let den = (dot(&u, &u) * dot(&v, &v)).sqrt();
+            if den > 0.0 {
+                (dot(&u, &v) / den).clamp(-1.0, 1.0).acos()
+            } else {
+                0.0
+            }
+        };
+        ang(&a, &b, &c).min(ang(&b, &c, &a)).min(ang(&c, &a, &b))
+    }
+
+    /// Is a vertex of `tv` on an input triangle with an angle below
+    /// [`NEEDLE_ANGLE`], and is one on two input triangles sharing an edge
+    /// at an angle below [`SHARP_ANGLE`]?
+    fn near_features(&self, tv: [u32; 4]) -> (bool, bool) {
+        let (mut needle, mut sharp) = (false, false);
+        let (na, sa) = (NEEDLE_ANGLE.to_radians(), SHARP_ANGLE.to_radians().cos());
+        for &q in &tv {
+            let Some(l) = self.vtris.get(q as usize) else {
+                continue;
+            };
+            needle |= l.iter().any(|&t| self.tri_min_angle(t) < na);
+            for (i, &a) in l.iter().enumerate() {
+                sharp |= l[i + 1..]
+                    .iter()
+                    .any(|&b| self.opening(a, b).is_some_and(|(d, n)| d > sa * n));
+            }
+        }
+        (needle, sharp)
     }
 
     /// Do the four vertices of `t` lie on two input triangles of different
@@ -1693,36 +1801,13 @@ impl Cdr {
         cand.sort_unstable();
         cand.dedup();
         for (i, &a) in cand.iter().enumerate() {
-            let (ga, ta) = (self.group[a as usize], self.tris[a as usize]);
+            let ga = self.group[a as usize];
             for &b in &cand[i + 1..] {
                 let gb = self.group[b as usize];
-                let tb = self.tris[b as usize];
-                let shared: Vec<u32> = ta.iter().copied().filter(|q| tb.contains(q)).collect();
-                if ga == gb || shared.len() < 2 {
+                if ga == gb {
                     continue;
                 }
-                // The opening angle between the two triangles, seen from
-                // what they share (across the shared edge, the dihedral
-                // angle): from the shared vertex towards each centroid,
-                // without the components along a shared edge. Independent
-                // of the facets' orientation (a PLC's come in any).
-                let s0 = self.pt(shared[0]);
-                let dir = |tr: [u32; 3]| -> P {
-                    let c: P = std::array::from_fn(|k| {
-                        tr.iter().map(|&q| self.p[q as usize][k]).sum::<f64>() / 3.0
-                    });
-                    let mut d = sub(&c, &s0);
-                    if shared.len() >= 2 {
-                        let e = sub(&self.pt(shared[1]), &s0);
-                        let f = dot(&d, &e) / dot(&e, &e);
-                        d = std::array::from_fn(|k| d[k] - f * e[k]);
-                    }
-                    d
-                };
-                let (da, db) = (dir(ta), dir(tb));
-                let den = (dot(&da, &da) * dot(&db, &db)).sqrt();
-                if den > 0.0
-                    && dot(&da, &db) > lim * den
+                if self.opening(a, b).is_some_and(|(d, den)| d > lim * den)
                     && t.iter().all(|&q| on(q, ga) || on(q, gb))
                 {
                     return true;
@@ -1888,6 +1973,22 @@ impl Cdr {
                 if self.mask[t] != 0 || on_seg {
                     self.report.remaining_at_boundary += 1;
                 }
+                let l = &mut self.report.left;
+                match self.left.get(&tv) {
+                    Some(Left::Flat) => l.flat += 1,
+                    Some(Left::Behind) => l.behind += 1,
+                    Some(Left::Close) => l.close += 1,
+                    Some(Left::Radius) => l.radius += 1,
+                    Some(Left::Small) => l.small += 1,
+                    Some(Left::Wedge) => l.wedge += 1,
+                    Some(Left::Degenerate) => l.degenerate += 1,
+                    Some(Left::Shell) => l.shell += 1,
+                    Some(Left::Refused) => l.refused += 1,
+                    None => l.other += 1,
+                }
+                let (needle, sharp) = self.near_features(tv);
+                self.report.left.near_needle += needle as usize;
+                self.report.left.near_sharp += sharp as usize;
             }
         }
         let mut regions = rec.regions.clone();

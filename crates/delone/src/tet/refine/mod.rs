@@ -271,9 +271,22 @@ pub struct RefineReport {
     /// dihedral angle below 30°): splitting either facet for them would refine the
     /// wedge towards its edge without end.
     pub skipped_wedge: usize,
+    /// Of [`Self::skipped_small`]: a piece the circumcentre encroaches
+    /// would have been split at a point closer to a vertex than the cell's
+    /// shortest edge (the insertion-radius rule), so nothing was split.
+    pub skipped_radius: usize,
+    /// Of [`Self::skipped_small`]: cells with a vertex on a degenerate
+    /// (zero-angle) input triangle.
+    pub skipped_degenerate: usize,
+    /// Of [`Self::skipped_small`]: cells whose shortest edge joins two
+    /// concentric-shell points at a small input angle between segments.
+    pub skipped_shell: usize,
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
+    /// Why the cells of [`Self::remaining_bad`] were left, and near which
+    /// input features they lie.
+    pub left: LeftBad,
     /// Of [`Self::remaining_bad`]: cells with a face on a subface or an
     /// edge on a subsegment (next to the input surface).
     pub remaining_at_boundary: usize,
@@ -290,6 +303,74 @@ pub struct RefineReport {
     /// sharp input edge); they are not split, since their circumcentres lie
     /// far away and splitting the boundary for them would run away.
     pub flat: usize,
+}
+
+/// The cells left above the radius-edge bound by the refinement, by the
+/// reason the last attempt to split each gave up (every cell is counted in
+/// exactly one of the reason fields), and by the input features near them
+/// (those two counts overlap each other and the reasons).
+///
+/// ```
+/// let l = delone::tet::refine::LeftBad::default();
+/// assert_eq!(l.total(), 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct LeftBad {
+    /// Nearly flat (radius-edge ratio above 10⁶, or four vertices on one
+    /// plane of the input).
+    pub flat: usize,
+    /// Circumcentre behind a subface it does not encroach.
+    pub behind: usize,
+    /// Circumcentre closer to a vertex of its cavity than the cell's
+    /// shortest edge ([`RefineReport::skipped_close`]).
+    pub close: usize,
+    /// Splitting the encroached piece would have broken the
+    /// insertion-radius rule ([`RefineReport::skipped_radius`]).
+    pub radius: usize,
+    /// The encroached pieces are shorter than the cell's shortest edge, or
+    /// their splits failed.
+    pub small: usize,
+    /// Spanning a sharp input wedge ([`RefineReport::skipped_wedge`]).
+    pub wedge: usize,
+    /// A vertex on a degenerate (zero-angle) input triangle.
+    pub degenerate: usize,
+    /// Shortest edge between concentric-shell points at a small input
+    /// angle.
+    pub shell: usize,
+    /// Insertion plan refused or circumcentre not located.
+    pub refused: usize,
+    /// Never split for another reason: the Steiner budget ran out, or the
+    /// cell was made by the last insertions' flips after its checks.
+    pub other: usize,
+    /// Of all left cells: those with a vertex on an input triangle whose
+    /// smallest angle is below 5° (needles and caps of scanned surfaces).
+    pub near_needle: usize,
+    /// Of all left cells: those with a vertex on an input edge whose two
+    /// triangles meet at an angle below 60° (measured between half-planes:
+    /// sharp ridges and deep notches alike).
+    pub near_sharp: usize,
+}
+
+impl LeftBad {
+    /// Cells counted over the reasons (equals
+    /// [`RefineReport::remaining_bad`]).
+    ///
+    /// ```
+    /// let l = delone::tet::refine::LeftBad { close: 2, radius: 1, ..Default::default() };
+    /// assert_eq!(l.total(), 3);
+    /// ```
+    pub fn total(&self) -> usize {
+        self.flat
+            + self.behind
+            + self.close
+            + self.radius
+            + self.small
+            + self.wedge
+            + self.degenerate
+            + self.shell
+            + self.refused
+            + self.other
+    }
 }
 
 impl RefineReport {
