@@ -46,16 +46,36 @@ fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     (pts, tris)
 }
 
-/// Every boundary face and its input triangle, sorted.
-fn surface(r: &Recovered) -> Vec<([u32; 3], u32)> {
-    let mut v: Vec<_> = r
-        .boundary
-        .iter()
-        .copied()
-        .zip(r.boundary_triangle.iter().copied())
-        .collect();
+/// The vertices of the boundary, ascending (the optimisation removes only
+/// interior points and renumbers the others in order, so the k-th boundary
+/// vertex before is the k-th after).
+fn boundary_vertices(r: &Recovered) -> Vec<u32> {
+    let mut v: Vec<u32> = r.boundary.iter().flatten().copied().collect();
     v.sort_unstable();
+    v.dedup();
     v
+}
+
+/// What boundary flips keep: per facet (`surface_origin` of the boundary
+/// face's triangle) the number of boundary faces and their vertices (by
+/// rank among the boundary vertices).
+fn surface(r: &Recovered) -> Vec<(u32, usize, Vec<usize>)> {
+    let bv = boundary_vertices(r);
+    let rank = |v: u32| bv.binary_search(&v).unwrap();
+    let mut per: std::collections::BTreeMap<u32, (usize, Vec<usize>)> = Default::default();
+    for (f, &t) in r.boundary.iter().zip(&r.boundary_triangle) {
+        let g = r.surface_origin.get(t as usize).copied().unwrap_or(t);
+        let e = per.entry(g).or_default();
+        e.0 += 1;
+        e.1.extend(f.iter().map(|&v| rank(v)));
+    }
+    per.into_iter()
+        .map(|(g, (n, mut v))| {
+            v.sort_unstable();
+            v.dedup();
+            (g, n, v)
+        })
+        .collect()
 }
 
 fn total_volume(r: &Recovered) -> f64 {
@@ -72,6 +92,7 @@ fn run(
     let surf = surface(r);
     let vol = total_volume(r);
     let fixed: Vec<[f64; 3]> = r.points.clone();
+    let bv = boundary_vertices(r);
     let opts = OptimizeOptions {
         input_points: Some(pts.len()),
         ..opts.clone()
@@ -82,10 +103,13 @@ fn run(
     assert!((total_volume(r) - vol).abs() <= 1e-9 * vol.abs());
     // Boundary vertices moved only within their input triangle or along
     // their input edge: exactly when they were exactly there before.
+    let bv_after = boundary_vertices(r);
+    assert_eq!(bv.len(), bv_after.len());
     for (f, &ti) in r.boundary.iter().zip(&r.boundary_triangle) {
         let [a, b, c] = r.surface[ti as usize].map(|q| r.points[q as usize]);
         for &v in f {
-            let (old, new) = (fixed[v as usize], r.points[v as usize]);
+            let was = bv[bv_after.binary_search(&v).unwrap()];
+            let (old, new) = (fixed[was as usize], r.points[v as usize]);
             if old != new && orient3d(&a, &b, &c, &old) == 0.0 {
                 assert_eq!(orient3d(&a, &b, &c, &new), 0.0, "vertex {v} left its plane");
             }
@@ -340,10 +364,14 @@ fn surface_steiner_points_slide_within_their_facet_or_edge() {
             ..Default::default()
         };
         let rep = run(&pts, &tris, &mut r, &opts);
+        // (Interior points may be removed: the surface ones are renumbered
+        // in order.)
+        let (bv0, bv1) = (boundary_vertices(&refined), boundary_vertices(&r));
         let mut n = 0;
         for f in &r.boundary {
             for &v in f {
-                let (old, new) = (refined.points[v as usize], r.points[v as usize]);
+                let was = bv0[bv1.binary_search(&v).unwrap()];
+                let (old, new) = (refined.points[was as usize], r.points[v as usize]);
                 if old != new {
                     n += 1;
                     // Still on the same face(s) of the cube, exactly.
