@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use delone::tet::optimize::{optimize, OptimizeOptions};
+use delone::tet::optimize::{optimize, OptimizeOptions, BAD_ANGLE};
 use delone::tet::quality::TetStats;
 use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
 use delone::tet::refine::{refine, RefineOptions};
@@ -130,6 +130,23 @@ fn run(
     );
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
     assert_eq!(rep.after.tets, r.mesh.tets.len());
+    // The bad cells' classes add up to their count, counted here again.
+    let bad = r
+        .mesh
+        .tets
+        .iter()
+        .filter(|tv| {
+            let d = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
+            d.iter()
+                .any(|&x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
+        })
+        .count();
+    assert_eq!(rep.bad.count, bad);
+    assert_eq!(
+        rep.bad.count,
+        rep.bad.sharp_edge + rep.bad.at_feature + rep.bad.free
+    );
+    assert!(rep.bad.feature_angle < BAD_ANGLE);
     rep
 }
 
@@ -390,6 +407,9 @@ fn surface_steiner_points_slide_within_their_facet_or_edge() {
     assert_eq!(fixed, 0, "surface points moved with smooth_boundary off");
     let (n, rep) = moved(true);
     assert!(n > 0, "no surface Steiner point moved");
+    // Faces of the cube's flat sides were flipped (each stays the union of
+    // its faces: `run` checks it).
+    assert!(rep.boundary_flips > 0, "no boundary flip");
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral);
 }
 

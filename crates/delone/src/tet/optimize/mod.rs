@@ -286,6 +286,43 @@ pub struct Stuck {
     pub near_angles: [f64; 2],
 }
 
+/// The tetrahedra left with a dihedral angle below
+/// [`BAD_ANGLE`] (or above `180 -` it), by what is at them: the input's own
+/// angle, a needle or cap input triangle, or nothing the input forces.
+///
+/// ```
+/// use delone::tet::optimize::BadCells;
+/// let b = BadCells { count: 5, sharp_edge: 2, at_feature: 3, free: 0, feature_angle: 4.5 };
+/// assert_eq!(b.count, b.sharp_edge + b.at_feature + b.free);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BadCells {
+    /// How many tetrahedra have an angle below [`BAD_ANGLE`] or above
+    /// `180 -` it.
+    pub count: usize,
+    /// Of them: those with such a small angle at an edge of the surface
+    /// where the input's own angle (of their region, the sum of the
+    /// tetrahedra's angles there) is below [`BAD_ANGLE`] — forced by the
+    /// input.
+    pub sharp_edge: usize,
+    /// Of the others: those with a vertex on a boundary face that lies on
+    /// an input triangle with an angle below [`BAD_ANGLE`] or above `180 -`
+    /// it (a needle or cap: a feature smaller than the mesh around it, which
+    /// the refinement does not resolve).
+    pub at_feature: usize,
+    /// The rest: not at anything of the input that explains them.
+    pub free: usize,
+    /// The largest, over the `at_feature` tetrahedra, of their input
+    /// triangle's deviation (its smallest angle, or 180 minus its largest,
+    /// whichever is smaller; degrees): all of them are at input triangles
+    /// with an angle below it or above `180 -` it. 0 when there are none.
+    pub feature_angle: f64,
+}
+
+/// The dihedral angle (degrees) below which (or above `180 -` which) a
+/// tetrahedron is counted in [`BadCells`].
+pub const BAD_ANGLE: f64 = 15.0;
+
 /// What [`optimize`] did.
 ///
 /// ```
@@ -373,6 +410,8 @@ pub struct OptimizeReport {
     pub stuck_counts: [usize; 3],
     /// The worst of them (at most 32), worst first.
     pub stuck: Vec<Stuck>,
+    /// The tetrahedra left below 15° (or above 165°), by cause.
+    pub bad: BadCells,
 }
 
 /// Why [`optimize`] refused its input.
@@ -452,9 +491,11 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+        let sums = surface_angles(rec);
+        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
         (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
         triangle_angles(rec, &mut report);
+        report.bad = bad_cells(rec, &sums);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -585,10 +626,19 @@ pub fn optimize(
     report.evaluations = w.evals.get();
     let old_id = write_back(rec, &w, s, n_in);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+    let sums = surface_angles(rec);
+    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
+    report.bad = bad_cells(rec, &sums);
     (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
     triangle_angles(rec, &mut report);
-    stuck(rec, &w, &old_id, n_in, target.to_radians().sin(), &mut report);
+    stuck(
+        rec,
+        &w,
+        &old_id,
+        n_in,
+        target.to_radians().sin(),
+        &mut report,
+    );
     Ok(report)
 }
 
@@ -1164,7 +1214,11 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
         });
     }
     rec.points = points;
-    if renum.iter().enumerate().any(|(u, &r)| r != (n_in + u) as u32) {
+    if renum
+        .iter()
+        .enumerate()
+        .any(|(u, &r)| r != (n_in + u) as u32)
+    {
         for f in rec.boundary.iter_mut().chain(rec.interior_faces.iter_mut()) {
             *f = f.map(id);
         }
@@ -1419,8 +1473,10 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     best
 }
 
-/// See [`OptimizeReport::input_min_dihedral`].
-fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
+/// The angle of each region at each edge of the surface (boundary and
+/// interface faces): the sum of its tetrahedra's dihedral angles there
+/// (degrees).
+fn surface_angles(rec: &Recovered) -> IdMap<([u32; 2], u32), f64> {
     let m = &rec.mesh;
     let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
     let mut edges: IdSet<[u32; 2]> = IdSet::default();
@@ -1462,11 +1518,78 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             }
         }
     }
+    sum
+}
+
+/// See [`OptimizeReport::input_min_dihedral`].
+fn input_min_dihedral(sum: &IdMap<([u32; 2], u32), f64>) -> (f64, Option<[u32; 2]>) {
     // The smallest sum, ties by edge (deterministic).
-    sum.into_iter()
-        .map(|((e, _), a)| (a, e))
+    sum.iter()
+        .map(|(&(e, _), &a)| (a, e))
         .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
         .map_or((360.0, None), |(a, e)| (a, Some(e)))
+}
+
+/// See [`BadCells`].
+fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
+    let mut out = BadCells::default();
+    // Per point: the deviation (see `BadCells::feature_angle`) of the
+    // most needle- or cap-like input triangle under its boundary faces.
+    let dev: Vec<f64> = rec
+        .surface
+        .iter()
+        .map(|t| {
+            let [lo, hi] = tri_angles(t.map(|v| rec.points[v as usize]));
+            lo.min(180.0 - hi)
+        })
+        .collect();
+    let mut at = vec![f64::INFINITY; rec.points.len()];
+    for (f, &t) in rec
+        .boundary
+        .iter()
+        .zip(&rec.boundary_triangle)
+        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
+    {
+        if let Some(&d) = dev.get(t as usize) {
+            for &v in f {
+                if let Some(a) = at.get_mut(v as usize) {
+                    *a = a.min(d);
+                }
+            }
+        }
+    }
+    for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
+        let d = super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]));
+        if d.iter()
+            .all(|&x| (BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
+        {
+            continue;
+        }
+        out.count += 1;
+        let sharp = super::quality::EDGES
+            .iter()
+            .enumerate()
+            .any(|(e, &(i, j))| {
+                let (a, b) = (tv[i], tv[j]);
+                d[e] < BAD_ANGLE
+                    && sums
+                        .get(&([a.min(b), a.max(b)], g))
+                        .is_some_and(|&s| s < BAD_ANGLE)
+            });
+        let near = tv
+            .iter()
+            .map(|&v| at[v as usize])
+            .fold(f64::INFINITY, f64::min);
+        if sharp {
+            out.sharp_edge += 1;
+        } else if near < BAD_ANGLE {
+            out.at_feature += 1;
+            out.feature_angle = out.feature_angle.max(near);
+        } else {
+            out.free += 1;
+        }
+    }
+    out
 }
 
 /// Fills the stuck counts and list.
@@ -1512,10 +1635,7 @@ fn stuck(
                 shape: super::quality::tet_shape(&p),
                 surface_faces,
                 input_vertices: tv.iter().filter(|&&v| (v as usize) < n_in).count(),
-                fixed_vertices: tv
-                    .iter()
-                    .filter(|&&v| slide(v) == Slide::Fixed)
-                    .count(),
+                fixed_vertices: tv.iter().filter(|&&v| slide(v) == Slide::Fixed).count(),
                 near_triangle: None,
                 near_angles: [0.0; 2],
             },

@@ -721,7 +721,10 @@ impl Work {
                 debug_assert!(o.1 == NONE, "replace: unmatched inner face");
                 tri = tri.or(self.bnd.remove(&o.0));
             }
-            debug_assert!(open.len() == outer.len() && tri.is_some(), "replace: unmatched");
+            debug_assert!(
+                open.len() == outer.len() && tri.is_some(),
+                "replace: unmatched"
+            );
             if let Some(tri) = tri {
                 for o in &open {
                     self.bnd.insert(o.0, tri);
