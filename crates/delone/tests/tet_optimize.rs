@@ -231,6 +231,7 @@ fn refined_corpus_models_reach_the_bounds() {
         eprintln!("note: {} missing, skipped", dir.display());
         return;
     }
+    let mut multi_face = 0;
     for (name, q, min_want) in [
         ("cgal_sphere", 1.414, 20.0),
         ("cgal_star", 2.0, 20.0),
@@ -239,6 +240,7 @@ fn refined_corpus_models_reach_the_bounds() {
         ("igl_bumpy", 2.0, 20.0),
     ] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
+        let multi_face = &mut multi_face;
         let (pts, tris) = read_off(&text);
         let t0 = std::time::Instant::now();
         let mut r = refine(
@@ -285,6 +287,7 @@ fn refined_corpus_models_reach_the_bounds() {
         for s in rep.stuck.iter().take(5) {
             eprintln!("  stuck tet {} {:?} {}", s.tet, s.dihedral, s.reason);
         }
+        *multi_face += rep.multi_face;
         // No tetrahedron at a surface edge can beat the surface's angle.
         assert!(rep.input_min_dihedral >= rep.after.min_dihedral - 1e-9);
         assert!(
@@ -298,6 +301,7 @@ fn refined_corpus_models_reach_the_bounds() {
             rep.after.max_dihedral
         );
     }
+    assert!(multi_face > 0, "no multi-face removal");
 }
 
 #[test]

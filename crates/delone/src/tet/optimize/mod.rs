@@ -389,6 +389,9 @@ pub struct OptimizeReport {
     /// flip with two tetrahedra around the edge, else the tetrahedra of
     /// the edge's fan re-triangulated).
     pub boundary_flips: usize,
+    /// Multi-face removals (`2k` tetrahedra on both sides of `k` faces
+    /// replaced by the `k + 2` around a new edge; `k >= 2`).
+    pub multi_face: usize,
     /// Accepted vertex moves.
     pub smoothed: usize,
     /// Vertices inserted.
@@ -701,6 +704,7 @@ fn improve(
             match p.ring {
                 0 => report.flips23 += 1,
                 1 => report.boundary_flips += 1,
+                2 => report.multi_face += 1,
                 3 => report.flips32 += 1,
                 4 => report.flips44 += 1,
                 _ => report.edge_removals += 1,
@@ -767,6 +771,7 @@ fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
     }
     for f in 0..4 {
         consider(w.plan_flip23(t, f), w);
+        consider(w.plan_multi_face(t, f), w);
     }
     best
 }
@@ -1102,6 +1107,7 @@ fn try_insert_at(
         report.flips44 += scratch.flips44;
         report.edge_removals += scratch.edge_removals;
         report.boundary_flips += scratch.boundary_flips;
+        report.multi_face += scratch.multi_face;
         report.smoothed += scratch.smoothed;
         true
     } else {

@@ -173,7 +173,7 @@ pub(super) struct Plan {
     /// The smallest quality of `new`.
     pub q: f64,
     /// Size of the edge ring (0 for a 2-3 flip, 1 for the removal of an
-    /// edge on the boundary).
+    /// edge on the boundary, 2 for a multi-face removal).
     pub ring: usize,
 }
 
@@ -600,6 +600,103 @@ impl Work {
             new,
             q: qm,
             ring: 0,
+        })
+    }
+
+    /// Multi-face removal (Klingner & Shewchuk 2007) from the face opposite
+    /// `f` in `t`: the apexes `a` (of `t`) and `b` (across the face) and a
+    /// set of faces sandwiched between them (each with a tetrahedron on `a`
+    /// and one on `b`, forming a polygon of faces whose vertices are all on
+    /// its boundary ring) are replaced by the tetrahedra around the new
+    /// edge `a b`: `2k` tetrahedra become `k + 2`. Grown greedily from the
+    /// face, each time across the ring edge of the worst new tetrahedron;
+    /// the best set whose new tetrahedra beat the removed ones is planned.
+    /// With one face it is the 2-3 flip.
+    pub(super) fn plan_multi_face(&self, t: u32, f: usize) -> Option<Plan> {
+        if !self.open_face(t, f) {
+            return None;
+        }
+        let tv = self.tv[t as usize];
+        let u = self.nb[t as usize][f];
+        let a = tv[f];
+        let b = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        // Edge `a b` must not exist already.
+        if self
+            .star(a)
+            .iter()
+            .any(|&s| self.tv[s as usize].contains(&b))
+        {
+            return None;
+        }
+        let [x, y, z] = face(tv, f);
+        // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
+        // per ring edge, the removed tetrahedra on `a` and `b` at it and the
+        // third vertex of its face.
+        let mut ring = vec![x, z, y];
+        let mut side: Vec<(u32, u32, u32)> = vec![(t, u, y), (t, u, x), (t, u, z)];
+        let mut old = vec![t, u];
+        let mut q: Vec<f64> = (0..3)
+            .map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]]))
+            .collect();
+        let min_old = |old: &[u32]| self.min_q(old);
+        let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
+        loop {
+            let qm = q.iter().copied().fold(f64::INFINITY, f64::min);
+            if qm > min_old(&old) && best.as_ref().is_none_or(|b| qm > b.0) {
+                best = Some((qm, ring.clone(), old.clone()));
+            }
+            if ring.len() >= MAX_RING {
+                break;
+            }
+            // Grow across the ring edge of the worst new tetrahedron.
+            let i = (0..q.len())
+                .min_by(|&i, &j| q[i].total_cmp(&q[j]).then(i.cmp(&j)))
+                .unwrap_or(0);
+            let j = (i + 1) % ring.len();
+            let (rx, ry) = (ring[i], ring[j]);
+            let (sa, sb, rz) = side[i];
+            let across = |s: u32, apex: u32| -> Option<(u32, u32)> {
+                let sv = self.tv[s as usize];
+                let k = sv.iter().position(|&w| w == rz)?;
+                if !self.open_face(s, k) {
+                    return None;
+                }
+                let n = self.nb[s as usize][k];
+                let w = *self.tv[n as usize]
+                    .iter()
+                    .find(|&&w| w != apex && w != rx && w != ry)?;
+                Some((n, w))
+            };
+            let (Some((na, wa)), Some((nb, wb))) = (across(sa, a), across(sb, b)) else {
+                break;
+            };
+            if wa != wb || wa == a || wa == b || ring.contains(&wa) {
+                break;
+            }
+            // The face `rx ry w` between `na` and `nb` must be open too.
+            let k = self.tv[na as usize].iter().position(|&w| w == a)?;
+            if !self.open_face(na, k) || self.nb[na as usize][k] != nb {
+                break;
+            }
+            ring.insert(i + 1, wa);
+            side[i] = (na, nb, ry);
+            side.insert(i + 1, (na, nb, rx));
+            q[i] = self.qual([a, b, rx, wa]);
+            q.insert(i + 1, self.qual([a, b, wa, ry]));
+            old.push(na);
+            old.push(nb);
+        }
+        let (qb, ring, old) = best?;
+        if old.len() == 2 {
+            return None; // the 2-3 flip, planned on its own
+        }
+        let n = ring.len();
+        let new = (0..n).map(|i| [a, b, ring[i], ring[(i + 1) % n]]).collect();
+        Some(Plan {
+            old,
+            new,
+            q: qb,
+            ring: 2,
         })
     }
 
