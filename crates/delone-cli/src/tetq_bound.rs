@@ -59,7 +59,49 @@ pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
     } else {
         "the mesh's minimum is below both (not forced by the input)"
     };
-    format!("optimization: bound: {input}; {meshed}; {angles}; {verdict}")
+    format!(
+        "optimization: bound: {input}; {meshed}; {angles}; {verdict}; {}",
+        bad_cells(r)
+    )
+}
+
+/// What the tetrahedra left below 15° (or above 165°) are at
+/// ([`OptimizeReport::bad`]).
+fn bad_cells(r: &OptimizeReport) -> String {
+    let b = &r.bad;
+    let a = delone::tet::optimize::BAD_ANGLE;
+    if b.count == 0 {
+        return format!("no tetrahedron below {a} deg or above {} deg", 180.0 - a);
+    }
+    let mut parts = Vec::new();
+    if b.sharp_edge > 0 {
+        parts.push(format!(
+            "{} at input edges whose own angle is below {a} deg (forced by the input)",
+            b.sharp_edge
+        ));
+    }
+    if b.at_feature > 0 {
+        parts.push(format!(
+            "{} at input triangles with an angle below {:.2} deg or above {:.2} deg (needles and caps the mesh does not resolve)",
+            b.at_feature,
+            b.feature_angle,
+            180.0 - b.feature_angle
+        ));
+    }
+    if b.free > 0 {
+        parts.push(format!("{} elsewhere (not forced by the input)", b.free));
+    }
+    let all = if parts.len() == 1 && b.free == 0 {
+        "all "
+    } else {
+        ""
+    };
+    format!(
+        "{} tetrahedra below {a} deg or above {} deg: {all}{}",
+        b.count,
+        180.0 - a,
+        parts.join(", ")
+    )
 }
 
 /// An input triangle angle below this (or above 180 minus it), in

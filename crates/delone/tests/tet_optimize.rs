@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use delone::tet::optimize::{optimize, OptimizeOptions};
+use delone::tet::optimize::{optimize, OptimizeOptions, BAD_ANGLE};
 use delone::tet::quality::TetStats;
 use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
 use delone::tet::refine::{refine, RefineOptions};
@@ -46,16 +46,36 @@ fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     (pts, tris)
 }
 
-/// Every boundary face and its input triangle, sorted.
-fn surface(r: &Recovered) -> Vec<([u32; 3], u32)> {
-    let mut v: Vec<_> = r
-        .boundary
-        .iter()
-        .copied()
-        .zip(r.boundary_triangle.iter().copied())
-        .collect();
+/// The vertices of the boundary, ascending (the optimisation removes only
+/// interior points and renumbers the others in order, so the k-th boundary
+/// vertex before is the k-th after).
+fn boundary_vertices(r: &Recovered) -> Vec<u32> {
+    let mut v: Vec<u32> = r.boundary.iter().flatten().copied().collect();
     v.sort_unstable();
+    v.dedup();
     v
+}
+
+/// What boundary flips keep: per facet (`surface_origin` of the boundary
+/// face's triangle) the number of boundary faces and their vertices (by
+/// rank among the boundary vertices).
+fn surface(r: &Recovered) -> Vec<(u32, usize, Vec<usize>)> {
+    let bv = boundary_vertices(r);
+    let rank = |v: u32| bv.binary_search(&v).unwrap();
+    let mut per: std::collections::BTreeMap<u32, (usize, Vec<usize>)> = Default::default();
+    for (f, &t) in r.boundary.iter().zip(&r.boundary_triangle) {
+        let g = r.surface_origin.get(t as usize).copied().unwrap_or(t);
+        let e = per.entry(g).or_default();
+        e.0 += 1;
+        e.1.extend(f.iter().map(|&v| rank(v)));
+    }
+    per.into_iter()
+        .map(|(g, (n, mut v))| {
+            v.sort_unstable();
+            v.dedup();
+            (g, n, v)
+        })
+        .collect()
 }
 
 fn total_volume(r: &Recovered) -> f64 {
@@ -72,6 +92,7 @@ fn run(
     let surf = surface(r);
     let vol = total_volume(r);
     let fixed: Vec<[f64; 3]> = r.points.clone();
+    let bv = boundary_vertices(r);
     let opts = OptimizeOptions {
         input_points: Some(pts.len()),
         ..opts.clone()
@@ -82,10 +103,13 @@ fn run(
     assert!((total_volume(r) - vol).abs() <= 1e-9 * vol.abs());
     // Boundary vertices moved only within their input triangle or along
     // their input edge: exactly when they were exactly there before.
+    let bv_after = boundary_vertices(r);
+    assert_eq!(bv.len(), bv_after.len());
     for (f, &ti) in r.boundary.iter().zip(&r.boundary_triangle) {
         let [a, b, c] = r.surface[ti as usize].map(|q| r.points[q as usize]);
         for &v in f {
-            let (old, new) = (fixed[v as usize], r.points[v as usize]);
+            let was = bv[bv_after.binary_search(&v).unwrap()];
+            let (old, new) = (fixed[was as usize], r.points[v as usize]);
             if old != new && orient3d(&a, &b, &c, &old) == 0.0 {
                 assert_eq!(orient3d(&a, &b, &c, &new), 0.0, "vertex {v} left its plane");
             }
@@ -106,6 +130,23 @@ fn run(
     );
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
     assert_eq!(rep.after.tets, r.mesh.tets.len());
+    // The bad cells' classes add up to their count, counted here again.
+    let bad = r
+        .mesh
+        .tets
+        .iter()
+        .filter(|tv| {
+            let d = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
+            d.iter()
+                .any(|&x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
+        })
+        .count();
+    assert_eq!(rep.bad.count, bad);
+    assert_eq!(
+        rep.bad.count,
+        rep.bad.sharp_edge + rep.bad.at_feature + rep.bad.free
+    );
+    assert!(rep.bad.feature_angle < BAD_ANGLE);
     rep
 }
 
@@ -190,6 +231,7 @@ fn refined_corpus_models_reach_the_bounds() {
         eprintln!("note: {} missing, skipped", dir.display());
         return;
     }
+    let mut multi_face = 0;
     for (name, q, min_want) in [
         ("cgal_sphere", 1.414, 20.0),
         ("cgal_star", 2.0, 20.0),
@@ -198,6 +240,7 @@ fn refined_corpus_models_reach_the_bounds() {
         ("igl_bumpy", 2.0, 20.0),
     ] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
+        let multi_face = &mut multi_face;
         let (pts, tris) = read_off(&text);
         let t0 = std::time::Instant::now();
         let mut r = refine(
@@ -244,6 +287,7 @@ fn refined_corpus_models_reach_the_bounds() {
         for s in rep.stuck.iter().take(5) {
             eprintln!("  stuck tet {} {:?} {}", s.tet, s.dihedral, s.reason);
         }
+        *multi_face += rep.multi_face;
         // No tetrahedron at a surface edge can beat the surface's angle.
         assert!(rep.input_min_dihedral >= rep.after.min_dihedral - 1e-9);
         assert!(
@@ -257,6 +301,7 @@ fn refined_corpus_models_reach_the_bounds() {
             rep.after.max_dihedral
         );
     }
+    assert!(multi_face > 0, "no multi-face removal");
 }
 
 #[test]
@@ -340,10 +385,14 @@ fn surface_steiner_points_slide_within_their_facet_or_edge() {
             ..Default::default()
         };
         let rep = run(&pts, &tris, &mut r, &opts);
+        // (Interior points may be removed: the surface ones are renumbered
+        // in order.)
+        let (bv0, bv1) = (boundary_vertices(&refined), boundary_vertices(&r));
         let mut n = 0;
         for f in &r.boundary {
             for &v in f {
-                let (old, new) = (refined.points[v as usize], r.points[v as usize]);
+                let was = bv0[bv1.binary_search(&v).unwrap()];
+                let (old, new) = (refined.points[was as usize], r.points[v as usize]);
                 if old != new {
                     n += 1;
                     // Still on the same face(s) of the cube, exactly.
@@ -362,6 +411,9 @@ fn surface_steiner_points_slide_within_their_facet_or_edge() {
     assert_eq!(fixed, 0, "surface points moved with smooth_boundary off");
     let (n, rep) = moved(true);
     assert!(n > 0, "no surface Steiner point moved");
+    // Faces of the cube's flat sides were flipped (each stays the union of
+    // its faces: `run` checks it).
+    assert!(rep.boundary_flips > 0, "no boundary flip");
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral);
 }
 

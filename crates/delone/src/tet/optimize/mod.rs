@@ -330,6 +330,43 @@ pub struct Stuck {
     pub near_angles: [f64; 2],
 }
 
+/// The tetrahedra left with a dihedral angle below
+/// [`BAD_ANGLE`] (or above `180 -` it), by what is at them: the input's own
+/// angle, a needle or cap input triangle, or nothing the input forces.
+///
+/// ```
+/// use delone::tet::optimize::BadCells;
+/// let b = BadCells { count: 5, sharp_edge: 2, at_feature: 3, free: 0, feature_angle: 4.5 };
+/// assert_eq!(b.count, b.sharp_edge + b.at_feature + b.free);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BadCells {
+    /// How many tetrahedra have an angle below [`BAD_ANGLE`] or above
+    /// `180 -` it.
+    pub count: usize,
+    /// Of them: those with such a small angle at an edge of the surface
+    /// where the input's own angle (of their region, the sum of the
+    /// tetrahedra's angles there) is below [`BAD_ANGLE`] — forced by the
+    /// input.
+    pub sharp_edge: usize,
+    /// Of the others: those with a vertex on a boundary face that lies on
+    /// an input triangle with an angle below [`BAD_ANGLE`] or above `180 -`
+    /// it (a needle or cap: a feature smaller than the mesh around it, which
+    /// the refinement does not resolve).
+    pub at_feature: usize,
+    /// The rest: not at anything of the input that explains them.
+    pub free: usize,
+    /// The largest, over the `at_feature` tetrahedra, of their input
+    /// triangle's deviation (its smallest angle, or 180 minus its largest,
+    /// whichever is smaller; degrees): all of them are at input triangles
+    /// with an angle below it or above `180 -` it. 0 when there are none.
+    pub feature_angle: f64,
+}
+
+/// The dihedral angle (degrees) below which (or above `180 -` which) a
+/// tetrahedron is counted in [`BadCells`].
+pub const BAD_ANGLE: f64 = 15.0;
+
 /// What [`optimize`] did.
 ///
 /// ```
@@ -391,6 +428,14 @@ pub struct OptimizeReport {
     pub flips44: usize,
     /// Edge removals with 5 or more tetrahedra around the edge.
     pub edge_removals: usize,
+    /// Removals of an edge on the boundary inside a flat facet (the
+    /// boundary faces on either side flipped to the other diagonal: a 2-2
+    /// flip with two tetrahedra around the edge, else the tetrahedra of
+    /// the edge's fan re-triangulated).
+    pub boundary_flips: usize,
+    /// Multi-face removals (`2k` tetrahedra on both sides of `k` faces
+    /// replaced by the `k + 2` around a new edge; `k >= 2`).
+    pub multi_face: usize,
     /// Accepted vertex moves.
     pub smoothed: usize,
     /// Vertices inserted.
@@ -400,12 +445,20 @@ pub struct OptimizeReport {
     /// Vertices inserted by the optimisation and removed again (collapsed
     /// onto a neighbour) where that improved their star.
     pub collapsed: usize,
+    /// Interior points of the mesh given (Steiner points of the refinement
+    /// or recovery, never input points) removed by collapsing them onto a
+    /// neighbour: before the stages where that improves their star, after
+    /// them where every new tetrahedron stays above 25° (and the mesh's
+    /// minimum). The points after them are renumbered down.
+    pub removed: usize,
     /// Tetrahedra below the target afterwards, per reason (in
     /// [`StuckReason`] order: surface faces, all vertices fixed, no
     /// improvement).
     pub stuck_counts: [usize; 3],
     /// The worst of them (at most 32), worst first.
     pub stuck: Vec<Stuck>,
+    /// The tetrahedra left below 15° (or above 165°), by cause.
+    pub bad: BadCells,
 }
 
 /// Why [`optimize`] refused its input.
@@ -485,9 +538,11 @@ pub fn optimize(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+        let sums = surface_angles(rec);
+        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
         (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
         triangle_angles(rec, &mut report);
+        report.bad = bad_cells(rec, &sums);
         return Ok(report);
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -507,6 +562,9 @@ pub fn optimize(
     }
     w.n0 = rec.points.len();
     w.limits = limits(rec, opts, s);
+    if opts.flips {
+        set_boundary(rec, &mut w);
+    }
     if opts.smooth_boundary {
         set_slides(rec, n_in, &mut w, s);
     }
@@ -534,6 +592,11 @@ pub fn optimize(
     // tetrahedra needs it; a fair one does not reach it).
     let mut stop = LOW * allowed;
     let mut pops: u64 = 0;
+    // Interior points the refinement left where their star is better
+    // without them go first: fewer and better tetrahedra to work on.
+    if opts.insert {
+        collapse_sweep(&mut w, n_in, f64::INFINITY, &mut report);
+    }
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
         if deg > 20.0 {
@@ -599,13 +662,31 @@ pub fn optimize(
             }
         }
     }
+    // Last, interior points (of the refinement or the optimisation) are
+    // taken out where the collapse leaves every new tetrahedron fair (above
+    // `CLEANUP` and the mesh's minimum) or better than their star was:
+    // fewer tetrahedra for the same bound.
+    if opts.insert {
+        let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+        let floor = CLEANUP.to_radians().sin().max(w.min_q(&live));
+        collapse_sweep(&mut w, n_in, floor, &mut report);
+    }
     report.evaluations = w.evals.get();
-    write_back(rec, &w, s);
+    let old_id = write_back(rec, &w, s, n_in);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(rec);
+    let sums = surface_angles(rec);
+    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
+    report.bad = bad_cells(rec, &sums);
     (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
     triangle_angles(rec, &mut report);
-    stuck(rec, &w, n_in, target.to_radians().sin(), &mut report);
+    stuck(
+        rec,
+        &w,
+        &old_id,
+        n_in,
+        target.to_radians().sin(),
+        &mut report,
+    );
     Ok(report)
 }
 
@@ -667,6 +748,8 @@ fn improve(
         if w.apply(&p).is_some() {
             match p.ring {
                 0 => report.flips23 += 1,
+                1 => report.boundary_flips += 1,
+                2 => report.multi_face += 1,
                 3 => report.flips32 += 1,
                 4 => report.flips44 += 1,
                 _ => report.edge_removals += 1,
@@ -700,7 +783,7 @@ fn improve(
     // onto a neighbour (a point that settled badly among fixed ones).
     if opts.insert && w.slot_of(tv).is_some() {
         for v in tv {
-            if try_collapse(w, v) {
+            if try_collapse(w, v, f64::INFINITY, w.n0) {
                 report.collapsed += 1;
                 return true;
             }
@@ -733,6 +816,7 @@ fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
     }
     for f in 0..4 {
         consider(w.plan_flip23(t, f), w);
+        consider(w.plan_multi_face(t, f), w);
     }
     best
 }
@@ -773,6 +857,25 @@ fn limits(rec: &Recovered, opts: &OptimizeOptions, s: (f64, f64)) -> limits::Lim
     l
 }
 
+/// Collapses (see [`try_collapse`]) each interior vertex from `from` on,
+/// in order, where the new tetrahedra beat `floor` or the star's worst;
+/// counts them in `report`.
+fn collapse_sweep(w: &mut Work, from: usize, floor: f64, report: &mut OptimizeReport) {
+    for v in from as u32..w.p.len() as u32 {
+        if try_collapse(w, v, floor, from) {
+            if (v as usize) < w.n0 {
+                report.removed += 1;
+            } else {
+                report.collapsed += 1;
+            }
+        }
+    }
+}
+
+/// Dihedral angle (degrees) that every tetrahedron made by the final
+/// collapse of an inserted vertex must keep (see [`optimize`]).
+const CLEANUP: f64 = 25.0;
+
 /// Most tetrahedra in the star of a collapsed vertex.
 const MAX_COLLAPSE_STAR: usize = 64;
 
@@ -784,8 +887,8 @@ const MAX_COLLAPSE_STAR: usize = 64;
 /// holds (a vertex, edge or triangle in the links of both `u` and `v` is in
 /// the link of the edge), so that no tetrahedron is made twice; applied
 /// when the worst quality of the star rises.
-fn try_collapse(w: &mut Work, v: u32) -> bool {
-    if (v as usize) < w.n0 || w.fixed[v as usize] {
+fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
+    if (v as usize) < from || w.fixed[v as usize] {
         return false;
     }
     let star = w.star(v);
@@ -796,7 +899,7 @@ fn try_collapse(w: &mut Work, v: u32) -> bool {
     if star.iter().any(|&t| w.reg[t as usize] != region) {
         return false;
     }
-    let old_q = w.min_q(&star);
+    let old_q = w.min_q(&star).min(floor);
     // The link of a vertex: its vertices, edges and triangles (sorted).
     let link = |w: &Work, x: u32, star: &[u32]| {
         let mut vs = Vec::new();
@@ -1063,7 +1166,7 @@ fn try_insert_at(
             .into_iter()
             .filter_map(|tv| w.slot_of(tv).map(|s| (w.q[s as usize], s, tv)))
             // Only those at or below the bar decide the outcome.
-            .filter(|x| x.0 <= w.lost + 0.1)
+            .filter(|x| x.0 <= w.lost + SETTLE_MARGIN)
             .collect();
         bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
         bad.dedup_by_key(|x| x.2);
@@ -1084,6 +1187,8 @@ fn try_insert_at(
         report.flips32 += scratch.flips32;
         report.flips44 += scratch.flips44;
         report.edge_removals += scratch.edge_removals;
+        report.boundary_flips += scratch.boundary_flips;
+        report.multi_face += scratch.multi_face;
         report.smoothed += scratch.smoothed;
         true
     } else {
@@ -1131,7 +1236,8 @@ fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
 }
 
 /// Writes the live tetrahedra (in slot order) and the points back.
-fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
+/// Returns, per point of the result, its id in `w`.
+fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<u32> {
     let mut map = vec![NONE; w.tv.len()];
     let mut k = 0u32;
     for (t, tv) in w.tv.iter().enumerate() {
@@ -1140,24 +1246,28 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             k += 1;
         }
     }
-    // Points added by the optimisation and collapsed again are left out
-    // (the others keep their order).
+    // Points collapsed away (interior ones of the refinement or the
+    // optimisation) are left out; the others keep their order.
     let n0 = rec.points.len();
-    let mut used = vec![false; w.p.len().saturating_sub(n0)];
+    let mut used = vec![false; w.p.len().saturating_sub(n_in)];
     for tv in w.tv.iter().filter(|tv| tv[0] != DEAD) {
         for &v in tv {
-            if let Some(u) = (v as usize).checked_sub(n0) {
+            if let Some(u) = (v as usize).checked_sub(n_in) {
                 used[u] = true;
             }
         }
     }
+    // (A point of the surface stays, used or not.)
+    for (u, x) in used.iter_mut().enumerate() {
+        *x |= w.fixed[n_in + u];
+    }
     let mut renum: Vec<u32> = Vec::with_capacity(used.len());
-    let mut next = n0 as u32;
+    let mut next = n_in as u32;
     for &u in &used {
-        renum.push(next);
+        renum.push(if u { next } else { NONE });
         next += u32::from(u);
     }
-    let id = |v: u32| (v as usize).checked_sub(n0).map_or(v, |u| renum[u]);
+    let id = |v: u32| (v as usize).checked_sub(n_in).map_or(v, |u| renum[u]);
     let mut tets = Vec::with_capacity(k as usize);
     let mut nbs = Vec::with_capacity(k as usize);
     let mut reg = Vec::with_capacity(k as usize);
@@ -1178,24 +1288,49 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             p.map(|c| c / s.0 / s.1)
         }
     };
-    for (i, p) in w.p.iter().enumerate() {
-        if i < n0 {
-            if w.slide[i] != Slide::Fixed {
-                rec.points[i] = unscale(*p);
-            }
-        } else if used[i - n0] {
-            rec.points.push(unscale(*p));
+    let mut points = Vec::with_capacity(next as usize);
+    points.extend_from_slice(&rec.points[..n_in]);
+    for (i, p) in w.p.iter().enumerate().skip(n_in) {
+        if !used[i - n_in] {
+            continue;
         }
+        points.push(if i < n0 && w.slide[i] == Slide::Fixed {
+            rec.points[i]
+        } else {
+            unscale(*p)
+        });
+    }
+    rec.points = points;
+    if renum
+        .iter()
+        .enumerate()
+        .any(|(u, &r)| r != (n_in + u) as u32)
+    {
+        for f in rec.boundary.iter_mut().chain(rec.interior_faces.iter_mut()) {
+            *f = f.map(id);
+        }
+        rec.inexact = rec
+            .inexact
+            .iter()
+            .map(|&v| id(v))
+            .filter(|&v| v != NONE)
+            .collect();
     }
     // Interface faces: outward from the lower-numbered of their two
     // tetrahedra.
     // (Only faces with three fixed vertices can be interface faces.)
     let mut owner: IdMap<[u32; 3], (usize, usize)> = Default::default();
+    let mut fixed = vec![false; rec.points.len()];
+    for (i, &f) in w.fixed.iter().enumerate() {
+        if let Some(x) = fixed.get_mut(id(i as u32) as usize) {
+            *x = f;
+        }
+    }
     if !rec.interior_faces.is_empty() {
         for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
             for (f, &n) in nb.iter().enumerate() {
                 let fc = work::face(*tv, f);
-                if n != NONE && fc.iter().all(|&v| w.fixed[v as usize]) {
+                if n != NONE && fc.iter().all(|&v| fixed[v as usize]) {
                     owner.entry(fkey(fc)).or_insert((t, f));
                 }
             }
@@ -1208,6 +1343,36 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
             let [a, b, c] = work::face(tets[t], i);
             *f = [a, c, b];
         }
+    }
+    // Boundary faces, after boundary flips: those left in their order, then
+    // the new ones (outward: reversed FACET order).
+    if !w.bnd_new.is_empty() {
+        let mut free: IdMap<[u32; 3], [u32; 3]> = Default::default();
+        for (tv, nb) in tets.iter().zip(&nbs) {
+            for (f, &n) in nb.iter().enumerate() {
+                if n == NONE {
+                    let [a, b, c] = work::face(*tv, f);
+                    free.insert(fkey([a, b, c]), [a, c, b]);
+                }
+            }
+        }
+        let mut faces = Vec::with_capacity(rec.boundary.len());
+        let mut tris = Vec::with_capacity(rec.boundary.len());
+        // (`rec.boundary` is renumbered already, `bnd_new` not.)
+        for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
+            if free.remove(&fkey(*f)).is_some() {
+                faces.push(*f);
+                tris.push(t);
+            }
+        }
+        for k in &w.bnd_new {
+            if let (Some(f), Some(&t)) = (free.remove(&fkey(k.map(id))), w.bnd.get(k)) {
+                faces.push(f);
+                tris.push(t);
+            }
+        }
+        rec.boundary = faces;
+        rec.boundary_triangle = tris;
     }
     // Region counts and volumes.
     for r in rec.regions.iter_mut() {
@@ -1223,6 +1388,31 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64)) {
     rec.mesh.tets = tets;
     rec.mesh.neighbors = nbs;
     rec.tet_region = reg;
+    let mut old_id: Vec<u32> = (0..n_in as u32).collect();
+    old_id.extend(
+        (n_in..w.p.len())
+            .filter(|&i| used[i - n_in])
+            .map(|i| i as u32),
+    );
+    old_id
+}
+
+/// Lets [`Work`] flip boundary faces within a facet: the boundary faces
+/// on a surface triangle, and the facet of each surface triangle.
+fn set_boundary(rec: &Recovered, w: &mut Work) {
+    if rec.boundary.len() != rec.boundary_triangle.len() {
+        return;
+    }
+    for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
+        if (t as usize) < rec.surface.len() && f.iter().all(|&v| (v as usize) < w.p.len()) {
+            w.bnd.insert(fkey(*f), t);
+        }
+    }
+    w.facet = if rec.surface_origin.len() == rec.surface.len() {
+        rec.surface_origin.clone()
+    } else {
+        (0..rec.surface.len() as u32).collect()
+    };
 }
 
 /// The sliding freedom of the Steiner points on the surface (see
@@ -1370,8 +1560,10 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     best
 }
 
-/// See [`OptimizeReport::input_min_dihedral`].
-fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
+/// The angle of each region at each edge of the surface (boundary and
+/// interface faces): the sum of its tetrahedra's dihedral angles there
+/// (degrees).
+fn surface_angles(rec: &Recovered) -> IdMap<([u32; 2], u32), f64> {
     let m = &rec.mesh;
     let prot: IdSet<[u32; 3]> = rec.interior_faces.iter().map(|&f| fkey(f)).collect();
     let mut edges: IdSet<[u32; 2]> = IdSet::default();
@@ -1413,15 +1605,90 @@ fn input_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             }
         }
     }
+    sum
+}
+
+/// See [`OptimizeReport::input_min_dihedral`].
+fn input_min_dihedral(sum: &IdMap<([u32; 2], u32), f64>) -> (f64, Option<[u32; 2]>) {
     // The smallest sum, ties by edge (deterministic).
-    sum.into_iter()
-        .map(|((e, _), a)| (a, e))
+    sum.iter()
+        .map(|(&(e, _), &a)| (a, e))
         .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)))
         .map_or((360.0, None), |(a, e)| (a, Some(e)))
 }
 
+/// See [`BadCells`].
+fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
+    let mut out = BadCells::default();
+    // Per point: the deviation (see `BadCells::feature_angle`) of the
+    // most needle- or cap-like input triangle under its boundary faces.
+    let dev: Vec<f64> = rec
+        .surface
+        .iter()
+        .map(|t| {
+            let [lo, hi] = tri_angles(t.map(|v| rec.points[v as usize]));
+            lo.min(180.0 - hi)
+        })
+        .collect();
+    let mut at = vec![f64::INFINITY; rec.points.len()];
+    for (f, &t) in rec
+        .boundary
+        .iter()
+        .zip(&rec.boundary_triangle)
+        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
+    {
+        if let Some(&d) = dev.get(t as usize) {
+            for &v in f {
+                if let Some(a) = at.get_mut(v as usize) {
+                    *a = a.min(d);
+                }
+            }
+        }
+    }
+    for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
+        let d = super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]));
+        if d.iter()
+            .all(|&x| (BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
+        {
+            continue;
+        }
+        out.count += 1;
+        let sharp = super::quality::EDGES
+            .iter()
+            .enumerate()
+            .any(|(e, &(i, j))| {
+                let (a, b) = (tv[i], tv[j]);
+                d[e] < BAD_ANGLE
+                    && sums
+                        .get(&([a.min(b), a.max(b)], g))
+                        .is_some_and(|&s| s < BAD_ANGLE)
+            });
+        let near = tv
+            .iter()
+            .map(|&v| at[v as usize])
+            .fold(f64::INFINITY, f64::min);
+        if sharp {
+            out.sharp_edge += 1;
+        } else if near < BAD_ANGLE {
+            out.at_feature += 1;
+            out.feature_angle = out.feature_angle.max(near);
+        } else {
+            out.free += 1;
+        }
+    }
+    out
+}
+
 /// Fills the stuck counts and list.
-fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut OptimizeReport) {
+fn stuck(
+    rec: &Recovered,
+    w: &Work,
+    old_id: &[u32],
+    n_in: usize,
+    thr: f64,
+    report: &mut OptimizeReport,
+) {
+    let slide = |v: u32| w.slide[old_id[v as usize] as usize];
     let mut list = Vec::new();
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
@@ -1430,11 +1697,14 @@ fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut Optimize
             continue;
         }
         let surface_faces = (0..4)
-            .filter(|&f| nb[f] == NONE || w.is_protected(fkey(work::face(*tv, f))))
+            .filter(|&f| {
+                nb[f] == NONE
+                    || w.is_protected(fkey(work::face(*tv, f).map(|v| old_id[v as usize])))
+            })
             .count();
         let reason = if surface_faces >= 2 {
             StuckReason::SurfaceFaces
-        } else if tv.iter().all(|&v| w.slide[v as usize] == Slide::Fixed) {
+        } else if tv.iter().all(|&v| slide(v) == Slide::Fixed) {
             StuckReason::AllVerticesFixed
         } else {
             StuckReason::NoImprovement
@@ -1452,10 +1722,7 @@ fn stuck(rec: &Recovered, w: &Work, n_in: usize, thr: f64, report: &mut Optimize
                 shape: super::quality::tet_shape(&p),
                 surface_faces,
                 input_vertices: tv.iter().filter(|&&v| (v as usize) < n_in).count(),
-                fixed_vertices: tv
-                    .iter()
-                    .filter(|&&v| w.slide[v as usize] == Slide::Fixed)
-                    .count(),
+                fixed_vertices: tv.iter().filter(|&&v| slide(v) == Slide::Fixed).count(),
                 near_triangle: None,
                 near_angles: [0.0; 2],
             },
@@ -1600,3 +1867,8 @@ fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Opt
     }
     worst.or(nearest).map(|x| x.1)
 }
+
+/// Tetrahedra of an insertion's cavity at most this much (dihedral sine)
+/// above the worst one it replaced are improved while the new vertex
+/// settles (only those at or below it decide the outcome).
+const SETTLE_MARGIN: f64 = 0.1;

@@ -10,7 +10,7 @@
 //! a result that is not strictly positive is refused and nothing changes.
 
 use super::limits::Limits;
-use crate::tet::recover::IdSet;
+use crate::tet::recover::{IdMap, IdSet};
 
 use delone_predicates::{orient2d, orient3d};
 
@@ -173,7 +173,8 @@ pub(super) struct Plan {
     pub new: Vec<[u32; 4]>,
     /// The smallest quality of `new`.
     pub q: f64,
-    /// Size of the edge ring (0 for a 2-3 flip).
+    /// Size of the edge ring (0 for a 2-3 flip, 1 for the removal of an
+    /// edge on the boundary, 2 for a multi-face removal).
     pub ring: usize,
 }
 
@@ -209,6 +210,15 @@ pub(super) struct Work {
     pub tol: f64,
     /// Interface faces (sorted keys): never destroyed.
     prot: IdSet<[u32; 3]>,
+    /// Boundary faces (sorted keys) that may be flipped, with the index in
+    /// `Recovered::surface` of the triangle each lies on (see
+    /// [`Work::set_boundary`]); empty: no boundary flips.
+    pub bnd: IdMap<[u32; 3], u32>,
+    /// Per triangle of `Recovered::surface`: its facet (the merged coplanar
+    /// group, named by `surface_origin`).
+    pub facet: Vec<u32>,
+    /// Boundary faces created by boundary flips (sorted keys, in order).
+    pub bnd_new: Vec<[u32; 3]>,
     /// Per vertex: the [`Work::clock`] of the last change of its star
     /// (a tetrahedron created or removed, a vertex of it moved).
     pub stamp: Vec<u64>,
@@ -306,6 +316,9 @@ impl Work {
             inexact: vec![false; n],
             tol: 0.0,
             prot,
+            bnd: IdMap::default(),
+            facet: Vec::new(),
+            bnd_new: Vec::new(),
             stamp: vec![0; n],
             clock: 1,
             smooth_fail: vec![0; n],
@@ -420,42 +433,101 @@ impl Work {
         out
     }
 
-    /// The slots around interior edge `a b` (starting at `t`) and the ring,
-    /// `[a, b, ring[i], ring[i + 1]]` (cyclic) being slot `i`; `None` on
-    /// the boundary, across an interface, or beyond [`MAX_RING`].
-    fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+    /// The slots around edge `a b` (from `t`) and the ring,
+    /// `[a, b, ring[i], ring[i + 1]]` being slot `i`: cyclic for an interior
+    /// edge (`false`), open for an edge on the boundary (`true`: `ring` has
+    /// one vertex more than the slots, and `[a, b, ring[0]]` and
+    /// `[a, b, ring[last]]` are boundary faces). `None` across an
+    /// interface or region change, or beyond [`MAX_RING`]; a boundary edge
+    /// only when [`Work::bnd`] is set.
+    fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>, bool)> {
         let tv = self.tv[t as usize];
         let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
         let (c0, d0) = (o.next()?, o.next()?);
-        let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
+        let (x0, y0) = if even(tv, [a, b, c0, d0]) {
             (c0, d0)
         } else {
             (d0, c0)
         };
-        let mut cur = t;
         let mut tets = Vec::new();
         let mut ring = Vec::new();
+        // Forward from `t` (across the faces opposite `x`): back at `t` for
+        // an interior edge.
+        let (mut cur, mut x, mut y) = (t, x0, y0);
         loop {
             if tets.len() >= MAX_RING {
                 return None;
             }
             tets.push(cur);
             ring.push(x);
-            let cv = self.tv[cur as usize];
-            let ix = cv.iter().position(|&w| w == x)?;
+            let ix = self.tv[cur as usize].iter().position(|&w| w == x)?;
+            let next = self.nb[cur as usize][ix];
+            if next == NONE {
+                break;
+            }
             if !self.open_face(cur, ix) {
                 return None;
             }
-            let next = self.nb[cur as usize][ix];
             if next == t {
-                return Some((tets, ring));
+                return Some((tets, ring, false));
             }
-            let nv = self.tv[next as usize];
-            let z = *nv.iter().find(|&&w| w != a && w != b && w != y)?;
+            let z = self.other(next, a, b, y)?;
             cur = next;
             x = y;
             y = z;
         }
+        if self.bnd.is_empty() {
+            return None;
+        }
+        // On the boundary: back to the other end (across the faces
+        // opposite `y`), then forward to this one.
+        let (mut c, mut cx, mut cy) = (t, x0, y0);
+        let mut steps = 0;
+        loop {
+            let iy = self.tv[c as usize].iter().position(|&w| w == cy)?;
+            let prev = self.nb[c as usize][iy];
+            if prev == NONE {
+                break;
+            }
+            steps += 1;
+            if !self.open_face(c, iy) || steps >= MAX_RING {
+                return None;
+            }
+            let z = self.other(prev, a, b, cx)?;
+            c = prev;
+            cy = cx;
+            cx = z;
+        }
+        tets.clear();
+        ring.clear();
+        (cur, x, y) = (c, cx, cy);
+        loop {
+            if tets.len() >= MAX_RING {
+                return None;
+            }
+            tets.push(cur);
+            ring.push(x);
+            let ix = self.tv[cur as usize].iter().position(|&w| w == x)?;
+            let next = self.nb[cur as usize][ix];
+            if next == NONE {
+                ring.push(y);
+                return Some((tets, ring, true));
+            }
+            if !self.open_face(cur, ix) {
+                return None;
+            }
+            let z = self.other(next, a, b, y)?;
+            cur = next;
+            x = y;
+            y = z;
+        }
+    }
+
+    /// The vertex of `t` other than `a`, `b` and `x`.
+    fn other(&self, t: u32, a: u32, b: u32, x: u32) -> Option<u32> {
+        self.tv[t as usize]
+            .into_iter()
+            .find(|&w| w != a && w != b && w != x)
     }
 
     /// The best removal of edge `a b` of slot `t`: the triangulation of its
@@ -464,9 +536,9 @@ impl Work {
     /// cannot be removed (boundary, interface, ring too long, no valid
     /// triangulation).
     pub(super) fn plan_edge_removal(&self, t: u32, a: u32, b: u32) -> Option<Plan> {
-        let (tets, r) = self.edge_ring(t, a, b)?;
+        let (tets, r, open) = self.edge_ring(t, a, b)?;
         let n = r.len();
-        if n < 3 {
+        if n < 3 || open && !self.boundary_flippable(a, b, r[0], r[n - 1]) {
             return None;
         }
         // Only a result better than the worst of the ring's tetrahedra is
@@ -508,8 +580,27 @@ impl Work {
             old: tets,
             new,
             q,
-            ring: n,
+            ring: if open { 1 } else { n },
         })
+    }
+
+    /// True when the boundary faces `a b c` and `a b d` may be flipped to
+    /// `c d a` and `c d b` (the removal of boundary edge `a b`): both lie
+    /// on triangles of one facet, and the four points are exactly
+    /// coplanar. (That the new faces cover the old ones — a convex
+    /// quadrilateral — follows from the new tetrahedra being positive,
+    /// checked by [`Work::apply`].)
+    fn boundary_flippable(&self, a: u32, b: u32, c: u32, d: u32) -> bool {
+        let tri = |f: [u32; 3]| self.bnd.get(&fkey(f)).copied();
+        let (Some(t1), Some(t2)) = (tri([a, b, c]), tri([a, b, d])) else {
+            return false;
+        };
+        let fc = |t: u32| self.facet.get(t as usize).copied();
+        if t1 != t2 && (fc(t1).is_none() || fc(t1) != fc(t2)) {
+            return false;
+        }
+        let g = |w: u32| &self.p[w as usize];
+        orient3d(g(a), g(b), g(c), g(d)) == 0.0
     }
 
     /// The 2-3 flip of the face opposite `f` in `t`, if allowed.
@@ -533,6 +624,103 @@ impl Work {
             new,
             q: qm,
             ring: 0,
+        })
+    }
+
+    /// Multi-face removal (Klingner & Shewchuk 2007) from the face opposite
+    /// `f` in `t`: the apexes `a` (of `t`) and `b` (across the face) and a
+    /// set of faces sandwiched between them (each with a tetrahedron on `a`
+    /// and one on `b`, forming a polygon of faces whose vertices are all on
+    /// its boundary ring) are replaced by the tetrahedra around the new
+    /// edge `a b`: `2k` tetrahedra become `k + 2`. Grown greedily from the
+    /// face, each time across the ring edge of the worst new tetrahedron;
+    /// the best set whose new tetrahedra beat the removed ones is planned.
+    /// With one face it is the 2-3 flip.
+    pub(super) fn plan_multi_face(&self, t: u32, f: usize) -> Option<Plan> {
+        if !self.open_face(t, f) {
+            return None;
+        }
+        let tv = self.tv[t as usize];
+        let u = self.nb[t as usize][f];
+        let a = tv[f];
+        let b = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        // Edge `a b` must not exist already.
+        if self
+            .star(a)
+            .iter()
+            .any(|&s| self.tv[s as usize].contains(&b))
+        {
+            return None;
+        }
+        let [x, y, z] = face(tv, f);
+        // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
+        // per ring edge, the removed tetrahedra on `a` and `b` at it and the
+        // third vertex of its face.
+        let mut ring = vec![x, z, y];
+        let mut side: Vec<(u32, u32, u32)> = vec![(t, u, y), (t, u, x), (t, u, z)];
+        let mut old = vec![t, u];
+        let mut q: Vec<f64> = (0..3)
+            .map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]]))
+            .collect();
+        let min_old = |old: &[u32]| self.min_q(old);
+        let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
+        loop {
+            let qm = q.iter().copied().fold(f64::INFINITY, f64::min);
+            if qm > min_old(&old) && best.as_ref().is_none_or(|b| qm > b.0) {
+                best = Some((qm, ring.clone(), old.clone()));
+            }
+            if ring.len() >= MAX_RING {
+                break;
+            }
+            // Grow across the ring edge of the worst new tetrahedron.
+            let i = (0..q.len())
+                .min_by(|&i, &j| q[i].total_cmp(&q[j]).then(i.cmp(&j)))
+                .unwrap_or(0);
+            let j = (i + 1) % ring.len();
+            let (rx, ry) = (ring[i], ring[j]);
+            let (sa, sb, rz) = side[i];
+            let across = |s: u32, apex: u32| -> Option<(u32, u32)> {
+                let sv = self.tv[s as usize];
+                let k = sv.iter().position(|&w| w == rz)?;
+                if !self.open_face(s, k) {
+                    return None;
+                }
+                let n = self.nb[s as usize][k];
+                let w = *self.tv[n as usize]
+                    .iter()
+                    .find(|&&w| w != apex && w != rx && w != ry)?;
+                Some((n, w))
+            };
+            let (Some((na, wa)), Some((nb, wb))) = (across(sa, a), across(sb, b)) else {
+                break;
+            };
+            if wa != wb || wa == a || wa == b || ring.contains(&wa) {
+                break;
+            }
+            // The face `rx ry w` between `na` and `nb` must be open too.
+            let k = self.tv[na as usize].iter().position(|&w| w == a)?;
+            if !self.open_face(na, k) || self.nb[na as usize][k] != nb {
+                break;
+            }
+            ring.insert(i + 1, wa);
+            side[i] = (na, nb, ry);
+            side.insert(i + 1, (na, nb, rx));
+            q[i] = self.qual([a, b, rx, wa]);
+            q.insert(i + 1, self.qual([a, b, wa, ry]));
+            old.push(na);
+            old.push(nb);
+        }
+        let (qb, ring, old) = best?;
+        if old.len() == 2 {
+            return None; // the 2-3 flip, planned on its own
+        }
+        let n = ring.len();
+        let new = (0..n).map(|i| [a, b, ring[i], ring[(i + 1) % n]]).collect();
+        Some(Plan {
+            old,
+            new,
+            q: qb,
+            ring: 2,
         })
     }
 
@@ -654,7 +842,27 @@ impl Work {
                 self.stamp[w as usize] = self.clock;
             }
         }
-        debug_assert!(outer.is_empty() && open.is_empty(), "replace: unmatched");
+        // A boundary flip (see [`Work::plan_edge_removal`]) replaces
+        // boundary faces of one facet by others: they keep its triangle.
+        if !outer.is_empty() {
+            let mut tri = None;
+            for o in &outer {
+                debug_assert!(o.1 == NONE, "replace: unmatched inner face");
+                tri = tri.or(self.bnd.remove(&o.0));
+            }
+            debug_assert!(
+                open.len() == outer.len() && tri.is_some(),
+                "replace: unmatched"
+            );
+            if let Some(tri) = tri {
+                for o in &open {
+                    self.bnd.insert(o.0, tri);
+                    self.bnd_new.push(o.0);
+                }
+            }
+        } else {
+            debug_assert!(open.is_empty(), "replace: unmatched");
+        }
         self.dirty.extend_from_slice(&ids);
         ids
     }
