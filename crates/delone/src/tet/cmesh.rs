@@ -157,6 +157,8 @@ pub(crate) struct CMesh<'a> {
     ring_verts: Vec<u32>,
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
+    /// Scratch of the new slots of a flip or edge removal.
+    ids: Vec<u32>,
 }
 
 /// Scratch of [`CMesh::star_until`]: visit stamps per slot (equal to `gen`
@@ -201,6 +203,7 @@ impl<'a> CMesh<'a> {
             ring_verts: Vec::new(),
             dp_best: Vec::new(),
             dp_choice: Vec::new(),
+            ids: Vec::new(),
         }
     }
 
@@ -226,7 +229,7 @@ impl<'a> CMesh<'a> {
     /// returns how many it re-applied.
     pub(crate) fn replay(&mut self, log: &OpLog, allowed: ReplayTest<'_>) -> usize {
         let mut done = 0;
-        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        let (mut slots, mut buf, mut ids) = (Vec::new(), Vec::new(), Vec::new());
         // Recorded slot -> slot here of the same tetrahedron (when a
         // replayed operation created it; else the recorded slot is tried).
         let mut map: Vec<u32> = Vec::new();
@@ -244,7 +247,7 @@ impl<'a> CMesh<'a> {
             if !self.locate_tets(old, hint, &mut slots, &mut buf) || !allowed(old, new) {
                 continue;
             }
-            let ids = self.replace(&slots, new);
+            self.replace_into(&slots, new, &mut ids);
             for (&r, &x) in new_at.iter().zip(&ids) {
                 if map.len() <= r as usize {
                     map.resize(r as usize + 1, DEAD);
@@ -296,7 +299,7 @@ impl<'a> CMesh<'a> {
         let Some(mut log) = self.log.take() else {
             return;
         };
-        let (mut slots, mut buf) = (Vec::new(), Vec::new());
+        let (mut slots, mut buf, mut ids) = (Vec::new(), Vec::new(), Vec::new());
         for &(s, no, nn) in log.ops[mark.min(log.ops.len())..].iter().rev() {
             let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
             let (old, new) = log.tets[s..s + no + nn].split_at(no);
@@ -306,7 +309,7 @@ impl<'a> CMesh<'a> {
             if !found {
                 break;
             }
-            self.replace(&slots, old);
+            self.replace_into(&slots, old, &mut ids);
             if (no, nn) == (2, 3) {
                 self.flips23 -= 1;
             } else {
@@ -614,6 +617,14 @@ impl<'a> CMesh<'a> {
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
     /// everything by face keys. Returns the new slots.
     pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
+        let mut ids = Vec::with_capacity(new.len());
+        self.replace_into(old, new, &mut ids);
+        ids
+    }
+
+    /// [`CMesh::replace`] writing the new slots into `ids` (cleared first;
+    /// no allocation when it has room).
+    pub(crate) fn replace_into(&mut self, old: &[u32], new: &[[u32; 4]], ids: &mut Vec<u32>) {
         // Faces are matched by linear search in two short lists (an
         // operation has at most 2 * MAX_RING outer faces): cheaper than
         // hashing for the 2-3 flips and small rings that dominate.
@@ -662,10 +673,11 @@ impl<'a> CMesh<'a> {
         for &t in old {
             c.release(t);
         }
-        let ids: Vec<u32> = new.iter().map(|&tv| c.alloc(tv)).collect();
+        ids.clear();
+        ids.extend(new.iter().map(|&tv| c.alloc(tv)));
         if let Some(log) = &mut self.log {
             log.tets.extend_from_slice(new);
-            log.slots.extend_from_slice(&ids);
+            log.slots.extend_from_slice(ids);
         }
         for (&x, &tv) in ids.iter().zip(new) {
             for f in 0..4 {
@@ -711,7 +723,6 @@ impl<'a> CMesh<'a> {
                 }
             }
         }
-        ids
     }
 
     /// 2-3 flip of the face opposite local vertex `f` of tetrahedron `t`:
@@ -735,7 +746,9 @@ impl<'a> CMesh<'a> {
         if !new.iter().all(|&n| self.positive(n)) {
             return false;
         }
-        self.replace(&[t, u], &new);
+        let mut ids = std::mem::take(&mut self.ids);
+        self.replace_into(&[t, u], &new, &mut ids);
+        self.ids = ids;
         self.flips23 += 1;
         true
     }
@@ -870,7 +883,9 @@ impl<'a> CMesh<'a> {
         self.dp_choice = choice;
         let mut new = new?;
         new.extend(ghosts);
-        self.replace(tets, &new);
+        let mut ids = std::mem::take(&mut self.ids);
+        self.replace_into(tets, &new, &mut ids);
+        self.ids = ids;
         self.removals += 1;
         Some(total)
     }

@@ -37,6 +37,22 @@
 //!    exactly positive and the link condition holds): an inserted point
 //!    that settled badly among fixed ones is taken out again.
 //!
+//! The topological step also tries **multi-face removal** (the `2k`
+//! tetrahedra on both sides of `k` faces sandwiched between two vertices
+//! become the `k + 2` around the new edge between them) and, for an edge
+//! on the boundary inside a flat facet, **boundary edge removal** (its two
+//! boundary faces flipped to the other diagonal of their quadrilateral —
+//! exactly coplanar, on one facet — and the tetrahedra of its fan
+//! re-triangulated by the same dynamic programme: the 2-2 flip and its
+//! generalisation).
+//!
+//! Interior points (of the refinement too, never input points) are also
+//! collapsed in two sweeps: before the stages where that raises their
+//! star's worst quality, and after them where every new tetrahedron stays
+//! above 25° and the mesh's minimum — fewer tetrahedra for the same bound.
+//! Removed points are left out of the result and the others renumbered in
+//! order ([`OptimizeReport::removed`]).
+//!
 //! The work is organised in stages of rising thresholds (10°, 20°, 30°,
 //! then the target): each stage keeps a queue of the tetrahedra below its
 //! threshold, worst first, pushes the tetrahedra each success creates or
@@ -58,8 +74,10 @@
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
 //! at the end).
-//! The domain's boundary and internal facets keep their faces: boundary and
-//! interface faces are never destroyed, input points never move, and a
+//! The domain's boundary and internal facets keep their shape: interface
+//! faces are never destroyed, boundary faces only by a boundary flip
+//! within one flat facet (each facet stays the union of its faces), input
+//! points never move, and a
 //! Steiner point of the surface moves only within its input triangle's
 //! plane or along its input edge, landing exactly on it (or, if the
 //! refinement had already rounded it off, within the reported deviation;
@@ -879,14 +897,16 @@ const CLEANUP: f64 = 25.0;
 /// Most tetrahedra in the star of a collapsed vertex.
 const MAX_COLLAPSE_STAR: usize = 64;
 
-/// Removes vertex `v` — a free vertex that the optimiser inserted — by
+/// Removes vertex `v` — a free (interior) vertex, numbered `from` or
+/// higher — by
 /// collapsing its edge to the neighbour `u` that gives the best result:
 /// the tetrahedra around the edge vanish and `u` replaces `v` in the
 /// others (a cone from `u` over the faces of the star polyhedron). Valid
 /// when every new tetrahedron is exactly positive and the link condition
 /// holds (a vertex, edge or triangle in the links of both `u` and `v` is in
 /// the link of the edge), so that no tetrahedron is made twice; applied
-/// when the worst quality of the star rises.
+/// when the worst quality of the star rises above `floor` or its old worst
+/// (whichever is lower).
 fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     if (v as usize) < from || w.fixed[v as usize] {
         return false;

@@ -1,9 +1,10 @@
 //! The mutable working mesh of [`super::optimize`]: flat arrays of a finished
 //! domain mesh (no ghost cells: a face without neighbour is on the domain's
-//! boundary and is never destroyed), the protected interface faces, and the
-//! local operations — 2-3 flip, edge removal by a max-min dynamic programme
-//! (3-2 and 4-4 flips included), vertex smoothing, vertex insertion and its
-//! undo.
+//! boundary, destroyed only by a boundary flip within one flat facet), the
+//! protected interface faces, and the local operations — 2-3 flip,
+//! multi-face removal, edge removal by a max-min dynamic programme (3-2 and
+//! 4-4 flips included; on the boundary, 2-2 flips and their
+//! generalisation), vertex smoothing, vertex insertion and its undo.
 //!
 //! Every operation is judged in floating point by [`quality`] and, before it
 //! is applied, checked by exact `orient3d` on every tetrahedron it creates:

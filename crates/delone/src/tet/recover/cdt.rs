@@ -57,16 +57,18 @@ impl Protected {
     /// operation must pass, [`crate::tet::cmesh::CMesh::replay`]).
     pub(crate) fn kept_by(&self, old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
         let in_new = |w: &[u32]| new.iter().any(|tv| w.iter().all(|x| tv.contains(x)));
+        // The set lookups first: most items of `old` are not protected, and
+        // a lookup is cheaper than the scan of `new`.
         for tv in old {
             for (i, j) in TET_EDGES {
                 let (a, b) = (tv[i], tv[j]);
-                if a != INF && b != INF && !in_new(&[a, b]) && self.edge(a, b) {
+                if a != INF && b != INF && self.edge(a, b) && !in_new(&[a, b]) {
                     return false;
                 }
             }
             for f in 0..4 {
                 let fv = face(*tv, f);
-                if !fv.contains(&INF) && !in_new(&fv) && self.face(fv) {
+                if !fv.contains(&INF) && self.face(fv) && !in_new(&fv) {
                     return false;
                 }
             }

@@ -2190,11 +2190,19 @@ impl State {
         // triangle can lie inside the domain next to it. Only faces on
         // internal facets (triangles with no boundary face) or between two
         // regions are reported as interior faces.
-        let has_boundary: IdSet<u32> = boundary_triangle.iter().copied().collect();
+        // Per surface triangle: has a boundary face (a flag, no hashing).
+        let mut has_boundary = vec![false; self.surf.tris.len()];
+        for &ti in &boundary_triangle {
+            if let Some(h) = has_boundary.get_mut(ti as usize) {
+                *h = true;
+            }
+        }
         let keep: Vec<bool> = interior_triangle
             .iter()
             .zip(&interior_between)
-            .map(|(ti, &between)| between || !has_boundary.contains(ti))
+            .map(|(&ti, &between)| {
+                between || !has_boundary.get(ti as usize).copied().unwrap_or(false)
+            })
             .collect();
         let mut flags = keep.iter();
         interior_faces.retain(|_| flags.next().copied().unwrap_or(true));

@@ -88,9 +88,8 @@
 //!    circumball reaches round a constraint or into a small input angle,
 //!    where the split starts a cascade of ever shorter edges, so the
 //!    piece is not split and the cell is left (counted in
-//!    [`RefineReport::skipped_small`]; cells with two faces on the
-//!    surface, which no optimisation can repair, and cells only too big
-//!    are exempt). A subface in the way that it does not
+//!    [`RefineReport::skipped_small`] and [`RefineReport::skipped_radius`];
+//!    cells only too big are exempt). A subface in the way that it does not
 //!    encroach leaves the cell ([`RefineReport::skipped_behind`]: wedges at
 //!    ridges, or where the flips could not restore constrained Delaunay).
 //!    Nearly flat cells (radius-edge ratio above 10⁶), and cells whose four
@@ -123,6 +122,14 @@
 //!    A subsegment or subface whose split failed with the mesh unchanged
 //!    is not tried again, and each is queued at most once (a refused
 //!    subface retried for every cell showing it spun for minutes).
+//!
+//!    Every cell R3 leaves is remembered with the reason; the cells still
+//!    above the bound at the end are counted per reason in
+//!    [`RefineReport::left`] ([`LeftBad`]), with how many lie next to a
+//!    needle input triangle (an angle below 5°) or a sharp input edge
+//!    (half-planes meeting below 60°). A cell whose circumcentre was
+//!    inserted but which stayed out of the cavity (a subface between
+//!    them, or dropped by the cavity correction) is looked at again.
 //!
 //! **Cavity correction.** Before an insertion is planned, the cavity is
 //! shrunk in passes: every tetrahedron that is not required and has a
