@@ -124,6 +124,23 @@ pub fn document(
                 ("left_at_boundary", f.remaining_at_boundary.to_string()),
                 ("left_too_big", f.remaining_too_big.to_string()),
                 ("budget_exhausted", f.budget_exhausted.to_string()),
+                (
+                    "left_by_cause",
+                    object(&[
+                        ("flat", f.left.flat.to_string()),
+                        ("behind_subface", f.left.behind.to_string()),
+                        ("close_to_vertex", f.left.close.to_string()),
+                        ("insertion_radius", f.left.radius.to_string()),
+                        ("small_pieces", f.left.small.to_string()),
+                        ("sharp_wedge", f.left.wedge.to_string()),
+                        ("zero_angle_triangle", f.left.degenerate.to_string()),
+                        ("shell_pair", f.left.shell.to_string()),
+                        ("refused", f.left.refused.to_string()),
+                        ("other", f.left.other.to_string()),
+                        ("near_needle_triangle", f.left.near_needle.to_string()),
+                        ("near_sharp_edge", f.left.near_sharp.to_string()),
+                    ]),
+                ),
             ])
         );
     }
@@ -171,9 +188,22 @@ pub fn document(
                 ("flips32", o.flips32.to_string()),
                 ("flips44", o.flips44.to_string()),
                 ("edge_removals", o.edge_removals.to_string()),
+                ("multi_face_removals", o.multi_face.to_string()),
+                ("boundary_flips", o.boundary_flips.to_string()),
                 ("vertex_moves", o.smoothed.to_string()),
                 ("inserted", o.inserted.to_string()),
                 ("collapsed", o.collapsed.to_string()),
+                ("refinement_points_removed", o.removed.to_string()),
+                (
+                    "below_15",
+                    object(&[
+                        ("count", o.bad.count.to_string()),
+                        ("at_sharp_input_edge", o.bad.sharp_edge.to_string()),
+                        ("at_needle_or_cap_triangle", o.bad.at_feature.to_string()),
+                        ("feature_angle", num(o.bad.feature_angle)),
+                        ("free", o.bad.free.to_string()),
+                    ]),
+                ),
                 ("effort_exhausted", o.effort_exhausted.to_string()),
                 ("below_target_surface_faces", o.stuck_counts[0].to_string()),
                 ("below_target_all_fixed", o.stuck_counts[1].to_string()),
