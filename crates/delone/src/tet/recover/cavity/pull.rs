@@ -22,6 +22,10 @@
 //!    `s` lies). `R` is triangulated **without** `s` by ear clipping in
 //!    the projection along `T`'s dominant axis (exact `orient2d`; a simple
 //!    polygon always has an ear whose triangle holds no other vertex).
+//!    A fan that is a single thin face `u s w` of three points of one
+//!    edge (the `-p` coverage accepts such faces next to a chord `u w`
+//!    when the points are rounded) leaves an empty polygon: the segment
+//!    `u w`, already covered by the chord's faces.
 //! 3. Each wedge `W` is refilled by the cone from a **new interior point**
 //!    `p = s + h d` over its new boundary — the faces opposite `s` (kept)
 //!    and the new triangles of the polygons bounding it. `d` is the sum of
@@ -32,7 +36,20 @@
 //!    `orient3d`). Such an `h` exists: `s` itself sees every face opposite
 //!    it strictly (its star's tetrahedra are positive), which stays true
 //!    near `s` by continuity, and the new triangles lie in the planes of
-//!    their input triangles, which `p` is strictly off. A ghost wedge (the
+//!    their input triangles, which `p` is strictly off. When the star has
+//!    nearly flat tetrahedra (a face opposite `s` whose plane passes
+//!    within rounding of `s`, nearly parallel to the surface) the points
+//!    that see everything form a thin wedge that no normal direction
+//!    enters; one more direction is then tried, into the tangent cone of
+//!    the faces whose planes pass (nearly) through `s`, found by
+//!    relaxation. Of all candidates the one **farthest from every face**
+//!    is taken (along each ray the clearance rises, then falls): a point
+//!    barely off the surface would make the stars of the next surface
+//!    points nearly flat. When no direction works, the wedge grows by the
+//!    tetrahedra behind the faces the candidates do not see (never across
+//!    the surface), then it is filled like a cavity of the parent module
+//!    (a cone from one of its vertices, else from a kernel point, growing
+//!    towards the faces the best point does not see). A ghost wedge (the
 //!    outside of a triangle on the convex hull) gets ghosts on the new
 //!    triangles instead.
 //! 4. The replacement of the whole star is validated exactly before it is
@@ -41,14 +58,40 @@
 //!    the star's boundary, so — winding number — they tile the star; every
 //!    vertex but `s` kept; no new edge that exists elsewhere in the mesh).
 //!
-//! **Termination**: each removal takes one surface Steiner point away and
-//! adds none on the surface, so there are at most as many removals as
-//! surface Steiner points; a removal that fails validation (possible only
-//! through rounding of inexact surface Steiner points) leaves an
-//! [`RecoverError::Unrecovered`] error naming the triangles at that point.
-//! When every surface Steiner point is gone, the refinement of each input
-//! triangle has only the triangle's corners as vertices, so the triangle
-//! is exactly one mesh face.
+//! **Clusters.** A point whose removal fails (after every other point has
+//! been tried again, as long as a pass removes one) is removed together
+//! with its nearest surface Steiner points — breadth first over the
+//! surface edges, ties by id, 2 to [`MAX_CLUSTER`] points: the star is the
+//! union of their stars, each polygon is the fan of all of them with the
+//! points on the triangle's edges cut out (their neighbours joined by
+//! chords), so the polygon's vertices are further from the rounded
+//! points, and each wedge is filled as in step 3 (general fill).
+//!
+//! **What is guaranteed, and what is checked.** By construction: no
+//! point is ever placed on the surface (every new point is tested
+//! exactly against every input triangle), the mesh is never invalid
+//! (every replacement is validated exactly, else nothing changes), the
+//! loop terminates (each success removes at least one surface point and
+//! adds none, each failure is final once a pass removes nothing), and
+//! the result is deterministic. When the surface Steiner points and the
+//! polygon vertices lie exactly on their triangles, a removal exists in
+//! exact arithmetic (step 3); it is found in floating point when the set
+//! of points that see every face holds a representable point — it is an
+//! open set with `s` on its boundary, and the thin wedge of nearly flat
+//! tetrahedra is reached by the tangent-cone direction. Rounded (inexact)
+//! surface points bend the polygons by a few units in the last place;
+//! then only the exact validation vouches for a removal, and what it
+//! refuses after every cluster has been tried is reported as
+//! [`RecoverError::Unrecovered`]. On the corpus that never happens: all
+//! 40 closed clean models are recovered.
+//!
+//! **Termination**: each removal takes at least one surface Steiner point
+//! away and adds none on the surface, so there are at most as many
+//! removals as surface Steiner points; a point no removal or cluster can
+//! take away leaves an [`RecoverError::Unrecovered`] error naming the
+//! triangles at that point. When every surface Steiner point is gone, the
+//! refinement of each input triangle has only the triangle's corners as
+//! vertices, so the triangle is exactly one mesh face.
 //!
 //! **No point on the surface**: every new point `p` is strictly inside its
 //! wedge (it sees every boundary face of the wedge strictly), and the
