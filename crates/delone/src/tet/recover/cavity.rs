@@ -101,10 +101,15 @@
 //! triangle around it is retriangulated without it (ear clipping), and
 //! each wedge is refilled by the cone from a new point just inside it
 //! (exact `orient3d`: a point near the removed one sees every face of
-//! the wedge strictly, by continuity). One surface point fewer per step,
-//! none added on the surface: it terminates with every input triangle a
-//! single face. Only what that step cannot validate exactly (rounding of
-//! inexact surface points) is reported as [`RecoverError::Unrecovered`].
+//! the wedge strictly, by continuity; the point farthest from every face
+//! is taken, and thin wedges of nearly flat tetrahedra are entered along
+//! their tangent cone), else by a cone from a wedge vertex or a kernel
+//! point of the grown wedge; a point that still fails is removed together
+//! with its nearest surface points (a cluster). One surface point fewer
+//! per step, none added on the surface: it terminates with every input
+//! triangle a single face. Only what no removal can validate exactly
+//! (rounding of inexact surface points) is reported as
+//! [`RecoverError::Unrecovered`]; on the corpus nothing is.
 //!
 //! The face and edge lookups used to decide what is missing search a
 //! vertex's star, not an edge ring, so edges with many tetrahedra around

@@ -22,6 +22,10 @@
 //!    `s` lies). `R` is triangulated **without** `s` by ear clipping in
 //!    the projection along `T`'s dominant axis (exact `orient2d`; a simple
 //!    polygon always has an ear whose triangle holds no other vertex).
+//!    A fan that is a single thin face `u s w` of three points of one
+//!    edge (the `-p` coverage accepts such faces next to a chord `u w`
+//!    when the points are rounded) leaves an empty polygon: the segment
+//!    `u w`, already covered by the chord's faces.
 //! 3. Each wedge `W` is refilled by the cone from a **new interior point**
 //!    `p = s + h d` over its new boundary — the faces opposite `s` (kept)
 //!    and the new triangles of the polygons bounding it. `d` is the sum of
@@ -32,7 +36,20 @@
 //!    `orient3d`). Such an `h` exists: `s` itself sees every face opposite
 //!    it strictly (its star's tetrahedra are positive), which stays true
 //!    near `s` by continuity, and the new triangles lie in the planes of
-//!    their input triangles, which `p` is strictly off. A ghost wedge (the
+//!    their input triangles, which `p` is strictly off. When the star has
+//!    nearly flat tetrahedra (a face opposite `s` whose plane passes
+//!    within rounding of `s`, nearly parallel to the surface) the points
+//!    that see everything form a thin wedge that no normal direction
+//!    enters; one more direction is then tried, into the tangent cone of
+//!    the faces whose planes pass (nearly) through `s`, found by
+//!    relaxation. Of all candidates the one **farthest from every face**
+//!    is taken (along each ray the clearance rises, then falls): a point
+//!    barely off the surface would make the stars of the next surface
+//!    points nearly flat. When no direction works, the wedge grows by the
+//!    tetrahedra behind the faces the candidates do not see (never across
+//!    the surface), then it is filled like a cavity of the parent module
+//!    (a cone from one of its vertices, else from a kernel point, growing
+//!    towards the faces the best point does not see). A ghost wedge (the
 //!    outside of a triangle on the convex hull) gets ghosts on the new
 //!    triangles instead.
 //! 4. The replacement of the whole star is validated exactly before it is
@@ -41,14 +58,40 @@
 //!    the star's boundary, so — winding number — they tile the star; every
 //!    vertex but `s` kept; no new edge that exists elsewhere in the mesh).
 //!
-//! **Termination**: each removal takes one surface Steiner point away and
-//! adds none on the surface, so there are at most as many removals as
-//! surface Steiner points; a removal that fails validation (possible only
-//! through rounding of inexact surface Steiner points) leaves an
-//! [`RecoverError::Unrecovered`] error naming the triangles at that point.
-//! When every surface Steiner point is gone, the refinement of each input
-//! triangle has only the triangle's corners as vertices, so the triangle
-//! is exactly one mesh face.
+//! **Clusters.** A point whose removal fails (after every other point has
+//! been tried again, as long as a pass removes one) is removed together
+//! with its nearest surface Steiner points — breadth first over the
+//! surface edges, ties by id, 2 to [`MAX_CLUSTER`] points: the star is the
+//! union of their stars, each polygon is the fan of all of them with the
+//! points on the triangle's edges cut out (their neighbours joined by
+//! chords), so the polygon's vertices are further from the rounded
+//! points, and each wedge is filled as in step 3 (general fill).
+//!
+//! **What is guaranteed, and what is checked.** By construction: no
+//! point is ever placed on the surface (every new point is tested
+//! exactly against every input triangle), the mesh is never invalid
+//! (every replacement is validated exactly, else nothing changes), the
+//! loop terminates (each success removes at least one surface point and
+//! adds none, each failure is final once a pass removes nothing), and
+//! the result is deterministic. When the surface Steiner points and the
+//! polygon vertices lie exactly on their triangles, a removal exists in
+//! exact arithmetic (step 3); it is found in floating point when the set
+//! of points that see every face holds a representable point — it is an
+//! open set with `s` on its boundary, and the thin wedge of nearly flat
+//! tetrahedra is reached by the tangent-cone direction. Rounded (inexact)
+//! surface points bend the polygons by a few units in the last place;
+//! then only the exact validation vouches for a removal, and what it
+//! refuses after every cluster has been tried is reported as
+//! [`RecoverError::Unrecovered`]. On the corpus that never happens: all
+//! 40 closed clean models are recovered.
+//!
+//! **Termination**: each removal takes at least one surface Steiner point
+//! away and adds none on the surface, so there are at most as many
+//! removals as surface Steiner points; a point no removal or cluster can
+//! take away leaves an [`RecoverError::Unrecovered`] error naming the
+//! triangles at that point. When every surface Steiner point is gone, the
+//! refinement of each input triangle has only the triangle's corners as
+//! vertices, so the triangle is exactly one mesh face.
 //!
 //! **No point on the surface**: every new point `p` is strictly inside its
 //! wedge (it sees every boundary face of the wedge strictly), and the
@@ -62,18 +105,24 @@ use super::super::missing::fkey;
 use super::super::place::{cross, dot, sub};
 use super::super::surface::{IdMap, IdSet};
 use super::super::{FacesOn, RecoverError, State};
-use super::okey;
+use super::cdt::Protected;
+use super::{fill, grow, okey, Fill, Region};
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
 use delone_predicates::{orient2d, orient3d};
 
 type P = [f64; 3];
+/// A face kept from a removed star, with the tetrahedron owning it and
+/// its local index.
+type LinkFace = ([u32; 3], u32, usize);
 
 /// Halvings of the step `h` tried for a new point.
 const HALVINGS: usize = 60;
-/// Most growth steps of a wedge.
+/// Most growth steps of a wedge in the search near its point.
 const MAX_GROW: usize = 4;
+/// Most surface Steiner points removed together ([`State::pull_cluster`]).
+const MAX_CLUSTER: usize = 12;
 
 impl State {
     /// The `-Y` fallback (module documentation): recovers `scaled` (the
@@ -131,18 +180,37 @@ impl State {
         surface_pts.dedup();
         let mut added = 0;
         // A point that fails is retried after the others (their removal
-        // changes its star), as long as a pass removes one.
+        // changes its star), as long as a pass removes one; then with its
+        // nearest surface Steiner points as a cluster.
         let mut pending = surface_pts;
         loop {
-            let before_len = pending.len();
-            let mut failed = Vec::new();
-            for &s in &pending {
-                match self.pull_one(cm, s, &mut face_tri) {
-                    Some(k) => added += k,
-                    None => failed.push(s),
+            loop {
+                let before_len = pending.len();
+                let mut failed = Vec::new();
+                for &s in &pending {
+                    match self.pull_set(cm, &[s], &mut face_tri) {
+                        Some(k) => added += k,
+                        None => failed.push(s),
+                    }
+                }
+                pending = failed;
+                if pending.is_empty() || pending.len() == before_len {
+                    break;
                 }
             }
-            pending = failed;
+            let before_len = pending.len();
+            let mut gone: Vec<u32> = Vec::new();
+            for &s in &pending {
+                if gone.binary_search(&s).is_ok() {
+                    continue;
+                }
+                if let Some((k, set)) = self.pull_cluster(cm, s, n_in, &mut face_tri) {
+                    added += k;
+                    gone.extend(set);
+                    gone.sort_unstable();
+                }
+            }
+            pending.retain(|s| gone.binary_search(s).is_err());
             if pending.is_empty() || pending.len() == before_len {
                 break;
             }
@@ -179,43 +247,77 @@ impl State {
         Ok(added)
     }
 
-    /// Removes surface Steiner point `s` (module documentation);
-    /// `Some(points added)`, or `None` (nothing changed).
-    fn pull_one(
+    /// Removes surface Steiner point `s` together with its nearest
+    /// surface Steiner points (breadth first over the surface edges,
+    /// ties by id), trying clusters of 2 to [`MAX_CLUSTER`] points;
+    /// `Some((points added, the cluster))` on the first that succeeds.
+    fn pull_cluster(
         &self,
         cm: &mut CMesh<'_>,
         s: u32,
+        n_in: usize,
+        face_tri: &mut IdMap<[u32; 3], u32>,
+    ) -> Option<(usize, Vec<u32>)> {
+        let mut order = vec![s];
+        let mut next = 0;
+        while next < order.len() && order.len() < MAX_CLUSTER {
+            let v = order[next];
+            next += 1;
+            let c = &cm.dt.core;
+            let mut nb: Vec<u32> = cm
+                .star(v)
+                .iter()
+                .flat_map(|&t| {
+                    let tv = c.v[t as usize];
+                    (0..4).map(move |f| face(tv, f))
+                })
+                .filter(|f| f.contains(&v) && face_tri.contains_key(&fkey(*f)))
+                .flatten()
+                .filter(|&w| w as usize >= n_in && w != INF && !order.contains(&w))
+                .collect();
+            nb.sort_unstable();
+            nb.dedup();
+            order.extend(nb);
+        }
+        order.truncate(MAX_CLUSTER);
+        for k in 2..=order.len() {
+            let mut set = order[..k].to_vec();
+            set.sort_unstable();
+            if let Some(a) = self.pull_set(cm, &set, face_tri) {
+                return Some((a, set));
+            }
+        }
+        None
+    }
+
+    /// Removes the surface Steiner points `sset` (sorted; module
+    /// documentation: the star is the union of their stars);
+    /// `Some(points added)`, or `None` (nothing changed).
+    fn pull_set(
+        &self,
+        cm: &mut CMesh<'_>,
+        sset: &[u32],
         face_tri: &mut IdMap<[u32; 3], u32>,
     ) -> Option<usize> {
         let c = &cm.dt.core;
         let pts = cm.pts();
-        let mut star = cm.star(s);
+        let in_s = |w: u32| sset.binary_search(&w).is_ok();
+        let touches = |f: &[u32; 3]| f.iter().any(|&w| in_s(w));
+        let mut star: Vec<u32> = sset.iter().flat_map(|&s| cm.star(s)).collect();
         star.sort_unstable();
+        star.dedup();
         let at = |t: u32| star.binary_search(&t).ok();
-        // Wedges: union-find across non-surface faces at `s`.
-        let mut parent: Vec<usize> = (0..star.len()).collect();
-        fn root(p: &mut [usize], mut i: usize) -> usize {
-            while p[i] != i {
-                p[i] = p[p[i]];
-                i = p[i];
-            }
-            i
-        }
+        // The input triangles with a surface face at a point of `sset`.
         let mut tris_s: Vec<u32> = Vec::new();
-        for (i, &t) in star.iter().enumerate() {
+        for &t in &star {
             let tv = c.v[t as usize];
             for f in 0..4 {
-                if tv[f] == s {
-                    continue;
+                let fv = face(tv, f);
+                if touches(&fv) {
+                    if let Some(&ti) = face_tri.get(&fkey(fv)) {
+                        tris_s.push(ti);
+                    }
                 }
-                let k = fkey(face(tv, f));
-                if let Some(&ti) = face_tri.get(&k) {
-                    tris_s.push(ti);
-                    continue;
-                }
-                let j = at(c.adj[t as usize][f] >> 2)?;
-                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                parent[ri.max(rj)] = ri.min(rj);
             }
         }
         tris_s.sort_unstable();
@@ -224,25 +326,51 @@ impl State {
             return None;
         }
         // The new triangulation of each polygon, as 2D-counterclockwise
-        // triangles, with the projection axis.
+        // triangles, with the projection axis and the polygon's faces.
         let mut polys: IdMap<u32, (usize, Vec<[u32; 3]>)> = IdMap::default();
+        let mut fan_count: IdMap<u32, usize> = IdMap::default();
         for &ti in &tris_s {
             let fan: Vec<[u32; 3]> = star
                 .iter()
                 .flat_map(|&t| {
                     let tv = c.v[t as usize];
-                    (0..4)
-                        .filter(move |&f| tv[f] != s)
-                        .map(move |f| fkey(face(tv, f)))
+                    (0..4).map(move |f| face(tv, f))
                 })
+                .filter(|f| touches(f))
+                .map(fkey)
                 .filter(|k| face_tri.get(k) == Some(&ti))
                 .collect::<IdSet<_>>()
                 .into_iter()
                 .collect();
             let [a, b, cc] = self.surf.tris[ti as usize].map(|w| pts[w as usize]);
             let ax = super::super::place::dominant_axis(&a, &b, &cc);
-            let tri = polygon_without(pts, &fan, s, ax)?;
+            let tri = polygon_without(pts, &fan, sset, ax)?;
+            fan_count.insert(ti, fan.len());
             polys.insert(ti, (ax, tri));
+        }
+        // Wedges: union-find across the faces inside the star that are not
+        // on the surface.
+        let mut parent: Vec<usize> = (0..star.len()).collect();
+        fn root(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for (i, &t) in star.iter().enumerate() {
+            let tv = c.v[t as usize];
+            for f in 0..4 {
+                let fv = face(tv, f);
+                if face_tri.contains_key(&fkey(fv)) {
+                    continue;
+                }
+                let Some(j) = at(c.adj[t as usize][f] >> 2) else {
+                    continue;
+                };
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
         }
         // Per wedge: its tetrahedra.
         let mut wedges: Vec<Vec<usize>> = Vec::new();
@@ -258,29 +386,40 @@ impl State {
         let mut all_pts: Vec<P> = pts.to_vec();
         let mut new: Vec<[u32; 4]> = Vec::new();
         let mut added = 0;
-        // Tetrahedra outside the star that wedges grew by.
-        let mut extra: Vec<u32> = Vec::new();
+        // The removed tetrahedra: the star and what wedges grew by.
+        let mut removed: Vec<u32> = star.clone();
+        // Surface faces, never grown across.
+        let mut prot = Protected::default();
         for w in &wedges {
             let ghosts = w
                 .iter()
                 .filter(|&&i| c.v[star[i] as usize].contains(&INF))
                 .count();
-            let mut link: Vec<([u32; 3], u32, usize)> = Vec::new();
-            // Surface faces of the wedge (inward), per input triangle.
+            // Faces of the wedge's boundary kept: those at no point of
+            // `sset` (on the surface or towards the rest of the mesh).
+            let mut link: Vec<LinkFace> = Vec::new();
+            // Surface faces of the wedge (inward) at a point of `sset`.
             let mut fans: Vec<([u32; 3], u32)> = Vec::new();
             for &i in w {
-                let tv = c.v[star[i] as usize];
+                let t = star[i];
+                let tv = c.v[t as usize];
                 for f in 0..4 {
                     let fv = face(tv, f);
-                    if tv[f] == s {
-                        link.push((fv, star[i], f));
-                    } else if let Some(&ti) = face_tri.get(&fkey(fv)) {
-                        fans.push((fv, ti));
+                    let k = fkey(fv);
+                    if touches(&fv) {
+                        if let Some(&ti) = face_tri.get(&k) {
+                            if !polys[&ti].1.is_empty() {
+                                fans.push((fv, ti));
+                            }
+                        }
+                    } else if face_tri.contains_key(&k) || at(c.adj[t as usize][f] >> 2).is_none() {
+                        link.push((fv, t, f));
                     }
                 }
             }
             // The new triangles of the wedge's polygons, oriented like its
-            // old surface faces there.
+            // old surface faces there; the wedge must hold each polygon's
+            // whole fan.
             let mut bound: Vec<[u32; 3]> = Vec::new();
             let mut seen: Vec<u32> = Vec::new();
             for &(fv, ti) in &fans {
@@ -288,6 +427,9 @@ impl State {
                     continue;
                 }
                 seen.push(ti);
+                if fans.iter().filter(|x| x.1 == ti).count() != fan_count[&ti] {
+                    return None;
+                }
                 let (ax, tris) = polys.get(&ti)?;
                 let pr = |w: u32| project(&pts[w as usize], *ax);
                 let [x, y, z] = fv.map(pr);
@@ -315,158 +457,60 @@ impl State {
             if ghosts > 0 {
                 return None;
             }
-            // Into the wedge: the unit normals of its input triangles,
-            // oriented towards it, one per triangle (their sum points
-            // strictly into every one's open half-space); then other
-            // directions, each checked exactly.
-            let sp = pts[s as usize];
-            let mut normals: Vec<P> = Vec::new();
-            let mut done: Vec<u32> = Vec::new();
-            for &(fv, ti) in &fans {
-                if done.contains(&ti) {
-                    continue;
-                }
-                done.push(ti);
-                let [a, b, cc] = fv.map(|w| pts[w as usize]);
-                let nf = cross(&sub(&b, &a), &sub(&cc, &a));
-                let [a, b, cc] = self.surf.tris[ti as usize].map(|w| pts[w as usize]);
-                let mut n = cross(&sub(&b, &a), &sub(&cc, &a));
-                let l = dot(&n, &n).sqrt();
-                if l == 0.0 || !l.is_finite() {
-                    return None;
-                }
-                let sg = if dot(&n, &nf) < 0.0 { -1.0 } else { 1.0 };
-                n = n.map(|x| sg * x / l);
-                normals.push(n);
-            }
-            let mut reach = f64::INFINITY;
-            let mut centre = [0.0; 3];
-            let mut nc: f64 = 0.0;
-            for f in bound.iter().chain(link.iter().map(|l| &l.0)) {
-                for &x in f {
-                    if x != s {
-                        let e = sub(&pts[x as usize], &sp);
-                        reach = reach.min(dot(&e, &e).sqrt());
-                        for k in 0..3 {
-                            centre[k] += e[k];
-                        }
-                        nc += 1.0;
-                    }
-                }
-            }
-            if !reach.is_finite() || reach == 0.0 {
-                return None;
-            }
-            let mut dirs: Vec<P> = vec![normals
-                .iter()
-                .fold([0.0; 3], |d, n| [d[0] + n[0], d[1] + n[1], d[2] + n[2]])];
-            dirs.push(centre.map(|x| x / nc.max(1.0)));
-            dirs.extend(normals.iter().copied());
             let id = all_pts.len() as u32;
-            let mut found = None;
-            // Growth: the tetrahedra behind the faces opposite `s` that the
-            // best candidate does not see (nearly flat tetrahedra of
-            // inexact surface points), never across the surface.
-            let mut grown: Vec<u32> = Vec::new();
-            for _ in 0..=MAX_GROW {
-                let nb = bound.len();
-                let all: Vec<[u32; 3]> = bound
-                    .iter()
-                    .copied()
-                    .chain(link.iter().map(|l| l.0))
-                    .collect();
-                let mut fewest: Option<Vec<usize>> = None;
-                'dirs: for d in &dirs {
-                    let dl = dot(d, d).sqrt();
-                    if dl == 0.0 || !dl.is_finite() {
-                        continue;
+            let near = match sset {
+                [s] => self.near_point(
+                    cm,
+                    *s,
+                    &fans,
+                    &bound,
+                    &link,
+                    &all_pts,
+                    &mut removed,
+                    face_tri,
+                ),
+                _ => None,
+            };
+            let tets = match near {
+                Some((p, link)) => {
+                    if !self.off_surface(&all_pts, &p) {
+                        return None;
                     }
-                    let mut h = 0.25 * reach;
-                    for _ in 0..HALVINGS {
-                        let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
-                        let bad: Vec<usize> = (0..all.len())
-                            .filter(|&k| {
-                                let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
-                                orient3d(a, b, cc, &p) >= 0.0
-                            })
-                            .collect();
-                        if bad.is_empty() {
-                            found = Some(p);
-                            break 'dirs;
+                    all_pts.push(p);
+                    added += 1;
+                    bound
+                        .into_iter()
+                        .chain(link.into_iter().map(|l| l.0))
+                        .map(|f| [f[0], f[1], f[2], id])
+                        .collect()
+                }
+                None => {
+                    if prot.faces.is_empty() {
+                        prot.faces.extend(face_tri.keys().copied());
+                    }
+                    let f = fill_wedge(cm, &all_pts, &bound, link, &mut removed, &prot, id)?;
+                    if let Some(p) = f.point {
+                        if !self.off_surface(&all_pts, &p) {
+                            return None;
                         }
-                        if bad.iter().all(|&k| k >= nb)
-                            && fewest.as_ref().is_none_or(|f| bad.len() < f.len())
-                        {
-                            fewest = Some(bad);
-                        }
-                        h *= 0.5;
+                        all_pts.push(p);
+                        added += 1;
                     }
+                    f.tets
                 }
-                if found.is_some() {
-                    break;
-                }
-                let bad = fewest?;
-                let mut more = false;
-                for k in bad {
-                    let (fv, t, f) = link[k - nb];
-                    let n = c.adj[t as usize][f] >> 2;
-                    let nv = c.v[n as usize];
-                    if face_tri.contains_key(&fkey(fv))
-                        || nv[0] == DEAD
-                        || nv.contains(&INF)
-                        || star.binary_search(&n).is_ok()
-                        || grown.contains(&n)
-                        || extra.contains(&n)
-                    {
-                        continue;
-                    }
-                    grown.push(n);
-                    more = true;
-                }
-                if !more {
-                    return None;
-                }
-                // The wedge's faces opposite `s`, with the grown tetrahedra.
-                let mut set: Vec<u32> = w.iter().map(|&i| star[i]).collect();
-                set.extend(&grown);
-                link.clear();
-                for &t in &set {
-                    let tv = c.v[t as usize];
-                    for f in 0..4 {
-                        let fv = face(tv, f);
-                        // Faces at `s` are its surface faces (new triangles).
-                        if !set.contains(&(c.adj[t as usize][f] >> 2)) && !fv.contains(&s) {
-                            link.push((fv, t, f));
-                        }
-                    }
-                }
-            }
-            extra.extend(&grown);
-            let p = found?;
-            if !self.off_surface(&all_pts, &p) {
-                return None;
-            }
-            all_pts.push(p);
-            added += 1;
-            for f in bound.into_iter().chain(link.into_iter().map(|l| l.0)) {
-                new.push([f[0], f[1], f[2], id]);
-            }
+            };
+            new.extend(tets);
         }
-        let mut old: Vec<u32> = star.clone();
-        old.extend(&extra);
-        old.sort_unstable();
-        if old.windows(2).any(|x| x[0] == x[1]) {
-            return None;
-        }
-        if !valid_star(cm, &all_pts, &old, &new, s) {
+        if !valid_star(cm, &all_pts, &removed, &new, sset) {
             return None;
         }
         // Update the surface faces: the fans give way to the polygons.
-        for &t in &old {
+        for &t in &star {
             let tv = c.v[t as usize];
             for f in 0..4 {
-                if tv[f] != s {
-                    face_tri.remove(&fkey(face(tv, f)));
+                let fv = face(tv, f);
+                if touches(&fv) {
+                    face_tri.remove(&fkey(fv));
                 }
             }
         }
@@ -478,9 +522,247 @@ impl State {
         for p in &all_pts[cm.pts().len()..] {
             cm.dt.points.to_mut().push(*p);
         }
-        cm.replace(&old, &new);
+        cm.replace(&removed, &new);
         Some(added)
     }
+
+    /// A new point `p = s + h d` near surface point `s` that sees every
+    /// face of a wedge strictly (module documentation, step 3): `bound`
+    /// its new triangles, `link` its faces opposite `s`, `fans` its old
+    /// surface faces; the wedge may grow by the tetrahedra behind faces
+    /// opposite `s` (added to `removed`, sorted). The point and the faces
+    /// opposite `s` of the grown wedge, or `None` (`removed` unchanged).
+    #[allow(clippy::too_many_arguments)]
+    fn near_point(
+        &self,
+        cm: &CMesh<'_>,
+        s: u32,
+        fans: &[([u32; 3], u32)],
+        bound: &[[u32; 3]],
+        link: &[LinkFace],
+        all_pts: &[P],
+        removed: &mut Vec<u32>,
+        face_tri: &IdMap<[u32; 3], u32>,
+    ) -> Option<(P, Vec<LinkFace>)> {
+        let c = &cm.dt.core;
+        let pts = cm.pts();
+        let mut link = link.to_vec();
+        // Into the wedge: the unit normals of its input triangles,
+        // oriented towards it, one per triangle (their sum points
+        // strictly into every one's open half-space); then other
+        // directions, each checked exactly.
+        let sp = pts[s as usize];
+        let mut normals: Vec<P> = Vec::new();
+        let mut done: Vec<u32> = Vec::new();
+        for &(fv, ti) in fans {
+            if done.contains(&ti) {
+                continue;
+            }
+            done.push(ti);
+            let [a, b, cc] = fv.map(|w| pts[w as usize]);
+            let nf = cross(&sub(&b, &a), &sub(&cc, &a));
+            let [a, b, cc] = self.surf.tris[ti as usize].map(|w| pts[w as usize]);
+            let mut n = cross(&sub(&b, &a), &sub(&cc, &a));
+            let l = dot(&n, &n).sqrt();
+            if l == 0.0 || !l.is_finite() {
+                return None;
+            }
+            let sg = if dot(&n, &nf) < 0.0 { -1.0 } else { 1.0 };
+            n = n.map(|x| sg * x / l);
+            normals.push(n);
+        }
+        let mut reach = f64::INFINITY;
+        let mut centre = [0.0; 3];
+        let mut nc: f64 = 0.0;
+        for f in bound.iter().chain(link.iter().map(|l| &l.0)) {
+            for &x in f {
+                if x != s {
+                    let e = sub(&pts[x as usize], &sp);
+                    reach = reach.min(dot(&e, &e).sqrt());
+                    for k in 0..3 {
+                        centre[k] += e[k];
+                    }
+                    nc += 1.0;
+                }
+            }
+        }
+        if !reach.is_finite() || reach == 0.0 {
+            return None;
+        }
+        let mut dirs: Vec<P> = vec![normals
+            .iter()
+            .fold([0.0; 3], |d, n| [d[0] + n[0], d[1] + n[1], d[2] + n[2]])];
+        dirs.push(centre.map(|x| x / nc.max(1.0)));
+        dirs.extend(normals.iter().copied());
+        // Growth: the tetrahedra behind the faces opposite `s` that the
+        // best candidate does not see (nearly flat tetrahedra of
+        // inexact surface points), never across the surface.
+        let mut grown: Vec<u32> = Vec::new();
+        let mut wedge: Vec<u32> = link.iter().map(|l| l.1).collect();
+        wedge.sort_unstable();
+        wedge.dedup();
+        for _ in 0..=MAX_GROW {
+            let nb = bound.len();
+            let all: Vec<[u32; 3]> = bound
+                .iter()
+                .copied()
+                .chain(link.iter().map(|l| l.0))
+                .collect();
+            let mut fewest: Option<Vec<usize>> = None;
+            // Last, a direction into the tangent cone at `s` of the faces
+            // whose planes pass (nearly) through it: the new triangles and
+            // the faces of flat tetrahedra at `s`.
+            let tangent = tangent_dir(pts, &sp, &all, reach);
+            // Planes of the faces (floating), for the clearance of a
+            // candidate: the one farthest from every face is taken, so
+            // that later removals nearby do not meet nearly flat
+            // tetrahedra at this point.
+            let planes: Vec<(P, P)> = all
+                .iter()
+                .map(|f| {
+                    let [a, b, cc] = f.map(|w| all_pts[w as usize]);
+                    let n = cross(&sub(&b, &a), &sub(&cc, &a));
+                    let l = dot(&n, &n).sqrt();
+                    (a, n.map(|x| x / l))
+                })
+                .collect();
+            let clearance = |p: &P| {
+                planes
+                    .iter()
+                    .map(|(a, n)| dot(n, &sub(p, a)))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let mut best: Option<(P, f64)> = None;
+            for d in dirs.iter().chain(tangent.iter()) {
+                let dl = dot(d, d).sqrt();
+                if dl == 0.0 || !dl.is_finite() {
+                    continue;
+                }
+                let mut h = 0.25 * reach;
+                let mut last = f64::NEG_INFINITY;
+                for _ in 0..HALVINGS {
+                    let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
+                    let bad: Vec<usize> = (0..all.len())
+                        .filter(|&k| {
+                            let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
+                            orient3d(a, b, cc, &p) >= 0.0
+                        })
+                        .collect();
+                    if bad.is_empty() {
+                        // Along a ray the clearance rises, then falls.
+                        let cl = clearance(&p);
+                        if cl < last {
+                            break;
+                        }
+                        last = cl;
+                        if best.is_none_or(|b| cl > b.1) {
+                            best = Some((p, cl));
+                        }
+                    } else if last > f64::NEG_INFINITY {
+                        break;
+                    } else if bad.iter().all(|&k| k >= nb)
+                        && fewest.as_ref().is_none_or(|f| bad.len() < f.len())
+                    {
+                        fewest = Some(bad);
+                    }
+                    h *= 0.5;
+                }
+            }
+            if let Some((p, _)) = best {
+                for &g in &grown {
+                    if let Err(pos) = removed.binary_search(&g) {
+                        removed.insert(pos, g);
+                    }
+                }
+                return Some((p, link));
+            }
+            let bad = fewest?;
+            let mut more = false;
+            for k in bad {
+                let (fv, t, f) = link[k - nb];
+                let n = c.adj[t as usize][f] >> 2;
+                let nv = c.v[n as usize];
+                if face_tri.contains_key(&fkey(fv))
+                    || nv[0] == DEAD
+                    || nv.contains(&INF)
+                    || removed.binary_search(&n).is_ok()
+                    || grown.contains(&n)
+                {
+                    continue;
+                }
+                grown.push(n);
+                more = true;
+            }
+            if !more {
+                return None;
+            }
+            // The wedge's faces opposite `s`, with the grown tetrahedra.
+            let mut set: Vec<u32> = wedge.clone();
+            set.extend(&grown);
+            link.clear();
+            for &t in &set {
+                let tv = c.v[t as usize];
+                for f in 0..4 {
+                    let fv = face(tv, f);
+                    // Faces at `s` are its surface faces (new triangles).
+                    if !set.contains(&(c.adj[t as usize][f] >> 2)) && !fv.contains(&s) {
+                        link.push((fv, t, f));
+                    }
+                }
+            }
+        }
+        None
+    }
+}
+
+/// A unit direction `d` with `d·n > 0` for the inward unit normal `n` of
+/// every face of `faces` whose plane passes within a small multiple of
+/// `reach` of `s` (floating; the caller checks exactly), found by
+/// relaxation (Agmon–Motzkin) with shrinking margins: near a surface
+/// point whose star has nearly flat tetrahedra the points that see every
+/// face lie in a thin wedge along such a direction, not along the
+/// surface normals.
+fn tangent_dir(pts: &[P], s: &P, faces: &[[u32; 3]], reach: f64) -> Option<P> {
+    let mut ns: Vec<P> = Vec::new();
+    for f in faces {
+        let [a, b, c] = f.map(|w| pts[w as usize]);
+        let n = cross(&sub(&b, &a), &sub(&c, &a));
+        let l = dot(&n, &n).sqrt();
+        if l == 0.0 || !l.is_finite() {
+            return None;
+        }
+        let n = n.map(|x| x / l);
+        if dot(&n, &sub(s, &a)) <= 1e-9 * reach {
+            ns.push(n);
+        }
+    }
+    let unit = |d: P| {
+        let l = dot(&d, &d).sqrt();
+        (l > 0.0 && l.is_finite()).then(|| d.map(|x| x / l))
+    };
+    let mut d = unit(
+        ns.iter()
+            .fold([0.0; 3], |d, n| [d[0] + n[0], d[1] + n[1], d[2] + n[2]]),
+    )?;
+    for round in 0..10 {
+        let margin = 0.1 / f64::from(1u32 << (3 * round));
+        for _ in 0..64 {
+            let Some((i, m)) = ns
+                .iter()
+                .map(|n| dot(n, &d))
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+            else {
+                return Some(d);
+            };
+            if m >= margin {
+                return Some(d);
+            }
+            let n = ns[i];
+            d = unit([0, 1, 2].map(|k| d[k] + 1.5 * (margin - m) * n[k]))?;
+        }
+    }
+    ns.iter().all(|n| dot(n, &d) > 0.0).then_some(d)
 }
 
 /// Projection of `p` dropping coordinate `ax`.
@@ -492,49 +774,88 @@ fn project(p: &P, ax: usize) -> [f64; 2] {
     }
 }
 
-/// The polygon covered by the `fan` of faces at `s` (unoriented keys), as
-/// a cycle without `s`, triangulated by ear clipping in the projection
-/// along `ax`: 2D-counterclockwise triangles, or `None`.
-fn polygon_without(pts: &[P], fan: &[[u32; 3]], s: u32, ax: usize) -> Option<Vec<[u32; 3]>> {
-    // Link edges (opposite `s`) and the degree of each link vertex.
+/// The polygon covered by the `fan` of faces at the points `sset`
+/// (sorted; unoriented keys), as a cycle without them, triangulated by
+/// ear clipping in the projection along `ax`: 2D-counterclockwise
+/// triangles, or `None`. The fan's boundary (its edges used once) is a
+/// cycle through the points of `sset` on the triangle's edges; each of
+/// those is cut out (its two neighbours joined by a chord, on the edge's
+/// line), so the polygon's vertices are the fan's other vertices.
+fn polygon_without(pts: &[P], fan: &[[u32; 3]], sset: &[u32], ax: usize) -> Option<Vec<[u32; 3]>> {
+    let in_s = |w: u32| sset.binary_search(&w).is_ok();
+    // Boundary edges and the adjacency of their vertices.
+    let mut count: IdMap<(u32, u32), u32> = IdMap::default();
+    for f in fan {
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            *count.entry((f[i], f[j])).or_insert(0) += 1;
+        }
+    }
     let mut adj: IdMap<u32, Vec<u32>> = IdMap::default();
     for f in fan {
-        let o: Vec<u32> = f.iter().copied().filter(|&w| w != s).collect();
-        if o.len() != 2 {
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            if count[&(f[i], f[j])] == 1 {
+                adj.entry(f[i]).or_default().push(f[j]);
+                adj.entry(f[j]).or_default().push(f[i]);
+            }
+        }
+    }
+    // Cut out the points of `sset` on the boundary.
+    let mut chords: Vec<(u32, u32)> = Vec::new();
+    for &s in sset {
+        let Some(ns) = adj.remove(&s) else { continue };
+        if ns.len() != 2 || ns[0] == ns[1] {
             return None;
         }
-        adj.entry(o[0]).or_default().push(o[1]);
-        adj.entry(o[1]).or_default().push(o[0]);
+        let (x, y) = (ns[0], ns[1]);
+        if adj.get(&x)?.contains(&y) {
+            // Only `x s y` left (a thin face of points on one edge): the
+            // polygon is the segment `x y`, no triangle.
+            let only = adj.len() == 2 && adj[&x].len() == 2 && adj.get(&y)?.len() == 2;
+            let inside = fan.iter().flatten().all(|&w| in_s(w) || w == x || w == y);
+            return (only && inside).then(Vec::new);
+        }
+        for (a, b) in [(x, y), (y, x)] {
+            let l = adj.get_mut(&a)?;
+            let pos = l.iter().position(|&w| w == s)?;
+            l[pos] = b;
+        }
+        chords.retain(|&(a, b)| a != s && b != s);
+        chords.push((x.min(y), x.max(y)));
     }
     let mut verts: Vec<u32> = adj.keys().copied().collect();
     verts.sort_unstable();
-    if adj.values().any(|v| v.len() > 2) {
+    if verts.len() < 3 || adj.values().any(|v| v.len() != 2) {
         return None;
     }
-    // A path (s on an edge: from one end of degree 1) or a cycle.
-    let start = verts
+    if fan
+        .iter()
+        .flatten()
+        .any(|&w| !in_s(w) && verts.binary_search(&w).is_err())
+    {
+        return None;
+    }
+    // The cycle: from the least chord end along the polygon (not the
+    // chord) first, else from the least vertex.
+    let is_chord = |a: u32, b: u32| chords.contains(&(a.min(b), a.max(b)));
+    let start = chords.iter().map(|c| c.0).min().unwrap_or(verts[0]);
+    let first = adj[&start]
         .iter()
         .copied()
-        .find(|w| adj[w].len() == 1)
-        .or_else(|| verts.first().copied())?;
+        .find(|&x| !is_chord(start, x))
+        .unwrap_or(adj[&start][0]);
     let mut cyc = vec![start];
-    let mut prev = u32::MAX;
-    let mut cur = start;
-    loop {
-        let next = adj[&cur]
-            .iter()
-            .copied()
-            .find(|&x| x != prev && !cyc.contains(&x));
-        match next {
-            Some(x) => {
-                cyc.push(x);
-                prev = cur;
-                cur = x;
-            }
-            None => break,
+    let (mut prev, mut cur) = (start, first);
+    while cur != start {
+        if cyc.contains(&cur) {
+            return None;
         }
+        cyc.push(cur);
+        let n = &adj[&cur];
+        let next = if n[0] != prev { n[0] } else { n[1] };
+        prev = cur;
+        cur = next;
     }
-    if cyc.len() != verts.len() || cyc.len() < 3 {
+    if cyc.len() != verts.len() {
         return None;
     }
     let p2: Vec<[f64; 2]> = cyc.iter().map(|&w| project(&pts[w as usize], ax)).collect();
@@ -598,12 +919,51 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     }
 }
 
-/// Exact validation of replacing the star `old` (sorted) of `s` by `new`
-/// (module documentation).
-fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], s: u32) -> bool {
+/// Fills a wedge bounded by `bound` (its new triangles) and `link` (its
+/// faces kept, with the tetrahedron behind each) by a cone from one of
+/// its vertices, else from a kernel point (id `id`), growing it by the
+/// tetrahedra behind the faces the best point found does not see (never
+/// across a surface face of `prot`, a ghost, or a tetrahedron of
+/// `removed`), at most [`super::MAX_GROW`] times; the grown tetrahedra are added
+/// to `removed` (sorted) on success.
+fn fill_wedge(
+    cm: &CMesh<'_>,
+    pts: &[P],
+    bound: &[[u32; 3]],
+    link: Vec<LinkFace>,
+    removed: &mut Vec<u32>,
+    prot: &Protected,
+    id: u32,
+) -> Option<Fill> {
+    let mut reg = Region {
+        faces: bound.iter().map(|&f| (f, DEAD, 0)).chain(link).collect(),
+    };
+    let taken: IdSet<u32> = removed.iter().copied().collect();
+    let mut set: Vec<u32> = Vec::new();
+    for _ in 0..=super::MAX_GROW {
+        match fill(pts, &reg.tris(), &reg.vertices(), true, id) {
+            Ok(f) => {
+                removed.extend(set);
+                removed.sort_unstable();
+                return Some(f);
+            }
+            Err(best) => {
+                if !grow(cm, &mut reg, &mut set, &taken, Some(&best), None, prot) {
+                    return None;
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Exact validation of replacing the star `old` (sorted) of the points
+/// `sset` (sorted) by `new` (module documentation).
+fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset: &[u32]) -> bool {
     let c = &cm.dt.core;
+    let in_s = |w: u32| sset.binary_search(&w).is_ok();
     for tv in new {
-        if tv.contains(&s) || tv.iter().any(|&w| w != INF && w as usize >= pts.len()) {
+        if tv.iter().any(|&w| in_s(w)) || tv.iter().any(|&w| w != INF && w as usize >= pts.len()) {
             return false;
         }
         if !tv.contains(&INF) {
@@ -640,7 +1000,7 @@ fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], s: u32) 
             return false;
         }
         for i in 0..4 {
-            if tv[i] != s && !new_verts.contains(&tv[i]) {
+            if !in_s(tv[i]) && !new_verts.contains(&tv[i]) {
                 return false;
             }
             for j in i + 1..4 {
