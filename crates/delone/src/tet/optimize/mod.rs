@@ -108,6 +108,12 @@ const POLISH: f64 = 0.4;
 /// to 20° may spend.
 const LOW: f64 = 4.0;
 
+/// Dihedral angle (degrees) below which the polishing stages (above 20°)
+/// still insert vertices: above it they only flip, smooth and collapse (an
+/// insertion there buys a few degrees of the histogram's tail for more
+/// tetrahedra).
+const POLISH_INSERT: f64 = 30.0;
+
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
 
@@ -615,7 +621,7 @@ pub fn optimize(
                     1.0,
                     opts,
                     budget,
-                    thr_insert.max(thr),
+                    thr_insert.max(thr.min(POLISH_INSERT.to_radians().sin())),
                     &mut report,
                 ) {
                     any = true;
