@@ -394,10 +394,19 @@ impl Work {
         }
     }
 
+    /// Marks vertex `v` as in no tetrahedron any more (after its collapse).
+    pub(super) fn forget(&mut self, v: u32) {
+        self.vt[v as usize] = DEAD;
+    }
+
     /// The live slots containing vertex `v`.
     pub(super) fn star(&self, v: u32) -> Vec<u32> {
         let mut start = self.vt[v as usize];
-        if start == DEAD || !self.live(start) || !self.tv[start as usize].contains(&v) {
+        // (No hint: a point in no tetrahedron, e.g. collapsed away.)
+        if start == DEAD {
+            return Vec::new();
+        }
+        if !self.live(start) || !self.tv[start as usize].contains(&v) {
             match (0..self.tv.len()).find(|&t| self.tv[t][0] != DEAD && self.tv[t].contains(&v)) {
                 Some(t) => start = t as u32,
                 None => return Vec::new(),
