@@ -78,16 +78,19 @@ pub fn optimize_mesh(
 /// with `-V`).
 pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
     let mut lines = vec![format!(
-        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}; {} vertex moves, {} vertices inserted ({} tried and undone, {} collapsed again); {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
+        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}, multi-face removals {}, boundary flips {}; {} vertex moves, {} vertices inserted ({} tried and undone, {} collapsed again), {} refinement points removed; {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
         r.passes,
         r.flips23,
         r.flips32,
         r.flips44,
         r.edge_removals,
+        r.multi_face,
+        r.boundary_flips,
         r.smoothed,
         r.inserted,
         r.insert_undone,
         r.collapsed,
+        r.removed,
         r.stuck_counts.iter().sum::<usize>(),
         r.stuck_counts[0],
         r.stuck_counts[1],
