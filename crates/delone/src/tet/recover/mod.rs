@@ -743,6 +743,9 @@ struct State {
     cavity_best: (usize, usize),
     /// Merged groups recovered as polygons (constrained path).
     poly: polygon::Polygons,
+    /// Flip budget per segment attempt of the `-p` path
+    /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
+    seg_ops: usize,
 }
 
 impl State {
@@ -761,6 +764,7 @@ impl State {
             cavity_left: Vec::new(),
             cavity_best: (usize::MAX, 0),
             poly: polygon::Polygons::default(),
+            seg_ops: cdt::SEG_OPS,
         }
     }
 
@@ -1130,7 +1134,7 @@ impl State {
             let max_ops = if self.opts.preserve_surface {
                 usize::MAX / 2
             } else {
-                cdt::SEG_OPS
+                self.seg_ops
             };
             // Per failed segment: the log length after its rollback and
             // its range in `near_fail` (its ends and the vertices of the
@@ -1154,7 +1158,7 @@ impl State {
                     fail_at.push(at);
                 }
             }
-            let retry_ops = max_ops.min(cdt::SEG_OPS / 4);
+            let retry_ops = max_ops.min(self.seg_ops / 4);
             // Failed segments are retried, in order, while a pass recovers
             // at least one, each only when a later operation removed a
             // tetrahedron at one of its vertices (else the same flips would

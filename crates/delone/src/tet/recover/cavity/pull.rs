@@ -105,7 +105,7 @@ use super::super::missing::fkey;
 use super::super::place::{cross, dot, sub};
 use super::super::surface::{IdMap, IdSet};
 use super::super::{FacesOn, RecoverError, State};
-use super::cdt::Protected;
+use super::cdt::{Protected, SEG_OPS};
 use super::{fill, grow, okey, Fill, Region};
 use crate::tet::cmesh::{face, CMesh};
 use crate::tet::local::{DEAD, INF};
@@ -138,12 +138,34 @@ impl State {
         opts.preserve_surface = false;
         opts.merge_coplanar = false;
         opts.constrained = true;
-        let mut st = State::new(self.surf.clone(), opts);
-        let mut dt = Delaunay3::from_points(scaled)?;
-        let (mut cm, on) = st.run_cdt(&mut dt)?;
-        // `self.surf` is the unrefined surface (`st`'s has the points the
-        // `-p` path added).
-        let added = self.pull_off(&mut cm, &on, st.report.steiner())?;
+        // Whether every surface point comes off depends on where the `-p`
+        // path put them (rounded points, nearly flat neighbours): when the
+        // exact validation refuses a removal, the `-p` path is run again
+        // with other flip budgets per segment, which place the surface
+        // points differently (deterministic order; the last error stands).
+        let mut last = None;
+        for ops in [SEG_OPS, 2 * SEG_OPS, SEG_OPS / 2] {
+            let mut st = State::new(self.surf.clone(), opts.clone());
+            st.seg_ops = ops;
+            let mut dt = Delaunay3::from_points(scaled)?;
+            let (mut cm, on) = st.run_cdt(&mut dt)?;
+            // `self.surf` is the unrefined surface (`st`'s has the points
+            // the `-p` path added).
+            match self.pull_off(&mut cm, &on, st.report.steiner()) {
+                Ok(added) => return Ok(Self::pulled(st, cm, added)),
+                Err(e @ RecoverError::Unrecovered { .. }) => last = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        Err(last.unwrap_or(RecoverError::Unrecovered {
+            triangles: Vec::new(),
+            steiner: 0,
+        }))
+    }
+
+    /// The state and mesh of a successful [`State::preserve_fallback`]:
+    /// the report counts the pulled-off points as interior ones.
+    fn pulled(mut st: State, cm: CMesh<'_>, added: usize) -> (State, CMesh<'_>, FacesOn) {
         st.opts.preserve_surface = true;
         let r = &mut st.report;
         // The removed surface points stay unused in the points and are
@@ -156,7 +178,7 @@ impl State {
         st.inexact.clear();
         st.max_dev_scaled = 0.0;
         let on1: FacesOn = st.surf.tris.iter().map(|&t| vec![fkey(t)]).collect();
-        Ok((st, cm, on1))
+        (st, cm, on1)
     }
 
     /// Removes every surface Steiner point of `cm` (`on`: the faces on
