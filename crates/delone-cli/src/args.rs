@@ -51,6 +51,8 @@ pub struct Opts {
     pub sizing: bool,
     /// tet `-pY`: surface preservation (no Steiner point on the input surface).
     pub preserve_surface: bool,
+    /// tet `-d`: only detect self-intersections of the input facets.
+    pub detect: bool,
     /// tet `-M`: no merging of coplanar facets.
     pub no_merge: bool,
     /// tri `-c`: keep the convex hull (no removal of exterior triangles).
@@ -146,7 +148,6 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
         (Mode::Tet, 'i') => "insertion of additional points",
         (Mode::Tet, 'T') => "coplanarity tolerance",
         (Mode::Tet, 'X') => "no exact arithmetic",
-        (Mode::Tet, 'd') => "self-intersection detection",
         (Mode::Tet, 'D') => "conforming Delaunay",
         (Mode::Tet, 'o') => "second-order elements (-o2) / dihedral bound (-o/)",
         _ => return None,
@@ -225,6 +226,7 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         (_, 'A') => o.region_attributes = true,
         (Mode::Tet, 'g') => o.medit_out = true,
         (Mode::Tet, 'Y') => o.preserve_surface = true,
+        (Mode::Tet, 'd') => o.detect = true,
         (Mode::Tet, 'M') => o.no_merge = true,
         (_, 'Q') => o.quiet = true,
         (_, 'V') => o.verbose = o.verbose.saturating_add(1),

@@ -208,7 +208,11 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          radius-edge ratios; -V reports the largest ratio left): give
          --keep-ratio to keep that bound too (at a cost in dihedral angles),
          or -O0 for the refinement's mesh as it is.
-    Not implemented yet (error, exit code 2): -R -i -T -X -d -D
+    -d   Only detect self-intersections (exactly): intersecting facet pairs
+         and zero-area facets by input index, and the surface's open or
+         non-manifold edges; nothing is meshed. Exit code 1 when anything
+         is found.
+    Not implemented yet (error, exit code 2): -R -i -T -X -D
     -o2 -o/.
 
 OPTIONS:

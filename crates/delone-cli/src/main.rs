@@ -12,6 +12,7 @@ mod progress;
 mod pslg;
 mod remesh;
 mod run;
+mod tetd;
 mod tetjson;
 mod tetout;
 mod tetq;

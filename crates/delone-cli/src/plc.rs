@@ -16,7 +16,7 @@ const EXTENSIONS: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mes
 /// The input file (`FILE.ext`, or `FILE` with `.poly` / `.smesh` tried as
 /// TetGen does), its extension, and the output base (`FILE.1`, or `FILE`
 /// with `-I`).
-fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
+pub(crate) fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
     let given = o.input.clone();
     let ext = given
         .extension()
@@ -63,7 +63,7 @@ fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
 
 /// Reads the input as a PLC (TetGen formats) or a surface (the others),
 /// with the marker of each facet.
-fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
+pub(crate) fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
     let bytes = std::fs::read(path)
         .map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))?;
     let err = |e: delone_io::IoError| input_err(format!("{}: {e}", path.display()));

@@ -210,6 +210,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             "-v, -w and --lloyd are not supported with -p yet",
         ));
     }
+    if mode == Mode::Tet && o.detect {
+        return crate::tetd::run(o);
+    }
     if mode == Mode::Tet && o.pslg {
         return crate::plc::run(o);
     }

@@ -367,3 +367,36 @@ fn tet_stats_json_reports_steiner_refinement_and_optimisation() {
     assert!(j.contains("\"left_above_bound\": "), "{j}");
     assert!(j.contains("\"worst_left\": [{\"tet\": "), "{j}");
 }
+
+/// `-d`: a self-intersecting corpus model lists its intersecting facet
+/// pairs and exits 1; a clean closed one and TetGen's example exit 0.
+#[test]
+fn detect_self_intersections_only() {
+    let Some(ex) = example() else { return };
+    let surf = ex.parent().unwrap().parent().unwrap().join("surf/off");
+    let dir = tmp("detect");
+    let o = run(
+        &dir,
+        &["tet", "-d", surf.join("c3d_suzanne.off").to_str().unwrap()],
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("91 intersecting facet pair(s)"), "{out}");
+    assert!(out.contains("facets 1 and 443 intersect"), "{out}");
+    assert!(out.contains("42 boundary edge(s)"), "{out}");
+    let o = run(
+        &dir,
+        &["tet", "-d", surf.join("cgal_sphere.off").to_str().unwrap()],
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{out}");
+    assert!(
+        out.contains("0 intersecting facet pair(s), 0 zero-area facet(s); surface: closed"),
+        "{out}"
+    );
+    let o = run(&dir, &["tet", "-dQ", ex.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(o.stdout.is_empty() && o.stderr.is_empty());
+    // Nothing is written.
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+}
