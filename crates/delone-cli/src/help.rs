@@ -199,11 +199,12 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          FILE.1 gives FILE.2.*.
     -O[level] Mesh optimisation after -q/-a (on by default there; -O0 off,
          -O with plain -p optimises the recovered mesh): edge removal,
-         2-3/3-2/4-4 flips, smoothing and insertion of interior vertices,
-         raising the smallest dihedral-angle sine; the surface stays as it
-         is. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
+         multi-face removal, 2-3/3-2/4-4 flips, 2-2 flips within flat
+         facets, smoothing, insertion and collapse of interior vertices,
+         raising the smallest dihedral-angle sine; the surface keeps its
+         shape. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
          -V prints the dihedral angles before and after. The
-         optimisation keeps the volume bounds (-a, regional); it trades the
+         optimisation keeps the size bounds (-a, regional, -m); it trades the
          -q radius-edge bound for dihedral angles (slivers have good
          radius-edge ratios; -V reports the largest ratio left): give
          --keep-ratio to keep that bound too (at a cost in dihedral angles),
