@@ -16,7 +16,7 @@ const EXTENSIONS: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mes
 /// The input file (`FILE.ext`, or `FILE` with `.poly` / `.smesh` tried as
 /// TetGen does), its extension, and the output base (`FILE.1`, or `FILE`
 /// with `-I`).
-pub(crate) fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
+fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
     let given = o.input.clone();
     let ext = given
         .extension()
@@ -63,7 +63,7 @@ pub(crate) fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
 
 /// Reads the input as a PLC (TetGen formats) or a surface (the others),
 /// with the marker of each facet.
-pub(crate) fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
+fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
     let bytes = std::fs::read(path)
         .map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))?;
     let err = |e: delone_io::IoError| input_err(format!("{}: {e}", path.display()));
@@ -117,18 +117,56 @@ pub(crate) fn write(
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
-/// Runs `delone tet -p`. Returns the exit code (1 when `-C` finds a
-/// violation).
-pub fn run(o: &Opts) -> Result<i32, Failure> {
-    let t_all = Instant::now();
+/// The input of `delone tet -p` / `-d`, read and checked.
+pub(crate) struct Input {
+    /// The input file, its extension and the output base.
+    pub path: PathBuf,
+    pub ext: String,
+    pub out: PathBuf,
+    /// The complex, and the first index of its file.
+    pub plc: Plc,
+    pub first: u32,
+    /// Its facets triangulated, with each triangle's facet.
+    pub triangles: Vec<[u32; 3]>,
+    pub facet_of: Vec<u32>,
+}
+
+/// Reads the input named by `o`, validates it and triangulates its facets
+/// (errors name the file and the offending item).
+pub(crate) fn load(o: &Opts) -> Result<Input, Failure> {
     let (path, ext, out) = names(o)?;
-    let (plc, first_in) = read(&path, &ext)?;
+    let (plc, first) = read(&path, &ext)?;
     let name = path.display();
     plc.validate()
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let (triangles, facet_of) = plc
         .triangulate_facets()
         .map_err(|e| input_err(format!("{name}: {e}")))?;
+    Ok(Input {
+        path,
+        ext,
+        out,
+        plc,
+        first,
+        triangles,
+        facet_of,
+    })
+}
+
+/// Runs `delone tet -p`. Returns the exit code (1 when `-C` finds a
+/// violation).
+pub fn run(o: &Opts) -> Result<i32, Failure> {
+    let t_all = Instant::now();
+    let Input {
+        path,
+        out,
+        plc,
+        first: first_in,
+        triangles,
+        facet_of,
+        ..
+    } = load(o)?;
+    let name = path.display();
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     // Regional volume bounds apply only with `-a` (TetGen's rule, and

@@ -7,18 +7,20 @@
 use delone::tet::intersect::{manifold_report, self_intersections};
 
 use crate::args::Opts;
-use crate::run::{input_err, Failure};
+use crate::run::Failure;
 
 /// Runs `delone tet -d`.
 pub fn run(o: &Opts) -> Result<i32, Failure> {
-    let (path, ext, _) = crate::plc::names(o)?;
-    let (plc, first) = crate::plc::read(&path, &ext)?;
+    let crate::plc::Input {
+        path,
+        ext,
+        plc,
+        first,
+        triangles,
+        facet_of,
+        ..
+    } = crate::plc::load(o)?;
     let name = path.display();
-    plc.validate()
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
-    let (triangles, facet_of) = plc
-        .triangulate_facets()
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
     let si = self_intersections(&plc.points, &triangles);
     let facet = |t: u32| facet_of[t as usize] as usize + first as usize;
     // Facet pairs (a facet's own triangles never intersect each other).
