@@ -81,9 +81,13 @@
 //! tetrahedra is reached by the tangent-cone direction. Rounded (inexact)
 //! surface points bend the polygons by a few units in the last place;
 //! then only the exact validation vouches for a removal, and what it
-//! refuses after every cluster has been tried is reported as
+//! refuses after every cluster has been tried makes the whole pull-off
+//! start again from a new `-p` recovery with another per-segment flip
+//! budget (128, then 256, then 64: the surface points land elsewhere);
+//! what the last of them refuses is reported as
 //! [`RecoverError::Unrecovered`]. On the corpus that never happens: all
-//! 40 closed clean models are recovered.
+//! 40 closed clean models are recovered (cgal_rotor needs the second
+//! budget).
 //!
 //! **Termination**: each removal takes at least one surface Steiner point
 //! away and adds none on the surface, so there are at most as many
