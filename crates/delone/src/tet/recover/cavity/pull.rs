@@ -86,8 +86,8 @@
 //! budget (128, then 256, then 64: the surface points land elsewhere);
 //! what the last of them refuses is reported as
 //! [`RecoverError::Unrecovered`]. On the corpus that never happens: all
-//! 40 closed clean models are recovered (cgal_rotor needs the second
-//! budget).
+//! 40 closed clean models are recovered (cgal_rotor only with a budget
+//! other than the first).
 //!
 //! **Termination**: each removal takes at least one surface Steiner point
 //! away and adds none on the surface, so there are at most as many
