@@ -463,28 +463,8 @@ impl Work {
         let mut ring = Vec::new();
         // Forward from `t` (across the faces opposite `x`): back at `t` for
         // an interior edge.
-        let (mut cur, mut x, mut y) = (t, x0, y0);
-        loop {
-            if tets.len() >= MAX_RING {
-                return None;
-            }
-            tets.push(cur);
-            ring.push(x);
-            let ix = self.tv[cur as usize].iter().position(|&w| w == x)?;
-            let next = self.nb[cur as usize][ix];
-            if next == NONE {
-                break;
-            }
-            if !self.open_face(cur, ix) {
-                return None;
-            }
-            if next == t {
-                return Some((tets, ring, false));
-            }
-            let z = self.other(next, a, b, y)?;
-            cur = next;
-            x = y;
-            y = z;
+        if self.ring_forward(t, (x0, y0), a, b, &mut tets, &mut ring)? {
+            return Some((tets, ring, false));
         }
         if self.bnd.is_empty() {
             return None;
@@ -510,7 +490,29 @@ impl Work {
         }
         tets.clear();
         ring.clear();
-        (cur, x, y) = (c, cx, cy);
+        // From a boundary end the walk cannot come back to its start.
+        match self.ring_forward(c, (cx, cy), a, b, &mut tets, &mut ring)? {
+            false => Some((tets, ring, true)),
+            true => None,
+        }
+    }
+
+    /// [`Work::edge_ring`]'s walk around edge `a b` from slot `start` with
+    /// ring vertices `(x, y)`, across the faces opposite `x`, appending the
+    /// slots to `tets` and their `x` to `ring`: `Some(true)` when it comes
+    /// back to `start` (a cyclic ring), `Some(false)` at the boundary (the
+    /// last `y` appended too); `None` across an interface or region change,
+    /// or beyond [`MAX_RING`].
+    fn ring_forward(
+        &self,
+        start: u32,
+        (mut x, mut y): (u32, u32),
+        a: u32,
+        b: u32,
+        tets: &mut Vec<u32>,
+        ring: &mut Vec<u32>,
+    ) -> Option<bool> {
+        let mut cur = start;
         loop {
             if tets.len() >= MAX_RING {
                 return None;
@@ -521,10 +523,13 @@ impl Work {
             let next = self.nb[cur as usize][ix];
             if next == NONE {
                 ring.push(y);
-                return Some((tets, ring, true));
+                return Some(false);
             }
             if !self.open_face(cur, ix) {
                 return None;
+            }
+            if next == start {
+                return Some(true);
             }
             let z = self.other(next, a, b, y)?;
             cur = next;
