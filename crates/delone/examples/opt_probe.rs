@@ -9,6 +9,7 @@
 use std::time::Instant;
 
 use delone::tet::optimize::{optimize, OptimizeOptions};
+use delone::tet::quality::dihedral_angles;
 use delone::tet::refine::{refine, RefineOptions};
 
 #[path = "common/cpu.rs"]
@@ -54,13 +55,26 @@ fn main() {
         let rep = optimize(&mut rec, &opts).expect("optimize");
         let (c, w) = (cpu() - c0, t0.elapsed().as_secs_f64());
         let h = &rep.after.dihedral_histogram;
+        // Tetrahedra with an angle below 10° / 15° (or above 170° / 165°).
+        let below = |d: f64| {
+            rec.mesh
+                .tets
+                .iter()
+                .filter(|tv| {
+                    let a = dihedral_angles(&tv.map(|v| rec.points[v as usize]));
+                    a.iter().any(|&x| x < d || x > 180.0 - d)
+                })
+                .count()
+        };
         println!(
-            "effort {e}: evals {} ({}) cpu {c:.2} s wall {w:.2} s  dihedral {:.2}..{:.2}  tets {}  0-20:{} 20-30:{} 30-40:{} 150+:{}  stuck {:?}  ins {} sm {}",
+            "effort {e}: evals {} ({}) cpu {c:.2} s wall {w:.2} s  dihedral {:.2}..{:.2}  tets {}  <10:{} <15:{}  0-20:{} 20-30:{} 30-40:{} 150+:{}  stuck {:?}  ins {} sm {}",
             rep.evaluations,
             if rep.effort_exhausted { "spent" } else { "done" },
             rep.after.min_dihedral,
             rep.after.max_dihedral,
             rep.after.tets,
+            below(10.0),
+            below(15.0),
             h[..6].iter().sum::<usize>(),
             h[6],
             h[7],

@@ -54,16 +54,21 @@
 //! Removed points are left out of the result and the others renumbered in
 //! order ([`OptimizeReport::removed`]).
 //!
-//! The work is organised in stages of rising thresholds (10°, 20°, 30°,
-//! then the target): each stage keeps a queue of the tetrahedra below its
-//! threshold, worst first, pushes the tetrahedra each success creates or
-//! reshapes, and skips a tetrahedron that failed until the star of one of
-//! its vertices changes; a stage ends when a round over its queue succeeds
-//! nowhere or its attempts ([`OptimizeOptions::max_passes`] per queued
-//! tetrahedron) are spent. The whole run stops when its budget of quality
+//! The work is organised in stages of rising thresholds (10°, 15°, 20°,
+//! 30°, then the target): each stage keeps a queue of the tetrahedra below
+//! its threshold, worst first, pushes the tetrahedra each success creates
+//! or reshapes, and skips a tetrahedron that failed until the star of one
+//! of its vertices changes; a stage ends when a round over its queue
+//! succeeds nowhere or its attempts ([`OptimizeOptions::max_passes`] per
+//! queued tetrahedron) are spent. A trial insertion is settled (flips and
+//! smoothing around the new vertex) cheaply at first: it is given up as
+//! soon as its worst new tetrahedron resists; when a round succeeds
+//! nowhere, the tetrahedra left get a round with every insertion settled
+//! fully. The whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
-//! to 20°, which decide the minimum, may spend four times the budget (a
+//! to 20°, which decide the minimum, may spend four times the budget, and
+//! as much again for meshes up to 50,000 tetrahedra (a
 //! refined mesh with many flat tetrahedra left near small input features
 //! spends the plain budget before its worst are settled; a fair mesh
 //! finishes them well within it). The stages
@@ -100,7 +105,7 @@ use crate::NONE;
 use work::{fkey, Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
-const STAGES: [f64; 3] = [10.0, 20.0, 30.0];
+const STAGES: [f64; 4] = [10.0, 15.0, 20.0, 30.0];
 
 /// Share of [`OptimizeOptions::effort`] per tetrahedron that the stages
 /// above 20° may spend (plus a fixed 8000 evaluations' worth).
@@ -109,6 +114,14 @@ const POLISH: f64 = 0.4;
 /// Multiple of the budget ([`OptimizeOptions::effort`]) that the stages up
 /// to 20° may spend.
 const LOW: f64 = 4.0;
+
+/// Most tetrahedra (plus 2000) for which the stages up to 20° get their
+/// budget twice (see [`optimize`]).
+const LOW_CAP: usize = 50_000;
+
+/// Smallest dihedral angle (degrees) of the mesh above which the stages up
+/// to 20° get that extra budget.
+const EXTRA_ABOVE: f64 = 10.0;
 
 /// Dihedral angle (degrees) below which the polishing stages (above 20°)
 /// still insert vertices: above it they only flip, smooth and collapse (an
@@ -614,7 +627,14 @@ pub fn optimize(
     // The stages up to 20° decide the minimum: they may spend `LOW` times
     // the budget (a mesh that the refinement left with many flat
     // tetrahedra needs it; a fair one does not reach it).
-    let mut stop = LOW * allowed;
+    // On meshes up to `LOW_CAP` tetrahedra they may spend as much again
+    // once the minimum is above `EXTRA_ABOVE`: cheap there, and the last
+    // tetrahedra below 15° of a small mesh near needle input triangles
+    // often need it (cgal_pipe, cgal_spool); on large meshes it would
+    // mostly go to tetrahedra forced by the input.
+    let extra = LOW * opts.effort * (rec.mesh.tets.len() + 2000).min(LOW_CAP) as f64;
+    let mut extended = false;
+    let mut stop;
     let mut pops: u64 = 0;
     // Interior points the refinement left where their star is better
     // without them go first: fewer and better tetrahedra to work on.
@@ -623,7 +643,9 @@ pub fn optimize(
     }
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
-        if deg > 20.0 {
+        if deg <= 20.0 {
+            stop = LOW * allowed + if extended { extra } else { 0.0 };
+        } else {
             let now = w.evals.get() as f64;
             stop = now + polish.min((allowed - now).max(0.0));
         }
@@ -632,6 +654,7 @@ pub fn optimize(
         // worst first, grown by the tetrahedra each success makes; until a
         // round succeeds nowhere or the stage's attempts are spent.
         let mut attempts = None;
+        w.thorough = false;
         loop {
             let mut heap: BinaryHeap<Entry> = (0..w.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
@@ -656,8 +679,19 @@ pub fn optimize(
                 }
 
                 if w.evals.get() as f64 > stop {
-                    report.effort_exhausted = true;
-                    break 'stages;
+                    // The extra budget of the stages up to 20° only where
+                    // the minimum is already above 10°: below, it is mostly
+                    // held by needle input triangles, which more work
+                    // rarely lifts (it only adds vertices).
+                    let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+                    if deg <= 20.0 && !extended && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
+                    {
+                        extended = true;
+                        stop += extra;
+                    } else {
+                        report.effort_exhausted = true;
+                        break 'stages;
+                    }
                 }
                 *left -= 1;
                 if improve(
@@ -681,8 +715,16 @@ pub fn optimize(
                     failed.insert(sorted(tv), w.clock);
                 }
             }
-            if !any || *left == 0 {
+            if *left == 0 || !any && w.thorough {
                 break;
+            }
+            // Trial insertions were first settled cheaply (given up as soon
+            // as their worst new tetrahedron resisted); when a round
+            // succeeds nowhere, the tetrahedra left get one more round with
+            // every insertion settled fully.
+            if !any {
+                w.thorough = true;
+                failed.clear();
             }
         }
     }
@@ -1191,7 +1233,7 @@ fn try_insert_at(
     if opts.smooth {
         w.smooth(id);
     }
-    for _ in 0..3 {
+    'settle: for _ in 0..3 {
         let mut bad: Vec<(f64, u32, [u32; 4])> = w
             .touched
             .clone()
@@ -1203,9 +1245,17 @@ fn try_insert_at(
         bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
         bad.dedup_by_key(|x| x.2);
         let mut any = false;
-        for (_, _, tv) in bad {
+        for (k, (q, _, tv)) in bad.into_iter().enumerate() {
             if let Some(s) = w.slot_of(tv) {
-                any |= improve(w, s, 1.0, &local, 0, 0.0, &mut scratch);
+                let ok = improve(w, s, 1.0, &local, 0, 0.0, &mut scratch);
+                // Unless `thorough`: the worst new tetrahedron, below the
+                // bar, resists flips and smoothing — the insertion fails.
+                // (Such failures cost ~20× a success in evaluations: on
+                // cgal_pipe they took 70% of the budget.)
+                if k == 0 && !ok && q <= w.lost + 1e-9 && !w.thorough {
+                    break 'settle;
+                }
+                any |= ok;
             }
         }
         if !any {

@@ -236,6 +236,9 @@ pub(super) struct Work {
     /// Smallest quality, before the transaction, of the tetrahedra it
     /// destroyed or reshaped.
     pub lost: f64,
+    /// Settle a trial insertion fully even when its worst new tetrahedron
+    /// resists the first attempt (see `try_insert_at`).
+    pub thorough: bool,
     /// Set of `touched`.
     touched_set: IdSet<[u32; 4]>,
     /// Quality evaluations so far (the work measure of the effort budget).
@@ -326,6 +329,7 @@ impl Work {
             log: None,
             touched: Vec::new(),
             lost: f64::INFINITY,
+            thorough: false,
             touched_set: IdSet::default(),
             dirty: Vec::new(),
             evals: Default::default(),
