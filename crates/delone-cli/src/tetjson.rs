@@ -194,6 +194,7 @@ pub fn document(
                 ("inserted", o.inserted.to_string()),
                 ("collapsed", o.collapsed.to_string()),
                 ("refinement_points_removed", o.removed.to_string()),
+                ("flat_boundary_removed", o.flat_removed.to_string()),
                 (
                     "below_15",
                     object(&[

@@ -78,7 +78,7 @@ pub fn optimize_mesh(
 /// with `-V`).
 pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
     let mut lines = vec![format!(
-        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}, multi-face removals {}, boundary flips {}; {} vertex moves, {} vertices inserted ({} tried and undone, {} collapsed again), {} refinement points removed; {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
+        "optimization: {} passes; flips 2-3 {}, 3-2 {}, 4-4 {}, edge removals {}, multi-face removals {}, boundary flips {}; {} vertex moves, {} vertices inserted ({} tried and undone, {} collapsed again), {} refinement points removed, {} flat boundary tetrahedra removed; {} tetrahedra below the target ({} with two faces on the surface, {} with four surface vertices, {} not improved)",
         r.passes,
         r.flips23,
         r.flips32,
@@ -91,6 +91,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
         r.insert_undone,
         r.collapsed,
         r.removed,
+        r.flat_removed,
         r.stuck_counts.iter().sum::<usize>(),
         r.stuck_counts[0],
         r.stuck_counts[1],

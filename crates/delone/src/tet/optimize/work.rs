@@ -886,6 +886,80 @@ impl Work {
         ids
     }
 
+    /// Removes slot `t` when it is a flat tetrahedron `a b c m` with two
+    /// boundary faces, `a b c` on a surface triangle and `b c m` of zero
+    /// area: `m` is a Steiner point on the edge `b c`, rounded off it (a
+    /// listed inexact point, within [`Work::tol`] of the line, strictly
+    /// between `b` and `c`). Such a tetrahedron is left where the
+    /// refinement split a subsegment on one side only; its dihedral
+    /// angles are 0° and 180°, and no flip, smoothing or insertion can
+    /// change a tetrahedron two of whose faces are fixed. Its other faces
+    /// `a b m`, `a m c` become boundary faces on the triangle of `a b c`
+    /// (which they cover, up to `m`'s rounding). Outside transactions only.
+    /// Returns true when it removed `t`.
+    pub(super) fn drop_flat_boundary(&mut self, t: u32) -> bool {
+        if self.log.is_some() || !self.live(t) {
+            return false;
+        }
+        let tv = self.tv[t as usize];
+        let nb = self.nb[t as usize];
+        let open: Vec<usize> = (0..4).filter(|&f| nb[f] == NONE).collect();
+        let &[f1, f2] = open.as_slice() else {
+            return false;
+        };
+        let shared: Vec<usize> = (0..4).filter(|&k| k != f1 && k != f2).collect();
+        let (b, c) = (tv[shared[0]], tv[shared[1]]);
+        // `shared` names `b` and `c`, and the two faces opposite them (the
+        // inner ones, which become boundary faces).
+        if shared.iter().any(|&f| self.is_protected(fkey(face(tv, f)))) {
+            return false;
+        }
+        // Face `f1` (opposite `tv[f1]`) holds `tv[f2]`, and the other way.
+        for (m, fm, fa) in [(tv[f2], f1, f2), (tv[f1], f2, f1)] {
+            if !self.inexact.get(m as usize).copied().unwrap_or(false) {
+                continue;
+            }
+            let (pb, pc, pm) = (self.p[b as usize], self.p[c as usize], self.p[m as usize]);
+            let e = sub(&pc, &pb);
+            let l2 = dot(&e, &e);
+            let u = dot(&sub(&pm, &pb), &e) / l2;
+            let off = sub(&sub(&pm, &pb), &e.map(|x| x * u));
+            if !(u > 0.0 && u < 1.0 && norm(&off) <= self.tol) {
+                continue;
+            }
+            let (ka, km) = (fkey(face(tv, fa)), fkey(face(tv, fm)));
+            let Some(&tri) = self.bnd.get(&ka) else {
+                continue;
+            };
+            if !self.bnd.contains_key(&km) {
+                continue;
+            }
+            self.clock += 1;
+            self.bnd.remove(&ka);
+            self.bnd.remove(&km);
+            for f in shared.iter().copied() {
+                // Face `f` (opposite `b` or `c`) holds `a` and `m`.
+                let n = nb[f];
+                if let Some(g) = (0..4).find(|&g| self.nb[n as usize][g] == t) {
+                    self.nb[n as usize][g] = NONE;
+                }
+                let k = fkey(face(tv, f));
+                self.bnd.insert(k, tri);
+                self.bnd_new.push(k);
+                for &w in &face(tv, f) {
+                    self.vt[w as usize] = n;
+                    self.stamp[w as usize] = self.clock;
+                }
+                self.dirty.push(n);
+            }
+            self.tv[t as usize] = [DEAD; 4];
+            self.nb[t as usize] = [NONE; 4];
+            self.free.push(t);
+            return true;
+        }
+        false
+    }
+
     /// Moves free vertex `v` to raise the smallest quality of its star
     /// (optimisation-based smoothing: a search direction from the gradients
     /// of the near-worst tetrahedra, a backtracking line search, exact
