@@ -78,6 +78,25 @@ fn surface(r: &Recovered) -> Vec<(u32, usize, Vec<usize>)> {
         .collect()
 }
 
+/// The corpus model `name` (`surf/off/NAME.off`) refined to radius-edge
+/// `q`, with its points and triangles; `None` (with a note) when the shared
+/// data is missing.
+fn refined_model(name: &str, q: f64) -> Option<(Vec<[f64; 3]>, Vec<[u32; 3]>, Recovered)> {
+    let dir = data_dir();
+    if !dir.is_dir() {
+        eprintln!("note: {} missing, skipped", dir.display());
+        return None;
+    }
+    let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
+    let (pts, tris) = read_off(&text);
+    let ro = RefineOptions {
+        max_radius_edge: q,
+        ..Default::default()
+    };
+    let r = refine(&pts, &tris, &ro).unwrap().rec;
+    Some((pts, tris, r))
+}
+
 fn total_volume(r: &Recovered) -> f64 {
     TetStats::of(&r.points, &r.mesh.tets).total_volume
 }
@@ -496,18 +515,9 @@ fn input_angles(pts: &[[f64; 3]], t: [u32; 3]) -> [f64; 2] {
 fn the_bound_names_the_needle_input_triangle_at_the_worst_tetrahedron() {
     // cgal_u has an input triangle with a 0.07° and a 179.85° angle: the
     // tetrahedra around it are left below 15°, and the report says where.
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
+    let Some((pts, tris, mut r)) = refined_model("cgal_u", 1.414) else {
         return;
-    }
-    let text = std::fs::read_to_string(dir.join("cgal_u.off")).unwrap();
-    let (pts, tris) = read_off(&text);
-    let ro = RefineOptions {
-        max_radius_edge: 1.414,
-        ..Default::default()
     };
-    let mut r = refine(&pts, &tris, &ro).unwrap().rec;
     let rep = run(&pts, &tris, &mut r, &OptimizeOptions::level(3));
     // Some inserted vertices were removed again.
     assert!(rep.collapsed > 0);
@@ -564,18 +574,9 @@ fn the_bound_names_the_needle_input_triangle_at_the_worst_tetrahedron() {
 /// volume.
 #[test]
 fn flat_tetrahedra_at_one_sided_segment_splits_are_removed() {
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
+    let Some((pts, tris, mut r)) = refined_model("cgal_rotor", 1.414) else {
         return;
-    }
-    let text = std::fs::read_to_string(dir.join("cgal_rotor.off")).unwrap();
-    let (pts, tris) = read_off(&text);
-    let ro = RefineOptions {
-        max_radius_edge: 1.414,
-        ..Default::default()
     };
-    let mut r = refine(&pts, &tris, &ro).unwrap().rec;
     let vol = total_volume(&r);
     let rep = optimize(
         &mut r,
