@@ -78,10 +78,13 @@ fn surface(r: &Recovered) -> Vec<(u32, usize, Vec<usize>)> {
         .collect()
 }
 
+/// A corpus model's points and triangles, and its refined mesh.
+type Model = (Vec<[f64; 3]>, Vec<[u32; 3]>, Recovered);
+
 /// The corpus model `name` (`surf/off/NAME.off`) refined to radius-edge
 /// `q`, with its points and triangles; `None` (with a note) when the shared
 /// data is missing.
-fn refined_model(name: &str, q: f64) -> Option<(Vec<[f64; 3]>, Vec<[u32; 3]>, Recovered)> {
+fn refined_model(name: &str, q: f64) -> Option<Model> {
     let dir = data_dir();
     if !dir.is_dir() {
         eprintln!("note: {} missing, skipped", dir.display());
