@@ -575,22 +575,25 @@ pub fn optimize(
     opts: &OptimizeOptions,
 ) -> Result<OptimizeReport, OptimizeError> {
     validate_input(rec)?;
-    // A small mesh left below 15° is optimised once more from the start
-    // with every trial insertion settled fully: the minimum of a run hangs
-    // on a few tetrahedra near needle input triangles and on the path
-    // taken, and either way of settling wins on some models. The better
-    // result is kept (higher minimum, then fewer tetrahedra).
+    // A small mesh left below 15° (or above 165°) is optimised once more
+    // from the start with every trial insertion settled fully: the worst
+    // angle of a run hangs on a few tetrahedra near needle input triangles
+    // and on the path taken, and either way of settling wins on some
+    // models. The better result is kept (better worst angle, then fewer
+    // tetrahedra).
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
     let original = retry.then(|| rec.clone());
     let report = optimize_once(rec, opts, false);
     let Some(mut other) = original else {
         return Ok(report);
     };
-    if report.after.min_dihedral >= RETRY_BELOW || report.after.tets == 0 {
+    // The worst angle either way (near 0° or near 180°), as the quality.
+    let worst = |r: &OptimizeReport| r.after.min_dihedral.min(180.0 - r.after.max_dihedral);
+    if worst(&report) >= RETRY_BELOW || report.after.tets == 0 {
         return Ok(report);
     }
     let second = optimize_once(&mut other, opts, true);
-    let key = |r: &OptimizeReport| (r.after.min_dihedral, std::cmp::Reverse(r.after.tets));
+    let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
         Ok(second)
@@ -603,7 +606,8 @@ pub fn optimize(
 /// minimum stays below [`RETRY_BELOW`] (see [`optimize`]).
 const RETRY_CAP: usize = 40_000;
 
-/// Dihedral angle (degrees) below which a small mesh is optimised again.
+/// Dihedral angle (degrees) below which (or above 180° minus which) a
+/// small mesh is optimised again.
 const RETRY_BELOW: f64 = 15.0;
 
 /// One run of [`optimize`] on a validated mesh; `thorough`: every trial
