@@ -64,9 +64,10 @@
 //! smoothing around the new vertex) cheaply at first: it is given up as
 //! soon as its worst new tetrahedron resists; when a round succeeds
 //! nowhere, the tetrahedra left get a round with every insertion settled
-//! fully. A mesh of up to 40,000 tetrahedra left below 15° is optimised
-//! once more from the start with every insertion settled fully, and the
-//! better of the two results is kept. The whole run stops when its budget of quality
+//! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
+//! is optimised once more from the start with every insertion settled
+//! fully, and the better of the two results is kept. The whole run stops
+//! when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
 //! to 20°, which decide the minimum, may spend four times the budget, and
