@@ -645,7 +645,8 @@ fn small_corpus_models_meet_the_dihedral_bounds_the_input_allows() {
             .iter()
             .filter(|tv| {
                 let a = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
-                a.iter().any(|&x| x < BAD_ANGLE || x > 180.0 - BAD_ANGLE)
+                a.iter()
+                    .any(|x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(x))
             })
             .count();
         assert_eq!(rep.bad.count, outside, "{name}");
