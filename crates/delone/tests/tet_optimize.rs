@@ -100,6 +100,20 @@ fn refined_model(name: &str, q: f64) -> Option<Model> {
     Some((pts, tris, r))
 }
 
+/// The tetrahedra of `r` with a dihedral angle below [`BAD_ANGLE`] or
+/// above `180 -` it.
+fn outside_bounds(r: &Recovered) -> usize {
+    r.mesh
+        .tets
+        .iter()
+        .filter(|tv| {
+            let d = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
+            d.iter()
+                .any(|&x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
+        })
+        .count()
+}
+
 fn total_volume(r: &Recovered) -> f64 {
     TetStats::of(&r.points, &r.mesh.tets).total_volume
 }
@@ -153,16 +167,7 @@ fn run(
     assert!(rep.after.min_dihedral >= rep.before.min_dihedral - 1e-9);
     assert_eq!(rep.after.tets, r.mesh.tets.len());
     // The bad cells' classes add up to their count, counted here again.
-    let bad = r
-        .mesh
-        .tets
-        .iter()
-        .filter(|tv| {
-            let d = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
-            d.iter()
-                .any(|&x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
-        })
-        .count();
+    let bad = outside_bounds(r);
     assert_eq!(rep.bad.count, bad);
     assert_eq!(
         rep.bad.count,
@@ -639,16 +644,7 @@ fn small_corpus_models_meet_the_dihedral_bounds_the_input_allows() {
             (total_volume(&r) - vol).abs() <= 1e-9 * vol,
             "{name}: volume"
         );
-        let outside = r
-            .mesh
-            .tets
-            .iter()
-            .filter(|tv| {
-                let a = delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]));
-                a.iter()
-                    .any(|x| !(BAD_ANGLE..=180.0 - BAD_ANGLE).contains(x))
-            })
-            .count();
+        let outside = outside_bounds(&r);
         assert_eq!(rep.bad.count, outside, "{name}");
         assert_eq!(
             rep.bad.count,
