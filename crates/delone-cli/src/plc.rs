@@ -280,8 +280,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
         if r.inexact_steiner > 0 {
             println!(
-                "  {} Steiner point(s) rounded off their edge/facet (largest deviation {:e})",
-                r.inexact_steiner, r.max_deviation
+                "  {} Steiner point(s) rounded off their edge/facet (largest deviation {:e}); {} flat cell(s) under a chord removed",
+                r.inexact_steiner, r.max_deviation, r.chord_slivers
             );
         }
     }

@@ -95,6 +95,7 @@ pub fn document(
             ("interior", r.steiner_interior.to_string()),
             ("inexact", r.inexact_steiner.to_string()),
             ("max_deviation", num(r.max_deviation)),
+            ("chord_slivers_removed", r.chord_slivers.to_string()),
         ]),
     )];
     if let Some(f) = refined {

@@ -492,9 +492,10 @@ pub struct OptimizeReport {
     /// points after them are renumbered down.
     pub removed: usize,
     /// Flat tetrahedra removed from the boundary: two boundary faces, one
-    /// of them of zero area (a Steiner point rounded off the edge it splits,
-    /// where the refinement split the subsegment on one side only); their
-    /// other two faces became boundary faces on the same input triangle.
+    /// of them of zero area (a Steiner point rounded off the edge it
+    /// splits, under a chord of that edge); their other two faces became
+    /// boundary faces on the same input triangle. The recovery removes the
+    /// ones it makes (`RecoverReport::chord_slivers`), so this is a guard.
     pub flat_removed: usize,
     /// Tetrahedra below the target afterwards, per reason (in
     /// [`StuckReason`] order: surface faces, all vertices fixed, no
@@ -682,7 +683,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     let mut extended = false;
     let mut stop;
     let mut pops: u64 = 0;
-    // Flat tetrahedra left at a one-sided subsegment split go first (see
+    // Flat tetrahedra under a chord over a rounded edge point go first (see
     // `Work::drop_flat_boundary`): no other operation can touch them.
     if opts.flips {
         for t in 0..w.tv.len() as u32 {

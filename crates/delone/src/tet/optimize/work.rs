@@ -890,8 +890,9 @@ impl Work {
     /// boundary faces, `a b c` on a surface triangle and `b c m` of zero
     /// area: `m` is a Steiner point on the edge `b c`, rounded off it (a
     /// listed inexact point, within [`Work::tol`] of the line, strictly
-    /// between `b` and `c`). Such a tetrahedron is left where the
-    /// refinement split a subsegment on one side only; its dihedral
+    /// between `b` and `c`). Such a tetrahedron sits under a chord `b c`
+    /// over the rounded point (the recovery removes those it makes, in
+    /// `recover::carve::drop_chord_slivers`; this is a guard); its dihedral
     /// angles are 0° and 180°, and no flip, smoothing or insertion can
     /// change a tetrahedron two of whose faces are fixed. Its other faces
     /// `a b m`, `a m c` become boundary faces on the triangle of `a b c`

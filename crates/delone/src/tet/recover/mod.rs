@@ -112,7 +112,10 @@
 //! all four vertices on `T` contributes only its faces looking to `T`'s
 //! positive side, and a mesh edge joining two non-consecutive points of a
 //! side's chain (a chord) is accepted together with the thin faces of chain
-//! points that close the gap.
+//! points that close the gap. After carving, a kept cell between such a
+//! chord's face and a thin face (two boundary faces on one triangle, flat)
+//! is removed, its other two faces becoming the boundary
+//! ([`RecoverReport::chord_slivers`]).
 //!
 //! # References
 //! J. R. Shewchuk, *Constrained Delaunay tetrahedralizations and provably good
@@ -245,6 +248,11 @@ pub struct RecoverReport {
     /// Groups of coplanar input triangles kept as given because their
     /// re-triangulation failed.
     pub coplanar_kept: usize,
+    /// Flat cells removed from the domain after carving: a cell with two
+    /// boundary faces on one input triangle, one of them the thin face of
+    /// an inexact Steiner point rounded onto a subsegment under a chord
+    /// (the private `carve` module's `drop_chord_slivers`).
+    pub chord_slivers: usize,
 }
 
 impl RecoverReport {
@@ -2141,8 +2149,10 @@ impl State {
             }
         }
         drop(face_tri);
-        let carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
+        let mut carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
+        self.report.chord_slivers =
+            carve::drop_chord_slivers(core, dt.points(), &mut marks, &mut carved, &self.inexact);
         let mut regions = carved.regions;
         let inside = |t: usize| carved.region[t] != u32::MAX;
         let mut new_id = vec![crate::NONE; core.v.len()];
