@@ -582,7 +582,9 @@ pub fn optimize(
     // angle of a run hangs on a few tetrahedra near needle input triangles
     // and on the path taken, and either way of settling wins on some
     // models. The better result is kept (better worst angle, then fewer
-    // tetrahedra).
+    // tetrahedra). Not when the worst tetrahedron sits at an input triangle
+    // with an angle below RETRY_FEATURE_ANGLE (or above 180° minus it):
+    // there it is pinned near 0° whatever the path.
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
     let original = retry.then(|| rec.clone());
     let report = optimize_once(rec, opts, false);
@@ -591,7 +593,12 @@ pub fn optimize(
     };
     // The worst angle either way (near 0° or near 180°), as the quality.
     let worst = |r: &OptimizeReport| r.after.min_dihedral.min(180.0 - r.after.max_dihedral);
-    if worst(&report) >= RETRY_BELOW || report.after.tets == 0 {
+    let pinned = report.stuck.first().is_some_and(|s| {
+        s.near_triangle.is_some()
+            && (s.near_angles[0] < RETRY_FEATURE_ANGLE
+                || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
+    });
+    if worst(&report) >= RETRY_BELOW || report.after.tets == 0 || pinned {
         return Ok(report);
     }
     let second = optimize_once(&mut other, opts, true);
@@ -611,6 +618,16 @@ const RETRY_CAP: usize = 40_000;
 /// Dihedral angle (degrees) below which (or above 180° minus which) a
 /// small mesh is optimised again.
 const RETRY_BELOW: f64 = 15.0;
+
+/// Input triangle angle (degrees) below which (or above 180° minus which)
+/// the worst tetrahedron at that triangle is taken as pinned by it (a
+/// nearly degenerate input triangle), and the second run is skipped.
+/// Measured at q1.414 (session 11): the second run changed nothing on
+/// cgal_u, cgal_triceratops and cgal_anchor_dense (worst at triangles of
+/// 0.07°, 0.00°, 0.00°) and doubled their time; with the worst at a 0.45°
+/// triangle it still raised cgal_part 6.2 → 7.8° (and cgal_rotor 8.7 →
+/// 9.7°, meshlab_knot 7.3 → 10.8° at 2.6°..4.1° triangles).
+const RETRY_FEATURE_ANGLE: f64 = 0.1;
 
 /// One run of [`optimize`] on a validated mesh; `thorough`: every trial
 /// insertion settled fully from the start.
