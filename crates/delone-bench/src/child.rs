@@ -18,6 +18,7 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("tetgen-p", 3),
     ("triangle-p", 2),
     ("tetgen-pq", 3),
+    ("tetgen-pq-keep", 3),
     ("tetgen-pY", 3),
 ];
 
@@ -33,7 +34,9 @@ pub fn handles(program: &str, case: &Case) -> bool {
         Kind::Poly | Kind::Segs | Kind::Holes => {
             matches!(program, "delone" | "triangle" | "triangle-p")
         }
-        Kind::Surf if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
+        Kind::Surf if case.quality.is_some() => {
+            matches!(program, "delone" | "tetgen-pq" | "tetgen-pq-keep")
+        }
         Kind::Surf if case.name.starts_with("3d-surfY-") => {
             matches!(program, "delone" | "tetgen-pY")
         }
@@ -42,7 +45,7 @@ pub fn handles(program: &str, case: &Case) -> bool {
         Kind::Plc => matches!(program, "delone" | "tetgen-p"),
         _ if matches!(
             program,
-            "tetgen-p" | "tetgen-pq" | "tetgen-pY" | "triangle-p"
+            "tetgen-p" | "tetgen-pq" | "tetgen-pq-keep" | "tetgen-pY" | "triangle-p"
         ) =>
         {
             false
@@ -468,9 +471,9 @@ fn run_surfq(
                 external_peak_kb: None,
             })
         }
-        "tetgen-pq" => {
+        "tetgen-pq" | "tetgen-pq-keep" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_pq(p, tris, q)?;
+            let r = crate::refbin::run_tetgen_pq(p, tris, q, program == "tetgen-pq-keep")?;
             Ok(Run {
                 seconds: r.run.seconds,
                 elements: r.run.tets,

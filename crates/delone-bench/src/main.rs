@@ -47,7 +47,8 @@ options:
   --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen,
                      triangle-p (Triangle's executable, -p/-pq cases), tetgen-p
                      (TetGen -p executable), tetgen-pq (TetGen -pqB executable),
-                     tetgen-pY (TetGen -pY executable)
+                     tetgen-pq-keep (TetGen -p180qB: every input triangle kept as a
+                     facet, as delone does), tetgen-pY (TetGen -pY executable)
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
   --timeout SECS     kill a child after this many seconds (default 600)

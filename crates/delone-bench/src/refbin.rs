@@ -311,7 +311,8 @@ pub struct TetgenQRun {
 
 /// Runs the reference `tetgen -pqB` (quality refinement with radius-edge
 /// bound `ratio`) on a closed triangle surface and reads its output mesh
-/// for the minimum dihedral angle.
+/// for the minimum dihedral angle; with `keep_facets`, `tetgen -p180qB`:
+/// every input triangle kept as a facet, as delone does.
 ///
 /// # Errors
 /// A message when TetGen cannot be built or run, or rejects the input.
@@ -319,8 +320,14 @@ pub fn run_tetgen_pq(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     ratio: f64,
+    keep_facets: bool,
 ) -> Result<TetgenQRun, String> {
-    let (run, mesh) = run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?;
+    // `-p180`: TetGen's facet angle tolerance at 180° (its default 179.9°
+    // merges neighbouring triangles meeting at 179.9° or more into one
+    // facet and re-triangulates across their shared edges; delone keeps
+    // every input triangle).
+    let p = if keep_facets { "-p180" } else { "-p" };
+    let (run, mesh) = run_tetgen(points, triangles, &format!("{p}q{ratio}F"), true)?;
     let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
     Ok(TetgenQRun { run, min_dihedral })
 }

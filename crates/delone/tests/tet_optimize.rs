@@ -573,11 +573,10 @@ fn the_bound_names_the_needle_input_triangle_at_the_worst_tetrahedron() {
     assert!(d <= reach + tri_len, "{d} > {reach} + {tri_len}");
 }
 
-/// The tetrahedra of `r` with two boundary faces on one input triangle,
-/// one of them thin: its third vertex within a billionth of the shared
-/// edge's length of that edge's line (an inexact Steiner point rounded
-/// onto a subsegment under a chord). Their dihedral angles are 0° and
-/// 180°.
+/// The tetrahedra of `r` with two boundary faces, one of them thin: its
+/// third vertex within a billionth of the shared edge's length of that
+/// edge's line (an inexact Steiner point rounded onto a subsegment under a
+/// chord). Their dihedral angles are 0° and 180°.
 fn chord_slivers(r: &Recovered) -> usize {
     let on: std::collections::HashMap<[u32; 3], u32> = r
         .boundary
@@ -610,8 +609,7 @@ fn chord_slivers(r: &Recovered) -> usize {
             k.sort_unstable();
             [k[0], k[1], k[2]]
         };
-        let (t1, t2) = (on.get(&key(f1)), on.get(&key(f2)));
-        if t1.is_none() || t1 != t2 {
+        if !on.contains_key(&key(f1)) || !on.contains_key(&key(f2)) {
             continue;
         }
         let bc: Vec<u32> = (0..4)

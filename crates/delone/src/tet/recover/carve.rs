@@ -371,8 +371,9 @@ pub(crate) fn carve(
 }
 
 /// Removes the **chord slivers** from the carved domain and returns how
-/// many: a kept cell `a b c m` with two boundary faces on the same input
-/// triangle, `a b c` and `b c m`, where `m` is an inexact Steiner point
+/// many: a kept cell `a b c m` with two boundary faces, `a b c` on an input
+/// triangle and `b c m` (listed on it or on the other triangle at `b c`),
+/// where `m` is an inexact Steiner point
 /// rounded onto the subsegment `b c` (strictly between `b` and `c`, off
 /// the line by a few units in the last place). The coverage test accepts
 /// the chord `b c` with the thin face `b c m` closing the gap, but the
@@ -433,22 +434,27 @@ pub(crate) fn drop_chord_slivers(
         let &[f1, f2] = open.as_slice() else {
             continue;
         };
-        let tri = marks[t][f1];
-        if tri == crate::NONE || marks[t][f2] != tri {
-            continue;
-        }
         let inner: Vec<usize> = (0..4).filter(|&f| f != f1 && f != f2).collect();
+        let (b, c) = (tv[inner[0]], tv[inner[1]]);
+        // Face `f1` holds `tv[f2]`, face `f2` holds `tv[f1]`. The thin face
+        // may be listed on either triangle at `b c`; the chord's face names
+        // the triangle the cell sits on.
+        let found =
+            [(tv[f2], f1, f2), (tv[f1], f2, f1)]
+                .into_iter()
+                .find(|&(m, thin_f, chord_f)| {
+                    marks[t][thin_f] != crate::NONE
+                        && marks[t][chord_f] != crate::NONE
+                        && is_inexact[m as usize]
+                        && thin(b, c, m)
+                });
+        let Some((_, _, chord_f)) = found else {
+            continue;
+        };
+        let tri = marks[t][chord_f];
         if inner.iter().any(|&f| {
             (marks[t][f] != tri && marks[t][f] != crate::NONE) || region[nb[f]] != region[t]
         }) {
-            continue;
-        }
-        let (b, c) = (tv[inner[0]], tv[inner[1]]);
-        // Face `f1` holds `tv[f2]`, face `f2` holds `tv[f1]`.
-        let sliver = [tv[f2], tv[f1]]
-            .iter()
-            .any(|&m| is_inexact[m as usize] && thin(b, c, m));
-        if !sliver {
             continue;
         }
         if let Some(g) = carved.regions.get_mut(region[t] as usize) {
