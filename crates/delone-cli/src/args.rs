@@ -88,6 +88,9 @@ pub struct Opts {
     pub gmsh: Option<PathBuf>,
     /// tet `-q[ratio]`: quality mesh with this radius-edge bound.
     pub tet_ratio: Option<f64>,
+    /// tet `-q[ratio]/[angle]`: the dihedral bound for the optimisation
+    /// and its report (degrees).
+    pub tet_min_dihedral: Option<f64>,
     /// tet `-O[level]`: mesh optimisation level (`-O0` off; default 3 with
     /// `-q`/`-a`, off otherwise).
     pub tet_optimize: Option<u32>,
@@ -208,7 +211,25 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
             }
             o.second_order = true
         }
-        (Mode::Tet, 'q') => o.tet_ratio = Some(number(c, num)?.unwrap_or(2.0)),
+        (Mode::Tet, 'q') => {
+            let (ratio, angle) = num.split_once('/').unwrap_or((num, ""));
+            o.tet_ratio = Some(number(c, ratio)?.unwrap_or(2.0));
+            if num.contains('/') {
+                let d = number(c, angle)?.ok_or_else(|| {
+                    Usage(format!(
+                        "-q{num}: a dihedral angle in degrees follows the /"
+                    ))
+                })?;
+                // The regular tetrahedron's dihedral angle, acos(1/3): no
+                // tetrahedron has a larger smallest dihedral angle.
+                if d <= 0.0 || d >= 70.52 {
+                    return Err(Usage(format!(
+                        "-q{num}: the dihedral bound must lie between 0 and 70.5 degrees"
+                    )));
+                }
+                o.tet_min_dihedral = Some(d);
+            }
+        }
         (Mode::Tet, 'a') => {
             o.area = true;
             o.max_area = number(c, num)?.filter(|&x| x > 0.0);
@@ -430,7 +451,11 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 || (mode == Mode::Tri && c == 'o')
                 || (mode == Mode::Tet && c == 'O')
             {
-                while k < chars.len() && (chars[k].is_ascii_digit() || chars[k] == '.') {
+                while k < chars.len()
+                    && (chars[k].is_ascii_digit()
+                        || chars[k] == '.'
+                        || (mode == Mode::Tet && c == 'q' && chars[k] == '/'))
+                {
                     k += 1;
                 }
             }

@@ -179,10 +179,14 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          the same marker are merged into one facet and re-triangulated
          (Delaunay edges on the plane kept), so edges between them are not
          segments; -M keeps every input triangle as given (also with -Y).
-    -q[B] With -p: quality mesh by Delaunay refinement, no tetrahedron with a
-         radius-edge ratio above B (default 2.0) — before the optimisation,
-         which may raise it (see -O, --keep-ratio); -V reports dihedral
-         angles.
+    -q[B][/D] With -p: quality mesh by Delaunay refinement, no tetrahedron
+         with a radius-edge ratio above B (default 2.0) — before the
+         optimisation, which may raise it (see -O, --keep-ratio); -V reports
+         dihedral angles. /D: the dihedral bound in degrees (default 15,
+         below 70.5): the optimisation works on the tetrahedra with an angle
+         below D or above 180-D first and, on a small mesh, twice; -V and
+         --stats-json count those left and say what input feature (sharp
+         edge, needle or cap triangle) holds each.
     -a[V] With -p: no tetrahedron larger than volume V; with or without a
          number, also the regional volume bounds of the .poly/.smesh (they
          apply only with -a, as in TetGen).

@@ -199,6 +199,7 @@ pub fn document(
                 (
                     "below_15",
                     object(&[
+                        ("angle", num(o.bad.angle)),
                         ("count", o.bad.count.to_string()),
                         ("at_sharp_input_edge", o.bad.sharp_edge.to_string()),
                         ("at_needle_or_cap_triangle", o.bad.at_feature.to_string()),

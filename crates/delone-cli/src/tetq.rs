@@ -65,6 +65,9 @@ pub fn optimize_mesh(
         input_points: Some(points.len()),
         ..OptimizeOptions::level(level)
     };
+    if let Some(d) = o.tet_min_dihedral {
+        opts.min_dihedral = d;
+    }
     if let Some(r) = refined {
         opts = opts.keeping(r);
         if o.keep_ratio {

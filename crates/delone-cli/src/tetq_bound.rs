@@ -38,22 +38,23 @@ pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
     let at_feature = r.stuck.first().and_then(|s| {
         let [lo, hi] = s.near_angles;
         let t = s.near_triangle?;
-        (lo < SMALL_ANGLE || hi > 180.0 - SMALL_ANGLE).then(|| {
+        (lo < r.bad.angle || hi > 180.0 - r.bad.angle).then(|| {
             format!(
                 "the worst tetrahedron ({:.2}..{:.2} deg) is at input triangle {t} with angles {lo:.2}..{hi:.2} deg, a feature smaller than the mesh there",
                 s.dihedral[0], s.dihedral[1]
             )
         })
     });
-    let below = min < 15.0 || r.after.max_dihedral > 165.0;
+    let a = r.bad.angle;
+    let below = min < a || r.after.max_dihedral > 180.0 - a;
     let verdict = if min >= bound - 1e-6 {
         if r.triangles_min_dihedral <= r.input_min_dihedral + 1e-6 {
             "the mesh's minimum is the input's own angle"
         } else {
             "the mesh's minimum is set by the meshed surface, not by the input"
         }
-    } else if bound < 15.0 {
-        "the mesh's minimum is below both; the bound is below 15 deg"
+    } else if bound < a {
+        "the mesh's minimum is below both, and the input's own bound is below the dihedral bound asked for"
     } else if let (true, Some(f)) = (below, &at_feature) {
         f
     } else {
@@ -65,11 +66,11 @@ pub fn bound_line(_o: &Opts, r: &OptimizeReport) -> String {
     )
 }
 
-/// What the tetrahedra left below 15° (or above 165°) are at
+/// What the tetrahedra left below the dihedral bound (or above 180° minus it) are at
 /// ([`OptimizeReport::bad`]).
 fn bad_cells(r: &OptimizeReport) -> String {
     let b = &r.bad;
-    let a = delone::tet::optimize::BAD_ANGLE;
+    let a = b.angle;
     if b.count == 0 {
         return format!("no tetrahedron below {a} deg or above {} deg", 180.0 - a);
     }
@@ -103,10 +104,6 @@ fn bad_cells(r: &OptimizeReport) -> String {
         parts.join(", ")
     )
 }
-
-/// An input triangle angle below this (or above 180 minus it), in
-/// degrees, marks a needle or cap in the bound line.
-const SMALL_ANGLE: f64 = 15.0;
 
 /// One tetrahedron left below the target: angles, why, its shape, and how
 /// its vertices and faces sit on the surface.

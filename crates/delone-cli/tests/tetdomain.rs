@@ -400,3 +400,61 @@ fn detect_self_intersections_only() {
     // Nothing is written.
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
 }
+
+/// `-qB/D`: the dihedral bound D. `--stats-json` names it and counts
+/// exactly the written tetrahedra with an angle below D or above 180 - D;
+/// `-q/D` keeps the default ratio; a bound of 70.5° or more (no
+/// tetrahedron has all its dihedral angles above acos(1/3) = 70.53°) and a
+/// slash without a number are usage errors.
+#[test]
+fn dihedral_bound_after_a_slash() {
+    let Some(src) = example() else { return };
+    let dir = tmp("dihedralbound");
+    std::fs::copy(&src, dir.join("ex.poly")).unwrap();
+    for (q, d) in [
+        ("-pq1.414Q", 15.0),
+        ("-pq1.414/35Q", 35.0),
+        ("-pq/20Q", 20.0),
+    ] {
+        let o = run(&dir, &["tet", q, "--stats-json", "s.json", "ex.poly"]);
+        assert!(
+            o.status.success(),
+            "{q}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let j = std::fs::read_to_string(dir.join("s.json")).unwrap();
+        assert_eq!(json_num(&j, "\"below_15\"", "angle"), d, "{q}");
+        let node = table(&dir.join("ex.1.node"));
+        let ele = table(&dir.join("ex.1.ele"));
+        let outside = ele
+            .iter()
+            .filter(|t| {
+                let p = [t[1], t[2], t[3], t[4]].map(|v| {
+                    let r = &node[v as usize - 1];
+                    [r[1], r[2], r[3]]
+                });
+                delone::tet::quality::dihedral_angles(&p)
+                    .iter()
+                    .any(|&x| !(d..=180.0 - d).contains(&x))
+            })
+            .count();
+        assert_eq!(
+            json_num(&j, "\"below_15\"", "count") as usize,
+            outside,
+            "{q}"
+        );
+        if d == 35.0 {
+            // The tetrahedra the bound asks for exist here: the count is
+            // not vacuous.
+            assert!(outside > 0, "{q}");
+        }
+    }
+    for (q, msg) in [
+        ("-pq1.414/80", "between 0 and 70.5 degrees"),
+        ("-pq1.414/", "a dihedral angle in degrees follows the /"),
+    ] {
+        let o = run(&dir, &["tet", q, "ex.poly"]);
+        assert_eq!(o.status.code(), Some(2), "{q}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(msg), "{q}");
+    }
+}

@@ -217,6 +217,13 @@ pub struct OptimizeOptions {
     /// tetrahedron whose circumradius exceeds the refinement's bound
     /// 0.612 h at its circumcentre. Default none.
     pub sizing: crate::tet::refine::sizing::Sizing,
+    /// The dihedral bound asked for (degrees; `delone tet -qB/D`): the
+    /// tetrahedra left with an angle below it or above `180 -` it are
+    /// counted and explained in [`OptimizeReport::bad`]; it is one of the
+    /// optimisation's stages (the target is raised to it when lower), and a
+    /// small mesh left outside it is optimised a second time (see
+    /// [`optimize`]). Default [`BAD_ANGLE`] (15°).
+    pub min_dihedral: f64,
 }
 
 impl Default for OptimizeOptions {
@@ -234,6 +241,7 @@ impl Default for OptimizeOptions {
             max_radius_edge: None,
             max_volume: None,
             sizing: crate::tet::refine::sizing::Sizing::None,
+            min_dihedral: BAD_ANGLE,
         }
     }
 }
@@ -371,27 +379,30 @@ pub struct Stuck {
     pub near_angles: [f64; 2],
 }
 
-/// The tetrahedra left with a dihedral angle below
-/// [`BAD_ANGLE`] (or above `180 -` it), by what is at them: the input's own
-/// angle, a needle or cap input triangle, or nothing the input forces.
+/// The tetrahedra left with a dihedral angle below `angle`
+/// ([`OptimizeOptions::min_dihedral`], default [`BAD_ANGLE`]; or above
+/// `180 -` it), by what is at them: the input's own angle, a needle or cap
+/// input triangle, or nothing the input forces.
 ///
 /// ```
 /// use delone::tet::optimize::BadCells;
-/// let b = BadCells { count: 5, sharp_edge: 2, at_feature: 3, free: 0, feature_angle: 4.5 };
+/// let b = BadCells { angle: 15.0, count: 5, sharp_edge: 2, at_feature: 3, free: 0, feature_angle: 4.5 };
 /// assert_eq!(b.count, b.sharp_edge + b.at_feature + b.free);
 /// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BadCells {
-    /// How many tetrahedra have an angle below [`BAD_ANGLE`] or above
-    /// `180 -` it.
+    /// The bound (degrees).
+    pub angle: f64,
+    /// How many tetrahedra have an angle below `angle` or above `180 -`
+    /// it.
     pub count: usize,
     /// Of them: those with such a small angle at an edge of the surface
     /// where the input's own angle (of their region, the sum of the
-    /// tetrahedra's angles there) is below [`BAD_ANGLE`] — forced by the
+    /// tetrahedra's angles there) is below `angle` — forced by the
     /// input.
     pub sharp_edge: usize,
     /// Of the others: those with a vertex on a boundary face that lies on
-    /// an input triangle with an angle below [`BAD_ANGLE`] or above `180 -`
+    /// an input triangle with an angle below `angle` or above `180 -`
     /// it (a needle or cap: a feature smaller than the mesh around it, which
     /// the refinement does not resolve).
     pub at_feature: usize,
@@ -404,8 +415,8 @@ pub struct BadCells {
     pub feature_angle: f64,
 }
 
-/// The dihedral angle (degrees) below which (or above `180 -` which) a
-/// tetrahedron is counted in [`BadCells`].
+/// The default dihedral bound (degrees; [`OptimizeOptions::min_dihedral`]):
+/// below it (or above `180 -` it) a tetrahedron is counted in [`BadCells`].
 pub const BAD_ANGLE: f64 = 15.0;
 
 /// What [`optimize`] did.
@@ -577,7 +588,8 @@ pub fn optimize(
     opts: &OptimizeOptions,
 ) -> Result<OptimizeReport, OptimizeError> {
     validate_input(rec)?;
-    // A small mesh left below 15° (or above 165°) is optimised once more
+    // A small mesh left below the bound (`min_dihedral`, default 15°; or
+    // above 180° minus it) is optimised once more
     // from the start with every trial insertion settled fully: the worst
     // angle of a run hangs on a few tetrahedra near needle input triangles
     // and on the path taken, and either way of settling wins on some
@@ -598,7 +610,7 @@ pub fn optimize(
             && (s.near_angles[0] < RETRY_FEATURE_ANGLE
                 || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
     });
-    if worst(&report) >= RETRY_BELOW || report.after.tets == 0 || pinned {
+    if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
     let second = optimize_once(&mut other, opts, true);
@@ -612,12 +624,9 @@ pub fn optimize(
 }
 
 /// Most tetrahedra of a mesh that is optimised a second time when its
-/// minimum stays below [`RETRY_BELOW`] (see [`optimize`]).
+/// worst angle stays outside [`OptimizeOptions::min_dihedral`] (see
+/// [`optimize`]).
 const RETRY_CAP: usize = 40_000;
-
-/// Dihedral angle (degrees) below which (or above 180° minus which) a
-/// small mesh is optimised again.
-const RETRY_BELOW: f64 = 15.0;
 
 /// Input triangle angle (degrees) below which (or above 180° minus which)
 /// the worst tetrahedron at that triangle is taken as pinned by it (a
@@ -643,7 +652,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
         (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
         (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
         triangle_angles(rec, &mut report);
-        report.bad = bad_cells(rec, &sums);
+        report.bad = bad_cells(rec, &sums, opts.min_dihedral);
         return report;
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -672,7 +681,8 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     for v in &mut w.slide[..n_in] {
         *v = Slide::Fixed;
     }
-    let target = opts.target_dihedral.clamp(0.0, 90.0);
+    let bound = opts.min_dihedral.clamp(0.0, 90.0);
+    let target = opts.target_dihedral.clamp(0.0, 90.0).max(bound);
     let thr_insert = (0.6 * target).to_radians().sin();
     let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
     // Per tetrahedron (sorted vertices): the clock of its last failed
@@ -682,6 +692,10 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     // Stages of rising thresholds: the worst tetrahedra first, so that the
     // effort goes where the minimum is decided.
     let mut stages: Vec<f64> = STAGES.iter().copied().filter(|&d| d < target).collect();
+    if bound > 0.0 && bound < target && !stages.contains(&bound) {
+        stages.push(bound);
+        stages.sort_by(f64::total_cmp);
+    }
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
@@ -714,9 +728,12 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     if opts.insert {
         collapse_sweep(&mut w, n_in, f64::INFINITY, &mut report);
     }
+    // The stages that decide the minimum: up to 20°, or up to the bound
+    // asked for when higher.
+    let low_max = bound.max(20.0);
     'stages: for deg in stages {
         let thr = deg.to_radians().sin();
-        if deg <= 20.0 {
+        if deg <= low_max {
             stop = LOW * allowed + if extended { extra } else { 0.0 };
         } else {
             let now = w.evals.get() as f64;
@@ -757,7 +774,9 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     // held by needle input triangles, which more work
                     // rarely lifts (it only adds vertices).
                     let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
-                    if deg <= 20.0 && !extended && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
+                    if deg <= low_max
+                        && !extended
+                        && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
                     {
                         extended = true;
                         stop += extra;
@@ -817,7 +836,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
     let sums = surface_angles(rec);
     (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
-    report.bad = bad_cells(rec, &sums);
+    report.bad = bad_cells(rec, &sums, opts.min_dihedral);
     (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
     triangle_angles(rec, &mut report);
     stuck(
@@ -1773,8 +1792,11 @@ fn input_min_dihedral(sum: &IdMap<([u32; 2], u32), f64>) -> (f64, Option<[u32; 2
 }
 
 /// See [`BadCells`].
-fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
-    let mut out = BadCells::default();
+fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) -> BadCells {
+    let mut out = BadCells {
+        angle,
+        ..BadCells::default()
+    };
     // Per point: the deviation (see `BadCells::feature_angle`) of the
     // most needle- or cap-like input triangle under its boundary faces.
     let dev: Vec<f64> = rec
@@ -1802,9 +1824,7 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
     }
     for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
         let d = super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]));
-        if d.iter()
-            .all(|&x| (BAD_ANGLE..=180.0 - BAD_ANGLE).contains(&x))
-        {
+        if d.iter().all(|&x| (angle..=180.0 - angle).contains(&x)) {
             continue;
         }
         out.count += 1;
@@ -1813,10 +1833,10 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
             .enumerate()
             .any(|(e, &(i, j))| {
                 let (a, b) = (tv[i], tv[j]);
-                d[e] < BAD_ANGLE
+                d[e] < angle
                     && sums
                         .get(&([a.min(b), a.max(b)], g))
-                        .is_some_and(|&s| s < BAD_ANGLE)
+                        .is_some_and(|&s| s < angle)
             });
         let near = tv
             .iter()
@@ -1824,7 +1844,7 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>) -> BadCells {
             .fold(f64::INFINITY, f64::min);
         if sharp {
             out.sharp_edge += 1;
-        } else if near < BAD_ANGLE {
+        } else if near < angle {
             out.at_feature += 1;
             out.feature_angle = out.feature_angle.max(near);
         } else {
