@@ -772,3 +772,67 @@ fn medium_corpus_models_without_small_input_angles_meet_the_dihedral_bounds() {
     assert_eq!(allowed, run);
     eprintln!("smallest minimum: {worst:.2}");
 }
+
+/// An angle option that is not a number of degrees from 0 to 90 is a typed
+/// error naming it, and the mesh is left as it was; the dihedral bound is
+/// reported back in `BadCells::angle`.
+#[test]
+fn angle_options_out_of_range_are_errors() {
+    use delone::tet::optimize::OptimizeError;
+    let (pts, tris) = cube();
+    let r0 = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
+    for (opts, name) in [
+        (
+            OptimizeOptions {
+                min_dihedral: f64::NAN,
+                ..Default::default()
+            },
+            "min_dihedral",
+        ),
+        (
+            OptimizeOptions {
+                min_dihedral: -1.0,
+                ..Default::default()
+            },
+            "min_dihedral",
+        ),
+        (
+            OptimizeOptions {
+                target_dihedral: 91.0,
+                ..Default::default()
+            },
+            "target_dihedral",
+        ),
+    ] {
+        let mut r = r0.clone();
+        let e = optimize(&mut r, &opts).unwrap_err();
+        assert!(
+            matches!(e, OptimizeError::InvalidAngle { option, .. } if option == name),
+            "{e}"
+        );
+        assert!(e.to_string().contains(name));
+        assert_eq!(r.mesh, r0.mesh);
+    }
+    let mut r = r0.clone();
+    let rep = optimize(
+        &mut r,
+        &OptimizeOptions {
+            min_dihedral: 25.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(rep.bad.angle, 25.0);
+    assert_eq!(rep.bad.count, {
+        r.mesh
+            .tets
+            .iter()
+            .filter(|tv| {
+                delone::tet::quality::dihedral_angles(&tv.map(|v| r.points[v as usize]))
+                    .iter()
+                    .any(|&x| !(25.0..=155.0).contains(&x))
+            })
+            .count()
+    });
+    check_recovered(&pts, &tris, &r).unwrap();
+}

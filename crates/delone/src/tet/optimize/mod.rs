@@ -541,6 +541,14 @@ pub enum OptimizeError {
         /// What is wrong.
         what: &'static str,
     },
+    /// An angle option is not a number of degrees from 0 to 90
+    /// ([`OptimizeOptions::min_dihedral`], [`OptimizeOptions::target_dihedral`]).
+    InvalidAngle {
+        /// The option's name.
+        option: &'static str,
+        /// Its value.
+        value: f64,
+    },
 }
 
 impl fmt::Display for OptimizeError {
@@ -548,6 +556,12 @@ impl fmt::Display for OptimizeError {
         match self {
             OptimizeError::InvalidMesh { tet, what } => {
                 write!(f, "cannot optimise: tetrahedron {tet}: {what}")
+            }
+            OptimizeError::InvalidAngle { option, value } => {
+                write!(
+                    f,
+                    "cannot optimise: {option} = {value} is not an angle from 0 to 90 degrees"
+                )
             }
         }
     }
@@ -560,7 +574,9 @@ impl std::error::Error for OptimizeError {}
 /// are kept; points may be moved (interior ones only) and added.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidMesh`] when `rec` is not a consistent mesh.
+/// [`OptimizeError::InvalidMesh`] when `rec` is not a consistent mesh;
+/// [`OptimizeError::InvalidAngle`] when `opts.min_dihedral` or
+/// `opts.target_dihedral` is not within 0..=90 degrees (NaN included).
 ///
 /// ```
 /// use delone::tet::optimize::{optimize, OptimizeOptions};
@@ -587,6 +603,14 @@ pub fn optimize(
     rec: &mut Recovered,
     opts: &OptimizeOptions,
 ) -> Result<OptimizeReport, OptimizeError> {
+    for (option, value) in [
+        ("min_dihedral", opts.min_dihedral),
+        ("target_dihedral", opts.target_dihedral),
+    ] {
+        if !(0.0..=90.0).contains(&value) {
+            return Err(OptimizeError::InvalidAngle { option, value });
+        }
+    }
     validate_input(rec)?;
     // A small mesh left below the bound (`min_dihedral`, default 15°; or
     // above 180° minus it) is optimised once more
