@@ -21,6 +21,23 @@ fn data_dir() -> PathBuf {
         .unwrap_or_default()
 }
 
+/// The corpus folder, or `None` (with a note) when the data is missing.
+fn corpus() -> Option<PathBuf> {
+    let dir = data_dir();
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("note: {} missing, skipped", dir.display());
+        None
+    }
+}
+
+/// Points and triangles of corpus model `name` (`dir/name.off`).
+fn read_model(dir: &std::path::Path, name: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
+    read_off(&text)
+}
+
 fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let mut toks = text
         .lines()
@@ -85,13 +102,8 @@ type Model = (Vec<[f64; 3]>, Vec<[u32; 3]>, Recovered);
 /// `q`, with its points and triangles; `None` (with a note) when the shared
 /// data is missing.
 fn refined_model(name: &str, q: f64) -> Option<Model> {
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
-        return None;
-    }
-    let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
-    let (pts, tris) = read_off(&text);
+    let dir = corpus()?;
+    let (pts, tris) = read_model(&dir, name);
     let ro = RefineOptions {
         max_radius_edge: q,
         ..Default::default()
@@ -253,11 +265,9 @@ fn level_zero_changes_nothing() {
 
 #[test]
 fn refined_corpus_models_reach_the_bounds() {
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
+    let Some(dir) = corpus() else {
         return;
-    }
+    };
     let mut multi_face = 0;
     for (name, q, min_want) in [
         ("cgal_sphere", 1.414, 20.0),
@@ -272,9 +282,8 @@ fn refined_corpus_models_reach_the_bounds() {
         ("cgal_eight", 1.414, 15.0),
         ("cgal_helmet", 1.414, 15.0),
     ] {
-        let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
         let multi_face = &mut multi_face;
-        let (pts, tris) = read_off(&text);
+        let (pts, tris) = read_model(&dir, name);
         let t0 = std::time::Instant::now();
         let mut r = refine(
             &pts,
@@ -456,14 +465,11 @@ fn surface_steiner_points_slide_within_their_facet_or_edge() {
 /// Deterministic too.
 #[test]
 fn flat_tetrahedra_along_facets_are_removed() {
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
+    let Some(dir) = corpus() else {
         return;
-    }
+    };
     for name in ["cgal_dragknob", "cgal_oblong"] {
-        let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
-        let (pts, tris) = read_off(&text);
+        let (pts, tris) = read_model(&dir, name);
         let ro = RefineOptions {
             max_radius_edge: 1.414,
             ..Default::default()
@@ -632,15 +638,12 @@ fn chord_slivers(r: &Recovered) -> usize {
 /// optimiser removed them).
 #[test]
 fn chord_slivers_are_removed_by_recovery() {
-    let dir = data_dir();
-    if !dir.is_dir() {
-        eprintln!("note: {} missing, skipped", dir.display());
+    let Some(dir) = corpus() else {
         return;
-    }
+    };
     let mut removed = 0;
     for name in ["cgal_rotor", "cgal_dino"] {
-        let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
-        let (pts, tris) = read_off(&text);
+        let (pts, tris) = read_model(&dir, name);
         let r = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
         check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
         assert_eq!(chord_slivers(&r), 0, "{name}");
@@ -695,8 +698,7 @@ fn corpus_dihedral_bounds(lo: usize, hi: usize, clean_only: bool) -> Option<[f64
         }
         let name = rel.trim_start_matches("surf/off/").trim_end_matches(".off");
         if clean_only {
-            let text = std::fs::read_to_string(dir.join(format!("{name}.off"))).unwrap();
-            let (pts, tris) = read_off(&text);
+            let (pts, tris) = read_model(&dir, name);
             if tris.iter().any(|&t| {
                 let [a, b] = input_angles(&pts, t);
                 a < BAD_ANGLE || b > 180.0 - BAD_ANGLE

@@ -43,6 +43,7 @@
 
 use delone_predicates::orient3d;
 
+use super::place;
 use super::surface::IdSet;
 use super::RecoverError;
 use crate::model::plc::Region;
@@ -407,20 +408,14 @@ pub(crate) fn drop_chord_slivers(
     // Is `m` on the open segment `b c` up to rounding?
     let thin = |b: u32, c: u32, m: u32| -> bool {
         let [pb, pc, pm] = [b, c, m].map(|q| pts[q as usize]);
-        let e: [f64; 3] = std::array::from_fn(|k| pc[k] - pb[k]);
-        let d: [f64; 3] = std::array::from_fn(|k| pm[k] - pb[k]);
-        let l2: f64 = e.iter().map(|x| x * x).sum();
-        if l2 == 0.0 {
+        if pb == pc || !place::strictly_between(&pb, &pc, &pm) {
             return false;
         }
-        let u = e.iter().zip(&d).map(|(x, y)| x * y).sum::<f64>() / l2;
-        let off2: f64 = (0..3).map(|k| (d[k] - u * e[k]).powi(2)).sum();
         let mag = [pb, pc, pm]
             .iter()
             .flatten()
             .fold(0f64, |a, x| a.max(x.abs()));
-        let tol = 64.0 * f64::EPSILON * mag;
-        u > 0.0 && u < 1.0 && off2 <= tol * tol
+        place::line_distance(&pb, &pc, &pm) <= 64.0 * f64::EPSILON * mag
     };
     let mut work: Vec<usize> = (0..core.v.len()).filter(|&t| kept(region, t)).collect();
     let mut dropped = 0;

@@ -72,7 +72,7 @@ fn lerp(a: &P, b: &P, s: f64) -> P {
 
 /// Strictly between `u` and `v` along the direction `u → v` (floating test,
 /// after an exact collinearity check or for a nearby point).
-fn strictly_between(u: &P, v: &P, p: &P) -> bool {
+pub(crate) fn strictly_between(u: &P, v: &P, p: &P) -> bool {
     let d = sub(v, u);
     let s = dot(&sub(p, u), &d);
     s > 0.0 && s < dot(&d, &d) && p != u && p != v
