@@ -101,7 +101,7 @@ pub fn read_weights(node_path: &Path, node: &NodeFile) -> Result<(Vec<f64>, Stri
     let base = s.strip_suffix(".node").unwrap_or(&s);
     let wpath = PathBuf::from(format!("{base}.weight"));
     if wpath.exists() {
-        let text = std::fs::read_to_string(&wpath)
+        let text = crate::guard::read_to_string(&wpath)
             .map_err(|e| fail(format!("cannot read {}: {e}", wpath.display())))?;
         let name = wpath.display().to_string();
         let w = parse_weights(&text, node.len(), node.first_index, &name)?;
@@ -166,8 +166,7 @@ fn write(
     written: &mut Vec<PathBuf>,
     f: impl FnOnce(File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
-    let file =
-        File::create(path).map_err(|e| fail(format!("cannot create {}: {e}", path.display())))?;
+    let file = crate::guard::create(path)?;
     f(file).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
     written.push(path.to_path_buf());
     Ok(())

@@ -2,7 +2,6 @@
 //! .node, renumbering the rest) and plain `delone tri -c FILE.node` (the
 //! convex hull written as .poly segments, as Triangle does).
 
-use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use delone::NONE;
@@ -109,8 +108,7 @@ pub fn write_hull_poly(
     s.push(".poly");
     let path = PathBuf::from(s);
     let fail = |message: String| Failure { message, code: 1 };
-    let f =
-        File::create(&path).map_err(|e| fail(format!("cannot create {}: {e}", path.display())))?;
+    let f = crate::guard::create(&path)?;
     delone_io::write_poly(f, &[], &segs, markers.then_some(&sm[..]), &[], &[], first)
         .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
     written.push(path);

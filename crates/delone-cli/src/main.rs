@@ -5,6 +5,7 @@
 mod args;
 mod cutaway;
 mod dual;
+mod guard;
 mod help;
 mod jettison;
 mod plc;

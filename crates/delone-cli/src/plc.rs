@@ -64,7 +64,7 @@ fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
 /// Reads the input as a PLC (TetGen formats) or a surface (the others),
 /// with the marker of each facet.
 fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
-    let bytes = std::fs::read(path)
+    let bytes = crate::guard::read(path)
         .map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))?;
     let err = |e: delone_io::IoError| input_err(format!("{}: {e}", path.display()));
     match ext {
@@ -112,8 +112,7 @@ pub(crate) fn write(
     path: &Path,
     f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    let file = crate::guard::create(path)?;
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
@@ -166,6 +165,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         facet_of,
         ..
     } = load(o)?;
+    crate::guard::plan(crate::args::Mode::Tet, crate::guard::Kind::Domain, o, &out);
+    crate::guard::check()?;
     let name = path.display();
     let t_read = t_all.elapsed();
     let t1 = Instant::now();

@@ -99,12 +99,13 @@ pub fn conforming_line(o: &Opts, r: &RefineReport) -> Option<String> {
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
     let (poly_path, node_path, out) = names(o);
-    let bytes = std::fs::read(&poly_path)
+    crate::guard::plan(crate::args::Mode::Tri, crate::guard::Kind::Domain, o, &out);
+    let bytes = crate::guard::read(&poly_path)
         .map_err(|e| input_err(format!("cannot read {}: {e}", poly_path.display())))?;
     let poly = delone_io::read_poly(&bytes)
         .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
     let node = if poly.node.is_empty() {
-        let b = std::fs::read(&node_path).map_err(|e| {
+        let b = crate::guard::read(&node_path).map_err(|e| {
             input_err(format!(
                 "{} has no points and {} cannot be read: {e}",
                 poly_path.display(),
@@ -115,6 +116,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         poly.node.clone()
     };
+    crate::guard::check()?;
     let Some(points) = node.points::<2>() else {
         return Err(input_err(format!(
             "{}: the points are not 2D",

@@ -14,15 +14,14 @@ use crate::args::Opts;
 use crate::run::{input_err, Failure};
 
 fn read(path: &Path) -> Result<Vec<u8>, Failure> {
-    std::fs::read(path).map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))
+    crate::guard::read(path).map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))
 }
 
 fn write(
     path: &Path,
     f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    let file = crate::guard::create(path)?;
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
@@ -42,6 +41,7 @@ fn names(o: &Opts) -> (String, PathBuf) {
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
     let (base, out) = names(o);
+    crate::guard::plan(crate::args::Mode::Tri, crate::guard::Kind::Refine, o, &out);
     let p = |ext: &str| PathBuf::from(format!("{base}.{ext}"));
     let node_path = p("node");
     let node = delone_io::read_node(&read(&node_path)?)
@@ -106,6 +106,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         Vec::new()
     };
+    crate::guard::check()?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     let n_in = points.len();

@@ -118,13 +118,6 @@ pub(crate) fn with_ext(base: &Path, ext: &str) -> PathBuf {
     PathBuf::from(s)
 }
 
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => a == b,
-    }
-}
-
 /// Timings and counts for the summary.
 struct Report {
     lines: Vec<String>,
@@ -146,8 +139,7 @@ fn write_file(
     written: &mut Vec<PathBuf>,
     f: impl FnOnce(File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
-    let file = File::create(path)
-        .map_err(|e| input_err(format!("cannot create {}: {e}", path.display())))?;
+    let file = crate::guard::create(path)?;
     f(file).map_err(|e| input_err(format!("cannot write {}: {e}", path.display())))?;
     written.push(path.to_path_buf());
     Ok(())
@@ -270,23 +262,13 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     if let Some(p) = &vtu_path {
         planned.push(("vtu", p.clone()));
     }
-    for (_, p) in &planned {
-        if same_file(p, &names.node) {
-            return Err(usage_err(format!(
-                "output {} would overwrite the input{}",
-                p.display(),
-                if o.no_iteration {
-                    " (drop -I, add -N, or use --output-dir)"
-                } else {
-                    ""
-                }
-            )));
-        }
-    }
+    crate::guard::plan(mode, crate::guard::Kind::Points, o, ob);
+    crate::guard::note_input(&names.node);
+    crate::guard::check()?;
 
     // Read.
     let t0 = Instant::now();
-    let bytes = std::fs::read(&names.node)
+    let bytes = crate::guard::read(&names.node)
         .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
     let node = delone_io::read_node(&bytes)
         .map_err(|e| input_err(format!("{}: {e}", names.node.display())))?;

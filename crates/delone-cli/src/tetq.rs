@@ -191,8 +191,8 @@ pub fn report(
         lines.push(h);
     }
     if let Some(p) = &o.stats_json {
-        std::fs::write(p, crate::tetjson::document(&s, rec, refined, optimized))
-            .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        let doc = crate::tetjson::document(&s, rec, refined, optimized);
+        crate::guard::write_bytes(p, doc.as_bytes()).map_err(|f| f.message)?;
     }
     Ok(lines)
 }

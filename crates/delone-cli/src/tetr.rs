@@ -25,7 +25,7 @@ use crate::plc::write;
 use crate::run::{input_err, with_ext, Failure};
 
 fn read_file(p: &Path) -> Result<Vec<u8>, String> {
-    std::fs::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()))
+    crate::guard::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()))
 }
 
 fn io_err(p: &Path) -> impl Fn(delone_io::IoError) -> String + '_ {
@@ -135,6 +135,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let node_s = names.node.to_string_lossy();
     let base = PathBuf::from(node_s.strip_suffix(".node").unwrap_or(&node_s));
     let out = names.out_base;
+    crate::guard::plan(crate::args::Mode::Tet, crate::guard::Kind::Refine, o, &out);
     let (points, tets, attributes, first_in) = read_mesh(&base).map_err(input_err)?;
     let fp = with_ext(&base, "face");
     let (faces, markers) = if fp.is_file() {
@@ -149,6 +150,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         Sizing::None
     };
+    crate::guard::check()?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     let mut opts = RefineOptions {

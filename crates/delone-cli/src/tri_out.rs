@@ -35,8 +35,7 @@ fn write(
     written: &mut Vec<PathBuf>,
     f: impl FnOnce(File) -> Result<(), delone_io::IoError>,
 ) -> Result<(), Failure> {
-    let file =
-        File::create(path).map_err(|e| fail(format!("cannot create {}: {e}", path.display())))?;
+    let file = crate::guard::create(path)?;
     f(file).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
     written.push(path.to_path_buf());
     Ok(())
@@ -710,8 +709,7 @@ pub fn stats_if(
     }
     if let Some(path) = &o.stats_json {
         let text = stats_json(&s);
-        std::fs::write(path, text)
-            .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
+        crate::guard::write_bytes(path, text.as_bytes())?;
         written.push(path.clone());
     }
     Ok(Some(s))

@@ -1,0 +1,240 @@
+//! The one guard between a run's inputs and its outputs: no output ever
+//! overwrites a file the run reads, and a refused run writes nothing.
+//!
+//! * Every input file (the main input and its companions: `.node`, `.ele`,
+//!   `.face`, `.area`, `.poly`, `.smesh`, `.mesh`, `.off`, `.stl`, `.ply`,
+//!   `.obj`, `.mtr`, `.weight`, `.b.*`, ...) is read through [`read`] /
+//!   [`read_to_string`], which record it.
+//! * Each run states the outputs it may write, with the switch that asks
+//!   for each, through [`plan`] (computed from the switches alone by
+//!   [`outputs`]).
+//! * Every output file is created through [`create`]. Its first call checks
+//!   the whole plan against the recorded inputs and refuses the run (exit
+//!   code 2, naming the file and the switch) before anything is written;
+//!   every call also refuses its own path when it is an input (a guard for
+//!   an output missing from the plan; in debug builds such an output is a
+//!   bug and panics, so the CLI tests keep the plan complete).
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use crate::args::{Mode, Opts};
+use crate::run::{with_ext, Failure};
+
+#[derive(Default)]
+struct State {
+    /// The files read, as named.
+    inputs: Vec<PathBuf>,
+    /// The outputs the run may write: what asks for it, and its path.
+    plan: Vec<(String, PathBuf)>,
+    /// How many of `inputs` have been checked against `plan`.
+    checked: usize,
+    /// Whether `plan` was called.
+    planned: bool,
+}
+
+static STATE: Mutex<State> = Mutex::new(State {
+    inputs: Vec::new(),
+    plan: Vec::new(),
+    checked: 0,
+    planned: false,
+});
+
+fn state() -> std::sync::MutexGuard<'static, State> {
+    STATE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Records `path` as an input of the run.
+pub fn note_input(path: &Path) {
+    state().inputs.push(path.to_path_buf());
+}
+
+/// Reads an input file, recording it.
+pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
+    note_input(path);
+    std::fs::read(path)
+}
+
+/// Reads an input text file, recording it.
+pub fn read_to_string(path: &Path) -> std::io::Result<String> {
+    note_input(path);
+    std::fs::read_to_string(path)
+}
+
+/// Whether `a` and `b` name the same existing file (same device and inode
+/// on Unix, else the same canonical path).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
+
+/// Which kind of run writes the outputs (see [`outputs`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `tri` / `tet` of a `.node` point set.
+    Points,
+    /// `tri -p` / `tet -p`.
+    Domain,
+    /// `tri -r` / `tet -r`.
+    Refine,
+}
+
+/// Every output a run of `mode`/`kind` with switches `o` may write next to
+/// output base `out`, with the switch (or file kind) that asks for it.
+pub fn outputs(mode: Mode, kind: Kind, o: &Opts, out: &Path) -> Vec<(String, PathBuf)> {
+    let mut v: Vec<(String, PathBuf)> = Vec::new();
+    let mut base = |ext: &str, why: &str| {
+        let label = if o.no_iteration {
+            format!("the .{ext} output{why} (named after the input by -I)")
+        } else {
+            format!("the .{ext} output{why}")
+        };
+        v.push((label, with_ext(out, ext)))
+    };
+    if !o.no_node {
+        base("node", "");
+    }
+    if !o.no_ele {
+        base("ele", "");
+    }
+    let tet = mode == Mode::Tet;
+    if tet && !o.no_face {
+        base("face", "");
+    }
+    if o.edges && !(tet && o.no_face) {
+        base("edge", " of -e");
+    }
+    if o.neigh {
+        base("neigh", " of -n");
+    }
+    if tet && o.vtk_legacy {
+        base("vtk", " of -k");
+    }
+    if o.vtu.is_none() && o.vtu_ascii {
+        base("vtu", " of --vtu-ascii");
+    }
+    match (mode, kind) {
+        (Mode::Tri, Kind::Points) => {
+            if o.convex_hull && !o.no_poly {
+                base("poly", " of -c");
+            }
+        }
+        (Mode::Tri, _) => {
+            if !o.no_poly {
+                base("poly", "");
+            }
+        }
+        (Mode::Tet, Kind::Points) => {}
+        (Mode::Tet, _) => {
+            if o.medit_out && o.medit.is_none() {
+                base("mesh", " of -g");
+            }
+        }
+    }
+    if o.voronoi && kind == Kind::Points {
+        base("v.node", " of -v");
+        base("v.edge", " of -v");
+        if tet {
+            base("v.face", " of -v");
+            base("v.cell", " of -v");
+        }
+    }
+    let named: [(&str, &Option<PathBuf>); 7] = [
+        ("-o/--vtu", &o.vtu),
+        ("--svg", &o.svg),
+        ("--png", &o.png),
+        ("--stats-json", &o.stats_json),
+        ("--medit", &o.medit),
+        ("--gmsh", &o.gmsh),
+        ("--cells-vtu", &o.cells_vtu),
+    ];
+    for (switch, p) in named {
+        if let Some(p) = p {
+            v.push((format!("the output of {switch}"), p.clone()));
+        }
+    }
+    v
+}
+
+/// States the outputs the run may write (see [`outputs`]).
+pub fn plan(mode: Mode, kind: Kind, o: &Opts, out: &Path) {
+    let list = outputs(mode, kind, o, out);
+    let mut s = state();
+    s.plan = list;
+    s.planned = true;
+    s.checked = 0;
+}
+
+/// The refusal when output `path` (asked for by `label`) is input `input`.
+fn refusal(label: &str, path: &Path, input: &Path) -> Failure {
+    Failure {
+        message: format!(
+            "{label}, {}, would overwrite the input file {}; nothing was written \
+             (choose another name, drop -I, or use --output-dir)",
+            path.display(),
+            input.display()
+        ),
+        code: 2,
+    }
+}
+
+/// Checks the plan against the inputs read so far (done again by
+/// [`create`] when inputs were read since; call it right after reading to
+/// refuse before a long computation).
+pub fn check() -> Result<(), Failure> {
+    let mut s = state();
+    for (label, p) in &s.plan {
+        if let Some(i) = s.inputs.iter().find(|i| same_file(p, i)) {
+            return Err(refusal(label, p, i));
+        }
+    }
+    s.checked = s.inputs.len();
+    Ok(())
+}
+
+/// Creates output file `path`: the plan is checked first (once), and
+/// `path` itself must not be an input.
+pub fn create(path: &Path) -> Result<File, Failure> {
+    let (checked, planned) = {
+        let s = state();
+        (s.checked == s.inputs.len(), s.planned)
+    };
+    if !checked {
+        check()?;
+    }
+    {
+        let s = state();
+        if let Some(i) = s.inputs.iter().find(|i| same_file(path, i)) {
+            return Err(refusal("an output", path, i));
+        }
+        debug_assert!(
+            planned && s.plan.iter().any(|(_, p)| p == path),
+            "output {} is missing from the guard's plan",
+            path.display()
+        );
+    }
+    File::create(path).map_err(|e| Failure {
+        message: format!("cannot create {}: {e}", path.display()),
+        code: 1,
+    })
+}
+
+/// Writes `bytes` to output `path` through [`create`].
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut f = create(path)?;
+    f.write_all(bytes).map_err(|e| Failure {
+        message: format!("cannot write {}: {e}", path.display()),
+        code: 1,
+    })
+}
