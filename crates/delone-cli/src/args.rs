@@ -157,6 +157,46 @@ fn unimplemented(mode: Mode, c: char) -> Option<&'static str> {
     })
 }
 
+/// Where the number glued to a switch letter, starting at `chars[start]`,
+/// ends: digits and `.`; with `slash` (tet `-q`) also `/` between two
+/// numbers; and an exponent, `e`/`E` followed by a digit or by `+`/`-` and
+/// a digit, after a digit of the same number. Any other `e`/`E` is the next
+/// switch: `-pq1.2e` is `-q1.2` then `-e`, `-pq1.2e-3`... is `-q0.0012`.
+fn number_end(chars: &[char], start: usize, slash: bool) -> usize {
+    let mut k = start;
+    let mut digit = false;
+    while let Some(&ch) = chars.get(k) {
+        if ch.is_ascii_digit() {
+            digit = true;
+            k += 1;
+        } else if ch == '.' {
+            k += 1;
+        } else if slash && ch == '/' {
+            digit = false;
+            k += 1;
+        } else if matches!(ch, 'e' | 'E') && digit {
+            let d = |i: usize| chars.get(i).is_some_and(|c| c.is_ascii_digit());
+            if d(k + 1) {
+                k += 2;
+            } else if matches!(chars.get(k + 1), Some('+' | '-')) && d(k + 2) {
+                k += 3;
+            } else {
+                break;
+            }
+            // One exponent per number.
+            while chars.get(k).is_some_and(|c| c.is_ascii_digit()) {
+                k += 1;
+            }
+            if !(slash && chars.get(k) == Some(&'/')) {
+                break;
+            }
+        } else {
+            break;
+        }
+    }
+    k
+}
+
 /// A number glued to a switch letter (`-q30`, `-a0.01`, `-S100`), if any.
 fn number(c: char, num: &str) -> Result<Option<f64>, Usage> {
     if num.is_empty() {
@@ -313,7 +353,197 @@ fn value(
     }
 }
 
+/// The switches a run would accept and not use, each with the reason:
+/// the first one given is refused (see [`parse`]).
+fn unused(mode: Mode, o: &Opts) -> Option<String> {
+    let picture = o.svg.is_some() || o.png.is_some();
+    let refining = o.min_angle.is_some()
+        || o.area
+        || o.max_steiner.is_some()
+        || o.conforming_delaunay
+        || o.no_segment_splits > 0;
+    // (given, switch, why it has no effect in this run)
+    let mut rules: Vec<(bool, &str, &str)> = Vec::new();
+    let common = [
+        (
+            o.png_width.is_some() && !picture,
+            "--png-width",
+            "without --svg or --png: no picture is drawn",
+        ),
+        (
+            o.svg_quality && !picture,
+            "--svg-quality",
+            "without --svg or --png: no picture is drawn",
+        ),
+        (
+            o.cut.is_some() && o.png.is_none(),
+            "--cut",
+            "without --png: no picture is drawn",
+        ),
+        (
+            o.view.is_some() && o.png.is_none(),
+            "--view",
+            "without --png: no picture is drawn",
+        ),
+    ];
+    match mode {
+        Mode::Tri => {
+            rules.push((
+                o.threads.is_some() && !refining,
+                "--threads",
+                "without refinement (-q, -a, -S, -D or -Y): only refinement runs in threads",
+            ));
+            if o.refine_mesh {
+                let why = "with -r: delone tri -r writes only the .node, .ele and .poly files";
+                rules.extend([
+                    (o.edges, "-e", why),
+                    (o.neigh, "-n", why),
+                    (o.vtu.is_some(), "-o/--vtu", why),
+                    (o.vtu_ascii, "--vtu-ascii", why),
+                    (o.svg.is_some(), "--svg", why),
+                    (o.png.is_some(), "--png", why),
+                    (o.stats_json.is_some(), "--stats-json", why),
+                    (o.second_order, "-o2", why),
+                    (
+                        o.convex_hull,
+                        "-c",
+                        "with -r: the input mesh's own boundary is kept",
+                    ),
+                    (
+                        o.region_attributes,
+                        "-A",
+                        "with -r: the .ele keeps the input mesh's attributes",
+                    ),
+                    (
+                        o.voronoi,
+                        "-v",
+                        "with -r: no Voronoi diagram of a refined mesh",
+                    ),
+                    (
+                        o.weights,
+                        "-w",
+                        "with -r: the input mesh is refined as it is",
+                    ),
+                    (
+                        o.lloyd.is_some(),
+                        "--lloyd",
+                        "with -r: the input points are kept",
+                    ),
+                ]);
+            }
+        }
+        Mode::Tet => {
+            if o.detect {
+                let why = "with -d: nothing is meshed and no file is written";
+                rules.extend([
+                    (o.edges, "-e", why),
+                    (o.neigh, "-n", why),
+                    (o.all_faces, "-f", why),
+                    (o.vtk_legacy, "-k", why),
+                    (o.vtu.is_some(), "-o/--vtu", why),
+                    (o.vtu_ascii, "--vtu-ascii", why),
+                    (o.medit_out, "-g", why),
+                    (o.medit.is_some(), "--medit", why),
+                    (o.gmsh.is_some(), "--gmsh", why),
+                    (o.png.is_some(), "--png", why),
+                    (o.stats_json.is_some(), "--stats-json", why),
+                    (o.cells_vtu.is_some(), "--cells-vtu", why),
+                    (o.output_dir.is_some(), "--output-dir", why),
+                    (o.no_node, "-N", why),
+                    (o.no_ele, "-E", why),
+                    (o.no_face, "-F", why),
+                    (o.no_bound, "-B", why),
+                    (o.no_iteration, "-I", why),
+                    (
+                        o.zero,
+                        "-z",
+                        "with -d: findings use the input file's own numbering",
+                    ),
+                    (o.region_attributes, "-A", why),
+                    (o.convex_hull, "-c", why),
+                    (o.no_merge, "-M", why),
+                    (o.preserve_surface, "-Y", why),
+                    (o.tet_ratio.is_some(), "-q", why),
+                    (o.area, "-a", why),
+                    (o.sizing, "-m", why),
+                    (o.max_steiner.is_some(), "-S", why),
+                    (o.tet_optimize.is_some(), "-O", why),
+                    (o.keep_ratio, "--keep-ratio", why),
+                    (o.check, "-C", why),
+                    (o.voronoi, "-v", why),
+                    (o.weights, "-w", why),
+                    (o.refine_mesh, "-r", why),
+                ]);
+            }
+            if !o.pslg && !o.refine_mesh {
+                let why = "without -p or -r: a point set is only tetrahedralized";
+                rules.extend([
+                    (o.tet_optimize.is_some(), "-O", why),
+                    (o.keep_ratio, "--keep-ratio", why),
+                    (o.no_merge, "-M", why),
+                    (o.preserve_surface, "-Y", why),
+                    (
+                        o.stats_json.is_some(),
+                        "--stats-json",
+                        "without -p or -r: the statistics are those of a quality mesh",
+                    ),
+                ]);
+            }
+            rules.push((
+                o.keep_ratio && o.tet_ratio.is_none(),
+                "--keep-ratio",
+                "without -q: there is no radius-edge bound to keep",
+            ));
+            if o.refine_mesh {
+                rules.extend([
+                    (o.convex_hull, "-c", "with -r: the input mesh is the domain"),
+                    (
+                        o.no_merge,
+                        "-M",
+                        "with -r: the input mesh's faces are kept as they are",
+                    ),
+                    (
+                        o.preserve_surface,
+                        "-Y",
+                        "with -r: not supported when refining a mesh",
+                    ),
+                    (
+                        o.voronoi,
+                        "-v",
+                        "with -r: no Voronoi diagram of a refined mesh",
+                    ),
+                    (
+                        o.weights,
+                        "-w",
+                        "with -r: the input mesh is refined as it is",
+                    ),
+                ]);
+            }
+            if o.pslg || o.refine_mesh {
+                rules.push((
+                    o.cells_vtu.is_some(),
+                    "--cells-vtu",
+                    "with -p or -r: Voronoi cells are drawn for point sets only",
+                ));
+            }
+        }
+    }
+    rules.extend(common);
+    rules
+        .into_iter()
+        .find(|r| r.0)
+        .map(|(_, s, why)| format!("{s} has no effect {why}; leave it out"))
+}
+
 /// Parses the arguments after the subcommand name.
+///
+/// **Every switch is honoured or refused.** A switch or long option that
+/// this parser accepts must change what the run does (its files, its
+/// report, its exit code); when it would change nothing in the run asked
+/// for (an output switch with `-d`, `-e` with `tri -r`, `--cut` without
+/// `--png`, ...) the command line is refused with a usage error naming the
+/// switch and the reason (see `unused`). Switches of Triangle/TetGen that
+/// delone lacks are refused as "not implemented yet".
 pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
     let mut o = Opts::default();
     let mut input: Option<String> = None;
@@ -451,13 +681,7 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 || (mode == Mode::Tri && c == 'o')
                 || (mode == Mode::Tet && c == 'O')
             {
-                while k < chars.len()
-                    && (chars[k].is_ascii_digit()
-                        || chars[k] == '.'
-                        || (mode == Mode::Tet && c == 'q' && chars[k] == '/'))
-                {
-                    k += 1;
-                }
+                k = number_end(&chars, k, mode == Mode::Tet && c == 'q');
             }
             let num: String = chars[start..k].iter().collect();
             if let Some(cmd) = letter(mode, c, &num, &mut o)? {
@@ -503,6 +727,9 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
         return Err(Usage(
             "-q, -a, -m and -S refine a PLC or surface (-p) or an existing mesh (-r)".into(),
         ));
+    }
+    if let Some(msg) = unused(mode, &o) {
+        return Err(Usage(msg));
     }
     match input {
         Some(i) => {

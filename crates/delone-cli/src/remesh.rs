@@ -200,7 +200,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             delone_io::write_ele(f, &m.triangles, &attrs, na, first)
         })?;
     }
-    {
+    if !o.no_poly {
         let segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.v).collect();
         let sm: Vec<i32> = bounding.iter().map(|s| s.marker).collect();
         write(&with_ext("poly"), |f| {

@@ -398,7 +398,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some((n, p, h)) => (n, &p[..], &h[..]),
                 None => (&node, &pts[..], &hull[..]),
             };
-            if o.convex_hull {
+            if o.convex_hull && !o.no_poly {
                 crate::jettison::write_hull_poly(
                     ob,
                     &edges.items,

@@ -196,7 +196,12 @@ impl<'a> TetOutput<'a> {
             })?;
             written.push(p);
         }
-        if let Some(p) = &o.vtu {
+        // --vtu-ascii alone names the .vtu after the output base (as in 2D).
+        let vtu = o
+            .vtu
+            .clone()
+            .or_else(|| o.vtu_ascii.then(|| with_ext(out, "vtu")));
+        if let Some(p) = &vtu {
             write(p, |f| {
                 delone_io::write_vtu(
                     f,
@@ -212,6 +217,20 @@ impl<'a> TetOutput<'a> {
                 )
             })?;
             written.push(p.clone());
+        }
+        if o.vtk_legacy {
+            let p = with_ext(out, "vtk");
+            write(&p, |f| {
+                delone_io::write_vtk_legacy(
+                    f,
+                    &rec.points,
+                    &rec.mesh.tets,
+                    &[],
+                    &[],
+                    "delone tet output",
+                )
+            })?;
+            written.push(p);
         }
         let mut medit = o.medit.clone();
         if o.medit_out && medit.is_none() {

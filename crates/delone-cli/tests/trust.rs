@@ -178,10 +178,10 @@ fn no_output_overwrites_an_input() {
         &[
             ("m.node", node),
             ("m.ele", ele),
-            ("m.area", "2\n1 0.1\n2 0.1\n"),
+            ("m.poly", "0 2 0 0\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n"),
         ],
-        &["tri", "-ra", "m", "--stats-json", "m.area"],
-        &["m.area", "--stats-json"],
+        &["tri", "-rNEI", "m"],
+        &["m.poly", "-I"],
     );
     refused_untouched(
         "g14",
@@ -226,4 +226,247 @@ fn no_output_overwrites_an_input() {
         std::fs::read_to_string(dir.join("model.mesh")).unwrap(),
         CUBE_MESH
     );
+}
+
+/// The number of elements in the header of a `.ele` file.
+fn ele_count(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    text.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+/// A legacy `.vtk` and an ASCII `.vtu` with `cells` cells each.
+fn check_vtk(path: &Path, cells: usize) {
+    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    assert!(t.starts_with("# vtk DataFile"), "{path:?}");
+    let line = t.lines().find(|l| l.starts_with("CELLS ")).unwrap();
+    assert_eq!(
+        line.split_whitespace().nth(1),
+        Some(cells.to_string().as_str()),
+        "{path:?}"
+    );
+}
+
+fn check_vtu_ascii(path: &Path, cells: usize) {
+    let t = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    assert!(
+        t.contains("<VTKFile") && t.trim_end().ends_with("</VTKFile>"),
+        "{path:?}"
+    );
+    assert!(t.contains("format=\"ascii\""), "{path:?}");
+    assert!(
+        t.contains(&format!("NumberOfCells=\"{cells}\"")),
+        "{path:?}"
+    );
+}
+
+/// `-k` and `--vtu-ascii` write their files on every tet path.
+#[test]
+fn tet_k_and_vtu_ascii_on_every_path() {
+    let dir = tmp("kvtu");
+    std::fs::write(dir.join("cube.off"), CUBE_OFF).unwrap();
+    let node = "8 3 0 0\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n9 0.5 0.5 0.5\n"
+        .replacen("8 3", "9 3", 1);
+    std::fs::write(dir.join("pts.node"), node).unwrap();
+    let ok = |args: &[&str]| {
+        let out = run(&dir, args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    };
+    for (args, base) in [
+        (vec!["tet", "-Qk", "--vtu-ascii", "pts"], "pts.1"),
+        (vec!["tet", "-Qpk", "--vtu-ascii", "cube.off"], "cube.1"),
+        (vec!["tet", "-Qpq1.5k", "--vtu-ascii", "cube.off"], "cube.1"),
+        (vec!["tet", "-Qrq1.5k", "--vtu-ascii", "cube.1"], "cube.2"),
+    ] {
+        for ext in ["vtk", "vtu"] {
+            let _ = std::fs::remove_file(dir.join(format!("{base}.{ext}")));
+        }
+        ok(&args);
+        let n = ele_count(&dir.join(format!("{base}.ele")));
+        assert!(n > 0);
+        check_vtk(&dir.join(format!("{base}.vtk")), n);
+        check_vtu_ascii(&dir.join(format!("{base}.vtu")), n);
+    }
+    // --vtu FILE with --vtu-ascii: FILE in ASCII.
+    ok(&[
+        "tet",
+        "-Qp",
+        "--vtu",
+        "named.vtu",
+        "--vtu-ascii",
+        "cube.off",
+    ]);
+    check_vtu_ascii(&dir.join("named.vtu"), ele_count(&dir.join("cube.1.ele")));
+}
+
+/// (mode and switches, the switch a refusal names): each accepted switch
+/// that would have no effect in the run is refused naming it and why.
+#[test]
+fn switches_without_effect_are_refused() {
+    let dir = tmp("refuse");
+    std::fs::write(dir.join("face.poly"), SQUARE_POLY).unwrap();
+    std::fs::write(dir.join("cube.off"), CUBE_OFF).unwrap();
+    let pts2 = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1.2\n";
+    std::fs::write(dir.join("p2.node"), pts2).unwrap();
+    let pts3 = "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n";
+    std::fs::write(dir.join("p3.node"), pts3).unwrap();
+    for a in [
+        &["tri", "-pQ", "face.poly"][..],
+        &["tet", "-pQ", "cube.off"],
+    ] {
+        let out = run(&dir, a);
+        assert!(out.status.success(), "{a:?}: {}", stderr(&out));
+    }
+    let rows: &[(&[&str], &str, &str)] = &[
+        (&["tet", "-dk", "cube.off"], "-k", "-d"),
+        (
+            &["tet", "-d", "--vtu-ascii", "cube.off"],
+            "--vtu-ascii",
+            "-d",
+        ),
+        (
+            &["tet", "-d", "--vtu", "x.vtu", "cube.off"],
+            "-o/--vtu",
+            "-d",
+        ),
+        (&["tet", "-dg", "cube.off"], "-g", "-d"),
+        (&["tet", "-de", "cube.off"], "-e", "-d"),
+        (&["tet", "-dC", "cube.off"], "-C", "-d"),
+        (&["tet", "-pdq", "cube.off"], "-q", "-d"),
+        (
+            &["tet", "-d", "--stats-json", "s.json", "cube.off"],
+            "--stats-json",
+            "-d",
+        ),
+        (&["tet", "-O2", "p3"], "-O", "without -p or -r"),
+        (&["tet", "-M", "p3"], "-M", "without -p or -r"),
+        (
+            &["tet", "--stats-json", "s.json", "p3"],
+            "--stats-json",
+            "without -p or -r",
+        ),
+        (
+            &["tet", "-p", "--keep-ratio", "cube.off"],
+            "--keep-ratio",
+            "without -q",
+        ),
+        (
+            &["tet", "-p", "--cells-vtu", "c.vtu", "cube.off"],
+            "--cells-vtu",
+            "with -p",
+        ),
+        (&["tet", "-rv", "cube.1"], "-v", "with -r"),
+        (&["tet", "-rM", "cube.1"], "-M", "with -r"),
+        (&["tet", "-p", "--cut", "x", "cube.off"], "--cut", "--png"),
+        (
+            &["tet", "-p", "--view", "10,20", "cube.off"],
+            "--view",
+            "--png",
+        ),
+        (&["tri", "-re", "face.1"], "-e", "with -r"),
+        (&["tri", "-rn", "face.1"], "-n", "with -r"),
+        (
+            &["tri", "-r", "--vtu", "a.vtu", "face.1"],
+            "-o/--vtu",
+            "with -r",
+        ),
+        (
+            &["tri", "-r", "--stats-json", "s.json", "face.1"],
+            "--stats-json",
+            "with -r",
+        ),
+        (
+            &["tri", "-r", "--svg", "a.svg", "face.1"],
+            "--svg",
+            "with -r",
+        ),
+        (&["tri", "-ro2", "face.1"], "-o2", "with -r"),
+        (&["tri", "-rv", "face.1"], "-v", "with -r"),
+        (
+            &["tri", "-p", "--threads", "2", "face.poly"],
+            "--threads",
+            "refinement",
+        ),
+        (&["tri", "--threads", "2", "p2"], "--threads", "refinement"),
+        (
+            &["tri", "-p", "--svg-quality", "face.poly"],
+            "--svg-quality",
+            "--svg",
+        ),
+        (&["tri", "--png-width", "100", "p2"], "--png-width", "--svg"),
+    ];
+    for (args, switch, why) in rows {
+        let before = snapshot(&dir);
+        let out = run(&dir, args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("{switch} has no effect")) && err.contains(why),
+            "{args:?}: {err}"
+        );
+        assert!(snapshot(&dir) == before, "{args:?} wrote files");
+    }
+    // -P is honoured where a .poly would be written: -r and plain -c.
+    let out = run(&dir, &["tri", "-rqPQ", "face.1"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("face.2.node").is_file() && !dir.join("face.2.poly").exists());
+    let out = run(&dir, &["tri", "-cPQ", "p2"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("p2.1.ele").is_file() && !dir.join("p2.1.poly").exists());
+    let out = run(&dir, &["tri", "-cQ", "p2"]);
+    assert!(out.status.success() && dir.join("p2.1.poly").is_file());
+}
+
+/// Scientific notation in switch numbers, and `e`/`E` as switches after a
+/// number: the exponent belongs to the number only when a digit (or a sign
+/// and a digit) follows.
+#[test]
+fn scientific_notation_in_switches() {
+    let dir = tmp("sci");
+    std::fs::write(dir.join("face.poly"), SQUARE_POLY).unwrap();
+    std::fs::write(dir.join("cube.off"), CUBE_OFF).unwrap();
+    let ok = |args: &[&str]| {
+        let out = run(&dir, args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        stdout(&out)
+    };
+    let count = |f: &str| ele_count(&dir.join(f));
+    // tri -a1e-1 is -a0.1: the same mesh.
+    ok(&["tri", "-pa1e-1Q", "face.poly"]);
+    let a = std::fs::read(dir.join("face.1.ele")).unwrap();
+    ok(&["tri", "-pa0.1Q", "face.poly"]);
+    assert_eq!(a, std::fs::read(dir.join("face.1.ele")).unwrap());
+    ok(&["tri", "-pq2.5E1a1E-1Q", "face.poly"]);
+    assert!(count("face.1.ele") > 8);
+    // -pq1.2e: q1.2 then -e (edges); -pq30ea1e-1: q30, -e, a0.1.
+    let _ = std::fs::remove_file(dir.join("face.1.edge"));
+    ok(&["tri", "-pq20eQ", "face.poly"]);
+    assert!(dir.join("face.1.edge").is_file());
+    let _ = std::fs::remove_file(dir.join("face.1.edge"));
+    ok(&["tri", "-pq20ea1e-1Q", "face.poly"]);
+    assert!(dir.join("face.1.edge").is_file());
+    // -pq20E: -E (no .ele).
+    let _ = std::fs::remove_file(dir.join("face.1.ele"));
+    ok(&["tri", "-pq20EQ", "face.poly"]);
+    assert!(!dir.join("face.1.ele").exists());
+    // tet: -q1.2/1e1, -a1e-3, -pq1.2a1E-3; -pq1.2e is q1.2 then -e.
+    ok(&["tet", "-pq1.2/1e1Q", "cube.off"]);
+    ok(&["tet", "-pa1e-2Q", "cube.off"]);
+    let n1 = count("cube.1.ele");
+    ok(&["tet", "-pa0.01Q", "cube.off"]);
+    assert_eq!(n1, count("cube.1.ele"));
+    assert!(n1 >= 100, "{n1} tetrahedra for volume bound 0.01");
+    ok(&["tet", "-pq1.2a1E-2Q", "cube.off"]);
+    let _ = std::fs::remove_file(dir.join("cube.1.edge"));
+    ok(&["tet", "-pq1.2eQ", "cube.off"]);
+    assert!(dir.join("cube.1.edge").is_file());
+    // An exponent without digits is no exponent: `-a1e+` is -a1, -e, then
+    // the unknown switch -+; a second exponent is not a number.
+    let out = run(&dir, &["tri", "-pa1e+Q", "face.poly"]);
+    assert!(
+        stderr(&out).contains("unknown switch -+"),
+        "{}",
+        stderr(&out)
+    );
+    let out = run(&dir, &["tri", "-pq1e1e1", "face.poly"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
