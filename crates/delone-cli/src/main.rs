@@ -8,6 +8,7 @@ mod dual;
 mod guard;
 mod help;
 mod jettison;
+mod numbering;
 mod plc;
 mod progress;
 mod pslg;

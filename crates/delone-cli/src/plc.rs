@@ -122,34 +122,76 @@ pub(crate) struct Input {
     pub path: PathBuf,
     pub ext: String,
     pub out: PathBuf,
-    /// The complex, and the first index of its file.
+    /// The complex, and the first index of its file (for the output).
     pub plc: Plc,
     pub first: u32,
+    /// The first index of the file's own numbering of points and facets,
+    /// used in messages: the first index of a `.poly`/`.smesh`, 1 for a
+    /// Medit `.mesh`, 0 for OFF, STL, PLY and OBJ.
+    pub msg_first: u32,
     /// Its facets triangulated, with each triangle's facet.
     pub triangles: Vec<[u32; 3]>,
     pub facet_of: Vec<u32>,
 }
 
 /// Reads the input named by `o`, validates it and triangulates its facets
-/// (errors name the file and the offending item).
+/// (errors name the file and the offending item in the file's numbering).
 pub(crate) fn load(o: &Opts) -> Result<Input, Failure> {
+    load_with(o, false).map(|(i, _)| i)
+}
+
+/// [`load`]; with `lenient` (`-d`), degenerate facets are set aside and
+/// returned (0-based input facet index and defect) instead of failing,
+/// and `facet_of` names the input facets.
+pub(crate) fn load_with(
+    o: &Opts,
+    lenient: bool,
+) -> Result<(Input, Vec<(usize, delone::FacetDefect)>), Failure> {
     let (path, ext, out) = names(o)?;
-    let (plc, first) = read(&path, &ext)?;
-    let name = path.display();
-    plc.validate()
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
-    let (triangles, facet_of) = plc
-        .triangulate_facets()
-        .map_err(|e| input_err(format!("{name}: {e}")))?;
-    Ok(Input {
-        path,
-        ext,
-        out,
-        plc,
-        first,
-        triangles,
-        facet_of,
-    })
+    let (mut plc, first) = read(&path, &ext)?;
+    let msg_first = match ext.as_str() {
+        "poly" | "smesh" => first,
+        "mesh" => 1,
+        _ => 0,
+    };
+    let name = path.display().to_string();
+    // Input facet index of each facet still in `plc`.
+    let mut keep: Vec<u32> = (0..plc.facets.len() as u32).collect();
+    let mut defects = Vec::new();
+    let (triangles, owner) = loop {
+        match plc.validate().and_then(|()| plc.triangulate_facets()) {
+            Ok(t) => break t,
+            Err(delone::Error::DegenerateFacet { index, defect })
+                if lenient && index < plc.facets.len() =>
+            {
+                defects.push((keep[index] as usize, defect));
+                plc.facets.remove(index);
+                keep.remove(index);
+            }
+            Err(e) => {
+                let e = crate::numbering::renumber(e, msg_first);
+                return Err(input_err(format!("{name}: {e}")));
+            }
+        }
+    };
+    let facet_of = if lenient {
+        owner.iter().map(|&f| keep[f as usize]).collect()
+    } else {
+        owner
+    };
+    Ok((
+        Input {
+            path,
+            ext,
+            out,
+            plc,
+            first,
+            msg_first,
+            triangles,
+            facet_of,
+        },
+        defects,
+    ))
 }
 
 /// Runs `delone tet -p`. Returns the exit code (1 when `-C` finds a
@@ -161,6 +203,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         out,
         plc,
         first: first_in,
+        msg_first,
         triangles,
         facet_of,
         ..
@@ -197,6 +240,33 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let (mut rec, refined) =
         crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
             .map_err(|e| input_err(format!("{name}: {e}")))?;
+    if rec.mesh.tets.is_empty() {
+        let holes: Vec<String> = plc
+            .holes
+            .iter()
+            .enumerate()
+            .map(|(k, h)| {
+                format!(
+                    "hole {} at ({}, {}, {})",
+                    k as u32 + msg_first,
+                    h[0],
+                    h[1],
+                    h[2]
+                )
+            })
+            .collect();
+        return Err(input_err(format!(
+            "{name}: no tetrahedron left after carving{}",
+            if holes.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ": {} removed every tetrahedron it reached (a hole point on a facet or outside the surface eats the whole domain); use -c to keep the convex hull",
+                    holes.join(", ")
+                )
+            }
+        )));
+    }
     let t_opt = Instant::now();
     let optimized =
         crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.as_ref().map(|r| &r.1))

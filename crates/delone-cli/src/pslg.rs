@@ -95,6 +95,70 @@ pub fn conforming_line(o: &Opts, r: &RefineReport) -> Option<String> {
     })
 }
 
+/// Why carving left no triangle of PSLG `g` (numbered from `first` in
+/// its file): no segments, an open boundary, or the holes.
+fn why_empty(g: &Pslg, first: u32) -> String {
+    let f = first as usize;
+    let mut why = Vec::new();
+    if g.segments.is_empty() {
+        why.push("the file has no segments, so nothing encloses a region".to_string());
+    } else {
+        let mut degree = vec![0usize; g.points.len()];
+        for s in &g.segments {
+            if s[0] != s[1] {
+                for &v in s {
+                    if let Some(d) = degree.get_mut(v as usize) {
+                        *d += 1;
+                    }
+                }
+            }
+        }
+        let open = g.segments.iter().enumerate().find_map(|(k, s)| {
+            s.iter()
+                .find(|&&v| degree.get(v as usize) == Some(&1))
+                .map(|&v| (k, v))
+        });
+        if let Some((k, v)) = open {
+            why.push(format!(
+                "the boundary is not closed: segment {}'s endpoint {} has no other segment",
+                k + f,
+                v as usize + f
+            ));
+        }
+    }
+    if why.is_empty() {
+        // A closed boundary: the holes ate the domain.
+        for (k, h) in g.holes.iter().enumerate() {
+            let on = g.segments.iter().position(|s| {
+                let (a, b) = (g.points[s[0] as usize], g.points[s[1] as usize]);
+                let cross = (b[0] - a[0]) * (h[1] - a[1]) - (b[1] - a[1]) * (h[0] - a[0]);
+                let within =
+                    (h[0] - a[0]) * (h[0] - b[0]) <= 0.0 && (h[1] - a[1]) * (h[1] - b[1]) <= 0.0;
+                cross == 0.0 && within
+            });
+            why.push(match on {
+                Some(s) => format!(
+                    "hole {} at ({}, {}) lies on segment {}, so it eats the triangles on both sides",
+                    k + f,
+                    h[0],
+                    h[1],
+                    s + f
+                ),
+                None => format!(
+                    "hole {} at ({}, {}) removed every triangle it could reach",
+                    k + f,
+                    h[0],
+                    h[1]
+                ),
+            });
+        }
+    }
+    format!(
+        "no triangle left after carving: {}; use -c to keep the convex hull",
+        why.join("; ")
+    )
+}
+
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
@@ -166,8 +230,16 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 .unwrap_or_default(),
             _ => String::new(),
         };
+        let e = crate::numbering::renumber(e, node.first_index);
         input_err(format!("{}: {e}{what}", poly_path.display()))
     })?;
+    if cdt.triangles.is_empty() && !g.points.is_empty() {
+        return Err(input_err(format!(
+            "{}: {}",
+            poly_path.display(),
+            why_empty(&g, node.first_index)
+        )));
+    }
     let t_mesh = t1.elapsed();
     let t1 = Instant::now();
     let refining =
@@ -189,7 +261,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 ..RefineOptions::default()
             },
         )
-        .map_err(|e| input_err(format!("{}: {e}", poly_path.display())))?;
+        .map_err(|e| {
+            let e = crate::numbering::renumber(e, node.first_index);
+            input_err(format!("{}: {e}", poly_path.display()))
+        })?;
         (r.mesh, Some(r.report))
     } else {
         (cdt, None)

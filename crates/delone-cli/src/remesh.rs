@@ -118,7 +118,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         attributes: attributes.clone(),
         max_areas,
     })
-    .map_err(|e| input_err(format!("{}: {e}", ele_path.display())))?;
+    .map_err(|e| {
+        let e = crate::numbering::renumber(e, node.first_index);
+        input_err(format!("{}: {e}", ele_path.display()))
+    })?;
     let r = refine(
         &cdt,
         &RefineOptions {

@@ -190,7 +190,10 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
                 index + f
             )
         }
-        other => format!("{p}: {other}"),
+        other => format!(
+            "{p}: {}",
+            crate::numbering::renumber(other, node.first_index)
+        ),
     })
 }
 

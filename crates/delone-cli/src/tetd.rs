@@ -1,8 +1,11 @@
 //! `delone tet -d FILE`: detects self-intersections of the input facets
 //! (exactly: facets crossing, a vertex inside a facet, overlapping
-//! coplanar facets) and zero-area facets, and reports them by input facet
-//! index, with the surface's closedness; nothing is meshed. Exit code 1
-//! when anything is found, 0 for a clean input.
+//! coplanar facets), degenerate facets (zero area, too few or repeated
+//! vertices: reported, not fatal) and, for surfaces (OFF, STL, PLY, OBJ,
+//! Medit), open and non-manifold edges; nothing is meshed. Facets and
+//! points are numbered as the file numbers them (see
+//! [`crate::numbering`]), as in `-p`'s messages. Exit code 1 when anything
+//! is found, 0 for a clean input.
 
 use delone::tet::intersect::{manifold_report, self_intersections};
 
@@ -11,18 +14,22 @@ use crate::run::Failure;
 
 /// Runs `delone tet -d`.
 pub fn run(o: &Opts) -> Result<i32, Failure> {
-    let crate::plc::Input {
-        path,
-        ext,
-        plc,
-        first,
-        triangles,
-        facet_of,
-        ..
-    } = crate::plc::load(o)?;
+    let (
+        crate::plc::Input {
+            path,
+            ext,
+            plc,
+            msg_first,
+            triangles,
+            facet_of,
+            ..
+        },
+        defects,
+    ) = crate::plc::load_with(o, true)?;
     let name = path.display();
+    let first = msg_first as usize;
     let si = self_intersections(&plc.points, &triangles);
-    let facet = |t: u32| facet_of[t as usize] as usize + first as usize;
+    let facet = |t: u32| facet_of[t as usize] as usize + first;
     // Facet pairs (a facet's own triangles never intersect each other).
     let mut pairs: Vec<(usize, usize)> = si
         .pairs
@@ -35,37 +42,61 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .collect();
     pairs.sort_unstable();
     pairs.dedup();
-    let mut degenerate: Vec<usize> = si.degenerate.iter().map(|&t| facet(t)).collect();
-    degenerate.dedup();
+    // Degenerate facets: those set aside when reading (zero area, too few
+    // or repeated vertices, ...) and those with a zero-area triangle.
+    let mut degenerate: Vec<(usize, String)> = defects
+        .iter()
+        .map(|&(f, d)| {
+            (
+                f + first,
+                crate::numbering::renumber_defect(d, msg_first).to_string(),
+            )
+        })
+        .collect();
+    degenerate.extend(
+        si.degenerate
+            .iter()
+            .map(|&t| (facet(t), "has a zero-area triangle".to_string())),
+    );
+    degenerate.sort();
+    degenerate.dedup_by_key(|d| d.0);
     let m = manifold_report(&triangles);
-    let found = !pairs.is_empty() || !degenerate.is_empty();
+    // PLC facets may end inside the domain (slits) or meet in threes
+    // (internal facets between regions); a surface must be closed.
+    let plc_format = ext == "poly" || ext == "smesh";
+    let open = if plc_format {
+        0
+    } else {
+        m.boundary_edges.len() + m.nonmanifold_edges.len()
+    };
+    let found = !pairs.is_empty() || !degenerate.is_empty() || open > 0;
     if o.quiet {
         if found {
             eprintln!(
-                "delone: {name}: {} intersecting facet pair(s), {} zero-area facet(s)",
+                "delone: {name}: {} intersecting facet pair(s), {} degenerate facet(s), {} open or non-manifold edge(s)",
                 pairs.len(),
-                degenerate.len()
+                degenerate.len(),
+                open
             );
         }
         return Ok(i32::from(found));
     }
     println!(
-        "delone tet -d: {name} ({} points, {} facets, {} triangles)",
+        "delone tet -d: {name} ({} points, {} facets, {} triangles; facets and points numbered from {first} as in the file)",
         plc.points.len(),
-        plc.facets.len(),
+        plc.facets.len() + defects.len(),
         triangles.len()
     );
     println!(
-        "  {} intersecting facet pair(s), {} zero-area facet(s); surface: {}",
+        "  {} intersecting facet pair(s), {} degenerate facet(s); surface: {}",
         pairs.len(),
         degenerate.len(),
         if m.is_closed() {
             "closed".to_string()
-        } else if ext == "poly" || ext == "smesh" {
-            // PLC facets have no orientation; internal facets make edges
-            // with more than two facets.
+        } else if plc_format {
+            // PLC facets have no orientation.
             format!(
-                "{} boundary edge(s), {} edge(s) with more than two facets",
+                "{} boundary edge(s), {} edge(s) with more than two facets (allowed in a PLC)",
                 m.boundary_edges.len(),
                 m.nonmanifold_edges.len()
             )
@@ -85,8 +116,21 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if pairs.len() > shown {
         println!("  ... {} more pair(s) (-V lists all)", pairs.len() - shown);
     }
-    for f in degenerate.iter().take(shown) {
-        println!("  facet {f} has a zero-area triangle");
+    for (f, what) in degenerate.iter().take(shown) {
+        println!("  facet {f} {what}");
+    }
+    if !plc_format {
+        let p = |v: u32| v as usize + first;
+        for e in m.boundary_edges.iter().take(shown) {
+            println!(
+                "  edge {}-{} has only one facet (open surface)",
+                p(e[0]),
+                p(e[1])
+            );
+        }
+        for e in m.nonmanifold_edges.iter().take(shown) {
+            println!("  edge {}-{} has more than two facets", p(e[0]), p(e[1]));
+        }
     }
     Ok(i32::from(found))
 }
