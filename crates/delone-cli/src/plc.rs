@@ -261,7 +261,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 String::new()
             } else {
                 format!(
-                    ": {} removed every tetrahedron it reached (a hole point on a facet or outside the surface eats the whole domain); use -c to keep the convex hull",
+                    ": {} removed every tetrahedron it reached (a hole point in the only region, on a facet or outside the surface removes the whole domain)",
                     holes.join(", ")
                 )
             }

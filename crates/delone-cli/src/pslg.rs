@@ -126,6 +126,11 @@ fn why_empty(g: &Pslg, first: u32) -> String {
             ));
         }
     }
+    let hull = if why.is_empty() {
+        "move the hole point(s) into the region to remove"
+    } else {
+        "use -c to keep the convex hull"
+    };
     if why.is_empty() {
         // A closed boundary: the holes ate the domain.
         for (k, h) in g.holes.iter().enumerate() {
@@ -153,10 +158,7 @@ fn why_empty(g: &Pslg, first: u32) -> String {
             });
         }
     }
-    format!(
-        "no triangle left after carving: {}; use -c to keep the convex hull",
-        why.join("; ")
-    )
+    format!("no triangle left after carving: {}; {hull}", why.join("; "))
 }
 
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).

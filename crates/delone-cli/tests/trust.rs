@@ -470,3 +470,164 @@ fn scientific_notation_in_switches() {
     let out = run(&dir, &["tri", "-pq1e1e1", "face.poly"]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
+
+/// The cube as a 1-based TetGen .poly with one more facet, `extra`
+/// (a facet line and polygon), over 9 points (point 9 at `p9`).
+fn cube_poly(p9: &str, extra: &str, holes: &str) -> String {
+    let mut s = String::from(
+        "9 3 0 0\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n",
+    );
+    s += &format!("9 {p9}\n");
+    let facets = [
+        "4 1 2 3 4",
+        "4 5 6 7 8",
+        "4 1 2 6 5",
+        "4 2 3 7 6",
+        "4 3 4 8 7",
+        "4 4 1 5 8",
+    ];
+    s += &format!("{} 0\n", facets.len() + usize::from(!extra.is_empty()));
+    for f in facets {
+        s += &format!("1\n{f}\n");
+    }
+    if !extra.is_empty() {
+        s += &format!("1\n{extra}\n");
+    }
+    s += holes;
+    s += "0\n";
+    s
+}
+
+/// `tet -d`: exit 1 on any finding, degenerate facets reported (not
+/// fatal), numbering as the file's and as `-p`'s.
+#[test]
+fn tet_d_findings_and_numbering() {
+    let dir = tmp("tetd");
+    let d = |args: &[&str]| {
+        let out = run(&dir, args);
+        (out.status.code(), stdout(&out), stderr(&out))
+    };
+    // Clean: exit 0.
+    std::fs::write(dir.join("cube.off"), CUBE_OFF).unwrap();
+    let (code, out, _) = d(&["tet", "-d", "cube.off"]);
+    assert_eq!(code, Some(0), "{out}");
+    // Open: the cube without its last triangle.
+    let open = CUBE_OFF
+        .replacen("8 12 0", "8 11 0", 1)
+        .replacen("3 1 6 5\n", "", 1);
+    std::fs::write(dir.join("open.off"), open).unwrap();
+    let (code, out, _) = d(&["tet", "-d", "open.off"]);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(out.contains("edge 1-5 has only one facet"), "{out}");
+    // Non-manifold: a fin on edge 0-1.
+    let fin =
+        CUBE_OFF
+            .replacen("8 12 0", "9 13 0", 1)
+            .replacen("0 1 1\n3", "0 1 1\n0.5 -1 0.5\n3", 1)
+            + "3 0 1 8\n";
+    std::fs::write(dir.join("fin.off"), fin).unwrap();
+    let (code, out, _) = d(&["tet", "-d", "fin.off"]);
+    assert_eq!(code, Some(1), "{out}");
+    assert!(out.contains("edge 0-1 has more than two facets"), "{out}");
+    // -Q: the exit code alone, a count on stderr.
+    let (code, out, err) = d(&["tet", "-dQ", "fin.off"]);
+    assert_eq!((code, out.is_empty()), (Some(1), true), "{err}");
+    // Zero area: OFF facet 12 (0-based, as the file and -p count).
+    let zero = CUBE_OFF
+        .replacen("8 12 0", "9 13 0", 1)
+        .replacen("0 1 1\n3", "0 1 1\n2 0 0\n3", 1)
+        + "3 0 1 8\n";
+    std::fs::write(dir.join("zero.off"), zero).unwrap();
+    let (code, out, err) = d(&["tet", "-d", "zero.off"]);
+    assert_eq!(code, Some(1), "{out}{err}");
+    assert!(out.contains("facet 12 has zero area"), "{out}");
+    let (code, _, err) = d(&["tet", "-p", "zero.off"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("facet 12 has zero area"), "{err}");
+    // A 1-based .poly: facet 7 (its 7th facet) in both.
+    std::fs::write(dir.join("z.poly"), cube_poly("0.5 0 0", "3 1 9 2", "0\n")).unwrap();
+    let (code, out, err) = d(&["tet", "-d", "z.poly"]);
+    assert_eq!(code, Some(1), "{out}{err}");
+    assert!(out.contains("facet 7 has zero area"), "{out}");
+    let (code, _, err) = d(&["tet", "-p", "z.poly"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("facet 7 has zero area"), "{err}");
+    // A repeated point, named as the file names it.
+    std::fs::write(
+        dir.join("r.poly"),
+        cube_poly("0.5 0.5 0", "4 1 2 3 2", "0\n"),
+    )
+    .unwrap();
+    let (_, _, err) = d(&["tet", "-p", "r.poly"]);
+    assert!(err.contains("facet 7 repeats point 2"), "{err}");
+}
+
+/// An empty mesh from a non-empty input is an error saying why.
+#[test]
+fn empty_results_are_errors() {
+    let dir = tmp("empty");
+    let files = [
+        // box.poly's shape: an open outer boundary.
+        ("box.poly", "8 2 0 0\n1 0 0\n2 0 3\n3 3 0\n4 3 3\n5 1 1\n6 1 2\n7 2 1\n8 2 2\n5 0\n1 1 2\n2 5 7\n3 7 8\n4 8 6\n5 6 5\n1\n1 1.5 1.5\n", "segment 1's endpoint 1"),
+        ("hseg.poly", "4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n1\n1 2 0\n", "hole 1 at (2, 0) lies on segment 1"),
+        ("noseg.poly", "4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n0 0\n0\n", "no segments"),
+    ];
+    for (name, text, why) in files {
+        std::fs::write(dir.join(name), text).unwrap();
+        let before = snapshot(&dir);
+        let out = run(&dir, &["tri", "-p", name]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert!(
+            err.contains("no triangle left after carving") && err.contains(why),
+            "{name}: {err}"
+        );
+        assert!(snapshot(&dir) == before, "{name}: files written");
+        // -c keeps the hull where the boundary is at fault.
+        if name != "hseg.poly" {
+            assert!(err.contains("use -c"), "{err}");
+            let out = run(&dir, &["tri", "-pcQ", name]);
+            assert!(out.status.success(), "{name}: {}", stderr(&out));
+        }
+    }
+    // tet: a hole point at the centre of a closed cube.
+    std::fs::write(
+        dir.join("hc.poly"),
+        cube_poly("0.25 0.25 0.25", "", "1\n1 0.5 0.5 0.5\n"),
+    )
+    .unwrap();
+    let out = run(&dir, &["tet", "-p", "hc.poly"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no tetrahedron left after carving")
+            && err.contains("hole 1 at (0.5, 0.5, 0.5)"),
+        "{err}"
+    );
+}
+
+/// Errors about 1-based files use the file's numbering.
+#[test]
+fn errors_use_the_files_numbering() {
+    let dir = tmp("numbering");
+    let bad = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 99\n0\n";
+    std::fs::write(dir.join("bad.poly"), bad).unwrap();
+    let err = stderr(&run(&dir, &["tri", "-p", "bad.poly"]));
+    assert!(err.contains("segment 4 names point 99"), "{err}");
+    let zero_based = "4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 98\n0\n";
+    std::fs::write(dir.join("bad0.poly"), &zero_based).unwrap();
+    let err = stderr(&run(&dir, &["tri", "-p", "bad0.poly"]));
+    assert!(
+        err.contains("segment 3 names point 98"),
+        "{zero_based}\n{err}"
+    );
+    // tri -r: a 1-based mesh whose .poly names a missing point.
+    std::fs::write(dir.join("m.node"), "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n").unwrap();
+    std::fs::write(dir.join("m.ele"), "2 3 0\n1 1 2 3\n2 1 3 4\n").unwrap();
+    std::fs::write(dir.join("m.poly"), "0 2 0 0\n2 0\n1 1 2\n2 2 7\n0\n").unwrap();
+    let err = stderr(&run(&dir, &["tri", "-rq", "m"]));
+    assert!(
+        err.contains("segment 2") && err.contains("point 7"),
+        "{err}"
+    );
+}
