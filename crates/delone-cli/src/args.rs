@@ -763,6 +763,40 @@ mod tests {
         parse(mode, args.iter().map(|s| s.to_string()).collect())
     }
 
+    /// Every letter the parser accepts (or refuses with a reason other
+    /// than "unknown") has an entry in its subcommand's help; the letters
+    /// come from the parser itself, so the test follows it.
+    #[test]
+    fn every_accepted_letter_is_in_the_help() {
+        for (mode, help) in [(Mode::Tri, crate::help::TRI), (Mode::Tet, crate::help::TET)] {
+            let mut known = 0;
+            for c in ('a'..='z').chain('A'..='Z').chain('0'..='9') {
+                let r = letter(mode, c, "", &mut Opts::default());
+                let unknown = matches!(&r, Err(Usage(m)) if m.starts_with("unknown switch"));
+                if unknown {
+                    continue;
+                }
+                known += 1;
+                let not_yet = matches!(&r, Err(Usage(m)) if m.contains("not implemented yet"));
+                let entry = help.lines().any(|l| {
+                    l.strip_prefix("    -")
+                        .is_some_and(|rest| rest.starts_with(c))
+                });
+                let listed = help.split("Not implemented yet").nth(1).is_some_and(|t| {
+                    t.split_whitespace()
+                        .take(12)
+                        .any(|w| w.starts_with(&format!("-{c}")))
+                });
+                assert!(
+                    entry || (not_yet && listed),
+                    "delone {} --help has no entry for -{c}",
+                    mode.name()
+                );
+            }
+            assert!(known > 20, "{known}");
+        }
+    }
+
     #[test]
     fn letters_and_long_options() {
         let Ok(Command::Run(o)) = p(Mode::Tri, &["-zVVCen", "x.node", "--vtu=a.vtu", "-Q"]) else {

@@ -13,7 +13,18 @@ Delaunay mesh next to it, named as Triangle and TetGen name their output
 (FILE.node -> FILE.1.node, FILE.1.ele, ...; FILE.1.node -> FILE.2.*).
 Switch letters keep the meaning they have in the program each subcommand
 stands in for and may be grouped (-zen). `delone tri --help` and
-`delone tet --help` list them.
+`delone tet --help` list every switch and long option of each.
+
+Every switch is honoured or refused: a switch that would change nothing in
+the run asked for (an output switch with -d, -e with tri -r, --cut without
+--png, ...) is a usage error naming it and the reason. No output ever
+overwrites an input file (the main input or a companion such as .node,
+.ele, .poly, .area, .mtr, .weight): such a run is refused before anything
+is written. Numbers in switches may use scientific notation (-a1e-3,
+-q1.2/1e1); inside a number, e or E belongs to the number only when a
+digit, or + or - and a digit, follows; otherwise it is the next switch
+(-pq1.2e is -q1.2 then -e; -pq1.2ea1e-3 is -q1.2, -e, -a0.001). Messages
+number points, segments and facets as the input file does.
 
 Exit codes: 0 success, 1 input or mesh error, 2 usage error.
 ";
@@ -52,6 +63,12 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
     -V   Verbose (repeat for more: -VV): phase details, duplicates by index,
          hull size.
     -h   This help.
+    -p   Triangulate a PSLG: FILE.poly (points, segments, holes, regions;
+         with no points in it, FILE.node) into its constrained Delaunay
+         triangulation; triangles outside the segments and in holes are
+         removed (-c keeps the convex hull). An empty result is an error
+         saying why (open boundary, no segments, a hole on a segment).
+         Writes FILE.1.node, .ele and .poly.
     -q[angle]  With -p: quality mesh, no angle below `angle` degrees (default
          20; up to about 34 terminates in practice), except next to smaller
          input angles (reported with -V).
@@ -142,7 +159,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          `index weight` or `weight` per line), else the first node
          attribute. Points with empty power cells (hidden) are left out of
          the mesh and reported.
-    -k   Also write FILE.1.vtk (legacy ASCII VTK, for ParaView).
+    -k   Also write FILE.1.vtk (legacy ASCII VTK, for ParaView); with -p
+         and -r too.
     -N   Do not write the .node file.
     -E   Do not write the .ele file.
     -F   Do not write the .face and .edge files.
@@ -214,9 +232,13 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          --keep-ratio to keep that bound too (at a cost in dihedral angles),
          or -O0 for the refinement's mesh as it is.
     -d   Only detect self-intersections (exactly): intersecting facet pairs
-         and zero-area facets by input index, and the surface's open or
-         non-manifold edges; nothing is meshed. Exit code 1 when anything
-         is found.
+         and degenerate (zero-area, repeated-point) facets, and for a
+         surface (OFF, STL, PLY, OBJ, Medit) its open or non-manifold
+         edges (a .poly/.smesh may have both: slits, internal facets);
+         nothing is meshed, no file is written (output switches are
+         refused). Facets and points are numbered as in the file and in
+         -p's messages: .poly/.smesh from their first index, Medit from 1,
+         OFF/STL/PLY/OBJ from 0. Exit code 1 when anything is found.
     Not implemented yet (error, exit code 2): -R -i -T -X -D
     -o2 -o/.
 

@@ -369,7 +369,8 @@ fn tet_stats_json_reports_steiner_refinement_and_optimisation() {
 }
 
 /// `-d`: a self-intersecting corpus model lists its intersecting facet
-/// pairs and exits 1; a clean closed one and TetGen's example exit 0.
+/// pairs (numbered from 0, as OFF facets are) and exits 1; a clean closed
+/// one and TetGen's example exit 0.
 #[test]
 fn detect_self_intersections_only() {
     let Some(ex) = example() else { return };
@@ -382,7 +383,7 @@ fn detect_self_intersections_only() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{out}");
     assert!(out.contains("91 intersecting facet pair(s)"), "{out}");
-    assert!(out.contains("facets 1 and 443 intersect"), "{out}");
+    assert!(out.contains("facets 0 and 442 intersect"), "{out}");
     assert!(out.contains("42 boundary edge(s)"), "{out}");
     let o = run(
         &dir,
@@ -391,7 +392,7 @@ fn detect_self_intersections_only() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{out}");
     assert!(
-        out.contains("0 intersecting facet pair(s), 0 zero-area facet(s); surface: closed"),
+        out.contains("0 intersecting facet pair(s), 0 degenerate facet(s); surface: closed"),
         "{out}"
     );
     let o = run(&dir, &["tet", "-dQ", ex.to_str().unwrap()]);

@@ -615,7 +615,7 @@ fn errors_use_the_files_numbering() {
     let err = stderr(&run(&dir, &["tri", "-p", "bad.poly"]));
     assert!(err.contains("segment 4 names point 99"), "{err}");
     let zero_based = "4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 98\n0\n";
-    std::fs::write(dir.join("bad0.poly"), &zero_based).unwrap();
+    std::fs::write(dir.join("bad0.poly"), zero_based).unwrap();
     let err = stderr(&run(&dir, &["tri", "-p", "bad0.poly"]));
     assert!(
         err.contains("segment 3 names point 98"),
@@ -630,4 +630,18 @@ fn errors_use_the_files_numbering() {
         err.contains("segment 2") && err.contains("point 7"),
         "{err}"
     );
+}
+
+/// `delone --help` names the commands and points to their full help;
+/// `delone tri --help` documents -p and the switch rules.
+#[test]
+fn help_points_to_the_full_lists() {
+    let dir = tmp("help");
+    let main = stdout(&run(&dir, &["--help"]));
+    assert!(main.contains("delone tri --help") && main.contains("delone tet --help"));
+    assert!(main.contains("honoured or refused") && main.contains("scientific notation"));
+    let tri = stdout(&run(&dir, &["tri", "--help"]));
+    assert!(tri.lines().any(|l| l.starts_with("    -p ")), "{tri}");
+    let tet = stdout(&run(&dir, &["tet", "--help"]));
+    assert!(tet.contains("OFF/STL/PLY/OBJ from 0"), "{tet}");
 }
