@@ -215,10 +215,10 @@ pub const PARALLEL_MIN_TRIANGLES: usize = 50_000;
 /// refinement ([`memory_estimate`]).
 pub const BUDGET_BASE: usize = 2_000_000;
 
-/// Largest default Steiner budget ([`default_budget`]): about 6.7 GB of
-/// refinement. A bigger run needs an explicit [`RefineOptions::max_steiner`]
-/// (`-S`).
-pub const BUDGET_MAX: usize = 1 << 25;
+/// Largest default Steiner budget ([`default_budget`]): about 3.4 GB of
+/// refinement (32 M triangles). A bigger run needs an explicit
+/// [`RefineOptions::max_steiner`] (`-S`).
+pub const BUDGET_MAX: usize = 1 << 24;
 
 /// Peak bytes per vertex of a refinement, input and output included
 /// (measured: `tri -pq30a0.0005 la.poly`, 0.74 M Steiner points, 143 MB).

@@ -264,15 +264,16 @@ pub const AUTO_BUDGET: usize = usize::MAX;
 
 /// Smallest default Steiner budget ([`default_budget`]): about 500 MB of
 /// refinement ([`memory_estimate`]).
-pub const BUDGET_BASE: usize = 1_000_000;
+pub const BUDGET_BASE: usize = 500_000;
 
-/// Largest default Steiner budget ([`default_budget`]): about 8 GB. A
+/// Largest default Steiner budget ([`default_budget`]): about 4 GB. A
 /// bigger run needs an explicit [`RefineOptions::max_steiner`] (`-S`).
-pub const BUDGET_MAX: usize = 1 << 24;
+pub const BUDGET_MAX: usize = 1 << 22;
 
-/// Peak bytes per vertex of a refinement (input, recovery and output
-/// included; measured on `tet -pq1.2a` runs of the shared PLCs).
-pub const BYTES_PER_POINT: u64 = 500;
+/// Peak bytes per vertex of a refinement, optimisation included (measured:
+/// `tet -pq1.2a0.00001 cgal_sphere.off`, 18 500 vertices in 20 MB, of which
+/// about 4 MB are the program's own).
+pub const BYTES_PER_POINT: u64 = 1000;
 
 /// The smallest radius-edge ratio of any tetrahedron, √6/4 ≈ 0.612 (the
 /// regular tetrahedron's): a smaller [`RefineOptions::max_radius_edge`] is
@@ -287,7 +288,7 @@ pub const MIN_RADIUS_EDGE: f64 = 0.612_372_435_695_794_5;
 /// the machine. A volume bound `V` is met with about `volume_ratio / 3`
 /// points, so volume-driven runs have six times the room they need; a
 /// radius-edge bound below what refinement guarantees (about 1.1 and less)
-/// stops after at most a million points + 16 per input vertex.
+/// stops after at most half a million points + 16 per input vertex.
 ///
 /// ```
 /// use delone::tet::refine::{default_budget, BUDGET_BASE, BUDGET_MAX};
@@ -311,7 +312,7 @@ pub fn default_budget(input_points: usize, volume_ratio: f64) -> usize {
 /// `points` vertices ([`BYTES_PER_POINT`] each).
 ///
 /// ```
-/// assert_eq!(delone::tet::refine::memory_estimate(2_000), 1_000_000);
+/// assert_eq!(delone::tet::refine::memory_estimate(2_000), 2_000_000);
 /// ```
 pub fn memory_estimate(points: usize) -> u64 {
     points as u64 * BYTES_PER_POINT
