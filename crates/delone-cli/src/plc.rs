@@ -223,7 +223,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     )?;
     let (bound_code, bound_msg) = refined
         .as_ref()
-        .map_or((0, None), |r| crate::tetq::bound_status(&r.0));
+        .map_or((0, None), |r| crate::tetq::bound_status(o, &rec, &r.0));
     code = code.max(bound_code);
     let t2 = Instant::now();
     let first = if o.zero { 0 } else { first_in };

@@ -69,15 +69,22 @@ pub fn check_bounds(o: &Opts) -> Result<(), crate::run::Failure> {
 /// the input (small input angles, sharp wedges, needles: the `-V` line
 /// "left above the bound") are reported in the summary, exit code 0, as
 /// with TetGen.
-pub fn bound_status(r: &RefineReport) -> (i32, Option<String>) {
+pub fn bound_status(o: &Opts, rec: &Recovered, r: &RefineReport) -> (i32, Option<String>) {
     if !r.budget_exhausted {
         return (0, None);
     }
+    let too_big = o.max_area.map_or(0, |v| {
+        rec.mesh
+            .tets
+            .iter()
+            .filter(|t| delone::tet::quality::volume(&t.map(|q| rec.points[q as usize])) > v)
+            .count()
+    });
     let mb = delone::tet::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
     (
         1,
         Some(format!(
-            "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {} points; {} tetrahedra above the -q bound, {} above the size bound (-m); the mesh reached is written (optimised). Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (radius-edge ratios of about 1.1 and more terminate)",
+            "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {} points; {} tetrahedra above the -q bound, {too_big} above the -a volume, {} above the size bound (-m); the mesh reached is written (optimised). Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (radius-edge ratios of about 1.1 and more terminate)",
             r.steiner_budget,
             r.steiner(),
             r.remaining_bad,

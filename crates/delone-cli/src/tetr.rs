@@ -183,7 +183,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if let Some(x) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, x));
     }
-    let (bound_code, bound_msg) = crate::tetq::bound_status(&report);
+    let (bound_code, bound_msg) = crate::tetq::bound_status(o, &rec, &report);
     let code = crate::tetq::check_and_prepare(
         o,
         || check_recovered(&points, &r.triangles, &rec),
