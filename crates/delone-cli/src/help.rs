@@ -70,11 +70,17 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
          saying why (open boundary, no segments, a hole on a segment).
          Writes FILE.1.node, .ele and .poly.
     -q[angle]  With -p: quality mesh, no angle below `angle` degrees (default
-         20; up to about 34 terminates in practice), except next to smaller
-         input angles (reported with -V).
+         20; up to about 34 terminates in practice; 60 or more is refused:
+         no mesh meets it), except next to smaller input angles (a warning
+         on stderr, exit code 0; -V lists them).
     -a[area]  With -p: no triangle larger than `area`; without a number, the
          regional area bounds of the .poly.
-    -S<n>  At most n Steiner points in the refinement.
+    -S<n>  At most n Steiner points in the refinement. Without -S the budget
+         is 2,000,000 + 16 per input point + 2 per triangle -a asks for (at
+         most 16.7 M; -V shows it with a memory estimate). When the budget
+         stops the refinement before the bounds are met, the mesh reached is
+         written, the message names the budget and the triangles left, and
+         the exit code is 1.
     -A   With -p: regional attribute per triangle in the .ele file.
     -P   With -p: do not write the .poly file (segments with markers,
          holes, regions).
@@ -208,7 +214,13 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -a[V] With -p: no tetrahedron larger than volume V; with or without a
          number, also the regional volume bounds of the .poly/.smesh (they
          apply only with -a, as in TetGen).
-    -S<n> At most n Steiner points in the refinement.
+    -S<n> At most n Steiner points in the refinement (TetGen's -S). Without
+         -S the budget is 500,000 + 16 per input point + 2 per unit of
+         volume over the -a bound (at most 4.2 M; -V shows it with a memory
+         estimate). When the budget stops the refinement, the mesh reached
+         is written, the message names the budget and the tetrahedra left,
+         and the exit code is 1. -q below sqrt(6)/4 = 0.612 (the regular
+         tetrahedron's ratio) is refused: no mesh meets it.
     -m   With -p or -r: sizing (target edge length) from FILE.b.node +
          FILE.b.ele + FILE.b.mtr (background mesh) if they exist, else from
          FILE.mtr (one size per input point; sizes <= 0: no constraint),

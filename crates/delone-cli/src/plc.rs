@@ -237,6 +237,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .iter()
         .map(|&f| plc.facets[f as usize].marker)
         .collect();
+    crate::tetq::check_bounds(o)?;
     let (mut rec, refined) =
         crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
             .map_err(|e| input_err(format!("{name}: {e}")))?;
@@ -291,6 +292,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         "every input facet is a union of mesh faces",
         &mut lines,
     )?;
+    let (bound_code, bound_msg) = refined
+        .as_ref()
+        .map_or((0, None), |r| crate::tetq::bound_status(o, &rec, &r.0));
+    code = code.max(bound_code);
     let t2 = Instant::now();
     let first = if o.zero { 0 } else { first_in };
     let mut written = Vec::new();
@@ -370,5 +375,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         },
         &written,
     );
+    if let Some(m) = bound_msg {
+        eprintln!("delone: {m}");
+    }
     Ok(code)
 }

@@ -161,6 +161,79 @@ fn why_empty(g: &Pslg, first: u32) -> String {
     format!("no triangle left after carving: {}; {hull}", why.join("; "))
 }
 
+/// A refinement error: a bound no mesh can meet is a usage error (exit
+/// code 2) naming the switch; anything else an input error.
+pub fn refine_err(what: &str, e: delone::Error) -> Failure {
+    match e {
+        delone::Error::InvalidBound { .. } => Failure {
+            message: e.to_string(),
+            code: 2,
+        },
+        e => input_err(format!("{what}: {e}")),
+    }
+}
+
+/// What the run says about the bounds after refinement (see the README's
+/// rule "every bound is met or reported"): `(exit code, message for
+/// stderr)`. The Steiner budget stopping the refinement before the bounds
+/// were met is a failure (exit code 1) whose message names the budget, its
+/// memory estimate, the triangles left and `-S`; triangles left for other
+/// reasons (input angles smaller than the bound, `-Y`, floating point) are
+/// a warning (exit code 0), as with Triangle, since they are a limit of
+/// the input or of the options rather than of the run.
+pub fn bound_status(o: &Opts, r: &RefineReport) -> (i32, Option<String>) {
+    if r.met {
+        return (0, None);
+    }
+    let q = o.min_angle.unwrap_or(0.0);
+    let below = r
+        .unfixable
+        .iter()
+        .filter(|u| u.min_angle < q && q > 0.0)
+        .count();
+    let above = r.unfixable.len() - below;
+    let count = |reason: fn(&UnfixableReason) -> bool| {
+        r.unfixable.iter().filter(|u| reason(&u.reason)).count()
+    };
+    let small = count(|x| matches!(x, UnfixableReason::SmallInputAngle { .. }));
+    let miss = format!(
+        "{} triangles miss the bounds ({below} below the -q angle, {above} above the area bound)",
+        r.unfixable.len()
+    );
+    if r.limit_reached {
+        let used = r.segment_splits + r.circumcenters;
+        let mb = delone::tri::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
+        return (
+            1,
+            Some(format!(
+                "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {used} points; {miss}, {small} of them at input angles smaller than the bound; the mesh reached is written. Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (angles up to about 34 degrees terminate)",
+                r.steiner_budget,
+                r.steiner_budget.saturating_mul(4)
+            )),
+        );
+    }
+    if r.unfixable.is_empty() {
+        return (0, None);
+    }
+    let other = r.unfixable.len() - small;
+    let warning = format!(
+        "warning: {miss}: {small} at input angles smaller than the bound (forced by the input){}; -V lists them",
+        if other > 0 {
+            format!(
+                ", {other} because {}",
+                if o.no_segment_splits > 0 {
+                    "-Y forbids splitting the segment in the way"
+                } else {
+                    "floating point could not place a point for them"
+                }
+            )
+        } else {
+            String::new()
+        }
+    );
+    (0, Some(warning))
+}
+
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
@@ -265,7 +338,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         )
         .map_err(|e| {
             let e = crate::numbering::renumber(e, node.first_index);
-            input_err(format!("{}: {e}", poly_path.display()))
+            refine_err(&poly_path.display().to_string(), e)
         })?;
         (r.mesh, Some(r.report))
     } else {
@@ -303,6 +376,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     code = code.max(check_conforming(o, &cdt.points, &cdt.triangles, &mut lines));
+    let (bound_code, bound_msg) = rep.as_ref().map_or((0, None), |r| bound_status(o, r));
+    code = code.max(bound_code);
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -324,6 +399,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         first,
         steiner,
     })?;
+    if let (Some(path), Some(r)) = (&o.stats_json, &rep) {
+        crate::tri_out::add_refinement_json(path, o.min_angle, r)?;
+    }
     let bounding: Vec<_> = cdt.segments.iter().filter(|s| s.bounding).collect();
     let t_write = t2.elapsed();
     if !o.quiet {
@@ -351,8 +429,16 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.segment_splits,
                 r.circumcenters,
                 r.rejected_circumcenters,
-                if r.met { "met" } else if r.limit_reached { "NOT met (Steiner limit reached)" } else { "NOT met" }
+                if r.met { "met" } else if r.limit_reached { "NOT met (Steiner budget reached)" } else { "NOT met" }
             );
+            if o.verbose > 0 {
+                println!(
+                    "  Steiner budget {} points (about {:.0} MB; -S raises it){}",
+                    r.steiner_budget,
+                    delone::tri::refine::memory_estimate(r.steiner_budget) as f64 / 1e6,
+                    if r.limit_reached { ", reached" } else { "" }
+                );
+            }
             if let Some(l) = conforming_line(o, r) {
                 println!("{l}");
             }
@@ -430,6 +516,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else if code != 0 {
         for l in &lines {
             eprintln!("{l}");
+        }
+    }
+    if let Some(m) = bound_msg {
+        if bound_code != 0 || !o.quiet {
+            eprintln!("delone: {m}");
         }
     }
     Ok(code)

@@ -136,7 +136,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             ..RefineOptions::default()
         },
     )
-    .map_err(|e| input_err(format!("{base}: {e}")))?;
+    .map_err(|e| crate::pslg::refine_err(&base, e))?;
     let t_refine = t1.elapsed();
     let m = &r.mesh;
     let mut code = 0;
@@ -158,6 +158,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         &m.triangles,
         &mut lines,
     ));
+    let (bound_code, bound_msg) = crate::pslg::bound_status(o, &r.report);
+    code = code.max(bound_code);
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -251,6 +253,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else if code != 0 {
         for l in &lines {
             eprintln!("{l}");
+        }
+    }
+    if let Some(m) = bound_msg {
+        if bound_code != 0 || !o.quiet {
+            eprintln!("delone: {m}");
         }
     }
     Ok(code)

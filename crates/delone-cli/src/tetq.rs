@@ -45,6 +45,55 @@ pub fn mesh(
     Ok((r.rec, Some((r.report, opts))))
 }
 
+/// Refuses `-q`/`-a` bounds no mesh can meet before any work (usage error,
+/// exit code 2, naming the switch and the reason).
+pub fn check_bounds(o: &Opts) -> Result<(), crate::run::Failure> {
+    if o.tet_ratio.is_none() && o.max_area.is_none() {
+        return Ok(());
+    }
+    let opts = RefineOptions {
+        max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
+        max_volume: o.max_area,
+        ..RefineOptions::default()
+    };
+    opts.check_bounds().map_err(|e| crate::run::Failure {
+        message: e.to_string(),
+        code: 2,
+    })
+}
+
+/// What the run says about the bounds after refinement: `(exit code,
+/// message for stderr)`. The Steiner budget stopping the refinement is a
+/// failure (exit code 1) naming the budget, its memory estimate, the
+/// tetrahedra left above the bound and `-S`; tetrahedra left for reasons of
+/// the input (small input angles, sharp wedges, needles: the `-V` line
+/// "left above the bound") are reported in the summary, exit code 0, as
+/// with TetGen.
+pub fn bound_status(o: &Opts, rec: &Recovered, r: &RefineReport) -> (i32, Option<String>) {
+    if !r.budget_exhausted {
+        return (0, None);
+    }
+    let too_big = o.max_area.map_or(0, |v| {
+        rec.mesh
+            .tets
+            .iter()
+            .filter(|t| delone::tet::quality::volume(&t.map(|q| rec.points[q as usize])) > v)
+            .count()
+    });
+    let mb = delone::tet::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
+    (
+        1,
+        Some(format!(
+            "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {} points; {} tetrahedra above the -q bound, {too_big} above the -a volume, {} above the size bound (-m); the mesh reached is written (optimised). Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (radius-edge ratios of about 1.1 and more terminate)",
+            r.steiner_budget,
+            r.steiner(),
+            r.remaining_bad,
+            r.remaining_too_big,
+            r.steiner_budget.saturating_mul(4)
+        )),
+    )
+}
+
 /// Mesh optimisation (`-O`): on by default after refinement, on request
 /// after plain recovery; `None` when off.
 pub fn optimize_mesh(
@@ -159,6 +208,14 @@ pub fn report(
             r.remaining_at_boundary,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
+        if o.verbose > 0 {
+            lines.push(format!(
+                "Steiner budget {} points (about {:.0} MB; -S raises it){}",
+                r.steiner_budget,
+                delone::tet::refine::memory_estimate(r.steiner_budget) as f64 / 1e6,
+                if r.budget_exhausted { ", reached" } else { "" }
+            ));
+        }
         if r.remaining_bad > 0 && o.verbose > 0 {
             lines.push(crate::tetq_left::left_line(r));
         }

@@ -151,6 +151,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         Sizing::None
     };
     crate::guard::check()?;
+    crate::tetq::check_bounds(o)?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     let mut opts = RefineOptions {
@@ -184,6 +185,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if let Some(x) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, x));
     }
+    let (bound_code, bound_msg) = crate::tetq::bound_status(o, &rec, &report);
     let code = crate::tetq::check_and_prepare(
         o,
         || check_recovered(&points, &r.triangles, &rec),
@@ -236,5 +238,8 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         },
         &written,
     );
-    Ok(code)
+    if let Some(m) = bound_msg {
+        eprintln!("delone: {m}");
+    }
+    Ok(code.max(bound_code))
 }

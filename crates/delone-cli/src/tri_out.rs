@@ -723,6 +723,46 @@ fn json_num(x: f64) -> String {
     }
 }
 
+/// Adds the refinement's outcome to the `--stats-json` file `path` (a
+/// `"refinement"` object: whether the bounds are met, whether the Steiner
+/// budget stopped it, the budget, and the triangles missing the bounds by
+/// bound and by reason).
+pub fn add_refinement_json(
+    path: &Path,
+    min_angle: Option<f64>,
+    r: &delone::tri::refine::RefineReport,
+) -> Result<(), Failure> {
+    use delone::tri::refine::UnfixableReason as U;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| fail(format!("cannot read {}: {e}", path.display())))?;
+    let Some(body) = text.trim_end().strip_suffix('}') else {
+        return Ok(());
+    };
+    let q = min_angle.unwrap_or(0.0);
+    let below = r
+        .unfixable
+        .iter()
+        .filter(|u| q > 0.0 && u.min_angle < q)
+        .count();
+    let n = |f: fn(&U) -> bool| r.unfixable.iter().filter(|u| f(&u.reason)).count();
+    let j = format!(
+        "{},\n  \"refinement\": {{\"met\": {}, \"budget_exhausted\": {}, \"steiner_budget\": {}, \"steiner_points\": {}, \"unmet_triangles\": {}, \"below_min_angle\": {below}, \"above_max_area\": {}, \"by_reason\": {{\"small_input_angle\": {}, \"steiner_budget\": {}, \"precision\": {}, \"no_segment_splits\": {}, \"conforming_delaunay\": {}}}}}\n}}\n",
+        body.trim_end(),
+        r.met,
+        r.limit_reached,
+        r.steiner_budget,
+        r.segment_splits + r.circumcenters,
+        r.unfixable.len(),
+        r.unfixable.len() - below,
+        n(|x| matches!(x, U::SmallInputAngle { .. })),
+        n(|x| matches!(x, U::SteinerLimit)),
+        n(|x| matches!(x, U::Precision)),
+        n(|x| matches!(x, U::NoSegmentSplits)),
+        n(|x| matches!(x, U::ConformingDelaunay)),
+    );
+    std::fs::write(path, j).map_err(|e| fail(format!("cannot write {}: {e}", path.display())))
+}
+
 /// The statistics as JSON with a fixed key order.
 pub fn stats_json(s: &TriStats) -> String {
     let mut j = String::from("{\n");

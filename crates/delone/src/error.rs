@@ -118,6 +118,22 @@ pub enum Error {
         /// The segment it crosses (0-based input index).
         other: usize,
     },
+    /// A refinement bound no mesh can meet, or not a bound at all (NaN,
+    /// zero or negative where a positive number is needed). Nothing is
+    /// meshed.
+    ///
+    /// ```
+    /// let e = delone::Error::InvalidBound { option: "-q", value: 61.0, reason: "no triangle has all angles above 60 degrees" };
+    /// assert!(e.to_string().starts_with("-q61: "));
+    /// ```
+    InvalidBound {
+        /// The option, as the command line spells it (`"-q"`, `"-a"`).
+        option: &'static str,
+        /// The value given.
+        value: f64,
+        /// Why no mesh can meet it.
+        reason: &'static str,
+    },
 }
 
 /// Why a facet of a PLC is degenerate (see [`Error::DegenerateFacet`]).
@@ -232,6 +248,11 @@ impl fmt::Display for Error {
                 f,
                 "the crossing of segments {segment} and {other} could not be resolved"
             ),
+            Error::InvalidBound {
+                option,
+                value,
+                reason,
+            } => write!(f, "{option}{value}: {reason}"),
         }
     }
 }

@@ -36,6 +36,28 @@
 //! 4. A Steiner-point budget ([`RefineOptions::max_steiner`], Triangle's `-S`)
 //!    stops the refinement; the report says whether every bound was met.
 //!
+//! # Termination and the budget
+//!
+//! Every bound is met, or the [`RefineReport`] says which triangles miss it
+//! and why ([`RefineReport::met`], [`RefineReport::unfixable`] with an
+//! [`UnfixableReason`]):
+//!
+//! * bounds no mesh can meet are refused before any work
+//!   ([`Error::InvalidBound`]): a minimum angle of 60° or more (see
+//!   [`RefineOptions::min_angle`]), a NaN or negative one, an area bound that
+//!   is not positive;
+//! * Ruppert/Chew refinement with off-centres terminates for angle bounds up
+//!   to about 33–34° (Triangle's manual says the same of Triangle); above
+//!   that it may add points forever. Every run therefore has a Steiner
+//!   budget, by default [`default_budget`] (from the input size and the
+//!   number of triangles the area bounds ask for, never from the machine).
+//!   When it runs out, the refinement stops with a valid constrained
+//!   Delaunay triangulation, [`RefineReport::limit_reached`] is set and the
+//!   triangles still bad are listed with [`UnfixableReason::SteinerLimit`];
+//! * triangles whose small angle is forced by a smaller input angle are
+//!   listed with [`UnfixableReason::SmallInputAngle`] (no mesh of that
+//!   input meets the bound there).
+//!
 //! # Parallel refinement
 //!
 //! With [`RefineOptions::threads`] above 1 and an area bound predicting at
@@ -97,16 +119,22 @@ mod par;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefineOptions {
     /// Minimum angle in degrees (Triangle's `-q`, whose default is 20).
-    /// `None`: no angle bound. Values above 34 may not terminate within the
-    /// budget; values are clamped to 60.
+    /// `None`: no angle bound. Values above about 34 may not terminate and
+    /// stop at the Steiner budget ([`Self::max_steiner`]); NaN, negative
+    /// values and 60 or more are refused ([`Error::InvalidBound`]).
     pub min_angle: Option<f64>,
     /// Global maximum triangle area (`-a` with a number). `None`: no bound.
+    /// NaN, zero and negative values are refused ([`Error::InvalidBound`]).
     pub max_area: Option<f64>,
     /// Apply the regions' area bounds ([`Cdt::max_areas`]; Triangle applies
     /// them when `-a` is given, with or without a number). Default false.
     pub regional_areas: bool,
-    /// Maximum number of Steiner points to add (`-S`). `None`: no limit
-    /// besides the hard cap of `u32` vertex ids.
+    /// Maximum number of Steiner points to add (`-S`). `None`: the default
+    /// budget [`default_budget`], derived from the input and the area
+    /// bounds. When it runs out the refinement stops with a valid mesh and
+    /// [`RefineReport::limit_reached`]. An explicit budget also keeps the
+    /// refinement on one thread, so it stops at the same point whatever
+    /// [`Self::threads`] says.
     pub max_steiner: Option<usize>,
     /// Insert off-centres instead of circumcentres when they are nearer the
     /// shortest edge (Üngör; Triangle's default). Default true.
@@ -182,6 +210,103 @@ pub fn default_threads() -> usize {
 /// The default [`RefineOptions::parallel_min_triangles`]: below this size
 /// a second thread does not pay (measured on the shared PSLGs).
 pub const PARALLEL_MIN_TRIANGLES: usize = 50_000;
+
+/// Smallest default Steiner budget ([`default_budget`]): about 400 MB of
+/// refinement ([`memory_estimate`]).
+pub const BUDGET_BASE: usize = 2_000_000;
+
+/// Largest default Steiner budget ([`default_budget`]): about 3.4 GB of
+/// refinement (32 M triangles). A bigger run needs an explicit
+/// [`RefineOptions::max_steiner`] (`-S`).
+pub const BUDGET_MAX: usize = 1 << 24;
+
+/// Peak bytes per vertex of a refinement, input and output included
+/// (measured: `tri -pq30a0.0005 la.poly`, 0.74 M Steiner points, 143 MB).
+pub const BYTES_PER_POINT: u64 = 200;
+
+/// The Steiner budget used when [`RefineOptions::max_steiner`] is `None`:
+/// [`BUDGET_BASE`] + 16 per input vertex + 2 per triangle the area bounds
+/// ask for (`predicted_triangles`: 1.6 × the domain's area over the area
+/// bound, summed over the triangles of the constrained triangulation), at
+/// most [`BUDGET_MAX`].
+///
+/// The rule depends on the input and the options only (never on the
+/// machine), so a run stops at the same point everywhere. A run whose area
+/// bound asks for `N` triangles adds about `N / 2` points: the budget leaves
+/// four times that, so area-driven runs finish (`tri -pq30a0.0005 la.poly`,
+/// 0.74 M points, has a budget of 5 M). What it stops is refinement that
+/// does not converge: an angle bound above what Delaunay refinement
+/// guarantees (about 34°, see the [module docs](self#termination-and-the-budget))
+/// stops after at most 2 M points + 16 per input vertex, a few hundred MB.
+///
+/// ```
+/// use delone::tri::refine::{default_budget, BUDGET_BASE, BUDGET_MAX};
+/// assert_eq!(default_budget(100, 0.0), BUDGET_BASE + 1600);
+/// assert_eq!(default_budget(100, 1e6), BUDGET_BASE + 1600 + 2_000_000);
+/// assert_eq!(default_budget(100, 1e12), BUDGET_MAX);
+/// ```
+pub fn default_budget(input_points: usize, predicted_triangles: f64) -> usize {
+    let area = if predicted_triangles.is_finite() && predicted_triangles > 0.0 {
+        (2.0 * predicted_triangles).min(BUDGET_MAX as f64) as usize
+    } else {
+        0
+    };
+    BUDGET_BASE
+        .saturating_add(input_points.saturating_mul(16))
+        .saturating_add(area)
+        .min(BUDGET_MAX)
+}
+
+/// Estimated peak memory, in bytes, of a refinement that ends with
+/// `points` vertices ([`BYTES_PER_POINT`] each).
+///
+/// ```
+/// assert_eq!(delone::tri::refine::memory_estimate(1_000_000), 200_000_000);
+/// ```
+pub fn memory_estimate(points: usize) -> u64 {
+    points as u64 * BYTES_PER_POINT
+}
+
+/// Refuses bounds no mesh can meet: a minimum angle that is NaN, negative
+/// or 60° or more; an area bound that is NaN, zero or negative.
+///
+/// Every triangle has an angle of at most 60°, and exactly 60° only when it
+/// is equilateral. No equilateral triangle has all three corners at
+/// rational coordinates (its area would be both rational, by the shoelace
+/// formula, and √3/4 times a rational squared side), and floating-point
+/// numbers are rationals: so no mesh delone can output has a minimum angle
+/// of 60°, and `-q60` is refused with `-q61`. Every bound below 60° can be
+/// met by some domains (one near-equilateral triangle); whether refinement
+/// meets it on a given domain is decided by running, under the Steiner
+/// budget.
+fn check_bounds(options: &RefineOptions) -> Result<(), Error> {
+    if let Some(a) = options.min_angle {
+        let reason = if a.is_nan() || a < 0.0 {
+            Some("the minimum angle must be a number of degrees, 0 or more")
+        } else if a >= 60.0 {
+            Some("no mesh meets a minimum angle of 60 degrees or more (only equilateral triangles reach 60, and none has corners at floating-point coordinates)")
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            return Err(Error::InvalidBound {
+                option: "-q",
+                value: a,
+                reason,
+            });
+        }
+    }
+    if let Some(a) = options.max_area {
+        if a.is_nan() || a <= 0.0 {
+            return Err(Error::InvalidBound {
+                option: "-a",
+                value: a,
+                reason: "the maximum area must be positive",
+            });
+        }
+    }
+    Ok(())
+}
 
 /// Which subsegments refinement may split.
 ///
@@ -299,6 +424,9 @@ pub struct RefineReport {
     pub met: bool,
     /// True if the Steiner-point budget stopped the refinement.
     pub limit_reached: bool,
+    /// The Steiner-point budget the refinement ran under
+    /// ([`RefineOptions::max_steiner`] or [`default_budget`]).
+    pub steiner_budget: usize,
     /// The triangles that violate a bound, with the reason.
     pub unfixable: Vec<Unfixable>,
     /// With [`RefineOptions::conforming_delaunay`]: subsegments left whose
@@ -1141,8 +1269,17 @@ impl Crit<'_> {
 ///
 /// # Errors
 /// [`Error::InvalidCoordinate`] if the mesh has a NaN/infinite point (index
-/// given). Running out of `u32` vertex ids stops the refinement like the
-/// Steiner budget does.
+/// given); [`Error::InvalidBound`] for a bound no mesh can meet (see
+/// [`RefineOptions::min_angle`], [`RefineOptions::max_area`]). Running out
+/// of `u32` vertex ids stops the refinement like the Steiner budget does.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}, Error};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1], [1, 2], [2, 0]]);
+/// let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+/// let o = RefineOptions { min_angle: Some(60.0), ..Default::default() };
+/// assert!(matches!(refine(&cdt, &o), Err(Error::InvalidBound { option: "-q", .. })));
+/// ```
 ///
 /// ```
 /// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
@@ -1322,7 +1459,8 @@ fn refine_inner(
             Arc::make_mut(&mut m.parents)[k].shell[i] = shell;
         }
     }
-    let angle = options.min_angle.map_or(0.0, |a| a.clamp(0.0, 60.0));
+    check_bounds(options)?;
+    let angle = options.min_angle.unwrap_or(0.0);
     let crit = Crit {
         user,
         scale,
@@ -1352,11 +1490,24 @@ fn refine_inner(
     if angle > 0.0 && angle <= 45.0 {
         m.cos2 = (180.0 - 2.0 * angle).to_radians().cos().powi(2);
     }
-    let limit = options.max_steiner.unwrap_or(usize::MAX);
-    let mut report = RefineReport::default();
+    let limit = options
+        .max_steiner
+        .unwrap_or_else(|| default_budget(nfixed, par::predicted(&m, &crit, &cdt.max_areas)));
+    let mut report = RefineReport {
+        steiner_budget: limit,
+        ..RefineReport::default()
+    };
     let threads = par::threads_for(&m, &crit, &cdt.max_areas, options);
     let quality = if threads > 1 {
-        par::refine_parallel(&mut m, &crit, &cdt.max_areas, options, threads, &mut report)
+        par::refine_parallel(
+            &mut m,
+            &crit,
+            &cdt.max_areas,
+            options,
+            threads,
+            limit,
+            &mut report,
+        )
     } else {
         m.reserve_for_areas(&crit, &cdt.max_areas, limit, None);
         let mut steiner = 0;

@@ -391,7 +391,7 @@ impl Cdr {
             badq: BinaryHeap::new(),
             bound: opts.max_radius_edge,
             max_vol,
-            budget: opts.max_steiner,
+            budget: 0,
             report: RefineReport {
                 recover: rec.report.clone(),
                 ..RefineReport::default()
@@ -407,6 +407,29 @@ impl Cdr {
             left: HashMap::new(),
         };
         st.reg.resize(nt, 0);
+        st.budget = if opts.max_steiner == super::AUTO_BUDGET {
+            // Volume over the bound, summed over the tetrahedra (both
+            // rescaled alike).
+            let ratio: f64 = (0..st.tv.len())
+                .filter(|&t| st.alive(t as u32))
+                .map(|t| {
+                    let bound = st
+                        .max_vol
+                        .get(st.reg[t] as usize)
+                        .copied()
+                        .unwrap_or(f64::INFINITY);
+                    if bound.is_finite() && bound > 0.0 {
+                        quality::volume(&st.tv[t].map(|q| st.p[q as usize])).abs() / bound
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            super::default_budget(points.len(), ratio)
+        } else {
+            opts.max_steiner
+        };
+        st.report.steiner_budget = st.budget;
         // The recovered mesh is not constrained Delaunay (recovery flips and
         // carves): restore the property, so cavities are Delaunay cavities.
         st.flip_delaunay(None);
@@ -1868,7 +1891,11 @@ impl Cdr {
 
     pub(super) fn run(&mut self) {
         let mut guard: usize = 0;
-        let guard_max = 64 * (self.budget + self.p.len()) + 1_000_000;
+        let guard_max = self
+            .budget
+            .saturating_add(self.p.len())
+            .saturating_mul(64)
+            .saturating_add(1_000_000);
         loop {
             guard += 1;
             if guard.is_multiple_of(4096) {

@@ -183,6 +183,21 @@
 //! ([`RefineReport::budget_exhausted`]); the result is a valid mesh at any
 //! stop.
 //!
+//! **Every bound is met or reported.** Bounds no mesh can meet are refused
+//! before any work ([`Error::InvalidBound`](crate::Error::InvalidBound)):
+//! a radius-edge ratio below √6/4 ([`MIN_RADIUS_EDGE`]), a volume bound
+//! that is not positive. Delaunay refinement is guaranteed to terminate
+//! for radius-edge bounds above 2 (Shewchuk) and does in practice down to
+//! about 1.1; below that, and for tiny volume bounds, it may add points
+//! until memory runs out. Every run therefore has a Steiner budget,
+//! by default [`default_budget`] (from the input size and the volume the
+//! bounds ask for, never from the machine). When it runs out the mesh
+//! reached is returned with [`RefineReport::budget_exhausted`]; the cells
+//! still above the bound are counted in [`RefineReport::remaining_bad`]
+//! and, by reason, in [`RefineReport::left`] (small input angles, sharp
+//! wedges and the other input features that force a bad cell are reasons
+//! of their own).
+//!
 //! # References
 //! J. R. Shewchuk, *Tetrahedral mesh generation by Delaunay refinement*
 //! (1998); H. Si, *Constrained Delaunay tetrahedral mesh generation and
@@ -210,13 +225,19 @@ use super::recover::{
 #[derive(Debug, Clone, PartialEq)]
 pub struct RefineOptions {
     /// Largest radius-edge ratio allowed (`-q`); default 2.0. Values below
-    /// about 1.1 may not terminate before the budget; `f64::INFINITY`
-    /// disables the quality rule.
+    /// about 1.1 may not terminate and stop at the budget
+    /// ([`Self::max_steiner`]); values below √6/4 (the regular
+    /// tetrahedron's, the smallest of any tetrahedron) and NaN are refused
+    /// ([`Error::InvalidBound`](crate::Error::InvalidBound));
+    /// `f64::INFINITY` disables the quality rule.
     pub max_radius_edge: f64,
     /// Largest tetrahedron volume (`-a`), in the input's units; default none.
+    /// NaN, zero and negative values are refused.
     pub max_volume: Option<f64>,
-    /// Most Steiner points the refinement may add (after recovery);
-    /// default 1 000 000.
+    /// Most Steiner points the refinement may add (after recovery; TetGen's
+    /// `-S`). The default, [`AUTO_BUDGET`], means [`default_budget`] of the
+    /// input. When it runs out the refinement stops with a valid mesh and
+    /// [`RefineReport::budget_exhausted`].
     pub max_steiner: usize,
     /// Options of the recovery stage of [`refine`].
     pub recover: RecoverOptions,
@@ -230,11 +251,115 @@ impl Default for RefineOptions {
         RefineOptions {
             max_radius_edge: 2.0,
             max_volume: None,
-            max_steiner: 1_000_000,
+            max_steiner: AUTO_BUDGET,
             recover: RecoverOptions::default(),
             sizing: sizing::Sizing::None,
         }
     }
+}
+
+/// [`RefineOptions::max_steiner`] meaning "the default budget of the
+/// input" ([`default_budget`]).
+pub const AUTO_BUDGET: usize = usize::MAX;
+
+/// Smallest default Steiner budget ([`default_budget`]): about 500 MB of
+/// refinement ([`memory_estimate`]).
+pub const BUDGET_BASE: usize = 500_000;
+
+/// Largest default Steiner budget ([`default_budget`]): about 4 GB. A
+/// bigger run needs an explicit [`RefineOptions::max_steiner`] (`-S`).
+pub const BUDGET_MAX: usize = 1 << 22;
+
+/// Peak bytes per vertex of a refinement, optimisation included (measured:
+/// `tet -pq1.2a0.00001 cgal_sphere.off`, 18 500 vertices in 20 MB, of which
+/// about 4 MB are the program's own).
+pub const BYTES_PER_POINT: u64 = 1000;
+
+/// The smallest radius-edge ratio of any tetrahedron, √6/4 ≈ 0.612 (the
+/// regular tetrahedron's): a smaller [`RefineOptions::max_radius_edge`] is
+/// refused.
+pub const MIN_RADIUS_EDGE: f64 = 0.612_372_435_695_794_5;
+
+/// The Steiner budget used when [`RefineOptions::max_steiner`] is
+/// [`AUTO_BUDGET`]: [`BUDGET_BASE`] + 16 per input vertex + 2 per unit of
+/// volume over the volume bound (`volume_ratio`: the sum over the recovered
+/// tetrahedra of their volume over their region's bound), at most
+/// [`BUDGET_MAX`]. It depends on the input and the options only, never on
+/// the machine. A volume bound `V` is met with about `volume_ratio / 3`
+/// points, so volume-driven runs have six times the room they need; a
+/// radius-edge bound below what refinement guarantees (about 1.1 and less)
+/// stops after at most half a million points + 16 per input vertex.
+///
+/// ```
+/// use delone::tet::refine::{default_budget, BUDGET_BASE, BUDGET_MAX};
+/// assert_eq!(default_budget(10, 0.0), BUDGET_BASE + 160);
+/// assert_eq!(default_budget(10, 1000.0), BUDGET_BASE + 2160);
+/// assert_eq!(default_budget(10, 1e15), BUDGET_MAX);
+/// ```
+pub fn default_budget(input_points: usize, volume_ratio: f64) -> usize {
+    let vol = if volume_ratio.is_finite() && volume_ratio > 0.0 {
+        (2.0 * volume_ratio).min(BUDGET_MAX as f64) as usize
+    } else {
+        0
+    };
+    BUDGET_BASE
+        .saturating_add(input_points.saturating_mul(16))
+        .saturating_add(vol)
+        .min(BUDGET_MAX)
+}
+
+/// Estimated peak memory, in bytes, of a refinement that ends with
+/// `points` vertices ([`BYTES_PER_POINT`] each).
+///
+/// ```
+/// assert_eq!(delone::tet::refine::memory_estimate(2_000), 2_000_000);
+/// ```
+pub fn memory_estimate(points: usize) -> u64 {
+    points as u64 * BYTES_PER_POINT
+}
+
+impl RefineOptions {
+    /// Refuses bounds no mesh can meet (what [`refine`] and
+    /// [`refine_recovered`] check first; callers may check before a long
+    /// recovery): a radius-edge ratio that is NaN or below
+    /// [`MIN_RADIUS_EDGE`], a volume bound that is NaN, zero or negative.
+    ///
+    /// # Errors
+    /// [`Error::InvalidBound`](crate::Error::InvalidBound) naming the
+    /// switch (`-q`, `-a`) and the value.
+    ///
+    /// ```
+    /// use delone::tet::refine::RefineOptions;
+    /// let o = RefineOptions { max_radius_edge: 0.5, ..Default::default() };
+    /// assert!(matches!(o.check_bounds(), Err(delone::Error::InvalidBound { option: "-q", .. })));
+    /// let o = RefineOptions { max_radius_edge: 0.62, max_volume: Some(0.0), ..Default::default() };
+    /// assert!(matches!(o.check_bounds(), Err(delone::Error::InvalidBound { option: "-a", .. })));
+    /// assert!(RefineOptions::default().check_bounds().is_ok());
+    /// ```
+    pub fn check_bounds(&self) -> Result<(), crate::Error> {
+        let q = self.max_radius_edge;
+        if q.is_nan() || q < MIN_RADIUS_EDGE {
+            return Err(crate::Error::InvalidBound {
+                option: "-q",
+                value: q,
+                reason: "no tetrahedron has a radius-edge ratio below sqrt(6)/4 = 0.612 (the regular tetrahedron's), so no mesh meets it",
+            });
+        }
+        if let Some(v) = self.max_volume {
+            if v.is_nan() || v <= 0.0 {
+                return Err(crate::Error::InvalidBound {
+                    option: "-a",
+                    value: v,
+                    reason: "the maximum volume must be positive",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+fn check_bounds(opts: &RefineOptions) -> Result<(), RecoverError> {
+    opts.check_bounds().map_err(RecoverError::Input)
 }
 
 /// What [`refine`] did.
@@ -301,6 +426,9 @@ pub struct RefineReport {
     pub unsplittable: usize,
     /// The Steiner budget ran out before every bad cell was split.
     pub budget_exhausted: bool,
+    /// The Steiner budget the refinement ran under
+    /// ([`RefineOptions::max_steiner`] or [`default_budget`]).
+    pub steiner_budget: usize,
     /// Output cells whose radius-edge ratio is above the bound.
     pub remaining_bad: usize,
     /// Output cells bigger than the sizing allows ([`RefineOptions::sizing`]).
@@ -411,7 +539,9 @@ pub struct Refined {
 /// [module documentation](self)).
 ///
 /// # Errors
-/// Every error of [`recover`](super::recover::recover).
+/// Every error of [`recover`](super::recover::recover);
+/// [`RecoverError::Input`] with [`Error::InvalidBound`](crate::Error::InvalidBound)
+/// for a bound no mesh can meet (checked before any work).
 ///
 /// ```
 /// use delone::tet::recover::check_recovered;
@@ -438,6 +568,7 @@ pub fn refine(
     triangles: &[[u32; 3]],
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
+    check_bounds(opts)?;
     let rec = recover_domain(points, triangles, &opts.recover, &Domain::default())?;
     refine_recovered(points, triangles, &rec, opts)
 }
@@ -449,7 +580,9 @@ pub fn refine(
 ///
 /// # Errors
 /// [`RecoverError::Unsupported`] when the mesh's neighbour links disagree
-/// with its tetrahedra.
+/// with its tetrahedra; [`RecoverError::Input`] with
+/// [`Error::InvalidBound`](crate::Error::InvalidBound) for a bound no mesh
+/// can meet.
 ///
 /// ```
 /// use delone::model::plc::Region;
@@ -491,6 +624,7 @@ pub fn refine_recovered(
     } else {
         &rec.surface
     };
+    check_bounds(opts)?;
     let mut st = cdr::Cdr::new(points, triangles, rec, opts)?;
     st.run();
     Ok(st.finish(rec))

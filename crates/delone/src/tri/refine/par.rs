@@ -59,7 +59,7 @@ pub(super) fn threads_for(
 }
 
 /// Predicted number of output triangles (from the area bounds only).
-fn predicted(m: &Mesh, crit: &Crit, max_areas: &[f64]) -> f64 {
+pub(super) fn predicted(m: &Mesh, crit: &Crit, max_areas: &[f64]) -> f64 {
     PER_RATIO
         * (0..m.tr.len())
             .map(|t| m.area_ratio(crit, max_areas, t))
@@ -79,13 +79,17 @@ struct Cut {
     sub: u32,
 }
 
-/// Refines `m` with `threads` parts; returns as [`run`] does.
+/// Refines `m` with `threads` parts; returns as [`run`] does. The
+/// Steiner budget `limit` is shared: the coarse stage spends from it, each
+/// part gets an equal share of what is left, the finish the rest (so the
+/// result still depends only on the input, the options and `threads`).
 pub(super) fn refine_parallel(
     m: &mut Mesh,
     crit: &Crit,
     max_areas: &[f64],
     options: &RefineOptions,
     threads: usize,
+    limit: usize,
     report: &mut RefineReport,
 ) -> bool {
     // 1. Coarse stage.
@@ -99,12 +103,15 @@ pub(super) fn refine_parallel(
         &coarse,
         max_areas,
         options,
-        usize::MAX,
+        limit,
         &mut steiner,
         report,
         None,
         None,
     );
+    if report.limit_reached {
+        return true;
+    }
 
     // 2. Partition.
     let nt0 = m.tr.len();
@@ -182,6 +189,7 @@ pub(super) fn refine_parallel(
     // the stitch then appends without moving the arrays.
     m.reserve_for_areas(crit, max_areas, usize::MAX, None);
     let detached = crit.detached();
+    let share = limit.saturating_sub(steiner) / threads;
     let mut drops = Vec::new();
     let results: Vec<(Mesh, RefineReport, Vec<u32>)> = std::thread::scope(|sc| {
         let handles: Vec<_> = copies
@@ -199,7 +207,7 @@ pub(super) fn refine_parallel(
                         &crit,
                         max_areas,
                         options,
-                        usize::MAX,
+                        share,
                         &mut st,
                         &mut rep,
                         Some(list),
@@ -214,7 +222,7 @@ pub(super) fn refine_parallel(
             crit,
             max_areas,
             options,
-            usize::MAX,
+            steiner + share,
             &mut steiner,
             report,
             Some(&lists[0]),
@@ -340,6 +348,8 @@ pub(super) fn refine_parallel(
         drops.extend(dr.iter().map(|&t| rt(t as usize) as u32));
         report.segment_splits += rep.segment_splits;
         report.circumcenters += rep.circumcenters;
+        report.limit_reached |= rep.limit_reached;
+        steiner += rep.segment_splits + rep.circumcenters;
         report.rejected_circumcenters += rep.rejected_circumcenters;
         // `pm` is dropped here (peak memory: one part at a time).
     }
@@ -373,7 +383,7 @@ pub(super) fn refine_parallel(
         crit,
         max_areas,
         options,
-        usize::MAX,
+        limit,
         &mut steiner,
         report,
         Some(&drops),
