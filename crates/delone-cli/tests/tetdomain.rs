@@ -48,14 +48,7 @@ fn volumes(out: &str) -> Vec<(f64, bool)> {
 }
 
 fn example() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/3d_plc/tetgen_example.poly"))
-        .find(|d| d.is_file());
-    if p.is_none() {
-        eprintln!("note: shared/data/3d_plc not found; skipping");
-    }
-    p
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc/tetgen_example.poly")
 }
 
 #[test]
