@@ -116,7 +116,10 @@ mod tests {
         let r = std::panic::catch_unwind(|| corpus_dir_with(Path::new("/nonexistent/a/b"), false));
         let e = r.unwrap_err();
         let msg = e.downcast_ref::<String>().unwrap();
-        assert!(msg.contains("/nonexistent/a/b") && msg.contains(OPT_OUT), "{msg}");
+        assert!(
+            msg.contains("/nonexistent/a/b") && msg.contains(OPT_OUT),
+            "{msg}"
+        );
     }
 
     #[test]
@@ -132,7 +135,10 @@ mod tests {
         let deep = root.join("checkout/crates/x");
         std::fs::create_dir_all(&deep).unwrap();
         std::fs::create_dir_all(root.join("shared/data")).unwrap();
-        assert_eq!(corpus_dir_with(&deep, false), Some(root.join("shared/data")));
+        assert_eq!(
+            corpus_dir_with(&deep, false),
+            Some(root.join("shared/data"))
+        );
         std::fs::remove_dir_all(&root).unwrap();
     }
 }

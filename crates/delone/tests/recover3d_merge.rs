@@ -200,7 +200,9 @@ fn groups_are_checked_as_polygons() {
 /// `-p` (18); recovering the groups' triangles needed 559.
 #[test]
 fn oblong_needs_few_steiner_points() {
-    let Some(path) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "surf/off/cgal_oblong.off") else {
+    let Some(path) =
+        delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "surf/off/cgal_oblong.off")
+    else {
         return;
     };
     let text = std::fs::read_to_string(path).unwrap();

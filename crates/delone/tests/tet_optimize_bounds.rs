@@ -97,7 +97,9 @@ fn radius_edge_and_volume_bounds_survive_optimisation() {
 /// and 0.01, holes, an internal facet.
 #[test]
 fn regional_volume_bounds_survive_optimisation() {
-    let Some(path) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc/tetgen_example.poly") else {
+    let Some(path) =
+        delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc/tetgen_example.poly")
+    else {
         return;
     };
     let bytes = std::fs::read(path).unwrap();
