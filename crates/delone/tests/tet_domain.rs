@@ -2,7 +2,6 @@
 //! regions), the convex hull kept with `-c`, and the volume check extended
 //! to regions.
 
-use std::path::PathBuf;
 
 use delone::model::plc::{Facet, Plc, Region};
 use delone::tet::recover::{
