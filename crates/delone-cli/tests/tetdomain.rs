@@ -110,7 +110,17 @@ fn tetgen_example_with_attributes_markers_and_other_formats() {
     // Gmsh: header, one volume entity per region with its attribute as the
     // physical tag, every element once.
     let msh = std::fs::read_to_string(dir.join("ex.msh")).unwrap();
-    assert!(msh.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 5 2\n"));
+    assert!(msh.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n"));
+    // 5 surfaces (facet markers) and 2 volumes, after the points and curves.
+    let counts: Vec<usize> = msh
+        .lines()
+        .nth(4)
+        .unwrap()
+        .split(' ')
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(&counts[2..], &[5, 2]);
+    assert!(counts[1] > 0, "curves between the surfaces");
     let els: Vec<&str> = msh.lines().skip_while(|l| *l != "$Elements").collect();
     let head: Vec<usize> = els[1].split(' ').map(|t| t.parse().unwrap()).collect();
     assert_eq!(

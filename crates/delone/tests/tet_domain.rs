@@ -2,7 +2,6 @@
 //! regions), the convex hull kept with `-c`, and the volume check extended
 //! to regions.
 
-
 use delone::model::plc::{Facet, Plc, Region};
 use delone::tet::recover::{
     check_recovered, recover_domain, Domain, RecoverError, RecoverOptions, Recovered,
