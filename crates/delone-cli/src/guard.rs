@@ -149,6 +149,26 @@ pub fn outputs(mode: Mode, kind: Kind, o: &Opts, out: &Path) -> Vec<(String, Pat
             base("v.cell", " of -v");
         }
     }
+    if tet && kind != Kind::Points {
+        // The VTK outputs of a domain mesh have a companion file of the
+        // faces on input facets.
+        let vtu = o
+            .vtu
+            .clone()
+            .or_else(|| o.vtu_ascii.then(|| with_ext(out, "vtu")));
+        if let Some(p) = vtu {
+            v.push((
+                "the faces companion of the .vtu output".to_string(),
+                crate::tetout::face_companion(&p),
+            ));
+        }
+        if o.vtk_legacy {
+            v.push((
+                "the faces companion of -k's .vtk".to_string(),
+                crate::tetout::face_companion(&with_ext(out, "vtk")),
+            ));
+        }
+    }
     let named: [(&str, &Option<PathBuf>); 7] = [
         ("-o/--vtu", &o.vtu),
         ("--svg", &o.svg),

@@ -19,6 +19,19 @@ use crate::args::Opts;
 use crate::plc::write;
 use crate::run::{with_ext, Failure};
 
+/// `mesh.face.vtu` beside `mesh.vtu` (`mesh.face.vtk` beside `mesh.vtk`):
+/// the faces on input facets, as triangles with a `boundary_marker` cell
+/// array, on the same points as the tetrahedra.
+pub(crate) fn face_companion(p: &Path) -> PathBuf {
+    let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("vtu");
+    let ext = if ext.eq_ignore_ascii_case("vtk") {
+        "vtk"
+    } else {
+        "vtu"
+    };
+    p.with_extension(format!("face.{ext}"))
+}
+
 fn fkey(f: [u32; 3]) -> [u32; 3] {
     let mut k = f;
     k.sort_unstable();
@@ -97,6 +110,14 @@ impl<'a> TetOutput<'a> {
                 }
             })
             .collect()
+    }
+
+    /// Whether the VTK outputs carry the region attribute: with `-A`, or
+    /// when the input names regions or the domain has several.
+    fn has_regions(&self, o: &Opts) -> bool {
+        o.region_attributes
+            || self.rec.regions.len() > 1
+            || self.rec.regions.iter().any(|r| r.seed.is_some())
     }
 
     /// Every face of the mesh once (TetGen `-f`), with markers.
@@ -196,6 +217,28 @@ impl<'a> TetOutput<'a> {
             })?;
             written.push(p);
         }
+        // VTK: the tetrahedra with their region attribute as cell data (with
+        // -A, or when the input has regions), and a companion file of the
+        // faces on input facets with their markers.
+        let attrs = if self.has_regions(o) {
+            self.attributes()
+        } else {
+            Vec::new()
+        };
+        let cd = [delone_io::DataArray {
+            name: "region_attribute",
+            values: delone_io::Values::Float64(&attrs),
+        }];
+        let cd = if attrs.is_empty() { &cd[..0] } else { &cd[..] };
+        let fd = [delone_io::DataArray {
+            name: "boundary_marker",
+            values: delone_io::Values::Int32(&self.face_marker),
+        }];
+        let fmt = if o.vtu_ascii {
+            delone_io::VtuFormat::Ascii
+        } else {
+            delone_io::VtuFormat::Binary
+        };
         // --vtu-ascii alone names the .vtu after the output base (as in 2D).
         let vtu = o
             .vtu
@@ -203,20 +246,14 @@ impl<'a> TetOutput<'a> {
             .or_else(|| o.vtu_ascii.then(|| with_ext(out, "vtu")));
         if let Some(p) = &vtu {
             write(p, |f| {
-                delone_io::write_vtu(
-                    f,
-                    &rec.points,
-                    &rec.mesh.tets,
-                    &[],
-                    &[],
-                    if o.vtu_ascii {
-                        delone_io::VtuFormat::Ascii
-                    } else {
-                        delone_io::VtuFormat::Binary
-                    },
-                )
+                delone_io::write_vtu(f, &rec.points, &rec.mesh.tets, &[], cd, fmt)
             })?;
             written.push(p.clone());
+            let p = face_companion(p);
+            write(&p, |f| {
+                delone_io::write_vtu(f, &rec.points, &self.faces, &[], &fd, fmt)
+            })?;
+            written.push(p);
         }
         if o.vtk_legacy {
             let p = with_ext(out, "vtk");
@@ -226,8 +263,20 @@ impl<'a> TetOutput<'a> {
                     &rec.points,
                     &rec.mesh.tets,
                     &[],
+                    cd,
+                    "delone tet -p",
+                )
+            })?;
+            written.push(p.clone());
+            let p = face_companion(&p);
+            write(&p, |f| {
+                delone_io::write_vtk_legacy(
+                    f,
+                    &rec.points,
+                    &self.faces,
                     &[],
-                    "delone tet output",
+                    &fd,
+                    "delone tet -p: faces on input facets",
                 )
             })?;
             written.push(p);

@@ -145,10 +145,7 @@ fn accept_3d(name: &str, points: &[[f64; 3]]) {
 }
 
 fn shared_points_dir() -> Option<PathBuf> {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/2d/points"))
-        .find(|d| d.is_dir())
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "2d/points")
 }
 
 fn grid2(k: usize) -> Vec<[f64; 2]> {
@@ -166,7 +163,6 @@ fn grid3(k: usize) -> Vec<[f64; 3]> {
 #[test]
 fn tri_on_every_shared_point_set() {
     let Some(dir) = shared_points_dir() else {
-        eprintln!("note: shared/data/2d/points not found; skipping");
         return;
     };
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)

@@ -303,17 +303,7 @@ fn tri_vtu_output_and_determinism() {
 /// needs kernels
 #[test]
 fn tri_on_shared_data_if_present() {
-    // ../../../shared from a checkout in /work/main, one more level from a
-    // worktree in /work/wt/NAME.
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let Some(data) = [
-        "../../../shared/data/2d/points",
-        "../../../../shared/data/2d/points",
-    ]
-    .iter()
-    .map(|p| root.join(p))
-    .find(|p| p.is_dir()) else {
-        eprintln!("note: shared/data/2d/points not found next to the checkout, skipped");
+    let Some(data) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "2d/points") else {
         return;
     };
     let d = tmp("tri-shared");

@@ -170,12 +170,7 @@ fn open_surface_is_a_clear_error() {
 
 #[test]
 fn shared_plcs_recover_and_pass_the_check() {
-    let Some(data) = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/3d_plc"))
-        .find(|d| d.is_dir())
-    else {
-        eprintln!("note: shared/data/3d_plc not found; skipping");
+    let Some(data) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc") else {
         return;
     };
     let dir = tmp("shared");

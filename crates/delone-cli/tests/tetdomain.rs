@@ -48,14 +48,7 @@ fn volumes(out: &str) -> Vec<(f64, bool)> {
 }
 
 fn example() -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/3d_plc/tetgen_example.poly"))
-        .find(|d| d.is_file());
-    if p.is_none() {
-        eprintln!("note: shared/data/3d_plc not found; skipping");
-    }
-    p
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc/tetgen_example.poly")
 }
 
 #[test]
@@ -117,7 +110,17 @@ fn tetgen_example_with_attributes_markers_and_other_formats() {
     // Gmsh: header, one volume entity per region with its attribute as the
     // physical tag, every element once.
     let msh = std::fs::read_to_string(dir.join("ex.msh")).unwrap();
-    assert!(msh.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 5 2\n"));
+    assert!(msh.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n"));
+    // 5 surfaces (facet markers) and 2 volumes, after the points and curves.
+    let counts: Vec<usize> = msh
+        .lines()
+        .nth(4)
+        .unwrap()
+        .split(' ')
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(&counts[2..], &[5, 2]);
+    assert!(counts[1] > 0, "curves between the surfaces");
     let els: Vec<&str> = msh.lines().skip_while(|l| *l != "$Elements").collect();
     let head: Vec<usize> = els[1].split(' ').map(|t| t.parse().unwrap()).collect();
     assert_eq!(
@@ -458,4 +461,90 @@ fn dihedral_bound_after_a_slash() {
         assert_eq!(o.status.code(), Some(2), "{q}");
         assert!(String::from_utf8_lossy(&o.stderr).contains(msg), "{q}");
     }
+}
+
+/// The values of the ASCII `<DataArray Name="name">` of a `.vtu` file.
+fn vtu_array(text: &str, name: &str) -> Vec<f64> {
+    let at = text
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("no array {name}"));
+    let body = &text[at..];
+    let start = body.find('>').unwrap() + 1;
+    let end = body.find("</DataArray>").unwrap();
+    body[start..end]
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+fn vtu_cells(text: &str) -> usize {
+    let at = text.find("NumberOfCells=\"").unwrap() + 15;
+    text[at..].split('"').next().unwrap().parse().unwrap()
+}
+
+/// `tet -pA` with `--vtu`/`-k`: the tetrahedra carry the region attribute
+/// as cell data, and the faces on input facets go to `.face.vtu` /
+/// `.face.vtk` with their markers.
+#[test]
+fn vtk_outputs_carry_regions_and_face_markers() {
+    let d = tmp("vtkdata");
+    let mut s = String::from("8 3 0 0\n");
+    for i in 0..8 {
+        s += &format!("{i} {} {} {}\n", i & 1, (i >> 1) & 1, (i >> 2) & 1);
+    }
+    s += "6 1\n";
+    for (m, f) in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ]
+    .iter()
+    .enumerate()
+    {
+        s += &format!("4 {} {} {} {} {}\n", f[0], f[1], f[2], f[3], m + 1);
+    }
+    s += "0\n1\n1 0.5 0.5 0.5 7 0\n";
+    std::fs::write(d.join("cube.smesh"), s).unwrap();
+    let r = run(
+        &d,
+        &[
+            "tet",
+            "-pAQk",
+            "--vtu-ascii",
+            "--vtu",
+            "cube.vtu",
+            "cube.smesh",
+        ],
+    );
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let vtu = std::fs::read_to_string(d.join("cube.vtu")).unwrap();
+    let attr = vtu_array(&vtu, "region_attribute");
+    assert_eq!(attr.len(), vtu_cells(&vtu));
+    assert!(
+        !attr.is_empty() && attr.iter().all(|&a| a == 7.0),
+        "{attr:?}"
+    );
+    let face = std::fs::read_to_string(d.join("cube.face.vtu")).unwrap();
+    let marks = vtu_array(&face, "boundary_marker");
+    let faces = table(&d.join("cube.1.face"));
+    assert_eq!(marks.len(), vtu_cells(&face));
+    assert_eq!(marks.len(), faces.len());
+    let mut want: Vec<f64> = faces.iter().map(|r| r[4]).collect();
+    let mut got = marks.clone();
+    want.sort_by(f64::total_cmp);
+    got.sort_by(f64::total_cmp);
+    assert_eq!(got, want);
+    for m in 1..=6 {
+        assert!(marks.contains(&f64::from(m)), "marker {m}");
+    }
+    let vtk = std::fs::read_to_string(d.join("cube.1.vtk")).unwrap();
+    assert!(
+        vtk.contains("CELL_DATA") && vtk.contains("region_attribute"),
+        "{vtk}"
+    );
+    let fvtk = std::fs::read_to_string(d.join("cube.1.face.vtk")).unwrap();
+    assert!(fvtk.contains("boundary_marker"));
 }

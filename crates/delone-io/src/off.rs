@@ -123,7 +123,7 @@ pub fn read_off(input: &[u8]) -> Result<crate::Surface, IoError> {
             });
         };
         let n = parse_count(toks[0], line, "the number of corners of a face")?;
-        if toks.len() < n + 1 {
+        if toks.len() <= n {
             return Err(IoError::syntax(
                 line,
                 format!("{n} point indices"),

@@ -170,7 +170,7 @@ fn read(input: &[u8], smesh: bool) -> Result<PlcFile, IoError> {
             parse_f64(toks[3], line, "a coordinate")?,
         ]);
         if let Some(m) = markers.as_mut() {
-            m.push(match toks.get(4 + nattr) {
+            m.push(match toks.get(nattr.saturating_add(4)) {
                 Some(t) => marker(t, line)?,
                 None => 0,
             });
@@ -216,7 +216,7 @@ fn read(input: &[u8], smesh: bool) -> Result<PlcFile, IoError> {
         };
         if smesh {
             let c = parse_count(toks[0], line, "the number of corners")?;
-            if toks.len() < c + 1 {
+            if toks.len() <= c {
                 return Err(IoError::syntax(
                     line,
                     format!("{c} point indices"),
@@ -259,7 +259,7 @@ fn read(input: &[u8], smesh: bool) -> Result<PlcFile, IoError> {
                 });
             };
             let c = parse_count(toks[0], pl, "the number of corners")?;
-            if toks.len() < c + 1 {
+            if toks.len() <= c {
                 return Err(IoError::syntax(
                     pl,
                     format!("{c} point indices"),

@@ -269,6 +269,11 @@ pub fn read_ply(input: &[u8]) -> Result<Surface, IoError> {
         if is_f {
             faces.reserve(crate::surface::cap(el.count, input.len(), 4));
         }
+        if el.props.is_empty() {
+            // Its items take no bytes: nothing to read, however many the
+            // header declares (a loop over 4e9 of them would hang).
+            continue;
+        }
         for k in 0..el.count {
             let mut p = [0.0; 3];
             for (pi, prop) in el.props.iter().enumerate() {

@@ -465,7 +465,7 @@ pub(crate) fn read_node_body<'a>(
         for t in &toks[1..=dim] {
             coords.push(parse_f64(t, line, "a coordinate")?);
         }
-        if have < dim + nattr {
+        if have < dim.saturating_add(nattr) {
             return Err(IoError::syntax(
                 line,
                 format!("{nattr} attribute(s) after the coordinates"),
@@ -622,7 +622,7 @@ pub fn read_ele(input: &[u8], node_first_index: u32) -> Result<EleFile, IoError>
             })?;
             elements.push(z);
         }
-        if have < k + nattr {
+        if have < k.saturating_add(nattr) {
             return Err(IoError::syntax(
                 line,
                 format!("{nattr} attribute(s) after the node indices"),

@@ -5,20 +5,7 @@
 use std::path::{Path, PathBuf};
 
 fn data_dir() -> Option<PathBuf> {
-    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let c = d.join("shared/data");
-        if c.is_dir() {
-            return Some(c);
-        }
-        if !d.pop() {
-            eprintln!(
-                "note: shared/data not found above {}; skipping",
-                env!("CARGO_MANIFEST_DIR")
-            );
-            return None;
-        }
-    }
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// (name, orig path, V, F) from stats.json (a tiny scanner, no JSON crate).

@@ -8,20 +8,9 @@ use common::*;
 use delone_predicates::*;
 use std::path::PathBuf;
 
-/// `<checkout>/../shared/data` (the checkout may also be a worktree one level deeper).
+/// `<checkout>/../shared/data` (see `delone_testdata::corpus_dir`).
 fn data_dir() -> Option<PathBuf> {
-    let crate_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    for up in ["../../../shared/data", "../../../../shared/data"] {
-        let d = crate_dir.join(up);
-        if d.is_dir() {
-            return Some(d);
-        }
-    }
-    println!(
-        "note: shared/data not found near {}, skipping real-data tests",
-        crate_dir.display()
-    );
-    None
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// Numeric tokens of non-comment lines.

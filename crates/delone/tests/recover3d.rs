@@ -259,16 +259,7 @@ fn large_invalid_inputs_give_the_sequential_errors() {
 }
 
 fn data_dir() -> Option<PathBuf> {
-    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let c = d.join("shared/data");
-        if c.is_dir() {
-            return Some(c);
-        }
-        if !d.pop() {
-            return None;
-        }
-    }
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {

@@ -200,14 +200,12 @@ fn groups_are_checked_as_polygons() {
 /// `-p` (18); recovering the groups' triangles needed 559.
 #[test]
 fn oblong_needs_few_steiner_points() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/surf/off/cgal_oblong.off"
-    );
-    let Ok(text) = std::fs::read_to_string(path) else {
-        println!("{path} not found; skipping");
+    let Some(path) =
+        delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "surf/off/cgal_oblong.off")
+    else {
         return;
     };
+    let text = std::fs::read_to_string(path).unwrap();
     let mut toks = text
         .lines()
         .map(|l| l.split('#').next().unwrap_or(""))

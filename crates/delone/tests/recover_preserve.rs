@@ -171,17 +171,7 @@ fn thin_and_notched_boxes() {
 }
 
 fn data_dir() -> Option<PathBuf> {
-    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let c = d.join("shared/data");
-        if c.is_dir() {
-            return Some(c);
-        }
-        if !d.pop() {
-            println!("note: shared/data not found; skipping");
-            return None;
-        }
-    }
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The closed clean corpus models whose triangle count is in `range`:

@@ -2,8 +2,6 @@
 //! regions), the convex hull kept with `-c`, and the volume check extended
 //! to regions.
 
-use std::path::PathBuf;
-
 use delone::model::plc::{Facet, Plc, Region};
 use delone::tet::recover::{
     check_recovered, recover_domain, Domain, RecoverError, RecoverOptions, Recovered,
@@ -260,12 +258,7 @@ fn convex_hull_is_kept_with_c() {
 
 #[test]
 fn tetgen_example_meshes_with_regions_and_holes() {
-    let Some(dir) = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/3d_plc"))
-        .find(|d| d.is_dir())
-    else {
-        eprintln!("note: shared/data/3d_plc not found; skipping");
+    let Some(dir) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc") else {
         return;
     };
     let f =

@@ -13,23 +13,10 @@ use delone_predicates::orient3d;
 mod solids;
 use solids::cube;
 
-fn data_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/surf/off"))
-        .find(|d| d.is_dir())
-        .unwrap_or_default()
-}
-
-/// The corpus folder, or `None` (with a note) when the data is missing.
+/// The corpus folder (`shared/data/surf/off`); `None` when it is missing
+/// and `DELONE_NO_CORPUS=1` (see `delone_testdata`).
 fn corpus() -> Option<PathBuf> {
-    let dir = data_dir();
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("note: {} missing, skipped", dir.display());
-        None
-    }
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "surf/off")
 }
 
 /// Points and triangles of corpus model `name` (`dir/name.off`).
@@ -681,11 +668,8 @@ fn chord_slivers_are_removed_by_recovery() {
 /// 15°..165°) there are none. Returns (models run, models within 15..165,
 /// models the input allows, smallest minimum dihedral angle among those).
 fn corpus_dihedral_bounds(lo: usize, hi: usize, clean_only: bool) -> Option<[f64; 4]> {
-    let dir = data_dir();
-    let Ok(list) = std::fs::read_to_string(dir.join("../../sets/closed_clean.txt")) else {
-        eprintln!("note: {} missing, skipped", dir.display());
-        return None;
-    };
+    let dir = corpus()?;
+    let list = std::fs::read_to_string(dir.join("../../sets/closed_clean.txt")).unwrap();
     let (mut run, mut met, mut allowed_n, mut worst) = (0, 0, 0, 180f64);
     for line in list.lines() {
         let mut it = line.split_whitespace();

@@ -97,12 +97,12 @@ fn radius_edge_and_volume_bounds_survive_optimisation() {
 /// and 0.01, holes, an internal facet.
 #[test]
 fn regional_volume_bounds_survive_optimisation() {
-    let dir =
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/3d_plc");
-    let Ok(bytes) = std::fs::read(dir.join("tetgen_example.poly")) else {
-        eprintln!("note: shared/data/3d_plc not found; skipping");
+    let Some(path) =
+        delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "3d_plc/tetgen_example.poly")
+    else {
         return;
     };
+    let bytes = std::fs::read(path).unwrap();
     let f = delone_io::read_poly3d(&bytes).unwrap();
     let mut plc = delone::model::plc::Plc::new(f.points);
     plc.holes = f.holes;

@@ -9,17 +9,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 fn data_dir() -> Option<PathBuf> {
-    let mut d = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let c = d.join("shared/data");
-        if c.is_dir() {
-            return Some(c);
-        }
-        if !d.pop() {
-            eprintln!("note: shared/data not found; skipping");
-            return None;
-        }
-    }
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// (path relative to data, triangle count) of a set file.

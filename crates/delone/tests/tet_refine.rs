@@ -160,14 +160,7 @@ fn read_model(dir: &Path, name: &str) -> Option<(String, delone_io::Surface)> {
 }
 
 fn data_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data"))
-        .find(|d| d.is_dir());
-    if d.is_none() {
-        eprintln!("note: shared/data not found; skipping");
-    }
-    d
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 fn closed_models(dir: &Path, max_tris: usize) -> Vec<String> {

@@ -8,14 +8,7 @@ use delone::tet::refine::existing::{recovered_from_mesh, refine_mesh, RefineMesh
 use delone::tet::refine::RefineOptions;
 
 fn data_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data"))
-        .find(|d| d.is_dir());
-    if d.is_none() {
-        eprintln!("note: shared/data not found; skipping");
-    }
-    d
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 fn mesh_volume(pts: &[[f64; 3]], tets: &[[u32; 4]]) -> f64 {

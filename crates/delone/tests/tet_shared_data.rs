@@ -7,18 +7,7 @@ use std::path::PathBuf;
 /// `shared/data/surf/off`, found by walking up from the crate (the checkout
 /// may sit at any depth beside `shared/`).
 fn data_dir() -> Option<PathBuf> {
-    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let found = here
-        .ancestors()
-        .map(|a| a.join("shared/data/surf/off"))
-        .find(|d| d.is_dir());
-    if found.is_none() {
-        eprintln!(
-            "note: shared/data/surf/off not found above {}; skipping",
-            here.display()
-        );
-    }
-    found
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "surf/off")
 }
 
 /// The vertices of an OFF file (header `OFF`, then `nv nf ne`, then vertices).

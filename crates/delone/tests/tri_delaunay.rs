@@ -64,16 +64,7 @@ fn canonical(tris: impl IntoIterator<Item = [u32; 3]>) -> Vec<[u32; 3]> {
 /// Finds `shared/data` above the crate (the main checkout has it three levels
 /// up, a worktree deeper).
 fn data_dir() -> Option<PathBuf> {
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let cand = dir.join("shared/data");
-        if cand.is_dir() {
-            return Some(cand);
-        }
-        if !dir.pop() {
-            return None;
-        }
-    }
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// A minimal reader of Triangle's `.node` format (comments, header, then

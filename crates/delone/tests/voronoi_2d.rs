@@ -304,18 +304,7 @@ fn cocircular_with_centre_and_duplicates() {
 
 #[test]
 fn shared_node_files() {
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let data = loop {
-        let cand = dir.join("shared/data/2d/points");
-        if cand.is_dir() {
-            break Some(cand);
-        }
-        if !dir.pop() {
-            break None;
-        }
-    };
-    let Some(data) = data else {
-        println!("note: shared/data not found; skipping the .node inputs");
+    let Some(data) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "2d/points") else {
         return;
     };
     let mut files: Vec<PathBuf> = std::fs::read_dir(data)

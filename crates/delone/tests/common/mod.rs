@@ -4,12 +4,10 @@ use std::path::{Path, PathBuf};
 
 use delone::model::pslg::{Pslg, Region};
 
-/// `shared/data`, found by walking up from the crate directory.
+/// `shared/data`, found by walking up from the crate directory; panics when
+/// it is missing unless `DELONE_NO_CORPUS=1` (see `delone_testdata`).
 pub fn data_dir() -> Option<PathBuf> {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data"))
-        .find(|d| d.is_dir())
+    delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// A Triangle `.poly` file as a [`Pslg`] (points inline in the file).
