@@ -319,9 +319,19 @@ fn validate_impl(
             return err("hull", format!("vertex {} starts two hull edges", w[0].0));
         }
     }
+    // Exact throughout: the signs of coordinate differences are exact in
+    // floating point, so a closed chain of left turns (each less than a half
+    // turn) winds exactly as often as its edge direction passes from the
+    // lower half-plane of directions into the upper one.
+    let upper = |d: [f64; 2]| d[1] > 0.0 || (d[1] == 0.0 && d[0] > 0.0);
+    let dir = |a: u32, b: u32| {
+        let (pa, pb) = (&points[a as usize], &points[b as usize]);
+        [pb[0] - pa[0], pb[1] - pa[1]]
+    };
+    let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
     let start = hull[0].0;
     let (mut a, mut b) = hull[0];
-    let mut turning = 0.0f64;
+    let mut windings = 0usize;
     let mut steps = 0usize;
     loop {
         let Some(c) = next(b) else {
@@ -329,15 +339,18 @@ fn validate_impl(
         };
         let [pa, pb, pc] = [a, b, c].map(|x| &points[x as usize]);
         let o = orient2d(pa, pb, pc);
-        let (ux, uy) = (pb[0] - pa[0], pb[1] - pa[1]);
-        let (vx, vy) = (pc[0] - pb[0], pc[1] - pb[1]);
-        if o < 0.0 || (o == 0.0 && ux * vx + uy * vy <= 0.0) {
+        let (u, v) = (dir(a, b), dir(b, c));
+        // Collinear: parallel, so the same direction iff the same signs.
+        let back = o == 0.0 && (sign(u[0]) != sign(v[0]) || sign(u[1]) != sign(v[1]));
+        if o < 0.0 || back {
             return err(
                 "hull",
                 format!("hull turns right (or back) at vertex {b} ({a} -> {b} -> {c})"),
             );
         }
-        turning += (ux * vy - uy * vx).atan2(ux * vx + uy * vy);
+        if !upper(u) && upper(v) {
+            windings += 1;
+        }
         steps += 1;
         a = b;
         b = c;
@@ -354,13 +367,10 @@ fn validate_impl(
             ),
         );
     }
-    if (turning - std::f64::consts::TAU).abs() > 1.0 {
+    if windings != 1 {
         return err(
             "hull",
-            format!(
-                "hull winds {:.2} turns instead of one",
-                turning / std::f64::consts::TAU
-            ),
+            format!("hull winds {windings} turns instead of one"),
         );
     }
     // Euler: V - E + F = 1 with E = (3F + H) / 2.
