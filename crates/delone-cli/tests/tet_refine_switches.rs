@@ -125,7 +125,7 @@ fn reported(out: &str, what: &str) -> usize {
         .find(what)
         .unwrap_or_else(|| panic!("no '{what}' in {line}"));
     line[..i]
-        .split(|c: char| c == ':' || c == ';')
+        .split([':', ';'])
         .next_back()
         .unwrap()
         .trim()
@@ -200,7 +200,7 @@ fn volume_bound_is_met_on_every_tetrahedron_and_reported_truly() {
                 "{out}"
             );
         }
-        assert!((tot - 1.0 * 1.0 * 0.034899496702500969 / 2.0).abs() < 1e-12);
+        assert!((tot - 2f64.to_radians().sin() / 2.0).abs() < 1e-12);
     }
 }
 

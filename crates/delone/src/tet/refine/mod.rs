@@ -123,6 +123,31 @@
 //!    is not tried again, and each is queued at most once (a refused
 //!    subface retried for every cell showing it spun for minutes).
 //!
+//!    **Size before shape.** A cell above its volume bound (or the
+//!    sizing) is split whatever the protections above say (they are for
+//!    cells bad by shape): no flat, shell, degenerate, wedge, close or
+//!    insertion-radius rule, and the encroached pieces are split whatever
+//!    their size. When that makes no progress (a piece at the segment
+//!    floor, a refused plan, no circumcentre), a point inside the cell's
+//!    circumball is inserted with the cell in its cavity (3/4, 1/2, 1/4 of
+//!    the way from the centroid to the circumcentre, then the centroid;
+//!    [`RefineReport::inside`]), so the volume bound is met everywhere
+//!    ([`RefineReport::remaining_over_volume`] is 0 unless the budget ran
+//!    out).
+//!
+//!    **Kept surface** ([`RefineOptions::keep_surface`], `-pqY`): R1 and
+//!    R2 are off and R3 splits no piece. A cell whose circumcentre
+//!    encroaches a subface or subsegment (or lies behind one) gets the
+//!    first of the points above that encroaches nothing in its cavity and
+//!    lies no closer to a vertex than the cell's shortest edge; if none,
+//!    it is left ([`LeftBad::surface`]). Each cell is tried once per
+//!    change, so refinement ends.
+//!
+//!    **Convex hull** (`-c`): the hull faces off the surface are added as
+//!    triangles, exactly coplanar neighbours grouped into one facet, and
+//!    refined like input facets; the output names them as hull faces
+//!    again.
+//!
 //!    Every cell R3 leaves is remembered with the reason; the cells still
 //!    above the bound at the end are counted per reason in
 //!    [`RefineReport::left`] ([`LeftBad`]), with how many lie next to a
