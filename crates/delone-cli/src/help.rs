@@ -194,10 +194,18 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -A   With -p: regional attribute of each tetrahedron in the .ele file
          (the region point's; unnamed regions numbered after the largest).
     -c   With -p: keep the tetrahedra outside the surface (convex hull).
+         With -q/-a the whole hull is refined: its faces off the surface are
+         facets that may be split like input facets; input facets inside
+         stay constraints.
     -g   With -p: also write FILE.1.mesh (Medit; references = facet markers
          and region attributes).
     -Y   With -p: no Steiner point on the input surface (interior only);
-         an error names the triangles that flips cannot recover.
+         an error names the triangles that flips cannot recover. With
+         -q/-a the surface is kept as recovered (TetGen's -pqY): no point
+         is put on it, a bad tetrahedron whose circumcentre encroaches it
+         gets a point inside its circumball that does not, or is left
+         (`kept surface` in the refinement line); the volume bound is
+         still met everywhere.
     -M   With -p: no merging of coplanar facets. By default edge-adjacent,
          exactly coplanar, consistently oriented triangles of facets with
          the same marker are merged into one facet and re-triangulated
@@ -213,7 +221,10 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          edge, needle or cap triangle) holds each.
     -a[V] With -p: no tetrahedron larger than volume V; with or without a
          number, also the regional volume bounds of the .poly/.smesh (they
-         apply only with -a, as in TetGen).
+         apply only with -a, as in TetGen). Met on every tetrahedron (near
+         sharp input too; only an exhausted -S budget leaves some). The
+         line `bounds (final mesh)` counts, on the mesh written, the
+         tetrahedra above the -q ratio and above the volume bounds.
     -S<n> At most n Steiner points in the refinement (TetGen's -S). Without
          -S the budget is 500,000 + 16 per input point + 2 per unit of
          volume over the -a bound (at most 4.2 M; -V shows it with a memory

@@ -120,10 +120,16 @@ pub fn document(
                 ("skipped_behind", f.skipped_behind.to_string()),
                 ("skipped_small", f.skipped_small.to_string()),
                 ("skipped_refused", f.skipped_refused.to_string()),
+                ("skipped_kept_surface", f.skipped_surface.to_string()),
+                ("points_off_circumcentre", f.inside.to_string()),
                 ("left_above_bound", f.remaining_bad.to_string()),
                 ("left_flat_on_input_plane", f.flat.to_string()),
                 ("left_at_boundary", f.remaining_at_boundary.to_string()),
                 ("left_too_big", f.remaining_too_big.to_string()),
+                (
+                    "left_above_volume_bound",
+                    f.remaining_over_volume.to_string()
+                ),
                 ("budget_exhausted", f.budget_exhausted.to_string()),
                 (
                     "left_by_cause",
@@ -137,6 +143,7 @@ pub fn document(
                         ("zero_angle_triangle", f.left.degenerate.to_string()),
                         ("shell_pair", f.left.shell.to_string()),
                         ("refused", f.left.refused.to_string()),
+                        ("kept_surface", f.left.surface.to_string()),
                         ("other", f.left.other.to_string()),
                         ("near_needle_triangle", f.left.near_needle.to_string()),
                         ("near_sharp_edge", f.left.near_sharp.to_string()),

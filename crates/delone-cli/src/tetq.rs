@@ -24,13 +24,8 @@ pub fn mesh(
             .map(|r| (r, None))
             .map_err(|e| e.to_string());
     }
-    if domain.convex_hull {
-        return Err("refinement (-q/-a) with -c is not implemented yet".into());
-    }
-    if ropts.preserve_surface {
-        return Err("refinement (-q/-a) with -Y is not implemented yet".into());
-    }
     let mut opts = RefineOptions {
+        keep_surface: ropts.preserve_surface,
         max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
         max_volume: o.max_area,
         sizing: crate::tetr::plc_sizing(o, points)?,
@@ -117,6 +112,10 @@ pub fn optimize_mesh(
     if let Some(d) = o.tet_min_dihedral {
         opts.min_dihedral = d;
     }
+    // -Y keeps the surface as recovered: no point slides on it.
+    if o.preserve_surface {
+        opts.smooth_boundary = false;
+    }
     if let Some(r) = refined {
         opts = opts.keeping(r);
         if o.keep_ratio {
@@ -192,20 +191,23 @@ pub fn report(
     let mut lines = Vec::new();
     if let Some(r) = refined {
         lines.push(format!(
-            "refinement: {} points (on segments {}, on facets {}, interior {}); {} circumcentres rejected, {} bad tetrahedra skipped ({} flat, {} behind a subface, {} near small pieces, {} refused), {} above the bound ({} flat on a plane of the input, {} at the boundary){}",
+            "refinement: {} points (on segments {}, on facets {}, interior {}, of which {} off the circumcentre); {} circumcentres rejected, {} bad tetrahedra skipped ({} flat, {} behind a subface, {} near small pieces, {} refused, {} kept surface), {} above the bound ({} flat on a plane of the input, {} at the boundary), {} above the volume bound{}",
             r.steiner(),
             r.on_segments,
             r.on_facets,
             r.interior,
+            r.inside,
             r.rejected,
             r.skipped,
             r.skipped_flat,
             r.skipped_behind,
             r.skipped_small,
             r.skipped_refused,
+            r.skipped_surface,
             r.remaining_bad,
             r.flat,
             r.remaining_at_boundary,
+            r.remaining_over_volume,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
         if o.verbose > 0 {
@@ -219,6 +221,7 @@ pub fn report(
         if r.remaining_bad > 0 && o.verbose > 0 {
             lines.push(crate::tetq_left::left_line(r));
         }
+        lines.push(bounds_line(o, rec));
     }
     let want_stats = o.verbose > 0 || o.stats_json.is_some();
     if !want_stats {
@@ -252,6 +255,49 @@ pub fn report(
         crate::guard::write_bytes(p, doc.as_bytes()).map_err(|f| f.message)?;
     }
     Ok(lines)
+}
+
+/// `bounds: …` — the bounds asked for, counted on the final mesh (after
+/// the optimisation): tetrahedra above the radius-edge bound (`-q`) and
+/// above their volume bound (`-a`, global or regional), and the largest
+/// volume.
+pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
+    use delone::tet::quality::{radius_edge_ratio, volume};
+    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let (mut above_ratio, mut above_volume, mut largest) = (0usize, 0usize, 0.0f64);
+    for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
+        let p = tv.map(|q| rec.points[q as usize]);
+        let v = volume(&p).abs();
+        largest = largest.max(v);
+        if radius_edge_ratio(&p) > ratio {
+            above_ratio += 1;
+        }
+        let regional = rec
+            .regions
+            .get(g as usize)
+            .and_then(|r| r.max_volume)
+            .filter(|&b| b > 0.0 && o.area);
+        let bound = match (o.max_area, regional) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        if bound.is_some_and(|b| v > b) {
+            above_volume += 1;
+        }
+    }
+    let mut l = String::from("bounds (final mesh):");
+    if ratio.is_finite() {
+        l.push_str(&format!(
+            " {above_ratio} tetrahedra above the radius-edge bound {ratio};"
+        ));
+    }
+    if o.area {
+        l.push_str(&format!(
+            " {above_volume} tetrahedra above the volume bound;"
+        ));
+    }
+    l.push_str(&format!(" largest volume {largest:.6e}"));
+    l
 }
 
 /// `-C`: runs `check` and adds its line to `lines` (exit code 1 when it

@@ -17,6 +17,7 @@ pub fn left_line(r: &RefineReport) -> String {
         (l.shell, "shell pair"),
         (l.flat, "flat"),
         (l.refused, "refused"),
+        (l.surface, "kept surface (-Y)"),
         (l.other, "other"),
     ];
     let list: Vec<String> = causes

@@ -95,6 +95,10 @@ enum Left {
     Degenerate,
     Shell,
     Refused,
+    /// The circumcentre (and every other point tried) would encroach a
+    /// subface or subsegment, which [`RefineOptions::keep_surface`] forbids
+    /// splitting.
+    Surface,
 }
 
 pub(super) struct Cdr {
@@ -163,6 +167,9 @@ pub(super) struct Cdr {
     ir_refused: bool,
     /// The bad cells R3 gave up on (by vertices, as stored), and why.
     left: HashMap<[u32; 4], Left>,
+    /// [`RefineOptions::keep_surface`]: no point on a subface or
+    /// subsegment.
+    keep_surface: bool,
 }
 
 impl Cdr {
@@ -405,6 +412,7 @@ impl Cdr {
             min_ir: 0.0,
             ir_refused: false,
             left: HashMap::new(),
+            keep_surface: opts.keep_surface,
         };
         st.reg.resize(nt, 0);
         st.budget = if opts.max_steiner == super::AUTO_BUDGET {
@@ -549,6 +557,17 @@ impl Cdr {
     /// subsegments (by its own vertices), and itself when bad.
     fn check_tet(&mut self, t: u32) {
         let tv = self.tv[t as usize];
+        if self.keep_surface {
+            // Nothing on the surface is split: only bad cells are queued.
+            if let Some(key) = self.badness(t) {
+                self.badq.push(Bad {
+                    key,
+                    verts: Reverse(tv),
+                    slot: t,
+                });
+            }
+            return;
+        }
         for f in 0..4 {
             if self.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
@@ -1531,18 +1550,131 @@ impl Cdr {
         Err(None)
     }
 
-    /// R3 on a bad tetrahedron.
+    /// R3 on a bad tetrahedron: its circumcentre (or the pieces it
+    /// encroaches); when that fails for a cell too big (volume or sizing
+    /// bound), or with [`RefineOptions::keep_surface`], a point inside its
+    /// circumball ([`Cdr::split_inside`]); else the cell is left.
     fn split_cell(&mut self, b: Bad) {
         let tv = b.verts.0;
         if self.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
-        if self.flat(tv, None) {
+        let big = self.too_big(b.slot);
+        let Some(why) = self.split_circumcentre(b, big) else {
+            return;
+        };
+        if (big || self.keep_surface) && self.split_inside(b, big) {
+            return;
+        }
+        self.leave(tv, why);
+    }
+
+    /// Is live tetrahedron `t` above its region's volume bound or the
+    /// sizing?
+    fn too_big(&self, t: u32) -> bool {
+        let p = self.tv[t as usize].map(|q| self.p[q as usize]);
+        let mv = self
+            .max_vol
+            .get(self.reg[t as usize] as usize)
+            .copied()
+            .unwrap_or(f64::INFINITY);
+        quality::volume(&p).abs() > mv || self.sizer.cell(&p) > 1.0
+    }
+
+    /// The subsegments and subfaces of the tetrahedra `cav` that `c`
+    /// encroaches (geometrically), sorted and deduplicated.
+    fn encroached(&self, cav: &[u32], c: &P) -> (Vec<(u32, u32)>, Vec<[u32; 3]>) {
+        let mut segs = Vec::new();
+        let mut faces = Vec::new();
+        for &u in cav {
+            let uv = self.tv[u as usize];
+            for f in 0..4 {
+                if self.mask[u as usize] >> f & 1 == 1 {
+                    let k = fkey(face(uv, f));
+                    if encroaches_face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]), c) {
+                        faces.push(k);
+                    }
+                }
+            }
+            for (i, j) in EDGES {
+                let e = ekey(uv[i], uv[j]);
+                if self.segs.contains_key(&e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
+                {
+                    segs.push(e);
+                }
+            }
+        }
+        segs.sort_unstable();
+        segs.dedup();
+        faces.sort_unstable();
+        faces.dedup();
+        (segs, faces)
+    }
+
+    /// The fallback of R3: a point inside the circumball of cell `b`, on
+    /// the way from its centroid to its circumcentre (at 3/4, 1/2, 1/4 of
+    /// the way, then the centroid itself), inserted with `b` in its
+    /// cavity, so the cell is gone. For a cell bad by shape only (with
+    /// [`RefineOptions::keep_surface`]) the point must encroach no subface
+    /// or subsegment of its cavity and lie no closer to a vertex than the
+    /// cell's shortest edge (no cascade of ever shorter edges); a cell too
+    /// big takes the first point that can be inserted (the volume bound is
+    /// always met). False when none could be inserted (nothing changed).
+    fn split_inside(&mut self, b: Bad, big: bool) -> bool {
+        let tv = b.verts.0;
+        if self.out_of_budget() {
+            return false;
+        }
+        let p = tv.map(|q| self.p[q as usize]);
+        let g: P = std::array::from_fn(|k| p.iter().map(|x| x[k]).sum::<f64>() / 4.0);
+        let lmin = quality::edge_lengths(&p)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        let mut cand = Vec::new();
+        if let Some(c) =
+            quality::circumcenter(&p).filter(|_| quality::radius_edge_ratio(&p) <= FLAT_RATIO)
+        {
+            for f in [0.75, 0.5, 0.25] {
+                cand.push(std::array::from_fn(|k| g[k] + f * (c[k] - g[k])));
+            }
+        }
+        cand.push(g);
+        for m in cand {
+            let Ok(t0) = self.locate(b.slot, &m) else {
+                continue;
+            };
+            if !big {
+                let cav = self.grow(&[t0], &m);
+                let (segs, faces) = self.encroached(&cav, &m);
+                if !segs.is_empty() || !faces.is_empty() || self.too_close(&cav, &m, lmin) {
+                    continue;
+                }
+            }
+            let req: Vec<u32> = if t0 == b.slot {
+                vec![t0]
+            } else {
+                vec![t0, b.slot]
+            };
+            if self.insert(m, &req, &[], None, Vec::new()).is_some() {
+                self.report.interior += 1;
+                self.report.inside += 1;
+                return true;
+            }
+        }
+        false
+    }
+
+    /// R3 at the circumcentre of bad cell `b` (`big`: above its volume or
+    /// size bound, so the protections for cells bad by shape are off):
+    /// `None` when it inserted the circumcentre or split a piece it
+    /// encroaches (the cell is queued again), else why it gave up.
+    fn split_circumcentre(&mut self, b: Bad, big: bool) -> Option<Left> {
+        let tv = b.verts.0;
+        if !big && self.flat(tv, None) {
             // Four vertices on (nearly) coplanar input triangles: the cell
             // is as flat as the input there; splitting the boundary would
             // make flat cells again, down to the segment floor.
-            self.leave(tv, Left::Flat);
-            return;
+            return Some(Left::Flat);
         }
         let p = tv.map(|q| self.p[q as usize]);
         let circ = quality::circumcenter(&p);
@@ -1550,36 +1682,29 @@ impl Cdr {
             // A flat cell (four points a hair off one plane, or a wedge at
             // a ridge between nearly coplanar facets): splitting its
             // boundary pieces leaves flat cells again, so it is left.
-            self.leave(tv, Left::Flat);
-            return;
+            return Some(Left::Flat);
         };
         let lmin = quality::edge_lengths(&p)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
-        {
+        if !big {
             let short = EDGES.iter().map(|&(i, j)| (tv[i], tv[j])).min_by(|x, y| {
                 dist2(&self.pt(x.0), &self.pt(x.1))
                     .total_cmp(&dist2(&self.pt(y.0), &self.pt(y.1)))
                     .then(x.cmp(y))
             });
             if short.is_some_and(|(u, v)| self.shell_pair(u, v)) {
-                self.leave(tv, Left::Shell);
-                return;
+                return Some(Left::Shell);
             }
         }
-        if tv.iter().any(|&q| self.on_degenerate(q)) {
-            self.leave(tv, Left::Degenerate);
-            return;
+        if !big && tv.iter().any(|&q| self.on_degenerate(q)) {
+            return Some(Left::Degenerate);
         }
-        if self.wedge(tv) {
-            self.leave(tv, Left::Wedge);
-            return;
+        if !big && self.wedge(tv) {
+            return Some(Left::Wedge);
         }
         let (segs, faces) = match self.locate(b.slot, &c) {
-            Err(None) => {
-                self.leave(tv, Left::Refused);
-                return;
-            }
+            Err(None) => return Some(Left::Refused),
             Err(Some(k)) => {
                 let [a, b, d] = k.map(|q| self.pt(q));
                 if !encroaches_face(&a, &b, &d, &c) {
@@ -1590,34 +1715,13 @@ impl Cdr {
                     // encroaches it was tried: it refines fandisk -pq2
                     // further without fewer bad cells, and runs away on
                     // cgal_hole -pq1.414.)
-                    self.leave(tv, Left::Behind);
-                    return;
+                    return Some(Left::Behind);
                 }
                 (Vec::new(), vec![k])
             }
             Ok(t) => {
                 let cav = self.grow(&[t], &c);
-                let mut segs = Vec::new();
-                let mut faces = Vec::new();
-                for &u in &cav {
-                    let uv = self.tv[u as usize];
-                    for f in 0..4 {
-                        if self.mask[u as usize] >> f & 1 == 1 {
-                            let k = fkey(face(uv, f));
-                            if encroaches_face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]), &c) {
-                                faces.push(k);
-                            }
-                        }
-                    }
-                    for (i, j) in EDGES {
-                        let e = ekey(uv[i], uv[j]);
-                        if self.segs.contains_key(&e)
-                            && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
-                        {
-                            segs.push(e);
-                        }
-                    }
-                }
+                let (segs, faces) = self.encroached(&cav, &c);
                 // A vertex of the cavity closer to the circumcentre than
                 // the cell's shortest edge: the cell is not Delaunay (its
                 // circumsphere reaches round a subface, near a reflex or
@@ -1625,13 +1729,13 @@ impl Cdr {
                 // edge shorter than any of the cell's, the start of a
                 // cascade of ever shorter edges. Leave the cell (only when
                 // its shape is bad: a cell too big is split regardless).
-                if segs.is_empty()
+                if !big
+                    && segs.is_empty()
                     && faces.is_empty()
                     && quality::radius_edge_ratio(&p) > self.bound
                     && self.too_close(&cav, &c, lmin)
                 {
-                    self.leave(tv, Left::Close);
-                    return;
+                    return Some(Left::Close);
                 }
                 if segs.is_empty() && faces.is_empty() {
                     if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
@@ -1643,24 +1747,23 @@ impl Cdr {
                         if self.tv.get(b.slot as usize) == Some(&tv) {
                             self.badq.push(b);
                         }
-                    } else {
-                        self.leave(tv, Left::Refused);
+                        return None;
                     }
-                    return;
+                    return Some(Left::Refused);
                 }
-                segs.sort_unstable();
-                segs.dedup();
-                faces.sort_unstable();
-                faces.dedup();
                 (segs, faces)
             }
         };
         self.report.rejected += 1;
+        if self.keep_surface {
+            // Nothing on the surface may be split.
+            return Some(Left::Surface);
+        }
         // Split the encroached pieces not much smaller than the cell's
         // shortest edge.
         let segs: Vec<(u32, u32)> = segs
             .into_iter()
-            .filter(|e| dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
+            .filter(|e| big || dist2(&self.pt(e.0), &self.pt(e.1)).sqrt() >= lmin)
             .collect();
         // Of the subfaces, only the one the circumcentre encroaches most
         // deeply (nearest to its circumcentre relative to its radius): a
@@ -1669,7 +1772,7 @@ impl Cdr {
         // removes the cell; it is checked again afterwards.
         let depth = |k: &[u32; 3]| {
             tri_circumcenter(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
-                .filter(|x| 2.0 * x.1.sqrt() >= lmin)
+                .filter(|x| big || 2.0 * x.1.sqrt() >= lmin)
                 .map(|(x, r2)| dist2(&x, &c) / r2)
         };
         let faces: Vec<[u32; 3]> = faces
@@ -1695,7 +1798,7 @@ impl Cdr {
         // and curved models and lowered the optimised minimum dihedral
         // angle on cgal_eight (18.7° → 12.7°) and cgal_helmet (16.4° →
         // 12.4°); the optimiser copes with the cells left.
-        if quality::radius_edge_ratio(&p) > self.bound {
+        if !big && quality::radius_edge_ratio(&p) > self.bound {
             self.min_ir = lmin;
         }
         let mut progress = false;
@@ -1715,10 +1818,11 @@ impl Cdr {
         self.min_ir = 0.0;
         if progress {
             self.badq.push(b);
+            None
         } else if radius {
-            self.leave(tv, Left::Radius);
+            Some(Left::Radius)
         } else {
-            self.leave(tv, Left::Small);
+            Some(Left::Small)
         }
     }
 
@@ -1730,6 +1834,7 @@ impl Cdr {
             Left::Flat => r.skipped_flat += 1,
             Left::Behind => r.skipped_behind += 1,
             Left::Refused => r.skipped_refused += 1,
+            Left::Surface => r.skipped_surface += 1,
             _ => r.skipped_small += 1,
         }
         match why {
@@ -1987,8 +2092,13 @@ impl Cdr {
             }
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
-            if self.sizer.cell(&tv.map(|q| self.p[q as usize])) > 1.0 {
+            let ps = tv.map(|q| self.p[q as usize]);
+            if self.sizer.cell(&ps) > 1.0 {
                 self.report.remaining_too_big += 1;
+            }
+            let mv = self.max_vol.get(self.reg[t] as usize).copied();
+            if mv.is_some_and(|mv| quality::volume(&ps).abs() > mv) {
+                self.report.remaining_over_volume += 1;
             }
             if r > self.bound {
                 self.report.remaining_bad += 1;
@@ -2012,6 +2122,7 @@ impl Cdr {
                     Some(Left::Degenerate) => l.degenerate += 1,
                     Some(Left::Shell) => l.shell += 1,
                     Some(Left::Refused) => l.refused += 1,
+                    Some(Left::Surface) => l.surface += 1,
                     None => l.other += 1,
                 }
                 let (needle, sharp) = self.near_features(tv);

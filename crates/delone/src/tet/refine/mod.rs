@@ -123,6 +123,31 @@
 //!    is not tried again, and each is queued at most once (a refused
 //!    subface retried for every cell showing it spun for minutes).
 //!
+//!    **Size before shape.** A cell above its volume bound (or the
+//!    sizing) is split whatever the protections above say (they are for
+//!    cells bad by shape): no flat, shell, degenerate, wedge, close or
+//!    insertion-radius rule, and the encroached pieces are split whatever
+//!    their size. When that makes no progress (a piece at the segment
+//!    floor, a refused plan, no circumcentre), a point inside the cell's
+//!    circumball is inserted with the cell in its cavity (3/4, 1/2, 1/4 of
+//!    the way from the centroid to the circumcentre, then the centroid;
+//!    [`RefineReport::inside`]), so the volume bound is met everywhere
+//!    ([`RefineReport::remaining_over_volume`] is 0 unless the budget ran
+//!    out).
+//!
+//!    **Kept surface** ([`RefineOptions::keep_surface`], `-pqY`): R1 and
+//!    R2 are off and R3 splits no piece. A cell whose circumcentre
+//!    encroaches a subface or subsegment (or lies behind one) gets the
+//!    first of the points above that encroaches nothing in its cavity and
+//!    lies no closer to a vertex than the cell's shortest edge; if none,
+//!    it is left ([`LeftBad::surface`]). Each cell is tried once per
+//!    change, so refinement ends.
+//!
+//!    **Convex hull** (`-c`): the hull faces off the surface are added as
+//!    triangles, exactly coplanar neighbours grouped into one facet, and
+//!    refined like input facets; the output names them as hull faces
+//!    again.
+//!
 //!    Every cell R3 leaves is remembered with the reason; the cells still
 //!    above the bound at the end are counted per reason in
 //!    [`RefineReport::left`] ([`LeftBad`]), with how many lie next to a
@@ -214,6 +239,7 @@ use self::geom::{dist2, plane_distance};
 use super::recover::{
     recover_domain, Domain, RecoverError, RecoverOptions, RecoverReport, Recovered,
 };
+use crate::NONE;
 
 /// Options of [`refine`].
 ///
@@ -244,6 +270,14 @@ pub struct RefineOptions {
     /// Local target edge length (`-m`): a closure or a background mesh;
     /// default none. See [`sizing`] for the rule.
     pub sizing: sizing::Sizing,
+    /// Keep the recovered surface as it is (`-Y` with `-q`/`-a`, TetGen's
+    /// meaning): no point is put on a subface or subsegment, so the
+    /// boundary and interior faces of the output are those of the input
+    /// mesh. A bad cell whose circumcentre encroaches the surface is split
+    /// at a point inside its circumball that does not (see the module
+    /// documentation), or left and counted in [`LeftBad::surface`]; a cell
+    /// above a volume bound is always split. Default false.
+    pub keep_surface: bool,
 }
 
 impl Default for RefineOptions {
@@ -254,6 +288,7 @@ impl Default for RefineOptions {
             max_steiner: AUTO_BUDGET,
             recover: RecoverOptions::default(),
             sizing: sizing::Sizing::None,
+            keep_surface: false,
         }
     }
 }
@@ -416,6 +451,14 @@ pub struct RefineReport {
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
+    /// Of [`Self::skipped`]: with [`RefineOptions::keep_surface`], every
+    /// point tried would have encroached the surface.
+    pub skipped_surface: usize,
+    /// Of [`Self::interior`]: points inside a cell's circumball other than
+    /// its circumcentre (cells too big whose circumcentre could not be
+    /// used, and cells kept off the surface by
+    /// [`RefineOptions::keep_surface`]).
+    pub inside: usize,
     /// Why the cells of [`Self::remaining_bad`] were left, and near which
     /// input features they lie.
     pub left: LeftBad,
@@ -433,6 +476,9 @@ pub struct RefineReport {
     pub remaining_bad: usize,
     /// Output cells bigger than the sizing allows ([`RefineOptions::sizing`]).
     pub remaining_too_big: usize,
+    /// Output cells above their volume bound ([`RefineOptions::max_volume`]
+    /// or their region's); 0 unless the Steiner budget ran out.
+    pub remaining_over_volume: usize,
     /// Of [`Self::remaining_bad`], the nearly flat cells (radius-edge
     /// ratio above 10⁶: four points a hair off one plane, or a wedge at a
     /// sharp input edge); they are not split, since their circumcentres lie
@@ -474,6 +520,9 @@ pub struct LeftBad {
     pub shell: usize,
     /// Insertion plan refused or circumcentre not located.
     pub refused: usize,
+    /// Every point tried would have encroached the surface, which
+    /// [`RefineOptions::keep_surface`] keeps.
+    pub surface: usize,
     /// Never split for another reason: the Steiner budget ran out, or the
     /// cell was made by the last insertions' flips after its checks.
     pub other: usize,
@@ -504,6 +553,7 @@ impl LeftBad {
             + self.degenerate
             + self.shell
             + self.refused
+            + self.surface
             + self.other
     }
 }
@@ -625,9 +675,90 @@ pub fn refine_recovered(
         &rec.surface
     };
     check_bounds(opts)?;
+    if rec.boundary_triangle.contains(&NONE) {
+        // The convex hull is kept (`-c`): its faces off the surface become
+        // facets of their own for the refinement.
+        let (ext, n) = with_hull(triangles, rec);
+        let mut st = cdr::Cdr::new(points, &ext.surface, &ext, opts)?;
+        st.run();
+        let mut out = st.finish(&ext);
+        for t in out
+            .rec
+            .boundary_triangle
+            .iter_mut()
+            .chain(out.rec.interior_triangle.iter_mut())
+        {
+            if *t as usize >= n {
+                *t = NONE;
+            }
+        }
+        out.rec.surface.clone_from(&rec.surface);
+        out.rec.surface_origin.clone_from(&rec.surface_origin);
+        return Ok(out);
+    }
     let mut st = cdr::Cdr::new(points, triangles, rec, opts)?;
     st.run();
     Ok(st.finish(rec))
+}
+
+/// `rec` (with the convex hull kept) with its hull faces off the surface
+/// appended to its surface as triangles, those of one plane that share
+/// edges grouped into one facet (same `surface_origin`), and its boundary
+/// faces naming them; and the number of surface triangles before them.
+/// The hull facets are then refined like input facets: their sides
+/// (the hull's edges and the input edges they meet) are subsegments.
+fn with_hull(triangles: &[[u32; 3]], rec: &Recovered) -> (Recovered, usize) {
+    let n = triangles.len();
+    let mut ext = rec.clone();
+    ext.surface = triangles.to_vec();
+    ext.surface_origin = if rec.surface_origin.len() == n {
+        rec.surface_origin.clone()
+    } else {
+        (0..n as u32).collect()
+    };
+    let hull: Vec<usize> = (0..rec.boundary.len())
+        .filter(|&i| rec.boundary_triangle[i] == NONE)
+        .collect();
+    // Union-find over the hull faces: neighbours across an edge whose
+    // fourth vertex lies exactly on the face's plane.
+    let mut parent: Vec<usize> = (0..hull.len()).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    let mut by_edge: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
+    for (k, &i) in hull.iter().enumerate() {
+        let f = rec.boundary[i];
+        for j in 0..3 {
+            let (a, b) = (f[j], f[(j + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(k);
+        }
+    }
+    let pt = |q: u32| &rec.points[q as usize];
+    let mut edges: Vec<_> = by_edge.into_iter().collect();
+    edges.sort_unstable();
+    for (_, l) in edges {
+        if let [x, y] = l[..] {
+            let (fx, fy) = (rec.boundary[hull[x]], rec.boundary[hull[y]]);
+            let Some(&d) = fy.iter().find(|q| !fx.contains(q)) else {
+                continue;
+            };
+            if delone_predicates::orient3d(pt(fx[0]), pt(fx[1]), pt(fx[2]), pt(d)) == 0.0 {
+                let (a, b) = (find(&mut parent, x), find(&mut parent, y));
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    for (k, &i) in hull.iter().enumerate() {
+        let root = find(&mut parent, k);
+        ext.surface.push(rec.boundary[i]);
+        ext.surface_origin.push((n + root) as u32);
+        ext.boundary_triangle[i] = (n + k) as u32;
+    }
+    (ext, n)
 }
 
 /// Subsegments shorter than this fraction of their input edge are not split
