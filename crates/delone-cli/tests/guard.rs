@@ -173,3 +173,19 @@ fn tet_budget_stop_exits_nonzero_and_s_raises_it() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(!stderr(&o).contains("budget"));
 }
+
+/// A volume bound beyond the largest default budget is refused at once
+/// (instead of a run of many minutes that stops at the budget), naming -S.
+#[test]
+fn tet_tiny_volume_bound_is_refused_without_s() {
+    let d = tmp("tv");
+    cube(&d);
+    let o = run(&d, &["tet", "-pa1e-9", "cube.off"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("-a1e-9 asks for about") && e.contains("Steiner points") && e.contains("-S"),
+        "{e}"
+    );
+    assert!(!d.join("cube.1.node").exists());
+}

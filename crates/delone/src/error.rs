@@ -134,6 +134,25 @@ pub enum Error {
         /// Why no mesh can meet it.
         reason: &'static str,
     },
+    /// A size bound that asks for more Steiner points than the largest
+    /// default budget allows: refused before any work, since the run would
+    /// stop at the budget after a long time. An explicit budget (`-S`,
+    /// `max_steiner`) lets it run.
+    ///
+    /// ```
+    /// let e = delone::Error::BoundNeedsBudget { option: "-a", value: 1e-9, needed: 300_000_000, budget: 4_194_304 };
+    /// assert!(e.to_string().contains("-S"));
+    /// ```
+    BoundNeedsBudget {
+        /// The option, as the command line spells it (`"-a"`).
+        option: &'static str,
+        /// The value given (NaN: the regional bounds of the input).
+        value: f64,
+        /// About how many Steiner points the bound needs.
+        needed: usize,
+        /// The largest default budget.
+        budget: usize,
+    },
 }
 
 /// Why a facet of a PLC is degenerate (see [`Error::DegenerateFacet`]).
@@ -253,6 +272,22 @@ impl fmt::Display for Error {
                 value,
                 reason,
             } => write!(f, "{option}{value}: {reason}"),
+            Error::BoundNeedsBudget {
+                option,
+                value,
+                needed,
+                budget,
+            } => {
+                if value.is_nan() {
+                    write!(f, "the regional bounds of {option} ask")?;
+                } else {
+                    write!(f, "{option}{value:e} asks")?;
+                }
+                write!(
+                    f,
+                    " for about {needed} Steiner points, more than the largest default budget of {budget}; give -S<n> (max_steiner) to allow that many"
+                )
+            }
         }
     }
 }

@@ -178,3 +178,34 @@ fn tet_budget_stops_and_reports() {
         r.report.steiner_budget
     );
 }
+
+/// A volume bound that needs more points than the largest default budget is
+/// refused before any work, naming `-S`; an explicit budget lets it run.
+#[test]
+fn tet_volume_bound_beyond_the_default_budget_is_refused() {
+    use delone::tet::refine::{refine as refine3, RefineOptions as R3, BUDGET_MAX};
+    let (p, t) = solids::cuboid(1.0, 1.0, 1.0);
+    let o = R3 {
+        max_volume: Some(1e-9),
+        ..Default::default()
+    };
+    match refine3(&p, &t, &o) {
+        Err(delone::tet::recover::RecoverError::Input(
+            e @ delone::Error::BoundNeedsBudget { needed, budget, .. },
+        )) => {
+            assert_eq!(budget, BUDGET_MAX);
+            assert!(needed > BUDGET_MAX, "{needed}");
+            assert!(e.to_string().contains("-S"), "{e}");
+        }
+        other => panic!(
+            "expected BoundNeedsBudget, got {:?}",
+            other.map(|r| r.report)
+        ),
+    }
+    let o = R3 {
+        max_steiner: 200,
+        ..o
+    };
+    let r = refine3(&p, &t, &o).unwrap();
+    assert!(r.report.budget_exhausted);
+}

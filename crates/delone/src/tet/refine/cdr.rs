@@ -433,6 +433,18 @@ impl Cdr {
                     }
                 })
                 .sum();
+            // A volume bound is met with about a third of `ratio` points: one
+            // that needs more than the largest default budget would only stop
+            // at it, after a long run. Refuse it now.
+            if ratio / 3.0 > super::BUDGET_MAX as f64 {
+                return Err(crate::Error::BoundNeedsBudget {
+                    option: "-a",
+                    value: opts.max_volume.unwrap_or(f64::NAN),
+                    needed: (ratio / 3.0).min(u64::MAX as f64) as usize,
+                    budget: super::BUDGET_MAX,
+                }
+                .into());
+            }
             super::default_budget(points.len(), ratio)
         } else {
             opts.max_steiner
