@@ -228,7 +228,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
     -S<n> At most n Steiner points in the refinement (TetGen's -S). Without
          -S the budget is 500,000 + 16 per input point + 2 per unit of
          volume over the -a bound (at most 4.2 M; -V shows it with a memory
-         estimate). When the budget stops the refinement, the mesh reached
+         estimate; a volume bound needing more is refused unless -S is
+         given). When the budget stops the refinement, the mesh reached
          is written, the message names the budget and the tetrahedra left,
          and the exit code is 1. -q below sqrt(6)/4 = 0.612 (the regular
          tetrahedron's ratio) is refused: no mesh meets it.
