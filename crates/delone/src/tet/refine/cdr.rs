@@ -2000,7 +2000,11 @@ impl Cdr {
         for (tv, &g) in tets.iter().zip(&tet_region) {
             if let Some(r) = regions.get_mut(g as usize) {
                 r.tets += 1;
-                r.volume += quality::volume(&tv.map(|q| points[q as usize]));
+                // On the scaled points, then in input units.
+                r.volume += crate::geom::scale::unscale_cubic(
+                    quality::volume(&tv.map(|q| self.p[q as usize])),
+                    (self.s, 1.0),
+                );
             }
         }
         let mut vertex_map = rec.mesh.vertex_map.clone();
