@@ -258,7 +258,7 @@ impl Cdr {
                 tri_edges[t][k] = i;
             }
         }
-        let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
+        let group = plane_groups(&p, triangles, &edge_tris, &tri_edges);
         let origin: &[u32] = if rec.surface.is_empty() {
             &[]
         } else {
