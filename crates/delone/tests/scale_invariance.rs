@@ -58,8 +58,8 @@ fn tet_plc_same_mesh_checks_and_stats_at_every_power_of_two_scale() {
         assert!(p.iter().flatten().all(|c| c.is_finite()));
         delone::tet::intersect::check_self_intersections(&p, &tris)
             .unwrap_or_else(|e| panic!("2^{k}: {e}"));
-        let r = recover(&p, &tris, &RecoverOptions::default())
-            .unwrap_or_else(|e| panic!("2^{k}: {e}"));
+        let r =
+            recover(&p, &tris, &RecoverOptions::default()).unwrap_or_else(|e| panic!("2^{k}: {e}"));
         check_recovered(&p, &tris, &r).unwrap_or_else(|v| panic!("2^{k}: {v}"));
         assert_eq!(r.mesh.tets, base.mesh.tets, "2^{k}: connectivity");
         let st = TetStats::of(&r.points, &r.mesh.tets);
@@ -91,8 +91,8 @@ fn tet_plc_accepted_and_checked_at_every_power_of_ten_scale() {
     let st1 = TetStats::of(&base.points, &base.mesh.tets);
     for f in POW10 {
         let p = scale3(&pts, f);
-        let r = recover(&p, &tris, &RecoverOptions::default())
-            .unwrap_or_else(|e| panic!("{f:e}: {e}"));
+        let r =
+            recover(&p, &tris, &RecoverOptions::default()).unwrap_or_else(|e| panic!("{f:e}: {e}"));
         check_recovered(&p, &tris, &r).unwrap_or_else(|v| panic!("{f:e}: {v}"));
         assert_eq!(r.mesh.tets.len(), base.mesh.tets.len(), "{f:e}");
         let st = TetStats::of(&r.points, &r.mesh.tets);
@@ -124,7 +124,11 @@ fn tet_refine_same_mesh_at_power_of_two_scales() {
             bad.push((k, r.rec.mesh.tets.len(), r.rec.points.len()));
         }
     }
-    assert!(bad.is_empty(), "base {} tets; differing (k, tets, points): {bad:?}", base.rec.mesh.tets.len());
+    assert!(
+        bad.is_empty(),
+        "base {} tets; differing (k, tets, points): {bad:?}",
+        base.rec.mesh.tets.len()
+    );
 }
 
 #[test]
@@ -224,13 +228,36 @@ fn dynamic_range_beyond_exact_arithmetic_is_refused_naming_the_coordinate() {
     let mut plc = delone::model::plc::Plc::from_triangles(pts.clone(), &tris);
     assert!(matches!(
         plc.validate(),
-        Err(delone::Error::CoordinateRange { index: 7, axis: 1, .. })
+        Err(delone::Error::CoordinateRange {
+            index: 7,
+            axis: 1,
+            ..
+        })
     ));
     plc.points[7][1] = 1e-40;
     assert!(plc.validate().is_ok());
-    let e = delone::tetrahedralize(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1e-50, 0.0, 0.0]]);
-    assert!(matches!(e, Err(delone::Error::CoordinateRange { index: 3, axis: 0, .. })));
+    let e = delone::tetrahedralize(&[
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1e-50, 0.0, 0.0],
+    ]);
+    assert!(matches!(
+        e,
+        Err(delone::Error::CoordinateRange {
+            index: 3,
+            axis: 0,
+            ..
+        })
+    ));
     let e = delone::triangulate(&[[1.0, 0.0], [0.0, 1.0], [0.0, 0.0], [1e-70, 0.5]]);
-    assert!(matches!(e, Err(delone::Error::CoordinateRange { index: 3, axis: 0, .. })));
+    assert!(matches!(
+        e,
+        Err(delone::Error::CoordinateRange {
+            index: 3,
+            axis: 0,
+            ..
+        })
+    ));
     assert!(delone::triangulate(&[[1.0, 0.0], [0.0, 1.0], [0.0, 0.0], [1e-60, 0.5]]).is_ok());
 }

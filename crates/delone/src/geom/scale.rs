@@ -84,20 +84,6 @@ pub fn rescaled<const D: usize>(points: &[[f64; D]]) -> (Cow<'_, [[f64; D]]>, (f
             s,
         )
     }
-
-    #[test]
-    fn range_limits() {
-        let at = |r: i32| [[1.0, 0.0, 0.0], [0.0, 2f64.powi(-r), 0.0]];
-        assert!(check_range(&at(RANGE_3D), RANGE_3D).is_ok());
-        assert!(check_range(&at(RANGE_3D + 1), RANGE_3D).is_err());
-        assert!(check_range(&at(RANGE_3D + 1), RANGE_2D).is_ok());
-        // Any absolute scale, subnormals included.
-        assert!(check_range(&[[5e-324, 1e-323]], RANGE_2D).is_ok());
-        assert!(check_range(&[[f64::MAX, 1e150]], RANGE_2D).is_ok());
-        assert_eq!(exponent(5e-324), -1074);
-        assert_eq!(exponent(1.5), 0);
-        assert_eq!(exponent(-0.75), -1);
-    }
 }
 
 /// How many binary orders of magnitude a nonzero coordinate may lie below
@@ -124,20 +110,6 @@ fn exponent(x: f64) -> i32 {
         -1074 + (63 - mantissa.leading_zeros() as i32)
     } else {
         biased - 1023
-    }
-
-    #[test]
-    fn range_limits() {
-        let at = |r: i32| [[1.0, 0.0, 0.0], [0.0, 2f64.powi(-r), 0.0]];
-        assert!(check_range(&at(RANGE_3D), RANGE_3D).is_ok());
-        assert!(check_range(&at(RANGE_3D + 1), RANGE_3D).is_err());
-        assert!(check_range(&at(RANGE_3D + 1), RANGE_2D).is_ok());
-        // Any absolute scale, subnormals included.
-        assert!(check_range(&[[5e-324, 1e-323]], RANGE_2D).is_ok());
-        assert!(check_range(&[[f64::MAX, 1e150]], RANGE_2D).is_ok());
-        assert_eq!(exponent(5e-324), -1074);
-        assert_eq!(exponent(1.5), 0);
-        assert_eq!(exponent(-0.75), -1);
     }
 }
 
@@ -265,7 +237,7 @@ mod tests {
         assert!(check_range(&at(RANGE_3D + 1), RANGE_2D).is_ok());
         // Any absolute scale, subnormals included.
         assert!(check_range(&[[5e-324, 1e-323]], RANGE_2D).is_ok());
-        assert!(check_range(&[[f64::MAX, 1e150]], RANGE_2D).is_ok());
+        assert!(check_range(&[[f64::MAX, 1e300]], RANGE_2D).is_ok());
         assert_eq!(exponent(5e-324), -1074);
         assert_eq!(exponent(1.5), 0);
         assert_eq!(exponent(-0.75), -1);

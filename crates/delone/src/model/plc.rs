@@ -192,9 +192,7 @@ impl Plc {
                 let m = poly.len();
                 for k in 0..m {
                     let a = points.get(poly[k] as usize).ok_or(zero.clone())?;
-                    let b = points
-                        .get(poly[(k + 1) % m] as usize)
-                        .ok_or(zero.clone())?;
+                    let b = points.get(poly[(k + 1) % m] as usize).ok_or(zero.clone())?;
                     n[0] += (a[1] - b[1]) * (a[2] + b[2]);
                     n[1] += (a[2] - b[2]) * (a[0] + b[0]);
                     n[2] += (a[0] - b[0]) * (a[1] + b[1]);

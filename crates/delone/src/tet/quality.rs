@@ -130,7 +130,9 @@ pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
         return f64::INFINITY;
     };
     let r = norm(&sub(&c, &p[0]));
-    let e = edge_lengths_raw(p).into_iter().fold(f64::INFINITY, f64::min);
+    let e = edge_lengths_raw(p)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
     if e > 0.0 {
         r / e
     } else {
