@@ -133,7 +133,8 @@ fn exponent(x: f64) -> i32 {
 /// ```
 /// use delone::geom::scale::{check_range, RANGE_3D};
 /// assert!(check_range(&[[1e-300, 2e-300, 0.0], [3e-300, 0.0, 1e-301]], RANGE_3D).is_ok());
-/// assert!(check_range(&[[1e300, 1.0, 0.0]], RANGE_3D).is_ok());
+/// assert!(check_range(&[[1e300, 1e290, 0.0]], RANGE_3D).is_ok());
+/// assert!(check_range(&[[1e300, 1.0, 0.0]], RANGE_3D).is_err());
 /// let e = check_range(&[[1.0, 0.0, 0.0], [0.0, 1e-60, 0.0]], RANGE_3D).unwrap_err();
 /// assert!(matches!(e, delone::Error::CoordinateRange { index: 1, axis: 1, .. }));
 /// ```
@@ -165,7 +166,7 @@ pub fn check_range<const D: usize>(points: &[[f64; D]], range: i32) -> Result<()
 /// subnormal, zero or infinity).
 ///
 /// ```
-/// let s = delone::geom::pow2_scale(1e-150);
+/// let s = delone::geom::pow2_scale(1e-80);
 /// let v = 0.75; // measured on the scaled points
 /// let w = delone::geom::scale::unscale_cubic(v, s);
 /// assert_eq!(delone::geom::scale::unscale_cubic(w, (1.0 / s.0, 1.0 / s.1)), v);
