@@ -333,6 +333,17 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.holes_removed,
                 r.hull_tets
             );
+            // Edges in more than two facets (each in an even number, or
+            // recovery would have refused the surface as open): the facets
+            // bound several closed parts, touching solids or parts split
+            // by internal walls, each meshed as a region of its own.
+            let man = delone::tet::intersect::manifold_report(&triangles);
+            if let Some(&[a, b]) = man.nonmanifold_edges.first() {
+                println!(
+                    "  non-manifold surface: {} edge(s) in more than two facets (first: points {a}-{b}); the facets bound several closed parts (touching solids or internal walls), each meshed as its own region",
+                    man.nonmanifold_edges.len()
+                );
+            }
             for (i, g) in rec.regions.iter().enumerate() {
                 println!(
                     "    region {i}: attribute {}, {} tetrahedra, volume {:e}{}{}",

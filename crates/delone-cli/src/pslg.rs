@@ -23,24 +23,17 @@ fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
     (poly, node, out)
 }
 
-/// Smallest and largest angle (degrees) of a mesh.
+/// Smallest and largest angle (degrees) of a mesh, measured by
+/// [`delone::tri::quality::TriangleQuality`] (on each triangle scaled by a
+/// power of two: the same at every coordinate scale).
 fn angle_range(p: &[[f64; 2]], tris: &[[u32; 3]]) -> (f64, f64) {
     let mut lo = 180.0f64;
     let mut hi = 0.0f64;
     for v in tris {
-        for k in 0..3 {
-            let a = p[v[k] as usize];
-            let b = p[v[(k + 1) % 3] as usize];
-            let c = p[v[(k + 2) % 3] as usize];
-            let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
-            let (vx, vy) = (c[0] - a[0], c[1] - a[1]);
-            let ang = (ux * vy - uy * vx)
-                .abs()
-                .atan2(ux * vx + uy * vy)
-                .to_degrees();
-            lo = lo.min(ang);
-            hi = hi.max(ang);
-        }
+        let [a, b, c] = v.map(|q| p[q as usize]);
+        let q = delone::tri::quality::TriangleQuality::new(a, b, c);
+        lo = lo.min(q.min_angle);
+        hi = hi.max(q.max_angle);
     }
     if tris.is_empty() {
         lo = 0.0;

@@ -14,6 +14,19 @@ pub enum Error {
         /// 0-based index of the point.
         index: usize,
     },
+    /// A nonzero coordinate so much smaller than the largest coordinate
+    /// magnitude that the exact predicates would underflow on it (see
+    /// [`crate::geom::scale::check_range`]).
+    CoordinateRange {
+        /// 0-based index of the point.
+        index: usize,
+        /// The axis (0 = x, 1 = y, 2 = z).
+        axis: usize,
+        /// The coordinate.
+        value: f64,
+        /// The largest coordinate magnitude of the input.
+        max: f64,
+    },
     /// Fewer distinct points than the dimension needs (3 in 2D, 4 in 3D).
     TooFewPoints {
         /// Number of distinct points found.
@@ -206,6 +219,16 @@ impl fmt::Display for Error {
             Error::InvalidCoordinate { index } => {
                 write!(f, "point {index} has a NaN or infinite coordinate")
             }
+            Error::CoordinateRange {
+                index,
+                axis,
+                value,
+                max,
+            } => write!(
+                f,
+                "point {index} has {} = {value:e}, nonzero but too small next to the largest coordinate magnitude {max:e} for exact arithmetic (the dynamic range must stay within 2^162 in 3D, 2^216 in 2D; set it to 0 or rescale that part)",
+                ["x", "y", "z"].get(*axis).unwrap_or(&"?")
+            ),
             Error::TooFewPoints { found, needed } => write!(
                 f,
                 "only {found} distinct point(s); at least {needed} affinely independent points are needed"

@@ -171,6 +171,9 @@ impl Plc {
         use crate::tri::{constrained_triangulation, CdtOptions};
         let mut tris = Vec::new();
         let mut owner = Vec::new();
+        // Normals and projections on a copy scaled by a power of two (exact):
+        // no overflow or underflow at any scale.
+        let (points, s) = crate::geom::rescaled(&self.points);
         for (fi, f) in self.facets.iter().enumerate() {
             if let [p] = f.polygons.as_slice() {
                 if p.len() == 3 && f.holes.is_empty() {
@@ -188,11 +191,8 @@ impl Plc {
             for poly in &f.polygons {
                 let m = poly.len();
                 for k in 0..m {
-                    let a = self.points.get(poly[k] as usize).ok_or(zero.clone())?;
-                    let b = self
-                        .points
-                        .get(poly[(k + 1) % m] as usize)
-                        .ok_or(zero.clone())?;
+                    let a = points.get(poly[k] as usize).ok_or(zero.clone())?;
+                    let b = points.get(poly[(k + 1) % m] as usize).ok_or(zero.clone())?;
                     n[0] += (a[1] - b[1]) * (a[2] + b[2]);
                     n[1] += (a[2] - b[2]) * (a[0] + b[0]);
                     n[2] += (a[0] - b[0]) * (a[1] + b[1]);
@@ -210,7 +210,7 @@ impl Plc {
             let mut g = Pslg::new(
                 ids.iter()
                     .map(|&q| {
-                        let p = self.points[q as usize];
+                        let p = points[q as usize];
                         [p[u], p[v]]
                     })
                     .collect(),
@@ -226,7 +226,14 @@ impl Plc {
                     g.segments.push([local(poly[k]), local(poly[(k + 1) % m])]);
                 }
             }
-            g.holes = f.holes.iter().map(|h| [h[u], h[v]]).collect();
+            g.holes = f
+                .holes
+                .iter()
+                .map(|&h| {
+                    let h = crate::geom::scaled(h, s);
+                    [h[u], h[v]]
+                })
+                .collect();
             let cdt = constrained_triangulation(&g, CdtOptions::default())?;
             if cdt.points.len() != ids.len() {
                 return Err(Error::DegenerateFacet {
@@ -294,6 +301,10 @@ impl Plc {
         {
             return Err(Error::InvalidCoordinate { index });
         }
+        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_3D)?;
+        // The exact tests below run on a copy scaled by a power of two
+        // (exact), so that no product over- or underflows at any scale.
+        let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
         if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
             return Err(Error::InvalidSeedPoint {
@@ -332,13 +343,15 @@ impl Plc {
                     index,
                 });
             }
-            self.check_facet(index, f)?;
+            self.check_facet(&sp, index, f)?;
         }
         Ok(())
     }
 
-    fn check_facet(&self, index: usize, f: &Facet) -> Result<(), Error> {
-        let n = self.points.len();
+    /// Checks facet `index`; `points` are [`Plc::points`] scaled by a power
+    /// of two.
+    fn check_facet(&self, points: &[[f64; 3]], index: usize, f: &Facet) -> Result<(), Error> {
+        let n = points.len();
         // Fast path for the common case, a single valid triangle: corners
         // in range, pairwise distinct points, not collinear (then it is
         // planar). Anything else takes the general checks below, which
@@ -346,7 +359,7 @@ impl Plc {
         if let [p] = &f.polygons[..] {
             if let [a, b, c] = p[..] {
                 if [a, b, c].iter().all(|&v| (v as usize) < n) {
-                    let [pa, pb, pc] = [a, b, c].map(|v| &self.points[v as usize]);
+                    let [pa, pb, pc] = [a, b, c].map(|v| &points[v as usize]);
                     let [ka, kb, kc] = [pa, pb, pc].map(key);
                     if ka != kb && kb != kc && ka != kc && !collinear(pa, pb, pc) {
                         return Ok(());
@@ -385,7 +398,7 @@ impl Plc {
             }
             // Repeated corners, by index or by (exact) coordinates.
             sorted.clear();
-            sorted.extend(p.iter().map(|&v| (v, key(&self.points[v as usize]))));
+            sorted.extend(p.iter().map(|&v| (v, key(&points[v as usize]))));
             sorted.sort_unstable_by_key(|&(v, k)| (k, v));
             if let Some(w) = sorted.windows(2).find(|w| w[0].1 == w[1].1) {
                 return bad(FacetDefect::RepeatedVertex { vertex: w[1].0 });
@@ -393,7 +406,7 @@ impl Plc {
         }
         // Exact planarity: find three non-collinear corners, test the rest.
         let corners: Vec<u32> = f.polygons.iter().flatten().copied().collect();
-        let pt = |v: u32| &self.points[v as usize];
+        let pt = |v: u32| &points[v as usize];
         let a = corners[0];
         let Some(&b) = corners.iter().find(|&&v| pt(v) != pt(a)) else {
             return bad(FacetDefect::ZeroArea);

@@ -118,6 +118,7 @@ impl Pslg {
         if let Some(index) = self.points.iter().position(|p| !fin(p)) {
             return Err(Error::InvalidCoordinate { index });
         }
+        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_2D)?;
         if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
             return Err(Error::InvalidSeedPoint {
                 kind: "hole",

@@ -211,7 +211,7 @@ fn check_coords(points: &[[f64; 3]]) -> Result<(), Error> {
     }
     match points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
         Some(index) => Err(Error::InvalidCoordinate { index }),
-        None => Ok(()),
+        None => crate::geom::scale::check_range(points, crate::geom::scale::RANGE_3D),
     }
 }
 

@@ -81,6 +81,11 @@ impl SelfIntersections {
 /// assert!(self_intersections(&pts, &[[0, 1, 2], [1, 0, 3]]).is_clean());
 /// ```
 pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersections {
+    // Every test below runs on a copy scaled by a power of two (exact, so
+    // the same signs), which keeps the predicates' products and the side
+    // filter clear of overflow and underflow at any scale.
+    let (points, _) = crate::geom::rescaled(points);
+    let points: &[P] = &points;
     let n = points.len();
     let canon = canonical_ids(points);
     let mut out = SelfIntersections::default();

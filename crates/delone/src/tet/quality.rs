@@ -13,7 +13,15 @@
 //!   the regular tetrahedron and 0 for a flat one;
 //! * [`TetStats`] — counts, extremes, dihedral-angle and radius-edge
 //!   histograms of a list of tetrahedra, with a JSON rendering.
+//!
+//! Every measure is computed on the element's points scaled by a power of
+//! two ([`crate::geom::scale::local`], exact): nothing overflows or
+//! underflows at any coordinate scale, angles and ratios are the same bit
+//! for bit at every power-of-two scale, and lengths and volumes are
+//! brought back to the input's units (infinite or zero only when the value
+//! itself is beyond the range of `f64`).
 
+use crate::geom::scale::{local, unscale};
 use std::fmt::Write as _;
 
 fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
@@ -48,6 +56,12 @@ pub const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), 
 /// assert!((volume(&t) - 1.0 / 6.0).abs() < 1e-15);
 /// ```
 pub fn volume(p: &[[f64; 3]; 4]) -> f64 {
+    let (p, s) = local(*p);
+    unscale(volume_raw(&p), s, 3)
+}
+
+/// [`volume`] without the rescaling.
+fn volume_raw(p: &[[f64; 3]; 4]) -> f64 {
     let (a, b, c) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
     dot(&a, &cross(&b, &c)) / 6.0
 }
@@ -61,6 +75,13 @@ pub fn volume(p: &[[f64; 3]; 4]) -> f64 {
 /// assert!(c.iter().all(|&x| (x - 1.0).abs() < 1e-15));
 /// ```
 pub fn circumcenter(p: &[[f64; 3]; 4]) -> Option<[f64; 3]> {
+    let (p, s) = local(*p);
+    let c = circumcenter_raw(&p)?.map(|x| unscale(x, s, 1));
+    c.iter().all(|x| x.is_finite()).then_some(c)
+}
+
+/// [`circumcenter`] without the rescaling.
+fn circumcenter_raw(p: &[[f64; 3]; 4]) -> Option<[f64; 3]> {
     let (a, b, c) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
     let bc = cross(&b, &c);
     let ca = cross(&c, &a);
@@ -83,6 +104,12 @@ pub fn circumcenter(p: &[[f64; 3]; 4]) -> Option<[f64; 3]> {
 /// assert_eq!(edge_lengths(&t)[3], 5.0);
 /// ```
 pub fn edge_lengths(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    let (p, s) = local(*p);
+    edge_lengths_raw(&p).map(|l| unscale(l, s, 1))
+}
+
+/// [`edge_lengths`] without the rescaling.
+fn edge_lengths_raw(p: &[[f64; 3]; 4]) -> [f64; 6] {
     EDGES.map(|(i, j)| norm(&sub(&p[j], &p[i])))
 }
 
@@ -96,11 +123,16 @@ pub fn edge_lengths(p: &[[f64; 3]; 4]) -> [f64; 6] {
 /// assert!((radius_edge_ratio(&reg) - 6f64.sqrt() / 4.0).abs() < 1e-12);
 /// ```
 pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
-    let Some(c) = circumcenter(p) else {
+    // Scale invariant: measured on the element scaled by a power of two.
+    let (p, _) = local(*p);
+    let p = &p;
+    let Some(c) = circumcenter_raw(p) else {
         return f64::INFINITY;
     };
     let r = norm(&sub(&c, &p[0]));
-    let e = edge_lengths(p).into_iter().fold(f64::INFINITY, f64::min);
+    let e = edge_lengths_raw(p)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
     if e > 0.0 {
         r / e
     } else {
@@ -119,6 +151,8 @@ pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
 /// assert!((d[3] - 54.735_610_317_245_35).abs() < 1e-9); // edge 1-2
 /// ```
 pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    // Scale invariant: measured on the element scaled by a power of two.
+    let (p, _) = local(*p);
     // Inward normal of the face opposite vertex k.
     let normal = |k: usize| {
         let [a, b, c] = [(k + 1) % 4, (k + 2) % 4, (k + 3) % 4].map(|i| p[i]);
@@ -202,7 +236,9 @@ impl std::fmt::Display for TetShape {
 /// assert_eq!(tet_shape(&n), TetShape::Needle);
 /// ```
 pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
-    let l = edge_lengths(p);
+    let (p, _) = local(*p);
+    let p = &p;
+    let l = edge_lengths_raw(p);
     let longest = l.iter().copied().fold(0.0, f64::max);
     match l.iter().filter(|&&x| x < 0.3 * longest).count() {
         0 => {}
@@ -237,12 +273,14 @@ pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
 /// assert_eq!(shape_quality(&flat), 0.0);
 /// ```
 pub fn shape_quality(p: &[[f64; 3]; 4]) -> f64 {
-    let l = edge_lengths(p);
+    let (p, _) = local(*p);
+    let p = &p;
+    let l = edge_lengths_raw(p);
     let rms = (l.iter().map(|x| x * x).sum::<f64>() / 6.0).sqrt();
     if rms == 0.0 {
         return 0.0;
     }
-    6.0 * std::f64::consts::SQRT_2 * volume(p) / (rms * rms * rms)
+    6.0 * std::f64::consts::SQRT_2 * volume_raw(p) / (rms * rms * rms)
 }
 
 /// Upper ends of the dihedral-angle histogram bins, degrees (the first bin

@@ -383,6 +383,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     if let Some(index) = pslg.points.iter().position(|p| !fin(p)) {
         return Err(Error::InvalidCoordinate { index });
     }
+    crate::geom::scale::check_range(&pslg.points, crate::geom::scale::RANGE_2D)?;
     if let Some(index) = pslg.holes.iter().position(|p| !fin(p)) {
         return Err(Error::InvalidSeedPoint {
             kind: "hole",
@@ -927,12 +928,10 @@ fn strictly_inside(pts: &[[f64; 2]], v: &[u32; 3], p: &[f64; 2]) -> bool {
 /// ```
 pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
     // Exact power-of-two scaling keeps the predicates exact at any scale.
-    let max_abs = cdt
-        .points
-        .iter()
-        .chain(&pslg.holes)
-        .chain(pslg.regions.iter().map(|r| &r.point))
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    // Only the mesh's points take part in the predicates: a hole or region
+    // point far away (of another magnitude) must not set the scale, or the
+    // products of the mesh's coordinates could underflow.
+    let max_abs = crate::geom::max_abs(&cdt.points);
     let scale = pow2_scale(max_abs);
     let pts: &Vec<[f64; 2]> = &cdt.points.iter().map(|&p| scaled(p, scale)).collect();
     let nt = cdt.triangles.len();

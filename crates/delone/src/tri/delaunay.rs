@@ -206,6 +206,7 @@ fn check_input(points: &[[f64; 2]]) -> Result<f64, Error> {
         }
         max_abs = max_abs.max(p[0].abs()).max(p[1].abs());
     }
+    crate::geom::scale::check_range(points, crate::geom::scale::RANGE_2D)?;
     Ok(max_abs)
 }
 

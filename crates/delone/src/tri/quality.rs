@@ -31,6 +31,7 @@
 //! assert_eq!(s.angle_histogram[9], 1);
 //! ```
 
+use crate::geom::scale::unscale;
 use std::fmt;
 
 use crate::Error;
@@ -93,7 +94,12 @@ impl TriangleQuality {
     /// assert_eq!(q.max_angle, 180.0);
     /// ```
     pub fn new(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Self {
-        let p = [a, b, c];
+        // Measured on the triangle scaled by a power of two (exact): no
+        // overflow or underflow at any scale, angles and ratios the same
+        // bit for bit at every power-of-two scale; area and lengths are
+        // brought back to the input's units.
+        let (p, s) = crate::geom::scale::local([a, b, c]);
+        let [a, b, c] = p;
         let mut angles = [0.0; 3];
         let mut len2 = [0.0; 3]; // len2[k]: squared length of the edge opposite corner k
         for k in 0..3 {
@@ -121,9 +127,9 @@ impl TriangleQuality {
             angles,
             min_angle: angles.iter().copied().fold(180.0, f64::min),
             max_angle: angles.iter().copied().fold(0.0, f64::max),
-            area,
-            shortest_edge: lmin,
-            longest_edge: lmax,
+            area: unscale(area, s, 2),
+            shortest_edge: unscale(lmin, s, 1),
+            longest_edge: unscale(lmax, s, 1),
             aspect_ratio,
             radius_edge,
         }
@@ -291,16 +297,19 @@ impl TriStats {
             steiner: None,
         };
         for tri in triangles {
-            let [a, b, c] = tri.map(|v| points[v as usize]);
+            // Measured on the triangle scaled by a power of two (see
+            // TriangleQuality::new), the altitude too, then in input units.
+            let (p, sc) = crate::geom::scale::local(tri.map(|v| points[v as usize]));
+            let [a, b, c] = p;
             let q = TriangleQuality::new(a, b, c);
-            let area = q.area.abs();
+            let area = unscale(q.area.abs(), sc, 2);
             s.min_area = s.min_area.min(area);
             s.max_area = s.max_area.max(area);
             s.total_area += area;
-            s.shortest_edge = s.shortest_edge.min(q.shortest_edge);
-            s.longest_edge = s.longest_edge.max(q.longest_edge);
+            s.shortest_edge = s.shortest_edge.min(unscale(q.shortest_edge, sc, 1));
+            s.longest_edge = s.longest_edge.max(unscale(q.longest_edge, sc, 1));
             let alt = if q.longest_edge > 0.0 {
-                2.0 * area / q.longest_edge
+                unscale(2.0 * q.area.abs() / q.longest_edge, sc, 1)
             } else {
                 0.0
             };

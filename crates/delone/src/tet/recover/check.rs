@@ -231,7 +231,7 @@ pub fn check_recovered(
                 );
             }
             if ti == NONE && hull_kept {
-                let [a, b, c] = f.map(|q| rec.points[q as usize]);
+                let [a, b, c] = f.map(|q| sp[q as usize]);
                 hull_volume += dot(&a, &cross(&b, &c)) / 6.0;
                 continue;
             }
@@ -395,10 +395,11 @@ pub fn check_recovered(
     // Volume: the tetrahedra fill exactly the part bounded by the input
     // triangles on the boundary (each oriented like its boundary faces, so
     // holes and cavities count negatively), plus hull faces under `-c`.
+    // Measured on the scaled points: no over- or underflow at any scale.
     let vol: f64 = m
         .tets
         .iter()
-        .map(|tv| tet_volume(tv.map(|q| rec.points[q as usize])))
+        .map(|tv| tet_volume(tv.map(|q| sp[q as usize])))
         .sum();
     let mut want = hull_volume;
     let mut scale = hull_volume.abs();
@@ -409,24 +410,33 @@ pub fn check_recovered(
         // The orientation of the facet's boundary faces, by their summed
         // (area-weighted) normals: tiny faces next to inexact Steiner
         // points may lean either way.
-        let n = normal(&triangles[ti], &rec.points);
-        let d: f64 = faces.iter().map(|f| dot(&n, &normal(f, &rec.points))).sum();
+        let n = normal(&triangles[ti], sp);
+        let d: f64 = faces.iter().map(|f| dot(&n, &normal(f, sp))).sum();
         let sign = if d > 0.0 { 1.0 } else { -1.0 };
         for &t in &members[ti] {
-            let [a, b, c] = triangles[t as usize].map(|q| rec.points[q as usize]);
+            let [a, b, c] = triangles[t as usize].map(|q| sp[q as usize]);
             let term = dot(&a, &cross(&b, &c)) / 6.0;
             want += sign * term;
             scale += term.abs();
         }
     }
+    // Region volumes are in input units: compared with the total brought
+    // back to input units, allowing for the subnormal spacing when it
+    // underflows (one unit per tetrahedron and region).
     let region_sum: f64 = rec.regions.iter().map(|r| r.volume).sum();
-    if (vol - want).abs() > 1e-9 * scale.max(vol.abs()).max(f64::MIN_POSITIVE)
-        || (region_sum - vol).abs() > 1e-9 * vol.abs().max(f64::MIN_POSITIVE)
-    {
+    let vol_in = crate::geom::scale::unscale_cubic(vol, s);
+    let granule = 5e-324 * (m.tets.len() + rec.regions.len()) as f64;
+    let regions_ok = if vol_in.is_finite() {
+        (region_sum - vol_in).abs() <= 1e-9 * vol_in.abs() + granule
+    } else {
+        region_sum == vol_in
+    };
+    if (vol - want).abs() > 1e-9 * scale.max(vol.abs()).max(f64::MIN_POSITIVE) || !regions_ok {
         return bad(
             "volume",
             format!(
-                "tetrahedra volume {vol} (regions {region_sum}) differs from enclosed volume {want}"
+                "tetrahedra volume {vol_in:e} (regions {region_sum:e}) differs from enclosed volume {:e}",
+                crate::geom::scale::unscale_cubic(want, s)
             ),
         );
     }

@@ -505,6 +505,10 @@ pub(crate) fn check_surface(
     rec: &Recovered,
 ) -> Result<(), Violation> {
     let bad = |d: String| Err(Violation::new("surface", d));
+    // On a copy scaled by a power of two (exact), as recovery sees them:
+    // the products of the predicates and areas neither over- nor underflow.
+    let (points, _) = crate::geom::rescaled(points);
+    let points: &[[f64; 3]] = &points;
     if rec.surface.len() != rec.surface_origin.len() {
         return bad("surface and surface_origin lengths differ".into());
     }

@@ -2237,7 +2237,12 @@ impl State {
             vertex_map[d as usize] = o;
         }
         for (tv, &g) in tets.iter().zip(&tet_region) {
-            regions[g as usize].volume += check::tet_volume(tv.map(|q| points[q as usize]));
+            // Measured on the scaled points (no under- or overflow), then
+            // brought back to input units.
+            regions[g as usize].volume += crate::geom::scale::unscale_cubic(
+                check::tet_volume(tv.map(|q| pts[q as usize])),
+                scale,
+            );
         }
         Ok(Recovered {
             points,

@@ -265,7 +265,7 @@ impl Cdr {
                 tri_edges[t][k] = i;
             }
         }
-        let group = plane_groups(&rec.points, triangles, &edge_tris, &tri_edges);
+        let group = plane_groups(&p, triangles, &edge_tris, &tri_edges);
         let origin: &[u32] = if rec.surface.is_empty() {
             &[]
         } else {
@@ -2150,7 +2150,11 @@ impl Cdr {
         for (tv, &g) in tets.iter().zip(&tet_region) {
             if let Some(r) = regions.get_mut(g as usize) {
                 r.tets += 1;
-                r.volume += quality::volume(&tv.map(|q| points[q as usize]));
+                // On the scaled points, then in input units.
+                r.volume += crate::geom::scale::unscale_cubic(
+                    quality::volume(&tv.map(|q| self.p[q as usize])),
+                    (self.s, 1.0),
+                );
             }
         }
         let mut vertex_map = rec.mesh.vertex_map.clone();
