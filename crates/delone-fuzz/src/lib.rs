@@ -236,32 +236,6 @@ pub fn medit(data: &[u8]) {
     surface(delone_io::read_medit(data));
 }
 
-/// Whether the builders' inputs stay within twelve orders of magnitude
-/// (largest over smallest nonzero coordinate magnitude below 1e12; the
-/// magnitudes themselves may be anywhere in the double range). Wider ranges
-/// still make the library panic or produce meshes that its own checkers
-/// reject (see `fuzz/known-findings/` and [`wide_range`]), so they are
-/// fuzzed only on request.
-pub fn checkable<const D: usize>(points: &[[f64; D]]) -> bool {
-    let mags = points
-        .iter()
-        .flatten()
-        .map(|c| c.abs())
-        .filter(|&c| c > 0.0);
-    let (lo, hi) = mags.fold((f64::INFINITY, 0f64), |(lo, hi), c| (lo.min(c), hi.max(c)));
-    hi == 0.0 || (hi.is_finite() && hi / lo < 1e12)
-}
-
-/// Whether the builders also take inputs that are not [`checkable`]
-/// (`DELONE_FUZZ_WIDE_RANGE=1`): off by default, because the 2D kernel
-/// still panics on some of them (points mixing 1e139 with small integers:
-/// see the ignored test `wide_range_points_do_not_panic_the_2d_kernel`),
-/// and the CDT and the Delaunay builders return meshes that
-/// [`delone::tri::check_cdt`] and [`delone::tri::validate`] reject.
-pub fn wide_range() -> bool {
-    std::env::var_os("DELONE_FUZZ_WIDE_RANGE").is_some_and(|v| v == "1")
-}
-
 /// A `.poly` file (text, so the corpus's PSLGs seed it) through the
 /// constrained Delaunay triangulation, its check, and a refinement with a
 /// small Steiner budget. Inputs above [`BUILDER_MAX_POINTS`] are skipped.
@@ -295,16 +269,10 @@ pub fn cdt_poly(data: &[u8]) {
             })
             .collect(),
     };
-    if !checkable(&g.points) && !wide_range() {
-        return;
-    }
     let convex_hull = data.len() % 2 == 1;
     let Ok(cdt) = delone::tri::constrained_triangulation(&g, CdtOptions { convex_hull }) else {
         return;
     };
-    if !checkable(&g.points) {
-        return;
-    }
     if let Err(v) = delone::tri::check_cdt(&g, &cdt) {
         panic!("constrained_triangulation returned a CDT that fails check_cdt: {v:?}");
     }
@@ -381,10 +349,7 @@ pub fn decode_points<const D: usize>(data: &[u8]) -> Vec<[f64; D]> {
 /// `Doubles`), checked by [`delone::tri::validate`] when it succeeds.
 pub fn delaunay2(data: &[u8]) {
     let pts = decode_points::<2>(data);
-    if !checkable(&pts) && !wide_range() {
-        return;
-    }
-    if let (Ok(m), true) = (delone::triangulate(&pts), checkable(&pts)) {
+    if let Ok(m) = delone::triangulate(&pts) {
         if let Err(v) = delone::tri::validate(&pts, &m) {
             panic!("triangulate returned a mesh that fails validate: {v:?}");
         }
@@ -395,10 +360,7 @@ pub fn delaunay2(data: &[u8]) {
 /// [`delone::tet::validate`] when it succeeds.
 pub fn delaunay3(data: &[u8]) {
     let pts = decode_points::<3>(data);
-    if !checkable(&pts) && !wide_range() {
-        return;
-    }
-    if let (Ok(m), true) = (delone::tetrahedralize(&pts), checkable(&pts)) {
+    if let Ok(m) = delone::tetrahedralize(&pts) {
         if let Err(v) = delone::tet::validate(&pts, &m) {
             panic!("tetrahedralize returned a mesh that fails validate: {v:?}");
         }
@@ -417,7 +379,7 @@ pub fn recover_plc(data: &[u8]) {
         return;
     }
     let tris = s.triangles();
-    if tris.len() > BUILDER_MAX_POINTS || (!checkable(&s.points) && !wide_range()) {
+    if tris.len() > BUILDER_MAX_POINTS {
         return;
     }
     let opts = delone::tet::recover::RecoverOptions {
@@ -425,7 +387,7 @@ pub fn recover_plc(data: &[u8]) {
         ..Default::default()
     };
     let r = delone::tet::recover::recover(&s.points, &tris, &opts);
-    if let (Ok(r), true) = (r, checkable(&s.points)) {
+    if let Ok(r) = r {
         if let Err(v) = delone::tet::recover::check_recovered(&s.points, &tris, &r) {
             panic!("recover returned a mesh that fails check_recovered: {v:?}");
         }

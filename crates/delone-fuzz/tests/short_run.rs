@@ -165,18 +165,22 @@ const REGRESSIONS: &[(&str, &[u8])] = &[
         "delaunay2",
         include_bytes!("../../../fuzz/regressions/delaunay2-hull-sliver"),
     ),
+    // 80 points mixing 2e139 with small integers: the 2D kernel panicked
+    // (predicates underflowed after rescaling); now a CoordinateRange error.
+    (
+        "delaunay2",
+        include_bytes!("../../../fuzz/regressions/delaunay2-range-1e139"),
+    ),
+    // Points spanning 1e132: `tri::validate` reported a false violation.
+    (
+        "delaunay2",
+        include_bytes!("../../../fuzz/regressions/delaunay2-range-1e132"),
+    ),
+    // A segment reaching 1e23 crossing one near 1: the crossing was judged
+    // outside the long piece by a rounded dot product and replaced by the
+    // nearest end, off the short segment (`check_cdt` rejected it).
+    (
+        "cdt_poly",
+        include_bytes!("../../../fuzz/regressions/cdt_poly-crossing-1e23"),
+    ),
 ];
-
-/// A finding in the library's 2D kernel, not fixed yet: 80 points, one of
-/// them with a coordinate 2e139 among small integers, make
-/// `delone::triangulate` panic (index out of bounds in `tri/delaunay.rs`)
-/// instead of returning a mesh or an error. The builder targets skip such
-/// inputs unless `DELONE_FUZZ_WIDE_RANGE=1`.
-#[test]
-#[ignore = "known finding: the 2D kernel panics on a coordinate range of 1e139"]
-fn wide_range_points_do_not_panic_the_2d_kernel() {
-    let pts = delone_fuzz::decode_points::<2>(WIDE_RANGE_2D);
-    let _ = delone::triangulate(&pts);
-}
-
-const WIDE_RANGE_2D: &[u8] = include_bytes!("../../../fuzz/known-findings/delaunay2-panic-1e139");

@@ -1199,8 +1199,18 @@ fn dd_diff(a: &[f64; 2], b: &[f64; 2]) -> [(f64, f64); 2] {
 }
 
 /// The crossing of the lines `a-b` and `c-d`, rounded to doubles, or `None`
-/// when they are parallel (or the result is not finite).
+/// when they are parallel (or the result is not finite). The point is
+/// measured along the segment of the smaller coordinates, so its error is
+/// relative to that segment's magnitude (a segment reaching 1e23 crossing
+/// one near 1 would otherwise leave the point many ulps off the short one).
 fn line_crossing(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], d: &[f64; 2]) -> Option<[f64; 2]> {
+    let mag =
+        |p: &[f64; 2], q: &[f64; 2]| p[0].abs().max(p[1].abs()).max(q[0].abs()).max(q[1].abs());
+    let (a, b, c, d) = if mag(c, d) < mag(a, b) {
+        (c, d, a, b)
+    } else {
+        (a, b, c, d)
+    };
     let u = dd_diff(a, b);
     let v = dd_diff(c, d);
     let w = dd_diff(a, c);
@@ -1488,10 +1498,13 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         let (p, q) = edge(&w.tv[t], i);
         let other = w.con[t][i];
         let (pa, pb, pp, pq) = (*w.p(a), *w.p(b), *w.p(p), *w.p(q));
+        // Strictly inside a piece, for a point on (or within ulps of) its
+        // line: strictly between its ends along the piece's dominant axis.
+        // Comparisons are exact, so this holds at any coordinate spread (a
+        // dot product against a piece 1e23 long rounds the point onto its end).
         let between = |x: &[f64; 2], u: &[f64; 2], v: &[f64; 2]| {
-            let d = [v[0] - u[0], v[1] - u[1]];
-            let f = (x[0] - u[0]) * d[0] + (x[1] - u[1]) * d[1];
-            f > 0.0 && f < d[0] * d[0] + d[1] * d[1]
+            let k = usize::from((v[1] - u[1]).abs() > (v[0] - u[0]).abs());
+            (u[k] < x[k] && x[k] < v[k]) || (v[k] < x[k] && x[k] < u[k])
         };
         let inside = |x: &[f64; 2]| between(x, &pa, &pb) && between(x, &pp, &pq);
         let (sa, sb) = self.seg_ends[s as usize];
