@@ -200,3 +200,64 @@ fn shared_plcs_recover_and_pass_the_check() {
         );
     }
 }
+
+/// The unit cube with an isolated point 9 in the middle of its bottom
+/// facet (in no facet polygon): it becomes a vertex of that facet.
+const CUBE_POINT_ON_FACET: &str = "\
+9 3 0 0
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 0 0 1
+6 1 0 1
+7 1 1 1
+8 0 1 1
+9 0.5 0.5 0
+6 0
+1
+4 1 2 3 4
+1
+4 5 6 7 8
+1
+4 1 2 6 5
+1
+4 2 3 7 6
+1
+4 3 4 8 7
+1
+4 4 1 5 8
+0
+0
+";
+
+#[test]
+fn isolated_point_on_a_facet_is_a_boundary_vertex() {
+    let dir = tmp("pointonfacet");
+    std::fs::write(dir.join("hc.poly"), CUBE_POINT_ON_FACET).unwrap();
+    for sw in ["-pC", "-pMC", "-pYC", "-pqC"] {
+        let o = run(&dir, &["tet", sw, "hc"]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{sw}: {out}\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(out.contains("volume preserved"), "{sw}: {out}");
+        // Point 9 is a corner of boundary faces (four at least).
+        let face = table(&dir.join("hc.1.face"));
+        let at9 = face.iter().filter(|f| f[1..4].contains(&9.0)).count();
+        assert!(at9 >= 4, "{sw}: {at9} faces at point 9");
+        for f in ["hc.1.node", "hc.1.ele", "hc.1.face"] {
+            std::fs::remove_file(dir.join(f)).unwrap();
+        }
+    }
+    // With a hole point inside, the only region is removed: an error
+    // saying so, not a crash.
+    let holed = CUBE_POINT_ON_FACET.replacen("\n0\n0\n", "\n1\n1 0.5 0.5 0.5\n0\n", 1);
+    std::fs::write(dir.join("holed.poly"), holed).unwrap();
+    let o = run(&dir, &["tet", "-pC", "holed"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("no tetrahedron left"), "{err}");
+}

@@ -146,6 +146,14 @@ impl Plc {
     /// holes respected, the outside of the outer polygon removed), without
     /// new points. Returns the triangles and, for each, its facet index.
     ///
+    /// An isolated point of the PLC (a corner of no facet polygon) lying
+    /// exactly on a facet (exact `orient3d` and `orient2d`) becomes a vertex
+    /// of that facet's triangles, as TetGen does; one lying on an edge
+    /// splits it in every facet sharing the edge, so the facets stay
+    /// conforming. An isolated point with the same coordinates as a facet
+    /// corner is a duplicate and is left out (so are later copies of an
+    /// isolated point already inserted).
+    ///
     /// # Errors
     /// [`Error::DegenerateFacet`] (with [`FacetDefect::ZeroArea`]) for a facet
     /// whose polygons span no plane; the errors of
@@ -165,98 +173,57 @@ impl Plc {
     /// let (tris, facet) = plc.triangulate_facets().unwrap();
     /// assert_eq!(tris.len(), 12);
     /// assert_eq!(facet[11], 5);
+    /// // An isolated point in the middle of the bottom side: a vertex of
+    /// // its four triangles.
+    /// plc.points.push([0.5, 0.5, 0.0]);
+    /// let (tris, _) = plc.triangulate_facets().unwrap();
+    /// assert_eq!(tris.len(), 14);
+    /// assert_eq!(tris.iter().filter(|t| t.contains(&8)).count(), 4);
     /// ```
     pub fn triangulate_facets(&self) -> Result<(Vec<[u32; 3]>, Vec<u32>), Error> {
-        use crate::model::pslg::Pslg;
-        use crate::tri::{constrained_triangulation, CdtOptions};
-        let mut tris = Vec::new();
-        let mut owner = Vec::new();
-        // Normals and projections on a copy scaled by a power of two (exact):
-        // no overflow or underflow at any scale.
+        // Normals, projections and the point-on-facet tests on a copy scaled
+        // by a power of two (exact): no overflow or underflow at any scale.
         let (points, s) = crate::geom::rescaled(&self.points);
+        let mut per: Vec<Vec<[u32; 3]>> = Vec::with_capacity(self.facets.len());
         for (fi, f) in self.facets.iter().enumerate() {
-            if let [p] = f.polygons.as_slice() {
-                if p.len() == 3 && f.holes.is_empty() {
-                    tris.push([p[0], p[1], p[2]]);
-                    owner.push(fi as u32);
-                    continue;
-                }
-            }
-            let zero = Error::DegenerateFacet {
-                index: fi,
-                defect: FacetDefect::ZeroArea,
-            };
-            // Newell normal over all polygons; drop its largest axis.
-            let mut n = [0.0f64; 3];
-            for poly in &f.polygons {
-                let m = poly.len();
-                for k in 0..m {
-                    let a = points.get(poly[k] as usize).ok_or(zero.clone())?;
-                    let b = points.get(poly[(k + 1) % m] as usize).ok_or(zero.clone())?;
-                    n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-                    n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-                    n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-                }
-            }
-            let axis = (0..3).fold(0, |m, k| if n[k].abs() > n[m].abs() { k } else { m });
-            if n[axis] == 0.0 {
-                return Err(zero);
-            }
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            let mut ids: Vec<u32> = f.polygons.iter().flatten().copied().collect();
-            ids.sort_unstable();
-            ids.dedup();
-            let local = |q: u32| ids.binary_search(&q).unwrap_or(0) as u32;
-            let mut g = Pslg::new(
-                ids.iter()
-                    .map(|&q| {
-                        let p = points[q as usize];
-                        [p[u], p[v]]
-                    })
-                    .collect(),
-                Vec::new(),
-            );
-            for poly in &f.polygons {
-                let m = poly.len();
-                if m < 2 {
-                    continue;
-                }
-                let edges = if m == 2 { 1 } else { m };
-                for k in 0..edges {
-                    g.segments.push([local(poly[k]), local(poly[(k + 1) % m])]);
-                }
-            }
-            g.holes = f
-                .holes
-                .iter()
-                .map(|&h| {
-                    let h = crate::geom::scaled(h, s);
-                    [h[u], h[v]]
-                })
-                .collect();
-            let cdt = constrained_triangulation(&g, CdtOptions::default())?;
-            if cdt.points.len() != ids.len() {
-                return Err(Error::DegenerateFacet {
-                    index: fi,
-                    defect: FacetDefect::TooFewVertices,
-                });
-            }
-            let mut used = vec![false; ids.len()];
-            for t in &cdt.triangles {
-                tris.push(t.map(|q| ids[q as usize]));
-                owner.push(fi as u32);
-                for &q in t {
-                    used[q as usize] = true;
-                }
-            }
-            if let Some(k) = used.iter().position(|&u| !u) {
-                return Err(Error::DegenerateFacet {
-                    index: fi,
-                    defect: FacetDefect::PointOutside { vertex: ids[k] },
-                });
+            per.push(facet_triangles(&points, s, fi, f, &[])?);
+        }
+        // Isolated points (corners of no facet polygon) lying exactly on a
+        // facet become vertices of its triangulation; on a facet edge, of
+        // every facet sharing that edge (each one finds the point on one
+        // of its triangles), so the facets stay conforming.
+        let mut referenced = vec![false; self.points.len()];
+        for &q in self.facets.iter().flat_map(|f| f.polygons.iter().flatten()) {
+            if let Some(r) = referenced.get_mut(q as usize) {
+                *r = true;
             }
         }
-        Ok((tris, owner))
+        let isolated: Vec<u32> = (0..self.points.len() as u32)
+            .filter(|&q| !referenced[q as usize])
+            .collect();
+        if !isolated.is_empty() {
+            let (tris, owner) = flatten(&per);
+            let mut extra: Vec<Vec<u32>> = vec![Vec::new(); self.facets.len()];
+            for (q, t, on) in points_on_triangles(&points, &tris, &isolated) {
+                // A point equal to a corner is a duplicate point: left alone.
+                if !matches!(on, OnTriangle::Corner(_)) {
+                    extra[owner[t as usize] as usize].push(q);
+                }
+            }
+            for (fi, ex) in extra.iter_mut().enumerate() {
+                if ex.is_empty() {
+                    continue;
+                }
+                // One point per location (the first): the others are
+                // duplicates.
+                ex.sort_unstable();
+                ex.dedup();
+                let mut seen = std::collections::HashSet::new();
+                ex.retain(|&q| seen.insert(key(&self.points[q as usize])));
+                per[fi] = facet_triangles(&points, s, fi, &self.facets[fi], ex)?;
+            }
+        }
+        Ok(flatten(&per))
     }
 
     /// Checks the PLC exactly and returns the first problem found, naming the
@@ -301,10 +268,6 @@ impl Plc {
         {
             return Err(Error::InvalidCoordinate { index });
         }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_3D)?;
-        // The exact tests below run on a copy scaled by a power of two
-        // (exact), so that no product over- or underflows at any scale.
-        let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
         if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
             return Err(Error::InvalidSeedPoint {
@@ -343,15 +306,13 @@ impl Plc {
                     index,
                 });
             }
-            self.check_facet(&sp, index, f)?;
+            self.check_facet(index, f)?;
         }
         Ok(())
     }
 
-    /// Checks facet `index`; `points` are [`Plc::points`] scaled by a power
-    /// of two.
-    fn check_facet(&self, points: &[[f64; 3]], index: usize, f: &Facet) -> Result<(), Error> {
-        let n = points.len();
+    fn check_facet(&self, index: usize, f: &Facet) -> Result<(), Error> {
+        let n = self.points.len();
         // Fast path for the common case, a single valid triangle: corners
         // in range, pairwise distinct points, not collinear (then it is
         // planar). Anything else takes the general checks below, which
@@ -359,7 +320,7 @@ impl Plc {
         if let [p] = &f.polygons[..] {
             if let [a, b, c] = p[..] {
                 if [a, b, c].iter().all(|&v| (v as usize) < n) {
-                    let [pa, pb, pc] = [a, b, c].map(|v| &points[v as usize]);
+                    let [pa, pb, pc] = [a, b, c].map(|v| &self.points[v as usize]);
                     let [ka, kb, kc] = [pa, pb, pc].map(key);
                     if ka != kb && kb != kc && ka != kc && !collinear(pa, pb, pc) {
                         return Ok(());
@@ -398,7 +359,7 @@ impl Plc {
             }
             // Repeated corners, by index or by (exact) coordinates.
             sorted.clear();
-            sorted.extend(p.iter().map(|&v| (v, key(&points[v as usize]))));
+            sorted.extend(p.iter().map(|&v| (v, key(&self.points[v as usize]))));
             sorted.sort_unstable_by_key(|&(v, k)| (k, v));
             if let Some(w) = sorted.windows(2).find(|w| w[0].1 == w[1].1) {
                 return bad(FacetDefect::RepeatedVertex { vertex: w[1].0 });
@@ -406,7 +367,7 @@ impl Plc {
         }
         // Exact planarity: find three non-collinear corners, test the rest.
         let corners: Vec<u32> = f.polygons.iter().flatten().copied().collect();
-        let pt = |v: u32| &points[v as usize];
+        let pt = |v: u32| &self.points[v as usize];
         let a = corners[0];
         let Some(&b) = corners.iter().find(|&&v| pt(v) != pt(a)) else {
             return bad(FacetDefect::ZeroArea);
@@ -469,6 +430,127 @@ impl Plc {
     }
 }
 
+/// The triangles per facet flattened, with each triangle's facet.
+fn flatten(per: &[Vec<[u32; 3]>]) -> (Vec<[u32; 3]>, Vec<u32>) {
+    let mut tris = Vec::new();
+    let mut owner = Vec::new();
+    for (fi, ts) in per.iter().enumerate() {
+        tris.extend_from_slice(ts);
+        owner.extend(std::iter::repeat_n(fi as u32, ts.len()));
+    }
+    (tris, owner)
+}
+
+/// Where a point lies on a (closed) triangle `[a, b, c]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum OnTriangle {
+    /// Strictly inside.
+    Inside,
+    /// Strictly inside edge `k` (from corner `k` to corner `k + 1`).
+    Edge(usize),
+    /// At corner `k` (same coordinates).
+    Corner(usize),
+}
+
+/// Where `p` lies on the closed triangle `a b c`, exactly (`orient3d` on
+/// its plane, then `orient2d` in a coordinate projection where the
+/// triangle is not degenerate: on the plane that projection is a
+/// bijection, so the answer is exact). `None`: off the triangle, or the
+/// triangle is degenerate.
+pub(crate) fn on_triangle(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    p: &[f64; 3],
+) -> Option<OnTriangle> {
+    if orient3d(a, b, c, p) != 0.0 {
+        return None;
+    }
+    let (pa, pb, pc, pp, s) = (0..3).find_map(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let pr = |x: &[f64; 3]| [x[i], x[j]];
+        let (pa, pb, pc) = (pr(a), pr(b), pr(c));
+        let s = orient2d(&pa, &pb, &pc);
+        (s != 0.0).then(|| (pa, pb, pc, pr(p), s))
+    })?;
+    let o = [
+        orient2d(&pa, &pb, &pp),
+        orient2d(&pb, &pc, &pp),
+        orient2d(&pc, &pa, &pp),
+    ];
+    if o.iter().any(|&x| x * s < 0.0) {
+        return None;
+    }
+    let zeros: Vec<usize> = (0..3).filter(|&k| o[k] == 0.0).collect();
+    match zeros[..] {
+        [] => Some(OnTriangle::Inside),
+        [k] => Some(OnTriangle::Edge(k)),
+        // Edges k and k + 1 meet at corner k + 1; edges 0 and 2 at 0.
+        [0, 1] => Some(OnTriangle::Corner(1)),
+        [1, 2] => Some(OnTriangle::Corner(2)),
+        [0, 2] => Some(OnTriangle::Corner(0)),
+        _ => None,
+    }
+}
+
+/// The points of `candidates` lying exactly on triangles of `triangles`
+/// ([`on_triangle`]): (point, triangle, where), every such pair, sorted.
+/// Triangles naming a missing point are skipped. A sweep along the axis of
+/// the candidates' largest extent, so the cost is about the number of
+/// (triangle, candidate in its bounding box) pairs.
+pub(crate) fn points_on_triangles(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    candidates: &[u32],
+) -> Vec<(u32, u32, OnTriangle)> {
+    let mut out = Vec::new();
+    let mut cand: Vec<u32> = candidates
+        .iter()
+        .copied()
+        .filter(|&q| (q as usize) < points.len())
+        .collect();
+    if cand.is_empty() || triangles.is_empty() {
+        return out;
+    }
+    let pt = |q: u32| &points[q as usize];
+    let extent = |k: usize| {
+        let (lo, hi) = cand
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &q| {
+                (l.min(pt(q)[k]), h.max(pt(q)[k]))
+            });
+        hi - lo
+    };
+    let ax = (0..3).fold(0, |m, k| if extent(k) > extent(m) { k } else { m });
+    cand.sort_by(|&x, &y| pt(x)[ax].total_cmp(&pt(y)[ax]).then(x.cmp(&y)));
+    for (ti, t) in triangles.iter().enumerate() {
+        let (Some(a), Some(b), Some(c)) = (
+            points.get(t[0] as usize),
+            points.get(t[1] as usize),
+            points.get(t[2] as usize),
+        ) else {
+            continue;
+        };
+        let lo = |k: usize| a[k].min(b[k]).min(c[k]);
+        let hi = |k: usize| a[k].max(b[k]).max(c[k]);
+        let start = cand.partition_point(|&q| pt(q)[ax] < lo(ax));
+        for &q in &cand[start..] {
+            let p = pt(q);
+            if p[ax] > hi(ax) {
+                break;
+            }
+            if (0..3).any(|k| p[k] < lo(k) || p[k] > hi(k)) {
+                continue;
+            }
+            if let Some(on) = on_triangle(a, b, c, p) {
+                out.push((q, ti as u32, on));
+            }
+        }
+    }
+    out.sort_unstable_by_key(|&(q, t, _)| (q, t));
+    out
+}
+
 /// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
 /// folded onto `0.0` (so equal coordinates give equal keys).
 pub(crate) fn key(p: &[f64; 3]) -> [u64; 3] {
@@ -482,6 +564,107 @@ pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
         orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0
     })
+}
+
+/// The triangles of facet `fi` (see [`Plc::triangulate_facets`]), with
+/// the points `extra` (lying on the facet) as vertices too.
+fn facet_triangles(
+    points: &[[f64; 3]],
+    s: (f64, f64),
+    fi: usize,
+    f: &Facet,
+    extra: &[u32],
+) -> Result<Vec<[u32; 3]>, Error> {
+    use crate::model::pslg::Pslg;
+    use crate::tri::{constrained_triangulation, CdtOptions};
+    if let [p] = f.polygons.as_slice() {
+        if p.len() == 3 && f.holes.is_empty() && extra.is_empty() {
+            return Ok(vec![[p[0], p[1], p[2]]]);
+        }
+    }
+    let zero = Error::DegenerateFacet {
+        index: fi,
+        defect: FacetDefect::ZeroArea,
+    };
+    // Newell normal over all polygons; drop its largest axis.
+    let mut n = [0.0f64; 3];
+    for poly in &f.polygons {
+        let m = poly.len();
+        for k in 0..m {
+            let a = points.get(poly[k] as usize).ok_or(zero.clone())?;
+            let b = points.get(poly[(k + 1) % m] as usize).ok_or(zero.clone())?;
+            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
+            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
+            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
+        }
+    }
+    let axis = (0..3).fold(0, |m, k| if n[k].abs() > n[m].abs() { k } else { m });
+    if n[axis] == 0.0 {
+        return Err(zero);
+    }
+    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+    let mut ids: Vec<u32> = f.polygons.iter().flatten().copied().collect();
+    ids.extend(extra);
+    ids.sort_unstable();
+    ids.dedup();
+    if let Some(&q) = ids.iter().find(|&&q| q as usize >= points.len()) {
+        return Err(Error::IndexOutOfRange {
+            item: "facet",
+            index: fi,
+            vertex: q,
+            points: points.len(),
+        });
+    }
+    let local = |q: u32| ids.binary_search(&q).unwrap_or(0) as u32;
+    let mut g = Pslg::new(
+        ids.iter()
+            .map(|&q| {
+                let p = points[q as usize];
+                [p[u], p[v]]
+            })
+            .collect(),
+        Vec::new(),
+    );
+    for poly in &f.polygons {
+        let m = poly.len();
+        if m < 2 {
+            continue;
+        }
+        let edges = if m == 2 { 1 } else { m };
+        for k in 0..edges {
+            g.segments.push([local(poly[k]), local(poly[(k + 1) % m])]);
+        }
+    }
+    g.holes = f
+        .holes
+        .iter()
+        .map(|&h| {
+            let h = crate::geom::scaled(h, s);
+            [h[u], h[v]]
+        })
+        .collect();
+    let cdt = constrained_triangulation(&g, CdtOptions::default())?;
+    if cdt.points.len() != ids.len() {
+        return Err(Error::DegenerateFacet {
+            index: fi,
+            defect: FacetDefect::TooFewVertices,
+        });
+    }
+    let mut used = vec![false; ids.len()];
+    let mut tris = Vec::with_capacity(cdt.triangles.len());
+    for t in &cdt.triangles {
+        tris.push(t.map(|q| ids[q as usize]));
+        for &q in t {
+            used[q as usize] = true;
+        }
+    }
+    if let Some(k) = used.iter().position(|&u| !u) {
+        return Err(Error::DegenerateFacet {
+            index: fi,
+            defect: FacetDefect::PointOutside { vertex: ids[k] },
+        });
+    }
+    Ok(tris)
 }
 
 #[cfg(test)]

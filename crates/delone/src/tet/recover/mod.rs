@@ -369,6 +369,17 @@ pub enum RecoverError {
         /// The number of markers.
         got: usize,
     },
+    /// Input point `point`, a vertex of no input triangle, lies exactly on
+    /// input triangle `triangle` (inside it or on one of its edges): the
+    /// surface cannot be recovered without it as a vertex. Make it a vertex
+    /// of the triangles it lies on ([`crate::model::plc::Plc::triangulate_facets`]
+    /// does so for the isolated points of a PLC), or remove it.
+    PointOnTriangle {
+        /// The point index.
+        point: usize,
+        /// The (lowest) input triangle it lies on.
+        triangle: usize,
+    },
     /// The input asks for something this version cannot do yet.
     Unsupported {
         /// What is missing.
@@ -417,6 +428,10 @@ impl fmt::Display for RecoverError {
             RecoverError::MarkerCount { expected, got } => {
                 write!(f, "{got} triangle markers for {expected} triangles")
             }
+            RecoverError::PointOnTriangle { point, triangle } => write!(
+                f,
+                "point {point} lies on triangle {triangle} but is a vertex of no triangle"
+            ),
             RecoverError::Unsupported { what } => write!(f, "not implemented yet: {what}"),
         }
     }
@@ -431,7 +446,9 @@ impl std::error::Error for RecoverError {}
 /// # Errors
 /// [`RecoverError::Input`] for invalid input (with the offending items),
 /// [`RecoverError::OpenSurface`], [`RecoverError::SteinerBudget`],
-/// [`RecoverError::SegmentTooShort`], [`RecoverError::Unrecovered`].
+/// [`RecoverError::SegmentTooShort`], [`RecoverError::Unrecovered`],
+/// [`RecoverError::PointOnTriangle`] for a point of no triangle lying on
+/// one.
 ///
 /// ```
 /// use delone::tet::recover::{check_recovered, recover, RecoverOptions};
@@ -553,6 +570,27 @@ pub fn recover_marked(
             original: o as usize,
         }
         .into());
+    }
+    // A point of no triangle lying on one (not on a corner: a duplicate,
+    // ignored like the duplicates above) would be a mesh vertex inside
+    // that triangle's faces.
+    let mut dup = vec![false; points.len()];
+    for &(d, _) in dt.duplicates() {
+        if let Some(x) = dup.get_mut(d as usize) {
+            *x = true;
+        }
+    }
+    let stray: Vec<u32> = (0..points.len() as u32)
+        .filter(|&w| !used[w as usize] && !dup[w as usize])
+        .collect();
+    if let Some(&(p, t, _)) = crate::model::plc::points_on_triangles(points, triangles, &stray)
+        .iter()
+        .find(|h| !matches!(h.2, crate::model::plc::OnTriangle::Corner(_)))
+    {
+        return Err(RecoverError::PointOnTriangle {
+            point: p as usize,
+            triangle: t as usize,
+        });
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {

@@ -244,6 +244,22 @@ impl Polygons {
         pts: &[[f64; 3]],
     ) -> Cover {
         let grp = &self.groups[g as usize];
+        let n = pts.len();
+        let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
+        let chains = grp
+            .bnd
+            .iter()
+            .flat_map(|&(e, _)| surf.chains[e as usize].iter());
+        if corners.chain(chains.copied()).any(|w| w as usize >= n) {
+            // A vertex `pts` does not have (not expected: the callers pass
+            // the points of the mesh the surface was refined with): not
+            // covered, nothing to split.
+            return Cover {
+                faces: Vec::new(),
+                covered: false,
+                bare: Vec::new(),
+            };
+        }
         let on = |w: u32| self.on_group(surf, w, g);
         let mut faces: Vec<[u32; 3]> = Vec::new();
         let mut flat: Vec<[u32; 3]> = Vec::new();
@@ -521,6 +537,19 @@ impl State {
         g: u32,
         dt_covered: bool,
     ) -> Result<bool, RecoverError> {
+        // A group sharing a boundary edge with a group split earlier in
+        // this round may already hold points `cm` does not have: it has
+        // changed since `cm`, so the next round looks at it again (`cm`'s
+        // coverage says nothing about its new subsegments).
+        let known = cm.pts().len();
+        if self
+            .poly
+            .vertices(&self.surf, g, &self.tri_inner)
+            .iter()
+            .any(|&w| w as usize >= known)
+        {
+            return Ok(true);
+        }
         let tris = self.poly.groups[g as usize].tris.clone();
         let mut progress = false;
         if !dt_covered {
