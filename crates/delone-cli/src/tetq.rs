@@ -125,8 +125,7 @@ pub fn bound_status(
         return (0, None);
     }
     let mut what = format!(
-        "{} tetrahedra of the mesh miss the bounds: {}; the mesh is written",
-        m.ratio + m.volume + r.remaining_too_big + m.dihedral.as_ref().map_or(0, |d| d.0),
+        "tetrahedra of the mesh miss the bounds: {}; the mesh is written",
         parts.join("; ")
     );
     if m.raised > 0 {
