@@ -112,6 +112,9 @@ pub struct Opts {
     pub svg_quality: bool,
     /// tet `--keep-ratio`: the optimisation keeps the `-q` bound.
     pub keep_ratio: bool,
+    /// `--warn-unmet` (tri and tet): elements of the final mesh that miss a
+    /// bound asked for are a warning (exit code 0) instead of exit code 3.
+    pub warn_unmet: bool,
     /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
     pub stats_json: Option<PathBuf>,
     /// tri `-D`: conforming Delaunay (every triangle truly Delaunay).
@@ -386,6 +389,19 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
             "without --png: no picture is drawn",
         ),
     ];
+    let bounded = match mode {
+        Mode::Tri => o.min_angle.is_some() || o.area,
+        Mode::Tet => o.tet_ratio.is_some() || o.area || o.sizing,
+    };
+    rules.push((
+        o.warn_unmet && !bounded,
+        "--warn-unmet",
+        if mode == Mode::Tri {
+            "without a bound (-q or -a): no triangle can miss one"
+        } else {
+            "without a bound (-q, -a or -m): no tetrahedron can miss one"
+        },
+    ));
     match mode {
         Mode::Tri => {
             rules.push((
@@ -469,6 +485,7 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
                     (o.max_steiner.is_some(), "-S", why),
                     (o.tet_optimize.is_some(), "-O", why),
                     (o.keep_ratio, "--keep-ratio", why),
+                    (o.warn_unmet, "--warn-unmet", why),
                     (o.check, "-C", why),
                     (o.voronoi, "-v", why),
                     (o.weights, "-w", why),
@@ -627,6 +644,10 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                 "keep-ratio" if mode == Mode::Tet => {
                     flag()?;
                     o.keep_ratio = true
+                }
+                "warn-unmet" => {
+                    flag()?;
+                    o.warn_unmet = true
                 }
                 "png-width" => {
                     let v = value("--png-width", inline, &mut it)?;

@@ -26,7 +26,11 @@ digit, or + or - and a digit, follows; otherwise it is the next switch
 (-pq1.2e is -q1.2 then -e; -pq1.2ea1e-3 is -q1.2, -e, -a0.001). Messages
 number points, segments and facets as the input file does.
 
-Exit codes: 0 success, 1 input or mesh error, 2 usage error.
+Exit codes: 0 success; 1 input or mesh error (also a refinement stopped
+by the -S budget); 2 usage error; 3 the mesh is written (valid,
+conforming) but some of its elements miss a bound asked for (-q, -a, -m,
+/D), with a message saying how many miss which bound and why;
+--warn-unmet makes that a warning and the exit code 0.
 ";
 
 pub const TRI: &str = "\
@@ -71,10 +75,13 @@ SWITCHES (Triangle letters, may be grouped: -zenC):
          Writes FILE.1.node, .ele and .poly.
     -q[angle]  With -p: quality mesh, no angle below `angle` degrees (default
          20; up to about 34 terminates in practice; 60 or more is refused:
-         no mesh meets it), except next to smaller input angles (a warning
-         on stderr, exit code 0; -V lists them).
+         no mesh meets it). Triangles left below it (next to smaller input
+         angles, as in Triangle; at segments -Y keeps; floating point)
+         give exit code 3 and a message counting them by cause
+         (--warn-unmet: a warning, exit code 0; -V lists them).
     -a[area]  With -p: no triangle larger than `area`; without a number, the
-         regional area bounds of the .poly.
+         regional area bounds of the .poly. Triangles left above it give
+         exit code 3 (see -q).
     -S<n>  At most n Steiner points in the refinement. Without -S the budget
          is 2,000,000 + 16 per input point + 2 per triangle -a asks for (at
          most 16.7 M; -V shows it with a memory estimate). When the budget
@@ -132,6 +139,10 @@ OPTIONS:
                                   10-degree bins, aspect ratio = longest
                                   edge / shortest altitude, Steiner points
                                   by kind) as JSON; -V prints them.
+    --warn-unmet                  With -q or -a: triangles of the mesh
+                                  left outside the bounds are a warning
+                                  on stderr and the exit code is 0 (else
+                                  3). A budget stop (-S) still exits 1.
     --output-dir DIR              Write every output file into DIR.
     --quiet, --verbose, --check   Same as -Q, -V, -C.
     --help, --version
@@ -219,10 +230,20 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          below D or above 180-D first and, on a small mesh, twice; -V and
          --stats-json count those left and say what input feature (sharp
          edge, needle or cap triangle) holds each.
+         Missed bounds give exit code 3 (--warn-unmet: a warning, exit code
+         0) with a message by bound and cause: B counts for the tetrahedra
+         the refinement left above it (at sharp input features, small input
+         angles) — and with --keep-ratio or -O0 for every tetrahedron of
+         the final mesh; the tetrahedra the default optimisation raised
+         above B are reported in one line (`N raised above the -q ratio by
+         the optimisation`) and do not change the exit code. D counts only
+         when given (-q1.414/20): every tetrahedron of the final mesh with
+         an angle below D or above 180-D.
     -a[V] With -p: no tetrahedron larger than volume V; with or without a
          number, also the regional volume bounds of the .poly/.smesh (they
          apply only with -a, as in TetGen). Met on every tetrahedron (near
-         sharp input too; only an exhausted -S budget leaves some). The
+         sharp input too; only an exhausted -S budget leaves some; any
+         other left gives exit code 3). The
          line `bounds (final mesh)` counts, on the mesh written, the
          tetrahedra above the -q ratio and above the volume bounds.
     -S<n> At most n Steiner points in the refinement (TetGen's -S). Without
@@ -238,7 +259,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          FILE.mtr (one size per input point; sizes <= 0: no constraint),
          interpolated linearly. No tetrahedron keeps a circumradius above
          0.61 h (the regular tetrahedron of edge h), no boundary triangle
-         one above 0.58 h.
+         one above 0.58 h; those left (at sharp input features) give exit
+         code 3 (see -q).
     -r   Refine an existing mesh FILE.node + FILE.ele (+ FILE.face markers)
          with -q/-a/-m: its boundary faces, faces between tetrahedra of
          different attributes and listed faces are kept as constraints;
@@ -254,7 +276,10 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          -q radius-edge bound for dihedral angles (slivers have good
          radius-edge ratios; -V reports the largest ratio left): give
          --keep-ratio to keep that bound too (at a cost in dihedral angles),
-         or -O0 for the refinement's mesh as it is.
+         or -O0 for the refinement's mesh as it is. Without either, the
+         tetrahedra the optimisation raises above the -q ratio are reported
+         (one line) but are not a missed bound: the exit code stays 0 for
+         them (see -q); with either, every tetrahedron above it counts.
     -d   Only detect self-intersections (exactly): intersecting facet pairs
          and degenerate (zero-area, repeated-point) facets, and for a
          surface (OFF, STL, PLY, OBJ, Medit) its open or non-manifold
@@ -292,6 +317,10 @@ OPTIONS:
                                   height 3/4 of it).
     --keep-ratio                  With -q: the optimisation (-O) keeps the
                                   radius-edge bound (see -O).
+    --warn-unmet                  With -q, -a or -m: tetrahedra of the mesh
+                                  missing a bound (see -q) are a warning on
+                                  stderr and the exit code is 0 (else 3).
+                                  A budget stop (-S) still exits 1.
     --stats-json FILE.json        Mesh quality statistics (dihedral-angle and
                                   radius-edge histograms, volumes, edges),
                                   Steiner points by kind, the refinement's

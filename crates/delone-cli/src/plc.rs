@@ -292,10 +292,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         "every input facet is a union of mesh faces",
         &mut lines,
     )?;
-    let (bound_code, bound_msg) = refined
-        .as_ref()
-        .map_or((0, None), |r| crate::tetq::bound_status(o, &rec, &r.0));
-    code = code.max(bound_code);
+    let (bound_code, bound_msg) = refined.as_ref().map_or((0, None), |r| {
+        crate::tetq::bound_status(o, &rec, &r.0, optimized.as_ref())
+    });
+    code = crate::pslg::combine(code, bound_code);
     let t2 = Instant::now();
     let first = if o.zero { 0 } else { first_in };
     let mut written = Vec::new();

@@ -167,13 +167,15 @@ pub fn refine_err(what: &str, e: delone::Error) -> Failure {
 }
 
 /// What the run says about the bounds after refinement (see the README's
-/// rule "every bound is met or reported"): `(exit code, message for
-/// stderr)`. The Steiner budget stopping the refinement before the bounds
-/// were met is a failure (exit code 1) whose message names the budget, its
-/// memory estimate, the triangles left and `-S`; triangles left for other
-/// reasons (input angles smaller than the bound, `-Y`, floating point) are
-/// a warning (exit code 0), as with Triangle, since they are a limit of
-/// the input or of the options rather than of the run.
+/// rule "every bound is met, or the run says so"): `(exit code, message
+/// for stderr)`. The Steiner budget stopping the refinement before the
+/// bounds were met is a failure (exit code 1) whose message names the
+/// budget, its memory estimate, the triangles left and `-S`. Triangles of
+/// the final mesh left outside the bounds for other reasons (input angles
+/// smaller than the bound, `-Y`, floating point, `-D`) give exit code 3
+/// and a message counting them by bound and by cause; `--warn-unmet` makes
+/// that a warning (exit code 0). With `-Q` only the budget's message is
+/// printed (exit code 3 stays).
 pub fn bound_status(o: &Opts, r: &RefineReport) -> (i32, Option<String>) {
     if r.met {
         return (0, None);
@@ -189,11 +191,11 @@ pub fn bound_status(o: &Opts, r: &RefineReport) -> (i32, Option<String>) {
         r.unfixable.iter().filter(|u| reason(&u.reason)).count()
     };
     let small = count(|x| matches!(x, UnfixableReason::SmallInputAngle { .. }));
-    let miss = format!(
-        "{} triangles miss the bounds ({below} below the -q angle, {above} above the area bound)",
-        r.unfixable.len()
-    );
     if r.limit_reached {
+        let miss = format!(
+            "{} triangles miss the bounds ({below} below the -q angle, {above} above the area bound)",
+            r.unfixable.len()
+        );
         let used = r.segment_splits + r.circumcenters;
         let mb = delone::tri::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
         return (
@@ -208,23 +210,72 @@ pub fn bound_status(o: &Opts, r: &RefineReport) -> (i32, Option<String>) {
     if r.unfixable.is_empty() {
         return (0, None);
     }
-    let other = r.unfixable.len() - small;
-    let warning = format!(
-        "warning: {miss}: {small} at input angles smaller than the bound (forced by the input){}; -V lists them",
-        if other > 0 {
-            format!(
-                ", {other} because {}",
-                if o.no_segment_splits > 0 {
-                    "-Y forbids splitting the segment in the way"
-                } else {
-                    "floating point could not place a point for them"
-                }
-            )
-        } else {
-            String::new()
-        }
+    let causes = [
+        (
+            small,
+            "at input angles smaller than the bound (forced by the input)",
+        ),
+        (
+            count(|x| matches!(x, UnfixableReason::NoSegmentSplits)),
+            "because -Y forbids splitting the segment in the way",
+        ),
+        (
+            count(|x| matches!(x, UnfixableReason::Precision)),
+            "because floating point could not place a point for them",
+        ),
+        (
+            count(|x| matches!(x, UnfixableReason::ConformingDelaunay)),
+            "because the refinement stopped to finish -D",
+        ),
+        (
+            count(|x| matches!(x, UnfixableReason::SteinerLimit)),
+            "at the Steiner budget",
+        ),
+    ];
+    let why: Vec<String> = causes
+        .iter()
+        .filter(|c| c.0 > 0)
+        .map(|(n, w)| format!("{n} {w}"))
+        .collect();
+    let mut bounds = Vec::new();
+    if below > 0 {
+        bounds.push(format!("{below} below the -q angle {q}"));
+    }
+    if above > 0 {
+        bounds.push(format!("{above} above their area bound (-a)"));
+    }
+    let what = format!(
+        "{} triangles of the mesh miss the bounds ({}): {}; the mesh is written; -V lists them",
+        r.unfixable.len(),
+        bounds.join(", "),
+        why.join(", ")
     );
-    (0, Some(warning))
+    unmet(o, what)
+}
+
+/// The bounds missed for reasons of the input or the options (not the
+/// budget): exit code 3 and `bounds NOT met: …`, or with `--warn-unmet` a
+/// warning and exit code 0; no message with `-Q`.
+pub fn unmet(o: &Opts, what: String) -> (i32, Option<String>) {
+    let (code, msg) = if o.warn_unmet {
+        (0, format!("warning: {what}"))
+    } else {
+        (
+            3,
+            format!("bounds NOT met: {what}; exit code 3 (--warn-unmet makes this a warning, exit code 0)"),
+        )
+    };
+    (code, (!o.quiet).then_some(msg))
+}
+
+/// Combines two exit codes: a failure (1, 2) wins over a missed bound (3),
+/// which wins over success (0).
+pub fn combine(a: i32, b: i32) -> i32 {
+    match (a, b) {
+        (0, x) | (x, 0) => x,
+        (3, x) | (x, 3) => x,
+        (x, y) => x.max(y),
+    }
 }
 
 /// Runs `delone tri -p`. Returns the exit code (1 when `-C` finds a violation).
@@ -370,7 +421,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     }
     code = code.max(check_conforming(o, &cdt.points, &cdt.triangles, &mut lines));
     let (bound_code, bound_msg) = rep.as_ref().map_or((0, None), |r| bound_status(o, r));
-    code = code.max(bound_code);
+    code = combine(code, bound_code);
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -512,9 +563,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     if let Some(m) = bound_msg {
-        if bound_code != 0 || !o.quiet {
-            eprintln!("delone: {m}");
-        }
+        eprintln!("delone: {m}");
     }
     Ok(code)
 }

@@ -159,7 +159,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         &mut lines,
     ));
     let (bound_code, bound_msg) = crate::pslg::bound_status(o, &r.report);
-    code = code.max(bound_code);
+    code = crate::pslg::combine(code, bound_code);
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
@@ -256,9 +256,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     if let Some(m) = bound_msg {
-        if bound_code != 0 || !o.quiet {
-            eprintln!("delone: {m}");
-        }
+        eprintln!("delone: {m}");
     }
     Ok(code)
 }

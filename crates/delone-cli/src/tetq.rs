@@ -57,36 +57,161 @@ pub fn check_bounds(o: &Opts) -> Result<(), crate::run::Failure> {
     })
 }
 
-/// What the run says about the bounds after refinement: `(exit code,
-/// message for stderr)`. The Steiner budget stopping the refinement is a
-/// failure (exit code 1) naming the budget, its memory estimate, the
-/// tetrahedra left above the bound and `-S`; tetrahedra left for reasons of
-/// the input (small input angles, sharp wedges, needles: the `-V` line
-/// "left above the bound") are reported in the summary, exit code 0, as
-/// with TetGen.
-pub fn bound_status(o: &Opts, rec: &Recovered, r: &RefineReport) -> (i32, Option<String>) {
-    if !r.budget_exhausted {
+/// What the run says about the bounds after refinement and optimisation:
+/// `(exit code, message for stderr)`. The Steiner budget stopping the
+/// refinement is a failure (exit code 1) naming the budget, its memory
+/// estimate, the tetrahedra left above the bound and `-S`. Otherwise the
+/// bounds of the final mesh are counted ([`Missed`]); any missed gives
+/// exit code 3 and a message by bound and cause (`--warn-unmet`: a warning,
+/// exit code 0; `-Q`: no message).
+pub fn bound_status(
+    o: &Opts,
+    rec: &Recovered,
+    r: &RefineReport,
+    optimized: Option<&OptimizeReport>,
+) -> (i32, Option<String>) {
+    let m = Missed::of(o, rec, r, optimized);
+    if r.budget_exhausted {
+        let mb = delone::tet::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
+        return (
+            1,
+            Some(format!(
+                "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {} points; {} tetrahedra above the -q bound, {} above the -a volume, {} above the size bound (-m); the mesh reached is written (optimised). Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (radius-edge ratios of about 1.1 and more terminate)",
+                r.steiner_budget,
+                r.steiner(),
+                r.remaining_bad,
+                m.volume,
+                r.remaining_too_big,
+                r.steiner_budget.saturating_mul(4)
+            )),
+        );
+    }
+    let mut parts = Vec::new();
+    if m.ratio > 0 {
+        let why = crate::tetq_left::causes(r);
+        parts.push(format!(
+            "{} above the -q radius-edge ratio {} ({})",
+            m.ratio,
+            o.tet_ratio.unwrap_or(f64::INFINITY),
+            if m.ratio_final {
+                why
+            } else {
+                format!("left by the refinement: {why}")
+            }
+        ));
+    }
+    if m.volume > 0 {
+        parts.push(format!(
+            "{} above their volume bound (-a; floating point)",
+            m.volume
+        ));
+    }
+    if r.remaining_too_big > 0 {
+        parts.push(format!(
+            "{} above the size bound (-m; sharp input features)",
+            r.remaining_too_big
+        ));
+    }
+    if let Some((n, why)) = &m.dihedral {
+        if *n > 0 {
+            parts.push(format!(
+                "{n} with a dihedral angle below {} deg or above {} deg ({why})",
+                o.tet_min_dihedral.unwrap_or(0.0),
+                180.0 - o.tet_min_dihedral.unwrap_or(0.0)
+            ));
+        }
+    }
+    if parts.is_empty() {
         return (0, None);
     }
-    let too_big = o.max_area.map_or(0, |v| {
-        rec.mesh
-            .tets
-            .iter()
-            .filter(|t| delone::tet::quality::volume(&t.map(|q| rec.points[q as usize])) > v)
-            .count()
-    });
-    let mb = delone::tet::refine::memory_estimate(r.steiner_budget) as f64 / 1e6;
-    (
-        1,
-        Some(format!(
-            "bounds NOT met: refinement stopped at the Steiner budget of {} points (about {mb:.0} MB) after {} points; {} tetrahedra above the -q bound, {too_big} above the -a volume, {} above the size bound (-m); the mesh reached is written (optimised). Raise the budget with -S<n> (e.g. -S{}), or ask for a bound refinement can reach (radius-edge ratios of about 1.1 and more terminate)",
-            r.steiner_budget,
-            r.steiner(),
-            r.remaining_bad,
-            r.remaining_too_big,
-            r.steiner_budget.saturating_mul(4)
-        )),
-    )
+    let mut what = format!(
+        "tetrahedra of the mesh miss the bounds: {}; the mesh is written",
+        parts.join("; ")
+    );
+    if m.raised > 0 {
+        what.push_str(&format!("; {}", raised_line(m.raised)));
+    }
+    crate::pslg::unmet(o, what)
+}
+
+/// The tetrahedra the optimisation raised above the `-q` ratio (not a
+/// missed bound: the default optimisation trades it for dihedral angles).
+pub fn raised_line(n: usize) -> String {
+    format!("{n} raised above the -q ratio by the optimisation, which trades it for dihedral angles; --keep-ratio keeps it")
+}
+
+/// The bounds of the final mesh, counted: how many tetrahedra miss each.
+pub struct Missed {
+    /// Tetrahedra counted as missing the `-q` ratio: all those above it
+    /// with `--keep-ratio` or `-O0` (`ratio_final`), else at most those the
+    /// refinement left above it.
+    pub ratio: usize,
+    /// Whether `ratio` counts the final mesh's ratio (`--keep-ratio`, `-O0`).
+    pub ratio_final: bool,
+    /// Tetrahedra above the ratio that the optimisation raised there.
+    pub raised: usize,
+    /// Tetrahedra above their volume bound (`-a`, global or regional).
+    pub volume: usize,
+    /// With an explicit `/D`: the tetrahedra with a dihedral angle below it
+    /// or above 180 minus it, and why.
+    pub dihedral: Option<(usize, String)>,
+}
+
+impl Missed {
+    /// Counts the bounds on the final mesh `rec`.
+    pub fn of(
+        o: &Opts,
+        rec: &Recovered,
+        r: &RefineReport,
+        optimized: Option<&OptimizeReport>,
+    ) -> Missed {
+        use delone::tet::quality::dihedral_angles;
+        let (above_ratio, volume, _) = final_counts(o, rec);
+        let ratio_final = o.keep_ratio || optimized.is_none();
+        let ratio = if ratio_final {
+            above_ratio
+        } else {
+            above_ratio.min(r.remaining_bad)
+        };
+        let dihedral = o.tet_min_dihedral.map(|d| match optimized {
+            Some(x) if (x.bad.angle - d).abs() < 1e-12 => {
+                let b = &x.bad;
+                let mut why = Vec::new();
+                if b.sharp_edge > 0 {
+                    why.push(format!(
+                        "{} at sharp input edges whose own angle is below it",
+                        b.sharp_edge
+                    ));
+                }
+                if b.at_feature > 0 {
+                    why.push(format!("{} at needle or cap input triangles", b.at_feature));
+                }
+                if b.free > 0 {
+                    why.push(format!("{} not forced by the input", b.free));
+                }
+                (b.count, why.join(", "))
+            }
+            _ => {
+                let n = rec
+                    .mesh
+                    .tets
+                    .iter()
+                    .filter(|t| {
+                        let a = dihedral_angles(&t.map(|q| rec.points[q as usize]));
+                        a.iter().any(|&x| x < d || x > 180.0 - d)
+                    })
+                    .count();
+                (n, "no optimisation ran (-O0)".to_string())
+            }
+        });
+        Missed {
+            ratio,
+            ratio_final,
+            raised: above_ratio - ratio,
+            volume,
+            dihedral,
+        }
+    }
 }
 
 /// Mesh optimisation (`-O`): on by default after refinement, on request
@@ -222,6 +347,12 @@ pub fn report(
             lines.push(crate::tetq_left::left_line(r));
         }
         lines.push(bounds_line(o, rec));
+        if o.verbose > 0 && o.tet_ratio.is_some() {
+            let m = Missed::of(o, rec, r, optimized);
+            if m.raised > 0 {
+                lines.push(raised_line(m.raised));
+            }
+        }
     }
     let want_stats = o.verbose > 0 || o.stats_json.is_some();
     if !want_stats {
@@ -257,11 +388,10 @@ pub fn report(
     Ok(lines)
 }
 
-/// `bounds: …` — the bounds asked for, counted on the final mesh (after
-/// the optimisation): tetrahedra above the radius-edge bound (`-q`) and
+/// On the final mesh: the tetrahedra above the radius-edge bound (`-q`),
 /// above their volume bound (`-a`, global or regional), and the largest
 /// volume.
-pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
+fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
     use delone::tet::quality::{radius_edge_ratio, volume};
     let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
     let (mut above_ratio, mut above_volume, mut largest) = (0usize, 0usize, 0.0f64);
@@ -285,6 +415,16 @@ pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
             above_volume += 1;
         }
     }
+    (above_ratio, above_volume, largest)
+}
+
+/// `bounds (final mesh): …` — the bounds asked for, counted on the final
+/// mesh (after the optimisation): tetrahedra above the radius-edge bound
+/// (`-q`) and above their volume bound (`-a`, global or regional), and the
+/// largest volume.
+pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
+    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let (above_ratio, above_volume, largest) = final_counts(o, rec);
     let mut l = String::from("bounds (final mesh):");
     if ratio.is_finite() {
         l.push_str(&format!(

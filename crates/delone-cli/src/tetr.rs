@@ -185,7 +185,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if let Some(x) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, x));
     }
-    let (bound_code, bound_msg) = crate::tetq::bound_status(o, &rec, &report);
+    let (bound_code, bound_msg) = crate::tetq::bound_status(o, &rec, &report, optimized.as_ref());
     let code = crate::tetq::check_and_prepare(
         o,
         || check_recovered(&points, &r.triangles, &rec),
@@ -241,5 +241,5 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     if let Some(m) = bound_msg {
         eprintln!("delone: {m}");
     }
-    Ok(code.max(bound_code))
+    Ok(crate::pslg::combine(code, bound_code))
 }

@@ -53,7 +53,7 @@ fn mtr_sizes_refine_and_r_refines_the_output() {
     let n = count(&d.join("cube.1.node"));
     let mtr: String = format!("{n} 1\n") + &"0.3\n".repeat(n);
     std::fs::write(d.join("cube.1.mtr"), mtr).unwrap();
-    let (ok, out) = run(&d, &["tet", "-rq1.414mC", "cube.1"]);
+    let (ok, out) = run(&d, &["tet", "-rq1.414mC", "--warn-unmet", "cube.1"]);
     assert!(ok && out.contains("check (-C): every"), "{out}");
     assert!(count(&d.join("cube.2.ele")) > sized, "{out}");
     assert!(d.join("cube.2.face").is_file());

@@ -205,7 +205,7 @@ fn second_order_nodes_and_vtu() {
 #[test]
 fn steiner_points_get_interpolated_attributes_and_segment_markers() {
     let d = tmp("q");
-    run(&d, &["-pq30a0.05Q", "kite.poly"]);
+    run(&d, &["-pq30a0.05Q", "--warn-unmet", "kite.poly"]);
     let node = rows(&d, "kite.1.node");
     let n = node[0][0] as usize;
     assert!(n > 20, "the area bound needs Steiner points");
@@ -229,6 +229,7 @@ fn stats_json_and_png() {
         &d,
         &[
             "-pqV",
+            "--warn-unmet",
             "--stats-json",
             "s.json",
             "--png",

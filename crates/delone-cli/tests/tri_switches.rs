@@ -160,7 +160,15 @@ fn no_boundary_splits_y_yy() {
     let d = tmp("Y");
     std::fs::write(d.join("sq.poly"), SQUARE).unwrap();
     for sw in ["-pq30a0.5Y", "-pq30a0.5YY"] {
-        let out = ok(&d, &[sw, "sq.poly"]);
+        // -Y leaves the triangles at the boundary above the area bound:
+        // exit code 3, the message names -Y as the cause.
+        let o = run(&d, &[sw, "sq.poly"]);
+        let (out, err) = (
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        );
+        assert_eq!(o.status.code(), Some(3), "{sw}: {out}{err}");
+        assert!(err.contains("-Y forbids splitting"), "{sw}: {err}");
         assert!(out.contains("0 on segments"), "{sw}: {out}");
         let poly = rows(&d, "sq.1.poly");
         assert_eq!(poly[1][0], 4.0, "{sw}: the boundary keeps its 4 segments");
