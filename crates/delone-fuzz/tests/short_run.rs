@@ -183,4 +183,16 @@ const REGRESSIONS: &[(&str, &[u8])] = &[
         "cdt_poly",
         include_bytes!("../../../fuzz/regressions/cdt_poly-crossing-1e23"),
     ),
+    // A point 4e43 on the x-axis among points near 1: `check_cdt` judged a
+    // vertex on a segment 4e43 long outside it by a rounded dot product.
+    (
+        "cdt_poly",
+        include_bytes!("../../../fuzz/regressions/cdt_poly-collinear-4e43"),
+    ),
+    // A surface with one point 4e9 away: `check_recovered` compared needle
+    // triangles' areas with a relative tolerance below their rounding.
+    (
+        "recover_plc",
+        include_bytes!("../../../fuzz/regressions/recover_plc-needle-4e9"),
+    ),
 ];

@@ -1257,10 +1257,16 @@ fn near_segment(a: &[f64; 2], b: &[f64; 2], x: &[f64; 2]) -> bool {
     let cr = dd_cross(u, v);
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
     let tol = STEINER_ULPS * ulp_of(m) * len * (1.0 + 1e-12);
-    let dot = dd_add(dd_mul(u[0], v[0]), dd_mul(u[1], v[1]));
-    let len2 = dd_add(dd_mul(u[0], u[0]), dd_mul(u[1], u[1]));
-    let rest = dd_add(len2, (-dot.0, -dot.1));
-    (cr.0 + cr.1).abs() <= tol && dot.0 > 0.0 && rest.0 > 0.0
+    (cr.0 + cr.1).abs() <= tol && strictly_between(a, b, x)
+}
+
+/// For a point `x` on (or within ulps of) the line `a-b`: whether it lies
+/// strictly between the ends along the segment's dominant axis. Only
+/// comparisons, so exact at any coordinate spread (a dot product against a
+/// segment 1e43 long cannot tell a point near one end from the end).
+fn strictly_between(a: &[f64; 2], b: &[f64; 2], x: &[f64; 2]) -> bool {
+    let k = usize::from((b[1] - a[1]).abs() > (b[0] - a[0]).abs());
+    (a[k] < x[k] && x[k] < b[k]) || (b[k] < x[k] && x[k] < a[k])
 }
 
 /// Result of inserting a crossing point.
@@ -1498,15 +1504,9 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         let (p, q) = edge(&w.tv[t], i);
         let other = w.con[t][i];
         let (pa, pb, pp, pq) = (*w.p(a), *w.p(b), *w.p(p), *w.p(q));
-        // Strictly inside a piece, for a point on (or within ulps of) its
-        // line: strictly between its ends along the piece's dominant axis.
-        // Comparisons are exact, so this holds at any coordinate spread (a
-        // dot product against a piece 1e23 long rounds the point onto its end).
-        let between = |x: &[f64; 2], u: &[f64; 2], v: &[f64; 2]| {
-            let k = usize::from((v[1] - u[1]).abs() > (v[0] - u[0]).abs());
-            (u[k] < x[k] && x[k] < v[k]) || (v[k] < x[k] && x[k] < u[k])
-        };
-        let inside = |x: &[f64; 2]| between(x, &pa, &pb) && between(x, &pp, &pq);
+        // Strictly inside both pieces, by exact comparisons (a dot product
+        // against a piece 1e23 long rounds the point onto its end).
+        let inside = |x: &[f64; 2]| strictly_between(&pa, &pb, x) && strictly_between(&pp, &pq, x);
         let (sa, sb) = self.seg_ends[s as usize];
         let (oa, ob) = self.seg_ends[other as usize];
         let from_input = line_crossing(w.p(sa), w.p(sb), w.p(oa), w.p(ob));
