@@ -195,4 +195,10 @@ const REGRESSIONS: &[(&str, &[u8])] = &[
         "recover_plc",
         include_bytes!("../../../fuzz/regressions/recover_plc-needle-4e9"),
     ),
+    // Coordinates 1e23 and 1.8e19 among ones near 0.1: the self-intersection
+    // grid took 2^24 cells (100 MB) for 24 triangles.
+    (
+        "recover_plc",
+        include_bytes!("../../../fuzz/regressions/recover_plc-grid-1e23"),
+    ),
 ];

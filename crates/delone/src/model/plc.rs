@@ -268,6 +268,10 @@ impl Plc {
         {
             return Err(Error::InvalidCoordinate { index });
         }
+        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_3D)?;
+        // The exact tests below run on a copy scaled by a power of two
+        // (exact), so that no product over- or underflows at any scale.
+        let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
         if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
             return Err(Error::InvalidSeedPoint {
@@ -306,13 +310,15 @@ impl Plc {
                     index,
                 });
             }
-            self.check_facet(index, f)?;
+            self.check_facet(&sp, index, f)?;
         }
         Ok(())
     }
 
-    fn check_facet(&self, index: usize, f: &Facet) -> Result<(), Error> {
-        let n = self.points.len();
+    /// Checks facet `index`; `points` are [`Plc::points`] scaled by a power
+    /// of two.
+    fn check_facet(&self, points: &[[f64; 3]], index: usize, f: &Facet) -> Result<(), Error> {
+        let n = points.len();
         // Fast path for the common case, a single valid triangle: corners
         // in range, pairwise distinct points, not collinear (then it is
         // planar). Anything else takes the general checks below, which
@@ -320,7 +326,7 @@ impl Plc {
         if let [p] = &f.polygons[..] {
             if let [a, b, c] = p[..] {
                 if [a, b, c].iter().all(|&v| (v as usize) < n) {
-                    let [pa, pb, pc] = [a, b, c].map(|v| &self.points[v as usize]);
+                    let [pa, pb, pc] = [a, b, c].map(|v| &points[v as usize]);
                     let [ka, kb, kc] = [pa, pb, pc].map(key);
                     if ka != kb && kb != kc && ka != kc && !collinear(pa, pb, pc) {
                         return Ok(());
@@ -359,7 +365,7 @@ impl Plc {
             }
             // Repeated corners, by index or by (exact) coordinates.
             sorted.clear();
-            sorted.extend(p.iter().map(|&v| (v, key(&self.points[v as usize]))));
+            sorted.extend(p.iter().map(|&v| (v, key(&points[v as usize]))));
             sorted.sort_unstable_by_key(|&(v, k)| (k, v));
             if let Some(w) = sorted.windows(2).find(|w| w[0].1 == w[1].1) {
                 return bad(FacetDefect::RepeatedVertex { vertex: w[1].0 });
@@ -367,7 +373,7 @@ impl Plc {
         }
         // Exact planarity: find three non-collinear corners, test the rest.
         let corners: Vec<u32> = f.polygons.iter().flatten().copied().collect();
-        let pt = |v: u32| &self.points[v as usize];
+        let pt = |v: u32| &points[v as usize];
         let a = corners[0];
         let Some(&b) = corners.iter().find(|&&v| pt(v) != pt(a)) else {
             return bad(FacetDefect::ZeroArea);

@@ -145,14 +145,34 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     if !(h.is_finite() && h > 0.0) {
         h = ext.iter().cloned().fold(0.0, f64::max).max(1.0);
     }
-    let max_cells = 1u64 << 24;
+    // The grid's size follows the number of triangles (a few cells each),
+    // and so does the number of (cell, triangle) entries: boxes spanning
+    // many cells (far-apart points, needles) coarsen the grid instead of
+    // filling memory. A single cell holds every triangle once, so this ends.
+    let max_cells = (8 * live.len() as u64).clamp(64, 1 << 24);
+    let max_entries = 32 * live.len() as u64 + 1024;
     let mut dims = [0usize; 3];
     loop {
         for k in 0..3 {
             dims[k] = ((ext[k] / h).floor() as usize).clamp(1, 1 << 20);
         }
-        if (dims[0] as u64) * (dims[1] as u64) * (dims[2] as u64) <= max_cells {
+        let ncell = (dims[0] as u64) * (dims[1] as u64) * (dims[2] as u64);
+        if ncell == 1 {
             break;
+        }
+        if ncell <= max_cells {
+            let span = |lo: f64, hi: f64, k: usize| {
+                let c =
+                    |x: f64| (((x - glo[k]) / h).floor().max(0.0) as u64).min(dims[k] as u64 - 1);
+                c(hi) - c(lo) + 1
+            };
+            let entries: u64 = bb
+                .iter()
+                .map(|(lo, hi)| (0..3).map(|k| span(lo[k], hi[k], k)).product::<u64>())
+                .fold(0u64, u64::saturating_add);
+            if entries <= max_entries {
+                break;
+            }
         }
         h *= 1.5;
     }
