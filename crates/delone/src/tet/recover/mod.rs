@@ -1128,6 +1128,10 @@ impl State {
         // The flips and edge removals of the previous round, re-applied
         // first where they still apply (see below).
         let mut prev_log: Option<OpLog> = None;
+        // On a non-manifold surface (an edge in more than two triangles:
+        // touching solids, internal walls) the incremental update of the
+        // protected items can miss some; they are recomputed every round.
+        let nonmanifold = (0..self.surf.edges.len()).any(|e| self.surf.edge_tris[e].len() > 2);
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
@@ -1152,8 +1156,8 @@ impl State {
                 }
             };
             let prot = match kept_prot.take() {
-                Some(p) => p,
-                None => self.protected(&on),
+                Some(p) if !nonmanifold => p,
+                _ => self.protected(&on),
             };
             #[cfg(debug_assertions)]
             {
