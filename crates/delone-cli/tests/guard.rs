@@ -27,16 +27,10 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// The shared 2D corpus file `name` copied into `dir` (None: data missing).
+/// The shared 2D corpus file `name` copied into `dir` (None: the corpus is
+/// opted out with `DELONE_NO_CORPUS=1`; missing, it fails the test).
 fn corpus_2d(dir: &Path, name: &str) -> Option<()> {
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/2d").join(name))
-        .find(|p| p.is_file());
-    let Some(src) = src else {
-        eprintln!("shared data missing: skipped");
-        return None;
-    };
+    let src = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), &format!("2d/{name}"))?;
     std::fs::copy(src, dir.join(name)).unwrap();
     Some(())
 }

@@ -33,12 +33,10 @@ fn text(o: &Output) -> String {
     )
 }
 
+/// `shared/data/surf/off/<name>` (the corpus is required here).
 fn surf(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data/surf/off").join(name))
-        .find(|p| p.is_file())
-        .unwrap_or_else(|| panic!("../shared/data/surf/off/{name} (test corpus) not found"))
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), &format!("surf/off/{name}"))
+        .unwrap_or_else(|| panic!("surf/off/{name}: these tests need the shared corpus"))
 }
 
 /// An OFF file with every vertex coordinate multiplied by `f`.

@@ -214,15 +214,10 @@ fn volume_bound_is_met_on_every_tetrahedron_and_reported_truly() {
     }
 }
 
+/// `shared/data/<sub>` (None: the corpus is opted out with
+/// `DELONE_NO_CORPUS=1`; missing, it fails the test).
 fn corpus(sub: &str) -> Option<PathBuf> {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/data").join(sub))
-        .find(|d| d.is_dir());
-    if d.is_none() {
-        eprintln!("note: shared/data/{sub} not found; corpus test skipped");
-    }
-    d
+    delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), sub)
 }
 
 #[test]
