@@ -3,29 +3,10 @@
 //! stop at the Steiner budget (exit code 1, a message naming `-S`, the mesh
 //! reached written), and `-S` raises the budget.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-const BIN: &str = env!("CARGO_BIN_EXE_delone");
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("delone-guard-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run delone")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{run, stderr, tmp};
 
 /// The shared 2D corpus file `name` copied into `dir` (None: the corpus is
 /// opted out with `DELONE_NO_CORPUS=1`; missing, it fails the test).

@@ -3,24 +3,9 @@
 //! markers, `-e`, `-f`, `-n`, Medit (`-g`) and Gmsh (`--gmsh`); `-c`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_delone");
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("delone-tetdom-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::{run, tmp};
 
 /// The rows of a TetGen output file (header skipped), as numbers.
 fn table(path: &Path) -> Vec<Vec<f64>> {
