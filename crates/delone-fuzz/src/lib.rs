@@ -512,18 +512,20 @@ pub fn seeds(target: &Target, corpus: Option<&std::path::Path>, max_len: u64) ->
     out
 }
 
-/// A small deterministic pseudo-random generator (SplitMix64).
+/// A small deterministic pseudo-random generator: the library's
+/// [`SplitMix64`](delone::geom::SplitMix64).
 #[derive(Debug, Clone)]
-pub struct Rng(pub u64);
+pub struct Rng(delone::geom::SplitMix64);
 
 impl Rng {
+    /// A generator with the given seed.
+    pub fn new(seed: u64) -> Self {
+        Rng(delone::geom::SplitMix64::new(seed))
+    }
+
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// A number in `0..n` (`n > 0`).
@@ -701,11 +703,11 @@ mod tests {
         let seed = builtin_seeds("off").remove(0);
         let a: Vec<_> = (0..50)
             .map(|_| ())
-            .scan(Rng(7), |r, _| Some(mutate(&seed, r)))
+            .scan(Rng::new(7), |r, _| Some(mutate(&seed, r)))
             .collect();
         let b: Vec<_> = (0..50)
             .map(|_| ())
-            .scan(Rng(7), |r, _| Some(mutate(&seed, r)))
+            .scan(Rng::new(7), |r, _| Some(mutate(&seed, r)))
             .collect();
         assert_eq!(a, b);
         let distinct: std::collections::HashSet<_> = a.iter().collect();

@@ -112,7 +112,7 @@ fn run_target(target: &Target, corpus: Option<&std::path::Path>) -> (usize, Vec<
         check(s, &mut findings);
     }
     // Fixed seed per target: a run repeats, and a finding reproduces.
-    let mut rng = Rng(target.name.bytes().fold(0x5eed, |h: u64, b| {
+    let mut rng = Rng::new(target.name.bytes().fold(0x5eed, |h: u64, b| {
         h.wrapping_mul(31).wrapping_add(u64::from(b))
     }));
     let t0 = Instant::now();
