@@ -275,7 +275,14 @@ fn letter(mode: Mode, c: char, num: &str, o: &mut Opts) -> Result<Option<Command
         }
         (Mode::Tet, 'a') => {
             o.area = true;
-            o.max_area = number(c, num)?.filter(|&x| x > 0.0);
+            if let Some(x) = number(c, num)? {
+                if x <= 0.0 {
+                    return Err(Usage(format!(
+                        "-a{num}: the maximum volume must be positive"
+                    )));
+                }
+                o.max_area = Some(x);
+            }
         }
         (Mode::Tet, 'O') => o.tet_optimize = Some(number(c, num)?.unwrap_or(3.0).max(0.0) as u32),
         (Mode::Tet, 'S') => o.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),

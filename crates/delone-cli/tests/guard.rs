@@ -164,3 +164,14 @@ fn tet_tiny_volume_bound_is_refused_without_s() {
     );
     assert!(!d.join("cube.1.node").exists());
 }
+
+/// A volume bound of zero is refused (it was dropped, meshing without it).
+#[test]
+fn tet_zero_volume_bound_is_refused() {
+    let d = tmp("a0");
+    cube(&d);
+    let o = run(&d, &["tet", "-pa0", "cube.off"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("-a0: the maximum volume must be positive"));
+    assert!(!d.join("cube.1.node").exists());
+}
