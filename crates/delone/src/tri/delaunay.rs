@@ -31,6 +31,18 @@
 //! N. Amenta, S. Choi, G. Rote, *Incremental constructions con BRIO*, SoCG 2003.
 //! E. P. Mücke, I. Saias, B. Zhu, *Fast randomized point location without
 //! preprocessing in two- and three-dimensional Delaunay triangulations*, SoCG 1996.
+//!
+//! # Differences from the 3D kernel
+//!
+//! * No mark column: in 2D the conflict triangles of one insertion form a
+//!   tree, so a stack search that never goes back through its entry edge
+//!   visits each once and meets the cavity boundary already in
+//!   counterclockwise order.
+//! * Ghost triangles keep the infinite vertex in position 2.
+//! * The copy of the coordinates in insertion order costs 16 bytes per
+//!   point. In 3D the same copy measured less than 10% faster for 24 bytes
+//!   per point, which the memory target cannot afford, so the 3D kernel
+//!   borrows the caller's coordinates.
 
 use std::borrow::Cow;
 

@@ -19,6 +19,14 @@
 //!   applications", SIAM J. Comput. 16 (1987).
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
+//!
+//! # Costs
+//!
+//! Centres and edges on a second thread, then the stars: the tail (the last
+//! 12/64 of the triangles, `HEAD_64THS`) on that thread, the rest on the
+//! caller's, the tail's cells appended to the head's
+//! ([`Voronoi2::with_threads`]); the circumcentre's rotation and the walk's
+//! corner lookup are branch-free.
 
 use delone_predicates::orient2d;
 
