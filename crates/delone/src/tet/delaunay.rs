@@ -24,12 +24,6 @@
 //! `4 * tet + facet`, see [`super::local`]), a one-byte mark per slot and a free
 //! list: 33 bytes per tetrahedron.
 //!
-//! # References
-//! A. Bowyer (1981), D. F. Watson (1981); N. Amenta, S. Choi, G. Rote,
-//! *Incremental constructions con BRIO* (2003); O. Devillers, S. Pion,
-//! M. Teillaud, *Walking in a triangulation* (2002); C. Marot, J. Pellerin,
-//! J.-F. Remacle, *One machine, one minute, three billion tetrahedra* (2019).
-//!
 //! # Details
 //!
 //! * Ghost cells keep the infinite vertex in position 3 (new cells are
@@ -54,6 +48,12 @@
 //!   inserted first, so when such a group is part of a cospherical tie the
 //!   tie-break can depend on the order (the output is valid and
 //!   deterministic either way).
+//!
+//! # References
+//! A. Bowyer (1981), D. F. Watson (1981); N. Amenta, S. Choi, G. Rote,
+//! *Incremental constructions con BRIO* (2003); O. Devillers, S. Pion,
+//! M. Teillaud, *Walking in a triangulation* (2002); C. Marot, J. Pellerin,
+//! J.-F. Remacle, *One machine, one minute, three billion tetrahedra* (2019).
 
 use std::borrow::Cow;
 

@@ -23,10 +23,6 @@
 //! intersect iff an edge of one meets the other. Everything is decided by
 //! signs of exact determinants, so the result does not depend on rounding.
 //!
-//! # References
-//! O. Devillers, P. Guigue, *Faster triangle-triangle intersection tests*,
-//! INRIA RR-4488, 2002 (orientation-only classification).
-//!
 //! # Costs
 //!
 //! The broad phase is a uniform grid: each cell's boxes are copied side by
@@ -40,6 +36,10 @@
 //! (exact duplicate points) come from a sort, not a hash map.
 //! [`manifold_report`] files edges under their smaller endpoint (counting
 //! sort, insertion sort per bucket): no global sort, no edge map.
+//!
+//! # References
+//! O. Devillers, P. Guigue, *Faster triangle-triangle intersection tests*,
+//! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
 use crate::model::plc::{collinear, key};

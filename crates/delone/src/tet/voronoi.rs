@@ -9,12 +9,6 @@
 //!   clipped by the bisector planes of the site and its Delaunay neighbours.
 //! * [`lloyd`] — Lloyd's algorithm in a box.
 //!
-//! # References
-//! * F. Aurenhammer, "Voronoi diagrams — a survey of a fundamental geometric
-//!   data structure", ACM Computing Surveys 23 (1991).
-//! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
-//!   applications and algorithms", SIAM Review 41 (1999).
-//!
 //! # Costs
 //!
 //! Circumcentres in mesh order, a Morton counting sort of the tetrahedra,
@@ -32,6 +26,12 @@
 //! Measure with `cargo run --release -p delone --example voronoi_timing --
 //! 1000000 1 --3d --no-clip [--threads N] [--phases] [--hash]` (`--hash`
 //! digests the whole diagram to check a change keeps it bit for bit).
+//!
+//! # References
+//! * F. Aurenhammer, "Voronoi diagrams — a survey of a fundamental geometric
+//!   data structure", ACM Computing Surveys 23 (1991).
+//! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
+//!   applications and algorithms", SIAM Review 41 (1999).
 
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::Mutex;

@@ -12,14 +12,6 @@
 //!   (orthocentres) of the triangles, edges lie on radical axes, hidden
 //!   points have empty cells.
 //!
-//! # References
-//! * G. Voronoi (1908); B. Delaunay (1934) — the duality used here.
-//! * S. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28 (1982).
-//! * F. Aurenhammer, "Power diagrams: properties, algorithms and
-//!   applications", SIAM J. Comput. 16 (1987).
-//! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
-//!   applications and algorithms", SIAM Review 41 (1999).
-//!
 //! # Costs
 //!
 //! Centres and edges on a second thread, then the stars: the tail (the last
@@ -27,6 +19,14 @@
 //! caller's, the tail's cells appended to the head's
 //! ([`Voronoi2::with_threads`]); the circumcentre's rotation and the walk's
 //! corner lookup are branch-free.
+//!
+//! # References
+//! * G. Voronoi (1908); B. Delaunay (1934) — the duality used here.
+//! * S. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28 (1982).
+//! * F. Aurenhammer, "Power diagrams: properties, algorithms and
+//!   applications", SIAM J. Comput. 16 (1987).
+//! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
+//!   applications and algorithms", SIAM Review 41 (1999).
 
 use delone_predicates::orient2d;
 
