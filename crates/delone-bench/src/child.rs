@@ -8,6 +8,8 @@ use crate::cases::{fnv1a, Case, Input, Kind, PlcInput, Points, PolyInput, SurfIn
 use crate::result::{Outcome, RunResult};
 
 /// The programs the bench knows, with the dimension each one handles.
+/// `tetgen…` are TetGen 1.6's executable, `tetgen15…` the modified TetGen
+/// 1.5 bundled in `tritet` (see `refbin`).
 pub const PROGRAMS: &[(&str, usize)] = &[
     ("delone", 2),
     ("triangle", 2),
@@ -20,7 +22,25 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("tetgen-pq", 3),
     ("tetgen-pq-keep", 3),
     ("tetgen-pY", 3),
+    ("tetgen15", 3),
+    ("tetgen15-p", 3),
+    ("tetgen15-pq", 3),
+    ("tetgen15-pq-keep", 3),
+    ("tetgen15-pY", 3),
 ];
+
+/// The secondary programs, run only when named: TetGen 1.5 (`tetgen15…`)
+/// and TetGen without its facet merging (`…-pq-keep`, up to 10x more
+/// tetrahedra on the corpus: slow).
+pub fn only_when_named(program: &str) -> bool {
+    program.starts_with("tetgen15") || program.ends_with("-keep")
+}
+
+/// The reference executables of the file cases (`…-p`, `…-pY`, `…-pq`,
+/// `…-pq-keep`), which do not handle generated point sets.
+fn file_case_program(program: &str) -> bool {
+    program.starts_with("tetgen-") || program.starts_with("tetgen15-") || program == "triangle-p"
+}
 
 /// Whether `program` handles `dim`-dimensional input.
 pub fn supports(program: &str, dim: usize) -> bool {
@@ -28,28 +48,27 @@ pub fn supports(program: &str, dim: usize) -> bool {
 }
 
 /// Whether `program` handles `case`: by dimension for the point sets; only
-/// delone and Triangle for `2d-poly-…`, delone and TetGen for `3d-surf-…`.
+/// delone and Triangle for `2d-poly-…`, delone and TetGen's executables for
+/// `3d-surf…` and `3d-plc…` (and `tetgen15`, TetGen 1.5 through `tritet`'s
+/// library, for `3d-surf-…`).
 pub fn handles(program: &str, case: &Case) -> bool {
     match case.kind {
         Kind::Poly | Kind::Segs | Kind::Holes => {
             matches!(program, "delone" | "triangle" | "triangle-p")
         }
-        Kind::Surf if case.quality.is_some() => {
-            matches!(program, "delone" | "tetgen-pq" | "tetgen-pq-keep")
-        }
-        Kind::Surf if case.name.starts_with("3d-surfY-") => {
-            matches!(program, "delone" | "tetgen-pY")
-        }
-        Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
-        Kind::Plc if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
-        Kind::Plc => matches!(program, "delone" | "tetgen-p"),
-        _ if matches!(
+        Kind::Surf if case.quality.is_some() => matches!(
             program,
-            "tetgen-p" | "tetgen-pq" | "tetgen-pq-keep" | "tetgen-pY" | "triangle-p"
-        ) =>
-        {
-            false
+            "delone" | "tetgen-pq" | "tetgen-pq-keep" | "tetgen15-pq" | "tetgen15-pq-keep"
+        ),
+        Kind::Surf if case.name.starts_with("3d-surfY-") => {
+            matches!(program, "delone" | "tetgen-pY" | "tetgen15-pY")
         }
+        Kind::Surf => matches!(program, "delone" | "tetgen-p" | "tetgen15" | "tetgen15-p"),
+        Kind::Plc if case.quality.is_some() => {
+            matches!(program, "delone" | "tetgen-pq" | "tetgen15-pq")
+        }
+        Kind::Plc => matches!(program, "delone" | "tetgen-p" | "tetgen15-p"),
+        _ if file_case_program(program) => false,
         _ => supports(program, case.dim),
     }
 }
@@ -307,8 +326,9 @@ fn run_poly(
     }
 }
 
-/// `3d-surf-…`: delone's boundary recovery against TetGen's `-p` through
-/// tritet (which always adds `-q`, see the README).
+/// `3d-surf-…`: delone's boundary recovery against TetGen's `-p`
+/// executable (`tetgen-p`, `tetgen15-p`) and `tetgen15`, TetGen 1.5 through
+/// tritet's library (which always adds `-q`, see the README).
 fn run_surf(
     program: &str,
     input: &SurfInput,
@@ -347,7 +367,7 @@ fn run_surf(
                 external_peak_kb: None,
             })
         }
-        "tetgen" => {
+        "tetgen15" => {
             let e = |m: &str| m.to_string();
             let mut g =
                 tritet::Tetgen::new(p.len(), Some(vec![3; tris.len()]), None, None).map_err(e)?;
@@ -378,12 +398,13 @@ fn run_surf(
                 external_peak_kb: None,
             })
         }
-        "tetgen-p" | "tetgen-pY" => {
+        "tetgen-p" | "tetgen-pY" | "tetgen15-p" | "tetgen15-pY" => {
             on_ready();
-            let r = if program == "tetgen-pY" {
-                crate::refbin::run_tetgen_py(p, tris)?
+            let build = crate::refbin::Tetgen::of(program);
+            let r = if program.ends_with("-pY") {
+                crate::refbin::run_tetgen_py(build, p, tris)?
             } else {
-                crate::refbin::run_tetgen_p(p, tris)?
+                crate::refbin::run_tetgen_p(build, p, tris)?
             };
             Ok(Run {
                 seconds: r.seconds,
@@ -471,9 +492,10 @@ fn run_surfq(
                 external_peak_kb: None,
             })
         }
-        "tetgen-pq" | "tetgen-pq-keep" => {
+        "tetgen-pq" | "tetgen-pq-keep" | "tetgen15-pq" | "tetgen15-pq-keep" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_pq(p, tris, q, program == "tetgen-pq-keep")?;
+            let build = crate::refbin::Tetgen::of(program);
+            let r = crate::refbin::run_tetgen_pq(build, p, tris, q, program.ends_with("-keep"))?;
             Ok(Run {
                 seconds: r.run.seconds,
                 elements: r.run.tets,
@@ -589,9 +611,10 @@ fn run_plc(
                 external_peak_kb: None,
             })
         }
-        "tetgen-p" | "tetgen-pq" => {
+        "tetgen-p" | "tetgen-pq" | "tetgen15-p" | "tetgen15-pq" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_plc(&input.bytes, input.ext, input.ratio)?;
+            let build = crate::refbin::Tetgen::of(program);
+            let r = crate::refbin::run_tetgen_plc(build, &input.bytes, input.ext, input.ratio)?;
             Ok(Run {
                 seconds: r.run.seconds,
                 elements: r.run.tets,
@@ -679,6 +702,18 @@ fn run_points(
             })
         }
         ("tetgen", Points::D3(p)) => {
+            on_ready();
+            let r = crate::refbin::run_tetgen_points(crate::refbin::Tetgen::V16, p)?;
+            Ok(Run {
+                seconds: r.seconds,
+                elements: r.tets,
+                hash: None,
+                valid: None,
+                info: String::new(),
+                external_peak_kb: r.peak_kb,
+            })
+        }
+        ("tetgen15", Points::D3(p)) => {
             let mut g = tritet::Tetgen::new(p.len(), None, None, None).map_err(str::to_string)?;
             for (i, q) in p.iter().enumerate() {
                 g.set_point(i, 0, q[0], q[1], q[2])
@@ -936,7 +971,7 @@ mod tests {
     fn tetgen_runs() {
         let _g = serial();
         let c = Case::parse("3d-uniform-1000").unwrap();
-        let r = run_child(&c, "tetgen", 1);
+        let r = run_child(&c, "tetgen15", 1);
         assert_eq!(r.outcome, Outcome::Ok);
         // Uniform random points: about 6.5 tets per point.
         assert!(r.elements > 5000 && r.elements < 8000, "{}", r.elements);
@@ -957,10 +992,17 @@ mod tests {
         assert!(handles("delone", &poly) && handles("triangle", &poly));
         assert!(!handles("spade", &poly) && !handles("delaunator", &poly));
         assert!(!handles("tetgen", &poly));
-        assert!(handles("delone", &surf) && handles("tetgen", &surf));
-        assert!(!handles("triangle", &surf));
+        assert!(handles("delone", &surf) && handles("tetgen-p", &surf));
+        assert!(handles("tetgen15", &surf) && handles("tetgen15-p", &surf));
+        assert!(!handles("triangle", &surf) && !handles("tetgen", &surf));
         let pts = Case::parse("2d-uniform-100").unwrap();
         assert!(handles("spade", &pts) && !handles("tetgen", &pts));
+        let pts3 = Case::parse("3d-uniform-100").unwrap();
+        assert!(handles("tetgen", &pts3) && handles("tetgen15", &pts3));
+        assert!(!handles("tetgen-p", &pts3) && !handles("tetgen15-pq", &pts3));
+        let q = Case::parse("3d-surfq-c3d_spot-q1.414").unwrap();
+        assert!(handles("tetgen-pq", &q) && handles("tetgen15-pq-keep", &q));
+        assert!(!handles("tetgen-p", &q) && !handles("tetgen15", &q));
     }
 
     fn info_value(info: &str, key: &str) -> Option<f64> {
@@ -1011,7 +1053,7 @@ mod tests {
         assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
         assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
         assert!(d.elements >= d.n / 2, "{d:?}");
-        let t = run_child(&c, "tetgen", 1);
+        let t = run_child(&c, "tetgen15", 1);
         assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
         assert!(t.elements > 0);
         // A self-intersecting surface is an error for both, not a crash.
@@ -1021,7 +1063,7 @@ mod tests {
             Outcome::Error(_)
         ));
         assert!(matches!(
-            run_child(&bad, "tetgen", 1).outcome,
+            run_child(&bad, "tetgen15", 1).outcome,
             Outcome::Error(_)
         ));
     }

@@ -25,6 +25,10 @@
 //!    triangles to look at, 1,500 points inserted, out of 368,000).
 //!
 //! The output depends only on the input, the options and `T`.
+//!
+//! No shared mutable state and no locks. One part (`T = 1`), or a predicted
+//! size below [`RefineOptions::parallel_min_triangles`] (50,000 by default),
+//! is the sequential code path, bit for bit.
 
 use delone_predicates::incircle;
 
