@@ -1,0 +1,151 @@
+//! The 2D pipeline in one call, [`mesh`]: the constrained Delaunay
+//! triangulation of a PSLG with its holes and outside carved
+//! ([`constrained_triangulation`]), then quality or conforming refinement
+//! ([`refine`]) when the options ask for it. It is the whole job of
+//! `delone tri -p`, which only reads the input, calls [`mesh`] and writes
+//! the [`TriResult`].
+
+use std::fmt;
+
+use crate::model::pslg::Pslg;
+use crate::tri::constrain::{constrained_triangulation, Cdt, CdtOptions};
+use crate::tri::refine::{refine, RefineOptions, RefineReport};
+use crate::tri::TriOptions;
+use crate::Error;
+
+/// What [`mesh`] made.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{mesh, TriOptions}};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+/// let r = mesh(&g, &TriOptions::from_switches("p").unwrap()).unwrap();
+/// assert_eq!(r.mesh.triangles.len(), 2);
+/// assert!(r.refine.is_none());
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriResult {
+    /// The mesh: points (the input's first, then Steiner points),
+    /// triangles, neighbours, the region and attribute of each triangle,
+    /// the subsegments with their markers, the map of input points to
+    /// vertices, and the triangulation's report (crossings, duplicates).
+    pub mesh: Cdt,
+    /// The mesh before refinement, when [`TriOptions::keep_unrefined`] and
+    /// the mesh was refined.
+    pub unrefined: Option<Cdt>,
+    /// The refinement's report (with `-q`, `-a`, `-S` or `-D`): Steiner
+    /// points, angles reached, triangles left outside the bounds and why.
+    pub refine: Option<RefineReport>,
+}
+
+/// Why [`mesh`] failed, with the stage's own error.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{mesh, TriError, TriOptions}};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 7]]);
+/// let e = mesh(&g, &TriOptions::from_switches("p").unwrap()).unwrap_err();
+/// assert!(matches!(e, TriError::Input(delone::Error::SegmentOutOfRange { segment: 0, point: 7 })));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub enum TriError {
+    /// The PSLG cannot be triangulated (a bad coordinate, a segment end out
+    /// of range, crossing segments the triangulation cannot split, ...);
+    /// the error names the point or segment (0-based).
+    Input(Error),
+    /// Carving removed every triangle (no segments enclose a region, an
+    /// open boundary, or holes that reach everything).
+    Empty,
+    /// The refinement refused its bounds ([`Error::InvalidBound`]) or
+    /// failed.
+    Refine(Error),
+}
+
+impl fmt::Display for TriError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TriError::Input(e) | TriError::Refine(e) => e.fmt(f),
+            TriError::Empty => f.write_str("no triangle left after carving"),
+        }
+    }
+}
+
+impl std::error::Error for TriError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            TriError::Input(e) | TriError::Refine(e) => Some(e),
+            TriError::Empty => None,
+        }
+    }
+}
+
+/// Meshes `pslg` as `delone tri` does with `opts`: the constrained
+/// Delaunay triangulation (with `-p` its segments are kept and the holes
+/// and, unless `-c`, the outside removed; without `-p` the points alone are
+/// triangulated up to their convex hull), then refinement when `-q`, `-a`,
+/// `-S` or `-D` asks for it (off-centres, `-Y` segment rules,
+/// [`TriOptions::threads`]). The result depends only on the input and the
+/// options (see [`crate::tri::refine::RefineOptions::threads`] for the
+/// thread count).
+///
+/// # Errors
+/// A [`TriError`] naming the stage and, through its cause, the offending
+/// input item.
+///
+/// ```
+/// use delone::{model::pslg::Pslg, tri::{mesh, TriOptions}};
+/// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+///                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+/// let r = mesh(&g, &TriOptions::from_switches("pq30a0.01").unwrap()).unwrap();
+/// let rep = r.refine.unwrap();
+/// assert!(rep.met && rep.min_angle >= 30.0);
+/// assert!(r.mesh.triangles.len() >= 100);
+/// ```
+pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
+    let cdt = if opts.pslg {
+        constrained_triangulation(
+            pslg,
+            CdtOptions {
+                convex_hull: opts.convex_hull,
+            },
+        )
+    } else {
+        let points = Pslg::new(pslg.points.clone(), Vec::new());
+        constrained_triangulation(&points, CdtOptions { convex_hull: true })
+    }
+    .map_err(TriError::Input)?;
+    if cdt.triangles.is_empty() && !pslg.points.is_empty() {
+        return Err(TriError::Empty);
+    }
+    let refining = opts.min_angle.is_some()
+        || opts.regional_areas
+        || opts.max_steiner.is_some()
+        || opts.conforming_delaunay;
+    if !refining {
+        return Ok(TriResult {
+            mesh: cdt,
+            unrefined: None,
+            refine: None,
+        });
+    }
+    let defaults = RefineOptions::default();
+    let r = refine(
+        &cdt,
+        &RefineOptions {
+            min_angle: opts.min_angle,
+            max_area: opts.max_area,
+            regional_areas: opts.regional_areas,
+            max_steiner: opts.max_steiner,
+            off_centers: true,
+            segment_splits: opts.segment_splits,
+            conforming_delaunay: opts.conforming_delaunay,
+            threads: opts.threads.unwrap_or(defaults.threads),
+            ..defaults
+        },
+    )
+    .map_err(TriError::Refine)?;
+    Ok(TriResult {
+        mesh: r.mesh,
+        unrefined: opts.keep_unrefined.then_some(cdt),
+        refine: Some(r.report),
+    })
+}
