@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::conforming::check_conforming_delaunay;
-use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone::tri::constrain::check_cdt;
 use delone::tri::quality::SteinerCounts;
-use delone::tri::refine::{refine, RefineOptions, RefineReport, SegmentSplits, UnfixableReason};
+use delone::tri::refine::{RefineReport, SegmentSplits, UnfixableReason};
+use delone::tri::{TriError, TriOptions};
 
 use crate::args::Opts;
-use crate::run::{input_err, Failure};
+use crate::fail::{input_err, Failure};
 
 /// `FILE` or `FILE.poly` → (`FILE.poly`, `FILE`); the output base gets
 /// Triangle's iteration number (`FILE.1`) unless `-I`.
@@ -19,7 +20,7 @@ fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
     let base = s.strip_suffix(".poly").unwrap_or(&s).to_string();
     let poly = PathBuf::from(format!("{base}.poly"));
     let node = PathBuf::from(format!("{base}.node"));
-    let out = crate::run::output_base(&base, o.no_iteration, o.output_dir.as_deref());
+    let out = crate::paths::output_base(&base, o.out.no_iteration, o.output_dir.as_deref());
     (poly, node, out)
 }
 
@@ -58,7 +59,7 @@ pub fn check_conforming(
     triangles: &[[u32; 3]],
     lines: &mut Vec<String>,
 ) -> i32 {
-    if !(o.check && o.conforming_delaunay) {
+    if !(o.out.check && o.conforming_delaunay) {
         return 0;
     }
     match check_conforming_delaunay(points, triangles) {
@@ -265,7 +266,7 @@ pub fn unmet(o: &Opts, what: String) -> (i32, Option<String>) {
             format!("bounds NOT met: {what}; exit code 3 (--warn-unmet makes this a warning, exit code 0)"),
         )
     };
-    (code, (!o.quiet).then_some(msg))
+    (code, (!o.out.quiet).then_some(msg))
 }
 
 /// Combines two exit codes: a failure (1, 2) wins over a missed bound (3),
@@ -327,71 +328,45 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     };
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let cdt = constrained_triangulation(
-        &g,
-        CdtOptions {
-            convex_hull: o.convex_hull,
-        },
-    )
-    .map_err(|e| {
-        let what = match &e {
-            delone::Error::SegmentOutOfRange { segment, .. }
-            | delone::Error::ZeroLengthSegment { segment }
-            | delone::Error::SegmentIntersection { segment, .. } => poly
-                .segment_lines
-                .get(*segment)
-                .map(|l| format!(" (segment on line {l})"))
-                .unwrap_or_default(),
-            delone::Error::InvalidCoordinate { index } => node
-                .lines
-                .get(*index)
-                .map(|l| format!(" (point on line {l})"))
-                .unwrap_or_default(),
-            _ => String::new(),
-        };
-        let e = crate::numbering::renumber(e, node.first_index);
-        input_err(format!("{}: {e}{what}", poly_path.display()))
-    })?;
-    if cdt.triangles.is_empty() && !g.points.is_empty() {
-        return Err(input_err(format!(
-            "{}: {}",
-            poly_path.display(),
-            why_empty(&g, node.first_index)
-        )));
-    }
-    let t_mesh = t1.elapsed();
-    let t1 = Instant::now();
-    let refining =
-        o.min_angle.is_some() || o.area || o.max_steiner.is_some() || o.conforming_delaunay;
     // The unrefined mesh, to interpolate point attributes at Steiner points.
-    let initial = (refining && node.n_attributes > 0).then(|| cdt.clone());
-    let (cdt, rep): (_, Option<RefineReport>) = if refining {
-        let r = refine(
-            &cdt,
-            &RefineOptions {
-                min_angle: o.min_angle,
-                max_area: o.max_area,
-                regional_areas: o.area,
-                max_steiner: o.max_steiner,
-                off_centers: true,
-                segment_splits: segment_splits(o),
-                conforming_delaunay: o.conforming_delaunay,
-                threads: crate::threads::effective(o.threads),
-                ..RefineOptions::default()
-            },
-        )
-        .map_err(|e| {
-            let e = crate::numbering::renumber(e, node.first_index);
-            refine_err(&poly_path.display().to_string(), e)
-        })?;
-        (r.mesh, Some(r.report))
-    } else {
-        (cdt, None)
+    let opts = TriOptions {
+        keep_unrefined: node.n_attributes > 0,
+        ..o.tri.clone()
     };
-    let t_refine = t1.elapsed();
+    let name = poly_path.display().to_string();
+    let result = delone::tri::mesh(&g, &opts).map_err(|e| match e {
+        TriError::Input(e) => {
+            let what = match &e {
+                delone::Error::SegmentOutOfRange { segment, .. }
+                | delone::Error::ZeroLengthSegment { segment }
+                | delone::Error::SegmentIntersection { segment, .. } => poly
+                    .segment_lines
+                    .get(*segment)
+                    .map(|l| format!(" (segment on line {l})"))
+                    .unwrap_or_default(),
+                delone::Error::InvalidCoordinate { index } => node
+                    .lines
+                    .get(*index)
+                    .map(|l| format!(" (point on line {l})"))
+                    .unwrap_or_default(),
+                _ => String::new(),
+            };
+            let e = crate::numbering::renumber(e, node.first_index);
+            input_err(format!("{name}: {e}{what}"))
+        }
+        TriError::Empty => input_err(format!("{name}: {}", why_empty(&g, node.first_index))),
+        TriError::Refine(e) => refine_err(&name, crate::numbering::renumber(e, node.first_index)),
+    })?;
+    let delone::tri::TriResult {
+        mesh: cdt,
+        unrefined: initial,
+        refine: rep,
+        refine_time: t_refine,
+    } = result;
+    let t_mesh = t1.elapsed().saturating_sub(t_refine);
     let mut code = 0;
     let mut lines = Vec::new();
-    if o.check {
+    if o.out.check {
         match check_cdt(&g, &cdt) {
             Ok(()) => lines.push("check: constrained Delaunay triangulation is valid".to_string()),
             Err(v) => {
@@ -427,7 +402,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
     }
     let t2 = Instant::now();
-    let first = if o.zero { 0 } else { node.first_index };
+    let first = if o.out.zero { 0 } else { node.first_index };
     let steiner = SteinerCounts {
         crossings: cdt.report.crossings.len(),
         segment_splits: rep.as_ref().map_or(0, |r| r.segment_splits),
@@ -448,7 +423,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     }
     let bounding: Vec<_> = cdt.segments.iter().filter(|s| s.bounding).collect();
     let t_write = t2.elapsed();
-    if !o.quiet {
+    if !o.out.quiet {
         println!(
             "delone tri -p: {} ({} points, {} segments, {} holes, {} regions)",
             poly_path.display(),
@@ -475,7 +450,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.rejected_circumcenters,
                 if r.met { "met" } else if r.limit_reached { "NOT met (Steiner budget reached)" } else { "NOT met" }
             );
-            if o.verbose > 0 {
+            if o.out.verbose > 0 {
                 println!(
                     "  Steiner budget {} points (about {:.0} MB; -S raises it){}",
                     r.steiner_budget,
@@ -487,7 +462,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 println!("{l}");
             }
         }
-        if o.verbose > 0 {
+        if o.out.verbose > 0 {
             println!(
                 "  read {:.3} s, mesh {:.3} s ({} flips), refine {:.3} s, write {:.3} s",
                 t_read.as_secs_f64(),
@@ -509,7 +484,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 for u in r
                     .unfixable
                     .iter()
-                    .take(if o.verbose > 1 { usize::MAX } else { 10 })
+                    .take(if o.out.verbose > 1 { usize::MAX } else { 10 })
                 {
                     let why = match u.reason {
                         UnfixableReason::SmallInputAngle { apex, input_angle } => format!(
@@ -530,7 +505,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                         u.area
                     );
                 }
-                if r.unfixable.len() > 10 && o.verbose < 2 {
+                if r.unfixable.len() > 10 && o.out.verbose < 2 {
                     println!("  ... {} more (-VV lists all)", r.unfixable.len() - 10);
                 }
             }

@@ -27,8 +27,9 @@ use delone::NONE;
 use delone_io::{DataArray, NodeFile, SvgLayer, SvgStyle, Values, VtuFormat};
 
 use crate::args::Opts;
+use crate::fail::{input_err as fail, Failure};
 use crate::jettison::Renumber;
-use crate::run::{input_err as fail, with_ext, Failure};
+use crate::paths::with_ext;
 
 fn write(
     path: &Path,
@@ -398,7 +399,7 @@ pub struct PslgOut<'a> {
 /// `--stats-json`, the statistics.
 pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), Failure> {
     let (o, cdt, g) = (p.o, p.cdt, p.g);
-    let bound = !o.no_bound;
+    let bound = !o.out.no_bound;
     let mut written = Vec::new();
     let n = cdt.points.len();
     let n_in = g.points.len();
@@ -471,7 +472,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     };
     let jet = jet.as_ref();
     let first = p.first;
-    if !o.no_node {
+    if !o.out.no_node {
         write(&with_ext(p.out, "node"), &mut written, |f| {
             delone_io::write_node(f, pts, at, na, bound.then_some(mk), first)
         })?;
@@ -481,7 +482,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     } else {
         (Vec::new(), 0)
     };
-    if !o.no_ele {
+    if !o.out.no_ele {
         write(&with_ext(p.out, "ele"), &mut written, |f| match &quad {
             Some(q) => delone_io::write_ele(f, &renumbered(jet, &q.triangles), &eattrs, nea, first),
             None => delone_io::write_ele(f, &renumbered(jet, &cdt.triangles), &eattrs, nea, first),
@@ -529,7 +530,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.edges {
+    if o.out.edges {
         write(&with_ext(p.out, "edge"), &mut written, |f| {
             delone_io::write_edge(
                 f,
@@ -539,7 +540,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.neigh {
+    if o.out.neigh {
         write(&with_ext(p.out, "neigh"), &mut written, |f| {
             delone_io::write_neigh(f, &cdt.neighbors, first)
         })?;
@@ -655,7 +656,7 @@ pub fn write_plain_second_order(
         }
         mk.push(i32::from(hull.binary_search(&key(e[0], e[1])).is_ok()));
     }
-    let bound = !o.no_bound;
+    let bound = !o.out.no_bound;
     for (kind, path) in planned {
         match *kind {
             "node" => write(path, written, |f| {
@@ -699,7 +700,7 @@ pub fn stats_if(
     steiner: Option<SteinerCounts>,
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<TriStats>, Failure> {
-    if o.verbose == 0 && o.stats_json.is_none() {
+    if o.out.verbose == 0 && o.stats_json.is_none() {
         return Ok(None);
     }
     let mut s =
@@ -913,7 +914,7 @@ pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Resu
                 .map(|&v| pic.points[v as usize]),
         )
         .collect();
-    let b = crate::dual::bbox(if used.is_empty() { pic.points } else { &used });
+    let b = crate::tri_out::bbox(if used.is_empty() { pic.points } else { &used });
     let pad = 0.02 * (b[1][0] - b[0][0]).max(b[1][1] - b[0][1]);
     let view = [
         [b[0][0] - pad, b[0][1] - pad],
@@ -967,6 +968,27 @@ pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Resu
         view
     };
     emit(o, view, &layers, written)
+}
+
+/// Bounding box of `pts` (a unit box around a single point).
+pub fn bbox(pts: &[[f64; 2]]) -> [[f64; 2]; 2] {
+    let mut b = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
+    for p in pts {
+        for k in 0..2 {
+            b[0][k] = b[0][k].min(p[k]);
+            b[1][k] = b[1][k].max(p[k]);
+        }
+    }
+    let [mut lo, mut hi] = b;
+    for (l, h) in lo.iter_mut().zip(hi.iter_mut()) {
+        // An empty or flat extent (no points, or all on one line).
+        if (*h).partial_cmp(l) != Some(std::cmp::Ordering::Greater) {
+            let c = if l.is_finite() { *l } else { 0.0 };
+            *l = c - 0.5;
+            *h = c + 0.5;
+        }
+    }
+    [lo, hi]
 }
 
 #[cfg(test)]

@@ -101,7 +101,10 @@ impl fmt::Display for SwitchError {
         match self {
             SwitchError::Unknown { program, letter } => {
                 let p = program.name();
-                write!(f, "unknown switch -{letter} for delone {p} (see delone {p} --help)")
+                write!(
+                    f,
+                    "unknown switch -{letter} for delone {p} (see delone {p} --help)"
+                )
             }
             SwitchError::NotImplemented { letter, what } => {
                 write!(f, "switch -{letter} ({what}) is not implemented yet")
@@ -302,7 +305,9 @@ fn unimplemented(program: Program, c: char) -> Option<&'static str> {
 
 /// The first rule that holds, as [`SwitchError::NoEffect`]: each rule is
 /// (given, switch, why it has no effect in this run).
-pub(crate) fn first_unused(rules: &[(bool, &'static str, &'static str)]) -> Result<(), SwitchError> {
+pub(crate) fn first_unused(
+    rules: &[(bool, &'static str, &'static str)],
+) -> Result<(), SwitchError> {
     match rules.iter().find(|r| r.0) {
         Some(&(_, switch, why)) => Err(SwitchError::NoEffect { switch, why }),
         None => Ok(()),

@@ -92,7 +92,6 @@ impl Plc {
         }
         Ok(flatten(&per))
     }
-
 }
 
 /// The triangles per facet flattened, with each triangle's facet.
@@ -206,4 +205,3 @@ fn facet_triangles(
     }
     Ok(tris)
 }
-

@@ -3,6 +3,8 @@
 
 use crate::switches::{self, first_unused, number, OutputSwitches, Program, SwitchError, Taken};
 use crate::tet::refine::sizing::Sizing;
+use crate::tet::refine::RefineOptions;
+use crate::Error;
 
 /// The options of the 3D pipeline ([`crate::tet::mesh`]) and of
 /// `delone tet`. Every field names its switch letter and default; "off" is
@@ -205,6 +207,31 @@ impl TetOptions {
     /// ```
     pub fn refining(&self) -> bool {
         self.max_radius_edge.is_some() || self.regional_volumes || self.sizing
+    }
+
+    /// Refuses `-q`/`-a` bounds no mesh can meet (a radius-edge ratio
+    /// below the regular tetrahedron's, NaN), as the refinement would
+    /// ([`RefineOptions::check_bounds`]), before any work.
+    ///
+    /// # Errors
+    /// [`Error::InvalidBound`] naming the switch.
+    ///
+    /// ```
+    /// use delone::tet::TetOptions;
+    /// assert!(TetOptions::from_switches("pq2a1").unwrap().check_bounds().is_ok());
+    /// assert!(matches!(TetOptions::from_switches("pq0.5").unwrap().check_bounds(),
+    ///                  Err(delone::Error::InvalidBound { .. })));
+    /// ```
+    pub fn check_bounds(&self) -> Result<(), Error> {
+        if self.max_radius_edge.is_none() && self.max_volume.is_none() {
+            return Ok(());
+        }
+        RefineOptions {
+            max_radius_edge: self.max_radius_edge.unwrap_or(f64::INFINITY),
+            max_volume: self.max_volume,
+            ..RefineOptions::default()
+        }
+        .check_bounds()
     }
 
     /// Refuses the combinations `delone tet` refuses: `-q`, `-a`, `-m`,

@@ -137,7 +137,7 @@ pub enum TetError {
     /// point, facet or segment (0-based).
     Input(Error),
     /// A `-q`/`-a` bound no mesh can meet
-    /// ([`Error::InvalidBound`], [`RefineOptions::check_bounds`]).
+    /// ([`Error::InvalidBound`], [`TetOptions::check_bounds`]).
     Bound(Error),
     /// Recovery, carving or refinement failed.
     Recover(RecoverError),
@@ -207,15 +207,7 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         .iter()
         .map(|&f| plc.facets[f as usize].marker)
         .collect();
-    if opts.max_radius_edge.is_some() || opts.max_volume.is_some() {
-        RefineOptions {
-            max_radius_edge: opts.max_radius_edge.unwrap_or(f64::INFINITY),
-            max_volume: opts.max_volume,
-            ..RefineOptions::default()
-        }
-        .check_bounds()
-        .map_err(TetError::Bound)?;
-    }
+    opts.check_bounds().map_err(TetError::Bound)?;
     let domain = Domain {
         holes: plc.holes.clone(),
         regions: plc

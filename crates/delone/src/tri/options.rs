@@ -225,7 +225,9 @@ impl TriOptions {
             );
         }
         if self.jettison && self.refine_mesh {
-            return conflict("-j with -r is not supported: -r keeps every vertex of the input mesh");
+            return conflict(
+                "-j with -r is not supported: -r keeps every vertex of the input mesh",
+            );
         }
         if self.pslg && self.refine_mesh {
             return conflict(
@@ -283,7 +285,9 @@ mod tests {
         let o = TriOptions::from_switches("pa1e-3").unwrap();
         assert_eq!(o.max_area, Some(0.001));
         assert_eq!(
-            TriOptions::from_switches("pq3.0.1").unwrap_err().to_string(),
+            TriOptions::from_switches("pq3.0.1")
+                .unwrap_err()
+                .to_string(),
             "-q3.0.1: 3.0.1 is not a number"
         );
         assert_eq!(

@@ -6,6 +6,7 @@
 //! the [`TriResult`].
 
 use std::fmt;
+use std::time::{Duration, Instant};
 
 use crate::model::pslg::Pslg;
 use crate::tri::constrain::{constrained_triangulation, Cdt, CdtOptions};
@@ -23,7 +24,7 @@ use crate::Error;
 /// assert_eq!(r.mesh.triangles.len(), 2);
 /// assert!(r.refine.is_none());
 /// ```
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct TriResult {
     /// The mesh: points (the input's first, then Steiner points),
     /// triangles, neighbours, the region and attribute of each triangle,
@@ -36,6 +37,9 @@ pub struct TriResult {
     /// The refinement's report (with `-q`, `-a`, `-S` or `-D`): Steiner
     /// points, angles reached, triangles left outside the bounds and why.
     pub refine: Option<RefineReport>,
+    /// Time spent in the refinement (for reports; zero when it did not
+    /// run).
+    pub refine_time: Duration,
 }
 
 /// Why [`mesh`] failed, with the stage's own error.
@@ -125,8 +129,10 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
             mesh: cdt,
             unrefined: None,
             refine: None,
+            refine_time: Duration::ZERO,
         });
     }
+    let t = Instant::now();
     let defaults = RefineOptions::default();
     let r = refine(
         &cdt,
@@ -147,5 +153,6 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
         mesh: r.mesh,
         unrefined: opts.keep_unrefined.then_some(cdt),
         refine: Some(r.report),
+        refine_time: t.elapsed(),
     })
 }
