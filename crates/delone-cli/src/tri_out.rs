@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 
 use delone::model::pslg::Pslg;
 use delone::tri::constrain::Cdt;
+use delone::tri::pipeline::{edge_key, hull_edge_keys, vertex_markers};
 use delone::tri::quality::{SteinerCounts, TriStats, TriangleQuality, ASPECT_BINS};
 use delone::NONE;
 use delone_io::{DataArray, NodeFile, SvgLayer, SvgStyle, Values, VtuFormat};
@@ -57,71 +58,16 @@ fn renumbered<'a, const K: usize>(
     }
 }
 
-#[inline]
-fn key(a: u32, b: u32) -> u64 {
-    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
-}
-
-/// The edges of a triangulation with one triangle (sorted keys).
-fn boundary_keys(tris: &[[u32; 3]], nbrs: &[[u32; 3]]) -> Vec<u64> {
-    let mut b: Vec<u64> = tris
-        .iter()
-        .zip(nbrs)
-        .flat_map(|(t, n)| {
-            (0..3)
-                .filter(move |&k| n[k] == NONE)
-                .map(move |k| key(t[(k + 1) % 3], t[(k + 2) % 3]))
-        })
-        .collect();
-    b.sort_unstable();
-    b.dedup();
-    b
-}
-
 /// Subsegment markers by edge key, sorted (the first subsegment of an edge
 /// wins, as in the subsegment order).
 fn segment_lookup(subsegs: &[([u32; 2], i32)]) -> Vec<(u64, i32)> {
-    let mut v: Vec<(u64, i32)> = subsegs.iter().map(|&(s, m)| (key(s[0], s[1]), m)).collect();
+    let mut v: Vec<(u64, i32)> = subsegs
+        .iter()
+        .map(|&(s, m)| (edge_key(s[0], s[1]), m))
+        .collect();
     v.sort_by_key(|&(k, _)| k); // stable: the first one of equal keys first
     v.dedup_by_key(|e| e.0);
     v
-}
-
-/// Output vertex markers, Triangle's documented rule: an input point's own
-/// nonzero marker; else the nonzero marker of a segment it lies on (the
-/// first such subsegment in order); else 1 on the boundary of the
-/// triangulation (holes included); else 0.
-///
-/// `input` holds the input points' markers (fewer entries than points: the
-/// Steiner points have none).
-pub fn vertex_markers(
-    n: usize,
-    input: &[i32],
-    subsegs: &[([u32; 2], i32)],
-    tris: &[[u32; 3]],
-    nbrs: &[[u32; 3]],
-) -> Vec<i32> {
-    let mut m = vec![0i32; n];
-    for (i, &x) in input.iter().enumerate().take(n) {
-        m[i] = x;
-    }
-    for &(s, mk) in subsegs {
-        if mk != 0 {
-            for v in s {
-                if m[v as usize] == 0 {
-                    m[v as usize] = mk;
-                }
-            }
-        }
-    }
-    for k in boundary_keys(tris, nbrs) {
-        for v in [(k >> 32) as usize, (k & 0xffff_ffff) as usize] {
-            if m[v] == 0 {
-                m[v] = 1;
-            }
-        }
-    }
-    m
 }
 
 /// Output edge markers, Triangle's documented rule: the marker of the
@@ -137,7 +83,7 @@ pub fn edge_markers(
         .zip(boundary)
         .map(|(e, &b)| {
             let s = look
-                .binary_search_by_key(&key(e[0], e[1]), |&(k, _)| k)
+                .binary_search_by_key(&edge_key(e[0], e[1]), |&(k, _)| k)
                 .map_or(0, |i| look[i].1);
             if s != 0 {
                 s
@@ -440,14 +386,14 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
                     .items
                     .iter()
                     .zip(&emark)
-                    .map(|(e, &m)| (key(e[0], e[1]), m))
+                    .map(|(e, &m)| (edge_key(e[0], e[1]), m))
                     .collect();
                 v.sort_unstable();
                 v
             };
             let mut mk = markers.clone();
             for e in &q.edges {
-                let k = key(e[0], e[1]);
+                let k = edge_key(e[0], e[1]);
                 mk.push(
                     look.binary_search_by_key(&k, |&(x, _)| x)
                         .map_or(0, |i| look[i].1),
@@ -491,7 +437,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     if !o.no_poly {
         // The subsegments, then the boundary edges that are not (-c hulls).
         let look = segment_lookup(&bounding);
-        let hull = boundary_keys(&cdt.triangles, &cdt.neighbors);
+        let hull = hull_edge_keys(&cdt.triangles, &cdt.neighbors);
         let mut segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.0).collect();
         let mut sm: Vec<i32> = bounding
             .iter()
@@ -499,13 +445,13 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
                 if m != 0 {
                     m
                 } else {
-                    i32::from(hull.binary_search(&key(s[0], s[1])).is_ok())
+                    i32::from(hull.binary_search(&edge_key(s[0], s[1])).is_ok())
                 }
             })
             .collect();
         for (e, &b) in edges.items.iter().zip(&edges.boundary) {
             if b && look
-                .binary_search_by_key(&key(e[0], e[1]), |&(k, _)| k)
+                .binary_search_by_key(&edge_key(e[0], e[1]), |&(k, _)| k)
                 .is_err()
             {
                 segs.push(*e);
@@ -644,7 +590,7 @@ pub fn write_plain_second_order(
     written: &mut Vec<PathBuf>,
 ) -> Result<(), Failure> {
     let q = Quadratic::new(m.points, m.triangles, m.neighbors);
-    let hull = boundary_keys(m.triangles, m.neighbors);
+    let hull = hull_edge_keys(m.triangles, m.neighbors);
     let na = m.node.n_attributes;
     let mut pts = m.points.to_vec();
     pts.extend_from_slice(&q.points);
@@ -654,7 +600,7 @@ pub fn write_plain_second_order(
         for k in 0..na {
             at.push(0.5 * (at[e[0] as usize * na + k] + at[e[1] as usize * na + k]));
         }
-        mk.push(i32::from(hull.binary_search(&key(e[0], e[1])).is_ok()));
+        mk.push(i32::from(hull.binary_search(&edge_key(e[0], e[1])).is_ok()));
     }
     let bound = !o.out.no_bound;
     for (kind, path) in planned {

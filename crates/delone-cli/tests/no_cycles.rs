@@ -62,9 +62,7 @@ fn named_paths(me: &str, text: &str) -> Vec<String> {
     // The path after a prefix: identifiers joined by `::`, with one level
     // of `{a, b::c}` expanded.
     fn path_at(s: &str, base: &str, out: &mut Vec<String>, ident: &dyn Fn(char) -> bool) {
-        let end = s
-            .find(|c: char| !(ident(c) || c == ':'))
-            .unwrap_or(s.len());
+        let end = s.find(|c: char| !(ident(c) || c == ':')).unwrap_or(s.len());
         let head = s[..end].trim_end_matches(':');
         let full = match (base.is_empty(), head.is_empty()) {
             (true, _) => head.to_string(),

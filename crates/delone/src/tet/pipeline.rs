@@ -11,9 +11,9 @@ use std::time::{Duration, Instant};
 
 use crate::model::plc::{Plc, Region};
 use crate::tet::optimize::{optimize, OptimizeError, OptimizeOptions, OptimizeReport};
+use crate::tet::options::TetOptions;
 use crate::tet::recover::{recover_marked, Domain, RecoverError, RecoverOptions, Recovered};
 use crate::tet::refine::{refine_recovered, RefineOptions, RefineReport};
-use crate::tet::TetOptions;
 use crate::{Error, NONE};
 
 /// What [`mesh`] made: the mesh with its points, tetrahedra, neighbours,

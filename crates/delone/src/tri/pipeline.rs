@@ -10,9 +10,9 @@ use std::time::{Duration, Instant};
 
 use crate::model::pslg::Pslg;
 use crate::tri::constrain::{constrained_triangulation, Cdt, CdtOptions};
+use crate::tri::options::TriOptions;
 use crate::tri::refine::{refine, RefineOptions, RefineReport};
-use crate::tri::TriOptions;
-use crate::Error;
+use crate::{Error, NONE};
 
 /// What [`mesh`] made.
 ///
@@ -40,6 +40,131 @@ pub struct TriResult {
     /// Time spent in the refinement (for reports; zero when it did not
     /// run).
     pub refine_time: Duration,
+}
+
+impl TriResult {
+    /// The output marker of every vertex of the mesh ([`vertex_markers`]):
+    /// the input point's marker from `pslg`, else the marker of a segment
+    /// through it, else 1 on the boundary, else 0.
+    ///
+    /// ```
+    /// use delone::{model::pslg::Pslg, tri::{mesh, TriOptions}};
+    /// let mut g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]],
+    ///                       vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+    /// g.segment_markers = vec![4, 0, 0, 0];
+    /// let r = mesh(&g, &TriOptions::from_switches("p").unwrap()).unwrap();
+    /// assert_eq!(r.vertex_markers(&g), vec![4, 4, 1, 1, 0]);
+    /// ```
+    pub fn vertex_markers(&self, pslg: &Pslg) -> Vec<i32> {
+        let m = &self.mesh;
+        let input: Vec<i32> = (0..pslg.points.len())
+            .map(|i| pslg.point_marker(i))
+            .collect();
+        vertex_markers(
+            m.points.len(),
+            &input,
+            &self.subsegments(),
+            &m.triangles,
+            &m.neighbors,
+        )
+    }
+
+    /// The subsegments on the domain's boundary or inside it (those the
+    /// output lists), with their markers.
+    ///
+    /// ```
+    /// use delone::{model::pslg::Pslg, tri::{mesh, TriOptions}};
+    /// let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], vec![[0, 1], [1, 2], [2, 0]]);
+    /// let r = mesh(&g, &TriOptions::from_switches("p").unwrap()).unwrap();
+    /// assert_eq!(r.subsegments().len(), 3);
+    /// ```
+    pub fn subsegments(&self) -> Vec<([u32; 2], i32)> {
+        self.mesh
+            .segments
+            .iter()
+            .filter(|s| s.bounding)
+            .map(|s| (s.v, s.marker))
+            .collect()
+    }
+}
+
+/// The key of the edge between vertices `a` and `b` (either order): the
+/// smaller id in the high 32 bits.
+///
+/// ```
+/// assert_eq!(delone::tri::pipeline::edge_key(2, 1), (1 << 32) | 2);
+/// ```
+#[inline]
+pub fn edge_key(a: u32, b: u32) -> u64 {
+    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
+}
+
+/// The edges of a triangulation with one triangle ([`edge_key`]s, sorted):
+/// its boundary, holes included.
+///
+/// ```
+/// let k = delone::tri::pipeline::hull_edge_keys(&[[0, 1, 2]], &[[delone::NONE; 3]]);
+/// assert_eq!(k.len(), 3);
+/// ```
+pub fn hull_edge_keys(tris: &[[u32; 3]], nbrs: &[[u32; 3]]) -> Vec<u64> {
+    let mut b: Vec<u64> = tris
+        .iter()
+        .zip(nbrs)
+        .flat_map(|(t, n)| {
+            (0..3)
+                .filter(move |&k| n[k] == NONE)
+                .map(move |k| edge_key(t[(k + 1) % 3], t[(k + 2) % 3]))
+        })
+        .collect();
+    b.sort_unstable();
+    b.dedup();
+    b
+}
+
+/// Output vertex markers, Triangle's documented rule: an input point's own
+/// nonzero marker; else the nonzero marker of a segment it lies on (the
+/// first such subsegment in order); else 1 on the boundary of the
+/// triangulation (holes included); else 0.
+///
+/// `input` holds the input points' markers (fewer entries than points: the
+/// Steiner points have none).
+///
+/// ```
+/// use delone::NONE;
+/// // Two triangles; segment 1-2 with marker 5; point 3 with its own marker 7.
+/// let tris = [[0, 1, 2], [2, 1, 3]];
+/// let nbrs = [[1, NONE, NONE], [NONE, NONE, 0]];
+/// let m = delone::tri::pipeline::vertex_markers(4, &[0, 0, 0, 7], &[([1, 2], 5)], &tris, &nbrs);
+/// assert_eq!(m, vec![1, 5, 5, 7]);
+/// ```
+pub fn vertex_markers(
+    n: usize,
+    input: &[i32],
+    subsegs: &[([u32; 2], i32)],
+    tris: &[[u32; 3]],
+    nbrs: &[[u32; 3]],
+) -> Vec<i32> {
+    let mut m = vec![0i32; n];
+    for (i, &x) in input.iter().enumerate().take(n) {
+        m[i] = x;
+    }
+    for &(s, mk) in subsegs {
+        if mk != 0 {
+            for v in s {
+                if m[v as usize] == 0 {
+                    m[v as usize] = mk;
+                }
+            }
+        }
+    }
+    for k in hull_edge_keys(tris, nbrs) {
+        for v in [(k >> 32) as usize, (k & 0xffff_ffff) as usize] {
+            if m[v] == 0 {
+                m[v] = 1;
+            }
+        }
+    }
+    m
 }
 
 /// Why [`mesh`] failed, with the stage's own error.
@@ -85,8 +210,9 @@ impl std::error::Error for TriError {
 /// Meshes `pslg` as `delone tri` does with `opts`: the constrained
 /// Delaunay triangulation (with `-p` its segments are kept and the holes
 /// and, unless `-c`, the outside removed; without `-p` the points alone are
-/// triangulated up to their convex hull), then refinement when `-q`, `-a`,
-/// `-S` or `-D` asks for it (off-centres, `-Y` segment rules,
+/// triangulated up to their convex hull), then refinement when `-q`, `-a`
+/// ([`TriOptions::max_area`] or [`TriOptions::regional_areas`]), `-S` or
+/// `-D` asks for it (off-centres, `-Y` segment rules,
 /// [`TriOptions::threads`]). The result depends only on the input and the
 /// options (see [`crate::tri::refine::RefineOptions::threads`] for the
 /// thread count).
@@ -121,6 +247,7 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
         return Err(TriError::Empty);
     }
     let refining = opts.min_angle.is_some()
+        || opts.max_area.is_some()
         || opts.regional_areas
         || opts.max_steiner.is_some()
         || opts.conforming_delaunay;
