@@ -128,6 +128,29 @@ impl Plc {
         }
     }
 
+    /// A PLC whose facets are the given polygons (one polygon each, marker
+    /// 0): a polyhedral surface from plain arrays.
+    ///
+    /// ```
+    /// use delone::model::plc::Plc;
+    /// // A unit cube from its corners and its six quadrilaterals.
+    /// let pts = (0..8).map(|k| [(k & 1) as f64, (k >> 1 & 1) as f64, (k >> 2) as f64]).collect();
+    /// let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    /// let plc = Plc::from_polygons(pts, quads.iter().map(|q| q.to_vec()));
+    /// assert_eq!(plc.facets.len(), 6);
+    /// plc.validate().unwrap();
+    /// ```
+    pub fn from_polygons(
+        points: Vec<[f64; 3]>,
+        polygons: impl IntoIterator<Item = Vec<u32>>,
+    ) -> Self {
+        Plc {
+            points,
+            facets: polygons.into_iter().map(Facet::polygon).collect(),
+            ..Plc::default()
+        }
+    }
+
     /// The facets as triangles, if every facet is a single triangle;
     /// `None` otherwise.
     ///
