@@ -148,14 +148,15 @@ pub(crate) fn read_input(o: &Opts) -> Result<Input, Failure> {
 /// The facets of a PLC triangulated (triangles and each one's facet).
 pub(crate) type Triangulated = (Vec<[u32; 3]>, Vec<u32>);
 
+/// Facets set aside: 0-based input facet index and defect.
+pub(crate) type Defects = Vec<(usize, delone::FacetDefect)>;
+
 /// Reads the input named by `o`, validates it and triangulates its facets
 /// for `-d`: degenerate facets are set aside and returned (0-based input
 /// facet index and defect) instead of failing, and the facet of each
 /// triangle names the input facets; other errors name the file and the
 /// offending item in the file's numbering.
-pub(crate) fn load_lenient(
-    o: &Opts,
-) -> Result<(Input, Triangulated, Vec<(usize, delone::FacetDefect)>), Failure> {
+pub(crate) fn load_lenient(o: &Opts) -> Result<(Input, Triangulated, Defects), Failure> {
     let mut input = read_input(o)?;
     let plc = &mut input.plc;
     let name = input.path.display().to_string();
