@@ -25,7 +25,7 @@
 //! assert!(r.mesh.triangles.len() > 20);
 //! ```
 //!
-//! ([`tri::mesh`], [`tet::mesh`]). The incremental API lives in
+//! ([`tri::mesh()`], [`tet::mesh()`]). The incremental API lives in
 //! [`tri::Delaunay2`] and [`tet::Delaunay3`].
 #![forbid(unsafe_code)]
 

@@ -1,6 +1,6 @@
 //! Facet triangulation: each planar facet of a [`Plc`] triangulated in its
 //! own plane by the 2D constrained Delaunay triangulation, the first stage
-//! of the 3D pipeline ([`crate::tet::mesh`]). It lives here, not in
+//! of the 3D pipeline ([`crate::tet::mesh()`]). It lives here, not in
 //! [`crate::model`], so that the input model holds data and validation
 //! only and does not depend on the 2D mesher.
 

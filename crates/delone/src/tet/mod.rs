@@ -1,7 +1,7 @@
 //! 3D Delaunay tetrahedralization.
 //!
 //! * [`tetrahedralize`] — one call, flat output ([`TetMesh`]).
-//! * [`mesh`] — the meshing pipeline of a PLC in one call ([`TetOptions`], [`TetResult`]).
+//! * [`mesh()`] — the meshing pipeline of a PLC in one call ([`TetOptions`], [`TetResult`]).
 //! * [`Delaunay3`] — the incremental kernel (insert, locate, check).
 //! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
 //! * [`intersect`] — exact self-intersection and closedness checks of triangulated surfaces.

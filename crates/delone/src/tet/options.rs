@@ -1,4 +1,4 @@
-//! [`TetOptions`]: what [`crate::tet::mesh`] does, as a plain struct or as
+//! [`TetOptions`]: what [`crate::tet::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tet` (TetGen's letters).
 
 use crate::switches::{self, first_unused, number, OutputSwitches, Program, SwitchError, Taken};
@@ -6,7 +6,7 @@ use crate::tet::refine::sizing::Sizing;
 use crate::tet::refine::RefineOptions;
 use crate::Error;
 
-/// The options of the 3D pipeline ([`crate::tet::mesh`]) and of
+/// The options of the 3D pipeline ([`crate::tet::mesh()`]) and of
 /// `delone tet`. Every field names its switch letter and default; "off" is
 /// `false` or `None`. [`TetOptions::from_switches`] reads the switch string
 /// of `delone tet`, output-shaping letters included.

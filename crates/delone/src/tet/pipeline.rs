@@ -1,10 +1,10 @@
-//! The 3D pipeline in one call, [`mesh`]: validate the PLC, triangulate its
+//! The 3D pipeline in one call, [`mesh()`]: validate the PLC, triangulate its
 //! facets ([`crate::tet::facets`]), recover them in a Delaunay
 //! tetrahedralization and carve holes and the outside
 //! ([`recover_marked`]), refine ([`refine_recovered`], with `-q`, `-a` or
 //! `-m`) and optimise ([`optimize`], by default after refinement). It is
 //! the whole job of `delone tet -p`, which only reads the input, calls
-//! [`mesh`] and writes the [`TetResult`].
+//! [`mesh()`] and writes the [`TetResult`].
 
 use std::fmt;
 use std::time::{Duration, Instant};
@@ -16,7 +16,7 @@ use crate::tet::recover::{recover_marked, Domain, RecoverError, RecoverOptions, 
 use crate::tet::refine::{refine_recovered, RefineOptions, RefineReport};
 use crate::{Error, NONE};
 
-/// What [`mesh`] made: the mesh with its points, tetrahedra, neighbours,
+/// What [`mesh()`] made: the mesh with its points, tetrahedra, neighbours,
 /// regions ([`Recovered`]), the faces on input facets with their markers,
 /// and the report of each stage.
 ///
@@ -120,7 +120,7 @@ pub fn marked_faces(
     (faces, markers, of)
 }
 
-/// Why [`mesh`] failed, with the stage's own error.
+/// Why [`mesh()`] failed, with the stage's own error.
 ///
 /// ```
 /// use delone::{model::plc::{Facet, Plc}, tet::{mesh, TetError, TetOptions}};
@@ -267,7 +267,7 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     })
 }
 
-/// The optimisation stage of [`mesh`] (and of `delone tet -r`): on by
+/// The optimisation stage of [`mesh()`] (and of `delone tet -r`): on by
 /// default after refinement (`refined`: its options, whose size bounds the
 /// optimisation keeps, and with [`TetOptions::keep_ratio`] its ratio), on
 /// request (`-O`) after plain recovery; `None` when off. `input_points`:

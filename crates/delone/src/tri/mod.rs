@@ -1,7 +1,7 @@
 //! 2D Delaunay triangulation.
 //!
 //! * [`triangulate`] — one call, flat output ([`TriMesh`]).
-//! * [`mesh`] — the meshing pipeline of a PSLG in one call ([`TriOptions`], [`TriResult`]).
+//! * [`mesh()`] — the meshing pipeline of a PSLG in one call ([`TriOptions`], [`TriResult`]).
 //! * [`Delaunay2`] — the incremental kernel (insert, locate, check).
 //! * [`validate`] — an independent checker of a [`TriMesh`] against its points.
 

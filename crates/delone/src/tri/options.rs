@@ -1,10 +1,10 @@
-//! [`TriOptions`]: what [`crate::tri::mesh`] does, as a plain struct or as
+//! [`TriOptions`]: what [`crate::tri::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tri` (Triangle's letters).
 
 use crate::switches::{self, first_unused, number, OutputSwitches, Program, SwitchError, Taken};
 use crate::tri::refine::SegmentSplits;
 
-/// The options of the 2D pipeline ([`crate::tri::mesh`]) and of
+/// The options of the 2D pipeline ([`crate::tri::mesh()`]) and of
 /// `delone tri`. Every field names its switch letter and default; "off" is
 /// `false` or `None`. [`TriOptions::from_switches`] reads the switch string
 /// of `delone tri`, output-shaping letters included (they are kept in

@@ -1,8 +1,8 @@
-//! The 2D pipeline in one call, [`mesh`]: the constrained Delaunay
+//! The 2D pipeline in one call, [`mesh()`]: the constrained Delaunay
 //! triangulation of a PSLG with its holes and outside carved
 //! ([`constrained_triangulation`]), then quality or conforming refinement
 //! ([`refine`]) when the options ask for it. It is the whole job of
-//! `delone tri -p`, which only reads the input, calls [`mesh`] and writes
+//! `delone tri -p`, which only reads the input, calls [`mesh()`] and writes
 //! the [`TriResult`].
 
 use std::fmt;
@@ -14,7 +14,7 @@ use crate::tri::options::TriOptions;
 use crate::tri::refine::{refine, RefineOptions, RefineReport};
 use crate::{Error, NONE};
 
-/// What [`mesh`] made.
+/// What [`mesh()`] made.
 ///
 /// ```
 /// use delone::{model::pslg::Pslg, tri::{mesh, TriOptions}};
@@ -167,7 +167,7 @@ pub fn vertex_markers(
     m
 }
 
-/// Why [`mesh`] failed, with the stage's own error.
+/// Why [`mesh()`] failed, with the stage's own error.
 ///
 /// ```
 /// use delone::{model::pslg::Pslg, tri::{mesh, TriError, TriOptions}};
