@@ -66,7 +66,7 @@ impl TetResult {
     /// let pts = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     /// let plc = Plc::from_triangles(pts, &[[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]);
     /// let r = mesh(&plc, &TetOptions::from_switches("pA").unwrap()).unwrap();
-    /// assert_eq!(r.attributes(), vec![0.0]);
+    /// assert_eq!(r.attributes(), vec![r.mesh.regions[0].attribute]);
     /// ```
     pub fn attributes(&self) -> Vec<f64> {
         self.mesh
@@ -83,10 +83,10 @@ impl TetResult {
 /// `triangle_markers` gives that triangle (0 for hull faces).
 ///
 /// ```
-/// use delone::tet::{pipeline::marked_faces, recover::{recover_domain, RecoverOptions}};
+/// use delone::tet::{pipeline::marked_faces, recover::{recover, RecoverOptions}};
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 /// let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-/// let rec = recover_domain(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// let rec = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
 /// let (faces, markers, of) = marked_faces(&rec, &[5, 6, 7, 8]);
 /// assert_eq!(faces.len(), 4);
 /// assert_eq!(markers.iter().sum::<i32>(), 26);
@@ -277,10 +277,10 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
 /// [`TetError::Optimize`] when the mesh is inconsistent.
 ///
 /// ```
-/// use delone::tet::{pipeline::optimize_stage, recover::{recover_domain, RecoverOptions}, TetOptions};
+/// use delone::tet::{pipeline::optimize_stage, recover::{recover, RecoverOptions}, TetOptions};
 /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 /// let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
-/// let mut rec = recover_domain(&pts, &tris, &RecoverOptions::default()).unwrap();
+/// let mut rec = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
 /// let o = TetOptions::from_switches("p").unwrap();
 /// assert!(optimize_stage(&o, 4, &mut rec, None).unwrap().is_none());
 /// let o = TetOptions::from_switches("pO2").unwrap();
