@@ -15,46 +15,18 @@ pub type Mode = delone::switches::Program;
 /// Everything a run needs to know.
 #[derive(Debug, Clone, Default)]
 pub struct Opts {
-    /// The output letters both programs share (`-zQVCenNEIB`).
-    pub out: OutputSwitches,
+    /// The subcommand (`None` only before parsing).
+    pub mode: Option<Mode>,
     /// The switches of `delone tri`, as the library parsed them (with
-    /// `--threads`); the fields below repeat the letters the writers use.
+    /// `--threads`).
     pub tri: TriOptions,
     /// The switches of `delone tet`, as the library parsed them (with
     /// `--keep-ratio`).
     pub tet: TetOptions,
-    pub all_faces: bool,
-    /// tet `-F`: no .face / .edge.
-    pub no_face: bool,
-    /// tri `-F`: Fortune's sweepline requested (accepted, not used).
-    pub fortune: bool,
-    pub vtk_legacy: bool,
     pub vtu: Option<PathBuf>,
     pub vtu_ascii: bool,
     pub output_dir: Option<PathBuf>,
     pub input: PathBuf,
-    /// tri `-p`: read a PSLG (.poly) and build its constrained Delaunay triangulation.
-    pub pslg: bool,
-    /// tri `-r`: refine an existing mesh (FILE.node + FILE.ele).
-    pub refine_mesh: bool,
-    /// tet `-m`: sizing from FILE.mtr or a background mesh FILE.b.*.
-    pub sizing: bool,
-    /// tet `-pY`: surface preservation (no Steiner point on the input surface).
-    pub preserve_surface: bool,
-    /// tet `-d`: only detect self-intersections of the input facets.
-    pub detect: bool,
-    /// tet `-M`: no merging of coplanar facets.
-    pub no_merge: bool,
-    /// tri `-c`: keep the convex hull (no removal of exterior triangles).
-    pub convex_hull: bool,
-    /// tri `-A`: regional attributes in the .ele output.
-    pub region_attributes: bool,
-    /// `-v`: Voronoi (power, with `-w`) diagram output (.v.node, .v.edge;
-    /// tet also .v.face, .v.cell).
-    pub voronoi: bool,
-    /// `-w`: regular (weighted Delaunay) triangulation/tetrahedralization;
-    /// weights from FILE.weight, else node attribute 1.
-    pub weights: bool,
     /// tri `--lloyd N`: N Lloyd iterations in the bounding box first.
     pub lloyd: Option<usize>,
     /// tri `--svg FILE`: an SVG picture of the mesh (and cells with -v).
@@ -62,31 +34,12 @@ pub struct Opts {
     /// tet `--cells-vtu FILE`: the Voronoi (power, with -w) cells clipped to
     /// the points' bounding box, as VTK polyhedra.
     pub cells_vtu: Option<PathBuf>,
-    /// tri `-q[angle]`: quality mesh with this minimum angle (degrees).
-    pub min_angle: Option<f64>,
-    /// tri `-a`: area constraints (regional; global too if a number follows).
-    pub area: bool,
-    /// tri `-a<area>`: global maximum triangle area.
-    pub max_area: Option<f64>,
-    /// tri `-S<n>`: Steiner point budget.
-    pub max_steiner: Option<usize>,
-    /// tet `-g`: Medit `.mesh` output next to the other files.
-    pub medit_out: bool,
     /// tet `--medit FILE`: Medit `.mesh` output to FILE.
     pub medit: Option<PathBuf>,
     /// tet `--gmsh FILE`: Gmsh `.msh` 4.1 output to FILE.
     pub gmsh: Option<PathBuf>,
-    /// tet `-q[ratio]`: quality mesh with this radius-edge bound.
-    pub tet_ratio: Option<f64>,
-    /// tet `-q[ratio]/[angle]`: the dihedral bound for the optimisation
-    /// and its report (degrees).
-    pub tet_min_dihedral: Option<f64>,
     /// The switch letters as given, for messages.
     pub switches: String,
-    /// tri `-P`: no .poly output.
-    pub no_poly: bool,
-    /// tri `-o2`: quadratic (6-node) triangles.
-    pub second_order: bool,
     /// tri `--png FILE`: a PNG picture (the same scene as --svg).
     pub png: Option<PathBuf>,
     /// tri `--png-width N`: picture width in pixels (SVG and PNG; default 800).
@@ -102,13 +55,6 @@ pub struct Opts {
     pub warn_unmet: bool,
     /// `--stats-json FILE`: mesh quality statistics as JSON (tri and tet).
     pub stats_json: Option<PathBuf>,
-    /// tri `-D`: conforming Delaunay (every triangle truly Delaunay).
-    pub conforming_delaunay: bool,
-    /// tri `-Y` (1: no Steiner point on the boundary) / `-YY` (2: none on
-    /// any segment).
-    pub no_segment_splits: u8,
-    /// tri `-j`: jettison vertices no triangle uses from the output .node.
-    pub jettison: bool,
 }
 
 /// What the command line asks for.
@@ -161,8 +107,8 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
     // (given, switch, why it has no effect in this run)
     let mut rules: Vec<(bool, &str, &str)> = Vec::new();
     let bounded = match mode {
-        Mode::Tri => o.min_angle.is_some() || o.area,
-        Mode::Tet => o.tet_ratio.is_some() || o.area || o.sizing,
+        Mode::Tri => o.tri.min_angle.is_some() || o.area(),
+        Mode::Tet => o.tet.max_radius_edge.is_some() || o.area() || o.tet.sizing,
     };
     rules.push((
         o.warn_unmet && !bounded,
@@ -175,7 +121,7 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
     ));
     match mode {
         Mode::Tri => {
-            if o.refine_mesh {
+            if o.refine_mesh() {
                 let why = "with -r: delone tri -r writes only the .node, .ele and .poly files";
                 rules.extend([
                     (o.vtu.is_some(), "-o/--vtu", why),
@@ -192,7 +138,7 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
             }
         }
         Mode::Tet => {
-            if o.detect {
+            if o.tet.detect {
                 let why = "with -d: nothing is meshed and no file is written";
                 rules.extend([
                     (o.vtu.is_some(), "-o/--vtu", why),
@@ -206,14 +152,14 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
                     (o.warn_unmet, "--warn-unmet", why),
                 ]);
             }
-            if !o.pslg && !o.refine_mesh {
+            if !o.pslg() && !o.refine_mesh() {
                 rules.push((
                     o.stats_json.is_some(),
                     "--stats-json",
                     "without -p or -r: the statistics are those of a quality mesh",
                 ));
             }
-            if o.pslg || o.refine_mesh {
+            if o.pslg() || o.refine_mesh() {
                 rules.push((
                     o.cells_vtu.is_some(),
                     "--cells-vtu",
@@ -250,37 +196,59 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
         .map(|(_, s, why)| format!("{s} has no effect {why}; leave it out"))
 }
 
-/// The letters the writers and runs read, from the library's parse.
-fn view_switches(mode: Mode, o: &mut Opts) {
-    match mode {
-        Mode::Tri => {
-            let t = &o.tri;
-            o.out = t.output.clone();
-            (o.pslg, o.refine_mesh, o.convex_hull) = (t.pslg, t.refine_mesh, t.convex_hull);
-            (o.region_attributes, o.voronoi, o.weights) =
-                (t.region_attributes, t.voronoi, t.weights);
-            (o.min_angle, o.area, o.max_area) = (t.min_angle, t.regional_areas, t.max_area);
-            o.max_steiner = t.max_steiner;
-            (o.no_poly, o.second_order, o.fortune) = (t.no_poly, t.second_order, t.fortune);
-            (o.conforming_delaunay, o.jettison) = (t.conforming_delaunay, t.jettison);
-            o.no_segment_splits = match t.segment_splits {
-                delone::tri::refine::SegmentSplits::All => 0,
-                delone::tri::refine::SegmentSplits::Interior => 1,
-                delone::tri::refine::SegmentSplits::None => 2,
-            };
+impl Opts {
+    /// The output letters both programs share (`-zQVCenNEIB`).
+    pub fn out(&self) -> &OutputSwitches {
+        match self.mode {
+            Some(Mode::Tet) => &self.tet.output,
+            _ => &self.tri.output,
         }
-        Mode::Tet => {
-            let t = &o.tet;
-            o.out = t.output.clone();
-            (o.pslg, o.refine_mesh, o.convex_hull) = (t.plc, t.refine_mesh, t.convex_hull);
-            (o.region_attributes, o.voronoi, o.weights) =
-                (t.region_attributes, t.voronoi, t.weights);
-            (o.tet_ratio, o.tet_min_dihedral) = (t.max_radius_edge, t.min_dihedral);
-            (o.area, o.max_area, o.max_steiner) = (t.regional_volumes, t.max_volume, t.max_steiner);
-            (o.sizing, o.preserve_surface, o.detect) = (t.sizing, t.preserve_surface, t.detect);
-            (o.no_merge, o.medit_out) = (t.no_merge, t.medit);
-            (o.all_faces, o.no_face, o.vtk_legacy) = (t.all_faces, t.no_face, t.vtk_legacy);
-        }
+    }
+
+    /// `-p`: a PSLG (tri) or a PLC or surface (tet).
+    pub fn pslg(&self) -> bool {
+        self.tri.pslg || self.tet.plc
+    }
+
+    /// `-r`: refine an existing mesh.
+    pub fn refine_mesh(&self) -> bool {
+        self.tri.refine_mesh || self.tet.refine_mesh
+    }
+
+    /// `-c`: keep the convex hull.
+    pub fn convex_hull(&self) -> bool {
+        self.tri.convex_hull || self.tet.convex_hull
+    }
+
+    /// `-A`: regional attributes in the `.ele`.
+    pub fn region_attributes(&self) -> bool {
+        self.tri.region_attributes || self.tet.region_attributes
+    }
+
+    /// `-v`: the Voronoi (power, with `-w`) diagram.
+    pub fn voronoi(&self) -> bool {
+        self.tri.voronoi || self.tet.voronoi
+    }
+
+    /// `-w`: a regular (weighted) triangulation/tetrahedralization.
+    pub fn weights(&self) -> bool {
+        self.tri.weights || self.tet.weights
+    }
+
+    /// `-a`: area (tri) or volume (tet) bounds, regional and, with a
+    /// number, global.
+    pub fn area(&self) -> bool {
+        self.tri.regional_areas || self.tet.regional_volumes
+    }
+
+    /// `-a<x>`: the global area (tri) or volume (tet) bound.
+    pub fn max_area(&self) -> Option<f64> {
+        self.tri.max_area.or(self.tet.max_volume)
+    }
+
+    /// `-S<n>`: the Steiner point budget.
+    pub fn max_steiner(&self) -> Option<usize> {
+        self.tri.max_steiner.or(self.tet.max_steiner)
     }
 }
 
@@ -294,7 +262,10 @@ fn view_switches(mode: Mode, o: &mut Opts) {
 /// switch and the reason (see `unused`). Switches of Triangle/TetGen that
 /// delone lacks are refused as "not implemented yet".
 pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
-    let mut o = Opts::default();
+    let mut o = Opts {
+        mode: Some(mode),
+        ..Opts::default()
+    };
     let mut input: Option<String> = None;
     let mut it = args.into_iter();
     let mut only_files = false;
@@ -443,7 +414,6 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
         Mode::Tri => o.tri.check()?,
         Mode::Tet => o.tet.check()?,
     }
-    view_switches(mode, &mut o);
     if let Some(msg) = unused(mode, &o) {
         return Err(Usage(msg));
     }
@@ -475,6 +445,7 @@ mod tests {
 
     use super::*;
     use delone::switches::SwitchError;
+    use delone::tri::refine::SegmentSplits;
 
     fn p(mode: Mode, args: &[&str]) -> Result<Command, Usage> {
         parse(mode, args.iter().map(|s| s.to_string()).collect())
@@ -521,8 +492,8 @@ mod tests {
         let Ok(Command::Run(o)) = p(Mode::Tri, &["-zVVCen", "x.node", "--vtu=a.vtu", "-Q"]) else {
             panic!()
         };
-        assert!(o.out.zero && o.out.check && o.out.edges && o.out.neigh && o.out.quiet);
-        assert_eq!(o.out.verbose, 2);
+        assert!(o.out().zero && o.out().check && o.out().edges && o.out().neigh && o.out().quiet);
+        assert_eq!(o.out().verbose, 2);
         assert_eq!(o.vtu, Some("a.vtu".into()));
         assert_eq!(o.input, PathBuf::from("x.node"));
         let Ok(Command::Run(o)) = p(
@@ -531,7 +502,7 @@ mod tests {
         ) else {
             panic!()
         };
-        assert!(o.all_faces && o.vtk_legacy && o.no_face);
+        assert!(o.tet.all_faces && o.tet.vtk_legacy && o.tet.no_face);
         assert_eq!(o.output_dir, Some("d".into()));
         assert_eq!(o.vtu, Some("b.vtu".into()));
     }
@@ -582,13 +553,13 @@ mod tests {
         ) else {
             panic!()
         };
-        assert!(o.voronoi && o.weights);
+        assert!(o.voronoi() && o.weights());
         assert_eq!(o.lloyd, Some(5));
         assert_eq!(o.svg, Some("pic.svg".into()));
         let Ok(Command::Run(o)) = p(Mode::Tet, &["-v", "y"]) else {
             panic!()
         };
-        assert!(o.voronoi);
+        assert!(o.voronoi());
     }
 
     #[test]
@@ -608,8 +579,14 @@ mod tests {
         ) else {
             panic!()
         };
-        assert!(o.second_order && o.no_poly && o.out.edges && o.out.no_bound && o.svg_quality);
-        assert_eq!(o.min_angle, Some(30.0));
+        assert!(
+            o.tri.second_order
+                && o.tri.no_poly
+                && o.out().edges
+                && o.out().no_bound
+                && o.svg_quality
+        );
+        assert_eq!(o.tri.min_angle, Some(30.0));
         assert_eq!(o.png, Some("a.png".into()));
         assert_eq!(o.png_width, Some(300));
         assert_eq!(o.stats_json, Some("s.json".into()));
@@ -622,16 +599,22 @@ mod tests {
             other => panic!("{other:?}"),
         };
         let o = run(&["-pq", "x"]);
-        assert_eq!((o.min_angle, o.area, o.max_area), (Some(20.0), false, None));
+        assert_eq!(
+            (o.tri.min_angle, o.area(), o.max_area()),
+            (Some(20.0), false, None)
+        );
         let o = run(&["-pq34.5a0.01eS100", "x"]);
-        assert_eq!(o.min_angle, Some(34.5));
-        assert!(o.area && o.out.edges);
-        assert_eq!(o.max_area, Some(0.01));
-        assert_eq!(o.max_steiner, Some(100));
+        assert_eq!(o.tri.min_angle, Some(34.5));
+        assert!(o.area() && o.out().edges);
+        assert_eq!(o.max_area(), Some(0.01));
+        assert_eq!(o.max_steiner(), Some(100));
         let o = run(&["-pa", "x"]);
-        assert_eq!((o.min_angle, o.area, o.max_area), (None, true, None));
+        assert_eq!(
+            (o.tri.min_angle, o.area(), o.max_area()),
+            (None, true, None)
+        );
         let o = run(&["-pqa.5", "x"]);
-        assert_eq!((o.min_angle, o.max_area), (Some(20.0), Some(0.5)));
+        assert_eq!((o.tri.min_angle, o.max_area()), (Some(20.0), Some(0.5)));
     }
 
     #[test]
@@ -641,19 +624,27 @@ mod tests {
             other => panic!("{other:?}"),
         };
         let o = run(&["-pD", "x"]);
-        assert!(o.conforming_delaunay && o.no_segment_splits == 0 && !o.jettison);
+        assert!(
+            o.tri.conforming_delaunay
+                && o.tri.segment_splits == SegmentSplits::All
+                && !o.tri.jettison
+        );
         let o = run(&["-pqY", "x"]);
-        assert_eq!(o.no_segment_splits, 1);
+        assert_eq!(o.tri.segment_splits, SegmentSplits::Interior);
         let o = run(&["-pqYYY", "x"]);
-        assert_eq!(o.no_segment_splits, 2);
+        assert_eq!(o.tri.segment_splits, SegmentSplits::None);
         let o = run(&["-rYD", "x"]);
-        assert!(o.refine_mesh && o.conforming_delaunay && o.no_segment_splits == 1);
+        assert!(
+            o.refine_mesh()
+                && o.tri.conforming_delaunay
+                && o.tri.segment_splits == SegmentSplits::Interior
+        );
         let o = run(&["-pjD", "x"]);
-        assert!(o.jettison && o.conforming_delaunay);
+        assert!(o.tri.jettison && o.tri.conforming_delaunay);
         assert!(
             matches!(p(Mode::Tri, &["-rj", "x"]), Err(Usage(m)) if m.starts_with("-j with -r"))
         );
         let o = run(&["-cj", "x"]);
-        assert!(o.jettison && o.convex_hull);
+        assert!(o.tri.jettison && o.convex_hull());
     }
 }

@@ -70,7 +70,7 @@ fn main() {
         ),
         Ok(Command::Version) => println!("delone {}", env!("CARGO_PKG_VERSION")),
         Ok(Command::Run(opts)) => {
-            match progress::observe(!opts.out.quiet, || run::run(mode, &opts)) {
+            match progress::observe(!opts.out().quiet, || run::run(mode, &opts)) {
                 Ok(0) => {}
                 Ok(code) => std::process::exit(code),
                 Err(f) => fail(&f.message, f.code),

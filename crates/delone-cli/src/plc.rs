@@ -51,7 +51,7 @@ fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
             code: 2,
         });
     }
-    let mut out = if o.out.no_iteration {
+    let mut out = if o.out().no_iteration {
         base
     } else {
         with_ext(&base, "1")
@@ -226,7 +226,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     crate::guard::check()?;
     let name = path.display();
     let opts = TetOptions {
-        size_field: if o.sizing {
+        size_field: if o.tet.sizing {
             Some(
                 crate::tetr::plc_sizing(o, &plc.points)
                     .map_err(|e| input_err(format!("{name}: {e}")))?,
@@ -282,9 +282,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     });
     code = crate::pslg::combine(code, bound_code);
     let t2 = Instant::now();
-    let first = if o.out.zero { 0 } else { first_in };
+    let first = if o.out().zero { 0 } else { first_in };
     let mut written = Vec::new();
-    if !o.out.no_node {
+    if !o.out().no_node {
         let p = with_ext(&out, "node");
         write(&p, |f| {
             delone_io::write_node(f, &rec.points, &[], 0, None, first)
@@ -295,7 +295,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         crate::tetout::TetOutput::new(&rec, &facet_marker, (faces, face_markers, face_triangles));
     written.extend(out_mesh.write_all(o, &out, first)?);
     let t_write = t2.elapsed();
-    if !o.out.quiet {
+    if !o.out().quiet {
         let r = &rec.report;
         println!(
             "delone tet -p: {name} ({} points, {} facets)",
@@ -311,7 +311,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             r.steiner_on_facets,
             r.steiner_interior
         );
-        if o.out.verbose > 0 {
+        if o.out().verbose > 0 {
             println!(
                 "  regions: {}   holes: {} point(s), {} region(s) removed   hull tetrahedra before carving: {}",
                 rec.regions.len(),
@@ -359,7 +359,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     crate::tetq::print_tail(
-        o.out.quiet,
+        o.out().quiet,
         &lines,
         || {
             format!(

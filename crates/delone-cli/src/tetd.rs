@@ -69,7 +69,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         m.boundary_edges.len() + m.nonmanifold_edges.len()
     };
     let found = !pairs.is_empty() || !degenerate.is_empty() || open > 0;
-    if o.out.quiet {
+    if o.out().quiet {
         if found {
             eprintln!(
                 "delone: {name}: {} intersecting facet pair(s), {} degenerate facet(s), {} open or non-manifold edge(s)",
@@ -108,7 +108,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             )
         }
     );
-    let shown = if o.out.verbose > 0 { usize::MAX } else { 20 };
+    let shown = if o.out().verbose > 0 { usize::MAX } else { 20 };
     for (a, b) in pairs.iter().take(shown) {
         println!("  facets {a} and {b} intersect");
     }

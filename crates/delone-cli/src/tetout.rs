@@ -89,7 +89,7 @@ impl<'a> TetOutput<'a> {
     /// Whether the VTK outputs carry the region attribute: with `-A`, or
     /// when the input names regions or the domain has several.
     fn has_regions(&self, o: &Opts) -> bool {
-        o.region_attributes
+        o.region_attributes()
             || self.rec.regions.len() > 1
             || self.rec.regions.iter().any(|r| r.seed.is_some())
     }
@@ -151,45 +151,50 @@ impl<'a> TetOutput<'a> {
     pub fn write_all(&self, o: &Opts, out: &Path, first: u32) -> Result<Vec<PathBuf>, Failure> {
         let rec = self.rec;
         let mut written = Vec::new();
-        if !o.out.no_ele {
+        if !o.out().no_ele {
             let p = with_ext(out, "ele");
-            let attrs = if o.region_attributes {
+            let attrs = if o.region_attributes() {
                 self.attributes()
             } else {
                 Vec::new()
             };
-            let n = usize::from(o.region_attributes);
+            let n = usize::from(o.region_attributes());
             write(&p, |f| {
                 delone_io::write_ele(f, &rec.mesh.tets, &attrs, n, first)
             })?;
             written.push(p);
         }
-        if !o.no_face {
+        if !o.tet.no_face {
             let p = with_ext(out, "face");
-            let (faces, markers) = if o.all_faces {
+            let (faces, markers) = if o.tet.all_faces {
                 self.all_faces()?
             } else {
                 (self.faces.clone(), self.face_marker.clone())
             };
             write(&p, |f| {
-                delone_io::write_face(f, &faces, (!o.out.no_bound).then_some(&markers[..]), first)
+                delone_io::write_face(
+                    f,
+                    &faces,
+                    (!o.out().no_bound).then_some(&markers[..]),
+                    first,
+                )
             })?;
             written.push(p);
-            if o.out.edges {
+            if o.out().edges {
                 let p = with_ext(out, "edge");
                 let (edges, markers) = self.edges()?;
                 write(&p, |f| {
                     delone_io::write_edge(
                         f,
                         &edges,
-                        (!o.out.no_bound).then_some(&markers[..]),
+                        (!o.out().no_bound).then_some(&markers[..]),
                         first,
                     )
                 })?;
                 written.push(p);
             }
         }
-        if o.out.neigh {
+        if o.out().neigh {
             let p = with_ext(out, "neigh");
             write(&p, |f| {
                 delone_io::write_neigh(f, &rec.mesh.neighbors, first)
@@ -234,7 +239,7 @@ impl<'a> TetOutput<'a> {
             })?;
             written.push(p);
         }
-        if o.vtk_legacy {
+        if o.tet.vtk_legacy {
             let p = with_ext(out, "vtk");
             write(&p, |f| {
                 delone_io::write_vtk_legacy(
@@ -261,7 +266,7 @@ impl<'a> TetOutput<'a> {
             written.push(p);
         }
         let mut medit = o.medit.clone();
-        if o.medit_out && medit.is_none() {
+        if o.tet.medit && medit.is_none() {
             medit = Some(with_ext(out, "mesh"));
         }
         if let Some(p) = &medit {

@@ -43,7 +43,7 @@ pub fn bound_status(
         parts.push(format!(
             "{} above the -q radius-edge ratio {} ({})",
             m.ratio,
-            o.tet_ratio.unwrap_or(f64::INFINITY),
+            o.tet.max_radius_edge.unwrap_or(f64::INFINITY),
             if m.ratio_final {
                 why
             } else {
@@ -67,8 +67,8 @@ pub fn bound_status(
         if *n > 0 {
             parts.push(format!(
                 "{n} with a dihedral angle below {} deg or above {} deg ({why})",
-                o.tet_min_dihedral.unwrap_or(0.0),
-                180.0 - o.tet_min_dihedral.unwrap_or(0.0)
+                o.tet.min_dihedral.unwrap_or(0.0),
+                180.0 - o.tet.min_dihedral.unwrap_or(0.0)
             ));
         }
     }
@@ -124,7 +124,7 @@ impl Missed {
         } else {
             above_ratio.min(r.remaining_bad)
         };
-        let dihedral = o.tet_min_dihedral.map(|d| match optimized {
+        let dihedral = o.tet.min_dihedral.map(|d| match optimized {
             Some(x) if (x.bad.angle - d).abs() < 1e-12 => {
                 let b = &x.bad;
                 let mut why = Vec::new();
@@ -188,7 +188,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
         r.stuck_counts[1],
         r.stuck_counts[2],
     )];
-    if o.out.verbose > 0 {
+    if o.out().verbose > 0 {
         lines.push(format!(
             "optimization: dihedral {:.2}..{:.2} deg -> {:.2}..{:.2} deg, shape min {:.4} -> {:.4}, {} -> {} tetrahedra",
             r.before.min_dihedral,
@@ -214,7 +214,11 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
             lo = *b;
         }
         lines.push(h);
-        for s in r.stuck.iter().take(if o.out.verbose > 1 { 32 } else { 3 }) {
+        for s in r
+            .stuck
+            .iter()
+            .take(if o.out().verbose > 1 { 32 } else { 3 })
+        {
             lines.push(crate::tetq_bound::stuck_line(s));
         }
     }
@@ -250,7 +254,7 @@ pub fn report(
             r.remaining_over_volume,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
-        if o.out.verbose > 0 {
+        if o.out().verbose > 0 {
             lines.push(format!(
                 "Steiner budget {} points (about {:.0} MB; -S raises it){}",
                 r.steiner_budget,
@@ -258,23 +262,23 @@ pub fn report(
                 if r.budget_exhausted { ", reached" } else { "" }
             ));
         }
-        if r.remaining_bad > 0 && o.out.verbose > 0 {
+        if r.remaining_bad > 0 && o.out().verbose > 0 {
             lines.push(crate::tetq_left::left_line(r));
         }
         lines.push(bounds_line(o, rec));
-        if o.out.verbose > 0 && o.tet_ratio.is_some() {
+        if o.out().verbose > 0 && o.tet.max_radius_edge.is_some() {
             let m = Missed::of(o, rec, r, optimized);
             if m.raised > 0 {
                 lines.push(raised_line(m.raised));
             }
         }
     }
-    let want_stats = o.out.verbose > 0 || o.stats_json.is_some();
+    let want_stats = o.out().verbose > 0 || o.stats_json.is_some();
     if !want_stats {
         return Ok(lines);
     }
     let s = TetStats::of(&rec.points, &rec.mesh.tets);
-    if o.out.verbose > 0 {
+    if o.out().verbose > 0 {
         lines.push(format!(
             "quality: dihedral {:.2}..{:.2} deg, radius-edge {:.3}..{:.3} (mean {:.3}), shape min {:.4} mean {:.4}, volume {:.4e}..{:.4e} (total {:.6e})",
             s.min_dihedral,
@@ -308,7 +312,7 @@ pub fn report(
 /// volume.
 fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
     use delone::tet::quality::{radius_edge_ratio, volume};
-    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let ratio = o.tet.max_radius_edge.unwrap_or(f64::INFINITY);
     let (mut above_ratio, mut above_volume, mut largest) = (0usize, 0usize, 0.0f64);
     for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
         let p = tv.map(|q| rec.points[q as usize]);
@@ -321,8 +325,8 @@ fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
             .regions
             .get(g as usize)
             .and_then(|r| r.max_volume)
-            .filter(|&b| b > 0.0 && o.area);
-        let bound = match (o.max_area, regional) {
+            .filter(|&b| b > 0.0 && o.area());
+        let bound = match (o.max_area(), regional) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
@@ -338,7 +342,7 @@ fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
 /// (`-q`) and above their volume bound (`-a`, global or regional), and the
 /// largest volume.
 pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
-    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let ratio = o.tet.max_radius_edge.unwrap_or(f64::INFINITY);
     let (above_ratio, above_volume, largest) = final_counts(o, rec);
     let mut l = String::from("bounds (final mesh):");
     if ratio.is_finite() {
@@ -346,7 +350,7 @@ pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
             " {above_ratio} tetrahedra above the radius-edge bound {ratio};"
         ));
     }
-    if o.area {
+    if o.area() {
         l.push_str(&format!(
             " {above_volume} tetrahedra above the volume bound;"
         ));
@@ -364,7 +368,7 @@ pub fn check_and_prepare<E: std::fmt::Display>(
     lines: &mut Vec<String>,
 ) -> Result<i32, crate::fail::Failure> {
     let mut code = 0;
-    if o.out.check {
+    if o.out().check {
         match check() {
             Ok(()) => lines.push(format!(
                 "check (-C): {what}, tetrahedra positive, volume preserved"

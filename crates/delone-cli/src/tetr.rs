@@ -114,7 +114,7 @@ pub fn load_sizing(base: &Path, points: &[[f64; 3]], tets: &[[u32; 4]]) -> Resul
 
 /// `-m` with `-p`: the sizing for the PLC/surface input `o.input`.
 pub fn plc_sizing(o: &Opts, points: &[[f64; 3]]) -> Result<Sizing, String> {
-    if !o.sizing {
+    if !o.tet.sizing {
         return Ok(Sizing::None);
     }
     const EXT: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mesh", "node"];
@@ -133,7 +133,7 @@ pub fn plc_sizing(o: &Opts, points: &[[f64; 3]]) -> Result<Sizing, String> {
 /// Runs `delone tet -r`.
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
-    let names = crate::paths::names(&o.input, o.out.no_iteration, o.output_dir.as_deref())?;
+    let names = crate::paths::names(&o.input, o.out().no_iteration, o.output_dir.as_deref())?;
     let node_s = names.node.to_string_lossy();
     let base = PathBuf::from(node_s.strip_suffix(".node").unwrap_or(&node_s));
     let out = names.out_base;
@@ -147,7 +147,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         (Vec::new(), None)
     };
-    let sizing = if o.sizing {
+    let sizing = if o.tet.sizing {
         load_sizing(&base, &points, &tets).map_err(input_err)?
     } else {
         Sizing::None
@@ -157,12 +157,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     let mut opts = RefineOptions {
-        max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
-        max_volume: o.max_area,
+        max_radius_edge: o.tet.max_radius_edge.unwrap_or(f64::INFINITY),
+        max_volume: o.max_area(),
         sizing,
         ..RefineOptions::default()
     };
-    if let Some(s) = o.max_steiner {
+    if let Some(s) = o.max_steiner() {
         opts.max_steiner = s;
     }
     let name = base.display();
@@ -194,9 +194,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         "every boundary/interface face of the input mesh is a union of mesh faces",
         &mut lines,
     )?;
-    let first = if o.out.zero { 0 } else { first_in };
+    let first = if o.out().zero { 0 } else { first_in };
     let mut written = Vec::new();
-    if !o.out.no_node {
+    if !o.out().no_node {
         let p = with_ext(&out, "node");
         write(&p, |f| {
             delone_io::write_node(f, &rec.points, &[], 0, None, first)
@@ -204,11 +204,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         written.push(p);
     }
     let mut oo = o.clone();
-    oo.region_attributes |= !attributes.is_empty();
+    oo.tet.region_attributes |= !attributes.is_empty();
     let marked = delone::tet::pipeline::marked_faces(&rec, &tri_marker);
     let out_mesh = crate::tetout::TetOutput::new(&rec, &tri_marker, marked);
     written.extend(out_mesh.write_all(&oo, &out, first)?);
-    if !o.out.quiet {
+    if !o.out().quiet {
         println!(
             "delone tet -r: {name} ({} points, {} tetrahedra, {} constraint faces)",
             points.len(),
@@ -229,7 +229,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     crate::tetq::print_tail(
-        o.out.quiet,
+        o.out().quiet,
         &lines,
         || {
             format!(

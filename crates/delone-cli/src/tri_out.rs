@@ -345,7 +345,7 @@ pub struct PslgOut<'a> {
 /// `--stats-json`, the statistics.
 pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), Failure> {
     let (o, cdt, g) = (p.o, p.cdt, p.g);
-    let bound = !o.out.no_bound;
+    let bound = !o.out().no_bound;
     let mut written = Vec::new();
     let n = cdt.points.len();
     let n_in = g.points.len();
@@ -367,6 +367,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
         .map_err(|e| fail(format!("internal error: {e}")))?;
     let emark = edge_markers(&edges.items, &edges.boundary, &bounding);
     let quad = o
+        .tri
         .second_order
         .then(|| Quadratic::new(&cdt.points, &cdt.triangles, &cdt.neighbors));
     // Points, attributes and markers, with the midpoints appended for -o2.
@@ -407,6 +408,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     let mk = all_markers.as_deref().unwrap_or(&markers);
     // -j: only the vertices of the triangles (and the -o2 midpoints), renumbered.
     let jet = o
+        .tri
         .jettison
         .then(|| Renumber::new(pts.len(), &cdt.triangles, cdt.points.len()));
     let jrows = jet
@@ -418,23 +420,23 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     };
     let jet = jet.as_ref();
     let first = p.first;
-    if !o.out.no_node {
+    if !o.out().no_node {
         write(&with_ext(p.out, "node"), &mut written, |f| {
             delone_io::write_node(f, pts, at, na, bound.then_some(mk), first)
         })?;
     }
-    let (eattrs, nea) = if o.region_attributes {
+    let (eattrs, nea) = if o.region_attributes() {
         (cdt.attributes.clone(), 1)
     } else {
         (Vec::new(), 0)
     };
-    if !o.out.no_ele {
+    if !o.out().no_ele {
         write(&with_ext(p.out, "ele"), &mut written, |f| match &quad {
             Some(q) => delone_io::write_ele(f, &renumbered(jet, &q.triangles), &eattrs, nea, first),
             None => delone_io::write_ele(f, &renumbered(jet, &cdt.triangles), &eattrs, nea, first),
         })?;
     }
-    if !o.no_poly {
+    if !o.tri.no_poly {
         // The subsegments, then the boundary edges that are not (-c hulls).
         let look = segment_lookup(&bounding);
         let hull = hull_edge_keys(&cdt.triangles, &cdt.neighbors);
@@ -476,7 +478,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.out.edges {
+    if o.out().edges {
         write(&with_ext(p.out, "edge"), &mut written, |f| {
             delone_io::write_edge(
                 f,
@@ -486,7 +488,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.out.neigh {
+    if o.out().neigh {
         write(&with_ext(p.out, "neigh"), &mut written, |f| {
             delone_io::write_neigh(f, &cdt.neighbors, first)
         })?;
@@ -526,7 +528,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             name: "min_angle",
             values: Values::Float64(&min_angle),
         }];
-        if o.region_attributes {
+        if o.region_attributes() {
             cd.push(DataArray {
                 name: "region_attribute",
                 values: Values::Float64(&cdt.attributes),
@@ -602,7 +604,7 @@ pub fn write_plain_second_order(
         }
         mk.push(i32::from(hull.binary_search(&edge_key(e[0], e[1])).is_ok()));
     }
-    let bound = !o.out.no_bound;
+    let bound = !o.out().no_bound;
     for (kind, path) in planned {
         match *kind {
             "node" => write(path, written, |f| {
@@ -646,7 +648,7 @@ pub fn stats_if(
     steiner: Option<SteinerCounts>,
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<TriStats>, Failure> {
-    if o.out.verbose == 0 && o.stats_json.is_none() {
+    if o.out().verbose == 0 && o.stats_json.is_none() {
         return Ok(None);
     }
     let mut s =
