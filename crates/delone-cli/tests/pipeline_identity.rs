@@ -94,6 +94,8 @@ fn tet_mesh_writes_what_delone_tet_pq_writes() {
         let (plc, first) = read_plc(&src);
         let r = delone::tet::mesh(&plc, &opts).unwrap_or_else(|e| panic!("{rel}: {e}"));
         assert!(!r.mesh.mesh.tets.is_empty(), "{rel}");
+        delone::tet::recover::check_recovered(&plc.points, &r.triangles, &r.mesh)
+            .unwrap_or_else(|v| panic!("{rel}: {v}"));
         let dir = common::tmp(&rel.replace('/', "_"));
         let name = src.file_name().unwrap().to_str().unwrap();
         std::fs::copy(&src, dir.join(name)).unwrap();

@@ -180,8 +180,10 @@ impl std::error::Error for TetError {
 /// triangulate the facets, recover them and carve (holes, regions, the
 /// outside unless `-c`), refine with `-q`/`-a`/`-m`, optimise (by default
 /// after refinement; `-O` sets the level). Regional volume bounds apply
-/// only with `-a` (TetGen's rule). Deterministic: the same PLC and options
-/// give the same result bit for bit.
+/// only with `-a` (TetGen's rule). The PLC is always meshed as with `-p`
+/// ([`TetOptions::plc`] is implied; a point set alone is
+/// [`crate::tet::tetrahedralize`]'s job). Deterministic: the same PLC and
+/// options give the same result bit for bit.
 ///
 /// # Errors
 /// A [`TetError`] naming the stage and, through its cause, the offending
@@ -199,6 +201,7 @@ impl std::error::Error for TetError {
 /// assert!((volume - 1.0).abs() < 1e-9);
 /// assert!(r.mesh.mesh.tets.len() >= 100);
 /// assert!(r.refine.is_some() && r.optimize.is_some());
+/// delone::tet::recover::check_recovered(&plc.points, &r.triangles, &r.mesh).unwrap();
 /// ```
 pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     plc.validate().map_err(TetError::Input)?;

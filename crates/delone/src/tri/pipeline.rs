@@ -229,6 +229,10 @@ impl std::error::Error for TriError {
 /// let rep = r.refine.unwrap();
 /// assert!(rep.met && rep.min_angle >= 30.0);
 /// assert!(r.mesh.triangles.len() >= 100);
+/// delone::tri::check_cdt(&g, &r.mesh).unwrap();
+/// // Without -p the points alone are triangulated (segments are not used).
+/// let r = mesh(&g, &TriOptions::default()).unwrap();
+/// assert_eq!(r.mesh.triangles.len(), 2);
 /// ```
 pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
     let cdt = if opts.pslg {
