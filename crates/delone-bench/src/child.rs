@@ -205,35 +205,31 @@ fn run_poly(
     on_ready: &mut dyn FnMut(),
     check: bool,
 ) -> Result<Run, String> {
-    use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
-    use delone::tri::refine::{refine, RefineOptions};
+    use delone::tri::constrain::check_cdt;
+    use delone::tri::TriOptions;
     let g = &input.pslg;
     match program {
         "delone" => {
             on_ready();
+            // `delone tri -p` / `-pq…a…` (a global area bound alone, as the
+            // cases give it, without the regions' bounds).
+            let opts = TriOptions {
+                pslg: true,
+                min_angle: input.quality.and_then(|q| q.min_angle),
+                max_area: input.quality.and_then(|q| q.max_area),
+                ..TriOptions::default()
+            };
             let cpu0 = thread_cpu_ns();
             let t = Instant::now();
-            let mut cdt_seconds = 0.0;
-            let r =
-                constrained_triangulation(black_box(g), CdtOptions::default()).and_then(|cdt| {
-                    cdt_seconds = t.elapsed().as_secs_f64();
-                    match input.quality {
-                        None => Ok((cdt, None)),
-                        Some(q) => {
-                            let opts = RefineOptions {
-                                min_angle: q.min_angle,
-                                max_area: q.max_area,
-                                ..Default::default()
-                            };
-                            refine(&cdt, &opts).map(|r| (r.mesh, Some(r.report)))
-                        }
-                    }
-                });
+            let r = delone::tri::mesh(black_box(g), &opts);
             let seconds = t.elapsed().as_secs_f64();
             let cpu = cpu0
                 .zip(thread_cpu_ns())
                 .map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
-            let (m, report) = r.map_err(|e| e.to_string())?;
+            let r = r.map_err(|e| e.to_string())?;
+            let refine_seconds = r.refine_time.as_secs_f64();
+            let cdt_seconds = seconds - refine_seconds;
+            let (m, report) = (r.mesh, r.refine);
             let hash = hash_u32s(
                 m.triangles
                     .iter()
@@ -249,7 +245,7 @@ fn run_poly(
                     if r.met { "yes" } else { "no" }
                 ));
             }
-            info.push_str(&phase_info(cpu, cdt_seconds, seconds - cdt_seconds));
+            info.push_str(&phase_info(cpu, cdt_seconds, refine_seconds));
             Ok(Run {
                 seconds,
                 elements: m.triangles.len(),
@@ -423,28 +419,20 @@ fn run_surf(
 /// its default `-O`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
-/// delone's quality mesh of a closed surface at radius-edge bound `q`
-/// (what `delone tet -pqQ` does: refinement, then the default `-O`
-/// optimisation): the timed arm and the dihedral chart.
+/// delone's quality mesh of a closed surface (`plc`, its triangles as
+/// facets) at radius-edge bound `q`: what `delone tet -pqQ` does
+/// ([`delone::tet::mesh`]: recovery, refinement, then the default `-O`
+/// optimisation), the timed arm and the dihedral chart.
 pub fn delone_quality(
-    points: &[[f64; 3]],
-    triangles: &[[u32; 3]],
+    plc: &delone::model::plc::Plc,
     q: f64,
-) -> Result<delone::tet::refine::Refined, String> {
-    use delone::tet::optimize::{optimize, OptimizeOptions};
-    use delone::tet::refine::{refine, RefineOptions};
-    let opts = RefineOptions {
-        max_radius_edge: q,
-        ..RefineOptions::default()
-    };
-    let mut r = refine(points, triangles, &opts).map_err(|e| e.to_string())?;
-    let o = OptimizeOptions {
-        input_points: Some(points.len()),
+) -> Result<delone::tet::TetResult, String> {
+    let opts = delone::tet::TetOptions {
+        plc: true,
+        max_radius_edge: Some(q),
         ..Default::default()
-    }
-    .keeping(&opts);
-    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
-    Ok(r)
+    };
+    delone::tet::mesh(plc, &opts).map_err(|e| e.to_string())
 }
 
 /// [`delone_quality`]'s points and tetrahedra.
@@ -453,8 +441,9 @@ pub fn delone_quality_mesh(
     triangles: &[[u32; 3]],
     q: f64,
 ) -> Result<crate::refbin::NodeEle, String> {
-    let r = delone_quality(points, triangles, q)?;
-    Ok((r.rec.points, r.rec.mesh.tets))
+    let plc = delone::model::plc::Plc::from_triangles(points.to_vec(), triangles);
+    let r = delone_quality(&plc, q)?;
+    Ok((r.mesh.points, r.mesh.mesh.tets))
 }
 
 fn run_surfq(
@@ -469,15 +458,18 @@ fn run_surfq(
     use delone::tet::recover::check_recovered;
     match program {
         "delone" => {
+            let plc = delone::model::plc::Plc::from_triangles(p.to_vec(), tris);
             on_ready();
             // `-pqB` optimises by default (`-O`), as the CLI does: see
             // `delone_quality`.
-            let (r, seconds, wall) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
+            let (r, seconds, wall) = cpu_timed(|| delone_quality(black_box(&plc), q));
             let r = r?;
-            let m = &r.rec.mesh;
-            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
-            let valid = check.then(|| check_recovered(p, tris, &r.rec).map_err(|v| v.to_string()));
-            let s = TetStats::of(&r.rec.points, &m.tets);
+            let refined = r.refine.unwrap_or_default();
+            let rec = &r.mesh;
+            let m = &rec.mesh;
+            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&rec.points);
+            let valid = check.then(|| check_recovered(p, tris, rec).map_err(|v| v.to_string()));
+            let s = TetStats::of(&rec.points, &m.tets);
             Ok(Run {
                 seconds,
                 elements: m.tets.len(),
@@ -485,9 +477,9 @@ fn run_surfq(
                 valid,
                 info: format!(
                     "steiner={} mindih={:.2} bad={} wall={wall:.3}",
-                    r.rec.report.steiner() + r.report.steiner(),
+                    rec.report.steiner() + refined.steiner(),
                     s.min_dihedral,
-                    r.report.remaining_bad
+                    refined.remaining_bad
                 ),
                 external_peak_kb: None,
             })
@@ -516,63 +508,23 @@ fn run_surfq(
     }
 }
 
-/// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it: facets
-/// triangulated, recovery with the facets' markers, holes and regions;
-/// with a bound, refinement and the default optimisation.
+/// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it
+/// ([`delone::tet::mesh`]: facets triangulated, recovery with the facets'
+/// markers, holes and regions; with a bound, refinement and the default
+/// optimisation). Returns the mesh, the facets' triangles and the Steiner
+/// points of recovery and refinement.
 fn delone_plc(
     plc: &delone::model::plc::Plc,
     ratio: Option<f64>,
 ) -> Result<(delone::tet::recover::Recovered, Vec<[u32; 3]>, usize), String> {
-    use delone::tet::optimize::{optimize, OptimizeOptions};
-    use delone::tet::recover::{recover_marked, Domain, RecoverOptions};
-    use delone::tet::refine::{refine_recovered, RefineOptions};
-    plc.validate().map_err(|e| e.to_string())?;
-    let (triangles, facet_of) = plc.triangulate_facets().map_err(|e| e.to_string())?;
-    let markers: Vec<i32> = facet_of
-        .iter()
-        .map(|&f| plc.facets[f as usize].marker)
-        .collect();
-    // Regional volume bounds bind only with -a, in TetGen as in delone's
-    // CLI: these cases run -p / -pqB.
-    let regions = plc
-        .regions
-        .iter()
-        .map(|r| delone::model::plc::Region {
-            max_volume: None,
-            ..r.clone()
-        })
-        .collect();
-    let domain = Domain {
-        holes: plc.holes.clone(),
-        regions,
-        convex_hull: false,
-    };
-    let rec = recover_marked(
-        &plc.points,
-        &triangles,
-        &markers,
-        &RecoverOptions::default(),
-        &domain,
-    )
-    .map_err(|e| e.to_string())?;
-    let Some(q) = ratio else {
-        let steiner = rec.report.steiner();
-        return Ok((rec, triangles, steiner));
-    };
-    let opts = RefineOptions {
-        max_radius_edge: q,
-        ..RefineOptions::default()
-    };
-    let mut r =
-        refine_recovered(&plc.points, &triangles, &rec, &opts).map_err(|e| e.to_string())?;
-    let o = OptimizeOptions {
-        input_points: Some(plc.points.len()),
+    let opts = delone::tet::TetOptions {
+        plc: true,
+        max_radius_edge: ratio,
         ..Default::default()
-    }
-    .keeping(&opts);
-    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
-    let steiner = r.rec.report.steiner() + r.report.steiner();
-    Ok((r.rec, triangles, steiner))
+    };
+    let r = delone::tet::mesh(plc, &opts).map_err(|e| e.to_string())?;
+    let steiner = r.mesh.report.steiner() + r.refine.map_or(0, |x| x.steiner());
+    Ok((r.mesh, r.triangles, steiner))
 }
 
 /// `3d-plc-NAME` / `3d-plcq-NAME-qB`: delone against the `tetgen`
