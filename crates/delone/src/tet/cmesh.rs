@@ -38,6 +38,7 @@ use std::cell::RefCell;
 use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
+use super::dmesh::ring::{self, RingEnd};
 use super::local::{DEAD, INF};
 use super::Delaunay3;
 
@@ -57,27 +58,6 @@ pub(crate) const MAX_RING: usize = 24;
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 6;
 
-/// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring
-/// `r` (`n` vertices) that the dynamic program chose (`choice[i * n + j]` is
-/// the apex `k` of the triangle on chord `i j`), each triangle joined to the
-/// edge's two ends `a` and `b`.
-pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32; 4]> {
-    let n = r.len();
-    let mut new = Vec::with_capacity(2 * n.saturating_sub(2));
-    let mut stack = vec![(0usize, n - 1)];
-    while let Some((i, j)) = stack.pop() {
-        if j < i + 2 {
-            continue;
-        }
-        let k = choice[i * n + j];
-        new.push([r[i], r[k], r[j], b]);
-        new.push([r[i], r[j], r[k], a]);
-        stack.push((i, k));
-        stack.push((k, j));
-    }
-    new
-}
-
 /// Replacements recorded by a [`CMesh`] while logging
 /// ([`CMesh::start_log`]): per operation, the tetrahedra it removed and
 /// those it created, as vertex tuples. [`CMesh::replay`] applies them to
@@ -91,18 +71,6 @@ pub(crate) struct OpLog {
     slots: Vec<u32>,
     /// Per operation: start in `tets`, removed count, created count.
     ops: Vec<(u32, u16, u16)>,
-}
-
-/// True when `q` is an even permutation of `tv` (same orientation).
-fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
-    let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
-    let mut inv = 0;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            inv += usize::from(pos[i] > pos[j]);
-        }
-    }
-    inv % 2 == 0
 }
 
 /// A mutable tetrahedralization (see the module documentation).
@@ -564,38 +532,19 @@ impl<'a> CMesh<'a> {
         if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
             return false;
         }
-        let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
-        let (Some(c0), Some(d0)) = (o.next(), o.next()) else {
+        let Some(xy) = ring::opposite(tv, a, b) else {
             return false;
         };
-        let (mut x, mut y) = if even(tv, [a, b, c0, d0]) {
-            (c0, d0)
-        } else {
-            (d0, c0)
+        let verts = |t: u32| c.v[t as usize];
+        // Every face is crossed; a ghost cell ends the walk unless asked for.
+        let cross = |t: u32, i: usize| {
+            if !ghosts && c.v[t as usize].contains(&INF) {
+                Err(())
+            } else {
+                Ok(Some(c.adj[t as usize][i] >> 2))
+            }
         };
-        let mut cur = t;
-        loop {
-            let cv = c.v[cur as usize];
-            if (!ghosts && cv.contains(&INF)) || tets.len() >= MAX_RING {
-                return false;
-            }
-            tets.push(cur);
-            ring.push(x);
-            let Some(ix) = cv.iter().position(|&w| w == x) else {
-                return false;
-            };
-            let next = c.adj[cur as usize][ix] >> 2;
-            if next == t {
-                return true;
-            }
-            let nv = c.v[next as usize];
-            let Some(&z) = nv.iter().find(|&&w| w != a && w != b && w != y) else {
-                return false;
-            };
-            cur = next;
-            x = y;
-            y = z;
-        }
+        ring::walk(t, xy, (a, b), MAX_RING, (tets, ring), verts, cross) == Some(RingEnd::Closed)
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
@@ -827,42 +776,34 @@ impl<'a> CMesh<'a> {
             std::mem::take(&mut self.dp_best),
             std::mem::take(&mut self.dp_choice),
         );
-        best.clear();
-        best.resize(n * n, NO);
-        choice.clear();
-        choice.resize(n * n, 0);
-        for i in 0..n - 1 {
-            best[i * n + i + 1] = 0;
-        }
-        for len in 2..n {
-            for i in 0..n - len {
-                let j = i + len;
-                let chord = if i == 0 && j == n - 1 {
+        let rr: &[u32] = r;
+        let total = ring::triangulate(
+            n,
+            (NO, 0),
+            &mut best,
+            &mut choice,
+            |i, j| {
+                if i == 0 && j == n - 1 {
                     0
                 } else {
-                    edge_cost(self.pts(), r[i], r[j])
-                };
-                for k in i + 1..j {
-                    let (l, rr) = (best[i * n + k], best[k * n + j]);
-                    if l >= NO || rr >= NO {
-                        continue;
-                    }
-                    let tri = [r[i], r[k], r[j]];
-                    if !self.positive([tri[0], tri[1], tri[2], b])
-                        || !self.positive([tri[0], tri[2], tri[1], a])
-                    {
-                        continue;
-                    }
-                    let c = l + rr + tri_cost(self.pts(), tri) + chord;
-                    if c < best[i * n + j] {
-                        best[i * n + j] = c;
-                        choice[i * n + j] = k;
-                    }
+                    edge_cost(self.pts(), rr[i], rr[j])
                 }
-            }
-        }
-        let total = best[n - 1];
-        let new = (total < NO).then(|| ring_tets(r, &choice, a, b));
+            },
+            |i, k, j, l, right, cur, &chord| {
+                if l >= NO || right >= NO {
+                    return None;
+                }
+                let tri = [rr[i], rr[k], rr[j]];
+                if !self.positive([tri[0], tri[1], tri[2], b])
+                    || !self.positive([tri[0], tri[2], tri[1], a])
+                {
+                    return None;
+                }
+                let c = l + right + tri_cost(self.pts(), tri) + chord;
+                (c < cur).then_some(c)
+            },
+        );
+        let new = (total < NO).then(|| ring::ring_tets(r, &choice, a, b));
         self.dp_best = best;
         self.dp_choice = choice;
         let mut new = new?;

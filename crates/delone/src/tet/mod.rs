@@ -7,6 +7,7 @@
 
 pub(crate) mod cmesh;
 pub mod delaunay;
+pub(crate) mod dmesh;
 pub mod intersect;
 pub mod local;
 pub mod mesh;

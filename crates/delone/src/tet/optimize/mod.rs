@@ -743,7 +743,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     // Flat tetrahedra under a chord over a rounded edge point go first (see
     // `Work::drop_flat_boundary`): no other operation can touch them.
     if opts.flips {
-        for t in 0..w.tv.len() as u32 {
+        for t in 0..w.m.tv.len() as u32 {
             if w.live(t) && w.q[t as usize] < LIFT_BELOW && w.drop_flat_boundary(t) {
                 report.flat_removed += 1;
             }
@@ -772,9 +772,9 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
         let mut attempts = None;
         w.thorough = thorough;
         loop {
-            let mut heap: BinaryHeap<Entry> = (0..w.tv.len() as u32)
+            let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
-                .map(|t| Entry(w.q[t as usize], t, w.tv[t as usize]))
+                .map(|t| Entry(w.q[t as usize], t, w.m.tv[t as usize]))
                 .collect();
             let left = attempts.get_or_insert(opts.max_passes * heap.len());
             let mut any = false;
@@ -787,7 +787,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     crate::progress::report("optimising", done, total, "evaluations");
                 }
                 // Stale entries: the slot changed since it was queued.
-                if w.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
+                if w.m.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
                     continue;
                 }
                 if *left == 0 {
@@ -799,7 +799,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     // the minimum is already above 10°: below, it is mostly
                     // held by needle input triangles, which more work
                     // rarely lifts (it only adds vertices).
-                    let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+                    let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
                     if deg <= low_max
                         && !extended
                         && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
@@ -824,7 +824,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     any = true;
                     for u in std::mem::take(&mut w.dirty) {
                         if w.live(u) && w.q[u as usize] < thr {
-                            heap.push(Entry(w.q[u as usize], u, w.tv[u as usize]));
+                            heap.push(Entry(w.q[u as usize], u, w.m.tv[u as usize]));
                         }
                     }
                 } else {
@@ -852,7 +852,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     // the same bound. (Over the refinement's points too it saves a few
     // per cent more tetrahedra but costs ~10% of the time on large meshes.)
     if opts.insert {
-        let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+        let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
         let floor = CLEANUP.to_radians().sin().max(w.min_q(&live));
         let n0 = w.n0;
         collapse_sweep(&mut w, n0, floor, &mut report);
@@ -885,7 +885,7 @@ fn sorted(mut tv: [u32; 4]) -> [u32; 4] {
 /// True when slot `t` failed before and none of its vertices' stars
 /// changed since.
 fn blocked(w: &Work, failed: &IdMap<[u32; 4], u64>, t: u32) -> bool {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     failed
         .get(&sorted(tv))
         .is_some_and(|&at| tv.iter().all(|&v| w.stamp[v as usize] < at))
@@ -906,7 +906,7 @@ fn improve(
     // a point off its sheet first, unless a flip already makes it fair
     // (that adds no vertex).
     let mut t = t;
-    let tv0 = w.tv[t as usize];
+    let tv0 = w.m.tv[t as usize];
     let mut plan = if opts.flips {
         best_flip(w, t, edge_below)
     } else {
@@ -944,7 +944,7 @@ fn improve(
         }
     }
     if opts.smooth {
-        let tv = w.tv[t as usize];
+        let tv = w.m.tv[t as usize];
         let mut any = false;
         for v in tv {
             if w.smooth(v) {
@@ -957,7 +957,7 @@ fn improve(
         }
     }
     // Insertion (the most expensive try) only for the really bad ones.
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     if opts.insert
         && report.inserted < budget
         && w.q[t as usize] < insert_below
@@ -982,7 +982,7 @@ fn improve(
 /// `edge_below` and the 2-3 flips of its faces: the one whose new
 /// tetrahedra's worst quality is highest, if it beats the old ones'.
 fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     let mut best: Option<Plan> = None;
     let mut consider = |p: Option<Plan>, w: &Work| {
         if let Some(p) = p {
@@ -1083,8 +1083,8 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     if star.is_empty() || star.len() > MAX_COLLAPSE_STAR {
         return false;
     }
-    let region = w.reg[star[0] as usize];
-    if star.iter().any(|&t| w.reg[t as usize] != region) {
+    let region = w.m.reg[star[0] as usize];
+    if star.iter().any(|&t| w.m.reg[t as usize] != region) {
         return false;
     }
     let old_q = w.min_q(&star).min(floor);
@@ -1094,7 +1094,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         let mut es = Vec::new();
         let mut fs = Vec::new();
         for &t in star {
-            let mut o: Vec<u32> = w.tv[t as usize].into_iter().filter(|&y| y != x).collect();
+            let mut o: Vec<u32> = w.m.tv[t as usize].into_iter().filter(|&y| y != x).collect();
             o.sort_unstable();
             vs.extend_from_slice(&o);
             es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
@@ -1115,7 +1115,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         let mut ee = Vec::new();
         let mut new = Vec::with_capacity(star.len());
         for &t in &star {
-            let tv = w.tv[t as usize];
+            let tv = w.m.tv[t as usize];
             if tv.contains(&u) {
                 let mut o: Vec<u32> = tv.into_iter().filter(|&y| y != u && y != v).collect();
                 o.sort_unstable();
@@ -1179,7 +1179,7 @@ const LIFT_FLIP_OK: f64 = 0.342;
 /// across open faces, smooths it, and keeps it when the worst quality
 /// improved (else undoes it).
 fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut OptimizeReport) -> bool {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     let p = tv.map(|x| w.p[x as usize]);
     let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
     // First in the small cavity (it and its neighbours), then in the
@@ -1312,10 +1312,10 @@ fn try_insert_at(
     let near = matches!(cavity, Cavity::Near);
     let mut cav = vec![t];
     for f in 0..4 {
-        let n = w.nb[t as usize][f];
+        let n = w.m.across(t, f);
         if n != NONE
-            && w.reg[n as usize] == w.reg[t as usize]
-            && !w.fixed_face(t, f)
+            && w.m.reg[n as usize] == w.m.reg[t as usize]
+            && !w.m.is_sub(t, f)
             && !cav.contains(&n)
         {
             cav.push(n);
@@ -1398,13 +1398,6 @@ fn try_insert_at(
     }
 }
 
-impl Work {
-    /// True when the face opposite `f` in `t` is a protected interface.
-    fn fixed_face(&self, t: u32, f: usize) -> bool {
-        self.is_protected(fkey(face(self.tv[t as usize], f)))
-    }
-}
-
 /// Checks sizes, ranges and float orientation of the input.
 fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
     let m = &rec.mesh;
@@ -1438,9 +1431,9 @@ fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
 /// Writes the live tetrahedra (in slot order) and the points back.
 /// Returns, per point of the result, its id in `w`.
 fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<u32> {
-    let mut map = vec![NONE; w.tv.len()];
+    let mut map = vec![NONE; w.m.tv.len()];
     let mut k = 0u32;
-    for (t, tv) in w.tv.iter().enumerate() {
+    for (t, tv) in w.m.tv.iter().enumerate() {
         if tv[0] != DEAD {
             map[t] = k;
             k += 1;
@@ -1450,7 +1443,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
     // optimisation) are left out; the others keep their order.
     let n0 = rec.points.len();
     let mut used = vec![false; w.p.len().saturating_sub(n_in)];
-    for tv in w.tv.iter().filter(|tv| tv[0] != DEAD) {
+    for tv in w.m.tv.iter().filter(|tv| tv[0] != DEAD) {
         for &v in tv {
             if let Some(u) = (v as usize).checked_sub(n_in) {
                 used[u] = true;
@@ -1471,13 +1464,19 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
     let mut tets = Vec::with_capacity(k as usize);
     let mut nbs = Vec::with_capacity(k as usize);
     let mut reg = Vec::with_capacity(k as usize);
-    for (t, tv) in w.tv.iter().enumerate() {
+    for (t, tv) in w.m.tv.iter().enumerate() {
         if tv[0] == DEAD {
             continue;
         }
         tets.push(tv.map(id));
-        nbs.push(w.nb[t].map(|x| if x == NONE { NONE } else { map[x as usize] }));
-        reg.push(w.reg[t]);
+        nbs.push(w.m.nb[t].map(|x| {
+            if x == NONE {
+                NONE
+            } else {
+                map[(x >> 2) as usize]
+            }
+        }));
+        reg.push(w.m.reg[t]);
     }
     // Points: moved interior points and new ones, scaled back (exact
     // powers of two).
