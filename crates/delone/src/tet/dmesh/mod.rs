@@ -101,37 +101,38 @@ impl DomainMesh {
     /// Builds the structure from tetrahedra `tets` (positive), their
     /// neighbour slots `neighbors` ([`NONE`] on the boundary) and regions
     /// `reg`, on `n_points` vertices. No subface marks yet (see
-    /// [`DomainMesh::mark_face`]). `None` when a neighbour does not share the
-    /// face or is out of range.
+    /// [`DomainMesh::mark_face`]). `Err(t)` when tetrahedron `t` has a
+    /// neighbour that does not share the face, or a vertex or neighbour out
+    /// of range.
     pub(crate) fn from_neighbors(
         tets: &[[u32; 4]],
         neighbors: &[[u32; 4]],
         reg: &[u32],
         n_points: usize,
-    ) -> Option<DomainMesh> {
+    ) -> Result<DomainMesh, usize> {
         let nt = tets.len();
         let mut nb = vec![[NONE; 4]; nt];
         for t in 0..nt {
             for i in 0..4 {
-                let u = *neighbors.get(t)?.get(i)?;
+                let u = *neighbors.get(t).and_then(|n| n.get(i)).ok_or(t)?;
                 if u == NONE {
                     continue;
                 }
                 let k = fkey(face(tets[t], i));
-                let uv = *tets.get(u as usize)?;
-                let j = (0..4).find(|&j| fkey(face(uv, j)) == k)?;
+                let uv = *tets.get(u as usize).ok_or(t)?;
+                let j = (0..4).find(|&j| fkey(face(uv, j)) == k).ok_or(t)?;
                 nb[t][i] = 4 * u + j as u32;
             }
         }
         let mut vt = vec![DEAD; n_points];
         for (t, x) in tets.iter().enumerate() {
             for &q in x {
-                *vt.get_mut(q as usize)? = t as u32;
+                *vt.get_mut(q as usize).ok_or(t)? = t as u32;
             }
         }
         let mut reg = reg.to_vec();
         reg.resize(nt, 0);
-        Some(DomainMesh {
+        Ok(DomainMesh {
             tv: tets.to_vec(),
             nb,
             mask: vec![0; nt],
@@ -139,6 +140,99 @@ impl DomainMesh {
             vt,
             ..DomainMesh::default()
         })
+    }
+
+    /// Marks every face on the domain's boundary ([`NONE`] neighbour) and
+    /// every face of `faces` (sorted keys, e.g. interfaces) as a subface.
+    pub(crate) fn mark_subfaces(&mut self, faces: &crate::geom::ids::IdSet<[u32; 3]>) {
+        for t in 0..self.tv.len() {
+            if self.tv[t][0] == DEAD {
+                continue;
+            }
+            for f in 0..4 {
+                if self.nb[t][f] == NONE
+                    || (!faces.is_empty() && faces.contains(&fkey(face(self.tv[t], f))))
+                {
+                    self.mask[t] |= 1 << f;
+                }
+            }
+        }
+    }
+
+    /// Renumbers the live slots in their order (no free slot left), and
+    /// resets each vertex hint to the last slot holding it (as
+    /// [`DomainMesh::from_neighbors`] sets them) for `n_points` vertices:
+    /// the structure [`DomainMesh::from_neighbors`] builds from the live
+    /// tetrahedra listed in order.
+    pub(crate) fn compact(&mut self, n_points: usize) {
+        let mut map = vec![NONE; self.tv.len()];
+        let mut k = 0u32;
+        for (t, tv) in self.tv.iter().enumerate() {
+            if tv[0] != DEAD {
+                map[t] = k;
+                k += 1;
+            }
+        }
+        let mut w = 0;
+        for t in 0..self.tv.len() {
+            if map[t] == NONE {
+                continue;
+            }
+            self.tv[w] = self.tv[t];
+            self.nb[w] = self.nb[t].map(|x| {
+                if x == NONE {
+                    NONE
+                } else {
+                    4 * map[(x >> 2) as usize] + (x & 3)
+                }
+            });
+            self.mask[w] = self.mask[t];
+            self.reg[w] = self.reg[t];
+            w += 1;
+        }
+        self.tv.truncate(w);
+        self.nb.truncate(w);
+        self.mask.truncate(w);
+        self.reg.truncate(w);
+        self.free.clear();
+        self.vt.clear();
+        self.vt.resize(n_points, DEAD);
+        for (t, x) in self.tv.iter().enumerate() {
+            for &q in x {
+                if let Some(h) = self.vt.get_mut(q as usize) {
+                    *h = t as u32;
+                }
+            }
+        }
+    }
+
+    /// Moves the subface-table entries of boundary faces `gone` to `made`
+    /// (a boundary flip, or a removal, within one facet): the new faces take
+    /// the input triangle of the first old one. Nothing when the table is
+    /// not kept.
+    pub(crate) fn move_subfaces(&mut self, gone: &[[u32; 3]], made: &[[u32; 3]]) {
+        if self.ftri.is_empty() {
+            return;
+        }
+        let mut tri = None;
+        for k in gone {
+            tri = tri.or(self.ftri.remove(k));
+            for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
+                if let Some(l) = self.sedges.get_mut(&e) {
+                    l.retain(|x| x != k);
+                    if l.is_empty() {
+                        self.sedges.remove(&e);
+                    }
+                }
+            }
+        }
+        let tri = tri.unwrap_or(NONE);
+        for &k in made {
+            self.ftri.insert(k, tri);
+            for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
+                self.sedges.entry(e).or_default().push(k);
+            }
+        }
     }
 
     /// Is slot `t` live?

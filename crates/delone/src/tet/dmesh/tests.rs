@@ -354,9 +354,9 @@ fn large_replace_matches_by_hashing() {
 /// whose faces are split at grid points.
 #[test]
 fn stages_keep_the_mesh_valid_after_every_operation() {
-    use crate::tet::optimize::{optimize, OptimizeOptions};
-    use crate::tet::recover::{check_recovered, RecoverOptions};
-    use crate::tet::refine::{refine, RefineOptions};
+    use crate::tet::optimize::{optimize, optimize_in_place, OptimizeOptions};
+    use crate::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
+    use crate::tet::refine::{refine, refine_in_place, RefineOptions};
     let cube: Vec<[f64; 3]> = (0..8)
         .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
         .collect();
@@ -431,8 +431,31 @@ fn stages_keep_the_mesh_valid_after_every_operation() {
                 input_points: Some(pts.len()),
                 ..Default::default()
             };
-            optimize(&mut r, &opts).unwrap();
+            // In place: the refined mesh handed over is the one optimisation
+            // would build from the result's lists, and optimising it gives
+            // the same result.
+            let rec0 = recover_domain(pts, tris, &ro.recover, &Domain::default()).unwrap();
+            let (mut a, mesh) = refine_in_place(pts, tris, &rec0, &ro).unwrap();
+            assert_eq!(a.rec, r);
+            mesh.check(&a.rec.points).unwrap();
+            let mut built = DomainMesh::from_neighbors(
+                &r.mesh.tets,
+                &r.mesh.neighbors,
+                &r.tet_region,
+                r.points.len(),
+            )
+            .unwrap();
+            let prot = r.interior_faces.iter().map(|&f| fkey(f)).collect();
+            built.mark_subfaces(&prot);
+            assert_eq!(
+                (&mesh.tv, &mesh.nb, &mesh.mask, &mesh.reg, &mesh.vt),
+                (&built.tv, &built.nb, &built.mask, &built.reg, &built.vt)
+            );
+            assert!(mesh.free.is_empty());
+            let ra = optimize_in_place(&mut a.rec, mesh, &opts).unwrap();
+            let rb = optimize(&mut r, &opts).unwrap();
             check_recovered(pts, tris, &r).unwrap();
+            assert_eq!((ra, &a.rec), (rb, &r));
         }
     }
 }

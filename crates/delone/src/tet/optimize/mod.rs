@@ -102,6 +102,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::fmt;
 
+use super::dmesh::DomainMesh;
 use super::quality::TetStats;
 use super::recover::Recovered;
 use crate::geom::ids::{IdMap, IdSet};
@@ -605,6 +606,20 @@ pub fn optimize(
     rec: &mut Recovered,
     opts: &OptimizeOptions,
 ) -> Result<OptimizeReport, OptimizeError> {
+    let mesh = validate_input(rec)?;
+    optimize_in_place(rec, mesh, opts)
+}
+
+/// [`optimize`] continuing on `mesh`, the domain mesh of `rec` (its
+/// tetrahedra in the order of `rec.mesh.tets`, as refinement hands it over:
+/// see [`crate::tet::refine::refine_in_place`]), without building it again
+/// from `rec`'s neighbour lists. `rec` (points, boundary and interface
+/// faces, surface, regions) is read for the side data and gets the result.
+pub(crate) fn optimize_in_place(
+    rec: &mut Recovered,
+    mesh: DomainMesh,
+    opts: &OptimizeOptions,
+) -> Result<OptimizeReport, OptimizeError> {
     for (option, value) in [
         ("min_dihedral", opts.min_dihedral),
         ("target_dihedral", opts.target_dihedral),
@@ -613,7 +628,6 @@ pub fn optimize(
             return Err(OptimizeError::InvalidAngle { option, value });
         }
     }
-    validate_input(rec)?;
     // A small mesh left below the bound (`min_dihedral`, default 15°; or
     // above 180° minus it) is optimised once more
     // from the start with every trial insertion settled fully: the worst
@@ -624,9 +638,9 @@ pub fn optimize(
     // with an angle below RETRY_FEATURE_ANGLE (or above 180° minus it):
     // there it is pinned near 0° whatever the path.
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
-    let original = retry.then(|| rec.clone());
-    let report = optimize_once(rec, opts, false);
-    let Some(mut other) = original else {
+    let original = retry.then(|| (rec.clone(), mesh.clone()));
+    let report = optimize_once(rec, mesh, opts, false);
+    let Some((mut other, other_mesh)) = original else {
         return Ok(report);
     };
     // The worst angle either way (near 0° or near 180°), as the quality.
@@ -639,7 +653,7 @@ pub fn optimize(
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
-    let second = optimize_once(&mut other, opts, true);
+    let second = optimize_once(&mut other, other_mesh, opts, true);
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
@@ -666,7 +680,12 @@ const RETRY_FEATURE_ANGLE: f64 = 0.1;
 
 /// One run of [`optimize`] on a validated mesh; `thorough`: every trial
 /// insertion settled fully from the start.
-fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) -> OptimizeReport {
+fn optimize_once(
+    rec: &mut Recovered,
+    mesh: DomainMesh,
+    opts: &OptimizeOptions,
+    thorough: bool,
+) -> OptimizeReport {
     let before = TetStats::of(&rec.points, &rec.mesh.tets);
     let mut report = OptimizeReport {
         before: before.clone(),
@@ -682,13 +701,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
         return report;
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
-    let mut w = Work::new(
-        scaled.into_owned(),
-        &rec.mesh.tets,
-        &rec.mesh.neighbors,
-        &rec.tet_region,
-        &rec.interior_faces,
-    );
+    let mut w = Work::new(scaled.into_owned(), mesh, &rec.interior_faces);
     let n_in = opts
         .input_points
         .unwrap_or(rec.points.len().saturating_sub(rec.report.steiner()))
@@ -1398,8 +1411,8 @@ fn try_insert_at(
     }
 }
 
-/// Checks sizes, ranges and float orientation of the input.
-fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
+/// Checks sizes, ranges and neighbour links of the input; its domain mesh.
+fn validate_input(rec: &Recovered) -> Result<DomainMesh, OptimizeError> {
     let m = &rec.mesh;
     let n = rec.points.len();
     let bad = |tet, what| Err(OptimizeError::InvalidMesh { tet, what });
@@ -1425,7 +1438,12 @@ fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
     {
         return bad(0, "an interior face names a missing point");
     }
-    Ok(())
+    DomainMesh::from_neighbors(&m.tets, &m.neighbors, &rec.tet_region, n).map_err(|t| {
+        OptimizeError::InvalidMesh {
+            tet: t,
+            what: "has a neighbour that does not share the face",
+        }
+    })
 }
 
 /// Writes the live tetrahedra (in slot order) and the points back.

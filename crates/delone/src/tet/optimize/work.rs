@@ -226,24 +226,17 @@ enum Undo {
 }
 
 impl Work {
-    /// Builds the working mesh; `interior` are the protected interface
-    /// faces. Vertices of boundary and interface faces are fixed.
-    pub(super) fn new(
-        p: Vec<[f64; 3]>,
-        tets: &[[u32; 4]],
-        nbs: &[[u32; 4]],
-        reg: &[u32],
-        interior: &[[u32; 3]],
-    ) -> Work {
+    /// Works on mesh `m` (live slots only) with points `p`; `interior` are
+    /// the protected interface faces (marked as subfaces, like the
+    /// boundary's). Vertices of boundary and interface faces are fixed.
+    pub(super) fn new(p: Vec<[f64; 3]>, mut m: DomainMesh, interior: &[[u32; 3]]) -> Work {
         let n = p.len();
         let mut fixed = vec![false; n];
-        let mut m = DomainMesh::from_neighbors(tets, nbs, reg, n).unwrap_or_default();
-        for (t, nb) in nbs.iter().enumerate().take(m.tv.len()) {
-            for (f, &n) in nb.iter().enumerate() {
-                if n == NONE {
-                    m.mask[t] |= 1 << f;
-                    for w in face(tets[t], f) {
-                        fixed[w as usize] = true;
+        for (tv, nb) in m.tv.iter().zip(&m.nb) {
+            for (f, &w) in nb.iter().enumerate() {
+                if w == NONE {
+                    for q in face(*tv, f) {
+                        fixed[q as usize] = true;
                     }
                 }
             }
@@ -254,23 +247,15 @@ impl Work {
             }
         }
         let prot: IdSet<[u32; 3]> = interior.iter().map(|&f| fkey(f)).collect();
-        if !prot.is_empty() {
-            for t in 0..m.tv.len() {
-                for f in 0..4 {
-                    if prot.contains(&fkey(face(m.tv[t], f))) {
-                        m.mask[t] |= 1 << f;
-                    }
-                }
-            }
-        }
+        m.mark_subfaces(&prot);
         let slide = fixed
             .iter()
             .map(|&f| if f { Slide::Fixed } else { Slide::Free })
             .collect();
-        let q = tets
-            .iter()
-            .map(|tv| quality(tv.map(|w| &p[w as usize])))
-            .collect();
+        let q =
+            m.tv.iter()
+                .map(|tv| quality(tv.map(|w| &p[w as usize])))
+                .collect();
         Work {
             p,
             limits: Limits::none(),
@@ -627,6 +612,7 @@ impl Work {
         // A boundary flip (see [`Work::plan_edge_removal`]) replaces
         // boundary faces of one facet by others: they keep its triangle.
         if !left.gone.is_empty() {
+            self.m.move_subfaces(&left.gone, &left.made);
             let mut tri = None;
             for k in &left.gone {
                 tri = tri.or(self.bnd.remove(k));
@@ -701,6 +687,8 @@ impl Work {
             self.clock += 1;
             self.bnd.remove(&ka);
             self.bnd.remove(&km);
+            let made: Vec<[u32; 3]> = shared.iter().map(|&f| fkey(face(tv, f))).collect();
+            self.m.move_subfaces(&[ka, km], &made);
             for f in shared.iter().copied() {
                 // Face `f` (opposite `b` or `c`) holds `a` and `m`.
                 let w = nb[f];
@@ -1288,7 +1276,8 @@ mod tests {
                 })
             })
             .collect();
-        Work::new(p, &tets, &nbs, &[0; 8], &[])
+        let m = DomainMesh::from_neighbors(&tets, &nbs, &[0; 8], p.len()).unwrap();
+        Work::new(p, m, &[])
     }
 
     #[test]

@@ -169,7 +169,7 @@ impl Cdr {
             &rec.tet_region,
             p.len(),
         )
-        .ok_or_else(bad)?;
+        .map_err(|_| bad())?;
         let nt = m.tv.len();
         let mut ftri: HashMap<[u32; 3], u32> = HashMap::new();
         let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();
@@ -1943,8 +1943,9 @@ impl Cdr {
         }
     }
 
-    /// The output.
-    pub(super) fn finish(mut self, rec: &Recovered) -> Refined {
+    /// The output, and the domain mesh compacted to its tetrahedra's order
+    /// (to continue in place: see [`super::refine_in_place`]).
+    pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
         let n = self.m.tv.len();
         let mut new_id = vec![NONE; n];
         let mut tets = Vec::new();
@@ -2060,7 +2061,8 @@ impl Cdr {
         self.inexact.dedup();
         let mut report = rec.report.clone();
         report.max_deviation = self.max_dev * unscale;
-        Refined {
+        self.m.compact(points.len());
+        let refined = Refined {
             rec: Recovered {
                 points,
                 mesh: TetMesh {
@@ -2082,7 +2084,8 @@ impl Cdr {
                 report,
             },
             report: self.report,
-        }
+        };
+        (refined, self.m)
     }
 }
 
