@@ -702,4 +702,4 @@ impl DomainMesh {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -8,6 +8,62 @@ use crate::tet::local::{face, fkey, DEAD};
 use crate::NONE;
 use delone_predicates::orient3d;
 
+/// The box `[0,w]×[0,d]×[0,h]`, two outward triangles per side.
+pub(crate) fn cuboid(w: f64, d: f64, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let pts = (0..8)
+        .map(|i| {
+            [
+                f64::from(i & 1) * w,
+                f64::from((i >> 1) & 1) * d,
+                f64::from((i >> 2) & 1) * h,
+            ]
+        })
+        .collect();
+    let tris = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    (pts, tris)
+}
+
+/// The octahedron `±x, ±y, ±z` (six cospherical points).
+pub(crate) fn octahedron_points() -> Vec<[f64; 3]> {
+    vec![
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ]
+}
+
+/// Per tetrahedron of `tets`, the tetrahedron across each face (found by
+/// face keys), or [`NONE`].
+pub(crate) fn neighbors_by_faces(tets: &[[u32; 4]]) -> Vec<[u32; 4]> {
+    tets.iter()
+        .enumerate()
+        .map(|(t, tv)| {
+            std::array::from_fn(|f| {
+                let k = fkey(face(*tv, f));
+                (0..tets.len())
+                    .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
+                    .map_or(NONE, |u| u as u32)
+            })
+        })
+        .collect()
+}
+
 /// `tv` reordered to be positive on `p` (exact).
 fn positive(p: &[[f64; 3]], mut tv: [u32; 4]) -> [u32; 4] {
     let g = |q: u32| &p[q as usize];
@@ -21,18 +77,7 @@ fn positive(p: &[[f64; 3]], mut tv: [u32; 4]) -> [u32; 4] {
 /// face keys, every boundary face a subface.
 fn mesh(p: &[[f64; 3]], tets: &[[u32; 4]]) -> DomainMesh {
     let tets: Vec<[u32; 4]> = tets.iter().map(|&t| positive(p, t)).collect();
-    let nbs: Vec<[u32; 4]> = tets
-        .iter()
-        .enumerate()
-        .map(|(t, tv)| {
-            std::array::from_fn(|f| {
-                let k = fkey(face(*tv, f));
-                (0..tets.len())
-                    .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
-                    .map_or(NONE, |u| u as u32)
-            })
-        })
-        .collect();
+    let nbs = neighbors_by_faces(&tets);
     let mut m = DomainMesh::from_neighbors(&tets, &nbs, &vec![0; tets.len()], p.len()).unwrap();
     for t in 0..tets.len() as u32 {
         for f in 0..4 {
@@ -130,14 +175,7 @@ fn flip23_then_32_by_replace() {
 /// over the ring), then to the axis 2 3.
 #[test]
 fn four_four_flips_on_cospherical_points() {
-    let p = vec![
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
+    let p = octahedron_points();
     let mut m = mesh(
         &p,
         &[[0, 2, 4, 5], [2, 1, 4, 5], [1, 3, 4, 5], [3, 0, 4, 5]],
@@ -187,9 +225,7 @@ fn four_four_flips_on_cospherical_points() {
 /// visit marks and a star walk see all of them.
 #[test]
 fn cone_insertion_on_grid_points_and_star() {
-    let mut p: Vec<[f64; 3]> = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
+    let mut p = cuboid(1.0, 1.0, 1.0).0;
     // The cube as five tetrahedra: the middle one 1 2 4 7 and four corners.
     let tets = [
         [1, 2, 4, 7],
@@ -357,31 +393,8 @@ fn stages_keep_the_mesh_valid_after_every_operation() {
     use crate::tet::optimize::{optimize, optimize_in_place, OptimizeOptions};
     use crate::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
     use crate::tet::refine::{refine, refine_in_place, RefineOptions};
-    let cube: Vec<[f64; 3]> = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
-    let cube_tris = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    let octa: Vec<[f64; 3]> = vec![
-        [1.0, 0.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, -1.0],
-    ];
+    let (cube, cube_tris) = cuboid(1.0, 1.0, 1.0);
+    let octa = octahedron_points();
     let mut octa_tris = Vec::new();
     for (x, y) in [(0u32, 2u32), (2, 1), (1, 3), (3, 0)] {
         octa_tris.push([x, y, 4]);

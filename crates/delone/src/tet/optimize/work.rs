@@ -1218,6 +1218,7 @@ fn min_norm_point(g: &[[f64; 3]]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tet::dmesh::tests::{neighbors_by_faces, octahedron_points};
 
     #[test]
     fn quality_of_regular_and_flat() {
@@ -1243,15 +1244,8 @@ mod tests {
     /// The octahedron `±x, ±y, ±z` as 8 tetrahedra around its centre
     /// (vertex 6), positive, with neighbours.
     fn octahedron() -> Work {
-        let p = vec![
-            [1.0, 0.0, 0.0],
-            [-1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, -1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.0, 0.0, -1.0],
-            [0.0, 0.0, 0.0],
-        ];
+        let mut p = octahedron_points();
+        p.push([0.0, 0.0, 0.0]);
         let mut tets = Vec::new();
         for x in [0, 1] {
             for y in [2, 3] {
@@ -1264,18 +1258,7 @@ mod tests {
                 }
             }
         }
-        let nbs: Vec<[u32; 4]> = tets
-            .iter()
-            .enumerate()
-            .map(|(t, tv)| {
-                std::array::from_fn(|f| {
-                    let k = fkey(face(*tv, f));
-                    (0..tets.len())
-                        .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
-                        .map_or(NONE, |u| u as u32)
-                })
-            })
-            .collect();
+        let nbs = neighbors_by_faces(&tets);
         let m = DomainMesh::from_neighbors(&tets, &nbs, &[0; 8], p.len()).unwrap();
         Work::new(p, m, &[])
     }
