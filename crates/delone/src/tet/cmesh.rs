@@ -961,6 +961,7 @@ impl<'a> CMesh<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tet::dmesh::tests::three_around_an_edge;
 
     fn finite_tets(m: &CMesh<'_>) -> usize {
         m.dt.num_tets()
@@ -1010,14 +1011,7 @@ mod tests {
         // Three points around the z axis and two poles: edge 3-4 has three
         // tetrahedra around it; removing it is the 3-2 flip, and the 2-3
         // flip of the new face brings it back.
-        let s = 3f64.sqrt() / 2.0;
-        let pts = [
-            [1.0, 0.0, 0.0],
-            [-0.5, s, 0.0],
-            [-0.5, -s, 0.0],
-            [0.0, 0.0, 0.1],
-            [0.0, 0.0, -0.1],
-        ];
+        let pts = three_around_an_edge();
         let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         assert_eq!(finite_tets(&m), 3);
         let t = m.find_edge(3, 4).unwrap();
@@ -1074,14 +1068,7 @@ mod tests {
 
     #[test]
     fn touched_faces_and_failed_removals_are_logged() {
-        let s = 3f64.sqrt() / 2.0;
-        let pts = [
-            [1.0, 0.0, 0.0],
-            [-0.5, s, 0.0],
-            [-0.5, -s, 0.0],
-            [0.0, 0.0, 0.1],
-            [0.0, 0.0, -0.1],
-        ];
+        let pts = three_around_an_edge();
         let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
         assert!(m.take_touched().is_empty());
         let t = m.find_edge(3, 4).unwrap();

@@ -48,6 +48,20 @@ pub(crate) fn octahedron_points() -> Vec<[f64; 3]> {
     ]
 }
 
+/// Three points around the z axis and two poles close to their plane: the
+/// Delaunay tetrahedralization has exactly the three tetrahedra around the
+/// edge between the poles (3 4), whose removal is the 3-2 flip.
+pub(crate) fn three_around_an_edge() -> [[f64; 3]; 5] {
+    let s = 3f64.sqrt() / 2.0;
+    [
+        [1.0, 0.0, 0.0],
+        [-0.5, s, 0.0],
+        [-0.5, -s, 0.0],
+        [0.0, 0.0, 0.1],
+        [0.0, 0.0, -0.1],
+    ]
+}
+
 /// Per tetrahedron of `tets`, the tetrahedron across each face (found by
 /// face keys), or [`NONE`].
 pub(crate) fn neighbors_by_faces(tets: &[[u32; 4]]) -> Vec<[u32; 4]> {

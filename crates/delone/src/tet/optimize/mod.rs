@@ -3,6 +3,15 @@
 //! Klingner & Shewchuk ("Aggressive tetrahedral mesh improvement", 2007) and
 //! Freitag & Ollivier-Gooch (1997).
 //!
+//! The operations work on the crate's constrained domain mesh
+//! (`tet::dmesh`; the boundary and interface faces are its
+//! subfaces, never destroyed but by boundary flips within one flat facet):
+//! [`optimize`] builds it from the [`Recovered`] mesh's neighbour lists;
+//! after refinement the crate-internal `optimize_in_place` continues on the
+//! mesh the refinement handed over. Edge removal's ring walk and dynamic
+//! program (here maximising the smallest quality) are the ones recovery
+//! and the domain mesh share.
+//!
 //! The quality of a tetrahedron is the smallest sine of its six dihedral
 //! angles (scale invariant, small for an angle near 0° *or* near 180°).
 //! Tetrahedra below the target (`sin` of [`OptimizeOptions::target_dihedral`])

@@ -89,6 +89,7 @@ pub(crate) fn flip32(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tet::dmesh::tests::three_around_an_edge;
     use crate::tet::recover::missing;
     use crate::tet::Delaunay3;
 
@@ -96,14 +97,7 @@ mod tests {
     fn flip32_creates_the_ring_face() {
         // p and q close to the plane of r0 r1 r2: the Delaunay
         // tetrahedralization has edge p q with three tetrahedra around it.
-        let s = 3f64.sqrt() / 2.0;
-        let pts = [
-            [1.0, 0.0, 0.0],
-            [-0.5, s, 0.0],
-            [-0.5, -s, 0.0],
-            [0.0, 0.0, 0.1],
-            [0.0, 0.0, -0.1],
-        ];
+        let pts = three_around_an_edge();
         let mut dt = Delaunay3::from_points(&pts).unwrap();
         assert_eq!(dt.num_tets(), 3);
         assert!(!missing(&[[0, 1, 2]], dt.tets()).triangles.is_empty());

@@ -1051,13 +1051,21 @@ impl Cdr {
         if self.failed_s.contains(&e) {
             return false;
         }
-        let n = self.p.len();
-        self.ir_refused = false;
-        let done = self.split_segment_at(e);
-        if !done && self.p.len() == n && !self.ir_refused {
+        let (done, failed) = self.attempt(|st| st.split_segment_at(e));
+        if failed {
             self.failed_s.insert(e);
         }
         done
+    }
+
+    /// Runs a split: whether it inserted, and whether it failed with the
+    /// mesh unchanged (not for [`Cdr::min_ir`]), so that it is not tried
+    /// again.
+    fn attempt(&mut self, split: impl FnOnce(&mut Self) -> bool) -> (bool, bool) {
+        let n = self.p.len();
+        self.ir_refused = false;
+        let done = split(self);
+        (done, !done && self.p.len() == n && !self.ir_refused)
     }
 
     fn split_segment_at(&mut self, e: (u32, u32)) -> bool {
@@ -1309,10 +1317,8 @@ impl Cdr {
         if self.failed_f.contains(&k) {
             return false;
         }
-        let n = self.p.len();
-        self.ir_refused = false;
-        let done = self.split_face_at(k);
-        if !done && self.p.len() == n && !self.ir_refused {
+        let (done, failed) = self.attempt(|st| st.split_face_at(k));
+        if failed {
             self.failed_f.insert(k);
         }
         done

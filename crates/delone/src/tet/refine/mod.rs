@@ -3,8 +3,12 @@
 //!
 //! [`refine`] recovers the surface with [`recover`](super::recover::recover) (constrained path: flips
 //! first, few Steiner points) and refines the carved domain mesh in place
-//! (the private `cdr` module). Nothing is rebuilt, and constraints are
-//! *topological*:
+//! (the private `cdr` module) on the crate's constrained domain mesh
+//! (`tet::dmesh`: packed adjacency, subface marks, regions,
+//! subface and subsegment tables), built once from the [`Recovered`] mesh.
+//! The crate-internal `refine_in_place` hands that mesh over, compacted, for
+//! optimisation to continue on it (`optimize_in_place`). Nothing is rebuilt,
+//! and constraints are *topological*:
 //!
 //! * **subfaces** — the mesh faces marked as constraints: the boundary
 //!   faces and the interior (internal facet, region interface) faces of
