@@ -39,6 +39,7 @@ use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
 use super::dmesh::ring::{self, RingEnd};
+use super::dmesh::Stamps;
 use super::local::{DEAD, INF};
 use super::Delaunay3;
 
@@ -118,12 +119,10 @@ pub(crate) struct CMesh<'a> {
 /// [`CMesh::find_edge`]/[`CMesh::find_face`].
 #[derive(Debug, Default, Clone)]
 struct Walk {
-    stamp: Vec<u32>,
-    gen: u32,
+    star: Stamps,
     buf: Vec<u32>,
-    /// The visited set of [`CMesh::visit`] (stamps equal to `vgen`).
-    vstamp: Vec<u32>,
-    vgen: u32,
+    /// The visited set of [`CMesh::visit`].
+    visited: Stamps,
 }
 
 impl<'a> CMesh<'a> {
@@ -407,18 +406,9 @@ impl<'a> CMesh<'a> {
         out.push(start);
         // Visited slots carry this walk's stamp (no search, no set).
         let mut w = self.walk.borrow_mut();
-        let w = &mut *w;
-        w.gen = w.gen.wrapping_add(1);
-        if w.gen == 0 {
-            w.stamp.fill(0);
-            w.gen = 1;
-        }
-        if w.stamp.len() < c.v.len() {
-            w.stamp.resize(c.v.len(), 0);
-        }
-        let gen = w.gen;
-        let stamp = &mut w.stamp;
-        stamp[start as usize] = gen;
+        let stamp = &mut w.star;
+        stamp.clear();
+        stamp.insert(start);
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
@@ -432,8 +422,7 @@ impl<'a> CMesh<'a> {
                     continue;
                 }
                 let n = c.adj[t as usize][f] >> 2;
-                if stamp[n as usize] != gen {
-                    stamp[n as usize] = gen;
+                if stamp.insert(n) {
                     out.push(n);
                 }
             }
@@ -443,28 +432,14 @@ impl<'a> CMesh<'a> {
 
     /// Empties the visited set of [`CMesh::visit`].
     pub(crate) fn visit_begin(&self) {
-        let mut w = self.walk.borrow_mut();
-        w.vgen = w.vgen.wrapping_add(1);
-        if w.vgen == 0 {
-            w.vstamp.fill(0);
-            w.vgen = 1;
-        }
+        self.walk.borrow_mut().visited.clear();
     }
 
     /// Adds slot `x` to the visited set; true when it was not in it (a
     /// stamp per slot: no hashing). One set at a time
     /// ([`CMesh::visit_begin`]).
     pub(crate) fn visit(&self, x: u32) -> bool {
-        let mut w = self.walk.borrow_mut();
-        let w = &mut *w;
-        let n = self.dt.core.v.len();
-        if w.vstamp.len() < n {
-            w.vstamp.resize(n, 0);
-        }
-        let s = &mut w.vstamp[x as usize];
-        let new = *s != w.vgen;
-        *s = w.vgen;
-        new
+        self.walk.borrow_mut().visited.insert(x)
     }
 
     /// The first tetrahedron, in [`CMesh::star`]'s order, of `u`'s star for

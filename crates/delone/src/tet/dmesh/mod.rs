@@ -78,9 +78,45 @@ pub(crate) struct DomainMesh {
     pub(crate) sedges: HashMap<(u32, u32), Vec<[u32; 3]>>,
     /// Subsegment → input edge.
     pub(crate) segs: HashMap<(u32, u32), u32>,
-    /// Visit stamps per slot and the current epoch (see
-    /// [`DomainMesh::mark_begin`]).
-    marks: RefCell<(Vec<u32>, u32)>,
+    /// The slots of the current visit (see [`DomainMesh::mark_begin`]).
+    marks: RefCell<Stamps>,
+}
+
+/// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
+/// visit of a walk or a cavity, without hashing).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Stamps {
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+impl Stamps {
+    /// Empties the set.
+    pub(crate) fn clear(&mut self) {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.epoch = 1;
+        }
+    }
+
+    /// Adds `t`; true when it was not in the set.
+    #[inline]
+    pub(crate) fn insert(&mut self, t: u32) -> bool {
+        if self.stamp.len() <= t as usize {
+            self.stamp.resize(t as usize + 1, 0);
+        }
+        let s = &mut self.stamp[t as usize];
+        let fresh = *s != self.epoch;
+        *s = self.epoch;
+        fresh
+    }
+
+    /// Is `t` in the set?
+    #[inline]
+    pub(crate) fn contains(&self, t: u32) -> bool {
+        self.stamp.get(t as usize) == Some(&self.epoch)
+    }
 }
 
 /// What a [`DomainMesh::replace`] left unmatched: old outer faces no new
@@ -269,34 +305,19 @@ impl DomainMesh {
 
     /// Starts a new visit: no slot is marked.
     pub(crate) fn mark_begin(&self) {
-        let mut m = self.marks.borrow_mut();
-        let (stamp, epoch) = &mut *m;
-        *epoch = epoch.wrapping_add(1);
-        if *epoch == 0 {
-            stamp.iter_mut().for_each(|s| *s = 0);
-            *epoch = 1;
-        }
-        if stamp.len() < self.tv.len() {
-            stamp.resize(self.tv.len(), 0);
-        }
+        self.marks.borrow_mut().clear();
     }
 
     /// Marks slot `t` in the current visit; true when it was not marked.
     #[inline]
     pub(crate) fn mark(&self, t: u32) -> bool {
-        let mut m = self.marks.borrow_mut();
-        let (stamp, epoch) = &mut *m;
-        let s = &mut stamp[t as usize];
-        let fresh = *s != *epoch;
-        *s = *epoch;
-        fresh
+        self.marks.borrow_mut().insert(t)
     }
 
     /// Is slot `t` marked in the current visit?
     #[inline]
     pub(crate) fn marked(&self, t: u32) -> bool {
-        let m = self.marks.borrow();
-        m.0[t as usize] == m.1
+        self.marks.borrow().contains(t)
     }
 
     /// A new slot holding `tv` of region `reg` (no marks, no neighbours):
