@@ -1,13 +1,18 @@
-//! A mutable tetrahedral mesh that need not stay Delaunay: flips, edge
-//! removal, star-shaped (constrained) insertion, and an invariant checker.
+//! Recovery's mutable tetrahedral mesh, which need not stay Delaunay:
+//! flips, edge removal, a journal for replay and rollback, and an
+//! invariant checker.
 //!
 //! It wraps the kernel's [`Delaunay3`] (same flat arrays: `v`, packed
 //! adjacency `adj` with words `4 * tet + facet`, ghost cells with
 //! [`INF`] in position 3, a free list) and adds a vertex → tetrahedron hint
 //! table so that stars and edge rings are found locally. Once a flip has
 //! been applied, the kernel's own Delaunay insertion must no longer be used
-//! on the wrapped structure; insert through [`CMesh::insert_constrained`]
-//! or [`CMesh::cone`] instead.
+//! on the wrapped structure. Recovery needs the ghost cells (hull 2-2
+//! flips, walks outside the domain before carving), so it keeps this
+//! structure; after carving the domain goes to the constrained domain mesh
+//! ([`crate::tet::dmesh`], where refinement inserts points by constrained
+//! Bowyer–Watson), and the two share the ring walk and the edge-removal
+//! dynamic program ([`crate::tet::dmesh::ring`]).
 //!
 //! Operations (all combinatorial decisions by exact `orient3d`/`insphere`;
 //! an operation whose result would contain a tetrahedron that is not
@@ -23,11 +28,6 @@
 //!   programming over the ring (O(n³)) among those whose tetrahedra are all
 //!   positive, minimising a caller-supplied cost (e.g. new edges crossing a
 //!   facet to recover);
-//! * [`CMesh::cone`] — replaces a set of tetrahedra by the cone of its
-//!   boundary to a new point, if that point sees every boundary face;
-//! * [`CMesh::insert_constrained`] — Bowyer–Watson insertion whose cavity
-//!   grows only across faces the caller does not protect, shrunk until it
-//!   is star-shaped from the new point and keeps every protected edge;
 //! * [`CMesh::check`] — topology, orientation and the vertex hints.
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
@@ -35,7 +35,7 @@
 use crate::tet::local::{face, fkey};
 use std::cell::RefCell;
 
-use delone_predicates::{insphere, orient3d};
+use delone_predicates::orient3d;
 
 use super::delaunay::Core;
 use super::dmesh::ring::{self, RingEnd};
@@ -790,129 +790,6 @@ impl<'a> CMesh<'a> {
         Some(total)
     }
 
-    /// Replaces the finite tetrahedra `cavity` (a connected set) by the cone
-    /// of its boundary faces to the new point `p`, which must see every
-    /// boundary face strictly from inside; `None` (nothing changed)
-    /// otherwise. Returns the new vertex id.
-    // Used by the tests today and by 3D refinement next.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(crate) fn cone(&mut self, cavity: &[u32], p: [f64; 3]) -> Option<u32> {
-        let id = self.pts().len() as u32;
-        let new = {
-            let c = self.core();
-            let pts = self.pts();
-            let mut new = Vec::new();
-            for &t in cavity {
-                let tv = c.v[t as usize];
-                if tv[0] == DEAD || tv.contains(&INF) {
-                    return None;
-                }
-                for f in 0..4 {
-                    if cavity.contains(&(c.adj[t as usize][f] >> 2)) {
-                        continue;
-                    }
-                    let [x, y, z] = face(tv, f);
-                    let g = |w: u32| &pts[w as usize];
-                    if orient3d(g(x), g(y), g(z), &p) >= 0.0 {
-                        return None;
-                    }
-                    new.push([x, y, z, id]);
-                }
-            }
-            new
-        };
-        self.dt.points.to_mut().push(p);
-        self.vt.push(DEAD);
-        self.replace(cavity, &new);
-        Some(id)
-    }
-
-    /// Inserts `p` by a constrained Bowyer–Watson cavity: the tetrahedra
-    /// whose circumsphere strictly contains `p`, connected to the one
-    /// containing it across faces for which `protected_face` is false;
-    /// tetrahedra are then dropped from the cavity until every protected
-    /// edge (`protected_edge`) survives and `p` sees every boundary face.
-    /// `None` (nothing changed) when `p` is outside the hull, on a vertex,
-    /// or the containing tetrahedron itself must be dropped.
-    // Used by the tests today and by 3D refinement next.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(crate) fn insert_constrained(
-        &mut self,
-        p: [f64; 3],
-        protected_face: &dyn Fn([u32; 3]) -> bool,
-        protected_edge: &dyn Fn(u32, u32) -> bool,
-    ) -> Option<u32> {
-        let mut rng = 0x2545_F491u32;
-        let c = self.core();
-        let pts = self.pts();
-        let t0 = c.walk(pts, &p, c.last, &mut rng);
-        let tv0 = c.v[t0 as usize];
-        if tv0.contains(&INF) || tv0.iter().any(|&w| pts[w as usize] == p) {
-            return None;
-        }
-        let inside = |t: u32| {
-            let tv = c.v[t as usize];
-            if tv.contains(&INF) {
-                return false;
-            }
-            let g = |i: usize| &pts[tv[i] as usize];
-            insphere(g(1), g(0), g(2), g(3), &p) > 0.0
-        };
-        let mut cav = vec![t0];
-        let mut i = 0;
-        while i < cav.len() {
-            let t = cav[i];
-            i += 1;
-            let tv = c.v[t as usize];
-            for f in 0..4 {
-                let n = c.adj[t as usize][f] >> 2;
-                if cav.contains(&n) || protected_face(fkey(face(tv, f))) || !inside(n) {
-                    continue;
-                }
-                cav.push(n);
-            }
-        }
-        // Shrink: drop a tetrahedron owning an invisible boundary face or a
-        // protected edge that would become interior, until none is left.
-        loop {
-            let mut drop = None;
-            'scan: for &t in &cav {
-                let tv = c.v[t as usize];
-                for f in 0..4 {
-                    if cav.contains(&(c.adj[t as usize][f] >> 2)) {
-                        continue;
-                    }
-                    let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
-                    if orient3d(x, y, z, &p) >= 0.0 {
-                        drop = Some(t);
-                        break 'scan;
-                    }
-                }
-                for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-                    let (a, b) = (tv[i], tv[j]);
-                    if !protected_edge(a, b) {
-                        continue;
-                    }
-                    // Interior iff every tetrahedron around it is in the cavity.
-                    let interior = match self.edge_ring(t, a, b) {
-                        Some((ring, _)) => ring.iter().all(|x| cav.contains(x)),
-                        None => false,
-                    };
-                    if interior {
-                        drop = Some(t);
-                        break 'scan;
-                    }
-                }
-            }
-            match drop {
-                None => break,
-                Some(t) if t == t0 => return None,
-                Some(t) => cav.retain(|&x| x != t),
-            }
-        }
-        self.cone(&cav, p)
-    }
-
     /// Checks the invariants: the kernel's topology and orientation checks,
     /// and that every vertex hint names a live tetrahedron containing it.
     // Used by the tests today and by 3D refinement next.
@@ -1186,7 +1063,7 @@ mod tests {
     }
 
     #[test]
-    fn edge_removal_of_larger_rings_and_constrained_insertion() {
+    fn edge_removal_of_larger_rings() {
         // A ring of six points around the z axis: edge 6-7 has six
         // tetrahedra around it; removing it gives 2 * 6 - 4 = 8.
         let mut pts: Vec<[f64; 3]> = (0..6)
@@ -1206,35 +1083,6 @@ mod tests {
         m.remove_edge(t, 6, 7, &|_, _| 0, &|_, _, _| 1).unwrap();
         m.check().unwrap();
         assert_eq!(finite_tets(&m), before - 6 + 8);
-        // Insert the centre back with the face 0-2-4 protected (if
-        // present) and edge 0-3 protected: the mesh stays valid and the
-        // protected items survive.
-        let prot: Vec<[u32; 3]> = vec![fkey([0, 2, 4])];
-        let had =
-            m.dt.tets()
-                .any(|tv| (0..4).any(|f| fkey(face(tv, f)) == prot[0]));
-        let id = m
-            .insert_constrained([0.01, 0.02, 0.0], &|k| prot.contains(&k), &|a, b| {
-                (a.min(b), a.max(b)) == (0, 3)
-            })
-            .unwrap();
-        m.check().unwrap();
-        assert_eq!(id, 8);
-        if had {
-            assert!(m
-                .dt
-                .tets()
-                .any(|tv| (0..4).any(|f| fkey(face(tv, f)) == prot[0])));
-        }
-        // Cone refused when the point does not see the cavity's faces.
-        let t = m
-            .star(0)
-            .into_iter()
-            .find(|&t| !m.dt.core.v[t as usize].contains(&INF))
-            .unwrap();
-        let n = m.pts().len();
-        assert!(m.cone(&[t], [50.0, 50.0, 50.0]).is_none());
-        assert_eq!(m.pts().len(), n);
         m.check().unwrap();
     }
 }
