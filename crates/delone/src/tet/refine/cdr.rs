@@ -60,9 +60,9 @@ const MAX_CAVITY: usize = 50_000;
 
 /// A planned re-triangulation of a cavity (see [`Cdr::plan`]).
 struct Plan {
-    /// New tetrahedra `[x, y, z, new]`, their region, the outer neighbour
-    /// word of face 3 and whether face 3 is a subface.
-    tets: Vec<([u32; 4], u32, u32, bool)>,
+    /// New tetrahedra `[x, y, z, new]` (face 3 on the cavity's boundary,
+    /// which keeps its neighbour and subface mark) and their region.
+    tets: Vec<([u32; 4], u32)>,
     /// New subfaces: the edge of the dissolved subfaces' boundary and the
     /// input triangle.
     subs: Vec<((u32, u32), u32)>,
@@ -717,7 +717,7 @@ impl Cdr {
                 {
                     return Err(drop(t));
                 }
-                tets.push(([x, y, z, mid], self.m.reg[t as usize], w, sub));
+                tets.push(([x, y, z, mid], self.m.reg[t as usize]));
                 bedges.extend([ekey(x, y), ekey(y, z), ekey(x, z)]);
             }
         }
