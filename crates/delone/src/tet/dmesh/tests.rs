@@ -104,6 +104,20 @@ fn mesh(p: &[[f64; 3]], tets: &[[u32; 4]]) -> DomainMesh {
     m
 }
 
+/// The cone to vertex `c` of the boundary faces of `cav` (the whole mesh).
+fn cone(m: &DomainMesh, cav: &[u32], c: u32) -> Vec<[u32; 4]> {
+    let mut new = Vec::new();
+    for &t in cav {
+        for f in 0..4 {
+            if m.nb[t as usize][f] == NONE {
+                let [x, y, z] = face(m.tv[t as usize], f);
+                new.push([x, y, z, c]);
+            }
+        }
+    }
+    new
+}
+
 /// The live tetrahedra as sorted vertex sets, sorted.
 fn sets(m: &DomainMesh) -> Vec<[u32; 4]> {
     let mut v: Vec<[u32; 4]> = m
@@ -253,15 +267,7 @@ fn cone_insertion_on_grid_points_and_star() {
     let cav: Vec<u32> = m.live_slots().collect();
     p.push([0.5, 0.5, 0.5]);
     let c = 8u32;
-    let mut new = Vec::new();
-    for &t in &cav {
-        for f in 0..4 {
-            if m.nb[t as usize][f] == NONE {
-                let [x, y, z] = face(m.tv[t as usize], f);
-                new.push([x, y, z, c]);
-            }
-        }
-    }
+    let new = cone(&m, &cav, c);
     let mut ids = Vec::new();
     let left = m.replace(&cav, &new, 0, &mut ids);
     assert!(left.gone.is_empty() && left.made.is_empty());
@@ -284,13 +290,10 @@ fn cone_insertion_on_grid_points_and_star() {
 /// reported and the new ones marked.
 #[test]
 fn boundary_flip_on_coplanar_faces() {
-    let p = vec![
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.5, 0.4, 1.0],
-    ];
+    // The unit square (a cube's bottom, in order around it), the apex.
+    let cube = cuboid(1.0, 1.0, 1.0).0;
+    let mut p: Vec<[f64; 3]> = [0, 1, 3, 2].iter().map(|&i| cube[i]).collect();
+    p.push([0.5, 0.4, 1.0]);
     let mut m = mesh(&p, &[[0, 1, 2, 4], [0, 2, 3, 4]]);
     let t = slot(&m, [0, 1, 2, 4]);
     let (tets, r, end) = m.edge_ring(t, (0, 2), 16, true, |_, _| true).unwrap();
@@ -380,15 +383,7 @@ fn large_replace_matches_by_hashing() {
     let cav: Vec<u32> = m.live_slots().collect();
     p.push([0.0, 0.0, 0.1]);
     let c = p.len() as u32 - 1;
-    let mut new = Vec::new();
-    for &t in &cav {
-        for f in 0..4 {
-            if m.nb[t as usize][f] == NONE {
-                let [x, y, z] = face(m.tv[t as usize], f);
-                new.push([x, y, z, c]);
-            }
-        }
-    }
+    let new = cone(&m, &cav, c);
     assert!(new.len() > super::LINEAR);
     let mut ids = Vec::new();
     let left = m.replace(&cav, &new, 0, &mut ids);
