@@ -9,6 +9,7 @@
 pub(crate) mod cmesh;
 pub mod delaunay;
 pub mod facets;
+pub(crate) mod dmesh;
 pub mod intersect;
 pub mod local;
 pub mod mesh;

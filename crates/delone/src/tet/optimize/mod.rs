@@ -3,6 +3,15 @@
 //! Klingner & Shewchuk ("Aggressive tetrahedral mesh improvement", 2007) and
 //! Freitag & Ollivier-Gooch (1997).
 //!
+//! The operations work on the crate's constrained domain mesh
+//! (`tet::dmesh`; the boundary and interface faces are its
+//! subfaces, never destroyed but by boundary flips within one flat facet):
+//! [`optimize`] builds it from the [`Recovered`] mesh's neighbour lists;
+//! after refinement the crate-internal `optimize_in_place` continues on the
+//! mesh the refinement handed over. Edge removal's ring walk and dynamic
+//! program (here maximising the smallest quality) are the ones recovery
+//! and the domain mesh share.
+//!
 //! The quality of a tetrahedron is the smallest sine of its six dihedral
 //! angles (scale invariant, small for an angle near 0° *or* near 180°).
 //! Tetrahedra below the target (`sin` of [`OptimizeOptions::target_dihedral`])
@@ -136,6 +145,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::fmt;
 
+use super::dmesh::DomainMesh;
 use super::quality::TetStats;
 use super::recover::Recovered;
 use crate::geom::ids::{IdMap, IdSet};
@@ -639,6 +649,20 @@ pub fn optimize(
     rec: &mut Recovered,
     opts: &OptimizeOptions,
 ) -> Result<OptimizeReport, OptimizeError> {
+    let mesh = validate_input(rec)?;
+    optimize_in_place(rec, mesh, opts)
+}
+
+/// [`optimize`] continuing on `mesh`, the domain mesh of `rec` (its
+/// tetrahedra in the order of `rec.mesh.tets`, as refinement hands it over:
+/// see [`crate::tet::refine::refine_in_place`]), without building it again
+/// from `rec`'s neighbour lists. `rec` (points, boundary and interface
+/// faces, surface, regions) is read for the side data and gets the result.
+pub(crate) fn optimize_in_place(
+    rec: &mut Recovered,
+    mesh: DomainMesh,
+    opts: &OptimizeOptions,
+) -> Result<OptimizeReport, OptimizeError> {
     for (option, value) in [
         ("min_dihedral", opts.min_dihedral),
         ("target_dihedral", opts.target_dihedral),
@@ -647,7 +671,6 @@ pub fn optimize(
             return Err(OptimizeError::InvalidAngle { option, value });
         }
     }
-    validate_input(rec)?;
     // A small mesh left below the bound (`min_dihedral`, default 15°; or
     // above 180° minus it) is optimised once more
     // from the start with every trial insertion settled fully: the worst
@@ -658,9 +681,9 @@ pub fn optimize(
     // with an angle below RETRY_FEATURE_ANGLE (or above 180° minus it):
     // there it is pinned near 0° whatever the path.
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
-    let original = retry.then(|| rec.clone());
-    let report = optimize_once(rec, opts, false);
-    let Some(mut other) = original else {
+    let original = retry.then(|| (rec.clone(), mesh.clone()));
+    let report = optimize_once(rec, mesh, opts, false);
+    let Some((mut other, other_mesh)) = original else {
         return Ok(report);
     };
     // The worst angle either way (near 0° or near 180°), as the quality.
@@ -673,7 +696,7 @@ pub fn optimize(
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
-    let second = optimize_once(&mut other, opts, true);
+    let second = optimize_once(&mut other, other_mesh, opts, true);
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
@@ -700,7 +723,12 @@ const RETRY_FEATURE_ANGLE: f64 = 0.1;
 
 /// One run of [`optimize`] on a validated mesh; `thorough`: every trial
 /// insertion settled fully from the start.
-fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) -> OptimizeReport {
+fn optimize_once(
+    rec: &mut Recovered,
+    mesh: DomainMesh,
+    opts: &OptimizeOptions,
+    thorough: bool,
+) -> OptimizeReport {
     let before = TetStats::of(&rec.points, &rec.mesh.tets);
     let mut report = OptimizeReport {
         before: before.clone(),
@@ -716,13 +744,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
         return report;
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
-    let mut w = Work::new(
-        scaled.into_owned(),
-        &rec.mesh.tets,
-        &rec.mesh.neighbors,
-        &rec.tet_region,
-        &rec.interior_faces,
-    );
+    let mut w = Work::new(scaled.into_owned(), mesh, &rec.interior_faces);
     let n_in = opts
         .input_points
         .unwrap_or(rec.points.len().saturating_sub(rec.report.steiner()))
@@ -777,7 +799,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     // Flat tetrahedra under a chord over a rounded edge point go first (see
     // `Work::drop_flat_boundary`): no other operation can touch them.
     if opts.flips {
-        for t in 0..w.tv.len() as u32 {
+        for t in 0..w.m.tv.len() as u32 {
             if w.live(t) && w.q[t as usize] < LIFT_BELOW && w.drop_flat_boundary(t) {
                 report.flat_removed += 1;
             }
@@ -806,9 +828,9 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
         let mut attempts = None;
         w.thorough = thorough;
         loop {
-            let mut heap: BinaryHeap<Entry> = (0..w.tv.len() as u32)
+            let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
-                .map(|t| Entry(w.q[t as usize], t, w.tv[t as usize]))
+                .map(|t| Entry(w.q[t as usize], t, w.m.tv[t as usize]))
                 .collect();
             let left = attempts.get_or_insert(opts.max_passes * heap.len());
             let mut any = false;
@@ -821,7 +843,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     crate::progress::report("optimising", done, total, "evaluations");
                 }
                 // Stale entries: the slot changed since it was queued.
-                if w.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
+                if w.m.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {
                     continue;
                 }
                 if *left == 0 {
@@ -833,7 +855,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     // the minimum is already above 10°: below, it is mostly
                     // held by needle input triangles, which more work
                     // rarely lifts (it only adds vertices).
-                    let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+                    let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
                     if deg <= low_max
                         && !extended
                         && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
@@ -858,7 +880,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
                     any = true;
                     for u in std::mem::take(&mut w.dirty) {
                         if w.live(u) && w.q[u as usize] < thr {
-                            heap.push(Entry(w.q[u as usize], u, w.tv[u as usize]));
+                            heap.push(Entry(w.q[u as usize], u, w.m.tv[u as usize]));
                         }
                     }
                 } else {
@@ -886,7 +908,7 @@ fn optimize_once(rec: &mut Recovered, opts: &OptimizeOptions, thorough: bool) ->
     // the same bound. (Over the refinement's points too it saves a few
     // per cent more tetrahedra but costs ~10% of the time on large meshes.)
     if opts.insert {
-        let live: Vec<u32> = (0..w.tv.len() as u32).filter(|&t| w.live(t)).collect();
+        let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
         let floor = CLEANUP.to_radians().sin().max(w.min_q(&live));
         let n0 = w.n0;
         collapse_sweep(&mut w, n0, floor, &mut report);
@@ -919,7 +941,7 @@ fn sorted(mut tv: [u32; 4]) -> [u32; 4] {
 /// True when slot `t` failed before and none of its vertices' stars
 /// changed since.
 fn blocked(w: &Work, failed: &IdMap<[u32; 4], u64>, t: u32) -> bool {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     failed
         .get(&sorted(tv))
         .is_some_and(|&at| tv.iter().all(|&v| w.stamp[v as usize] < at))
@@ -940,7 +962,7 @@ fn improve(
     // a point off its sheet first, unless a flip already makes it fair
     // (that adds no vertex).
     let mut t = t;
-    let tv0 = w.tv[t as usize];
+    let tv0 = w.m.tv[t as usize];
     let mut plan = if opts.flips {
         best_flip(w, t, edge_below)
     } else {
@@ -978,7 +1000,7 @@ fn improve(
         }
     }
     if opts.smooth {
-        let tv = w.tv[t as usize];
+        let tv = w.m.tv[t as usize];
         let mut any = false;
         for v in tv {
             if w.smooth(v) {
@@ -991,7 +1013,7 @@ fn improve(
         }
     }
     // Insertion (the most expensive try) only for the really bad ones.
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     if opts.insert
         && report.inserted < budget
         && w.q[t as usize] < insert_below
@@ -1016,7 +1038,7 @@ fn improve(
 /// `edge_below` and the 2-3 flips of its faces: the one whose new
 /// tetrahedra's worst quality is highest, if it beats the old ones'.
 fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     let mut best: Option<Plan> = None;
     let mut consider = |p: Option<Plan>, w: &Work| {
         if let Some(p) = p {
@@ -1117,8 +1139,8 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     if star.is_empty() || star.len() > MAX_COLLAPSE_STAR {
         return false;
     }
-    let region = w.reg[star[0] as usize];
-    if star.iter().any(|&t| w.reg[t as usize] != region) {
+    let region = w.m.reg[star[0] as usize];
+    if star.iter().any(|&t| w.m.reg[t as usize] != region) {
         return false;
     }
     let old_q = w.min_q(&star).min(floor);
@@ -1128,7 +1150,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         let mut es = Vec::new();
         let mut fs = Vec::new();
         for &t in star {
-            let mut o: Vec<u32> = w.tv[t as usize].into_iter().filter(|&y| y != x).collect();
+            let mut o: Vec<u32> = w.m.tv[t as usize].into_iter().filter(|&y| y != x).collect();
             o.sort_unstable();
             vs.extend_from_slice(&o);
             es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
@@ -1149,7 +1171,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         let mut ee = Vec::new();
         let mut new = Vec::with_capacity(star.len());
         for &t in &star {
-            let tv = w.tv[t as usize];
+            let tv = w.m.tv[t as usize];
             if tv.contains(&u) {
                 let mut o: Vec<u32> = tv.into_iter().filter(|&y| y != u && y != v).collect();
                 o.sort_unstable();
@@ -1213,7 +1235,7 @@ const LIFT_FLIP_OK: f64 = 0.342;
 /// across open faces, smooths it, and keeps it when the worst quality
 /// improved (else undoes it).
 fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut OptimizeReport) -> bool {
-    let tv = w.tv[t as usize];
+    let tv = w.m.tv[t as usize];
     let p = tv.map(|x| w.p[x as usize]);
     let c = std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k] + p[3][k]) / 4.0);
     // First in the small cavity (it and its neighbours), then in the
@@ -1346,10 +1368,10 @@ fn try_insert_at(
     let near = matches!(cavity, Cavity::Near);
     let mut cav = vec![t];
     for f in 0..4 {
-        let n = w.nb[t as usize][f];
+        let n = w.m.across(t, f);
         if n != NONE
-            && w.reg[n as usize] == w.reg[t as usize]
-            && !w.fixed_face(t, f)
+            && w.m.reg[n as usize] == w.m.reg[t as usize]
+            && !w.m.is_sub(t, f)
             && !cav.contains(&n)
         {
             cav.push(n);
@@ -1432,15 +1454,8 @@ fn try_insert_at(
     }
 }
 
-impl Work {
-    /// True when the face opposite `f` in `t` is a protected interface.
-    fn fixed_face(&self, t: u32, f: usize) -> bool {
-        self.is_protected(fkey(face(self.tv[t as usize], f)))
-    }
-}
-
-/// Checks sizes, ranges and float orientation of the input.
-fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
+/// Checks sizes, ranges and neighbour links of the input; its domain mesh.
+fn validate_input(rec: &Recovered) -> Result<DomainMesh, OptimizeError> {
     let m = &rec.mesh;
     let n = rec.points.len();
     let bad = |tet, what| Err(OptimizeError::InvalidMesh { tet, what });
@@ -1466,15 +1481,20 @@ fn validate_input(rec: &Recovered) -> Result<(), OptimizeError> {
     {
         return bad(0, "an interior face names a missing point");
     }
-    Ok(())
+    DomainMesh::from_neighbors(&m.tets, &m.neighbors, &rec.tet_region, n).map_err(|t| {
+        OptimizeError::InvalidMesh {
+            tet: t,
+            what: "has a neighbour that does not share the face",
+        }
+    })
 }
 
 /// Writes the live tetrahedra (in slot order) and the points back.
 /// Returns, per point of the result, its id in `w`.
 fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<u32> {
-    let mut map = vec![NONE; w.tv.len()];
+    let mut map = vec![NONE; w.m.tv.len()];
     let mut k = 0u32;
-    for (t, tv) in w.tv.iter().enumerate() {
+    for (t, tv) in w.m.tv.iter().enumerate() {
         if tv[0] != DEAD {
             map[t] = k;
             k += 1;
@@ -1484,7 +1504,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
     // optimisation) are left out; the others keep their order.
     let n0 = rec.points.len();
     let mut used = vec![false; w.p.len().saturating_sub(n_in)];
-    for tv in w.tv.iter().filter(|tv| tv[0] != DEAD) {
+    for tv in w.m.tv.iter().filter(|tv| tv[0] != DEAD) {
         for &v in tv {
             if let Some(u) = (v as usize).checked_sub(n_in) {
                 used[u] = true;
@@ -1505,13 +1525,19 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
     let mut tets = Vec::with_capacity(k as usize);
     let mut nbs = Vec::with_capacity(k as usize);
     let mut reg = Vec::with_capacity(k as usize);
-    for (t, tv) in w.tv.iter().enumerate() {
+    for (t, tv) in w.m.tv.iter().enumerate() {
         if tv[0] == DEAD {
             continue;
         }
         tets.push(tv.map(id));
-        nbs.push(w.nb[t].map(|x| if x == NONE { NONE } else { map[x as usize] }));
-        reg.push(w.reg[t]);
+        nbs.push(w.m.nb[t].map(|x| {
+            if x == NONE {
+                NONE
+            } else {
+                map[(x >> 2) as usize]
+            }
+        }));
+        reg.push(w.m.reg[t]);
     }
     // Points: moved interior points and new ones, scaled back (exact
     // powers of two).

@@ -13,6 +13,7 @@
 use super::limits::Limits;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, norm, sub};
+use crate::tet::dmesh::{ring, DomainMesh, RingEnd};
 use crate::tet::local::{face, fkey};
 use delone_predicates::{orient2d, orient3d};
 
@@ -152,18 +153,11 @@ pub(super) struct Work {
     pub p: Vec<[f64; 3]>,
     /// The refinement's bounds that every operation keeps.
     pub limits: Limits,
-    /// Tetrahedra (positive); `DEAD` in position 0 for free slots.
-    pub tv: Vec<[u32; 4]>,
-    /// Neighbour across the face opposite each vertex, or [`NONE`].
-    pub nb: Vec<[u32; 4]>,
-    /// Region per slot.
-    pub reg: Vec<u32>,
+    /// The constrained domain mesh (tetrahedra, neighbours, regions; the
+    /// boundary and interface faces are its subfaces).
+    pub m: DomainMesh,
     /// Cached [`quality`] per slot.
     pub q: Vec<f64>,
-    /// Free slots.
-    free: Vec<u32>,
-    /// Per vertex: a live slot containing it (a hint).
-    vt: Vec<u32>,
     /// Per vertex: on the boundary or an interface (never removed; moved
     /// only as its [`Slide`] allows).
     pub fixed: Vec<bool>,
@@ -211,8 +205,6 @@ pub(super) struct Work {
     pub evals: std::cell::Cell<u64>,
     /// Slots created or reshaped since the caller last drained it.
     pub dirty: Vec<u32>,
-    /// Visit marks of [`Work::star`] and their epoch.
-    marks: std::cell::RefCell<(Vec<u32>, u32)>,
     /// Points of the mesh before the optimisation (those at or above may
     /// be removed again).
     pub n0: usize,
@@ -234,28 +226,19 @@ enum Undo {
 }
 
 impl Work {
-    /// Builds the working mesh; `interior` are the protected interface
-    /// faces. Vertices of boundary and interface faces are fixed.
-    pub(super) fn new(
-        p: Vec<[f64; 3]>,
-        tets: &[[u32; 4]],
-        nbs: &[[u32; 4]],
-        reg: &[u32],
-        interior: &[[u32; 3]],
-    ) -> Work {
+    /// Works on mesh `m` (live slots only) with points `p`; `interior` are
+    /// the protected interface faces (marked as subfaces, like the
+    /// boundary's). Vertices of boundary and interface faces are fixed.
+    pub(super) fn new(p: Vec<[f64; 3]>, mut m: DomainMesh, interior: &[[u32; 3]]) -> Work {
         let n = p.len();
         let mut fixed = vec![false; n];
-        let mut vt = vec![DEAD; n];
-        for (t, (tv, nb)) in tets.iter().zip(nbs).enumerate() {
-            for (f, &n) in nb.iter().enumerate() {
-                if n == NONE {
-                    for w in face(*tv, f) {
-                        fixed[w as usize] = true;
+        for (tv, nb) in m.tv.iter().zip(&m.nb) {
+            for (f, &w) in nb.iter().enumerate() {
+                if w == NONE {
+                    for q in face(*tv, f) {
+                        fixed[q as usize] = true;
                     }
                 }
-            }
-            for &w in tv {
-                vt[w as usize] = t as u32;
             }
         }
         for f in interior {
@@ -263,24 +246,21 @@ impl Work {
                 fixed[w as usize] = true;
             }
         }
-        let prot = interior.iter().map(|&f| fkey(f)).collect();
+        let prot: IdSet<[u32; 3]> = interior.iter().map(|&f| fkey(f)).collect();
+        m.mark_subfaces(&prot);
         let slide = fixed
             .iter()
             .map(|&f| if f { Slide::Fixed } else { Slide::Free })
             .collect();
-        let q = tets
-            .iter()
-            .map(|tv| quality(tv.map(|w| &p[w as usize])))
-            .collect();
+        let q =
+            m.tv.iter()
+                .map(|tv| quality(tv.map(|w| &p[w as usize])))
+                .collect();
         Work {
             p,
             limits: Limits::none(),
-            tv: tets.to_vec(),
-            nb: nbs.to_vec(),
-            reg: reg.to_vec(),
+            m,
             q,
-            free: Vec::new(),
-            vt,
             fixed,
             slide,
             inexact: vec![false; n],
@@ -299,7 +279,6 @@ impl Work {
             touched_set: IdSet::default(),
             dirty: Vec::new(),
             evals: Default::default(),
-            marks: Default::default(),
             n0: n,
         }
     }
@@ -307,7 +286,7 @@ impl Work {
     /// True when slot `t` is live.
     #[inline]
     pub(super) fn live(&self, t: u32) -> bool {
-        self.tv[t as usize][0] != DEAD
+        self.m.tv[t as usize][0] != DEAD
     }
 
     /// Quality of `tv` from the current points.
@@ -333,7 +312,7 @@ impl Work {
     fn slots_excess(&self, slots: &[u32]) -> f64 {
         slots
             .iter()
-            .map(|&t| self.excess(&[self.tv[t as usize]], self.reg[t as usize], None))
+            .map(|&t| self.excess(&[self.m.tv[t as usize]], self.m.reg[t as usize], None))
             .fold(0.0, f64::max)
     }
 
@@ -351,66 +330,22 @@ impl Work {
         !self.prot.is_empty() && k.iter().all(|&v| self.fixed[v as usize]) && self.prot.contains(&k)
     }
 
-    /// True when the face opposite `f` in `t` may be destroyed.
+    /// True when the face opposite `f` in `t` may be destroyed: not a
+    /// subface (boundary or interface), no region change.
     #[inline]
     fn open_face(&self, t: u32, f: usize) -> bool {
-        let n = self.nb[t as usize][f];
-        n != NONE && self.reg[n as usize] == self.reg[t as usize] && {
-            // A protected face has three fixed vertices (cheap test first).
-            let fc = face(self.tv[t as usize], f);
-            self.prot.is_empty()
-                || !fc.iter().all(|&v| self.fixed[v as usize])
-                || !self.prot.contains(&fkey(fc))
-        }
+        let n = self.m.across(t, f);
+        n != NONE && !self.m.is_sub(t, f) && self.m.reg[n as usize] == self.m.reg[t as usize]
     }
 
     /// Marks vertex `v` as in no tetrahedron any more (after its collapse).
     pub(super) fn forget(&mut self, v: u32) {
-        self.vt[v as usize] = DEAD;
+        self.m.vt[v as usize] = DEAD;
     }
 
     /// The live slots containing vertex `v`.
     pub(super) fn star(&self, v: u32) -> Vec<u32> {
-        let mut start = self.vt[v as usize];
-        // (No hint: a point in no tetrahedron, e.g. collapsed away.)
-        if start == DEAD {
-            return Vec::new();
-        }
-        if !self.live(start) || !self.tv[start as usize].contains(&v) {
-            match (0..self.tv.len()).find(|&t| self.tv[t][0] != DEAD && self.tv[t].contains(&v)) {
-                Some(t) => start = t as u32,
-                None => return Vec::new(),
-            }
-        }
-        let mut marks = self.marks.borrow_mut();
-        let (mark, epoch) = &mut *marks;
-        *epoch = epoch.wrapping_add(1);
-        if *epoch == 0 {
-            mark.iter_mut().for_each(|m| *m = 0);
-            *epoch = 1;
-        }
-        if mark.len() < self.tv.len() {
-            mark.resize(self.tv.len(), 0);
-        }
-        let mut out = vec![start];
-        mark[start as usize] = *epoch;
-        let mut i = 0;
-        while i < out.len() {
-            let t = out[i];
-            i += 1;
-            let tv = self.tv[t as usize];
-            for (f, &u) in tv.iter().enumerate() {
-                if u == v {
-                    continue;
-                }
-                let n = self.nb[t as usize][f];
-                if n != NONE && mark[n as usize] != *epoch {
-                    mark[n as usize] = *epoch;
-                    out.push(n);
-                }
-            }
-        }
-        out
+        self.m.star_with(v, |_, _| true)
     }
 
     /// The slots around edge `a b` (from `t`) and the ring,
@@ -421,98 +356,12 @@ impl Work {
     /// interface or region change, or beyond [`MAX_RING`]; a boundary edge
     /// only when [`Work::bnd`] is set.
     fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>, bool)> {
-        let tv = self.tv[t as usize];
-        let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
-        let (c0, d0) = (o.next()?, o.next()?);
-        let (x0, y0) = if even(tv, [a, b, c0, d0]) {
-            (c0, d0)
-        } else {
-            (d0, c0)
-        };
-        let mut tets = Vec::new();
-        let mut ring = Vec::new();
-        // Forward from `t` (across the faces opposite `x`): back at `t` for
-        // an interior edge.
-        if self.ring_forward(t, (x0, y0), a, b, &mut tets, &mut ring)? {
-            return Some((tets, ring, false));
-        }
-        if self.bnd.is_empty() {
-            return None;
-        }
-        // On the boundary: back to the other end (across the faces
-        // opposite `y`), then forward to this one.
-        let (mut c, mut cx, mut cy) = (t, x0, y0);
-        let mut steps = 0;
-        loop {
-            let iy = self.tv[c as usize].iter().position(|&w| w == cy)?;
-            let prev = self.nb[c as usize][iy];
-            if prev == NONE {
-                break;
-            }
-            steps += 1;
-            if !self.open_face(c, iy) || steps >= MAX_RING {
-                return None;
-            }
-            let z = self.other(prev, a, b, cx)?;
-            c = prev;
-            cy = cx;
-            cx = z;
-        }
-        tets.clear();
-        ring.clear();
-        // From a boundary end the walk cannot come back to its start.
-        match self.ring_forward(c, (cx, cy), a, b, &mut tets, &mut ring)? {
-            false => Some((tets, ring, true)),
-            true => None,
-        }
-    }
-
-    /// [`Work::edge_ring`]'s walk around edge `a b` from slot `start` with
-    /// ring vertices `(x, y)`, across the faces opposite `x`, appending the
-    /// slots to `tets` and their `x` to `ring`: `Some(true)` when it comes
-    /// back to `start` (a cyclic ring), `Some(false)` at the boundary (the
-    /// last `y` appended too); `None` across an interface or region change,
-    /// or beyond [`MAX_RING`].
-    fn ring_forward(
-        &self,
-        start: u32,
-        (mut x, mut y): (u32, u32),
-        a: u32,
-        b: u32,
-        tets: &mut Vec<u32>,
-        ring: &mut Vec<u32>,
-    ) -> Option<bool> {
-        let mut cur = start;
-        loop {
-            if tets.len() >= MAX_RING {
-                return None;
-            }
-            tets.push(cur);
-            ring.push(x);
-            let ix = self.tv[cur as usize].iter().position(|&w| w == x)?;
-            let next = self.nb[cur as usize][ix];
-            if next == NONE {
-                ring.push(y);
-                return Some(false);
-            }
-            if !self.open_face(cur, ix) {
-                return None;
-            }
-            if next == start {
-                return Some(true);
-            }
-            let z = self.other(next, a, b, y)?;
-            cur = next;
-            x = y;
-            y = z;
-        }
-    }
-
-    /// The vertex of `t` other than `a`, `b` and `x`.
-    fn other(&self, t: u32, a: u32, b: u32, x: u32) -> Option<u32> {
-        self.tv[t as usize]
-            .into_iter()
-            .find(|&w| w != a && w != b && w != x)
+        let (tets, ring, end) =
+            self.m
+                .edge_ring(t, (a, b), MAX_RING, !self.bnd.is_empty(), |c, f| {
+                    self.open_face(c, f)
+                })?;
+        Some((tets, ring, end == RingEnd::Open))
     }
 
     /// The best removal of edge `a b` of slot `t`: the triangulation of its
@@ -529,38 +378,31 @@ impl Work {
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
         let need = self.min_q(&tets).max(0.0);
-        let mut best = vec![f64::NEG_INFINITY; n * n];
-        let mut choice = vec![0usize; n * n];
-        for i in 0..n - 1 {
-            best[i * n + i + 1] = f64::INFINITY;
-        }
-        for len in 2..n {
-            for i in 0..n - len {
-                let j = i + len;
-                for k in i + 1..j {
-                    let (l, rr) = (best[i * n + k], best[k * n + j]);
-                    let bound = l.min(rr);
-                    if bound <= best[i * n + j] || bound <= need {
-                        continue;
-                    }
-                    let q1 = self.qual([r[i], r[k], r[j], b]);
-                    if q1 <= need || q1 <= best[i * n + j] {
-                        continue;
-                    }
-                    let q2 = self.qual([r[i], r[j], r[k], a]);
-                    let v = bound.min(q1).min(q2);
-                    if v > best[i * n + j] {
-                        best[i * n + j] = v;
-                        choice[i * n + j] = k;
-                    }
+        let (mut best, mut choice) = (Vec::new(), Vec::new());
+        let q = ring::triangulate(
+            n,
+            (f64::NEG_INFINITY, f64::INFINITY),
+            &mut best,
+            &mut choice,
+            |_, _| (),
+            |i, k, j, l, rr, cur, _| {
+                let bound = l.min(rr);
+                if bound <= cur || bound <= need {
+                    return None;
                 }
-            }
-        }
-        let q = best[n - 1];
+                let q1 = self.qual([r[i], r[k], r[j], b]);
+                if q1 <= need || q1 <= cur {
+                    return None;
+                }
+                let q2 = self.qual([r[i], r[j], r[k], a]);
+                let v = bound.min(q1).min(q2);
+                (v > cur).then_some(v)
+            },
+        );
         if q <= need {
             return None;
         }
-        let new = crate::tet::cmesh::ring_tets(&r, &choice, a, b);
+        let new = ring::ring_tets(&r, &choice, a, b);
         Some(Plan {
             old: tets,
             new,
@@ -593,9 +435,9 @@ impl Work {
         if !self.open_face(t, f) {
             return None;
         }
-        let u = self.nb[t as usize][f];
-        let tv = self.tv[t as usize];
-        let uv = self.tv[u as usize];
+        let u = self.m.across(t, f);
+        let tv = self.m.tv[t as usize];
+        let uv = self.m.tv[u as usize];
         let p = tv[f];
         let q = *uv.iter().find(|w| !tv.contains(w))?;
         let [x, y, z] = face(tv, f);
@@ -625,15 +467,15 @@ impl Work {
         if !self.open_face(t, f) {
             return None;
         }
-        let tv = self.tv[t as usize];
-        let u = self.nb[t as usize][f];
+        let tv = self.m.tv[t as usize];
+        let u = self.m.across(t, f);
         let a = tv[f];
-        let b = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        let b = *self.m.tv[u as usize].iter().find(|w| !tv.contains(w))?;
         // Edge `a b` must not exist already.
         if self
             .star(a)
             .iter()
-            .any(|&s| self.tv[s as usize].contains(&b))
+            .any(|&s| self.m.tv[s as usize].contains(&b))
         {
             return None;
         }
@@ -665,13 +507,13 @@ impl Work {
             let (rx, ry) = (ring[i], ring[j]);
             let (sa, sb, rz) = side[i];
             let across = |s: u32, apex: u32| -> Option<(u32, u32)> {
-                let sv = self.tv[s as usize];
+                let sv = self.m.tv[s as usize];
                 let k = sv.iter().position(|&w| w == rz)?;
                 if !self.open_face(s, k) {
                     return None;
                 }
-                let n = self.nb[s as usize][k];
-                let w = *self.tv[n as usize]
+                let n = self.m.across(s, k);
+                let w = *self.m.tv[n as usize]
                     .iter()
                     .find(|&&w| w != apex && w != rx && w != ry)?;
                 Some((n, w))
@@ -683,8 +525,8 @@ impl Work {
                 break;
             }
             // The face `rx ry w` between `na` and `nb` must be open too.
-            let k = self.tv[na as usize].iter().position(|&w| w == a)?;
-            if !self.open_face(na, k) || self.nb[na as usize][k] != nb {
+            let k = self.m.tv[na as usize].iter().position(|&w| w == a)?;
+            if !self.open_face(na, k) || self.m.across(na, k) != nb {
                 break;
             }
             ring.insert(i + 1, wa);
@@ -723,7 +565,7 @@ impl Work {
         if !plan.new.iter().all(|&tv| self.positive(tv)) {
             return None;
         }
-        let region = self.reg[plan.old[0] as usize];
+        let region = self.m.reg[plan.old[0] as usize];
         if !self.limits.is_none()
             && !Limits::allows(
                 self.excess(&plan.new, region, None),
@@ -741,86 +583,26 @@ impl Work {
         self.clock += 1;
         if let Some(log) = &mut self.log {
             for &t in old {
-                let tv = self.tv[t as usize];
+                let tv = self.m.tv[t as usize];
                 if !self.touched_set.contains(&tv) {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
             log.push(Undo::Replace {
-                old: old.iter().map(|&t| self.tv[t as usize]).collect(),
+                old: old.iter().map(|&t| self.m.tv[t as usize]).collect(),
                 new: new.to_vec(),
                 region,
             });
             self.touched.extend_from_slice(new);
             self.touched_set.extend(new.iter().copied());
         }
-        // Outer faces: key -> (outside slot or NONE, its face index).
-        // (Small sets: linear searches beat hashing.)
-        let mut outer: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
-        for &t in old {
-            let tv = self.tv[t as usize];
-            for f in 0..4 {
-                let n = self.nb[t as usize][f];
-                if n != NONE && old.contains(&n) {
-                    continue;
-                }
-                let g = if n == NONE {
-                    0
-                } else {
-                    (0..4).find(|&g| self.nb[n as usize][g] == t).unwrap_or(0)
-                };
-                outer.push((fkey(face(tv, f)), n, g));
-            }
-        }
-        for &t in old {
-            self.tv[t as usize] = [DEAD; 4];
-            self.nb[t as usize] = [NONE; 4];
-            self.free.push(t);
-        }
         let mut ids = Vec::with_capacity(new.len());
-        for &tv in new {
-            let q = self.qual(tv);
-            let id = match self.free.pop() {
-                Some(s) => {
-                    self.tv[s as usize] = tv;
-                    self.nb[s as usize] = [NONE; 4];
-                    self.reg[s as usize] = region;
-                    self.q[s as usize] = q;
-                    s
-                }
-                None => {
-                    self.tv.push(tv);
-                    self.nb.push([NONE; 4]);
-                    self.reg.push(region);
-                    self.q.push(q);
-                    (self.tv.len() - 1) as u32
-                }
-            };
-            ids.push(id);
-        }
-        let mut open: Vec<([u32; 3], u32, usize)> = Vec::with_capacity(2 * new.len());
-        for (&x, &tv) in ids.iter().zip(new) {
-            for f in 0..4 {
-                let k = fkey(face(tv, f));
-                if let Some(i) = outer.iter().position(|o| o.0 == k) {
-                    let (_, n, g) = outer.swap_remove(i);
-                    self.nb[x as usize][f] = n;
-                    if n != NONE {
-                        self.nb[n as usize][g] = x;
-                    }
-                } else if let Some(i) = open.iter().position(|o| o.0 == k) {
-                    let (_, y, g) = open.swap_remove(i);
-                    self.nb[x as usize][f] = y;
-                    self.nb[y as usize][g] = x;
-                } else {
-                    open.push((k, x, f));
-                }
-            }
+        let left = self.m.replace(old, new, region, &mut ids);
+        self.q.resize(self.m.tv.len(), 0.0);
+        for &x in &ids {
+            let tv = self.m.tv[x as usize];
+            self.q[x as usize] = self.qual(tv);
             for &w in &tv {
-                if self.vt.len() <= w as usize {
-                    self.vt.resize(w as usize + 1, DEAD);
-                }
-                self.vt[w as usize] = x;
                 if self.stamp.len() <= w as usize {
                     self.stamp.resize(w as usize + 1, 0);
                 }
@@ -829,26 +611,27 @@ impl Work {
         }
         // A boundary flip (see [`Work::plan_edge_removal`]) replaces
         // boundary faces of one facet by others: they keep its triangle.
-        if !outer.is_empty() {
+        if !left.gone.is_empty() {
+            self.m.move_subfaces(&left.gone, &left.made);
             let mut tri = None;
-            for o in &outer {
-                debug_assert!(o.1 == NONE, "replace: unmatched inner face");
-                tri = tri.or(self.bnd.remove(&o.0));
+            for k in &left.gone {
+                tri = tri.or(self.bnd.remove(k));
             }
             debug_assert!(
-                open.len() == outer.len() && tri.is_some(),
+                left.made.len() == left.gone.len() && tri.is_some(),
                 "replace: unmatched"
             );
             if let Some(tri) = tri {
-                for o in &open {
-                    self.bnd.insert(o.0, tri);
-                    self.bnd_new.push(o.0);
+                for &k in &left.made {
+                    self.bnd.insert(k, tri);
+                    self.bnd_new.push(k);
                 }
             }
         } else {
-            debug_assert!(open.is_empty(), "replace: unmatched");
+            debug_assert!(left.made.is_empty(), "replace: unmatched");
         }
         self.dirty.extend_from_slice(&ids);
+        self.m.debug_check(&self.p, "optimisation replace");
         ids
     }
 
@@ -868,8 +651,8 @@ impl Work {
         if self.log.is_some() || !self.live(t) {
             return false;
         }
-        let tv = self.tv[t as usize];
-        let nb = self.nb[t as usize];
+        let tv = self.m.tv[t as usize];
+        let nb = self.m.nb[t as usize];
         let open: Vec<usize> = (0..4).filter(|&f| nb[f] == NONE).collect();
         let &[f1, f2] = open.as_slice() else {
             return false;
@@ -904,24 +687,26 @@ impl Work {
             self.clock += 1;
             self.bnd.remove(&ka);
             self.bnd.remove(&km);
+            let made: Vec<[u32; 3]> = shared.iter().map(|&f| fkey(face(tv, f))).collect();
+            self.m.move_subfaces(&[ka, km], &made);
             for f in shared.iter().copied() {
                 // Face `f` (opposite `b` or `c`) holds `a` and `m`.
-                let n = nb[f];
-                if let Some(g) = (0..4).find(|&g| self.nb[n as usize][g] == t) {
-                    self.nb[n as usize][g] = NONE;
-                }
+                let w = nb[f];
+                let n = w >> 2;
+                self.m.link(n, (w & 3) as usize, NONE);
+                self.m.mask[n as usize] |= 1 << (w & 3);
                 let k = fkey(face(tv, f));
                 self.bnd.insert(k, tri);
                 self.bnd_new.push(k);
                 for &w in &face(tv, f) {
-                    self.vt[w as usize] = n;
+                    self.m.vt[w as usize] = n;
                     self.stamp[w as usize] = self.clock;
                 }
                 self.dirty.push(n);
             }
-            self.tv[t as usize] = [DEAD; 4];
-            self.nb[t as usize] = [NONE; 4];
-            self.free.push(t);
+            self.m.release(t);
+            self.m
+                .debug_check(&self.p, "optimisation flat boundary removal");
             return true;
         }
         false
@@ -957,7 +742,7 @@ impl Work {
         // otherwise pin v to steps of its own tiny distance).
         let (mut len, mut sum, mut cnt) = (f64::INFINITY, 0.0, 0.0);
         for &t in &star {
-            for &w in &self.tv[t as usize] {
+            for &w in &self.m.tv[t as usize] {
                 if w != v {
                     let l = norm(&sub(&self.p[w as usize], &home));
                     len = len.min(l);
@@ -974,7 +759,7 @@ impl Work {
         let local: Vec<([[f64; 3]; 4], usize)> = star
             .iter()
             .map(|&t| {
-                let tv = self.tv[t as usize];
+                let tv = self.m.tv[t as usize];
                 let k = tv.iter().position(|&u| u == v).unwrap_or(0);
                 (tv.map(|u| self.p[u as usize]), k)
             })
@@ -1066,7 +851,7 @@ impl Work {
         if !self.limits.is_none() {
             let (mut old, mut new) = (0.0f64, 0.0f64);
             for &t in &star {
-                let (tv, r) = (self.tv[t as usize], self.reg[t as usize]);
+                let (tv, r) = (self.m.tv[t as usize], self.m.reg[t as usize]);
                 old = old.max(self.excess(&[tv], r, None));
                 new = new.max(self.excess(&[tv], r, Some((v, x))));
             }
@@ -1076,21 +861,21 @@ impl Work {
         }
         // Exact check of the moved star.
         self.p[v as usize] = x;
-        if !star.iter().all(|&t| self.positive(self.tv[t as usize])) {
+        if !star.iter().all(|&t| self.positive(self.m.tv[t as usize])) {
             self.p[v as usize] = home;
             return false;
         }
         self.clock += 1;
         if let Some(log) = &mut self.log {
             for &t in &star {
-                let tv = self.tv[t as usize];
+                let tv = self.m.tv[t as usize];
                 if !self.touched_set.contains(&tv) {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
             log.push(Undo::Move { v, from: home });
             for &t in &star {
-                let tv = self.tv[t as usize];
+                let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
                     self.touched.push(tv);
                 }
@@ -1099,10 +884,11 @@ impl Work {
         self.dirty.extend_from_slice(&star);
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
-            for w in self.tv[t as usize] {
+            for w in self.m.tv[t as usize] {
                 self.stamp[w as usize] = self.clock;
             }
         }
+        self.m.debug_check(&self.p, "optimisation smoothing");
         true
     }
 
@@ -1179,9 +965,9 @@ impl Work {
         let id = self.p.len() as u32;
         let mut new = Vec::new();
         for &t in cav {
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             for f in 0..4 {
-                let n = self.nb[t as usize][f];
+                let n = self.m.across(t, f);
                 if n != NONE && cav.contains(&n) {
                     continue;
                 }
@@ -1195,13 +981,13 @@ impl Work {
         }
         // No vertex may be swallowed (all its tetrahedra in the cavity).
         for &t in cav {
-            for v in self.tv[t as usize] {
+            for v in self.m.tv[t as usize] {
                 if !new.iter().any(|n| n[..3].contains(&v)) {
                     return None;
                 }
             }
         }
-        let region = self.reg[cav[0] as usize];
+        let region = self.m.reg[cav[0] as usize];
         if !self.limits.is_none()
             && !Limits::allows(
                 self.excess(&new, region, Some((id, x))),
@@ -1217,7 +1003,7 @@ impl Work {
         self.fixed.push(false);
         self.slide.push(Slide::Free);
         self.inexact.push(false);
-        self.vt.push(DEAD);
+        self.m.vt.push(DEAD);
         self.stamp.push(0);
         self.smooth_fail.push(0);
         let ids = self.replace(cav, &new, region);
@@ -1242,11 +1028,11 @@ impl Work {
             let c = cav[i];
             i += 1;
             for f in 0..4 {
-                let n = self.nb[c as usize][f];
+                let n = self.m.across(c, f);
                 if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
                     continue;
                 }
-                let p = self.tv[n as usize].map(|v| self.p[v as usize]);
+                let p = self.m.tv[n as usize].map(|v| self.p[v as usize]);
                 let Some(o) = crate::tet::quality::circumcenter(&p) else {
                     continue;
                 };
@@ -1272,7 +1058,7 @@ impl Work {
     pub(super) fn lifted_cavity(&self, t: u32, x: [f64; 3], max: usize) -> Option<Vec<u32>> {
         // Sign of `x` against face `f` of slot `c` (positive: beyond it).
         let side = |c: u32, f: usize| {
-            let [a, b, d] = face(self.tv[c as usize], f);
+            let [a, b, d] = face(self.m.tv[c as usize], f);
             let g = |w: u32| &self.p[w as usize];
             orient3d(g(a), g(b), g(d), &x)
         };
@@ -1288,7 +1074,7 @@ impl Work {
             if !self.open_face(cur, f) || cav.len() >= max {
                 return None;
             }
-            cur = self.nb[cur as usize][f];
+            cur = self.m.across(cur, f);
             if cav.contains(&cur) {
                 return None;
             }
@@ -1306,7 +1092,7 @@ impl Work {
             let c = cav[k];
             k += 1;
             for f in 0..4 {
-                let n = self.nb[c as usize][f];
+                let n = self.m.across(c, f);
                 if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
                     continue;
                 }
@@ -1338,14 +1124,14 @@ impl Work {
     /// The live slot holding exactly `tv`, if any.
     pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
         for w in tv {
-            let h = self.vt.get(w as usize).copied().unwrap_or(DEAD);
-            if h != DEAD && self.tv[h as usize] == tv {
+            let h = self.m.vt.get(w as usize).copied().unwrap_or(DEAD);
+            if h != DEAD && self.m.tv[h as usize] == tv {
                 return Some(h);
             }
         }
         self.star(tv[0])
             .into_iter()
-            .find(|&t| self.tv[t as usize] == tv)
+            .find(|&t| self.m.tv[t as usize] == tv)
     }
 
     /// Smallest quality of the transaction's live touched tetrahedra.
@@ -1381,7 +1167,7 @@ impl Work {
                     self.clock += 1;
                     for t in self.star(v) {
                         self.dirty.push(t);
-                        let tv = self.tv[t as usize];
+                        let tv = self.m.tv[t as usize];
                         self.q[t as usize] = self.qual(tv);
                         for w in tv {
                             self.stamp[w as usize] = self.clock;
@@ -1393,25 +1179,13 @@ impl Work {
                     self.fixed.pop();
                     self.slide.pop();
                     self.inexact.pop();
-                    self.vt.pop();
+                    self.m.vt.pop();
                     self.stamp.pop();
                     self.smooth_fail.pop();
                 }
             }
         }
     }
-}
-
-/// True when `q` is an even permutation of `tv`.
-fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
-    let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
-    let mut inv = 0;
-    for i in 0..4 {
-        for j in i + 1..4 {
-            inv += usize::from(pos[i] > pos[j]);
-        }
-    }
-    inv % 2 == 0
 }
 
 /// The point of least norm in the convex hull of `g` (Gilbert's
@@ -1444,6 +1218,7 @@ fn min_norm_point(g: &[[f64; 3]]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tet::dmesh::tests::{neighbors_by_faces, octahedron_points};
 
     #[test]
     fn quality_of_regular_and_flat() {
@@ -1469,15 +1244,8 @@ mod tests {
     /// The octahedron `±x, ±y, ±z` as 8 tetrahedra around its centre
     /// (vertex 6), positive, with neighbours.
     fn octahedron() -> Work {
-        let p = vec![
-            [1.0, 0.0, 0.0],
-            [-1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, -1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.0, 0.0, -1.0],
-            [0.0, 0.0, 0.0],
-        ];
+        let mut p = octahedron_points();
+        p.push([0.0, 0.0, 0.0]);
         let mut tets = Vec::new();
         for x in [0, 1] {
             for y in [2, 3] {
@@ -1490,28 +1258,22 @@ mod tests {
                 }
             }
         }
-        let nbs: Vec<[u32; 4]> = tets
-            .iter()
-            .enumerate()
-            .map(|(t, tv)| {
-                std::array::from_fn(|f| {
-                    let k = fkey(face(*tv, f));
-                    (0..tets.len())
-                        .find(|&u| u != t && (0..4).any(|g| fkey(face(tets[u], g)) == k))
-                        .map_or(NONE, |u| u as u32)
-                })
-            })
-            .collect();
-        Work::new(p, &tets, &nbs, &[0; 8], &[])
+        let nbs = neighbors_by_faces(&tets);
+        let m = DomainMesh::from_neighbors(&tets, &nbs, &[0; 8], p.len()).unwrap();
+        Work::new(p, m, &[])
     }
 
     #[test]
     fn sphere_cavity_and_insert_keep_every_vertex() {
         let mut w = octahedron();
-        assert!((0..8).all(|t| w.positive(w.tv[t])));
+        assert!((0..8).all(|t| w.positive(w.m.tv[t])));
         let x = [0.1, 0.1, 0.1];
         let t0 = (0..8u32)
-            .find(|&t| w.tv[t as usize].iter().all(|&v| [0, 2, 4, 6].contains(&v)))
+            .find(|&t| {
+                w.m.tv[t as usize]
+                    .iter()
+                    .all(|&v| [0, 2, 4, 6].contains(&v))
+            })
             .unwrap();
         // The circumsphere of an octant's tetrahedron (centre at (±½, ±½,
         // ±½), radius √3/2) holds x only for the octants with at most one
@@ -1520,11 +1282,11 @@ mod tests {
         assert_eq!(cav.len(), 4);
         assert_eq!(cav[0], t0);
         for &t in &cav {
-            let neg = w.tv[t as usize]
+            let neg = w.m.tv[t as usize]
                 .iter()
                 .filter(|&&v| [1, 3, 5].contains(&v))
                 .count();
-            assert!(neg <= 1, "{:?}", w.tv[t as usize]);
+            assert!(neg <= 1, "{:?}", w.m.tv[t as usize]);
         }
         assert!(w.sphere_cavity(t0, x, 3).is_none());
         // The whole octahedron would swallow the centre: refused.
@@ -1534,7 +1296,7 @@ mod tests {
         // The Delaunay cavity keeps it.
         let (id, new) = w.insert(&cav, x).unwrap();
         assert_eq!(id, 7);
-        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        assert!(new.iter().all(|&t| w.positive(w.m.tv[t as usize])));
         assert!(!w.star(6).is_empty() && !w.star(7).is_empty());
     }
 
@@ -1543,7 +1305,7 @@ mod tests {
         let mut w = octahedron();
         let octant = |w: &Work, o: [u32; 3]| {
             (0..8u32)
-                .find(|&t| o.iter().all(|v| w.tv[t as usize].contains(v)))
+                .find(|&t| o.iter().all(|v| w.m.tv[t as usize].contains(v)))
                 .unwrap()
         };
         let t0 = octant(&w, [0, 2, 4]);
@@ -1557,7 +1319,7 @@ mod tests {
         assert!(cav.contains(&t0) && cav.contains(&octant(&w, [1, 2, 4])));
         let (id, new) = w.insert(&cav, x).unwrap();
         assert_eq!(id, 7);
-        assert!(new.iter().all(|&t| w.positive(w.tv[t as usize])));
+        assert!(new.iter().all(|&t| w.positive(w.m.tv[t as usize])));
         // Outside the domain: the walk meets the boundary.
         let w2 = octahedron();
         assert!(w2.lifted_cavity(t0, [2.0, 0.1, 0.1], 48).is_none());

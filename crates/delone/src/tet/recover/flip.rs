@@ -7,6 +7,7 @@
 //! made by the caller with exact predicates.
 
 use crate::tet::delaunay::Core;
+use crate::tet::dmesh::ring::{walk, RingEnd};
 use crate::tet::local::fkey;
 use crate::tet::local::{DEAD, INF};
 
@@ -14,25 +15,27 @@ use crate::tet::local::{DEAD, INF};
 /// rotational order; `None` when a ghost cell is met or the ring is longer
 /// than `cap`.
 pub(crate) fn ring(core: &Core, t: u32, p: u32, q: u32, cap: usize) -> Option<Vec<u32>> {
-    let tv = core.v[t as usize];
-    let mut r = *tv.iter().find(|&&x| x != p && x != q)?;
-    let mut cur = t;
-    let mut out = Vec::new();
-    loop {
-        let cv = core.v[cur as usize];
-        if cv[0] == DEAD || cv.contains(&INF) || out.len() >= cap {
-            return None;
+    let mut o = core.v[t as usize].into_iter().filter(|&x| x != p && x != q);
+    let (r, s) = (o.next()?, o.next()?);
+    let cross = |c: u32, i: usize| {
+        let cv = core.v[c as usize];
+        if cv[0] == DEAD || cv.contains(&INF) {
+            Err(())
+        } else {
+            Ok(Some(core.adj[c as usize][i] >> 2))
         }
-        out.push(cur);
-        let ir = cv.iter().position(|&x| x == r)?;
-        let s = *cv.iter().find(|&&x| x != p && x != q && x != r)?;
-        let w = core.adj[cur as usize][ir];
-        cur = w >> 2;
-        r = s;
-        if cur == t {
-            return Some(out);
-        }
-    }
+    };
+    let (mut tets, mut verts) = (Vec::new(), Vec::new());
+    let end = walk(
+        t,
+        (r, s),
+        (p, q),
+        cap,
+        (&mut tets, &mut verts),
+        |c| core.v[c as usize],
+        cross,
+    )?;
+    (end == RingEnd::Closed).then_some(tets)
 }
 
 /// Replaces the three tetrahedra `ring` around edge `p q` by the two sharing
@@ -86,6 +89,7 @@ pub(crate) fn flip32(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tet::dmesh::tests::three_around_an_edge;
     use crate::tet::recover::missing;
     use crate::tet::Delaunay3;
 
@@ -93,14 +97,7 @@ mod tests {
     fn flip32_creates_the_ring_face() {
         // p and q close to the plane of r0 r1 r2: the Delaunay
         // tetrahedralization has edge p q with three tetrahedra around it.
-        let s = 3f64.sqrt() / 2.0;
-        let pts = [
-            [1.0, 0.0, 0.0],
-            [-0.5, s, 0.0],
-            [-0.5, -s, 0.0],
-            [0.0, 0.0, 0.1],
-            [0.0, 0.0, -0.1],
-        ];
+        let pts = three_around_an_edge();
         let mut dt = Delaunay3::from_points(&pts).unwrap();
         assert_eq!(dt.num_tets(), 3);
         assert!(!missing(&[[0, 1, 2]], dt.tets()).triangles.is_empty());

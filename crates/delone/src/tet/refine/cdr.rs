@@ -23,6 +23,7 @@ use super::geom::{
 
 use super::{plane_groups, Bad, RefineOptions, RefineReport, Refined, FLAT_RATIO, SEGMENT_FLOOR};
 use crate::geom::vec3::{cross, dist2, dot, sub, P};
+use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::DEAD;
 use crate::tet::quality;
 use crate::tet::recover::{RecoverError, Recovered};
@@ -59,9 +60,9 @@ const MAX_CAVITY: usize = 50_000;
 
 /// A planned re-triangulation of a cavity (see [`Cdr::plan`]).
 struct Plan {
-    /// New tetrahedra `[x, y, z, new]`, their region, the outer neighbour
-    /// word of face 3 and whether face 3 is a subface.
-    tets: Vec<([u32; 4], u32, u32, bool)>,
+    /// New tetrahedra `[x, y, z, new]` (face 3 on the cavity's boundary,
+    /// which keeps its neighbour and subface mark) and their region.
+    tets: Vec<([u32; 4], u32)>,
     /// New subfaces: the edge of the dissolved subfaces' boundary and the
     /// input triangle.
     subs: Vec<((u32, u32), u32)>,
@@ -93,21 +94,10 @@ pub(super) struct Cdr {
     /// Points (rescaled): input, recovery's Steiner points, then new ones.
     p: Vec<P>,
     n_in: usize,
-    tv: Vec<[u32; 4]>,
-    nb: Vec<[u32; 4]>,
-    mask: Vec<u8>,
-    reg: Vec<u32>,
-    free: Vec<u32>,
-    /// Per vertex a live tetrahedron holding it.
-    vt: Vec<u32>,
-    stamp: Vec<u32>,
-    epoch: u32,
-    /// Subface → input triangle ([`NONE`] for a hull face off the surface).
-    ftri: HashMap<[u32; 3], u32>,
-    /// Edge → the subfaces holding it.
-    sedges: HashMap<(u32, u32), Vec<[u32; 3]>>,
-    /// Subsegment → input edge.
-    segs: HashMap<(u32, u32), u32>,
+    /// The constrained domain mesh: tetrahedra, subface marks, regions,
+    /// subface → input triangle ([`NONE`] for a hull face off the
+    /// surface), subsegment → input edge.
+    pub(super) m: DomainMesh,
     iedges: Vec<[u32; 2]>,
     tris: Vec<[u32; 3]>,
     normals: Vec<P>,
@@ -170,30 +160,17 @@ impl Cdr {
         let (cow, scale) = crate::geom::rescaled(&rec.points);
         let s = scale.0 * scale.1;
         let p: Vec<P> = cow.into_owned();
-        let tv = rec.mesh.tets.clone();
-        let nt = tv.len();
         let bad = || RecoverError::Unsupported {
             what: "refinement of a mesh whose neighbour links disagree",
         };
-        let fk = |t: [u32; 4], i: usize| fkey(face(t, i));
-        let mut nb = vec![[NONE; 4]; nt];
-        for t in 0..nt {
-            for i in 0..4 {
-                let u = *rec
-                    .mesh
-                    .neighbors
-                    .get(t)
-                    .and_then(|n| n.get(i))
-                    .ok_or_else(bad)?;
-                if u == NONE {
-                    continue;
-                }
-                let k = fk(tv[t], i);
-                let uv = *tv.get(u as usize).ok_or_else(bad)?;
-                let j = (0..4).find(|&j| fk(uv, j) == k).ok_or_else(bad)?;
-                nb[t][i] = 4 * u + j as u32;
-            }
-        }
+        let mut m = DomainMesh::from_neighbors(
+            &rec.mesh.tets,
+            &rec.mesh.neighbors,
+            &rec.tet_region,
+            p.len(),
+        )
+        .map_err(|_| bad())?;
+        let nt = m.tv.len();
         let mut ftri: HashMap<[u32; 3], u32> = HashMap::new();
         let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();
         let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
@@ -227,11 +204,10 @@ impl Cdr {
                 }
             }
         }
-        let mut mask = vec![0u8; nt];
         for t in 0..nt {
             for i in 0..4 {
-                if ftri.contains_key(&fk(tv[t], i)) {
-                    mask[t] |= 1 << i;
+                if ftri.contains_key(&fkey(face(m.tv[t], i))) {
+                    m.mask[t] |= 1 << i;
                 }
             }
         }
@@ -350,25 +326,10 @@ impl Cdr {
                 v.map_or(f64::INFINITY, |v| v * s3)
             })
             .collect();
-        let mut vt = vec![DEAD; p.len()];
-        for (t, x) in tv.iter().enumerate() {
-            for &q in x {
-                vt[q as usize] = t as u32;
-            }
-        }
+        (m.ftri, m.sedges, m.segs) = (ftri, sedges, segs);
         let mut st = Cdr {
             n_in: points.len(),
-            stamp: vec![0; nt],
-            epoch: 0,
-            reg: rec.tet_region.clone(),
-            free: Vec::new(),
-            vt,
-            tv,
-            nb,
-            mask,
-            ftri,
-            sedges,
-            segs,
+            m,
             iedges,
             tris: triangles.to_vec(),
             normals,
@@ -402,20 +363,19 @@ impl Cdr {
             left: HashMap::new(),
             keep_surface: opts.keep_surface,
         };
-        st.reg.resize(nt, 0);
         st.budget = if opts.max_steiner == super::AUTO_BUDGET {
             // Volume over the bound, summed over the tetrahedra (both
             // rescaled alike).
-            let ratio: f64 = (0..st.tv.len())
+            let ratio: f64 = (0..st.m.tv.len())
                 .filter(|&t| st.alive(t as u32))
                 .map(|t| {
                     let bound = st
                         .max_vol
-                        .get(st.reg[t] as usize)
+                        .get(st.m.reg[t] as usize)
                         .copied()
                         .unwrap_or(f64::INFINITY);
                     if bound.is_finite() && bound > 0.0 {
-                        quality::volume(&st.tv[t].map(|q| st.p[q as usize])).abs() / bound
+                        quality::volume(&st.m.tv[t].map(|q| st.p[q as usize])).abs() / bound
                     } else {
                         0.0
                     }
@@ -440,8 +400,9 @@ impl Cdr {
         st.report.steiner_budget = st.budget;
         // The recovered mesh is not constrained Delaunay (recovery flips and
         // carves): restore the property, so cavities are Delaunay cavities.
+        st.m.debug_check(&st.p, "refinement start");
         st.flip_delaunay(None);
-        for t in 0..st.tv.len() as u32 {
+        for t in 0..st.m.tv.len() as u32 {
             if !st.alive(t) {
                 continue;
             }
@@ -456,29 +417,7 @@ impl Cdr {
     }
 
     fn alive(&self, t: u32) -> bool {
-        self.tv.get(t as usize).is_some_and(|x| x[0] != DEAD)
-    }
-
-    /// A new tetrahedron `tv` of region `reg` (no subface marks, no
-    /// neighbours yet) in a free slot or a new one; its slot.
-    fn new_tet(&mut self, tv: [u32; 4], reg: u32) -> u32 {
-        match self.free.pop() {
-            Some(t) => {
-                self.tv[t as usize] = tv;
-                self.reg[t as usize] = reg;
-                self.mask[t as usize] = 0;
-                self.nb[t as usize] = [NONE; 4];
-                t
-            }
-            None => {
-                self.tv.push(tv);
-                self.reg.push(reg);
-                self.mask.push(0);
-                self.nb.push([NONE; 4]);
-                self.stamp.push(0);
-                (self.tv.len() - 1) as u32
-            }
-        }
+        self.m.alive(t)
     }
 
     fn out_of_budget(&mut self) -> bool {
@@ -515,9 +454,14 @@ impl Cdr {
     }
 
     fn seg_tris(&self, e: (u32, u32)) -> Vec<u32> {
-        self.sedges
+        self.m
+            .sedges
             .get(&e)
-            .map(|l| l.iter().filter_map(|k| self.ftri.get(k).copied()).collect())
+            .map(|l| {
+                l.iter()
+                    .filter_map(|k| self.m.ftri.get(k).copied())
+                    .collect()
+            })
             .unwrap_or_default()
     }
 
@@ -528,19 +472,19 @@ impl Cdr {
 
     fn face_encroached_by(&self, k: [u32; 3], w: u32) -> bool {
         let g = |q: u32| &self.p[q as usize];
-        let t = self.ftri.get(&k).copied().unwrap_or(NONE);
+        let t = self.m.ftri.get(&k).copied().unwrap_or(NONE);
         t != NONE && encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w)) && !self.near(w, &[t])
     }
 
     /// Badness key of tetrahedron `t`, when it breaks a bound.
     fn badness(&self, t: u32) -> Option<u64> {
-        let tv = self.tv[t as usize];
+        let tv = self.m.tv[t as usize];
         let p = tv.map(|q| self.p[q as usize]);
         let r = quality::radius_edge_ratio(&p);
         let v = quality::volume(&p).abs();
         let mv = self
             .max_vol
-            .get(self.reg[t as usize] as usize)
+            .get(self.m.reg[t as usize] as usize)
             .copied()
             .unwrap_or(f64::INFINITY);
         let big = if v > mv { v / mv } else { 0.0 }.max(self.sizer.cell(&p));
@@ -556,7 +500,7 @@ impl Cdr {
     /// Queues what tetrahedron `t` shows: encroached subfaces and
     /// subsegments (by its own vertices), and itself when bad.
     fn check_tet(&mut self, t: u32) {
-        let tv = self.tv[t as usize];
+        let tv = self.m.tv[t as usize];
         if self.keep_surface {
             // Nothing on the surface is split: only bad cells are queued.
             if let Some(key) = self.badness(t) {
@@ -569,7 +513,7 @@ impl Cdr {
             return;
         }
         for f in 0..4 {
-            if self.mask[t as usize] >> f & 1 == 1 {
+            if self.m.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
                 if !self.queued_f.contains(&k)
                     && !self.failed_f.contains(&k)
@@ -582,7 +526,7 @@ impl Cdr {
         }
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
-            if self.segs.contains_key(&e)
+            if self.m.segs.contains_key(&e)
                 && !self.queued_s.contains(&e)
                 && !self.failed_s.contains(&e)
                 && (0..4)
@@ -604,14 +548,7 @@ impl Cdr {
 
     /// A live tetrahedron holding vertex `v`.
     fn tet_of(&self, v: u32) -> Option<u32> {
-        let t = *self.vt.get(v as usize)?;
-        if self.alive(t) && self.tv[t as usize].contains(&v) {
-            return Some(t);
-        }
-        self.tv
-            .iter()
-            .position(|x| x[0] != DEAD && x.contains(&v))
-            .map(|t| t as u32)
+        self.m.slot_of_vertex(v)
     }
 
     /// The tetrahedra holding edge `a b` (those reachable around it).
@@ -626,13 +563,13 @@ impl Cdr {
         while i < star.len() && star.len() < 100_000 {
             let t = star[i];
             i += 1;
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             if tv.contains(&b) {
                 t0 = Some(t);
                 break;
             }
             for f in 0..4 {
-                let w = self.nb[t as usize][f];
+                let w = self.m.nb[t as usize][f];
                 if tv[f] != a && w != NONE && !star.contains(&(w >> 2)) {
                     star.push(w >> 2);
                 }
@@ -646,9 +583,9 @@ impl Cdr {
         while i < out.len() {
             let t = out[i];
             i += 1;
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             for f in 0..4 {
-                let w = self.nb[t as usize][f];
+                let w = self.m.nb[t as usize][f];
                 if tv[f] != a && tv[f] != b && w != NONE && !out.contains(&(w >> 2)) {
                     out.push(w >> 2);
                 }
@@ -660,35 +597,23 @@ impl Cdr {
     /// The tetrahedra (one or two) with face `k`.
     fn face_tets(&self, k: [u32; 3]) -> Vec<u32> {
         let mut v = self.around_edge(k[0], k[1]);
-        v.retain(|&t| self.tv[t as usize].contains(&k[2]));
+        v.retain(|&t| self.m.tv[t as usize].contains(&k[2]));
         v
     }
 
     fn in_sphere(&self, t: u32, m: &P) -> bool {
-        let tv = self.tv[t as usize];
+        let tv = self.m.tv[t as usize];
         let g = |i: usize| &self.p[tv[i] as usize];
         insphere(g(1), g(0), g(2), g(3), m) > 0.0
-    }
-
-    fn next_epoch(&mut self) {
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.stamp.iter_mut().for_each(|s| *s = 0);
-            self.epoch = 1;
-        }
-        if self.stamp.len() < self.tv.len() {
-            self.stamp.resize(self.tv.len(), 0);
-        }
     }
 
     /// The Bowyer–Watson cavity of `m` grown from `seeds` across faces that
     /// are not subfaces.
     fn grow(&mut self, seeds: &[u32], m: &P) -> Vec<u32> {
-        self.next_epoch();
+        self.m.mark_begin();
         let mut cav: Vec<u32> = Vec::new();
         for &t in seeds {
-            if self.stamp[t as usize] != self.epoch {
-                self.stamp[t as usize] = self.epoch;
+            if self.m.mark(t) {
                 cav.push(t);
             }
         }
@@ -697,15 +622,15 @@ impl Cdr {
             let t = cav[i];
             i += 1;
             for f in 0..4 {
-                let w = self.nb[t as usize][f];
-                if w == NONE || self.mask[t as usize] >> f & 1 == 1 {
+                let w = self.m.nb[t as usize][f];
+                if w == NONE || self.m.mask[t as usize] >> f & 1 == 1 {
                     continue;
                 }
                 let u = w >> 2;
-                if self.stamp[u as usize] == self.epoch || !self.in_sphere(u, m) {
+                if self.m.marked(u) || !self.in_sphere(u, m) {
                     continue;
                 }
-                self.stamp[u as usize] = self.epoch;
+                self.m.mark(u);
                 cav.push(u);
             }
         }
@@ -725,9 +650,9 @@ impl Cdr {
         m: &P,
         tris: &[u32],
     ) -> Result<Plan, PlanErr> {
-        self.next_epoch();
+        self.m.mark_begin();
         for &t in cav {
-            self.stamp[t as usize] = self.epoch;
+            self.m.mark(t);
         }
         let drop = |t: u32| {
             if required.contains(&t) {
@@ -739,7 +664,7 @@ impl Cdr {
         // Boundary edges of the dissolved subfaces.
         let mut dedges: Vec<((u32, u32), u32)> = Vec::new();
         for k in dis {
-            let tri = self.ftri.get(k).copied().unwrap_or(NONE);
+            let tri = self.m.ftri.get(k).copied().unwrap_or(NONE);
             for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
                 dedges.push((e, tri));
             }
@@ -761,13 +686,13 @@ impl Cdr {
         let mut bedges: Vec<(u32, u32)> = Vec::new();
         let mid = self.p.len() as u32;
         for &t in cav {
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             for f in 0..4 {
-                let w = self.nb[t as usize][f];
-                let sub = self.mask[t as usize] >> f & 1 == 1;
+                let w = self.m.nb[t as usize][f];
+                let sub = self.m.mask[t as usize] >> f & 1 == 1;
                 let k = fkey(face(tv, f));
                 let is_dis = sub && dis.contains(&k);
-                if w != NONE && self.stamp[(w >> 2) as usize] == self.epoch {
+                if w != NONE && self.m.marked(w >> 2) {
                     if sub && !is_dis {
                         // A subface inside the cavity would be lost.
                         return Err(drop(t).or_else(|| drop(w >> 2)));
@@ -792,7 +717,7 @@ impl Cdr {
                 {
                     return Err(drop(t));
                 }
-                tets.push(([x, y, z, mid], self.reg[t as usize], w, sub));
+                tets.push(([x, y, z, mid], self.m.reg[t as usize]));
                 bedges.extend([ekey(x, y), ekey(y, z), ekey(x, z)]);
             }
         }
@@ -802,24 +727,24 @@ impl Cdr {
         verts.sort_unstable();
         verts.dedup();
         for &t in cav {
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             for &v in &tv {
                 if verts.binary_search(&v).is_err() {
                     let o = cav
                         .iter()
                         .copied()
-                        .find(|&u| !required.contains(&u) && self.tv[u as usize].contains(&v));
+                        .find(|&u| !required.contains(&u) && self.m.tv[u as usize].contains(&v));
                     return Err(o);
                 }
             }
             for (i, j) in EDGES {
                 let e = ekey(tv[i], tv[j]);
                 if Some(e) != split
-                    && self.segs.contains_key(&e)
+                    && self.m.segs.contains_key(&e)
                     && bedges.binary_search(&e).is_err()
                 {
                     let o = cav.iter().copied().find(|&u| {
-                        let x = self.tv[u as usize];
+                        let x = self.m.tv[u as usize];
                         !required.contains(&u) && x.contains(&e.0) && x.contains(&e.1)
                     });
                     return Err(o);
@@ -863,60 +788,39 @@ impl Cdr {
     fn commit(&mut self, cav: &[u32], dis: &[[u32; 3]], plan: Plan, m: P) -> (u32, Vec<u32>) {
         let mid = self.p.len() as u32;
         self.p.push(m);
-        self.vt.push(DEAD);
-        for &t in cav {
-            self.tv[t as usize][0] = DEAD;
-            self.free.push(t);
-        }
+        self.m.vt.push(DEAD);
         for k in dis {
-            self.ftri.remove(k);
+            self.m.ftri.remove(k);
             for e in [(k[0], k[1]), (k[0], k[2]), (k[1], k[2])] {
-                if let Some(l) = self.sedges.get_mut(&e) {
+                if let Some(l) = self.m.sedges.get_mut(&e) {
                     l.retain(|x| x != k);
                     if l.is_empty() {
-                        self.sedges.remove(&e);
+                        self.m.sedges.remove(&e);
                     }
                 }
             }
         }
-        let mut ids = Vec::with_capacity(plan.tets.len());
-        for &(tv, reg, outer, sub) in &plan.tets {
-            let id = self.new_tet(tv, reg);
-            self.nb[id as usize][3] = outer;
-            if outer != NONE {
-                self.nb[(outer >> 2) as usize][(outer & 3) as usize] = 4 * id + 3;
-            }
-            if sub {
-                self.mask[id as usize] |= 8;
-            }
-            for &q in &tv {
-                self.vt[q as usize] = id;
-            }
-            ids.push(id);
-        }
-        let mut open: HashMap<(u32, u32), (u32, usize)> = HashMap::new();
-        for &id in &ids {
-            let tv = self.tv[id as usize];
+        let new: Vec<[u32; 4]> = plan.tets.iter().map(|x| x.0).collect();
+        let mut ids = Vec::with_capacity(new.len());
+        self.m.replace(cav, &new, 0, &mut ids);
+        for (&id, x) in ids.iter().zip(&plan.tets) {
+            self.m.reg[id as usize] = x.1;
+            // Faces through the new point on the dissolved subfaces'
+            // boundary are the new subfaces.
+            let tv = self.m.tv[id as usize];
             for f in 0..3 {
                 let k = fkey(face(tv, f));
-                let e = (k[0], k[1]); // the new vertex is the largest id
-                let on_bd = plan.subs.iter().any(|x| x.0 == e);
-                if on_bd {
-                    self.mask[id as usize] |= 1 << f;
-                }
-                if let Some((u, g)) = open.remove(&e) {
-                    self.nb[id as usize][f] = 4 * u + g as u32;
-                    self.nb[u as usize][g] = 4 * id + f as u32;
-                } else {
-                    open.insert(e, (id, f));
+                // The new vertex is the largest id.
+                if plan.subs.iter().any(|x| x.0 == (k[0], k[1])) {
+                    self.m.mark_face(id, f);
                 }
             }
         }
         for &((a, b), tri) in &plan.subs {
             let k = [a, b, mid];
-            self.ftri.insert(k, tri);
+            self.m.ftri.insert(k, tri);
             for e in [(a, b), (a, mid), (b, mid)] {
-                self.sedges.entry(e).or_default().push(k);
+                self.m.sedges.entry(e).or_default().push(k);
             }
         }
         (mid, ids)
@@ -1017,19 +921,19 @@ impl Cdr {
     ) -> bool {
         let mid = self.p.len() as u32;
         loop {
-            self.next_epoch();
+            self.m.mark_begin();
             for &t in cav.iter() {
-                self.stamp[t as usize] = self.epoch;
+                self.m.mark(t);
             }
             let mut drop: Vec<u32> = Vec::new();
             for &t in cav.iter() {
-                let tv = self.tv[t as usize];
+                let tv = self.m.tv[t as usize];
                 let hidden = (0..4).any(|f| {
-                    let w = self.nb[t as usize][f];
-                    if w != NONE && self.stamp[(w >> 2) as usize] == self.epoch {
+                    let w = self.m.nb[t as usize][f];
+                    if w != NONE && self.m.marked(w >> 2) {
                         return false;
                     }
-                    let sub = self.mask[t as usize] >> f & 1 == 1;
+                    let sub = self.m.mask[t as usize] >> f & 1 == 1;
                     let k = fkey(face(tv, f));
                     if sub && dis.contains(&k) {
                         return false;
@@ -1057,7 +961,7 @@ impl Cdr {
 
     /// Is subface `k` on the plane of one of `tris`?
     fn coplanar(&self, k: &[u32; 3], tris: &[u32]) -> bool {
-        let Some(&t) = self.ftri.get(k) else {
+        let Some(&t) = self.m.ftri.get(k) else {
             return false;
         };
         t != NONE
@@ -1070,13 +974,15 @@ impl Cdr {
     /// The subfaces of the facet of surface triangle `tri` holding edge `e`.
     fn faces_on(&self, e: (u32, u32), tri: u32) -> Vec<[u32; 3]> {
         let f = self.facet.get(tri as usize).copied();
-        self.sedges
+        self.m
+            .sedges
             .get(&e)
             .map(|l| {
                 l.iter()
                     .copied()
                     .filter(|k| {
-                        self.ftri
+                        self.m
+                            .ftri
                             .get(k)
                             .is_some_and(|&t| self.facet.get(t as usize).copied() == f)
                     })
@@ -1145,17 +1051,25 @@ impl Cdr {
         if self.failed_s.contains(&e) {
             return false;
         }
-        let n = self.p.len();
-        self.ir_refused = false;
-        let done = self.split_segment_at(e);
-        if !done && self.p.len() == n && !self.ir_refused {
+        let (done, failed) = self.attempt(|st| st.split_segment_at(e));
+        if failed {
             self.failed_s.insert(e);
         }
         done
     }
 
+    /// Runs a split: whether it inserted, and whether it failed with the
+    /// mesh unchanged (not for [`Cdr::min_ir`]), so that it is not tried
+    /// again.
+    fn attempt(&mut self, split: impl FnOnce(&mut Self) -> bool) -> (bool, bool) {
+        let n = self.p.len();
+        self.ir_refused = false;
+        let done = split(self);
+        (done, !done && self.p.len() == n && !self.ir_refused)
+    }
+
     fn split_segment_at(&mut self, e: (u32, u32)) -> bool {
-        let Some(&ie) = self.segs.get(&e) else {
+        let Some(&ie) = self.m.segs.get(&e) else {
             return false;
         };
         let (a, b) = e;
@@ -1192,7 +1106,7 @@ impl Cdr {
                 m[k] = 0.5 * (pa[k] + pb[k]);
             }
         }
-        let dis = self.sedges.get(&e).cloned().unwrap_or_default();
+        let dis = self.m.sedges.get(&e).cloned().unwrap_or_default();
         let req = self.around_edge(a, b);
         let tris: Vec<u32> = {
             let mut v = self.seg_tris(e);
@@ -1208,13 +1122,13 @@ impl Cdr {
             let seeds: Vec<[u32; 3]> = dis
                 .iter()
                 .copied()
-                .filter(|k| self.ftri.get(k) == Some(&tri))
+                .filter(|k| self.m.ftri.get(k) == Some(&tri))
                 .collect();
             grown.extend(self.facet_cavity(seeds, tri, &m));
         }
         grown.extend(
             dis.iter()
-                .filter(|k| self.ftri.get(*k).is_none_or(|t| !tris.contains(t))),
+                .filter(|k| self.m.ftri.get(*k).is_none_or(|t| !tris.contains(t))),
         );
         grown.sort_unstable();
         grown.dedup();
@@ -1232,9 +1146,9 @@ impl Cdr {
         };
         match done {
             Some(id) => {
-                self.segs.remove(&e);
-                self.segs.insert(ekey(a, id), ie);
-                self.segs.insert(ekey(id, b), ie);
+                self.m.segs.remove(&e);
+                self.m.segs.insert(ekey(a, id), ie);
+                self.m.segs.insert(ekey(id, b), ie);
                 self.on_line(id, ie);
                 self.report.on_segments += 1;
                 true
@@ -1282,7 +1196,7 @@ impl Cdr {
                 let (px, py) = (self.p[x as usize], self.p[y as usize]);
                 if dot(&cross(&sub(&py, &px), &sub(m, &px)), &n) < 0.0 {
                     let e = ekey(x, y);
-                    if self.segs.contains_key(&e) {
+                    if self.m.segs.contains_key(&e) {
                         return Err(Some(e));
                     }
                     let nx = self.faces_on(e, tri).into_iter().find(|&f| f != cur);
@@ -1376,7 +1290,7 @@ impl Cdr {
             let f = d[i];
             i += 1;
             for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
-                if self.segs.contains_key(&e) {
+                if self.m.segs.contains_key(&e) {
                     continue;
                 }
                 for h in self.faces_on(e, tri) {
@@ -1403,17 +1317,15 @@ impl Cdr {
         if self.failed_f.contains(&k) {
             return false;
         }
-        let n = self.p.len();
-        self.ir_refused = false;
-        let done = self.split_face_at(k);
-        if !done && self.p.len() == n && !self.ir_refused {
+        let (done, failed) = self.attempt(|st| st.split_face_at(k));
+        if failed {
             self.failed_f.insert(k);
         }
         done
     }
 
     fn split_face_at(&mut self, k: [u32; 3]) -> bool {
-        let Some(&tri) = self.ftri.get(&k) else {
+        let Some(&tri) = self.m.ftri.get(&k) else {
             return false;
         };
         if tri == NONE || self.degenerate[tri as usize] {
@@ -1462,10 +1374,10 @@ impl Cdr {
         let cav = self.grow(&req, &c);
         let mut enc: Vec<(u32, u32)> = Vec::new();
         for &t in &cav {
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             for (a, b) in EDGES {
                 let e = ekey(tv[a], tv[b]);
-                if self.segs.contains_key(&e)
+                if self.m.segs.contains_key(&e)
                     && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
                 {
                     enc.push(e);
@@ -1508,7 +1420,7 @@ impl Cdr {
                     .then(y.cmp(x))
             })
             .unwrap_or((k[0], k[1]));
-        if self.segs.contains_key(&e) {
+        if self.m.segs.contains_key(&e) {
             self.split_segment(e)
         } else {
             self.report.skipped += 1;
@@ -1522,14 +1434,14 @@ impl Cdr {
     fn locate(&self, mut t: u32, c: &P) -> Result<u32, Option<[u32; 3]>> {
         let mut prev = NONE;
         for step in 0..200_000usize {
-            let tv = self.tv[t as usize];
+            let tv = self.m.tv[t as usize];
             let mut next = None;
             for j in 0..4 {
                 let f = (j + step) % 4;
                 let [x, y, z] = face(tv, f).map(|q| &self.p[q as usize]);
                 if orient3d(x, y, z, c) > 0.0 {
-                    let w = self.nb[t as usize][f];
-                    if w == NONE || self.mask[t as usize] >> f & 1 == 1 {
+                    let w = self.m.nb[t as usize][f];
+                    if w == NONE || self.m.mask[t as usize] >> f & 1 == 1 {
                         return Err(Some(fkey(face(tv, f))));
                     }
                     if w >> 2 == prev {
@@ -1556,7 +1468,7 @@ impl Cdr {
     /// circumball ([`Cdr::split_inside`]); else the cell is left.
     fn split_cell(&mut self, b: Bad) {
         let tv = b.verts.0;
-        if self.tv.get(b.slot as usize) != Some(&tv) {
+        if self.m.tv.get(b.slot as usize) != Some(&tv) {
             return;
         }
         let big = self.too_big(b.slot);
@@ -1572,10 +1484,10 @@ impl Cdr {
     /// Is live tetrahedron `t` above its region's volume bound or the
     /// sizing?
     fn too_big(&self, t: u32) -> bool {
-        let p = self.tv[t as usize].map(|q| self.p[q as usize]);
+        let p = self.m.tv[t as usize].map(|q| self.p[q as usize]);
         let mv = self
             .max_vol
-            .get(self.reg[t as usize] as usize)
+            .get(self.m.reg[t as usize] as usize)
             .copied()
             .unwrap_or(f64::INFINITY);
         quality::volume(&p).abs() > mv || self.sizer.cell(&p) > 1.0
@@ -1587,9 +1499,9 @@ impl Cdr {
         let mut segs = Vec::new();
         let mut faces = Vec::new();
         for &u in cav {
-            let uv = self.tv[u as usize];
+            let uv = self.m.tv[u as usize];
             for f in 0..4 {
-                if self.mask[u as usize] >> f & 1 == 1 {
+                if self.m.mask[u as usize] >> f & 1 == 1 {
                     let k = fkey(face(uv, f));
                     if encroaches_face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]), c) {
                         faces.push(k);
@@ -1598,7 +1510,8 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(uv[i], uv[j]);
-                if self.segs.contains_key(&e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
+                if self.m.segs.contains_key(&e)
+                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
                 {
                     segs.push(e);
                 }
@@ -1744,7 +1657,7 @@ impl Cdr {
                         // cavity (a subface between it and its
                         // circumcentre, or dropped by the cavity
                         // correction): look at it again.
-                        if self.tv.get(b.slot as usize) == Some(&tv) {
+                        if self.m.tv.get(b.slot as usize) == Some(&tv) {
                             self.badq.push(b);
                         }
                         return None;
@@ -1960,7 +1873,7 @@ impl Cdr {
     fn too_close(&self, cav: &[u32], c: &P, lim: f64) -> bool {
         let l2 = lim * lim;
         cav.iter().any(|&u| {
-            self.tv[u as usize]
+            self.m.tv[u as usize]
                 .iter()
                 .any(|&q| dist2(&self.pt(q), c) < l2)
         })
@@ -1968,9 +1881,9 @@ impl Cdr {
 
     /// Is subsegment `e` still encroached by a vertex next to it?
     fn seg_still_encroached(&self, e: (u32, u32)) -> bool {
-        self.segs.contains_key(&e)
+        self.m.segs.contains_key(&e)
             && self.around_edge(e.0, e.1).into_iter().any(|t| {
-                self.tv[t as usize]
+                self.m.tv[t as usize]
                     .iter()
                     .any(|&w| w != e.0 && w != e.1 && self.seg_encroached_by(e, w))
             })
@@ -1978,7 +1891,7 @@ impl Cdr {
 
     /// Is subface `k` (on an input triangle) bigger than the sizing allows?
     fn face_too_big(&self, k: [u32; 3]) -> bool {
-        self.ftri.get(&k).is_some_and(|&t| t != NONE)
+        self.m.ftri.get(&k).is_some_and(|&t| t != NONE)
             && self
                 .sizer
                 .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
@@ -1986,9 +1899,9 @@ impl Cdr {
 
     fn face_still_encroached(&self, k: [u32; 3]) -> bool {
         self.face_too_big(k)
-            || self.ftri.contains_key(&k)
+            || self.m.ftri.contains_key(&k)
                 && self.face_tets(k).into_iter().any(|t| {
-                    self.tv[t as usize]
+                    self.m.tv[t as usize]
                         .iter()
                         .any(|&w| !k.contains(&w) && self.face_encroached_by(k, w))
                 })
@@ -2002,6 +1915,8 @@ impl Cdr {
             .saturating_mul(64)
             .saturating_add(1_000_000);
         loop {
+            // After every split (with its table updates) and its flips.
+            self.m.debug_check(&self.p, "refinement split");
             guard += 1;
             if guard.is_multiple_of(4096) {
                 crate::progress::report("refining", self.p.len() as u64, None, "points");
@@ -2034,17 +1949,18 @@ impl Cdr {
         }
     }
 
-    /// The output.
-    pub(super) fn finish(mut self, rec: &Recovered) -> Refined {
-        let n = self.tv.len();
+    /// The output, and the domain mesh compacted to its tetrahedra's order
+    /// (to continue in place: see [`super::refine_in_place`]).
+    pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
+        let n = self.m.tv.len();
         let mut new_id = vec![NONE; n];
         let mut tets = Vec::new();
         let mut tet_region = Vec::new();
         for t in 0..n {
-            if self.tv[t][0] != DEAD {
+            if self.m.tv[t][0] != DEAD {
                 new_id[t] = tets.len() as u32;
-                tets.push(self.tv[t]);
-                tet_region.push(self.reg[t]);
+                tets.push(self.m.tv[t]);
+                tet_region.push(self.m.reg[t]);
             }
         }
         let unscale = 1.0 / self.s;
@@ -2063,30 +1979,30 @@ impl Cdr {
         let mut interior_faces = Vec::new();
         let mut interior_triangle = Vec::new();
         for t in 0..n {
-            let tv = self.tv[t];
+            let tv = self.m.tv[t];
             if tv[0] == DEAD {
                 continue;
             }
             let mut nbr = [NONE; 4];
             for (f, x) in nbr.iter_mut().enumerate() {
-                let w = self.nb[t][f];
+                let w = self.m.nb[t][f];
                 let [a, b, c] = face(tv, f);
                 let k = fkey([a, b, c]);
                 if w == NONE {
                     boundary.push([a, c, b]);
-                    boundary_triangle.push(self.ftri.get(&k).copied().unwrap_or(NONE));
+                    boundary_triangle.push(self.m.ftri.get(&k).copied().unwrap_or(NONE));
                 } else {
                     *x = new_id[(w >> 2) as usize];
-                    if self.mask[t] >> f & 1 == 1 && new_id[t] < *x {
+                    if self.m.mask[t] >> f & 1 == 1 && new_id[t] < *x {
                         interior_faces.push([a, c, b]);
-                        interior_triangle.push(self.ftri.get(&k).copied().unwrap_or(NONE));
+                        interior_triangle.push(self.m.ftri.get(&k).copied().unwrap_or(NONE));
                     }
                 }
             }
             neighbors.push(nbr);
         }
         for t in 0..n {
-            let tv = self.tv[t];
+            let tv = self.m.tv[t];
             if tv[0] == DEAD {
                 continue;
             }
@@ -2096,7 +2012,7 @@ impl Cdr {
             if self.sizer.cell(&ps) > 1.0 {
                 self.report.remaining_too_big += 1;
             }
-            let mv = self.max_vol.get(self.reg[t] as usize).copied();
+            let mv = self.max_vol.get(self.m.reg[t] as usize).copied();
             if mv.is_some_and(|mv| quality::volume(&ps).abs() > mv) {
                 self.report.remaining_over_volume += 1;
             }
@@ -2107,8 +2023,8 @@ impl Cdr {
                 }
                 let on_seg = EDGES
                     .iter()
-                    .any(|&(i, j)| self.segs.contains_key(&ekey(tv[i], tv[j])));
-                if self.mask[t] != 0 || on_seg {
+                    .any(|&(i, j)| self.m.segs.contains_key(&ekey(tv[i], tv[j])));
+                if self.m.mask[t] != 0 || on_seg {
                     self.report.remaining_at_boundary += 1;
                 }
                 let l = &mut self.report.left;
@@ -2151,7 +2067,8 @@ impl Cdr {
         self.inexact.dedup();
         let mut report = rec.report.clone();
         report.max_deviation = self.max_dev * unscale;
-        Refined {
+        self.m.compact(points.len());
+        let refined = Refined {
             rec: Recovered {
                 points,
                 mesh: TetMesh {
@@ -2173,7 +2090,8 @@ impl Cdr {
                 report,
             },
             report: self.report,
-        }
+        };
+        (refined, self.m)
     }
 }
 

@@ -24,8 +24,8 @@
 use delone_predicates::orient3d;
 
 use super::Cdr;
+use crate::tet::local::face;
 use crate::tet::local::DEAD;
-use crate::tet::local::{face, fkey};
 use crate::NONE;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when
@@ -46,7 +46,7 @@ impl Cdr {
     pub(super) fn flip_delaunay(&mut self, seeds: Option<&[u32]>) -> Vec<u32> {
         let mut stack: Vec<Item> = Vec::new();
         let push_all = |st: &Cdr, stack: &mut Vec<Item>, t: u32| {
-            let tv = st.tv[t as usize];
+            let tv = st.m.tv[t as usize];
             if tv[0] != DEAD {
                 for f in 0..4 {
                     stack.push((t, tv, f));
@@ -60,20 +60,20 @@ impl Cdr {
                 }
             }
             None => {
-                for t in (0..self.tv.len() as u32).rev() {
+                for t in (0..self.m.tv.len() as u32).rev() {
                     push_all(self, &mut stack, t);
                 }
             }
         }
         let mut made = Vec::new();
         let mut steps = 0usize;
-        let max_steps = 50 * self.tv.len() + 10_000;
+        let max_steps = 50 * self.m.tv.len() + 10_000;
         while let Some((t, tv, f)) = stack.pop() {
             steps += 1;
             if steps > max_steps {
                 break;
             }
-            if self.tv[t as usize] != tv {
+            if self.m.tv[t as usize] != tv {
                 continue;
             }
             if let Some(new) = self.try_flip(t, f) {
@@ -83,7 +83,7 @@ impl Cdr {
                 made.extend(new);
             }
         }
-        made.retain(|&t| self.tv[t as usize][0] != DEAD);
+        made.retain(|&t| self.m.tv[t as usize][0] != DEAD);
         made.sort_unstable();
         made.dedup();
         made
@@ -92,17 +92,17 @@ impl Cdr {
     /// Flips face `f` of `t` when it is not locally Delaunay and a 2-3 or
     /// 3-2 flip applies; returns the new tetrahedra.
     fn try_flip(&mut self, t: u32, f: usize) -> Option<Vec<u32>> {
-        let w = self.nb[t as usize][f];
-        if w == NONE || self.mask[t as usize] >> f & 1 == 1 {
+        let w = self.m.nb[t as usize][f];
+        if w == NONE || self.m.mask[t as usize] >> f & 1 == 1 {
             return None;
         }
         let (u, g) = (w >> 2, (w & 3) as usize);
-        let tv = self.tv[t as usize];
-        let e = self.tv[u as usize][g];
+        let tv = self.m.tv[t as usize];
+        let e = self.m.tv[u as usize][g];
         if !self.in_sphere(t, &self.pt(e)) {
             return None;
         }
-        if self.reg[t as usize] != self.reg[u as usize] {
+        if self.m.reg[t as usize] != self.m.reg[u as usize] {
             return None;
         }
         let d = tv[f];
@@ -130,23 +130,23 @@ impl Cdr {
         for (a, b, c) in [(x, y, z), (y, z, x), (z, x, y)] {
             // The tetrahedron of `t` across face a b d (opposite c).
             let ic = tv.iter().position(|&q| q == c)?;
-            if self.mask[t as usize] >> ic & 1 == 1 {
+            if self.m.mask[t as usize] >> ic & 1 == 1 {
                 continue;
             }
-            let wv = self.nb[t as usize][ic];
+            let wv = self.m.nb[t as usize][ic];
             if wv == NONE {
                 continue;
             }
             let v = wv >> 2;
-            let vv = self.tv[v as usize];
-            if !vv.contains(&e) || self.reg[v as usize] != self.reg[t as usize] {
+            let vv = self.m.tv[v as usize];
+            if !vv.contains(&e) || self.m.reg[v as usize] != self.m.reg[t as usize] {
                 continue;
             }
             // Face a b e of `v` (opposite d) must be u's neighbour and free.
             let Some(id) = vv.iter().position(|&q| q == d) else {
                 continue;
             };
-            if self.mask[v as usize] >> id & 1 == 1 || self.nb[v as usize][id] >> 2 != u {
+            if self.m.mask[v as usize] >> id & 1 == 1 || self.m.nb[v as usize][id] >> 2 != u {
                 continue;
             }
             let mut n1 = [d, e, c, a];
@@ -172,54 +172,11 @@ impl Cdr {
     /// by `new` (positive, filling the same polyhedron): the outer faces keep
     /// their neighbours and subface marks.
     fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
-        let reg = self.reg[old[0] as usize];
-        // Outer faces of the old tetrahedra: key, neighbour word, subface.
-        let mut outer: Vec<([u32; 3], u32, bool)> = Vec::with_capacity(2 * old.len() + 2);
-        for &t in old {
-            let tv = self.tv[t as usize];
-            for f in 0..4 {
-                let w = self.nb[t as usize][f];
-                if w != NONE && old.contains(&(w >> 2)) {
-                    continue;
-                }
-                outer.push((fkey(face(tv, f)), w, self.mask[t as usize] >> f & 1 == 1));
-            }
-        }
-        for &t in old {
-            self.tv[t as usize][0] = DEAD;
-            self.free.push(t);
-        }
+        let reg = self.m.reg[old[0] as usize];
         let mut ids = Vec::with_capacity(new.len());
-        for &tv in new {
-            let id = self.new_tet(tv, reg);
-            for &q in &tv {
-                self.vt[q as usize] = id;
-            }
-            ids.push(id);
-        }
-        let mut inner: Vec<([u32; 3], u32, usize)> = Vec::new();
-        for &id in &ids {
-            let tv = self.tv[id as usize];
-            for f in 0..4 {
-                let k = fkey(face(tv, f));
-                if let Some(&(_, w, sub)) = outer.iter().find(|o| o.0 == k) {
-                    self.nb[id as usize][f] = w;
-                    if w != NONE {
-                        self.nb[(w >> 2) as usize][(w & 3) as usize] = 4 * id + f as u32;
-                    }
-                    if sub {
-                        self.mask[id as usize] |= 1 << f;
-                    }
-                } else if let Some(pos) = inner.iter().position(|o| o.0 == k) {
-                    let (_, o, g) = inner.swap_remove(pos);
-                    self.nb[id as usize][f] = 4 * o + g as u32;
-                    self.nb[o as usize][g] = 4 * id + f as u32;
-                } else {
-                    inner.push((k, id, f));
-                }
-            }
-        }
-        debug_assert!(inner.is_empty());
+        let left = self.m.replace(old, new, reg, &mut ids);
+        debug_assert!(left.gone.is_empty() && left.made.is_empty());
+        self.m.debug_check(&self.p, "refinement flip");
         ids
     }
 }

@@ -3,8 +3,12 @@
 //!
 //! [`refine`] recovers the surface with [`recover`](super::recover::recover) (constrained path: flips
 //! first, few Steiner points) and refines the carved domain mesh in place
-//! (the private `cdr` module). Nothing is rebuilt, and constraints are
-//! *topological*:
+//! (the private `cdr` module) on the crate's constrained domain mesh
+//! (`tet::dmesh`: packed adjacency, subface marks, regions,
+//! subface and subsegment tables), built once from the [`Recovered`] mesh.
+//! The crate-internal `refine_in_place` hands that mesh over, compacted, for
+//! optimisation to continue on it (`optimize_in_place`). Nothing is rebuilt,
+//! and constraints are *topological*:
 //!
 //! * **subfaces** — the mesh faces marked as constraints: the boundary
 //!   faces and the interior (internal facet, region interface) faces of
@@ -241,6 +245,7 @@ use super::recover::{
     recover_domain, Domain, RecoverError, RecoverOptions, RecoverReport, Recovered,
 };
 use crate::geom::vec3::dist2;
+use crate::tet::dmesh::DomainMesh;
 use crate::NONE;
 
 /// Options of [`refine`].
@@ -669,6 +674,21 @@ pub fn refine_recovered(
     rec: &Recovered,
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
+    refine_in_place(points, triangles, rec, opts).map(|(r, _)| r)
+}
+
+/// [`refine_recovered`], handing over the refined domain mesh too: its
+/// tetrahedra are those of the result's `rec.mesh.tets` in that order, with
+/// their neighbours, regions, subface marks and the subface / subsegment
+/// tables, for optimisation to continue on it
+/// ([`crate::tet::optimize::optimize_in_place`]) instead of building it
+/// again from the neighbour lists.
+pub(crate) fn refine_in_place(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    rec: &Recovered,
+    opts: &RefineOptions,
+) -> Result<(Refined, DomainMesh), RecoverError> {
     // `rec` conforms to its own surface (coplanar input triangles may have
     // been merged and re-triangulated); its faces name those triangles.
     let triangles: &[[u32; 3]] = if rec.surface.is_empty() {
@@ -683,12 +703,13 @@ pub fn refine_recovered(
         let (ext, n) = with_hull(triangles, rec);
         let mut st = cdr::Cdr::new(points, &ext.surface, &ext, opts)?;
         st.run();
-        let mut out = st.finish(&ext);
+        let (mut out, mut mesh) = st.finish(&ext);
         for t in out
             .rec
             .boundary_triangle
             .iter_mut()
             .chain(out.rec.interior_triangle.iter_mut())
+            .chain(mesh.ftri.values_mut())
         {
             if *t as usize >= n {
                 *t = NONE;
@@ -696,7 +717,7 @@ pub fn refine_recovered(
         }
         out.rec.surface.clone_from(&rec.surface);
         out.rec.surface_origin.clone_from(&rec.surface_origin);
-        return Ok(out);
+        return Ok((out, mesh));
     }
     let mut st = cdr::Cdr::new(points, triangles, rec, opts)?;
     st.run();

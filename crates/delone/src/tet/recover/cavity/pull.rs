@@ -1056,6 +1056,7 @@ mod tests {
     use super::super::super::surface::Surface;
     use super::super::super::RecoverOptions;
     use super::*;
+    use crate::tet::dmesh::tests::cuboid;
 
     fn state(n: usize, tris: &[[u32; 3]]) -> State {
         State::new(
@@ -1065,34 +1066,6 @@ mod tests {
                 ..Default::default()
             },
         )
-    }
-
-    /// The box `[0,w]×[0,d]×[0,h]`, two outward triangles per side.
-    fn cuboid(w: f64, d: f64, h: f64) -> (Vec<P>, Vec<[u32; 3]>) {
-        let pts = (0..8)
-            .map(|i| {
-                [
-                    f64::from(i & 1) * w,
-                    f64::from((i >> 1) & 1) * d,
-                    f64::from((i >> 2) & 1) * h,
-                ]
-            })
-            .collect();
-        let tris = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        (pts, tris)
     }
 
     /// Schönhardt's twisted prism, each side split by its reflex diagonal.
