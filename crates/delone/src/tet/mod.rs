@@ -8,8 +8,8 @@
 
 pub(crate) mod cmesh;
 pub mod delaunay;
-pub mod facets;
 pub(crate) mod dmesh;
+pub mod facets;
 pub mod intersect;
 pub mod local;
 pub mod mesh;

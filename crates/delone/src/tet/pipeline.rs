@@ -10,10 +10,12 @@ use std::fmt;
 use std::time::{Duration, Instant};
 
 use crate::model::plc::{Plc, Region};
-use crate::tet::optimize::{optimize, OptimizeError, OptimizeOptions, OptimizeReport};
+use crate::tet::optimize::{
+    optimize, optimize_in_place, OptimizeError, OptimizeOptions, OptimizeReport,
+};
 use crate::tet::options::TetOptions;
 use crate::tet::recover::{recover_marked, Domain, RecoverError, RecoverOptions, Recovered};
-use crate::tet::refine::{refine_recovered, RefineOptions, RefineReport};
+use crate::tet::refine::{refine_in_place, RefineOptions, RefineReport};
 use crate::{Error, NONE};
 
 /// What [`mesh()`] made: the mesh with its points, tetrahedra, neighbours,
@@ -242,8 +244,11 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         if let Some(s) = opts.max_steiner {
             ro.max_steiner = s;
         }
-        let r = refine_recovered(points, &triangles, &rec, &ro).map_err(TetError::Recover)?;
-        (r.rec, Some((r.report, ro)))
+        // The refined mesh goes on to the optimisation as it is (no
+        // rebuilding from neighbour lists between the stages).
+        let (r, domain_mesh) =
+            refine_in_place(points, &triangles, &rec, &ro).map_err(TetError::Recover)?;
+        (r.rec, Some((r.report, ro, domain_mesh)))
     } else {
         (rec, None)
     };
@@ -253,7 +258,19 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         });
     }
     let t_opt = Instant::now();
-    let optimized = optimize_stage(opts, points.len(), &mut rec, refined.as_ref().map(|r| &r.1))?;
+    let (refine_report, refined) = match refined {
+        Some((report, ro, domain_mesh)) => (Some(report), Some((ro, domain_mesh))),
+        None => (None, None),
+    };
+    let optimized = match refined {
+        Some((ro, domain_mesh)) => {
+            let o = optimize_options(opts, points.len(), Some(&ro));
+            o.map(|o| optimize_in_place(&mut rec, domain_mesh, &o))
+                .transpose()
+                .map_err(TetError::Optimize)?
+        }
+        None => optimize_stage(opts, points.len(), &mut rec, None)?,
+    };
     let optimize_time = t_opt.elapsed();
     let (faces, face_markers, face_triangles) = marked_faces(&rec, &triangle_markers);
     Ok(TetResult {
@@ -264,7 +281,7 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         faces,
         face_markers,
         face_triangles,
-        refine: refined.map(|r| r.0),
+        refine: refine_report,
         optimize: optimized,
         optimize_time,
     })
@@ -295,11 +312,23 @@ pub fn optimize_stage(
     rec: &mut Recovered,
     refined: Option<&RefineOptions>,
 ) -> Result<Option<OptimizeReport>, TetError> {
+    match optimize_options(opts, input_points, refined) {
+        Some(o) => optimize(rec, &o).map(Some).map_err(TetError::Optimize),
+        None => Ok(None),
+    }
+}
+
+/// The options of [`optimize_stage`]; `None` when the stage is off.
+fn optimize_options(
+    opts: &TetOptions,
+    input_points: usize,
+    refined: Option<&RefineOptions>,
+) -> Option<OptimizeOptions> {
     let level = opts
         .optimize
         .unwrap_or(if refined.is_some() { 3 } else { 0 });
     if level == 0 {
-        return Ok(None);
+        return None;
     }
     let mut o = OptimizeOptions {
         input_points: Some(input_points),
@@ -318,5 +347,5 @@ pub fn optimize_stage(
             o.max_radius_edge = Some(r.max_radius_edge).filter(|b| b.is_finite());
         }
     }
-    optimize(rec, &o).map(Some).map_err(TetError::Optimize)
+    Some(o)
 }

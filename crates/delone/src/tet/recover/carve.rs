@@ -44,7 +44,7 @@
 use delone_predicates::orient3d;
 
 use super::place;
-use super::RecoverError;
+use super::types::{MeshRegion, RecoverError};
 use crate::geom::ids::IdSet;
 use crate::model::plc::Region;
 use crate::tet::delaunay::Core;
@@ -73,31 +73,6 @@ pub struct Domain {
     pub regions: Vec<Region>,
     /// Keep the tetrahedra outside the surface (up to the convex hull).
     pub convex_hull: bool,
-}
-
-/// One region of a carved mesh (a component of the domain bounded by input
-/// facets).
-///
-/// ```
-/// let r = delone::tet::recover::MeshRegion {
-///     attribute: 1.0, max_volume: None, seed: None, exterior: false, tets: 5, volume: 1.0,
-/// };
-/// assert_eq!(r.tets, 5);
-/// ```
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeshRegion {
-    /// Regional attribute (TetGen `-A`).
-    pub attribute: f64,
-    /// Volume bound of the region's seed, if it has a positive one.
-    pub max_volume: Option<f64>,
-    /// The index of the region point (in [`Domain::regions`]) that names it.
-    pub seed: Option<usize>,
-    /// The region outside the surface, kept by [`Domain::convex_hull`].
-    pub exterior: bool,
-    /// Number of tetrahedra.
-    pub tets: usize,
-    /// Sum of the tetrahedra's volumes (input units).
-    pub volume: f64,
 }
 
 /// The carving of a whole tetrahedralization.

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use delone_predicates::orient3d;
 
 use super::place::{collinear, inside_triangle, line_distance, plane_distance};
-use super::Recovered;
+use super::types::Recovered;
 use crate::geom::vec3::{cross, dot, sub};
 use crate::tet::local::{ekey, fkey};
 use crate::{Violation, NONE};

@@ -11,7 +11,7 @@
 //! interior face, so of a tetrahedron: only interior points can be unused,
 //! and [`super::RecoverReport::steiner_interior`] is reduced accordingly.
 
-use super::Recovered;
+use super::types::Recovered;
 use crate::NONE;
 
 /// Drops the Steiner points (ids `n_input..`) no tetrahedron of `rec`

@@ -47,7 +47,7 @@ use std::collections::{HashMap, HashSet};
 
 use delone_predicates::{orient2d, orient3d};
 
-use super::Recovered;
+use super::types::Recovered;
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
 use crate::tet::local::ekey;

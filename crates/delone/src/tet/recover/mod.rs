@@ -144,15 +144,19 @@ mod merge;
 mod missing;
 mod place;
 mod polygon;
+mod state;
 mod surface;
+mod types;
 
 use std::collections::HashSet;
-use std::fmt;
 
-pub use carve::{Domain, MeshRegion};
+pub use carve::Domain;
 pub(crate) use check::facets;
 pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
+pub use types::{MeshRegion, RecoverError, RecoverOptions, RecoverReport, Recovered};
+
+use self::state::{FacesOn, RoundState, State, MAX_INTERIOR_ROUNDS};
 
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::ekey;
@@ -163,290 +167,6 @@ use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
 use crate::{Error, Inserted};
-
-/// Options of [`recover`].
-///
-/// ```
-/// let o = delone::tet::recover::RecoverOptions::default();
-/// assert!(o.flips && o.max_steiner > 0);
-/// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct RecoverOptions {
-    /// Most Steiner points allowed; [`RecoverError::SteinerBudget`] beyond.
-    /// Default 100 000.
-    pub max_steiner: usize,
-    /// Try 3-2 flips before splitting a missing triangle. Default true.
-    pub flips: bool,
-    /// Split a missing subsegment at the projection of the vertex that
-    /// encroaches it most (Si & Gärtner's reference point) rather than at
-    /// its midpoint. Default true.
-    pub reference_points: bool,
-    /// Constrained recovery: recover missing subsegments and triangles by
-    /// flips (2-3 flips, edge removal) on a mesh that need not stay
-    /// Delaunay, inserting Steiner points only where the flips fail.
-    /// False: the conforming recovery (every missing item is split).
-    /// Default true.
-    pub constrained: bool,
-    /// Surface preservation (TetGen's `-Y`): no Steiner point on any input
-    /// edge or triangle; where flips fail, Steiner points go inside the
-    /// domain only. Implies `constrained`. Default false.
-    pub preserve_surface: bool,
-    /// Merge edge-adjacent, exactly coplanar, consistently oriented input
-    /// triangles (with equal markers, see [`recover_marked`]) into facets
-    /// and re-triangulate each facet before recovery, reusing the edges of
-    /// the Delaunay tetrahedralization on its plane (the private `merge`
-    /// module; TetGen's default, its `-M` turns it off). The mesh then
-    /// conforms to [`Recovered::surface`], which covers exactly the same
-    /// surface. Ignored (no merging) with `preserve_surface`. Default true.
-    pub merge_coplanar: bool,
-}
-
-impl Default for RecoverOptions {
-    fn default() -> Self {
-        RecoverOptions {
-            max_steiner: 100_000,
-            flips: true,
-            reference_points: true,
-            constrained: true,
-            preserve_surface: false,
-            merge_coplanar: true,
-        }
-    }
-}
-
-/// What [`recover`] did.
-///
-/// ```
-/// let r = delone::tet::recover::RecoverReport::default();
-/// assert_eq!(r.steiner(), 0);
-/// ```
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct RecoverReport {
-    /// Steiner points inserted on input edges.
-    pub steiner_on_edges: usize,
-    /// Steiner points inserted inside input triangles.
-    pub steiner_on_facets: usize,
-    /// Steiner points inserted off the surface (none at this stage).
-    pub steiner_interior: usize,
-    /// Steiner points whose rounded coordinates are not exactly on their
-    /// edge's line or triangle's plane.
-    pub inexact_steiner: usize,
-    /// Largest distance of an inexact Steiner point to its line or plane
-    /// (in the input's units; 0 when all are exact).
-    pub max_deviation: f64,
-    /// 3-2 flips performed (conforming path).
-    pub flips32: usize,
-    /// 2-3 flips performed by the constrained recovery (final round).
-    pub flips23: usize,
-    /// Edge removals (3-2, 4-4, n to 2n-4 flips) performed by the
-    /// constrained recovery (final round).
-    pub edge_removals: usize,
-    /// Subsegments recovered by flips (final round).
-    pub segments_by_flips: usize,
-    /// Input triangles recovered by flips (final round).
-    pub triangles_by_flips: usize,
-    /// Rounds of the segment/facet loop.
-    pub rounds: usize,
-    /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
-    pub hull_tets: usize,
-    /// Components removed because a hole point lies in them.
-    pub holes_removed: usize,
-    /// Groups of coplanar input triangles merged and re-triangulated
-    /// ([`RecoverOptions::merge_coplanar`]).
-    pub coplanar_groups: usize,
-    /// Groups of coplanar input triangles kept as given because their
-    /// re-triangulation failed.
-    pub coplanar_kept: usize,
-    /// Flat cells removed from the domain after carving: a cell with two
-    /// boundary faces on one input triangle, one of them the thin face of
-    /// an inexact Steiner point rounded onto a subsegment under a chord
-    /// (the private `carve` module's `drop_chord_slivers`).
-    pub chord_slivers: usize,
-}
-
-impl RecoverReport {
-    /// All Steiner points.
-    ///
-    /// ```
-    /// let mut r = delone::tet::recover::RecoverReport::default();
-    /// r.steiner_on_edges = 2;
-    /// r.steiner_on_facets = 1;
-    /// assert_eq!(r.steiner(), 3);
-    /// ```
-    pub fn steiner(&self) -> usize {
-        self.steiner_on_edges + self.steiner_on_facets + self.steiner_interior
-    }
-}
-
-/// The result of [`recover`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct Recovered {
-    /// The input points followed by the Steiner points.
-    pub points: Vec<[f64; 3]>,
-    /// The tetrahedra of the domain, positively oriented; neighbours
-    /// across the domain's boundary are [`crate::NONE`] (tetrahedra on both
-    /// sides of an internal facet stay neighbours).
-    pub mesh: TetMesh,
-    /// The triangles the mesh conforms to: the input triangles, except
-    /// that each group of coplanar input triangles merged by
-    /// [`RecoverOptions::merge_coplanar`] is replaced by another
-    /// triangulation of the same region (same vertices and boundary).
-    /// Without merging, a copy of the input triangles.
-    pub surface: Vec<[u32; 3]>,
-    /// For each triangle of `surface`: an input triangle of its group (so of
-    /// the same facet, e.g. for markers); itself when not merged.
-    pub surface_origin: Vec<u32>,
-    /// The boundary faces, oriented outward (counterclockwise seen from
-    /// outside), each a refinement piece of a triangle of `surface` (or,
-    /// with [`Domain::convex_hull`], a convex hull face off the surface).
-    pub boundary: Vec<[u32; 3]>,
-    /// For each boundary face, the index **in `surface`** of the triangle
-    /// it lies on ([`crate::NONE`] for a hull face off the surface); the
-    /// input triangle is `surface_origin[boundary_triangle[i]]`. With the
-    /// constrained recovery, a merged coplanar group is recovered as one
-    /// polygon: its faces need not lie inside single triangles of the
-    /// group, and all name the group's first triangle in `surface`.
-    pub boundary_triangle: Vec<u32>,
-    /// Faces on input triangles between two tetrahedra of the domain
-    /// (internal facets, region interfaces), each once, oriented outward
-    /// from the lower-numbered of its two tetrahedra.
-    pub interior_faces: Vec<[u32; 3]>,
-    /// For each interior face, the index in `surface` of the triangle it
-    /// lies on (see `boundary_triangle`).
-    pub interior_triangle: Vec<u32>,
-    /// Per tetrahedron: its region (index into `regions`).
-    pub tet_region: Vec<u32>,
-    /// The regions of the domain.
-    pub regions: Vec<MeshRegion>,
-    /// Steiner points (ids) not exactly on their edge or triangle.
-    pub inexact: Vec<u32>,
-    /// Counts.
-    pub report: RecoverReport,
-}
-
-/// Why [`recover`] failed.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum RecoverError {
-    /// The input is invalid (bad index or coordinate, degenerate triangle,
-    /// self-intersection, duplicate vertex).
-    Input(Error),
-    /// The surface is not closed: `edge` is in fewer than two triangles.
-    OpenSurface {
-        /// The first offending edge `[min, max]`.
-        edge: [u32; 2],
-        /// How many offending edges there are.
-        count: usize,
-    },
-    /// The Steiner budget ran out.
-    SteinerBudget {
-        /// The budget.
-        limit: usize,
-        /// Subsegments missing when it ran out.
-        missing_subsegments: usize,
-        /// Input triangles not yet recovered when it ran out.
-        missing_triangles: usize,
-    },
-    /// A missing subsegment of input edge `edge` is too short to hold a
-    /// Steiner point between its ends in floating point.
-    SegmentTooShort {
-        /// The input edge `[min, max]`.
-        edge: [u32; 2],
-    },
-    /// These input triangles could not be recovered (neither a Steiner point
-    /// nor a flip made progress).
-    Unrecovered {
-        /// Input triangle indices, ascending (for a merged coplanar group,
-        /// an input triangle of the group, see [`Recovered::surface_origin`]).
-        triangles: Vec<usize>,
-        /// Steiner points inserted before giving up.
-        steiner: usize,
-    },
-    /// Hole or region point `index` lies on the input surface (on a face,
-    /// edge or vertex of the recovered facets), so its region is ambiguous.
-    SeedOnSurface {
-        /// `"hole"` or `"region"`.
-        kind: &'static str,
-        /// Index of the point in [`Domain::holes`] or [`Domain::regions`].
-        index: usize,
-    },
-    /// [`recover_marked`]: the markers are neither empty nor one per
-    /// triangle.
-    MarkerCount {
-        /// The number of triangles.
-        expected: usize,
-        /// The number of markers.
-        got: usize,
-    },
-    /// Input point `point`, a vertex of no input triangle, lies exactly on
-    /// input triangle `triangle` (inside it or on one of its edges): the
-    /// surface cannot be recovered without it as a vertex. Make it a vertex
-    /// of the triangles it lies on ([`crate::model::plc::Plc::triangulate_facets`]
-    /// does so for the isolated points of a PLC), or remove it.
-    PointOnTriangle {
-        /// The point index.
-        point: usize,
-        /// The (lowest) input triangle it lies on.
-        triangle: usize,
-    },
-    /// The input asks for something this version cannot do yet.
-    Unsupported {
-        /// What is missing.
-        what: &'static str,
-    },
-}
-
-impl From<Error> for RecoverError {
-    fn from(e: Error) -> Self {
-        RecoverError::Input(e)
-    }
-}
-
-impl fmt::Display for RecoverError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RecoverError::Input(e) => write!(f, "invalid input: {e}"),
-            RecoverError::OpenSurface { edge, count } => write!(
-                f,
-                "surface is not closed: edge {}-{} is in only one triangle ({count} such edges)",
-                edge[0], edge[1]
-            ),
-            RecoverError::SteinerBudget {
-                limit,
-                missing_subsegments,
-                missing_triangles,
-            } => write!(
-                f,
-                "Steiner budget of {limit} points exhausted with {missing_subsegments} subsegments and {missing_triangles} triangles missing"
-            ),
-            RecoverError::SegmentTooShort { edge } => write!(
-                f,
-                "a subsegment of edge {}-{} is too short to split in floating point",
-                edge[0], edge[1]
-            ),
-            RecoverError::Unrecovered { triangles, steiner } => write!(
-                f,
-                "{} triangle(s) could not be recovered (first: {}) after {steiner} Steiner points",
-                triangles.len(),
-                triangles.first().copied().unwrap_or(0)
-            ),
-            RecoverError::SeedOnSurface { kind, index } => write!(
-                f,
-                "{kind} point {index} lies on the input surface (its region is ambiguous)"
-            ),
-            RecoverError::MarkerCount { expected, got } => {
-                write!(f, "{got} triangle markers for {expected} triangles")
-            }
-            RecoverError::PointOnTriangle { point, triangle } => write!(
-                f,
-                "point {point} lies on triangle {triangle} but is a vertex of no triangle"
-            ),
-            RecoverError::Unsupported { what } => write!(f, "not implemented yet: {what}"),
-        }
-    }
-}
-
-impl std::error::Error for RecoverError {}
 
 /// Tetrahedralizes the inside of the closed triangulated surface
 /// (`points`, `triangles`), recovering every input triangle as a union of
@@ -611,7 +331,7 @@ pub fn recover_marked(
     let mut st = State::new(Surface::new(points.len(), triangles), opts.clone());
     if opts.constrained && !opts.preserve_surface {
         // Each merged group is recovered as one polygon facet.
-        st.poly = polygon::Polygons::new(&mut st.surf, &merged.origin, dt.points());
+        st.poly = state::Polygons::new(&mut st.surf, &merged.origin, dt.points());
     }
     // Unrecovered triangles are named by input index.
     let origin = |e: RecoverError| match e {
@@ -763,51 +483,6 @@ const GLOBAL_FRACTION: usize = 2;
 /// not plain, or belongs to a merged group, locally.
 const LOCAL_COST: usize = 8;
 
-/// Per input triangle, the mesh faces lying on it.
-type FacesOn = Vec<Vec<[u32; 3]>>;
-
-/// What a round of the constrained recovery hands to the next one: the
-/// coverage of the Delaunay tetrahedralization it started from, and how
-/// many points it had.
-struct RoundState {
-    on: FacesOn,
-    covered: Vec<bool>,
-    old_len: usize,
-    /// Its missing subsegments.
-    subs: Vec<(u32, u32, u32)>,
-    /// Its protected items (see [`State::protected`]).
-    prot: Option<cdt::Protected>,
-}
-
-/// Rounds after which surface preservation gives up.
-const MAX_INTERIOR_ROUNDS: usize = 64;
-
-struct State {
-    surf: Surface,
-    report: RecoverReport,
-    inexact: Vec<u32>,
-    max_dev_scaled: f64,
-    opts: RecoverOptions,
-    /// Per input triangle: the Steiner points inside it.
-    tri_inner: IdMap<u32, Vec<u32>>,
-    /// Per input triangle: interior points tried for it (`-Y`).
-    interior_tries: IdMap<u32, usize>,
-    /// Groups of failing triangles whose centroid was tried (`-Y`).
-    group_tries: HashSet<Vec<usize>>,
-    /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
-    cavity_fails: usize,
-    /// Triangles left missing by the last unfinished cavity call (`-Y`).
-    cavity_left: Vec<usize>,
-    /// Fewest items left missing by an unfinished cavity call, and the
-    /// unfinished calls since (`-Y`).
-    cavity_best: (usize, usize),
-    /// Merged groups recovered as polygons (constrained path).
-    poly: polygon::Polygons,
-    /// Flip budget per segment attempt of the `-p` path
-    /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
-    seg_ops: usize,
-}
-
 impl State {
     /// A state with nothing recovered yet.
     fn new(surf: Surface, opts: RecoverOptions) -> State {
@@ -823,7 +498,7 @@ impl State {
             cavity_fails: 0,
             cavity_left: Vec::new(),
             cavity_best: (usize::MAX, 0),
-            poly: polygon::Polygons::default(),
+            poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
         }
     }

@@ -45,50 +45,15 @@
 use delone_predicates::orient2d;
 
 use super::merge::{proj, projection};
+use super::state::{Cover, Group, Polygons, State};
 use super::surface::{Kind, Surface};
-use super::{RecoverError, State};
+use super::types::RecoverError;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
 use crate::tet::cmesh::CMesh;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
-
-/// One merged group.
-#[derive(Debug, Clone)]
-pub(crate) struct Group {
-    /// Its triangles (surface indices, ascending); the first is the
-    /// representative.
-    pub(crate) tris: Vec<u32>,
-    /// Its boundary edge uses: (surface edge, whether a triangle of the
-    /// group runs along it from `edges[e][0]` to `edges[e][1]`). The
-    /// group lies on the left of each use, in its orientation.
-    pub(crate) bnd: Vec<(u32, bool)>,
-    /// Axis dropped by the projection to the plane, and the sign of the
-    /// projected orientation of the group's triangles.
-    k: usize,
-    sign: f64,
-}
-
-/// The merged groups of a surface (see the module notes).
-#[derive(Debug, Clone, Default)]
-pub(crate) struct Polygons {
-    /// Per surface triangle: its group, or `u32::MAX`.
-    pub(crate) of_tri: Vec<u32>,
-    /// The groups.
-    pub(crate) groups: Vec<Group>,
-}
-
-/// What [`Polygons::cover`] found for one group.
-pub(crate) struct Cover {
-    /// The faces reached by the flood fill (sorted triples, sorted).
-    pub(crate) faces: Vec<[u32; 3]>,
-    /// Whether they cover the polygon exactly.
-    pub(crate) covered: bool,
-    /// Boundary subsegments with no face on their inner side: (edge, and
-    /// its ends in chain order).
-    pub(crate) bare: Vec<(u32, u32, u32)>,
-}
 
 impl Polygons {
     /// The groups of `surf` given `origin` (per surface triangle, the

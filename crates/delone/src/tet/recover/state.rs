@@ -1,0 +1,92 @@
+//! The recovery's working state (one run of [`super::recover_marked`]):
+//! the refined surface, the report so far, the merged groups recovered as
+//! polygons and the bookkeeping of the `-Y` fallbacks. Its methods live
+//! with the steps that use them (`mod.rs`, `polygon.rs`).
+
+use std::collections::HashSet;
+
+use super::cdt;
+use super::surface::Surface;
+use super::types::{RecoverOptions, RecoverReport};
+use crate::geom::ids::IdMap;
+
+/// Per input triangle, the mesh faces lying on it.
+pub(super) type FacesOn = Vec<Vec<[u32; 3]>>;
+
+/// What a round of the constrained recovery hands to the next one: the
+/// coverage of the Delaunay tetrahedralization it started from, and how
+/// many points it had.
+pub(super) struct RoundState {
+    pub(super) on: FacesOn,
+    pub(super) covered: Vec<bool>,
+    pub(super) old_len: usize,
+    /// Its missing subsegments.
+    pub(super) subs: Vec<(u32, u32, u32)>,
+    /// Its protected items (see [`State::protected`]).
+    pub(super) prot: Option<cdt::Protected>,
+}
+
+/// Rounds after which surface preservation gives up.
+pub(super) const MAX_INTERIOR_ROUNDS: usize = 64;
+
+pub(super) struct State {
+    pub(super) surf: Surface,
+    pub(super) report: RecoverReport,
+    pub(super) inexact: Vec<u32>,
+    pub(super) max_dev_scaled: f64,
+    pub(super) opts: RecoverOptions,
+    /// Per input triangle: the Steiner points inside it.
+    pub(super) tri_inner: IdMap<u32, Vec<u32>>,
+    /// Per input triangle: interior points tried for it (`-Y`).
+    pub(super) interior_tries: IdMap<u32, usize>,
+    /// Groups of failing triangles whose centroid was tried (`-Y`).
+    pub(super) group_tries: HashSet<Vec<usize>>,
+    /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
+    pub(super) cavity_fails: usize,
+    /// Triangles left missing by the last unfinished cavity call (`-Y`).
+    pub(super) cavity_left: Vec<usize>,
+    /// Fewest items left missing by an unfinished cavity call, and the
+    /// unfinished calls since (`-Y`).
+    pub(super) cavity_best: (usize, usize),
+    /// Merged groups recovered as polygons (constrained path).
+    pub(super) poly: Polygons,
+    /// Flip budget per segment attempt of the `-p` path
+    /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
+    pub(super) seg_ops: usize,
+}
+
+/// One merged group.
+#[derive(Debug, Clone)]
+pub(crate) struct Group {
+    /// Its triangles (surface indices, ascending); the first is the
+    /// representative.
+    pub(crate) tris: Vec<u32>,
+    /// Its boundary edge uses: (surface edge, whether a triangle of the
+    /// group runs along it from `edges[e][0]` to `edges[e][1]`). The
+    /// group lies on the left of each use, in its orientation.
+    pub(crate) bnd: Vec<(u32, bool)>,
+    /// Axis dropped by the projection to the plane, and the sign of the
+    /// projected orientation of the group's triangles.
+    pub(super) k: usize,
+    pub(super) sign: f64,
+}
+
+/// The merged groups of a surface (see the module notes).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Polygons {
+    /// Per surface triangle: its group, or `u32::MAX`.
+    pub(crate) of_tri: Vec<u32>,
+    /// The groups.
+    pub(crate) groups: Vec<Group>,
+}
+
+/// What [`Polygons::cover`] found for one group.
+pub(crate) struct Cover {
+    /// The faces reached by the flood fill (sorted triples, sorted).
+    pub(crate) faces: Vec<[u32; 3]>,
+    /// Whether they cover the polygon exactly.
+    pub(crate) covered: bool,
+    /// Boundary subsegments with no face on their inner side: (edge, and
+    /// its ends in chain order).
+    pub(crate) bare: Vec<(u32, u32, u32)>,
+}
