@@ -124,7 +124,8 @@ pub struct Opts {
     pub no_segment_splits: u8,
     /// tri `-j`: jettison vertices no triangle uses from the output .node.
     pub jettison: bool,
-    /// tri `--threads N`: threads for quality refinement (default: all).
+    /// tri `--threads N`: threads for quality refinement (default: all;
+    /// the output does not depend on it).
     pub threads: Option<usize>,
 }
 

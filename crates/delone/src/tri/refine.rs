@@ -60,19 +60,21 @@
 //!
 //! # Parallel refinement
 //!
-//! With [`RefineOptions::threads`] above 1 and an area bound predicting at
-//! least [`RefineOptions::parallel_min_triangles`] triangles, the mesh is
-//! refined sequentially to about 1/64 of its final size (area bounds × 64),
-//! its triangles are split by recursive coordinate bisection into parts of
-//! equal predicted work, each part is refined in its own thread with the
-//! edges between parts fixed (never split; a point beyond or encroaching
-//! one is not inserted), the parts are stitched back (Lawson flips across
-//! the former part edges restore the constrained Delaunay property), and
-//! the triangles left near the part edges are refined sequentially. The
-//! result depends on the input, the options and the thread count only
-//! (not on timing); one thread gives the sequential result. The triangle
-//! count stays within a fraction of a per cent of the sequential one on
-//! the large shared PSLGs.
+//! When the area bounds predict at least
+//! [`RefineOptions::parallel_min_triangles`] triangles, the mesh is refined
+//! sequentially to about 1/64 of its final size (area bounds × 64), its
+//! triangles are split by recursive coordinate bisection into parts of
+//! equal predicted work, each part is refined with the edges between parts
+//! fixed (never split; a point beyond or encroaching one is not inserted),
+//! the parts are stitched back (Lawson flips across the former part edges
+//! restore the constrained Delaunay property), and the triangles left near
+//! the part edges are refined sequentially. The number of parts comes from
+//! the predicted size alone (2 up to about 400,000 triangles, then one
+//! more power of two per doubling, at most 16); [`RefineOptions::threads`]
+//! threads run the parts. The result depends on the input and the options
+//! only: 1, 2 or 8 threads give the same mesh, on every machine. The
+//! triangle count stays within a fraction of a per cent of the one-part
+//! refinement on the large shared PSLGs.
 //!
 //! Insertion is Bowyer–Watson: the cavity of a new point (the triangles whose
 //! circumcircle strictly contains it, reached without crossing a subsegment)
@@ -133,8 +135,8 @@ pub struct RefineOptions {
     /// budget [`default_budget`], derived from the input and the area
     /// bounds. When it runs out the refinement stops with a valid mesh and
     /// [`RefineReport::limit_reached`]. An explicit budget also keeps the
-    /// refinement on one thread, so it stops at the same point whatever
-    /// [`Self::threads`] says.
+    /// refinement in one part (sequential), so it stops where a sequential
+    /// refinement would.
     pub max_steiner: Option<usize>,
     /// Insert off-centres instead of circumcentres when they are nearer the
     /// shortest edge (Üngör; Triangle's default). Default true.
@@ -165,13 +167,14 @@ pub struct RefineOptions {
     /// delone::tri::conforming::check_conforming_delaunay(&r.mesh.points, &r.mesh.triangles).unwrap();
     /// ```
     pub conforming_delaunay: bool,
-    /// Threads to refine with (see [`default_threads`], the default). With
-    /// more than one, a large refinement (an area bound predicting at least
-    /// [`Self::parallel_min_triangles`] triangles) is done in parallel parts: see
-    /// the [module docs](self#parallel-refinement). The result depends on
-    /// the number of threads used, never on timing. The parallel path is not
-    /// taken with [`Self::conforming_delaunay`], [`Self::max_steiner`] or a
-    /// user's test ([`refine_with`]). 0 counts as 1.
+    /// Threads to refine with (see [`default_threads`], the default). A
+    /// large refinement (an area bound predicting at least
+    /// [`Self::parallel_min_triangles`] triangles) is done in parts (see the
+    /// [module docs](self#parallel-refinement)), which these threads run;
+    /// the number of parts, and so the result, does not depend on it: any
+    /// thread count gives the same mesh. Parts are not used with
+    /// [`Self::conforming_delaunay`], [`Self::max_steiner`] or a user's test
+    /// ([`refine_with`]). 0 counts as 1.
     ///
     /// ```
     /// use delone::{model::pslg::Pslg, tri::{constrain::*, refine::*}};
@@ -184,13 +187,13 @@ pub struct RefineOptions {
     /// let a = refine(&cdt, &o).unwrap();
     /// assert!(a.report.met && a.mesh.triangles.len() > 2000);
     /// check_cdt(&g, &a.mesh).unwrap();
-    /// assert_eq!(a, refine(&cdt, &o).unwrap()); // deterministic
+    /// // The same mesh with any number of threads.
+    /// assert_eq!(a, refine(&cdt, &RefineOptions { threads: 1, ..o }).unwrap());
     /// ```
     pub threads: usize,
     /// Predicted output size (triangles, from the area bounds) below which
-    /// refinement stays on one thread whatever [`Self::threads`] says.
-    /// Default [`PARALLEL_MIN_TRIANGLES`]; 0 takes the parallel path for
-    /// every mesh (tests).
+    /// refinement is done in one part (sequentially). Default
+    /// [`PARALLEL_MIN_TRIANGLES`]; 0 refines every mesh in parts (tests).
     pub parallel_min_triangles: usize,
 }
 
@@ -208,7 +211,7 @@ pub fn default_threads() -> usize {
 }
 
 /// The default [`RefineOptions::parallel_min_triangles`]: below this size
-/// a second thread does not pay (measured on the shared PSLGs).
+/// parts do not pay (measured on the shared PSLGs).
 pub const PARALLEL_MIN_TRIANGLES: usize = 50_000;
 
 /// Smallest default Steiner budget ([`default_budget`]): about 400 MB of
@@ -1497,13 +1500,15 @@ fn refine_inner(
         steiner_budget: limit,
         ..RefineReport::default()
     };
-    let threads = par::threads_for(&m, &crit, &cdt.max_areas, options);
-    let quality = if threads > 1 {
+    let threads = options.threads.clamp(1, 64);
+    let parts = par::parts_for(&m, &crit, &cdt.max_areas, options);
+    let quality = if parts > 1 {
         par::refine_parallel(
             &mut m,
             &crit,
             &cdt.max_areas,
             options,
+            parts,
             threads,
             limit,
             &mut report,
