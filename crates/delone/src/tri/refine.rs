@@ -102,8 +102,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 
-use delone_predicates::{incircle, orient2d};
-
+use super::cmesh::{encroaches, CMesh, Ins, Sub, Tri};
 use super::constrain::{Cdt, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
@@ -477,104 +476,30 @@ struct Parent {
 /// the short piece seeds a cascade of small triangles at 34°.
 const SHELL_ANGLE: f64 = 60.0;
 
-#[derive(Clone, Copy)]
-struct Sub {
-    v: [u32; 2],
-    /// A packed half-edge carrying it (kept up to date by every fan that
-    /// borders it).
-    he: u32,
-    /// Parameters of `v` along the parent (0 at `a`, 1 at `b`).
-    t: [f64; 2],
-    parent: u32,
-    alive: bool,
-    /// Gave up splitting it (floating point), or it is protected.
-    stuck: bool,
-    /// The options forbid splitting it (it is never encroached).
-    protected: bool,
-}
-
+/// The refinement's mesh: the constrained triangle mesh and what
+/// refinement keeps beside it (subsegment chains, fixed vertices).
 #[derive(Clone)]
 struct Mesh {
-    xy: Vec<[f64; 2]>,
-    /// The triangles, one 32-byte aligned record each (half a cache line
-    /// for everything a cavity search reads).
-    tr: Vec<Tri>,
-    /// Subsegment on each half-edge of a triangle (meaningful only where
-    /// the triangle's flag bit says there is one; see [`Tri::mark`]).
-    sides: Vec<[u32; 3]>,
+    cm: CMesh,
     /// Parent chain of a Steiner vertex on a subsegment (`NONE` otherwise).
     vpar: Vec<u32>,
     nfixed: usize,
     /// The chains (parents) each fixed vertex is an end of.
     vchains: Arc<Vec<Vec<u32>>>,
-    /// Squared cosine of the encroachment angle (see [`encroaches`]).
-    cos2: f64,
-    subs: Vec<Sub>,
     parents: Arc<Vec<Parent>>,
-    stamp: u32,
-    /// Scratch of [`Mesh::insert`]: cavity, its boundary, encroached
-    /// subsegments, new triangles.
-    cav: Vec<u32>,
-    bnd: Vec<Bnd>,
-    hit: Vec<u32>,
-    /// Depth-first stack: triangle, next edge, edges left.
-    stack: Vec<(u32, u8, u8)>,
-    fan: Vec<u32>,
-    /// Triangles replaced by cavities.
-    replaced: usize,
 }
 
-/// A triangle of the working mesh: 32 bytes, aligned, so that one record
-/// never straddles two cache lines.
-#[derive(Clone, Copy)]
-#[repr(C, align(32))]
-struct Tri {
-    /// Counterclockwise vertices.
-    v: [u32; 3],
-    /// Packed adjacency or `NONE` on the boundary.
-    a: [u32; 3],
-    /// The input triangle it descends from (region, attributes).
-    orig: u32,
-    /// Bits 0–2: half-edge `e` carries a subsegment (its id is in
-    /// [`Mesh::sides`]); the other bits: cavity stamp (a multiple of
-    /// [`STAMP_STEP`]).
-    mark: u32,
+impl std::ops::Deref for Mesh {
+    type Target = CMesh;
+    fn deref(&self) -> &CMesh {
+        &self.cm
+    }
 }
 
-/// Stamps step over the three subsegment flag bits of [`Tri::mark`].
-const STAMP_STEP: u32 = 8;
-const FLAGS: u32 = STAMP_STEP - 1;
-
-/// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
-#[derive(Clone, Copy)]
-struct Bnd {
-    a: u32,
-    b: u32,
-    /// Packed neighbour outside the cavity, or `NONE`.
-    adj: u32,
-    /// Its subsegment, or `NONE`.
-    sb: u32,
-    orig: u32,
-}
-
-/// Outcome of [`Mesh::insert`].
-enum Ins {
-    Done(u32),
-    Encroached,
-    /// The point lies beyond (or on) this subsegment of the cavity boundary.
-    Blocked(u32),
-    Failed,
-}
-
-/// Encroachment of `(u, v)` by `w`: `w` sees the subsegment at an angle
-/// larger than the one whose squared cosine is `cos2` (0: the diametral
-/// circle, 90°; more: a diametral lens), beyond rounding error.
-fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2], cos2: f64) -> bool {
-    let (ax, ay) = (u[0] - w[0], u[1] - w[1]);
-    let (bx, by) = (v[0] - w[0], v[1] - w[1]);
-    let dot = ax * bx + ay * by;
-    let err = 8.0 * f64::EPSILON * ((ax * bx).abs() + (ay * by).abs());
-    dot < -err && (cos2 == 0.0 || dot * dot > cos2 * (ax * ax + ay * ay) * (bx * bx + by * by))
+impl std::ops::DerefMut for Mesh {
+    fn deref_mut(&mut self) -> &mut CMesh {
+        &mut self.cm
+    }
 }
 
 fn dist2(a: &[f64; 2], b: &[f64; 2]) -> f64 {
@@ -626,11 +551,6 @@ fn angles(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 3] {
 }
 
 impl Mesh {
-    #[inline]
-    fn p(&self, v: u32) -> &[f64; 2] {
-        &self.xy[v as usize]
-    }
-
     /// Reserves room for the triangles an area bound will make (about
     /// 1.6 per bound's worth of area; twice that is reserved, at most 2²⁴):
     /// the 32-byte aligned records are copied, not reallocated in place,
@@ -689,71 +609,7 @@ impl Mesh {
         }
     }
 
-    /// A triangle beside live subsegment `s` ([`Sub::he`], checked).
-    fn tri_of_sub(&self, s: u32) -> Option<usize> {
-        let he = self.subs[s as usize].he;
-        if he == NONE {
-            return None;
-        }
-        let (t, e) = unpack(he);
-        (t < self.tr.len() && self.sub_at(t, e) == s).then_some(t)
-    }
-
-    fn new_tri(&mut self) -> usize {
-        self.tr.push(Tri {
-            v: [0; 3],
-            a: [NONE; 3],
-            orig: NONE,
-            mark: 0,
-        });
-        self.sides.push([NONE; 3]);
-        self.tr.len() - 1
-    }
-
-    /// The subsegment on half-edge `e` of triangle `t`, or `NONE`.
-    #[inline]
-    fn sub_at(&self, t: usize, e: usize) -> u32 {
-        if self.tr[t].mark >> e & 1 != 0 {
-            self.sides[t][e]
-        } else {
-            NONE
-        }
-    }
-
-    /// Sets the subsegment on half-edge `e` of triangle `t` (`NONE`: none).
-    #[inline]
-    fn set_sub(&mut self, t: usize, e: usize, s: u32) {
-        self.sides[t][e] = s;
-        let bit = 1 << e;
-        if s == NONE {
-            self.tr[t].mark &= !bit;
-        } else {
-            self.tr[t].mark |= bit;
-        }
-    }
-
-    fn next_stamp(&mut self) -> u32 {
-        if self.stamp > u32::MAX - 2 * STAMP_STEP {
-            for t in &mut self.tr {
-                t.mark &= FLAGS;
-            }
-            self.stamp = 0;
-        }
-        self.stamp += STAMP_STEP;
-        self.stamp
-    }
-
-    /// Bowyer–Watson insertion of `c` in the constrained triangulation: the
-    /// cavity is grown from triangle `start` across unconstrained edges (and
-    /// across subsegment `split`, the one `c` splits) to every triangle whose
-    /// circumcircle strictly contains `c` (exact test), then replaced by a fan
-    /// around `c`. With `check_enc`, subsegments on the cavity boundary that
-    /// `c` encroaches are collected in `self.hit` and nothing is inserted.
-    /// Nothing is changed either unless `c` sees every boundary edge strictly
-    /// on its left and the boundary is one simple cycle (or one chain, when
-    /// `split` is a boundary subsegment): the result is always a valid mesh.
-    /// `halves`: `(u, label, w, label)` of the two pieces of `split`.
-    /// The new triangles are left in `self.fan`.
+    /// [`CMesh::insert`], with no parent chain for the new vertex.
     fn insert(
         &mut self,
         start: usize,
@@ -762,182 +618,11 @@ impl Mesh {
         halves: [u32; 4],
         check_enc: bool,
     ) -> Ins {
-        let stamp = self.next_stamp();
-        self.cav.clear();
-        self.bnd.clear();
-        self.hit.clear();
-        self.stack.clear();
-        self.tr[start].mark = (self.tr[start].mark & FLAGS) | stamp;
-        self.cav.push(start as u32);
-        // A split starts across its subsegment, so the other side is reached
-        // first.
-        let e0 = if split == NONE {
-            0
-        } else {
-            (0..3)
-                .position(|e| self.sub_at(start, e) == split)
-                .unwrap_or(0)
-        };
-        self.stack.push((start as u32, e0 as u8, 3));
-        // Where the chain starts when `split` is a boundary subsegment.
-        let mut gap = usize::MAX;
-        // Depth-first, each triangle's edges counterclockwise from the one
-        // after its entry edge: the boundary comes out in counterclockwise
-        // order.
-        while let Some(top) = self.stack.last_mut() {
-            if top.2 == 0 {
-                self.stack.pop();
-                continue;
-            }
-            let (t, e) = (top.0 as usize, top.1 as usize);
-            top.1 = NEXT[e] as u8;
-            top.2 -= 1;
-            let tri = &self.tr[t];
-            let s = if tri.mark >> e & 1 != 0 {
-                self.sides[t][e]
-            } else {
-                NONE
-            };
-            let x = tri.a[e];
-            if s == NONE || s == split {
-                // Crossing the subsegment being split?
-                let crossing = s != NONE;
-                if x == NONE {
-                    if crossing {
-                        gap = self.bnd.len();
-                        continue;
-                    }
-                } else {
-                    let (n, j) = unpack(x);
-                    let nm = self.tr[n].mark;
-                    if nm & !FLAGS == stamp {
-                        continue;
-                    }
-                    let v = self.tr[n].v;
-                    if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
-                        self.tr[n].mark = (nm & FLAGS) | stamp;
-                        self.cav.push(n as u32);
-                        self.stack.push((n as u32, NEXT[j] as u8, 2));
-                        continue;
-                    }
-                }
-            } else if check_enc {
-                let sub = &self.subs[s as usize];
-                let [u, w] = sub.v;
-                if !sub.protected
-                    && encroaches(self.p(u), self.p(w), &c, self.cos2)
-                    && !self.hit.contains(&s)
-                {
-                    self.hit.push(s);
-                }
-            }
-            let (a, b) = edge(&tri.v, e);
-            self.bnd.push(Bnd {
-                a,
-                b,
-                adj: x,
-                sb: s,
-                orig: tri.orig,
-            });
+        let r = self.cm.insert(start, c, split, halves, check_enc);
+        if let Ins::Done(_) = r {
+            self.vpar.push(NONE);
         }
-        if !self.hit.is_empty() {
-            return Ins::Encroached;
-        }
-        // Validity of the star: one boundary cycle (or chain) around `c`,
-        // seen counterclockwise, with no vertex inside the cavity.
-        let nb = self.bnd.len();
-        for k in 0..nb {
-            let b = self.bnd[k];
-            if orient2d(self.p(b.a), self.p(b.b), &c) <= 0.0 {
-                // Beyond (or on) a subsegment: that one is in the way.
-                return if check_enc && b.sb != NONE {
-                    Ins::Blocked(b.sb)
-                } else {
-                    Ins::Failed
-                };
-            }
-        }
-        let open = usize::from(gap != usize::MAX);
-        if nb + open != self.cav.len() + 2 || nb < 2 {
-            return Ins::Failed;
-        }
-        if open == 1 {
-            self.bnd.rotate_left(gap);
-        }
-        for k in 0..nb - 1 {
-            if self.bnd[k].b != self.bnd[k + 1].a {
-                return Ins::Failed;
-            }
-        }
-        if open == 0 && self.bnd[nb - 1].b != self.bnd[0].a {
-            return Ins::Failed;
-        }
-        // The fan: triangle k = [p, a_k, b_k], linked to k + 1 across
-        // `b_k -> p`.
-        let p = self.xy.len() as u32;
-        self.xy.push(c);
-        self.vpar.push(NONE);
-        self.replaced += self.cav.len();
-        self.fan.clear();
-        for k in 0..nb {
-            let s = if k < self.cav.len() {
-                self.cav[k] as usize
-            } else {
-                self.new_tri()
-            };
-            self.fan.push(s as u32);
-        }
-        let label = |x: u32| {
-            if x == halves[0] {
-                halves[1]
-            } else if x == halves[2] {
-                halves[3]
-            } else {
-                NONE
-            }
-        };
-        for k in 0..nb {
-            let b = self.bnd[k];
-            let s = self.fan[k] as usize;
-            let next = if k + 1 < nb {
-                pack(self.fan[k + 1] as usize, 2)
-            } else if open == 0 {
-                pack(self.fan[0] as usize, 2)
-            } else {
-                NONE
-            };
-            let prev = if k > 0 {
-                pack(self.fan[k - 1] as usize, 1)
-            } else if open == 0 {
-                pack(self.fan[nb - 1] as usize, 1)
-            } else {
-                NONE
-            };
-            let sides = if split == NONE {
-                [b.sb, NONE, NONE]
-            } else {
-                [b.sb, label(b.b), label(b.a)]
-            };
-            let flags = (0..3).fold(0, |f, e| f | u32::from(sides[e] != NONE) << e);
-            if flags != 0 {
-                // (Read only where a flag is set.)
-                self.sides[s] = sides;
-            }
-            let tri = &mut self.tr[s];
-            tri.v = [p, b.a, b.b];
-            tri.a = [b.adj, next, prev];
-            // The cavity's stamp stays (no search is under way).
-            tri.mark = (tri.mark & !FLAGS) | flags;
-            tri.orig = b.orig;
-            if b.sb != NONE {
-                self.subs[b.sb as usize].he = pack(s, 0);
-            }
-            if b.adj != NONE {
-                let (o, l) = unpack(b.adj);
-                self.tr[o].a[l] = pack(s, 0);
-            }
-        }
-        Ins::Done(p)
+        r
     }
 
     /// The point splitting subsegment `s`, and its parameter.
@@ -1352,30 +1037,21 @@ fn refine_inner(
     let sf = scale.0 * scale.1;
     let nfixed = cdt.points.len();
     let nt = cdt.triangles.len();
+    let xy = cdt.points.iter().map(|&p| scaled(p, scale)).collect();
+    let tr = (0..nt)
+        .map(|t| Tri {
+            v: cdt.triangles[t],
+            a: [NONE; 3],
+            orig: t as u32,
+            mark: 0,
+        })
+        .collect();
     let mut m = Mesh {
-        xy: cdt.points.iter().map(|&p| scaled(p, scale)).collect(),
-        tr: (0..nt)
-            .map(|t| Tri {
-                v: cdt.triangles[t],
-                a: [NONE; 3],
-                orig: t as u32,
-                mark: 0,
-            })
-            .collect(),
-        sides: vec![[NONE; 3]; nt],
+        cm: CMesh::new(xy, tr),
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: Arc::new(vec![Vec::new(); nfixed]),
-        cos2: 0.0,
-        subs: Vec::new(),
         parents: Arc::new(Vec::new()),
-        stack: Vec::new(),
-        stamp: 0,
-        cav: Vec::new(),
-        bnd: Vec::new(),
-        hit: Vec::new(),
-        fan: Vec::new(),
-        replaced: 0,
     };
     for t in 0..nt {
         for e in 0..3 {
@@ -1528,6 +1204,7 @@ fn refine_inner(
             None,
         )
     };
+    debug_assert_eq!(m.check(true), Ok(()), "refined mesh");
     report.cavity_triangles = m.replaced;
     let restricted = options.segment_splits != SegmentSplits::All;
     let left = if options.conforming_delaunay {

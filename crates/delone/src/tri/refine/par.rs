@@ -35,10 +35,9 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use delone_predicates::incircle;
-
-use super::{run, Crit, Mesh, RefineOptions, RefineReport, Sub, Tri, FLAGS};
-use crate::tri::topo::{edge, pack, unpack, NEXT, PREV};
+use super::{run, Crit, Mesh, RefineOptions, RefineReport, Sub, Tri};
+use crate::tri::cmesh::FLAGS;
+use crate::tri::topo::{edge, pack, unpack};
 use crate::NONE;
 
 /// Area bounds are multiplied by this in the coarse stage.
@@ -372,6 +371,7 @@ pub(super) fn refine_parallel(
         drops.extend([t0 as u32, t1 as u32]);
     }
     m.restore_delaunay(&mut stack, &mut drops);
+    debug_assert_eq!(m.check(true), Ok(()), "stitched mesh");
 
     // 5. Finish: the triangles the parts gave up on, those beside the cuts
     // and those the flips made.
@@ -632,78 +632,5 @@ impl Crit<'_> {
             s2: self.s2,
             coarse: self.coarse,
         }
-    }
-}
-
-impl Mesh {
-    /// Lawson flips from the half-edges on `stack` until every edge without
-    /// a subsegment is locally Delaunay (exact incircle).
-    /// The flipped triangles are pushed on `touched`.
-    fn restore_delaunay(&mut self, stack: &mut Vec<u32>, touched: &mut Vec<u32>) {
-        while let Some(h) = stack.pop() {
-            let (t, e) = unpack(h);
-            if self.sub_at(t, e) != NONE {
-                continue;
-            }
-            let x = self.tr[t].a[e];
-            if x == NONE {
-                continue;
-            }
-            let (n, j) = unpack(x);
-            let v = self.tr[t].v;
-            let vn = self.tr[n].v[j];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn)) > 0.0 {
-                self.flip(t, e);
-                touched.extend([t as u32, n as u32]);
-                stack.extend([pack(t, 0), pack(t, 2), pack(n, 0), pack(n, 2)]);
-            }
-        }
-    }
-
-    /// Flips edge `e` of triangle `t` (it must have a neighbour and no
-    /// subsegment, and the two triangles must form a convex quadrilateral).
-    /// `t` becomes `[vt, a, vn]` and its neighbour `n` becomes `[vn, b, vt]`,
-    /// where `t` was `[vt, a, b]` (rotated) and `vn` is opposite in `n`.
-    fn flip(&mut self, t: usize, e: usize) {
-        let (n, j) = unpack(self.tr[t].a[e]);
-        let tv = self.tr[t].v;
-        let (vt, a, b) = (tv[e], tv[NEXT[e]], tv[PREV[e]]);
-        let vn = self.tr[n].v[j];
-        let (ea, eb) = (NEXT[e], PREV[e]);
-        let (ec, ed) = (NEXT[j], PREV[j]);
-        let (xa, sa) = (self.tr[t].a[ea], self.sub_at(t, ea));
-        let (xb, sb) = (self.tr[t].a[eb], self.sub_at(t, eb));
-        let (xc, sc) = (self.tr[n].a[ec], self.sub_at(n, ec));
-        let (xd, sd) = (self.tr[n].a[ed], self.sub_at(n, ed));
-        let (ot, on) = (self.tr[t].orig, self.tr[n].orig);
-        self.tr[t] = Tri {
-            v: [vt, a, vn],
-            a: [xc, pack(n, 1), xb],
-            orig: ot,
-            mark: 0,
-        };
-        self.tr[n] = Tri {
-            v: [vn, b, vt],
-            a: [xa, pack(t, 1), xd],
-            orig: on,
-            mark: 0,
-        };
-        for (tt, ee, x, s) in [
-            (t, 0, xc, sc),
-            (t, 2, xb, sb),
-            (n, 0, xa, sa),
-            (n, 2, xd, sd),
-        ] {
-            self.set_sub(tt, ee, s);
-            if x != NONE {
-                let (o, l) = unpack(x);
-                self.tr[o].a[l] = pack(tt, ee);
-            }
-            if s != NONE {
-                self.subs[s as usize].he = pack(tt, ee);
-            }
-        }
-        self.set_sub(t, 1, NONE);
-        self.set_sub(n, 1, NONE);
     }
 }
