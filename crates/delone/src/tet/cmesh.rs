@@ -32,12 +32,13 @@
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
 
+use crate::tet::local::{face, fkey};
 use std::cell::RefCell;
 
 use delone_predicates::{insphere, orient3d};
 
 use super::delaunay::Core;
-use super::local::{DEAD, FACET, INF};
+use super::local::{DEAD, INF};
 use super::Delaunay3;
 
 /// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
@@ -55,17 +56,6 @@ pub(crate) const MAX_RING: usize = 24;
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 6;
-
-/// The sorted key of a triangle.
-#[inline]
-pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
-    // A three-element sorting network (no call into the general sort).
-    let [a, b, c] = t;
-    let (a, b) = (a.min(b), a.max(b));
-    let (b, c) = (b.min(c), b.max(c));
-    let (a, b) = (a.min(b), a.max(b));
-    [a, b, c]
-}
 
 /// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring
 /// `r` (`n` vertices) that the dynamic program chose (`choice[i * n + j]` is
@@ -103,12 +93,6 @@ pub(crate) struct OpLog {
     ops: Vec<(u32, u16, u16)>,
 }
 
-/// The face of `tv` opposite local vertex `f`, in `FACET` order.
-#[inline]
-pub(crate) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
-    FACET[f].map(|i| tv[i])
-}
-
 /// True when `q` is an even permutation of `tv` (same orientation).
 fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
     let pos = q.map(|x| tv.iter().position(|&y| y == x).unwrap_or(0));
@@ -142,7 +126,7 @@ pub(crate) struct CMesh<'a> {
     /// depends only on this (exact signs), so a failure is never retried;
     /// the set may be carried over to another mesh on the same points
     /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
-    failed: crate::tet::recover::IdSet<Vec<u32>>,
+    failed: crate::geom::ids::IdSet<Vec<u32>>,
     /// The replacements since [`CMesh::start_log`], when logging.
     log: Option<OpLog>,
     /// Scratch of the star walks (a per-slot visit stamp, so a walk is
@@ -403,13 +387,13 @@ impl<'a> CMesh<'a> {
     }
 
     /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
-    pub(crate) fn take_failed(&mut self) -> crate::tet::recover::IdSet<Vec<u32>> {
+    pub(crate) fn take_failed(&mut self) -> crate::geom::ids::IdSet<Vec<u32>> {
         std::mem::take(&mut self.failed)
     }
 
     /// Sets the known impossible edge removals, from [`CMesh::take_failed`]
     /// of a mesh whose points are a prefix of (or equal to) these points.
-    pub(crate) fn set_failed(&mut self, failed: crate::tet::recover::IdSet<Vec<u32>>) {
+    pub(crate) fn set_failed(&mut self, failed: crate::geom::ids::IdSet<Vec<u32>>) {
         self.failed = failed;
     }
 

@@ -33,6 +33,36 @@ pub const DEAD: u32 = u32::MAX;
 /// `[0, 1, 2, 3]` (vertex `f` on the positive side).
 pub const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
 
+/// The local vertex pairs of the six edges of a tetrahedron.
+pub const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// The face of `tv` opposite local vertex `f`, in [`FACET`] order.
+#[inline]
+pub(crate) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
+    FACET[f].map(|i| tv[i])
+}
+
+/// The sorted key of a triangle.
+#[inline]
+pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
+    // A three-element sorting network (no call into the general sort).
+    let [a, b, c] = t;
+    let (a, b) = (a.min(b), a.max(b));
+    let (b, c) = (b.min(c), b.max(c));
+    let (a, b) = (a.min(b), a.max(b));
+    [a, b, c]
+}
+
+/// The sorted key of an edge.
+#[inline]
+pub(crate) fn ekey(a: u32, b: u32) -> (u32, u32) {
+    if a < b {
+        (a, b)
+    } else {
+        (b, a)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -47,6 +77,22 @@ mod tests {
             }
         }
         even
+    }
+
+    #[test]
+    fn keys_sort() {
+        for t in [
+            [1, 2, 3],
+            [3, 2, 1],
+            [2, 3, 1],
+            [1, 3, 2],
+            [3, 1, 2],
+            [2, 1, 3],
+        ] {
+            assert_eq!(fkey(t), [1, 2, 3]);
+        }
+        assert_eq!(ekey(5, 2), (2, 5));
+        assert_eq!(face([10, 11, 12, 13], 0), [11, 13, 12]);
     }
 
     #[test]

@@ -22,31 +22,12 @@
 //! itself is beyond the range of `f64`).
 
 use crate::geom::scale::{local, unscale};
+use crate::geom::vec3::{cross, dot, norm, sub};
 use std::fmt::Write as _;
-
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: &[f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
 
 /// The local vertex pairs of the six edges, in the order of
 /// [`dihedral_angles`]' result.
-pub const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+pub use super::local::EDGES;
 
 /// Signed volume of tetrahedron `p` (positive when `(p1-p0)×(p2-p0)·(p3-p0) > 0`).
 ///

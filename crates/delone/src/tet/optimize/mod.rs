@@ -103,9 +103,11 @@ use std::collections::BinaryHeap;
 use std::fmt;
 
 use super::quality::TetStats;
-use super::recover::{IdMap, IdSet, Recovered};
+use super::recover::Recovered;
+use crate::geom::ids::{IdMap, IdSet};
+use crate::tet::local::{face, fkey};
 use crate::NONE;
-use work::{fkey, Plan, Slide, Work, DEAD};
+use work::{Plan, Slide, Work, DEAD};
 
 /// Thresholds (degrees) of the stages below the target.
 const STAGES: [f64; 4] = [10.0, 15.0, 20.0, 30.0];
@@ -1251,7 +1253,7 @@ fn try_lifted(
     // The largest face: its normal is the sheet's.
     let mut best = (0.0, [0.0; 3], [0.0; 3], 0.0);
     for f in 0..4 {
-        let [a, b, c] = work::face([0, 1, 2, 3], f).map(|i| p[i as usize]);
+        let [a, b, c] = face([0, 1, 2, 3], f).map(|i| p[i as usize]);
         let (u, v) = (sub(b, a), sub(c, a));
         let n = [
             u[1] * v[2] - u[2] * v[1],
@@ -1399,7 +1401,7 @@ fn try_insert_at(
 impl Work {
     /// True when the face opposite `f` in `t` is a protected interface.
     fn fixed_face(&self, t: u32, f: usize) -> bool {
-        self.is_protected(fkey(work::face(self.tv[t as usize], f)))
+        self.is_protected(fkey(face(self.tv[t as usize], f)))
     }
 }
 
@@ -1527,7 +1529,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
     if !rec.interior_faces.is_empty() {
         for (t, (tv, nb)) in tets.iter().zip(&nbs).enumerate() {
             for (f, &n) in nb.iter().enumerate() {
-                let fc = work::face(*tv, f);
+                let fc = face(*tv, f);
                 if n != NONE && fc.iter().all(|&v| fixed[v as usize]) {
                     owner.entry(fkey(fc)).or_insert((t, f));
                 }
@@ -1538,7 +1540,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
         if let Some(&(t, i)) = owner.get(&fkey(*f)) {
             // FACET order sees the opposite vertex on its positive side, so
             // the reversed face is outward from `t`.
-            let [a, b, c] = work::face(tets[t], i);
+            let [a, b, c] = face(tets[t], i);
             *f = [a, c, b];
         }
     }
@@ -1549,7 +1551,7 @@ fn write_back(rec: &mut Recovered, w: &Work, s: (f64, f64), n_in: usize) -> Vec<
         for (tv, nb) in tets.iter().zip(&nbs) {
             for (f, &n) in nb.iter().enumerate() {
                 if n == NONE {
-                    let [a, b, c] = work::face(*tv, f);
+                    let [a, b, c] = face(*tv, f);
                     free.insert(fkey([a, b, c]), [a, c, b]);
                 }
             }
@@ -1767,7 +1769,7 @@ fn surface_angles(rec: &Recovered) -> IdMap<([u32; 2], u32), f64> {
     let mut edges: IdSet<[u32; 2]> = IdSet::default();
     for (tv, nb) in m.tets.iter().zip(&m.neighbors) {
         for (f, &n) in nb.iter().enumerate() {
-            let fc = work::face(*tv, f);
+            let fc = face(*tv, f);
             if n == NONE || (!prot.is_empty() && prot.contains(&fkey(fc))) {
                 for k in 0..3 {
                     let (a, b) = (fc[k], fc[(k + 1) % 3]);
@@ -1897,8 +1899,7 @@ fn stuck(
         }
         let surface_faces = (0..4)
             .filter(|&f| {
-                nb[f] == NONE
-                    || w.is_protected(fkey(work::face(*tv, f).map(|v| old_id[v as usize])))
+                nb[f] == NONE || w.is_protected(fkey(face(*tv, f).map(|v| old_id[v as usize])))
             })
             .count();
         let reason = if surface_faces >= 2 {

@@ -11,14 +11,15 @@
 //! a result that is not strictly positive is refused and nothing changes.
 
 use super::limits::Limits;
-use crate::tet::recover::{IdMap, IdSet};
-
+use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, norm, sub};
+use crate::tet::local::{face, fkey};
 use delone_predicates::{orient2d, orient3d};
 
 use crate::NONE;
 
 /// Value of `tv[0]` of a free slot.
-pub(super) const DEAD: u32 = u32::MAX;
+pub(super) use crate::tet::local::DEAD;
 
 /// Star tetrahedra whose quality is this much above the worst are left out
 /// of the line search of [`Work::smooth`] (checked once at the end).
@@ -26,28 +27,6 @@ const FAR: f64 = 0.2;
 
 /// Longest edge ring tried by [`Work::plan_edge_removal`].
 pub(super) const MAX_RING: usize = 16;
-
-/// Local vertices of the face opposite vertex `f`, ordered so that
-/// `(face, v_f)` is positive.
-const FACET: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
-
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-#[inline]
-fn norm(a: &[f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
 
 /// Six times the volume of a positive tetrahedron and, for each of its
 /// edges in [`crate::tet::quality::EDGES`] order, `(|e|², k, l)`: the squared
@@ -128,19 +107,6 @@ pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
         *o = s;
     }
     Some(out)
-}
-
-/// The sorted key of a face.
-#[inline]
-pub(super) fn fkey(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
-}
-
-/// The face of `tv` opposite local vertex `f`, in [`FACET`] order.
-#[inline]
-pub(super) fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
-    FACET[f].map(|i| tv[i])
 }
 
 /// How a vertex may move in [`Work::smooth`].

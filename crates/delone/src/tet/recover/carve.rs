@@ -44,8 +44,8 @@
 use delone_predicates::orient3d;
 
 use super::place;
-use super::surface::IdSet;
 use super::RecoverError;
+use crate::geom::ids::IdSet;
 use crate::model::plc::Region;
 use crate::tet::delaunay::Core;
 use crate::tet::local::{DEAD, FACET, INF};

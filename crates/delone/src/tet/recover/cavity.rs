@@ -116,11 +116,13 @@
 //! them (above the flip code's ring cap) are not mistaken for missing.
 
 use super::cdt::{self, Protected};
-use super::missing::{ekey, fkey};
-use super::place::{self, cross, dot, sub};
-use super::surface::{IdMap, IdSet};
+use super::place;
 use super::{FacesOn, RecoverError, State};
-use crate::tet::cmesh::{face, CMesh};
+use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::cmesh::CMesh;
+use crate::tet::local::face;
+use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
@@ -588,13 +590,11 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
-        crate::tet::recover::missing::TET_EDGES
-            .iter()
-            .any(|&(i, j)| {
-                !tri.contains(&tv[i])
-                    && !tri.contains(&tv[j])
-                    && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
-            })
+        crate::tet::local::EDGES.iter().any(|&(i, j)| {
+            !tri.contains(&tv[i])
+                && !tri.contains(&tv[j])
+                && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
+        })
     };
     let mut seen: IdSet<u32> = IdSet::default();
     let mut stack = Vec::new();

@@ -29,10 +29,12 @@
 //! flips destroy only the flipped face, edge removal only the removed edge
 //! and the faces around it).
 
-use super::missing::{ekey, fkey, TET_EDGES};
 use super::place;
-use super::surface::{IdMap, IdSet, Surface};
-use crate::tet::cmesh::{face, CMesh, EdgeCost, TriCost};
+use super::surface::Surface;
+use crate::geom::ids::{IdMap, IdSet};
+use crate::tet::cmesh::{CMesh, EdgeCost, TriCost};
+use crate::tet::local::face;
+use crate::tet::local::{ekey, fkey, EDGES};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
 
@@ -60,7 +62,7 @@ impl Protected {
         // The set lookups first: most items of `old` are not protected, and
         // a lookup is cheaper than the scan of `new`.
         for tv in old {
-            for (i, j) in TET_EDGES {
+            for (i, j) in EDGES {
                 let (a, b) = (tv[i], tv[j]);
                 if a != INF && b != INF && self.edge(a, b) && !in_new(&[a, b]) {
                     return false;
@@ -390,7 +392,7 @@ pub(crate) fn crossing_edges(
         let touches = sides.contains(&2);
         let sides = sides.map(|x| if x == 2 { 0 } else { x });
         let mut crossing = false;
-        for (i, j) in TET_EDGES {
+        for (i, j) in EDGES {
             if sides[i] * sides[j] >= 0 {
                 continue;
             }

@@ -4,9 +4,10 @@ use std::collections::HashMap;
 
 use delone_predicates::orient3d;
 
-use super::missing::{ekey, fkey};
-use super::place::{collinear, cross, dot, inside_triangle, line_distance, plane_distance, sub};
+use super::place::{collinear, inside_triangle, line_distance, plane_distance};
 use super::Recovered;
+use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::local::{ekey, fkey};
 use crate::{Violation, NONE};
 
 /// The volume enclosed by a closed triangulated surface, by the divergence

@@ -6,8 +6,8 @@
 //! Combinatorics only; the one geometric decision (the proper crossing) is
 //! made by the caller with exact predicates.
 
-use super::missing::fkey;
 use crate::tet::delaunay::Core;
+use crate::tet::local::fkey;
 use crate::tet::local::{DEAD, INF};
 
 /// The tetrahedra around edge `p q`, starting at `t` (which contains it), in

@@ -34,10 +34,10 @@ use std::collections::{HashMap, HashSet};
 
 use delone_predicates::{orient2d, orient3d};
 
-use super::missing::ekey;
-use super::place::{cross, sub};
 use super::Recovered;
+use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
+use crate::tet::local::ekey;
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
 use crate::tri::constrain::{constrained_triangulation, CdtOptions};
@@ -253,7 +253,7 @@ pub(crate) fn merge(
         if tv[0] == DEAD || tv.contains(&INF) {
             continue;
         }
-        for (i, j) in super::missing::TET_EDGES {
+        for (i, j) in crate::tet::local::EDGES {
             let (u, v) = ekey(tv[i], tv[j]);
             let (Some(gu), Some(gv)) = (vgroups.get(u as usize), vgroups.get(v as usize)) else {
                 continue;

@@ -1,6 +1,7 @@
 //! Which input edges and triangles are missing from a tetrahedralization
 //! (exact, by vertex ids).
 
+use crate::tet::local::{ekey, fkey, EDGES};
 use std::collections::HashSet;
 
 /// The input edges and triangles that are not edges and faces of a
@@ -24,30 +25,6 @@ impl Missing {
     }
 }
 
-/// The sorted key of an edge.
-#[inline]
-pub(crate) fn ekey(a: u32, b: u32) -> (u32, u32) {
-    if a < b {
-        (a, b)
-    } else {
-        (b, a)
-    }
-}
-
-/// The sorted key of a triangle.
-#[inline]
-pub(crate) fn fkey(t: [u32; 3]) -> [u32; 3] {
-    // A three-element sorting network (no call into the general sort).
-    let [a, b, c] = t;
-    let (a, b) = (a.min(b), a.max(b));
-    let (b, c) = (b.min(c), b.max(c));
-    let (a, b) = (a.min(b), a.max(b));
-    [a, b, c]
-}
-
-/// The six edges of a tetrahedron, as local vertex pairs.
-pub(crate) const TET_EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-
 /// Which edges and triangles of a triangulated surface are missing from the
 /// tetrahedra `tets` — exactly, by vertex ids (no geometry involved).
 ///
@@ -70,7 +47,7 @@ pub fn missing(triangles: &[[u32; 3]], tets: impl IntoIterator<Item = [u32; 4]>)
     let mut edges = HashSet::new();
     let mut faces = HashSet::new();
     for tv in tets {
-        for (i, j) in TET_EDGES {
+        for (i, j) in EDGES {
             edges.insert(ekey(tv[i], tv[j]));
         }
         for f in 0..4 {

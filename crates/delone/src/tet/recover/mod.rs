@@ -146,8 +146,9 @@ pub(crate) use check::facets;
 pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 
-use self::missing::ekey;
-pub(crate) use self::surface::{IdMap, IdSet};
+use crate::geom::ids::{IdMap, IdSet};
+use crate::tet::local::ekey;
+
 use self::surface::{Kind, Skeleton, Surface};
 use super::cmesh::{CMesh, OpLog};
 use super::intersect::{check_self_intersections, manifold_report};
@@ -722,10 +723,15 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
                     continue;
                 }
                 let p = pts[q as usize];
-                let (du, dv) = (place::sub(&pu, &p), place::sub(&pv, &p));
-                let d = place::dot(&du, &dv);
+                let (du, dv) = (
+                    crate::geom::vec3::sub(&pu, &p),
+                    crate::geom::vec3::sub(&pv, &p),
+                );
+                let d = crate::geom::vec3::dot(&du, &dv);
                 if d < 0.0 {
-                    let c = d / (place::dot(&du, &du) * place::dot(&dv, &dv)).sqrt();
+                    let c = d
+                        / (crate::geom::vec3::dot(&du, &du) * crate::geom::vec3::dot(&dv, &dv))
+                            .sqrt();
                     if best.is_none_or(|(bc, bq)| c < bc || (c == bc && q < bq)) {
                         best = Some((c, q));
                     }
@@ -942,7 +948,7 @@ impl State {
                     continue;
                 }
                 if !xv.contains(&INF) {
-                    for (i, j) in missing::TET_EDGES {
+                    for (i, j) in crate::tet::local::EDGES {
                         local.push((ekey(xv[i], xv[j]), x));
                     }
                 }
@@ -1023,7 +1029,7 @@ impl State {
                 continue;
             }
             list.clear();
-            for (i, j) in missing::TET_EDGES {
+            for (i, j) in crate::tet::local::EDGES {
                 list.push((ekey(tv[i], tv[j]), x as u32));
             }
             found.extend(self.crossing_edges(dt, &list, t));
@@ -1414,7 +1420,7 @@ impl State {
         let mut chains: Vec<u32> = Vec::new();
         if prot.is_some() {
             for &t in &tris {
-                faces.extend(on[t].iter().map(|f| missing::fkey(*f)));
+                faces.extend(on[t].iter().map(|f| crate::tet::local::fkey(*f)));
             }
             chains = (old_len..cm.pts().len())
                 .filter_map(|p| match self.surf.kind.get(p) {
@@ -1487,8 +1493,11 @@ impl State {
     /// True when face `f` (sorted) is in `on` of an input triangle its
     /// vertices lie on.
     fn face_on_some(&self, on: &FacesOn, f: [u32; 3]) -> bool {
-        self.common_triangles(f[0], f[1])
-            .any(|t| on[t as usize].iter().any(|g| missing::fkey(*g) == f))
+        self.common_triangles(f[0], f[1]).any(|t| {
+            on[t as usize]
+                .iter()
+                .any(|g| crate::tet::local::fkey(*g) == f)
+        })
     }
 
     /// The input triangles both `a` and `b` lie on.
@@ -1608,10 +1617,17 @@ impl State {
             }
             let pts = dt.points();
             let [a, b, c] = self.surf.tris[t].map(|w| pts[w as usize]);
-            let n = place::cross(&place::sub(&b, &a), &place::sub(&c, &a));
-            let nl = place::dot(&n, &n).sqrt();
-            let e = [place::sub(&b, &a), place::sub(&c, &b), place::sub(&a, &c)]
-                .map(|d| place::dot(&d, &d).sqrt());
+            let n = crate::geom::vec3::cross(
+                &crate::geom::vec3::sub(&b, &a),
+                &crate::geom::vec3::sub(&c, &a),
+            );
+            let nl = crate::geom::vec3::dot(&n, &n).sqrt();
+            let e = [
+                crate::geom::vec3::sub(&b, &a),
+                crate::geom::vec3::sub(&c, &b),
+                crate::geom::vec3::sub(&a, &c),
+            ]
+            .map(|d| crate::geom::vec3::dot(&d, &d).sqrt());
             // Another distance each time the triangle comes back, so a
             // new point is tried (1/3, 2/3, 1/6, 1, 1/12, … of its
             // shortest edge), until one lands inside the hull.
@@ -1775,7 +1791,7 @@ impl State {
                 if u < x && !core.v[u].contains(&INF) {
                     continue;
                 }
-                let k = missing::fkey(idx.map(|i| tv[i]));
+                let k = crate::tet::local::fkey(idx.map(|i| tv[i]));
                 for t in self.surf.triangles_with_key(&k) {
                     let t = t as usize;
                     if self.surf.plain(t) {
@@ -1889,7 +1905,7 @@ impl State {
                 let found = cm.find_face(a, b, c).is_some();
                 on[t].clear();
                 if found {
-                    on[t].push(missing::fkey([a, b, c]));
+                    on[t].push(crate::tet::local::fkey([a, b, c]));
                 }
                 covered[t] = found;
                 continue;
@@ -1934,8 +1950,8 @@ impl State {
         let mut best: Option<(f64, u32, u32, u32)> = None;
         for &e in &self.surf.tri_edges[t] {
             for w in self.surf.chains[e as usize].windows(2) {
-                let d = place::sub(&pts[w[0] as usize], &pts[w[1] as usize]);
-                let l = place::dot(&d, &d);
+                let d = crate::geom::vec3::sub(&pts[w[0] as usize], &pts[w[1] as usize]);
+                let l = crate::geom::vec3::dot(&d, &d);
                 if best.is_none_or(|b| l > b.0) {
                     best = Some((l, e, w[0], w[1]));
                 }
@@ -2076,8 +2092,8 @@ impl State {
         let pts = dt.points();
         let g = |w: u32| pts[w as usize];
         let len2 = |(u, v): (u32, u32)| {
-            let d = place::sub(&g(u), &g(v));
-            place::dot(&d, &d)
+            let d = crate::geom::vec3::sub(&g(u), &g(v));
+            crate::geom::vec3::dot(&d, &d)
         };
         let Some(&(u, v)) = holes
             .iter()
@@ -2180,7 +2196,7 @@ impl State {
                 if u < t {
                     continue;
                 }
-                let k = missing::fkey(FACET[f].map(|i| tv[i]));
+                let k = crate::tet::local::fkey(FACET[f].map(|i| tv[i]));
                 if k.contains(&INF) {
                     continue;
                 }

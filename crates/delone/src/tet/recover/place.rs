@@ -35,25 +35,10 @@
 //! angle are split at matching distances and do not encroach each other
 //! forever; the Steiner budget bounds the rest.
 
+pub(crate) use crate::geom::vec3::{cross, dot, sub};
 use delone_predicates::{orient2d, orient3d};
 
-type P = [f64; 3];
-
-pub(crate) fn sub(a: &P, b: &P) -> P {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn dot(a: &P, b: &P) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: &P, b: &P) -> P {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+use crate::geom::vec3::P;
 
 /// Exact collinearity of three points.
 pub(crate) fn collinear(a: &P, b: &P, c: &P) -> bool {

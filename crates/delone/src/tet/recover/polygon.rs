@@ -45,11 +45,12 @@
 use delone_predicates::orient2d;
 
 use super::merge::{proj, projection};
-use super::missing::{ekey, fkey};
-use super::place::{cross, dot, sub};
-use super::surface::{IdMap, IdSet, Kind, Surface};
+use super::surface::{Kind, Surface};
 use super::{RecoverError, State};
+use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, sub};
 use crate::tet::cmesh::CMesh;
+use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
 

@@ -2,54 +2,12 @@
 //! Steiner points and the input triangles they lie on, and the exact test of
 //! whether an input triangle is a union of mesh faces.
 
-use std::collections::{HashMap, HashSet};
-use std::hash::{BuildHasherDefault, Hasher};
+use crate::geom::ids::{IdMap, IdSet};
 
-use super::missing::{ekey, fkey, TET_EDGES};
-use super::place::{cross, dot, sub};
+use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::local::{ekey, fkey, EDGES};
 use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
-
-/// A small deterministic multiplicative hasher for vertex-id keys (the
-/// default SipHash dominated the profile of the recovery rounds).
-#[derive(Debug, Default, Clone, Copy)]
-pub(crate) struct IdHasher(u64);
-
-const K: u64 = 0x9E37_79B9_7F4A_7C15;
-
-impl Hasher for IdHasher {
-    #[inline]
-    fn finish(&self) -> u64 {
-        let h = self.0.wrapping_mul(K);
-        h ^ (h >> 32)
-    }
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        for c in bytes.chunks(4) {
-            let mut w = [0u8; 4];
-            w[..c.len()].copy_from_slice(c);
-            self.write_u32(u32::from_le_bytes(w));
-        }
-    }
-    #[inline]
-    fn write_u32(&mut self, x: u32) {
-        self.0 = (self.0.rotate_left(26) ^ u64::from(x)).wrapping_mul(K);
-    }
-    #[inline]
-    fn write_u64(&mut self, x: u64) {
-        self.write_u32(x as u32);
-        self.write_u32((x >> 32) as u32);
-    }
-    #[inline]
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
-    }
-}
-
-/// A hash map keyed by vertex ids, with [`IdHasher`].
-pub(crate) type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
-/// A hash set of vertex-id keys, with [`IdHasher`].
-pub(crate) type IdSet<K> = HashSet<K, BuildHasherDefault<IdHasher>>;
 
 /// Where a vertex lies on the input surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -225,7 +183,7 @@ impl Skeleton {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
-            for (i, j) in TET_EDGES {
+            for (i, j) in EDGES {
                 edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
             }
             if !with_faces {
@@ -700,7 +658,7 @@ mod tests {
             .collect();
         keys.sort_unstable();
         keys.dedup();
-        let index: HashMap<(u32, u32), u32> = keys
+        let index: std::collections::HashMap<(u32, u32), u32> = keys
             .iter()
             .enumerate()
             .map(|(i, &k)| (k, i as u32))

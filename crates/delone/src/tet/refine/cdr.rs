@@ -11,17 +11,19 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+use crate::tet::local::{ekey, face, fkey};
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap, HashSet, VecDeque};
 
 use delone_predicates::{insphere, orient3d};
 
 use super::geom::{
-    cross, dist2, dot, encroaches_face, encroaches_segment, line_distance, plane_distance, sub,
-    tri_circumcenter, P,
+    encroaches_face, encroaches_segment, line_distance, plane_distance, tri_circumcenter,
 };
+
 use super::{plane_groups, Bad, RefineOptions, RefineReport, Refined, FLAT_RATIO, SEGMENT_FLOOR};
-use crate::tet::local::{DEAD, FACET};
+use crate::geom::vec3::{cross, dist2, dot, sub, P};
+use crate::tet::local::DEAD;
 use crate::tet::quality;
 use crate::tet::recover::{RecoverError, Recovered};
 use crate::tet::TetMesh;
@@ -30,7 +32,7 @@ use crate::NONE;
 #[path = "cdrflip.rs"]
 mod flip;
 
-const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+use crate::tet::local::EDGES;
 
 /// Input angle (degrees) below which a bad cell whose shortest edge joins
 /// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
@@ -54,20 +56,6 @@ const SHARP_ANGLE: f64 = 60.0;
 
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
-
-fn fkey(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
-}
-
-fn ekey(a: u32, b: u32) -> (u32, u32) {
-    (a.min(b), a.max(b))
-}
-
-#[inline]
-fn face(tv: [u32; 4], f: usize) -> [u32; 3] {
-    FACET[f].map(|i| tv[i])
-}
 
 /// A planned re-triangulation of a cavity (see [`Cdr::plan`]).
 struct Plan {

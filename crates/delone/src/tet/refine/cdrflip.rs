@@ -23,8 +23,9 @@
 
 use delone_predicates::orient3d;
 
-use super::{face, fkey, Cdr};
+use super::Cdr;
 use crate::tet::local::DEAD;
+use crate::tet::local::{face, fkey};
 use crate::NONE;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when

@@ -20,6 +20,7 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays
 
+use crate::tet::local::fkey;
 use std::fmt;
 
 use delone_predicates::orient3d;
@@ -144,11 +145,6 @@ pub struct RefinedMesh {
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle: its index in the listed faces, or [`NONE`].
     pub listed: Vec<u32>,
-}
-
-fn fkey(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
 }
 
 /// Validates an existing mesh and builds its [`Recovered`] form (see the

@@ -1,28 +1,8 @@
 //! Small geometric helpers of the refinement (floating point; the exact
 //! decisions use `delone_predicates`).
 
-pub(crate) type P = [f64; 3];
-
-pub(crate) fn sub(a: &P, b: &P) -> P {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn dot(a: &P, b: &P) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: &P, b: &P) -> P {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn dist2(a: &P, b: &P) -> f64 {
-    let d = sub(a, b);
-    dot(&d, &d)
-}
+pub(crate) use crate::geom::vec3::P;
+pub(crate) use crate::geom::vec3::{cross, dist2, dot, sub};
 
 /// Relative slack of the strict "inside a ball" tests: a point on the
 /// sphere up to rounding (cospherical and cocircular configurations, grids)

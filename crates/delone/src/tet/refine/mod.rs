@@ -235,10 +235,12 @@ pub mod existing;
 mod geom;
 pub mod sizing;
 
-use self::geom::{dist2, plane_distance};
+use self::geom::plane_distance;
+
 use super::recover::{
     recover_domain, Domain, RecoverError, RecoverOptions, RecoverReport, Recovered,
 };
+use crate::geom::vec3::dist2;
 use crate::NONE;
 
 /// Options of [`refine`].

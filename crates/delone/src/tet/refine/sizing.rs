@@ -43,7 +43,9 @@ use std::sync::Arc;
 
 use delone_predicates::orient3d;
 
-use super::geom::{dist2, tri_circumcenter, P};
+use super::geom::tri_circumcenter;
+
+use crate::geom::vec3::{dist2, P};
 use crate::tet::local::FACET;
 use crate::tet::quality;
 use crate::NONE;

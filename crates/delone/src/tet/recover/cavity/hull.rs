@@ -28,11 +28,12 @@
 //! exactly the old boundary with the hull faces swapped for the patch,
 //! every vertex and protected item kept).
 
-use super::super::missing::{ekey, fkey};
-use super::super::surface::{IdMap, IdSet};
 use super::super::State;
 use super::{fill_side, okey, rev, Guard, Region};
-use crate::tet::cmesh::{face, CMesh};
+use crate::geom::ids::{IdMap, IdSet};
+use crate::tet::cmesh::CMesh;
+use crate::tet::local::face;
+use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::orient3d;
 

@@ -40,12 +40,12 @@
 //! one side always meet, whatever the dihedral angle), so a kernel point
 //! exists in the cases where growth keeps the cavity local.
 
-use super::super::missing::{ekey, fkey};
 use super::super::place;
-use super::super::surface::IdMap;
 use super::super::State;
 use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Guard, Memo, Region};
+use crate::geom::ids::IdMap;
 use crate::tet::cmesh::CMesh;
+use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 
 /// Most input triangles in a patch.

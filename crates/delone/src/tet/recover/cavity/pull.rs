@@ -105,13 +105,14 @@
 //! (closed) before use. Points in outer wedges end outside the domain and
 //! are dropped by carving and compaction.
 
-use super::super::missing::fkey;
-use super::super::place::{cross, dot, sub};
-use super::super::surface::{IdMap, IdSet};
 use super::super::{FacesOn, RecoverError, State};
 use super::cdt::{Protected, SEG_OPS};
 use super::{fill, grow, okey, Fill, Region};
-use crate::tet::cmesh::{face, CMesh};
+use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::cmesh::CMesh;
+use crate::tet::local::face;
+use crate::tet::local::fkey;
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
 use delone_predicates::{orient2d, orient3d};
