@@ -35,8 +35,10 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::{run, Crit, Mesh, RefineOptions, RefineReport, Sub, Tri};
+use super::engine::{run, Crit, Detached, Mesh};
+use super::options::{RefineOptions, RefineReport};
 use crate::tri::cmesh::FLAGS;
+use crate::tri::cmesh::{Sub, Tri};
 use crate::tri::topo::{edge, pack, unpack};
 use crate::NONE;
 
@@ -582,55 +584,4 @@ fn bisect(ids: &mut [u32], cen: &[[f64; 2]], w: &[f64], parts: usize, first: u32
     let (a, b) = ids.split_at_mut(k);
     bisect(a, cen, w, left, first, out);
     bisect(b, cen, w, parts - left, first + left as u32, out);
-}
-
-/// The plain values of a [`Crit`] without the user's test (which need not
-/// be `Sync`), to rebuild it in another thread.
-#[derive(Clone, Copy)]
-pub(super) struct Detached {
-    scale: (f64, f64),
-    sin2: f64,
-    angle: f64,
-    area2: f64,
-    regional: bool,
-    off: f64,
-    s2: f64,
-    coarse: f64,
-}
-
-impl From<&Crit<'_>> for Detached {
-    fn from(c: &Crit<'_>) -> Self {
-        c.detached()
-    }
-}
-
-impl Detached {
-    pub(super) fn crit(self) -> Crit<'static> {
-        Crit {
-            user: None,
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
-}
-
-impl Crit<'_> {
-    fn detached(&self) -> Detached {
-        Detached {
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
 }
