@@ -53,7 +53,7 @@ pub fn run(model: &str, ratio: &str, out: &str) -> Result<String, String> {
     let (tp, tt) = crate::refbin::tetgen_pq_mesh(&s.points, &s.triangles, q)?;
     let all = [
         series(format!("delone -pq{ratio}"), "#2f7fc1", &dp, &dt),
-        series(format!("TetGen -pq{ratio}"), "#e07b39", &tp, &tt),
+        series(format!("TetGen 1.6 -pq{ratio}"), "#e07b39", &tp, &tt),
     ];
     let svg = draw(&format!("{model}: dihedral angles"), &all);
     std::fs::write(out, svg).map_err(|e| format!("cannot write {out}: {e}"))?;

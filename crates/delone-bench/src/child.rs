@@ -8,6 +8,8 @@ use crate::cases::{fnv1a, Case, Input, Kind, PlcInput, Points, PolyInput, SurfIn
 use crate::result::{Outcome, RunResult};
 
 /// The programs the bench knows, with the dimension each one handles.
+/// `tetgen…` are TetGen 1.6's executable, `tetgen15…` the modified TetGen
+/// 1.5 bundled in `tritet` (see `refbin`).
 pub const PROGRAMS: &[(&str, usize)] = &[
     ("delone", 2),
     ("triangle", 2),
@@ -20,7 +22,25 @@ pub const PROGRAMS: &[(&str, usize)] = &[
     ("tetgen-pq", 3),
     ("tetgen-pq-keep", 3),
     ("tetgen-pY", 3),
+    ("tetgen15", 3),
+    ("tetgen15-p", 3),
+    ("tetgen15-pq", 3),
+    ("tetgen15-pq-keep", 3),
+    ("tetgen15-pY", 3),
 ];
+
+/// The secondary programs, run only when named: TetGen 1.5 (`tetgen15…`)
+/// and TetGen without its facet merging (`…-pq-keep`, up to 10x more
+/// tetrahedra on the corpus: slow).
+pub fn only_when_named(program: &str) -> bool {
+    program.starts_with("tetgen15") || program.ends_with("-keep")
+}
+
+/// The reference executables of the file cases (`…-p`, `…-pY`, `…-pq`,
+/// `…-pq-keep`), which do not handle generated point sets.
+fn file_case_program(program: &str) -> bool {
+    program.starts_with("tetgen-") || program.starts_with("tetgen15-") || program == "triangle-p"
+}
 
 /// Whether `program` handles `dim`-dimensional input.
 pub fn supports(program: &str, dim: usize) -> bool {
@@ -28,28 +48,27 @@ pub fn supports(program: &str, dim: usize) -> bool {
 }
 
 /// Whether `program` handles `case`: by dimension for the point sets; only
-/// delone and Triangle for `2d-poly-…`, delone and TetGen for `3d-surf-…`.
+/// delone and Triangle for `2d-poly-…`, delone and TetGen's executables for
+/// `3d-surf…` and `3d-plc…` (and `tetgen15`, TetGen 1.5 through `tritet`'s
+/// library, for `3d-surf-…`).
 pub fn handles(program: &str, case: &Case) -> bool {
     match case.kind {
         Kind::Poly | Kind::Segs | Kind::Holes => {
             matches!(program, "delone" | "triangle" | "triangle-p")
         }
-        Kind::Surf if case.quality.is_some() => {
-            matches!(program, "delone" | "tetgen-pq" | "tetgen-pq-keep")
-        }
-        Kind::Surf if case.name.starts_with("3d-surfY-") => {
-            matches!(program, "delone" | "tetgen-pY")
-        }
-        Kind::Surf => matches!(program, "delone" | "tetgen" | "tetgen-p"),
-        Kind::Plc if case.quality.is_some() => matches!(program, "delone" | "tetgen-pq"),
-        Kind::Plc => matches!(program, "delone" | "tetgen-p"),
-        _ if matches!(
+        Kind::Surf if case.quality.is_some() => matches!(
             program,
-            "tetgen-p" | "tetgen-pq" | "tetgen-pq-keep" | "tetgen-pY" | "triangle-p"
-        ) =>
-        {
-            false
+            "delone" | "tetgen-pq" | "tetgen-pq-keep" | "tetgen15-pq" | "tetgen15-pq-keep"
+        ),
+        Kind::Surf if case.name.starts_with("3d-surfY-") => {
+            matches!(program, "delone" | "tetgen-pY" | "tetgen15-pY")
         }
+        Kind::Surf => matches!(program, "delone" | "tetgen-p" | "tetgen15" | "tetgen15-p"),
+        Kind::Plc if case.quality.is_some() => {
+            matches!(program, "delone" | "tetgen-pq" | "tetgen15-pq")
+        }
+        Kind::Plc => matches!(program, "delone" | "tetgen-p" | "tetgen15-p"),
+        _ if file_case_program(program) => false,
         _ => supports(program, case.dim),
     }
 }
@@ -186,35 +205,31 @@ fn run_poly(
     on_ready: &mut dyn FnMut(),
     check: bool,
 ) -> Result<Run, String> {
-    use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
-    use delone::tri::refine::{refine, RefineOptions};
+    use delone::tri::constrain::check_cdt;
+    use delone::tri::TriOptions;
     let g = &input.pslg;
     match program {
         "delone" => {
             on_ready();
+            // `delone tri -p` / `-pq…a…` (a global area bound alone, as the
+            // cases give it, without the regions' bounds).
+            let opts = TriOptions {
+                pslg: true,
+                min_angle: input.quality.and_then(|q| q.min_angle),
+                max_area: input.quality.and_then(|q| q.max_area),
+                ..TriOptions::default()
+            };
             let cpu0 = thread_cpu_ns();
             let t = Instant::now();
-            let mut cdt_seconds = 0.0;
-            let r =
-                constrained_triangulation(black_box(g), CdtOptions::default()).and_then(|cdt| {
-                    cdt_seconds = t.elapsed().as_secs_f64();
-                    match input.quality {
-                        None => Ok((cdt, None)),
-                        Some(q) => {
-                            let opts = RefineOptions {
-                                min_angle: q.min_angle,
-                                max_area: q.max_area,
-                                ..Default::default()
-                            };
-                            refine(&cdt, &opts).map(|r| (r.mesh, Some(r.report)))
-                        }
-                    }
-                });
+            let r = delone::tri::mesh(black_box(g), &opts);
             let seconds = t.elapsed().as_secs_f64();
             let cpu = cpu0
                 .zip(thread_cpu_ns())
                 .map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
-            let (m, report) = r.map_err(|e| e.to_string())?;
+            let r = r.map_err(|e| e.to_string())?;
+            let refine_seconds = r.refine_time.as_secs_f64();
+            let cdt_seconds = seconds - refine_seconds;
+            let (m, report) = (r.mesh, r.refine);
             let hash = hash_u32s(
                 m.triangles
                     .iter()
@@ -230,7 +245,7 @@ fn run_poly(
                     if r.met { "yes" } else { "no" }
                 ));
             }
-            info.push_str(&phase_info(cpu, cdt_seconds, seconds - cdt_seconds));
+            info.push_str(&phase_info(cpu, cdt_seconds, refine_seconds));
             Ok(Run {
                 seconds,
                 elements: m.triangles.len(),
@@ -307,8 +322,9 @@ fn run_poly(
     }
 }
 
-/// `3d-surf-…`: delone's boundary recovery against TetGen's `-p` through
-/// tritet (which always adds `-q`, see the README).
+/// `3d-surf-…`: delone's boundary recovery against TetGen's `-p`
+/// executable (`tetgen-p`, `tetgen15-p`) and `tetgen15`, TetGen 1.5 through
+/// tritet's library (which always adds `-q`, see the README).
 fn run_surf(
     program: &str,
     input: &SurfInput,
@@ -347,7 +363,7 @@ fn run_surf(
                 external_peak_kb: None,
             })
         }
-        "tetgen" => {
+        "tetgen15" => {
             let e = |m: &str| m.to_string();
             let mut g =
                 tritet::Tetgen::new(p.len(), Some(vec![3; tris.len()]), None, None).map_err(e)?;
@@ -378,12 +394,13 @@ fn run_surf(
                 external_peak_kb: None,
             })
         }
-        "tetgen-p" | "tetgen-pY" => {
+        "tetgen-p" | "tetgen-pY" | "tetgen15-p" | "tetgen15-pY" => {
             on_ready();
-            let r = if program == "tetgen-pY" {
-                crate::refbin::run_tetgen_py(p, tris)?
+            let build = crate::refbin::Tetgen::of(program);
+            let r = if program.ends_with("-pY") {
+                crate::refbin::run_tetgen_py(build, p, tris)?
             } else {
-                crate::refbin::run_tetgen_p(p, tris)?
+                crate::refbin::run_tetgen_p(build, p, tris)?
             };
             Ok(Run {
                 seconds: r.seconds,
@@ -402,28 +419,20 @@ fn run_surf(
 /// its default `-O`) against TetGen's
 /// `-pqB` executable; the info column gives the Steiner points and the
 /// minimum dihedral angle of the output.
-/// delone's quality mesh of a closed surface at radius-edge bound `q`
-/// (what `delone tet -pqQ` does: refinement, then the default `-O`
-/// optimisation): the timed arm and the dihedral chart.
+/// delone's quality mesh of a closed surface (`plc`, its triangles as
+/// facets) at radius-edge bound `q`: what `delone tet -pqQ` does
+/// ([`delone::tet::mesh`]: recovery, refinement, then the default `-O`
+/// optimisation), the timed arm and the dihedral chart.
 pub fn delone_quality(
-    points: &[[f64; 3]],
-    triangles: &[[u32; 3]],
+    plc: &delone::model::plc::Plc,
     q: f64,
-) -> Result<delone::tet::refine::Refined, String> {
-    use delone::tet::optimize::{optimize, OptimizeOptions};
-    use delone::tet::refine::{refine, RefineOptions};
-    let opts = RefineOptions {
-        max_radius_edge: q,
-        ..RefineOptions::default()
-    };
-    let mut r = refine(points, triangles, &opts).map_err(|e| e.to_string())?;
-    let o = OptimizeOptions {
-        input_points: Some(points.len()),
+) -> Result<delone::tet::TetResult, String> {
+    let opts = delone::tet::TetOptions {
+        plc: true,
+        max_radius_edge: Some(q),
         ..Default::default()
-    }
-    .keeping(&opts);
-    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
-    Ok(r)
+    };
+    delone::tet::mesh(plc, &opts).map_err(|e| e.to_string())
 }
 
 /// [`delone_quality`]'s points and tetrahedra.
@@ -432,8 +441,9 @@ pub fn delone_quality_mesh(
     triangles: &[[u32; 3]],
     q: f64,
 ) -> Result<crate::refbin::NodeEle, String> {
-    let r = delone_quality(points, triangles, q)?;
-    Ok((r.rec.points, r.rec.mesh.tets))
+    let plc = delone::model::plc::Plc::from_triangles(points.to_vec(), triangles);
+    let r = delone_quality(&plc, q)?;
+    Ok((r.mesh.points, r.mesh.mesh.tets))
 }
 
 fn run_surfq(
@@ -448,15 +458,18 @@ fn run_surfq(
     use delone::tet::recover::check_recovered;
     match program {
         "delone" => {
+            let plc = delone::model::plc::Plc::from_triangles(p.to_vec(), tris);
             on_ready();
             // `-pqB` optimises by default (`-O`), as the CLI does: see
             // `delone_quality`.
-            let (r, seconds, wall) = cpu_timed(|| delone_quality(black_box(p), black_box(tris), q));
+            let (r, seconds, wall) = cpu_timed(|| delone_quality(black_box(&plc), q));
             let r = r?;
-            let m = &r.rec.mesh;
-            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&r.rec.points);
-            let valid = check.then(|| check_recovered(p, tris, &r.rec).map_err(|v| v.to_string()));
-            let s = TetStats::of(&r.rec.points, &m.tets);
+            let refined = r.refine.unwrap_or_default();
+            let rec = &r.mesh;
+            let m = &rec.mesh;
+            let hash = hash_u32s(m.tets.iter().map(|t| &t[..])) ^ hash_points(&rec.points);
+            let valid = check.then(|| check_recovered(p, tris, rec).map_err(|v| v.to_string()));
+            let s = TetStats::of(&rec.points, &m.tets);
             Ok(Run {
                 seconds,
                 elements: m.tets.len(),
@@ -464,16 +477,17 @@ fn run_surfq(
                 valid,
                 info: format!(
                     "steiner={} mindih={:.2} bad={} wall={wall:.3}",
-                    r.rec.report.steiner() + r.report.steiner(),
+                    rec.report.steiner() + refined.steiner(),
                     s.min_dihedral,
-                    r.report.remaining_bad
+                    refined.remaining_bad
                 ),
                 external_peak_kb: None,
             })
         }
-        "tetgen-pq" | "tetgen-pq-keep" => {
+        "tetgen-pq" | "tetgen-pq-keep" | "tetgen15-pq" | "tetgen15-pq-keep" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_pq(p, tris, q, program == "tetgen-pq-keep")?;
+            let build = crate::refbin::Tetgen::of(program);
+            let r = crate::refbin::run_tetgen_pq(build, p, tris, q, program.ends_with("-keep"))?;
             Ok(Run {
                 seconds: r.run.seconds,
                 elements: r.run.tets,
@@ -494,63 +508,23 @@ fn run_surfq(
     }
 }
 
-/// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it: facets
-/// triangulated, recovery with the facets' markers, holes and regions;
-/// with a bound, refinement and the default optimisation.
+/// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it
+/// ([`delone::tet::mesh`]: facets triangulated, recovery with the facets'
+/// markers, holes and regions; with a bound, refinement and the default
+/// optimisation). Returns the mesh, the facets' triangles and the Steiner
+/// points of recovery and refinement.
 fn delone_plc(
     plc: &delone::model::plc::Plc,
     ratio: Option<f64>,
 ) -> Result<(delone::tet::recover::Recovered, Vec<[u32; 3]>, usize), String> {
-    use delone::tet::optimize::{optimize, OptimizeOptions};
-    use delone::tet::recover::{recover_marked, Domain, RecoverOptions};
-    use delone::tet::refine::{refine_recovered, RefineOptions};
-    plc.validate().map_err(|e| e.to_string())?;
-    let (triangles, facet_of) = plc.triangulate_facets().map_err(|e| e.to_string())?;
-    let markers: Vec<i32> = facet_of
-        .iter()
-        .map(|&f| plc.facets[f as usize].marker)
-        .collect();
-    // Regional volume bounds bind only with -a, in TetGen as in delone's
-    // CLI: these cases run -p / -pqB.
-    let regions = plc
-        .regions
-        .iter()
-        .map(|r| delone::model::plc::Region {
-            max_volume: None,
-            ..r.clone()
-        })
-        .collect();
-    let domain = Domain {
-        holes: plc.holes.clone(),
-        regions,
-        convex_hull: false,
-    };
-    let rec = recover_marked(
-        &plc.points,
-        &triangles,
-        &markers,
-        &RecoverOptions::default(),
-        &domain,
-    )
-    .map_err(|e| e.to_string())?;
-    let Some(q) = ratio else {
-        let steiner = rec.report.steiner();
-        return Ok((rec, triangles, steiner));
-    };
-    let opts = RefineOptions {
-        max_radius_edge: q,
-        ..RefineOptions::default()
-    };
-    let mut r =
-        refine_recovered(&plc.points, &triangles, &rec, &opts).map_err(|e| e.to_string())?;
-    let o = OptimizeOptions {
-        input_points: Some(plc.points.len()),
+    let opts = delone::tet::TetOptions {
+        plc: true,
+        max_radius_edge: ratio,
         ..Default::default()
-    }
-    .keeping(&opts);
-    optimize(&mut r.rec, &o).map_err(|e| e.to_string())?;
-    let steiner = r.rec.report.steiner() + r.report.steiner();
-    Ok((r.rec, triangles, steiner))
+    };
+    let r = delone::tet::mesh(plc, &opts).map_err(|e| e.to_string())?;
+    let steiner = r.mesh.report.steiner() + r.refine.map_or(0, |x| x.steiner());
+    Ok((r.mesh, r.triangles, steiner))
 }
 
 /// `3d-plc-NAME` / `3d-plcq-NAME-qB`: delone against the `tetgen`
@@ -589,9 +563,10 @@ fn run_plc(
                 external_peak_kb: None,
             })
         }
-        "tetgen-p" | "tetgen-pq" => {
+        "tetgen-p" | "tetgen-pq" | "tetgen15-p" | "tetgen15-pq" => {
             on_ready();
-            let r = crate::refbin::run_tetgen_plc(&input.bytes, input.ext, input.ratio)?;
+            let build = crate::refbin::Tetgen::of(program);
+            let r = crate::refbin::run_tetgen_plc(build, &input.bytes, input.ext, input.ratio)?;
             Ok(Run {
                 seconds: r.run.seconds,
                 elements: r.run.tets,
@@ -679,6 +654,18 @@ fn run_points(
             })
         }
         ("tetgen", Points::D3(p)) => {
+            on_ready();
+            let r = crate::refbin::run_tetgen_points(crate::refbin::Tetgen::V16, p)?;
+            Ok(Run {
+                seconds: r.seconds,
+                elements: r.tets,
+                hash: None,
+                valid: None,
+                info: String::new(),
+                external_peak_kb: r.peak_kb,
+            })
+        }
+        ("tetgen15", Points::D3(p)) => {
             let mut g = tritet::Tetgen::new(p.len(), None, None, None).map_err(str::to_string)?;
             for (i, q) in p.iter().enumerate() {
                 g.set_point(i, 0, q[0], q[1], q[2])
@@ -936,7 +923,7 @@ mod tests {
     fn tetgen_runs() {
         let _g = serial();
         let c = Case::parse("3d-uniform-1000").unwrap();
-        let r = run_child(&c, "tetgen", 1);
+        let r = run_child(&c, "tetgen15", 1);
         assert_eq!(r.outcome, Outcome::Ok);
         // Uniform random points: about 6.5 tets per point.
         assert!(r.elements > 5000 && r.elements < 8000, "{}", r.elements);
@@ -957,10 +944,17 @@ mod tests {
         assert!(handles("delone", &poly) && handles("triangle", &poly));
         assert!(!handles("spade", &poly) && !handles("delaunator", &poly));
         assert!(!handles("tetgen", &poly));
-        assert!(handles("delone", &surf) && handles("tetgen", &surf));
-        assert!(!handles("triangle", &surf));
+        assert!(handles("delone", &surf) && handles("tetgen-p", &surf));
+        assert!(handles("tetgen15", &surf) && handles("tetgen15-p", &surf));
+        assert!(!handles("triangle", &surf) && !handles("tetgen", &surf));
         let pts = Case::parse("2d-uniform-100").unwrap();
         assert!(handles("spade", &pts) && !handles("tetgen", &pts));
+        let pts3 = Case::parse("3d-uniform-100").unwrap();
+        assert!(handles("tetgen", &pts3) && handles("tetgen15", &pts3));
+        assert!(!handles("tetgen-p", &pts3) && !handles("tetgen15-pq", &pts3));
+        let q = Case::parse("3d-surfq-c3d_spot-q1.414").unwrap();
+        assert!(handles("tetgen-pq", &q) && handles("tetgen15-pq-keep", &q));
+        assert!(!handles("tetgen-p", &q) && !handles("tetgen15", &q));
     }
 
     fn info_value(info: &str, key: &str) -> Option<f64> {
@@ -1011,7 +1005,7 @@ mod tests {
         assert_eq!(d.outcome, Outcome::Ok, "{d:?}");
         assert_eq!((d.valid, d.deterministic), (Some(true), Some(true)));
         assert!(d.elements >= d.n / 2, "{d:?}");
-        let t = run_child(&c, "tetgen", 1);
+        let t = run_child(&c, "tetgen15", 1);
         assert_eq!(t.outcome, Outcome::Ok, "{t:?}");
         assert!(t.elements > 0);
         // A self-intersecting surface is an error for both, not a crash.
@@ -1021,7 +1015,7 @@ mod tests {
             Outcome::Error(_)
         ));
         assert!(matches!(
-            run_child(&bad, "tetgen", 1).outcome,
+            run_child(&bad, "tetgen15", 1).outcome,
             Outcome::Error(_)
         ));
     }

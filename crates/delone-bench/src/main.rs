@@ -35,7 +35,7 @@ options:
                      2d-poly-NAME-qANGLEaAREA (2d/NAME.poly refined, delone vs triangle),
                      2d-poly-NAME-p (constrained triangulation only),
                      2d-segs-SIZE / 2d-holes-SIZE (generated PSLGs, plain CDT),
-                     3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen),
+                     3d-surf-MODEL (surf/off/MODEL.off boundary recovery, delone vs tetgen-p),
                      3d-surfY-MODEL (the same preserving the surface, -Y: delone vs tetgen-pY),
                      3d-surfq-MODEL-qB (recovery + refinement to radius-edge B + optimisation),
                      3d-plc-NAME / 3d-plcq-NAME-qB (3d_plc/NAME.poly or .smesh, recovery /
@@ -44,12 +44,14 @@ options:
                      model sets: 3d-surf-@SET and 3d-surfq-@SET-qB run every model of
                      shared/data/sets/SET.txt, `@SET<N` / `@SET>N` only those with fewer /
                      more than N triangles, e.g. 3d-surfq-@closed_clean<30000-q1.414)
-  --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,tetgen,
-                     triangle-p (Triangle's executable, -p/-pq cases), tetgen-p
-                     (TetGen -p executable), tetgen-pq (TetGen -pqB executable),
-                     tetgen-pq-keep (TetGen -p180qB: every input triangle kept as a
-                     facet, as delone does; only when named), tetgen-pY (TetGen -pY
-                     executable)
+  --programs LIST    comma-separated subset of: delone,triangle,spade,delaunator,
+                     triangle-p (Triangle's executable, -p/-pq cases); TetGen 1.6's
+                     executable: tetgen (3D point sets), tetgen-p (-p), tetgen-pY (-pY),
+                     tetgen-pq (-pqB), tetgen-pq-keep (-p180qB: every input triangle
+                     kept as a facet, as delone does; only when named); TetGen 1.5 as
+                     bundled in tritet, only when named: tetgen15 (its library: point
+                     sets, 3d-surf as -pq), tetgen15-p, tetgen15-pY, tetgen15-pq,
+                     tetgen15-pq-keep (its executable)
   --repeat N         timed runs per small case (<= 200000 points), median reported;
                      larger cases always run once (default 3)
   --timeout SECS     kill a child after this many seconds (default 600)
@@ -291,13 +293,12 @@ fn parse_args(args: &[String]) -> Result<Mode, String> {
                 .collect::<Result<_, _>>()?
         }
     };
-    // The default set leaves out `tetgen-pq-keep`: TetGen without its facet
-    // merging makes up to 10x more tetrahedra on the corpus (slow), and is
-    // asked for by name when that comparison is wanted.
+    // The default set leaves out the secondary programs (TetGen 1.5, and
+    // TetGen without its facet merging): they are asked for by name.
     let programs = programs.unwrap_or_else(|| {
         program_names()
             .into_iter()
-            .filter(|&p| p != "tetgen-pq-keep")
+            .filter(|&p| !child::only_when_named(p))
             .map(str::to_string)
             .collect()
     });
@@ -497,7 +498,7 @@ fn main() -> ExitCode {
             );
             println!("  2d-poly-NAME-qANGLEaAREA, 2d-poly-NAME-p (delone, triangle); NAME one of:");
             println!("    {}", cases::data_names("2d", "poly").join(", "));
-            println!("  3d-surf-MODEL (delone, tetgen); MODEL one of:");
+            println!("  3d-surf-MODEL (delone, tetgen-p); MODEL one of:");
             println!("    {}", cases::data_names("surf/off", "off").join(", "));
             ExitCode::SUCCESS
         }
@@ -544,6 +545,8 @@ mod tests {
         assert_eq!(o.cases.len(), DEFAULT_CASES.len());
         assert_eq!(o.programs.len(), 9);
         assert!(!o.programs.iter().any(|p| p == "tetgen-pq-keep"));
+        assert!(!o.programs.iter().any(|p| p.starts_with("tetgen15")));
+        assert!(o.programs.iter().any(|p| p == "tetgen-pq"));
         assert_eq!(o.repeat, 3);
         let Ok(Mode::Bench(o)) = parse_args(&args("--programs delone,tetgen-pq-keep")) else {
             panic!()

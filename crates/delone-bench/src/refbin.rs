@@ -1,23 +1,37 @@
 //! Reference executables: the `tetgen` and `triangle` command-line programs,
-//! built on first use from the C/C++ sources that the `tritet` crate bundles
-//! (black-box use only: we run them and read their files).
+//! built on first use and run as black boxes (we run them and read their
+//! output; their sources are never linked into, copied into or read for
+//! delone).
 //!
-//! The sources are looked up at run time — `$DELONE_TRITET_SRC` (a `c_code`
-//! directory) if set, else `$CARGO_HOME/registry/src/*/tritet-*/c_code`
-//! (`~/.cargo` without `CARGO_HOME`), the highest version first — and
-//! compiled with `g++ -O2` / `gcc -O2` (override with `$CXX` / `$CC`) into
-//! `<target>/refbin/` (`$CARGO_TARGET_DIR` or the workspace's `target`),
-//! where later calls find them. Nothing is compiled at build time, so CI
-//! does not pay for it.
+//! Two TetGen builds:
 //!
-//! The bundled `tetgen.h` defines `TETLIBRARY`; the executable is built from
-//! a three-line wrapper in `refbin/` that includes the header, undefines the
-//! symbol and then includes `tetgen.cxx`, so its `main` is compiled.
+//! * **TetGen 1.6.0**, the default 3D reference (programs `tetgen`,
+//!   `tetgen-p`, `tetgen-pY`, `tetgen-pq`, `tetgen-pq-keep`): the sources of
+//!   its official release, looked up at run time in `$DELONE_TETGEN_SRC` (a
+//!   folder with `tetgen.cxx`) or else in `shared/reference/tetgen-1.6.0` of
+//!   the nearest ancestor of this crate that has one, and compiled as its own
+//!   makefile does: `predicates.cxx` with `-O0`, `tetgen.cxx` with `-O3`.
+//! * **TetGen 1.5 as bundled (modified) in the `tritet` crate**, secondary
+//!   (programs `tetgen15…`, run only when named): on the same switches it
+//!   makes several times as many tetrahedra as 1.6 on large quality meshes,
+//!   in several times the time, and many more Steiner points under `-p`.
+//!   Its sources, and Triangle's, are looked up in `$DELONE_TRITET_SRC` (a
+//!   `c_code` folder) if set, else `$CARGO_HOME/registry/src/*/tritet-*/c_code`
+//!   (`~/.cargo` without `CARGO_HOME`), the highest version first, and
+//!   compiled with `-O2`. The bundled `tetgen.h` defines `TETLIBRARY`; the
+//!   executable is built from a three-line wrapper that includes the header,
+//!   undefines the symbol and then includes `tetgen.cxx`, so its `main` is
+//!   compiled.
+//!
+//! The compilers are `g++` / `gcc` (override with `$CXX` / `$CC`); the
+//! executables go to `<target>/refbin/` (`$CARGO_TARGET_DIR` or the
+//! workspace's `target`), where later calls find them. Nothing is compiled
+//! at build time, so CI does not pay for it.
 //!
 //! Use (inside this crate):
 //!
 //! ```text
-//! let tetgen = refbin::tetgen()?;
+//! let tetgen = refbin::tetgen(refbin::Tetgen::V16)?;
 //! Command::new(tetgen).arg("-v").arg("cube.node").status()
 //! ```
 
@@ -82,6 +96,16 @@ pub fn sources() -> Result<PathBuf, String> {
         .ok_or_else(|| format!("no tritet-*/c_code/tetgen.cxx under {}", registry.display()))
 }
 
+/// Held while an executable is looked up and built: threads of one process
+/// (the tests) share the temporary file names, which carry the process id.
+static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn building() -> std::sync::MutexGuard<'static, ()> {
+    BUILDING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 fn compile(exe: &Path, compiler: &str, args: &[&std::ffi::OsStr]) -> Result<(), String> {
     let out = Command::new(compiler)
         .args(args)
@@ -101,14 +125,114 @@ fn compile(exe: &Path, compiler: &str, args: &[&std::ffi::OsStr]) -> Result<(), 
     Ok(())
 }
 
-/// The `tetgen` executable, compiled on first use (`tetgen.cxx` +
-/// `predicates.cxx`, `-O2`, without `TETLIBRARY`).
+/// A TetGen build the bench runs as a reference.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tetgen {
+    /// TetGen 1.6.0, the default 3D reference (programs `tetgen…`).
+    V16,
+    /// The modified TetGen 1.5 bundled in `tritet` (programs `tetgen15…`).
+    V15,
+}
+
+impl Tetgen {
+    /// The build a bench program name refers to: `tetgen15…` is
+    /// [`Tetgen::V15`], every other `tetgen…` [`Tetgen::V16`].
+    pub fn of(program: &str) -> Tetgen {
+        if program.starts_with("tetgen15") {
+            Tetgen::V15
+        } else {
+            Tetgen::V16
+        }
+    }
+}
+
+/// The `tetgen` executable of `build`, compiled on first use.
 ///
 /// # Errors
 /// A message when the sources are missing or the compiler fails.
-pub fn tetgen() -> Result<PathBuf, String> {
+pub fn tetgen(build: Tetgen) -> Result<PathBuf, String> {
+    match build {
+        Tetgen::V16 => tetgen16(),
+        Tetgen::V15 => tetgen15(),
+    }
+}
+
+/// TetGen 1.6.0's sources: `$DELONE_TETGEN_SRC`, else
+/// `shared/reference/tetgen-1.6.0` in the nearest ancestor of this crate.
+///
+/// # Errors
+/// A message naming where it looked when no folder with `tetgen.cxx` is found.
+pub fn tetgen16_sources() -> Result<PathBuf, String> {
+    if let Some(d) = std::env::var_os("DELONE_TETGEN_SRC") {
+        let d = PathBuf::from(d);
+        return if d.join("tetgen.cxx").is_file() {
+            Ok(d)
+        } else {
+            Err(format!(
+                "DELONE_TETGEN_SRC={} has no tetgen.cxx",
+                d.display()
+            ))
+        };
+    }
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    here.ancestors()
+        .map(|a| a.join("shared/reference/tetgen-1.6.0"))
+        .find(|d| d.join("tetgen.cxx").is_file())
+        .ok_or_else(|| {
+            format!(
+                "TetGen 1.6.0's sources not found: no shared/reference/tetgen-1.6.0/tetgen.cxx \
+                 in any ancestor of {} (set DELONE_TETGEN_SRC)",
+                here.display()
+            )
+        })
+}
+
+/// TetGen 1.6.0's executable `<target>/refbin/tetgen16`, compiled on first
+/// use as its makefile does (`predicates.cxx` `-O0`, `tetgen.cxx` `-O3`).
+fn tetgen16() -> Result<PathBuf, String> {
+    let _building = building();
     let d = dir();
-    let exe = d.join("tetgen");
+    let exe = d.join("tetgen16");
+    if exe.is_file() {
+        return Ok(exe);
+    }
+    let src = tetgen16_sources()?;
+    std::fs::create_dir_all(&d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
+    let cxx = std::env::var("CXX").unwrap_or_else(|_| "g++".into());
+    let obj = d.join(format!("predicates16.{}.o", std::process::id()));
+    compile(
+        &obj,
+        &cxx,
+        &[
+            "-O0".as_ref(),
+            "-c".as_ref(),
+            src.join("predicates.cxx").as_os_str(),
+        ],
+    )?;
+    let tmp = d.join(format!("tetgen16.{}.tmp", std::process::id()));
+    let built = compile(
+        &tmp,
+        &cxx,
+        &[
+            "-O3".as_ref(),
+            "-w".as_ref(),
+            src.join("tetgen.cxx").as_os_str(),
+            obj.as_os_str(),
+            "-lm".as_ref(),
+        ],
+    );
+    std::fs::remove_file(&obj).ok();
+    built?;
+    std::fs::rename(&tmp, &exe).map_err(|e| format!("cannot move to {}: {e}", exe.display()))?;
+    Ok(exe)
+}
+
+/// The `tetgen15` executable of `tritet`'s TetGen 1.5, compiled on first
+/// use (`tetgen.cxx` + `predicates.cxx`, `-O2`, without `TETLIBRARY`).
+fn tetgen15() -> Result<PathBuf, String> {
+    let _building = building();
+    let d = dir();
+    let exe = d.join("tetgen15");
     if exe.is_file() {
         return Ok(exe);
     }
@@ -122,7 +246,7 @@ pub fn tetgen() -> Result<PathBuf, String> {
     .map_err(|e| format!("cannot write {}: {e}", wrapper.display()))?;
     let cxx = std::env::var("CXX").unwrap_or_else(|_| "g++".into());
     let include = format!("-I{}", src.display());
-    let tmp = d.join(format!("tetgen.{}.tmp", std::process::id()));
+    let tmp = d.join(format!("tetgen15.{}.tmp", std::process::id()));
     compile(
         &tmp,
         &cxx,
@@ -146,6 +270,7 @@ pub fn tetgen() -> Result<PathBuf, String> {
 /// # Errors
 /// A message when `triangle.c` is not bundled or the compiler fails.
 pub fn triangle() -> Result<PathBuf, String> {
+    let _building = building();
     let d = dir();
     let exe = d.join("triangle");
     if exe.is_file() {
@@ -183,12 +308,16 @@ pub fn triangle() -> Result<PathBuf, String> {
     Ok(exe)
 }
 
-/// What one run of the external `tetgen -p` reported.
+/// What one run of an external `tetgen` reported.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TetgenRun {
-    /// Seconds of TetGen's meshing phases as it prints them (Delaunay,
-    /// surface mesh, constrained Delaunay, exterior removal, optimization):
-    /// file input and output are left out, as they are for delone.
+    /// Seconds of TetGen's meshing phases as it prints them (every
+    /// `… seconds:` line of its log but input, output and the total: 1.6
+    /// prints Delaunay, surface mesh, boundary recovery, exterior removal,
+    /// Delaunay recovery, refinement, mesh improvement and smoothing; 1.5
+    /// names some phases differently): file input and output are left out,
+    /// as they are for delone. TetGen measures them with `clock()`, CPU
+    /// time of its single thread.
     pub seconds: f64,
     /// Tetrahedra in the output.
     pub tets: usize,
@@ -208,9 +337,25 @@ fn field(out: &str, key: &str) -> Option<f64> {
         .next_back()
 }
 
+/// The sum of the meshing phases in TetGen's log: every `NAME seconds:
+/// VALUE` line except reading, writing and the total. Phases a run does
+/// not have (refinement under bare `-p`) are not printed and count 0.
+fn phase_seconds(out: &str) -> f64 {
+    out.lines()
+        .filter_map(|l| {
+            let (name, value) = l.trim().split_once(" seconds:")?;
+            let skip = ["Output", "Total running", "Input", "Reading"];
+            (!skip.iter().any(|s| name.starts_with(s)))
+                .then(|| value.trim().parse::<f64>().ok())
+                .flatten()
+        })
+        .sum()
+}
+
 /// Writes the surface to a temporary `.off`, runs `tetgen SWITCHES` on it
 /// and parses its summary; with `read_mesh`, also reads the output mesh.
 fn run_tetgen(
+    build: Tetgen,
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     switches: &str,
@@ -224,19 +369,20 @@ fn run_tetgen(
     for t in triangles {
         let _ = writeln!(text, "3 {} {} {}", t[0], t[1], t[2]);
     }
-    run_tetgen_bytes(text.as_bytes(), "off", switches, read_mesh)
+    run_tetgen_bytes(build, text.as_bytes(), "off", switches, read_mesh)
 }
 
-/// Writes `bytes` to a temporary `s.EXT` (a TetGen input: `.off`,
+/// Writes `bytes` to a temporary `s.EXT` (a TetGen input: `.node`, `.off`,
 /// `.poly`, `.smesh`), runs `tetgen SWITCHES` on it and parses its
 /// summary; with `read_mesh`, also reads the output mesh.
 fn run_tetgen_bytes(
+    build: Tetgen,
     bytes: &[u8],
     ext: &str,
     switches: &str,
     read_mesh: bool,
 ) -> Result<(TetgenRun, Option<NodeEle>), String> {
-    let exe = tetgen()?;
+    let exe = tetgen(build)?;
     let dir = scratch("tg")?;
     let off = dir.join(format!("s.{ext}"));
     std::fs::write(&off, bytes).map_err(|e| format!("cannot write {}: {e}", off.display()))?;
@@ -248,18 +394,7 @@ fn run_tetgen_bytes(
     };
     std::fs::remove_dir_all(&dir).ok();
     let (out, peak, _) = run?;
-    // Phases absent from a run (e.g. refinement under bare -p) count 0.
-    let seconds = [
-        "Delaunay seconds:",
-        "Surface mesh seconds:",
-        "Constrained Delaunay seconds:",
-        "Exterior tets removal seconds:",
-        "Refinement seconds:",
-        "Optimization seconds:",
-    ]
-    .iter()
-    .filter_map(|k| field(&out, k))
-    .sum::<f64>();
+    let seconds = phase_seconds(&out);
     let tets = field(&out, "Mesh tetrahedra:").unwrap_or(0.0) as usize;
     if tets == 0 {
         let last = out
@@ -280,13 +415,32 @@ fn run_tetgen_bytes(
     Ok((run, mesh))
 }
 
+/// Runs the reference `tetgen` without switches but `-NEF` (the Delaunay
+/// tetrahedralization of a point set, no output files) on `points`
+/// written to a temporary `.node` file.
+///
+/// # Errors
+/// A message when TetGen cannot be built or run, or fails.
+pub fn run_tetgen_points(build: Tetgen, points: &[[f64; 3]]) -> Result<TetgenRun, String> {
+    use std::fmt::Write as _;
+    let mut text = format!("{} 3 0 0\n", points.len());
+    for (i, q) in points.iter().enumerate() {
+        let _ = writeln!(text, "{i} {:?} {:?} {:?}", q[0], q[1], q[2]);
+    }
+    run_tetgen_bytes(build, text.as_bytes(), "node", "-NEF", false).map(|(r, _)| r)
+}
+
 /// Runs the reference `tetgen -p` (boundary recovery only, no quality) on a
 /// closed triangle surface written to a temporary `.off` file.
 ///
 /// # Errors
 /// A message when TetGen cannot be built or run, or rejects the input.
-pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
-    run_tetgen(points, triangles, "-pNEF", false).map(|(r, _)| r)
+pub fn run_tetgen_p(
+    build: Tetgen,
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+) -> Result<TetgenRun, String> {
+    run_tetgen(build, points, triangles, "-pNEF", false).map(|(r, _)| r)
 }
 
 /// Runs the reference `tetgen -pY` (boundary recovery preserving the
@@ -294,8 +448,12 @@ pub fn run_tetgen_p(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Tetge
 ///
 /// # Errors
 /// A message when TetGen cannot be built or run, or rejects the input.
-pub fn run_tetgen_py(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<TetgenRun, String> {
-    run_tetgen(points, triangles, "-pYNEF", false).map(|(r, _)| r)
+pub fn run_tetgen_py(
+    build: Tetgen,
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+) -> Result<TetgenRun, String> {
+    run_tetgen(build, points, triangles, "-pYNEF", false).map(|(r, _)| r)
 }
 
 /// What one run of the external `tetgen -pqB` reported.
@@ -317,6 +475,7 @@ pub struct TetgenQRun {
 /// # Errors
 /// A message when TetGen cannot be built or run, or rejects the input.
 pub fn run_tetgen_pq(
+    build: Tetgen,
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     ratio: f64,
@@ -327,7 +486,7 @@ pub fn run_tetgen_pq(
     // facet and re-triangulates across their shared edges; delone keeps
     // every input triangle).
     let p = if keep_facets { "-p180" } else { "-p" };
-    let (run, mesh) = run_tetgen(points, triangles, &format!("{p}q{ratio}F"), true)?;
+    let (run, mesh) = run_tetgen(build, points, triangles, &format!("{p}q{ratio}F"), true)?;
     let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
     Ok(TetgenQRun { run, min_dihedral })
 }
@@ -338,14 +497,20 @@ pub fn run_tetgen_pq(
 ///
 /// # Errors
 /// A message when TetGen cannot be built or run, or rejects the input.
-pub fn run_tetgen_plc(bytes: &[u8], ext: &str, ratio: Option<f64>) -> Result<TetgenQRun, String> {
+pub fn run_tetgen_plc(
+    build: Tetgen,
+    bytes: &[u8],
+    ext: &str,
+    ratio: Option<f64>,
+) -> Result<TetgenQRun, String> {
     let switches = ratio.map_or_else(|| "-pNEF".to_string(), |q| format!("-pq{q}F"));
-    let (run, mesh) = run_tetgen_bytes(bytes, ext, &switches, ratio.is_some())?;
+    let (run, mesh) = run_tetgen_bytes(build, bytes, ext, &switches, ratio.is_some())?;
     let min_dihedral = mesh.map(|(p, t)| delone::tet::quality::TetStats::of(&p, &t).min_dihedral);
     Ok(TetgenQRun { run, min_dihedral })
 }
 
-/// Runs `tetgen -pqB` like [`run_tetgen_pq`] and returns its output mesh.
+/// Runs TetGen 1.6's `tetgen -pqB` like [`run_tetgen_pq`] and returns its
+/// output mesh.
 ///
 /// # Errors
 /// A message when TetGen cannot be built or run, rejects the input, or its
@@ -355,9 +520,15 @@ pub fn tetgen_pq_mesh(
     triangles: &[[u32; 3]],
     ratio: f64,
 ) -> Result<NodeEle, String> {
-    run_tetgen(points, triangles, &format!("-pq{ratio}F"), true)?
-        .1
-        .ok_or_else(|| "cannot read TetGen's output mesh".to_string())
+    run_tetgen(
+        Tetgen::V16,
+        points,
+        triangles,
+        &format!("-pq{ratio}F"),
+        true,
+    )?
+    .1
+    .ok_or_else(|| "cannot read TetGen's output mesh".to_string())
 }
 
 /// Points and tetrahedra of a TetGen output.
@@ -566,15 +737,40 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let node = dir.join("t.node");
         std::fs::write(&node, "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n").unwrap();
-        let st = Command::new(tetgen().unwrap())
-            .arg("-Q")
-            .arg(&node)
-            .status()
-            .unwrap();
-        assert!(st.success());
-        let ele = std::fs::read_to_string(dir.join("t.1.ele")).unwrap();
-        assert!(ele.starts_with("1  4  0"), "{ele}");
+        for build in [Tetgen::V16, Tetgen::V15] {
+            let st = Command::new(tetgen(build).unwrap())
+                .arg("-Q")
+                .arg(&node)
+                .status()
+                .unwrap();
+            assert!(st.success(), "{build:?}");
+            let ele = std::fs::read_to_string(dir.join("t.1.ele")).unwrap();
+            assert!(ele.starts_with("1  4  0"), "{build:?}: {ele}");
+            std::fs::remove_file(dir.join("t.1.ele")).unwrap();
+        }
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn program_names_pick_the_build() {
+        assert_eq!(Tetgen::of("tetgen-pq"), Tetgen::V16);
+        assert_eq!(Tetgen::of("tetgen"), Tetgen::V16);
+        assert_eq!(Tetgen::of("tetgen15-pq"), Tetgen::V15);
+        assert_eq!(Tetgen::of("tetgen15"), Tetgen::V15);
+    }
+
+    #[test]
+    fn phase_seconds_sum_the_meshing_phases_only() {
+        let log = "Opening s.off.\nDelaunay seconds:  0.5\nSurface mesh seconds:  0.25\n\
+                   Boundary recovery seconds:  1e-3\nRefinement seconds:  2\n\
+                   Mesh improvement seconds:  0.125\nOutput seconds:  9\n\
+                   Total running seconds:  99\n";
+        assert!(
+            (phase_seconds(log) - 2.876).abs() < 1e-12,
+            "{}",
+            phase_seconds(log)
+        );
+        assert_eq!(phase_seconds("no phases"), 0.0);
     }
 
     /// Slow (compiles TetGen): `cargo test -p delone-bench -- --ignored refbin`.
@@ -598,10 +794,15 @@ mod tests {
             [1, 3, 5],
             [3, 7, 5],
         ];
-        let r = run_tetgen_p(&pts, &tris).unwrap();
+        for build in [Tetgen::V16, Tetgen::V15] {
+            let r = run_tetgen_p(build, &pts, &tris).unwrap();
+            assert!(r.tets >= 5 && r.tets <= 6, "{build:?} {r:?}");
+            assert_eq!(r.steiner, 0, "{build:?}");
+            assert!(r.peak_kb.is_some_and(|k| k > 0), "{build:?}");
+        }
+        // The cube's eight corners alone: a Delaunay tetrahedralization.
+        let r = run_tetgen_points(Tetgen::V16, &pts).unwrap();
         assert!(r.tets >= 5 && r.tets <= 6, "{r:?}");
-        assert_eq!(r.steiner, 0);
-        assert!(r.peak_kb.is_some_and(|k| k > 0));
     }
 
     /// Slow (compiles Triangle): `cargo test -p delone-bench -- --ignored refbin`.

@@ -20,8 +20,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::args::Opts;
-use crate::plc::write;
-use crate::run::Failure;
+use crate::fail::Failure;
+use crate::guard::write;
 
 /// The colour of a tetrahedron whose minimum dihedral angle is `deg`.
 pub fn dihedral_colour(deg: f64) -> [u8; 3] {
@@ -65,7 +65,7 @@ pub fn write_png(
         ..d
     };
     let img = delone_io::render_tets(points, tets, Some(&colours), &style)
-        .map_err(|e| crate::run::input_err(format!("{}: {e}", path.display())))?;
+        .map_err(|e| crate::fail::input_err(format!("{}: {e}", path.display())))?;
     write(path, |f| {
         delone_io::write_raster_png(std::io::BufWriter::new(f), &img)
     })?;

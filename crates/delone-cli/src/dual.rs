@@ -16,7 +16,8 @@ use delone::tet::Voronoi3;
 use delone::tri::{TriMesh, Voronoi2};
 use delone_io::{NodeFile, SvgLayer};
 
-use crate::run::{input_err as fail, with_ext, Failure};
+use crate::fail::{input_err as fail, Failure};
+use crate::paths::with_ext;
 
 /// A mesh that does not fit its own points: a bug in delone, reported as
 /// an error rather than a crash.
@@ -123,30 +124,9 @@ pub fn read_weights(node_path: &Path, node: &NodeFile) -> Result<(Vec<f64>, Stri
     Ok((w, format!("attribute 1 of {}", node_path.display())))
 }
 
-/// Bounding box of `pts` (a unit box around a single point).
-pub fn bbox(pts: &[[f64; 2]]) -> [[f64; 2]; 2] {
-    let mut b = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-    for p in pts {
-        for k in 0..2 {
-            b[0][k] = b[0][k].min(p[k]);
-            b[1][k] = b[1][k].max(p[k]);
-        }
-    }
-    let [mut lo, mut hi] = b;
-    for (l, h) in lo.iter_mut().zip(hi.iter_mut()) {
-        // An empty or flat extent (no points, or all on one line).
-        if (*h).partial_cmp(l) != Some(std::cmp::Ordering::Greater) {
-            let c = if l.is_finite() { *l } else { 0.0 };
-            *l = c - 0.5;
-            *h = c + 0.5;
-        }
-    }
-    [lo, hi]
-}
-
 /// `--lloyd N`: the points after `N` Lloyd iterations in their bounding box.
 pub fn lloyd(pts: &[[f64; 2]], iterations: usize) -> Result<Vec<[f64; 2]>, delone::Error> {
-    delone::tri::lloyd(pts, bbox(pts), iterations)
+    delone::tri::lloyd(pts, crate::tri_out::bbox(pts), iterations)
 }
 
 /// The Voronoi (or, with weights, power) diagram of a 2D mesh.
@@ -308,7 +288,7 @@ pub fn write_picture(
     voronoi: Option<&Voronoi2>,
     written: &mut Vec<PathBuf>,
 ) -> Result<(), Failure> {
-    let b = bbox(pts);
+    let b = crate::tri_out::bbox(pts);
     let pad = 0.02 * (b[1][0] - b[0][0]).max(b[1][1] - b[0][1]);
     let view = [
         [b[0][0] - pad, b[0][1] - pad],

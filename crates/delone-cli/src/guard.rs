@@ -20,7 +20,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use crate::args::{Mode, Opts};
-use crate::run::{with_ext, Failure};
+use crate::fail::{input_err, Failure};
+use crate::paths::with_ext;
 
 #[derive(Default)]
 struct State {
@@ -94,30 +95,30 @@ pub enum Kind {
 pub fn outputs(mode: Mode, kind: Kind, o: &Opts, out: &Path) -> Vec<(String, PathBuf)> {
     let mut v: Vec<(String, PathBuf)> = Vec::new();
     let mut base = |ext: &str, why: &str| {
-        let label = if o.no_iteration {
+        let label = if o.out().no_iteration {
             format!("the .{ext} output{why} (named after the input by -I)")
         } else {
             format!("the .{ext} output{why}")
         };
         v.push((label, with_ext(out, ext)))
     };
-    if !o.no_node {
+    if !o.out().no_node {
         base("node", "");
     }
-    if !o.no_ele {
+    if !o.out().no_ele {
         base("ele", "");
     }
     let tet = mode == Mode::Tet;
-    if tet && !o.no_face {
+    if tet && !o.tet.no_face {
         base("face", "");
     }
-    if o.edges && !(tet && o.no_face) {
+    if o.out().edges && !(tet && o.tet.no_face) {
         base("edge", " of -e");
     }
-    if o.neigh {
+    if o.out().neigh {
         base("neigh", " of -n");
     }
-    if tet && o.vtk_legacy {
+    if tet && o.tet.vtk_legacy {
         base("vtk", " of -k");
     }
     if o.vtu.is_none() && o.vtu_ascii {
@@ -125,23 +126,23 @@ pub fn outputs(mode: Mode, kind: Kind, o: &Opts, out: &Path) -> Vec<(String, Pat
     }
     match (mode, kind) {
         (Mode::Tri, Kind::Points) => {
-            if o.convex_hull && !o.no_poly {
+            if o.convex_hull() && !o.tri.no_poly {
                 base("poly", " of -c");
             }
         }
         (Mode::Tri, _) => {
-            if !o.no_poly {
+            if !o.tri.no_poly {
                 base("poly", "");
             }
         }
         (Mode::Tet, Kind::Points) => {}
         (Mode::Tet, _) => {
-            if o.medit_out && o.medit.is_none() {
+            if o.tet.medit && o.medit.is_none() {
                 base("mesh", " of -g");
             }
         }
     }
-    if o.voronoi && kind == Kind::Points {
+    if o.voronoi() && kind == Kind::Points {
         base("v.node", " of -v");
         base("v.edge", " of -v");
         if tet {
@@ -159,13 +160,13 @@ pub fn outputs(mode: Mode, kind: Kind, o: &Opts, out: &Path) -> Vec<(String, Pat
         if let Some(p) = vtu {
             v.push((
                 "the faces companion of the .vtu output".to_string(),
-                crate::tetout::face_companion(&p),
+                crate::paths::face_companion(&p),
             ));
         }
-        if o.vtk_legacy {
+        if o.tet.vtk_legacy {
             v.push((
                 "the faces companion of -k's .vtk".to_string(),
-                crate::tetout::face_companion(&with_ext(out, "vtk")),
+                crate::paths::face_companion(&with_ext(out, "vtk")),
             ));
         }
     }
@@ -257,4 +258,14 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
         message: format!("cannot write {}: {e}", path.display()),
         code: 1,
     })
+}
+
+/// Creates output `path` ([`create`]) and writes it through `f`; a write
+/// error names the file.
+pub fn write(
+    path: &Path,
+    f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
+) -> Result<(), Failure> {
+    let file = create(path)?;
+    f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }

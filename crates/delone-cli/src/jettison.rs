@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use delone::NONE;
 use delone_io::NodeFile;
 
-use crate::run::Failure;
+use crate::fail::Failure;
 
 /// Old → new vertex ids when the vertices no cell uses are dropped.
 pub struct Renumber {

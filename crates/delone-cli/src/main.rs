@@ -5,10 +5,12 @@
 mod args;
 mod cutaway;
 mod dual;
+mod fail;
 mod guard;
 mod help;
 mod jettison;
 mod numbering;
+mod paths;
 mod plc;
 mod progress;
 mod pslg;
@@ -67,10 +69,12 @@ fn main() {
             }
         ),
         Ok(Command::Version) => println!("delone {}", env!("CARGO_PKG_VERSION")),
-        Ok(Command::Run(opts)) => match progress::observe(!opts.quiet, || run::run(mode, &opts)) {
-            Ok(0) => {}
-            Ok(code) => std::process::exit(code),
-            Err(f) => fail(&f.message, f.code),
-        },
+        Ok(Command::Run(opts)) => {
+            match progress::observe(!opts.out().quiet, || run::run(mode, &opts)) {
+                Ok(0) => {}
+                Ok(code) => std::process::exit(code),
+                Err(f) => fail(&f.message, f.code),
+            }
+        }
     }
 }

@@ -6,10 +6,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use delone::model::plc::{Facet, Plc, Region};
-use delone::tet::recover::{check_recovered, Domain, RecoverOptions};
+use delone::tet::recover::check_recovered;
+use delone::tet::{TetError, TetOptions, TetResult};
 
 use crate::args::Opts;
-use crate::run::{input_err, with_ext, Failure};
+use crate::fail::{input_err, usage_err, Failure};
+use crate::guard::write;
+use crate::paths::with_ext;
 
 const EXTENSIONS: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mesh", "node"];
 
@@ -48,7 +51,7 @@ fn names(o: &Opts) -> Result<(PathBuf, String, PathBuf), Failure> {
             code: 2,
         });
     }
-    let mut out = if o.no_iteration {
+    let mut out = if o.out().no_iteration {
         base
     } else {
         with_ext(&base, "1")
@@ -108,15 +111,7 @@ fn read(path: &Path, ext: &str) -> Result<(Plc, u32), Failure> {
     }
 }
 
-pub(crate) fn write(
-    path: &Path,
-    f: impl FnOnce(std::fs::File) -> Result<(), delone_io::IoError>,
-) -> Result<(), Failure> {
-    let file = crate::guard::create(path)?;
-    f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
-}
-
-/// The input of `delone tet -p` / `-d`, read and checked.
+/// The input of `delone tet -p` / `-d`, read.
 pub(crate) struct Input {
     /// The input file, its extension and the output base.
     pub path: PathBuf,
@@ -129,69 +124,90 @@ pub(crate) struct Input {
     /// used in messages: the first index of a `.poly`/`.smesh`, 1 for a
     /// Medit `.mesh`, 0 for OFF, STL, PLY and OBJ.
     pub msg_first: u32,
-    /// Its facets triangulated, with each triangle's facet.
-    pub triangles: Vec<[u32; 3]>,
-    pub facet_of: Vec<u32>,
 }
 
-/// Reads the input named by `o`, validates it and triangulates its facets
-/// (errors name the file and the offending item in the file's numbering).
-pub(crate) fn load(o: &Opts) -> Result<Input, Failure> {
-    load_with(o, false).map(|(i, _)| i)
-}
-
-/// [`load`]; with `lenient` (`-d`), degenerate facets are set aside and
-/// returned (0-based input facet index and defect) instead of failing,
-/// and `facet_of` names the input facets.
-pub(crate) fn load_with(
-    o: &Opts,
-    lenient: bool,
-) -> Result<(Input, Vec<(usize, delone::FacetDefect)>), Failure> {
+/// Reads the input named by `o` (not yet validated).
+pub(crate) fn read_input(o: &Opts) -> Result<Input, Failure> {
     let (path, ext, out) = names(o)?;
-    let (mut plc, first) = read(&path, &ext)?;
+    let (plc, first) = read(&path, &ext)?;
     let msg_first = match ext.as_str() {
         "poly" | "smesh" => first,
         "mesh" => 1,
         _ => 0,
     };
-    let name = path.display().to_string();
+    Ok(Input {
+        path,
+        ext,
+        out,
+        plc,
+        first,
+        msg_first,
+    })
+}
+
+/// The facets of a PLC triangulated (triangles and each one's facet).
+pub(crate) type Triangulated = (Vec<[u32; 3]>, Vec<u32>);
+
+/// Facets set aside: 0-based input facet index and defect.
+pub(crate) type Defects = Vec<(usize, delone::FacetDefect)>;
+
+/// Reads the input named by `o`, validates it and triangulates its facets
+/// for `-d`: degenerate facets are set aside and returned (0-based input
+/// facet index and defect) instead of failing, and the facet of each
+/// triangle names the input facets; other errors name the file and the
+/// offending item in the file's numbering.
+pub(crate) fn load_lenient(o: &Opts) -> Result<(Input, Triangulated, Defects), Failure> {
+    let mut input = read_input(o)?;
+    let plc = &mut input.plc;
+    let name = input.path.display().to_string();
     // Input facet index of each facet still in `plc`.
     let mut keep: Vec<u32> = (0..plc.facets.len() as u32).collect();
     let mut defects = Vec::new();
     let (triangles, owner) = loop {
         match plc.validate().and_then(|()| plc.triangulate_facets()) {
             Ok(t) => break t,
-            Err(delone::Error::DegenerateFacet { index, defect })
-                if lenient && index < plc.facets.len() =>
-            {
+            Err(delone::Error::DegenerateFacet { index, defect }) if index < plc.facets.len() => {
                 defects.push((keep[index] as usize, defect));
                 plc.facets.remove(index);
                 keep.remove(index);
             }
             Err(e) => {
-                let e = crate::numbering::renumber(e, msg_first);
+                let e = crate::numbering::renumber(e, input.msg_first);
                 return Err(input_err(format!("{name}: {e}")));
             }
         }
     };
-    let facet_of = if lenient {
-        owner.iter().map(|&f| keep[f as usize]).collect()
-    } else {
-        owner
-    };
-    Ok((
-        Input {
-            path,
-            ext,
-            out,
-            plc,
-            first,
-            msg_first,
-            triangles,
-            facet_of,
-        },
-        defects,
-    ))
+    let facet_of = owner.iter().map(|&f| keep[f as usize]).collect();
+    Ok((input, (triangles, facet_of), defects))
+}
+
+/// Why carving left no tetrahedron: the holes, numbered from `msg_first`.
+fn why_empty(plc: &Plc, msg_first: u32) -> String {
+    let holes: Vec<String> = plc
+        .holes
+        .iter()
+        .enumerate()
+        .map(|(k, h)| {
+            format!(
+                "hole {} at ({}, {}, {})",
+                k as u32 + msg_first,
+                h[0],
+                h[1],
+                h[2]
+            )
+        })
+        .collect();
+    format!(
+        "no tetrahedron left after carving{}",
+        if holes.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ": {} removed every tetrahedron it reached (a hole point in the only region, on a facet or outside the surface removes the whole domain)",
+                holes.join(", ")
+            )
+        }
+    )
 }
 
 /// Runs `delone tet -p`. Returns the exit code (1 when `-C` finds a
@@ -204,80 +220,49 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         plc,
         first: first_in,
         msg_first,
-        triangles,
-        facet_of,
         ..
-    } = load(o)?;
+    } = read_input(o)?;
     crate::guard::plan(crate::args::Mode::Tet, crate::guard::Kind::Domain, o, &out);
     crate::guard::check()?;
     let name = path.display();
+    let opts = TetOptions {
+        size_field: if o.tet.sizing {
+            Some(
+                crate::tetr::plc_sizing(o, &plc.points)
+                    .map_err(|e| input_err(format!("{name}: {e}")))?,
+            )
+        } else {
+            None
+        },
+        ..o.tet.clone()
+    };
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    // Regional volume bounds apply only with `-a` (TetGen's rule, and
-    // `delone tri`'s for regional areas).
-    let regions = plc
-        .regions
-        .iter()
-        .map(|r| Region {
-            max_volume: r.max_volume.filter(|_| o.area),
-            ..r.clone()
-        })
-        .collect();
-    let domain = Domain {
-        holes: plc.holes.clone(),
-        regions,
-        convex_hull: o.convex_hull,
-    };
-    let ropts = RecoverOptions {
-        preserve_surface: o.preserve_surface,
-        merge_coplanar: !o.no_merge,
-        ..Default::default()
-    };
-    let facet_marker: Vec<i32> = facet_of
-        .iter()
-        .map(|&f| plc.facets[f as usize].marker)
-        .collect();
-    crate::tetq::check_bounds(o)?;
-    let (mut rec, refined) =
-        crate::tetq::mesh(o, &plc.points, &triangles, &facet_marker, &ropts, &domain)
-            .map_err(|e| input_err(format!("{name}: {e}")))?;
-    if rec.mesh.tets.is_empty() {
-        let holes: Vec<String> = plc
-            .holes
-            .iter()
-            .enumerate()
-            .map(|(k, h)| {
-                format!(
-                    "hole {} at ({}, {}, {})",
-                    k as u32 + msg_first,
-                    h[0],
-                    h[1],
-                    h[2]
-                )
-            })
-            .collect();
-        return Err(input_err(format!(
-            "{name}: no tetrahedron left after carving{}",
-            if holes.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    ": {} removed every tetrahedron it reached (a hole point in the only region, on a facet or outside the surface removes the whole domain)",
-                    holes.join(", ")
-                )
-            }
-        )));
-    }
-    let t_opt = Instant::now();
-    let optimized =
-        crate::tetq::optimize_mesh(o, &plc.points, &mut rec, refined.as_ref().map(|r| &r.1))
-            .map_err(|e| input_err(format!("{name}: {e}")))?;
-    let t_opt = t_opt.elapsed();
+    let result = delone::tet::mesh(&plc, &opts).map_err(|e| match e {
+        TetError::Input(e) => input_err(format!(
+            "{name}: {}",
+            crate::numbering::renumber(e, msg_first)
+        )),
+        TetError::Bound(e) => usage_err(e.to_string()),
+        TetError::Empty { .. } => input_err(format!("{name}: {}", why_empty(&plc, msg_first))),
+        e => input_err(format!("{name}: {e}")),
+    })?;
+    let TetResult {
+        mesh: rec,
+        triangles,
+        triangle_markers: facet_marker,
+        faces,
+        face_markers,
+        face_triangles,
+        refine: refined,
+        optimize: optimized,
+        optimize_time: t_opt,
+        ..
+    } = result;
     let t_mesh = t1.elapsed();
     let mut code = 0;
     let mut lines =
-        crate::tetq::report(o, &rec, refined.as_ref().map(|r| &r.0), optimized.as_ref())
-            .map_err(input_err)?;
+        crate::tetq::report(o, &rec, refined.as_ref(), optimized.as_ref()).map_err(input_err)?;
     if let Some(r) = &optimized {
         lines.extend(crate::tetq::optimize_lines(o, r));
         lines.push(format!(
@@ -293,23 +278,24 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         &mut lines,
     )?;
     let (bound_code, bound_msg) = refined.as_ref().map_or((0, None), |r| {
-        crate::tetq::bound_status(o, &rec, &r.0, optimized.as_ref())
+        crate::tetq::bound_status(o, &rec, r, optimized.as_ref())
     });
     code = crate::pslg::combine(code, bound_code);
     let t2 = Instant::now();
-    let first = if o.zero { 0 } else { first_in };
+    let first = if o.out().zero { 0 } else { first_in };
     let mut written = Vec::new();
-    if !o.no_node {
+    if !o.out().no_node {
         let p = with_ext(&out, "node");
         write(&p, |f| {
             delone_io::write_node(f, &rec.points, &[], 0, None, first)
         })?;
         written.push(p);
     }
-    let out_mesh = crate::tetout::TetOutput::new(&rec, &facet_marker);
+    let out_mesh =
+        crate::tetout::TetOutput::new(&rec, &facet_marker, (faces, face_markers, face_triangles));
     written.extend(out_mesh.write_all(o, &out, first)?);
     let t_write = t2.elapsed();
-    if !o.quiet {
+    if !o.out().quiet {
         let r = &rec.report;
         println!(
             "delone tet -p: {name} ({} points, {} facets)",
@@ -325,7 +311,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             r.steiner_on_facets,
             r.steiner_interior
         );
-        if o.verbose > 0 {
+        if o.out().verbose > 0 {
             println!(
                 "  regions: {}   holes: {} point(s), {} region(s) removed   hull tetrahedra before carving: {}",
                 rec.regions.len(),
@@ -373,7 +359,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     crate::tetq::print_tail(
-        o.quiet,
+        o.out().quiet,
         &lines,
         || {
             format!(

@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use delone::model::pslg::{Pslg, Region};
 use delone::tri::conforming::check_conforming_delaunay;
-use delone::tri::constrain::{check_cdt, constrained_triangulation, CdtOptions};
+use delone::tri::constrain::check_cdt;
 use delone::tri::quality::SteinerCounts;
-use delone::tri::refine::{refine, RefineOptions, RefineReport, SegmentSplits, UnfixableReason};
+use delone::tri::refine::{RefineReport, SegmentSplits, UnfixableReason};
+use delone::tri::{TriError, TriOptions};
 
 use crate::args::Opts;
-use crate::run::{input_err, Failure};
+use crate::fail::{input_err, Failure};
 
 /// `FILE` or `FILE.poly` → (`FILE.poly`, `FILE`); the output base gets
 /// Triangle's iteration number (`FILE.1`) unless `-I`.
@@ -19,7 +20,7 @@ fn names(o: &Opts) -> (PathBuf, PathBuf, PathBuf) {
     let base = s.strip_suffix(".poly").unwrap_or(&s).to_string();
     let poly = PathBuf::from(format!("{base}.poly"));
     let node = PathBuf::from(format!("{base}.node"));
-    let out = crate::run::output_base(&base, o.no_iteration, o.output_dir.as_deref());
+    let out = crate::paths::output_base(&base, o.out().no_iteration, o.output_dir.as_deref());
     (poly, node, out)
 }
 
@@ -41,15 +42,6 @@ fn angle_range(p: &[[f64; 2]], tris: &[[u32; 3]]) -> (f64, f64) {
     (lo, hi)
 }
 
-/// Triangle's `-Y` / `-YY` as [`SegmentSplits`].
-pub fn segment_splits(o: &Opts) -> SegmentSplits {
-    match o.no_segment_splits {
-        0 => SegmentSplits::All,
-        1 => SegmentSplits::Interior,
-        _ => SegmentSplits::None,
-    }
-}
-
 /// `-C` with `-D`: every triangle truly Delaunay (exact incircle against
 /// every mesh vertex).
 pub fn check_conforming(
@@ -58,7 +50,7 @@ pub fn check_conforming(
     triangles: &[[u32; 3]],
     lines: &mut Vec<String>,
 ) -> i32 {
-    if !(o.check && o.conforming_delaunay) {
+    if !(o.out().check && o.tri.conforming_delaunay) {
         return 0;
     }
     match check_conforming_delaunay(points, triangles) {
@@ -75,14 +67,14 @@ pub fn check_conforming(
 
 /// The summary line of `-D` (None without it).
 pub fn conforming_line(o: &Opts, r: &RefineReport) -> Option<String> {
-    o.conforming_delaunay.then(|| {
+    o.tri.conforming_delaunay.then(|| {
         if r.encroached_subsegments == 0 {
             "  conforming Delaunay: every subsegment has an empty diametral circle".to_string()
         } else {
             format!(
                 "  conforming Delaunay NOT met: {} subsegments still have a vertex in their diametral circle ({})",
                 r.encroached_subsegments,
-                if r.limit_reached { "Steiner limit reached" } else if o.no_segment_splits > 0 { "-Y forbids splitting them" } else { "too short to split" }
+                if r.limit_reached { "Steiner limit reached" } else if o.tri.segment_splits != SegmentSplits::All { "-Y forbids splitting them" } else { "too short to split" }
             )
         }
     })
@@ -180,7 +172,7 @@ pub fn bound_status(o: &Opts, r: &RefineReport) -> (i32, Option<String>) {
     if r.met {
         return (0, None);
     }
-    let q = o.min_angle.unwrap_or(0.0);
+    let q = o.tri.min_angle.unwrap_or(0.0);
     let below = r
         .unfixable
         .iter()
@@ -265,7 +257,7 @@ pub fn unmet(o: &Opts, what: String) -> (i32, Option<String>) {
             format!("bounds NOT met: {what}; exit code 3 (--warn-unmet makes this a warning, exit code 0)"),
         )
     };
-    (code, (!o.quiet).then_some(msg))
+    (code, (!o.out().quiet).then_some(msg))
 }
 
 /// Combines two exit codes: a failure (1, 2) wins over a missed bound (3),
@@ -327,71 +319,45 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     };
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let cdt = constrained_triangulation(
-        &g,
-        CdtOptions {
-            convex_hull: o.convex_hull,
-        },
-    )
-    .map_err(|e| {
-        let what = match &e {
-            delone::Error::SegmentOutOfRange { segment, .. }
-            | delone::Error::ZeroLengthSegment { segment }
-            | delone::Error::SegmentIntersection { segment, .. } => poly
-                .segment_lines
-                .get(*segment)
-                .map(|l| format!(" (segment on line {l})"))
-                .unwrap_or_default(),
-            delone::Error::InvalidCoordinate { index } => node
-                .lines
-                .get(*index)
-                .map(|l| format!(" (point on line {l})"))
-                .unwrap_or_default(),
-            _ => String::new(),
-        };
-        let e = crate::numbering::renumber(e, node.first_index);
-        input_err(format!("{}: {e}{what}", poly_path.display()))
-    })?;
-    if cdt.triangles.is_empty() && !g.points.is_empty() {
-        return Err(input_err(format!(
-            "{}: {}",
-            poly_path.display(),
-            why_empty(&g, node.first_index)
-        )));
-    }
-    let t_mesh = t1.elapsed();
-    let t1 = Instant::now();
-    let refining =
-        o.min_angle.is_some() || o.area || o.max_steiner.is_some() || o.conforming_delaunay;
     // The unrefined mesh, to interpolate point attributes at Steiner points.
-    let initial = (refining && node.n_attributes > 0).then(|| cdt.clone());
-    let (cdt, rep): (_, Option<RefineReport>) = if refining {
-        let r = refine(
-            &cdt,
-            &RefineOptions {
-                min_angle: o.min_angle,
-                max_area: o.max_area,
-                regional_areas: o.area,
-                max_steiner: o.max_steiner,
-                off_centers: true,
-                segment_splits: segment_splits(o),
-                conforming_delaunay: o.conforming_delaunay,
-                threads: crate::threads::effective(o.threads),
-                ..RefineOptions::default()
-            },
-        )
-        .map_err(|e| {
-            let e = crate::numbering::renumber(e, node.first_index);
-            refine_err(&poly_path.display().to_string(), e)
-        })?;
-        (r.mesh, Some(r.report))
-    } else {
-        (cdt, None)
+    let opts = TriOptions {
+        keep_unrefined: node.n_attributes > 0,
+        ..o.tri.clone()
     };
-    let t_refine = t1.elapsed();
+    let name = poly_path.display().to_string();
+    let result = delone::tri::mesh(&g, &opts).map_err(|e| match e {
+        TriError::Input(e) => {
+            let what = match &e {
+                delone::Error::SegmentOutOfRange { segment, .. }
+                | delone::Error::ZeroLengthSegment { segment }
+                | delone::Error::SegmentIntersection { segment, .. } => poly
+                    .segment_lines
+                    .get(*segment)
+                    .map(|l| format!(" (segment on line {l})"))
+                    .unwrap_or_default(),
+                delone::Error::InvalidCoordinate { index } => node
+                    .lines
+                    .get(*index)
+                    .map(|l| format!(" (point on line {l})"))
+                    .unwrap_or_default(),
+                _ => String::new(),
+            };
+            let e = crate::numbering::renumber(e, node.first_index);
+            input_err(format!("{name}: {e}{what}"))
+        }
+        TriError::Empty => input_err(format!("{name}: {}", why_empty(&g, node.first_index))),
+        TriError::Refine(e) => refine_err(&name, crate::numbering::renumber(e, node.first_index)),
+    })?;
+    let delone::tri::TriResult {
+        mesh: cdt,
+        unrefined: initial,
+        refine: rep,
+        refine_time: t_refine,
+    } = result;
+    let t_mesh = t1.elapsed().saturating_sub(t_refine);
     let mut code = 0;
     let mut lines = Vec::new();
-    if o.check {
+    if o.out().check {
         match check_cdt(&g, &cdt) {
             Ok(()) => lines.push("check: constrained Delaunay triangulation is valid".to_string()),
             Err(v) => {
@@ -399,7 +365,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 code = 1;
             }
         }
-        if let (Some(r), Some(q)) = (&rep, o.min_angle) {
+        if let (Some(r), Some(q)) = (&rep, o.tri.min_angle) {
             let small = r
                 .unfixable
                 .iter()
@@ -427,7 +393,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
     }
     let t2 = Instant::now();
-    let first = if o.zero { 0 } else { node.first_index };
+    let first = if o.out().zero { 0 } else { node.first_index };
     let steiner = SteinerCounts {
         crossings: cdt.report.crossings.len(),
         segment_splits: rep.as_ref().map_or(0, |r| r.segment_splits),
@@ -444,11 +410,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         steiner,
     })?;
     if let (Some(path), Some(r)) = (&o.stats_json, &rep) {
-        crate::tri_out::add_refinement_json(path, o.min_angle, r)?;
+        crate::tri_out::add_refinement_json(path, o.tri.min_angle, r)?;
     }
     let bounding: Vec<_> = cdt.segments.iter().filter(|s| s.bounding).collect();
     let t_write = t2.elapsed();
-    if !o.quiet {
+    if !o.out().quiet {
         println!(
             "delone tri -p: {} ({} points, {} segments, {} holes, {} regions)",
             poly_path.display(),
@@ -475,7 +441,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.rejected_circumcenters,
                 if r.met { "met" } else if r.limit_reached { "NOT met (Steiner budget reached)" } else { "NOT met" }
             );
-            if o.verbose > 0 {
+            if o.out().verbose > 0 {
                 println!(
                     "  Steiner budget {} points (about {:.0} MB; -S raises it){}",
                     r.steiner_budget,
@@ -487,7 +453,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 println!("{l}");
             }
         }
-        if o.verbose > 0 {
+        if o.out().verbose > 0 {
             println!(
                 "  read {:.3} s, mesh {:.3} s ({} flips), refine {:.3} s, write {:.3} s",
                 t_read.as_secs_f64(),
@@ -509,7 +475,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 for u in r
                     .unfixable
                     .iter()
-                    .take(if o.verbose > 1 { usize::MAX } else { 10 })
+                    .take(if o.out().verbose > 1 { usize::MAX } else { 10 })
                 {
                     let why = match u.reason {
                         UnfixableReason::SmallInputAngle { apex, input_angle } => format!(
@@ -530,12 +496,12 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                         u.area
                     );
                 }
-                if r.unfixable.len() > 10 && o.verbose < 2 {
+                if r.unfixable.len() > 10 && o.out().verbose < 2 {
                     println!("  ... {} more (-VV lists all)", r.unfixable.len() - 10);
                 }
             }
         }
-        if o.jettison {
+        if o.tri.jettison {
             let mut used = vec![false; cdt.points.len()];
             for t in &cdt.triangles {
                 for &v in t {

@@ -11,7 +11,7 @@ use delone::tri::existing::ExistingMesh;
 use delone::tri::refine::{refine, RefineOptions};
 
 use crate::args::Opts;
-use crate::run::{input_err, Failure};
+use crate::fail::{input_err, Failure};
 
 fn read(path: &Path) -> Result<Vec<u8>, Failure> {
     crate::guard::read(path).map_err(|e| input_err(format!("cannot read {}: {e}", path.display())))
@@ -33,7 +33,7 @@ fn names(o: &Opts) -> (String, PathBuf) {
         .find_map(|x| s.strip_suffix(x))
         .unwrap_or(&s)
         .to_string();
-    let out = crate::run::output_base(&base, o.no_iteration, o.output_dir.as_deref());
+    let out = crate::paths::output_base(&base, o.out().no_iteration, o.output_dir.as_deref());
     (base, out)
 }
 
@@ -90,7 +90,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         (Vec::new(), Vec::new(), Vec::new())
     };
-    let max_areas = if o.area && o.max_area.is_none() {
+    let max_areas = if o.area() && o.max_area().is_none() {
         let area_path = p("area");
         let a = delone_io::read_area(&read(&area_path)?)
             .map_err(|e| input_err(format!("{}: {e}", area_path.display())))?;
@@ -125,14 +125,14 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let r = refine(
         &cdt,
         &RefineOptions {
-            min_angle: o.min_angle,
-            max_area: o.max_area,
-            regional_areas: o.area,
-            max_steiner: o.max_steiner,
+            min_angle: o.tri.min_angle,
+            max_area: o.max_area(),
+            regional_areas: o.area(),
+            max_steiner: o.max_steiner(),
             off_centers: true,
-            segment_splits: crate::pslg::segment_splits(o),
-            conforming_delaunay: o.conforming_delaunay,
-            threads: crate::threads::effective(o.threads),
+            segment_splits: o.tri.segment_splits,
+            conforming_delaunay: o.tri.conforming_delaunay,
+            threads: crate::threads::effective(o.tri.threads),
             ..RefineOptions::default()
         },
     )
@@ -141,7 +141,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     let m = &r.mesh;
     let mut code = 0;
     let mut lines = Vec::new();
-    if o.check {
+    if o.out().check {
         let mut g = Pslg::new(points, segments);
         g.segment_markers = segment_markers;
         match check_cdt(&g, m) {
@@ -164,7 +164,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
     }
-    let first = if o.zero { 0 } else { node.first_index };
+    let first = if o.out().zero { 0 } else { node.first_index };
     let mut markers: Vec<i32> = (0..m.points.len())
         .map(|i| {
             node.markers
@@ -182,19 +182,19 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     let with_ext = |ext: &str| PathBuf::from(format!("{}.{ext}", out.display()));
-    if !o.no_node {
+    if !o.out().no_node {
         write(&with_ext("node"), |f| {
             delone_io::write_node(
                 f,
                 &m.points,
                 &[],
                 0,
-                (!o.no_bound).then_some(&markers[..]),
+                (!o.out().no_bound).then_some(&markers[..]),
                 first,
             )
         })?;
     }
-    if !o.no_ele {
+    if !o.out().no_ele {
         let na = usize::from(!attributes.is_empty());
         let attrs = if na == 1 {
             m.attributes.clone()
@@ -205,7 +205,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             delone_io::write_ele(f, &m.triangles, &attrs, na, first)
         })?;
     }
-    if !o.no_poly {
+    if !o.tri.no_poly {
         let segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.v).collect();
         let sm: Vec<i32> = bounding.iter().map(|s| s.marker).collect();
         write(&with_ext("poly"), |f| {
@@ -213,14 +213,14 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 f,
                 &[],
                 &segs,
-                (!o.no_bound).then_some(&sm[..]),
+                (!o.out().no_bound).then_some(&sm[..]),
                 &holes,
                 &[],
                 first,
             )
         })?;
     }
-    if !o.quiet {
+    if !o.out().quiet {
         println!(
             "delone tri -r: {base} ({} vertices, {} triangles, {} segments)",
             cdt.points.len(),
@@ -239,7 +239,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         if let Some(l) = crate::pslg::conforming_line(o, &r.report) {
             println!("{l}");
         }
-        if o.verbose > 0 {
+        if o.out().verbose > 0 {
             println!(
                 "  read {:.3} s, refine {:.3} s",
                 t_read.as_secs_f64(),

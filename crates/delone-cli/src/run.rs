@@ -9,114 +9,9 @@ use delone_io::topo::{self, Entities};
 use delone_io::{DataArray, NodeFile, Values, VtuFormat};
 
 use crate::args::{Mode, Opts};
+use crate::fail::{input_err, usage_err, Failure};
+use crate::paths::{names, with_ext};
 use crate::progress::Progress;
-
-/// A failed run: message and exit code (1 input/mesh, 2 usage).
-#[derive(Debug)]
-pub struct Failure {
-    pub message: String,
-    pub code: i32,
-}
-
-/// An input or output failure (exit code 1).
-pub(crate) fn input_err(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 1,
-    }
-}
-
-fn usage_err(message: impl Into<String>) -> Failure {
-    Failure {
-        message: message.into(),
-        code: 2,
-    }
-}
-
-/// Input file and output base name, as Triangle/TetGen derive them.
-#[derive(Debug, PartialEq)]
-pub struct Names {
-    /// The `.node` file to read.
-    pub node: PathBuf,
-    /// Output files are `<out_base>.node`, `<out_base>.ele`, ...
-    pub out_base: PathBuf,
-}
-
-const OTHER_FORMATS: &[&str] = &[
-    "poly", "smesh", "off", "ply", "stl", "obj", "mesh", "vtk", "vtu", "ele", "face", "edge",
-    "neigh", "msh", "medit",
-];
-
-/// `FILE` or `FILE.node` → (`FILE.node`, `FILE.1`); `FILE.1.node` → `FILE.2`;
-/// with `no_iteration` the output base is `FILE` itself.
-pub fn names(
-    input: &Path,
-    no_iteration: bool,
-    output_dir: Option<&Path>,
-) -> Result<Names, Failure> {
-    let s = input.to_string_lossy();
-    let base: String = if let Some(b) = s.strip_suffix(".node") {
-        b.to_string()
-    } else {
-        if let Some(ext) = input.extension().and_then(|e| e.to_str()) {
-            if OTHER_FORMATS.contains(&ext.to_ascii_lowercase().as_str()) {
-                return Err(usage_err(format!(
-                    "{s}: .{ext} input needs -p (delone tri -p reads .poly PSLGs; \
-                     other formats are not supported yet)"
-                )));
-            }
-        }
-        s.to_string()
-    };
-    if base.is_empty() || base.ends_with('/') {
-        return Err(usage_err(format!("{s}: not a file name")));
-    }
-    let node = PathBuf::from(format!("{base}.node"));
-    let out_base = output_base(&base, no_iteration, output_dir);
-    Ok(Names { node, out_base })
-}
-
-/// The output base for input base name `base` (no extension): Triangle's
-/// and TetGen's iteration number (`FILE` → `FILE.1`, `FILE.1` → `FILE.2`)
-/// unless `no_iteration`, moved into `output_dir` when given.
-pub(crate) fn output_base(base: &str, no_iteration: bool, output_dir: Option<&Path>) -> PathBuf {
-    let out = if no_iteration {
-        base.to_string()
-    } else {
-        // An iteration number is a trailing ".<digits>" in the file name.
-        let (stem, num) = match base.rsplit_once('.') {
-            Some((stem, n))
-                if !n.is_empty()
-                    && n.len() < 10
-                    && n.bytes().all(|b| b.is_ascii_digit())
-                    && !stem.is_empty()
-                    && !stem.ends_with('/') =>
-            {
-                (stem, n.parse::<u64>().unwrap_or(0))
-            }
-            _ => (base, 0),
-        };
-        format!("{stem}.{}", num + 1)
-    };
-    match output_dir {
-        Some(dir) => {
-            let file = Path::new(&out)
-                .file_name()
-                .map(PathBuf::from)
-                .unwrap_or_default();
-            dir.join(file)
-        }
-        None => PathBuf::from(out),
-    }
-}
-
-/// `base` + `.` + `ext`.
-pub(crate) fn with_ext(base: &Path, ext: &str) -> PathBuf {
-    let mut s = base.as_os_str().to_owned();
-    s.push(".");
-    s.push(ext);
-    PathBuf::from(s)
-}
 
 /// Timings and counts for the summary.
 struct Report {
@@ -200,37 +95,37 @@ fn mesh_error(path: &Path, node: &NodeFile, e: delone::Error) -> Failure {
 /// Runs one subcommand. Returns the exit code on success (0, or 1 when
 /// `-C` found a violation).
 pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
-    if o.pslg && (o.voronoi || o.weights || o.lloyd.is_some()) {
+    if o.pslg() && (o.voronoi() || o.weights() || o.lloyd.is_some()) {
         return Err(usage_err(
             "-v, -w and --lloyd are not supported with -p yet",
         ));
     }
-    if mode == Mode::Tet && o.detect {
+    if mode == Mode::Tet && o.tet.detect {
         return crate::tetd::run(o);
     }
-    if mode == Mode::Tet && o.pslg {
+    if mode == Mode::Tet && o.pslg() {
         return crate::plc::run(o);
     }
-    if mode == Mode::Tri && o.pslg {
+    if mode == Mode::Tri && o.pslg() {
         return crate::pslg::run(o);
     }
-    if mode == Mode::Tet && o.refine_mesh {
+    if mode == Mode::Tet && o.refine_mesh() {
         return crate::tetr::run(o);
     }
-    if mode == Mode::Tri && o.refine_mesh {
+    if mode == Mode::Tri && o.refine_mesh() {
         return crate::remesh::run(o);
     }
-    if (o.convex_hull && mode == Mode::Tet) || o.region_attributes {
+    if (o.convex_hull() && mode == Mode::Tet) || o.region_attributes() {
         return Err(usage_err("switches -c and -A need -p (PSLG input)"));
     }
-    if o.jettison && (o.voronoi || o.weights) {
+    if o.tri.jettison && (o.voronoi() || o.weights()) {
         return Err(usage_err("-j with -v or -w is not supported"));
     }
-    if o.medit_out || o.medit.is_some() || o.gmsh.is_some() {
+    if o.tet.medit || o.medit.is_some() || o.gmsh.is_some() {
         return Err(usage_err("-g, --medit and --gmsh need -p (PLC input)"));
     }
     let t_all = Instant::now();
-    let names = names(&o.input, o.no_iteration, o.output_dir.as_deref())?;
+    let names = names(&o.input, o.out().no_iteration, o.output_dir.as_deref())?;
     let dim = match mode {
         Mode::Tri => 2,
         Mode::Tet => 3,
@@ -239,22 +134,22 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     // Output file list, checked for collisions with the input before any work.
     let ob = &names.out_base;
     let mut planned: Vec<(&'static str, PathBuf)> = Vec::new();
-    if !o.no_node {
+    if !o.out().no_node {
         planned.push(("node", with_ext(ob, "node")));
     }
-    if !o.no_ele {
+    if !o.out().no_ele {
         planned.push(("ele", with_ext(ob, "ele")));
     }
-    if mode == Mode::Tet && !o.no_face {
+    if mode == Mode::Tet && !o.tet.no_face {
         planned.push(("face", with_ext(ob, "face")));
     }
-    if o.edges && !(mode == Mode::Tet && o.no_face) {
+    if o.out().edges && !(mode == Mode::Tet && o.tet.no_face) {
         planned.push(("edge", with_ext(ob, "edge")));
     }
-    if o.neigh {
+    if o.out().neigh {
         planned.push(("neigh", with_ext(ob, "neigh")));
     }
-    if mode == Mode::Tet && o.vtk_legacy {
+    if mode == Mode::Tet && o.tet.vtk_legacy {
         planned.push(("vtk", with_ext(ob, "vtk")));
     }
     let vtu_path = match (&o.vtu, o.vtu_ascii) {
@@ -295,8 +190,8 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         std::fs::create_dir_all(dir)
             .map_err(|e| input_err(format!("cannot create directory {}: {e}", dir.display())))?;
     }
-    let first = if o.zero { 0 } else { node.first_index };
-    let quiet = o.quiet;
+    let first = if o.out().zero { 0 } else { node.first_index };
+    let quiet = o.out().quiet;
     let mut rep = Report { lines: Vec::new() };
     rep.push(format!(
         "delone {}: {} ({} point{}{})",
@@ -310,7 +205,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             String::new()
         }
     ));
-    if o.verbose > 0 && o.fortune {
+    if o.out().verbose > 0 && o.tri.fortune {
         rep.push(
             "  -F: Fortune's sweepline is not used; delone inserts points incrementally \
              (Bowyer-Watson, BRIO + Hilbert order, exact predicates)",
@@ -326,7 +221,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                     "  --lloyd: {k} Lloyd iteration(s) in the bounding box"
                 ));
             }
-            let weights = read_weights_if(o.weights, &names.node, &node, &mut rep)?;
+            let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let res = match &weights {
                 Some(w) => delone::tri::Delaunay2::from_weighted_points(&pts, w),
@@ -343,7 +238,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| mesh_error(&names.node, &node, e))?
                 .into_mesh();
             let t_mesh = t1.elapsed();
-            let check = timed_check(o.check, || match &weights {
+            let check = timed_check(o.out().check, || match &weights {
                 Some(w) => delone::tri::validate_regular(&pts, w, &mesh),
                 None => delone::tri::validate(&pts, &mesh),
             });
@@ -353,7 +248,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 rep.push(l);
             }
             let vor = o
-                .voronoi
+                .voronoi()
                 .then(|| crate::dual::voronoi2(&pts, weights.as_deref(), &mesh))
                 .transpose()?;
             if let Some(v) = &vor {
@@ -382,7 +277,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&edges, node.len());
             // -j: the .node keeps only the vertices of the triangles.
-            let jet = o.jettison.then(|| {
+            let jet = o.tri.jettison.then(|| {
                 let r = crate::jettison::Renumber::new(node.len(), &m.cells, node.len());
                 r.apply(&mut m.cells);
                 r.apply(&mut edges.items);
@@ -401,19 +296,19 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some((n, p, h)) => (n, &p[..], &h[..]),
                 None => (&node, &pts[..], &hull[..]),
             };
-            if o.convex_hull && !o.no_poly {
+            if o.convex_hull() && !o.tri.no_poly {
                 crate::jettison::write_hull_poly(
                     ob,
                     &edges.items,
                     &edges.boundary,
-                    !o.no_bound,
+                    !o.out().no_bound,
                     first,
                     &mut extra,
                 )?;
             }
             let t_derive = t_derive.elapsed();
             let t_o2 = Instant::now();
-            let planned: Vec<_> = if o.second_order {
+            let planned: Vec<_> = if o.tri.second_order {
                 let markers = node_markers(node_w, hull_w, &m.vertex_map);
                 crate::tri_out::write_plain_second_order(
                     o,
@@ -458,7 +353,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         }
         Mode::Tet => {
             let pts = node.points::<3>().unwrap_or_default();
-            let weights = read_weights_if(o.weights, &names.node, &node, &mut rep)?;
+            let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");
             let mut tick = |d, t| prog.update(d, t);
@@ -473,7 +368,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 .map_err(|e| mesh_error(&names.node, &node, e))?
                 .into_mesh();
             let t_mesh = t1.elapsed();
-            let check = timed_check(o.check, || match &weights {
+            let check = timed_check(o.out().check, || match &weights {
                 Some(w) => delone::tet::validate_regular(&pts, w, &mesh),
                 None => delone::tet::validate(&pts, &mesh),
             });
@@ -482,13 +377,13 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             if let Some(l) = crate::dual::hidden_line(&mesh.hidden, first) {
                 rep.push(l);
             }
-            let vor = (o.voronoi || o.cells_vtu.is_some())
+            let vor = (o.voronoi() || o.cells_vtu.is_some())
                 .then(|| crate::dual::voronoi3(&pts, weights.as_deref(), &mesh))
                 .transpose()?;
             if let (Some(path), Some(v)) = (&o.cells_vtu, &vor) {
                 crate::dual::write_tet_cells_vtu(path, &pts, v, first, &mut extra)?;
             }
-            if let Some(v) = vor.as_ref().filter(|_| o.voronoi) {
+            if let Some(v) = vor.as_ref().filter(|_| o.voronoi()) {
                 crate::dual::write_tet_voronoi(ob, v, first, &mut extra)?;
             }
             if let Some(p) = &o.png {
@@ -503,10 +398,10 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 duplicates: mesh.duplicates,
             };
             let t_derive = Instant::now();
-            let faces = topo::tet_faces(&m.cells, &m.neighbors, o.all_faces)
+            let faces = topo::tet_faces(&m.cells, &m.neighbors, o.tet.all_faces)
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&faces, node.len());
-            let edges = if o.edges && !o.no_face {
+            let edges = if o.out().edges && !o.tet.no_face {
                 Some(
                     topo::tet_edges(&m.cells, &m.neighbors)
                         .map_err(|e| input_err(format!("internal error: {e}")))?,
@@ -553,7 +448,7 @@ fn write_outputs<const D: usize, const K: usize>(
 ) -> Result<(Vec<PathBuf>, Duration), Failure> {
     let t = Instant::now();
     let markers = node_markers(node, hull, &m.vertex_map);
-    let bound = !o.no_bound;
+    let bound = !o.out().no_bound;
     let mut written = Vec::new();
     let attr_cols: Vec<Vec<f64>> = (0..node.n_attributes)
         .map(|k| {
@@ -663,7 +558,7 @@ fn summarize<const K: usize, const B: usize>(
     written: &[PathBuf],
     t_all: Instant,
 ) -> Result<i32, Failure> {
-    let f = if o.zero { 0 } else { node.first_index } as usize;
+    let f = if o.out().zero { 0 } else { node.first_index } as usize;
     let fin = node.first_index as usize;
     let (elem, side) = match mode {
         Mode::Tri => ("triangles", "hull edges"),
@@ -674,10 +569,10 @@ fn summarize<const K: usize, const B: usize>(
         m.duplicates.len(),
         m.cells.len()
     ));
-    if o.verbose > 0 {
+    if o.out().verbose > 0 {
         let nhull = boundary.boundary.iter().filter(|&&b| b).count();
         rep.push(format!("  {side}: {nhull}"));
-        let show = if o.verbose > 1 { usize::MAX } else { 20 };
+        let show = if o.out().verbose > 1 { usize::MAX } else { 20 };
         for &(d, orig) in m.duplicates.iter().take(show) {
             rep.push(format!(
                 "  point {} (line {}) duplicates point {}",
@@ -728,7 +623,7 @@ fn summarize<const K: usize, const B: usize>(
         let list: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
         rep.push(format!("  wrote {}", list.join(", ")));
     }
-    if !o.quiet {
+    if !o.out().quiet {
         let mut out = std::io::stdout().lock();
         for l in &rep.lines {
             let _ = writeln!(out, "{l}");
@@ -763,50 +658,4 @@ fn timed_check(
         let r = check().map_err(|v| v.to_string());
         (r, t.elapsed())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn nm(s: &str, i: bool, d: Option<&str>) -> (String, String) {
-        let n = names(Path::new(s), i, d.map(Path::new)).unwrap();
-        (
-            n.node.display().to_string(),
-            n.out_base.display().to_string(),
-        )
-    }
-
-    #[test]
-    fn output_naming() {
-        assert_eq!(
-            nm("a/box.node", false, None),
-            ("a/box.node".into(), "a/box.1".into())
-        );
-        assert_eq!(
-            nm("a/box", false, None),
-            ("a/box.node".into(), "a/box.1".into())
-        );
-        assert_eq!(
-            nm("box.1.node", false, None),
-            ("box.1.node".into(), "box.2".into())
-        );
-        assert_eq!(
-            nm("box.9", false, None),
-            ("box.9.node".into(), "box.10".into())
-        );
-        assert_eq!(
-            nm("box.node", true, None),
-            ("box.node".into(), "box".into())
-        );
-        assert_eq!(
-            nm("v1.2/pts", false, None),
-            ("v1.2/pts.node".into(), "v1.2/pts.1".into())
-        );
-        assert_eq!(
-            nm("in/box.node", false, Some("out")),
-            ("in/box.node".into(), "out/box.1".into())
-        );
-        assert!(names(Path::new("x.poly"), false, None).is_err());
-    }
 }

@@ -10,7 +10,7 @@
 use delone::tet::intersect::{manifold_report, self_intersections};
 
 use crate::args::Opts;
-use crate::run::Failure;
+use crate::fail::Failure;
 
 /// Runs `delone tet -d`.
 pub fn run(o: &Opts) -> Result<i32, Failure> {
@@ -20,12 +20,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             ext,
             plc,
             msg_first,
-            triangles,
-            facet_of,
             ..
         },
+        (triangles, facet_of),
         defects,
-    ) = crate::plc::load_with(o, true)?;
+    ) = crate::plc::load_lenient(o)?;
     let name = path.display();
     let first = msg_first as usize;
     let si = self_intersections(&plc.points, &triangles);
@@ -70,7 +69,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         m.boundary_edges.len() + m.nonmanifold_edges.len()
     };
     let found = !pairs.is_empty() || !degenerate.is_empty() || open > 0;
-    if o.quiet {
+    if o.out().quiet {
         if found {
             eprintln!(
                 "delone: {name}: {} intersecting facet pair(s), {} degenerate facet(s), {} open or non-manifold edge(s)",
@@ -109,7 +108,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
             )
         }
     );
-    let shown = if o.verbose > 0 { usize::MAX } else { 20 };
+    let shown = if o.out().verbose > 0 { usize::MAX } else { 20 };
     for (a, b) in pairs.iter().take(shown) {
         println!("  facets {a} and {b} intersect");
     }

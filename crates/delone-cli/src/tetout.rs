@@ -16,21 +16,9 @@ use delone::tet::recover::Recovered;
 use delone::NONE;
 
 use crate::args::Opts;
-use crate::plc::write;
-use crate::run::{with_ext, Failure};
-
-/// `mesh.face.vtu` beside `mesh.vtu` (`mesh.face.vtk` beside `mesh.vtk`):
-/// the faces on input facets, as triangles with a `boundary_marker` cell
-/// array, on the same points as the tetrahedra.
-pub(crate) fn face_companion(p: &Path) -> PathBuf {
-    let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("vtu");
-    let ext = if ext.eq_ignore_ascii_case("vtk") {
-        "vtk"
-    } else {
-        "vtu"
-    };
-    p.with_extension(format!("face.{ext}"))
-}
+use crate::fail::Failure;
+use crate::guard::write;
+use crate::paths::{face_companion, with_ext};
 
 fn fkey(f: [u32; 3]) -> [u32; 3] {
     let mut k = f;
@@ -53,30 +41,16 @@ pub struct TetOutput<'a> {
 }
 
 impl<'a> TetOutput<'a> {
-    /// Gathers the faces of `rec` with the markers of their input triangles
-    /// (`tri_marker[t]` is the marker of triangle `t`'s facet).
-    pub fn new(rec: &'a Recovered, tri_marker: &'a [i32]) -> Self {
-        let mut faces = Vec::with_capacity(rec.boundary.len() + rec.interior_faces.len());
-        let mut face_triangle = Vec::with_capacity(faces.capacity());
-        for (f, &t) in rec
-            .boundary
-            .iter()
-            .zip(&rec.boundary_triangle)
-            .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
-        {
-            faces.push(*f);
-            // Faces name triangles of `rec.surface`; markers come from the
-            // input triangle (facet) each of those replaces.
-            face_triangle.push(if t == NONE {
-                NONE
-            } else {
-                rec.surface_origin.get(t as usize).copied().unwrap_or(t)
-            });
-        }
-        let face_marker = face_triangle
-            .iter()
-            .map(|&t| tri_marker.get(t as usize).copied().unwrap_or(0))
-            .collect();
+    /// The mesh `rec` with its faces on input triangles, their markers
+    /// and input triangles (`marked`, as
+    /// [`delone::tet::pipeline::marked_faces`] gives them); `tri_marker[t]`
+    /// is the marker of input triangle `t`'s facet.
+    pub fn new(
+        rec: &'a Recovered,
+        tri_marker: &'a [i32],
+        marked: (Vec<[u32; 3]>, Vec<i32>, Vec<u32>),
+    ) -> Self {
+        let (faces, face_marker, face_triangle) = marked;
         TetOutput {
             rec,
             faces,
@@ -115,7 +89,7 @@ impl<'a> TetOutput<'a> {
     /// Whether the VTK outputs carry the region attribute: with `-A`, or
     /// when the input names regions or the domain has several.
     fn has_regions(&self, o: &Opts) -> bool {
-        o.region_attributes
+        o.region_attributes()
             || self.rec.regions.len() > 1
             || self.rec.regions.iter().any(|r| r.seed.is_some())
     }
@@ -177,40 +151,50 @@ impl<'a> TetOutput<'a> {
     pub fn write_all(&self, o: &Opts, out: &Path, first: u32) -> Result<Vec<PathBuf>, Failure> {
         let rec = self.rec;
         let mut written = Vec::new();
-        if !o.no_ele {
+        if !o.out().no_ele {
             let p = with_ext(out, "ele");
-            let attrs = if o.region_attributes {
+            let attrs = if o.region_attributes() {
                 self.attributes()
             } else {
                 Vec::new()
             };
-            let n = usize::from(o.region_attributes);
+            let n = usize::from(o.region_attributes());
             write(&p, |f| {
                 delone_io::write_ele(f, &rec.mesh.tets, &attrs, n, first)
             })?;
             written.push(p);
         }
-        if !o.no_face {
+        if !o.tet.no_face {
             let p = with_ext(out, "face");
-            let (faces, markers) = if o.all_faces {
+            let (faces, markers) = if o.tet.all_faces {
                 self.all_faces()?
             } else {
                 (self.faces.clone(), self.face_marker.clone())
             };
             write(&p, |f| {
-                delone_io::write_face(f, &faces, (!o.no_bound).then_some(&markers[..]), first)
+                delone_io::write_face(
+                    f,
+                    &faces,
+                    (!o.out().no_bound).then_some(&markers[..]),
+                    first,
+                )
             })?;
             written.push(p);
-            if o.edges {
+            if o.out().edges {
                 let p = with_ext(out, "edge");
                 let (edges, markers) = self.edges()?;
                 write(&p, |f| {
-                    delone_io::write_edge(f, &edges, (!o.no_bound).then_some(&markers[..]), first)
+                    delone_io::write_edge(
+                        f,
+                        &edges,
+                        (!o.out().no_bound).then_some(&markers[..]),
+                        first,
+                    )
                 })?;
                 written.push(p);
             }
         }
-        if o.neigh {
+        if o.out().neigh {
             let p = with_ext(out, "neigh");
             write(&p, |f| {
                 delone_io::write_neigh(f, &rec.mesh.neighbors, first)
@@ -255,7 +239,7 @@ impl<'a> TetOutput<'a> {
             })?;
             written.push(p);
         }
-        if o.vtk_legacy {
+        if o.tet.vtk_legacy {
             let p = with_ext(out, "vtk");
             write(&p, |f| {
                 delone_io::write_vtk_legacy(
@@ -282,7 +266,7 @@ impl<'a> TetOutput<'a> {
             written.push(p);
         }
         let mut medit = o.medit.clone();
-        if o.medit_out && medit.is_none() {
+        if o.tet.medit && medit.is_none() {
             medit = Some(with_ext(out, "mesh"));
         }
         if let Some(p) = &medit {

@@ -1,61 +1,12 @@
 //! `delone tet -pq[B] -a[V] -S[n]`: Delaunay refinement after recovery, and
 //! the quality statistics (`-V`, `--stats-json FILE`).
 
-use delone::tet::optimize::{optimize, OptimizeOptions, OptimizeReport};
+use delone::tet::optimize::OptimizeReport;
 use delone::tet::quality::{TetStats, DIHEDRAL_BINS};
-use delone::tet::recover::{recover_marked, Domain, RecoverOptions, Recovered};
-use delone::tet::refine::{refine_recovered, RefineOptions, RefineReport};
+use delone::tet::recover::Recovered;
+use delone::tet::refine::RefineReport;
 
 use crate::args::Opts;
-
-/// Recovery alone (`-p`), or recovery and refinement when `-q`/`-a` is
-/// given (`markers`: per input triangle, its facet's marker). Returns the mesh, the refinement report and options if any, and the name of
-/// the stage for timing lines.
-pub fn mesh(
-    o: &Opts,
-    points: &[[f64; 3]],
-    triangles: &[[u32; 3]],
-    markers: &[i32],
-    ropts: &RecoverOptions,
-    domain: &Domain,
-) -> Result<(Recovered, Option<(RefineReport, RefineOptions)>), String> {
-    if o.tet_ratio.is_none() && !o.area && !o.sizing {
-        return recover_marked(points, triangles, markers, ropts, domain)
-            .map(|r| (r, None))
-            .map_err(|e| e.to_string());
-    }
-    let mut opts = RefineOptions {
-        keep_surface: ropts.preserve_surface,
-        max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
-        max_volume: o.max_area,
-        sizing: crate::tetr::plc_sizing(o, points)?,
-        ..RefineOptions::default()
-    };
-    if let Some(s) = o.max_steiner {
-        opts.max_steiner = s;
-    }
-    let rec =
-        recover_marked(points, triangles, markers, ropts, domain).map_err(|e| e.to_string())?;
-    let r = refine_recovered(points, triangles, &rec, &opts).map_err(|e| e.to_string())?;
-    Ok((r.rec, Some((r.report, opts))))
-}
-
-/// Refuses `-q`/`-a` bounds no mesh can meet before any work (usage error,
-/// exit code 2, naming the switch and the reason).
-pub fn check_bounds(o: &Opts) -> Result<(), crate::run::Failure> {
-    if o.tet_ratio.is_none() && o.max_area.is_none() {
-        return Ok(());
-    }
-    let opts = RefineOptions {
-        max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
-        max_volume: o.max_area,
-        ..RefineOptions::default()
-    };
-    opts.check_bounds().map_err(|e| crate::run::Failure {
-        message: e.to_string(),
-        code: 2,
-    })
-}
 
 /// What the run says about the bounds after refinement and optimisation:
 /// `(exit code, message for stderr)`. The Steiner budget stopping the
@@ -92,7 +43,7 @@ pub fn bound_status(
         parts.push(format!(
             "{} above the -q radius-edge ratio {} ({})",
             m.ratio,
-            o.tet_ratio.unwrap_or(f64::INFINITY),
+            o.tet.max_radius_edge.unwrap_or(f64::INFINITY),
             if m.ratio_final {
                 why
             } else {
@@ -116,8 +67,8 @@ pub fn bound_status(
         if *n > 0 {
             parts.push(format!(
                 "{n} with a dihedral angle below {} deg or above {} deg ({why})",
-                o.tet_min_dihedral.unwrap_or(0.0),
-                180.0 - o.tet_min_dihedral.unwrap_or(0.0)
+                o.tet.min_dihedral.unwrap_or(0.0),
+                180.0 - o.tet.min_dihedral.unwrap_or(0.0)
             ));
         }
     }
@@ -167,13 +118,13 @@ impl Missed {
     ) -> Missed {
         use delone::tet::quality::dihedral_angles;
         let (above_ratio, volume, _) = final_counts(o, rec);
-        let ratio_final = o.keep_ratio || optimized.is_none();
+        let ratio_final = o.tet.keep_ratio || optimized.is_none();
         let ratio = if ratio_final {
             above_ratio
         } else {
             above_ratio.min(r.remaining_bad)
         };
-        let dihedral = o.tet_min_dihedral.map(|d| match optimized {
+        let dihedral = o.tet.min_dihedral.map(|d| match optimized {
             Some(x) if (x.bad.angle - d).abs() < 1e-12 => {
                 let b = &x.bad;
                 let mut why = Vec::new();
@@ -214,42 +165,6 @@ impl Missed {
     }
 }
 
-/// Mesh optimisation (`-O`): on by default after refinement, on request
-/// after plain recovery; `None` when off.
-pub fn optimize_mesh(
-    o: &Opts,
-    points: &[[f64; 3]],
-    rec: &mut Recovered,
-    refined: Option<&RefineOptions>,
-) -> Result<Option<OptimizeReport>, String> {
-    let level = o
-        .tet_optimize
-        .unwrap_or(if refined.is_some() { 3 } else { 0 });
-    if level == 0 {
-        return Ok(None);
-    }
-    // After refinement the optimisation keeps its size bounds (-a, the
-    // regional volumes, -m), and with --keep-ratio the -q bound.
-    let mut opts = OptimizeOptions {
-        input_points: Some(points.len()),
-        ..OptimizeOptions::level(level)
-    };
-    if let Some(d) = o.tet_min_dihedral {
-        opts.min_dihedral = d;
-    }
-    // -Y keeps the surface as recovered: no point slides on it.
-    if o.preserve_surface {
-        opts.smooth_boundary = false;
-    }
-    if let Some(r) = refined {
-        opts = opts.keeping(r);
-        if o.keep_ratio {
-            opts.max_radius_edge = Some(r.max_radius_edge).filter(|b| b.is_finite());
-        }
-    }
-    optimize(rec, &opts).map(Some).map_err(|e| e.to_string())
-}
-
 /// Summary lines of the optimisation (dihedral angles before and after
 /// with `-V`).
 pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
@@ -273,7 +188,7 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
         r.stuck_counts[1],
         r.stuck_counts[2],
     )];
-    if o.verbose > 0 {
+    if o.out().verbose > 0 {
         lines.push(format!(
             "optimization: dihedral {:.2}..{:.2} deg -> {:.2}..{:.2} deg, shape min {:.4} -> {:.4}, {} -> {} tetrahedra",
             r.before.min_dihedral,
@@ -299,7 +214,11 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
             lo = *b;
         }
         lines.push(h);
-        for s in r.stuck.iter().take(if o.verbose > 1 { 32 } else { 3 }) {
+        for s in r
+            .stuck
+            .iter()
+            .take(if o.out().verbose > 1 { 32 } else { 3 })
+        {
             lines.push(crate::tetq_bound::stuck_line(s));
         }
     }
@@ -335,7 +254,7 @@ pub fn report(
             r.remaining_over_volume,
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
-        if o.verbose > 0 {
+        if o.out().verbose > 0 {
             lines.push(format!(
                 "Steiner budget {} points (about {:.0} MB; -S raises it){}",
                 r.steiner_budget,
@@ -343,23 +262,23 @@ pub fn report(
                 if r.budget_exhausted { ", reached" } else { "" }
             ));
         }
-        if r.remaining_bad > 0 && o.verbose > 0 {
+        if r.remaining_bad > 0 && o.out().verbose > 0 {
             lines.push(crate::tetq_left::left_line(r));
         }
         lines.push(bounds_line(o, rec));
-        if o.verbose > 0 && o.tet_ratio.is_some() {
+        if o.out().verbose > 0 && o.tet.max_radius_edge.is_some() {
             let m = Missed::of(o, rec, r, optimized);
             if m.raised > 0 {
                 lines.push(raised_line(m.raised));
             }
         }
     }
-    let want_stats = o.verbose > 0 || o.stats_json.is_some();
+    let want_stats = o.out().verbose > 0 || o.stats_json.is_some();
     if !want_stats {
         return Ok(lines);
     }
     let s = TetStats::of(&rec.points, &rec.mesh.tets);
-    if o.verbose > 0 {
+    if o.out().verbose > 0 {
         lines.push(format!(
             "quality: dihedral {:.2}..{:.2} deg, radius-edge {:.3}..{:.3} (mean {:.3}), shape min {:.4} mean {:.4}, volume {:.4e}..{:.4e} (total {:.6e})",
             s.min_dihedral,
@@ -393,7 +312,7 @@ pub fn report(
 /// volume.
 fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
     use delone::tet::quality::{radius_edge_ratio, volume};
-    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let ratio = o.tet.max_radius_edge.unwrap_or(f64::INFINITY);
     let (mut above_ratio, mut above_volume, mut largest) = (0usize, 0usize, 0.0f64);
     for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
         let p = tv.map(|q| rec.points[q as usize]);
@@ -406,8 +325,8 @@ fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
             .regions
             .get(g as usize)
             .and_then(|r| r.max_volume)
-            .filter(|&b| b > 0.0 && o.area);
-        let bound = match (o.max_area, regional) {
+            .filter(|&b| b > 0.0 && o.area());
+        let bound = match (o.max_area(), regional) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
@@ -423,7 +342,7 @@ fn final_counts(o: &Opts, rec: &Recovered) -> (usize, usize, f64) {
 /// (`-q`) and above their volume bound (`-a`, global or regional), and the
 /// largest volume.
 pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
-    let ratio = o.tet_ratio.unwrap_or(f64::INFINITY);
+    let ratio = o.tet.max_radius_edge.unwrap_or(f64::INFINITY);
     let (above_ratio, above_volume, largest) = final_counts(o, rec);
     let mut l = String::from("bounds (final mesh):");
     if ratio.is_finite() {
@@ -431,7 +350,7 @@ pub fn bounds_line(o: &Opts, rec: &Recovered) -> String {
             " {above_ratio} tetrahedra above the radius-edge bound {ratio};"
         ));
     }
-    if o.area {
+    if o.area() {
         l.push_str(&format!(
             " {above_volume} tetrahedra above the volume bound;"
         ));
@@ -447,9 +366,9 @@ pub fn check_and_prepare<E: std::fmt::Display>(
     check: impl FnOnce() -> Result<(), E>,
     what: &str,
     lines: &mut Vec<String>,
-) -> Result<i32, crate::run::Failure> {
+) -> Result<i32, crate::fail::Failure> {
     let mut code = 0;
-    if o.check {
+    if o.out().check {
         match check() {
             Ok(()) => lines.push(format!(
                 "check (-C): {what}, tetrahedra positive, volume preserved"
@@ -462,7 +381,7 @@ pub fn check_and_prepare<E: std::fmt::Display>(
     }
     if let Some(dir) = &o.output_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
-            crate::run::input_err(format!("cannot create directory {}: {e}", dir.display()))
+            crate::fail::input_err(format!("cannot create directory {}: {e}", dir.display()))
         })?;
     }
     Ok(code)

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+use delone::tet::pipeline::optimize_stage;
 use delone::tet::recover::check_recovered;
 use delone::tet::refine::existing::refine_mesh;
 use delone::tet::refine::sizing::{Background, Sizing};
@@ -21,8 +22,9 @@ use delone::tet::refine::RefineOptions;
 use delone::NONE;
 
 use crate::args::Opts;
-use crate::plc::write;
-use crate::run::{input_err, with_ext, Failure};
+use crate::fail::{input_err, usage_err, Failure};
+use crate::guard::write;
+use crate::paths::with_ext;
 
 fn read_file(p: &Path) -> Result<Vec<u8>, String> {
     crate::guard::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()))
@@ -112,7 +114,7 @@ pub fn load_sizing(base: &Path, points: &[[f64; 3]], tets: &[[u32; 4]]) -> Resul
 
 /// `-m` with `-p`: the sizing for the PLC/surface input `o.input`.
 pub fn plc_sizing(o: &Opts, points: &[[f64; 3]]) -> Result<Sizing, String> {
-    if !o.sizing {
+    if !o.tet.sizing {
         return Ok(Sizing::None);
     }
     const EXT: [&str; 8] = ["poly", "smesh", "off", "stl", "ply", "obj", "mesh", "node"];
@@ -131,7 +133,7 @@ pub fn plc_sizing(o: &Opts, points: &[[f64; 3]]) -> Result<Sizing, String> {
 /// Runs `delone tet -r`.
 pub fn run(o: &Opts) -> Result<i32, Failure> {
     let t_all = Instant::now();
-    let names = crate::run::names(&o.input, o.no_iteration, o.output_dir.as_deref())?;
+    let names = crate::paths::names(&o.input, o.out().no_iteration, o.output_dir.as_deref())?;
     let node_s = names.node.to_string_lossy();
     let base = PathBuf::from(node_s.strip_suffix(".node").unwrap_or(&node_s));
     let out = names.out_base;
@@ -145,22 +147,22 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     } else {
         (Vec::new(), None)
     };
-    let sizing = if o.sizing {
+    let sizing = if o.tet.sizing {
         load_sizing(&base, &points, &tets).map_err(input_err)?
     } else {
         Sizing::None
     };
     crate::guard::check()?;
-    crate::tetq::check_bounds(o)?;
+    o.tet.check_bounds().map_err(|e| usage_err(e.to_string()))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
     let mut opts = RefineOptions {
-        max_radius_edge: o.tet_ratio.unwrap_or(f64::INFINITY),
-        max_volume: o.max_area,
+        max_radius_edge: o.tet.max_radius_edge.unwrap_or(f64::INFINITY),
+        max_volume: o.max_area(),
         sizing,
         ..RefineOptions::default()
     };
-    if let Some(s) = o.max_steiner {
+    if let Some(s) = o.max_steiner() {
         opts.max_steiner = s;
     }
     let name = base.display();
@@ -168,7 +170,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let mut rec = r.refined.rec;
     let report = r.refined.report;
-    let optimized = crate::tetq::optimize_mesh(o, &points, &mut rec, Some(&opts))
+    let optimized = optimize_stage(&o.tet, points.len(), &mut rec, Some(&opts))
         .map_err(|e| input_err(format!("{name}: {e}")))?;
     let t_mesh = t1.elapsed();
     // Markers: a listed face's, else 1 (boundary and region interfaces).
@@ -192,9 +194,9 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         "every boundary/interface face of the input mesh is a union of mesh faces",
         &mut lines,
     )?;
-    let first = if o.zero { 0 } else { first_in };
+    let first = if o.out().zero { 0 } else { first_in };
     let mut written = Vec::new();
-    if !o.no_node {
+    if !o.out().no_node {
         let p = with_ext(&out, "node");
         write(&p, |f| {
             delone_io::write_node(f, &rec.points, &[], 0, None, first)
@@ -202,10 +204,11 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         written.push(p);
     }
     let mut oo = o.clone();
-    oo.region_attributes |= !attributes.is_empty();
-    let out_mesh = crate::tetout::TetOutput::new(&rec, &tri_marker);
+    oo.tet.region_attributes |= !attributes.is_empty();
+    let marked = delone::tet::pipeline::marked_faces(&rec, &tri_marker);
+    let out_mesh = crate::tetout::TetOutput::new(&rec, &tri_marker, marked);
     written.extend(out_mesh.write_all(&oo, &out, first)?);
-    if !o.quiet {
+    if !o.out().quiet {
         println!(
             "delone tet -r: {name} ({} points, {} tetrahedra, {} constraint faces)",
             points.len(),
@@ -226,7 +229,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
         }
     }
     crate::tetq::print_tail(
-        o.quiet,
+        o.out().quiet,
         &lines,
         || {
             format!(

@@ -1,6 +1,6 @@
 //! `delone tri --threads N`: threads for quality refinement.
 
-use crate::args::Usage;
+use crate::fail::Usage;
 
 /// Parses the value of `--threads`: a whole number from 1 to 64.
 pub fn parse(v: &str) -> Result<usize, Usage> {

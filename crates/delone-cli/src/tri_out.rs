@@ -22,13 +22,15 @@ use std::path::{Path, PathBuf};
 
 use delone::model::pslg::Pslg;
 use delone::tri::constrain::Cdt;
+use delone::tri::pipeline::{edge_key, hull_edge_keys, vertex_markers};
 use delone::tri::quality::{SteinerCounts, TriStats, TriangleQuality, ASPECT_BINS};
 use delone::NONE;
 use delone_io::{DataArray, NodeFile, SvgLayer, SvgStyle, Values, VtuFormat};
 
 use crate::args::Opts;
+use crate::fail::{input_err as fail, Failure};
 use crate::jettison::Renumber;
-use crate::run::{input_err as fail, with_ext, Failure};
+use crate::paths::with_ext;
 
 fn write(
     path: &Path,
@@ -56,71 +58,16 @@ fn renumbered<'a, const K: usize>(
     }
 }
 
-#[inline]
-fn key(a: u32, b: u32) -> u64 {
-    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
-}
-
-/// The edges of a triangulation with one triangle (sorted keys).
-fn boundary_keys(tris: &[[u32; 3]], nbrs: &[[u32; 3]]) -> Vec<u64> {
-    let mut b: Vec<u64> = tris
-        .iter()
-        .zip(nbrs)
-        .flat_map(|(t, n)| {
-            (0..3)
-                .filter(move |&k| n[k] == NONE)
-                .map(move |k| key(t[(k + 1) % 3], t[(k + 2) % 3]))
-        })
-        .collect();
-    b.sort_unstable();
-    b.dedup();
-    b
-}
-
 /// Subsegment markers by edge key, sorted (the first subsegment of an edge
 /// wins, as in the subsegment order).
 fn segment_lookup(subsegs: &[([u32; 2], i32)]) -> Vec<(u64, i32)> {
-    let mut v: Vec<(u64, i32)> = subsegs.iter().map(|&(s, m)| (key(s[0], s[1]), m)).collect();
+    let mut v: Vec<(u64, i32)> = subsegs
+        .iter()
+        .map(|&(s, m)| (edge_key(s[0], s[1]), m))
+        .collect();
     v.sort_by_key(|&(k, _)| k); // stable: the first one of equal keys first
     v.dedup_by_key(|e| e.0);
     v
-}
-
-/// Output vertex markers, Triangle's documented rule: an input point's own
-/// nonzero marker; else the nonzero marker of a segment it lies on (the
-/// first such subsegment in order); else 1 on the boundary of the
-/// triangulation (holes included); else 0.
-///
-/// `input` holds the input points' markers (fewer entries than points: the
-/// Steiner points have none).
-pub fn vertex_markers(
-    n: usize,
-    input: &[i32],
-    subsegs: &[([u32; 2], i32)],
-    tris: &[[u32; 3]],
-    nbrs: &[[u32; 3]],
-) -> Vec<i32> {
-    let mut m = vec![0i32; n];
-    for (i, &x) in input.iter().enumerate().take(n) {
-        m[i] = x;
-    }
-    for &(s, mk) in subsegs {
-        if mk != 0 {
-            for v in s {
-                if m[v as usize] == 0 {
-                    m[v as usize] = mk;
-                }
-            }
-        }
-    }
-    for k in boundary_keys(tris, nbrs) {
-        for v in [(k >> 32) as usize, (k & 0xffff_ffff) as usize] {
-            if m[v] == 0 {
-                m[v] = 1;
-            }
-        }
-    }
-    m
 }
 
 /// Output edge markers, Triangle's documented rule: the marker of the
@@ -136,7 +83,7 @@ pub fn edge_markers(
         .zip(boundary)
         .map(|(e, &b)| {
             let s = look
-                .binary_search_by_key(&key(e[0], e[1]), |&(k, _)| k)
+                .binary_search_by_key(&edge_key(e[0], e[1]), |&(k, _)| k)
                 .map_or(0, |i| look[i].1);
             if s != 0 {
                 s
@@ -398,7 +345,7 @@ pub struct PslgOut<'a> {
 /// `--stats-json`, the statistics.
 pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), Failure> {
     let (o, cdt, g) = (p.o, p.cdt, p.g);
-    let bound = !o.no_bound;
+    let bound = !o.out().no_bound;
     let mut written = Vec::new();
     let n = cdt.points.len();
     let n_in = g.points.len();
@@ -420,6 +367,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
         .map_err(|e| fail(format!("internal error: {e}")))?;
     let emark = edge_markers(&edges.items, &edges.boundary, &bounding);
     let quad = o
+        .tri
         .second_order
         .then(|| Quadratic::new(&cdt.points, &cdt.triangles, &cdt.neighbors));
     // Points, attributes and markers, with the midpoints appended for -o2.
@@ -439,14 +387,14 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
                     .items
                     .iter()
                     .zip(&emark)
-                    .map(|(e, &m)| (key(e[0], e[1]), m))
+                    .map(|(e, &m)| (edge_key(e[0], e[1]), m))
                     .collect();
                 v.sort_unstable();
                 v
             };
             let mut mk = markers.clone();
             for e in &q.edges {
-                let k = key(e[0], e[1]);
+                let k = edge_key(e[0], e[1]);
                 mk.push(
                     look.binary_search_by_key(&k, |&(x, _)| x)
                         .map_or(0, |i| look[i].1),
@@ -460,6 +408,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     let mk = all_markers.as_deref().unwrap_or(&markers);
     // -j: only the vertices of the triangles (and the -o2 midpoints), renumbered.
     let jet = o
+        .tri
         .jettison
         .then(|| Renumber::new(pts.len(), &cdt.triangles, cdt.points.len()));
     let jrows = jet
@@ -471,26 +420,26 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
     };
     let jet = jet.as_ref();
     let first = p.first;
-    if !o.no_node {
+    if !o.out().no_node {
         write(&with_ext(p.out, "node"), &mut written, |f| {
             delone_io::write_node(f, pts, at, na, bound.then_some(mk), first)
         })?;
     }
-    let (eattrs, nea) = if o.region_attributes {
+    let (eattrs, nea) = if o.region_attributes() {
         (cdt.attributes.clone(), 1)
     } else {
         (Vec::new(), 0)
     };
-    if !o.no_ele {
+    if !o.out().no_ele {
         write(&with_ext(p.out, "ele"), &mut written, |f| match &quad {
             Some(q) => delone_io::write_ele(f, &renumbered(jet, &q.triangles), &eattrs, nea, first),
             None => delone_io::write_ele(f, &renumbered(jet, &cdt.triangles), &eattrs, nea, first),
         })?;
     }
-    if !o.no_poly {
+    if !o.tri.no_poly {
         // The subsegments, then the boundary edges that are not (-c hulls).
         let look = segment_lookup(&bounding);
-        let hull = boundary_keys(&cdt.triangles, &cdt.neighbors);
+        let hull = hull_edge_keys(&cdt.triangles, &cdt.neighbors);
         let mut segs: Vec<[u32; 2]> = bounding.iter().map(|s| s.0).collect();
         let mut sm: Vec<i32> = bounding
             .iter()
@@ -498,13 +447,13 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
                 if m != 0 {
                     m
                 } else {
-                    i32::from(hull.binary_search(&key(s[0], s[1])).is_ok())
+                    i32::from(hull.binary_search(&edge_key(s[0], s[1])).is_ok())
                 }
             })
             .collect();
         for (e, &b) in edges.items.iter().zip(&edges.boundary) {
             if b && look
-                .binary_search_by_key(&key(e[0], e[1]), |&(k, _)| k)
+                .binary_search_by_key(&edge_key(e[0], e[1]), |&(k, _)| k)
                 .is_err()
             {
                 segs.push(*e);
@@ -529,7 +478,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.edges {
+    if o.out().edges {
         write(&with_ext(p.out, "edge"), &mut written, |f| {
             delone_io::write_edge(
                 f,
@@ -539,7 +488,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             )
         })?;
     }
-    if o.neigh {
+    if o.out().neigh {
         write(&with_ext(p.out, "neigh"), &mut written, |f| {
             delone_io::write_neigh(f, &cdt.neighbors, first)
         })?;
@@ -579,7 +528,7 @@ pub fn write_pslg(p: &PslgOut<'_>) -> Result<(Vec<PathBuf>, Option<TriStats>), F
             name: "min_angle",
             values: Values::Float64(&min_angle),
         }];
-        if o.region_attributes {
+        if o.region_attributes() {
             cd.push(DataArray {
                 name: "region_attribute",
                 values: Values::Float64(&cdt.attributes),
@@ -643,7 +592,7 @@ pub fn write_plain_second_order(
     written: &mut Vec<PathBuf>,
 ) -> Result<(), Failure> {
     let q = Quadratic::new(m.points, m.triangles, m.neighbors);
-    let hull = boundary_keys(m.triangles, m.neighbors);
+    let hull = hull_edge_keys(m.triangles, m.neighbors);
     let na = m.node.n_attributes;
     let mut pts = m.points.to_vec();
     pts.extend_from_slice(&q.points);
@@ -653,9 +602,9 @@ pub fn write_plain_second_order(
         for k in 0..na {
             at.push(0.5 * (at[e[0] as usize * na + k] + at[e[1] as usize * na + k]));
         }
-        mk.push(i32::from(hull.binary_search(&key(e[0], e[1])).is_ok()));
+        mk.push(i32::from(hull.binary_search(&edge_key(e[0], e[1])).is_ok()));
     }
-    let bound = !o.no_bound;
+    let bound = !o.out().no_bound;
     for (kind, path) in planned {
         match *kind {
             "node" => write(path, written, |f| {
@@ -699,7 +648,7 @@ pub fn stats_if(
     steiner: Option<SteinerCounts>,
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<TriStats>, Failure> {
-    if o.verbose == 0 && o.stats_json.is_none() {
+    if o.out().verbose == 0 && o.stats_json.is_none() {
         return Ok(None);
     }
     let mut s =
@@ -913,7 +862,7 @@ pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Resu
                 .map(|&v| pic.points[v as usize]),
         )
         .collect();
-    let b = crate::dual::bbox(if used.is_empty() { pic.points } else { &used });
+    let b = crate::tri_out::bbox(if used.is_empty() { pic.points } else { &used });
     let pad = 0.02 * (b[1][0] - b[0][0]).max(b[1][1] - b[0][1]);
     let view = [
         [b[0][0] - pad, b[0][1] - pad],
@@ -967,6 +916,27 @@ pub fn pictures(o: &Opts, pic: &Picture<'_>, written: &mut Vec<PathBuf>) -> Resu
         view
     };
     emit(o, view, &layers, written)
+}
+
+/// Bounding box of `pts` (a unit box around a single point).
+pub fn bbox(pts: &[[f64; 2]]) -> [[f64; 2]; 2] {
+    let mut b = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
+    for p in pts {
+        for k in 0..2 {
+            b[0][k] = b[0][k].min(p[k]);
+            b[1][k] = b[1][k].max(p[k]);
+        }
+    }
+    let [mut lo, mut hi] = b;
+    for (l, h) in lo.iter_mut().zip(hi.iter_mut()) {
+        // An empty or flat extent (no points, or all on one line).
+        if (*h).partial_cmp(l) != Some(std::cmp::Ordering::Greater) {
+            let c = if l.is_finite() { *l } else { 0.0 };
+            *l = c - 0.5;
+            *h = c + 0.5;
+        }
+    }
+    [lo, hi]
 }
 
 #[cfg(test)]

@@ -283,16 +283,18 @@ fn tri_vtu_output_and_determinism() {
 
 /// needs kernels
 #[test]
-fn tri_on_shared_data_if_present() {
+fn tri_on_shared_data() {
     let Some(data) = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), "2d/points") else {
         return;
     };
     let d = tmp("tri-shared");
     for name in ["dots", "spiral", "diamond_02_00009"] {
         let src = data.join(format!("{name}.node"));
-        if !src.exists() {
-            continue;
-        }
+        assert!(
+            src.is_file(),
+            "{} is missing from the corpus",
+            src.display()
+        );
         let o = run(
             &d,
             &["tri", "-QC", "--output-dir", ".", src.to_str().unwrap()],

@@ -1,4 +1,4 @@
-//! The command line's own promises (issue 19): no output overwrites an
+//! The command line's own promises: no output overwrites an
 //! input, every switch is honoured or refused, `tet -d` exits 1 on any
 //! finding, empty results are errors, numbers in switches may use
 //! scientific notation, the help lists every switch, and errors use the

@@ -17,15 +17,12 @@ fn sharp_poly(dir: &Path) {
     .unwrap();
 }
 
-/// The shared corpus file `rel` copied into `dir`, or `None` (with a note)
-/// when the shared data is missing.
+/// The shared corpus file `rel` copied into `dir` (a file missing from the
+/// corpus fails the test), or `None` when the corpus is missing and
+/// `DELONE_NO_CORPUS` is set.
 fn corpus(dir: &Path, rel: &str) -> Option<String> {
-    let root = delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))?;
-    let src = root.join(rel);
-    let Ok(bytes) = std::fs::read(&src) else {
-        eprintln!("note: {rel} missing; skipping");
-        return None;
-    };
+    let src = delone_testdata::corpus_path(env!("CARGO_MANIFEST_DIR"), rel)?;
+    let bytes = std::fs::read(&src).unwrap_or_else(|e| panic!("{}: {e}", src.display()));
     let name = Path::new(rel)
         .file_name()
         .unwrap()

@@ -4,6 +4,13 @@
 //! end of the line, blank lines are skipped, the first record is a header.
 //! Readers never panic, whatever the bytes; they return an [`IoError`]
 //! naming the line.
+//!
+//! # Parsing
+//!
+//! One pass per line for tokens; integers without `str`; floats by Clinger's
+//! fast path (at most 2^53, |e| ≤ 22), exact `u128` products (e ≥ 0) or
+//! quotients with a sticky bit (17-digit `%.17g` coordinates), `str::parse`
+//! otherwise — always the same double as `str::parse` (randomised tests).
 
 use crate::IoError;
 

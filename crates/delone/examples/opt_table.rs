@@ -1,4 +1,4 @@
-//! The optimiser's table of issue 5: per surface model, the input's bound
+//! The optimiser's table: per surface model, the input's bound
 //! on the smallest dihedral angle against the optimised mesh's range, and
 //! what the worst tetrahedra left are.
 //!

@@ -185,8 +185,8 @@ fn main() {
                 .flatten()
                 .flatten()
                 .for_each(|x| eat(x.to_bits()));
-            // The faces' edges as the flat list and offsets the diagram
-            // stored up to session 8 (derived now: same digests).
+            // The faces' edges as a flat list and offsets (derived from
+            // `vertex_edges`), so the digest covers them.
             let (mut edge_offsets, mut edge_ids) = (vec![0u32], vec![]);
             for f in 0..v.faces.len() {
                 edge_ids.extend(v.face(f).edges);

@@ -14,13 +14,26 @@
 //! assert_eq!(mesh3.tets.len(), 2);
 //! ```
 //!
-//! The incremental API lives in [`tri::Delaunay2`] and [`tet::Delaunay3`].
+//! The meshing pipelines, one call each with options read from the switch
+//! strings of `delone tri` / `delone tet`:
+//!
+//! ```
+//! use delone::{model::pslg::Pslg, tri::TriOptions};
+//! let g = Pslg::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+//!                   vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+//! let r = delone::tri::mesh(&g, &TriOptions::from_switches("pq30a0.05").unwrap()).unwrap();
+//! assert!(r.mesh.triangles.len() > 20);
+//! ```
+//!
+//! ([`tri::mesh()`], [`tet::mesh()`]). The incremental API lives in
+//! [`tri::Delaunay2`] and [`tet::Delaunay3`].
 #![forbid(unsafe_code)]
 
 pub mod error;
 pub mod geom;
 pub mod model;
 pub mod progress;
+pub mod switches;
 pub mod tet;
 pub mod tri;
 mod types;

@@ -292,12 +292,9 @@ fn read_off(text: &str) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
 }
 
 /// Runs the closed, clean models with at most `max_tris` triangles; returns
-/// (recovered, attempted).
+/// (recovered, attempted). A model listed but missing fails the test.
 fn corpus(max_tris: usize) -> Option<(usize, usize)> {
-    let Some(dir) = data_dir() else {
-        println!("shared/data not found; skipping corpus test");
-        return None;
-    };
+    let dir = data_dir()?;
     let list = std::fs::read_to_string(dir.join("sets/closed_clean.txt")).ok()?;
     let (mut ok, mut all) = (0, 0);
     for line in list.lines() {
@@ -309,10 +306,8 @@ fn corpus(max_tris: usize) -> Option<(usize, usize)> {
         if n > max_tris {
             continue;
         }
-        let Ok(text) = std::fs::read_to_string(dir.join(path)) else {
-            println!("{path}: unreadable");
-            continue;
-        };
+        let text = std::fs::read_to_string(dir.join(path))
+            .unwrap_or_else(|e| panic!("{path} (listed in sets/closed_clean.txt): {e}"));
         let (pts, tris) = read_off(&text);
         all += 1;
         if run(path, &pts, &tris).is_ok() {
@@ -329,7 +324,7 @@ fn small_closed_models() {
     // failures are typed errors, printed. All models up to 400 triangles are
     // recovered today.
     if let Some((ok, all)) = corpus(400) {
-        assert!(all > 0);
+        assert_eq!(all, 9, "closed models up to 400 triangles");
         assert_eq!(ok, all, "some small closed models were not recovered");
     }
 }
@@ -337,13 +332,19 @@ fn small_closed_models() {
 #[test]
 #[ignore = "slow: the closed models up to 6000 triangles"]
 fn medium_closed_models() {
-    corpus(6000);
+    if let Some((ok, all)) = corpus(6000) {
+        assert_eq!(all, 30, "closed models up to 6000 triangles");
+        assert_eq!(ok, all, "some closed models were not recovered");
+    }
 }
 
 #[test]
 #[ignore = "slow: the closed models up to 30000 triangles"]
 fn large_closed_models() {
-    corpus(30000);
+    if let Some((ok, all)) = corpus(30000) {
+        assert_eq!(all, 47, "closed models up to 30000 triangles");
+        assert_eq!(ok, all, "some closed models were not recovered");
+    }
 }
 
 /// One model of the corpus, named by the `MODEL` environment variable
@@ -381,10 +382,7 @@ fn recovery_is_deterministic() {
         println!("shared/data not found; skipping");
         return;
     };
-    let Ok(text) = std::fs::read_to_string(dir.join("surf/off/cgal_u.off")) else {
-        println!("cgal_u.off not found; skipping");
-        return;
-    };
+    let text = std::fs::read_to_string(dir.join("surf/off/cgal_u.off")).unwrap();
     let (pts, tris) = read_off(&text);
     let a = recover(&pts, &tris, &RecoverOptions::default()).unwrap();
     let b = recover(&pts, &tris, &RecoverOptions::default()).unwrap();

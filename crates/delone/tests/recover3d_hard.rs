@@ -1,4 +1,4 @@
-//! Hand-made hard inputs for 3D boundary recovery (issue 4's acceptance):
+//! Hand-made hard inputs for 3D boundary recovery:
 //! a Chazelle-style notched box, coplanar facets sharing edges, nearly
 //! coplanar facets, a facet with a hole, and two solids touching at one
 //! point (a vertex of one lying inside a facet of the other). Every case is

@@ -618,11 +618,9 @@ fn chord_slivers(r: &Recovered) -> usize {
 
 /// Recovery rounds some Steiner points onto their subsegment inexactly;
 /// where the mesh keeps the chord over such a point, the cell between the
-/// chord's face and the point's thin face is flat (0° and 180°) and was
-/// left for the optimiser. Recovery now removes it: its other two faces
-/// become the triangle's boundary faces. cgal_rotor and cgal_dino had one
-/// each (the 0.00° tetrahedra of `delone tet -pq1.414` before session 10's
-/// optimiser removed them).
+/// chord's face and the point's thin face is flat (0° and 180°). Recovery
+/// removes it after carving: its other two faces become the triangle's
+/// boundary faces. cgal_rotor and cgal_dino have one each.
 #[test]
 fn chord_slivers_are_removed_by_recovery() {
     let Some(dir) = corpus() else {

@@ -148,15 +148,13 @@ fn steiner_budget_stops_refinement() {
     check_recovered(&p, &t, &r.rec).unwrap();
 }
 
-/// `surf/off/NAME.off` of the shared data (its relative path and surface),
-/// or `None` with a note when the file is missing.
-fn read_model(dir: &Path, name: &str) -> Option<(String, delone_io::Surface)> {
+/// `surf/off/NAME.off` of the shared data: its relative path and surface.
+/// A model named by a test but missing from the corpus fails the test.
+fn read_model(dir: &Path, name: &str) -> (String, delone_io::Surface) {
     let rel = format!("surf/off/{name}.off");
-    let Ok(bytes) = std::fs::read(dir.join(&rel)) else {
-        eprintln!("note: {rel} missing; skipping");
-        return None;
-    };
-    Some((rel, delone_io::read_off(&bytes).unwrap()))
+    let bytes = std::fs::read(dir.join(&rel))
+        .unwrap_or_else(|e| panic!("{rel}, named by this test, is not in the corpus: {e}"));
+    (rel, delone_io::read_off(&bytes).unwrap())
 }
 
 fn data_dir() -> Option<PathBuf> {
@@ -176,8 +174,15 @@ fn closed_models(dir: &Path, max_tris: usize) -> Vec<String> {
         .collect()
 }
 
-fn corpus(max_tris: usize, qs: &[f64]) {
-    let Some(dir) = data_dir() else { return };
+/// Refines every closed, clean model with at most `max_tris` triangles at
+/// each bound of `qs` (budget 20 per input triangle + 5000) and checks each
+/// output; returns the number of runs and the runs that stopped at the
+/// budget (`"path qB"`), or `None` when the corpus is missing and
+/// `DELONE_NO_CORPUS` is set.
+fn corpus(max_tris: usize, qs: &[f64]) -> Option<(usize, Vec<String>)> {
+    let dir = data_dir()?;
+    let mut runs = 0;
+    let mut at_budget = Vec::new();
     for rel in closed_models(&dir, max_tris) {
         let s = delone_io::read_off(&std::fs::read(dir.join(&rel)).unwrap()).unwrap();
         let t = s.triangles();
@@ -187,8 +192,9 @@ fn corpus(max_tris: usize, qs: &[f64]) {
                 ..opts(q)
             };
             let r = run(&rel, &s.points, &t, &o);
+            runs += 1;
             if r.report.budget_exhausted {
-                println!("{rel} q{q}: budget exhausted (known limitation)");
+                at_budget.push(format!("{rel} q{q}"));
                 continue;
             }
             // Bad cells may remain only where the refinement reported
@@ -201,6 +207,7 @@ fn corpus(max_tris: usize, qs: &[f64]) {
             );
         }
     }
+    Some((runs, at_budget))
 }
 
 /// Refines a recovered domain and checks everything; the Steiner budget
@@ -346,7 +353,8 @@ fn corpus_models_that_terminate() {
             n += 1;
         }
     }
-    assert!(n >= 40, "{n} runs");
+    // 12 closed models up to 700 triangles and 18 PLCs, each at two bounds.
+    assert_eq!(n, 60, "{n} runs");
 }
 
 /// The CI subset of the above: every PLC of `3d_plc` (holes, regions,
@@ -402,9 +410,7 @@ fn corpus_models_refined_completely() {
         ("cgal_sphere", &[2.0, 1.414][..]),
         ("wm_hour_glass", &[2.0, 1.414][..]),
     ] {
-        let Some((rel, s)) = read_model(&dir, name) else {
-            continue;
-        };
+        let (rel, s) = read_model(&dir, name);
         let t = s.triangles();
         for &q in qs {
             let r = run_domain(&rel, &s.points, &t, &Domain::default(), q, 100_000);
@@ -453,9 +459,7 @@ fn rejected_circumcentres_do_not_cascade() {
         ("wm_thingi37322", 71.0, 1.3),
         ("cgal_dragknob", 2108.0, 1.6),
     ] {
-        let Some((rel, s)) = read_model(&dir, name) else {
-            continue;
-        };
+        let (rel, s) = read_model(&dir, name);
         let t = s.triangles();
         let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 100_000);
         assert_stops(&rel, &r, s.points.len(), 10_000);
@@ -492,9 +496,7 @@ fn assert_stops(name: &str, r: &Refined, n_input: usize, max_points: usize) {
 fn models_terminate_at_q1414(models: &[(&str, usize)], budget: usize) {
     let Some(dir) = data_dir() else { return };
     for &(name, max_points) in models {
-        let Some((rel, s)) = read_model(&dir, name) else {
-            continue;
-        };
+        let (rel, s) = read_model(&dir, name);
         let t = s.triangles();
         let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, budget);
         assert_stops(&rel, &r, s.points.len(), max_points);
@@ -564,16 +566,26 @@ fn sharp_models_terminate_at_q1414() {
     );
 }
 
+/// The 12 closed models up to 700 triangles at q2 and q1.414: every run
+/// stops by itself, below the budget.
 #[test]
-#[ignore = "slow: the small corpus models with the full budget (most stop at it today)"]
+#[ignore = "slow in debug: cargo test --release -p delone --test tet_refine -- --ignored"]
 fn corpus_small_models_q2_and_q1414() {
-    corpus(700, &[2.0, 1.414]);
+    if let Some((runs, at_budget)) = corpus(700, &[2.0, 1.414]) {
+        assert_eq!(runs, 24);
+        assert_eq!(at_budget, Vec::<String>::new());
+    }
 }
 
+/// The 30 closed models up to 6000 triangles at q2 and q1.414: every run
+/// stops by itself, below the budget.
 #[test]
-#[ignore = "slow: the medium corpus models"]
+#[ignore = "slow: cargo test --release -p delone --test tet_refine -- --ignored"]
 fn corpus_medium_models() {
-    corpus(6000, &[2.0, 1.414]);
+    if let Some((runs, at_budget)) = corpus(6000, &[2.0, 1.414]) {
+        assert_eq!(runs, 60);
+        assert_eq!(at_budget, Vec::<String>::new());
+    }
 }
 
 #[test]
@@ -683,9 +695,7 @@ fn refinement_restores_constrained_delaunay() {
         "cgal_star",
         "cgal_fandisk",
     ] {
-        let Some((rel, s)) = read_model(&dir, name) else {
-            continue;
-        };
+        let (rel, s) = read_model(&dir, name);
         let t = s.triangles();
         let ro = RecoverOptions {
             merge_coplanar: false,

@@ -31,6 +31,31 @@
 //! * [`CMesh::check`] — topology, orientation and the vertex hints.
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
+//!
+//! # Journal
+//!
+//! Every operation is logged as "these tetrahedra became those":
+//! [`CMesh::replay`] re-applies a log where all the removed tetrahedra are
+//! still present (the recovery's next round), [`CMesh::rollback`] undoes the
+//! operations since a mark (a failed segment), and
+//! [`CMesh::removed_vertices_since`] names the vertices whose tetrahedra an
+//! operation removed (which failed segments to retry).
+//!
+//! # Costs
+//!
+//! Star walks mark visited slots with a per-slot generation stamp (no
+//! linear `contains`, no hash set) and reuse one list, so `find_edge` and
+//! `find_face` allocate nothing; the segment walk's `first_hit` stops at the
+//! hit, with one `orient3d` per cell for its orientation. Edge removal reuses
+//! its ring lists and dynamic-programming tables. `replace` matches the faces
+//! of the removed and created tetrahedra (keys sorted by a three-element
+//! network and packed into one `u128`) by linear search in two short reused
+//! lists (an operation has at most `2 * MAX_RING` outer faces), and logs the
+//! faces an operation removes or creates. The recovery's coverage refresh
+//! turns the touched faces into candidate triangles with one flag per
+//! triangle, locally unless that would cost more than the global pass;
+//! face-key lookups over the whole mesh use the `surface` module's
+//! `TripleIndex` (triples filed by their least vertex, no hashing).
 
 use crate::tet::local::{face, fkey};
 use std::cell::RefCell;

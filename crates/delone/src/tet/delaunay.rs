@@ -24,6 +24,31 @@
 //! `4 * tet + facet`, see [`super::local`]), a one-byte mark per slot and a free
 //! list: 33 bytes per tetrahedron.
 //!
+//! # Details
+//!
+//! * Ghost cells keep the infinite vertex in position 3 (new cells are
+//!   evenly permuted), so the ghost test is one comparison.
+//! * The cavity's mark bytes are cleared from the cavity and rejected lists,
+//!   never by a sweep; the directed-edge table of the stellation uses
+//!   generation stamps.
+//! * The one-call constructor borrows the caller's points (`Cow`), reserves
+//!   about 6.75 cells per point and grows by steps of 1/8; `into_mesh`
+//!   compacts in place (no second copy).
+//! * Duplicates are found at location time (bit-equal to a vertex of the
+//!   containing cell) and mapped to the lowest index of their group.
+//! * Regular triangulations run the same code monomorphised on a const flag:
+//!   the power test (`insphere_weighted_sos`) replaces the in-sphere test; a
+//!   new point not in power conflict with its containing cell is hidden;
+//!   vertices of cavity cells that do not reach the cavity boundary become
+//!   hidden (found with a per-vertex stamp that exists only for weighted
+//!   input).
+//! * Ties (cospherical points) are broken by input index, so the one-call
+//!   and the point-by-point builds give the same tetrahedra even on grids.
+//!   Exception: a group of exact duplicates is perturbed under the id
+//!   inserted first, so when such a group is part of a cospherical tie the
+//!   tie-break can depend on the order (the output is valid and
+//!   deterministic either way).
+//!
 //! # References
 //! A. Bowyer (1981), D. F. Watson (1981); N. Amenta, S. Choi, G. Rote,
 //! *Incremental constructions con BRIO* (2003); O. Devillers, S. Pion,

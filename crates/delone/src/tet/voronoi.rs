@@ -9,6 +9,24 @@
 //!   clipped by the bisector planes of the site and its Delaunay neighbours.
 //! * [`lloyd`] — Lloyd's algorithm in a box.
 //!
+//! # Costs
+//!
+//! Circumcentres in mesh order, a Morton counting sort of the tetrahedra,
+//! 32-byte walk records, edge numbering by the lower tetrahedron
+//! (per-tetrahedron prefix counts of owned facets and a 16-bit word of
+//! mirror slots and facet ranks: a facet's number comes from its owner's
+//! count and rank, no per-facet id table), ring walks per Delaunay edge (a
+//! step tracks the slots of the two vertices off the edge), cells by a
+//! counting sort. Every pass runs in chunks taken by free threads
+//! (`run_dynamic`), bit-identical for any thread count; the walks write
+//! into zero-allocated windows of the final face arrays, compacted in
+//! place, and the cells' arrays reuse the pages of scratch tables already
+//! dead (page faults cost about 0.5 s/GB). The faces' edges are not stored:
+//! [`Voronoi3::vertex_edges`] and the two rays of each open face give them.
+//! Measure with `cargo run --release -p delone --example voronoi_timing --
+//! 1000000 1 --3d --no-clip [--threads N] [--phases] [--hash]` (`--hash`
+//! digests the whole diagram to check a change keeps it bit for bit).
+//!
 //! # References
 //! * F. Aurenhammer, "Voronoi diagrams — a survey of a fundamental geometric
 //!   data structure", ACM Computing Surveys 23 (1991).

@@ -24,6 +24,18 @@
 //! inputs are first scaled by an exact power of two so the predicates stay
 //! exact.
 //!
+//! # Differences from the 3D kernel
+//!
+//! * No mark column: in 2D the conflict triangles of one insertion form a
+//!   tree, so a stack search that never goes back through its entry edge
+//!   visits each once and meets the cavity boundary already in
+//!   counterclockwise order.
+//! * Ghost triangles keep the infinite vertex in position 2.
+//! * The copy of the coordinates in insertion order costs 16 bytes per
+//!   point. In 3D the same copy measured less than 10% faster for 24 bytes
+//!   per point, which the memory target cannot afford, so the 3D kernel
+//!   borrows the caller's coordinates.
+//!
 //! # References
 //! A. Bowyer, *Computing Dirichlet tessellations*, Comput. J. 24 (1981).
 //! D. F. Watson, *Computing the n-dimensional Delaunay tessellation*, Comput. J. 24 (1981).

@@ -98,6 +98,13 @@
 //! input angles).
 //! A. Üngör, *Off-centers: a new type of Steiner points for computing
 //! size-optimal quality-guaranteed Delaunay triangulations*, LATIN 2004.
+//!
+//! # Storage
+//!
+//! The refinement keeps its own triangle records rather than the CDT's
+//! arrays: one 32-byte, 32-byte aligned record per triangle, plus a 12-byte
+//! side array of subsegment ids read only behind flag bits. The CDT is
+//! converted once on entry and the records once on exit.
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;

@@ -12,6 +12,14 @@
 //!   (orthocentres) of the triangles, edges lie on radical axes, hidden
 //!   points have empty cells.
 //!
+//! # Costs
+//!
+//! Centres and edges on a second thread, then the stars: the tail (the last
+//! 12/64 of the triangles, `HEAD_64THS`) on that thread, the rest on the
+//! caller's, the tail's cells appended to the head's
+//! ([`Voronoi2::with_threads`]); the circumcentre's rotation and the walk's
+//! corner lookup are branch-free.
+//!
 //! # References
 //! * G. Voronoi (1908); B. Delaunay (1934) — the duality used here.
 //! * S. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28 (1982).

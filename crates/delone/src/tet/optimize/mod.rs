@@ -94,6 +94,40 @@
 //! region, so the surface, the volume, the regions and
 //! [`super::recover::check_recovered`] are preserved. The order of work is
 //! deterministic (ties broken by slot).
+//!
+//! # More rules
+//!
+//! * The second run of a small mesh is skipped when the first run's worst
+//!   tetrahedron sits at a nearly degenerate input triangle (an angle below
+//!   0.1° or above 179.9°, `RETRY_FEATURE_ANGLE`): it is pinned there, and a
+//!   second run only doubles the time.
+//! * The extra budget of the stages up to 20° on meshes up to 50,000
+//!   tetrahedra applies once the mesh's minimum is above 10° (`LOW_CAP`,
+//!   `EXTRA_ABOVE`): below 10° the minimum is mostly held by needle input
+//!   triangles and the extra only adds vertices.
+//! * A tetrahedron `a b c m` with two boundary faces, `a b c` and a
+//!   zero-area `b c m` through a Steiner point `m` rounded onto the edge
+//!   `b c`, is one no flip, smoothing or insertion can touch; before the
+//!   stages it is removed when `m` is a listed inexact point strictly
+//!   between `b` and `c`, its faces `a b m`, `a m c` becoming boundary faces
+//!   ([`OptimizeReport::flat_removed`]). The recovery removes such cells
+//!   after carving, so this pass is a guard.
+//! * The report gives the statistics before and after, the stuck
+//!   tetrahedra with their reasons, shape, surface faces and the input
+//!   triangle at each (`Stuck::near_triangle`), and the bounds no mesh can
+//!   beat: `input_min_dihedral` (the smallest angle of the surface, per edge
+//!   of the boundary, interfaces and regions) and the extreme angles of the
+//!   input triangles. [`OptimizeReport::bad`] splits the tetrahedra left
+//!   below the dihedral bound D (`-qB/D`, default 15°) into forced (the
+//!   small angle at a surface edge whose own angle is below D), next to a
+//!   needle or cap input triangle, and free. D is also a stage (with the
+//!   budget of the stages that decide the minimum), the target is raised to
+//!   it, and the second run is decided against it. The refinement does not
+//!   use D: splitting slivers at their circumcentres makes new ones.
+//! * Keeping the radius-edge bound by default (`--keep-ratio` asks for it)
+//!   costs most of the dihedral gain (cgal_knot at q1.414: 19.8° → 4.7°),
+//!   so the size bounds are kept and the radius-edge bound is traded for
+//!   dihedral angles.
 
 mod limits;
 mod work;

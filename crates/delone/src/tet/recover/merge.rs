@@ -29,6 +29,19 @@
 //! Whenever anything is unexpected (the 2D triangulation adds or merges a
 //! point, a component is both inside and outside, the triangle count or
 //! the area differs), the group keeps its original triangles.
+//!
+//! **After recovery.** The rest of the pipeline runs on the new triangle
+//! list, `Recovered::surface`; `boundary_triangle` / `interior_triangle`
+//! index it and `surface_origin` maps each of its triangles back to an input
+//! triangle of the group (for facet markers). `check_recovered` checks the
+//! mesh against `surface` per facet (the surface triangles sharing one
+//! `surface_origin`: a recovered or refined planar facet may cross its
+//! group's inner edges) and that each coplanar group of the input has the
+//! same plane, orientation, oriented boundary and area in `surface`. The
+//! refinement keeps the merging: a merged group is one facet there too, and
+//! a split on it re-triangulates the facet Delaunay in its own plane, which
+//! keeps `-q1.414` from halving subsegments towards their input vertices.
+//! Merging is always off with `-Y`.
 
 use std::collections::{HashMap, HashSet};
 

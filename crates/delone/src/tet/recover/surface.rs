@@ -1,6 +1,12 @@
 //! The refined input surface: input edges split into chains of subsegments,
 //! Steiner points and the input triangles they lie on, and the exact test of
 //! whether an input triangle is a union of mesh faces.
+//!
+//! Edges are filed under their smaller endpoint (counting sort, insertion
+//! sort per bucket), the triangles of each edge are one flat array, and an
+//! edge's chain stays inline until a Steiner point splits it. `TripleIndex`
+//! files face keys by their least vertex for lookups over every face of a
+//! mesh (no hashing).
 
 use crate::geom::ids::{IdMap, IdSet};
 

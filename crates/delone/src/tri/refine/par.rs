@@ -32,6 +32,11 @@
 //! A part's result depends only on the coarse mesh and its number, and the
 //! stitch takes the parts in order: the output depends only on the input
 //! and the options, never on the number of threads or their timing.
+//!
+//! No shared mutable state beyond the counter that hands out the parts and
+//! the channel that brings them back. A predicted size below
+//! [`RefineOptions::parallel_min_triangles`] (50,000 by default) is the
+//! sequential code path.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

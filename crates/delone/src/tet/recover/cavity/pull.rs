@@ -104,6 +104,11 @@
 //! each `p` is moreover tested exactly against every input triangle
 //! (closed) before use. Points in outer wedges end outside the domain and
 //! are dropped by carving and compaction.
+//!
+//! A point that still fails is removed together with its nearest surface
+//! points (`pull_cluster`, at most 12: the union of their stars, edge points
+//! cut out of the polygons by chords). One surface point fewer per step, so
+//! the loop terminates.
 
 use super::super::{FacesOn, RecoverError, State};
 use super::cdt::{Protected, SEG_OPS};
