@@ -125,7 +125,8 @@ OPTIONS:
                                   (centroidal Voronoi) in their bounding box
                                   before meshing; FILE.1.node gets them.
     --threads N                   Threads for quality refinement (default:
-                                  the available cores, at most 8).
+                                  the available cores, at most 8). The
+                                  mesh is the same for every N.
     --svg FILE.svg                Draw the mesh (and with -v the cells
                                   clipped to the bounding box; hidden
                                   points in red; with -p the segments

@@ -1,7 +1,7 @@
-//! Parallel quality refinement (`RefineOptions::threads` > 1) on random
-//! PSLGs: every result is a valid constrained Delaunay mesh meeting the
-//! bounds except at small input angles, bit-identical across runs, close to
-//! the one-thread triangle count; one thread gives the sequential result.
+//! Quality refinement in parallel parts on random PSLGs: every result is a
+//! valid constrained Delaunay mesh meeting the bounds except at small input
+//! angles, close to the sequential triangle count, and the same for every
+//! thread count (the parts depend on the input and options only).
 
 use delone::model::pslg::Pslg;
 use delone::tri::constrain::{check_cdt, constrained_triangulation, Cdt, CdtOptions};
@@ -92,6 +92,14 @@ fn opts(threads: usize, max_area: f64) -> RefineOptions {
     }
 }
 
+/// The sequential refinement (no parts, whatever the size).
+fn sequential(o: RefineOptions) -> RefineOptions {
+    RefineOptions {
+        parallel_min_triangles: usize::MAX,
+        ..o
+    }
+}
+
 #[test]
 fn random_pslgs_refine_validly_in_parallel() {
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
@@ -99,46 +107,91 @@ fn random_pslgs_refine_validly_in_parallel() {
         let g = random_pslg(&mut rng, 2 + case % 5);
         let cdt: Cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
         let max_area = 2e-4 * (1.0 + (case % 3) as f64);
+        let seq = refine(&cdt, &sequential(opts(1, max_area))).unwrap();
+        check(&format!("case {case} sequential"), &g, &seq, 28.0, max_area);
+        let n1 = seq.mesh.triangles.len() as f64;
         let one = refine(&cdt, &opts(1, max_area)).unwrap();
-        check(&format!("case {case} 1 thread"), &g, &one, 28.0, max_area);
-        let n1 = one.mesh.triangles.len() as f64;
+        check(&format!("case {case} parts"), &g, &one, 28.0, max_area);
+        let n = one.mesh.triangles.len() as f64;
+        assert!(
+            (n - n1).abs() <= 0.1 * n1,
+            "case {case}: {n} triangles vs {n1}"
+        );
         for threads in [2, 3, 4] {
-            let name = format!("case {case} {threads} threads");
             let r = refine(&cdt, &opts(threads, max_area)).unwrap();
-            check(&name, &g, &r, 28.0, max_area);
-            let n = r.mesh.triangles.len() as f64;
-            assert!((n - n1).abs() <= 0.1 * n1, "{name}: {n} triangles vs {n1}");
-            assert_eq!(r, refine(&cdt, &opts(threads, max_area)).unwrap(), "{name}");
+            assert!(r == one, "case {case}: {threads} threads differ from one");
         }
     }
 }
 
+/// A refinement large enough for parts at the default size threshold (and
+/// for more than two of them) gives the same mesh with 1, 2 and 5 threads.
 #[test]
-fn one_thread_or_a_small_mesh_is_the_sequential_result() {
+fn the_thread_count_does_not_change_the_mesh() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let g = random_pslg(&mut rng, 6);
+    let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
+    // 1.6 triangles predicted per unit of area over the bound: about 530,000
+    // (PARALLEL_MIN_TRIANGLES is 50,000; above 400,000 there are 4 parts).
+    let o = |threads| RefineOptions {
+        min_angle: Some(30.0),
+        max_area: Some(3e-6),
+        threads,
+        ..Default::default()
+    };
+    let one = refine(&cdt, &o(1)).unwrap();
+    let n = one.mesh.triangles.len();
+    assert!(n > 450_000, "{n} triangles: too few for 4 parts");
+    check_cdt(&g, &one.mesh).unwrap();
+    assert!(
+        one.report.met,
+        "{:?}",
+        &one.report.unfixable[..3.min(one.report.unfixable.len())]
+    );
+    // The parts really ran: the sequential refinement differs.
+    let seq = refine(&cdt, &sequential(o(1))).unwrap();
+    assert_ne!(seq.mesh.points, one.mesh.points);
+    let ns = seq.mesh.triangles.len() as f64;
+    assert!(
+        (n as f64 - ns).abs() <= 0.01 * ns,
+        "{n} triangles in parts, {ns} sequential"
+    );
+    for threads in [2, 5] {
+        let r = refine(&cdt, &o(threads)).unwrap();
+        assert!(
+            r.mesh.triangles == one.mesh.triangles,
+            "{threads} threads: other triangles"
+        );
+        assert!(
+            r.mesh.points == one.mesh.points,
+            "{threads} threads: other points"
+        );
+        assert!(r == one, "{threads} threads: other result");
+    }
+}
+
+#[test]
+fn small_meshes_and_budgets_are_sequential() {
     let mut rng = Rng(7);
     let g = random_pslg(&mut rng, 4);
     let cdt = constrained_triangulation(&g, CdtOptions::default()).unwrap();
-    let seq = refine(&cdt, &opts(1, 1e-3)).unwrap();
-    // Below the size threshold the threads are not used.
+    let seq = refine(&cdt, &sequential(opts(1, 1e-3))).unwrap();
+    // Below the size threshold there are no parts, whatever the threads.
     let small = RefineOptions {
         parallel_min_triangles: 1_000_000,
         ..opts(4, 1e-3)
     };
     assert_eq!(refine(&cdt, &small).unwrap(), seq);
-    // Options the parallel path does not support fall back to one thread.
+    // Options the parts do not support are sequential too.
     let budget = RefineOptions {
         max_steiner: Some(1_000_000),
         ..opts(2, 1e-3)
     };
-    let seq_budget = RefineOptions {
-        threads: 1,
-        ..budget
-    };
     assert_eq!(
         refine(&cdt, &budget).unwrap(),
-        refine(&cdt, &seq_budget).unwrap()
+        refine(&cdt, &sequential(budget)).unwrap()
     );
-    // The parallel path really differs (it is exercised).
+    // The parts really differ from the sequential path (they are exercised).
     let par = refine(&cdt, &opts(2, 1e-3)).unwrap();
     assert_ne!(par.mesh.points, seq.mesh.points);
 }

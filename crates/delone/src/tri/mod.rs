@@ -5,6 +5,7 @@
 //! * [`Delaunay2`] — the incremental kernel (insert, locate, check).
 //! * [`validate`] — an independent checker of a [`TriMesh`] against its points.
 
+mod cmesh;
 pub mod conforming;
 pub mod constrain;
 pub mod delaunay;

@@ -4,36 +4,47 @@
 //! 1. **Coarse stage** (one thread): the mesh is refined with every area
 //!    bound multiplied by [`COARSE_FACTOR`] (the angle bound unchanged), to
 //!    about 1/[`COARSE_FACTOR`] of the predicted final size.
-//! 2. **Partition**: the coarse triangles are split into `T` parts of about
+//! 2. **Partition**: the coarse triangles are split into `P` parts of about
 //!    equal predicted work (area over the area bound) by recursive
 //!    bisection of their centroids along the longer side of the parts'
 //!    bounding boxes (ties by triangle id): geometry only, never timing.
-//! 3. **Parts** (one thread each, `std::thread::scope`; part 0 in the mesh
-//!    itself, the others in copies of the coarse mesh): each part refines
-//!    from its own triangles, with the edges between parts (*cuts*) as
-//!    subsegments that may not be split and have nothing across them: a
-//!    cavity never crosses one, so a part only changes its own triangles. A
-//!    point beyond a cut, or encroaching one, is not inserted: the triangle
-//!    is left for the finish (so no slivers pile up along the cuts).
-//! 4. **Stitch** (one thread): the other parts' new vertices, triangles and
-//!    subsegments are appended in part order, renumbered, the cuts linked
-//!    again (ordinary edges, or the input subsegment they carry), and
-//!    Lawson flips from them restore the constrained Delaunay property.
+//!    `P` ([`parts_for`]) comes from the predicted output size alone: the
+//!    smallest power of two from 2 to [`MAX_PARTS`] that leaves at most
+//!    [`PART_TRIANGLES`] to a part.
+//! 3. **Parts** (`std::thread::scope`; part 0 in the mesh itself, the
+//!    others in copies of the coarse mesh, handed out in turn to the
+//!    threads, so that one thread runs them all one after the other): each
+//!    part refines from its own triangles, with the edges between parts
+//!    (*cuts*) as subsegments that may not be split and have nothing across
+//!    them: a cavity never crosses one, so a part only changes its own
+//!    triangles. A point beyond a cut, or encroaching one, is not inserted:
+//!    the triangle is left for the finish (so no slivers pile up along the
+//!    cuts).
+//! 4. **Stitch** (the calling thread, as the parts arrive): each part's new
+//!    vertices, triangles and subsegments are appended in part order,
+//!    renumbered; then the cuts are linked again (ordinary edges, or the
+//!    input subsegment they carry), and Lawson flips from them restore the
+//!    constrained Delaunay property.
 //! 5. **Finish** (one thread): the ordinary refinement loop, seeded with
 //!    the triangles the parts left, those beside the cuts and those the
-//!    flips made (on la.poly at `-q30a0.001`, 2 parts: 51 cuts, 2,234
-//!    triangles to look at, 1,500 points inserted, out of 368,000).
+//!    flips made.
 //!
-//! The output depends only on the input, the options and `T`.
+//! A part's result depends only on the coarse mesh and its number, and the
+//! stitch takes the parts in order: the output depends only on the input
+//! and the options, never on the number of threads or their timing.
 //!
-//! No shared mutable state and no locks. One part (`T = 1`), or a predicted
-//! size below [`RefineOptions::parallel_min_triangles`] (50,000 by default),
-//! is the sequential code path, bit for bit.
+//! No shared mutable state beyond the counter that hands out the parts and
+//! the channel that brings them back. A predicted size below
+//! [`RefineOptions::parallel_min_triangles`] (50,000 by default) is the
+//! sequential code path.
 
-use delone_predicates::incircle;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::{run, Crit, Mesh, RefineOptions, RefineReport, Sub, Tri, FLAGS};
-use crate::tri::topo::{edge, pack, unpack, NEXT, PREV};
+use super::engine::{run, Crit, Detached, Mesh};
+use super::options::{RefineOptions, RefineReport};
+use crate::tri::cmesh::FLAGS;
+use crate::tri::cmesh::{Sub, Tri};
+use crate::tri::topo::{edge, pack, unpack};
 use crate::NONE;
 
 /// Area bounds are multiplied by this in the coarse stage.
@@ -42,24 +53,36 @@ const COARSE_FACTOR: f64 = 64.0;
 /// Predicted triangles per unit of (area / area bound).
 const PER_RATIO: f64 = 1.6;
 
-/// Threads to use for this refinement (1: the sequential path).
-pub(super) fn threads_for(
+/// Predicted output triangles per part: the part count is the smallest
+/// power of two, at least 2, that leaves at most this many to a part (on
+/// la.poly at `-q30a0.0005`, 1.5 M triangles, 8 parts take less time than
+/// 2 or 4 even on one thread: a part's working set stays in cache).
+pub(super) const PART_TRIANGLES: f64 = 200_000.0;
+
+/// At most this many parts.
+pub(super) const MAX_PARTS: usize = 16;
+
+/// Parts to refine in (1: the sequential path), from the input and the
+/// options only, never from the thread count or the machine.
+pub(super) fn parts_for(
     m: &Mesh,
     crit: &Crit,
     max_areas: &[f64],
     options: &RefineOptions,
 ) -> usize {
-    let t = options.threads.min(64);
-    if t <= 1 || options.conforming_delaunay || options.max_steiner.is_some() || crit.user.is_some()
-    {
+    if options.conforming_delaunay || options.max_steiner.is_some() || crit.user.is_some() {
         return 1;
     }
+    let n = predicted(m, crit, max_areas);
     let min = options.parallel_min_triangles;
-    if min > 0 && predicted(m, crit, max_areas) < min as f64 {
-        1
-    } else {
-        t
+    if min > 0 && n < min as f64 {
+        return 1;
     }
+    let mut parts = 2;
+    while parts < MAX_PARTS && n > parts as f64 * PART_TRIANGLES {
+        parts *= 2;
+    }
+    parts
 }
 
 /// Predicted number of output triangles (from the area bounds only).
@@ -83,15 +106,74 @@ struct Cut {
     sub: u32,
 }
 
-/// Refines `m` with `threads` parts; returns as [`run`] does. The
-/// Steiner budget `limit` is shared: the coarse stage spends from it, each
-/// part gets an equal share of what is left, the finish the rest (so the
-/// result still depends only on the input, the options and `threads`).
+/// What part `p` made: the refined copy of the coarse mesh, its report
+/// and the triangles it gave up on.
+struct PartOut {
+    pm: Mesh,
+    report: RefineReport,
+    drops: Vec<u32>,
+}
+
+/// The parts 1.. of a parallel refinement, handed out in turn to workers.
+struct Job<'a> {
+    /// The coarse mesh (each part refines a copy).
+    base: &'a Mesh,
+    detached: Detached,
+    max_areas: &'a [f64],
+    options: &'a RefineOptions,
+    /// Steiner budget of each part.
+    share: usize,
+    cuts: &'a [Cut],
+    /// The coarse triangles of each part.
+    lists: &'a [Vec<u32>],
+    next: AtomicUsize,
+    parts: usize,
+}
+
+impl Job<'_> {
+    /// The next part nobody has taken.
+    fn take(&self) -> Option<usize> {
+        let p = self.next.fetch_add(1, Ordering::Relaxed);
+        (p < self.parts).then_some(p)
+    }
+
+    /// Refines part `p` in a copy of the coarse mesh.
+    fn part(&self, p: usize) -> PartOut {
+        let list = &self.lists[p];
+        let mut pm = self.base.clone();
+        cut_part(&mut pm, p as u32, self.cuts);
+        let crit = self.detached.crit();
+        pm.reserve_for_areas(&crit, self.max_areas, usize::MAX, Some(list));
+        let mut report = RefineReport::default();
+        let mut steiner = 0usize;
+        let mut drops = Vec::new();
+        run(
+            &mut pm,
+            &crit,
+            self.max_areas,
+            self.options,
+            self.share,
+            &mut steiner,
+            &mut report,
+            Some(list),
+            Some(&mut drops),
+        );
+        PartOut { pm, report, drops }
+    }
+}
+
+/// Refines `m` in `parts` parts run by `threads` threads; returns as
+/// [`run`] does. The Steiner budget `limit` is shared: the coarse stage
+/// spends from it, each part gets an equal share of what is left, the
+/// finish the rest (so the result depends only on the input, the options
+/// and `parts`, never on `threads`).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn refine_parallel(
     m: &mut Mesh,
     crit: &Crit,
     max_areas: &[f64],
     options: &RefineOptions,
+    parts: usize,
     threads: usize,
     limit: usize,
     report: &mut RefineReport,
@@ -134,7 +216,7 @@ pub(super) fn refine_parallel(
             .map(|t| m.area_ratio(crit, max_areas, t).max(0.05))
             .collect();
         let mut ids: Vec<u32> = (0..nt0 as u32).collect();
-        bisect(&mut ids, &cen, &w, threads, 0, &mut part);
+        bisect(&mut ids, &cen, &w, parts, 0, &mut part);
     }
     let mut cuts = Vec::new();
     for t in 0..nt0 {
@@ -158,7 +240,7 @@ pub(super) fn refine_parallel(
         }
     }
     let np = cuts.len();
-    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); threads];
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); parts];
     for (t, &p) in part.iter().enumerate() {
         lists[p as usize].push(t as u32);
     }
@@ -181,46 +263,57 @@ pub(super) fn refine_parallel(
         }
     }
 
-    // 3. Parts: part 0 in `m` itself, the others in copies.
-    let mut copies: Vec<Mesh> = Vec::with_capacity(threads - 1);
-    for p in 1..threads as u32 {
-        let mut pm = m.clone();
-        cut_part(&mut pm, p, &cuts);
-        copies.push(pm);
-    }
+    // 3. Parts: part 0 in `m` itself, the others in copies of the coarse
+    // mesh, taken in turn by `threads` workers (the main thread, after part
+    // 0, is one of them). A part's result depends on the coarse mesh and
+    // its number only, so who runs it does not matter.
+    // 4. Stitch: the main thread appends each part to `m` in part order as
+    // soon as it and the parts before it are done (the copies are dropped
+    // one by one, so few are alive at a time).
+    let base = m.clone();
     cut_part(m, 0, &cuts);
     // Room for everything (untouched capacity costs no resident memory):
     // the stitch then appends without moving the arrays.
     m.reserve_for_areas(crit, max_areas, usize::MAX, None);
-    let detached = crit.detached();
-    let share = limit.saturating_sub(steiner) / threads;
+    let share = limit.saturating_sub(steiner) / parts;
+    let job = Job {
+        base: &base,
+        detached: crit.detached(),
+        max_areas,
+        options,
+        share,
+        cuts: &cuts,
+        lists: &lists,
+        next: AtomicUsize::new(1),
+        parts,
+    };
     let mut drops = Vec::new();
-    let results: Vec<(Mesh, RefineReport, Vec<u32>)> = std::thread::scope(|sc| {
-        let handles: Vec<_> = copies
-            .into_iter()
-            .zip(&lists[1..])
-            .map(|(mut pm, list)| {
+    // Merged half-edges of each cut: [side of `t`, side of `n`].
+    let mut cut_he = vec![[NONE; 2]; np];
+    let stitch = Stitch {
+        cuts: &cuts,
+        lists: &lists,
+        owner: &owner,
+        nt0,
+        nv0,
+        ns0,
+    };
+    std::thread::scope(|sc| {
+        let (tx, rx) = std::sync::mpsc::channel();
+        let handles: Vec<_> = (1..threads.clamp(1, parts))
+            .map(|_| {
+                let tx = tx.clone();
+                let job = &job;
                 sc.spawn(move || {
-                    let crit = detached.crit();
-                    pm.reserve_for_areas(&crit, max_areas, usize::MAX, Some(list));
-                    let mut rep = RefineReport::default();
-                    let mut st = 0usize;
-                    let mut dr = Vec::new();
-                    run(
-                        &mut pm,
-                        &crit,
-                        max_areas,
-                        options,
-                        share,
-                        &mut st,
-                        &mut rep,
-                        Some(list),
-                        Some(&mut dr),
-                    );
-                    (pm, rep, dr)
+                    while let Some(p) = job.take() {
+                        if tx.send((p, job.part(p))).is_err() {
+                            return;
+                        }
+                    }
                 })
             })
             .collect();
+        drop(tx);
         run(
             m,
             crit,
@@ -232,39 +325,109 @@ pub(super) fn refine_parallel(
             Some(&lists[0]),
             Some(&mut drops),
         );
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
-
-    // 4. Stitch.
-    let (mut nv, mut nt, mut ns) = (m.xy.len(), m.tr.len(), m.subs.len());
-    let mut offs = Vec::with_capacity(threads);
-    for (pm, _, _) in &results {
-        offs.push((nv, nt, ns));
-        nv += pm.xy.len() - nv0;
-        nt += pm.tr.len() - nt0;
-        ns += pm.subs.len() - ns0 - np;
-    }
-    m.xy.reserve_exact(nv - m.xy.len());
-    m.vpar.reserve_exact(nv - m.vpar.len());
-    m.tr.reserve_exact(nt - m.tr.len());
-    m.sides.reserve_exact(nt - m.sides.len());
-    m.subs.reserve_exact(ns - m.subs.len());
-    // Merged half-edges of each cut: [side of `t`, side of `n`].
-    let mut cut_he = vec![[NONE; 2]; np];
-    for (j, c) in cuts.iter().enumerate() {
-        let he = m.subs[ns0 + j].he;
-        if c.pt == 0 {
-            cut_he[j][0] = he;
-        } else if c.pn == 0 {
-            cut_he[j][1] = he;
+        for (j, c) in cuts.iter().enumerate() {
+            let he = m.subs[ns0 + j].he;
+            if c.pt == 0 {
+                cut_he[j][0] = he;
+            } else if c.pn == 0 {
+                cut_he[j][1] = he;
+            }
         }
+        let mut pending: Vec<Option<PartOut>> = (0..parts).map(|_| None).collect();
+        for p in 1..parts {
+            while pending[p].is_none() {
+                let (k, out) = match job.take() {
+                    Some(k) => (k, job.part(k)),
+                    None => match rx.recv() {
+                        Ok(x) => x,
+                        // A worker stopped without its part: it panicked.
+                        Err(_) => break,
+                    },
+                };
+                pending[k] = Some(out);
+            }
+            let Some(out) = pending[p].take() else {
+                break;
+            };
+            steiner += stitch.part(m, p, out, &mut cut_he, &mut drops, report);
+        }
+        for h in handles {
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        }
+    });
+    drop(base);
+    // The cut subsegments of part 0 are gone.
+    for s in &mut m.subs[ns0..ns0 + np] {
+        s.alive = false;
+        s.he = NONE;
     }
-    for (i, (pm, rep, dr)) in results.into_iter().enumerate() {
-        let p = i + 1;
-        let (vo, to, so) = offs[i];
+    let mut stack = Vec::with_capacity(np);
+    for (j, c) in cuts.iter().enumerate() {
+        let [h0, h1] = cut_he[j];
+        let (t0, e0) = unpack(h0);
+        let (t1, e1) = unpack(h1);
+        m.tr[t0].a[e0] = h1;
+        m.tr[t1].a[e1] = h0;
+        m.set_sub(t0, e0, c.sub);
+        m.set_sub(t1, e1, c.sub);
+        if c.sub != NONE {
+            m.subs[c.sub as usize].he = h0;
+        } else {
+            stack.push(h0);
+        }
+        drops.extend([t0 as u32, t1 as u32]);
+    }
+    m.restore_delaunay(&mut stack, &mut drops);
+    debug_assert_eq!(m.check(false), Ok(()), "stitched mesh");
+
+    // 5. Finish: the triangles the parts gave up on, those beside the cuts
+    // and those the flips made.
+    run(
+        m,
+        crit,
+        max_areas,
+        options,
+        limit,
+        &mut steiner,
+        report,
+        Some(&drops),
+        None,
+    )
+}
+
+/// What the stitch needs to know of the partition.
+struct Stitch<'a> {
+    cuts: &'a [Cut],
+    lists: &'a [Vec<u32>],
+    /// The part owning each coarse subsegment (`NONE`: on a cut).
+    owner: &'a [u32],
+    /// Triangles, vertices and subsegments of the coarse mesh.
+    nt0: usize,
+    nv0: usize,
+    ns0: usize,
+}
+
+impl Stitch<'_> {
+    /// Appends part `p` to `m`: its coarse triangles and subsegments are
+    /// copied over `m`'s, its new vertices, triangles and subsegments
+    /// appended and renumbered; its sides of the cuts go in `cut_he`, the
+    /// triangles it gave up on in `drops`. Returns its Steiner points.
+    fn part(
+        &self,
+        m: &mut Mesh,
+        p: usize,
+        out: PartOut,
+        cut_he: &mut [[u32; 2]],
+        drops: &mut Vec<u32>,
+        report: &mut RefineReport,
+    ) -> usize {
+        let PartOut {
+            pm,
+            report: rep,
+            drops: dr,
+        } = out;
+        let (nt0, nv0, ns0, np) = (self.nt0, self.nv0, self.ns0, self.cuts.len());
+        let (vo, to, so) = (m.xy.len(), m.tr.len(), m.subs.len());
         let rv = |x: u32| {
             if (x as usize) < nv0 {
                 x
@@ -314,7 +477,7 @@ pub(super) fn refine_parallel(
                 sides,
             )
         };
-        for &t in &lists[p] {
+        for &t in &self.lists[p] {
             let t = t as usize;
             let (tri, sd) = copy(&pm.tr[t], &pm.sides[t]);
             m.tr[t] = tri;
@@ -325,7 +488,7 @@ pub(super) fn refine_parallel(
             m.tr.push(tri);
             m.sides.push(sd);
         }
-        for (j, c) in cuts.iter().enumerate() {
+        for (j, c) in self.cuts.iter().enumerate() {
             let he = ra(pm.subs[ns0 + j].he);
             if c.pt == p as u32 {
                 cut_he[j][0] = he;
@@ -333,7 +496,7 @@ pub(super) fn refine_parallel(
                 cut_he[j][1] = he;
             }
         }
-        for (s, &o) in owner.iter().enumerate() {
+        for (s, &o) in self.owner.iter().enumerate() {
             if o == p as u32 {
                 let x = pm.subs[s];
                 m.subs[s] = Sub { he: ra(x.he), ..x };
@@ -353,46 +516,9 @@ pub(super) fn refine_parallel(
         report.segment_splits += rep.segment_splits;
         report.circumcenters += rep.circumcenters;
         report.limit_reached |= rep.limit_reached;
-        steiner += rep.segment_splits + rep.circumcenters;
         report.rejected_circumcenters += rep.rejected_circumcenters;
-        // `pm` is dropped here (peak memory: one part at a time).
+        rep.segment_splits + rep.circumcenters
     }
-    // The cut subsegments of part 0 are gone.
-    for s in &mut m.subs[ns0..ns0 + np] {
-        s.alive = false;
-        s.he = NONE;
-    }
-    let mut stack = Vec::with_capacity(np);
-    for (j, c) in cuts.iter().enumerate() {
-        let [h0, h1] = cut_he[j];
-        let (t0, e0) = unpack(h0);
-        let (t1, e1) = unpack(h1);
-        m.tr[t0].a[e0] = h1;
-        m.tr[t1].a[e1] = h0;
-        m.set_sub(t0, e0, c.sub);
-        m.set_sub(t1, e1, c.sub);
-        if c.sub != NONE {
-            m.subs[c.sub as usize].he = h0;
-        } else {
-            stack.push(h0);
-        }
-        drops.extend([t0 as u32, t1 as u32]);
-    }
-    m.restore_delaunay(&mut stack, &mut drops);
-
-    // 5. Finish: the triangles the parts gave up on, those beside the cuts
-    // and those the flips made.
-    run(
-        m,
-        crit,
-        max_areas,
-        options,
-        limit,
-        &mut steiner,
-        report,
-        Some(&drops),
-        None,
-    )
 }
 
 /// Makes the cuts of part `p` protected subsegments of `pm` (ids from
@@ -463,128 +589,4 @@ fn bisect(ids: &mut [u32], cen: &[[f64; 2]], w: &[f64], parts: usize, first: u32
     let (a, b) = ids.split_at_mut(k);
     bisect(a, cen, w, left, first, out);
     bisect(b, cen, w, parts - left, first + left as u32, out);
-}
-
-/// The plain values of a [`Crit`] without the user's test (which need not
-/// be `Sync`), to rebuild it in another thread.
-#[derive(Clone, Copy)]
-pub(super) struct Detached {
-    scale: (f64, f64),
-    sin2: f64,
-    angle: f64,
-    area2: f64,
-    regional: bool,
-    off: f64,
-    s2: f64,
-    coarse: f64,
-}
-
-impl From<&Crit<'_>> for Detached {
-    fn from(c: &Crit<'_>) -> Self {
-        c.detached()
-    }
-}
-
-impl Detached {
-    pub(super) fn crit(self) -> Crit<'static> {
-        Crit {
-            user: None,
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
-}
-
-impl Crit<'_> {
-    fn detached(&self) -> Detached {
-        Detached {
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
-}
-
-impl Mesh {
-    /// Lawson flips from the half-edges on `stack` until every edge without
-    /// a subsegment is locally Delaunay (exact incircle).
-    /// The flipped triangles are pushed on `touched`.
-    fn restore_delaunay(&mut self, stack: &mut Vec<u32>, touched: &mut Vec<u32>) {
-        while let Some(h) = stack.pop() {
-            let (t, e) = unpack(h);
-            if self.sub_at(t, e) != NONE {
-                continue;
-            }
-            let x = self.tr[t].a[e];
-            if x == NONE {
-                continue;
-            }
-            let (n, j) = unpack(x);
-            let v = self.tr[t].v;
-            let vn = self.tr[n].v[j];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn)) > 0.0 {
-                self.flip(t, e);
-                touched.extend([t as u32, n as u32]);
-                stack.extend([pack(t, 0), pack(t, 2), pack(n, 0), pack(n, 2)]);
-            }
-        }
-    }
-
-    /// Flips edge `e` of triangle `t` (it must have a neighbour and no
-    /// subsegment, and the two triangles must form a convex quadrilateral).
-    /// `t` becomes `[vt, a, vn]` and its neighbour `n` becomes `[vn, b, vt]`,
-    /// where `t` was `[vt, a, b]` (rotated) and `vn` is opposite in `n`.
-    fn flip(&mut self, t: usize, e: usize) {
-        let (n, j) = unpack(self.tr[t].a[e]);
-        let tv = self.tr[t].v;
-        let (vt, a, b) = (tv[e], tv[NEXT[e]], tv[PREV[e]]);
-        let vn = self.tr[n].v[j];
-        let (ea, eb) = (NEXT[e], PREV[e]);
-        let (ec, ed) = (NEXT[j], PREV[j]);
-        let (xa, sa) = (self.tr[t].a[ea], self.sub_at(t, ea));
-        let (xb, sb) = (self.tr[t].a[eb], self.sub_at(t, eb));
-        let (xc, sc) = (self.tr[n].a[ec], self.sub_at(n, ec));
-        let (xd, sd) = (self.tr[n].a[ed], self.sub_at(n, ed));
-        let (ot, on) = (self.tr[t].orig, self.tr[n].orig);
-        self.tr[t] = Tri {
-            v: [vt, a, vn],
-            a: [xc, pack(n, 1), xb],
-            orig: ot,
-            mark: 0,
-        };
-        self.tr[n] = Tri {
-            v: [vn, b, vt],
-            a: [xa, pack(t, 1), xd],
-            orig: on,
-            mark: 0,
-        };
-        for (tt, ee, x, s) in [
-            (t, 0, xc, sc),
-            (t, 2, xb, sb),
-            (n, 0, xa, sa),
-            (n, 2, xd, sd),
-        ] {
-            self.set_sub(tt, ee, s);
-            if x != NONE {
-                let (o, l) = unpack(x);
-                self.tr[o].a[l] = pack(tt, ee);
-            }
-            if s != NONE {
-                self.subs[s as usize].he = pack(tt, ee);
-            }
-        }
-        self.set_sub(t, 1, NONE);
-        self.set_sub(n, 1, NONE);
-    }
 }
