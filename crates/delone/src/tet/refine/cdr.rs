@@ -21,7 +21,8 @@ use super::geom::{
     encroaches_face, encroaches_segment, line_distance, plane_distance, tri_circumcenter,
 };
 
-use super::{plane_groups, Bad, RefineOptions, RefineReport, Refined, FLAT_RATIO, SEGMENT_FLOOR};
+use super::options::{default_budget, RefineOptions, AUTO_BUDGET, BUDGET_MAX};
+use super::report::{RefineReport, Refined};
 use crate::geom::vec3::{cross, dist2, dot, sub, P};
 use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::DEAD;
@@ -34,6 +35,78 @@ use crate::NONE;
 mod flip;
 
 use crate::tet::local::EDGES;
+
+/// Subsegments shorter than this fraction of their input edge are not split
+/// (protection against runaway refinement at small input angles).
+const SEGMENT_FLOOR: f64 = 1.0 / 4096.0;
+
+/// Radius-edge ratio above which a bad cell counts as flat and is left (its
+/// circumcentre is far away; splitting the boundary for it would run away).
+const FLAT_RATIO: f64 = 1e6;
+
+/// A bad cell in the priority queue: worst first, then by vertices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Bad {
+    /// Bits of a non-negative badness (monotone as an integer).
+    key: u64,
+    verts: std::cmp::Reverse<[u32; 4]>,
+    slot: u32,
+}
+
+/// Relative distance below which a neighbour's fourth vertex counts as on
+/// the plane of a triangle (input coordinates printed with 7 digits make
+/// flat regions a few 1e-8 off).
+const COPLANAR_TOL: f64 = 1e-6;
+
+/// Groups the input triangles into planes: neighbours across an input edge
+/// whose fourth vertex is coplanar (exactly, or within [`COPLANAR_TOL`] of
+/// the triangle's size) share a group (union-find; the
+/// group id is the smallest triangle index of the group).
+fn plane_groups(
+    pts: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    edge_tris: &[[u32; 2]],
+    tri_edges: &[[u32; 3]],
+) -> Vec<u32> {
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            let up = p[p[x as usize] as usize];
+            p[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    for (t, tri) in triangles.iter().enumerate() {
+        for &e in &tri_edges[t] {
+            let [t1, t2] = edge_tris[e as usize];
+            let u = if t1 as usize == t { t2 } else { t1 };
+            if u as usize == t {
+                continue;
+            }
+            let other = triangles[u as usize];
+            let Some(&d) = other.iter().find(|q| !tri.contains(q)) else {
+                continue;
+            };
+            let g = |q: u32| &pts[q as usize];
+            let (pa, pb, pc, pd) = (g(tri[0]), g(tri[1]), g(tri[2]), g(d));
+            let span = [pb, pc, pd]
+                .iter()
+                .fold(0.0f64, |m, q| m.max(dist2(pa, q)))
+                .sqrt();
+            if delone_predicates::orient3d(pa, pb, pc, pd) == 0.0
+                || plane_distance(pa, pb, pc, pd) <= COPLANAR_TOL * span
+            {
+                let (a, b) = (find(&mut parent, t as u32), find(&mut parent, u));
+                let (lo, hi) = (a.min(b), a.max(b));
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    (0..triangles.len() as u32)
+        .map(|t| find(&mut parent, t))
+        .collect()
+}
 
 /// Input angle (degrees) below which a bad cell whose shortest edge joins
 /// two concentric-shell points of the angle is left (see `Cdr::shell_pair`).
@@ -48,11 +121,11 @@ const WEDGE_ANGLE: f64 = 30.0;
 const DEGENERATE: f64 = 1e-4;
 
 /// Smallest input-triangle angle (degrees) below which a left bad cell
-/// counts as near a needle ([`super::LeftBad::near_needle`]).
+/// counts as near a needle ([`LeftBad::near_needle`]).
 const NEEDLE_ANGLE: f64 = 5.0;
 
 /// Angle between input half-planes (degrees) below which a left bad cell
-/// counts as near a sharp edge ([`super::LeftBad::near_sharp`]).
+/// counts as near a sharp edge ([`LeftBad::near_sharp`]).
 const SHARP_ANGLE: f64 = 60.0;
 
 /// Largest cavity grown for one insertion.
@@ -72,7 +145,7 @@ struct Plan {
 /// give up.
 type PlanErr = Option<u32>;
 
-/// Why R3 last gave up on a bad cell (see [`super::LeftBad`]).
+/// Why R3 last gave up on a bad cell (see [`LeftBad`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Left {
     Flat,
@@ -363,7 +436,7 @@ impl Cdr {
             left: HashMap::new(),
             keep_surface: opts.keep_surface,
         };
-        st.budget = if opts.max_steiner == super::AUTO_BUDGET {
+        st.budget = if opts.max_steiner == AUTO_BUDGET {
             // Volume over the bound, summed over the tetrahedra (both
             // rescaled alike).
             let ratio: f64 = (0..st.m.tv.len())
@@ -384,16 +457,16 @@ impl Cdr {
             // A volume bound is met with about a third of `ratio` points: one
             // that needs more than the largest default budget would only stop
             // at it, after a long run. Refuse it now.
-            if ratio / 3.0 > super::BUDGET_MAX as f64 {
+            if ratio / 3.0 > BUDGET_MAX as f64 {
                 return Err(crate::Error::BoundNeedsBudget {
                     option: "-a",
                     value: opts.max_volume.unwrap_or(f64::NAN),
                     needed: (ratio / 3.0).min(u64::MAX as f64) as usize,
-                    budget: super::BUDGET_MAX,
+                    budget: BUDGET_MAX,
                 }
                 .into());
             }
-            super::default_budget(points.len(), ratio)
+            default_budget(points.len(), ratio)
         } else {
             opts.max_steiner
         };
