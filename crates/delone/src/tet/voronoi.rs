@@ -1204,119 +1204,44 @@ impl Voronoi3 {
     /// the earlier chunks, so for a valid mesh the result is the same bit
     /// for bit whatever `k`.
     ///
-    /// Session 7 (same output): the key from the loaded first vertex
-    /// instead of a per-point key table (centres phase about 0.32 -> 0.27
-    /// of the extraction on one thread; the table's random reads were a
-    /// tenth of the extraction's samples), the parallel mesh check, the
-    /// edge task beside `aux_pass` (before, it ran among the face tasks and
-    /// one thread ended the phase alone), the dynamic records pass and the
-    /// finer pass A, and the records zeroed by the system (`[[u32; 4]; 2]`
-    /// rows of a calloc'ed table; session 6 filled 208 MB of `Rec` structs
-    /// at 1M points in a task of pass A: 1.2% of the perf samples of a
-    /// whole one-thread run, tetrahedralization included). Measured and
-    /// rejected: keying a tetrahedron by its
-    /// centroid instead of its first vertex (200k points: 6% fewer L1 read
-    /// misses in the extraction, 1.8% more instructions, no clear gain,
-    /// and another order); a branch-free fill of the cells through a spare
-    /// counter for the sites of other ranges (slower: the spare counter's
+    /// Why it is built this way (measured with the same output, 200k
+    /// points on one thread under callgrind, and 1M points on two threads):
+    ///
+    /// - Each tetrahedron is keyed by its loaded first vertex (no per-point
+    ///   key table, whose random reads were a tenth of the extraction's
+    ///   samples); keying by the centroid was 1.8% more instructions for no
+    ///   clear gain.
+    /// - The walks keep the mirror slots and ranks of the two vertices off
+    ///   the swept edge, one slot lookup per step instead of three (2.23G
+    ///   -> 1.93G instructions in the extraction), and the slot lookups are
+    ///   branch-free: which slot holds a vertex is unpredictable (26.2M ->
+    ///   6.8M mispredicted branches for 15% more instructions).
+    /// - Unweighted circumcentres skip the weight terms (same bits); the
+    ///   Morton key comes from the coordinates the centre has just loaded.
+    /// - Records live in system-zeroed (calloc'ed) tables and the face
+    ///   arrays in windows with 1/24 of slack, so the join copies almost
+    ///   nothing; the cells' arrays and prefix counts reuse the pages of
+    ///   dead scratch tables; the faces' edges are derived from
+    ///   [`Voronoi3::vertex_edges`] and the open faces' rays instead of
+    ///   stored (24 bytes per tetrahedron less). Every first touch of a
+    ///   page is a page fault (about 0.5 s of system time per GB), so fresh
+    ///   pages count: about 1.1 GB at 1M points, 0.87 GB of them the output.
+    /// - Cells are counted by face ranges (each thread counts its faces'
+    ///   sites, the counters are summed) rather than every thread scanning
+    ///   all faces for its sites.
+    ///
+    /// Measured and rejected: advancing 4 or 8 ring walks in lock-step
+    /// (with the Morton order most steps hit the cache); feeding the
+    /// tetrahedra in Morton order (3-10% slower); building the records and
+    /// numbering the edges in one pass (the interleaved work starves the
+    /// gathers of memory-level parallelism); bare handles resolved
+    /// afterwards (no gain); circumcentres in walk order (scattered writes
+    /// cost more); pre-sized output slices (7% more instructions: the walk
+    /// loop runs out of registers); a flat zeroed record buffer (2% more);
+    /// branch-free facet numbering (94M more instructions for 2.3M fewer
+    /// mispredictions); owned-facet masks in 64-bit prefix counts (twice
+    /// the memory); a branch-free cell fill through a spare counter (its
     /// load-add-store chain costs more than the mispredicted branches).
-    ///
-    /// Session 6 (same output; 200k points, one thread, callgrind): the
-    /// mirror slots and ranks cut the walks from three slot lookups per step
-    /// to one and drop the owner's mask from `facet_id`: 2.227G -> 1.927G
-    /// instructions in the extraction; 1.911G in all with the windows'
-    /// staging copies (cheap: 1024-entry buffers that stay in L1; 4096
-    /// cost 0.6M more L1 read misses, 1.968G instructions) and a
-    /// branch-light chunk test in the walks. L1 misses rise (11.5M -> 13.9M
-    /// read, 6.2M -> 6.8M write: the `aux` pass gathers the neighbours'
-    /// records, and the walks read `aux`), still a net gain. The windows and
-    /// the single edge task cut the fresh pages at 1M points from 1604 MB to
-    /// 1327 MB and the join from about 0.07 of the extraction to 0.02.
-    ///
-    /// Measured and rejected (1M uniform points, same output): advancing 4
-    /// or 8 ring walks in lock-step to overlap their cache misses (slower:
-    /// with the Morton order most steps hit the cache); feeding the
-    /// tetrahedra already in Morton order (3-10% of the whole); building the
-    /// records and numbering the edges in one pass (slower: the interleaved
-    /// work starves the record gathers of memory-level parallelism); walking
-    /// with bare tetrahedron and facet handles and resolving them to mesh
-    /// indices and edge numbers afterwards (no gain); computing the
-    /// circumcentres in the walk order (point reads local, but the scattered
-    /// writes of the centres cost more: 0.28 of the extraction against 0.20).
-    ///
-    /// The slot lookups of the walks (`pos`) are branch-free:
-    /// which slot holds a vertex is unpredictable, and early-exit loops cost
-    /// about 19 mispredicted branches per tetrahedron (callgrind branch
-    /// simulation, 200k points: 26.2M mispredictions in the extraction
-    /// before, 6.8M after, for 15% more instructions). (Session 5: a walk
-    /// step found the next tetrahedron's fourth vertex by XOR and marked the
-    /// swept edge from the slots of the two vertices off the edge; session 6
-    /// tracks those slots instead, see above.) Unweighted
-    /// circumcentres skip the weight terms (same bits) and the Morton key is
-    /// computed from the first vertex's coordinates, which the centre has
-    /// just loaded (session 7; session 6 looked it up in a per-point key
-    /// table, a random read per tetrahedron). Together, 200k points on one thread
-    /// (callgrind): 2.54G instructions in the extraction before, 1.95G after.
-    ///
-    /// Measured and rejected (200k points, callgrind, same output): writing
-    /// the face vertices and edges through pre-sized slices instead of
-    /// pushing (7% more instructions: the walk loop runs out of registers);
-    /// a flat zeroed buffer for the records, to drop the 208 MB fill at 1M
-    /// points (2% more instructions in the walks); numbering the facets
-    /// without a branch on their owner (2.3M fewer mispredicted branches,
-    /// 94M more instructions); keeping the owned-facet masks in the low bits
-    /// of 64-bit prefix counts instead of recomputing them from the records
-    /// (2.242G against 2.227G instructions, twice the prefix memory).
-    ///
-    /// The prefix counts replaced a 16-byte-per-tetrahedron table of facet
-    /// edge numbers (104 MB at 1M points) and its serial fix-up: 81 MB fewer
-    /// fresh pages, the edge phase about 35% faster, the walks about 7%
-    /// slower (1.945G -> 2.227G instructions at 200k points, one thread);
-    /// about even in wall time on the loaded development machine.
-    ///
-    /// Where the time goes besides: at 1M points the extraction touched
-    /// about 1.28 GB of fresh pages in session 7 (`voronoi_timing` prints
-    /// it), 0.95 GB of them the output itself; every first touch of a page
-    /// is a page fault, about 0.5 s of system time per GB on the development
-    /// machine.
-    ///
-    /// Session 8 (same output, same digests): fewer fresh pages, 1278 MB ->
-    /// 1197 MB at 1M points on two threads (251 -> 227 MB at 200k points on
-    /// one thread, 345 -> 242 MB on two): `face_edge_offsets` is no longer
-    /// stored (31 MB; [`Voronoi3::face`] derives it from `face_offsets` and
-    /// the open faces before), the faces' sites go to calloc'ed windows like
-    /// the other face arrays and become the faces in place (before: per-chunk
-    /// vectors appended in the join, the appended part in fresh pages), the
-    /// cells' arrays and the prefix counts live in the pages of scratch
-    /// tables already dead (the records, `perm`, `inv`), the key histograms
-    /// become the sort's start positions in place, and the face windows have
-    /// 1/24 of slack instead of 1/48: at 200k points on two threads the first
-    /// chunk (which takes the rings across its seam) overflowed by about 1%
-    /// and the join then copied both 6-per-tetrahedron arrays into fresh
-    /// pages. The cells are counted by face ranges (each thread counts its
-    /// faces' sites into a counter per site, the first in the pages of the
-    /// prefix counts; the counters are summed): before, every thread scanned
-    /// all faces for its range of sites, and half of its increments went to
-    /// one spare counter, a chain of dependent stores. Output: 950 MB ->
-    /// 920 MB at 1M points. Instructions (200k points, one thread,
-    /// callgrind): 1.920G -> 1.931G (the sites' staging copies; the Morton
-    /// cell by an `i32` conversion and the prefix counts filled by
-    /// `aux_pass` save some back). CPU time of the extraction at 1M points
-    /// on two threads (loaded machine, 3 runs of 3 repeats): system time
-    /// about 0.35 s less per extraction, the whole about 10% less.
-    ///
-    /// Session 8, second step (same digests: `voronoi_timing --hash` digests
-    /// the derived edge lists): the faces' edges are no longer stored
-    /// (`face_edge_ids`, about 6.1 ids per tetrahedron, 24 bytes) but derived
-    /// from [`Voronoi3::vertex_edges`] (16 bytes per tetrahedron) and the
-    /// open faces' rays; the walks no longer number a facet per step (only
-    /// the rays at a hull), the face tasks number the 4 facets of each of
-    /// their tetrahedra once, and the join compacts one array fewer. 200k
-    /// points, one thread: output 183.6 MB -> 172.8 MB, fresh pages
-    /// 227 -> 217 MB (244 -> 232 MB on two threads), instructions (callgrind,
-    /// `--toggle-collect='delone::tet::voronoi::Voronoi3::build'`) 1.931G ->
-    /// 1.819G. 1M points: output 920 MB -> 866 MB, fresh pages 1170 ->
-    /// 1112 MB on two threads (1132 -> 1078 MB on one).
     fn build(
         points: &[[f64; 3]],
         weights: &[f64],

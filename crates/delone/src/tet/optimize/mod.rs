@@ -714,10 +714,10 @@ const RETRY_CAP: usize = 40_000;
 /// Input triangle angle (degrees) below which (or above 180° minus which)
 /// the worst tetrahedron at that triangle is taken as pinned by it (a
 /// nearly degenerate input triangle), and the second run is skipped.
-/// Measured at q1.414 (session 11): the second run changed nothing on
+/// Measured at q1.414: the second run changes nothing on
 /// cgal_u, cgal_triceratops and cgal_anchor_dense (worst at triangles of
-/// 0.07°, 0.00°, 0.00°) and doubled their time; with the worst at a 0.45°
-/// triangle it still raised cgal_part 6.2 → 7.8° (and cgal_rotor 8.7 →
+/// 0.07°, 0.00°, 0.00°) and doubles their time; with the worst at a 0.45°
+/// triangle it still raises cgal_part 6.2 → 7.8° (and cgal_rotor 8.7 →
 /// 9.7°, meshlab_knot 7.3 → 10.8° at 2.6°..4.1° triangles).
 const RETRY_FEATURE_ANGLE: f64 = 0.1;
 

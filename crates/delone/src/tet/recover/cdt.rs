@@ -262,8 +262,8 @@ const DEPTH: u32 = 2;
 /// (and is split). Segments recovered on the large corpus models use at
 /// most 238 (p99 about 20), while most failing ones run into the bound on
 /// flips that are rolled back anyway: the bound saves work on hopeless
-/// segments. Session 9 measured 256 (the previous value), 128, 96 and 64:
-/// 128 costs 2 more Steiner points on the whole `closed_clean` corpus
+/// segments. Measured with 256, 128, 96 and 64:
+/// 128 costs, against 256, 2 more Steiner points on the whole `closed_clean` corpus
 /// (1254 instead of 1252; 108 → 111 on c3d_nefertiti, 143 → 145 on
 /// vtk_turbineblade) and fewer rounds (136 instead of 146), and saves 5–6%
 /// of the instructions of `recover` on the large models; 64 saves 10% but

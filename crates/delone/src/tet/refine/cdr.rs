@@ -1780,8 +1780,8 @@ impl Cdr {
         // left, not fewer). The cell is left instead. (A cell only too big
         // is split regardless: volume and sizing bounds are the user's.)
         // Cells with two or more faces on the surface follow the rule too:
-        // exempting them (session 8) made 3-10% more points on the spiky
-        // and curved models and lowered the optimised minimum dihedral
+        // exempting them makes 3-10% more points on the spiky
+        // and curved models and lowers the optimised minimum dihedral
         // angle on cgal_eight (18.7° → 12.7°) and cgal_helmet (16.4° →
         // 12.4°); the optimiser copes with the cells left.
         if !big && quality::radius_edge_ratio(&p) > self.bound {
