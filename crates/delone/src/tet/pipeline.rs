@@ -263,7 +263,11 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         None => (None, None),
     };
     let optimized = match refined {
-        Some((ro, domain_mesh)) => {
+        Some((ro, mut domain_mesh)) => {
+            // The optimisation reads subfaces from the marks and keeps its
+            // own boundary map: the refinement's tables would only be
+            // copied and maintained.
+            domain_mesh.drop_tables();
             let o = optimize_options(opts, points.len(), Some(&ro));
             o.map(|o| optimize_in_place(&mut rec, domain_mesh, &o))
                 .transpose()

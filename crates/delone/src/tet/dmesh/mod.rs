@@ -242,6 +242,15 @@ impl DomainMesh {
         }
     }
 
+    /// Drops the subface and subsegment tables (the subface marks stay):
+    /// for a stage that reads subfaces from the marks only, such as the
+    /// optimisation, which would otherwise copy and maintain them.
+    pub(crate) fn drop_tables(&mut self) {
+        self.ftri = HashMap::default();
+        self.sedges = HashMap::default();
+        self.segs = HashMap::default();
+    }
+
     /// Moves the subface-table entries of boundary faces `gone` to `made`
     /// (a boundary flip, or a removal, within one facet): the new faces take
     /// the input triangle of the first old one. Nothing when the table is
