@@ -421,7 +421,7 @@ fn run_surf(
 /// minimum dihedral angle of the output.
 /// delone's quality mesh of a closed surface (`plc`, its triangles as
 /// facets) at radius-edge bound `q`: what `delone tet -pqQ` does
-/// ([`delone::tet::mesh`]: recovery, refinement, then the default `-O`
+/// ([`delone::tet::mesh()`]: recovery, refinement, then the default `-O`
 /// optimisation), the timed arm and the dihedral chart.
 pub fn delone_quality(
     plc: &delone::model::plc::Plc,
@@ -509,7 +509,7 @@ fn run_surfq(
 }
 
 /// delone's mesh of a PLC as `delone tet -p` / `-pqB` makes it
-/// ([`delone::tet::mesh`]: facets triangulated, recovery with the facets'
+/// ([`delone::tet::mesh()`]: facets triangulated, recovery with the facets'
 /// markers, holes and regions; with a bound, refinement and the default
 /// optimisation). Returns the mesh, the facets' triangles and the Steiner
 /// points of recovery and refinement.

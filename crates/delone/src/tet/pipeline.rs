@@ -1,7 +1,7 @@
 //! The 3D pipeline in one call, [`mesh()`]: validate the PLC, triangulate its
 //! facets ([`crate::tet::facets`]), recover them in a Delaunay
 //! tetrahedralization and carve holes and the outside
-//! ([`recover_marked`]), refine ([`refine_recovered`], with `-q`, `-a` or
+//! ([`recover_marked`]), refine ([`refine_recovered`](crate::tet::refine::refine_recovered), with `-q`, `-a` or
 //! `-m`) and optimise ([`optimize`], by default after refinement). It is
 //! the whole job of `delone tet -p`, which only reads the input, calls
 //! [`mesh()`] and writes the [`TetResult`].

@@ -5,7 +5,7 @@ use std::fmt;
 use crate::tet::TetMesh;
 use crate::Error;
 
-/// Options of [`recover`].
+/// Options of [`recover`](crate::tet::recover::recover).
 ///
 /// ```
 /// let o = delone::tet::recover::RecoverOptions::default();
@@ -33,7 +33,7 @@ pub struct RecoverOptions {
     /// domain only. Implies `constrained`. Default false.
     pub preserve_surface: bool,
     /// Merge edge-adjacent, exactly coplanar, consistently oriented input
-    /// triangles (with equal markers, see [`recover_marked`]) into facets
+    /// triangles (with equal markers, see [`recover_marked`](crate::tet::recover::recover_marked)) into facets
     /// and re-triangulate each facet before recovery, reusing the edges of
     /// the Delaunay tetrahedralization on its plane (the private `merge`
     /// module; TetGen's default, its `-M` turns it off). The mesh then
@@ -55,7 +55,7 @@ impl Default for RecoverOptions {
     }
 }
 
-/// What [`recover`] did.
+/// What [`recover`](crate::tet::recover::recover) did.
 ///
 /// ```
 /// let r = delone::tet::recover::RecoverReport::default();
@@ -93,7 +93,7 @@ pub struct RecoverReport {
     /// Components removed because a hole point lies in them.
     pub holes_removed: usize,
     /// Groups of coplanar input triangles merged and re-triangulated
-    /// ([`RecoverOptions::merge_coplanar`]).
+    /// ([`RecoverOptions::merge_coplanar`](crate::tet::recover::RecoverOptions::merge_coplanar)).
     pub coplanar_groups: usize,
     /// Groups of coplanar input triangles kept as given because their
     /// re-triangulation failed.
@@ -119,7 +119,7 @@ impl RecoverReport {
     }
 }
 
-/// The result of [`recover`].
+/// The result of [`recover`](crate::tet::recover::recover).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Recovered {
     /// The input points followed by the Steiner points.
@@ -130,7 +130,7 @@ pub struct Recovered {
     pub mesh: TetMesh,
     /// The triangles the mesh conforms to: the input triangles, except
     /// that each group of coplanar input triangles merged by
-    /// [`RecoverOptions::merge_coplanar`] is replaced by another
+    /// [`RecoverOptions::merge_coplanar`](crate::tet::recover::RecoverOptions::merge_coplanar) is replaced by another
     /// triangulation of the same region (same vertices and boundary).
     /// Without merging, a copy of the input triangles.
     pub surface: Vec<[u32; 3]>,
@@ -139,7 +139,7 @@ pub struct Recovered {
     pub surface_origin: Vec<u32>,
     /// The boundary faces, oriented outward (counterclockwise seen from
     /// outside), each a refinement piece of a triangle of `surface` (or,
-    /// with [`Domain::convex_hull`], a convex hull face off the surface).
+    /// with [`Domain::convex_hull`](crate::tet::recover::Domain::convex_hull), a convex hull face off the surface).
     pub boundary: Vec<[u32; 3]>,
     /// For each boundary face, the index **in `surface`** of the triangle
     /// it lies on ([`crate::NONE`] for a hull face off the surface); the
@@ -165,7 +165,7 @@ pub struct Recovered {
     pub report: RecoverReport,
 }
 
-/// Why [`recover`] failed.
+/// Why [`recover`](crate::tet::recover::recover) failed.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum RecoverError {
@@ -208,10 +208,10 @@ pub enum RecoverError {
     SeedOnSurface {
         /// `"hole"` or `"region"`.
         kind: &'static str,
-        /// Index of the point in [`Domain::holes`] or [`Domain::regions`].
+        /// Index of the point in [`Domain::holes`](crate::tet::recover::Domain::holes) or [`Domain::regions`](crate::tet::recover::Domain::regions).
         index: usize,
     },
-    /// [`recover_marked`]: the markers are neither empty nor one per
+    /// [`recover_marked`](crate::tet::recover::recover_marked): the markers are neither empty nor one per
     /// triangle.
     MarkerCount {
         /// The number of triangles.
@@ -304,9 +304,9 @@ pub struct MeshRegion {
     pub attribute: f64,
     /// Volume bound of the region's seed, if it has a positive one.
     pub max_volume: Option<f64>,
-    /// The index of the region point (in [`Domain::regions`]) that names it.
+    /// The index of the region point (in [`Domain::regions`](crate::tet::recover::Domain::regions)) that names it.
     pub seed: Option<usize>,
-    /// The region outside the surface, kept by [`Domain::convex_hull`].
+    /// The region outside the surface, kept by [`Domain::convex_hull`](crate::tet::recover::Domain::convex_hull).
     pub exterior: bool,
     /// Number of tetrahedra.
     pub tets: usize,

@@ -16,7 +16,7 @@
 //!   4-bit face mask per tetrahedron; a side table maps a subface to its
 //!   input triangle and an edge to the subfaces holding it;
 //! * **facets** — the recovery merges exactly coplanar input triangles
-//!   into planar groups ([`RecoverOptions::merge_coplanar`], on by
+//!   into planar groups ([`RecoverOptions::merge_coplanar`](crate::tet::recover::RecoverOptions::merge_coplanar), on by
 //!   default, as in TetGen) and re-triangulates each; a facet of the
 //!   refinement is such a group (the surface triangles with the same
 //!   [`Recovered::surface_origin`]), or one input triangle when not

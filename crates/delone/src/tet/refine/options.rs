@@ -3,7 +3,7 @@
 use super::sizing;
 use crate::tet::recover::RecoverOptions;
 
-/// Options of [`refine`].
+/// Options of [`refine`](crate::tet::refine::refine).
 ///
 /// ```
 /// let o = delone::tet::refine::RefineOptions::default();
@@ -23,11 +23,11 @@ pub struct RefineOptions {
     /// NaN, zero and negative values are refused.
     pub max_volume: Option<f64>,
     /// Most Steiner points the refinement may add (after recovery; TetGen's
-    /// `-S`). The default, [`AUTO_BUDGET`], means [`default_budget`] of the
+    /// `-S`). The default, [`AUTO_BUDGET`], means [`default_budget`](crate::tet::refine::default_budget) of the
     /// input. When it runs out the refinement stops with a valid mesh and
-    /// [`RefineReport::budget_exhausted`].
+    /// [`RefineReport::budget_exhausted`](crate::tet::refine::RefineReport::budget_exhausted).
     pub max_steiner: usize,
-    /// Options of the recovery stage of [`refine`].
+    /// Options of the recovery stage of [`refine`](crate::tet::refine::refine).
     pub recover: RecoverOptions,
     /// Local target edge length (`-m`): a closure or a background mesh;
     /// default none. See [`sizing`] for the rule.
@@ -37,7 +37,7 @@ pub struct RefineOptions {
     /// boundary and interior faces of the output are those of the input
     /// mesh. A bad cell whose circumcentre encroaches the surface is split
     /// at a point inside its circumball that does not (see the module
-    /// documentation), or left and counted in [`LeftBad::surface`]; a cell
+    /// documentation), or left and counted in [`LeftBad::surface`](crate::tet::refine::LeftBad::surface); a cell
     /// above a volume bound is always split. Default false.
     pub keep_surface: bool,
 }
@@ -55,16 +55,16 @@ impl Default for RefineOptions {
     }
 }
 
-/// [`RefineOptions::max_steiner`] meaning "the default budget of the
-/// input" ([`default_budget`]).
+/// [`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) meaning "the default budget of the
+/// input" ([`default_budget`](crate::tet::refine::default_budget)).
 pub const AUTO_BUDGET: usize = usize::MAX;
 
-/// Smallest default Steiner budget ([`default_budget`]): about 500 MB of
+/// Smallest default Steiner budget ([`default_budget`](crate::tet::refine::default_budget)): about 500 MB of
 /// refinement ([`memory_estimate`]).
 pub const BUDGET_BASE: usize = 500_000;
 
-/// Largest default Steiner budget ([`default_budget`]): about 4 GB. A
-/// bigger run needs an explicit [`RefineOptions::max_steiner`] (`-S`).
+/// Largest default Steiner budget ([`default_budget`](crate::tet::refine::default_budget)): about 4 GB. A
+/// bigger run needs an explicit [`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) (`-S`).
 pub const BUDGET_MAX: usize = 1 << 22;
 
 /// Peak bytes per vertex of a refinement, optimisation included (measured:
@@ -73,11 +73,11 @@ pub const BUDGET_MAX: usize = 1 << 22;
 pub const BYTES_PER_POINT: u64 = 1000;
 
 /// The smallest radius-edge ratio of any tetrahedron, √6/4 ≈ 0.612 (the
-/// regular tetrahedron's): a smaller [`RefineOptions::max_radius_edge`] is
+/// regular tetrahedron's): a smaller [`RefineOptions::max_radius_edge`](crate::tet::refine::RefineOptions::max_radius_edge) is
 /// refused.
 pub const MIN_RADIUS_EDGE: f64 = 0.612_372_435_695_794_5;
 
-/// The Steiner budget used when [`RefineOptions::max_steiner`] is
+/// The Steiner budget used when [`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) is
 /// [`AUTO_BUDGET`]: [`BUDGET_BASE`] + 16 per input vertex + 2 per unit of
 /// volume over the volume bound (`volume_ratio`: the sum over the recovered
 /// tetrahedra of their volume over their region's bound), at most
@@ -116,8 +116,8 @@ pub fn memory_estimate(points: usize) -> u64 {
 }
 
 impl RefineOptions {
-    /// Refuses bounds no mesh can meet (what [`refine`] and
-    /// [`refine_recovered`] check first; callers may check before a long
+    /// Refuses bounds no mesh can meet (what [`refine`](crate::tet::refine::refine) and
+    /// [`refine_recovered`](crate::tet::refine::refine_recovered) check first; callers may check before a long
     /// recovery): a radius-edge ratio that is NaN or below
     /// [`MIN_RADIUS_EDGE`], a volume bound that is NaN, zero or negative.
     ///

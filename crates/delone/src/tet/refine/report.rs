@@ -2,7 +2,7 @@
 
 use crate::tet::recover::{RecoverReport, Recovered};
 
-/// What [`refine`] did.
+/// What [`refine`](crate::tet::refine::refine) did.
 ///
 /// ```
 /// let r = delone::tet::refine::RefineReport::default();
@@ -56,13 +56,13 @@ pub struct RefineReport {
     /// Of [`Self::skipped`]: the insertion plan was refused (no valid
     /// cavity, or the point could not be located).
     pub skipped_refused: usize,
-    /// Of [`Self::skipped`]: with [`RefineOptions::keep_surface`], every
+    /// Of [`Self::skipped`]: with [`RefineOptions::keep_surface`](crate::tet::refine::RefineOptions::keep_surface), every
     /// point tried would have encroached the surface.
     pub skipped_surface: usize,
     /// Of [`Self::interior`]: points inside a cell's circumball other than
     /// its circumcentre (cells too big whose circumcentre could not be
     /// used, and cells kept off the surface by
-    /// [`RefineOptions::keep_surface`]).
+    /// [`RefineOptions::keep_surface`](crate::tet::refine::RefineOptions::keep_surface)).
     pub inside: usize,
     /// Why the cells of [`Self::remaining_bad`] were left, and near which
     /// input features they lie.
@@ -75,13 +75,13 @@ pub struct RefineReport {
     /// The Steiner budget ran out before every bad cell was split.
     pub budget_exhausted: bool,
     /// The Steiner budget the refinement ran under
-    /// ([`RefineOptions::max_steiner`] or [`default_budget`]).
+    /// ([`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) or [`default_budget`](crate::tet::refine::default_budget)).
     pub steiner_budget: usize,
     /// Output cells whose radius-edge ratio is above the bound.
     pub remaining_bad: usize,
-    /// Output cells bigger than the sizing allows ([`RefineOptions::sizing`]).
+    /// Output cells bigger than the sizing allows ([`RefineOptions::sizing`](crate::tet::refine::RefineOptions::sizing)).
     pub remaining_too_big: usize,
-    /// Output cells above their volume bound ([`RefineOptions::max_volume`]
+    /// Output cells above their volume bound ([`RefineOptions::max_volume`](crate::tet::refine::RefineOptions::max_volume)
     /// or their region's); 0 unless the Steiner budget ran out.
     pub remaining_over_volume: usize,
     /// Of [`Self::remaining_bad`], the nearly flat cells (radius-edge
@@ -108,15 +108,15 @@ pub struct LeftBad {
     /// Circumcentre behind a subface it does not encroach.
     pub behind: usize,
     /// Circumcentre closer to a vertex of its cavity than the cell's
-    /// shortest edge ([`RefineReport::skipped_close`]).
+    /// shortest edge ([`RefineReport::skipped_close`](crate::tet::refine::RefineReport::skipped_close)).
     pub close: usize,
     /// Splitting the encroached piece would have broken the
-    /// insertion-radius rule ([`RefineReport::skipped_radius`]).
+    /// insertion-radius rule ([`RefineReport::skipped_radius`](crate::tet::refine::RefineReport::skipped_radius)).
     pub radius: usize,
     /// The encroached pieces are shorter than the cell's shortest edge, or
     /// their splits failed.
     pub small: usize,
-    /// Spanning a sharp input wedge ([`RefineReport::skipped_wedge`]).
+    /// Spanning a sharp input wedge ([`RefineReport::skipped_wedge`](crate::tet::refine::RefineReport::skipped_wedge)).
     pub wedge: usize,
     /// A vertex on a degenerate (zero-angle) input triangle.
     pub degenerate: usize,
@@ -126,7 +126,7 @@ pub struct LeftBad {
     /// Insertion plan refused or circumcentre not located.
     pub refused: usize,
     /// Every point tried would have encroached the surface, which
-    /// [`RefineOptions::keep_surface`] keeps.
+    /// [`RefineOptions::keep_surface`](crate::tet::refine::RefineOptions::keep_surface) keeps.
     pub surface: usize,
     /// Never split for another reason: the Steiner budget ran out, or the
     /// cell was made by the last insertions' flips after its checks.
@@ -142,7 +142,7 @@ pub struct LeftBad {
 
 impl LeftBad {
     /// Cells counted over the reasons (equals
-    /// [`RefineReport::remaining_bad`]).
+    /// [`RefineReport::remaining_bad`](crate::tet::refine::RefineReport::remaining_bad)).
     ///
     /// ```
     /// let l = delone::tet::refine::LeftBad { close: 2, radius: 1, ..Default::default() };
@@ -177,8 +177,8 @@ impl RefineReport {
     }
 }
 
-/// The result of [`refine`]: a [`Recovered`] mesh (so
-/// [`super::recover::check_recovered`] applies to it) and the report.
+/// The result of [`refine`](crate::tet::refine::refine): a [`Recovered`] mesh (so
+/// [`super::recover::check_recovered`](crate::tet::recover::check_recovered) applies to it) and the report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refined {
     /// Points, inside tetrahedra, boundary faces with their input triangle,
