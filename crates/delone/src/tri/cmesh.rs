@@ -565,28 +565,35 @@ mod tests {
         for t in 0..m.tr.len() {
             for e in 0..3 {
                 let n = d.neighbors[t][e];
-                let (a, b) = edge(&m.tr[t].v, e);
                 if n == NONE {
-                    let k = m.subs.len() as u32;
-                    m.subs.push(Sub {
-                        v: [a, b],
-                        he: pack(t, e),
-                        t: [0.0, 1.0],
-                        parent: 0,
-                        alive: true,
-                        stuck: false,
-                        protected: false,
-                    });
-                    m.set_sub(t, e, k);
+                    new_sub(&mut m, t, e);
                     continue;
                 }
                 let n = n as usize;
+                let (a, b) = edge(&m.tr[t].v, e);
                 let j = (0..3).find(|&j| edge(&m.tr[n].v, j) == (b, a)).unwrap();
                 m.tr[t].a[e] = pack(n, j);
             }
         }
         m.check(true).unwrap();
         m
+    }
+
+    /// Makes edge `e` of triangle `t` a whole input subsegment (marked on
+    /// `t`'s side only); its id.
+    fn new_sub(m: &mut CMesh, t: usize, e: usize) -> u32 {
+        let k = m.subs.len() as u32;
+        m.subs.push(Sub {
+            v: edge(&m.tr[t].v, e).into(),
+            he: pack(t, e),
+            t: [0.0, 1.0],
+            parent: 0,
+            alive: true,
+            stuck: false,
+            protected: false,
+        });
+        m.set_sub(t, e, k);
+        k
     }
 
     /// A triangle whose closed interior holds `c`.
@@ -749,17 +756,7 @@ mod tests {
         let t = containing(&m, &[0.6, 0.4]).unwrap();
         let e = (0..3).find(|&e| m.tr[t].a[e] != NONE).unwrap();
         let (a, b) = edge(&m.tr[t].v, e);
-        let k = m.subs.len() as u32;
-        m.subs.push(Sub {
-            v: [a, b],
-            he: pack(t, e),
-            t: [0.0, 1.0],
-            parent: 0,
-            alive: true,
-            stuck: false,
-            protected: false,
-        });
-        m.set_sub(t, e, k);
+        let k = new_sub(&mut m, t, e);
         let (n, j) = unpack(m.tr[t].a[e]);
         m.set_sub(n, j, k);
         m.check(true).unwrap();
