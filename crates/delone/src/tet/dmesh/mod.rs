@@ -44,6 +44,7 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+pub(crate) mod flip;
 pub(crate) mod ring;
 
 use std::cell::RefCell;

@@ -13,6 +13,7 @@
 use super::limits::Limits;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, norm, sub};
+use crate::tet::dmesh::flip::positive;
 use crate::tet::dmesh::{ring, DomainMesh, RingEnd};
 use crate::tet::local::{face, fkey};
 use delone_predicates::{orient2d, orient3d};
@@ -319,8 +320,7 @@ impl Work {
     /// Exact: `tv` is strictly positive.
     #[inline]
     pub(super) fn positive(&self, tv: [u32; 4]) -> bool {
-        let g = |i: usize| &self.p[tv[i] as usize];
-        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+        positive(&self.p, tv)
     }
 
     /// True when sorted face `k` is a protected interface face.
@@ -328,14 +328,6 @@ impl Work {
     pub(super) fn is_protected(&self, k: [u32; 3]) -> bool {
         // A protected face has three fixed vertices (cheap tests first).
         !self.prot.is_empty() && k.iter().all(|&v| self.fixed[v as usize]) && self.prot.contains(&k)
-    }
-
-    /// True when the face opposite `f` in `t` may be destroyed: not a
-    /// subface (boundary or interface), no region change.
-    #[inline]
-    fn open_face(&self, t: u32, f: usize) -> bool {
-        let n = self.m.across(t, f);
-        n != NONE && !self.m.is_sub(t, f) && self.m.reg[n as usize] == self.m.reg[t as usize]
     }
 
     /// Marks vertex `v` as in no tetrahedron any more (after its collapse).
@@ -359,7 +351,7 @@ impl Work {
         let (tets, ring, end) =
             self.m
                 .edge_ring(t, (a, b), MAX_RING, !self.bnd.is_empty(), |c, f| {
-                    self.open_face(c, f)
+                    self.m.open_face(c, f)
                 })?;
         Some((tets, ring, end == RingEnd::Open))
     }
@@ -430,25 +422,18 @@ impl Work {
         orient3d(g(a), g(b), g(c), g(d)) == 0.0
     }
 
-    /// The 2-3 flip of the face opposite `f` in `t`, if allowed.
+    /// The 2-3 flip of the face opposite `f` in `t`
+    /// ([`DomainMesh::flip23`]), if its new tetrahedra have positive quality.
     pub(super) fn plan_flip23(&self, t: u32, f: usize) -> Option<Plan> {
-        if !self.open_face(t, f) {
-            return None;
-        }
-        let u = self.m.across(t, f);
-        let tv = self.m.tv[t as usize];
-        let uv = self.m.tv[u as usize];
-        let p = tv[f];
-        let q = *uv.iter().find(|w| !tv.contains(w))?;
-        let [x, y, z] = face(tv, f);
-        let new = vec![[x, y, q, p], [y, z, q, p], [z, x, q, p]];
-        let qm = new
+        let fl = self.m.flip23(t, f)?;
+        let qm = fl
+            .new
             .iter()
             .map(|&n| self.qual(n))
             .fold(f64::INFINITY, f64::min);
         (qm > 0.0).then_some(Plan {
-            old: vec![t, u],
-            new,
+            old: fl.old,
+            new: fl.new,
             q: qm,
             ring: 0,
         })
@@ -464,7 +449,7 @@ impl Work {
     /// the best set whose new tetrahedra beat the removed ones is planned.
     /// With one face it is the 2-3 flip.
     pub(super) fn plan_multi_face(&self, t: u32, f: usize) -> Option<Plan> {
-        if !self.open_face(t, f) {
+        if !self.m.open_face(t, f) {
             return None;
         }
         let tv = self.m.tv[t as usize];
@@ -509,7 +494,7 @@ impl Work {
             let across = |s: u32, apex: u32| -> Option<(u32, u32)> {
                 let sv = self.m.tv[s as usize];
                 let k = sv.iter().position(|&w| w == rz)?;
-                if !self.open_face(s, k) {
+                if !self.m.open_face(s, k) {
                     return None;
                 }
                 let n = self.m.across(s, k);
@@ -526,7 +511,7 @@ impl Work {
             }
             // The face `rx ry w` between `na` and `nb` must be open too.
             let k = self.m.tv[na as usize].iter().position(|&w| w == a)?;
-            if !self.open_face(na, k) || self.m.across(na, k) != nb {
+            if !self.m.open_face(na, k) || self.m.across(na, k) != nb {
                 break;
             }
             ring.insert(i + 1, wa);
@@ -1029,7 +1014,7 @@ impl Work {
             i += 1;
             for f in 0..4 {
                 let n = self.m.across(c, f);
-                if n == NONE || cav.contains(&n) || !self.open_face(c, f) {
+                if n == NONE || cav.contains(&n) || !self.m.open_face(c, f) {
                     continue;
                 }
                 let p = self.m.tv[n as usize].map(|v| self.p[v as usize]);
@@ -1071,7 +1056,7 @@ impl Work {
         loop {
             let next = (0..4).find(|&f| side(cur, f) > 0.0);
             let Some(f) = next else { break };
-            if !self.open_face(cur, f) || cav.len() >= max {
+            if !self.m.open_face(cur, f) || cav.len() >= max {
                 return None;
             }
             cur = self.m.across(cur, f);
@@ -1096,7 +1081,7 @@ impl Work {
                 if (n != NONE && cav.contains(&n)) || !beyond(c, f) {
                     continue;
                 }
-                if n == NONE || !self.open_face(c, f) || cav.len() >= max {
+                if n == NONE || !self.m.open_face(c, f) || cav.len() >= max {
                     return None;
                 }
                 cav.push(n);

@@ -6,40 +6,21 @@
 //! A face shared by two tetrahedra of the domain, not a subface, is
 //! *locally Delaunay* when the apex of either tetrahedron is not strictly
 //! inside the other's circumsphere (exact `insphere`). A face that is not
-//! is flipped:
-//!
-//! * **2-3** when the segment between the two apexes crosses the face's
-//!   interior (the three new tetrahedra around it are strictly positive by
-//!   exact `orient3d`);
-//! * **3-2** when an edge of the face has exactly three tetrahedra around
-//!   it, none of their faces through it a subface, and the two tetrahedra
-//!   replacing them are strictly positive.
-//!
-//! Otherwise the face is left (a degenerate or unflippable configuration;
-//! rare). Every flip strictly lowers the lifted (paraboloid) volume, so the
-//! process terminates. Subfaces are never flipped and no edge of a subface
-//! is removed (3-2 flips need the three faces around the removed edge to be
-//! unconstrained), so the constraints and the regions stay intact.
-
-use delone_predicates::orient3d;
+//! is flipped 2-3 or 3-2
+//! ([`DomainMesh::flip_face`](crate::tet::dmesh::DomainMesh::flip_face): positive new
+//! tetrahedra, no subface destroyed, no region crossed), unless a new
+//! tetrahedron would be flat on an input facet; otherwise it is left (a
+//! degenerate or unflippable configuration; rare). Every flip strictly
+//! lowers the lifted (paraboloid) volume, so the process terminates.
 
 use super::Cdr;
-use crate::tet::local::face;
 use crate::tet::local::DEAD;
-use crate::NONE;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when
 /// queued (stale entries are dropped), local face.
 type Item = (u32, [u32; 4], usize);
 
 impl Cdr {
-    /// Is tetrahedron `[a, b, c, d]` strictly positive (the orientation of
-    /// the mesh)?
-    fn positive(&self, t: [u32; 4]) -> bool {
-        let g = |q: u32| &self.p[q as usize];
-        orient3d(g(t[0]), g(t[1]), g(t[2]), g(t[3])) < 0.0
-    }
-
     /// Flips every non-locally-Delaunay face reachable from the faces of
     /// `seeds` (all tetrahedra when `seeds` is `None`); returns the new
     /// tetrahedra (possibly dead by the end) for the caller to re-check.
@@ -90,82 +71,21 @@ impl Cdr {
     }
 
     /// Flips face `f` of `t` when it is not locally Delaunay and a 2-3 or
-    /// 3-2 flip applies; returns the new tetrahedra.
+    /// 3-2 flip (`DomainMesh::flip_face`) makes no flat tetrahedron;
+    /// returns the new tetrahedra.
     fn try_flip(&mut self, t: u32, f: usize) -> Option<Vec<u32>> {
-        let w = self.m.nb[t as usize][f];
-        if w == NONE || self.m.mask[t as usize] >> f & 1 == 1 {
+        if !self.m.open_face(t, f) {
             return None;
         }
-        let (u, g) = (w >> 2, (w & 3) as usize);
-        let tv = self.m.tv[t as usize];
-        let e = self.m.tv[u as usize][g];
+        let w = self.m.nb[t as usize][f];
+        let e = self.m.tv[(w >> 2) as usize][(w & 3) as usize];
         if !self.in_sphere(t, &self.pt(e)) {
             return None;
         }
-        if self.m.reg[t as usize] != self.m.reg[u as usize] {
-            return None;
-        }
-        let d = tv[f];
-        let [x, y, z] = face(tv, f);
-        // 2-3: the three tetrahedra around the new edge d e.
-        let cand = [[x, y, d, e], [y, z, d, e], [z, x, d, e]];
-        let sgn: Vec<f64> = cand
-            .iter()
-            .map(|c| {
-                let g = |q: u32| &self.p[q as usize];
-                orient3d(g(c[0]), g(c[1]), g(c[2]), g(c[3]))
-            })
-            .collect();
-        if cand.iter().any(|&c| self.flat(c, None)) {
-            return None;
-        }
-        if sgn.iter().all(|&s| s < 0.0) {
-            return Some(self.replace(&[t, u], &cand));
-        }
-        if sgn.iter().all(|&s| s > 0.0) {
-            let c = cand.map(|c| [c[1], c[0], c[2], c[3]]);
-            return Some(self.replace(&[t, u], &c));
-        }
-        // 3-2 across an edge of the face with three tetrahedra around it.
-        for (a, b, c) in [(x, y, z), (y, z, x), (z, x, y)] {
-            // The tetrahedron of `t` across face a b d (opposite c).
-            let ic = tv.iter().position(|&q| q == c)?;
-            if self.m.mask[t as usize] >> ic & 1 == 1 {
-                continue;
-            }
-            let wv = self.m.nb[t as usize][ic];
-            if wv == NONE {
-                continue;
-            }
-            let v = wv >> 2;
-            let vv = self.m.tv[v as usize];
-            if !vv.contains(&e) || self.m.reg[v as usize] != self.m.reg[t as usize] {
-                continue;
-            }
-            // Face a b e of `v` (opposite d) must be u's neighbour and free.
-            let Some(id) = vv.iter().position(|&q| q == d) else {
-                continue;
-            };
-            if self.m.mask[v as usize] >> id & 1 == 1 || self.m.nb[v as usize][id] >> 2 != u {
-                continue;
-            }
-            let mut n1 = [d, e, c, a];
-            let mut n2 = [d, e, c, b];
-            if !self.positive(n1) {
-                n1.swap(0, 1);
-            }
-            if !self.positive(n2) {
-                n2.swap(0, 1);
-            }
-            if self.positive(n1)
-                && self.positive(n2)
-                && !self.flat(n1, None)
-                && !self.flat(n2, None)
-            {
-                return Some(self.replace(&[t, u, v], &[n1, n2]));
-            }
-        }
-        None
+        let fl = self.m.flip_face(&self.p, t, f, |new| {
+            !new.iter().any(|&n| self.flat(n, None))
+        })?;
+        Some(self.replace(&fl.old, &fl.new))
     }
 
     /// Replaces the tetrahedra `old` (one region, no subface between them)
