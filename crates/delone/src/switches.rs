@@ -236,51 +236,64 @@ pub(crate) fn number(letter: char, text: &str) -> Result<Option<f64>, SwitchErro
     }
 }
 
-/// What one letter did to the options being parsed.
-pub(crate) enum Taken {
-    /// The letter was taken.
-    Done,
-    /// The letter is not one of the program's own.
-    Other,
+/// A program's options as its switch letters ([`read`], [`add`]).
+pub(crate) trait Letters: Default {
+    /// The program whose letters these are.
+    const PROGRAM: Program;
+    /// The letters followed by a number.
+    const NUMBERED: &'static str;
+    /// The letters followed by two numbers split by `/`.
+    const SLASHED: &'static str;
+    /// Takes letter `c` with the number glued to it; `Ok(false)` when `c`
+    /// is not one of the program's own letters.
+    fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError>;
+    /// The shared output letters and the `-h` flag.
+    fn shared(&mut self) -> (&mut OutputSwitches, &mut bool);
 }
 
-/// Parses switch string `s` (an optional leading `-`, then letters) for
-/// `program`: `own(letter, number)` takes each letter with the number glued
-/// to it (letters `numbered` says take one: `Some(slash)`), the shared
-/// output letters go to `output`, and the letters of the original program
-/// that delone lacks are refused. Returns true when `-h` stopped it.
-pub(crate) fn parse(
-    program: Program,
+/// The options of switch string `s`, their combination checked by `check`.
+pub(crate) fn read<O: Letters>(
     s: &str,
-    numbered: impl Fn(char) -> Option<bool>,
-    output: &mut OutputSwitches,
-    mut own: impl FnMut(char, &str) -> Result<Taken, SwitchError>,
-) -> Result<bool, SwitchError> {
+    check: fn(&O) -> Result<(), SwitchError>,
+) -> Result<O, SwitchError> {
+    let mut o = O::default();
+    add(&mut o, s)?;
+    check(&o)?;
+    Ok(o)
+}
+
+/// Adds switch string `s` (an optional leading `-`, then letters) to `o`:
+/// the program's own letters with the numbers glued to them, the shared
+/// output letters, `-h` (which stops the reading); the letters of the
+/// original program that delone lacks are refused.
+pub(crate) fn add<O: Letters>(o: &mut O, s: &str) -> Result<(), SwitchError> {
     let chars: Vec<char> = s.strip_prefix('-').unwrap_or(s).chars().collect();
     let mut k = 0;
     while k < chars.len() {
         let c = chars[k];
         k += 1;
         let start = k;
-        if let Some(slash) = numbered(c) {
-            k = number_end(&chars, k, slash);
+        if O::NUMBERED.contains(c) {
+            k = number_end(&chars, k, O::SLASHED.contains(c));
         }
         let num: String = chars[start..k].iter().collect();
-        match own(c, &num)? {
-            Taken::Done => continue,
-            Taken::Other => {}
+        if o.letter(c, &num)? {
+            continue;
         }
+        let (output, help) = o.shared();
         if c == 'h' {
-            return Ok(true);
+            *help = true;
+            return Ok(());
         }
         if !output.letter(c) {
+            let program = O::PROGRAM;
             return Err(match unimplemented(program, c) {
                 Some(what) => SwitchError::NotImplemented { letter: c, what },
                 None => SwitchError::Unknown { program, letter: c },
             });
         }
     }
-    Ok(false)
+    Ok(())
 }
 
 /// Switches of the original program that delone does not implement yet,

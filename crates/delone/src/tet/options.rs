@@ -1,7 +1,7 @@
 //! [`TetOptions`]: what [`crate::tet::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tet` (TetGen's letters).
 
-use crate::switches::{self, first_unused, number, OutputSwitches, Program, SwitchError, Taken};
+use crate::switches::{self, first_unused, number, Letters, OutputSwitches, Program, SwitchError};
 use crate::tet::refine::sizing::Sizing;
 use crate::tet::refine::RefineOptions;
 use crate::Error;
@@ -106,10 +106,7 @@ impl TetOptions {
     ///            "-q2/80: the dihedral bound must lie between 0 and 70.5 degrees");
     /// ```
     pub fn from_switches(s: &str) -> Result<TetOptions, SwitchError> {
-        let mut o = TetOptions::default();
-        o.add_switches(s)?;
-        o.check()?;
-        Ok(o)
+        switches::read(s, Self::check)
     }
 
     /// Adds the letters of switch string `s` to `self` without checking
@@ -126,23 +123,20 @@ impl TetOptions {
     /// assert_eq!(o.max_volume, Some(0.5));
     /// ```
     pub fn add_switches(&mut self, s: &str) -> Result<(), SwitchError> {
-        let numbered = |c: char| match c {
-            'q' => Some(true),
-            'a' | 'S' | 'O' => Some(false),
-            _ => None,
-        };
-        let mut output = std::mem::take(&mut self.output);
-        let r = switches::parse(Program::Tet, s, numbered, &mut output, |c, num| {
-            self.letter(c, num)
-        });
-        self.output = output;
-        if r? {
-            self.help = true;
-        }
-        Ok(())
+        switches::add(self, s)
+    }
+}
+
+impl Letters for TetOptions {
+    const PROGRAM: Program = Program::Tet;
+    const NUMBERED: &'static str = "qaSO";
+    const SLASHED: &'static str = "q";
+
+    fn shared(&mut self) -> (&mut OutputSwitches, &mut bool) {
+        (&mut self.output, &mut self.help)
     }
 
-    fn letter(&mut self, c: char, num: &str) -> Result<Taken, SwitchError> {
+    fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
         let range = |why| SwitchError::OutOfRange {
             letter: c,
             text: num.to_string(),
@@ -193,11 +187,13 @@ impl TetOptions {
             // delone never drops vertices from the output .node, which is
             // what TetGen's -J asks for.
             'J' => {}
-            _ => return Ok(Taken::Other),
+            _ => return Ok(false),
         }
-        Ok(Taken::Done)
+        Ok(true)
     }
+}
 
+impl TetOptions {
     /// Whether the options ask for refinement after recovery (`-q`, `-a`
     /// or `-m`).
     ///

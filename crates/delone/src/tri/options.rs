@@ -1,7 +1,7 @@
 //! [`TriOptions`]: what [`crate::tri::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tri` (Triangle's letters).
 
-use crate::switches::{self, first_unused, number, OutputSwitches, Program, SwitchError, Taken};
+use crate::switches::{self, first_unused, number, Letters, OutputSwitches, Program, SwitchError};
 use crate::tri::refine::SegmentSplits;
 
 /// The options of the 2D pipeline ([`crate::tri::mesh()`]) and of
@@ -93,10 +93,7 @@ impl TriOptions {
     /// assert!(matches!(TriOptions::from_switches("q"), Err(SwitchError::Conflict { .. })));
     /// ```
     pub fn from_switches(s: &str) -> Result<TriOptions, SwitchError> {
-        let mut o = TriOptions::default();
-        o.add_switches(s)?;
-        o.check()?;
-        Ok(o)
+        switches::read(s, Self::check)
     }
 
     /// Adds the letters of switch string `s` to `self` without checking
@@ -114,19 +111,20 @@ impl TriOptions {
     /// assert_eq!(o.segment_splits, delone::tri::refine::SegmentSplits::Interior);
     /// ```
     pub fn add_switches(&mut self, s: &str) -> Result<(), SwitchError> {
-        let numbered = |c: char| matches!(c, 'q' | 'a' | 'S' | 'o').then_some(false);
-        let mut output = std::mem::take(&mut self.output);
-        let r = switches::parse(Program::Tri, s, numbered, &mut output, |c, num| {
-            self.letter(c, num)
-        });
-        self.output = output;
-        if r? {
-            self.help = true;
-        }
-        Ok(())
+        switches::add(self, s)
+    }
+}
+
+impl Letters for TriOptions {
+    const PROGRAM: Program = Program::Tri;
+    const NUMBERED: &'static str = "qaSo";
+    const SLASHED: &'static str = "";
+
+    fn shared(&mut self) -> (&mut OutputSwitches, &mut bool) {
+        (&mut self.output, &mut self.help)
     }
 
-    fn letter(&mut self, c: char, num: &str) -> Result<Taken, SwitchError> {
+    fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
         let range = |why| SwitchError::OutOfRange {
             letter: c,
             text: num.to_string(),
@@ -175,11 +173,13 @@ impl TriOptions {
             'c' => self.convex_hull = true,
             'A' => self.region_attributes = true,
             'F' => self.fortune = true,
-            _ => return Ok(Taken::Other),
+            _ => return Ok(false),
         }
-        Ok(Taken::Done)
+        Ok(true)
     }
+}
 
+impl TriOptions {
     /// Whether the options ask for refinement (`-q`, `-a`, `-S`, `-D` or
     /// `-Y`).
     ///
