@@ -54,3 +54,29 @@ mod tests {
         assert_eq!(sub(&[1.0, 2.0, 3.0], &x), [0.0, 2.0, 3.0]);
     }
 }
+
+/// Exact collinearity of three points in 3D: all three coordinate
+/// projections are degenerate.
+pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    (0..3).all(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        delone_predicates::orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0
+    })
+}
+
+/// Corner `k` of box `b = [lower, upper]`: the upper bound in axis `i`
+/// when bit `i` of `k` is set.
+pub(crate) fn box_corner(b: &[P; 2], k: usize) -> P {
+    [b[k & 1][0], b[(k >> 1) & 1][1], b[(k >> 2) & 1][2]]
+}
+
+/// The sides of a box (lower and upper x, y, z) as quadrilaterals of
+/// [`box_corner`] indices, counterclockwise seen from outside.
+pub(crate) const BOX_SIDES: [[u32; 4]; 6] = [
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+];

@@ -11,6 +11,7 @@
 //! holds the data and its validation only.
 
 use crate::error::{Error, FacetDefect};
+use crate::geom::vec3::collinear;
 use delone_predicates::{orient2d, orient3d};
 use std::collections::HashMap;
 
@@ -496,38 +497,20 @@ pub(crate) fn key(p: &[f64; 3]) -> [u64; 3] {
     p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
-/// Exact collinearity of three points in 3D: all three coordinate
-/// projections are degenerate.
-pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    (0..3).all(|k| {
-        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::vec3::{box_corner, BOX_SIDES};
 
+    /// The unit cube; facets bottom, top, front, back, left, right.
     fn cube() -> Plc {
-        let mut pts = Vec::new();
-        for z in [0.0, 1.0] {
-            for y in [0.0, 1.0] {
-                for x in [0.0, 1.0] {
-                    pts.push([x, y, z]);
-                }
-            }
-        }
-        let mut plc = Plc::new(pts);
-        for q in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            plc.facets.push(Facet::polygon(q.to_vec()));
+        let mut plc = Plc::new(
+            (0..8)
+                .map(|k| box_corner(&[[0.0; 3], [1.0; 3]], k))
+                .collect(),
+        );
+        for i in [4, 5, 2, 3, 0, 1] {
+            plc.facets.push(Facet::polygon(BOX_SIDES[i].to_vec()));
         }
         plc
     }

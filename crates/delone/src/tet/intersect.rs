@@ -42,7 +42,8 @@
 //! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
-use crate::model::plc::{collinear, key};
+use crate::geom::vec3::collinear;
+use crate::model::plc::key;
 use delone_predicates::{orient2d, orient3d};
 
 type P = [f64; 3];
@@ -741,23 +742,17 @@ pub(crate) fn sort_bucket(bucket: &mut [u64]) {
 }
 
 fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport) {
-    let mut i = 0;
-    while i < e.len() {
-        let (lo, hi) = edge(e[i]);
-        let mut j = i + 1;
-        while j < e.len() && edge(e[j]) == (lo, hi) {
-            j += 1;
-        }
-        match j - i {
-            1 => r.boundary_edges.push([lo, hi]),
-            2 => {
-                if (e[i] & 1) == (e[i + 1] & 1) {
+    for run in e.chunk_by(|&a, &b| edge(a) == edge(b)) {
+        let (lo, hi) = edge(run[0]);
+        match *run {
+            [_] => r.boundary_edges.push([lo, hi]),
+            [a, b] => {
+                if (a & 1) == (b & 1) {
                     r.inconsistent_edges.push([lo, hi]);
                 }
             }
             _ => r.nonmanifold_edges.push([lo, hi]),
         }
-        i = j;
     }
 }
 

@@ -33,7 +33,7 @@
 //! * Q. Du, V. Faber, M. Gunzburger, "Centroidal Voronoi tessellations:
 //!   applications and algorithms", SIAM Review 41 (1999).
 
-use crate::geom::vec3::{cross, dot, sub};
+use crate::geom::vec3::{box_corner, cross, dot, sub, BOX_SIDES};
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
@@ -1913,19 +1913,9 @@ struct Clipper {
 impl Clipper {
     fn reset_box(&mut self, b: Box3) {
         self.verts.clear();
-        for k in 0..8 {
-            self.verts
-                .push([b[k & 1][0], b[(k >> 1) & 1][1], b[(k >> 2) & 1][2]]);
-        }
+        self.verts.extend((0..8).map(|k| box_corner(&b, k)));
         self.spare.append(&mut self.faces);
-        for f in [
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-        ] {
+        for f in BOX_SIDES {
             let mut v = self.spare.pop().unwrap_or_default();
             v.clear();
             v.extend_from_slice(&f);

@@ -1075,18 +1075,10 @@ fn limits(rec: &Recovered, opts: &OptimizeOptions, s: (f64, f64)) -> limits::Lim
     l.sizing = opts.sizing.clone();
     l.scale = f;
     let global = opts.max_volume.filter(|v| *v > 0.0);
-    l.vol = rec
-        .regions
-        .iter()
-        .map(|r| {
-            let v = match (global, r.max_volume.filter(|v| *v > 0.0)) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-            // Scaled by f³ (an overflow to infinity means no volume this
-            // small is representable in the input's units: no bound).
-            v.map_or(f64::INFINITY, |v| v * f * f * f)
-        })
+    // Scaled by f³ (an overflow to infinity means no volume this small is
+    // representable in the input's units: no bound).
+    l.vol = crate::tet::refine::volume_bounds(&rec.regions, global)
+        .map(|v| v.map_or(f64::INFINITY, |v| v * f * f * f))
         .collect();
     if l.vol.is_empty() {
         if let Some(g) = global {

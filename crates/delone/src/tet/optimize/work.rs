@@ -12,11 +12,11 @@
 
 use super::limits::Limits;
 use crate::geom::ids::{IdMap, IdSet};
-use crate::geom::vec3::{cross, dot, norm, sub};
+use crate::geom::vec3::{collinear, cross, dot, norm, sub};
 use crate::tet::dmesh::flip::positive;
 use crate::tet::dmesh::{ring, DomainMesh, RingEnd};
 use crate::tet::local::{face, fkey};
-use delone_predicates::{orient2d, orient3d};
+use delone_predicates::orient3d;
 
 use crate::NONE;
 
@@ -124,13 +124,6 @@ pub(super) enum Slide {
     Plane([u32; 3]),
     /// Along the line of input edge `[a, b]` (a Steiner point on it).
     Line([u32; 2]),
-}
-
-/// Exact collinearity of three points (all three coordinate projections).
-fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    [(0, 1), (1, 2), (2, 0)]
-        .iter()
-        .all(|&(i, j)| orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0)
 }
 
 /// A planned change: tetrahedra to remove and their replacement, with the

@@ -21,7 +21,7 @@ use super::geom::{
     encroaches_face, encroaches_segment, line_distance, plane_distance, tri_circumcenter,
 };
 
-use super::options::{default_budget, RefineOptions, AUTO_BUDGET, BUDGET_MAX};
+use super::options::{default_budget, volume_bounds, RefineOptions, AUTO_BUDGET, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
 use crate::geom::vec3::{cross, dist2, dot, sub, P};
 use crate::tet::dmesh::DomainMesh;
@@ -332,14 +332,8 @@ impl Cdr {
                 .flat_map(|(k, t)| [((k[0], k[1]), t), ((k[0], k[2]), t), ((k[1], k[2]), t)])
                 .collect();
             es.sort_unstable();
-            let mut i = 0;
-            while i < es.len() {
-                let mut j = i;
-                while j < es.len() && es[j].0 == es[i].0 {
-                    j += 1;
-                }
-                if j - i == 1 {
-                    let e = es[i].0;
+            for g in es.chunk_by(|x, y| x.0 == y.0) {
+                if let [(e, _)] = *g {
                     // Distance to the side's line (relative), plus 1 when
                     // off the side's extent (collinear sides of a polygon).
                     let score = |k: usize| {
@@ -366,7 +360,6 @@ impl Cdr {
                     let ie = emap[&ekey(sides[k][0], sides[k][1])];
                     segs.entry(e).or_insert(ie);
                 }
-                i = j;
             }
         }
         let degenerate = triangles
@@ -387,17 +380,8 @@ impl Cdr {
             })
             .collect();
         let s3 = s * s * s;
-        let gv = opts.max_volume.filter(|v| *v > 0.0);
-        let max_vol = rec
-            .regions
-            .iter()
-            .map(|r| {
-                let v = match (gv, r.max_volume.filter(|v| *v > 0.0)) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                };
-                v.map_or(f64::INFINITY, |v| v * s3)
-            })
+        let max_vol = volume_bounds(&rec.regions, opts.max_volume)
+            .map(|v| v.map_or(f64::INFINITY, |v| v * s3))
             .collect();
         (m.ftri, m.sedges, m.segs) = (ftri, sedges, segs);
         let mut st = Cdr {
@@ -744,16 +728,10 @@ impl Cdr {
         }
         dedges.sort_unstable();
         let mut bd: Vec<((u32, u32), u32)> = Vec::new();
-        let mut i = 0;
-        while i < dedges.len() {
-            let mut j = i;
-            while j < dedges.len() && dedges[j].0 == dedges[i].0 {
-                j += 1;
+        for g in dedges.chunk_by(|a, b| a.0 == b.0) {
+            if let [x] = g {
+                bd.push(*x);
             }
-            if j - i == 1 {
-                bd.push(dedges[i]);
-            }
-            i = j;
         }
         let mut tets = Vec::new();
         let mut bedges: Vec<(u32, u32)> = Vec::new();
@@ -833,23 +811,16 @@ impl Cdr {
             fm.extend([(ekey(a, b), n), (ekey(b, c), n), (ekey(a, c), n)]);
         }
         fm.sort_unstable();
-        let mut i = 0;
         let mut seen_bd = 0;
-        while i < fm.len() {
-            let mut j = i;
-            while j < fm.len() && fm[j].0 == fm[i].0 {
-                j += 1;
-            }
-            let e = fm[i].0;
-            let on_bd = bd.iter().any(|x| x.0 == e);
+        for g in fm.chunk_by(|a, b| a.0 == b.0) {
+            let on_bd = bd.iter().any(|x| x.0 == g[0].0);
             seen_bd += usize::from(on_bd);
-            match j - i {
-                1 if !on_bd => return Err(None),
-                2 if !on_bd && tets[fm[i].1].1 != tets[fm[i + 1].1].1 => return Err(None),
-                1 | 2 => {}
+            match g {
+                [_] if !on_bd => return Err(None),
+                [x, y] if !on_bd && tets[x.1].1 != tets[y.1].1 => return Err(None),
+                [_] | [_, _] => {}
                 _ => return Err(None),
             }
-            i = j;
         }
         if seen_bd != bd.len() {
             return Err(None);
@@ -1311,14 +1282,8 @@ impl Cdr {
         let mut verts: Vec<u32> = d.iter().flatten().copied().collect();
         verts.sort_unstable();
         verts.dedup();
-        let mut i = 0;
-        while i < es.len() {
-            let mut j = i;
-            while j < es.len() && es[j].0 == es[i].0 {
-                j += 1;
-            }
-            if j - i == 1 {
-                let ((x, y), z) = es[i];
+        for g in es.chunk_by(|a, b| a.0 == b.0) {
+            if let [((x, y), z)] = *g {
                 deg.extend([x, y]);
                 let (px, py) = (self.p[x as usize], self.p[y as usize]);
                 let l = dist2(&px, &py).sqrt();
@@ -1329,24 +1294,11 @@ impl Cdr {
                     return false;
                 }
             }
-            i = j;
         }
         deg.sort_unstable();
         // A disk: every vertex on the boundary, twice.
-        let mut k = 0;
-        let mut nverts = 0;
-        while k < deg.len() {
-            let mut j = k;
-            while j < deg.len() && deg[j] == deg[k] {
-                j += 1;
-            }
-            if j - k != 2 {
-                return false;
-            }
-            nverts += 1;
-            k = j;
-        }
-        nverts == verts.len()
+        let runs = deg.chunk_by(|a, b| a == b);
+        runs.clone().all(|r| r.len() == 2) && runs.count() == verts.len()
     }
 
     /// The facet-local Delaunay cavity of a point `c` on input triangle

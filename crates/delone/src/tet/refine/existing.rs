@@ -213,20 +213,13 @@ pub fn recovered_from_mesh(
     }
     keys.sort_unstable();
     let mut nb = vec![[NONE; 4]; tv.len()];
-    let mut i = 0;
-    while i < keys.len() {
-        let mut j = i + 1;
-        while j < keys.len() && keys[j].0 == keys[i].0 {
-            j += 1;
-        }
-        if j - i > 2 {
+    for run in keys.chunk_by(|a, b| a.0 == b.0) {
+        if run.len() > 2 {
             return Err(RefineMeshError::NonManifold {
-                tet: keys[i + 2].1 as usize,
+                tet: run[2].1 as usize,
             });
         }
-        if j - i == 2 {
-            let (_, t, f) = keys[i];
-            let (_, u, g) = keys[i + 1];
+        if let [(_, t, f), (_, u, g)] = *run {
             // The two opposite vertices must lie on opposite sides.
             let [a, b, c] = FACET[f as usize].map(|k| sp[tv[t as usize][k] as usize]);
             let d1 = sp[tv[t as usize][f as usize] as usize];
@@ -237,7 +230,6 @@ pub fn recovered_from_mesh(
             nb[t as usize][f as usize] = u;
             nb[u as usize][g as usize] = t;
         }
-        i = j;
     }
     // Listed faces.
     let mut listed_of: std::collections::HashMap<[u32; 3], u32> =

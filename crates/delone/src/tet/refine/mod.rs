@@ -241,6 +241,7 @@ mod options;
 mod report;
 pub mod sizing;
 
+pub(crate) use options::volume_bounds;
 pub use options::{
     default_budget, memory_estimate, RefineOptions, AUTO_BUDGET, BUDGET_BASE, BUDGET_MAX,
     BYTES_PER_POINT, MIN_RADIUS_EDGE,

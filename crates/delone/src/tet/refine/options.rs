@@ -1,7 +1,22 @@
 //! Options of the refinement, its Steiner-point budget and memory estimate.
 
 use super::sizing;
-use crate::tet::recover::RecoverOptions;
+use crate::tet::recover::{MeshRegion, RecoverOptions};
+
+/// Per region of `regions`, its volume bound: the smaller of its own and
+/// `global` (a bound that is not positive counts as none).
+pub(crate) fn volume_bounds(
+    regions: &[MeshRegion],
+    global: Option<f64>,
+) -> impl Iterator<Item = Option<f64>> + '_ {
+    let global = global.filter(|v| *v > 0.0);
+    regions
+        .iter()
+        .map(move |r| match (global, r.max_volume.filter(|v| *v > 0.0)) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        })
+}
 
 /// Options of [`refine`](crate::tet::refine::refine).
 ///
