@@ -10,7 +10,7 @@
 
 use delone_predicates::orient3d;
 
-use super::DomainMesh;
+use super::{ring, DomainMesh};
 use crate::tet::local::face;
 use crate::NONE;
 
@@ -61,23 +61,47 @@ impl DomainMesh {
         })
     }
 
-    /// The 3-2 flip of edge `a b` of `t`: the three slots around it (every
-    /// face through it open) become `[r0, r1, r2, b]` and `[r0, r2, r1, a]`
-    /// on its ring `r` (the edge-removal triangulation of a ring of three).
-    /// `None` when the edge has not exactly three tetrahedra around it or a
-    /// face around it is not open.
-    pub(crate) fn flip32(&self, t: u32, (a, b): (u32, u32)) -> Option<Flip> {
-        let (old, r, _) = self.edge_ring(t, (a, b), 3, false, |c, f| self.open_face(c, f))?;
-        (r.len() == 3).then(|| Flip {
-            old,
-            new: vec![[r[0], r[1], r[2], b], [r[0], r[2], r[1], a]],
+    /// The 3-2 flip of edge `a b` of open face `f` of `t` (`c` the face's
+    /// third vertex, `d` the apex of `t`, `e` the apex across the face):
+    /// the three slots around the edge (`t`, `u` across the face, `v`
+    /// across face `a b d`; every face through the edge open) become
+    /// `{d, e, c, a}` and `{d, e, c, b}`. Those are `t` with `b`, resp. `a`,
+    /// replaced by `e`, so they have its orientation whenever the flip is
+    /// valid (edge `a b` crosses triangle `c d e`; not checked here).
+    /// `None` when the edge has not exactly these three tetrahedra around
+    /// it.
+    pub(crate) fn flip32(&self, t: u32, f: usize, (a, b): (u32, u32)) -> Option<Flip> {
+        let tv = self.tv[t as usize];
+        let (d, u) = (tv[f], self.across(t, f));
+        let e = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        let c = *tv.iter().find(|&&q| q != a && q != b && q != d)?;
+        let ic = tv.iter().position(|&q| q == c)?;
+        if !self.open_face(t, ic) {
+            return None;
+        }
+        let v = self.across(t, ic);
+        let vv = self.tv[v as usize];
+        let id = vv.iter().position(|&q| q == d)?;
+        if !vv.contains(&e) || !self.open_face(v, id) || self.across(v, id) != u {
+            return None;
+        }
+        let like = |gone: u32, mut n: [u32; 4]| {
+            if !ring::even(tv.map(|q| if q == gone { e } else { q }), n) {
+                n.swap(0, 1);
+            }
+            n
+        };
+        Some(Flip {
+            old: vec![t, u, v],
+            new: vec![like(b, [d, e, c, a]), like(a, [d, e, c, b])],
         })
     }
 
-    /// The flip of open face `f` of `t` on points `p`: the 2-3 flip when
-    /// its tetrahedra are strictly positive, else the first 3-2 flip
-    /// through an edge of the face whose two tetrahedra are; only flips
-    /// that `accept` takes are considered (the caller's criterion).
+    /// The flip of open face `f` of `t` on points `p` that criterion
+    /// `accept` takes: the 2-3 flip when its tetrahedra are strictly
+    /// positive, else the first 3-2 flip through an edge of the face whose
+    /// two tetrahedra are. When `accept` refuses the 2-3 tetrahedra, the
+    /// face is left.
     pub(crate) fn flip_face(
         &self,
         p: &[[f64; 3]],
@@ -85,16 +109,19 @@ impl DomainMesh {
         f: usize,
         accept: impl Fn(&[[u32; 4]]) -> bool,
     ) -> Option<Flip> {
-        let ok = |fl: &Flip| fl.new.iter().all(|&n| positive(p, n)) && accept(&fl.new);
         let fl = self.flip23(t, f)?;
+        if !accept(&fl.new) {
+            return None;
+        }
+        let ok = |fl: &Flip| fl.new.iter().all(|&n| positive(p, n));
         if ok(&fl) {
             return Some(fl);
         }
         let [x, y, z] = face(self.tv[t as usize], f);
         [(x, y), (y, z), (z, x)]
             .into_iter()
-            .filter_map(|e| self.flip32(t, e))
-            .find(ok)
+            .filter_map(|ab| self.flip32(t, f, ab))
+            .find(|fl| ok(fl) && accept(&fl.new))
     }
 }
 
@@ -149,7 +176,7 @@ mod tests {
             .iter()
             .position(|&q| q == 3 || q == 4)
             .unwrap();
-        assert!(m.flip32(t, (0, 1)).is_none());
+        assert!(m.flip32(t, f, (0, 1)).is_none());
         let fl = m.flip23(t, f).unwrap();
         assert!(fl.new.iter().all(|&n| positive(&p, n)));
         m.replace(&fl.old, &fl.new, 0, &mut ids);

@@ -82,9 +82,17 @@ impl Cdr {
         if !self.in_sphere(t, &self.pt(e)) {
             return None;
         }
-        let fl = self.m.flip_face(&self.p, t, f, |new| {
+        let mut fl = self.m.flip_face(&self.p, t, f, |new| {
             !new.iter().any(|&n| self.flat(n, None))
         })?;
+        if fl.old.len() == 2 {
+            // The refinement lists a 2-3 flip's tetrahedra as `[y, x, d, e]`
+            // (an even permutation: the same tetrahedra, the same
+            // orientation), which its output and later choices follow.
+            for n in &mut fl.new {
+                *n = [n[1], n[0], n[3], n[2]];
+            }
+        }
         Some(self.replace(&fl.old, &fl.new))
     }
 
