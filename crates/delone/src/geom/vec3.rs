@@ -70,13 +70,25 @@ pub(crate) fn box_corner(b: &[P; 2], k: usize) -> P {
     [b[k & 1][0], b[(k >> 1) & 1][1], b[(k >> 2) & 1][2]]
 }
 
-/// The sides of a box (lower and upper x, y, z) as quadrilaterals of
-/// [`box_corner`] indices, counterclockwise seen from outside.
-pub(crate) const BOX_SIDES: [[u32; 4]; 6] = [
-    [0, 4, 6, 2],
-    [1, 3, 7, 5],
-    [0, 1, 5, 4],
-    [2, 6, 7, 3],
-    [0, 2, 3, 1],
-    [4, 5, 7, 6],
+/// The sides of a box (lower and upper x, y, z), four [`box_corner`]
+/// indices each, counterclockwise seen from outside.
+pub(crate) const BOX_SIDES: [u32; 24] = [
+    0, 4, 6, 2, 1, 3, 7, 5, 0, 1, 5, 4, 2, 6, 7, 3, 0, 2, 3, 1, 4, 5, 7, 6,
 ];
+
+/// A regular tetrahedron, positive: `(x, y, xy)`, `x, y = ±1` (for
+/// tests).
+#[cfg(test)]
+pub(crate) fn regular_tet() -> [P; 4] {
+    std::array::from_fn(|i| {
+        let (x, y) = (1.0 - 2.0 * (i & 1) as f64, 1.0 - 2.0 * (i >> 1) as f64);
+        [x, y, x * y]
+    })
+}
+
+/// The tetrahedron of the origin and the points at `s` on each axis (for
+/// tests).
+#[cfg(test)]
+pub(crate) fn corner_tet(s: f64) -> [P; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|k| if i == k + 1 { s } else { 0.0 }))
+}

@@ -510,7 +510,8 @@ mod tests {
                 .collect(),
         );
         for i in [4, 5, 2, 3, 0, 1] {
-            plc.facets.push(Facet::polygon(BOX_SIDES[i].to_vec()));
+            plc.facets
+                .push(Facet::polygon(BOX_SIDES[4 * i..4 * i + 4].to_vec()));
         }
         plc
     }

@@ -463,12 +463,7 @@ mod tests {
 
     #[test]
     fn regular_tet_angles() {
-        let reg = [
-            [1.0, 1.0, 1.0],
-            [1.0, -1.0, -1.0],
-            [-1.0, 1.0, -1.0],
-            [-1.0, -1.0, 1.0],
-        ];
+        let reg = crate::geom::vec3::regular_tet();
         let want = (1.0f64 / 3.0).acos().to_degrees(); // 70.5288°
         for a in dihedral_angles(&reg) {
             assert!((a - want).abs() < 1e-10, "{a}");

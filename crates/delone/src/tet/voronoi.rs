@@ -1915,10 +1915,10 @@ impl Clipper {
         self.verts.clear();
         self.verts.extend((0..8).map(|k| box_corner(&b, k)));
         self.spare.append(&mut self.faces);
-        for f in BOX_SIDES {
+        for f in BOX_SIDES.chunks(4) {
             let mut v = self.spare.pop().unwrap_or_default();
             v.clear();
-            v.extend_from_slice(&f);
+            v.extend_from_slice(f);
             self.faces.push(v);
         }
     }
@@ -2189,12 +2189,7 @@ mod tests {
 
     #[test]
     fn circumcenter_of_a_corner_tet() {
-        let q = [
-            [0.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [0.0, 2.0, 0.0],
-            [0.0, 0.0, 2.0],
-        ];
+        let q = crate::geom::vec3::corner_tet(2.0);
         let c = centre::<true>([&q[0], &q[1], &q[2], &q[3]], [0.0; 4]);
         assert_eq!(c, [1.0, 1.0, 1.0]);
     }

@@ -85,12 +85,7 @@ mod tests {
 
     #[test]
     fn excess_of_volume_and_ratio() {
-        let reg = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-        ];
+        let reg = crate::geom::vec3::corner_tet(1.0);
         let none = Limits::none();
         assert!(none.is_none());
         assert_eq!(none.excess(&reg, 0), 0.0);

@@ -1200,12 +1200,7 @@ mod tests {
 
     #[test]
     fn quality_of_regular_and_flat() {
-        let reg = [
-            [1.0, 1.0, 1.0],
-            [-1.0, 1.0, -1.0],
-            [1.0, -1.0, -1.0],
-            [-1.0, -1.0, 1.0],
-        ];
+        let reg = crate::geom::vec3::regular_tet();
         let want = (1.0f64 / 3.0).acos().sin();
         let q = quality([&reg[0], &reg[1], &reg[2], &reg[3]]);
         assert!((q - want).abs() < 1e-12, "{q}");
