@@ -468,7 +468,7 @@ mod tests {
         for a in dihedral_angles(&reg) {
             assert!((a - want).abs() < 1e-10, "{a}");
         }
-        assert!((volume(&reg) + 8.0 / 3.0).abs() < 1e-12); // negatively oriented
+        assert!((volume(&reg) - 8.0 / 3.0).abs() < 1e-12); // positively oriented
     }
 
     #[test]
