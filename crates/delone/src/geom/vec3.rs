@@ -40,21 +40,6 @@ pub(crate) fn dist2(a: &P, b: &P) -> f64 {
     dot(&d, &d)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn products() {
-        let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
-        assert_eq!(cross(&x, &y), [0.0, 0.0, 1.0]);
-        assert_eq!(dot(&x, &y), 0.0);
-        assert_eq!(norm(&[3.0, 4.0, 0.0]), 5.0);
-        assert_eq!(dist2(&[1.0, 2.0, 3.0], &[1.0, 2.0, 5.0]), 4.0);
-        assert_eq!(sub(&[1.0, 2.0, 3.0], &x), [0.0, 2.0, 3.0]);
-    }
-}
-
 /// Exact collinearity of three points in 3D: all three coordinate
 /// projections are degenerate.
 pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
@@ -62,6 +47,18 @@ pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
         delone_predicates::orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) == 0.0
     })
+}
+
+/// The angle (radians) at `o` between the directions to `x` and `y`; 0
+/// when one of them is `o`.
+pub(crate) fn angle(o: &P, x: &P, y: &P) -> f64 {
+    let (u, v) = (sub(x, o), sub(y, o));
+    let den = (dot(&u, &u) * dot(&v, &v)).sqrt();
+    if den > 0.0 {
+        (dot(&u, &v) / den).clamp(-1.0, 1.0).acos()
+    } else {
+        0.0
+    }
 }
 
 /// Corner `k` of box `b = [lower, upper]`: the upper bound in axis `i`
@@ -91,4 +88,25 @@ pub(crate) fn regular_tet() -> [P; 4] {
 #[cfg(test)]
 pub(crate) fn corner_tet(s: f64) -> [P; 4] {
     std::array::from_fn(|i| std::array::from_fn(|k| if i == k + 1 { s } else { 0.0 }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn products() {
+        let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        assert_eq!(cross(&x, &y), [0.0, 0.0, 1.0]);
+        assert_eq!(dot(&x, &y), 0.0);
+        assert_eq!(norm(&[3.0, 4.0, 0.0]), 5.0);
+        assert_eq!(dist2(&[1.0, 2.0, 3.0], &[1.0, 2.0, 5.0]), 4.0);
+        assert_eq!(sub(&[1.0, 2.0, 3.0], &x), [0.0, 2.0, 3.0]);
+        assert_eq!(angle(&[0.0; 3], &x, &y), std::f64::consts::FRAC_PI_2);
+        assert_eq!(angle(&[0.0; 3], &[0.0; 3], &y), 0.0);
+        assert!(
+            collinear(&x, &[2.0, -1.0, 0.0], &[3.0, -2.0, 0.0]) && !collinear(&x, &y, &[0.0; 3])
+        );
+        assert_eq!(box_corner(&[[0.0; 3], [1.0, 2.0, 3.0]], 6), [0.0, 2.0, 3.0]);
+    }
 }

@@ -2002,18 +2002,7 @@ fn tri_angles(t: [[f64; 3]; 3]) -> [f64; 2] {
     let mut lo = 180.0f64;
     let mut hi = 0.0f64;
     for k in 0..3 {
-        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let (nu, nv) = (work_norm(u), work_norm(v));
-        let x = if nu > 0.0 && nv > 0.0 {
-            ((u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv))
-                .clamp(-1.0, 1.0)
-                .acos()
-                .to_degrees()
-        } else {
-            0.0
-        };
+        let x = crate::geom::vec3::angle(&t[k], &t[(k + 1) % 3], &t[(k + 2) % 3]).to_degrees();
         lo = lo.min(x);
         hi = hi.max(x);
     }
@@ -2021,10 +2010,6 @@ fn tri_angles(t: [[f64; 3]; 3]) -> [f64; 2] {
         return [0.0, 180.0];
     }
     [lo, hi]
-}
-
-fn work_norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// Fills the triangle-angle fields of the report.
@@ -2109,7 +2094,7 @@ fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Opt
             continue;
         }
         let y = closest_on_triangle(c, q);
-        let d = work_norm([y[0] - c[0], y[1] - c[1], y[2] - c[2]]);
+        let d = crate::geom::vec3::dist2(&y, &c).sqrt();
         if nearest.is_none_or(|(e, _)| d < e) {
             nearest = Some((d, i));
         }

@@ -23,7 +23,7 @@ use super::geom::{
 
 use super::options::{default_budget, volume_bounds, RefineOptions, AUTO_BUDGET, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
-use crate::geom::vec3::{cross, dist2, dot, sub, P};
+use crate::geom::vec3::{angle, cross, dist2, dot, sub, P};
 use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::DEAD;
 use crate::tet::quality;
@@ -1816,16 +1816,9 @@ impl Cdr {
     /// The smallest angle (radians) of input triangle `t`.
     fn tri_min_angle(&self, t: u32) -> f64 {
         let [a, b, c] = self.tris[t as usize].map(|q| self.pt(q));
-        let ang = |o: &P, x: &P, y: &P| {
-            let (u, v) = (sub(x, o), sub(y, o));
-            let den = (dot(&u, &u) * dot(&v, &v)).sqrt();
-            if den > 0.0 {
-                (dot(&u, &v) / den).clamp(-1.0, 1.0).acos()
-            } else {
-                0.0
-            }
-        };
-        ang(&a, &b, &c).min(ang(&b, &c, &a)).min(ang(&c, &a, &b))
+        angle(&a, &b, &c)
+            .min(angle(&b, &c, &a))
+            .min(angle(&c, &a, &b))
     }
 
     /// Is a vertex of `tv` on an input triangle with an angle below
