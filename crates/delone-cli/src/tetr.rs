@@ -156,15 +156,13 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
     o.tet.check_bounds().map_err(|e| usage_err(e.to_string()))?;
     let t_read = t_all.elapsed();
     let t1 = Instant::now();
-    let mut opts = RefineOptions {
-        max_radius_edge: o.tet.max_radius_edge.unwrap_or(f64::INFINITY),
+    let opts = RefineOptions {
+        max_radius_edge: o.tet.max_radius_edge,
         max_volume: o.max_area(),
+        max_steiner: o.max_steiner(),
         sizing,
         ..RefineOptions::default()
     };
-    if let Some(s) = o.max_steiner() {
-        opts.max_steiner = s;
-    }
     let name = base.display();
     let r = refine_mesh(&points, &tets, &attributes, &faces, &opts)
         .map_err(|e| input_err(format!("{name}: {e}")))?;

@@ -25,7 +25,7 @@ fn main() {
     let s = delone_io::read_off(&std::fs::read(path).expect("read")).expect("parse");
     let tris = s.triangles();
     let ropts = RefineOptions {
-        max_radius_edge: ratio.parse().expect("ratio"),
+        max_radius_edge: Some(ratio.parse().expect("ratio")),
         ..RefineOptions::default()
     };
     let (c0, t0) = (cpu(), Instant::now());
@@ -48,7 +48,7 @@ fn main() {
         let mut rec = r.rec.clone();
         let opts = OptimizeOptions {
             input_points: Some(s.points.len()),
-            effort: e,
+            effort: Some(e),
             ..OptimizeOptions::level(3)
         };
         let (c0, t0) = (cpu(), Instant::now());

@@ -62,7 +62,7 @@ fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
     };
     let tris = s.triangles();
     let ropts = RefineOptions {
-        max_radius_edge: ratio,
+        max_radius_edge: Some(ratio),
         ..RefineOptions::default()
     };
     let c0 = cpu();
@@ -77,7 +77,7 @@ fn one(path: &str, ratio: f64, worst: usize, effort: Option<f64>) {
     let mut rec = r.rec;
     let opts = OptimizeOptions {
         input_points: Some(s.points.len()),
-        effort: effort.unwrap_or(OptimizeOptions::level(3).effort),
+        effort: effort.or(OptimizeOptions::level(3).effort),
         ..OptimizeOptions::level(3)
     };
     let c0 = cpu();
@@ -205,7 +205,8 @@ fn main() {
                 &worst.to_string(),
                 "--effort",
                 &effort
-                    .unwrap_or(OptimizeOptions::level(3).effort)
+                    .or(OptimizeOptions::level(3).effort)
+                    .unwrap_or(f64::INFINITY)
                     .to_string(),
                 "--one",
                 f,

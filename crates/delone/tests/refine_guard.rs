@@ -125,7 +125,7 @@ fn tet_impossible_bounds_are_typed_errors() {
         (2.0, Some(f64::NAN), "-a"),
     ] {
         let o = R3 {
-            max_radius_edge: q,
+            max_radius_edge: Some(q),
             max_volume: v,
             ..Default::default()
         };
@@ -138,8 +138,8 @@ fn tet_impossible_bounds_are_typed_errors() {
     }
     // sqrt(6)/4 itself is not refused (a regular tetrahedron meets it).
     let o = R3 {
-        max_radius_edge: delone::tet::refine::MIN_RADIUS_EDGE,
-        max_steiner: 50,
+        max_radius_edge: Some(delone::tet::refine::MIN_RADIUS_EDGE),
+        max_steiner: Some(50),
         ..Default::default()
     };
     assert!(o.check_bounds().is_ok());
@@ -153,9 +153,9 @@ fn tet_budget_stops_and_reports() {
     let (p, t) = solids::cuboid(1.0, 1.0, 1.0);
     for (q, v) in [(1.1, Some(1e-6)), (2.0, Some(1e-9))] {
         let o = R3 {
-            max_radius_edge: q,
+            max_radius_edge: Some(q),
             max_volume: v,
-            max_steiner: 300,
+            max_steiner: Some(300),
             ..Default::default()
         };
         let r = refine3(&p, &t, &o).unwrap();
@@ -165,7 +165,7 @@ fn tet_budget_stops_and_reports() {
         check_recovered(&p, &t, &r.rec).unwrap();
     }
     let o = R3 {
-        max_radius_edge: 2.0,
+        max_radius_edge: Some(2.0),
         max_volume: Some(1e-3),
         ..Default::default()
     };
@@ -203,7 +203,7 @@ fn tet_volume_bound_beyond_the_default_budget_is_refused() {
         ),
     }
     let o = R3 {
-        max_steiner: 200,
+        max_steiner: Some(200),
         ..o
     };
     let r = refine3(&p, &t, &o).unwrap();

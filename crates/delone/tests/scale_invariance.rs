@@ -111,7 +111,7 @@ fn tet_refine_same_mesh_at_power_of_two_scales() {
     use delone::tet::refine::{refine, RefineOptions};
     let (pts, tris) = sphere();
     let opts = RefineOptions {
-        max_radius_edge: 2.0,
+        max_radius_edge: Some(2.0),
         ..Default::default()
     };
     let base = refine(&pts, &tris, &opts).unwrap();

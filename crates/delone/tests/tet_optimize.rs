@@ -92,7 +92,7 @@ fn refined_model(name: &str, q: f64) -> Option<Model> {
     let dir = corpus()?;
     let (pts, tris) = read_model(&dir, name);
     let ro = RefineOptions {
-        max_radius_edge: q,
+        max_radius_edge: Some(q),
         ..Default::default()
     };
     let r = refine(&pts, &tris, &ro).unwrap().rec;
@@ -276,7 +276,7 @@ fn refined_corpus_models_reach_the_bounds() {
             &pts,
             &tris,
             &RefineOptions {
-                max_radius_edge: q,
+                max_radius_edge: Some(q),
                 ..Default::default()
             },
         )
@@ -458,7 +458,7 @@ fn flat_tetrahedra_along_facets_are_removed() {
     for name in ["cgal_dragknob", "cgal_oblong"] {
         let (pts, tris) = read_model(&dir, name);
         let ro = RefineOptions {
-            max_radius_edge: 1.414,
+            max_radius_edge: Some(1.414),
             ..Default::default()
         };
         let r0 = refine(&pts, &tris, &ro).unwrap().rec;

@@ -37,7 +37,7 @@ fn both(
     // angles (reported); the optimisation must not make them worse.
     let (r0, _) = worst(&r.rec);
     assert!(
-        r0 <= ro.max_radius_edge * (1.0 + 1e-9) || r.report.remaining_bad > 0,
+        r0 <= ro.max_radius_edge.unwrap() * (1.0 + 1e-9) || r.report.remaining_bad > 0,
         "{name}: refinement {r0}"
     );
     let base = OptimizeOptions {
@@ -46,7 +46,7 @@ fn both(
     };
     let mut kept = r.rec.clone();
     let keep = OptimizeOptions {
-        max_radius_edge: Some(ro.max_radius_edge),
+        max_radius_edge: ro.max_radius_edge,
         ..base.clone().keeping(ro)
     };
     let rep = optimize(&mut kept, &keep).unwrap();
@@ -69,7 +69,7 @@ fn both(
 fn radius_edge_and_volume_bounds_survive_optimisation() {
     let (p, t) = cuboid(1.0, 1.0, 1.0);
     let ro = RefineOptions {
-        max_radius_edge: 1.414,
+        max_radius_edge: Some(1.414),
         max_volume: Some(0.002),
         ..Default::default()
     };
@@ -82,7 +82,7 @@ fn radius_edge_and_volume_bounds_survive_optimisation() {
 
     let (p, t) = schonhardt(0.5);
     let ro = RefineOptions {
-        max_radius_edge: 1.414,
+        max_radius_edge: Some(1.414),
         ..Default::default()
     };
     let r0 = worst(&refine(&p, &t, &ro).unwrap().rec).0;
@@ -134,7 +134,7 @@ fn regional_volume_bounds_survive_optimisation() {
     let rec = recover_marked(&p, &tris, &[], &RecoverOptions::default(), &domain).unwrap();
     assert_eq!(rec.regions.len(), 2);
     let ro = RefineOptions {
-        max_radius_edge: 2.0,
+        max_radius_edge: Some(2.0),
         ..Default::default()
     };
     let r = refine_recovered(&p, &tris, &rec, &ro).unwrap();
@@ -168,7 +168,7 @@ fn sizing_survives_optimisation() {
     let h = |x: [f64; 3]| 0.08 + 0.25 * x[0];
     let (p, t) = cuboid(1.0, 1.0, 1.0);
     let ro = RefineOptions {
-        max_radius_edge: 2.0,
+        max_radius_edge: Some(2.0),
         sizing: Sizing::function(h),
         ..Default::default()
     };

@@ -44,7 +44,7 @@ fn run(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], opts: &RefineOptions) ->
         .mesh
         .tets
         .iter()
-        .filter(|t| radius_edge_ratio(&t.map(|q| rp[q as usize])) > opts.max_radius_edge)
+        .filter(|t| radius_edge_ratio(&t.map(|q| rp[q as usize])) > opts.max_radius_edge.unwrap())
         .count();
     assert_eq!(bad, r.report.remaining_bad, "{name}");
     assert_eq!(r.report.left.total(), bad, "{name}: {:?}", r.report.left);
@@ -52,7 +52,7 @@ fn run(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], opts: &RefineOptions) ->
     let rep = &r.report;
     println!(
         "{name} q{}: {} tris -> {} tets, {} points (+{} seg, +{} facet, +{} interior), rejected {}, skipped {}, bad left {}, ratio max {:.3}, dihedral {:.2}..{:.2}, {ms:.1} ms",
-        opts.max_radius_edge,
+        opts.max_radius_edge.unwrap(),
         tris.len(),
         r.rec.mesh.tets.len(),
         rp.len(),
@@ -71,7 +71,7 @@ fn run(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], opts: &RefineOptions) ->
 
 fn opts(q: f64) -> RefineOptions {
     RefineOptions {
-        max_radius_edge: q,
+        max_radius_edge: Some(q),
         ..RefineOptions::default()
     }
 }
@@ -127,7 +127,7 @@ fn schonhardt_is_refined() {
         // make the boundary rules run until the budget; the result must still
         // conform.
         let o = RefineOptions {
-            max_steiner: 3000,
+            max_steiner: Some(3000),
             ..opts(1.414)
         };
         run(&format!("schonhardt{twist}"), &p, &t, &o);
@@ -139,7 +139,7 @@ fn steiner_budget_stops_refinement() {
     let (p, t) = cube_of(1.0);
     let o = RefineOptions {
         max_volume: Some(1e-6),
-        max_steiner: 200,
+        max_steiner: Some(200),
         ..opts(2.0)
     };
     let r = refine(&p, &t, &o).unwrap();
@@ -188,7 +188,7 @@ fn corpus(max_tris: usize, qs: &[f64]) -> Option<(usize, Vec<String>)> {
         let t = s.triangles();
         for &q in qs {
             let o = RefineOptions {
-                max_steiner: 20 * t.len() + 5000,
+                max_steiner: Some(20 * t.len() + 5000),
                 ..opts(q)
             };
             let r = run(&rel, &s.points, &t, &o);
@@ -221,7 +221,7 @@ fn run_domain(
     budget: usize,
 ) -> Refined {
     let o = RefineOptions {
-        max_steiner: budget,
+        max_steiner: Some(budget),
         ..opts(q)
     };
     let t0 = Instant::now();
@@ -738,7 +738,7 @@ fn merged_planar_facets_are_refined_as_wholes() {
                 ..RecoverOptions::default()
             },
             // (it runs away: every input triangle is a facet of its own)
-            max_steiner: 3000,
+            max_steiner: Some(3000),
             ..o.clone()
         },
     );

@@ -42,7 +42,7 @@ fn refine_output_of(pts: &[[f64; 3]], tris: &[[u32; 3]], name: &str) {
     };
     let rec: Recovered = recover(pts, tris, &ro).unwrap();
     let opts = RefineOptions {
-        max_radius_edge: 1.414,
+        max_radius_edge: Some(1.414),
         ..RefineOptions::default()
     };
     let r = refine_mesh(&rec.points, &rec.mesh.tets, &[], &[], &opts).unwrap();

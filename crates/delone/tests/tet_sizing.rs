@@ -96,7 +96,7 @@ fn subsegments_and_subfaces_obey_the_size() {
     // Uniform size 0.3: no boundary edge may stay longer than 0.3.
     let opts = RefineOptions {
         sizing: Sizing::function(|_| 0.3),
-        max_radius_edge: f64::INFINITY,
+        max_radius_edge: None,
         ..RefineOptions::default()
     };
     let r = refine(&pts, &tris, &opts).unwrap();

@@ -223,7 +223,7 @@ impl TetOptions {
             return Ok(());
         }
         RefineOptions {
-            max_radius_edge: self.max_radius_edge.unwrap_or(f64::INFINITY),
+            max_radius_edge: self.max_radius_edge,
             max_volume: self.max_volume,
             ..RefineOptions::default()
         }

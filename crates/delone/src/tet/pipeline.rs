@@ -234,16 +234,14 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     let rec = recover_marked(points, &triangles, &triangle_markers, &ropts, &domain)
         .map_err(TetError::Recover)?;
     let (mut rec, refined) = if opts.refining() {
-        let mut ro = RefineOptions {
+        let ro = RefineOptions {
             keep_surface: opts.preserve_surface,
-            max_radius_edge: opts.max_radius_edge.unwrap_or(f64::INFINITY),
+            max_radius_edge: opts.max_radius_edge,
             max_volume: opts.max_volume,
+            max_steiner: opts.max_steiner,
             sizing: opts.size_field.clone().unwrap_or_default(),
             ..RefineOptions::default()
         };
-        if let Some(s) = opts.max_steiner {
-            ro.max_steiner = s;
-        }
         // The refined mesh goes on to the optimisation as it is (no
         // rebuilding from neighbour lists between the stages).
         let (r, domain_mesh) =
@@ -348,7 +346,7 @@ fn optimize_options(
     if let Some(r) = refined {
         o = o.keeping(r);
         if opts.keep_ratio {
-            o.max_radius_edge = Some(r.max_radius_edge).filter(|b| b.is_finite());
+            o.max_radius_edge = r.max_radius_edge.filter(|b| b.is_finite());
         }
     }
     Some(o)

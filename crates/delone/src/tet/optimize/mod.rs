@@ -241,8 +241,8 @@ pub struct OptimizeOptions {
     /// Work allowed, in quality evaluations per tetrahedron of the input
     /// mesh plus 2000 (a deterministic measure of time: the worst tetrahedra are
     /// worked on first, so a budget cuts where it matters least).
-    /// Default 100; `f64::INFINITY` for no limit.
-    pub effort: f64,
+    /// Default `Some(100.0)`; `None`: no limit.
+    pub effort: Option<f64>,
     /// How many of the mesh's points are input points: those never move
     /// (`check_recovered` wants them unchanged), even when they are not on
     /// a face of the surface. `None`: every point that is not a Steiner
@@ -282,7 +282,7 @@ impl Default for OptimizeOptions {
             smooth_boundary: true,
             insert: true,
             max_inserted: None,
-            effort: 100.0,
+            effort: Some(100.0),
             input_points: None,
             max_radius_edge: None,
             max_volume: None,
@@ -306,10 +306,10 @@ impl OptimizeOptions {
     /// ```
     /// use delone::tet::optimize::OptimizeOptions;
     /// use delone::tet::refine::RefineOptions;
-    /// let r = RefineOptions { max_radius_edge: 1.414, max_volume: Some(0.1), ..Default::default() };
+    /// let r = RefineOptions { max_radius_edge: Some(1.414), max_volume: Some(0.1), ..Default::default() };
     /// let o = OptimizeOptions::default().keeping(&r);
     /// assert_eq!((o.max_radius_edge, o.max_volume), (None, Some(0.1)));
-    /// let strict = OptimizeOptions { max_radius_edge: Some(r.max_radius_edge), ..o };
+    /// let strict = OptimizeOptions { max_radius_edge: r.max_radius_edge, ..o };
     /// assert_eq!(strict.max_radius_edge, Some(1.414));
     /// ```
     pub fn keeping(self, r: &crate::tet::refine::RefineOptions) -> Self {
@@ -342,7 +342,7 @@ impl OptimizeOptions {
             2 => OptimizeOptions { insert: false, ..d },
             l => OptimizeOptions {
                 max_passes: d.max_passes + 5 * (l as usize - 3),
-                effort: d.effort * f64::from(1 + 2 * (l - 3)),
+                effort: d.effort.map(|e| e * f64::from(1 + 2 * (l - 3))),
                 ..d
             },
         }
@@ -780,10 +780,11 @@ fn optimize_once(
     }
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
-    let allowed = opts.effort * (rec.mesh.tets.len() + 2000) as f64;
+    let effort = opts.effort.unwrap_or(f64::INFINITY);
+    let allowed = effort * (rec.mesh.tets.len() + 2000) as f64;
     // The polishing stages (above 20°, which mostly thin the histogram's
     // tail once the worst are settled) get at most this much more.
-    let polish = opts.effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
+    let polish = effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
     // The stages up to 20° decide the minimum: they may spend `LOW` times
     // the budget (a mesh that the refinement left with many flat
     // tetrahedra needs it; a fair one does not reach it).
@@ -792,7 +793,7 @@ fn optimize_once(
     // tetrahedra below 15° of a small mesh near needle input triangles
     // often need it (cgal_pipe, cgal_spool); on large meshes it would
     // mostly go to tetrahedra forced by the input.
-    let extra = LOW * opts.effort * (rec.mesh.tets.len() + 2000).min(LOW_CAP) as f64;
+    let extra = LOW * effort * (rec.mesh.tets.len() + 2000).min(LOW_CAP) as f64;
     let mut extended = false;
     let mut stop;
     let mut pops: u64 = 0;

@@ -21,7 +21,7 @@ use super::geom::{
     encroaches_face, encroaches_segment, line_distance, plane_distance, tri_circumcenter,
 };
 
-use super::options::{default_budget, volume_bounds, RefineOptions, AUTO_BUDGET, BUDGET_MAX};
+use super::options::{default_budget, volume_bounds, RefineOptions, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
 use crate::geom::vec3::{angle, cross, dist2, dot, sub, P};
 use crate::tet::dmesh::DomainMesh;
@@ -402,7 +402,7 @@ impl Cdr {
             failed_s: HashSet::new(),
             failed_f: HashSet::new(),
             badq: BinaryHeap::new(),
-            bound: opts.max_radius_edge,
+            bound: opts.max_radius_edge.unwrap_or(f64::INFINITY),
             max_vol,
             budget: 0,
             report: RefineReport {
@@ -420,7 +420,9 @@ impl Cdr {
             left: HashMap::new(),
             keep_surface: opts.keep_surface,
         };
-        st.budget = if opts.max_steiner == AUTO_BUDGET {
+        st.budget = if let Some(n) = opts.max_steiner {
+            n
+        } else {
             // Volume over the bound, summed over the tetrahedra (both
             // rescaled alike).
             let ratio: f64 = (0..st.m.tv.len())
@@ -451,8 +453,6 @@ impl Cdr {
                 .into());
             }
             default_budget(points.len(), ratio)
-        } else {
-            opts.max_steiner
         };
         st.report.steiner_budget = st.budget;
         // The recovered mesh is not constrained Delaunay (recovery flips and

@@ -243,8 +243,8 @@ pub mod sizing;
 
 pub(crate) use options::volume_bounds;
 pub use options::{
-    default_budget, memory_estimate, RefineOptions, AUTO_BUDGET, BUDGET_BASE, BUDGET_MAX,
-    BYTES_PER_POINT, MIN_RADIUS_EDGE,
+    default_budget, memory_estimate, RefineOptions, BUDGET_BASE, BUDGET_MAX, BYTES_PER_POINT,
+    MIN_RADIUS_EDGE,
 };
 pub use report::{LeftBad, RefineReport, Refined};
 
@@ -326,7 +326,7 @@ pub fn refine(
 ///     ..Domain::default()
 /// };
 /// let rec = recover_domain(&pts, &tris, &RecoverOptions::default(), &dom).unwrap();
-/// let opts = RefineOptions { max_radius_edge: 1.414, ..Default::default() };
+/// let opts = RefineOptions { max_radius_edge: Some(1.414), ..Default::default() };
 /// let r = refine_recovered(&pts, &tris, &rec, &opts).unwrap();
 /// check_recovered(&pts, &tris, &r.rec).unwrap();
 /// assert_eq!(r.rec.regions.len(), 2);

@@ -22,7 +22,8 @@ pub(crate) fn volume_bounds(
 ///
 /// ```
 /// let o = delone::tet::refine::RefineOptions::default();
-/// assert_eq!(o.max_radius_edge, 2.0);
+/// assert_eq!(o.max_radius_edge, Some(2.0));
+/// assert!(o.max_steiner.is_none()); // the default budget
 /// assert!(o.max_volume.is_none());
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -31,17 +32,17 @@ pub struct RefineOptions {
     /// about 1.1 may not terminate and stop at the budget
     /// ([`Self::max_steiner`]); values below √6/4 (the regular
     /// tetrahedron's, the smallest of any tetrahedron) and NaN are refused
-    /// ([`Error::InvalidBound`](crate::Error::InvalidBound));
-    /// `f64::INFINITY` disables the quality rule.
-    pub max_radius_edge: f64,
+    /// ([`Error::InvalidBound`](crate::Error::InvalidBound)).
+    /// `None`: no quality rule.
+    pub max_radius_edge: Option<f64>,
     /// Largest tetrahedron volume (`-a`), in the input's units; default none.
     /// NaN, zero and negative values are refused.
     pub max_volume: Option<f64>,
     /// Most Steiner points the refinement may add (after recovery; TetGen's
-    /// `-S`). The default, [`AUTO_BUDGET`], means [`default_budget`](crate::tet::refine::default_budget) of the
+    /// `-S`). `None` (the default): [`default_budget`](crate::tet::refine::default_budget) of the
     /// input. When it runs out the refinement stops with a valid mesh and
     /// [`RefineReport::budget_exhausted`](crate::tet::refine::RefineReport::budget_exhausted).
-    pub max_steiner: usize,
+    pub max_steiner: Option<usize>,
     /// Options of the recovery stage of [`refine`](crate::tet::refine::refine).
     pub recover: RecoverOptions,
     /// Local target edge length (`-m`): a closure or a background mesh;
@@ -60,19 +61,15 @@ pub struct RefineOptions {
 impl Default for RefineOptions {
     fn default() -> Self {
         RefineOptions {
-            max_radius_edge: 2.0,
+            max_radius_edge: Some(2.0),
             max_volume: None,
-            max_steiner: AUTO_BUDGET,
+            max_steiner: None,
             recover: RecoverOptions::default(),
             sizing: sizing::Sizing::None,
             keep_surface: false,
         }
     }
 }
-
-/// [`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) meaning "the default budget of the
-/// input" ([`default_budget`](crate::tet::refine::default_budget)).
-pub const AUTO_BUDGET: usize = usize::MAX;
 
 /// Smallest default Steiner budget ([`default_budget`](crate::tet::refine::default_budget)): about 500 MB of
 /// refinement ([`memory_estimate`]).
@@ -93,7 +90,7 @@ pub const BYTES_PER_POINT: u64 = 1000;
 pub const MIN_RADIUS_EDGE: f64 = 0.612_372_435_695_794_5;
 
 /// The Steiner budget used when [`RefineOptions::max_steiner`](crate::tet::refine::RefineOptions::max_steiner) is
-/// [`AUTO_BUDGET`]: [`BUDGET_BASE`] + 16 per input vertex + 2 per unit of
+/// `None`: [`BUDGET_BASE`] + 16 per input vertex + 2 per unit of
 /// volume over the volume bound (`volume_ratio`: the sum over the recovered
 /// tetrahedra of their volume over their region's bound), at most
 /// [`BUDGET_MAX`]. It depends on the input and the options only, never on
@@ -142,14 +139,14 @@ impl RefineOptions {
     ///
     /// ```
     /// use delone::tet::refine::RefineOptions;
-    /// let o = RefineOptions { max_radius_edge: 0.5, ..Default::default() };
+    /// let o = RefineOptions { max_radius_edge: Some(0.5), ..Default::default() };
     /// assert!(matches!(o.check_bounds(), Err(delone::Error::InvalidBound { option: "-q", .. })));
-    /// let o = RefineOptions { max_radius_edge: 0.62, max_volume: Some(0.0), ..Default::default() };
+    /// let o = RefineOptions { max_radius_edge: Some(0.62), max_volume: Some(0.0), ..Default::default() };
     /// assert!(matches!(o.check_bounds(), Err(delone::Error::InvalidBound { option: "-a", .. })));
     /// assert!(RefineOptions::default().check_bounds().is_ok());
     /// ```
     pub fn check_bounds(&self) -> Result<(), crate::Error> {
-        let q = self.max_radius_edge;
+        let q = self.max_radius_edge.unwrap_or(f64::INFINITY);
         if q.is_nan() || q < MIN_RADIUS_EDGE {
             return Err(crate::Error::InvalidBound {
                 option: "-q",
