@@ -236,17 +236,7 @@ pub fn check_conforming_delaunay(
                 format!("triangle {t} has a vertex out of range"),
             ));
         }
-        let (a, b, c) = (
-            &points[v[0] as usize],
-            &points[v[1] as usize],
-            &points[v[2] as usize],
-        );
-        if delone_predicates::orient2d(a, b, c) <= 0.0 {
-            return Err(Violation::new(
-                "orientation",
-                format!("triangle {t} {v:?} is not counterclockwise"),
-            ));
-        }
+        super::mesh::check_ccw(points, t, v)?;
     }
     let ids = used(points.len(), triangles);
     let grid = Grid::new(points, &ids);

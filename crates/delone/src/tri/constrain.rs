@@ -32,6 +32,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
+use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
 use crate::geom::{pow2_scale, scaled};
@@ -946,17 +947,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
                 format!("triangle {t} {v:?} out of range"),
             ));
         }
-        if orient2d(
-            &pts[v[0] as usize],
-            &pts[v[1] as usize],
-            &pts[v[2] as usize],
-        ) <= 0.0
-        {
-            return Err(Violation::new(
-                "orientation",
-                format!("triangle {t} {v:?} is not counterclockwise"),
-            ));
-        }
+        check_ccw(pts, t, v)?;
         for e in 0..3 {
             if half.insert(edge(v, e), (t as u32, e)).is_some() {
                 return Err(Violation::new(

@@ -119,7 +119,7 @@ mod engine;
 mod options;
 mod par;
 
-use engine::{angles, dist2, run, shape, Crit, Mesh, Parent, SHELL_ANGLE};
+use engine::{angles, dist2, run, shape, Bounds, Crit, Mesh, Parent, SHELL_ANGLE};
 pub use options::{
     default_budget, default_threads, memory_estimate, RefineOptions, RefineReport, Refined,
     SegmentSplits, Unfixable, UnfixableReason, UserTest, BUDGET_BASE, BUDGET_MAX, BYTES_PER_POINT,
@@ -361,27 +361,29 @@ fn refine_inner(
     let angle = options.min_angle.unwrap_or(0.0);
     let crit = Crit {
         user,
-        scale,
-        sin2: angle.to_radians().sin().powi(2),
-        angle,
-        area2: options
-            .max_area
-            .filter(|a| *a > 0.0)
-            .map_or(f64::INFINITY, |a| 2.0 * a * sf * sf),
-        regional: options.regional_areas,
-        // 0.9 of the distance giving the bound exactly: measured at 34° on
-        // face, double_hex(2, 3), la and A.poly (with first-in-first-out
-        // angle buckets), it keeps the counts within 10% of Triangle's
-        // (0.95 let cascades of small triangles start on double_hex and la
-        // at 34°; the count is chaotic in this factor: la at 34° cascades
-        // with 0.455 and gives twice the triangles with 0.445).
-        off: if options.off_centers && angle > 0.0 {
-            0.45 / (0.5 * angle.to_radians()).tan()
-        } else {
-            0.0
+        b: Bounds {
+            scale,
+            sin2: angle.to_radians().sin().powi(2),
+            angle,
+            area2: options
+                .max_area
+                .filter(|a| *a > 0.0)
+                .map_or(f64::INFINITY, |a| 2.0 * a * sf * sf),
+            regional: options.regional_areas,
+            // 0.9 of the distance giving the bound exactly: measured at 34° on
+            // face, double_hex(2, 3), la and A.poly (with first-in-first-out
+            // angle buckets), it keeps the counts within 10% of Triangle's
+            // (0.95 let cascades of small triangles start on double_hex and la
+            // at 34°; the count is chaotic in this factor: la at 34° cascades
+            // with 0.455 and gives twice the triangles with 0.445).
+            off: if options.off_centers && angle > 0.0 {
+                0.45 / (0.5 * angle.to_radians()).tan()
+            } else {
+                0.0
+            },
+            s2: sf * sf,
+            coarse: 1.0,
         },
-        s2: sf * sf,
-        coarse: 1.0,
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
@@ -610,13 +612,16 @@ fn finish(
             restricted,
         )]
     } else {
-        let detached = crit.detached();
+        let bounds = crit.b;
         let (mr, tr, ma) = (&m, &triangles, &max_areas);
         std::thread::scope(|sc| {
             let handles: Vec<_> = (1..chunks)
                 .map(|k| {
                     sc.spawn(move || {
-                        let crit = detached.crit();
+                        let crit = Crit {
+                            user: None,
+                            b: bounds,
+                        };
                         let end = ((k + 1) * step).min(tr.len());
                         let lo = (k * step).min(end);
                         assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)

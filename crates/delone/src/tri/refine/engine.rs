@@ -163,22 +163,6 @@ impl Mesh {
         }
     }
 
-    /// [`CMesh::insert`], with no parent chain for the new vertex.
-    pub(super) fn insert(
-        &mut self,
-        start: usize,
-        c: [f64; 2],
-        split: u32,
-        halves: [u32; 4],
-        check_enc: bool,
-    ) -> Ins {
-        let r = self.cm.insert(start, c, split, halves, check_enc);
-        if let Ins::Done(_) = r {
-            self.vpar.push(NONE);
-        }
-        r
-    }
-
     /// The point splitting subsegment `s`, and its parameter.
     pub(super) fn split_point(&self, s: &Sub) -> ([f64; 2], f64) {
         let par = self.parents[s.parent as usize];
@@ -229,11 +213,11 @@ impl Mesh {
         };
         // Halves: k = u..new, k+1 = new..w.
         let k = self.subs.len() as u32;
-        let Ins::Done(nv) = self.insert(t, x, s, [u, k, w, k + 1], false) else {
+        let Ins::Done(nv) = self.cm.insert(t, x, s, [u, k, w, k + 1], false) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
-        self.vpar[nv as usize] = sub.parent;
+        self.vpar.push(sub.parent);
         self.subs[s as usize].alive = false;
         self.subs.push(Sub {
             v: [u, nv],
@@ -424,11 +408,19 @@ impl Queue {
     }
 }
 
-/// Criteria in scaled units.
+/// Criteria in scaled units: the user's test and the plain [`Bounds`]
+/// (read through `Deref`).
 #[derive(Clone, Copy)]
 pub(super) struct Crit<'a> {
     /// The user's test, if any.
     pub(super) user: Option<UserTest<'a>>,
+    pub(super) b: Bounds,
+}
+
+/// The plain values of a [`Crit`]: everything but the user's test (which
+/// need not be `Sync`), so another thread can rebuild it.
+#[derive(Clone, Copy)]
+pub(super) struct Bounds {
     /// Scale factors of the coordinates (divide by both for input units).
     pub(super) scale: (f64, f64),
     /// sin² of the angle bound (0: none).
@@ -444,6 +436,13 @@ pub(super) struct Crit<'a> {
     /// Factor on every area bound (1; more for the coarse stage of the
     /// parallel refinement).
     pub(super) coarse: f64,
+}
+
+impl std::ops::Deref for Crit<'_> {
+    type Target = Bounds;
+    fn deref(&self) -> &Bounds {
+        &self.b
+    }
 }
 
 /// Queue bucket (smaller is worse) of triangle `t`, if it is to be fixed.
@@ -657,8 +656,9 @@ pub(super) fn run(
         }
         // The triangle's circumcircle contains `c`, so the cavity can grow
         // from it: no point location needed.
-        match m.insert(t, c, NONE, [NONE; 4], true) {
+        match m.cm.insert(t, c, NONE, [NONE; 4], true) {
             Ins::Done(_) => {
+                m.vpar.push(NONE);
                 *steiner += 1;
                 report.circumcenters += 1;
                 after_insert(m, &mut heap, &mut enc);
@@ -697,51 +697,6 @@ pub(super) fn run(
     drop(heap);
     drop(enc);
     quality
-}
-
-/// The plain values of a [`Crit`] without the user's test (which need not
-/// be `Sync`), to rebuild it in another thread.
-#[derive(Clone, Copy)]
-pub(super) struct Detached {
-    pub(super) scale: (f64, f64),
-    pub(super) sin2: f64,
-    pub(super) angle: f64,
-    pub(super) area2: f64,
-    pub(super) regional: bool,
-    pub(super) off: f64,
-    pub(super) s2: f64,
-    pub(super) coarse: f64,
-}
-
-impl Detached {
-    pub(super) fn crit(self) -> Crit<'static> {
-        Crit {
-            user: None,
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
-}
-
-impl Crit<'_> {
-    pub(super) fn detached(&self) -> Detached {
-        Detached {
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
 }
 
 #[cfg(test)]
