@@ -451,8 +451,9 @@ impl CMesh {
                 let (o, l) = unpack(x);
                 self.tr[o].a[l] = pack(tt, ee);
             }
-            if s != NONE {
-                self.subs[s as usize].he = pack(tt, ee);
+            // (A label with no record, the CDT's, has nothing to update.)
+            if let Some(sub) = self.subs.get_mut(s as usize) {
+                sub.he = pack(tt, ee);
             }
         }
         self.set_sub(t, 1, NONE);
