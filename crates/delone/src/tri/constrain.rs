@@ -167,6 +167,28 @@ fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 }
 
 impl Work {
+    /// The working mesh of the kernel's arrays (vertices, packed adjacency).
+    fn new(xy: Vec<[f64; 2]>, tv: Vec<[u32; 3]>, ta: Vec<[u32; 3]>) -> Work {
+        let tr = tv.into_iter().zip(ta).map(|(v, a)| Tri {
+            v,
+            a,
+            orig: NONE,
+            mark: 0,
+        });
+        let mut w = Work {
+            vt: vec![NONE; xy.len()],
+            cm: CMesh::new(xy, tr.collect()),
+            flips: 0,
+            rng: 0x1234_5678,
+        };
+        for t in 0..w.cm.tr.len() {
+            if w.v(t)[0] != DEAD {
+                w.set_vt(t);
+            }
+        }
+        w
+    }
+
     #[inline]
     fn p(&self, v: u32) -> &[f64; 2] {
         self.cm.p(v)
@@ -410,24 +432,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     pslg.check_segment_ends()?;
     let n = pslg.points.len();
     let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
-    let nslots = tv.len();
-    let tr = tv.into_iter().zip(ta).map(|(v, a)| Tri {
-        v,
-        a,
-        orig: NONE,
-        mark: 0,
-    });
-    let mut w = Work {
-        vt: vec![NONE; xy.len()],
-        cm: CMesh::new(xy, tr.collect()),
-        flips: 0,
-        rng: 0x1234_5678,
-    };
-    for t in 0..nslots {
-        if w.v(t)[0] != DEAD {
-            w.set_vt(t);
-        }
-    }
+    let mut w = Work::new(xy, tv, ta);
     // Internal vertex -> output id (its input point's representative), and
     // input index -> internal vertex.
     let out: Vec<u32> = ids[..n].iter().map(|&i| vmap[i as usize]).collect();
@@ -1633,5 +1638,120 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         self.pending.push((v, b, s));
         self.pending.push((a, v, s));
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The working mesh of the Delaunay triangulation of `pts`.
+    fn work_of(pts: &[[f64; 2]]) -> Work {
+        let (xy, _, _, _, tv, ta) = Delaunay2::from_points(pts).unwrap().into_raw();
+        let w = Work::new(xy, tv, ta);
+        w.cm.check(true).unwrap();
+        w
+    }
+
+    /// Every interior edge as (triangle, edge), in slot order.
+    fn interior(w: &Work) -> Vec<(usize, usize)> {
+        (0..w.cm.tr.len())
+            .filter(|&t| w.v(t)[0] != DEAD && !is_ghost(&w.v(t)))
+            .flat_map(|t| (0..3).map(move |e| (t, e)))
+            .filter(|&(t, e)| !is_ghost(&w.v(unpack(w.a(t, e)).0)))
+            .collect()
+    }
+
+    fn grid(n: usize, step: f64, origin: f64) -> Vec<[f64; 2]> {
+        (0..n * n)
+            .map(|k| {
+                [
+                    origin + step * (k % n) as f64,
+                    origin + step * (k / n) as f64,
+                ]
+            })
+            .collect()
+    }
+
+    /// Flips every convex interior edge once, labels some edges, splits
+    /// edges and triangles and legalizes, checking the mesh after each.
+    fn exercise(pts: &[[f64; 2]]) {
+        let mut w = work_of(pts);
+        let mut flips = 0;
+        for (t, e) in interior(&w) {
+            let (n, j) = unpack(w.a(t, e));
+            if is_ghost(&w.v(t)) || is_ghost(&w.v(n)) {
+                continue; // (the list predates the flips)
+            }
+            let (x, d) = (w.v(t)[e], w.v(n)[j]);
+            let (u, v) = edge(&w.v(t), e);
+            if orient2d(w.p(x), w.p(u), w.p(d)) > 0.0 && orient2d(w.p(d), w.p(v), w.p(x)) > 0.0 {
+                w.flip(t, e);
+                flips += 1;
+                w.cm.check(false)
+                    .unwrap_or_else(|v| panic!("flip {flips}: {v}"));
+            }
+        }
+        assert!(flips > 0);
+        // Lawson flips from every edge restore the Delaunay property.
+        let mut st: Vec<(u32, u32)> = interior(&w)
+            .iter()
+            .map(|&(t, e)| edge(&w.v(t), e))
+            .collect();
+        w.legalize(&mut st);
+        w.cm.check(true).unwrap();
+        // A label on every third interior edge; they are never flipped.
+        for (k, (t, e)) in interior(&w).into_iter().enumerate().step_by(3) {
+            let (u, v) = edge(&w.v(t), e);
+            if w.con(t, e) == NONE {
+                label_half_edge(&mut w, &mut HashMap::new(), t, e, u, v, k as u32);
+            }
+        }
+        w.cm.check(true).unwrap();
+        // Edge midpoints and triangle centroids.
+        for (k, (t, e)) in interior(&w).into_iter().enumerate().step_by(7) {
+            if w.v(t)[0] == DEAD || is_ghost(&w.v(t)) {
+                continue;
+            }
+            let v = w.v(t);
+            let (a, b) = edge(&v, e);
+            let (pa, pb, pc) = (*w.p(a), *w.p(b), *w.p(v[e]));
+            let x = if k % 2 == 0 {
+                [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]
+            } else {
+                [(pa[0] + pb[0] + pc[0]) / 3.0, (pa[1] + pb[1] + pc[1]) / 3.0]
+            };
+            let before = w.cm.xy.len();
+            if let Some(Placed::New(s, _)) = w.insert_point(t, x) {
+                assert_eq!(s as usize, before);
+            }
+            w.cm.check(true)
+                .unwrap_or_else(|v| panic!("after inserting {x:?}: {v}"));
+        }
+        assert!(w.cm.xy.len() > pts.len());
+    }
+
+    #[test]
+    fn operations_keep_the_working_mesh_valid() {
+        exercise(&grid(7, 1.0, 0.0));
+        exercise(&grid(6, 1e-200, 1e-199));
+        exercise(&grid(6, 1e150, -3e150));
+        let mut pts: Vec<[f64; 2]> = (0..15).map(|k| [k as f64, 0.0]).collect();
+        pts.extend([
+            [7.5, 1e-3],
+            [3.25, -2e-3],
+            [11.0, 5.0],
+            [2.0, 2.0],
+            [2.0, 2.0],
+        ]);
+        exercise(&pts);
+    }
+
+    #[test]
+    fn the_checker_sees_a_one_sided_label() {
+        let mut w = work_of(&grid(4, 1.0, 0.0));
+        let (t, e) = interior(&w)[0];
+        w.cm.set_sub(t, e, 0);
+        assert_eq!(w.cm.check(false).unwrap_err().kind, "subsegment");
     }
 }

@@ -109,7 +109,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 
-use super::cmesh::{CMesh, Sub, Tri};
+use super::cmesh::{CMesh, Sub};
 use super::constrain::{Cdt, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
@@ -257,34 +257,13 @@ fn refine_inner(
     let nfixed = cdt.points.len();
     let nt = cdt.triangles.len();
     let xy = cdt.points.iter().map(|&p| scaled(p, scale)).collect();
-    let tr = (0..nt)
-        .map(|t| Tri {
-            v: cdt.triangles[t],
-            a: [NONE; 3],
-            orig: t as u32,
-            mark: 0,
-        })
-        .collect();
     let mut m = Mesh {
-        cm: CMesh::new(xy, tr),
+        cm: CMesh::from_triangles(xy, &cdt.triangles, &cdt.neighbors),
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: Arc::new(vec![Vec::new(); nfixed]),
         parents: Arc::new(Vec::new()),
     };
-    for t in 0..nt {
-        for e in 0..3 {
-            let n = cdt.neighbors[t][e];
-            if n == NONE {
-                continue;
-            }
-            let (a, b) = edge(&cdt.triangles[t], e);
-            let Some(j) = (0..3).find(|&j| edge(&cdt.triangles[n as usize], j) == (b, a)) else {
-                continue;
-            };
-            m.tr[t].a[e] = pack(n as usize, j);
-        }
-    }
     // Subsegments: the bounding input ones, then hull edges (`-c`).
     let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
     for (k, s) in cdt.segments.iter().enumerate() {
