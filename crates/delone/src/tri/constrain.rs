@@ -169,15 +169,21 @@ fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 impl Work {
     /// The working mesh of the kernel's arrays (vertices, packed adjacency).
     fn new(xy: Vec<[f64; 2]>, tv: Vec<[u32; 3]>, ta: Vec<[u32; 3]>) -> Work {
-        let tr = tv.into_iter().zip(ta).map(|(v, a)| Tri {
+        let tr = tv.iter().zip(&ta).map(|(&v, &a)| Tri {
             v,
             a,
             orig: NONE,
             mark: 0,
         });
+        let mut cm = CMesh::new(xy, Vec::new());
+        cm.tr = tr.collect();
+        drop(tv);
+        // The labels reuse the adjacency's storage.
+        cm.sides = ta;
+        cm.sides.fill([NONE; 3]);
         let mut w = Work {
-            vt: vec![NONE; xy.len()],
-            cm: CMesh::new(xy, tr.collect()),
+            vt: vec![NONE; cm.xy.len()],
+            cm,
             flips: 0,
             rng: 0x1234_5678,
         };
@@ -808,7 +814,6 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             });
         }
     }
-    w.cm.sides = Vec::new();
     // Old slot -> output triangle.
     let mut map = vec![NONE; nt];
     let mut k = 0u32;
@@ -826,7 +831,9 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     );
     w.cm.xy = Vec::new();
     let k = k as usize;
-    let mut triangles = Vec::with_capacity(k);
+    // The triangles reuse the labels' storage (slot `kk` is written after
+    // every label is read).
+    let mut triangles = std::mem::take(&mut w.cm.sides);
     let mut neighbors = Vec::with_capacity(k);
     let mut regions = Vec::with_capacity(k);
     let mut attributes = Vec::with_capacity(k);
@@ -835,7 +842,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         if !alive[t] {
             continue;
         }
-        triangles.push(r.v.map(out_id));
+        triangles[neighbors.len()] = r.v.map(out_id);
         neighbors.push(r.a.map(|x| map[unpack(x).0]));
         let r = region[t];
         regions.push(r);
@@ -843,6 +850,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         attributes.push(reg.map_or(0.0, |g| g.attribute));
         max_areas.push(reg.map_or(-1.0, |g| g.max_area));
     }
+    triangles.truncate(k);
     Ok(Cdt {
         points,
         triangles,
