@@ -735,9 +735,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
         flood(&w, &mut alive, &mut stack);
     }
-    let s2 = scale.0 * scale.1;
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
-    let _ = s2;
     // Each seed's walk starts where the previous one ended (seeds listed
     // in a spatially coherent order cost O(1) walks each).
     let mut last = 0usize;
@@ -1508,12 +1506,11 @@ struct Crossings<'a, F: Fn(u32) -> u32> {
 impl<F: Fn(u32) -> u32> Crossings<'_, F> {
     /// All labels of the constrained edge `u - v` (first the one in the
     /// half-edges), removing the extra ones from `multi`.
-    fn take_labels(&mut self, w: &Work, u: u32, v: u32, first: u32) -> Vec<u32> {
+    fn take_labels(&mut self, u: u32, v: u32, first: u32) -> Vec<u32> {
         let mut l = vec![first];
         if let Some(more) = self.multi.remove(&ukey(u, v)) {
             l.extend(more.into_iter().filter(|&x| x != first));
         }
-        let _ = w;
         l
     }
 
@@ -1596,7 +1593,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             if ukey(e0, e1) != ukey(p, q) {
                 if let Some((tt, ii)) = w.find_edge(e0, v) {
                     let c = w.con(tt, ii);
-                    let labels = self.take_labels(w, e0, e1, c);
+                    let labels = self.take_labels(e0, e1, c);
                     for &l in &labels {
                         self.report.vertex_splits.push(((self.out_id)(v), l));
                         if l != c {
@@ -1609,7 +1606,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             }
         }
         // Take p - q out (if it still exists) and queue its pieces.
-        let labels = self.take_labels(w, p, q, other);
+        let labels = self.take_labels(p, q, other);
         if w.find_edge(p, q).is_some() {
             w.unconstrain(p, q);
         }

@@ -119,7 +119,7 @@ mod engine;
 mod options;
 mod par;
 
-use engine::{angles, dist2, run, shape, Bounds, Crit, Mesh, Parent, SHELL_ANGLE};
+use engine::{angle, angles, dist2, run, shape, Bounds, Crit, Mesh, Parent, SHELL_ANGLE};
 pub use options::{
     default_budget, default_threads, memory_estimate, RefineOptions, RefineReport, Refined,
     SegmentSplits, Unfixable, UnfixableReason, UserTest, BUDGET_BASE, BUDGET_MAX, BYTES_PER_POINT,
@@ -321,17 +321,10 @@ fn refine_inner(
     for k in 0..m.parents.len() {
         let par = m.parents[k];
         for (i, (z, o)) in [(par.a, par.b), (par.b, par.a)].into_iter().enumerate() {
-            let pz = *m.p(z);
-            let (ux, uy) = (m.p(o)[0] - pz[0], m.p(o)[1] - pz[1]);
             let shell = m.vchains[z as usize].iter().any(|&j| {
                 let q = m.parents[j as usize];
                 let o2 = if q.a == z { q.b } else { q.a };
-                let (vx, vy) = (m.p(o2)[0] - pz[0], m.p(o2)[1] - pz[1]);
-                let ang = (ux * vy - uy * vx)
-                    .abs()
-                    .atan2(ux * vx + uy * vy)
-                    .to_degrees();
-                j as usize != k && ang < SHELL_ANGLE
+                j as usize != k && angle(m.p(z), m.p(o), m.p(o2)) < SHELL_ANGLE
             });
             Arc::make_mut(&mut m.parents)[k].shell[i] = shell;
         }
@@ -490,7 +483,7 @@ fn assess(
         }
         met = false;
         let (u, w) = edge(v, k);
-        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
+        let reason = match m.small_angle_apex(u, w, crit.angle) {
             Some((apex, input_angle)) if d <= abound && !user_bad => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }

@@ -91,17 +91,19 @@ pub(super) fn shape(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> (f64, f64, usiz
     (s2, d, k)
 }
 
+/// The angle (degrees) at `p` between the directions to `q` and `r`.
+pub(super) fn angle(p: &[f64; 2], q: &[f64; 2], r: &[f64; 2]) -> f64 {
+    let (ux, uy) = (q[0] - p[0], q[1] - p[1]);
+    let (vx, vy) = (r[0] - p[0], r[1] - p[1]);
+    (ux * vy - uy * vx)
+        .abs()
+        .atan2(ux * vx + uy * vy)
+        .to_degrees()
+}
+
 /// Angles (degrees) of a triangle.
 pub(super) fn angles(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 3] {
-    let ang = |p: &[f64; 2], q: &[f64; 2], r: &[f64; 2]| {
-        let (ux, uy) = (q[0] - p[0], q[1] - p[1]);
-        let (vx, vy) = (r[0] - p[0], r[1] - p[1]);
-        (ux * vy - uy * vx)
-            .abs()
-            .atan2(ux * vx + uy * vy)
-            .to_degrees()
-    };
-    [ang(a, b, c), ang(b, c, a), ang(c, a, b)]
+    [angle(a, b, c), angle(b, c, a), angle(c, a, b)]
 }
 
 impl Mesh {
@@ -270,14 +272,8 @@ impl Mesh {
     /// Skinny triangle whose shortest edge spans a small input angle:
     /// the apex and the input angle (degrees), if `u` and `v` lie on two
     /// segment chains that meet at a vertex other than `u` and `v` at an angle
-    /// below `bound` (`w`, the triangle's third vertex, is not used).
-    pub(super) fn small_angle_apex(
-        &self,
-        u: u32,
-        v: u32,
-        w: u32,
-        bound: f64,
-    ) -> Option<(u32, f64)> {
+    /// below `bound`.
+    pub(super) fn small_angle_apex(&self, u: u32, v: u32, bound: f64) -> Option<(u32, f64)> {
         let chains = |x: u32| -> &[u32] {
             let p = self.vpar[x as usize];
             if p != NONE {
@@ -299,16 +295,9 @@ impl Mesh {
                     }
                     let oa = if a.a == z { a.b } else { a.a };
                     let ob = if b.a == z { b.b } else { b.a };
-                    let pz = self.p(z);
-                    let (ux, uy) = (self.p(oa)[0] - pz[0], self.p(oa)[1] - pz[1]);
-                    let (vx, vy) = (self.p(ob)[0] - pz[0], self.p(ob)[1] - pz[1]);
-                    let ang = (ux * vy - uy * vx)
-                        .abs()
-                        .atan2(ux * vx + uy * vy)
-                        .to_degrees();
-                    // (Requiring `w` inside the wedge was tried: refinement
-                    // then cascades on la.poly at 30°.)
-                    let _ = w;
+                    let ang = angle(self.p(z), self.p(oa), self.p(ob));
+                    // (Requiring `w` inside the wedge cascades on la.poly
+                    // at 30°.)
                     if ang < bound && best.is_none_or(|(_, x)| ang < x) {
                         best = Some((z, ang));
                     }
@@ -475,7 +464,7 @@ pub(super) fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> 
         // sin² of the smallest angle, d² / xy, below the bound's?
         if d * d < crit.sin2 * xy {
             let (u, w) = edge(&v, k);
-            if m.small_angle_apex(u, w, v[k], crit.angle).is_none() {
+            if m.small_angle_apex(u, w, crit.angle).is_none() {
                 let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
                 return Some(Queue::angle_bucket(s2 / crit.sin2));
             }
