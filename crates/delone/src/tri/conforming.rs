@@ -11,19 +11,8 @@
 
 use delone_predicates::incircle;
 
+use super::constrain::{two_prod, two_sum};
 use crate::Violation;
-
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bv = s - a;
-    let av = s - bv;
-    (s, (a - av) + (b - bv))
-}
-
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
 
 /// Sign of `(u - p)·(w - p)`, exactly (floating-point filter, then an
 /// expansion sum of the error-free products).
