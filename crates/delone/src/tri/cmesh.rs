@@ -1,15 +1,19 @@
-//! The constrained triangle mesh of refinement (sequential and parallel):
-//! compact 32-byte triangle records (vertices, packed adjacency, the input
-//! triangle they descend from, subsegment flags and a cavity stamp), the
-//! subsegment on each constrained half-edge, the subsegment records, and
-//! its local operations — constrained Bowyer–Watson insertion
-//! ([`CMesh::insert`]), the edge flip ([`CMesh::flip`]) and Lawson flips
-//! ([`CMesh::restore_delaunay`]) — with the invariant checker
-//! [`CMesh::check`] that the tests run after every operation.
+//! The constrained triangle mesh of the CDT and of refinement (sequential
+//! and parallel): compact 32-byte triangle records (vertices, packed
+//! adjacency, the input triangle they descend from, subsegment flags and a
+//! cavity stamp), the subsegment on each constrained half-edge, the
+//! subsegment records, and its local operations — constrained
+//! Bowyer–Watson insertion ([`CMesh::insert`]), the edge flip
+//! ([`CMesh::flip`]) and Lawson flips ([`CMesh::restore_delaunay`]) — with
+//! the invariant checker [`CMesh::check`] that the tests run after every
+//! operation.
 //!
-//! The boundary of the domain has no neighbour (`NONE`) and always carries
-//! a subsegment; the numbering conventions are the `topo` module's. Every
-//! orientation and incircle decision is exact.
+//! In refinement the boundary of the domain has no neighbour (`NONE`) and
+//! always carries a subsegment. The CDT (`constrain`) works on the same
+//! records with the kernel's ghost triangles and dead slots still in place
+//! and no subsegment records: the label on a constrained half-edge is the
+//! index of its input segment. The numbering conventions are the `topo`
+//! module's. Every orientation and incircle decision is exact.
 
 use delone_predicates::{incircle, orient2d};
 

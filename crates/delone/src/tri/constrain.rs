@@ -3,7 +3,10 @@
 //! The pipeline of [`constrained_triangulation`]:
 //!
 //! 1. the Delaunay triangulation of the points ([`Delaunay2`]; exact
-//!    duplicates are merged and reported);
+//!    duplicates are merged and reported), taken over as the records of
+//!    the constrained mesh (`tri::cmesh`, ghost triangles included; the
+//!    label on a constrained half-edge is its input segment), whose edge
+//!    flip every step below uses;
 //! 2. segment insertion by **flips** (Sloan 1993): walk from one end of the
 //!    segment to the other collecting the edges it crosses, then flip them
 //!    (an edge whose quadrilateral is not convex waits at the back of the
