@@ -153,13 +153,13 @@ impl CMesh {
         });
         let mut m = CMesh::new(xy, tr.collect());
         for (t, (v, nb)) in triangles.iter().zip(neighbors).enumerate() {
-            for e in 0..3 {
-                let Some(w) = triangles.get(nb[e] as usize) else {
+            for (e, &n) in nb.iter().enumerate() {
+                let Some(w) = triangles.get(n as usize) else {
                     continue;
                 };
                 let (a, b) = edge(v, e);
                 if let Some(j) = (0..3).find(|&j| edge(w, j) == (b, a)) {
-                    m.tr[t].a[e] = pack(nb[e] as usize, j);
+                    m.tr[t].a[e] = pack(n as usize, j);
                 }
             }
         }
