@@ -421,24 +421,7 @@ enum Start {
 /// check_cdt(&g, &cdt).unwrap();
 /// ```
 pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt, Error> {
-    let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
-    if let Some(index) = pslg.points.iter().position(|p| !fin(p)) {
-        return Err(Error::InvalidCoordinate { index });
-    }
-    crate::geom::scale::check_range(&pslg.points, crate::geom::scale::RANGE_2D)?;
-    if let Some(index) = pslg.holes.iter().position(|p| !fin(p)) {
-        return Err(Error::InvalidSeedPoint {
-            kind: "hole",
-            index,
-        });
-    }
-    if let Some(index) = pslg.regions.iter().position(|r| !fin(&r.point)) {
-        return Err(Error::InvalidSeedPoint {
-            kind: "region",
-            index,
-        });
-    }
-    pslg.check_segment_ends()?;
+    pslg.check_values()?;
     let n = pslg.points.len();
     let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
     let mut w = Work::new(xy, tv, ta);
