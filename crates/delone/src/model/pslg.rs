@@ -114,24 +114,7 @@ impl Pslg {
     /// assert_eq!(g.validate(), Err(Error::SegmentOutOfRange { segment: 0, point: 5 }));
     /// ```
     pub fn validate(&self) -> Result<(), Error> {
-        let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
-        if let Some(index) = self.points.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_2D)?;
-        if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "hole",
-                index,
-            });
-        }
-        if let Some(index) = self.regions.iter().position(|r| !fin(&r.point)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "region",
-                index,
-            });
-        }
-        self.check_segment_ends()?;
+        self.check_values()?;
         // Duplicate points, by sorting (index order breaks ties, so the
         // first of equal points is the original).
         let key = |p: &[f64; 2]| ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits());
@@ -186,9 +169,33 @@ impl Pslg {
         Ok(())
     }
 
-    /// Checks only what the triangulation cannot work around: finite
-    /// coordinates and segment ends in range.
-    pub(crate) fn check_segment_ends(&self) -> Result<(), Error> {
+    /// The checks every mesher needs: finite points within the range the
+    /// predicates allow, finite hole and region points, segment ends in
+    /// range ([`Error::InvalidCoordinate`], [`Error::InvalidSeedPoint`],
+    /// [`Error::SegmentOutOfRange`]; duplicates are the mesher's business).
+    pub(crate) fn check_values(&self) -> Result<(), Error> {
+        let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
+        if let Some(index) = self.points.iter().position(|p| !fin(p)) {
+            return Err(Error::InvalidCoordinate { index });
+        }
+        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_2D)?;
+        if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
+            return Err(Error::InvalidSeedPoint {
+                kind: "hole",
+                index,
+            });
+        }
+        if let Some(index) = self.regions.iter().position(|r| !fin(&r.point)) {
+            return Err(Error::InvalidSeedPoint {
+                kind: "region",
+                index,
+            });
+        }
+        self.check_segment_ends()
+    }
+
+    /// Segment ends in range.
+    fn check_segment_ends(&self) -> Result<(), Error> {
         let n = self.points.len();
         for (s, seg) in self.segments.iter().enumerate() {
             for &v in seg {

@@ -1,19 +1,23 @@
-//! The constrained triangle mesh of refinement (sequential and parallel):
-//! compact 32-byte triangle records (vertices, packed adjacency, the input
-//! triangle they descend from, subsegment flags and a cavity stamp), the
-//! subsegment on each constrained half-edge, the subsegment records, and
-//! its local operations — constrained Bowyer–Watson insertion
-//! ([`CMesh::insert`]), the edge flip ([`CMesh::flip`]) and Lawson flips
-//! ([`CMesh::restore_delaunay`]) — with the invariant checker
-//! [`CMesh::check`] that the tests run after every operation.
+//! The constrained triangle mesh of the CDT and of refinement (sequential
+//! and parallel): compact 32-byte triangle records (vertices, packed
+//! adjacency, the input triangle they descend from, subsegment flags and a
+//! cavity stamp), the subsegment on each constrained half-edge, the
+//! subsegment records, and its local operations — constrained
+//! Bowyer–Watson insertion ([`CMesh::insert`]), the edge flip
+//! ([`CMesh::flip`]) and Lawson flips ([`CMesh::restore_delaunay`]) — with
+//! the invariant checker [`CMesh::check`] that the tests run after every
+//! operation.
 //!
-//! The boundary of the domain has no neighbour (`NONE`) and always carries
-//! a subsegment; the numbering conventions are the `topo` module's. Every
-//! orientation and incircle decision is exact.
+//! In refinement the boundary of the domain has no neighbour (`NONE`) and
+//! always carries a subsegment. The CDT (`constrain`) works on the same
+//! records with the kernel's ghost triangles and dead slots still in place
+//! and no subsegment records: the label on a constrained half-edge is the
+//! index of its input segment. The numbering conventions are the `topo`
+//! module's. Every orientation and incircle decision is exact.
 
 use delone_predicates::{incircle, orient2d};
 
-use super::topo::{edge, pack, unpack, NEXT, PREV};
+use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use crate::{Violation, NONE};
 
 #[derive(Clone, Copy)]
@@ -131,6 +135,35 @@ impl CMesh {
             fan: Vec::new(),
             replaced: 0,
         }
+    }
+
+    /// The mesh of `triangles` on `xy` (triangle `t` descends from input
+    /// triangle `t`), linked across `neighbors` (triangle indices, `NONE`
+    /// on the boundary), with no subsegment yet.
+    pub(super) fn from_triangles(
+        xy: Vec<[f64; 2]>,
+        triangles: &[[u32; 3]],
+        neighbors: &[[u32; 3]],
+    ) -> Self {
+        let tr = triangles.iter().enumerate().map(|(t, &v)| Tri {
+            v,
+            a: [NONE; 3],
+            orig: t as u32,
+            mark: 0,
+        });
+        let mut m = CMesh::new(xy, tr.collect());
+        for (t, (v, nb)) in triangles.iter().zip(neighbors).enumerate() {
+            for (e, &n) in nb.iter().enumerate() {
+                let Some(w) = triangles.get(n as usize) else {
+                    continue;
+                };
+                let (a, b) = edge(v, e);
+                if let Some(j) = (0..3).find(|&j| edge(w, j) == (b, a)) {
+                    m.tr[t].a[e] = pack(n as usize, j);
+                }
+            }
+        }
+        m
     }
 
     #[inline]
@@ -451,8 +484,9 @@ impl CMesh {
                 let (o, l) = unpack(x);
                 self.tr[o].a[l] = pack(tt, ee);
             }
-            if s != NONE {
-                self.subs[s as usize].he = pack(tt, ee);
+            // (A label with no record, the CDT's, has nothing to update.)
+            if let Some(sub) = self.subs.get_mut(s as usize) {
+                sub.he = pack(tt, ee);
             }
         }
         self.set_sub(t, 1, NONE);
@@ -467,24 +501,33 @@ impl CMesh {
     /// every live subsegment's [`Sub::he`] is a half-edge carrying it. With
     /// `delaunay`, also every edge without a subsegment is locally Delaunay
     /// (exact incircle): the mesh is a constrained Delaunay triangulation.
+    /// The CDT's working mesh passes too: dead slots (`DEAD`) are skipped,
+    /// ghost triangles (`INF` in position 2) are neither oriented nor
+    /// Delaunay-tested, and with no subsegment records a label is an input
+    /// segment index that only has to agree on both sides of its edge.
     pub(super) fn check(&self, delaunay: bool) -> Result<(), Violation> {
         let bad = |kind: &'static str, detail: String| Err(Violation::new(kind, detail));
         if self.sides.len() != self.tr.len() {
             return bad("storage", "sides and triangles differ in length".into());
         }
         let nv = self.xy.len();
+        let labels = self.subs.is_empty();
         for (t, tri) in self.tr.iter().enumerate() {
             let v = tri.v;
-            if v.iter().any(|&x| x as usize >= nv) {
+            let ghost = is_ghost(&v);
+            if v[0] == DEAD {
+                continue;
+            }
+            if v.iter().any(|&x| x as usize >= nv && !(ghost && x == INF)) {
                 return bad("vertex", format!("triangle {t} {v:?} out of range"));
             }
-            if orient2d(self.p(v[0]), self.p(v[1]), self.p(v[2])) <= 0.0 {
+            if !ghost && orient2d(self.p(v[0]), self.p(v[1]), self.p(v[2])) <= 0.0 {
                 return bad("orientation", format!("triangle {t} {v:?}"));
             }
             for e in 0..3 {
                 let (a, b) = edge(&v, e);
                 let s = self.sub_at(t, e);
-                if s != NONE {
+                if s != NONE && !labels {
                     let sub = self.subs.get(s as usize);
                     if !sub.is_some_and(|x| x.alive && (x.v == [a, b] || x.v == [b, a])) {
                         return bad(
@@ -515,6 +558,8 @@ impl CMesh {
                 }
                 if delaunay
                     && s == NONE
+                    && !ghost
+                    && !is_ghost(&self.tr[n].v)
                     && incircle(
                         self.p(v[0]),
                         self.p(v[1]),
@@ -550,29 +595,12 @@ mod tests {
     /// subsegments.
     fn mesh_of(pts: &[[f64; 2]]) -> CMesh {
         let d = crate::tri::triangulate(pts).unwrap();
-        let tr = d
-            .triangles
-            .iter()
-            .enumerate()
-            .map(|(t, &v)| Tri {
-                v,
-                a: [NONE; 3],
-                orig: t as u32,
-                mark: 0,
-            })
-            .collect();
-        let mut m = CMesh::new(pts.to_vec(), tr);
+        let mut m = CMesh::from_triangles(pts.to_vec(), &d.triangles, &d.neighbors);
         for t in 0..m.tr.len() {
             for e in 0..3 {
-                let n = d.neighbors[t][e];
-                if n == NONE {
+                if m.tr[t].a[e] == NONE {
                     new_sub(&mut m, t, e);
-                    continue;
                 }
-                let n = n as usize;
-                let (a, b) = edge(&m.tr[t].v, e);
-                let j = (0..3).find(|&j| edge(&m.tr[n].v, j) == (b, a)).unwrap();
-                m.tr[t].a[e] = pack(n, j);
             }
         }
         m.check(true).unwrap();

@@ -11,19 +11,8 @@
 
 use delone_predicates::incircle;
 
+use super::constrain::{two_prod, two_sum};
 use crate::Violation;
-
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bv = s - a;
-    let av = s - bv;
-    (s, (a - av) + (b - bv))
-}
-
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
 
 /// Sign of `(u - p)·(w - p)`, exactly (floating-point filter, then an
 /// expansion sum of the error-free products).
@@ -236,17 +225,7 @@ pub fn check_conforming_delaunay(
                 format!("triangle {t} has a vertex out of range"),
             ));
         }
-        let (a, b, c) = (
-            &points[v[0] as usize],
-            &points[v[1] as usize],
-            &points[v[2] as usize],
-        );
-        if delone_predicates::orient2d(a, b, c) <= 0.0 {
-            return Err(Violation::new(
-                "orientation",
-                format!("triangle {t} {v:?} is not counterclockwise"),
-            ));
-        }
+        super::mesh::check_ccw(points, t, v)?;
     }
     let ids = used(points.len(), triangles);
     let grid = Grid::new(points, &ids);

@@ -3,7 +3,10 @@
 //! The pipeline of [`constrained_triangulation`]:
 //!
 //! 1. the Delaunay triangulation of the points ([`Delaunay2`]; exact
-//!    duplicates are merged and reported);
+//!    duplicates are merged and reported), taken over as the records of
+//!    the constrained mesh (`tri::cmesh`, ghost triangles included; the
+//!    label on a constrained half-edge is its input segment), whose edge
+//!    flip every step below uses;
 //! 2. segment insertion by **flips** (Sloan 1993): walk from one end of the
 //!    segment to the other collecting the edges it crosses, then flip them
 //!    (an edge whose quadrilateral is not convex waits at the back of the
@@ -32,6 +35,8 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
+use super::cmesh::{CMesh, Tri};
+use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
 use crate::geom::{pow2_scale, scaled};
@@ -146,13 +151,12 @@ pub struct Cdt {
     pub report: CdtReport,
 }
 
-/// Working state: the kernel's arrays plus a constraint label per half-edge.
+/// Working state: the constrained triangle mesh ([`CMesh`], here with the
+/// kernel's ghost triangles and dead slots, and with no subsegment records:
+/// the label on a constrained half-edge is the index of its input segment)
+/// and a triangle holding each vertex.
 struct Work {
-    xy: Vec<[f64; 2]>,
-    tv: Vec<[u32; 3]>,
-    ta: Vec<[u32; 3]>,
-    /// Input segment index of a constrained half-edge, else `NONE`.
-    con: Vec<[u32; 3]>,
+    cm: CMesh,
     /// A triangle slot holding each vertex.
     vt: Vec<u32>,
     flips: usize,
@@ -166,23 +170,92 @@ fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 }
 
 impl Work {
+    /// The working mesh of the kernel's arrays (vertices, packed adjacency).
+    fn new(xy: Vec<[f64; 2]>, tv: Vec<[u32; 3]>, ta: Vec<[u32; 3]>) -> Work {
+        let tr = tv.iter().zip(&ta).map(|(&v, &a)| Tri {
+            v,
+            a,
+            orig: NONE,
+            mark: 0,
+        });
+        let mut cm = CMesh::new(xy, Vec::new());
+        cm.tr = tr.collect();
+        drop(tv);
+        // The labels reuse the adjacency's storage.
+        cm.sides = ta;
+        cm.sides.fill([NONE; 3]);
+        let mut w = Work {
+            vt: vec![NONE; cm.xy.len()],
+            cm,
+            flips: 0,
+            rng: 0x1234_5678,
+        };
+        for t in 0..w.cm.tr.len() {
+            if w.v(t)[0] != DEAD {
+                w.set_vt(t);
+            }
+        }
+        w
+    }
+
     #[inline]
     fn p(&self, v: u32) -> &[f64; 2] {
-        &self.xy[v as usize]
+        self.cm.p(v)
+    }
+
+    /// The vertices of triangle `t`.
+    #[inline]
+    fn v(&self, t: usize) -> [u32; 3] {
+        self.cm.tr[t].v
+    }
+
+    /// The packed neighbour across edge `e` of `t`.
+    #[inline]
+    fn a(&self, t: usize, e: usize) -> u32 {
+        self.cm.tr[t].a[e]
+    }
+
+    /// The input segment on edge `e` of `t`, or `NONE`.
+    #[inline]
+    fn con(&self, t: usize, e: usize) -> u32 {
+        self.cm.sub_at(t, e)
+    }
+
+    /// Sets triangle `t`: vertices, neighbours, segment labels.
+    fn put(&mut self, t: usize, v: [u32; 3], a: [u32; 3], s: [u32; 3]) {
+        self.cm.tr[t].v = v;
+        self.cm.tr[t].a = a;
+        for (e, &x) in s.iter().enumerate() {
+            self.cm.set_sub(t, e, x);
+        }
+    }
+
+    /// Points the neighbours across the given half-edges back at them.
+    fn link(&mut self, hs: &[(usize, usize)]) {
+        for &(k, w) in hs {
+            let (o, l) = unpack(self.a(k, w));
+            self.cm.tr[o].a[l] = pack(k, w);
+        }
+    }
+
+    /// Edge `e` of `t` as (packed neighbour, label).
+    #[inline]
+    fn outer(&self, t: usize, e: usize) -> (u32, u32) {
+        (self.a(t, e), self.con(t, e))
     }
 
     /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
     fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
         let start = self.vt[u as usize] as usize;
         let mut t = start;
-        for _ in 0..self.tv.len() + 1 {
-            let v = self.tv[t];
+        for _ in 0..self.cm.tr.len() + 1 {
+            let v = self.v(t);
             let k = v.iter().position(|&x| x == u)?;
             if v[NEXT[k]] == w {
                 return Some((t, PREV[k]));
             }
             // Counterclockwise around u: across the edge v[k+2] -> u.
-            t = unpack(self.ta[t][NEXT[k]]).0;
+            t = unpack(self.a(t, NEXT[k])).0;
             if t == start {
                 return None;
             }
@@ -191,44 +264,21 @@ impl Work {
     }
 
     fn set_vt(&mut self, t: usize) {
-        for &x in &self.tv[t] {
+        for &x in &self.v(t) {
             if x != INF {
                 self.vt[x as usize] = t as u32;
             }
         }
     }
 
-    /// Flips edge `i` of `t` (its quadrilateral must be strictly convex).
-    /// Returns the new edge's two triangles: `t = [a, x, d]`, `n = [d, y, a]`.
-    fn flip(&mut self, t: usize, i: usize) -> (usize, usize) {
-        let (n, j) = unpack(self.ta[t][i]);
-        let vt = self.tv[t];
-        let vn = self.tv[n];
-        let a = vt[i];
-        let (x, y) = edge(&vt, i);
-        let d = vn[j];
-        // Outer half-edges: t: (a->x) = edge opposite y, (y->a) = opposite x;
-        // n: (d->y) opposite x, (x->d) opposite y.
-        let t_ax = (self.ta[t][PREV[i]], self.con[t][PREV[i]]);
-        let t_ya = (self.ta[t][NEXT[i]], self.con[t][NEXT[i]]);
-        let n_dy = (self.ta[n][PREV[j]], self.con[n][PREV[j]]);
-        let n_xd = (self.ta[n][NEXT[j]], self.con[n][NEXT[j]]);
-        self.tv[t] = [a, x, d];
-        self.tv[n] = [d, y, a];
-        // t: edge0 = x->d, edge1 = d->a (twin n.1), edge2 = a->x.
-        self.ta[t] = [n_xd.0, pack(n, 1), t_ax.0];
-        self.con[t] = [n_xd.1, NONE, t_ax.1];
-        // n: edge0 = y->a, edge1 = a->d (twin t.1), edge2 = d->y.
-        self.ta[n] = [t_ya.0, pack(t, 1), n_dy.0];
-        self.con[n] = [t_ya.1, NONE, n_dy.1];
-        for (k, w) in [(t, 0usize), (t, 2), (n, 0), (n, 2)] {
-            let (o, l) = unpack(self.ta[k][w]);
-            self.ta[o][l] = pack(k, w);
-        }
+    /// Flips edge `i` of `t` ([`CMesh::flip`]; its quadrilateral must be
+    /// strictly convex).
+    fn flip(&mut self, t: usize, i: usize) {
+        let (n, _) = unpack(self.a(t, i));
+        self.cm.flip(t, i);
         self.set_vt(t);
         self.set_vt(n);
         self.flips += 1;
-        (t, n)
     }
 
     /// Lawson flips from the given edges (vertex pairs): every unconstrained
@@ -239,11 +289,11 @@ impl Work {
             let Some((t, i)) = self.find_edge(u, w) else {
                 continue;
             };
-            if self.con[t][i] != NONE {
+            if self.con(t, i) != NONE {
                 continue;
             }
-            let (n, j) = unpack(self.ta[t][i]);
-            let (vt, vn) = (self.tv[t], self.tv[n]);
+            let (n, j) = unpack(self.a(t, i));
+            let (vt, vn) = (self.v(t), self.v(n));
             if is_ghost(&vt) || is_ghost(&vn) {
                 continue;
             }
@@ -260,8 +310,8 @@ impl Work {
     /// if exact orientation tests show the four new triangles are
     /// counterclockwise. Returns the new vertex id.
     fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2]) -> Option<u32> {
-        let (n, j) = unpack(self.ta[t][i]);
-        let (vt, vn) = (self.tv[t], self.tv[n]);
+        let (n, j) = unpack(self.a(t, i));
+        let (vt, vn) = (self.v(t), self.v(n));
         if is_ghost(&vt) || is_ghost(&vn) || !(x[0].is_finite() && x[1].is_finite()) {
             return None;
         }
@@ -276,44 +326,36 @@ impl Work {
         {
             return None;
         }
-        let s = self.xy.len() as u32;
-        self.xy.push(x);
+        let s = self.cm.xy.len() as u32;
+        self.cm.xy.push(x);
         self.vt.push(t as u32);
-        let c = self.con[t][i];
+        let c = self.con(t, i);
         // t = [a, p, q] (edge i = p->q) becomes [a, p, s] + t2 = [a, s, q];
         // n = [d, q, p] becomes [d, q, s] + n2 = [d, s, p].
-        let t_qa = (self.ta[t][NEXT[i]], self.con[t][NEXT[i]]);
-        let t_ap = (self.ta[t][PREV[i]], self.con[t][PREV[i]]);
-        let n_pd = (self.ta[n][NEXT[j]], self.con[n][NEXT[j]]);
-        let n_dq = (self.ta[n][PREV[j]], self.con[n][PREV[j]]);
-        let t2 = self.tv.len();
-        let n2 = t2 + 1;
-        self.tv.push([0; 3]);
-        self.ta.push([0; 3]);
-        self.con.push([NONE; 3]);
-        self.tv.push([0; 3]);
-        self.ta.push([0; 3]);
-        self.con.push([NONE; 3]);
-        // [a, p, s]: e0 = p->s (twin n2 [d,s,p] e0 s->p), e1 = s->a (twin t2 e2), e2 = a->p.
-        self.tv[t] = [a, p, s];
-        self.ta[t] = [pack(n2, 0), pack(t2, 2), t_ap.0];
-        self.con[t] = [c, NONE, t_ap.1];
-        // [a, s, q]: e0 = s->q (twin n e0 q->s), e1 = q->a, e2 = a->s.
-        self.tv[t2] = [a, s, q];
-        self.ta[t2] = [pack(n, 0), t_qa.0, pack(t, 1)];
-        self.con[t2] = [c, t_qa.1, NONE];
-        // [d, q, s]: e0 = q->s, e1 = s->d (twin n2 e2), e2 = d->q.
-        self.tv[n] = [d, q, s];
-        self.ta[n] = [pack(t2, 0), pack(n2, 2), n_dq.0];
-        self.con[n] = [c, NONE, n_dq.1];
-        // [d, s, p]: e0 = s->p, e1 = p->d, e2 = d->s.
-        self.tv[n2] = [d, s, p];
-        self.ta[n2] = [pack(t, 0), n_pd.0, pack(n, 1)];
-        self.con[n2] = [c, n_pd.1, NONE];
-        for (k, w) in [(t, 2usize), (t2, 1), (n, 2), (n2, 1)] {
-            let (o, l) = unpack(self.ta[k][w]);
-            self.ta[o][l] = pack(k, w);
-        }
+        let t_qa = self.outer(t, NEXT[i]);
+        let t_ap = self.outer(t, PREV[i]);
+        let n_pd = self.outer(n, NEXT[j]);
+        let n_dq = self.outer(n, PREV[j]);
+        let t2 = self.cm.new_tri();
+        let n2 = self.cm.new_tri();
+        // Edge 0 is always the half of p - q; the twins of the new inner
+        // edges follow from the drawing.
+        let (ts, ns) = ([c, NONE, t_ap.1], [c, NONE, n_dq.1]);
+        self.put(t, [a, p, s], [pack(n2, 0), pack(t2, 2), t_ap.0], ts);
+        self.put(
+            t2,
+            [a, s, q],
+            [pack(n, 0), t_qa.0, pack(t, 1)],
+            [c, t_qa.1, NONE],
+        );
+        self.put(n, [d, q, s], [pack(t2, 0), pack(n2, 2), n_dq.0], ns);
+        self.put(
+            n2,
+            [d, s, p],
+            [pack(t, 0), n_pd.0, pack(n, 1)],
+            [c, n_pd.1, NONE],
+        );
+        self.link(&[(t, 2), (t2, 1), (n, 2), (n2, 1)]);
         for k in [t, t2, n, n2] {
             self.set_vt(k);
         }
@@ -326,16 +368,16 @@ impl Work {
 
     /// Finite triangle containing `p` (closed), or `None` outside the hull.
     fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
-        let t = self.tv.iter().position(|v| v[0] != DEAD && !is_ghost(v))?;
+        let live = |v: &[u32; 3]| v[0] != DEAD && !is_ghost(v);
+        let t = self.cm.tr.iter().position(|r| live(&r.v))?;
         if let Ok(found) = self.walk(t, p) {
             return found;
         }
         // Safety net (not reached with exact predicates on a valid mesh).
-        self.tv.iter().position(|v| {
-            v[0] != DEAD
-                && !is_ghost(v)
+        self.cm.tr.iter().map(|r| r.v).position(|v| {
+            live(&v)
                 && (0..3).all(|e| {
-                    let (a, b) = edge(v, e);
+                    let (a, b) = edge(&v, e);
                     orient2d(self.p(a), self.p(b), p) >= 0.0
                 })
         })
@@ -379,41 +421,10 @@ enum Start {
 /// check_cdt(&g, &cdt).unwrap();
 /// ```
 pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt, Error> {
-    let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
-    if let Some(index) = pslg.points.iter().position(|p| !fin(p)) {
-        return Err(Error::InvalidCoordinate { index });
-    }
-    crate::geom::scale::check_range(&pslg.points, crate::geom::scale::RANGE_2D)?;
-    if let Some(index) = pslg.holes.iter().position(|p| !fin(p)) {
-        return Err(Error::InvalidSeedPoint {
-            kind: "hole",
-            index,
-        });
-    }
-    if let Some(index) = pslg.regions.iter().position(|r| !fin(&r.point)) {
-        return Err(Error::InvalidSeedPoint {
-            kind: "region",
-            index,
-        });
-    }
-    pslg.check_segment_ends()?;
+    pslg.check_values()?;
     let n = pslg.points.len();
     let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
-    let nslots = tv.len();
-    let mut w = Work {
-        vt: vec![NONE; xy.len()],
-        xy,
-        tv,
-        ta,
-        con: vec![[NONE; 3]; nslots],
-        flips: 0,
-        rng: 0x1234_5678,
-    };
-    for t in 0..nslots {
-        if w.tv[t][0] != DEAD {
-            w.set_vt(t);
-        }
-    }
+    let mut w = Work::new(xy, tv, ta);
     // Internal vertex -> output id (its input point's representative), and
     // input index -> internal vertex.
     let out: Vec<u32> = ids[..n].iter().map(|&i| vmap[i as usize]).collect();
@@ -459,7 +470,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         })
         .collect();
     drop(ext2int);
-    let first = first_segments(&seg_ends, w.xy.len());
+    let first = first_segments(&seg_ends, w.cm.xy.len());
     for (s, &(a, b)) in seg_ends.iter().enumerate() {
         if a == b {
             report.skipped_segments.push(s as u32);
@@ -516,8 +527,8 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             let t0 = w.vt[a as usize] as usize;
             let mut t = t0;
             let mut found = None;
-            for _ in 0..w.tv.len() + 1 {
-                let v = w.tv[t];
+            for _ in 0..w.cm.tr.len() + 1 {
+                let v = w.v(t);
                 let Some(k) = v.iter().position(|&x| x == a) else {
                     break;
                 };
@@ -548,7 +559,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                     found = Some(Start::Edge(t, k));
                     break;
                 }
-                t = unpack(w.ta[t][NEXT[k]]).0;
+                t = unpack(w.a(t, NEXT[k])).0;
                 if t == t0 {
                     break;
                 }
@@ -576,8 +587,8 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         let mut end = b;
         let mut steiner = false;
         loop {
-            let (p, q) = edge(&w.tv[t], i);
-            let other = w.con[t][i];
+            let (p, q) = edge(&w.v(t), i);
+            let other = w.con(t, i);
             if other != NONE {
                 // A constrained edge crosses the segment: a vertex at the
                 // crossing splits both (see `resolve_crossing`).
@@ -595,8 +606,8 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                 break;
             }
             crossed.push_back((p, q));
-            let (nn, j) = unpack(w.ta[t][i]);
-            let r = w.tv[nn][j];
+            let (nn, j) = unpack(w.a(t, i));
+            let r = w.v(nn)[j];
             if r == b {
                 break;
             }
@@ -639,9 +650,9 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             let Some((t, i)) = w.find_edge(u, v) else {
                 return Err(unresolved(s, s));
             };
-            let (nn, j) = unpack(w.ta[t][i]);
-            let x = w.tv[t][i];
-            let d = w.tv[nn][j];
+            let (nn, j) = unpack(w.a(t, i));
+            let x = w.v(t)[i];
+            let d = w.v(nn)[j];
             if x == INF || d == INF {
                 return Err(unresolved(s, s));
             }
@@ -671,16 +682,20 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     report.flips = w.flips;
 
     // Carving.
-    let nt = w.tv.len();
-    let mut alive: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && !is_ghost(v)).collect();
+    let nt = w.cm.tr.len();
+    let mut alive: Vec<bool> =
+        w.cm.tr
+            .iter()
+            .map(|r| r.v[0] != DEAD && !is_ghost(&r.v))
+            .collect();
     let mut stack: Vec<usize> = Vec::new();
     let flood = |w: &Work, alive: &mut Vec<bool>, stack: &mut Vec<usize>| {
         while let Some(t) = stack.pop() {
             for e in 0..3 {
-                if w.con[t][e] != NONE {
+                if w.con(t, e) != NONE {
                     continue;
                 }
-                let (nn, _) = unpack(w.ta[t][e]);
+                let (nn, _) = unpack(w.a(t, e));
                 if alive[nn] {
                     alive[nn] = false;
                     stack.push(nn);
@@ -690,15 +705,15 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     };
     if !options.convex_hull {
         for t in 0..nt {
-            let v = w.tv[t];
+            let v = w.v(t);
             if v[0] == DEAD || !is_ghost(&v) {
                 continue;
             }
             // Ghost edge 2 is the hull edge.
-            if w.con[t][2] != NONE {
+            if w.con(t, 2) != NONE {
                 continue;
             }
-            let (f, _) = unpack(w.ta[t][2]);
+            let (f, _) = unpack(w.a(t, 2));
             if alive[f] {
                 alive[f] = false;
                 stack.push(f);
@@ -706,9 +721,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
         flood(&w, &mut alive, &mut stack);
     }
-    let s2 = scale.0 * scale.1;
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
-    let _ = s2;
     // Each seed's walk starts where the previous one ended (seeds listed
     // in a spatially coherent order cost O(1) walks each).
     let mut last = 0usize;
@@ -737,10 +750,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         while let Some(t) = stack.pop() {
             region[t] = ri as u32;
             for e in 0..3 {
-                if w.con[t][e] != NONE {
+                if w.con(t, e) != NONE {
                     continue;
                 }
-                let (nn, _) = unpack(w.ta[t][e]);
+                let (nn, _) = unpack(w.a(t, e));
                 if alive[nn] && seen.insert(nn) {
                     stack.push(nn);
                 }
@@ -756,19 +769,23 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     drop(seg_ends);
     drop(multi);
     w.vt = Vec::new();
-    let ghost: Vec<bool> = w.tv.iter().map(|v| v[0] != DEAD && is_ghost(v)).collect();
+    let ghost: Vec<bool> =
+        w.cm.tr
+            .iter()
+            .map(|r| r.v[0] != DEAD && is_ghost(&r.v))
+            .collect();
     let mut segments = Vec::new();
     for t in 0..nt {
-        let v = w.tv[t];
+        let v = w.v(t);
         if v[0] == DEAD || is_ghost(&v) {
             continue;
         }
         for e in 0..3 {
-            let c = w.con[t][e];
+            let c = w.con(t, e);
             if c == NONE {
                 continue;
             }
-            let (nn, _) = unpack(w.ta[t][e]);
+            let (nn, _) = unpack(w.a(t, e));
             if nn < t && !ghost[nn] {
                 continue;
             }
@@ -781,7 +798,6 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             });
         }
     }
-    w.con = Vec::new();
     // Old slot -> output triangle.
     let mut map = vec![NONE; nt];
     let mut k = 0u32;
@@ -793,33 +809,32 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let mut points = pslg.points.clone();
     points.extend(
-        w.xy[n..]
+        w.cm.xy[n..]
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    w.xy = Vec::new();
-    let mut triangles = std::mem::take(&mut w.tv);
-    let mut neighbors = std::mem::take(&mut w.ta);
-    let mut regions = Vec::with_capacity(k as usize);
-    let mut attributes = Vec::with_capacity(k as usize);
-    let mut max_areas = Vec::with_capacity(k as usize);
-    let mut kk = 0usize;
-    for t in 0..nt {
+    w.cm.xy = Vec::new();
+    let k = k as usize;
+    // The triangles reuse the labels' storage (slot `kk` is written after
+    // every label is read).
+    let mut triangles = std::mem::take(&mut w.cm.sides);
+    let mut neighbors = Vec::with_capacity(k);
+    let mut regions = Vec::with_capacity(k);
+    let mut attributes = Vec::with_capacity(k);
+    let mut max_areas = Vec::with_capacity(k);
+    for (t, r) in w.cm.tr.iter().enumerate() {
         if !alive[t] {
             continue;
         }
-        // kk <= t: slot t is read before slot kk is written.
-        triangles[kk] = triangles[t].map(out_id);
-        neighbors[kk] = neighbors[t].map(|x| map[unpack(x).0]);
-        kk += 1;
+        triangles[neighbors.len()] = r.v.map(out_id);
+        neighbors.push(r.a.map(|x| map[unpack(x).0]));
         let r = region[t];
         regions.push(r);
         let reg = pslg.regions.get(r as usize);
         attributes.push(reg.map_or(0.0, |g| g.attribute));
         max_areas.push(reg.map_or(-1.0, |g| g.max_area));
     }
-    triangles.truncate(kk);
-    neighbors.truncate(kk);
+    triangles.truncate(k);
     Ok(Cdt {
         points,
         triangles,
@@ -946,17 +961,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
                 format!("triangle {t} {v:?} out of range"),
             ));
         }
-        if orient2d(
-            &pts[v[0] as usize],
-            &pts[v[1] as usize],
-            &pts[v[2] as usize],
-        ) <= 0.0
-        {
-            return Err(Violation::new(
-                "orientation",
-                format!("triangle {t} {v:?} is not counterclockwise"),
-            ));
-        }
+        check_ccw(pts, t, v)?;
         for e in 0..3 {
             if half.insert(edge(v, e), (t as u32, e)).is_some() {
                 return Err(Violation::new(
@@ -1153,7 +1158,7 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
 
 /// Exact sum `a + b = s + e`.
 #[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
@@ -1161,7 +1166,7 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 
 /// Exact product `a * b = p + e`.
 #[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
+pub(super) fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }
@@ -1283,7 +1288,7 @@ impl Work {
     /// Finite triangle containing `p` (closed), walking from `t`; `None`
     /// outside the hull.
     fn locate_from(&mut self, t: usize, p: &[f64; 2]) -> Option<usize> {
-        if self.tv[t][0] == DEAD || is_ghost(&self.tv[t]) {
+        if self.v(t)[0] == DEAD || is_ghost(&self.v(t)) {
             return self.locate(p);
         }
         match self.walk(t, p) {
@@ -1298,17 +1303,17 @@ impl Work {
     /// (not reached with exact predicates on a valid mesh; callers fall
     /// back to a scan).
     fn walk(&mut self, mut t: usize, p: &[f64; 2]) -> Result<Option<usize>, ()> {
-        let limit = 4 * self.tv.len() + 64;
+        let limit = 4 * self.cm.tr.len() + 64;
         'walk: for _ in 0..limit {
-            let v = self.tv[t];
+            let v = self.v(t);
             self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             let r = ((self.rng >> 16) % 3) as usize;
             for k in 0..3 {
                 let e = (r + k) % 3;
                 let (a, b) = edge(&v, e);
                 if orient2d(self.p(a), self.p(b), p) < 0.0 {
-                    let (n, _) = unpack(self.ta[t][e]);
-                    if is_ghost(&self.tv[n]) {
+                    let (n, _) = unpack(self.a(t, e));
+                    if is_ghost(&self.v(n)) {
                         return Ok(None);
                     }
                     t = n;
@@ -1325,7 +1330,7 @@ impl Work {
     /// `None` if `x` is outside the hull or on a hull edge.
     fn insert_point(&mut self, hint: usize, x: [f64; 2]) -> Option<Placed> {
         let t = self.locate_from(hint, &x)?;
-        let v = self.tv[t];
+        let v = self.v(t);
         for &u in &v {
             if *self.p(u) == x {
                 return Some(Placed::Existing(u));
@@ -1339,30 +1344,37 @@ impl Work {
             .collect();
         if let Some(e) = (0..3).find(|&e| o[e] == 0.0) {
             let (p, q) = edge(&v, e);
-            let labelled = self.con[t][e] != NONE;
+            let labelled = self.con(t, e) != NONE;
             let s = self.split_edge(t, e, x)?;
             return Some(Placed::New(s, labelled.then_some((p, q))));
         }
         // 1 -> 3 split of t = [v0, v1, v2].
-        let s = self.xy.len() as u32;
-        self.xy.push(x);
+        let s = self.cm.xy.len() as u32;
+        self.cm.xy.push(x);
         self.vt.push(t as u32);
-        let (old, c) = (self.ta[t], self.con[t]);
-        let t1 = self.tv.len();
-        let t2 = t1 + 1;
-        self.tv.push([v[0], s, v[2]]);
-        self.tv.push([v[0], v[1], s]);
-        self.tv[t] = [s, v[1], v[2]];
-        self.ta[t] = [old[0], pack(t1, 0), pack(t2, 0)];
-        self.con[t] = [c[0], NONE, NONE];
-        self.ta.push([pack(t, 1), old[1], pack(t2, 1)]);
-        self.con.push([NONE, c[1], NONE]);
-        self.ta.push([pack(t, 2), pack(t1, 2), old[2]]);
-        self.con.push([NONE, NONE, c[2]]);
-        for (k, w) in [(t1, 1usize), (t2, 2)] {
-            let (o, l) = unpack(self.ta[k][w]);
-            self.ta[o][l] = pack(k, w);
-        }
+        let old = self.cm.tr[t].a;
+        let c = [0, 1, 2].map(|e| self.con(t, e));
+        let t1 = self.cm.new_tri();
+        let t2 = self.cm.new_tri();
+        self.put(
+            t1,
+            [v[0], s, v[2]],
+            [pack(t, 1), old[1], pack(t2, 1)],
+            [NONE, c[1], NONE],
+        );
+        self.put(
+            t2,
+            [v[0], v[1], s],
+            [pack(t, 2), pack(t1, 2), old[2]],
+            [NONE, NONE, c[2]],
+        );
+        self.put(
+            t,
+            [s, v[1], v[2]],
+            [old[0], pack(t1, 0), pack(t2, 0)],
+            [c[0], NONE, NONE],
+        );
+        self.link(&[(t1, 1), (t2, 2)]);
         for k in [t, t1, t2] {
             self.set_vt(k);
         }
@@ -1375,9 +1387,9 @@ impl Work {
     /// restores the Delaunay property around it.
     fn unconstrain(&mut self, u: u32, w: u32) {
         if let Some((t, i)) = self.find_edge(u, w) {
-            let (n, j) = unpack(self.ta[t][i]);
-            self.con[t][i] = NONE;
-            self.con[n][j] = NONE;
+            let (n, j) = unpack(self.a(t, i));
+            self.cm.set_sub(t, i, NONE);
+            self.cm.set_sub(n, j, NONE);
             self.legalize(&mut vec![(u, w)]);
         }
     }
@@ -1416,11 +1428,11 @@ fn label_half_edge(
     v: u32,
     s: u32,
 ) {
-    let (n, j) = unpack(w.ta[t][i]);
-    let c = w.con[t][i];
+    let (n, j) = unpack(w.a(t, i));
+    let c = w.con(t, i);
     if c == NONE {
-        w.con[t][i] = s;
-        w.con[n][j] = s;
+        w.cm.set_sub(t, i, s);
+        w.cm.set_sub(n, j, s);
     } else if c != s {
         let e = multi.entry(ukey(u, v)).or_default();
         if !e.contains(&s) {
@@ -1480,12 +1492,11 @@ struct Crossings<'a, F: Fn(u32) -> u32> {
 impl<F: Fn(u32) -> u32> Crossings<'_, F> {
     /// All labels of the constrained edge `u - v` (first the one in the
     /// half-edges), removing the extra ones from `multi`.
-    fn take_labels(&mut self, w: &Work, u: u32, v: u32, first: u32) -> Vec<u32> {
+    fn take_labels(&mut self, u: u32, v: u32, first: u32) -> Vec<u32> {
         let mut l = vec![first];
         if let Some(more) = self.multi.remove(&ukey(u, v)) {
             l.extend(more.into_iter().filter(|&x| x != first));
         }
-        let _ = w;
         l
     }
 
@@ -1501,8 +1512,8 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
     /// made cross another constraint is split again: the process only ever
     /// adds vertices, and the caller's step budget bounds it.
     fn resolve(&mut self, w: &mut Work, s: u32, a: u32, b: u32, t: usize, i: usize) -> bool {
-        let (p, q) = edge(&w.tv[t], i);
-        let other = w.con[t][i];
+        let (p, q) = edge(&w.v(t), i);
+        let other = w.con(t, i);
         let (pa, pb, pp, pq) = (*w.p(a), *w.p(b), *w.p(p), *w.p(q));
         // Strictly inside both pieces, by exact comparisons (a dot product
         // against a piece 1e23 long rounds the point onto its end).
@@ -1522,7 +1533,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         // Steiner bound of both input segments (typically the crossing of
         // a collinear overlapping segment, a few ulps away) is reused:
         // without this, nearly coincident crossings creep along the line.
-        let (n, j) = unpack(w.ta[t][i]);
+        let (n, j) = unpack(w.a(t, i));
         let near_both = |w: &Work, v: u32| {
             v != INF
                 && (v == a || v == b || near_segment(w.p(sa), w.p(sb), w.p(v)))
@@ -1530,7 +1541,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         };
         let snap = cand.and_then(|x| {
             let d2 = |u: &[f64; 2]| (u[0] - x[0]).powi(2) + (u[1] - x[1]).powi(2);
-            [a, b, p, q, w.tv[t][i], w.tv[n][j]]
+            [a, b, p, q, w.v(t)[i], w.v(n)[j]]
                 .into_iter()
                 .filter(|&v| near_both(w, v))
                 .min_by(|&u, &v| d2(w.p(u)).total_cmp(&d2(w.p(v))))
@@ -1567,8 +1578,8 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         if let Some((e0, e1)) = split_other {
             if ukey(e0, e1) != ukey(p, q) {
                 if let Some((tt, ii)) = w.find_edge(e0, v) {
-                    let c = w.con[tt][ii];
-                    let labels = self.take_labels(w, e0, e1, c);
+                    let c = w.con(tt, ii);
+                    let labels = self.take_labels(e0, e1, c);
                     for &l in &labels {
                         self.report.vertex_splits.push(((self.out_id)(v), l));
                         if l != c {
@@ -1581,7 +1592,7 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
             }
         }
         // Take p - q out (if it still exists) and queue its pieces.
-        let labels = self.take_labels(w, p, q, other);
+        let labels = self.take_labels(p, q, other);
         if w.find_edge(p, q).is_some() {
             w.unconstrain(p, q);
         }
@@ -1618,5 +1629,120 @@ impl<F: Fn(u32) -> u32> Crossings<'_, F> {
         self.pending.push((v, b, s));
         self.pending.push((a, v, s));
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The working mesh of the Delaunay triangulation of `pts`.
+    fn work_of(pts: &[[f64; 2]]) -> Work {
+        let (xy, _, _, _, tv, ta) = Delaunay2::from_points(pts).unwrap().into_raw();
+        let w = Work::new(xy, tv, ta);
+        w.cm.check(true).unwrap();
+        w
+    }
+
+    /// Every interior edge as (triangle, edge), in slot order.
+    fn interior(w: &Work) -> Vec<(usize, usize)> {
+        (0..w.cm.tr.len())
+            .filter(|&t| w.v(t)[0] != DEAD && !is_ghost(&w.v(t)))
+            .flat_map(|t| (0..3).map(move |e| (t, e)))
+            .filter(|&(t, e)| !is_ghost(&w.v(unpack(w.a(t, e)).0)))
+            .collect()
+    }
+
+    fn grid(n: usize, step: f64, origin: f64) -> Vec<[f64; 2]> {
+        (0..n * n)
+            .map(|k| {
+                [
+                    origin + step * (k % n) as f64,
+                    origin + step * (k / n) as f64,
+                ]
+            })
+            .collect()
+    }
+
+    /// Flips every convex interior edge once, labels some edges, splits
+    /// edges and triangles and legalizes, checking the mesh after each.
+    fn exercise(pts: &[[f64; 2]]) {
+        let mut w = work_of(pts);
+        let mut flips = 0;
+        for (t, e) in interior(&w) {
+            let (n, j) = unpack(w.a(t, e));
+            if is_ghost(&w.v(t)) || is_ghost(&w.v(n)) {
+                continue; // (the list predates the flips)
+            }
+            let (x, d) = (w.v(t)[e], w.v(n)[j]);
+            let (u, v) = edge(&w.v(t), e);
+            if orient2d(w.p(x), w.p(u), w.p(d)) > 0.0 && orient2d(w.p(d), w.p(v), w.p(x)) > 0.0 {
+                w.flip(t, e);
+                flips += 1;
+                w.cm.check(false)
+                    .unwrap_or_else(|v| panic!("flip {flips}: {v}"));
+            }
+        }
+        assert!(flips > 0);
+        // Lawson flips from every edge restore the Delaunay property.
+        let mut st: Vec<(u32, u32)> = interior(&w)
+            .iter()
+            .map(|&(t, e)| edge(&w.v(t), e))
+            .collect();
+        w.legalize(&mut st);
+        w.cm.check(true).unwrap();
+        // A label on every third interior edge; they are never flipped.
+        for (k, (t, e)) in interior(&w).into_iter().enumerate().step_by(3) {
+            let (u, v) = edge(&w.v(t), e);
+            if w.con(t, e) == NONE {
+                label_half_edge(&mut w, &mut HashMap::new(), t, e, u, v, k as u32);
+            }
+        }
+        w.cm.check(true).unwrap();
+        // Edge midpoints and triangle centroids.
+        for (k, (t, e)) in interior(&w).into_iter().enumerate().step_by(7) {
+            if w.v(t)[0] == DEAD || is_ghost(&w.v(t)) {
+                continue;
+            }
+            let v = w.v(t);
+            let (a, b) = edge(&v, e);
+            let (pa, pb, pc) = (*w.p(a), *w.p(b), *w.p(v[e]));
+            let x = if k % 2 == 0 {
+                [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]
+            } else {
+                [(pa[0] + pb[0] + pc[0]) / 3.0, (pa[1] + pb[1] + pc[1]) / 3.0]
+            };
+            let before = w.cm.xy.len();
+            if let Some(Placed::New(s, _)) = w.insert_point(t, x) {
+                assert_eq!(s as usize, before);
+            }
+            w.cm.check(true)
+                .unwrap_or_else(|v| panic!("after inserting {x:?}: {v}"));
+        }
+        assert!(w.cm.xy.len() > pts.len());
+    }
+
+    #[test]
+    fn operations_keep_the_working_mesh_valid() {
+        exercise(&grid(7, 1.0, 0.0));
+        exercise(&grid(6, 1e-200, 1e-199));
+        exercise(&grid(6, 1e150, -3e150));
+        let mut pts: Vec<[f64; 2]> = (0..15).map(|k| [k as f64, 0.0]).collect();
+        pts.extend([
+            [7.5, 1e-3],
+            [3.25, -2e-3],
+            [11.0, 5.0],
+            [2.0, 2.0],
+            [2.0, 2.0],
+        ]);
+        exercise(&pts);
+    }
+
+    #[test]
+    fn the_checker_sees_a_one_sided_label() {
+        let mut w = work_of(&grid(4, 1.0, 0.0));
+        let (t, e) = interior(&w)[0];
+        w.cm.set_sub(t, e, 0);
+        assert_eq!(w.cm.check(false).unwrap_err().kind, "subsegment");
     }
 }

@@ -50,6 +50,7 @@ use delone_predicates::{
     incircle, incircle_sos, incircle_weighted, incircle_weighted_sos, orient2d,
 };
 
+use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::TriMesh;
 use crate::geom::{brio_order, SplitMix64};
@@ -1320,17 +1321,8 @@ impl<'a> Delaunay2<'a> {
                     format!("triangle {t} {v:?} repeats a vertex"),
                 ));
             }
-            if !ghost
-                && orient2d(
-                    &pts[v[0] as usize],
-                    &pts[v[1] as usize],
-                    &pts[v[2] as usize],
-                ) <= 0.0
-            {
-                return Err(Violation::new(
-                    "orientation",
-                    format!("triangle {t} {v:?} is not counterclockwise"),
-                ));
+            if !ghost {
+                check_ccw(pts, t, &v)?;
             }
             for i in 0..3 {
                 let w = self.tri_adj[t][i];

@@ -13,7 +13,7 @@
 //! moments — what Lloyd relaxation needs — are exact up to rounding, and the
 //! pieces draw correctly with the non-zero fill rule.
 
-use super::voronoi::Voronoi2;
+use super::voronoi::{moments, Voronoi2};
 use crate::Error;
 
 /// Cells intersected with a polygonal domain ([`Voronoi2::cells_in_domain`]).
@@ -120,22 +120,6 @@ fn clip_to_convex(
         std::mem::swap(&mut out, tmp);
     }
     out
-}
-
-/// Signed area and first moments of a polygon relative to `origin`.
-fn moments(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, f64, f64) {
-    let m = poly.len();
-    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
-    for k in 0..m {
-        let (p, q) = (poly[k], poly[(k + 1) % m]);
-        let (px, py) = (p[0] - origin[0], p[1] - origin[1]);
-        let (qx, qy) = (q[0] - origin[0], q[1] - origin[1]);
-        let c = px * qy - qx * py;
-        a2 += c;
-        cx += (px + qx) * c;
-        cy += (py + qy) * c;
-    }
-    (a2, cx, cy)
 }
 
 impl Voronoi2 {

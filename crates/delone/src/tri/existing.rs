@@ -94,16 +94,21 @@ impl Cdt {
             .fold(0.0f64, |a, p| a.max(p[0].abs()).max(p[1].abs()));
         let scale = pow2_scale(max_abs);
         let pts: Vec<[f64; 2]> = m.points.iter().map(|&p| scaled(p, scale)).collect();
+        let in_range = |item: &'static str, index: usize, v: &[u32]| match v
+            .iter()
+            .find(|&&x| x as usize >= np)
+        {
+            Some(&vertex) => Err(Error::IndexOutOfRange {
+                item,
+                index,
+                vertex,
+                points: np,
+            }),
+            None => Ok(()),
+        };
         let mut half: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * nt);
         for (t, v) in m.triangles.iter().enumerate() {
-            if let Some(&x) = v.iter().find(|&&x| x as usize >= np) {
-                return Err(Error::IndexOutOfRange {
-                    item: "triangle",
-                    index: t,
-                    vertex: x,
-                    points: np,
-                });
-            }
+            in_range("triangle", t, v)?;
             if orient2d(
                 &pts[v[0] as usize],
                 &pts[v[1] as usize],
@@ -148,14 +153,7 @@ impl Cdt {
         let mut segments = Vec::new();
         let mut seen: HashMap<(u32, u32), ()> = HashMap::new();
         for (k, s) in m.segments.iter().enumerate() {
-            if let Some(&x) = s.iter().find(|&&x| x as usize >= np) {
-                return Err(Error::IndexOutOfRange {
-                    item: "segment",
-                    index: k,
-                    vertex: x,
-                    points: np,
-                });
-            }
+            in_range("segment", k, s)?;
             let (a, b) = (s[0], s[1]);
             if !half.contains_key(&(a, b)) && !half.contains_key(&(b, a)) {
                 return Err(Error::InconsistentMesh {

@@ -38,6 +38,19 @@ fn key(p: &[f64; 2]) -> (u64, u64) {
     ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
 }
 
+/// Triangle `t` (`v`, vertices in range) is strictly counterclockwise
+/// (exact orientation).
+pub(crate) fn check_ccw(points: &[[f64; 2]], t: usize, v: &[u32; 3]) -> Result<(), Violation> {
+    let [a, b, c] = v.map(|x| &points[x as usize]);
+    if orient2d(a, b, c) > 0.0 {
+        return Ok(());
+    }
+    err(
+        "orientation",
+        format!("triangle {t} {v:?} is not counterclockwise"),
+    )
+}
+
 fn err(kind: &'static str, detail: String) -> Result<(), Violation> {
     Err(Violation::new(kind, detail))
 }
@@ -160,13 +173,7 @@ fn validate_impl(
             }
             used[x as usize] = true;
         }
-        let [a, b, c] = v.map(|x| &points[x as usize]);
-        if orient2d(a, b, c) <= 0.0 {
-            return err(
-                "orientation",
-                format!("triangle {t} {v:?} is not counterclockwise"),
-            );
-        }
+        check_ccw(points, t, v)?;
     }
     // Duplicates: group equal points, the smallest index represents them.
     let mut ids: Vec<u32> = (0..n as u32).collect();

@@ -109,7 +109,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 
-use super::cmesh::{CMesh, Sub, Tri};
+use super::cmesh::{CMesh, Sub};
 use super::constrain::{Cdt, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
@@ -119,7 +119,7 @@ mod engine;
 mod options;
 mod par;
 
-use engine::{angles, dist2, run, shape, Crit, Mesh, Parent, SHELL_ANGLE};
+use engine::{angle, angles, dist2, run, shape, Bounds, Crit, Mesh, Parent, SHELL_ANGLE};
 pub use options::{
     default_budget, default_threads, memory_estimate, RefineOptions, RefineReport, Refined,
     SegmentSplits, Unfixable, UnfixableReason, UserTest, BUDGET_BASE, BUDGET_MAX, BYTES_PER_POINT,
@@ -257,34 +257,13 @@ fn refine_inner(
     let nfixed = cdt.points.len();
     let nt = cdt.triangles.len();
     let xy = cdt.points.iter().map(|&p| scaled(p, scale)).collect();
-    let tr = (0..nt)
-        .map(|t| Tri {
-            v: cdt.triangles[t],
-            a: [NONE; 3],
-            orig: t as u32,
-            mark: 0,
-        })
-        .collect();
     let mut m = Mesh {
-        cm: CMesh::new(xy, tr),
+        cm: CMesh::from_triangles(xy, &cdt.triangles, &cdt.neighbors),
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: Arc::new(vec![Vec::new(); nfixed]),
         parents: Arc::new(Vec::new()),
     };
-    for t in 0..nt {
-        for e in 0..3 {
-            let n = cdt.neighbors[t][e];
-            if n == NONE {
-                continue;
-            }
-            let (a, b) = edge(&cdt.triangles[t], e);
-            let Some(j) = (0..3).find(|&j| edge(&cdt.triangles[n as usize], j) == (b, a)) else {
-                continue;
-            };
-            m.tr[t].a[e] = pack(n as usize, j);
-        }
-    }
     // Subsegments: the bounding input ones, then hull edges (`-c`).
     let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
     for (k, s) in cdt.segments.iter().enumerate() {
@@ -342,17 +321,10 @@ fn refine_inner(
     for k in 0..m.parents.len() {
         let par = m.parents[k];
         for (i, (z, o)) in [(par.a, par.b), (par.b, par.a)].into_iter().enumerate() {
-            let pz = *m.p(z);
-            let (ux, uy) = (m.p(o)[0] - pz[0], m.p(o)[1] - pz[1]);
             let shell = m.vchains[z as usize].iter().any(|&j| {
                 let q = m.parents[j as usize];
                 let o2 = if q.a == z { q.b } else { q.a };
-                let (vx, vy) = (m.p(o2)[0] - pz[0], m.p(o2)[1] - pz[1]);
-                let ang = (ux * vy - uy * vx)
-                    .abs()
-                    .atan2(ux * vx + uy * vy)
-                    .to_degrees();
-                j as usize != k && ang < SHELL_ANGLE
+                j as usize != k && angle(m.p(z), m.p(o), m.p(o2)) < SHELL_ANGLE
             });
             Arc::make_mut(&mut m.parents)[k].shell[i] = shell;
         }
@@ -361,27 +333,29 @@ fn refine_inner(
     let angle = options.min_angle.unwrap_or(0.0);
     let crit = Crit {
         user,
-        scale,
-        sin2: angle.to_radians().sin().powi(2),
-        angle,
-        area2: options
-            .max_area
-            .filter(|a| *a > 0.0)
-            .map_or(f64::INFINITY, |a| 2.0 * a * sf * sf),
-        regional: options.regional_areas,
-        // 0.9 of the distance giving the bound exactly: measured at 34° on
-        // face, double_hex(2, 3), la and A.poly (with first-in-first-out
-        // angle buckets), it keeps the counts within 10% of Triangle's
-        // (0.95 let cascades of small triangles start on double_hex and la
-        // at 34°; the count is chaotic in this factor: la at 34° cascades
-        // with 0.455 and gives twice the triangles with 0.445).
-        off: if options.off_centers && angle > 0.0 {
-            0.45 / (0.5 * angle.to_radians()).tan()
-        } else {
-            0.0
+        b: Bounds {
+            scale,
+            sin2: angle.to_radians().sin().powi(2),
+            angle,
+            area2: options
+                .max_area
+                .filter(|a| *a > 0.0)
+                .map_or(f64::INFINITY, |a| 2.0 * a * sf * sf),
+            regional: options.regional_areas,
+            // 0.9 of the distance giving the bound exactly: measured at 34° on
+            // face, double_hex(2, 3), la and A.poly (with first-in-first-out
+            // angle buckets), it keeps the counts within 10% of Triangle's
+            // (0.95 let cascades of small triangles start on double_hex and la
+            // at 34°; the count is chaotic in this factor: la at 34° cascades
+            // with 0.455 and gives twice the triangles with 0.445).
+            off: if options.off_centers && angle > 0.0 {
+                0.45 / (0.5 * angle.to_radians()).tan()
+            } else {
+                0.0
+            },
+            s2: sf * sf,
+            coarse: 1.0,
         },
-        s2: sf * sf,
-        coarse: 1.0,
     };
     // Diametral lens: with an angle bound θ ≤ 45°, a subsegment is encroached
     // by a vertex that sees it at more than 180° − 2θ (Chew; Shewchuk).
@@ -509,7 +483,7 @@ fn assess(
         }
         met = false;
         let (u, w) = edge(v, k);
-        let reason = match m.small_angle_apex(u, w, v[k], crit.angle) {
+        let reason = match m.small_angle_apex(u, w, crit.angle) {
             Some((apex, input_angle)) if d <= abound && !user_bad => {
                 UnfixableReason::SmallInputAngle { apex, input_angle }
             }
@@ -610,13 +584,16 @@ fn finish(
             restricted,
         )]
     } else {
-        let detached = crit.detached();
+        let bounds = crit.b;
         let (mr, tr, ma) = (&m, &triangles, &max_areas);
         std::thread::scope(|sc| {
             let handles: Vec<_> = (1..chunks)
                 .map(|k| {
                     sc.spawn(move || {
-                        let crit = detached.crit();
+                        let crit = Crit {
+                            user: None,
+                            b: bounds,
+                        };
                         let end = ((k + 1) * step).min(tr.len());
                         let lo = (k * step).min(end);
                         assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)

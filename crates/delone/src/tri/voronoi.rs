@@ -176,10 +176,18 @@ pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2]
     let r = usize::from(!first) * (2 - usize::from(second));
     let q = [a, b, c];
     let (a, b, c) = (q[r], q[NEXT[r]], q[PREV[r]]);
+    center_from(a, b, c, 0.0, 0.0)
+}
+
+/// The point `x` with `2 (x - a)·(b - a) = |b - a|² + wb` and
+/// `2 (x - a)·(c - a) = |c - a|² + wc` (`abc` counterclockwise, `a`
+/// opposite the longest edge): the circumcentre for zero `wb`, `wc`.
+#[inline]
+fn center_from(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], wb: f64, wc: f64) -> [f64; 2] {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
-    let d2 = dx * dx + dy * dy;
-    let e2 = ex * ex + ey * ey;
+    let d2 = (dx * dx + dy * dy) + wb;
+    let e2 = (ex * ex + ey * ey) + wc;
     // Relative to the corner between the two shorter edges the plain
     // determinant is accurate (orient2d's magnitude need not be); its sign
     // comes from the exact predicate when rounding leaves it in doubt.
@@ -221,23 +229,8 @@ pub(crate) fn power_center(
     } else {
         (c, a, b, wc, wa, wb)
     };
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
     // 2 x·d = |d|² + w_a - w_b and 2 x·e = |e|² + w_a - w_c (x relative to a).
-    let d2 = (dx * dx + dy * dy) + (wa - wb);
-    let e2 = (ex * ex + ey * ey) + (wa - wc);
-    let mut det = dx * ey - dy * ex;
-    if det <= 0.0 {
-        det = orient2d(a, b, c);
-        if det <= 0.0 {
-            det = f64::MIN_POSITIVE;
-        }
-    }
-    let k = 0.5 / det;
-    [
-        a[0] + (ey * d2 - dy * e2) * k,
-        a[1] + (dx * e2 - ex * d2) * k,
-    ]
+    center_from(a, b, c, wa - wb, wa - wc)
 }
 
 /// The next and previous corner of a triangle.
@@ -808,18 +801,13 @@ fn clip_bisector(
     std::mem::swap(poly, tmp);
 }
 
-/// Area and centroid of a counterclockwise polygon, computed relative to
-/// `origin` (a nearby point, for precision). An empty or degenerate polygon
-/// gives area `0` and `origin` as centroid.
-pub(crate) fn area_centroid(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, [f64; 2]) {
+/// Twice the signed area of a polygon and its first moments relative to
+/// `origin` (each times six): the centroid is `origin + (cx, cy) / (3 a2)`.
+pub(crate) fn moments(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, f64, f64) {
     let m = poly.len();
-    if m < 3 {
-        return (0.0, *origin);
-    }
     let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for k in 0..m {
-        let p = poly[k];
-        let q = poly[(k + 1) % m];
+        let (p, q) = (poly[k], poly[(k + 1) % m]);
         let (px, py) = (p[0] - origin[0], p[1] - origin[1]);
         let (qx, qy) = (q[0] - origin[0], q[1] - origin[1]);
         let c = px * qy - qx * py;
@@ -827,6 +815,17 @@ pub(crate) fn area_centroid(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, [f64;
         cx += (px + qx) * c;
         cy += (py + qy) * c;
     }
+    (a2, cx, cy)
+}
+
+/// Area and centroid of a counterclockwise polygon, computed relative to
+/// `origin` (a nearby point, for precision). An empty or degenerate polygon
+/// gives area `0` and `origin` as centroid.
+pub(crate) fn area_centroid(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, [f64; 2]) {
+    if poly.len() < 3 {
+        return (0.0, *origin);
+    }
+    let (a2, cx, cy) = moments(poly, origin);
     if a2 <= 0.0 {
         return (0.0, *origin);
     }

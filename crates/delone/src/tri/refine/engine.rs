@@ -91,17 +91,19 @@ pub(super) fn shape(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> (f64, f64, usiz
     (s2, d, k)
 }
 
+/// The angle (degrees) at `p` between the directions to `q` and `r`.
+pub(super) fn angle(p: &[f64; 2], q: &[f64; 2], r: &[f64; 2]) -> f64 {
+    let (ux, uy) = (q[0] - p[0], q[1] - p[1]);
+    let (vx, vy) = (r[0] - p[0], r[1] - p[1]);
+    (ux * vy - uy * vx)
+        .abs()
+        .atan2(ux * vx + uy * vy)
+        .to_degrees()
+}
+
 /// Angles (degrees) of a triangle.
 pub(super) fn angles(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 3] {
-    let ang = |p: &[f64; 2], q: &[f64; 2], r: &[f64; 2]| {
-        let (ux, uy) = (q[0] - p[0], q[1] - p[1]);
-        let (vx, vy) = (r[0] - p[0], r[1] - p[1]);
-        (ux * vy - uy * vx)
-            .abs()
-            .atan2(ux * vx + uy * vy)
-            .to_degrees()
-    };
-    [ang(a, b, c), ang(b, c, a), ang(c, a, b)]
+    [angle(a, b, c), angle(b, c, a), angle(c, a, b)]
 }
 
 impl Mesh {
@@ -163,22 +165,6 @@ impl Mesh {
         }
     }
 
-    /// [`CMesh::insert`], with no parent chain for the new vertex.
-    pub(super) fn insert(
-        &mut self,
-        start: usize,
-        c: [f64; 2],
-        split: u32,
-        halves: [u32; 4],
-        check_enc: bool,
-    ) -> Ins {
-        let r = self.cm.insert(start, c, split, halves, check_enc);
-        if let Ins::Done(_) = r {
-            self.vpar.push(NONE);
-        }
-        r
-    }
-
     /// The point splitting subsegment `s`, and its parameter.
     pub(super) fn split_point(&self, s: &Sub) -> ([f64; 2], f64) {
         let par = self.parents[s.parent as usize];
@@ -229,11 +215,11 @@ impl Mesh {
         };
         // Halves: k = u..new, k+1 = new..w.
         let k = self.subs.len() as u32;
-        let Ins::Done(nv) = self.insert(t, x, s, [u, k, w, k + 1], false) else {
+        let Ins::Done(nv) = self.cm.insert(t, x, s, [u, k, w, k + 1], false) else {
             self.subs[s as usize].stuck = true;
             return None;
         };
-        self.vpar[nv as usize] = sub.parent;
+        self.vpar.push(sub.parent);
         self.subs[s as usize].alive = false;
         self.subs.push(Sub {
             v: [u, nv],
@@ -286,14 +272,8 @@ impl Mesh {
     /// Skinny triangle whose shortest edge spans a small input angle:
     /// the apex and the input angle (degrees), if `u` and `v` lie on two
     /// segment chains that meet at a vertex other than `u` and `v` at an angle
-    /// below `bound` (`w`, the triangle's third vertex, is not used).
-    pub(super) fn small_angle_apex(
-        &self,
-        u: u32,
-        v: u32,
-        w: u32,
-        bound: f64,
-    ) -> Option<(u32, f64)> {
+    /// below `bound`.
+    pub(super) fn small_angle_apex(&self, u: u32, v: u32, bound: f64) -> Option<(u32, f64)> {
         let chains = |x: u32| -> &[u32] {
             let p = self.vpar[x as usize];
             if p != NONE {
@@ -315,16 +295,9 @@ impl Mesh {
                     }
                     let oa = if a.a == z { a.b } else { a.a };
                     let ob = if b.a == z { b.b } else { b.a };
-                    let pz = self.p(z);
-                    let (ux, uy) = (self.p(oa)[0] - pz[0], self.p(oa)[1] - pz[1]);
-                    let (vx, vy) = (self.p(ob)[0] - pz[0], self.p(ob)[1] - pz[1]);
-                    let ang = (ux * vy - uy * vx)
-                        .abs()
-                        .atan2(ux * vx + uy * vy)
-                        .to_degrees();
-                    // (Requiring `w` inside the wedge was tried: refinement
-                    // then cascades on la.poly at 30°.)
-                    let _ = w;
+                    let ang = angle(self.p(z), self.p(oa), self.p(ob));
+                    // (Requiring `w` inside the wedge cascades on la.poly
+                    // at 30°.)
                     if ang < bound && best.is_none_or(|(_, x)| ang < x) {
                         best = Some((z, ang));
                     }
@@ -424,11 +397,19 @@ impl Queue {
     }
 }
 
-/// Criteria in scaled units.
+/// Criteria in scaled units: the user's test and the plain [`Bounds`]
+/// (read through `Deref`).
 #[derive(Clone, Copy)]
 pub(super) struct Crit<'a> {
     /// The user's test, if any.
     pub(super) user: Option<UserTest<'a>>,
+    pub(super) b: Bounds,
+}
+
+/// The plain values of a [`Crit`]: everything but the user's test (which
+/// need not be `Sync`), so another thread can rebuild it.
+#[derive(Clone, Copy)]
+pub(super) struct Bounds {
     /// Scale factors of the coordinates (divide by both for input units).
     pub(super) scale: (f64, f64),
     /// sin² of the angle bound (0: none).
@@ -444,6 +425,13 @@ pub(super) struct Crit<'a> {
     /// Factor on every area bound (1; more for the coarse stage of the
     /// parallel refinement).
     pub(super) coarse: f64,
+}
+
+impl std::ops::Deref for Crit<'_> {
+    type Target = Bounds;
+    fn deref(&self) -> &Bounds {
+        &self.b
+    }
 }
 
 /// Queue bucket (smaller is worse) of triangle `t`, if it is to be fixed.
@@ -476,7 +464,7 @@ pub(super) fn bad_bucket(m: &Mesh, crit: &Crit, max_areas: &[f64], t: usize) -> 
         // sin² of the smallest angle, d² / xy, below the bound's?
         if d * d < crit.sin2 * xy {
             let (u, w) = edge(&v, k);
-            if m.small_angle_apex(u, w, v[k], crit.angle).is_none() {
+            if m.small_angle_apex(u, w, crit.angle).is_none() {
                 let s2 = if xy > 0.0 { d * d / xy } else { 0.0 };
                 return Some(Queue::angle_bucket(s2 / crit.sin2));
             }
@@ -657,8 +645,9 @@ pub(super) fn run(
         }
         // The triangle's circumcircle contains `c`, so the cavity can grow
         // from it: no point location needed.
-        match m.insert(t, c, NONE, [NONE; 4], true) {
+        match m.cm.insert(t, c, NONE, [NONE; 4], true) {
             Ins::Done(_) => {
+                m.vpar.push(NONE);
                 *steiner += 1;
                 report.circumcenters += 1;
                 after_insert(m, &mut heap, &mut enc);
@@ -697,51 +686,6 @@ pub(super) fn run(
     drop(heap);
     drop(enc);
     quality
-}
-
-/// The plain values of a [`Crit`] without the user's test (which need not
-/// be `Sync`), to rebuild it in another thread.
-#[derive(Clone, Copy)]
-pub(super) struct Detached {
-    pub(super) scale: (f64, f64),
-    pub(super) sin2: f64,
-    pub(super) angle: f64,
-    pub(super) area2: f64,
-    pub(super) regional: bool,
-    pub(super) off: f64,
-    pub(super) s2: f64,
-    pub(super) coarse: f64,
-}
-
-impl Detached {
-    pub(super) fn crit(self) -> Crit<'static> {
-        Crit {
-            user: None,
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
-}
-
-impl Crit<'_> {
-    pub(super) fn detached(&self) -> Detached {
-        Detached {
-            scale: self.scale,
-            sin2: self.sin2,
-            angle: self.angle,
-            area2: self.area2,
-            regional: self.regional,
-            off: self.off,
-            s2: self.s2,
-            coarse: self.coarse,
-        }
-    }
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::engine::{run, Crit, Detached, Mesh};
+use super::engine::{run, Bounds, Crit, Mesh};
 use super::options::{RefineOptions, RefineReport};
 use crate::tri::cmesh::FLAGS;
 use crate::tri::cmesh::{Sub, Tri};
@@ -118,7 +118,7 @@ struct PartOut {
 struct Job<'a> {
     /// The coarse mesh (each part refines a copy).
     base: &'a Mesh,
-    detached: Detached,
+    bounds: Bounds,
     max_areas: &'a [f64],
     options: &'a RefineOptions,
     /// Steiner budget of each part.
@@ -142,7 +142,10 @@ impl Job<'_> {
         let list = &self.lists[p];
         let mut pm = self.base.clone();
         cut_part(&mut pm, p as u32, self.cuts);
-        let crit = self.detached.crit();
+        let crit = Crit {
+            user: None,
+            b: self.bounds,
+        };
         pm.reserve_for_areas(&crit, self.max_areas, usize::MAX, Some(list));
         let mut report = RefineReport::default();
         let mut steiner = 0usize;
@@ -180,7 +183,10 @@ pub(super) fn refine_parallel(
 ) -> bool {
     // 1. Coarse stage.
     let coarse = Crit {
-        coarse: COARSE_FACTOR,
+        b: Bounds {
+            coarse: COARSE_FACTOR,
+            ..crit.b
+        },
         ..*crit
     };
     let mut steiner = 0usize;
@@ -278,7 +284,7 @@ pub(super) fn refine_parallel(
     let share = limit.saturating_sub(steiner) / parts;
     let job = Job {
         base: &base,
-        detached: crit.detached(),
+        bounds: crit.b,
         max_areas,
         options,
         share,
