@@ -18,9 +18,8 @@
 //! budget is spent (refinement and optimisation keep what they have) or with
 //! [`Error::Interrupted`](crate::Error::Interrupted) (segment insertion and
 //! surface recovery, which have no partial result). [`stop_requested`] tells
-//! the caller afterwards that the result is incomplete. The parallel phase of
-//! 2D refinement is not stopped (its worker threads do not see the flag); the
-//! sequential finish after it is.
+//! the caller afterwards that the result is incomplete. A parallel phase
+//! passes the flag on to its worker threads ([`stop_flag`]).
 //!
 //! ```
 //! use delone::model::pslg::Pslg;
@@ -175,6 +174,20 @@ pub fn stoppable<R>(stop: Arc<AtomicBool>, work: impl FnOnce() -> R) -> R {
     }
     let _guard = Guard(previous);
     work()
+}
+
+/// This thread's stop flag (a new, unset one when none is installed), for
+/// a parallel phase to install in its worker threads with [`stoppable`].
+///
+/// ```
+/// use std::sync::{atomic::{AtomicBool, Ordering}, Arc};
+/// let f = Arc::new(AtomicBool::new(true));
+/// let seen = delone::progress::stoppable(f, || delone::progress::stop_flag().load(Ordering::Relaxed));
+/// assert!(seen);
+/// ```
+pub fn stop_flag() -> Arc<AtomicBool> {
+    STOP.with(|s| s.borrow().clone())
+        .unwrap_or_else(|| Arc::new(AtomicBool::new(false)))
 }
 
 /// Whether this thread's stop flag (installed by [`stoppable`]) is set.
