@@ -266,7 +266,16 @@ mod tests {
         );
         let o = TriOptions::from_switches("pq30a0.00001").unwrap();
         let full = mesh(&g, &o).unwrap();
-        let stopped = stoppable(Arc::new(AtomicBool::new(true)), || mesh(&g, &o)).unwrap();
+        // Stopped at the refinement's first report (a flag set before the
+        // run would stop the segment insertion, with an error).
+        let stop = Arc::new(AtomicBool::new(false));
+        let setter = stop.clone();
+        let sink = move |r: &Report| {
+            if r.stage == "refining" {
+                setter.store(true, Ordering::Relaxed);
+            }
+        };
+        let stopped = stoppable(stop, || observe(sink, || mesh(&g, &o))).unwrap();
         let (n_full, n_stopped) = (full.mesh.triangles.len(), stopped.mesh.triangles.len());
         assert!(n_stopped < n_full / 2, "{n_stopped} of {n_full}");
         crate::tri::check_cdt(&g, &stopped.mesh).unwrap();
