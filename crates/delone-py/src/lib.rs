@@ -34,6 +34,7 @@ use delone::tet::recover::RecoverError;
 use delone::tet::{TetError, TetOptions};
 use delone::tri::constrain::Cdt;
 use delone::tri::existing::ExistingMesh;
+use delone::tri::pipeline::{edge_key, hull_edge_keys};
 use delone::tri::refine::{refine, RefineOptions};
 use delone::tri::{TriError, TriOptions, TriResult};
 use delone::{Error, NONE};
@@ -420,16 +421,58 @@ fn voronoi<'py>(
 
 // ---------------------------------------------------------------- 2D meshing
 
-/// The unique edges of `tris` with their markers: the subsegment's marker,
-/// 1 on the rest of the boundary, 0 inside.
+/// Triangle's marker of a boundary or segment edge: the segment's own
+/// marker, else 1 on the boundary, else 0.
+fn marker(own: i32, on_boundary: bool) -> i32 {
+    if own != 0 {
+        own
+    } else {
+        i32::from(on_boundary)
+    }
+}
+
+/// Triangle's segments of a mesh: the subsegments, then the boundary edges
+/// that are none (the hull with `c`), with [`marker`]s.
+fn boundary_segments(
+    tris: &[[u32; 3]],
+    nbrs: &[[u32; 3]],
+    subs: &[([u32; 2], i32)],
+) -> (Vec<[u32; 2]>, Vec<i32>) {
+    let hull = hull_edge_keys(tris, nbrs);
+    let mut keys: Vec<u64> = subs.iter().map(|(s, _)| edge_key(s[0], s[1])).collect();
+    keys.sort_unstable();
+    let (mut segs, mut markers): (Vec<[u32; 2]>, Vec<i32>) = subs
+        .iter()
+        .map(|&(s, m)| {
+            (
+                s,
+                marker(m, hull.binary_search(&edge_key(s[0], s[1])).is_ok()),
+            )
+        })
+        .unzip();
+    for (tv, nb) in tris.iter().zip(nbrs) {
+        for k in (0..3).filter(|&k| nb[k] == NONE) {
+            let (a, b) = (tv[(k + 1) % 3], tv[(k + 2) % 3]);
+            if keys.binary_search(&edge_key(a, b)).is_err() {
+                segs.push([a, b]);
+                markers.push(1);
+            }
+        }
+    }
+    (segs, markers)
+}
+
+/// The unique edges of `tris` with their [`marker`]s.
 fn edges_with_markers(
     tris: &[[u32; 3]],
     nbrs: &[[u32; 3]],
     subs: &[([u32; 2], i32)],
 ) -> (Vec<[u32; 2]>, Vec<i32>) {
-    let key = |a: u32, b: u32| (a.min(b), a.max(b));
-    let marks: std::collections::HashMap<(u32, u32), i32> =
-        subs.iter().map(|&(s, m)| (key(s[0], s[1]), m)).collect();
+    let mut marks: Vec<(u64, i32)> = subs
+        .iter()
+        .map(|&(s, m)| (edge_key(s[0], s[1]), m))
+        .collect();
+    marks.sort_unstable();
     let (mut edges, mut markers) = (Vec::new(), Vec::new());
     for (t, (tv, nb)) in tris.iter().zip(nbrs).enumerate() {
         for k in 0..3 {
@@ -438,12 +481,11 @@ fn edges_with_markers(
                 continue;
             }
             let (a, b) = (tv[(k + 1) % 3], tv[(k + 2) % 3]);
-            let m = match marks.get(&key(a, b)) {
-                Some(&m) => m,
-                None => i32::from(nb[k] == NONE),
-            };
+            let own = marks
+                .binary_search_by_key(&edge_key(a, b), |&(e, _)| e)
+                .map_or(0, |i| marks[i].1);
             edges.push([a, b]);
-            markers.push(m);
+            markers.push(marker(own, nb[k] == NONE));
         }
     }
     (edges, markers)
@@ -570,12 +612,9 @@ fn triangulate<'py>(
         "point_markers",
         PyArray1::from_vec(py, result.vertex_markers(&g)),
     )?;
-    let seg: Vec<[u32; 2]> = subs.iter().map(|s| s.0).collect();
+    let (seg, seg_markers) = boundary_segments(&m.triangles, &m.neighbors, &subs);
     d.set_item("segments", ids(py, &seg)?)?;
-    d.set_item(
-        "segment_markers",
-        PyArray1::from_vec(py, subs.iter().map(|s| s.1).collect()),
-    )?;
+    d.set_item("segment_markers", PyArray1::from_vec(py, seg_markers))?;
     d.set_item("attributes", PyArray1::from_slice(py, &m.attributes))?;
     d.set_item("regions", ids1(py, &m.regions))?;
     if edges || opts.output.edges {
