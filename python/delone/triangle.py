@@ -76,6 +76,13 @@ def triangulate(tri: dict, opts: str = "") -> dict:
         if segments is None
         else _indices(segments, "segments", 2)
     )
+    if pslg and not refine and len(seg) == 0 and "c" not in sw:
+        # Without segments nor -c, Triangle's -p carves every triangle away
+        # and returns the vertices alone.
+        markers = _column(tri.get("vertex_markers"), "vertex_markers", np.int32)
+        if markers is None:
+            markers = np.zeros(len(points), np.int32)
+        return {"vertices": points, "vertex_markers": _col(markers)}
     triangles = tri.get("triangles")
     d = _delone.triangulate(
         points,
