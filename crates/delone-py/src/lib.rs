@@ -281,8 +281,17 @@ fn pairs<'py>(py: Python<'py>, v: &[(u32, u32)]) -> PyResult<Bound<'py, PyArray2
 
 // ---------------------------------------------------------------- point sets
 
+/// `work`'s result and its wall time in seconds (the library's share of a
+/// call, for the benchmark's overhead figure).
+fn timed<T>(work: impl FnOnce() -> T) -> (T, f64) {
+    let t = std::time::Instant::now();
+    let out = work();
+    (out, t.elapsed().as_secs_f64())
+}
+
 /// Delaunay (or, with weights, regular) triangulation of an `(n, 2)` or
-/// `(n, 3)` float64 array: `simplices`, `neighbors`, `duplicates`, `hidden`.
+/// `(n, 3)` float64 array: `simplices`, `neighbors`, `duplicates`, `hidden`,
+/// and `seconds` (the library's time, without the conversions).
 #[pyfunction]
 #[pyo3(signature = (points, weights=None))]
 fn delaunay<'py>(
@@ -298,21 +307,27 @@ fn delaunay<'py>(
     let d = PyDict::new(py);
     let (dup, hidden) = if points.shape()[1] == 2 {
         let p = rows::<2>(&points, "points")?;
-        let m = run(py, None, || match &w {
-            Some(w) => delone::tri::regular_triangulation(&p, w),
-            None => delone::tri::triangulate(&p),
-        })?
-        .map_err(|e| lib_err(&e))?;
+        let m = run(py, None, || {
+            timed(|| match &w {
+                Some(w) => delone::tri::regular_triangulation(&p, w),
+                None => delone::tri::triangulate(&p),
+            })
+        })?;
+        d.set_item("seconds", m.1)?;
+        let m = m.0.map_err(|e| lib_err(&e))?;
         d.set_item("simplices", ids(py, &m.triangles)?)?;
         d.set_item("neighbors", ids(py, &m.neighbors)?)?;
         (m.duplicates, m.hidden)
     } else {
         let p = rows::<3>(&points, "points")?;
-        let m = run(py, None, || match &w {
-            Some(w) => delone::tet::regular_tetrahedralization(&p, w),
-            None => delone::tet::tetrahedralize(&p),
-        })?
-        .map_err(|e| lib_err(&e))?;
+        let m = run(py, None, || {
+            timed(|| match &w {
+                Some(w) => delone::tet::regular_tetrahedralization(&p, w),
+                None => delone::tet::tetrahedralize(&p),
+            })
+        })?;
+        d.set_item("seconds", m.1)?;
+        let m = m.0.map_err(|e| lib_err(&e))?;
         d.set_item("simplices", ids(py, &m.tets)?)?;
         d.set_item("neighbors", ids(py, &m.neighbors)?)?;
         (m.duplicates, m.hidden)
