@@ -7,7 +7,7 @@
 #
 # The Python part creates the virtual environment if it does not exist,
 # installs maturin, numpy and pytest from PyPI (and, for the comparison
-# tests, triangle, tetgen, meshio, scipy and tqdm; a package that cannot be
+# tests, triangle, tetgen, meshio, scipy, tqdm and matplotlib; a package that cannot be
 # installed only skips its comparison tests, visibly in pytest's summary),
 # builds the package into the workspace's target directory (so the build
 # reuses the Rust compilation) and runs pytest.
@@ -29,7 +29,7 @@ fi
 PY=$VENV/bin/python
 "$PY" -m pip install --quiet --upgrade pip
 "$PY" -m pip install --quiet "maturin>=1.5,<2" numpy pytest
-for optional in triangle tetgen meshio scipy tqdm; do
+for optional in triangle tetgen meshio scipy tqdm matplotlib; do
     "$PY" -m pip install --quiet "$optional" || echo "note: $optional not installed; its comparison tests are skipped"
 done
 # Build the wheel with the workspace's release profile and install it (the
@@ -39,4 +39,4 @@ rm -rf "$CARGO_TARGET_DIR/wheels"
 "$PY" -m pip install --quiet --force-reinstall --no-deps "$CARGO_TARGET_DIR"/wheels/delone-*.whl
 # Run from the tests folder so that `import delone` is the installed package.
 cd python/tests
-"$PY" -m pytest -q -p no:cacheprovider .
+MPLBACKEND=Agg "$PY" -m pytest -q -p no:cacheprovider .

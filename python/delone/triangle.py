@@ -34,7 +34,7 @@ import numpy as np
 
 from . import InvalidInput, _column, _delone, _indices, _points, _rows
 
-__all__ = ["triangulate", "delaunay", "convex_hull", "voronoi"]
+__all__ = ["triangulate", "delaunay", "convex_hull", "voronoi", "loads", "load", "get_data", "plot", "compare", "comparev"]
 
 # Letters with no effect on the mesh: algorithm choices and console output.
 _IGNORED = set("QVzXilFC")
@@ -171,3 +171,143 @@ def voronoi(pts: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         np.ascontiguousarray(e[~finite][:, 0]),
         d["directions"][~finite],
     )
+
+
+# ------------------------------------------------------------------ files and pictures
+
+
+def _tokens(text: str) -> list[list[str]]:
+    rows = []
+    for line in text.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            rows.append(line.split())
+    return rows
+
+
+def loads(node: str = "", ele: str = "", poly: str = "", area: str = "", **_: str) -> dict:
+    """Reads Triangle's file formats from strings (``.node``, ``.ele``,
+    ``.poly``, ``.area``) into a :func:`triangulate` dictionary; indices
+    become 0-based.
+
+    >>> import delone.triangle as triangle
+    >>> d = triangle.loads(node="3 2 0 0\\n1 0 0\\n2 1 0\\n3 0 1\\n", ele="1 3 0\\n1 1 2 3\\n")
+    >>> d["triangles"].tolist()
+    [[0, 1, 2]]
+    """
+    out: dict = {}
+    first = 0
+
+    def vertices(rows: list[list[str]]) -> list[list[str]]:
+        nonlocal first
+        n, _, na, nm = (int(x) for x in (rows[0] + ["0", "0", "0"])[:4])
+        body = rows[1 : n + 1]
+        if n:
+            first = int(body[0][0])
+            a = np.array([r[1 : 3 + na + nm] for r in body], dtype=np.float64)
+            out["vertices"] = a[:, :2]
+            if na:
+                out["vertex_attributes"] = a[:, 2 : 2 + na]
+            if nm:
+                out["vertex_markers"] = a[:, 2 + na :].astype(np.int32)
+        return rows[n + 1 :]
+
+    if node:
+        vertices(_tokens(node))
+    if poly:
+        rest = vertices(_tokens(poly))
+        m, nm = (int(x) for x in (rest[0] + ["0"])[:2])
+        seg = rest[1 : m + 1]
+        out["segments"] = np.array([r[1:3] for r in seg], dtype=np.int32).reshape(-1, 2) - first
+        if nm:
+            out["segment_markers"] = np.array([r[3:4] for r in seg], dtype=np.int32)
+        rest = rest[m + 1 :]
+        if rest:
+            h = int(rest[0][0])
+            if h:
+                out["holes"] = np.array([r[1:3] for r in rest[1 : h + 1]], dtype=np.float64)
+            rest = rest[h + 1 :]
+        if rest and int(rest[0][0]):
+            r = int(rest[0][0])
+            # A row of three numbers is `x y max_area` (as the triangle package reads it).
+            out["regions"] = np.array(
+                [row[1:5] if len(row) >= 5 else [row[1], row[2], "0", row[3]] for row in rest[1 : r + 1]],
+                dtype=np.float64,
+            )
+    if ele:
+        rows = _tokens(ele)
+        m, k, na = (int(x) for x in (rows[0] + ["3", "0"])[:3])
+        body = rows[1 : m + 1]
+        out["triangles"] = np.array([r[1:4] for r in body], dtype=np.int32).reshape(-1, 3) - first
+        if na:
+            out["triangle_attributes"] = np.array([r[1 + k : 1 + k + na] for r in body], dtype=np.float64)
+    if area:
+        rows = _tokens(area)
+        out["triangle_max_area"] = np.array([r[1] for r in rows[1 : int(rows[0][0]) + 1]], dtype=np.float64)
+    return out
+
+
+def load(directory: str, name: str) -> dict:
+    """Reads ``directory/name.{node,ele,poly,area}`` (those that exist)."""
+    import os
+
+    texts = {}
+    for ext in ("node", "ele", "poly", "area"):
+        path = os.path.join(directory, f"{name}.{ext}")
+        if os.path.exists(path):
+            with open(path) as f:
+                texts[ext] = f.read()
+    if not texts:
+        raise FileNotFoundError(f"no {name}.node/.ele/.poly/.area in {directory}")
+    return loads(**texts)
+
+
+def get_data_dir() -> str:
+    """The folder of Triangle's example inputs: the ``triangle`` package's
+    data folder (delone does not ship Triangle's example files)."""
+    import importlib.util
+    import os
+
+    spec = importlib.util.find_spec("triangle")
+    if spec is None or spec.origin is None:
+        raise FileNotFoundError("Triangle's example data comes with the triangle package: pip install triangle")
+    return os.path.join(os.path.dirname(spec.origin), "data")
+
+
+def get_data(name: str) -> dict:
+    """One of Triangle's example inputs by name (``'A'``, ``'face'``,
+    ``'double_hex'``, ``'la'``, ...), read with :func:`load`."""
+    return load(get_data_dir(), name)
+
+
+def plot(ax: Any, **kw: Any) -> None:
+    """Draws a :func:`triangulate` dictionary on a matplotlib axis:
+    triangles, segments, vertices and holes."""
+    v = np.asarray(kw["vertices"], dtype=np.float64)
+    ax.axes.set_aspect("equal")
+    if "triangles" in kw:
+        ax.triplot(v[:, 0], v[:, 1], np.asarray(kw["triangles"]), "ko-", lw=0.5, ms=1)
+    else:
+        ax.scatter(v[:, 0], v[:, 1], s=4, color="k")
+    for a, b in np.asarray(kw.get("segments", np.zeros((0, 2), int))):
+        ax.plot(v[[a, b], 0], v[[a, b], 1], "b-", lw=1.5)
+    h = kw.get("holes")
+    if h is not None and len(h):
+        h = np.asarray(h, dtype=np.float64)
+        ax.scatter(h[:, 0], h[:, 1], s=20, color="r", marker="x")
+
+
+def compare(plt: Any, A: dict, B: dict, figsize: tuple = (6, 3)) -> None:
+    """Draws ``A`` and ``B`` side by side."""
+    _, (a, b) = plt.subplots(1, 2, sharex=True, sharey=True, figsize=figsize)
+    plot(a, **A)
+    plot(b, **B)
+    plt.tight_layout()
+
+
+def comparev(plt: Any, A: dict, B: dict, figsize: tuple = (3, 6)) -> None:
+    """Draws ``A`` above ``B``."""
+    _, (a, b) = plt.subplots(2, 1, sharex=True, sharey=True, figsize=figsize)
+    plot(a, **A)
+    plot(b, **B)
+    plt.tight_layout()

@@ -121,3 +121,35 @@ def test_point_functions_match_triangle(fn, rng):
     else:
         assert ours.dtype == theirs.dtype and ours.shape == theirs.shape
         assert sorted(map(sorted, ours.tolist())) == sorted(map(sorted, theirs.tolist()))
+
+
+EXAMPLES = ["A", "box", "face", "double_hex", "double_hex2", "double_hex3", "la", "square_circle_hole", "dots", "spiral", "ell"]
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_get_data_reads_the_examples_like_triangle(name):
+    triangle = pytest.importorskip("triangle")
+    ours, theirs = dtr.get_data(name), triangle.get_data(name)
+    assert sorted(ours) == sorted(theirs)
+    for k in theirs:
+        assert np.array_equal(np.asarray(theirs[k]).reshape(ours[k].shape), ours[k]), k
+
+
+@pytest.mark.parametrize("name,opts", [("A", "pq"), ("face", "pq30a5"), ("double_hex", "pqa.01"), ("la", "pqa"), ("dots", "q"), ("ell", "rpa.1".replace("p", ""))])
+def test_documented_example_runs_unchanged(name, opts, tmp_path):
+    # The shape of the triangle package's documented examples:
+    #   A = tr.get_data(name); B = tr.triangulate(A, opts); tr.compare(plt, A, B)
+    pytest.importorskip("triangle")
+    plt = pytest.importorskip("matplotlib.pyplot")
+    A = dtr.get_data(name)
+    if "r" in opts:
+        A["triangle_max_area"] = np.full(len(A["triangles"]), 0.1)
+    B = dtr.triangulate(A, opts)
+    a = areas(B["vertices"], B["triangles"])
+    assert (a > 0).all()
+    if "q" in opts:
+        assert triangle_angles(B["vertices"], B["triangles"]).min() >= 20 - 1e-6 or name in ("la",)
+    dtr.compare(plt, A, B)
+    plt.savefig(tmp_path / "cmp.png")
+    plt.close("all")
+    assert (tmp_path / "cmp.png").stat().st_size > 1000
