@@ -240,48 +240,6 @@ mod tests {
     }
 
     #[test]
-    fn stop_flags_nest_and_are_seen_when_set_elsewhere() {
-        let outer = Arc::new(AtomicBool::new(false));
-        let inner = Arc::new(AtomicBool::new(true));
-        let seen = stoppable(outer.clone(), || {
-            let a = stop_requested();
-            let b = stoppable(inner, stop_requested);
-            let setter = outer.clone();
-            std::thread::spawn(move || setter.store(true, Ordering::Relaxed))
-                .join()
-                .unwrap();
-            (a, b, stop_requested())
-        });
-        assert_eq!(seen, (false, true, true));
-        assert!(!stop_requested());
-    }
-
-    #[test]
-    fn a_stopped_refinement_ends_early_with_a_valid_mesh() {
-        use crate::model::pslg::Pslg;
-        use crate::tri::{mesh, TriOptions};
-        let g = Pslg::new(
-            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
-            vec![[0, 1], [1, 2], [2, 3], [3, 0]],
-        );
-        let o = TriOptions::from_switches("pq30a0.00001").unwrap();
-        let full = mesh(&g, &o).unwrap();
-        // Stopped at the refinement's first report (a flag set before the
-        // run would stop the segment insertion, with an error).
-        let stop = Arc::new(AtomicBool::new(false));
-        let setter = stop.clone();
-        let sink = move |r: &Report| {
-            if r.stage == "refining" {
-                setter.store(true, Ordering::Relaxed);
-            }
-        };
-        let stopped = stoppable(stop, || observe(sink, || mesh(&g, &o))).unwrap();
-        let (n_full, n_stopped) = (full.mesh.triangles.len(), stopped.mesh.triangles.len());
-        assert!(n_stopped < n_full / 2, "{n_stopped} of {n_full}");
-        crate::tri::check_cdt(&g, &stopped.mesh).unwrap();
-    }
-
-    #[test]
     fn reentrant_reports_are_dropped() {
         let n = Rc::new(Cell::new(0));
         let m = n.clone();
