@@ -303,6 +303,9 @@ def triangulate(
     regions: Any = None,
     point_markers: Any = None,
     segment_markers: Any = None,
+    triangles: Any = None,
+    triangle_attributes: Any = None,
+    triangle_max_area: Any = None,
     edges: bool = False,
     progress: Progress = None,
 ) -> Mesh:
@@ -313,6 +316,9 @@ def triangulate(
     ``S[n]``, ``e`` edges). Without ``segments`` the convex hull of the points
     is meshed. ``holes``: ``(h, 2)`` points inside holes; ``regions``:
     ``(r, 4)`` rows ``x, y, attribute, max_area`` (``max_area <= 0``: none).
+    With ``r`` the mesh given by ``points`` and counterclockwise ``triangles``
+    is refined (``triangle_max_area``: per-triangle bounds for ``a``;
+    ``segments``, if any, must be edges of it).
 
     >>> import numpy as np, delone
     >>> square = [[0, 0], [1, 0], [1, 1], [0, 1]]
@@ -337,6 +343,9 @@ def triangulate(
             segment_markers=_column(segment_markers, "segment_markers", np.int32),
             holes=_rows(holes, "holes", 2),
             regions=_rows(regions, "regions", 4),
+            triangles=None if triangles is None else _indices(triangles, "triangles", 3),
+            triangle_attributes=_column(triangle_attributes, "triangle_attributes", np.float64),
+            triangle_max_area=_column(triangle_max_area, "triangle_max_area", np.float64),
             edges=edges,
             progress=cb,
         )

@@ -83,3 +83,19 @@ def test_face_markers_holes_and_regions():
     assert volumes(m.points, m.elements).sum() == pytest.approx(27 - 1)
     assert set(m.boundary_markers.tolist()) == {1, 2}
     assert (m.attributes == 4.0).all()
+
+
+def test_refine_an_existing_mesh_with_r():
+    d = delone.delaunay(SQUARE)
+    m = delone.triangulate(SQUARE, switches="rq30a", triangles=d.simplices,
+                           triangle_max_area=[0.01, 0.002])
+    a = areas(m.points, m.elements)
+    assert (a > 0).all() and a.sum() == pytest.approx(1.0)
+    assert triangle_angles(m.points, m.elements).min() >= 30 - 1e-9
+    # Each input triangle's bound holds inside it: the finest half is finer.
+    assert a.min() <= 0.002 and a.max() <= 0.01
+
+
+def test_r_refuses_a_clockwise_triangle():
+    with pytest.raises(delone.InvalidInput, match="triangle"):
+        delone.triangulate(SQUARE, switches="rq", triangles=[[0, 2, 1]])
