@@ -189,6 +189,13 @@ fn rows<const D: usize>(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<V
             shape[0], shape[1]
         )));
     }
+    // Contiguous input (what the Python wrappers pass) is read as one slice.
+    if let Ok(flat) = a.as_slice() {
+        return Ok(flat
+            .chunks_exact(D)
+            .map(|c| std::array::from_fn(|k| c[k]))
+            .collect());
+    }
     let v = a.as_array();
     Ok(v.outer_iter()
         .map(|r| std::array::from_fn(|k| r[k]))
