@@ -264,8 +264,7 @@ fn coords<'py, const D: usize>(
     py: Python<'py>,
     v: &[[f64; D]],
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let flat: Vec<f64> = v.iter().flatten().copied().collect();
-    PyArray1::from_vec(py, flat).reshape([v.len(), D])
+    PyArray1::from_vec(py, v.as_flattened().to_vec()).reshape([v.len(), D])
 }
 
 /// Index rows as int32, [`NONE`] as -1.
@@ -273,7 +272,8 @@ fn ids<'py, const K: usize>(
     py: Python<'py>,
     v: &[[u32; K]],
 ) -> PyResult<Bound<'py, PyArray2<i32>>> {
-    let flat: Vec<i32> = v.iter().flatten().map(|&x| x as i32).collect();
+    // Exact-size iteration (a flattening iterator would grow the vector).
+    let flat: Vec<i32> = v.as_flattened().iter().map(|&x| x as i32).collect();
     PyArray1::from_vec(py, flat).reshape([v.len(), K])
 }
 
