@@ -33,6 +33,13 @@ import numpy as np
 from . import _delone
 from ._delone import InvalidInput, MeshingError
 
+try:
+    from importlib.metadata import version as _version
+
+    __version__ = _version("delone")
+except Exception:  # not installed as a distribution (a source checkout)
+    __version__ = "unknown"
+
 __all__ = [
     "InvalidInput",
     "MeshingError",
