@@ -166,6 +166,13 @@ pub enum Error {
         /// The largest default budget.
         budget: usize,
     },
+    /// The run was stopped through its stop flag
+    /// ([`crate::progress::stoppable`]) before it could finish.
+    ///
+    /// ```
+    /// assert_eq!(delone::Error::Interrupted.to_string(), "interrupted");
+    /// ```
+    Interrupted,
 }
 
 /// Why a facet of a PLC is degenerate (see [`Error::DegenerateFacet`]).
@@ -216,6 +223,7 @@ impl fmt::Display for FacetDefect {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Error::Interrupted => f.write_str("interrupted"),
             Error::InvalidCoordinate { index } => {
                 write!(f, "point {index} has a NaN or infinite coordinate")
             }

@@ -12,6 +12,15 @@
 //! practice. Reports made on worker threads of a parallel phase are not
 //! forwarded (the calling thread reports for them).
 //!
+//! The same report sites are where a long run can be stopped: [`stoppable`]
+//! installs a stop flag for the calling thread, and once another thread sets
+//! it the next report site ends its stage early, as it does when the stage's
+//! budget is spent (refinement and optimisation keep what they have) or with
+//! [`Error::Interrupted`](crate::Error::Interrupted) (segment insertion and
+//! surface recovery, which have no partial result). [`stop_requested`] tells
+//! the caller afterwards that the result is incomplete. A parallel phase
+//! passes the flag on to its worker threads ([`stop_flag`]).
+//!
 //! ```
 //! use delone::model::pslg::Pslg;
 //! use delone::progress::{observe, Report};
@@ -34,6 +43,8 @@
 //! assert!(seen.iter().all(|r| r.2.map_or(true, |t| r.1 <= t)));
 //! ```
 use std::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// One progress report.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,6 +67,7 @@ thread_local! {
     // The sink is stored type-erased and 'static; `observe` guarantees that
     // it is removed before the borrow it was made from ends (see `Guard`).
     static SINK: RefCell<Option<Sink<'static>>> = const { RefCell::new(None) };
+    static STOP: RefCell<Option<Arc<AtomicBool>>> = const { RefCell::new(None) };
 }
 
 /// Runs `work` with `sink` receiving the progress reports that the library
@@ -129,6 +141,67 @@ pub fn report(stage: &'static str, done: u64, total: Option<u64>, unit: &'static
             }
         }
     });
+}
+
+/// Runs `work` with `stop` as this thread's stop flag, and returns what
+/// `work` returns. Setting the flag (from any thread) makes the library's
+/// long loops running in `work` on this thread end at their next report site
+/// (see the module docs). Flags nest like sinks.
+///
+/// ```
+/// use delone::model::pslg::Pslg;
+/// use delone::progress::{stop_requested, stoppable};
+/// use delone::tri::{constrained_triangulation, CdtOptions};
+/// use std::sync::{atomic::AtomicBool, Arc};
+/// let pts: Vec<[f64; 2]> = (0..200).map(|i| [i as f64, ((i * 7919) % 211) as f64]).collect();
+/// let segs: Vec<[u32; 2]> = (0..199).step_by(2).map(|i| [i, i + 1]).collect();
+/// let g = Pslg::new(pts, segs);
+/// // A flag set before the run stops it at the first report site.
+/// let stop = Arc::new(AtomicBool::new(true));
+/// let r = stoppable(stop, || (constrained_triangulation(&g, CdtOptions::default()), stop_requested()));
+/// assert_eq!(r, (Err(delone::Error::Interrupted), true));
+/// assert!(!stop_requested());
+/// ```
+pub fn stoppable<R>(stop: Arc<AtomicBool>, work: impl FnOnce() -> R) -> R {
+    let previous = STOP.with(|s| s.borrow_mut().replace(stop));
+    // Restores the previous flag even when `work` unwinds.
+    struct Guard(Option<Arc<AtomicBool>>);
+    impl Drop for Guard {
+        fn drop(&mut self) {
+            let previous = self.0.take();
+            STOP.with(|s| *s.borrow_mut() = previous);
+        }
+    }
+    let _guard = Guard(previous);
+    work()
+}
+
+/// This thread's stop flag (a new, unset one when none is installed), for
+/// a parallel phase to install in its worker threads with [`stoppable`].
+///
+/// ```
+/// use std::sync::{atomic::{AtomicBool, Ordering}, Arc};
+/// let f = Arc::new(AtomicBool::new(true));
+/// let seen = delone::progress::stoppable(f, || delone::progress::stop_flag().load(Ordering::Relaxed));
+/// assert!(seen);
+/// ```
+pub fn stop_flag() -> Arc<AtomicBool> {
+    STOP.with(|s| s.borrow().clone())
+        .unwrap_or_else(|| Arc::new(AtomicBool::new(false)))
+}
+
+/// Whether this thread's stop flag (installed by [`stoppable`]) is set.
+/// Long loops check it where they [`report`].
+///
+/// ```
+/// assert!(!delone::progress::stop_requested());
+/// ```
+pub fn stop_requested() -> bool {
+    STOP.with(|s| {
+        s.borrow()
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+    })
 }
 
 #[cfg(test)]

@@ -512,6 +512,9 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
                 Some(total),
                 "segments",
             );
+            if crate::progress::stop_requested() {
+                return Err(Error::Interrupted);
+            }
         }
         if a == b {
             continue;

@@ -842,6 +842,10 @@ fn optimize_once(
                     let total = allowed.is_finite().then_some(allowed as u64);
                     let done = w.evals.get().min(total.unwrap_or(u64::MAX));
                     crate::progress::report("optimising", done, total, "evaluations");
+                    if crate::progress::stop_requested() {
+                        report.effort_exhausted = true;
+                        break 'stages;
+                    }
                 }
                 // Stale entries: the slot changed since it was queued.
                 if w.m.tv[t as usize] != tv || w.q[t as usize] != q || blocked(&w, &failed, t) {

@@ -825,6 +825,9 @@ impl State {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
             crate::progress::report("recovering the surface", r, None, "rounds");
+            if crate::progress::stop_requested() {
+                return Err(Error::Interrupted.into());
+            }
             let mut cm = CMesh::new(dt.clone());
             cm.set_failed(std::mem::take(&mut failed_removals));
             // The protected items, when `update_round` kept them up to date.
@@ -1652,6 +1655,9 @@ impl State {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
             crate::progress::report("recovering the surface", r, None, "rounds");
+            if crate::progress::stop_requested() {
+                return Err(Error::Interrupted.into());
+            }
             let sk = Skeleton::of(dt, false);
             let subs = self.missing_subsegments(&sk);
             if !subs.is_empty() {

@@ -1939,7 +1939,8 @@ impl Cdr {
             if guard.is_multiple_of(4096) {
                 crate::progress::report("refining", self.p.len() as u64, None, "points");
             }
-            if guard > guard_max {
+            if guard > guard_max || guard.is_multiple_of(4096) && crate::progress::stop_requested()
+            {
                 self.report.budget_exhausted = true;
                 return;
             }

@@ -596,7 +596,8 @@ pub(super) fn run(
             }
             break;
         }
-        if *steiner >= limit || m.xy.len() >= (u32::MAX - 8) as usize {
+        let stop = turns.is_multiple_of(8192) && crate::progress::stop_requested();
+        if stop || *steiner >= limit || m.xy.len() >= (u32::MAX - 8) as usize {
             report.limit_reached = true;
             break;
         }

@@ -304,18 +304,21 @@ pub(super) fn refine_parallel(
         nv0,
         ns0,
     };
+    let stop = crate::progress::stop_flag();
     std::thread::scope(|sc| {
         let (tx, rx) = std::sync::mpsc::channel();
         let handles: Vec<_> = (1..threads.clamp(1, parts))
             .map(|_| {
-                let tx = tx.clone();
+                let (tx, stop) = (tx.clone(), stop.clone());
                 let job = &job;
                 sc.spawn(move || {
-                    while let Some(p) = job.take() {
-                        if tx.send((p, job.part(p))).is_err() {
-                            return;
+                    crate::progress::stoppable(stop, || {
+                        while let Some(p) = job.take() {
+                            if tx.send((p, job.part(p))).is_err() {
+                                return;
+                            }
                         }
-                    }
+                    })
                 })
             })
             .collect();

@@ -1,0 +1,749 @@
+//! # delone-py
+//!
+//! The native module `delone._delone` of the Python package `delone`
+//! (built by maturin from the repository's `pyproject.toml`; the Python
+//! side is in `python/delone`). Each function takes numpy arrays (float64
+//! coordinates, int64 indices, checked here), runs the library on a worker
+//! thread with the GIL released, and returns a dict of numpy arrays (float64
+//! coordinates, int32 indices, `-1` for "none").
+//!
+//! While the worker runs, the calling thread waits for it in slices of
+//! 50 ms, forwards the library's progress reports to the optional Python
+//! callback and polls `check_signals`: a Ctrl-C (or an exception raised by
+//! the callback) sets the worker's stop flag ([`delone::progress::stoppable`]),
+//! waits for the library to end its stage early, and raises that exception.
+//!
+//! Errors: the library's typed errors become `delone.InvalidInput` (a
+//! `ValueError`) when the input is at fault — the message names the point,
+//! segment, facet or switch — and `delone.MeshingError` (a `RuntimeError`)
+//! otherwise. A panic in the worker is caught and reported as a
+//! `MeshingError`, never a crash of the interpreter.
+//!
+//! PyO3's macros expand to `unsafe` blocks, so this crate cannot
+//! `#![forbid(unsafe_code)]` like the others; it denies `unsafe` in its own
+//! code instead (see `Cargo.toml`).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
+
+use delone::model::plc::{Facet, Plc, Region as Region3};
+use delone::model::pslg::{Pslg, Region as Region2};
+use delone::progress::{self, Report};
+use delone::tet::recover::RecoverError;
+use delone::tet::{TetError, TetOptions};
+use delone::tri::constrain::Cdt;
+use delone::tri::existing::ExistingMesh;
+use delone::tri::pipeline::{edge_key, hull_edge_keys};
+use delone::tri::refine::{refine, RefineOptions};
+use delone::tri::{TriError, TriOptions, TriResult};
+use delone::{Error, NONE};
+use numpy::{
+    PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pyo3::create_exception!(
+    delone,
+    InvalidInput,
+    PyValueError,
+    "The input is invalid; the message names the offending point, segment, facet or switch."
+);
+pyo3::create_exception!(
+    delone,
+    MeshingError,
+    PyRuntimeError,
+    "Meshing failed for a reason other than invalid input (a budget, an unrecoverable surface, ...)."
+);
+
+/// Stack of the worker thread: the library's deepest recursions fit with
+/// a wide margin (only touched pages cost memory).
+const STACK: usize = 256 << 20;
+
+fn invalid(msg: impl Into<String>) -> PyErr {
+    InvalidInput::new_err(msg.into())
+}
+
+/// Whether a library error blames the input (`InvalidInput`) or the run.
+fn lib_err(e: &Error) -> PyErr {
+    match e {
+        Error::CapacityExceeded { .. } | Error::Interrupted => MeshingError::new_err(e.to_string()),
+        _ => invalid(e.to_string()),
+    }
+}
+
+fn tri_err(e: TriError) -> PyErr {
+    match &e {
+        TriError::Input(x) | TriError::Refine(x) => lib_err(x),
+        _ => invalid(e.to_string()),
+    }
+}
+
+fn tet_err(e: TetError) -> PyErr {
+    match &e {
+        TetError::Input(x) | TetError::Bound(x) | TetError::Recover(RecoverError::Input(x)) => {
+            lib_err(x)
+        }
+        TetError::Recover(
+            RecoverError::OpenSurface { .. }
+            | RecoverError::SeedOnSurface { .. }
+            | RecoverError::MarkerCount { .. }
+            | RecoverError::PointOnTriangle { .. }
+            | RecoverError::SegmentTooShort { .. },
+        )
+        | TetError::Empty { .. } => invalid(e.to_string()),
+        _ => MeshingError::new_err(e.to_string()),
+    }
+}
+
+enum Msg<T> {
+    Report(Report),
+    Done(T),
+}
+
+/// Runs `work` on a worker thread with the GIL released (see the crate docs
+/// for progress and interruption).
+fn run<T: Send + 'static>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = mpsc::channel::<Msg<T>>();
+    let observed = progress.is_some();
+    std::thread::scope(|s| {
+        let flag = stop.clone();
+        let handle = std::thread::Builder::new()
+            .name("delone".into())
+            .stack_size(STACK)
+            .spawn_scoped(s, move || {
+                let reports = tx.clone();
+                let out = progress::stoppable(flag, || {
+                    if observed {
+                        let sink = move |r: &Report| {
+                            let _ = reports.send(Msg::Report(*r));
+                        };
+                        progress::observe(sink, work)
+                    } else {
+                        work()
+                    }
+                });
+                let _ = tx.send(Msg::Done(out));
+            })
+            .map_err(|e| MeshingError::new_err(format!("cannot start a thread: {e}")))?;
+        let mut raised: Option<PyErr> = None;
+        let mut rx = rx;
+        let out = loop {
+            let (msg, back) = py.detach(move || (rx.recv_timeout(Duration::from_millis(50)), rx));
+            rx = back;
+            match msg {
+                Ok(Msg::Done(out)) => break Some(out),
+                Ok(Msg::Report(r)) => {
+                    if let (None, Some(cb)) = (&raised, progress) {
+                        if let Err(e) = cb.call1((r.stage, r.done, r.total, r.unit)) {
+                            stop.store(true, Ordering::Relaxed);
+                            raised = Some(e);
+                        }
+                    }
+                }
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if raised.is_none() {
+                        if let Err(e) = py.check_signals() {
+                            stop.store(true, Ordering::Relaxed);
+                            raised = Some(e);
+                        }
+                    }
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => break None,
+            }
+        };
+        let joined = py.detach(|| handle.join());
+        if let Some(e) = raised {
+            return Err(e);
+        }
+        match (out, joined) {
+            (Some(out), Ok(())) => Ok(out),
+            (_, Err(p)) => {
+                let what = p
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| p.downcast_ref::<String>().cloned())
+                    .unwrap_or_default();
+                Err(MeshingError::new_err(format!("internal error: {what}")))
+            }
+            (None, Ok(())) => Err(MeshingError::new_err("internal error: no result")),
+        }
+    })
+}
+
+// ---------------------------------------------------------------- input
+
+/// The rows of an `(n, D)` float64 array.
+fn rows<const D: usize>(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<[f64; D]>> {
+    let shape = a.shape();
+    if shape[1] != D {
+        return Err(invalid(format!(
+            "{what} must be an (n, {D}) array, got shape ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    // Contiguous input (what the Python wrappers pass) is read as one slice.
+    if let Ok(flat) = a.as_slice() {
+        return Ok(flat
+            .chunks_exact(D)
+            .map(|c| std::array::from_fn(|k| c[k]))
+            .collect());
+    }
+    let v = a.as_array();
+    Ok(v.outer_iter()
+        .map(|r| std::array::from_fn(|k| r[k]))
+        .collect())
+}
+
+/// The rows of an `(n, K)` int64 index array, each index checked against
+/// `n` items (`what` names a row, `of` the items).
+fn index_rows<const K: usize>(
+    a: &PyReadonlyArray2<'_, i64>,
+    n: usize,
+    what: &str,
+    of: &str,
+) -> PyResult<Vec<[u32; K]>> {
+    let shape = a.shape();
+    if shape[1] != K && shape[0] > 0 {
+        return Err(invalid(format!(
+            "{what}s must be an (m, {K}) array, got shape ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    let v = a.as_array();
+    let mut out = Vec::with_capacity(shape[0]);
+    for (i, r) in v.outer_iter().enumerate() {
+        let mut row = [0u32; K];
+        for (k, x) in row.iter_mut().enumerate() {
+            *x = check_index(r[k], n, || format!("{what} {i}"), of)?;
+        }
+        out.push(row);
+    }
+    Ok(out)
+}
+
+fn check_index(x: i64, n: usize, who: impl Fn() -> String, of: &str) -> PyResult<u32> {
+    if x < 0 || x as u64 >= n as u64 {
+        return Err(invalid(format!(
+            "{} refers to {of} {x}, out of range for {n} {of}s",
+            who()
+        )));
+    }
+    Ok(x as u32)
+}
+
+fn opt_vec<T: numpy::Element + Copy>(
+    a: Option<&PyReadonlyArray1<'_, T>>,
+    len: usize,
+    what: &str,
+) -> PyResult<Vec<T>> {
+    match a {
+        None => Ok(Vec::new()),
+        Some(a) => {
+            if a.len() != len {
+                return Err(invalid(format!(
+                    "{what} has {} entries for {len} items",
+                    a.len()
+                )));
+            }
+            Ok(a.as_array().iter().copied().collect())
+        }
+    }
+}
+
+// ---------------------------------------------------------------- output
+
+fn coords<'py, const D: usize>(
+    py: Python<'py>,
+    v: &[[f64; D]],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    PyArray1::from_vec(py, v.as_flattened().to_vec()).reshape([v.len(), D])
+}
+
+/// Index rows as int32, [`NONE`] as -1.
+fn ids<'py, const K: usize>(
+    py: Python<'py>,
+    v: &[[u32; K]],
+) -> PyResult<Bound<'py, PyArray2<i32>>> {
+    // Exact-size iteration (a flattening iterator would grow the vector).
+    let flat: Vec<i32> = v.as_flattened().iter().map(|&x| x as i32).collect();
+    PyArray1::from_vec(py, flat).reshape([v.len(), K])
+}
+
+fn ids1<'py>(py: Python<'py>, v: &[u32]) -> Bound<'py, PyArray1<i32>> {
+    PyArray1::from_vec(py, v.iter().map(|&x| x as i32).collect())
+}
+
+fn pairs<'py>(py: Python<'py>, v: &[(u32, u32)]) -> PyResult<Bound<'py, PyArray2<i32>>> {
+    let v: Vec<[u32; 2]> = v.iter().map(|&(a, b)| [a, b]).collect();
+    ids(py, &v)
+}
+
+// ---------------------------------------------------------------- point sets
+
+/// `work`'s result and its wall time in seconds (the library's share of a
+/// call, for the benchmark's overhead figure).
+fn timed<T>(work: impl FnOnce() -> T) -> (T, f64) {
+    let t = std::time::Instant::now();
+    let out = work();
+    (out, t.elapsed().as_secs_f64())
+}
+
+/// Delaunay (or, with weights, regular) triangulation of an `(n, 2)` or
+/// `(n, 3)` float64 array: `simplices`, `neighbors`, `duplicates`, `hidden`,
+/// and `seconds` (the library's time, without the conversions).
+#[pyfunction]
+#[pyo3(signature = (points, weights=None))]
+fn delaunay<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = points.shape()[0];
+    let w = weights
+        .as_ref()
+        .map(|w| opt_vec(Some(w), n, "weights"))
+        .transpose()?;
+    let d = PyDict::new(py);
+    let (dup, hidden) = if points.shape()[1] == 2 {
+        let p = rows::<2>(&points, "points")?;
+        let m = run(py, None, || {
+            timed(|| match &w {
+                Some(w) => delone::tri::regular_triangulation(&p, w),
+                None => delone::tri::triangulate(&p),
+            })
+        })?;
+        d.set_item("seconds", m.1)?;
+        let m = m.0.map_err(|e| lib_err(&e))?;
+        d.set_item("simplices", ids(py, &m.triangles)?)?;
+        d.set_item("neighbors", ids(py, &m.neighbors)?)?;
+        (m.duplicates, m.hidden)
+    } else {
+        let p = rows::<3>(&points, "points")?;
+        let m = run(py, None, || {
+            timed(|| match &w {
+                Some(w) => delone::tet::regular_tetrahedralization(&p, w),
+                None => delone::tet::tetrahedralize(&p),
+            })
+        })?;
+        d.set_item("seconds", m.1)?;
+        let m = m.0.map_err(|e| lib_err(&e))?;
+        d.set_item("simplices", ids(py, &m.tets)?)?;
+        d.set_item("neighbors", ids(py, &m.neighbors)?)?;
+        (m.duplicates, m.hidden)
+    };
+    d.set_item("duplicates", pairs(py, &dup)?)?;
+    d.set_item("hidden", ids1(py, &hidden))?;
+    Ok(d)
+}
+
+/// Convex hull of an `(n, 2)` or `(n, 3)` array: its edges (counterclockwise
+/// around the hull) or its triangles (counterclockwise seen from outside).
+#[pyfunction]
+fn convex_hull<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<i32>>> {
+    if points.shape()[1] == 2 {
+        let p = rows::<2>(&points, "points")?;
+        let m = run(py, None, || delone::tri::triangulate(&p))?.map_err(|e| lib_err(&e))?;
+        let hull: Vec<[u32; 2]> = m
+            .triangles
+            .iter()
+            .zip(&m.neighbors)
+            .flat_map(|(t, n)| {
+                (0..3)
+                    .filter(move |&k| n[k] == NONE)
+                    .map(move |k| [t[(k + 1) % 3], t[(k + 2) % 3]])
+            })
+            .collect();
+        ids(py, &hull)
+    } else {
+        let p = rows::<3>(&points, "points")?;
+        let m = run(py, None, || delone::tet::tetrahedralize(&p))?.map_err(|e| lib_err(&e))?;
+        let hull: Vec<[u32; 3]> = m.hull_faces().collect();
+        ids(py, &hull)
+    }
+}
+
+/// Voronoi (with weights: power) diagram of an `(n, 2)` or `(n, 3)` array:
+/// `vertices`, `edges` (`-1` second end: a ray), `directions` (of the rays,
+/// zero for finite edges), `edge_sites`; in 3D also the faces (`face_offsets`,
+/// `face_vertices`, `face_sites`).
+#[pyfunction]
+#[pyo3(signature = (points, weights=None))]
+fn voronoi<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = points.shape()[0];
+    let w = weights
+        .as_ref()
+        .map(|w| opt_vec(Some(w), n, "weights"))
+        .transpose()?;
+    let d = PyDict::new(py);
+    if points.shape()[1] == 2 {
+        let p = rows::<2>(&points, "points")?;
+        let v = run(py, None, || {
+            let m = match &w {
+                Some(w) => delone::tri::regular_triangulation(&p, w)?,
+                None => delone::tri::triangulate(&p)?,
+            };
+            match &w {
+                Some(w) => delone::tri::Voronoi2::new_power(&p, w, &m),
+                None => delone::tri::Voronoi2::new(&p, &m),
+            }
+        })?
+        .map_err(|e| lib_err(&e))?;
+        let edges: Vec<[u32; 2]> = v.edges.iter().map(|e| e.vertices).collect();
+        let sites: Vec<[u32; 2]> = v.edges.iter().map(|e| e.sites).collect();
+        let dirs: Vec<[f64; 2]> = v.edges.iter().map(|e| e.direction(&p)).collect();
+        d.set_item("vertices", coords(py, &v.vertices)?)?;
+        d.set_item("edges", ids(py, &edges)?)?;
+        d.set_item("directions", coords(py, &dirs)?)?;
+        d.set_item("edge_sites", ids(py, &sites)?)?;
+    } else {
+        let p = rows::<3>(&points, "points")?;
+        let v = run(py, None, || {
+            let m = match &w {
+                Some(w) => delone::tet::regular_tetrahedralization(&p, w)?,
+                None => delone::tet::tetrahedralize(&p)?,
+            };
+            match &w {
+                Some(w) => delone::tet::Voronoi3::new_power(&p, w, &m),
+                None => delone::tet::Voronoi3::new(&p, &m),
+            }
+        })?
+        .map_err(|e| lib_err(&e))?;
+        let edges: Vec<[u32; 2]> = v.edges.iter().map(|e| e.vertices).collect();
+        let sites: Vec<[u32; 3]> = v.edges.iter().map(|e| e.sites).collect();
+        let mut dirs = vec![[0.0; 3]; v.edges.len()];
+        for (&e, &dir) in v.ray_edges.iter().zip(&v.ray_directions) {
+            dirs[e as usize] = dir;
+        }
+        let face_sites: Vec<[u32; 2]> = v.faces.iter().map(|f| f.sites).collect();
+        d.set_item("vertices", coords(py, &v.vertices)?)?;
+        d.set_item("edges", ids(py, &edges)?)?;
+        d.set_item("directions", coords(py, &dirs)?)?;
+        d.set_item("edge_sites", ids(py, &sites)?)?;
+        d.set_item("face_offsets", ids1(py, &v.face_offsets))?;
+        d.set_item("face_vertices", ids1(py, &v.face_vertices))?;
+        d.set_item("face_sites", ids(py, &face_sites)?)?;
+    }
+    Ok(d)
+}
+
+// ---------------------------------------------------------------- 2D meshing
+
+/// Triangle's marker of a boundary or segment edge: the segment's own
+/// marker, else 1 on the boundary, else 0.
+fn marker(own: i32, on_boundary: bool) -> i32 {
+    if own != 0 {
+        own
+    } else {
+        i32::from(on_boundary)
+    }
+}
+
+/// Triangle's segments of a mesh: the subsegments, then the boundary edges
+/// that are none (the hull with `c`), with [`marker`]s.
+fn boundary_segments(
+    tris: &[[u32; 3]],
+    nbrs: &[[u32; 3]],
+    subs: &[([u32; 2], i32)],
+) -> (Vec<[u32; 2]>, Vec<i32>) {
+    let hull = hull_edge_keys(tris, nbrs);
+    let mut keys: Vec<u64> = subs.iter().map(|(s, _)| edge_key(s[0], s[1])).collect();
+    keys.sort_unstable();
+    let (mut segs, mut markers): (Vec<[u32; 2]>, Vec<i32>) = subs
+        .iter()
+        .map(|&(s, m)| {
+            (
+                s,
+                marker(m, hull.binary_search(&edge_key(s[0], s[1])).is_ok()),
+            )
+        })
+        .unzip();
+    for (tv, nb) in tris.iter().zip(nbrs) {
+        for k in (0..3).filter(|&k| nb[k] == NONE) {
+            let (a, b) = (tv[(k + 1) % 3], tv[(k + 2) % 3]);
+            if keys.binary_search(&edge_key(a, b)).is_err() {
+                segs.push([a, b]);
+                markers.push(1);
+            }
+        }
+    }
+    (segs, markers)
+}
+
+/// The unique edges of `tris` with their [`marker`]s.
+fn edges_with_markers(
+    tris: &[[u32; 3]],
+    nbrs: &[[u32; 3]],
+    subs: &[([u32; 2], i32)],
+) -> (Vec<[u32; 2]>, Vec<i32>) {
+    let mut marks: Vec<(u64, i32)> = subs
+        .iter()
+        .map(|&(s, m)| (edge_key(s[0], s[1]), m))
+        .collect();
+    marks.sort_unstable();
+    let (mut edges, mut markers) = (Vec::new(), Vec::new());
+    for (t, (tv, nb)) in tris.iter().zip(nbrs).enumerate() {
+        for k in 0..3 {
+            // Each edge once: from the lower triangle, or the only one.
+            if nb[k] != NONE && (nb[k] as usize) < t {
+                continue;
+            }
+            let (a, b) = (tv[(k + 1) % 3], tv[(k + 2) % 3]);
+            let own = marks
+                .binary_search_by_key(&edge_key(a, b), |&(e, _)| e)
+                .map_or(0, |i| marks[i].1);
+            edges.push([a, b]);
+            markers.push(marker(own, nb[k] == NONE));
+        }
+    }
+    (edges, markers)
+}
+
+fn quality2(py: Python<'_>, points: &[[f64; 2]], tris: &[[u32; 3]]) -> PyResult<Py<PyDict>> {
+    let d = PyDict::new(py);
+    if let Ok(s) = delone::tri::quality::TriStats::new(points, tris) {
+        d.set_item("vertices", s.vertices)?;
+        d.set_item("triangles", s.triangles)?;
+        d.set_item("edges", s.edges)?;
+        d.set_item("boundary_edges", s.boundary_edges)?;
+        d.set_item("min_angle", s.min_angle)?;
+        d.set_item("max_angle", s.max_angle)?;
+        d.set_item("min_area", s.min_area)?;
+        d.set_item("max_area", s.max_area)?;
+        d.set_item("total_area", s.total_area)?;
+        d.set_item("shortest_edge", s.shortest_edge)?;
+        d.set_item("longest_edge", s.longest_edge)?;
+        d.set_item("max_aspect_ratio", s.max_aspect_ratio)?;
+        d.set_item("max_radius_edge", s.max_radius_edge)?;
+    }
+    Ok(d.unbind())
+}
+
+/// Constrained (quality) triangulation of a PSLG with Triangle's switches,
+/// or (`r`) refinement of the given triangles.
+#[pyfunction]
+#[pyo3(signature = (points, switches, segments, point_markers=None, segment_markers=None,
+    holes=None, regions=None, triangles=None, triangle_attributes=None, triangle_max_area=None,
+    edges=false, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn triangulate<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    switches: &str,
+    segments: PyReadonlyArray2<'py, i64>,
+    point_markers: Option<PyReadonlyArray1<'py, i32>>,
+    segment_markers: Option<PyReadonlyArray1<'py, i32>>,
+    holes: Option<PyReadonlyArray2<'py, f64>>,
+    regions: Option<PyReadonlyArray2<'py, f64>>,
+    triangles: Option<PyReadonlyArray2<'py, i64>>,
+    triangle_attributes: Option<PyReadonlyArray1<'py, f64>>,
+    triangle_max_area: Option<PyReadonlyArray1<'py, f64>>,
+    edges: bool,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = TriOptions::from_switches(switches)
+        .map_err(|e| invalid(format!("switches {switches:?}: {e}")))?;
+    if opts.second_order || opts.voronoi || opts.weights {
+        return Err(invalid(format!(
+            "switches {switches:?}: -o2, -v and -w are not available here (use delone.voronoi / delone.regular)"
+        )));
+    }
+    let p = rows::<2>(&points, "points")?;
+    let n = p.len();
+    let mut g = Pslg::new(p, index_rows::<2>(&segments, n, "segment", "point")?);
+    g.point_markers = opt_vec(point_markers.as_ref(), n, "point_markers")?;
+    g.segment_markers = opt_vec(
+        segment_markers.as_ref(),
+        g.segments.len(),
+        "segment_markers",
+    )?;
+    if let Some(h) = &holes {
+        g.holes = rows::<2>(h, "holes")?;
+    }
+    if let Some(r) = &regions {
+        g.regions = rows::<4>(r, "regions")?
+            .into_iter()
+            .map(|r| Region2 {
+                point: [r[0], r[1]],
+                attribute: r[2],
+                max_area: if r[3] > 0.0 { r[3] } else { -1.0 },
+            })
+            .collect();
+    }
+    let result: TriResult = if opts.refine_mesh {
+        let Some(t) = &triangles else {
+            return Err(invalid("switch r refines a mesh: give its triangles"));
+        };
+        let tris = index_rows::<3>(t, n, "triangle", "point")?;
+        let nt = tris.len();
+        let existing = ExistingMesh {
+            points: g.points.clone(),
+            triangles: tris,
+            segments: g.segments.clone(),
+            segment_markers: g.segment_markers.clone(),
+            attributes: opt_vec(triangle_attributes.as_ref(), nt, "triangle_attributes")?,
+            max_areas: opt_vec(triangle_max_area.as_ref(), nt, "triangle_max_area")?,
+        };
+        let defaults = RefineOptions::default();
+        let ro = RefineOptions {
+            min_angle: opts.min_angle,
+            max_area: opts.max_area,
+            regional_areas: opts.regional_areas,
+            max_steiner: opts.max_steiner,
+            off_centers: true,
+            segment_splits: opts.segment_splits,
+            conforming_delaunay: opts.conforming_delaunay,
+            threads: opts.threads.unwrap_or(defaults.threads),
+            ..defaults
+        };
+        let r = run(py, progress.as_ref(), || {
+            let cdt = Cdt::from_mesh(existing)?;
+            refine(&cdt, &ro)
+        })?
+        .map_err(|e| lib_err(&e))?;
+        TriResult {
+            mesh: r.mesh,
+            unrefined: None,
+            refine: Some(r.report),
+            refine_time: Duration::ZERO,
+        }
+    } else {
+        run(py, progress.as_ref(), || delone::tri::mesh(&g, &opts))?.map_err(tri_err)?
+    };
+    let m = &result.mesh;
+    let subs = result.subsegments();
+    let d = PyDict::new(py);
+    d.set_item("points", coords(py, &m.points)?)?;
+    d.set_item("triangles", ids(py, &m.triangles)?)?;
+    d.set_item("neighbors", ids(py, &m.neighbors)?)?;
+    d.set_item(
+        "point_markers",
+        PyArray1::from_vec(py, result.vertex_markers(&g)),
+    )?;
+    let (seg, seg_markers) = boundary_segments(&m.triangles, &m.neighbors, &subs);
+    d.set_item("segments", ids(py, &seg)?)?;
+    d.set_item("segment_markers", PyArray1::from_vec(py, seg_markers))?;
+    d.set_item("attributes", PyArray1::from_slice(py, &m.attributes))?;
+    d.set_item("regions", ids1(py, &m.regions))?;
+    if edges || opts.output.edges {
+        let (e, em) = edges_with_markers(&m.triangles, &m.neighbors, &subs);
+        d.set_item("edges", ids(py, &e)?)?;
+        d.set_item("edge_markers", PyArray1::from_vec(py, em))?;
+    }
+    d.set_item("quality", quality2(py, &m.points, &m.triangles)?)?;
+    Ok(d)
+}
+
+// ---------------------------------------------------------------- 3D meshing
+
+fn quality3(py: Python<'_>, points: &[[f64; 3]], tets: &[[u32; 4]]) -> PyResult<Py<PyDict>> {
+    let s = delone::tet::quality::TetStats::of(points, tets);
+    let d = PyDict::new(py);
+    d.set_item("tetrahedra", s.tets)?;
+    d.set_item("min_dihedral", s.min_dihedral)?;
+    d.set_item("max_dihedral", s.max_dihedral)?;
+    d.set_item("min_radius_edge", s.min_radius_edge)?;
+    d.set_item("max_radius_edge", s.max_radius_edge)?;
+    d.set_item("mean_radius_edge", s.mean_radius_edge)?;
+    d.set_item("min_volume", s.min_volume)?;
+    d.set_item("max_volume", s.max_volume)?;
+    d.set_item("total_volume", s.total_volume)?;
+    d.set_item("min_edge", s.min_edge)?;
+    d.set_item("max_edge", s.max_edge)?;
+    Ok(d.unbind())
+}
+
+/// Tetrahedral mesh of a closed surface or PLC with TetGen's switches.
+/// `faces` are polygons given flat (`face_vertices`) with `face_offsets`
+/// (`len(faces) + 1` entries).
+#[pyfunction]
+#[pyo3(signature = (points, face_vertices, face_offsets, switches, face_markers=None,
+    holes=None, regions=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn tetrahedralize<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    face_vertices: PyReadonlyArray1<'py, i64>,
+    face_offsets: PyReadonlyArray1<'py, i64>,
+    switches: &str,
+    face_markers: Option<PyReadonlyArray1<'py, i32>>,
+    holes: Option<PyReadonlyArray2<'py, f64>>,
+    regions: Option<PyReadonlyArray2<'py, f64>>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = TetOptions::from_switches(switches)
+        .map_err(|e| invalid(format!("switches {switches:?}: {e}")))?;
+    let p = rows::<3>(&points, "points")?;
+    let n = p.len();
+    let fv = face_vertices.as_array();
+    let fo = face_offsets.as_array();
+    let nf = fo.len().saturating_sub(1);
+    let markers = opt_vec(face_markers.as_ref(), nf, "face_markers")?;
+    let mut facets = Vec::with_capacity(nf);
+    for f in 0..nf {
+        let (a, b) = (fo[f], fo[f + 1]);
+        if a < 0 || b < a || b as usize > fv.len() {
+            return Err(invalid(format!("face {f}: bad offsets {a}..{b}")));
+        }
+        let corners = (a as usize..b as usize)
+            .map(|k| check_index(fv[k], n, || format!("face {f}"), "point"))
+            .collect::<PyResult<Vec<u32>>>()?;
+        let mut facet = Facet::polygon(corners);
+        facet.marker = markers.get(f).copied().unwrap_or(0);
+        facets.push(facet);
+    }
+    let mut plc = Plc::new(p);
+    plc.facets = facets;
+    if let Some(h) = &holes {
+        plc.holes = rows::<3>(h, "holes")?;
+    }
+    if let Some(r) = &regions {
+        plc.regions = rows::<5>(r, "regions")?
+            .into_iter()
+            .map(|r| Region3 {
+                point: [r[0], r[1], r[2]],
+                attribute: r[3],
+                max_volume: (r[4] > 0.0).then_some(r[4]),
+            })
+            .collect();
+    }
+    let r = run(py, progress.as_ref(), || delone::tet::mesh(&plc, &opts))?.map_err(tet_err)?;
+    let rec = &r.mesh;
+    let d = PyDict::new(py);
+    d.set_item("points", coords(py, &rec.points)?)?;
+    d.set_item("tetrahedra", ids(py, &rec.mesh.tets)?)?;
+    d.set_item("neighbors", ids(py, &rec.mesh.neighbors)?)?;
+    d.set_item("faces", ids(py, &r.faces)?)?;
+    d.set_item("face_markers", PyArray1::from_slice(py, &r.face_markers))?;
+    d.set_item("attributes", PyArray1::from_vec(py, r.attributes()))?;
+    d.set_item("regions", ids1(py, &rec.tet_region))?;
+    d.set_item("quality", quality3(py, &rec.points, &rec.mesh.tets)?)?;
+    Ok(d)
+}
+
+/// The native part of the `delone` Python package.
+#[pymodule]
+fn _delone(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("InvalidInput", m.py().get_type::<InvalidInput>())?;
+    m.add("MeshingError", m.py().get_type::<MeshingError>())?;
+    m.add_function(wrap_pyfunction!(delaunay, m)?)?;
+    m.add_function(wrap_pyfunction!(convex_hull, m)?)?;
+    m.add_function(wrap_pyfunction!(voronoi, m)?)?;
+    m.add_function(wrap_pyfunction!(triangulate, m)?)?;
+    m.add_function(wrap_pyfunction!(tetrahedralize, m)?)?;
+    Ok(())
+}
