@@ -232,7 +232,7 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     };
     let points = &plc.points;
     let rec = recover_marked(points, &triangles, &triangle_markers, &ropts, &domain)
-        .map_err(TetError::Recover)?;
+        .map_err(|e| TetError::Recover(name_facets(e, &facet_of)))?;
     let (mut rec, refined) = if opts.refining() {
         let ro = RefineOptions {
             keep_surface: opts.preserve_surface,
@@ -350,4 +350,66 @@ fn optimize_options(
         }
     }
     Some(o)
+}
+
+/// A recovery error that names triangles of the facets' triangulation
+/// (`facet_of[t]` is triangle `t`'s facet), renamed to name the PLC's
+/// facets where its message speaks of facets: self-intersecting and
+/// degenerate facets.
+fn name_facets(e: RecoverError, facet_of: &[u32]) -> RecoverError {
+    let facet = |t: usize| facet_of.get(t).map_or(t, |&f| f as usize);
+    match e {
+        RecoverError::Input(Error::SelfIntersection { facets, count }) => {
+            let (a, b) = (facet(facets.0), facet(facets.1));
+            RecoverError::Input(Error::SelfIntersection {
+                facets: (a.min(b), a.max(b)),
+                count,
+            })
+        }
+        RecoverError::Input(Error::DegenerateFacet { index, defect }) => {
+            RecoverError::Input(Error::DegenerateFacet {
+                index: facet(index),
+                defect,
+            })
+        }
+        e => e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::plc::Facet;
+
+    #[test]
+    fn errors_name_the_plc_facets_not_their_triangles() {
+        let mut pts: Vec<[f64; 3]> = (0..8)
+            .map(|k| [(k & 1) as f64, (k >> 1 & 1) as f64, (k >> 2) as f64])
+            .collect();
+        pts.extend([[0.5, 0.5, 0.5], [1.5, 0.4, 0.5], [1.5, 0.6, 0.6]]);
+        let mut plc = Plc::new(pts);
+        for q in [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ] {
+            plc.facets.push(Facet::polygon(q.to_vec()));
+        }
+        // Facet 6 pierces facet 5 (x = 1), whose triangles are 10 and 11.
+        plc.facets.push(Facet::polygon(vec![8, 9, 10]));
+        let e = mesh(&plc, &TetOptions::from_switches("p").unwrap()).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TetError::Recover(RecoverError::Input(Error::SelfIntersection {
+                    facets: (5, 6),
+                    ..
+                }))
+            ),
+            "{e:?}"
+        );
+    }
 }
