@@ -44,6 +44,7 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+pub(crate) mod journal;
 pub(crate) mod ring;
 
 use std::cell::RefCell;
@@ -51,7 +52,7 @@ use std::collections::HashMap;
 
 use delone_predicates::orient3d;
 
-use crate::tet::local::{ekey, face, fkey, DEAD};
+use crate::tet::local::{ekey, face, fkey, DEAD, INF};
 use crate::NONE;
 
 pub(crate) use ring::RingEnd;
@@ -341,6 +342,15 @@ impl DomainMesh {
                 t
             }
             None => {
+                if self.tv.len() == self.tv.capacity() {
+                    // Grow by 1/8 instead of doubling (as the kernel's
+                    // arrays, which the recovery's mesh takes over).
+                    let extra = (self.tv.len() / 8).max(1024);
+                    self.tv.reserve_exact(extra);
+                    self.nb.reserve_exact(extra);
+                    self.mask.reserve_exact(extra);
+                    self.reg.reserve_exact(extra);
+                }
                 self.tv.push(tv);
                 self.reg.push(reg);
                 self.mask.push(0);
@@ -400,7 +410,8 @@ impl DomainMesh {
         ids.clear();
         for &tv in new {
             let id = self.new_tet(tv, reg);
-            for &q in &tv {
+            // (A ghost cell's INF has no hint.)
+            for &q in tv.iter().filter(|&&q| q != INF) {
                 if self.vt.len() <= q as usize {
                     self.vt.resize(q as usize + 1, DEAD);
                 }
@@ -409,7 +420,7 @@ impl DomainMesh {
             ids.push(id);
         }
         // A vertex left in no new tetrahedron (a collapse) keeps no hint.
-        for q in old_verts {
+        for q in old_verts.into_iter().filter(|&q| q != INF) {
             let h = self.vt[q as usize];
             if h != DEAD && !self.tv[h as usize].contains(&q) {
                 self.vt[q as usize] = DEAD;
@@ -472,16 +483,34 @@ impl DomainMesh {
     /// `cross(t, f)` tells whether the walk may pass face `f` of `t`.
     /// Empty when `v` is in no live slot.
     pub(crate) fn star_with(&self, v: u32, cross: impl Fn(u32, usize) -> bool) -> Vec<u32> {
-        let Some(start) = self.slot_of_vertex(v) else {
-            return Vec::new();
-        };
+        let mut out = Vec::new();
+        self.star_walk(v, &mut out, cross, |_| false);
+        out
+    }
+
+    /// Walks the star of `v` into `out` (cleared first; breadth first from
+    /// the hint, faces in local order, visited slots stamped), passing face
+    /// `f` of `t` only when `cross(t, f)`, and stopping at the first slot
+    /// for which `stop` holds: returns it.
+    pub(crate) fn star_walk(
+        &self,
+        v: u32,
+        out: &mut Vec<u32>,
+        cross: impl Fn(u32, usize) -> bool,
+        stop: impl Fn(u32) -> bool,
+    ) -> Option<u32> {
+        out.clear();
+        let start = self.slot_of_vertex(v)?;
         self.mark_begin();
-        let mut out = vec![start];
+        out.push(start);
         self.mark(start);
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
             i += 1;
+            if stop(t) {
+                return Some(t);
+            }
             let tv = self.tv[t as usize];
             for (f, &u) in tv.iter().enumerate() {
                 if u == v {
@@ -493,7 +522,7 @@ impl DomainMesh {
                 }
             }
         }
-        out
+        None
     }
 
     /// A live slot holding vertex `v`: the hint, else a scan.
@@ -613,7 +642,8 @@ impl DomainMesh {
 
     /// Checks the invariants on points `p`: array lengths; free slots dead
     /// and live ones not free; every live tetrahedron strictly positive
-    /// (exact `orient3d`) on distinct vertices; neighbour words symmetric
+    /// (exact `orient3d`) on distinct vertices, but for ghost cells (one
+    /// [`INF`], last); neighbour words symmetric
     /// and on the same face; subface bits equal on both sides; regions
     /// equal across faces that are not subfaces; every vertex hint a live
     /// slot holding it; when `ftri` is filled, its keys exactly the
@@ -642,11 +672,15 @@ impl DomainMesh {
                 }
                 continue;
             }
-            if tv.iter().any(|&q| q as usize >= p.len()) {
+            if tv.iter().any(|&q| q != INF && q as usize >= p.len()) {
                 return Err(format!("tet {t} {tv:?}: vertex out of range"));
             }
+            let ghost = tv.contains(&INF);
+            if ghost && tv[..3].contains(&INF) {
+                return Err(format!("ghost cell {t} {tv:?}: INF not last, or twice"));
+            }
             let g = |i: usize| &p[tv[i] as usize];
-            if orient3d(g(0), g(1), g(2), g(3)) >= 0.0 {
+            if !ghost && orient3d(g(0), g(1), g(2), g(3)) >= 0.0 {
                 return Err(format!("tet {t} {tv:?} is not strictly positive"));
             }
             for (i, j) in crate::tet::local::EDGES {

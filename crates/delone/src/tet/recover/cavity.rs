@@ -1,7 +1,7 @@
 //! Surface preservation (`-Y`) by cavity retriangulation, in the spirit of
 //! Si & Gärtner (2005): missing input edges and triangles are recovered
 //! without any Steiner point on the surface, on the flipped mesh
-//! ([`CMesh`]) of the last constrained round.
+//! ([`Journaled`]) of the last constrained round.
 //!
 //! **Missing triangle** `T = a b c` whose three edges are mesh edges: the
 //! cavity `C` is the set of tetrahedra having an edge that crosses the
@@ -120,7 +120,7 @@ use super::place;
 use super::{FacesOn, RecoverError, State};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
@@ -183,7 +183,7 @@ impl std::ops::DerefMut for Guard {
 
 /// Patch attempts known to fail on the mesh as it is: keyed by the
 /// Steiner flag and the patch's sorted face keys, valid while the mesh's
-/// count of touched faces ([`CMesh::touched_len`], which every
+/// count of touched faces ([`Journaled::touched_len`], which every
 /// replacement increases) stays at `stamp`. A patch reached again from
 /// another of its missing edges, on an unchanged mesh, is not computed
 /// again (the same cavity, the same failure).
@@ -195,7 +195,7 @@ struct Memo {
 
 impl Memo {
     /// Forgets everything when `cm` changed since the last call.
-    fn sync(&mut self, cm: &CMesh<'_>) {
+    fn sync(&mut self, cm: &Journaled<'_>) {
         if cm.touched_len() != self.stamp {
             self.stamp = cm.touched_len();
             self.failed.clear();
@@ -241,13 +241,13 @@ fn sees(pts: &[P], f: [u32; 3], x: &P) -> bool {
 }
 
 /// Boundary faces of the tetrahedron set `set` (sorted ids), inward.
-fn boundary_of(cm: &CMesh<'_>, set: &[u32]) -> Region {
-    let c = &cm.dt.core;
+fn boundary_of(cm: &Journaled<'_>, set: &[u32]) -> Region {
+    let c = &cm.m;
     let mut r = Region::default();
     for &t in set {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
+            let n = c.nb[t as usize][f] >> 2;
             if set.binary_search(&n).is_err() {
                 r.faces.push((face(tv, f), t, f));
             }
@@ -385,7 +385,7 @@ fn fill(
 /// where a larger cavity has a cone; then, with `steiner`, from the
 /// original region again with kernel points (new id `id`).
 fn fill_side(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     reg: &mut Region,
     set: &mut Vec<u32>,
     side: Option<(&[P; 3], f64)>,
@@ -433,14 +433,14 @@ fn fill_side(
 /// (see the module documentation); vertices from `n_fixed` on (interior
 /// Steiner points of earlier rounds) may disappear.
 fn valid_replacement(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     pts: &[P],
     old: &[u32],
     new: &[[u32; 4]],
     prot: &Protected,
     n_fixed: usize,
 ) -> bool {
-    let c = &cm.dt.core;
+    let c = &cm.m;
     if new
         .iter()
         .any(|tv| tv.iter().any(|&w| w == INF || w as usize >= pts.len()))
@@ -478,7 +478,7 @@ fn valid_replacement(
         return false;
     }
     for &t in old {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         for i in 0..4 {
             if (tv[i] as usize) < n_fixed && !new_verts.contains(&tv[i]) {
                 return false;
@@ -501,12 +501,12 @@ fn valid_replacement(
 }
 
 /// Finite live tetrahedra around vertex `w` (ghosts excluded).
-fn finite_star(cm: &CMesh<'_>, w: u32) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn finite_star(cm: &Journaled<'_>, w: u32) -> Vec<u32> {
+    let c = &cm.m;
     cm.star(w)
         .into_iter()
         .filter(|&t| {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             tv[0] != DEAD && !tv.contains(&INF)
         })
         .collect()
@@ -530,12 +530,12 @@ fn seg_meets_tri(a: &P, b: &P, c: &P, p: &P, q: &P) -> bool {
 }
 
 /// The tetrahedra meeting the open segment `a b` (a superset; sorted).
-fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn segment_cavity(cm: &Journaled<'_>, a: u32, b: u32) -> Vec<u32> {
+    let c = &cm.m;
     let pts = cm.pts();
     let (pa, pb) = (pts[a as usize], pts[b as usize]);
     let meets = |t: u32| -> bool {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
@@ -569,7 +569,7 @@ fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
             break;
         }
         for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
+            let n = c.nb[t as usize][f] >> 2;
             if seen.insert(n) && meets(n) {
                 stack.push(n);
             }
@@ -581,12 +581,12 @@ fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
 
 /// The tetrahedra with an edge crossing the interior of triangle `tri`
 /// (sorted).
-fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn facet_cavity(cm: &Journaled<'_>, tri: [u32; 3]) -> Vec<u32> {
+    let c = &cm.m;
     let pts = cm.pts();
     let [a, b, cc] = tri.map(|w| &pts[w as usize]);
     let crossing = |t: u32| -> bool {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
@@ -612,7 +612,7 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
             break;
         }
         for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
+            let n = c.nb[t as usize][f] >> 2;
             if seen.insert(n) && crossing(n) {
                 stack.push(n);
             }
@@ -624,7 +624,7 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
 
 /// A face of the mesh with these vertices exists (searched in the star of
 /// a vertex: no cap on the number of tetrahedra around an edge).
-fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
+fn has_face(cm: &Journaled<'_>, f: [u32; 3]) -> bool {
     cm.find_face(f[0], f[1], f[2]).is_some()
 }
 
@@ -633,7 +633,7 @@ fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
 /// `side`: keep to this closed side of the plane of these points. False
 /// when nothing can grow.
 fn grow(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     reg: &mut Region,
     set: &mut Vec<u32>,
     taken: &IdSet<u32>,
@@ -641,15 +641,15 @@ fn grow(
     side: Option<(&[P; 3], f64)>,
     prot: &Protected,
 ) -> bool {
-    let c = &cm.dt.core;
+    let c = &cm.m;
     let pts = cm.pts();
     let mut cands: Vec<([u32; 3], usize, u32)> = Vec::new();
     for (i, &(f, t, k)) in reg.faces.iter().enumerate() {
         if t == DEAD || from.is_some_and(|p| sees(pts, f, p)) || prot.faces.contains(&fkey(f)) {
             continue;
         }
-        let n = c.adj[t as usize][k] >> 2;
-        let nv = c.v[n as usize];
+        let n = c.nb[t as usize][k] >> 2;
+        let nv = c.tv[n as usize];
         if nv[0] == DEAD || nv.contains(&INF) || taken.contains(&n) || set.binary_search(&n).is_ok()
         {
             continue;
@@ -676,7 +676,7 @@ fn grow(
         };
         set.insert(pos, n);
         grown = true;
-        let nv = c.v[n as usize];
+        let nv = c.tv[n as usize];
         for g in 0..4 {
             let gf = face(nv, g);
             let r = rev(gf);
@@ -732,7 +732,7 @@ impl State {
     /// `None` (nothing changed).
     fn apply(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         set: &[u32],
         fills: Vec<Fill>,
         prot: &Guard,
@@ -754,7 +754,7 @@ impl State {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
-            cm.dt.points.to_mut().push(*p);
+            cm.push_point(*p);
         }
         cm.replace(set, &new);
         Some(added)
@@ -764,7 +764,7 @@ impl State {
     /// on a change.
     fn edge_by_cavity(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         a: u32,
         b: u32,
         prot: &Guard,
@@ -815,7 +815,7 @@ impl State {
     /// present) so that it becomes a face. `Some(points added)` on success.
     fn facet_by_cavity(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         tri: [u32; 3],
         prot: &Guard,
         steiner: bool,
@@ -876,10 +876,10 @@ impl State {
     /// added))`, or the mesh reached.
     fn preserve_attempt<'a>(
         &self,
-        cm: &CMesh<'a>,
+        cm: &Journaled<'a>,
         cone_first: bool,
         swallow: bool,
-    ) -> Result<(CMesh<'a>, FacesOn, usize), Box<CMesh<'a>>> {
+    ) -> Result<(Journaled<'a>, FacesOn, usize), Box<Journaled<'a>>> {
         let mut w = cm.clone();
         let mut prot = Guard {
             prot: Protected::default(),
@@ -1004,15 +1004,15 @@ impl State {
     /// caller's fallback to act (nothing of `cm` is changed).
     pub(super) fn preserve_by_cavities<'a>(
         &mut self,
-        cm: &CMesh<'a>,
-    ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
+        cm: &Journaled<'a>,
+    ) -> Result<Option<(Journaled<'a>, FacesOn)>, RecoverError> {
         if self.cavity_fails >= MAX_FAILED_CALLS {
             return Ok(None);
         }
         // The [`ATTEMPTS`]: none is better on every model (each recovers
         // models another does not). What is left missing is taken from
         // the first.
-        let mut first: Option<Box<CMesh<'a>>> = None;
+        let mut first: Option<Box<Journaled<'a>>> = None;
         for (cone_first, swallow) in ATTEMPTS {
             match self.preserve_attempt(cm, cone_first, swallow) {
                 Ok((done, on, added)) => {
@@ -1048,7 +1048,7 @@ impl State {
     /// What `w` still misses, for the fallback's interior points: the
     /// input triangles at a missing input edge, else (every edge present)
     /// the missing input triangles (sorted).
-    fn left_missing(&self, w: &CMesh<'_>) -> Vec<usize> {
+    fn left_missing(&self, w: &Journaled<'_>) -> Vec<usize> {
         let tris = &self.surf.tris;
         let mut left: Vec<usize> = Vec::new();
         for (e, &[a, b]) in self.surf.edges.iter().enumerate() {
@@ -1080,7 +1080,10 @@ impl State {
 impl State {
     /// Records the flip counts of a mesh finished by
     /// [`State::preserve_by_cavities`] and hands it on.
-    pub(super) fn cavity_done<'a>(&mut self, done: (CMesh<'a>, FacesOn)) -> (CMesh<'a>, FacesOn) {
+    pub(super) fn cavity_done<'a>(
+        &mut self,
+        done: (Journaled<'a>, FacesOn),
+    ) -> (Journaled<'a>, FacesOn) {
         self.report.flips23 = done.0.flips23;
         self.report.edge_removals = done.0.removals;
         done
@@ -1091,7 +1094,7 @@ impl State {
 /// counted once) fill exactly the region of the `old` cells: every face of
 /// the region's boundary is a new face not matched from the other side, and
 /// every new face off that boundary is matched by its reverse.
-fn fills_boundary(cm: &CMesh<'_>, old: &[u32], count: &IdMap<[u32; 3], u32>) -> bool {
+fn fills_boundary(cm: &Journaled<'_>, old: &[u32], count: &IdMap<[u32; 3], u32>) -> bool {
     let bnd = boundary_of(cm, old);
     let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
     bset.iter()
