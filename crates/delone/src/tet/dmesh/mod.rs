@@ -1,12 +1,14 @@
 //! The constrained domain mesh: the tetrahedra of a carved domain with
-//! their constraints, held by refinement ([`crate::tet::refine`]) and
-//! optimisation ([`crate::tet::optimize`]), and the local operations they
-//! share.
+//! their constraints, held by recovery ([`crate::tet::recover`], with
+//! ghost cells and a journal: [`journal`]), refinement
+//! ([`crate::tet::refine`]) and optimisation ([`crate::tet::optimize`]),
+//! and the local operations they share.
 //!
 //! # Where it starts and how it flows
 //!
-//! Recovery ([`crate::tet::recover`]) works on the kernel's arrays with
-//! ghost cells ([`crate::tet::cmesh`]), carves the domain and hands over a
+//! Recovery takes over the kernel's arrays (ghost cells included, no copy:
+//! [`journal::Journaled`]), flips and removes edges in them with a journal
+//! for replay and rollback, gives them back to carving and hands over a
 //! [`crate::tet::recover::Recovered`]. [`DomainMesh::from_neighbors`] builds
 //! this structure from it once; refinement inserts points, flips and records
 //! subfaces / subsegments in it; optimisation flips, removes edges and
@@ -36,11 +38,12 @@
 //! Operations here: [`DomainMesh::replace`] (any set of tetrahedra by any
 //! other filling the same polyhedron, adjacency and marks rebuilt: the
 //! common end of flips, edge and face removal and insertion),
-//! [`DomainMesh::edge_ring`] (the ordered ring around an edge, with
-//! [`ring::walk`] shared by the recovery's mesh) and the edge-removal
-//! dynamic program [`ring::triangulate`] (objective as a parameter,
-//! shared by the recovery's mesh and optimisation). [`DomainMesh::check`]
-//! is the invariant checker the tests call after every operation.
+//! [`DomainMesh::star_walk`] (the star of a vertex, with visit stamps),
+//! [`DomainMesh::edge_ring`] (the ordered ring around an edge, on
+//! [`ring::walk`]) and the edge-removal dynamic program
+//! [`ring::triangulate`] (objective as a parameter, used by recovery and
+//! optimisation). [`DomainMesh::check`] is the invariant checker the tests
+//! call after every operation.
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 

@@ -454,29 +454,14 @@ fn valid_replacement(
     if !new.iter().all(positive) {
         return false;
     }
-    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
-    let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
-    let mut new_faces: IdSet<[u32; 3]> = IdSet::default();
-    let mut new_verts: IdSet<u32> = IdSet::default();
-    for &tv in new {
-        for f in 0..4 {
-            let k = okey(face(tv, f));
-            *count.entry(k).or_insert(0) += 1;
-            new_faces.insert(fkey(k));
-        }
-        for i in 0..4 {
-            new_verts.insert(tv[i]);
-            for j in i + 1..4 {
-                new_edges.insert(ekey(tv[i], tv[j]));
-            }
-        }
-    }
-    if count.values().any(|&n| n != 1) {
+    let Some(NewParts {
+        verts: new_verts,
+        edges: new_edges,
+        faces: new_faces,
+    }) = fills(cm, old, new)
+    else {
         return false;
-    }
-    if !fills_boundary(cm, old, &count) {
-        return false;
-    }
+    };
     for &t in old {
         let tv = c.tv[t as usize];
         for i in 0..4 {
@@ -554,29 +539,7 @@ fn segment_cavity(cm: &Journaled<'_>, a: u32, b: u32) -> Vec<u32> {
             seg_meets_tri(x, y, z, &pa, &pb)
         })
     };
-    let mut seen: IdSet<u32> = IdSet::default();
-    let mut out = Vec::new();
-    let mut stack: Vec<u32> = finite_star(cm, a)
-        .into_iter()
-        .filter(|&t| meets(t))
-        .collect();
-    for &t in &stack {
-        seen.insert(t);
-    }
-    while let Some(t) = stack.pop() {
-        out.push(t);
-        if out.len() > 4096 {
-            break;
-        }
-        for f in 0..4 {
-            let n = c.nb[t as usize][f] >> 2;
-            if seen.insert(n) && meets(n) {
-                stack.push(n);
-            }
-        }
-    }
-    out.sort_unstable();
-    out
+    flood(cm, &[a], meets)
 }
 
 /// The tetrahedra with an edge crossing the interior of triangle `tri`
@@ -596,11 +559,17 @@ fn facet_cavity(cm: &Journaled<'_>, tri: [u32; 3]) -> Vec<u32> {
                 && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
         })
     };
-    let mut seen: IdSet<u32> = IdSet::default();
+    flood(cm, &tri, crossing)
+}
+
+/// The tetrahedra for which `keep` holds reached from the finite stars of
+/// `verts` through such tetrahedra (sorted; the walk stops past 4096).
+fn flood(cm: &Journaled<'_>, verts: &[u32], keep: impl Fn(u32) -> bool) -> Vec<u32> {
+    cm.visit_begin();
     let mut stack = Vec::new();
-    for w in tri {
+    for &w in verts {
         for t in finite_star(cm, w) {
-            if seen.insert(t) && crossing(t) {
+            if cm.visit(t) && keep(t) {
                 stack.push(t);
             }
         }
@@ -612,8 +581,8 @@ fn facet_cavity(cm: &Journaled<'_>, tri: [u32; 3]) -> Vec<u32> {
             break;
         }
         for f in 0..4 {
-            let n = c.nb[t as usize][f] >> 2;
-            if seen.insert(n) && crossing(n) {
+            let n = cm.m.nb[t as usize][f] >> 2;
+            if cm.visit(n) && keep(n) {
                 stack.push(n);
             }
         }
@@ -1090,16 +1059,48 @@ impl State {
     }
 }
 
-/// Whether new cells whose oriented faces are the keys of `count` (each
-/// counted once) fill exactly the region of the `old` cells: every face of
-/// the region's boundary is a new face not matched from the other side, and
+/// The vertices, edges and faces (sorted keys) of the tetrahedra `new`.
+struct NewParts {
+    verts: IdSet<u32>,
+    edges: IdSet<(u32, u32)>,
+    faces: IdSet<[u32; 3]>,
+}
+
+/// The parts of `new` when its tetrahedra (each oriented face counted
+/// once) fill exactly the region of the `old` cells: every face of the
+/// region's boundary is a new face not matched from the other side, and
 /// every new face off that boundary is matched by its reverse.
-fn fills_boundary(cm: &Journaled<'_>, old: &[u32], count: &IdMap<[u32; 3], u32>) -> bool {
-    let bnd = boundary_of(cm, old);
-    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
-    bset.iter()
-        .all(|k| count.contains_key(k) && !count.contains_key(&rev(*k)))
+fn fills(cm: &Journaled<'_>, old: &[u32], new: &[[u32; 4]]) -> Option<NewParts> {
+    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
+    let mut parts = NewParts {
+        verts: IdSet::default(),
+        edges: IdSet::default(),
+        faces: IdSet::default(),
+    };
+    for &tv in new {
+        for f in 0..4 {
+            let k = okey(face(tv, f));
+            *count.entry(k).or_insert(0) += 1;
+            parts.faces.insert(fkey(k));
+        }
+        for i in 0..4 {
+            parts.verts.insert(tv[i]);
+            for j in i + 1..4 {
+                parts.edges.insert(ekey(tv[i], tv[j]));
+            }
+        }
+    }
+    let bset: IdSet<[u32; 3]> = boundary_of(cm, old)
+        .faces
+        .iter()
+        .map(|f| okey(f.0))
+        .collect();
+    let filled = count.values().all(|&n| n == 1)
+        && bset
+            .iter()
+            .all(|k| count.contains_key(k) && !count.contains_key(&rev(*k)))
         && count
             .keys()
-            .all(|k| bset.contains(k) || count.contains_key(&rev(*k)))
+            .all(|k| bset.contains(k) || count.contains_key(&rev(*k)));
+    filled.then_some(parts)
 }

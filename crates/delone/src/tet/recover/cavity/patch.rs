@@ -45,6 +45,7 @@ use super::super::State;
 use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Guard, Memo, Region};
 use crate::geom::ids::IdMap;
 use crate::tet::dmesh::journal::Journaled;
+use crate::tet::dmesh::ring::{self, RingEnd};
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 
@@ -360,26 +361,11 @@ fn edge_ring(cm: &Journaled<'_>, p: u32, q: u32) -> Option<(Vec<u32>, Vec<u32>)>
     let c = &cm.m;
     let t0 = cm.find_edge(p, q)?;
     let mut o = c.tv[t0 as usize].into_iter().filter(|&w| w != p && w != q);
-    let (mut x, mut y) = (o.next()?, o.next()?);
+    let xy = (o.next()?, o.next()?);
     let (mut tets, mut ring) = (Vec::new(), Vec::new());
-    let mut cur = t0;
-    loop {
-        let cv = c.tv[cur as usize];
-        if tets.len() > c.tv.len() {
-            return None;
-        }
-        tets.push(cur);
-        ring.push(x);
-        let ix = cv.iter().position(|&w| w == x)?;
-        let next = c.nb[cur as usize][ix] >> 2;
-        if next == t0 {
-            return Some((tets, ring));
-        }
-        let z = *c.tv[next as usize]
-            .iter()
-            .find(|&&w| w != p && w != q && w != y)?;
-        cur = next;
-        x = y;
-        y = z;
-    }
+    let cap = c.tv.len() + 1;
+    let verts = |t: u32| c.tv[t as usize];
+    let cross = |t: u32, i: usize| Ok(Some(c.nb[t as usize][i] >> 2));
+    let end = ring::walk(t0, xy, (p, q), cap, (&mut tets, &mut ring), verts, cross)?;
+    (end == RingEnd::Closed).then_some((tets, ring))
 }

@@ -1005,26 +1005,14 @@ fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset
             }
         }
     }
-    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
-    let mut new_verts: IdSet<u32> = IdSet::default();
-    let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
-    for &tv in new {
-        for f in 0..4 {
-            *count.entry(okey(face(tv, f))).or_insert(0) += 1;
-        }
-        for i in 0..4 {
-            new_verts.insert(tv[i]);
-            for j in i + 1..4 {
-                new_edges.insert((tv[i].min(tv[j]), tv[i].max(tv[j])));
-            }
-        }
-    }
-    if count.values().any(|&n| n != 1) {
+    let Some(super::NewParts {
+        verts: new_verts,
+        edges: new_edges,
+        ..
+    }) = super::fills(cm, old, new)
+    else {
         return false;
-    }
-    if !super::fills_boundary(cm, old, &count) {
-        return false;
-    }
+    };
     let mut old_edges: IdSet<(u32, u32)> = IdSet::default();
     for &t in old {
         let tv = c.tv[t as usize];
