@@ -85,7 +85,7 @@ pub(crate) struct OpLog {
 /// documentation).
 #[derive(Debug, Clone)]
 pub(crate) struct Journaled<'a> {
-    /// The tetrahedra, ghost cells included (no subface marks, region 0).
+    /// The tetrahedra, ghost cells included (no subface marks, no regions).
     pub(crate) m: DomainMesh,
     /// The kernel structure whose arrays `m` holds: the points and the
     /// kernel's other state, given back by [`Journaled::into_dt`].
@@ -123,7 +123,6 @@ impl<'a> Journaled<'a> {
     /// each vertex hint is the first slot holding the vertex.
     pub(crate) fn new(mut dt: Delaunay3<'a>) -> Self {
         let c = &mut dt.core;
-        let n = c.v.len();
         let mut vt = vec![DEAD; dt.points.len()];
         for (t, tv) in c.v.iter().enumerate() {
             if tv[0] == DEAD {
@@ -141,7 +140,6 @@ impl<'a> Journaled<'a> {
             tv: std::mem::take(&mut c.v),
             nb: std::mem::take(&mut c.adj),
             mask: std::mem::take(&mut c.mark),
-            reg: vec![0; n],
             free: std::mem::take(&mut c.free),
             vt,
             ..DomainMesh::default()

@@ -28,7 +28,7 @@
 //! * `mask` — per slot, bit `f` set when face `f` is a *subface* (on the
 //!   domain's boundary or on an interface between regions / an internal
 //!   facet): never flipped, never crossed by a cavity;
-//! * `reg` — region per slot; `free` — free slots (reused last freed
+//! * `reg` — region per slot (empty before carving); `free` — free slots (reused last freed
 //!   first); `vt` — per vertex a live slot holding it (a hint);
 //! * `ftri` — subface (sorted key) → input triangle ([`NONE`] for a hull
 //!   face off the surface), `sedges` — edge → the subfaces holding it,
@@ -69,7 +69,8 @@ pub(crate) struct DomainMesh {
     pub(crate) nb: Vec<[u32; 4]>,
     /// Subface bits per slot.
     pub(crate) mask: Vec<u8>,
-    /// Region per slot.
+    /// Region per slot; empty for a mesh without regions (recovery's,
+    /// before carving: every slot in region 0).
     pub(crate) reg: Vec<u32>,
     /// Free slots.
     pub(crate) free: Vec<u32>,
@@ -227,7 +228,9 @@ impl DomainMesh {
                 }
             });
             self.mask[w] = self.mask[t];
-            self.reg[w] = self.reg[t];
+            if let Some(&r) = self.reg.get(t) {
+                self.reg[w] = r;
+            }
             w += 1;
         }
         self.tv.truncate(w);
@@ -339,12 +342,15 @@ impl DomainMesh {
         match self.free.pop() {
             Some(t) => {
                 self.tv[t as usize] = tv;
-                self.reg[t as usize] = reg;
+                if let Some(r) = self.reg.get_mut(t as usize) {
+                    *r = reg;
+                }
                 self.mask[t as usize] = 0;
                 self.nb[t as usize] = [NONE; 4];
                 t
             }
             None => {
+                let regions = self.reg.len() == self.tv.len();
                 if self.tv.len() == self.tv.capacity() {
                     // Grow by 1/8 instead of doubling (as the kernel's
                     // arrays, which the recovery's mesh takes over).
@@ -352,10 +358,14 @@ impl DomainMesh {
                     self.tv.reserve_exact(extra);
                     self.nb.reserve_exact(extra);
                     self.mask.reserve_exact(extra);
-                    self.reg.reserve_exact(extra);
+                    if regions {
+                        self.reg.reserve_exact(extra);
+                    }
                 }
                 self.tv.push(tv);
-                self.reg.push(reg);
+                if regions {
+                    self.reg.push(reg);
+                }
                 self.mask.push(0);
                 self.nb.push([NONE; 4]);
                 (self.tv.len() - 1) as u32
@@ -654,7 +664,8 @@ impl DomainMesh {
     #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn check(&self, p: &[[f64; 3]]) -> Result<(), String> {
         let n = self.tv.len();
-        if self.nb.len() != n || self.mask.len() != n || self.reg.len() != n {
+        let regions = !self.reg.is_empty();
+        if self.nb.len() != n || self.mask.len() != n || (regions && self.reg.len() != n) {
             return Err("array lengths differ".into());
         }
         let mut is_free = vec![false; n];
@@ -720,7 +731,7 @@ impl DomainMesh {
                 if (self.mask[u] >> g & 1 == 1) != sub {
                     return Err(format!("tet {t} face {f}: subface mark on one side only"));
                 }
-                if !sub && self.reg[u] != self.reg[t] {
+                if !sub && regions && self.reg[u] != self.reg[t] {
                     return Err(format!(
                         "tet {t} face {f}: region changes across a free face"
                     ));
