@@ -85,6 +85,9 @@ pub(crate) struct DomainMesh {
     pub(crate) segs: HashMap<(u32, u32), u32>,
     /// The slots of the current visit (see [`DomainMesh::mark_begin`]).
     marks: RefCell<Stamps>,
+    /// Scratch of [`DomainMesh::replace`]: outer faces, open new faces and
+    /// the removed tetrahedra's vertices (no allocation per call).
+    scratch: (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>),
 }
 
 /// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
@@ -351,17 +354,6 @@ impl DomainMesh {
             }
             None => {
                 let regions = self.reg.len() == self.tv.len();
-                if self.tv.len() == self.tv.capacity() {
-                    // Grow by 1/8 instead of doubling (as the kernel's
-                    // arrays, which the recovery's mesh takes over).
-                    let extra = (self.tv.len() / 8).max(1024);
-                    self.tv.reserve_exact(extra);
-                    self.nb.reserve_exact(extra);
-                    self.mask.reserve_exact(extra);
-                    if regions {
-                        self.reg.reserve_exact(extra);
-                    }
-                }
                 self.tv.push(tv);
                 if regions {
                     self.reg.push(reg);
@@ -405,7 +397,10 @@ impl DomainMesh {
         ids: &mut Vec<u32>,
     ) -> Unmatched {
         // Outer faces: key, neighbour word, subface bit.
-        let mut outer: Vec<([u32; 3], u32, bool)> = Vec::with_capacity(2 * old.len() + 2);
+        let (mut outer, mut open, mut old_verts) = std::mem::take(&mut self.scratch);
+        outer.clear();
+        open.clear();
+        old_verts.clear();
         for &t in old {
             let tv = self.tv[t as usize];
             for f in 0..4 {
@@ -416,7 +411,7 @@ impl DomainMesh {
                 outer.push((fkey(face(tv, f)), w, self.is_sub(t, f)));
             }
         }
-        let old_verts: Vec<u32> = old.iter().flat_map(|&t| self.tv[t as usize]).collect();
+        old_verts.extend(old.iter().flat_map(|&t| self.tv[t as usize]));
         for &t in old {
             self.release(t);
         }
@@ -433,7 +428,7 @@ impl DomainMesh {
             ids.push(id);
         }
         // A vertex left in no new tetrahedron (a collapse) keeps no hint.
-        for q in old_verts.into_iter().filter(|&q| q != INF) {
+        for &q in old_verts.iter().filter(|&&q| q != INF) {
             let h = self.vt[q as usize];
             if h != DEAD && !self.tv[h as usize].contains(&q) {
                 self.vt[q as usize] = DEAD;
@@ -441,7 +436,6 @@ impl DomainMesh {
         }
         let mut made = Vec::new();
         if outer.len() <= LINEAR {
-            let mut open: Vec<([u32; 3], u32)> = Vec::with_capacity(2 * new.len());
             for &id in ids.iter() {
                 let tv = self.tv[id as usize];
                 for f in 0..4 {
@@ -458,7 +452,7 @@ impl DomainMesh {
                     }
                 }
             }
-            for (k, w) in open {
+            for (k, w) in open.drain(..) {
                 self.mask[(w >> 2) as usize] |= 1 << (w & 3);
                 made.push(k);
             }
@@ -488,7 +482,8 @@ impl DomainMesh {
             outer.extend(out.into_iter().map(|(k, (w, s))| (k, w, s)));
             outer.sort_unstable();
         }
-        let gone: Vec<[u32; 3]> = outer.into_iter().map(|o| o.0).collect();
+        let gone: Vec<[u32; 3]> = outer.drain(..).map(|o| o.0).collect();
+        self.scratch = (outer, open, old_verts);
         Unmatched { gone, made }
     }
 
@@ -514,9 +509,12 @@ impl DomainMesh {
     ) -> Option<u32> {
         out.clear();
         let start = self.slot_of_vertex(v)?;
-        self.mark_begin();
+        // One borrow for the walk (`cross` and `stop` must not start
+        // another visit).
+        let mut marks = self.marks.borrow_mut();
+        marks.clear();
         out.push(start);
-        self.mark(start);
+        marks.insert(start);
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
@@ -530,7 +528,7 @@ impl DomainMesh {
                     continue;
                 }
                 let n = self.across(t, f);
-                if n != NONE && cross(t, f) && self.mark(n) {
+                if n != NONE && cross(t, f) && marks.insert(n) {
                     out.push(n);
                 }
             }
