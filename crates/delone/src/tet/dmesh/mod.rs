@@ -87,8 +87,12 @@ pub(crate) struct DomainMesh {
     marks: RefCell<Stamps>,
     /// Scratch of [`DomainMesh::replace`]: outer faces, open new faces and
     /// the removed tetrahedra's vertices (no allocation per call).
-    scratch: (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>),
+    scratch: Scratch,
 }
+
+/// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
+/// subface bit), open new faces (key, word), removed vertices.
+type Scratch = (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>);
 
 /// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
 /// visit of a walk or a cavity, without hashing).

@@ -1152,7 +1152,7 @@ impl State {
         }
         let subs = self.missing_subsegments_near(cm, &covered, &subs, &near);
         #[cfg(debug_assertions)]
-        self.debug_same_coverage(&cm, &on, &covered, Some(&subs));
+        self.debug_same_coverage(cm, &on, &covered, Some(&subs));
         (on, covered, subs)
     }
 
@@ -1362,7 +1362,7 @@ impl State {
             cm.clear_touched();
             self.coverage_all_into(cm, on, covered);
             #[cfg(debug_assertions)]
-            self.debug_same_coverage(&cm, on, covered, None);
+            self.debug_same_coverage(cm, on, covered, None);
             return;
         }
         // The logged faces (with repeats) are not sorted: each names its
@@ -1402,7 +1402,7 @@ impl State {
         cands.sort_unstable();
         self.recompute(cm, &cands, on, covered);
         #[cfg(debug_assertions)]
-        self.debug_same_coverage(&cm, on, covered, None);
+        self.debug_same_coverage(cm, on, covered, None);
     }
 
     /// Recomputes the coverage of triangles `cands` on `cm`: locally, or
