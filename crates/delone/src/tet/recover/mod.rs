@@ -51,8 +51,8 @@
 //! Steps 3–5 above are the *conforming* path
 //! ([`RecoverOptions::constrained`] false): every Steiner point lies on the
 //! surface. The default is the **constrained** path (the private `cdt`
-//! module, on the domain mesh with ghost cells and a journal of
-//! [`crate::tet::dmesh`]): each round copies the
+//! module, on the domain mesh with ghost cells and a journal of the
+//! private `tet::dmesh` module): each round copies the
 //! Delaunay tetrahedralization into a mesh that need not stay Delaunay and
 //! recovers missing subsegments, then missing triangles, by 2-3 flips and
 //! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
