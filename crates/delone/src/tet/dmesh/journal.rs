@@ -44,7 +44,7 @@ use std::cell::RefCell;
 
 use delone_predicates::orient3d;
 
-use super::ring;
+use super::ring::{self, RingEnd};
 use super::{DomainMesh, Stamps};
 use crate::geom::ids::IdSet;
 use crate::tet::local::{face, fkey, DEAD, INF};
@@ -113,6 +113,7 @@ pub(crate) struct Journaled<'a> {
     /// Scratch of the star searches, of the dynamic program and of the
     /// new slots of an operation.
     buf: RefCell<Vec<u32>>,
+    ring: (Vec<u32>, Vec<u32>),
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
     ids: Vec<u32>,
@@ -155,6 +156,7 @@ impl<'a> Journaled<'a> {
             log: None,
             visited: Default::default(),
             buf: Default::default(),
+            ring: Default::default(),
             dp_best: Vec::new(),
             dp_choice: Vec::new(),
             ids: Vec::new(),
@@ -455,13 +457,41 @@ impl<'a> Journaled<'a> {
         b: u32,
         ghosts: bool,
     ) -> Option<(Vec<u32>, Vec<u32>)> {
-        let tv = *self.m.tv.get(t as usize)?;
-        if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
-            return None;
-        }
-        let pass = |x: u32, _| ghosts || !self.m.tv[x as usize].contains(&INF);
-        let (tets, ring, _) = self.m.edge_ring(t, (a, b), MAX_RING, false, pass)?;
-        Some((tets, ring))
+        let (mut tets, mut ring) = (Vec::with_capacity(8), Vec::with_capacity(8));
+        self.ring_into(t, (a, b), ghosts, (&mut tets, &mut ring))
+            .then_some((tets, ring))
+    }
+
+    /// [`Journaled::edge_ring_with`] into the given lists (cleared first;
+    /// the shared walk [`ring::walk`]); false where that gives `None`.
+    fn ring_into(
+        &self,
+        t: u32,
+        (a, b): (u32, u32),
+        ghosts: bool,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+    ) -> bool {
+        tets.clear();
+        ring.clear();
+        let m = &self.m;
+        let Some(xy) = m
+            .alive(t)
+            .then(|| m.tv[t as usize])
+            .filter(|tv| tv.contains(&a) && tv.contains(&b))
+            .and_then(|tv| ring::opposite(tv, a, b))
+        else {
+            return false;
+        };
+        let verts = |x: u32| m.tv[x as usize];
+        // A ghost cell ends the walk unless asked for.
+        let cross = |x: u32, i: usize| {
+            if !ghosts && m.tv[x as usize].contains(&INF) {
+                Err(())
+            } else {
+                Ok(Some(m.nb[x as usize][i] >> 2))
+            }
+        };
+        ring::walk(t, xy, (a, b), MAX_RING, (tets, ring), verts, cross) == Some(RingEnd::Closed)
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new` filling the same
@@ -489,13 +519,15 @@ impl<'a> Journaled<'a> {
             let tv = self.m.tv[t as usize];
             for f in 0..4 {
                 let u = self.m.nb[t as usize][f] >> 2;
+                let inner = old.contains(&u);
+                if inner && u < t || !inner && first_outer.is_some() {
+                    continue;
+                }
                 let k = fkey(face(tv, f));
-                if !old.contains(&u) {
-                    if first_outer.is_none() && finite(&k) {
-                        first_outer = Some(k);
-                    }
-                } else if u > t && finite(&k) {
-                    self.touched.push(k);
+                match (finite(&k), inner) {
+                    (true, true) => self.touched.push(k),
+                    (true, false) => first_outer = Some(k),
+                    _ => {}
                 }
             }
         }
@@ -518,9 +550,11 @@ impl<'a> Journaled<'a> {
         for (i, &x) in ids.iter().enumerate() {
             let tv = self.m.tv[x as usize];
             for f in 0..4 {
-                let k = fkey(face(tv, f));
-                if ids[..i].contains(&(self.m.nb[x as usize][f] >> 2)) && finite(&k) {
-                    self.touched.push(k);
+                if ids[..i].contains(&(self.m.nb[x as usize][f] >> 2)) {
+                    let k = fkey(face(tv, f));
+                    if finite(&k) {
+                        self.touched.push(k);
+                    }
                 }
             }
         }
@@ -582,21 +616,28 @@ impl<'a> Journaled<'a> {
         tri_cost: TriCost<'_>,
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
-        let (tets, mut r) = self.edge_ring_with(t, a, b, true)?;
-        if r.len() < MEMO_RING {
-            return self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost);
-        }
-        let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
-        let mut key = Vec::with_capacity(r.len() + 2);
-        key.extend([a, b]);
-        key.extend(r[m..].iter().chain(&r[..m]));
-        if self.failed.contains(&key) {
-            return None;
-        }
-        let out = self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost);
-        if out.is_none() {
-            self.failed.insert(key);
-        }
+        // The ring lists are reused scratch (no allocation per call).
+        let (mut tets, mut r) = std::mem::take(&mut self.ring);
+        let out = if !self.ring_into(t, (a, b), true, (&mut tets, &mut r)) {
+            None
+        } else if r.len() < MEMO_RING {
+            self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)
+        } else {
+            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+            let mut key = Vec::with_capacity(r.len() + 2);
+            key.extend([a, b]);
+            key.extend(r[m..].iter().chain(&r[..m]));
+            if self.failed.contains(&key) {
+                None
+            } else {
+                let out = self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost);
+                if out.is_none() {
+                    self.failed.insert(key);
+                }
+                out
+            }
+        };
+        self.ring = (tets, r);
         out
     }
 
