@@ -404,7 +404,9 @@ impl<'a> Journaled<'a> {
     /// Live tetrahedra (ghosts included) containing vertex `u`, breadth
     /// first from its hint.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
-        self.m.star_with(u, |_, _| true)
+        let mut out = Vec::with_capacity(32);
+        self.m.star_walk(u, &mut out, |_, _| true, |_| false);
+        out
     }
 
     /// Empties the visited set of [`Journaled::visit`].
@@ -513,31 +515,26 @@ impl<'a> Journaled<'a> {
         // members), so a tetrahedron whose four vertices lie on some
         // triangle is still seen through one of its faces.
         let finite = |k: &[u32; 3]| !k.contains(&INF);
-        let touched0 = self.touched.len();
-        let mut first_outer = None;
-        for &t in old {
-            let tv = self.m.tv[t as usize];
-            for f in 0..4 {
-                let u = self.m.nb[t as usize][f] >> 2;
-                let inner = old.contains(&u);
-                if inner && u < t || !inner && first_outer.is_some() {
-                    continue;
-                }
-                let k = fkey(face(tv, f));
-                match (finite(&k), inner) {
-                    (true, true) => self.touched.push(k),
-                    (true, false) => first_outer = Some(k),
-                    _ => {}
-                }
-            }
-        }
+        // The first finite outer face (logged when no inner face is).
+        let first_outer = old
+            .iter()
+            .flat_map(|&t| (0..4).map(move |f| (t, f)))
+            .filter(|&(t, f)| !old.contains(&(self.m.nb[t as usize][f] >> 2)))
+            .map(|(t, f)| fkey(face(self.m.tv[t as usize], f)))
+            .find(finite);
         if let Some(log) = &mut self.log {
             let start = log.tets.len() as u32;
             log.tets.extend(old.iter().map(|&t| self.m.tv[t as usize]));
             log.slots.extend_from_slice(old);
             log.ops.push((start, old.len() as u16, new.len() as u16));
         }
+        let mut inner = self.m.inner.take().unwrap_or_default();
+        inner.clear();
+        self.m.inner = Some(inner);
         let gone = self.m.replace(old, new, 0, ids);
+        let inner = self.m.inner.as_deref().unwrap_or_default();
+        let touched0 = self.touched.len();
+        self.touched.extend(inner.iter().filter(|k| finite(k)));
         debug_assert!(
             gone.gone.is_empty() && gone.made.is_empty(),
             "replace: unmatched faces"
@@ -545,18 +542,6 @@ impl<'a> Journaled<'a> {
         if let Some(log) = &mut self.log {
             log.tets.extend_from_slice(new);
             log.slots.extend_from_slice(ids);
-        }
-        // The created inner faces, in the order their second side is met.
-        for (i, &x) in ids.iter().enumerate() {
-            let tv = self.m.tv[x as usize];
-            for f in 0..4 {
-                if ids[..i].contains(&(self.m.nb[x as usize][f] >> 2)) {
-                    let k = fkey(face(tv, f));
-                    if finite(&k) {
-                        self.touched.push(k);
-                    }
-                }
-            }
         }
         // Every replacement logs at least one face (`touched_len` is a
         // change stamp for callers).

@@ -88,6 +88,10 @@ pub(crate) struct DomainMesh {
     /// Scratch of [`DomainMesh::replace`]: outer faces, open new faces and
     /// the removed tetrahedra's vertices (no allocation per call).
     scratch: Scratch,
+    /// When kept (recovery's journal): the faces each
+    /// [`DomainMesh::replace`] removes (between two old tetrahedra) and
+    /// creates (between two new ones), in the order met.
+    pub(crate) inner: Option<Vec<[u32; 3]>>,
 }
 
 /// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
@@ -410,6 +414,9 @@ impl DomainMesh {
             for f in 0..4 {
                 let w = self.nb[t as usize][f];
                 if w != NONE && old.contains(&(w >> 2)) {
+                    if let Some(l) = self.inner.as_mut().filter(|_| w >> 2 > t) {
+                        l.push(fkey(face(tv, f)));
+                    }
                     continue;
                 }
                 outer.push((fkey(face(tv, f)), w, self.is_sub(t, f)));
@@ -451,6 +458,9 @@ impl DomainMesh {
                     } else if let Some(i) = open.iter().position(|o| o.0 == k) {
                         let (_, w) = open.swap_remove(i);
                         self.link(id, f, w);
+                        if let Some(l) = &mut self.inner {
+                            l.push(k);
+                        }
                     } else {
                         open.push((k, 4 * id + f as u32));
                     }
@@ -473,6 +483,9 @@ impl DomainMesh {
                         self.mask[id as usize] |= u8::from(sub) << f;
                     } else if let Some(w) = open.remove(&k) {
                         self.link(id, f, w);
+                        if let Some(l) = &mut self.inner {
+                            l.push(k);
+                        }
                     } else {
                         open.insert(k, 4 * id + f as u32);
                     }
