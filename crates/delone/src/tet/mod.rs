@@ -6,7 +6,6 @@
 //! * [`validate`] — an independent checker of a [`TetMesh`] against its points.
 //! * [`intersect`] — exact self-intersection and closedness checks of triangulated surfaces.
 
-pub(crate) mod cmesh;
 pub mod delaunay;
 pub(crate) mod dmesh;
 pub mod facets;

@@ -1,12 +1,14 @@
 //! The constrained domain mesh: the tetrahedra of a carved domain with
-//! their constraints, held by refinement ([`crate::tet::refine`]) and
-//! optimisation ([`crate::tet::optimize`]), and the local operations they
-//! share.
+//! their constraints, held by recovery ([`crate::tet::recover`], with
+//! ghost cells and a journal: [`journal`]), refinement
+//! ([`crate::tet::refine`]) and optimisation ([`crate::tet::optimize`]),
+//! and the local operations they share.
 //!
 //! # Where it starts and how it flows
 //!
-//! Recovery ([`crate::tet::recover`]) works on the kernel's arrays with
-//! ghost cells ([`crate::tet::cmesh`]), carves the domain and hands over a
+//! Recovery takes over the kernel's arrays (ghost cells included, no copy:
+//! [`journal::Journaled`]), flips and removes edges in them with a journal
+//! for replay and rollback, gives them back to carving and hands over a
 //! [`crate::tet::recover::Recovered`]. [`DomainMesh::from_neighbors`] builds
 //! this structure from it once; refinement inserts points, flips and records
 //! subfaces / subsegments in it; optimisation flips, removes edges and
@@ -26,7 +28,7 @@
 //! * `mask` — per slot, bit `f` set when face `f` is a *subface* (on the
 //!   domain's boundary or on an interface between regions / an internal
 //!   facet): never flipped, never crossed by a cavity;
-//! * `reg` — region per slot; `free` — free slots (reused last freed
+//! * `reg` — region per slot (empty before carving); `free` — free slots (reused last freed
 //!   first); `vt` — per vertex a live slot holding it (a hint);
 //! * `ftri` — subface (sorted key) → input triangle ([`NONE`] for a hull
 //!   face off the surface), `sedges` — edge → the subfaces holding it,
@@ -36,15 +38,17 @@
 //! Operations here: [`DomainMesh::replace`] (any set of tetrahedra by any
 //! other filling the same polyhedron, adjacency and marks rebuilt: the
 //! common end of flips, edge and face removal and insertion),
-//! [`DomainMesh::edge_ring`] (the ordered ring around an edge, with
-//! [`ring::walk`] shared by the recovery's mesh) and the edge-removal
-//! dynamic program [`ring::triangulate`] (objective as a parameter,
-//! shared by the recovery's mesh and optimisation). [`DomainMesh::check`]
-//! is the invariant checker the tests call after every operation.
+//! [`DomainMesh::star_walk`] (the star of a vertex, with visit stamps),
+//! [`DomainMesh::edge_ring`] (the ordered ring around an edge, on
+//! [`ring::walk`]) and the edge-removal dynamic program
+//! [`ring::triangulate`] (objective as a parameter, used by recovery and
+//! optimisation). [`DomainMesh::check`] is the invariant checker the tests
+//! call after every operation.
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
 pub(crate) mod flip;
+pub(crate) mod journal;
 pub(crate) mod ring;
 
 use std::cell::RefCell;
@@ -52,7 +56,7 @@ use std::collections::HashMap;
 
 use delone_predicates::orient3d;
 
-use crate::tet::local::{ekey, face, fkey, DEAD};
+use crate::tet::local::{ekey, face, fkey, DEAD, INF};
 use crate::NONE;
 
 pub(crate) use ring::RingEnd;
@@ -66,7 +70,8 @@ pub(crate) struct DomainMesh {
     pub(crate) nb: Vec<[u32; 4]>,
     /// Subface bits per slot.
     pub(crate) mask: Vec<u8>,
-    /// Region per slot.
+    /// Region per slot; empty for a mesh without regions (recovery's,
+    /// before carving: every slot in region 0).
     pub(crate) reg: Vec<u32>,
     /// Free slots.
     pub(crate) free: Vec<u32>,
@@ -81,7 +86,18 @@ pub(crate) struct DomainMesh {
     pub(crate) segs: HashMap<(u32, u32), u32>,
     /// The slots of the current visit (see [`DomainMesh::mark_begin`]).
     marks: RefCell<Stamps>,
+    /// Scratch of [`DomainMesh::replace`]: outer faces, open new faces and
+    /// the removed tetrahedra's vertices (no allocation per call).
+    scratch: Scratch,
+    /// When kept (recovery's journal): the faces each
+    /// [`DomainMesh::replace`] removes (between two old tetrahedra) and
+    /// creates (between two new ones), in the order met.
+    pub(crate) inner: Option<Vec<[u32; 3]>>,
 }
+
+/// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
+/// subface bit), open new faces (key, word), removed vertices.
+type Scratch = (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>);
 
 /// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
 /// visit of a walk or a cavity, without hashing).
@@ -224,7 +240,9 @@ impl DomainMesh {
                 }
             });
             self.mask[w] = self.mask[t];
-            self.reg[w] = self.reg[t];
+            if let Some(&r) = self.reg.get(t) {
+                self.reg[w] = r;
+            }
             w += 1;
         }
         self.tv.truncate(w);
@@ -336,14 +354,19 @@ impl DomainMesh {
         match self.free.pop() {
             Some(t) => {
                 self.tv[t as usize] = tv;
-                self.reg[t as usize] = reg;
+                if let Some(r) = self.reg.get_mut(t as usize) {
+                    *r = reg;
+                }
                 self.mask[t as usize] = 0;
                 self.nb[t as usize] = [NONE; 4];
                 t
             }
             None => {
+                let regions = self.reg.len() == self.tv.len();
                 self.tv.push(tv);
-                self.reg.push(reg);
+                if regions {
+                    self.reg.push(reg);
+                }
                 self.mask.push(0);
                 self.nb.push([NONE; 4]);
                 (self.tv.len() - 1) as u32
@@ -383,25 +406,32 @@ impl DomainMesh {
         ids: &mut Vec<u32>,
     ) -> Unmatched {
         // Outer faces: key, neighbour word, subface bit.
-        let mut outer: Vec<([u32; 3], u32, bool)> = Vec::with_capacity(2 * old.len() + 2);
+        let (mut outer, mut open, mut old_verts) = std::mem::take(&mut self.scratch);
+        outer.clear();
+        open.clear();
+        old_verts.clear();
         for &t in old {
             let tv = self.tv[t as usize];
             for f in 0..4 {
                 let w = self.nb[t as usize][f];
                 if w != NONE && old.contains(&(w >> 2)) {
+                    if let Some(l) = self.inner.as_mut().filter(|_| w >> 2 > t) {
+                        l.push(fkey(face(tv, f)));
+                    }
                     continue;
                 }
                 outer.push((fkey(face(tv, f)), w, self.is_sub(t, f)));
             }
         }
-        let old_verts: Vec<u32> = old.iter().flat_map(|&t| self.tv[t as usize]).collect();
+        old_verts.extend(old.iter().flat_map(|&t| self.tv[t as usize]));
         for &t in old {
             self.release(t);
         }
         ids.clear();
         for &tv in new {
             let id = self.new_tet(tv, reg);
-            for &q in &tv {
+            // (A ghost cell's INF has no hint.)
+            for &q in tv.iter().filter(|&&q| q != INF) {
                 if self.vt.len() <= q as usize {
                     self.vt.resize(q as usize + 1, DEAD);
                 }
@@ -410,7 +440,7 @@ impl DomainMesh {
             ids.push(id);
         }
         // A vertex left in no new tetrahedron (a collapse) keeps no hint.
-        for q in old_verts {
+        for &q in old_verts.iter().filter(|&&q| q != INF) {
             let h = self.vt[q as usize];
             if h != DEAD && !self.tv[h as usize].contains(&q) {
                 self.vt[q as usize] = DEAD;
@@ -418,7 +448,6 @@ impl DomainMesh {
         }
         let mut made = Vec::new();
         if outer.len() <= LINEAR {
-            let mut open: Vec<([u32; 3], u32)> = Vec::with_capacity(2 * new.len());
             for &id in ids.iter() {
                 let tv = self.tv[id as usize];
                 for f in 0..4 {
@@ -430,12 +459,15 @@ impl DomainMesh {
                     } else if let Some(i) = open.iter().position(|o| o.0 == k) {
                         let (_, w) = open.swap_remove(i);
                         self.link(id, f, w);
+                        if let Some(l) = &mut self.inner {
+                            l.push(k);
+                        }
                     } else {
                         open.push((k, 4 * id + f as u32));
                     }
                 }
             }
-            for (k, w) in open {
+            for (k, w) in open.drain(..) {
                 self.mask[(w >> 2) as usize] |= 1 << (w & 3);
                 made.push(k);
             }
@@ -452,6 +484,9 @@ impl DomainMesh {
                         self.mask[id as usize] |= u8::from(sub) << f;
                     } else if let Some(w) = open.remove(&k) {
                         self.link(id, f, w);
+                        if let Some(l) = &mut self.inner {
+                            l.push(k);
+                        }
                     } else {
                         open.insert(k, 4 * id + f as u32);
                     }
@@ -465,7 +500,8 @@ impl DomainMesh {
             outer.extend(out.into_iter().map(|(k, (w, s))| (k, w, s)));
             outer.sort_unstable();
         }
-        let gone: Vec<[u32; 3]> = outer.into_iter().map(|o| o.0).collect();
+        let gone: Vec<[u32; 3]> = outer.drain(..).map(|o| o.0).collect();
+        self.scratch = (outer, open, old_verts);
         Unmatched { gone, made }
     }
 
@@ -473,28 +509,49 @@ impl DomainMesh {
     /// `cross(t, f)` tells whether the walk may pass face `f` of `t`.
     /// Empty when `v` is in no live slot.
     pub(crate) fn star_with(&self, v: u32, cross: impl Fn(u32, usize) -> bool) -> Vec<u32> {
-        let Some(start) = self.slot_of_vertex(v) else {
-            return Vec::new();
-        };
-        self.mark_begin();
-        let mut out = vec![start];
-        self.mark(start);
+        let mut out = Vec::new();
+        self.star_walk(v, &mut out, cross, |_| false);
+        out
+    }
+
+    /// Walks the star of `v` into `out` (cleared first; breadth first from
+    /// the hint, faces in local order, visited slots stamped), passing face
+    /// `f` of `t` only when `cross(t, f)`, and stopping at the first slot
+    /// for which `stop` holds: returns it.
+    pub(crate) fn star_walk(
+        &self,
+        v: u32,
+        out: &mut Vec<u32>,
+        cross: impl Fn(u32, usize) -> bool,
+        stop: impl Fn(u32) -> bool,
+    ) -> Option<u32> {
+        out.clear();
+        let start = self.slot_of_vertex(v)?;
+        // One borrow for the walk (`cross` and `stop` must not start
+        // another visit).
+        let mut marks = self.marks.borrow_mut();
+        marks.clear();
+        out.push(start);
+        marks.insert(start);
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
             i += 1;
+            if stop(t) {
+                return Some(t);
+            }
             let tv = self.tv[t as usize];
             for (f, &u) in tv.iter().enumerate() {
                 if u == v {
                     continue;
                 }
                 let n = self.across(t, f);
-                if n != NONE && cross(t, f) && self.mark(n) {
+                if n != NONE && cross(t, f) && marks.insert(n) {
                     out.push(n);
                 }
             }
         }
-        out
+        None
     }
 
     /// A live slot holding vertex `v`: the hint, else a scan.
@@ -614,7 +671,8 @@ impl DomainMesh {
 
     /// Checks the invariants on points `p`: array lengths; free slots dead
     /// and live ones not free; every live tetrahedron strictly positive
-    /// (exact `orient3d`) on distinct vertices; neighbour words symmetric
+    /// (exact `orient3d`) on distinct vertices, but for ghost cells (one
+    /// [`INF`], last); neighbour words symmetric
     /// and on the same face; subface bits equal on both sides; regions
     /// equal across faces that are not subfaces; every vertex hint a live
     /// slot holding it; when `ftri` is filled, its keys exactly the
@@ -622,7 +680,8 @@ impl DomainMesh {
     #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn check(&self, p: &[[f64; 3]]) -> Result<(), String> {
         let n = self.tv.len();
-        if self.nb.len() != n || self.mask.len() != n || self.reg.len() != n {
+        let regions = !self.reg.is_empty();
+        if self.nb.len() != n || self.mask.len() != n || (regions && self.reg.len() != n) {
             return Err("array lengths differ".into());
         }
         let mut is_free = vec![false; n];
@@ -643,11 +702,15 @@ impl DomainMesh {
                 }
                 continue;
             }
-            if tv.iter().any(|&q| q as usize >= p.len()) {
+            if tv.iter().any(|&q| q != INF && q as usize >= p.len()) {
                 return Err(format!("tet {t} {tv:?}: vertex out of range"));
             }
+            let ghost = tv.contains(&INF);
+            if ghost && tv[..3].contains(&INF) {
+                return Err(format!("ghost cell {t} {tv:?}: INF not last, or twice"));
+            }
             let g = |i: usize| &p[tv[i] as usize];
-            if orient3d(g(0), g(1), g(2), g(3)) >= 0.0 {
+            if !ghost && orient3d(g(0), g(1), g(2), g(3)) >= 0.0 {
                 return Err(format!("tet {t} {tv:?} is not strictly positive"));
             }
             for (i, j) in crate::tet::local::EDGES {
@@ -684,7 +747,7 @@ impl DomainMesh {
                 if (self.mask[u] >> g & 1 == 1) != sub {
                     return Err(format!("tet {t} face {f}: subface mark on one side only"));
                 }
-                if !sub && self.reg[u] != self.reg[t] {
+                if !sub && regions && self.reg[u] != self.reg[t] {
                     return Err(format!(
                         "tet {t} face {f}: region changes across a free face"
                     ));

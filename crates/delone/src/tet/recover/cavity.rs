@@ -1,7 +1,7 @@
 //! Surface preservation (`-Y`) by cavity retriangulation, in the spirit of
 //! Si & Gärtner (2005): missing input edges and triangles are recovered
 //! without any Steiner point on the surface, on the flipped mesh
-//! ([`CMesh`]) of the last constrained round.
+//! ([`Journaled`]) of the last constrained round.
 //!
 //! **Missing triangle** `T = a b c` whose three edges are mesh edges: the
 //! cavity `C` is the set of tetrahedra having an edge that crosses the
@@ -120,7 +120,7 @@ use super::place;
 use super::{FacesOn, RecoverError, State};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
@@ -183,7 +183,7 @@ impl std::ops::DerefMut for Guard {
 
 /// Patch attempts known to fail on the mesh as it is: keyed by the
 /// Steiner flag and the patch's sorted face keys, valid while the mesh's
-/// count of touched faces ([`CMesh::touched_len`], which every
+/// count of touched faces ([`Journaled::touched_len`], which every
 /// replacement increases) stays at `stamp`. A patch reached again from
 /// another of its missing edges, on an unchanged mesh, is not computed
 /// again (the same cavity, the same failure).
@@ -195,7 +195,7 @@ struct Memo {
 
 impl Memo {
     /// Forgets everything when `cm` changed since the last call.
-    fn sync(&mut self, cm: &CMesh<'_>) {
+    fn sync(&mut self, cm: &Journaled<'_>) {
         if cm.touched_len() != self.stamp {
             self.stamp = cm.touched_len();
             self.failed.clear();
@@ -241,13 +241,13 @@ fn sees(pts: &[P], f: [u32; 3], x: &P) -> bool {
 }
 
 /// Boundary faces of the tetrahedron set `set` (sorted ids), inward.
-fn boundary_of(cm: &CMesh<'_>, set: &[u32]) -> Region {
-    let c = &cm.dt.core;
+fn boundary_of(cm: &Journaled<'_>, set: &[u32]) -> Region {
+    let c = &cm.m;
     let mut r = Region::default();
     for &t in set {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
+            let n = c.nb[t as usize][f] >> 2;
             if set.binary_search(&n).is_err() {
                 r.faces.push((face(tv, f), t, f));
             }
@@ -385,7 +385,7 @@ fn fill(
 /// where a larger cavity has a cone; then, with `steiner`, from the
 /// original region again with kernel points (new id `id`).
 fn fill_side(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     reg: &mut Region,
     set: &mut Vec<u32>,
     side: Option<(&[P; 3], f64)>,
@@ -433,14 +433,14 @@ fn fill_side(
 /// (see the module documentation); vertices from `n_fixed` on (interior
 /// Steiner points of earlier rounds) may disappear.
 fn valid_replacement(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     pts: &[P],
     old: &[u32],
     new: &[[u32; 4]],
     prot: &Protected,
     n_fixed: usize,
 ) -> bool {
-    let c = &cm.dt.core;
+    let c = &cm.m;
     if new
         .iter()
         .any(|tv| tv.iter().any(|&w| w == INF || w as usize >= pts.len()))
@@ -454,31 +454,16 @@ fn valid_replacement(
     if !new.iter().all(positive) {
         return false;
     }
-    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
-    let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
-    let mut new_faces: IdSet<[u32; 3]> = IdSet::default();
-    let mut new_verts: IdSet<u32> = IdSet::default();
-    for &tv in new {
-        for f in 0..4 {
-            let k = okey(face(tv, f));
-            *count.entry(k).or_insert(0) += 1;
-            new_faces.insert(fkey(k));
-        }
-        for i in 0..4 {
-            new_verts.insert(tv[i]);
-            for j in i + 1..4 {
-                new_edges.insert(ekey(tv[i], tv[j]));
-            }
-        }
-    }
-    if count.values().any(|&n| n != 1) {
+    let Some(NewParts {
+        verts: new_verts,
+        edges: new_edges,
+        faces: new_faces,
+    }) = fills(cm, old, new)
+    else {
         return false;
-    }
-    if !fills_boundary(cm, old, &count) {
-        return false;
-    }
+    };
     for &t in old {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         for i in 0..4 {
             if (tv[i] as usize) < n_fixed && !new_verts.contains(&tv[i]) {
                 return false;
@@ -501,12 +486,12 @@ fn valid_replacement(
 }
 
 /// Finite live tetrahedra around vertex `w` (ghosts excluded).
-fn finite_star(cm: &CMesh<'_>, w: u32) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn finite_star(cm: &Journaled<'_>, w: u32) -> Vec<u32> {
+    let c = &cm.m;
     cm.star(w)
         .into_iter()
         .filter(|&t| {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             tv[0] != DEAD && !tv.contains(&INF)
         })
         .collect()
@@ -530,12 +515,12 @@ fn seg_meets_tri(a: &P, b: &P, c: &P, p: &P, q: &P) -> bool {
 }
 
 /// The tetrahedra meeting the open segment `a b` (a superset; sorted).
-fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn segment_cavity(cm: &Journaled<'_>, a: u32, b: u32) -> Vec<u32> {
+    let c = &cm.m;
     let pts = cm.pts();
     let (pa, pb) = (pts[a as usize], pts[b as usize]);
     let meets = |t: u32| -> bool {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
@@ -554,39 +539,17 @@ fn segment_cavity(cm: &CMesh<'_>, a: u32, b: u32) -> Vec<u32> {
             seg_meets_tri(x, y, z, &pa, &pb)
         })
     };
-    let mut seen: IdSet<u32> = IdSet::default();
-    let mut out = Vec::new();
-    let mut stack: Vec<u32> = finite_star(cm, a)
-        .into_iter()
-        .filter(|&t| meets(t))
-        .collect();
-    for &t in &stack {
-        seen.insert(t);
-    }
-    while let Some(t) = stack.pop() {
-        out.push(t);
-        if out.len() > 4096 {
-            break;
-        }
-        for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
-            if seen.insert(n) && meets(n) {
-                stack.push(n);
-            }
-        }
-    }
-    out.sort_unstable();
-    out
+    flood(cm, &[a], meets)
 }
 
 /// The tetrahedra with an edge crossing the interior of triangle `tri`
 /// (sorted).
-fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
-    let c = &cm.dt.core;
+fn facet_cavity(cm: &Journaled<'_>, tri: [u32; 3]) -> Vec<u32> {
+    let c = &cm.m;
     let pts = cm.pts();
     let [a, b, cc] = tri.map(|w| &pts[w as usize]);
     let crossing = |t: u32| -> bool {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
@@ -596,11 +559,17 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
                 && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
         })
     };
-    let mut seen: IdSet<u32> = IdSet::default();
+    flood(cm, &tri, crossing)
+}
+
+/// The tetrahedra for which `keep` holds reached from the finite stars of
+/// `verts` through such tetrahedra (sorted; the walk stops past 4096).
+fn flood(cm: &Journaled<'_>, verts: &[u32], keep: impl Fn(u32) -> bool) -> Vec<u32> {
+    cm.visit_begin();
     let mut stack = Vec::new();
-    for w in tri {
+    for &w in verts {
         for t in finite_star(cm, w) {
-            if seen.insert(t) && crossing(t) {
+            if cm.visit(t) && keep(t) {
                 stack.push(t);
             }
         }
@@ -612,8 +581,8 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
             break;
         }
         for f in 0..4 {
-            let n = c.adj[t as usize][f] >> 2;
-            if seen.insert(n) && crossing(n) {
+            let n = cm.m.nb[t as usize][f] >> 2;
+            if cm.visit(n) && keep(n) {
                 stack.push(n);
             }
         }
@@ -624,7 +593,7 @@ fn facet_cavity(cm: &CMesh<'_>, tri: [u32; 3]) -> Vec<u32> {
 
 /// A face of the mesh with these vertices exists (searched in the star of
 /// a vertex: no cap on the number of tetrahedra around an edge).
-fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
+fn has_face(cm: &Journaled<'_>, f: [u32; 3]) -> bool {
     cm.find_face(f[0], f[1], f[2]).is_some()
 }
 
@@ -633,7 +602,7 @@ fn has_face(cm: &CMesh<'_>, f: [u32; 3]) -> bool {
 /// `side`: keep to this closed side of the plane of these points. False
 /// when nothing can grow.
 fn grow(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     reg: &mut Region,
     set: &mut Vec<u32>,
     taken: &IdSet<u32>,
@@ -641,15 +610,15 @@ fn grow(
     side: Option<(&[P; 3], f64)>,
     prot: &Protected,
 ) -> bool {
-    let c = &cm.dt.core;
+    let c = &cm.m;
     let pts = cm.pts();
     let mut cands: Vec<([u32; 3], usize, u32)> = Vec::new();
     for (i, &(f, t, k)) in reg.faces.iter().enumerate() {
         if t == DEAD || from.is_some_and(|p| sees(pts, f, p)) || prot.faces.contains(&fkey(f)) {
             continue;
         }
-        let n = c.adj[t as usize][k] >> 2;
-        let nv = c.v[n as usize];
+        let n = c.nb[t as usize][k] >> 2;
+        let nv = c.tv[n as usize];
         if nv[0] == DEAD || nv.contains(&INF) || taken.contains(&n) || set.binary_search(&n).is_ok()
         {
             continue;
@@ -676,7 +645,7 @@ fn grow(
         };
         set.insert(pos, n);
         grown = true;
-        let nv = c.v[n as usize];
+        let nv = c.tv[n as usize];
         for g in 0..4 {
             let gf = face(nv, g);
             let r = rev(gf);
@@ -732,7 +701,7 @@ impl State {
     /// `None` (nothing changed).
     fn apply(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         set: &[u32],
         fills: Vec<Fill>,
         prot: &Guard,
@@ -754,7 +723,7 @@ impl State {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
-            cm.dt.points.to_mut().push(*p);
+            cm.push_point(*p);
         }
         cm.replace(set, &new);
         Some(added)
@@ -764,7 +733,7 @@ impl State {
     /// on a change.
     fn edge_by_cavity(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         a: u32,
         b: u32,
         prot: &Guard,
@@ -815,7 +784,7 @@ impl State {
     /// present) so that it becomes a face. `Some(points added)` on success.
     fn facet_by_cavity(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         tri: [u32; 3],
         prot: &Guard,
         steiner: bool,
@@ -876,10 +845,10 @@ impl State {
     /// added))`, or the mesh reached.
     fn preserve_attempt<'a>(
         &self,
-        cm: &CMesh<'a>,
+        cm: &Journaled<'a>,
         cone_first: bool,
         swallow: bool,
-    ) -> Result<(CMesh<'a>, FacesOn, usize), Box<CMesh<'a>>> {
+    ) -> Result<(Journaled<'a>, FacesOn, usize), Box<Journaled<'a>>> {
         let mut w = cm.clone();
         let mut prot = Guard {
             prot: Protected::default(),
@@ -1004,15 +973,15 @@ impl State {
     /// caller's fallback to act (nothing of `cm` is changed).
     pub(super) fn preserve_by_cavities<'a>(
         &mut self,
-        cm: &CMesh<'a>,
-    ) -> Result<Option<(CMesh<'a>, FacesOn)>, RecoverError> {
+        cm: &Journaled<'a>,
+    ) -> Result<Option<(Journaled<'a>, FacesOn)>, RecoverError> {
         if self.cavity_fails >= MAX_FAILED_CALLS {
             return Ok(None);
         }
         // The [`ATTEMPTS`]: none is better on every model (each recovers
         // models another does not). What is left missing is taken from
         // the first.
-        let mut first: Option<Box<CMesh<'a>>> = None;
+        let mut first: Option<Box<Journaled<'a>>> = None;
         for (cone_first, swallow) in ATTEMPTS {
             match self.preserve_attempt(cm, cone_first, swallow) {
                 Ok((done, on, added)) => {
@@ -1048,7 +1017,7 @@ impl State {
     /// What `w` still misses, for the fallback's interior points: the
     /// input triangles at a missing input edge, else (every edge present)
     /// the missing input triangles (sorted).
-    fn left_missing(&self, w: &CMesh<'_>) -> Vec<usize> {
+    fn left_missing(&self, w: &Journaled<'_>) -> Vec<usize> {
         let tris = &self.surf.tris;
         let mut left: Vec<usize> = Vec::new();
         for (e, &[a, b]) in self.surf.edges.iter().enumerate() {
@@ -1080,23 +1049,58 @@ impl State {
 impl State {
     /// Records the flip counts of a mesh finished by
     /// [`State::preserve_by_cavities`] and hands it on.
-    pub(super) fn cavity_done<'a>(&mut self, done: (CMesh<'a>, FacesOn)) -> (CMesh<'a>, FacesOn) {
+    pub(super) fn cavity_done<'a>(
+        &mut self,
+        done: (Journaled<'a>, FacesOn),
+    ) -> (Journaled<'a>, FacesOn) {
         self.report.flips23 = done.0.flips23;
         self.report.edge_removals = done.0.removals;
         done
     }
 }
 
-/// Whether new cells whose oriented faces are the keys of `count` (each
-/// counted once) fill exactly the region of the `old` cells: every face of
-/// the region's boundary is a new face not matched from the other side, and
+/// The vertices, edges and faces (sorted keys) of the tetrahedra `new`.
+struct NewParts {
+    verts: IdSet<u32>,
+    edges: IdSet<(u32, u32)>,
+    faces: IdSet<[u32; 3]>,
+}
+
+/// The parts of `new` when its tetrahedra (each oriented face counted
+/// once) fill exactly the region of the `old` cells: every face of the
+/// region's boundary is a new face not matched from the other side, and
 /// every new face off that boundary is matched by its reverse.
-fn fills_boundary(cm: &CMesh<'_>, old: &[u32], count: &IdMap<[u32; 3], u32>) -> bool {
-    let bnd = boundary_of(cm, old);
-    let bset: IdSet<[u32; 3]> = bnd.faces.iter().map(|f| okey(f.0)).collect();
-    bset.iter()
-        .all(|k| count.contains_key(k) && !count.contains_key(&rev(*k)))
+fn fills(cm: &Journaled<'_>, old: &[u32], new: &[[u32; 4]]) -> Option<NewParts> {
+    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
+    let mut parts = NewParts {
+        verts: IdSet::default(),
+        edges: IdSet::default(),
+        faces: IdSet::default(),
+    };
+    for &tv in new {
+        for f in 0..4 {
+            let k = okey(face(tv, f));
+            *count.entry(k).or_insert(0) += 1;
+            parts.faces.insert(fkey(k));
+        }
+        for i in 0..4 {
+            parts.verts.insert(tv[i]);
+            for j in i + 1..4 {
+                parts.edges.insert(ekey(tv[i], tv[j]));
+            }
+        }
+    }
+    let bset: IdSet<[u32; 3]> = boundary_of(cm, old)
+        .faces
+        .iter()
+        .map(|f| okey(f.0))
+        .collect();
+    let filled = count.values().all(|&n| n == 1)
+        && bset
+            .iter()
+            .all(|k| count.contains_key(k) && !count.contains_key(&rev(*k)))
         && count
             .keys()
-            .all(|k| bset.contains(k) || count.contains_key(&rev(*k)))
+            .all(|k| bset.contains(k) || count.contains_key(&rev(*k)));
+    filled.then_some(parts)
 }

@@ -1,4 +1,4 @@
-//! Constrained recovery by flips on a [`CMesh`]: missing subsegments and
+//! Constrained recovery by flips on a [`Journaled`]: missing subsegments and
 //! missing input triangles are recovered by 2-3 flips and edge removals,
 //! without Steiner points, whenever the flips find a way.
 //!
@@ -32,7 +32,7 @@
 use super::place;
 use super::surface::Surface;
 use crate::geom::ids::{IdMap, IdSet};
-use crate::tet::cmesh::{CMesh, EdgeCost, TriCost};
+use crate::tet::dmesh::journal::{EdgeCost, Journaled, TriCost};
 use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey, EDGES};
 use crate::tet::local::{DEAD, INF};
@@ -56,7 +56,7 @@ impl Protected {
     }
     /// True when replacing tetrahedra `old` by `new` (same region) keeps
     /// every protected edge and face of `old` (the test a replayed
-    /// operation must pass, [`crate::tet::cmesh::CMesh::replay`]).
+    /// operation must pass, [`crate::tet::dmesh::journal::Journaled::replay`]).
     pub(crate) fn kept_by(&self, old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
         let in_new = |w: &[u32]| new.iter().any(|tv| w.iter().all(|x| tv.contains(x)));
         // The set lookups first: most items of `old` are not protected, and
@@ -103,16 +103,16 @@ fn sgn(x: f64) -> i32 {
     (x > 0.0) as i32 - (x < 0.0) as i32
 }
 
-fn first_hit(cm: &CMesh<'_>, s: u32, e: u32) -> Hit {
+fn first_hit(cm: &Journaled<'_>, s: u32, e: u32) -> Hit {
     let pts = cm.pts();
     let g = |w: u32| &pts[w as usize];
-    let core = &cm.dt.core;
+    let core = &cm.m;
     // The signs of `e` against the planes through `s` and the edges of the
     // face opposite `s` in `t`, each times the orientation of `t` itself
     // (`orient3d(s, x, y, z)`: the three rotations of `x y z` are even
     // permutations, so one exact sign serves all three); `None` for a ghost.
     let signs = |t: u32| -> Option<(i32, i32, i32, [u32; 3])> {
-        let tv = core.v[t as usize];
+        let tv = core.tv[t as usize];
         if tv.contains(&INF) {
             return None;
         }
@@ -122,22 +122,25 @@ fn first_hit(cm: &CMesh<'_>, s: u32, e: u32) -> Hit {
         let side = |a: u32, b: u32| sgn(orient3d(g(s), g(a), g(b), g(e))) * o;
         Some((side(x, y), side(y, z), side(z, x), [x, y, z]))
     };
-    // The first tetrahedron of the star (breadth first, as `CMesh::star`
+    // The first tetrahedron of the star (breadth first, as `Journaled::star`
     // lists it) holding `e` or whose three signs are all non-negative.
     let found = cm.star_find(s, |t| {
-        let tv = core.v[t as usize];
+        let tv = core.tv[t as usize];
         tv.contains(&e) || signs(t).is_some_and(|(o1, o2, o3, _)| o1 >= 0 && o2 >= 0 && o3 >= 0)
     });
     let Some(t) = found else {
         return Hit::Blocked;
     };
-    if core.v[t as usize].contains(&e) {
+    if core.tv[t as usize].contains(&e) {
         return Hit::Done;
     }
     let Some((o1, o2, o3, [x, y, z])) = signs(t) else {
         return Hit::Blocked;
     };
-    let is = core.v[t as usize].iter().position(|&w| w == s).unwrap_or(0);
+    let is = core.tv[t as usize]
+        .iter()
+        .position(|&w| w == s)
+        .unwrap_or(0);
     match (o1 == 0, o2 == 0, o3 == 0) {
         (false, false, false) => Hit::Face(t, is),
         (true, false, false) => Hit::Edge(x, y),
@@ -162,7 +165,7 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
 /// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
 /// beyond `depth` levels).
 fn remove_edge_deep(
-    cm: &mut CMesh<'_>,
+    cm: &mut Journaled<'_>,
     a: u32,
     b: u32,
     depth: u32,
@@ -179,7 +182,7 @@ const WORK: usize = 16;
 
 #[allow(clippy::too_many_arguments)]
 fn remove_edge_budget(
-    cm: &mut CMesh<'_>,
+    cm: &mut Journaled<'_>,
     a: u32,
     b: u32,
     depth: u32,
@@ -201,7 +204,7 @@ fn remove_edge_budget(
     if depth == 0 {
         return false;
     }
-    for _ in 0..crate::tet::cmesh::MAX_RING {
+    for _ in 0..crate::tet::dmesh::journal::MAX_RING {
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
@@ -216,7 +219,7 @@ fn remove_edge_budget(
                 continue;
             }
             let x = tets[i];
-            let tv = cm.dt.core.v[x as usize];
+            let tv = cm.m.tv[x as usize];
             let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
                 continue;
             };
@@ -272,14 +275,14 @@ const DEPTH: u32 = 2;
 pub(crate) const SEG_OPS: usize = 128;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
-pub(crate) fn recover_segment(cm: &mut CMesh<'_>, u: u32, v: u32, prot: &Protected) -> bool {
+pub(crate) fn recover_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
     recover_segment_within(cm, u, v, prot, usize::MAX / 2)
 }
 
 /// [`recover_segment`] using at most about `max_ops` flips and edge
 /// removals (checked between steps).
 pub(crate) fn recover_segment_within(
-    cm: &mut CMesh<'_>,
+    cm: &mut Journaled<'_>,
     u: u32,
     v: u32,
     prot: &Protected,
@@ -299,7 +302,7 @@ pub(crate) fn recover_segment_within(
             match first_hit(cm, s, e) {
                 Hit::Done => return true,
                 Hit::Face(t, f) => {
-                    let tv = cm.dt.core.v[t as usize];
+                    let tv = cm.m.tv[t as usize];
                     let fv = face(tv, f);
                     if !prot.face(fv) && cm.flip23(t, f) {
                         progress = true;
@@ -348,7 +351,7 @@ pub(crate) fn tri_vertices(surf: &Surface, t: usize, extra: &[u32]) -> Vec<u32> 
 /// Mesh edges crossing the interior of input triangle `t` (see the module
 /// documentation), sorted, each with a tetrahedron containing it.
 pub(crate) fn crossing_edges(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     surf: &Surface,
     t: usize,
     inner: &[u32],
@@ -372,7 +375,7 @@ pub(crate) fn crossing_edges(
             }
         })
     };
-    let core = &cm.dt.core;
+    let core = &cm.m;
     cm.visit_begin();
     let mut stack: Vec<u32> = Vec::new();
     for w in tri_vertices(surf, t, inner) {
@@ -384,7 +387,7 @@ pub(crate) fn crossing_edges(
     }
     let mut out = Vec::new();
     while let Some(x) = stack.pop() {
-        let xv = core.v[x as usize];
+        let xv = core.tv[x as usize];
         if xv[0] == DEAD || xv.contains(&INF) {
             continue;
         }
@@ -409,7 +412,7 @@ pub(crate) fn crossing_edges(
             continue;
         }
         for f in 0..4 {
-            let n = core.adj[x as usize][f] >> 2;
+            let n = core.nb[x as usize][f] >> 2;
             if cm.visit(n) {
                 stack.push(n);
             }
@@ -423,7 +426,7 @@ pub(crate) fn crossing_edges(
 /// Recovers input triangle `t` by flips (no crossing edge left); false when
 /// they fail. `inner`: Steiner points inside `t`.
 pub(crate) fn recover_facet(
-    cm: &mut CMesh<'_>,
+    cm: &mut Journaled<'_>,
     surf: &Surface,
     t: usize,
     inner: &[u32],

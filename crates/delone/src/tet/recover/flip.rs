@@ -7,9 +7,10 @@
 //! made by the caller with exact predicates.
 
 use crate::tet::delaunay::Core;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::dmesh::ring::{walk, RingEnd};
-use crate::tet::local::fkey;
 use crate::tet::local::{DEAD, INF};
+use crate::tet::Delaunay3;
 
 /// The tetrahedra around edge `p q`, starting at `t` (which contains it), in
 /// rotational order; `None` when a ghost cell is met or the ring is longer
@@ -38,52 +39,23 @@ pub(crate) fn ring(core: &Core, t: u32, p: u32, q: u32, cap: usize) -> Option<Ve
     (end == RingEnd::Closed).then_some(tets)
 }
 
-/// Replaces the three tetrahedra `ring` around edge `p q` by the two sharing
-/// face `r` (the ring vertices), oriented with `orient` (true when
-/// `[r0, r1, r2, p]` is positive). Returns the two new slots.
+/// Replaces the three tetrahedra `ring` around edge `p q` of `dt` by the
+/// two sharing face `r` (the ring vertices), oriented with `orient` (true
+/// when `[r0, r1, r2, p]` is positive), by the domain mesh's one
+/// replacement ([`Journaled::replace`]).
 pub(crate) fn flip32(
-    core: &mut Core,
+    dt: &mut Delaunay3<'_>,
     ring: &[u32],
-    p: u32,
-    q: u32,
+    (p, q): (u32, u32),
     r: [u32; 3],
     orient: bool,
-) -> [u32; 2] {
-    let mut outer: Vec<([u32; 3], u32)> = Vec::with_capacity(6);
-    for &t in ring {
-        let tv = core.v[t as usize];
-        for f in 0..4 {
-            if tv[f] == p || tv[f] == q {
-                let k = [tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]];
-                outer.push((fkey(k), core.adj[t as usize][f]));
-            }
-        }
-    }
-    for &t in ring {
-        core.release(t);
-    }
+) {
     let (ra, rb) = if orient { (r[0], r[1]) } else { (r[1], r[0]) };
     // [ra, rb, r2, p] positive; then [rb, ra, r2, q] is positive (q is on the
     // other side of the plane).
-    let a = core.alloc([ra, rb, r[2], p]);
-    let b = core.alloc([rb, ra, r[2], q]);
-    let inner = fkey(r);
-    for x in [a, b] {
-        let xv = core.v[x as usize];
-        for f in 0..4 {
-            let k = fkey([xv[(f + 1) % 4], xv[(f + 2) % 4], xv[(f + 3) % 4]]);
-            if k == inner {
-                continue;
-            }
-            if let Some(&(_, w)) = outer.iter().find(|(kk, _)| *kk == k) {
-                core.link(x, f, w >> 2, (w & 3) as usize);
-            }
-        }
-    }
-    // Face opposite p in a, opposite q in b.
-    core.link(a, 3, b, 3);
-    core.last = a;
-    [a, b]
+    let mut cm = Journaled::new(std::mem::take(dt));
+    cm.replace(ring, &[[ra, rb, r[2], p], [rb, ra, r[2], q]]);
+    *dt = cm.into_dt();
 }
 
 #[cfg(test)]
@@ -91,7 +63,6 @@ mod tests {
     use super::*;
     use crate::tet::dmesh::tests::three_around_an_edge;
     use crate::tet::recover::missing;
-    use crate::tet::Delaunay3;
 
     #[test]
     fn flip32_creates_the_ring_face() {
@@ -112,7 +83,7 @@ mod tests {
         let r = ring(&dt.core, t, 3, 4, 8).unwrap();
         assert_eq!(r.len(), 3);
         let orient = delone_predicates::orient3d(&pts[0], &pts[1], &pts[2], &pts[3]) < 0.0;
-        flip32(&mut dt.core, &r, 3, 4, [0, 1, 2], orient);
+        flip32(&mut dt, &r, (3, 4), [0, 1, 2], orient);
         dt.check_topology().unwrap();
         assert_eq!(dt.num_tets(), 2);
         assert!(missing(&[[0, 1, 2]], dt.tets()).is_empty());

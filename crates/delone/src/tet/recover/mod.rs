@@ -51,7 +51,8 @@
 //! Steps 3–5 above are the *conforming* path
 //! ([`RecoverOptions::constrained`] false): every Steiner point lies on the
 //! surface. The default is the **constrained** path (the private `cdt`
-//! module, on the mutable mesh of the private `tet::cmesh` module): each round copies the
+//! module, on the domain mesh with ghost cells and a journal of the
+//! private `tet::dmesh` module): each round copies the
 //! Delaunay tetrahedralization into a mesh that need not stay Delaunay and
 //! recovers missing subsegments, then missing triangles, by 2-3 flips and
 //! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
@@ -162,7 +163,7 @@ use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::ekey;
 
 use self::surface::{Kind, Skeleton, Surface};
-use super::cmesh::{CMesh, OpLog};
+use super::dmesh::journal::{Journaled, OpLog};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -359,7 +360,7 @@ pub fn recover_marked(
             }
             r => r.map_err(origin)?,
         };
-        (cm.dt, Some(on))
+        (cm.into_dt(), Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
         (dt, None)
@@ -796,7 +797,7 @@ impl State {
     }
 
     /// The constrained recovery (see the `cdt` module): each round copies
-    /// the Delaunay tetrahedralization into a [`CMesh`] and recovers the
+    /// the Delaunay tetrahedralization into a [`Journaled`] and recovers the
     /// missing subsegments, then the missing triangles, by flips. Items the
     /// flips cannot recover are split in the Delaunay tetrahedralization
     /// (exactly as the conforming path does: same placement, protection and
@@ -807,7 +808,7 @@ impl State {
     fn run_cdt<'a>(
         &mut self,
         dt: &mut Delaunay3<'a>,
-    ) -> Result<(CMesh<'a>, FacesOn), RecoverError> {
+    ) -> Result<(Journaled<'a>, FacesOn), RecoverError> {
         // From the second round on, the coverage and the missing
         // subsegments of `dt` are updated near the points the previous round
         // inserted (see `Self::update_round`) instead of recomputed.
@@ -828,7 +829,7 @@ impl State {
             if crate::progress::stop_requested() {
                 return Err(Error::Interrupted.into());
             }
-            let mut cm = CMesh::new(dt.clone());
+            let mut cm = Journaled::new(dt.clone());
             cm.set_failed(std::mem::take(&mut failed_removals));
             // The protected items, when `update_round` kept them up to date.
             let mut kept_prot: Option<cdt::Protected> = None;
@@ -837,7 +838,7 @@ impl State {
                     let (on, covered) = self.coverage_all(&cm);
                     let subs = self.missing_subsegments_cm(&cm, &covered);
                     #[cfg(debug_assertions)]
-                    self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
+                    self.debug_same_coverage(&cm, &on, &covered, Some(&subs));
                     (on, covered, subs)
                 }
                 Some(mut st) => {
@@ -860,7 +861,7 @@ impl State {
             // Delaunay tetrahedralization: it differs from the previous one
             // only around the points inserted since, so nearly every
             // operation finds the very tetrahedra it replaced and is re-applied
-            // (valid by construction, see `CMesh::replay`) unless it would
+            // (valid by construction, see `Journaled::replay`) unless it would
             // destroy an item protected now; only what is left missing is
             // searched and flipped again.
             if !self.opts.preserve_surface {
@@ -883,17 +884,18 @@ impl State {
             // tetrahedra its flips removed before they were rolled back).
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
             let mut near_fail: Vec<u32> = Vec::new();
-            let attempt = |cm: &mut CMesh<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
-                let mark = cm.log_mark();
-                if cdt::recover_segment_within(cm, u, v, &prot, ops) {
-                    return None;
-                }
-                let s = near.len();
-                near.extend([u, v]);
-                cm.removed_vertices_since(mark, |_, w| near.push(w));
-                cm.rollback(mark);
-                Some((cm.log_mark(), s, near.len()))
-            };
+            let attempt =
+                |cm: &mut Journaled<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
+                    let mark = cm.log_mark();
+                    if cdt::recover_segment_within(cm, u, v, &prot, ops) {
+                        return None;
+                    }
+                    let s = near.len();
+                    near.extend([u, v]);
+                    cm.removed_vertices_since(mark, |_, w| near.push(w));
+                    cm.rollback(mark);
+                    Some((cm.log_mark(), s, near.len()))
+                };
             for &(e, u, v) in &subs {
                 if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops) {
                     failed.push((e, u, v));
@@ -1067,7 +1069,7 @@ impl State {
     /// cheaper to build afresh).
     fn update_round(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         st: RoundState,
         prot: &mut Option<cdt::Protected>,
     ) -> (FacesOn, Vec<bool>, Vec<(u32, u32, u32)>) {
@@ -1078,12 +1080,12 @@ impl State {
             subs,
             ..
         } = st;
-        let core = &cm.dt.core;
+        let core = &cm.m;
         let mut near: Vec<u32> = Vec::new();
         for p in old_len as u32..cm.pts().len() as u32 {
             near.push(p);
             for x in cm.star(p) {
-                near.extend(core.v[x as usize].iter().filter(|&&w| w != INF));
+                near.extend(core.tv[x as usize].iter().filter(|&&w| w != INF));
             }
         }
         near.sort_unstable();
@@ -1153,7 +1155,7 @@ impl State {
         }
         let subs = self.missing_subsegments_near(cm, &covered, &subs, &near);
         #[cfg(debug_assertions)]
-        self.debug_same_coverage(&cm.dt, &on, &covered, Some(&subs));
+        self.debug_same_coverage(cm, &on, &covered, Some(&subs));
         (on, covered, subs)
     }
 
@@ -1226,19 +1228,14 @@ impl State {
     #[cfg(debug_assertions)]
     fn debug_same_coverage(
         &self,
-        dt: &Delaunay3<'_>,
+        cm: &Journaled<'_>,
         on: &[Vec<[u32; 3]>],
         covered: &[bool],
         subs: Option<&[(u32, u32, u32)]>,
     ) {
-        let sk = Skeleton::of(dt, true);
-        let (mut g_on, mut g_covered) = self.surf.coverage(&sk, dt.points());
-        self.groups_global(
-            sk.tets.iter().copied(),
-            dt.points(),
-            &mut g_on,
-            &mut g_covered,
-        );
+        let sk = Skeleton::of_arrays(&cm.m.tv, &cm.m.nb, 0, true);
+        let (mut g_on, mut g_covered) = self.surf.coverage(&sk, cm.pts());
+        self.groups_global(sk.tets.iter().copied(), cm.pts(), &mut g_on, &mut g_covered);
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
         for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
             let (mut a, mut b) = (a.clone(), b.clone());
@@ -1350,25 +1347,25 @@ impl State {
     }
 
     /// Updates the coverage `on`, `covered` (exact for `cm` before the
-    /// operations logged since the last [`CMesh::take_touched`]) for `cm`
+    /// operations logged since the last [`Journaled::take_touched`]) for `cm`
     /// now: recomputes, locally, the triangles of `extra` and those on
     /// which a face created or removed since lies (the others kept every
     /// face and tetrahedron with its vertices on them: a tetrahedron
-    /// created or removed has such a face, [`CMesh::take_touched`]).
+    /// created or removed has such a face, [`Journaled::take_touched`]).
     fn refresh_coverage(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         extra: &[usize],
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
     ) {
-        if cm.touched_len() > 2 * cm.dt.core.v.len() {
+        if cm.touched_len() > 2 * cm.m.tv.len() {
             // Many flips: the global pass is cheaper than sorting and
             // looking up every logged face.
             cm.clear_touched();
             self.coverage_all_into(cm, on, covered);
             #[cfg(debug_assertions)]
-            self.debug_same_coverage(&cm.dt, on, covered, None);
+            self.debug_same_coverage(cm, on, covered, None);
             return;
         }
         // The logged faces (with repeats) are not sorted: each names its
@@ -1408,14 +1405,14 @@ impl State {
         cands.sort_unstable();
         self.recompute(cm, &cands, on, covered);
         #[cfg(debug_assertions)]
-        self.debug_same_coverage(&cm.dt, on, covered, None);
+        self.debug_same_coverage(cm, on, covered, None);
     }
 
     /// Recomputes the coverage of triangles `cands` on `cm`: locally, or
     /// globally when they are many (same result, cheaper then).
     fn recompute(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         cands: &[usize],
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
@@ -1450,7 +1447,7 @@ impl State {
     /// that face exists: one pass over the faces of the tetrahedra with a
     /// hash lookup each finds them. The others (few: those next to Steiner
     /// points) are computed locally, from the stars of their vertices.
-    fn coverage_all(&self, cm: &CMesh<'_>) -> (FacesOn, Vec<bool>) {
+    fn coverage_all(&self, cm: &Journaled<'_>) -> (FacesOn, Vec<bool>) {
         let n = self.surf.tris.len();
         let mut on: FacesOn = vec![Vec::new(); n];
         let mut covered = vec![false; n];
@@ -1460,21 +1457,26 @@ impl State {
 
     /// [`Self::coverage_all`] written over `on` and `covered` (one entry
     /// per input triangle), reusing the lists' storage.
-    fn coverage_all_into(&self, cm: &CMesh<'_>, on: &mut [Vec<[u32; 3]>], covered: &mut [bool]) {
+    fn coverage_all_into(
+        &self,
+        cm: &Journaled<'_>,
+        on: &mut [Vec<[u32; 3]>],
+        covered: &mut [bool],
+    ) {
         let n = self.surf.tris.len();
         for f in on.iter_mut() {
             f.clear();
         }
         covered.fill(false);
-        let core = &cm.dt.core;
-        for (x, tv) in core.v.iter().enumerate() {
+        let core = &cm.m;
+        for (x, tv) in core.tv.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
             for (f, idx) in FACET.iter().enumerate() {
                 // Each interior face once (from its lower slot).
-                let u = (core.adj[x][f] >> 2) as usize;
-                if u < x && !core.v[u].contains(&INF) {
+                let u = (core.nb[x][f] >> 2) as usize;
+                if u < x && !core.tv[u].contains(&INF) {
                     continue;
                 }
                 let k = crate::tet::local::fkey(idx.map(|i| tv[i]));
@@ -1493,7 +1495,7 @@ impl State {
             .collect();
         self.recompute_local(cm, &rest, on, covered);
         let tets = core
-            .v
+            .tv
             .iter()
             .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
             .copied();
@@ -1505,7 +1507,7 @@ impl State {
     /// subsegment of an input edge with a covered triangle is an edge of a
     /// face on it; only the chains of edges with no covered triangle are
     /// searched (locally, around their vertices).
-    fn missing_subsegments_cm(&self, cm: &CMesh<'_>, covered: &[bool]) -> Vec<(u32, u32, u32)> {
+    fn missing_subsegments_cm(&self, cm: &Journaled<'_>, covered: &[bool]) -> Vec<(u32, u32, u32)> {
         let mut out = Vec::new();
         for (e, chain) in self.surf.chains.iter().enumerate() {
             if self.surf.edge_tris[e].iter().any(|&t| covered[t as usize]) {
@@ -1528,7 +1530,7 @@ impl State {
     /// when it was one then, so only the others are looked up.
     fn missing_subsegments_near(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         covered: &[bool],
         prev: &[(u32, u32, u32)],
         near: &[u32],
@@ -1572,12 +1574,12 @@ impl State {
     /// vertices.
     fn recompute_local(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         cands: &[usize],
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
     ) {
-        let core = &cm.dt.core;
+        let core = &cm.m;
         let mut slots: Vec<u32> = Vec::new();
         let mut groups: Vec<u32> = Vec::new();
         for &t in cands {
@@ -1605,7 +1607,7 @@ impl State {
             slots.dedup();
             let tets: Vec<[u32; 4]> = slots
                 .iter()
-                .map(|&x| core.v[x as usize])
+                .map(|&x| core.tv[x as usize])
                 .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
                 .collect();
             let (f, c) = self.surf.coverage_local(t, &tets, cm.pts());
@@ -1738,7 +1740,7 @@ impl State {
             for &t in &uncovered {
                 for (k, tet) in self.find_crossing(dt, &sk, &list, t, &on[t]) {
                     if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
-                        flip::flip32(&mut dt.core, &ring, k.0, k.1, r, orient);
+                        flip::flip32(dt, &ring, k, r, orient);
                         flips += 1;
                         flipped = true;
                         break;

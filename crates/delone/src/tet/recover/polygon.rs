@@ -50,7 +50,7 @@ use super::surface::{Kind, Surface};
 use super::types::RecoverError;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, FACET, INF};
 use crate::tet::Delaunay3;
@@ -401,17 +401,17 @@ fn on_edge(surf: &Surface, w: u32, e: u32) -> bool {
 /// The recovery's use of the groups (hooks called from the rounds).
 impl State {
     /// The finite tetrahedra of `cm` around the vertices of group `g`.
-    fn group_tets(&self, cm: &CMesh<'_>, g: u32) -> Vec<[u32; 4]> {
+    fn group_tets(&self, cm: &Journaled<'_>, g: u32) -> Vec<[u32; 4]> {
         let mut slots: Vec<u32> = Vec::new();
         for w in self.poly.vertices(&self.surf, g, &self.tri_inner) {
             slots.extend(cm.star(w));
         }
         slots.sort_unstable();
         slots.dedup();
-        let core = &cm.dt.core;
+        let core = &cm.m;
         slots
             .iter()
-            .map(|&x| core.v[x as usize])
+            .map(|&x| core.tv[x as usize])
             .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
             .collect()
     }
@@ -420,7 +420,7 @@ impl State {
     /// locally.
     pub(super) fn groups_local(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         mut groups: Vec<u32>,
         on: &mut [Vec<[u32; 3]>],
         covered: &mut [bool],
@@ -499,7 +499,7 @@ impl State {
     pub(super) fn split_group(
         &mut self,
         dt: &mut Delaunay3<'_>,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         g: u32,
         dt_covered: bool,
     ) -> Result<bool, RecoverError> {

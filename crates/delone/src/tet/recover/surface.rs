@@ -181,11 +181,21 @@ impl Skeleton {
     /// The edges, and with `with_faces` the faces and tetrahedra, in slot
     /// order (deterministic).
     pub(crate) fn of(dt: &Delaunay3<'_>, with_faces: bool) -> Skeleton {
-        let c = &dt.core;
-        let mut edges = IdMap::with_capacity_and_hasher(c.finite * 2, Default::default());
+        Skeleton::of_arrays(&dt.core.v, &dt.core.adj, dt.core.finite, with_faces)
+    }
+
+    /// [`Skeleton::of`] on the arrays of a mesh with ghost cells (`finite`
+    /// tetrahedra expected).
+    pub(crate) fn of_arrays(
+        v: &[[u32; 4]],
+        adj: &[[u32; 4]],
+        finite: usize,
+        with_faces: bool,
+    ) -> Skeleton {
+        let mut edges = IdMap::with_capacity_and_hasher(finite * 2, Default::default());
         let mut faces = Vec::new();
         let mut tets = Vec::new();
-        for (t, tv) in c.v.iter().enumerate() {
+        for (t, tv) in v.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
@@ -197,8 +207,8 @@ impl Skeleton {
             }
             tets.push(*tv);
             for f in 0..4 {
-                let u = (c.adj[t][f] >> 2) as usize;
-                if u < t && !c.v[u].contains(&INF) {
+                let u = (adj[t][f] >> 2) as usize;
+                if u < t && !v[u].contains(&INF) {
                     continue;
                 }
                 let k = [tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]];

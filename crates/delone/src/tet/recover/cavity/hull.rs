@@ -31,7 +31,7 @@
 use super::super::State;
 use super::{fill_side, okey, rev, Guard, Region};
 use crate::geom::ids::{IdMap, IdSet};
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
@@ -51,9 +51,9 @@ pub(super) struct Flat {
 impl State {
     /// The flat hull data of `patch` (consistently oriented triangles), or
     /// `None` when it does not lie flat on the convex hull.
-    pub(super) fn flat_hull(&self, cm: &CMesh<'_>, patch: &[[u32; 3]]) -> Option<Flat> {
+    pub(super) fn flat_hull(&self, cm: &Journaled<'_>, patch: &[[u32; 3]]) -> Option<Flat> {
         let pts = cm.pts();
-        let c = &cm.dt.core;
+        let c = &cm.m;
         let p0 = patch.first()?.map(|w| pts[w as usize]);
         let mut pv: Vec<u32> = patch.iter().flat_map(|t| *t).collect();
         pv.sort_unstable();
@@ -76,7 +76,7 @@ impl State {
         let mut ghosts: Vec<u32> = Vec::new();
         for &w in &pv {
             for t in cm.star(w) {
-                let tv = c.v[t as usize];
+                let tv = c.tv[t as usize];
                 if tv[0] != DEAD
                     && tv[3] == INF
                     && tv[..3].iter().all(|x| pv.binary_search(x).is_ok())
@@ -89,7 +89,7 @@ impl State {
         ghosts.dedup();
         let mut huses: IdMap<(u32, u32), u32> = IdMap::default();
         for &g in &ghosts {
-            let tv = c.v[g as usize];
+            let tv = c.tv[g as usize];
             for i in 0..3 {
                 *huses.entry(ekey(tv[i], tv[(i + 1) % 3])).or_insert(0) += 1;
             }
@@ -107,7 +107,7 @@ impl State {
         // hull faces' inner edges that are not patch edges.
         let mut set: Vec<u32> = Vec::new();
         for &g in &ghosts {
-            set.push(c.adj[g as usize][3] >> 2);
+            set.push(c.nb[g as usize][3] >> 2);
         }
         let inner: Vec<(u32, u32)> = {
             let mut v: Vec<(u32, u32)> = huses
@@ -120,7 +120,7 @@ impl State {
         };
         for &(p, q) in &inner {
             for t in cm.star(p) {
-                let tv = c.v[t as usize];
+                let tv = c.tv[t as usize];
                 if tv[0] != DEAD && !tv.contains(&INF) && tv.contains(&q) {
                     set.push(t);
                 }
@@ -133,7 +133,7 @@ impl State {
         }
         // The patch, oriented inward: seen positively from the vertex of a
         // hull tetrahedron off the plane.
-        let tv = c.v[set[0] as usize];
+        let tv = c.tv[set[0] as usize];
         let x = tv
             .into_iter()
             .find(|&w| orient3d(&p0[0], &p0[1], &p0[2], &pts[w as usize]) != 0.0)?;
@@ -152,19 +152,19 @@ impl State {
 
     /// The flat hull patches next to `flat` (sharing one of its
     /// tetrahedra's hull faces' vertices, through a missing input edge).
-    pub(super) fn flat_neighbours(&self, cm: &CMesh<'_>, flat: &Flat) -> Vec<Vec<[u32; 3]>> {
-        let c = &cm.dt.core;
+    pub(super) fn flat_neighbours(&self, cm: &Journaled<'_>, flat: &Flat) -> Vec<Vec<[u32; 3]>> {
+        let c = &cm.m;
         let mut out: Vec<Vec<[u32; 3]>> = Vec::new();
         let mut tried: IdSet<usize> = IdSet::default();
         let mut own: Vec<[u32; 3]> = flat.inward.iter().map(|t| fkey(*t)).collect();
         own.sort_unstable();
         for &t in &flat.set {
             for f in 0..4 {
-                let n = c.adj[t as usize][f] >> 2;
-                if c.v[n as usize][3] != INF || flat.ghosts.contains(&n) {
+                let n = c.nb[t as usize][f] >> 2;
+                if c.tv[n as usize][3] != INF || flat.ghosts.contains(&n) {
                     continue;
                 }
-                for w in face(c.v[t as usize], f) {
+                for w in face(c.tv[t as usize], f) {
                     let Some(ts) = self.surf.vtris.get(w as usize) else {
                         continue;
                     };
@@ -199,7 +199,7 @@ impl State {
     /// on success.
     pub(super) fn hull_patch(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         patches: &[Vec<[u32; 3]>],
         prot: &Guard,
         steiner: bool,
@@ -217,12 +217,12 @@ impl State {
         set.dedup();
         ghosts.sort_unstable();
         ghosts.dedup();
-        let c = &cm.dt.core;
+        let c = &cm.m;
         let pts = cm.pts();
         let hull_faces: IdSet<[u32; 3]> = ghosts
             .iter()
             .map(|&g| {
-                let tv = c.v[g as usize];
+                let tv = c.tv[g as usize];
                 fkey([tv[0], tv[1], tv[2]])
             })
             .collect();
@@ -245,7 +245,7 @@ impl State {
         }
         let id = pts.len() as u32;
         let f = fill_side(cm, &mut reg, &mut set, None, prot, steiner, id)?;
-        let (pts, c) = (cm.pts(), &cm.dt.core);
+        let (pts, c) = (cm.pts(), &cm.m);
         let outer: Vec<[u32; 3]> = reg.faces.iter().map(|f| okey(f.0)).collect();
         // Validation (see the module documentation).
         let mut all: Vec<[f64; 3]> = pts.to_vec();
@@ -297,7 +297,7 @@ impl State {
             }
         }
         for &t in &set {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             for i in 0..4 {
                 if (tv[i] as usize) < prot.n_fixed && !new_verts.contains(&tv[i]) {
                     return None;
@@ -323,7 +323,7 @@ impl State {
         }
         let added = usize::from(f.point.is_some());
         if let Some(p) = f.point {
-            cm.dt.points.to_mut().push(p);
+            cm.push_point(p);
         }
         let mut old = set;
         old.extend(&ghosts);

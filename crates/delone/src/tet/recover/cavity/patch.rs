@@ -44,7 +44,8 @@ use super::super::place;
 use super::super::State;
 use super::{boundary_of, facet_cavity, fill_side, segment_cavity, Fill, Guard, Memo, Region};
 use crate::geom::ids::IdMap;
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
+use crate::tet::dmesh::ring::{self, RingEnd};
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 
@@ -56,7 +57,7 @@ impl State {
     /// (index into the surface's edges), consistently oriented (from the
     /// first triangle's input orientation); `None` when it is too large,
     /// not orientable, or its border is not made of mesh edges.
-    pub(super) fn patch_of(&self, cm: &CMesh<'_>, e: usize) -> Option<Vec<[u32; 3]>> {
+    pub(super) fn patch_of(&self, cm: &Journaled<'_>, e: usize) -> Option<Vec<[u32; 3]>> {
         let surf = &self.surf;
         let missing_edge = |k: usize| {
             let [a, b] = surf.edges[k];
@@ -126,7 +127,7 @@ impl State {
     /// a face).
     pub(super) fn patch_by_cavity(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         e: usize,
         prot: &Guard,
         steiner: bool,
@@ -151,7 +152,7 @@ impl State {
     /// fail).
     fn patch_attempt(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         patch: Vec<[u32; 3]>,
         prot: &Guard,
         steiner: bool,
@@ -323,7 +324,7 @@ fn directed(t: [u32; 3], p: u32, q: u32) -> (u32, u32) {
 /// enclose the direction of triangle `p q r` in the ring around mesh edge
 /// `p q`, as (owning tetrahedron, third vertex); `None` when the ring is
 /// not available or the direction is not inside `set`.
-fn ring_exits(cm: &CMesh<'_>, set: &[u32], p: u32, q: u32, r: u32) -> Option<Vec<(u32, u32)>> {
+fn ring_exits(cm: &Journaled<'_>, set: &[u32], p: u32, q: u32, r: u32) -> Option<Vec<(u32, u32)>> {
     let pts = cm.pts();
     let (tets, ring) = edge_ring(cm, p, q)?;
     let m = ring.len();
@@ -356,30 +357,15 @@ fn ring_exits(cm: &CMesh<'_>, set: &[u32], p: u32, q: u32, r: u32) -> Option<Vec
 /// The tetrahedra around mesh edge `p q` (ghosts included) and the ring
 /// vertices, `tets[i]` having `ring[i]` and `ring[i + 1]` (cyclic); no cap
 /// on the ring's length but the mesh's size.
-fn edge_ring(cm: &CMesh<'_>, p: u32, q: u32) -> Option<(Vec<u32>, Vec<u32>)> {
-    let c = &cm.dt.core;
+fn edge_ring(cm: &Journaled<'_>, p: u32, q: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+    let c = &cm.m;
     let t0 = cm.find_edge(p, q)?;
-    let mut o = c.v[t0 as usize].into_iter().filter(|&w| w != p && w != q);
-    let (mut x, mut y) = (o.next()?, o.next()?);
+    let mut o = c.tv[t0 as usize].into_iter().filter(|&w| w != p && w != q);
+    let xy = (o.next()?, o.next()?);
     let (mut tets, mut ring) = (Vec::new(), Vec::new());
-    let mut cur = t0;
-    loop {
-        let cv = c.v[cur as usize];
-        if tets.len() > c.v.len() {
-            return None;
-        }
-        tets.push(cur);
-        ring.push(x);
-        let ix = cv.iter().position(|&w| w == x)?;
-        let next = c.adj[cur as usize][ix] >> 2;
-        if next == t0 {
-            return Some((tets, ring));
-        }
-        let z = *c.v[next as usize]
-            .iter()
-            .find(|&&w| w != p && w != q && w != y)?;
-        cur = next;
-        x = y;
-        y = z;
-    }
+    let cap = c.tv.len() + 1;
+    let verts = |t: u32| c.tv[t as usize];
+    let cross = |t: u32, i: usize| Ok(Some(c.nb[t as usize][i] >> 2));
+    let end = ring::walk(t0, xy, (p, q), cap, (&mut tets, &mut ring), verts, cross)?;
+    (end == RingEnd::Closed).then_some((tets, ring))
 }

@@ -115,7 +115,7 @@ use super::cdt::{Protected, SEG_OPS};
 use super::{fill, grow, okey, Fill, Region};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
-use crate::tet::cmesh::CMesh;
+use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
 use crate::tet::local::fkey;
 use crate::tet::local::{DEAD, INF};
@@ -143,7 +143,7 @@ impl State {
     pub(in crate::tet::recover) fn preserve_fallback<'a>(
         &self,
         scaled: &'a [[f64; 3]],
-    ) -> Result<(State, CMesh<'a>, FacesOn), RecoverError> {
+    ) -> Result<(State, Journaled<'a>, FacesOn), RecoverError> {
         let mut opts = self.opts.clone();
         opts.preserve_surface = false;
         opts.merge_coplanar = false;
@@ -175,7 +175,7 @@ impl State {
 
     /// The state and mesh of a successful [`State::preserve_fallback`]:
     /// the report counts the pulled-off points as interior ones.
-    fn pulled(mut st: State, cm: CMesh<'_>, added: usize) -> (State, CMesh<'_>, FacesOn) {
+    fn pulled(mut st: State, cm: Journaled<'_>, added: usize) -> (State, Journaled<'_>, FacesOn) {
         st.opts.preserve_surface = true;
         let r = &mut st.report;
         // The removed surface points stay unused in the points and are
@@ -195,7 +195,7 @@ impl State {
     /// each input triangle); returns the number of interior points added.
     fn pull_off(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         on: &FacesOn,
         before: usize,
     ) -> Result<usize, RecoverError> {
@@ -252,7 +252,7 @@ impl State {
                 .star(s)
                 .iter()
                 .flat_map(|&t| {
-                    let tv = cm.dt.core.v[t as usize];
+                    let tv = cm.m.tv[t as usize];
                     (0..4).map(move |f| fkey(face(tv, f)))
                 })
                 .filter_map(|k| face_tri.get(&k).map(|&t| t as usize))
@@ -285,7 +285,7 @@ impl State {
     /// `Some((points added, the cluster))` on the first that succeeds.
     fn pull_cluster(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         s: u32,
         n_in: usize,
         face_tri: &mut IdMap<[u32; 3], u32>,
@@ -295,12 +295,12 @@ impl State {
         while next < order.len() && order.len() < MAX_CLUSTER {
             let v = order[next];
             next += 1;
-            let c = &cm.dt.core;
+            let c = &cm.m;
             let mut nb: Vec<u32> = cm
                 .star(v)
                 .iter()
                 .flat_map(|&t| {
-                    let tv = c.v[t as usize];
+                    let tv = c.tv[t as usize];
                     (0..4).map(move |f| face(tv, f))
                 })
                 .filter(|f| f.contains(&v) && face_tri.contains_key(&fkey(*f)))
@@ -327,11 +327,11 @@ impl State {
     /// `Some(points added)`, or `None` (nothing changed).
     fn pull_set(
         &self,
-        cm: &mut CMesh<'_>,
+        cm: &mut Journaled<'_>,
         sset: &[u32],
         face_tri: &mut IdMap<[u32; 3], u32>,
     ) -> Option<usize> {
-        let c = &cm.dt.core;
+        let c = &cm.m;
         let pts = cm.pts();
         let in_s = |w: u32| sset.binary_search(&w).is_ok();
         let touches = |f: &[u32; 3]| f.iter().any(|&w| in_s(w));
@@ -342,7 +342,7 @@ impl State {
         // The input triangles with a surface face at a point of `sset`.
         let mut tris_s: Vec<u32> = Vec::new();
         for &t in &star {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             for f in 0..4 {
                 let fv = face(tv, f);
                 if touches(&fv) {
@@ -365,7 +365,7 @@ impl State {
             let fan: Vec<[u32; 3]> = star
                 .iter()
                 .flat_map(|&t| {
-                    let tv = c.v[t as usize];
+                    let tv = c.tv[t as usize];
                     (0..4).map(move |f| face(tv, f))
                 })
                 .filter(|f| touches(f))
@@ -391,13 +391,13 @@ impl State {
             i
         }
         for (i, &t) in star.iter().enumerate() {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             for f in 0..4 {
                 let fv = face(tv, f);
                 if face_tri.contains_key(&fkey(fv)) {
                     continue;
                 }
-                let Some(j) = at(c.adj[t as usize][f] >> 2) else {
+                let Some(j) = at(c.nb[t as usize][f] >> 2) else {
                     continue;
                 };
                 let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
@@ -425,7 +425,7 @@ impl State {
         for w in &wedges {
             let ghosts = w
                 .iter()
-                .filter(|&&i| c.v[star[i] as usize].contains(&INF))
+                .filter(|&&i| c.tv[star[i] as usize].contains(&INF))
                 .count();
             // Faces of the wedge's boundary kept: those at no point of
             // `sset` (on the surface or towards the rest of the mesh).
@@ -434,7 +434,7 @@ impl State {
             let mut fans: Vec<([u32; 3], u32)> = Vec::new();
             for &i in w {
                 let t = star[i];
-                let tv = c.v[t as usize];
+                let tv = c.tv[t as usize];
                 for f in 0..4 {
                     let fv = face(tv, f);
                     let k = fkey(fv);
@@ -444,7 +444,7 @@ impl State {
                                 fans.push((fv, ti));
                             }
                         }
-                    } else if face_tri.contains_key(&k) || at(c.adj[t as usize][f] >> 2).is_none() {
+                    } else if face_tri.contains_key(&k) || at(c.nb[t as usize][f] >> 2).is_none() {
                         link.push((fv, t, f));
                     }
                 }
@@ -538,7 +538,7 @@ impl State {
         }
         // Update the surface faces: the fans give way to the polygons.
         for &t in &star {
-            let tv = c.v[t as usize];
+            let tv = c.tv[t as usize];
             for f in 0..4 {
                 let fv = face(tv, f);
                 if touches(&fv) {
@@ -552,7 +552,7 @@ impl State {
             }
         }
         for p in &all_pts[cm.pts().len()..] {
-            cm.dt.points.to_mut().push(*p);
+            cm.push_point(*p);
         }
         cm.replace(&removed, &new);
         Some(added)
@@ -567,7 +567,7 @@ impl State {
     #[allow(clippy::too_many_arguments)]
     fn near_point(
         &self,
-        cm: &CMesh<'_>,
+        cm: &Journaled<'_>,
         s: u32,
         fans: &[([u32; 3], u32)],
         bound: &[[u32; 3]],
@@ -576,7 +576,7 @@ impl State {
         removed: &mut Vec<u32>,
         face_tri: &IdMap<[u32; 3], u32>,
     ) -> Option<(P, Vec<LinkFace>)> {
-        let c = &cm.dt.core;
+        let c = &cm.m;
         let pts = cm.pts();
         let mut link = link.to_vec();
         // Into the wedge: the unit normals of its input triangles,
@@ -712,8 +712,8 @@ impl State {
             let mut more = false;
             for k in bad {
                 let (fv, t, f) = link[k - nb];
-                let n = c.adj[t as usize][f] >> 2;
-                let nv = c.v[n as usize];
+                let n = c.nb[t as usize][f] >> 2;
+                let nv = c.tv[n as usize];
                 if face_tri.contains_key(&fkey(fv))
                     || nv[0] == DEAD
                     || nv.contains(&INF)
@@ -733,11 +733,11 @@ impl State {
             set.extend(&grown);
             link.clear();
             for &t in &set {
-                let tv = c.v[t as usize];
+                let tv = c.tv[t as usize];
                 for f in 0..4 {
                     let fv = face(tv, f);
                     // Faces at `s` are its surface faces (new triangles).
-                    if !set.contains(&(c.adj[t as usize][f] >> 2)) && !fv.contains(&s) {
+                    if !set.contains(&(c.nb[t as usize][f] >> 2)) && !fv.contains(&s) {
                         link.push((fv, t, f));
                     }
                 }
@@ -959,7 +959,7 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 /// `removed`), at most [`super::MAX_GROW`] times; the grown tetrahedra are added
 /// to `removed` (sorted) on success.
 fn fill_wedge(
-    cm: &CMesh<'_>,
+    cm: &Journaled<'_>,
     pts: &[P],
     bound: &[[u32; 3]],
     link: Vec<LinkFace>,
@@ -991,8 +991,8 @@ fn fill_wedge(
 
 /// Exact validation of replacing the star `old` (sorted) of the points
 /// `sset` (sorted) by `new` (module documentation).
-fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset: &[u32]) -> bool {
-    let c = &cm.dt.core;
+fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset: &[u32]) -> bool {
+    let c = &cm.m;
     let in_s = |w: u32| sset.binary_search(&w).is_ok();
     for tv in new {
         if tv.iter().any(|&w| in_s(w)) || tv.iter().any(|&w| w != INF && w as usize >= pts.len()) {
@@ -1005,29 +1005,17 @@ fn valid_star(cm: &CMesh<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset: &[
             }
         }
     }
-    let mut count: IdMap<[u32; 3], u32> = IdMap::default();
-    let mut new_verts: IdSet<u32> = IdSet::default();
-    let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
-    for &tv in new {
-        for f in 0..4 {
-            *count.entry(okey(face(tv, f))).or_insert(0) += 1;
-        }
-        for i in 0..4 {
-            new_verts.insert(tv[i]);
-            for j in i + 1..4 {
-                new_edges.insert((tv[i].min(tv[j]), tv[i].max(tv[j])));
-            }
-        }
-    }
-    if count.values().any(|&n| n != 1) {
+    let Some(super::NewParts {
+        verts: new_verts,
+        edges: new_edges,
+        ..
+    }) = super::fills(cm, old, new)
+    else {
         return false;
-    }
-    if !super::fills_boundary(cm, old, &count) {
-        return false;
-    }
+    };
     let mut old_edges: IdSet<(u32, u32)> = IdSet::default();
     for &t in old {
-        let tv = c.v[t as usize];
+        let tv = c.tv[t as usize];
         if tv[0] == DEAD {
             return false;
         }
@@ -1110,25 +1098,25 @@ mod tests {
             let (st2, cm, on) = st.preserve_fallback(&pts).unwrap();
             // Valid mesh: positive finite tetrahedra, symmetric adjacency
             // with matching faces (the removed points are left unused).
-            let c = &cm.dt.core;
-            for (t, tv) in c.v.iter().enumerate() {
+            let c = &cm.m;
+            for (t, tv) in c.tv.iter().enumerate() {
                 if tv[0] == DEAD {
                     continue;
                 }
                 assert!(tv.contains(&INF) || cm.positive(*tv), "{tv:?}");
                 for f in 0..4 {
-                    let w = c.adj[t][f];
+                    let w = c.nb[t][f];
                     let (n, g) = ((w >> 2) as usize, (w & 3) as usize);
-                    assert_eq!(c.adj[n][g] >> 2, t as u32);
-                    assert_eq!(fkey(face(*tv, f)), fkey(face(c.v[n], g)));
+                    assert_eq!(c.nb[n][g] >> 2, t as u32);
+                    assert_eq!(fkey(face(*tv, f)), fkey(face(c.tv[n], g)));
                 }
             }
             assert_eq!(on.len(), tris.len());
             for t in &tris {
                 assert!(cm.find_face(t[0], t[1], t[2]).is_some(), "{t:?}");
             }
-            let c = &cm.dt.core;
-            for tv in &c.v {
+            let c = &cm.m;
+            for tv in &c.tv {
                 if tv[0] == DEAD {
                     continue;
                 }

@@ -1,93 +1,75 @@
-//! Recovery's mutable tetrahedral mesh, which need not stay Delaunay:
-//! flips, edge removal, a journal for replay and rollback, and an
-//! invariant checker.
+//! The domain mesh as recovery uses it: with the kernel's ghost cells and a
+//! journal.
 //!
-//! It wraps the kernel's [`Delaunay3`] (same flat arrays: `v`, packed
-//! adjacency `adj` with words `4 * tet + facet`, ghost cells with
-//! [`INF`] in position 3, a free list) and adds a vertex → tetrahedron hint
-//! table so that stars and edge rings are found locally. Once a flip has
-//! been applied, the kernel's own Delaunay insertion must no longer be used
-//! on the wrapped structure. Recovery needs the ghost cells (hull 2-2
-//! flips, walks outside the domain before carving), so it keeps this
-//! structure; after carving the domain goes to the constrained domain mesh
-//! ([`crate::tet::dmesh`], where refinement inserts points by constrained
-//! Bowyer–Watson), and the two share the ring walk and the edge-removal
-//! dynamic program ([`crate::tet::dmesh::ring`]).
+//! [`Journaled`] holds a [`DomainMesh`] whose arrays are those of the
+//! kernel's [`Delaunay3`] (moved in by [`Journaled::new`], moved back by
+//! [`Journaled::into_dt`], no copy): ghost cells with [`INF`] in position 3
+//! close the convex hull, so no face is on the boundary ([`crate::NONE`]),
+//! hull 2-2 flips are replacements like any other, and walks pass outside
+//! the domain before carving. Once a flip has been applied, the kernel's
+//! Delaunay insertion must no longer be used on the returned structure.
 //!
-//! Operations (all combinatorial decisions by exact `orient3d`/`insphere`;
-//! an operation whose result would contain a tetrahedron that is not
-//! strictly positive is refused and leaves the mesh untouched):
+//! Every mesh change goes through [`DomainMesh::replace`]; the star walk,
+//! the edge ring, the visit stamps and the invariant checker are the domain
+//! mesh's. Added here (all combinatorial decisions by exact `orient3d`; an
+//! operation whose result would contain a tetrahedron that is not strictly
+//! positive is refused and leaves the mesh untouched):
 //!
-//! * [`CMesh::flip23`] — two tetrahedra sharing a face become three
+//! * [`Journaled::flip23`] — two tetrahedra sharing a face become three
 //!   sharing the edge between the two apexes (valid iff that edge crosses
 //!   the face's interior);
-//! * [`CMesh::remove_edge`] — the `n` tetrahedra around an edge become the
-//!   `2n - 4` tetrahedra joining a triangulation of the ring polygon to the
-//!   edge's two ends (Shewchuk's edge removal; `n = 3` is the 3-2 flip,
-//!   `n = 4` the 4-4 flip). The triangulation is chosen by dynamic
-//!   programming over the ring (O(n³)) among those whose tetrahedra are all
-//!   positive, minimising a caller-supplied cost (e.g. new edges crossing a
-//!   facet to recover);
-//! * [`CMesh::check`] — topology, orientation and the vertex hints.
+//! * [`Journaled::remove_edge`] — the `n` tetrahedra around an edge become
+//!   the `2n - 4` tetrahedra joining a triangulation of the ring polygon to
+//!   the edge's two ends, chosen by the shared dynamic program
+//!   ([`ring::triangulate`]) among those whose tetrahedra are all positive,
+//!   minimising a caller-supplied cost; a convex-hull edge between two
+//!   coplanar hull faces is the hull's 2-2 flip. Impossible removals of
+//!   long rings are memoized (the answer depends only on exact signs).
 //!
 //! Nothing here recurses; rings are capped ([`MAX_RING`]).
 //!
 //! # Journal
 //!
-//! Every operation is logged as "these tetrahedra became those":
-//! [`CMesh::replay`] re-applies a log where all the removed tetrahedra are
-//! still present (the recovery's next round), [`CMesh::rollback`] undoes the
-//! operations since a mark (a failed segment), and
-//! [`CMesh::removed_vertices_since`] names the vertices whose tetrahedra an
-//! operation removed (which failed segments to retry).
-//!
-//! # Costs
-//!
-//! Star walks mark visited slots with a per-slot generation stamp (no
-//! linear `contains`, no hash set) and reuse one list, so `find_edge` and
-//! `find_face` allocate nothing; the segment walk's `first_hit` stops at the
-//! hit, with one `orient3d` per cell for its orientation. Edge removal reuses
-//! its ring lists and dynamic-programming tables. `replace` matches the faces
-//! of the removed and created tetrahedra (keys sorted by a three-element
-//! network and packed into one `u128`) by linear search in two short reused
-//! lists (an operation has at most `2 * MAX_RING` outer faces), and logs the
-//! faces an operation removes or creates. The recovery's coverage refresh
-//! turns the touched faces into candidate triangles with one flag per
-//! triangle, locally unless that would cost more than the global pass;
-//! face-key lookups over the whole mesh use the `surface` module's
-//! `TripleIndex` (triples filed by their least vertex, no hashing).
+//! Every replacement is logged as "these tetrahedra became those":
+//! [`Journaled::replay`] re-applies a log where all the removed tetrahedra
+//! are still present (the recovery's next round), [`Journaled::rollback`]
+//! undoes the operations since a mark (a failed segment), and
+//! [`Journaled::removed_vertices_since`] names the vertices whose
+//! tetrahedra an operation removed (which failed segments to retry). The
+//! faces each replacement removes or creates are collected
+//! ([`Journaled::take_touched`]): the recovery's coverage refresh turns
+//! them into candidate triangles locally.
 
-use crate::tet::local::{face, fkey};
 use std::cell::RefCell;
 
 use delone_predicates::orient3d;
 
-use super::delaunay::Core;
-use super::dmesh::ring::{self, RingEnd};
-use super::dmesh::Stamps;
-use super::local::{DEAD, INF};
-use super::Delaunay3;
+use super::ring::{self, RingEnd};
+use super::{DomainMesh, Stamps};
+use crate::geom::ids::IdSet;
+use crate::tet::local::{face, fkey, DEAD, INF};
+use crate::tet::Delaunay3;
 
-/// Cost of a ring triangle in [`CMesh::remove_edge`] (gets the points).
+/// Cost of a ring triangle in [`Journaled::remove_edge`] (gets the points).
 pub(crate) type TriCost<'c> = &'c dyn Fn(&[[f64; 3]], [u32; 3]) -> i64;
-/// Cost of a new ring chord in [`CMesh::remove_edge`] (gets the points).
+/// Cost of a new ring chord in [`Journaled::remove_edge`] (gets the points).
 pub(crate) type EdgeCost<'c> = &'c dyn Fn(&[[f64; 3]], u32, u32) -> i64;
 
-/// Whether [`CMesh::replay`] may replace the given tetrahedra (removed,
+/// Whether [`Journaled::replay`] may replace the given tetrahedra (removed,
 /// created).
 pub(crate) type ReplayTest<'c> = &'c dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool;
 
-/// Longest edge ring [`CMesh::remove_edge`] handles.
+/// Longest edge ring [`Journaled::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 6;
 
-/// Replacements recorded by a [`CMesh`] while logging
-/// ([`CMesh::start_log`]): per operation, the tetrahedra it removed and
-/// those it created, as vertex tuples. [`CMesh::replay`] applies them to
-/// another mesh on (a superset of) the same points.
+/// Replacements recorded while logging ([`Journaled::start_log`]): per
+/// operation, the tetrahedra it removed and those it created, as vertex
+/// tuples. [`Journaled::replay`] applies them to another mesh on (a
+/// superset of) the same points.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct OpLog {
     /// The removed, then the created tetrahedra of each operation.
@@ -99,62 +81,51 @@ pub(crate) struct OpLog {
     ops: Vec<(u32, u16, u16)>,
 }
 
-/// A mutable tetrahedralization (see the module documentation).
+/// A domain mesh with ghost cells and a journal (see the module
+/// documentation).
 #[derive(Debug, Clone)]
-pub(crate) struct CMesh<'a> {
-    /// The wrapped arrays and points.
-    pub(crate) dt: Delaunay3<'a>,
-    /// Per vertex: a live tetrahedron containing it (or `DEAD`).
-    vt: Vec<u32>,
+pub(crate) struct Journaled<'a> {
+    /// The tetrahedra, ghost cells included (no subface marks, no regions).
+    pub(crate) m: DomainMesh,
+    /// The kernel structure whose arrays `m` holds: the points and the
+    /// kernel's other state, given back by [`Journaled::into_dt`].
+    shell: Delaunay3<'a>,
+    /// The slot the kernel's next walk starts from.
+    last: u32,
     /// 2-3 flips performed.
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
     /// Finite faces (sorted triples) removed or created by the
-    /// replacements since the last [`CMesh::take_touched`] (unsorted, with
-    /// repeats; at least one per replacement).
+    /// replacements since the last [`Journaled::take_touched`] (unsorted,
+    /// with repeats; at least one per replacement).
     touched: Vec<[u32; 3]>,
     /// Edge removals known to be impossible (rings of [`MEMO_RING`] or more
     /// vertices): `[a, b, ring…]` with the ring rotated to start at its
-    /// least vertex. Whether a removal is possible
-    /// depends only on this (exact signs), so a failure is never retried;
-    /// the set may be carried over to another mesh on the same points
-    /// ([`CMesh::take_failed`], [`CMesh::set_failed`]).
-    failed: crate::geom::ids::IdSet<Vec<u32>>,
-    /// The replacements since [`CMesh::start_log`], when logging.
+    /// least vertex; may be carried over to another mesh on the same points
+    /// ([`Journaled::take_failed`], [`Journaled::set_failed`]).
+    failed: IdSet<Vec<u32>>,
+    /// The replacements since [`Journaled::start_log`], when logging.
     log: Option<OpLog>,
-    /// Scratch of the star walks (a per-slot visit stamp, so a walk is
-    /// linear in the star's size, and a reusable list).
-    walk: RefCell<Walk>,
-    /// Scratch of [`CMesh::replace`]: open outer faces and open new faces.
-    outer: Vec<(u128, u32)>,
-    open: Vec<(u128, u32)>,
-    /// Scratch of [`CMesh::remove_edge`]: the ring's tetrahedra and
-    /// vertices, and the dynamic program's tables.
-    ring_tets: Vec<u32>,
-    ring_verts: Vec<u32>,
+    /// The visited set of [`Journaled::visit`] (the star walks use the
+    /// domain mesh's own set).
+    visited: RefCell<Stamps>,
+    /// Scratch of the star searches, of the dynamic program and of the
+    /// new slots of an operation.
+    buf: RefCell<Vec<u32>>,
+    ring: (Vec<u32>, Vec<u32>),
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
-    /// Scratch of the new slots of a flip or edge removal.
     ids: Vec<u32>,
 }
 
-/// Scratch of [`CMesh::star_until`]: visit stamps per slot (equal to `gen`
-/// when visited by the current walk) and a list for
-/// [`CMesh::find_edge`]/[`CMesh::find_face`].
-#[derive(Debug, Default, Clone)]
-struct Walk {
-    star: Stamps,
-    buf: Vec<u32>,
-    /// The visited set of [`CMesh::visit`].
-    visited: Stamps,
-}
-
-impl<'a> CMesh<'a> {
-    /// Wraps a tetrahedralization.
-    pub(crate) fn new(dt: Delaunay3<'a>) -> Self {
-        let mut vt = vec![DEAD; dt.points().len()];
-        for (t, tv) in dt.core.v.iter().enumerate() {
+impl<'a> Journaled<'a> {
+    /// Takes over a tetrahedralization's arrays (ghost cells included);
+    /// each vertex hint is the first slot holding the vertex.
+    pub(crate) fn new(mut dt: Delaunay3<'a>) -> Self {
+        let c = &mut dt.core;
+        let mut vt = vec![DEAD; dt.points.len()];
+        for (t, tv) in c.v.iter().enumerate() {
             if tv[0] == DEAD {
                 continue;
             }
@@ -164,27 +135,62 @@ impl<'a> CMesh<'a> {
                 }
             }
         }
-        CMesh {
-            dt,
+        // The kernel's per-slot marks are all clear outside an operation:
+        // they become the (empty) subface marks.
+        let m = DomainMesh {
+            tv: std::mem::take(&mut c.v),
+            nb: std::mem::take(&mut c.adj),
+            mask: std::mem::take(&mut c.mark),
+            free: std::mem::take(&mut c.free),
             vt,
+            ..DomainMesh::default()
+        };
+        Journaled {
+            m,
+            last: c.last,
+            shell: dt,
             flips23: 0,
             removals: 0,
             touched: Vec::new(),
             failed: Default::default(),
             log: None,
-            walk: RefCell::new(Walk::default()),
-            outer: Vec::new(),
-            open: Vec::new(),
-            ring_tets: Vec::new(),
-            ring_verts: Vec::new(),
+            visited: Default::default(),
+            buf: Default::default(),
+            ring: Default::default(),
             dp_best: Vec::new(),
             dp_choice: Vec::new(),
             ids: Vec::new(),
         }
     }
 
-    /// Starts recording every replacement (flip, edge removal) in a fresh
-    /// [`OpLog`].
+    /// Gives the arrays back to the kernel structure.
+    pub(crate) fn into_dt(self) -> Delaunay3<'a> {
+        let (m, mut dt) = (self.m, self.shell);
+        let c = &mut dt.core;
+        c.finite =
+            m.tv.iter()
+                .filter(|tv| tv[0] != DEAD && tv[3] != INF)
+                .count();
+        c.v = m.tv;
+        c.adj = m.nb;
+        c.mark = m.mask;
+        c.free = m.free;
+        c.last = self.last;
+        dt
+    }
+
+    /// The points (input, then inserted).
+    #[inline]
+    pub(crate) fn pts(&self) -> &[[f64; 3]] {
+        &self.shell.points
+    }
+
+    /// Appends a point (in no tetrahedron yet).
+    pub(crate) fn push_point(&mut self, p: [f64; 3]) {
+        self.shell.points.to_mut().push(p);
+    }
+
+    /// Starts recording every replacement in a fresh [`OpLog`].
     pub(crate) fn start_log(&mut self) {
         self.log = Some(OpLog::default());
     }
@@ -205,7 +211,7 @@ impl<'a> CMesh<'a> {
     /// returns how many it re-applied.
     pub(crate) fn replay(&mut self, log: &OpLog, allowed: ReplayTest<'_>) -> usize {
         let mut done = 0;
-        let (mut slots, mut buf, mut ids) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut slots, mut ids) = (Vec::new(), Vec::new());
         // Recorded slot -> slot here of the same tetrahedron (when a
         // replayed operation created it; else the recorded slot is tried).
         let mut map: Vec<u32> = Vec::new();
@@ -220,7 +226,7 @@ impl<'a> CMesh<'a> {
                     .filter(|&x| x != DEAD)
                     .unwrap_or(r)
             };
-            if !self.locate_tets(old, hint, &mut slots, &mut buf) || !allowed(old, new) {
+            if !self.locate_tets(old, hint, &mut slots) || !allowed(old, new) {
                 continue;
             }
             self.replace_into(&slots, new, &mut ids);
@@ -230,21 +236,27 @@ impl<'a> CMesh<'a> {
                 }
                 map[r as usize] = x;
             }
-            // Only a 2-3 flip turns two tetrahedra into three.
-            if (no, nn) == (2, 3) {
-                self.flips23 += 1;
-            } else {
-                self.removals += 1;
-            }
+            self.count(no, nn, 1);
             done += 1;
         }
         done
     }
 
+    /// Adds `by` to the count of the operation replacing `no` tetrahedra by
+    /// `nn` (only a 2-3 flip turns two into three).
+    fn count(&mut self, no: usize, nn: usize, by: isize) {
+        let c = if (no, nn) == (2, 3) {
+            &mut self.flips23
+        } else {
+            &mut self.removals
+        };
+        *c = c.wrapping_add_signed(by);
+    }
+
     /// Calls `f(op, w)` for every vertex `w` (not [`INF`], with repeats)
     /// of the tetrahedra removed by the operations logged since `mark`
-    /// ([`CMesh::log_mark`]), `op` being the operation's index in the log.
-    /// The tetrahedra an operation creates have the same vertices.
+    /// ([`Journaled::log_mark`]), `op` being the operation's index in the
+    /// log. The tetrahedra an operation creates have the same vertices.
     pub(crate) fn removed_vertices_since(&self, mark: usize, mut f: impl FnMut(usize, u32)) {
         let Some(log) = &self.log else {
             return;
@@ -262,35 +274,31 @@ impl<'a> CMesh<'a> {
     }
 
     /// The number of operations logged so far (a mark for
-    /// [`CMesh::rollback`]); 0 when not logging.
+    /// [`Journaled::rollback`]); 0 when not logging.
     pub(crate) fn log_mark(&self) -> usize {
         self.log.as_ref().map_or(0, |l| l.ops.len())
     }
 
     /// Undoes, newest first, the operations logged since `mark`
-    /// ([`CMesh::log_mark`]) and forgets them: each created set of
+    /// ([`Journaled::log_mark`]) and forgets them: each created set of
     /// tetrahedra is replaced back by the removed one (valid for the same
-    /// reason as [`CMesh::replay`]).
+    /// reason as [`Journaled::replay`]).
     pub(crate) fn rollback(&mut self, mark: usize) {
         let Some(mut log) = self.log.take() else {
             return;
         };
-        let (mut slots, mut buf, mut ids) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut slots, mut ids) = (Vec::new(), Vec::new());
         for &(s, no, nn) in log.ops[mark.min(log.ops.len())..].iter().rev() {
             let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
             let (old, new) = log.tets[s..s + no + nn].split_at(no);
             let new_at = &log.slots[s + no..s + no + nn];
-            let found = self.locate_tets(new, |i| new_at[i], &mut slots, &mut buf);
+            let found = self.locate_tets(new, |i| new_at[i], &mut slots);
             debug_assert!(found, "rollback: a created tetrahedron is gone");
             if !found {
                 break;
             }
             self.replace_into(&slots, old, &mut ids);
-            if (no, nn) == (2, 3) {
-                self.flips23 -= 1;
-            } else {
-                self.removals -= 1;
-            }
+            self.count(no, nn, -1);
         }
         if let Some(&(s, _, _)) = log.ops.get(mark) {
             log.tets.truncate(s as usize);
@@ -308,14 +316,11 @@ impl<'a> CMesh<'a> {
         old: &[[u32; 4]],
         hint: impl Fn(usize) -> u32,
         slots: &mut Vec<u32>,
-        buf: &mut Vec<u32>,
     ) -> bool {
         slots.clear();
-        let c = self.core();
-        let same = |t: u32, q: &[u32; 4]| {
-            let tv = c.v.get(t as usize).copied().unwrap_or([DEAD; 4]);
-            tv[0] != DEAD && q.iter().all(|w| tv.contains(w))
-        };
+        let m = &self.m;
+        let same =
+            |t: u32, q: &[u32; 4]| m.alive(t) && q.iter().all(|w| m.tv[t as usize].contains(w));
         'next: for (i, q) in old.iter().enumerate() {
             let h = hint(i);
             if same(h, q) {
@@ -324,7 +329,7 @@ impl<'a> CMesh<'a> {
             }
             for j in 0..slots.len() {
                 for f in 0..4 {
-                    let n = c.adj[slots[j] as usize][f] >> 2;
+                    let n = m.nb[slots[j] as usize][f] >> 2;
                     if same(n, q) {
                         slots.push(n);
                         continue 'next;
@@ -337,10 +342,7 @@ impl<'a> CMesh<'a> {
             let Some(&w) = q.iter().find(|&&w| w != INF) else {
                 return false;
             };
-            if self.vt.get(w as usize).is_none_or(|&t| t == DEAD) {
-                return false;
-            }
-            match self.star_until(w, buf, |t| same(t, q)) {
+            match self.star_find(w, |t| same(t, q)) {
                 Some(t) => slots.push(t),
                 None => return false,
             }
@@ -361,43 +363,34 @@ impl<'a> CMesh<'a> {
         out
     }
 
-    /// [`CMesh::take_touched`] unsorted, with repeats (cheaper when the
+    /// [`Journaled::take_touched`] unsorted, with repeats (cheaper when the
     /// caller deduplicates what it derives from the faces).
     pub(crate) fn take_touched_raw(&mut self) -> Vec<[u32; 3]> {
         std::mem::take(&mut self.touched)
     }
 
-    /// How many faces were logged since the last [`CMesh::take_touched`]
-    /// (with repeats).
+    /// How many faces were logged since the last
+    /// [`Journaled::take_touched`] (with repeats).
     pub(crate) fn touched_len(&self) -> usize {
         self.touched.len()
     }
 
-    /// Forgets the faces logged since the last [`CMesh::take_touched`].
+    /// Forgets the faces logged since the last [`Journaled::take_touched`].
     pub(crate) fn clear_touched(&mut self) {
         self.touched.clear();
     }
 
-    /// Takes the known impossible edge removals (see [`CMesh::set_failed`]).
-    pub(crate) fn take_failed(&mut self) -> crate::geom::ids::IdSet<Vec<u32>> {
+    /// Takes the known impossible edge removals (see
+    /// [`Journaled::set_failed`]).
+    pub(crate) fn take_failed(&mut self) -> IdSet<Vec<u32>> {
         std::mem::take(&mut self.failed)
     }
 
-    /// Sets the known impossible edge removals, from [`CMesh::take_failed`]
-    /// of a mesh whose points are a prefix of (or equal to) these points.
-    pub(crate) fn set_failed(&mut self, failed: crate::geom::ids::IdSet<Vec<u32>>) {
+    /// Sets the known impossible edge removals, from
+    /// [`Journaled::take_failed`] of a mesh whose points are a prefix of (or
+    /// equal to) these points.
+    pub(crate) fn set_failed(&mut self, failed: IdSet<Vec<u32>>) {
         self.failed = failed;
-    }
-
-    /// The points (input, then inserted).
-    #[inline]
-    pub(crate) fn pts(&self) -> &[[f64; 3]] {
-        self.dt.points()
-    }
-
-    #[inline]
-    fn core(&self) -> &Core {
-        &self.dt.core
     }
 
     /// True when finite `tv` is strictly positive.
@@ -408,85 +401,43 @@ impl<'a> CMesh<'a> {
         orient3d(g(0), g(1), g(2), g(3)) < 0.0
     }
 
-    /// Live tetrahedra (ghosts included) containing vertex `u`.
+    /// Live tetrahedra (ghosts included) containing vertex `u`, breadth
+    /// first from its hint.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
         let mut out = Vec::with_capacity(32);
-        self.star_until(u, &mut out, |_| false);
+        self.m.star_walk(u, &mut out, |_, _| true, |_| false);
         out
     }
 
-    /// Walks the star of `u` into `out` (breadth first from the hint),
-    /// stopping early at the first tetrahedron for which `stop` holds;
-    /// returns it.
-    fn star_until(&self, u: u32, out: &mut Vec<u32>, stop: impl Fn(u32) -> bool) -> Option<u32> {
-        let c = self.core();
-        let mut start = self.vt.get(u as usize).copied().unwrap_or(DEAD);
-        if start == DEAD || c.v[start as usize][0] == DEAD || !c.v[start as usize].contains(&u) {
-            match c.v.iter().position(|tv| tv[0] != DEAD && tv.contains(&u)) {
-                Some(t) => start = t as u32,
-                None => return None,
-            }
-        }
-        out.clear();
-        out.push(start);
-        // Visited slots carry this walk's stamp (no search, no set).
-        let mut w = self.walk.borrow_mut();
-        let stamp = &mut w.star;
-        stamp.clear();
-        stamp.insert(start);
-        let mut i = 0;
-        while i < out.len() {
-            let t = out[i];
-            i += 1;
-            if stop(t) {
-                return Some(t);
-            }
-            let tv = c.v[t as usize];
-            for (f, &x) in tv.iter().enumerate() {
-                if x == u {
-                    continue;
-                }
-                let n = c.adj[t as usize][f] >> 2;
-                if stamp.insert(n) {
-                    out.push(n);
-                }
-            }
-        }
-        None
-    }
-
-    /// Empties the visited set of [`CMesh::visit`].
+    /// Empties the visited set of [`Journaled::visit`].
     pub(crate) fn visit_begin(&self) {
-        self.walk.borrow_mut().visited.clear();
+        self.visited.borrow_mut().clear();
     }
 
-    /// Adds slot `x` to the visited set; true when it was not in it (a
-    /// stamp per slot: no hashing). One set at a time
-    /// ([`CMesh::visit_begin`]).
+    /// Adds slot `x` to the visited set; true when it was not in it. One
+    /// set at a time ([`Journaled::visit_begin`]).
     pub(crate) fn visit(&self, x: u32) -> bool {
-        self.walk.borrow_mut().visited.insert(x)
+        self.visited.borrow_mut().insert(x)
     }
 
-    /// The first tetrahedron, in [`CMesh::star`]'s order, of `u`'s star for
-    /// which `stop` holds (the walk stops there; no allocation).
+    /// The first tetrahedron, in [`Journaled::star`]'s order, of `u`'s star
+    /// for which `stop` holds (the walk stops there; no allocation).
     pub(crate) fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
-        let mut buf = std::mem::take(&mut self.walk.borrow_mut().buf);
-        let r = self.star_until(u, &mut buf, stop);
-        self.walk.borrow_mut().buf = buf;
+        let mut buf = std::mem::take(&mut *self.buf.borrow_mut());
+        let r = self.m.star_walk(u, &mut buf, |_, _| true, stop);
+        *self.buf.borrow_mut() = buf;
         r
     }
 
     /// A live tetrahedron containing edge `u v`.
     pub(crate) fn find_edge(&self, u: u32, v: u32) -> Option<u32> {
-        let c = self.core();
-        self.star_find(u, |t| c.v[t as usize].contains(&v))
+        self.star_find(u, |t| self.m.tv[t as usize].contains(&v))
     }
 
     /// A live tetrahedron (ghosts included) having face `a b c`.
     pub(crate) fn find_face(&self, a: u32, b: u32, c: u32) -> Option<u32> {
-        let core = self.core();
         self.star_find(a, |t| {
-            let tv = core.v[t as usize];
+            let tv = self.m.tv[t as usize];
             tv.contains(&b) && tv.contains(&c)
         })
     }
@@ -499,8 +450,8 @@ impl<'a> CMesh<'a> {
         self.edge_ring_with(t, a, b, false)
     }
 
-    /// [`CMesh::edge_ring`]; with `ghosts`, rings through ghost cells are
-    /// returned too ([`INF`] then appears in the ring).
+    /// [`Journaled::edge_ring`]; with `ghosts`, rings through ghost cells
+    /// are returned too ([`INF`] then appears in the ring).
     pub(crate) fn edge_ring_with(
         &self,
         t: u32,
@@ -508,132 +459,90 @@ impl<'a> CMesh<'a> {
         b: u32,
         ghosts: bool,
     ) -> Option<(Vec<u32>, Vec<u32>)> {
-        let mut tets = Vec::with_capacity(8);
-        let mut ring = Vec::with_capacity(8);
-        self.edge_ring_into(t, a, b, ghosts, &mut tets, &mut ring)
+        let (mut tets, mut ring) = (Vec::with_capacity(8), Vec::with_capacity(8));
+        self.ring_into(t, (a, b), ghosts, (&mut tets, &mut ring))
             .then_some((tets, ring))
     }
 
-    /// [`CMesh::edge_ring_with`] into the given lists (cleared first);
-    /// false (lists unspecified) where that returns `None`.
-    fn edge_ring_into(
+    /// [`Journaled::edge_ring_with`] into the given lists (cleared first;
+    /// the shared walk [`ring::walk`]); false where that gives `None`.
+    fn ring_into(
         &self,
         t: u32,
-        a: u32,
-        b: u32,
+        (a, b): (u32, u32),
         ghosts: bool,
-        tets: &mut Vec<u32>,
-        ring: &mut Vec<u32>,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
     ) -> bool {
         tets.clear();
         ring.clear();
-        let c = self.core();
-        let tv = c.v[t as usize];
-        if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
-            return false;
-        }
-        let Some(xy) = ring::opposite(tv, a, b) else {
+        let m = &self.m;
+        let Some(xy) = m
+            .alive(t)
+            .then(|| m.tv[t as usize])
+            .filter(|tv| tv.contains(&a) && tv.contains(&b))
+            .and_then(|tv| ring::opposite(tv, a, b))
+        else {
             return false;
         };
-        let verts = |t: u32| c.v[t as usize];
-        // Every face is crossed; a ghost cell ends the walk unless asked for.
-        let cross = |t: u32, i: usize| {
-            if !ghosts && c.v[t as usize].contains(&INF) {
+        let verts = |x: u32| m.tv[x as usize];
+        // A ghost cell ends the walk unless asked for.
+        let cross = |x: u32, i: usize| {
+            if !ghosts && m.tv[x as usize].contains(&INF) {
                 Err(())
             } else {
-                Ok(Some(c.adj[t as usize][i] >> 2))
+                Ok(Some(m.nb[x as usize][i] >> 2))
             }
         };
         ring::walk(t, xy, (a, b), MAX_RING, (tets, ring), verts, cross) == Some(RingEnd::Closed)
     }
 
-    /// Replaces tetrahedra `old` (a connected set) by `new`, relinking
-    /// everything by face keys. Returns the new slots.
+    /// Replaces tetrahedra `old` (a connected set) by `new` filling the same
+    /// polyhedron ([`DomainMesh::replace`]), logging the operation and the
+    /// faces it removes or creates. Returns the new slots.
     pub(crate) fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Vec<u32> {
         let mut ids = Vec::with_capacity(new.len());
         self.replace_into(old, new, &mut ids);
         ids
     }
 
-    /// [`CMesh::replace`] writing the new slots into `ids` (cleared first;
-    /// no allocation when it has room).
+    /// [`Journaled::replace`] writing the new slots into `ids` (cleared
+    /// first).
     pub(crate) fn replace_into(&mut self, old: &[u32], new: &[[u32; 4]], ids: &mut Vec<u32>) {
-        // Faces are matched by linear search in two short lists (an
-        // operation has at most 2 * MAX_RING outer faces): cheaper than
-        // hashing for the 2-3 flips and small rings that dominate.
-        let mut outer = std::mem::take(&mut self.outer);
-        let mut open = std::mem::take(&mut self.open);
-        outer.clear();
-        open.clear();
         // Touched faces, each once per operation: the faces between two
-        // removed tetrahedra and those between two created ones (below) —
-        // the faces that disappear or appear. The outer faces (shared by
-        // the removed and the created tetrahedra) stay; but every removed or
-        // created tetrahedron has a face inside the operation (both sets
-        // are connected and have two or more members), so a tetrahedron
-        // whose four vertices lie on some triangle is still seen through
-        // one of its faces.
+        // removed tetrahedra and those between two created ones — the faces
+        // that disappear or appear. Every removed or created tetrahedron
+        // has such a face (both sets are connected and have two or more
+        // members), so a tetrahedron whose four vertices lie on some
+        // triangle is still seen through one of its faces.
         let finite = |k: &[u32; 3]| !k.contains(&INF);
-        // A sorted triple as one integer (one comparison per candidate).
-        let pack = |k: [u32; 3]| u128::from(k[0]) << 64 | u128::from(k[1]) << 32 | u128::from(k[2]);
-        let touched0 = self.touched.len();
-        let mut first_outer = None;
-        {
-            let c = &self.dt.core;
-            for &t in old {
-                let tv = c.v[t as usize];
-                for f in 0..4 {
-                    let w = c.adj[t as usize][f];
-                    let k = fkey(face(tv, f));
-                    if !old.contains(&(w >> 2)) {
-                        if first_outer.is_none() && finite(&k) {
-                            first_outer = Some(k);
-                        }
-                        outer.push((pack(k), w));
-                    } else if w >> 2 > t && finite(&k) {
-                        self.touched.push(k);
-                    }
-                }
-            }
-        }
-        let c = &mut self.dt.core;
+        // The first finite outer face (logged when no inner face is).
+        let first_outer = old
+            .iter()
+            .flat_map(|&t| (0..4).map(move |f| (t, f)))
+            .filter(|&(t, f)| !old.contains(&(self.m.nb[t as usize][f] >> 2)))
+            .map(|(t, f)| fkey(face(self.m.tv[t as usize], f)))
+            .find(finite);
         if let Some(log) = &mut self.log {
             let start = log.tets.len() as u32;
-            log.tets.extend(old.iter().map(|&t| c.v[t as usize]));
+            log.tets.extend(old.iter().map(|&t| self.m.tv[t as usize]));
             log.slots.extend_from_slice(old);
             log.ops.push((start, old.len() as u16, new.len() as u16));
         }
-        for &t in old {
-            c.release(t);
-        }
-        ids.clear();
-        ids.extend(new.iter().map(|&tv| c.alloc(tv)));
+        let mut inner = self.m.inner.take().unwrap_or_default();
+        inner.clear();
+        self.m.inner = Some(inner);
+        let gone = self.m.replace(old, new, 0, ids);
+        let inner = self.m.inner.as_deref().unwrap_or_default();
+        let touched0 = self.touched.len();
+        self.touched.extend(inner.iter().filter(|k| finite(k)));
+        debug_assert!(
+            gone.gone.is_empty() && gone.made.is_empty(),
+            "replace: unmatched faces"
+        );
         if let Some(log) = &mut self.log {
             log.tets.extend_from_slice(new);
             log.slots.extend_from_slice(ids);
         }
-        for (&x, &tv) in ids.iter().zip(new) {
-            for f in 0..4 {
-                let k = fkey(face(tv, f));
-                let pk = pack(k);
-                if let Some(i) = outer.iter().position(|e| e.0 == pk) {
-                    let w = outer.swap_remove(i).1;
-                    c.link(x, f, w >> 2, (w & 3) as usize);
-                } else if let Some(i) = open.iter().position(|e| e.0 == pk) {
-                    let w = open.swap_remove(i).1;
-                    c.link(x, f, w >> 2, (w & 3) as usize);
-                    if finite(&k) {
-                        self.touched.push(k);
-                    }
-                } else {
-                    open.push((pk, 4 * x + f as u32));
-                }
-            }
-        }
-        debug_assert!(
-            outer.is_empty() && open.is_empty(),
-            "replace: unmatched faces"
-        );
         // Every replacement logs at least one face (`touched_len` is a
         // change stamp for callers).
         if self.touched.len() == touched0 {
@@ -641,20 +550,8 @@ impl<'a> CMesh<'a> {
                 self.touched.push(k);
             }
         }
-        self.outer = outer;
-        self.open = open;
         if let Some(&x) = ids.first() {
-            c.last = x;
-        }
-        for (&x, tv) in ids.iter().zip(new) {
-            for &w in tv {
-                if w != INF {
-                    if self.vt.len() <= w as usize {
-                        self.vt.resize(w as usize + 1, DEAD);
-                    }
-                    self.vt[w as usize] = x;
-                }
-            }
+            self.last = x;
         }
     }
 
@@ -662,14 +559,13 @@ impl<'a> CMesh<'a> {
     /// false (nothing changed) when a ghost is involved or the edge between
     /// the two apexes does not cross the face's interior.
     pub(crate) fn flip23(&mut self, t: u32, f: usize) -> bool {
-        let c = self.core();
-        let tv = c.v[t as usize];
-        if tv[0] == DEAD {
+        if !self.m.alive(t) {
             return false;
         }
-        let w = c.adj[t as usize][f];
+        let tv = self.m.tv[t as usize];
+        let w = self.m.nb[t as usize][f];
         let (u, g) = (w >> 2, (w & 3) as usize);
-        let uv = c.v[u as usize];
+        let uv = self.m.tv[u as usize];
         if tv.contains(&INF) || uv.contains(&INF) {
             return false;
         }
@@ -689,9 +585,9 @@ impl<'a> CMesh<'a> {
     /// Removes edge `a b` (contained in `t`): the tetrahedra around it are
     /// replaced by a triangulation of its ring joined to `a` and `b`, the
     /// one of least total cost (`tri_cost` per ring triangle, `edge_cost`
-    /// per new ring chord; both get the points) among those whose tetrahedra are all positive.
-    /// Returns the cost, or `None` (nothing changed) when no such
-    /// triangulation exists or the ring is too long.
+    /// per new ring chord; both get the points) among those whose
+    /// tetrahedra are all positive. Returns the cost, or `None` (nothing
+    /// changed) when no such triangulation exists or the ring is too long.
     ///
     /// A convex-hull edge `a b` whose two hull faces `a b c`, `a b d` are
     /// coplanar is removed too (the hull's 2-2 flip): the ring minus the
@@ -706,22 +602,16 @@ impl<'a> CMesh<'a> {
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
         // The ring lists are reused scratch (no allocation per call).
-        let (mut tets, mut r) = (
-            std::mem::take(&mut self.ring_tets),
-            std::mem::take(&mut self.ring_verts),
-        );
-        let out = if !self.edge_ring_into(t, a, b, true, &mut tets, &mut r) {
+        let (mut tets, mut r) = std::mem::take(&mut self.ring);
+        let out = if !self.ring_into(t, (a, b), true, (&mut tets, &mut r)) {
             None
         } else if r.len() < MEMO_RING {
             self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)
         } else {
-            let key = {
-                let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
-                let mut k = Vec::with_capacity(r.len() + 2);
-                k.extend([a, b]);
-                k.extend(r[m..].iter().chain(&r[..m]));
-                k
-            };
+            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+            let mut key = Vec::with_capacity(r.len() + 2);
+            key.extend([a, b]);
+            key.extend(r[m..].iter().chain(&r[..m]));
             if self.failed.contains(&key) {
                 None
             } else {
@@ -732,12 +622,11 @@ impl<'a> CMesh<'a> {
                 out
             }
         };
-        self.ring_tets = tets;
-        self.ring_verts = r;
+        self.ring = (tets, r);
         out
     }
 
-    /// [`CMesh::remove_edge`] once the ring is known.
+    /// [`Journaled::remove_edge`] once the ring is known.
     fn remove_ring(
         &mut self,
         tets: &[u32],
@@ -815,23 +704,11 @@ impl<'a> CMesh<'a> {
         Some(total)
     }
 
-    /// Checks the invariants: the kernel's topology and orientation checks,
-    /// and that every vertex hint names a live tetrahedron containing it.
-    // Used by the tests today and by 3D refinement next.
+    /// The invariant checker of the domain mesh ([`DomainMesh::check`],
+    /// ghost cells included) on these points.
     #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn check(&self) -> Result<(), String> {
-        self.dt.check_topology().map_err(|e| format!("{e:?}"))?;
-        let c = self.core();
-        for (w, &t) in self.vt.iter().enumerate() {
-            if t == DEAD {
-                continue;
-            }
-            let tv = c.v[t as usize];
-            if tv[0] == DEAD || !tv.contains(&(w as u32)) {
-                return Err(format!("vertex {w}: hint {t} does not contain it"));
-            }
-        }
-        Ok(())
+        self.m.check(self.pts())
     }
 }
 
@@ -840,8 +717,10 @@ mod tests {
     use super::*;
     use crate::tet::dmesh::tests::three_around_an_edge;
 
-    fn finite_tets(m: &CMesh<'_>) -> usize {
-        m.dt.num_tets()
+    fn finite_tets(m: &Journaled<'_>) -> usize {
+        m.m.live_slots()
+            .filter(|&t| !m.m.tv[t as usize].contains(&INF))
+            .count()
     }
 
     /// `n` points scattered in the unit cube (irrational strides).
@@ -856,17 +735,17 @@ mod tests {
             .collect()
     }
 
-    fn has_edge(m: &CMesh<'_>, a: u32, b: u32) -> bool {
+    fn has_edge(m: &Journaled<'_>, a: u32, b: u32) -> bool {
         m.find_edge(a, b).is_some()
     }
 
     #[test]
     fn rings_are_positively_ordered() {
         let pts = scattered(40);
-        let m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         m.check().unwrap();
         let mut rings = 0;
-        for (t, tv) in m.dt.core.v.iter().enumerate() {
+        for (t, tv) in m.m.tv.iter().enumerate() {
             if tv[0] == DEAD || tv.contains(&INF) {
                 continue;
             }
@@ -875,7 +754,7 @@ mod tests {
                 for i in 0..r.len() {
                     let q = [tv[0], tv[1], r[i], r[(i + 1) % r.len()]];
                     assert!(m.positive(q));
-                    let x = m.dt.core.v[tets[i] as usize];
+                    let x = m.m.tv[tets[i] as usize];
                     assert!(q.iter().all(|w| x.contains(w)));
                 }
             }
@@ -889,7 +768,7 @@ mod tests {
         // tetrahedra around it; removing it is the 3-2 flip, and the 2-3
         // flip of the new face brings it back.
         let pts = three_around_an_edge();
-        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         assert_eq!(finite_tets(&m), 3);
         let t = m.find_edge(3, 4).unwrap();
         assert!(m.find_face(0, 1, 2).is_none() && m.find_face(0, 3, 4).is_some());
@@ -902,14 +781,11 @@ mod tests {
             .star(3)
             .into_iter()
             .find(|&t| {
-                let tv = m.dt.core.v[t as usize];
+                let tv = m.m.tv[t as usize];
                 !tv.contains(&INF) && tv.contains(&0) && tv.contains(&1) && tv.contains(&2)
             })
             .unwrap();
-        let f = m.dt.core.v[t as usize]
-            .iter()
-            .position(|&w| w == 3)
-            .unwrap();
+        let f = m.m.tv[t as usize].iter().position(|&w| w == 3).unwrap();
         assert!(m.flip23(t, f));
         m.check().unwrap();
         assert_eq!(finite_tets(&m), 3);
@@ -922,15 +798,15 @@ mod tests {
             [0.2, 0.2, 1.0],
             [3.0, 3.0, -0.1],
         ];
-        let mut m2 = CMesh::new(Delaunay3::from_points(&pts2).unwrap());
-        let before = m2.dt.core.v.clone();
-        for t in 0..m2.dt.core.v.len() as u32 {
+        let mut m2 = Journaled::new(Delaunay3::from_points(&pts2).unwrap());
+        let before = m2.m.tv.clone();
+        for t in 0..m2.m.tv.len() as u32 {
             for f in 0..4 {
-                let tv = m2.dt.core.v[t as usize];
+                let tv = m2.m.tv[t as usize];
                 if tv[0] == DEAD || tv.contains(&INF) {
                     continue;
                 }
-                let nb = m2.dt.core.v[(m2.dt.core.adj[t as usize][f] >> 2) as usize];
+                let nb = m2.m.tv[(m2.m.nb[t as usize][f] >> 2) as usize];
                 if nb.contains(&INF) {
                     continue;
                 }
@@ -940,16 +816,17 @@ mod tests {
                 }
             }
         }
-        assert_eq!(m2.dt.core.v, before);
+        assert_eq!(m2.m.tv, before);
     }
 
     #[test]
     fn touched_faces_and_failed_removals_are_logged() {
         let pts = three_around_an_edge();
-        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         assert!(m.take_touched().is_empty());
         let t = m.find_edge(3, 4).unwrap();
         m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0).unwrap();
+        m.check().unwrap();
         let touched = m.take_touched();
         // The removed faces around 3-4 and the new face 0-1-2 are logged.
         assert!(touched.contains(&[0, 1, 2]));
@@ -958,14 +835,14 @@ mod tests {
         // Random points: every interior-edge removal that fails is
         // memoized and fails again; a failure changes nothing.
         let pts = scattered(40);
-        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         let mut failures = 0;
-        for t in 0..m.dt.core.v.len() as u32 {
-            let tv = m.dt.core.v[t as usize];
+        for t in 0..m.m.tv.len() as u32 {
+            let tv = m.m.tv[t as usize];
             if tv[0] == DEAD || tv.contains(&INF) || m.edge_ring(t, tv[0], tv[1]).is_none() {
                 continue;
             }
-            let before = m.dt.core.v.clone();
+            let before = m.m.tv.clone();
             let n = m.failed.len();
             let long = m
                 .edge_ring(t, tv[0], tv[1])
@@ -982,20 +859,20 @@ mod tests {
                     .remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
                     .is_none());
                 assert_eq!(m.failed.len(), k);
-                assert_eq!(m.dt.core.v, before);
+                assert_eq!(m.m.tv, before);
             } else if !long {
                 assert_eq!(m.failed.len(), n);
             }
+            m.check().unwrap();
         }
         assert!(failures > 0);
         m.check().unwrap();
     }
 
     /// The tetrahedra as sorted vertex sets, sorted.
-    fn tet_sets(m: &CMesh<'_>) -> Vec<[u32; 4]> {
+    fn tet_sets(m: &Journaled<'_>) -> Vec<[u32; 4]> {
         let mut out: Vec<[u32; 4]> =
-            m.dt.core
-                .v
+            m.m.tv
                 .iter()
                 .filter(|tv| tv[0] != DEAD)
                 .map(|tv| {
@@ -1011,23 +888,25 @@ mod tests {
     #[test]
     fn logged_operations_replay_and_roll_back() {
         let pts = scattered(60);
-        let base = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let base = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         let start = tet_sets(&base);
         let mut m = base.clone();
         m.start_log();
         let mut ops = 0;
-        for t in 0..m.dt.core.v.len() as u32 {
+        for t in 0..m.m.tv.len() as u32 {
             for f in 0..4 {
-                if m.dt.core.v[t as usize][0] != DEAD && m.flip23(t, f) {
+                if m.m.tv[t as usize][0] != DEAD && m.flip23(t, f) {
+                    m.check().unwrap();
                     ops += 1;
                 }
             }
-            let tv = m.dt.core.v[t as usize];
+            let tv = m.m.tv[t as usize];
             if tv[0] != DEAD
                 && !tv.contains(&INF)
                 && m.remove_edge(t, tv[0], tv[1], &|_, _| 0, &|_, _, _| 0)
                     .is_some()
             {
+                m.check().unwrap();
                 ops += 1;
             }
         }
@@ -1045,12 +924,14 @@ mod tests {
         // Refused operations are skipped (and those depending on them).
         let mut q = base.clone();
         assert_eq!(q.replay(&log, &|_, _| false), 0);
+        q.check().unwrap();
         assert_eq!(tet_sets(&q), start);
         // Rolled back from half way: the mesh of that moment.
         let mut h = base.clone();
         h.start_log();
         let half = h.replay(&log, &|_, _| true);
         assert_eq!(half, ops);
+        h.check().unwrap();
         h.rollback(ops / 2);
         h.check().unwrap();
         h.rollback(0);
@@ -1069,7 +950,7 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.5, 0.5, 1.0],
         ];
-        let mut m = CMesh::new(Delaunay3::from_points(&pts).unwrap());
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         let (a, b, c, d) = if has_edge(&m, 0, 2) {
             (0, 2, 1, 3)
         } else {
@@ -1085,6 +966,11 @@ mod tests {
         let t = m.find_edge(0, 4).unwrap();
         assert!(m.remove_edge(t, 0, 4, &|_, _| 0, &|_, _, _| 0).is_none());
         m.check().unwrap();
+        // The arrays go back to the kernel structure, whose own checker
+        // accepts them.
+        let dt = m.into_dt();
+        dt.check_topology().unwrap();
+        assert_eq!(dt.num_tets(), 2);
     }
 
     #[test]
@@ -1100,7 +986,7 @@ mod tests {
         pts.push([0.0, 0.0, 0.05]);
         pts.push([0.0, 0.0, -0.05]);
         let dt = Delaunay3::from_points(&pts).unwrap();
-        let mut m = CMesh::new(dt);
+        let mut m = Journaled::new(dt);
         let t = m.find_edge(6, 7).unwrap();
         let (tets, ring) = m.edge_ring(t, 6, 7).unwrap();
         assert_eq!((tets.len(), ring.len()), (6, 6));
@@ -1108,6 +994,5 @@ mod tests {
         m.remove_edge(t, 6, 7, &|_, _| 0, &|_, _, _| 1).unwrap();
         m.check().unwrap();
         assert_eq!(finite_tets(&m), before - 6 + 8);
-        m.check().unwrap();
     }
 }
