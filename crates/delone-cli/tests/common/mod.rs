@@ -8,8 +8,33 @@ use std::process::{Command, Output};
 /// The `delone` binary under test.
 pub const BIN: &str = env!("CARGO_BIN_EXE_delone");
 
+/// A test's temporary folder: removed when the test ends, kept when it
+/// fails (to look at what the run wrote). Some runs write hundreds of MB.
+pub struct TmpDir(PathBuf);
+
+impl std::ops::Deref for TmpDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for TmpDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TmpDir {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
 /// A new empty folder for one test, named after the test file and `name`.
-pub fn tmp(name: &str) -> PathBuf {
+pub fn tmp(name: &str) -> TmpDir {
     let d = std::env::temp_dir().join(format!(
         "delone-{}-{}-{name}",
         env!("CARGO_CRATE_NAME"),
@@ -17,7 +42,7 @@ pub fn tmp(name: &str) -> PathBuf {
     ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    TmpDir(d)
 }
 
 /// Runs `delone args...` in `dir`.
