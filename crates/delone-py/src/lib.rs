@@ -277,6 +277,18 @@ fn ids<'py, const K: usize>(
     PyArray1::from_vec(py, flat).reshape([v.len(), K])
 }
 
+/// [`ids`] for an owned result: the rows are flattened and turned into int32
+/// in place, and numpy takes the buffer (no copy, no new pages).
+fn ids_vec<'py, const K: usize>(
+    py: Python<'py>,
+    v: Vec<[u32; K]>,
+) -> PyResult<Bound<'py, PyArray2<i32>>> {
+    let n = v.len();
+    // Same size and alignment: `collect` reuses the allocation.
+    let flat: Vec<i32> = v.into_flattened().into_iter().map(|x| x as i32).collect();
+    PyArray1::from_vec(py, flat).reshape([n, K])
+}
+
 fn ids1<'py>(py: Python<'py>, v: &[u32]) -> Bound<'py, PyArray1<i32>> {
     PyArray1::from_vec(py, v.iter().map(|&x| x as i32).collect())
 }
@@ -322,8 +334,8 @@ fn delaunay<'py>(
         })?;
         d.set_item("seconds", m.1)?;
         let m = m.0.map_err(|e| lib_err(&e))?;
-        d.set_item("simplices", ids(py, &m.triangles)?)?;
-        d.set_item("neighbors", ids(py, &m.neighbors)?)?;
+        d.set_item("simplices", ids_vec(py, m.triangles)?)?;
+        d.set_item("neighbors", ids_vec(py, m.neighbors)?)?;
         (m.duplicates, m.hidden)
     } else {
         let p = rows::<3>(&points, "points")?;
@@ -335,8 +347,8 @@ fn delaunay<'py>(
         })?;
         d.set_item("seconds", m.1)?;
         let m = m.0.map_err(|e| lib_err(&e))?;
-        d.set_item("simplices", ids(py, &m.tets)?)?;
-        d.set_item("neighbors", ids(py, &m.neighbors)?)?;
+        d.set_item("simplices", ids_vec(py, m.tets)?)?;
+        d.set_item("neighbors", ids_vec(py, m.neighbors)?)?;
         (m.duplicates, m.hidden)
     };
     d.set_item("duplicates", pairs(py, &dup)?)?;
