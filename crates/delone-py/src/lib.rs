@@ -35,7 +35,7 @@ use delone::tet::{TetError, TetOptions};
 use delone::tri::constrain::Cdt;
 use delone::tri::existing::ExistingMesh;
 use delone::tri::pipeline::{edge_key, hull_edge_keys};
-use delone::tri::refine::{refine, RefineOptions};
+use delone::tri::refine::refine;
 use delone::tri::{TriError, TriOptions, TriResult};
 use delone::{Error, NONE};
 use numpy::{
@@ -610,18 +610,7 @@ fn triangulate<'py>(
             attributes: opt_vec(triangle_attributes.as_ref(), nt, "triangle_attributes")?,
             max_areas: opt_vec(triangle_max_area.as_ref(), nt, "triangle_max_area")?,
         };
-        let defaults = RefineOptions::default();
-        let ro = RefineOptions {
-            min_angle: opts.min_angle,
-            max_area: opts.max_area,
-            regional_areas: opts.regional_areas,
-            max_steiner: opts.max_steiner,
-            off_centers: true,
-            segment_splits: opts.segment_splits,
-            conforming_delaunay: opts.conforming_delaunay,
-            threads: opts.threads.unwrap_or(defaults.threads),
-            ..defaults
-        };
+        let ro = opts.refine_options();
         let r = run(py, progress.as_ref(), || {
             let cdt = Cdt::from_mesh(existing)?;
             refine(&cdt, &ro)

@@ -195,6 +195,28 @@ impl TriOptions {
             || self.segment_splits != SegmentSplits::All
     }
 
+    /// The refinement options these switches ask for: their bounds, budget,
+    /// segment splitting and threads, with off-centres.
+    ///
+    /// ```
+    /// let o = delone::tri::TriOptions::from_switches("pq30a0.1").unwrap().refine_options();
+    /// assert_eq!((o.min_angle, o.max_area, o.off_centers), (Some(30.0), Some(0.1), true));
+    /// ```
+    pub fn refine_options(&self) -> crate::tri::refine::RefineOptions {
+        let defaults = crate::tri::refine::RefineOptions::default();
+        crate::tri::refine::RefineOptions {
+            min_angle: self.min_angle,
+            max_area: self.max_area,
+            regional_areas: self.regional_areas,
+            max_steiner: self.max_steiner,
+            off_centers: true,
+            segment_splits: self.segment_splits,
+            conforming_delaunay: self.conforming_delaunay,
+            threads: self.threads.unwrap_or(defaults.threads),
+            ..defaults
+        }
+    }
+
     /// Refuses the combinations `delone tri` refuses: switches that need
     /// another (`-q`, `-a`, `-S`, `-D`, `-Y` need `-p` or `-r`), that
     /// exclude each other (`-p` with `-r`, `-j` with `-r`), or that would

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use crate::model::pslg::Pslg;
 use crate::tri::constrain::{constrained_triangulation, Cdt, CdtOptions};
 use crate::tri::options::TriOptions;
-use crate::tri::refine::{refine, RefineOptions, RefineReport};
+use crate::tri::refine::{refine, RefineReport};
 use crate::{Error, NONE};
 
 /// What [`mesh()`] made.
@@ -264,22 +264,7 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
         });
     }
     let t = Instant::now();
-    let defaults = RefineOptions::default();
-    let r = refine(
-        &cdt,
-        &RefineOptions {
-            min_angle: opts.min_angle,
-            max_area: opts.max_area,
-            regional_areas: opts.regional_areas,
-            max_steiner: opts.max_steiner,
-            off_centers: true,
-            segment_splits: opts.segment_splits,
-            conforming_delaunay: opts.conforming_delaunay,
-            threads: opts.threads.unwrap_or(defaults.threads),
-            ..defaults
-        },
-    )
-    .map_err(TriError::Refine)?;
+    let r = refine(&cdt, &opts.refine_options()).map_err(TriError::Refine)?;
     Ok(TriResult {
         mesh: r.mesh,
         unrefined: opts.keep_unrefined.then_some(cdt),
