@@ -78,7 +78,12 @@ def test_an_exception_in_the_callback_stops_the_run():
 
 
 SCRIPT = """
-import time, delone
+import signal, time, delone
+# Python leaves SIGINT alone when it starts with SIGINT ignored (a
+# background job of a non-interactive shell, as some CI runners start it):
+# install the handler that raises KeyboardInterrupt, as an interactive
+# session has it.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 print("ready", flush=True)
 t = time.perf_counter()
 try:
