@@ -106,6 +106,11 @@ pub const TARGETS: &[Target] = &[
         run: medit,
     },
     Target {
+        name: "sol",
+        extensions: &["sol"],
+        run: sol,
+    },
+    Target {
         name: "cdt_poly",
         extensions: &["poly"],
         run: cdt_poly,
@@ -231,9 +236,56 @@ pub fn obj(data: &[u8]) {
     surface(delone_io::read_obj(data));
 }
 
-/// Medit `.mesh`.
+/// Medit `.mesh`: the surface reader, and the whole mesh written and read
+/// back unchanged.
 pub fn medit(data: &[u8]) {
     surface(delone_io::read_medit(data));
+    if let Ok(m) = delone_io::read_medit_mesh(data) {
+        let mut out = Vec::new();
+        delone_io::write_medit_mesh(&mut out, &m).expect("a mesh read is a mesh that writes");
+        let back = delone_io::read_medit_mesh(&out).expect("a written mesh reads");
+        assert!(
+            same_bits(&back, &m),
+            "a mesh read, written and read again changed"
+        );
+    }
+}
+
+/// Equal, with coordinates compared bit for bit (a NaN read is a NaN
+/// written).
+fn same_bits(a: &delone_io::MeditMesh, b: &delone_io::MeditMesh) -> bool {
+    let bits = |m: &delone_io::MeditMesh| {
+        m.points
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect::<Vec<_>>()
+    };
+    let strip = |m: &delone_io::MeditMesh| delone_io::MeditMesh {
+        points: Vec::new(),
+        ..m.clone()
+    };
+    bits(a) == bits(b) && strip(a) == strip(b)
+}
+
+/// Medit `.sol`: read, written and read back unchanged.
+pub fn sol(data: &[u8]) {
+    if let Ok(s) = delone_io::read_medit_sol(data) {
+        let mut out = Vec::new();
+        delone_io::write_medit_sol(&mut out, &s).expect("a solution read is one that writes");
+        let back = delone_io::read_medit_sol(&out).expect("a written solution reads");
+        let bits = |s: &delone_io::MeditSol| {
+            s.fields
+                .iter()
+                .flat_map(|f| f.values.iter().map(|x| x.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&back), bits(&s), "values changed");
+        assert_eq!(
+            (back.dimension, back.vertices, back.fields.len()),
+            (s.dimension, s.vertices, s.fields.len())
+        );
+    }
 }
 
 /// A `.poly` file (text, so the corpus's PSLGs seed it) through the
@@ -469,7 +521,13 @@ pub fn builtin_seeds(target: &str) -> Vec<Vec<u8>> {
         "obj" => vec![s("# t\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\nf -1 -2 -3\n")],
         "medit" => vec![s(
             "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\nTriangles\n2\n1 2 3 5\n1 2 4 5\nTetrahedra\n1\n1 2 3 4 1\nEnd\n",
+        ), s(
+            "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n0 0 1\n1 0 1\n0 1 1\nEdges\n2\n1 2 3\n2 3 3\nTriangles\n1\n1 2 3 0\nCorners\n1\n1\nRidges\n1\n2\nEnd\n",
         )],
+        "sol" => vec![
+            s("MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n2\n1 3\n1 0 1\n2 0.5 2\nEnd\n"),
+            s("MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n1\n2 1 3\n0.1 1 0 1 0 0 1\nEnd\n"),
+        ],
         "delaunay2" | "delaunay3" => vec![
             vec![16, 17, 18, 16, 16, 18, 18, 18, 20, 21, 10, 10, 0, 1, 1, 0],
             vec![16, 16, 16, 17, 17, 16, 16, 17, 17, 17, 17, 18, 20, 20, 20, 22, 22, 22],
@@ -690,7 +748,8 @@ mod tests {
             ("stl", |d| delone_io::read_stl(d).is_ok()),
             ("ply", |d| delone_io::read_ply(d).is_ok()),
             ("obj", |d| delone_io::read_obj(d).is_ok()),
-            ("medit", |d| delone_io::read_medit(d).is_ok()),
+            ("medit", |d| delone_io::read_medit_mesh(d).is_ok()),
+            ("sol", |d| delone_io::read_medit_sol(d).is_ok()),
         ] {
             for (i, s) in builtin_seeds(name).iter().enumerate() {
                 assert!(read(s), "built-in seed {i} of {name} does not read");

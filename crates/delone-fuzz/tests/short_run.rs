@@ -159,6 +159,17 @@ fn known_findings_stay_fixed() {
 }
 
 const REGRESSIONS: &[(&str, &[u8])] = &[
+    // `SolAtVertices` of 4e9 (and 4.29e9) vertices with no field: the
+    // reader accepted it and the writer looped over every vertex; a
+    // solution needs a field.
+    (
+        "sol",
+        include_bytes!("../../../fuzz/regressions/sol-no-fields"),
+    ),
+    (
+        "sol",
+        include_bytes!("../../../fuzz/regressions/sol-no-fields-2"),
+    ),
     // Three nearly collinear points: `tri::validate` measured the hull's
     // winding in floating point and rejected a valid sliver triangle.
     (

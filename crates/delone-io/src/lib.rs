@@ -18,6 +18,10 @@
 //! * pictures: [`write_svg`] (2D triangles, polygons, points);
 //! * volume meshes for other tools: [`write_medit`] (Medit `.mesh`) and
 //!   [`write_gmsh`] (Gmsh `.msh` 4.1 ASCII);
+//! * Medit meshes and fields as MMG reads and writes them: [`read_medit_mesh`],
+//!   [`write_medit_mesh`] (2D and 3D, with references, corners, ridges,
+//!   required entities) and [`read_medit_sol`], [`write_medit_sol`]
+//!   (`.sol`: sizes, metric tensors, solution fields at the vertices);
 //! * pictures: one scene ([`SvgLayer`]s: triangles, filled triangles,
 //!   polygons, segments, points, crosses, a legend) and two back ends,
 //!   [`write_svg`] and [`write_png`] (our own rasterizer, [`render`]);
@@ -67,7 +71,10 @@ mod write;
 pub use area::read_area;
 pub use error::IoError;
 pub use gmsh::write_gmsh;
-pub use medit::{read_medit, write_medit};
+pub use medit::{
+    read_medit, read_medit_mesh, read_medit_sol, write_medit, write_medit_mesh, write_medit_sol,
+    MeditMesh, MeditSol, SolField, SolKind,
+};
 pub use mtr::{read_face, read_mtr, FaceFile};
 pub use obj::read_obj;
 pub use off::read_off;
