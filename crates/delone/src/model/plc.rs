@@ -206,30 +206,16 @@ impl Plc {
         if n > u32::MAX as usize {
             return Err(Error::CapacityExceeded { requested: n });
         }
-        if let Some(index) = self
-            .points
-            .iter()
-            .position(|p| !p.iter().all(|c| c.is_finite()))
-        {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_3D)?;
+        super::check_coordinates(
+            &self.points,
+            crate::geom::scale::RANGE_3D,
+            &self.holes,
+            self.regions.iter().map(|r| r.point),
+        )?;
         // The exact tests below run on a copy scaled by a power of two
         // (exact), so that no product over- or underflows at any scale.
         let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
-        if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "hole",
-                index,
-            });
-        }
-        if let Some(index) = self.regions.iter().position(|r| !finite(&r.point)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "region",
-                index,
-            });
-        }
         for (index, s) in self.segments.iter().enumerate() {
             for &v in s {
                 if v as usize >= n {
@@ -406,13 +392,10 @@ pub(crate) fn on_triangle(
     if orient3d(a, b, c, p) != 0.0 {
         return None;
     }
-    let (pa, pb, pc, pp, s) = (0..3).find_map(|k| {
-        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        let pr = |x: &[f64; 3]| [x[i], x[j]];
-        let (pa, pb, pc) = (pr(a), pr(b), pr(c));
-        let s = orient2d(&pa, &pb, &pc);
-        (s != 0.0).then(|| (pa, pb, pc, pr(p), s))
-    })?;
+    let (i, j) = crate::geom::vec3::projection_axes(a, b, c)?;
+    let pr = |x: &[f64; 3]| [x[i], x[j]];
+    let (pa, pb, pc, pp) = (pr(a), pr(b), pr(c), pr(p));
+    let s = orient2d(&pa, &pb, &pc);
     let o = [
         orient2d(&pa, &pb, &pp),
         orient2d(&pb, &pc, &pp),

@@ -174,23 +174,12 @@ impl Pslg {
     /// range ([`Error::InvalidCoordinate`], [`Error::InvalidSeedPoint`],
     /// [`Error::SegmentOutOfRange`]; duplicates are the mesher's business).
     pub(crate) fn check_values(&self) -> Result<(), Error> {
-        let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
-        if let Some(index) = self.points.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_2D)?;
-        if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "hole",
-                index,
-            });
-        }
-        if let Some(index) = self.regions.iter().position(|r| !fin(&r.point)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "region",
-                index,
-            });
-        }
+        super::check_coordinates(
+            &self.points,
+            crate::geom::scale::RANGE_2D,
+            &self.holes,
+            self.regions.iter().map(|r| r.point),
+        )?;
         self.check_segment_ends()
     }
 

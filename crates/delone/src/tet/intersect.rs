@@ -42,7 +42,7 @@
 //! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
-use crate::geom::vec3::collinear;
+use crate::geom::vec3::{collinear, projection_axes};
 use crate::model::plc::key;
 use delone_predicates::{orient2d, orient3d};
 
@@ -491,7 +491,7 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
             if pl_a.side(a.map(p), p(f)) != 0 {
                 return false;
             }
-            let (x, y) = proj_axes(p(u), p(v), p(c));
+            let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
             let q = |w: u32| [p(w)[x], p(w)[y]];
             let sc = orient2d(&q(u), &q(v), &q(c));
             let sf = orient2d(&q(u), &q(v), &q(f));
@@ -524,17 +524,6 @@ fn disjoint_vertices_intersect(
         || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
 }
 
-/// Two coordinate axes onto which the (non-degenerate) triangle `abc`
-/// projects to a non-degenerate triangle.
-fn proj_axes(a: &P, b: &P, c: &P) -> (usize, usize) {
-    for (x, y) in [(0, 1), (1, 2), (2, 0)] {
-        if orient2d(&[a[x], a[y]], &[b[x], b[y]], &[c[x], c[y]]) != 0.0 {
-            return (x, y);
-        }
-    }
-    (0, 1)
-}
-
 fn sign(x: f64) -> i8 {
     if x > 0.0 {
         1
@@ -562,7 +551,7 @@ fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
     }
     if op == 0 && oq == 0 {
         // Coplanar: a 2D test in a projection that keeps abc non-degenerate.
-        let (x, y) = proj_axes(a, b, c);
+        let (x, y) = projection_axes(a, b, c).unwrap_or((0, 1));
         let f = |u: &P| [u[x], u[y]];
         return seg_tri_2d(&f(p), &f(q), &f(a), &f(b), &f(c));
     }
@@ -848,7 +837,7 @@ mod tests {
                 if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
                     return false;
                 }
-                let (x, y) = proj_axes(p(u), p(v), p(c));
+                let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
                 let q = |w: u32| [p(w)[x], p(w)[y]];
                 orient2d(&q(u), &q(v), &q(c)).signum() == orient2d(&q(u), &q(v), &q(f)).signum()
             }

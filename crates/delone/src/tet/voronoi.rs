@@ -2090,18 +2090,10 @@ impl Clipper {
 /// assert_eq!(out.len(), 30);
 /// ```
 pub fn lloyd(points: &[[f64; 3]], bbox: Box3, iterations: usize) -> Result<Vec<[f64; 3]>, Error> {
-    let mut pts = points.to_vec();
-    for _ in 0..iterations {
-        let mesh = super::tetrahedralize(&pts)?;
-        let v = Voronoi3::new(&pts, &mesh)?;
-        let c = v.cells_clipped(&pts, bbox);
-        for (p, (&vol, &g)) in pts.iter_mut().zip(c.volume.iter().zip(&c.centroid)) {
-            if vol > 0.0 {
-                *p = g;
-            }
-        }
-    }
-    Ok(pts)
+    crate::geom::lloyd(points, iterations, |pts| {
+        let c = Voronoi3::new(pts, &super::tetrahedralize(pts)?)?.cells_clipped(pts, bbox);
+        Ok((c.volume, c.centroid))
+    })
 }
 
 #[cfg(test)]
