@@ -1,5 +1,6 @@
 //! Geometry helpers shared by the 2D and 3D kernels: insertion order
-//! (BRIO + Hilbert curve), small vector utilities and the Lloyd iteration.
+//! (BRIO + Hilbert curve), small vector utilities, union-find and the Lloyd
+//! iteration.
 
 pub mod check;
 pub(crate) mod ids;
@@ -30,4 +31,15 @@ pub(crate) fn lloyd<const D: usize>(
         }
     }
     Ok(pts)
+}
+
+/// The root of `x` in the union-find forest `parent` (a root is its own
+/// parent), halving the path on the way.
+pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
 }
