@@ -11,6 +11,7 @@
 //! holds the data and its validation only.
 
 use crate::error::{Error, FacetDefect};
+use crate::geom::check::ids_in_range;
 use crate::geom::vec3::collinear;
 use delone_predicates::{orient2d, orient3d};
 use std::collections::HashMap;
@@ -217,16 +218,7 @@ impl Plc {
         let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
         for (index, s) in self.segments.iter().enumerate() {
-            for &v in s {
-                if v as usize >= n {
-                    return Err(Error::IndexOutOfRange {
-                        item: "segment",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
-            }
+            ids_in_range("segment", index, s, n)?;
             if s[0] == s[1] || self.points[s[0] as usize] == self.points[s[1] as usize] {
                 return Err(Error::DegenerateFacet {
                     index,
@@ -268,29 +260,13 @@ impl Plc {
         let bad = |defect| Err(Error::DegenerateFacet { index, defect });
         if f.polygons.is_empty() || f.polygons.iter().all(|p| p.len() < 3) {
             for p in &f.polygons {
-                if let Some(&v) = p.iter().find(|&&v| v as usize >= n) {
-                    return Err(Error::IndexOutOfRange {
-                        item: "facet",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
+                ids_in_range("facet", index, p, n)?;
             }
             return bad(FacetDefect::TooFewVertices);
         }
         let mut sorted: Vec<(u32, [u64; 3])> = Vec::new();
         for p in &f.polygons {
-            for &v in p {
-                if v as usize >= n {
-                    return Err(Error::IndexOutOfRange {
-                        item: "facet",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
-            }
+            ids_in_range("facet", index, p, n)?;
             if p.is_empty() {
                 return bad(FacetDefect::TooFewVertices);
             }

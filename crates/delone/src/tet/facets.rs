@@ -146,14 +146,7 @@ fn facet_triangles(
     ids.extend(extra);
     ids.sort_unstable();
     ids.dedup();
-    if let Some(&q) = ids.iter().find(|&&q| q as usize >= points.len()) {
-        return Err(Error::IndexOutOfRange {
-            item: "facet",
-            index: fi,
-            vertex: q,
-            points: points.len(),
-        });
-    }
+    crate::geom::check::ids_in_range("facet", fi, &ids, points.len())?;
     let local = |q: u32| ids.binary_search(&q).unwrap_or(0) as u32;
     let mut g = Pslg::new(
         ids.iter()

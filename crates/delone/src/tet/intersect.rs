@@ -334,24 +334,7 @@ fn canonical_ids(points: &[P]) -> Vec<u32> {
 /// assert_eq!(e, Err(delone::Error::SelfIntersection { facets: (0, 4), count: 1 }));
 /// ```
 pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<(), Error> {
-    for (index, t) in triangles.iter().enumerate() {
-        for &v in t {
-            match points.get(v as usize) {
-                None => {
-                    return Err(Error::IndexOutOfRange {
-                        item: "triangle",
-                        index,
-                        vertex: v,
-                        points: points.len(),
-                    })
-                }
-                Some(p) if !p.iter().all(|c| c.is_finite()) => {
-                    return Err(Error::InvalidCoordinate { index: v as usize })
-                }
-                _ => {}
-            }
-        }
-    }
+    crate::geom::check::corners_valid("triangle", points, triangles)?;
     let r = self_intersections(points, triangles);
     if let Some(&t) = r.degenerate.first() {
         return Err(Error::DegenerateFacet {
