@@ -31,3 +31,28 @@ pub(crate) fn check_coordinates<const D: usize>(
         None => Ok(()),
     }
 }
+
+/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
+/// folded onto `0.0` (so equal coordinates give equal keys).
+pub(crate) fn key<const D: usize>(p: &[f64; D]) -> [u64; D] {
+    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
+}
+
+/// Per point, the smallest index of a point with exactly the same
+/// coordinates (`-0.0` and `0.0` are the same): a sort by [`key`], so no
+/// hashing and a deterministic result.
+pub(crate) fn canonical_ids<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
+    let mut order: Vec<([u64; D], u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i as u32))
+        .collect();
+    order.sort_unstable();
+    let mut canon = vec![0u32; points.len()];
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in run {
+            canon[i as usize] = run[0].1;
+        }
+    }
+    canon
+}

@@ -10,6 +10,7 @@
 //! the triangulation of the facets in [`crate::tet::facets`]: this module
 //! holds the data and its validation only.
 
+use super::key;
 use crate::error::{Error, FacetDefect};
 use crate::geom::check::ids_in_range;
 use crate::geom::vec3::collinear;
@@ -448,12 +449,6 @@ pub(crate) fn points_on_triangles(
     }
     out.sort_unstable_by_key(|&(q, t, _)| (q, t));
     out
-}
-
-/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
-/// folded onto `0.0` (so equal coordinates give equal keys).
-pub(crate) fn key(p: &[f64; 3]) -> [u64; 3] {
-    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@
 //! only and does not depend on the 2D mesher.
 
 use crate::error::{Error, FacetDefect};
-use crate::model::plc::{key, points_on_triangles, Facet, OnTriangle, Plc};
+use crate::model::key;
+use crate::model::plc::{points_on_triangles, Facet, OnTriangle, Plc};
 
 impl Plc {
     /// Triangulates every facet in its own plane with the 2D constrained

@@ -43,7 +43,7 @@
 
 use crate::error::Error;
 use crate::geom::vec3::{collinear, projection_axes};
-use crate::model::plc::key;
+use crate::model::canonical_ids;
 use delone_predicates::{orient2d, orient3d};
 
 type P = [f64; 3];
@@ -293,27 +293,6 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     out.pairs.sort_unstable();
     out.pairs.dedup();
     out
-}
-
-/// Per point, the smallest index of a point with exactly the same
-/// coordinates (`-0.0` and `0.0` are the same): a sort by coordinate key,
-/// so no hashing and a deterministic result.
-fn canonical_ids(points: &[P]) -> Vec<u32> {
-    let mut order: Vec<([u64; 3], u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (key(p), i as u32))
-        .collect();
-    order.sort_unstable();
-    let mut canon = vec![0u32; points.len()];
-    let mut first = 0usize;
-    for k in 0..order.len() {
-        if order[k].0 != order[first].0 {
-            first = k;
-        }
-        canon[order[k].1 as usize] = order[first].1;
-    }
-    canon
 }
 
 /// [`self_intersections`] as a typed result.
@@ -731,6 +710,7 @@ fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::key;
 
     /// Brute force over all pairs: the grid must find the same pairs.
     fn brute(points: &[P], tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
