@@ -13,7 +13,7 @@
 //! moments — what Lloyd relaxation needs — are exact up to rounding, and the
 //! pieces draw correctly with the non-zero fill rule.
 
-use super::voronoi::{moments, Voronoi2};
+use super::voronoi::{clip_half, moments, Voronoi2};
 use crate::Error;
 
 /// Cells intersected with a polygonal domain ([`Voronoi2::cells_in_domain`]).
@@ -91,7 +91,7 @@ fn oriented(rings: &[Vec<[f64; 2]>]) -> Vec<Ring> {
 }
 
 /// Sutherland–Hodgman: `subject` clipped to the convex counterclockwise
-/// polygon `clip`.
+/// polygon `clip`, edge by edge ([`clip_half`]).
 fn clip_to_convex(
     subject: &[[f64; 2]],
     clip: &[[f64; 2]],
@@ -104,21 +104,10 @@ fn clip_to_convex(
             break;
         }
         let (a, b) = (clip[k], clip[(k + 1) % m]);
-        let side = |x: &[f64; 2]| (b[0] - a[0]) * (x[1] - a[1]) - (x[0] - a[0]) * (b[1] - a[1]);
-        tmp.clear();
-        let n = out.len();
-        for i in 0..n {
-            let (p, q) = (out[i], out[(i + 1) % n]);
-            let (sp, sq) = (side(&p), side(&q));
-            if sp >= 0.0 {
-                tmp.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                tmp.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-            }
-        }
-        std::mem::swap(&mut out, tmp);
+        // Outside: right of a -> b.
+        clip_half(&mut out, tmp, |x| {
+            (x[0] - a[0]) * (b[1] - a[1]) - (b[0] - a[0]) * (x[1] - a[1])
+        });
     }
     out
 }

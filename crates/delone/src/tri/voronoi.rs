@@ -343,9 +343,7 @@ impl Voronoi2 {
     /// # Errors
     /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
     pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Result<Voronoi2, Error> {
-        let ids = mesh.vertex_map.len();
-        crate::geom::check::mesh_fits(points.len(), &mesh.triangles, &mesh.neighbors, ids, None)?;
-        Ok(Self::build(points, None, mesh, 0))
+        Self::with_threads(points, mesh, 0)
     }
 
     /// [`Voronoi2::new`] on at most `threads` threads (`0`: the default,
@@ -716,11 +714,19 @@ fn clip_bisector(
     // Side of x: (x - p)·(q - p) - (|q - p|² + w_p - w_q)/2  (<= 0 keeps x).
     let (nx, ny) = (q[0] - p[0], q[1] - p[1]);
     let n2 = nx * nx + ny * ny;
-    if n2 == 0.0 {
-        return;
+    if n2 != 0.0 {
+        let h = 0.5 * (n2 + dw);
+        clip_half(poly, tmp, |x| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h);
     }
-    let h = 0.5 * (n2 + dw);
-    let side = |x: &[f64; 2]| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h;
+}
+
+/// Keeps the part of polygon `poly` where `side <= 0` (Sutherland–Hodgman
+/// against one half-plane; `tmp` is scratch).
+pub(crate) fn clip_half(
+    poly: &mut Vec<[f64; 2]>,
+    tmp: &mut Vec<[f64; 2]>,
+    side: impl Fn(&[f64; 2]) -> f64,
+) {
     let mut any_out = false;
     let mut any_in = false;
     for x in poly.iter() {
