@@ -2,7 +2,7 @@
 
 use delone_predicates::{insphere, insphere_weighted, orient3d};
 
-use super::local::{fkey, FACET};
+use super::local::{face, fkey, FACET};
 use crate::{Violation, NONE};
 
 /// A tetrahedralization in flat arrays, as returned by [`crate::tetrahedralize`].
@@ -63,6 +63,10 @@ pub(crate) enum TetsDefect {
     Overlap(usize),
 }
 
+/// A neighbour table: per tetrahedron, the one across each face ([`NONE`]
+/// if none).
+pub(crate) type Neighbors = Vec<[u32; 4]>;
+
 /// Tetrahedra given as input (an existing mesh, a background mesh), checked
 /// with exact predicates on `points` and made positive, with their
 /// neighbour table (face `f` opposite vertex `f`, paired by sorted face
@@ -74,7 +78,7 @@ pub(crate) fn input_tets(
     points: &[[f64; 3]],
     tets: &[[u32; 4]],
     consistent: bool,
-) -> Result<(Vec<[u32; 4]>, Vec<[u32; 4]>), TetsDefect> {
+) -> Result<(Vec<[u32; 4]>, Neighbors), TetsDefect> {
     let n = points.len();
     let mut tv: Vec<[u32; 4]> = Vec::with_capacity(tets.len());
     let mut sign = 0.0f64;
@@ -103,7 +107,7 @@ pub(crate) fn input_tets(
     let mut keys: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tv.len());
     for (t, x) in tv.iter().enumerate() {
         for f in 0..4 {
-            keys.push((fkey(FACET[f].map(|i| x[i])), t as u32, f as u8));
+            keys.push((fkey(face(*x, f)), t as u32, f as u8));
         }
     }
     keys.sort_unstable();

@@ -343,7 +343,9 @@ impl Voronoi2 {
     /// # Errors
     /// [`Error::InconsistentMesh`] when `mesh` does not belong to `points`.
     pub fn new(points: &[[f64; 2]], mesh: &TriMesh) -> Result<Voronoi2, Error> {
-        Self::with_threads(points, mesh, 0)
+        let ids = mesh.vertex_map.len();
+        crate::geom::check::mesh_fits(points.len(), &mesh.triangles, &mesh.neighbors, ids, None)?;
+        Ok(Self::build(points, None, mesh, 0))
     }
 
     /// [`Voronoi2::new`] on at most `threads` threads (`0`: the default,
