@@ -52,3 +52,41 @@ pub fn mesh_fits<const K: usize>(
     }
     Ok(())
 }
+
+/// [`Error::IndexOutOfRange`] naming the first of `ids` (the corners of
+/// item `index`, e.g. a `"facet"`) that is not below `points`.
+pub(crate) fn ids_in_range(
+    item: &'static str,
+    index: usize,
+    ids: &[u32],
+    points: usize,
+) -> Result<(), Error> {
+    match ids.iter().find(|&&v| v as usize >= points) {
+        Some(&vertex) => Err(Error::IndexOutOfRange {
+            item,
+            index,
+            vertex,
+            points,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Every corner of every element of `elements` (items `item`) names a point
+/// of `points` with finite coordinates: else, for the first corner in order
+/// that does not, [`Error::IndexOutOfRange`] or [`Error::InvalidCoordinate`].
+pub(crate) fn corners_valid<const D: usize, const K: usize>(
+    item: &'static str,
+    points: &[[f64; D]],
+    elements: &[[u32; K]],
+) -> Result<(), Error> {
+    for (index, e) in elements.iter().enumerate() {
+        for &v in e {
+            ids_in_range(item, index, &[v], points.len())?;
+            if !points[v as usize].iter().all(|c| c.is_finite()) {
+                return Err(Error::InvalidCoordinate { index: v as usize });
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,5 +1,6 @@
 //! Geometry helpers shared by the 2D and 3D kernels: insertion order
-//! (BRIO + Hilbert curve) and small vector utilities.
+//! (BRIO + Hilbert curve), small vector utilities, union-find and the Lloyd
+//! iteration.
 
 pub mod check;
 pub(crate) mod ids;
@@ -9,3 +10,36 @@ pub(crate) mod vec3;
 
 pub use scale::{max_abs, pow2_scale, rescaled, scaled};
 pub use sort::{brio_order, SplitMix64};
+
+/// Lloyd's iteration in `D` dimensions: `iterations` times, `cells(points)`
+/// gives the size (area, volume) and centroid of every point's clipped
+/// Voronoi cell, and every point with a non-empty cell moves to its
+/// centroid (the others stay). The loop of [`crate::tri::lloyd`],
+/// [`crate::tri::lloyd_in_domain`] and [`crate::tet::lloyd`].
+pub(crate) fn lloyd<const D: usize>(
+    points: &[[f64; D]],
+    iterations: usize,
+    cells: impl Fn(&[[f64; D]]) -> Result<(Vec<f64>, Vec<[f64; D]>), crate::Error>,
+) -> Result<Vec<[f64; D]>, crate::Error> {
+    let mut pts = points.to_vec();
+    for _ in 0..iterations {
+        let (size, centroid) = cells(&pts)?;
+        for (p, (&a, &g)) in pts.iter_mut().zip(size.iter().zip(&centroid)) {
+            if a > 0.0 {
+                *p = g;
+            }
+        }
+    }
+    Ok(pts)
+}
+
+/// The root of `x` in the union-find forest `parent` (a root is its own
+/// parent), halving the path on the way.
+pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
+}

@@ -25,15 +25,7 @@ pub fn pow2_scale(max_abs: f64) -> (f64, f64) {
     if max_abs == 0.0 || !max_abs.is_finite() {
         return (1.0, 1.0);
     }
-    // Binary exponent of max_abs (exact, also for subnormals).
-    let bits = max_abs.to_bits();
-    let biased = ((bits >> 52) & 0x7ff) as i32;
-    let e = if biased == 0 {
-        let mantissa = bits & ((1u64 << 52) - 1);
-        -1074 + (63 - mantissa.leading_zeros() as i32)
-    } else {
-        biased - 1023
-    };
+    let e = exponent(max_abs);
     if (-WINDOW..=WINDOW).contains(&e) {
         return (1.0, 1.0);
     }

@@ -49,6 +49,16 @@ pub(crate) fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
     })
 }
 
+/// Two coordinate axes `(i, j)` onto which triangle `a b c` projects with
+/// a non-zero exact orientation (`None`: the triangle is degenerate). On
+/// the triangle's plane such a projection is an affine bijection, so exact
+/// 2D tests of coplanar points give the same answer in any of them.
+pub(crate) fn projection_axes(a: &P, b: &P, c: &P) -> Option<(usize, usize)> {
+    [(0, 1), (1, 2), (2, 0)].into_iter().find(|&(i, j)| {
+        delone_predicates::orient2d(&[a[i], a[j]], &[b[i], b[j]], &[c[i], c[j]]) != 0.0
+    })
+}
+
 /// The angle (radians) at `o` between the directions to `x` and `y`; 0
 /// when one of them is `o`.
 pub(crate) fn angle(o: &P, x: &P, y: &P) -> f64 {

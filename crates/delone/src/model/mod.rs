@@ -4,3 +4,55 @@
 
 pub mod plc;
 pub mod pslg;
+
+use crate::Error;
+
+/// The checks both models start with: finite points within the range the
+/// predicates allow (`range`, see [`crate::geom::scale::check_range`]),
+/// then finite hole and region points ([`Error::InvalidCoordinate`],
+/// [`Error::CoordinateRange`], [`Error::InvalidSeedPoint`]).
+pub(crate) fn check_coordinates<const D: usize>(
+    points: &[[f64; D]],
+    range: i32,
+    holes: &[[f64; D]],
+    mut regions: impl Iterator<Item = [f64; D]>,
+) -> Result<(), Error> {
+    let finite = |p: &[f64; D]| p.iter().all(|c| c.is_finite());
+    if let Some(index) = points.iter().position(|p| !finite(p)) {
+        return Err(Error::InvalidCoordinate { index });
+    }
+    crate::geom::scale::check_range(points, range)?;
+    let seed = |kind, index| Err(Error::InvalidSeedPoint { kind, index });
+    if let Some(index) = holes.iter().position(|p| !finite(p)) {
+        return seed("hole", index);
+    }
+    match regions.position(|p| !finite(&p)) {
+        Some(index) => seed("region", index),
+        None => Ok(()),
+    }
+}
+
+/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
+/// folded onto `0.0` (so equal coordinates give equal keys).
+pub(crate) fn key<const D: usize>(p: &[f64; D]) -> [u64; D] {
+    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
+}
+
+/// Per point, the smallest index of a point with exactly the same
+/// coordinates (`-0.0` and `0.0` are the same): a sort by [`key`], so no
+/// hashing and a deterministic result.
+pub(crate) fn canonical_ids<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
+    let mut order: Vec<([u64; D], u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (key(p), i as u32))
+        .collect();
+    order.sort_unstable();
+    let mut canon = vec![0u32; points.len()];
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        for &(_, i) in run {
+            canon[i as usize] = run[0].1;
+        }
+    }
+    canon
+}

@@ -10,7 +10,9 @@
 //! the triangulation of the facets in [`crate::tet::facets`]: this module
 //! holds the data and its validation only.
 
+use super::key;
 use crate::error::{Error, FacetDefect};
+use crate::geom::check::ids_in_range;
 use crate::geom::vec3::collinear;
 use delone_predicates::{orient2d, orient3d};
 use std::collections::HashMap;
@@ -206,41 +208,18 @@ impl Plc {
         if n > u32::MAX as usize {
             return Err(Error::CapacityExceeded { requested: n });
         }
-        if let Some(index) = self
-            .points
-            .iter()
-            .position(|p| !p.iter().all(|c| c.is_finite()))
-        {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_3D)?;
+        super::check_coordinates(
+            &self.points,
+            crate::geom::scale::RANGE_3D,
+            &self.holes,
+            self.regions.iter().map(|r| r.point),
+        )?;
         // The exact tests below run on a copy scaled by a power of two
         // (exact), so that no product over- or underflows at any scale.
         let (sp, _) = crate::geom::rescaled(&self.points);
         let finite = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
-        if let Some(index) = self.holes.iter().position(|p| !finite(p)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "hole",
-                index,
-            });
-        }
-        if let Some(index) = self.regions.iter().position(|r| !finite(&r.point)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "region",
-                index,
-            });
-        }
         for (index, s) in self.segments.iter().enumerate() {
-            for &v in s {
-                if v as usize >= n {
-                    return Err(Error::IndexOutOfRange {
-                        item: "segment",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
-            }
+            ids_in_range("segment", index, s, n)?;
             if s[0] == s[1] || self.points[s[0] as usize] == self.points[s[1] as usize] {
                 return Err(Error::DegenerateFacet {
                     index,
@@ -282,29 +261,13 @@ impl Plc {
         let bad = |defect| Err(Error::DegenerateFacet { index, defect });
         if f.polygons.is_empty() || f.polygons.iter().all(|p| p.len() < 3) {
             for p in &f.polygons {
-                if let Some(&v) = p.iter().find(|&&v| v as usize >= n) {
-                    return Err(Error::IndexOutOfRange {
-                        item: "facet",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
+                ids_in_range("facet", index, p, n)?;
             }
             return bad(FacetDefect::TooFewVertices);
         }
         let mut sorted: Vec<(u32, [u64; 3])> = Vec::new();
         for p in &f.polygons {
-            for &v in p {
-                if v as usize >= n {
-                    return Err(Error::IndexOutOfRange {
-                        item: "facet",
-                        index,
-                        vertex: v,
-                        points: n,
-                    });
-                }
-            }
+            ids_in_range("facet", index, p, n)?;
             if p.is_empty() {
                 return bad(FacetDefect::TooFewVertices);
             }
@@ -406,13 +369,10 @@ pub(crate) fn on_triangle(
     if orient3d(a, b, c, p) != 0.0 {
         return None;
     }
-    let (pa, pb, pc, pp, s) = (0..3).find_map(|k| {
-        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        let pr = |x: &[f64; 3]| [x[i], x[j]];
-        let (pa, pb, pc) = (pr(a), pr(b), pr(c));
-        let s = orient2d(&pa, &pb, &pc);
-        (s != 0.0).then(|| (pa, pb, pc, pr(p), s))
-    })?;
+    let (i, j) = crate::geom::vec3::projection_axes(a, b, c)?;
+    let pr = |x: &[f64; 3]| [x[i], x[j]];
+    let (pa, pb, pc, pp) = (pr(a), pr(b), pr(c), pr(p));
+    let s = orient2d(&pa, &pb, &pc);
     let o = [
         orient2d(&pa, &pb, &pp),
         orient2d(&pb, &pc, &pp),
@@ -489,12 +449,6 @@ pub(crate) fn points_on_triangles(
     }
     out.sort_unstable_by_key(|&(q, t, _)| (q, t));
     out
-}
-
-/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
-/// folded onto `0.0` (so equal coordinates give equal keys).
-pub(crate) fn key(p: &[f64; 3]) -> [u64; 3] {
-    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
 #[cfg(test)]

@@ -115,27 +115,10 @@ impl Pslg {
     /// ```
     pub fn validate(&self) -> Result<(), Error> {
         self.check_values()?;
-        // Duplicate points, by sorting (index order breaks ties, so the
-        // first of equal points is the original).
-        let key = |p: &[f64; 2]| ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits());
-        let mut order: Vec<u32> = (0..self.points.len() as u32).collect();
-        order.sort_by_key(|&i| (key(&self.points[i as usize]), i));
-        let mut first_dup: Option<(usize, usize)> = None;
-        for w in order.windows(2) {
-            let (a, b) = (w[0] as usize, w[1] as usize);
-            if key(&self.points[a]) == key(&self.points[b]) {
-                // `a` may itself be a duplicate; find the run's first.
-                let mut k = order.iter().position(|&x| x as usize == a).unwrap_or(0);
-                while k > 0 && key(&self.points[order[k - 1] as usize]) == key(&self.points[a]) {
-                    k -= 1;
-                }
-                let orig = order[k] as usize;
-                if first_dup.is_none_or(|(i, _)| b < i) {
-                    first_dup = Some((b, orig));
-                }
-            }
-        }
-        if let Some((index, original)) = first_dup {
+        // Duplicate points: the first point that is not its own canonical id.
+        let canon = super::canonical_ids(&self.points);
+        if let Some(index) = (0..canon.len()).find(|&i| canon[i] as usize != i) {
+            let original = canon[index] as usize;
             return Err(Error::DuplicateVertex { index, original });
         }
         for (s, seg) in self.segments.iter().enumerate() {
@@ -150,19 +133,11 @@ impl Pslg {
             .map(|(s, e)| (e[0].min(e[1]), e[0].max(e[1]), s as u32))
             .collect();
         segs.sort_unstable();
-        let mut first: Option<(usize, usize)> = None;
-        let mut k = 0;
-        while k < segs.len() {
-            let mut j = k + 1;
-            while j < segs.len() && (segs[j].0, segs[j].1) == (segs[k].0, segs[k].1) {
-                let cand = (segs[j].2 as usize, segs[k].2 as usize);
-                if first.is_none_or(|(i, _)| cand.0 < i) {
-                    first = Some(cand);
-                }
-                j += 1;
-            }
-            k = j;
-        }
+        // The smallest index that repeats an earlier segment (the first of
+        // its run).
+        let first = (segs.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)))
+            .flat_map(|run| run[1..].iter().map(|x| (x.2 as usize, run[0].2 as usize)))
+            .min();
         if let Some((index, original)) = first {
             return Err(Error::DuplicateSegment { index, original });
         }
@@ -174,23 +149,12 @@ impl Pslg {
     /// range ([`Error::InvalidCoordinate`], [`Error::InvalidSeedPoint`],
     /// [`Error::SegmentOutOfRange`]; duplicates are the mesher's business).
     pub(crate) fn check_values(&self) -> Result<(), Error> {
-        let fin = |p: &[f64; 2]| p[0].is_finite() && p[1].is_finite();
-        if let Some(index) = self.points.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        crate::geom::scale::check_range(&self.points, crate::geom::scale::RANGE_2D)?;
-        if let Some(index) = self.holes.iter().position(|p| !fin(p)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "hole",
-                index,
-            });
-        }
-        if let Some(index) = self.regions.iter().position(|r| !fin(&r.point)) {
-            return Err(Error::InvalidSeedPoint {
-                kind: "region",
-                index,
-            });
-        }
+        super::check_coordinates(
+            &self.points,
+            crate::geom::scale::RANGE_2D,
+            &self.holes,
+            self.regions.iter().map(|r| r.point),
+        )?;
         self.check_segment_ends()
     }
 

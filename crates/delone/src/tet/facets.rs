@@ -5,7 +5,8 @@
 //! only and does not depend on the 2D mesher.
 
 use crate::error::{Error, FacetDefect};
-use crate::model::plc::{key, points_on_triangles, Facet, OnTriangle, Plc};
+use crate::model::key;
+use crate::model::plc::{points_on_triangles, Facet, OnTriangle, Plc};
 
 impl Plc {
     /// Triangulates every facet in its own plane with the 2D constrained
@@ -146,14 +147,7 @@ fn facet_triangles(
     ids.extend(extra);
     ids.sort_unstable();
     ids.dedup();
-    if let Some(&q) = ids.iter().find(|&&q| q as usize >= points.len()) {
-        return Err(Error::IndexOutOfRange {
-            item: "facet",
-            index: fi,
-            vertex: q,
-            points: points.len(),
-        });
-    }
+    crate::geom::check::ids_in_range("facet", fi, &ids, points.len())?;
     let local = |q: u32| ids.binary_search(&q).unwrap_or(0) as u32;
     let mut g = Pslg::new(
         ids.iter()

@@ -42,8 +42,8 @@
 //! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
-use crate::geom::vec3::collinear;
-use crate::model::plc::key;
+use crate::geom::vec3::{collinear, projection_axes};
+use crate::model::canonical_ids;
 use delone_predicates::{orient2d, orient3d};
 
 type P = [f64; 3];
@@ -295,27 +295,6 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     out
 }
 
-/// Per point, the smallest index of a point with exactly the same
-/// coordinates (`-0.0` and `0.0` are the same): a sort by coordinate key,
-/// so no hashing and a deterministic result.
-fn canonical_ids(points: &[P]) -> Vec<u32> {
-    let mut order: Vec<([u64; 3], u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (key(p), i as u32))
-        .collect();
-    order.sort_unstable();
-    let mut canon = vec![0u32; points.len()];
-    let mut first = 0usize;
-    for k in 0..order.len() {
-        if order[k].0 != order[first].0 {
-            first = k;
-        }
-        canon[order[k].1 as usize] = order[first].1;
-    }
-    canon
-}
-
 /// [`self_intersections`] as a typed result.
 ///
 /// # Errors
@@ -334,24 +313,7 @@ fn canonical_ids(points: &[P]) -> Vec<u32> {
 /// assert_eq!(e, Err(delone::Error::SelfIntersection { facets: (0, 4), count: 1 }));
 /// ```
 pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<(), Error> {
-    for (index, t) in triangles.iter().enumerate() {
-        for &v in t {
-            match points.get(v as usize) {
-                None => {
-                    return Err(Error::IndexOutOfRange {
-                        item: "triangle",
-                        index,
-                        vertex: v,
-                        points: points.len(),
-                    })
-                }
-                Some(p) if !p.iter().all(|c| c.is_finite()) => {
-                    return Err(Error::InvalidCoordinate { index: v as usize })
-                }
-                _ => {}
-            }
-        }
-    }
+    crate::geom::check::corners_valid("triangle", points, triangles)?;
     let r = self_intersections(points, triangles);
     if let Some(&t) = r.degenerate.first() {
         return Err(Error::DegenerateFacet {
@@ -491,7 +453,7 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
             if pl_a.side(a.map(p), p(f)) != 0 {
                 return false;
             }
-            let (x, y) = proj_axes(p(u), p(v), p(c));
+            let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
             let q = |w: u32| [p(w)[x], p(w)[y]];
             let sc = orient2d(&q(u), &q(v), &q(c));
             let sf = orient2d(&q(u), &q(v), &q(f));
@@ -524,17 +486,6 @@ fn disjoint_vertices_intersect(
         || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
 }
 
-/// Two coordinate axes onto which the (non-degenerate) triangle `abc`
-/// projects to a non-degenerate triangle.
-fn proj_axes(a: &P, b: &P, c: &P) -> (usize, usize) {
-    for (x, y) in [(0, 1), (1, 2), (2, 0)] {
-        if orient2d(&[a[x], a[y]], &[b[x], b[y]], &[c[x], c[y]]) != 0.0 {
-            return (x, y);
-        }
-    }
-    (0, 1)
-}
-
 fn sign(x: f64) -> i8 {
     if x > 0.0 {
         1
@@ -562,7 +513,7 @@ fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
     }
     if op == 0 && oq == 0 {
         // Coplanar: a 2D test in a projection that keeps abc non-degenerate.
-        let (x, y) = proj_axes(a, b, c);
+        let (x, y) = projection_axes(a, b, c).unwrap_or((0, 1));
         let f = |u: &P| [u[x], u[y]];
         return seg_tri_2d(&f(p), &f(q), &f(a), &f(b), &f(c));
     }
@@ -759,6 +710,7 @@ fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::key;
 
     /// Brute force over all pairs: the grid must find the same pairs.
     fn brute(points: &[P], tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
@@ -848,7 +800,7 @@ mod tests {
                 if orient3d(p(u), p(v), p(c), p(f)) != 0.0 {
                     return false;
                 }
-                let (x, y) = proj_axes(p(u), p(v), p(c));
+                let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
                 let q = |w: u32| [p(w)[x], p(w)[y]];
                 orient2d(&q(u), &q(v), &q(c)).signum() == orient2d(&q(u), &q(v), &q(f)).signum()
             }

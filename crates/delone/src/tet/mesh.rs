@@ -2,7 +2,7 @@
 
 use delone_predicates::{insphere, insphere_weighted, orient3d};
 
-use super::local::FACET;
+use super::local::{face, fkey, FACET};
 use crate::{Violation, NONE};
 
 /// A tetrahedralization in flat arrays, as returned by [`crate::tetrahedralize`].
@@ -45,6 +45,91 @@ impl TetMesh {
             })
         })
     }
+}
+
+/// Why [`input_tets`] refused tetrahedra given as input; each names the
+/// offending tetrahedron.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TetsDefect {
+    /// Names a missing point or one point twice.
+    BadIndex(usize),
+    /// Zero volume.
+    Degenerate(usize),
+    /// Oriented against the first tetrahedron.
+    Inverted(usize),
+    /// Has a face shared by more than two tetrahedra.
+    NonManifold(usize),
+    /// Lies on the same side of a common face as its neighbour there.
+    Overlap(usize),
+}
+
+/// A neighbour table: per tetrahedron, the one across each face ([`NONE`]
+/// if none).
+pub(crate) type Neighbors = Vec<[u32; 4]>;
+
+/// Tetrahedra given as input (an existing mesh, a background mesh), checked
+/// with exact predicates on `points` and made positive, with their
+/// neighbour table (face `f` opposite vertex `f`, paired by sorted face
+/// keys). `consistent`: every tetrahedron must have the orientation of the
+/// first ([`TetsDefect::Inverted`]), and the two tetrahedra of every common
+/// face must lie on opposite sides of it ([`TetsDefect::Overlap`]);
+/// otherwise each tetrahedron is turned on its own.
+pub(crate) fn input_tets(
+    points: &[[f64; 3]],
+    tets: &[[u32; 4]],
+    consistent: bool,
+) -> Result<(Vec<[u32; 4]>, Neighbors), TetsDefect> {
+    let n = points.len();
+    let mut tv: Vec<[u32; 4]> = Vec::with_capacity(tets.len());
+    let mut sign = 0.0f64;
+    for (t, x) in tets.iter().enumerate() {
+        let distinct = (0..4).all(|i| (i + 1..4).all(|j| x[i] != x[j]));
+        if !distinct || x.iter().any(|&q| q as usize >= n) {
+            return Err(TetsDefect::BadIndex(t));
+        }
+        let p = x.map(|q| points[q as usize]);
+        let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
+        if o == 0.0 {
+            return Err(TetsDefect::Degenerate(t));
+        }
+        if consistent && sign == 0.0 {
+            sign = o.signum();
+        } else if consistent && o.signum() != sign {
+            return Err(TetsDefect::Inverted(t));
+        }
+        // delone's positive orientation is a negative `orient3d`.
+        tv.push(if o > 0.0 {
+            [x[1], x[0], x[2], x[3]]
+        } else {
+            *x
+        });
+    }
+    let mut keys: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tv.len());
+    for (t, x) in tv.iter().enumerate() {
+        for f in 0..4 {
+            keys.push((fkey(face(*x, f)), t as u32, f as u8));
+        }
+    }
+    keys.sort_unstable();
+    let mut nb = vec![[NONE; 4]; tv.len()];
+    for run in keys.chunk_by(|a, b| a.0 == b.0) {
+        if run.len() > 2 {
+            return Err(TetsDefect::NonManifold(run[2].1 as usize));
+        }
+        if let [(_, t, f), (_, u, g)] = *run {
+            if consistent {
+                let [a, b, c] = FACET[f as usize].map(|k| &points[tv[t as usize][k] as usize]);
+                let d1 = &points[tv[t as usize][f as usize] as usize];
+                let d2 = &points[tv[u as usize][g as usize] as usize];
+                if orient3d(a, b, c, d1).signum() == orient3d(a, b, c, d2).signum() {
+                    return Err(TetsDefect::Overlap(u as usize));
+                }
+            }
+            nb[t as usize][f as usize] = u;
+            nb[u as usize][g as usize] = t;
+        }
+    }
+    Ok((tv, nb))
 }
 
 /// Checks `mesh` against `points` independently of how it was built, with

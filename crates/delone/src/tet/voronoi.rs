@@ -408,39 +408,6 @@ fn split_mut<'a, T>(mut s: &'a mut [T], bounds: &[usize]) -> Vec<&'a mut [T]> {
     out
 }
 
-/// `f(i, item)` for every item, the first on this thread and the others on
-/// scoped threads; the results in item order. An item whose thread cannot
-/// be started runs on this thread.
-fn run_all<I: Send, R: Send>(items: Vec<I>, f: impl Fn(usize, I) -> R + Sync) -> Vec<R> {
-    if items.len() <= 1 {
-        return items.into_iter().map(|x| f(0, x)).collect();
-    }
-    let f = &f;
-    // Each item waits in a slot for whoever runs it.
-    let slots: Vec<Mutex<Option<I>>> = items.into_iter().map(|x| Mutex::new(Some(x))).collect();
-    let slots = &slots;
-    let take = move |i: usize| slots[i].lock().ok().and_then(|mut s| s.take());
-    std::thread::scope(|sc| {
-        let handles: Vec<_> = (1..slots.len())
-            .map(|i| {
-                std::thread::Builder::new()
-                    .spawn_scoped(sc, move || take(i).map(|x| f(i, x)))
-                    .ok()
-            })
-            .collect();
-        let mut out = Vec::with_capacity(slots.len());
-        out.extend(take(0).map(|x| f(0, x)));
-        for (j, h) in handles.into_iter().enumerate() {
-            let done = h.and_then(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
-            match done {
-                Some(r) => out.push(r),
-                None => out.extend(take(j + 1).map(|x| f(j + 1, x))),
-            }
-        }
-        out
-    })
-}
-
 /// `f(i, item)` for every item on at most `threads` threads (this one and
 /// scoped ones), each thread taking the next item not yet taken; the results
 /// in item order (`None` only if an item could not be run).
@@ -985,7 +952,7 @@ fn check_mesh(
     let fine = lengths_ok && {
         let k = chunk_count(nt, threads);
         let b: Vec<usize> = (0..=k).map(|i| nt * i / k).collect();
-        let ok = run_all((0..k).collect(), |_, i| {
+        let ok = run_dynamic(k, (0..k).collect(), |_, i| {
             // The largest vertex id, and the largest neighbour id plus one
             // (`NONE` wraps to 0).
             let tv = mesh.tets[b[i]..b[i + 1]].as_flattened().iter();
@@ -994,7 +961,7 @@ fn check_mesh(
             let top_nb = nb.fold(0u32, |m, &u| m.max(u.wrapping_add(1)));
             (top as usize) < n && (top_nb as usize) <= nt
         });
-        nt == 0 || ok.iter().all(|&x| x)
+        nt == 0 || ok.iter().all(|&x| x == Some(true))
     };
     if fine {
         return Ok(());
@@ -1571,7 +1538,7 @@ impl Voronoi3 {
         let fs = &faces[..];
         let mut first_count = Some(pre_vec);
         let items: Vec<Option<Vec<u32>>> = (0..k).map(|_| first_count.take()).collect();
-        let site_counts = run_all(items, |i, c| {
+        let site_counts = run_dynamic(k, items, |i, c| {
             // One spare counter at `n` (only an invalid mesh has a site
             // beyond: then it is not counted, as before).
             let mut c = c.unwrap_or_default();
@@ -1589,7 +1556,7 @@ impl Voronoi3 {
         count.clear();
         count.resize(n + 1, 0);
         count.shrink_to_fit();
-        for c in &site_counts {
+        for c in site_counts.iter().flatten() {
             for (x, &y) in count[1..].iter_mut().zip(c) {
                 *x += y;
             }
@@ -1606,7 +1573,7 @@ impl Voronoi3 {
         cell_face_ids.shrink_to_fit();
         let cb: Vec<usize> = sb.iter().map(|&s| cell_offsets[s] as usize).collect();
         let cell_offsets_ref = &cell_offsets;
-        run_all(split_mut(&mut cell_face_ids, &cb), |i, out| {
+        run_dynamic(k, split_mut(&mut cell_face_ids, &cb), |i, out| {
             let (lo, hi) = (sb[i], sb[i + 1]);
             let base = cb[i] as u32;
             let mut fill: Vec<u32> = cell_offsets_ref[lo..hi].iter().map(|&o| o - base).collect();
@@ -2090,18 +2057,10 @@ impl Clipper {
 /// assert_eq!(out.len(), 30);
 /// ```
 pub fn lloyd(points: &[[f64; 3]], bbox: Box3, iterations: usize) -> Result<Vec<[f64; 3]>, Error> {
-    let mut pts = points.to_vec();
-    for _ in 0..iterations {
-        let mesh = super::tetrahedralize(&pts)?;
-        let v = Voronoi3::new(&pts, &mesh)?;
-        let c = v.cells_clipped(&pts, bbox);
-        for (p, (&vol, &g)) in pts.iter_mut().zip(c.volume.iter().zip(&c.centroid)) {
-            if vol > 0.0 {
-                *p = g;
-            }
-        }
-    }
-    Ok(pts)
+    crate::geom::lloyd(points, iterations, |pts| {
+        let c = Voronoi3::new(pts, &super::tetrahedralize(pts)?)?.cells_clipped(pts, bbox);
+        Ok((c.volume, c.centroid))
+    })
 }
 
 #[cfg(test)]

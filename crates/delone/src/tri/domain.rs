@@ -13,7 +13,7 @@
 //! moments — what Lloyd relaxation needs — are exact up to rounding, and the
 //! pieces draw correctly with the non-zero fill rule.
 
-use super::voronoi::{moments, Voronoi2};
+use super::voronoi::{clip_half, moments, Voronoi2};
 use crate::Error;
 
 /// Cells intersected with a polygonal domain ([`Voronoi2::cells_in_domain`]).
@@ -28,14 +28,21 @@ pub struct DomainCells2 {
     pub pieces: Vec<Vec<Vec<[f64; 2]>>>,
 }
 
+/// Twice the signed area of `ring` (positive when counterclockwise).
 fn signed_area2(ring: &[[f64; 2]]) -> f64 {
-    let m = ring.len();
-    (0..m)
-        .map(|k| {
-            let (p, q) = (ring[k], ring[(k + 1) % m]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum()
+    moments(ring, &[0.0; 2]).0
+}
+
+/// The bounding box `[min, max]` of `pts` (inverted when empty).
+fn bbox<'a>(pts: impl IntoIterator<Item = &'a [f64; 2]>) -> [[f64; 2]; 2] {
+    let mut bb = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
+    for p in pts {
+        for k in 0..2 {
+            bb[0][k] = bb[0][k].min(p[k]);
+            bb[1][k] = bb[1][k].max(p[k]);
+        }
+    }
+    bb
 }
 
 /// Winding number of `ring` around `x` (non-zero: inside).
@@ -77,20 +84,14 @@ fn oriented(rings: &[Vec<[f64; 2]>]) -> Vec<Ring> {
             if (signed_area2(&r) > 0.0) != (depth % 2 == 0) {
                 r.reverse();
             }
-            let mut bb = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-            for p in &r {
-                for k in 0..2 {
-                    bb[0][k] = bb[0][k].min(p[k]);
-                    bb[1][k] = bb[1][k].max(p[k]);
-                }
-            }
+            let bb = bbox(&r);
             (r, bb)
         })
         .collect()
 }
 
 /// Sutherland–Hodgman: `subject` clipped to the convex counterclockwise
-/// polygon `clip`.
+/// polygon `clip`, edge by edge ([`clip_half`]).
 fn clip_to_convex(
     subject: &[[f64; 2]],
     clip: &[[f64; 2]],
@@ -103,21 +104,10 @@ fn clip_to_convex(
             break;
         }
         let (a, b) = (clip[k], clip[(k + 1) % m]);
-        let side = |x: &[f64; 2]| (b[0] - a[0]) * (x[1] - a[1]) - (x[0] - a[0]) * (b[1] - a[1]);
-        tmp.clear();
-        let n = out.len();
-        for i in 0..n {
-            let (p, q) = (out[i], out[(i + 1) % n]);
-            let (sp, sq) = (side(&p), side(&q));
-            if sp >= 0.0 {
-                tmp.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                tmp.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
-            }
-        }
-        std::mem::swap(&mut out, tmp);
+        // Outside: right of a -> b.
+        clip_half(&mut out, tmp, |x| {
+            (x[0] - a[0]) * (b[1] - a[1]) - (b[0] - a[0]) * (x[1] - a[1])
+        });
     }
     out
 }
@@ -151,13 +141,7 @@ impl Voronoi2 {
         if rings.is_empty() {
             return out;
         }
-        let mut bb = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-        for (_, rb) in &rings {
-            for k in 0..2 {
-                bb[0][k] = bb[0][k].min(rb[0][k]);
-                bb[1][k] = bb[1][k].max(rb[1][k]);
-            }
-        }
+        let bb = bbox(rings.iter().flat_map(|(_, rb)| rb));
         let boxed = self.cells_clipped(points, bb);
         let mut tmp = Vec::new();
         for (s, &site) in points.iter().enumerate() {
@@ -165,13 +149,7 @@ impl Voronoi2 {
             if cell.len() < 3 {
                 continue;
             }
-            let mut cb = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-            for p in cell {
-                for k in 0..2 {
-                    cb[0][k] = cb[0][k].min(p[k]);
-                    cb[1][k] = cb[1][k].max(p[k]);
-                }
-            }
+            let cb = bbox(cell);
             let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
             for (ring, rb) in &rings {
                 let overlap = (0..2).all(|k| rb[0][k] <= cb[1][k] && cb[0][k] <= rb[1][k]);
@@ -287,17 +265,10 @@ pub fn lloyd_in_domain(
     rings: &[Vec<[f64; 2]>],
     iterations: usize,
 ) -> Result<Vec<[f64; 2]>, Error> {
-    let mut pts = points.to_vec();
-    for _ in 0..iterations {
-        let mesh = super::triangulate(&pts)?;
-        let c = Voronoi2::new(&pts, &mesh)?.cells_in_domain(&pts, rings);
-        for (p, (&a, &g)) in pts.iter_mut().zip(c.area.iter().zip(&c.centroid)) {
-            if a > 0.0 {
-                *p = g;
-            }
-        }
-    }
-    Ok(pts)
+    crate::geom::lloyd(points, iterations, |pts| {
+        let c = Voronoi2::new(pts, &super::triangulate(pts)?)?.cells_in_domain(pts, rings);
+        Ok((c.area, c.centroid))
+    })
 }
 
 #[cfg(test)]

@@ -234,22 +234,10 @@ impl TriStats {
     /// ```
     pub fn new(points: &[[f64; 2]], triangles: &[[u32; 3]]) -> Result<TriStats, Error> {
         let n = points.len();
+        crate::geom::check::corners_valid("triangle", points, triangles)?;
         let mut used = vec![false; n];
-        for (t, tri) in triangles.iter().enumerate() {
-            for &v in tri {
-                let Some(p) = points.get(v as usize) else {
-                    return Err(Error::IndexOutOfRange {
-                        item: "triangle",
-                        index: t,
-                        vertex: v,
-                        points: n,
-                    });
-                };
-                if !(p[0].is_finite() && p[1].is_finite()) {
-                    return Err(Error::InvalidCoordinate { index: v as usize });
-                }
-                used[v as usize] = true;
-            }
+        for &v in triangles.iter().flatten() {
+            used[v as usize] = true;
         }
         // Edges: every directed edge as (min, max, direction); an undirected
         // edge seen twice is interior. Sorting keeps this deterministic.
@@ -261,20 +249,11 @@ impl TriStats {
             }
         }
         keys.sort_unstable();
-        let mut edges = 0;
-        let mut boundary_edges = 0;
-        let mut i = 0;
-        while i < keys.len() {
-            let mut j = i + 1;
-            while j < keys.len() && keys[j] == keys[i] {
-                j += 1;
-            }
-            edges += 1;
-            if j - i == 1 {
-                boundary_edges += 1;
-            }
-            i = j;
-        }
+        let edges = keys.chunk_by(|a, b| a == b).count();
+        let boundary_edges = keys
+            .chunk_by(|a, b| a == b)
+            .filter(|r| r.len() == 1)
+            .count();
         let empty = triangles.is_empty();
         let mut s = TriStats {
             vertices: used.iter().filter(|&&u| u).count(),

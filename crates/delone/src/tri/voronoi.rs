@@ -163,31 +163,26 @@ pub struct Voronoi2 {
     pub weights: Vec<f64>,
 }
 
-/// Circumcentre of triangle `abc` (counterclockwise), computed relative to
-/// the corner opposite the longest edge (no cancellation for slivers).
+/// Power centre (orthocentre) of the weighted triangle `q` (counterclockwise)
+/// with weights `w`: the point with equal power distance `|x - p|² - w_p` to
+/// the three weighted corners; zero weights give the circumcentre (the same
+/// bits: `|d|² + (0 - 0) = |d|²`). Computed relative to the corner opposite
+/// the longest edge (no cancellation for slivers).
 #[inline]
-pub(crate) fn circumcenter(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> [f64; 2] {
+fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
     let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
-    let (la, lb, lc) = (l2(b, c), l2(c, a), l2(a, b));
+    let (la, lb, lc) = (l2(q[1], q[2]), l2(q[2], q[0]), l2(q[0], q[1]));
     // Rotate (keeping the orientation) so that `a` is opposite the longest
     // edge: rotation 0 if `la >= lb && la >= lc`, else 1 if `lb >= lc`, else
     // 2 — chosen by index, not by branches (which one is unpredictable).
     let (first, second) = ((la >= lb) & (la >= lc), lb >= lc);
     let r = usize::from(!first) * (2 - usize::from(second));
-    let q = [a, b, c];
     let (a, b, c) = (q[r], q[NEXT[r]], q[PREV[r]]);
-    center_from(a, b, c, 0.0, 0.0)
-}
-
-/// The point `x` with `2 (x - a)·(b - a) = |b - a|² + wb` and
-/// `2 (x - a)·(c - a) = |c - a|² + wc` (`abc` counterclockwise, `a`
-/// opposite the longest edge): the circumcentre for zero `wb`, `wc`.
-#[inline]
-fn center_from(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], wb: f64, wc: f64) -> [f64; 2] {
+    // 2 (x - a)·d = |d|² + w_a - w_b and 2 (x - a)·e = |e|² + w_a - w_c.
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let (ex, ey) = (c[0] - a[0], c[1] - a[1]);
-    let d2 = (dx * dx + dy * dy) + wb;
-    let e2 = (ex * ex + ey * ey) + wc;
+    let d2 = (dx * dx + dy * dy) + (w[r] - w[NEXT[r]]);
+    let e2 = (ex * ex + ey * ey) + (w[r] - w[PREV[r]]);
     // Relative to the corner between the two shorter edges the plain
     // determinant is accurate (orient2d's magnitude need not be); its sign
     // comes from the exact predicate when rounding leaves it in doubt.
@@ -204,33 +199,6 @@ fn center_from(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2], wb: f64, wc: f64) -> [f
         a[0] + (ey * d2 - dy * e2) * k,
         a[1] + (dx * e2 - ex * d2) * k,
     ]
-}
-
-/// Power centre (orthocentre) of the weighted triangle `abc`
-/// (counterclockwise): the point with equal power distance
-/// `|x - p|² - w_p` to the three weighted points. Computed like
-/// [`circumcenter`] (which it equals for zero weights, bit for bit).
-#[inline]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn power_center(
-    a: &[f64; 2],
-    b: &[f64; 2],
-    c: &[f64; 2],
-    wa: f64,
-    wb: f64,
-    wc: f64,
-) -> [f64; 2] {
-    let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
-    let (la, lb, lc) = (l2(b, c), l2(c, a), l2(a, b));
-    let (a, b, c, wa, wb, wc) = if la >= lb && la >= lc {
-        (a, b, c, wa, wb, wc)
-    } else if lb >= lc {
-        (b, c, a, wb, wc, wa)
-    } else {
-        (c, a, b, wc, wa, wb)
-    };
-    // 2 x·d = |d|² + w_a - w_b and 2 x·e = |e|² + w_a - w_c (x relative to a).
-    center_from(a, b, c, wa - wb, wa - wc)
 }
 
 /// The next and previous corner of a triangle.
@@ -459,16 +427,10 @@ impl Voronoi2 {
         let p = |v: u32| &points[v as usize];
         let centres = || -> Vec<[f64; 2]> {
             match weights {
-                None => tris
-                    .iter()
-                    .map(|t| circumcenter(p(t[0]), p(t[1]), p(t[2])))
-                    .collect(),
+                None => tris.iter().map(|t| centre(t.map(p), [0.0; 3])).collect(),
                 Some(w) => tris
                     .iter()
-                    .map(|t| {
-                        let [wa, wb, wc] = t.map(|x| w[x as usize]);
-                        power_center(p(t[0]), p(t[1]), p(t[2]), wa, wb, wc)
-                    })
+                    .map(|t| centre(t.map(p), t.map(|x| w[x as usize])))
                     .collect(),
             }
         };
@@ -754,11 +716,19 @@ fn clip_bisector(
     // Side of x: (x - p)·(q - p) - (|q - p|² + w_p - w_q)/2  (<= 0 keeps x).
     let (nx, ny) = (q[0] - p[0], q[1] - p[1]);
     let n2 = nx * nx + ny * ny;
-    if n2 == 0.0 {
-        return;
+    if n2 != 0.0 {
+        let h = 0.5 * (n2 + dw);
+        clip_half(poly, tmp, |x| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h);
     }
-    let h = 0.5 * (n2 + dw);
-    let side = |x: &[f64; 2]| (x[0] - p[0]) * nx + (x[1] - p[1]) * ny - h;
+}
+
+/// Keeps the part of polygon `poly` where `side <= 0` (Sutherland–Hodgman
+/// against one half-plane; `tmp` is scratch).
+pub(crate) fn clip_half(
+    poly: &mut Vec<[f64; 2]>,
+    tmp: &mut Vec<[f64; 2]>,
+    side: impl Fn(&[f64; 2]) -> f64,
+) {
     let mut any_out = false;
     let mut any_in = false;
     for x in poly.iter() {
@@ -851,16 +821,8 @@ pub(crate) fn area_centroid(poly: &[[f64; 2]], origin: &[f64; 2]) -> (f64, [f64;
 /// assert!(out.iter().all(|p| (0.0..=1.0).contains(&p[0]) && (0.0..=1.0).contains(&p[1])));
 /// ```
 pub fn lloyd(points: &[[f64; 2]], bbox: Box2, iterations: usize) -> Result<Vec<[f64; 2]>, Error> {
-    let mut pts = points.to_vec();
-    for _ in 0..iterations {
-        let mesh = super::triangulate(&pts)?;
-        let v = Voronoi2::new(&pts, &mesh)?;
-        let c = v.cells_clipped(&pts, bbox);
-        for (p, (&a, &g)) in pts.iter_mut().zip(c.area.iter().zip(&c.centroid)) {
-            if a > 0.0 {
-                *p = g;
-            }
-        }
-    }
-    Ok(pts)
+    crate::geom::lloyd(points, iterations, |pts| {
+        let c = Voronoi2::new(pts, &super::triangulate(pts)?)?.cells_clipped(pts, bbox);
+        Ok((c.area, c.centroid))
+    })
 }

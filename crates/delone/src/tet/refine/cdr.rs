@@ -23,6 +23,7 @@ use super::geom::{
 
 use super::options::{default_budget, volume_bounds, RefineOptions, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
+use crate::geom::union_root;
 use crate::geom::vec3::{angle, cross, dist2, dot, sub, P};
 use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::DEAD;
@@ -68,14 +69,6 @@ fn plane_groups(
     edge_tris: &[[u32; 2]],
     tri_edges: &[[u32; 3]],
 ) -> Vec<u32> {
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            let up = p[p[x as usize] as usize];
-            p[x as usize] = up;
-            x = up;
-        }
-        x
-    }
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     for (t, tri) in triangles.iter().enumerate() {
         for &e in &tri_edges[t] {
@@ -97,14 +90,17 @@ fn plane_groups(
             if delone_predicates::orient3d(pa, pb, pc, pd) == 0.0
                 || plane_distance(pa, pb, pc, pd) <= COPLANAR_TOL * span
             {
-                let (a, b) = (find(&mut parent, t as u32), find(&mut parent, u));
+                let (a, b) = (
+                    union_root(&mut parent, t as u32),
+                    union_root(&mut parent, u),
+                );
                 let (lo, hi) = (a.min(b), a.max(b));
                 parent[hi as usize] = lo;
             }
         }
     }
     (0..triangles.len() as u32)
-        .map(|t| find(&mut parent, t))
+        .map(|t| union_root(&mut parent, t))
         .collect()
 }
 
@@ -603,36 +599,11 @@ impl Cdr {
         }
     }
 
-    /// A live tetrahedron holding vertex `v`.
-    fn tet_of(&self, v: u32) -> Option<u32> {
-        self.m.slot_of_vertex(v)
-    }
-
     /// The tetrahedra holding edge `a b` (those reachable around it).
     fn around_edge(&self, a: u32, b: u32) -> Vec<u32> {
-        let Some(s) = self.tet_of(a) else {
-            return Vec::new();
-        };
         // Walk the star of `a` to a tetrahedron holding `b`.
-        let mut star = vec![s];
-        let mut i = 0;
-        let mut t0 = None;
-        while i < star.len() && star.len() < 100_000 {
-            let t = star[i];
-            i += 1;
-            let tv = self.m.tv[t as usize];
-            if tv.contains(&b) {
-                t0 = Some(t);
-                break;
-            }
-            for f in 0..4 {
-                let w = self.m.nb[t as usize][f];
-                if tv[f] != a && w != NONE && !star.contains(&(w >> 2)) {
-                    star.push(w >> 2);
-                }
-            }
-        }
-        let Some(t0) = t0 else {
+        let holds_b = |t: u32| self.m.tv[t as usize].contains(&b);
+        let Some(t0) = self.m.star_walk(a, &mut Vec::new(), |_, _| true, holds_b) else {
             return Vec::new();
         };
         let mut out = vec![t0];

@@ -23,10 +23,9 @@
 use crate::tet::local::fkey;
 use std::fmt;
 
-use delone_predicates::orient3d;
-
 use super::{refine_recovered, RefineOptions, Refined};
 use crate::tet::local::FACET;
+use crate::tet::mesh::{input_tets, TetsDefect};
 use crate::tet::quality;
 use crate::tet::recover::{MeshRegion, RecoverError, RecoverReport, Recovered};
 use crate::tet::TetMesh;
@@ -180,63 +179,24 @@ pub fn recovered_from_mesh(
     }
     let (sp, _) = crate::geom::rescaled(points);
     let n = points.len();
-    let mut tv: Vec<[u32; 4]> = Vec::with_capacity(tets.len());
-    let mut sign = 0.0f64;
-    for (t, x) in tets.iter().enumerate() {
-        let distinct = (0..4).all(|i| (i + 1..4).all(|j| x[i] != x[j]));
-        if !distinct || x.iter().any(|&q| q as usize >= n) {
-            return Err(RefineMeshError::BadIndex { tet: t });
-        }
-        let p = x.map(|q| sp[q as usize]);
-        let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
-        if o == 0.0 {
-            return Err(RefineMeshError::Degenerate { tet: t });
-        }
-        if sign == 0.0 {
-            sign = o.signum();
-        } else if o.signum() != sign {
-            return Err(RefineMeshError::Inverted { tet: t });
-        }
-        // delone's positive orientation is a negative `orient3d`.
-        tv.push(if o > 0.0 {
-            [x[1], x[0], x[2], x[3]]
-        } else {
-            *x
-        });
-    }
-    // Neighbours: sorted face keys, paired.
-    let mut keys: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tv.len());
-    for (t, x) in tv.iter().enumerate() {
-        for f in 0..4 {
-            keys.push((fkey(FACET[f].map(|i| x[i])), t as u32, f as u8));
-        }
-    }
+    let (tv, nb) = input_tets(&sp, tets, true).map_err(|d| match d {
+        TetsDefect::BadIndex(tet) => RefineMeshError::BadIndex { tet },
+        TetsDefect::Degenerate(tet) => RefineMeshError::Degenerate { tet },
+        TetsDefect::Inverted(tet) => RefineMeshError::Inverted { tet },
+        TetsDefect::NonManifold(tet) => RefineMeshError::NonManifold { tet },
+        TetsDefect::Overlap(tet) => RefineMeshError::Overlap { tet },
+    })?;
+    let mut keys: Vec<[u32; 3]> = tv
+        .iter()
+        .flat_map(|x| FACET.map(|f| fkey(f.map(|i| x[i]))))
+        .collect();
     keys.sort_unstable();
-    let mut nb = vec![[NONE; 4]; tv.len()];
-    for run in keys.chunk_by(|a, b| a.0 == b.0) {
-        if run.len() > 2 {
-            return Err(RefineMeshError::NonManifold {
-                tet: run[2].1 as usize,
-            });
-        }
-        if let [(_, t, f), (_, u, g)] = *run {
-            // The two opposite vertices must lie on opposite sides.
-            let [a, b, c] = FACET[f as usize].map(|k| sp[tv[t as usize][k] as usize]);
-            let d1 = sp[tv[t as usize][f as usize] as usize];
-            let d2 = sp[tv[u as usize][g as usize] as usize];
-            if orient3d(&a, &b, &c, &d1).signum() == orient3d(&a, &b, &c, &d2).signum() {
-                return Err(RefineMeshError::Overlap { tet: u as usize });
-            }
-            nb[t as usize][f as usize] = u;
-            nb[u as usize][g as usize] = t;
-        }
-    }
     // Listed faces.
     let mut listed_of: std::collections::HashMap<[u32; 3], u32> =
         std::collections::HashMap::with_capacity(faces.len());
     for (i, f) in faces.iter().enumerate() {
         let k = fkey(*f);
-        if keys.binary_search_by(|x| x.0.cmp(&k)).is_err() {
+        if keys.binary_search(&k).is_err() {
             return Err(RefineMeshError::FaceNotInMesh { face: i });
         }
         listed_of.entry(k).or_insert(i as u32);

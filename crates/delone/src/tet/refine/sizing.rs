@@ -36,7 +36,6 @@
 //! A size that is not a positive finite number means "no constraint" at
 //! that point.
 
-use std::collections::HashMap;
 use std::fmt;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
@@ -47,6 +46,7 @@ use super::geom::tri_circumcenter;
 
 use crate::geom::vec3::{dist2, P};
 use crate::tet::local::FACET;
+use crate::tet::mesh::{input_tets, TetsDefect};
 use crate::tet::quality;
 use crate::NONE;
 
@@ -248,7 +248,7 @@ impl Background {
     /// ```
     pub fn new(
         points: Vec<[f64; 3]>,
-        mut tets: Vec<[u32; 4]>,
+        tets: Vec<[u32; 4]>,
         sizes: Vec<f64>,
     ) -> Result<Background, SizingError> {
         if sizes.len() != points.len() {
@@ -260,22 +260,14 @@ impl Background {
         if let Some(index) = points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
             return Err(SizingError::InvalidCoordinate { index });
         }
-        let n = points.len();
-        for (t, tv) in tets.iter_mut().enumerate() {
-            let distinct = (0..4).all(|i| (i + 1..4).all(|j| tv[i] != tv[j]));
-            if !distinct || tv.iter().any(|&q| q as usize >= n) {
-                return Err(SizingError::BadIndex { tet: t });
+        let (tets, nb) = input_tets(&points, &tets, false).map_err(|d| match d {
+            TetsDefect::BadIndex(tet) => SizingError::BadIndex { tet },
+            TetsDefect::Degenerate(tet) => SizingError::Degenerate { tet },
+            // Orientation and overlap are not asked for here.
+            TetsDefect::NonManifold(tet) | TetsDefect::Inverted(tet) | TetsDefect::Overlap(tet) => {
+                SizingError::NonManifold { tet }
             }
-            let p = tv.map(|q| points[q as usize]);
-            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
-            if o == 0.0 {
-                return Err(SizingError::Degenerate { tet: t });
-            }
-            if o > 0.0 {
-                tv.swap(0, 1);
-            }
-        }
-        let nb = neighbours(&tets)?;
+        })?;
         Ok(Background {
             points,
             tets,
@@ -413,32 +405,6 @@ impl Background {
             })
             .unwrap_or(0)
     }
-}
-
-/// Neighbour table of `tets` (face `f` opposite vertex `f`).
-fn neighbours(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, SizingError> {
-    let mut nb = vec![[NONE; 4]; tets.len()];
-    let mut seen: HashMap<[u32; 3], (u32, u8)> = HashMap::with_capacity(tets.len() * 2);
-    for (t, tv) in tets.iter().enumerate() {
-        for f in 0..4 {
-            let mut k = FACET[f].map(|i| tv[i]);
-            k.sort_unstable();
-            match seen.get(&k).copied() {
-                None => {
-                    seen.insert(k, (t as u32, f as u8));
-                }
-                Some((u, g)) => {
-                    if u == NONE || nb[u as usize][g as usize] != NONE {
-                        return Err(SizingError::NonManifold { tet: t });
-                    }
-                    nb[u as usize][g as usize] = t as u32;
-                    nb[t][f] = u;
-                    seen.insert(k, (u, g));
-                }
-            }
-        }
-    }
-    Ok(nb)
 }
 
 /// The sizing as the refinement uses it, on rescaled coordinates.
