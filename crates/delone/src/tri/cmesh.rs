@@ -421,28 +421,87 @@ impl CMesh {
         Ins::Done(p)
     }
 
-    /// Lawson flips from the half-edges on `stack` until every edge without
-    /// a subsegment is locally Delaunay (exact incircle).
-    /// The flipped triangles are pushed on `touched`.
-    pub(super) fn restore_delaunay(&mut self, stack: &mut Vec<u32>, touched: &mut Vec<u32>) {
-        while let Some(h) = stack.pop() {
+    /// Lawson flips from the half-edges on `stack`, each given with its
+    /// two ends (an entry whose slot no longer holds that edge is stale and
+    /// skipped: every flip that moves an edge pushes it again), until every
+    /// edge without a subsegment between two finite triangles is locally
+    /// Delaunay (exact incircle). After a flip of `t` with neighbour `n`
+    /// the four outer edges are pushed so that `n`'s are checked first.
+    /// The flipped triangles are pushed on `touched`, `t` before `n`.
+    pub(super) fn restore_delaunay(
+        &mut self,
+        stack: &mut Vec<(u32, u32, u32)>,
+        touched: &mut Vec<u32>,
+    ) {
+        while let Some((h, a, b)) = stack.pop() {
             let (t, e) = unpack(h);
-            if self.sub_at(t, e) != NONE {
-                continue;
-            }
+            let v = self.tr[t].v;
             let x = self.tr[t].a[e];
-            if x == NONE {
+            if edge(&v, e) != (a, b) || x == NONE || self.sub_at(t, e) != NONE {
                 continue;
             }
             let (n, j) = unpack(x);
-            let v = self.tr[t].v;
-            let vn = self.tr[n].v[j];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn)) > 0.0 {
+            let vn = self.tr[n].v;
+            if is_ghost(&v) || is_ghost(&vn) {
+                continue;
+            }
+            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn[j])) > 0.0 {
                 self.flip(t, e);
                 touched.extend([t as u32, n as u32]);
-                stack.extend([pack(t, 0), pack(t, 2), pack(n, 0), pack(n, 2)]);
+                for (k, f) in [(t, 2), (t, 0), (n, 2), (n, 0)] {
+                    stack.push(self.half(k, f));
+                }
             }
         }
+    }
+
+    /// Half-edge `e` of `t` as a [`CMesh::restore_delaunay`] entry.
+    #[inline]
+    pub(super) fn half(&self, t: usize, e: usize) -> (u32, u32, u32) {
+        let (a, b) = edge(&self.tr[t].v, e);
+        (pack(t, e), a, b)
+    }
+
+    /// The finite triangle whose closure contains `p`, by a stochastic
+    /// visibility walk from `start` (from the first live triangle when
+    /// `start` is dead or a ghost); `None` when the walk leaves the mesh
+    /// (across a ghost or a boundary edge). `rng` is the walk's
+    /// pseudo-random edge choice.
+    pub(super) fn locate(&self, start: usize, p: &[f64; 2], rng: &mut u32) -> Option<usize> {
+        let live = |t: &usize| {
+            let v = self.tr[*t].v;
+            v[0] != DEAD && !is_ghost(&v)
+        };
+        let mut t = Some(start)
+            .filter(|t| *t < self.tr.len() && live(t))
+            .or_else(|| (0..self.tr.len()).find(live))?;
+        let limit = 4 * self.tr.len() + 64;
+        'walk: for _ in 0..limit {
+            let v = self.tr[t].v;
+            *rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let r = ((*rng >> 16) % 3) as usize;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                let (a, b) = edge(&v, e);
+                if orient2d(self.p(a), self.p(b), p) < 0.0 {
+                    let x = self.tr[t].a[e];
+                    if x == NONE || is_ghost(&self.tr[unpack(x).0].v) {
+                        return None;
+                    }
+                    t = unpack(x).0;
+                    continue 'walk;
+                }
+            }
+            return Some(t);
+        }
+        // Safety net (not reached with exact predicates on a valid mesh).
+        (0..self.tr.len()).filter(live).find(|&t| {
+            let v = self.tr[t].v;
+            (0..3).all(|e| {
+                let (a, b) = edge(&v, e);
+                orient2d(self.p(a), self.p(b), p) >= 0.0
+            })
+        })
     }
 
     /// Flips edge `e` of triangle `t` (it must have a neighbour and no
@@ -765,7 +824,10 @@ mod tests {
         }
         assert!(flips > 100);
         assert!(m.check(true).is_err(), "the flips left non-Delaunay edges");
-        let mut stack: Vec<u32> = (0..3 * m.tr.len() as u32).collect();
+        let mut stack: Vec<_> = (0..m.tr.len())
+            .flat_map(|t| (0..3).map(move |e| (t, e)))
+            .map(|(t, e)| m.half(t, e))
+            .collect();
         let mut touched = Vec::new();
         m.restore_delaunay(&mut stack, &mut touched);
         assert!(!touched.is_empty());

@@ -160,7 +160,11 @@ struct Work {
     /// A triangle slot holding each vertex.
     vt: Vec<u32>,
     flips: usize,
+    /// The walk's pseudo-random state ([`CMesh::locate`]).
     rng: u32,
+    /// Scratch of [`Work::legalize`].
+    lawson: Vec<(u32, u32, u32)>,
+    touched: Vec<u32>,
 }
 
 /// Which side of the directed line `a -> b` `c` is on (exact sign).
@@ -189,6 +193,8 @@ impl Work {
             cm,
             flips: 0,
             rng: 0x1234_5678,
+            lawson: Vec::new(),
+            touched: Vec::new(),
         };
         for t in 0..w.cm.tr.len() {
             if w.v(t)[0] != DEAD {
@@ -281,29 +287,26 @@ impl Work {
         self.flips += 1;
     }
 
-    /// Lawson flips from the given edges (vertex pairs): every unconstrained
-    /// edge between two finite triangles that is not locally Delaunay is
-    /// flipped, and the four outer edges of its quadrilateral checked again.
-    fn legalize(&mut self, stack: &mut Vec<(u32, u32)>) {
-        while let Some((u, w)) = stack.pop() {
-            let Some((t, i)) = self.find_edge(u, w) else {
-                continue;
-            };
-            if self.con(t, i) != NONE {
-                continue;
-            }
-            let (n, j) = unpack(self.a(t, i));
-            let (vt, vn) = (self.v(t), self.v(n));
-            if is_ghost(&vt) || is_ghost(&vn) {
-                continue;
-            }
-            let d = vn[j];
-            if incircle(self.p(vt[0]), self.p(vt[1]), self.p(vt[2]), self.p(d)) > 0.0 {
-                let a = vt[i];
-                self.flip(t, i);
-                stack.extend_from_slice(&[(a, u), (u, d), (d, w), (w, a)]);
+    /// Lawson flips ([`CMesh::restore_delaunay`]) from the given edges
+    /// (vertex pairs; those that are not edges are skipped), keeping the
+    /// vertex-to-triangle map and the flip count up to date.
+    fn legalize(&mut self, pairs: &mut Vec<(u32, u32)>) {
+        let mut stack = std::mem::take(&mut self.lawson);
+        let mut touched = std::mem::take(&mut self.touched);
+        stack.clear();
+        touched.clear();
+        for (u, w) in pairs.drain(..) {
+            if let Some((t, i)) = self.find_edge(u, w) {
+                stack.push(self.cm.half(t, i));
             }
         }
+        self.cm.restore_delaunay(&mut stack, &mut touched);
+        self.flips += touched.len() / 2;
+        for &t in &touched {
+            self.set_vt(t as usize);
+        }
+        self.lawson = stack;
+        self.touched = touched;
     }
 
     /// Splits edge `i` of `t` (an interior edge) at a new vertex at `x`,
@@ -364,23 +367,6 @@ impl Work {
         let mut st = vec![(a, p), (q, a), (d, q), (p, d), (a, s), (d, s)];
         self.legalize(&mut st);
         Some(s)
-    }
-
-    /// Finite triangle containing `p` (closed), or `None` outside the hull.
-    fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
-        let live = |v: &[u32; 3]| v[0] != DEAD && !is_ghost(v);
-        let t = self.cm.tr.iter().position(|r| live(&r.v))?;
-        if let Ok(found) = self.walk(t, p) {
-            return found;
-        }
-        // Safety net (not reached with exact predicates on a valid mesh).
-        self.cm.tr.iter().map(|r| r.v).position(|v| {
-            live(&v)
-                && (0..3).all(|e| {
-                    let (a, b) = edge(&v, e);
-                    orient2d(self.p(a), self.p(b), p) >= 0.0
-                })
-        })
     }
 }
 
@@ -729,7 +715,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     // in a spatially coherent order cost O(1) walks each).
     let mut last = 0usize;
     for h in &pslg.holes {
-        let found = w.locate_from(last, &sc(*h));
+        let found = w.cm.locate(last, &sc(*h), &mut w.rng);
         if let Some(t) = found {
             last = t;
             if alive[t] {
@@ -741,7 +727,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let mut region = vec![NONE; nt];
     for (ri, r) in pslg.regions.iter().enumerate() {
-        let Some(t0) = w.locate_from(last, &sc(r.point)) else {
+        let Some(t0) = w.cm.locate(last, &sc(r.point), &mut w.rng) else {
             continue;
         };
         if !alive[t0] {
@@ -1288,51 +1274,11 @@ enum Placed {
 
 /// Segment crossings and the vertex insertion they need.
 impl Work {
-    /// Finite triangle containing `p` (closed), walking from `t`; `None`
-    /// outside the hull.
-    fn locate_from(&mut self, t: usize, p: &[f64; 2]) -> Option<usize> {
-        if self.v(t)[0] == DEAD || is_ghost(&self.v(t)) {
-            return self.locate(p);
-        }
-        match self.walk(t, p) {
-            Ok(found) => found,
-            Err(()) => self.locate(p),
-        }
-    }
-
-    /// Stochastic visibility walk from the finite triangle `t` towards `p`:
-    /// `Ok(Some(t))` for the triangle containing `p` (closed), `Ok(None)`
-    /// when the walk leaves the hull, `Err(())` when the step limit is hit
-    /// (not reached with exact predicates on a valid mesh; callers fall
-    /// back to a scan).
-    fn walk(&mut self, mut t: usize, p: &[f64; 2]) -> Result<Option<usize>, ()> {
-        let limit = 4 * self.cm.tr.len() + 64;
-        'walk: for _ in 0..limit {
-            let v = self.v(t);
-            self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            let r = ((self.rng >> 16) % 3) as usize;
-            for k in 0..3 {
-                let e = (r + k) % 3;
-                let (a, b) = edge(&v, e);
-                if orient2d(self.p(a), self.p(b), p) < 0.0 {
-                    let (n, _) = unpack(self.a(t, e));
-                    if is_ghost(&self.v(n)) {
-                        return Ok(None);
-                    }
-                    t = n;
-                    continue 'walk;
-                }
-            }
-            return Ok(Some(t));
-        }
-        Err(())
-    }
-
     /// Inserts the point `x` into the constrained triangulation (near
     /// triangle `hint`) and restores the constrained Delaunay property.
     /// `None` if `x` is outside the hull or on a hull edge.
     fn insert_point(&mut self, hint: usize, x: [f64; 2]) -> Option<Placed> {
-        let t = self.locate_from(hint, &x)?;
+        let t = self.cm.locate(hint, &x, &mut self.rng)?;
         let v = self.v(t);
         for &u in &v {
             if *self.p(u) == x {
