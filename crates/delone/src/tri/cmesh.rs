@@ -81,6 +81,11 @@ pub(super) struct Tri {
     pub(super) mark: u32,
 }
 
+/// Marks a half-edge label that names an output subsegment of the CDT
+/// (`LABEL | k`) rather than a subsegment record: the form in which the
+/// CDT hands its mesh to refinement, which makes the records.
+pub(super) const LABEL: u32 = 1 << 31;
+
 /// Stamps step over the three subsegment flag bits of [`Tri::mark`].
 pub(super) const STAMP_STEP: u32 = 8;
 pub(super) const FLAGS: u32 = STAMP_STEP - 1;

@@ -35,7 +35,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
-use super::cmesh::{CMesh, Tri};
+use super::cmesh::{CMesh, Tri, FLAGS, LABEL};
 use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
@@ -407,6 +407,52 @@ enum Start {
 /// check_cdt(&g, &cdt).unwrap();
 /// ```
 pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt, Error> {
+    constrain(pslg, options).map(Constrained::into_cdt)
+}
+
+/// A carved constrained Delaunay triangulation as the constrained mesh that
+/// refinement continues on: the records compacted in place (output vertex
+/// ids, triangle `t`'s `orig` is `t`, `NONE` across the boundary, the label
+/// of a half-edge on a subsegment is `LABEL | k` for `cdt.segments[k]`; no
+/// coordinates: they are `cdt.points`), and every other column of the
+/// [`Cdt`] (`triangles` and `neighbors` are left empty: they are a view of
+/// the records, [`Constrained::into_cdt`]).
+pub(super) struct Constrained {
+    pub(super) cm: CMesh,
+    pub(super) cdt: Cdt,
+}
+
+impl Constrained {
+    /// The [`Cdt`] view of the mesh (a copy of the other columns).
+    pub(super) fn to_cdt(&self) -> Cdt {
+        Constrained {
+            cm: CMesh::new(Vec::new(), self.cm.tr.clone()),
+            cdt: self.cdt.clone(),
+        }
+        .into_cdt()
+    }
+
+    /// The [`Cdt`]: the triangles and neighbours of the records (the
+    /// triangles reuse the side table's storage).
+    pub(super) fn into_cdt(self) -> Cdt {
+        let Constrained { cm, mut cdt } = self;
+        let mut triangles = cm.sides;
+        triangles.clear();
+        triangles.extend(cm.tr.iter().map(|r| r.v));
+        cdt.neighbors = cm
+            .tr
+            .iter()
+            .map(|r| {
+                r.a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 })
+            })
+            .collect();
+        cdt.triangles = triangles;
+        cdt
+    }
+}
+
+/// [`constrained_triangulation`] as the mesh refinement continues on.
+pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained, Error> {
     pslg.check_values()?;
     let n = pslg.points.len();
     let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
@@ -750,9 +796,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
     }
 
-    // Output. The subsegments first (they need the labels), then the
-    // kernel's arrays are compacted in place into the triangles and their
-    // neighbours (no second copy of the mesh).
+    // Output. The subsegments first (the index of a bounding one becomes
+    // the label of its edge), then the records are compacted in place:
+    // carved, ghost and dead slots dropped, output vertex ids, `NONE`
+    // across the boundary.
     drop(pending);
     drop(first);
     drop(seg_ends);
@@ -774,19 +821,26 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             if c == NONE {
                 continue;
             }
-            let (nn, _) = unpack(w.a(t, e));
+            let (nn, j) = unpack(w.a(t, e));
             if nn < t && !ghost[nn] {
                 continue;
+            }
+            let bounding = alive[t] || alive[nn];
+            if bounding {
+                let k = LABEL | segments.len() as u32;
+                w.cm.set_sub(t, e, k);
+                w.cm.set_sub(nn, j, k);
             }
             let (x, y) = edge(&v, e);
             segments.push(Subsegment {
                 v: [out_id(x), out_id(y)],
                 marker: pslg.segment_marker(c as usize),
                 segment: c,
-                bounding: alive[t] || alive[nn],
+                bounding,
             });
         }
     }
+    drop(ghost);
     // Old slot -> output triangle.
     let mut map = vec![NONE; nt];
     let mut k = 0u32;
@@ -804,36 +858,51 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     );
     w.cm.xy = Vec::new();
     let k = k as usize;
-    // The triangles reuse the labels' storage (slot `kk` is written after
-    // every label is read).
-    let mut triangles = std::mem::take(&mut w.cm.sides);
-    let mut neighbors = Vec::with_capacity(k);
     let mut regions = Vec::with_capacity(k);
     let mut attributes = Vec::with_capacity(k);
     let mut max_areas = Vec::with_capacity(k);
-    for (t, r) in w.cm.tr.iter().enumerate() {
+    let mut cm = w.cm;
+    for t in 0..nt {
         if !alive[t] {
             continue;
         }
-        triangles[neighbors.len()] = r.v.map(out_id);
-        neighbors.push(r.a.map(|x| map[unpack(x).0]));
+        let kk = regions.len();
+        let r = cm.tr[t];
+        cm.tr[kk] = Tri {
+            v: r.v.map(out_id),
+            a: r.a.map(|x| {
+                let (o, j) = unpack(x);
+                if map[o] == NONE {
+                    NONE
+                } else {
+                    pack(map[o] as usize, j)
+                }
+            }),
+            orig: kk as u32,
+            mark: r.mark & FLAGS,
+        };
+        cm.sides[kk] = cm.sides[t];
         let r = region[t];
         regions.push(r);
         let reg = pslg.regions.get(r as usize);
         attributes.push(reg.map_or(0.0, |g| g.attribute));
         max_areas.push(reg.map_or(-1.0, |g| g.max_area));
     }
-    triangles.truncate(k);
-    Ok(Cdt {
-        points,
-        triangles,
-        neighbors,
-        regions,
-        attributes,
-        max_areas,
-        segments,
-        vertex_map: vmap,
-        report,
+    cm.tr.truncate(k);
+    cm.sides.truncate(k);
+    Ok(Constrained {
+        cm,
+        cdt: Cdt {
+            points,
+            triangles: Vec::new(),
+            neighbors: Vec::new(),
+            regions,
+            attributes,
+            max_areas,
+            segments,
+            vertex_map: vmap,
+            report,
+        },
     })
 }
 
