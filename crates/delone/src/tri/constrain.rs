@@ -175,19 +175,27 @@ fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 
 impl Work {
     /// The working mesh of the kernel's arrays (vertices, packed adjacency).
-    fn new(xy: Vec<[f64; 2]>, tv: Vec<[u32; 3]>, ta: Vec<[u32; 3]>) -> Work {
-        let tr = tv.iter().zip(&ta).map(|(&v, &a)| Tri {
-            v,
-            a,
-            orig: NONE,
-            mark: 0,
-        });
-        let mut cm = CMesh::new(xy, Vec::new());
-        cm.tr = tr.collect();
-        drop(tv);
-        // The labels reuse the adjacency's storage.
-        cm.sides = ta;
-        cm.sides.fill([NONE; 3]);
+    fn new(xy: Vec<[f64; 2]>, mut tv: Vec<[u32; 3]>, mut ta: Vec<[u32; 3]>) -> Work {
+        // The records are made from the back while the kernel's arrays
+        // shrink (in sixteenths), then put in slot order: the two never
+        // take their full size at once (peak memory).
+        let step = (tv.len() / 16).max(1 << 16);
+        let mut tr = Vec::with_capacity(tv.len());
+        while let (Some(v), Some(a)) = (tv.pop(), ta.pop()) {
+            tr.push(Tri {
+                v,
+                a,
+                orig: NONE,
+                mark: 0,
+            });
+            if tv.len() % step == 0 {
+                tv.shrink_to_fit();
+                ta.shrink_to_fit();
+            }
+        }
+        drop((tv, ta));
+        tr.reverse();
+        let cm = CMesh::new(xy, tr);
         let mut w = Work {
             vt: vec![NONE; cm.xy.len()],
             cm,
