@@ -258,13 +258,9 @@ impl CMesh {
         self.cav.push(start as u32);
         // A split starts across its subsegment, so the other side is reached
         // first.
-        let e0 = if split == NONE {
-            0
-        } else {
-            (0..3)
-                .position(|e| self.sub_at(start, e) == split)
-                .unwrap_or(0)
-        };
+        let e0 = (0..3)
+            .position(|e| self.splits(start, e, split, halves))
+            .unwrap_or(0);
         self.stack.push((start as u32, e0 as u8, 3));
         // Where the chain starts when `split` is a boundary subsegment.
         let mut gap = usize::MAX;
@@ -286,9 +282,9 @@ impl CMesh {
                 NONE
             };
             let x = tri.a[e];
-            if s == NONE || s == split {
-                // Crossing the subsegment being split?
-                let crossing = s != NONE;
+            // Crossing the subsegment being split?
+            let crossing = s != NONE && self.splits(t, e, split, halves);
+            if s == NONE || crossing {
                 if x == NONE {
                     if crossing {
                         gap = self.bnd.len();
@@ -301,7 +297,10 @@ impl CMesh {
                         continue;
                     }
                     let v = self.tr[n].v;
-                    if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
+                    if crossing
+                        || !is_ghost(&v)
+                            && incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0
+                    {
                         self.tr[n].mark = (nm & FLAGS) | stamp;
                         self.cav.push(n as u32);
                         self.stack.push((n as u32, NEXT[j] as u8, 2));
@@ -415,8 +414,9 @@ impl CMesh {
             // The cavity's stamp stays (no search is under way).
             tri.mark = (tri.mark & !FLAGS) | flags;
             tri.orig = b.orig;
-            if b.sb != NONE {
-                self.subs[b.sb as usize].he = pack(s, 0);
+            // (A label with no record, the CDT's, has nothing to update.)
+            if let Some(sub) = self.subs.get_mut(b.sb as usize) {
+                sub.he = pack(s, 0);
             }
             if b.adj != NONE {
                 let (o, l) = unpack(b.adj);
@@ -424,6 +424,17 @@ impl CMesh {
             }
         }
         Ins::Done(p)
+    }
+
+    /// Is edge `e` of `t` the one [`CMesh::insert`] splits: it carries
+    /// `split` and joins `halves[0]` and `halves[2]` (the CDT's labels are
+    /// shared by every piece of an input segment)?
+    #[inline]
+    fn splits(&self, t: usize, e: usize, split: u32, halves: [u32; 4]) -> bool {
+        let (a, b) = edge(&self.tr[t].v, e);
+        split != NONE
+            && self.sub_at(t, e) == split
+            && ((a, b) == (halves[0], halves[2]) || (a, b) == (halves[2], halves[0]))
     }
 
     /// Lawson flips from the half-edges on `stack`, each given with its

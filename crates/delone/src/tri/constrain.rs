@@ -35,7 +35,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
-use super::cmesh::{CMesh, Tri, FLAGS, LABEL};
+use super::cmesh::{CMesh, Ins, Tri, FLAGS, LABEL};
 use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
@@ -235,29 +235,6 @@ impl Work {
         self.cm.sub_at(t, e)
     }
 
-    /// Sets triangle `t`: vertices, neighbours, segment labels.
-    fn put(&mut self, t: usize, v: [u32; 3], a: [u32; 3], s: [u32; 3]) {
-        self.cm.tr[t].v = v;
-        self.cm.tr[t].a = a;
-        for (e, &x) in s.iter().enumerate() {
-            self.cm.set_sub(t, e, x);
-        }
-    }
-
-    /// Points the neighbours across the given half-edges back at them.
-    fn link(&mut self, hs: &[(usize, usize)]) {
-        for &(k, w) in hs {
-            let (o, l) = unpack(self.a(k, w));
-            self.cm.tr[o].a[l] = pack(k, w);
-        }
-    }
-
-    /// Edge `e` of `t` as (packed neighbour, label).
-    #[inline]
-    fn outer(&self, t: usize, e: usize) -> (u32, u32) {
-        (self.a(t, e), self.con(t, e))
-    }
-
     /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
     fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
         let start = self.vt[u as usize] as usize;
@@ -315,66 +292,6 @@ impl Work {
         }
         self.lawson = stack;
         self.touched = touched;
-    }
-
-    /// Splits edge `i` of `t` (an interior edge) at a new vertex at `x`,
-    /// if exact orientation tests show the four new triangles are
-    /// counterclockwise. Returns the new vertex id.
-    fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2]) -> Option<u32> {
-        let (n, j) = unpack(self.a(t, i));
-        let (vt, vn) = (self.v(t), self.v(n));
-        if is_ghost(&vt) || is_ghost(&vn) || !(x[0].is_finite() && x[1].is_finite()) {
-            return None;
-        }
-        let a = vt[i];
-        let (p, q) = edge(&vt, i);
-        let d = vn[j];
-        let (pa, pp, pq, pd) = (*self.p(a), *self.p(p), *self.p(q), *self.p(d));
-        if !(orient2d(&pa, &pp, &x) > 0.0
-            && orient2d(&pa, &x, &pq) > 0.0
-            && orient2d(&pd, &pq, &x) > 0.0
-            && orient2d(&pd, &x, &pp) > 0.0)
-        {
-            return None;
-        }
-        let s = self.cm.xy.len() as u32;
-        self.cm.xy.push(x);
-        self.vt.push(t as u32);
-        let c = self.con(t, i);
-        // t = [a, p, q] (edge i = p->q) becomes [a, p, s] + t2 = [a, s, q];
-        // n = [d, q, p] becomes [d, q, s] + n2 = [d, s, p].
-        let t_qa = self.outer(t, NEXT[i]);
-        let t_ap = self.outer(t, PREV[i]);
-        let n_pd = self.outer(n, NEXT[j]);
-        let n_dq = self.outer(n, PREV[j]);
-        let t2 = self.cm.new_tri();
-        let n2 = self.cm.new_tri();
-        // Edge 0 is always the half of p - q; the twins of the new inner
-        // edges follow from the drawing.
-        let (ts, ns) = ([c, NONE, t_ap.1], [c, NONE, n_dq.1]);
-        self.put(t, [a, p, s], [pack(n2, 0), pack(t2, 2), t_ap.0], ts);
-        self.put(
-            t2,
-            [a, s, q],
-            [pack(n, 0), t_qa.0, pack(t, 1)],
-            [c, t_qa.1, NONE],
-        );
-        self.put(n, [d, q, s], [pack(t2, 0), pack(n2, 2), n_dq.0], ns);
-        self.put(
-            n2,
-            [d, s, p],
-            [pack(t, 0), n_pd.0, pack(n, 1)],
-            [c, n_pd.1, NONE],
-        );
-        self.link(&[(t, 2), (t2, 1), (n, 2), (n2, 1)]);
-        for k in [t, t2, n, n2] {
-            self.set_vt(k);
-        }
-        // The rounded vertex may lie off the line p-q, so the two new
-        // unconstrained edges at it are checked as well as the outer ones.
-        let mut st = vec![(a, p), (q, a), (d, q), (p, d), (a, s), (d, s)];
-        self.legalize(&mut st);
-        Some(s)
     }
 }
 
@@ -1352,8 +1269,9 @@ enum Placed {
 /// Segment crossings and the vertex insertion they need.
 impl Work {
     /// Inserts the point `x` into the constrained triangulation (near
-    /// triangle `hint`) and restores the constrained Delaunay property.
-    /// `None` if `x` is outside the hull or on a hull edge.
+    /// triangle `hint`) by constrained Bowyer–Watson ([`CMesh::insert`]).
+    /// `None` if `x` is outside the hull or on a hull edge, or if the
+    /// rounded point would make a triangle that is not counterclockwise.
     fn insert_point(&mut self, hint: usize, x: [f64; 2]) -> Option<Placed> {
         let t = self.cm.locate(hint, &x, &mut self.rng)?;
         let v = self.v(t);
@@ -1362,51 +1280,28 @@ impl Work {
                 return Some(Placed::Existing(u));
             }
         }
-        let o: Vec<f64> = (0..3)
-            .map(|e| {
-                let (a, b) = edge(&v, e);
-                orient2d(self.p(a), self.p(b), &x)
-            })
-            .collect();
-        if let Some(e) = (0..3).find(|&e| o[e] == 0.0) {
-            let (p, q) = edge(&v, e);
-            let labelled = self.con(t, e) != NONE;
-            let s = self.split_edge(t, e, x)?;
-            return Some(Placed::New(s, labelled.then_some((p, q))));
+        if !(x[0].is_finite() && x[1].is_finite()) {
+            return None;
         }
-        // 1 -> 3 split of t = [v0, v1, v2].
-        let s = self.cm.xy.len() as u32;
-        self.cm.xy.push(x);
+        // On an edge: its two halves keep its label.
+        let on = (0..3).find(|&e| {
+            let (a, b) = edge(&v, e);
+            orient2d(self.p(a), self.p(b), &x) == 0.0
+        });
+        let (c, ends) = match on {
+            Some(e) if is_ghost(&self.v(unpack(self.a(t, e)).0)) => return None,
+            Some(e) if self.con(t, e) != NONE => (self.con(t, e), Some(edge(&v, e))),
+            _ => (NONE, None),
+        };
+        let (p, q) = ends.unwrap_or((NONE, NONE));
+        let Ins::Done(s) = self.cm.insert(t, x, c, [p, c, q, c], false) else {
+            return None;
+        };
         self.vt.push(t as u32);
-        let old = self.cm.tr[t].a;
-        let c = [0, 1, 2].map(|e| self.con(t, e));
-        let t1 = self.cm.new_tri();
-        let t2 = self.cm.new_tri();
-        self.put(
-            t1,
-            [v[0], s, v[2]],
-            [pack(t, 1), old[1], pack(t2, 1)],
-            [NONE, c[1], NONE],
-        );
-        self.put(
-            t2,
-            [v[0], v[1], s],
-            [pack(t, 2), pack(t1, 2), old[2]],
-            [NONE, NONE, c[2]],
-        );
-        self.put(
-            t,
-            [s, v[1], v[2]],
-            [old[0], pack(t1, 0), pack(t2, 0)],
-            [c[0], NONE, NONE],
-        );
-        self.link(&[(t1, 1), (t2, 2)]);
-        for k in [t, t1, t2] {
-            self.set_vt(k);
+        for k in 0..self.cm.fan.len() {
+            self.set_vt(self.cm.fan[k] as usize);
         }
-        let mut st = vec![(v[1], v[2]), (v[2], v[0]), (v[0], v[1])];
-        self.legalize(&mut st);
-        Some(Placed::New(s, None))
+        Some(Placed::New(s, ends))
     }
 
     /// Removes the constraint label of edge `u - w` (if it is an edge) and
