@@ -2,9 +2,10 @@
 //! and parallel): compact 32-byte triangle records (vertices, packed
 //! adjacency, the input triangle they descend from, subsegment flags and a
 //! cavity stamp), the subsegment on each constrained half-edge, the
-//! subsegment records, and its local operations — constrained
-//! Bowyer–Watson insertion ([`CMesh::insert`]), the edge flip
-//! ([`CMesh::flip`]) and Lawson flips ([`CMesh::restore_delaunay`]) — with
+//! subsegment records, and its local operations — the walk
+//! ([`CMesh::locate`]), constrained Bowyer–Watson insertion
+//! ([`CMesh::insert`]), the edge flip ([`CMesh::flip`]) and Lawson flips
+//! ([`CMesh::restore_delaunay`]) — with
 //! the invariant checker [`CMesh::check`] that the tests run after every
 //! operation.
 //!
@@ -12,7 +13,8 @@
 //! always carries a subsegment. The CDT (`constrain`) works on the same
 //! records with the kernel's ghost triangles and dead slots still in place
 //! and no subsegment records: the label on a constrained half-edge is the
-//! index of its input segment. The numbering conventions are the `topo`
+//! index of its input segment (once carved and compacted, `LABEL | k` for
+//! its output subsegment `k`, which refinement turns into records). The numbering conventions are the `topo`
 //! module's. Every orientation and incircle decision is exact.
 
 use delone_predicates::{incircle, orient2d};

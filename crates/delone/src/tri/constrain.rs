@@ -5,8 +5,8 @@
 //! 1. the Delaunay triangulation of the points ([`Delaunay2`]; exact
 //!    duplicates are merged and reported), taken over as the records of
 //!    the constrained mesh (`tri::cmesh`, ghost triangles included; the
-//!    label on a constrained half-edge is its input segment), whose edge
-//!    flip every step below uses;
+//!    label on a constrained half-edge is its input segment), whose walk,
+//!    insertion, edge flip and Lawson loop every step below uses;
 //! 2. segment insertion by **flips** (Sloan 1993): walk from one end of the
 //!    segment to the other collecting the edges it crosses, then flip them
 //!    (an edge whose quadrilateral is not convex waits at the back of the
@@ -15,12 +15,15 @@
 //!    never flip a constrained edge. The walk stops at the first *event*:
 //!    a vertex exactly on the segment splits the segment there; a crossed
 //!    constrained edge is split at a new Steiner vertex at the intersection
-//!    (computed in floating point; the 2→4 split is only done when exact
-//!    orientation tests prove the four new triangles counterclockwise), and
-//!    the two halves are inserted in turn. Every split is reported;
+//!    (computed in floating point and inserted by constrained Bowyer–Watson,
+//!    which refuses a point that would make a triangle that is not
+//!    counterclockwise), and the two halves are inserted in turn. Every
+//!    split is reported;
 //! 3. carving: flood fills across unconstrained edges from the hull (unless
 //!    `convex_hull`), from every hole point (removal) and from every region
-//!    point (attribute and area bound; later regions win).
+//!    point (attribute and area bound; later regions win);
+//! 4. the records are compacted in place (output vertex ids, no ghosts):
+//!    refinement continues on them, and the [`Cdt`] is a view of them.
 //!
 //! Every combinatorial decision uses exact predicates, on coordinates scaled
 //! by an exact power of two (as the kernel does).

@@ -101,10 +101,11 @@
 //!
 //! # Storage
 //!
-//! The refinement keeps its own triangle records rather than the CDT's
-//! arrays: one 32-byte, 32-byte aligned record per triangle, plus a 12-byte
-//! side array of subsegment ids read only behind flag bits. The CDT is
-//! converted once on entry and the records once on exit.
+//! The refinement works on the constrained mesh of `tri::cmesh`: one
+//! 32-byte, 32-byte aligned record per triangle, plus a 12-byte side array
+//! of subsegment ids read only behind flag bits. `tri::mesh` hands it the
+//! CDT's own mesh (no conversion); [`refine`] reads a given [`Cdt`] into
+//! one. The output [`Cdt`] is made from the records at the end.
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
