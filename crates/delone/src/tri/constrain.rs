@@ -191,7 +191,7 @@ impl Work {
                 orig: NONE,
                 mark: 0,
             });
-            if tv.len() % step == 0 {
+            if tv.len().is_multiple_of(step) {
                 tv.shrink_to_fit();
                 ta.shrink_to_fit();
             }
