@@ -183,6 +183,9 @@ impl Work {
         // shrink (in sixteenths), then put in slot order: the two never
         // take their full size at once (peak memory).
         let step = (tv.len() / 16).max(1 << 16);
+        // The labels get the kernel's capacity (untouched capacity costs no
+        // resident memory; refinement grows the columns from there).
+        let cap = ta.capacity();
         let mut tr = Vec::with_capacity(tv.len());
         while let (Some(v), Some(a)) = (tv.pop(), ta.pop()) {
             tr.push(Tri {
@@ -198,7 +201,10 @@ impl Work {
         }
         drop((tv, ta));
         tr.reverse();
-        let cm = CMesh::new(xy, tr);
+        let mut cm = CMesh::new(xy, Vec::new());
+        cm.sides = Vec::with_capacity(cap);
+        cm.sides.resize(tr.len(), [NONE; 3]);
+        cm.tr = tr;
         let mut w = Work {
             vt: vec![NONE; cm.xy.len()],
             cm,
