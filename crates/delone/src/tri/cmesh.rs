@@ -775,6 +775,25 @@ mod tests {
     }
 
     #[test]
+    fn the_walk_finds_the_containing_triangle() {
+        let m = mesh_of(&grid(6));
+        let mut rng = 1;
+        for k in 0..100 {
+            let c = [
+                0.05 * (k % 10) as f64 * 5.0 + 0.1,
+                0.049 * (k / 10) as f64 * 5.0,
+            ];
+            let t = m.locate(k % m.tr.len(), &c, &mut rng).unwrap();
+            assert!((0..3).all(|e| {
+                let (a, b) = edge(&m.tr[t].v, e);
+                orient2d(m.p(a), m.p(b), &c) >= 0.0
+            }));
+        }
+        // Outside the mesh: the walk leaves it.
+        assert_eq!(m.locate(0, &[-1.0, 2.0], &mut rng), None);
+    }
+
+    #[test]
     fn insert_on_a_grid_cocircular_centres_and_edges() {
         let mut m = mesh_of(&grid(6));
         // Cell centres (cocircular with the cell's corners), then edge
