@@ -1,7 +1,8 @@
 //! The 2D pipeline in one call, [`mesh()`]: the constrained Delaunay
 //! triangulation of a PSLG with its holes and outside carved
-//! ([`constrained_triangulation`]), then quality or conforming refinement
-//! ([`refine`]) when the options ask for it. It is the whole job of
+//! ([`constrained_triangulation`](crate::tri::constrained_triangulation)),
+//! then quality or conforming refinement ([`refine`](crate::tri::refine()))
+//! of the same mesh when the options ask for it. It is the whole job of
 //! `delone tri -p`, which only reads the input, calls [`mesh()`] and writes
 //! the [`TriResult`].
 
