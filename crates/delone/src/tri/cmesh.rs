@@ -2,9 +2,10 @@
 //! and parallel): compact 32-byte triangle records (vertices, packed
 //! adjacency, the input triangle they descend from, subsegment flags and a
 //! cavity stamp), the subsegment on each constrained half-edge, the
-//! subsegment records, and its local operations — constrained
-//! Bowyer–Watson insertion ([`CMesh::insert`]), the edge flip
-//! ([`CMesh::flip`]) and Lawson flips ([`CMesh::restore_delaunay`]) — with
+//! subsegment records, and its local operations — the walk
+//! ([`CMesh::locate`]), constrained Bowyer–Watson insertion
+//! ([`CMesh::insert`]), the edge flip ([`CMesh::flip`]) and Lawson flips
+//! ([`CMesh::restore_delaunay`]) — with
 //! the invariant checker [`CMesh::check`] that the tests run after every
 //! operation.
 //!
@@ -12,7 +13,8 @@
 //! always carries a subsegment. The CDT (`constrain`) works on the same
 //! records with the kernel's ghost triangles and dead slots still in place
 //! and no subsegment records: the label on a constrained half-edge is the
-//! index of its input segment. The numbering conventions are the `topo`
+//! index of its input segment (once carved and compacted, `LABEL | k` for
+//! its output subsegment `k`, which refinement turns into records). The numbering conventions are the `topo`
 //! module's. Every orientation and incircle decision is exact.
 
 use delone_predicates::{incircle, orient2d};
@@ -80,6 +82,11 @@ pub(super) struct Tri {
     /// [`STAMP_STEP`]).
     pub(super) mark: u32,
 }
+
+/// Marks a half-edge label that names an output subsegment of the CDT
+/// (`LABEL | k`) rather than a subsegment record: the form in which the
+/// CDT hands its mesh to refinement, which makes the records.
+pub(super) const LABEL: u32 = 1 << 31;
 
 /// Stamps step over the three subsegment flag bits of [`Tri::mark`].
 pub(super) const STAMP_STEP: u32 = 8;
@@ -253,13 +260,9 @@ impl CMesh {
         self.cav.push(start as u32);
         // A split starts across its subsegment, so the other side is reached
         // first.
-        let e0 = if split == NONE {
-            0
-        } else {
-            (0..3)
-                .position(|e| self.sub_at(start, e) == split)
-                .unwrap_or(0)
-        };
+        let e0 = (0..3)
+            .position(|e| self.splits(start, e, split, halves))
+            .unwrap_or(0);
         self.stack.push((start as u32, e0 as u8, 3));
         // Where the chain starts when `split` is a boundary subsegment.
         let mut gap = usize::MAX;
@@ -281,9 +284,9 @@ impl CMesh {
                 NONE
             };
             let x = tri.a[e];
-            if s == NONE || s == split {
-                // Crossing the subsegment being split?
-                let crossing = s != NONE;
+            // Crossing the subsegment being split?
+            let crossing = s != NONE && self.splits(t, e, split, halves);
+            if s == NONE || crossing {
                 if x == NONE {
                     if crossing {
                         gap = self.bnd.len();
@@ -296,7 +299,10 @@ impl CMesh {
                         continue;
                     }
                     let v = self.tr[n].v;
-                    if crossing || incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0 {
+                    if crossing
+                        || !is_ghost(&v)
+                            && incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), &c) > 0.0
+                    {
                         self.tr[n].mark = (nm & FLAGS) | stamp;
                         self.cav.push(n as u32);
                         self.stack.push((n as u32, NEXT[j] as u8, 2));
@@ -410,8 +416,9 @@ impl CMesh {
             // The cavity's stamp stays (no search is under way).
             tri.mark = (tri.mark & !FLAGS) | flags;
             tri.orig = b.orig;
-            if b.sb != NONE {
-                self.subs[b.sb as usize].he = pack(s, 0);
+            // (A label with no record, the CDT's, has nothing to update.)
+            if let Some(sub) = self.subs.get_mut(b.sb as usize) {
+                sub.he = pack(s, 0);
             }
             if b.adj != NONE {
                 let (o, l) = unpack(b.adj);
@@ -421,28 +428,98 @@ impl CMesh {
         Ins::Done(p)
     }
 
-    /// Lawson flips from the half-edges on `stack` until every edge without
-    /// a subsegment is locally Delaunay (exact incircle).
-    /// The flipped triangles are pushed on `touched`.
-    pub(super) fn restore_delaunay(&mut self, stack: &mut Vec<u32>, touched: &mut Vec<u32>) {
-        while let Some(h) = stack.pop() {
+    /// Is edge `e` of `t` the one [`CMesh::insert`] splits: it carries
+    /// `split` and joins `halves[0]` and `halves[2]` (the CDT's labels are
+    /// shared by every piece of an input segment)?
+    #[inline]
+    fn splits(&self, t: usize, e: usize, split: u32, halves: [u32; 4]) -> bool {
+        let (a, b) = edge(&self.tr[t].v, e);
+        split != NONE
+            && self.sub_at(t, e) == split
+            && ((a, b) == (halves[0], halves[2]) || (a, b) == (halves[2], halves[0]))
+    }
+
+    /// Lawson flips from the half-edges on `stack`, each given with its
+    /// two ends (an entry whose slot no longer holds that edge is stale and
+    /// skipped: every flip that moves an edge pushes it again), until every
+    /// edge without a subsegment between two finite triangles is locally
+    /// Delaunay (exact incircle). After a flip of `t` with neighbour `n`
+    /// the four outer edges are pushed so that `n`'s are checked first.
+    /// The flipped triangles are pushed on `touched`, `t` before `n`.
+    pub(super) fn restore_delaunay(
+        &mut self,
+        stack: &mut Vec<(u32, u32, u32)>,
+        touched: &mut Vec<u32>,
+    ) {
+        while let Some((h, a, b)) = stack.pop() {
             let (t, e) = unpack(h);
-            if self.sub_at(t, e) != NONE {
-                continue;
-            }
+            let v = self.tr[t].v;
             let x = self.tr[t].a[e];
-            if x == NONE {
+            if edge(&v, e) != (a, b) || x == NONE || self.sub_at(t, e) != NONE {
                 continue;
             }
             let (n, j) = unpack(x);
-            let v = self.tr[t].v;
-            let vn = self.tr[n].v[j];
-            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn)) > 0.0 {
+            let vn = self.tr[n].v;
+            if is_ghost(&v) || is_ghost(&vn) {
+                continue;
+            }
+            if incircle(self.p(v[0]), self.p(v[1]), self.p(v[2]), self.p(vn[j])) > 0.0 {
                 self.flip(t, e);
                 touched.extend([t as u32, n as u32]);
-                stack.extend([pack(t, 0), pack(t, 2), pack(n, 0), pack(n, 2)]);
+                for (k, f) in [(t, 2), (t, 0), (n, 2), (n, 0)] {
+                    stack.push(self.half(k, f));
+                }
             }
         }
+    }
+
+    /// Half-edge `e` of `t` as a [`CMesh::restore_delaunay`] entry.
+    #[inline]
+    pub(super) fn half(&self, t: usize, e: usize) -> (u32, u32, u32) {
+        let (a, b) = edge(&self.tr[t].v, e);
+        (pack(t, e), a, b)
+    }
+
+    /// The finite triangle whose closure contains `p`, by a stochastic
+    /// visibility walk from `start` (from the first live triangle when
+    /// `start` is dead or a ghost); `None` when the walk leaves the mesh
+    /// (across a ghost or a boundary edge). `rng` is the walk's
+    /// pseudo-random edge choice.
+    pub(super) fn locate(&self, start: usize, p: &[f64; 2], rng: &mut u32) -> Option<usize> {
+        let live = |t: &usize| {
+            let v = self.tr[*t].v;
+            v[0] != DEAD && !is_ghost(&v)
+        };
+        let mut t = Some(start)
+            .filter(|t| *t < self.tr.len() && live(t))
+            .or_else(|| (0..self.tr.len()).find(live))?;
+        let limit = 4 * self.tr.len() + 64;
+        'walk: for _ in 0..limit {
+            let v = self.tr[t].v;
+            *rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let r = ((*rng >> 16) % 3) as usize;
+            for k in 0..3 {
+                let e = (r + k) % 3;
+                let (a, b) = edge(&v, e);
+                if orient2d(self.p(a), self.p(b), p) < 0.0 {
+                    let x = self.tr[t].a[e];
+                    if x == NONE || is_ghost(&self.tr[unpack(x).0].v) {
+                        return None;
+                    }
+                    t = unpack(x).0;
+                    continue 'walk;
+                }
+            }
+            return Some(t);
+        }
+        // Safety net (not reached with exact predicates on a valid mesh).
+        (0..self.tr.len()).filter(live).find(|&t| {
+            let v = self.tr[t].v;
+            (0..3).all(|e| {
+                let (a, b) = edge(&v, e);
+                orient2d(self.p(a), self.p(b), p) >= 0.0
+            })
+        })
     }
 
     /// Flips edge `e` of triangle `t` (it must have a neighbour and no
@@ -698,6 +775,25 @@ mod tests {
     }
 
     #[test]
+    fn the_walk_finds_the_containing_triangle() {
+        let m = mesh_of(&grid(6));
+        let mut rng = 1;
+        for k in 0..100 {
+            let c = [
+                0.05 * (k % 10) as f64 * 5.0 + 0.1,
+                0.049 * (k / 10) as f64 * 5.0,
+            ];
+            let t = m.locate(k % m.tr.len(), &c, &mut rng).unwrap();
+            assert!((0..3).all(|e| {
+                let (a, b) = edge(&m.tr[t].v, e);
+                orient2d(m.p(a), m.p(b), &c) >= 0.0
+            }));
+        }
+        // Outside the mesh: the walk leaves it.
+        assert_eq!(m.locate(0, &[-1.0, 2.0], &mut rng), None);
+    }
+
+    #[test]
     fn insert_on_a_grid_cocircular_centres_and_edges() {
         let mut m = mesh_of(&grid(6));
         // Cell centres (cocircular with the cell's corners), then edge
@@ -765,7 +861,10 @@ mod tests {
         }
         assert!(flips > 100);
         assert!(m.check(true).is_err(), "the flips left non-Delaunay edges");
-        let mut stack: Vec<u32> = (0..3 * m.tr.len() as u32).collect();
+        let mut stack: Vec<_> = (0..m.tr.len())
+            .flat_map(|t| (0..3).map(move |e| (t, e)))
+            .map(|(t, e)| m.half(t, e))
+            .collect();
         let mut touched = Vec::new();
         m.restore_delaunay(&mut stack, &mut touched);
         assert!(!touched.is_empty());

@@ -5,8 +5,8 @@
 //! 1. the Delaunay triangulation of the points ([`Delaunay2`]; exact
 //!    duplicates are merged and reported), taken over as the records of
 //!    the constrained mesh (`tri::cmesh`, ghost triangles included; the
-//!    label on a constrained half-edge is its input segment), whose edge
-//!    flip every step below uses;
+//!    label on a constrained half-edge is its input segment), whose walk,
+//!    insertion, edge flip and Lawson loop every step below uses;
 //! 2. segment insertion by **flips** (Sloan 1993): walk from one end of the
 //!    segment to the other collecting the edges it crosses, then flip them
 //!    (an edge whose quadrilateral is not convex waits at the back of the
@@ -15,12 +15,15 @@
 //!    never flip a constrained edge. The walk stops at the first *event*:
 //!    a vertex exactly on the segment splits the segment there; a crossed
 //!    constrained edge is split at a new Steiner vertex at the intersection
-//!    (computed in floating point; the 2→4 split is only done when exact
-//!    orientation tests prove the four new triangles counterclockwise), and
-//!    the two halves are inserted in turn. Every split is reported;
+//!    (computed in floating point and inserted by constrained Bowyer–Watson,
+//!    which refuses a point that would make a triangle that is not
+//!    counterclockwise), and the two halves are inserted in turn. Every
+//!    split is reported;
 //! 3. carving: flood fills across unconstrained edges from the hull (unless
 //!    `convex_hull`), from every hole point (removal) and from every region
-//!    point (attribute and area bound; later regions win).
+//!    point (attribute and area bound; later regions win);
+//! 4. the records are compacted in place (output vertex ids, no ghosts):
+//!    refinement continues on them, and the [`Cdt`] is a view of them.
 //!
 //! Every combinatorial decision uses exact predicates, on coordinates scaled
 //! by an exact power of two (as the kernel does).
@@ -35,7 +38,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use delone_predicates::{incircle, orient2d};
 
-use super::cmesh::{CMesh, Tri};
+use super::cmesh::{CMesh, Ins, Tri, FLAGS, LABEL};
 use super::mesh::check_ccw;
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
@@ -160,7 +163,11 @@ struct Work {
     /// A triangle slot holding each vertex.
     vt: Vec<u32>,
     flips: usize,
+    /// The walk's pseudo-random state ([`CMesh::locate`]).
     rng: u32,
+    /// Scratch of [`Work::legalize`].
+    lawson: Vec<(u32, u32, u32)>,
+    touched: Vec<u32>,
 }
 
 /// Which side of the directed line `a -> b` `c` is on (exact sign).
@@ -171,24 +178,40 @@ fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 
 impl Work {
     /// The working mesh of the kernel's arrays (vertices, packed adjacency).
-    fn new(xy: Vec<[f64; 2]>, tv: Vec<[u32; 3]>, ta: Vec<[u32; 3]>) -> Work {
-        let tr = tv.iter().zip(&ta).map(|(&v, &a)| Tri {
-            v,
-            a,
-            orig: NONE,
-            mark: 0,
-        });
+    fn new(xy: Vec<[f64; 2]>, mut tv: Vec<[u32; 3]>, mut ta: Vec<[u32; 3]>) -> Work {
+        // The records are made from the back while the kernel's arrays
+        // shrink (in sixteenths), then put in slot order: the two never
+        // take their full size at once (peak memory).
+        let step = (tv.len() / 16).max(1 << 16);
+        // The labels get the kernel's capacity (untouched capacity costs no
+        // resident memory; refinement grows the columns from there).
+        let cap = ta.capacity();
+        let mut tr = Vec::with_capacity(tv.len());
+        while let (Some(v), Some(a)) = (tv.pop(), ta.pop()) {
+            tr.push(Tri {
+                v,
+                a,
+                orig: NONE,
+                mark: 0,
+            });
+            if tv.len().is_multiple_of(step) {
+                tv.shrink_to_fit();
+                ta.shrink_to_fit();
+            }
+        }
+        drop((tv, ta));
+        tr.reverse();
         let mut cm = CMesh::new(xy, Vec::new());
-        cm.tr = tr.collect();
-        drop(tv);
-        // The labels reuse the adjacency's storage.
-        cm.sides = ta;
-        cm.sides.fill([NONE; 3]);
+        cm.sides = Vec::with_capacity(cap);
+        cm.sides.resize(tr.len(), [NONE; 3]);
+        cm.tr = tr;
         let mut w = Work {
             vt: vec![NONE; cm.xy.len()],
             cm,
             flips: 0,
             rng: 0x1234_5678,
+            lawson: Vec::new(),
+            touched: Vec::new(),
         };
         for t in 0..w.cm.tr.len() {
             if w.v(t)[0] != DEAD {
@@ -219,29 +242,6 @@ impl Work {
     #[inline]
     fn con(&self, t: usize, e: usize) -> u32 {
         self.cm.sub_at(t, e)
-    }
-
-    /// Sets triangle `t`: vertices, neighbours, segment labels.
-    fn put(&mut self, t: usize, v: [u32; 3], a: [u32; 3], s: [u32; 3]) {
-        self.cm.tr[t].v = v;
-        self.cm.tr[t].a = a;
-        for (e, &x) in s.iter().enumerate() {
-            self.cm.set_sub(t, e, x);
-        }
-    }
-
-    /// Points the neighbours across the given half-edges back at them.
-    fn link(&mut self, hs: &[(usize, usize)]) {
-        for &(k, w) in hs {
-            let (o, l) = unpack(self.a(k, w));
-            self.cm.tr[o].a[l] = pack(k, w);
-        }
-    }
-
-    /// Edge `e` of `t` as (packed neighbour, label).
-    #[inline]
-    fn outer(&self, t: usize, e: usize) -> (u32, u32) {
-        (self.a(t, e), self.con(t, e))
     }
 
     /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
@@ -281,106 +281,26 @@ impl Work {
         self.flips += 1;
     }
 
-    /// Lawson flips from the given edges (vertex pairs): every unconstrained
-    /// edge between two finite triangles that is not locally Delaunay is
-    /// flipped, and the four outer edges of its quadrilateral checked again.
-    fn legalize(&mut self, stack: &mut Vec<(u32, u32)>) {
-        while let Some((u, w)) = stack.pop() {
-            let Some((t, i)) = self.find_edge(u, w) else {
-                continue;
-            };
-            if self.con(t, i) != NONE {
-                continue;
-            }
-            let (n, j) = unpack(self.a(t, i));
-            let (vt, vn) = (self.v(t), self.v(n));
-            if is_ghost(&vt) || is_ghost(&vn) {
-                continue;
-            }
-            let d = vn[j];
-            if incircle(self.p(vt[0]), self.p(vt[1]), self.p(vt[2]), self.p(d)) > 0.0 {
-                let a = vt[i];
-                self.flip(t, i);
-                stack.extend_from_slice(&[(a, u), (u, d), (d, w), (w, a)]);
+    /// Lawson flips ([`CMesh::restore_delaunay`]) from the given edges
+    /// (vertex pairs; those that are not edges are skipped), keeping the
+    /// vertex-to-triangle map and the flip count up to date.
+    fn legalize(&mut self, pairs: &mut Vec<(u32, u32)>) {
+        let mut stack = std::mem::take(&mut self.lawson);
+        let mut touched = std::mem::take(&mut self.touched);
+        stack.clear();
+        touched.clear();
+        for (u, w) in pairs.drain(..) {
+            if let Some((t, i)) = self.find_edge(u, w) {
+                stack.push(self.cm.half(t, i));
             }
         }
-    }
-
-    /// Splits edge `i` of `t` (an interior edge) at a new vertex at `x`,
-    /// if exact orientation tests show the four new triangles are
-    /// counterclockwise. Returns the new vertex id.
-    fn split_edge(&mut self, t: usize, i: usize, x: [f64; 2]) -> Option<u32> {
-        let (n, j) = unpack(self.a(t, i));
-        let (vt, vn) = (self.v(t), self.v(n));
-        if is_ghost(&vt) || is_ghost(&vn) || !(x[0].is_finite() && x[1].is_finite()) {
-            return None;
+        self.cm.restore_delaunay(&mut stack, &mut touched);
+        self.flips += touched.len() / 2;
+        for &t in &touched {
+            self.set_vt(t as usize);
         }
-        let a = vt[i];
-        let (p, q) = edge(&vt, i);
-        let d = vn[j];
-        let (pa, pp, pq, pd) = (*self.p(a), *self.p(p), *self.p(q), *self.p(d));
-        if !(orient2d(&pa, &pp, &x) > 0.0
-            && orient2d(&pa, &x, &pq) > 0.0
-            && orient2d(&pd, &pq, &x) > 0.0
-            && orient2d(&pd, &x, &pp) > 0.0)
-        {
-            return None;
-        }
-        let s = self.cm.xy.len() as u32;
-        self.cm.xy.push(x);
-        self.vt.push(t as u32);
-        let c = self.con(t, i);
-        // t = [a, p, q] (edge i = p->q) becomes [a, p, s] + t2 = [a, s, q];
-        // n = [d, q, p] becomes [d, q, s] + n2 = [d, s, p].
-        let t_qa = self.outer(t, NEXT[i]);
-        let t_ap = self.outer(t, PREV[i]);
-        let n_pd = self.outer(n, NEXT[j]);
-        let n_dq = self.outer(n, PREV[j]);
-        let t2 = self.cm.new_tri();
-        let n2 = self.cm.new_tri();
-        // Edge 0 is always the half of p - q; the twins of the new inner
-        // edges follow from the drawing.
-        let (ts, ns) = ([c, NONE, t_ap.1], [c, NONE, n_dq.1]);
-        self.put(t, [a, p, s], [pack(n2, 0), pack(t2, 2), t_ap.0], ts);
-        self.put(
-            t2,
-            [a, s, q],
-            [pack(n, 0), t_qa.0, pack(t, 1)],
-            [c, t_qa.1, NONE],
-        );
-        self.put(n, [d, q, s], [pack(t2, 0), pack(n2, 2), n_dq.0], ns);
-        self.put(
-            n2,
-            [d, s, p],
-            [pack(t, 0), n_pd.0, pack(n, 1)],
-            [c, n_pd.1, NONE],
-        );
-        self.link(&[(t, 2), (t2, 1), (n, 2), (n2, 1)]);
-        for k in [t, t2, n, n2] {
-            self.set_vt(k);
-        }
-        // The rounded vertex may lie off the line p-q, so the two new
-        // unconstrained edges at it are checked as well as the outer ones.
-        let mut st = vec![(a, p), (q, a), (d, q), (p, d), (a, s), (d, s)];
-        self.legalize(&mut st);
-        Some(s)
-    }
-
-    /// Finite triangle containing `p` (closed), or `None` outside the hull.
-    fn locate(&mut self, p: &[f64; 2]) -> Option<usize> {
-        let live = |v: &[u32; 3]| v[0] != DEAD && !is_ghost(v);
-        let t = self.cm.tr.iter().position(|r| live(&r.v))?;
-        if let Ok(found) = self.walk(t, p) {
-            return found;
-        }
-        // Safety net (not reached with exact predicates on a valid mesh).
-        self.cm.tr.iter().map(|r| r.v).position(|v| {
-            live(&v)
-                && (0..3).all(|e| {
-                    let (a, b) = edge(&v, e);
-                    orient2d(self.p(a), self.p(b), p) >= 0.0
-                })
-        })
+        self.lawson = stack;
+        self.touched = touched;
     }
 }
 
@@ -421,6 +341,52 @@ enum Start {
 /// check_cdt(&g, &cdt).unwrap();
 /// ```
 pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt, Error> {
+    constrain(pslg, options).map(Constrained::into_cdt)
+}
+
+/// A carved constrained Delaunay triangulation as the constrained mesh that
+/// refinement continues on: the records compacted in place (output vertex
+/// ids, triangle `t`'s `orig` is `t`, `NONE` across the boundary, the label
+/// of a half-edge on a subsegment is `LABEL | k` for `cdt.segments[k]`; no
+/// coordinates: they are `cdt.points`), and every other column of the
+/// [`Cdt`] (`triangles` and `neighbors` are left empty: they are a view of
+/// the records, [`Constrained::into_cdt`]).
+pub(super) struct Constrained {
+    pub(super) cm: CMesh,
+    pub(super) cdt: Cdt,
+}
+
+impl Constrained {
+    /// The [`Cdt`] view of the mesh (a copy of the other columns).
+    pub(super) fn to_cdt(&self) -> Cdt {
+        Constrained {
+            cm: CMesh::new(Vec::new(), self.cm.tr.clone()),
+            cdt: self.cdt.clone(),
+        }
+        .into_cdt()
+    }
+
+    /// The [`Cdt`]: the triangles and neighbours of the records (the
+    /// triangles reuse the side table's storage).
+    pub(super) fn into_cdt(self) -> Cdt {
+        let Constrained { cm, mut cdt } = self;
+        let mut triangles = cm.sides;
+        triangles.clear();
+        triangles.extend(cm.tr.iter().map(|r| r.v));
+        cdt.neighbors = cm
+            .tr
+            .iter()
+            .map(|r| {
+                r.a.map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 })
+            })
+            .collect();
+        cdt.triangles = triangles;
+        cdt
+    }
+}
+
+/// [`constrained_triangulation`] as the mesh refinement continues on.
+pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained, Error> {
     pslg.check_values()?;
     let n = pslg.points.len();
     let (xy, scale, ids, vmap, tv, ta) = Delaunay2::from_points(&pslg.points)?.into_raw();
@@ -729,7 +695,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     // in a spatially coherent order cost O(1) walks each).
     let mut last = 0usize;
     for h in &pslg.holes {
-        let found = w.locate_from(last, &sc(*h));
+        let found = w.cm.locate(last, &sc(*h), &mut w.rng);
         if let Some(t) = found {
             last = t;
             if alive[t] {
@@ -741,7 +707,7 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     }
     let mut region = vec![NONE; nt];
     for (ri, r) in pslg.regions.iter().enumerate() {
-        let Some(t0) = w.locate_from(last, &sc(r.point)) else {
+        let Some(t0) = w.cm.locate(last, &sc(r.point), &mut w.rng) else {
             continue;
         };
         if !alive[t0] {
@@ -764,9 +730,10 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
         }
     }
 
-    // Output. The subsegments first (they need the labels), then the
-    // kernel's arrays are compacted in place into the triangles and their
-    // neighbours (no second copy of the mesh).
+    // Output. The subsegments first (the index of a bounding one becomes
+    // the label of its edge), then the records are compacted in place:
+    // carved, ghost and dead slots dropped, output vertex ids, `NONE`
+    // across the boundary.
     drop(pending);
     drop(first);
     drop(seg_ends);
@@ -788,19 +755,26 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
             if c == NONE {
                 continue;
             }
-            let (nn, _) = unpack(w.a(t, e));
+            let (nn, j) = unpack(w.a(t, e));
             if nn < t && !ghost[nn] {
                 continue;
+            }
+            let bounding = alive[t] || alive[nn];
+            if bounding {
+                let k = LABEL | segments.len() as u32;
+                w.cm.set_sub(t, e, k);
+                w.cm.set_sub(nn, j, k);
             }
             let (x, y) = edge(&v, e);
             segments.push(Subsegment {
                 v: [out_id(x), out_id(y)],
                 marker: pslg.segment_marker(c as usize),
                 segment: c,
-                bounding: alive[t] || alive[nn],
+                bounding,
             });
         }
     }
+    drop(ghost);
     // Old slot -> output triangle.
     let mut map = vec![NONE; nt];
     let mut k = 0u32;
@@ -818,36 +792,51 @@ pub fn constrained_triangulation(pslg: &Pslg, options: CdtOptions) -> Result<Cdt
     );
     w.cm.xy = Vec::new();
     let k = k as usize;
-    // The triangles reuse the labels' storage (slot `kk` is written after
-    // every label is read).
-    let mut triangles = std::mem::take(&mut w.cm.sides);
-    let mut neighbors = Vec::with_capacity(k);
     let mut regions = Vec::with_capacity(k);
     let mut attributes = Vec::with_capacity(k);
     let mut max_areas = Vec::with_capacity(k);
-    for (t, r) in w.cm.tr.iter().enumerate() {
+    let mut cm = w.cm;
+    for t in 0..nt {
         if !alive[t] {
             continue;
         }
-        triangles[neighbors.len()] = r.v.map(out_id);
-        neighbors.push(r.a.map(|x| map[unpack(x).0]));
+        let kk = regions.len();
+        let r = cm.tr[t];
+        cm.tr[kk] = Tri {
+            v: r.v.map(out_id),
+            a: r.a.map(|x| {
+                let (o, j) = unpack(x);
+                if map[o] == NONE {
+                    NONE
+                } else {
+                    pack(map[o] as usize, j)
+                }
+            }),
+            orig: kk as u32,
+            mark: r.mark & FLAGS,
+        };
+        cm.sides[kk] = cm.sides[t];
         let r = region[t];
         regions.push(r);
         let reg = pslg.regions.get(r as usize);
         attributes.push(reg.map_or(0.0, |g| g.attribute));
         max_areas.push(reg.map_or(-1.0, |g| g.max_area));
     }
-    triangles.truncate(k);
-    Ok(Cdt {
-        points,
-        triangles,
-        neighbors,
-        regions,
-        attributes,
-        max_areas,
-        segments,
-        vertex_map: vmap,
-        report,
+    cm.tr.truncate(k);
+    cm.sides.truncate(k);
+    Ok(Constrained {
+        cm,
+        cdt: Cdt {
+            points,
+            triangles: Vec::new(),
+            neighbors: Vec::new(),
+            regions,
+            attributes,
+            max_areas,
+            segments,
+            vertex_map: vmap,
+            report,
+        },
     })
 }
 
@@ -1288,102 +1277,40 @@ enum Placed {
 
 /// Segment crossings and the vertex insertion they need.
 impl Work {
-    /// Finite triangle containing `p` (closed), walking from `t`; `None`
-    /// outside the hull.
-    fn locate_from(&mut self, t: usize, p: &[f64; 2]) -> Option<usize> {
-        if self.v(t)[0] == DEAD || is_ghost(&self.v(t)) {
-            return self.locate(p);
-        }
-        match self.walk(t, p) {
-            Ok(found) => found,
-            Err(()) => self.locate(p),
-        }
-    }
-
-    /// Stochastic visibility walk from the finite triangle `t` towards `p`:
-    /// `Ok(Some(t))` for the triangle containing `p` (closed), `Ok(None)`
-    /// when the walk leaves the hull, `Err(())` when the step limit is hit
-    /// (not reached with exact predicates on a valid mesh; callers fall
-    /// back to a scan).
-    fn walk(&mut self, mut t: usize, p: &[f64; 2]) -> Result<Option<usize>, ()> {
-        let limit = 4 * self.cm.tr.len() + 64;
-        'walk: for _ in 0..limit {
-            let v = self.v(t);
-            self.rng = self.rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            let r = ((self.rng >> 16) % 3) as usize;
-            for k in 0..3 {
-                let e = (r + k) % 3;
-                let (a, b) = edge(&v, e);
-                if orient2d(self.p(a), self.p(b), p) < 0.0 {
-                    let (n, _) = unpack(self.a(t, e));
-                    if is_ghost(&self.v(n)) {
-                        return Ok(None);
-                    }
-                    t = n;
-                    continue 'walk;
-                }
-            }
-            return Ok(Some(t));
-        }
-        Err(())
-    }
-
     /// Inserts the point `x` into the constrained triangulation (near
-    /// triangle `hint`) and restores the constrained Delaunay property.
-    /// `None` if `x` is outside the hull or on a hull edge.
+    /// triangle `hint`) by constrained Bowyer–Watson ([`CMesh::insert`]).
+    /// `None` if `x` is outside the hull or on a hull edge, or if the
+    /// rounded point would make a triangle that is not counterclockwise.
     fn insert_point(&mut self, hint: usize, x: [f64; 2]) -> Option<Placed> {
-        let t = self.locate_from(hint, &x)?;
+        let t = self.cm.locate(hint, &x, &mut self.rng)?;
         let v = self.v(t);
         for &u in &v {
             if *self.p(u) == x {
                 return Some(Placed::Existing(u));
             }
         }
-        let o: Vec<f64> = (0..3)
-            .map(|e| {
-                let (a, b) = edge(&v, e);
-                orient2d(self.p(a), self.p(b), &x)
-            })
-            .collect();
-        if let Some(e) = (0..3).find(|&e| o[e] == 0.0) {
-            let (p, q) = edge(&v, e);
-            let labelled = self.con(t, e) != NONE;
-            let s = self.split_edge(t, e, x)?;
-            return Some(Placed::New(s, labelled.then_some((p, q))));
+        if !(x[0].is_finite() && x[1].is_finite()) {
+            return None;
         }
-        // 1 -> 3 split of t = [v0, v1, v2].
-        let s = self.cm.xy.len() as u32;
-        self.cm.xy.push(x);
+        // On an edge: its two halves keep its label.
+        let on = (0..3).find(|&e| {
+            let (a, b) = edge(&v, e);
+            orient2d(self.p(a), self.p(b), &x) == 0.0
+        });
+        let (c, ends) = match on {
+            Some(e) if is_ghost(&self.v(unpack(self.a(t, e)).0)) => return None,
+            Some(e) if self.con(t, e) != NONE => (self.con(t, e), Some(edge(&v, e))),
+            _ => (NONE, None),
+        };
+        let (p, q) = ends.unwrap_or((NONE, NONE));
+        let Ins::Done(s) = self.cm.insert(t, x, c, [p, c, q, c], false) else {
+            return None;
+        };
         self.vt.push(t as u32);
-        let old = self.cm.tr[t].a;
-        let c = [0, 1, 2].map(|e| self.con(t, e));
-        let t1 = self.cm.new_tri();
-        let t2 = self.cm.new_tri();
-        self.put(
-            t1,
-            [v[0], s, v[2]],
-            [pack(t, 1), old[1], pack(t2, 1)],
-            [NONE, c[1], NONE],
-        );
-        self.put(
-            t2,
-            [v[0], v[1], s],
-            [pack(t, 2), pack(t1, 2), old[2]],
-            [NONE, NONE, c[2]],
-        );
-        self.put(
-            t,
-            [s, v[1], v[2]],
-            [old[0], pack(t1, 0), pack(t2, 0)],
-            [c[0], NONE, NONE],
-        );
-        self.link(&[(t1, 1), (t2, 2)]);
-        for k in [t, t1, t2] {
-            self.set_vt(k);
+        for k in 0..self.cm.fan.len() {
+            self.set_vt(self.cm.fan[k] as usize);
         }
-        let mut st = vec![(v[1], v[2]), (v[2], v[0]), (v[0], v[1])];
-        self.legalize(&mut st);
-        Some(Placed::New(s, None))
+        Some(Placed::New(s, ends))
     }
 
     /// Removes the constraint label of edge `u - w` (if it is an edge) and

@@ -1,7 +1,8 @@
 //! The 2D pipeline in one call, [`mesh()`]: the constrained Delaunay
 //! triangulation of a PSLG with its holes and outside carved
-//! ([`constrained_triangulation`]), then quality or conforming refinement
-//! ([`refine`]) when the options ask for it. It is the whole job of
+//! ([`constrained_triangulation`](crate::tri::constrained_triangulation)),
+//! then quality or conforming refinement ([`refine`](crate::tri::refine()))
+//! of the same mesh when the options ask for it. It is the whole job of
 //! `delone tri -p`, which only reads the input, calls [`mesh()`] and writes
 //! the [`TriResult`].
 
@@ -9,9 +10,9 @@ use std::fmt;
 use std::time::{Duration, Instant};
 
 use crate::model::pslg::Pslg;
-use crate::tri::constrain::{constrained_triangulation, Cdt, CdtOptions};
+use crate::tri::constrain::{constrain, Cdt, CdtOptions};
 use crate::tri::options::TriOptions;
-use crate::tri::refine::{refine, RefineReport};
+use crate::tri::refine::{refine_constrained, RefineReport};
 use crate::{Error, NONE};
 
 /// What [`mesh()`] made.
@@ -235,8 +236,8 @@ impl std::error::Error for TriError {
 /// assert_eq!(r.mesh.triangles.len(), 2);
 /// ```
 pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
-    let cdt = if opts.pslg {
-        constrained_triangulation(
+    let c = if opts.pslg {
+        constrain(
             pslg,
             CdtOptions {
                 convex_hull: opts.convex_hull,
@@ -244,10 +245,10 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
         )
     } else {
         let points = Pslg::new(pslg.points.clone(), Vec::new());
-        constrained_triangulation(&points, CdtOptions { convex_hull: true })
+        constrain(&points, CdtOptions { convex_hull: true })
     }
     .map_err(TriError::Input)?;
-    if cdt.triangles.is_empty() && !pslg.points.is_empty() {
+    if c.cm.tr.is_empty() && !pslg.points.is_empty() {
         return Err(TriError::Empty);
     }
     let refining = opts.min_angle.is_some()
@@ -257,17 +258,19 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
         || opts.conforming_delaunay;
     if !refining {
         return Ok(TriResult {
-            mesh: cdt,
+            mesh: c.into_cdt(),
             unrefined: None,
             refine: None,
             refine_time: Duration::ZERO,
         });
     }
+    let unrefined = opts.keep_unrefined.then(|| c.to_cdt());
     let t = Instant::now();
-    let r = refine(&cdt, &opts.refine_options()).map_err(TriError::Refine)?;
+    // Refinement continues on the constrained triangulation's mesh.
+    let r = refine_constrained(c, &opts.refine_options()).map_err(TriError::Refine)?;
     Ok(TriResult {
         mesh: r.mesh,
-        unrefined: opts.keep_unrefined.then_some(cdt),
+        unrefined,
         refine: Some(r.report),
         refine_time: t.elapsed(),
     })

@@ -101,16 +101,17 @@
 //!
 //! # Storage
 //!
-//! The refinement keeps its own triangle records rather than the CDT's
-//! arrays: one 32-byte, 32-byte aligned record per triangle, plus a 12-byte
-//! side array of subsegment ids read only behind flag bits. The CDT is
-//! converted once on entry and the records once on exit.
+//! The refinement works on the constrained mesh of `tri::cmesh`: one
+//! 32-byte, 32-byte aligned record per triangle, plus a 12-byte side array
+//! of subsegment ids read only behind flag bits. `tri::mesh` hands it the
+//! CDT's own mesh (no conversion); [`refine`] reads a given [`Cdt`] into
+//! one. The output [`Cdt`] is made from the records at the end.
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 
-use super::cmesh::{CMesh, Sub};
-use super::constrain::{Cdt, Subsegment};
+use super::cmesh::{CMesh, Sub, LABEL};
+use super::constrain::{Cdt, Constrained, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
 use crate::{Error, NONE};
@@ -241,6 +242,49 @@ fn refine_inner(
     options: &RefineOptions,
     user: Option<UserTest<'_>>,
 ) -> Result<Refined, Error> {
+    let mut cm = CMesh::from_triangles(Vec::new(), &cdt.triangles, &cdt.neighbors);
+    // The bounding subsegments label their edges (`LABEL | k`).
+    let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
+    for (k, s) in cdt.segments.iter().enumerate() {
+        if s.bounding {
+            seg_of
+                .entry((s.v[0].min(s.v[1]), s.v[0].max(s.v[1])))
+                .or_insert(k as u32);
+        }
+    }
+    for t in 0..cdt.triangles.len() {
+        for e in 0..3 {
+            let (a, b) = edge(&cm.tr[t].v, e);
+            if let Some(&k) = seg_of.get(&(a.min(b), a.max(b))) {
+                cm.set_sub(t, e, LABEL | k);
+            }
+        }
+    }
+    drop(seg_of);
+    refine_mesh(cdt, cm, options, user)
+}
+
+/// Refines the mesh of a constrained triangulation
+/// ([`constrain`](super::constrain::constrain)) in place (see [`refine`]).
+///
+/// # Errors
+/// As [`refine`].
+pub(super) fn refine_constrained(
+    c: Constrained,
+    options: &RefineOptions,
+) -> Result<Refined, Error> {
+    refine_mesh(&c.cdt, c.cm, options, None)
+}
+
+/// Refines `cm`, the mesh of `cdt` (its triangles' `orig` index `cdt`'s
+/// columns, the label of a half-edge on a subsegment is `LABEL | k` for
+/// `cdt.segments[k]`; the coordinates are `cdt.points`).
+fn refine_mesh(
+    cdt: &Cdt,
+    mut cm: CMesh,
+    options: &RefineOptions,
+    user: Option<UserTest<'_>>,
+) -> Result<Refined, Error> {
     if let Some(index) = cdt
         .points
         .iter()
@@ -255,39 +299,32 @@ fn refine_inner(
     let scale = pow2_scale(max_abs);
     let sf = scale.0 * scale.1;
     let nfixed = cdt.points.len();
-    let nt = cdt.triangles.len();
-    let xy = cdt.points.iter().map(|&p| scaled(p, scale)).collect();
+    let nt = cm.tr.len();
+    cm.xy = cdt.points.iter().map(|&p| scaled(p, scale)).collect();
     let mut m = Mesh {
-        cm: CMesh::from_triangles(xy, &cdt.triangles, &cdt.neighbors),
+        cm,
         vpar: vec![NONE; nfixed],
         nfixed,
         vchains: Arc::new(vec![Vec::new(); nfixed]),
         parents: Arc::new(Vec::new()),
     };
-    // Subsegments: the bounding input ones, then hull edges (`-c`).
-    let mut seg_of: HashMap<(u32, u32), u32> = HashMap::new();
-    for (k, s) in cdt.segments.iter().enumerate() {
-        if s.bounding {
-            seg_of
-                .entry((s.v[0].min(s.v[1]), s.v[0].max(s.v[1])))
-                .or_insert(k as u32);
-        }
-    }
+    // Subsegments: the labelled edges, then hull edges (`-c`).
     for t in 0..nt {
         for e in 0..3 {
-            if m.sub_at(t, e) != NONE {
+            let s = m.sub_at(t, e);
+            let out = if s == NONE && m.tr[t].a[e] == NONE {
+                NONE
+            } else if s != NONE && s & LABEL != 0 {
+                s & !LABEL
+            } else {
                 continue;
-            }
+            };
             let (a, b) = edge(&m.tr[t].v, e);
-            let out = seg_of.get(&(a.min(b), a.max(b))).copied();
-            if out.is_none() && m.tr[t].a[e] != NONE {
-                continue;
-            }
             let k = m.subs.len() as u32;
             Arc::make_mut(&mut m.parents).push(Parent {
                 a,
                 b,
-                out: out.unwrap_or(NONE),
+                out,
                 shell: [false; 2],
             });
             let protected = match options.segment_splits {

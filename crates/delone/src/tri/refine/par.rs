@@ -382,7 +382,7 @@ pub(super) fn refine_parallel(
         if c.sub != NONE {
             m.subs[c.sub as usize].he = h0;
         } else {
-            stack.push(h0);
+            stack.push(m.half(t0, e0));
         }
         drops.extend([t0 as u32, t1 as u32]);
     }
