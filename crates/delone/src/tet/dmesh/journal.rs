@@ -44,7 +44,7 @@ use std::cell::RefCell;
 
 use delone_predicates::orient3d;
 
-use super::ring::{self, RingEnd};
+use super::ring;
 use super::{DomainMesh, Stamps};
 use crate::geom::ids::IdSet;
 use crate::tet::local::{face, fkey, DEAD, INF};
@@ -465,35 +465,15 @@ impl<'a> Journaled<'a> {
     }
 
     /// [`Journaled::edge_ring_with`] into the given lists (cleared first;
-    /// the shared walk [`ring::walk`]); false where that gives `None`.
+    /// the shared walk [`ring::closed`]); false where that gives `None`.
     fn ring_into(
         &self,
         t: u32,
-        (a, b): (u32, u32),
+        e: (u32, u32),
         ghosts: bool,
-        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+        out: (&mut Vec<u32>, &mut Vec<u32>),
     ) -> bool {
-        tets.clear();
-        ring.clear();
-        let m = &self.m;
-        let Some(xy) = m
-            .alive(t)
-            .then(|| m.tv[t as usize])
-            .filter(|tv| tv.contains(&a) && tv.contains(&b))
-            .and_then(|tv| ring::opposite(tv, a, b))
-        else {
-            return false;
-        };
-        let verts = |x: u32| m.tv[x as usize];
-        // A ghost cell ends the walk unless asked for.
-        let cross = |x: u32, i: usize| {
-            if !ghosts && m.tv[x as usize].contains(&INF) {
-                Err(())
-            } else {
-                Ok(Some(m.nb[x as usize][i] >> 2))
-            }
-        };
-        ring::walk(t, xy, (a, b), MAX_RING, (tets, ring), verts, cross) == Some(RingEnd::Closed)
+        ring::closed((&self.m.tv, &self.m.nb), t, e, ghosts, MAX_RING, out)
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new` filling the same

@@ -140,7 +140,6 @@ mod cavity;
 mod cdt;
 mod check;
 mod compact;
-mod flip;
 mod merge;
 mod missing;
 mod place;
@@ -426,6 +425,17 @@ fn validate_and_build<'a>(
     Ok(Delaunay3::from_points(scaled)?)
 }
 
+/// A mesh with ghost cells as the read-only searches see it: vertices and
+/// packed neighbour words per slot, and the points. Both the kernel's
+/// tetrahedralization ([`cells`]) and recovery's domain mesh
+/// ([`Journaled`]) give it, so one search serves both.
+type Cells<'c> = (&'c [[u32; 4]], &'c [[u32; 4]], &'c [[f64; 3]]);
+
+/// The [`Cells`] of the kernel's tetrahedralization.
+fn cells<'c>(dt: &'c Delaunay3<'_>) -> Cells<'c> {
+    (&dt.core.v, &dt.core.adj, dt.points())
+}
+
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
 /// diametral ball of `u v` that sees it under the largest angle.
 fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
@@ -599,26 +609,26 @@ impl State {
     /// among all edges.
     fn find_crossing(
         &self,
-        dt: &Delaunay3<'_>,
+        c: Cells<'_>,
         sk: &Skeleton,
         list: &[((u32, u32), u32)],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        self.find_crossing_from(dt, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
+        self.find_crossing_from(c, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
     }
 
     /// [`Self::find_crossing`] with `start(u, v)` giving a tetrahedron
     /// slot containing edge `u v` (`u < v`), if any.
     fn find_crossing_from(
         &self,
-        dt: &Delaunay3<'_>,
+        c: Cells<'_>,
         start: &dyn Fn(u32, u32) -> Option<u32>,
         list: &[((u32, u32), u32)],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let core = &dt.core;
+        let (cv, adj, _) = c;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
@@ -627,7 +637,7 @@ impl State {
             };
             let mut stack = vec![start];
             while let Some(x) = stack.pop() {
-                let xv = core.v[x as usize];
+                let xv = cv[x as usize];
                 if xv[0] == DEAD || !xv.contains(&u) || !xv.contains(&v) || !seen.insert(x) {
                     continue;
                 }
@@ -638,16 +648,16 @@ impl State {
                 }
                 for (f, &w) in xv.iter().enumerate() {
                     if w != u && w != v {
-                        stack.push(core.adj[x as usize][f] >> 2);
+                        stack.push(adj[x as usize][f] >> 2);
                     }
                 }
             }
         }
         local.sort_unstable();
         local.dedup_by_key(|e| e.0);
-        let found = self.crossing_edges(dt, &local, t);
+        let found = self.crossing_edges(c.2, &local, t);
         if found.is_empty() {
-            self.crossing_edges(dt, list, t)
+            self.crossing_edges(c.2, list, t)
         } else {
             found
         }
@@ -689,7 +699,7 @@ impl State {
             }
             None
         };
-        let found = self.find_crossing_from(dt, &start, &[], t, faces);
+        let found = self.find_crossing_from(cells(dt), &start, &[], t, faces);
         if !found.is_empty() {
             return found;
         }
@@ -716,7 +726,7 @@ impl State {
             for (i, j) in crate::tet::local::EDGES {
                 list.push((ekey(tv[i], tv[j]), x as u32));
             }
-            found.extend(self.crossing_edges(dt, &list, t));
+            found.extend(self.crossing_edges(pts, &list, t));
         }
         found.sort_unstable();
         found.dedup_by_key(|e| e.0);
@@ -726,11 +736,10 @@ impl State {
     /// Mesh edges of `list` crossing the interior of input triangle `t`.
     fn crossing_edges(
         &self,
-        dt: &Delaunay3<'_>,
+        pts: &[[f64; 3]],
         list: &[((u32, u32), u32)],
         t: usize,
     ) -> Vec<((u32, u32), u32)> {
-        let pts = dt.points();
         let tv = self.surf.tris[t];
         let [a, b, c] = tv.map(|w| pts[w as usize]);
         let mut lo = a;
@@ -761,39 +770,34 @@ impl State {
     /// creates a face on `t`: the ring and the orientation flag.
     fn flippable(
         &self,
-        dt: &Delaunay3<'_>,
+        (cv, adj, pts): Cells<'_>,
         t: usize,
         (p, q): (u32, u32),
         tet: u32,
-    ) -> Option<(Vec<u32>, [u32; 3], bool)> {
-        let core = &dt.core;
-        let tv = *core.v.get(tet as usize)?;
-        if tv[0] == DEAD || !tv.contains(&p) || !tv.contains(&q) {
+    ) -> Option<(Vec<u32>, [[u32; 4]; 2])> {
+        let (mut ring, mut rv) = (Vec::new(), Vec::new());
+        if !super::dmesh::ring::closed((cv, adj), tet, (p, q), false, 3, (&mut ring, &mut rv))
+            || ring.len() != 3
+        {
             return None;
         }
-        let ring = flip::ring(core, tet, p, q, 3)?;
-        if ring.len() != 3 {
-            return None;
-        }
-        let mut r: Vec<u32> = ring
-            .iter()
-            .flat_map(|&x| core.v[x as usize])
-            .filter(|&w| w != p && w != q)
-            .collect();
+        let mut r = rv.clone();
         r.sort_unstable();
-        r.dedup();
-        if r.len() != 3 || !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
+        if !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
             return None;
         }
-        let pts = dt.points();
         let g = |w: u32| &pts[w as usize];
-        let r = [r[0], r[1], r[2]];
         if !place::crosses(g(r[0]), g(r[1]), g(r[2]), g(p), g(q)) {
             return None;
         }
-        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign).
-        let orient = delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0;
-        Some((ring, r, orient))
+        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign);
+        // then [r1, r0, r2, q] is positive (q is on the other side).
+        let (ra, rb) = if delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0 {
+            (r[0], r[1])
+        } else {
+            (r[1], r[0])
+        };
+        Some((ring, [[ra, rb, r[2], p], [rb, ra, r[2], q]]))
     }
 
     /// The constrained recovery (see the `cdt` module): each round copies
@@ -1685,7 +1689,7 @@ impl State {
                 if !self.steiner_left() {
                     return Err(self.budget_error(0, uncovered.len()));
                 }
-                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                let cross = self.find_crossing(cells(dt), &sk, &list, t, &on[t]);
                 if cross.is_empty() {
                     progress |= self.split_hole(dt, t, &on[t])?;
                     continue;
@@ -1693,7 +1697,7 @@ impl State {
                 if use_flips
                     && cross
                         .iter()
-                        .any(|&(k, tet)| self.flippable(dt, t, k, tet).is_some())
+                        .any(|&(k, tet)| self.flippable(cells(dt), t, k, tet).is_some())
                 {
                     deferred = true;
                     continue;
@@ -1706,9 +1710,9 @@ impl State {
             if deferred {
                 // Try the flips on a copy: keep it if they recover every
                 // triangle, else go on splitting without flips.
-                let mut trial = dt.clone();
+                let mut trial = Journaled::new(dt.clone());
                 if let Some(n) = self.flip_phase(&mut trial) {
-                    *dt = trial;
+                    *dt = trial.into_dt();
                     self.report.flips32 += n;
                     return Ok(());
                 }
@@ -1724,12 +1728,14 @@ impl State {
 
     /// Applies 3-2 flips that create faces on missing triangles until all
     /// are recovered (returns the number of flips) or no flip applies
-    /// (`None`). No Delaunay insertion may follow a flip.
-    fn flip_phase(&self, dt: &mut Delaunay3<'_>) -> Option<usize> {
+    /// (`None`), all on the one domain mesh `cm`. No Delaunay insertion may
+    /// follow a flip.
+    fn flip_phase(&self, cm: &mut Journaled<'_>) -> Option<usize> {
         let mut flips = 0;
         loop {
-            let sk = Skeleton::of(dt, true);
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let c = (&cm.m.tv[..], &cm.m.nb[..], cm.pts());
+            let sk = Skeleton::of_arrays(c.0, c.1, 0, true);
+            let (on, covered) = self.surf.coverage(&sk, c.2);
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
                 return Some(flips);
@@ -1738,13 +1744,16 @@ impl State {
             list.sort_unstable();
             let mut flipped = false;
             for &t in &uncovered {
-                for (k, tet) in self.find_crossing(dt, &sk, &list, t, &on[t]) {
-                    if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
-                        flip::flip32(dt, &ring, k, r, orient);
-                        flips += 1;
-                        flipped = true;
-                        break;
-                    }
+                let c = (&cm.m.tv[..], &cm.m.nb[..], cm.pts());
+                let flip = self
+                    .find_crossing(c, &sk, &list, t, &on[t])
+                    .into_iter()
+                    .find_map(|(k, tet)| self.flippable(c, t, k, tet));
+                if let Some((ring, new)) = flip {
+                    cm.replace(&ring, &new);
+                    cm.m.debug_check(cm.pts(), "recovery's 3-2 flip");
+                    flips += 1;
+                    flipped = true;
                 }
             }
             if !flipped {
@@ -2013,5 +2022,52 @@ impl State {
             inexact: self.inexact,
             report: self.report,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tet::dmesh::tests::three_around_an_edge;
+
+    #[test]
+    fn conforming_recovery_flips_the_ring_face() {
+        // A bipyramid over triangle 0 1 2 with poles 3 and 4 close to its
+        // plane, the triangle an internal facet: edge 3 4 has three
+        // tetrahedra around it, and the 3-2 flip of the flip phase (the
+        // invariant checker runs after it) makes 0 1 2 a face.
+        let pts = three_around_an_edge();
+        let tris = [
+            [0, 1, 3],
+            [1, 2, 3],
+            [2, 0, 3],
+            [1, 0, 4],
+            [2, 1, 4],
+            [0, 2, 4],
+            [0, 1, 2],
+        ];
+        let opts = RecoverOptions {
+            constrained: false,
+            merge_coplanar: false,
+            ..Default::default()
+        };
+        let r = recover(&pts, &tris, &opts).unwrap();
+        check_recovered(&pts, &tris, &r).unwrap();
+        assert_eq!(r.report.flips32, 1);
+        assert_eq!(r.report.steiner(), 0);
+        assert_eq!(r.mesh.tets.len(), 2);
+        // Without flips the triangle is split instead.
+        let r = recover(
+            &pts,
+            &tris,
+            &RecoverOptions {
+                flips: false,
+                ..opts
+            },
+        )
+        .unwrap();
+        check_recovered(&pts, &tris, &r).unwrap();
+        assert_eq!(r.report.flips32, 0);
+        assert!(r.report.steiner() > 0);
     }
 }
