@@ -179,6 +179,13 @@ impl<'a> Journaled<'a> {
         dt
     }
 
+    /// The domain mesh, and the kernel structure emptied of its arrays
+    /// (its points and duplicates): the end of recovery, which carves the
+    /// mesh in place.
+    pub(crate) fn into_parts(self) -> (DomainMesh, Delaunay3<'a>) {
+        (self.m, self.shell)
+    }
+
     /// The points (input, then inserted).
     #[inline]
     pub(crate) fn pts(&self) -> &[[f64; 3]] {

@@ -261,6 +261,37 @@ impl DomainMesh {
         }
     }
 
+    /// Carves the mesh in place: keeps the live slots whose `region` is
+    /// not [`NONE`] (ghost cells and removed cells have none), each in that
+    /// region and with the subface bits `mask` (both per slot); the faces
+    /// towards a removed slot become the boundary ([`NONE`]). The removed
+    /// slots are dropped and the rest renumbered in slot order
+    /// ([`DomainMesh::compact`], for `n_points` vertices), and the storage
+    /// is trimmed to the domain.
+    pub(crate) fn carve(&mut self, region: Vec<u32>, mask: Vec<u8>, n_points: usize) {
+        let kept = |t: usize| region.get(t).is_some_and(|&r| r != NONE);
+        for t in 0..self.tv.len() {
+            if !kept(t) {
+                self.tv[t] = [DEAD; 4];
+                continue;
+            }
+            for w in &mut self.nb[t] {
+                if !kept((*w >> 2) as usize) {
+                    *w = NONE;
+                }
+            }
+        }
+        (self.reg, self.mask) = (region, mask);
+        self.inner = None;
+        self.marks = RefCell::default();
+        self.compact(n_points);
+        for v in [&mut self.tv, &mut self.nb] {
+            v.shrink_to_fit();
+        }
+        self.mask.shrink_to_fit();
+        self.reg.shrink_to_fit();
+    }
+
     /// Drops the subface and subsegment tables (the subface marks stay):
     /// for a stage that reads subfaces from the marks only, such as the
     /// optimisation, which would otherwise copy and maintain them.

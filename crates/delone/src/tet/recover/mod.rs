@@ -163,6 +163,7 @@ use crate::tet::local::ekey;
 
 use self::surface::{Kind, Skeleton, Surface};
 use super::dmesh::journal::{Journaled, OpLog};
+use super::dmesh::DomainMesh;
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -280,6 +281,21 @@ pub fn recover_marked(
     opts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<Recovered, RecoverError> {
+    recover_mesh(points, triangles, markers, opts, domain).map(|(rec, _)| rec)
+}
+
+/// [`recover_marked`], handing over the carved domain mesh too (its
+/// tetrahedra those of the output's `mesh.tets` in order, with their
+/// regions and subface marks): refinement and optimisation go on in it
+/// ([`crate::tet::refine::refine_in_place`]) instead of building it again
+/// from the output's neighbour lists.
+pub(crate) fn recover_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    markers: &[i32],
+    opts: &RecoverOptions,
+    domain: &Domain,
+) -> Result<(Recovered, DomainMesh), RecoverError> {
     if !markers.is_empty() && markers.len() != triangles.len() {
         return Err(RecoverError::MarkerCount {
             expected: triangles.len(),
@@ -349,7 +365,7 @@ pub fn recover_marked(
         }
         e => e,
     };
-    let (out, on) = if opts.constrained || opts.preserve_surface {
+    let (cm, on) = if opts.constrained || opts.preserve_surface {
         let (cm, on) = match st.run_cdt(&mut dt) {
             // `-Y`: the fallback that always applies (the `cavity` module).
             Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
@@ -359,20 +375,23 @@ pub fn recover_marked(
             }
             r => r.map_err(origin)?,
         };
-        (cm.into_dt(), Some(on))
+        (cm, Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
-        (dt, None)
+        (Journaled::new(dt), None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
-    st.report.hull_tets = out.num_tets();
+    st.report.hull_tets =
+        cm.m.live_slots()
+            .filter(|&t| cm.m.tv[t as usize][3] != INF)
+            .count();
     st.report.coplanar_groups = merged.groups;
     st.report.coplanar_kept = merged.kept;
-    let mut rec = st.finish(&out, on, points, scale, domain)?;
+    let (mut rec, mut mesh) = st.finish(cm, on, points, scale, domain)?;
     rec.surface = merged.tris;
     rec.surface_origin = merged.origin;
-    compact::drop_unused_steiner(&mut rec, points.len());
-    Ok(rec)
+    compact::drop_unused_steiner(&mut rec, &mut mesh, points.len());
+    Ok((rec, mesh))
 }
 
 /// The input validation of [`recover_marked`]: exact self-intersections,
@@ -1860,38 +1879,42 @@ impl State {
         }
     }
 
-    /// Carves and builds the output; `on`: the faces on each input
-    /// triangle when known (computed here otherwise).
+    /// Carves the recovered mesh `cm` in place and builds the output view
+    /// of it; `on`: the faces on each input triangle when known (computed
+    /// here otherwise). Returns the output and the carved domain mesh (its
+    /// tetrahedra those of the output, in order, with their regions and
+    /// subface marks).
     fn finish(
         mut self,
-        dt: &Delaunay3<'_>,
+        cm: Journaled<'_>,
         on: Option<Vec<Vec<[u32; 3]>>>,
         input: &[[f64; 3]],
         scale: (f64, f64),
         domain: &Domain,
-    ) -> Result<Recovered, RecoverError> {
+    ) -> Result<(Recovered, DomainMesh), RecoverError> {
         let unscale = 1.0 / (scale.0 * scale.1);
+        let (mut m, dt) = cm.into_parts();
+        let pts = dt.points();
         let on = on.unwrap_or_else(|| {
-            let sk = Skeleton::of(dt, true);
-            self.surf.coverage(&sk, dt.points()).0
+            let sk = Skeleton::of_arrays(&m.tv, &m.nb, 0, true);
+            self.surf.coverage(&sk, pts).0
         });
         // Face key -> input triangle (the last one listing it).
         let face_tri = surface::TripleIndex::new(
-            dt.points().len(),
+            pts.len(),
             on.iter()
                 .enumerate()
                 .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32))),
         );
-        let core = &dt.core;
         // Per slot and face: the input triangle it lies on (one lookup per
         // face, then flags instead of hashing in carving and output).
-        let mut marks = vec![[crate::NONE; 4]; core.v.len()];
-        for (t, tv) in core.v.iter().enumerate() {
+        let mut marks = vec![[crate::NONE; 4]; m.tv.len()];
+        for (t, tv) in m.tv.iter().enumerate() {
             if tv[0] == DEAD {
                 continue;
             }
             for f in 0..4 {
-                let w = core.adj[t][f];
+                let w = m.nb[t][f];
                 let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
                 if u < t {
                     continue;
@@ -1907,80 +1930,73 @@ impl State {
             }
         }
         drop(face_tri);
-        let mut carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
+        let cells = (&m.tv[..], &m.nb[..]);
+        let mut carved = carve::carve(cells, pts, &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
         self.report.chord_slivers =
-            carve::drop_chord_slivers(core, dt.points(), &mut marks, &mut carved, &self.inexact);
+            carve::drop_chord_slivers(cells, pts, &mut marks, &mut carved, &self.inexact);
         let mut regions = carved.regions;
-        let inside = |t: usize| carved.region[t] != u32::MAX;
-        let mut new_id = vec![crate::NONE; core.v.len()];
+        let region = carved.region;
+        let inside = |t: usize| region[t] != u32::MAX;
+        // A face listed on an input triangle that also has boundary faces,
+        // with the same region on both sides, is not a separator: with
+        // rounded (inexact) Steiner points, faces of points recorded on a
+        // triangle can lie inside the domain next to it. Only faces on
+        // internal facets (triangles with no boundary face) or between two
+        // regions are interior faces (subfaces).
+        // Per surface triangle: has a boundary face (a flag, no hashing).
+        let mut has_boundary = vec![false; self.surf.tris.len()];
+        let mut new_id = vec![crate::NONE; m.tv.len()];
         let mut tets = Vec::new();
         let mut tet_region = Vec::new();
-        for (t, id) in new_id.iter_mut().enumerate() {
-            if inside(t) {
-                *id = tets.len() as u32;
-                tets.push(core.v[t]);
-                tet_region.push(carved.region[t]);
+        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
+            new_id[t] = tets.len() as u32;
+            tets.push(m.tv[t]);
+            tet_region.push(region[t]);
+            for (f, w) in m.nb[t].iter().enumerate() {
+                if !inside((w >> 2) as usize) {
+                    if let Some(h) = has_boundary.get_mut(marks[t][f] as usize) {
+                        *h = true;
+                    }
+                }
             }
         }
+        let mut mask = vec![0u8; m.tv.len()];
         let mut neighbors = Vec::with_capacity(tets.len());
         let mut boundary = Vec::new();
         let mut boundary_triangle = Vec::new();
         let mut interior_faces = Vec::new();
         let mut interior_triangle = Vec::new();
-        let mut interior_between = Vec::new();
-        for t in 0..core.v.len() {
-            if !inside(t) {
-                continue;
-            }
-            let tv = core.v[t];
+        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
+            let tv = m.tv[t];
             let mut nb = [crate::NONE; 4];
             for (f, n) in nb.iter_mut().enumerate() {
-                let u = (core.adj[t][f] >> 2) as usize;
+                let w = m.nb[t][f];
+                let u = (w >> 2) as usize;
                 let [x, y, z] = FACET[f].map(|i| tv[i]);
                 let face = [x, z, y];
                 let on_tri = Some(marks[t][f]).filter(|&x| x != crate::NONE);
                 if inside(u) {
                     *n = new_id[u];
                     if let Some(ti) = on_tri {
-                        if new_id[t] < new_id[u] {
+                        let between = region[t] != region[u];
+                        let sub =
+                            between || !has_boundary.get(ti as usize).copied().unwrap_or(false);
+                        if sub && new_id[t] < new_id[u] {
                             interior_faces.push(face);
                             interior_triangle.push(ti);
-                            interior_between.push(carved.region[t] != carved.region[u]);
+                            mask[t] |= 1 << f;
+                            mask[u] |= 1 << (w & 3);
                         }
                     }
                 } else {
                     boundary.push(face);
                     boundary_triangle.push(on_tri.unwrap_or(crate::NONE));
+                    mask[t] |= 1 << f;
                 }
             }
             neighbors.push(nb);
         }
-        // A face listed on an input triangle that also has boundary faces,
-        // with the same region on both sides, is not a separator: with
-        // rounded (inexact) Steiner points, faces of points recorded on a
-        // triangle can lie inside the domain next to it. Only faces on
-        // internal facets (triangles with no boundary face) or between two
-        // regions are reported as interior faces.
-        // Per surface triangle: has a boundary face (a flag, no hashing).
-        let mut has_boundary = vec![false; self.surf.tris.len()];
-        for &ti in &boundary_triangle {
-            if let Some(h) = has_boundary.get_mut(ti as usize) {
-                *h = true;
-            }
-        }
-        let keep: Vec<bool> = interior_triangle
-            .iter()
-            .zip(&interior_between)
-            .map(|(&ti, &between)| {
-                between || !has_boundary.get(ti as usize).copied().unwrap_or(false)
-            })
-            .collect();
-        let mut flags = keep.iter();
-        interior_faces.retain(|_| flags.next().copied().unwrap_or(true));
-        let mut flags = keep.iter();
-        interior_triangle.retain(|_| flags.next().copied().unwrap_or(true));
-        let pts = dt.points();
         let points: Vec<[f64; 3]> = (0..pts.len())
             .map(|i| {
                 if i < input.len() {
@@ -2002,7 +2018,8 @@ impl State {
                 scale,
             );
         }
-        Ok(Recovered {
+        m.carve(region, mask, points.len());
+        let rec = Recovered {
             points,
             mesh: TetMesh {
                 tets,
@@ -2021,7 +2038,8 @@ impl State {
             regions,
             inexact: self.inexact,
             report: self.report,
-        })
+        };
+        Ok((rec, m))
     }
 }
 
