@@ -971,99 +971,83 @@ impl State {
                         self.split_edge(dt, e, u, v)?;
                     }
                 }
-                prev_log = cm.take_log();
-                failed_removals = cm.take_failed();
-                prev = Some(RoundState {
-                    on,
-                    covered,
-                    old_len,
-                    subs,
-                    prot: Some(prot),
-                });
-                continue;
-            }
-            let segments_by_flips = subs.len();
-            // Coverage on `cm`, updated only where the flips changed faces.
-            let mut on_cm = on.clone();
-            let mut covered_cm = covered.clone();
-            let dt_uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
-            let mut uncovered: Vec<usize> =
-                (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
-            let by_flips = uncovered.len();
-            if !uncovered.is_empty() {
-                for &t in &uncovered {
-                    let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
-                    cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+            } else {
+                let segments_by_flips = subs.len();
+                // Coverage on `cm`, updated only where the flips changed faces.
+                let mut on_cm = on.clone();
+                let mut covered_cm = covered.clone();
+                let dt_uncovered: Vec<usize> =
+                    (0..covered.len()).filter(|&t| !covered[t]).collect();
+                self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
+                let mut uncovered: Vec<usize> =
+                    (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
+                let by_flips = uncovered.len();
+                if !uncovered.is_empty() {
+                    for &t in &uncovered {
+                        let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                        cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+                    }
+                    self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
+                    uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                 }
-                self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
-                uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
-            }
-            if uncovered.is_empty() {
-                self.report.flips23 = cm.flips23;
-                self.report.edge_removals = cm.removals;
-                self.report.segments_by_flips = segments_by_flips;
-                self.report.triangles_by_flips = by_flips;
-                return Ok((cm, on_cm));
-            }
-            if self.opts.preserve_surface {
-                if let Some(done) = self.preserve_by_cavities(&cm)? {
-                    return Ok(self.cavity_done(done));
+                if uncovered.is_empty() {
+                    self.report.flips23 = cm.flips23;
+                    self.report.edge_removals = cm.removals;
+                    self.report.segments_by_flips = segments_by_flips;
+                    self.report.triangles_by_flips = by_flips;
+                    return Ok((cm, on_cm));
                 }
-                let uncovered = self.fallback_targets(uncovered);
-                self.interior_points(dt, uncovered)?;
-                failed_removals = cm.take_failed();
-                prev = Some(RoundState {
-                    on,
-                    covered,
-                    old_len,
-                    subs,
-                    prot: Some(prot),
-                });
-                continue;
-            }
-            // Split the triangles the flips could not recover, in the
-            // Delaunay tetrahedralization (`on`, `covered`: its coverage).
-            // Per vertex: a tetrahedron holding it (a start for the local
-            // searches; no map of all edges, see `find_crossing_lazy`).
-            let mut vt = vec![DEAD; dt.points().len()];
-            for (x, tv) in dt.core.v.iter().enumerate() {
-                if tv[0] != DEAD {
-                    for &w in tv {
-                        if w != INF && vt[w as usize] == DEAD {
-                            vt[w as usize] = x as u32;
+                if self.opts.preserve_surface {
+                    if let Some(done) = self.preserve_by_cavities(&cm)? {
+                        return Ok(self.cavity_done(done));
+                    }
+                    let uncovered = self.fallback_targets(uncovered);
+                    self.interior_points(dt, uncovered)?;
+                } else {
+                    // Split the triangles the flips could not recover, in the
+                    // Delaunay tetrahedralization (`on`, `covered`: its coverage).
+                    // Per vertex: a tetrahedron holding it (a start for the local
+                    // searches; no map of all edges, see `find_crossing_lazy`).
+                    let mut vt = vec![DEAD; dt.points().len()];
+                    for (x, tv) in dt.core.v.iter().enumerate() {
+                        if tv[0] != DEAD {
+                            for &w in tv {
+                                if w != INF && vt[w as usize] == DEAD {
+                                    vt[w as usize] = x as u32;
+                                }
+                            }
                         }
                     }
-                }
-            }
-            let mut progress = false;
-            let mut group_done = vec![false; self.poly.groups.len()];
-            for &t in &uncovered {
-                if !self.steiner_left() {
-                    return Err(self.budget_error(0, uncovered.len()));
-                }
-                if let Some(g) = self.poly.group(t) {
-                    if !std::mem::replace(&mut group_done[g as usize], true) {
-                        progress |= self.split_group(dt, &cm, g, covered[t])?;
+                    let mut progress = false;
+                    let mut group_done = vec![false; self.poly.groups.len()];
+                    for &t in &uncovered {
+                        if !self.steiner_left() {
+                            return Err(self.budget_error(0, uncovered.len()));
+                        }
+                        if let Some(g) = self.poly.group(t) {
+                            if !std::mem::replace(&mut group_done[g as usize], true) {
+                                progress |= self.split_group(dt, &cm, g, covered[t])?;
+                            }
+                            continue;
+                        }
+                        if covered[t] {
+                            progress |= self.split_longest_subsegment(dt, t)?;
+                            continue;
+                        }
+                        let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
+                        progress |= if cross.is_empty() {
+                            self.split_hole(dt, t, &on[t])?
+                        } else {
+                            self.split_facet(dt, t, cross[0].0)?
+                        };
                     }
-                    continue;
+                    if !progress {
+                        return Err(RecoverError::Unrecovered {
+                            triangles: uncovered,
+                            steiner: self.report.steiner(),
+                        });
+                    }
                 }
-                if covered[t] {
-                    progress |= self.split_longest_subsegment(dt, t)?;
-                    continue;
-                }
-                let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
-                progress |= if cross.is_empty() {
-                    self.split_hole(dt, t, &on[t])?
-                } else {
-                    self.split_facet(dt, t, cross[0].0)?
-                };
-            }
-            if !progress {
-                return Err(RecoverError::Unrecovered {
-                    triangles: uncovered,
-                    steiner: self.report.steiner(),
-                });
             }
             prev_log = cm.take_log();
             failed_removals = cm.take_failed();
