@@ -1418,13 +1418,19 @@ impl Core {
     }
 }
 
+/// The vertices and packed neighbour words per slot of a mesh with ghost
+/// cells (this kernel's, or recovery's domain mesh
+/// [`crate::tet::dmesh::journal::Journaled`]): what the walks the two share
+/// read ([`walk_cells`], the edge ring, carving).
+pub(crate) type Arrays<'c> = (&'c [[u32; 4]], &'c [[u32; 4]]);
+
 /// Visibility walk from `start` towards `p` over the vertices `v` and
 /// packed neighbour words `adj` of a tetrahedralization with ghost cells
 /// (the kernel's, or recovery's domain mesh). Returns a finite tetrahedron
 /// whose closure contains `p`, or a ghost whose hull facet has `p`
 /// strictly on its outer side.
 pub(crate) fn walk_cells(
-    (v, adj): (&[[u32; 4]], &[[u32; 4]]),
+    (v, adj): Arrays<'_>,
     pts: &[[f64; 3]],
     p: &[f64; 3],
     start: u32,

@@ -2,7 +2,8 @@
 //! facets ([`crate::tet::facets`]), recover them in a Delaunay
 //! tetrahedralization and carve holes and the outside
 //! ([`recover_marked`](crate::tet::recover::recover_marked)), refine ([`refine_recovered`](crate::tet::refine::refine_recovered), with `-q`, `-a` or
-//! `-m`) and optimise ([`optimize`], by default after refinement). It is
+//! `-m`) and optimise ([`optimize`], by default after refinement), all in
+//! one domain mesh carved by recovery and handed from stage to stage. It is
 //! the whole job of `delone tet -p`, which only reads the input, calls
 //! [`mesh()`] and writes the [`TetResult`].
 

@@ -7,13 +7,15 @@
 //! # Where it starts and how it flows
 //!
 //! Recovery takes over the kernel's arrays (ghost cells included, no copy:
-//! [`journal::Journaled`]), flips and removes edges in them with a journal
-//! for replay and rollback, gives them back to carving and hands over a
-//! [`crate::tet::recover::Recovered`]. [`DomainMesh::from_neighbors`] builds
-//! this structure from it once; refinement inserts points, flips and records
-//! subfaces / subsegments in it; optimisation flips, removes edges and
-//! faces, smooths and inserts in it. Each stage adds only its own queues,
-//! caches and report.
+//! [`journal::Journaled`]) and flips and removes edges in them with a
+//! journal for replay and rollback; carving marks the domain in the same
+//! arrays and [`DomainMesh::carve`] keeps it (boundary faces [`NONE`],
+//! subface marks, regions), handing it over with the output view
+//! [`crate::tet::recover::Recovered`]. Refinement inserts points, flips and
+//! records subfaces / subsegments in it; optimisation flips, removes edges
+//! and faces, smooths and inserts in it. Each stage adds only its own
+//! queues, caches and report. [`DomainMesh::from_neighbors`] builds it from
+//! a `Recovered` for the public entries that start from one.
 //!
 //! # Layout
 //!
@@ -60,6 +62,8 @@ use crate::tet::local::{ekey, face, fkey, DEAD, INF};
 use crate::NONE;
 
 pub(crate) use ring::RingEnd;
+
+pub(crate) use crate::tet::delaunay::Arrays;
 
 /// The constrained domain mesh (see the [module documentation](self)).
 #[derive(Debug, Clone, Default)]

@@ -90,7 +90,7 @@ pub(crate) fn walk(
 /// (cleared first). False when `t` is dead or lacks the edge, when the ring
 /// passes a ghost cell (unless `ghosts`) or exceeds `cap` tetrahedra.
 pub(crate) fn closed(
-    (tv, nb): (&[[u32; 4]], &[[u32; 4]]),
+    (tv, nb): super::Arrays<'_>,
     t: u32,
     (a, b): (u32, u32),
     ghosts: bool,

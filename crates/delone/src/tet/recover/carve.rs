@@ -48,6 +48,7 @@ use super::types::{MeshRegion, RecoverError};
 use crate::geom::ids::IdSet;
 use crate::model::plc::Region;
 use crate::tet::delaunay::walk_cells;
+use crate::tet::dmesh::Arrays;
 use crate::tet::local::{DEAD, FACET, INF};
 
 /// What to keep of the tetrahedralization of a PLC: hole points, region
@@ -84,10 +85,6 @@ pub(crate) struct Carved {
     /// Components removed because a hole point lies in them.
     pub(crate) holes_removed: usize,
 }
-
-/// The vertices and packed neighbour words of a mesh with ghost cells
-/// (recovery's domain mesh).
-type Arrays<'c> = (&'c [[u32; 4]], &'c [[u32; 4]]);
 
 /// Is face `f` of cell `t` a constraint face? (`marks`: per slot and
 /// face, the input triangle the face lies on, `u32::MAX` for none.)

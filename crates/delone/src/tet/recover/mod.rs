@@ -35,7 +35,8 @@
 //!    nothing is missing, the Steiner budget is exhausted
 //!    ([`RecoverError::SteinerBudget`]) or no progress is possible;
 //! 5. **flips** — when only deferred triangles remain, the 3-2 flips are
-//!    tried on a copy of the mesh; the copy is kept when they recover every
+//!    tried on a copy of the mesh (one domain mesh over all the flips,
+//!    the domain mesh of the `dmesh` module); the copy is kept when they recover every
 //!    triangle (no Delaunay insertion follows, since flips break the Delaunay
 //!    property insertion relies on), else splitting resumes without flips.
 //!    Triangles that neither splitting nor flips recover are reported by
@@ -163,7 +164,7 @@ use crate::tet::local::ekey;
 
 use self::surface::{Kind, Skeleton, Surface};
 use super::dmesh::journal::{Journaled, OpLog};
-use super::dmesh::DomainMesh;
+use super::dmesh::{Arrays, DomainMesh};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -448,11 +449,11 @@ fn validate_and_build<'a>(
 /// packed neighbour words per slot, and the points. Both the kernel's
 /// tetrahedralization ([`cells`]) and recovery's domain mesh
 /// ([`Journaled`]) give it, so one search serves both.
-type Cells<'c> = (&'c [[u32; 4]], &'c [[u32; 4]], &'c [[f64; 3]]);
+type Cells<'c> = (Arrays<'c>, &'c [[f64; 3]]);
 
 /// The [`Cells`] of the kernel's tetrahedralization.
 fn cells<'c>(dt: &'c Delaunay3<'_>) -> Cells<'c> {
-    (&dt.core.v, &dt.core.adj, dt.points())
+    ((&dt.core.v, &dt.core.adj), dt.points())
 }
 
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
@@ -647,7 +648,7 @@ impl State {
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let (cv, adj, _) = c;
+        let ((cv, adj), pts) = c;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
@@ -674,9 +675,9 @@ impl State {
         }
         local.sort_unstable();
         local.dedup_by_key(|e| e.0);
-        let found = self.crossing_edges(c.2, &local, t);
+        let found = self.crossing_edges(pts, &local, t);
         if found.is_empty() {
-            self.crossing_edges(c.2, list, t)
+            self.crossing_edges(pts, list, t)
         } else {
             found
         }
@@ -786,16 +787,17 @@ impl State {
     }
 
     /// A 3-2 flip that removes crossing edge `p q` of triangle `t` and
-    /// creates a face on `t`: the ring and the orientation flag.
+    /// creates a face on `t`: the three tetrahedra around `p q` and the two
+    /// positive ones replacing them.
     fn flippable(
         &self,
-        (cv, adj, pts): Cells<'_>,
+        (arrays, pts): Cells<'_>,
         t: usize,
         (p, q): (u32, u32),
         tet: u32,
     ) -> Option<(Vec<u32>, [[u32; 4]; 2])> {
         let (mut ring, mut rv) = (Vec::new(), Vec::new());
-        if !super::dmesh::ring::closed((cv, adj), tet, (p, q), false, 3, (&mut ring, &mut rv))
+        if !super::dmesh::ring::closed(arrays, tet, (p, q), false, 3, (&mut ring, &mut rv))
             || ring.len() != 3
         {
             return None;
@@ -1240,7 +1242,7 @@ impl State {
         covered: &[bool],
         subs: Option<&[(u32, u32, u32)]>,
     ) {
-        let sk = Skeleton::of_arrays(&cm.m.tv, &cm.m.nb, 0, true);
+        let sk = Skeleton::of(cm.arrays(), true);
         let (mut g_on, mut g_covered) = self.surf.coverage(&sk, cm.pts());
         self.groups_global(sk.tets.iter().copied(), cm.pts(), &mut g_on, &mut g_covered);
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
@@ -1667,7 +1669,7 @@ impl State {
             if crate::progress::stop_requested() {
                 return Err(Error::Interrupted.into());
             }
-            let sk = Skeleton::of(dt, false);
+            let sk = Skeleton::of(cells(dt).0, false);
             let subs = self.missing_subsegments(&sk);
             if !subs.is_empty() {
                 for &(e, u, v) in &subs {
@@ -1678,7 +1680,7 @@ impl State {
                 }
                 continue;
             }
-            let sk = Skeleton::of(dt, true);
+            let sk = Skeleton::of(cells(dt).0, true);
             let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
@@ -1736,9 +1738,8 @@ impl State {
     fn flip_phase(&self, cm: &mut Journaled<'_>) -> Option<usize> {
         let mut flips = 0;
         loop {
-            let c = (&cm.m.tv[..], &cm.m.nb[..], cm.pts());
-            let sk = Skeleton::of_arrays(c.0, c.1, 0, true);
-            let (on, covered) = self.surf.coverage(&sk, c.2);
+            let sk = Skeleton::of(cm.arrays(), true);
+            let (on, covered) = self.surf.coverage(&sk, cm.pts());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
                 return Some(flips);
@@ -1747,7 +1748,7 @@ impl State {
             list.sort_unstable();
             let mut flipped = false;
             for &t in &uncovered {
-                let c = (&cm.m.tv[..], &cm.m.nb[..], cm.pts());
+                let c = (cm.arrays(), cm.pts());
                 let flip = self
                     .find_crossing(c, &sk, &list, t, &on[t])
                     .into_iter()
@@ -1880,7 +1881,7 @@ impl State {
         let (mut m, dt) = cm.into_parts();
         let pts = dt.points();
         let on = on.unwrap_or_else(|| {
-            let sk = Skeleton::of_arrays(&m.tv, &m.nb, 0, true);
+            let sk = Skeleton::of((&m.tv, &m.nb), true);
             self.surf.coverage(&sk, pts).0
         });
         // Face key -> input triangle (the last one listing it).

@@ -5,7 +5,8 @@
 //! first, few Steiner points) and refines the carved domain mesh in place
 //! (the private `cdr` module) on the crate's constrained domain mesh
 //! (`tet::dmesh`: packed adjacency, subface marks, regions,
-//! subface and subsegment tables), built once from the [`Recovered`] mesh.
+//! subface and subsegment tables), the very mesh recovery carved
+//! ([`refine_recovered`] builds it from a [`Recovered`] mesh's lists).
 //! The crate-internal `refine_in_place` hands that mesh over, compacted, for
 //! optimisation to continue on it (`optimize_in_place`). Nothing is rebuilt,
 //! and constraints are *topological*:
