@@ -466,19 +466,9 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     let mut rng = 0x9E37_79B9u32;
     for w in [u, v] {
         let start = core.walk(pts, &pts[w as usize], core.last, &mut rng);
-        let mut seen: IdSet<u32> = IdSet::default();
-        let mut stack = vec![start];
-        while let Some(x) = stack.pop() {
-            let xv = core.v[x as usize];
-            if xv[0] == DEAD || !xv.contains(&w) || !seen.insert(x) {
-                continue;
-            }
-            for (f, &q) in xv.iter().enumerate() {
-                if q == w {
-                    continue;
-                }
-                stack.push(core.adj[x as usize][f] >> 2);
-                if q == INF || q == u || q == v {
+        star_cells(cells(dt).0, &[w], start, &mut IdSet::default(), |_, xv| {
+            for q in xv {
+                if q == w || q == INF || q == u || q == v {
                     continue;
                 }
                 let p = pts[q as usize];
@@ -496,9 +486,36 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
                     }
                 }
             }
-        }
+        });
     }
     best.map(|(_, q)| q)
+}
+
+/// Visits (`visit(slot, vertices)`) the cells of `c` holding every vertex
+/// of `around` (the star of a vertex, the ring of an edge; ghost cells
+/// included) reached from `start` across the faces holding them, depth
+/// first in face order, each cell once: `seen` (shared by successive
+/// walks) holds the cells already visited.
+fn star_cells(
+    (v, adj): Arrays<'_>,
+    around: &[u32],
+    start: u32,
+    seen: &mut IdSet<u32>,
+    mut visit: impl FnMut(u32, [u32; 4]),
+) {
+    let mut stack = vec![start];
+    while let Some(x) = stack.pop() {
+        let xv = v[x as usize];
+        if xv[0] == DEAD || around.iter().any(|w| !xv.contains(w)) || !seen.insert(x) {
+            continue;
+        }
+        visit(x, xv);
+        for (f, w) in xv.iter().enumerate() {
+            if !around.contains(w) {
+                stack.push(adj[x as usize][f] >> 2);
+            }
+        }
+    }
 }
 
 /// Coverage is recomputed globally when the local recomputation of the
@@ -648,30 +665,20 @@ impl State {
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let ((cv, adj), pts) = c;
+        let (arrays, pts) = c;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
             let Some(start) = start(u, v) else {
                 continue;
             };
-            let mut stack = vec![start];
-            while let Some(x) = stack.pop() {
-                let xv = cv[x as usize];
-                if xv[0] == DEAD || !xv.contains(&u) || !xv.contains(&v) || !seen.insert(x) {
-                    continue;
-                }
+            star_cells(arrays, &[u, v], start, &mut seen, |x, xv| {
                 if !xv.contains(&INF) {
                     for (i, j) in crate::tet::local::EDGES {
                         local.push((ekey(xv[i], xv[j]), x));
                     }
                 }
-                for (f, &w) in xv.iter().enumerate() {
-                    if w != u && w != v {
-                        stack.push(adj[x as usize][f] >> 2);
-                    }
-                }
-            }
+            });
         }
         local.sort_unstable();
         local.dedup_by_key(|e| e.0);
@@ -2040,15 +2047,9 @@ mod tests {
         // tetrahedra around it, and the 3-2 flip of the flip phase (the
         // invariant checker runs after it) makes 0 1 2 a face.
         let pts = three_around_an_edge();
-        let tris = [
-            [0, 1, 3],
-            [1, 2, 3],
-            [2, 0, 3],
-            [1, 0, 4],
-            [2, 1, 4],
-            [0, 2, 4],
-            [0, 1, 2],
-        ];
+        let mut tris: Vec<[u32; 3]> = (0..3).map(|i| [i, (i + 1) % 3, 3]).collect();
+        tris.extend((0..3).map(|i| [(i + 1) % 3, i, 4]));
+        tris.push([0, 1, 2]);
         let opts = RecoverOptions {
             constrained: false,
             merge_coplanar: false,
