@@ -267,7 +267,10 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
             domain_mesh.drop_tables();
             Some(optimize_in_place(&mut rec, domain_mesh, &o).map_err(TetError::Optimize)?)
         }
-        None => None,
+        None => {
+            drop(domain_mesh);
+            None
+        }
     };
     let optimize_time = t_opt.elapsed();
     let (faces, face_markers, face_triangles) = marked_faces(&rec, &triangle_markers);

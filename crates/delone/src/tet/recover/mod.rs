@@ -376,6 +376,9 @@ pub(crate) fn recover_mesh(
             }
             r => r.map_err(origin)?,
         };
+        // The Delaunay tetrahedralization is not needed any more (carving
+        // works on `cm`): freed before the output is built.
+        drop(dt);
         (cm, Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
