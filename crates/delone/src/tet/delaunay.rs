@@ -1116,38 +1116,10 @@ impl Core {
         self.last = t;
     }
 
-    /// Visibility walk from `start` towards `p`. Returns a finite tetrahedron
-    /// whose closure contains `p`, or a ghost whose hull facet has `p`
-    /// strictly on its outer side.
+    /// Visibility walk from `start` towards `p` ([`walk_cells`] on this
+    /// structure's arrays).
     pub(crate) fn walk(&self, pts: &[[f64; 3]], p: &[f64; 3], start: u32, rng: &mut u32) -> u32 {
-        let mut t = start;
-        if self.v[t as usize][3] == INF {
-            t = self.adj[t as usize][3] >> 2;
-        }
-        let mut from = 4usize;
-        'walk: loop {
-            let tv = self.v[t as usize];
-            if tv[3] == INF {
-                return t;
-            }
-            let r = Self::next_rand(rng) as usize;
-            for k in 0..4 {
-                let f = (r + k) & 3;
-                if f == from {
-                    continue;
-                }
-                let [a, b, c] = FACET[f].map(|i| &pts[tv[i] as usize]);
-                // orient3d > 0: p is on the negative side of the facet, i.e.
-                // beyond it.
-                if orient3d(a, b, c, p) > 0.0 {
-                    let w = self.adj[t as usize][f];
-                    t = w >> 2;
-                    from = (w & 3) as usize;
-                    continue 'walk;
-                }
-            }
-            return t;
-        }
+        walk_cells((&self.v, &self.adj), pts, p, start, rng)
     }
 
     /// Does the circumsphere of finite tet `t` contain point `id`? With
@@ -1443,5 +1415,53 @@ impl Core {
             }
         }
         (self.v, self.adj)
+    }
+}
+
+/// The vertices and packed neighbour words per slot of a mesh with ghost
+/// cells (this kernel's, or recovery's domain mesh
+/// [`crate::tet::dmesh::journal::Journaled`]): what the walks the two share
+/// read ([`walk_cells`], the edge ring, carving).
+pub(crate) type Arrays<'c> = (&'c [[u32; 4]], &'c [[u32; 4]]);
+
+/// Visibility walk from `start` towards `p` over the vertices `v` and
+/// packed neighbour words `adj` of a tetrahedralization with ghost cells
+/// (the kernel's, or recovery's domain mesh). Returns a finite tetrahedron
+/// whose closure contains `p`, or a ghost whose hull facet has `p`
+/// strictly on its outer side.
+pub(crate) fn walk_cells(
+    (v, adj): Arrays<'_>,
+    pts: &[[f64; 3]],
+    p: &[f64; 3],
+    start: u32,
+    rng: &mut u32,
+) -> u32 {
+    let mut t = start;
+    if v[t as usize][3] == INF {
+        t = adj[t as usize][3] >> 2;
+    }
+    let mut from = 4usize;
+    'walk: loop {
+        let tv = v[t as usize];
+        if tv[3] == INF {
+            return t;
+        }
+        let r = Core::next_rand(rng) as usize;
+        for k in 0..4 {
+            let f = (r + k) & 3;
+            if f == from {
+                continue;
+            }
+            let [a, b, c] = FACET[f].map(|i| &pts[tv[i] as usize]);
+            // orient3d > 0: p is on the negative side of the facet, i.e.
+            // beyond it.
+            if orient3d(a, b, c, p) > 0.0 {
+                let w = adj[t as usize][f];
+                t = w >> 2;
+                from = (w & 3) as usize;
+                continue 'walk;
+            }
+        }
+        return t;
     }
 }

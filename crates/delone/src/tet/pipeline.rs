@@ -1,8 +1,9 @@
 //! The 3D pipeline in one call, [`mesh()`]: validate the PLC, triangulate its
 //! facets ([`crate::tet::facets`]), recover them in a Delaunay
 //! tetrahedralization and carve holes and the outside
-//! ([`recover_marked`]), refine ([`refine_recovered`](crate::tet::refine::refine_recovered), with `-q`, `-a` or
-//! `-m`) and optimise ([`optimize`], by default after refinement). It is
+//! ([`recover_marked`](crate::tet::recover::recover_marked)), refine ([`refine_recovered`](crate::tet::refine::refine_recovered), with `-q`, `-a` or
+//! `-m`) and optimise ([`optimize`], by default after refinement), all in
+//! one domain mesh carved by recovery and handed from stage to stage. It is
 //! the whole job of `delone tet -p`, which only reads the input, calls
 //! [`mesh()`] and writes the [`TetResult`].
 
@@ -14,7 +15,7 @@ use crate::tet::optimize::{
     optimize, optimize_in_place, OptimizeError, OptimizeOptions, OptimizeReport,
 };
 use crate::tet::options::TetOptions;
-use crate::tet::recover::{recover_marked, Domain, RecoverError, RecoverOptions, Recovered};
+use crate::tet::recover::{recover_mesh, Domain, RecoverError, RecoverOptions, Recovered};
 use crate::tet::refine::{refine_in_place, RefineOptions, RefineReport};
 use crate::{Error, NONE};
 
@@ -231,9 +232,12 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         ..Default::default()
     };
     let points = &plc.points;
-    let rec = recover_marked(points, &triangles, &triangle_markers, &ropts, &domain)
+    // One domain mesh from the end of recovery (carved there) through
+    // refinement and optimisation; `rec` is its output view, rewritten by
+    // each stage.
+    let (rec, domain_mesh) = recover_mesh(points, &triangles, &triangle_markers, &ropts, &domain)
         .map_err(|e| TetError::Recover(name_facets(e, &facet_of)))?;
-    let (mut rec, refined) = if opts.refining() {
+    let (mut rec, mut domain_mesh, refined) = if opts.refining() {
         let ro = RefineOptions {
             keep_surface: opts.preserve_surface,
             max_radius_edge: opts.max_radius_edge,
@@ -242,13 +246,11 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
             sizing: opts.size_field.clone().unwrap_or_default(),
             ..RefineOptions::default()
         };
-        // The refined mesh goes on to the optimisation as it is (no
-        // rebuilding from neighbour lists between the stages).
-        let (r, domain_mesh) =
-            refine_in_place(points, &triangles, &rec, &ro).map_err(TetError::Recover)?;
-        (r.rec, Some((r.report, ro, domain_mesh)))
+        let (r, domain_mesh) = refine_in_place(points, &triangles, &rec, Some(domain_mesh), &ro)
+            .map_err(TetError::Recover)?;
+        (r.rec, domain_mesh, Some((r.report, ro)))
     } else {
-        (rec, None)
+        (rec, domain_mesh, None)
     };
     if rec.mesh.tets.is_empty() {
         return Err(TetError::Empty {
@@ -256,22 +258,19 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         });
     }
     let t_opt = Instant::now();
-    let (refine_report, refined) = match refined {
-        Some((report, ro, domain_mesh)) => (Some(report), Some((ro, domain_mesh))),
-        None => (None, None),
-    };
-    let optimized = match refined {
-        Some((ro, mut domain_mesh)) => {
+    let (refine_report, ro) = refined.unzip();
+    let optimized = match optimize_options(opts, points.len(), ro.as_ref()) {
+        Some(o) => {
             // The optimisation reads subfaces from the marks and keeps its
             // own boundary map: the refinement's tables would only be
             // copied and maintained.
             domain_mesh.drop_tables();
-            let o = optimize_options(opts, points.len(), Some(&ro));
-            o.map(|o| optimize_in_place(&mut rec, domain_mesh, &o))
-                .transpose()
-                .map_err(TetError::Optimize)?
+            Some(optimize_in_place(&mut rec, domain_mesh, &o).map_err(TetError::Optimize)?)
         }
-        None => optimize_stage(opts, points.len(), &mut rec, None)?,
+        None => {
+            drop(domain_mesh);
+            None
+        }
     };
     let optimize_time = t_opt.elapsed();
     let (faces, face_markers, face_triangles) = marked_faces(&rec, &triangle_markers);

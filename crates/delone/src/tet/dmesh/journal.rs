@@ -3,7 +3,8 @@
 //!
 //! [`Journaled`] holds a [`DomainMesh`] whose arrays are those of the
 //! kernel's [`Delaunay3`] (moved in by [`Journaled::new`], moved back by
-//! [`Journaled::into_dt`], no copy): ghost cells with [`INF`] in position 3
+//! [`Journaled::into_dt`], or kept for carving by [`Journaled::into_parts`];
+//! no copy): ghost cells with [`INF`] in position 3
 //! close the convex hull, so no face is on the boundary ([`crate::NONE`]),
 //! hull 2-2 flips are replacements like any other, and walks pass outside
 //! the domain before carving. Once a flip has been applied, the kernel's
@@ -44,7 +45,7 @@ use std::cell::RefCell;
 
 use delone_predicates::orient3d;
 
-use super::ring::{self, RingEnd};
+use super::ring;
 use super::{DomainMesh, Stamps};
 use crate::geom::ids::IdSet;
 use crate::tet::local::{face, fkey, DEAD, INF};
@@ -177,6 +178,13 @@ impl<'a> Journaled<'a> {
         c.free = m.free;
         c.last = self.last;
         dt
+    }
+
+    /// The domain mesh, and the kernel structure emptied of its arrays
+    /// (its points and duplicates): the end of recovery, which carves the
+    /// mesh in place.
+    pub(crate) fn into_parts(self) -> (DomainMesh, Delaunay3<'a>) {
+        (self.m, self.shell)
     }
 
     /// The points (input, then inserted).
@@ -447,53 +455,21 @@ impl<'a> Journaled<'a> {
     /// is `tets[i]`, positively oriented. `None` through a ghost or beyond
     /// [`MAX_RING`].
     pub(crate) fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
-        self.edge_ring_with(t, a, b, false)
-    }
-
-    /// [`Journaled::edge_ring`]; with `ghosts`, rings through ghost cells
-    /// are returned too ([`INF`] then appears in the ring).
-    pub(crate) fn edge_ring_with(
-        &self,
-        t: u32,
-        a: u32,
-        b: u32,
-        ghosts: bool,
-    ) -> Option<(Vec<u32>, Vec<u32>)> {
         let (mut tets, mut ring) = (Vec::with_capacity(8), Vec::with_capacity(8));
-        self.ring_into(t, (a, b), ghosts, (&mut tets, &mut ring))
-            .then_some((tets, ring))
+        ring::closed(
+            self.arrays(),
+            t,
+            (a, b),
+            false,
+            MAX_RING,
+            (&mut tets, &mut ring),
+        )
+        .then_some((tets, ring))
     }
 
-    /// [`Journaled::edge_ring_with`] into the given lists (cleared first;
-    /// the shared walk [`ring::walk`]); false where that gives `None`.
-    fn ring_into(
-        &self,
-        t: u32,
-        (a, b): (u32, u32),
-        ghosts: bool,
-        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
-    ) -> bool {
-        tets.clear();
-        ring.clear();
-        let m = &self.m;
-        let Some(xy) = m
-            .alive(t)
-            .then(|| m.tv[t as usize])
-            .filter(|tv| tv.contains(&a) && tv.contains(&b))
-            .and_then(|tv| ring::opposite(tv, a, b))
-        else {
-            return false;
-        };
-        let verts = |x: u32| m.tv[x as usize];
-        // A ghost cell ends the walk unless asked for.
-        let cross = |x: u32, i: usize| {
-            if !ghosts && m.tv[x as usize].contains(&INF) {
-                Err(())
-            } else {
-                Ok(Some(m.nb[x as usize][i] >> 2))
-            }
-        };
-        ring::walk(t, xy, (a, b), MAX_RING, (tets, ring), verts, cross) == Some(RingEnd::Closed)
+    /// The vertices and neighbour words per slot (ghost cells included).
+    pub(crate) fn arrays(&self) -> super::Arrays<'_> {
+        (&self.m.tv, &self.m.nb)
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new` filling the same
@@ -603,7 +579,14 @@ impl<'a> Journaled<'a> {
     ) -> Option<i64> {
         // The ring lists are reused scratch (no allocation per call).
         let (mut tets, mut r) = std::mem::take(&mut self.ring);
-        let out = if !self.ring_into(t, (a, b), true, (&mut tets, &mut r)) {
+        let out = if !ring::closed(
+            self.arrays(),
+            t,
+            (a, b),
+            true,
+            MAX_RING,
+            (&mut tets, &mut r),
+        ) {
             None
         } else if r.len() < MEMO_RING {
             self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)

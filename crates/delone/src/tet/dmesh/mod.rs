@@ -7,13 +7,15 @@
 //! # Where it starts and how it flows
 //!
 //! Recovery takes over the kernel's arrays (ghost cells included, no copy:
-//! [`journal::Journaled`]), flips and removes edges in them with a journal
-//! for replay and rollback, gives them back to carving and hands over a
-//! [`crate::tet::recover::Recovered`]. [`DomainMesh::from_neighbors`] builds
-//! this structure from it once; refinement inserts points, flips and records
-//! subfaces / subsegments in it; optimisation flips, removes edges and
-//! faces, smooths and inserts in it. Each stage adds only its own queues,
-//! caches and report.
+//! [`journal::Journaled`]) and flips and removes edges in them with a
+//! journal for replay and rollback; carving marks the domain in the same
+//! arrays and [`DomainMesh::carve`] keeps it (boundary faces [`NONE`],
+//! subface marks, regions), handing it over with the output view
+//! [`crate::tet::recover::Recovered`]. Refinement inserts points, flips and
+//! records subfaces / subsegments in it; optimisation flips, removes edges
+//! and faces, smooths and inserts in it. Each stage adds only its own
+//! queues, caches and report. [`DomainMesh::from_neighbors`] builds it from
+//! a `Recovered` for the public entries that start from one.
 //!
 //! # Layout
 //!
@@ -60,6 +62,8 @@ use crate::tet::local::{ekey, face, fkey, DEAD, INF};
 use crate::NONE;
 
 pub(crate) use ring::RingEnd;
+
+pub(crate) use crate::tet::delaunay::Arrays;
 
 /// The constrained domain mesh (see the [module documentation](self)).
 #[derive(Debug, Clone, Default)]
@@ -259,6 +263,37 @@ impl DomainMesh {
                 }
             }
         }
+    }
+
+    /// Carves the mesh in place: keeps the live slots whose `region` is
+    /// not [`NONE`] (ghost cells and removed cells have none), each in that
+    /// region and with the subface bits `mask` (both per slot); the faces
+    /// towards a removed slot become the boundary ([`NONE`]). The removed
+    /// slots are dropped and the rest renumbered in slot order
+    /// ([`DomainMesh::compact`], for `n_points` vertices), and the storage
+    /// is trimmed to the domain.
+    pub(crate) fn carve(&mut self, region: Vec<u32>, mask: Vec<u8>, n_points: usize) {
+        let kept = |t: usize| region.get(t).is_some_and(|&r| r != NONE);
+        for t in 0..self.tv.len() {
+            if !kept(t) {
+                self.tv[t] = [DEAD; 4];
+                continue;
+            }
+            for w in &mut self.nb[t] {
+                if !kept((*w >> 2) as usize) {
+                    *w = NONE;
+                }
+            }
+        }
+        (self.reg, self.mask) = (region, mask);
+        self.inner = None;
+        self.marks = RefCell::default();
+        self.compact(n_points);
+        for v in [&mut self.tv, &mut self.nb] {
+            v.shrink_to_fit();
+        }
+        self.mask.shrink_to_fit();
+        self.reg.shrink_to_fit();
     }
 
     /// Drops the subface and subsegment tables (the subface marks stay):

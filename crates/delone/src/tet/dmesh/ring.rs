@@ -83,6 +83,41 @@ pub(crate) fn walk(
     }
 }
 
+/// The closed ring around edge `a b` of a mesh with ghost cells (every
+/// face has a cell behind it: the kernel's arrays, or recovery's
+/// [`super::journal::Journaled`]) from slot `t`, by [`walk`] over the
+/// vertices `tv` and packed neighbour words `nb`, into `tets` and `ring`
+/// (cleared first). False when `t` is dead or lacks the edge, when the ring
+/// passes a ghost cell (unless `ghosts`) or exceeds `cap` tetrahedra.
+pub(crate) fn closed(
+    (tv, nb): super::Arrays<'_>,
+    t: u32,
+    (a, b): (u32, u32),
+    ghosts: bool,
+    cap: usize,
+    (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+) -> bool {
+    tets.clear();
+    ring.clear();
+    let Some(xy) = tv
+        .get(t as usize)
+        .filter(|x| x[0] != crate::tet::local::DEAD && x.contains(&a) && x.contains(&b))
+        .and_then(|&x| opposite(x, a, b))
+    else {
+        return false;
+    };
+    let verts = |x: u32| tv[x as usize];
+    // A ghost cell ends the walk unless asked for.
+    let cross = |x: u32, i: usize| {
+        if !ghosts && tv[x as usize].contains(&crate::tet::local::INF) {
+            Err(())
+        } else {
+            Ok(Some(nb[x as usize][i] >> 2))
+        }
+    };
+    walk(t, xy, (a, b), cap, (tets, ring), verts, cross) == Some(RingEnd::Closed)
+}
+
 /// The dynamic program of edge removal over a ring polygon of `n`
 /// vertices: for every chord `i j` (`i < j`) the best triangulation of the
 /// sub-polygon `i ..= j`, built from the best of `i ..= k` and `k ..= j`

@@ -400,7 +400,9 @@ fn large_replace_matches_by_hashing() {
 #[test]
 fn stages_keep_the_mesh_valid_after_every_operation() {
     use crate::tet::optimize::{optimize, optimize_in_place, OptimizeOptions};
-    use crate::tet::recover::{check_recovered, recover_domain, Domain, RecoverOptions};
+    use crate::tet::recover::{
+        check_recovered, recover_domain, recover_mesh, Domain, RecoverOptions, Recovered,
+    };
     use crate::tet::refine::{refine, refine_in_place, RefineOptions};
     let (cube, cube_tris) = cuboid(1.0, 1.0, 1.0);
     let octa = octahedron_points();
@@ -453,27 +455,39 @@ fn stages_keep_the_mesh_valid_after_every_operation() {
                 input_points: Some(pts.len()),
                 ..Default::default()
             };
-            // In place: the refined mesh handed over is the one optimisation
-            // would build from the result's lists, and optimising it gives
-            // the same result.
+            // In place: the mesh recovery carves and the refined mesh handed
+            // over are the ones the next stage would build from the output's
+            // lists, and going on in them gives the same result.
+            let built = |r: &Recovered| {
+                let mut m = DomainMesh::from_neighbors(
+                    &r.mesh.tets,
+                    &r.mesh.neighbors,
+                    &r.tet_region,
+                    r.points.len(),
+                )
+                .unwrap();
+                m.mark_subfaces(&r.interior_faces.iter().map(|&f| fkey(f)).collect());
+                m
+            };
+            let same = |m: &DomainMesh, b: &DomainMesh| {
+                assert_eq!(
+                    (&m.tv, &m.nb, &m.mask, &m.reg, &m.vt),
+                    (&b.tv, &b.nb, &b.mask, &b.reg, &b.vt)
+                );
+                assert!(m.free.is_empty());
+            };
             let rec0 = recover_domain(pts, tris, &ro.recover, &Domain::default()).unwrap();
-            let (mut a, mesh) = refine_in_place(pts, tris, &rec0, &ro).unwrap();
+            let (rec1, carved) =
+                recover_mesh(pts, tris, &[], &ro.recover, &Domain::default()).unwrap();
+            assert_eq!(rec1, rec0);
+            carved.check(&rec1.points).unwrap();
+            same(&carved, &built(&rec0));
+            let (a0, _) = refine_in_place(pts, tris, &rec0, None, &ro).unwrap();
+            let (mut a, mesh) = refine_in_place(pts, tris, &rec0, Some(carved), &ro).unwrap();
             assert_eq!(a.rec, r);
+            assert_eq!(a0.rec, r);
             mesh.check(&a.rec.points).unwrap();
-            let mut built = DomainMesh::from_neighbors(
-                &r.mesh.tets,
-                &r.mesh.neighbors,
-                &r.tet_region,
-                r.points.len(),
-            )
-            .unwrap();
-            let prot = r.interior_faces.iter().map(|&f| fkey(f)).collect();
-            built.mark_subfaces(&prot);
-            assert_eq!(
-                (&mesh.tv, &mesh.nb, &mesh.mask, &mesh.reg, &mesh.vt),
-                (&built.tv, &built.nb, &built.mask, &built.reg, &built.vt)
-            );
-            assert!(mesh.free.is_empty());
+            same(&mesh, &built(&r));
             let ra = optimize_in_place(&mut a.rec, mesh, &opts).unwrap();
             let rb = optimize(&mut r, &opts).unwrap();
             check_recovered(pts, tris, &r).unwrap();

@@ -47,7 +47,8 @@ use super::place;
 use super::types::{MeshRegion, RecoverError};
 use crate::geom::ids::IdSet;
 use crate::model::plc::Region;
-use crate::tet::delaunay::Core;
+use crate::tet::delaunay::walk_cells;
+use crate::tet::dmesh::Arrays;
 use crate::tet::local::{DEAD, FACET, INF};
 
 /// What to keep of the tetrahedralization of a PLC: hole points, region
@@ -94,20 +95,20 @@ fn is_constraint(marks: &[[u32; 4]], t: usize, f: usize) -> bool {
 
 /// Per slot: the component (`u32::MAX` for dead slots), and the number of
 /// components.
-fn components(core: &Core, marks: &[[u32; 4]]) -> (Vec<u32>, usize) {
-    let n = core.v.len();
+fn components((v, adj): Arrays<'_>, marks: &[[u32; 4]]) -> (Vec<u32>, usize) {
+    let n = v.len();
     let mut comp = vec![u32::MAX; n];
     let mut count = 0u32;
     let mut stack = Vec::new();
     for s in 0..n {
-        if core.v[s][0] == DEAD || comp[s] != u32::MAX {
+        if v[s][0] == DEAD || comp[s] != u32::MAX {
             continue;
         }
         comp[s] = count;
         stack.push(s);
         while let Some(t) = stack.pop() {
-            for f in 0..4 {
-                let u = (core.adj[t][f] >> 2) as usize;
+            for (f, w) in adj[t].iter().enumerate() {
+                let u = (w >> 2) as usize;
                 if comp[u] == u32::MAX && !is_constraint(marks, t, f) {
                     comp[u] = count;
                     stack.push(u);
@@ -125,7 +126,12 @@ fn components(core: &Core, marks: &[[u32; 4]]) -> (Vec<u32>, usize) {
 /// breadth-first search on the graph of components (an edge per constraint
 /// face between two of them) from those holding a ghost cell gives it
 /// without a pass over the cells per level.
-fn component_depths(core: &Core, marks: &[[u32; 4]], comp: &[u32], ncomp: usize) -> Vec<u32> {
+fn component_depths(
+    (v, adj): Arrays<'_>,
+    marks: &[[u32; 4]],
+    comp: &[u32],
+    ncomp: usize,
+) -> Vec<u32> {
     // Component adjacency across constraint faces, as compressed rows.
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     for (t, m) in marks.iter().enumerate() {
@@ -137,7 +143,7 @@ fn component_depths(core: &Core, marks: &[[u32; 4]], comp: &[u32], ncomp: usize)
             if mk == u32::MAX {
                 continue;
             }
-            let cu = comp[(core.adj[t][f] >> 2) as usize];
+            let cu = comp[(adj[t][f] >> 2) as usize];
             if cu != ct && cu != u32::MAX {
                 pairs.push((ct, cu));
             }
@@ -158,7 +164,7 @@ fn component_depths(core: &Core, marks: &[[u32; 4]], comp: &[u32], ncomp: usize)
     }
     let mut depth = vec![u32::MAX; ncomp];
     let mut queue: Vec<u32> = Vec::new();
-    for (t, tv) in core.v.iter().enumerate() {
+    for (t, tv) in v.iter().enumerate() {
         if tv[0] != DEAD && tv.contains(&INF) {
             let c = comp[t] as usize;
             if depth[c] != 0 {
@@ -184,27 +190,22 @@ fn component_depths(core: &Core, marks: &[[u32; 4]], comp: &[u32], ncomp: usize)
 /// The component of seed point `p` (scaled like `pts`), or `Err(())` when
 /// `p` lies on a constraint face (or edge or vertex).
 fn locate(
-    core: &Core,
+    (v, adj): Arrays<'_>,
     pts: &[[f64; 3]],
     marks: &[[u32; 4]],
     comp: &[u32],
     p: &[f64; 3],
 ) -> Result<u32, ()> {
-    let Some(start) = core
-        .v
-        .iter()
-        .position(|tv| tv[0] != DEAD && !tv.contains(&INF))
-    else {
+    let Some(start) = v.iter().position(|tv| tv[0] != DEAD && !tv.contains(&INF)) else {
         // No finite cell: everything is exterior.
-        return Ok(core
-            .v
+        return Ok(v
             .iter()
             .position(|tv| tv[0] != DEAD)
             .map_or(u32::MAX, |s| comp[s]));
     };
     let mut rng = 0x2545_F491u32;
-    let t = core.walk(pts, p, start as u32, &mut rng) as usize;
-    if core.v[t][3] == INF {
+    let t = walk_cells((v, adj), pts, p, start as u32, &mut rng) as usize;
+    if v[t][3] == INF {
         return Ok(comp[t]);
     }
     // The star of p: finite cells whose closure holds p, connected across
@@ -213,7 +214,7 @@ fn locate(
     let mut stack = vec![t];
     seen.insert(t as u32);
     while let Some(x) = stack.pop() {
-        let tv = core.v[x];
+        let tv = v[x];
         for (f, idx) in FACET.iter().enumerate() {
             let [a, b, c] = idx.map(|i| &pts[tv[i] as usize]);
             if orient3d(a, b, c, p) != 0.0 {
@@ -222,8 +223,8 @@ fn locate(
             if is_constraint(marks, x, f) {
                 return Err(());
             }
-            let u = core.adj[x][f] >> 2;
-            if core.v[u as usize].contains(&INF) {
+            let u = adj[x][f] >> 2;
+            if v[u as usize].contains(&INF) {
                 continue;
             }
             if seen.insert(u) {
@@ -234,22 +235,22 @@ fn locate(
     Ok(comp[t])
 }
 
-/// Carves the tetrahedralization `core` of the (scaled) points `pts` whose
+/// Carves the tetrahedralization (`v`, `adj`: with ghost cells) of the (scaled) points `pts` whose
 /// constraint faces are marked in `marks` (per slot and face: the input
 /// triangle the face lies on, `u32::MAX` for none; both sides of a face
 /// marked alike), as the [module documentation](self) says. `scale` is the factor pair the input was scaled by.
 pub(crate) fn carve(
-    core: &Core,
+    (v, adj): Arrays<'_>,
     pts: &[[f64; 3]],
     marks: &[[u32; 4]],
     domain: &Domain,
     scale: (f64, f64),
 ) -> Result<Carved, RecoverError> {
-    let (comp, ncomp) = components(core, marks);
-    let cdepth = component_depths(core, marks, &comp, ncomp);
+    let (comp, ncomp) = components((v, adj), marks);
+    let cdepth = component_depths((v, adj), marks, &comp, ncomp);
     let mut exterior = u32::MAX;
     for (s, &c) in comp.iter().enumerate() {
-        if c != u32::MAX && core.v[s].contains(&INF) {
+        if c != u32::MAX && v[s].contains(&INF) {
             exterior = c;
             break;
         }
@@ -257,7 +258,7 @@ pub(crate) fn carve(
     let scaled = |p: &[f64; 3]| crate::geom::scaled(*p, scale);
     let mut hole = vec![false; ncomp];
     for (index, h) in domain.holes.iter().enumerate() {
-        let c = locate(core, pts, marks, &comp, &scaled(h)).map_err(|()| {
+        let c = locate((v, adj), pts, marks, &comp, &scaled(h)).map_err(|()| {
             RecoverError::SeedOnSurface {
                 kind: "hole",
                 index,
@@ -269,7 +270,7 @@ pub(crate) fn carve(
     }
     let mut seed: Vec<Option<usize>> = vec![None; ncomp];
     for (index, r) in domain.regions.iter().enumerate() {
-        let c = locate(core, pts, marks, &comp, &scaled(&r.point)).map_err(|()| {
+        let c = locate((v, adj), pts, marks, &comp, &scaled(&r.point)).map_err(|()| {
             RecoverError::SeedOnSurface {
                 kind: "region",
                 index,
@@ -327,10 +328,10 @@ pub(crate) fn carve(
             volume: 0.0,
         });
     }
-    let mut region = vec![u32::MAX; core.v.len()];
+    let mut region = vec![u32::MAX; v.len()];
     for (s, r) in region.iter_mut().enumerate() {
         let c = comp[s];
-        if c == u32::MAX || core.v[s].contains(&INF) {
+        if c == u32::MAX || v[s].contains(&INF) {
             continue;
         }
         let g = region_of[c as usize];
@@ -363,7 +364,7 @@ pub(crate) fn carve(
 /// neighbours are kept and in the same region are removed, so the domain
 /// stays closed and region interfaces are untouched.
 pub(crate) fn drop_chord_slivers(
-    core: &Core,
+    (v, adj): Arrays<'_>,
     pts: &[[f64; 3]],
     marks: &mut [[u32; 4]],
     carved: &mut Carved,
@@ -392,14 +393,14 @@ pub(crate) fn drop_chord_slivers(
             .fold(0f64, |a, x| a.max(x.abs()));
         place::line_distance(&pb, &pc, &pm) <= 64.0 * f64::EPSILON * mag
     };
-    let mut work: Vec<usize> = (0..core.v.len()).filter(|&t| kept(region, t)).collect();
+    let mut work: Vec<usize> = (0..v.len()).filter(|&t| kept(region, t)).collect();
     let mut dropped = 0;
     while let Some(t) = work.pop() {
         if !kept(region, t) {
             continue;
         }
-        let tv = core.v[t];
-        let nb = core.adj[t].map(|w| (w >> 2) as usize);
+        let tv = v[t];
+        let nb = adj[t].map(|w| (w >> 2) as usize);
         let open: Vec<usize> = (0..4).filter(|&f| !kept(region, nb[f])).collect();
         let &[f1, f2] = open.as_slice() else {
             continue;
@@ -435,7 +436,7 @@ pub(crate) fn drop_chord_slivers(
         // The inner faces join `a` and `m` to `b` or `c`: all on the
         // triangle, now its boundary faces.
         for &f in &inner {
-            let w = core.adj[t][f];
+            let w = adj[t][f];
             marks[t][f] = tri;
             marks[(w >> 2) as usize][(w & 3) as usize] = tri;
         }

@@ -158,30 +158,18 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
     0
 }
 
+/// Most edge-removal attempts one [`remove_edge_deep`] call makes.
+const WORK: usize = 16;
+
 /// Removes edge `a b` by edge removal; when its ring admits no valid
 /// triangulation, first shrinks the ring by 2-3 flips of the faces around
 /// it, and when such a flip is not valid (an edge `a r` or `b r` of the face
 /// is in the way), removes that edge the same way with `depth - 1`
 /// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
-/// beyond `depth` levels).
-fn remove_edge_deep(
-    cm: &mut Journaled<'_>,
-    a: u32,
-    b: u32,
-    depth: u32,
-    prot: &Protected,
-    tri: TriCost<'_>,
-    chord: EdgeCost<'_>,
-) -> bool {
-    let mut budget = WORK;
-    remove_edge_budget(cm, a, b, depth, prot, tri, chord, &mut budget)
-}
-
-/// Most edge-removal attempts one [`remove_edge_deep`] call makes.
-const WORK: usize = 16;
-
+/// beyond `depth` levels). Each edge-removal attempt, at any depth, takes
+/// one unit of `budget` (a call starts with [`WORK`]).
 #[allow(clippy::too_many_arguments)]
-fn remove_edge_budget(
+fn remove_edge_deep(
     cm: &mut Journaled<'_>,
     a: u32,
     b: u32,
@@ -233,9 +221,9 @@ fn remove_edge_budget(
                 if *budget == 0 {
                     return false;
                 }
-                if remove_edge_budget(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
+                if remove_edge_deep(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
                     && cm.find_edge(a, r).is_none()
-                    || remove_edge_budget(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
+                    || remove_edge_deep(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
                         && cm.find_edge(b, r).is_none()
                 {
                     progress = true;
@@ -309,7 +297,8 @@ pub(crate) fn recover_segment_within(
                     } else {
                         for k in 0..3 {
                             let (a, b) = (fv[k], fv[(k + 1) % 3]);
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK })
+                            {
                                 progress = true;
                                 break;
                             }
@@ -317,7 +306,7 @@ pub(crate) fn recover_segment_within(
                     }
                 }
                 Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2) {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK }) {
                         progress = true;
                     }
                 }
@@ -461,7 +450,7 @@ pub(crate) fn recover_facet(
         }
         if !progress {
             for &((p, q), _) in &cross {
-                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost) {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost, &mut { WORK }) {
                     progress = true;
                     break;
                 }

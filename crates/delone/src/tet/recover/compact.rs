@@ -12,11 +12,17 @@
 //! and [`super::RecoverReport::steiner_interior`] is reduced accordingly.
 
 use super::types::Recovered;
+use crate::tet::dmesh::DomainMesh;
 use crate::NONE;
 
 /// Drops the Steiner points (ids `n_input..`) no tetrahedron of `rec`
-/// uses and renumbers the rest; returns how many were dropped.
-pub(crate) fn drop_unused_steiner(rec: &mut Recovered, n_input: usize) -> usize {
+/// uses and renumbers the rest, in `rec` and in its domain mesh `mesh`;
+/// returns how many were dropped.
+pub(crate) fn drop_unused_steiner(
+    rec: &mut Recovered,
+    mesh: &mut DomainMesh,
+    n_input: usize,
+) -> usize {
     let n = rec.points.len();
     if n <= n_input {
         return 0;
@@ -53,6 +59,9 @@ pub(crate) fn drop_unused_steiner(rec: &mut Recovered, n_input: usize) -> usize 
         keep
     });
     rec.mesh.tets.iter_mut().flatten().for_each(map);
+    mesh.tv.iter_mut().flatten().for_each(map);
+    // The vertex hints, for the new ids.
+    mesh.compact(rec.points.len());
     rec.boundary.iter_mut().flatten().for_each(map);
     rec.interior_faces.iter_mut().flatten().for_each(map);
     rec.inexact

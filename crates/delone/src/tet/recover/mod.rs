@@ -35,7 +35,8 @@
 //!    nothing is missing, the Steiner budget is exhausted
 //!    ([`RecoverError::SteinerBudget`]) or no progress is possible;
 //! 5. **flips** — when only deferred triangles remain, the 3-2 flips are
-//!    tried on a copy of the mesh; the copy is kept when they recover every
+//!    tried on a copy of the mesh (one domain mesh over all the flips,
+//!    the domain mesh of the `dmesh` module); the copy is kept when they recover every
 //!    triangle (no Delaunay insertion follows, since flips break the Delaunay
 //!    property insertion relies on), else splitting resumes without flips.
 //!    Triangles that neither splitting nor flips recover are reported by
@@ -140,7 +141,6 @@ mod cavity;
 mod cdt;
 mod check;
 mod compact;
-mod flip;
 mod merge;
 mod missing;
 mod place;
@@ -164,6 +164,7 @@ use crate::tet::local::ekey;
 
 use self::surface::{Kind, Skeleton, Surface};
 use super::dmesh::journal::{Journaled, OpLog};
+use super::dmesh::{Arrays, DomainMesh};
 use super::intersect::{check_self_intersections, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
@@ -281,6 +282,21 @@ pub fn recover_marked(
     opts: &RecoverOptions,
     domain: &Domain,
 ) -> Result<Recovered, RecoverError> {
+    recover_mesh(points, triangles, markers, opts, domain).map(|(rec, _)| rec)
+}
+
+/// [`recover_marked`], handing over the carved domain mesh too (its
+/// tetrahedra those of the output's `mesh.tets` in order, with their
+/// regions and subface marks): refinement and optimisation go on in it
+/// ([`crate::tet::refine::refine_in_place`]) instead of building it again
+/// from the output's neighbour lists.
+pub(crate) fn recover_mesh(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    markers: &[i32],
+    opts: &RecoverOptions,
+    domain: &Domain,
+) -> Result<(Recovered, DomainMesh), RecoverError> {
     if !markers.is_empty() && markers.len() != triangles.len() {
         return Err(RecoverError::MarkerCount {
             expected: triangles.len(),
@@ -350,7 +366,7 @@ pub fn recover_marked(
         }
         e => e,
     };
-    let (out, on) = if opts.constrained || opts.preserve_surface {
+    let (cm, on) = if opts.constrained || opts.preserve_surface {
         let (cm, on) = match st.run_cdt(&mut dt) {
             // `-Y`: the fallback that always applies (the `cavity` module).
             Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
@@ -360,20 +376,26 @@ pub fn recover_marked(
             }
             r => r.map_err(origin)?,
         };
-        (cm.into_dt(), Some(on))
+        // The Delaunay tetrahedralization is not needed any more (carving
+        // works on `cm`): freed before the output is built.
+        drop(dt);
+        (cm, Some(on))
     } else {
         st.run(&mut dt).map_err(origin)?;
-        (dt, None)
+        (Journaled::new(dt), None)
     };
     st.report.max_deviation = st.max_dev_scaled * unscale;
-    st.report.hull_tets = out.num_tets();
+    st.report.hull_tets =
+        cm.m.live_slots()
+            .filter(|&t| cm.m.tv[t as usize][3] != INF)
+            .count();
     st.report.coplanar_groups = merged.groups;
     st.report.coplanar_kept = merged.kept;
-    let mut rec = st.finish(&out, on, points, scale, domain)?;
+    let (mut rec, mut mesh) = st.finish(cm, on, points, scale, domain)?;
     rec.surface = merged.tris;
     rec.surface_origin = merged.origin;
-    compact::drop_unused_steiner(&mut rec, points.len());
-    Ok(rec)
+    compact::drop_unused_steiner(&mut rec, &mut mesh, points.len());
+    Ok((rec, mesh))
 }
 
 /// The input validation of [`recover_marked`]: exact self-intersections,
@@ -426,6 +448,17 @@ fn validate_and_build<'a>(
     Ok(Delaunay3::from_points(scaled)?)
 }
 
+/// A mesh with ghost cells as the read-only searches see it: vertices and
+/// packed neighbour words per slot, and the points. Both the kernel's
+/// tetrahedralization ([`cells`]) and recovery's domain mesh
+/// ([`Journaled`]) give it, so one search serves both.
+type Cells<'c> = (Arrays<'c>, &'c [[f64; 3]]);
+
+/// The [`Cells`] of the kernel's tetrahedralization.
+fn cells<'c>(dt: &'c Delaunay3<'_>) -> Cells<'c> {
+    ((&dt.core.v, &dt.core.adj), dt.points())
+}
+
 /// The vertex next to `u` or `v` (in their stars) strictly inside the
 /// diametral ball of `u v` that sees it under the largest angle.
 fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
@@ -436,19 +469,9 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
     let mut rng = 0x9E37_79B9u32;
     for w in [u, v] {
         let start = core.walk(pts, &pts[w as usize], core.last, &mut rng);
-        let mut seen: IdSet<u32> = IdSet::default();
-        let mut stack = vec![start];
-        while let Some(x) = stack.pop() {
-            let xv = core.v[x as usize];
-            if xv[0] == DEAD || !xv.contains(&w) || !seen.insert(x) {
-                continue;
-            }
-            for (f, &q) in xv.iter().enumerate() {
-                if q == w {
-                    continue;
-                }
-                stack.push(core.adj[x as usize][f] >> 2);
-                if q == INF || q == u || q == v {
+        star_cells(cells(dt).0, &[w], start, &mut IdSet::default(), |_, xv| {
+            for q in xv {
+                if q == w || q == INF || q == u || q == v {
                     continue;
                 }
                 let p = pts[q as usize];
@@ -466,9 +489,36 @@ fn encroacher(dt: &Delaunay3<'_>, u: u32, v: u32) -> Option<u32> {
                     }
                 }
             }
-        }
+        });
     }
     best.map(|(_, q)| q)
+}
+
+/// Visits (`visit(slot, vertices)`) the cells of `c` holding every vertex
+/// of `around` (the star of a vertex, the ring of an edge; ghost cells
+/// included) reached from `start` across the faces holding them, depth
+/// first in face order, each cell once: `seen` (shared by successive
+/// walks) holds the cells already visited.
+fn star_cells(
+    (v, adj): Arrays<'_>,
+    around: &[u32],
+    start: u32,
+    seen: &mut IdSet<u32>,
+    mut visit: impl FnMut(u32, [u32; 4]),
+) {
+    let mut stack = vec![start];
+    while let Some(x) = stack.pop() {
+        let xv = v[x as usize];
+        if xv[0] == DEAD || around.iter().any(|w| !xv.contains(w)) || !seen.insert(x) {
+            continue;
+        }
+        visit(x, xv);
+        for (f, w) in xv.iter().enumerate() {
+            if !around.contains(w) {
+                stack.push(adj[x as usize][f] >> 2);
+            }
+        }
+    }
 }
 
 /// Coverage is recomputed globally when the local recomputation of the
@@ -599,55 +649,45 @@ impl State {
     /// among all edges.
     fn find_crossing(
         &self,
-        dt: &Delaunay3<'_>,
+        c: Cells<'_>,
         sk: &Skeleton,
         list: &[((u32, u32), u32)],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        self.find_crossing_from(dt, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
+        self.find_crossing_from(c, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
     }
 
     /// [`Self::find_crossing`] with `start(u, v)` giving a tetrahedron
     /// slot containing edge `u v` (`u < v`), if any.
     fn find_crossing_from(
         &self,
-        dt: &Delaunay3<'_>,
+        c: Cells<'_>,
         start: &dyn Fn(u32, u32) -> Option<u32>,
         list: &[((u32, u32), u32)],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
-        let core = &dt.core;
+        let (arrays, pts) = c;
         let mut local: Vec<((u32, u32), u32)> = Vec::new();
         let mut seen: IdSet<u32> = IdSet::default();
         for (u, v) in self.surf.hole_edges(t, faces) {
             let Some(start) = start(u, v) else {
                 continue;
             };
-            let mut stack = vec![start];
-            while let Some(x) = stack.pop() {
-                let xv = core.v[x as usize];
-                if xv[0] == DEAD || !xv.contains(&u) || !xv.contains(&v) || !seen.insert(x) {
-                    continue;
-                }
+            star_cells(arrays, &[u, v], start, &mut seen, |x, xv| {
                 if !xv.contains(&INF) {
                     for (i, j) in crate::tet::local::EDGES {
                         local.push((ekey(xv[i], xv[j]), x));
                     }
                 }
-                for (f, &w) in xv.iter().enumerate() {
-                    if w != u && w != v {
-                        stack.push(core.adj[x as usize][f] >> 2);
-                    }
-                }
-            }
+            });
         }
         local.sort_unstable();
         local.dedup_by_key(|e| e.0);
-        let found = self.crossing_edges(dt, &local, t);
+        let found = self.crossing_edges(pts, &local, t);
         if found.is_empty() {
-            self.crossing_edges(dt, list, t)
+            self.crossing_edges(pts, list, t)
         } else {
             found
         }
@@ -689,7 +729,7 @@ impl State {
             }
             None
         };
-        let found = self.find_crossing_from(dt, &start, &[], t, faces);
+        let found = self.find_crossing_from(cells(dt), &start, &[], t, faces);
         if !found.is_empty() {
             return found;
         }
@@ -716,7 +756,7 @@ impl State {
             for (i, j) in crate::tet::local::EDGES {
                 list.push((ekey(tv[i], tv[j]), x as u32));
             }
-            found.extend(self.crossing_edges(dt, &list, t));
+            found.extend(self.crossing_edges(pts, &list, t));
         }
         found.sort_unstable();
         found.dedup_by_key(|e| e.0);
@@ -726,11 +766,10 @@ impl State {
     /// Mesh edges of `list` crossing the interior of input triangle `t`.
     fn crossing_edges(
         &self,
-        dt: &Delaunay3<'_>,
+        pts: &[[f64; 3]],
         list: &[((u32, u32), u32)],
         t: usize,
     ) -> Vec<((u32, u32), u32)> {
-        let pts = dt.points();
         let tv = self.surf.tris[t];
         let [a, b, c] = tv.map(|w| pts[w as usize]);
         let mut lo = a;
@@ -758,42 +797,38 @@ impl State {
     }
 
     /// A 3-2 flip that removes crossing edge `p q` of triangle `t` and
-    /// creates a face on `t`: the ring and the orientation flag.
+    /// creates a face on `t`: the three tetrahedra around `p q` and the two
+    /// positive ones replacing them.
     fn flippable(
         &self,
-        dt: &Delaunay3<'_>,
+        (arrays, pts): Cells<'_>,
         t: usize,
         (p, q): (u32, u32),
         tet: u32,
-    ) -> Option<(Vec<u32>, [u32; 3], bool)> {
-        let core = &dt.core;
-        let tv = *core.v.get(tet as usize)?;
-        if tv[0] == DEAD || !tv.contains(&p) || !tv.contains(&q) {
+    ) -> Option<(Vec<u32>, [[u32; 4]; 2])> {
+        let (mut ring, mut rv) = (Vec::new(), Vec::new());
+        if !super::dmesh::ring::closed(arrays, tet, (p, q), false, 3, (&mut ring, &mut rv))
+            || ring.len() != 3
+        {
             return None;
         }
-        let ring = flip::ring(core, tet, p, q, 3)?;
-        if ring.len() != 3 {
-            return None;
-        }
-        let mut r: Vec<u32> = ring
-            .iter()
-            .flat_map(|&x| core.v[x as usize])
-            .filter(|&w| w != p && w != q)
-            .collect();
+        let mut r = rv.clone();
         r.sort_unstable();
-        r.dedup();
-        if r.len() != 3 || !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
+        if !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
             return None;
         }
-        let pts = dt.points();
         let g = |w: u32| &pts[w as usize];
-        let r = [r[0], r[1], r[2]];
         if !place::crosses(g(r[0]), g(r[1]), g(r[2]), g(p), g(q)) {
             return None;
         }
-        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign).
-        let orient = delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0;
-        Some((ring, r, orient))
+        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign);
+        // then [r1, r0, r2, q] is positive (q is on the other side).
+        let (ra, rb) = if delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0 {
+            (r[0], r[1])
+        } else {
+            (r[1], r[0])
+        };
+        Some((ring, [[ra, rb, r[2], p], [rb, ra, r[2], q]]))
     }
 
     /// The constrained recovery (see the `cdt` module): each round copies
@@ -948,99 +983,83 @@ impl State {
                         self.split_edge(dt, e, u, v)?;
                     }
                 }
-                prev_log = cm.take_log();
-                failed_removals = cm.take_failed();
-                prev = Some(RoundState {
-                    on,
-                    covered,
-                    old_len,
-                    subs,
-                    prot: Some(prot),
-                });
-                continue;
-            }
-            let segments_by_flips = subs.len();
-            // Coverage on `cm`, updated only where the flips changed faces.
-            let mut on_cm = on.clone();
-            let mut covered_cm = covered.clone();
-            let dt_uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
-            let mut uncovered: Vec<usize> =
-                (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
-            let by_flips = uncovered.len();
-            if !uncovered.is_empty() {
-                for &t in &uncovered {
-                    let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
-                    cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+            } else {
+                let segments_by_flips = subs.len();
+                // Coverage on `cm`, updated only where the flips changed faces.
+                let mut on_cm = on.clone();
+                let mut covered_cm = covered.clone();
+                let dt_uncovered: Vec<usize> =
+                    (0..covered.len()).filter(|&t| !covered[t]).collect();
+                self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
+                let mut uncovered: Vec<usize> =
+                    (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
+                let by_flips = uncovered.len();
+                if !uncovered.is_empty() {
+                    for &t in &uncovered {
+                        let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
+                        cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+                    }
+                    self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
+                    uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                 }
-                self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
-                uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
-            }
-            if uncovered.is_empty() {
-                self.report.flips23 = cm.flips23;
-                self.report.edge_removals = cm.removals;
-                self.report.segments_by_flips = segments_by_flips;
-                self.report.triangles_by_flips = by_flips;
-                return Ok((cm, on_cm));
-            }
-            if self.opts.preserve_surface {
-                if let Some(done) = self.preserve_by_cavities(&cm)? {
-                    return Ok(self.cavity_done(done));
+                if uncovered.is_empty() {
+                    self.report.flips23 = cm.flips23;
+                    self.report.edge_removals = cm.removals;
+                    self.report.segments_by_flips = segments_by_flips;
+                    self.report.triangles_by_flips = by_flips;
+                    return Ok((cm, on_cm));
                 }
-                let uncovered = self.fallback_targets(uncovered);
-                self.interior_points(dt, uncovered)?;
-                failed_removals = cm.take_failed();
-                prev = Some(RoundState {
-                    on,
-                    covered,
-                    old_len,
-                    subs,
-                    prot: Some(prot),
-                });
-                continue;
-            }
-            // Split the triangles the flips could not recover, in the
-            // Delaunay tetrahedralization (`on`, `covered`: its coverage).
-            // Per vertex: a tetrahedron holding it (a start for the local
-            // searches; no map of all edges, see `find_crossing_lazy`).
-            let mut vt = vec![DEAD; dt.points().len()];
-            for (x, tv) in dt.core.v.iter().enumerate() {
-                if tv[0] != DEAD {
-                    for &w in tv {
-                        if w != INF && vt[w as usize] == DEAD {
-                            vt[w as usize] = x as u32;
+                if self.opts.preserve_surface {
+                    if let Some(done) = self.preserve_by_cavities(&cm)? {
+                        return Ok(self.cavity_done(done));
+                    }
+                    let uncovered = self.fallback_targets(uncovered);
+                    self.interior_points(dt, uncovered)?;
+                } else {
+                    // Split the triangles the flips could not recover, in the
+                    // Delaunay tetrahedralization (`on`, `covered`: its coverage).
+                    // Per vertex: a tetrahedron holding it (a start for the local
+                    // searches; no map of all edges, see `find_crossing_lazy`).
+                    let mut vt = vec![DEAD; dt.points().len()];
+                    for (x, tv) in dt.core.v.iter().enumerate() {
+                        if tv[0] != DEAD {
+                            for &w in tv {
+                                if w != INF && vt[w as usize] == DEAD {
+                                    vt[w as usize] = x as u32;
+                                }
+                            }
                         }
                     }
-                }
-            }
-            let mut progress = false;
-            let mut group_done = vec![false; self.poly.groups.len()];
-            for &t in &uncovered {
-                if !self.steiner_left() {
-                    return Err(self.budget_error(0, uncovered.len()));
-                }
-                if let Some(g) = self.poly.group(t) {
-                    if !std::mem::replace(&mut group_done[g as usize], true) {
-                        progress |= self.split_group(dt, &cm, g, covered[t])?;
+                    let mut progress = false;
+                    let mut group_done = vec![false; self.poly.groups.len()];
+                    for &t in &uncovered {
+                        if !self.steiner_left() {
+                            return Err(self.budget_error(0, uncovered.len()));
+                        }
+                        if let Some(g) = self.poly.group(t) {
+                            if !std::mem::replace(&mut group_done[g as usize], true) {
+                                progress |= self.split_group(dt, &cm, g, covered[t])?;
+                            }
+                            continue;
+                        }
+                        if covered[t] {
+                            progress |= self.split_longest_subsegment(dt, t)?;
+                            continue;
+                        }
+                        let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
+                        progress |= if cross.is_empty() {
+                            self.split_hole(dt, t, &on[t])?
+                        } else {
+                            self.split_facet(dt, t, cross[0].0)?
+                        };
                     }
-                    continue;
+                    if !progress {
+                        return Err(RecoverError::Unrecovered {
+                            triangles: uncovered,
+                            steiner: self.report.steiner(),
+                        });
+                    }
                 }
-                if covered[t] {
-                    progress |= self.split_longest_subsegment(dt, t)?;
-                    continue;
-                }
-                let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
-                progress |= if cross.is_empty() {
-                    self.split_hole(dt, t, &on[t])?
-                } else {
-                    self.split_facet(dt, t, cross[0].0)?
-                };
-            }
-            if !progress {
-                return Err(RecoverError::Unrecovered {
-                    triangles: uncovered,
-                    steiner: self.report.steiner(),
-                });
             }
             prev_log = cm.take_log();
             failed_removals = cm.take_failed();
@@ -1233,7 +1252,7 @@ impl State {
         covered: &[bool],
         subs: Option<&[(u32, u32, u32)]>,
     ) {
-        let sk = Skeleton::of_arrays(&cm.m.tv, &cm.m.nb, 0, true);
+        let sk = Skeleton::of(cm.arrays(), true);
         let (mut g_on, mut g_covered) = self.surf.coverage(&sk, cm.pts());
         self.groups_global(sk.tets.iter().copied(), cm.pts(), &mut g_on, &mut g_covered);
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
@@ -1660,7 +1679,7 @@ impl State {
             if crate::progress::stop_requested() {
                 return Err(Error::Interrupted.into());
             }
-            let sk = Skeleton::of(dt, false);
+            let sk = Skeleton::of(cells(dt).0, false);
             let subs = self.missing_subsegments(&sk);
             if !subs.is_empty() {
                 for &(e, u, v) in &subs {
@@ -1671,7 +1690,7 @@ impl State {
                 }
                 continue;
             }
-            let sk = Skeleton::of(dt, true);
+            let sk = Skeleton::of(cells(dt).0, true);
             let (on, covered) = self.surf.coverage(&sk, dt.points());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
@@ -1685,7 +1704,7 @@ impl State {
                 if !self.steiner_left() {
                     return Err(self.budget_error(0, uncovered.len()));
                 }
-                let cross = self.find_crossing(dt, &sk, &list, t, &on[t]);
+                let cross = self.find_crossing(cells(dt), &sk, &list, t, &on[t]);
                 if cross.is_empty() {
                     progress |= self.split_hole(dt, t, &on[t])?;
                     continue;
@@ -1693,7 +1712,7 @@ impl State {
                 if use_flips
                     && cross
                         .iter()
-                        .any(|&(k, tet)| self.flippable(dt, t, k, tet).is_some())
+                        .any(|&(k, tet)| self.flippable(cells(dt), t, k, tet).is_some())
                 {
                     deferred = true;
                     continue;
@@ -1706,9 +1725,9 @@ impl State {
             if deferred {
                 // Try the flips on a copy: keep it if they recover every
                 // triangle, else go on splitting without flips.
-                let mut trial = dt.clone();
+                let mut trial = Journaled::new(dt.clone());
                 if let Some(n) = self.flip_phase(&mut trial) {
-                    *dt = trial;
+                    *dt = trial.into_dt();
                     self.report.flips32 += n;
                     return Ok(());
                 }
@@ -1724,12 +1743,13 @@ impl State {
 
     /// Applies 3-2 flips that create faces on missing triangles until all
     /// are recovered (returns the number of flips) or no flip applies
-    /// (`None`). No Delaunay insertion may follow a flip.
-    fn flip_phase(&self, dt: &mut Delaunay3<'_>) -> Option<usize> {
+    /// (`None`), all on the one domain mesh `cm`. No Delaunay insertion may
+    /// follow a flip.
+    fn flip_phase(&self, cm: &mut Journaled<'_>) -> Option<usize> {
         let mut flips = 0;
         loop {
-            let sk = Skeleton::of(dt, true);
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
+            let sk = Skeleton::of(cm.arrays(), true);
+            let (on, covered) = self.surf.coverage(&sk, cm.pts());
             let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
             if uncovered.is_empty() {
                 return Some(flips);
@@ -1738,13 +1758,16 @@ impl State {
             list.sort_unstable();
             let mut flipped = false;
             for &t in &uncovered {
-                for (k, tet) in self.find_crossing(dt, &sk, &list, t, &on[t]) {
-                    if let Some((ring, r, orient)) = self.flippable(dt, t, k, tet) {
-                        flip::flip32(dt, &ring, k, r, orient);
-                        flips += 1;
-                        flipped = true;
-                        break;
-                    }
+                let c = (cm.arrays(), cm.pts());
+                let flip = self
+                    .find_crossing(c, &sk, &list, t, &on[t])
+                    .into_iter()
+                    .find_map(|(k, tet)| self.flippable(c, t, k, tet));
+                if let Some((ring, new)) = flip {
+                    cm.replace(&ring, &new);
+                    cm.m.debug_check(cm.pts(), "recovery's 3-2 flip");
+                    flips += 1;
+                    flipped = true;
                 }
             }
             if !flipped {
@@ -1851,38 +1874,42 @@ impl State {
         }
     }
 
-    /// Carves and builds the output; `on`: the faces on each input
-    /// triangle when known (computed here otherwise).
+    /// Carves the recovered mesh `cm` in place and builds the output view
+    /// of it; `on`: the faces on each input triangle when known (computed
+    /// here otherwise). Returns the output and the carved domain mesh (its
+    /// tetrahedra those of the output, in order, with their regions and
+    /// subface marks).
     fn finish(
         mut self,
-        dt: &Delaunay3<'_>,
+        cm: Journaled<'_>,
         on: Option<Vec<Vec<[u32; 3]>>>,
         input: &[[f64; 3]],
         scale: (f64, f64),
         domain: &Domain,
-    ) -> Result<Recovered, RecoverError> {
+    ) -> Result<(Recovered, DomainMesh), RecoverError> {
         let unscale = 1.0 / (scale.0 * scale.1);
+        let (mut m, dt) = cm.into_parts();
+        let pts = dt.points();
         let on = on.unwrap_or_else(|| {
-            let sk = Skeleton::of(dt, true);
-            self.surf.coverage(&sk, dt.points()).0
+            let sk = Skeleton::of((&m.tv, &m.nb), true);
+            self.surf.coverage(&sk, pts).0
         });
         // Face key -> input triangle (the last one listing it).
         let face_tri = surface::TripleIndex::new(
-            dt.points().len(),
+            pts.len(),
             on.iter()
                 .enumerate()
                 .flat_map(|(t, fs)| fs.iter().map(move |&f| (f, t as u32))),
         );
-        let core = &dt.core;
         // Per slot and face: the input triangle it lies on (one lookup per
         // face, then flags instead of hashing in carving and output).
-        let mut marks = vec![[crate::NONE; 4]; core.v.len()];
-        for (t, tv) in core.v.iter().enumerate() {
+        let mut marks = vec![[crate::NONE; 4]; m.tv.len()];
+        for (t, tv) in m.tv.iter().enumerate() {
             if tv[0] == DEAD {
                 continue;
             }
             for f in 0..4 {
-                let w = core.adj[t][f];
+                let w = m.nb[t][f];
                 let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
                 if u < t {
                     continue;
@@ -1898,80 +1925,73 @@ impl State {
             }
         }
         drop(face_tri);
-        let mut carved = carve::carve(core, dt.points(), &marks, domain, scale)?;
+        let cells = (&m.tv[..], &m.nb[..]);
+        let mut carved = carve::carve(cells, pts, &marks, domain, scale)?;
         self.report.holes_removed = carved.holes_removed;
         self.report.chord_slivers =
-            carve::drop_chord_slivers(core, dt.points(), &mut marks, &mut carved, &self.inexact);
+            carve::drop_chord_slivers(cells, pts, &mut marks, &mut carved, &self.inexact);
         let mut regions = carved.regions;
-        let inside = |t: usize| carved.region[t] != u32::MAX;
-        let mut new_id = vec![crate::NONE; core.v.len()];
+        let region = carved.region;
+        let inside = |t: usize| region[t] != u32::MAX;
+        // A face listed on an input triangle that also has boundary faces,
+        // with the same region on both sides, is not a separator: with
+        // rounded (inexact) Steiner points, faces of points recorded on a
+        // triangle can lie inside the domain next to it. Only faces on
+        // internal facets (triangles with no boundary face) or between two
+        // regions are interior faces (subfaces).
+        // Per surface triangle: has a boundary face (a flag, no hashing).
+        let mut has_boundary = vec![false; self.surf.tris.len()];
+        let mut new_id = vec![crate::NONE; m.tv.len()];
         let mut tets = Vec::new();
         let mut tet_region = Vec::new();
-        for (t, id) in new_id.iter_mut().enumerate() {
-            if inside(t) {
-                *id = tets.len() as u32;
-                tets.push(core.v[t]);
-                tet_region.push(carved.region[t]);
+        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
+            new_id[t] = tets.len() as u32;
+            tets.push(m.tv[t]);
+            tet_region.push(region[t]);
+            for (f, w) in m.nb[t].iter().enumerate() {
+                if !inside((w >> 2) as usize) {
+                    if let Some(h) = has_boundary.get_mut(marks[t][f] as usize) {
+                        *h = true;
+                    }
+                }
             }
         }
+        let mut mask = vec![0u8; m.tv.len()];
         let mut neighbors = Vec::with_capacity(tets.len());
         let mut boundary = Vec::new();
         let mut boundary_triangle = Vec::new();
         let mut interior_faces = Vec::new();
         let mut interior_triangle = Vec::new();
-        let mut interior_between = Vec::new();
-        for t in 0..core.v.len() {
-            if !inside(t) {
-                continue;
-            }
-            let tv = core.v[t];
+        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
+            let tv = m.tv[t];
             let mut nb = [crate::NONE; 4];
             for (f, n) in nb.iter_mut().enumerate() {
-                let u = (core.adj[t][f] >> 2) as usize;
+                let w = m.nb[t][f];
+                let u = (w >> 2) as usize;
                 let [x, y, z] = FACET[f].map(|i| tv[i]);
                 let face = [x, z, y];
                 let on_tri = Some(marks[t][f]).filter(|&x| x != crate::NONE);
                 if inside(u) {
                     *n = new_id[u];
                     if let Some(ti) = on_tri {
-                        if new_id[t] < new_id[u] {
+                        let between = region[t] != region[u];
+                        let sub =
+                            between || !has_boundary.get(ti as usize).copied().unwrap_or(false);
+                        if sub && new_id[t] < new_id[u] {
                             interior_faces.push(face);
                             interior_triangle.push(ti);
-                            interior_between.push(carved.region[t] != carved.region[u]);
+                            mask[t] |= 1 << f;
+                            mask[u] |= 1 << (w & 3);
                         }
                     }
                 } else {
                     boundary.push(face);
                     boundary_triangle.push(on_tri.unwrap_or(crate::NONE));
+                    mask[t] |= 1 << f;
                 }
             }
             neighbors.push(nb);
         }
-        // A face listed on an input triangle that also has boundary faces,
-        // with the same region on both sides, is not a separator: with
-        // rounded (inexact) Steiner points, faces of points recorded on a
-        // triangle can lie inside the domain next to it. Only faces on
-        // internal facets (triangles with no boundary face) or between two
-        // regions are reported as interior faces.
-        // Per surface triangle: has a boundary face (a flag, no hashing).
-        let mut has_boundary = vec![false; self.surf.tris.len()];
-        for &ti in &boundary_triangle {
-            if let Some(h) = has_boundary.get_mut(ti as usize) {
-                *h = true;
-            }
-        }
-        let keep: Vec<bool> = interior_triangle
-            .iter()
-            .zip(&interior_between)
-            .map(|(&ti, &between)| {
-                between || !has_boundary.get(ti as usize).copied().unwrap_or(false)
-            })
-            .collect();
-        let mut flags = keep.iter();
-        interior_faces.retain(|_| flags.next().copied().unwrap_or(true));
-        let mut flags = keep.iter();
-        interior_triangle.retain(|_| flags.next().copied().unwrap_or(true));
-        let pts = dt.points();
         let points: Vec<[f64; 3]> = (0..pts.len())
             .map(|i| {
                 if i < input.len() {
@@ -1993,7 +2013,8 @@ impl State {
                 scale,
             );
         }
-        Ok(Recovered {
+        m.carve(region, mask, points.len());
+        let rec = Recovered {
             points,
             mesh: TetMesh {
                 tets,
@@ -2012,6 +2033,48 @@ impl State {
             regions,
             inexact: self.inexact,
             report: self.report,
-        })
+        };
+        Ok((rec, m))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tet::dmesh::tests::three_around_an_edge;
+
+    #[test]
+    fn conforming_recovery_flips_the_ring_face() {
+        // A bipyramid over triangle 0 1 2 with poles 3 and 4 close to its
+        // plane, the triangle an internal facet: edge 3 4 has three
+        // tetrahedra around it, and the 3-2 flip of the flip phase (the
+        // invariant checker runs after it) makes 0 1 2 a face.
+        let pts = three_around_an_edge();
+        let mut tris: Vec<[u32; 3]> = (0..3).map(|i| [i, (i + 1) % 3, 3]).collect();
+        tris.extend((0..3).map(|i| [(i + 1) % 3, i, 4]));
+        tris.push([0, 1, 2]);
+        let opts = RecoverOptions {
+            constrained: false,
+            merge_coplanar: false,
+            ..Default::default()
+        };
+        let r = recover(&pts, &tris, &opts).unwrap();
+        check_recovered(&pts, &tris, &r).unwrap();
+        assert_eq!(r.report.flips32, 1);
+        assert_eq!(r.report.steiner(), 0);
+        assert_eq!(r.mesh.tets.len(), 2);
+        // Without flips the triangle is split instead.
+        let r = recover(
+            &pts,
+            &tris,
+            &RecoverOptions {
+                flips: false,
+                ..opts
+            },
+        )
+        .unwrap();
+        check_recovered(&pts, &tris, &r).unwrap();
+        assert_eq!(r.report.flips32, 0);
+        assert!(r.report.steiner() > 0);
     }
 }

@@ -11,9 +11,9 @@
 use crate::geom::ids::{IdMap, IdSet};
 
 use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::dmesh::Arrays;
 use crate::tet::local::{ekey, fkey, EDGES};
 use crate::tet::local::{DEAD, FACET, INF};
-use crate::tet::Delaunay3;
 
 /// Where a vertex lies on the input surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -179,19 +179,10 @@ pub(crate) struct Skeleton {
 
 impl Skeleton {
     /// The edges, and with `with_faces` the faces and tetrahedra, in slot
-    /// order (deterministic).
-    pub(crate) fn of(dt: &Delaunay3<'_>, with_faces: bool) -> Skeleton {
-        Skeleton::of_arrays(&dt.core.v, &dt.core.adj, dt.core.finite, with_faces)
-    }
-
-    /// [`Skeleton::of`] on the arrays of a mesh with ghost cells (`finite`
-    /// tetrahedra expected).
-    pub(crate) fn of_arrays(
-        v: &[[u32; 4]],
-        adj: &[[u32; 4]],
-        finite: usize,
-        with_faces: bool,
-    ) -> Skeleton {
+    /// order (deterministic), of a mesh with ghost cells (vertices and
+    /// packed neighbour words per slot).
+    pub(crate) fn of((v, adj): Arrays<'_>, with_faces: bool) -> Skeleton {
+        let finite = v.iter().filter(|tv| tv[0] != DEAD && tv[3] != INF).count();
         let mut edges = IdMap::with_capacity_and_hasher(finite * 2, Default::default());
         let mut faces = Vec::new();
         let mut tets = Vec::new();

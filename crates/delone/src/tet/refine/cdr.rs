@@ -220,25 +220,18 @@ pub(super) struct Cdr {
 }
 
 impl Cdr {
+    /// Refinement of `rec` in `m`, its domain mesh (see
+    /// [`super::refine_in_place`]).
     pub(super) fn new(
         points: &[[f64; 3]],
         triangles: &[[u32; 3]],
         rec: &Recovered,
+        mut m: DomainMesh,
         opts: &RefineOptions,
     ) -> Result<Cdr, RecoverError> {
         let (cow, scale) = crate::geom::rescaled(&rec.points);
         let s = scale.0 * scale.1;
         let p: Vec<P> = cow.into_owned();
-        let bad = || RecoverError::Unsupported {
-            what: "refinement of a mesh whose neighbour links disagree",
-        };
-        let mut m = DomainMesh::from_neighbors(
-            &rec.mesh.tets,
-            &rec.mesh.neighbors,
-            &rec.tet_region,
-            p.len(),
-        )
-        .map_err(|_| bad())?;
         let nt = m.tv.len();
         let mut ftri: HashMap<[u32; 3], u32> = HashMap::new();
         let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();

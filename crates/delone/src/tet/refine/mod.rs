@@ -5,7 +5,8 @@
 //! first, few Steiner points) and refines the carved domain mesh in place
 //! (the private `cdr` module) on the crate's constrained domain mesh
 //! (`tet::dmesh`: packed adjacency, subface marks, regions,
-//! subface and subsegment tables), built once from the [`Recovered`] mesh.
+//! subface and subsegment tables), the very mesh recovery carved
+//! ([`refine_recovered`] builds it from a [`Recovered`] mesh's lists).
 //! The crate-internal `refine_in_place` hands that mesh over, compacted, for
 //! optimisation to continue on it (`optimize_in_place`). Nothing is rebuilt,
 //! and constraints are *topological*:
@@ -248,7 +249,7 @@ pub use options::{
 };
 pub use report::{LeftBad, RefineReport, Refined};
 
-use super::recover::{recover_domain, Domain, RecoverError, Recovered};
+use super::recover::{recover_mesh, Domain, RecoverError, Recovered};
 use crate::tet::dmesh::DomainMesh;
 use crate::NONE;
 
@@ -291,12 +292,12 @@ pub fn refine(
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
     check_bounds(opts)?;
-    let rec = recover_domain(points, triangles, &opts.recover, &Domain::default())?;
-    refine_recovered(points, triangles, &rec, opts)
+    let (rec, mesh) = recover_mesh(points, triangles, &[], &opts.recover, &Domain::default())?;
+    refine_in_place(points, triangles, &rec, Some(mesh), opts).map(|(r, _)| r)
 }
 
 /// Refines a [`Recovered`] mesh of (`points`, `triangles`) made by
-/// [`recover`](super::recover::recover) or [`recover_domain`] (any path; holes, regions and internal
+/// [`recover`](super::recover::recover) or [`recover_domain`](super::recover::recover_domain) (any path; holes, regions and internal
 /// facets included): the mesh is refined in place, its boundary and
 /// interior faces kept as constraints (see the [module documentation](self)).
 ///
@@ -339,19 +340,21 @@ pub fn refine_recovered(
     rec: &Recovered,
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
-    refine_in_place(points, triangles, rec, opts).map(|(r, _)| r)
+    refine_in_place(points, triangles, rec, None, opts).map(|(r, _)| r)
 }
 
-/// [`refine_recovered`], handing over the refined domain mesh too: its
-/// tetrahedra are those of the result's `rec.mesh.tets` in that order, with
-/// their neighbours, regions, subface marks and the subface / subsegment
-/// tables, for optimisation to continue on it
-/// ([`crate::tet::optimize::optimize_in_place`]) instead of building it
-/// again from the neighbour lists.
+/// [`refine_recovered`] in `mesh`, the domain mesh of `rec` as recovery
+/// hands it over ([`crate::tet::recover::recover_mesh`]; `None`: built
+/// from `rec`'s neighbour lists), handing over the refined domain mesh
+/// too: its tetrahedra are those of the result's `rec.mesh.tets` in that
+/// order, with their neighbours, regions, subface marks and the subface /
+/// subsegment tables, for optimisation to continue on it
+/// ([`crate::tet::optimize::optimize_in_place`]).
 pub(crate) fn refine_in_place(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     rec: &Recovered,
+    mesh: Option<DomainMesh>,
     opts: &RefineOptions,
 ) -> Result<(Refined, DomainMesh), RecoverError> {
     // `rec` conforms to its own surface (coplanar input triangles may have
@@ -362,11 +365,23 @@ pub(crate) fn refine_in_place(
         &rec.surface
     };
     check_bounds(opts)?;
+    let mesh = match mesh {
+        Some(m) => m,
+        None => DomainMesh::from_neighbors(
+            &rec.mesh.tets,
+            &rec.mesh.neighbors,
+            &rec.tet_region,
+            rec.points.len(),
+        )
+        .map_err(|_| RecoverError::Unsupported {
+            what: "refinement of a mesh whose neighbour links disagree",
+        })?,
+    };
     if rec.boundary_triangle.contains(&NONE) {
         // The convex hull is kept (`-c`): its faces off the surface become
         // facets of their own for the refinement.
         let (ext, n) = with_hull(triangles, rec);
-        let mut st = cdr::Cdr::new(points, &ext.surface, &ext, opts)?;
+        let mut st = cdr::Cdr::new(points, &ext.surface, &ext, mesh, opts)?;
         st.run();
         let (mut out, mut mesh) = st.finish(&ext);
         for t in out
@@ -384,7 +399,7 @@ pub(crate) fn refine_in_place(
         out.rec.surface_origin.clone_from(&rec.surface_origin);
         return Ok((out, mesh));
     }
-    let mut st = cdr::Cdr::new(points, triangles, rec, opts)?;
+    let mut st = cdr::Cdr::new(points, triangles, rec, mesh, opts)?;
     st.run();
     Ok(st.finish(rec))
 }
