@@ -75,8 +75,12 @@
 //! nowhere, the tetrahedra left get a round with every insertion settled
 //! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
 //! is optimised once more from the start with every insertion settled
-//! fully, and the better of the two results is kept. The whole run stops
-//! when its budget of quality
+//! fully, and the better of the two results is kept. A stage also ends
+//! when it stops paying: checked every 10 evaluations per tetrahedron, it
+//! ends once neither its worst quality nor its count of tetrahedra below
+//! the threshold improved over the last half of its evaluations (and two
+//! such windows), so the effort follows what is left to improve. The
+//! whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
 //! to 20°, which decide the minimum, may spend four times the budget, and
@@ -107,9 +111,11 @@
 //! # More rules
 //!
 //! * The second run of a small mesh is skipped when the first run's worst
-//!   tetrahedron sits at a nearly degenerate input triangle (an angle below
-//!   0.1° or above 179.9°, `RETRY_FEATURE_ANGLE`): it is pinned there, and a
-//!   second run only doubles the time.
+//!   tetrahedron is held by the input — two of its faces on the surface, or
+//!   its four vertices fixed ([`StuckReason`]) — or sits at a nearly
+//!   degenerate input triangle (an angle below 0.1° or above 179.9°,
+//!   `RETRY_FEATURE_ANGLE`): it is pinned there, and a second run only
+//!   doubles the time.
 //! * The extra budget of the stages up to 20° on meshes up to 50,000
 //!   tetrahedra applies once the mesh's minimum is above 10° (`LOW_CAP`,
 //!   `EXTRA_ABOVE`): below 10° the minimum is mostly held by needle input
@@ -177,6 +183,13 @@ const EXTRA_ABOVE: f64 = 10.0;
 /// insertion there buys a few degrees of the histogram's tail for more
 /// tetrahedra).
 const POLISH_INSERT: f64 = 30.0;
+
+/// Evaluations per tetrahedron (plus 2000) between two checks of a stage's
+/// progress (see [`optimize`]).
+const WINDOW: f64 = 10.0;
+
+/// Windows without progress that always leave a stage going.
+const PATIENCE: u64 = 2;
 
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
@@ -514,7 +527,8 @@ pub struct OptimizeReport {
     pub triangles_max_angle: f64,
     /// The input triangle with that angle.
     pub triangles_max_angle_triangle: Option<u32>,
-    /// Quality evaluations spent.
+    /// Quality evaluations spent (by both runs when a small mesh is
+    /// optimised twice).
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
     pub effort_exhausted: bool,
@@ -689,20 +703,25 @@ pub(crate) fn optimize_in_place(
     // The worst angle either way (near 0° or near 180°), as the quality.
     let worst = |r: &OptimizeReport| r.after.min_dihedral.min(180.0 - r.after.max_dihedral);
     let pinned = report.stuck.first().is_some_and(|s| {
-        s.near_triangle.is_some()
-            && (s.near_angles[0] < RETRY_FEATURE_ANGLE
-                || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
+        s.reason != StuckReason::NoImprovement
+            || s.near_triangle.is_some()
+                && (s.near_angles[0] < RETRY_FEATURE_ANGLE
+                    || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
     });
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
-    let second = optimize_once(&mut other, other_mesh, opts, true);
+    let mut second = optimize_once(&mut other, other_mesh, opts, true);
+    second.evaluations += report.evaluations;
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
         Ok(second)
     } else {
-        Ok(report)
+        Ok(OptimizeReport {
+            evaluations: second.evaluations,
+            ..report
+        })
     }
 }
 
@@ -825,10 +844,18 @@ fn optimize_once(
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
         // worst first, grown by the tetrahedra each success makes; until a
-        // round succeeds nowhere or the stage's attempts are spent.
+        // round succeeds nowhere, the stage's attempts are spent or it
+        // stops paying: every `window` evaluations the worst quality and
+        // the count below the threshold are compared with their best so
+        // far, and the stage ends when neither improved over the last half
+        // of its evaluations (and `PATIENCE` windows).
         let mut attempts = None;
         w.thorough = thorough;
-        loop {
+        let window = (WINDOW * (rec.mesh.tets.len() + 2000) as f64) as u64;
+        let mut check = w.evals.get() + window;
+        let mut best = standing(&w, thr);
+        let (start, mut paid) = (w.evals.get(), w.evals.get());
+        'rounds: loop {
             let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
                 .map(|t| Entry(w.q[t as usize], t, w.m.tv[t as usize]))
@@ -854,16 +881,25 @@ fn optimize_once(
                 if *left == 0 {
                     break;
                 }
-
-                if w.evals.get() as f64 > stop {
+                let e = w.evals.get();
+                if e >= check {
+                    let now = standing(&w, thr);
+                    if now.0 > best.0 + 1e-4 || now.1 < best.1 {
+                        paid = e;
+                    } else if e - paid >= (PATIENCE * window).max((e - start) / 2) {
+                        break 'rounds;
+                    }
+                    best = (best.0.max(now.0), best.1.min(now.1));
+                    check = e + window;
+                }
+                if e as f64 > stop {
                     // The extra budget of the stages up to 20° only where
                     // the minimum is already above 10°: below, it is mostly
                     // held by needle input triangles, which more work
                     // rarely lifts (it only adds vertices).
-                    let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
                     if deg <= low_max
                         && !extended
-                        && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
+                        && standing(&w, 0.0).0 >= EXTRA_ABOVE.to_radians().sin()
                     {
                         extended = true;
                         stop += extra;
@@ -913,8 +949,7 @@ fn optimize_once(
     // the same bound. (Over the refinement's points too it saves a few
     // per cent more tetrahedra but costs ~10% of the time on large meshes.)
     if opts.insert {
-        let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
-        let floor = CLEANUP.to_radians().sin().max(w.min_q(&live));
+        let floor = CLEANUP.to_radians().sin().max(standing(&w, 0.0).0);
         let n0 = w.n0;
         collapse_sweep(&mut w, n0, floor, &mut report);
     }
@@ -935,6 +970,15 @@ fn optimize_once(
         &mut report,
     );
     report
+}
+
+/// The worst quality of the live tetrahedra of `w` and how many are below
+/// `thr`.
+fn standing(w: &Work, thr: f64) -> (f64, usize) {
+    let live = (0..w.m.tv.len()).filter(|&t| w.live(t as u32));
+    live.map(|t| w.q[t]).fold((f64::INFINITY, 0), |(m, n), q| {
+        (m.min(q), n + usize::from(q < thr))
+    })
 }
 
 /// The vertices of `tv`, sorted.
