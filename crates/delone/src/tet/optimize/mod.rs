@@ -155,6 +155,7 @@ use super::dmesh::DomainMesh;
 use super::quality::TetStats;
 use super::recover::Recovered;
 use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, norm, sub};
 use crate::tet::local::{face, fkey};
 use crate::NONE;
 use work::{Plan, Slide, Work, DEAD};
@@ -1345,22 +1346,16 @@ fn try_lifted(
     report: &mut OptimizeReport,
 ) -> bool {
     let p = tv.map(|x| w.p[x as usize]);
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     // The largest face: its normal is the sheet's.
     let mut best = (0.0, [0.0; 3], [0.0; 3], 0.0);
     for f in 0..4 {
         let [a, b, c] = face([0, 1, 2, 3], f).map(|i| p[i as usize]);
-        let (u, v) = (sub(b, a), sub(c, a));
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
-        let area = len(n);
+        let (u, v) = (sub(&b, &a), sub(&c, &a));
+        let n = cross(&u, &v);
+        let area = norm(&n);
         if area > best.0 {
             let g = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
-            let s = (len(u) + len(v) + len(sub(c, b))) / 3.0;
+            let s = (norm(&u) + norm(&v) + norm(&sub(&c, &b))) / 3.0;
             best = (area, n.map(|x| x / area), g, s);
         }
     }
@@ -1804,22 +1799,15 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     let pt = |v: u32| rec.points[v as usize];
     let normal = |f: [u32; 3]| {
         let [a, b, c] = f.map(pt);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ]
+        cross(&sub(&b, &a), &sub(&c, &a))
     };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     // Outward orientation of each surface triangle on the boundary: that of
     // its boundary faces.
     let mut sign = vec![0.0f64; rec.surface.len()];
     for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
         if let Some(tri) = rec.surface.get(t as usize) {
             if sign[t as usize] == 0.0 {
-                sign[t as usize] = dot(normal(*f), normal(*tri)).signum();
+                sign[t as usize] = dot(&normal(*f), &normal(*tri)).signum();
             }
         }
     }
@@ -1839,11 +1827,11 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
         let (t1, t2) = (l[0] as usize, l[1] as usize);
         let unit = |t: usize| {
             let n = normal(rec.surface[t]).map(|x| x * sign[t]);
-            let m = dot(n, n).sqrt();
+            let m = norm(&n);
             n.map(|x| x / m)
         };
         let (n1, n2) = (unit(t1), unit(t2));
-        let mut ang = (-dot(n1, n2)).clamp(-1.0, 1.0).acos().to_degrees();
+        let mut ang = (-dot(&n1, &n2)).clamp(-1.0, 1.0).acos().to_degrees();
         // Reflex when the far vertex of the second triangle is outside the
         // first one's plane.
         let d = rec.surface[t2]
@@ -1851,7 +1839,7 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             .find(|v| !e.contains(v))
             .map_or([0.0; 3], pt);
         let a = pt(e[0]);
-        if dot(n1, [d[0] - a[0], d[1] - a[1], d[2] - a[2]]) > 0.0 {
+        if dot(&n1, &sub(&d, &a)) > 0.0 {
             ang = 360.0 - ang;
         }
         if ang.is_finite() && ang < best.0 {
@@ -2082,17 +2070,15 @@ fn triangle_angles(rec: &Recovered, report: &mut OptimizeReport) {
 /// The closest point of triangle `t` to `x` (Voronoi regions of its
 /// vertices, edges and interior).
 fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let at = |a: [f64; 3], d: [f64; 3], s: f64| std::array::from_fn(|k| s.mul_add(d[k], a[k]));
     let [a, b, c] = t;
-    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(x, a));
-    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    let (ab, ac, ap) = (sub(&b, &a), sub(&c, &a), sub(&x, &a));
+    let (d1, d2) = (dot(&ab, &ap), dot(&ac, &ap));
     if d1 <= 0.0 && d2 <= 0.0 {
         return a;
     }
-    let bp = sub(x, b);
-    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    let bp = sub(&x, &b);
+    let (d3, d4) = (dot(&ab, &bp), dot(&ac, &bp));
     if d3 >= 0.0 && d4 <= d3 {
         return b;
     }
@@ -2100,8 +2086,8 @@ fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
         return at(a, ab, d1 / (d1 - d3));
     }
-    let cp = sub(x, c);
-    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    let cp = sub(&x, &c);
+    let (d5, d6) = (dot(&ab, &cp), dot(&ac, &cp));
     if d6 >= 0.0 && d5 <= d6 {
         return c;
     }
@@ -2111,7 +2097,7 @@ fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+        return at(b, sub(&c, &b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
     let den = va + vb + vc;
     if den.abs() < f64::MIN_POSITIVE {
