@@ -75,8 +75,12 @@
 //! nowhere, the tetrahedra left get a round with every insertion settled
 //! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
 //! is optimised once more from the start with every insertion settled
-//! fully, and the better of the two results is kept. The whole run stops
-//! when its budget of quality
+//! fully, and the better of the two results is kept. A stage also ends
+//! when it stops paying: checked every 10 evaluations per tetrahedron, it
+//! ends once neither its worst quality nor its count of tetrahedra below
+//! the threshold improved over the last half of its evaluations (and two
+//! such windows), so the effort follows what is left to improve. The
+//! whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
 //! to 20°, which decide the minimum, may spend four times the budget, and
@@ -107,9 +111,11 @@
 //! # More rules
 //!
 //! * The second run of a small mesh is skipped when the first run's worst
-//!   tetrahedron sits at a nearly degenerate input triangle (an angle below
-//!   0.1° or above 179.9°, `RETRY_FEATURE_ANGLE`): it is pinned there, and a
-//!   second run only doubles the time.
+//!   tetrahedron is held by the input — two of its faces on the surface, or
+//!   its four vertices fixed ([`StuckReason`]) — or sits at a nearly
+//!   degenerate input triangle (an angle below 0.1° or above 179.9°,
+//!   `RETRY_FEATURE_ANGLE`): it is pinned there, and a second run only
+//!   doubles the time.
 //! * The extra budget of the stages up to 20° on meshes up to 50,000
 //!   tetrahedra applies once the mesh's minimum is above 10° (`LOW_CAP`,
 //!   `EXTRA_ABOVE`): below 10° the minimum is mostly held by needle input
@@ -149,6 +155,7 @@ use super::dmesh::DomainMesh;
 use super::quality::TetStats;
 use super::recover::Recovered;
 use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, norm, sub};
 use crate::tet::local::{face, fkey};
 use crate::NONE;
 use work::{Plan, Slide, Work, DEAD};
@@ -177,6 +184,13 @@ const EXTRA_ABOVE: f64 = 10.0;
 /// insertion there buys a few degrees of the histogram's tail for more
 /// tetrahedra).
 const POLISH_INSERT: f64 = 30.0;
+
+/// Evaluations per tetrahedron (plus 2000) between two checks of a stage's
+/// progress (see [`optimize`]).
+const WINDOW: f64 = 10.0;
+
+/// Windows without progress that always leave a stage going.
+const PATIENCE: u64 = 2;
 
 /// Most tetrahedra in the Delaunay cavity of an inserted vertex.
 const MAX_CAVITY: usize = 48;
@@ -514,7 +528,8 @@ pub struct OptimizeReport {
     pub triangles_max_angle: f64,
     /// The input triangle with that angle.
     pub triangles_max_angle_triangle: Option<u32>,
-    /// Quality evaluations spent.
+    /// Quality evaluations spent (by both runs when a small mesh is
+    /// optimised twice).
     pub evaluations: u64,
     /// True when [`OptimizeOptions::effort`] ran out.
     pub effort_exhausted: bool,
@@ -689,20 +704,25 @@ pub(crate) fn optimize_in_place(
     // The worst angle either way (near 0° or near 180°), as the quality.
     let worst = |r: &OptimizeReport| r.after.min_dihedral.min(180.0 - r.after.max_dihedral);
     let pinned = report.stuck.first().is_some_and(|s| {
-        s.near_triangle.is_some()
-            && (s.near_angles[0] < RETRY_FEATURE_ANGLE
-                || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
+        s.reason != StuckReason::NoImprovement
+            || s.near_triangle.is_some()
+                && (s.near_angles[0] < RETRY_FEATURE_ANGLE
+                    || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
     });
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
-    let second = optimize_once(&mut other, other_mesh, opts, true);
+    let mut second = optimize_once(&mut other, other_mesh, opts, true);
+    second.evaluations += report.evaluations;
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
         Ok(second)
     } else {
-        Ok(report)
+        Ok(OptimizeReport {
+            evaluations: second.evaluations,
+            ..report
+        })
     }
 }
 
@@ -825,10 +845,18 @@ fn optimize_once(
         report.passes += 1;
         // Rounds: the queue of the bad tetrahedra not known to be stuck,
         // worst first, grown by the tetrahedra each success makes; until a
-        // round succeeds nowhere or the stage's attempts are spent.
+        // round succeeds nowhere, the stage's attempts are spent or it
+        // stops paying: every `window` evaluations the worst quality and
+        // the count below the threshold are compared with their best so
+        // far, and the stage ends when neither improved over the last half
+        // of its evaluations (and `PATIENCE` windows).
         let mut attempts = None;
         w.thorough = thorough;
-        loop {
+        let window = (WINDOW * (rec.mesh.tets.len() + 2000) as f64) as u64;
+        let mut check = w.evals.get() + window;
+        let mut best = standing(&w, thr);
+        let (start, mut paid) = (w.evals.get(), w.evals.get());
+        'rounds: loop {
             let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
                 .map(|t| Entry(w.q[t as usize], t, w.m.tv[t as usize]))
@@ -854,16 +882,25 @@ fn optimize_once(
                 if *left == 0 {
                     break;
                 }
-
-                if w.evals.get() as f64 > stop {
+                let e = w.evals.get();
+                if e >= check {
+                    let now = standing(&w, thr);
+                    if now.0 > best.0 + 1e-4 || now.1 < best.1 {
+                        paid = e;
+                    } else if e - paid >= (PATIENCE * window).max((e - start) / 2) {
+                        break 'rounds;
+                    }
+                    best = (best.0.max(now.0), best.1.min(now.1));
+                    check = e + window;
+                }
+                if e as f64 > stop {
                     // The extra budget of the stages up to 20° only where
                     // the minimum is already above 10°: below, it is mostly
                     // held by needle input triangles, which more work
                     // rarely lifts (it only adds vertices).
-                    let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
                     if deg <= low_max
                         && !extended
-                        && w.min_q(&live) >= EXTRA_ABOVE.to_radians().sin()
+                        && standing(&w, 0.0).0 >= EXTRA_ABOVE.to_radians().sin()
                     {
                         extended = true;
                         stop += extra;
@@ -913,8 +950,7 @@ fn optimize_once(
     // the same bound. (Over the refinement's points too it saves a few
     // per cent more tetrahedra but costs ~10% of the time on large meshes.)
     if opts.insert {
-        let live: Vec<u32> = (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).collect();
-        let floor = CLEANUP.to_radians().sin().max(w.min_q(&live));
+        let floor = CLEANUP.to_radians().sin().max(standing(&w, 0.0).0);
         let n0 = w.n0;
         collapse_sweep(&mut w, n0, floor, &mut report);
     }
@@ -935,6 +971,15 @@ fn optimize_once(
         &mut report,
     );
     report
+}
+
+/// The worst quality of the live tetrahedra of `w` and how many are below
+/// `thr`.
+fn standing(w: &Work, thr: f64) -> (f64, usize) {
+    let live = (0..w.m.tv.len()).filter(|&t| w.live(t as u32));
+    live.map(|t| w.q[t]).fold((f64::INFINITY, 0), |(m, n), q| {
+        (m.min(q), n + usize::from(q < thr))
+    })
 }
 
 /// The vertices of `tv`, sorted.
@@ -1301,22 +1346,16 @@ fn try_lifted(
     report: &mut OptimizeReport,
 ) -> bool {
     let p = tv.map(|x| w.p[x as usize]);
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     // The largest face: its normal is the sheet's.
     let mut best = (0.0, [0.0; 3], [0.0; 3], 0.0);
     for f in 0..4 {
         let [a, b, c] = face([0, 1, 2, 3], f).map(|i| p[i as usize]);
-        let (u, v) = (sub(b, a), sub(c, a));
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
-        let area = len(n);
+        let (u, v) = (sub(&b, &a), sub(&c, &a));
+        let n = cross(&u, &v);
+        let area = norm(&n);
         if area > best.0 {
             let g = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
-            let s = (len(u) + len(v) + len(sub(c, b))) / 3.0;
+            let s = (norm(&u) + norm(&v) + norm(&sub(&c, &b))) / 3.0;
             best = (area, n.map(|x| x / area), g, s);
         }
     }
@@ -1760,22 +1799,15 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
     let pt = |v: u32| rec.points[v as usize];
     let normal = |f: [u32; 3]| {
         let [a, b, c] = f.map(pt);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ]
+        cross(&sub(&b, &a), &sub(&c, &a))
     };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     // Outward orientation of each surface triangle on the boundary: that of
     // its boundary faces.
     let mut sign = vec![0.0f64; rec.surface.len()];
     for (f, &t) in rec.boundary.iter().zip(&rec.boundary_triangle) {
         if let Some(tri) = rec.surface.get(t as usize) {
             if sign[t as usize] == 0.0 {
-                sign[t as usize] = dot(normal(*f), normal(*tri)).signum();
+                sign[t as usize] = dot(&normal(*f), &normal(*tri)).signum();
             }
         }
     }
@@ -1795,11 +1827,11 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
         let (t1, t2) = (l[0] as usize, l[1] as usize);
         let unit = |t: usize| {
             let n = normal(rec.surface[t]).map(|x| x * sign[t]);
-            let m = dot(n, n).sqrt();
+            let m = norm(&n);
             n.map(|x| x / m)
         };
         let (n1, n2) = (unit(t1), unit(t2));
-        let mut ang = (-dot(n1, n2)).clamp(-1.0, 1.0).acos().to_degrees();
+        let mut ang = (-dot(&n1, &n2)).clamp(-1.0, 1.0).acos().to_degrees();
         // Reflex when the far vertex of the second triangle is outside the
         // first one's plane.
         let d = rec.surface[t2]
@@ -1807,7 +1839,7 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             .find(|v| !e.contains(v))
             .map_or([0.0; 3], pt);
         let a = pt(e[0]);
-        if dot(n1, [d[0] - a[0], d[1] - a[1], d[2] - a[2]]) > 0.0 {
+        if dot(&n1, &sub(&d, &a)) > 0.0 {
             ang = 360.0 - ang;
         }
         if ang.is_finite() && ang < best.0 {
@@ -2038,17 +2070,15 @@ fn triangle_angles(rec: &Recovered, report: &mut OptimizeReport) {
 /// The closest point of triangle `t` to `x` (Voronoi regions of its
 /// vertices, edges and interior).
 fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let at = |a: [f64; 3], d: [f64; 3], s: f64| std::array::from_fn(|k| s.mul_add(d[k], a[k]));
     let [a, b, c] = t;
-    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(x, a));
-    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    let (ab, ac, ap) = (sub(&b, &a), sub(&c, &a), sub(&x, &a));
+    let (d1, d2) = (dot(&ab, &ap), dot(&ac, &ap));
     if d1 <= 0.0 && d2 <= 0.0 {
         return a;
     }
-    let bp = sub(x, b);
-    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    let bp = sub(&x, &b);
+    let (d3, d4) = (dot(&ab, &bp), dot(&ac, &bp));
     if d3 >= 0.0 && d4 <= d3 {
         return b;
     }
@@ -2056,8 +2086,8 @@ fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
         return at(a, ab, d1 / (d1 - d3));
     }
-    let cp = sub(x, c);
-    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    let cp = sub(&x, &c);
+    let (d5, d6) = (dot(&ab, &cp), dot(&ac, &cp));
     if d6 >= 0.0 && d5 <= d6 {
         return c;
     }
@@ -2067,7 +2097,7 @@ fn closest_on_triangle(x: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
-        return at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+        return at(b, sub(&c, &b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
     let den = va + vb + vc;
     if den.abs() < f64::MIN_POSITIVE {
