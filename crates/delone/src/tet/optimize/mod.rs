@@ -696,9 +696,12 @@ pub(crate) fn optimize_in_place(
     // with an angle below RETRY_FEATURE_ANGLE (or above 180° minus it):
     // there it is pinned near 0° whatever the path.
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
-    let original = retry.then(|| (rec.clone(), mesh.clone()));
+    // The second run starts from a copy of `rec`; its mesh is rebuilt from
+    // the copy's neighbour lists only if that run happens (the same mesh as
+    // `mesh`, without holding a second one through the first run).
+    let original = retry.then(|| rec.clone());
     let report = optimize_once(rec, mesh, opts, false);
-    let Some((mut other, other_mesh)) = original else {
+    let Some(mut other) = original else {
         return Ok(report);
     };
     // The worst angle either way (near 0° or near 180°), as the quality.
@@ -712,6 +715,7 @@ pub(crate) fn optimize_in_place(
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
         return Ok(report);
     }
+    let other_mesh = validate_input(&other)?;
     let mut second = optimize_once(&mut other, other_mesh, opts, true);
     second.evaluations += report.evaluations;
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
