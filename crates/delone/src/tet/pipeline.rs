@@ -248,6 +248,9 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
         };
         let (r, domain_mesh) = refine_in_place(points, &triangles, &rec, Some(domain_mesh), &ro)
             .map_err(TetError::Recover)?;
+        // Recovery's output view is replaced by refinement's: not held
+        // through optimisation.
+        drop(rec);
         (r.rec, domain_mesh, Some((r.report, ro)))
     } else {
         (rec, domain_mesh, None)

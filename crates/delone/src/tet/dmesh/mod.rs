@@ -296,13 +296,22 @@ impl DomainMesh {
         self.reg.shrink_to_fit();
     }
 
-    /// Drops the subface and subsegment tables (the subface marks stay):
-    /// for a stage that reads subfaces from the marks only, such as the
-    /// optimisation, which would otherwise copy and maintain them.
+    /// Drops the subface and subsegment tables (the subface marks stay)
+    /// and trims the cell arrays' spare capacity: for a stage that reads
+    /// subfaces from the marks only, such as the optimisation, which would
+    /// otherwise copy and maintain them.
     pub(crate) fn drop_tables(&mut self) {
         self.ftri = HashMap::default();
         self.sedges = HashMap::default();
         self.segs = HashMap::default();
+        // The cell arrays leave refinement with up to half their capacity
+        // unused (growth by doubling); optimisation changes the cell count
+        // little, so it starts from an eighth of headroom.
+        let keep = self.tv.len() + self.tv.len() / 8;
+        self.tv.shrink_to(keep);
+        self.nb.shrink_to(keep);
+        self.mask.shrink_to(keep);
+        self.reg.shrink_to(keep);
     }
 
     /// Moves the subface-table entries of boundary faces `gone` to `made`
