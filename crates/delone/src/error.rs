@@ -140,7 +140,9 @@ pub enum Error {
     /// assert!(e.to_string().starts_with("-q61: "));
     /// ```
     InvalidBound {
-        /// The option, as the command line spells it (`"-q"`, `"-a"`).
+        /// The option, as the command line spells it (`"-q"`, `"-a"`,
+        /// `"-hmin"`; a name longer than two characters is shown with a
+        /// space before the value).
         option: &'static str,
         /// The value given.
         value: f64,
@@ -302,7 +304,12 @@ impl fmt::Display for Error {
                 option,
                 value,
                 reason,
-            } => write!(f, "{option}{value}: {reason}"),
+            } if option.len() <= 2 => write!(f, "{option}{value}: {reason}"),
+            Error::InvalidBound {
+                option,
+                value,
+                reason,
+            } => write!(f, "{option} {value}: {reason}"),
             Error::BoundNeedsBudget {
                 option,
                 value,

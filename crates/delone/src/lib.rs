@@ -31,6 +31,7 @@
 
 pub mod error;
 pub mod geom;
+pub mod metric;
 pub mod model;
 pub mod progress;
 pub mod switches;
