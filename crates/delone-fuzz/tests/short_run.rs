@@ -170,6 +170,22 @@ const REGRESSIONS: &[(&str, &[u8])] = &[
         "sol",
         include_bytes!("../../../fuzz/regressions/sol-no-fields-2"),
     ),
+    // 3D vertices, then `Dimension 2`: the mesh read as 2D kept z, which a
+    // 2D file cannot write back; the dimension cannot change after vertices.
+    (
+        "medit",
+        include_bytes!("../../../fuzz/regressions/medit-dimension-change"),
+    ),
+    // `-nan` read, `NaN` written: the round-trip checks compare every NaN
+    // as one.
+    (
+        "medit",
+        include_bytes!("../../../fuzz/regressions/medit-negative-nan"),
+    ),
+    (
+        "sol",
+        include_bytes!("../../../fuzz/regressions/sol-negative-nan"),
+    ),
     // Three nearly collinear points: `tri::validate` measured the hull's
     // winding in floating point and rejected a valid sliver triangle.
     (

@@ -152,6 +152,13 @@ pub fn read_medit_mesh(input: &[u8]) -> Result<MeditMesh, IoError> {
                         message: format!("dimension {d} (only 2 or 3)"),
                     });
                 }
+                if seen_points && d != i64::from(m.dimension) {
+                    return Err(IoError::syntax(
+                        l,
+                        format!("the dimension of the vertices read ({})", m.dimension),
+                        d.to_string(),
+                    ));
+                }
                 m.dimension = d as u8;
             }
             b"Vertices" => {
@@ -704,8 +711,12 @@ mod tests {
 
     #[test]
     fn mesh_errors_name_the_line() {
-        let cases: [(&[u8], &str); 6] = [
+        let cases: [(&[u8], &str); 7] = [
             (b"Dimension 4\n", "line 1: dimension 4 (only 2 or 3)"),
+            (
+                b"Vertices\n1\n0 0 1 0\nDimension 2\n",
+                "line 4: expected the dimension of the vertices read (3), found 2",
+            ),
             (
                 b"Dimension 2\nTriangles\n1\n1 2 3 0\nVertices\n2\n0 0 0\n1 0 0\nEnd\n",
                 "line 4: expected a vertex index between 1 and 2, found 3",

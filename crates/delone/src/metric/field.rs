@@ -12,27 +12,48 @@
 
 use super::tensor::{compose, eigen, simplex_volume, Metric, Sym};
 
-/// The vertex neighbours of a simplicial mesh (`K` corners per element),
-/// sorted; `None` if an element names a vertex `≥ n`.
-fn neighbours<const K: usize>(n: usize, elements: &[[u32; K]]) -> Option<Vec<Vec<u32>>> {
+/// The vertex neighbours of a simplicial mesh (`K` corners per element,
+/// checked by [`check_mesh`]), sorted.
+fn neighbours<const K: usize>(n: usize, elements: &[[u32; K]]) -> Vec<Vec<u32>> {
     let mut adj = vec![Vec::new(); n];
     for e in elements {
         for &a in e {
-            for &b in e {
-                if a != b {
-                    adj.get_mut(a as usize)?.push(b);
-                }
-            }
-            if a as usize >= n {
-                return None;
-            }
+            adj[a as usize].extend(e.iter().copied().filter(|&b| b != a));
         }
     }
     for l in &mut adj {
         l.sort_unstable();
         l.dedup();
     }
-    Some(adj)
+    adj
+}
+
+/// Checks that elements have `K = D + 1` corners naming points below
+/// `n`, and that a per-point array (`what`, of length `len`) has one entry
+/// per point.
+fn check_mesh<const D: usize, const K: usize>(
+    n: usize,
+    elements: &[[u32; K]],
+    len: usize,
+    what: &str,
+) -> Result<(), crate::Error> {
+    let bad = |reason: String| Err(crate::Error::InconsistentMesh { reason });
+    if K != D + 1 {
+        return bad(format!("elements of {K} corners in {D} dimensions"));
+    }
+    if len != n {
+        return bad(format!("{len} {what} for {n} points"));
+    }
+    if let Some((i, v)) = elements
+        .iter()
+        .enumerate()
+        .find_map(|(i, e)| e.iter().find(|&&v| v as usize >= n).map(|&v| (i, v)))
+    {
+        return bad(format!(
+            "element {i} names point {v}, but there are {n} points"
+        ));
+    }
+    Ok(())
 }
 
 /// The edges of a simplicial mesh, each once as `[a, b]` with `a < b`,
@@ -117,35 +138,13 @@ pub fn hessians<const D: usize, const K: usize>(
     elements: &[[u32; K]],
     values: &[f64],
 ) -> Result<Vec<Sym<D>>, crate::Error> {
-    let bad = |reason: String| crate::Error::InconsistentMesh { reason };
-    if K != D + 1 {
-        return Err(bad(format!("elements of {K} corners in {D} dimensions")));
-    }
-    if values.len() != points.len() {
-        return Err(bad(format!(
-            "{} values for {} points",
-            values.len(),
-            points.len()
-        )));
-    }
+    check_mesh::<D, K>(points.len(), elements, values.len(), "values")?;
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(bad(format!("value {i} is not finite")));
+        return Err(crate::Error::InconsistentMesh {
+            reason: format!("value {i} is not finite"),
+        });
     }
-    let adj = neighbours(points.len(), elements).ok_or_else(|| {
-        let (i, v) = elements
-            .iter()
-            .enumerate()
-            .find_map(|(i, e)| {
-                e.iter()
-                    .find(|&&v| v as usize >= points.len())
-                    .map(|&v| (i, v))
-            })
-            .unwrap_or((0, 0));
-        bad(format!(
-            "element {i} names point {v}, but there are {} points",
-            points.len()
-        ))
-    })?;
+    let adj = neighbours(points.len(), elements);
     let nh = D * (D + 1) / 2;
     let cols = D + nh;
     let mut out = Vec::with_capacity(points.len());
@@ -255,19 +254,24 @@ pub enum Target {
 /// The complexity `∫ √det M` of a metric field given at the vertices,
 /// by the vertex average on each element (`K = D + 1` corners).
 ///
+/// # Errors
+/// [`crate::Error::InconsistentMesh`] naming the element or array that does
+/// not fit the points.
+///
 /// ```
 /// use delone::metric::{complexity, Metric};
 /// let pts = [[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]];
 /// let m = vec![Metric::isotropic(0.5); 3];
-/// assert!((complexity(&pts, &[[0, 1, 2]], &m) - 8.0).abs() < 1e-12);
+/// assert!((complexity(&pts, &[[0, 1, 2]], &m).unwrap() - 8.0).abs() < 1e-12);
 /// ```
 pub fn complexity<const D: usize, const K: usize>(
     points: &[[f64; D]],
     elements: &[[u32; K]],
     metrics: &[Metric<D>],
-) -> f64 {
+) -> Result<f64, crate::Error> {
+    check_mesh::<D, K>(points.len(), elements, metrics.len(), "metrics")?;
     let dens: Vec<f64> = metrics.iter().map(|m| m.det().sqrt()).collect();
-    element_integral(points, elements, &dens)
+    Ok(element_integral(points, elements, &dens))
 }
 
 fn element_integral<const D: usize, const K: usize>(
@@ -291,7 +295,9 @@ fn element_integral<const D: usize, const K: usize>(
 ///
 /// # Errors
 /// [`crate::Error::InvalidBound`] for a target (`-complexity`, `-p`,
-/// `-err`), `-hmin` or `-hmax` out of range.
+/// `-err`), `-hmin` or `-hmax` out of range;
+/// [`crate::Error::InconsistentMesh`] naming the element or array that does
+/// not fit the points.
 ///
 /// ```
 /// use delone::metric::{complexity, metric_from_hessians, Target};
@@ -300,7 +306,7 @@ fn element_integral<const D: usize, const K: usize>(
 /// let h = vec![[[2.0, 0.0], [0.0, 0.5]]; 4];
 /// let t = Target::Complexity { complexity: 100.0, p: 2.0 };
 /// let m = metric_from_hessians(&pts, &tris, &h, t, 1e-6, 1e6).unwrap();
-/// assert!((complexity(&pts, &tris, &m) - 100.0).abs() < 1e-9);
+/// assert!((complexity(&pts, &tris, &m).unwrap() - 100.0).abs() < 1e-9);
 /// ```
 pub fn metric_from_hessians<const D: usize, const K: usize>(
     points: &[[f64; D]],
@@ -334,11 +340,7 @@ pub fn metric_from_hessians<const D: usize, const K: usize>(
         }
         Target::Error(e) => bound("-err", e, e > 0.0 && e.is_finite())?,
     }
-    if hessians.len() != points.len() {
-        return Err(crate::Error::InconsistentMesh {
-            reason: format!("{} Hessians for {} points", hessians.len(), points.len()),
-        });
-    }
+    check_mesh::<D, K>(points.len(), elements, hessians.len(), "Hessians")?;
     let abs: Vec<([f64; D], Sym<D>)> = hessians
         .iter()
         .map(|h| {
@@ -428,7 +430,7 @@ pub fn gradate<const D: usize>(
         let mut changed = false;
         for &[a, b] in edges {
             let (a, b) = (a as usize, b as usize);
-            if a >= metrics.len() || b >= metrics.len() {
+            if a.max(b) >= metrics.len().min(points.len()) {
                 continue;
             }
             let mut e = [0.0; D];
@@ -526,6 +528,23 @@ mod tests {
         let e = hessians(&pts, &[[0u32, 1]], &[0.0; 3]).unwrap_err();
         assert!(matches!(e, crate::Error::InconsistentMesh { .. }));
         let h = vec![[[1.0, 0.0], [0.0, 1.0]]; 3];
+        let e = metric_from_hessians(&pts, &[[0u32, 3, 2]], &h, Target::Error(0.1), 0.1, 1.0)
+            .unwrap_err();
+        assert_eq!(
+            e,
+            crate::Error::InconsistentMesh {
+                reason: "element 0 names point 3, but there are 3 points".into()
+            }
+        );
+        let m = vec![Metric::<2>::isotropic(1.0); 2];
+        let e = complexity(&pts, &[[0u32, 1, 2]], &m).unwrap_err();
+        assert_eq!(
+            e,
+            crate::Error::InconsistentMesh {
+                reason: "2 metrics for 3 points".into()
+            }
+        );
+        assert_eq!(super::super::mean_ratio(&pts[..2], &m[0]), 0.0);
         let e = metric_from_hessians(&pts, &[[0u32, 1, 2]], &h, Target::Error(0.0), 0.1, 1.0)
             .unwrap_err();
         assert!(matches!(

@@ -410,7 +410,8 @@ pub(crate) fn simplex_volume<const D: usize>(p: &[[f64; D]]) -> f64 {
 /// The mean ratio of a simplex (`D + 1` corners, `D` = 2 or 3) in the
 /// constant metric `m`: `c · vol_M^{2/D} / Σ l_M²`, normalised to 1 for the
 /// regular simplex of the metric and ≤ 1 for every other; 0 for a flat
-/// simplex, negative for an inverted one.
+/// simplex (and for a slice that does not hold `D + 1` corners), negative
+/// for an inverted one.
 ///
 /// ```
 /// use delone::metric::{mean_ratio, Metric};
@@ -422,6 +423,9 @@ pub(crate) fn simplex_volume<const D: usize>(p: &[[f64; D]]) -> f64 {
 /// assert!((mean_ratio(&flat, &m) - 1.0).abs() < 1e-12);
 /// ```
 pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
+    if p.len() != D + 1 || !(2..=3).contains(&D) {
+        return 0.0;
+    }
     let vol = simplex_volume::<D>(p) * m.det().sqrt();
     let mut sum = 0.0;
     for i in 0..=D {
