@@ -156,7 +156,7 @@ pub fn hessians<const D: usize, const K: usize>(
         seen[v] = v as u32;
         let mut start = 0;
         let mut h = [[0.0; D]; D];
-        for _ring in 0..3 {
+        for ring in 0..RINGS {
             let end = patch.len();
             for k in start..end {
                 for &w in &adj[patch[k] as usize] {
@@ -167,7 +167,9 @@ pub fn hessians<const D: usize, const K: usize>(
                 }
             }
             start = end;
-            if patch.len() - 1 < 2 * cols && start < patch.len() {
+            // Grow while the fit is short of redundancy and the last ring
+            // added vertices; the last ring fits with what it has.
+            if patch.len() - 1 < 2 * cols && start < patch.len() && ring + 1 < RINGS {
                 continue;
             }
             let rows = patch.len() - 1;
@@ -221,6 +223,9 @@ pub fn hessians<const D: usize, const K: usize>(
     }
     Ok(out)
 }
+
+/// Most rings of neighbours in a vertex's fitting patch.
+const RINGS: usize = 3;
 
 /// The interpolation error constant of P1 elements (`‖u − Πu‖∞ ≤ c ·
 /// max eᵀ|H|e` over the element's edges): 2/9 in 2D, 9/32 in 3D.
@@ -506,6 +511,40 @@ mod tests {
                 "{h:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_patch_short_of_redundancy_after_every_ring_still_fits() {
+        // A strip of triangles: the end vertex sees 2, 4, then 6 vertices
+        // in its three rings (fewer than 2 × 5 unknowns), enough for a fit.
+        let pts: Vec<[f64; 2]> = (0..8)
+            .map(|i| {
+                [
+                    (i / 2) as f64 + 0.3 * (i % 2) as f64,
+                    (i % 2) as f64 + 0.1 * (i * i) as f64 / 8.0,
+                ]
+            })
+            .collect();
+        let tris: Vec<[u32; 3]> = (0..6u32)
+            .map(|i| {
+                if i % 2 == 0 {
+                    [i, i + 2, i + 1]
+                } else {
+                    [i, i + 1, i + 2]
+                }
+            })
+            .collect();
+        let u: Vec<f64> = pts
+            .iter()
+            .map(|p| p[0] * p[0] - p[0] * p[1] + 0.5 * p[1] * p[1])
+            .collect();
+        let h = hessians(&pts, &tris, &u).unwrap();
+        let want = [[2.0, -1.0], [-1.0, 1.0]];
+        assert!(
+            (0..2).all(|i| (0..2).all(|j| (h[0][i][j] - want[i][j]).abs() < 1e-6)),
+            "{:?}",
+            h[0]
+        );
     }
 
     #[test]
