@@ -57,6 +57,40 @@ pub struct MeditMesh {
     pub required_edges: Vec<u32>,
 }
 
+/// Refuses a binary Medit file (`.meshb`, `.solb`): a zero byte near the
+/// start.
+fn refuse_binary(input: &[u8], ext: &str) -> Result<(), IoError> {
+    if input.iter().take(64).any(|&b| b == 0) {
+        return Err(IoError::Unsupported {
+            line: 1,
+            message: format!("binary Medit (.{ext}) is not supported"),
+        });
+    }
+    Ok(())
+}
+
+/// The value of a `Dimension` keyword (2 or 3) and its line.
+fn dimension(tk: &mut Tokens) -> Result<(u8, usize), IoError> {
+    let (d, l) = tk.int("the dimension")?;
+    if d != 2 && d != 3 {
+        return Err(IoError::Unsupported {
+            line: l,
+            message: format!("dimension {d} (only 2 or 3)"),
+        });
+    }
+    Ok((d as u8, l))
+}
+
+/// Skips an unknown section: its numbers up to the next keyword.
+fn skip_section(tk: &mut Tokens) {
+    while let Some((u, _)) = tk.peek() {
+        if u[0].is_ascii_alphabetic() {
+            break;
+        }
+        tk.next_tok();
+    }
+}
+
 fn reference(tk: &mut Tokens) -> Result<i32, IoError> {
     let (r, l) = tk.int("a reference")?;
     i32::try_from(r)
@@ -122,12 +156,7 @@ fn cells<const K: usize>(
 /// [`IoError::Unsupported`] for a dimension other than 2 or 3 or a binary
 /// `.meshb` file.
 pub fn read_medit_mesh(input: &[u8]) -> Result<MeditMesh, IoError> {
-    if input.iter().take(64).any(|&b| b == 0) {
-        return Err(IoError::Unsupported {
-            line: 1,
-            message: "binary Medit (.meshb) is not supported".into(),
-        });
-    }
+    refuse_binary(input, "meshb")?;
     let mut tk = Tokens::new(input, true);
     let mut m = MeditMesh {
         dimension: 3,
@@ -145,21 +174,15 @@ pub fn read_medit_mesh(input: &[u8]) -> Result<MeditMesh, IoError> {
                 tk.int("a format version")?;
             }
             b"Dimension" => {
-                let (d, l) = tk.int("the dimension")?;
-                if d != 2 && d != 3 {
-                    return Err(IoError::Unsupported {
-                        line: l,
-                        message: format!("dimension {d} (only 2 or 3)"),
-                    });
-                }
-                if seen_points && d != i64::from(m.dimension) {
+                let (d, l) = dimension(&mut tk)?;
+                if seen_points && d != m.dimension {
                     return Err(IoError::syntax(
                         l,
                         format!("the dimension of the vertices read ({})", m.dimension),
                         d.to_string(),
                     ));
                 }
-                m.dimension = d as u8;
+                m.dimension = d;
             }
             b"Vertices" => {
                 let (n, _) = tk.count("the number of vertices")?;
@@ -213,15 +236,7 @@ pub fn read_medit_mesh(input: &[u8]) -> Result<MeditMesh, IoError> {
                     list.push(one_based(&mut tk, what, bound)?);
                 }
             }
-            _ if t[0].is_ascii_alphabetic() => {
-                // Unknown section: skip its numbers up to the next keyword.
-                while let Some((u, _)) = tk.peek() {
-                    if u[0].is_ascii_alphabetic() {
-                        break;
-                    }
-                    tk.next_tok();
-                }
-            }
+            _ if t[0].is_ascii_alphabetic() => skip_section(&mut tk),
             _ => return Err(IoError::syntax(line, "a Medit keyword", found(t))),
         }
     }
@@ -566,12 +581,7 @@ pub struct MeditSol {
 /// unknown type code; [`IoError::Unsupported`] for a dimension other than 2 or 3,
 /// a binary `.solb` file, or a file with no `SolAtVertices`.
 pub fn read_medit_sol(input: &[u8]) -> Result<MeditSol, IoError> {
-    if input.iter().take(64).any(|&b| b == 0) {
-        return Err(IoError::Unsupported {
-            line: 1,
-            message: "binary Medit (.solb) is not supported".into(),
-        });
-    }
+    refuse_binary(input, "solb")?;
     let mut tk = Tokens::new(input, true);
     let mut dimension = 3u8;
     let mut sol: Option<MeditSol> = None;
@@ -581,16 +591,7 @@ pub fn read_medit_sol(input: &[u8]) -> Result<MeditSol, IoError> {
             b"MeshVersionFormatted" => {
                 tk.int("a format version")?;
             }
-            b"Dimension" => {
-                let (d, l) = tk.int("the dimension")?;
-                if d != 2 && d != 3 {
-                    return Err(IoError::Unsupported {
-                        line: l,
-                        message: format!("dimension {d} (only 2 or 3)"),
-                    });
-                }
-                dimension = d as u8;
-            }
+            b"Dimension" => dimension = self::dimension(&mut tk)?.0,
             b"SolAtVertices" => {
                 let (n, _) = tk.count("the number of vertices")?;
                 let (k, l) = tk.count("the number of fields")?;
@@ -632,14 +633,7 @@ pub fn read_medit_sol(input: &[u8]) -> Result<MeditSol, IoError> {
                     fields,
                 });
             }
-            _ if t[0].is_ascii_alphabetic() => {
-                while let Some((u, _)) = tk.peek() {
-                    if u[0].is_ascii_alphabetic() {
-                        break;
-                    }
-                    tk.next_tok();
-                }
-            }
+            _ if t[0].is_ascii_alphabetic() => skip_section(&mut tk),
             _ => return Err(IoError::syntax(line, "a Medit keyword", found(t))),
         }
     }
