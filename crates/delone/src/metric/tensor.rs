@@ -391,19 +391,13 @@ fn unit_simplex_volume(d: usize) -> f64 {
 
 /// The signed volume of a simplex (`D + 1` corners).
 pub(crate) fn simplex_volume<const D: usize>(p: &[[f64; D]]) -> f64 {
-    let e = |k: usize, i: usize| p[k][i] - p[0][i];
+    let at = |k: usize| [p[k][0], p[k][1], if D > 2 { p[k][2] } else { 0.0 }];
     match D {
-        2 => 0.5 * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0)),
-        _ => {
-            let (a, b, c) = (
-                [e(1, 0), e(1, 1), e(1, 2)],
-                [e(2, 0), e(2, 1), e(2, 2)],
-                [e(3, 0), e(3, 1), e(3, 2)],
-            );
-            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                + a[2] * (b[0] * c[1] - b[1] * c[0]))
-                / 6.0
+        2 => {
+            let e = |k: usize, i: usize| p[k][i] - p[0][i];
+            0.5 * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0))
         }
+        _ => crate::tet::quality::volume(&[at(0), at(1), at(2), at(3)]),
     }
 }
 
