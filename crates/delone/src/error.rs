@@ -175,6 +175,28 @@ pub enum Error {
     /// assert_eq!(delone::Error::Interrupted.to_string(), "interrupted");
     /// ```
     Interrupted,
+    /// The metric at vertex `vertex` is not a metric (not positive
+    /// definite, not finite).
+    ///
+    /// ```
+    /// use delone::metric::MetricDefect;
+    /// let e = delone::Error::InvalidMetric { vertex: 7, defect: MetricDefect::NotPositiveDefinite };
+    /// assert!(e.to_string().starts_with("the metric at vertex 7"));
+    /// ```
+    InvalidMetric {
+        /// 0-based index of the vertex.
+        vertex: usize,
+        /// What is wrong with it.
+        defect: crate::metric::MetricDefect,
+    },
+    /// A metric field has a different number of values than the mesh has
+    /// vertices.
+    MetricCount {
+        /// Vertices of the mesh.
+        vertices: usize,
+        /// Metrics given.
+        metrics: usize,
+    },
 }
 
 /// Why a facet of a PLC is degenerate (see [`Error::DegenerateFacet`]).
@@ -226,6 +248,13 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::Interrupted => f.write_str("interrupted"),
+            Error::InvalidMetric { vertex, defect } => {
+                write!(f, "the metric at vertex {vertex} {defect}")
+            }
+            Error::MetricCount { vertices, metrics } => write!(
+                f,
+                "the metric field has {metrics} value(s) for a mesh of {vertices} vertices"
+            ),
             Error::InvalidCoordinate { index } => {
                 write!(f, "point {index} has a NaN or infinite coordinate")
             }

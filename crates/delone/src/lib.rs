@@ -29,6 +29,7 @@
 //! [`tri::Delaunay2`] and [`tet::Delaunay3`].
 #![forbid(unsafe_code)]
 
+pub mod adapt;
 pub mod error;
 pub mod geom;
 pub mod metric;

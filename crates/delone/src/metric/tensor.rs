@@ -100,6 +100,16 @@ pub enum MetricDefect {
     NotPositiveDefinite,
 }
 
+impl std::fmt::Display for MetricDefect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            MetricDefect::ComponentCount => "has the wrong number of components",
+            MetricDefect::NotFinite => "has a NaN or infinite component",
+            MetricDefect::NotPositiveDefinite => "is not positive definite",
+        })
+    }
+}
+
 /// A metric tensor in `D` dimensions (2 or 3): symmetric positive
 /// definite, with finite eigenvalues.
 ///
