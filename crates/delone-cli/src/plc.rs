@@ -345,7 +345,10 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                     }
                 );
             }
-            println!("  recovery: {} rounds, {} 3-2 flips", r.rounds, r.flips32);
+            println!(
+                "  recovery: {} rounds, {} 2-3 flips, {} edge removals",
+                r.rounds, r.flips23, r.edge_removals
+            );
             println!(
                 "  coplanar facets: {} group(s) merged and re-triangulated, {} kept as given (-M: no merging)",
                 r.coplanar_groups, r.coplanar_kept

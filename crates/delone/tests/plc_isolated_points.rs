@@ -36,8 +36,7 @@ fn cube_with(extra: &[[f64; 3]]) -> Plc {
     plc
 }
 
-/// Every recovery path: constrained with and without merging, `-Y`, and
-/// the conforming one.
+/// Every recovery path: with and without merging, and `-Y`.
 fn paths() -> Vec<(&'static str, RecoverOptions)> {
     let d = RecoverOptions::default();
     vec![
@@ -53,13 +52,6 @@ fn paths() -> Vec<(&'static str, RecoverOptions)> {
             "-Y",
             RecoverOptions {
                 preserve_surface: true,
-                ..d.clone()
-            },
-        ),
-        (
-            "conforming",
-            RecoverOptions {
-                constrained: false,
                 ..d
             },
         ),

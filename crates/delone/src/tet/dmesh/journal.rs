@@ -2,9 +2,8 @@
 //! journal.
 //!
 //! [`Journaled`] holds a [`DomainMesh`] whose arrays are those of the
-//! kernel's [`Delaunay3`] (moved in by [`Journaled::new`], moved back by
-//! [`Journaled::into_dt`], or kept for carving by [`Journaled::into_parts`];
-//! no copy): ghost cells with [`INF`] in position 3
+//! kernel's [`Delaunay3`] (moved in by [`Journaled::new`], kept for
+//! carving by [`Journaled::into_parts`]; no copy): ghost cells with [`INF`] in position 3
 //! close the convex hull, so no face is on the boundary ([`crate::NONE`]),
 //! hull 2-2 flips are replacements like any other, and walks pass outside
 //! the domain before carving. Once a flip has been applied, the kernel's
@@ -89,7 +88,7 @@ pub(crate) struct Journaled<'a> {
     /// The tetrahedra, ghost cells included (no subface marks, no regions).
     pub(crate) m: DomainMesh,
     /// The kernel structure whose arrays `m` holds: the points and the
-    /// kernel's other state, given back by [`Journaled::into_dt`].
+    /// kernel's other state, given back by [`Journaled::into_parts`].
     shell: Delaunay3<'a>,
     /// The slot the kernel's next walk starts from.
     last: u32,
@@ -162,22 +161,6 @@ impl<'a> Journaled<'a> {
             dp_choice: Vec::new(),
             ids: Vec::new(),
         }
-    }
-
-    /// Gives the arrays back to the kernel structure.
-    pub(crate) fn into_dt(self) -> Delaunay3<'a> {
-        let (m, mut dt) = (self.m, self.shell);
-        let c = &mut dt.core;
-        c.finite =
-            m.tv.iter()
-                .filter(|tv| tv[0] != DEAD && tv[3] != INF)
-                .count();
-        c.v = m.tv;
-        c.adj = m.nb;
-        c.mark = m.mask;
-        c.free = m.free;
-        c.last = self.last;
-        dt
     }
 
     /// The domain mesh, and the kernel structure emptied of its arrays
@@ -949,11 +932,7 @@ mod tests {
         let t = m.find_edge(0, 4).unwrap();
         assert!(m.remove_edge(t, 0, 4, &|_, _| 0, &|_, _, _| 0).is_none());
         m.check().unwrap();
-        // The arrays go back to the kernel structure, whose own checker
-        // accepts them.
-        let dt = m.into_dt();
-        dt.check_topology().unwrap();
-        assert_eq!(dt.num_tets(), 2);
+        assert_eq!(finite_tets(&m), 2);
     }
 
     #[test]

@@ -16,53 +16,42 @@
 //!    result, [`Recovered::surface`], is what the next steps recover
 //!    ("input triangles" below); [`missing`] tells which edges and
 //!    triangles are absent;
-//! 3. **segment recovery** — every missing subsegment is split by a Steiner
-//!    point on it (the notes of the private `place` module explain where,
-//!    and how exactness is checked), inserted by the Delaunay kernel (so the mesh stays a valid
-//!    Delaunay tetrahedralization), and the input triangles sharing that
-//!    edge are refined with it; repeated until every subsegment is an edge;
-//! 4. **facet recovery** — an input triangle is recovered when the mesh faces
-//!    on it cover it exactly (see below). For a missing one, the mesh edges
-//!    crossing its interior are found exactly (first among the tetrahedra
-//!    around the edges bounding its uncovered part, then among all edges);
-//!    if one such edge can be removed by a 3-2 flip that creates a face on
-//!    the triangle, the triangle is deferred; otherwise a Steiner point is
-//!    inserted where the edge crosses it (or, when that point encroaches a
-//!    boundary subsegment of the triangle, the subsegment is split instead,
-//!    Shewchuk's rule). When no crossing edge is found (possible only
-//!    because of inexact Steiner points), the longest edge around the
-//!    uncovered part is split. Segment and facet rounds alternate until
-//!    nothing is missing, the Steiner budget is exhausted
-//!    ([`RecoverError::SteinerBudget`]) or no progress is possible;
-//! 5. **flips** — when only deferred triangles remain, the 3-2 flips are
-//!    tried on a copy of the mesh (one domain mesh over all the flips,
-//!    the domain mesh of the `dmesh` module); the copy is kept when they recover every
-//!    triangle (no Delaunay insertion follows, since flips break the Delaunay
-//!    property insertion relies on), else splitting resumes without flips.
-//!    Triangles that neither splitting nor flips recover are reported by
-//!    index ([`RecoverError::Unrecovered`]) — never looped on;
-//! 6. **carving** — the constraint faces cut the cells into components;
+//! 3. **recovery by flips, splits where they fail** — each round copies
+//!    the Delaunay tetrahedralization into a mesh that need not stay
+//!    Delaunay (the domain mesh with ghost cells and a journal of the
+//!    private `tet::dmesh` module) and recovers missing subsegments, then
+//!    missing triangles, by 2-3 flips and edge removals (n-to-2n-4 flips,
+//!    chosen by dynamic programming over the edge ring; coplanar hull faces
+//!    by the hull 2-2 flip; the private `cdt` module). Flips never destroy a
+//!    subsegment or a face already on an input triangle. Only the items the
+//!    flips cannot recover are split in the Delaunay tetrahedralization, and
+//!    the round starts again:
+//!    - a missing subsegment is split by a Steiner point on it (the notes
+//!      of the private `place` module explain where, and how exactness is
+//!      checked), inserted by the Delaunay kernel, and the input triangles
+//!      sharing that edge are refined with it;
+//!    - for a missing input triangle (recovered when the mesh faces on it
+//!      cover it exactly, see below) the mesh edges crossing its interior
+//!      are found exactly (first among the tetrahedra around the edges
+//!      bounding its uncovered part, then among all edges) and a Steiner
+//!      point is inserted where one crosses it (or, when that point
+//!      encroaches a boundary subsegment of the triangle, the subsegment is
+//!      split instead, Shewchuk's rule). When no crossing edge is found
+//!      (possible only because of inexact Steiner points), the longest edge
+//!      around the uncovered part is split.
+//!
+//!    Each round either finishes, splits at least one item, or fails with a
+//!    typed error ([`RecoverError::SteinerBudget`] when the Steiner budget
+//!    is exhausted, [`RecoverError::Unrecovered`] naming the triangles by
+//!    index when no progress is possible — never looped on), so the loop is
+//!    bounded by the Steiner budget;
+//! 4. **carving** — the constraint faces cut the cells into components;
 //!    the exterior, hole components and even-depth cavities are removed,
 //!    the rest are regions ([`Domain`], the `carve` module's notes).
 //!
 //! The input must have every edge in two or more triangles: a closed
 //! surface, or facets that divide space into several closed parts
 //! (internal facets, non-manifold edges), each then a region of its own.
-//!
-//! Steps 3–5 above are the *conforming* path
-//! ([`RecoverOptions::constrained`] false): every Steiner point lies on the
-//! surface. The default is the **constrained** path (the private `cdt`
-//! module, on the domain mesh with ghost cells and a journal of the
-//! private `tet::dmesh` module): each round copies the
-//! Delaunay tetrahedralization into a mesh that need not stay Delaunay and
-//! recovers missing subsegments, then missing triangles, by 2-3 flips and
-//! edge removals (n-to-2n-4 flips, chosen by dynamic programming over the
-//! edge ring; coplanar hull faces by the hull 2-2 flip); only the items the
-//! flips cannot recover are split in the Delaunay tetrahedralization
-//! (steps 3–4, same placement and protection rules), and the round starts
-//! again. Flips never destroy a subsegment or a face already on an input
-//! triangle. Each round either finishes, splits at least one item, or fails
-//! with a typed error, so the loop is bounded by the Steiner budget.
 //!
 //! Rounds after the first do not redo the flips from scratch: the mesh
 //! records every flip and edge removal as "these tetrahedra (vertex sets)
@@ -97,7 +86,7 @@
 //! and only what that cannot validate exactly to
 //! [`RecoverError::Unrecovered`].
 //!
-//! On the constrained path, each group of coplanar triangles merged by
+//! Without `-Y`, each group of coplanar triangles merged by
 //! [`RecoverOptions::merge_coplanar`] is recovered as **one polygon
 //! facet** (the private `polygon` module): only its boundary edges are
 //! segments, the edges inside it need not be mesh edges, and it is covered
@@ -346,7 +335,7 @@ pub(crate) fn recover_mesh(
     };
     let triangles = &merged.tris[..];
     let mut st = State::new(Surface::new(points.len(), triangles), opts.clone());
-    if opts.constrained && !opts.preserve_surface {
+    if !opts.preserve_surface {
         // Each merged group is recovered as one polygon facet.
         st.poly = state::Polygons::new(&mut st.surf, &merged.origin, dt.points());
     }
@@ -366,24 +355,18 @@ pub(crate) fn recover_mesh(
         }
         e => e,
     };
-    let (cm, on) = if opts.constrained || opts.preserve_surface {
-        let (cm, on) = match st.run_cdt(&mut dt) {
-            // `-Y`: the fallback that always applies (the `cavity` module).
-            Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
-                let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
-                st = st2;
-                (cm, on)
-            }
-            r => r.map_err(origin)?,
-        };
-        // The Delaunay tetrahedralization is not needed any more (carving
-        // works on `cm`): freed before the output is built.
-        drop(dt);
-        (cm, Some(on))
-    } else {
-        st.run(&mut dt).map_err(origin)?;
-        (Journaled::new(dt), None)
+    let (cm, on) = match st.run_cdt(&mut dt) {
+        // `-Y`: the fallback that always applies (the `cavity` module).
+        Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
+            let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
+            st = st2;
+            (cm, on)
+        }
+        r => r.map_err(origin)?,
     };
+    // The Delaunay tetrahedralization is not needed any more (carving
+    // works on `cm`): freed before the output is built.
+    drop(dt);
     st.report.max_deviation = st.max_dev_scaled * unscale;
     st.report.hull_tets =
         cm.m.live_slots()
@@ -642,29 +625,15 @@ impl State {
         out
     }
 
-    /// Mesh edges crossing the interior of input triangle `t`, sorted: first
+    /// Mesh edges crossing the interior of input triangle `t`, sorted,
     /// searched among the tetrahedra around the edges bounding its
     /// uncovered part (any tetrahedron meeting the uncovered part next to
-    /// such an edge has an edge crossing `t`), then, if none is found there,
-    /// among all edges.
-    fn find_crossing(
-        &self,
-        c: Cells<'_>,
-        sk: &Skeleton,
-        list: &[((u32, u32), u32)],
-        t: usize,
-        faces: &[[u32; 3]],
-    ) -> Vec<((u32, u32), u32)> {
-        self.find_crossing_from(c, &|u, v| sk.edges.get(&(u, v)).copied(), list, t, faces)
-    }
-
-    /// [`Self::find_crossing`] with `start(u, v)` giving a tetrahedron
-    /// slot containing edge `u v` (`u < v`), if any.
+    /// such an edge has an edge crossing `t`); `start(u, v)` gives a
+    /// tetrahedron slot containing edge `u v` (`u < v`), if any.
     fn find_crossing_from(
         &self,
         c: Cells<'_>,
         start: &dyn Fn(u32, u32) -> Option<u32>,
-        list: &[((u32, u32), u32)],
         t: usize,
         faces: &[[u32; 3]],
     ) -> Vec<((u32, u32), u32)> {
@@ -685,16 +654,11 @@ impl State {
         }
         local.sort_unstable();
         local.dedup_by_key(|e| e.0);
-        let found = self.crossing_edges(pts, &local, t);
-        if found.is_empty() {
-            self.crossing_edges(pts, list, t)
-        } else {
-            found
-        }
+        self.crossing_edges(pts, &local, t)
     }
 
-    /// [`Self::find_crossing`] with the list of all edges built (sorted)
-    /// only when the local search finds nothing.
+    /// [`Self::find_crossing_from`], then, if it finds nothing, every
+    /// finite edge.
     fn find_crossing_lazy(
         &self,
         dt: &Delaunay3<'_>,
@@ -729,7 +693,7 @@ impl State {
             }
             None
         };
-        let found = self.find_crossing_from(cells(dt), &start, &[], t, faces);
+        let found = self.find_crossing_from(cells(dt), &start, t, faces);
         if !found.is_empty() {
             return found;
         }
@@ -796,50 +760,14 @@ impl State {
             .collect()
     }
 
-    /// A 3-2 flip that removes crossing edge `p q` of triangle `t` and
-    /// creates a face on `t`: the three tetrahedra around `p q` and the two
-    /// positive ones replacing them.
-    fn flippable(
-        &self,
-        (arrays, pts): Cells<'_>,
-        t: usize,
-        (p, q): (u32, u32),
-        tet: u32,
-    ) -> Option<(Vec<u32>, [[u32; 4]; 2])> {
-        let (mut ring, mut rv) = (Vec::new(), Vec::new());
-        if !super::dmesh::ring::closed(arrays, tet, (p, q), false, 3, (&mut ring, &mut rv))
-            || ring.len() != 3
-        {
-            return None;
-        }
-        let mut r = rv.clone();
-        r.sort_unstable();
-        if !r.iter().all(|&w| self.surf.on_triangle(w, t)) {
-            return None;
-        }
-        let g = |w: u32| &pts[w as usize];
-        if !place::crosses(g(r[0]), g(r[1]), g(r[2]), g(p), g(q)) {
-            return None;
-        }
-        // [r0, r1, r2, p] positive means orient3d < 0 (Shewchuk's sign);
-        // then [r1, r0, r2, q] is positive (q is on the other side).
-        let (ra, rb) = if delone_predicates::orient3d(g(r[0]), g(r[1]), g(r[2]), g(p)) < 0.0 {
-            (r[0], r[1])
-        } else {
-            (r[1], r[0])
-        };
-        Some((ring, [[ra, rb, r[2], p], [rb, ra, r[2], q]]))
-    }
-
-    /// The constrained recovery (see the `cdt` module): each round copies
-    /// the Delaunay tetrahedralization into a [`Journaled`] and recovers the
-    /// missing subsegments, then the missing triangles, by flips. Items the
-    /// flips cannot recover are split in the Delaunay tetrahedralization
-    /// (exactly as the conforming path does: same placement, protection and
-    /// encroachment rules) and the round starts again from it — so Steiner
-    /// points go only where flips failed, and the number of rounds is
-    /// bounded like the conforming path's (each round splits at least one
-    /// item or fails with a typed error).
+    /// The recovery (see the `cdt` module): each round copies the Delaunay
+    /// tetrahedralization into a [`Journaled`] and recovers the missing
+    /// subsegments, then the missing triangles, by flips. Items the flips
+    /// cannot recover are split in the Delaunay tetrahedralization (same
+    /// placement, protection and encroachment rules for every split) and the
+    /// round starts again from it — so Steiner points go only where flips
+    /// failed, and the number of rounds is bounded (each round splits at
+    /// least one item or fails with a typed error).
     fn run_cdt<'a>(
         &mut self,
         dt: &mut Delaunay3<'a>,
@@ -1670,112 +1598,6 @@ impl State {
         }
     }
 
-    fn run(&mut self, dt: &mut Delaunay3<'_>) -> Result<(), RecoverError> {
-        let mut use_flips = self.opts.flips;
-        loop {
-            self.report.rounds += 1;
-            let r = self.report.rounds as u64;
-            crate::progress::report("recovering the surface", r, None, "rounds");
-            if crate::progress::stop_requested() {
-                return Err(Error::Interrupted.into());
-            }
-            let sk = Skeleton::of(cells(dt).0, false);
-            let subs = self.missing_subsegments(&sk);
-            if !subs.is_empty() {
-                for &(e, u, v) in &subs {
-                    if !self.steiner_left() {
-                        return Err(self.budget_error(subs.len(), 0));
-                    }
-                    self.split_edge(dt, e, u, v)?;
-                }
-                continue;
-            }
-            let sk = Skeleton::of(cells(dt).0, true);
-            let (on, covered) = self.surf.coverage(&sk, dt.points());
-            let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            if uncovered.is_empty() {
-                return Ok(());
-            }
-            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
-            list.sort_unstable();
-            let mut progress = false;
-            let mut deferred = false;
-            for &t in &uncovered {
-                if !self.steiner_left() {
-                    return Err(self.budget_error(0, uncovered.len()));
-                }
-                let cross = self.find_crossing(cells(dt), &sk, &list, t, &on[t]);
-                if cross.is_empty() {
-                    progress |= self.split_hole(dt, t, &on[t])?;
-                    continue;
-                }
-                if use_flips
-                    && cross
-                        .iter()
-                        .any(|&(k, tet)| self.flippable(cells(dt), t, k, tet).is_some())
-                {
-                    deferred = true;
-                    continue;
-                }
-                progress |= self.split_facet(dt, t, cross[0].0)?;
-            }
-            if progress {
-                continue;
-            }
-            if deferred {
-                // Try the flips on a copy: keep it if they recover every
-                // triangle, else go on splitting without flips.
-                let mut trial = Journaled::new(dt.clone());
-                if let Some(n) = self.flip_phase(&mut trial) {
-                    *dt = trial.into_dt();
-                    self.report.flips32 += n;
-                    return Ok(());
-                }
-                use_flips = false;
-                continue;
-            }
-            return Err(RecoverError::Unrecovered {
-                triangles: uncovered,
-                steiner: self.report.steiner(),
-            });
-        }
-    }
-
-    /// Applies 3-2 flips that create faces on missing triangles until all
-    /// are recovered (returns the number of flips) or no flip applies
-    /// (`None`), all on the one domain mesh `cm`. No Delaunay insertion may
-    /// follow a flip.
-    fn flip_phase(&self, cm: &mut Journaled<'_>) -> Option<usize> {
-        let mut flips = 0;
-        loop {
-            let sk = Skeleton::of(cm.arrays(), true);
-            let (on, covered) = self.surf.coverage(&sk, cm.pts());
-            let uncovered: Vec<usize> = (0..covered.len()).filter(|&t| !covered[t]).collect();
-            if uncovered.is_empty() {
-                return Some(flips);
-            }
-            let mut list: Vec<((u32, u32), u32)> = sk.edges.iter().map(|(&k, &t)| (k, t)).collect();
-            list.sort_unstable();
-            let mut flipped = false;
-            for &t in &uncovered {
-                let c = (cm.arrays(), cm.pts());
-                let flip = self
-                    .find_crossing(c, &sk, &list, t, &on[t])
-                    .into_iter()
-                    .find_map(|(k, tet)| self.flippable(c, t, k, tet));
-                if let Some((ring, new)) = flip {
-                    cm.replace(&ring, &new);
-                    cm.m.debug_check(cm.pts(), "recovery's 3-2 flip");
-                    flips += 1;
-                    flipped = true;
-                }
-            }
-            if !flipped {
-                return None;
-            }
-        }
-    }
-
     /// Splits missing triangle `t` where mesh edge `k` crosses it, or the
     /// boundary subsegment that point encroaches. False when neither works.
     fn split_facet(
@@ -1875,14 +1697,13 @@ impl State {
     }
 
     /// Carves the recovered mesh `cm` in place and builds the output view
-    /// of it; `on`: the faces on each input triangle when known (computed
-    /// here otherwise). Returns the output and the carved domain mesh (its
+    /// of it; `on`: the faces on each input triangle. Returns the output and the carved domain mesh (its
     /// tetrahedra those of the output, in order, with their regions and
     /// subface marks).
     fn finish(
         mut self,
         cm: Journaled<'_>,
-        on: Option<Vec<Vec<[u32; 3]>>>,
+        on: FacesOn,
         input: &[[f64; 3]],
         scale: (f64, f64),
         domain: &Domain,
@@ -1890,10 +1711,6 @@ impl State {
         let unscale = 1.0 / (scale.0 * scale.1);
         let (mut m, dt) = cm.into_parts();
         let pts = dt.points();
-        let on = on.unwrap_or_else(|| {
-            let sk = Skeleton::of((&m.tv, &m.nb), true);
-            self.surf.coverage(&sk, pts).0
-        });
         // Face key -> input triangle (the last one listing it).
         let face_tri = surface::TripleIndex::new(
             pts.len(),
@@ -2044,37 +1861,23 @@ mod tests {
     use crate::tet::dmesh::tests::three_around_an_edge;
 
     #[test]
-    fn conforming_recovery_flips_the_ring_face() {
+    fn recovery_flips_the_ring_face() {
         // A bipyramid over triangle 0 1 2 with poles 3 and 4 close to its
         // plane, the triangle an internal facet: edge 3 4 has three
-        // tetrahedra around it, and the 3-2 flip of the flip phase (the
-        // invariant checker runs after it) makes 0 1 2 a face.
+        // tetrahedra around it, and removing it (a 3-2 flip, the invariant
+        // checker runs after it) makes 0 1 2 a face, with no Steiner point.
         let pts = three_around_an_edge();
         let mut tris: Vec<[u32; 3]> = (0..3).map(|i| [i, (i + 1) % 3, 3]).collect();
         tris.extend((0..3).map(|i| [(i + 1) % 3, i, 4]));
         tris.push([0, 1, 2]);
         let opts = RecoverOptions {
-            constrained: false,
             merge_coplanar: false,
             ..Default::default()
         };
         let r = recover(&pts, &tris, &opts).unwrap();
         check_recovered(&pts, &tris, &r).unwrap();
-        assert_eq!(r.report.flips32, 1);
+        assert_eq!(r.report.edge_removals, 1);
         assert_eq!(r.report.steiner(), 0);
         assert_eq!(r.mesh.tets.len(), 2);
-        // Without flips the triangle is split instead.
-        let r = recover(
-            &pts,
-            &tris,
-            &RecoverOptions {
-                flips: false,
-                ..opts
-            },
-        )
-        .unwrap();
-        check_recovered(&pts, &tris, &r).unwrap();
-        assert_eq!(r.report.flips32, 0);
-        assert!(r.report.steiner() > 0);
     }
 }

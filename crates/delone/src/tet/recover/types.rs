@@ -9,28 +9,20 @@ use crate::Error;
 ///
 /// ```
 /// let o = delone::tet::recover::RecoverOptions::default();
-/// assert!(o.flips && o.max_steiner > 0);
+/// assert!(o.max_steiner > 0 && !o.preserve_surface);
 /// ```
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RecoverOptions {
     /// Most Steiner points allowed; [`RecoverError::SteinerBudget`] beyond.
     /// Default 100 000.
     pub max_steiner: usize,
-    /// Try 3-2 flips before splitting a missing triangle. Default true.
-    pub flips: bool,
     /// Split a missing subsegment at the projection of the vertex that
     /// encroaches it most (Si & Gärtner's reference point) rather than at
     /// its midpoint. Default true.
     pub reference_points: bool,
-    /// Constrained recovery: recover missing subsegments and triangles by
-    /// flips (2-3 flips, edge removal) on a mesh that need not stay
-    /// Delaunay, inserting Steiner points only where the flips fail.
-    /// False: the conforming recovery (every missing item is split).
-    /// Default true.
-    pub constrained: bool,
     /// Surface preservation (TetGen's `-Y`): no Steiner point on any input
     /// edge or triangle; where flips fail, Steiner points go inside the
-    /// domain only. Implies `constrained`. Default false.
+    /// domain only. Default false.
     pub preserve_surface: bool,
     /// Merge edge-adjacent, exactly coplanar, consistently oriented input
     /// triangles (with equal markers, see [`recover_marked`](crate::tet::recover::recover_marked)) into facets
@@ -46,9 +38,7 @@ impl Default for RecoverOptions {
     fn default() -> Self {
         RecoverOptions {
             max_steiner: 100_000,
-            flips: true,
             reference_points: true,
-            constrained: true,
             preserve_surface: false,
             merge_coplanar: true,
         }
@@ -75,8 +65,6 @@ pub struct RecoverReport {
     /// Largest distance of an inexact Steiner point to its line or plane
     /// (in the input's units; 0 when all are exact).
     pub max_deviation: f64,
-    /// 3-2 flips performed (conforming path).
-    pub flips32: usize,
     /// 2-3 flips performed by the constrained recovery (final round).
     pub flips23: usize,
     /// Edge removals (3-2, 4-4, n to 2n-4 flips) performed by the

@@ -147,7 +147,6 @@ impl State {
         let mut opts = self.opts.clone();
         opts.preserve_surface = false;
         opts.merge_coplanar = false;
-        opts.constrained = true;
         // Whether every surface point comes off depends on where the `-p`
         // path put them (rounded points, nearly flat neighbours): when the
         // exact validation refuses a removal, the `-p` path is run again
