@@ -240,18 +240,6 @@ fn check_coords(points: &[[f64; 3]]) -> Result<(), Error> {
     }
 }
 
-/// True when `a, b, c` are collinear (exactly): all three coordinate-plane
-/// projections have zero signed area.
-fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
-    use delone_predicates::orient2d;
-    let xy = |p: &[f64; 3]| [p[0], p[1]];
-    let yz = |p: &[f64; 3]| [p[1], p[2]];
-    let zx = |p: &[f64; 3]| [p[2], p[0]];
-    orient2d(&xy(a), &xy(b), &xy(c)) == 0.0
-        && orient2d(&yz(a), &yz(b), &yz(c)) == 0.0
-        && orient2d(&zx(a), &zx(b), &zx(c)) == 0.0
-}
-
 /// Tries to extend an affinely independent `basis` (0..=3 points) with `id`.
 /// Returns true when `id` was added.
 fn extends_basis(pts: &[[f64; 3]], basis: &[u32], id: u32) -> bool {
@@ -260,7 +248,7 @@ fn extends_basis(pts: &[[f64; 3]], basis: &[u32], id: u32) -> bool {
     match basis.len() {
         0 => true,
         1 => p != b(0),
-        2 => !collinear(b(0), b(1), p),
+        2 => !crate::geom::vec3::collinear(b(0), b(1), p),
         3 => orient3d(b(0), b(1), b(2), p) != 0.0,
         _ => false,
     }

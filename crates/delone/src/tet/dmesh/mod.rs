@@ -99,6 +99,19 @@ pub(crate) struct DomainMesh {
     pub(crate) inner: Option<Vec<[u32; 3]>>,
 }
 
+/// The faces of an output view: see [`DomainMesh::output_faces`].
+#[derive(Debug, Default)]
+pub(crate) struct OutputFaces {
+    /// Per tetrahedron: its neighbours ([`NONE`] across the boundary).
+    pub(crate) neighbors: Vec<[u32; 4]>,
+    /// Boundary faces, and the input triangle of each.
+    pub(crate) boundary: Vec<[u32; 3]>,
+    pub(crate) boundary_triangle: Vec<u32>,
+    /// Subfaces between two tetrahedra, and the input triangle of each.
+    pub(crate) interior_faces: Vec<[u32; 3]>,
+    pub(crate) interior_triangle: Vec<u32>,
+}
+
 /// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
 /// subface bit), open new faces (key, word), removed vertices.
 type Scratch = (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>);
@@ -294,6 +307,40 @@ impl DomainMesh {
         }
         self.mask.shrink_to_fit();
         self.reg.shrink_to_fit();
+    }
+
+    /// The faces of the output view ([`crate::tet::recover::Recovered`]) of
+    /// a compacted mesh (every slot live, see [`DomainMesh::compact`]): per
+    /// tetrahedron its neighbours (tetrahedron indices, [`NONE`] across the
+    /// boundary); the boundary faces and the subfaces between two
+    /// tetrahedra (once, from the lower-numbered one), in tetrahedron and
+    /// face order, each seen from outside its tetrahedron, with
+    /// `tri(tet, face, key)`, the input triangle of each.
+    pub(crate) fn output_faces(&self, tri: impl Fn(usize, usize, [u32; 3]) -> u32) -> OutputFaces {
+        let mut out = OutputFaces {
+            neighbors: Vec::with_capacity(self.tv.len()),
+            ..OutputFaces::default()
+        };
+        for (t, &tv) in self.tv.iter().enumerate() {
+            let mut nbr = [NONE; 4];
+            for (f, x) in nbr.iter_mut().enumerate() {
+                let w = self.nb[t][f];
+                let [a, b, c] = face(tv, f);
+                let k = fkey([a, b, c]);
+                if w == NONE {
+                    out.boundary.push([a, c, b]);
+                    out.boundary_triangle.push(tri(t, f, k));
+                } else {
+                    *x = w >> 2;
+                    if self.mask[t] >> f & 1 == 1 && (t as u32) < *x {
+                        out.interior_faces.push([a, c, b]);
+                        out.interior_triangle.push(tri(t, f, k));
+                    }
+                }
+            }
+            out.neighbors.push(nbr);
+        }
+        out
     }
 
     /// Drops the subface and subsegment tables (the subface marks stay)

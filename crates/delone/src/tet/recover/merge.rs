@@ -48,6 +48,7 @@ use std::collections::{HashMap, HashSet};
 use delone_predicates::{orient2d, orient3d};
 
 use super::types::Recovered;
+use crate::geom::union_root;
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
 use crate::tet::local::ekey;
@@ -79,15 +80,6 @@ impl Merged {
             kept: 0,
         }
     }
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let p = parent[parent[x as usize] as usize];
-        parent[x as usize] = p;
-        x = p;
-    }
-    x
 }
 
 /// The axis dropped to project the plane of `a b c` (the largest normal
@@ -202,14 +194,17 @@ pub(crate) fn coplanar_groups(
         if oc == 0.0 || od == 0.0 || (oc > 0.0) == (od > 0.0) {
             continue;
         }
-        let (r1, r2) = (find(&mut parent, t1 as u32), find(&mut parent, t2 as u32));
+        let (r1, r2) = (
+            union_root(&mut parent, t1 as u32),
+            union_root(&mut parent, t2 as u32),
+        );
         if r1 != r2 {
             let (lo, hi) = (r1.min(r2), r1.max(r2));
             parent[hi as usize] = lo;
         }
     }
     (0..triangles.len() as u32)
-        .map(|t| find(&mut parent, t))
+        .map(|t| union_root(&mut parent, t))
         .collect()
 }
 

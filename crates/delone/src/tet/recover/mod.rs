@@ -1758,13 +1758,8 @@ impl State {
         // regions are interior faces (subfaces).
         // Per surface triangle: has a boundary face (a flag, no hashing).
         let mut has_boundary = vec![false; self.surf.tris.len()];
-        let mut new_id = vec![crate::NONE; m.tv.len()];
-        let mut tets = Vec::new();
-        let mut tet_region = Vec::new();
-        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
-            new_id[t] = tets.len() as u32;
-            tets.push(m.tv[t]);
-            tet_region.push(region[t]);
+        let kept: Vec<usize> = (0..m.tv.len()).filter(|&t| inside(t)).collect();
+        for &t in &kept {
             for (f, w) in m.nb[t].iter().enumerate() {
                 if !inside((w >> 2) as usize) {
                     if let Some(h) = has_boundary.get_mut(marks[t][f] as usize) {
@@ -1774,40 +1769,21 @@ impl State {
             }
         }
         let mut mask = vec![0u8; m.tv.len()];
-        let mut neighbors = Vec::with_capacity(tets.len());
-        let mut boundary = Vec::new();
-        let mut boundary_triangle = Vec::new();
-        let mut interior_faces = Vec::new();
-        let mut interior_triangle = Vec::new();
-        for t in (0..m.tv.len()).filter(|&t| inside(t)) {
-            let tv = m.tv[t];
-            let mut nb = [crate::NONE; 4];
-            for (f, n) in nb.iter_mut().enumerate() {
-                let w = m.nb[t][f];
+        for &t in &kept {
+            for (f, &w) in m.nb[t].iter().enumerate() {
                 let u = (w >> 2) as usize;
-                let [x, y, z] = FACET[f].map(|i| tv[i]);
-                let face = [x, z, y];
-                let on_tri = Some(marks[t][f]).filter(|&x| x != crate::NONE);
-                if inside(u) {
-                    *n = new_id[u];
-                    if let Some(ti) = on_tri {
-                        let between = region[t] != region[u];
-                        let sub =
-                            between || !has_boundary.get(ti as usize).copied().unwrap_or(false);
-                        if sub && new_id[t] < new_id[u] {
-                            interior_faces.push(face);
-                            interior_triangle.push(ti);
-                            mask[t] |= 1 << f;
-                            mask[u] |= 1 << (w & 3);
-                        }
-                    }
-                } else {
-                    boundary.push(face);
-                    boundary_triangle.push(on_tri.unwrap_or(crate::NONE));
+                let ti = marks[t][f];
+                // Subface bits on both sides: boundary faces, and faces on
+                // an input triangle between two regions or on an internal
+                // facet.
+                let sub = !inside(u)
+                    || (ti != crate::NONE
+                        && (region[t] != region[u]
+                            || !has_boundary.get(ti as usize).copied().unwrap_or(false)));
+                if sub {
                     mask[t] |= 1 << f;
                 }
             }
-            neighbors.push(nb);
         }
         let points: Vec<[f64; 3]> = (0..pts.len())
             .map(|i| {
@@ -1822,6 +1798,10 @@ impl State {
         for &(d, o) in dt.duplicates() {
             vertex_map[d as usize] = o;
         }
+        m.carve(region, mask, points.len());
+        // The carved mesh keeps the slots `kept`, in order.
+        let faces = m.output_faces(|t, f, _| marks[kept[t]][f]);
+        let (tets, tet_region) = (m.tv.clone(), m.reg.clone());
         for (tv, &g) in tets.iter().zip(&tet_region) {
             // Measured on the scaled points (no under- or overflow), then
             // brought back to input units.
@@ -1830,22 +1810,21 @@ impl State {
                 scale,
             );
         }
-        m.carve(region, mask, points.len());
         let rec = Recovered {
             points,
             mesh: TetMesh {
                 tets,
-                neighbors,
+                neighbors: faces.neighbors,
                 vertex_map,
                 duplicates: dt.duplicates().to_vec(),
                 hidden: Vec::new(),
             },
             surface: Vec::new(),
             surface_origin: Vec::new(),
-            boundary,
-            boundary_triangle,
-            interior_faces,
-            interior_triangle,
+            boundary: faces.boundary,
+            boundary_triangle: faces.boundary_triangle,
+            interior_faces: faces.interior_faces,
+            interior_triangle: faces.interior_triangle,
             tet_region,
             regions,
             inexact: self.inexact,

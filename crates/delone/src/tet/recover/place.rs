@@ -35,20 +35,10 @@
 //! angle are split at matching distances and do not encroach each other
 //! forever; the Steiner budget bounds the rest.
 
-pub(crate) use crate::geom::vec3::{cross, dot, sub};
+pub(crate) use crate::geom::vec3::{collinear, cross, dot, sub};
 use delone_predicates::{orient2d, orient3d};
 
 use crate::geom::vec3::P;
-
-/// Exact collinearity of three points.
-pub(crate) fn collinear(a: &P, b: &P, c: &P) -> bool {
-    let xy = |p: &P| [p[0], p[1]];
-    let yz = |p: &P| [p[1], p[2]];
-    let zx = |p: &P| [p[2], p[0]];
-    orient2d(&xy(a), &xy(b), &xy(c)) == 0.0
-        && orient2d(&yz(a), &yz(b), &yz(c)) == 0.0
-        && orient2d(&zx(a), &zx(b), &zx(c)) == 0.0
-}
 
 /// `a + s (b - a)`, per coordinate with one fused multiply-add.
 fn lerp(a: &P, b: &P, s: f64) -> P {

@@ -1935,17 +1935,6 @@ impl Cdr {
     /// The output, and the domain mesh compacted to its tetrahedra's order
     /// (to continue in place: see [`super::refine_in_place`]).
     pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
-        let n = self.m.tv.len();
-        let mut new_id = vec![NONE; n];
-        let mut tets = Vec::new();
-        let mut tet_region = Vec::new();
-        for t in 0..n {
-            if self.m.tv[t][0] != DEAD {
-                new_id[t] = tets.len() as u32;
-                tets.push(self.m.tv[t]);
-                tet_region.push(self.m.reg[t]);
-            }
-        }
         let unscale = 1.0 / self.s;
         let points: Vec<[f64; 3]> = (0..self.p.len())
             .map(|i| {
@@ -1956,39 +1945,13 @@ impl Cdr {
                 }
             })
             .collect();
-        let mut neighbors = Vec::with_capacity(tets.len());
-        let mut boundary = Vec::new();
-        let mut boundary_triangle = Vec::new();
-        let mut interior_faces = Vec::new();
-        let mut interior_triangle = Vec::new();
-        for t in 0..n {
-            let tv = self.m.tv[t];
-            if tv[0] == DEAD {
-                continue;
-            }
-            let mut nbr = [NONE; 4];
-            for (f, x) in nbr.iter_mut().enumerate() {
-                let w = self.m.nb[t][f];
-                let [a, b, c] = face(tv, f);
-                let k = fkey([a, b, c]);
-                if w == NONE {
-                    boundary.push([a, c, b]);
-                    boundary_triangle.push(self.m.ftri.get(&k).copied().unwrap_or(NONE));
-                } else {
-                    *x = new_id[(w >> 2) as usize];
-                    if self.m.mask[t] >> f & 1 == 1 && new_id[t] < *x {
-                        interior_faces.push([a, c, b]);
-                        interior_triangle.push(self.m.ftri.get(&k).copied().unwrap_or(NONE));
-                    }
-                }
-            }
-            neighbors.push(nbr);
-        }
-        for t in 0..n {
-            let tv = self.m.tv[t];
-            if tv[0] == DEAD {
-                continue;
-            }
+        self.m.compact(points.len());
+        let ftri = &self.m.ftri;
+        let faces = self
+            .m
+            .output_faces(|_, _, k| ftri.get(&k).copied().unwrap_or(NONE));
+        let (tets, tet_region) = (self.m.tv.clone(), self.m.reg.clone());
+        for (t, &tv) in tets.iter().enumerate() {
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
             let ps = tv.map(|q| self.p[q as usize]);
@@ -2050,21 +2013,20 @@ impl Cdr {
         self.inexact.dedup();
         let mut report = rec.report.clone();
         report.max_deviation = self.max_dev * unscale;
-        self.m.compact(points.len());
         let refined = Refined {
             rec: Recovered {
                 points,
                 mesh: TetMesh {
                     tets,
-                    neighbors,
+                    neighbors: faces.neighbors,
                     vertex_map,
                     duplicates: rec.mesh.duplicates.clone(),
                     hidden: rec.mesh.hidden.clone(),
                 },
-                boundary,
-                boundary_triangle,
-                interior_faces,
-                interior_triangle,
+                boundary: faces.boundary,
+                boundary_triangle: faces.boundary_triangle,
+                interior_faces: faces.interior_faces,
+                interior_triangle: faces.interior_triangle,
                 tet_region,
                 regions,
                 inexact: self.inexact,

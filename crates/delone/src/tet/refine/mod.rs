@@ -250,6 +250,7 @@ pub use options::{
 pub use report::{LeftBad, RefineReport, Refined};
 
 use super::recover::{recover_mesh, Domain, RecoverError, Recovered};
+use crate::geom::union_root;
 use crate::tet::dmesh::DomainMesh;
 use crate::NONE;
 
@@ -424,14 +425,7 @@ fn with_hull(triangles: &[[u32; 3]], rec: &Recovered) -> (Recovered, usize) {
         .collect();
     // Union-find over the hull faces: neighbours across an edge whose
     // fourth vertex lies exactly on the face's plane.
-    let mut parent: Vec<usize> = (0..hull.len()).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
+    let mut parent: Vec<u32> = (0..hull.len() as u32).collect();
     let mut by_edge: std::collections::HashMap<(u32, u32), Vec<usize>> = Default::default();
     for (k, &i) in hull.iter().enumerate() {
         let f = rec.boundary[i];
@@ -450,13 +444,16 @@ fn with_hull(triangles: &[[u32; 3]], rec: &Recovered) -> (Recovered, usize) {
                 continue;
             };
             if delone_predicates::orient3d(pt(fx[0]), pt(fx[1]), pt(fx[2]), pt(d)) == 0.0 {
-                let (a, b) = (find(&mut parent, x), find(&mut parent, y));
-                parent[a.max(b)] = a.min(b);
+                let (a, b) = (
+                    union_root(&mut parent, x as u32),
+                    union_root(&mut parent, y as u32),
+                );
+                parent[a.max(b) as usize] = a.min(b);
             }
         }
     }
     for (k, &i) in hull.iter().enumerate() {
-        let root = find(&mut parent, k);
+        let root = union_root(&mut parent, k as u32) as usize;
         ext.surface.push(rec.boundary[i]);
         ext.surface_origin.push((n + root) as u32);
         ext.boundary_triangle[i] = (n + k) as u32;
