@@ -151,7 +151,7 @@ use self::state::{FacesOn, RoundState, State, MAX_INTERIOR_ROUNDS};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::ekey;
 
-use self::surface::{Kind, Skeleton, Surface};
+use self::surface::{Kind, Surface};
 use super::dmesh::journal::{Journaled, OpLog};
 use super::dmesh::{Arrays, DomainMesh};
 use super::intersect::{check_self_intersections, manifold_report};
@@ -611,18 +611,6 @@ impl State {
         self.surf.add_on_edge(id, e, i);
         self.report.steiner_on_edges += 1;
         Ok(true)
-    }
-
-    fn missing_subsegments(&self, sk: &Skeleton) -> Vec<(u32, u32, u32)> {
-        let mut out = Vec::new();
-        for (e, chain) in self.surf.chains.iter().enumerate() {
-            for w in chain.windows(2) {
-                if !sk.edges.contains_key(&ekey(w[0], w[1])) {
-                    out.push((e as u32, w[0], w[1]));
-                }
-            }
-        }
-        out
     }
 
     /// Mesh edges crossing the interior of input triangle `t`, sorted,
@@ -1171,7 +1159,7 @@ impl State {
     }
 
     /// Debug builds: the incrementally kept coverage (and missing
-    /// subsegments) equal the global computation.
+    /// subsegments) equal the computation from scratch.
     #[cfg(debug_assertions)]
     fn debug_same_coverage(
         &self,
@@ -1180,9 +1168,7 @@ impl State {
         covered: &[bool],
         subs: Option<&[(u32, u32, u32)]>,
     ) {
-        let sk = Skeleton::of(cm.arrays(), true);
-        let (mut g_on, mut g_covered) = self.surf.coverage(&sk, cm.pts());
-        self.groups_global(sk.tets.iter().copied(), cm.pts(), &mut g_on, &mut g_covered);
+        let (g_on, g_covered) = self.coverage_all(cm);
         assert_eq!(g_covered, covered, "incremental coverage verdicts differ");
         for (t, (a, b)) in g_on.iter().zip(on).enumerate() {
             let (mut a, mut b) = (a.clone(), b.clone());
@@ -1192,7 +1178,7 @@ impl State {
         }
         if let Some(subs) = subs {
             assert_eq!(
-                self.missing_subsegments(&sk),
+                self.missing_subsegments_cm(cm, &g_covered),
                 subs,
                 "missing subsegments differ"
             );
@@ -1387,8 +1373,8 @@ impl State {
             .sum()
     }
 
-    /// The coverage of every input triangle on `cm`: the same faces (as
-    /// sets) and verdicts as [`Surface::coverage`], faster. A *plain*
+    /// The coverage of every input triangle on `cm`
+    /// ([`Surface::coverage_local`]'s faces, as sets, and verdicts). A *plain*
     /// triangle (no Steiner point on it, [`Surface::plain`]) can have only
     /// its own three corners as a face on it, and is covered exactly when
     /// that face exists: one pass over the faces of the tetrahedra with a
@@ -1449,8 +1435,8 @@ impl State {
         self.groups_global(tets, cm.pts(), on, covered);
     }
 
-    /// The subsegments that are not edges of `cm`, in the order of
-    /// [`Self::missing_subsegments`], given the coverage of `cm`: a
+    /// The subsegments that are not edges of `cm`, by input edge and along
+    /// its chain, given the coverage of `cm`: a
     /// subsegment of an input edge with a covered triangle is an edge of a
     /// face on it; only the chains of edges with no covered triangle are
     /// searched (locally, around their vertices).

@@ -279,7 +279,7 @@ impl Polygons {
             }
         }
         let bset: IdSet<(u32, u32)> = subs.iter().map(|&(_, u, v, _)| ekey(u, v)).collect();
-        // Chords (inexact Steiner points, see `Surface::coverage`): a flat
+        // Chords (inexact Steiner points, see `Surface::coverage_local`): a flat
         // face joins when one of its edges is a non-boundary edge of a face.
         let mut edge_faces: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
         let add = |edge_faces: &mut IdMap<(u32, u32), Vec<u32>>, f: [u32; 3], i: u32| {

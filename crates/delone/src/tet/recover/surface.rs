@@ -11,9 +11,8 @@
 use crate::geom::ids::{IdMap, IdSet};
 
 use crate::geom::vec3::{cross, dot, sub};
-use crate::tet::dmesh::Arrays;
-use crate::tet::local::{ekey, fkey, EDGES};
-use crate::tet::local::{DEAD, FACET, INF};
+use crate::tet::local::FACET;
+use crate::tet::local::{ekey, fkey};
 
 /// Where a vertex lies on the input surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,49 +164,6 @@ pub(crate) struct Surface {
     tri_index: TripleIndex,
     /// Per input triangle: how many Steiner points lie inside it.
     inner: Vec<u32>,
-}
-
-/// The mesh edges and faces of the current tetrahedralization.
-pub(crate) struct Skeleton {
-    /// Every finite edge, mapped to one tetrahedron slot containing it.
-    pub(crate) edges: IdMap<(u32, u32), u32>,
-    /// Every finite face (sorted vertex triple).
-    pub(crate) faces: Vec<[u32; 3]>,
-    /// Every finite tetrahedron (positively oriented).
-    pub(crate) tets: Vec<[u32; 4]>,
-}
-
-impl Skeleton {
-    /// The edges, and with `with_faces` the faces and tetrahedra, in slot
-    /// order (deterministic), of a mesh with ghost cells (vertices and
-    /// packed neighbour words per slot).
-    pub(crate) fn of((v, adj): Arrays<'_>, with_faces: bool) -> Skeleton {
-        let finite = v.iter().filter(|tv| tv[0] != DEAD && tv[3] != INF).count();
-        let mut edges = IdMap::with_capacity_and_hasher(finite * 2, Default::default());
-        let mut faces = Vec::new();
-        let mut tets = Vec::new();
-        for (t, tv) in v.iter().enumerate() {
-            if tv[0] == DEAD || tv.contains(&INF) {
-                continue;
-            }
-            for (i, j) in EDGES {
-                edges.entry(ekey(tv[i], tv[j])).or_insert(t as u32);
-            }
-            if !with_faces {
-                continue;
-            }
-            tets.push(*tv);
-            for f in 0..4 {
-                let u = (adj[t][f] >> 2) as usize;
-                if u < t && !v[u].contains(&INF) {
-                    continue;
-                }
-                let k = [tv[(f + 1) % 4], tv[(f + 2) % 4], tv[(f + 3) % 4]];
-                faces.push(fkey(k));
-            }
-        }
-        Skeleton { edges, faces, tets }
-    }
 }
 
 impl Surface {
@@ -417,100 +373,20 @@ impl Surface {
             .flat_map(move |&e| self.chains[e as usize].windows(2).map(|w| ekey(w[0], w[1])))
     }
 
-    /// Per input triangle, the mesh faces lying on it, and whether they
-    /// cover it exactly: the faces' edges used once are exactly the
+    /// The mesh faces lying on input triangle `t` (sorted), and whether
+    /// they cover it exactly: the faces' edges used once are exactly the
     /// subsegments of its boundary, every other edge is used twice. (Faces
     /// of a valid tetrahedralization never overlap, so a set of them inside
     /// the triangle whose mod-2 boundary is the triangle's boundary covers
-    /// it exactly once.)
+    /// it exactly once.) `tets`: the distinct finite tetrahedra having a
+    /// vertex on `t` (every face with its three vertices on `t` is a face
+    /// of one of them), so the cost is that of `t`'s neighbourhood only.
     ///
-    /// A tetrahedron whose four vertices all lie on one input triangle (a
-    /// sliver made by Steiner points that are not exactly on it) has all
-    /// four faces "on" the triangle; only its faces whose outward normal
-    /// points to the triangle's positive side are kept, so the sliver joins
-    /// the region below the triangle.
-    pub(crate) fn coverage(
-        &self,
-        sk: &Skeleton,
-        pts: &[[f64; 3]],
-    ) -> (Vec<Vec<[u32; 3]>>, Vec<bool>) {
-        let mut on = vec![Vec::new(); self.tris.len()];
-        let mut buf = Vec::new();
-        let mut flat_buf = Vec::new();
-        let mut flat: Vec<(u32, [u32; 3])> = Vec::new();
-        for &f in &sk.faces {
-            self.face_triangles_split(f, &mut buf, &mut flat_buf);
-            for &t in &buf {
-                on[t as usize].push(f);
-            }
-            flat.extend(flat_buf.iter().map(|&t| (t, f)));
-        }
-        let mut drop: Vec<(u32, [u32; 3])> = Vec::new();
-        let mut common = Vec::new();
-        for tv in &sk.tets {
-            self.face_triangles([tv[0], tv[1], tv[2]], &mut buf);
-            if buf.is_empty() {
-                continue;
-            }
-            self.face_triangles([tv[0], tv[1], tv[3]], &mut common);
-            for &t in buf.iter().filter(|t| common.contains(t)) {
-                if !self.on_triangle(tv[3], t as usize) {
-                    continue;
-                }
-                let [a, b, c] = self.tris[t as usize].map(|w| pts[w as usize]);
-                let nt = cross(&sub(&b, &a), &sub(&c, &a));
-                for fv in FACET {
-                    let [x, y, z] = fv.map(|i| pts[tv[i] as usize]);
-                    // Outward normal of the face: reverse of FACET order.
-                    let n = cross(&sub(&z, &x), &sub(&y, &x));
-                    if dot(&n, &nt) <= 0.0 {
-                        drop.push((t, fkey(fv.map(|i| tv[i]))));
-                    }
-                }
-            }
-        }
-        for (t, f) in drop {
-            on[t as usize].retain(|&g| g != f);
-        }
-        // Chords: with inexact Steiner points on an edge, a mesh edge
-        // joining two vertices of its chain can coexist with the
-        // subsegments between them, the thin face of three chain points
-        // closing the gap. Such a face joins the triangle whose faces use
-        // the chord, until no more apply.
-        let mut changed = true;
-        while changed && !flat.is_empty() {
-            changed = false;
-            let mut rest = Vec::new();
-            for (t, f) in flat {
-                let bnd = |e: (u32, u32)| self.boundary(t as usize).any(|b| b == e);
-                let uses = |e: (u32, u32)| {
-                    on[t as usize]
-                        .iter()
-                        .any(|g| (0..3).any(|k| ekey(g[k], g[(k + 1) % 3]) == e))
-                };
-                let chord = (0..3)
-                    .map(|k| ekey(f[k], f[(k + 1) % 3]))
-                    .any(|e| !bnd(e) && uses(e));
-                if chord {
-                    on[t as usize].push(f);
-                    changed = true;
-                } else {
-                    rest.push((t, f));
-                }
-            }
-            flat = rest;
-        }
-        let covered = (0..self.tris.len())
-            .map(|t| self.covers(t, &on[t]))
-            .collect();
-        (on, covered)
-    }
-
-    /// [`Surface::coverage`] for the one input triangle `t`, from `tets`:
-    /// the distinct finite tetrahedra having a vertex on `t` (every face
-    /// with its three vertices on `t` is a face of one of them). Gives the
-    /// same faces (sorted) and the same verdict as the global computation
-    /// gives for `t`, at the cost of `t`'s neighbourhood only.
+    /// A tetrahedron whose four vertices all lie on `t` (a sliver made by
+    /// Steiner points that are not exactly on it) has all four faces "on"
+    /// the triangle; only its faces whose outward normal points to the
+    /// triangle's positive side are kept, so the sliver joins the region
+    /// below the triangle.
     pub(crate) fn coverage_local(
         &self,
         t: usize,
@@ -565,7 +441,12 @@ impl Surface {
             }
         }
         on.retain(|f| !drop.contains(f));
-        // Chords (see `coverage`): closure, so the order does not matter.
+        // Chords: with inexact Steiner points on an edge, a mesh edge
+        // joining two vertices of its chain can coexist with the
+        // subsegments between them, the thin face of three chain points
+        // closing the gap. Such a face joins the triangle whose faces use
+        // the chord, until no more apply (a closure, so the order does not
+        // matter).
         let mut changed = true;
         while changed && !flat.is_empty() {
             changed = false;
