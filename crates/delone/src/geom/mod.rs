@@ -33,6 +33,24 @@ pub(crate) fn lloyd<const D: usize>(
     Ok(pts)
 }
 
+/// A default Steiner budget of either dimension: `base` + 16 per input
+/// vertex + 2 per element the size bounds ask for (`elements`; none when
+/// not finite and positive), at most `max`.
+pub(crate) fn steiner_budget(
+    (base, max): (usize, usize),
+    input_points: usize,
+    elements: f64,
+) -> usize {
+    let asked = if elements.is_finite() && elements > 0.0 {
+        (2.0 * elements).min(max as f64) as usize
+    } else {
+        0
+    };
+    base.saturating_add(input_points.saturating_mul(16))
+        .saturating_add(asked)
+        .min(max)
+}
+
 /// The root of `x` in the union-find forest `parent` (a root is its own
 /// parent), halving the path on the way.
 pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {

@@ -380,9 +380,6 @@ impl Phases {
     }
 }
 
-/// At most this many threads by default (see [`Voronoi3::default_threads`]).
-const MAX_THREADS: usize = 8;
-
 /// At least this many tetrahedra per chunk.
 const MIN_CHUNK: usize = 1 << 14;
 
@@ -1054,16 +1051,14 @@ impl Voronoi3 {
     }
 
     /// The default thread count of [`Voronoi3::new`]: the available
-    /// parallelism, at most 8.
+    /// parallelism, at most 8 (as [`crate::tri::refine::default_threads`]).
     ///
     /// ```
     /// let t = delone::tet::Voronoi3::default_threads();
     /// assert!((1..=8).contains(&t));
     /// ```
     pub fn default_threads() -> usize {
-        std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(MAX_THREADS)
+        crate::tri::refine::default_threads()
     }
 
     /// The power diagram of weighted `points` from their regular

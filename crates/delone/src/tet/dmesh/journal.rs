@@ -387,9 +387,7 @@ impl<'a> Journaled<'a> {
     /// True when finite `tv` is strictly positive.
     #[inline]
     pub(crate) fn positive(&self, tv: [u32; 4]) -> bool {
-        let p = self.pts();
-        let g = |i: usize| &p[tv[i] as usize];
-        orient3d(g(0), g(1), g(2), g(3)) < 0.0
+        super::flip::positive(self.pts(), tv)
     }
 
     /// Live tetrahedra (ghosts included) containing vertex `u`, breadth

@@ -106,15 +106,7 @@ pub const MIN_RADIUS_EDGE: f64 = 0.612_372_435_695_794_5;
 /// assert_eq!(default_budget(10, 1e15), BUDGET_MAX);
 /// ```
 pub fn default_budget(input_points: usize, volume_ratio: f64) -> usize {
-    let vol = if volume_ratio.is_finite() && volume_ratio > 0.0 {
-        (2.0 * volume_ratio).min(BUDGET_MAX as f64) as usize
-    } else {
-        0
-    };
-    BUDGET_BASE
-        .saturating_add(input_points.saturating_mul(16))
-        .saturating_add(vol)
-        .min(BUDGET_MAX)
+    crate::geom::steiner_budget((BUDGET_BASE, BUDGET_MAX), input_points, volume_ratio)
 }
 
 /// Estimated peak memory, in bytes, of a refinement that ends with

@@ -141,15 +141,7 @@ pub const BYTES_PER_POINT: u64 = 200;
 /// assert_eq!(default_budget(100, 1e12), BUDGET_MAX);
 /// ```
 pub fn default_budget(input_points: usize, predicted_triangles: f64) -> usize {
-    let area = if predicted_triangles.is_finite() && predicted_triangles > 0.0 {
-        (2.0 * predicted_triangles).min(BUDGET_MAX as f64) as usize
-    } else {
-        0
-    };
-    BUDGET_BASE
-        .saturating_add(input_points.saturating_mul(16))
-        .saturating_add(area)
-        .min(BUDGET_MAX)
+    crate::geom::steiner_budget((BUDGET_BASE, BUDGET_MAX), input_points, predicted_triangles)
 }
 
 /// Estimated peak memory, in bytes, of a refinement that ends with
