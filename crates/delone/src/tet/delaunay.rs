@@ -820,7 +820,6 @@ impl<'a> Delaunay3<'a> {
     /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_delaunay().unwrap();
     /// ```
     pub fn check_delaunay(&self) -> Result<(), Violation> {
-        use delone_predicates::{insphere, insphere_weighted};
         let c = &self.core;
         let pts: &[[f64; 3]] = &self.points;
         let p = |q: u32| &pts[q as usize];
@@ -858,26 +857,9 @@ impl<'a> Delaunay3<'a> {
                 if apex == INF || u < t {
                     continue;
                 }
-                // insphere > 0 means inside for orient3d > 0; ours are negative.
-                let inside = match self.weights.as_deref() {
-                    None => insphere(p(tv[1]), p(tv[0]), p(tv[2]), p(tv[3]), p(apex)),
-                    Some(w) => {
-                        let w = |q: u32| w[q as usize];
-                        insphere_weighted(
-                            p(tv[1]),
-                            p(tv[0]),
-                            p(tv[2]),
-                            p(tv[3]),
-                            p(apex),
-                            w(tv[1]),
-                            w(tv[0]),
-                            w(tv[2]),
-                            w(tv[3]),
-                            w(apex),
-                        )
-                    }
-                };
-                if inside > 0.0 {
+                // The in-sphere test wants orient3d > 0; ours are negative.
+                let t1 = [tv[1], tv[0], tv[2], tv[3]];
+                if super::mesh::conflict(pts, self.weights.as_deref(), t1, apex) {
                     return Err(Violation::new(
                         "delaunay",
                         format!(

@@ -342,7 +342,7 @@ fn validate_impl(
 
 /// Is `q` strictly in conflict with the (orthogonal) sphere of the
 /// tetrahedron `t`, given with `orient3d(t) > 0`?
-fn conflict(points: &[[f64; 3]], weights: Option<&[f64]>, t: [u32; 4], q: u32) -> bool {
+pub(crate) fn conflict(points: &[[f64; 3]], weights: Option<&[f64]>, t: [u32; 4], q: u32) -> bool {
     let p = |i: u32| &points[i as usize];
     match weights {
         None => insphere(p(t[0]), p(t[1]), p(t[2]), p(t[3]), p(q)) > 0.0,

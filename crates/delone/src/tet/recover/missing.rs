@@ -1,7 +1,7 @@
 //! Which input edges and triangles are missing from a tetrahedralization
 //! (exact, by vertex ids).
 
-use crate::tet::local::{ekey, fkey, EDGES};
+use crate::tet::local::{ekey, face, fkey, EDGES};
 use std::collections::HashSet;
 
 /// The input edges and triangles that are not edges and faces of a
@@ -51,15 +51,7 @@ pub fn missing(triangles: &[[u32; 3]], tets: impl IntoIterator<Item = [u32; 4]>)
             edges.insert(ekey(tv[i], tv[j]));
         }
         for f in 0..4 {
-            let mut k = [0u32; 3];
-            let mut n = 0;
-            for (i, &q) in tv.iter().enumerate() {
-                if i != f {
-                    k[n] = q;
-                    n += 1;
-                }
-            }
-            faces.insert(fkey(k));
+            faces.insert(fkey(face(tv, f)));
         }
     }
     let mut out = Missing::default();
