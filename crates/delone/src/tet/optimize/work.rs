@@ -185,8 +185,10 @@ pub(super) struct Work {
     /// The open transaction's undo log ([`Work::begin`]).
     log: Option<Vec<Undo>>,
     /// Tetrahedra created, or whose shape changed, in the open
-    /// transaction (some may be gone since).
-    pub touched: Vec<[u32; 4]>,
+    /// transaction, with the slot each got (some may be gone since: a slot
+    /// holds its tetrahedron while it reads the same vertices; one made
+    /// again is listed again with its new slot).
+    pub touched: Vec<(u32, [u32; 4])>,
     /// Smallest quality, before the transaction, of the tetrahedra it
     /// destroyed or reshaped.
     pub lost: f64,
@@ -571,11 +573,14 @@ impl Work {
                 new: new.to_vec(),
                 region,
             });
-            self.touched.extend_from_slice(new);
             self.touched_set.extend(new.iter().copied());
         }
         let mut ids = Vec::with_capacity(new.len());
         let left = self.m.replace(old, new, region, &mut ids);
+        if self.log.is_some() {
+            self.touched
+                .extend(ids.iter().copied().zip(new.iter().copied()));
+        }
         self.q.resize(self.m.tv.len(), 0.0);
         for &x in &ids {
             let tv = self.m.tv[x as usize];
@@ -855,7 +860,7 @@ impl Work {
             for &t in &star {
                 let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
-                    self.touched.push(tv);
+                    self.touched.push((t, tv));
                 }
             }
         }
@@ -1099,28 +1104,36 @@ impl Work {
         self.touched_set.clear();
     }
 
-    /// The live slot holding exactly `tv`, if any.
-    pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
-        for w in tv {
-            let h = self.m.vt.get(w as usize).copied().unwrap_or(DEAD);
-            if h != DEAD && self.m.tv[h as usize] == tv {
+    /// The live slot holding exactly `tv`, if any: `hint` (a slot that
+    /// held it, or [`NONE`]), a vertex's slot, else the first found by a
+    /// walk of the star of `tv[0]`.
+    pub(super) fn slot_of(&self, tv: [u32; 4], hint: u32) -> Option<u32> {
+        let vt = |w: u32| self.m.vt.get(w as usize).copied().unwrap_or(DEAD);
+        for h in std::iter::once(hint).chain(tv.map(vt)) {
+            if self.m.tv.get(h as usize) == Some(&tv) {
                 return Some(h);
             }
         }
-        self.star(tv[0])
-            .into_iter()
-            .find(|&t| self.m.tv[t as usize] == tv)
+        let mut out = Vec::new();
+        self.m.star_walk(
+            tv[0],
+            &mut out,
+            |_, _| true,
+            |t| self.m.tv[t as usize] == tv,
+        )
+    }
+
+    /// The transaction's touched tetrahedra that are live, with their
+    /// slots (a tetrahedron made more than once may be listed twice).
+    pub(super) fn live_touched(&self) -> impl Iterator<Item = (u32, [u32; 4])> + '_ {
+        let live = |&(s, tv): &(u32, [u32; 4])| self.m.tv[s as usize] == tv;
+        self.touched.iter().copied().filter(live)
     }
 
     /// Smallest quality of the transaction's live touched tetrahedra.
     pub(super) fn touched_min(&self) -> f64 {
-        let mut m = f64::INFINITY;
-        for &tv in &self.touched {
-            if let Some(t) = self.slot_of(tv) {
-                m = m.min(self.q[t as usize]);
-            }
-        }
-        m
+        let q = self.live_touched().map(|(s, _)| self.q[s as usize]);
+        q.fold(f64::INFINITY, f64::min)
     }
 
     /// Undoes the transaction's changes, newest first.
@@ -1133,7 +1146,8 @@ impl Work {
         for u in log.into_iter().rev() {
             match u {
                 Undo::Replace { old, new, region } => {
-                    let slots: Option<Vec<u32>> = new.iter().map(|&tv| self.slot_of(tv)).collect();
+                    let slots: Option<Vec<u32>> =
+                        new.iter().map(|&tv| self.slot_of(tv, NONE)).collect();
                     if let Some(slots) = slots {
                         self.replace(&slots, &old, region);
                     } else {
