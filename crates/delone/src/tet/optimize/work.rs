@@ -451,15 +451,22 @@ impl Work {
         let u = self.m.across(t, f);
         let a = tv[f];
         let b = *self.m.tv[u as usize].iter().find(|w| !tv.contains(w))?;
-        // Edge `a b` must not exist already.
-        if self
-            .star(a)
-            .iter()
-            .any(|&s| self.m.tv[s as usize].contains(&b))
+        // Edge `a b` must not exist already. It cannot when it crosses the
+        // face's interior (exact; `a` and `b` are on either side of it),
+        // which needs no walk of the star of `a`.
+        let [x, y, z] = face(tv, f);
+        let g = |w: u32| &self.p[w as usize];
+        let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
+        let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
+        let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
+        if !crosses
+            && self
+                .m
+                .star_walk(a, &mut Vec::new(), |_, _| true, has_b)
+                .is_some()
         {
             return None;
         }
-        let [x, y, z] = face(tv, f);
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
