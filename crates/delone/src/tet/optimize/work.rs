@@ -77,15 +77,14 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let Some((det, n, l)) = dihedral_terms(p) else {
         return -1.0;
     };
-    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)`.
-    let mut q2 = f64::INFINITY;
-    for (len2, k, m) in l {
-        let d = n[k] * n[m];
-        if d.is_nan() || d <= 0.0 {
-            return -1.0;
-        }
-        q2 = q2.min(len2 / d);
+    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (the six
+    // products checked first, then divided, which lets them run in
+    // parallel).
+    let d = l.map(|(_, k, m)| n[k] * n[m]);
+    if d.iter().any(|&x| !(x > 0.0)) {
+        return -1.0;
     }
+    let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
     let q = det * q2.sqrt();
     if q.is_finite() {
         q
