@@ -769,9 +769,10 @@ impl Work {
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
+        let mut grads: Vec<[f64; 3]> = Vec::new();
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
-            let mut grads: Vec<[f64; 3]> = Vec::new();
+            grads.clear();
             for (i, &qi) in qs.iter().enumerate() {
                 if qi > cur + 1e-3 {
                     continue;
