@@ -81,7 +81,7 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     // products checked first, then divided, which lets them run in
     // parallel).
     let d = l.map(|(_, k, m)| n[k] * n[m]);
-    if d.iter().any(|&x| !(x > 0.0)) {
+    if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
         return -1.0;
     }
     let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
