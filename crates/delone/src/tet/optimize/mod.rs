@@ -1315,11 +1315,9 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     }
     let mut e: Vec<usize> = (0..6).collect();
     e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
-    let mut t = t;
     for &k in &e[..2] {
-        t = match w.slot_of(tv, t) {
-            Some(t) => t,
-            None => return false,
+        let Some(t) = w.slot_of(tv, t) else {
+            return false;
         };
         let (i, j) = super::quality::EDGES[k];
         let m = std::array::from_fn(|d| 0.5 * (p[i][d] + p[j][d]));
@@ -1369,12 +1367,10 @@ fn try_lifted(
     if !(area > 0.0 && s > 0.0) {
         return false;
     }
-    let mut t = NONE;
     for h in [0.6, -0.6, 0.3, -0.3, 0.12, -0.12, 0.05, -0.05].map(|k| k * s) {
         let x = std::array::from_fn(|k| h.mul_add(n[k], g[k]));
-        t = match w.slot_of(tv, t) {
-            Some(t) => t,
-            None => return false,
+        let Some(t) = w.slot_of(tv, NONE) else {
+            return false;
         };
         let Some(cav) = w.lifted_cavity(t, x, MAX_LIFTED_CAVITY) else {
             continue;
@@ -1478,7 +1474,8 @@ fn try_insert_at(
             break;
         }
     }
-    if w.touched_min() > w.lost + 1e-9 {
+    let touched = w.live_touched().map(|(s, _)| w.q[s as usize]);
+    if touched.fold(f64::INFINITY, f64::min) > w.lost + 1e-9 {
         w.commit();
         report.inserted += 1;
         report.flips23 += scratch.flips23;

@@ -77,9 +77,8 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let Some((det, n, l)) = dihedral_terms(p) else {
         return -1.0;
     };
-    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (the six
-    // products checked first, then divided, which lets them run in
-    // parallel).
+    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (all checked
+    // before the divisions, which then run in parallel).
     let d = l.map(|(_, k, m)| n[k] * n[m]);
     if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
         return -1.0;
@@ -458,12 +457,8 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        if !crosses
-            && self
-                .m
-                .star_walk(a, &mut Vec::new(), |_, _| true, has_b)
-                .is_some()
-        {
+        let found = |a| self.m.star_walk(a, &mut vec![], |_, _| true, has_b);
+        if !crosses && found(a).is_some() {
             return None;
         }
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
@@ -1135,12 +1130,6 @@ impl Work {
     pub(super) fn live_touched(&self) -> impl Iterator<Item = (u32, [u32; 4])> + '_ {
         let live = |&(s, tv): &(u32, [u32; 4])| self.m.tv[s as usize] == tv;
         self.touched.iter().copied().filter(live)
-    }
-
-    /// Smallest quality of the transaction's live touched tetrahedra.
-    pub(super) fn touched_min(&self) -> f64 {
-        let q = self.live_touched().map(|(s, _)| self.q[s as usize]);
-        q.fold(f64::INFINITY, f64::min)
     }
 
     /// Undoes the transaction's changes, newest first.
