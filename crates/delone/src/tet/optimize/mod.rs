@@ -1032,7 +1032,7 @@ fn improve(
             return true;
         }
         // (Undone: the tetrahedron may be back in another slot.)
-        match w.slot_of(tv0) {
+        match w.slot_of(tv0, t) {
             Some(s) => t = s,
             None => return false,
         }
@@ -1077,7 +1077,7 @@ fn improve(
     }
     // Last, removal of a vertex the optimiser inserted, by collapsing it
     // onto a neighbour (a point that settled badly among fixed ones).
-    if opts.insert && w.slot_of(tv).is_some() {
+    if opts.insert && w.slot_of(tv, t).is_some() {
         for v in tv {
             if try_collapse(w, v, f64::INFINITY, w.n0) {
                 report.collapsed += 1;
@@ -1289,7 +1289,7 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     if try_insert_at(w, t, c, Cavity::Near, opts, report) {
         return true;
     }
-    match w.slot_of(tv) {
+    match w.slot_of(tv, t) {
         Some(t) if try_insert_at(w, t, c, Cavity::Sphere, opts, report) => return true,
         Some(_) => {}
         None => return false,
@@ -1316,7 +1316,7 @@ fn try_insert(w: &mut Work, t: u32, opts: &OptimizeOptions, report: &mut Optimiz
     let mut e: Vec<usize> = (0..6).collect();
     e.sort_by(|&a, &b| s[a].total_cmp(&s[b]).then(a.cmp(&b)));
     for &k in &e[..2] {
-        let Some(t) = w.slot_of(tv) else {
+        let Some(t) = w.slot_of(tv, t) else {
             return false;
         };
         let (i, j) = super::quality::EDGES[k];
@@ -1369,7 +1369,7 @@ fn try_lifted(
     }
     for h in [0.6, -0.6, 0.3, -0.3, 0.12, -0.12, 0.05, -0.05].map(|k| k * s) {
         let x = std::array::from_fn(|k| h.mul_add(n[k], g[k]));
-        let Some(t) = w.slot_of(tv) else {
+        let Some(t) = w.slot_of(tv, NONE) else {
             return false;
         };
         let Some(cav) = w.lifted_cavity(t, x, MAX_LIFTED_CAVITY) else {
@@ -1449,18 +1449,16 @@ fn try_insert_at(
     }
     'settle: for _ in 0..3 {
         let mut bad: Vec<(f64, u32, [u32; 4])> = w
-            .touched
-            .clone()
-            .into_iter()
-            .filter_map(|tv| w.slot_of(tv).map(|s| (w.q[s as usize], s, tv)))
+            .live_touched()
+            .map(|(s, tv)| (w.q[s as usize], s, tv))
             // Only those at or below the bar decide the outcome.
             .filter(|x| x.0 <= w.lost + SETTLE_MARGIN)
             .collect();
         bad.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
         bad.dedup_by_key(|x| x.2);
         let mut any = false;
-        for (k, (q, _, tv)) in bad.into_iter().enumerate() {
-            if let Some(s) = w.slot_of(tv) {
+        for (k, (q, s, tv)) in bad.into_iter().enumerate() {
+            if let Some(s) = w.slot_of(tv, s) {
                 let ok = improve(w, s, 1.0, &local, 0, 0.0, &mut scratch);
                 // Unless `thorough`: the worst new tetrahedron, below the
                 // bar, resists flips and smoothing — the insertion fails.
@@ -1476,7 +1474,8 @@ fn try_insert_at(
             break;
         }
     }
-    if w.touched_min() > w.lost + 1e-9 {
+    let touched = w.live_touched().map(|(s, _)| w.q[s as usize]);
+    if touched.fold(f64::INFINITY, f64::min) > w.lost + 1e-9 {
         w.commit();
         report.inserted += 1;
         report.flips23 += scratch.flips23;

@@ -77,15 +77,13 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
     let Some((det, n, l)) = dihedral_terms(p) else {
         return -1.0;
     };
-    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)`.
-    let mut q2 = f64::INFINITY;
-    for (len2, k, m) in l {
-        let d = n[k] * n[m];
-        if d.is_nan() || d <= 0.0 {
-            return -1.0;
-        }
-        q2 = q2.min(len2 / d);
+    // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (all checked
+    // before the divisions, which then run in parallel).
+    let d = l.map(|(_, k, m)| n[k] * n[m]);
+    if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
+        return -1.0;
     }
+    let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
     let q = det * q2.sqrt();
     if q.is_finite() {
         q
@@ -185,8 +183,10 @@ pub(super) struct Work {
     /// The open transaction's undo log ([`Work::begin`]).
     log: Option<Vec<Undo>>,
     /// Tetrahedra created, or whose shape changed, in the open
-    /// transaction (some may be gone since).
-    pub touched: Vec<[u32; 4]>,
+    /// transaction, with the slot each got (some may be gone since: a slot
+    /// holds its tetrahedron while it reads the same vertices; one made
+    /// again is listed again with its new slot).
+    pub touched: Vec<(u32, [u32; 4])>,
     /// Smallest quality, before the transaction, of the tetrahedra it
     /// destroyed or reshaped.
     pub lost: f64,
@@ -449,15 +449,18 @@ impl Work {
         let u = self.m.across(t, f);
         let a = tv[f];
         let b = *self.m.tv[u as usize].iter().find(|w| !tv.contains(w))?;
-        // Edge `a b` must not exist already.
-        if self
-            .star(a)
-            .iter()
-            .any(|&s| self.m.tv[s as usize].contains(&b))
-        {
+        // Edge `a b` must not exist already. It cannot when it crosses the
+        // face's interior (exact; `a` and `b` are on either side of it),
+        // which needs no walk of the star of `a`.
+        let [x, y, z] = face(tv, f);
+        let g = |w: u32| &self.p[w as usize];
+        let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
+        let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
+        let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
+        let found = |a| self.m.star_walk(a, &mut vec![], |_, _| true, has_b);
+        if !crosses && found(a).is_some() {
             return None;
         }
-        let [x, y, z] = face(tv, f);
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
@@ -571,11 +574,14 @@ impl Work {
                 new: new.to_vec(),
                 region,
             });
-            self.touched.extend_from_slice(new);
             self.touched_set.extend(new.iter().copied());
         }
         let mut ids = Vec::with_capacity(new.len());
         let left = self.m.replace(old, new, region, &mut ids);
+        if self.log.is_some() {
+            self.touched
+                .extend(ids.iter().copied().zip(new.iter().copied()));
+        }
         self.q.resize(self.m.tv.len(), 0.0);
         for &x in &ids {
             let tv = self.m.tv[x as usize];
@@ -758,9 +764,10 @@ impl Work {
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
+        let mut grads: Vec<[f64; 3]> = Vec::new();
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
-            let mut grads: Vec<[f64; 3]> = Vec::new();
+            grads.clear();
             for (i, &qi) in qs.iter().enumerate() {
                 if qi > cur + 1e-3 {
                     continue;
@@ -855,7 +862,7 @@ impl Work {
             for &t in &star {
                 let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
-                    self.touched.push(tv);
+                    self.touched.push((t, tv));
                 }
             }
         }
@@ -1099,28 +1106,30 @@ impl Work {
         self.touched_set.clear();
     }
 
-    /// The live slot holding exactly `tv`, if any.
-    pub(super) fn slot_of(&self, tv: [u32; 4]) -> Option<u32> {
-        for w in tv {
-            let h = self.m.vt.get(w as usize).copied().unwrap_or(DEAD);
-            if h != DEAD && self.m.tv[h as usize] == tv {
+    /// The live slot holding exactly `tv`, if any: `hint` (a slot that
+    /// held it, or [`NONE`]), a vertex's slot, else the first found by a
+    /// walk of the star of `tv[0]`.
+    pub(super) fn slot_of(&self, tv: [u32; 4], hint: u32) -> Option<u32> {
+        let vt = |w: u32| self.m.vt.get(w as usize).copied().unwrap_or(DEAD);
+        for h in std::iter::once(hint).chain(tv.map(vt)) {
+            if self.m.tv.get(h as usize) == Some(&tv) {
                 return Some(h);
             }
         }
-        self.star(tv[0])
-            .into_iter()
-            .find(|&t| self.m.tv[t as usize] == tv)
+        let mut out = Vec::new();
+        self.m.star_walk(
+            tv[0],
+            &mut out,
+            |_, _| true,
+            |t| self.m.tv[t as usize] == tv,
+        )
     }
 
-    /// Smallest quality of the transaction's live touched tetrahedra.
-    pub(super) fn touched_min(&self) -> f64 {
-        let mut m = f64::INFINITY;
-        for &tv in &self.touched {
-            if let Some(t) = self.slot_of(tv) {
-                m = m.min(self.q[t as usize]);
-            }
-        }
-        m
+    /// The transaction's touched tetrahedra that are live, with their
+    /// slots (a tetrahedron made more than once may be listed twice).
+    pub(super) fn live_touched(&self) -> impl Iterator<Item = (u32, [u32; 4])> + '_ {
+        let live = |&(s, tv): &(u32, [u32; 4])| self.m.tv[s as usize] == tv;
+        self.touched.iter().copied().filter(live)
     }
 
     /// Undoes the transaction's changes, newest first.
@@ -1133,7 +1142,8 @@ impl Work {
         for u in log.into_iter().rev() {
             match u {
                 Undo::Replace { old, new, region } => {
-                    let slots: Option<Vec<u32>> = new.iter().map(|&tv| self.slot_of(tv)).collect();
+                    let slots: Option<Vec<u32>> =
+                        new.iter().map(|&tv| self.slot_of(tv, NONE)).collect();
                     if let Some(slots) = slots {
                         self.replace(&slots, &old, region);
                     } else {
