@@ -121,6 +121,7 @@ pub fn adapt_tri(
         report: AdaptReport::default(),
         #[cfg(test)]
         areas: Vec::new(),
+        #[cfg(test)]
         regions: mesh.element_refs.clone(),
     };
     #[cfg(test)]
@@ -248,6 +249,7 @@ struct Run<'a> {
     #[cfg(test)]
     areas: Vec<(i32, f64)>,
     /// The input's element references.
+    #[cfg(test)]
     regions: Vec<i32>,
 }
 
