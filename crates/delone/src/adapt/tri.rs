@@ -104,11 +104,11 @@ pub fn adapt_tri(
             *f = true;
         }
     }
-    let mut parents: Vec<([f64; 2], [f64; 2], i32)> = Vec::new();
-    for (k, &[a, b]) in mesh.faces.iter().chain(&added).enumerate() {
-        let r = mesh.face_refs.get(k).copied().unwrap_or(0);
-        parents.push((mesh.points[a as usize], mesh.points[b as usize], r));
-    }
+    let refs: Vec<i32> = (0..mesh.faces.len() + added.len())
+        .map(|k| mesh.face_refs.get(k).copied().unwrap_or(0))
+        .collect();
+    let mut m = m;
+    let parents = straight_chains(&mut m, &fixed, &refs);
     let mut run = Run {
         m,
         vt,
@@ -131,7 +131,9 @@ pub fn adapt_tri(
     }
     let mut phases = [0.0; 5];
     phases[0] = clock.elapsed().as_secs_f64();
+    let (mut best, mut stall, mut splits) = (usize::MAX, 0, 0);
     for _ in 0..options.max_passes {
+        // Topological changes (splits, collapses, swaps) of this pass.
         let mut changed = 0;
         let t = Instant::now();
         if options.insert {
@@ -149,12 +151,25 @@ pub fn adapt_tri(
         }
         phases[3] += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        if options.smooth {
-            changed += run.smooth_pass();
-        }
+        let moves = if options.smooth { run.smooth_pass() } else { 0 };
         phases[4] += t.elapsed().as_secs_f64();
         run.report.passes += 1;
-        if changed == 0 || run.report.budget_reached {
+        // Done when nothing changes, or when the mesh has stopped growing
+        // (splits under 5% of the vertices) and its edges out of range have
+        // not become fewer for three passes (edges that no operation brings
+        // into range, split and collapsed again).
+        let bad = run
+            .edges_where(|l| !(FRAC_1_SQRT_2..=SQRT_2).contains(&l))
+            .len();
+        let grew = (run.report.splits - splits) * 20 > run.live_vertices();
+        splits = run.report.splits;
+        if bad < best || grew {
+            (best, stall) = (bad, 0);
+        } else {
+            stall += 1;
+        }
+        let settled = changed == 0 && moves == 0 || stall >= 3;
+        if settled || run.report.budget_reached {
             break;
         }
     }
@@ -168,6 +183,81 @@ pub fn adapt_tri(
         .phases
         .push(("output", t.elapsed().as_secs_f64()));
     Ok(out)
+}
+
+/// Joins the constrained edges into maximal straight chains of one
+/// reference (through vertices of exactly two such edges, neither fixed,
+/// collinear up to rounding and pointing apart): each chain becomes the
+/// parent of its subsegments, with the parameters of their ends along it.
+/// Returns each chain's ends and reference. A subsegment's `parent` is its
+/// face index (into `refs`) on entry.
+fn straight_chains(m: &mut CMesh, fixed: &[bool], refs: &[i32]) -> Vec<([f64; 2], [f64; 2], i32)> {
+    let nv = m.xy.len();
+    // The constrained edges at each vertex (at most 2 kept; 3 = more).
+    let mut at: Vec<Vec<u32>> = vec![Vec::new(); nv];
+    for (s, sub) in m.subs.iter().enumerate() {
+        for &v in &sub.v {
+            at[v as usize].push(s as u32);
+        }
+    }
+    let joint = |v: u32, m: &CMesh| {
+        let e = &at[v as usize];
+        if e.len() != 2 || fixed.get(v as usize).copied().unwrap_or(false) {
+            return false;
+        }
+        let (s, r) = (&m.subs[e[0] as usize], &m.subs[e[1] as usize]);
+        if refs[s.parent as usize] != refs[r.parent as usize] {
+            return false;
+        }
+        let other = |x: &crate::tri::cmesh::Sub| if x.v[0] == v { x.v[1] } else { x.v[0] };
+        let (p, a, b) = (*m.p(v), *m.p(other(s)), *m.p(other(r)));
+        let (d1, d2) = ([a[0] - p[0], a[1] - p[1]], [b[0] - p[0], b[1] - p[1]]);
+        let cross = d1[0] * d2[1] - d1[1] * d2[0];
+        let dot = d1[0] * d2[0] + d1[1] * d2[1];
+        dot < 0.0 && cross.abs() <= 1e-12 * d1[0].hypot(d1[1]) * d2[0].hypot(d2[1])
+    };
+    let n = m.subs.len();
+    let mut chain = vec![NONE; n];
+    let mut out = Vec::new();
+    for s0 in 0..n {
+        if chain[s0] != NONE {
+            continue;
+        }
+        let id = out.len() as u32;
+        let r = refs[m.subs[s0].parent as usize];
+        chain[s0] = id;
+        // Walk from each end of `s0` through joints; the far ends are the
+        // chain's ends.
+        let mut ends = [0u32; 2];
+        for k in 0..2 {
+            let (mut s, mut v) = (s0, m.subs[s0].v[k]);
+            while joint(v, m) {
+                let e = &at[v as usize];
+                let next = if e[0] as usize == s { e[1] } else { e[0] } as usize;
+                if chain[next] != NONE {
+                    break;
+                }
+                chain[next] = id;
+                let sub = &m.subs[next];
+                v = if sub.v[0] == v { sub.v[1] } else { sub.v[0] };
+                s = next;
+            }
+            ends[k] = v;
+        }
+        out.push((*m.p(ends[0]), *m.p(ends[1]), r));
+    }
+    for (s, &c) in chain.iter().enumerate() {
+        let (p0, p1, _) = out[c as usize];
+        let d = [p1[0] - p0[0], p1[1] - p0[1]];
+        let sub = &mut m.subs[s];
+        sub.parent = c;
+        for k in 0..2 {
+            let p = m.xy[sub.v[k] as usize];
+            sub.t[k] =
+                ((p[0] - p0[0]) * d[0] + (p[1] - p0[1]) * d[1]) / (d[0] * d[0] + d[1] * d[1]);
+        }
+    }
+    out
 }
 
 /// The input checks: finite points, references as long as their items,
