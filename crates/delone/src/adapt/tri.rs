@@ -903,4 +903,196 @@ mod tests {
             assert!(on, "face {f:?} ref {r}: {a:?} {b:?}");
         }
     }
+
+    /// A deterministic pseudo-random sequence in [0, 1).
+    fn rng(mut s: u64) -> impl FnMut() -> f64 {
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The Delaunay mesh of `pts` (hull edges become faces by themselves).
+    fn delaunay(pts: Vec<[f64; 2]>) -> TriMesh {
+        let d = crate::tri::triangulate(&pts).unwrap();
+        TriMesh {
+            points: pts,
+            elements: d.triangles,
+            ..Default::default()
+        }
+    }
+
+    /// Adapts with the invariant checker after every operation (the
+    /// `verify` hook) and checks the output: counterclockwise triangles
+    /// (exact), the same area, metric and points of the same length.
+    fn adapt_checked(mesh: &TriMesh, field: MetricField<'_, 2>, o: &AdaptOptions) -> Adapted<2, 3> {
+        let out = adapt_tri(mesh, field, o).unwrap();
+        let m = &out.mesh;
+        for t in &m.elements {
+            let c = t.map(|v| m.points[v as usize]);
+            assert!(
+                delone_predicates::orient2d(&c[0], &c[1], &c[2]) > 0.0,
+                "{t:?} inverted"
+            );
+        }
+        let (a0, a1) = (area(mesh), area(m));
+        assert!((a1 - a0).abs() <= 1e-12 * a0.abs(), "area {a1} was {a0}");
+        assert_eq!(out.metric.len(), m.points.len());
+        out
+    }
+
+    #[test]
+    fn random_meshes_and_anisotropic_metrics_stay_valid() {
+        for seed in 1..6u64 {
+            let mut r = rng(seed * 7919);
+            let pts: Vec<[f64; 2]> = (0..60).map(|_| [r(), r()]).collect();
+            let mesh = delaunay(pts);
+            // A rotating anisotropic metric, different per seed.
+            let k = seed as f64;
+            let f = move |p: &[f64; 2]| {
+                let (c, s) = ((k * p[0]).cos(), (k * p[1]).sin());
+                let (h1, h2) = (0.02 + 0.1 * p[0], 0.15);
+                let (l1, l2) = (1.0 / (h1 * h1), 1.0 / (h2 * h2));
+                Metric::from_matrix([
+                    [l1 * c * c + l2 * s * s, (l1 - l2) * c * s],
+                    [(l1 - l2) * c * s, l1 * s * s + l2 * c * c],
+                ])
+                .unwrap_or(Metric::isotropic(0.1))
+            };
+            let out = adapt_checked(&mesh, MetricField::Function(&f), &AdaptOptions::default());
+            let s = &out.report.after;
+            assert!(s.in_range_share() > 0.7, "seed {seed}: {s:?}");
+            assert!(
+                out.report.splits > 0
+                    && out.report.collapses > 0
+                    && out.report.swaps > 0
+                    && out.report.moves > 0,
+                "seed {seed}: {:?}",
+                out.report
+            );
+            // A metric at the vertices (log-Euclidean at new ones).
+            let at: Vec<Metric<2>> = mesh
+                .points
+                .iter()
+                .map(|p| Metric::isotropic(0.05 + 0.2 * p[0]))
+                .collect();
+            adapt_checked(&mesh, MetricField::AtVertices(at), &AdaptOptions::default());
+        }
+    }
+
+    #[test]
+    fn collinear_boundary_points_slide_and_collapse_along_their_line() {
+        // A strip whose bottom side holds 40 unevenly spaced points and a
+        // region boundary at x = 1.
+        let mut r = rng(3);
+        let mut pts: Vec<[f64; 2]> = (0..40)
+            .map(|k| [2.0 * (k as f64 + 0.8 * r()) / 40.0, 0.0])
+            .collect();
+        pts.extend([
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [0.0, 0.3],
+            [2.0, 0.3],
+            [1.0, 0.0],
+            [1.0, 0.3],
+            [0.5, 0.3],
+            [1.5, 0.3],
+        ]);
+        let mut mesh = delaunay(pts);
+        mesh.element_refs = mesh
+            .elements
+            .iter()
+            .map(|t| {
+                let x: f64 = t.iter().map(|&v| mesh.points[v as usize][0]).sum::<f64>() / 3.0;
+                1 + i32::from(x > 1.0)
+            })
+            .collect();
+        let out = adapt_checked(
+            &mesh,
+            MetricField::AtVertices(vec![Metric::isotropic(0.2); mesh.points.len()]),
+            &AdaptOptions::default(),
+        );
+        assert!(out.report.collapses > 10, "{:?}", out.report);
+        // Each output triangle on its side of x = 1.
+        for (t, r) in out.mesh.elements.iter().zip(&out.mesh.element_refs) {
+            let x: f64 = t
+                .iter()
+                .map(|&v| out.mesh.points[v as usize][0])
+                .sum::<f64>()
+                / 3.0;
+            assert_eq!(*r, 1 + i32::from(x > 1.0));
+        }
+    }
+
+    #[test]
+    fn tiny_and_huge_coordinates() {
+        for scale in [1e-60, 1e60] {
+            let input = square(3, scale);
+            let f = move |p: &[f64; 2]| {
+                let h = scale * (0.03 + 0.2 * p[0] / scale);
+                Metric::from_medit(&[1.0 / (h * h), 0.0, 1.0 / (0.1 * scale * 0.1 * scale)])
+                    .unwrap()
+            };
+            let out = adapt_checked(&input, MetricField::Function(&f), &AdaptOptions::default());
+            assert!(
+                out.report.after.in_range_share() > 0.85,
+                "{scale}: {:?}",
+                out.report.after
+            );
+        }
+    }
+
+    #[test]
+    fn options_off_and_budget() {
+        let input = square(4, 1.0);
+        let none = AdaptOptions {
+            insert: false,
+            swap: false,
+            smooth: false,
+            ..Default::default()
+        };
+        let out = adapt_checked(&input, MetricField::Function(&linear), &none);
+        assert_eq!(out.mesh.elements.len(), input.elements.len());
+        assert_eq!(out.report.before, out.report.after);
+        let budget = AdaptOptions {
+            max_vertices: Some(60),
+            ..Default::default()
+        };
+        let out = adapt_checked(&input, MetricField::Function(&linear), &budget);
+        assert!(out.report.budget_reached);
+        assert!(out.mesh.points.len() <= 60 + 1);
+    }
+
+    #[test]
+    fn bad_input_is_an_error_naming_it() {
+        let good = square(2, 1.0);
+        let o = AdaptOptions::default();
+        let iso = |n| MetricField::AtVertices(vec![Metric::isotropic(0.3); n]);
+        let err = |m: &TriMesh, f, o: &AdaptOptions| adapt_tri(m, f, o).unwrap_err().to_string();
+        assert!(err(&good, iso(3), &o).contains("3 value(s) for a mesh of 9 vertices"));
+        let mut cw = good.clone();
+        cw.elements[1].swap(0, 1);
+        assert!(err(&cw, iso(9), &o).contains("triangle 1"));
+        let mut face = good.clone();
+        face.faces[0] = [0, 8];
+        assert!(err(&face, iso(9), &o).contains("face 0"));
+        let mut nan = good.clone();
+        nan.points[4][0] = f64::NAN;
+        assert!(err(&nan, iso(9), &o).contains("point 4"));
+        let mut refs = good.clone();
+        refs.element_refs.pop();
+        assert!(err(&refs, iso(9), &o).contains("element_refs"));
+        let bad = AdaptOptions {
+            hmin: Some(-1.0),
+            ..Default::default()
+        };
+        assert!(err(&good, iso(9), &bad).contains("-hmin"));
+        let bad = AdaptOptions {
+            hgrad: Some(0.5),
+            ..Default::default()
+        };
+        assert!(err(&good, iso(9), &bad).contains("-hgrad"));
+    }
 }

@@ -482,3 +482,128 @@ impl CMesh {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The adaptation mesh of the Delaunay triangulation of `pts`.
+    fn mesh_of(pts: &[[f64; 2]]) -> (CMesh, Vec<u32>) {
+        let d = crate::tri::triangulate(pts).unwrap();
+        let (m, vt, added) = CMesh::for_adaptation(pts.to_vec(), &d.triangles, &[], &[]).unwrap();
+        assert!(!added.is_empty(), "the hull edges are constrained");
+        m.check(false).unwrap();
+        (m, vt)
+    }
+
+    fn area(m: &CMesh) -> f64 {
+        m.tr.iter()
+            .filter(|t| t.v[0] != DEAD)
+            .map(|t| {
+                let [a, b, c] = t.v.map(|v| *m.p(v));
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+            })
+            .sum()
+    }
+
+    /// The checker, the vertex index and the star of every vertex.
+    fn valid(m: &CMesh, vt: &[u32], what: &str) {
+        m.check(false)
+            .unwrap_or_else(|e| panic!("after {what}: {e}"));
+        for (v, &t) in vt.iter().enumerate() {
+            if t == NONE {
+                continue;
+            }
+            let star = m.star(vt, v as u32);
+            let all = m.tr.iter().filter(|t| t.v.contains(&(v as u32))).count();
+            assert_eq!(star.len(), all, "after {what}: the star of {v}");
+        }
+    }
+
+    #[test]
+    fn splits_collapses_and_moves_keep_the_mesh_valid() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut r = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Random points and a grid with collinear hull points.
+        let mut pts: Vec<[f64; 2]> = (0..80).map(|_| [r(), r()]).collect();
+        pts.extend((0..25).map(|k| [(k % 5) as f64 / 4.0, (k / 5) as f64 / 4.0]));
+        let (mut m, mut vt) = mesh_of(&pts);
+        let a0 = area(&m);
+        let (mut splits, mut collapses, mut moves, mut refused) = (0, 0, 0, 0);
+        for step in 0..600 {
+            let t = (r() * m.tr.len() as f64) as usize;
+            if m.tr[t].v[0] == DEAD {
+                continue;
+            }
+            let e = (r() * 3.0) as usize;
+            let (a, b) = edge(&m.tr[t].v, e);
+            match step % 3 {
+                0 => {
+                    let s = m.sub_at(t, e);
+                    let x = 0.3 + 0.4 * r();
+                    let (pa, pb) = (*m.p(a), *m.p(b));
+                    let c = [pa[0] + x * (pb[0] - pa[0]), pa[1] + x * (pb[1] - pa[1])];
+                    let tc = if s == NONE { 0.0 } else { x };
+                    if m.split_edge(&mut vt, t, e, c, tc).is_some() {
+                        splits += 1;
+                    }
+                }
+                1 => {
+                    // Only vertices off the boundary (the engine's rules
+                    // for constrained vertices are the caller's).
+                    let star = m.star(&vt, a);
+                    if !m.subs_at(&star).is_empty() {
+                        continue;
+                    }
+                    match m.collapse_plan(&vt, a, b) {
+                        Some(plan) => {
+                            m.collapse(&mut vt, &plan);
+                            collapses += 1;
+                        }
+                        None => refused += 1,
+                    }
+                }
+                _ => {
+                    let star = m.star(&vt, a);
+                    if !m.subs_at(&star).is_empty() {
+                        continue;
+                    }
+                    let p = *m.p(a);
+                    let c = [p[0] + 0.2 * (r() - 0.5), p[1] + 0.2 * (r() - 0.5)];
+                    if m.can_move(&star, &c) {
+                        m.xy[a as usize] = c;
+                        moves += 1;
+                    } else {
+                        refused += 1;
+                    }
+                }
+            }
+            valid(&m, &vt, &format!("step {step}"));
+            assert!((area(&m) - a0).abs() < 1e-12, "step {step}: area");
+        }
+        assert!(
+            splits > 100 && collapses > 50 && moves > 20 && refused > 10,
+            "{splits} {collapses} {moves} {refused}"
+        );
+    }
+
+    #[test]
+    fn collapses_that_would_move_a_constrained_edge_are_refused() {
+        // A square with a centre vertex: collapsing a corner into the centre
+        // would drag the two hull edges at the corner off the hull; the
+        // plan refuses it.
+        let pts = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]];
+        let (m, vt) = mesh_of(&pts);
+        assert!(m.collapse_plan(&vt, 0, 4).is_none());
+        // The centre into a corner: two triangles die, two remain.
+        let plan = m.collapse_plan(&vt, 4, 0).unwrap();
+        assert_eq!(plan.kept.len(), 2);
+        // Vertices with no edge between them.
+        assert!(m.collapse_plan(&vt, 0, 2).is_none());
+    }
+}
