@@ -191,11 +191,11 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
     if mesh.dimension == 2 {
         let m = tri_mesh(&mesh);
         let met = metric_of::<2, 3>(&args, &sol, &name, &m)?;
-        finish(&args, &m, met, &output, clock, |m, f, o| adapt_tri(m, f, o))
+        finish(&args, &m, met, &output, clock, adapt_tri)
     } else {
         let m = tet_mesh(&mesh);
         let met = metric_of::<3, 4>(&args, &sol, &name, &m)?;
-        finish(&args, &m, met, &output, clock, |m, f, o| adapt_tet(m, f, o))
+        finish(&args, &m, met, &output, clock, adapt_tet)
     }
 }
 

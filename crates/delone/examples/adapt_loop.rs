@@ -36,7 +36,9 @@ fn square(n: usize) -> TriMesh {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let path = std::env::args().nth(1).unwrap_or_else(|| "adapt_loop.png".into());
+    let path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "adapt_loop.png".into());
     let mut mesh = square(10);
     let target = Target::Complexity {
         complexity: 600.0,
@@ -46,7 +48,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let u: Vec<f64> = mesh.points.iter().map(field).collect();
         let h = hessians(&mesh.points, &mesh.elements, &u)?;
         let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, 1e-4, 0.2)?;
-        let out = adapt_tri(&mesh, MetricField::AtVertices(metric), &AdaptOptions::default())?;
+        let out = adapt_tri(
+            &mesh,
+            MetricField::AtVertices(metric),
+            &AdaptOptions::default(),
+        )?;
         let s = &out.report.after;
         println!(
             "iteration {it}: {} vertices, {} triangles, {:.1}% of edges in [1/√2, √2], quality min {:.3} mean {:.3}",

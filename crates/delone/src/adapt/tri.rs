@@ -228,9 +228,9 @@ fn straight_chains(m: &mut CMesh, fixed: &[bool], refs: &[i32]) -> Vec<([f64; 2]
         chain[s0] = id;
         // Walk from each end of `s0` through joints; the far ends are the
         // chain's ends.
-        let mut ends = [0u32; 2];
-        for k in 0..2 {
-            let (mut s, mut v) = (s0, m.subs[s0].v[k]);
+        let mut ends = m.subs[s0].v;
+        for end in &mut ends {
+            let (mut s, mut v) = (s0, *end);
             while joint(v, m) {
                 let e = &at[v as usize];
                 let next = if e[0] as usize == s { e[1] } else { e[0] } as usize;
@@ -242,7 +242,7 @@ fn straight_chains(m: &mut CMesh, fixed: &[bool], refs: &[i32]) -> Vec<([f64; 2]
                 v = if sub.v[0] == v { sub.v[1] } else { sub.v[0] };
                 s = next;
             }
-            ends[k] = v;
+            *end = v;
         }
         out.push((*m.p(ends[0]), *m.p(ends[1]), r));
     }
@@ -306,7 +306,7 @@ fn check_input(mesh: &TriMesh, o: &AdaptOptions) -> Result<(), Error> {
     }
     if let Some(h) = o
         .hmax
-        .filter(|h| !(*h > 0.0) || o.hmin.is_some_and(|l| *h < l))
+        .filter(|h| h.is_nan() || *h <= 0.0 || o.hmin.is_some_and(|l| *h < l))
     {
         return bad(
             "-hmax",
@@ -320,13 +320,16 @@ fn check_input(mesh: &TriMesh, o: &AdaptOptions) -> Result<(), Error> {
     Ok(())
 }
 
+/// A metric given as a function of the point.
+type MetricFn<'a> = dyn Fn(&[f64; 2]) -> Metric<2> + Sync + 'a;
+
 /// The working state of one adaptation.
 struct Run<'a> {
     m: CMesh,
     /// A triangle of each vertex (`NONE`: removed or unused).
     vt: Vec<u32>,
     met: Vec<Metric<2>>,
-    field: Option<&'a (dyn Fn(&[f64; 2]) -> Metric<2> + Sync)>,
+    field: Option<&'a MetricFn<'a>>,
     bound: &'a dyn Fn(Metric<2>) -> Metric<2>,
     /// Corners and required vertices (input numbering; new vertices are
     /// never fixed).

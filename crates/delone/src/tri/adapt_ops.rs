@@ -18,6 +18,10 @@ use super::cmesh::{CMesh, Sub, Tri};
 use super::topo::{edge, pack, unpack, DEAD, NEXT, PREV};
 use crate::{Error, NONE};
 
+/// A mesh built for adaptation, its vertex → triangle index and the edges
+/// constrained beyond the faces ([`CMesh::for_adaptation`]).
+pub(crate) type Built = (CMesh, Vec<u32>, Vec<[u32; 2]>);
+
 /// A planned edge collapse ([`CMesh::collapse_plan`]).
 pub(crate) struct Collapse {
     /// The vertex removed and the one it merges into.
@@ -45,7 +49,7 @@ impl CMesh {
         tris: &[[u32; 3]],
         regions: &[i32],
         faces: &[[u32; 2]],
-    ) -> Result<(CMesh, Vec<u32>, Vec<[u32; 2]>), Error> {
+    ) -> Result<Built, Error> {
         let bad = |reason: String| Err(Error::InconsistentMesh { reason });
         let nv = points.len();
         for (t, v) in tris.iter().enumerate() {
