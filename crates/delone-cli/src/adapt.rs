@@ -6,6 +6,7 @@
 //! meaning is the same. With `-noinsert -noswap -nomove` it only measures
 //! the input in the metric.
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -399,7 +400,10 @@ fn finish<const D: usize, const K: usize>(
     let mut report = report;
     report.phases.insert(0, ("read", read_time));
     if args.verbose && !args.quiet {
-        print_report(&report, measure_only);
+        let mut text = String::new();
+        print_report(&mut text, &report, measure_only);
+        // (A closed pipe is not an error of the run.)
+        let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
     }
     if let Some(path) = &args.json {
         let text = json(&report);
@@ -457,8 +461,9 @@ fn write_mesh<const D: usize, const K: usize>(
     write(path, |w| delone_io::write_medit_mesh(w, &out))
 }
 
-fn print_stats(label: &str, s: &MetricStats) {
-    println!(
+fn print_stats(out: &mut String, label: &str, s: &MetricStats) {
+    let _ = writeln!(
+        out,
         "{label}: {} vertices, {} elements, {} edges; length min {:.3} mean {:.3} max {:.3}; {:.1}% in [1/sqrt2, sqrt2]; quality min {:.3} mean {:.3}",
         s.vertices,
         s.elements,
@@ -484,23 +489,24 @@ fn print_stats(label: &str, s: &MetricStats) {
             b
         })
         .collect();
-    println!("  lengths: {}", bins.join("  "));
+    let _ = writeln!(out, "  lengths: {}", bins.join("  "));
     let q: Vec<String> = s
         .quality_histogram
         .iter()
         .enumerate()
         .map(|(k, n)| format!("{:.1}:{n}", k as f64 / 10.0))
         .collect();
-    println!("  quality: {}", q.join("  "));
+    let _ = writeln!(out, "  quality: {}", q.join("  "));
 }
 
-fn print_report(r: &AdaptReport, measure_only: bool) {
+fn print_report(out: &mut String, r: &AdaptReport, measure_only: bool) {
     if measure_only {
-        print_stats("mesh", &r.after);
+        print_stats(out, "mesh", &r.after);
     } else {
-        print_stats("before", &r.before);
-        print_stats("after", &r.after);
-        println!(
+        print_stats(out, "before", &r.before);
+        print_stats(out, "after", &r.after);
+        let _ = writeln!(
+            out,
             "passes {}, splits {}, collapses {}, swaps {}, moves {}{}",
             r.passes,
             r.splits,
@@ -519,7 +525,7 @@ fn print_report(r: &AdaptReport, measure_only: bool) {
         .iter()
         .map(|(n, s)| format!("{n} {s:.3}s"))
         .collect();
-    println!("time: {}", t.join(", "));
+    let _ = writeln!(out, "time: {}", t.join(", "));
 }
 
 fn json_stats(s: &MetricStats) -> String {
