@@ -6,6 +6,8 @@ delone — robust Delaunay triangulation (2D) and tetrahedralization (3D)
 USAGE:
     delone tri [-SWITCHES] [OPTIONS] FILE[.node]   2D, Triangle's switches
     delone tet [-SWITCHES] [OPTIONS] FILE[.node]   3D, TetGen's switches
+    delone adapt IN.mesh --metric IN.sol [-o OUT.mesh] [OPTIONS]
+                                                  adapt a mesh to a metric (MMG's options)
     delone --help | --version
 
 Both subcommands read a Triangle/TetGen .node point file and write the

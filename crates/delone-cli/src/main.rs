@@ -2,6 +2,7 @@
 //! `delone tet` TetGen's. Run `delone --help`.
 #![forbid(unsafe_code)]
 
+mod adapt;
 mod args;
 mod cutaway;
 mod dual;
@@ -41,6 +42,10 @@ fn main() {
     let mode = match sub.as_deref() {
         Some("tri") => Mode::Tri,
         Some("tet") => Mode::Tet,
+        Some("adapt") => match adapt::main(argv.collect()) {
+            Ok(_) => return,
+            Err(f) => fail(&f.message, f.code),
+        },
         Some("--help") | Some("-h") | Some("help") => {
             print!("{}", help::MAIN);
             return;
@@ -50,7 +55,9 @@ fn main() {
             return;
         }
         Some(other) => fail(
-            &format!("unknown subcommand {other:?} (expected tri or tet; see delone --help)"),
+            &format!(
+                "unknown subcommand {other:?} (expected tri, tet or adapt; see delone --help)"
+            ),
             2,
         ),
         None => {

@@ -23,89 +23,89 @@ use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use crate::{Violation, NONE};
 
 #[derive(Clone, Copy)]
-pub(super) struct Sub {
-    pub(super) v: [u32; 2],
+pub(crate) struct Sub {
+    pub(crate) v: [u32; 2],
     /// A packed half-edge carrying it (kept up to date by every fan that
     /// borders it).
-    pub(super) he: u32,
+    pub(crate) he: u32,
     /// Parameters of `v` along the parent (0 at `a`, 1 at `b`).
-    pub(super) t: [f64; 2],
-    pub(super) parent: u32,
-    pub(super) alive: bool,
+    pub(crate) t: [f64; 2],
+    pub(crate) parent: u32,
+    pub(crate) alive: bool,
     /// Gave up splitting it (floating point), or it is protected.
-    pub(super) stuck: bool,
+    pub(crate) stuck: bool,
     /// The options forbid splitting it (it is never encroached).
-    pub(super) protected: bool,
+    pub(crate) protected: bool,
 }
 
 /// The constrained triangle mesh: points, triangle records with packed
 /// adjacency, the subsegment on each constrained half-edge, and the
 /// subsegment records.
 #[derive(Clone)]
-pub(super) struct CMesh {
-    pub(super) xy: Vec<[f64; 2]>,
+pub(crate) struct CMesh {
+    pub(crate) xy: Vec<[f64; 2]>,
     /// The triangles, one 32-byte aligned record each (half a cache line
     /// for everything a cavity search reads).
-    pub(super) tr: Vec<Tri>,
+    pub(crate) tr: Vec<Tri>,
     /// Subsegment on each half-edge of a triangle (meaningful only where
     /// the triangle's flag bit says there is one; see [`Tri::mark`]).
-    pub(super) sides: Vec<[u32; 3]>,
-    pub(super) subs: Vec<Sub>,
+    pub(crate) sides: Vec<[u32; 3]>,
+    pub(crate) subs: Vec<Sub>,
     /// Squared cosine of the encroachment angle (see [`encroaches`]).
-    pub(super) cos2: f64,
-    pub(super) stamp: u32,
+    pub(crate) cos2: f64,
+    pub(crate) stamp: u32,
     /// Scratch of [`CMesh::insert`]: cavity, its boundary, encroached
     /// subsegments, new triangles.
-    pub(super) cav: Vec<u32>,
-    pub(super) bnd: Vec<Bnd>,
-    pub(super) hit: Vec<u32>,
+    pub(crate) cav: Vec<u32>,
+    pub(crate) bnd: Vec<Bnd>,
+    pub(crate) hit: Vec<u32>,
     /// Depth-first stack: triangle, next edge, edges left.
-    pub(super) stack: Vec<(u32, u8, u8)>,
-    pub(super) fan: Vec<u32>,
+    pub(crate) stack: Vec<(u32, u8, u8)>,
+    pub(crate) fan: Vec<u32>,
     /// Triangles replaced by cavities.
-    pub(super) replaced: usize,
+    pub(crate) replaced: usize,
 }
 
 /// A triangle of the working mesh: 32 bytes, aligned, so that one record
 /// never straddles two cache lines.
 #[derive(Clone, Copy)]
 #[repr(C, align(32))]
-pub(super) struct Tri {
+pub(crate) struct Tri {
     /// Counterclockwise vertices.
-    pub(super) v: [u32; 3],
+    pub(crate) v: [u32; 3],
     /// Packed adjacency or `NONE` on the boundary.
-    pub(super) a: [u32; 3],
+    pub(crate) a: [u32; 3],
     /// The input triangle it descends from (region, attributes).
-    pub(super) orig: u32,
+    pub(crate) orig: u32,
     /// Bits 0–2: half-edge `e` carries a subsegment (its id is in
     /// [`Mesh::sides`]); the other bits: cavity stamp (a multiple of
     /// [`STAMP_STEP`]).
-    pub(super) mark: u32,
+    pub(crate) mark: u32,
 }
 
 /// Marks a half-edge label that names an output subsegment of the CDT
 /// (`LABEL | k`) rather than a subsegment record: the form in which the
 /// CDT hands its mesh to refinement, which makes the records.
-pub(super) const LABEL: u32 = 1 << 31;
+pub(crate) const LABEL: u32 = 1 << 31;
 
 /// Stamps step over the three subsegment flag bits of [`Tri::mark`].
-pub(super) const STAMP_STEP: u32 = 8;
-pub(super) const FLAGS: u32 = STAMP_STEP - 1;
+pub(crate) const STAMP_STEP: u32 = 8;
+pub(crate) const FLAGS: u32 = STAMP_STEP - 1;
 
 /// A cavity boundary edge `a -> b` (counterclockwise around the cavity).
 #[derive(Clone, Copy)]
-pub(super) struct Bnd {
-    pub(super) a: u32,
-    pub(super) b: u32,
+pub(crate) struct Bnd {
+    pub(crate) a: u32,
+    pub(crate) b: u32,
     /// Packed neighbour outside the cavity, or `NONE`.
-    pub(super) adj: u32,
+    pub(crate) adj: u32,
     /// Its subsegment, or `NONE`.
-    pub(super) sb: u32,
-    pub(super) orig: u32,
+    pub(crate) sb: u32,
+    pub(crate) orig: u32,
 }
 
 /// Outcome of [`Mesh::insert`].
-pub(super) enum Ins {
+pub(crate) enum Ins {
     Done(u32),
     Encroached,
     /// The point lies beyond (or on) this subsegment of the cavity boundary.
@@ -116,7 +116,7 @@ pub(super) enum Ins {
 /// Encroachment of `(u, v)` by `w`: `w` sees the subsegment at an angle
 /// larger than the one whose squared cosine is `cos2` (0: the diametral
 /// circle, 90°; more: a diametral lens), beyond rounding error.
-pub(super) fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2], cos2: f64) -> bool {
+pub(crate) fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2], cos2: f64) -> bool {
     let (ax, ay) = (u[0] - w[0], u[1] - w[1]);
     let (bx, by) = (v[0] - w[0], v[1] - w[1]);
     let dot = ax * bx + ay * by;
@@ -126,7 +126,7 @@ pub(super) fn encroaches(u: &[f64; 2], v: &[f64; 2], w: &[f64; 2], cos2: f64) ->
 
 impl CMesh {
     /// A mesh of `tr` on `xy` with no subsegment yet.
-    pub(super) fn new(xy: Vec<[f64; 2]>, tr: Vec<Tri>) -> Self {
+    pub(crate) fn new(xy: Vec<[f64; 2]>, tr: Vec<Tri>) -> Self {
         let nt = tr.len();
         CMesh {
             xy,
@@ -147,7 +147,7 @@ impl CMesh {
     /// The mesh of `triangles` on `xy` (triangle `t` descends from input
     /// triangle `t`), linked across `neighbors` (triangle indices, `NONE`
     /// on the boundary), with no subsegment yet.
-    pub(super) fn from_triangles(
+    pub(crate) fn from_triangles(
         xy: Vec<[f64; 2]>,
         triangles: &[[u32; 3]],
         neighbors: &[[u32; 3]],
@@ -174,12 +174,12 @@ impl CMesh {
     }
 
     #[inline]
-    pub(super) fn p(&self, v: u32) -> &[f64; 2] {
+    pub(crate) fn p(&self, v: u32) -> &[f64; 2] {
         &self.xy[v as usize]
     }
 
     /// A triangle beside live subsegment `s` ([`Sub::he`], checked).
-    pub(super) fn tri_of_sub(&self, s: u32) -> Option<usize> {
+    pub(crate) fn tri_of_sub(&self, s: u32) -> Option<usize> {
         let he = self.subs[s as usize].he;
         if he == NONE {
             return None;
@@ -188,7 +188,7 @@ impl CMesh {
         (t < self.tr.len() && self.sub_at(t, e) == s).then_some(t)
     }
 
-    pub(super) fn new_tri(&mut self) -> usize {
+    pub(crate) fn new_tri(&mut self) -> usize {
         self.tr.push(Tri {
             v: [0; 3],
             a: [NONE; 3],
@@ -201,7 +201,7 @@ impl CMesh {
 
     /// The subsegment on half-edge `e` of triangle `t`, or `NONE`.
     #[inline]
-    pub(super) fn sub_at(&self, t: usize, e: usize) -> u32 {
+    pub(crate) fn sub_at(&self, t: usize, e: usize) -> u32 {
         if self.tr[t].mark >> e & 1 != 0 {
             self.sides[t][e]
         } else {
@@ -211,7 +211,7 @@ impl CMesh {
 
     /// Sets the subsegment on half-edge `e` of triangle `t` (`NONE`: none).
     #[inline]
-    pub(super) fn set_sub(&mut self, t: usize, e: usize, s: u32) {
+    pub(crate) fn set_sub(&mut self, t: usize, e: usize, s: u32) {
         self.sides[t][e] = s;
         let bit = 1 << e;
         if s == NONE {
@@ -221,7 +221,7 @@ impl CMesh {
         }
     }
 
-    pub(super) fn next_stamp(&mut self) -> u32 {
+    pub(crate) fn next_stamp(&mut self) -> u32 {
         if self.stamp > u32::MAX - 2 * STAMP_STEP {
             for t in &mut self.tr {
                 t.mark &= FLAGS;
@@ -243,7 +243,7 @@ impl CMesh {
     /// `split` is a boundary subsegment): the result is always a valid mesh.
     /// `halves`: `(u, label, w, label)` of the two pieces of `split`.
     /// The new triangles are left in `self.fan`.
-    pub(super) fn insert(
+    pub(crate) fn insert(
         &mut self,
         start: usize,
         c: [f64; 2],
@@ -446,7 +446,7 @@ impl CMesh {
     /// Delaunay (exact incircle). After a flip of `t` with neighbour `n`
     /// the four outer edges are pushed so that `n`'s are checked first.
     /// The flipped triangles are pushed on `touched`, `t` before `n`.
-    pub(super) fn restore_delaunay(
+    pub(crate) fn restore_delaunay(
         &mut self,
         stack: &mut Vec<(u32, u32, u32)>,
         touched: &mut Vec<u32>,
@@ -475,7 +475,7 @@ impl CMesh {
 
     /// Half-edge `e` of `t` as a [`CMesh::restore_delaunay`] entry.
     #[inline]
-    pub(super) fn half(&self, t: usize, e: usize) -> (u32, u32, u32) {
+    pub(crate) fn half(&self, t: usize, e: usize) -> (u32, u32, u32) {
         let (a, b) = edge(&self.tr[t].v, e);
         (pack(t, e), a, b)
     }
@@ -485,7 +485,7 @@ impl CMesh {
     /// `start` is dead or a ghost); `None` when the walk leaves the mesh
     /// (across a ghost or a boundary edge). `rng` is the walk's
     /// pseudo-random edge choice.
-    pub(super) fn locate(&self, start: usize, p: &[f64; 2], rng: &mut u32) -> Option<usize> {
+    pub(crate) fn locate(&self, start: usize, p: &[f64; 2], rng: &mut u32) -> Option<usize> {
         let live = |t: &usize| {
             let v = self.tr[*t].v;
             v[0] != DEAD && !is_ghost(&v)
@@ -526,7 +526,7 @@ impl CMesh {
     /// subsegment, and the two triangles must form a convex quadrilateral).
     /// `t` becomes `[vt, a, vn]` and its neighbour `n` becomes `[vn, b, vt]`,
     /// where `t` was `[vt, a, b]` (rotated) and `vn` is opposite in `n`.
-    pub(super) fn flip(&mut self, t: usize, e: usize) {
+    pub(crate) fn flip(&mut self, t: usize, e: usize) {
         let (n, j) = unpack(self.tr[t].a[e]);
         let tv = self.tr[t].v;
         let (vt, a, b) = (tv[e], tv[NEXT[e]], tv[PREV[e]]);
@@ -582,7 +582,7 @@ impl CMesh {
     /// ghost triangles (`INF` in position 2) are neither oriented nor
     /// Delaunay-tested, and with no subsegment records a label is an input
     /// segment index that only has to agree on both sides of its edge.
-    pub(super) fn check(&self, delaunay: bool) -> Result<(), Violation> {
+    pub(crate) fn check(&self, delaunay: bool) -> Result<(), Violation> {
         let bad = |kind: &'static str, detail: String| Err(Violation::new(kind, detail));
         if self.sides.len() != self.tr.len() {
             return bad("storage", "sides and triangles differ in length".into());

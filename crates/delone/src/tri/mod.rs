@@ -5,7 +5,8 @@
 //! * [`Delaunay2`] — the incremental kernel (insert, locate, check).
 //! * [`validate`] — an independent checker of a [`TriMesh`] against its points.
 
-mod cmesh;
+pub(crate) mod adapt_ops;
+pub(crate) mod cmesh;
 pub mod conforming;
 pub mod constrain;
 pub mod delaunay;
@@ -16,7 +17,7 @@ pub mod options;
 pub mod pipeline;
 pub mod quality;
 pub mod refine;
-mod topo;
+pub(crate) mod topo;
 mod triangulate;
 pub mod voronoi;
 

@@ -1,0 +1,573 @@
+//! `delone adapt`: adapts a triangle or tetrahedral mesh (Medit `.mesh`,
+//! or Triangle/TetGen `.node` + `.ele`) to a metric (`--metric IN.sol`:
+//! sizes or tensors at the vertices) or to a solution field (`--field
+//! IN.sol`: the metric from its recovered Hessian), and writes the mesh and
+//! its metric (`OUT.mesh`, `OUT.sol`). Option names follow MMG's where the
+//! meaning is the same. With `-noinsert -noswap -nomove` it only measures
+//! the input in the metric.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use delone::adapt::{
+    adapt_tet, adapt_tri, metric_stats, AdaptOptions, AdaptReport, MetricField, MetricStats,
+    SimplexMesh, LENGTH_BINS,
+};
+use delone::metric::{hessians, metric_from_hessians, Metric, Target};
+use delone_io::{MeditMesh, MeditSol, SolField, SolKind};
+
+use crate::fail::{input_err, usage_err, Failure};
+
+/// Usage of `delone adapt`.
+pub const HELP: &str = "\
+delone adapt: adapt a mesh to a metric field (MMG-style options)
+
+usage: delone adapt IN.mesh [--metric IN.sol | --field IN.sol] [-o OUT.mesh] [options]
+
+  IN.mesh           Medit mesh (2D triangles or 3D tetrahedra, with references),
+                    or IN.node with IN.ele (Triangle/TetGen)
+  --metric IN.sol   sizes (type 1) or tensors (type 3, m11 m12 m22 [m13 m23 m33])
+                    at the vertices; default IN.sol when it exists
+  --field IN.sol    a scalar solution: metric from its recovered Hessian
+  --complexity N    target complexity of the field's metric (default: the
+                    input's number of vertices x sqrt(3)/2 in 2D, x 0.77 in 3D)
+  --error E         target interpolation error instead of a complexity
+  -p P              norm of the error (default 2)
+  -o OUT.mesh       output mesh (default IN.o.mesh); its metric goes to OUT.sol
+  -hmin H -hmax H   size bounds
+  -hgrad G          gradation (default 1.3; -1 turns it off)
+  -noinsert -noswap -nomove   turn off splits and collapses, swaps, moves;
+                    all three: measure the input in the metric only
+  --max-passes N    most passes (default 30)
+  --max-vertices N  vertex budget
+  -V                report (counts, metric edge lengths, quality, time per phase)
+  --stats-json FILE the report as JSON
+  -Q                quiet
+";
+
+struct Args {
+    input: PathBuf,
+    metric: Option<PathBuf>,
+    field: Option<PathBuf>,
+    output: Option<PathBuf>,
+    target: Option<Target>,
+    p: f64,
+    options: AdaptOptions,
+    verbose: bool,
+    quiet: bool,
+    json: Option<PathBuf>,
+}
+
+fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
+    let mut a = Args {
+        input: PathBuf::new(),
+        metric: None,
+        field: None,
+        output: None,
+        target: None,
+        p: 2.0,
+        options: AdaptOptions::default(),
+        verbose: false,
+        quiet: false,
+        json: None,
+    };
+    let mut complexity = None;
+    let mut error = None;
+    let mut it = argv.into_iter();
+    while let Some(arg) = it.next() {
+        let mut value = |name: &str| {
+            it.next()
+                .ok_or_else(|| usage_err(format!("{name} needs a value")))
+        };
+        let number = |name: &str, v: String| {
+            v.parse::<f64>()
+                .map_err(|_| usage_err(format!("{name}: {v:?} is not a number")))
+        };
+        match arg.as_str() {
+            "-h" | "--help" => return Ok(None),
+            "--metric" | "-met" | "-sol" => a.metric = Some(value(&arg)?.into()),
+            "--field" => a.field = Some(value(&arg)?.into()),
+            "-o" | "-out" => a.output = Some(value(&arg)?.into()),
+            "-in" => a.input = value(&arg)?.into(),
+            "--stats-json" => a.json = Some(value(&arg)?.into()),
+            "--complexity" => complexity = Some(number(&arg, value(&arg)?)?),
+            "--error" => error = Some(number(&arg, value(&arg)?)?),
+            "-p" => a.p = number(&arg, value(&arg)?)?,
+            "-hmin" => a.options.hmin = Some(number(&arg, value(&arg)?)?),
+            "-hmax" => a.options.hmax = Some(number(&arg, value(&arg)?)?),
+            "-hgrad" => {
+                let g = number(&arg, value(&arg)?)?;
+                a.options.hgrad = (g > 0.0).then_some(g);
+            }
+            "--max-passes" => {
+                a.options.max_passes = number(&arg, value(&arg)?)?.max(0.0) as usize;
+            }
+            "--max-vertices" => {
+                a.options.max_vertices = Some(number(&arg, value(&arg)?)?.max(0.0) as usize);
+            }
+            "-noinsert" => a.options.insert = false,
+            "-noswap" => a.options.swap = false,
+            "-nomove" => a.options.smooth = false,
+            "-V" | "-v" => a.verbose = true,
+            "-Q" => a.quiet = true,
+            s if !s.starts_with('-') && a.input.as_os_str().is_empty() => a.input = s.into(),
+            s => {
+                return Err(usage_err(format!(
+                    "unknown option {s:?} (see delone adapt --help)"
+                )))
+            }
+        }
+    }
+    if a.input.as_os_str().is_empty() {
+        return Err(usage_err("no input mesh (see delone adapt --help)"));
+    }
+    if a.metric.is_some() && a.field.is_some() {
+        return Err(usage_err("--metric and --field exclude each other"));
+    }
+    a.target = match (complexity, error) {
+        (Some(_), Some(_)) => return Err(usage_err("--complexity and --error exclude each other")),
+        (Some(c), None) => Some(Target::Complexity {
+            complexity: c,
+            p: a.p,
+        }),
+        (None, Some(e)) => Some(Target::Error(e)),
+        (None, None) => None,
+    };
+    Ok(Some(a))
+}
+
+/// Runs `delone adapt` with the arguments after the subcommand; the exit
+/// code.
+pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
+    let Some(args) = parse(argv)? else {
+        print!("{HELP}");
+        return Ok(0);
+    };
+    let clock = Instant::now();
+    let mesh = read_mesh(&args.input)?;
+    let sol_path = args.field.clone().or(args.metric.clone()).or_else(|| {
+        let p = args.input.with_extension("sol");
+        p.exists().then_some(p)
+    });
+    let Some(sol_path) = sol_path else {
+        return Err(usage_err(format!(
+            "no metric: give --metric or --field (no {} next to the mesh)",
+            args.input.with_extension("sol").display()
+        )));
+    };
+    let sol = read(&sol_path)?;
+    let sol = delone_io::read_medit_sol(&sol)
+        .map_err(|e| input_err(format!("{}: {e}", sol_path.display())))?;
+    let name = sol_path.display().to_string();
+    if sol.dimension != mesh.dimension {
+        return Err(input_err(format!(
+            "{name}: a {}D solution for a {}D mesh",
+            sol.dimension, mesh.dimension
+        )));
+    }
+    if sol.vertices != mesh.points.len() {
+        return Err(input_err(format!(
+            "{name}: {} values for a mesh of {} vertices (a .sol for another mesh?)",
+            sol.vertices,
+            mesh.points.len()
+        )));
+    }
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| args.input.with_extension("o.mesh"));
+    let measure_only = !args.options.insert && !args.options.swap && !args.options.smooth;
+    for (written, read) in [
+        (output.clone(), &args.input),
+        (output.with_extension("sol"), &sol_path),
+    ] {
+        if !measure_only && same_file(&written, read) {
+            return Err(usage_err(format!(
+                "the output {} would overwrite the input (give -o)",
+                written.display()
+            )));
+        }
+    }
+    if mesh.dimension == 2 {
+        let m = tri_mesh(&mesh);
+        let met = metric_of::<2, 3>(&args, &sol, &name, &m)?;
+        finish(&args, &m, met, &output, clock, adapt_tri)
+    } else {
+        let m = tet_mesh(&mesh);
+        let met = metric_of::<3, 4>(&args, &sol, &name, &m)?;
+        finish(&args, &m, met, &output, clock, adapt_tet)
+    }
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b
+        || a.canonicalize()
+            .ok()
+            .is_some_and(|x| b.canonicalize().ok() == Some(x))
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, Failure> {
+    std::fs::read(path).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+/// The input mesh: Medit by default, `.node` (+ `.ele`) by extension.
+fn read_mesh(path: &Path) -> Result<MeditMesh, Failure> {
+    let name = path.display().to_string();
+    let io = |e: delone_io::IoError| input_err(format!("{name}: {e}"));
+    if path.extension().is_some_and(|e| e == "node" || e == "ele") {
+        let node = delone_io::read_node(&read(&path.with_extension("node"))?).map_err(io)?;
+        let ele_path = path.with_extension("ele");
+        let ele = delone_io::read_ele(&read(&ele_path)?, node.first_index)
+            .map_err(|e| input_err(format!("{}: {e}", ele_path.display())))?;
+        let d = node.dim;
+        let mut m = MeditMesh {
+            dimension: d as u8,
+            points: node
+                .coords
+                .chunks(d)
+                .map(|c| [c[0], c[1], if d == 3 { c[2] } else { 0.0 }])
+                .collect(),
+            point_refs: node.markers.unwrap_or_default(),
+            ..Default::default()
+        };
+        let k = ele.nodes_per_element;
+        if k != d + 1 {
+            return Err(input_err(format!(
+                "{}: {k} nodes per element (need {})",
+                ele_path.display(),
+                d + 1
+            )));
+        }
+        let refs = |i: usize| {
+            if ele.n_attributes > 0 {
+                ele.attributes[i * ele.n_attributes] as i32
+            } else {
+                0
+            }
+        };
+        for (i, e) in ele.elements.chunks(k).enumerate() {
+            if d == 2 {
+                m.triangles.push([e[0], e[1], e[2]]);
+                m.triangle_refs.push(refs(i));
+            } else {
+                m.tetrahedra.push([e[0], e[1], e[2], e[3]]);
+                m.tetrahedron_refs.push(refs(i));
+            }
+        }
+        return Ok(m);
+    }
+    delone_io::read_medit_mesh(&read(path)?).map_err(io)
+}
+
+fn tri_mesh(m: &MeditMesh) -> SimplexMesh<2, 3> {
+    SimplexMesh {
+        points: m.points.iter().map(|p| [p[0], p[1]]).collect(),
+        point_refs: m.point_refs.clone(),
+        elements: m.triangles.clone(),
+        element_refs: m.triangle_refs.clone(),
+        faces: m.edges.clone(),
+        face_refs: m.edge_refs.clone(),
+        corners: m.corners.clone(),
+        ridges: Vec::new(),
+        required: m.required_vertices.clone(),
+    }
+}
+
+fn tet_mesh(m: &MeditMesh) -> SimplexMesh<3, 4> {
+    SimplexMesh {
+        points: m.points.clone(),
+        point_refs: m.point_refs.clone(),
+        elements: m.tetrahedra.clone(),
+        element_refs: m.tetrahedron_refs.clone(),
+        faces: m.triangles.clone(),
+        face_refs: m.triangle_refs.clone(),
+        corners: m.corners.clone(),
+        ridges: m
+            .ridges
+            .iter()
+            .filter_map(|&e| m.edges.get(e as usize).copied())
+            .collect(),
+        required: m.required_vertices.clone(),
+    }
+}
+
+/// The metric at the vertices: from `--metric` sizes or tensors, or from
+/// the `--field` solution's Hessians.
+fn metric_of<const D: usize, const K: usize>(
+    args: &Args,
+    sol: &MeditSol,
+    name: &str,
+    m: &SimplexMesh<D, K>,
+) -> Result<Vec<Metric<D>>, Failure> {
+    let Some(f) = sol.fields.first() else {
+        return Err(input_err(format!("{name}: no field")));
+    };
+    let lib = |e: delone::Error| input_err(format!("{name}: {e}"));
+    if args.field.is_some() {
+        if f.kind != SolKind::Scalar {
+            return Err(input_err(format!(
+                "{name}: --field needs a scalar field (type 1), not type {}",
+                f.kind.code()
+            )));
+        }
+        let h = hessians(&m.points, &m.elements, &f.values).map_err(lib)?;
+        let target = args.target.unwrap_or(Target::Complexity {
+            complexity: m.points.len() as f64 * if D == 2 { 3f64.sqrt() / 2.0 } else { 0.77 },
+            p: args.p,
+        });
+        let diag = diagonal(&m.points);
+        let hmin = args.options.hmin.unwrap_or(1e-6 * diag);
+        let hmax = args.options.hmax.unwrap_or(diag);
+        return metric_from_hessians(&m.points, &m.elements, &h, target, hmin, hmax).map_err(lib);
+    }
+    f.values
+        .chunks(f.kind.width(sol.dimension))
+        .enumerate()
+        .map(|(i, c)| {
+            let met = match f.kind {
+                SolKind::Scalar if c[0] > 0.0 && c[0].is_finite() => Ok(Metric::isotropic(c[0])),
+                SolKind::Scalar => Err(format!("the size {} is not positive and finite", c[0])),
+                SolKind::Tensor => Metric::from_medit(c).map_err(|d| d.to_string()),
+                SolKind::Vector => Err("is a vector (a metric is type 1 or 3)".into()),
+            };
+            met.map_err(|e| {
+                input_err(format!(
+                    "{name}: the metric at vertex {} (1-based) {e}",
+                    i + 1
+                ))
+            })
+        })
+        .collect()
+}
+
+fn diagonal<const D: usize>(p: &[[f64; D]]) -> f64 {
+    let mut s = 0.0;
+    for k in 0..D {
+        let lo = p.iter().map(|x| x[k]).fold(f64::INFINITY, f64::min);
+        let hi = p.iter().map(|x| x[k]).fold(f64::NEG_INFINITY, f64::max);
+        s += (hi - lo) * (hi - lo);
+    }
+    s.sqrt()
+}
+
+type Adapt<const D: usize, const K: usize> =
+    fn(
+        &SimplexMesh<D, K>,
+        MetricField<'_, D>,
+        &AdaptOptions,
+    ) -> Result<delone::adapt::Adapted<D, K>, delone::Error>;
+
+/// Adapts (or only measures), writes the mesh, its metric and the reports.
+fn finish<const D: usize, const K: usize>(
+    args: &Args,
+    m: &SimplexMesh<D, K>,
+    met: Vec<Metric<D>>,
+    output: &Path,
+    clock: Instant,
+    adapt: Adapt<D, K>,
+) -> Result<i32, Failure> {
+    let o = &args.options;
+    let measure_only = !o.insert && !o.swap && !o.smooth;
+    let read_time = clock.elapsed().as_secs_f64();
+    let report = if measure_only {
+        let s = metric_stats(&m.points, &m.elements, &met);
+        AdaptReport {
+            before: s.clone(),
+            after: s,
+            ..Default::default()
+        }
+    } else {
+        let out = adapt(m, MetricField::AtVertices(met), o)
+            .map_err(|e| input_err(format!("{}: {e}", args.input.display())))?;
+        let t = Instant::now();
+        write_mesh(output, &out.mesh)?;
+        let sol = MeditSol {
+            dimension: D as u8,
+            vertices: out.metric.len(),
+            fields: vec![SolField {
+                kind: SolKind::Tensor,
+                values: out.metric.iter().flat_map(|x| x.medit()).collect(),
+            }],
+        };
+        write(&output.with_extension("sol"), |w| {
+            delone_io::write_medit_sol(w, &sol)
+        })?;
+        let mut r = out.report;
+        r.phases.push(("write", t.elapsed().as_secs_f64()));
+        r
+    };
+    let mut report = report;
+    report.phases.insert(0, ("read", read_time));
+    if args.verbose && !args.quiet {
+        let mut text = String::new();
+        print_report(&mut text, &report, measure_only);
+        // (A closed pipe is not an error of the run.)
+        let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
+    }
+    if let Some(path) = &args.json {
+        let text = json(&report);
+        std::fs::write(path, text).map_err(|e| input_err(format!("{}: {e}", path.display())))?;
+    }
+    Ok(0)
+}
+
+fn write(
+    path: &Path,
+    f: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<(), delone_io::IoError>,
+) -> Result<(), Failure> {
+    let file =
+        std::fs::File::create(path).map_err(|e| input_err(format!("{}: {e}", path.display())))?;
+    let mut w = std::io::BufWriter::new(file);
+    f(&mut w).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+fn write_mesh<const D: usize, const K: usize>(
+    path: &Path,
+    m: &SimplexMesh<D, K>,
+) -> Result<(), Failure> {
+    let at = |p: &[f64; D]| [p[0], p[1], if D == 3 { p[2] } else { 0.0 }];
+    let refs = |r: &Vec<i32>, n: usize| if r.is_empty() { vec![0; n] } else { r.clone() };
+    let mut out = MeditMesh {
+        dimension: D as u8,
+        points: m.points.iter().map(at).collect(),
+        point_refs: refs(&m.point_refs, m.points.len()),
+        corners: m.corners.clone(),
+        required_vertices: m.required.clone(),
+        ..Default::default()
+    };
+    let face_refs = refs(&m.face_refs, m.faces.len());
+    let el_refs = refs(&m.element_refs, m.elements.len());
+    if D == 2 {
+        out.edges = m.faces.iter().map(|f| [f[0], f[1]]).collect();
+        out.edge_refs = face_refs;
+        out.triangles = m.elements.iter().map(|e| [e[0], e[1], e[2]]).collect();
+        out.triangle_refs = el_refs;
+    } else {
+        out.triangles = m.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
+        out.triangle_refs = face_refs;
+        out.tetrahedra = m
+            .elements
+            .iter()
+            .map(|e| [e[0], e[1], e[2], e[3]])
+            .collect();
+        out.tetrahedron_refs = el_refs;
+        for r in &m.ridges {
+            out.ridges.push(out.edges.len() as u32);
+            out.edges.push(*r);
+            out.edge_refs.push(0);
+        }
+    }
+    write(path, |w| delone_io::write_medit_mesh(w, &out))
+}
+
+fn print_stats(out: &mut String, label: &str, s: &MetricStats) {
+    let _ = writeln!(
+        out,
+        "{label}: {} vertices, {} elements, {} edges; length min {:.3} mean {:.3} max {:.3}; {:.1}% in [1/sqrt2, sqrt2]; quality min {:.3} mean {:.3}",
+        s.vertices,
+        s.elements,
+        s.edges,
+        s.length_min,
+        s.length_mean,
+        s.length_max,
+        100.0 * s.in_range_share(),
+        s.quality_min,
+        s.quality_mean
+    );
+    let mut lo = 0.0;
+    let bins: Vec<String> = s
+        .length_histogram
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let hi = LENGTH_BINS
+                .get(k)
+                .map_or("inf".to_string(), |x| format!("{x:.2}"));
+            let b = format!("[{lo:.2},{hi}) {n}");
+            lo = LENGTH_BINS.get(k).copied().unwrap_or(0.0);
+            b
+        })
+        .collect();
+    let _ = writeln!(out, "  lengths: {}", bins.join("  "));
+    let q: Vec<String> = s
+        .quality_histogram
+        .iter()
+        .enumerate()
+        .map(|(k, n)| format!("{:.1}:{n}", k as f64 / 10.0))
+        .collect();
+    let _ = writeln!(out, "  quality: {}", q.join("  "));
+}
+
+fn print_report(out: &mut String, r: &AdaptReport, measure_only: bool) {
+    if measure_only {
+        print_stats(out, "mesh", &r.after);
+    } else {
+        print_stats(out, "before", &r.before);
+        print_stats(out, "after", &r.after);
+        let _ = writeln!(
+            out,
+            "passes {}, splits {}, collapses {}, swaps {}, moves {}{}",
+            r.passes,
+            r.splits,
+            r.collapses,
+            r.swaps,
+            r.moves,
+            if r.budget_reached {
+                " (vertex budget reached)"
+            } else {
+                ""
+            }
+        );
+    }
+    let t: Vec<String> = r
+        .phases
+        .iter()
+        .map(|(n, s)| format!("{n} {s:.3}s"))
+        .collect();
+    let _ = writeln!(out, "time: {}", t.join(", "));
+}
+
+fn json_stats(s: &MetricStats) -> String {
+    let list = |v: &[usize]| {
+        v.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "{{\"vertices\": {}, \"elements\": {}, \"edges\": {}, \"length_min\": {}, \"length_mean\": {}, \"length_max\": {}, \"in_range\": {}, \"in_range_share\": {}, \"length_histogram\": [{}], \"quality_min\": {}, \"quality_mean\": {}, \"quality_histogram\": [{}]}}",
+        s.vertices,
+        s.elements,
+        s.edges,
+        s.length_min,
+        s.length_mean,
+        s.length_max,
+        s.in_range,
+        s.in_range_share(),
+        list(&s.length_histogram),
+        s.quality_min,
+        s.quality_mean,
+        list(&s.quality_histogram)
+    )
+}
+
+fn json(r: &AdaptReport) -> String {
+    let phases: Vec<String> = r
+        .phases
+        .iter()
+        .map(|(n, s)| format!("\"{n}\": {s}"))
+        .collect();
+    format!(
+        "{{\"before\": {}, \"after\": {}, \"passes\": {}, \"splits\": {}, \"collapses\": {}, \"swaps\": {}, \"moves\": {}, \"budget_reached\": {}, \"phases\": {{{}}}}}\n",
+        json_stats(&r.before),
+        json_stats(&r.after),
+        r.passes,
+        r.splits,
+        r.collapses,
+        r.swaps,
+        r.moves,
+        r.budget_reached,
+        phases.join(", ")
+    )
+}

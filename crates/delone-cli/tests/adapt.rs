@@ -1,0 +1,240 @@
+//! `delone adapt`: a 2D run with its outputs, measure-only mode, the
+//! `.sol` round trip with MMG (when `mmg2d_O3` is installed), and the error
+//! paths (a metric that is not positive definite, a wrong count of values,
+//! a `.sol` of another dimension, no metric, an unknown option).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_delone");
+
+/// A 4 × 4 grid of the unit square with its sides as edges (references
+/// 1–4) and the four corners.
+fn square_mesh() -> String {
+    let n = 4;
+    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
+    let mut s = format!(
+        "MeshVersionFormatted 2\nDimension 2\nVertices\n{}\n",
+        (n + 1) * (n + 1)
+    );
+    for j in 0..=n {
+        for i in 0..=n {
+            s += &format!("{} {} 0\n", i as f64 / n as f64, j as f64 / n as f64);
+        }
+    }
+    s += &format!("Edges\n{}\n", 4 * n);
+    for k in 0..n {
+        s += &format!(
+            "{} {} 1\n{} {} 2\n",
+            id(k, 0),
+            id(k + 1, 0),
+            id(n, k),
+            id(n, k + 1)
+        );
+        s += &format!(
+            "{} {} 3\n{} {} 4\n",
+            id(k + 1, n),
+            id(k, n),
+            id(0, k + 1),
+            id(0, k)
+        );
+    }
+    s += &format!("Triangles\n{}\n", 2 * n * n);
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            s += &format!("{a} {b} {c} 0\n{a} {c} {d} 0\n");
+        }
+    }
+    s += &format!(
+        "Corners\n4\n{}\n{}\n{}\n{}\nEnd\n",
+        id(0, 0),
+        id(n, 0),
+        id(n, n),
+        id(0, n)
+    );
+    s
+}
+
+/// A tensor `.sol` with `values` per vertex line.
+fn sol(dim: u8, lines: &[&str]) -> String {
+    let kind = if lines[0].split_whitespace().count() == 1 {
+        1
+    } else {
+        3
+    };
+    format!(
+        "MeshVersionFormatted 2\nDimension {dim}\nSolAtVertices\n{}\n1 {kind}\n{}\nEnd\n",
+        lines.len(),
+        lines.join("\n")
+    )
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("delone-adapt-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    Command::new(BIN)
+        .arg("adapt")
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .unwrap()
+}
+
+fn anisotropic() -> String {
+    // Sizes 0.05 along x and 0.2 along y.
+    sol(2, &vec!["400 0 25"; 25])
+}
+
+#[test]
+fn adapts_writes_mesh_and_metric_and_reports() {
+    let d = dir("run");
+    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
+    std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
+    let out = run(
+        &[
+            "sq.mesh",
+            "--metric",
+            "sq.sol",
+            "-o",
+            "out.mesh",
+            "-V",
+            "--stats-json",
+            "s.json",
+        ],
+        &d,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("after:") && text.contains("in [1/sqrt2, sqrt2]") && text.contains("time:"),
+        "{text}"
+    );
+    let mesh = delone_io::read_medit_mesh(&std::fs::read(d.join("out.mesh")).unwrap()).unwrap();
+    let met = delone_io::read_medit_sol(&std::fs::read(d.join("out.sol")).unwrap()).unwrap();
+    assert_eq!(met.vertices, mesh.points.len());
+    assert!(mesh.points.len() > 60, "{} vertices", mesh.points.len());
+    assert_eq!(mesh.corners.len(), 4);
+    assert!(mesh.edge_refs.iter().all(|r| (1..=4).contains(r)));
+    let json = std::fs::read_to_string(d.join("s.json")).unwrap();
+    assert!(
+        json.contains("\"after\": {\"vertices\": ") && json.contains("\"splits\": "),
+        "{json}"
+    );
+    // The default metric is IN.sol; the same run gives the same bytes.
+    let again = run(&["sq.mesh", "-o", "again.mesh", "-Q"], &d);
+    assert!(again.status.success());
+    assert_eq!(
+        std::fs::read(d.join("out.mesh")).unwrap(),
+        std::fs::read(d.join("again.mesh")).unwrap()
+    );
+    // Measure only: the adapted mesh in its own metric, nothing written.
+    let m = run(
+        &[
+            "out.mesh",
+            "--metric",
+            "out.sol",
+            "-noinsert",
+            "-noswap",
+            "-nomove",
+            "-V",
+        ],
+        &d,
+    );
+    assert!(m.status.success());
+    assert!(String::from_utf8_lossy(&m.stdout).starts_with("mesh: "));
+    assert!(!d.join("out.o.mesh").exists());
+}
+
+#[test]
+fn sol_files_round_trip_with_mmg() {
+    let mmg = ["/tmp/mmgvenv/bin/mmg2d_O3", "mmg2d_O3"]
+        .into_iter()
+        .find(|m| Command::new(m).arg("-h").output().is_ok());
+    let Some(mmg) = mmg else {
+        eprintln!("skipped: mmg2d_O3 is not installed (/tmp/mmgvenv/bin or PATH)");
+        return;
+    };
+    let d = dir("mmg");
+    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
+    std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
+    assert!(run(&["sq.mesh", "-o", "a.mesh", "-Q"], &d).status.success());
+    // MMG reads delone's mesh and metric ...
+    let m = Command::new(mmg)
+        .args([
+            "-in", "a.mesh", "-sol", "a.sol", "-out", "b.mesh", "-v", "-1",
+        ])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(m.status.success(), "{}", String::from_utf8_lossy(&m.stdout));
+    // ... and delone reads MMG's.
+    let back = run(&["b.mesh", "--metric", "b.sol", "-o", "c.mesh", "-V"], &d);
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+    let c = delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap();
+    assert!(!c.triangles.is_empty());
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let d = dir("bad");
+    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
+    let mut lines = vec!["1 0 1"; 25];
+    lines[6] = "1 2 1";
+    std::fs::write(d.join("indef.sol"), sol(2, &lines)).unwrap();
+    std::fs::write(d.join("short.sol"), sol(2, &["1 0 1"; 24])).unwrap();
+    std::fs::write(d.join("three.sol"), sol(3, &vec!["1 0 1 0 0 1"; 25])).unwrap();
+    std::fs::write(
+        d.join("neg.sol"),
+        sol(2, &{
+            let mut l = vec!["0.1"; 25];
+            l[3] = "-1";
+            l
+        }),
+    )
+    .unwrap();
+    for (args, want) in [
+        (
+            &["sq.mesh", "--metric", "indef.sol"][..],
+            "the metric at vertex 7 (1-based) is not positive definite",
+        ),
+        (
+            &["sq.mesh", "--metric", "short.sol"],
+            "24 values for a mesh of 25 vertices",
+        ),
+        (
+            &["sq.mesh", "--metric", "three.sol"],
+            "a 3D solution for a 2D mesh",
+        ),
+        (&["sq.mesh", "--metric", "neg.sol"], "vertex 4 (1-based)"),
+        (&["sq.mesh"], "no metric"),
+        (
+            &["sq.mesh", "--metric", "short.sol", "-zz"],
+            "unknown option",
+        ),
+        (
+            &["sq.mesh", "--metric", "sq.mesh", "-o", "sq.mesh"],
+            "sq.mesh",
+        ),
+    ] {
+        let out = run(args, &d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(want),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
