@@ -79,55 +79,12 @@ pub fn adapt_tet(
     options: &AdaptOptions,
 ) -> Result<Adapted<3, 4>, Error> {
     let clock = Instant::now();
-    let input = Input::check(mesh)?;
-    let n = mesh.points.len();
-    let field = match &metric {
-        MetricField::Function(f) => Some(*f),
-        MetricField::AtVertices(_) => None,
-    };
-    let mut met: Vec<Metric<3>> = match metric {
-        MetricField::AtVertices(m) if m.len() != n => {
-            return Err(Error::MetricCount {
-                vertices: n,
-                metrics: m.len(),
-            })
-        }
-        MetricField::AtVertices(m) => m,
-        MetricField::Function(f) => mesh.points.iter().map(f).collect(),
-    };
-    let bound = |m: Metric<3>| match (options.hmin, options.hmax) {
-        (None, None) => m,
-        (lo, hi) => m.bounded(lo.unwrap_or(0.0), hi.unwrap_or(f64::INFINITY)),
-    };
-    met.iter_mut().for_each(|m| *m = bound(*m));
-    if let Some(g) = options.hgrad {
-        gradate(&mesh.points, &edges(&mesh.elements), &mut met, g);
-    }
-    let before = metric_stats(&mesh.points, &mesh.elements, &met);
-    let mut e = Engine {
-        m: input.dm,
-        p: mesh.points.clone(),
-        met,
-        fixed: vec![false; n],
-        facet: input.facet,
-        normal: input.normal,
-        field: field.map(|f| move |x: &[f64; 3]| bound(f(x))),
-        opt: options,
-        report: AdaptReport {
-            before,
-            ..Default::default()
-        },
-        live: n,
-    };
-    for &v in mesh.corners.iter().chain(&mesh.required) {
-        e.fixed[v as usize] = true;
-    }
+    let (mut e, input) = Engine::new(mesh, metric, options)?;
     e.report
         .phases
         .push(("input", clock.elapsed().as_secs_f64()));
     e.run();
-    let out = e.output(mesh, &input.faces, &input.regions, &input.ridge_pairs);
-    Ok(out)
+    Ok(e.output(mesh, &input))
 }
 
 /// The checked input: the domain mesh with its subfaces, the faces kept
@@ -355,7 +312,7 @@ enum Class {
 }
 
 /// The adaptation's state.
-struct Engine<'a, F> {
+struct Engine<'a> {
     m: DomainMesh,
     p: Vec<[f64; 3]>,
     met: Vec<Metric<3>>,
@@ -363,15 +320,70 @@ struct Engine<'a, F> {
     /// Facet per kept face (the subface table's values).
     facet: Vec<u32>,
     normal: Vec<[f64; 3]>,
-    /// The metric at a point (bounded), for a metric given as a function.
-    field: Option<F>,
+    /// The metric at a point, for a metric given as a function.
+    field: Option<&'a (dyn Fn(&[f64; 3]) -> Metric<3> + Sync)>,
     opt: &'a AdaptOptions,
     report: AdaptReport,
     /// Live vertices.
     live: usize,
 }
 
-impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
+impl<'a> Engine<'a> {
+    /// The engine on a checked input, with the metric at its vertices
+    /// bounded and graded.
+    fn new(
+        mesh: &TetMesh,
+        metric: MetricField<'a, 3>,
+        opt: &'a AdaptOptions,
+    ) -> Result<(Engine<'a>, Input), Error> {
+        let mut input = Input::check(mesh)?;
+        let n = mesh.points.len();
+        let (field, met) = match metric {
+            MetricField::AtVertices(m) if m.len() != n => {
+                return Err(Error::MetricCount {
+                    vertices: n,
+                    metrics: m.len(),
+                })
+            }
+            MetricField::AtVertices(m) => (None, m),
+            MetricField::Function(f) => (Some(f), mesh.points.iter().map(f).collect()),
+        };
+        let mut e = Engine {
+            m: std::mem::take(&mut input.dm),
+            p: mesh.points.clone(),
+            met,
+            fixed: vec![false; n],
+            facet: std::mem::take(&mut input.facet),
+            normal: std::mem::take(&mut input.normal),
+            field,
+            opt,
+            report: AdaptReport::default(),
+            live: n,
+        };
+        e.met = e.met.iter().map(|&m| e.bound(m)).collect();
+        if let Some(g) = opt.hgrad {
+            gradate(&mesh.points, &edges(&mesh.elements), &mut e.met, g);
+        }
+        e.report.before = metric_stats(&mesh.points, &mesh.elements, &e.met);
+        for &v in mesh.corners.iter().chain(&mesh.required) {
+            e.fixed[v as usize] = true;
+        }
+        Ok((e, input))
+    }
+
+    /// `m` within the options' `hmin` and `hmax`.
+    fn bound(&self, m: Metric<3>) -> Metric<3> {
+        match (self.opt.hmin, self.opt.hmax) {
+            (None, None) => m,
+            (lo, hi) => m.bounded(lo.unwrap_or(0.0), hi.unwrap_or(f64::INFINITY)),
+        }
+    }
+
+    /// The metric at point `x` of a metric given as a function.
+    fn field_at(&self, x: &[f64; 3]) -> Option<Metric<3>> {
+        self.field.map(|f| self.bound(f(x)))
+    }
+
     /// The metric length of edge `a b`.
     fn len(&self, a: u32, b: u32) -> f64 {
         let (a, b) = (a as usize, b as usize);
@@ -392,8 +404,8 @@ impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
 
     /// The metric of a new vertex at `x` between `a` and `b`.
     fn metric_at(&self, x: &[f64; 3], a: u32, b: u32) -> Metric<3> {
-        match &self.field {
-            Some(f) => f(x),
+        match self.field_at(x) {
+            Some(m) => m,
             None => {
                 Metric::interpolate(&[(0.5, self.met[a as usize]), (0.5, self.met[b as usize])])
                     .unwrap_or(self.met[a as usize])
@@ -514,27 +526,34 @@ impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
                 self.report.budget_reached = true;
                 return;
             }
-            let (pa, pb) = (self.p[a as usize], self.p[b as usize]);
-            let x = [
-                0.5 * (pa[0] + pb[0]),
-                0.5 * (pa[1] + pb[1]),
-                0.5 * (pa[2] + pb[2]),
-            ];
-            let mx = self.metric_at(&x, a, b);
-            let v = self.p.len() as u32;
-            self.p.push(x);
-            self.met.push(mx);
-            self.fixed.push(false);
-            if self.m.split_edge(&self.p, (a, b), v).is_some() {
-                self.report.splits += 1;
-                self.live += 1;
-                self.m.debug_check(&self.p, "adaptation split");
-            } else {
-                self.p.pop();
-                self.met.pop();
-                self.fixed.pop();
-            }
+            self.split(a, b);
         }
+    }
+
+    /// Splits edge `a b` at its midpoint (on the edge's ridge or facet when
+    /// it has one).
+    fn split(&mut self, a: u32, b: u32) -> bool {
+        let (pa, pb) = (self.p[a as usize], self.p[b as usize]);
+        let x = [
+            0.5 * (pa[0] + pb[0]),
+            0.5 * (pa[1] + pb[1]),
+            0.5 * (pa[2] + pb[2]),
+        ];
+        let mx = self.metric_at(&x, a, b);
+        let v = self.p.len() as u32;
+        self.p.push(x);
+        self.met.push(mx);
+        self.fixed.push(false);
+        if self.m.split_edge(&self.p, (a, b), v).is_none() {
+            self.p.pop();
+            self.met.pop();
+            self.fixed.pop();
+            return false;
+        }
+        self.report.splits += 1;
+        self.live += 1;
+        self.m.debug_check(&self.p, "adaptation split");
+        true
     }
 
     /// Collapses the edges shorter than [`SHORT`], shortest first.
@@ -752,8 +771,8 @@ impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
             self.p[v as usize] = x;
-            if let Some(f) = &self.field {
-                self.met[v as usize] = f(&x);
+            if let Some(m) = self.field_at(&x) {
+                self.met[v as usize] = m;
             }
             if tets.iter().all(|&t| positive(&self.p, t))
                 && self.min_q(tets.iter().copied()) > old + 1e-6
@@ -771,13 +790,8 @@ impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
     /// The adapted mesh: live vertices renumbered in order, tetrahedra in
     /// slot order, subfaces once each (outward from the first tetrahedron
     /// met) with their references.
-    fn output(
-        mut self,
-        mesh: &TetMesh,
-        faces: &[([u32; 3], i32)],
-        regions: &[i32],
-        ridge_pairs: &[(u32, u32)],
-    ) -> Adapted<3, 4> {
+    fn output(mut self, mesh: &TetMesh, input: &Input) -> Adapted<3, 4> {
+        let (faces, regions, ridge_pairs) = (&input.faces, &input.regions, &input.ridge_pairs);
         let clock = Instant::now();
         let mut map = vec![NONE; self.p.len()];
         let slots: Vec<u32> = self.m.live_slots().collect();
@@ -857,5 +871,135 @@ impl<F: Fn(&[f64; 3]) -> Metric<3>> Engine<'_, F> {
             metric,
             report: self.report,
         }
+    }
+}
+
+#[cfg(test)]
+#[path = "../../tests/common/cube.rs"]
+mod cube;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The adaptation-level invariants on top of [`DomainMesh::check`]:
+    /// each region of the cube has volume 1/2, each side and the
+    /// interface area 1 in subfaces of its reference.
+    fn invariants(e: &Engine<'_>, input: &Input, what: &str) {
+        e.m.check(&e.p).unwrap_or_else(|x| panic!("{what}: {x}"));
+        let mut vol = [0.0; 2];
+        let mut area = [0.0; 8];
+        for t in e.m.live_slots() {
+            let tv = e.m.tv[t as usize];
+            let p = tv.map(|v| e.p[v as usize]);
+            vol[e.m.reg[t as usize] as usize] += crate::tet::quality::volume(&p);
+            for f in 0..4 {
+                let w = e.m.nb[t as usize][f];
+                if e.m.is_sub(t, f) && (w == NONE || w >> 2 > t) {
+                    let k = fkey(face(tv, f));
+                    let r = input.faces[e.m.ftri[&k] as usize].1;
+                    let [a, b, c] = k.map(|v| e.p[v as usize]);
+                    let (u, w) = (sub(b, a), sub(c, a));
+                    let x = [
+                        u[1] * w[2] - u[2] * w[1],
+                        u[2] * w[0] - u[0] * w[2],
+                        u[0] * w[1] - u[1] * w[0],
+                    ];
+                    area[r as usize] += 0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                }
+            }
+        }
+        for v in vol {
+            assert!((v - 0.5).abs() < 1e-12, "{what}: region volumes {vol:?}");
+        }
+        for a in &area[1..] {
+            assert!((a - 1.0).abs() < 1e-12, "{what}: areas {area:?}");
+        }
+    }
+
+    /// Splits, collapses, swaps and moves one at a time on the cube with
+    /// an interface, the invariants checked after each; boundary vertices
+    /// stay on their facets and corners stay.
+    #[test]
+    fn each_operation_keeps_the_mesh() {
+        let mesh = cube::cube(2, true);
+        let size = |x: &[f64; 3]| Metric::isotropic(0.15 + 0.2 * x[0]);
+        let opt = AdaptOptions::default();
+        let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
+        invariants(&e, &input, "input");
+        let (mut splits, mut collapses, mut swaps, mut moves) = (0, 0, 0, 0);
+        for round in 0..3 {
+            for (_, a, b) in e.edge_list(|l| l > LONG) {
+                if e.m.edge_slot(a, b).is_some() && e.split(a, b) {
+                    splits += 1;
+                    invariants(&e, &input, "split");
+                }
+            }
+            for (_, a, b) in e.edge_list(|l| l < SHORT * (1.0 + round as f64)) {
+                for (v, w) in [(a, b), (b, a)] {
+                    if e.m.vt[v as usize] != crate::tet::local::DEAD && e.collapse(v, w) {
+                        collapses += 1;
+                        invariants(&e, &input, "collapse");
+                        break;
+                    }
+                }
+            }
+            for t in e.m.live_slots().collect::<Vec<_>>() {
+                if e.m.alive(t) && e.qual(e.m.tv[t as usize]) < SWAP_BELOW && e.swap(t) {
+                    swaps += 1;
+                    invariants(&e, &input, "swap");
+                }
+            }
+            for v in 0..e.p.len() as u32 {
+                let home = e.p[v as usize];
+                if e.m.vt[v as usize] != crate::tet::local::DEAD && e.smooth(v) {
+                    moves += 1;
+                    assert_ne!(home, e.p[v as usize]);
+                    invariants(&e, &input, "smoothing");
+                }
+            }
+        }
+        assert!(
+            splits > 100 && collapses > 10 && swaps > 0 && moves > 10,
+            "{splits} {collapses} {swaps} {moves}"
+        );
+        // Corners and the vertices of the sides never left them.
+        let out = e.output(&mesh, &input);
+        for (f, r) in out.mesh.faces.iter().zip(&out.mesh.face_refs) {
+            let (axis, at) = match r {
+                1..=6 => ((r - 1) as usize / 2, ((r - 1) % 2) as f64),
+                _ => (2, 0.5),
+            };
+            assert!(
+                f.iter().all(|&v| out.mesh.points[v as usize][axis] == at),
+                "face {f:?} ref {r}"
+            );
+        }
+        assert_eq!(out.mesh.ridges.len() % 4, 0);
+        assert!(out.mesh.ridges.len() >= 24);
+    }
+
+    /// A collapse that would move a vertex off its facet, off its ridge or
+    /// a corner is refused.
+    #[test]
+    fn boundary_vertices_collapse_only_within_their_facet() {
+        let mesh = cube::cube(2, true);
+        let size = |_: &[f64; 3]| Metric::isotropic(10.0);
+        let opt = AdaptOptions::default();
+        let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
+        let id = |i: u32, j: u32, k: u32| i + 3 * (j + 3 * k);
+        // A corner.
+        assert!(!e.collapse(id(0, 0, 0), id(1, 0, 0)));
+        // The middle of side x = 0 onto the interior vertex: off its facet.
+        assert!(!e.collapse(id(0, 1, 1), id(1, 1, 1)));
+        // The middle of a cube edge onto the middle of a side: off its ridge.
+        assert!(!e.collapse(id(1, 0, 0), id(1, 1, 0)));
+        // Along the ridge, to the corner, it goes.
+        assert!(e.collapse(id(1, 0, 0), id(0, 0, 0)));
+        invariants(&e, &input, "ridge collapse");
+        // The interior vertex onto a corner would flatten the tetrahedra
+        // on the sides through it.
+        assert!(!e.collapse(id(1, 1, 1), id(0, 0, 0)));
+        invariants(&e, &input, "refused collapse");
     }
 }
