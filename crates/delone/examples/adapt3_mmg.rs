@@ -4,9 +4,10 @@
 //! and by `mmg3d_O3` (through Medit files), both measured by
 //! `delone::adapt::metric_stats` in the analytic metric.
 //!
-//! `cargo run --release -p delone --example adapt3_mmg -- [MMG3D] [N] [ITERS]`
+//! `cargo run --release -p delone --example adapt3_mmg -- [MMG3D] [N] [ITERS] [CASE] [HGRAD]`
 //! (MMG3D: the `mmg3d_O3` program, skipped when missing; N: cubes per side of
-//! the coarse mesh, 10; ITERS: 5).
+//! the coarse mesh, 10; ITERS: 5; CASE: `linear` or `polar-1`, both when
+//! empty; HGRAD: the gradation of both tools, none when absent).
 
 use std::time::Instant;
 
@@ -87,19 +88,39 @@ fn stats(m: &TetMesh, f: fn(&[f64; 3]) -> Metric<3>) -> MetricStats {
     metric_stats(&m.points, &m.elements, &met)
 }
 
-fn delone_run(start: &TetMesh, f: fn(&[f64; 3]) -> Metric<3>, iters: usize) -> (TetMesh, f64) {
+fn delone_run(
+    start: &TetMesh,
+    f: fn(&[f64; 3]) -> Metric<3>,
+    iters: usize,
+    hgrad: Option<f64>,
+) -> (TetMesh, f64) {
     let mut mesh = start.clone();
     let mut secs = 0.0;
     for _ in 0..iters {
         let met = mesh.points.iter().map(f).collect();
         let t = Instant::now();
-        let out = adapt_tet(
-            &mesh,
-            MetricField::AtVertices(met),
-            &AdaptOptions::default(),
-        )
-        .unwrap();
+        let o = AdaptOptions {
+            hgrad,
+            ..Default::default()
+        };
+        let out = adapt_tet(&mesh, MetricField::AtVertices(met), &o).unwrap();
         secs += t.elapsed().as_secs_f64();
+        if std::env::var_os("ADAPT3_VERBOSE").is_some() {
+            let r = &out.report;
+            eprintln!(
+                "{} tets {:.1}% q {:.3}/{:.3}: {} splits {} collapses {} swaps {} moves, {} passes; {:?}",
+                out.mesh.elements.len(),
+                100.0 * r.after.in_range_share(),
+                r.after.quality_min,
+                r.after.quality_mean,
+                r.splits,
+                r.collapses,
+                r.swaps,
+                r.moves,
+                r.passes,
+                r.phases
+            );
+        }
         mesh = out.mesh;
     }
     (mesh, secs)
@@ -110,7 +131,9 @@ fn mmg_run(
     start: &TetMesh,
     f: fn(&[f64; 3]) -> Metric<3>,
     iters: usize,
+    hgrad: Option<f64>,
 ) -> Option<(TetMesh, f64)> {
+    let hgrad = hgrad.map_or("-1".to_string(), |g| g.to_string());
     let dir = std::env::temp_dir().join(format!("adapt3_mmg_{}", std::process::id()));
     std::fs::create_dir_all(&dir).ok()?;
     let (inm, ins, out) = (dir.join("c.mesh"), dir.join("c.sol"), dir.join("o.mesh"));
@@ -137,6 +160,8 @@ fn mmg_run(
                 ins.to_str()?,
                 "-out",
                 out.to_str()?,
+                "-hgrad",
+                &hgrad,
                 "-v",
                 "-1",
             ])
@@ -172,6 +197,8 @@ fn main() {
         .unwrap_or_else(|| "/tmp/mmgvenv/bin/mmg3d_O3".into());
     let n: usize = args.get(2).and_then(|x| x.parse().ok()).unwrap_or(10);
     let iters: usize = args.get(3).and_then(|x| x.parse().ok()).unwrap_or(5);
+    let only = args.get(4).cloned().unwrap_or_default();
+    let hgrad: Option<f64> = args.get(5).and_then(|x| x.parse().ok());
     let start = cube::cube(n, false);
     println!("| case     | tool   | vertices | tets     | in range | q min | q mean | seconds |");
     println!("|----------|--------|----------|----------|----------|-------|--------|---------|");
@@ -179,9 +206,12 @@ fn main() {
         ("linear", linear as fn(&[f64; 3]) -> Metric<3>),
         ("polar-1", polar1),
     ] {
-        let (m, secs) = delone_run(&start, f, iters);
+        if !only.is_empty() && only != case {
+            continue;
+        }
+        let (m, secs) = delone_run(&start, f, iters, hgrad);
         row("delone", case, &m, &stats(&m, f), secs);
-        match mmg_run(&mmg, &start, f, iters) {
+        match mmg_run(&mmg, &start, f, iters, hgrad) {
             Some((m, secs)) => row("MMG", case, &m, &stats(&m, f), secs),
             None => println!("| {case:8} | MMG    | ({mmg} did not run)"),
         }

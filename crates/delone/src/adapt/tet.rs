@@ -294,6 +294,37 @@ impl Input {
     }
 }
 
+/// The metric length of edge `a b`.
+fn length(p: &[[f64; 3]], met: &[Metric<3>], a: u32, b: u32) -> f64 {
+    let (a, b) = (a as usize, b as usize);
+    met[a].edge_length(&met[b], sub(p[b], p[a]))
+}
+
+/// The quality of `tv`: its mean ratio in the mean metric of its corners.
+fn quality(p: &[[f64; 3]], met: &[Metric<3>], tv: [u32; 4]) -> f64 {
+    let m = Metric::mean(&tv.map(|v| met[v as usize])).unwrap_or(Metric::isotropic(1.0));
+    mean_ratio(&tv.map(|v| p[v as usize]), &m)
+}
+
+/// True when every edge of tetrahedra `new` that is not an edge of `old`
+/// has metric length at most [`LONG`]: an operation must not make an edge
+/// that the next split pass would cut.
+fn no_long_edge(p: &[[f64; 3]], met: &[Metric<3>], old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
+    let edges = |tets: &[[u32; 4]]| {
+        let mut e: Vec<(u32, u32)> = tets
+            .iter()
+            .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
+            .collect();
+        e.sort_unstable();
+        e.dedup();
+        e
+    };
+    let before = edges(old);
+    edges(new)
+        .into_iter()
+        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= LONG)
+}
+
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -311,6 +342,9 @@ enum Class {
     Ridge(u32, u32),
 }
 
+/// A metric given as a function of the point.
+type MetricFn<'a> = dyn Fn(&[f64; 3]) -> Metric<3> + Sync + 'a;
+
 /// The adaptation's state.
 struct Engine<'a> {
     m: DomainMesh,
@@ -321,7 +355,7 @@ struct Engine<'a> {
     facet: Vec<u32>,
     normal: Vec<[f64; 3]>,
     /// The metric at a point, for a metric given as a function.
-    field: Option<&'a (dyn Fn(&[f64; 3]) -> Metric<3> + Sync)>,
+    field: Option<&'a MetricFn<'a>>,
     opt: &'a AdaptOptions,
     report: AdaptReport,
     /// Live vertices.
@@ -384,16 +418,12 @@ impl<'a> Engine<'a> {
         self.field.map(|f| self.bound(f(x)))
     }
 
-    /// The metric length of edge `a b`.
     fn len(&self, a: u32, b: u32) -> f64 {
-        let (a, b) = (a as usize, b as usize);
-        self.met[a].edge_length(&self.met[b], sub(self.p[b], self.p[a]))
+        length(&self.p, &self.met, a, b)
     }
 
-    /// The quality of `tv` (mean ratio in the mean metric of its corners).
     fn qual(&self, tv: [u32; 4]) -> f64 {
-        let m = Metric::mean(&tv.map(|v| self.met[v as usize])).unwrap_or(Metric::isotropic(1.0));
-        mean_ratio(&tv.map(|v| self.p[v as usize]), &m)
+        quality(&self.p, &self.met, tv)
     }
 
     fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
@@ -462,6 +492,9 @@ impl<'a> Engine<'a> {
             }
         };
         let mut quiet = 0;
+        // Smoothing (and the swaps after it) wait until the splits and
+        // collapses have settled: before, most of the moved vertices go.
+        let mut settled = false;
         while self.report.passes < self.opt.max_passes {
             self.report.passes += 1;
             let (s0, c0) = (self.report.splits, self.report.collapses);
@@ -478,17 +511,18 @@ impl<'a> Engine<'a> {
                 self.swap_pass();
             }
             phase(&mut self.report, "swap", t);
-            let t = Instant::now();
-            if self.opt.smooth {
+            if settled && self.opt.smooth {
+                let t = Instant::now();
                 self.smooth_pass();
+                phase(&mut self.report, "smooth", t);
+                let t = Instant::now();
+                if self.opt.swap {
+                    self.swap_pass();
+                }
+                phase(&mut self.report, "swap", t);
             }
-            phase(&mut self.report, "smooth", t);
-            let t = Instant::now();
-            if self.opt.swap {
-                self.swap_pass();
-            }
-            phase(&mut self.report, "swap", t);
             let changed = self.report.splits + self.report.collapses - s0 - c0;
+            settled |= changed * 20 < self.live;
             // A few passes of swaps and smoothing after the last topology
             // change, or stop when the changes have become marginal.
             if changed * 200 < self.live {
@@ -593,31 +627,12 @@ impl<'a> Engine<'a> {
         if !along {
             return false;
         }
-        // New edges (w to a vertex of v's link not yet its neighbour) must
-        // not be long.
-        let mut near: Vec<u32> = Vec::new();
-        let mut far: Vec<u32> = Vec::new();
-        for &t in &ball {
-            let tv = self.m.tv[t as usize];
-            let into = if tv.contains(&w) { &mut near } else { &mut far };
-            into.extend(tv.iter().filter(|&&x| x != v && x != w));
-        }
-        far.sort_unstable();
-        far.dedup();
-        if far
-            .iter()
-            .any(|&x| !near.contains(&x) && self.len(w, x) > LONG)
-        {
-            return false;
-        }
-        let old = self.min_q(ball.iter().map(|&t| self.m.tv[t as usize]));
-        let floor = COLLAPSE_FLOOR.min(old);
+        let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
+        let floor = COLLAPSE_FLOOR.min(self.min_q(tets.iter().copied()));
         let (p, met) = (&self.p, &self.met);
-        let q = |tv: [u32; 4]| {
-            let m = Metric::mean(&tv.map(|v| met[v as usize])).unwrap_or(Metric::isotropic(1.0));
-            mean_ratio(&tv.map(|v| p[v as usize]), &m)
+        let accept = |new: &[[u32; 4]]| {
+            new.iter().all(|&t| quality(p, met, t) >= floor) && no_long_edge(p, met, &tets, new)
         };
-        let accept = |new: &[[u32; 4]]| new.iter().all(|&t| q(t) >= floor);
         if self
             .m
             .collapse_edge(&self.p, &ball, (v, w), accept)
@@ -663,7 +678,11 @@ impl<'a> Engine<'a> {
             if let Some(fl) = self.m.flip23(t, f) {
                 let before = self.min_q(fl.old.iter().map(|&u| self.m.tv[u as usize]));
                 let after = self.min_q(fl.new.iter().copied());
-                if after > before + 1e-6 && fl.new.iter().all(|&n| positive(&self.p, n)) {
+                let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
+                if after > before + 1e-6
+                    && fl.new.iter().all(|&n| positive(&self.p, n))
+                    && no_long_edge(&self.p, &self.met, &old, &fl.new)
+                {
                     consider(after - before, fl.old, fl.new);
                 }
             }
@@ -723,7 +742,10 @@ impl<'a> Engine<'a> {
             return None;
         }
         let new = ring::ring_tets(&r, &choice, a, b);
-        if !new.iter().all(|&x| positive(&self.p, x)) {
+        let old: Vec<[u32; 4]> = tets.iter().map(|&u| self.m.tv[u as usize]).collect();
+        if !new.iter().all(|&x| positive(&self.p, x))
+            || !no_long_edge(&self.p, &self.met, &old, &new)
+        {
             return None;
         }
         Some((tets, new, q - need))
