@@ -135,3 +135,22 @@ fn bad_input_is_refused_naming_the_item() {
         }
     ));
 }
+
+#[test]
+fn same_input_same_output() {
+    let f = linear(0.3, 0.05);
+    let mesh = cube(2, true);
+    let run = || {
+        let size = |p: &[f64; 3]| f(p);
+        adapt_tet(
+            &mesh,
+            MetricField::Function(&size),
+            &AdaptOptions::default(),
+        )
+        .unwrap()
+        .mesh
+    };
+    let a = run();
+    check_cube(&a);
+    assert_eq!(a, run());
+}
