@@ -1,18 +1,1027 @@
-//! 3D adaptation on the constrained tetrahedral mesh.
+//! 3D adaptation on the constrained tetrahedral mesh
+//! ([`crate::tet::dmesh::DomainMesh`]): worst-first passes of edge split,
+//! edge collapse, swaps (2-3 flips and edge removal by the shared dynamic
+//! program, [`crate::tet::dmesh::ring::triangulate`]) and vertex smoothing,
+//! each judged by edge lengths and mean ratio in the metric and committed
+//! only when every new tetrahedron is strictly positive by exact
+//! `orient3d`.
+//!
+//! The boundary is kept: the input's boundary and interface triangles are
+//! the mesh's subfaces (each remembers its input triangle, hence its
+//! reference), grouped into planar *facets* (coplanar neighbours with one
+//! reference, not across a ridge). A vertex on one facet collapses only
+//! along a subface edge of it, a vertex on two (a ridge) only along the
+//! ridge; corners, required vertices and vertices on three facets or more
+//! never move. Splits put the new vertex at the edge's midpoint, so on the
+//! edge's facet or ridge; only interior vertices are smoothed.
 
-use super::{AdaptOptions, Adapted, MetricField, TetMesh};
-use crate::Error;
+#![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
-/// Adapts a tetrahedral mesh to a metric field.
+use std::time::Instant;
+
+use delone_predicates::orient3d;
+
+use super::{metric_stats, AdaptOptions, AdaptReport, Adapted, MetricField, TetMesh};
+use crate::metric::{edges, gradate, mean_ratio, Metric};
+use crate::tet::dmesh::flip::positive;
+use crate::tet::dmesh::{ring, DomainMesh};
+use crate::tet::local::{ekey, face, fkey, EDGES, FACET};
+use crate::tet::mesh::{input_tets, TetsDefect};
+use crate::{Error, NONE};
+
+/// Edges longer than this (in the metric) are split.
+const LONG: f64 = std::f64::consts::SQRT_2;
+/// Edges shorter than this are collapsed.
+const SHORT: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// Tetrahedra below this quality are swapped worst first.
+const SWAP_BELOW: f64 = 0.5;
+/// A collapse may not leave a tetrahedron below this quality (or below the
+/// worst of the star it replaces, when that is lower).
+const COLLAPSE_FLOOR: f64 = 0.25;
+/// Largest edge shell split or removed.
+const MAX_SHELL: usize = 64;
+/// Longest edge ring an edge removal tries.
+const MAX_RING: usize = 12;
+
+/// Adapts a tetrahedral mesh to a metric field: the metric is bounded by
+/// `hmin`/`hmax` and graded by `hgrad`, then split, collapse, swap and
+/// smoothing passes run until a pass splits and collapses nothing (or
+/// `max_passes`, or `max_vertices`). Every region keeps its volume and
+/// reference, every boundary and interface triangle's reference is kept on
+/// the triangles that cover it.
+///
+/// # Errors
+/// [`Error::InvalidCoordinate`], [`Error::IndexOutOfRange`] (a
+/// tetrahedron, face, corner, ridge or required vertex naming a missing
+/// point), [`Error::InconsistentMesh`] (reference arrays of the wrong
+/// length, a tetrahedron not positively oriented, overlapping or
+/// non-manifold tetrahedra, a face that is not a face of the mesh),
+/// [`Error::MetricCount`].
 ///
 /// ```
-/// // See the module documentation.
+/// use delone::adapt::{adapt_tet, AdaptOptions, MetricField, TetMesh};
+/// use delone::metric::Metric;
+/// // One tetrahedron, adapted to size 0.5: split into a few dozen.
+/// let mesh = TetMesh {
+///     points: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+///     elements: vec![[0, 1, 2, 3]],
+///     ..Default::default()
+/// };
+/// let size = |_: &[f64; 3]| Metric::isotropic(0.5);
+/// let out = adapt_tet(&mesh, MetricField::Function(&size), &AdaptOptions::default()).unwrap();
+/// assert!(out.mesh.elements.len() > 4);
+/// assert_eq!(out.mesh.faces.len() % 2, 0);
+/// assert!(out.report.after.quality_min > 0.0);
 /// ```
 pub fn adapt_tet(
     mesh: &TetMesh,
     metric: MetricField<'_, 3>,
     options: &AdaptOptions,
 ) -> Result<Adapted<3, 4>, Error> {
-    let _ = (mesh, metric, options);
-    todo!("3D adaptation engine")
+    let clock = Instant::now();
+    let (mut e, input) = Engine::new(mesh, metric, options)?;
+    e.report
+        .phases
+        .push(("input", clock.elapsed().as_secs_f64()));
+    e.run();
+    Ok(e.output(mesh, &input))
+}
+
+/// The checked input: the domain mesh with its subfaces, the faces kept
+/// (the input's, then boundary faces it lacks, reference 0), their facets
+/// and each facet's unit normal, the regions' references, the facet pairs
+/// of the input's ridges.
+struct Input {
+    dm: DomainMesh,
+    faces: Vec<([u32; 3], i32)>,
+    facet: Vec<u32>,
+    normal: Vec<[f64; 3]>,
+    regions: Vec<i32>,
+    ridge_pairs: Vec<(u32, u32)>,
+}
+
+impl Input {
+    fn check(mesh: &TetMesh) -> Result<Input, Error> {
+        let n = mesh.points.len();
+        if let Some(i) = mesh
+            .points
+            .iter()
+            .position(|p| p.iter().any(|x| !x.is_finite()))
+        {
+            return Err(Error::InvalidCoordinate { index: i });
+        }
+        let bad = |what: &str, len: usize, of: usize| Error::InconsistentMesh {
+            reason: format!("{len} {what} references for {of} items"),
+        };
+        for (what, len, of) in [
+            ("vertex", mesh.point_refs.len(), n),
+            ("tetrahedron", mesh.element_refs.len(), mesh.elements.len()),
+            ("face", mesh.face_refs.len(), mesh.faces.len()),
+        ] {
+            if len != 0 && len != of {
+                return Err(bad(what, len, of));
+            }
+        }
+        let lists: [(&'static str, Vec<&[u32]>); 5] = [
+            (
+                "tetrahedron",
+                mesh.elements.iter().map(|x| &x[..]).collect(),
+            ),
+            ("triangle", mesh.faces.iter().map(|x| &x[..]).collect()),
+            ("ridge", mesh.ridges.iter().map(|x| &x[..]).collect()),
+            ("corner", mesh.corners.chunks(1).collect()),
+            ("required vertex", mesh.required.chunks(1).collect()),
+        ];
+        for (item, list) in lists {
+            for (index, x) in list.iter().enumerate() {
+                if let Some(&vertex) = x.iter().find(|&&v| v as usize >= n) {
+                    return Err(Error::IndexOutOfRange {
+                        item,
+                        index,
+                        vertex,
+                        points: n,
+                    });
+                }
+            }
+        }
+        for (t, x) in mesh.elements.iter().enumerate() {
+            let g = |i: usize| &mesh.points[x[i] as usize];
+            if orient3d(g(0), g(1), g(2), g(3)) >= 0.0 {
+                return Err(Error::InconsistentMesh {
+                    reason: format!("tetrahedron {t} {x:?} is not positively oriented"),
+                });
+            }
+        }
+        let (tv, nb) = input_tets(&mesh.points, &mesh.elements, true).map_err(|d| {
+            let (t, what) = match d {
+                TetsDefect::BadIndex(t) => (t, "repeats a vertex"),
+                TetsDefect::Degenerate(t) | TetsDefect::Inverted(t) => {
+                    (t, "is not positively oriented")
+                }
+                TetsDefect::NonManifold(t) => (t, "shares a face with two others"),
+                TetsDefect::Overlap(t) => (t, "overlaps its neighbour"),
+            };
+            Error::InconsistentMesh {
+                reason: format!("tetrahedron {t} {what}"),
+            }
+        })?;
+        let mut regions: Vec<i32> = mesh.element_refs.clone();
+        regions.sort_unstable();
+        regions.dedup();
+        if regions.is_empty() {
+            regions.push(0);
+        }
+        let reg: Vec<u32> = (0..tv.len())
+            .map(|t| {
+                let r = mesh.element_refs.get(t).copied().unwrap_or(0);
+                regions.binary_search(&r).unwrap_or(0) as u32
+            })
+            .collect();
+        let mut dm =
+            DomainMesh::from_neighbors(&tv, &nb, &reg, n).map_err(|t| Error::InconsistentMesh {
+                reason: format!("tetrahedron {t} does not fit its neighbours"),
+            })?;
+        // The faces: the input's, then the boundary faces it lacks.
+        let mut slot_of: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tv.len());
+        for (t, x) in tv.iter().enumerate() {
+            for f in 0..4 {
+                slot_of.push((fkey(face(*x, f)), t as u32, f as u8));
+            }
+        }
+        slot_of.sort_unstable();
+        let mut faces: Vec<([u32; 3], i32)> = Vec::new();
+        for (i, x) in mesh.faces.iter().enumerate() {
+            let k = fkey(*x);
+            let j = slot_of.partition_point(|s| s.0 < k);
+            if slot_of.get(j).is_none_or(|s| s.0 != k) {
+                return Err(Error::InconsistentMesh {
+                    reason: format!("face {i} {x:?} is not a face of a tetrahedron"),
+                });
+            }
+            let (t, f) = (slot_of[j].1, slot_of[j].2 as usize);
+            if dm.ftri.contains_key(&k) {
+                continue;
+            }
+            dm.mark_face(t, f);
+            dm.ftri.insert(k, faces.len() as u32);
+            faces.push((*x, mesh.face_refs.get(i).copied().unwrap_or(0)));
+        }
+        for (t, x) in tv.iter().enumerate() {
+            for f in 0..4 {
+                let k = fkey(face(*x, f));
+                if nb[t][f] == NONE && !dm.ftri.contains_key(&k) {
+                    dm.mark_face(t as u32, f);
+                    dm.ftri.insert(k, faces.len() as u32);
+                    faces.push((k, 0));
+                }
+            }
+        }
+        // Facets: faces joined across edges of exactly two faces with one
+        // reference and one plane, not across a ridge.
+        let p = &mesh.points;
+        let unit = |k: [u32; 3]| {
+            let [a, b, c] = k.map(|v| p[v as usize]);
+            let (u, w) = (sub(b, a), sub(c, a));
+            let x = [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ];
+            let l = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            x.map(|c| c / l)
+        };
+        let mut by_edge: Vec<((u32, u32), u32)> = Vec::with_capacity(3 * faces.len());
+        for (i, (k, _)) in faces.iter().enumerate() {
+            for (a, b) in [(k[0], k[1]), (k[1], k[2]), (k[0], k[2])] {
+                by_edge.push((ekey(a, b), i as u32));
+            }
+        }
+        by_edge.sort_unstable();
+        let mut ridges: Vec<(u32, u32)> = mesh.ridges.iter().map(|r| ekey(r[0], r[1])).collect();
+        ridges.sort_unstable();
+        let mut parent: Vec<u32> = (0..faces.len() as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                parent[x as usize] = parent[parent[x as usize] as usize];
+                x = parent[x as usize];
+            }
+            x
+        }
+        for run in by_edge.chunk_by(|a, b| a.0 == b.0) {
+            if let [(e, i), (_, j)] = *run {
+                let (fi, fj) = (&faces[i as usize], &faces[j as usize]);
+                let (ni, nj) = (unit(fi.0), unit(fj.0));
+                let d = ni[0] * nj[0] + ni[1] * nj[1] + ni[2] * nj[2];
+                if fi.1 == fj.1 && d.abs() > 1.0 - 1e-9 && ridges.binary_search(&e).is_err() {
+                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                    parent[ri.max(rj) as usize] = ri.min(rj);
+                }
+            }
+        }
+        let mut facet = vec![0u32; faces.len()];
+        let mut normal = Vec::new();
+        let mut id = vec![NONE; faces.len()];
+        for i in 0..faces.len() {
+            let r = root(&mut parent, i as u32) as usize;
+            if id[r] == NONE {
+                id[r] = normal.len() as u32;
+                normal.push(unit(faces[r].0));
+            }
+            facet[i] = id[r];
+        }
+        let mut ridge_pairs = Vec::new();
+        for run in by_edge.chunk_by(|a, b| a.0 == b.0) {
+            if ridges.binary_search(&run[0].0).is_ok() {
+                let mut fs: Vec<u32> = run.iter().map(|x| facet[x.1 as usize]).collect();
+                fs.sort_unstable();
+                fs.dedup();
+                if let [a, b] = fs[..] {
+                    ridge_pairs.push((a, b));
+                }
+            }
+        }
+        ridge_pairs.sort_unstable();
+        ridge_pairs.dedup();
+        dm.debug_check(p, "adaptation input");
+        Ok(Input {
+            dm,
+            faces,
+            facet,
+            normal,
+            regions,
+            ridge_pairs,
+        })
+    }
+}
+
+/// The metric length of edge `a b`.
+fn length(p: &[[f64; 3]], met: &[Metric<3>], a: u32, b: u32) -> f64 {
+    let (a, b) = (a as usize, b as usize);
+    met[a].edge_length(&met[b], sub(p[b], p[a]))
+}
+
+/// The quality of `tv`: its mean ratio in the mean metric of its corners.
+fn quality(p: &[[f64; 3]], met: &[Metric<3>], tv: [u32; 4]) -> f64 {
+    let m = Metric::mean(&tv.map(|v| met[v as usize])).unwrap_or(Metric::isotropic(1.0));
+    mean_ratio(&tv.map(|v| p[v as usize]), &m)
+}
+
+/// True when every edge of tetrahedra `new` that is not an edge of `old`
+/// has metric length at most [`LONG`]: an operation must not make an edge
+/// that the next split pass would cut.
+fn no_long_edge(p: &[[f64; 3]], met: &[Metric<3>], old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
+    let edges = |tets: &[[u32; 4]]| {
+        let mut e: Vec<(u32, u32)> = tets
+            .iter()
+            .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
+            .collect();
+        e.sort_unstable();
+        e.dedup();
+        e
+    };
+    let before = edges(old);
+    edges(new)
+        .into_iter()
+        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= LONG)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Where a vertex may go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Class {
+    /// Never moved or removed.
+    Fixed,
+    /// Inside the domain (no subface).
+    Interior,
+    /// On one facet.
+    Surface(u32),
+    /// On the ridge between two facets.
+    Ridge(u32, u32),
+}
+
+/// A metric given as a function of the point.
+type MetricFn<'a> = dyn Fn(&[f64; 3]) -> Metric<3> + Sync + 'a;
+
+/// The adaptation's state.
+struct Engine<'a> {
+    m: DomainMesh,
+    p: Vec<[f64; 3]>,
+    met: Vec<Metric<3>>,
+    fixed: Vec<bool>,
+    /// Facet per kept face (the subface table's values).
+    facet: Vec<u32>,
+    normal: Vec<[f64; 3]>,
+    /// The metric at a point, for a metric given as a function.
+    field: Option<&'a MetricFn<'a>>,
+    opt: &'a AdaptOptions,
+    report: AdaptReport,
+    /// Live vertices.
+    live: usize,
+}
+
+impl<'a> Engine<'a> {
+    /// The engine on a checked input, with the metric at its vertices
+    /// bounded and graded.
+    fn new(
+        mesh: &TetMesh,
+        metric: MetricField<'a, 3>,
+        opt: &'a AdaptOptions,
+    ) -> Result<(Engine<'a>, Input), Error> {
+        let mut input = Input::check(mesh)?;
+        let n = mesh.points.len();
+        let (field, met) = match metric {
+            MetricField::AtVertices(m) if m.len() != n => {
+                return Err(Error::MetricCount {
+                    vertices: n,
+                    metrics: m.len(),
+                })
+            }
+            MetricField::AtVertices(m) => (None, m),
+            MetricField::Function(f) => (Some(f), mesh.points.iter().map(f).collect()),
+        };
+        let mut e = Engine {
+            m: std::mem::take(&mut input.dm),
+            p: mesh.points.clone(),
+            met,
+            fixed: vec![false; n],
+            facet: std::mem::take(&mut input.facet),
+            normal: std::mem::take(&mut input.normal),
+            field,
+            opt,
+            report: AdaptReport::default(),
+            live: n,
+        };
+        e.met = e.met.iter().map(|&m| e.bound(m)).collect();
+        if let Some(g) = opt.hgrad {
+            gradate(&mesh.points, &edges(&mesh.elements), &mut e.met, g);
+        }
+        e.report.before = metric_stats(&mesh.points, &mesh.elements, &e.met);
+        for &v in mesh.corners.iter().chain(&mesh.required) {
+            e.fixed[v as usize] = true;
+        }
+        Ok((e, input))
+    }
+
+    /// `m` within the options' `hmin` and `hmax`.
+    fn bound(&self, m: Metric<3>) -> Metric<3> {
+        match (self.opt.hmin, self.opt.hmax) {
+            (None, None) => m,
+            (lo, hi) => m.bounded(lo.unwrap_or(0.0), hi.unwrap_or(f64::INFINITY)),
+        }
+    }
+
+    /// The metric at point `x` of a metric given as a function.
+    fn field_at(&self, x: &[f64; 3]) -> Option<Metric<3>> {
+        self.field.map(|f| self.bound(f(x)))
+    }
+
+    fn len(&self, a: u32, b: u32) -> f64 {
+        length(&self.p, &self.met, a, b)
+    }
+
+    fn qual(&self, tv: [u32; 4]) -> f64 {
+        quality(&self.p, &self.met, tv)
+    }
+
+    fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
+        tets.into_iter()
+            .map(|t| self.qual(t))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The metric of a new vertex at `x` between `a` and `b`.
+    fn metric_at(&self, x: &[f64; 3], a: u32, b: u32) -> Metric<3> {
+        match self.field_at(x) {
+            Some(m) => m,
+            None => {
+                Metric::interpolate(&[(0.5, self.met[a as usize]), (0.5, self.met[b as usize])])
+                    .unwrap_or(self.met[a as usize])
+            }
+        }
+    }
+
+    /// The facets of the subfaces of `ball` through `v` (and `w`, when
+    /// given), sorted, each once.
+    fn facets(&self, ball: &[u32], v: u32, w: Option<u32>) -> Vec<u32> {
+        let mut fs: Vec<u32> = self
+            .m
+            .subfaces_at(ball, v)
+            .into_iter()
+            .filter(|(k, _)| w.is_none_or(|w| k.contains(&w)))
+            .map(|(_, tri)| self.facet.get(tri as usize).copied().unwrap_or(NONE))
+            .collect();
+        fs.sort_unstable();
+        fs.dedup();
+        fs
+    }
+
+    fn class(&self, ball: &[u32], v: u32) -> Class {
+        if self.fixed[v as usize] {
+            return Class::Fixed;
+        }
+        match self.facets(ball, v, None)[..] {
+            [] => Class::Interior,
+            [f] if f != NONE => Class::Surface(f),
+            [f, g] if g != NONE => {
+                let (a, b) = (self.normal[f as usize], self.normal[g as usize]);
+                let d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+                // Two coplanar facets meet along a polyline, not a line.
+                if d.abs() > 1.0 - 1e-9 {
+                    Class::Fixed
+                } else {
+                    Class::Ridge(f, g)
+                }
+            }
+            _ => Class::Fixed,
+        }
+    }
+
+    fn star(&self, v: u32) -> Vec<u32> {
+        self.m.star_with(v, |_, _| true)
+    }
+
+    fn run(&mut self) {
+        let phase = |r: &mut AdaptReport, name: &'static str, t: Instant| {
+            let s = t.elapsed().as_secs_f64();
+            match r.phases.iter_mut().find(|x| x.0 == name) {
+                Some(x) => x.1 += s,
+                None => r.phases.push((name, s)),
+            }
+        };
+        let mut quiet = 0;
+        // Smoothing (and the swaps after it) wait until the splits and
+        // collapses have settled: before, most of the moved vertices go.
+        let mut settled = false;
+        while self.report.passes < self.opt.max_passes {
+            self.report.passes += 1;
+            let (s0, c0) = (self.report.splits, self.report.collapses);
+            let t = Instant::now();
+            if self.opt.insert && !self.report.budget_reached {
+                self.split_pass();
+            }
+            phase(&mut self.report, "split", t);
+            let t = Instant::now();
+            self.collapse_pass();
+            phase(&mut self.report, "collapse", t);
+            let t = Instant::now();
+            if self.opt.swap {
+                self.swap_pass();
+            }
+            phase(&mut self.report, "swap", t);
+            if settled && self.opt.smooth {
+                let t = Instant::now();
+                self.smooth_pass();
+                phase(&mut self.report, "smooth", t);
+                let t = Instant::now();
+                if self.opt.swap {
+                    self.swap_pass();
+                }
+                phase(&mut self.report, "swap", t);
+            }
+            let changed = self.report.splits + self.report.collapses - s0 - c0;
+            settled |= changed * 20 < self.live;
+            // A few passes of swaps and smoothing after the last topology
+            // change, or stop when the changes have become marginal.
+            if changed * 200 < self.live {
+                quiet += 1;
+                if quiet >= 2 {
+                    break;
+                }
+            } else {
+                quiet = 0;
+            }
+        }
+    }
+
+    /// The live edges with their metric lengths, those `keep` takes.
+    fn edge_list(&self, keep: impl Fn(f64) -> bool) -> Vec<(f64, u32, u32)> {
+        let mut es: Vec<(u32, u32)> = Vec::new();
+        for t in self.m.live_slots() {
+            let tv = self.m.tv[t as usize];
+            es.extend(EDGES.iter().map(|&(i, j)| ekey(tv[i], tv[j])));
+        }
+        es.sort_unstable();
+        es.dedup();
+        es.into_iter()
+            .map(|(a, b)| (self.len(a, b), a, b))
+            .filter(|x| keep(x.0))
+            .collect()
+    }
+
+    /// Splits the edges longer than [`LONG`], longest first.
+    fn split_pass(&mut self) {
+        let mut es = self.edge_list(|l| l > LONG);
+        es.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        for (_, a, b) in es {
+            if self.opt.max_vertices.is_some_and(|m| self.live >= m) {
+                self.report.budget_reached = true;
+                return;
+            }
+            self.split(a, b);
+        }
+    }
+
+    /// Splits edge `a b` at its midpoint (on the edge's ridge or facet when
+    /// it has one).
+    fn split(&mut self, a: u32, b: u32) -> bool {
+        let (pa, pb) = (self.p[a as usize], self.p[b as usize]);
+        let x = [
+            0.5 * (pa[0] + pb[0]),
+            0.5 * (pa[1] + pb[1]),
+            0.5 * (pa[2] + pb[2]),
+        ];
+        let mx = self.metric_at(&x, a, b);
+        let v = self.p.len() as u32;
+        self.p.push(x);
+        self.met.push(mx);
+        self.fixed.push(false);
+        if self.m.split_edge(&self.p, (a, b), v).is_none() {
+            self.p.pop();
+            self.met.pop();
+            self.fixed.pop();
+            return false;
+        }
+        self.report.splits += 1;
+        self.live += 1;
+        self.m.debug_check(&self.p, "adaptation split");
+        true
+    }
+
+    /// Collapses the edges shorter than [`SHORT`], shortest first.
+    fn collapse_pass(&mut self) {
+        let mut es = self.edge_list(|l| l < SHORT);
+        es.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        let mut gone = vec![false; self.p.len()];
+        for (_, a, b) in es {
+            if gone[a as usize] || gone[b as usize] {
+                continue;
+            }
+            for (v, w) in [(a, b), (b, a)] {
+                if self.collapse(v, w) {
+                    gone[v as usize] = true;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Collapses `v` onto `w` when that keeps the boundary, leaves no edge
+    /// longer than [`LONG`] and no tetrahedron below the quality floor.
+    fn collapse(&mut self, v: u32, w: u32) -> bool {
+        let ball = self.star(v);
+        if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
+            return false;
+        }
+        let along = match self.class(&ball, v) {
+            Class::Fixed => return false,
+            Class::Interior => true,
+            Class::Surface(f) => self.facets(&ball, v, Some(w)).contains(&f),
+            Class::Ridge(f, g) => {
+                let fs = self.facets(&ball, v, Some(w));
+                fs.contains(&f) && fs.contains(&g)
+            }
+        };
+        if !along {
+            return false;
+        }
+        let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
+        let floor = COLLAPSE_FLOOR.min(self.min_q(tets.iter().copied()));
+        let (p, met) = (&self.p, &self.met);
+        let accept = |new: &[[u32; 4]]| {
+            new.iter().all(|&t| quality(p, met, t) >= floor) && no_long_edge(p, met, &tets, new)
+        };
+        if self
+            .m
+            .collapse_edge(&self.p, &ball, (v, w), accept)
+            .is_none()
+        {
+            return false;
+        }
+        self.report.collapses += 1;
+        self.live -= 1;
+        self.m.debug_check(&self.p, "adaptation collapse");
+        true
+    }
+
+    /// Swaps around the tetrahedra below [`SWAP_BELOW`], worst first.
+    fn swap_pass(&mut self) {
+        let mut bad: Vec<(f64, u32, [u32; 4])> = self
+            .m
+            .live_slots()
+            .map(|t| (self.qual(self.m.tv[t as usize]), t, self.m.tv[t as usize]))
+            .filter(|x| x.0 < SWAP_BELOW)
+            .collect();
+        bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        for (_, t, tv) in bad {
+            if self.m.tv[t as usize] != tv {
+                continue;
+            }
+            self.swap(t);
+        }
+    }
+
+    /// The best swap of tetrahedron `t`: a 2-3 flip of a face or the
+    /// removal of an edge, raising the worst quality of the tetrahedra it
+    /// replaces.
+    fn swap(&mut self, t: u32) -> bool {
+        let tv = self.m.tv[t as usize];
+        let mut best: Option<(f64, Vec<u32>, Vec<[u32; 4]>)> = None;
+        let mut consider = |gain: f64, old: Vec<u32>, new: Vec<[u32; 4]>| {
+            if best.as_ref().is_none_or(|b| gain > b.0) {
+                best = Some((gain, old, new));
+            }
+        };
+        for f in 0..4 {
+            if let Some(fl) = self.m.flip23(t, f) {
+                let before = self.min_q(fl.old.iter().map(|&u| self.m.tv[u as usize]));
+                let after = self.min_q(fl.new.iter().copied());
+                let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
+                if after > before + 1e-6
+                    && fl.new.iter().all(|&n| positive(&self.p, n))
+                    && no_long_edge(&self.p, &self.met, &old, &fl.new)
+                {
+                    consider(after - before, fl.old, fl.new);
+                }
+            }
+        }
+        for (i, j) in EDGES {
+            if let Some((old, new, gain)) = self.plan_removal(t, tv[i], tv[j]) {
+                consider(gain, old, new);
+            }
+        }
+        let Some((_, old, new)) = best else {
+            return false;
+        };
+        let mut ids = Vec::new();
+        let r = self.m.reg[t as usize];
+        self.m.replace(&old, &new, r, &mut ids);
+        self.report.swaps += 1;
+        self.m.debug_check(&self.p, "adaptation swap");
+        true
+    }
+
+    /// The removal of interior edge `a b` of `t` (every face around it
+    /// open) by the edge-removal dynamic program maximising the smallest
+    /// quality: the slots, the new tetrahedra and the gain in worst
+    /// quality, when positive.
+    fn plan_removal(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<[u32; 4]>, f64)> {
+        let (tets, r, _) = self
+            .m
+            .edge_ring(t, (a, b), MAX_RING, false, |c, f| self.m.open_face(c, f))?;
+        let n = r.len();
+        if n < 3 {
+            return None;
+        }
+        let need = self
+            .min_q(tets.iter().map(|&u| self.m.tv[u as usize]))
+            .max(0.0);
+        let (mut best, mut choice) = (Vec::new(), Vec::new());
+        let q = ring::triangulate(
+            n,
+            (f64::NEG_INFINITY, f64::INFINITY),
+            &mut best,
+            &mut choice,
+            |_, _| (),
+            |i, k, j, l, rr, cur, _| {
+                let bound = l.min(rr);
+                if bound <= cur || bound <= need {
+                    return None;
+                }
+                let q1 = self.qual([r[i], r[k], r[j], b]);
+                if q1 <= need || q1 <= cur {
+                    return None;
+                }
+                let v = bound.min(q1).min(self.qual([r[i], r[j], r[k], a]));
+                (v > cur).then_some(v)
+            },
+        );
+        if q <= need + 1e-6 {
+            return None;
+        }
+        let new = ring::ring_tets(&r, &choice, a, b);
+        let old: Vec<[u32; 4]> = tets.iter().map(|&u| self.m.tv[u as usize]).collect();
+        if !new.iter().all(|&x| positive(&self.p, x))
+            || !no_long_edge(&self.p, &self.met, &old, &new)
+        {
+            return None;
+        }
+        Some((tets, new, q - need))
+    }
+
+    /// One sweep of smoothing over the interior vertices.
+    fn smooth_pass(&mut self) {
+        for v in 0..self.p.len() as u32 {
+            if !self.fixed[v as usize]
+                && self
+                    .m
+                    .vt
+                    .get(v as usize)
+                    .is_some_and(|&t| t != crate::tet::local::DEAD)
+            {
+                self.smooth(v);
+            }
+        }
+    }
+
+    /// Moves interior vertex `v` towards unit metric lengths of its edges
+    /// (each edge pulls or pushes by `1 - 1/l`), the full step or a half
+    /// or a quarter of it, when that raises the worst quality of its star
+    /// and keeps every tetrahedron strictly positive.
+    fn smooth(&mut self, v: u32) -> bool {
+        let ball = self.star(v);
+        if ball.is_empty() || self.class(&ball, v) != Class::Interior {
+            return false;
+        }
+        let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
+        let mut link: Vec<u32> = tets.iter().flatten().copied().filter(|&x| x != v).collect();
+        link.sort_unstable();
+        link.dedup();
+        let home = self.p[v as usize];
+        let mut d = [0.0; 3];
+        for &x in &link {
+            let l = self.len(v, x);
+            let e = sub(self.p[x as usize], home);
+            for k in 0..3 {
+                d[k] += e[k] * (1.0 - 1.0 / l.max(1e-3)) / link.len() as f64;
+            }
+        }
+        let old = self.min_q(tets.iter().copied());
+        let home_m = self.met[v as usize];
+        for w in [1.0, 0.5, 0.25] {
+            let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
+            self.p[v as usize] = x;
+            if let Some(m) = self.field_at(&x) {
+                self.met[v as usize] = m;
+            }
+            if tets.iter().all(|&t| positive(&self.p, t))
+                && self.min_q(tets.iter().copied()) > old + 1e-6
+            {
+                self.report.moves += 1;
+                self.m.debug_check(&self.p, "adaptation smoothing");
+                return true;
+            }
+        }
+        self.p[v as usize] = home;
+        self.met[v as usize] = home_m;
+        false
+    }
+
+    /// The adapted mesh: live vertices renumbered in order, tetrahedra in
+    /// slot order, subfaces once each (outward from the first tetrahedron
+    /// met) with their references.
+    fn output(mut self, mesh: &TetMesh, input: &Input) -> Adapted<3, 4> {
+        let (faces, regions, ridge_pairs) = (&input.faces, &input.regions, &input.ridge_pairs);
+        let clock = Instant::now();
+        let mut map = vec![NONE; self.p.len()];
+        let slots: Vec<u32> = self.m.live_slots().collect();
+        for &t in &slots {
+            for &v in &self.m.tv[t as usize] {
+                map[v as usize] = 0;
+            }
+        }
+        let mut out = TetMesh::default();
+        let mut metric = Vec::new();
+        for v in 0..self.p.len() {
+            if map[v] == NONE {
+                continue;
+            }
+            map[v] = out.points.len() as u32;
+            out.points.push(self.p[v]);
+            metric.push(self.met[v]);
+            out.point_refs
+                .push(mesh.point_refs.get(v).copied().unwrap_or(0));
+        }
+        let with_regions = !mesh.element_refs.is_empty();
+        let mut ridge_edges: Vec<(u32, u32)> = Vec::new();
+        for &t in &slots {
+            let tv = self.m.tv[t as usize];
+            out.elements.push(tv.map(|v| map[v as usize]));
+            if with_regions {
+                out.element_refs
+                    .push(regions[self.m.reg[t as usize] as usize]);
+            }
+            for f in 0..4 {
+                let w = self.m.nb[t as usize][f];
+                if !self.m.is_sub(t, f) || (w != NONE && w >> 2 < t) {
+                    continue;
+                }
+                let k = fkey(face(tv, f));
+                let tri = self.m.ftri.get(&k).copied().unwrap_or(NONE);
+                let [a, b, c] = FACET[f].map(|i| map[tv[i] as usize]);
+                out.faces.push([a, c, b]);
+                out.face_refs
+                    .push(faces.get(tri as usize).map_or(0, |x| x.1));
+                if !ridge_pairs.is_empty() {
+                    for (x, y) in [(k[0], k[1]), (k[1], k[2]), (k[0], k[2])] {
+                        ridge_edges.push(ekey(x, y));
+                    }
+                }
+            }
+        }
+        // Ridges: subface edges between two facets that an input ridge
+        // separated.
+        ridge_edges.sort_unstable();
+        ridge_edges.dedup();
+        for (a, b) in ridge_edges {
+            let Some(s) = self.m.edge_shell(a, b, MAX_SHELL) else {
+                continue;
+            };
+            let fs = self.facets(&s, a, Some(b));
+            if let [f, g] = fs[..] {
+                if ridge_pairs.binary_search(&(f, g)).is_ok() {
+                    out.ridges.push([map[a as usize], map[b as usize]]);
+                }
+            }
+        }
+        let keep = |vs: &[u32]| {
+            vs.iter()
+                .map(|&v| map[v as usize])
+                .filter(|&v| v != NONE)
+                .collect()
+        };
+        out.corners = keep(&mesh.corners);
+        out.required = keep(&mesh.required);
+        self.report.after = metric_stats(&out.points, &out.elements, &metric);
+        self.report
+            .phases
+            .push(("output", clock.elapsed().as_secs_f64()));
+        Adapted {
+            mesh: out,
+            metric,
+            report: self.report,
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "../../tests/common/cube.rs"]
+mod cube;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The adaptation-level invariants on top of [`DomainMesh::check`]:
+    /// each region of the cube has volume 1/2, each side and the
+    /// interface area 1 in subfaces of its reference.
+    fn invariants(e: &Engine<'_>, input: &Input, what: &str) {
+        e.m.check(&e.p).unwrap_or_else(|x| panic!("{what}: {x}"));
+        let mut vol = [0.0; 2];
+        let mut area = [0.0; 8];
+        for t in e.m.live_slots() {
+            let tv = e.m.tv[t as usize];
+            let p = tv.map(|v| e.p[v as usize]);
+            vol[e.m.reg[t as usize] as usize] += crate::tet::quality::volume(&p);
+            for f in 0..4 {
+                let w = e.m.nb[t as usize][f];
+                if e.m.is_sub(t, f) && (w == NONE || w >> 2 > t) {
+                    let k = fkey(face(tv, f));
+                    let r = input.faces[e.m.ftri[&k] as usize].1;
+                    let [a, b, c] = k.map(|v| e.p[v as usize]);
+                    let (u, w) = (sub(b, a), sub(c, a));
+                    let x = [
+                        u[1] * w[2] - u[2] * w[1],
+                        u[2] * w[0] - u[0] * w[2],
+                        u[0] * w[1] - u[1] * w[0],
+                    ];
+                    area[r as usize] += 0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                }
+            }
+        }
+        for v in vol {
+            assert!((v - 0.5).abs() < 1e-12, "{what}: region volumes {vol:?}");
+        }
+        for a in &area[1..] {
+            assert!((a - 1.0).abs() < 1e-12, "{what}: areas {area:?}");
+        }
+    }
+
+    /// Splits, collapses, swaps and moves one at a time on the cube with
+    /// an interface, the invariants checked after each; boundary vertices
+    /// stay on their facets and corners stay.
+    #[test]
+    fn each_operation_keeps_the_mesh() {
+        let mesh = cube::cube(2, true);
+        let size = |x: &[f64; 3]| Metric::isotropic(0.15 + 0.2 * x[0]);
+        let opt = AdaptOptions::default();
+        let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
+        invariants(&e, &input, "input");
+        let (mut splits, mut collapses, mut swaps, mut moves) = (0, 0, 0, 0);
+        for round in 0..3 {
+            for (_, a, b) in e.edge_list(|l| l > LONG) {
+                if e.m.edge_slot(a, b).is_some() && e.split(a, b) {
+                    splits += 1;
+                    invariants(&e, &input, "split");
+                }
+            }
+            for (_, a, b) in e.edge_list(|l| l < SHORT * (1.0 + round as f64)) {
+                for (v, w) in [(a, b), (b, a)] {
+                    if e.m.vt[v as usize] != crate::tet::local::DEAD && e.collapse(v, w) {
+                        collapses += 1;
+                        invariants(&e, &input, "collapse");
+                        break;
+                    }
+                }
+            }
+            for t in e.m.live_slots().collect::<Vec<_>>() {
+                if e.m.alive(t) && e.qual(e.m.tv[t as usize]) < SWAP_BELOW && e.swap(t) {
+                    swaps += 1;
+                    invariants(&e, &input, "swap");
+                }
+            }
+            for v in 0..e.p.len() as u32 {
+                let home = e.p[v as usize];
+                if e.m.vt[v as usize] != crate::tet::local::DEAD && e.smooth(v) {
+                    moves += 1;
+                    assert_ne!(home, e.p[v as usize]);
+                    invariants(&e, &input, "smoothing");
+                }
+            }
+        }
+        assert!(
+            splits > 100 && collapses > 10 && swaps > 0 && moves > 10,
+            "{splits} {collapses} {swaps} {moves}"
+        );
+        // Corners and the vertices of the sides never left them.
+        let out = e.output(&mesh, &input);
+        for (f, r) in out.mesh.faces.iter().zip(&out.mesh.face_refs) {
+            let (axis, at) = match r {
+                1..=6 => ((r - 1) as usize / 2, ((r - 1) % 2) as f64),
+                _ => (2, 0.5),
+            };
+            assert!(
+                f.iter().all(|&v| out.mesh.points[v as usize][axis] == at),
+                "face {f:?} ref {r}"
+            );
+        }
+        assert_eq!(out.mesh.ridges.len() % 4, 0);
+        assert!(out.mesh.ridges.len() >= 24);
+    }
+
+    /// A collapse that would move a vertex off its facet, off its ridge or
+    /// a corner is refused.
+    #[test]
+    fn boundary_vertices_collapse_only_within_their_facet() {
+        let mesh = cube::cube(2, true);
+        let size = |_: &[f64; 3]| Metric::isotropic(10.0);
+        let opt = AdaptOptions::default();
+        let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
+        let id = |i: u32, j: u32, k: u32| i + 3 * (j + 3 * k);
+        // A corner.
+        assert!(!e.collapse(id(0, 0, 0), id(1, 0, 0)));
+        // The middle of side x = 0 onto the interior vertex: off its facet.
+        assert!(!e.collapse(id(0, 1, 1), id(1, 1, 1)));
+        // The middle of a cube edge onto the middle of a side: off its ridge.
+        assert!(!e.collapse(id(1, 0, 0), id(1, 1, 0)));
+        // Along the ridge, to the corner, it goes.
+        assert!(e.collapse(id(1, 0, 0), id(0, 0, 0)));
+        invariants(&e, &input, "ridge collapse");
+        // The interior vertex onto a corner would flatten the tetrahedra
+        // on the sides through it.
+        assert!(!e.collapse(id(1, 1, 1), id(0, 0, 0)));
+        invariants(&e, &input, "refused collapse");
+    }
 }

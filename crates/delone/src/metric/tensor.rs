@@ -326,6 +326,24 @@ impl<const D: usize> Metric<D> {
         })
     }
 
+    /// The arithmetic mean of metrics (positive definite as a convex
+    /// combination of positive definite matrices): the cheap element metric
+    /// of the adaptation's quality tests, where the log-Euclidean
+    /// [`Metric::interpolate`] would cost an eigendecomposition per corner.
+    /// `None` for an empty list.
+    pub(crate) fn mean(items: &[Metric<D>]) -> Option<Self> {
+        let w = 1.0 / items.len() as f64;
+        let mut acc = [[0.0; D]; D];
+        for m in items {
+            for i in 0..D {
+                for j in 0..D {
+                    acc[i][j] += w * m.m[i][j];
+                }
+            }
+        }
+        (!items.is_empty()).then_some(Metric { m: acc })
+    }
+
     /// The length of the edge `e` from a vertex with metric `self` to one
     /// with metric `other`, the size varying geometrically along it:
     /// `(l_b − l_a) / ln(l_b / l_a)` with `l_a`, `l_b` its lengths in the

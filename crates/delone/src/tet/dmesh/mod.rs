@@ -49,6 +49,7 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+pub(crate) mod edges;
 pub(crate) mod flip;
 pub(crate) mod journal;
 pub(crate) mod ring;
