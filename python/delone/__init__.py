@@ -52,6 +52,10 @@ __all__ = [
     "convex_hull",
     "triangulate",
     "tetrahedralize",
+    "Adapted",
+    "adapt",
+    "metric_from_field",
+    "metric_stats",
 ]
 
 Progress = Union[None, bool, Callable[[str, int, Optional[int], str], Any]]
@@ -449,3 +453,176 @@ def tetrahedralize(
         regions=d["regions"],
         quality=d["quality"],
     )
+
+
+# ------------------------------------------------------------------ adaptation
+
+
+@dataclass
+class Adapted:
+    """The result of :func:`adapt`.
+
+    ``elements``: triangles ``(m, 3)`` or tetrahedra ``(m, 4)`` with their
+    ``element_markers`` (references, kept from the input); ``faces``: the
+    boundary and interface edges (2D) or triangles (3D) with
+    ``face_markers``; ``metric``: the metric at each output point, ``(n, 3)``
+    in 2D and ``(n, 6)`` in 3D, in Medit's order (``m11 m12 m22`` and
+    ``m11 m12 m22 m13 m23 m33``); ``report``: edge lengths and element
+    quality in the metric ``before`` and ``after`` (dicts), operation counts
+    and the time per phase.
+    """
+
+    points: np.ndarray
+    elements: np.ndarray
+    element_markers: np.ndarray
+    faces: np.ndarray
+    face_markers: np.ndarray
+    metric: np.ndarray
+    report: dict
+
+    @property
+    def dim(self) -> int:
+        """2 or 3."""
+        return int(self.points.shape[1])
+
+
+def _metric(metric: Any, n: int) -> np.ndarray:
+    try:
+        a = np.asarray(metric, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InvalidInput(f"metric must be an array of numbers: {e}") from None
+    if a.ndim == 1:
+        a = a.reshape(-1, 1)
+    if a.ndim != 2 or a.shape[0] != n:
+        raise InvalidInput(f"metric must have one row per point ({n}), got shape {a.shape}")
+    return np.ascontiguousarray(a)
+
+
+def adapt(
+    points: Any,
+    elements: Any,
+    metric: Any,
+    *,
+    faces: Any = None,
+    face_markers: Any = None,
+    element_markers: Any = None,
+    corners: Any = None,
+    required: Any = None,
+    ridges: Any = None,
+    hmin: Optional[float] = None,
+    hmax: Optional[float] = None,
+    hgrad: Optional[float] = 1.3,
+    insert: bool = True,
+    swap: bool = True,
+    smooth: bool = True,
+    max_passes: int = 30,
+    max_vertices: Optional[int] = None,
+    progress: Progress = None,
+) -> Adapted:
+    """Adapts a triangle mesh (``points`` ``(n, 2)``, ``elements`` ``(m, 3)``)
+    or a tetrahedral mesh (``(n, 3)``, ``(m, 4)``) to a metric at its points,
+    so that its edges have unit length and its elements are regular in the
+    metric.
+
+    ``metric``: a size per point ``(n,)`` (isotropic), or a symmetric tensor
+    per point in Medit's order (``(n, 3)`` in 2D, ``(n, 6)`` in 3D). The
+    boundary is kept: ``faces`` (edges in 2D, triangles in 3D) with
+    ``face_markers``, ``corners`` and ``required`` points that never move,
+    ``ridges`` (3D feature edges). ``hmin``/``hmax`` bound the sizes,
+    ``hgrad`` limits their growth along edges (``None``: off);
+    ``insert``/``swap``/``smooth`` turn operations off (MMG's
+    ``-noinsert``/``-noswap``/``-nomove``).
+
+    >>> import numpy as np, delone
+    >>> g = np.linspace(0.0, 1.0, 5)
+    >>> pts = np.array([[x, y] for y in g for x in g])
+    >>> tri = delone.delaunay(pts).simplices
+    >>> a = delone.adapt(pts, tri, np.full(len(pts), 0.05))
+    >>> a.report["after"]["in_range_share"] > 0.8
+    True
+    >>> v = a.points[a.elements]
+    >>> u, w = v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]
+    >>> areas = 0.5 * (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
+    >>> bool(areas.min() > 0 and abs(areas.sum() - 1.0) < 1e-12)
+    True
+    """
+    p = _points(points)
+    d = p.shape[1]
+    e = _indices(elements, "elements", d + 1)
+    f = None if faces is None else _indices(faces, "faces", d)
+    r = None if ridges is None else _indices(ridges, "ridges", 2)
+    cb, close = _progress(progress)
+    try:
+        out = _delone.adapt(
+            p,
+            e,
+            _metric(metric, len(p)),
+            f,
+            _column(face_markers, "face_markers", np.int32),
+            _column(element_markers, "element_markers", np.int32),
+            None if corners is None else _indices(corners, "corners").reshape(-1),
+            None if required is None else _indices(required, "required").reshape(-1),
+            r,
+            hmin,
+            hmax,
+            hgrad,
+            insert,
+            swap,
+            smooth,
+            max_passes,
+            max_vertices,
+            cb,
+        )
+    finally:
+        close()
+    return Adapted(**out)
+
+
+def metric_from_field(
+    points: Any,
+    elements: Any,
+    values: Any,
+    *,
+    complexity: Optional[float] = None,
+    error: Optional[float] = None,
+    p: float = 2.0,
+    hmin: float = 1e-12,
+    hmax: float = 1e12,
+    hgrad: Optional[float] = None,
+) -> np.ndarray:
+    """The metric that minimises the interpolation error of a scalar field
+    given at the points of a triangle or tetrahedral mesh: its Hessian
+    (recovered by least-squares fits), scaled for a ``complexity`` (about
+    the number of vertices) in the L^``p`` norm or for an ``error`` level,
+    bounded by ``hmin``/``hmax``, optionally graded (``hgrad``). Returns
+    ``(n, 3)`` or ``(n, 6)`` tensors in Medit's order, for :func:`adapt`.
+
+    >>> import numpy as np, delone
+    >>> g = np.linspace(0.0, 1.0, 11)
+    >>> pts = np.array([[x, y] for y in g for x in g])
+    >>> tri = delone.delaunay(pts).simplices
+    >>> m = delone.metric_from_field(pts, tri, np.tanh(10 * (pts[:, 0] - 0.5)), complexity=200)
+    >>> m.shape
+    (121, 3)
+    """
+    pts = _points(points)
+    e = _indices(elements, "elements", pts.shape[1] + 1)
+    v = _column(values, "values", np.float64)
+    return _delone.metric_from_field(pts, e, v, complexity, error, p, hmin, hmax, hgrad)
+
+
+def metric_stats(points: Any, elements: Any, metric: Any) -> dict:
+    """Edge lengths and element quality (mean ratio, 1 for the regular
+    simplex) of a mesh in a metric given at its points (sizes ``(n,)`` or
+    tensors in Medit's order): counts, ``length_min/max/mean``,
+    ``in_range`` and ``in_range_share`` (edges with length in
+    [1/√2, √2]), ``quality_min/mean`` and histograms.
+
+    >>> import numpy as np, delone
+    >>> s = delone.metric_stats([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [1.0, 1.0, 1.0])
+    >>> s["edges"], s["in_range"]
+    (3, 3)
+    """
+    pts = _points(points)
+    e = _indices(elements, "elements", pts.shape[1] + 1)
+    return _delone.metric_stats(pts, e, _metric(metric, len(pts)))

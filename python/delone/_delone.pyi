@@ -41,3 +41,35 @@ def tetrahedralize(
     regions: Optional[F64] = None,
     progress: Progress = None,
 ) -> dict[str, Any]: ...
+def adapt(
+    points: F64,
+    elements: I64,
+    metric: F64,
+    faces: Optional[I64] = None,
+    face_markers: Optional[I32] = None,
+    element_markers: Optional[I32] = None,
+    corners: Optional[I64] = None,
+    required: Optional[I64] = None,
+    ridges: Optional[I64] = None,
+    hmin: Optional[float] = None,
+    hmax: Optional[float] = None,
+    hgrad: Optional[float] = None,
+    insert: bool = True,
+    swap: bool = True,
+    smooth: bool = True,
+    max_passes: int = 30,
+    max_vertices: Optional[int] = None,
+    progress: Progress = None,
+) -> dict[str, Any]: ...
+def metric_from_field(
+    points: F64,
+    elements: I64,
+    values: F64,
+    complexity: Optional[float] = None,
+    error: Optional[float] = None,
+    p: float = 2.0,
+    hmin: float = 1e-12,
+    hmax: float = 1e12,
+    hgrad: Optional[float] = None,
+) -> F64: ...
+def metric_stats(points: F64, elements: I64, metric: F64) -> dict[str, Any]: ...

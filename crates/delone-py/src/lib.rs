@@ -27,6 +27,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
 use std::time::Duration;
 
+use delone::adapt::{AdaptOptions, AdaptReport, MetricField, MetricStats, SimplexMesh};
+use delone::metric::{Metric, Target};
 use delone::model::plc::{Facet, Plc, Region as Region3};
 use delone::model::pslg::{Pslg, Region as Region2};
 use delone::progress::{self, Report};
@@ -736,6 +738,291 @@ fn tetrahedralize<'py>(
     Ok(d)
 }
 
+// ---------------------------------------------------------------- adaptation
+
+/// The metric of each of `n` vertices from an `(n, 1)` array of sizes or an
+/// `(n, D(D+1)/2)` array of tensors in Medit's order.
+fn metrics<const D: usize>(a: &PyReadonlyArray2<'_, f64>, n: usize) -> PyResult<Vec<Metric<D>>> {
+    let c = D * (D + 1) / 2;
+    let shape = a.shape();
+    if shape[0] != n || (shape[1] != 1 && shape[1] != c) {
+        return Err(invalid(format!(
+            "metric must have one row per point ({n}) of 1 size or {c} tensor components, got shape ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    let v = a.as_array();
+    v.outer_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let row: Vec<f64> = r.iter().copied().collect();
+            let m = if row.len() == 1 {
+                if row[0].is_finite() && row[0] > 0.0 {
+                    Ok(Metric::isotropic(row[0]))
+                } else {
+                    Err(delone::metric::MetricDefect::NotPositiveDefinite)
+                }
+            } else {
+                Metric::from_medit(&row)
+            };
+            m.map_err(|defect| lib_err(&Error::InvalidMetric { vertex: i, defect }))
+        })
+        .collect()
+}
+
+/// Metrics as an `(n, D(D+1)/2)` array in Medit's order.
+fn metric_array<'py, const D: usize>(
+    py: Python<'py>,
+    m: &[Metric<D>],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let c = D * (D + 1) / 2;
+    let flat: Vec<f64> = m.iter().flat_map(|m| m.medit()).collect();
+    PyArray1::from_vec(py, flat).reshape([m.len(), c])
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &MetricStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("vertices", s.vertices)?;
+    d.set_item("elements", s.elements)?;
+    d.set_item("edges", s.edges)?;
+    d.set_item("length_min", s.length_min)?;
+    d.set_item("length_max", s.length_max)?;
+    d.set_item("length_mean", s.length_mean)?;
+    d.set_item("in_range", s.in_range)?;
+    d.set_item("in_range_share", s.in_range_share())?;
+    d.set_item("length_histogram", s.length_histogram.to_vec())?;
+    d.set_item("quality_min", s.quality_min)?;
+    d.set_item("quality_mean", s.quality_mean)?;
+    d.set_item("quality_histogram", s.quality_histogram.to_vec())?;
+    Ok(d)
+}
+
+fn report_dict<'py>(py: Python<'py>, r: &AdaptReport) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("before", stats_dict(py, &r.before)?)?;
+    d.set_item("after", stats_dict(py, &r.after)?)?;
+    d.set_item("passes", r.passes)?;
+    d.set_item("splits", r.splits)?;
+    d.set_item("collapses", r.collapses)?;
+    d.set_item("swaps", r.swaps)?;
+    d.set_item("moves", r.moves)?;
+    d.set_item("budget_reached", r.budget_reached)?;
+    d.set_item("phases", r.phases.clone())?;
+    Ok(d)
+}
+
+/// The optional arrays of an adaptation's input mesh.
+struct MeshExtras<'a, 'py> {
+    faces: Option<&'a PyReadonlyArray2<'py, i64>>,
+    face_refs: Option<&'a PyReadonlyArray1<'py, i32>>,
+    element_refs: Option<&'a PyReadonlyArray1<'py, i32>>,
+    corners: Option<&'a PyReadonlyArray1<'py, i64>>,
+    required: Option<&'a PyReadonlyArray1<'py, i64>>,
+    ridges: Option<&'a PyReadonlyArray2<'py, i64>>,
+}
+
+fn vertex_list(a: Option<&PyReadonlyArray1<'_, i64>>, n: usize, what: &str) -> PyResult<Vec<u32>> {
+    a.map_or(Ok(Vec::new()), |a| {
+        a.as_array()
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| check_index(x, n, || format!("{what} {i}"), "point"))
+            .collect()
+    })
+}
+
+fn simplex_mesh<const D: usize, const K: usize>(
+    points: &PyReadonlyArray2<'_, f64>,
+    elements: &PyReadonlyArray2<'_, i64>,
+    x: &MeshExtras<'_, '_>,
+) -> PyResult<SimplexMesh<D, K>> {
+    let points = rows::<D>(points, "points")?;
+    let n = points.len();
+    let elements = index_rows::<K>(elements, n, "element", "point")?;
+    let faces = match x.faces {
+        Some(f) => index_rows::<D>(f, n, "face", "point")?,
+        None => Vec::new(),
+    };
+    let ridges = match x.ridges {
+        Some(r) => index_rows::<2>(r, n, "ridge", "point")?,
+        None => Vec::new(),
+    };
+    Ok(SimplexMesh {
+        face_refs: opt_vec(x.face_refs, faces.len(), "face_markers")?,
+        element_refs: opt_vec(x.element_refs, elements.len(), "element_markers")?,
+        corners: vertex_list(x.corners, n, "corner")?,
+        required: vertex_list(x.required, n, "required vertex")?,
+        points,
+        point_refs: Vec::new(),
+        elements,
+        faces,
+        ridges,
+    })
+}
+
+fn adapt_dict<'py, const D: usize, const K: usize>(
+    py: Python<'py>,
+    a: delone::adapt::Adapted<D, K>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("points", coords(py, &a.mesh.points)?)?;
+    d.set_item("elements", ids(py, &a.mesh.elements)?)?;
+    d.set_item(
+        "element_markers",
+        PyArray1::from_slice(py, &a.mesh.element_refs),
+    )?;
+    d.set_item("faces", ids(py, &a.mesh.faces)?)?;
+    d.set_item("face_markers", PyArray1::from_slice(py, &a.mesh.face_refs))?;
+    d.set_item("metric", metric_array(py, &a.metric)?)?;
+    d.set_item("report", report_dict(py, &a.report)?)?;
+    Ok(d)
+}
+
+/// Adapts a triangle (points `(n, 2)`) or tetrahedral (`(n, 3)`) mesh to a
+/// metric given at its vertices (see `delone.adapt`).
+#[pyfunction]
+#[pyo3(signature = (points, elements, metric, faces=None, face_markers=None,
+    element_markers=None, corners=None, required=None, ridges=None, hmin=None, hmax=None,
+    hgrad=None, insert=true, swap=true, smooth=true, max_passes=30, max_vertices=None,
+    progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn adapt<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    elements: PyReadonlyArray2<'py, i64>,
+    metric: PyReadonlyArray2<'py, f64>,
+    faces: Option<PyReadonlyArray2<'py, i64>>,
+    face_markers: Option<PyReadonlyArray1<'py, i32>>,
+    element_markers: Option<PyReadonlyArray1<'py, i32>>,
+    corners: Option<PyReadonlyArray1<'py, i64>>,
+    required: Option<PyReadonlyArray1<'py, i64>>,
+    ridges: Option<PyReadonlyArray2<'py, i64>>,
+    hmin: Option<f64>,
+    hmax: Option<f64>,
+    hgrad: Option<f64>,
+    insert: bool,
+    swap: bool,
+    smooth: bool,
+    max_passes: usize,
+    max_vertices: Option<usize>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = AdaptOptions {
+        hmin,
+        hmax,
+        hgrad,
+        insert,
+        swap,
+        smooth,
+        max_passes,
+        max_vertices,
+    };
+    let extras = MeshExtras {
+        faces: faces.as_ref(),
+        face_refs: face_markers.as_ref(),
+        element_refs: element_markers.as_ref(),
+        corners: corners.as_ref(),
+        required: required.as_ref(),
+        ridges: ridges.as_ref(),
+    };
+    if points.shape()[1] == 2 {
+        let mesh = simplex_mesh::<2, 3>(&points, &elements, &extras)?;
+        let m = metrics::<2>(&metric, mesh.points.len())?;
+        let a = run(py, progress.as_ref(), || {
+            delone::adapt::adapt_tri(&mesh, MetricField::AtVertices(m), &opts)
+        })?
+        .map_err(|e| lib_err(&e))?;
+        adapt_dict(py, a)
+    } else {
+        let mesh = simplex_mesh::<3, 4>(&points, &elements, &extras)?;
+        let m = metrics::<3>(&metric, mesh.points.len())?;
+        let a = run(py, progress.as_ref(), || {
+            delone::adapt::adapt_tet(&mesh, MetricField::AtVertices(m), &opts)
+        })?
+        .map_err(|e| lib_err(&e))?;
+        adapt_dict(py, a)
+    }
+}
+
+fn field_metric<'py, const D: usize, const K: usize>(
+    py: Python<'py>,
+    points: &PyReadonlyArray2<'py, f64>,
+    elements: &PyReadonlyArray2<'py, i64>,
+    values: &[f64],
+    target: Target,
+    bounds: (f64, f64, Option<f64>),
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let p = rows::<D>(points, "points")?;
+    let e = index_rows::<K>(elements, p.len(), "element", "point")?;
+    if values.len() != p.len() {
+        return Err(lib_err(&Error::MetricCount {
+            vertices: p.len(),
+            metrics: values.len(),
+        }));
+    }
+    let h = delone::metric::hessians(&p, &e, values).map_err(|e| lib_err(&e))?;
+    let mut m = delone::metric::metric_from_hessians(&p, &e, &h, target, bounds.0, bounds.1)
+        .map_err(|e| lib_err(&e))?;
+    if let Some(beta) = bounds.2 {
+        delone::metric::gradate(&p, &delone::metric::edges(&e), &mut m, beta);
+    }
+    metric_array(py, &m)
+}
+
+/// The metric that minimises the interpolation error of a scalar field given
+/// at the vertices (see `delone.metric_from_field`).
+#[pyfunction]
+#[pyo3(signature = (points, elements, values, complexity=None, error=None, p=2.0,
+    hmin=1e-12, hmax=1e12, hgrad=None))]
+#[allow(clippy::too_many_arguments)]
+fn metric_from_field<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    elements: PyReadonlyArray2<'py, i64>,
+    values: PyReadonlyArray1<'py, f64>,
+    complexity: Option<f64>,
+    error: Option<f64>,
+    p: f64,
+    hmin: f64,
+    hmax: f64,
+    hgrad: Option<f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let target = match (complexity, error) {
+        (Some(c), None) => Target::Complexity { complexity: c, p },
+        (None, Some(e)) => Target::Error(e),
+        _ => return Err(invalid("give exactly one of complexity= and error=")),
+    };
+    let v: Vec<f64> = values.as_array().iter().copied().collect();
+    let bounds = (hmin, hmax, hgrad);
+    if points.shape()[1] == 2 {
+        field_metric::<2, 3>(py, &points, &elements, &v, target, bounds)
+    } else {
+        field_metric::<3, 4>(py, &points, &elements, &v, target, bounds)
+    }
+}
+
+/// Edge lengths and element quality of a mesh in a metric (see
+/// `delone.metric_stats`).
+#[pyfunction]
+fn metric_stats<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    elements: PyReadonlyArray2<'py, i64>,
+    metric: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if points.shape()[1] == 2 {
+        let p = rows::<2>(&points, "points")?;
+        let e = index_rows::<3>(&elements, p.len(), "element", "point")?;
+        let m = metrics::<2>(&metric, p.len())?;
+        stats_dict(py, &delone::adapt::metric_stats(&p, &e, &m))
+    } else {
+        let p = rows::<3>(&points, "points")?;
+        let e = index_rows::<4>(&elements, p.len(), "element", "point")?;
+        let m = metrics::<3>(&metric, p.len())?;
+        stats_dict(py, &delone::adapt::metric_stats(&p, &e, &m))
+    }
+}
+
 /// The native part of the `delone` Python package.
 #[pymodule]
 fn _delone(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -746,5 +1033,8 @@ fn _delone(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
     m.add_function(wrap_pyfunction!(triangulate, m)?)?;
     m.add_function(wrap_pyfunction!(tetrahedralize, m)?)?;
+    m.add_function(wrap_pyfunction!(adapt, m)?)?;
+    m.add_function(wrap_pyfunction!(metric_from_field, m)?)?;
+    m.add_function(wrap_pyfunction!(metric_stats, m)?)?;
     Ok(())
 }
