@@ -187,7 +187,7 @@ pub enum Error {
         /// 0-based index of the vertex.
         vertex: usize,
         /// What is wrong with it.
-        defect: crate::metric::MetricDefect,
+        defect: MetricDefect,
     },
     /// A metric field has a different number of values than the mesh has
     /// vertices.
@@ -241,6 +241,27 @@ impl fmt::Display for FacetDefect {
                 write!(f, "has point {vertex} outside its boundary or in a hole")
             }
         }
+    }
+}
+
+/// What is wrong with the components of a metric.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MetricDefect {
+    /// Not `D(D+1)/2` components (3 in 2D, 6 in 3D).
+    ComponentCount,
+    /// A component is NaN or infinite.
+    NotFinite,
+    /// An eigenvalue is zero or negative.
+    NotPositiveDefinite,
+}
+
+impl fmt::Display for MetricDefect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            MetricDefect::ComponentCount => "has the wrong number of components",
+            MetricDefect::NotFinite => "has a NaN or infinite component",
+            MetricDefect::NotPositiveDefinite => "is not positive definite",
+        })
     }
 }
 

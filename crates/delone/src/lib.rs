@@ -40,7 +40,7 @@ pub mod tet;
 pub mod tri;
 mod types;
 
-pub use error::{Error, FacetDefect, Violation};
+pub use error::{Error, FacetDefect, MetricDefect, Violation};
 pub use tet::{tetrahedralize, TetMesh};
 pub use tri::{triangulate, TriMesh};
 pub use types::{Inserted, NONE};

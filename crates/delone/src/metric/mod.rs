@@ -25,5 +25,6 @@
 mod field;
 mod tensor;
 
+pub use crate::error::MetricDefect;
 pub use field::{complexity, edges, gradate, hessians, metric_from_hessians, Target};
-pub use tensor::{mean_ratio, Metric, MetricDefect};
+pub use tensor::{mean_ratio, Metric};

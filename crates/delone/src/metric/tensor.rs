@@ -12,6 +12,8 @@
 //! (sizes varying geometrically along the edge).
 #![allow(clippy::needless_range_loop)] // matrix code: indices address rows and columns of several matrices at once
 
+use crate::error::MetricDefect;
+
 /// A symmetric `D × D` matrix (full storage).
 pub(crate) type Sym<const D: usize> = [[f64; D]; D];
 
@@ -87,27 +89,6 @@ fn map_eigen<const D: usize>(m: &Sym<D>, f: impl Fn(f64) -> f64) -> Sym<D> {
         *x = f(*x);
     }
     compose(&l, &v)
-}
-
-/// What is wrong with the components of a metric.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MetricDefect {
-    /// Not `D(D+1)/2` components (3 in 2D, 6 in 3D).
-    ComponentCount,
-    /// A component is NaN or infinite.
-    NotFinite,
-    /// An eigenvalue is zero or negative.
-    NotPositiveDefinite,
-}
-
-impl std::fmt::Display for MetricDefect {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            MetricDefect::ComponentCount => "has the wrong number of components",
-            MetricDefect::NotFinite => "has a NaN or infinite component",
-            MetricDefect::NotPositiveDefinite => "is not positive definite",
-        })
-    }
 }
 
 /// A metric tensor in `D` dimensions (2 or 3): symmetric positive
