@@ -718,30 +718,10 @@ impl<'a> Engine<'a> {
         let need = self
             .min_q(tets.iter().map(|&u| self.m.tv[u as usize]))
             .max(0.0);
-        let (mut best, mut choice) = (Vec::new(), Vec::new());
-        let q = ring::triangulate(
-            n,
-            (f64::NEG_INFINITY, f64::INFINITY),
-            &mut best,
-            &mut choice,
-            |_, _| (),
-            |i, k, j, l, rr, cur, _| {
-                let bound = l.min(rr);
-                if bound <= cur || bound <= need {
-                    return None;
-                }
-                let q1 = self.qual([r[i], r[k], r[j], b]);
-                if q1 <= need || q1 <= cur {
-                    return None;
-                }
-                let v = bound.min(q1).min(self.qual([r[i], r[j], r[k], a]));
-                (v > cur).then_some(v)
-            },
-        );
+        let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
         if q <= need + 1e-6 {
             return None;
         }
-        let new = ring::ring_tets(&r, &choice, a, b);
         let old: Vec<[u32; 4]> = tets.iter().map(|&u| self.m.tv[u as usize]).collect();
         if !new.iter().all(|&x| positive(&self.p, x))
             || !no_long_edge(&self.p, &self.met, &old, &new)

@@ -163,6 +163,43 @@ pub(crate) fn triangulate<T: Copy, C>(
     best[n - 1]
 }
 
+/// The edge removal of edge `a b` with ring `r` that maximises the
+/// smallest quality of its tetrahedra (`[r_i, r_k, r_j, b]` and
+/// `[r_i, r_j, r_k, a]` for each ring triangle `i k j`): its smallest
+/// quality and tetrahedra, or `None` when no triangulation has all its
+/// qualities above `need`. Sub-polygons and triangles at or below `need`
+/// are pruned, so `qual` runs only where it can matter.
+pub(crate) fn max_min(
+    r: &[u32],
+    a: u32,
+    b: u32,
+    need: f64,
+    mut qual: impl FnMut([u32; 4]) -> f64,
+) -> Option<(f64, Vec<[u32; 4]>)> {
+    let (mut best, mut choice) = (Vec::new(), Vec::new());
+    let q = triangulate(
+        r.len(),
+        (f64::NEG_INFINITY, f64::INFINITY),
+        &mut best,
+        &mut choice,
+        |_, _| (),
+        |i, k, j, l, rr, cur, _| {
+            let bound = l.min(rr);
+            if bound <= cur || bound <= need {
+                return None;
+            }
+            let q1 = qual([r[i], r[k], r[j], b]);
+            if q1 <= need || q1 <= cur {
+                return None;
+            }
+            let q2 = qual([r[i], r[j], r[k], a]);
+            let v = bound.min(q1).min(q2);
+            (v > cur).then_some(v)
+        },
+    );
+    (q > need).then(|| (q, ring_tets(r, &choice, a, b)))
+}
+
 /// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring
 /// `r` (`n` vertices) that [`triangulate`] chose (`choice[i * n + j]` is the
 /// apex `k` of the triangle on chord `i j`), each triangle joined to the

@@ -363,31 +363,7 @@ impl Work {
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
         let need = self.min_q(&tets).max(0.0);
-        let (mut best, mut choice) = (Vec::new(), Vec::new());
-        let q = ring::triangulate(
-            n,
-            (f64::NEG_INFINITY, f64::INFINITY),
-            &mut best,
-            &mut choice,
-            |_, _| (),
-            |i, k, j, l, rr, cur, _| {
-                let bound = l.min(rr);
-                if bound <= cur || bound <= need {
-                    return None;
-                }
-                let q1 = self.qual([r[i], r[k], r[j], b]);
-                if q1 <= need || q1 <= cur {
-                    return None;
-                }
-                let q2 = self.qual([r[i], r[j], r[k], a]);
-                let v = bound.min(q1).min(q2);
-                (v > cur).then_some(v)
-            },
-        );
-        if q <= need {
-            return None;
-        }
-        let new = ring::ring_tets(&r, &choice, a, b);
+        let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
         Some(Plan {
             old: tets,
             new,
