@@ -166,3 +166,19 @@ def test_bad_mesh_is_invalid_input():
         delone.adapt(pts, tris, np.ones(len(pts)), faces=[[0, 50]])
     with pytest.raises(delone.InvalidInput, match="complexity"):
         delone.metric_from_field(pts, tris, pts[:, 0])
+
+
+def test_progress_reports_passes_and_a_raising_callback_stops():
+    pts, tris = grid2(4)
+    seen = []
+    delone.adapt(pts, tris, np.full(len(pts), 0.05), progress=lambda *r: seen.append(r))
+    assert seen and all(r[0] == "adapting" and r[3] == "passes" for r in seen)
+
+    class Stop(Exception):
+        pass
+
+    def stop(*_):
+        raise Stop
+
+    with pytest.raises(Stop):
+        delone.adapt(pts, tris, np.full(len(pts), 0.01), progress=stop)

@@ -189,14 +189,16 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
             )));
         }
     }
+    // Progress of the passes on stderr (a bar on a terminal).
+    let shown = !args.quiet;
     if mesh.dimension == 2 {
         let m = tri_mesh(&mesh);
         let met = metric_of::<2, 3>(&args, &sol, &name, &m)?;
-        finish(&args, &m, met, &output, clock, adapt_tri)
+        crate::progress::observe(shown, || finish(&args, &m, met, &output, clock, adapt_tri))
     } else {
         let m = tet_mesh(&mesh);
         let met = metric_of::<3, 4>(&args, &sol, &name, &m)?;
-        finish(&args, &m, met, &output, clock, adapt_tet)
+        crate::progress::observe(shown, || finish(&args, &m, met, &output, clock, adapt_tet))
     }
 }
 

@@ -154,3 +154,35 @@ fn same_input_same_output() {
     check_cube(&a);
     assert_eq!(a, run());
 }
+
+/// A set stop flag ends the adaptation with [`Error::Interrupted`] (both
+/// dimensions), never with a partial mesh.
+#[test]
+fn a_set_stop_flag_interrupts_the_adaptation() {
+    use std::sync::atomic::Ordering;
+    let stop = delone::progress::stop_flag();
+    stop.store(true, Ordering::Relaxed);
+    let size = |_: &[f64; 3]| Metric::isotropic(0.1);
+    let r = delone::progress::stoppable(stop.clone(), || {
+        adapt_tet(
+            &cube(2, false),
+            MetricField::Function(&size),
+            &AdaptOptions::default(),
+        )
+    });
+    assert_eq!(r.unwrap_err(), Error::Interrupted);
+    let square = delone::adapt::TriMesh {
+        points: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        elements: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    };
+    let size2 = |_: &[f64; 2]| Metric::isotropic(0.1);
+    let r = delone::progress::stoppable(stop, || {
+        delone::adapt::adapt_tri(
+            &square,
+            MetricField::Function(&size2),
+            &AdaptOptions::default(),
+        )
+    });
+    assert_eq!(r.unwrap_err(), Error::Interrupted);
+}

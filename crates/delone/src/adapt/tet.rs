@@ -83,7 +83,7 @@ pub fn adapt_tet(
     e.report
         .phases
         .push(("input", clock.elapsed().as_secs_f64()));
-    e.run();
+    e.run()?;
     Ok(e.output(mesh, &input))
 }
 
@@ -483,7 +483,9 @@ impl<'a> Engine<'a> {
         self.m.star_with(v, |_, _| true)
     }
 
-    fn run(&mut self) {
+    /// The passes; [`Error::Interrupted`] when the stop flag is set
+    /// ([`crate::progress::stoppable`]).
+    fn run(&mut self) -> Result<(), Error> {
         let phase = |r: &mut AdaptReport, name: &'static str, t: Instant| {
             let s = t.elapsed().as_secs_f64();
             match r.phases.iter_mut().find(|x| x.0 == name) {
@@ -496,6 +498,15 @@ impl<'a> Engine<'a> {
         // collapses have settled: before, most of the moved vertices go.
         let mut settled = false;
         while self.report.passes < self.opt.max_passes {
+            crate::progress::report(
+                "adapting",
+                self.report.passes as u64,
+                Some(self.opt.max_passes as u64),
+                "passes",
+            );
+            if crate::progress::stop_requested() {
+                return Err(Error::Interrupted);
+            }
             self.report.passes += 1;
             let (s0, c0) = (self.report.splits, self.report.collapses);
             let t = Instant::now();
@@ -534,6 +545,7 @@ impl<'a> Engine<'a> {
                 quiet = 0;
             }
         }
+        Ok(())
     }
 
     /// The live edges with their metric lengths, those `keep` takes.

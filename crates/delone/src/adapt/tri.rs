@@ -132,7 +132,16 @@ pub fn adapt_tri(
     let mut phases = [0.0; 5];
     phases[0] = clock.elapsed().as_secs_f64();
     let (mut best, mut stall, mut splits) = (usize::MAX, 0, 0);
-    for _ in 0..options.max_passes {
+    for pass in 0..options.max_passes {
+        crate::progress::report(
+            "adapting",
+            pass as u64,
+            Some(options.max_passes as u64),
+            "passes",
+        );
+        if crate::progress::stop_requested() {
+            return Err(Error::Interrupted);
+        }
         // Topological changes (splits, collapses, swaps) of this pass.
         let mut changed = 0;
         let t = Instant::now();
