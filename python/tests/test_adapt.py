@@ -144,7 +144,8 @@ def test_metric_stats_matches_report():
 @pytest.mark.parametrize(
     "metric, message",
     [
-        (np.zeros(16), "vertex 0"),
+        (np.zeros(16), "vertex 0 is not positive definite"),
+        (np.r_[np.ones(5), np.nan, np.ones(10)], "vertex 5 has a NaN"),
         (np.tile([1.0, 2.0, 1.0], (16, 1)), "vertex 0"),
         (np.ones(5), "one row per point"),
         (np.ones((16, 4)), "tensor components"),

@@ -757,10 +757,12 @@ fn metrics<const D: usize>(a: &PyReadonlyArray2<'_, f64>, n: usize) -> PyResult<
         .map(|(i, r)| {
             let row: Vec<f64> = r.iter().copied().collect();
             let m = if row.len() == 1 {
-                if row[0].is_finite() && row[0] > 0.0 {
+                if !row[0].is_finite() {
+                    Err(delone::MetricDefect::NotFinite)
+                } else if row[0] > 0.0 {
                     Ok(Metric::isotropic(row[0]))
                 } else {
-                    Err(delone::metric::MetricDefect::NotPositiveDefinite)
+                    Err(delone::MetricDefect::NotPositiveDefinite)
                 }
             } else {
                 Metric::from_medit(&row)
