@@ -610,49 +610,23 @@ fn finish(
         1
     };
     let step = triangles.len().div_ceil(chunks).max(1);
+    // Chunk `k`: the triangles from `k * step` (`assess` reads those before
+    // for context).
+    let chunk = |crit: &Crit, k: usize| {
+        let end = ((k + 1) * step).min(triangles.len());
+        let lo = (k * step).min(end);
+        assess(&m, crit, &triangles[..end], &max_areas, lo, limit_reached, restricted)
+    };
+    let b = crit.b;
+    let plain = |k: usize| chunk(&Crit { user: None, b }, k);
     let parts: Vec<Assessed> = if chunks == 1 {
-        vec![assess(
-            &m,
-            crit,
-            &triangles,
-            &max_areas,
-            0,
-            limit_reached,
-            restricted,
-        )]
+        vec![chunk(crit, 0)]
     } else {
-        let bounds = crit.b;
-        let (mr, tr, ma) = (&m, &triangles, &max_areas);
-        std::thread::scope(|sc| {
-            let handles: Vec<_> = (1..chunks)
-                .map(|k| {
-                    sc.spawn(move || {
-                        let crit = Crit {
-                            user: None,
-                            b: bounds,
-                        };
-                        let end = ((k + 1) * step).min(tr.len());
-                        let lo = (k * step).min(end);
-                        assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)
-                    })
-                })
-                .collect();
-            let mut v = vec![assess(
-                mr,
-                crit,
-                &tr[..step.min(tr.len())],
-                ma,
-                0,
-                limit_reached,
-                restricted,
-            )];
-            v.extend(
-                handles
-                    .into_iter()
-                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
-            );
-            v
-        })
+        crate::par::run_dynamic(chunks, (0..chunks).collect(), |_, k| plain(k))
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| p.unwrap_or_else(|| plain(k)))
+            .collect()
     };
     let mut lo_t = (f64::INFINITY, usize::MAX);
     let mut hi_t = (f64::INFINITY, usize::MAX);
