@@ -615,7 +615,15 @@ fn finish(
     let chunk = |crit: &Crit, k: usize| {
         let end = ((k + 1) * step).min(triangles.len());
         let lo = (k * step).min(end);
-        assess(&m, crit, &triangles[..end], &max_areas, lo, limit_reached, restricted)
+        assess(
+            &m,
+            crit,
+            &triangles[..end],
+            &max_areas,
+            lo,
+            limit_reached,
+            restricted,
+        )
     };
     let b = crit.b;
     let plain = |k: usize| chunk(&Crit { user: None, b }, k);
