@@ -69,13 +69,7 @@ impl Cdt {
     /// ```
     pub fn from_mesh(m: ExistingMesh) -> Result<Cdt, Error> {
         let np = m.points.len();
-        if let Some(index) = m
-            .points
-            .iter()
-            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-        {
-            return Err(Error::InvalidCoordinate { index });
-        }
+        crate::geom::check::finite(&m.points)?;
         let nt = m.triangles.len();
         let lens = |what: &str, n: usize| {
             if n != 0 && n != nt {

@@ -285,18 +285,8 @@ fn refine_mesh(
     options: &RefineOptions,
     user: Option<UserTest<'_>>,
 ) -> Result<Refined, Error> {
-    if let Some(index) = cdt
-        .points
-        .iter()
-        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-    {
-        return Err(Error::InvalidCoordinate { index });
-    }
-    let max_abs = cdt
-        .points
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let scale = pow2_scale(max_abs);
+    crate::geom::check::finite(&cdt.points)?;
+    let scale = pow2_scale(crate::geom::max_abs(&cdt.points));
     let sf = scale.0 * scale.1;
     let nfixed = cdt.points.len();
     let nt = cm.tr.len();
