@@ -34,6 +34,7 @@ pub mod error;
 pub mod geom;
 pub mod metric;
 pub mod model;
+mod par;
 pub mod progress;
 pub mod switches;
 pub mod tet;

@@ -53,6 +53,15 @@ pub fn mesh_fits<const K: usize>(
     Ok(())
 }
 
+/// [`Error::InvalidCoordinate`] naming the first point of `points` with a
+/// NaN or infinite coordinate.
+pub(crate) fn finite<const D: usize>(points: &[[f64; D]]) -> Result<(), Error> {
+    match points.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
+        Some(index) => Err(Error::InvalidCoordinate { index }),
+        None => Ok(()),
+    }
+}
+
 /// [`Error::IndexOutOfRange`] naming the first of `ids` (the corners of
 /// item `index`, e.g. a `"facet"`) that is not below `points`.
 pub(crate) fn ids_in_range(

@@ -17,10 +17,8 @@ pub(crate) fn check_coordinates<const D: usize>(
     holes: &[[f64; D]],
     mut regions: impl Iterator<Item = [f64; D]>,
 ) -> Result<(), Error> {
+    crate::geom::check::finite(points)?;
     let finite = |p: &[f64; D]| p.iter().all(|c| c.is_finite());
-    if let Some(index) = points.iter().position(|p| !finite(p)) {
-        return Err(Error::InvalidCoordinate { index });
-    }
     crate::geom::scale::check_range(points, range)?;
     let seed = |kind, index| Err(Error::InvalidSeedPoint { kind, index });
     if let Some(index) = holes.iter().position(|p| !finite(p)) {

@@ -146,15 +146,10 @@ pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
     };
     let n = [normal(0), normal(1), normal(2), normal(3)];
     EDGES.map(|(i, j)| {
-        // The faces at edge i-j are those opposite the other two vertices.
-        let (k, l) = match (i, j) {
-            (0, 1) => (2, 3),
-            (0, 2) => (1, 3),
-            (0, 3) => (1, 2),
-            (1, 2) => (0, 3),
-            (1, 3) => (0, 2),
-            _ => (0, 1),
-        };
+        // The faces at edge i-j are those opposite the other two vertices
+        // (`k < l`).
+        let k = (0..4).find(|&v| v != i && v != j).unwrap_or(0);
+        let l = 6 - i - j - k;
         let s = norm(&cross(&n[k], &n[l]));
         let c = -dot(&n[k], &n[l]);
         s.atan2(c).to_degrees()

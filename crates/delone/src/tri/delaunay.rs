@@ -842,18 +842,14 @@ impl<'a> Delaunay2<'a> {
                 }
             }
         }
-        if W {
-            if !self.in_conflict::<true>(t, &p, ip) {
-                // Lifted above the lower hull: an empty power cell.
-                self.last = t as u32;
-                let id = self.ids[ip as usize];
-                self.hidden.push(id);
-                return Inserted::Hidden(id);
-            }
-            self.dig_cavity_weighted(t, &p, ip);
-        } else {
-            self.dig_cavity(t, &p, ip);
+        if W && !self.in_conflict::<true>(t, &p, ip) {
+            // Lifted above the lower hull: an empty power cell.
+            self.last = t as u32;
+            let id = self.ids[ip as usize];
+            self.hidden.push(id);
+            return Inserted::Hidden(id);
         }
+        self.dig_cavity::<W>(t, &p, ip);
         self.stellate(ip);
         self.num_vertices += 1;
         Inserted::Vertex(self.ids[ip as usize])
@@ -863,80 +859,56 @@ impl<'a> Delaunay2<'a> {
     /// seed `t`, which is in conflict) into `self.cavity` and its boundary
     /// edges, counterclockwise, into `self.boundary`.
     ///
-    /// In 2D no vertex is ever removed by an insertion, so the cavity is a
-    /// polygon triangulated without interior vertices and its dual graph is a
-    /// tree: a depth-first search that never steps back through the edge it
-    /// came in by visits every cavity triangle once, needs no marks, and meets
-    /// the boundary edges in counterclockwise order when it visits the edges
-    /// of each triangle counterclockwise. The search runs on an explicit stack
-    /// of edge words (no recursion).
-    fn dig_cavity(&mut self, t: usize, p: &[f64; 2], ip: u32) {
-        let mut stack = std::mem::take(&mut self.stack);
-        let mut cavity = std::mem::take(&mut self.cavity);
-        let mut boundary = std::mem::take(&mut self.boundary);
-        stack.clear();
-        cavity.clear();
-        boundary.clear();
-        cavity.push(t as u32);
-        stack.extend_from_slice(&[pack(t, 2), pack(t, 1), pack(t, 0)]);
-        // Safety net against a non-tree cavity (impossible with exact
-        // predicates): never take more triangles than exist.
-        let limit = self.tri_v.len();
-        while let Some(w) = stack.pop() {
-            let (c, e) = unpack(w);
-            let wn = self.tri_adj[c][e];
-            let (n, j) = unpack(wn);
-            if cavity.len() < limit && self.in_conflict::<false>(n, p, ip) {
-                cavity.push(n as u32);
-                stack.push(pack(n, PREV[j]));
-                stack.push(pack(n, NEXT[j]));
-            } else {
-                let (a, b) = edge(&self.tri_v[c], e);
-                boundary.push((a, b, wn));
-            }
-        }
-        debug_assert_eq!(boundary.len(), cavity.len() + 2, "cavity not a disk");
-        self.stack = stack;
-        self.cavity = cavity;
-        self.boundary = boundary;
-    }
-
-    /// The cavity of a weighted point (power conflicts), like
-    /// [`Self::dig_cavity`] but with marks: the cavity may contain interior
-    /// vertices (their stars are swallowed: they become hidden), so its dual
-    /// graph need not be a tree. Without interior vertices the search visits
-    /// the triangles in the same order as the unweighted one (so zero weights
-    /// give the same slots, hence the same output); with them the boundary is
-    /// put back into counterclockwise cyclic order and the interior vertices
-    /// are recorded as hidden.
-    fn dig_cavity_weighted(&mut self, t: usize, p: &[f64; 2], ip: u32) {
+    /// In 2D no vertex is ever removed by an unweighted insertion, so the
+    /// cavity is a polygon triangulated without interior vertices and its
+    /// dual graph is a tree: a depth-first search that never steps back
+    /// through the edge it came in by visits every cavity triangle once,
+    /// needs no marks, and meets the boundary edges in counterclockwise order
+    /// when it visits the edges of each triangle counterclockwise. The search
+    /// runs on an explicit stack of edge words (no recursion).
+    ///
+    /// A weighted point (`W`, power conflicts) may swallow vertices (their
+    /// stars: they become hidden), so its cavity's dual graph need not be a
+    /// tree and the search marks the triangles it takes. Without interior
+    /// vertices it visits the triangles in the same order as the unweighted
+    /// one (so zero weights give the same slots, hence the same output); with
+    /// them the boundary is put back into counterclockwise cyclic order and
+    /// the interior vertices are recorded as hidden ([`Self::hide_interior`]).
+    fn dig_cavity<const W: bool>(&mut self, t: usize, p: &[f64; 2], ip: u32) {
         let mut stack = std::mem::take(&mut self.stack);
         let mut cavity = std::mem::take(&mut self.cavity);
         let mut boundary = std::mem::take(&mut self.boundary);
         let mut mark = std::mem::take(&mut self.mark);
-        mark.resize(self.tri_v.len(), 0);
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            mark.fill(0);
-            self.stamp = 1;
+        if W {
+            mark.resize(self.tri_v.len(), 0);
+            self.stamp = self.stamp.wrapping_add(1);
+            if self.stamp == 0 {
+                mark.fill(0);
+                self.stamp = 1;
+            }
+            mark[t] = self.stamp;
         }
         let stamp = self.stamp;
         stack.clear();
         cavity.clear();
         boundary.clear();
         cavity.push(t as u32);
-        mark[t] = stamp;
         stack.extend_from_slice(&[pack(t, 2), pack(t, 1), pack(t, 0)]);
+        // Safety net against a non-tree unweighted cavity (impossible with
+        // exact predicates): never take more triangles than exist.
+        let limit = self.tri_v.len();
         while let Some(w) = stack.pop() {
             let (c, e) = unpack(w);
             let wn = self.tri_adj[c][e];
             let (n, j) = unpack(wn);
-            if mark[n] == stamp {
+            if W && mark[n] == stamp {
                 // Both sides in the cavity: an edge at an interior vertex.
                 continue;
             }
-            if self.in_conflict::<true>(n, p, ip) {
-                mark[n] = stamp;
+            if (W || cavity.len() < limit) && self.in_conflict::<W>(n, p, ip) {
+                if W {
+                    mark[n] = stamp;
+                }
                 cavity.push(n as u32);
                 stack.push(pack(n, PREV[j]));
                 stack.push(pack(n, NEXT[j]));
@@ -945,7 +917,8 @@ impl<'a> Delaunay2<'a> {
                 boundary.push((a, b, wn));
             }
         }
-        if boundary.len() != cavity.len() + 2 {
+        debug_assert!(W || boundary.len() == cavity.len() + 2, "cavity not a disk");
+        if W && boundary.len() != cavity.len() + 2 {
             self.hide_interior(&cavity, &mut boundary);
         }
         self.mark = mark;

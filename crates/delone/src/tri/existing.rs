@@ -69,13 +69,7 @@ impl Cdt {
     /// ```
     pub fn from_mesh(m: ExistingMesh) -> Result<Cdt, Error> {
         let np = m.points.len();
-        if let Some(index) = m
-            .points
-            .iter()
-            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-        {
-            return Err(Error::InvalidCoordinate { index });
-        }
+        crate::geom::check::finite(&m.points)?;
         let nt = m.triangles.len();
         let lens = |what: &str, n: usize| {
             if n != 0 && n != nt {
@@ -88,24 +82,10 @@ impl Cdt {
         };
         lens("attributes", m.attributes.len())?;
         lens("area bounds", m.max_areas.len())?;
-        let max_abs = m
-            .points
-            .iter()
-            .fold(0.0f64, |a, p| a.max(p[0].abs()).max(p[1].abs()));
-        let scale = pow2_scale(max_abs);
+        let scale = pow2_scale(crate::geom::max_abs(&m.points));
         let pts: Vec<[f64; 2]> = m.points.iter().map(|&p| scaled(p, scale)).collect();
-        let in_range = |item: &'static str, index: usize, v: &[u32]| match v
-            .iter()
-            .find(|&&x| x as usize >= np)
-        {
-            Some(&vertex) => Err(Error::IndexOutOfRange {
-                item,
-                index,
-                vertex,
-                points: np,
-            }),
-            None => Ok(()),
-        };
+        let in_range =
+            |item, index, v: &[u32]| crate::geom::check::ids_in_range(item, index, v, np);
         let mut half: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * nt);
         for (t, v) in m.triangles.iter().enumerate() {
             in_range("triangle", t, v)?;

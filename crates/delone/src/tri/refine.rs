@@ -285,18 +285,8 @@ fn refine_mesh(
     options: &RefineOptions,
     user: Option<UserTest<'_>>,
 ) -> Result<Refined, Error> {
-    if let Some(index) = cdt
-        .points
-        .iter()
-        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-    {
-        return Err(Error::InvalidCoordinate { index });
-    }
-    let max_abs = cdt
-        .points
-        .iter()
-        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
-    let scale = pow2_scale(max_abs);
+    crate::geom::check::finite(&cdt.points)?;
+    let scale = pow2_scale(crate::geom::max_abs(&cdt.points));
     let sf = scale.0 * scale.1;
     let nfixed = cdt.points.len();
     let nt = cm.tr.len();
@@ -610,49 +600,31 @@ fn finish(
         1
     };
     let step = triangles.len().div_ceil(chunks).max(1);
-    let parts: Vec<Assessed> = if chunks == 1 {
-        vec![assess(
+    // Chunk `k`: the triangles from `k * step` (`assess` reads those before
+    // for context).
+    let chunk = |crit: &Crit, k: usize| {
+        let end = ((k + 1) * step).min(triangles.len());
+        let lo = (k * step).min(end);
+        assess(
             &m,
             crit,
-            &triangles,
+            &triangles[..end],
             &max_areas,
-            0,
+            lo,
             limit_reached,
             restricted,
-        )]
+        )
+    };
+    let b = crit.b;
+    let plain = |k: usize| chunk(&Crit { user: None, b }, k);
+    let parts: Vec<Assessed> = if chunks == 1 {
+        vec![chunk(crit, 0)]
     } else {
-        let bounds = crit.b;
-        let (mr, tr, ma) = (&m, &triangles, &max_areas);
-        std::thread::scope(|sc| {
-            let handles: Vec<_> = (1..chunks)
-                .map(|k| {
-                    sc.spawn(move || {
-                        let crit = Crit {
-                            user: None,
-                            b: bounds,
-                        };
-                        let end = ((k + 1) * step).min(tr.len());
-                        let lo = (k * step).min(end);
-                        assess(mr, &crit, &tr[..end], ma, lo, limit_reached, restricted)
-                    })
-                })
-                .collect();
-            let mut v = vec![assess(
-                mr,
-                crit,
-                &tr[..step.min(tr.len())],
-                ma,
-                0,
-                limit_reached,
-                restricted,
-            )];
-            v.extend(
-                handles
-                    .into_iter()
-                    .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
-            );
-            v
-        })
+        crate::par::run_dynamic(chunks, (0..chunks).collect(), |_, k| plain(k))
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| p.unwrap_or_else(|| plain(k)))
+            .collect()
     };
     let mut lo_t = (f64::INFINITY, usize::MAX);
     let mut hi_t = (f64::INFINITY, usize::MAX);

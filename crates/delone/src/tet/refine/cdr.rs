@@ -1056,24 +1056,29 @@ impl Cdr {
     /// R1: splits subsegment `e` (midpoint, or a concentric shell around
     /// an input vertex at one end).
     fn split_segment(&mut self, e: (u32, u32)) -> bool {
-        if self.failed_s.contains(&e) {
-            return false;
-        }
-        let (done, failed) = self.attempt(|st| st.split_segment_at(e));
-        if failed {
-            self.failed_s.insert(e);
-        }
-        done
+        self.attempt(e, |st| &mut st.failed_s, |st| st.split_segment_at(e))
     }
 
-    /// Runs a split: whether it inserted, and whether it failed with the
-    /// mesh unchanged (not for [`Cdr::min_ir`]), so that it is not tried
+    /// Runs the split of `key` unless it is in the set `failed` gives:
+    /// whether it inserted. A split that fails with the mesh unchanged (not
+    /// for [`Cdr::min_ir`]) puts `key` in that set, so that it is not tried
     /// again.
-    fn attempt(&mut self, split: impl FnOnce(&mut Self) -> bool) -> (bool, bool) {
+    fn attempt<K: std::hash::Hash + Eq>(
+        &mut self,
+        key: K,
+        failed: fn(&mut Self) -> &mut HashSet<K>,
+        split: impl FnOnce(&mut Self) -> bool,
+    ) -> bool {
+        if failed(self).contains(&key) {
+            return false;
+        }
         let n = self.p.len();
         self.ir_refused = false;
         let done = split(self);
-        (done, !done && self.p.len() == n && !self.ir_refused)
+        if !done && self.p.len() == n && !self.ir_refused {
+            failed(self).insert(key);
+        }
+        done
     }
 
     fn split_segment_at(&mut self, e: (u32, u32)) -> bool {
@@ -1303,14 +1308,7 @@ impl Cdr {
     /// R2: splits subface `k` at its circumcentre (or the subsegment it
     /// encroaches, or, failing that, its longest edge).
     fn split_face(&mut self, k: [u32; 3]) -> bool {
-        if self.failed_f.contains(&k) {
-            return false;
-        }
-        let (done, failed) = self.attempt(|st| st.split_face_at(k));
-        if failed {
-            self.failed_f.insert(k);
-        }
-        done
+        self.attempt(k, |st| &mut st.failed_f, |st| st.split_face_at(k))
     }
 
     fn split_face_at(&mut self, k: [u32; 3]) -> bool {

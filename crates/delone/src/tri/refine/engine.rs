@@ -514,17 +514,6 @@ pub(super) fn run(
     type Heap = Queue;
     let mut heap = Queue::new();
     let mut enc: VecDeque<u32> = VecDeque::new();
-    let all = 0..m.tr.len() as u32;
-    let seeds: &mut dyn Iterator<Item = u32> = match scan {
-        Some(ts) => &mut ts.iter().copied(),
-        None => &mut all.clone(),
-    };
-    for t in seeds {
-        let t = t as usize;
-        if let Some(k) = bad(m, t) {
-            heap.push(k, t as u32, m.tr[t].v[0]);
-        }
-    }
     // Subsegments encroached by an apex.
     let check_sub = |m: &Mesh, t: usize, e: usize, enc: &mut VecDeque<u32>| {
         let s = m.sub_at(t, e);
@@ -537,13 +526,18 @@ pub(super) fn run(
             enc.push_back(s);
         }
     };
+    let mut all = 0..m.tr.len() as u32;
     let seeds: &mut dyn Iterator<Item = u32> = match scan {
         Some(ts) => &mut ts.iter().copied(),
-        None => &mut all.clone(),
+        None => &mut all,
     };
     for t in seeds {
+        let t = t as usize;
+        if let Some(k) = bad(m, t) {
+            heap.push(k, t as u32, m.tr[t].v[0]);
+        }
         for e in 0..3 {
-            check_sub(m, t as usize, e, &mut enc);
+            check_sub(m, t, e, &mut enc);
         }
     }
     // The new triangles: bad ones are queued, their subsegments checked.
