@@ -360,6 +360,10 @@ struct Engine<'a> {
     report: AdaptReport,
     /// Live vertices.
     live: usize,
+    /// Quality per slot with the vertices it was computed for: valid while
+    /// the slot holds them and none of them has moved (a move clears its
+    /// star's entries).
+    cache: std::cell::RefCell<Vec<([u32; 4], f64)>>,
 }
 
 impl<'a> Engine<'a> {
@@ -393,6 +397,7 @@ impl<'a> Engine<'a> {
             opt,
             report: AdaptReport::default(),
             live: n,
+            cache: Default::default(),
         };
         e.met = e.met.iter().map(|&m| e.bound(m)).collect();
         if let Some(g) = opt.hgrad {
@@ -429,6 +434,27 @@ impl<'a> Engine<'a> {
     fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
         tets.into_iter()
             .map(|t| self.qual(t))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The quality of live slot `t`, from the cache when it is valid.
+    fn slot_q(&self, t: u32) -> f64 {
+        let tv = self.m.tv[t as usize];
+        let mut c = self.cache.borrow_mut();
+        if c.len() <= t as usize {
+            c.resize(self.m.tv.len().max(t as usize + 1), ([NONE; 4], 0.0));
+        }
+        if c[t as usize].0 != tv {
+            c[t as usize] = (tv, self.qual(tv));
+        }
+        c[t as usize].1
+    }
+
+    /// The worst quality of live slots `slots`.
+    fn min_slot_q(&self, slots: &[u32]) -> f64 {
+        slots
+            .iter()
+            .map(|&t| self.slot_q(t))
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -640,7 +666,7 @@ impl<'a> Engine<'a> {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
-        let floor = COLLAPSE_FLOOR.min(self.min_q(tets.iter().copied()));
+        let floor = COLLAPSE_FLOOR.min(self.min_slot_q(&ball));
         let (p, met) = (&self.p, &self.met);
         let accept = |new: &[[u32; 4]]| {
             new.iter().all(|&t| quality(p, met, t) >= floor) && no_long_edge(p, met, &tets, new)
@@ -663,7 +689,7 @@ impl<'a> Engine<'a> {
         let mut bad: Vec<(f64, u32, [u32; 4])> = self
             .m
             .live_slots()
-            .map(|t| (self.qual(self.m.tv[t as usize]), t, self.m.tv[t as usize]))
+            .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
             .filter(|x| x.0 < SWAP_BELOW)
             .collect();
         bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
@@ -688,7 +714,7 @@ impl<'a> Engine<'a> {
         };
         for f in 0..4 {
             if let Some(fl) = self.m.flip23(t, f) {
-                let before = self.min_q(fl.old.iter().map(|&u| self.m.tv[u as usize]));
+                let before = self.min_slot_q(&fl.old);
                 let after = self.min_q(fl.new.iter().copied());
                 let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
                 if after > before + 1e-6
@@ -727,9 +753,7 @@ impl<'a> Engine<'a> {
         if n < 3 {
             return None;
         }
-        let need = self
-            .min_q(tets.iter().map(|&u| self.m.tv[u as usize]))
-            .max(0.0);
+        let need = self.min_slot_q(&tets).max(0.0);
         let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
         if q <= need + 1e-6 {
             return None;
@@ -780,7 +804,7 @@ impl<'a> Engine<'a> {
                 d[k] += e[k] * (1.0 - 1.0 / l.max(1e-3)) / link.len() as f64;
             }
         }
-        let old = self.min_q(tets.iter().copied());
+        let old = self.min_slot_q(&ball);
         let home_m = self.met[v as usize];
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
@@ -792,6 +816,11 @@ impl<'a> Engine<'a> {
                 && self.min_q(tets.iter().copied()) > old + 1e-6
             {
                 self.report.moves += 1;
+                let mut c = self.cache.borrow_mut();
+                for &t in &ball {
+                    c[t as usize].0 = [NONE; 4];
+                }
+                drop(c);
                 self.m.debug_check(&self.p, "adaptation smoothing");
                 return true;
             }
