@@ -13,7 +13,9 @@
 //! along a subface edge of it, a vertex on two (a ridge) only along the
 //! ridge; corners, required vertices and vertices on three facets or more
 //! never move. Splits put the new vertex at the edge's midpoint, so on the
-//! edge's facet or ridge; only interior vertices are smoothed.
+//! edge's facet or ridge; smoothing moves a facet vertex in its facet's
+//! plane and a ridge vertex along its ridge, only to points exactly on
+//! the planes of its subfaces.
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
@@ -821,7 +823,7 @@ impl<'a> Engine<'a> {
         Some((tets, new, q - need))
     }
 
-    /// One sweep of smoothing over the interior vertices.
+    /// One sweep of smoothing over the vertices that may move.
     fn smooth_pass(&mut self) {
         for v in 0..self.p.len() as u32 {
             if !self.fixed[v as usize]
