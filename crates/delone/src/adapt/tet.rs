@@ -13,7 +13,9 @@
 //! along a subface edge of it, a vertex on two (a ridge) only along the
 //! ridge; corners, required vertices and vertices on three facets or more
 //! never move. Splits put the new vertex at the edge's midpoint, so on the
-//! edge's facet or ridge; only interior vertices are smoothed.
+//! edge's facet or ridge; smoothing moves a facet vertex in its facet's
+//! plane and a ridge vertex along its ridge, only to points exactly on
+//! the planes of its subfaces.
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
@@ -360,6 +362,18 @@ struct Engine<'a> {
     report: AdaptReport,
     /// Live vertices.
     live: usize,
+    /// Quality per slot with the vertices it was computed for: valid while
+    /// the slot holds them and none of them has moved (a move clears its
+    /// star's entries).
+    cache: std::cell::RefCell<Vec<([u32; 4], f64)>>,
+    /// Per vertex: bumped whenever its star changes (a tetrahedron through
+    /// it replaced, or a vertex of its star moved), so that an operation
+    /// refused on a star is not tried again before the star changes.
+    version: Vec<u32>,
+    /// Collapses refused: `v`, `w` and `v`'s version then.
+    refused: std::collections::HashSet<(u32, u32, u32)>,
+    /// Per slot: the vertices and their versions when no swap was found.
+    unswappable: Vec<([u32; 4], [u32; 4])>,
 }
 
 impl<'a> Engine<'a> {
@@ -393,6 +407,10 @@ impl<'a> Engine<'a> {
             opt,
             report: AdaptReport::default(),
             live: n,
+            cache: Default::default(),
+            version: vec![0; n],
+            refused: Default::default(),
+            unswappable: Vec::new(),
         };
         e.met = e.met.iter().map(|&m| e.bound(m)).collect();
         if let Some(g) = opt.hgrad {
@@ -429,6 +447,36 @@ impl<'a> Engine<'a> {
     fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
         tets.into_iter()
             .map(|t| self.qual(t))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The quality of live slot `t`, from the cache when it is valid.
+    fn slot_q(&self, t: u32) -> f64 {
+        let tv = self.m.tv[t as usize];
+        let mut c = self.cache.borrow_mut();
+        if c.len() <= t as usize {
+            c.resize(self.m.tv.len().max(t as usize + 1), ([NONE; 4], 0.0));
+        }
+        if c[t as usize].0 != tv {
+            c[t as usize] = (tv, self.qual(tv));
+        }
+        c[t as usize].1
+    }
+
+    /// Bumps the versions of the vertices of slots `slots`.
+    fn touch(&mut self, slots: &[u32]) {
+        for &t in slots {
+            for v in self.m.tv[t as usize] {
+                self.version[v as usize] = self.version[v as usize].wrapping_add(1);
+            }
+        }
+    }
+
+    /// The worst quality of live slots `slots`.
+    fn min_slot_q(&self, slots: &[u32]) -> f64 {
+        slots
+            .iter()
+            .map(|&t| self.slot_q(t))
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -590,12 +638,15 @@ impl<'a> Engine<'a> {
         self.p.push(x);
         self.met.push(mx);
         self.fixed.push(false);
-        if self.m.split_edge(&self.p, (a, b), v).is_none() {
+        self.version.push(0);
+        let Some(ids) = self.m.split_edge(&self.p, (a, b), v) else {
             self.p.pop();
             self.met.pop();
             self.fixed.pop();
+            self.version.pop();
             return false;
-        }
+        };
+        self.touch(&ids);
         self.report.splits += 1;
         self.live += 1;
         self.m.debug_check(&self.p, "adaptation split");
@@ -606,6 +657,8 @@ impl<'a> Engine<'a> {
     fn collapse_pass(&mut self) {
         let mut es = self.edge_list(|l| l < SHORT);
         es.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        let version = &self.version;
+        self.refused.retain(|&(v, _, x)| version[v as usize] == x);
         let mut gone = vec![false; self.p.len()];
         for (_, a, b) in es {
             if gone[a as usize] || gone[b as usize] {
@@ -623,6 +676,19 @@ impl<'a> Engine<'a> {
     /// Collapses `v` onto `w` when that keeps the boundary, leaves no edge
     /// longer than [`LONG`] and no tetrahedron below the quality floor.
     fn collapse(&mut self, v: u32, w: u32) -> bool {
+        let key = (v, w, self.version[v as usize]);
+        if self.refused.contains(&key) {
+            return false;
+        }
+        let done = self.try_collapse(v, w);
+        if !done {
+            self.refused.insert(key);
+        }
+        done
+    }
+
+    /// [`Engine::collapse`] without the memory of refusals.
+    fn try_collapse(&mut self, v: u32, w: u32) -> bool {
         let ball = self.star(v);
         if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
             return false;
@@ -640,18 +706,15 @@ impl<'a> Engine<'a> {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
-        let floor = COLLAPSE_FLOOR.min(self.min_q(tets.iter().copied()));
+        let floor = COLLAPSE_FLOOR.min(self.min_slot_q(&ball));
         let (p, met) = (&self.p, &self.met);
         let accept = |new: &[[u32; 4]]| {
             new.iter().all(|&t| quality(p, met, t) >= floor) && no_long_edge(p, met, &tets, new)
         };
-        if self
-            .m
-            .collapse_edge(&self.p, &ball, (v, w), accept)
-            .is_none()
-        {
+        let Some(ids) = self.m.collapse_edge(&self.p, &ball, (v, w), accept) else {
             return false;
-        }
+        };
+        self.touch(&ids);
         self.report.collapses += 1;
         self.live -= 1;
         self.m.debug_check(&self.p, "adaptation collapse");
@@ -663,7 +726,7 @@ impl<'a> Engine<'a> {
         let mut bad: Vec<(f64, u32, [u32; 4])> = self
             .m
             .live_slots()
-            .map(|t| (self.qual(self.m.tv[t as usize]), t, self.m.tv[t as usize]))
+            .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
             .filter(|x| x.0 < SWAP_BELOW)
             .collect();
         bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
@@ -680,6 +743,24 @@ impl<'a> Engine<'a> {
     /// replaces.
     fn swap(&mut self, t: u32) -> bool {
         let tv = self.m.tv[t as usize];
+        let key = (tv, tv.map(|v| self.version[v as usize]));
+        if self.unswappable.get(t as usize) == Some(&key) {
+            return false;
+        }
+        let done = self.try_swap(t);
+        if !done {
+            if self.unswappable.len() <= t as usize {
+                self.unswappable
+                    .resize(self.m.tv.len(), ([NONE; 4], [0; 4]));
+            }
+            self.unswappable[t as usize] = key;
+        }
+        done
+    }
+
+    /// [`Engine::swap`] without the memory of failures.
+    fn try_swap(&mut self, t: u32) -> bool {
+        let tv = self.m.tv[t as usize];
         let mut best: Option<(f64, Vec<u32>, Vec<[u32; 4]>)> = None;
         let mut consider = |gain: f64, old: Vec<u32>, new: Vec<[u32; 4]>| {
             if best.as_ref().is_none_or(|b| gain > b.0) {
@@ -688,7 +769,7 @@ impl<'a> Engine<'a> {
         };
         for f in 0..4 {
             if let Some(fl) = self.m.flip23(t, f) {
-                let before = self.min_q(fl.old.iter().map(|&u| self.m.tv[u as usize]));
+                let before = self.min_slot_q(&fl.old);
                 let after = self.min_q(fl.new.iter().copied());
                 let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
                 if after > before + 1e-6
@@ -710,6 +791,7 @@ impl<'a> Engine<'a> {
         let mut ids = Vec::new();
         let r = self.m.reg[t as usize];
         self.m.replace(&old, &new, r, &mut ids);
+        self.touch(&ids);
         self.report.swaps += 1;
         self.m.debug_check(&self.p, "adaptation swap");
         true
@@ -727,9 +809,7 @@ impl<'a> Engine<'a> {
         if n < 3 {
             return None;
         }
-        let need = self
-            .min_q(tets.iter().map(|&u| self.m.tv[u as usize]))
-            .max(0.0);
+        let need = self.min_slot_q(&tets).max(0.0);
         let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
         if q <= need + 1e-6 {
             return None;
@@ -743,7 +823,7 @@ impl<'a> Engine<'a> {
         Some((tets, new, q - need))
     }
 
-    /// One sweep of smoothing over the interior vertices.
+    /// One sweep of smoothing over the vertices that may move.
     fn smooth_pass(&mut self) {
         for v in 0..self.p.len() as u32 {
             if !self.fixed[v as usize]
@@ -758,13 +838,20 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// Moves interior vertex `v` towards unit metric lengths of its edges
-    /// (each edge pulls or pushes by `1 - 1/l`), the full step or a half
-    /// or a quarter of it, when that raises the worst quality of its star
-    /// and keeps every tetrahedron strictly positive.
+    /// Moves vertex `v` towards unit metric lengths of its edges (each
+    /// edge pulls or pushes by `1 - 1/l`), the full step or a half or a
+    /// quarter of it, when that raises the worst quality of its star and
+    /// keeps every tetrahedron strictly positive. A vertex on a facet moves
+    /// in the facet's plane, one on a ridge along it, and only to a point
+    /// exactly on the planes of its subfaces (exact `orient3d`), so that
+    /// every region keeps its volume; corners do not move.
     fn smooth(&mut self, v: u32) -> bool {
         let ball = self.star(v);
-        if ball.is_empty() || self.class(&ball, v) != Class::Interior {
+        if ball.is_empty() {
+            return false;
+        }
+        let class = self.class(&ball, v);
+        if class == Class::Fixed {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
@@ -780,10 +867,41 @@ impl<'a> Engine<'a> {
                 d[k] += e[k] * (1.0 - 1.0 / l.max(1e-3)) / link.len() as f64;
             }
         }
-        let old = self.min_q(tets.iter().copied());
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let along = |d: [f64; 3], t: [f64; 3], s: f64| [0, 1, 2].map(|k| d[k] + s * t[k]);
+        let d = match class {
+            Class::Surface(f) => {
+                let n = self.normal[f as usize];
+                along(d, n, -dot(d, n))
+            }
+            Class::Ridge(f, g) => {
+                let (a, b) = (self.normal[f as usize], self.normal[g as usize]);
+                let t = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                let t = t.map(|c| c / dot(t, t).sqrt());
+                along([0.0; 3], t, dot(d, t))
+            }
+            _ => d,
+        };
+        let subs = self.m.subfaces_at(&ball, v);
+        let old = self.min_slot_q(&ball);
         let home_m = self.met[v as usize];
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
+            let on_planes = subs.iter().all(|(k, _)| {
+                let mut o = k.iter().filter(|&&q| q != v);
+                let (Some(&y), Some(&z)) = (o.next(), o.next()) else {
+                    return false;
+                };
+                let g = |q: u32| &self.p[q as usize];
+                orient3d(&home, g(y), g(z), &x) == 0.0
+            });
+            if !on_planes {
+                continue;
+            }
             self.p[v as usize] = x;
             if let Some(m) = self.field_at(&x) {
                 self.met[v as usize] = m;
@@ -792,6 +910,12 @@ impl<'a> Engine<'a> {
                 && self.min_q(tets.iter().copied()) > old + 1e-6
             {
                 self.report.moves += 1;
+                let mut c = self.cache.borrow_mut();
+                for &t in &ball {
+                    c[t as usize].0 = [NONE; 4];
+                }
+                drop(c);
+                self.touch(&ball);
                 self.m.debug_check(&self.p, "adaptation smoothing");
                 return true;
             }
@@ -942,6 +1066,7 @@ mod tests {
         let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
         invariants(&e, &input, "input");
         let (mut splits, mut collapses, mut swaps, mut moves) = (0, 0, 0, 0);
+        let mut side_moves = 0;
         for round in 0..3 {
             for (_, a, b) in e.edge_list(|l| l > LONG) {
                 if e.m.edge_slot(a, b).is_some() && e.split(a, b) {
@@ -968,14 +1093,15 @@ mod tests {
                 let home = e.p[v as usize];
                 if e.m.vt[v as usize] != crate::tet::local::DEAD && e.smooth(v) {
                     moves += 1;
+                    side_moves += usize::from(home.iter().any(|&x| x == 0.0 || x == 1.0));
                     assert_ne!(home, e.p[v as usize]);
                     invariants(&e, &input, "smoothing");
                 }
             }
         }
         assert!(
-            splits > 100 && collapses > 10 && swaps > 0 && moves > 10,
-            "{splits} {collapses} {swaps} {moves}"
+            splits > 100 && collapses > 10 && swaps > 0 && moves > 10 && side_moves > 5,
+            "{splits} {collapses} {swaps} {moves} {side_moves}"
         );
         // Corners and the vertices of the sides never left them.
         let out = e.output(&mesh, &input);
@@ -989,8 +1115,16 @@ mod tests {
                 "face {f:?} ref {r}"
             );
         }
-        assert_eq!(out.mesh.ridges.len() % 4, 0);
+        // The ridges cover the cube's 12 edges and nothing else.
+        let mut length = 0.0;
+        for r in &out.mesh.ridges {
+            let [a, b] = r.map(|v| out.mesh.points[v as usize]);
+            let on = (0..3).filter(|&k| a[k] == b[k] && (a[k] == 0.0 || a[k] == 1.0));
+            assert_eq!(on.count(), 2, "ridge {a:?} {b:?}");
+            length += (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f64>();
+        }
         assert!(out.mesh.ridges.len() >= 24);
+        assert!((length - 12.0).abs() < 1e-12, "ridge length {length}");
     }
 
     /// A collapse that would move a vertex off its facet, off its ridge or
