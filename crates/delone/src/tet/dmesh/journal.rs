@@ -135,12 +135,11 @@ impl<'a> Journaled<'a> {
                 }
             }
         }
-        // The kernel's per-slot marks are all clear outside an operation:
-        // they become the (empty) subface marks.
+        // No subface yet.
         let m = DomainMesh {
             tv: std::mem::take(&mut c.v),
             nb: std::mem::take(&mut c.adj),
-            mask: std::mem::take(&mut c.mark),
+            mask: vec![0; c.v.len()],
             free: std::mem::take(&mut c.free),
             vt,
             ..DomainMesh::default()
