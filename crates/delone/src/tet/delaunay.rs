@@ -417,7 +417,9 @@ impl<'a> Delaunay3<'a> {
             weights: None,
             hidden: Vec::new(),
             core: Core::default(),
-            vertex_map: vec![NONE; n],
+            // Filled after the insertions (from the duplicate and hidden
+            // lists), when the copies are gone: a smaller peak.
+            vertex_map: Vec::new(),
             duplicates: Vec::new(),
             pending: Vec::new(),
             basis: Vec::new(),
@@ -444,26 +446,16 @@ impl<'a> Delaunay3<'a> {
         };
         let input = |k: u32| order[k as usize];
         dt.core.start(&local, [0, 1, 2, 3]);
-        for &b in &basis {
-            dt.vertex_map[b as usize] = b;
-        }
         for k in 4..n {
             match dt.core.insert_any(geo, k as u32)? {
                 Inserted::Duplicate { id, original } => {
-                    let (id, original) = (input(id), input(original));
-                    dt.vertex_map[id as usize] = original;
-                    dt.duplicates.push((id, original));
+                    dt.duplicates.push((input(id), input(original)));
                 }
                 Inserted::Hidden(id) => dt.hidden.push(input(id)),
-                _ => dt.vertex_map[order[k] as usize] = order[k],
+                _ => {}
             }
-            if !wts.is_empty() {
-                for &q in &dt.core.hidden_now {
-                    dt.vertex_map[input(q) as usize] = NONE;
-                    dt.hidden.push(input(q));
-                }
-                dt.core.hidden_now.clear();
-            }
+            dt.hidden
+                .extend(dt.core.hidden_now.drain(..).map(|q| order[q as usize]));
             if (k + 1) % PROGRESS_STEP == 0 {
                 progress(k + 1, n);
             }
@@ -474,7 +466,15 @@ impl<'a> Delaunay3<'a> {
                 *q = order[*q as usize];
             }
         }
+        drop(order);
         dt.duplicates.sort_unstable();
+        dt.vertex_map = (0..n as u32).collect();
+        for &(d, o) in &dt.duplicates {
+            dt.vertex_map[d as usize] = o;
+        }
+        for &h in &dt.hidden {
+            dt.vertex_map[h as usize] = NONE;
+        }
         dt.points = cow;
         dt.weights = wcow;
         progress(n, n);
@@ -1226,6 +1226,8 @@ impl Core {
             let t = cavity[k];
             k += 1;
             let adj_t = self.adj[t as usize];
+            let [t0, t1, t2, t3] = self.v[t as usize];
+            let tv = [t0 & UNMARK, t1, t2, t3];
             for (f, &w) in adj_t.iter().enumerate() {
                 let u = w >> 2;
                 let mark = self.v[u as usize][0];
@@ -1241,8 +1243,6 @@ impl Core {
                     self.v[u as usize][0] |= MARK_KEEP;
                     kept.push(u);
                 }
-                let mut tv = self.v[t as usize];
-                tv[0] &= UNMARK;
                 let [a, b, c] = FACET[f].map(|i| tv[i]);
                 // Keep INF in position 3 with an even permutation.
                 let (cell, fp) = if a == INF {
