@@ -62,7 +62,9 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{insphere, insphere_sos, insphere_weighted, insphere_weighted_sos, orient3d};
+use delone_predicates::{
+    insphere, insphere_sos, insphere_weighted, insphere_weighted_sos, orient3d,
+};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
