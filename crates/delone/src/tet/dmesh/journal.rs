@@ -135,11 +135,11 @@ impl<'a> Journaled<'a> {
                 }
             }
         }
-        // No subface yet.
         let m = DomainMesh {
+            // No subface yet (before the arrays are taken: fields initialise in order).
+            mask: vec![0; c.v.len()],
             tv: std::mem::take(&mut c.v),
             nb: std::mem::take(&mut c.adj),
-            mask: vec![0; c.v.len()],
             free: std::mem::take(&mut c.free),
             vt,
             ..DomainMesh::default()
