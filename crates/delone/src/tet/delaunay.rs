@@ -62,9 +62,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{
-    insphere, insphere_sos, insphere_weighted, insphere_weighted_sos, orient3d,
-};
+use delone_predicates::{insphere, insphere_weighted, insphere_weighted_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -1150,15 +1148,13 @@ impl Core {
         if s != 0.0 {
             return s > 0.0;
         }
+        // An exact tie (zero weights: the in-sphere tie): the perturbation
+        // by input id decides.
         let o = |i: u32| g.ids.get(i as usize).copied().unwrap_or(i);
         let (ia, ib, ic, id_, ie) = (o(b), o(a), o(c), o(d), o(id));
         let (pa, pb, pc, pd, pe) = (q(b), q(a), q(c), q(d), q(id));
-        if W {
-            let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
-            insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
-        } else {
-            insphere_sos(pa, pb, pc, pd, pe, ia, ib, ic, id_, ie) > 0
-        }
+        let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
+        insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
     }
 
     #[inline]
