@@ -168,7 +168,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     let t0 = Instant::now();
     let bytes = crate::guard::read(&names.node)
         .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
-    let node = delone_io::read_node(&bytes)
+    let mut node = delone_io::read_node(&bytes)
         .map_err(|e| input_err(format!("{}: {e}", names.node.display())))?;
     drop(bytes);
     if node.dim != dim {
@@ -353,6 +353,8 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
         }
         Mode::Tet => {
             let pts = node.points::<3>().unwrap_or_default();
+            // The coordinates live on in `pts` (one copy of them, not two).
+            node.coords = Vec::new();
             let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");

@@ -427,3 +427,25 @@ fn random_small_degenerate_lattices() {
         );
     }
 }
+
+#[test]
+fn bulk_and_incremental_agree_on_vertex_map_duplicates_and_tets() {
+    // The one-call build inserts copies in insertion order and relabels at
+    // the end: same vertex map, duplicate list and tetrahedra as inserting
+    // the points one by one, with ties (grid) and exact copies.
+    let mut pts = grid(4);
+    pts.extend(uniform(200, 5));
+    pts.extend_from_within(100..130);
+    let bulk = tetrahedralize(&pts).unwrap();
+    let mut dt = Delaunay3::new();
+    for &p in &pts {
+        dt.insert(p).unwrap();
+    }
+    dt.check_topology().unwrap();
+    dt.check_delaunay().unwrap();
+    let inc = dt.into_mesh();
+    assert_eq!(bulk.duplicates.len(), 30);
+    assert_eq!(bulk.vertex_map, inc.vertex_map);
+    assert_eq!(bulk.duplicates, inc.duplicates);
+    assert_eq!(tet_set(bulk.tets), tet_set(inc.tets));
+}

@@ -21,16 +21,21 @@
 //! limit of the circumsphere as its fourth vertex goes to infinity).
 //!
 //! Storage is flat: `v: Vec<[u32; 4]>`, `adj: Vec<[u32; 4]>` (packed
-//! `4 * tet + facet`, see [`super::local`]), a one-byte mark per slot and a free
-//! list: 33 bytes per tetrahedron.
+//! `4 * tet + facet`, see [`super::local`]) and a free list: 32 bytes per
+//! tetrahedron.
 //!
 //! # Details
 //!
 //! * Ghost cells keep the infinite vertex in position 3 (new cells are
 //!   evenly permuted), so the ghost test is one comparison.
-//! * The cavity's mark bytes are cleared from the cavity and rejected lists,
-//!   never by a sweep; the directed-edge table of the stellation uses
-//!   generation stamps.
+//! * The cavity search marks cells in the two high bits of their first
+//!   vertex (the cache line the conflict test reads anyway); the marks are
+//!   cleared from the cavity and rejected lists, never by a sweep; the
+//!   directed-edge table of the stellation uses generation stamps.
+//! * The one-call constructor inserts copies of the points in insertion
+//!   order (consecutive insertions read neighbouring memory) and relabels
+//!   the tetrahedra with input ids at the end; ties are broken by input id
+//!   throughout, so the copies change no decision.
 //! * The one-call constructor borrows the caller's points (`Cow`), reserves
 //!   about 6.75 cells per point and grows by steps of 1/8; `into_mesh`
 //!   compacts in place (no second copy).
@@ -57,7 +62,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{insphere_sos, insphere_weighted_sos, orient3d};
+use delone_predicates::{insphere, insphere_weighted, insphere_weighted_sos, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -77,10 +82,14 @@ pub enum Location {
     Empty,
 }
 
-/// Mark values of the per-slot byte.
-const MARK_NONE: u8 = 0;
-const MARK_CAVITY: u8 = 1;
-const MARK_KEEP: u8 = 2;
+/// Marks of a slot during an insertion, kept in the two high bits of its
+/// first vertex (vertex ids stay below [`MAX_POINTS`] < 2^30; a live cell's
+/// first vertex is never [`INF`], a marked one is never [`DEAD`]): the mark
+/// is read from the cache line the conflict test loads anyway.
+const MARK_CAVITY: u32 = 1 << 31;
+const MARK_KEEP: u32 = 1 << 30;
+/// The vertex bits of a possibly marked first vertex.
+const UNMARK: u32 = MARK_KEEP - 1;
 
 /// How many insertions between two progress callbacks.
 const PROGRESS_STEP: usize = 1 << 16;
@@ -144,6 +153,16 @@ impl EdgeTable {
     }
 }
 
+/// What an insertion reads: coordinates and weights by id (`wts` empty for a
+/// Delaunay triangulation), and the input id of each id, which orders the
+/// symbolic perturbation (`ids` empty: the ids are input ids).
+#[derive(Clone, Copy)]
+struct Geo<'p> {
+    pts: &'p [[f64; 3]],
+    wts: &'p [f64],
+    ids: &'p [u32],
+}
+
 /// The combinatorial part of the kernel: tetrahedra, adjacency, marks and
 /// scratch space. Geometry enters only through the `pts` argument.
 #[derive(Debug, Clone, Default)]
@@ -152,8 +171,6 @@ pub(crate) struct Core {
     pub(crate) v: Vec<[u32; 4]>,
     /// Packed adjacency words `4 * tet + facet`.
     pub(crate) adj: Vec<[u32; 4]>,
-    /// Per-slot scratch mark (0 outside an operation).
-    pub(crate) mark: Vec<u8>,
     /// Free slots.
     pub(crate) free: Vec<u32>,
     /// Number of finite live cells.
@@ -225,8 +242,9 @@ pub struct Delaunay3<'a> {
 /// Most tetrahedron slots: adjacency words are `4 * tet + facet` in a `u32`.
 const MAX_TETS: usize = (1 << 30) - 1;
 
-/// Most points: vertex ids must stay below [`INF`].
-const MAX_POINTS: usize = INF as usize - 1;
+/// Most points: vertex ids leave the two high bits free for the insertion
+/// marks (more points than tetrahedron slots could not be triangulated anyway).
+const MAX_POINTS: usize = (1 << 30) - 1;
 
 fn check_coords(points: &[[f64; 3]]) -> Result<(), Error> {
     if points.len() > MAX_POINTS {
@@ -399,7 +417,9 @@ impl<'a> Delaunay3<'a> {
             weights: None,
             hidden: Vec::new(),
             core: Core::default(),
-            vertex_map: vec![NONE; n],
+            // Filled after the insertions (from the duplicate and hidden
+            // lists), when the copies are gone: a smaller peak.
+            vertex_map: Vec::new(),
             duplicates: Vec::new(),
             pending: Vec::new(),
             basis: Vec::new(),
@@ -409,34 +429,52 @@ impl<'a> Delaunay3<'a> {
         let cap = n + n * 27 / 4 + 64;
         dt.core.v.reserve_exact(cap);
         dt.core.adj.reserve_exact(cap);
-        dt.core.mark.reserve_exact(cap);
-        dt.core
-            .start(points, [basis[0], basis[1], basis[2], basis[3]]);
-        for &b in &basis {
-            dt.vertex_map[b as usize] = b;
-        }
-        for (k, &id) in order[4..].iter().enumerate() {
-            let r = dt.core.insert_any(points, wts, id)?;
-            match r {
+        // The insertion works on copies in insertion order, so that
+        // consecutive insertions read neighbouring memory; its ids are
+        // insertion ranks (`order` maps them back) until the relabelling
+        // below. Ties are still broken by input id (`Geo::ids`), so the
+        // result is the same tetrahedra in the same slots.
+        let local: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
+        let local_w: Vec<f64> = match wts.is_empty() {
+            true => Vec::new(),
+            false => order.iter().map(|&i| wts[i as usize]).collect(),
+        };
+        let geo = Geo {
+            pts: &local,
+            wts: &local_w,
+            ids: &order,
+        };
+        let input = |k: u32| order[k as usize];
+        dt.core.start(&local, [0, 1, 2, 3]);
+        for k in 4..n {
+            match dt.core.insert_any(geo, k as u32)? {
                 Inserted::Duplicate { id, original } => {
-                    dt.vertex_map[id as usize] = original;
-                    dt.duplicates.push((id, original));
+                    dt.duplicates.push((input(id), input(original)));
                 }
-                Inserted::Hidden(id) => dt.hidden.push(id),
-                _ => dt.vertex_map[id as usize] = id,
+                Inserted::Hidden(id) => dt.hidden.push(input(id)),
+                _ => {}
             }
-            if !wts.is_empty() {
-                for &q in &dt.core.hidden_now {
-                    dt.vertex_map[q as usize] = NONE;
-                    dt.hidden.push(q);
-                }
-                dt.core.hidden_now.clear();
-            }
-            if (k + 5) % PROGRESS_STEP == 0 {
-                progress(k + 5, n);
+            dt.hidden
+                .extend(dt.core.hidden_now.drain(..).map(|q| order[q as usize]));
+            if (k + 1) % PROGRESS_STEP == 0 {
+                progress(k + 1, n);
             }
         }
+        drop((local, local_w));
+        for tv in dt.core.v.iter_mut().filter(|tv| tv[0] != DEAD) {
+            for q in tv.iter_mut().filter(|q| **q != INF) {
+                *q = order[*q as usize];
+            }
+        }
+        drop(order);
         dt.duplicates.sort_unstable();
+        dt.vertex_map = (0..n as u32).collect();
+        for &(d, o) in &dt.duplicates {
+            dt.vertex_map[d as usize] = o;
+        }
+        for &h in &dt.hidden {
+            dt.vertex_map[h as usize] = NONE;
+        }
         dt.points = cow;
         dt.weights = wcow;
         progress(n, n);
@@ -514,12 +552,13 @@ impl<'a> Delaunay3<'a> {
         let id = id as u32;
         let pts: &[[f64; 3]] = &self.points;
         let wts: &[f64] = self.weights.as_deref().unwrap_or(&[]);
+        let geo = Geo { pts, wts, ids: &[] };
         let same = |q: u32| {
             pts[q as usize] == p && (wts.is_empty() || wts[q as usize] == wts[id as usize])
         };
         let mut results = Vec::new();
         let r = if !self.core.v.is_empty() {
-            let r = self.core.insert_any(pts, wts, id)?;
+            let r = self.core.insert_any(geo, id)?;
             results.push(r);
             r
         } else if let Some(&orig) = self.pending.iter().find(|&&q| same(q)) {
@@ -541,7 +580,7 @@ impl<'a> Delaunay3<'a> {
             self.basis.clear();
             for q in std::mem::take(&mut self.pending) {
                 if !b.contains(&q) {
-                    results.push(self.core.insert_any(pts, wts, q)?);
+                    results.push(self.core.insert_any(geo, q)?);
                 }
             }
             Inserted::Vertex(id)
@@ -1026,11 +1065,9 @@ impl Core {
             let extra = (self.v.len() / 8).max(1024);
             self.v.reserve_exact(extra);
             self.adj.reserve_exact(extra);
-            self.mark.reserve_exact(extra);
         }
         self.v.push(tv);
         self.adj.push([NONE; 4]);
-        self.mark.push(MARK_NONE);
         (self.v.len() - 1) as u32
     }
 
@@ -1041,7 +1078,6 @@ impl Core {
             self.finite -= 1;
         }
         tv[0] = DEAD;
-        self.mark[t as usize] = MARK_NONE;
         self.free.push(t);
     }
 
@@ -1092,59 +1128,50 @@ impl Core {
         walk_cells((&self.v, &self.adj), pts, p, start, rng)
     }
 
-    /// Does the circumsphere of finite tet `t` contain point `id`? With
-    /// `W`, the power test: is `id` closer, in power distance, to the
-    /// orthogonal sphere of `t`'s weighted vertices than orthogonal to it?
+    /// Does the circumsphere of finite tet `t` (possibly marked) contain
+    /// point `id`? With `W`, the power test: is `id` closer, in power
+    /// distance, to the orthogonal sphere of `t`'s weighted vertices than
+    /// orthogonal to it? Exact ties are broken by the input ids `ids[i]`
+    /// (`i` itself when `ids` is empty).
     #[inline]
-    fn finite_conflict<const W: bool>(
-        &self,
-        pts: &[[f64; 3]],
-        wts: &[f64],
-        t: u32,
-        id: u32,
-    ) -> bool {
+    fn finite_conflict<const W: bool>(&self, g: Geo<'_>, t: u32, id: u32) -> bool {
         let [a, b, c, d] = self.v[t as usize];
-        let q = |i: u32| &pts[i as usize];
+        let a = a & UNMARK;
+        let q = |i: u32| &g.pts[i as usize];
+        let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
         // Swap a and b: insphere's convention wants orient3d > 0.
-        if W {
-            let w = |i: u32| wts[i as usize];
-            insphere_weighted_sos(
-                q(b),
-                q(a),
-                q(c),
-                q(d),
-                q(id),
-                w(b),
-                w(a),
-                w(c),
-                w(d),
-                w(id),
-                b,
-                a,
-                c,
-                d,
-                id,
-            ) > 0
+        let s = if W {
+            insphere_weighted(q(b), q(a), q(c), q(d), q(id), w(b), w(a), w(c), w(d), w(id))
         } else {
-            insphere_sos(q(b), q(a), q(c), q(d), q(id), b, a, c, d, id) > 0
+            insphere(q(b), q(a), q(c), q(d), q(id))
+        };
+        if s != 0.0 {
+            return s > 0.0;
         }
+        // An exact tie (zero weights: the in-sphere tie): the perturbation
+        // by input id decides.
+        let o = |i: u32| g.ids.get(i as usize).copied().unwrap_or(i);
+        let (ia, ib, ic, id_, ie) = (o(b), o(a), o(c), o(d), o(id));
+        let (pa, pb, pc, pd, pe) = (q(b), q(a), q(c), q(d), q(id));
+        let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
+        insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
     }
 
     #[inline]
-    fn in_conflict<const W: bool>(&self, pts: &[[f64; 3]], wts: &[f64], t: u32, id: u32) -> bool {
+    fn in_conflict<const W: bool>(&self, g: Geo<'_>, t: u32, id: u32) -> bool {
         let tv = self.v[t as usize];
         if tv[3] != INF {
-            return self.finite_conflict::<W>(pts, wts, t, id);
+            return self.finite_conflict::<W>(g, t, id);
         }
         // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
         // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
         // and with points on its plane iff the finite cell behind does.
-        let [a, b, c] = FACET[3].map(|i| &pts[tv[i] as usize]);
-        let o = orient3d(a, b, c, &pts[id as usize]);
+        let [a, b, c] = FACET[3].map(|i| &g.pts[tv[i] as usize]);
+        let o = orient3d(a, b, c, &g.pts[id as usize]);
         if o != 0.0 {
             o < 0.0
         } else {
-            self.finite_conflict::<W>(pts, wts, self.adj[t as usize][3] >> 2, id)
+            self.finite_conflict::<W>(g, self.adj[t as usize][3] >> 2, id)
         }
     }
 
@@ -1152,12 +1179,8 @@ impl Core {
     /// `wts`), the power test decides conflicts: the new point may turn out
     /// hidden, and vertices whose whole star falls in the cavity become
     /// hidden (listed in `self.hidden_now`).
-    fn insert<const W: bool>(
-        &mut self,
-        pts: &[[f64; 3]],
-        wts: &[f64],
-        id: u32,
-    ) -> Result<Inserted, Error> {
+    fn insert<const W: bool>(&mut self, g: Geo<'_>, id: u32) -> Result<Inserted, Error> {
+        let (pts, wts) = (g.pts, g.wts);
         let p = &pts[id as usize];
         let mut rng = self.rng;
         let t0 = self.walk(pts, p, self.last, &mut rng);
@@ -1171,7 +1194,7 @@ impl Core {
             }
             // Inside the hull, a weighted point below no power sphere of the
             // cell containing it has an empty power cell.
-            if W && !self.finite_conflict::<W>(pts, wts, t0, id) {
+            if W && !self.finite_conflict::<W>(g, t0, id) {
                 return Ok(Inserted::Hidden(id));
             }
         }
@@ -1194,29 +1217,30 @@ impl Core {
         cavity.clear();
         kept.clear();
         created.clear();
-        self.mark[t0 as usize] = MARK_CAVITY;
+        self.v[t0 as usize][0] |= MARK_CAVITY;
         cavity.push(t0);
         let mut k = 0;
         while k < cavity.len() {
             let t = cavity[k];
             k += 1;
             let adj_t = self.adj[t as usize];
+            let [t0, t1, t2, t3] = self.v[t as usize];
+            let tv = [t0 & UNMARK, t1, t2, t3];
             for (f, &w) in adj_t.iter().enumerate() {
                 let u = w >> 2;
-                match self.mark[u as usize] {
-                    MARK_CAVITY => continue,
-                    MARK_NONE => {
-                        if self.in_conflict::<W>(pts, wts, u, id) {
-                            self.mark[u as usize] = MARK_CAVITY;
-                            cavity.push(u);
-                            continue;
-                        }
-                        self.mark[u as usize] = MARK_KEEP;
-                        kept.push(u);
-                    }
-                    _ => {}
+                let mark = self.v[u as usize][0];
+                if mark & MARK_CAVITY != 0 {
+                    continue;
                 }
-                let tv = self.v[t as usize];
+                if mark & MARK_KEEP == 0 {
+                    if self.in_conflict::<W>(g, u, id) {
+                        self.v[u as usize][0] |= MARK_CAVITY;
+                        cavity.push(u);
+                        continue;
+                    }
+                    self.v[u as usize][0] |= MARK_KEEP;
+                    kept.push(u);
+                }
                 let [a, b, c] = FACET[f].map(|i| tv[i]);
                 // Keep INF in position 3 with an even permutation.
                 let (cell, fp) = if a == INF {
@@ -1234,8 +1258,8 @@ impl Core {
                 created.push(n);
             }
         }
-        for &u in &kept {
-            self.mark[u as usize] = MARK_NONE;
+        for &u in kept.iter().chain(&cavity) {
+            self.v[u as usize][0] &= UNMARK;
         }
         if W {
             self.find_hidden(&cavity, &created, id);
@@ -1287,16 +1311,16 @@ impl Core {
         Ok(Inserted::Vertex(id))
     }
 
-    /// [`Core::insert`] for either kind of triangulation (`wts` empty for
+    /// [`Core::insert`] for either kind of triangulation (`g.wts` empty for
     /// Delaunay).
-    fn insert_any(&mut self, pts: &[[f64; 3]], wts: &[f64], id: u32) -> Result<Inserted, Error> {
-        if wts.is_empty() {
-            self.insert::<false>(pts, wts, id)
+    fn insert_any(&mut self, g: Geo<'_>, id: u32) -> Result<Inserted, Error> {
+        if g.wts.is_empty() {
+            self.insert::<false>(g, id)
         } else {
-            if self.vstamp.len() < pts.len() {
-                self.vstamp.resize(pts.len(), 0);
+            if self.vstamp.len() < g.pts.len() {
+                self.vstamp.resize(g.pts.len(), 0);
             }
-            self.insert::<true>(pts, wts, id)
+            self.insert::<true>(g, id)
         }
     }
 

@@ -135,12 +135,11 @@ impl<'a> Journaled<'a> {
                 }
             }
         }
-        // The kernel's per-slot marks are all clear outside an operation:
-        // they become the (empty) subface marks.
         let m = DomainMesh {
+            // No subface yet (before the arrays are taken: fields initialise in order).
+            mask: vec![0; c.v.len()],
             tv: std::mem::take(&mut c.v),
             nb: std::mem::take(&mut c.adj),
-            mask: std::mem::take(&mut c.mark),
             free: std::mem::take(&mut c.free),
             vt,
             ..DomainMesh::default()
