@@ -223,3 +223,73 @@ fn end_after(tk: &mut Tokens, what: &[u8], line: usize) -> Result<(), IoError> {
         "the end of the file",
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEAD: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+    const NODES: &str =
+        "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n";
+
+    #[test]
+    fn reads_tetrahedra_and_faces_with_physical_tags() {
+        let msh = format!(
+            "{HEAD}$PhysicalNames\n1\n3 7 \"solid one\"\n$EndPhysicalNames\n\
+             $Entities\n0 0 1 1\n2 0 0 0 1 1 0 1 4 0\n1 0 0 0 1 1 1 1 7 1 2\n$EndEntities\n{NODES}\
+             $Elements\n2 2 1 2\n2 2 2 1\n1 1 3 2\n3 1 4 1\n2 1 2 3 4\n$EndElements\n"
+        );
+        let m = read_gmsh(msh.as_bytes()).unwrap();
+        assert_eq!(m.dimension, 3);
+        assert_eq!(
+            (m.tetrahedra.clone(), m.tetrahedron_refs.clone()),
+            (vec![[0, 1, 2, 3]], vec![7])
+        );
+        assert_eq!(
+            (m.triangles.clone(), m.triangle_refs.clone()),
+            (vec![[0, 2, 1]], vec![4])
+        );
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let bad = [
+            (
+                format!("{HEAD}$Nodes\n1 1 1 1\n2 1 0 1\n1\n0 x 0\n$EndNodes\n"),
+                8,
+                "y",
+            ),
+            (
+                format!("{HEAD}{NODES}$Elements\n1 1 1 1\n2 1 3 1\n1 1 2 3 4\n$EndElements\n"),
+                18,
+                "type 3",
+            ),
+            (
+                format!("{HEAD}{NODES}$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 9\n$EndElements\n"),
+                19,
+                "node tag",
+            ),
+            (
+                "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n".to_string(),
+                2,
+                "version",
+            ),
+            (
+                "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n".to_string(),
+                2,
+                "binary",
+            ),
+            (format!("{HEAD}$Nodes\n1 1 1 1\n"), 5, "the end of the file"),
+        ];
+        for (text, line, what) in bad {
+            let e = read_gmsh(text.as_bytes()).unwrap_err();
+            assert_eq!(e.line(), Some(line), "{e}");
+            assert!(e.to_string().contains(what), "{e}");
+        }
+        let e = read_gmsh(
+            format!("{HEAD}{NODES}$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 4\n$EndElements\n").as_bytes(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("off the plane z = 0"), "{e}");
+    }
+}

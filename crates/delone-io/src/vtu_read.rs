@@ -447,3 +447,42 @@ mod tests {
         assert!(base64(b"T*Fu").is_none());
     }
 }
+
+#[cfg(test)]
+mod read_tests {
+    use super::*;
+
+    #[test]
+    fn reads_ascii_with_references_and_names_bad_items() {
+        let vtu = |cells: &str, types: &str| {
+            format!(
+                "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" byte_order=\"LittleEndian\">\n<UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n\
+                 <PointData><DataArray type=\"Float32\" Name=\"h\" format=\"ascii\">0.5 0.5 0.25 1</DataArray></PointData>\n\
+                 <CellData><DataArray type=\"Int32\" Name=\"gmsh:physical\" format=\"ascii\">9</DataArray></CellData>\n\
+                 <Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>\n\
+                 <Cells><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">{cells}</DataArray>\n\
+                 <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">4</DataArray>\n\
+                 <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">{types}</DataArray></Cells>\n</Piece></UnstructuredGrid></VTKFile>\n"
+            )
+        };
+        let (m, a) = read_vtu(vtu("0 1 2 3", "10").as_bytes()).unwrap();
+        assert_eq!(
+            (
+                m.dimension,
+                m.tetrahedra.clone(),
+                m.tetrahedron_refs.clone()
+            ),
+            (3, vec![[0, 1, 2, 3]], vec![9])
+        );
+        assert_eq!(
+            (a[0].name.as_str(), a[0].values.clone()),
+            ("h", vec![0.5, 0.5, 0.25, 1.0])
+        );
+        let e = read_vtu(vtu("0 1 2 3", "12").as_bytes()).unwrap_err();
+        assert!(e.to_string().contains("cell 0: VTK type 12"), "{e}");
+        let e = read_vtu(vtu("0 1 2 x", "10").as_bytes()).unwrap_err();
+        assert_eq!(e.line(), Some(7), "{e}");
+        let e = read_vtu(vtu("0 1 2 7", "10").as_bytes()).unwrap_err();
+        assert!(e.to_string().contains("cell 0: point 7 of 4"), "{e}");
+    }
+}
