@@ -394,3 +394,90 @@ g.write("sq.msh", file_format="gmsh", binary=False)
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("compressed"), "{err}");
 }
+
+/// The unit cube as six tetrahedra around its diagonal 0–7, with its
+/// twelve boundary triangles (reference 1), in Medit format.
+fn cube_mesh() -> String {
+    let p = |b: usize| [b & 1, b >> 1 & 1, b >> 2].map(|x| x as f64);
+    let mut tets = Vec::new();
+    for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+        let mut t = [0, path[0], path[1], 7];
+        let [a, b, c, d] = t.map(p);
+        let e = |x: [f64; 3]| [x[0] - a[0], x[1] - a[1], x[2] - a[2]];
+        let (u, v, w) = (e(b), e(c), e(d));
+        let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+            + u[2] * (v[0] * w[1] - v[1] * w[0]);
+        if det < 0.0 {
+            t.swap(0, 1);
+        }
+        tets.push(t);
+    }
+    let mut faces: Vec<[usize; 3]> = Vec::new();
+    for t in &tets {
+        for f in [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]] {
+            let tri = f.map(|i| t[i]);
+            let mut key = tri;
+            key.sort_unstable();
+            match faces.iter().position(|g| {
+                let mut k = *g;
+                k.sort_unstable();
+                k == key
+            }) {
+                Some(i) => {
+                    faces.remove(i);
+                }
+                None => faces.push(tri),
+            }
+        }
+    }
+    let mut s = "MeshVersionFormatted 2\nDimension 3\nVertices\n8\n".to_string();
+    for b in 0..8 {
+        let x = p(b);
+        s += &format!("{} {} {} 0\n", x[0], x[1], x[2]);
+    }
+    s += &format!("Triangles\n{}\n", faces.len());
+    for f in &faces {
+        s += &format!("{} {} {} 1\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    s += "Tetrahedra\n6\n";
+    for t in &tets {
+        s += &format!("{} {} {} {} 0\n", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1);
+    }
+    s + "Corners\n8\n1\n2\n3\n4\n5\n6\n7\n8\nEnd\n"
+}
+
+#[test]
+fn sol_files_round_trip_with_mmg3d() {
+    let mmg = ["/tmp/mmgvenv/bin/mmg3d_O3", "mmg3d_O3"]
+        .into_iter()
+        .find(|m| Command::new(m).arg("-h").output().is_ok());
+    let Some(mmg) = mmg else {
+        eprintln!("skipped: mmg3d_O3 is not installed (/tmp/mmgvenv/bin or PATH)");
+        return;
+    };
+    let d = dir("mmg3");
+    std::fs::write(d.join("cube.mesh"), cube_mesh()).unwrap();
+    // Sizes 0.25 along x and y, 0.5 along z.
+    std::fs::write(d.join("cube.sol"), sol(3, &["16 0 16 0 0 4"; 8])).unwrap();
+    let a = run(&["cube.mesh", "-o", "a.mesh", "-Q"], &d);
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+    // MMG reads delone's mesh and metric ...
+    let m = Command::new(mmg)
+        .args([
+            "-in", "a.mesh", "-sol", "a.sol", "-out", "b.mesh", "-v", "-1",
+        ])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(m.status.success(), "{}", String::from_utf8_lossy(&m.stdout));
+    // ... and delone reads MMG's.
+    let back = run(&["b.mesh", "--metric", "b.sol", "-o", "c.mesh", "-Q"], &d);
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+    let c = delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap();
+    assert_eq!(c.dimension, 3);
+    assert!(!c.tetrahedra.is_empty());
+}
