@@ -122,6 +122,7 @@ pub fn adapt_tri(
     let mut run = Run {
         m,
         vt,
+        logs: met.iter().map(Metric::log).collect(),
         met,
         field,
         bound: &bound,
@@ -348,6 +349,9 @@ struct Run<'a> {
     /// A triangle of each vertex (`NONE`: removed or unused).
     vt: Vec<u32>,
     met: Vec<Metric<2>>,
+    /// The logarithm of each vertex's metric ([`Metric::log`]), for the
+    /// qualities' interpolation.
+    logs: Vec<[[f64; 2]; 2]>,
     field: Option<&'a MetricFn<'a>>,
     bound: &'a dyn Fn(Metric<2>) -> Metric<2>,
     /// Corners and required vertices (input numbering; new vertices are
@@ -381,8 +385,8 @@ impl Run<'_> {
 
     fn quality(&self, t: [u32; 3]) -> f64 {
         let c = t.map(|v| *self.m.p(v));
-        let items = t.map(|v| (1.0, self.met[v as usize]));
-        Metric::interpolate(&items).map_or(0.0, |m| mean_ratio(&c, &m))
+        let items = t.map(|v| (1.0, self.logs[v as usize]));
+        Metric::from_logs(&items).map_or(0.0, |m| mean_ratio(&c, &m))
     }
 
     fn metric_at(&self, c: &[f64; 2], items: &[(f64, Metric<2>)]) -> Metric<2> {
@@ -483,6 +487,7 @@ impl Run<'_> {
             );
             if self.m.split_edge(&mut self.vt, t, e, c, tc).is_some() {
                 self.met.push(mc);
+                self.logs.push(mc.log());
                 if !self.point_refs.is_empty() {
                     self.point_refs.push(pref);
                 }
@@ -661,6 +666,7 @@ impl Run<'_> {
                 .map(|&(t, _)| self.quality(self.m.tr[t].v))
                 .fold(f64::INFINITY, f64::min);
             let mv = self.met[v as usize];
+            let lv = self.logs[v as usize];
             for omega in [1.0, 0.5, 0.25] {
                 let (c, tc) = match slide {
                     Some((p0, d, tv, target, _)) => {
@@ -681,6 +687,7 @@ impl Run<'_> {
                 let mc = self.metric_at(&c, &[(1.0, mv)]);
                 self.m.xy[v as usize] = c;
                 self.met[v as usize] = mc;
+                self.logs[v as usize] = mc.log();
                 let new = star
                     .iter()
                     .map(|&(t, _)| self.quality(self.m.tr[t].v))
@@ -700,6 +707,7 @@ impl Run<'_> {
                 }
                 self.m.xy[v as usize] = pv;
                 self.met[v as usize] = mv;
+                self.logs[v as usize] = lv;
             }
         }
         self.report.moves += done;
