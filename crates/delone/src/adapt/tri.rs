@@ -21,16 +21,13 @@ use crate::tri::cmesh::CMesh;
 use crate::tri::topo::{edge, unpack, DEAD, NEXT, PREV};
 use crate::{Error, NONE};
 
-/// Edges longer than this are split. Above √2 rather than at it: a split
-/// of an edge just over √2 leaves two edges near 1/√2, at the short end of
-/// the range, and the mesh then has more elements than the metric asks
-/// for (mean length about 0.92); with 1.6 the mean length is about 1 and
-/// the element count that of MMG on the UGAWG cases, with more edges in
-/// `[1/√2, √2]` than MMG's.
-const LONG: f64 = 1.6;
+/// Edges longer than this are split. (1.6 brings the element count down to
+/// MMG's on the UGAWG cases, but leaves the diagonals of a uniform
+/// isotropic grid, about 1.47, unsplit: a third of the edges out of range.)
+const LONG: f64 = SQRT_2;
 /// Edges shorter than this are collapsed when no edge of the result is
 /// longer than [`LONG`] (so that a collapse is never undone by a split).
-const SHORT: f64 = 0.8;
+const SHORT: f64 = FRAC_1_SQRT_2;
 /// Worst quality a collapse may leave when the star was better than it.
 const COLLAPSE_FLOOR: f64 = 0.3;
 /// Least gain in worst quality for a swap or a move to count.
