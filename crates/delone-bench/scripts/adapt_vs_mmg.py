@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """delone adapt against MMG on the UGAWG analytic metrics (Ibanez et al.,
 IMR 2017): linear, polar-1 and polar-2 on the unit square (--dim 2) or the
-unit cube (--dim 3).
+unit cube (--dim 3), and a sinusoidal shock (not used to tune delone).
 
 Each case starts from a uniform structured mesh (a grid of cells split into
-triangles or tetrahedra, boundary edges/faces with one reference per side),
+triangles or tetrahedra, boundary edges/faces with one reference per side,
+the corners, and in 3D the twelve edges of the cube as ridges; in 3D the
+mesh of the test suite's `cube(10)`),
 runs ITERS adapt iterations with each tool, the analytic metric evaluated at
 the current vertices before every iteration, and measures both final meshes
 the same way: `delone adapt --stats-json` in measure-only mode
@@ -20,6 +22,10 @@ Metrics (h0 = 0.001; r, theta about the z axis through the origin):
            (in 2D: h_x = 0.1, h_y as h_z on y)
   polar-1  h_r = h0 + 2 (0.1 - h0) |r - 0.5|, h_theta = h_z = 0.1
   polar-2  polar-1 with h_theta = 0.025 + 0.075 min(1, 10 |r - 0.5|)
+           (h_theta refined near the layer r = 0.5)
+  sine     a layer along y = 0.5 + 0.1 sin(2 pi x) (3D: z = ...): size
+           h0 + 2 (0.1 - h0) |d| (at most 0.1) across it, d the vertical
+           distance to the curve over the length of its normal, 0.1 along it
 """
 
 import argparse
@@ -42,6 +48,14 @@ def sizes(case, p, dim):
         if dim == 2:
             return [0.1, layer(p[1])], [[1, 0], [0, 1]]
         return [0.1, 0.1, layer(p[2])], [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    if case == "sine":
+        k = 2.0 * math.pi
+        f, df = 0.5 + 0.1 * math.sin(k * p[0]), 0.1 * k * math.cos(k * p[0])
+        q = math.hypot(1.0, df)
+        hn = min(0.1, layer(0.5 + (p[dim - 1] - f) / q))
+        if dim == 2:
+            return [0.1, hn], [[1 / q, df / q], [-df / q, 1 / q]]
+        return [0.1, 0.1, hn], [[1 / q, 0, df / q], [0, 1, 0], [-df / q, 0, 1 / q]]
     r = math.hypot(p[0], p[1])
     t = math.atan2(p[1], p[0])
     c, s = math.cos(t), math.sin(t)
@@ -64,7 +78,7 @@ def metric(case, p, dim):
 def grid_mesh(path, n, dim):
     """A uniform n^dim grid of the unit square/cube, split into simplices,
     with boundary edges/faces (reference = side 1..2*dim) and corners."""
-    pts, els, bnd = [], [], []
+    pts, els, bnd, ridges = [], [], [], []
     if dim == 2:
         idx = lambda i, j: j * (n + 1) + i + 1
         for j in range(n + 1):
@@ -114,6 +128,17 @@ def grid_mesh(path, n, dim):
             bnd.append((f, side + 1))
         bnd.sort()
         corners = [idx(i, j, k) for k in (0, n) for j in (0, n) for i in (0, n)]
+        # The twelve edges of the cube, as ridges.
+        for a in range(3):
+            for u in (0, n):
+                for v in (0, n):
+                    for t in range(n):
+                        ends = []
+                        for w in (t, t + 1):
+                            c = [0, 0, 0]
+                            c[a], c[(a + 1) % 3], c[(a + 2) % 3] = w, u, v
+                            ends.append(idx(*c))
+                        ridges.append(tuple(ends))
     with open(path, "w") as out:
         out.write(f"MeshVersionFormatted 2\nDimension {dim}\nVertices\n{len(pts)}\n")
         for p in pts:
@@ -125,6 +150,9 @@ def grid_mesh(path, n, dim):
         out.write(f"{kind[1]}\n{len(els)}\n")
         for t in els:
             out.write(" ".join(map(str, t)) + " 0\n")
+        if ridges:
+            out.write(f"Edges\n{len(ridges)}\n" + "".join(f"{a} {b} 0\n" for a, b in ridges))
+            out.write(f"Ridges\n{len(ridges)}\n" + "".join(f"{i + 1}\n" for i in range(len(ridges))))
         out.write(f"Corners\n{len(corners)}\n" + "".join(f"{c}\n" for c in corners) + "End\n")
 
 
@@ -206,13 +234,13 @@ def main():
     ap.add_argument("--delone", default="target/release/delone")
     ap.add_argument("--mmg", default=None, help="mmg2d_O3 or mmg3d_O3 (default: by --dim in /tmp/mmgvenv/bin)")
     ap.add_argument("--dim", type=int, default=2, choices=(2, 3))
-    ap.add_argument("--cases", default="linear,polar1,polar2")
+    ap.add_argument("--cases", default="linear,polar1,polar2,sine")
     ap.add_argument("--iters", type=int, default=5)
-    ap.add_argument("--n", type=int, default=0, help="cells per side of the start mesh (default 10 in 2D, 5 in 3D)")
+    ap.add_argument("--n", type=int, default=0, help="cells per side of the start mesh (default 10)")
     ap.add_argument("--hgrad", type=float, default=-1, help="both tools' -hgrad (-1: none)")
     ap.add_argument("--work", default="/tmp/adapt_vs_mmg")
     args = ap.parse_args()
-    args.n = args.n or (10 if args.dim == 2 else 5)
+    args.n = args.n or 10
     args.mmg = args.mmg or f"/tmp/mmgvenv/bin/mmg{args.dim}d_O3"
     os.makedirs(args.work, exist_ok=True)
     print(f"{args.dim}D, {args.iters} iterations from a {args.n}^{args.dim} grid, -hgrad {args.hgrad}")

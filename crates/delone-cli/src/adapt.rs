@@ -15,7 +15,7 @@ use delone::adapt::{
     SimplexMesh, LENGTH_BINS,
 };
 use delone::metric::{hessians, metric_from_hessians, Metric, Target};
-use delone_io::{MeditMesh, MeditSol, SolField, SolKind};
+use delone_io::{DataArray, MeditMesh, MeditSol, SolField, SolKind, Values, VtuArray, VtuFormat};
 
 use crate::fail::{input_err, usage_err, Failure};
 
@@ -23,20 +23,33 @@ use crate::fail::{input_err, usage_err, Failure};
 pub const HELP: &str = "\
 delone adapt: adapt a mesh to a metric field (MMG-style options)
 
-usage: delone adapt IN.mesh [--metric IN.sol | --field IN.sol] [-o OUT.mesh] [options]
+usage: delone adapt IN.mesh [--metric SOL | --field SOL] [-o OUT.mesh] [options]
 
-  IN.mesh           Medit mesh (2D triangles or 3D tetrahedra, with references),
-                    or IN.node with IN.ele (Triangle/TetGen)
-  --metric IN.sol   sizes (type 1) or tensors (type 3, m11 m12 m22 [m13 m23 m33])
-                    at the vertices; default IN.sol when it exists
-  --field IN.sol    a scalar solution: metric from its recovered Hessian
+  IN.mesh           Medit mesh (2D triangles or 3D tetrahedra, with references);
+                    by extension also IN.vtu (VTK XML, ascii/base64/raw, not
+                    compressed; cell data \"ref\" or \"gmsh:physical\" as references),
+                    IN.msh (Gmsh 4.1 ASCII; physical tags as references), or
+                    IN.node with IN.ele (Triangle/TetGen)
+  --metric SOL      sizes (1 value) or tensors (m11 m12 m22 [m13 m23 m33], Medit
+                    order) at the vertices; default IN.sol when it exists
+  --field SOL       a scalar solution: metric from its recovered Hessian
+                    SOL is a Medit .sol (type 1 or 3), or point arrays of a .vtu:
+                    FILE.vtu:NAME[,NAME...] (components side by side), or
+                    :NAME[,NAME...] for the input .vtu's own arrays
   --complexity N    target complexity of the field's metric (default: the
                     input's number of vertices x sqrt(3)/2 in 2D, x 0.77 in 3D)
   --error E         target interpolation error instead of a complexity
   -p P              norm of the error (default 2)
-  -o OUT.mesh       output mesh (default IN.o.mesh); its metric goes to OUT.sol
+  -o OUT.mesh       output mesh (default IN.o.mesh, IN.o.vtu, IN.o.msh by the
+                    input's extension); its metric goes to OUT.sol; by extension
+                    OUT.vtu (metric as point arrays m11 m12 m22 [m13 m23 m33],
+                    element references as cell data \"ref\"; no boundary faces)
+                    or OUT.msh (Gmsh 4.1; metric in OUT.sol)
   -hmin H -hmax H   size bounds
   -hgrad G          gradation (default 1.3; -1 turns it off)
+  -hausd H          Hausdorff bound to the input boundary (MMG's meaning): met
+                    by construction, as the boundary is kept exactly (distance 0);
+                    -V says so
   -noinsert -noswap -nomove   turn off splits and collapses, swaps, moves;
                     all three: measure the input in the metric only
   --max-passes N    most passes (default 30)
@@ -48,8 +61,8 @@ usage: delone adapt IN.mesh [--metric IN.sol | --field IN.sol] [-o OUT.mesh] [op
 
 struct Args {
     input: PathBuf,
-    metric: Option<PathBuf>,
-    field: Option<PathBuf>,
+    metric: Option<String>,
+    field: Option<String>,
     output: Option<PathBuf>,
     target: Option<Target>,
     p: f64,
@@ -57,6 +70,7 @@ struct Args {
     verbose: bool,
     quiet: bool,
     json: Option<PathBuf>,
+    hausd: Option<f64>,
 }
 
 fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
@@ -71,6 +85,7 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
         verbose: false,
         quiet: false,
         json: None,
+        hausd: None,
     };
     let mut complexity = None;
     let mut error = None;
@@ -86,8 +101,8 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
         };
         match arg.as_str() {
             "-h" | "--help" => return Ok(None),
-            "--metric" | "-met" | "-sol" => a.metric = Some(value(&arg)?.into()),
-            "--field" => a.field = Some(value(&arg)?.into()),
+            "--metric" | "-met" | "-sol" => a.metric = Some(value(&arg)?),
+            "--field" => a.field = Some(value(&arg)?),
             "-o" | "-out" => a.output = Some(value(&arg)?.into()),
             "-in" => a.input = value(&arg)?.into(),
             "--stats-json" => a.json = Some(value(&arg)?.into()),
@@ -96,6 +111,13 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
             "-p" => a.p = number(&arg, value(&arg)?)?,
             "-hmin" => a.options.hmin = Some(number(&arg, value(&arg)?)?),
             "-hmax" => a.options.hmax = Some(number(&arg, value(&arg)?)?),
+            "-hausd" => {
+                let h = number(&arg, value(&arg)?)?;
+                if !(h > 0.0 && h.is_finite()) {
+                    return Err(usage_err(format!("-hausd: {h} is not positive and finite")));
+                }
+                a.hausd = Some(h);
+            }
             "-hgrad" => {
                 let g = number(&arg, value(&arg)?)?;
                 a.options.hgrad = (g > 0.0).then_some(g);
@@ -145,21 +167,19 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
         return Ok(0);
     };
     let clock = Instant::now();
-    let mesh = read_mesh(&args.input)?;
-    let sol_path = args.field.clone().or(args.metric.clone()).or_else(|| {
+    let (mesh, arrays) = read_mesh(&args.input)?;
+    let source = args.field.clone().or(args.metric.clone()).or_else(|| {
         let p = args.input.with_extension("sol");
-        p.exists().then_some(p)
+        p.exists().then(|| p.display().to_string())
     });
-    let Some(sol_path) = sol_path else {
+    let Some(source) = source else {
         return Err(usage_err(format!(
             "no metric: give --metric or --field (no {} next to the mesh)",
             args.input.with_extension("sol").display()
         )));
     };
-    let sol = read(&sol_path)?;
-    let sol = delone_io::read_medit_sol(&sol)
-        .map_err(|e| input_err(format!("{}: {e}", sol_path.display())))?;
-    let name = sol_path.display().to_string();
+    let (sol, sol_path) = read_sol(&source, &args.input, &arrays, mesh.dimension)?;
+    let name = source.clone();
     if sol.dimension != mesh.dimension {
         return Err(input_err(format!(
             "{name}: a {}D solution for a {}D mesh",
@@ -173,10 +193,11 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
             mesh.points.len()
         )));
     }
-    let output = args
-        .output
-        .clone()
-        .unwrap_or_else(|| args.input.with_extension("o.mesh"));
+    let output = args.output.clone().unwrap_or_else(|| {
+        let ext = args.input.extension().and_then(|e| e.to_str());
+        let ext = ext.filter(|e| *e == "vtu" || *e == "msh").unwrap_or("mesh");
+        args.input.with_extension(format!("o.{ext}"))
+    });
     let measure_only = !args.options.insert && !args.options.swap && !args.options.smooth;
     for (written, read) in [
         (output.clone(), &args.input),
@@ -213,53 +234,134 @@ fn read(path: &Path) -> Result<Vec<u8>, Failure> {
     std::fs::read(path).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
-/// The input mesh: Medit by default, `.node` (+ `.ele`) by extension.
-fn read_mesh(path: &Path) -> Result<MeditMesh, Failure> {
+/// The solution or metric named by `--metric`/`--field`: a Medit `.sol`
+/// file, or point arrays of a `.vtu` (`FILE.vtu:NAME[,NAME...]`, or
+/// `:NAME[,NAME...]` for the input `.vtu`'s), their components side by side
+/// at each point. Also the path of the file read (to refuse overwriting it).
+fn read_sol(
+    source: &str,
+    input: &Path,
+    input_arrays: &[VtuArray],
+    dimension: u8,
+) -> Result<(MeditSol, PathBuf), Failure> {
+    let vtu = source
+        .rsplit_once(':')
+        .filter(|(f, _)| f.is_empty() || f.ends_with(".vtu"));
+    let Some((file, names)) = vtu else {
+        let path = PathBuf::from(source);
+        let sol = delone_io::read_medit_sol(&read(&path)?)
+            .map_err(|e| input_err(format!("{source}: {e}")))?;
+        return Ok((sol, path));
+    };
+    let (path, read_arrays);
+    let arrays = if file.is_empty() {
+        path = input.to_path_buf();
+        input_arrays
+    } else {
+        path = PathBuf::from(file);
+        let bytes = read(&path)?;
+        read_arrays = delone_io::read_vtu(&bytes)
+            .map_err(|e| input_err(format!("{file}: {e}")))?
+            .1;
+        &read_arrays[..]
+    };
+    let mut parts = Vec::new();
+    for n in names.split(',') {
+        let a = arrays.iter().find(|a| a.name == n).ok_or_else(|| {
+            let known: Vec<&str> = arrays.iter().map(|a| a.name.as_str()).collect();
+            input_err(format!(
+                "{source}: no point array {n:?} (point arrays: {})",
+                known.join(", ")
+            ))
+        })?;
+        parts.push(a);
+    }
+    let width: usize = parts.iter().map(|a| a.components).sum();
+    let kind = match width {
+        1 => SolKind::Scalar,
+        w if w == SolKind::Tensor.width(dimension) => SolKind::Tensor,
+        w => {
+            return Err(input_err(format!(
+                "{source}: {w} components per point (1: a size or a solution; {}: a tensor, Medit order)",
+                SolKind::Tensor.width(dimension)
+            )))
+        }
+    };
+    let n = parts[0].values.len() / parts[0].components.max(1);
+    let mut values = Vec::with_capacity(n * width);
+    for i in 0..n {
+        for a in &parts {
+            let c = a.components;
+            let v = a.values.get(i * c..(i + 1) * c).ok_or_else(|| {
+                input_err(format!("{source}: array {:?} has fewer points", a.name))
+            })?;
+            values.extend_from_slice(v);
+        }
+    }
+    let sol = MeditSol {
+        dimension,
+        vertices: n,
+        fields: vec![SolField { kind, values }],
+    };
+    Ok((sol, path))
+}
+
+/// The input mesh by extension: `.vtu` (with its point arrays), `.msh`
+/// (Gmsh 4.1), `.node` (+ `.ele`), else Medit.
+fn read_mesh(path: &Path) -> Result<(MeditMesh, Vec<VtuArray>), Failure> {
     let name = path.display().to_string();
     let io = |e: delone_io::IoError| input_err(format!("{name}: {e}"));
-    if path.extension().is_some_and(|e| e == "node" || e == "ele") {
-        let node = delone_io::read_node(&read(&path.with_extension("node"))?).map_err(io)?;
-        let ele_path = path.with_extension("ele");
-        let ele = delone_io::read_ele(&read(&ele_path)?, node.first_index)
-            .map_err(|e| input_err(format!("{}: {e}", ele_path.display())))?;
-        let d = node.dim;
-        let mut m = MeditMesh {
-            dimension: d as u8,
-            points: node
-                .coords
-                .chunks(d)
-                .map(|c| [c[0], c[1], if d == 3 { c[2] } else { 0.0 }])
-                .collect(),
-            point_refs: node.markers.unwrap_or_default(),
-            ..Default::default()
-        };
-        let k = ele.nodes_per_element;
-        if k != d + 1 {
-            return Err(input_err(format!(
-                "{}: {k} nodes per element (need {})",
-                ele_path.display(),
-                d + 1
-            )));
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("vtu") => return delone_io::read_vtu(&read(path)?).map_err(io),
+        Some("msh") => return Ok((delone_io::read_gmsh(&read(path)?).map_err(io)?, Vec::new())),
+        Some("node" | "ele") => {}
+        _ => {
+            return Ok((
+                delone_io::read_medit_mesh(&read(path)?).map_err(io)?,
+                Vec::new(),
+            ))
         }
-        let refs = |i: usize| {
-            if ele.n_attributes > 0 {
-                ele.attributes[i * ele.n_attributes] as i32
-            } else {
-                0
-            }
-        };
-        for (i, e) in ele.elements.chunks(k).enumerate() {
-            if d == 2 {
-                m.triangles.push([e[0], e[1], e[2]]);
-                m.triangle_refs.push(refs(i));
-            } else {
-                m.tetrahedra.push([e[0], e[1], e[2], e[3]]);
-                m.tetrahedron_refs.push(refs(i));
-            }
-        }
-        return Ok(m);
     }
-    delone_io::read_medit_mesh(&read(path)?).map_err(io)
+    let node = delone_io::read_node(&read(&path.with_extension("node"))?).map_err(io)?;
+    let ele_path = path.with_extension("ele");
+    let ele = delone_io::read_ele(&read(&ele_path)?, node.first_index)
+        .map_err(|e| input_err(format!("{}: {e}", ele_path.display())))?;
+    let d = node.dim;
+    let mut m = MeditMesh {
+        dimension: d as u8,
+        points: node
+            .coords
+            .chunks(d)
+            .map(|c| [c[0], c[1], if d == 3 { c[2] } else { 0.0 }])
+            .collect(),
+        point_refs: node.markers.unwrap_or_default(),
+        ..Default::default()
+    };
+    let k = ele.nodes_per_element;
+    if k != d + 1 {
+        return Err(input_err(format!(
+            "{}: {k} nodes per element (need {})",
+            ele_path.display(),
+            d + 1
+        )));
+    }
+    let refs = |i: usize| {
+        if ele.n_attributes > 0 {
+            ele.attributes[i * ele.n_attributes] as i32
+        } else {
+            0
+        }
+    };
+    for (i, e) in ele.elements.chunks(k).enumerate() {
+        if d == 2 {
+            m.triangles.push([e[0], e[1], e[2]]);
+            m.triangle_refs.push(refs(i));
+        } else {
+            m.tetrahedra.push([e[0], e[1], e[2], e[3]]);
+            m.tetrahedron_refs.push(refs(i));
+        }
+    }
+    Ok((m, Vec::new()))
 }
 
 fn tri_mesh(m: &MeditMesh) -> SimplexMesh<2, 3> {
@@ -383,18 +485,7 @@ fn finish<const D: usize, const K: usize>(
         let out = adapt(m, MetricField::AtVertices(met), o)
             .map_err(|e| input_err(format!("{}: {e}", args.input.display())))?;
         let t = Instant::now();
-        write_mesh(output, &out.mesh)?;
-        let sol = MeditSol {
-            dimension: D as u8,
-            vertices: out.metric.len(),
-            fields: vec![SolField {
-                kind: SolKind::Tensor,
-                values: out.metric.iter().flat_map(|x| x.medit()).collect(),
-            }],
-        };
-        write(&output.with_extension("sol"), |w| {
-            delone_io::write_medit_sol(w, &sol)
-        })?;
+        write_mesh(output, &out.mesh, &out.metric)?;
         let mut r = out.report;
         r.phases.push(("write", t.elapsed().as_secs_f64()));
         r
@@ -404,6 +495,12 @@ fn finish<const D: usize, const K: usize>(
     if args.verbose && !args.quiet {
         let mut text = String::new();
         print_report(&mut text, &report, measure_only);
+        if let Some(h) = args.hausd {
+            let _ = writeln!(
+                text,
+                "-hausd {h}: met by construction (the boundary is kept exactly: every boundary vertex stays on its input edge or facet, Hausdorff distance 0)"
+            );
+        }
         // (A closed pipe is not an error of the run.)
         let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
     }
@@ -424,9 +521,15 @@ fn write(
     f(&mut w).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
+/// Writes the mesh and its metric by the extension of `path`: `.vtu` (the
+/// metric as point arrays `m11 m12 m22 [m13 m23 m33]`, the element
+/// references as cell data `ref`), `.msh` (Gmsh 4.1; references as
+/// physical tags) with the metric in the `.sol` next to it, else Medit
+/// `.mesh` and `.sol`.
 fn write_mesh<const D: usize, const K: usize>(
     path: &Path,
     m: &SimplexMesh<D, K>,
+    metric: &[Metric<D>],
 ) -> Result<(), Failure> {
     let at = |p: &[f64; D]| [p[0], p[1], if D == 3 { p[2] } else { 0.0 }];
     let refs = |r: &Vec<i32>, n: usize| if r.is_empty() { vec![0; n] } else { r.clone() };
@@ -444,7 +547,7 @@ fn write_mesh<const D: usize, const K: usize>(
         out.edges = m.faces.iter().map(|f| [f[0], f[1]]).collect();
         out.edge_refs = face_refs;
         out.triangles = m.elements.iter().map(|e| [e[0], e[1], e[2]]).collect();
-        out.triangle_refs = el_refs;
+        out.triangle_refs = el_refs.clone();
     } else {
         out.triangles = m.faces.iter().map(|f| [f[0], f[1], f[2]]).collect();
         out.triangle_refs = face_refs;
@@ -453,14 +556,63 @@ fn write_mesh<const D: usize, const K: usize>(
             .iter()
             .map(|e| [e[0], e[1], e[2], e[3]])
             .collect();
-        out.tetrahedron_refs = el_refs;
+        out.tetrahedron_refs = el_refs.clone();
         for r in &m.ridges {
             out.ridges.push(out.edges.len() as u32);
             out.edges.push(*r);
             out.edge_refs.push(0);
         }
     }
-    write(path, |w| delone_io::write_medit_mesh(w, &out))
+    let ext = path.extension().and_then(|e| e.to_str());
+    if ext == Some("vtu") {
+        let comps: Vec<Vec<f64>> = (0..SolKind::Tensor.width(D as u8))
+            .map(|k| metric.iter().map(|x| x.medit()[k]).collect())
+            .collect();
+        let names = ["m11", "m12", "m22", "m13", "m23", "m33"];
+        let data: Vec<DataArray> = comps
+            .iter()
+            .zip(names)
+            .map(|(c, name)| DataArray {
+                name,
+                values: Values::Float64(c),
+            })
+            .collect();
+        let refs = [DataArray {
+            name: "ref",
+            values: Values::Int32(&el_refs),
+        }];
+        let f = VtuFormat::Binary;
+        return write(path, |w| {
+            if D == 2 {
+                delone_io::write_vtu(w, &out.points, &out.triangles, &data, &refs, f)
+            } else {
+                delone_io::write_vtu(w, &out.points, &out.tetrahedra, &data, &refs, f)
+            }
+        });
+    }
+    if ext == Some("msh") {
+        write(path, |w| {
+            if D == 2 {
+                delone_io::write_gmsh(w, &out.points, &out.triangles, &el_refs, &[], &[])
+            } else {
+                let (t, r) = (&out.triangles, &out.triangle_refs);
+                delone_io::write_gmsh(w, &out.points, t, r, &out.tetrahedra, &el_refs)
+            }
+        })?;
+    } else {
+        write(path, |w| delone_io::write_medit_mesh(w, &out))?;
+    }
+    let sol = MeditSol {
+        dimension: D as u8,
+        vertices: metric.len(),
+        fields: vec![SolField {
+            kind: SolKind::Tensor,
+            values: metric.iter().flat_map(|x| x.medit()).collect(),
+        }],
+    };
+    write(&path.with_extension("sol"), |w| {
+        delone_io::write_medit_sol(w, &sol)
+    })
 }
 
 fn print_stats(out: &mut String, label: &str, s: &MetricStats) {

@@ -238,3 +238,246 @@ fn bad_input_is_a_clear_error() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn vtu_and_msh_in_and_out() {
+    let d = dir("formats");
+    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
+    std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
+    let ok = |args: &[&str]| {
+        let out = run(args, &d);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    // .vtu out: the metric as point arrays, the references as cell data.
+    ok(&["sq.mesh", "-o", "a.vtu", "-Q"]);
+    let (a, arrays) = delone_io::read_vtu(&std::fs::read(d.join("a.vtu")).unwrap()).unwrap();
+    assert_eq!(a.dimension, 2);
+    let names: Vec<&str> = arrays.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(names, ["m11", "m12", "m22"]);
+    assert!(arrays[0].values.iter().all(|&v| (v - 400.0).abs() < 1e-6));
+    assert!(!d.join("a.sol").exists());
+    // .vtu in, its own arrays as the metric; .msh out with its .sol.
+    ok(&["a.vtu", "--metric", ":m11,m12,m22", "-o", "b.msh", "-Q"]);
+    let b = delone_io::read_gmsh(&std::fs::read(d.join("b.msh")).unwrap()).unwrap();
+    assert_eq!(b.dimension, 2);
+    assert!(!b.triangles.is_empty());
+    // .msh in; another file's .vtu arrays; -hausd is met by construction.
+    let out = ok(&[
+        "b.msh", "--metric", "b.sol", "-o", "c.mesh", "-hausd", "0.01", "-V",
+    ]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("-hausd 0.01: met by construction"));
+    let measure = ["-noinsert", "-noswap", "-nomove", "-V"];
+    let out = ok(&[&["b.msh", "--metric", "a.vtu:m11"][..], &measure].concat());
+    assert!(!out.stdout.is_empty());
+    for (args, want) in [
+        (
+            &["a.vtu", "--metric", ":zz"][..],
+            "no point array \"zz\" (point arrays: m11, m12, m22)",
+        ),
+        (&["a.vtu", "--metric", ":m11,m12"], "2 components per point"),
+        (
+            &["sq.mesh", "--metric", "a.vtu:m11"],
+            "for a mesh of 25 vertices",
+        ),
+        (&["sq.mesh", "-hausd", "-1"], "-hausd"),
+    ] {
+        let out = run(args, &d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(want),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// A Python with meshio (the MMG venv's, else `python3`), if any.
+fn meshio_python() -> Option<&'static str> {
+    ["/tmp/mmgvenv/bin/python3", "python3"]
+        .into_iter()
+        .find(|p| {
+            Command::new(p)
+                .args(["-c", "import meshio"])
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+}
+
+#[test]
+fn reads_vtu_and_msh_written_by_meshio() {
+    let Some(python) = meshio_python() else {
+        eprintln!("skipped: no Python with meshio (pip install meshio)");
+        return;
+    };
+    let d = dir("meshio");
+    let script = r#"
+import meshio, numpy as np
+n = 4
+pts = np.array([[i / n, j / n, 0.0] for j in range(n + 1) for i in range(n + 1)])
+tri = []
+for j in range(n):
+    for i in range(n):
+        a, b, c, e = j*(n+1)+i, j*(n+1)+i+1, (j+1)*(n+1)+i+1, (j+1)*(n+1)+i
+        tri += [[a, b, c], [a, c, e]]
+tri = np.array(tri)
+u = pts[:, 0] ** 2 + 0.5 * pts[:, 1] ** 2
+ref = [np.full(len(tri), 3, dtype=np.int32)]
+m = meshio.Mesh(pts, [("triangle", tri)], point_data={"u": u}, cell_data={"ref": ref})
+m.write("binary.vtu", binary=True, compression=None)
+m.write("ascii.vtu", binary=False)
+m.write("zlib.vtu", binary=True)
+g = meshio.Mesh(pts, [("triangle", tri)], cell_data={"gmsh:physical": ref, "gmsh:geometrical": ref})
+g.write("sq.msh", file_format="gmsh", binary=False)
+"#;
+    let made = Command::new(python)
+        .args(["-c", script])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    for input in ["binary.vtu", "ascii.vtu"] {
+        let (m, arrays) = delone_io::read_vtu(&std::fs::read(d.join(input)).unwrap()).unwrap();
+        assert_eq!((m.points.len(), m.triangles.len()), (25, 32), "{input}");
+        assert!(m.triangle_refs.iter().all(|&r| r == 3), "{input}");
+        let u = &arrays.iter().find(|a| a.name == "u").unwrap().values;
+        assert_eq!(u[6], 0.25f64.powi(2) + 0.5 * 0.25f64.powi(2), "{input}");
+        let out = run(
+            &[
+                input,
+                "--field",
+                ":u",
+                "--complexity",
+                "40",
+                "-o",
+                "out.vtu",
+                "-Q",
+            ],
+            &d,
+        );
+        assert!(
+            out.status.success(),
+            "{input}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let m = delone_io::read_gmsh(&std::fs::read(d.join("sq.msh")).unwrap()).unwrap();
+    assert_eq!(
+        (m.dimension, m.points.len(), m.triangles.len()),
+        (2, 25, 32)
+    );
+    let out = run(
+        &[
+            "sq.msh",
+            "--field",
+            "binary.vtu:u",
+            "--complexity",
+            "40",
+            "-o",
+            "o.mesh",
+        ],
+        &d,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = run(&["zlib.vtu", "--field", ":u"], &d);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("compressed"), "{err}");
+}
+
+/// The unit cube as six tetrahedra around its diagonal 0–7, with its
+/// twelve boundary triangles (reference 1), in Medit format.
+fn cube_mesh() -> String {
+    let p = |b: usize| [b & 1, b >> 1 & 1, b >> 2].map(|x| x as f64);
+    let mut tets = Vec::new();
+    for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+        let mut t = [0, path[0], path[1], 7];
+        let [a, b, c, d] = t.map(p);
+        let e = |x: [f64; 3]| [x[0] - a[0], x[1] - a[1], x[2] - a[2]];
+        let (u, v, w) = (e(b), e(c), e(d));
+        let det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+            + u[2] * (v[0] * w[1] - v[1] * w[0]);
+        if det < 0.0 {
+            t.swap(0, 1);
+        }
+        tets.push(t);
+    }
+    let mut faces: Vec<[usize; 3]> = Vec::new();
+    for t in &tets {
+        for f in [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]] {
+            let tri = f.map(|i| t[i]);
+            let mut key = tri;
+            key.sort_unstable();
+            match faces.iter().position(|g| {
+                let mut k = *g;
+                k.sort_unstable();
+                k == key
+            }) {
+                Some(i) => {
+                    faces.remove(i);
+                }
+                None => faces.push(tri),
+            }
+        }
+    }
+    let mut s = "MeshVersionFormatted 2\nDimension 3\nVertices\n8\n".to_string();
+    for b in 0..8 {
+        let x = p(b);
+        s += &format!("{} {} {} 0\n", x[0], x[1], x[2]);
+    }
+    s += &format!("Triangles\n{}\n", faces.len());
+    for f in &faces {
+        s += &format!("{} {} {} 1\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    s += "Tetrahedra\n6\n";
+    for t in &tets {
+        s += &format!("{} {} {} {} 0\n", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1);
+    }
+    s + "Corners\n8\n1\n2\n3\n4\n5\n6\n7\n8\nEnd\n"
+}
+
+#[test]
+fn sol_files_round_trip_with_mmg3d() {
+    let mmg = ["/tmp/mmgvenv/bin/mmg3d_O3", "mmg3d_O3"]
+        .into_iter()
+        .find(|m| Command::new(m).arg("-h").output().is_ok());
+    let Some(mmg) = mmg else {
+        eprintln!("skipped: mmg3d_O3 is not installed (/tmp/mmgvenv/bin or PATH)");
+        return;
+    };
+    let d = dir("mmg3");
+    std::fs::write(d.join("cube.mesh"), cube_mesh()).unwrap();
+    // Sizes 0.25 along x and y, 0.5 along z.
+    std::fs::write(d.join("cube.sol"), sol(3, &["16 0 16 0 0 4"; 8])).unwrap();
+    let a = run(&["cube.mesh", "-o", "a.mesh", "-Q"], &d);
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+    // MMG reads delone's mesh and metric ...
+    let m = Command::new(mmg)
+        .args([
+            "-in", "a.mesh", "-sol", "a.sol", "-out", "b.mesh", "-v", "-1",
+        ])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(m.status.success(), "{}", String::from_utf8_lossy(&m.stdout));
+    // ... and delone reads MMG's.
+    let back = run(&["b.mesh", "--metric", "b.sol", "-o", "c.mesh", "-Q"], &d);
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+    let c = delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap();
+    assert_eq!(c.dimension, 3);
+    assert!(!c.tetrahedra.is_empty());
+}

@@ -50,6 +50,7 @@ mod area;
 mod error;
 mod gmsh;
 mod medit;
+mod msh_read;
 mod mtr;
 mod obj;
 mod off;
@@ -66,6 +67,7 @@ mod svg;
 pub mod topo;
 mod voronoi;
 mod vtk;
+mod vtu_read;
 mod write;
 
 pub use area::read_area;
@@ -75,6 +77,7 @@ pub use medit::{
     read_medit, read_medit_mesh, read_medit_sol, write_medit, write_medit_mesh, write_medit_sol,
     MeditMesh, MeditSol, SolField, SolKind,
 };
+pub use msh_read::read_gmsh;
 pub use mtr::{read_face, read_mtr, FaceFile};
 pub use obj::read_obj;
 pub use off::read_off;
@@ -91,4 +94,5 @@ pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, wr
 pub use vtk::{
     write_vtk_legacy, write_vtu, write_vtu_polyhedra, DataArray, PolyhedronRef, Values, VtuFormat,
 };
+pub use vtu_read::{read_vtu, VtuArray};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

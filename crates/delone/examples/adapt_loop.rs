@@ -1,15 +1,67 @@
-//! A solve–adapt loop in 2D: the "solution" is a tanh shock layer along a
-//! circle, u = tanh(40 (r − 0.6)) with r the distance from (−0.1, −0.1);
-//! each iteration recovers its Hessian at the mesh's vertices, builds the
-//! L² optimal metric for a fixed complexity, and adapts the mesh to it.
-//! Writes the final mesh as a PNG.
+//! A solve–adapt loop: the "solution" is a tanh shock layer along a circle
+//! (2D), u = tanh(40 (r − 0.6)) with r the distance from (−0.1, −0.1), or
+//! along a sphere (3D, `3d`), u = tanh(20 (r − 0.8)) with r the distance
+//! from (−0.1, −0.1, −0.1) on the unit cube; each iteration recovers its
+//! Hessian at the mesh's vertices, builds the L² optimal metric for a fixed
+//! complexity, and adapts the mesh to it, printing a line of statistics.
+//! In 2D it writes the final mesh as a PNG.
 //!
 //! ```text
 //! cargo run --release -p delone --example adapt_loop -- docs/adapt_loop.png
+//! cargo run --release -p delone --example adapt_loop -- 3d
 //! ```
 
-use delone::adapt::{adapt_tri, AdaptOptions, MetricField, TriMesh};
+use delone::adapt::{
+    adapt_tet, adapt_tri, AdaptOptions, MetricField, MetricStats, TetMesh, TriMesh,
+};
 use delone::metric::{hessians, metric_from_hessians, Target};
+
+#[path = "../tests/common/cube.rs"]
+mod cube;
+
+fn field3(p: &[f64; 3]) -> f64 {
+    let r = ((p[0] + 0.1).powi(2) + (p[1] + 0.1).powi(2) + (p[2] + 0.1).powi(2)).sqrt();
+    (20.0 * (r - 0.8)).tanh()
+}
+
+fn print(it: usize, s: &MetricStats, what: &str, secs: f64) {
+    println!(
+        "iteration {it}: {} vertices, {} {what}, {:.1}% of edges in [1/√2, √2], quality min {:.3} mean {:.3}, {secs:.2} s",
+        s.vertices,
+        s.elements,
+        100.0 * s.in_range_share(),
+        s.quality_min,
+        s.quality_mean
+    );
+}
+
+/// The 3D loop: 3 iterations from a 6³-cube mesh of the unit cube.
+fn loop3() -> Result<(), Box<dyn std::error::Error>> {
+    let mut mesh: TetMesh = cube::cube(6, false);
+    let target = Target::Complexity {
+        complexity: 400.0,
+        p: 2.0,
+    };
+    for it in 1..=3 {
+        let clock = std::time::Instant::now();
+        let u: Vec<f64> = mesh.points.iter().map(field3).collect();
+        let h = hessians(&mesh.points, &mesh.elements, &u)?;
+        let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, 1e-3, 0.3)?;
+        let out = adapt_tet(
+            &mesh,
+            MetricField::AtVertices(metric),
+            &AdaptOptions::default(),
+        )?;
+        print(
+            it,
+            &out.report.after,
+            "tetrahedra",
+            clock.elapsed().as_secs_f64(),
+        );
+        mesh = out.mesh;
+    }
+    Ok(())
+}
 
 fn field(p: &[f64; 2]) -> f64 {
     let r = (p[0] + 0.1).hypot(p[1] + 0.1);
@@ -39,12 +91,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "adapt_loop.png".into());
+    if path == "3d" {
+        return loop3();
+    }
     let mut mesh = square(10);
     let target = Target::Complexity {
         complexity: 600.0,
         p: 2.0,
     };
     for it in 1..=5 {
+        let clock = std::time::Instant::now();
         let u: Vec<f64> = mesh.points.iter().map(field).collect();
         let h = hessians(&mesh.points, &mesh.elements, &u)?;
         let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, 1e-4, 0.2)?;
@@ -53,14 +109,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             MetricField::AtVertices(metric),
             &AdaptOptions::default(),
         )?;
-        let s = &out.report.after;
-        println!(
-            "iteration {it}: {} vertices, {} triangles, {:.1}% of edges in [1/√2, √2], quality min {:.3} mean {:.3}",
-            s.vertices,
-            s.elements,
-            100.0 * s.in_range_share(),
-            s.quality_min,
-            s.quality_mean
+        print(
+            it,
+            &out.report.after,
+            "triangles",
+            clock.elapsed().as_secs_f64(),
         );
         mesh = out.mesh;
     }

@@ -289,13 +289,25 @@ impl<const D: usize> Metric<D> {
     /// assert!((m.sizes()[0] - 2.0).abs() < 1e-12);
     /// ```
     pub fn interpolate(items: &[(f64, Metric<D>)]) -> Option<Self> {
+        let logs: Vec<(f64, Sym<D>)> = items.iter().map(|(w, m)| (*w, m.log())).collect();
+        Self::from_logs(&logs)
+    }
+
+    /// The matrix logarithm of the metric: the term of [`Metric::interpolate`],
+    /// kept per vertex where the same metric is interpolated many times.
+    pub(crate) fn log(&self) -> Sym<D> {
+        map_eigen(&self.m, f64::ln)
+    }
+
+    /// [`Metric::interpolate`] of metrics given by their logarithms
+    /// ([`Metric::log`]), with the same result.
+    pub(crate) fn from_logs(items: &[(f64, Sym<D>)]) -> Option<Self> {
         let total: f64 = items.iter().map(|x| x.0).sum();
         if items.is_empty() || total.is_nan() || total <= 0.0 {
             return None;
         }
         let mut acc = [[0.0; D]; D];
-        for (w, m) in items {
-            let lg = map_eigen(&m.m, f64::ln);
+        for (w, lg) in items {
             for i in 0..D {
                 for j in 0..D {
                     acc[i][j] += w / total * lg[i][j];
