@@ -322,8 +322,9 @@ pub struct NodeFile {
     pub first_index: u32,
     /// Line number of the header (1-based, for messages).
     pub header_line: usize,
-    /// Line number of each point record (1-based, for messages).
-    pub lines: Vec<usize>,
+    /// Line number of each point record (1-based, for messages; 4 bytes a
+    /// point, saturating at `u32::MAX` in files of more than 4 billion lines).
+    pub lines: Vec<u32>,
 }
 
 impl NodeFile {
@@ -493,7 +494,7 @@ pub(crate) fn read_node_body<'a>(
                 None => 0,
             });
         }
-        lines.push(line);
+        lines.push(u32::try_from(line).unwrap_or(u32::MAX));
     }
     Ok(NodeFile {
         dim,
