@@ -266,13 +266,13 @@ fn vtu_and_msh_in_and_out() {
     let b = delone_io::read_gmsh(&std::fs::read(d.join("b.msh")).unwrap()).unwrap();
     assert_eq!(b.dimension, 2);
     assert!(!b.triangles.is_empty());
-    // .msh in; another file's .vtu arrays; -hausd is met by construction.
+    // .msh in; -hausd is met by construction; a .vtu's arrays named by file.
     let out = ok(&[
         "b.msh", "--metric", "b.sol", "-o", "c.mesh", "-hausd", "0.01", "-V",
     ]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("-hausd 0.01: met by construction"));
     let measure = ["-noinsert", "-noswap", "-nomove", "-V"];
-    let out = ok(&[&["b.msh", "--metric", "a.vtu:m11"][..], &measure].concat());
+    let out = ok(&[&["a.vtu", "--metric", "a.vtu:m11"][..], &measure].concat());
     assert!(!out.stdout.is_empty());
     for (args, want) in [
         (

@@ -21,13 +21,16 @@ use crate::tri::cmesh::CMesh;
 use crate::tri::topo::{edge, unpack, DEAD, NEXT, PREV};
 use crate::{Error, NONE};
 
-/// Edges longer than this are split. (1.6 brings the element count down to
-/// MMG's on the UGAWG cases, but leaves the diagonals of a uniform
-/// isotropic grid, about 1.47, unsplit: a third of the edges out of range.)
-const LONG: f64 = SQRT_2;
-/// Edges shorter than this are collapsed when no edge of the result is
-/// longer than [`LONG`] (so that a collapse is never undone by a split).
-const SHORT: f64 = FRAC_1_SQRT_2;
+/// Edges longer than this are split and edges shorter than that collapsed
+/// while the mesh grows: splitting only clearly long edges keeps the mesh
+/// from filling with short ones (mean metric length near 1, MMG's element
+/// count). Once that settles, the passes go on with the bounds of the range,
+/// [`FINAL`], so that no edge stays above √2 (the diagonals of a uniform
+/// isotropic grid, about 1.47, for instance).
+const GROW: (f64, f64) = (1.6, 0.8);
+/// The split and collapse bounds once the mesh has settled: the range
+/// `[1/√2, √2]` itself.
+const FINAL: (f64, f64) = (SQRT_2, FRAC_1_SQRT_2);
 /// Worst quality a collapse may leave when the star was better than it.
 const COLLAPSE_FLOOR: f64 = 0.3;
 /// Least gain in worst quality for a swap or a move to count.
@@ -127,6 +130,7 @@ pub fn adapt_tri(
         parents,
         point_refs: mesh.point_refs.clone(),
         report: AdaptReport::default(),
+        bounds: GROW,
         #[cfg(test)]
         areas: Vec::new(),
         #[cfg(test)]
@@ -186,7 +190,9 @@ pub fn adapt_tri(
             stall += 1;
         }
         let settled = changed == 0 && moves == 0 || stall >= 3;
-        if settled || run.report.budget_reached {
+        if settled && run.bounds != FINAL && !run.report.budget_reached {
+            (run.bounds, best, stall) = (FINAL, usize::MAX, 0);
+        } else if settled || run.report.budget_reached {
             break;
         }
     }
@@ -358,6 +364,9 @@ struct Run<'a> {
     parents: Vec<([f64; 2], [f64; 2], i32)>,
     point_refs: Vec<i32>,
     report: AdaptReport,
+    /// Edges longer than `bounds.0` are split, shorter than `bounds.1`
+    /// collapsed ([`GROW`], then [`FINAL`]).
+    bounds: (f64, f64),
     /// Area of each region at the start (the tests' checker compares).
     #[cfg(test)]
     areas: Vec<(i32, f64)>,
@@ -432,10 +441,11 @@ impl Run<'_> {
         }
     }
 
-    /// Splits every edge longer than [`LONG`], longest first, at its metric
+    /// Splits every edge longer than `bounds.0`, longest first, at its metric
     /// midpoint.
     fn split_pass(&mut self, budget: Option<usize>) -> usize {
-        let mut cand = self.edges_where(|l| l > LONG);
+        let long = self.bounds.0;
+        let mut cand = self.edges_where(|l| l > long);
         cand.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut live = self.live_vertices();
         let mut done = 0;
@@ -498,12 +508,13 @@ impl Run<'_> {
         done
     }
 
-    /// Collapses every edge shorter than [`SHORT`], shortest first, removing
+    /// Collapses every edge shorter than `bounds.1`, shortest first, removing
     /// an end that may go (not fixed; on a constrained edge only along it)
-    /// when no new edge is longer than [`LONG`] and the worst quality of the
+    /// when no new edge is longer than `bounds.0` and the worst quality of the
     /// star stays above `min(COLLAPSE_FLOOR, its worst before)`.
     fn collapse_pass(&mut self) -> usize {
-        let mut cand = self.edges_where(|l| l < SHORT);
+        let short = self.bounds.1;
+        let mut cand = self.edges_where(|l| l < short);
         cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let mut done = 0;
         for (_, a, b) in cand {
@@ -527,7 +538,8 @@ impl Run<'_> {
                 };
                 let long = plan.kept.iter().any(|t| {
                     let i = t.iter().position(|&x| x == w).unwrap_or(0);
-                    self.len(w, t[NEXT[i]]) > LONG || self.len(w, t[PREV[i]]) > LONG
+                    self.len(w, t[NEXT[i]]) > self.bounds.0
+                        || self.len(w, t[PREV[i]]) > self.bounds.0
                 });
                 if long {
                     continue;
