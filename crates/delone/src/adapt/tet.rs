@@ -4,7 +4,11 @@
 //! program, [`crate::tet::dmesh::ring::triangulate`]) and vertex smoothing,
 //! each judged by edge lengths and mean ratio in the metric and committed
 //! only when every new tetrahedron is strictly positive by exact
-//! `orient3d`.
+//! `orient3d`. While the mesh grows, only edges longer than 1.6 are split
+//! and shorter than 0.8 collapsed ([`GROW`]): splitting every edge above √2
+//! on a coarse mesh, whose interpolated metric is far from the field's,
+//! fills it with short edges that the collapses then have to remove. Once
+//! the changes settle, the passes go on with the range's own bounds.
 //!
 //! The boundary is kept: the input's boundary and interface triangles are
 //! the mesh's subfaces (each remembers its input triangle, hence its
@@ -31,10 +35,14 @@ use crate::tet::local::{ekey, face, fkey, EDGES, FACET};
 use crate::tet::mesh::{input_tets, TetsDefect};
 use crate::{Error, NONE};
 
-/// Edges longer than this (in the metric) are split.
-const LONG: f64 = std::f64::consts::SQRT_2;
-/// Edges shorter than this are collapsed.
-const SHORT: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// Edges longer than this (in the metric) are split and edges shorter than
+/// that collapsed while the mesh grows: splitting only clearly long edges
+/// keeps the mesh from filling with short ones. Once that settles the passes
+/// go on with [`FINAL`].
+const GROW: (f64, f64) = (1.6, 0.8);
+/// The split and collapse bounds once the mesh has settled: the range
+/// `[1/√2, √2]` itself.
+const FINAL: (f64, f64) = (std::f64::consts::SQRT_2, std::f64::consts::FRAC_1_SQRT_2);
 /// Tetrahedra below this quality are swapped worst first.
 const SWAP_BELOW: f64 = 0.5;
 /// A collapse may not leave a tetrahedron below this quality (or below the
@@ -309,9 +317,15 @@ fn quality(p: &[[f64; 3]], met: &[Metric<3>], tv: [u32; 4]) -> f64 {
 }
 
 /// True when every edge of tetrahedra `new` that is not an edge of `old`
-/// has metric length at most [`LONG`]: an operation must not make an edge
+/// has metric length at most `long`: an operation must not make an edge
 /// that the next split pass would cut.
-fn no_long_edge(p: &[[f64; 3]], met: &[Metric<3>], old: &[[u32; 4]], new: &[[u32; 4]]) -> bool {
+fn no_long_edge(
+    p: &[[f64; 3]],
+    met: &[Metric<3>],
+    long: f64,
+    old: &[[u32; 4]],
+    new: &[[u32; 4]],
+) -> bool {
     let edges = |tets: &[[u32; 4]]| {
         let mut e: Vec<(u32, u32)> = tets
             .iter()
@@ -324,7 +338,7 @@ fn no_long_edge(p: &[[f64; 3]], met: &[Metric<3>], old: &[[u32; 4]], new: &[[u32
     let before = edges(old);
     edges(new)
         .into_iter()
-        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= LONG)
+        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= long)
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -372,6 +386,9 @@ struct Engine<'a> {
     version: Vec<u32>,
     /// Collapses refused: `v`, `w` and `v`'s version then.
     refused: std::collections::HashSet<(u32, u32, u32)>,
+    /// Edges longer than `bounds.0` are split, shorter than `bounds.1`
+    /// collapsed ([`GROW`], then [`FINAL`]).
+    bounds: (f64, f64),
     /// Per slot: the vertices and their versions when no swap was found.
     unswappable: Vec<([u32; 4], [u32; 4])>,
 }
@@ -410,6 +427,7 @@ impl<'a> Engine<'a> {
             cache: Default::default(),
             version: vec![0; n],
             refused: Default::default(),
+            bounds: GROW,
             unswappable: Vec::new(),
         };
         e.met = e.met.iter().map(|&m| e.bound(m)).collect();
@@ -586,7 +604,10 @@ impl<'a> Engine<'a> {
             // change, or stop when the changes have become marginal.
             if changed * 200 < self.live {
                 quiet += 1;
-                if quiet >= 2 {
+                if quiet >= 2 && self.bounds != FINAL {
+                    (self.bounds, quiet) = (FINAL, 0);
+                    self.refused.clear();
+                } else if quiet >= 2 {
                     break;
                 }
             } else {
@@ -611,9 +632,10 @@ impl<'a> Engine<'a> {
             .collect()
     }
 
-    /// Splits the edges longer than [`LONG`], longest first.
+    /// Splits the edges longer than `bounds.0`, longest first.
     fn split_pass(&mut self) {
-        let mut es = self.edge_list(|l| l > LONG);
+        let long = self.bounds.0;
+        let mut es = self.edge_list(|l| l > long);
         es.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         for (_, a, b) in es {
             if self.opt.max_vertices.is_some_and(|m| self.live >= m) {
@@ -653,9 +675,10 @@ impl<'a> Engine<'a> {
         true
     }
 
-    /// Collapses the edges shorter than [`SHORT`], shortest first.
+    /// Collapses the edges shorter than `bounds.1`, shortest first.
     fn collapse_pass(&mut self) {
-        let mut es = self.edge_list(|l| l < SHORT);
+        let short = self.bounds.1;
+        let mut es = self.edge_list(|l| l < short);
         es.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let version = &self.version;
         self.refused.retain(|&(v, _, x)| version[v as usize] == x);
@@ -674,7 +697,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Collapses `v` onto `w` when that keeps the boundary, leaves no edge
-    /// longer than [`LONG`] and no tetrahedron below the quality floor.
+    /// longer than `bounds.0` and no tetrahedron below the quality floor.
     fn collapse(&mut self, v: u32, w: u32) -> bool {
         let key = (v, w, self.version[v as usize]);
         if self.refused.contains(&key) {
@@ -707,9 +730,10 @@ impl<'a> Engine<'a> {
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
         let floor = COLLAPSE_FLOOR.min(self.min_slot_q(&ball));
-        let (p, met) = (&self.p, &self.met);
+        let (p, met, long) = (&self.p, &self.met, self.bounds.0);
         let accept = |new: &[[u32; 4]]| {
-            new.iter().all(|&t| quality(p, met, t) >= floor) && no_long_edge(p, met, &tets, new)
+            new.iter().all(|&t| quality(p, met, t) >= floor)
+                && no_long_edge(p, met, long, &tets, new)
         };
         let Some(ids) = self.m.collapse_edge(&self.p, &ball, (v, w), accept) else {
             return false;
@@ -774,7 +798,7 @@ impl<'a> Engine<'a> {
                 let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
                 if after > before + 1e-6
                     && fl.new.iter().all(|&n| positive(&self.p, n))
-                    && no_long_edge(&self.p, &self.met, &old, &fl.new)
+                    && no_long_edge(&self.p, &self.met, self.bounds.0, &old, &fl.new)
                 {
                     consider(after - before, fl.old, fl.new);
                 }
@@ -816,7 +840,7 @@ impl<'a> Engine<'a> {
         }
         let old: Vec<[u32; 4]> = tets.iter().map(|&u| self.m.tv[u as usize]).collect();
         if !new.iter().all(|&x| positive(&self.p, x))
-            || !no_long_edge(&self.p, &self.met, &old, &new)
+            || !no_long_edge(&self.p, &self.met, self.bounds.0, &old, &new)
         {
             return None;
         }
@@ -1068,13 +1092,13 @@ mod tests {
         let (mut splits, mut collapses, mut swaps, mut moves) = (0, 0, 0, 0);
         let mut side_moves = 0;
         for round in 0..3 {
-            for (_, a, b) in e.edge_list(|l| l > LONG) {
+            for (_, a, b) in e.edge_list(|l| l > FINAL.0) {
                 if e.m.edge_slot(a, b).is_some() && e.split(a, b) {
                     splits += 1;
                     invariants(&e, &input, "split");
                 }
             }
-            for (_, a, b) in e.edge_list(|l| l < SHORT * (1.0 + round as f64)) {
+            for (_, a, b) in e.edge_list(|l| l < FINAL.1 * (1.0 + round as f64)) {
                 for (v, w) in [(a, b), (b, a)] {
                     if e.m.vt[v as usize] != crate::tet::local::DEAD && e.collapse(v, w) {
                         collapses += 1;
