@@ -12,9 +12,11 @@
 //! ```
 
 use delone::adapt::{
-    adapt_tet, adapt_tri, AdaptOptions, MetricField, MetricStats, TetMesh, TriMesh,
+    adapt_tet, adapt_tri, AdaptOptions, Adapted, MetricField, MetricStats, SimplexMesh, TetMesh,
+    TriMesh,
 };
 use delone::metric::{hessians, metric_from_hessians, Target};
+use delone::Error;
 
 #[path = "../tests/common/cube.rs"]
 mod cube;
@@ -35,32 +37,31 @@ fn print(it: usize, s: &MetricStats, what: &str, secs: f64) {
     );
 }
 
-/// The 3D loop: 3 iterations from a 6³-cube mesh of the unit cube.
-fn loop3() -> Result<(), Box<dyn std::error::Error>> {
-    let mut mesh: TetMesh = cube::cube(6, false);
-    let target = Target::Complexity {
-        complexity: 400.0,
-        p: 2.0,
-    };
-    for it in 1..=3 {
+/// Adapts `mesh` `iterations` times to the metric of `field`'s Hessian
+/// (complexity `complexity`, sizes in `[hmin, hmax]`), a line each.
+fn iterate<const D: usize, const K: usize>(
+    mut mesh: SimplexMesh<D, K>,
+    field: fn(&[f64; D]) -> f64,
+    (complexity, hmin, hmax): (f64, f64, f64),
+    iterations: usize,
+    adapt: fn(&SimplexMesh<D, K>, MetricField<D>, &AdaptOptions) -> Result<Adapted<D, K>, Error>,
+    what: &str,
+) -> Result<SimplexMesh<D, K>, Error> {
+    let target = Target::Complexity { complexity, p: 2.0 };
+    for it in 1..=iterations {
         let clock = std::time::Instant::now();
-        let u: Vec<f64> = mesh.points.iter().map(field3).collect();
+        let u: Vec<f64> = mesh.points.iter().map(field).collect();
         let h = hessians(&mesh.points, &mesh.elements, &u)?;
-        let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, 1e-3, 0.3)?;
-        let out = adapt_tet(
+        let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, hmin, hmax)?;
+        let out = adapt(
             &mesh,
             MetricField::AtVertices(metric),
             &AdaptOptions::default(),
         )?;
-        print(
-            it,
-            &out.report.after,
-            "tetrahedra",
-            clock.elapsed().as_secs_f64(),
-        );
+        print(it, &out.report.after, what, clock.elapsed().as_secs_f64());
         mesh = out.mesh;
     }
-    Ok(())
+    Ok(mesh)
 }
 
 fn field(p: &[f64; 2]) -> f64 {
@@ -92,31 +93,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .unwrap_or_else(|| "adapt_loop.png".into());
     if path == "3d" {
-        return loop3();
+        // 3 iterations from a 6³-cube mesh of the unit cube.
+        let cube: TetMesh = cube::cube(6, false);
+        iterate(cube, field3, (400.0, 1e-3, 0.3), 3, adapt_tet, "tetrahedra")?;
+        return Ok(());
     }
-    let mut mesh = square(10);
-    let target = Target::Complexity {
-        complexity: 600.0,
-        p: 2.0,
-    };
-    for it in 1..=5 {
-        let clock = std::time::Instant::now();
-        let u: Vec<f64> = mesh.points.iter().map(field).collect();
-        let h = hessians(&mesh.points, &mesh.elements, &u)?;
-        let metric = metric_from_hessians(&mesh.points, &mesh.elements, &h, target, 1e-4, 0.2)?;
-        let out = adapt_tri(
-            &mesh,
-            MetricField::AtVertices(metric),
-            &AdaptOptions::default(),
-        )?;
-        print(
-            it,
-            &out.report.after,
-            "triangles",
-            clock.elapsed().as_secs_f64(),
-        );
-        mesh = out.mesh;
-    }
+    let mesh = iterate(
+        square(10),
+        field,
+        (600.0, 1e-4, 0.2),
+        5,
+        adapt_tri,
+        "triangles",
+    )?;
     let layers = [delone_io::SvgLayer::Triangles {
         points: &mesh.points,
         triangles: &mesh.elements,
