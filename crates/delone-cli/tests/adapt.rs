@@ -154,19 +154,30 @@ fn adapts_writes_mesh_and_metric_and_reports() {
     assert!(!d.join("out.o.mesh").exists());
 }
 
-#[test]
-fn sol_files_round_trip_with_mmg() {
-    let mmg = ["/tmp/mmgvenv/bin/mmg2d_O3", "mmg2d_O3"]
+/// delone adapts `mesh` to `metric` (written as `NAME.mesh`/`NAME.sol` in a
+/// folder `tag`), MMG's `program` reads delone's mesh and metric and adapts
+/// again, and delone reads MMG's: the final mesh, or `None` (skipped, with
+/// a message) when the program is not installed.
+fn mmg_round_trip(
+    program: &str,
+    tag: &str,
+    name: &str,
+    mesh: &str,
+    metric: &str,
+) -> Option<delone_io::MeditMesh> {
+    let venv = format!("/tmp/mmgvenv/bin/{program}");
+    let Some(mmg) = [venv.as_str(), program]
         .into_iter()
-        .find(|m| Command::new(m).arg("-h").output().is_ok());
-    let Some(mmg) = mmg else {
-        eprintln!("skipped: mmg2d_O3 is not installed (/tmp/mmgvenv/bin or PATH)");
-        return;
+        .find(|m| Command::new(m).arg("-h").output().is_ok())
+    else {
+        eprintln!("skipped: {program} is not installed (/tmp/mmgvenv/bin or PATH)");
+        return None;
     };
-    let d = dir("mmg");
-    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
-    std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
-    assert!(run(&["sq.mesh", "-o", "a.mesh", "-Q"], &d).status.success());
+    let d = dir(tag);
+    std::fs::write(d.join(format!("{name}.mesh")), mesh).unwrap();
+    std::fs::write(d.join(format!("{name}.sol")), metric).unwrap();
+    let a = run(&[&format!("{name}.mesh"), "-o", "a.mesh", "-Q"], &d);
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
     // MMG reads delone's mesh and metric ...
     let m = Command::new(mmg)
         .args([
@@ -183,8 +194,15 @@ fn sol_files_round_trip_with_mmg() {
         "{}",
         String::from_utf8_lossy(&back.stderr)
     );
-    let c = delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap();
-    assert!(!c.triangles.is_empty());
+    Some(delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap())
+}
+
+#[test]
+fn sol_files_round_trip_with_mmg() {
+    if let Some(c) = mmg_round_trip("mmg2d_O3", "mmg", "sq", &square_mesh(), &anisotropic()) {
+        assert_eq!(c.dimension, 2);
+        assert!(!c.triangles.is_empty());
+    }
 }
 
 #[test]
@@ -448,36 +466,10 @@ fn cube_mesh() -> String {
 
 #[test]
 fn sol_files_round_trip_with_mmg3d() {
-    let mmg = ["/tmp/mmgvenv/bin/mmg3d_O3", "mmg3d_O3"]
-        .into_iter()
-        .find(|m| Command::new(m).arg("-h").output().is_ok());
-    let Some(mmg) = mmg else {
-        eprintln!("skipped: mmg3d_O3 is not installed (/tmp/mmgvenv/bin or PATH)");
-        return;
-    };
-    let d = dir("mmg3");
-    std::fs::write(d.join("cube.mesh"), cube_mesh()).unwrap();
     // Sizes 0.25 along x and y, 0.5 along z.
-    std::fs::write(d.join("cube.sol"), sol(3, &["16 0 16 0 0 4"; 8])).unwrap();
-    let a = run(&["cube.mesh", "-o", "a.mesh", "-Q"], &d);
-    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
-    // MMG reads delone's mesh and metric ...
-    let m = Command::new(mmg)
-        .args([
-            "-in", "a.mesh", "-sol", "a.sol", "-out", "b.mesh", "-v", "-1",
-        ])
-        .current_dir(&d)
-        .output()
-        .unwrap();
-    assert!(m.status.success(), "{}", String::from_utf8_lossy(&m.stdout));
-    // ... and delone reads MMG's.
-    let back = run(&["b.mesh", "--metric", "b.sol", "-o", "c.mesh", "-Q"], &d);
-    assert!(
-        back.status.success(),
-        "{}",
-        String::from_utf8_lossy(&back.stderr)
-    );
-    let c = delone_io::read_medit_mesh(&std::fs::read(d.join("c.mesh")).unwrap()).unwrap();
-    assert_eq!(c.dimension, 3);
-    assert!(!c.tetrahedra.is_empty());
+    let metric = sol(3, &["16 0 16 0 0 4"; 8]);
+    if let Some(c) = mmg_round_trip("mmg3d_O3", "mmg3", "cube", &cube_mesh(), &metric) {
+        assert_eq!(c.dimension, 3);
+        assert!(!c.tetrahedra.is_empty());
+    }
 }
