@@ -101,12 +101,7 @@ pub fn marked_faces(
 ) -> (Vec<[u32; 3]>, Vec<i32>, Vec<u32>) {
     let n = rec.boundary.len() + rec.interior_faces.len();
     let (mut faces, mut of) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    for (f, &t) in rec
-        .boundary
-        .iter()
-        .zip(&rec.boundary_triangle)
-        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
-    {
+    for (f, t) in rec.surface_faces() {
         faces.push(*f);
         // Faces name triangles of `rec.surface`; markers come from the
         // input triangle (facet) each of those replaces.

@@ -1725,12 +1725,7 @@ fn set_slides(rec: &Recovered, n_in: usize, w: &mut Work, s: (f64, f64)) {
     // vertices of those faces (each twice when the faces close around it).
     let mut on: Vec<Vec<u32>> = vec![Vec::new(); n];
     let mut link: Vec<Vec<u32>> = vec![Vec::new(); n];
-    let faces = rec
-        .boundary
-        .iter()
-        .zip(&rec.boundary_triangle)
-        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
-    for (f, &t) in faces {
+    for (f, t) in rec.surface_faces() {
         for (k, &v) in f.iter().enumerate() {
             if (v as usize) < n_in || v as usize >= n {
                 continue;
@@ -1926,12 +1921,7 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) ->
         })
         .collect();
     let mut at = vec![f64::INFINITY; rec.points.len()];
-    for (f, &t) in rec
-        .boundary
-        .iter()
-        .zip(&rec.boundary_triangle)
-        .chain(rec.interior_faces.iter().zip(&rec.interior_triangle))
-    {
+    for (f, t) in rec.surface_faces() {
         if let Some(&d) = dev.get(t as usize) {
             for &v in f {
                 if let Some(a) = at.get_mut(v as usize) {

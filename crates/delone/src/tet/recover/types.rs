@@ -153,6 +153,17 @@ pub struct Recovered {
     pub report: RecoverReport,
 }
 
+impl Recovered {
+    /// The faces on input triangles, each with the index in
+    /// [`Self::surface`] of the triangle it lies on ([`crate::NONE`] for a
+    /// hull face): the boundary faces, then the interior faces.
+    pub(crate) fn surface_faces(&self) -> impl Iterator<Item = (&[u32; 3], u32)> + '_ {
+        let boundary = self.boundary.iter().zip(&self.boundary_triangle);
+        let interior = self.interior_faces.iter().zip(&self.interior_triangle);
+        boundary.chain(interior).map(|(f, &t)| (f, t))
+    }
+}
+
 /// Why [`recover`](crate::tet::recover::recover) failed.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

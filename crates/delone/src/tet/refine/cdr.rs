@@ -237,12 +237,7 @@ impl Cdr {
         let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();
         let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
         let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); p.len()];
-        let listed = rec
-            .boundary
-            .iter()
-            .zip(&rec.boundary_triangle)
-            .chain(rec.interior_faces.iter().zip(&rec.interior_triangle));
-        for (f, &t) in listed {
+        for (f, t) in rec.surface_faces() {
             let k = fkey(*f);
             if ftri.insert(k, t).is_some() {
                 continue;
