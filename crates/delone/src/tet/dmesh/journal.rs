@@ -436,20 +436,15 @@ impl<'a> Journaled<'a> {
     /// [`MAX_RING`].
     pub(crate) fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
         let (mut tets, mut ring) = (Vec::with_capacity(8), Vec::with_capacity(8));
-        ring::closed(
-            self.arrays(),
+        let no_ghost = |c: u32, _| !self.m.tv[c as usize].contains(&INF);
+        let end = self.m.ring_into(
             t,
             (a, b),
-            false,
-            MAX_RING,
+            (MAX_RING, false),
+            no_ghost,
             (&mut tets, &mut ring),
-        )
-        .then_some((tets, ring))
-    }
-
-    /// The vertices and neighbour words per slot (ghost cells included).
-    pub(crate) fn arrays(&self) -> super::Arrays<'_> {
-        (&self.m.tv, &self.m.nb)
+        );
+        end.map(|_| (tets, ring))
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new` filling the same
@@ -559,14 +554,14 @@ impl<'a> Journaled<'a> {
     ) -> Option<i64> {
         // The ring lists are reused scratch (no allocation per call).
         let (mut tets, mut r) = std::mem::take(&mut self.ring);
-        let out = if !ring::closed(
-            self.arrays(),
+        let ends = self.m.ring_into(
             t,
             (a, b),
-            true,
-            MAX_RING,
+            (MAX_RING, false),
+            |_, _| true,
             (&mut tets, &mut r),
-        ) {
+        );
+        let out = if ends.is_none() {
             None
         } else if r.len() < MEMO_RING {
             self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)

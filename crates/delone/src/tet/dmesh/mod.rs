@@ -667,16 +667,38 @@ impl DomainMesh {
     /// walk starts at one boundary face and ends at the other, and `ring`
     /// has one vertex more). `pass(t, f)` tells whether face `f` of `t` may
     /// be crossed; with `open_ok` false an open ring gives `None`. `None`
-    /// beyond `cap` slots too.
+    /// beyond `cap` slots too, and when `t` is not a live slot holding the
+    /// edge.
     pub(crate) fn edge_ring(
         &self,
         t: u32,
-        (a, b): (u32, u32),
+        ab: (u32, u32),
         cap: usize,
         open_ok: bool,
         pass: impl Fn(u32, usize) -> bool,
     ) -> Option<(Vec<u32>, Vec<u32>, RingEnd)> {
-        let (x0, y0) = ring::opposite(self.tv[t as usize], a, b)?;
+        let (mut tets, mut ring) = (Vec::new(), Vec::new());
+        let end = self.ring_into(t, ab, (cap, open_ok), pass, (&mut tets, &mut ring))?;
+        Some((tets, ring, end))
+    }
+
+    /// [`DomainMesh::edge_ring`] into `tets` and `ring` (cleared first;
+    /// reused scratch), returning how the ring ends.
+    pub(crate) fn ring_into(
+        &self,
+        t: u32,
+        (a, b): (u32, u32),
+        (cap, open_ok): (usize, bool),
+        pass: impl Fn(u32, usize) -> bool,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+    ) -> Option<RingEnd> {
+        tets.clear();
+        ring.clear();
+        let tv = *self.tv.get(t as usize)?;
+        if tv[0] == DEAD || !tv.contains(&a) || !tv.contains(&b) {
+            return None;
+        }
+        let (x0, y0) = ring::opposite(tv, a, b)?;
         let verts = |t: u32| self.tv[t as usize];
         let cross = |t: u32, f: usize| {
             let w = self.nb[t as usize][f];
@@ -688,19 +710,9 @@ impl DomainMesh {
                 Err(())
             }
         };
-        let mut tets = Vec::new();
-        let mut ring = Vec::new();
-        let end = ring::walk(
-            t,
-            (x0, y0),
-            (a, b),
-            cap,
-            (&mut tets, &mut ring),
-            verts,
-            cross,
-        )?;
+        let end = ring::walk(t, (x0, y0), (a, b), cap, (tets, ring), verts, cross)?;
         if end == RingEnd::Closed {
-            return Some((tets, ring, end));
+            return Some(end);
         }
         if !open_ok {
             return None;
@@ -730,16 +742,8 @@ impl DomainMesh {
         tets.clear();
         ring.clear();
         // From a boundary end the walk cannot come back to its start.
-        match ring::walk(
-            c,
-            (cx, cy),
-            (a, b),
-            cap,
-            (&mut tets, &mut ring),
-            verts,
-            cross,
-        )? {
-            RingEnd::Open => Some((tets, ring, RingEnd::Open)),
+        match ring::walk(c, (cx, cy), (a, b), cap, (tets, ring), verts, cross)? {
+            RingEnd::Open => Some(RingEnd::Open),
             RingEnd::Closed => None,
         }
     }

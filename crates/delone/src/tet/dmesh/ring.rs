@@ -3,9 +3,9 @@
 //! dynamic program that triangulates the ring polygon (Shewchuk's edge
 //! removal; a ring of 3 is the 3-2 flip, of 4 the 4-4 flip).
 //!
-//! Both are pure functions over accessors, so the recovery's mesh (with
-//! ghost cells) and the domain mesh (boundary = [`crate::NONE`]) call the
-//! same code with their own adjacency and their own objective.
+//! Both are pure functions over accessors: the walk gets the mesh's
+//! vertices and adjacency ([`super::DomainMesh::ring_into`], with or
+//! without ghost cells), the dynamic program the caller's objective.
 
 /// True when `q` is an even permutation of `tv` (same orientation).
 pub(crate) fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
@@ -81,41 +81,6 @@ pub(crate) fn walk(
         x = y;
         y = z;
     }
-}
-
-/// The closed ring around edge `a b` of a mesh with ghost cells (every
-/// face has a cell behind it: the kernel's arrays, or recovery's
-/// [`super::journal::Journaled`]) from slot `t`, by [`walk`] over the
-/// vertices `tv` and packed neighbour words `nb`, into `tets` and `ring`
-/// (cleared first). False when `t` is dead or lacks the edge, when the ring
-/// passes a ghost cell (unless `ghosts`) or exceeds `cap` tetrahedra.
-pub(crate) fn closed(
-    (tv, nb): super::Arrays<'_>,
-    t: u32,
-    (a, b): (u32, u32),
-    ghosts: bool,
-    cap: usize,
-    (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
-) -> bool {
-    tets.clear();
-    ring.clear();
-    let Some(xy) = tv
-        .get(t as usize)
-        .filter(|x| x[0] != crate::tet::local::DEAD && x.contains(&a) && x.contains(&b))
-        .and_then(|&x| opposite(x, a, b))
-    else {
-        return false;
-    };
-    let verts = |x: u32| tv[x as usize];
-    // A ghost cell ends the walk unless asked for.
-    let cross = |x: u32, i: usize| {
-        if !ghosts && tv[x as usize].contains(&crate::tet::local::INF) {
-            Err(())
-        } else {
-            Ok(Some(nb[x as usize][i] >> 2))
-        }
-    };
-    walk(t, xy, (a, b), cap, (tets, ring), verts, cross) == Some(RingEnd::Closed)
 }
 
 /// The dynamic program of edge removal over a ring polygon of `n`
