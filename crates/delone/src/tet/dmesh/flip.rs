@@ -33,11 +33,12 @@ pub(crate) fn positive(p: &[[f64; 3]], tv: [u32; 4]) -> bool {
 
 impl DomainMesh {
     /// May face `f` of `t` be destroyed: it has a tetrahedron behind it,
-    /// is not a subface, and both sides are in one region?
+    /// is not a subface, and both sides are in one region (always, in a
+    /// mesh without regions)?
     #[inline]
     pub(crate) fn open_face(&self, t: u32, f: usize) -> bool {
         let n = self.across(t, f);
-        n != NONE && !self.is_sub(t, f) && self.reg[n as usize] == self.reg[t as usize]
+        n != NONE && !self.is_sub(t, f) && self.reg.get(n as usize) == self.reg.get(t as usize)
     }
 
     /// The 2-3 flip of open face `f` of `t`: `t` and the slot `u` behind

@@ -37,7 +37,7 @@
 //! [`Journaled::removed_vertices_since`] names the vertices whose
 //! tetrahedra an operation removed (which failed segments to retry). The
 //! faces each replacement removes or creates are collected
-//! ([`Journaled::take_touched`]): the recovery's coverage refresh turns
+//! ([`Journaled::take_touched_raw`]): the recovery's coverage refresh turns
 //! them into candidate triangles locally.
 
 use std::cell::RefCell;
@@ -90,14 +90,12 @@ pub(crate) struct Journaled<'a> {
     /// The kernel structure whose arrays `m` holds: the points and the
     /// kernel's other state, given back by [`Journaled::into_parts`].
     shell: Delaunay3<'a>,
-    /// The slot the kernel's next walk starts from.
-    last: u32,
     /// 2-3 flips performed.
     pub(crate) flips23: usize,
     /// Edge removals performed.
     pub(crate) removals: usize,
     /// Finite faces (sorted triples) removed or created by the
-    /// replacements since the last [`Journaled::take_touched`] (unsorted,
+    /// replacements since the last [`Journaled::take_touched_raw`] (unsorted,
     /// with repeats; at least one per replacement).
     touched: Vec<[u32; 3]>,
     /// Edge removals known to be impossible (rings of [`MEMO_RING`] or more
@@ -146,7 +144,6 @@ impl<'a> Journaled<'a> {
         };
         Journaled {
             m,
-            last: c.last,
             shell: dt,
             flips23: 0,
             removals: 0,
@@ -340,32 +337,23 @@ impl<'a> Journaled<'a> {
         true
     }
 
-    /// The finite faces (sorted triples; sorted, distinct) created or
-    /// destroyed by the replacements since the previous call; every
-    /// tetrahedron created or destroyed since then has a face in this list
-    /// (a replacement removes and creates two or more face-connected
+    /// The finite faces (sorted triples; unsorted, with repeats: the
+    /// caller deduplicates what it derives from them) created or destroyed
+    /// by the replacements since the previous call; every tetrahedron
+    /// created or destroyed since then has a face in this list (a
+    /// replacement removes and creates two or more face-connected
     /// tetrahedra, so each has a face inside it).
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(crate) fn take_touched(&mut self) -> Vec<[u32; 3]> {
-        let mut out = std::mem::take(&mut self.touched);
-        out.sort_unstable();
-        out.dedup();
-        out
-    }
-
-    /// [`Journaled::take_touched`] unsorted, with repeats (cheaper when the
-    /// caller deduplicates what it derives from the faces).
     pub(crate) fn take_touched_raw(&mut self) -> Vec<[u32; 3]> {
         std::mem::take(&mut self.touched)
     }
 
     /// How many faces were logged since the last
-    /// [`Journaled::take_touched`] (with repeats).
+    /// [`Journaled::take_touched_raw`] (with repeats).
     pub(crate) fn touched_len(&self) -> usize {
         self.touched.len()
     }
 
-    /// Forgets the faces logged since the last [`Journaled::take_touched`].
+    /// Forgets the faces logged since the last [`Journaled::take_touched_raw`].
     pub(crate) fn clear_touched(&mut self) {
         self.touched.clear();
     }
@@ -501,33 +489,26 @@ impl<'a> Journaled<'a> {
                 self.touched.push(k);
             }
         }
-        if let Some(&x) = ids.first() {
-            self.last = x;
-        }
     }
 
     /// 2-3 flip of the face opposite local vertex `f` of tetrahedron `t`:
     /// false (nothing changed) when a ghost is involved or the edge between
     /// the two apexes does not cross the face's interior.
     pub(crate) fn flip23(&mut self, t: u32, f: usize) -> bool {
-        if !self.m.alive(t) {
+        // The three new tetrahedra hold the five vertices of the two old
+        // ones: a ghost among those puts `INF` in one of them.
+        let Some(fl) = self.m.alive(t).then(|| self.m.flip23(t, f)).flatten() else {
             return false;
-        }
-        let tv = self.m.tv[t as usize];
-        let w = self.m.nb[t as usize][f];
-        let (u, g) = (w >> 2, (w & 3) as usize);
-        let uv = self.m.tv[u as usize];
-        if tv.contains(&INF) || uv.contains(&INF) {
-            return false;
-        }
-        let (p, q) = (tv[f], uv[g]);
-        let [x, y, z] = face(tv, f);
-        let new = [[x, y, q, p], [y, z, q, p], [z, x, q, p]];
-        if !new.iter().all(|&n| self.positive(n)) {
+        };
+        if fl
+            .new
+            .iter()
+            .any(|n| n.contains(&INF) || !self.positive(*n))
+        {
             return false;
         }
         let mut ids = std::mem::take(&mut self.ids);
-        self.replace_into(&[t, u], &new, &mut ids);
+        self.replace_into(&fl.old, &fl.new, &mut ids);
         self.ids = ids;
         self.flips23 += 1;
         true
@@ -781,15 +762,15 @@ mod tests {
     fn touched_faces_and_failed_removals_are_logged() {
         let pts = three_around_an_edge();
         let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
-        assert!(m.take_touched().is_empty());
+        assert!(m.take_touched_raw().is_empty());
         let t = m.find_edge(3, 4).unwrap();
         m.remove_edge(t, 3, 4, &|_, _| 0, &|_, _, _| 0).unwrap();
         m.check().unwrap();
-        let touched = m.take_touched();
+        let touched = m.take_touched_raw();
         // The removed faces around 3-4 and the new face 0-1-2 are logged.
         assert!(touched.contains(&[0, 1, 2]));
         assert!(touched.contains(&[0, 3, 4]) || touched.contains(&[1, 3, 4]));
-        assert!(m.take_touched().is_empty());
+        assert!(m.take_touched_raw().is_empty());
         // Random points: every interior-edge removal that fails is
         // memoized and fails again; a failure changes nothing.
         let pts = scattered(40);
