@@ -435,18 +435,16 @@ impl TetStats {
         ] {
             let _ = writeln!(s, "  \"{k}\": {},", num(x));
         }
-        let _ = writeln!(s, "  \"dihedral_bins\": [{}],", list(&DIHEDRAL_BINS));
-        let _ = writeln!(
-            s,
-            "  \"dihedral_histogram\": [{}],",
-            counts(&self.dihedral_histogram)
-        );
-        let _ = writeln!(s, "  \"radius_edge_bins\": [{}],", list(&RATIO_BINS));
-        let _ = writeln!(
-            s,
-            "  \"radius_edge_histogram\": [{}]",
-            counts(&self.radius_edge_histogram)
-        );
+        let lists = [
+            ("dihedral_bins", list(&DIHEDRAL_BINS)),
+            ("dihedral_histogram", counts(&self.dihedral_histogram)),
+            ("radius_edge_bins", list(&RATIO_BINS)),
+            ("radius_edge_histogram", counts(&self.radius_edge_histogram)),
+        ];
+        for (i, (k, v)) in lists.iter().enumerate() {
+            let comma = if i + 1 < lists.len() { "," } else { "" };
+            let _ = writeln!(s, "  \"{k}\": [{v}]{comma}");
+        }
         s.push('}');
         s
     }
