@@ -380,9 +380,7 @@ impl<'a> Journaled<'a> {
     /// Live tetrahedra (ghosts included) containing vertex `u`, breadth
     /// first from its hint.
     pub(crate) fn star(&self, u: u32) -> Vec<u32> {
-        let mut out = Vec::with_capacity(32);
-        self.m.star_walk(u, &mut out, |_, _| true, |_| false);
-        out
+        self.m.star_with(u, |_, _| true)
     }
 
     /// Empties the visited set of [`Journaled::visit`].

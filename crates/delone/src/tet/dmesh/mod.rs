@@ -601,7 +601,7 @@ impl DomainMesh {
     /// `cross(t, f)` tells whether the walk may pass face `f` of `t`.
     /// Empty when `v` is in no live slot.
     pub(crate) fn star_with(&self, v: u32, cross: impl Fn(u32, usize) -> bool) -> Vec<u32> {
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(32);
         self.star_walk(v, &mut out, cross, |_| false);
         out
     }
