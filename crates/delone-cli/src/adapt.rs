@@ -31,7 +31,9 @@ usage: delone adapt IN.mesh [--metric SOL | --field SOL] [-o OUT.mesh] [options]
                     IN.msh (Gmsh 4.1 ASCII; physical tags as references), or
                     IN.node with IN.ele (Triangle/TetGen)
   --metric SOL      sizes (1 value) or tensors (m11 m12 m22 [m13 m23 m33], Medit
-                    order) at the vertices; default IN.sol when it exists
+                    order) at the vertices; default IN.sol when it exists, else
+                    each vertex's mean incident edge length (as MMG does)
+  -hsiz H           one size everywhere instead of a metric
   --field SOL       a scalar solution: metric from its recovered Hessian
                     SOL is a Medit .sol (type 1 or 3), or point arrays of a .vtu:
                     FILE.vtu:NAME[,NAME...] (components side by side), or
@@ -42,8 +44,9 @@ usage: delone adapt IN.mesh [--metric SOL | --field SOL] [-o OUT.mesh] [options]
   -p P              norm of the error (default 2)
   -o OUT.mesh       output mesh (default IN.o.mesh, IN.o.vtu, IN.o.msh by the
                     input's extension); its metric goes to OUT.sol; by extension
-                    OUT.vtu (metric as point arrays m11 m12 m22 [m13 m23 m33],
-                    element references as cell data \"ref\"; no boundary faces)
+                    OUT.vtu (metric as point arrays m11 m12 m22 [m13 m23 m33];
+                    elements, then boundary edges (2D) or triangles (3D), with
+                    their references as cell data \"ref\")
                     or OUT.msh (Gmsh 4.1; metric in OUT.sol)
   -hmin H -hmax H   size bounds
   -hgrad G          gradation (default 1.3; -1 turns it off)
@@ -71,6 +74,7 @@ struct Args {
     quiet: bool,
     json: Option<PathBuf>,
     hausd: Option<f64>,
+    hsiz: Option<f64>,
 }
 
 fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
@@ -86,6 +90,7 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
         quiet: false,
         json: None,
         hausd: None,
+        hsiz: None,
     };
     let mut complexity = None;
     let mut error = None;
@@ -111,12 +116,16 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
             "-p" => a.p = number(&arg, value(&arg)?)?,
             "-hmin" => a.options.hmin = Some(number(&arg, value(&arg)?)?),
             "-hmax" => a.options.hmax = Some(number(&arg, value(&arg)?)?),
-            "-hausd" => {
+            "-hausd" | "-hsiz" => {
                 let h = number(&arg, value(&arg)?)?;
                 if !(h > 0.0 && h.is_finite()) {
-                    return Err(usage_err(format!("-hausd: {h} is not positive and finite")));
+                    return Err(usage_err(format!("{arg}: {h} is not positive and finite")));
                 }
-                a.hausd = Some(h);
+                *if arg == "-hsiz" {
+                    &mut a.hsiz
+                } else {
+                    &mut a.hausd
+                } = Some(h);
             }
             "-hgrad" => {
                 let g = number(&arg, value(&arg)?)?;
@@ -144,8 +153,13 @@ fn parse(argv: Vec<String>) -> Result<Option<Args>, Failure> {
     if a.input.as_os_str().is_empty() {
         return Err(usage_err("no input mesh (see delone adapt --help)"));
     }
-    if a.metric.is_some() && a.field.is_some() {
-        return Err(usage_err("--metric and --field exclude each other"));
+    if [a.metric.is_some(), a.field.is_some(), a.hsiz.is_some()]
+        .iter()
+        .filter(|&&x| x)
+        .count()
+        > 1
+    {
+        return Err(usage_err("--metric, --field and -hsiz exclude each other"));
     }
     a.target = match (complexity, error) {
         (Some(_), Some(_)) => return Err(usage_err("--complexity and --error exclude each other")),
@@ -170,28 +184,26 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
     let (mesh, arrays) = read_mesh(&args.input)?;
     let source = args.field.clone().or(args.metric.clone()).or_else(|| {
         let p = args.input.with_extension("sol");
-        p.exists().then(|| p.display().to_string())
+        (p.exists() && args.hsiz.is_none()).then(|| p.display().to_string())
     });
-    let Some(source) = source else {
-        return Err(usage_err(format!(
-            "no metric: give --metric or --field (no {} next to the mesh)",
-            args.input.with_extension("sol").display()
-        )));
-    };
-    let (sol, sol_path) = read_sol(&source, &args.input, &arrays, mesh.dimension)?;
-    let name = source.clone();
-    if sol.dimension != mesh.dimension {
-        return Err(input_err(format!(
-            "{name}: a {}D solution for a {}D mesh",
-            sol.dimension, mesh.dimension
-        )));
-    }
-    if sol.vertices != mesh.points.len() {
-        return Err(input_err(format!(
-            "{name}: {} values for a mesh of {} vertices (a .sol for another mesh?)",
-            sol.vertices,
-            mesh.points.len()
-        )));
+    // The solution and its file; none: the metric comes from -hsiz or the mesh.
+    let mut sol = None;
+    if let Some(name) = &source {
+        let (s, path) = read_sol(name, &args.input, &arrays, mesh.dimension)?;
+        if s.dimension != mesh.dimension {
+            return Err(input_err(format!(
+                "{name}: a {}D solution for a {}D mesh",
+                s.dimension, mesh.dimension
+            )));
+        }
+        if s.vertices != mesh.points.len() {
+            return Err(input_err(format!(
+                "{name}: {} values for a mesh of {} vertices (a .sol for another mesh?)",
+                s.vertices,
+                mesh.points.len()
+            )));
+        }
+        sol = Some((s, name.as_str(), path));
     }
     let output = args.output.clone().unwrap_or_else(|| {
         let ext = args.input.extension().and_then(|e| e.to_str());
@@ -199,11 +211,12 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
         args.input.with_extension(format!("o.{ext}"))
     });
     let measure_only = !args.options.insert && !args.options.swap && !args.options.smooth;
-    for (written, read) in [
-        (output.clone(), &args.input),
-        (output.with_extension("sol"), &sol_path),
-    ] {
-        if !measure_only && same_file(&written, read) {
+    let mut read = vec![(output.clone(), args.input.clone())];
+    if let Some((_, _, path)) = &sol {
+        read.push((output.with_extension("sol"), path.clone()));
+    }
+    for (written, read) in &read {
+        if !measure_only && same_file(written, read) {
             return Err(usage_err(format!(
                 "the output {} would overwrite the input (give -o)",
                 written.display()
@@ -214,11 +227,11 @@ pub fn main(argv: Vec<String>) -> Result<i32, Failure> {
     let shown = !args.quiet;
     if mesh.dimension == 2 {
         let m = tri_mesh(&mesh);
-        let met = metric_of::<2, 3>(&args, &sol, &name, &m)?;
+        let met = metric_of::<2, 3>(&args, sol.as_ref(), &m)?;
         crate::progress::observe(shown, || finish(&args, &m, met, &output, clock, adapt_tri))
     } else {
         let m = tet_mesh(&mesh);
-        let met = metric_of::<3, 4>(&args, &sol, &name, &m)?;
+        let met = metric_of::<3, 4>(&args, sol.as_ref(), &m)?;
         crate::progress::observe(shown, || finish(&args, &m, met, &output, clock, adapt_tet))
     }
 }
@@ -400,10 +413,15 @@ fn tet_mesh(m: &MeditMesh) -> SimplexMesh<3, 4> {
 /// the `--field` solution's Hessians.
 fn metric_of<const D: usize, const K: usize>(
     args: &Args,
-    sol: &MeditSol,
-    name: &str,
+    sol: Option<&(MeditSol, &str, PathBuf)>,
     m: &SimplexMesh<D, K>,
 ) -> Result<Vec<Metric<D>>, Failure> {
+    let Some((sol, name, _)) = sol else {
+        return Ok(match args.hsiz {
+            Some(h) => vec![Metric::isotropic(h); m.points.len()],
+            None => mesh_sizes(m),
+        });
+    };
     let Some(f) = sol.fields.first() else {
         return Err(input_err(format!("{name}: no field")));
     };
@@ -440,6 +458,34 @@ fn metric_of<const D: usize, const K: usize>(
                     "{name}: the metric at vertex {} (1-based) {e}",
                     i + 1
                 ))
+            })
+        })
+        .collect()
+}
+
+/// Each vertex's mean incident edge length as an isotropic size (a vertex
+/// on no element gets the mean over all edges).
+fn mesh_sizes<const D: usize, const K: usize>(m: &SimplexMesh<D, K>) -> Vec<Metric<D>> {
+    let mut sum = vec![(0.0, 0u32); m.points.len()];
+    let (mut total, mut count) = (0.0, 0.0);
+    for [a, b] in delone::metric::edges(&m.elements) {
+        let (p, q) = (m.points[a as usize], m.points[b as usize]);
+        let l = (0..D).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+        for v in [a, b] {
+            sum[v as usize].0 += l;
+            sum[v as usize].1 += 1;
+        }
+        total += l;
+        count += 1.0;
+    }
+    let fallback = if total > 0.0 { total / count } else { 1.0 };
+    sum.iter()
+        .map(|&(s, n)| {
+            let h = s / f64::from(n.max(1));
+            Metric::isotropic(if h > 0.0 && h.is_finite() {
+                h
+            } else {
+                fallback
             })
         })
         .collect()
@@ -522,8 +568,9 @@ fn write(
 }
 
 /// Writes the mesh and its metric by the extension of `path`: `.vtu` (the
-/// metric as point arrays `m11 m12 m22 [m13 m23 m33]`, the element
-/// references as cell data `ref`), `.msh` (Gmsh 4.1; references as
+/// metric as point arrays `m11 m12 m22 [m13 m23 m33]`, the elements then
+/// the boundary edges (2D) or triangles (3D), their references as cell data
+/// `ref`), `.msh` (Gmsh 4.1; references as
 /// physical tags) with the metric in the `.sol` next to it, else Medit
 /// `.mesh` and `.sol`.
 fn write_mesh<const D: usize, const K: usize>(
@@ -577,16 +624,32 @@ fn write_mesh<const D: usize, const K: usize>(
                 values: Values::Float64(c),
             })
             .collect();
+        // One reference per element, then per boundary face.
+        let face_refs = if D == 2 {
+            &out.edge_refs
+        } else {
+            &out.triangle_refs
+        };
+        let all_refs: Vec<i32> = el_refs.iter().chain(face_refs).copied().collect();
         let refs = [DataArray {
             name: "ref",
-            values: Values::Int32(&el_refs),
+            values: Values::Int32(&all_refs),
         }];
         let f = VtuFormat::Binary;
         return write(path, |w| {
             if D == 2 {
-                delone_io::write_vtu(w, &out.points, &out.triangles, &data, &refs, f)
+                delone_io::write_vtu_with_faces(
+                    w,
+                    &out.points,
+                    &out.triangles,
+                    &out.edges,
+                    &data,
+                    &refs,
+                    f,
+                )
             } else {
-                delone_io::write_vtu(w, &out.points, &out.tetrahedra, &data, &refs, f)
+                let (tets, tris) = (&out.tetrahedra, &out.triangles);
+                delone_io::write_vtu_with_faces(w, &out.points, tets, tris, &data, &refs, f)
             }
         });
     }

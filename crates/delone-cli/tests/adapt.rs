@@ -1,7 +1,8 @@
 //! `delone adapt`: a 2D run with its outputs, measure-only mode, the
 //! `.sol` round trip with MMG (when `mmg2d_O3` is installed), and the error
 //! paths (a metric that is not positive definite, a wrong count of values,
-//! a `.sol` of another dimension, no metric, an unknown option).
+//! a `.sol` of another dimension, two metrics, an unknown option), and the
+//! metric without a `.sol` (`-hsiz`, or the mesh's own edge lengths).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -237,7 +238,11 @@ fn bad_input_is_a_clear_error() {
             "a 3D solution for a 2D mesh",
         ),
         (&["sq.mesh", "--metric", "neg.sol"], "vertex 4 (1-based)"),
-        (&["sq.mesh"], "no metric"),
+        (
+            &["sq.mesh", "-hsiz", "0.1", "--metric", "neg.sol"],
+            "exclude each other",
+        ),
+        (&["sq.mesh", "-hsiz", "0"], "-hsiz: 0 is not positive"),
         (
             &["sq.mesh", "--metric", "short.sol", "-zz"],
             "unknown option",
@@ -257,6 +262,58 @@ fn bad_input_is_a_clear_error() {
     }
 }
 
+/// Vertices, elements and edge share in range after adapting `args`.
+fn counts_after(args: &[&str], d: &Path) -> (f64, f64, f64) {
+    let json = d.join(format!("{}.json", args.join("_").replace(['-', '.'], "")));
+    let mut all = args.to_vec();
+    all.extend(["-Q", "--stats-json", json.to_str().unwrap()]);
+    let out = run(&all, d);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(json).unwrap();
+    let after = &text[text.find("\"after\"").unwrap()..];
+    let field = |key: &str| -> f64 {
+        let at = after.find(&format!("\"{key}\":")).unwrap() + key.len() + 3;
+        let rest = after[at..].trim_start();
+        let end = rest.find([',', '\n', '}']).unwrap();
+        rest[..end].trim().parse().unwrap()
+    };
+    (
+        field("vertices"),
+        field("elements"),
+        field("in_range_share"),
+    )
+}
+
+#[test]
+fn metric_from_hsiz_or_the_mesh() {
+    let d = dir("nometric");
+    std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
+    // No metric: the grid's own sizes (edges 0.25 and diagonals 0.35), so
+    // about as many vertices as the 25 of the input.
+    let (v, _, share) = counts_after(&["sq.mesh", "-o", "a.mesh"], &d);
+    assert!(
+        (15.0..=45.0).contains(&v) && share > 0.8,
+        "{v} vertices, {share} in range"
+    );
+    // -hsiz 0.1: a uniform mesh of edges about 0.1 (area 1 / (0.1² √3/4)
+    // ≈ 230 triangles).
+    let (v, t, share) = counts_after(&["sq.mesh", "-hsiz", "0.1", "-o", "b.mesh"], &d);
+    assert!(
+        (150.0..=320.0).contains(&t) && v > 80.0 && share > 0.9,
+        "{v} {t} {share}"
+    );
+    // An input .sol next to the mesh gives way to -hsiz.
+    std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
+    assert_eq!(
+        counts_after(&["sq.mesh", "-hsiz", "0.1", "-o", "c.mesh"], &d),
+        (v, t, share)
+    );
+}
+
 #[test]
 fn vtu_and_msh_in_and_out() {
     let d = dir("formats");
@@ -271,10 +328,16 @@ fn vtu_and_msh_in_and_out() {
         );
         out
     };
-    // .vtu out: the metric as point arrays, the references as cell data.
+    // .vtu out: the metric as point arrays, the elements and the boundary
+    // edges with their references as cell data.
     ok(&["sq.mesh", "-o", "a.vtu", "-Q"]);
     let (a, arrays) = delone_io::read_vtu(&std::fs::read(d.join("a.vtu")).unwrap()).unwrap();
     assert_eq!(a.dimension, 2);
+    let mut sides = a.edge_refs.clone();
+    sides.sort_unstable();
+    sides.dedup();
+    assert_eq!(sides, [1, 2, 3, 4], "boundary edges of the .vtu");
+    assert!(a.edges.len() >= 16 && a.triangle_refs.iter().all(|&r| r == 0));
     let names: Vec<&str> = arrays.iter().map(|x| x.name.as_str()).collect();
     assert_eq!(names, ["m11", "m12", "m22"]);
     assert!(arrays[0].values.iter().all(|&v| (v - 400.0).abs() < 1e-6));

@@ -92,7 +92,8 @@ pub use surface::{read_surface, Surface};
 pub use svg::{parse_colour, write_svg, SvgLayer, SvgStyle};
 pub use voronoi::{write_voronoi_cell, write_voronoi_edge, write_voronoi_face, write_voronoi_node};
 pub use vtk::{
-    write_vtk_legacy, write_vtu, write_vtu_polyhedra, DataArray, PolyhedronRef, Values, VtuFormat,
+    write_vtk_legacy, write_vtu, write_vtu_polyhedra, write_vtu_with_faces, DataArray,
+    PolyhedronRef, Values, VtuFormat,
 };
 pub use vtu_read::{read_vtu, VtuArray};
 pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};

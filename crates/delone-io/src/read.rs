@@ -272,7 +272,11 @@ pub(crate) fn check_index(
     first: &mut Option<u32>,
     what: &str,
 ) -> Result<(), IoError> {
-    let idx = parse_int(tok, line, &format!("{what} index"))?;
+    // The message is formatted only when the fast path fails.
+    let idx = match fast_int(tok) {
+        Some(i) => i,
+        None => parse_int(tok, line, &format!("{what} index"))?,
+    };
     match *first {
         None => {
             if idx != 0 && idx != 1 {

@@ -77,27 +77,41 @@ fn cell_type(k: usize) -> Result<u8, IoError> {
     }
 }
 
-fn check_input<const D: usize, const K: usize>(
+/// Cell blocks: per block the flat connectivity and its vertices per cell.
+type Blocks<'a> = [(&'a [u32], usize)];
+
+fn check_input<const D: usize>(
     points: &[[f64; D]],
-    cells: &[[u32; K]],
+    blocks: &Blocks<'_>,
     point_data: &[DataArray<'_>],
     cell_data: &[DataArray<'_>],
-) -> Result<u8, IoError> {
+) -> Result<Vec<u8>, IoError> {
     if D != 2 && D != 3 {
         return Err(IoError::invalid(format!(
             "VTK output supports 2D and 3D points, not {D}D"
         )));
     }
-    let ty = cell_type(K)?;
     let n = points.len();
-    for (c, cell) in cells.iter().enumerate() {
-        if let Some(&v) = cell.iter().find(|&&v| v as usize >= n) {
-            return Err(IoError::invalid(format!(
-                "cell {c} refers to point {v}, but there are only {n} points"
-            )));
+    let mut types = Vec::with_capacity(blocks.len());
+    let mut first = 0;
+    for (i, &(flat, k)) in blocks.iter().enumerate() {
+        // An empty block of faces may have any width but 0.
+        types.push(if i > 0 && flat.is_empty() && k != 0 {
+            0
+        } else {
+            cell_type(k)?
+        });
+        for (c, cell) in flat.chunks_exact(k).enumerate() {
+            if let Some(&v) = cell.iter().find(|&&v| v as usize >= n) {
+                let c = first + c;
+                return Err(IoError::invalid(format!(
+                    "cell {c} refers to point {v}, but there are only {n} points"
+                )));
+            }
         }
+        first += flat.len() / k;
     }
-    for (arrays, count, kind) in [(point_data, n, "point"), (cell_data, cells.len(), "cell")] {
+    for (arrays, count, kind) in [(point_data, n, "point"), (cell_data, first, "cell")] {
         for a in arrays {
             if a.values.len() != count {
                 return Err(IoError::invalid(format!(
@@ -108,7 +122,7 @@ fn check_input<const D: usize, const K: usize>(
             }
         }
     }
-    Ok(ty)
+    Ok(types)
 }
 
 fn xml_escape(s: &str) -> String {
@@ -163,9 +177,69 @@ pub fn write_vtu<W: Write, const D: usize, const K: usize>(
     cell_data: &[DataArray<'_>],
     format: VtuFormat,
 ) -> Result<(), IoError> {
-    let ty = check_input(points, cells, point_data, cell_data)?;
+    let blocks = [(cells.as_flattened(), K)];
+    write_blocks(out, points, &blocks, point_data, cell_data, format)
+}
+
+/// Writes a `.vtu` like [`write_vtu`] with a second block of lower-dimensional
+/// cells after the elements — the boundary edges of a triangle mesh or the
+/// boundary triangles of a tetrahedral mesh — so that readers (ParaView,
+/// meshio, [`crate::read_vtu`]) see both. `cell_data` arrays hold one value
+/// per element, then one per face.
+///
+/// # Errors
+/// As [`write_vtu`]; `F` must also be 2, 3, 4 or 6 unless `faces` is empty.
+///
+/// ```
+/// use delone_io::{write_vtu_with_faces, DataArray, Values, VtuFormat};
+/// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+/// let refs = [7, 1, 2, 3];
+/// let mut out = Vec::new();
+/// write_vtu_with_faces(&mut out, &pts, &[[0, 1, 2]], &[[0, 1], [1, 2], [2, 0]], &[],
+///     &[DataArray { name: "ref", values: Values::Int32(&refs) }], VtuFormat::Ascii).unwrap();
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.contains(r#"NumberOfCells="4""#));
+/// let (mesh, _) = delone_io::read_vtu(text.as_bytes()).unwrap();
+/// assert_eq!((mesh.triangle_refs, mesh.edge_refs), (vec![7], vec![1, 2, 3]));
+/// ```
+pub fn write_vtu_with_faces<W: Write, const D: usize, const K: usize, const F: usize>(
+    out: W,
+    points: &[[f64; D]],
+    cells: &[[u32; K]],
+    faces: &[[u32; F]],
+    point_data: &[DataArray<'_>],
+    cell_data: &[DataArray<'_>],
+    format: VtuFormat,
+) -> Result<(), IoError> {
+    let blocks = [(cells.as_flattened(), K), (faces.as_flattened(), F)];
+    write_blocks(out, points, &blocks, point_data, cell_data, format)
+}
+
+fn write_blocks<W: Write, const D: usize>(
+    out: W,
+    points: &[[f64; D]],
+    blocks: &Blocks<'_>,
+    point_data: &[DataArray<'_>],
+    cell_data: &[DataArray<'_>],
+    format: VtuFormat,
+) -> Result<(), IoError> {
+    let types = check_input(points, blocks, point_data, cell_data)?;
+    let cells = || blocks.iter().flat_map(|&(flat, k)| flat.chunks_exact(k));
+    // Per cell: its offset's end and type.
+    let ends = || {
+        let mut end = 0u64;
+        blocks
+            .iter()
+            .zip(&types)
+            .flat_map(|(&(flat, k), &ty)| std::iter::repeat_n((k as u64, ty), flat.len() / k))
+            .map(move |(k, ty)| {
+                end += k;
+                (end, ty)
+            })
+    };
+    let conn: u64 = blocks.iter().map(|b| b.0.len() as u64).sum();
     let n = points.len() as u64;
-    let m = cells.len() as u64;
+    let m = cells().count() as u64;
     let mut o = Out::new(out);
     o.str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"");
     o.uint(n);
@@ -243,9 +317,9 @@ pub fn write_vtu<W: Write, const D: usize, const K: usize>(
         o.str("</DataArray>\n");
     }
     o.str("</Points>\n<Cells>\n");
-    header(&mut o, "Int64", "connectivity", 1, 8 * K as u64 * m);
+    header(&mut o, "Int64", "connectivity", 1, 8 * conn);
     if ascii {
-        for c in cells {
+        for c in cells() {
             for (j, &v) in c.iter().enumerate() {
                 if j > 0 {
                     o.byte(b' ');
@@ -258,11 +332,11 @@ pub fn write_vtu<W: Write, const D: usize, const K: usize>(
     }
     header(&mut o, "Int64", "offsets", 1, 8 * m);
     if ascii {
-        ascii_ints(&mut o, (1..=m).map(|i| (i * K as u64) as i64))?;
+        ascii_ints(&mut o, ends().map(|(e, _)| e as i64))?;
     }
     header(&mut o, "UInt8", "types", 1, m);
     if ascii {
-        ascii_ints(&mut o, (0..m).map(|_| i64::from(ty)))?;
+        ascii_ints(&mut o, ends().map(|(_, ty)| i64::from(ty)))?;
     }
     o.str("</Cells>\n</Piece>\n</UnstructuredGrid>\n");
     if !ascii {
@@ -295,20 +369,20 @@ pub fn write_vtu<W: Write, const D: usize, const K: usize>(
             }
             o.maybe_flush()?;
         }
-        o.buf.extend_from_slice(&(8 * K as u64 * m).to_le_bytes());
-        for c in cells {
+        o.buf.extend_from_slice(&(8 * conn).to_le_bytes());
+        for c in cells() {
             for &v in c {
                 o.buf.extend_from_slice(&i64::from(v).to_le_bytes());
             }
             o.maybe_flush()?;
         }
         o.buf.extend_from_slice(&(8 * m).to_le_bytes());
-        for i in 1..=m {
-            o.buf.extend_from_slice(&(i * K as u64).to_le_bytes());
+        for (e, _) in ends() {
+            o.buf.extend_from_slice(&e.to_le_bytes());
             o.maybe_flush()?;
         }
         o.buf.extend_from_slice(&m.to_le_bytes());
-        for _ in 0..m {
+        for (_, ty) in ends() {
             o.buf.push(ty);
             o.maybe_flush()?;
         }
@@ -353,7 +427,7 @@ pub fn write_vtk_legacy<W: Write, const D: usize, const K: usize>(
     cell_data: &[DataArray<'_>],
     title: &str,
 ) -> Result<(), IoError> {
-    let ty = check_input(points, cells, point_data, cell_data)?;
+    let ty = check_input(points, &[(cells.as_flattened(), K)], point_data, cell_data)?[0];
     let mut o = Out::new(out);
     o.str("# vtk DataFile Version 2.0\n");
     // The title line is at most 256 characters, without line breaks.
