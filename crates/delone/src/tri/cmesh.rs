@@ -625,8 +625,7 @@ impl CMesh {
                     continue;
                 }
                 let (n, j) = unpack(x);
-                if n >= self.tr.len() || self.tr[n].v[0] == DEAD || self.tr[n].a[j] != pack(t, e)
-                {
+                if n >= self.tr.len() || self.tr[n].v[0] == DEAD || self.tr[n].a[j] != pack(t, e) {
                     return bad("adjacency", format!("edge {e} of {t} -> ({n}, {j})"));
                 }
                 if edge(&self.tr[n].v, j) != (b, a) {
@@ -636,7 +635,10 @@ impl CMesh {
                     );
                 }
                 if ghost && e == 2 && is_ghost(&self.tr[n].v) {
-                    return bad("ghost", format!("ghost {t} has a ghost across its hull edge"));
+                    return bad(
+                        "ghost",
+                        format!("ghost {t} has a ghost across its hull edge"),
+                    );
                 }
                 if self.sub_at(n, j) != s {
                     return bad("subsegment", format!("edge {e} of {t}: sides disagree"));

@@ -235,18 +235,12 @@ pub fn check_conforming_delaunay(
             &points[v[1] as usize],
             &points[v[2] as usize],
         );
-        // Circumcentre relative to `a`, in floating point; the box is
-        // enlarged so that no vertex inside the circle is missed.
-        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
-        let d = 2.0 * (bx * cy - by * cx);
-        let (b2, c2) = (bx * bx + by * by, cx * cx + cy * cy);
-        let ux = (cy * b2 - by * c2) / d;
-        let uy = (bx * c2 - cx * b2) / d;
-        let r = ux.hypot(uy);
-        let (lo, hi) = if r.is_finite() && d > 0.0 {
+        // Circumcentre in floating point; the box is enlarged so that no
+        // vertex inside the circle is missed.
+        let o = super::voronoi::centre([a, b, c], [0.0; 3]);
+        let r = (o[0] - a[0]).hypot(o[1] - a[1]);
+        let (lo, hi) = if r.is_finite() {
             let m = r * (1.0 + 1e-6) + 1e-12 * (a[0].abs() + a[1].abs());
-            let o = [a[0] + ux, a[1] + uy];
             ([o[0] - m, o[1] - m], [o[0] + m, o[1] + m])
         } else {
             ([f64::NEG_INFINITY; 2], [f64::INFINITY; 2])

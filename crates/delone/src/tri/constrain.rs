@@ -39,7 +39,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use delone_predicates::{incircle, orient2d};
 
 use super::cmesh::{CMesh, Ins, Tri, FLAGS, LABEL};
-use super::mesh::check_ccw;
+use super::mesh::{check_edges, find_edge};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
 use crate::geom::{pow2_scale, scaled};
@@ -945,79 +945,42 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
     if cdt.neighbors.len() != nt || cdt.regions.len() != nt {
         return Err(Violation::new("storage", "column lengths differ"));
     }
-    let mut half: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * nt);
-    for (t, v) in cdt.triangles.iter().enumerate() {
-        if v.iter().any(|&x| x as usize >= pts.len()) {
+    let segset: HashSet<(u32, u32)> = cdt.segments.iter().map(|s| ukey(s.v[0], s.v[1])).collect();
+    // Counterclockwise triangles with symmetric adjacency; across each
+    // unconstrained edge, the constrained Delaunay property and one region.
+    let edges = check_edges(pts, &cdt.triangles, &cdt.neighbors, |t, i, n, j| {
+        let v = cdt.triangles[t as usize];
+        let (a, b) = edge(&v, i as usize);
+        if n < t || segset.contains(&ukey(a, b)) {
+            return Ok(());
+        }
+        let d = cdt.triangles[n as usize][j as usize];
+        let [pa, pb, pc] = v.map(|x| &pts[x as usize]);
+        if incircle(pa, pb, pc, &pts[d as usize]) > 0.0 {
             return Err(Violation::new(
-                "vertex",
-                format!("triangle {t} {v:?} out of range"),
+                "delaunay",
+                format!("vertex {d} is inside the circumcircle of triangle {t} {v:?} across unconstrained edge ({a},{b})"),
             ));
         }
-        check_ccw(pts, t, v)?;
-        for e in 0..3 {
-            if half.insert(edge(v, e), (t as u32, e)).is_some() {
-                return Err(Violation::new(
-                    "adjacency",
-                    format!("edge {:?} is used twice in the same direction", edge(v, e)),
-                ));
-            }
+        if cdt.regions[t as usize] != cdt.regions[n as usize] {
+            return Err(Violation::new(
+                "region",
+                format!(
+                    "triangles {t} and {n} differ in region across unconstrained edge ({a},{b})"
+                ),
+            ));
         }
-    }
-    let segset: HashSet<(u32, u32)> = cdt
-        .segments
-        .iter()
-        .map(|s| (s.v[0].min(s.v[1]), s.v[0].max(s.v[1])))
-        .collect();
-    for (t, v) in cdt.triangles.iter().enumerate() {
-        for e in 0..3 {
-            let (a, b) = edge(v, e);
-            let nb = cdt.neighbors[t][e];
-            let twin = half.get(&(b, a)).copied();
-            match (twin, nb) {
-                (None, NONE) => {}
-                (Some((n, j)), nb) if nb == n => {
-                    if cdt.neighbors[n as usize][j] != t as u32 {
-                        return Err(Violation::new(
-                            "adjacency",
-                            format!("triangle {t} edge {e} -> {n} is not symmetric"),
-                        ));
-                    }
-                    if n as usize > t && !segset.contains(&(a.min(b), a.max(b))) {
-                        let d = cdt.triangles[n as usize][j];
-                        if incircle(
-                            &pts[v[0] as usize],
-                            &pts[v[1] as usize],
-                            &pts[v[2] as usize],
-                            &pts[d as usize],
-                        ) > 0.0
-                        {
-                            return Err(Violation::new(
-                                "delaunay",
-                                format!("vertex {d} is inside the circumcircle of triangle {t} {v:?} across unconstrained edge ({a},{b})"),
-                            ));
-                        }
-                        if cdt.regions[t] != cdt.regions[n as usize] {
-                            return Err(Violation::new(
-                                "region",
-                                format!("triangles {t} and {n} differ in region across unconstrained edge ({a},{b})"),
-                            ));
-                        }
-                    }
-                }
-                _ => {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("triangle {t} edge {e} ({a},{b}) has neighbour {nb}, the mesh says {twin:?}"),
-                    ))
-                }
-            }
-        }
-    }
+        Ok(())
+    })?;
     // Subsegments: bounding ones are mesh edges.
     let mut adj: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
     for (k, s) in cdt.segments.iter().enumerate() {
         let [a, b] = s.v;
-        if s.bounding && !half.contains_key(&(a, b)) && !half.contains_key(&(b, a)) {
+        if s.bounding
+            && find_edge(&edges, a, b)
+                .or(find_edge(&edges, b, a))
+                .is_none()
+        {
             return Err(Violation::new(
                 "conformity",
                 format!("subsegment {k} ({a},{b}) is not a mesh edge"),

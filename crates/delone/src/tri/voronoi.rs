@@ -169,7 +169,7 @@ pub struct Voronoi2 {
 /// bits: `|d|² + (0 - 0) = |d|²`). Computed relative to the corner opposite
 /// the longest edge (no cancellation for slivers).
 #[inline]
-fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
+pub(crate) fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
     let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let (la, lb, lc) = (l2(q[1], q[2]), l2(q[2], q[0]), l2(q[0], q[1]));
     // Rotate (keeping the orientation) so that `a` is opposite the longest
