@@ -236,6 +236,23 @@ pub(crate) fn number(letter: char, text: &str) -> Result<Option<f64>, SwitchErro
     }
 }
 
+/// A bound glued to switch letter `letter` (`-a0.1`), if any: positive;
+/// `why` says so when it is not.
+pub(crate) fn positive(
+    letter: char,
+    text: &str,
+    why: &'static str,
+) -> Result<Option<f64>, SwitchError> {
+    match number(letter, text)? {
+        Some(x) if x <= 0.0 => Err(SwitchError::OutOfRange {
+            letter,
+            text: text.to_string(),
+            why,
+        }),
+        x => Ok(x),
+    }
+}
+
 /// A program's options as its switch letters ([`read`], [`add`]).
 pub(crate) trait Letters: Default {
     /// The program whose letters these are.

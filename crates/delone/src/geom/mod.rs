@@ -51,6 +51,21 @@ pub(crate) fn steiner_budget(
         .min(max)
 }
 
+/// The bounding box `[min, max]` of `pts` (inverted, `[+inf, -inf]`, when
+/// empty; NaN coordinates are passed over).
+pub(crate) fn bbox<'a, const D: usize>(
+    pts: impl IntoIterator<Item = &'a [f64; D]>,
+) -> [[f64; D]; 2] {
+    let mut bb = [[f64::INFINITY; D], [f64::NEG_INFINITY; D]];
+    for p in pts {
+        for k in 0..D {
+            bb[0][k] = bb[0][k].min(p[k]);
+            bb[1][k] = bb[1][k].max(p[k]);
+        }
+    }
+    bb
+}
+
 /// The root of `x` in the union-find forest `parent` (a root is its own
 /// parent), halving the path on the way.
 pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {

@@ -19,7 +19,7 @@
 
 use delone_predicates::{incircle, incircle_weighted, orient2d};
 
-use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
+use super::topo::{edge, is_ghost, pack, unpack, DEAD, NEXT, PREV};
 use crate::{Violation, NONE};
 
 #[derive(Clone, Copy)]

@@ -76,19 +76,10 @@ pub(crate) struct Grid {
 
 impl Grid {
     pub(crate) fn new(points: &[[f64; 2]], ids: &[u32]) -> Grid {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for &i in ids {
-            let p = points[i as usize];
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        if ids.is_empty() {
-            lo = [0.0; 2];
-            hi = [0.0; 2];
-        }
+        let [lo, hi] = match ids {
+            [] => [[0.0; 2]; 2],
+            _ => crate::geom::bbox(ids.iter().map(|&i| &points[i as usize])),
+        };
         let w = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
         let area = (hi[0] - lo[0]).max(w * 1e-6) * (hi[1] - lo[1]).max(w * 1e-6);
         let h = (area / ids.len().max(1) as f64).sqrt().max(w / 4096.0);

@@ -658,37 +658,30 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
             .map(|r| r.v[0] != DEAD && !is_ghost(&r.v))
             .collect();
     let mut stack: Vec<usize> = Vec::new();
-    let flood = |w: &Work, alive: &mut Vec<bool>, stack: &mut Vec<usize>| {
+    // Flood fill across unconstrained edges from the triangles on `stack`
+    // into every neighbour that `enter` takes.
+    let flood = |w: &Work, stack: &mut Vec<usize>, enter: &mut dyn FnMut(usize) -> bool| {
         while let Some(t) = stack.pop() {
             for e in 0..3 {
-                if w.con(t, e) != NONE {
-                    continue;
-                }
-                let (nn, _) = unpack(w.a(t, e));
-                if alive[nn] {
-                    alive[nn] = false;
-                    stack.push(nn);
+                if w.con(t, e) == NONE && enter(unpack(w.a(t, e)).0) {
+                    stack.push(unpack(w.a(t, e)).0);
                 }
             }
         }
     };
+    let carve = |alive: &mut Vec<bool>, t: usize| std::mem::replace(&mut alive[t], false);
     if !options.convex_hull {
         for t in 0..nt {
             let v = w.v(t);
-            if v[0] == DEAD || !is_ghost(&v) {
-                continue;
-            }
             // Ghost edge 2 is the hull edge.
-            if w.con(t, 2) != NONE {
-                continue;
-            }
-            let (f, _) = unpack(w.a(t, 2));
-            if alive[f] {
-                alive[f] = false;
-                stack.push(f);
+            if v[0] != DEAD && is_ghost(&v) && w.con(t, 2) == NONE {
+                let (f, _) = unpack(w.a(t, 2));
+                if carve(&mut alive, f) {
+                    stack.push(f);
+                }
             }
         }
-        flood(&w, &mut alive, &mut stack);
+        flood(&w, &mut stack, &mut |n| carve(&mut alive, n));
     }
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
     // Each seed's walk starts where the previous one ended (seeds listed
@@ -698,10 +691,9 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         let found = w.cm.locate(last, &sc(*h), &mut w.rng);
         if let Some(t) = found {
             last = t;
-            if alive[t] {
-                alive[t] = false;
+            if carve(&mut alive, t) {
                 stack.push(t);
-                flood(&w, &mut alive, &mut stack);
+                flood(&w, &mut stack, &mut |n| carve(&mut alive, n));
             }
         }
     }
@@ -713,21 +705,16 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         if !alive[t0] {
             continue;
         }
-        let mut seen = HashSet::new();
-        seen.insert(t0);
+        let mut seen = HashSet::from([t0]);
+        region[t0] = ri as u32;
         stack.push(t0);
-        while let Some(t) = stack.pop() {
-            region[t] = ri as u32;
-            for e in 0..3 {
-                if w.con(t, e) != NONE {
-                    continue;
-                }
-                let (nn, _) = unpack(w.a(t, e));
-                if alive[nn] && seen.insert(nn) {
-                    stack.push(nn);
-                }
+        flood(&w, &mut stack, &mut |n| {
+            let new = alive[n] && seen.insert(n);
+            if new {
+                region[n] = ri as u32;
             }
-        }
+            new
+        });
     }
 
     // Output. The subsegments first (the index of a bounding one becomes
@@ -848,13 +835,7 @@ fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<
     if q.is_empty() || tris.is_empty() {
         return vec![None; q.len()];
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in pts {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let [lo, hi] = crate::geom::bbox(pts);
     let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
     let cell = |x: f64, k: usize| -> usize {
         let w = hi[k] - lo[k];

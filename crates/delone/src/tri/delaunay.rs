@@ -46,9 +46,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{
-    incircle, incircle_sos, incircle_weighted, incircle_weighted_sos, orient2d,
-};
+use delone_predicates::{incircle, incircle_sos, incircle_weighted_sos, orient2d};
 
 use super::cmesh::{CMesh, Tri};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};

@@ -4,6 +4,7 @@ use delone_predicates::{incircle, incircle_weighted, orient2d};
 
 use super::cmesh::CMesh;
 use crate::geom::brio_order;
+use crate::model::key;
 use crate::{Violation, NONE};
 
 /// A triangulation in flat arrays, as returned by [`crate::triangulate`].
@@ -32,12 +33,6 @@ pub struct TriMesh {
     /// sorted; their `vertex_map` entry is [`crate::NONE`]. Always empty for
     /// unweighted input.
     pub hidden: Vec<u32>,
-}
-
-/// Coordinates as a sortable key; `-0.0` and `0.0` give the same key (the
-/// points compare equal).
-fn key(p: &[f64; 2]) -> (u64, u64) {
-    ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
 }
 
 /// Triangle `t` (`v`, vertices in range) is strictly counterclockwise

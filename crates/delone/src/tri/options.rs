@@ -1,7 +1,9 @@
 //! [`TriOptions`]: what [`crate::tri::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tri` (Triangle's letters).
 
-use crate::switches::{self, first_unused, number, Letters, OutputSwitches, Program, SwitchError};
+use crate::switches::{
+    self, first_unused, number, positive, Letters, OutputSwitches, Program, SwitchError,
+};
 use crate::tri::refine::SegmentSplits;
 
 /// The options of the 2D pipeline ([`crate::tri::mesh()`]) and of
@@ -140,12 +142,8 @@ impl Letters for TriOptions {
             }
             'a' => {
                 self.regional_areas = true;
-                if let Some(x) = number(c, num)? {
-                    if x <= 0.0 {
-                        return Err(range("the maximum area must be positive"));
-                    }
-                    self.max_area = Some(x);
-                }
+                let why = "the maximum area must be positive";
+                self.max_area = positive(c, num, why)?.or(self.max_area);
             }
             'S' => self.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),
             'P' => self.no_poly = true,

@@ -30,6 +30,7 @@
 
 use delone_predicates::orient2d;
 
+use super::topo::{NEXT, PREV};
 use super::TriMesh;
 use crate::{Error, NONE};
 
@@ -200,10 +201,6 @@ pub(crate) fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
         a[1] + (dx * e2 - ex * d2) * k,
     ]
 }
-
-/// The next and previous corner of a triangle.
-const NEXT: [usize; 3] = [1, 2, 0];
-const PREV: [usize; 3] = [2, 0, 1];
 
 /// The part of the triangles (in 64ths) whose stars the calling thread walks
 /// when [`Voronoi2`] runs on two threads; the other thread first computes
