@@ -2,7 +2,8 @@
 //! the switch string of `delone tet` (TetGen's letters).
 
 use crate::switches::{
-    self, first_unused, number, positive, Letters, OutputSwitches, Program, SwitchError,
+    self, first_unused, number, out_of_range, positive, Letters, OutputSwitches, Program,
+    SwitchError,
 };
 use crate::tet::refine::sizing::Sizing;
 use crate::tet::refine::RefineOptions;
@@ -139,11 +140,7 @@ impl Letters for TetOptions {
     }
 
     fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
-        let range = |why| SwitchError::OutOfRange {
-            letter: c,
-            text: num.to_string(),
-            why,
-        };
+        let range = |why| out_of_range(c, num, why);
         match c {
             'q' => {
                 let (ratio, angle) = num.split_once('/').unwrap_or((num, ""));

@@ -39,6 +39,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use delone_predicates::{incircle, orient2d};
 
 use super::cmesh::{CMesh, Ins, Tri, FLAGS, LABEL};
+use super::conforming::Grid;
 use super::mesh::{check_edges, find_edge};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
@@ -168,12 +169,6 @@ struct Work {
     /// Scratch of [`Work::legalize`].
     lawson: Vec<(u32, u32, u32)>,
     touched: Vec<u32>,
-}
-
-/// Which side of the directed line `a -> b` `c` is on (exact sign).
-#[inline]
-fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
-    orient2d(a, b, c)
 }
 
 impl Work {
@@ -507,7 +502,7 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
                     break;
                 }
                 let on_ray = |x: u32| {
-                    x != INF && side(&pa, &pb, w.p(x)) == 0.0 && {
+                    x != INF && orient2d(&pa, &pb, w.p(x)) == 0.0 && {
                         let px = w.p(x);
                         (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
                     }
@@ -522,8 +517,8 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
                 }
                 if p != INF
                     && q != INF
-                    && side(&pa, &pb, w.p(p)) < 0.0
-                    && side(&pa, &pb, w.p(q)) > 0.0
+                    && orient2d(&pa, &pb, w.p(p)) < 0.0
+                    && orient2d(&pa, &pb, w.p(q)) > 0.0
                 {
                     found = Some(Start::Edge(t, k));
                     break;
@@ -583,7 +578,7 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
             if r == INF {
                 return Err(unresolved(s, s));
             }
-            let sr = side(&pa, &pb, w.p(r));
+            let sr = orient2d(&pa, &pb, w.p(r));
             if sr == 0.0 {
                 report.vertex_splits.push((out_id(r), s));
                 pending.push((r, b, s));
@@ -603,10 +598,10 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
                 return false;
             }
             let (px, py) = (w.p(x), w.p(y));
-            let s1 = side(&pa, &pe, px);
-            let s2 = side(&pa, &pe, py);
-            let s3 = side(px, py, &pa);
-            let s4 = side(px, py, &pe);
+            let s1 = orient2d(&pa, &pe, px);
+            let s2 = orient2d(&pa, &pe, py);
+            let s3 = orient2d(px, py, &pa);
+            let s4 = orient2d(px, py, &pe);
             s1 * s2 < 0.0 && s3 * s4 < 0.0
         };
         newe.clear();
@@ -828,55 +823,22 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
 }
 
 /// For every query point, the lowest-numbered triangle that contains it
-/// strictly (bucket grid over the triangles' bounding boxes: a triangle that
-/// contains a point is in that point's cell, and cell lists are in triangle
-/// order, so the answer equals a linear search's).
+/// strictly (the triangles in order, each testing the points in the cells
+/// of a [`Grid`] over the query points that its bounding box meets).
 fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<Option<usize>> {
-    if q.is_empty() || tris.is_empty() {
-        return vec![None; q.len()];
-    }
-    let [lo, hi] = crate::geom::bbox(pts);
-    let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
-    let cell = |x: f64, k: usize| -> usize {
-        let w = hi[k] - lo[k];
-        if w.is_nan() || w <= 0.0 {
-            return 0;
-        }
-        let c = ((x - lo[k]) / w * g as f64).floor();
-        if c.is_nan() || c < 0.0 {
-            0
-        } else {
-            (c as usize).min(g - 1)
-        }
-    };
-    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); g * g];
+    let grid = Grid::new(q, &(0..q.len() as u32).collect::<Vec<_>>());
+    let mut found = vec![None; q.len()];
     for (t, v) in tris.iter().enumerate() {
-        let c = v.map(|x| pts[x as usize]);
-        let (x0, x1) = (
-            cell(c[0][0].min(c[1][0]).min(c[2][0]), 0),
-            cell(c[0][0].max(c[1][0]).max(c[2][0]), 0),
-        );
-        let (y0, y1) = (
-            cell(c[0][1].min(c[1][1]).min(c[2][1]), 1),
-            cell(c[0][1].max(c[1][1]).max(c[2][1]), 1),
-        );
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                cells[y * g + x].push(t as u32);
+        let [lo, hi] = crate::geom::bbox(v.iter().map(|&x| &pts[x as usize]));
+        grid.any_in(lo, hi, |k| {
+            let k = k as usize;
+            if found[k].is_none() && strictly_inside(pts, v, &q[k]) {
+                found[k] = Some(t);
             }
-        }
+            false
+        });
     }
-    q.iter()
-        .map(|p| {
-            if !(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1]) {
-                return None;
-            }
-            cells[cell(p[1], 1) * g + cell(p[0], 0)]
-                .iter()
-                .map(|&t| t as usize)
-                .find(|&t| strictly_inside(pts, &tris[t], p))
-        })
-        .collect()
+    found
 }
 
 /// Strictly inside triangle `v`?

@@ -300,25 +300,17 @@ fn validate_impl(
             expected_dups.push((i as u32, r));
         }
     }
+    let list = |kind: &'static str, got: usize, want: usize| {
+        err(
+            kind,
+            format!("{kind} list has {got} entries, expected {want}"),
+        )
+    };
     if mesh.duplicates != expected_dups {
-        return err(
-            "duplicates",
-            format!(
-                "duplicates list has {} entries, expected {}",
-                mesh.duplicates.len(),
-                expected_dups.len()
-            ),
-        );
+        return list("duplicates", mesh.duplicates.len(), expected_dups.len());
     }
     if mesh.hidden != expected_hidden {
-        return err(
-            "hidden",
-            format!(
-                "hidden list has {} entries, expected {} (the unused points)",
-                mesh.hidden.len(),
-                expected_hidden.len()
-            ),
-        );
+        return list("hidden", mesh.hidden.len(), expected_hidden.len());
     }
     // The hull: the edges without a twin, sorted by their start vertex.
     let hull: Vec<(u32, u32)> = edges

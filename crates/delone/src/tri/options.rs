@@ -2,7 +2,8 @@
 //! the switch string of `delone tri` (Triangle's letters).
 
 use crate::switches::{
-    self, first_unused, number, positive, Letters, OutputSwitches, Program, SwitchError,
+    self, first_unused, number, out_of_range, positive, Letters, OutputSwitches, Program,
+    SwitchError,
 };
 use crate::tri::refine::SegmentSplits;
 
@@ -127,11 +128,7 @@ impl Letters for TriOptions {
     }
 
     fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
-        let range = |why| SwitchError::OutOfRange {
-            letter: c,
-            text: num.to_string(),
-            why,
-        };
+        let range = |why| out_of_range(c, num, why);
         match c {
             'q' => {
                 let a = number(c, num)?.unwrap_or(20.0);
