@@ -1,6 +1,6 @@
 //! Geometry helpers shared by the 2D and 3D kernels: insertion order
-//! (BRIO + Hilbert curve), small vector utilities, union-find and the Lloyd
-//! iteration.
+//! (BRIO + Hilbert curve), small vector utilities, bounding boxes, exact
+//! two-term sums and products, union-find and the Lloyd iteration.
 
 pub mod check;
 pub(crate) mod ids;
@@ -8,6 +8,7 @@ pub mod scale;
 pub mod sort;
 pub(crate) mod vec3;
 
+pub(crate) use scale::bbox;
 pub use scale::{max_abs, pow2_scale, rescaled, scaled};
 pub use sort::{brio_order, SplitMix64};
 
@@ -51,19 +52,19 @@ pub(crate) fn steiner_budget(
         .min(max)
 }
 
-/// The bounding box `[min, max]` of `pts` (inverted, `[+inf, -inf]`, when
-/// empty; NaN coordinates are passed over).
-pub(crate) fn bbox<'a, const D: usize>(
-    pts: impl IntoIterator<Item = &'a [f64; D]>,
-) -> [[f64; D]; 2] {
-    let mut bb = [[f64::INFINITY; D], [f64::NEG_INFINITY; D]];
-    for p in pts {
-        for k in 0..D {
-            bb[0][k] = bb[0][k].min(p[k]);
-            bb[1][k] = bb[1][k].max(p[k]);
-        }
-    }
-    bb
+/// Exact sum `a + b = s + e`.
+#[inline]
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// Exact product `a * b = p + e`.
+#[inline]
+pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
 }
 
 /// The root of `x` in the union-find forest `parent` (a root is its own

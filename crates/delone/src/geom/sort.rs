@@ -209,7 +209,7 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
-    let [lo, hi] = super::bbox(points);
+    let [lo, hi] = super::scale::bbox(points);
     let bits = key_bits(D);
     let cells = f64::from((1u32 << bits) - 1);
     let mut extent = 0.0f64;

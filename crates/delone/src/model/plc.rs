@@ -210,7 +210,6 @@ impl Plc {
         }
         super::check_coordinates(
             &self.points,
-            crate::geom::scale::RANGE_3D,
             &self.holes,
             self.regions.iter().map(|r| r.point),
         )?;

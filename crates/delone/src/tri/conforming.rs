@@ -11,7 +11,7 @@
 
 use delone_predicates::incircle;
 
-use super::constrain::{two_prod, two_sum};
+use crate::geom::{two_prod, two_sum};
 use crate::Violation;
 
 /// Sign of `(u - p)·(w - p)`, exactly (floating-point filter, then an

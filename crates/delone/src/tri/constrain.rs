@@ -43,7 +43,7 @@ use super::conforming::Grid;
 use super::mesh::{check_edges, find_edge};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
-use crate::geom::{pow2_scale, scaled};
+use crate::geom::{pow2_scale, scaled, two_prod, two_sum};
 use crate::model::pslg::Pslg;
 use crate::{Error, Violation, NONE};
 
@@ -239,23 +239,26 @@ impl Work {
         self.cm.sub_at(t, e)
     }
 
+    /// The triangles around vertex `u`, each with `u`'s corner, from the
+    /// one in `vt` counterclockwise (across the edge `v[k+2] -> u`).
+    fn star(&self, u: u32) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let start = self.vt[u as usize] as usize;
+        let corner = move |t: usize| self.v(t).iter().position(|&x| x == u).map(|k| (t, k));
+        std::iter::successors(corner(start), move |&(t, k)| {
+            let n = unpack(self.a(t, NEXT[k])).0;
+            if n == start {
+                None
+            } else {
+                corner(n)
+            }
+        })
+        .take(self.cm.tr.len() + 1)
+    }
+
     /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
     fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        let start = self.vt[u as usize] as usize;
-        let mut t = start;
-        for _ in 0..self.cm.tr.len() + 1 {
-            let v = self.v(t);
-            let k = v.iter().position(|&x| x == u)?;
-            if v[NEXT[k]] == w {
-                return Some((t, PREV[k]));
-            }
-            // Counterclockwise around u: across the edge v[k+2] -> u.
-            t = unpack(self.a(t, NEXT[k])).0;
-            if t == start {
-                return None;
-            }
-        }
-        None
+        let (t, k) = self.star(u).find(|&(t, k)| self.v(t)[NEXT[k]] == w)?;
+        Some((t, PREV[k]))
     }
 
     fn set_vt(&mut self, t: usize) {
@@ -487,51 +490,33 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         }
         let (pa, pb) = (*w.p(a), *w.p(b));
         // The wedge at `a` that the segment leaves through.
-        let start = {
-            let t0 = w.vt[a as usize] as usize;
-            let mut t = t0;
-            let mut found = None;
-            for _ in 0..w.cm.tr.len() + 1 {
-                let v = w.v(t);
-                let Some(k) = v.iter().position(|&x| x == a) else {
-                    break;
-                };
-                let (p, q) = (v[NEXT[k]], v[PREV[k]]);
-                if p == b || q == b {
-                    found = Some(Start::Done);
-                    break;
-                }
-                let on_ray = |x: u32| {
-                    x != INF && orient2d(&pa, &pb, w.p(x)) == 0.0 && {
-                        let px = w.p(x);
-                        (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
-                    }
-                };
-                if on_ray(p) {
-                    found = Some(Start::Vertex(p));
-                    break;
-                }
-                if on_ray(q) {
-                    found = Some(Start::Vertex(q));
-                    break;
-                }
-                if p != INF
-                    && q != INF
-                    && orient2d(&pa, &pb, w.p(p)) < 0.0
-                    && orient2d(&pa, &pb, w.p(q)) > 0.0
-                {
-                    found = Some(Start::Edge(t, k));
-                    break;
-                }
-                t = unpack(w.a(t, NEXT[k])).0;
-                if t == t0 {
-                    break;
-                }
+        let on_ray = |x: u32| {
+            x != INF && orient2d(&pa, &pb, w.p(x)) == 0.0 && {
+                let px = w.p(x);
+                (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
             }
-            match found {
-                Some(f) => f,
-                None => return Err(unresolved(s, s)),
+        };
+        let start = w.star(a).find_map(|(t, k)| {
+            let v = w.v(t);
+            let (p, q) = (v[NEXT[k]], v[PREV[k]]);
+            if p == b || q == b {
+                Some(Start::Done)
+            } else if on_ray(p) {
+                Some(Start::Vertex(p))
+            } else if on_ray(q) {
+                Some(Start::Vertex(q))
+            } else if p != INF
+                && q != INF
+                && orient2d(&pa, &pb, w.p(p)) < 0.0
+                && orient2d(&pa, &pb, w.p(q)) > 0.0
+            {
+                Some(Start::Edge(t, k))
+            } else {
+                None
             }
+        });
+        let Some(start) = start else {
+            return Err(unresolved(s, s));
         };
         let (mut t, mut i) = match start {
             Start::Done => {
@@ -1053,21 +1038,6 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
 // `ulp(M) / sqrt(2) + O(2^-100 M)`, where `M` is the largest coordinate
 // magnitude involved. `check_cdt` accepts Steiner vertices within
 // `STEINER_ULPS` ulps of each of their lines.
-
-/// Exact sum `a + b = s + e`.
-#[inline]
-pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// Exact product `a * b = p + e`.
-#[inline]
-pub(super) fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
 
 /// Double-double sum.
 #[inline]

@@ -210,15 +210,9 @@ fn check_input(points: &[[f64; 2]]) -> Result<f64, Error> {
             requested: points.len(),
         });
     }
-    let mut max_abs = 0.0f64;
-    for (index, p) in points.iter().enumerate() {
-        if !(p[0].is_finite() && p[1].is_finite()) {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        max_abs = max_abs.max(p[0].abs()).max(p[1].abs());
-    }
+    crate::geom::check::finite(points)?;
     crate::geom::scale::check_range(points, crate::geom::scale::RANGE_2D)?;
-    Ok(max_abs)
+    Ok(crate::geom::max_abs(points))
 }
 
 /// A weight scaled like squared coordinates (`scale` from `pow2_scale`;
@@ -241,13 +235,7 @@ fn weight_ok(w: f64) -> bool {
 
 /// Number of distinct points (used only on the error path).
 fn count_distinct(points: &[[f64; 2]]) -> usize {
-    let mut keys: Vec<(u64, u64)> = points
-        .iter()
-        .map(|p| {
-            // +0.0 normalises -0.0 so that equal coordinates give equal keys.
-            ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
-        })
-        .collect();
+    let mut keys: Vec<[u64; 2]> = points.iter().map(crate::model::key).collect();
     keys.sort_unstable();
     keys.dedup();
     keys.len()
