@@ -354,12 +354,12 @@ impl fmt::Display for Error {
                 option,
                 value,
                 reason,
-            } if option.len() <= 2 => write!(f, "{option}{value}: {reason}"),
-            Error::InvalidBound {
-                option,
-                value,
-                reason,
-            } => write!(f, "{option} {value}: {reason}"),
+            } => {
+                // A switch letter takes its value glued (`-q70`), a long
+                // option after a space.
+                let gap = if option.len() <= 2 { "" } else { " " };
+                write!(f, "{option}{gap}{value}: {reason}")
+            }
             Error::BoundNeedsBudget {
                 option,
                 value,

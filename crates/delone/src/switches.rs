@@ -236,6 +236,29 @@ pub(crate) fn number(letter: char, text: &str) -> Result<Option<f64>, SwitchErro
     }
 }
 
+/// [`SwitchError::OutOfRange`]: `text` after `letter` is not a value the
+/// switch takes, `why` says which are.
+pub(crate) fn out_of_range(letter: char, text: &str, why: &'static str) -> SwitchError {
+    SwitchError::OutOfRange {
+        letter,
+        text: text.to_string(),
+        why,
+    }
+}
+
+/// A bound glued to switch letter `letter` (`-a0.1`), if any: positive;
+/// `why` says so when it is not.
+pub(crate) fn positive(
+    letter: char,
+    text: &str,
+    why: &'static str,
+) -> Result<Option<f64>, SwitchError> {
+    match number(letter, text)? {
+        Some(x) if x <= 0.0 => Err(out_of_range(letter, text, why)),
+        x => Ok(x),
+    }
+}
+
 /// A program's options as its switch letters ([`read`], [`add`]).
 pub(crate) trait Letters: Default {
     /// The program whose letters these are.

@@ -1,6 +1,6 @@
 //! Geometry helpers shared by the 2D and 3D kernels: insertion order
-//! (BRIO + Hilbert curve), small vector utilities, union-find and the Lloyd
-//! iteration.
+//! (BRIO + Hilbert curve), small vector utilities, bounding boxes, exact
+//! two-term sums and products, union-find and the Lloyd iteration.
 
 pub mod check;
 pub(crate) mod ids;
@@ -8,6 +8,7 @@ pub mod scale;
 pub mod sort;
 pub(crate) mod vec3;
 
+pub(crate) use scale::bbox;
 pub use scale::{max_abs, pow2_scale, rescaled, scaled};
 pub use sort::{brio_order, SplitMix64};
 
@@ -49,6 +50,21 @@ pub(crate) fn steiner_budget(
     base.saturating_add(input_points.saturating_mul(16))
         .saturating_add(asked)
         .min(max)
+}
+
+/// Exact sum `a + b = s + e`.
+#[inline]
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// Exact product `a * b = p + e`.
+#[inline]
+pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
 }
 
 /// The root of `x` in the union-find forest `parent` (a root is its own

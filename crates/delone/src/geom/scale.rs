@@ -56,6 +56,21 @@ pub fn max_abs<const D: usize>(points: &[[f64; D]]) -> f64 {
         .fold(0.0f64, |m, c| m.max(c.abs()))
 }
 
+/// The bounding box `[min, max]` of `pts` (inverted, `[+inf, -inf]`, when
+/// empty; NaN coordinates are passed over).
+pub(crate) fn bbox<'a, const D: usize>(
+    pts: impl IntoIterator<Item = &'a [f64; D]>,
+) -> [[f64; D]; 2] {
+    let mut bb = [[f64::INFINITY; D], [f64::NEG_INFINITY; D]];
+    for p in pts {
+        for k in 0..D {
+            bb[0][k] = bb[0][k].min(p[k]);
+            bb[1][k] = bb[1][k].max(p[k]);
+        }
+    }
+    bb
+}
+
 /// `points` themselves when their magnitudes are moderate, otherwise a copy
 /// scaled by [`pow2_scale`], together with the factors used.
 ///

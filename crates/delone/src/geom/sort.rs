@@ -209,14 +209,7 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
-    let mut lo = [f64::INFINITY; D];
-    let mut hi = [f64::NEG_INFINITY; D];
-    for p in points {
-        for k in 0..D {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let [lo, hi] = super::scale::bbox(points);
     let bits = key_bits(D);
     let cells = f64::from((1u32 << bits) - 1);
     let mut extent = 0.0f64;

@@ -8,17 +8,21 @@ pub mod pslg;
 use crate::Error;
 
 /// The checks both models start with: finite points within the range the
-/// predicates allow (`range`, see [`crate::geom::scale::check_range`]),
-/// then finite hole and region points ([`Error::InvalidCoordinate`],
-/// [`Error::CoordinateRange`], [`Error::InvalidSeedPoint`]).
+/// predicates allow in `D` dimensions (see
+/// [`crate::geom::scale::check_range`]), then finite hole and region points
+/// ([`Error::InvalidCoordinate`], [`Error::CoordinateRange`],
+/// [`Error::InvalidSeedPoint`]).
 pub(crate) fn check_coordinates<const D: usize>(
     points: &[[f64; D]],
-    range: i32,
     holes: &[[f64; D]],
     mut regions: impl Iterator<Item = [f64; D]>,
 ) -> Result<(), Error> {
     crate::geom::check::finite(points)?;
     let finite = |p: &[f64; D]| p.iter().all(|c| c.is_finite());
+    let range = match D {
+        2 => crate::geom::scale::RANGE_2D,
+        _ => crate::geom::scale::RANGE_3D,
+    };
     crate::geom::scale::check_range(points, range)?;
     let seed = |kind, index| Err(Error::InvalidSeedPoint { kind, index });
     if let Some(index) = holes.iter().position(|p| !finite(p)) {

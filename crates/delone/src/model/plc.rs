@@ -210,7 +210,6 @@ impl Plc {
         }
         super::check_coordinates(
             &self.points,
-            crate::geom::scale::RANGE_3D,
             &self.holes,
             self.regions.iter().map(|r| r.point),
         )?;
@@ -413,14 +412,8 @@ pub(crate) fn points_on_triangles(
         return out;
     }
     let pt = |q: u32| &points[q as usize];
-    let extent = |k: usize| {
-        let (lo, hi) = cand
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &q| {
-                (l.min(pt(q)[k]), h.max(pt(q)[k]))
-            });
-        hi - lo
-    };
+    let [lo, hi] = crate::geom::bbox(cand.iter().map(|&q| pt(q)));
+    let extent = |k: usize| hi[k] - lo[k];
     let ax = (0..3).fold(0, |m, k| if extent(k) > extent(m) { k } else { m });
     cand.sort_by(|&x, &y| pt(x)[ax].total_cmp(&pt(y)[ax]).then(x.cmp(&y)));
     for (ti, t) in triangles.iter().enumerate() {

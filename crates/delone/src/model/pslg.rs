@@ -151,7 +151,6 @@ impl Pslg {
     pub(crate) fn check_values(&self) -> Result<(), Error> {
         super::check_coordinates(
             &self.points,
-            crate::geom::scale::RANGE_2D,
             &self.holes,
             self.regions.iter().map(|r| r.point),
         )?;

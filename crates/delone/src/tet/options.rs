@@ -1,7 +1,10 @@
 //! [`TetOptions`]: what [`crate::tet::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tet` (TetGen's letters).
 
-use crate::switches::{self, first_unused, number, Letters, OutputSwitches, Program, SwitchError};
+use crate::switches::{
+    self, first_unused, number, out_of_range, positive, Letters, OutputSwitches, Program,
+    SwitchError,
+};
 use crate::tet::refine::sizing::Sizing;
 use crate::tet::refine::RefineOptions;
 use crate::Error;
@@ -137,11 +140,7 @@ impl Letters for TetOptions {
     }
 
     fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
-        let range = |why| SwitchError::OutOfRange {
-            letter: c,
-            text: num.to_string(),
-            why,
-        };
+        let range = |why| out_of_range(c, num, why);
         match c {
             'q' => {
                 let (ratio, angle) = num.split_once('/').unwrap_or((num, ""));
@@ -161,12 +160,8 @@ impl Letters for TetOptions {
             }
             'a' => {
                 self.regional_volumes = true;
-                if let Some(x) = number(c, num)? {
-                    if x <= 0.0 {
-                        return Err(range("the maximum volume must be positive"));
-                    }
-                    self.max_volume = Some(x);
-                }
+                let why = "the maximum volume must be positive";
+                self.max_volume = positive(c, num, why)?.or(self.max_volume);
             }
             'O' => self.optimize = Some(number(c, num)?.unwrap_or(3.0).max(0.0) as u32),
             'S' => self.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),

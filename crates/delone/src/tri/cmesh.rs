@@ -17,9 +17,9 @@
 //! its output subsegment `k`, which refinement turns into records). The numbering conventions are the `topo`
 //! module's. Every orientation and incircle decision is exact.
 
-use delone_predicates::{incircle, orient2d};
+use delone_predicates::{incircle, incircle_weighted, orient2d};
 
-use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
+use super::topo::{edge, is_ghost, pack, unpack, DEAD, NEXT, PREV};
 use crate::{Violation, NONE};
 
 #[derive(Clone, Copy)]
@@ -571,17 +571,18 @@ impl CMesh {
     }
 
     /// Checks the invariants of the mesh: every triangle has vertices in
-    /// range and is counterclockwise (exact); adjacency is symmetric and
-    /// each twin is the same edge reversed; an edge carries the same
-    /// subsegment on both sides, and an edge with no neighbour carries one;
-    /// every subsegment on a half-edge is alive and has the edge's ends, and
-    /// every live subsegment's [`Sub::he`] is a half-edge carrying it. With
-    /// `delaunay`, also every edge without a subsegment is locally Delaunay
-    /// (exact incircle): the mesh is a constrained Delaunay triangulation.
-    /// The CDT's working mesh passes too: dead slots (`DEAD`) are skipped,
-    /// ghost triangles (`INF` in position 2) are neither oriented nor
-    /// Delaunay-tested, and with no subsegment records a label is an input
-    /// segment index that only has to agree on both sides of its edge.
+    /// range and is counterclockwise (exact); adjacency is symmetric, never
+    /// reaches a dead slot, and each twin is the same edge reversed; an edge
+    /// carries the same subsegment on both sides, and an edge with no
+    /// neighbour carries one; every subsegment on a half-edge is alive and
+    /// has the edge's ends, and every live subsegment's [`Sub::he`] is a
+    /// half-edge carrying it. With `delaunay`, also
+    /// [`CMesh::check_delaunay`]: the mesh is a constrained Delaunay
+    /// triangulation. The CDT's working mesh and the kernel's arrays pass
+    /// too: dead slots (`DEAD`) are skipped, ghost triangles (`INF` in
+    /// position 2 only, never a ghost across their hull edge) are not
+    /// oriented, and with no subsegment records a label is an input segment
+    /// index that only has to agree on both sides of its edge.
     pub(crate) fn check(&self, delaunay: bool) -> Result<(), Violation> {
         let bad = |kind: &'static str, detail: String| Err(Violation::new(kind, detail));
         if self.sides.len() != self.tr.len() {
@@ -595,8 +596,11 @@ impl CMesh {
             if v[0] == DEAD {
                 continue;
             }
-            if v.iter().any(|&x| x as usize >= nv && !(ghost && x == INF)) {
-                return bad("vertex", format!("triangle {t} {v:?} out of range"));
+            if (0..3).any(|k| v[k] as usize >= nv && !(ghost && k == 2)) || v[0] == v[1] {
+                return bad(
+                    "vertex",
+                    format!("triangle {t} {v:?} out of range or repeated"),
+                );
             }
             if !ghost && orient2d(self.p(v[0]), self.p(v[1]), self.p(v[2])) <= 0.0 {
                 return bad("orientation", format!("triangle {t} {v:?}"));
@@ -621,7 +625,7 @@ impl CMesh {
                     continue;
                 }
                 let (n, j) = unpack(x);
-                if n >= self.tr.len() || self.tr[n].a[j] != pack(t, e) {
+                if n >= self.tr.len() || self.tr[n].v[0] == DEAD || self.tr[n].a[j] != pack(t, e) {
                     return bad("adjacency", format!("edge {e} of {t} -> ({n}, {j})"));
                 }
                 if edge(&self.tr[n].v, j) != (b, a) {
@@ -630,21 +634,14 @@ impl CMesh {
                         format!("edge {e} of {t} and ({n}, {j}) differ"),
                     );
                 }
+                if ghost && e == 2 && is_ghost(&self.tr[n].v) {
+                    return bad(
+                        "ghost",
+                        format!("ghost {t} has a ghost across its hull edge"),
+                    );
+                }
                 if self.sub_at(n, j) != s {
                     return bad("subsegment", format!("edge {e} of {t}: sides disagree"));
-                }
-                if delaunay
-                    && s == NONE
-                    && !ghost
-                    && !is_ghost(&self.tr[n].v)
-                    && incircle(
-                        self.p(v[0]),
-                        self.p(v[1]),
-                        self.p(v[2]),
-                        self.p(self.tr[n].v[j]),
-                    ) > 0.0
-                {
-                    return bad("delaunay", format!("edge {e} of {t} ({a}, {b})"));
                 }
             }
         }
@@ -658,6 +655,48 @@ impl CMesh {
                     "subsegment",
                     format!("{s}: its half-edge does not carry it"),
                 );
+            }
+        }
+        if delaunay {
+            self.check_delaunay(None)?;
+        }
+        Ok(())
+    }
+
+    /// Checks that every edge without a subsegment between two finite
+    /// triangles is locally Delaunay (exact incircle; cocircular neighbours
+    /// are allowed) or, with the weights `w` of the vertices, locally
+    /// regular (exact power test). The adjacency must be valid
+    /// ([`CMesh::check`]).
+    pub(crate) fn check_delaunay(&self, w: Option<&[f64]>) -> Result<(), Violation> {
+        for (t, tri) in self.tr.iter().enumerate() {
+            let v = tri.v;
+            if v[0] == DEAD || is_ghost(&v) {
+                continue;
+            }
+            for e in 0..3 {
+                if tri.a[e] == NONE || self.sub_at(t, e) != NONE {
+                    continue;
+                }
+                let (n, j) = unpack(tri.a[e]);
+                if n < t || is_ghost(&self.tr[n].v) {
+                    continue;
+                }
+                let d = self.tr[n].v[j];
+                let [a, b, c] = v.map(|x| self.p(x));
+                let det = match w {
+                    Some(w) => {
+                        let [wa, wb, wc] = v.map(|x| w[x as usize]);
+                        incircle_weighted(a, b, c, self.p(d), wa, wb, wc, w[d as usize])
+                    }
+                    None => incircle(a, b, c, self.p(d)),
+                };
+                if det > 0.0 {
+                    return Err(Violation::new(
+                        "delaunay",
+                        format!("vertex {d} of triangle {n} is inside the circumcircle of triangle {t} {v:?}"),
+                    ));
+                }
             }
         }
         Ok(())

@@ -11,7 +11,7 @@
 
 use delone_predicates::incircle;
 
-use super::constrain::{two_prod, two_sum};
+use crate::geom::{two_prod, two_sum};
 use crate::Violation;
 
 /// Sign of `(u - p)·(w - p)`, exactly (floating-point filter, then an
@@ -76,19 +76,10 @@ pub(crate) struct Grid {
 
 impl Grid {
     pub(crate) fn new(points: &[[f64; 2]], ids: &[u32]) -> Grid {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for &i in ids {
-            let p = points[i as usize];
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        if ids.is_empty() {
-            lo = [0.0; 2];
-            hi = [0.0; 2];
-        }
+        let [lo, hi] = match ids {
+            [] => [[0.0; 2]; 2],
+            _ => crate::geom::bbox(ids.iter().map(|&i| &points[i as usize])),
+        };
         let w = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(f64::MIN_POSITIVE);
         let area = (hi[0] - lo[0]).max(w * 1e-6) * (hi[1] - lo[1]).max(w * 1e-6);
         let h = (area / ids.len().max(1) as f64).sqrt().max(w / 4096.0);
@@ -235,18 +226,12 @@ pub fn check_conforming_delaunay(
             &points[v[1] as usize],
             &points[v[2] as usize],
         );
-        // Circumcentre relative to `a`, in floating point; the box is
-        // enlarged so that no vertex inside the circle is missed.
-        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
-        let d = 2.0 * (bx * cy - by * cx);
-        let (b2, c2) = (bx * bx + by * by, cx * cx + cy * cy);
-        let ux = (cy * b2 - by * c2) / d;
-        let uy = (bx * c2 - cx * b2) / d;
-        let r = ux.hypot(uy);
-        let (lo, hi) = if r.is_finite() && d > 0.0 {
+        // Circumcentre in floating point; the box is enlarged so that no
+        // vertex inside the circle is missed.
+        let o = super::voronoi::centre([a, b, c], [0.0; 3]);
+        let r = (o[0] - a[0]).hypot(o[1] - a[1]);
+        let (lo, hi) = if r.is_finite() {
             let m = r * (1.0 + 1e-6) + 1e-12 * (a[0].abs() + a[1].abs());
-            let o = [a[0] + ux, a[1] + uy];
             ([o[0] - m, o[1] - m], [o[0] + m, o[1] + m])
         } else {
             ([f64::NEG_INFINITY; 2], [f64::INFINITY; 2])

@@ -39,10 +39,11 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use delone_predicates::{incircle, orient2d};
 
 use super::cmesh::{CMesh, Ins, Tri, FLAGS, LABEL};
-use super::mesh::check_ccw;
+use super::conforming::Grid;
+use super::mesh::{check_edges, find_edge};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
-use crate::geom::{pow2_scale, scaled};
+use crate::geom::{pow2_scale, scaled, two_prod, two_sum};
 use crate::model::pslg::Pslg;
 use crate::{Error, Violation, NONE};
 
@@ -170,12 +171,6 @@ struct Work {
     touched: Vec<u32>,
 }
 
-/// Which side of the directed line `a -> b` `c` is on (exact sign).
-#[inline]
-fn side(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
-    orient2d(a, b, c)
-}
-
 impl Work {
     /// The working mesh of the kernel's arrays (vertices, packed adjacency).
     fn new(xy: Vec<[f64; 2]>, mut tv: Vec<[u32; 3]>, mut ta: Vec<[u32; 3]>) -> Work {
@@ -244,23 +239,26 @@ impl Work {
         self.cm.sub_at(t, e)
     }
 
+    /// The triangles around vertex `u`, each with `u`'s corner, from the
+    /// one in `vt` counterclockwise (across the edge `v[k+2] -> u`).
+    fn star(&self, u: u32) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let start = self.vt[u as usize] as usize;
+        let corner = move |t: usize| self.v(t).iter().position(|&x| x == u).map(|k| (t, k));
+        std::iter::successors(corner(start), move |&(t, k)| {
+            let n = unpack(self.a(t, NEXT[k])).0;
+            if n == start {
+                None
+            } else {
+                corner(n)
+            }
+        })
+        .take(self.cm.tr.len() + 1)
+    }
+
     /// The half-edge `u -> w` as (triangle, local edge), by rotating around `u`.
     fn find_edge(&self, u: u32, w: u32) -> Option<(usize, usize)> {
-        let start = self.vt[u as usize] as usize;
-        let mut t = start;
-        for _ in 0..self.cm.tr.len() + 1 {
-            let v = self.v(t);
-            let k = v.iter().position(|&x| x == u)?;
-            if v[NEXT[k]] == w {
-                return Some((t, PREV[k]));
-            }
-            // Counterclockwise around u: across the edge v[k+2] -> u.
-            t = unpack(self.a(t, NEXT[k])).0;
-            if t == start {
-                return None;
-            }
-        }
-        None
+        let (t, k) = self.star(u).find(|&(t, k)| self.v(t)[NEXT[k]] == w)?;
+        Some((t, PREV[k]))
     }
 
     fn set_vt(&mut self, t: usize) {
@@ -492,51 +490,33 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         }
         let (pa, pb) = (*w.p(a), *w.p(b));
         // The wedge at `a` that the segment leaves through.
-        let start = {
-            let t0 = w.vt[a as usize] as usize;
-            let mut t = t0;
-            let mut found = None;
-            for _ in 0..w.cm.tr.len() + 1 {
-                let v = w.v(t);
-                let Some(k) = v.iter().position(|&x| x == a) else {
-                    break;
-                };
-                let (p, q) = (v[NEXT[k]], v[PREV[k]]);
-                if p == b || q == b {
-                    found = Some(Start::Done);
-                    break;
-                }
-                let on_ray = |x: u32| {
-                    x != INF && side(&pa, &pb, w.p(x)) == 0.0 && {
-                        let px = w.p(x);
-                        (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
-                    }
-                };
-                if on_ray(p) {
-                    found = Some(Start::Vertex(p));
-                    break;
-                }
-                if on_ray(q) {
-                    found = Some(Start::Vertex(q));
-                    break;
-                }
-                if p != INF
-                    && q != INF
-                    && side(&pa, &pb, w.p(p)) < 0.0
-                    && side(&pa, &pb, w.p(q)) > 0.0
-                {
-                    found = Some(Start::Edge(t, k));
-                    break;
-                }
-                t = unpack(w.a(t, NEXT[k])).0;
-                if t == t0 {
-                    break;
-                }
+        let on_ray = |x: u32| {
+            x != INF && orient2d(&pa, &pb, w.p(x)) == 0.0 && {
+                let px = w.p(x);
+                (px[0] - pa[0]) * (pb[0] - pa[0]) + (px[1] - pa[1]) * (pb[1] - pa[1]) > 0.0
             }
-            match found {
-                Some(f) => f,
-                None => return Err(unresolved(s, s)),
+        };
+        let start = w.star(a).find_map(|(t, k)| {
+            let v = w.v(t);
+            let (p, q) = (v[NEXT[k]], v[PREV[k]]);
+            if p == b || q == b {
+                Some(Start::Done)
+            } else if on_ray(p) {
+                Some(Start::Vertex(p))
+            } else if on_ray(q) {
+                Some(Start::Vertex(q))
+            } else if p != INF
+                && q != INF
+                && orient2d(&pa, &pb, w.p(p)) < 0.0
+                && orient2d(&pa, &pb, w.p(q)) > 0.0
+            {
+                Some(Start::Edge(t, k))
+            } else {
+                None
             }
+        });
+        let Some(start) = start else {
+            return Err(unresolved(s, s));
         };
         let (mut t, mut i) = match start {
             Start::Done => {
@@ -583,7 +563,7 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
             if r == INF {
                 return Err(unresolved(s, s));
             }
-            let sr = side(&pa, &pb, w.p(r));
+            let sr = orient2d(&pa, &pb, w.p(r));
             if sr == 0.0 {
                 report.vertex_splits.push((out_id(r), s));
                 pending.push((r, b, s));
@@ -603,10 +583,10 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
                 return false;
             }
             let (px, py) = (w.p(x), w.p(y));
-            let s1 = side(&pa, &pe, px);
-            let s2 = side(&pa, &pe, py);
-            let s3 = side(px, py, &pa);
-            let s4 = side(px, py, &pe);
+            let s1 = orient2d(&pa, &pe, px);
+            let s2 = orient2d(&pa, &pe, py);
+            let s3 = orient2d(px, py, &pa);
+            let s4 = orient2d(px, py, &pe);
             s1 * s2 < 0.0 && s3 * s4 < 0.0
         };
         newe.clear();
@@ -658,37 +638,30 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
             .map(|r| r.v[0] != DEAD && !is_ghost(&r.v))
             .collect();
     let mut stack: Vec<usize> = Vec::new();
-    let flood = |w: &Work, alive: &mut Vec<bool>, stack: &mut Vec<usize>| {
+    // Flood fill across unconstrained edges from the triangles on `stack`
+    // into every neighbour that `enter` takes.
+    let flood = |w: &Work, stack: &mut Vec<usize>, enter: &mut dyn FnMut(usize) -> bool| {
         while let Some(t) = stack.pop() {
             for e in 0..3 {
-                if w.con(t, e) != NONE {
-                    continue;
-                }
-                let (nn, _) = unpack(w.a(t, e));
-                if alive[nn] {
-                    alive[nn] = false;
-                    stack.push(nn);
+                if w.con(t, e) == NONE && enter(unpack(w.a(t, e)).0) {
+                    stack.push(unpack(w.a(t, e)).0);
                 }
             }
         }
     };
+    let carve = |alive: &mut Vec<bool>, t: usize| std::mem::replace(&mut alive[t], false);
     if !options.convex_hull {
         for t in 0..nt {
             let v = w.v(t);
-            if v[0] == DEAD || !is_ghost(&v) {
-                continue;
-            }
             // Ghost edge 2 is the hull edge.
-            if w.con(t, 2) != NONE {
-                continue;
-            }
-            let (f, _) = unpack(w.a(t, 2));
-            if alive[f] {
-                alive[f] = false;
-                stack.push(f);
+            if v[0] != DEAD && is_ghost(&v) && w.con(t, 2) == NONE {
+                let (f, _) = unpack(w.a(t, 2));
+                if carve(&mut alive, f) {
+                    stack.push(f);
+                }
             }
         }
-        flood(&w, &mut alive, &mut stack);
+        flood(&w, &mut stack, &mut |n| carve(&mut alive, n));
     }
     let sc = |p: [f64; 2]| [p[0] * scale.0 * scale.1, p[1] * scale.0 * scale.1];
     // Each seed's walk starts where the previous one ended (seeds listed
@@ -698,10 +671,9 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         let found = w.cm.locate(last, &sc(*h), &mut w.rng);
         if let Some(t) = found {
             last = t;
-            if alive[t] {
-                alive[t] = false;
+            if carve(&mut alive, t) {
                 stack.push(t);
-                flood(&w, &mut alive, &mut stack);
+                flood(&w, &mut stack, &mut |n| carve(&mut alive, n));
             }
         }
     }
@@ -713,21 +685,16 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
         if !alive[t0] {
             continue;
         }
-        let mut seen = HashSet::new();
-        seen.insert(t0);
+        let mut seen = HashSet::from([t0]);
+        region[t0] = ri as u32;
         stack.push(t0);
-        while let Some(t) = stack.pop() {
-            region[t] = ri as u32;
-            for e in 0..3 {
-                if w.con(t, e) != NONE {
-                    continue;
-                }
-                let (nn, _) = unpack(w.a(t, e));
-                if alive[nn] && seen.insert(nn) {
-                    stack.push(nn);
-                }
+        flood(&w, &mut stack, &mut |n| {
+            let new = alive[n] && seen.insert(n);
+            if new {
+                region[n] = ri as u32;
             }
-        }
+            new
+        });
     }
 
     // Output. The subsegments first (the index of a bounding one becomes
@@ -841,61 +808,22 @@ pub(super) fn constrain(pslg: &Pslg, options: CdtOptions) -> Result<Constrained,
 }
 
 /// For every query point, the lowest-numbered triangle that contains it
-/// strictly (bucket grid over the triangles' bounding boxes: a triangle that
-/// contains a point is in that point's cell, and cell lists are in triangle
-/// order, so the answer equals a linear search's).
+/// strictly (the triangles in order, each testing the points in the cells
+/// of a [`Grid`] over the query points that its bounding box meets).
 fn first_containing(pts: &[[f64; 2]], tris: &[[u32; 3]], q: &[[f64; 2]]) -> Vec<Option<usize>> {
-    if q.is_empty() || tris.is_empty() {
-        return vec![None; q.len()];
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in pts {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let g = ((tris.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
-    let cell = |x: f64, k: usize| -> usize {
-        let w = hi[k] - lo[k];
-        if w.is_nan() || w <= 0.0 {
-            return 0;
-        }
-        let c = ((x - lo[k]) / w * g as f64).floor();
-        if c.is_nan() || c < 0.0 {
-            0
-        } else {
-            (c as usize).min(g - 1)
-        }
-    };
-    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); g * g];
+    let grid = Grid::new(q, &(0..q.len() as u32).collect::<Vec<_>>());
+    let mut found = vec![None; q.len()];
     for (t, v) in tris.iter().enumerate() {
-        let c = v.map(|x| pts[x as usize]);
-        let (x0, x1) = (
-            cell(c[0][0].min(c[1][0]).min(c[2][0]), 0),
-            cell(c[0][0].max(c[1][0]).max(c[2][0]), 0),
-        );
-        let (y0, y1) = (
-            cell(c[0][1].min(c[1][1]).min(c[2][1]), 1),
-            cell(c[0][1].max(c[1][1]).max(c[2][1]), 1),
-        );
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                cells[y * g + x].push(t as u32);
+        let [lo, hi] = crate::geom::bbox(v.iter().map(|&x| &pts[x as usize]));
+        grid.any_in(lo, hi, |k| {
+            let k = k as usize;
+            if found[k].is_none() && strictly_inside(pts, v, &q[k]) {
+                found[k] = Some(t);
             }
-        }
+            false
+        });
     }
-    q.iter()
-        .map(|p| {
-            if !(p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1]) {
-                return None;
-            }
-            cells[cell(p[1], 1) * g + cell(p[0], 0)]
-                .iter()
-                .map(|&t| t as usize)
-                .find(|&t| strictly_inside(pts, &tris[t], p))
-        })
-        .collect()
+    found
 }
 
 /// Strictly inside triangle `v`?
@@ -945,79 +873,42 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
     if cdt.neighbors.len() != nt || cdt.regions.len() != nt {
         return Err(Violation::new("storage", "column lengths differ"));
     }
-    let mut half: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * nt);
-    for (t, v) in cdt.triangles.iter().enumerate() {
-        if v.iter().any(|&x| x as usize >= pts.len()) {
+    let segset: HashSet<(u32, u32)> = cdt.segments.iter().map(|s| ukey(s.v[0], s.v[1])).collect();
+    // Counterclockwise triangles with symmetric adjacency; across each
+    // unconstrained edge, the constrained Delaunay property and one region.
+    let edges = check_edges(pts, &cdt.triangles, &cdt.neighbors, |t, i, n, j| {
+        let v = cdt.triangles[t as usize];
+        let (a, b) = edge(&v, i as usize);
+        if n < t || segset.contains(&ukey(a, b)) {
+            return Ok(());
+        }
+        let d = cdt.triangles[n as usize][j as usize];
+        let [pa, pb, pc] = v.map(|x| &pts[x as usize]);
+        if incircle(pa, pb, pc, &pts[d as usize]) > 0.0 {
             return Err(Violation::new(
-                "vertex",
-                format!("triangle {t} {v:?} out of range"),
+                "delaunay",
+                format!("vertex {d} is inside the circumcircle of triangle {t} {v:?} across unconstrained edge ({a},{b})"),
             ));
         }
-        check_ccw(pts, t, v)?;
-        for e in 0..3 {
-            if half.insert(edge(v, e), (t as u32, e)).is_some() {
-                return Err(Violation::new(
-                    "adjacency",
-                    format!("edge {:?} is used twice in the same direction", edge(v, e)),
-                ));
-            }
+        if cdt.regions[t as usize] != cdt.regions[n as usize] {
+            return Err(Violation::new(
+                "region",
+                format!(
+                    "triangles {t} and {n} differ in region across unconstrained edge ({a},{b})"
+                ),
+            ));
         }
-    }
-    let segset: HashSet<(u32, u32)> = cdt
-        .segments
-        .iter()
-        .map(|s| (s.v[0].min(s.v[1]), s.v[0].max(s.v[1])))
-        .collect();
-    for (t, v) in cdt.triangles.iter().enumerate() {
-        for e in 0..3 {
-            let (a, b) = edge(v, e);
-            let nb = cdt.neighbors[t][e];
-            let twin = half.get(&(b, a)).copied();
-            match (twin, nb) {
-                (None, NONE) => {}
-                (Some((n, j)), nb) if nb == n => {
-                    if cdt.neighbors[n as usize][j] != t as u32 {
-                        return Err(Violation::new(
-                            "adjacency",
-                            format!("triangle {t} edge {e} -> {n} is not symmetric"),
-                        ));
-                    }
-                    if n as usize > t && !segset.contains(&(a.min(b), a.max(b))) {
-                        let d = cdt.triangles[n as usize][j];
-                        if incircle(
-                            &pts[v[0] as usize],
-                            &pts[v[1] as usize],
-                            &pts[v[2] as usize],
-                            &pts[d as usize],
-                        ) > 0.0
-                        {
-                            return Err(Violation::new(
-                                "delaunay",
-                                format!("vertex {d} is inside the circumcircle of triangle {t} {v:?} across unconstrained edge ({a},{b})"),
-                            ));
-                        }
-                        if cdt.regions[t] != cdt.regions[n as usize] {
-                            return Err(Violation::new(
-                                "region",
-                                format!("triangles {t} and {n} differ in region across unconstrained edge ({a},{b})"),
-                            ));
-                        }
-                    }
-                }
-                _ => {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("triangle {t} edge {e} ({a},{b}) has neighbour {nb}, the mesh says {twin:?}"),
-                    ))
-                }
-            }
-        }
-    }
+        Ok(())
+    })?;
     // Subsegments: bounding ones are mesh edges.
     let mut adj: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
     for (k, s) in cdt.segments.iter().enumerate() {
         let [a, b] = s.v;
-        if s.bounding && !half.contains_key(&(a, b)) && !half.contains_key(&(b, a)) {
+        if s.bounding
+            && find_edge(&edges, a, b)
+                .or(find_edge(&edges, b, a))
+                .is_none()
+        {
             return Err(Violation::new(
                 "conformity",
                 format!("subsegment {k} ({a},{b}) is not a mesh edge"),
@@ -1147,21 +1038,6 @@ pub fn check_cdt(pslg: &Pslg, cdt: &Cdt) -> Result<(), Violation> {
 // `ulp(M) / sqrt(2) + O(2^-100 M)`, where `M` is the largest coordinate
 // magnitude involved. `check_cdt` accepts Steiner vertices within
 // `STEINER_ULPS` ulps of each of their lines.
-
-/// Exact sum `a + b = s + e`.
-#[inline]
-pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// Exact product `a * b = p + e`.
-#[inline]
-pub(super) fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
 
 /// Double-double sum.
 #[inline]

@@ -46,11 +46,9 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{
-    incircle, incircle_sos, incircle_weighted, incircle_weighted_sos, orient2d,
-};
+use delone_predicates::{incircle, incircle_sos, incircle_weighted_sos, orient2d};
 
-use super::mesh::check_ccw;
+use super::cmesh::{CMesh, Tri};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::TriMesh;
 use crate::geom::{brio_order, SplitMix64};
@@ -212,15 +210,9 @@ fn check_input(points: &[[f64; 2]]) -> Result<f64, Error> {
             requested: points.len(),
         });
     }
-    let mut max_abs = 0.0f64;
-    for (index, p) in points.iter().enumerate() {
-        if !(p[0].is_finite() && p[1].is_finite()) {
-            return Err(Error::InvalidCoordinate { index });
-        }
-        max_abs = max_abs.max(p[0].abs()).max(p[1].abs());
-    }
+    crate::geom::check::finite(points)?;
     crate::geom::scale::check_range(points, crate::geom::scale::RANGE_2D)?;
-    Ok(max_abs)
+    Ok(crate::geom::max_abs(points))
 }
 
 /// A weight scaled like squared coordinates (`scale` from `pow2_scale`;
@@ -243,13 +235,7 @@ fn weight_ok(w: f64) -> bool {
 
 /// Number of distinct points (used only on the error path).
 fn count_distinct(points: &[[f64; 2]]) -> usize {
-    let mut keys: Vec<(u64, u64)> = points
-        .iter()
-        .map(|p| {
-            // +0.0 normalises -0.0 so that equal coordinates give equal keys.
-            ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
-        })
-        .collect();
+    let mut keys: Vec<[u64; 2]> = points.iter().map(crate::model::key).collect();
     keys.sort_unstable();
     keys.dedup();
     keys.len()
@@ -1225,7 +1211,6 @@ impl<'a> Delaunay2<'a> {
     /// d.check_topology().unwrap();
     /// ```
     pub fn check_topology(&self) -> Result<(), Violation> {
-        let pts = &self.xy;
         let nt = self.tri_v.len();
         if self.tri_adj.len() != nt {
             return Err(Violation::new("storage", "column lengths differ"));
@@ -1255,12 +1240,13 @@ impl<'a> Delaunay2<'a> {
         if count != self.num_free {
             return Err(Violation::new("free list", "length mismatch"));
         }
-        let mut used = vec![false; pts.len()];
+        // Vertices, orientation, adjacency and ghosts of the live slots.
+        self.records().check(false)?;
+        let mut used = vec![false; self.xy.len()];
         let (mut live, mut ghosts) = (0usize, 0usize);
-        for (t, &is_free) in free.iter().enumerate() {
-            let v = self.tri_v[t];
+        for (t, v) in self.tri_v.iter().enumerate() {
             if v[0] == DEAD {
-                if !is_free {
+                if !free[t] {
                     return Err(Violation::new(
                         "free list",
                         format!("dead slot {t} is not on the free list"),
@@ -1269,65 +1255,9 @@ impl<'a> Delaunay2<'a> {
                 continue;
             }
             live += 1;
-            let ghost = is_ghost(&v);
-            ghosts += usize::from(ghost);
-            let finite = if ghost { 2 } else { 3 };
-            for (k, &x) in v.iter().enumerate() {
-                if k < finite {
-                    if x as usize >= pts.len() {
-                        return Err(Violation::new(
-                            "vertex",
-                            format!("triangle {t} has invalid vertex {x}"),
-                        ));
-                    }
-                    used[x as usize] = true;
-                } else if x != INF {
-                    return Err(Violation::new(
-                        "vertex",
-                        format!("triangle {t} has invalid vertex {x}"),
-                    ));
-                }
-            }
-            if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
-                return Err(Violation::new(
-                    "vertex",
-                    format!("triangle {t} {v:?} repeats a vertex"),
-                ));
-            }
-            if !ghost {
-                check_ccw(pts, t, &v)?;
-            }
-            for i in 0..3 {
-                let w = self.tri_adj[t][i];
-                let (n, j) = unpack(w);
-                if n >= nt || self.tri_v[n][0] == DEAD {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("triangle {t} edge {i} points to dead/invalid slot {n}"),
-                    ));
-                }
-                if self.tri_adj[n][j] != pack(t, i) {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("triangle {t} edge {i} -> {n}.{j} is not symmetric"),
-                    ));
-                }
-                let (a, b) = edge(&v, i);
-                let (c, d) = edge(&self.tri_v[n], j);
-                if (a, b) != (d, c) {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!(
-                            "triangle {t} edge {i} ({a},{b}) and triangle {n} edge {j} ({c},{d}) do not match"
-                        ),
-                    ));
-                }
-                if ghost && i == 2 && is_ghost(&self.tri_v[n]) {
-                    return Err(Violation::new(
-                        "ghost",
-                        format!("ghost {t} has a ghost across its hull edge"),
-                    ));
-                }
+            ghosts += usize::from(is_ghost(v));
+            for &x in v.iter().filter(|&&x| x != INF) {
+                used[x as usize] = true;
             }
         }
         if live != nt - self.num_free || ghosts != self.num_ghosts {
@@ -1374,43 +1304,21 @@ impl<'a> Delaunay2<'a> {
     /// d.check_delaunay().unwrap();
     /// ```
     pub fn check_delaunay(&self) -> Result<(), Violation> {
-        let pts = &self.xy;
-        for (t, v) in self.tri_v.iter().enumerate() {
-            if v[0] == DEAD || is_ghost(v) {
-                continue;
-            }
-            for i in 0..3 {
-                let (n, j) = unpack(self.tri_adj[t][i]);
-                let u = self.tri_v[n];
-                if n < t || is_ghost(&u) {
-                    continue;
-                }
-                let d = u[j];
-                let [a, b, c] = v.map(|x| x as usize);
-                let det = if self.weighted {
-                    let w = &self.w;
-                    incircle_weighted(
-                        &pts[a],
-                        &pts[b],
-                        &pts[c],
-                        &pts[d as usize],
-                        w[a],
-                        w[b],
-                        w[c],
-                        w[d as usize],
-                    )
-                } else {
-                    incircle(&pts[a], &pts[b], &pts[c], &pts[d as usize])
-                };
-                if det > 0.0 {
-                    return Err(Violation::new(
-                        "delaunay",
-                        format!("vertex {d} of triangle {n} is inside the circumcircle of triangle {t} {v:?}"),
-                    ));
-                }
-            }
-        }
-        Ok(())
+        self.records()
+            .check_delaunay(self.weighted.then_some(&self.w[..]))
+    }
+
+    /// The kernel's arrays as the records of the constrained mesh (a copy,
+    /// for the checkers: one checker of the triangle records).
+    fn records(&self) -> CMesh {
+        let tr = self.tri_v.iter().zip(&self.tri_adj);
+        let tr = tr.map(|(&v, &a)| Tri {
+            v,
+            a,
+            orig: NONE,
+            mark: 0,
+        });
+        CMesh::new(self.xy.clone(), tr.collect())
     }
 
     /// The kernel's working arrays, for the constrained triangulation:

@@ -14,6 +14,7 @@
 //! pieces draw correctly with the non-zero fill rule.
 
 use super::voronoi::{clip_half, moments, Voronoi2};
+use crate::geom::bbox;
 use crate::Error;
 
 /// Cells intersected with a polygonal domain ([`Voronoi2::cells_in_domain`]).
@@ -31,18 +32,6 @@ pub struct DomainCells2 {
 /// Twice the signed area of `ring` (positive when counterclockwise).
 fn signed_area2(ring: &[[f64; 2]]) -> f64 {
     moments(ring, &[0.0; 2]).0
-}
-
-/// The bounding box `[min, max]` of `pts` (inverted when empty).
-fn bbox<'a>(pts: impl IntoIterator<Item = &'a [f64; 2]>) -> [[f64; 2]; 2] {
-    let mut bb = [[f64::INFINITY; 2], [f64::NEG_INFINITY; 2]];
-    for p in pts {
-        for k in 0..2 {
-            bb[0][k] = bb[0][k].min(p[k]);
-            bb[1][k] = bb[1][k].max(p[k]);
-        }
-    }
-    bb
 }
 
 /// Winding number of `ring` around `x` (non-zero: inside).

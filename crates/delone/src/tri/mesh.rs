@@ -2,6 +2,9 @@
 
 use delone_predicates::{incircle, incircle_weighted, orient2d};
 
+use super::cmesh::CMesh;
+use crate::geom::brio_order;
+use crate::model::key;
 use crate::{Violation, NONE};
 
 /// A triangulation in flat arrays, as returned by [`crate::triangulate`].
@@ -32,12 +35,6 @@ pub struct TriMesh {
     pub hidden: Vec<u32>,
 }
 
-/// Coordinates as a sortable key; `-0.0` and `0.0` give the same key (the
-/// points compare equal).
-fn key(p: &[f64; 2]) -> (u64, u64) {
-    ((p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits())
-}
-
 /// Triangle `t` (`v`, vertices in range) is strictly counterclockwise
 /// (exact orientation).
 pub(crate) fn check_ccw(points: &[[f64; 2]], t: usize, v: &[u32; 3]) -> Result<(), Violation> {
@@ -51,8 +48,72 @@ pub(crate) fn check_ccw(points: &[[f64; 2]], t: usize, v: &[u32; 3]) -> Result<(
     )
 }
 
-fn err(kind: &'static str, detail: String) -> Result<(), Violation> {
+fn err<T>(kind: &'static str, detail: String) -> Result<T, Violation> {
     Err(Violation::new(kind, detail))
+}
+
+/// Checks `triangles` on `points` with their `neighbors`: vertices in
+/// range, counterclockwise triangles (exact), no edge used twice in the same
+/// direction, and across every edge the triangle holding its twin, or
+/// [`NONE`] where there is none. `interior(t, i, u, j)` is called on every
+/// edge `i` of triangle `t` whose twin is edge `j` of `u` (so on each
+/// interior edge once from each side). Returns the directed edges
+/// `(a, b, t, i)`, sorted.
+pub(crate) fn check_edges(
+    points: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    neighbors: &[[u32; 3]],
+    mut interior: impl FnMut(u32, u8, u32, u8) -> Result<(), Violation>,
+) -> Result<Vec<(u32, u32, u32, u8)>, Violation> {
+    let mut edges: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * triangles.len());
+    for (t, v) in triangles.iter().enumerate() {
+        if let Some(x) = v.iter().find(|&&x| x as usize >= points.len()) {
+            return Err(Violation::new(
+                "vertex",
+                format!("triangle {t} has vertex {x} out of range"),
+            ));
+        }
+        check_ccw(points, t, v)?;
+        for i in 0..3 {
+            edges.push((v[(i + 1) % 3], v[(i + 2) % 3], t as u32, i as u8));
+        }
+    }
+    edges.sort_unstable();
+    for w in edges.windows(2) {
+        if (w[0].0, w[0].1) == (w[1].0, w[1].1) {
+            return err(
+                "manifold",
+                format!(
+                    "edge ({}, {}) is used in the same direction by triangles {} and {}",
+                    w[0].0, w[0].1, w[0].2, w[1].2
+                ),
+            );
+        }
+    }
+    for &(a, b, t, i) in &edges {
+        let nb = neighbors[t as usize][i as usize];
+        let twin = find_edge(&edges, b, a);
+        if twin.map_or(NONE, |e| e.2) != nb {
+            return err(
+                "adjacency",
+                format!("triangle {t} edge {i} ({a}, {b}) has neighbour {nb}, the twin edge is in {twin:?}"),
+            );
+        }
+        if let Some((_, _, u, j)) = twin {
+            interior(t, i, u, j)?;
+        }
+    }
+    Ok(edges)
+}
+
+/// The directed edge `a -> b` in the sorted `edges` of [`check_edges`].
+pub(crate) fn find_edge(
+    edges: &[(u32, u32, u32, u8)],
+    a: u32,
+    b: u32,
+) -> Option<(u32, u32, u32, u8)> {
+    let k = edges.binary_search_by(|e| (e.0, e.1).cmp(&(a, b))).ok()?;
+    Some(edges[k])
 }
 
 /// Checks `mesh` against `points` independently of how it was built (it does
@@ -161,19 +222,31 @@ fn validate_impl(
     if nt == 0 {
         return err("size", "no triangles".into());
     }
-    // Vertices in range, distinct, counterclockwise.
-    let mut used = vec![false; n];
-    for (t, v) in mesh.triangles.iter().enumerate() {
-        for &x in v {
-            if x as usize >= n {
-                return err(
-                    "vertex",
-                    format!("triangle {t} has vertex {x} out of range"),
-                );
+    // Vertices in range, counterclockwise triangles, neighbours across
+    // twin edges; every interior edge locally Delaunay: the apex of `u` is
+    // not inside `t`'s circle.
+    let edges = check_edges(points, &mesh.triangles, &mesh.neighbors, |t, _, u, j| {
+        let d = mesh.triangles[u as usize][j as usize];
+        let tv = mesh.triangles[t as usize];
+        let [p, q, r] = tv.map(|x| &points[x as usize]);
+        let det = match weights {
+            Some(w) => {
+                let [wp, wq, wr] = tv.map(|x| w[x as usize]);
+                incircle_weighted(p, q, r, &points[d as usize], wp, wq, wr, w[d as usize])
             }
-            used[x as usize] = true;
+            None => incircle(p, q, r, &points[d as usize]),
+        };
+        if det > 0.0 {
+            return err(
+                "delaunay",
+                format!("vertex {d} of triangle {u} is inside the circumcircle of triangle {t}"),
+            );
         }
-        check_ccw(points, t, v)?;
+        Ok(())
+    })?;
+    let mut used = vec![false; n];
+    for &x in mesh.triangles.iter().flatten() {
+        used[x as usize] = true;
     }
     // Duplicates: group equal points, the smallest index represents them.
     let mut ids: Vec<u32> = (0..n as u32).collect();
@@ -227,93 +300,24 @@ fn validate_impl(
             expected_dups.push((i as u32, r));
         }
     }
+    let list = |kind: &'static str, got: usize, want: usize| {
+        err(
+            kind,
+            format!("{kind} list has {got} entries, expected {want}"),
+        )
+    };
     if mesh.duplicates != expected_dups {
-        return err(
-            "duplicates",
-            format!(
-                "duplicates list has {} entries, expected {}",
-                mesh.duplicates.len(),
-                expected_dups.len()
-            ),
-        );
+        return list("duplicates", mesh.duplicates.len(), expected_dups.len());
     }
     if mesh.hidden != expected_hidden {
-        return err(
-            "hidden",
-            format!(
-                "hidden list has {} entries, expected {} (the unused points)",
-                mesh.hidden.len(),
-                expected_hidden.len()
-            ),
-        );
+        return list("hidden", mesh.hidden.len(), expected_hidden.len());
     }
-    // Directed edges (a, b, t, i), sorted for lookup.
-    let mut edges: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * nt);
-    for (t, v) in mesh.triangles.iter().enumerate() {
-        for i in 0..3 {
-            edges.push((v[(i + 1) % 3], v[(i + 2) % 3], t as u32, i as u8));
-        }
-    }
-    edges.sort_unstable();
-    for w in edges.windows(2) {
-        if (w[0].0, w[0].1) == (w[1].0, w[1].1) {
-            return err(
-                "manifold",
-                format!(
-                    "edge ({}, {}) is used in the same direction by triangles {} and {}",
-                    w[0].0, w[0].1, w[0].2, w[1].2
-                ),
-            );
-        }
-    }
-    let find = |a: u32, b: u32| {
-        edges
-            .binary_search_by(|e| (e.0, e.1).cmp(&(a, b)))
-            .ok()
-            .map(|k| edges[k])
-    };
-    let mut hull: Vec<(u32, u32)> = Vec::new();
-    for &(a, b, t, i) in &edges {
-        let nb = mesh.neighbors[t as usize][i as usize];
-        match find(b, a) {
-            None => {
-                if nb != NONE {
-                    return err(
-                        "adjacency",
-                        format!("triangle {t} edge {i} ({a}, {b}) is on the hull but has neighbour {nb}"),
-                    );
-                }
-                hull.push((a, b));
-            }
-            Some((_, _, u, j)) => {
-                if nb != u {
-                    return err(
-                        "adjacency",
-                        format!("triangle {t} edge {i} ({a}, {b}) has neighbour {nb}, but triangle {u} shares it"),
-                    );
-                }
-                // Locally Delaunay: the apex of u is not inside t's circle.
-                let d = mesh.triangles[u as usize][j as usize];
-                let tv = mesh.triangles[t as usize];
-                let [p, q, r] = tv.map(|x| &points[x as usize]);
-                let det = match weights {
-                    Some(w) => {
-                        let [wp, wq, wr] = tv.map(|x| w[x as usize]);
-                        incircle_weighted(p, q, r, &points[d as usize], wp, wq, wr, w[d as usize])
-                    }
-                    None => incircle(p, q, r, &points[d as usize]),
-                };
-                if det > 0.0 {
-                    return err(
-                        "delaunay",
-                        format!(
-                            "vertex {d} of triangle {u} is inside the circumcircle of triangle {t} (edge ({a}, {b}))"
-                        ),
-                    );
-                }
-            }
-        }
-    }
+    // The hull: the edges without a twin, sorted by their start vertex.
+    let hull: Vec<(u32, u32)> = edges
+        .iter()
+        .filter(|e| find_edge(&edges, e.1, e.0).is_none())
+        .map(|e| (e.0, e.1))
+        .collect();
     // Hull: one closed cycle, convex (left turns, no reversal), winding once.
     // `hull` is sorted by its start vertex (the edges were).
     let next = |a: u32| {
@@ -397,68 +401,20 @@ fn validate_impl(
 }
 
 /// Every hidden point lies in the closed hull and on or above the lifted
-/// triangle that contains it. The mesh's topology is already validated.
+/// triangle that contains it (located by [`CMesh::locate`], visiting the
+/// hidden points in [`brio_order`] so that each walk starts near the
+/// previous answer). The mesh's topology is already validated.
 fn check_hidden(points: &[[f64; 2]], w: &[f64], mesh: &TriMesh) -> Result<(), Violation> {
-    // Visit the hidden points in Morton order so that each walk starts near
-    // the previous answer.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for &h in &mesh.hidden {
-        let p = points[h as usize];
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let morton = |p: &[f64; 2]| {
-        let mut code = 0u64;
-        for k in 0..2 {
-            let span = hi[k] - lo[k];
-            let c = if span > 0.0 {
-                (((p[k] - lo[k]) / span) * 65535.0) as u64
-            } else {
-                0
-            };
-            for bit in 0..16 {
-                code |= ((c >> bit) & 1) << (2 * bit + k);
-            }
-        }
-        code
-    };
-    let mut order = mesh.hidden.clone();
-    order.sort_by_key(|&h| (morton(&points[h as usize]), h));
-    let mut t = 0usize;
-    let mut rng = 0x2545_f491u32;
-    let limit = 4 * mesh.triangles.len() + 64;
-    for &h in &order {
+    let cm = CMesh::from_triangles(points.to_vec(), &mesh.triangles, &mesh.neighbors);
+    let hidden: Vec<[f64; 2]> = mesh.hidden.iter().map(|&h| points[h as usize]).collect();
+    let (mut t, mut rng) = (0, 0x2545_f491u32);
+    for k in brio_order(&hidden) {
+        let h = mesh.hidden[k as usize];
         let q = &points[h as usize];
-        let mut steps = 0;
-        'walk: loop {
-            steps += 1;
-            if steps > limit {
-                return err("hidden", format!("hidden point {h} could not be located"));
-            }
-            let v = mesh.triangles[t];
-            rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            let r = (rng >> 16) as usize % 3;
-            for k in 0..3 {
-                let e = (r + k) % 3;
-                let (a, b) = (v[(e + 1) % 3], v[(e + 2) % 3]);
-                if orient2d(&points[a as usize], &points[b as usize], q) < 0.0 {
-                    let u = mesh.neighbors[t][e];
-                    if u == NONE {
-                        return err(
-                            "hidden",
-                            format!(
-                                "hidden point {h} is outside the hull (beyond edge ({a}, {b}))"
-                            ),
-                        );
-                    }
-                    t = u as usize;
-                    continue 'walk;
-                }
-            }
-            break;
-        }
+        let Some(found) = cm.locate(t, q, &mut rng) else {
+            return err("hidden", format!("hidden point {h} is outside the hull"));
+        };
+        t = found;
         let v = mesh.triangles[t];
         let [a, b, c] = v.map(|x| &points[x as usize]);
         let [wa, wb, wc] = v.map(|x| w[x as usize]);

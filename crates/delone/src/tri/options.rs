@@ -1,7 +1,10 @@
 //! [`TriOptions`]: what [`crate::tri::mesh()`] does, as a plain struct or as
 //! the switch string of `delone tri` (Triangle's letters).
 
-use crate::switches::{self, first_unused, number, Letters, OutputSwitches, Program, SwitchError};
+use crate::switches::{
+    self, first_unused, number, out_of_range, positive, Letters, OutputSwitches, Program,
+    SwitchError,
+};
 use crate::tri::refine::SegmentSplits;
 
 /// The options of the 2D pipeline ([`crate::tri::mesh()`]) and of
@@ -125,11 +128,7 @@ impl Letters for TriOptions {
     }
 
     fn letter(&mut self, c: char, num: &str) -> Result<bool, SwitchError> {
-        let range = |why| SwitchError::OutOfRange {
-            letter: c,
-            text: num.to_string(),
-            why,
-        };
+        let range = |why| out_of_range(c, num, why);
         match c {
             'q' => {
                 let a = number(c, num)?.unwrap_or(20.0);
@@ -140,12 +139,8 @@ impl Letters for TriOptions {
             }
             'a' => {
                 self.regional_areas = true;
-                if let Some(x) = number(c, num)? {
-                    if x <= 0.0 {
-                        return Err(range("the maximum area must be positive"));
-                    }
-                    self.max_area = Some(x);
-                }
+                let why = "the maximum area must be positive";
+                self.max_area = positive(c, num, why)?.or(self.max_area);
             }
             'S' => self.max_steiner = Some(number(c, num)?.unwrap_or(0.0) as usize),
             'P' => self.no_poly = true,

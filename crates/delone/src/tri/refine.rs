@@ -140,32 +140,19 @@ pub use options::{
 /// meets it on a given domain is decided by running, under the Steiner
 /// budget.
 fn check_bounds(options: &RefineOptions) -> Result<(), Error> {
-    if let Some(a) = options.min_angle {
-        let reason = if a.is_nan() || a < 0.0 {
-            Some("the minimum angle must be a number of degrees, 0 or more")
-        } else if a >= 60.0 {
-            Some("no mesh meets a minimum angle of 60 degrees or more (only equilateral triangles reach 60, and none has corners at floating-point coordinates)")
-        } else {
-            None
-        };
-        if let Some(reason) = reason {
-            return Err(Error::InvalidBound {
-                option: "-q",
-                value: a,
-                reason,
-            });
-        }
+    let bad = |option, value, reason| {
+        Err(Error::InvalidBound {
+            option,
+            value,
+            reason,
+        })
+    };
+    match (options.min_angle, options.max_area) {
+        (Some(a), _) if a.is_nan() || a < 0.0 => bad("-q", a, "the minimum angle must be a number of degrees, 0 or more"),
+        (Some(a), _) if a >= 60.0 => bad("-q", a, "no mesh meets a minimum angle of 60 degrees or more (only equilateral triangles reach 60, and none has corners at floating-point coordinates)"),
+        (_, Some(a)) if a.is_nan() || a <= 0.0 => bad("-a", a, "the maximum area must be positive"),
+        _ => Ok(()),
     }
-    if let Some(a) = options.max_area {
-        if a.is_nan() || a <= 0.0 {
-            return Err(Error::InvalidBound {
-                option: "-a",
-                value: a,
-                reason: "the maximum area must be positive",
-            });
-        }
-    }
-    Ok(())
 }
 
 /// Refines a constrained Delaunay triangulation until every triangle meets

@@ -30,6 +30,7 @@
 
 use delone_predicates::orient2d;
 
+use super::topo::{NEXT, PREV};
 use super::TriMesh;
 use crate::{Error, NONE};
 
@@ -169,7 +170,7 @@ pub struct Voronoi2 {
 /// bits: `|d|² + (0 - 0) = |d|²`). Computed relative to the corner opposite
 /// the longest edge (no cancellation for slivers).
 #[inline]
-fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
+pub(crate) fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
     let l2 = |p: &[f64; 2], q: &[f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
     let (la, lb, lc) = (l2(q[1], q[2]), l2(q[2], q[0]), l2(q[0], q[1]));
     // Rotate (keeping the orientation) so that `a` is opposite the longest
@@ -200,10 +201,6 @@ fn centre(q: [&[f64; 2]; 3], w: [f64; 3]) -> [f64; 2] {
         a[1] + (dx * e2 - ex * d2) * k,
     ]
 }
-
-/// The next and previous corner of a triangle.
-const NEXT: [usize; 3] = [1, 2, 0];
-const PREV: [usize; 3] = [2, 0, 1];
 
 /// The part of the triangles (in 64ths) whose stars the calling thread walks
 /// when [`Voronoi2`] runs on two threads; the other thread first computes

@@ -221,24 +221,17 @@ impl Mesh {
         };
         self.vpar.push(sub.parent);
         self.subs[s as usize].alive = false;
-        self.subs.push(Sub {
-            v: [u, nv],
-            he: NONE,
-            t: [sub.t[0], tm],
-            parent: sub.parent,
-            alive: true,
-            stuck: false,
-            protected: false,
-        });
-        self.subs.push(Sub {
-            v: [nv, w],
-            he: NONE,
-            t: [tm, sub.t[1]],
-            parent: sub.parent,
-            alive: true,
-            stuck: false,
-            protected: false,
-        });
+        for (v, t) in [([u, nv], [sub.t[0], tm]), ([nv, w], [tm, sub.t[1]])] {
+            self.subs.push(Sub {
+                v,
+                he: NONE,
+                t,
+                parent: sub.parent,
+                alive: true,
+                stuck: false,
+                protected: false,
+            });
+        }
         // The halves lie on fan edges 1 and 2.
         for i in 0..self.fan.len() {
             let f = self.fan[i] as usize;

@@ -571,14 +571,7 @@ fn bisect(ids: &mut [u32], cen: &[[f64; 2]], w: &[f64], parts: usize, first: u32
         }
         return;
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for &t in ids.iter() {
-        let c = cen[t as usize];
-        for k in 0..2 {
-            lo[k] = lo[k].min(c[k]);
-            hi[k] = hi[k].max(c[k]);
-        }
-    }
+    let [lo, hi] = crate::geom::bbox(ids.iter().map(|&t| &cen[t as usize]));
     let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
     ids.sort_unstable_by(|&a, &b| {
         cen[a as usize][axis]
