@@ -770,11 +770,7 @@ fn optimize_once(
         ..OptimizeReport::default()
     };
     if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        let sums = surface_angles(rec);
-        (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
-        (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
-        triangle_angles(rec, &mut report);
-        report.bad = bad_cells(rec, &sums, opts.min_dihedral);
+        surface_bounds(rec, opts.min_dihedral, &mut report);
         return report;
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -872,7 +868,6 @@ fn optimize_once(
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
         let lift = (MIN_LIFT * best.1 as f64) as usize;
-        let half = (deg / 2.0).to_radians().sin();
         'rounds: loop {
             let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
@@ -902,7 +897,7 @@ fn optimize_once(
                 let e = w.evals.get();
                 if e >= check {
                     let now = standing(&w, thr);
-                    let lifted = if now.0 < half { lift } else { 0 };
+                    let lifted = lift * usize::from(now.0 < (0.5 * deg).to_radians().sin());
                     if now.0 > best.0 + 1e-4 || now.1 + lifted < best.1 {
                         paid = e;
                     } else if e - paid >= (PATIENCE * window).max((e - start) / 2) {
@@ -975,11 +970,7 @@ fn optimize_once(
     report.evaluations = w.evals.get();
     let old_id = write_back(rec, &w, s, n_in);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    let sums = surface_angles(rec);
-    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
-    report.bad = bad_cells(rec, &sums, opts.min_dihedral);
-    (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
-    triangle_angles(rec, &mut report);
+    surface_bounds(rec, opts.min_dihedral, &mut report);
     stuck(
         rec,
         &w,
@@ -989,6 +980,16 @@ fn optimize_once(
         &mut report,
     );
     report
+}
+
+/// The report's bounds of the input surface (its smallest dihedral angles,
+/// its triangles' angles) and the tetrahedra of `rec` outside `min_dihedral`.
+fn surface_bounds(rec: &Recovered, min_dihedral: f64, report: &mut OptimizeReport) {
+    let sums = surface_angles(rec);
+    (report.input_min_dihedral, report.input_min_edge) = input_min_dihedral(&sums);
+    (report.triangles_min_dihedral, report.triangles_min_edge) = triangles_min_dihedral(rec);
+    triangle_angles(rec, report);
+    report.bad = bad_cells(rec, &sums, min_dihedral);
 }
 
 /// The worst quality of the live tetrahedra of `w` and how many are below
