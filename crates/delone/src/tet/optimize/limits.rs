@@ -52,10 +52,8 @@ impl Limits {
     /// module doc); 0 without bounds.
     pub(super) fn excess(&self, p: &[[f64; 3]; 4], region: u32) -> f64 {
         let mut e: f64 = 0.0;
-        if let Some(&mv) = self.vol.get(region as usize) {
-            if mv.is_finite() {
-                e = e.max(quality::volume(p).abs() / mv);
-            }
+        if let Some(&mv) = self.vol.get(region as usize).filter(|v| v.is_finite()) {
+            e = e.max(quality::volume(p).abs() / mv);
         }
         if self.ratio.is_finite() {
             e = e.max(quality::radius_edge_ratio(p) / self.ratio);
@@ -63,8 +61,7 @@ impl Limits {
         if !self.sizing.is_none() {
             if let Some(c) = quality::circumcenter(p) {
                 let r = (0..3).map(|k| (c[k] - p[0][k]).powi(2)).sum::<f64>().sqrt();
-                let h = self.sizing.size_at(c.map(|x| x / self.scale));
-                if let Some(h) = h {
+                if let Some(h) = self.sizing.size_at(c.map(|x| x / self.scale)) {
                     e = e.max(r / (cell_radius_bound(h) * self.scale));
                 }
             }
