@@ -32,7 +32,10 @@
 //! two side tests of the other triangle's far vertices settle almost every
 //! pair of a closed surface. Side tests use a per-triangle plane (normal and
 //! the magnitudes of its products) with the error bound of `orient3d`'s
-//! floating-point stage, falling back to exact `orient3d`. Canonical ids
+//! floating-point stage, falling back to exact `orient3d`; two triangles
+//! of one group of exactly coplanar edge neighbours ([`coplanar_groups`],
+//! one exact test per shared edge) skip the side tests, which would all
+//! take that exact fallback (the planar faces of CAD models). Canonical ids
 //! (exact duplicate points) come from a sort, not a hash map.
 //! [`manifold_report`] files edges under their smaller endpoint (counting
 //! sort, insertion sort per bucket): no global sort, no edge map.
@@ -42,8 +45,10 @@
 //! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
+use crate::geom::union_root;
 use crate::geom::vec3::{collinear, projection_axes};
 use crate::model::canonical_ids;
+use crate::tet::local::ekey;
 use delone_predicates::{orient2d, orient3d};
 
 type P = [f64; 3];
@@ -132,6 +137,8 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
         .iter()
         .map(|t| Plane::new(t.map(|v| &points[v as usize])))
         .collect();
+    // Pairs in one coplanar group need no side test (all signs are zero).
+    let group = coplanar_groups(points, &tri_c, &[]);
     // Bounding boxes and the grid.
     let bb: Vec<(P, P)> = live
         .iter()
@@ -276,13 +283,9 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
                         }
                         let (li, lj) = (here[k] as usize, here[l] as usize);
                         let (ti, tj) = (live[li], live[lj]);
-                        if intersect_with_planes(
-                            points,
-                            tri_c[li],
-                            tri_c[lj],
-                            &planes[li],
-                            &planes[lj],
-                        ) {
+                        let pl = (&planes[li], &planes[lj]);
+                        let flat = group[li] == group[lj];
+                        if intersect_with_planes(points, tri_c[li], tri_c[lj], pl, flat) {
                             out.pairs.push((ti.min(tj), ti.max(tj)));
                         }
                     }
@@ -293,6 +296,113 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     out.pairs.sort_unstable();
     out.pairs.dedup();
     out
+}
+
+/// Per triangle: its group of exactly coplanar, consistently oriented
+/// neighbours (the lowest triangle index in it): the connected components
+/// of "shares an edge that is in exactly these two triangles, the fourth
+/// point is on the first's plane (exact `orient3d`), the two lie on
+/// opposite sides of the edge and, when `marker` (empty or one per
+/// triangle) is given, carry the same marker". Every triangle of a group
+/// lies on one plane. The recovery merges these groups into facets; the
+/// pair test of [`self_intersections`] knows their pairs coplanar.
+pub(crate) fn coplanar_groups(
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    marker: &[i32],
+) -> Vec<u32> {
+    // The triangles of each edge side by side: (larger end, triangle)
+    // filed under the smaller end by a counting sort, each (short) bucket
+    // then sorted (no map of lists, no global sort). Union-find links roots
+    // to the lower one, so the groups do not depend on the visiting order.
+    let nv = triangles
+        .iter()
+        .flat_map(|tv| tv.iter())
+        .map(|&q| q as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut start = vec![0u32; nv + 1];
+    for tv in triangles {
+        for k in 0..3 {
+            start[ekey(tv[k], tv[(k + 1) % 3]).0 as usize + 1] += 1;
+        }
+    }
+    for i in 0..nv {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut by_edge: Vec<(u32, u32)> = vec![(0, 0); 3 * triangles.len()];
+    for (t, tv) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (lo, hi) = ekey(tv[k], tv[(k + 1) % 3]);
+            by_edge[fill[lo as usize] as usize] = (hi, t as u32);
+            fill[lo as usize] += 1;
+        }
+    }
+    drop(fill);
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    let g = |q: u32| &points[q as usize];
+    let mut runs: Vec<(u32, u32, u32, usize)> = Vec::new();
+    for u in 0..nv {
+        let bucket = &mut by_edge[start[u] as usize..start[u + 1] as usize];
+        bucket.sort_unstable();
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
+                j += 1;
+            }
+            if j - i == 2 {
+                runs.push((u as u32, bucket[i].0, bucket[i].1, bucket[i + 1].1 as usize));
+            }
+            i = j;
+        }
+    }
+    for (u, v, t1, t2) in runs {
+        if t1 as usize == t2 {
+            continue;
+        }
+        let (t1, t2) = (t1 as usize, t2);
+        if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
+            continue;
+        }
+        let (a, b) = (triangles[t1], triangles[t2]);
+        // Directed use of u -> v in each.
+        let dir = |tv: [u32; 3]| (0..3).any(|k| tv[k] == u && tv[(k + 1) % 3] == v);
+        if dir(a) == dir(b) {
+            continue;
+        }
+        let Some(&c) = a.iter().find(|&&q| q != u && q != v) else {
+            continue;
+        };
+        let Some(&d) = b.iter().find(|&&q| q != u && q != v) else {
+            continue;
+        };
+        if orient3d(g(a[0]), g(a[1]), g(a[2]), g(d)) != 0.0 {
+            continue;
+        }
+        let Some((x, y)) = projection_axes(g(a[0]), g(a[1]), g(a[2])) else {
+            continue;
+        };
+        let q = |w: u32| [g(w)[x], g(w)[y]];
+        let (oc, od) = (orient2d(&q(u), &q(v), &q(c)), orient2d(&q(u), &q(v), &q(d)));
+        // Opposite sides of the edge: same normal (the edge is used in
+        // opposite directions).
+        if oc == 0.0 || od == 0.0 || (oc > 0.0) == (od > 0.0) {
+            continue;
+        }
+        let (r1, r2) = (
+            union_root(&mut parent, t1 as u32),
+            union_root(&mut parent, t2 as u32),
+        );
+        if r1 != r2 {
+            let (lo, hi) = (r1.min(r2), r1.max(r2));
+            parent[hi as usize] = lo;
+        }
+    }
+    (0..triangles.len() as u32)
+        .map(|t| union_root(&mut parent, t))
+        .collect()
 }
 
 /// [`self_intersections`] as a typed result.
@@ -343,7 +453,7 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 #[cfg(test)]
 fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     let plane = |t: [u32; 3]| Plane::new(t.map(|v| &pts[v as usize]));
-    intersect_with_planes(pts, a, b, &plane(a), &plane(b))
+    intersect_with_planes(pts, a, b, (&plane(a), &plane(b)), false)
 }
 
 /// The plane of a triangle `(o, p1, p2)` for a cheap filtered side test:
@@ -402,9 +512,18 @@ impl Plane {
     }
 }
 
-/// The triangle-pair test (`triangles_intersect`) with the planes of `a` and `b` given.
+/// The triangle-pair test (`triangles_intersect`) with the planes of `a`
+/// and `b` given; `flat`: the two are known to lie on one plane (every
+/// side test is zero, [`coplanar_groups`]).
 #[inline]
-fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b: &Plane) -> bool {
+fn intersect_with_planes(
+    pts: &[P],
+    a: [u32; 3],
+    b: [u32; 3],
+    (pl_a, pl_b): (&Plane, &Plane),
+    flat: bool,
+) -> bool {
+    let side = |pl: &Plane, t: [&P; 3], q: &P| if flat { 0 } else { pl.side(t, q) };
     // Bit 3i + j: a[i] == b[j]. The vertices of a non-degenerate triangle
     // are distinct points, so each vertex matches at most once.
     let eq = u32::from(a[0] == b[0])
@@ -418,7 +537,7 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
         | u32::from(a[2] == b[2]) << 8;
     let p = |v: u32| &pts[v as usize];
     match eq.count_ones() {
-        0 => disjoint_vertices_intersect(pts, a, b, pl_a, pl_b),
+        0 => disjoint_vertices_intersect(pts, a, b, side, (pl_a, pl_b)),
         1 => {
             // One shared vertex a[i] = b[j]: the triangles meet elsewhere
             // only if the edge opposite it in one meets the other (see the
@@ -429,11 +548,11 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
             let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
             let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
             let (pa, pb) = (a.map(p), b.map(p));
-            let (sb1, sb2) = (pl_a.side(pa, pb[j1]), pl_a.side(pa, pb[j2]));
+            let (sb1, sb2) = (side(pl_a, pa, pb[j1]), side(pl_a, pa, pb[j2]));
             if sb1 == sb2 && sb1 != 0 {
                 return false;
             }
-            let (sa1, sa2) = (pl_b.side(pb, pa[i1]), pl_b.side(pb, pa[i2]));
+            let (sa1, sa2) = (side(pl_b, pb, pa[i1]), side(pl_b, pb, pa[i2]));
             if sa1 == sa2 && sa1 != 0 {
                 return false;
             }
@@ -450,7 +569,7 @@ fn intersect_with_planes(pts: &[P], a: [u32; 3], b: [u32; 3], pl_a: &Plane, pl_b
             let (c, f) = (a[ic], b[jf]);
             // (u, v, c) is a rotation of a: zero exactly when f is on a's
             // plane.
-            if pl_a.side(a.map(p), p(f)) != 0 {
+            if side(pl_a, a.map(p), p(f)) != 0 {
                 return false;
             }
             let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
@@ -470,15 +589,15 @@ fn disjoint_vertices_intersect(
     pts: &[P],
     a: [u32; 3],
     b: [u32; 3],
-    pl_a: &Plane,
-    pl_b: &Plane,
+    side: impl Fn(&Plane, [&P; 3], &P) -> i8,
+    (pl_a, pl_b): (&Plane, &Plane),
 ) -> bool {
     let (pa, pb) = (a.map(|v| &pts[v as usize]), b.map(|v| &pts[v as usize]));
-    let sb = pb.map(|q| pl_a.side(pa, q));
+    let sb = pb.map(|q| side(pl_a, pa, q));
     if sb[0] == sb[1] && sb[1] == sb[2] && sb[0] != 0 {
         return false;
     }
-    let sa = pa.map(|q| pl_b.side(pb, q));
+    let sa = pa.map(|q| side(pl_b, pb, q));
     if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
         return false;
     }

@@ -48,9 +48,9 @@ use std::collections::{HashMap, HashSet};
 use delone_predicates::{orient2d, orient3d};
 
 use super::types::Recovered;
-use crate::geom::union_root;
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
+use crate::tet::intersect::coplanar_groups;
 use crate::tet::local::ekey;
 use crate::tet::local::{DEAD, INF};
 use crate::tet::Delaunay3;
@@ -101,111 +101,6 @@ pub(super) fn projection(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> Option<(us
 /// `p` without coordinate `k` (a right-handed frame of the other two).
 pub(super) fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
     [p[(k + 1) % 3], p[(k + 2) % 3]]
-}
-
-/// Per input triangle: its group (the lowest triangle index in it). See
-/// the module notes for when two triangles are merged; `marker` is empty
-/// or has one marker per triangle.
-pub(crate) fn coplanar_groups(
-    points: &[[f64; 3]],
-    triangles: &[[u32; 3]],
-    marker: &[i32],
-) -> Vec<u32> {
-    // The triangles of each edge side by side: (larger end, triangle)
-    // filed under the smaller end by a counting sort, each (short) bucket
-    // then sorted (no map of lists, no global sort). Union-find links roots
-    // to the lower one, so the groups do not depend on the visiting order.
-    let nv = triangles
-        .iter()
-        .flat_map(|tv| tv.iter())
-        .map(|&q| q as usize + 1)
-        .max()
-        .unwrap_or(0);
-    let mut start = vec![0u32; nv + 1];
-    for tv in triangles {
-        for k in 0..3 {
-            start[ekey(tv[k], tv[(k + 1) % 3]).0 as usize + 1] += 1;
-        }
-    }
-    for i in 0..nv {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut by_edge: Vec<(u32, u32)> = vec![(0, 0); 3 * triangles.len()];
-    for (t, tv) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (lo, hi) = ekey(tv[k], tv[(k + 1) % 3]);
-            by_edge[fill[lo as usize] as usize] = (hi, t as u32);
-            fill[lo as usize] += 1;
-        }
-    }
-    drop(fill);
-    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
-    let g = |q: u32| &points[q as usize];
-    let mut runs: Vec<(u32, u32, u32, usize)> = Vec::new();
-    for u in 0..nv {
-        let bucket = &mut by_edge[start[u] as usize..start[u + 1] as usize];
-        bucket.sort_unstable();
-        let mut i = 0;
-        while i < bucket.len() {
-            let mut j = i + 1;
-            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
-                j += 1;
-            }
-            if j - i == 2 {
-                runs.push((u as u32, bucket[i].0, bucket[i].1, bucket[i + 1].1 as usize));
-            }
-            i = j;
-        }
-    }
-    for (u, v, t1, t2) in runs {
-        if t1 as usize == t2 {
-            continue;
-        }
-        let (t1, t2) = (t1 as usize, t2);
-        if !marker.is_empty() && marker.get(t1) != marker.get(t2) {
-            continue;
-        }
-        let (a, b) = (triangles[t1], triangles[t2]);
-        // Directed use of u -> v in each.
-        let dir = |tv: [u32; 3]| (0..3).any(|k| tv[k] == u && tv[(k + 1) % 3] == v);
-        if dir(a) == dir(b) {
-            continue;
-        }
-        let Some(&c) = a.iter().find(|&&q| q != u && q != v) else {
-            continue;
-        };
-        let Some(&d) = b.iter().find(|&&q| q != u && q != v) else {
-            continue;
-        };
-        if orient3d(g(a[0]), g(a[1]), g(a[2]), g(d)) != 0.0 {
-            continue;
-        }
-        let Some((k, _)) = projection(g(a[0]), g(a[1]), g(a[2])) else {
-            continue;
-        };
-        let (pu, pv) = (proj(g(u), k), proj(g(v), k));
-        let (oc, od) = (
-            orient2d(&pu, &pv, &proj(g(c), k)),
-            orient2d(&pu, &pv, &proj(g(d), k)),
-        );
-        // Opposite sides of the edge: same normal (the edge is used in
-        // opposite directions).
-        if oc == 0.0 || od == 0.0 || (oc > 0.0) == (od > 0.0) {
-            continue;
-        }
-        let (r1, r2) = (
-            union_root(&mut parent, t1 as u32),
-            union_root(&mut parent, t2 as u32),
-        );
-        if r1 != r2 {
-            let (lo, hi) = (r1.min(r2), r1.max(r2));
-            parent[hi as usize] = lo;
-        }
-    }
-    (0..triangles.len() as u32)
-        .map(|t| union_root(&mut parent, t))
-        .collect()
 }
 
 /// Merges the coplanar groups of (`points`, `triangles`) and
