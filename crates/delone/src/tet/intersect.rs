@@ -1146,4 +1146,35 @@ mod tests {
             })
         ));
     }
+
+    #[test]
+    fn pairs_in_a_coplanar_group_match_brute_force() {
+        // A 4x4 grid of squares on a slanted plane (one coplanar group of
+        // 32 triangles), a coplanar triangle overlapping it, one crossing
+        // it and one above it.
+        let on = |x: f64, y: f64| [x, y, 0.5 * x + 0.25 * y];
+        let mut pts: Vec<P> = (0..25)
+            .map(|i| on(f64::from(i % 5), f64::from(i / 5)))
+            .collect();
+        let mut tris: Vec<[u32; 3]> = Vec::new();
+        for j in 0..4 {
+            for i in 0..4 {
+                let c = 5 * j + i;
+                tris.push([c, c + 1, c + 6]);
+                tris.push([c, c + 6, c + 5]);
+            }
+        }
+        pts.extend([on(0.5, 0.25), on(1.75, 0.5), on(1.0, 1.5)]);
+        pts.extend([[2.5, 2.5, -5.0], [2.6, 2.5, 5.0], [2.5, 2.6, 5.0]]);
+        pts.extend([[0.5, 0.5, 9.0], [1.5, 0.5, 9.0], [0.5, 1.5, 9.0]]);
+        tris.extend([[25, 26, 27], [28, 29, 30], [31, 32, 33]]);
+        let group = coplanar_groups(&pts, &tris, &[]);
+        assert!(group[..32].iter().all(|&g| g == 0) && group[32] != 0);
+        let got = self_intersections(&pts, &tris).pairs;
+        assert_eq!(got, brute(&pts, &tris));
+        // The overlapping triangle meets some grid triangles, the
+        // crossing one some others; grid triangles meet none of each other.
+        assert!(got.iter().any(|&(_, j)| j == 32) && got.iter().any(|&(_, j)| j == 33));
+        assert!(got.iter().all(|&(i, j)| i < 32 && j >= 32 && j != 34));
+    }
 }
