@@ -33,7 +33,7 @@
 //! pair of a closed surface. Side tests use a per-triangle plane (normal and
 //! the magnitudes of its products) with the error bound of `orient3d`'s
 //! floating-point stage, falling back to exact `orient3d`; two triangles
-//! of one group of exactly coplanar edge neighbours ([`coplanar_groups`],
+//! of one group of exactly coplanar edge neighbours (`coplanar_groups`,
 //! one exact test per shared edge) skip the side tests, which would all
 //! take that exact fallback (the planar faces of CAD models). Canonical ids
 //! (exact duplicate points) come from a sort, not a hash map.
