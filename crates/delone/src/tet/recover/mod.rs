@@ -1280,11 +1280,11 @@ impl State {
     }
 
     /// Updates the coverage `on`, `covered` (exact for `cm` before the
-    /// operations logged since the last [`Journaled::take_touched`]) for `cm`
+    /// operations logged since the last [`Journaled::take_touched_raw`]) for `cm`
     /// now: recomputes, locally, the triangles of `extra` and those on
     /// which a face created or removed since lies (the others kept every
     /// face and tetrahedron with its vertices on them: a tetrahedron
-    /// created or removed has such a face, [`Journaled::take_touched`]).
+    /// created or removed has such a face, [`Journaled::take_touched_raw`]).
     fn refresh_coverage(
         &self,
         cm: &mut Journaled<'_>,
