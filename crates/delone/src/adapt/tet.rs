@@ -1,8 +1,8 @@
 //! 3D adaptation on the constrained tetrahedral mesh
 //! ([`crate::tet::dmesh::DomainMesh`]): worst-first passes of edge split,
 //! edge collapse, swaps (2-3 flips and edge removal by the shared dynamic
-//! program, [`crate::tet::dmesh::ring::triangulate`]) and vertex smoothing,
-//! each judged by edge lengths and mean ratio in the metric and committed
+//! program, [`crate::tet::dmesh::ring::triangulate`]), vertex smoothing
+//! and the reshaping of slivers ([`Engine::reshape_pass`]), each judged by edge lengths and mean ratio in the metric and committed
 //! only when every new tetrahedron is strictly positive by exact
 //! `orient3d`. While the mesh grows, only edges longer than 1.6 are split
 //! and shorter than 0.8 collapsed ([`GROW`]): splitting every edge above √2
@@ -16,8 +16,8 @@
 //! reference, not across a ridge). A vertex on one facet collapses only
 //! along a subface edge of it, a vertex on two (a ridge) only along the
 //! ridge; corners, required vertices and vertices on three facets or more
-//! never move. Splits put the new vertex at the edge's midpoint, so on the
-//! edge's facet or ridge; smoothing moves a facet vertex in its facet's
+//! never move. Splits put the new vertex on the edge (at its middle in the
+//! metric), so on the edge's facet or ridge; smoothing moves a facet vertex in its facet's
 //! plane and a ridge vertex along its ridge, only to points exactly on
 //! the planes of its subfaces.
 
@@ -917,7 +917,7 @@ impl<'a> Engine<'a> {
         ];
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let norm = dot(n, n).sqrt();
-        if !(norm > 0.0) {
+        if norm == 0.0 {
             return None;
         }
         let side = if dot(n, sub(y[i], c)) < 0.0 {
