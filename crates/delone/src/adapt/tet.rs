@@ -1,8 +1,8 @@
 //! 3D adaptation on the constrained tetrahedral mesh
 //! ([`crate::tet::dmesh::DomainMesh`]): worst-first passes of edge split,
 //! edge collapse, swaps (2-3 flips and edge removal by the shared dynamic
-//! program, [`crate::tet::dmesh::ring::triangulate`]) and vertex smoothing,
-//! each judged by edge lengths and mean ratio in the metric and committed
+//! program, [`crate::tet::dmesh::ring::triangulate`]), vertex smoothing
+//! and the reshaping of slivers ([`Engine::reshape_pass`]), each judged by edge lengths and mean ratio in the metric and committed
 //! only when every new tetrahedron is strictly positive by exact
 //! `orient3d`. While the mesh grows, only edges longer than 1.6 are split
 //! and shorter than 0.8 collapsed ([`GROW`]): splitting every edge above √2
@@ -16,8 +16,8 @@
 //! reference, not across a ridge). A vertex on one facet collapses only
 //! along a subface edge of it, a vertex on two (a ridge) only along the
 //! ridge; corners, required vertices and vertices on three facets or more
-//! never move. Splits put the new vertex at the edge's midpoint, so on the
-//! edge's facet or ridge; smoothing moves a facet vertex in its facet's
+//! never move. Splits put the new vertex on the edge (at its middle in the
+//! metric), so on the edge's facet or ridge; smoothing moves a facet vertex in its facet's
 //! plane and a ridge vertex along its ridge, only to points exactly on
 //! the planes of its subfaces.
 
@@ -43,8 +43,19 @@ const GROW: (f64, f64) = (1.6, 0.8);
 /// The split and collapse bounds once the mesh has settled: the range
 /// `[1/√2, √2]` itself.
 const FINAL: (f64, f64) = (std::f64::consts::SQRT_2, std::f64::consts::FRAC_1_SQRT_2);
+/// How far from the geometric midpoint (as a fraction of the edge) a split
+/// may put its vertex to halve the edge's metric length.
+const SPLIT_AT: f64 = 0.3;
+/// A pass that splits and collapses fewer than one edge in `QUIET` per
+/// live vertex is quiet: two quiet passes end the growth bounds, two more
+/// the adaptation. The passes after the last few changes cost a full sweep
+/// each and gain little.
+const QUIET: usize = 50;
 /// Tetrahedra below this quality are swapped worst first.
 const SWAP_BELOW: f64 = 0.5;
+/// Tetrahedra below this quality are reshaped after each smoothing sweep
+/// ([`Engine::reshape_pass`]).
+const RESHAPE_BELOW: f64 = 0.45;
 /// A collapse may not leave a tetrahedron below this quality (or below the
 /// worst of the star it replaces, when that is lower).
 const COLLAPSE_FLOOR: f64 = 0.25;
@@ -498,12 +509,13 @@ impl<'a> Engine<'a> {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// The metric of a new vertex at `x` between `a` and `b`.
-    fn metric_at(&self, x: &[f64; 3], a: u32, b: u32) -> Metric<3> {
+    /// The metric of a new vertex at `x`, a fraction `t` of the way from
+    /// `a` to `b`.
+    fn metric_at(&self, x: &[f64; 3], a: u32, b: u32, t: f64) -> Metric<3> {
         match self.field_at(x) {
             Some(m) => m,
             None => {
-                Metric::interpolate(&[(0.5, self.met[a as usize]), (0.5, self.met[b as usize])])
+                Metric::interpolate(&[(1.0 - t, self.met[a as usize]), (t, self.met[b as usize])])
                     .unwrap_or(self.met[a as usize])
             }
         }
@@ -591,6 +603,7 @@ impl<'a> Engine<'a> {
             if settled && self.opt.smooth {
                 let t = Instant::now();
                 self.smooth_pass();
+                self.reshape_pass();
                 phase(&mut self.report, "smooth", t);
                 let t = Instant::now();
                 if self.opt.swap {
@@ -602,7 +615,7 @@ impl<'a> Engine<'a> {
             settled |= changed * 20 < self.live;
             // A few passes of swaps and smoothing after the last topology
             // change, or stop when the changes have become marginal.
-            if changed * 200 < self.live {
+            if changed * QUIET < self.live {
                 quiet += 1;
                 if quiet >= 2 && self.bounds != FINAL {
                     (self.bounds, quiet) = (FINAL, 0);
@@ -646,16 +659,24 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// Splits edge `a b` at its midpoint (on the edge's ridge or facet when
-    /// it has one).
+    /// Splits edge `a b` at its middle in the metric (on the edge's ridge
+    /// or facet when it has one): with the size varying geometrically
+    /// along the edge (lengths `l_a`, `l_b` in the end metrics, `r = l_b /
+    /// l_a`), the point a fraction `ln((1 + r) / 2) / ln r` of the way from
+    /// `a`, kept within [`SPLIT_AT`] of the geometric midpoint. Split at
+    /// the geometric midpoint, an edge across a steep size gradient leaves
+    /// a short half that the next collapse pass removes again.
     fn split(&mut self, a: u32, b: u32) -> bool {
         let (pa, pb) = (self.p[a as usize], self.p[b as usize]);
-        let x = [
-            0.5 * (pa[0] + pb[0]),
-            0.5 * (pa[1] + pb[1]),
-            0.5 * (pa[2] + pb[2]),
-        ];
-        let mx = self.metric_at(&x, a, b);
+        let e = sub(pb, pa);
+        let r = self.met[b as usize].length(e) / self.met[a as usize].length(e);
+        let t = if r.is_finite() && r > 0.0 && (r - 1.0).abs() > 1e-6 {
+            ((0.5 + 0.5 * r).ln() / r.ln()).clamp(0.5 - SPLIT_AT, 0.5 + SPLIT_AT)
+        } else {
+            0.5
+        };
+        let x = [0, 1, 2].map(|k| pa[k] + t * e[k]);
+        let mx = self.metric_at(&x, a, b, t);
         let v = self.p.len() as u32;
         self.p.push(x);
         self.met.push(mx);
@@ -847,6 +868,72 @@ impl<'a> Engine<'a> {
         Some((tets, new, q - need))
     }
 
+    /// Reshapes the tetrahedra below [`RESHAPE_BELOW`], worst first: each
+    /// vertex in turn, until one moves, towards the apex that makes the
+    /// tetrahedron regular in its metric over the opposite face
+    /// ([`Engine::move_towards`]: only when the worst quality of the
+    /// vertex's star rises). The sweeps towards unit edge lengths leave a
+    /// few flat tetrahedra (slivers) whose edges all have about unit length.
+    fn reshape_pass(&mut self) {
+        let mut bad: Vec<(f64, u32, [u32; 4])> = self
+            .m
+            .live_slots()
+            .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
+            .filter(|x| x.0 < RESHAPE_BELOW)
+            .collect();
+        bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        for (_, t, tv) in bad {
+            for i in 0..4 {
+                if self.m.tv[t as usize] != tv {
+                    break;
+                }
+                if let Some(x) = self.regular_apex(tv, i) {
+                    if self.move_towards(tv[i], Some(x)) {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The point that makes `tv` with corner `i` moved there the regular
+    /// tetrahedron of the mean metric of its corners over the opposite face
+    /// (that face's mean edge length, on the side of corner `i`).
+    fn regular_apex(&self, tv: [u32; 4], i: usize) -> Option<[f64; 3]> {
+        let m = Metric::mean(&tv.map(|v| self.met[v as usize]))?;
+        // Metric coordinates y = Λ^{1/2} Vᵀ x, back x = V Λ^{-1/2} y.
+        let (l, q) = m.eigen();
+        let to = |x: [f64; 3]| {
+            [0, 1, 2].map(|k| l[k].sqrt() * (q[0][k] * x[0] + q[1][k] * x[1] + q[2][k] * x[2]))
+        };
+        let y = tv.map(|v| to(self.p[v as usize]));
+        let f: Vec<[f64; 3]> = (0..4).filter(|&j| j != i).map(|j| y[j]).collect();
+        let c = [0, 1, 2].map(|k| (f[0][k] + f[1][k] + f[2][k]) / 3.0);
+        let (u, w) = (sub(f[1], f[0]), sub(f[2], f[0]));
+        let mut n = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let norm = dot(n, n).sqrt();
+        if norm == 0.0 {
+            return None;
+        }
+        let side = if dot(n, sub(y[i], c)) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let edge = |a: [f64; 3], b: [f64; 3]| dot(sub(a, b), sub(a, b)).sqrt();
+        let h =
+            (2.0f64 / 3.0).sqrt() * (edge(f[0], f[1]) + edge(f[1], f[2]) + edge(f[0], f[2])) / 3.0;
+        n = n.map(|x| side * h * x / norm);
+        let apex = [0, 1, 2].map(|k| c[k] + n[k]);
+        let x = [0, 1, 2].map(|r| (0..3).map(|k| q[r][k] * apex[k] / l[k].sqrt()).sum::<f64>());
+        x.iter().all(|x| x.is_finite()).then_some(x)
+    }
+
     /// One sweep of smoothing over the vertices that may move.
     fn smooth_pass(&mut self) {
         for v in 0..self.p.len() as u32 {
@@ -870,6 +957,12 @@ impl<'a> Engine<'a> {
     /// exactly on the planes of its subfaces (exact `orient3d`), so that
     /// every region keeps its volume; corners do not move.
     fn smooth(&mut self, v: u32) -> bool {
+        self.move_towards(v, None)
+    }
+
+    /// [`Engine::smooth`] towards point `target` when given (projected on
+    /// the vertex's facet or ridge), else towards unit edge lengths.
+    fn move_towards(&mut self, v: u32, target: Option<[f64; 3]>) -> bool {
         let ball = self.star(v);
         if ball.is_empty() {
             return false;
@@ -879,16 +972,20 @@ impl<'a> Engine<'a> {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
-        let mut link: Vec<u32> = tets.iter().flatten().copied().filter(|&x| x != v).collect();
-        link.sort_unstable();
-        link.dedup();
         let home = self.p[v as usize];
         let mut d = [0.0; 3];
-        for &x in &link {
-            let l = self.len(v, x);
-            let e = sub(self.p[x as usize], home);
-            for k in 0..3 {
-                d[k] += e[k] * (1.0 - 1.0 / l.max(1e-3)) / link.len() as f64;
+        if let Some(x) = target {
+            d = sub(x, home);
+        } else {
+            let mut link: Vec<u32> = tets.iter().flatten().copied().filter(|&x| x != v).collect();
+            link.sort_unstable();
+            link.dedup();
+            for &x in &link {
+                let l = self.len(v, x);
+                let e = sub(self.p[x as usize], home);
+                for k in 0..3 {
+                    d[k] += e[k] * (1.0 - 1.0 / l.max(1e-3)) / link.len() as f64;
+                }
             }
         }
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -930,8 +1027,9 @@ impl<'a> Engine<'a> {
             if let Some(m) = self.field_at(&x) {
                 self.met[v as usize] = m;
             }
-            if tets.iter().all(|&t| positive(&self.p, t))
-                && self.min_q(tets.iter().copied()) > old + 1e-6
+            if tets
+                .iter()
+                .all(|&t| positive(&self.p, t) && self.qual(t) > old + 1e-6)
             {
                 self.report.moves += 1;
                 let mut c = self.cache.borrow_mut();
@@ -1090,7 +1188,7 @@ mod tests {
         let (mut e, input) = Engine::new(&mesh, MetricField::Function(&size), &opt).unwrap();
         invariants(&e, &input, "input");
         let (mut splits, mut collapses, mut swaps, mut moves) = (0, 0, 0, 0);
-        let mut side_moves = 0;
+        let (mut side_moves, mut reshapes) = (0, 0);
         for round in 0..3 {
             for (_, a, b) in e.edge_list(|l| l > FINAL.0) {
                 if e.m.edge_slot(a, b).is_some() && e.split(a, b) {
@@ -1122,11 +1220,26 @@ mod tests {
                     invariants(&e, &input, "smoothing");
                 }
             }
+            for t in e.m.live_slots().collect::<Vec<_>>() {
+                let tv = e.m.tv[t as usize];
+                if !e.m.alive(t) || e.qual(tv) >= RESHAPE_BELOW {
+                    continue;
+                }
+                for i in 0..4 {
+                    if let Some(x) = e.regular_apex(tv, i) {
+                        if e.m.tv[t as usize] == tv && e.move_towards(tv[i], Some(x)) {
+                            reshapes += 1;
+                            invariants(&e, &input, "reshaping");
+                        }
+                    }
+                }
+            }
         }
         assert!(
             splits > 100 && collapses > 10 && swaps > 0 && moves > 10 && side_moves > 5,
             "{splits} {collapses} {swaps} {moves} {side_moves}"
         );
+        assert!(reshapes > 0, "no tetrahedron reshaped");
         // Corners and the vertices of the sides never left them.
         let out = e.output(&mesh, &input);
         for (f, r) in out.mesh.faces.iter().zip(&out.mesh.face_refs) {
@@ -1149,6 +1262,33 @@ mod tests {
         }
         assert!(out.mesh.ridges.len() >= 24);
         assert!((length - 12.0).abs() < 1e-12, "ridge length {length}");
+    }
+
+    /// The regular apex over a face makes the tetrahedron regular in its
+    /// metric: here a flat tetrahedron over the unit equilateral triangle,
+    /// in a metric that stretches z 4×.
+    #[test]
+    fn the_regular_apex_makes_a_regular_tetrahedron() {
+        let h = 3f64.sqrt() / 2.0;
+        let mesh = TetMesh {
+            points: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.5, h, 0.0],
+                [0.4, 0.3, 0.001],
+            ],
+            elements: vec![[0, 1, 2, 3]],
+            ..Default::default()
+        };
+        let m = Metric::from_medit(&[1.0, 0.0, 1.0, 0.0, 0.0, 16.0]).unwrap();
+        let opt = AdaptOptions::default();
+        let (mut e, _) = Engine::new(&mesh, MetricField::AtVertices(vec![m; 4]), &opt).unwrap();
+        assert!(e.qual([0, 1, 2, 3]) < 0.1);
+        let x = e.regular_apex([0, 1, 2, 3], 3).unwrap();
+        let want = [0.5, h / 3.0, (2f64 / 3.0).sqrt() / 4.0];
+        assert!((0..3).all(|k| (x[k] - want[k]).abs() < 1e-12), "{x:?}");
+        e.p[3] = x;
+        assert!((e.qual([0, 1, 2, 3]) - 1.0).abs() < 1e-12);
     }
 
     /// A collapse that would move a vertex off its facet, off its ridge or

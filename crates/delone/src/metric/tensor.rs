@@ -418,7 +418,7 @@ pub(crate) fn simplex_volume<const D: usize>(p: &[[f64; D]]) -> f64 {
             let e = |k: usize, i: usize| p[k][i] - p[0][i];
             0.5 * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0))
         }
-        _ => crate::tet::quality::volume(&[at(0), at(1), at(2), at(3)]),
+        _ => crate::tet::quality::volume_raw(&[at(0), at(1), at(2), at(3)]),
     }
 }
 
@@ -441,7 +441,20 @@ pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
     if p.len() != D + 1 || !(2..=3).contains(&D) {
         return 0.0;
     }
-    let vol = simplex_volume::<D>(p) * m.det().sqrt();
+    // In 3D the determinant in closed form and `|vol|^{2/3}` by a cube
+    // root: the adaptation evaluates this for every candidate tetrahedron.
+    // (In 2D the eigenvalue product, which the 2D adaptation's results rest
+    // on.)
+    let det = match D {
+        3 => {
+            let a = &m.m;
+            a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+                - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+                + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+        }
+        _ => m.det(),
+    };
+    let vol = simplex_volume::<D>(p) * det.sqrt();
     let mut sum = 0.0;
     for i in 0..=D {
         for j in i + 1..=D {
@@ -456,8 +469,16 @@ pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
     if sum.is_nan() || sum <= 0.0 {
         return 0.0;
     }
-    let c = (D * (D + 1) / 2) as f64 / unit_simplex_volume(D).powf(2.0 / D as f64);
-    vol.signum() * c * vol.abs().powf(2.0 / D as f64) / sum
+    let (c, power) = match D {
+        // 6 / (1 / (6√2))^{2/3} = 6 · 72^{1/3}.
+        3 => (24.961_005_876_622_85, vol.abs().cbrt().powi(2)),
+        _ => {
+            let d = 2.0 / D as f64;
+            let c = (D * (D + 1) / 2) as f64 / unit_simplex_volume(D).powf(d);
+            (c, vol.abs().powf(d))
+        }
+    };
+    vol.signum() * c * power / sum
 }
 
 #[cfg(test)]

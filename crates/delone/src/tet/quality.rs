@@ -41,8 +41,9 @@ pub fn volume(p: &[[f64; 3]; 4]) -> f64 {
     unscale(volume_raw(&p), s, 3)
 }
 
-/// [`volume`] without the rescaling.
-fn volume_raw(p: &[[f64; 3]; 4]) -> f64 {
+/// [`volume`] without the rescaling (no guard against overflow for
+/// coordinates beyond about 1e100).
+pub(crate) fn volume_raw(p: &[[f64; 3]; 4]) -> f64 {
     let (a, b, c) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]), sub(&p[3], &p[0]));
     dot(&a, &cross(&b, &c)) / 6.0
 }
