@@ -2,7 +2,8 @@
 //! ([`crate::tet::dmesh::DomainMesh`]): worst-first passes of edge split,
 //! edge collapse, swaps (2-3 flips and edge removal by the shared dynamic
 //! program, [`crate::tet::dmesh::ring::triangulate`]), vertex smoothing
-//! and the reshaping of slivers ([`Engine::reshape_pass`]), each judged by edge lengths and mean ratio in the metric and committed
+//! and the reshaping of slivers ([`Engine::reshape_pass`]), each judged by
+//! edge lengths and mean ratio in the metric and committed
 //! only when every new tetrahedron is strictly positive by exact
 //! `orient3d`. While the mesh grows, only edges longer than 1.6 are split
 //! and shorter than 0.8 collapsed ([`GROW`]): splitting every edge above √2
@@ -17,9 +18,9 @@
 //! along a subface edge of it, a vertex on two (a ridge) only along the
 //! ridge; corners, required vertices and vertices on three facets or more
 //! never move. Splits put the new vertex on the edge (at its middle in the
-//! metric), so on the edge's facet or ridge; smoothing moves a facet vertex in its facet's
-//! plane and a ridge vertex along its ridge, only to points exactly on
-//! the planes of its subfaces.
+//! metric), so on the edge's facet or ridge; smoothing moves a facet vertex
+//! in its facet's plane and a ridge vertex along its ridge, only to points
+//! exactly on the planes of its subfaces.
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
