@@ -767,16 +767,22 @@ impl<'a> Engine<'a> {
         true
     }
 
-    /// Swaps around the tetrahedra below [`SWAP_BELOW`], worst first.
-    fn swap_pass(&mut self) {
+    /// The live tetrahedra (slot, vertices) of quality below `limit`, worst
+    /// first (ties by slot).
+    fn worst_below(&self, limit: f64) -> Vec<(u32, [u32; 4])> {
         let mut bad: Vec<(f64, u32, [u32; 4])> = self
             .m
             .live_slots()
             .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
-            .filter(|x| x.0 < SWAP_BELOW)
+            .filter(|x| x.0 < limit)
             .collect();
         bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        for (_, t, tv) in bad {
+        bad.into_iter().map(|(_, t, tv)| (t, tv)).collect()
+    }
+
+    /// Swaps around the tetrahedra below [`SWAP_BELOW`], worst first.
+    fn swap_pass(&mut self) {
+        for (t, tv) in self.worst_below(SWAP_BELOW) {
             if self.m.tv[t as usize] != tv {
                 continue;
             }
@@ -876,14 +882,7 @@ impl<'a> Engine<'a> {
     /// vertex's star rises). The sweeps towards unit edge lengths leave a
     /// few flat tetrahedra (slivers) whose edges all have about unit length.
     fn reshape_pass(&mut self) {
-        let mut bad: Vec<(f64, u32, [u32; 4])> = self
-            .m
-            .live_slots()
-            .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
-            .filter(|x| x.0 < RESHAPE_BELOW)
-            .collect();
-        bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        for (_, t, tv) in bad {
+        for (t, tv) in self.worst_below(RESHAPE_BELOW) {
             for i in 0..4 {
                 if self.m.tv[t as usize] != tv {
                     break;
