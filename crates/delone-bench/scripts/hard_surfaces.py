@@ -106,7 +106,8 @@ def comb(teeth=12):
 
 
 def perturbed_box(n=20, eps=1e-9, seed=1):
-    """Unit cube, each face an n×n grid with tiny z noise (near-coplanar triangles)."""
+    """Unit cube, each face an n×n grid whose inner points move off it by up to
+    eps along its normal (near-coplanar triangles)."""
     r = random.Random(seed); V = {}; F = []
     def vid(p):
         if p not in V: V[p] = len(V)
