@@ -86,6 +86,18 @@ fn run(args: &[&str], cwd: &Path) -> Output {
         .unwrap()
 }
 
+/// [`run`], which must succeed (the failure names the arguments and shows
+/// stderr).
+fn run_ok(args: &[&str], cwd: &Path) -> Output {
+    let out = run(args, cwd);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 fn anisotropic() -> String {
     // Sizes 0.05 along x and 0.2 along y.
     sol(2, &vec!["400 0 25"; 25])
@@ -96,7 +108,7 @@ fn adapts_writes_mesh_and_metric_and_reports() {
     let d = dir("run");
     std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
     std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
-    let out = run(
+    let out = run_ok(
         &[
             "sq.mesh",
             "--metric",
@@ -108,11 +120,6 @@ fn adapts_writes_mesh_and_metric_and_reports() {
             "s.json",
         ],
         &d,
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -267,12 +274,7 @@ fn counts_after(args: &[&str], d: &Path) -> (f64, f64, f64) {
     let json = d.join(format!("{}.json", args.join("_").replace(['-', '.'], "")));
     let mut all = args.to_vec();
     all.extend(["-Q", "--stats-json", json.to_str().unwrap()]);
-    let out = run(&all, d);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_ok(&all, d);
     let text = std::fs::read_to_string(json).unwrap();
     let after = &text[text.find("\"after\"").unwrap()..];
     let field = |key: &str| -> f64 {
@@ -319,15 +321,7 @@ fn vtu_and_msh_in_and_out() {
     let d = dir("formats");
     std::fs::write(d.join("sq.mesh"), square_mesh()).unwrap();
     std::fs::write(d.join("sq.sol"), anisotropic()).unwrap();
-    let ok = |args: &[&str]| {
-        let out = run(args, &d);
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out
-    };
+    let ok = |args: &[&str]| run_ok(args, &d);
     // .vtu out: the metric as point arrays, the elements and the boundary
     // edges with their references as cell data.
     ok(&["sq.mesh", "-o", "a.vtu", "-Q"]);
@@ -430,7 +424,7 @@ g.write("sq.msh", file_format="gmsh", binary=False)
         assert!(m.triangle_refs.iter().all(|&r| r == 3), "{input}");
         let u = &arrays.iter().find(|a| a.name == "u").unwrap().values;
         assert_eq!(u[6], 0.25f64.powi(2) + 0.5 * 0.25f64.powi(2), "{input}");
-        let out = run(
+        run_ok(
             &[
                 input,
                 "--field",
@@ -443,18 +437,13 @@ g.write("sq.msh", file_format="gmsh", binary=False)
             ],
             &d,
         );
-        assert!(
-            out.status.success(),
-            "{input}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
     }
     let m = delone_io::read_gmsh(&std::fs::read(d.join("sq.msh")).unwrap()).unwrap();
     assert_eq!(
         (m.dimension, m.points.len(), m.triangles.len()),
         (2, 25, 32)
     );
-    let out = run(
+    run_ok(
         &[
             "sq.msh",
             "--field",
@@ -465,11 +454,6 @@ g.write("sq.msh", file_format="gmsh", binary=False)
             "o.mesh",
         ],
         &d,
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let out = run(&["zlib.vtu", "--field", ":u"], &d);
     let err = String::from_utf8_lossy(&out.stderr);
