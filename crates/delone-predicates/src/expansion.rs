@@ -13,8 +13,13 @@
 const SPLITTER: f64 = 134_217_729.0;
 
 /// `a + b = x + y` exactly, `x = fl(a + b)` (Knuth's branch-free two-sum).
+///
+/// ```
+/// let (x, y) = delone_predicates::two_sum(1.0, 1e-20);
+/// assert_eq!((x, y), (1.0, 1e-20));
+/// ```
 #[inline(always)]
-pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let x = a + b;
     let bv = x - a;
     let av = x - bv;
@@ -45,17 +50,29 @@ fn split(a: f64) -> (f64, f64) {
 }
 
 /// `a * b = x + y` exactly, `x = fl(a * b)`.
+///
+/// ```
+/// let a = 1.0 + f64::EPSILON;
+/// let (x, y) = delone_predicates::two_product(a, a);
+/// assert_eq!((x, y), (1.0 + 2.0 * f64::EPSILON, f64::EPSILON * f64::EPSILON));
+/// ```
 #[cfg(target_feature = "fma")]
 #[inline(always)]
-pub(crate) fn two_product(a: f64, b: f64) -> (f64, f64) {
+pub fn two_product(a: f64, b: f64) -> (f64, f64) {
     let x = a * b;
     (x, a.mul_add(b, -x))
 }
 
 /// `a * b = x + y` exactly, `x = fl(a * b)` (Dekker's product).
+///
+/// ```
+/// let a = 1.0 + f64::EPSILON;
+/// let (x, y) = delone_predicates::two_product(a, a);
+/// assert_eq!((x, y), (1.0 + 2.0 * f64::EPSILON, f64::EPSILON * f64::EPSILON));
+/// ```
 #[cfg(not(target_feature = "fma"))]
 #[inline(always)]
-pub(crate) fn two_product(a: f64, b: f64) -> (f64, f64) {
+pub fn two_product(a: f64, b: f64) -> (f64, f64) {
     let x = a * b;
     let (ah, al) = split(a);
     let (bh, bl) = split(b);

@@ -148,6 +148,7 @@ mod expansion;
 mod semi;
 mod sos;
 
+pub use expansion::{two_product, two_sum};
 use sos::sgn;
 
 /// A 2D point.

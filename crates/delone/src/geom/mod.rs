@@ -52,21 +52,6 @@ pub(crate) fn steiner_budget(
         .min(max)
 }
 
-/// Exact sum `a + b = s + e`.
-#[inline]
-pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// Exact product `a * b = p + e`.
-#[inline]
-pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
-}
-
 /// The root of `x` in the union-find forest `parent` (a root is its own
 /// parent), halving the path on the way.
 pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {

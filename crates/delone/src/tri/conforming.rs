@@ -11,8 +11,8 @@
 
 use delone_predicates::incircle;
 
-use crate::geom::{two_prod, two_sum};
 use crate::Violation;
+use delone_predicates::{two_product, two_sum};
 
 /// Sign of `(u - p)·(w - p)`, exactly (floating-point filter, then an
 /// expansion sum of the error-free products).
@@ -40,7 +40,7 @@ fn dot_sign(u: &[f64; 2], w: &[f64; 2], p: &[f64; 2]) -> f64 {
         let (h1, l1) = two_sum(u[k], -p[k]);
         let (h2, l2) = two_sum(w[k], -p[k]);
         for (x, y) in [(h1, h2), (h1, l2), (l1, h2), (l1, l2)] {
-            let (a, b) = two_prod(x, y);
+            let (a, b) = two_product(x, y);
             grow(b);
             grow(a);
         }

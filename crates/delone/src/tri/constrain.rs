@@ -43,9 +43,10 @@ use super::conforming::Grid;
 use super::mesh::{check_edges, find_edge};
 use super::topo::{edge, is_ghost, pack, unpack, DEAD, INF, NEXT, PREV};
 use super::Delaunay2;
-use crate::geom::{pow2_scale, scaled, two_prod, two_sum};
+use crate::geom::{pow2_scale, scaled};
 use crate::model::pslg::Pslg;
 use crate::{Error, Violation, NONE};
+use delone_predicates::{two_product, two_sum};
 
 /// Options of [`constrained_triangulation`].
 ///
@@ -1050,7 +1051,7 @@ fn dd_add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 /// Double-double product.
 #[inline]
 fn dd_mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    let (p, e) = two_prod(a.0, b.0);
+    let (p, e) = two_product(a.0, b.0);
     let e = e + (a.0 * b.1 + a.1 * b.0);
     two_sum(p, e)
 }
