@@ -782,14 +782,7 @@ impl Grid {
         if nt < 1 << 15 {
             return None;
         }
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for q in points {
-            for i in 0..3 {
-                lo[i] = lo[i].min(q[i]);
-                hi[i] = hi[i].max(q[i]);
-            }
-        }
+        let [lo, hi] = crate::geom::bbox(points);
         // `bits` per axis: 2^(3 bits) cells, at least 8 tetrahedra each.
         let bits = ((usize::BITS - nt.leading_zeros()).saturating_sub(3) / 3).clamp(1, 6);
         let cells = (1u32 << bits) as f64;
