@@ -677,7 +677,9 @@ impl DomainMesh {
         open_ok: bool,
         pass: impl Fn(u32, usize) -> bool,
     ) -> Option<(Vec<u32>, Vec<u32>, RingEnd)> {
-        let (mut tets, mut ring) = (Vec::new(), Vec::new());
+        // Room for a ring of up to 16 (the optimiser's cap) at once.
+        let room = cap.min(16) + 1;
+        let (mut tets, mut ring) = (Vec::with_capacity(room), Vec::with_capacity(room));
         let end = self.ring_into(t, ab, (cap, open_ok), pass, (&mut tets, &mut ring))?;
         Some((tets, ring, end))
     }
