@@ -725,11 +725,12 @@ impl Work {
             })
             .collect();
         let evals = &self.evals;
-        let at = |i: usize, x: [f64; 3]| {
+        let at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
-            let (mut pts, k) = local[i];
-            pts[k] = x;
-            quality([&pts[0], &pts[1], &pts[2], &pts[3]])
+            let (pts, k) = &local[i];
+            let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+            r[*k] = x;
+            quality(r)
         };
         let mut x = home;
         // At home: the cached qualities.
@@ -740,7 +741,7 @@ impl Work {
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
-        let mut grads: Vec<[f64; 3]> = Vec::new();
+        let mut grads: Vec<[f64; 3]> = Vec::with_capacity(local.len());
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
             grads.clear();
@@ -752,7 +753,7 @@ impl Work {
                 for (k, gk) in g.iter_mut().enumerate() {
                     let mut y = x;
                     y[k] += h;
-                    *gk = (at(i, y) - qi) / h;
+                    *gk = (at(i, &y) - qi) / h;
                 }
                 grads.push(self.tangent(v, g));
             }
@@ -779,7 +780,7 @@ impl Work {
                 };
                 let mut m = f64::INFINITY;
                 for &i in &order {
-                    let q = at(i, y);
+                    let q = at(i, &y);
                     if q <= cur + 1e-6 {
                         continue 'search;
                     }
@@ -803,7 +804,7 @@ impl Work {
         }
         // The whole star at the new place.
         for (i, q) in qs.iter_mut().enumerate() {
-            *q = at(i, x);
+            *q = at(i, &x);
         }
         if qs.iter().any(|&q| q < q_home + 1e-3) {
             return false;
