@@ -440,12 +440,17 @@ impl Work {
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
-        let mut ring = vec![x, z, y];
-        let mut side: Vec<(u32, u32, u32)> = vec![(t, u, y), (t, u, x), (t, u, z)];
-        let mut old = vec![t, u];
-        let mut q: Vec<f64> = (0..3)
-            .map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]]))
-            .collect();
+        // (Room for the largest ring up front: no regrowth as it grows.)
+        let (mut ring, mut side, mut old, mut q) = (
+            Vec::with_capacity(MAX_RING + 1),
+            Vec::with_capacity(MAX_RING + 1),
+            Vec::with_capacity(2 * MAX_RING),
+            Vec::with_capacity(MAX_RING + 1),
+        );
+        ring.extend([x, z, y]);
+        side.extend([(t, u, y), (t, u, x), (t, u, z)]);
+        old.extend([t, u]);
+        q.extend((0..3).map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]])));
         let min_old = |old: &[u32]| self.min_q(old);
         let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
         loop {
