@@ -433,7 +433,10 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        let found = |a| self.m.star_walk(a, &mut vec![], |_, _| true, has_b);
+        let found = |a| {
+            self.m
+                .star_walk(a, &mut Vec::with_capacity(32), |_, _| true, has_b)
+        };
         if !crosses && found(a).is_some() {
             return None;
         }
@@ -1098,7 +1101,7 @@ impl Work {
                 return Some(h);
             }
         }
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(32);
         self.m.star_walk(
             tv[0],
             &mut out,
