@@ -433,26 +433,22 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        let found = |a| {
-            self.m
-                .star_walk(a, &mut Vec::with_capacity(32), |_, _| true, has_b)
-        };
-        if !crosses && found(a).is_some() {
-            return None;
+        if !crosses {
+            let mut seen = Vec::with_capacity(32);
+            if self.m.star_walk(a, &mut seen, |_, _| true, has_b).is_some() {
+                return None;
+            }
         }
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
-        // (Room for the largest ring up front: no regrowth as it grows.)
-        let (mut ring, mut side, mut old, mut q) = (
-            Vec::with_capacity(MAX_RING + 1),
-            Vec::with_capacity(MAX_RING + 1),
-            Vec::with_capacity(2 * MAX_RING),
-            Vec::with_capacity(MAX_RING + 1),
-        );
+        let mut ring = Vec::with_capacity(MAX_RING + 1);
         ring.extend([x, z, y]);
+        let mut side = Vec::with_capacity(MAX_RING + 1);
         side.extend([(t, u, y), (t, u, x), (t, u, z)]);
+        let mut old = Vec::with_capacity(2 * MAX_RING);
         old.extend([t, u]);
+        let mut q = Vec::with_capacity(MAX_RING + 1);
         q.extend((0..3).map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]])));
         let min_old = |old: &[u32]| self.min_q(old);
         let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
