@@ -54,8 +54,8 @@ pub(crate) mod flip;
 pub(crate) mod journal;
 pub(crate) mod ring;
 
+use crate::geom::ids::IdMap;
 use std::cell::RefCell;
-use std::collections::HashMap;
 
 use delone_predicates::orient3d;
 
@@ -84,11 +84,11 @@ pub(crate) struct DomainMesh {
     /// tetrahedron; see [`DomainMesh::slot_of_vertex`]).
     pub(crate) vt: Vec<u32>,
     /// Subface → input triangle.
-    pub(crate) ftri: HashMap<[u32; 3], u32>,
+    pub(crate) ftri: IdMap<[u32; 3], u32>,
     /// Edge → the subfaces holding it.
-    pub(crate) sedges: HashMap<(u32, u32), Vec<[u32; 3]>>,
+    pub(crate) sedges: IdMap<(u32, u32), Vec<[u32; 3]>>,
     /// Subsegment → input edge.
-    pub(crate) segs: HashMap<(u32, u32), u32>,
+    pub(crate) segs: IdMap<(u32, u32), u32>,
     /// The slots of the current visit (see [`DomainMesh::mark_begin`]).
     marks: RefCell<Stamps>,
     /// Scratch of [`DomainMesh::replace`]: outer faces, open new faces and
@@ -349,9 +349,9 @@ impl DomainMesh {
     /// subfaces from the marks only, such as the optimisation, which would
     /// otherwise copy and maintain them.
     pub(crate) fn drop_tables(&mut self) {
-        self.ftri = HashMap::default();
-        self.sedges = HashMap::default();
-        self.segs = HashMap::default();
+        self.ftri = IdMap::default();
+        self.sedges = IdMap::default();
+        self.segs = IdMap::default();
         // The cell arrays leave refinement with up to half their capacity
         // unused (growth by doubling); optimisation changes the cell count
         // little, so it starts from an eighth of headroom.
@@ -564,9 +564,9 @@ impl DomainMesh {
                 made.push(k);
             }
         } else {
-            let mut out: HashMap<[u32; 3], (u32, bool)> =
+            let mut out: IdMap<[u32; 3], (u32, bool)> =
                 outer.drain(..).map(|(k, w, s)| (k, (w, s))).collect();
-            let mut open: HashMap<[u32; 3], u32> = HashMap::new();
+            let mut open: IdMap<[u32; 3], u32> = IdMap::default();
             for &id in ids.iter() {
                 let tv = self.tv[id as usize];
                 for f in 0..4 {
@@ -677,7 +677,9 @@ impl DomainMesh {
         open_ok: bool,
         pass: impl Fn(u32, usize) -> bool,
     ) -> Option<(Vec<u32>, Vec<u32>, RingEnd)> {
-        let (mut tets, mut ring) = (Vec::new(), Vec::new());
+        // Room for a ring of up to 16 (the optimiser's cap) at once.
+        let room = cap.min(16) + 1;
+        let (mut tets, mut ring) = (Vec::with_capacity(room), Vec::with_capacity(room));
         let end = self.ring_into(t, ab, (cap, open_ok), pass, (&mut tets, &mut ring))?;
         Some((tets, ring, end))
     }

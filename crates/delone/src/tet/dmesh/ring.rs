@@ -172,7 +172,8 @@ pub(crate) fn max_min(
 pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32; 4]> {
     let n = r.len();
     let mut new = Vec::with_capacity(2 * n.saturating_sub(2));
-    let mut stack = vec![(0usize, n.saturating_sub(1))];
+    let mut stack = Vec::with_capacity(n);
+    stack.push((0usize, n.saturating_sub(1)));
     while let Some((i, j)) = stack.pop() {
         if j < i + 2 {
             continue;

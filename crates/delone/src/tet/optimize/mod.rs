@@ -1207,9 +1207,9 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     let old_q = w.min_q(&star).min(floor);
     // The link of a vertex: its vertices, edges and triangles (sorted).
     let link = |w: &Work, x: u32, star: &[u32]| {
-        let mut vs = Vec::new();
-        let mut es = Vec::new();
-        let mut fs = Vec::new();
+        let mut vs = Vec::with_capacity(3 * star.len());
+        let mut es = Vec::with_capacity(3 * star.len());
+        let mut fs = Vec::with_capacity(star.len());
         for &t in star {
             let mut o: Vec<u32> = w.m.tv[t as usize].into_iter().filter(|&y| y != x).collect();
             o.sort_unstable();
@@ -1228,8 +1228,8 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     let mut best: Option<Plan> = None;
     for &u in &lv {
         // The link of the edge: the other two vertices of its tetrahedra.
-        let mut ev = Vec::new();
-        let mut ee = Vec::new();
+        let mut ev = Vec::with_capacity(2 * star.len());
+        let mut ee = Vec::with_capacity(star.len());
         let mut new = Vec::with_capacity(star.len());
         for &t in &star {
             let tv = w.m.tv[t as usize];

@@ -433,19 +433,23 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        let found = |a| self.m.star_walk(a, &mut vec![], |_, _| true, has_b);
-        if !crosses && found(a).is_some() {
-            return None;
+        if !crosses {
+            let mut seen = Vec::with_capacity(32);
+            if self.m.star_walk(a, &mut seen, |_, _| true, has_b).is_some() {
+                return None;
+            }
         }
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
-        let mut ring = vec![x, z, y];
-        let mut side: Vec<(u32, u32, u32)> = vec![(t, u, y), (t, u, x), (t, u, z)];
-        let mut old = vec![t, u];
-        let mut q: Vec<f64> = (0..3)
-            .map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]]))
-            .collect();
+        let mut ring = Vec::with_capacity(MAX_RING + 1);
+        ring.extend([x, z, y]);
+        let mut side = Vec::with_capacity(MAX_RING + 1);
+        side.extend([(t, u, y), (t, u, x), (t, u, z)]);
+        let mut old = Vec::with_capacity(2 * MAX_RING);
+        old.extend([t, u]);
+        let mut q = Vec::with_capacity(MAX_RING + 1);
+        q.extend((0..3).map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]])));
         let min_old = |old: &[u32]| self.min_q(old);
         let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
         loop {
@@ -725,11 +729,12 @@ impl Work {
             })
             .collect();
         let evals = &self.evals;
-        let at = |i: usize, x: [f64; 3]| {
+        let at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
-            let (mut pts, k) = local[i];
-            pts[k] = x;
-            quality([&pts[0], &pts[1], &pts[2], &pts[3]])
+            let (pts, k) = &local[i];
+            let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+            r[*k] = x;
+            quality(r)
         };
         let mut x = home;
         // At home: the cached qualities.
@@ -740,7 +745,7 @@ impl Work {
         let h = 1e-7 * len;
         let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
-        let mut grads: Vec<[f64; 3]> = Vec::new();
+        let mut grads: Vec<[f64; 3]> = Vec::with_capacity(local.len());
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
             grads.clear();
@@ -752,7 +757,7 @@ impl Work {
                 for (k, gk) in g.iter_mut().enumerate() {
                     let mut y = x;
                     y[k] += h;
-                    *gk = (at(i, y) - qi) / h;
+                    *gk = (at(i, &y) - qi) / h;
                 }
                 grads.push(self.tangent(v, g));
             }
@@ -779,7 +784,7 @@ impl Work {
                 };
                 let mut m = f64::INFINITY;
                 for &i in &order {
-                    let q = at(i, y);
+                    let q = at(i, &y);
                     if q <= cur + 1e-6 {
                         continue 'search;
                     }
@@ -803,7 +808,7 @@ impl Work {
         }
         // The whole star at the new place.
         for (i, q) in qs.iter_mut().enumerate() {
-            *q = at(i, x);
+            *q = at(i, &x);
         }
         if qs.iter().any(|&q| q < q_home + 1e-3) {
             return false;
@@ -1092,7 +1097,7 @@ impl Work {
                 return Some(h);
             }
         }
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(32);
         self.m.star_walk(
             tv[0],
             &mut out,

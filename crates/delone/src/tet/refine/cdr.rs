@@ -11,9 +11,10 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::{ekey, face, fkey};
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, HashSet, VecDeque};
+use std::collections::{BinaryHeap, VecDeque};
 
 use delone_predicates::{insphere, orient3d};
 
@@ -185,13 +186,13 @@ pub(super) struct Cdr {
     segq: VecDeque<(u32, u32)>,
     faceq: VecDeque<[u32; 3]>,
     /// Subsegments / subfaces in `segq` / `faceq` (each queued once).
-    queued_s: HashSet<(u32, u32)>,
-    queued_f: HashSet<[u32; 3]>,
+    queued_s: IdSet<(u32, u32)>,
+    queued_f: IdSet<[u32; 3]>,
     /// Subsegments / subfaces whose split failed with the mesh unchanged:
     /// not tried again (an unchanged neighbourhood fails the same way, and
     /// retrying them for every cell that shows them spun for minutes).
-    failed_s: HashSet<(u32, u32)>,
-    failed_f: HashSet<[u32; 3]>,
+    failed_s: IdSet<(u32, u32)>,
+    failed_f: IdSet<[u32; 3]>,
     badq: BinaryHeap<Bad>,
     bound: f64,
     /// Per region: the volume bound (rescaled).
@@ -200,7 +201,7 @@ pub(super) struct Cdr {
     pub(super) report: RefineReport,
     inexact: Vec<u32>,
     /// Input edge of each point put on a segment by refinement.
-    vedge: HashMap<u32, u32>,
+    vedge: IdMap<u32, u32>,
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
@@ -213,7 +214,7 @@ pub(super) struct Cdr {
     /// piece is not marked as failed: it may be split for another reason).
     ir_refused: bool,
     /// The bad cells R3 gave up on (by vertices, as stored), and why.
-    left: HashMap<[u32; 4], Left>,
+    left: IdMap<[u32; 4], Left>,
     /// [`RefineOptions::keep_surface`]: no point on a subface or
     /// subsegment.
     keep_surface: bool,
@@ -233,8 +234,8 @@ impl Cdr {
         let s = scale.0 * scale.1;
         let p: Vec<P> = cow.into_owned();
         let nt = m.tv.len();
-        let mut ftri: HashMap<[u32; 3], u32> = HashMap::new();
-        let mut sedges: HashMap<(u32, u32), Vec<[u32; 3]>> = HashMap::new();
+        let mut ftri: IdMap<[u32; 3], u32> = IdMap::default();
+        let mut sedges: IdMap<(u32, u32), Vec<[u32; 3]>> = IdMap::default();
         let mut per_tri: Vec<Vec<[u32; 3]>> = vec![Vec::new(); triangles.len()];
         let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); p.len()];
         for (f, t) in rec.surface_faces() {
@@ -270,7 +271,7 @@ impl Cdr {
         }
         // Input edges, and the subsegments: the edges of a triangle's faces
         // used once lie on its sides.
-        let mut emap: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut emap: IdMap<(u32, u32), u32> = IdMap::default();
         let mut iedges = Vec::new();
         let mut edge_tris: Vec<[u32; 2]> = Vec::new();
         let mut tri_edges = vec![[0u32; 3]; triangles.len()];
@@ -294,7 +295,7 @@ impl Cdr {
         };
         let (facet, members) = crate::tet::recover::facets(triangles, origin);
         let merged = members.iter().map(|m| m.len() >= 2).collect();
-        let mut segs: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut segs: IdMap<(u32, u32), u32> = IdMap::default();
         for mem in &members {
             if mem.is_empty() {
                 continue;
@@ -381,10 +382,10 @@ impl Cdr {
             degenerate,
             segq: VecDeque::new(),
             faceq: VecDeque::new(),
-            queued_s: HashSet::new(),
-            queued_f: HashSet::new(),
-            failed_s: HashSet::new(),
-            failed_f: HashSet::new(),
+            queued_s: IdSet::default(),
+            queued_f: IdSet::default(),
+            failed_s: IdSet::default(),
+            failed_f: IdSet::default(),
             badq: BinaryHeap::new(),
             bound: opts.max_radius_edge.unwrap_or(f64::INFINITY),
             max_vol,
@@ -394,14 +395,14 @@ impl Cdr {
                 ..RefineReport::default()
             },
             inexact: rec.inexact.clone(),
-            vedge: HashMap::new(),
+            vedge: IdMap::default(),
             max_dev: rec.report.max_deviation * s,
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
             p,
             min_ir: 0.0,
             ir_refused: false,
-            left: HashMap::new(),
+            left: IdMap::default(),
             keep_surface: opts.keep_surface,
         };
         st.budget = if let Some(n) = opts.max_steiner {
@@ -1061,7 +1062,7 @@ impl Cdr {
     fn attempt<K: std::hash::Hash + Eq>(
         &mut self,
         key: K,
-        failed: fn(&mut Self) -> &mut HashSet<K>,
+        failed: fn(&mut Self) -> &mut IdSet<K>,
         split: impl FnOnce(&mut Self) -> bool,
     ) -> bool {
         if failed(self).contains(&key) {
