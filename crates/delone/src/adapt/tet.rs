@@ -397,7 +397,7 @@ struct Engine<'a> {
     /// refused on a star is not tried again before the star changes.
     version: Vec<u32>,
     /// Collapses refused: `v`, `w` and `v`'s version then.
-    refused: std::collections::HashSet<(u32, u32, u32)>,
+    refused: crate::geom::ids::IdSet<(u32, u32, u32)>,
     /// Edges longer than `bounds.0` are split, shorter than `bounds.1`
     /// collapsed ([`GROW`], then [`FINAL`]).
     bounds: (f64, f64),
@@ -631,26 +631,54 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    /// The live edges with their metric lengths, those `keep` takes.
+    /// The live edges with their metric lengths, those `keep` takes, each
+    /// once, grouped by their smaller end (the passes sort them fully):
+    /// the edges of the live slots bucketed by their smaller end (a
+    /// counting sort), then each other end kept once per bucket.
     fn edge_list(&self, keep: impl Fn(f64) -> bool) -> Vec<(f64, u32, u32)> {
-        let mut es: Vec<(u32, u32)> = Vec::new();
+        let n = self.p.len();
+        let mut start = vec![0u32; n + 2];
         for t in self.m.live_slots() {
             let tv = self.m.tv[t as usize];
-            es.extend(EDGES.iter().map(|&(i, j)| ekey(tv[i], tv[j])));
+            for (i, j) in EDGES {
+                start[tv[i].min(tv[j]) as usize + 2] += 1;
+            }
         }
-        es.sort_unstable();
-        es.dedup();
-        es.into_iter()
-            .map(|(a, b)| (self.len(a, b), a, b))
-            .filter(|x| keep(x.0))
-            .collect()
+        for a in 2..n + 2 {
+            start[a] += start[a - 1];
+        }
+        // Bucket `a` fills from `start[a + 1]`, which ends at its end.
+        let mut other = vec![0u32; start[n + 1] as usize];
+        for t in self.m.live_slots() {
+            let tv = self.m.tv[t as usize];
+            for (i, j) in EDGES {
+                let (a, b) = ekey(tv[i], tv[j]);
+                let at = &mut start[a as usize + 1];
+                other[*at as usize] = b;
+                *at += 1;
+            }
+        }
+        let mut seen = vec![NONE; n];
+        let mut out = Vec::new();
+        for a in 0..n {
+            for &b in &other[start[a] as usize..start[a + 1] as usize] {
+                if seen[b as usize] != a as u32 {
+                    seen[b as usize] = a as u32;
+                    let l = self.len(a as u32, b);
+                    if keep(l) {
+                        out.push((l, a as u32, b));
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// Splits the edges longer than `bounds.0`, longest first.
     fn split_pass(&mut self) {
         let long = self.bounds.0;
         let mut es = self.edge_list(|l| l > long);
-        es.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        es.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         for (_, a, b) in es {
             if self.opt.max_vertices.is_some_and(|m| self.live >= m) {
                 self.report.budget_reached = true;
@@ -701,7 +729,7 @@ impl<'a> Engine<'a> {
     fn collapse_pass(&mut self) {
         let short = self.bounds.1;
         let mut es = self.edge_list(|l| l < short);
-        es.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        es.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let version = &self.version;
         self.refused.retain(|&(v, _, x)| version[v as usize] == x);
         let mut gone = vec![false; self.p.len()];
@@ -776,7 +804,7 @@ impl<'a> Engine<'a> {
             .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
             .filter(|x| x.0 < limit)
             .collect();
-        bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        bad.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         bad.into_iter().map(|(_, t, tv)| (t, tv)).collect()
     }
 
