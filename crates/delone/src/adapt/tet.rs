@@ -338,19 +338,23 @@ fn no_long_edge(
     old: &[[u32; 4]],
     new: &[[u32; 4]],
 ) -> bool {
-    let edges = |tets: &[[u32; 4]]| {
-        let mut e: Vec<(u32, u32)> = tets
-            .iter()
+    // Edge `a b` (a < b) as one word, so that the keys sort as integers.
+    let keys = |tets: &[[u32; 4]]| {
+        tets.iter()
             .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
-            .collect();
-        e.sort_unstable();
-        e.dedup();
-        e
+            .map(|(a, b)| (u64::from(a) << 32) | u64::from(b))
+            .collect::<Vec<u64>>()
     };
-    let before = edges(old);
-    edges(new)
-        .into_iter()
-        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= long)
+    let mut before = keys(old);
+    before.sort_unstable();
+    let mut checked: Vec<u64> = Vec::new();
+    keys(new).into_iter().all(|k| {
+        if before.binary_search(&k).is_ok() || checked.contains(&k) {
+            return true;
+        }
+        checked.push(k);
+        length(p, met, (k >> 32) as u32, k as u32) <= long
+    })
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -403,6 +407,9 @@ struct Engine<'a> {
     bounds: (f64, f64),
     /// Per slot: the vertices and their versions when no swap was found.
     unswappable: Vec<([u32; 4], [u32; 4])>,
+    /// Per vertex: its version when it last failed to smooth (it fails
+    /// again until its star changes).
+    unsmoothable: Vec<Option<u32>>,
 }
 
 impl<'a> Engine<'a> {
@@ -441,6 +448,7 @@ impl<'a> Engine<'a> {
             refused: Default::default(),
             bounds: GROW,
             unswappable: Vec::new(),
+            unsmoothable: Vec::new(),
         };
         e.met = e.met.iter().map(|&m| e.bound(m)).collect();
         if let Some(g) = opt.hgrad {
@@ -785,10 +793,14 @@ impl<'a> Engine<'a> {
             new.iter().all(|&t| quality(p, met, t) >= floor)
                 && no_long_edge(p, met, long, &tets, new)
         };
-        let Some(ids) = self.m.collapse_edge(&self.p, &ball, (v, w), accept) else {
+        if self.m.collapse_edge(&self.p, &ball, (v, w), accept).is_none() {
             return false;
-        };
-        self.touch(&ids);
+        }
+        // Every vertex of the old star: one whose only tetrahedra there
+        // held `v w` is in no new one, and its star changed too.
+        for v in tets.iter().flatten() {
+            self.version[*v as usize] = self.version[*v as usize].wrapping_add(1);
+        }
         self.report.collapses += 1;
         self.live -= 1;
         self.m.debug_check(&self.p, "adaptation collapse");
@@ -984,8 +996,22 @@ impl<'a> Engine<'a> {
     /// in the facet's plane, one on a ridge along it, and only to a point
     /// exactly on the planes of its subfaces (exact `orient3d`), so that
     /// every region keeps its volume; corners do not move.
+    ///
+    /// A vertex that failed is not tried again before its star changes
+    /// (the same star gives the same answer).
     fn smooth(&mut self, v: u32) -> bool {
-        self.move_towards(v, None)
+        let version = Some(self.version[v as usize]);
+        if self.unsmoothable.get(v as usize) == Some(&version) {
+            return false;
+        }
+        let done = self.move_towards(v, None);
+        if !done {
+            if self.unsmoothable.len() <= v as usize {
+                self.unsmoothable.resize(self.p.len(), None);
+            }
+            self.unsmoothable[v as usize] = version;
+        }
+        done
     }
 
     /// [`Engine::smooth`] towards point `target` when given (projected on
