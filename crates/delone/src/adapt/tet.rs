@@ -793,7 +793,11 @@ impl<'a> Engine<'a> {
             new.iter().all(|&t| quality(p, met, t) >= floor)
                 && no_long_edge(p, met, long, &tets, new)
         };
-        if self.m.collapse_edge(&self.p, &ball, (v, w), accept).is_none() {
+        if self
+            .m
+            .collapse_edge(&self.p, &ball, (v, w), accept)
+            .is_none()
+        {
             return false;
         }
         // Every vertex of the old star: one whose only tetrahedra there

@@ -470,7 +470,10 @@ pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
                     a[0][0] * e[0] * e[0]
                         + a[1][1] * e[1] * e[1]
                         + a[2][2] * e[2] * e[2]
-                        + 2.0 * (a[0][1] * e[0] * e[1] + a[0][2] * e[0] * e[2] + a[1][2] * e[1] * e[2])
+                        + 2.0
+                            * (a[0][1] * e[0] * e[1]
+                                + a[0][2] * e[0] * e[2]
+                                + a[1][2] * e[1] * e[2])
                 }
                 _ => {
                     let l = m.length(e);
@@ -638,7 +641,11 @@ mod tests {
         while x < 1e300 {
             for f in [1.0, 1.37, 2.9, 7.77] {
                 let (y, want) = (cbrt(x * f), (x * f).cbrt());
-                assert!((y - want).abs() <= 4.0 * f64::EPSILON * want, "{} {y} {want}", x * f);
+                assert!(
+                    (y - want).abs() <= 4.0 * f64::EPSILON * want,
+                    "{} {y} {want}",
+                    x * f
+                );
             }
             x *= 3.1;
         }
