@@ -637,7 +637,8 @@ fn write_mesh<const D: usize, const K: usize>(
     if ext == Some("msh") {
         write(path, |w| {
             if D == 2 {
-                delone_io::write_gmsh(w, &out.points, &out.triangles, &el_refs, &[], &[])
+                let (e, r) = (&out.edges, &out.edge_refs);
+                delone_io::write_gmsh_2d(w, &out.points, &out.triangles, &el_refs, e, r)
             } else {
                 let (t, r) = (&out.triangles, &out.triangle_refs);
                 delone_io::write_gmsh(w, &out.points, t, r, &out.tetrahedra, &el_refs)
