@@ -329,7 +329,7 @@ pub fn metric_from_mesh<const D: usize, const K: usize>(
     if !(hmin >= 0.0 && hmin.is_finite()) {
         return Err(bad("-hmin", hmin));
     }
-    if !(hmax >= hmin) {
+    if hmax.is_nan() || hmax < hmin {
         return Err(bad("-hmax", hmax));
     }
     check_mesh::<D, K>(points.len(), elements, points.len(), "points")?;
@@ -617,6 +617,21 @@ mod tests {
     #[test]
     fn bad_inputs_are_errors_naming_the_item() {
         let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        let e = metric_from_mesh(&pts, &[[0u32, 1, 5]], 0.0, 1.0).unwrap_err();
+        assert!(
+            matches!(e, crate::Error::InconsistentMesh { reason } if reason.contains("point 5"))
+        );
+        for (lo, hi, option) in [
+            (-1.0, 1.0, "-hmin"),
+            (f64::NAN, 1.0, "-hmin"),
+            (0.5, 0.1, "-hmax"),
+        ] {
+            let e = metric_from_mesh(&pts, &[[0u32, 1, 2]], lo, hi).unwrap_err();
+            assert!(
+                matches!(e, crate::Error::InvalidBound { option: o, .. } if o == option),
+                "{lo} {hi}"
+            );
+        }
         let e = hessians(&pts, &[[0u32, 1, 5]], &[0.0; 3]).unwrap_err();
         assert_eq!(
             e,
