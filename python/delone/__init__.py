@@ -501,8 +501,9 @@ def _metric(metric: Any, n: int) -> np.ndarray:
 def adapt(
     points: Any,
     elements: Any,
-    metric: Any,
+    metric: Any = None,
     *,
+    hsiz: Optional[float] = None,
     faces: Any = None,
     face_markers: Any = None,
     element_markers: Any = None,
@@ -525,7 +526,9 @@ def adapt(
     metric.
 
     ``metric``: a size per point ``(n,)`` (isotropic), or a symmetric tensor
-    per point in Medit's order (``(n, 3)`` in 2D, ``(n, 6)`` in 3D). The
+    per point in Medit's order (``(n, 3)`` in 2D, ``(n, 6)`` in 3D); or
+    ``hsiz``, one size everywhere; with neither, each point's mean incident
+    edge length, bounded by ``hmin``/``hmax`` (as MMG without a metric). The
     boundary is kept: ``faces`` (edges in 2D, triangles in 3D) with
     ``face_markers``, ``corners`` and ``required`` points that never move,
     ``ridges`` (3D feature edges). ``hmin``/``hmax`` bound the sizes,
@@ -551,12 +554,16 @@ def adapt(
     e = _indices(elements, "elements", d + 1)
     f = None if faces is None else _indices(faces, "faces", d)
     r = None if ridges is None else _indices(ridges, "ridges", 2)
+    if metric is not None and hsiz is not None:
+        raise InvalidInput("give metric= or hsiz=, not both")
+    if hsiz is not None:
+        metric = np.full(len(p), float(hsiz))
     cb, close = _progress(progress)
     try:
         out = _delone.adapt(
             p,
             e,
-            _metric(metric, len(p)),
+            None if metric is None else _metric(metric, len(p)),
             f,
             _column(face_markers, "face_markers", np.int32),
             _column(element_markers, "element_markers", np.int32),

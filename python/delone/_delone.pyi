@@ -44,7 +44,7 @@ def tetrahedralize(
 def adapt(
     points: F64,
     elements: I64,
-    metric: F64,
+    metric: Optional[F64] = None,
     faces: Optional[I64] = None,
     face_markers: Optional[I32] = None,
     element_markers: Optional[I32] = None,

@@ -116,6 +116,30 @@ def test_measure_only_changes_nothing():
     assert a.report["before"] == a.report["after"]
 
 
+def test_no_metric_adapts_to_the_mesh_sizes_and_hsiz_to_one_size():
+    pts, tris = grid2(3)
+    # Each point's mean incident edge length.
+    e = np.unique(np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=1), axis=0)
+    length = np.linalg.norm(pts[e[:, 0]] - pts[e[:, 1]], axis=1)
+    total = np.bincount(e.ravel(), np.repeat(length, 2), len(pts))
+    mean = total / np.bincount(e.ravel(), minlength=len(pts))
+    assert mean.min() < mean.max()
+    still = dict(hgrad=None, insert=False, swap=False, smooth=False)
+    a = delone.adapt(pts, tris, **still)
+    assert np.allclose(a.metric[:, 0], 1 / mean**2) and np.allclose(a.metric[:, 2], 1 / mean**2)
+    b = delone.adapt(pts, tris, hmax=0.4, **still)
+    assert np.allclose(b.metric[:, 0], 1 / np.minimum(mean, 0.4) ** 2)
+    # Adapted: the edges come out about as long as the input's.
+    c = delone.adapt(pts, tris, hgrad=None)
+    assert c.report["after"]["in_range_share"] > 0.9
+    # hsiz: one size everywhere, as the same size given per point.
+    h = delone.adapt(pts, tris, hsiz=0.1)
+    m = delone.adapt(pts, tris, np.full(len(pts), 0.1))
+    assert np.array_equal(h.points, m.points) and np.array_equal(h.elements, m.elements)
+    with pytest.raises(delone.InvalidInput, match="not both"):
+        delone.adapt(pts, tris, np.full(len(pts), 0.1), hsiz=0.1)
+
+
 def test_metric_from_field_and_loop():
     pts, tris = grid2(8)
     for _ in range(3):

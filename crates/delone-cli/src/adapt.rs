@@ -14,7 +14,7 @@ use delone::adapt::{
     adapt_tet, adapt_tri, metric_stats, AdaptOptions, AdaptReport, MetricField, MetricStats,
     SimplexMesh, LENGTH_BINS,
 };
-use delone::metric::{hessians, metric_from_hessians, Metric, Target};
+use delone::metric::{hessians, metric_from_hessians, metric_from_mesh, Metric, Target};
 use delone_io::{DataArray, MeditMesh, MeditSol, SolField, SolKind, Values, VtuArray, VtuFormat};
 
 use crate::fail::{input_err, usage_err, Failure};
@@ -419,7 +419,16 @@ fn metric_of<const D: usize, const K: usize>(
     let Some((sol, name, _)) = sol else {
         return Ok(match args.hsiz {
             Some(h) => vec![Metric::isotropic(h); m.points.len()],
-            None => mesh_sizes(m),
+            None => {
+                let (lo, hi) = (args.options.hmin, args.options.hmax);
+                metric_from_mesh(
+                    &m.points,
+                    &m.elements,
+                    lo.unwrap_or(0.0),
+                    hi.unwrap_or(f64::INFINITY),
+                )
+                .map_err(|e| input_err(e.to_string()))?
+            }
         });
     };
     let Some(f) = sol.fields.first() else {
@@ -458,34 +467,6 @@ fn metric_of<const D: usize, const K: usize>(
                     "{name}: the metric at vertex {} (1-based) {e}",
                     i + 1
                 ))
-            })
-        })
-        .collect()
-}
-
-/// Each vertex's mean incident edge length as an isotropic size (a vertex
-/// on no element gets the mean over all edges).
-fn mesh_sizes<const D: usize, const K: usize>(m: &SimplexMesh<D, K>) -> Vec<Metric<D>> {
-    let mut sum = vec![(0.0, 0u32); m.points.len()];
-    let (mut total, mut count) = (0.0, 0.0);
-    for [a, b] in delone::metric::edges(&m.elements) {
-        let (p, q) = (m.points[a as usize], m.points[b as usize]);
-        let l = (0..D).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
-        for v in [a, b] {
-            sum[v as usize].0 += l;
-            sum[v as usize].1 += 1;
-        }
-        total += l;
-        count += 1.0;
-    }
-    let fallback = if total > 0.0 { total / count } else { 1.0 };
-    sum.iter()
-        .map(|&(s, n)| {
-            let h = s / f64::from(n.max(1));
-            Metric::isotropic(if h > 0.0 && h.is_finite() {
-                h
-            } else {
-                fallback
             })
         })
         .collect()
@@ -656,7 +637,8 @@ fn write_mesh<const D: usize, const K: usize>(
     if ext == Some("msh") {
         write(path, |w| {
             if D == 2 {
-                delone_io::write_gmsh(w, &out.points, &out.triangles, &el_refs, &[], &[])
+                let (e, r) = (&out.edges, &out.edge_refs);
+                delone_io::write_gmsh_2d(w, &out.points, &out.triangles, &el_refs, e, r)
             } else {
                 let (t, r) = (&out.triangles, &out.triangle_refs);
                 delone_io::write_gmsh(w, &out.points, t, r, &out.tetrahedra, &el_refs)

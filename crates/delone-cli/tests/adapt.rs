@@ -341,6 +341,10 @@ fn vtu_and_msh_in_and_out() {
     let b = delone_io::read_gmsh(&std::fs::read(d.join("b.msh")).unwrap()).unwrap();
     assert_eq!(b.dimension, 2);
     assert!(!b.triangles.is_empty());
+    let mut sides = b.edge_refs.clone();
+    sides.sort_unstable();
+    sides.dedup();
+    assert_eq!(sides, [1, 2, 3, 4], "boundary lines of the .msh");
     // .msh in; -hausd is met by construction; a .vtu's arrays named by file.
     let out = ok(&[
         "b.msh", "--metric", "b.sol", "-o", "c.mesh", "-hausd", "0.01", "-V",

@@ -370,16 +370,47 @@ pub fn write_gmsh<W: Write>(
         &bbox(points, tets, &vidx, vvals.len()),
         &topo.volume_surfaces,
     )?;
-    o.str("$EndEntities\n$Nodes\n");
+    o.str("$EndEntities\n");
+    nodes(&mut o, points, &topo.node_entity)?;
+    o.str("$Elements\n");
+    let ne = (triangles.len() + tets.len()) as u64;
+    let mut used = vec![false; vvals.len()];
+    for &e in &vidx {
+        used[e] = true;
+    }
+    let nonempty_volumes = used.iter().filter(|&&u| u).count();
+    o.uint((svals.len() + nonempty_volumes) as u64);
+    o.byte(b' ');
+    o.uint(ne);
+    o.str(if ne == 0 { " 0 0" } else { " 1 " });
+    if ne > 0 {
+        o.uint(ne);
+    }
+    o.nl()?;
+    let mut tag = 1u64;
+    block(&mut o, 2, 2, triangles, &sidx, svals.len(), &mut tag)?;
+    block(&mut o, 3, 4, tets, &vidx, vvals.len(), &mut tag)?;
+    o.str("$EndElements\n");
+    Ok(o.finish()?)
+}
+
+/// The `$Nodes` section: one block per entity holding nodes, in
+/// (dimension, index) order, each node on the entity `node_entity` gives it.
+fn nodes<W: Write>(
+    o: &mut Out<W>,
+    points: &[[f64; 3]],
+    node_entity: &[(u8, usize)],
+) -> Result<(), IoError> {
+    o.str("$Nodes\n");
     let n = points.len() as u64;
     if n == 0 {
         o.str("0 0 0 0\n");
     } else {
         // One block per entity holding nodes, in (dimension, tag) order.
         let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_by_key(|&v| topo.node_entity[v as usize]);
+        order.sort_by_key(|&v| node_entity[v as usize]);
         let blocks: Vec<&[u32]> = order
-            .chunk_by(|&a, &b| topo.node_entity[a as usize] == topo.node_entity[b as usize])
+            .chunk_by(|&a, &b| node_entity[a as usize] == node_entity[b as usize])
             .collect();
         o.uint(blocks.len() as u64);
         o.byte(b' ');
@@ -388,7 +419,7 @@ pub fn write_gmsh<W: Write>(
         o.uint(n);
         o.nl()?;
         for b in blocks {
-            let (dim, tag) = topo.node_entity[b[0] as usize];
+            let (dim, tag) = node_entity[b[0] as usize];
             o.uint(u64::from(dim));
             o.byte(b' ');
             o.uint(tag as u64 + 1);
@@ -410,14 +441,98 @@ pub fn write_gmsh<W: Write>(
             }
         }
     }
-    o.str("$EndNodes\n$Elements\n");
-    let ne = (triangles.len() + tets.len()) as u64;
-    let mut used = vec![false; vvals.len()];
-    for &e in &vidx {
-        used[e] = true;
+    o.str("$EndNodes\n");
+    Ok(())
+}
+
+/// Writes a planar mesh as a Gmsh `.msh` 4.1 ASCII file: the triangles
+/// (`tri_tags`, e.g. region numbers) as surfaces and the boundary and
+/// interface edges (`edge_tags`, e.g. boundary markers) as line elements
+/// on curves, one entity per distinct tag (physical tag = the tag when
+/// positive). Each surface lists the curves with an edge of one of its
+/// triangles; a node lies on the curve of its first edge, else on the
+/// surface of its first triangle. Points are written with their `z`.
+///
+/// # Errors
+/// [`IoError::InvalidInput`] if a tag array does not match its elements or
+/// an element names a missing point; [`IoError::Io`] if the writer fails.
+///
+/// ```
+/// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let mut out = Vec::new();
+/// let edges = [[0, 1], [1, 2], [2, 0]];
+/// delone_io::write_gmsh_2d(&mut out, &pts, &[[0, 1, 2]], &[4], &edges, &[1, 1, 2]).unwrap();
+/// let m = delone_io::read_gmsh(&out).unwrap();
+/// assert_eq!((m.edges.clone(), m.edge_refs.clone()), (edges.to_vec(), vec![1, 1, 2]));
+/// assert_eq!(m.triangle_refs, vec![4]);
+/// ```
+pub fn write_gmsh_2d<W: Write>(
+    out: W,
+    points: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    tri_tags: &[i32],
+    edges: &[[u32; 2]],
+    edge_tags: &[i32],
+) -> Result<(), IoError> {
+    check_cells("triangle", triangles, tri_tags, points.len())?;
+    check_cells("edge", edges, edge_tags, points.len())?;
+    let (cvals, cidx) = group(edge_tags);
+    let (mut svals, sidx) = group(tri_tags);
+    if svals.is_empty() {
+        svals.push(0);
     }
-    let nonempty_volumes = used.iter().filter(|&&u| u).count();
-    o.uint((svals.len() + nonempty_volumes) as u64);
+    let mut node_entity = vec![(2u8, 0usize); points.len()];
+    for (t, &s) in triangles.iter().zip(&sidx).rev() {
+        for &x in t {
+            node_entity[x as usize] = (2, s);
+        }
+    }
+    for (e, &c) in edges.iter().zip(&cidx).rev() {
+        for &x in e {
+            node_entity[x as usize] = (1, c);
+        }
+    }
+    // Each surface: the curves with an edge of one of its triangles.
+    let mut curve_of: Vec<([u32; 2], usize)> = edges
+        .iter()
+        .zip(&cidx)
+        .map(|(e, &c)| ([e[0].min(e[1]), e[0].max(e[1])], c))
+        .collect();
+    curve_of.sort_unstable();
+    let mut surface_curves = vec![Vec::new(); svals.len()];
+    for (t, &s) in triangles.iter().zip(&sidx) {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let key = [a.min(b), a.max(b)];
+            let i = curve_of.partition_point(|x| x.0 < key);
+            for x in curve_of[i..].iter().take_while(|x| x.0 == key) {
+                surface_curves[s].push(x.1);
+            }
+        }
+    }
+    for l in &mut surface_curves {
+        l.sort_unstable();
+        l.dedup();
+    }
+    let mut o = Out::new(out);
+    o.str("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 ");
+    o.uint(cvals.len() as u64);
+    o.byte(b' ');
+    o.uint(svals.len() as u64);
+    o.str(" 0");
+    o.nl()?;
+    let no_points = vec![Vec::new(); cvals.len()];
+    let curve_boxes = bbox(points, edges, &cidx, cvals.len());
+    entity_lines(&mut o, &cvals, &curve_boxes, &no_points)?;
+    let surface_boxes = bbox(points, triangles, &sidx, svals.len());
+    entity_lines(&mut o, &svals, &surface_boxes, &surface_curves)?;
+    o.str("$EndEntities\n");
+    nodes(&mut o, points, &node_entity)?;
+    o.str("$Elements\n");
+    let ne = (edges.len() + triangles.len()) as u64;
+    // Every entity holds elements but the surface added for no triangles.
+    let surface_blocks = if triangles.is_empty() { 0 } else { svals.len() };
+    o.uint((cvals.len() + surface_blocks) as u64);
     o.byte(b' ');
     o.uint(ne);
     o.str(if ne == 0 { " 0 0" } else { " 1 " });
@@ -426,8 +541,8 @@ pub fn write_gmsh<W: Write>(
     }
     o.nl()?;
     let mut tag = 1u64;
+    block(&mut o, 1, 1, edges, &cidx, cvals.len(), &mut tag)?;
     block(&mut o, 2, 2, triangles, &sidx, svals.len(), &mut tag)?;
-    block(&mut o, 3, 4, tets, &vidx, vvals.len(), &mut tag)?;
     o.str("$EndElements\n");
     Ok(o.finish()?)
 }
@@ -711,5 +826,44 @@ mod tests {
         let pts = [[0.0; 3]; 3];
         assert!(write_gmsh(Vec::new(), &pts, &[[0, 1, 3]], &[1], &[], &[]).is_err());
         assert!(write_gmsh(Vec::new(), &pts, &[[0, 1, 2]], &[], &[], &[]).is_err());
+    }
+
+    /// A square of two triangles (regions 1 and 2) with its four sides
+    /// tagged 1..4 and the diagonal between the regions tagged 9: read
+    /// back, the lines keep their tags and the triangles theirs; each
+    /// surface is bounded by its two sides and the diagonal.
+    #[test]
+    fn planar_mesh_with_boundary_lines_reads_back() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let tris = [[0, 1, 2], [0, 2, 3]];
+        let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]];
+        let edge_tags = [1, 2, 3, 4, 9];
+        let mut out = Vec::new();
+        write_gmsh_2d(&mut out, &pts, &tris, &[1, 2], &edges, &edge_tags).unwrap();
+        let m = crate::read_gmsh(&out).unwrap();
+        assert_eq!(m.dimension, 2);
+        assert_eq!(m.points.len(), 4);
+        let mut got: Vec<([u32; 2], i32)> =
+            m.edges.iter().copied().zip(m.edge_refs.clone()).collect();
+        got.sort_unstable();
+        let mut want: Vec<([u32; 2], i32)> = edges.iter().copied().zip(edge_tags).collect();
+        want.sort_unstable();
+        // Node numbers are kept (tags are 1-based indices).
+        assert_eq!(got, want);
+        assert_eq!(m.triangles, tris.to_vec());
+        assert_eq!(m.triangle_refs, vec![1, 2]);
+        let p = parse_full(&String::from_utf8(out).unwrap());
+        assert_eq!(p.bounds[&(2, 1)], vec![1, 2, 5]);
+        assert_eq!(p.bounds[&(2, 2)], vec![3, 4, 5]);
+        assert!(p
+            .elements
+            .iter()
+            .filter(|e| e.0 == 1)
+            .all(|e| e.2.is_some()));
     }
 }

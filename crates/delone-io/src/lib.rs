@@ -17,7 +17,7 @@
 //!   (TetGen);
 //! * pictures: [`write_svg`] (2D triangles, polygons, points);
 //! * volume meshes for other tools: [`write_medit`] (Medit `.mesh`) and
-//!   [`write_gmsh`] (Gmsh `.msh` 4.1 ASCII);
+//!   [`write_gmsh`] and [`write_gmsh_2d`] (Gmsh `.msh` 4.1 ASCII);
 //! * Medit meshes and fields as MMG reads and writes them: [`read_medit_mesh`],
 //!   [`write_medit_mesh`] (2D and 3D, with references, corners, ridges,
 //!   required entities) and [`read_medit_sol`], [`write_medit_sol`]
@@ -72,7 +72,7 @@ mod write;
 
 pub use area::read_area;
 pub use error::IoError;
-pub use gmsh::write_gmsh;
+pub use gmsh::{write_gmsh, write_gmsh_2d};
 pub use medit::{
     read_medit, read_medit_mesh, read_medit_sol, write_medit, write_medit_mesh, write_medit_sol,
     MeditMesh, MeditSol, SolField, SolKind,

@@ -880,10 +880,30 @@ fn adapt_dict<'py, const D: usize, const K: usize>(
     Ok(d)
 }
 
+/// The metric given (see [`metrics`]), else the mesh's own sizes bounded
+/// by the options' `hmin`/`hmax` ([`delone::metric::metric_from_mesh`]).
+fn metric_or_own<const D: usize, const K: usize>(
+    metric: Option<&PyReadonlyArray2<'_, f64>>,
+    mesh: &SimplexMesh<D, K>,
+    opts: &AdaptOptions,
+) -> PyResult<Vec<Metric<D>>> {
+    match metric {
+        Some(a) => metrics::<D>(a, mesh.points.len()),
+        None => delone::metric::metric_from_mesh(
+            &mesh.points,
+            &mesh.elements,
+            opts.hmin.unwrap_or(0.0),
+            opts.hmax.unwrap_or(f64::INFINITY),
+        )
+        .map_err(|e| lib_err(&e)),
+    }
+}
+
 /// Adapts a triangle (points `(n, 2)`) or tetrahedral (`(n, 3)`) mesh to a
-/// metric given at its vertices (see `delone.adapt`).
+/// metric given at its vertices, or to its own sizes without one (see
+/// `delone.adapt`).
 #[pyfunction]
-#[pyo3(signature = (points, elements, metric, faces=None, face_markers=None,
+#[pyo3(signature = (points, elements, metric=None, faces=None, face_markers=None,
     element_markers=None, corners=None, required=None, ridges=None, hmin=None, hmax=None,
     hgrad=None, insert=true, swap=true, smooth=true, max_passes=30, max_vertices=None,
     progress=None))]
@@ -892,7 +912,7 @@ fn adapt<'py>(
     py: Python<'py>,
     points: PyReadonlyArray2<'py, f64>,
     elements: PyReadonlyArray2<'py, i64>,
-    metric: PyReadonlyArray2<'py, f64>,
+    metric: Option<PyReadonlyArray2<'py, f64>>,
     faces: Option<PyReadonlyArray2<'py, i64>>,
     face_markers: Option<PyReadonlyArray1<'py, i32>>,
     element_markers: Option<PyReadonlyArray1<'py, i32>>,
@@ -929,7 +949,7 @@ fn adapt<'py>(
     };
     if points.shape()[1] == 2 {
         let mesh = simplex_mesh::<2, 3>(&points, &elements, &extras)?;
-        let m = metrics::<2>(&metric, mesh.points.len())?;
+        let m = metric_or_own(metric.as_ref(), &mesh, &opts)?;
         let a = run(py, progress.as_ref(), || {
             delone::adapt::adapt_tri(&mesh, MetricField::AtVertices(m), &opts)
         })?
@@ -937,7 +957,7 @@ fn adapt<'py>(
         adapt_dict(py, a)
     } else {
         let mesh = simplex_mesh::<3, 4>(&points, &elements, &extras)?;
-        let m = metrics::<3>(&metric, mesh.points.len())?;
+        let m = metric_or_own(metric.as_ref(), &mesh, &opts)?;
         let a = run(py, progress.as_ref(), || {
             delone::adapt::adapt_tet(&mesh, MetricField::AtVertices(m), &opts)
         })?

@@ -338,19 +338,23 @@ fn no_long_edge(
     old: &[[u32; 4]],
     new: &[[u32; 4]],
 ) -> bool {
-    let edges = |tets: &[[u32; 4]]| {
-        let mut e: Vec<(u32, u32)> = tets
-            .iter()
+    // Edge `a b` (a < b) as one word, so that the keys sort as integers.
+    let keys = |tets: &[[u32; 4]]| {
+        tets.iter()
             .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
-            .collect();
-        e.sort_unstable();
-        e.dedup();
-        e
+            .map(|(a, b)| (u64::from(a) << 32) | u64::from(b))
+            .collect::<Vec<u64>>()
     };
-    let before = edges(old);
-    edges(new)
-        .into_iter()
-        .all(|(a, b)| before.binary_search(&(a, b)).is_ok() || length(p, met, a, b) <= long)
+    let mut before = keys(old);
+    before.sort_unstable();
+    let mut checked: Vec<u64> = Vec::new();
+    keys(new).into_iter().all(|k| {
+        if before.binary_search(&k).is_ok() || checked.contains(&k) {
+            return true;
+        }
+        checked.push(k);
+        length(p, met, (k >> 32) as u32, k as u32) <= long
+    })
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -397,12 +401,15 @@ struct Engine<'a> {
     /// refused on a star is not tried again before the star changes.
     version: Vec<u32>,
     /// Collapses refused: `v`, `w` and `v`'s version then.
-    refused: std::collections::HashSet<(u32, u32, u32)>,
+    refused: crate::geom::ids::IdSet<(u32, u32, u32)>,
     /// Edges longer than `bounds.0` are split, shorter than `bounds.1`
     /// collapsed ([`GROW`], then [`FINAL`]).
     bounds: (f64, f64),
     /// Per slot: the vertices and their versions when no swap was found.
     unswappable: Vec<([u32; 4], [u32; 4])>,
+    /// Per vertex: its version when it last failed to smooth (it fails
+    /// again until its star changes).
+    unsmoothable: Vec<Option<u32>>,
 }
 
 impl<'a> Engine<'a> {
@@ -441,6 +448,7 @@ impl<'a> Engine<'a> {
             refused: Default::default(),
             bounds: GROW,
             unswappable: Vec::new(),
+            unsmoothable: Vec::new(),
         };
         e.met = e.met.iter().map(|&m| e.bound(m)).collect();
         if let Some(g) = opt.hgrad {
@@ -631,26 +639,54 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
-    /// The live edges with their metric lengths, those `keep` takes.
+    /// The live edges with their metric lengths, those `keep` takes, each
+    /// once, grouped by their smaller end (the passes sort them fully):
+    /// the edges of the live slots bucketed by their smaller end (a
+    /// counting sort), then each other end kept once per bucket.
     fn edge_list(&self, keep: impl Fn(f64) -> bool) -> Vec<(f64, u32, u32)> {
-        let mut es: Vec<(u32, u32)> = Vec::new();
+        let n = self.p.len();
+        let mut start = vec![0u32; n + 2];
         for t in self.m.live_slots() {
             let tv = self.m.tv[t as usize];
-            es.extend(EDGES.iter().map(|&(i, j)| ekey(tv[i], tv[j])));
+            for (i, j) in EDGES {
+                start[tv[i].min(tv[j]) as usize + 2] += 1;
+            }
         }
-        es.sort_unstable();
-        es.dedup();
-        es.into_iter()
-            .map(|(a, b)| (self.len(a, b), a, b))
-            .filter(|x| keep(x.0))
-            .collect()
+        for a in 2..n + 2 {
+            start[a] += start[a - 1];
+        }
+        // Bucket `a` fills from `start[a + 1]`, which ends at its end.
+        let mut other = vec![0u32; start[n + 1] as usize];
+        for t in self.m.live_slots() {
+            let tv = self.m.tv[t as usize];
+            for (i, j) in EDGES {
+                let (a, b) = ekey(tv[i], tv[j]);
+                let at = &mut start[a as usize + 1];
+                other[*at as usize] = b;
+                *at += 1;
+            }
+        }
+        let mut seen = vec![NONE; n];
+        let mut out = Vec::new();
+        for a in 0..n {
+            for &b in &other[start[a] as usize..start[a + 1] as usize] {
+                if seen[b as usize] != a as u32 {
+                    seen[b as usize] = a as u32;
+                    let l = self.len(a as u32, b);
+                    if keep(l) {
+                        out.push((l, a as u32, b));
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// Splits the edges longer than `bounds.0`, longest first.
     fn split_pass(&mut self) {
         let long = self.bounds.0;
         let mut es = self.edge_list(|l| l > long);
-        es.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        es.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         for (_, a, b) in es {
             if self.opt.max_vertices.is_some_and(|m| self.live >= m) {
                 self.report.budget_reached = true;
@@ -701,7 +737,7 @@ impl<'a> Engine<'a> {
     fn collapse_pass(&mut self) {
         let short = self.bounds.1;
         let mut es = self.edge_list(|l| l < short);
-        es.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+        es.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
         let version = &self.version;
         self.refused.retain(|&(v, _, x)| version[v as usize] == x);
         let mut gone = vec![false; self.p.len()];
@@ -757,10 +793,18 @@ impl<'a> Engine<'a> {
             new.iter().all(|&t| quality(p, met, t) >= floor)
                 && no_long_edge(p, met, long, &tets, new)
         };
-        let Some(ids) = self.m.collapse_edge(&self.p, &ball, (v, w), accept) else {
+        if self
+            .m
+            .collapse_edge(&self.p, &ball, (v, w), accept)
+            .is_none()
+        {
             return false;
-        };
-        self.touch(&ids);
+        }
+        // Every vertex of the old star: one whose only tetrahedra there
+        // held `v w` is in no new one, and its star changed too.
+        for v in tets.iter().flatten() {
+            self.version[*v as usize] = self.version[*v as usize].wrapping_add(1);
+        }
         self.report.collapses += 1;
         self.live -= 1;
         self.m.debug_check(&self.p, "adaptation collapse");
@@ -776,7 +820,7 @@ impl<'a> Engine<'a> {
             .map(|t| (self.slot_q(t), t, self.m.tv[t as usize]))
             .filter(|x| x.0 < limit)
             .collect();
-        bad.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        bad.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         bad.into_iter().map(|(_, t, tv)| (t, tv)).collect()
     }
 
@@ -956,8 +1000,22 @@ impl<'a> Engine<'a> {
     /// in the facet's plane, one on a ridge along it, and only to a point
     /// exactly on the planes of its subfaces (exact `orient3d`), so that
     /// every region keeps its volume; corners do not move.
+    ///
+    /// A vertex that failed is not tried again before its star changes
+    /// (the same star gives the same answer).
     fn smooth(&mut self, v: u32) -> bool {
-        self.move_towards(v, None)
+        let version = Some(self.version[v as usize]);
+        if self.unsmoothable.get(v as usize) == Some(&version) {
+            return false;
+        }
+        let done = self.move_towards(v, None);
+        if !done {
+            if self.unsmoothable.len() <= v as usize {
+                self.unsmoothable.resize(self.p.len(), None);
+            }
+            self.unsmoothable[v as usize] = version;
+        }
+        done
     }
 
     /// [`Engine::smooth`] towards point `target` when given (projected on

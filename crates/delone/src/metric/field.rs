@@ -293,6 +293,73 @@ fn element_integral<const D: usize, const K: usize>(
         .sum()
 }
 
+/// The isotropic metric of the mesh's own sizes, the one MMG adapts to
+/// when no metric is given: each vertex's size is the mean length of its
+/// incident edges (a vertex on no element gets the mean over all edges),
+/// clamped to `[hmin, hmax]` (`0` and `f64::INFINITY` for no bound).
+///
+/// # Errors
+/// [`crate::Error::InvalidBound`] for `hmin` negative or `hmax` below it;
+/// [`crate::Error::InconsistentMesh`] naming an element that names a
+/// missing point (or for `K ≠ D + 1`).
+///
+/// ```
+/// use delone::metric::metric_from_mesh;
+/// let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+/// let tris = [[0u32, 1, 2], [1, 3, 2]];
+/// let m = metric_from_mesh(&pts, &tris, 0.0, f64::INFINITY).unwrap();
+/// // Vertex 0: edges of length 1 and 1.
+/// assert!((m[0].sizes()[0] - 1.0).abs() < 1e-12);
+/// // Vertex 1: lengths 1, 1 and √2; bounded by hmax = 1 it gets 1.
+/// assert!((m[1].sizes()[0] - (2.0 + 2f64.sqrt()) / 3.0).abs() < 1e-12);
+/// let b = metric_from_mesh(&pts, &tris, 0.0, 1.0).unwrap();
+/// assert!((b[1].sizes()[0] - 1.0).abs() < 1e-12);
+/// ```
+pub fn metric_from_mesh<const D: usize, const K: usize>(
+    points: &[[f64; D]],
+    elements: &[[u32; K]],
+    hmin: f64,
+    hmax: f64,
+) -> Result<Vec<Metric<D>>, crate::Error> {
+    let bad = |option: &'static str, value: f64| crate::Error::InvalidBound {
+        option,
+        value,
+        reason: "must be a number with 0 ≤ hmin ≤ hmax",
+    };
+    if !(hmin >= 0.0 && hmin.is_finite()) {
+        return Err(bad("-hmin", hmin));
+    }
+    if hmax.is_nan() || hmax < hmin {
+        return Err(bad("-hmax", hmax));
+    }
+    check_mesh::<D, K>(points.len(), elements, points.len(), "points")?;
+    let mut sum = vec![(0.0, 0u32); points.len()];
+    let (mut total, mut count) = (0.0, 0.0);
+    for [a, b] in edges(elements) {
+        let (p, q) = (points[a as usize], points[b as usize]);
+        let l = (0..D).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+        for v in [a, b] {
+            sum[v as usize].0 += l;
+            sum[v as usize].1 += 1;
+        }
+        total += l;
+        count += 1.0;
+    }
+    let fallback = if total > 0.0 { total / count } else { 1.0 };
+    Ok(sum
+        .iter()
+        .map(|&(s, n)| {
+            let h = s / f64::from(n.max(1));
+            let h = if h > 0.0 && h.is_finite() {
+                h
+            } else {
+                fallback
+            };
+            Metric::isotropic(h.clamp(hmin, hmax))
+        })
+        .collect())
+}
+
 /// The metric at every vertex from the field's Hessians (see [`hessians`]):
 /// `|H|` (absolute eigenvalues) scaled for the [`Target`], its sizes
 /// clamped to `[hmin, hmax]` (so a direction without curvature gets
@@ -550,6 +617,21 @@ mod tests {
     #[test]
     fn bad_inputs_are_errors_naming_the_item() {
         let pts = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        let e = metric_from_mesh(&pts, &[[0u32, 1, 5]], 0.0, 1.0).unwrap_err();
+        assert!(
+            matches!(e, crate::Error::InconsistentMesh { reason } if reason.contains("point 5"))
+        );
+        for (lo, hi, option) in [
+            (-1.0, 1.0, "-hmin"),
+            (f64::NAN, 1.0, "-hmin"),
+            (0.5, 0.1, "-hmax"),
+        ] {
+            let e = metric_from_mesh(&pts, &[[0u32, 1, 2]], lo, hi).unwrap_err();
+            assert!(
+                matches!(e, crate::Error::InvalidBound { option: o, .. } if o == option),
+                "{lo} {hi}"
+            );
+        }
         let e = hessians(&pts, &[[0u32, 1, 5]], &[0.0; 3]).unwrap_err();
         assert_eq!(
             e,

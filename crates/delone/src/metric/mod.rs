@@ -1,8 +1,8 @@
 //! Metric fields for mesh adaptation: the metric tensor ([`Metric`]: sizes
 //! and directions, log-Euclidean interpolation, intersection, bounds,
-//! edge lengths, mean ratio), Hessian recovery from a solution field
-//! ([`hessians`]), the metric that minimises the interpolation error for a
-//! complexity or an error level ([`metric_from_hessians`], [`Target`]) and
+//! edge lengths, mean ratio), the mesh's own sizes ([`metric_from_mesh`]),
+//! Hessian recovery from a solution field ([`hessians`]), the metric that
+//! minimises the interpolation error for a complexity or an error level ([`metric_from_hessians`], [`Target`]) and
 //! size gradation ([`gradate`]). Each works on plain arrays (points,
 //! elements, values at the vertices), in 2D and 3D alike (`D` = 2 or 3,
 //! `K = D + 1` corners per element).
@@ -26,5 +26,7 @@ mod field;
 mod tensor;
 
 pub use crate::error::MetricDefect;
-pub use field::{complexity, edges, gradate, hessians, metric_from_hessians, Target};
+pub use field::{
+    complexity, edges, gradate, hessians, metric_from_hessians, metric_from_mesh, Target,
+};
 pub use tensor::{mean_ratio, Metric};
