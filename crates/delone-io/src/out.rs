@@ -102,6 +102,65 @@ impl<W: Write> Out<W> {
     }
 }
 
+/// Rows per block of [`Out::rows`].
+const BLOCK_ROWS: usize = 1 << 15;
+
+impl<W: Write> Out<W> {
+    /// Writes rows `0..n`, each formatted by `row` and ended by a newline,
+    /// after what is buffered. Blocks of rows are formatted on up to
+    /// `threads` threads, one round of consecutive blocks at a time, and
+    /// written in order: the bytes do not depend on the thread count.
+    pub(crate) fn rows(
+        &mut self,
+        n: usize,
+        threads: usize,
+        row: impl Fn(&mut Out<Vec<u8>>, usize) + Sync,
+    ) -> std::io::Result<()> {
+        let blocks = n.div_ceil(BLOCK_ROWS);
+        let threads = threads.clamp(1, blocks.max(1));
+        let fill = |b: &mut Out<Vec<u8>>, k: usize| {
+            b.buf.clear();
+            for i in k * BLOCK_ROWS..n.min((k + 1) * BLOCK_ROWS) {
+                row(b, i);
+                b.buf.push(b'\n');
+            }
+        };
+        let mut bufs: Vec<Out<Vec<u8>>> = (0..threads).map(|_| Out::new(Vec::new())).collect();
+        self.w.write_all(&self.buf)?;
+        self.buf.clear();
+        let mut k = 0;
+        while k < blocks {
+            let round = threads.min(blocks - k);
+            let (mine, others) = bufs[..round].split_at_mut(1);
+            // A thread that cannot start leaves its block to this one.
+            let failed: Vec<usize> = std::thread::scope(|s| {
+                let failed = others
+                    .iter_mut()
+                    .enumerate()
+                    .filter_map(|(j, b)| {
+                        let fill = &fill;
+                        let job = move || fill(b, k + 1 + j);
+                        std::thread::Builder::new()
+                            .spawn_scoped(s, job)
+                            .err()
+                            .map(|_| j)
+                    })
+                    .collect();
+                fill(&mut mine[0], k);
+                failed
+            });
+            for j in failed {
+                fill(&mut others[j], k + 1 + j);
+            }
+            for b in &bufs[..round] {
+                self.w.write_all(&b.buf)?;
+            }
+            k += round;
+        }
+        Ok(())
+    }
+}
+
 /// Appends the shortest text that parses back to exactly `x`.
 pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
     let a = x.abs();
