@@ -407,8 +407,8 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
 }
 
 /// [`read_node`] with the point records parsed on up to `threads` threads:
-/// the text after the header is cut into that many runs of whole lines,
-/// parsed side by side and joined in order. The result is the same for any
+/// the text after the header is cut into that many runs of whole lines (of
+/// 1 MiB at least), parsed side by side and joined in order. The result is the same for any
 /// thread count, errors included (an input any run finds fault with is read
 /// again on one thread, which reports the first error of the file).
 ///
@@ -417,6 +417,13 @@ pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
 /// assert_eq!(delone_io::read_node_threads(text, 2).unwrap(), delone_io::read_node(text).unwrap());
 /// ```
 pub fn read_node_threads(input: &[u8], threads: usize) -> Result<NodeFile, IoError> {
+    read_node_split(input, threads, 1 << 20)
+}
+
+/// [`read_node_threads`] with runs of at least about `min_run` bytes: a
+/// small file is not worth a thread.
+fn read_node_split(input: &[u8], threads: usize, min_run: usize) -> Result<NodeFile, IoError> {
+    let threads = threads.min(input.len() / min_run.max(1) + 1);
     let mut rec = Records::new(input);
     let mut toks = Vec::with_capacity(8);
     let Some(hline) = rec.next(&mut toks) else {
@@ -1145,7 +1152,7 @@ mod tests {
                 }
             }
             let one = format!("{:?}", read_node(&buf));
-            let many = format!("{:?}", read_node_threads(&buf, 2 + (next() % 3) as usize));
+            let many = format!("{:?}", read_node_split(&buf, 2 + (next() % 3) as usize, 1));
             assert_eq!(one, many, "{:?}", String::from_utf8_lossy(&buf));
             let _ = read_ele(&buf, (next() % 2) as u32);
         }
@@ -1173,7 +1180,7 @@ mod tests {
         let b = text.as_bytes();
         for threads in 1..=6 {
             assert_eq!(
-                read_node_threads(b, threads).unwrap(),
+                read_node_split(b, threads, 1).unwrap(),
                 read_node(b).unwrap()
             );
         }
@@ -1185,7 +1192,7 @@ mod tests {
         for cut in 0..=b.len() {
             let one = format!("{:?}", read_node(&b[..cut]));
             for threads in [2, 3, 5] {
-                assert_eq!(format!("{:?}", read_node_threads(&b[..cut], threads)), one);
+                assert_eq!(format!("{:?}", read_node_split(&b[..cut], threads, 1)), one);
             }
         }
     }
