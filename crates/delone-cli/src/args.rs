@@ -163,11 +163,18 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
                 ));
             }
             if o.pslg() || o.refine_mesh() {
-                rules.push((
-                    o.cells_vtu.is_some(),
-                    "--cells-vtu",
-                    "with -p or -r: Voronoi cells are drawn for point sets only",
-                ));
+                rules.extend([
+                    (
+                        o.cells_vtu.is_some(),
+                        "--cells-vtu",
+                        "with -p or -r: Voronoi cells are drawn for point sets only",
+                    ),
+                    (
+                        o.threads.is_some(),
+                        "--threads",
+                        "with -p or -r: only point sets are read and written in threads",
+                    ),
+                ]);
             }
         }
     }
