@@ -38,6 +38,9 @@ pub struct Opts {
     pub medit: Option<PathBuf>,
     /// tet `--gmsh FILE`: Gmsh `.msh` 4.1 output to FILE.
     pub gmsh: Option<PathBuf>,
+    /// tet `--threads N`: threads for reading the `.node` file and writing
+    /// the `.node`/`.ele` files of a point set (tri's is `tri.threads`).
+    pub threads: Option<usize>,
     /// The switch letters as given, for messages.
     pub switches: String,
     /// tri `--png FILE`: a PNG picture (the same scene as --svg).
@@ -160,11 +163,18 @@ fn unused(mode: Mode, o: &Opts) -> Option<String> {
                 ));
             }
             if o.pslg() || o.refine_mesh() {
-                rules.push((
-                    o.cells_vtu.is_some(),
-                    "--cells-vtu",
-                    "with -p or -r: Voronoi cells are drawn for point sets only",
-                ));
+                rules.extend([
+                    (
+                        o.cells_vtu.is_some(),
+                        "--cells-vtu",
+                        "with -p or -r: Voronoi cells are drawn for point sets only",
+                    ),
+                    (
+                        o.threads.is_some(),
+                        "--threads",
+                        "with -p or -r: only point sets are read and written in threads",
+                    ),
+                ]);
             }
         }
     }
@@ -375,12 +385,12 @@ pub fn parse(mode: Mode, args: Vec<String>) -> Result<Command, Usage> {
                     })?)
                 }
                 "output-dir" => o.output_dir = Some(value("--output-dir", inline, &mut it)?.into()),
-                "threads" if mode == Mode::Tri => {
-                    o.tri.threads = Some(crate::threads::parse(&value(
-                        "--threads",
-                        inline,
-                        &mut it,
-                    )?)?)
+                "threads" => {
+                    let n = crate::threads::parse(&value("--threads", inline, &mut it)?)?;
+                    match mode {
+                        Mode::Tri => o.tri.threads = Some(n),
+                        Mode::Tet => o.threads = Some(n),
+                    }
                 }
                 _ => {
                     return Err(Usage(format!(

@@ -168,7 +168,8 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
     let t0 = Instant::now();
     let bytes = crate::guard::read(&names.node)
         .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
-    let mut node = delone_io::read_node(&bytes)
+    let threads = crate::threads::effective(o.threads.or(o.tri.threads));
+    let mut node = delone_io::read_node_threads(&bytes, threads)
         .map_err(|e| input_err(format!("{}: {e}", names.node.display())))?;
     drop(bytes);
     if node.dim != dim {
@@ -449,6 +450,7 @@ fn write_outputs<const D: usize, const K: usize>(
     faces: Option<&Entities<3>>,
 ) -> Result<(Vec<PathBuf>, Duration), Failure> {
     let t = Instant::now();
+    let threads = crate::threads::effective(o.threads.or(o.tri.threads));
     let markers = node_markers(node, hull, &m.vertex_map);
     let bound = !o.out().no_bound;
     let mut written = Vec::new();
@@ -484,17 +486,18 @@ fn write_outputs<const D: usize, const K: usize>(
     for (kind, path) in planned {
         match *kind {
             "node" => write_file(path, &mut written, |f| {
-                delone_io::write_node(
+                delone_io::write_node_threads(
                     f,
                     pts,
                     &node.attributes,
                     node.n_attributes,
                     bound.then_some(&markers[..]),
                     first,
+                    threads,
                 )
             })?,
             "ele" => write_file(path, &mut written, |f| {
-                delone_io::write_ele(f, &m.cells, &[], 0, first)
+                delone_io::write_ele_threads(f, &m.cells, &[], 0, first, threads)
             })?,
             "neigh" => write_file(path, &mut written, |f| {
                 delone_io::write_neigh(f, &m.neighbors, first)

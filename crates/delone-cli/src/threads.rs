@@ -1,4 +1,5 @@
-//! `delone tri --threads N`: threads for quality refinement.
+//! `--threads N`: threads for `delone tri`'s quality refinement and for
+//! reading and writing the `.node`/`.ele` files of `delone tet`'s point sets.
 
 use crate::fail::Usage;
 
@@ -12,7 +13,7 @@ pub fn parse(v: &str) -> Result<usize, Usage> {
     }
 }
 
-/// The threads refinement uses: `--threads N`, else the library's default.
+/// The threads to use: `--threads N`, else the library's default.
 pub fn effective(given: Option<usize>) -> usize {
     given.unwrap_or_else(delone::tri::refine::default_threads)
 }

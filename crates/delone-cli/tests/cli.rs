@@ -359,6 +359,31 @@ fn tet_writes_tetgen_files() {
     assert_eq!(marked, verts.len(), "hull vertices get marker 1");
 }
 
+/// `--threads` reads and writes a point set in parts: the same files for
+/// every count (12,000 points: several blocks of `.ele` rows).
+#[test]
+fn tet_threads_give_the_same_files() {
+    let d = tmp("tet-threads");
+    std::fs::write(d.join("s.node"), cloud3(12_000).0).unwrap();
+    let mut first: Option<Vec<Vec<u8>>> = None;
+    for t in ["1", "2", "3"] {
+        let o = run(&d, &["tet", "-Qn", "--threads", t, "s"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let files: Vec<Vec<u8>> = ["node", "ele", "face", "neigh"]
+            .iter()
+            .map(|e| read(&d, &format!("s.1.{e}")))
+            .collect();
+        let tets = delone_io::read_ele(&files[1], 1).unwrap().len();
+        assert!(tets > 1 << 16, "{tets} tetrahedra: several blocks of rows");
+        match &first {
+            None => first = Some(files),
+            Some(f) => assert!(*f == files, "--threads {t} wrote other bytes"),
+        }
+    }
+    let o = run(&d, &["tet", "--threads", "0", "s"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
 /// needs kernels
 #[test]
 fn tet_switches_f_e_n_k_f_and_vtu() {

@@ -369,6 +369,11 @@ fn switches_without_effect_are_refused() {
         ),
         (&["tri", "--threads", "2", "p2"], "--threads", "refinement"),
         (
+            &["tet", "-p", "--threads", "2", "cube.off"],
+            "--threads",
+            "only point sets",
+        ),
+        (
             &["tri", "-p", "--svg-quality", "face.poly"],
             "--svg-quality",
             "--svg",

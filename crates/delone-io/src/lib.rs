@@ -85,7 +85,7 @@ pub use plc::{read_poly3d, read_smesh, PlcFacet, PlcFile, PlcRegion};
 pub use ply::read_ply;
 pub use poly::{read_poly, write_poly, PolyFile};
 pub use raster::{render, write_png, write_raster_png, Raster};
-pub use read::{read_ele, read_node, EleFile, NodeFile};
+pub use read::{read_ele, read_node, read_node_threads, EleFile, NodeFile};
 pub use render3d::{render_tets, CutawayStyle};
 pub use stl::read_stl;
 pub use surface::{read_surface, Surface};
@@ -96,4 +96,7 @@ pub use vtk::{
     PolyhedronRef, Values, VtuFormat,
 };
 pub use vtu_read::{read_vtu, VtuArray};
-pub use write::{write_edge, write_ele, write_face, write_neigh, write_node};
+pub use write::{
+    write_edge, write_ele, write_ele_threads, write_face, write_neigh, write_node,
+    write_node_threads,
+};

@@ -44,8 +44,10 @@ impl<W: Write> Out<W> {
     }
 
     /// Decimal digits, two at a time from a table (a division by 100 per
-    /// pair instead of by 10 per digit).
-    #[inline]
+    /// pair instead of by 10 per digit). Always inlined: called from the
+    /// row formatters of [`Out::rows`] it otherwise stays a call (+15%
+    /// instructions writing an `.ele`).
+    #[inline(always)]
     pub(crate) fn uint(&mut self, mut v: u64) {
         let mut tmp = [0u8; 20];
         let mut i = tmp.len();
@@ -99,6 +101,65 @@ impl<W: Write> Out<W> {
         self.w.write_all(&self.buf)?;
         self.buf.clear();
         self.w.flush()
+    }
+}
+
+/// Rows per block of [`Out::rows`].
+const BLOCK_ROWS: usize = 1 << 15;
+
+impl<W: Write> Out<W> {
+    /// Writes rows `0..n`, each formatted by `row` and ended by a newline,
+    /// after what is buffered. Blocks of rows are formatted on up to
+    /// `threads` threads, one round of consecutive blocks at a time, and
+    /// written in order: the bytes do not depend on the thread count.
+    pub(crate) fn rows(
+        &mut self,
+        n: usize,
+        threads: usize,
+        row: impl Fn(&mut Out<Vec<u8>>, usize) + Sync,
+    ) -> std::io::Result<()> {
+        let blocks = n.div_ceil(BLOCK_ROWS);
+        let threads = threads.clamp(1, blocks.max(1));
+        let fill = |b: &mut Out<Vec<u8>>, k: usize| {
+            b.buf.clear();
+            for i in k * BLOCK_ROWS..n.min((k + 1) * BLOCK_ROWS) {
+                row(b, i);
+                b.buf.push(b'\n');
+            }
+        };
+        let mut bufs: Vec<Out<Vec<u8>>> = (0..threads).map(|_| Out::new(Vec::new())).collect();
+        self.w.write_all(&self.buf)?;
+        self.buf.clear();
+        let mut k = 0;
+        while k < blocks {
+            let round = threads.min(blocks - k);
+            let (mine, others) = bufs[..round].split_at_mut(1);
+            // A thread that cannot start leaves its block to this one.
+            let failed: Vec<usize> = std::thread::scope(|s| {
+                let failed = others
+                    .iter_mut()
+                    .enumerate()
+                    .filter_map(|(j, b)| {
+                        let fill = &fill;
+                        let job = move || fill(b, k + 1 + j);
+                        std::thread::Builder::new()
+                            .spawn_scoped(s, job)
+                            .err()
+                            .map(|_| j)
+                    })
+                    .collect();
+                fill(&mut mine[0], k);
+                failed
+            });
+            for j in failed {
+                fill(&mut others[j], k + 1 + j);
+            }
+            for b in &bufs[..round] {
+                self.w.write_all(&b.buf)?;
+            }
+            k += round;
+        }
+        Ok(())
     }
 }
 

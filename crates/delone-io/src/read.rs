@@ -403,22 +403,142 @@ impl NodeFile {
 /// assert_eq!(err.to_string(), "line 3: expected 2 coordinates, found 1");
 /// ```
 pub fn read_node(input: &[u8]) -> Result<NodeFile, IoError> {
+    read_node_threads(input, 1)
+}
+
+/// [`read_node`] with the point records parsed on up to `threads` threads:
+/// the text after the header is cut into that many runs of whole lines (of
+/// 1 MiB at least), parsed side by side and joined in order. The result is the same for any
+/// thread count, errors included (an input any run finds fault with is read
+/// again on one thread, which reports the first error of the file).
+///
+/// ```
+/// let text = b"3 3 0 0\n0 0 0 0\n1 1 0 0\n# a comment\n2 0 1 0\n";
+/// assert_eq!(delone_io::read_node_threads(text, 2).unwrap(), delone_io::read_node(text).unwrap());
+/// ```
+pub fn read_node_threads(input: &[u8], threads: usize) -> Result<NodeFile, IoError> {
+    read_node_split(input, threads, 1 << 20)
+}
+
+/// [`read_node_threads`] with runs of at least about `min_run` bytes: a
+/// small file is not worth a thread.
+fn read_node_split(input: &[u8], threads: usize, min_run: usize) -> Result<NodeFile, IoError> {
+    let threads = threads.min(input.len() / min_run.max(1) + 1);
     let mut rec = Records::new(input);
     let mut toks = Vec::with_capacity(8);
     let Some(hline) = rec.next(&mut toks) else {
         return Err(IoError::syntax(1, "a header line", "an empty file"));
     };
+    if threads > 1 {
+        let (head, n) = node_header(&toks, hline, input.len())?;
+        if let Some(f) = node_runs(&head, n, rec.rest, hline, threads) {
+            return Ok(f);
+        }
+    }
     read_node_body(&mut rec, &mut toks, hline, input.len())
 }
 
-/// The `.node` section after its header record (in `toks`, at line `hline`);
-/// shared with the `.poly` reader.
-pub(crate) fn read_node_body<'a>(
-    rec: &mut Records<'a>,
-    toks: &mut Vec<&'a [u8]>,
+/// The point records of `body` (the text after the header at line `hline`)
+/// parsed as `threads` runs of whole lines on as many threads; `None` when a
+/// run finds an error or the runs do not join into `n` consecutively
+/// numbered points (the caller then reads on one thread for the message).
+fn node_runs(
+    head: &NodeFile,
+    n: usize,
+    body: &[u8],
+    hline: usize,
+    threads: usize,
+) -> Option<NodeFile> {
+    let mut runs = Vec::with_capacity(threads);
+    let mut rest = body;
+    for left in (1..threads).rev() {
+        let cut = rest.len() / (left + 1);
+        let end = rest[cut..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(rest.len(), |p| cut + p + 1);
+        let (a, b) = rest.split_at(end);
+        runs.push(a);
+        rest = b;
+    }
+    runs.push(rest);
+    // Each run: its points (`first_index` = the index of its first point)
+    // and its number of lines; the first run numbers its lines on from the
+    // header and its first index must be 0 or 1.
+    let parse = |k: usize| {
+        let run = runs[k];
+        let cap = if k == 0 {
+            n.min(body.len() / 6 + 1)
+        } else {
+            n.min(run.len() / 6 + 1)
+        };
+        let mut f = head.empty(cap);
+        let mut rec = Records {
+            rest: run,
+            line: if k == 0 { hline } else { 0 },
+        };
+        let mut first = None;
+        let toks = &mut Vec::with_capacity(8);
+        let ok = node_records(&mut rec, toks, n, &mut f, &mut first, k > 0).is_ok();
+        // Complete records only (an error may leave part of one behind).
+        f.truncate(f.len());
+        f.first_index = first.unwrap_or(0);
+        (f, rec.line, ok)
+    };
+    let parsed: Vec<Option<(NodeFile, usize, bool)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (1..runs.len())
+            .map(|k| std::thread::Builder::new().spawn_scoped(s, move || parse(k)))
+            .collect();
+        let mut out = vec![Some(parse(0))];
+        for (k, h) in handles.into_iter().enumerate() {
+            out.push(match h {
+                Ok(h) => h.join().ok(),
+                Err(_) => Some(parse(k + 1)),
+            });
+        }
+        out
+    });
+    // Joined in order; an error counts only before the n-th point.
+    let mut parsed = parsed.into_iter();
+    let (mut f, mut lines, ok) = parsed.next()??;
+    if f.is_empty() || !ok && f.len() < n {
+        return None;
+    }
+    for part in parsed {
+        if f.len() >= n {
+            break;
+        }
+        let (g, g_lines, ok) = part?;
+        if !g.is_empty() && g.first_index as usize != f.first_index as usize + f.len() {
+            return None;
+        }
+        let at = u32::try_from(lines).unwrap_or(u32::MAX);
+        f.coords.extend_from_slice(&g.coords);
+        f.attributes.extend_from_slice(&g.attributes);
+        if let (Some(m), Some(gm)) = (f.markers.as_mut(), &g.markers) {
+            m.extend_from_slice(gm);
+        }
+        f.lines
+            .extend(g.lines.iter().map(|&l| l.saturating_add(at)));
+        lines += g_lines;
+        if !ok && f.len() < n {
+            return None;
+        }
+    }
+    if f.len() < n {
+        return None;
+    }
+    f.truncate(n);
+    Some(f)
+}
+
+/// The header of a `.node` section (its tokens in `toks`, at line `hline`):
+/// an empty [`NodeFile`] with its layout, and the number of points.
+fn node_header(
+    toks: &[&[u8]],
     hline: usize,
     input_len: usize,
-) -> Result<NodeFile, IoError> {
+) -> Result<(NodeFile, usize), IoError> {
     let n = parse_count(toks[0], hline, "the number of points")?;
     let dim = match toks.get(1) {
         Some(t) => parse_count(t, hline, "the dimension (2 or 3)")?,
@@ -445,27 +565,67 @@ pub(crate) fn read_node_body<'a>(
             nmark.to_string(),
         ));
     }
-    // Never trust the header for allocation: a point needs at least 6 bytes.
-    let cap = n.min(input_len / 6 + 1);
-    let mut coords = Vec::with_capacity(cap.saturating_mul(dim));
-    let mut attributes = Vec::with_capacity(cap.saturating_mul(nattr).min(input_len));
-    let mut markers = if nmark == 1 {
-        Some(Vec::with_capacity(cap))
-    } else {
-        None
+    let head = NodeFile {
+        dim,
+        coords: Vec::new(),
+        n_attributes: nattr,
+        attributes: Vec::new(),
+        markers: (nmark == 1).then(Vec::new),
+        first_index: 1,
+        header_line: hline,
+        lines: Vec::new(),
     };
-    let mut lines = Vec::with_capacity(cap);
-    let mut first = None;
+    // Never trust the header for allocation: a point needs at least 6 bytes.
+    let f = head.empty(n.min(input_len / 6 + 1));
+    Ok((f, n))
+}
+
+impl NodeFile {
+    /// Keeps the first `n` points (and no partly read one).
+    fn truncate(&mut self, n: usize) {
+        self.coords.truncate(n * self.dim);
+        self.attributes.truncate(n * self.n_attributes);
+        if let Some(m) = self.markers.as_mut() {
+            m.truncate(n);
+        }
+        self.lines.truncate(n);
+    }
+
+    /// No points, this file's layout, room for `cap` points.
+    fn empty(&self, cap: usize) -> NodeFile {
+        NodeFile {
+            coords: Vec::with_capacity(cap.saturating_mul(self.dim)),
+            // A header may announce absurdly many attributes: at most a
+            // few per point are reserved up front.
+            attributes: Vec::with_capacity(cap.saturating_mul(self.n_attributes.min(4))),
+            markers: self.markers.as_ref().map(|_| Vec::with_capacity(cap)),
+            lines: Vec::with_capacity(cap),
+            ..*self
+        }
+    }
+}
+
+/// Parses up to `n` point records from `rec` into `f` and returns how many
+/// it found. The first record's index must be 0 or 1 (any, when
+/// `any_start`: a run that starts inside the file) and sets `first`; the
+/// next ones count on from it.
+fn node_records<'a>(
+    rec: &mut Records<'a>,
+    toks: &mut Vec<&'a [u8]>,
+    n: usize,
+    f: &mut NodeFile,
+    first: &mut Option<u32>,
+    any_start: bool,
+) -> Result<usize, IoError> {
+    let (dim, nattr) = (f.dim, f.n_attributes);
     for k in 0..n {
         let Some(line) = rec.next(toks) else {
-            return Err(IoError::UnexpectedEnd {
-                line: hline,
-                what: "points",
-                declared: n,
-                found: k,
-            });
+            return Ok(k);
         };
-        check_index(toks[0], line, k, &mut first, "point")?;
+        if any_start && k == 0 {
+            *first = fast_int(toks[0]).and_then(|i| u32::try_from(i).ok());
+        }
+        check_index(toks[0], line, k, first, "point")?;
         let have = toks.len() - 1;
         if have < dim {
             return Err(IoError::syntax(
@@ -475,7 +635,7 @@ pub(crate) fn read_node_body<'a>(
             ));
         }
         for t in &toks[1..=dim] {
-            coords.push(parse_f64(t, line, "a coordinate")?);
+            f.coords.push(parse_f64(t, line, "a coordinate")?);
         }
         if have < dim.saturating_add(nattr) {
             return Err(IoError::syntax(
@@ -485,9 +645,9 @@ pub(crate) fn read_node_body<'a>(
             ));
         }
         for t in &toks[1 + dim..1 + dim + nattr] {
-            attributes.push(parse_f64(t, line, "an attribute")?);
+            f.attributes.push(parse_f64(t, line, "an attribute")?);
         }
-        if let Some(m) = markers.as_mut() {
+        if let Some(m) = f.markers.as_mut() {
             m.push(match toks.get(1 + dim + nattr) {
                 Some(t) => {
                     let v = parse_int(t, line, "a boundary marker (integer)")?;
@@ -498,18 +658,32 @@ pub(crate) fn read_node_body<'a>(
                 None => 0,
             });
         }
-        lines.push(u32::try_from(line).unwrap_or(u32::MAX));
+        f.lines.push(u32::try_from(line).unwrap_or(u32::MAX));
     }
-    Ok(NodeFile {
-        dim,
-        coords,
-        n_attributes: nattr,
-        attributes,
-        markers,
-        first_index: first.unwrap_or(1),
-        header_line: hline,
-        lines,
-    })
+    Ok(n)
+}
+
+/// The `.node` section after its header record (in `toks`, at line `hline`);
+/// shared with the `.poly` reader.
+pub(crate) fn read_node_body<'a>(
+    rec: &mut Records<'a>,
+    toks: &mut Vec<&'a [u8]>,
+    hline: usize,
+    input_len: usize,
+) -> Result<NodeFile, IoError> {
+    let (mut f, n) = node_header(toks, hline, input_len)?;
+    let mut first = None;
+    let found = node_records(rec, toks, n, &mut f, &mut first, false)?;
+    if found < n {
+        return Err(IoError::UnexpectedEnd {
+            line: hline,
+            what: "points",
+            declared: n,
+            found,
+        });
+    }
+    f.first_index = first.unwrap_or(1);
+    Ok(f)
 }
 
 /// The content of a Triangle/TetGen `.ele` file, as returned by [`read_ele`].
@@ -977,8 +1151,49 @@ mod tests {
                     buf.extend_from_slice(alphabet[(next() % alphabet.len() as u64) as usize]);
                 }
             }
-            let _ = read_node(&buf);
+            let one = format!("{:?}", read_node(&buf));
+            let many = format!("{:?}", read_node_split(&buf, 2 + (next() % 3) as usize, 1));
+            assert_eq!(one, many, "{:?}", String::from_utf8_lossy(&buf));
             let _ = read_ele(&buf, (next() % 2) as u32);
+        }
+    }
+
+    #[test]
+    fn threaded_reading_matches_one_thread() {
+        // Comments, blank lines, attributes, markers, a missing marker, and
+        // text after the last point; then every prefix (the errors too).
+        let mut text = String::from("# points\n40 3 1 1\n");
+        for i in 1..=40 {
+            let extra = match i % 7 {
+                0 => "\n\n# between\n",
+                3 => " # trailing\n",
+                _ => "\n",
+            };
+            let mark = if i % 5 == 0 {
+                String::new()
+            } else {
+                format!(" {}", i % 3)
+            };
+            text += &format!("{i} {}.25 -{i}e-3 0.{i} 7{mark}{extra}", i * 3);
+        }
+        text += "junk after the points\n";
+        let b = text.as_bytes();
+        for threads in 1..=6 {
+            assert_eq!(
+                read_node_split(b, threads, 1).unwrap(),
+                read_node(b).unwrap()
+            );
+        }
+        // A valid file is read in runs (no fall-back to one thread).
+        let head: &[&[u8]] = &[b"40", b"3", b"1", b"1"];
+        let (f, n) = node_header(head, 2, b.len()).unwrap();
+        let body = &b[b"# points\n40 3 1 1\n".len()..];
+        assert_eq!(node_runs(&f, n, body, 2, 3).unwrap(), read_node(b).unwrap());
+        for cut in 0..=b.len() {
+            let one = format!("{:?}", read_node(&b[..cut]));
+            for threads in [2, 3, 5] {
+                assert_eq!(format!("{:?}", read_node_split(&b[..cut], threads, 1)), one);
+            }
         }
     }
 }

@@ -43,6 +43,39 @@ pub fn write_node<W: Write, const D: usize>(
     markers: Option<&[i32]>,
     first_index: u32,
 ) -> Result<(), IoError> {
+    write_node_threads(
+        out,
+        points,
+        attributes,
+        n_attributes,
+        markers,
+        first_index,
+        1,
+    )
+}
+
+/// [`write_node`] with the lines formatted on up to `threads` threads (the
+/// same bytes for any thread count).
+///
+/// # Errors
+/// As [`write_node`].
+///
+/// ```
+/// let (mut one, mut two) = (Vec::new(), Vec::new());
+/// let pts = vec![[0.5, 1e-9, 3.0]; 100_000];
+/// delone_io::write_node(&mut one, &pts, &[], 0, None, 1).unwrap();
+/// delone_io::write_node_threads(&mut two, &pts, &[], 0, None, 1, 2).unwrap();
+/// assert!(one == two);
+/// ```
+pub fn write_node_threads<W: Write, const D: usize>(
+    out: W,
+    points: &[[f64; D]],
+    attributes: &[f64],
+    n_attributes: usize,
+    markers: Option<&[i32]>,
+    first_index: u32,
+    threads: usize,
+) -> Result<(), IoError> {
     check_len(
         "the attribute array",
         attributes.len(),
@@ -58,10 +91,10 @@ pub fn write_node<W: Write, const D: usize>(
     o.byte(b' ');
     o.uint(n_attributes as u64);
     o.str(if markers.is_some() { " 1" } else { " 0" });
-    o.nl()?;
-    for (i, p) in points.iter().enumerate() {
+    o.byte(b'\n');
+    o.rows(points.len(), threads, |o, i| {
         o.uint(i as u64 + u64::from(first_index));
-        for &c in p {
+        for &c in &points[i] {
             o.byte(b' ');
             o.float(c);
         }
@@ -73,8 +106,7 @@ pub fn write_node<W: Write, const D: usize>(
             o.byte(b' ');
             o.int(i64::from(m[i]));
         }
-        o.nl()?;
-    }
+    })?;
     Ok(o.finish()?)
 }
 
@@ -101,6 +133,30 @@ pub fn write_ele<W: Write, const K: usize>(
     n_attributes: usize,
     first_index: u32,
 ) -> Result<(), IoError> {
+    write_ele_threads(out, elements, attributes, n_attributes, first_index, 1)
+}
+
+/// [`write_ele`] with the lines formatted on up to `threads` threads (the
+/// same bytes for any thread count).
+///
+/// # Errors
+/// As [`write_ele`].
+///
+/// ```
+/// let (mut one, mut two) = (Vec::new(), Vec::new());
+/// let tets = vec![[0, 1, 2, 3]; 100_000];
+/// delone_io::write_ele(&mut one, &tets, &[], 0, 1).unwrap();
+/// delone_io::write_ele_threads(&mut two, &tets, &[], 0, 1, 2).unwrap();
+/// assert!(one == two);
+/// ```
+pub fn write_ele_threads<W: Write, const K: usize>(
+    out: W,
+    elements: &[[u32; K]],
+    attributes: &[f64],
+    n_attributes: usize,
+    first_index: u32,
+    threads: usize,
+) -> Result<(), IoError> {
     check_len(
         "the element attribute array",
         attributes.len(),
@@ -112,11 +168,11 @@ pub fn write_ele<W: Write, const K: usize>(
     o.uint(K as u64);
     o.byte(b' ');
     o.uint(n_attributes as u64);
-    o.nl()?;
+    o.byte(b'\n');
     let f = u64::from(first_index);
-    for (i, e) in elements.iter().enumerate() {
+    o.rows(elements.len(), threads, |o, i| {
         o.uint(i as u64 + f);
-        for &v in e {
+        for &v in &elements[i] {
             o.byte(b' ');
             o.uint(u64::from(v) + f);
         }
@@ -124,8 +180,7 @@ pub fn write_ele<W: Write, const K: usize>(
             o.byte(b' ');
             o.float(a);
         }
-        o.nl()?;
-    }
+    })?;
     Ok(o.finish()?)
 }
 
@@ -242,7 +297,7 @@ pub fn write_face<W: Write>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{read_ele, read_node};
+    use crate::{read_ele, read_node, read_node_threads};
 
     #[test]
     fn node_round_trip_bit_exact() {
@@ -253,12 +308,24 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             f64::from_bits((s >> 2) | 0x3000_0000_0000_0000) * if s & 1 == 1 { -1.0 } else { 1.0 }
         };
-        let pts: Vec<[f64; 3]> = (0..500).map(|_| [rnd(), rnd(), rnd()]).collect();
-        let attrs: Vec<f64> = (0..1000).map(|_| rnd()).collect();
-        let marks: Vec<i32> = (0..500).map(|i| i * 7 - 900).collect();
+        // Three blocks of rows: the threaded writer and reader give the same.
+        let n: usize = 70_000;
+        let pts: Vec<[f64; 3]> = (0..n).map(|_| [rnd(), rnd(), rnd()]).collect();
+        let attrs: Vec<f64> = (0..2 * n).map(|_| rnd()).collect();
+        let marks: Vec<i32> = (0..n as i32).map(|i| i * 7 - 900).collect();
         for first in [0, 1] {
             let mut buf = Vec::new();
             write_node(&mut buf, &pts, &attrs, 2, Some(&marks), first).unwrap();
+            for threads in [2, 3] {
+                let mut par = Vec::new();
+                write_node_threads(&mut par, &pts, &attrs, 2, Some(&marks), first, threads)
+                    .unwrap();
+                assert!(par == buf);
+                assert_eq!(
+                    read_node_threads(&buf, threads).unwrap(),
+                    read_node(&buf).unwrap()
+                );
+            }
             let f = read_node(&buf).unwrap();
             assert_eq!(f.first_index, first);
             assert_eq!(f.points::<3>().unwrap(), pts);
