@@ -362,11 +362,12 @@ pub(crate) fn recover_mesh(
         e => e,
     };
     st.points_first = opts.preserve_surface;
+    let dt0 = opts.preserve_surface.then(|| dt.clone());
     let mut run = st.run_cdt(&mut dt);
-    if matches!(run, Err(RecoverError::Unrecovered { .. })) && opts.preserve_surface {
+    if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
         // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
         st = State::new(Surface::new(points.len(), triangles), opts.clone());
-        dt = Delaunay3::from_points(&scaled)?;
+        dt = dt0;
         run = st.run_cdt(&mut dt);
     }
     let (cm, on) = match run {
