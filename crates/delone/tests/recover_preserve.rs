@@ -170,6 +170,44 @@ fn thin_and_notched_boxes() {
     }
 }
 
+/// A prism over a regular `n`-gon (radius 1, height 1) whose caps are
+/// fans from vertex `n - 1` (long thin triangles, as ear clipping of a
+/// CAD cap leaves them): all its vertices are cospherical, every face is
+/// on the convex hull.
+fn fanned_cylinder(n: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts = Vec::new();
+    for z in [0.0, 1.0] {
+        for k in 0..n {
+            let a = 2.0 * std::f64::consts::PI * f64::from(k) / f64::from(n);
+            pts.push([a.cos(), a.sin(), z]);
+        }
+    }
+    let mut tris = Vec::new();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        tris.push([i, j, j + n]);
+        tris.push([i, j + n, i + n]);
+    }
+    for k in 0..n - 2 {
+        tris.push([n - 1, k + 1, k]);
+        tris.push([2 * n - 1, n + k, n + k + 1]);
+    }
+    (pts, tris)
+}
+
+/// The cospherical vertices of a fanned cylinder leave most of its
+/// subsegments to cavities after the flips of the Delaunay
+/// tetrahedralization; one interior point (the centroid of the failing
+/// triangles) lets the flips recover everything.
+#[test]
+fn fanned_cylinders_need_one_interior_point() {
+    for n in [24, 50, 100] {
+        let (pts, tris) = fanned_cylinder(n);
+        let r = check_y(&format!("cylinder {n}"), &pts, &tris);
+        assert_eq!(r.report.steiner_interior, 1, "cylinder {n}");
+    }
+}
+
 fn data_dir() -> Option<PathBuf> {
     delone_testdata::corpus_dir(env!("CARGO_MANIFEST_DIR"))
 }

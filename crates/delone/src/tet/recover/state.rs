@@ -48,6 +48,11 @@ pub(super) struct State {
     /// Fewest items left missing by an unfinished cavity call, and the
     /// unfinished calls since (`-Y`).
     pub(super) cavity_best: (usize, usize),
+    /// `-Y`: no cavity retriangulation before the first interior point
+    /// ([`State::cavities_now`]).
+    pub(super) points_first: bool,
+    /// What the first failing round of [`State::points_first`] left missing.
+    pub(super) first_missing: Option<(u8, usize)>,
     /// Merged groups recovered as polygons (constrained path).
     pub(super) poly: Polygons,
     /// Flip budget per segment attempt of the `-p` path
