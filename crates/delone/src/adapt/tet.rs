@@ -530,26 +530,27 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// The facets of the subfaces of `ball` through `v` (and `w`, when
-    /// given), sorted, each once.
-    fn facets(&self, ball: &[u32], v: u32, w: Option<u32>) -> Vec<u32> {
-        let mut fs: Vec<u32> = self
-            .m
-            .subfaces_at(ball, v)
-            .into_iter()
+    /// The facets of subfaces `subs` (those of a star through its centre,
+    /// [`DomainMesh::subfaces_at`]) through `w` too, when given, sorted,
+    /// each once.
+    fn facets(&self, subs: &[([u32; 3], u32)], w: Option<u32>) -> Vec<u32> {
+        let mut fs: Vec<u32> = subs
+            .iter()
             .filter(|(k, _)| w.is_none_or(|w| k.contains(&w)))
-            .map(|(_, tri)| self.facet.get(tri as usize).copied().unwrap_or(NONE))
+            .map(|&(_, tri)| self.facet.get(tri as usize).copied().unwrap_or(NONE))
             .collect();
         fs.sort_unstable();
         fs.dedup();
         fs
     }
 
-    fn class(&self, ball: &[u32], v: u32) -> Class {
+    /// The class of vertex `v`, whose star's subfaces through it are
+    /// `subs`.
+    fn class(&self, subs: &[([u32; 3], u32)], v: u32) -> Class {
         if self.fixed[v as usize] {
             return Class::Fixed;
         }
-        match self.facets(ball, v, None)[..] {
+        match self.facets(subs, None)[..] {
             [] => Class::Interior,
             [f] if f != NONE => Class::Surface(f),
             [f, g] if g != NONE => {
@@ -774,12 +775,16 @@ impl<'a> Engine<'a> {
         if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
             return false;
         }
-        let along = match self.class(&ball, v) {
+        if self.fixed[v as usize] {
+            return false;
+        }
+        let subs = self.m.subfaces_at(&ball, v);
+        let along = match self.class(&subs, v) {
             Class::Fixed => return false,
             Class::Interior => true,
-            Class::Surface(f) => self.facets(&ball, v, Some(w)).contains(&f),
+            Class::Surface(f) => self.facets(&subs, Some(w)).contains(&f),
             Class::Ridge(f, g) => {
-                let fs = self.facets(&ball, v, Some(w));
+                let fs = self.facets(&subs, Some(w));
                 fs.contains(&f) && fs.contains(&g)
             }
         };
@@ -795,7 +800,7 @@ impl<'a> Engine<'a> {
         };
         if self
             .m
-            .collapse_edge(&self.p, &ball, (v, w), accept)
+            .collapse_edge(&self.p, &ball, &subs, (v, w), accept)
             .is_none()
         {
             return false;
@@ -1025,7 +1030,11 @@ impl<'a> Engine<'a> {
         if ball.is_empty() {
             return false;
         }
-        let class = self.class(&ball, v);
+        if self.fixed[v as usize] {
+            return false;
+        }
+        let subs = self.m.subfaces_at(&ball, v);
+        let class = self.class(&subs, v);
         if class == Class::Fixed {
             return false;
         }
@@ -1065,7 +1074,6 @@ impl<'a> Engine<'a> {
             }
             _ => d,
         };
-        let subs = self.m.subfaces_at(&ball, v);
         let old = self.min_slot_q(&ball);
         let home_m = self.met[v as usize];
         for w in [1.0, 0.5, 0.25] {
@@ -1165,7 +1173,7 @@ impl<'a> Engine<'a> {
             let Some(s) = self.m.edge_shell(a, b, MAX_SHELL) else {
                 continue;
             };
-            let fs = self.facets(&s, a, Some(b));
+            let fs = self.facets(&self.m.subfaces_at(&s, a), Some(b));
             if let [f, g] = fs[..] {
                 if ridge_pairs.binary_search(&(f, g)).is_ok() {
                     out.ridges.push([map[a as usize], map[b as usize]]);

@@ -121,7 +121,8 @@ impl DomainMesh {
     /// Collapses vertex `v` onto its neighbour `w`: the tetrahedra of `v`'s
     /// star `ball` holding `w` disappear, the others take `w` for `v` (in
     /// their regions), and so do the subfaces through `v` (those through
-    /// `v w` disappear). Nothing changes and `None` is returned when a new
+    /// `v w` disappear): `subs` is [`DomainMesh::subfaces_at`] of `ball`
+    /// and `v`, which the caller has already. Nothing changes and `None` is returned when a new
     /// tetrahedron is not strictly positive (exact) or `accept` refuses the
     /// new tetrahedra; else the new slots. Which collapses keep the domain's
     /// boundary (a vertex on a facet collapsing inside it) is the caller's
@@ -130,6 +131,7 @@ impl DomainMesh {
         &mut self,
         p: &[[f64; 3]],
         ball: &[u32],
+        subs: &[([u32; 3], u32)],
         (v, w): (u32, u32),
         accept: impl FnOnce(&[[u32; 4]]) -> bool,
     ) -> Option<Vec<u32>> {
@@ -145,11 +147,10 @@ impl DomainMesh {
         if new.is_empty() || !new.iter().all(|&n| positive(p, n)) || !accept(&new) {
             return None;
         }
-        let subs = self.subfaces_at(ball, v);
-        for &(k, _) in &subs {
-            self.ftri.remove(&k);
+        for (k, _) in subs {
+            self.ftri.remove(k);
         }
-        for (k, tri) in subs {
+        for &(k, tri) in subs {
             if !k.contains(&w) {
                 self.ftri.insert(swap_key(k, v, w), tri);
             }
