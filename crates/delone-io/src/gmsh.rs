@@ -372,14 +372,35 @@ pub fn write_gmsh<W: Write>(
     )?;
     o.str("$EndEntities\n");
     nodes(&mut o, points, &topo.node_entity)?;
+    elements(
+        &mut o,
+        (2, 2, triangles, &sidx, svals.len()),
+        (3, 4, tets, &vidx, vvals.len()),
+    )?;
+    Ok(o.finish()?)
+}
+
+/// Cells of one dimension for [`elements`]: (dimension, Gmsh element
+/// type, cells, each cell's entity index, number of entities).
+type Cells<'a, const K: usize> = (u64, u64, &'a [[u32; K]], &'a [usize], usize);
+
+/// The `$Elements` section of the cells of two dimensions, lower first:
+/// one block per entity holding cells.
+fn elements<W: Write, const A: usize, const B: usize>(
+    o: &mut Out<W>,
+    lower: Cells<'_, A>,
+    upper: Cells<'_, B>,
+) -> Result<(), IoError> {
+    let nonempty = |entity: &[usize], n: usize| {
+        let mut used = vec![false; n];
+        for &e in entity {
+            used[e] = true;
+        }
+        used.iter().filter(|&&u| u).count()
+    };
     o.str("$Elements\n");
-    let ne = (triangles.len() + tets.len()) as u64;
-    let mut used = vec![false; vvals.len()];
-    for &e in &vidx {
-        used[e] = true;
-    }
-    let nonempty_volumes = used.iter().filter(|&&u| u).count();
-    o.uint((svals.len() + nonempty_volumes) as u64);
+    let ne = (lower.2.len() + upper.2.len()) as u64;
+    o.uint((nonempty(lower.3, lower.4) + nonempty(upper.3, upper.4)) as u64);
     o.byte(b' ');
     o.uint(ne);
     o.str(if ne == 0 { " 0 0" } else { " 1 " });
@@ -388,10 +409,12 @@ pub fn write_gmsh<W: Write>(
     }
     o.nl()?;
     let mut tag = 1u64;
-    block(&mut o, 2, 2, triangles, &sidx, svals.len(), &mut tag)?;
-    block(&mut o, 3, 4, tets, &vidx, vvals.len(), &mut tag)?;
+    let (dim, kind, cells, entity, n) = lower;
+    block(o, dim, kind, cells, entity, n, &mut tag)?;
+    let (dim, kind, cells, entity, n) = upper;
+    block(o, dim, kind, cells, entity, n, &mut tag)?;
     o.str("$EndElements\n");
-    Ok(o.finish()?)
+    Ok(())
 }
 
 /// The `$Nodes` section: one block per entity holding nodes, in
@@ -528,22 +551,11 @@ pub fn write_gmsh_2d<W: Write>(
     entity_lines(&mut o, &svals, &surface_boxes, &surface_curves)?;
     o.str("$EndEntities\n");
     nodes(&mut o, points, &node_entity)?;
-    o.str("$Elements\n");
-    let ne = (edges.len() + triangles.len()) as u64;
-    // Every entity holds elements but the surface added for no triangles.
-    let surface_blocks = if triangles.is_empty() { 0 } else { svals.len() };
-    o.uint((cvals.len() + surface_blocks) as u64);
-    o.byte(b' ');
-    o.uint(ne);
-    o.str(if ne == 0 { " 0 0" } else { " 1 " });
-    if ne > 0 {
-        o.uint(ne);
-    }
-    o.nl()?;
-    let mut tag = 1u64;
-    block(&mut o, 1, 1, edges, &cidx, cvals.len(), &mut tag)?;
-    block(&mut o, 2, 2, triangles, &sidx, svals.len(), &mut tag)?;
-    o.str("$EndElements\n");
+    elements(
+        &mut o,
+        (1, 1, edges, &cidx, cvals.len()),
+        (2, 2, triangles, &sidx, svals.len()),
+    )?;
     Ok(o.finish()?)
 }
 
