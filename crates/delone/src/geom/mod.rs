@@ -62,3 +62,11 @@ pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {
     }
     x
 }
+
+/// Joins the sets of `a` and `b` in the union-find forest `parent`: the
+/// larger root goes under the smaller, so each root is its set's smallest
+/// member.
+pub(crate) fn union_join(parent: &mut [u32], a: u32, b: u32) {
+    let (a, b) = (union_root(parent, a), union_root(parent, b));
+    parent[a.max(b) as usize] = a.min(b);
+}

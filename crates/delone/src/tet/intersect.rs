@@ -45,8 +45,8 @@
 //! INRIA RR-4488, 2002 (orientation-only classification).
 
 use crate::error::Error;
-use crate::geom::union_root;
 use crate::geom::vec3::{collinear, projection_axes};
+use crate::geom::{union_join, union_root};
 use crate::model::canonical_ids;
 use crate::tet::local::ekey;
 use delone_predicates::{orient2d, orient3d};
@@ -391,14 +391,7 @@ pub(crate) fn coplanar_groups(
         if oc == 0.0 || od == 0.0 || (oc > 0.0) == (od > 0.0) {
             continue;
         }
-        let (r1, r2) = (
-            union_root(&mut parent, t1 as u32),
-            union_root(&mut parent, t2 as u32),
-        );
-        if r1 != r2 {
-            let (lo, hi) = (r1.min(r2), r1.max(r2));
-            parent[hi as usize] = lo;
-        }
+        union_join(&mut parent, t1 as u32, t2 as u32);
     }
     (0..triangles.len() as u32)
         .map(|t| union_root(&mut parent, t))

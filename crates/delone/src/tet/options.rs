@@ -214,9 +214,6 @@ impl TetOptions {
     ///                  Err(delone::Error::InvalidBound { .. })));
     /// ```
     pub fn check_bounds(&self) -> Result<(), Error> {
-        if self.max_radius_edge.is_none() && self.max_volume.is_none() {
-            return Ok(());
-        }
         RefineOptions {
             max_radius_edge: self.max_radius_edge,
             max_volume: self.max_volume,

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use crate::model::pslg::Pslg;
 use crate::tri::constrain::{constrain, Cdt, CdtOptions};
 use crate::tri::options::TriOptions;
-use crate::tri::refine::{refine_constrained, RefineReport};
+use crate::tri::refine::{refine_mesh, RefineReport};
 use crate::{Error, NONE};
 
 /// What [`mesh()`] made.
@@ -267,7 +267,7 @@ pub fn mesh(pslg: &Pslg, opts: &TriOptions) -> Result<TriResult, TriError> {
     let unrefined = opts.keep_unrefined.then(|| c.to_cdt());
     let t = Instant::now();
     // Refinement continues on the constrained triangulation's mesh.
-    let r = refine_constrained(c, &opts.refine_options()).map_err(TriError::Refine)?;
+    let r = refine_mesh(&c.cdt, c.cm, &opts.refine_options(), None).map_err(TriError::Refine)?;
     Ok(TriResult {
         mesh: r.mesh,
         unrefined,

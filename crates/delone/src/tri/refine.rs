@@ -111,7 +111,7 @@ use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 
 use super::cmesh::{CMesh, Sub, LABEL};
-use super::constrain::{Cdt, Constrained, Subsegment};
+use super::constrain::{Cdt, Subsegment};
 use super::topo::{edge, pack, unpack, NEXT, PREV};
 use crate::geom::{pow2_scale, scaled};
 use crate::{Error, NONE};
@@ -251,22 +251,15 @@ fn refine_inner(
     refine_mesh(cdt, cm, options, user)
 }
 
-/// Refines the mesh of a constrained triangulation
-/// ([`constrain`](super::constrain::constrain)) in place (see [`refine`]).
+/// Refines `cm`, the mesh of `cdt` (its triangles' `orig` index `cdt`'s
+/// columns, the label of a half-edge on a subsegment is `LABEL | k` for
+/// `cdt.segments[k]`; the coordinates are `cdt.points`), in place: the
+/// pipeline hands over the mesh of [`constrain`](super::constrain::constrain)
+/// this way (see [`refine`]).
 ///
 /// # Errors
 /// As [`refine`].
-pub(super) fn refine_constrained(
-    c: Constrained,
-    options: &RefineOptions,
-) -> Result<Refined, Error> {
-    refine_mesh(&c.cdt, c.cm, options, None)
-}
-
-/// Refines `cm`, the mesh of `cdt` (its triangles' `orig` index `cdt`'s
-/// columns, the label of a half-edge on a subsegment is `LABEL | k` for
-/// `cdt.segments[k]`; the coordinates are `cdt.points`).
-fn refine_mesh(
+pub(super) fn refine_mesh(
     cdt: &Cdt,
     mut cm: CMesh,
     options: &RefineOptions,

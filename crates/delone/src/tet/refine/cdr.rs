@@ -24,8 +24,8 @@ use super::geom::{
 
 use super::options::{default_budget, volume_bounds, RefineOptions, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
-use crate::geom::union_root;
 use crate::geom::vec3::{angle, cross, dist2, dot, sub, P};
+use crate::geom::{union_join, union_root};
 use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::DEAD;
 use crate::tet::quality;
@@ -91,12 +91,7 @@ fn plane_groups(
             if delone_predicates::orient3d(pa, pb, pc, pd) == 0.0
                 || plane_distance(pa, pb, pc, pd) <= COPLANAR_TOL * span
             {
-                let (a, b) = (
-                    union_root(&mut parent, t as u32),
-                    union_root(&mut parent, u),
-                );
-                let (lo, hi) = (a.min(b), a.max(b));
-                parent[hi as usize] = lo;
+                union_join(&mut parent, t as u32, u);
             }
         }
     }
@@ -411,7 +406,7 @@ impl Cdr {
             // Volume over the bound, summed over the tetrahedra (both
             // rescaled alike).
             let ratio: f64 = (0..st.m.tv.len())
-                .filter(|&t| st.alive(t as u32))
+                .filter(|&t| st.m.alive(t as u32))
                 .map(|t| {
                     let bound = st
                         .max_vol
@@ -445,7 +440,7 @@ impl Cdr {
         st.m.debug_check(&st.p, "refinement start");
         st.flip_delaunay(None);
         for t in 0..st.m.tv.len() as u32 {
-            if !st.alive(t) {
+            if !st.m.alive(t) {
                 continue;
             }
             st.check_tet(t);
@@ -456,10 +451,6 @@ impl Cdr {
     #[inline]
     fn pt(&self, q: u32) -> P {
         self.p[q as usize]
-    }
-
-    fn alive(&self, t: u32) -> bool {
-        self.m.alive(t)
     }
 
     fn out_of_budget(&mut self) -> bool {
@@ -867,7 +858,7 @@ impl Cdr {
                     ids.sort_unstable();
                     ids.dedup();
                     for t in ids {
-                        if self.alive(t) {
+                        if self.m.alive(t) {
                             self.check_tet(t);
                         }
                     }

@@ -250,13 +250,9 @@ pub use options::{
 pub use report::{LeftBad, RefineReport, Refined};
 
 use super::recover::{recover_mesh, Domain, RecoverError, Recovered};
-use crate::geom::union_root;
+use crate::geom::{union_join, union_root};
 use crate::tet::dmesh::DomainMesh;
 use crate::NONE;
-
-fn check_bounds(opts: &RefineOptions) -> Result<(), RecoverError> {
-    opts.check_bounds().map_err(RecoverError::Input)
-}
 
 /// Recovers the closed surface (`points`, `triangles`) and refines the
 /// inside until every tetrahedron meets the bounds of `opts` (see the
@@ -292,7 +288,7 @@ pub fn refine(
     triangles: &[[u32; 3]],
     opts: &RefineOptions,
 ) -> Result<Refined, RecoverError> {
-    check_bounds(opts)?;
+    opts.check_bounds().map_err(RecoverError::Input)?;
     let (rec, mesh) = recover_mesh(points, triangles, &[], &opts.recover, &Domain::default())?;
     refine_in_place(points, triangles, &rec, Some(mesh), opts).map(|(r, _)| r)
 }
@@ -365,7 +361,7 @@ pub(crate) fn refine_in_place(
     } else {
         &rec.surface
     };
-    check_bounds(opts)?;
+    opts.check_bounds().map_err(RecoverError::Input)?;
     let mesh = match mesh {
         Some(m) => m,
         None => DomainMesh::from_neighbors(
@@ -444,11 +440,7 @@ fn with_hull(triangles: &[[u32; 3]], rec: &Recovered) -> (Recovered, usize) {
                 continue;
             };
             if delone_predicates::orient3d(pt(fx[0]), pt(fx[1]), pt(fx[2]), pt(d)) == 0.0 {
-                let (a, b) = (
-                    union_root(&mut parent, x as u32),
-                    union_root(&mut parent, y as u32),
-                );
-                parent[a.max(b) as usize] = a.min(b);
+                union_join(&mut parent, x as u32, y as u32);
             }
         }
     }
