@@ -1,5 +1,6 @@
 //! Exact power-of-two rescaling of extreme coordinates.
 
+use crate::geom::vec3::P;
 use crate::Error;
 use std::borrow::Cow;
 
@@ -180,6 +181,20 @@ pub fn check_range<const D: usize>(points: &[[f64; D]], range: i32) -> Result<()
 /// ```
 pub fn unscale_cubic(v: f64, s: (f64, f64)) -> f64 {
     unscale(v, s, 3)
+}
+
+/// The points of a mesh made on rescaled points `scaled` whose first ones
+/// are the caller's `input`, in input units: `input` as given, then the
+/// rest of `scaled` (Steiner points) times `unscale`.
+pub(crate) fn unscaled_points(input: &[P], scaled: &[P], unscale: f64) -> Vec<P> {
+    let mut out = input[..input.len().min(scaled.len())].to_vec();
+    out.extend(
+        scaled
+            .iter()
+            .skip(input.len())
+            .map(|p| p.map(|c| c * unscale)),
+    );
+    out
 }
 
 /// A quantity of the given `degree` in the coordinates (1 for lengths, 2

@@ -1921,15 +1921,7 @@ impl Cdr {
     /// (to continue in place: see [`super::refine_in_place`]).
     pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
         let unscale = 1.0 / self.s;
-        let points: Vec<[f64; 3]> = (0..self.p.len())
-            .map(|i| {
-                if i < rec.points.len() {
-                    rec.points[i]
-                } else {
-                    self.p[i].map(|c| c * unscale)
-                }
-            })
-            .collect();
+        let points = crate::geom::scale::unscaled_points(&rec.points, &self.p, unscale);
         self.m.compact(points.len());
         let ftri = &self.m.ftri;
         let faces = self
