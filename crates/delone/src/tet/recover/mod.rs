@@ -1831,15 +1831,7 @@ impl State {
                 }
             }
         }
-        let points: Vec<[f64; 3]> = (0..pts.len())
-            .map(|i| {
-                if i < input.len() {
-                    input[i]
-                } else {
-                    pts[i].map(|c| c * unscale)
-                }
-            })
-            .collect();
+        let points = crate::geom::scale::unscaled_points(input, pts, unscale);
         let mut vertex_map: Vec<u32> = (0..points.len() as u32).collect();
         for &(d, o) in dt.duplicates() {
             vertex_map[d as usize] = o;
