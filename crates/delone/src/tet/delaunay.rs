@@ -64,6 +64,7 @@ use std::borrow::Cow;
 
 use delone_predicates::{insphere, insphere_weighted, insphere_weighted_sos, orient3d};
 
+use super::dmesh::DomainMesh;
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
 pub use crate::Inserted;
@@ -705,12 +706,14 @@ impl<'a> Delaunay3<'a> {
             .filter(|t| t[0] != DEAD && !t.contains(&INF))
     }
 
-    /// Checks the combinatorial and orientation invariants: every adjacency
-    /// word is mirrored and joins equal facets with opposite orientations,
-    /// every finite tetrahedron is positive (exact), every ghost has exactly
-    /// one infinite vertex, the free list names exactly the dead slots, the
-    /// finite count is right, every inserted vertex belongs to a tetrahedron,
-    /// and the Euler relation `V - E + F - T = 1` holds.
+    /// Checks the combinatorial and orientation invariants: the arrays pass
+    /// the checker of the constrained domain mesh (`tet::dmesh`: the free list
+    /// names exactly the dead slots, every finite tetrahedron is positive
+    /// (exact), every ghost has exactly one infinite vertex, last, every
+    /// adjacency word is mirrored and joins equal facets with opposite
+    /// orientations), the finite count is right, every inserted vertex
+    /// belongs to a tetrahedron, and the Euler relation `V - E + F - T = 1`
+    /// holds.
     ///
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -722,74 +725,12 @@ impl<'a> Delaunay3<'a> {
             return Ok(());
         }
         let pts: &[[f64; 3]] = &self.points;
-        let mut dead = 0usize;
-        let mut finite = 0usize;
-        for (t, tv) in c.v.iter().enumerate() {
-            if tv[0] == DEAD {
-                dead += 1;
-                continue;
-            }
-            let infs = tv.iter().filter(|&&q| q == INF).count();
-            if infs > 1 || (infs == 1 && tv[3] != INF) {
-                return Err(Violation::new(
-                    "ghost",
-                    format!("tet {t} {tv:?}: {infs} infinite vertices, or one not in position 3"),
-                ));
-            }
-            if infs == 0 {
-                finite += 1;
-                let p = |i: usize| &pts[tv[i] as usize];
-                if orient3d(p(0), p(1), p(2), p(3)) >= 0.0 {
-                    return Err(Violation::new(
-                        "orientation",
-                        format!("tet {t} {tv:?} is not positively oriented"),
-                    ));
-                }
-            }
-            for (f, facet) in FACET.iter().enumerate() {
-                let w = c.adj[t][f];
-                let (u, g) = ((w >> 2) as usize, (w & 3) as usize);
-                if u >= c.v.len() || c.v[u][0] == DEAD {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("tet {t} facet {f} points to dead/absent tet {u}"),
-                    ));
-                }
-                if c.adj[u][g] != (4 * t + f) as u32 {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!(
-                            "tet {t} facet {f} -> tet {u} facet {g}, which does not point back"
-                        ),
-                    ));
-                }
-                let mine = facet.map(|i| tv[i]);
-                let uv = c.v[u];
-                let theirs = FACET[g].map(|i| uv[i]);
-                // Same triangle with opposite orientation: theirs is a cyclic
-                // rotation of mine reversed.
-                let rev = [mine[0], mine[2], mine[1]];
-                let same = (0..3).any(|s| (0..3).all(|k| theirs[(k + s) % 3] == rev[k]));
-                if !same {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!("facet {f} of tet {t} {mine:?} and facet {g} of tet {u} {theirs:?} differ"),
-                    ));
-                }
-            }
-        }
-        if dead != c.free.len() {
-            return Err(Violation::new(
-                "free list",
-                format!("{dead} dead slots but {} free-listed", c.free.len()),
-            ));
-        }
-        if let Some(&t) = c.free.iter().find(|&&t| c.v[t as usize][0] != DEAD) {
-            return Err(Violation::new(
-                "free list",
-                format!("free-listed tet {t} is alive"),
-            ));
-        }
+        // A copy of the arrays as a domain mesh without subfaces.
+        let m = DomainMesh::from_arrays(c.v.clone(), c.adj.clone(), c.free.clone(), Vec::new());
+        m.check(pts).map_err(|e| Violation::new("topology", e))?;
+        let finite = (c.v.iter())
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .count();
         if finite != c.finite {
             return Err(Violation::new(
                 "count",

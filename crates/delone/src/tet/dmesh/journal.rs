@@ -41,6 +41,7 @@
 //! them into candidate triangles locally.
 
 use std::cell::RefCell;
+use std::mem::take;
 
 use delone_predicates::orient3d;
 
@@ -133,15 +134,8 @@ impl<'a> Journaled<'a> {
                 }
             }
         }
-        let m = DomainMesh {
-            // No subface yet (before the arrays are taken: fields initialise in order).
-            mask: vec![0; c.v.len()],
-            tv: std::mem::take(&mut c.v),
-            nb: std::mem::take(&mut c.adj),
-            free: std::mem::take(&mut c.free),
-            vt,
-            ..DomainMesh::default()
-        };
+        let (tv, nb, free) = (take(&mut c.v), take(&mut c.adj), take(&mut c.free));
+        let m = DomainMesh::from_arrays(tv, nb, free, vt);
         Journaled {
             m,
             shell: dt,

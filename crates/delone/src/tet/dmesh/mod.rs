@@ -169,6 +169,26 @@ pub(crate) struct Unmatched {
 const LINEAR: usize = 48;
 
 impl DomainMesh {
+    /// The structure over a tetrahedralization's arrays (vertices `tv`, ghost
+    /// cells included, packed neighbour words `nb`, free slots `free`) with
+    /// vertex hints `vt` and no subface.
+    pub(crate) fn from_arrays(
+        tv: Vec<[u32; 4]>,
+        nb: Vec<[u32; 4]>,
+        free: Vec<u32>,
+        vt: Vec<u32>,
+    ) -> DomainMesh {
+        let mask = vec![0; tv.len()];
+        DomainMesh {
+            tv,
+            nb,
+            mask,
+            free,
+            vt,
+            ..DomainMesh::default()
+        }
+    }
+
     /// Builds the structure from tetrahedra `tets` (positive), their
     /// neighbour slots `neighbors` ([`NONE`] on the boundary) and regions
     /// `reg`, on `n_points` vertices. No subface marks yet (see
@@ -775,7 +795,6 @@ impl DomainMesh {
     /// equal across faces that are not subfaces; every vertex hint a live
     /// slot holding it; when `ftri` is filled, its keys exactly the
     /// subfaces; `sedges` and `segs` on edges of subfaces / live edges.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn check(&self, p: &[[f64; 3]]) -> Result<(), String> {
         let n = self.tv.len();
         let regions = !self.reg.is_empty();
@@ -836,8 +855,13 @@ impl DomainMesh {
                         "tet {t} face {f}: neighbour {u} does not link back"
                     ));
                 }
-                if fkey(face(self.tv[u], g)) != k {
-                    return Err(format!("tet {t} face {f}: neighbour {u} has another face"));
+                // The same face seen from the other side: theirs is a
+                // rotation of mine reversed.
+                let (mine, theirs) = (face(tv, f), face(self.tv[u], g));
+                if !(0..3).any(|s| (0..3).all(|i| theirs[(i + s) % 3] == mine[(3 - i) % 3])) {
+                    return Err(format!(
+                        "tet {t} face {f}: neighbour {u} has another face, or the same orientation"
+                    ));
                 }
                 if self.tv[u][g] == tv[f] {
                     return Err(format!("tet {t} face {f}: same apex on both sides"));
