@@ -788,68 +788,30 @@ impl<'a> Delaunay3<'a> {
         Ok(())
     }
 
-    /// Checks the Delaunay property with exact predicates: for every facet
-    /// between two finite tetrahedra, the apex of one is not strictly inside
-    /// the circumsphere of the other; and the hull is convex (the apex across
-    /// every hull edge is not strictly outside a hull facet). Together with
-    /// [`Delaunay3::check_topology`] this certifies a Delaunay tetrahedralization
-    /// of the convex hull.
+    /// Checks the Delaunay (regular, with weights) property with exact
+    /// predicates: the flat output of a copy ([`Delaunay3::into_mesh`])
+    /// passes [`validate`](super::validate) (or
+    /// [`validate_regular`](super::validate_regular)): for every facet
+    /// between two tetrahedra, the apex of one is not strictly inside the
+    /// circumsphere (orthogonal sphere) of the other, the hull is convex,
+    /// and the hidden points are really hidden. Together with
+    /// [`Delaunay3::check_topology`] this certifies a Delaunay
+    /// tetrahedralization of the convex hull.
     ///
     /// ```
     /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
     /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_delaunay().unwrap();
     /// ```
     pub fn check_delaunay(&self) -> Result<(), Violation> {
-        let c = &self.core;
-        let pts: &[[f64; 3]] = &self.points;
-        let p = |q: u32| &pts[q as usize];
-        for (t, tv) in c.v.iter().enumerate() {
-            if tv[0] == DEAD {
-                continue;
-            }
-            if tv[3] == INF {
-                let k = 3;
-                // Hull convexity: each neighbouring ghost's far finite vertex
-                // must not be strictly outside this hull facet.
-                let [a, b, cc] = FACET[k].map(|i| tv[i]);
-                for f in 0..4 {
-                    if f == k {
-                        continue;
-                    }
-                    let u = (c.adj[t][f] >> 2) as usize;
-                    let far = c.v[u][(c.adj[t][f] & 3) as usize];
-                    if far != INF && orient3d(p(a), p(b), p(cc), p(far)) < 0.0 {
-                        return Err(Violation::new(
-                            "convexity",
-                            format!(
-                                "hull facet {:?} of ghost {t} sees vertex {far} outside",
-                                [a, b, cc]
-                            ),
-                        ));
-                    }
-                }
-                continue;
-            }
-            for f in 0..4 {
-                let w = c.adj[t][f];
-                let u = (w >> 2) as usize;
-                let apex = c.v[u][(w & 3) as usize];
-                if apex == INF || u < t {
-                    continue;
-                }
-                // The in-sphere test wants orient3d > 0; ours are negative.
-                let t1 = [tv[1], tv[0], tv[2], tv[3]];
-                if super::mesh::conflict(pts, self.weights.as_deref(), t1, apex) {
-                    return Err(Violation::new(
-                        "delaunay",
-                        format!(
-                            "vertex {apex} of tet {u} is inside the circumsphere of tet {t} {tv:?}"
-                        ),
-                    ));
-                }
-            }
+        if self.core.finite == 0 {
+            // No tetrahedron yet (the points may be pending): nothing to check.
+            return Ok(());
         }
-        Ok(())
+        let mesh = self.clone().into_mesh();
+        match &self.weights {
+            None => super::validate(&self.points, &mesh),
+            Some(w) => super::validate_regular(&self.points, w, &mesh),
+        }
     }
 
     /// Drops the ghost cells, compacts the arrays in place and returns the
