@@ -2,6 +2,7 @@
 
 use delone_predicates::{insphere, insphere_weighted, orient3d};
 
+use super::dmesh::DomainMesh;
 use super::local::{face, fkey, FACET};
 use crate::{Violation, NONE};
 
@@ -216,10 +217,9 @@ fn validate_impl(
         ));
     }
     check_vertex_map(points, mesh)?;
-    let p = |q: u32| &points[q as usize];
     let mut used = vec![false; n];
     for (t, tv) in mesh.tets.iter().enumerate() {
-        for (i, &q) in tv.iter().enumerate() {
+        for &q in tv {
             if q as usize >= n {
                 return Err(Violation::new(
                     "range",
@@ -232,19 +232,7 @@ fn validate_impl(
                     format!("tet {t} uses duplicate point {q}"),
                 ));
             }
-            if tv[..i].contains(&q) {
-                return Err(Violation::new(
-                    "range",
-                    format!("tet {t} repeats vertex {q}"),
-                ));
-            }
             used[q as usize] = true;
-        }
-        if orient3d(p(tv[0]), p(tv[1]), p(tv[2]), p(tv[3])) >= 0.0 {
-            return Err(Violation::new(
-                "orientation",
-                format!("tet {t} {tv:?} has no positive volume"),
-            ));
         }
     }
     if let Some(q) = (0..n).find(|&q| mesh.vertex_map[q] == q as u32 && !used[q]) {
@@ -253,56 +241,30 @@ fn validate_impl(
             format!("point {q} is not a vertex of any tetrahedron"),
         ));
     }
+    // Positive volumes (distinct vertices) and neighbours across the same
+    // face, seen with opposite orientations: the domain mesh's checker,
+    // with the boundary faces (no neighbour) as its subfaces.
+    let mut m = DomainMesh::from_neighbors(&mesh.tets, &mesh.neighbors, &[], n).map_err(|t| {
+        let why = format!("tet {t} has a neighbour that does not share the face");
+        Violation::new("adjacency", why)
+    })?;
+    m.mark_subfaces(&Default::default());
+    m.check(points).map_err(|e| Violation::new("topology", e))?;
     let mut faces = 0usize;
     let mut hull_edges: Vec<(u32, u32, u32)> = Vec::new();
-    for (t, (tv, nb)) in mesh.tets.iter().zip(&mesh.neighbors).enumerate() {
+    for (t, tv) in mesh.tets.iter().enumerate() {
         for f in 0..4 {
-            let face = FACET[f].map(|i| tv[i]);
-            let u = nb[f];
-            if u == NONE {
+            let w = m.nb[t][f];
+            if w == NONE {
                 faces += 1;
                 // Outward orientation is the reverse of FACET order.
-                let [a, b, c] = face;
+                let [a, b, c] = face(*tv, f);
                 for (x, y) in [(a, c), (c, b), (b, a)] {
                     hull_edges.push((x, y, t as u32 * 4 + f as u32));
                 }
-                continue;
-            }
-            if u as usize >= nt {
-                return Err(Violation::new(
-                    "adjacency",
-                    format!("tet {t} face {f} names tet {u} of {nt}"),
-                ));
-            }
-            let ut = mesh.tets[u as usize];
-            let back = (0..4)
-                .filter(|&g| mesh.neighbors[u as usize][g] == t as u32)
-                .collect::<Vec<_>>();
-            let g = match back.as_slice() {
-                [g] => *g,
-                _ => {
-                    return Err(Violation::new(
-                        "adjacency",
-                        format!(
-                            "tet {t} face {f} -> tet {u}, which links back {} times",
-                            back.len()
-                        ),
-                    ))
-                }
-            };
-            let mut mine = face;
-            let mut theirs = FACET[g].map(|i| ut[i]);
-            mine.sort_unstable();
-            theirs.sort_unstable();
-            if mine != theirs {
-                return Err(Violation::new(
-                    "adjacency",
-                    format!("tet {t} face {f} {mine:?} and tet {u} face {g} {theirs:?} differ"),
-                ));
-            }
-            if (u as usize) > t {
+            } else if (w >> 2) as usize > t {
                 faces += 1;
-                let apex = ut[g];
+                let (u, apex) = (w >> 2, m.tv[(w >> 2) as usize][(w & 3) as usize]);
                 if conflict(points, weights, [tv[1], tv[0], tv[2], tv[3]], apex) {
                     return Err(Violation::new(
                         "delaunay",
@@ -495,4 +457,51 @@ fn check_hull(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validate_sees_broken_orientation_and_links() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+        ];
+        let mesh = crate::tetrahedralize(&pts).unwrap();
+        assert_eq!(mesh.tets.len(), 2);
+        validate(&pts, &mesh).unwrap();
+        let (shared, back) = (0..4)
+            .find_map(|f| {
+                (mesh.neighbors[0][f] == 1)
+                    .then(|| (f, mesh.neighbors[1].iter().position(|&u| u == 0).unwrap()))
+            })
+            .unwrap();
+        let broken = |edit: &dyn Fn(&mut TetMesh)| {
+            let mut m = mesh.clone();
+            edit(&mut m);
+            validate(&pts, &m).unwrap_err().kind
+        };
+        // Inverted (the faces and their neighbours kept together).
+        let invert = |m: &mut TetMesh| {
+            m.tets[0].swap(0, 1);
+            m.neighbors[0].swap(0, 1);
+        };
+        assert_eq!(broken(&invert), "topology");
+        // Links that break the symmetry or the shared face.
+        let links: [&dyn Fn(&mut TetMesh); 4] = [
+            &|m| m.neighbors[0][shared] = NONE,
+            &|m| m.neighbors[1][back] = 1,
+            &|m| m.neighbors[0][(shared + 1) % 4] = 1,
+            &|m| m.tets[1] = m.tets[0],
+        ];
+        for edit in links {
+            assert!(["adjacency", "topology", "vertices"].contains(&broken(edit)));
+        }
+        assert_eq!(broken(&|m| m.tets[0][0] = 9), "range");
+    }
 }
