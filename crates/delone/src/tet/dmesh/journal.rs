@@ -634,19 +634,20 @@ impl<'a> Journaled<'a> {
         self.removals += 1;
         Some(total)
     }
-
-    /// The invariant checker of the domain mesh ([`DomainMesh::check`],
-    /// ghost cells included) on these points.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub(crate) fn check(&self) -> Result<(), String> {
-        self.m.check(self.pts())
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::tet::dmesh::tests::three_around_an_edge;
+
+    impl Journaled<'_> {
+        /// The invariant checker of the domain mesh ([`DomainMesh::check`],
+        /// ghost cells included) on these points.
+        fn check(&self) -> Result<(), String> {
+            self.m.check(self.pts())
+        }
+    }
 
     fn finite_tets(m: &Journaled<'_>) -> usize {
         m.m.live_slots()

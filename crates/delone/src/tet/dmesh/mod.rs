@@ -782,7 +782,6 @@ impl DomainMesh {
     }
 
     /// The live slots.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) fn live_slots(&self) -> impl Iterator<Item = u32> + '_ {
         (0..self.tv.len() as u32).filter(|&t| self.tv[t as usize][0] != DEAD)
     }
