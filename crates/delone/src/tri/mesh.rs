@@ -1,6 +1,6 @@
 //! The flat output of the 2D kernel and its independent validator.
 
-use delone_predicates::{incircle, incircle_weighted, orient2d};
+use delone_predicates::{incircle_weighted, orient2d};
 
 use super::cmesh::CMesh;
 use crate::geom::brio_order;
@@ -223,27 +223,15 @@ fn validate_impl(
         return err("size", "no triangles".into());
     }
     // Vertices in range, counterclockwise triangles, neighbours across
-    // twin edges; every interior edge locally Delaunay: the apex of `u` is
-    // not inside `t`'s circle.
-    let edges = check_edges(points, &mesh.triangles, &mesh.neighbors, |t, _, u, j| {
-        let d = mesh.triangles[u as usize][j as usize];
-        let tv = mesh.triangles[t as usize];
-        let [p, q, r] = tv.map(|x| &points[x as usize]);
-        let det = match weights {
-            Some(w) => {
-                let [wp, wq, wr] = tv.map(|x| w[x as usize]);
-                incircle_weighted(p, q, r, &points[d as usize], wp, wq, wr, w[d as usize])
-            }
-            None => incircle(p, q, r, &points[d as usize]),
-        };
-        if det > 0.0 {
-            return err(
-                "delaunay",
-                format!("vertex {d} of triangle {u} is inside the circumcircle of triangle {t}"),
-            );
-        }
-        Ok(())
-    })?;
+    // twin edges; every interior edge locally Delaunay (regular).
+    let edges = check_edges(
+        points,
+        &mesh.triangles,
+        &mesh.neighbors,
+        |_, _, _, _| Ok(()),
+    )?;
+    let cm = CMesh::from_triangles(points.to_vec(), &mesh.triangles, &mesh.neighbors);
+    cm.check_delaunay(weights)?;
     let mut used = vec![false; n];
     for &x in mesh.triangles.iter().flatten() {
         used[x as usize] = true;
@@ -395,7 +383,7 @@ fn validate_impl(
         );
     }
     if let Some(w) = weights {
-        check_hidden(points, w, mesh)?;
+        check_hidden(&cm, w, mesh)?;
     }
     Ok(())
 }
@@ -403,9 +391,10 @@ fn validate_impl(
 /// Every hidden point lies in the closed hull and on or above the lifted
 /// triangle that contains it (located by [`CMesh::locate`], visiting the
 /// hidden points in [`brio_order`] so that each walk starts near the
-/// previous answer). The mesh's topology is already validated.
-fn check_hidden(points: &[[f64; 2]], w: &[f64], mesh: &TriMesh) -> Result<(), Violation> {
-    let cm = CMesh::from_triangles(points.to_vec(), &mesh.triangles, &mesh.neighbors);
+/// previous answer) in `cm`, the mesh of `mesh`, whose topology is
+/// already validated.
+fn check_hidden(cm: &CMesh, w: &[f64], mesh: &TriMesh) -> Result<(), Violation> {
+    let points = &cm.xy;
     let hidden: Vec<[f64; 2]> = mesh.hidden.iter().map(|&h| points[h as usize]).collect();
     let (mut t, mut rng) = (0, 0x2545_f491u32);
     for k in brio_order(&hidden) {
