@@ -4,7 +4,7 @@ use delone_predicates::{incircle_weighted, orient2d};
 
 use super::cmesh::CMesh;
 use crate::geom::brio_order;
-use crate::model::key;
+use crate::geom::check::check_vertices;
 use crate::{Violation, NONE};
 
 /// A triangulation in flat arrays, as returned by [`crate::triangulate`].
@@ -201,7 +201,6 @@ fn validate_impl(
     let weights: Option<Vec<f64>> =
         weights.map(|w| w.iter().map(|&x| x * s.0 * s.0 * s.1 * s.1).collect());
     let weights = weights.as_deref();
-    let wkey = |i: usize| weights.map_or(0, |w| (w[i] + 0.0).to_bits());
     let n = points.len();
     let nt = mesh.triangles.len();
     if mesh.neighbors.len() != nt {
@@ -236,70 +235,8 @@ fn validate_impl(
     for &x in mesh.triangles.iter().flatten() {
         used[x as usize] = true;
     }
-    // Duplicates: group equal points, the smallest index represents them.
-    let mut ids: Vec<u32> = (0..n as u32).collect();
-    ids.sort_unstable_by_key(|&i| (key(&points[i as usize]), wkey(i as usize), i));
-    let same = |i: u32, j: u32| {
-        key(&points[i as usize]) == key(&points[j as usize]) && wkey(i as usize) == wkey(j as usize)
-    };
-    let mut rep = vec![0u32; n];
-    for (k, &i) in ids.iter().enumerate() {
-        rep[i as usize] = if k > 0 && same(ids[k - 1], i) {
-            rep[ids[k - 1] as usize]
-        } else {
-            i
-        };
-    }
-    let mut expected_dups = Vec::new();
-    let mut expected_hidden = Vec::new();
-    for i in 0..n {
-        let r = rep[i];
-        if weights.is_some() && !used[r as usize] {
-            // Hidden (with all its duplicates).
-            if mesh.vertex_map[i] != NONE {
-                return err(
-                    "vertex_map",
-                    format!(
-                        "point {i} is not a vertex, but maps to {}",
-                        mesh.vertex_map[i]
-                    ),
-                );
-            }
-            expected_hidden.push(i as u32);
-            continue;
-        }
-        if mesh.vertex_map[i] != r {
-            return err(
-                "vertex_map",
-                format!("point {i} maps to {} instead of {r}", mesh.vertex_map[i]),
-            );
-        }
-        if r as usize == i {
-            if !used[i] {
-                return err("vertex", format!("point {i} is not used by any triangle"));
-            }
-        } else {
-            if used[i] {
-                return err(
-                    "vertex",
-                    format!("duplicate point {i} (of {r}) is used by a triangle"),
-                );
-            }
-            expected_dups.push((i as u32, r));
-        }
-    }
-    let list = |kind: &'static str, got: usize, want: usize| {
-        err(
-            kind,
-            format!("{kind} list has {got} entries, expected {want}"),
-        )
-    };
-    if mesh.duplicates != expected_dups {
-        return list("duplicates", mesh.duplicates.len(), expected_dups.len());
-    }
-    if mesh.hidden != expected_hidden {
-        return list("hidden", mesh.hidden.len(), expected_hidden.len());
-    }
+    let (dups, hidden) = (&mesh.duplicates, &mesh.hidden);
+    check_vertices(points, weights, &used, &mesh.vertex_map, dups, hidden)?;
     // The hull: the edges without a twin, sorted by their start vertex.
     let hull: Vec<(u32, u32)> = edges
         .iter()
