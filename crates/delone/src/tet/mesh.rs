@@ -407,13 +407,8 @@ mod tests {
 
     #[test]
     fn validate_sees_broken_orientation_and_links() {
-        let pts = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-        ];
+        let mut pts = crate::geom::vec3::corner_tet(1.0).to_vec();
+        pts.push([1.0; 3]);
         let mesh = crate::tetrahedralize(&pts).unwrap();
         assert_eq!(mesh.tets.len(), 2);
         validate(&pts, &mesh).unwrap();
