@@ -7,6 +7,7 @@ use delone_predicates::orient3d;
 use super::place::{collinear, inside_triangle, line_distance, plane_distance};
 use super::types::Recovered;
 use crate::geom::vec3::{cross, dot, sub};
+use crate::tet::dmesh::DomainMesh;
 use crate::tet::local::{ekey, fkey};
 use crate::{Violation, NONE};
 
@@ -104,42 +105,29 @@ pub fn check_recovered(
     {
         return bad("range", format!("input triangle {i} names a missing point"));
     }
-    // Tetrahedra.
-    for (t, tv) in m.tets.iter().enumerate() {
-        for (i, &q) in tv.iter().enumerate() {
-            if q as usize >= n || tv[..i].contains(&q) {
-                return bad("range", format!("tet {t} has bad vertex {q}"));
-            }
-        }
-        let p = tv.map(|q| sp[q as usize]);
-        if orient3d(&p[0], &p[1], &p[2], &p[3]) >= 0.0 {
-            return bad("orientation", format!("tet {t} is not positive"));
-        }
+    // Tetrahedra: positive, neighbours across the same face seen with
+    // opposite orientations (the domain mesh's checker, with the boundary
+    // faces as its subfaces).
+    if let Some(t) = m
+        .tets
+        .iter()
+        .position(|tv| tv.iter().any(|&q| q as usize >= n))
+    {
+        return bad("range", format!("tet {t} names a missing point"));
     }
-    // Adjacency and boundary.
+    let Ok(mut dm) = DomainMesh::from_neighbors(&m.tets, &m.neighbors, &[], n) else {
+        return bad("adjacency", "a neighbour does not share the face".into());
+    };
+    dm.mark_subfaces(&Default::default());
+    dm.check(sp).map_err(|e| Violation::new("topology", e))?;
+    // The boundary: the free faces, each once.
     let face = |tv: [u32; 4], i: usize| fkey([tv[(i + 1) % 4], tv[(i + 2) % 4], tv[(i + 3) % 4]]);
     let mut free: HashMap<[u32; 3], (usize, usize)> = HashMap::new();
     for (t, (tv, nb)) in m.tets.iter().zip(&m.neighbors).enumerate() {
-        for (i, &nbi) in nb.iter().enumerate() {
+        for i in (0..4).filter(|&i| nb[i] == NONE) {
             let k = face(*tv, i);
-            if nbi == NONE {
-                if free.insert(k, (t, i)).is_some() {
-                    return bad("boundary", format!("face {k:?} is on the boundary twice"));
-                }
-                continue;
-            }
-            let u = nbi as usize;
-            let Some(uv) = m.tets.get(u) else {
-                return bad("adjacency", format!("tet {t} names missing neighbour {u}"));
-            };
-            match (0..4).find(|&j| face(*uv, j) == k) {
-                Some(j) if m.neighbors[u][j] == t as u32 => {}
-                _ => {
-                    return bad(
-                        "adjacency",
-                        format!("tets {t} and {u} are not mutual neighbours"),
-                    )
-                }
+            if free.insert(k, (t, i)).is_some() {
+                return bad("boundary", format!("face {k:?} is on the boundary twice"));
             }
         }
     }
