@@ -1,6 +1,6 @@
 //! Consistency of a (points, mesh) pair handed to post-processing
 //! (Voronoi and power diagrams), and the vertex bookkeeping the 2D and 3D
-//! validators share ([`check_vertices`]).
+//! validators share (`check_vertices`).
 
 use crate::model::key;
 use crate::{Error, Violation, NONE};
