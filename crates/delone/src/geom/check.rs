@@ -2,7 +2,7 @@
 //! (Voronoi and power diagrams), and the vertex bookkeeping the 2D and 3D
 //! validators share (`check_vertices`).
 
-use crate::model::key;
+use crate::geom::key;
 use crate::{Error, Violation, NONE};
 
 /// Checks that `cells` name only existing points, that `neighbors` has one

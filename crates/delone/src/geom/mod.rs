@@ -52,6 +52,12 @@ pub(crate) fn steiner_budget(
         .min(max)
 }
 
+/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
+/// folded onto `0.0` (so equal coordinates give equal keys).
+pub(crate) fn key<const D: usize>(p: &[f64; D]) -> [u64; D] {
+    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
+}
+
 /// The root of `x` in the union-find forest `parent` (a root is its own
 /// parent), halving the path on the way.
 pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {

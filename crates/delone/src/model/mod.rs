@@ -5,6 +5,7 @@
 pub mod plc;
 pub mod pslg;
 
+use crate::geom::key;
 use crate::Error;
 
 /// The checks both models start with: finite points within the range the
@@ -32,12 +33,6 @@ pub(crate) fn check_coordinates<const D: usize>(
         Some(index) => seed("region", index),
         None => Ok(()),
     }
-}
-
-/// Hash/equality key of a point: the bits of its coordinates, with `-0.0`
-/// folded onto `0.0` (so equal coordinates give equal keys).
-pub(crate) fn key<const D: usize>(p: &[f64; D]) -> [u64; D] {
-    p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
 /// Per point, the smallest index of a point with exactly the same

@@ -64,11 +64,10 @@ use std::borrow::Cow;
 
 use delone_predicates::{insphere, insphere_weighted, insphere_weighted_sos, orient3d};
 
-use super::dmesh::DomainMesh;
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
 pub use crate::Inserted;
-use crate::{Error, Violation, NONE};
+use crate::{Error, NONE};
 
 /// Where a query point lies, as answered by [`Delaunay3::locate`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -232,10 +231,10 @@ pub struct Delaunay3<'a> {
     pub(crate) core: Core,
     /// Per point: itself when inserted, its original when a duplicate, NONE
     /// while pending.
-    vertex_map: Vec<u32>,
+    pub(crate) vertex_map: Vec<u32>,
     duplicates: Vec<(u32, u32)>,
     /// Points waiting for the first tetrahedron (incremental use only).
-    pending: Vec<u32>,
+    pub(crate) pending: Vec<u32>,
     /// Up to three affinely independent pending points.
     basis: Vec<u32>,
 }
@@ -704,114 +703,6 @@ impl<'a> Delaunay3<'a> {
             .iter()
             .copied()
             .filter(|t| t[0] != DEAD && !t.contains(&INF))
-    }
-
-    /// Checks the combinatorial and orientation invariants: the arrays pass
-    /// the checker of the constrained domain mesh (`tet::dmesh`: the free list
-    /// names exactly the dead slots, every finite tetrahedron is positive
-    /// (exact), every ghost has exactly one infinite vertex, last, every
-    /// adjacency word is mirrored and joins equal facets with opposite
-    /// orientations), the finite count is right, every inserted vertex
-    /// belongs to a tetrahedron, and the Euler relation `V - E + F - T = 1`
-    /// holds.
-    ///
-    /// ```
-    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_topology().unwrap();
-    /// ```
-    pub fn check_topology(&self) -> Result<(), Violation> {
-        let c = &self.core;
-        if c.v.is_empty() {
-            return Ok(());
-        }
-        let pts: &[[f64; 3]] = &self.points;
-        // A copy of the arrays as a domain mesh without subfaces.
-        let m = DomainMesh::from_arrays(c.v.clone(), c.adj.clone(), c.free.clone(), Vec::new());
-        m.check(pts).map_err(|e| Violation::new("topology", e))?;
-        let finite = (c.v.iter())
-            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-            .count();
-        if finite != c.finite {
-            return Err(Violation::new(
-                "count",
-                format!("{finite} finite tets, counter says {}", c.finite),
-            ));
-        }
-        // Vertices used, and the Euler relation of the finite complex.
-        let mut used = vec![false; pts.len()];
-        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(finite * 6);
-        let mut faces = 0usize;
-        for (t, tv) in c.v.iter().enumerate() {
-            if tv[0] == DEAD || tv.contains(&INF) {
-                continue;
-            }
-            for &q in tv {
-                used[q as usize] = true;
-            }
-            for i in 0..4 {
-                for j in i + 1..4 {
-                    edges.push((tv[i].min(tv[j]), tv[i].max(tv[j])));
-                }
-                let u = (c.adj[t][i] >> 2) as usize;
-                // Count each finite-finite facet once, hull facets always.
-                if c.v[u].contains(&INF) || u > t {
-                    faces += 1;
-                }
-            }
-        }
-        edges.sort_unstable();
-        edges.dedup();
-        for (i, &m) in self.vertex_map.iter().enumerate() {
-            let should = m == i as u32 && !self.pending.contains(&(i as u32));
-            if should != used[i] {
-                return Err(Violation::new(
-                    "vertices",
-                    if should {
-                        format!("vertex {i} is missing from the tetrahedralization")
-                    } else {
-                        format!("duplicate or pending point {i} is used by a tetrahedron")
-                    },
-                ));
-            }
-        }
-        let nv = used.iter().filter(|&&u| u).count() as i64;
-        let chi = nv - edges.len() as i64 + faces as i64 - finite as i64;
-        if chi != 1 {
-            return Err(Violation::new(
-                "euler",
-                format!(
-                    "V - E + F - T = {nv} - {} + {faces} - {finite} = {chi}, expected 1",
-                    edges.len()
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// Checks the Delaunay (regular, with weights) property with exact
-    /// predicates: the flat output of a copy ([`Delaunay3::into_mesh`])
-    /// passes [`validate`](super::validate) (or
-    /// [`validate_regular`](super::validate_regular)): for every facet
-    /// between two tetrahedra, the apex of one is not strictly inside the
-    /// circumsphere (orthogonal sphere) of the other, the hull is convex,
-    /// and the hidden points are really hidden. Together with
-    /// [`Delaunay3::check_topology`] this certifies a Delaunay
-    /// tetrahedralization of the convex hull.
-    ///
-    /// ```
-    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
-    /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_delaunay().unwrap();
-    /// ```
-    pub fn check_delaunay(&self) -> Result<(), Violation> {
-        if self.core.finite == 0 {
-            // No tetrahedron yet (the points may be pending): nothing to check.
-            return Ok(());
-        }
-        let mesh = self.clone().into_mesh();
-        match &self.weights {
-            None => super::validate(&self.points, &mesh),
-            Some(w) => super::validate_regular(&self.points, w, &mesh),
-        }
     }
 
     /// Drops the ghost cells, compacts the arrays in place and returns the

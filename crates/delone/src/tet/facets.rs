@@ -5,7 +5,7 @@
 //! only and does not depend on the 2D mesher.
 
 use crate::error::{Error, FacetDefect};
-use crate::model::key;
+use crate::geom::key;
 use crate::model::plc::{points_on_triangles, Facet, OnTriangle, Plc};
 
 impl Plc {

@@ -822,7 +822,7 @@ fn classify(e: &[u64], edge: impl Fn(u64) -> (u32, u32), r: &mut ManifoldReport)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::key;
+    use crate::geom::key;
 
     /// Brute force over all pairs: the grid must find the same pairs.
     fn brute(points: &[P], tris: &[[u32; 3]]) -> Vec<(u32, u32)> {

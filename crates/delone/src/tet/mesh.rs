@@ -1,53 +1,15 @@
-//! The flat output of the 3D kernel and its independent validator.
+//! The flat output of the 3D kernel ([`TetMesh`]), its independent
+//! validator, and the kernel's own checkers.
 
 use delone_predicates::{insphere, insphere_weighted, orient3d};
 
+use super::delaunay::Delaunay3;
 use super::dmesh::DomainMesh;
-use super::local::{face, fkey, FACET};
+use super::local::{face, fkey, DEAD, FACET, INF};
 use crate::geom::check::check_vertices;
 use crate::{Violation, NONE};
 
-/// A tetrahedralization in flat arrays, as returned by [`crate::tetrahedralize`].
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct TetMesh {
-    /// Tetrahedra `[a, b, c, d]` with positive volume: `(b-a)×(c-a)·(d-a) > 0`
-    /// (indices into the input points).
-    pub tets: Vec<[u32; 4]>,
-    /// `neighbors[t][i]` is the tetrahedron across the face opposite vertex `i`
-    /// of tetrahedron `t`, or [`crate::NONE`] on the convex hull.
-    pub neighbors: Vec<[u32; 4]>,
-    /// For every input point, the vertex that represents it: itself, or the
-    /// lowest-indexed point with identical coordinates.
-    pub vertex_map: Vec<u32>,
-    /// Input points that duplicate a lower-indexed one, as `(duplicate, original)`,
-    /// sorted by duplicate.
-    pub duplicates: Vec<(u32, u32)>,
-    /// Input points left out of a *regular* (weighted) triangulation
-    /// because their power cell is empty ("hidden" or redundant points),
-    /// sorted; their `vertex_map` entry is [`crate::NONE`]. Always empty for
-    /// unweighted input.
-    pub hidden: Vec<u32>,
-}
-
-impl TetMesh {
-    /// The faces of tetrahedron `t` on the convex hull, oriented outward
-    /// (counterclockwise seen from outside), as `(t, local face)` pairs over
-    /// the whole mesh.
-    ///
-    /// ```
-    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    /// let mesh = delone::tetrahedralize(&pts).unwrap();
-    /// assert_eq!(mesh.hull_faces().count(), 4);
-    /// ```
-    pub fn hull_faces(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
-        self.tets.iter().zip(&self.neighbors).flat_map(|(tv, nb)| {
-            (0..4).filter(move |&f| nb[f] == NONE).map(move |f| {
-                let [a, b, c] = FACET[f].map(|i| tv[i]);
-                [a, c, b]
-            })
-        })
-    }
-}
+pub use super::flat::TetMesh;
 
 /// Why [`input_tets`] refused tetrahedra given as input; each names the
 /// offending tetrahedron.
@@ -399,6 +361,116 @@ fn check_hull(
         }
     }
     Ok(())
+}
+
+/// The kernel's checkers, here with the checkers they run.
+impl Delaunay3<'_> {
+    /// Checks the combinatorial and orientation invariants: the arrays pass
+    /// the checker of the constrained domain mesh (`tet::dmesh`: the free list
+    /// names exactly the dead slots, every finite tetrahedron is positive
+    /// (exact), every ghost has exactly one infinite vertex, last, every
+    /// adjacency word is mirrored and joins equal facets with opposite
+    /// orientations), the finite count is right, every inserted vertex
+    /// belongs to a tetrahedron, and the Euler relation `V - E + F - T = 1`
+    /// holds.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_topology().unwrap();
+    /// ```
+    pub fn check_topology(&self) -> Result<(), Violation> {
+        let c = &self.core;
+        if c.v.is_empty() {
+            return Ok(());
+        }
+        let pts: &[[f64; 3]] = &self.points;
+        // A copy of the arrays as a domain mesh without subfaces.
+        let m = DomainMesh::from_arrays(c.v.clone(), c.adj.clone(), c.free.clone(), Vec::new());
+        m.check(pts).map_err(|e| Violation::new("topology", e))?;
+        let finite = (c.v.iter())
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .count();
+        if finite != c.finite {
+            return Err(Violation::new(
+                "count",
+                format!("{finite} finite tets, counter says {}", c.finite),
+            ));
+        }
+        // Vertices used, and the Euler relation of the finite complex.
+        let mut used = vec![false; pts.len()];
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(finite * 6);
+        let mut faces = 0usize;
+        for (t, tv) in c.v.iter().enumerate() {
+            if tv[0] == DEAD || tv.contains(&INF) {
+                continue;
+            }
+            for &q in tv {
+                used[q as usize] = true;
+            }
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    edges.push((tv[i].min(tv[j]), tv[i].max(tv[j])));
+                }
+                let u = (c.adj[t][i] >> 2) as usize;
+                // Count each finite-finite facet once, hull facets always.
+                if c.v[u].contains(&INF) || u > t {
+                    faces += 1;
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        for (i, &m) in self.vertex_map.iter().enumerate() {
+            let should = m == i as u32 && !self.pending.contains(&(i as u32));
+            if should != used[i] {
+                return Err(Violation::new(
+                    "vertices",
+                    if should {
+                        format!("vertex {i} is missing from the tetrahedralization")
+                    } else {
+                        format!("duplicate or pending point {i} is used by a tetrahedron")
+                    },
+                ));
+            }
+        }
+        let nv = used.iter().filter(|&&u| u).count() as i64;
+        let chi = nv - edges.len() as i64 + faces as i64 - finite as i64;
+        if chi != 1 {
+            return Err(Violation::new(
+                "euler",
+                format!(
+                    "V - E + F - T = {nv} - {} + {faces} - {finite} = {chi}, expected 1",
+                    edges.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks the Delaunay (regular, with weights) property with exact
+    /// predicates: the flat output of a copy ([`Delaunay3::into_mesh`])
+    /// passes [`validate`] (or [`validate_regular`]): for every facet
+    /// between two tetrahedra, the apex of one is not strictly inside the
+    /// circumsphere (orthogonal sphere) of the other, the hull is convex,
+    /// and the hidden points are really hidden. Together with
+    /// [`Delaunay3::check_topology`] this certifies a Delaunay
+    /// tetrahedralization of the convex hull.
+    ///
+    /// ```
+    /// let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]];
+    /// delone::tet::Delaunay3::from_points(&pts).unwrap().check_delaunay().unwrap();
+    /// ```
+    pub fn check_delaunay(&self) -> Result<(), Violation> {
+        if self.core.finite == 0 {
+            // No tetrahedron yet (the points may be pending): nothing to check.
+            return Ok(());
+        }
+        let mesh = self.clone().into_mesh();
+        match &self.weights {
+            None => validate(&self.points, &mesh),
+            Some(w) => validate_regular(&self.points, w, &mesh),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 pub mod delaunay;
 pub(crate) mod dmesh;
 pub mod facets;
+mod flat;
 pub mod intersect;
 pub mod local;
 pub mod mesh;

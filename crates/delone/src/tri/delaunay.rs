@@ -235,7 +235,7 @@ fn weight_ok(w: f64) -> bool {
 
 /// Number of distinct points (used only on the error path).
 fn count_distinct(points: &[[f64; 2]]) -> usize {
-    let mut keys: Vec<[u64; 2]> = points.iter().map(crate::model::key).collect();
+    let mut keys: Vec<[u64; 2]> = points.iter().map(crate::geom::key).collect();
     keys.sort_unstable();
     keys.dedup();
     keys.len()
