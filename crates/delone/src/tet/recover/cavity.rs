@@ -51,24 +51,22 @@
 //! Everything is bounded: [`PASSES`] passes over the missing items (the
 //! first without new points), at most two new points per item per pass,
 //! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
-//! recovery, or [`MAX_STALLED_CALLS`] in a row that leave no fewer items
-//! missing than the best call: then `-Y` fails with
-//! [`RecoverError::Unrecovered`] naming what is left (instead of running
-//! the fallback rounds to their limit). After an unfinished call the
-//! fallback places its interior points only at the items that call left
-//! missing ([`State::fallback_targets`]).
+//! recovery: then `-Y` fails with [`RecoverError::Unrecovered`] naming
+//! what is left, and the recovery goes on with the fallback that always
+//! applies (below) instead of more interior-point rounds. After an
+//! unfinished call the interior points of the next round are placed only
+//! at the items that call left missing ([`State::fallback_targets`]).
 //!
-//! **Attempts.** Each call runs up to four attempts on copies of the
-//! mesh ([`ATTEMPTS`]): the two orders of the edge methods (cones from
-//! an edge's ends first, or its patch first), first with every vertex
-//! kept, then allowing a cavity to swallow interior Steiner points
-//! (those of earlier rounds and the attempt's own kernel points: vertices
-//! from [`State::n_fixed`] on, unused ones dropped at the end). Keeping
-//! them keeps cavities small and the kernels those points make
-//! (cgal_couplingdown needs it); swallowing frees a cavity from points
-//! the Delaunay rounds put in the way (cgal_u_arch needs it). The first
-//! attempt that recovers everything wins; otherwise what the first
-//! attempt left missing guides the fallback. Within an attempt a patch
+//! **Attempts.** Each call runs up to two attempts on copies of the mesh
+//! ([`ATTEMPTS`]): first with every vertex kept, then allowing a cavity
+//! to swallow interior Steiner points (those of earlier rounds and the
+//! attempt's own kernel points: vertices from [`State::n_fixed`] on,
+//! unused ones dropped at the end). Keeping them keeps cavities small and
+//! the kernels those points make (cgal_couplingdown needs it); swallowing
+//! frees a cavity from points the Delaunay rounds put in the way (the
+//! generated gear of 40 teeth needs it). The first attempt that recovers
+//! everything wins; otherwise what the first attempt left missing guides
+//! the next round's interior points. Within an attempt a patch
 //! known to fail on the unchanged mesh is not computed again ([`Memo`]:
 //! the patch of every missing edge of one patch is the same cavity).
 //!
@@ -132,22 +130,20 @@ mod pull;
 
 type P = [f64; 3];
 
-/// The attempts of [`State::preserve_by_cavities`], in order: (cones
-/// from an edge's ends before its patch, cavities may swallow interior
-/// Steiner points of earlier rounds). Neither choice is better on every
-/// model: swallowing frees a cavity from points the Delaunay rounds put
-/// in the way (cgal_u_arch), keeping them keeps cavities small and the
-/// kernels those points make (cgal_couplingdown).
-const ATTEMPTS: [(bool, bool); 4] = [(false, false), (true, false), (false, true), (true, true)];
+/// The attempts of [`State::preserve_by_cavities`], in order: whether
+/// cavities may swallow interior Steiner points of earlier rounds.
+/// Neither choice is better on every model: swallowing frees a cavity
+/// from points the Delaunay rounds put in the way (the generated 40-tooth
+/// gear), keeping them keeps cavities small and the kernels those points
+/// make (cgal_couplingdown).
+const ATTEMPTS: [bool; 2] = [false, true];
 /// Passes over the missing edges and triangles.
 const PASSES: usize = 24;
-/// Unfinished calls of [`State::preserve_by_cavities`] after which it is
-/// no longer tried (the fallback rounds go on alone).
-const MAX_FAILED_CALLS: usize = 8;
-/// Unfinished calls in a row that leave no fewer items missing than the
-/// best call so far, after which `-Y` gives up
-/// ([`RecoverError::Unrecovered`]).
-const MAX_STALLED_CALLS: usize = 3;
+/// Unfinished calls of [`State::preserve_by_cavities`] after which the
+/// interior-point rounds give up ([`RecoverError::Unrecovered`], and the
+/// fallback that always applies takes over). On the corpus and the
+/// generated hard models a successful call is the first, second or third.
+const MAX_FAILED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
 const MAX_GROW: usize = 8;
@@ -837,16 +833,14 @@ impl State {
         self.apply(cm, &set, fills, prot)
     }
 
-    /// One attempt of [`State::preserve_by_cavities`]: with `cone_first`,
-    /// a missing edge first tries the cones from its ends, else its patch
-    /// first; with `swallow`, a cavity may remove interior Steiner points
-    /// (vertices from [`State::n_fixed`] on, its own kernel points
-    /// included), else no vertex may disappear. `Ok((mesh, faces, points
+    /// One attempt of [`State::preserve_by_cavities`]: with `swallow`, a
+    /// cavity may remove interior Steiner points (vertices from
+    /// [`State::n_fixed`] on, its own kernel points included), else no
+    /// vertex may disappear. `Ok((mesh, faces, points
     /// added))`, or the mesh reached.
     fn preserve_attempt<'a>(
         &self,
         cm: &Journaled<'a>,
-        cone_first: bool,
         swallow: bool,
     ) -> Result<(Journaled<'a>, FacesOn, usize), Box<Journaled<'a>>> {
         let mut w = cm.clone();
@@ -884,16 +878,8 @@ impl State {
                     progress = true;
                     continue;
                 }
-                // First a cone from an end (no new point), then the
-                // patch with its triangles, then the edge's own cavity
-                // with a kernel point.
-                if cone_first
-                    && self.edge_by_cavity(&mut w, a, b, &prot, false).is_some()
-                    && w.find_edge(a, b).is_some()
-                {
-                    progress = true;
-                    continue;
-                }
+                // First the patch with its triangles, then the edge's own
+                // cavity (cones from its ends, else a kernel point).
                 if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner, &mut memo)
                 {
                     added += k;
@@ -975,15 +961,12 @@ impl State {
         &mut self,
         cm: &Journaled<'a>,
     ) -> Result<Option<(Journaled<'a>, FacesOn)>, RecoverError> {
-        if self.cavity_fails >= MAX_FAILED_CALLS {
-            return Ok(None);
-        }
         // The [`ATTEMPTS`]: none is better on every model (each recovers
         // models another does not). What is left missing is taken from
         // the first.
         let mut first: Option<Box<Journaled<'a>>> = None;
-        for (cone_first, swallow) in ATTEMPTS {
-            match self.preserve_attempt(cm, cone_first, swallow) {
+        for swallow in ATTEMPTS {
+            match self.preserve_attempt(cm, swallow) {
                 Ok((done, on, added)) => {
                     self.report.steiner_interior += added;
                     return Ok(Some((done, on)));
@@ -995,16 +978,9 @@ impl State {
         }
         let left = self.left_missing(first.as_deref().unwrap_or(cm));
         self.cavity_fails += 1;
-        // Give up (typed error, no more rounds) when the calls stop
-        // reducing what is left missing.
-        let (best, since) = &mut self.cavity_best;
-        if left.len() < *best {
-            *best = left.len();
-            *since = 0;
-        } else {
-            *since += 1;
-        }
-        if *since >= MAX_STALLED_CALLS || self.cavity_fails >= MAX_FAILED_CALLS {
+        // Give up (typed error, no more rounds): the fallback that always
+        // applies takes over.
+        if self.cavity_fails >= MAX_FAILED_CALLS {
             return Err(RecoverError::Unrecovered {
                 triangles: left,
                 steiner: self.report.steiner(),

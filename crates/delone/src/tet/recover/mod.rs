@@ -546,7 +546,6 @@ impl State {
             group_tries: HashSet::new(),
             cavity_fails: 0,
             cavity_left: Vec::new(),
-            cavity_best: (usize::MAX, 0),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
             points_first: false,

@@ -45,9 +45,6 @@ pub(super) struct State {
     pub(super) cavity_fails: usize,
     /// Triangles left missing by the last unfinished cavity call (`-Y`).
     pub(super) cavity_left: Vec<usize>,
-    /// Fewest items left missing by an unfinished cavity call, and the
-    /// unfinished calls since (`-Y`).
-    pub(super) cavity_best: (usize, usize),
     /// `-Y`: no cavity retriangulation before the first interior point
     /// ([`State::cavities_now`]).
     pub(super) points_first: bool,
