@@ -29,7 +29,7 @@ use std::time::Instant;
 use delone_predicates::orient3d;
 
 use super::{metric_stats, AdaptOptions, AdaptReport, Adapted, MetricField, TetMesh};
-use crate::metric::{edges, gradate, mean_ratio, Metric};
+use crate::metric::{edges, gradate, tet_quality, Metric};
 use crate::tet::dmesh::flip::positive;
 use crate::tet::dmesh::{ring, DomainMesh};
 use crate::tet::local::{ekey, face, fkey, EDGES, FACET};
@@ -324,8 +324,25 @@ fn length(p: &[[f64; 3]], met: &[Metric<3>], a: u32, b: u32) -> f64 {
 
 /// The quality of `tv`: its mean ratio in the mean metric of its corners.
 fn quality(p: &[[f64; 3]], met: &[Metric<3>], tv: [u32; 4]) -> f64 {
-    let m = Metric::mean(&tv.map(|v| met[v as usize])).unwrap_or(Metric::isotropic(1.0));
-    mean_ratio(&tv.map(|v| p[v as usize]), &m)
+    tet_quality(&tv.map(|v| p[v as usize]), tv.map(|v| &met[v as usize]))
+}
+
+/// [`quality`] of slot `t` holding `tv`, from `cache` when it is valid
+/// (see [`Engine::cache`]).
+fn cached_quality(
+    cache: &std::cell::RefCell<Vec<([u32; 4], f64)>>,
+    (p, met): (&[[f64; 3]], &[Metric<3>]),
+    t: u32,
+    tv: [u32; 4],
+) -> f64 {
+    let mut c = cache.borrow_mut();
+    if c.len() <= t as usize {
+        c.resize(t as usize + 1, ([NONE; 4], 0.0));
+    }
+    if c[t as usize].0 != tv {
+        c[t as usize] = (tv, quality(p, met, tv));
+    }
+    c[t as usize].1
 }
 
 /// True when every edge of tetrahedra `new` that is not an edge of `old`
@@ -482,23 +499,10 @@ impl<'a> Engine<'a> {
         quality(&self.p, &self.met, tv)
     }
 
-    fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
-        tets.into_iter()
-            .map(|t| self.qual(t))
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// The quality of live slot `t`, from the cache when it is valid.
     fn slot_q(&self, t: u32) -> f64 {
         let tv = self.m.tv[t as usize];
-        let mut c = self.cache.borrow_mut();
-        if c.len() <= t as usize {
-            c.resize(self.m.tv.len().max(t as usize + 1), ([NONE; 4], 0.0));
-        }
-        if c[t as usize].0 != tv {
-            c[t as usize] = (tv, self.qual(tv));
-        }
-        c[t as usize].1
+        cached_quality(&self.cache, (&self.p, &self.met), t, tv)
     }
 
     /// Bumps the versions of the vertices of slots `slots`.
@@ -771,11 +775,11 @@ impl<'a> Engine<'a> {
 
     /// [`Engine::collapse`] without the memory of refusals.
     fn try_collapse(&mut self, v: u32, w: u32) -> bool {
-        let ball = self.star(v);
-        if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
+        if self.fixed[v as usize] {
             return false;
         }
-        if self.fixed[v as usize] {
+        let ball = self.star(v);
+        if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
             return false;
         }
         let subs = self.m.subfaces_at(&ball, v);
@@ -792,9 +796,14 @@ impl<'a> Engine<'a> {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
-        let floor = COLLAPSE_FLOOR.min(self.min_slot_q(&ball));
-        let (p, met, long) = (&self.p, &self.met, self.bounds.0);
+        let (p, met, long, cache) = (&self.p, &self.met, self.bounds.0, &self.cache);
+        // Asked only once every new tetrahedron is positive.
         let accept = |new: &[[u32; 4]]| {
+            let floor = ball
+                .iter()
+                .zip(&tets)
+                .map(|(&t, &tv)| cached_quality(cache, (p, met), t, tv))
+                .fold(COLLAPSE_FLOOR, f64::min);
             new.iter().all(|&t| quality(p, met, t) >= floor)
                 && no_long_edge(p, met, long, &tets, new)
         };
@@ -871,7 +880,14 @@ impl<'a> Engine<'a> {
         for f in 0..4 {
             if let Some(fl) = self.m.flip23(t, f) {
                 let before = self.min_slot_q(&fl.old);
-                let after = self.min_q(fl.new.iter().copied());
+                // The smallest new quality, or the first not above `before`.
+                let mut after = f64::INFINITY;
+                for &n in &fl.new {
+                    after = after.min(self.qual(n));
+                    if after <= before + 1e-6 {
+                        break;
+                    }
+                }
                 let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
                 if after > before + 1e-6
                     && fl.new.iter().all(|&n| positive(&self.p, n))
@@ -1044,9 +1060,13 @@ impl<'a> Engine<'a> {
         if let Some(x) = target {
             d = sub(x, home);
         } else {
-            let mut link: Vec<u32> = tets.iter().flatten().copied().filter(|&x| x != v).collect();
+            let mut link: Vec<u32> = Vec::with_capacity(32);
+            for &x in tets.iter().flatten() {
+                if x != v && !link.contains(&x) {
+                    link.push(x);
+                }
+            }
             link.sort_unstable();
-            link.dedup();
             for &x in &link {
                 let l = self.len(v, x);
                 let e = sub(self.p[x as usize], home);
@@ -1083,8 +1103,12 @@ impl<'a> Engine<'a> {
                 let (Some(&y), Some(&z)) = (o.next(), o.next()) else {
                     return false;
                 };
-                let g = |q: u32| &self.p[q as usize];
-                orient3d(&home, g(y), g(z), &x) == 0.0
+                let (b, c) = (self.p[y as usize], self.p[z as usize]);
+                // Four points with one coordinate in common are coplanar
+                // (exactly: `orient3d` of them is 0), without the exact
+                // arithmetic that certifying a zero otherwise takes.
+                (0..3).any(|k| home[k] == b[k] && home[k] == c[k] && home[k] == x[k])
+                    || orient3d(&home, &b, &c, &x) == 0.0
             });
             if !on_planes {
                 continue;
