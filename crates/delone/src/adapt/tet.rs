@@ -804,8 +804,24 @@ impl<'a> Engine<'a> {
                 .zip(&tets)
                 .map(|(&t, &tv)| cached_quality(cache, (p, met), t, tv))
                 .fold(COLLAPSE_FLOOR, f64::min);
-            new.iter().all(|&t| quality(p, met, t) >= floor)
-                && no_long_edge(p, met, long, &tets, new)
+            if !new.iter().all(|&t| quality(p, met, t) >= floor) {
+                return false;
+            }
+            // [`no_long_edge`] of the collapse: the old tetrahedra through
+            // `w` are those of the shell of `v w`, so the new edges are
+            // those from `w` to the vertices off that shell.
+            let mut seen: Vec<u32> = Vec::with_capacity(64);
+            for tv in tets.iter().filter(|tv| tv.contains(&w)) {
+                seen.extend(tv);
+            }
+            new.iter().flatten().all(|&x| {
+                if seen.contains(&x) {
+                    return true;
+                }
+                seen.push(x);
+                let (a, b) = ekey(w, x);
+                length(p, met, a, b) <= long
+            })
         };
         if self
             .m
