@@ -410,7 +410,7 @@ struct Engine<'a> {
     /// Live vertices.
     live: usize,
     /// Quality per slot with the vertices it was computed for: valid while
-    /// the slot holds them and none of them has moved (a move clears its
+    /// the slot holds them and none of them has moved (a move rewrites its
     /// star's entries).
     cache: std::cell::RefCell<Vec<([u32; 4], f64)>>,
     /// Per vertex: bumped whenever its star changes (a tetrahedron through
@@ -503,6 +503,17 @@ impl<'a> Engine<'a> {
     fn slot_q(&self, t: u32) -> f64 {
         let tv = self.m.tv[t as usize];
         cached_quality(&self.cache, (&self.p, &self.met), t, tv)
+    }
+
+    /// Caches qualities `q` of live slots `slots` (computed as they are).
+    fn remember(&self, slots: &[u32], q: &[f64]) {
+        let mut c = self.cache.borrow_mut();
+        for (&t, &x) in slots.iter().zip(q) {
+            if c.len() <= t as usize {
+                c.resize(t as usize + 1, ([NONE; 4], 0.0));
+            }
+            c[t as usize] = (self.m.tv[t as usize], x);
+        }
     }
 
     /// Bumps the versions of the vertices of slots `slots`.
@@ -797,6 +808,7 @@ impl<'a> Engine<'a> {
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
         let (p, met, long, cache) = (&self.p, &self.met, self.bounds.0, &self.cache);
+        let mut made = Vec::with_capacity(ball.len());
         // Asked only once every new tetrahedron is positive.
         let accept = |new: &[[u32; 4]]| {
             let floor = ball
@@ -804,7 +816,10 @@ impl<'a> Engine<'a> {
                 .zip(&tets)
                 .map(|(&t, &tv)| cached_quality(cache, (p, met), t, tv))
                 .fold(COLLAPSE_FLOOR, f64::min);
-            if !new.iter().all(|&t| quality(p, met, t) >= floor) {
+            if !new.iter().all(|&t| {
+                made.push(quality(p, met, t));
+                made[made.len() - 1] >= floor
+            }) {
                 return false;
             }
             // [`no_long_edge`] of the collapse: the old tetrahedra through
@@ -823,13 +838,10 @@ impl<'a> Engine<'a> {
                 length(p, met, a, b) <= long
             })
         };
-        if self
-            .m
-            .collapse_edge(&self.p, &ball, &subs, (v, w), accept)
-            .is_none()
-        {
+        let Some(ids) = self.m.collapse_edge(&self.p, &ball, &subs, (v, w), accept) else {
             return false;
-        }
+        };
+        self.remember(&ids, &made);
         // Every vertex of the old star: one whose only tetrahedra there
         // held `v w` is in no new one, and its star changed too.
         for v in tets.iter().flatten() {
@@ -1112,6 +1124,7 @@ impl<'a> Engine<'a> {
         };
         let old = self.min_slot_q(&ball);
         let home_m = self.met[v as usize];
+        let mut q = Vec::with_capacity(tets.len());
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
             let on_planes = subs.iter().all(|(k, _)| {
@@ -1133,16 +1146,15 @@ impl<'a> Engine<'a> {
             if let Some(m) = self.field_at(&x) {
                 self.met[v as usize] = m;
             }
-            if tets
-                .iter()
-                .all(|&t| positive(&self.p, t) && self.qual(t) > old + 1e-6)
-            {
-                self.report.moves += 1;
-                let mut c = self.cache.borrow_mut();
-                for &t in &ball {
-                    c[t as usize].0 = [NONE; 4];
+            q.clear();
+            if tets.iter().all(|&t| {
+                positive(&self.p, t) && {
+                    q.push(self.qual(t));
+                    q[q.len() - 1] > old + 1e-6
                 }
-                drop(c);
+            }) {
+                self.report.moves += 1;
+                self.remember(&ball, &q);
                 self.touch(&ball);
                 self.m.debug_check(&self.p, "adaptation smoothing");
                 return true;
