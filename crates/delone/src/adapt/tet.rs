@@ -391,6 +391,10 @@ enum Class {
     Ridge(u32, u32),
 }
 
+/// Reused buffers of [`Engine::plan_removal`]: the ring's slots and
+/// vertices, the dynamic program's tables.
+type RingScratch = (Vec<u32>, Vec<u32>, Vec<f64>, Vec<usize>);
+
 /// A metric given as a function of the point.
 type MetricFn<'a> = dyn Fn(&[f64; 3]) -> Metric<3> + Sync + 'a;
 
@@ -916,17 +920,18 @@ impl<'a> Engine<'a> {
                         break;
                     }
                 }
-                let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
+                let old = || -> Vec<[u32; 4]> { fl.old.iter().map(|&u| self.m.tv[u as usize]).collect() };
                 if after > before + 1e-6
                     && fl.new.iter().all(|&n| positive(&self.p, n))
-                    && no_long_edge(&self.p, &self.met, self.bounds.0, &old, &fl.new)
+                    && no_long_edge(&self.p, &self.met, self.bounds.0, &old(), &fl.new)
                 {
                     consider(after - before, fl.old, fl.new);
                 }
             }
         }
+        let mut scratch = Default::default();
         for (i, j) in EDGES {
-            if let Some((old, new, gain)) = self.plan_removal(t, tv[i], tv[j]) {
+            if let Some((old, new, gain)) = self.plan_removal(t, (tv[i], tv[j]), &mut scratch) {
                 consider(gain, old, new);
             }
         }
@@ -946,16 +951,20 @@ impl<'a> Engine<'a> {
     /// open) by the edge-removal dynamic program maximising the smallest
     /// quality: the slots, the new tetrahedra and the gain in worst
     /// quality, when positive.
-    fn plan_removal(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<[u32; 4]>, f64)> {
-        let (tets, r, _) = self
-            .m
-            .edge_ring(t, (a, b), MAX_RING, false, |c, f| self.m.open_face(c, f))?;
-        let n = r.len();
-        if n < 3 {
+    fn plan_removal(
+        &self,
+        t: u32,
+        (a, b): (u32, u32),
+        (tets, r, best, choice): &mut RingScratch,
+    ) -> Option<(Vec<u32>, Vec<[u32; 4]>, f64)> {
+        let pass = |c: u32, f: usize| self.m.open_face(c, f);
+        self.m
+            .ring_into(t, (a, b), (MAX_RING, false), pass, (tets, r))?;
+        if r.len() < 3 {
             return None;
         }
-        let need = self.min_slot_q(&tets).max(0.0);
-        let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
+        let need = self.min_slot_q(tets).max(0.0);
+        let (q, new) = ring::max_min(r, (a, b), need, (best, choice), |t| self.qual(t))?;
         if q <= need + 1e-6 {
             return None;
         }
@@ -965,7 +974,7 @@ impl<'a> Engine<'a> {
         {
             return None;
         }
-        Some((tets, new, q - need))
+        Some((tets.clone(), new, q - need))
     }
 
     /// Reshapes the tetrahedra below [`RESHAPE_BELOW`], worst first: each
