@@ -920,7 +920,8 @@ impl<'a> Engine<'a> {
                         break;
                     }
                 }
-                let old = || -> Vec<[u32; 4]> { fl.old.iter().map(|&u| self.m.tv[u as usize]).collect() };
+                let old =
+                    || -> Vec<[u32; 4]> { fl.old.iter().map(|&u| self.m.tv[u as usize]).collect() };
                 if after > before + 1e-6
                     && fl.new.iter().all(|&n| positive(&self.p, n))
                     && no_long_edge(&self.p, &self.met, self.bounds.0, &old(), &fl.new)
@@ -1131,9 +1132,15 @@ impl<'a> Engine<'a> {
             }
             _ => d,
         };
-        let old = self.min_slot_q(&ball);
+        // The worst tetrahedron (its quality `old`) is tested first: the
+        // one a move most often fails to raise.
+        let (worst, old) = (ball.iter().map(|&t| self.slot_q(t)).enumerate())
+            .fold((0, f64::INFINITY), |b, x| if x.1 < b.1 { x } else { b });
+        let order: Vec<usize> = std::iter::once(worst)
+            .chain((0..tets.len()).filter(|&i| i != worst))
+            .collect();
         let home_m = self.met[v as usize];
-        let mut q = Vec::with_capacity(tets.len());
+        let mut q = vec![0.0; tets.len()];
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
             let on_planes = subs.iter().all(|(k, _)| {
@@ -1155,11 +1162,10 @@ impl<'a> Engine<'a> {
             if let Some(m) = self.field_at(&x) {
                 self.met[v as usize] = m;
             }
-            q.clear();
-            if tets.iter().all(|&t| {
-                positive(&self.p, t) && {
-                    q.push(self.qual(t));
-                    q[q.len() - 1] > old + 1e-6
+            if order.iter().all(|&i| {
+                positive(&self.p, tets[i]) && {
+                    q[i] = self.qual(tets[i]);
+                    q[i] > old + 1e-6
                 }
             }) {
                 self.report.moves += 1;
