@@ -69,13 +69,15 @@ pub fn edges<const K: usize>(elements: &[[u32; K]]) -> Vec<[u32; 2]> {
     for t in elements {
         for i in 0..K {
             for j in i + 1..K {
-                e.push(u64::from(t[i].min(t[j])) << 32 | u64::from(t[i].max(t[j])));
+                e.push((u64::from(t[i].min(t[j])) << 32) | u64::from(t[i].max(t[j])));
             }
         }
     }
     e.sort_unstable();
     e.dedup();
-    e.into_iter().map(|k| [(k >> 32) as u32, k as u32]).collect()
+    e.into_iter()
+        .map(|k| [(k >> 32) as u32, k as u32])
+        .collect()
 }
 
 /// Least squares `min |A x − b|` by Householder QR (`A`: `rows × cols`,
