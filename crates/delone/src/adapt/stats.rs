@@ -118,13 +118,16 @@ pub fn metric_stats<const D: usize, const K: usize>(
     }
     let mut qsum = 0.0;
     let mut counted = 0usize;
+    // [`Metric::interpolate`] of the corners, from each vertex's logarithm
+    // computed once.
+    let logs: Vec<_> = metric[..n].iter().map(Metric::log).collect();
     for t in elements {
         if !t.iter().all(|&v| ok(v)) {
             continue;
         }
-        let corners: Vec<[f64; D]> = t.iter().map(|&v| points[v as usize]).collect();
-        let items: Vec<(f64, Metric<D>)> = t.iter().map(|&v| (1.0, metric[v as usize])).collect();
-        let q = Metric::interpolate(&items).map_or(0.0, |m| mean_ratio(&corners, &m));
+        let corners = t.map(|v| points[v as usize]);
+        let items = t.map(|v| (1.0, logs[v as usize]));
+        let q = Metric::from_logs(&items).map_or(0.0, |m| mean_ratio(&corners, &m));
         counted += 1;
         qsum += q;
         s.quality_min = s.quality_min.min(q);

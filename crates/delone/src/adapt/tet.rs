@@ -29,7 +29,7 @@ use std::time::Instant;
 use delone_predicates::orient3d;
 
 use super::{metric_stats, AdaptOptions, AdaptReport, Adapted, MetricField, TetMesh};
-use crate::metric::{edges, gradate, mean_ratio, Metric};
+use crate::metric::{edges, gradate, tet_quality, Metric};
 use crate::tet::dmesh::flip::positive;
 use crate::tet::dmesh::{ring, DomainMesh};
 use crate::tet::local::{ekey, face, fkey, EDGES, FACET};
@@ -324,8 +324,25 @@ fn length(p: &[[f64; 3]], met: &[Metric<3>], a: u32, b: u32) -> f64 {
 
 /// The quality of `tv`: its mean ratio in the mean metric of its corners.
 fn quality(p: &[[f64; 3]], met: &[Metric<3>], tv: [u32; 4]) -> f64 {
-    let m = Metric::mean(&tv.map(|v| met[v as usize])).unwrap_or(Metric::isotropic(1.0));
-    mean_ratio(&tv.map(|v| p[v as usize]), &m)
+    tet_quality(&tv.map(|v| p[v as usize]), tv.map(|v| &met[v as usize]))
+}
+
+/// [`quality`] of slot `t` holding `tv`, from `cache` when it is valid
+/// (see [`Engine::cache`]).
+fn cached_quality(
+    cache: &std::cell::RefCell<Vec<([u32; 4], f64)>>,
+    (p, met): (&[[f64; 3]], &[Metric<3>]),
+    t: u32,
+    tv: [u32; 4],
+) -> f64 {
+    let mut c = cache.borrow_mut();
+    if c.len() <= t as usize {
+        c.resize(t as usize + 1, ([NONE; 4], 0.0));
+    }
+    if c[t as usize].0 != tv {
+        c[t as usize] = (tv, quality(p, met, tv));
+    }
+    c[t as usize].1
 }
 
 /// True when every edge of tetrahedra `new` that is not an edge of `old`
@@ -374,6 +391,10 @@ enum Class {
     Ridge(u32, u32),
 }
 
+/// Reused buffers of [`Engine::plan_removal`]: the ring's slots and
+/// vertices, the dynamic program's tables.
+type RingScratch = (Vec<u32>, Vec<u32>, Vec<f64>, Vec<usize>);
+
 /// A metric given as a function of the point.
 type MetricFn<'a> = dyn Fn(&[f64; 3]) -> Metric<3> + Sync + 'a;
 
@@ -393,7 +414,7 @@ struct Engine<'a> {
     /// Live vertices.
     live: usize,
     /// Quality per slot with the vertices it was computed for: valid while
-    /// the slot holds them and none of them has moved (a move clears its
+    /// the slot holds them and none of them has moved (a move rewrites its
     /// star's entries).
     cache: std::cell::RefCell<Vec<([u32; 4], f64)>>,
     /// Per vertex: bumped whenever its star changes (a tetrahedron through
@@ -482,23 +503,21 @@ impl<'a> Engine<'a> {
         quality(&self.p, &self.met, tv)
     }
 
-    fn min_q(&self, tets: impl IntoIterator<Item = [u32; 4]>) -> f64 {
-        tets.into_iter()
-            .map(|t| self.qual(t))
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// The quality of live slot `t`, from the cache when it is valid.
     fn slot_q(&self, t: u32) -> f64 {
         let tv = self.m.tv[t as usize];
+        cached_quality(&self.cache, (&self.p, &self.met), t, tv)
+    }
+
+    /// Caches qualities `q` of live slots `slots` (computed as they are).
+    fn remember(&self, slots: &[u32], q: &[f64]) {
         let mut c = self.cache.borrow_mut();
-        if c.len() <= t as usize {
-            c.resize(self.m.tv.len().max(t as usize + 1), ([NONE; 4], 0.0));
+        for (&t, &x) in slots.iter().zip(q) {
+            if c.len() <= t as usize {
+                c.resize(t as usize + 1, ([NONE; 4], 0.0));
+            }
+            c[t as usize] = (self.m.tv[t as usize], x);
         }
-        if c[t as usize].0 != tv {
-            c[t as usize] = (tv, self.qual(tv));
-        }
-        c[t as usize].1
     }
 
     /// Bumps the versions of the vertices of slots `slots`.
@@ -771,11 +790,11 @@ impl<'a> Engine<'a> {
 
     /// [`Engine::collapse`] without the memory of refusals.
     fn try_collapse(&mut self, v: u32, w: u32) -> bool {
-        let ball = self.star(v);
-        if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
+        if self.fixed[v as usize] {
             return false;
         }
-        if self.fixed[v as usize] {
+        let ball = self.star(v);
+        if ball.is_empty() || !ball.iter().any(|&t| self.m.tv[t as usize].contains(&w)) {
             return false;
         }
         let subs = self.m.subfaces_at(&ball, v);
@@ -792,19 +811,41 @@ impl<'a> Engine<'a> {
             return false;
         }
         let tets: Vec<[u32; 4]> = ball.iter().map(|&t| self.m.tv[t as usize]).collect();
-        let floor = COLLAPSE_FLOOR.min(self.min_slot_q(&ball));
-        let (p, met, long) = (&self.p, &self.met, self.bounds.0);
+        let (p, met, long, cache) = (&self.p, &self.met, self.bounds.0, &self.cache);
+        let mut made = Vec::with_capacity(ball.len());
+        // Asked only once every new tetrahedron is positive.
         let accept = |new: &[[u32; 4]]| {
-            new.iter().all(|&t| quality(p, met, t) >= floor)
-                && no_long_edge(p, met, long, &tets, new)
+            let floor = ball
+                .iter()
+                .zip(&tets)
+                .map(|(&t, &tv)| cached_quality(cache, (p, met), t, tv))
+                .fold(COLLAPSE_FLOOR, f64::min);
+            if !new.iter().all(|&t| {
+                made.push(quality(p, met, t));
+                made[made.len() - 1] >= floor
+            }) {
+                return false;
+            }
+            // [`no_long_edge`] of the collapse: the old tetrahedra through
+            // `w` are those of the shell of `v w`, so the new edges are
+            // those from `w` to the vertices off that shell.
+            let mut seen: Vec<u32> = Vec::with_capacity(64);
+            for tv in tets.iter().filter(|tv| tv.contains(&w)) {
+                seen.extend(tv);
+            }
+            new.iter().flatten().all(|&x| {
+                if seen.contains(&x) {
+                    return true;
+                }
+                seen.push(x);
+                let (a, b) = ekey(w, x);
+                length(p, met, a, b) <= long
+            })
         };
-        if self
-            .m
-            .collapse_edge(&self.p, &ball, &subs, (v, w), accept)
-            .is_none()
-        {
+        let Some(ids) = self.m.collapse_edge(&self.p, &ball, &subs, (v, w), accept) else {
             return false;
-        }
+        };
+        self.remember(&ids, &made);
         // Every vertex of the old star: one whose only tetrahedra there
         // held `v w` is in no new one, and its star changed too.
         for v in tets.iter().flatten() {
@@ -871,18 +912,27 @@ impl<'a> Engine<'a> {
         for f in 0..4 {
             if let Some(fl) = self.m.flip23(t, f) {
                 let before = self.min_slot_q(&fl.old);
-                let after = self.min_q(fl.new.iter().copied());
-                let old: Vec<[u32; 4]> = fl.old.iter().map(|&u| self.m.tv[u as usize]).collect();
+                // The smallest new quality, or the first not above `before`.
+                let mut after = f64::INFINITY;
+                for &n in &fl.new {
+                    after = after.min(self.qual(n));
+                    if after <= before + 1e-6 {
+                        break;
+                    }
+                }
+                let old =
+                    || -> Vec<[u32; 4]> { fl.old.iter().map(|&u| self.m.tv[u as usize]).collect() };
                 if after > before + 1e-6
                     && fl.new.iter().all(|&n| positive(&self.p, n))
-                    && no_long_edge(&self.p, &self.met, self.bounds.0, &old, &fl.new)
+                    && no_long_edge(&self.p, &self.met, self.bounds.0, &old(), &fl.new)
                 {
                     consider(after - before, fl.old, fl.new);
                 }
             }
         }
+        let mut scratch = Default::default();
         for (i, j) in EDGES {
-            if let Some((old, new, gain)) = self.plan_removal(t, tv[i], tv[j]) {
+            if let Some((old, new, gain)) = self.plan_removal(t, (tv[i], tv[j]), &mut scratch) {
                 consider(gain, old, new);
             }
         }
@@ -902,16 +952,20 @@ impl<'a> Engine<'a> {
     /// open) by the edge-removal dynamic program maximising the smallest
     /// quality: the slots, the new tetrahedra and the gain in worst
     /// quality, when positive.
-    fn plan_removal(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<[u32; 4]>, f64)> {
-        let (tets, r, _) = self
-            .m
-            .edge_ring(t, (a, b), MAX_RING, false, |c, f| self.m.open_face(c, f))?;
-        let n = r.len();
-        if n < 3 {
+    fn plan_removal(
+        &self,
+        t: u32,
+        (a, b): (u32, u32),
+        (tets, r, best, choice): &mut RingScratch,
+    ) -> Option<(Vec<u32>, Vec<[u32; 4]>, f64)> {
+        let pass = |c: u32, f: usize| self.m.open_face(c, f);
+        self.m
+            .ring_into(t, (a, b), (MAX_RING, false), pass, (tets, r))?;
+        if r.len() < 3 {
             return None;
         }
-        let need = self.min_slot_q(&tets).max(0.0);
-        let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
+        let need = self.min_slot_q(tets).max(0.0);
+        let (q, new) = ring::max_min(r, (a, b), need, (best, choice), |t| self.qual(t))?;
         if q <= need + 1e-6 {
             return None;
         }
@@ -921,7 +975,7 @@ impl<'a> Engine<'a> {
         {
             return None;
         }
-        Some((tets, new, q - need))
+        Some((tets.clone(), new, q - need))
     }
 
     /// Reshapes the tetrahedra below [`RESHAPE_BELOW`], worst first: each
@@ -1044,9 +1098,13 @@ impl<'a> Engine<'a> {
         if let Some(x) = target {
             d = sub(x, home);
         } else {
-            let mut link: Vec<u32> = tets.iter().flatten().copied().filter(|&x| x != v).collect();
+            let mut link: Vec<u32> = Vec::with_capacity(32);
+            for &x in tets.iter().flatten() {
+                if x != v && !link.contains(&x) {
+                    link.push(x);
+                }
+            }
             link.sort_unstable();
-            link.dedup();
             for &x in &link {
                 let l = self.len(v, x);
                 let e = sub(self.p[x as usize], home);
@@ -1074,8 +1132,15 @@ impl<'a> Engine<'a> {
             }
             _ => d,
         };
-        let old = self.min_slot_q(&ball);
+        // The worst tetrahedron (its quality `old`) is tested first: the
+        // one a move most often fails to raise.
+        let (worst, old) = (ball.iter().map(|&t| self.slot_q(t)).enumerate())
+            .fold((0, f64::INFINITY), |b, x| if x.1 < b.1 { x } else { b });
+        let order: Vec<usize> = std::iter::once(worst)
+            .chain((0..tets.len()).filter(|&i| i != worst))
+            .collect();
         let home_m = self.met[v as usize];
+        let mut q = vec![0.0; tets.len()];
         for w in [1.0, 0.5, 0.25] {
             let x = [home[0] + w * d[0], home[1] + w * d[1], home[2] + w * d[2]];
             let on_planes = subs.iter().all(|(k, _)| {
@@ -1083,8 +1148,12 @@ impl<'a> Engine<'a> {
                 let (Some(&y), Some(&z)) = (o.next(), o.next()) else {
                     return false;
                 };
-                let g = |q: u32| &self.p[q as usize];
-                orient3d(&home, g(y), g(z), &x) == 0.0
+                let (b, c) = (self.p[y as usize], self.p[z as usize]);
+                // Four points with one coordinate in common are coplanar
+                // (exactly: `orient3d` of them is 0), without the exact
+                // arithmetic that certifying a zero otherwise takes.
+                (0..3).any(|k| home[k] == b[k] && home[k] == c[k] && home[k] == x[k])
+                    || orient3d(&home, &b, &c, &x) == 0.0
             });
             if !on_planes {
                 continue;
@@ -1093,16 +1162,14 @@ impl<'a> Engine<'a> {
             if let Some(m) = self.field_at(&x) {
                 self.met[v as usize] = m;
             }
-            if tets
-                .iter()
-                .all(|&t| positive(&self.p, t) && self.qual(t) > old + 1e-6)
-            {
-                self.report.moves += 1;
-                let mut c = self.cache.borrow_mut();
-                for &t in &ball {
-                    c[t as usize].0 = [NONE; 4];
+            if order.iter().all(|&i| {
+                positive(&self.p, tets[i]) && {
+                    q[i] = self.qual(tets[i]);
+                    q[i] > old + 1e-6
                 }
-                drop(c);
+            }) {
+                self.report.moves += 1;
+                self.remember(&ball, &q);
                 self.touch(&ball);
                 self.m.debug_check(&self.p, "adaptation smoothing");
                 return true;

@@ -64,17 +64,20 @@ fn check_mesh<const D: usize, const K: usize>(
 /// assert_eq!(e, vec![[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]]);
 /// ```
 pub fn edges<const K: usize>(elements: &[[u32; K]]) -> Vec<[u32; 2]> {
-    let mut e = Vec::with_capacity(elements.len() * K * (K - 1) / 2);
+    // Each edge as one word, so that the keys sort as integers.
+    let mut e: Vec<u64> = Vec::with_capacity(elements.len() * K * (K - 1) / 2);
     for t in elements {
         for i in 0..K {
             for j in i + 1..K {
-                e.push([t[i].min(t[j]), t[i].max(t[j])]);
+                e.push((u64::from(t[i].min(t[j])) << 32) | u64::from(t[i].max(t[j])));
             }
         }
     }
     e.sort_unstable();
     e.dedup();
-    e
+    e.into_iter()
+        .map(|k| [(k >> 32) as u32, k as u32])
+        .collect()
 }
 
 /// Least squares `min |A x − b|` by Householder QR (`A`: `rows × cols`,

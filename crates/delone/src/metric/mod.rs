@@ -29,4 +29,5 @@ pub use crate::error::MetricDefect;
 pub use field::{
     complexity, edges, gradate, hessians, metric_from_hessians, metric_from_mesh, Target,
 };
+pub(crate) use tensor::tet_quality;
 pub use tensor::{mean_ratio, Metric};

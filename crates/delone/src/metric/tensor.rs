@@ -441,21 +441,21 @@ pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
     if p.len() != D + 1 || !(2..=3).contains(&D) {
         return 0.0;
     }
-    // In 3D the determinant in closed form, the squared lengths as
-    // quadratic forms and `|vol|^{2/3}` by [`cbrt`]: the adaptation
-    // evaluates this for every candidate tetrahedron.
-    // (In 2D the eigenvalue product, which the 2D adaptation's results rest
-    // on.)
-    let det = match D {
-        3 => {
-            let a = &m.m;
-            a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-                - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-                + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+    if D == 3 {
+        let (mut q, mut a) = ([[0.0; 3]; 4], [[0.0; 3]; 3]);
+        for i in 0..D {
+            for k in 0..4 {
+                q[k][i] = p[k][i];
+            }
+            for j in 0..D {
+                a[i][j] = m.m[i][j];
+            }
         }
-        _ => m.det(),
-    };
-    let vol = simplex_volume::<D>(p) * det.sqrt();
+        return tet_mean_ratio(&q, &a);
+    }
+    // In 2D the eigenvalue product, which the 2D adaptation's results rest
+    // on.
+    let vol = simplex_volume::<D>(p) * m.det().sqrt();
     let mut sum = 0.0;
     for i in 0..=D {
         for j in i + 1..=D {
@@ -463,38 +463,59 @@ pub fn mean_ratio<const D: usize>(p: &[[f64; D]], m: &Metric<D>) -> f64 {
             for (k, x) in e.iter_mut().enumerate() {
                 *x = p[j][k] - p[i][k];
             }
-            sum += match D {
-                // `eᵀ M e` itself rather than the square of its root.
-                3 => {
-                    let a = &m.m;
-                    a[0][0] * e[0] * e[0]
-                        + a[1][1] * e[1] * e[1]
-                        + a[2][2] * e[2] * e[2]
-                        + 2.0
-                            * (a[0][1] * e[0] * e[1]
-                                + a[0][2] * e[0] * e[2]
-                                + a[1][2] * e[1] * e[2])
-                }
-                _ => {
-                    let l = m.length(e);
-                    l * l
-                }
-            };
+            let l = m.length(e);
+            sum += l * l;
         }
     }
     if sum.is_nan() || sum <= 0.0 {
         return 0.0;
     }
-    let (c, power) = match D {
-        // 6 / (1 / (6√2))^{2/3} = 6 · 72^{1/3}.
-        3 => (24.961_005_876_622_85, cbrt(vol * vol)),
-        _ => {
-            let d = 2.0 / D as f64;
-            let c = (D * (D + 1) / 2) as f64 / unit_simplex_volume(D).powf(d);
-            (c, vol.abs().powf(d))
+    let d = 2.0 / D as f64;
+    let c = (D * (D + 1) / 2) as f64 / unit_simplex_volume(D).powf(d);
+    vol.signum() * c * vol.abs().powf(d) / sum
+}
+
+/// [`mean_ratio`] of tetrahedron `p` in the metric of the symmetric matrix
+/// `a`: the determinant in closed form, the squared lengths as quadratic
+/// forms `eᵀ a e` (not squares of roots) and `|vol|^{2/3}` by [`cbrt`], since
+/// the adaptation evaluates this for every candidate tetrahedron.
+fn tet_mean_ratio(p: &[[f64; 3]; 4], a: &Sym<3>) -> f64 {
+    let det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    let vol = crate::tet::quality::volume_raw(p) * det.sqrt();
+    let mut sum = 0.0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let e = [0, 1, 2].map(|k| p[j][k] - p[i][k]);
+            sum += a[0][0] * e[0] * e[0]
+                + a[1][1] * e[1] * e[1]
+                + a[2][2] * e[2] * e[2]
+                + 2.0 * (a[0][1] * e[0] * e[1] + a[0][2] * e[0] * e[2] + a[1][2] * e[1] * e[2]);
         }
-    };
-    vol.signum() * c * power / sum
+    }
+    if sum.is_nan() || sum <= 0.0 {
+        return 0.0;
+    }
+    // 6 / (1 / (6√2))^{2/3} = 6 · 72^{1/3}.
+    vol.signum() * 24.961_005_876_622_85 * cbrt(vol * vol) / sum
+}
+
+/// The quality of the adaptation's tetrahedra: [`mean_ratio`] of
+/// tetrahedron `p` in [`Metric::mean`] of its corners' metrics `m`, that
+/// mean summed over the six distinct entries of the symmetric tensors
+/// without copying them (the same value).
+pub(crate) fn tet_quality(p: &[[f64; 3]; 4], m: [&Metric<3>; 4]) -> f64 {
+    let mut a = [[0.0; 3]; 3];
+    for (i, j) in [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)] {
+        let mut s = 0.0;
+        for x in m {
+            s += 0.25 * x.m[i][j];
+        }
+        a[i][j] = s;
+        a[j][i] = s;
+    }
+    tet_mean_ratio(p, &a)
 }
 
 /// The cube root of `x` ≥ 0 to a few units in the last place: three

@@ -133,20 +133,20 @@ pub(crate) fn triangulate<T: Copy, C>(
 /// `[r_i, r_j, r_k, a]` for each ring triangle `i k j`): its smallest
 /// quality and tetrahedra, or `None` when no triangulation has all its
 /// qualities above `need`. Sub-polygons and triangles at or below `need`
-/// are pruned, so `qual` runs only where it can matter.
+/// are pruned, so `qual` runs only where it can matter. `best` and
+/// `choice` are [`triangulate`]'s scratch tables.
 pub(crate) fn max_min(
     r: &[u32],
-    a: u32,
-    b: u32,
+    (a, b): (u32, u32),
     need: f64,
+    (best, choice): (&mut Vec<f64>, &mut Vec<usize>),
     mut qual: impl FnMut([u32; 4]) -> f64,
 ) -> Option<(f64, Vec<[u32; 4]>)> {
-    let (mut best, mut choice) = (Vec::new(), Vec::new());
     let q = triangulate(
         r.len(),
         (f64::NEG_INFINITY, f64::INFINITY),
-        &mut best,
-        &mut choice,
+        best,
+        choice,
         |_, _| (),
         |i, k, j, l, rr, cur, _| {
             let bound = l.min(rr);
@@ -162,7 +162,7 @@ pub(crate) fn max_min(
             (v > cur).then_some(v)
         },
     );
-    (q > need).then(|| (q, ring_tets(r, &choice, a, b)))
+    (q > need).then(|| (q, ring_tets(r, choice, a, b)))
 }
 
 /// The `2n - 4` tetrahedra of an edge removal: the triangulation of the ring

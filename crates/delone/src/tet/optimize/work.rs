@@ -363,7 +363,8 @@ impl Work {
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
         let need = self.min_q(&tets).max(0.0);
-        let (q, new) = ring::max_min(&r, a, b, need, |t| self.qual(t))?;
+        let tables = (&mut Vec::new(), &mut Vec::new());
+        let (q, new) = ring::max_min(&r, (a, b), need, tables, |t| self.qual(t))?;
         Some(Plan {
             old: tets,
             new,
