@@ -426,59 +426,58 @@ fn fill_side(
 }
 
 /// Exact validation of replacing the tetrahedra `old` (sorted) by `new`
-/// (see the module documentation); vertices from `n_fixed` on (interior
-/// Steiner points of earlier rounds) may disappear.
+/// (see the module documentation); vertices from `prot.n_fixed` on
+/// (interior Steiner points of earlier rounds) may disappear.
 fn valid_replacement(
     cm: &Journaled<'_>,
     pts: &[P],
     old: &[u32],
     new: &[[u32; 4]],
-    prot: &Protected,
-    n_fixed: usize,
+    prot: &Guard,
 ) -> bool {
-    let c = &cm.m;
     if new
         .iter()
         .any(|tv| tv.iter().any(|&w| w == INF || w as usize >= pts.len()))
     {
         return false;
     }
-    let positive = |tv: &[u32; 4]| {
+    all_positive(pts, new)
+        && fills(cm, old, new)
+            .is_some_and(|parts| keeps_guarded(cm, old, prot, &parts, &IdSet::default()))
+}
+
+/// Whether every tetrahedron of `new` is positively oriented on `pts`.
+fn all_positive(pts: &[P], new: &[[u32; 4]]) -> bool {
+    new.iter().all(|tv| {
         let g = |i: usize| &pts[tv[i] as usize];
         orient3d(g(0), g(1), g(2), g(3)) < 0.0
-    };
-    if !new.iter().all(positive) {
-        return false;
-    }
-    let Some(NewParts {
-        verts: new_verts,
-        edges: new_edges,
-        faces: new_faces,
-    }) = fills(cm, old, new)
-    else {
-        return false;
-    };
-    for &t in old {
-        let tv = c.tv[t as usize];
-        for i in 0..4 {
-            if (tv[i] as usize) < n_fixed && !new_verts.contains(&tv[i]) {
-                return false;
-            }
-            for j in i + 1..4 {
-                let e = ekey(tv[i], tv[j]);
-                if prot.edges.contains(&e) && !new_edges.contains(&e) {
-                    return false;
-                }
-            }
-        }
-        for f in 0..4 {
-            let k = fkey(face(tv, f));
-            if prot.faces.contains(&k) && !new_faces.contains(&k) {
-                return false;
-            }
-        }
-    }
-    true
+    })
+}
+
+/// Whether replacing the tetrahedra `old` by tetrahedra with the parts
+/// `new` keeps every vertex below `prot.n_fixed` and every protected edge,
+/// and every protected face not in `spare`.
+fn keeps_guarded(
+    cm: &Journaled<'_>,
+    old: &[u32],
+    prot: &Guard,
+    new: &NewParts,
+    spare: &IdSet<[u32; 3]>,
+) -> bool {
+    old.iter().all(|&t| {
+        let tv = cm.m.tv[t as usize];
+        (0..4).all(|i| (tv[i] as usize) >= prot.n_fixed || new.verts.contains(&tv[i]))
+            && (0..4).all(|i| {
+                (i + 1..4).all(|j| {
+                    let e = ekey(tv[i], tv[j]);
+                    !prot.edges.contains(&e) || new.edges.contains(&e)
+                })
+            })
+            && (0..4).all(|f| {
+                let k = fkey(face(tv, f));
+                !prot.faces.contains(&k) || spare.contains(&k) || new.faces.contains(&k)
+            })
+    })
 }
 
 /// Finite live tetrahedra around vertex `w` (ghosts excluded).
@@ -715,7 +714,7 @@ impl State {
             }
             new.extend(f.tets);
         }
-        if !valid_replacement(cm, &pts, set, &new, prot, prot.n_fixed) {
+        if !valid_replacement(cm, &pts, set, &new, prot) {
             return None;
         }
         for p in &pts[cm.pts().len()..] {
@@ -1042,11 +1041,21 @@ struct NewParts {
     faces: IdSet<[u32; 3]>,
 }
 
-/// The parts of `new` when its tetrahedra (each oriented face counted
-/// once) fill exactly the region of the `old` cells: every face of the
-/// region's boundary is a new face not matched from the other side, and
-/// every new face off that boundary is matched by its reverse.
+/// [`fills_bounded`] for the region of the `old` cells.
 fn fills(cm: &Journaled<'_>, old: &[u32], new: &[[u32; 4]]) -> Option<NewParts> {
+    let bset = boundary_of(cm, old)
+        .faces
+        .iter()
+        .map(|f| okey(f.0))
+        .collect();
+    fills_bounded(new, &bset)
+}
+
+/// The parts of `new` when its tetrahedra (each oriented face counted
+/// once) fill exactly the region bounded by the oriented faces `bset`:
+/// every boundary face is a new face not matched from the other side, and
+/// every new face off the boundary is matched by its reverse.
+fn fills_bounded(new: &[[u32; 4]], bset: &IdSet<[u32; 3]>) -> Option<NewParts> {
     let mut count: IdMap<[u32; 3], u32> = IdMap::default();
     let mut parts = NewParts {
         verts: IdSet::default(),
@@ -1066,11 +1075,6 @@ fn fills(cm: &Journaled<'_>, old: &[u32], new: &[[u32; 4]]) -> Option<NewParts> 
             }
         }
     }
-    let bset: IdSet<[u32; 3]> = boundary_of(cm, old)
-        .faces
-        .iter()
-        .map(|f| okey(f.0))
-        .collect();
     let filled = count.values().all(|&n| n == 1)
         && bset
             .iter()

@@ -29,7 +29,7 @@
 //! every vertex and protected item kept).
 
 use super::super::State;
-use super::{fill_side, okey, rev, Guard, Region};
+use super::{all_positive, fill_side, fills_bounded, keeps_guarded, okey, Guard, Region};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
@@ -245,7 +245,7 @@ impl State {
         }
         let id = pts.len() as u32;
         let f = fill_side(cm, &mut reg, &mut set, None, prot, steiner, id)?;
-        let (pts, c) = (cm.pts(), &cm.m);
+        let pts = cm.pts();
         let outer: Vec<[u32; 3]> = reg.faces.iter().map(|f| okey(f.0)).collect();
         // Validation (see the module documentation).
         let mut all: Vec<[f64; 3]> = pts.to_vec();
@@ -255,67 +255,13 @@ impl State {
             }
             all.push(p);
         }
-        let positive = |tv: &[u32; 4]| {
-            let g = |i: usize| &all[tv[i] as usize];
-            orient3d(g(0), g(1), g(2), g(3)) < 0.0
-        };
-        if !f.tets.iter().all(positive) {
-            return None;
-        }
-        let mut count: IdMap<[u32; 3], u32> = IdMap::default();
-        let mut new_edges: IdSet<(u32, u32)> = IdSet::default();
-        let mut new_faces: IdSet<[u32; 3]> = IdSet::default();
-        let mut new_verts: IdSet<u32> = IdSet::default();
-        for &tv in &f.tets {
-            for k in 0..4 {
-                let fk = okey(face(tv, k));
-                *count.entry(fk).or_insert(0) += 1;
-                new_faces.insert(fkey(fk));
-            }
-            for i in 0..4 {
-                new_verts.insert(tv[i]);
-                for j in i + 1..4 {
-                    new_edges.insert(ekey(tv[i], tv[j]));
-                }
-            }
-        }
-        if count.values().any(|&n| n != 1) {
-            return None;
-        }
         let oset: IdSet<[u32; 3]> = outer.iter().copied().collect();
-        if oset.len() != outer.len() {
+        if oset.len() != outer.len() || !all_positive(&all, &f.tets) {
             return None;
         }
-        for k in &oset {
-            if !count.contains_key(k) || count.contains_key(&rev(*k)) {
-                return None;
-            }
-        }
-        for k in count.keys() {
-            if !oset.contains(k) && !count.contains_key(&rev(*k)) {
-                return None;
-            }
-        }
-        for &t in &set {
-            let tv = c.tv[t as usize];
-            for i in 0..4 {
-                if (tv[i] as usize) < prot.n_fixed && !new_verts.contains(&tv[i]) {
-                    return None;
-                }
-                for j in i + 1..4 {
-                    let e = ekey(tv[i], tv[j]);
-                    if prot.edges.contains(&e) && !new_edges.contains(&e) {
-                        return None;
-                    }
-                }
-            }
-            for k in 0..4 {
-                let fk = fkey(face(tv, k));
-                if prot.faces.contains(&fk) && !hull_faces.contains(&fk) && !new_faces.contains(&fk)
-                {
-                    return None;
-                }
-            }
+        let parts = fills_bounded(&f.tets, &oset)?;
+        if !keeps_guarded(cm, &set, prot, &parts, &hull_faces) {
+            return None;
         }
         // Protected hull faces would be lost (they are replaced).
         if hull_faces.iter().any(|k| prot.faces.contains(k)) {
