@@ -182,6 +182,15 @@ pub(super) struct Work {
     smooth_fail: Vec<u64>,
     /// The open transaction's undo log ([`Work::begin`]).
     log: Option<Vec<Undo>>,
+    /// The clock when the open transaction began.
+    clock0: u64,
+    /// The open transaction's vertices with their `stamp` and `smooth_fail`
+    /// before it: [`Work::rollback`] restores them, so that an undone trial
+    /// leaves its surroundings unchanged for [`Work::stamp`] too (else
+    /// every failed trial insertion would make its neighbours' earlier
+    /// failures count as stale, and they would be tried again for
+    /// nothing).
+    saved: Vec<(u32, u64, u64)>,
     /// Tetrahedra created, or whose shape changed, in the open
     /// transaction, with the slot each got (some may be gone since: a slot
     /// holds its tetrahedron while it reads the same vertices; one made
@@ -267,6 +276,8 @@ impl Work {
             clock: 1,
             smooth_fail: vec![0; n],
             log: None,
+            clock0: 0,
+            saved: Vec::new(),
             touched: Vec::new(),
             lost: f64::INFINITY,
             thorough: false,
@@ -520,6 +531,22 @@ impl Work {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Records that the star of vertex `w` changed now ([`Work::stamp`]),
+    /// saving its marks first when a transaction is open.
+    fn mark(&mut self, w: u32) {
+        self.save(w);
+        self.stamp[w as usize] = self.clock;
+    }
+
+    /// Saves the marks of vertex `w` for [`Work::rollback`], the first
+    /// time the open transaction changes them.
+    fn save(&mut self, w: u32) {
+        let (s, f) = (self.stamp[w as usize], self.smooth_fail[w as usize]);
+        if self.log.is_some() && s.max(f) <= self.clock0 {
+            self.saved.push((w, s, f));
+        }
+    }
+
     /// Applies `plan` if every new tetrahedron is exactly positive; returns
     /// the new slots.
     pub(super) fn apply(&mut self, plan: &Plan) -> Option<Vec<u32>> {
@@ -567,10 +594,7 @@ impl Work {
             let tv = self.m.tv[x as usize];
             self.q[x as usize] = self.qual(tv);
             for &w in &tv {
-                if self.stamp.len() <= w as usize {
-                    self.stamp.resize(w as usize + 1, 0);
-                }
-                self.stamp[w as usize] = self.clock;
+                self.mark(w);
             }
         }
         // A boundary flip (see [`Work::plan_edge_removal`]) replaces
@@ -689,6 +713,7 @@ impl Work {
         let moved = self.smooth_once(v);
         if !moved {
             self.clock += 1;
+            self.save(v);
             self.smooth_fail[v as usize] = self.clock;
         }
         moved
@@ -851,7 +876,7 @@ impl Work {
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.m.tv[t as usize] {
-                self.stamp[w as usize] = self.clock;
+                self.mark(w);
             }
         }
         self.m.debug_check(&self.p, "optimisation smoothing");
@@ -1075,6 +1100,8 @@ impl Work {
     /// [`Work::rollback`] is logged (no nesting).
     pub(super) fn begin(&mut self) {
         self.log = Some(Vec::new());
+        self.clock0 = self.clock;
+        self.saved.clear();
         self.touched.clear();
         self.touched_set.clear();
         self.lost = f64::INFINITY;
@@ -1083,6 +1110,7 @@ impl Work {
     /// Keeps the transaction's changes.
     pub(super) fn commit(&mut self) {
         self.log = None;
+        self.saved.clear();
         self.touched.clear();
         self.touched_set.clear();
     }
@@ -1152,6 +1180,13 @@ impl Work {
                     self.stamp.pop();
                     self.smooth_fail.pop();
                 }
+            }
+        }
+        // The mesh is as it was: so are its vertices' marks.
+        for (v, s, f) in std::mem::take(&mut self.saved) {
+            if let Some(x) = self.stamp.get_mut(v as usize) {
+                *x = s;
+                self.smooth_fail[v as usize] = f;
             }
         }
     }
