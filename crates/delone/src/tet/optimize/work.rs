@@ -1327,6 +1327,34 @@ mod tests {
     }
 
     #[test]
+    fn rollback_restores_the_marks_of_an_undone_insertion() {
+        let mut w = octahedron();
+        // A failed smoothing before the trial: its mark must survive.
+        w.clock += 1;
+        w.smooth_fail[6] = w.clock;
+        let (stamp, fail) = (w.stamp.clone(), w.smooth_fail.clone());
+        let clock = w.clock;
+        w.begin();
+        let cav = w.sphere_cavity(0, [0.1, 0.1, 0.1], 48).unwrap();
+        w.insert(&cav, [0.1, 0.1, 0.1]).unwrap();
+        w.smooth(w.p.len() as u32 - 1);
+        assert!(w.stamp.iter().any(|&s| s > clock));
+        w.rollback();
+        assert_eq!(w.p.len(), 7);
+        assert!(w.clock > clock);
+        assert_eq!((w.stamp.clone(), w.smooth_fail.clone()), (stamp, fail));
+        // A kept change marks its vertices.
+        let octant = (0..w.m.tv.len() as u32)
+            .find(|&t| w.live(t) && [0, 2, 4].iter().all(|v| w.m.tv[t as usize].contains(v)))
+            .unwrap();
+        let cav = w.sphere_cavity(octant, [0.1, 0.1, 0.1], 48).unwrap();
+        w.begin();
+        let (id, _) = w.insert(&cav, [0.1, 0.1, 0.1]).unwrap();
+        w.commit();
+        assert!(w.stamp[id as usize] > clock && w.stamp[6] > clock);
+    }
+
+    #[test]
     fn min_norm_point_of_opposite_gradients() {
         let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
         assert!((x[0]).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
