@@ -1161,14 +1161,10 @@ impl Work {
                 }
                 Undo::Move { v, from } => {
                     self.p[v as usize] = from;
-                    self.clock += 1;
+                    // (The marks of its star are restored below.)
                     for t in self.star(v) {
                         self.dirty.push(t);
-                        let tv = self.m.tv[t as usize];
-                        self.q[t as usize] = self.qual(tv);
-                        for w in tv {
-                            self.stamp[w as usize] = self.clock;
-                        }
+                        self.q[t as usize] = self.qual(self.m.tv[t as usize]);
                     }
                 }
                 Undo::AddPoint => {
