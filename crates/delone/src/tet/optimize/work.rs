@@ -182,6 +182,15 @@ pub(super) struct Work {
     smooth_fail: Vec<u64>,
     /// The open transaction's undo log ([`Work::begin`]).
     log: Option<Vec<Undo>>,
+    /// The clock when the open transaction began.
+    clock0: u64,
+    /// The open transaction's vertices with their `stamp` and `smooth_fail`
+    /// before it: [`Work::rollback`] restores them, so that an undone trial
+    /// leaves its surroundings unchanged for [`Work::stamp`] too (else
+    /// every failed trial insertion would make its neighbours' earlier
+    /// failures count as stale, and they would be tried again for
+    /// nothing).
+    saved: Vec<(u32, u64, u64)>,
     /// Tetrahedra created, or whose shape changed, in the open
     /// transaction, with the slot each got (some may be gone since: a slot
     /// holds its tetrahedron while it reads the same vertices; one made
@@ -267,6 +276,8 @@ impl Work {
             clock: 1,
             smooth_fail: vec![0; n],
             log: None,
+            clock0: 0,
+            saved: Vec::new(),
             touched: Vec::new(),
             lost: f64::INFINITY,
             thorough: false,
@@ -521,6 +532,22 @@ impl Work {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Records that the star of vertex `w` changed now ([`Work::stamp`]),
+    /// saving its marks first when a transaction is open.
+    fn mark(&mut self, w: u32) {
+        self.save(w);
+        self.stamp[w as usize] = self.clock;
+    }
+
+    /// Saves the marks of vertex `w` for [`Work::rollback`], the first
+    /// time the open transaction changes them.
+    fn save(&mut self, w: u32) {
+        let (s, f) = (self.stamp[w as usize], self.smooth_fail[w as usize]);
+        if self.log.is_some() && s.max(f) <= self.clock0 {
+            self.saved.push((w, s, f));
+        }
+    }
+
     /// Applies `plan` if every new tetrahedron is exactly positive; returns
     /// the new slots.
     pub(super) fn apply(&mut self, plan: &Plan) -> Option<Vec<u32>> {
@@ -568,10 +595,7 @@ impl Work {
             let tv = self.m.tv[x as usize];
             self.q[x as usize] = self.qual(tv);
             for &w in &tv {
-                if self.stamp.len() <= w as usize {
-                    self.stamp.resize(w as usize + 1, 0);
-                }
-                self.stamp[w as usize] = self.clock;
+                self.mark(w);
             }
         }
         // A boundary flip (see [`Work::plan_edge_removal`]) replaces
@@ -690,6 +714,7 @@ impl Work {
         let moved = self.smooth_once(v);
         if !moved {
             self.clock += 1;
+            self.save(v);
             self.smooth_fail[v as usize] = self.clock;
         }
         moved
@@ -852,7 +877,7 @@ impl Work {
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.m.tv[t as usize] {
-                self.stamp[w as usize] = self.clock;
+                self.mark(w);
             }
         }
         self.m.debug_check(&self.p, "optimisation smoothing");
@@ -1076,6 +1101,8 @@ impl Work {
     /// [`Work::rollback`] is logged (no nesting).
     pub(super) fn begin(&mut self) {
         self.log = Some(Vec::new());
+        self.clock0 = self.clock;
+        self.saved.clear();
         self.touched.clear();
         self.touched_set.clear();
         self.lost = f64::INFINITY;
@@ -1084,6 +1111,7 @@ impl Work {
     /// Keeps the transaction's changes.
     pub(super) fn commit(&mut self) {
         self.log = None;
+        self.saved.clear();
         self.touched.clear();
         self.touched_set.clear();
     }
@@ -1134,14 +1162,10 @@ impl Work {
                 }
                 Undo::Move { v, from } => {
                     self.p[v as usize] = from;
-                    self.clock += 1;
+                    // (The marks of its star are restored below.)
                     for t in self.star(v) {
                         self.dirty.push(t);
-                        let tv = self.m.tv[t as usize];
-                        self.q[t as usize] = self.qual(tv);
-                        for w in tv {
-                            self.stamp[w as usize] = self.clock;
-                        }
+                        self.q[t as usize] = self.qual(self.m.tv[t as usize]);
                     }
                 }
                 Undo::AddPoint => {
@@ -1153,6 +1177,13 @@ impl Work {
                     self.stamp.pop();
                     self.smooth_fail.pop();
                 }
+            }
+        }
+        // The mesh is as it was: so are its vertices' marks.
+        for (v, s, f) in std::mem::take(&mut self.saved) {
+            if let Some(x) = self.stamp.get_mut(v as usize) {
+                *x = s;
+                self.smooth_fail[v as usize] = f;
             }
         }
     }
@@ -1290,6 +1321,34 @@ mod tests {
         assert!(w2.lifted_cavity(t0, [2.0, 0.1, 0.1], 48).is_none());
         // Too small a limit.
         assert!(w2.lifted_cavity(t0, x, 1).is_none());
+    }
+
+    #[test]
+    fn rollback_restores_the_marks_of_an_undone_insertion() {
+        let mut w = octahedron();
+        // A failed smoothing before the trial: its mark must survive.
+        w.clock += 1;
+        w.smooth_fail[6] = w.clock;
+        let (stamp, fail) = (w.stamp.clone(), w.smooth_fail.clone());
+        let clock = w.clock;
+        w.begin();
+        let cav = w.sphere_cavity(0, [0.1, 0.1, 0.1], 48).unwrap();
+        w.insert(&cav, [0.1, 0.1, 0.1]).unwrap();
+        w.smooth(w.p.len() as u32 - 1);
+        assert!(w.stamp.iter().any(|&s| s > clock));
+        w.rollback();
+        assert_eq!(w.p.len(), 7);
+        assert!(w.clock > clock);
+        assert_eq!((w.stamp.clone(), w.smooth_fail.clone()), (stamp, fail));
+        // A kept change marks its vertices.
+        let octant = (0..w.m.tv.len() as u32)
+            .find(|&t| w.live(t) && [0, 2, 4].iter().all(|v| w.m.tv[t as usize].contains(v)))
+            .unwrap();
+        let cav = w.sphere_cavity(octant, [0.1, 0.1, 0.1], 48).unwrap();
+        w.begin();
+        let (id, _) = w.insert(&cav, [0.1, 0.1, 0.1]).unwrap();
+        w.commit();
+        assert!(w.stamp[id as usize] > clock && w.stamp[6] > clock);
     }
 
     #[test]
