@@ -101,6 +101,7 @@ pub(crate) fn corners_valid<const D: usize, const K: usize>(
     }
     Ok(())
 }
+
 /// The vertex bookkeeping of a flat mesh of `points` (with `weights`, a
 /// regular one) whose elements use the points `used`: equal points (with
 /// equal weights) are represented by the smallest index; every point maps
