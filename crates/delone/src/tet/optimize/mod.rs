@@ -1987,7 +1987,15 @@ fn stuck(
     report: &mut OptimizeReport,
 ) {
     let slide = |v: u32| w.slide[old_id[v as usize] as usize];
-    let mut list = Vec::new();
+    // The list keeps the worst `LISTED` (by quality, then index): sorted and
+    // cut whenever it holds twice as many, so it stays small however many
+    // tetrahedra are below the threshold.
+    const LISTED: usize = 32;
+    let mut list = Vec::with_capacity(2 * LISTED);
+    let cut = |list: &mut Vec<(f64, Stuck)>| {
+        list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
+        list.truncate(LISTED);
+    };
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
         let q = work::quality([&p[0], &p[1], &p[2], &p[3]]);
@@ -2010,6 +2018,9 @@ fn stuck(
         let d = super::quality::dihedral_angles(&p);
         let lo = d.iter().copied().fold(180.0, f64::min);
         let hi = d.iter().copied().fold(0.0, f64::max);
+        if list.len() == 2 * LISTED {
+            cut(&mut list);
+        }
         list.push((
             q,
             Stuck {
@@ -2025,8 +2036,8 @@ fn stuck(
             },
         ));
     }
-    list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
-    report.stuck = list.into_iter().take(32).map(|x| x.1).collect();
+    cut(&mut list);
+    report.stuck = list.into_iter().map(|x| x.1).collect();
     let angles: Vec<[f64; 2]> = rec
         .surface
         .iter()

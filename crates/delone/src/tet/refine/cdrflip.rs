@@ -18,12 +18,18 @@ use crate::tet::local::DEAD;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when
 /// queued (stale entries are dropped), local face.
-type Item = (u32, [u32; 4], usize);
+type Item = (u32, [u32; 4], u8);
 
 impl Cdr {
     /// Flips every non-locally-Delaunay face reachable from the faces of
     /// `seeds` (all tetrahedra when `seeds` is `None`); returns the new
     /// tetrahedra (possibly dead by the end) for the caller to re-check.
+    ///
+    /// The faces wait on a stack (last queued, first tested). With `seeds`
+    /// `None` its bottom is every face of every tetrahedron, tested in
+    /// order of tetrahedron and from face 3 down to 0: that part is not
+    /// stored as items but read from a copy of the vertex lists taken at
+    /// the start (16 bytes a tetrahedron instead of four items).
     pub(super) fn flip_delaunay(&mut self, seeds: Option<&[u32]>) -> Vec<u32> {
         let mut stack: Vec<Item> = Vec::new();
         let push_all = |st: &Cdr, stack: &mut Vec<Item>, t: u32| {
@@ -34,22 +40,43 @@ impl Cdr {
                 }
             }
         };
+        // The bottom of the stack with `seeds` `None`: the vertex lists at
+        // the start and the next face to test, (tetrahedron, face + 1).
+        let mut bottom = Vec::new();
+        let mut next = (0usize, 0u8);
         match seeds {
             Some(s) => {
                 for &t in s {
                     push_all(self, &mut stack, t);
                 }
             }
-            None => {
-                for t in (0..self.m.tv.len() as u32).rev() {
-                    push_all(self, &mut stack, t);
-                }
-            }
+            None => bottom.clone_from(&self.m.tv),
         }
         let mut made = Vec::new();
         let mut steps = 0usize;
         let max_steps = 50 * self.m.tv.len() + 10_000;
-        while let Some((t, tv, f)) = stack.pop() {
+        loop {
+            let (t, tv, f) = match stack.pop() {
+                Some(item) => item,
+                None => {
+                    while next.1 == 0 && next.0 < bottom.len() {
+                        if bottom[next.0][0] == DEAD {
+                            next.0 += 1;
+                        } else {
+                            next.1 = 4;
+                        }
+                    }
+                    if next.1 == 0 {
+                        break;
+                    }
+                    next.1 -= 1;
+                    let item = (next.0 as u32, bottom[next.0], next.1);
+                    if next.1 == 0 {
+                        next.0 += 1;
+                    }
+                    item
+                }
+            };
             steps += 1;
             if steps > max_steps {
                 break;
@@ -57,7 +84,7 @@ impl Cdr {
             if self.m.tv[t as usize] != tv {
                 continue;
             }
-            if let Some(new) = self.try_flip(t, f) {
+            if let Some(new) = self.try_flip(t, usize::from(f)) {
                 for &n in &new {
                     push_all(self, &mut stack, n);
                 }
