@@ -538,23 +538,25 @@ fn finish(
             .iter()
             .map(|p| [p[0] / scale.1 / scale.0, p[1] / scale.1 / scale.0]),
     );
-    // One pass over the triangle records for every per-triangle output.
+    // One pass over the triangle records for the vertices, neighbours and
+    // input triangles; the records go before the outputs read from the
+    // input triangles are made (peak memory).
     let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(nt);
     let mut neighbors: Vec<[u32; 3]> = Vec::with_capacity(nt);
-    let mut regions = Vec::with_capacity(nt);
-    let mut attributes = Vec::with_capacity(nt);
-    let mut max_areas: Vec<f64> = Vec::with_capacity(nt);
+    let mut origs: Vec<u32> = Vec::with_capacity(nt);
     for tri in &m.tr {
-        let o = tri.orig as usize;
         triangles.push(tri.v);
         neighbors.push(
             tri.a
                 .map(|x| if x == NONE { NONE } else { unpack(x).0 as u32 }),
         );
-        regions.push(cdt.regions[o]);
-        attributes.push(cdt.attributes[o]);
-        max_areas.push(cdt.max_areas[o]);
+        origs.push(tri.orig);
     }
+    m.tr = Vec::new();
+    let regions = origs.iter().map(|&o| cdt.regions[o as usize]).collect();
+    let attributes = origs.iter().map(|&o| cdt.attributes[o as usize]).collect();
+    let max_areas: Vec<f64> = origs.iter().map(|&o| cdt.max_areas[o as usize]).collect();
+    drop(origs);
     let mut segments = Vec::new();
     for s in m.subs.iter().filter(|s| s.alive) {
         let par = m.parents[s.parent as usize];
