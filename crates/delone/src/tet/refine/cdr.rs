@@ -1920,6 +1920,16 @@ impl Cdr {
     /// The output, and the domain mesh compacted to its tetrahedra's order
     /// (to continue in place: see [`super::refine_in_place`]).
     pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
+        // The queues and their sets are done with: released before the
+        // output is made (peak memory).
+        self.badq = BinaryHeap::new();
+        self.segq = VecDeque::new();
+        self.faceq = VecDeque::new();
+        self.queued_s = IdSet::default();
+        self.queued_f = IdSet::default();
+        self.failed_s = IdSet::default();
+        self.failed_f = IdSet::default();
+        self.vedge = IdMap::default();
         let unscale = 1.0 / self.s;
         let points = crate::geom::scale::unscaled_points(&rec.points, &self.p, unscale);
         self.m.compact(points.len());
