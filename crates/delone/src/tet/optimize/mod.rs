@@ -1824,20 +1824,21 @@ fn triangles_min_dihedral(rec: &Recovered) -> (f64, Option<[u32; 2]>) {
             }
         }
     }
-    let mut at: IdMap<[u32; 2], Vec<u32>> = IdMap::default();
+    // The triangles at each edge: (edge, triangle) pairs sorted, so each
+    // edge's triangles follow one another in increasing order.
+    let mut at: Vec<([u32; 2], u32)> = Vec::new();
     for (t, tri) in rec.surface.iter().enumerate() {
         if sign[t] != 0.0 {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                at.entry([a.min(b), a.max(b)]).or_default().push(t as u32);
+                at.push(([a.min(b), a.max(b)], t as u32));
             }
         }
     }
+    at.sort_unstable();
     let mut best: (f64, Option<[u32; 2]>) = (360.0, None);
-    let mut keys: Vec<_> = at.into_iter().filter(|(_, l)| l.len() == 2).collect();
-    keys.sort_unstable();
-    for (e, l) in keys {
-        let (t1, t2) = (l[0] as usize, l[1] as usize);
+    for l in at.chunk_by(|x, y| x.0 == y.0).filter(|l| l.len() == 2) {
+        let (e, t1, t2) = (l[0].0, l[0].1 as usize, l[1].1 as usize);
         let unit = |t: usize| {
             let n = normal(rec.surface[t]).map(|x| x * sign[t]);
             let m = norm(&n);
