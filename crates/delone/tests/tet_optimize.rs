@@ -820,3 +820,49 @@ fn angle_options_out_of_range_are_errors() {
     });
     check_recovered(&pts, &tris, &r).unwrap();
 }
+
+#[test]
+fn the_stuck_list_holds_the_worst_tetrahedra_worst_first() {
+    // A refined cube optimised toward a target no mesh reaches: nearly
+    // every tetrahedron is left below it, many more than the list holds.
+    let (pts, tris) = cube();
+    let ro = RefineOptions {
+        max_radius_edge: Some(2.0),
+        max_volume: Some(2e-3),
+        ..Default::default()
+    };
+    let mut r = refine(&pts, &tris, &ro).unwrap().rec;
+    let opts = OptimizeOptions {
+        target_dihedral: 80.0,
+        max_passes: 1,
+        ..OptimizeOptions::default()
+    };
+    let rep = run(&pts, &tris, &mut r, &opts);
+    let below: usize = rep.stuck_counts.iter().sum();
+    assert!(below > 64, "{below}");
+    assert_eq!(rep.stuck.len(), 32);
+    // The quality the list is ordered by: the smallest sine of the six
+    // dihedral angles.
+    let dihedral = |t: usize| {
+        delone::tet::quality::dihedral_angles(&r.mesh.tets[t].map(|v| r.points[v as usize]))
+    };
+    let q = |t: usize| {
+        dihedral(t)
+            .iter()
+            .map(|a| a.to_radians().sin())
+            .fold(f64::INFINITY, f64::min)
+    };
+    let listed: Vec<usize> = rep.stuck.iter().map(|s| s.tet).collect();
+    for w in listed.windows(2) {
+        assert!(w[0] != w[1] && q(w[0]) <= q(w[1]) + 1e-9, "{w:?}");
+    }
+    let last = q(listed[31]);
+    for t in (0..r.mesh.tets.len()).filter(|t| !listed.contains(t)) {
+        assert!(q(t) >= last - 1e-9, "tetrahedron {t} is worse than the list's last");
+    }
+    for s in &rep.stuck {
+        let d = dihedral(s.tet);
+        let lo = d.iter().copied().fold(180.0, f64::min);
+        assert!((s.dihedral[0] - lo).abs() < 1e-9);
+    }
+}
