@@ -858,7 +858,10 @@ fn the_stuck_list_holds_the_worst_tetrahedra_worst_first() {
     }
     let last = q(listed[31]);
     for t in (0..r.mesh.tets.len()).filter(|t| !listed.contains(t)) {
-        assert!(q(t) >= last - 1e-9, "tetrahedron {t} is worse than the list's last");
+        assert!(
+            q(t) >= last - 1e-9,
+            "tetrahedron {t} is worse than the list's last"
+        );
     }
     for s in &rep.stuck {
         let d = dihedral(s.tet);

@@ -796,7 +796,13 @@ fn optimize_once(
     let bound = opts.min_dihedral.clamp(0.0, 90.0);
     let target = opts.target_dihedral.clamp(0.0, 90.0).max(bound);
     let thr_insert = (0.6 * target).to_radians().sin();
-    let budget = opts.max_inserted.unwrap_or(rec.mesh.tets.len() / 10);
+    // The output view's cell arrays are rewritten by `write_back` at the
+    // end: released while the work mesh stands for them (peak memory).
+    let n_tets = rec.mesh.tets.len();
+    rec.mesh.tets = Vec::new();
+    rec.mesh.neighbors = Vec::new();
+    rec.tet_region = Vec::new();
+    let budget = opts.max_inserted.unwrap_or(n_tets / 10);
     // Per tetrahedron (sorted vertices): the clock of its last failed
     // attempt; it is not retried until a star of one of its vertices
     // changes.
@@ -811,10 +817,10 @@ fn optimize_once(
     stages.push(target);
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let effort = opts.effort.unwrap_or(f64::INFINITY);
-    let allowed = effort * (rec.mesh.tets.len() + 2000) as f64;
+    let allowed = effort * (n_tets + 2000) as f64;
     // The polishing stages (above 20°, which mostly thin the histogram's
     // tail once the worst are settled) get at most this much more.
-    let polish = effort * (POLISH * rec.mesh.tets.len() as f64 + 8000.0);
+    let polish = effort * (POLISH * n_tets as f64 + 8000.0);
     // The stages up to 20° decide the minimum: they may spend `LOW` times
     // the budget (a mesh that the refinement left with many flat
     // tetrahedra needs it; a fair one does not reach it).
@@ -823,7 +829,7 @@ fn optimize_once(
     // tetrahedra below 15° of a small mesh near needle input triangles
     // often need it (cgal_pipe, cgal_spool); on large meshes it would
     // mostly go to tetrahedra forced by the input.
-    let extra = LOW * effort * (rec.mesh.tets.len() + 2000).min(LOW_CAP) as f64;
+    let extra = LOW * effort * (n_tets + 2000).min(LOW_CAP) as f64;
     let mut extended = false;
     let mut stop;
     let mut pops: u64 = 0;
@@ -863,7 +869,7 @@ fn optimize_once(
         // threshold a window must lift `MIN_LIFT` of the starting count.
         let mut attempts = None;
         w.thorough = thorough;
-        let window = (WINDOW * (rec.mesh.tets.len() + 2000) as f64) as u64;
+        let window = (WINDOW * (n_tets + 2000) as f64) as u64;
         let mut check = w.evals.get() + window;
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
@@ -970,7 +976,6 @@ fn optimize_once(
     report.evaluations = w.evals.get();
     let old_id = write_back(rec, &w, s, n_in);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    surface_bounds(rec, opts.min_dihedral, &mut report);
     stuck(
         rec,
         &w,
@@ -979,6 +984,10 @@ fn optimize_once(
         target.to_radians().sin(),
         &mut report,
     );
+    // The work mesh is done with before the surface's statistics are
+    // gathered (peak memory).
+    drop(w);
+    surface_bounds(rec, opts.min_dihedral, &mut report);
     report
 }
 
