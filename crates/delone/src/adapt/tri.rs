@@ -384,9 +384,17 @@ enum Freedom {
 }
 
 impl Run<'_> {
+    /// The metric length of edge `ab`, with the metric turning along it
+    /// ([`Metric::edge_length_turning`]).
     fn len(&self, a: u32, b: u32) -> f64 {
         let (pa, pb) = (self.m.p(a), self.m.p(b));
-        self.met[a as usize].edge_length(&self.met[b as usize], [pb[0] - pa[0], pb[1] - pa[1]])
+        let (a, b) = (a as usize, b as usize);
+        self.met[a].edge_length_turning(
+            &self.met[b],
+            &self.logs[a],
+            &self.logs[b],
+            [pb[0] - pa[0], pb[1] - pa[1]],
+        )
     }
 
     fn quality(&self, t: [u32; 3]) -> f64 {

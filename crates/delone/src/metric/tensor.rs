@@ -357,6 +357,48 @@ impl<const D: usize> Metric<D> {
         }
         (lb - la) / r.ln()
     }
+
+    /// The length of the edge `e` from a vertex with metric `self` to one
+    /// with metric `other` (their logarithms `log_a`, `log_b`,
+    /// [`Metric::log`]), the metric interpolated log-Euclidean along it:
+    /// [`Metric::edge_length`] on each half, with the interpolated metric at
+    /// the midpoint.
+    ///
+    /// When the two metrics commute (the same eigenvectors: only the sizes
+    /// vary along the edge) the midpoint length is the geometric mean of the
+    /// ends' and this is [`Metric::edge_length`] itself (returned as is).
+    /// When the metric turns along the edge, [`Metric::edge_length`] takes
+    /// the edge's length in each end metric as if it held halfway: the chord
+    /// of a curved anisotropic layer, tangent to the layer at its middle and
+    /// across it by its half-angle at each end, measures several times its
+    /// length through the interpolated field there.
+    pub(crate) fn edge_length_turning(
+        &self,
+        other: &Self,
+        log_a: &Sym<D>,
+        log_b: &Sym<D>,
+        e: [f64; D],
+    ) -> f64 {
+        // The commutator of the two logarithms, against their sizes.
+        let (mut c, mut na, mut nb) = (0.0f64, 0.0f64, 0.0f64);
+        for i in 0..D {
+            for j in 0..D {
+                let ab: f64 = (0..D).map(|k| log_a[i][k] * log_b[k][j]).sum();
+                let ba: f64 = (0..D).map(|k| log_b[i][k] * log_a[k][j]).sum();
+                c = c.max((ab - ba).abs());
+                na = na.max(log_a[i][j].abs());
+                nb = nb.max(log_b[i][j].abs());
+            }
+        }
+        if c <= 1e-9 * na * nb {
+            return self.edge_length(other, e);
+        }
+        let Some(mid) = Self::from_logs(&[(0.5, *log_a), (0.5, *log_b)]) else {
+            return self.edge_length(other, e);
+        };
+        let h = e.map(|x| 0.5 * x);
+        self.edge_length(&mid, h) + mid.edge_length(other, h)
+    }
 }
 
 /// The Cholesky factor `L` (lower) of a positive definite matrix.
