@@ -4,9 +4,15 @@
 //! by exact orientation before it is committed, until a pass changes
 //! nothing or [`AdaptOptions::max_passes`] is reached.
 //!
-//! Lengths are [`Metric::edge_length`] and qualities [`mean_ratio`] in the
-//! log-Euclidean mean of the corner metrics, as [`metric_stats`] measures
-//! them. Every constrained edge (input faces, the hull, edges between
+//! Qualities are [`mean_ratio`] in the log-Euclidean mean of the corner
+//! metrics, as [`metric_stats`] measures them. Lengths are
+//! [`Metric::edge_length_turning`]: [`Metric::edge_length`], which
+//! [`metric_stats`] reports, where the ends' metrics share their
+//! eigenvectors, and through the interpolated metric at the edge's midpoint
+//! where the metric turns along the edge (the chords of a curved
+//! anisotropic layer, which the ends' metrics alone measure several times
+//! too long and would split into more elements than a unit mesh has).
+//! Every constrained edge (input faces, the hull, edges between
 //! regions) keeps its straight input edge: its new points are computed
 //! from that edge's ends and their parameter along it, and its vertices
 //! slide only along it. Everything is sequential and in index order:
@@ -901,6 +907,60 @@ mod tests {
         let h0 = 1e-3;
         let hy = h0 + 2.0 * (0.1 - h0) * (p[1] - 0.5).abs();
         Metric::from_medit(&[100.0, 0.0, 1.0 / (hy * hy)]).unwrap()
+    }
+
+    /// The UGAWG polar-1 metric: a layer along the circle r = 0.5 about
+    /// the origin, h_r = h0 + 2 (0.1 − h0) |r − 0.5| across it, 0.1 along it.
+    fn polar(p: &[f64; 2]) -> Metric<2> {
+        let h0 = 1e-3;
+        let r = p[0].hypot(p[1]);
+        let hr = h0 + 2.0 * (0.1 - h0) * (r - 0.5).abs();
+        let (c, s) = if r > 0.0 { (p[0] / r, p[1] / r) } else { (1.0, 0.0) };
+        let (a, b) = (1.0 / (hr * hr), 100.0);
+        Metric::from_matrix([
+            [a * c * c + b * s * s, (a - b) * c * s],
+            [(a - b) * c * s, a * s * s + b * c * c],
+        ])
+        .unwrap()
+    }
+
+    /// The edges along a curved anisotropic layer are chords that cross
+    /// the layer at their ends: they are measured through the metric
+    /// turning along them, not split as if each end's metric held along the
+    /// whole chord.
+    #[test]
+    fn a_curved_layer_is_not_over_refined() {
+        let out = adapt_checked(
+            &square(10, 1.0),
+            MetricField::Function(&polar),
+            &AdaptOptions::default(),
+        );
+        // The elements of a unit mesh: ∫ √det M over the area of the unit
+        // equilateral triangle, by the metric at each centroid.
+        let m = &out.mesh;
+        let unit: f64 = m
+            .elements
+            .iter()
+            .map(|t| {
+                let c = t.map(|v| m.points[v as usize]);
+                let g = [
+                    (c[0][0] + c[1][0] + c[2][0]) / 3.0,
+                    (c[0][1] + c[1][1] + c[2][1]) / 3.0,
+                ];
+                let a = 0.5
+                    * ((c[1][0] - c[0][0]) * (c[2][1] - c[0][1])
+                        - (c[1][1] - c[0][1]) * (c[2][0] - c[0][0]));
+                a * polar(&g).det().sqrt()
+            })
+            .sum::<f64>()
+            / (3f64.sqrt() / 4.0);
+        // Measured by the ends' metrics alone, the chords along the layer
+        // are split until about 1.41 times that many elements; measured
+        // through the turning metric about 1.30.
+        let n = m.elements.len() as f64;
+        assert!(n < 1.35 * unit, "{n} elements for a unit count of {unit}");
+        let s = &out.report.after;
+        assert!(s.in_range_share() > 0.85 && s.quality_min > 0.3, "{s:?}");
     }
 
     fn area(m: &TriMesh) -> f64 {
