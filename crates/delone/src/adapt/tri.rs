@@ -137,6 +137,7 @@ pub fn adapt_tri(
         point_refs: mesh.point_refs.clone(),
         report: AdaptReport::default(),
         bounds: GROW,
+        settled: vec![false; mesh.points.len()],
         #[cfg(test)]
         areas: Vec::new(),
         #[cfg(test)]
@@ -373,6 +374,10 @@ struct Run<'a> {
     /// Edges longer than `bounds.0` are split, shorter than `bounds.1`
     /// collapsed ([`GROW`], then [`FINAL`]).
     bounds: (f64, f64),
+    /// Vertices whose last smoothing moved nothing and around which nothing
+    /// has changed since (no move, split, collapse or swap in their star):
+    /// smoothing them again would move nothing either.
+    settled: Vec<bool>,
     /// Area of each region at the start (the tests' checker compares).
     #[cfg(test)]
     areas: Vec<(i32, f64)>,
@@ -413,6 +418,15 @@ impl Run<'_> {
         match self.field {
             Some(f) => (self.bound)(f(c)),
             None => Metric::interpolate(items).unwrap_or(items[0].1),
+        }
+    }
+
+    /// Marks `v` and its neighbours as not settled: their stars changed.
+    fn stir(&mut self, v: u32) {
+        for (t, _) in self.m.star(&self.vt, v) {
+            for x in self.m.tr[t].v {
+                self.settled[x as usize] = false;
+            }
         }
     }
 
@@ -506,9 +520,11 @@ impl Run<'_> {
                 &c,
                 &[(1.0 - s, self.met[a as usize]), (s, self.met[b as usize])],
             );
-            if self.m.split_edge(&mut self.vt, t, e, c, tc).is_some() {
+            if let Some(p) = self.m.split_edge(&mut self.vt, t, e, c, tc) {
                 self.met.push(mc);
                 self.logs.push(mc.log());
+                self.settled.push(false);
+                self.stir(p);
                 if !self.point_refs.is_empty() {
                     self.point_refs.push(pref);
                 }
@@ -571,6 +587,7 @@ impl Run<'_> {
                     continue;
                 }
                 self.m.collapse(&mut self.vt, &plan);
+                self.stir(w);
                 done += 1;
                 #[cfg(test)]
                 self.verify("collapse");
@@ -611,6 +628,7 @@ impl Run<'_> {
                         self.m.flip(t, e);
                         for (k, s) in [(x, t), (a, t), (y, t), (b, n)] {
                             self.vt[k as usize] = s as u32;
+                            self.settled[k as usize] = false;
                         }
                         flips += 1;
                         #[cfg(test)]
@@ -634,7 +652,7 @@ impl Run<'_> {
     fn smooth_pass(&mut self) -> usize {
         let mut done = 0;
         for v in 0..self.vt.len() as u32 {
-            if self.vt[v as usize] == NONE {
+            if self.vt[v as usize] == NONE || self.settled[v as usize] {
                 continue;
             }
             let star = self.m.star(&self.vt, v);
@@ -690,6 +708,7 @@ impl Run<'_> {
                 .fold(f64::INFINITY, f64::min);
             let mv = self.met[v as usize];
             let lv = self.logs[v as usize];
+            let mut moved = false;
             for omega in [1.0, 0.5, 0.25] {
                 let (c, tc) = match slide {
                     Some((p0, d, tv, target, _)) => {
@@ -724,6 +743,7 @@ impl Run<'_> {
                         }
                     }
                     done += 1;
+                    moved = true;
                     #[cfg(test)]
                     self.verify("move");
                     break;
@@ -731,6 +751,11 @@ impl Run<'_> {
                 self.m.xy[v as usize] = pv;
                 self.met[v as usize] = mv;
                 self.logs[v as usize] = lv;
+            }
+            if moved {
+                self.stir(v);
+            } else {
+                self.settled[v as usize] = true;
             }
         }
         self.report.moves += done;
