@@ -10,8 +10,8 @@
 //! [`metric_stats`] reports, where the ends' metrics share their
 //! eigenvectors, and through the interpolated metric at the edge's midpoint
 //! where the metric turns along the edge (the chords of a curved
-//! anisotropic layer, which the ends' metrics alone measure several times
-//! too long and would split into more elements than a unit mesh has).
+//! anisotropic layer, which the ends' metrics alone measure up to about
+//! twice too long and would split into more elements than a unit mesh has).
 //! Every constrained edge (input faces, the hull, edges between
 //! regions) keeps its straight input edge: its new points are computed
 //! from that edge's ends and their parameter along it, and its vertices
@@ -602,8 +602,13 @@ impl Run<'_> {
     /// of its two triangles (convex quadrilaterals only); a few sweeps.
     fn swap_pass(&mut self) -> usize {
         let mut done = 0;
+        // Triangles flipped in the last sweep and in this one: an edge
+        // between two triangles flipped in neither was refused last time
+        // and would be again (nothing moves in this pass).
+        let mut last = vec![true; self.m.tr.len()];
         for _ in 0..4 {
             let mut flips = 0;
+            let mut now = vec![false; self.m.tr.len()];
             for t in 0..self.m.tr.len() {
                 for e in 0..3 {
                     let tri = self.m.tr[t];
@@ -611,7 +616,7 @@ impl Run<'_> {
                         continue;
                     }
                     let (n, j) = unpack(tri.a[e]);
-                    if n < t {
+                    if n < t || !(last[t] || last[n] || now[t] || now[n]) {
                         continue;
                     }
                     let (x, a, b) = (tri.v[e], tri.v[NEXT[e]], tri.v[PREV[e]]);
@@ -626,6 +631,7 @@ impl Run<'_> {
                     let new = self.quality([x, a, y]).min(self.quality([y, b, x]));
                     if new > old + GAIN {
                         self.m.flip(t, e);
+                        (now[t], now[n]) = (true, true);
                         for (k, s) in [(x, t), (a, t), (y, t), (b, n)] {
                             self.vt[k as usize] = s as u32;
                             self.settled[k as usize] = false;
@@ -640,6 +646,7 @@ impl Run<'_> {
             if flips == 0 {
                 break;
             }
+            last = now;
         }
         self.report.swaps += done;
         done
@@ -940,7 +947,11 @@ mod tests {
         let h0 = 1e-3;
         let r = p[0].hypot(p[1]);
         let hr = h0 + 2.0 * (0.1 - h0) * (r - 0.5).abs();
-        let (c, s) = if r > 0.0 { (p[0] / r, p[1] / r) } else { (1.0, 0.0) };
+        let (c, s) = if r > 0.0 {
+            (p[0] / r, p[1] / r)
+        } else {
+            (1.0, 0.0)
+        };
         let (a, b) = (1.0 / (hr * hr), 100.0);
         Metric::from_matrix([
             [a * c * c + b * s * s, (a - b) * c * s],

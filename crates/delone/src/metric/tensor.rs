@@ -370,8 +370,8 @@ impl<const D: usize> Metric<D> {
     /// When the metric turns along the edge, [`Metric::edge_length`] takes
     /// the edge's length in each end metric as if it held halfway: the chord
     /// of a curved anisotropic layer, tangent to the layer at its middle and
-    /// across it by its half-angle at each end, measures several times its
-    /// length through the interpolated field there.
+    /// across it by its half-angle at each end, measures up to about twice
+    /// its length through the interpolated field there.
     pub(crate) fn edge_length_turning(
         &self,
         other: &Self,
