@@ -618,12 +618,7 @@ mod tests {
     /// along it.
     fn layer(theta: f64, hn: f64) -> Metric<2> {
         let (c, s) = (theta.cos(), theta.sin());
-        let (a, b) = (1.0 / (hn * hn), 100.0);
-        Metric::from_matrix([
-            [a * c * c + b * s * s, (a - b) * c * s],
-            [(a - b) * c * s, a * s * s + b * c * c],
-        ])
-        .unwrap()
+        Metric::from_matrix(compose(&[1.0 / (hn * hn), 100.0], &[[c, -s], [s, c]])).unwrap()
     }
 
     #[test]
