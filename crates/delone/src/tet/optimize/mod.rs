@@ -194,6 +194,17 @@ const POLISH_INSERT: f64 = 30.0;
 /// progress (see [`optimize`]).
 const WINDOW: f64 = 10.0;
 
+/// Most tetrahedra counted in a stage's window (see [`WINDOW`]): a
+/// stage's progress is made by local tries (a flip, a smoothing, a trial
+/// insertion of a few thousand evaluations each), so the work that shows
+/// whether a stage still pays does not grow with the mesh. Uncapped, a
+/// window of a 600,000-tetrahedron mesh held about 300 tries, and each
+/// stage above 10° on c3d_nefertiti at `-pq1.5/20` spent 12–18 million
+/// evaluations on tries at tetrahedra pinned by needle input triangles
+/// (85% of them in undone insertions) while its count below the threshold
+/// rose.
+const WINDOW_CAP: usize = 50_000;
+
 /// Windows without progress that always leave a stage going.
 const PATIENCE: u64 = 2;
 
@@ -942,11 +953,15 @@ fn optimize_once(
         // threshold a window must lift `MIN_LIFT` of the starting count.
         let mut attempts = None;
         w.thorough = thorough;
-        let window = (WINDOW * (rec.mesh.tets.len() + 2000) as f64) as u64;
+        // (The window counts at most `WINDOW_CAP` tetrahedra; the lift a
+        // window must show shrinks with it, the same lift per evaluation.)
+        let n = rec.mesh.tets.len();
+        let share = (n.min(WINDOW_CAP) + 2000) as f64 / (n + 2000) as f64;
+        let window = (WINDOW * (n.min(WINDOW_CAP) + 2000) as f64) as u64;
         let mut check = w.evals.get() + window;
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
-        let lift = (MIN_LIFT * best.1 as f64) as usize;
+        let lift = (MIN_LIFT * share * best.1 as f64) as usize;
         let mut stage = StageReport {
             threshold: deg,
             second_run: thorough,
