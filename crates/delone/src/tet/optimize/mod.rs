@@ -955,9 +955,7 @@ fn optimize_once(
         w.thorough = thorough;
         // (The window counts at most `WINDOW_CAP` tetrahedra; the lift a
         // window must show shrinks with it, the same lift per evaluation.)
-        let n = rec.mesh.tets.len();
-        let share = (n.min(WINDOW_CAP) + 2000) as f64 / (n + 2000) as f64;
-        let window = (WINDOW * (n.min(WINDOW_CAP) + 2000) as f64) as u64;
+        let (window, share) = stage_window(rec.mesh.tets.len());
         let mut check = w.evals.get() + window;
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
@@ -1122,6 +1120,15 @@ fn standing(w: &Work, thr: f64) -> (f64, usize) {
     live.map(|t| w.q[t]).fold((f64::INFINITY, 0), |(m, n), q| {
         (m.min(q), n + usize::from(q < thr))
     })
+}
+
+/// The evaluations between two checks of a stage's progress on a mesh of
+/// `n` tetrahedra ([`WINDOW`] per tetrahedron, at most [`WINDOW_CAP`]
+/// counted, plus 2000), and the share of the mesh the window stands for
+/// (1 up to the cap): a window must lift that share of [`MIN_LIFT`].
+fn stage_window(n: usize) -> (u64, f64) {
+    let counted = (n.min(WINDOW_CAP) + 2000) as f64;
+    ((WINDOW * counted) as u64, counted / (n + 2000) as f64)
 }
 
 /// The worst angle (degrees) of a tetrahedron of quality `q` (the
@@ -2288,3 +2295,34 @@ fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Opt
 /// above the worst one it replaced are improved while the new vertex
 /// settles (only those at or below it decide the outcome).
 const SETTLE_MARGIN: f64 = 0.1;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stage_window_stops_growing_with_the_mesh() {
+        // Up to the cap: WINDOW evaluations per tetrahedron (plus 2000),
+        // the whole mesh.
+        assert_eq!(stage_window(0), (20_000, 1.0));
+        assert_eq!(stage_window(WINDOW_CAP), (520_000, 1.0));
+        // Above it the window stays, and stands for a shrinking share.
+        let (w, share) = stage_window(10 * WINDOW_CAP);
+        assert_eq!(w, 520_000);
+        assert!((share - 52_000.0 / 502_000.0).abs() < 1e-12);
+        // The lift asked of a window per evaluation is the same.
+        let per_eval = |n: usize| {
+            let (w, share) = stage_window(n);
+            MIN_LIFT * share / w as f64
+        };
+        let (small, large) = (per_eval(WINDOW_CAP), per_eval(10 * WINDOW_CAP));
+        assert!((small * 52_000.0 - large * 502_000.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn worst_angle_of_a_quality() {
+        assert_eq!(worst_angle(f64::INFINITY), 90.0);
+        assert_eq!(worst_angle(-1.0), 0.0);
+        assert!((worst_angle(0.5) - 30.0).abs() < 1e-12);
+    }
+}
