@@ -76,15 +76,19 @@
 //! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
 //! is optimised once more from the start with every insertion settled
 //! fully, and the better of the two results is kept. A stage also ends
-//! when it stops paying: checked every 10 evaluations per tetrahedron, it
+//! when it stops paying: checked every 10 evaluations per tetrahedron
+//! (of at most 50,000 counted, plus 2000: the tries that make progress
+//! are local, so the window does not grow with the mesh), it
 //! ends once neither its worst quality nor its count of tetrahedra below
 //! the threshold improved over the last half of its evaluations (and two
 //! such windows), so the effort follows what is left to improve. While
 //! the worst is below half the threshold (held by the input, as a rule),
 //! the count improves only when a window lifts at least 1% of the count
-//! the stage started with: on cgal_handle the stage below 10° otherwise
+//! the stage started with (scaled by the share of the mesh the window
+//! counts): on cgal_handle the stage below 10° otherwise
 //! spends its whole budget at about 9,000 evaluations per tetrahedron
-//! lifted, its minimum pinned at 0°. The
+//! lifted, its minimum pinned at 0°. Each stage's work, gain and reason
+//! for ending are reported ([`OptimizeReport::stages`]). The
 //! whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
@@ -621,9 +625,6 @@ pub enum StageStop {
     /// It stopped paying: neither its worst quality nor its count below the
     /// threshold improved over the last half of its evaluations.
     Stalled,
-    /// The worst tetrahedra left below its threshold are held by the input
-    /// (see [`OptimizeReport::stages`]): more work would not lift them.
-    Held,
     /// The effort budget ([`OptimizeOptions::effort`]) ran out; the run
     /// ends.
     Budget,
@@ -637,7 +638,6 @@ impl fmt::Display for StageStop {
             StageStop::Settled => "nothing left to improve",
             StageStop::Attempts => "attempts spent",
             StageStop::Stalled => "stopped paying",
-            StageStop::Held => "the rest held by the input",
             StageStop::Budget => "effort budget spent",
             StageStop::Interrupted => "interrupted",
         })
