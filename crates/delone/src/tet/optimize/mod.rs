@@ -84,8 +84,7 @@
 //! such windows), so the effort follows what is left to improve. While
 //! the worst is below half the threshold (held by the input, as a rule),
 //! the count improves only when a window lifts at least 1% of the count
-//! the stage started with (scaled by the share of the mesh the window
-//! counts): on cgal_handle the stage below 10° otherwise
+//! the stage started with: on cgal_handle the stage below 10° otherwise
 //! spends its whole budget at about 9,000 evaluations per tetrahedron
 //! lifted, its minimum pinned at 0°. Each stage's work, gain and reason
 //! for ending are reported ([`OptimizeReport::stages`]). The
@@ -953,13 +952,15 @@ fn optimize_once(
         // threshold a window must lift `MIN_LIFT` of the starting count.
         let mut attempts = None;
         w.thorough = thorough;
-        // (The window counts at most `WINDOW_CAP` tetrahedra; the lift a
-        // window must show shrinks with it, the same lift per evaluation.)
-        let (window, share) = stage_window(rec.mesh.tets.len());
+        // (The window counts at most `WINDOW_CAP` tetrahedra; below half
+        // the threshold it must still lift `MIN_LIFT` of the starting
+        // count, which on a large mesh ends a stage pinned by the input
+        // sooner.)
+        let window = stage_window(rec.mesh.tets.len());
         let mut check = w.evals.get() + window;
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
-        let lift = (MIN_LIFT * share * best.1 as f64) as usize;
+        let lift = (MIN_LIFT * best.1 as f64) as usize;
         let mut stage = StageReport {
             threshold: deg,
             second_run: thorough,
@@ -1123,12 +1124,10 @@ fn standing(w: &Work, thr: f64) -> (f64, usize) {
 }
 
 /// The evaluations between two checks of a stage's progress on a mesh of
-/// `n` tetrahedra ([`WINDOW`] per tetrahedron, at most [`WINDOW_CAP`]
-/// counted, plus 2000), and the share of the mesh the window stands for
-/// (1 up to the cap): a window must lift that share of [`MIN_LIFT`].
-fn stage_window(n: usize) -> (u64, f64) {
-    let counted = (n.min(WINDOW_CAP) + 2000) as f64;
-    ((WINDOW * counted) as u64, counted / (n + 2000) as f64)
+/// `n` tetrahedra: [`WINDOW`] per tetrahedron, at most [`WINDOW_CAP`]
+/// counted, plus 2000.
+fn stage_window(n: usize) -> u64 {
+    (WINDOW * (n.min(WINDOW_CAP) + 2000) as f64) as u64
 }
 
 /// The worst angle (degrees) of a tetrahedron of quality `q` (the
@@ -2302,21 +2301,12 @@ mod tests {
 
     #[test]
     fn the_stage_window_stops_growing_with_the_mesh() {
-        // Up to the cap: WINDOW evaluations per tetrahedron (plus 2000),
-        // the whole mesh.
-        assert_eq!(stage_window(0), (20_000, 1.0));
-        assert_eq!(stage_window(WINDOW_CAP), (520_000, 1.0));
-        // Above it the window stays, and stands for a shrinking share.
-        let (w, share) = stage_window(10 * WINDOW_CAP);
-        assert_eq!(w, 520_000);
-        assert!((share - 52_000.0 / 502_000.0).abs() < 1e-12);
-        // The lift asked of a window per evaluation is the same.
-        let per_eval = |n: usize| {
-            let (w, share) = stage_window(n);
-            MIN_LIFT * share / w as f64
-        };
-        let (small, large) = (per_eval(WINDOW_CAP), per_eval(10 * WINDOW_CAP));
-        assert!((small * 52_000.0 - large * 502_000.0).abs() < 1e-15);
+        // Up to the cap: WINDOW evaluations per tetrahedron (plus 2000).
+        assert_eq!(stage_window(0), 20_000);
+        assert_eq!(stage_window(WINDOW_CAP / 2), 270_000);
+        assert_eq!(stage_window(WINDOW_CAP), 520_000);
+        // Above it the window stays.
+        assert_eq!(stage_window(10 * WINDOW_CAP), 520_000);
     }
 
     #[test]
