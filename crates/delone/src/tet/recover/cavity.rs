@@ -327,6 +327,72 @@ fn kernel_point(pts: &[P], faces: &[[u32; 3]]) -> (Option<P>, P) {
     (None, best)
 }
 
+/// Iterations of [`deepest_point`]: the ellipsoid's volume shrinks by
+/// `exp(-1/8)` per step, so 480 steps shrink its radius by about 1e-9.
+const ELLIPSOID_STEPS: usize = 480;
+
+/// The point of the ball of radius `radius` around `centre` farthest
+/// inside the half-spaces `n·(x - a) > 0` of `planes` (`(a, n)`, `n`
+/// unit): it maximises the smallest clearance `min n·(x - a)`, a concave
+/// function, by the central-cut ellipsoid method (each step cuts the
+/// ellipsoid through its centre by a supergradient, or by the ball when
+/// the centre is outside it). `Some((point, clearance))` for the best
+/// centre visited (floating; the caller checks exactly), `None` when
+/// there is no plane or the radius is not positive and finite.
+pub(super) fn deepest_point(planes: &[(P, P)], centre: &P, radius: f64) -> Option<(P, f64)> {
+    if planes.is_empty() || !(radius > 0.0 && radius.is_finite()) {
+        return None;
+    }
+    let clearance = |x: &P| {
+        planes
+            .iter()
+            .enumerate()
+            .map(|(i, (a, n))| (i, dot(n, &sub(x, a))))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    // The ellipsoid {x : (x - c)ᵀ Q⁻¹ (x - c) <= 1}, first the ball of
+    // radius `radius` (scaled by sqrt 3 to hold the whole ball's box).
+    let mut c = *centre;
+    let r2 = 3.0 * radius * radius;
+    let mut q = [[r2, 0.0, 0.0], [0.0, r2, 0.0], [0.0, 0.0, r2]];
+    let mut best: Option<(P, f64)> = None;
+    let dim = 3.0;
+    for _ in 0..ELLIPSOID_STEPS {
+        let off = sub(&c, centre);
+        let out = dot(&off, &off) > radius * radius;
+        // The cut keeps {x : g·(x - c) <= 0}.
+        let g = if out {
+            off
+        } else {
+            let (i, s) = clearance(&c)?;
+            if best.is_none_or(|b| s > b.1) {
+                best = Some((c, s));
+            }
+            planes[i].1.map(|x| -x)
+        };
+        let qg = [0, 1, 2].map(|k| dot(&q[k], &g));
+        let gqg = dot(&g, &qg);
+        if !(gqg > 0.0 && gqg.is_finite()) {
+            break;
+        }
+        let b = qg.map(|x| x / gqg.sqrt());
+        let step = 1.0 / (dim + 1.0);
+        let nc = [0, 1, 2].map(|k| c[k] - step * b[k]);
+        if nc == c {
+            break;
+        }
+        c = nc;
+        let f = dim * dim / (dim * dim - 1.0);
+        let w = 2.0 / (dim + 1.0);
+        for i in 0..3 {
+            for j in 0..3 {
+                q[i][j] = f * (q[i][j] - w * b[i] * b[j]);
+            }
+        }
+    }
+    best
+}
+
 /// The tetrahedra filling `faces` as the cone from vertex `v` (every face
 /// not incident to `v` seen strictly), or `None`.
 fn cone_from(pts: &[P], faces: &[[u32; 3]], v: u32) -> Option<Vec<[u32; 4]>> {

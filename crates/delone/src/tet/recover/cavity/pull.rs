@@ -699,6 +699,27 @@ impl State {
                     h *= 0.5;
                 }
             }
+            if best.is_none() {
+                // No ray from `s` enters: the deepest point of the wedge's
+                // kernel near `s` (thin slivers between nearly parallel
+                // faces of flat tetrahedra at `s`); the faces it does not
+                // see are the ones to grow across.
+                if let Some((p, _)) = super::deepest_point(&planes, &sp, reach) {
+                    let bad: Vec<usize> = (0..all.len())
+                        .filter(|&k| {
+                            let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
+                            orient3d(a, b, cc, &p) >= 0.0
+                        })
+                        .collect();
+                    if bad.is_empty() {
+                        best = Some((p, 0.0));
+                    } else if bad.iter().all(|&k| k >= nb)
+                        && fewest.as_ref().is_none_or(|f| bad.len() < f.len())
+                    {
+                        fewest = Some(bad);
+                    }
+                }
+            }
             if let Some((p, _)) = best {
                 for &g in &grown {
                     if let Err(pos) = removed.binary_search(&g) {
