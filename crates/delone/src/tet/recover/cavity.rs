@@ -1150,3 +1150,70 @@ fn fills_bounded(new: &[[u32; 4]], bset: &IdSet<[u32; 3]>) -> Option<NewParts> {
             .all(|k| bset.contains(k) || count.contains_key(&rev(*k)));
     filled.then_some(parts)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plane(a: P, b: P, c: P) -> (P, P) {
+        let n = cross(&sub(&b, &a), &sub(&c, &a));
+        let l = dot(&n, &n).sqrt();
+        (a, n.map(|x| x / l))
+    }
+
+    /// A thin wedge: the half-spaces above `z = 0` and below a plane
+    /// through the x axis tilted by `tilt`, closed by two side planes;
+    /// its deepest point sees every face exactly (the inner side of a
+    /// face `a b c` is where `orient3d(a, b, c, x) < 0`).
+    #[test]
+    fn deepest_point_enters_thin_wedges() {
+        for tilt in [1e-2, 1e-5, 1e-8] {
+            let pts: Vec<P> = vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 1.0, tilt],
+                [0.2, 0.0, 0.0],
+                [0.2, 1.0, 0.0],
+                [0.8, 0.0, 0.0],
+                [0.8, 1.0, 0.0],
+            ];
+            // Above z = 0, below the tilted plane, 0.2 < x < 0.8.
+            let faces: [[u32; 3]; 4] = [[0, 1, 2], [0, 3, 1], [4, 5, 0], [6, 2, 7]];
+            let faces = faces.map(|f| {
+                // Orient each face so that a point of the wedge sees it.
+                let inside = [0.5, 0.5, 0.25 * tilt];
+                let [a, b, c] = f.map(|w| &pts[w as usize]);
+                if orient3d(a, b, c, &inside) < 0.0 {
+                    f
+                } else {
+                    [f[0], f[2], f[1]]
+                }
+            });
+            let planes: Vec<(P, P)> = faces
+                .iter()
+                .map(|f| plane(pts[f[0] as usize], pts[f[1] as usize], pts[f[2] as usize]))
+                .collect();
+            let (p, clear) = deepest_point(&planes, &[0.5, 0.5, 0.0], 1.0).unwrap();
+            assert!(clear > 0.0, "tilt {tilt}: clearance {clear}");
+            assert!(
+                faces.iter().all(|&f| sees(&pts, f, &p)),
+                "tilt {tilt}: {p:?}"
+            );
+        }
+    }
+
+    /// Two opposite half-spaces leave no kernel: the clearance found is
+    /// negative, and no point is claimed inside.
+    #[test]
+    fn deepest_point_of_an_empty_kernel_has_negative_clearance() {
+        let planes = vec![
+            ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+            ([0.0, 0.0, -1.0], [0.0, 0.0, -1.0]),
+        ];
+        let (_, clear) = deepest_point(&planes, &[0.0; 3], 1.0).unwrap();
+        assert!(clear < 0.0);
+        assert!(deepest_point(&[], &[0.0; 3], 1.0).is_none());
+        assert!(deepest_point(&planes, &[0.0; 3], 0.0).is_none());
+    }
+}
