@@ -45,9 +45,15 @@
 //!    relaxation. Of all candidates the one **farthest from every face**
 //!    is taken (along each ray the clearance rises, then falls): a point
 //!    barely off the surface would make the stars of the next surface
-//!    points nearly flat. When no direction works, the wedge grows by the
-//!    tetrahedra behind the faces the candidates do not see (never across
-//!    the surface), then it is filled like a cavity of the parent module
+//!    points nearly flat. When no ray works, the point of the ball
+//!    around `s` (radius: the distance to its nearest vertex) farthest
+//!    inside every face's half-space is computed (the ellipsoid method,
+//!    `deepest_point` of the parent module) and taken if it sees every
+//!    face exactly: on twisted or nearly coplanar surfaces the flat
+//!    tetrahedra at `s` leave a kernel too thin for any of the rays.
+//!    When nothing works, the wedge grows by the
+//!    tetrahedra behind the faces the candidates do not see (the deepest
+//!    point's when no ray gave fewer; never across the surface), then it is filled like a cavity of the parent module
 //!    (a cone from one of its vertices, else from a kernel point, growing
 //!    towards the faces the best point does not see). A ghost wedge (the
 //!    outside of a triangle on the convex hull) gets ghosts on the new
