@@ -669,6 +669,15 @@ impl State {
                     .map(|(a, n)| dot(n, &sub(p, a)))
                     .fold(f64::INFINITY, f64::min)
             };
+            // The faces a candidate does not see strictly (exact).
+            let unseen = |p: &P| -> Vec<usize> {
+                (0..all.len())
+                    .filter(|&k| {
+                        let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
+                        orient3d(a, b, cc, p) >= 0.0
+                    })
+                    .collect()
+            };
             let mut best: Option<(P, f64)> = None;
             for d in dirs.iter().chain(tangent.iter()) {
                 let dl = dot(d, d).sqrt();
@@ -679,12 +688,7 @@ impl State {
                 let mut last = f64::NEG_INFINITY;
                 for _ in 0..HALVINGS {
                     let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
-                    let bad: Vec<usize> = (0..all.len())
-                        .filter(|&k| {
-                            let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
-                            orient3d(a, b, cc, &p) >= 0.0
-                        })
-                        .collect();
+                    let bad = unseen(&p);
                     if bad.is_empty() {
                         // Along a ray the clearance rises, then falls.
                         let cl = clearance(&p);
@@ -711,12 +715,7 @@ impl State {
                 // faces of flat tetrahedra at `s`); the faces it does not
                 // see are the ones to grow across.
                 if let Some((p, _)) = super::deepest_point(&planes, &sp, reach) {
-                    let bad: Vec<usize> = (0..all.len())
-                        .filter(|&k| {
-                            let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
-                            orient3d(a, b, cc, &p) >= 0.0
-                        })
-                        .collect();
+                    let bad = unseen(&p);
                     if bad.is_empty() {
                         best = Some((p, 0.0));
                     } else if bad.iter().all(|&k| k >= nb)
