@@ -26,6 +26,21 @@ Metrics (h0 = 0.001; r, theta about the z axis through the origin):
   sine     a layer along y = 0.5 + 0.1 sin(2 pi x) (3D: z = ...): size
            h0 + 2 (0.1 - h0) |d| (at most 0.1) across it, d the vertical
            distance to the curve over the length of its normal, 0.1 along it
+  circle   a tanh shock on the circle of radius 0.3 about (0.5, 0.5):
+           h_n = h0 + (0.1 - h0) tanh(|rho - 0.3| / 0.05) across it,
+           h_t = 0.1 along it (3D: a cylinder, h_z = 0.1)
+  bl       a boundary layer on the side x = 0: h_x = min(0.1, h0 + 0.2 x)
+           (sizes growing geometrically, ratio 1.2 per layer), h_y = 0.05
+  cross    two crossing shocks (not used to tune delone): the metric
+           intersection of a layer along x = 0.3 + 0.4 y and one along
+           y = 0.6 - 0.2 x, each h_n = 0.002 + 2 (0.1 - 0.002) |d| (at most
+           0.1) across it, d the distance to its line, 0.1 along it
+
+Each row also shows `unit`: the number of triangles (tetrahedra) a mesh of
+unit metric edges needs, ∫ sqrt(det M) over the domain divided by the metric
+volume of the regular unit simplex (sqrt(3)/4 in 2D, sqrt(2)/12 in 3D),
+summed over that tool's final mesh with the metric at each element's
+centroid; `el/unit` is the element count over it.
 """
 
 import argparse
@@ -56,6 +71,19 @@ def sizes(case, p, dim):
         if dim == 2:
             return [0.1, hn], [[1 / q, df / q], [-df / q, 1 / q]]
         return [0.1, 0.1, hn], [[1 / q, 0, df / q], [0, 1, 0], [-df / q, 0, 1 / q]]
+    if case == "circle":
+        x, y = p[0] - 0.5, p[1] - 0.5
+        rho = math.hypot(x, y)
+        c, s = (x / rho, y / rho) if rho > 0 else (1.0, 0.0)
+        hn = H0 + (0.1 - H0) * math.tanh(abs(rho - 0.3) / 0.05)
+        if dim == 2:
+            return [hn, 0.1], [[c, s], [-s, c]]
+        return [hn, 0.1, 0.1], [[c, s, 0], [-s, c, 0], [0, 0, 1]]
+    if case == "bl":
+        hx = min(0.1, H0 + 0.2 * p[0])
+        if dim == 2:
+            return [hx, 0.05], [[1, 0], [0, 1]]
+        return [hx, 0.05, 0.1], [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
     r = math.hypot(p[0], p[1])
     t = math.atan2(p[1], p[0])
     c, s = math.cos(t), math.sin(t)
@@ -66,10 +94,60 @@ def sizes(case, p, dim):
     return [hr, ht, 0.1], [[c, s, 0], [-s, c, 0], [0, 0, 1]]
 
 
+def layer_matrix(normal, d):
+    """The 2x2 metric of a layer: size 0.002 + 2 (0.1 - 0.002) |d| (at most
+    0.1) along the unit `normal`, 0.1 across it."""
+    hn = min(0.1, 0.002 + 2.0 * (0.1 - 0.002) * abs(d))
+    a, b = 1.0 / (hn * hn), 100.0
+    n0, n1 = normal
+    return [[a * n0 * n0 + b * n1 * n1, (a - b) * n0 * n1], [(a - b) * n0 * n1, a * n1 * n1 + b * n0 * n0]]
+
+
+def intersect(m1, m2):
+    """The metric intersection of two 2x2 metrics (simultaneous reduction):
+    in the eigenvectors of m1^-1 m2, the larger of the two lengths."""
+    det1 = m1[0][0] * m1[1][1] - m1[0][1] * m1[1][0]
+    inv = [[m1[1][1] / det1, -m1[0][1] / det1], [-m1[1][0] / det1, m1[0][0] / det1]]
+    n = [[sum(inv[i][k] * m2[k][j] for k in range(2)) for j in range(2)] for i in range(2)]
+    tr, det = n[0][0] + n[1][1], n[0][0] * n[1][1] - n[0][1] * n[1][0]
+    disc = math.sqrt(max(0.0, tr * tr / 4 - det))
+    vecs = []
+    for lam in (tr / 2 + disc, tr / 2 - disc):
+        # (n - lam I) v = 0: the larger row of n - lam I gives v.
+        r0, r1 = [n[0][0] - lam, n[0][1]], [n[1][0], n[1][1] - lam]
+        r = r0 if abs(r0[0]) + abs(r0[1]) >= abs(r1[0]) + abs(r1[1]) else r1
+        v = [-r[1], r[0]] if abs(r[0]) + abs(r[1]) > 1e-14 * (abs(tr) + 1) else None
+        vecs.append(v)
+    if vecs[0] is None or vecs[1] is None or disc <= 1e-12 * abs(tr):
+        # m2 = c m1: the larger of the two.
+        return m2 if tr > 2 else m1
+    quad = lambda m, v: sum(v[i] * m[i][j] * v[j] for i in range(2) for j in range(2))
+    lam = [max(quad(m1, v), quad(m2, v)) for v in vecs]
+    # M = P^-T diag(lam) P^-1 with P = [v0 v1] (columns).
+    p = [[vecs[0][0], vecs[1][0]], [vecs[0][1], vecs[1][1]]]
+    dp = p[0][0] * p[1][1] - p[0][1] * p[1][0]
+    pinv = [[p[1][1] / dp, -p[0][1] / dp], [-p[1][0] / dp, p[0][0] / dp]]
+    return [[sum(pinv[k][i] * lam[k] * pinv[k][j] for k in range(2)) for j in range(2)] for i in range(2)]
+
+
+def metric_matrix(case, p, dim):
+    """The analytic metric at p as a dim x dim matrix."""
+    if case == "cross":
+        q1 = math.hypot(1.0, 0.4)
+        m1 = layer_matrix((1 / q1, -0.4 / q1), (p[0] - 0.3 - 0.4 * p[1]) / q1)
+        q2 = math.hypot(1.0, 0.2)
+        m2 = layer_matrix((0.2 / q2, 1 / q2), (p[1] - 0.6 + 0.2 * p[0]) / q2)
+        m = intersect(m1, m2)
+        if dim == 2:
+            return m
+        return [m[0] + [0.0], m[1] + [0.0], [0.0, 0.0, 100.0]]
+    h, v = sizes(case, p, dim)
+    return [[sum(v[k][i] * v[k][j] / (h[k] * h[k]) for k in range(dim)) for j in range(dim)] for i in range(dim)]
+
+
 def metric(case, p, dim):
     """Medit components: m11 m12 m22 (2D), m11 m12 m22 m13 m23 m33 (3D)."""
-    h, v = sizes(case, p, dim)
-    m = [[sum(v[k][i] * v[k][j] / (h[k] * h[k]) for k in range(dim)) for j in range(dim)] for i in range(dim)]
+    m = metric_matrix(case, p, dim)
     if dim == 2:
         return [m[0][0], m[0][1], m[1][1]]
     return [m[0][0], m[0][1], m[1][1], m[0][2], m[1][2], m[2][2]]
@@ -168,6 +246,33 @@ def read_vertices(path, dim):
     return out
 
 
+def unit_count(path, case, dim):
+    """The number of elements of a unit mesh of the analytic metric:
+    sum over the mesh's elements of volume * sqrt(det M(centroid)), over
+    the metric volume of the regular unit simplex."""
+    pts = read_vertices(path, dim)
+    tok = open(path).read().split()
+    k = tok.index("Triangles" if dim == 2 else "Tetrahedra")
+    n = int(tok[k + 1])
+    total = 0.0
+    for i in range(n):
+        base = k + 2 + i * (dim + 2)
+        c = [pts[int(x) - 1] for x in tok[base:base + dim + 1]]
+        e = [[c[j][q] - c[0][q] for q in range(dim)] for j in range(1, dim + 1)]
+        g = [sum(x[q] for x in c) / (dim + 1) for q in range(dim)]
+        m = metric_matrix(case, g, dim)
+        if dim == 2:
+            vol = abs(e[0][0] * e[1][1] - e[0][1] * e[1][0]) / 2
+            det = m[0][0] * m[1][1] - m[0][1] * m[1][0]
+        else:
+            d3 = lambda a: (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+                            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+                            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+            vol, det = abs(d3(e)) / 6, d3(m)
+        total += vol * math.sqrt(max(det, 0.0))
+    return total / (math.sqrt(3) / 4 if dim == 2 else math.sqrt(2) / 12)
+
+
 def write_metric(mesh, sol, case, dim):
     pts = read_vertices(mesh, dim)
     with open(sol, "w") as out:
@@ -226,7 +331,7 @@ def run_case(args, case, tool):
                     "--stats-json", stats, "-Q"], check=True)
     s = json.load(open(stats))["after"]
     return {"in": s["in_range_share"], "qmin": s["quality_min"], "qmean": s["quality_mean"],
-            "el": s["elements"], "time": total, "mem": peak}
+            "el": s["elements"], "time": total, "mem": peak, "unit": unit_count(cur, case, args.dim)}
 
 
 def main():
@@ -244,13 +349,13 @@ def main():
     args.mmg = args.mmg or f"/tmp/mmgvenv/bin/mmg{args.dim}d_O3"
     os.makedirs(args.work, exist_ok=True)
     print(f"{args.dim}D, {args.iters} iterations from a {args.n}^{args.dim} grid, -hgrad {args.hgrad}")
-    head = f"{'case':8} {'tool':7} {'in range':>9} {'q min':>7} {'q mean':>7} {'elements':>9} {'time s':>8} {'MB':>7}"
+    head = f"{'case':8} {'tool':7} {'in range':>9} {'q min':>7} {'q mean':>7} {'elements':>9} {'time s':>8} {'MB':>7} {'unit':>7} {'el/unit':>7}"
     print(head)
     for case in args.cases.split(","):
         r = {tool: run_case(args, case, tool) for tool in ("delone", "mmg")}
         for tool in ("delone", "mmg"):
             x = r[tool]
-            print(f"{case:8} {tool:7} {100 * x['in']:8.1f}% {x['qmin']:7.3f} {x['qmean']:7.3f} {x['el']:9d} {x['time']:8.3f} {x['mem']:7.1f}")
+            print(f"{case:8} {tool:7} {100 * x['in']:8.1f}% {x['qmin']:7.3f} {x['qmean']:7.3f} {x['el']:9d} {x['time']:8.3f} {x['mem']:7.1f} {x['unit']:7.0f} {x['el'] / x['unit']:7.3f}")
         d, m = r["delone"], r["mmg"]
         ratio = lambda a, b: a / b if b else float("nan")
         print(f"{case:8} {'ratio':7} {ratio(d['in'], m['in']):9.3f} {ratio(d['qmin'], m['qmin']):7.3f} "

@@ -172,6 +172,25 @@ pub fn document(
                 ])
             })
             .collect();
+        let stages: Vec<String> = o
+            .stages
+            .iter()
+            .map(|s| {
+                object(&[
+                    ("threshold", num(s.threshold)),
+                    ("second_run", s.second_run.to_string()),
+                    ("evaluations", s.evaluations.to_string()),
+                    ("undone_evaluations", s.undone_evaluations.to_string()),
+                    ("tries", s.attempts.to_string()),
+                    ("successes", s.successes.to_string()),
+                    ("worst_before", num(s.worst[0])),
+                    ("worst_after", num(s.worst[1])),
+                    ("below_before", s.below[0].to_string()),
+                    ("below_after", s.below[1].to_string()),
+                    ("ended", string(&s.stop.to_string())),
+                ])
+            })
+            .collect();
         let _ = write!(
             out,
             ",\n  \"optimization\": {}",
@@ -219,6 +238,7 @@ pub fn document(
                 ("below_target_all_fixed", o.stuck_counts[1].to_string()),
                 ("below_target_not_improved", o.stuck_counts[2].to_string()),
                 ("worst_left", format!("[{}]", stuck.join(", "))),
+                ("stages", format!("[{}]", stages.join(", "))),
             ])
         );
     }

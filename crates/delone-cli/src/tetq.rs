@@ -207,6 +207,9 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
             if r.effort_exhausted { ", effort budget spent" } else { "" }
         ));
         lines.push(crate::tetq_bound::bound_line(o, r));
+        for st in &r.stages {
+            lines.push(crate::tetq_bound::stage_line(st));
+        }
         let mut lo = 0.0;
         let mut h = String::from("dihedral histogram before optimization:");
         for (b, n) in DIHEDRAL_BINS.iter().zip(&r.before.dihedral_histogram) {

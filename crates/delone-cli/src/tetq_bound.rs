@@ -1,7 +1,7 @@
 //! `-V` lines of the optimisation: which bound the input puts on the
 //! dihedral angles, and what the tetrahedra left below the target are.
 
-use delone::tet::optimize::{OptimizeReport, Stuck};
+use delone::tet::optimize::{OptimizeReport, StageReport, Stuck};
 
 use crate::args::Opts;
 
@@ -102,6 +102,25 @@ fn bad_cells(r: &OptimizeReport) -> String {
         b.count,
         180.0 - a,
         parts.join(", ")
+    )
+}
+
+/// The `-V` line of one optimisation stage: threshold, work, gain and why
+/// it ended.
+pub fn stage_line(s: &StageReport) -> String {
+    format!(
+        "optimization: stage {:.0} deg{}: {} evaluations ({} in undone insertions), {} of {} tries succeeded; worst {:.2} -> {:.2} deg, below {} -> {}; ended: {}",
+        s.threshold,
+        if s.second_run { " (second run)" } else { "" },
+        s.evaluations,
+        s.undone_evaluations,
+        s.successes,
+        s.attempts,
+        s.worst[0],
+        s.worst[1],
+        s.below[0],
+        s.below[1],
+        s.stop
     )
 }
 

@@ -356,6 +356,9 @@ fn tet_stats_json_reports_steiner_refinement_and_optimisation() {
     );
     assert!(j.contains("\"left_above_bound\": "), "{j}");
     assert!(j.contains("\"worst_left\": [{\"tet\": "), "{j}");
+    // One entry per optimisation stage, the first at 10 degrees.
+    assert!(j.contains("\"stages\": [{\"threshold\": 10.0, "), "{j}");
+    assert!(j.contains("\"ended\": \""), "{j}");
 }
 
 /// `-d`: a self-intersecting corpus model lists its intersecting facet

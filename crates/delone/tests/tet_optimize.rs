@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use delone::tet::optimize::{optimize, OptimizeOptions, BAD_ANGLE};
+use delone::tet::optimize::{optimize, OptimizeOptions, StageStop, BAD_ANGLE};
 use delone::tet::quality::TetStats;
 use delone::tet::recover::{check_recovered, recover, RecoverOptions, Recovered};
 use delone::tet::refine::{refine, RefineOptions};
@@ -819,6 +819,77 @@ fn angle_options_out_of_range_are_errors() {
             .count()
     });
     check_recovered(&pts, &tris, &r).unwrap();
+}
+
+#[test]
+fn stages_report_their_work_and_why_they_ended() {
+    // The cube of `interior_slivers_in_a_cube_are_removed`, refined.
+    let (pts, tris) = cube();
+    let ro = RefineOptions {
+        max_volume: Some(0.002),
+        ..Default::default()
+    };
+    let fresh = || refine(&pts, &tris, &ro).unwrap().rec;
+    let mut r = fresh();
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::default());
+    assert_eq!(rep.stages.len(), rep.passes);
+    assert!(!rep.stages.is_empty());
+    // Rising thresholds up to the target, one run (a mesh inside the bound
+    // is not optimised twice).
+    let th: Vec<f64> = rep.stages.iter().map(|s| s.threshold).collect();
+    assert!(th.windows(2).all(|w| w[0] < w[1]), "{th:?}");
+    assert!(rep.stages.iter().all(|s| !s.second_run));
+    let spent: u64 = rep.stages.iter().map(|s| s.evaluations).sum();
+    assert!(spent > 0 && spent <= rep.evaluations);
+    for (k, s) in rep.stages.iter().enumerate() {
+        assert!(s.undone_evaluations <= s.evaluations);
+        assert!(s.successes <= s.attempts);
+        // A stage starts where the one before it ended.
+        if k > 0 {
+            assert_eq!(s.worst[0], rep.stages[k - 1].worst[1]);
+        }
+        assert!(s.worst[1] >= s.worst[0] - 1e-9, "{s:?}");
+        assert_ne!(s.stop, StageStop::Budget);
+    }
+    // With almost no effort a stage runs out and says so, and the run ends
+    // there.
+    let mut r = fresh();
+    let tiny = OptimizeOptions {
+        effort: Some(1e-3),
+        ..Default::default()
+    };
+    let rep = run(&pts, &tris, &mut r, &tiny);
+    assert!(rep.effort_exhausted);
+    let last = rep.stages.last().unwrap();
+    assert_eq!(last.stop, StageStop::Budget);
+    let n = rep.stages.len();
+    assert!(rep.stages[..n - 1]
+        .iter()
+        .all(|s| s.stop != StageStop::Budget));
+}
+
+#[test]
+fn a_stage_pinned_by_the_input_stops_paying_and_says_so() {
+    // cgal_handle at q1.414: the stages below 10° and 15° sit on a
+    // tetrahedron pinned at 0° by the input; they end when they stop
+    // paying, before the budget is spent.
+    let Some((pts, tris, mut r)) = refined_model("cgal_handle", 1.414) else {
+        return;
+    };
+    let rep = run(&pts, &tris, &mut r, &OptimizeOptions::default());
+    let stalled: Vec<_> = rep
+        .stages
+        .iter()
+        .filter(|s| s.stop == StageStop::Stalled)
+        .collect();
+    assert!(!stalled.is_empty(), "{:?}", rep.stages);
+    for s in stalled {
+        // It stopped because neither its worst nor its count improved
+        // over the last half of its work: its worst stayed far below the
+        // threshold.
+        assert!(s.worst[1] < 0.5 * s.threshold, "{s:?}");
+        assert!(s.evaluations > 0);
+    }
 }
 
 #[test]

@@ -76,7 +76,9 @@
 //! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
 //! is optimised once more from the start with every insertion settled
 //! fully, and the better of the two results is kept. A stage also ends
-//! when it stops paying: checked every 10 evaluations per tetrahedron, it
+//! when it stops paying: checked every 10 evaluations per tetrahedron
+//! (of at most 50,000 counted, plus 2000: the tries that make progress
+//! are local, so the window does not grow with the mesh), it
 //! ends once neither its worst quality nor its count of tetrahedra below
 //! the threshold improved over the last half of its evaluations (and two
 //! such windows), so the effort follows what is left to improve. While
@@ -84,7 +86,8 @@
 //! the count improves only when a window lifts at least 1% of the count
 //! the stage started with: on cgal_handle the stage below 10° otherwise
 //! spends its whole budget at about 9,000 evaluations per tetrahedron
-//! lifted, its minimum pinned at 0°. The
+//! lifted, its minimum pinned at 0°. Each stage's work, gain and reason
+//! for ending are reported ([`OptimizeReport::stages`]). The
 //! whole run stops when its budget of quality
 //! evaluations ([`OptimizeOptions::effort`]) is spent: the worst are
 //! treated first, so the budget cuts the least useful work. The stages up
@@ -193,6 +196,17 @@ const POLISH_INSERT: f64 = 30.0;
 /// Evaluations per tetrahedron (plus 2000) between two checks of a stage's
 /// progress (see [`optimize`]).
 const WINDOW: f64 = 10.0;
+
+/// Most tetrahedra counted in a stage's window (see [`WINDOW`]): a
+/// stage's progress is made by local tries (a flip, a smoothing, a trial
+/// insertion of a few thousand evaluations each), so the work that shows
+/// whether a stage still pays does not grow with the mesh. Uncapped, a
+/// window of a 600,000-tetrahedron mesh held about 300 tries, and each
+/// stage above 10° on c3d_nefertiti at `-pq1.5/20` spent 12–18 million
+/// evaluations on tries at tetrahedra pinned by needle input triangles
+/// (85% of them in undone insertions) while its count below the threshold
+/// rose.
+const WINDOW_CAP: usize = 50_000;
 
 /// Windows without progress that always leave a stage going.
 const PATIENCE: u64 = 2;
@@ -587,6 +601,79 @@ pub struct OptimizeReport {
     pub stuck: Vec<Stuck>,
     /// The tetrahedra left below 15° (or above 165°), by cause.
     pub bad: BadCells,
+    /// The stages run, in order (of both runs when a small mesh is
+    /// optimised twice).
+    pub stages: Vec<StageReport>,
+}
+
+/// Why a stage of [`optimize`] ended.
+///
+/// ```
+/// use delone::tet::optimize::StageStop;
+/// assert_eq!(StageStop::Stalled.to_string(), "stopped paying");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum StageStop {
+    /// A round over its queue succeeded nowhere (or the queue was empty).
+    #[default]
+    Settled,
+    /// Its attempts ([`OptimizeOptions::max_passes`] per queued
+    /// tetrahedron) were spent.
+    Attempts,
+    /// It stopped paying: neither its worst quality nor its count below the
+    /// threshold improved over the last half of its evaluations.
+    Stalled,
+    /// The effort budget ([`OptimizeOptions::effort`]) ran out; the run
+    /// ends.
+    Budget,
+    /// A stop was requested (`progress::stop_requested`); the run ends.
+    Interrupted,
+}
+
+impl fmt::Display for StageStop {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StageStop::Settled => "nothing left to improve",
+            StageStop::Attempts => "attempts spent",
+            StageStop::Stalled => "stopped paying",
+            StageStop::Budget => "effort budget spent",
+            StageStop::Interrupted => "interrupted",
+        })
+    }
+}
+
+/// What one stage of [`optimize`] did: its threshold, the work it spent and
+/// what it gained.
+///
+/// ```
+/// use delone::tet::optimize::{StageReport, StageStop};
+/// let s = StageReport { threshold: 10.0, stop: StageStop::Stalled, ..Default::default() };
+/// assert_eq!(s.evaluations, 0);
+/// ```
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StageReport {
+    /// Its threshold (degrees): it works on the tetrahedra with a dihedral
+    /// angle below it or above `180 -` it.
+    pub threshold: f64,
+    /// True for a stage of the second run of a small mesh (every trial
+    /// insertion settled fully).
+    pub second_run: bool,
+    /// Quality evaluations it spent.
+    pub evaluations: u64,
+    /// Of them, those spent in trial insertions that were undone.
+    pub undone_evaluations: u64,
+    /// Tetrahedra it tried to improve, and how many of the tries succeeded.
+    pub attempts: u64,
+    /// Successful tries.
+    pub successes: u64,
+    /// The mesh's worst angle (the smaller of its smallest dihedral angle
+    /// and 180° minus its largest; degrees) at its start and at its end.
+    pub worst: [f64; 2],
+    /// Tetrahedra below its threshold at its start and at its end.
+    pub below: [usize; 2],
+    /// Why it ended.
+    pub stop: StageStop,
 }
 
 /// Why [`optimize`] refused its input.
@@ -728,13 +815,15 @@ pub(crate) fn optimize_in_place(
     let other_mesh = validate_input(&other)?;
     let mut second = optimize_once(&mut other, other_mesh, opts, true);
     second.evaluations += report.evaluations;
+    let stages = [report.stages.as_slice(), &second.stages].concat();
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
     if key(&second) > key(&report) {
         *rec = other;
-        Ok(second)
+        Ok(OptimizeReport { stages, ..second })
     } else {
         Ok(OptimizeReport {
             evaluations: second.evaluations,
+            stages,
             ..report
         })
     }
@@ -850,7 +939,7 @@ fn optimize_once(
     // The stages that decide the minimum: up to 20°, or up to the bound
     // asked for when higher.
     let low_max = bound.max(20.0);
-    'stages: for deg in stages {
+    for deg in stages {
         let thr = deg.to_radians().sin();
         if deg <= low_max {
             stop = LOW * allowed + if extended { extra } else { 0.0 };
@@ -869,11 +958,24 @@ fn optimize_once(
         // threshold a window must lift `MIN_LIFT` of the starting count.
         let mut attempts = None;
         w.thorough = thorough;
-        let window = (WINDOW * (n_tets + 2000) as f64) as u64;
+        // (The window counts at most `WINDOW_CAP` tetrahedra; below half
+        // the threshold it must still lift `MIN_LIFT` of the starting
+        // count, which on a large mesh ends a stage pinned by the input
+        // sooner.)
+        let window = stage_window(n_tets);
         let mut check = w.evals.get() + window;
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
         let lift = (MIN_LIFT * best.1 as f64) as usize;
+        let mut stage = StageReport {
+            threshold: deg,
+            second_run: thorough,
+            worst: [worst_angle(best.0); 2],
+            below: [best.1; 2],
+            ..StageReport::default()
+        };
+        let undone0 = w.undone;
+        let mut end_run = false;
         'rounds: loop {
             let mut heap: BinaryHeap<Entry> = (0..w.m.tv.len() as u32)
                 .filter(|&t| w.live(t) && w.q[t as usize] < thr && !blocked(&w, &failed, t))
@@ -890,7 +992,9 @@ fn optimize_once(
                     crate::progress::report("optimising", done, total, "evaluations");
                     if crate::progress::stop_requested() {
                         report.effort_exhausted = true;
-                        break 'stages;
+                        stage.stop = StageStop::Interrupted;
+                        end_run = true;
+                        break 'rounds;
                     }
                 }
                 // Stale entries: the slot changed since it was queued.
@@ -898,6 +1002,7 @@ fn optimize_once(
                     continue;
                 }
                 if *left == 0 {
+                    stage.stop = StageStop::Attempts;
                     break;
                 }
                 let e = w.evals.get();
@@ -907,6 +1012,7 @@ fn optimize_once(
                     if now.0 > best.0 + 1e-4 || now.1 + lifted < best.1 {
                         paid = e;
                     } else if e - paid >= (PATIENCE * window).max((e - start) / 2) {
+                        stage.stop = StageStop::Stalled;
                         break 'rounds;
                     }
                     best = (best.0.max(now.0), best.1.min(now.1));
@@ -925,10 +1031,13 @@ fn optimize_once(
                         stop += extra;
                     } else {
                         report.effort_exhausted = true;
-                        break 'stages;
+                        stage.stop = StageStop::Budget;
+                        end_run = true;
+                        break 'rounds;
                     }
                 }
                 *left -= 1;
+                stage.attempts += 1;
                 if improve(
                     &mut w,
                     t,
@@ -939,6 +1048,7 @@ fn optimize_once(
                     &mut report,
                 ) {
                     any = true;
+                    stage.successes += 1;
                     for u in std::mem::take(&mut w.dirty) {
                         if w.live(u) && w.q[u as usize] < thr {
                             heap.push(Entry(w.q[u as usize], u, w.m.tv[u as usize]));
@@ -951,6 +1061,9 @@ fn optimize_once(
                 }
             }
             if *left == 0 || !any && w.thorough {
+                if *left > 0 {
+                    stage.stop = StageStop::Settled;
+                }
                 break;
             }
             // Trial insertions were first settled cheaply (given up as soon
@@ -961,6 +1074,15 @@ fn optimize_once(
                 w.thorough = true;
                 failed.clear();
             }
+        }
+        let end = standing(&w, thr);
+        stage.worst[1] = worst_angle(end.0);
+        stage.below[1] = end.1;
+        stage.evaluations = w.evals.get() - start;
+        stage.undone_evaluations = w.undone - undone0;
+        report.stages.push(stage);
+        if end_run {
+            break;
         }
     }
     // Last, the points the optimisation inserted are taken out where the
@@ -1008,6 +1130,23 @@ fn standing(w: &Work, thr: f64) -> (f64, usize) {
     live.map(|t| w.q[t]).fold((f64::INFINITY, 0), |(m, n), q| {
         (m.min(q), n + usize::from(q < thr))
     })
+}
+
+/// The evaluations between two checks of a stage's progress on a mesh of
+/// `n` tetrahedra: [`WINDOW`] per tetrahedron, at most [`WINDOW_CAP`]
+/// counted, plus 2000.
+fn stage_window(n: usize) -> u64 {
+    (WINDOW * (n.min(WINDOW_CAP) + 2000) as f64) as u64
+}
+
+/// The worst angle (degrees) of a tetrahedron of quality `q` (the
+/// smaller of its smallest dihedral angle and 180° minus its largest).
+fn worst_angle(q: f64) -> f64 {
+    if q.is_finite() {
+        q.clamp(0.0, 1.0).asin().to_degrees()
+    } else {
+        90.0
+    }
 }
 
 /// The vertices of `tv`, sorted.
@@ -1449,6 +1588,7 @@ fn try_insert_at(
         Cavity::Sphere => w.sphere_cavity(t, c, MAX_CAVITY),
         Cavity::Given(b) => Some(b),
     };
+    let e0 = w.evals.get();
     w.begin();
     // The centroid may not see every face of the larger cavity (a sliver's
     // neighbours); it always sees the faces of `t` itself.
@@ -1459,6 +1599,7 @@ fn try_insert_at(
     };
     let Some((id, _)) = got else {
         w.rollback();
+        w.undone += w.evals.get() - e0;
         return false;
     };
     // Settle the new vertex: smooth it, then improve the worst of the new
@@ -1512,6 +1653,7 @@ fn try_insert_at(
         true
     } else {
         w.rollback();
+        w.undone += w.evals.get() - e0;
         report.insert_undone += 1;
         false
     }
@@ -2173,3 +2315,25 @@ fn near_triangle(rec: &Recovered, angles: &[[f64; 2]], p: &[[f64; 3]; 4]) -> Opt
 /// above the worst one it replaced are improved while the new vertex
 /// settles (only those at or below it decide the outcome).
 const SETTLE_MARGIN: f64 = 0.1;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stage_window_stops_growing_with_the_mesh() {
+        // Up to the cap: WINDOW evaluations per tetrahedron (plus 2000).
+        assert_eq!(stage_window(0), 20_000);
+        assert_eq!(stage_window(WINDOW_CAP / 2), 270_000);
+        assert_eq!(stage_window(WINDOW_CAP), 520_000);
+        // Above it the window stays.
+        assert_eq!(stage_window(10 * WINDOW_CAP), 520_000);
+    }
+
+    #[test]
+    fn worst_angle_of_a_quality() {
+        assert_eq!(worst_angle(f64::INFINITY), 90.0);
+        assert_eq!(worst_angle(-1.0), 0.0);
+        assert!((worst_angle(0.5) - 30.0).abs() < 1e-12);
+    }
+}

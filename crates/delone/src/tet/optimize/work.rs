@@ -206,6 +206,8 @@ pub(super) struct Work {
     touched_set: IdSet<[u32; 4]>,
     /// Quality evaluations so far (the work measure of the effort budget).
     pub evals: std::cell::Cell<u64>,
+    /// Of them, those spent in trial insertions that were undone.
+    pub undone: u64,
     /// Slots created or reshaped since the caller last drained it.
     pub dirty: Vec<u32>,
     /// Points of the mesh before the optimisation (those at or above may
@@ -284,6 +286,7 @@ impl Work {
             touched_set: IdSet::default(),
             dirty: Vec::new(),
             evals: Default::default(),
+            undone: 0,
             n0: n,
         }
     }

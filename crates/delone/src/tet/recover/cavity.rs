@@ -327,6 +327,72 @@ fn kernel_point(pts: &[P], faces: &[[u32; 3]]) -> (Option<P>, P) {
     (None, best)
 }
 
+/// Iterations of [`deepest_point`]: the ellipsoid's volume shrinks by
+/// `exp(-1/8)` per step, so 480 steps shrink its radius by about 1e-9.
+const ELLIPSOID_STEPS: usize = 480;
+
+/// The point of the ball of radius `radius` around `centre` farthest
+/// inside the half-spaces `n·(x - a) > 0` of `planes` (`(a, n)`, `n`
+/// unit): it maximises the smallest clearance `min n·(x - a)`, a concave
+/// function, by the central-cut ellipsoid method (each step cuts the
+/// ellipsoid through its centre by a supergradient, or by the ball when
+/// the centre is outside it). `Some((point, clearance))` for the best
+/// centre visited (floating; the caller checks exactly), `None` when
+/// there is no plane or the radius is not positive and finite.
+pub(super) fn deepest_point(planes: &[(P, P)], centre: &P, radius: f64) -> Option<(P, f64)> {
+    if planes.is_empty() || !(radius > 0.0 && radius.is_finite()) {
+        return None;
+    }
+    let clearance = |x: &P| {
+        planes
+            .iter()
+            .enumerate()
+            .map(|(i, (a, n))| (i, dot(n, &sub(x, a))))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    // The ellipsoid {x : (x - c)ᵀ Q⁻¹ (x - c) <= 1}, first the ball of
+    // radius `radius` (scaled by sqrt 3 to hold the whole ball's box).
+    let mut c = *centre;
+    let r2 = 3.0 * radius * radius;
+    let mut q = [[r2, 0.0, 0.0], [0.0, r2, 0.0], [0.0, 0.0, r2]];
+    let mut best: Option<(P, f64)> = None;
+    let dim = 3.0;
+    for _ in 0..ELLIPSOID_STEPS {
+        let off = sub(&c, centre);
+        let out = dot(&off, &off) > radius * radius;
+        // The cut keeps {x : g·(x - c) <= 0}.
+        let g = if out {
+            off
+        } else {
+            let (i, s) = clearance(&c)?;
+            if best.is_none_or(|b| s > b.1) {
+                best = Some((c, s));
+            }
+            planes[i].1.map(|x| -x)
+        };
+        let qg = [0, 1, 2].map(|k| dot(&q[k], &g));
+        let gqg = dot(&g, &qg);
+        if !(gqg > 0.0 && gqg.is_finite()) {
+            break;
+        }
+        let b = qg.map(|x| x / gqg.sqrt());
+        let step = 1.0 / (dim + 1.0);
+        let nc = [0, 1, 2].map(|k| c[k] - step * b[k]);
+        if nc == c {
+            break;
+        }
+        c = nc;
+        let f = dim * dim / (dim * dim - 1.0);
+        let w = 2.0 / (dim + 1.0);
+        for i in 0..3 {
+            for j in 0..3 {
+                q[i][j] = f * (q[i][j] - w * b[i] * b[j]);
+            }
+        }
+    }
+    best
+}
+
 /// The tetrahedra filling `faces` as the cone from vertex `v` (every face
 /// not incident to `v` seen strictly), or `None`.
 fn cone_from(pts: &[P], faces: &[[u32; 3]], v: u32) -> Option<Vec<[u32; 4]>> {
@@ -1083,4 +1149,71 @@ fn fills_bounded(new: &[[u32; 4]], bset: &IdSet<[u32; 3]>) -> Option<NewParts> {
             .keys()
             .all(|k| bset.contains(k) || count.contains_key(&rev(*k)));
     filled.then_some(parts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plane(a: P, b: P, c: P) -> (P, P) {
+        let n = cross(&sub(&b, &a), &sub(&c, &a));
+        let l = dot(&n, &n).sqrt();
+        (a, n.map(|x| x / l))
+    }
+
+    /// A thin wedge: the half-spaces above `z = 0` and below a plane
+    /// through the x axis tilted by `tilt`, closed by two side planes;
+    /// its deepest point sees every face exactly (the inner side of a
+    /// face `a b c` is where `orient3d(a, b, c, x) < 0`).
+    #[test]
+    fn deepest_point_enters_thin_wedges() {
+        for tilt in [1e-2, 1e-5, 1e-8] {
+            let pts: Vec<P> = vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 1.0, tilt],
+                [0.2, 0.0, 0.0],
+                [0.2, 1.0, 0.0],
+                [0.8, 0.0, 0.0],
+                [0.8, 1.0, 0.0],
+            ];
+            // Above z = 0, below the tilted plane, 0.2 < x < 0.8.
+            let faces: [[u32; 3]; 4] = [[0, 1, 2], [0, 3, 1], [4, 5, 0], [6, 2, 7]];
+            let faces = faces.map(|f| {
+                // Orient each face so that a point of the wedge sees it.
+                let inside = [0.5, 0.5, 0.25 * tilt];
+                let [a, b, c] = f.map(|w| &pts[w as usize]);
+                if orient3d(a, b, c, &inside) < 0.0 {
+                    f
+                } else {
+                    [f[0], f[2], f[1]]
+                }
+            });
+            let planes: Vec<(P, P)> = faces
+                .iter()
+                .map(|f| plane(pts[f[0] as usize], pts[f[1] as usize], pts[f[2] as usize]))
+                .collect();
+            let (p, clear) = deepest_point(&planes, &[0.5, 0.5, 0.0], 1.0).unwrap();
+            assert!(clear > 0.0, "tilt {tilt}: clearance {clear}");
+            assert!(
+                faces.iter().all(|&f| sees(&pts, f, &p)),
+                "tilt {tilt}: {p:?}"
+            );
+        }
+    }
+
+    /// Two opposite half-spaces leave no kernel: the clearance found is
+    /// negative, and no point is claimed inside.
+    #[test]
+    fn deepest_point_of_an_empty_kernel_has_negative_clearance() {
+        let planes = vec![
+            ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+            ([0.0, 0.0, -1.0], [0.0, 0.0, -1.0]),
+        ];
+        let (_, clear) = deepest_point(&planes, &[0.0; 3], 1.0).unwrap();
+        assert!(clear < 0.0);
+        assert!(deepest_point(&[], &[0.0; 3], 1.0).is_none());
+        assert!(deepest_point(&planes, &[0.0; 3], 0.0).is_none());
+    }
 }

@@ -45,9 +45,15 @@
 //!    relaxation. Of all candidates the one **farthest from every face**
 //!    is taken (along each ray the clearance rises, then falls): a point
 //!    barely off the surface would make the stars of the next surface
-//!    points nearly flat. When no direction works, the wedge grows by the
-//!    tetrahedra behind the faces the candidates do not see (never across
-//!    the surface), then it is filled like a cavity of the parent module
+//!    points nearly flat. When no ray works, the point of the ball
+//!    around `s` (radius: the distance to its nearest vertex) farthest
+//!    inside every face's half-space is computed (the ellipsoid method,
+//!    `deepest_point` of the parent module) and taken if it sees every
+//!    face exactly: on twisted or nearly coplanar surfaces the flat
+//!    tetrahedra at `s` leave a kernel too thin for any of the rays.
+//!    When nothing works, the wedge grows by the
+//!    tetrahedra behind the faces the candidates do not see (the deepest
+//!    point's when no ray gave fewer; never across the surface), then it is filled like a cavity of the parent module
 //!    (a cone from one of its vertices, else from a kernel point, growing
 //!    towards the faces the best point does not see). A ghost wedge (the
 //!    outside of a triangle on the convex hull) gets ghosts on the new
@@ -663,6 +669,15 @@ impl State {
                     .map(|(a, n)| dot(n, &sub(p, a)))
                     .fold(f64::INFINITY, f64::min)
             };
+            // The faces a candidate does not see strictly (exact).
+            let unseen = |p: &P| -> Vec<usize> {
+                (0..all.len())
+                    .filter(|&k| {
+                        let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
+                        orient3d(a, b, cc, p) >= 0.0
+                    })
+                    .collect()
+            };
             let mut best: Option<(P, f64)> = None;
             for d in dirs.iter().chain(tangent.iter()) {
                 let dl = dot(d, d).sqrt();
@@ -673,12 +688,7 @@ impl State {
                 let mut last = f64::NEG_INFINITY;
                 for _ in 0..HALVINGS {
                     let p = [0, 1, 2].map(|k| sp[k] + h * d[k] / dl);
-                    let bad: Vec<usize> = (0..all.len())
-                        .filter(|&k| {
-                            let [a, b, cc] = all[k].map(|w| &all_pts[w as usize]);
-                            orient3d(a, b, cc, &p) >= 0.0
-                        })
-                        .collect();
+                    let bad = unseen(&p);
                     if bad.is_empty() {
                         // Along a ray the clearance rises, then falls.
                         let cl = clearance(&p);
@@ -697,6 +707,22 @@ impl State {
                         fewest = Some(bad);
                     }
                     h *= 0.5;
+                }
+            }
+            if best.is_none() {
+                // No ray from `s` enters: the deepest point of the wedge's
+                // kernel near `s` (thin slivers between nearly parallel
+                // faces of flat tetrahedra at `s`); the faces it does not
+                // see are the ones to grow across.
+                if let Some((p, _)) = super::deepest_point(&planes, &sp, reach) {
+                    let bad = unseen(&p);
+                    if bad.is_empty() {
+                        best = Some((p, 0.0));
+                    } else if bad.iter().all(|&k| k >= nb)
+                        && fewest.as_ref().is_none_or(|f| bad.len() < f.len())
+                    {
+                        fewest = Some(bad);
+                    }
                 }
             }
             if let Some((p, _)) = best {
