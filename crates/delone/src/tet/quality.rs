@@ -198,10 +198,13 @@ impl DihedralTally {
         // Far from every bin bound and the extremes: the bin from the
         // cosine (the angle is below bound b when its cosine is above b's).
         if r2 > 1e-200 && r2.is_finite() && u.is_finite() {
-            let clear = self.bounds.iter().all(|&b| (u - b).abs() > COS_MARGIN);
+            let last = self.bounds.len() - 1;
+            let k = self.bounds.iter().position(|&b| u > b).unwrap_or(last);
+            // The bounds are decreasing: the nearest are those at k - 1 and k.
+            let clear = (u - self.bounds[k]).abs() > COS_MARGIN
+                && (k == 0 || (u - self.bounds[k - 1]).abs() > COS_MARGIN);
             if clear && u < self.cos_min - COS_MARGIN && u > self.cos_max + COS_MARGIN {
-                let k = self.bounds.iter().position(|&b| u > b);
-                histogram[k.unwrap_or(self.bounds.len() - 1)] += 1;
+                histogram[k] += 1;
                 return;
             }
         }
