@@ -542,7 +542,12 @@ mod tests {
                     let h = next() * 1e-12;
                     [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, 0.4, h]]
                 }
-                2 => [[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [next(), next(), 0.0]],
+                2 => [
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    [2.0, 0.0, 0.0],
+                    [next(), next(), 0.0],
+                ],
                 _ => std::array::from_fn(|_| [next(), next(), next() * 1e-3f64.powf(next())]),
             };
             let b = pts.len() as u32;
@@ -550,7 +555,12 @@ mod tests {
             tets.push([b, b + 1, b + 2, b + 3]);
             // Regular-ish: a tetrahedron of the sheared corner family.
             let k = next() * 4.0;
-            let q = [[0.0; 3], [1.0, 0.0, 0.0], [0.5, 0.75f64.sqrt(), 0.0], [0.5, k, 1.0]];
+            let q = [
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.5, 0.75f64.sqrt(), 0.0],
+                [0.5, k, 1.0],
+            ];
             let b = pts.len() as u32;
             pts.extend(q);
             tets.push([b, b + 1, b + 2, b + 3]);

@@ -11,10 +11,10 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+use super::queue::Heap;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::{ekey, face, fkey};
 use std::cmp::Reverse;
-use super::queue::Heap;
 use std::collections::VecDeque;
 
 use delone_predicates::{insphere, orient3d};
