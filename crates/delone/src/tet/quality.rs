@@ -525,13 +525,8 @@ mod tests {
     /// ones.
     #[test]
     fn dihedral_tally_matches_angles() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::geom::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         let mut pts = Vec::new();
         let mut tets = Vec::new();
         for i in 0..4000u32 {

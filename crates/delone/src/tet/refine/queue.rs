@@ -82,13 +82,8 @@ mod tests {
     /// with repeated elements and ties on the first field.
     #[test]
     fn same_order_as_binary_heap() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rng = crate::geom::SplitMix64::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.next_u64();
         let mut a = Heap::new();
         let mut b = BinaryHeap::new();
         let mut popped = 0;
