@@ -228,7 +228,8 @@ pub fn optimize_lines(o: &Opts, r: &OptimizeReport) -> Vec<String> {
     lines
 }
 
-/// Report lines for `-V` (and the refinement summary), and the JSON file.
+/// Report lines for `-V` (and the refinement summary; none of the counts
+/// behind them with `-Q`, which prints no lines), and the JSON file.
 pub fn report(
     o: &Opts,
     rec: &Recovered,
@@ -268,20 +269,24 @@ pub fn report(
         if r.remaining_bad > 0 && o.out().verbose > 0 {
             lines.push(crate::tetq_left::left_line(r));
         }
-        lines.push(bounds_line(o, rec));
-        if o.out().verbose > 0 && o.tet.max_radius_edge.is_some() {
+        // With -Q the lines are not printed: the counts on the final mesh
+        // are left to `bound_status`, which needs them for the exit code.
+        if !o.out().quiet {
+            lines.push(bounds_line(o, rec));
+        }
+        if o.out().verbose > 0 && !o.out().quiet && o.tet.max_radius_edge.is_some() {
             let m = Missed::of(o, rec, r, optimized);
             if m.raised > 0 {
                 lines.push(raised_line(m.raised));
             }
         }
     }
-    let want_stats = o.out().verbose > 0 || o.stats_json.is_some();
-    if !want_stats {
+    let printed = o.out().verbose > 0 && !o.out().quiet;
+    if !printed && o.stats_json.is_none() {
         return Ok(lines);
     }
     let s = TetStats::of(&rec.points, &rec.mesh.tets);
-    if o.out().verbose > 0 {
+    if printed {
         lines.push(format!(
             "quality: dihedral {:.2}..{:.2} deg, radius-edge {:.3}..{:.3} (mean {:.3}), shape min {:.4} mean {:.4}, volume {:.4e}..{:.4e} (total {:.6e})",
             s.min_dihedral,

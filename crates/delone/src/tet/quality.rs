@@ -133,6 +133,13 @@ pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
 /// assert!((d[3] - 54.735_610_317_245_35).abs() < 1e-9); // edge 1-2
 /// ```
 pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
+    dihedral_sin_cos(p).map(|(s, c)| s.atan2(c).to_degrees())
+}
+
+/// The six dihedral angles as `(s, c)` pairs proportional to their sine
+/// (non-negative) and cosine, in [`EDGES`] order: the angle is
+/// `s.atan2(c)` ([`dihedral_angles`]).
+fn dihedral_sin_cos(p: &[[f64; 3]; 4]) -> [(f64, f64); 6] {
     // Scale invariant: measured on the element scaled by a power of two.
     let (p, _) = local(*p);
     // Inward normal of the face opposite vertex k.
@@ -151,10 +158,67 @@ pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
         // (`k < l`).
         let k = (0..4).find(|&v| v != i && v != j).unwrap_or(0);
         let l = 6 - i - j - k;
-        let s = norm(&cross(&n[k], &n[l]));
-        let c = -dot(&n[k], &n[l]);
-        s.atan2(c).to_degrees()
+        (norm(&cross(&n[k], &n[l])), -dot(&n[k], &n[l]))
     })
+}
+
+/// Margin on a cosine within which [`DihedralTally`] measures the angle
+/// itself (`atan2`): far above the rounding of `c / sqrt(s² + c²)`.
+const COS_MARGIN: f64 = 1e-9;
+
+/// The dihedral angles' minimum, maximum and histogram over
+/// [`DIHEDRAL_BINS`], the same as from [`dihedral_angles`], with an
+/// `atan2` only for the angles whose cosine is within [`COS_MARGIN`] of a
+/// bin bound or of the extremes so far.
+struct DihedralTally {
+    /// Cosines of the bin bounds.
+    bounds: [f64; DIHEDRAL_BINS.len()],
+    min: f64,
+    max: f64,
+    /// Cosines of `min` and `max`.
+    cos_min: f64,
+    cos_max: f64,
+}
+
+impl DihedralTally {
+    fn new() -> Self {
+        DihedralTally {
+            bounds: DIHEDRAL_BINS.map(|b| b.to_radians().cos()),
+            min: 180.0,
+            max: 0.0,
+            cos_min: -1.0,
+            cos_max: 1.0,
+        }
+    }
+
+    /// Adds the angle `s.atan2(c)` to `histogram`.
+    fn add(&mut self, (s, c): (f64, f64), histogram: &mut [usize]) {
+        let r2 = s * s + c * c;
+        let u = c / r2.sqrt();
+        // Far from every bin bound and the extremes: the bin from the
+        // cosine (the angle is below bound b when its cosine is above b's).
+        if r2 > 1e-200 && r2.is_finite() && u.is_finite() {
+            let last = self.bounds.len() - 1;
+            let k = self.bounds.iter().position(|&b| u > b).unwrap_or(last);
+            // The bounds are decreasing: the nearest are those at k - 1 and k.
+            let clear = (u - self.bounds[k]).abs() > COS_MARGIN
+                && (k == 0 || (u - self.bounds[k - 1]).abs() > COS_MARGIN);
+            if clear && u < self.cos_min - COS_MARGIN && u > self.cos_max + COS_MARGIN {
+                histogram[k] += 1;
+                return;
+            }
+        }
+        let a = s.atan2(c).to_degrees();
+        if a < self.min {
+            self.min = a;
+            self.cos_min = a.to_radians().cos();
+        }
+        if a > self.max {
+            self.max = a;
+            self.cos_max = a.to_radians().cos();
+        }
+        histogram[bin(&DIHEDRAL_BINS, a)] += 1;
+    }
 }
 
 /// The kind of a poorly shaped tetrahedron (after Cheng, Dey & Shewchuk,
@@ -353,16 +417,15 @@ impl TetStats {
             ..TetStats::default()
         };
         let (mut sum_ratio, mut sum_shape) = (0.0, 0.0);
+        let mut tally = DihedralTally::new();
         for tv in tets {
             if tv.iter().any(|&q| q as usize >= points.len()) {
                 continue;
             }
             let p = tv.map(|q| points[q as usize]);
             s.tets += 1;
-            for a in dihedral_angles(&p) {
-                s.min_dihedral = s.min_dihedral.min(a);
-                s.max_dihedral = s.max_dihedral.max(a);
-                s.dihedral_histogram[bin(&DIHEDRAL_BINS, a)] += 1;
+            for sc in dihedral_sin_cos(&p) {
+                tally.add(sc, &mut s.dihedral_histogram);
             }
             let r = radius_edge_ratio(&p);
             s.min_radius_edge = s.min_radius_edge.min(r);
@@ -381,6 +444,7 @@ impl TetStats {
                 s.max_edge = s.max_edge.max(l);
             }
         }
+        (s.min_dihedral, s.max_dihedral) = (tally.min, tally.max);
         if s.tets > 0 {
             s.mean_radius_edge = sum_ratio / s.tets as f64;
             s.mean_shape = sum_shape / s.tets as f64;
@@ -454,6 +518,63 @@ impl TetStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The statistics' dihedral minimum, maximum and histogram equal those
+    /// of every angle from [`dihedral_angles`], on random tetrahedra, ones
+    /// with angles at bin bounds (right angles, 60°, flat) and degenerate
+    /// ones.
+    #[test]
+    fn dihedral_tally_matches_angles() {
+        let mut rng = crate::geom::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut pts = Vec::new();
+        let mut tets = Vec::new();
+        for i in 0..4000u32 {
+            let p: [[f64; 3]; 4] = match i % 5 {
+                // Corner tetrahedra: 90° and 60° / 45° angles.
+                0 => [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                1 => {
+                    let h = next() * 1e-12;
+                    [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, 0.4, h]]
+                }
+                2 => [
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    [2.0, 0.0, 0.0],
+                    [next(), next(), 0.0],
+                ],
+                _ => std::array::from_fn(|_| [next(), next(), next() * 1e-3f64.powf(next())]),
+            };
+            let b = pts.len() as u32;
+            pts.extend(p);
+            tets.push([b, b + 1, b + 2, b + 3]);
+            // Regular-ish: a tetrahedron of the sheared corner family.
+            let k = next() * 4.0;
+            let q = [
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.5, 0.75f64.sqrt(), 0.0],
+                [0.5, k, 1.0],
+            ];
+            let b = pts.len() as u32;
+            pts.extend(q);
+            tets.push([b, b + 1, b + 2, b + 3]);
+        }
+        let st = TetStats::of(&pts, &tets);
+        let (mut lo, mut hi) = (180.0f64, 0.0f64);
+        let mut hist = vec![0usize; DIHEDRAL_BINS.len()];
+        for t in &tets {
+            for a in dihedral_angles(&t.map(|q| pts[q as usize])) {
+                lo = lo.min(a);
+                hi = hi.max(a);
+                hist[bin(&DIHEDRAL_BINS, a)] += 1;
+            }
+        }
+        assert_eq!(st.min_dihedral.to_bits(), lo.to_bits());
+        assert_eq!(st.max_dihedral.to_bits(), hi.to_bits());
+        assert_eq!(st.dihedral_histogram, hist);
+        assert!(hist[0] > 0 && hist[DIHEDRAL_BINS.len() - 1] > 0);
+    }
 
     #[test]
     fn regular_tet_angles() {

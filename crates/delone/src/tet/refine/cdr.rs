@@ -11,10 +11,11 @@
 
 #![allow(clippy::needless_range_loop)] // local face indices address several arrays at once
 
+use super::queue::Heap;
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::{ekey, face, fkey};
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, VecDeque};
+use std::collections::VecDeque;
 
 use delone_predicates::{insphere, orient3d};
 
@@ -188,7 +189,7 @@ pub(super) struct Cdr {
     /// retrying them for every cell that shows them spun for minutes).
     failed_s: IdSet<(u32, u32)>,
     failed_f: IdSet<[u32; 3]>,
-    badq: BinaryHeap<Bad>,
+    badq: Heap<Bad>,
     bound: f64,
     /// Per region: the volume bound (rescaled).
     max_vol: Vec<f64>,
@@ -381,7 +382,7 @@ impl Cdr {
             queued_f: IdSet::default(),
             failed_s: IdSet::default(),
             failed_f: IdSet::default(),
-            badq: BinaryHeap::new(),
+            badq: Heap::new(),
             bound: opts.max_radius_edge.unwrap_or(f64::INFINITY),
             max_vol,
             budget: 0,

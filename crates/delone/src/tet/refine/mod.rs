@@ -239,6 +239,7 @@ mod cdr;
 pub mod existing;
 mod geom;
 mod options;
+mod queue;
 mod report;
 pub mod sizing;
 
