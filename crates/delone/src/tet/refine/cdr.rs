@@ -1923,7 +1923,7 @@ impl Cdr {
     pub(super) fn finish(mut self, rec: &Recovered) -> (Refined, DomainMesh) {
         // The queues and their sets are done with: released before the
         // output is made (peak memory).
-        self.badq = BinaryHeap::new();
+        self.badq = Heap::new();
         self.segq = VecDeque::new();
         self.faceq = VecDeque::new();
         self.queued_s = IdSet::default();
