@@ -952,11 +952,10 @@ mod tests {
         } else {
             (1.0, 0.0)
         };
-        let (a, b) = (1.0 / (hr * hr), 100.0);
-        Metric::from_matrix([
-            [a * c * c + b * s * s, (a - b) * c * s],
-            [(a - b) * c * s, a * s * s + b * c * c],
-        ])
+        Metric::from_matrix(crate::metric::compose(
+            &[1.0 / (hr * hr), 100.0],
+            &[[c, -s], [s, c]],
+        ))
         .unwrap()
     }
 

@@ -29,5 +29,7 @@ pub use crate::error::MetricDefect;
 pub use field::{
     complexity, edges, gradate, hessians, metric_from_hessians, metric_from_mesh, Target,
 };
+#[cfg(test)]
+pub(crate) use tensor::compose;
 pub(crate) use tensor::tet_quality;
 pub use tensor::{mean_ratio, Metric};
