@@ -264,30 +264,51 @@ pub(crate) const SEG_OPS: usize = 128;
 
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
-    recover_segment_within(cm, u, v, prot, usize::MAX / 2)
+    recover_segment_within(cm, u, v, prot, usize::MAX / 2, false)
 }
 
 /// [`recover_segment`] using at most about `max_ops` flips and edge
-/// removals (checked between steps).
+/// removals (checked between steps). With `stop_circles`, an end of the
+/// segment is given up when its first crossing is one already worked on
+/// (the flips went in a circle: a later step restored what an earlier one
+/// removed), and the segment when both ends are given up: a segment that
+/// cycles so would otherwise spend its whole budget on flips that are
+/// rolled back anyway.
 pub(crate) fn recover_segment_within(
     cm: &mut Journaled<'_>,
     u: u32,
     v: u32,
     prot: &Protected,
     max_ops: usize,
+    stop_circles: bool,
 ) -> bool {
     const CAP: usize = 48;
     if cm.find_edge(u, v).is_some() {
         return true;
     }
     let ops0 = cm.flips23 + cm.removals;
+    // The first crossings already worked on, per end (`stop_circles`).
+    let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
         let mut progress = false;
         for (s, e) in [(u, v), (v, u)] {
-            match first_hit(cm, s, e) {
+            let hit = first_hit(cm, s, e);
+            let key = match hit {
+                _ if !stop_circles => None,
+                Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
+                Hit::Edge(a, b) => Some(fkey([a, b, INF])),
+                Hit::Done | Hit::Blocked => None,
+            };
+            if let Some(k) = key {
+                if seen.contains(&(s, k)) {
+                    continue;
+                }
+                seen.push((s, k));
+            }
+            match hit {
                 Hit::Done => return true,
                 Hit::Face(t, f) => {
                     let tv = cm.m.tv[t as usize];

@@ -548,6 +548,7 @@ impl State {
             cavity_left: Vec::new(),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
+            stop_circles: true,
             points_first: false,
             first_missing: None,
         }
@@ -850,11 +851,12 @@ impl State {
             // its range in `near_fail` (its ends and the vertices of the
             // tetrahedra its flips removed before they were rolled back).
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
+            let stop_circles = self.stop_circles && !self.opts.preserve_surface;
             let mut near_fail: Vec<u32> = Vec::new();
             let attempt =
                 |cm: &mut Journaled<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
                     let mark = cm.log_mark();
-                    if cdt::recover_segment_within(cm, u, v, &prot, ops) {
+                    if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles) {
                         return None;
                     }
                     let s = near.len();

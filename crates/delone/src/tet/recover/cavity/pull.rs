@@ -162,6 +162,7 @@ impl State {
         for ops in [SEG_OPS, 2 * SEG_OPS, SEG_OPS / 2] {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
+            st.stop_circles = false;
             let mut dt = Delaunay3::from_points(scaled)?;
             let (mut cm, on) = st.run_cdt(&mut dt)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
