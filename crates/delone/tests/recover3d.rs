@@ -559,3 +559,57 @@ fn surface_preservation_on_a_small_model() {
     // The surface is exactly the input: one boundary face per triangle.
     assert_eq!(r.boundary.len(), tris.len());
 }
+
+/// A prism over a star polygon of `2 k` corners (radii alternating 1 and
+/// `inner`), its top turned by `twist` radians, the top and bottom each
+/// triangulated as a fan from its centre (long thin triangles on a plane),
+/// the sides two triangles per quadrilateral: the thin strips and fans on
+/// which segment flips tend to go in circles.
+fn fan_star_prism(k: u32, inner: f64, twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let n = 2 * k;
+    let mut pts = Vec::new();
+    for (z, turn) in [(0.0, 0.0), (0.2, twist)] {
+        for i in 0..n {
+            let r = if i % 2 == 0 { 1.0 } else { inner };
+            let a = std::f64::consts::TAU * f64::from(i) / f64::from(n) + turn;
+            pts.push([r * a.cos(), r * a.sin(), z]);
+        }
+    }
+    let (c0, c1) = (2 * n, 2 * n + 1);
+    pts.push([0.0, 0.0, 0.0]);
+    pts.push([0.0, 0.0, 0.2]);
+    let mut tris = Vec::new();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        tris.push([c0, j, i]);
+        tris.push([c1, n + i, n + j]);
+        tris.push([i, j, n + j]);
+        tris.push([i, n + j, n + i]);
+    }
+    (pts, tris)
+}
+
+#[test]
+fn fans_and_thin_strips_are_recovered() {
+    // Star prisms with fans of 12 to 200 thin triangles, straight and
+    // twisted, with and without merging the fans into polygon facets.
+    for (k, inner, twist) in [
+        (6, 0.5, 0.0),
+        (25, 0.6, 0.01),
+        (50, 0.55, 0.0),
+        (100, 0.8, 0.003),
+    ] {
+        let (pts, tris) = fan_star_prism(k, inner, twist);
+        for merge in [true, false] {
+            let opts = RecoverOptions {
+                merge_coplanar: merge,
+                ..RecoverOptions::default()
+            };
+            let name = format!("fan star k={k} twist={twist} merge={merge}");
+            let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+            check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
+            let again = recover(&pts, &tris, &opts).unwrap();
+            assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+        }
+    }
+}
