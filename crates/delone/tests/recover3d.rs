@@ -592,7 +592,8 @@ fn fan_star_prism(k: u32, inner: f64, twist: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3
 #[test]
 fn fans_and_thin_strips_are_recovered() {
     // Star prisms with fans of 12 to 200 thin triangles, straight and
-    // twisted, with and without merging the fans into polygon facets.
+    // twisted, with and without merging the fans into polygon facets, with
+    // and without giving up segment flips that go in a circle.
     for (k, inner, twist) in [
         (6, 0.5, 0.0),
         (25, 0.6, 0.01),
@@ -600,12 +601,13 @@ fn fans_and_thin_strips_are_recovered() {
         (100, 0.8, 0.003),
     ] {
         let (pts, tris) = fan_star_prism(k, inner, twist);
-        for merge in [true, false] {
+        for (merge, stop) in [(true, true), (false, true), (true, false)] {
             let opts = RecoverOptions {
                 merge_coplanar: merge,
+                stop_circling_flips: stop,
                 ..RecoverOptions::default()
             };
-            let name = format!("fan star k={k} twist={twist} merge={merge}");
+            let name = format!("fan star k={k} twist={twist} merge={merge} stop={stop}");
             let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
             check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
             let again = recover(&pts, &tris, &opts).unwrap();

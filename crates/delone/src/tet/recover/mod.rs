@@ -548,7 +548,6 @@ impl State {
             cavity_left: Vec::new(),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
-            stop_circles: true,
             points_first: false,
             first_missing: None,
         }
@@ -851,7 +850,7 @@ impl State {
             // its range in `near_fail` (its ends and the vertices of the
             // tetrahedra its flips removed before they were rolled back).
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
-            let stop_circles = self.stop_circles && !self.opts.preserve_surface;
+            let stop_circles = self.opts.stop_circling_flips && !self.opts.preserve_surface;
             let mut near_fail: Vec<u32> = Vec::new();
             let attempt =
                 |cm: &mut Journaled<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {

@@ -55,10 +55,6 @@ pub(super) struct State {
     /// Flip budget per segment attempt of the `-p` path
     /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
     pub(super) seg_ops: usize,
-    /// Segment attempts of the `-p` path give up when their flips go in a
-    /// circle (`cdt::recover_segment_within`); the `-Y` fallback's runs of
-    /// that path keep trying until their flip budget is spent.
-    pub(super) stop_circles: bool,
 }
 
 /// One merged group.

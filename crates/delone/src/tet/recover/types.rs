@@ -32,6 +32,18 @@ pub struct RecoverOptions {
     /// conforms to [`Recovered::surface`], which covers exactly the same
     /// surface. Ignored (no merging) with `preserve_surface`. Default true.
     pub merge_coplanar: bool,
+    /// Without `preserve_surface`: a segment's flip attempt gives up an end
+    /// of the segment whose first crossing comes round again (its flips went
+    /// in a circle: a later step restored what an earlier one removed), and
+    /// the segment when both ends are given up, instead of spending its
+    /// whole flip budget on flips that are rolled back anyway. Fewer
+    /// segments fail, so fewer Steiner points and rounds, on thin strips
+    /// and fans above all. False: the attempts run until their flip budget
+    /// is spent (what the `-Y` fallback's runs of this path use, and what
+    /// `delone tet` uses before a refinement: a refinement's smallest
+    /// dihedral angles depend on where recovery put its points, and were
+    /// measured with these attempts). Default true.
+    pub stop_circling_flips: bool,
 }
 
 impl Default for RecoverOptions {
@@ -41,6 +53,7 @@ impl Default for RecoverOptions {
             reference_points: true,
             preserve_surface: false,
             merge_coplanar: true,
+            stop_circling_flips: true,
         }
     }
 }

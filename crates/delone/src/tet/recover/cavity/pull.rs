@@ -153,6 +153,7 @@ impl State {
         let mut opts = self.opts.clone();
         opts.preserve_surface = false;
         opts.merge_coplanar = false;
+        opts.stop_circling_flips = false;
         // Whether every surface point comes off depends on where the `-p`
         // path put them (rounded points, nearly flat neighbours): when the
         // exact validation refuses a removal, the `-p` path is run again
@@ -162,7 +163,6 @@ impl State {
         for ops in [SEG_OPS, 2 * SEG_OPS, SEG_OPS / 2] {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
-            st.stop_circles = false;
             let mut dt = Delaunay3::from_points(scaled)?;
             let (mut cm, on) = st.run_cdt(&mut dt)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
