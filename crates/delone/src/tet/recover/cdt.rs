@@ -12,7 +12,10 @@
 //! removal, or its ring is first shrunk by 2-3 flips of the faces around
 //! it. Both ends are tried alternately; a segment that makes no progress,
 //! meets a vertex on its interior, or exceeds its flip budget, fails (the
-//! caller then splits it).
+//! caller then splits it); with
+//! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
+//! so does one whose flips go in a circle at both ends (the first crossing
+//! from an end is one already worked on).
 //!
 //! **Triangles**: the mesh edges crossing the interior of a missing
 //! triangle `T` are found by a breadth-first search from the stars of the
