@@ -1353,17 +1353,25 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         return false;
     }
     let old_q = w.min_q(&star).min(floor);
+    // The other three vertices of `t` (a tetrahedron of the star of `x`),
+    // sorted.
+    let others = |w: &Work, x: u32, t: u32| {
+        let tv = w.m.tv[t as usize];
+        let i = tv.iter().position(|&y| y == x).unwrap_or(3);
+        let mut o = [tv[(i + 1) % 4], tv[(i + 2) % 4], tv[(i + 3) % 4]];
+        o.sort_unstable();
+        o
+    };
     // The link of a vertex: its vertices, edges and triangles (sorted).
     let link = |w: &Work, x: u32, star: &[u32]| {
         let mut vs = Vec::with_capacity(3 * star.len());
         let mut es = Vec::with_capacity(3 * star.len());
         let mut fs = Vec::with_capacity(star.len());
         for &t in star {
-            let mut o: Vec<u32> = w.m.tv[t as usize].into_iter().filter(|&y| y != x).collect();
-            o.sort_unstable();
+            let o = others(w, x, t);
             vs.extend_from_slice(&o);
             es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
-            fs.push([o[0], o[1], o[2]]);
+            fs.push(o);
         }
         vs.sort_unstable();
         vs.dedup();
@@ -1372,13 +1380,40 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         fs.sort_unstable();
         (vs, es, fs)
     };
-    let (lv, le, lf) = link(w, v, &star);
+    // The candidates: the vertices of the link (its edges and triangles
+    // only when a candidate passes the quality test).
+    let mut lv: Vec<u32> = star.iter().flat_map(|&t| others(w, v, t)).collect();
+    lv.sort_unstable();
+    lv.dedup();
+    let mut vlink: Option<(Vec<[u32; 2]>, Vec<[u32; 3]>)> = None;
     let mut best: Option<Plan> = None;
+    let mut new: Vec<[u32; 4]> = Vec::with_capacity(star.len());
     for &u in &lv {
+        // The new tetrahedra (those of the star without `u`, `u` for `v`):
+        // positive and better, before the costlier link condition.
+        new.clear();
+        let mut q = f64::INFINITY;
+        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
+        let mut ok = true;
+        for &t in &star {
+            let tv = w.m.tv[t as usize];
+            if tv.contains(&u) {
+                continue;
+            }
+            let nt = tv.map(|y| if y == v { u } else { y });
+            q = q.min(w.qual(nt));
+            if q <= bar + 1e-12 || !w.positive(nt) {
+                ok = false;
+                break;
+            }
+            new.push(nt);
+        }
+        if !ok {
+            continue;
+        }
         // The link of the edge: the other two vertices of its tetrahedra.
         let mut ev = Vec::with_capacity(2 * star.len());
         let mut ee = Vec::with_capacity(star.len());
-        let mut new = Vec::with_capacity(star.len());
         for &t in &star {
             let tv = w.m.tv[t as usize];
             if tv.contains(&u) {
@@ -1386,29 +1421,17 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
                 o.sort_unstable();
                 ev.extend_from_slice(&o);
                 ee.push([o[0], o[1]]);
-            } else {
-                new.push(tv.map(|y| if y == v { u } else { y }));
             }
         }
         ev.sort_unstable();
         ev.dedup();
         ee.sort_unstable();
-        // Positive and better, before the costlier link condition.
-        let mut q = f64::INFINITY;
-        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
-        let mut ok = true;
-        for &nt in &new {
-            q = q.min(w.qual(nt));
-            if q <= bar + 1e-12 || !w.positive(nt) {
-                ok = false;
-                break;
-            }
-        }
-        if !ok {
-            continue;
-        }
         let ustar = w.star(u);
         let (uv, ue, uf) = link(w, u, &ustar);
+        let (le, lf) = vlink.get_or_insert_with(|| {
+            let (_, le, lf) = link(w, v, &star);
+            (le, lf)
+        });
         let shared_ok = uv
             .iter()
             .filter(|&&x| x != v && lv.binary_search(&x).is_ok())
@@ -1423,7 +1446,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         if shared_ok {
             best = Some(Plan {
                 old: star.clone(),
-                new,
+                new: new.clone(),
                 q,
                 ring: 0,
             });

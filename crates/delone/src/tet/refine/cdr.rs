@@ -886,13 +886,21 @@ impl Cdr {
                 _ => self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()),
             }
         };
-        let first = tris_of(t[0]);
-        first.iter().any(|&a| {
+        // A plane group common to the four vertices' triangles. Interior
+        // points (no triangles) decide at once; the shortest list leads.
+        let lists = t.map(tris_of);
+        let Some(lead) = (0..4).min_by_key(|&i| lists[i].len()) else {
+            return false;
+        };
+        if lists[lead].is_empty() {
+            return false;
+        }
+        lists[lead].iter().any(|&a| {
             let Some(&g) = self.group.get(a as usize) else {
                 return false;
             };
-            t[1..].iter().all(|&q| {
-                tris_of(q)
+            (0..4).filter(|&i| i != lead).all(|i| {
+                lists[i]
                     .iter()
                     .any(|&b| self.group.get(b as usize) == Some(&g))
             })
