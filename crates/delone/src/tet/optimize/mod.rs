@@ -2094,6 +2094,11 @@ fn input_min_dihedral(sum: &IdMap<([u32; 2], u32), f64>) -> (f64, Option<[u32; 2
         .map_or((360.0, None), |(a, e)| (a, Some(e)))
 }
 
+/// Margin of the dihedral sine above which [`bad_cells`] takes a
+/// tetrahedron as within the bound without computing its angles (far above
+/// the rounding of either computation).
+const BAD_MARGIN: f64 = 1e-6;
+
 /// See [`BadCells`].
 fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) -> BadCells {
     let mut out = BadCells {
@@ -2120,8 +2125,15 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) ->
             }
         }
     }
+    // A tetrahedron whose smallest dihedral sine is clearly above the
+    // bound's is within it (the angles are computed only near the bound).
+    let clear = angle.to_radians().sin() + BAD_MARGIN;
     for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
-        let d = super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]));
+        let p = tv.map(|v| rec.points[v as usize]);
+        if work::quality([&p[0], &p[1], &p[2], &p[3]]) > clear {
+            continue;
+        }
+        let d = super::quality::dihedral_angles(&p);
         if d.iter().all(|&x| (angle..=180.0 - angle).contains(&x)) {
             continue;
         }
@@ -2171,6 +2183,10 @@ fn stuck(
         list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
         list.truncate(LISTED);
     };
+    // Once `LISTED` are kept, the quality of the last one: a later
+    // tetrahedron (higher index) at or above it cannot enter the list, and
+    // only its counts are taken.
+    let mut bar = f64::INFINITY;
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
         let q = work::quality([&p[0], &p[1], &p[2], &p[3]]);
@@ -2190,11 +2206,15 @@ fn stuck(
             StuckReason::NoImprovement
         };
         report.stuck_counts[reason as usize] += 1;
+        if q.total_cmp(&bar).is_ge() {
+            continue;
+        }
         let d = super::quality::dihedral_angles(&p);
         let lo = d.iter().copied().fold(180.0, f64::min);
         let hi = d.iter().copied().fold(0.0, f64::max);
         if list.len() == 2 * LISTED {
             cut(&mut list);
+            bar = list[LISTED - 1].0;
         }
         list.push((
             q,

@@ -198,6 +198,10 @@ pub(super) struct Cdr {
     inexact: Vec<u32>,
     /// Input edge of each point put on a segment by refinement.
     vedge: IdMap<u32, u32>,
+    /// Per point: is (or was) it an end of a subsegment? Both ends of
+    /// every subsegment are marked (a cheap test before the lookups in
+    /// `DomainMesh::segs`).
+    on_seg: Vec<bool>,
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
@@ -364,6 +368,11 @@ impl Cdr {
         let max_vol = volume_bounds(&rec.regions, opts.max_volume)
             .map(|v| v.map_or(f64::INFINITY, |v| v * s3))
             .collect();
+        let mut on_seg = vec![false; p.len()];
+        for &(a, b) in segs.keys() {
+            on_seg[a as usize] = true;
+            on_seg[b as usize] = true;
+        }
         (m.ftri, m.sedges, m.segs) = (ftri, sedges, segs);
         let mut st = Cdr {
             n_in: points.len(),
@@ -392,6 +401,7 @@ impl Cdr {
             },
             inexact: rec.inexact.clone(),
             vedge: IdMap::default(),
+            on_seg,
             max_dev: rec.report.max_deviation * s,
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
@@ -452,6 +462,12 @@ impl Cdr {
     #[inline]
     fn pt(&self, q: u32) -> P {
         self.p[q as usize]
+    }
+
+    /// Is `e` (sorted) a subsegment?
+    #[inline]
+    fn is_seg(&self, e: (u32, u32)) -> bool {
+        self.on_seg[e.0 as usize] && self.on_seg[e.1 as usize] && self.m.segs.contains_key(&e)
     }
 
     fn out_of_budget(&mut self) -> bool {
@@ -515,12 +531,17 @@ impl Cdr {
         let tv = self.m.tv[t as usize];
         let p = tv.map(|q| self.p[q as usize]);
         let r = quality::radius_edge_ratio(&p);
-        let v = quality::volume(&p).abs();
         let mv = self
             .max_vol
             .get(self.m.reg[t as usize] as usize)
             .copied()
             .unwrap_or(f64::INFINITY);
+        // (No volume can exceed an infinite bound.)
+        let v = if mv < f64::INFINITY {
+            quality::volume(&p).abs()
+        } else {
+            0.0
+        };
         let big = if v > mv { v / mv } else { 0.0 }.max(self.sizer.cell(&p));
         if r > self.bound {
             Some((1e6 + r.min(1e12)).to_bits())
@@ -560,7 +581,7 @@ impl Cdr {
         }
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
-            if self.m.segs.contains_key(&e)
+            if self.is_seg(e)
                 && !self.queued_s.contains(&e)
                 && !self.failed_s.contains(&e)
                 && (0..4)
@@ -784,6 +805,7 @@ impl Cdr {
     fn commit(&mut self, cav: &[u32], dis: &[[u32; 3]], plan: Plan, m: P) -> (u32, Vec<u32>) {
         let mid = self.p.len() as u32;
         self.p.push(m);
+        self.on_seg.push(false);
         self.m.vt.push(DEAD);
         for k in dis {
             self.m.ftri.remove(k);
@@ -1158,6 +1180,7 @@ impl Cdr {
                 self.m.segs.remove(&e);
                 self.m.segs.insert(ekey(a, id), ie);
                 self.m.segs.insert(ekey(id, b), ie);
+                self.on_seg[id as usize] = true;
                 self.on_line(id, ie);
                 self.report.on_segments += 1;
                 true
@@ -1493,7 +1516,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(uv[i], uv[j]);
-                if self.m.segs.contains_key(&e)
+                if self.is_seg(e)
                     && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
                 {
                     segs.push(e);
