@@ -1970,6 +1970,11 @@ impl Cdr {
             .m
             .output_faces(|_, _, k| ftri.get(&k).copied().unwrap_or(NONE));
         let (tets, tet_region) = (self.m.tv.clone(), self.m.reg.clone());
+        let mut regions = rec.regions.clone();
+        for r in &mut regions {
+            r.tets = 0;
+            r.volume = 0.0;
+        }
         for (t, &tv) in tets.iter().enumerate() {
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
@@ -1977,8 +1982,14 @@ impl Cdr {
             if self.sizer.cell(&ps) > 1.0 {
                 self.report.remaining_too_big += 1;
             }
+            // On the scaled points (in input units for the region's sum).
+            let vol = quality::volume(&ps);
+            if let Some(g) = regions.get_mut(tet_region[t] as usize) {
+                g.tets += 1;
+                g.volume += crate::geom::scale::unscale_cubic(vol, (self.s, 1.0));
+            }
             let mv = self.max_vol.get(self.m.reg[t] as usize).copied();
-            if mv.is_some_and(|mv| quality::volume(&ps).abs() > mv) {
+            if mv.is_some_and(|mv| vol.abs() > mv) {
                 self.report.remaining_over_volume += 1;
             }
             if r > self.bound {
@@ -2009,21 +2020,6 @@ impl Cdr {
                 let (needle, sharp) = self.near_features(tv);
                 self.report.left.near_needle += needle as usize;
                 self.report.left.near_sharp += sharp as usize;
-            }
-        }
-        let mut regions = rec.regions.clone();
-        for r in &mut regions {
-            r.tets = 0;
-            r.volume = 0.0;
-        }
-        for (tv, &g) in tets.iter().zip(&tet_region) {
-            if let Some(r) = regions.get_mut(g as usize) {
-                r.tets += 1;
-                // On the scaled points, then in input units.
-                r.volume += crate::geom::scale::unscale_cubic(
-                    quality::volume(&tv.map(|q| self.p[q as usize])),
-                    (self.s, 1.0),
-                );
             }
         }
         let mut vertex_map = rec.mesh.vertex_map.clone();
