@@ -56,16 +56,6 @@ struct Bad {
     slot: u32,
 }
 
-impl super::queue::Keyed for Bad {
-    type Rest = (std::cmp::Reverse<[u32; 4]>, u32);
-    fn split(self) -> (u64, Self::Rest) {
-        (self.key, (self.verts, self.slot))
-    }
-    fn join(key: u64, (verts, slot): Self::Rest) -> Self {
-        Bad { key, verts, slot }
-    }
-}
-
 /// Relative distance below which a neighbour's fourth vertex counts as on
 /// the plane of a triangle (input coordinates printed with 7 digits make
 /// flat regions a few 1e-8 off).
