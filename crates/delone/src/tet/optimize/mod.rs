@@ -1385,7 +1385,9 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
     let mut lv: Vec<u32> = star.iter().flat_map(|&t| others(w, v, t)).collect();
     lv.sort_unstable();
     lv.dedup();
-    let mut vlink: Option<(Vec<[u32; 2]>, Vec<[u32; 3]>)> = None;
+    // The edges and triangles of the link of `v`, made on first use.
+    type EdgesFaces = (Vec<[u32; 2]>, Vec<[u32; 3]>);
+    let mut vlink: Option<EdgesFaces> = None;
     let mut best: Option<Plan> = None;
     let mut new: Vec<[u32; 4]> = Vec::with_capacity(star.len());
     for &u in &lv {

@@ -1516,9 +1516,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(uv[i], uv[j]);
-                if self.is_seg(e)
-                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
-                {
+                if self.is_seg(e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c) {
                     segs.push(e);
                 }
             }
