@@ -26,7 +26,7 @@ Drop-in modules: :mod:`delone.triangle` (the ``triangle`` package's API) and
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 
@@ -46,6 +46,7 @@ __all__ = [
     "Triangulation",
     "Voronoi",
     "Mesh",
+    "OptimizationStage",
     "delaunay",
     "regular",
     "voronoi",
@@ -193,6 +194,33 @@ class Voronoi:
         return self.face_vertices[self.face_offsets[f] : self.face_offsets[f + 1]]
 
 
+class OptimizationStage(TypedDict):
+    """One stage of the optimisation that follows 3D refinement (an entry of
+    ``Mesh.quality["optimization_stages"]``).
+
+    ``threshold``: the stage works on the tetrahedra with a dihedral angle
+    below it or above ``180 -`` it (degrees). ``second_run``: a stage of the
+    second run of a small mesh. ``evaluations``: the quality evaluations it
+    spent, ``undone_evaluations`` of them in trial insertions that were
+    undone. ``attempts`` and ``successes``: its tries. ``worst``: the mesh's
+    worst angle (the smaller of its smallest dihedral angle and 180° minus
+    its largest) at the stage's start and end; ``below``: the tetrahedra
+    below its threshold at its start and end. ``stop``: why it ended
+    (``"nothing left to improve"``, ``"attempts spent"``, ``"stopped
+    paying"``, ``"effort budget spent"`` or ``"interrupted"``).
+    """
+
+    threshold: float
+    second_run: bool
+    evaluations: int
+    undone_evaluations: int
+    attempts: int
+    successes: int
+    worst: Tuple[float, float]
+    below: Tuple[int, int]
+    stop: str
+
+
 @dataclass
 class Mesh:
     """The result of :func:`triangulate` or :func:`tetrahedralize`.
@@ -203,7 +231,9 @@ class Mesh:
     with ``boundary_markers``. ``attributes`` and ``regions`` are per element
     (the regional attribute, and the index of the region or ``-1``).
     ``point_markers``: Triangle's vertex markers (2D; empty in 3D).
-    ``quality``: minimum/maximum angles, areas or volumes, edge lengths.
+    ``quality``: minimum/maximum angles, areas or volumes, edge lengths; in
+    3D also ``optimization_stages``, the stages of the optimisation
+    (a list of :class:`OptimizationStage`; empty when it did not run).
     """
 
     points: np.ndarray

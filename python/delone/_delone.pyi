@@ -40,7 +40,14 @@ def tetrahedralize(
     holes: Optional[F64] = None,
     regions: Optional[F64] = None,
     progress: Progress = None,
-) -> dict[str, Any]: ...
+) -> dict[str, Any]:
+    """Keys ``points``, ``tetrahedra``, ``neighbors``, ``faces``,
+    ``face_markers``, ``attributes``, ``regions`` and ``quality``: the final
+    mesh's statistics (``tetrahedra``, ``min_dihedral``, ``max_dihedral``,
+    radius-edge ratios, volumes, edge lengths) and ``optimization_stages``,
+    a list of dicts shaped like :class:`delone.OptimizationStage`."""
+    ...
+
 def adapt(
     points: F64,
     elements: I64,

@@ -72,6 +72,46 @@ def test_tetrahedralize_reaches_dihedral_bound():
     assert m.quality["min_dihedral"] >= 20
 
 
+def dihedral_angles(p, t):
+    """All six dihedral angles (degrees) of each tetrahedron."""
+    out = []
+    for i, j, k, l in [(0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2), (1, 2, 0, 3), (1, 3, 0, 2), (2, 3, 0, 1)]:
+        a, e = p[t[:, i]], p[t[:, j]] - p[t[:, i]]
+        n1 = np.cross(e, p[t[:, k]] - a)
+        n2 = np.cross(e, p[t[:, l]] - a)
+        c = (n1 * n2).sum(1) / (np.linalg.norm(n1, axis=1) * np.linalg.norm(n2, axis=1))
+        out.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
+    return np.stack(out, 1)
+
+
+def test_quality_report_and_optimizer_stages():
+    m = delone.tetrahedralize(CUBE, CUBE_QUADS, "pq1.5/20a0.01")
+    q = m.quality
+    d = dihedral_angles(m.points, m.elements)
+    # The statistics are those of the mesh returned.
+    assert q["tetrahedra"] == len(m.elements)
+    assert q["min_dihedral"] == pytest.approx(d.min(), abs=1e-6)
+    assert q["max_dihedral"] == pytest.approx(d.max(), abs=1e-6)
+    assert q["total_volume"] == pytest.approx(volumes(m.points, m.elements).sum())
+    stages = q["optimization_stages"]
+    assert stages, "the optimisation runs after -q"
+    first = [s for s in stages if not s["second_run"]]
+    thresholds = [s["threshold"] for s in first]
+    assert thresholds == sorted(thresholds) and 20.0 in thresholds
+    for s in stages:
+        assert set(s) == {"threshold", "second_run", "evaluations", "undone_evaluations",
+                          "attempts", "successes", "worst", "below", "stop"}
+        assert 0 <= s["undone_evaluations"] <= s["evaluations"]
+        assert 0 <= s["successes"] <= s["attempts"]
+        assert len(s["worst"]) == 2 and len(s["below"]) == 2
+        assert all(0 <= w <= 90 for w in s["worst"])
+        assert s["stop"] in {"nothing left to improve", "attempts spent", "stopped paying",
+                             "effort budget spent", "interrupted"}
+    # Without the optimisation there are no stages.
+    assert delone.tetrahedralize(CUBE, CUBE_QUADS, "pq1.5/20a0.01O0").quality["optimization_stages"] == []
+    assert delone.tetrahedralize(CUBE, CUBE_QUADS, "p").quality["optimization_stages"] == []
+
+
 def test_face_markers_holes_and_regions():
     big = CUBE * 3
     small = CUBE + 1

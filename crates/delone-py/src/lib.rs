@@ -45,7 +45,7 @@ use numpy::{
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 pyo3::create_exception!(
     delone,
@@ -653,8 +653,19 @@ fn triangulate<'py>(
 
 // ---------------------------------------------------------------- 3D meshing
 
-fn quality3(py: Python<'_>, points: &[[f64; 3]], tets: &[[u32; 4]]) -> PyResult<Py<PyDict>> {
-    let s = delone::tet::quality::TetStats::of(points, tets);
+/// The quality report of a tetrahedral mesh: the statistics of the final
+/// mesh (those the optimisation computed when it ran) and the
+/// optimisation's stages (`optimization_stages`, empty when it did not run).
+fn quality3(py: Python<'_>, r: &delone::tet::TetResult) -> PyResult<Py<PyDict>> {
+    let rec = &r.mesh;
+    let computed;
+    let s = match &r.optimize {
+        Some(o) => &o.after,
+        None => {
+            computed = delone::tet::quality::TetStats::of(&rec.points, &rec.mesh.tets);
+            &computed
+        }
+    };
     let d = PyDict::new(py);
     d.set_item("tetrahedra", s.tets)?;
     d.set_item("min_dihedral", s.min_dihedral)?;
@@ -667,6 +678,21 @@ fn quality3(py: Python<'_>, points: &[[f64; 3]], tets: &[[u32; 4]]) -> PyResult<
     d.set_item("total_volume", s.total_volume)?;
     d.set_item("min_edge", s.min_edge)?;
     d.set_item("max_edge", s.max_edge)?;
+    let stages = PyList::empty(py);
+    for st in r.optimize.iter().flat_map(|o| &o.stages) {
+        let x = PyDict::new(py);
+        x.set_item("threshold", st.threshold)?;
+        x.set_item("second_run", st.second_run)?;
+        x.set_item("evaluations", st.evaluations)?;
+        x.set_item("undone_evaluations", st.undone_evaluations)?;
+        x.set_item("attempts", st.attempts)?;
+        x.set_item("successes", st.successes)?;
+        x.set_item("worst", (st.worst[0], st.worst[1]))?;
+        x.set_item("below", (st.below[0], st.below[1]))?;
+        x.set_item("stop", st.stop.to_string())?;
+        stages.append(x)?;
+    }
+    d.set_item("optimization_stages", stages)?;
     Ok(d.unbind())
 }
 
@@ -734,7 +760,7 @@ fn tetrahedralize<'py>(
     d.set_item("face_markers", PyArray1::from_slice(py, &r.face_markers))?;
     d.set_item("attributes", PyArray1::from_vec(py, r.attributes()))?;
     d.set_item("regions", ids1(py, &rec.tet_region))?;
-    d.set_item("quality", quality3(py, &rec.points, &rec.mesh.tets)?)?;
+    d.set_item("quality", quality3(py, &r)?)?;
     Ok(d)
 }
 

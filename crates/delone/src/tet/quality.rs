@@ -107,14 +107,17 @@ fn edge_lengths_raw(p: &[[f64; 3]; 4]) -> [f64; 6] {
 pub fn radius_edge_ratio(p: &[[f64; 3]; 4]) -> f64 {
     // Scale invariant: measured on the element scaled by a power of two.
     let (p, _) = local(*p);
-    let p = &p;
+    radius_edge_ratio_raw(&p, &edge_lengths_raw(&p))
+}
+
+/// [`radius_edge_ratio`] of points in a local frame with their
+/// [`edge_lengths_raw`] `l`.
+fn radius_edge_ratio_raw(p: &[[f64; 3]; 4], l: &[f64; 6]) -> f64 {
     let Some(c) = circumcenter_raw(p) else {
         return f64::INFINITY;
     };
     let r = norm(&sub(&c, &p[0]));
-    let e = edge_lengths_raw(p)
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
+    let e = l.iter().copied().fold(f64::INFINITY, f64::min);
     if e > 0.0 {
         r / e
     } else {
@@ -142,6 +145,11 @@ pub fn dihedral_angles(p: &[[f64; 3]; 4]) -> [f64; 6] {
 fn dihedral_sin_cos(p: &[[f64; 3]; 4]) -> [(f64, f64); 6] {
     // Scale invariant: measured on the element scaled by a power of two.
     let (p, _) = local(*p);
+    dihedral_sin_cos_raw(&p)
+}
+
+/// [`dihedral_sin_cos`] of points in a local frame.
+fn dihedral_sin_cos_raw(p: &[[f64; 3]; 4]) -> [(f64, f64); 6] {
     // Inward normal of the face opposite vertex k.
     let normal = |k: usize| {
         let [a, b, c] = [(k + 1) % 4, (k + 2) % 4, (k + 3) % 4].map(|i| p[i]);
@@ -315,8 +323,12 @@ pub fn tet_shape(p: &[[f64; 3]; 4]) -> TetShape {
 /// ```
 pub fn shape_quality(p: &[[f64; 3]; 4]) -> f64 {
     let (p, _) = local(*p);
-    let p = &p;
-    let l = edge_lengths_raw(p);
+    shape_quality_raw(&p, &edge_lengths_raw(&p))
+}
+
+/// [`shape_quality`] of points in a local frame with their
+/// [`edge_lengths_raw`] `l`.
+fn shape_quality_raw(p: &[[f64; 3]; 4], l: &[f64; 6]) -> f64 {
     let rms = (l.iter().map(|x| x * x).sum::<f64>() / 6.0).sqrt();
     if rms == 0.0 {
         return 0.0;
@@ -422,24 +434,27 @@ impl TetStats {
             if tv.iter().any(|&q| q as usize >= points.len()) {
                 continue;
             }
-            let p = tv.map(|q| points[q as usize]);
+            // One local frame for every measure (each public function
+            // makes the same one: the values are theirs).
+            let (p, sc) = local(tv.map(|q| points[q as usize]));
             s.tets += 1;
-            for sc in dihedral_sin_cos(&p) {
-                tally.add(sc, &mut s.dihedral_histogram);
+            for x in dihedral_sin_cos_raw(&p) {
+                tally.add(x, &mut s.dihedral_histogram);
             }
-            let r = radius_edge_ratio(&p);
+            let l = edge_lengths_raw(&p);
+            let r = radius_edge_ratio_raw(&p, &l);
             s.min_radius_edge = s.min_radius_edge.min(r);
             s.max_radius_edge = s.max_radius_edge.max(r);
             sum_ratio += r;
             s.radius_edge_histogram[bin(&RATIO_BINS, r)] += 1;
-            let v = volume(&p);
+            let v = unscale(volume_raw(&p), sc, 3);
             s.min_volume = s.min_volume.min(v);
             s.max_volume = s.max_volume.max(v);
             s.total_volume += v;
-            let q = shape_quality(&p);
+            let q = shape_quality_raw(&p, &l);
             s.min_shape = s.min_shape.min(q);
             sum_shape += q;
-            for l in edge_lengths(&p) {
+            for l in l.map(|l| unscale(l, sc, 1)) {
                 s.min_edge = s.min_edge.min(l);
                 s.max_edge = s.max_edge.max(l);
             }

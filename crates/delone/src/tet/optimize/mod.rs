@@ -1353,17 +1353,25 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         return false;
     }
     let old_q = w.min_q(&star).min(floor);
+    // The other three vertices of `t` (a tetrahedron of the star of `x`),
+    // sorted.
+    let others = |w: &Work, x: u32, t: u32| {
+        let tv = w.m.tv[t as usize];
+        let i = tv.iter().position(|&y| y == x).unwrap_or(3);
+        let mut o = [tv[(i + 1) % 4], tv[(i + 2) % 4], tv[(i + 3) % 4]];
+        o.sort_unstable();
+        o
+    };
     // The link of a vertex: its vertices, edges and triangles (sorted).
     let link = |w: &Work, x: u32, star: &[u32]| {
         let mut vs = Vec::with_capacity(3 * star.len());
         let mut es = Vec::with_capacity(3 * star.len());
         let mut fs = Vec::with_capacity(star.len());
         for &t in star {
-            let mut o: Vec<u32> = w.m.tv[t as usize].into_iter().filter(|&y| y != x).collect();
-            o.sort_unstable();
+            let o = others(w, x, t);
             vs.extend_from_slice(&o);
             es.extend([[o[0], o[1]], [o[0], o[2]], [o[1], o[2]]]);
-            fs.push([o[0], o[1], o[2]]);
+            fs.push(o);
         }
         vs.sort_unstable();
         vs.dedup();
@@ -1372,13 +1380,42 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         fs.sort_unstable();
         (vs, es, fs)
     };
-    let (lv, le, lf) = link(w, v, &star);
+    // The candidates: the vertices of the link (its edges and triangles
+    // only when a candidate passes the quality test).
+    let mut lv: Vec<u32> = star.iter().flat_map(|&t| others(w, v, t)).collect();
+    lv.sort_unstable();
+    lv.dedup();
+    // The edges and triangles of the link of `v`, made on first use.
+    type EdgesFaces = (Vec<[u32; 2]>, Vec<[u32; 3]>);
+    let mut vlink: Option<EdgesFaces> = None;
     let mut best: Option<Plan> = None;
+    let mut new: Vec<[u32; 4]> = Vec::with_capacity(star.len());
     for &u in &lv {
+        // The new tetrahedra (those of the star without `u`, `u` for `v`):
+        // positive and better, before the costlier link condition.
+        new.clear();
+        let mut q = f64::INFINITY;
+        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
+        let mut ok = true;
+        for &t in &star {
+            let tv = w.m.tv[t as usize];
+            if tv.contains(&u) {
+                continue;
+            }
+            let nt = tv.map(|y| if y == v { u } else { y });
+            q = q.min(w.qual(nt));
+            if q <= bar + 1e-12 || !w.positive(nt) {
+                ok = false;
+                break;
+            }
+            new.push(nt);
+        }
+        if !ok {
+            continue;
+        }
         // The link of the edge: the other two vertices of its tetrahedra.
         let mut ev = Vec::with_capacity(2 * star.len());
         let mut ee = Vec::with_capacity(star.len());
-        let mut new = Vec::with_capacity(star.len());
         for &t in &star {
             let tv = w.m.tv[t as usize];
             if tv.contains(&u) {
@@ -1386,29 +1423,17 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
                 o.sort_unstable();
                 ev.extend_from_slice(&o);
                 ee.push([o[0], o[1]]);
-            } else {
-                new.push(tv.map(|y| if y == v { u } else { y }));
             }
         }
         ev.sort_unstable();
         ev.dedup();
         ee.sort_unstable();
-        // Positive and better, before the costlier link condition.
-        let mut q = f64::INFINITY;
-        let bar = best.as_ref().map_or(old_q, |b| b.q.max(old_q));
-        let mut ok = true;
-        for &nt in &new {
-            q = q.min(w.qual(nt));
-            if q <= bar + 1e-12 || !w.positive(nt) {
-                ok = false;
-                break;
-            }
-        }
-        if !ok {
-            continue;
-        }
         let ustar = w.star(u);
         let (uv, ue, uf) = link(w, u, &ustar);
+        let (le, lf) = vlink.get_or_insert_with(|| {
+            let (_, le, lf) = link(w, v, &star);
+            (le, lf)
+        });
         let shared_ok = uv
             .iter()
             .filter(|&&x| x != v && lv.binary_search(&x).is_ok())
@@ -1423,7 +1448,7 @@ fn try_collapse(w: &mut Work, v: u32, floor: f64, from: usize) -> bool {
         if shared_ok {
             best = Some(Plan {
                 old: star.clone(),
-                new,
+                new: new.clone(),
                 q,
                 ring: 0,
             });
@@ -2071,6 +2096,11 @@ fn input_min_dihedral(sum: &IdMap<([u32; 2], u32), f64>) -> (f64, Option<[u32; 2
         .map_or((360.0, None), |(a, e)| (a, Some(e)))
 }
 
+/// Margin of the dihedral sine above which [`bad_cells`] takes a
+/// tetrahedron as within the bound without computing its angles (far above
+/// the rounding of either computation).
+const BAD_MARGIN: f64 = 1e-6;
+
 /// See [`BadCells`].
 fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) -> BadCells {
     let mut out = BadCells {
@@ -2097,8 +2127,15 @@ fn bad_cells(rec: &Recovered, sums: &IdMap<([u32; 2], u32), f64>, angle: f64) ->
             }
         }
     }
+    // A tetrahedron whose smallest dihedral sine is clearly above the
+    // bound's is within it (the angles are computed only near the bound).
+    let clear = angle.to_radians().sin() + BAD_MARGIN;
     for (tv, &g) in rec.mesh.tets.iter().zip(&rec.tet_region) {
-        let d = super::quality::dihedral_angles(&tv.map(|v| rec.points[v as usize]));
+        let p = tv.map(|v| rec.points[v as usize]);
+        if work::quality([&p[0], &p[1], &p[2], &p[3]]) > clear {
+            continue;
+        }
+        let d = super::quality::dihedral_angles(&p);
         if d.iter().all(|&x| (angle..=180.0 - angle).contains(&x)) {
             continue;
         }
@@ -2148,6 +2185,10 @@ fn stuck(
         list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.tet.cmp(&b.1.tet)));
         list.truncate(LISTED);
     };
+    // Once `LISTED` are kept, the quality of the last one: a later
+    // tetrahedron (higher index) at or above it cannot enter the list, and
+    // only its counts are taken.
+    let mut bar = f64::INFINITY;
     for (t, (tv, nb)) in rec.mesh.tets.iter().zip(&rec.mesh.neighbors).enumerate() {
         let p = tv.map(|v| rec.points[v as usize]);
         let q = work::quality([&p[0], &p[1], &p[2], &p[3]]);
@@ -2167,11 +2208,15 @@ fn stuck(
             StuckReason::NoImprovement
         };
         report.stuck_counts[reason as usize] += 1;
+        if q.total_cmp(&bar).is_ge() {
+            continue;
+        }
         let d = super::quality::dihedral_angles(&p);
         let lo = d.iter().copied().fold(180.0, f64::min);
         let hi = d.iter().copied().fold(0.0, f64::max);
         if list.len() == 2 * LISTED {
             cut(&mut list);
+            bar = list[LISTED - 1].0;
         }
         list.push((
             q,

@@ -198,6 +198,10 @@ pub(super) struct Cdr {
     inexact: Vec<u32>,
     /// Input edge of each point put on a segment by refinement.
     vedge: IdMap<u32, u32>,
+    /// Per point: is (or was) it an end of a subsegment? Both ends of
+    /// every subsegment are marked (a cheap test before the lookups in
+    /// `DomainMesh::segs`).
+    on_seg: Vec<bool>,
     /// Largest deviation of a new point from its line or plane (rescaled).
     max_dev: f64,
     s: f64,
@@ -364,6 +368,11 @@ impl Cdr {
         let max_vol = volume_bounds(&rec.regions, opts.max_volume)
             .map(|v| v.map_or(f64::INFINITY, |v| v * s3))
             .collect();
+        let mut on_seg = vec![false; p.len()];
+        for &(a, b) in segs.keys() {
+            on_seg[a as usize] = true;
+            on_seg[b as usize] = true;
+        }
         (m.ftri, m.sedges, m.segs) = (ftri, sedges, segs);
         let mut st = Cdr {
             n_in: points.len(),
@@ -392,6 +401,7 @@ impl Cdr {
             },
             inexact: rec.inexact.clone(),
             vedge: IdMap::default(),
+            on_seg,
             max_dev: rec.report.max_deviation * s,
             s,
             sizer: super::sizing::Sizer::new(&opts.sizing, s),
@@ -452,6 +462,12 @@ impl Cdr {
     #[inline]
     fn pt(&self, q: u32) -> P {
         self.p[q as usize]
+    }
+
+    /// Is `e` (sorted) a subsegment?
+    #[inline]
+    fn is_seg(&self, e: (u32, u32)) -> bool {
+        self.on_seg[e.0 as usize] && self.on_seg[e.1 as usize] && self.m.segs.contains_key(&e)
     }
 
     fn out_of_budget(&mut self) -> bool {
@@ -515,12 +531,17 @@ impl Cdr {
         let tv = self.m.tv[t as usize];
         let p = tv.map(|q| self.p[q as usize]);
         let r = quality::radius_edge_ratio(&p);
-        let v = quality::volume(&p).abs();
         let mv = self
             .max_vol
             .get(self.m.reg[t as usize] as usize)
             .copied()
             .unwrap_or(f64::INFINITY);
+        // (No volume can exceed an infinite bound.)
+        let v = if mv < f64::INFINITY {
+            quality::volume(&p).abs()
+        } else {
+            0.0
+        };
         let big = if v > mv { v / mv } else { 0.0 }.max(self.sizer.cell(&p));
         if r > self.bound {
             Some((1e6 + r.min(1e12)).to_bits())
@@ -560,7 +581,7 @@ impl Cdr {
         }
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
-            if self.m.segs.contains_key(&e)
+            if self.is_seg(e)
                 && !self.queued_s.contains(&e)
                 && !self.failed_s.contains(&e)
                 && (0..4)
@@ -784,6 +805,7 @@ impl Cdr {
     fn commit(&mut self, cav: &[u32], dis: &[[u32; 3]], plan: Plan, m: P) -> (u32, Vec<u32>) {
         let mid = self.p.len() as u32;
         self.p.push(m);
+        self.on_seg.push(false);
         self.m.vt.push(DEAD);
         for k in dis {
             self.m.ftri.remove(k);
@@ -886,13 +908,21 @@ impl Cdr {
                 _ => self.vtris.get(q as usize).map_or(&[], |l| l.as_slice()),
             }
         };
-        let first = tris_of(t[0]);
-        first.iter().any(|&a| {
+        // A plane group common to the four vertices' triangles. Interior
+        // points (no triangles) decide at once; the shortest list leads.
+        let lists = t.map(tris_of);
+        let Some(lead) = (0..4).min_by_key(|&i| lists[i].len()) else {
+            return false;
+        };
+        if lists[lead].is_empty() {
+            return false;
+        }
+        lists[lead].iter().any(|&a| {
             let Some(&g) = self.group.get(a as usize) else {
                 return false;
             };
-            t[1..].iter().all(|&q| {
-                tris_of(q)
+            (0..4).filter(|&i| i != lead).all(|i| {
+                lists[i]
                     .iter()
                     .any(|&b| self.group.get(b as usize) == Some(&g))
             })
@@ -1150,6 +1180,7 @@ impl Cdr {
                 self.m.segs.remove(&e);
                 self.m.segs.insert(ekey(a, id), ie);
                 self.m.segs.insert(ekey(id, b), ie);
+                self.on_seg[id as usize] = true;
                 self.on_line(id, ie);
                 self.report.on_segments += 1;
                 true
@@ -1485,9 +1516,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(uv[i], uv[j]);
-                if self.m.segs.contains_key(&e)
-                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c)
-                {
+                if self.is_seg(e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), c) {
                     segs.push(e);
                 }
             }
@@ -1939,6 +1968,11 @@ impl Cdr {
             .m
             .output_faces(|_, _, k| ftri.get(&k).copied().unwrap_or(NONE));
         let (tets, tet_region) = (self.m.tv.clone(), self.m.reg.clone());
+        let mut regions = rec.regions.clone();
+        for r in &mut regions {
+            r.tets = 0;
+            r.volume = 0.0;
+        }
         for (t, &tv) in tets.iter().enumerate() {
             let p = tv.map(|q| points[q as usize]);
             let r = quality::radius_edge_ratio(&p);
@@ -1946,8 +1980,14 @@ impl Cdr {
             if self.sizer.cell(&ps) > 1.0 {
                 self.report.remaining_too_big += 1;
             }
+            // On the scaled points (in input units for the region's sum).
+            let vol = quality::volume(&ps);
+            if let Some(g) = regions.get_mut(tet_region[t] as usize) {
+                g.tets += 1;
+                g.volume += crate::geom::scale::unscale_cubic(vol, (self.s, 1.0));
+            }
             let mv = self.max_vol.get(self.m.reg[t] as usize).copied();
-            if mv.is_some_and(|mv| quality::volume(&ps).abs() > mv) {
+            if mv.is_some_and(|mv| vol.abs() > mv) {
                 self.report.remaining_over_volume += 1;
             }
             if r > self.bound {
@@ -1978,21 +2018,6 @@ impl Cdr {
                 let (needle, sharp) = self.near_features(tv);
                 self.report.left.near_needle += needle as usize;
                 self.report.left.near_sharp += sharp as usize;
-            }
-        }
-        let mut regions = rec.regions.clone();
-        for r in &mut regions {
-            r.tets = 0;
-            r.volume = 0.0;
-        }
-        for (tv, &g) in tets.iter().zip(&tet_region) {
-            if let Some(r) = regions.get_mut(g as usize) {
-                r.tets += 1;
-                // On the scaled points, then in input units.
-                r.volume += crate::geom::scale::unscale_cubic(
-                    quality::volume(&tv.map(|q| self.p[q as usize])),
-                    (self.s, 1.0),
-                );
             }
         }
         let mut vertex_map = rec.mesh.vertex_map.clone();
