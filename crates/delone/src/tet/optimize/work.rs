@@ -1497,6 +1497,86 @@ mod tests {
         assert!(w.stamp[id as usize] > clock && w.stamp[6] > clock);
     }
 
+    /// Every live slot's cached quality is, bit for bit, its quality now.
+    fn cache_exact(w: &Work) -> bool {
+        (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).all(|t| {
+            w.q[t as usize].to_bits()
+                == quality(w.m.tv[t as usize].map(|v| &w.p[v as usize])).to_bits()
+        })
+    }
+
+    #[test]
+    fn moving_quality_is_quality_bit_for_bit() {
+        // Deterministic pseudo-random tetrahedra (fair, flat, inverted,
+        // near-degenerate) and moves of each vertex.
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut positive = 0;
+        for case in 0..2000 {
+            let mut pts: [[f64; 3]; 4] = std::array::from_fn(|_| [rnd(), rnd(), rnd()]);
+            if case % 5 == 0 {
+                // Nearly flat: the fourth point close to the plane of the
+                // first three.
+                let t = [rnd().abs(), rnd().abs()];
+                pts[3] = std::array::from_fn(|c| {
+                    pts[0][c]
+                        + t[0] * (pts[1][c] - pts[0][c])
+                        + t[1] * (pts[2][c] - pts[0][c])
+                        + 1e-9 * rnd()
+                });
+            }
+            for k in 0..4 {
+                let mt = MovingTet::new(pts, k);
+                for step in [0.0, 1e-7, 0.01, 0.3] {
+                    let x = std::array::from_fn(|c| pts[k][c] + step * rnd());
+                    let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+                    r[k] = &x;
+                    let want = quality(r);
+                    positive += usize::from(want > 0.0);
+                    assert_eq!(
+                        mt.quality_at(&x).to_bits(),
+                        want.to_bits(),
+                        "{pts:?} {k} {x:?}"
+                    );
+                }
+            }
+        }
+        assert!(positive > 4000 && positive < 28000, "{positive}");
+    }
+
+    #[test]
+    fn smoothing_and_its_undo_keep_the_cached_qualities() {
+        let mut w = octahedron();
+        // The centre off-centre, its star's qualities cached.
+        w.p[6] = [0.3, -0.2, 0.25];
+        for t in 0..8 {
+            w.q[t] = quality(w.m.tv[t].map(|v| &w.p[v as usize]));
+        }
+        assert!(cache_exact(&w));
+        let q0 = w.q.clone();
+        w.begin();
+        let e0 = w.evals.get();
+        assert!(w.smooth(6));
+        assert!(cache_exact(&w));
+        assert!(
+            w.min_q(&(0..8).collect::<Vec<_>>()) > q0.iter().copied().fold(f64::INFINITY, f64::min)
+        );
+        let e1 = w.evals.get();
+        assert!(e1 > e0);
+        w.rollback();
+        // Back where it was, with the qualities it had (charged: one
+        // evaluation per star tetrahedron).
+        assert_eq!(w.p[6], [0.3, -0.2, 0.25]);
+        assert!(cache_exact(&w));
+        assert_eq!(w.q, q0);
+        assert_eq!(w.evals.get(), e1 + 8);
+    }
+
     #[test]
     fn min_norm_point_of_opposite_gradients() {
         let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
