@@ -103,12 +103,7 @@
 //! cached per slot; the edge-removal programme prunes every sub-polygon
 //! that cannot beat the ring's worst tetrahedron, and the smoothing line
 //! search leaves out the star tetrahedra far above the worst (checked once
-//! at the end), evaluating each star tetrahedron with the terms its
-//! moving vertex does not change computed once. A quality that is known
-//! already (the final check of a smoothing step's last evaluated
-//! tetrahedra, the star of an undone move) is reused but charged as an
-//! evaluation, so that the budget, and with it the result, does not depend
-//! on what is reused.
+//! at the end).
 //! The domain's boundary and internal facets keep their shape: interface
 //! faces are never destroyed, boundary faces only by a boundary flip
 //! within one flat facet (each facet stays the union of its faces), input
@@ -283,8 +278,7 @@ pub struct OptimizeOptions {
     pub max_inserted: Option<usize>,
     /// Work allowed, in quality evaluations per tetrahedron of the input
     /// mesh plus 2000 (a deterministic measure of time: the worst tetrahedra are
-    /// worked on first, so a budget cuts where it matters least; a quality
-    /// reused from a cache is charged as an evaluation).
+    /// worked on first, so a budget cuts where it matters least).
     /// Default `Some(100.0)`; `None`: no limit.
     pub effort: Option<f64>,
     /// How many of the mesh's points are input points: those never move

@@ -30,33 +30,15 @@ const FAR: f64 = 0.2;
 /// Longest edge ring tried by [`Work::plan_edge_removal`].
 pub(super) const MAX_RING: usize = 16;
 
-/// The two faces (by opposite vertex) that meet at each edge, in
-/// [`crate::tet::quality::EDGES`] order.
-const EDGE_FACES: [(usize, usize); 6] = [(2, 3), (1, 3), (1, 2), (0, 3), (0, 2), (0, 1)];
-
-/// Six times the volume of a positive tetrahedron, the squared area
-/// normals `|N|²` of its four faces (by opposite vertex) and the squared
-/// lengths `|e|²` of its edges in [`crate::tet::quality::EDGES`] order;
-/// `None` when it is flat or inverted (floating point). The dihedral sine
-/// at edge `e` is `6V · |e| / (|N_k| |N_l|)`, `(k, l)` its
-/// [`EDGE_FACES`].
+/// Six times the volume of a positive tetrahedron and, for each of its
+/// edges in [`crate::tet::quality::EDGES`] order, `(|e|², k, l)`: the squared
+/// length and the two faces (by opposite vertex) that meet there, with the
+/// squared area normals `|N|²` of the four faces; `None` when it is flat or
+/// inverted (floating point). The dihedral sine at an edge is
+/// `6V · |e| / (|N_k| |N_l|)`.
 #[inline(always)]
-fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [f64; 6])> {
-    dihedral_terms_moving::<4>(p, &[0.0; 7])
-}
-
-/// [`dihedral_terms`] of a tetrahedron whose vertex `K` (0..4; 4: none)
-/// moves, with the terms that do not depend on it given: `fixed[0]` the
-/// squared area normal of the face opposite `K`, `fixed[1 + e]` the squared
-/// length of edge `e` (read only for the edges without `K`), both as
-/// [`dihedral_terms`] computes them ([`MovingTet::new`]). Every value is
-/// the one [`dihedral_terms`] gives: the same operations on the same
-/// numbers, those that do not involve vertex `K` done once.
-#[inline(always)]
-fn dihedral_terms_moving<const K: usize>(
-    p: [&[f64; 3]; 4],
-    fixed: &[f64; 7],
-) -> Option<(f64, [f64; 4], [f64; 6])> {
+#[allow(clippy::type_complexity)]
+fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
     let e1 = sub(p[1], p[0]);
     let e2 = sub(p[2], p[0]);
     let e3 = sub(p[3], p[0]);
@@ -69,42 +51,19 @@ fn dihedral_terms_moving<const K: usize>(
     let e13 = sub(p[3], p[1]);
     let sq = |a: [f64; 3]| dot(&a, &a);
     let n = [
-        if K == 0 {
-            fixed[0]
-        } else {
-            sq(cross(&e12, &e13))
-        },
-        if K == 1 {
-            fixed[0]
-        } else {
-            sq(cross(&e2, &e3))
-        },
-        if K == 2 {
-            fixed[0]
-        } else {
-            sq(cross(&e1, &e3))
-        },
-        if K == 3 {
-            fixed[0]
-        } else {
-            sq(cross(&e1, &e2))
-        },
+        sq(cross(&e12, &e13)),
+        sq(cross(&e2, &e3)),
+        sq(cross(&e1, &e3)),
+        sq(cross(&e1, &e2)),
     ];
-    // Edge `e` from vertex `i` to `j`.
-    let len = |e: usize, i: usize, j: usize, v: [f64; 3]| {
-        if K == i || K == j || K > 3 {
-            sq(v)
-        } else {
-            fixed[1 + e]
-        }
-    };
+    // Edge (i, j) lies on the faces opposite the other two vertices.
     let l = [
-        len(0, 0, 1, e1),
-        len(1, 0, 2, e2),
-        len(2, 0, 3, e3),
-        len(3, 1, 2, e12),
-        len(4, 1, 3, e13),
-        len(5, 2, 3, sub(p[3], p[2])),
+        (sq(e1), 2, 3),
+        (sq(e2), 1, 3),
+        (sq(e3), 1, 2),
+        (sq(e12), 0, 3),
+        (sq(e13), 0, 2),
+        (sq(sub(p[3], p[2])), 0, 1),
     ];
     Some((det, n, l))
 }
@@ -115,91 +74,21 @@ fn dihedral_terms_moving<const K: usize>(
 /// or -1 when it is flat or inverted (floating point).
 #[inline]
 pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
-    match dihedral_terms(p) {
-        Some((det, n, l)) => quality_of_terms(det, &n, &l),
-        None => -1.0,
-    }
-}
-
-/// [`quality`] from the [`dihedral_terms`].
-#[inline(always)]
-fn quality_of_terms(det: f64, n: &[f64; 4], l: &[f64; 6]) -> f64 {
+    let Some((det, n, l)) = dihedral_terms(p) else {
+        return -1.0;
+    };
     // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (all checked
     // before the divisions, which then run in parallel).
-    let mut d = [0.0; 6];
-    for (x, &(k, m)) in d.iter_mut().zip(&EDGE_FACES) {
-        *x = n[k] * n[m];
-    }
+    let d = l.map(|(_, k, m)| n[k] * n[m]);
     if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
         return -1.0;
     }
-    let mut q2 = f64::INFINITY;
-    for (&a, &b) in l.iter().zip(&d) {
-        q2 = q2.min(a / b);
-    }
+    let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
     let q = det * q2.sqrt();
     if q.is_finite() {
         q
     } else {
         -1.0
-    }
-}
-
-/// A tetrahedron of a star with one vertex (the star's centre) about to
-/// move: its points and the terms of its [`quality`] that the move leaves
-/// unchanged, so that the quality at each trial position costs about a
-/// quarter less (the same value as [`quality`]).
-#[derive(Debug, Clone, Copy)]
-struct MovingTet {
-    /// The four points (the moving one at its old place).
-    pts: [[f64; 3]; 4],
-    /// The moving vertex's position in `pts`.
-    k: usize,
-    /// See [`dihedral_terms_moving`].
-    fixed: [f64; 7],
-}
-
-impl MovingTet {
-    /// Tetrahedron `pts` whose vertex `k` moves.
-    fn new(pts: [[f64; 3]; 4], k: usize) -> MovingTet {
-        let [p0, p1, p2, p3] = &pts;
-        let sq = |a: [f64; 3]| dot(&a, &a);
-        let (e1, e2, e3) = (sub(p1, p0), sub(p2, p0), sub(p3, p0));
-        let (e12, e13) = (sub(p2, p1), sub(p3, p1));
-        let nk = match k {
-            0 => sq(cross(&e12, &e13)),
-            1 => sq(cross(&e2, &e3)),
-            2 => sq(cross(&e1, &e3)),
-            _ => sq(cross(&e1, &e2)),
-        };
-        let fixed = [
-            nk,
-            sq(e1),
-            sq(e2),
-            sq(e3),
-            sq(e12),
-            sq(e13),
-            sq(sub(p3, p2)),
-        ];
-        MovingTet { pts, k, fixed }
-    }
-
-    /// Its [`quality`] with the moving vertex at `x`.
-    #[inline]
-    fn quality_at(&self, x: &[f64; 3]) -> f64 {
-        let mut r = [&self.pts[0], &self.pts[1], &self.pts[2], &self.pts[3]];
-        r[self.k] = x;
-        let f = &self.fixed;
-        let terms = match self.k {
-            0 => dihedral_terms_moving::<0>(r, f),
-            1 => dihedral_terms_moving::<1>(r, f),
-            2 => dihedral_terms_moving::<2>(r, f),
-            _ => dihedral_terms_moving::<3>(r, f),
-        };
-        match terms {
-            Some((det, n, l)) => quality_of_terms(det, &n, &l),
-            None => -1.0,
-        }
     }
 }
 
@@ -209,7 +98,7 @@ impl MovingTet {
 pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
     let (det, n, l) = dihedral_terms(p)?;
     let mut out = [0.0; 6];
-    for ((o, len2), (k, m)) in out.iter_mut().zip(l).zip(EDGE_FACES) {
+    for (o, (len2, k, m)) in out.iter_mut().zip(l) {
         let d = n[k] * n[m];
         let s = det * (len2 / d).sqrt();
         if !(d > 0.0 && s.is_finite()) {
@@ -335,13 +224,8 @@ enum Undo {
         new: Vec<[u32; 4]>,
         region: u32,
     },
-    /// Vertex `v` moved from `from`; its star's tetrahedra with their
-    /// qualities there.
-    Move {
-        v: u32,
-        from: [f64; 3],
-        star: Vec<([u32; 4], f64)>,
-    },
+    /// Vertex `v` moved from `from`.
+    Move { v: u32, from: [f64; 3] },
     /// A point was added.
     AddPoint,
 }
@@ -865,18 +749,21 @@ impl Work {
             return false;
         }
         // Each star tetrahedron's points, with the slot of `v`.
-        let local: Vec<MovingTet> = star
+        let local: Vec<([[f64; 3]; 4], usize)> = star
             .iter()
             .map(|&t| {
                 let tv = self.m.tv[t as usize];
                 let k = tv.iter().position(|&u| u == v).unwrap_or(0);
-                MovingTet::new(tv.map(|u| self.p[u as usize]), k)
+                (tv.map(|u| self.p[u as usize]), k)
             })
             .collect();
         let evals = &self.evals;
         let at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
-            local[i].quality_at(x)
+            let (pts, k) = &local[i];
+            let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+            r[*k] = x;
+            quality(r)
         };
         let mut x = home;
         // At home: the cached qualities.
@@ -885,11 +772,9 @@ impl Work {
         let q_home = cur;
         let mut moved = false;
         let h = 1e-7 * len;
-        let mut order: Vec<usize> = (0..star.len()).collect();
+        let mut order: Vec<usize> = (0..local.len()).collect();
         let mut qy = qs.clone();
-        // Which of `qs` were evaluated at `x` by the last accepted step.
-        let mut fresh = vec![false; qs.len()];
-        let mut grads: Vec<[f64; 3]> = Vec::with_capacity(star.len());
+        let mut grads: Vec<[f64; 3]> = Vec::with_capacity(local.len());
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
             grads.clear();
@@ -937,10 +822,6 @@ impl Work {
                 }
                 x = y;
                 std::mem::swap(&mut qs, &mut qy);
-                fresh.fill(false);
-                for &i in &order {
-                    fresh[i] = true;
-                }
                 cur = m;
                 accepted = true;
                 break;
@@ -954,15 +835,9 @@ impl Work {
         if !moved || cur < q_home + 1e-3 {
             return false;
         }
-        // The whole star at the new place (those the last step evaluated
-        // there are charged as evaluations, not evaluated again: the
-        // budget does not depend on what is reused).
+        // The whole star at the new place.
         for (i, q) in qs.iter_mut().enumerate() {
-            if fresh[i] {
-                evals.set(evals.get() + 1);
-            } else {
-                *q = at(i, &x);
-            }
+            *q = at(i, &x);
         }
         if qs.iter().any(|&q| q < q_home + 1e-3) {
             return false;
@@ -993,15 +868,7 @@ impl Work {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
-            let before = star
-                .iter()
-                .map(|&t| (self.m.tv[t as usize], self.q[t as usize]))
-                .collect();
-            log.push(Undo::Move {
-                v,
-                from: home,
-                star: before,
-            });
+            log.push(Undo::Move { v, from: home });
             for &t in &star {
                 let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
@@ -1296,22 +1163,12 @@ impl Work {
                         debug_assert!(false, "rollback: a tetrahedron is missing");
                     }
                 }
-                Undo::Move { v, from, star } => {
+                Undo::Move { v, from } => {
                     self.p[v as usize] = from;
-                    // (The marks of its star are restored below.) The
-                    // star is the one of the move (every later change is
-                    // undone), its qualities the ones before it: charged
-                    // as evaluations, not evaluated again.
+                    // (The marks of its star are restored below.)
                     for t in self.star(v) {
                         self.dirty.push(t);
-                        let tv = self.m.tv[t as usize];
-                        self.q[t as usize] = match star.iter().find(|x| x.0 == tv) {
-                            Some(&(_, q)) => {
-                                self.evals.set(self.evals.get() + 1);
-                                q
-                            }
-                            None => self.qual(tv),
-                        };
+                        self.q[t as usize] = self.qual(self.m.tv[t as usize]);
                     }
                 }
                 Undo::AddPoint => {
@@ -1506,50 +1363,6 @@ mod tests {
     }
 
     #[test]
-    fn moving_quality_is_quality_bit_for_bit() {
-        // Deterministic pseudo-random tetrahedra (fair, flat, inverted,
-        // near-degenerate) and moves of each vertex.
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let mut positive = 0;
-        for case in 0..2000 {
-            let mut pts: [[f64; 3]; 4] = std::array::from_fn(|_| [rnd(), rnd(), rnd()]);
-            if case % 5 == 0 {
-                // Nearly flat: the fourth point close to the plane of the
-                // first three.
-                let t = [rnd().abs(), rnd().abs()];
-                pts[3] = std::array::from_fn(|c| {
-                    pts[0][c]
-                        + t[0] * (pts[1][c] - pts[0][c])
-                        + t[1] * (pts[2][c] - pts[0][c])
-                        + 1e-9 * rnd()
-                });
-            }
-            for k in 0..4 {
-                let mt = MovingTet::new(pts, k);
-                for step in [0.0, 1e-7, 0.01, 0.3] {
-                    let x = std::array::from_fn(|c| pts[k][c] + step * rnd());
-                    let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
-                    r[k] = &x;
-                    let want = quality(r);
-                    positive += usize::from(want > 0.0);
-                    assert_eq!(
-                        mt.quality_at(&x).to_bits(),
-                        want.to_bits(),
-                        "{pts:?} {k} {x:?}"
-                    );
-                }
-            }
-        }
-        assert!(positive > 4000 && positive < 28000, "{positive}");
-    }
-
-    #[test]
     fn smoothing_and_its_undo_keep_the_cached_qualities() {
         let mut w = octahedron();
         // The centre off-centre, its star's qualities cached.
@@ -1569,8 +1382,8 @@ mod tests {
         let e1 = w.evals.get();
         assert!(e1 > e0);
         w.rollback();
-        // Back where it was, with the qualities it had (charged: one
-        // evaluation per star tetrahedron).
+        // Back where it was, with the qualities it had (its star evaluated
+        // again: one evaluation per tetrahedron).
         assert_eq!(w.p[6], [0.3, -0.2, 0.25]);
         assert!(cache_exact(&w));
         assert_eq!(w.q, q0);
