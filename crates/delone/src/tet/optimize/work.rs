@@ -215,6 +215,9 @@ pub(super) struct Work {
     pub n0: usize,
     /// See [`SmoothBuf`].
     smooth_buf: SmoothBuf,
+    /// The tables of the edge-removal programme
+    /// ([`Work::plan_edge_removal`]), kept between calls.
+    dp: std::cell::RefCell<(Vec<f64>, Vec<usize>)>,
 }
 
 /// The buffers of [`Work::smooth`], kept between calls (a star's
@@ -304,6 +307,7 @@ impl Work {
             undone: 0,
             n0: n,
             smooth_buf: SmoothBuf::default(),
+            dp: Default::default(),
         }
     }
 
@@ -393,8 +397,9 @@ impl Work {
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
         let need = self.min_q(&tets).max(0.0);
-        let tables = (&mut Vec::new(), &mut Vec::new());
-        let (q, new) = ring::max_min(&r, (a, b), need, tables, |t| self.qual(t))?;
+        let mut dp = self.dp.borrow_mut();
+        let (best, choice) = &mut *dp;
+        let (q, new) = ring::max_min(&r, (a, b), need, (best, choice), |t| self.qual(t))?;
         Some(Plan {
             old: tets,
             new,
