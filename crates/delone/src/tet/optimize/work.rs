@@ -826,7 +826,7 @@ impl Work {
                 }
                 grads.push(self.tangent(v, g));
             }
-            let d = min_norm_point(&grads);
+            let d = min_norm_point(grads);
             let dn = norm(&d);
             if dn.is_nan() || dn <= 0.0 || !dn.is_finite() {
                 break;
@@ -912,7 +912,7 @@ impl Work {
                 }
             }
         }
-        self.dirty.extend_from_slice(&star);
+        self.dirty.extend_from_slice(star);
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.m.tv[t as usize] {
