@@ -213,6 +213,24 @@ pub(super) struct Work {
     /// Points of the mesh before the optimisation (those at or above may
     /// be removed again).
     pub n0: usize,
+    /// See [`SmoothBuf`].
+    smooth_buf: SmoothBuf,
+    /// The tables of the edge-removal programme
+    /// ([`Work::plan_edge_removal`]), kept between calls.
+    dp: std::cell::RefCell<(Vec<f64>, Vec<usize>)>,
+}
+
+/// The buffers of [`Work::smooth`], kept between calls (a star's
+/// tetrahedra, their points, qualities at home and at a trial position, the
+/// search order, the gradients).
+#[derive(Debug, Clone, Default)]
+struct SmoothBuf {
+    star: Vec<u32>,
+    local: Vec<([[f64; 3]; 4], usize)>,
+    qs: Vec<f64>,
+    qy: Vec<f64>,
+    order: Vec<usize>,
+    grads: Vec<[f64; 3]>,
 }
 
 /// One undoable step of a transaction.
@@ -288,6 +306,8 @@ impl Work {
             evals: Default::default(),
             undone: 0,
             n0: n,
+            smooth_buf: SmoothBuf::default(),
+            dp: Default::default(),
         }
     }
 
@@ -377,8 +397,9 @@ impl Work {
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
         let need = self.min_q(&tets).max(0.0);
-        let tables = (&mut Vec::new(), &mut Vec::new());
-        let (q, new) = ring::max_min(&r, (a, b), need, tables, |t| self.qual(t))?;
+        let mut dp = self.dp.borrow_mut();
+        let (best, choice) = &mut *dp;
+        let (q, new) = ring::max_min(&r, (a, b), need, (best, choice), |t| self.qual(t))?;
         Some(Plan {
             old: tets,
             new,
@@ -725,7 +746,23 @@ impl Work {
 
     /// [`Work::smooth`] without the memo.
     fn smooth_once(&mut self, v: u32) -> bool {
-        let star = self.star(v);
+        let mut buf = std::mem::take(&mut self.smooth_buf);
+        let moved = self.smooth_with(v, &mut buf);
+        self.smooth_buf = buf;
+        moved
+    }
+
+    /// [`Work::smooth_once`] in the buffers `buf`.
+    fn smooth_with(&mut self, v: u32, buf: &mut SmoothBuf) -> bool {
+        let SmoothBuf {
+            star,
+            local,
+            qs,
+            qy,
+            order,
+            grads,
+        } = buf;
+        self.m.star_walk(v, star, |_, _| true, |_| false);
         if star.is_empty() {
             return false;
         }
@@ -734,7 +771,7 @@ impl Work {
         // their mean (a near-duplicate neighbour, left by rounding, would
         // otherwise pin v to steps of its own tiny distance).
         let (mut len, mut sum, mut cnt) = (f64::INFINITY, 0.0, 0.0);
-        for &t in &star {
+        for &t in star.iter() {
             for &w in &self.m.tv[t as usize] {
                 if w != v {
                     let l = norm(&sub(&self.p[w as usize], &home));
@@ -749,14 +786,12 @@ impl Work {
             return false;
         }
         // Each star tetrahedron's points, with the slot of `v`.
-        let local: Vec<([[f64; 3]; 4], usize)> = star
-            .iter()
-            .map(|&t| {
-                let tv = self.m.tv[t as usize];
-                let k = tv.iter().position(|&u| u == v).unwrap_or(0);
-                (tv.map(|u| self.p[u as usize]), k)
-            })
-            .collect();
+        local.clear();
+        local.extend(star.iter().map(|&t| {
+            let tv = self.m.tv[t as usize];
+            let k = tv.iter().position(|&u| u == v).unwrap_or(0);
+            (tv.map(|u| self.p[u as usize]), k)
+        }));
         let evals = &self.evals;
         let at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
@@ -767,14 +802,15 @@ impl Work {
         };
         let mut x = home;
         // At home: the cached qualities.
-        let mut qs: Vec<f64> = star.iter().map(|&t| self.q[t as usize]).collect();
+        qs.clear();
+        qs.extend(star.iter().map(|&t| self.q[t as usize]));
         let mut cur = qs.iter().copied().fold(f64::INFINITY, f64::min);
         let q_home = cur;
         let mut moved = false;
         let h = 1e-7 * len;
-        let mut order: Vec<usize> = (0..local.len()).collect();
-        let mut qy = qs.clone();
-        let mut grads: Vec<[f64; 3]> = Vec::with_capacity(local.len());
+        qy.clear();
+        qy.extend_from_slice(qs);
+        grads.clear();
         for _ in 0..6 {
             // Gradients of the near-active tetrahedra (forward differences).
             grads.clear();
@@ -790,7 +826,7 @@ impl Work {
                 }
                 grads.push(self.tangent(v, g));
             }
-            let d = min_norm_point(&grads);
+            let d = min_norm_point(grads);
             let dn = norm(&d);
             if dn.is_nan() || dn <= 0.0 || !dn.is_finite() {
                 break;
@@ -812,7 +848,7 @@ impl Work {
                     continue 'search;
                 };
                 let mut m = f64::INFINITY;
-                for &i in &order {
+                for &i in order.iter() {
                     let q = at(i, &y);
                     if q <= cur + 1e-6 {
                         continue 'search;
@@ -821,7 +857,7 @@ impl Work {
                     m = m.min(q);
                 }
                 x = y;
-                std::mem::swap(&mut qs, &mut qy);
+                std::mem::swap(qs, qy);
                 cur = m;
                 accepted = true;
                 break;
@@ -845,7 +881,7 @@ impl Work {
         // The refinement's bounds (see `limits`): per region of the star.
         if !self.limits.is_none() {
             let (mut old, mut new) = (0.0f64, 0.0f64);
-            for &t in &star {
+            for &t in star.iter() {
                 let (tv, r) = (self.m.tv[t as usize], self.m.reg[t as usize]);
                 old = old.max(self.excess(&[tv], r, None));
                 new = new.max(self.excess(&[tv], r, Some((v, x))));
@@ -862,21 +898,21 @@ impl Work {
         }
         self.clock += 1;
         if let Some(log) = &mut self.log {
-            for &t in &star {
+            for &t in star.iter() {
                 let tv = self.m.tv[t as usize];
                 if !self.touched_set.contains(&tv) {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
             log.push(Undo::Move { v, from: home });
-            for &t in &star {
+            for &t in star.iter() {
                 let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
                     self.touched.push((t, tv));
                 }
             }
         }
-        self.dirty.extend_from_slice(&star);
+        self.dirty.extend_from_slice(star);
         for (i, &t) in star.iter().enumerate() {
             self.q[t as usize] = qs[i];
             for w in self.m.tv[t as usize] {
@@ -1352,6 +1388,42 @@ mod tests {
         let (id, _) = w.insert(&cav, [0.1, 0.1, 0.1]).unwrap();
         w.commit();
         assert!(w.stamp[id as usize] > clock && w.stamp[6] > clock);
+    }
+
+    /// Every live slot's cached quality is, bit for bit, its quality now.
+    fn cache_exact(w: &Work) -> bool {
+        (0..w.m.tv.len() as u32).filter(|&t| w.live(t)).all(|t| {
+            w.q[t as usize].to_bits()
+                == quality(w.m.tv[t as usize].map(|v| &w.p[v as usize])).to_bits()
+        })
+    }
+
+    #[test]
+    fn smoothing_and_its_undo_keep_the_cached_qualities() {
+        let mut w = octahedron();
+        // The centre off-centre, its star's qualities cached.
+        w.p[6] = [0.3, -0.2, 0.25];
+        for t in 0..8 {
+            w.q[t] = quality(w.m.tv[t].map(|v| &w.p[v as usize]));
+        }
+        assert!(cache_exact(&w));
+        let q0 = w.q.clone();
+        w.begin();
+        let e0 = w.evals.get();
+        assert!(w.smooth(6));
+        assert!(cache_exact(&w));
+        assert!(
+            w.min_q(&(0..8).collect::<Vec<_>>()) > q0.iter().copied().fold(f64::INFINITY, f64::min)
+        );
+        let e1 = w.evals.get();
+        assert!(e1 > e0);
+        w.rollback();
+        // Back where it was, with the qualities it had (its star evaluated
+        // again: one evaluation per tetrahedron).
+        assert_eq!(w.p[6], [0.3, -0.2, 0.25]);
+        assert!(cache_exact(&w));
+        assert_eq!(w.q, q0);
+        assert_eq!(w.evals.get(), e1 + 8);
     }
 
     #[test]
