@@ -181,19 +181,195 @@ pub(crate) struct Core {
     /// Set once an insertion ran out of index space; the structure then
     /// refuses further insertions.
     overflow: bool,
+    scratch: Scratch,
+}
+
+/// The scratch space of one insertion (one per part of a parallel
+/// insertion).
+#[derive(Debug, Clone, Default)]
+struct Scratch {
     cavity: Vec<u32>,
     kept: Vec<u32>,
+    /// The cavity's boundary facets met by the search: the new cell (the
+    /// facet and the new point, evenly permuted), the local index of the
+    /// facet in it, and the adjacency word of the cell outside.
+    bnd: Vec<([u32; 4], u32, u32)>,
+    /// Slots of the cells created by the last insertion (ghosts included).
+    created: Vec<u32>,
     /// Vertices hidden by the last weighted insertion.
     hidden_now: Vec<u32>,
     /// Per-vertex stamps for `find_hidden` (weighted triangulations only).
     vstamp: Vec<u32>,
     vstamp_next: u32,
-    /// Slots created by the last insertion (ghosts included).
-    pub(crate) created: Vec<u32>,
-    /// When `Some`, each insertion refills it with the vertices of the
-    /// cells it removed (the refinement stage needs them).
-    pub(crate) removed: Option<Vec<[u32; 4]>>,
     edges: EdgeTable,
+}
+
+/// Read access to the cells an insertion may touch: this kernel's arrays,
+/// recovery's domain mesh ([`Arrays`]), or the slot range of one part of a
+/// parallel insertion (which does not own the cells of the other parts).
+pub(crate) trait Cells {
+    /// Whether slot `t` may be read (and, for an insertion, written).
+    fn owns(&self, t: u32) -> bool;
+    /// The vertices of owned slot `t`.
+    fn v(&self, t: u32) -> &[u32; 4];
+    /// The packed neighbour words of owned slot `t`.
+    fn adj(&self, t: u32) -> &[u32; 4];
+}
+
+/// The cells an insertion writes.
+trait CellsMut: Cells {
+    fn v_mut(&mut self, t: u32) -> &mut [u32; 4];
+    fn adj_mut(&mut self, t: u32) -> &mut [u32; 4];
+    /// Whether `k` more slots can be allocated.
+    fn room(&mut self, k: usize) -> bool;
+    /// Writes `tv` into owned slot `t` (live or not), counting finite cells.
+    fn set(&mut self, t: u32, tv: [u32; 4]);
+    /// A slot for a new cell (after `room`).
+    fn alloc(&mut self, tv: [u32; 4]) -> u32;
+    /// Frees owned live slot `t`.
+    fn release(&mut self, t: u32);
+    /// The walk's start cell and random state.
+    fn hint(&mut self) -> (&mut u32, &mut u32);
+}
+
+impl Cells for Arrays<'_> {
+    #[inline(always)]
+    fn owns(&self, _: u32) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn v(&self, t: u32) -> &[u32; 4] {
+        &self.0[t as usize]
+    }
+    #[inline(always)]
+    fn adj(&self, t: u32) -> &[u32; 4] {
+        &self.1[t as usize]
+    }
+}
+
+impl Cells for Core {
+    #[inline(always)]
+    fn owns(&self, _: u32) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn v(&self, t: u32) -> &[u32; 4] {
+        &self.v[t as usize]
+    }
+    #[inline(always)]
+    fn adj(&self, t: u32) -> &[u32; 4] {
+        &self.adj[t as usize]
+    }
+}
+
+impl CellsMut for Core {
+    #[inline(always)]
+    fn v_mut(&mut self, t: u32) -> &mut [u32; 4] {
+        &mut self.v[t as usize]
+    }
+    #[inline(always)]
+    fn adj_mut(&mut self, t: u32) -> &mut [u32; 4] {
+        &mut self.adj[t as usize]
+    }
+    #[inline(always)]
+    fn room(&mut self, _: usize) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn set(&mut self, t: u32, tv: [u32; 4]) {
+        let old = &mut self.v[t as usize];
+        let was = old[0] != DEAD && old[3] != INF;
+        *old = tv;
+        self.finite = self.finite + usize::from(tv[3] != INF) - usize::from(was);
+    }
+    #[inline(always)]
+    fn alloc(&mut self, tv: [u32; 4]) -> u32 {
+        Core::alloc(self, tv)
+    }
+    #[inline(always)]
+    fn release(&mut self, t: u32) {
+        Core::release(self, t)
+    }
+    #[inline(always)]
+    fn hint(&mut self) -> (&mut u32, &mut u32) {
+        (&mut self.last, &mut self.rng)
+    }
+}
+
+/// The slot range `base..base + v.len()` of the shared arrays, owned by one
+/// part of a parallel insertion: its cells, its free slots, its walk state.
+struct Part<'c> {
+    base: u32,
+    v: &'c mut [[u32; 4]],
+    adj: &'c mut [[u32; 4]],
+    /// Slots of the range in use or freed: `used..` were never used.
+    used: u32,
+    free: Vec<u32>,
+    /// Finite cells created minus finite cells removed.
+    finite: isize,
+    last: u32,
+    rng: u32,
+}
+
+impl Cells for Part<'_> {
+    #[inline(always)]
+    fn owns(&self, t: u32) -> bool {
+        (t.wrapping_sub(self.base) as usize) < self.v.len()
+    }
+    #[inline(always)]
+    fn v(&self, t: u32) -> &[u32; 4] {
+        &self.v[(t - self.base) as usize]
+    }
+    #[inline(always)]
+    fn adj(&self, t: u32) -> &[u32; 4] {
+        &self.adj[(t - self.base) as usize]
+    }
+}
+
+impl CellsMut for Part<'_> {
+    #[inline(always)]
+    fn v_mut(&mut self, t: u32) -> &mut [u32; 4] {
+        &mut self.v[(t - self.base) as usize]
+    }
+    #[inline(always)]
+    fn adj_mut(&mut self, t: u32) -> &mut [u32; 4] {
+        &mut self.adj[(t - self.base) as usize]
+    }
+    #[inline(always)]
+    fn room(&mut self, k: usize) -> bool {
+        self.free.len() + (self.v.len() - self.used as usize) >= k
+    }
+    #[inline(always)]
+    fn set(&mut self, t: u32, tv: [u32; 4]) {
+        let old = self.v_mut(t);
+        let was = old[0] != DEAD && old[3] != INF;
+        *old = tv;
+        self.finite += isize::from(tv[3] != INF) - isize::from(was);
+    }
+    #[inline(always)]
+    fn alloc(&mut self, tv: [u32; 4]) -> u32 {
+        let t = match self.free.pop() {
+            Some(t) => t,
+            None => {
+                self.used += 1;
+                self.base + self.used - 1
+            }
+        };
+        self.set(t, tv);
+        t
+    }
+    #[inline(always)]
+    fn release(&mut self, t: u32) {
+        let tv = self.v_mut(t);
+        let finite = tv[3] != INF;
+        tv[0] = DEAD;
+        self.finite -= isize::from(finite);
+        self.free.push(t);
+    }
+    #[inline(always)]
+    fn hint(&mut self) -> (&mut u32, &mut u32) {
+        (&mut self.last, &mut self.rng)
+    }
 }
 
 /// Incremental 3D Delaunay tetrahedralization.
@@ -455,7 +631,7 @@ impl<'a> Delaunay3<'a> {
                 _ => {}
             }
             dt.hidden
-                .extend(dt.core.hidden_now.drain(..).map(|q| order[q as usize]));
+                .extend(dt.core.scratch.hidden_now.drain(..).map(|q| order[q as usize]));
             if (k + 1) % PROGRESS_STEP == 0 {
                 progress(k + 1, n);
             }
@@ -591,11 +767,11 @@ impl<'a> Delaunay3<'a> {
                 self.hidden.push(q);
             }
         }
-        for &q in &self.core.hidden_now {
+        for &q in &self.core.scratch.hidden_now {
             self.vertex_map[q as usize] = NONE;
             self.hidden.push(q);
         }
-        self.core.hidden_now.clear();
+        self.core.scratch.hidden_now.clear();
         self.hidden.sort_unstable();
         Ok(r)
     }
@@ -922,232 +1098,284 @@ impl Core {
         walk_cells((&self.v, &self.adj), pts, p, start, rng)
     }
 
-    /// Does the circumsphere of finite tet `t` (possibly marked) contain
-    /// point `id`? With `W`, the power test: is `id` closer, in power
-    /// distance, to the orthogonal sphere of `t`'s weighted vertices than
-    /// orthogonal to it? Exact ties are broken by the input ids `ids[i]`
-    /// (`i` itself when `ids` is empty).
-    #[inline]
-    fn finite_conflict<const W: bool>(&self, g: Geo<'_>, t: u32, id: u32) -> bool {
-        let [a, b, c, d] = self.v[t as usize];
-        let a = a & UNMARK;
-        let q = |i: u32| &g.pts[i as usize];
-        let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
-        // Swap a and b: insphere's convention wants orient3d > 0.
-        let s = if W {
-            insphere_weighted(q(b), q(a), q(c), q(d), q(id), w(b), w(a), w(c), w(d), w(id))
-        } else {
-            insphere(q(b), q(a), q(c), q(d), q(id))
-        };
-        if s != 0.0 {
-            return s > 0.0;
-        }
-        // An exact tie (zero weights: the in-sphere tie): the perturbation
-        // by input id decides.
-        let o = |i: u32| g.ids.get(i as usize).copied().unwrap_or(i);
-        let (ia, ib, ic, id_, ie) = (o(b), o(a), o(c), o(d), o(id));
-        let (pa, pb, pc, pd, pe) = (q(b), q(a), q(c), q(d), q(id));
-        let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
-        insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
-    }
-
-    #[inline]
-    fn in_conflict<const W: bool>(&self, g: Geo<'_>, t: u32, id: u32) -> bool {
-        let tv = self.v[t as usize];
-        if tv[3] != INF {
-            return self.finite_conflict::<W>(g, t, id);
-        }
-        // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
-        // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
-        // and with points on its plane iff the finite cell behind does.
-        let [a, b, c] = FACET[3].map(|i| &g.pts[tv[i] as usize]);
-        let o = orient3d(a, b, c, &g.pts[id as usize]);
-        if o != 0.0 {
-            o < 0.0
-        } else {
-            self.finite_conflict::<W>(g, self.adj[t as usize][3] >> 2, id)
-        }
-    }
-
-    /// Inserts point `id`: locate, cavity, stellate. With `W` (weights in
-    /// `wts`), the power test decides conflicts: the new point may turn out
-    /// hidden, and vertices whose whole star falls in the cavity become
-    /// hidden (listed in `self.hidden_now`).
-    fn insert<const W: bool>(&mut self, g: Geo<'_>, id: u32) -> Result<Inserted, Error> {
-        let (pts, wts) = (g.pts, g.wts);
-        let p = &pts[id as usize];
-        let mut rng = self.rng;
-        let t0 = self.walk(pts, p, self.last, &mut rng);
-        self.rng = rng;
-        let tv0 = self.v[t0 as usize];
-        if tv0[3] != INF {
-            let same =
-                |q: u32| pts[q as usize] == *p && (!W || wts[q as usize] == wts[id as usize]);
-            if let Some(&q) = tv0.iter().find(|&&q| same(q)) {
-                return Ok(Inserted::Duplicate { id, original: q });
-            }
-            // Inside the hull, a weighted point below no power sphere of the
-            // cell containing it has an empty power cell.
-            if W && !self.finite_conflict::<W>(g, t0, id) {
-                return Ok(Inserted::Hidden(id));
-            }
-        }
+    /// Inserts point `id` ([`insert_in`] on the whole arrays), refusing
+    /// insertions once the index space could overflow.
+    fn insert_any(&mut self, g: Geo<'_>, id: u32) -> Result<Inserted, Error> {
         if self.v.len() + (1 << 20) > MAX_TETS || self.overflow {
             // No insertion creates a million cells on realistic input; past this
             // point packed adjacency words could overflow.
             self.overflow = true;
             return Err(Error::CapacityExceeded {
-                requested: pts.len(),
+                requested: g.pts.len(),
             });
         }
-        // Grow the cavity breadth-first (the cavity list is the queue). t0
-        // contains p (or sees it beyond its hull facet), so it conflicts
-        // without a test. Each boundary facet met is stellated at once into a
-        // fresh slot: only cavity cells' adjacency is read during the search,
-        // and those are left intact until the search ends.
-        let mut cavity = std::mem::take(&mut self.cavity);
-        let mut kept = std::mem::take(&mut self.kept);
-        let mut created = std::mem::take(&mut self.created);
-        cavity.clear();
-        kept.clear();
-        created.clear();
-        self.v[t0 as usize][0] |= MARK_CAVITY;
-        cavity.push(t0);
-        let mut k = 0;
-        while k < cavity.len() {
-            let t = cavity[k];
-            k += 1;
-            let adj_t = self.adj[t as usize];
-            let [t0, t1, t2, t3] = self.v[t as usize];
-            let tv = [t0 & UNMARK, t1, t2, t3];
-            for (f, &w) in adj_t.iter().enumerate() {
-                let u = w >> 2;
-                let mark = self.v[u as usize][0];
-                if mark & MARK_CAVITY != 0 {
-                    continue;
-                }
-                if mark & MARK_KEEP == 0 {
-                    if self.in_conflict::<W>(g, u, id) {
-                        self.v[u as usize][0] |= MARK_CAVITY;
-                        cavity.push(u);
-                        continue;
-                    }
-                    self.v[u as usize][0] |= MARK_KEEP;
-                    kept.push(u);
-                }
-                let [a, b, c] = FACET[f].map(|i| tv[i]);
-                // Keep INF in position 3 with an even permutation.
-                let (cell, fp) = if a == INF {
-                    ([id, c, b, a], 0)
-                } else if b == INF {
-                    ([c, id, a, b], 1)
-                } else if c == INF {
-                    ([b, a, id, c], 2)
-                } else {
-                    ([a, b, c, id], 3)
-                };
-                let n = self.alloc(cell);
-                self.adj[n as usize][fp] = w;
-                self.adj[u as usize][(w & 3) as usize] = 4 * n + fp as u32;
-                created.push(n);
+        let mut s = std::mem::take(&mut self.scratch);
+        let r = if g.wts.is_empty() {
+            insert_in::<_, false>(self, &mut s, g, id)
+        } else {
+            if s.vstamp.len() < g.pts.len() {
+                s.vstamp.resize(g.pts.len(), 0);
             }
-        }
-        for &u in kept.iter().chain(&cavity) {
-            self.v[u as usize][0] &= UNMARK;
-        }
-        if W {
-            self.find_hidden(&cavity, &created, id);
-        }
-        if let Some(r) = self.removed.as_mut() {
-            r.clear();
-            r.extend(cavity.iter().map(|&t| self.v[t as usize]));
-        }
-        for &t in &cavity {
-            self.release(t);
-        }
-        // Glue the new cells to each other along the cavity boundary's edges.
-        self.edges.reset(created.len() * 3);
-        let mut newest = NONE;
-        for &n in &created {
-            let cell = self.v[n as usize];
-            // Undo the permutation of the stellation: (a, b, c) is the
-            // boundary facet, fa/fb/fc the local facets opposite a, b, c.
-            let ([a, b, c], [fa, fb, fc]) = match cell {
-                [p, c, b, INF] if p == id => ([INF, b, c], [3, 2, 1]),
-                [c, p, a, INF] if p == id => ([a, INF, c], [2, 3, 0]),
-                [b, a, p, INF] if p == id => ([a, b, INF], [1, 0, 3]),
-                [a, b, c, _] => ([a, b, c], [0, 1, 2]),
-            };
-            // Facet fa holds edge b->c, fb edge c->a, fc edge a->b.
-            for (f, (x, y)) in [(fa, (b, c)), (fb, (c, a)), (fc, (a, b))] {
-                if let Some(w) = self.edges.pair(x, y, 4 * n + f as u32) {
-                    self.link(n, f, w >> 2, (w & 3) as usize);
-                }
-            }
-            if cell[3] != INF {
-                newest = n;
-            }
-        }
-        self.cavity = cavity;
-        self.kept = kept;
-        self.created = created;
-        // Inserting a vertex always creates finite tetrahedra; the walk
-        // steps off a ghost start by itself anyway.
-        if newest != NONE {
-            self.last = newest;
-        }
+            insert_in::<_, true>(self, &mut s, g, id)
+        };
+        self.scratch = s;
         if self.v.len() > MAX_TETS {
             self.overflow = true;
             return Err(Error::CapacityExceeded {
-                requested: pts.len(),
+                requested: g.pts.len(),
             });
         }
-        Ok(Inserted::Vertex(id))
+        // The whole arrays are owned: an insertion is never deferred.
+        Ok(r.unwrap_or(Inserted::Vertex(id)))
     }
+}
 
-    /// [`Core::insert`] for either kind of triangulation (`g.wts` empty for
-    /// Delaunay).
-    fn insert_any(&mut self, g: Geo<'_>, id: u32) -> Result<Inserted, Error> {
-        if g.wts.is_empty() {
-            self.insert::<false>(g, id)
-        } else {
-            if self.vstamp.len() < g.pts.len() {
-                self.vstamp.resize(g.pts.len(), 0);
+/// Does the circumsphere of finite tet `t` (possibly marked) contain point
+/// `id`? With `W`, the power test: is `id` closer, in power distance, to the
+/// orthogonal sphere of `t`'s weighted vertices than orthogonal to it? Exact
+/// ties are broken by the input ids `ids[i]` (`i` itself when `ids` is
+/// empty).
+#[inline]
+fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> bool {
+    let [a, b, c, d] = *c.v(t);
+    let a = a & UNMARK;
+    let q = |i: u32| &g.pts[i as usize];
+    let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
+    // Swap a and b: insphere's convention wants orient3d > 0.
+    let s = if W {
+        insphere_weighted(q(b), q(a), q(c), q(d), q(id), w(b), w(a), w(c), w(d), w(id))
+    } else {
+        insphere(q(b), q(a), q(c), q(d), q(id))
+    };
+    if s != 0.0 {
+        return s > 0.0;
+    }
+    // An exact tie (zero weights: the in-sphere tie): the perturbation
+    // by input id decides.
+    let o = |i: u32| g.ids.get(i as usize).copied().unwrap_or(i);
+    let (ia, ib, ic, id_, ie) = (o(b), o(a), o(c), o(d), o(id));
+    let (pa, pb, pc, pd, pe) = (q(b), q(a), q(c), q(d), q(id));
+    let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
+    insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
+}
+
+/// Whether owned cell `t` conflicts with point `id`; `None` when the answer
+/// needs a cell `c` does not own.
+#[inline]
+fn in_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> Option<bool> {
+    let tv = c.v(t);
+    if tv[3] != INF {
+        return Some(finite_conflict::<C, W>(c, g, t, id));
+    }
+    // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
+    // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
+    // and with points on its plane iff the finite cell behind does.
+    let [a, b, d] = FACET[3].map(|i| &g.pts[(tv[i] & UNMARK) as usize]);
+    let o = orient3d(a, b, d, &g.pts[id as usize]);
+    if o != 0.0 {
+        return Some(o < 0.0);
+    }
+    let behind = c.adj(t)[3] >> 2;
+    match c.owns(behind) {
+        true => Some(finite_conflict::<C, W>(c, g, behind, id)),
+        false => None,
+    }
+}
+
+/// Inserts point `id` into the cells `c`: locate, cavity, stellate. With `W`
+/// (weights in `g.wts`), the power test decides conflicts: the new point may
+/// turn out hidden, and vertices whose whole star falls in the cavity become
+/// hidden (listed in `s.hidden_now`).
+///
+/// `None` (nothing changed) when the walk or the cavity meets a cell `c` does
+/// not own, or when `c` has no room for the new cells: the point is left for
+/// a later insertion.
+fn insert_in<C: CellsMut, const W: bool>(
+    c: &mut C,
+    s: &mut Scratch,
+    g: Geo<'_>,
+    id: u32,
+) -> Option<Inserted> {
+    let (pts, wts) = (g.pts, g.wts);
+    let p = &pts[id as usize];
+    let (&mut start, &mut mut rng) = c.hint();
+    let t0 = walk_owned(&*c, pts, p, start, &mut rng);
+    *c.hint().1 = rng;
+    let t0 = t0.ok()?;
+    let tv0 = *c.v(t0);
+    if tv0[3] != INF {
+        let same = |q: u32| pts[q as usize] == *p && (!W || wts[q as usize] == wts[id as usize]);
+        if let Some(&q) = tv0.iter().find(|&&q| same(q)) {
+            return Some(Inserted::Duplicate { id, original: q });
+        }
+        // Inside the hull, a weighted point below no power sphere of the
+        // cell containing it has an empty power cell.
+        if W && !finite_conflict::<C, W>(c, g, t0, id) {
+            return Some(Inserted::Hidden(id));
+        }
+    }
+    // Grow the cavity breadth-first (the cavity list is the queue). t0
+    // contains p (or sees it beyond its hull facet), so it conflicts
+    // without a test. Each boundary facet met is recorded with its new cell;
+    // nothing but marks is written until the search ends, so a search that
+    // meets a cell it may not touch is undone by clearing the marks.
+    let Scratch {
+        cavity, kept, bnd, ..
+    } = s;
+    cavity.clear();
+    kept.clear();
+    bnd.clear();
+    c.v_mut(t0)[0] |= MARK_CAVITY;
+    cavity.push(t0);
+    let mut k = 0;
+    let mut complete = true;
+    'search: while k < cavity.len() {
+        let t = cavity[k];
+        k += 1;
+        let adj_t = *c.adj(t);
+        let [t0, t1, t2, t3] = *c.v(t);
+        let tv = [t0 & UNMARK, t1, t2, t3];
+        for (f, &w) in adj_t.iter().enumerate() {
+            let u = w >> 2;
+            if !c.owns(u) {
+                complete = false;
+                break 'search;
             }
-            self.insert::<true>(g, id)
-        }
-    }
-
-    /// Regular triangulations: the vertices of the cavity cells that are not
-    /// on the cavity boundary lose their whole star, so their power cell is
-    /// now empty. Collected into `hidden_now` (cavity cells still intact),
-    /// with a per-vertex stamp (weighted triangulations only).
-    fn find_hidden(&mut self, cavity: &[u32], created: &[u32], id: u32) {
-        self.hidden_now.clear();
-        if self.vstamp_next > u32::MAX - 4 {
-            self.vstamp.iter_mut().for_each(|x| *x = 0);
-            self.vstamp_next = 0;
-        }
-        let rim = self.vstamp_next + 1;
-        let seen = rim + 1;
-        self.vstamp_next = seen;
-        for &n in created {
-            for q in self.v[n as usize] {
-                if q != INF && q != id {
-                    self.vstamp[q as usize] = rim;
+            let mark = c.v(u)[0];
+            if mark & MARK_CAVITY != 0 {
+                continue;
+            }
+            if mark & MARK_KEEP == 0 {
+                match in_conflict::<C, W>(c, g, u, id) {
+                    Some(true) => {
+                        c.v_mut(u)[0] |= MARK_CAVITY;
+                        cavity.push(u);
+                        continue;
+                    }
+                    Some(false) => {}
+                    None => {
+                        complete = false;
+                        break 'search;
+                    }
                 }
+                c.v_mut(u)[0] |= MARK_KEEP;
+                kept.push(u);
+            }
+            let [a, b, d] = FACET[f].map(|i| tv[i]);
+            // Keep INF in position 3 with an even permutation.
+            let (cell, fp) = if a == INF {
+                ([id, d, b, a], 0)
+            } else if b == INF {
+                ([d, id, a, b], 1)
+            } else if d == INF {
+                ([b, a, id, d], 2)
+            } else {
+                ([a, b, d, id], 3)
+            };
+            bnd.push((cell, fp, w));
+        }
+    }
+    for &u in kept.iter() {
+        c.v_mut(u)[0] &= UNMARK;
+    }
+    if !complete || !c.room(bnd.len().saturating_sub(cavity.len())) {
+        for &u in cavity.iter() {
+            c.v_mut(u)[0] &= UNMARK;
+        }
+        return None;
+    }
+    if W {
+        find_hidden(&*c, s, id);
+    }
+    let Scratch {
+        cavity,
+        bnd,
+        created,
+        edges,
+        ..
+    } = s;
+    // The new cells: the cavity's slots first (they are in cache), then
+    // fresh ones.
+    created.clear();
+    for (i, &(cell, fp, w)) in bnd.iter().enumerate() {
+        let n = match cavity.get(i) {
+            Some(&t) => {
+                c.set(t, cell);
+                t
+            }
+            None => c.alloc(cell),
+        };
+        c.adj_mut(n)[fp as usize] = w;
+        c.adj_mut(w >> 2)[(w & 3) as usize] = 4 * n + fp;
+        created.push(n);
+    }
+    for &t in cavity.iter().skip(bnd.len()) {
+        c.release(t);
+    }
+    // Glue the new cells to each other along the cavity boundary's edges.
+    edges.reset(created.len() * 3);
+    let mut newest = NONE;
+    for &n in created.iter() {
+        let cell = *c.v(n);
+        // Undo the permutation of the stellation: (a, b, d) is the
+        // boundary facet, fa/fb/fd the local facets opposite a, b, d.
+        let ([a, b, d], [fa, fb, fd]) = match cell {
+            [p, d, b, INF] if p == id => ([INF, b, d], [3, 2, 1]),
+            [d, p, a, INF] if p == id => ([a, INF, d], [2, 3, 0]),
+            [b, a, p, INF] if p == id => ([a, b, INF], [1, 0, 3]),
+            [a, b, d, _] => ([a, b, d], [0, 1, 2]),
+        };
+        // Facet fa holds edge b->d, fb edge d->a, fd edge a->b.
+        for (f, (x, y)) in [(fa, (b, d)), (fb, (d, a)), (fd, (a, b))] {
+            if let Some(w) = edges.pair(x, y, 4 * n + f as u32) {
+                c.adj_mut(n)[f] = w;
+                c.adj_mut(w >> 2)[(w & 3) as usize] = 4 * n + f as u32;
             }
         }
-        for &t in cavity {
-            for q in self.v[t as usize] {
-                if q != INF && q != id && self.vstamp[q as usize] < rim {
-                    self.vstamp[q as usize] = seen;
-                    self.hidden_now.push(q);
-                }
+        if cell[3] != INF {
+            newest = n;
+        }
+    }
+    // Inserting a vertex always creates finite tetrahedra; the walk
+    // steps off a ghost start by itself anyway.
+    if newest != NONE {
+        *c.hint().0 = newest;
+    }
+    Some(Inserted::Vertex(id))
+}
+
+/// Regular triangulations: the vertices of the cavity cells that are not on
+/// the cavity boundary lose their whole star, so their power cell is now
+/// empty. Collected into `s.hidden_now` (cavity cells still intact), with a
+/// per-vertex stamp (weighted triangulations only).
+fn find_hidden<C: Cells>(c: &C, s: &mut Scratch, id: u32) {
+    s.hidden_now.clear();
+    if s.vstamp_next > u32::MAX - 4 {
+        s.vstamp.iter_mut().for_each(|x| *x = 0);
+        s.vstamp_next = 0;
+    }
+    let rim = s.vstamp_next + 1;
+    let seen = rim + 1;
+    s.vstamp_next = seen;
+    for (cell, _, _) in &s.bnd {
+        for &q in cell {
+            if q != INF && q != id {
+                s.vstamp[q as usize] = rim;
             }
         }
     }
+    for &t in &s.cavity {
+        let [a, b, d, e] = *c.v(t);
+        for q in [a & UNMARK, b, d, e] {
+            if q != INF && q != id && s.vstamp[q as usize] < rim {
+                s.vstamp[q as usize] = seen;
+                s.hidden_now.push(q);
+            }
+        }
+    }
+}
 
+impl Core {
     /// Removes ghosts and dead slots in place; returns tets and plain
     /// neighbour indices (NONE on the hull).
     fn into_arrays(mut self) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
@@ -1218,21 +1446,40 @@ pub(crate) type Arrays<'c> = (&'c [[u32; 4]], &'c [[u32; 4]]);
 /// whose closure contains `p`, or a ghost whose hull facet has `p`
 /// strictly on its outer side.
 pub(crate) fn walk_cells(
-    (v, adj): Arrays<'_>,
+    arrays: Arrays<'_>,
     pts: &[[f64; 3]],
     p: &[f64; 3],
     start: u32,
     rng: &mut u32,
 ) -> u32 {
+    match walk_owned(&arrays, pts, p, start, rng) {
+        Ok(t) | Err(t) => t,
+    }
+}
+
+/// [`walk_cells`] over the cells `c` owns: `Err` with the last owned cell
+/// when the walk would step into a cell `c` does not own.
+#[inline]
+fn walk_owned<C: Cells>(
+    c: &C,
+    pts: &[[f64; 3]],
+    p: &[f64; 3],
+    start: u32,
+    rng: &mut u32,
+) -> Result<u32, u32> {
     let mut t = start;
-    if v[t as usize][3] == INF {
-        t = adj[t as usize][3] >> 2;
+    if c.v(t)[3] == INF {
+        let u = c.adj(t)[3] >> 2;
+        if !c.owns(u) {
+            return Err(t);
+        }
+        t = u;
     }
     let mut from = 4usize;
     'walk: loop {
-        let tv = v[t as usize];
+        let tv = *c.v(t);
         if tv[3] == INF {
-            return t;
+            return Ok(t);
         }
         let r = Core::next_rand(rng) as usize;
         for k in 0..4 {
@@ -1240,16 +1487,19 @@ pub(crate) fn walk_cells(
             if f == from {
                 continue;
             }
-            let [a, b, c] = FACET[f].map(|i| &pts[tv[i] as usize]);
+            let [a, b, d] = FACET[f].map(|i| &pts[tv[i] as usize]);
             // orient3d > 0: p is on the negative side of the facet, i.e.
             // beyond it.
-            if orient3d(a, b, c, p) > 0.0 {
-                let w = adj[t as usize][f];
+            if orient3d(a, b, d, p) > 0.0 {
+                let w = c.adj(t)[f];
+                if !c.owns(w >> 2) {
+                    return Err(t);
+                }
                 t = w >> 2;
                 from = (w & 3) as usize;
                 continue 'walk;
             }
         }
-        return t;
+        return Ok(t);
     }
 }
