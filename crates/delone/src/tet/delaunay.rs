@@ -91,6 +91,17 @@ const MARK_KEEP: u32 = 1 << 30;
 /// The vertex bits of a possibly marked first vertex.
 const UNMARK: u32 = MARK_KEEP - 1;
 
+/// Number of parts the last BRIO round is inserted in (see
+/// `Core::insert_parts`) when it has at least [`PARALLEL_MIN_POINTS`] points.
+/// Each further halving of the parts leaves more points near part borders
+/// for a later pass: on 1M uniform points 2 parts leave 4.7% of the round
+/// to the serial pass, 8 parts 13.5% to the next pass and cost a third
+/// more work in all (the same 4.7% reach the serial pass).
+const PARTS: usize = 2;
+
+/// Smallest last BRIO round inserted in parts.
+const PARALLEL_MIN_POINTS: usize = 1 << 16;
+
 /// How many insertions between two progress callbacks.
 const PROGRESS_STEP: usize = 1 << 16;
 
@@ -311,6 +322,46 @@ struct Part<'c> {
     rng: u32,
 }
 
+/// The state of one part of a parallel insertion between passes: its slot
+/// range `lo..hi` (`used..hi` never used), free slots, count of finite
+/// cells created minus removed, walk state and the points it is to insert.
+#[derive(Debug, Default)]
+struct Group {
+    lo: u32,
+    hi: u32,
+    used: u32,
+    free: Vec<u32>,
+    finite: isize,
+    last: u32,
+    rng: u32,
+    points: Vec<u32>,
+}
+
+impl Group {
+    /// The union of this part and the next one (`self.hi == next.lo`).
+    fn merge(&mut self, next: Group) -> Group {
+        let mut free = std::mem::take(&mut self.free);
+        free.extend((self.used..self.hi).rev());
+        free.extend(next.free);
+        let mut points = std::mem::take(&mut self.points);
+        points.extend(next.points);
+        Group {
+            lo: self.lo,
+            hi: next.hi,
+            used: next.used,
+            free,
+            finite: self.finite + next.finite,
+            last: if self.last != NONE {
+                self.last
+            } else {
+                next.last
+            },
+            rng: self.rng,
+            points,
+        }
+    }
+}
+
 impl Cells for Part<'_> {
     #[inline(always)]
     fn owns(&self, t: u32) -> bool {
@@ -491,7 +542,28 @@ impl<'a> Delaunay3<'a> {
         points: &'a [[f64; 3]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        Self::build(points, None, progress)
+        Self::build(points, None, 1, progress)
+    }
+
+    /// Like [`Delaunay3::from_points_with_progress`], on up to `threads`
+    /// threads (0 counts as 1). The result is the same for every thread
+    /// count: large inputs are inserted in a fixed number of spatial parts
+    /// whatever the number of threads running them.
+    ///
+    /// ```
+    /// let pts: Vec<[f64; 3]> = (0..1000u32)
+    ///     .map(|i| [(i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64])
+    ///     .collect();
+    /// let one = delone::tet::Delaunay3::from_points_with_threads(&pts, 1, &mut |_, _| {}).unwrap();
+    /// let two = delone::tet::Delaunay3::from_points_with_threads(&pts, 2, &mut |_, _| {}).unwrap();
+    /// assert_eq!(one.into_mesh(), two.into_mesh());
+    /// ```
+    pub fn from_points_with_threads(
+        points: &'a [[f64; 3]],
+        threads: usize,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
+        Self::build(points, None, threads, progress)
     }
 
     /// The regular (weighted Delaunay) tetrahedralization of `points` with
@@ -511,7 +583,7 @@ impl<'a> Delaunay3<'a> {
     /// assert_eq!(dt.num_tets(), 1);
     /// ```
     pub fn from_weighted_points(points: &'a [[f64; 3]], weights: &'a [f64]) -> Result<Self, Error> {
-        Self::build(points, Some(weights), &mut |_, _| {})
+        Self::build(points, Some(weights), 1, &mut |_, _| {})
     }
 
     /// [`Delaunay3::from_weighted_points`] with a progress callback.
@@ -527,12 +599,13 @@ impl<'a> Delaunay3<'a> {
         weights: &'a [f64],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        Self::build(points, Some(weights), progress)
+        Self::build(points, Some(weights), 1, progress)
     }
 
     fn build(
         points: &'a [[f64; 3]],
         weights: Option<&'a [f64]>,
+        threads: usize,
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
         check_coords(points)?;
@@ -622,18 +695,52 @@ impl<'a> Delaunay3<'a> {
         };
         let input = |k: u32| order[k as usize];
         dt.core.start(&local, [0, 1, 2, 3]);
-        for k in 4..n {
-            match dt.core.insert_any(geo, k as u32)? {
-                Inserted::Duplicate { id, original } => {
-                    dt.duplicates.push((input(id), input(original)));
-                }
-                Inserted::Hidden(id) => dt.hidden.push(input(id)),
-                _ => {}
+        // The last BRIO round of a large Delaunay triangulation is inserted
+        // in parts (`Core::insert_parts`); their number depends on the size
+        // only, so the output is the same for every thread count.
+        let last_round = crate::geom::sort::last_round_start(&order, 4);
+        let parts = match wts.is_empty() && n - last_round >= PARALLEL_MIN_POINTS {
+            true => PARTS,
+            false => 1,
+        };
+        let serial_end = if parts > 1 { last_round } else { n };
+        let note = |dt: &mut Self, r: Inserted| match r {
+            Inserted::Duplicate { id, original } => {
+                dt.duplicates.push((input(id), input(original)));
             }
-            dt.hidden
-                .extend(dt.core.scratch.hidden_now.drain(..).map(|q| order[q as usize]));
+            Inserted::Hidden(id) => dt.hidden.push(input(id)),
+            _ => {}
+        };
+        for k in 4..serial_end {
+            let r = dt.core.insert_any(geo, k as u32)?;
+            note(&mut dt, r);
+            dt.hidden.extend(
+                dt.core
+                    .scratch
+                    .hidden_now
+                    .drain(..)
+                    .map(|q| order[q as usize]),
+            );
             if (k + 1) % PROGRESS_STEP == 0 {
                 progress(k + 1, n);
+            }
+        }
+        if serial_end < n {
+            let grid = crate::geom::sort::HilbertGrid::new(&local);
+            let (left, dups) = dt.core.insert_parts(
+                geo,
+                serial_end as u32..n as u32,
+                &grid,
+                parts,
+                threads.max(1),
+            );
+            for r in dups {
+                note(&mut dt, r);
+            }
+            progress(n - left.len(), n);
+            for id in left {
+                let r = dt.core.insert_any(geo, id)?;
+                note(&mut dt, r);
             }
         }
         drop((local, local_w));
@@ -1135,7 +1242,7 @@ impl Core {
 /// orthogonal sphere of `t`'s weighted vertices than orthogonal to it? Exact
 /// ties are broken by the input ids `ids[i]` (`i` itself when `ids` is
 /// empty).
-#[inline]
+#[inline(always)]
 fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> bool {
     let [a, b, c, d] = *c.v(t);
     let a = a & UNMARK;
@@ -1161,7 +1268,7 @@ fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) 
 
 /// Whether owned cell `t` conflicts with point `id`; `None` when the answer
 /// needs a cell `c` does not own.
-#[inline]
+#[inline(always)]
 fn in_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> Option<bool> {
     let tv = c.v(t);
     if tv[3] != INF {
@@ -1376,6 +1483,236 @@ fn find_hidden<C: Cells>(c: &C, s: &mut Scratch, id: u32) {
 }
 
 impl Core {
+    /// Inserts the points `ids` (Delaunay, no weights), sorted by their
+    /// Hilbert keys on `grid`, in `parts` parts run on up to `threads`
+    /// threads.
+    ///
+    /// The points are cut into `parts` runs of consecutive keys; every live
+    /// cell goes to the part whose key range holds the key of its centroid,
+    /// and the cells are moved so that each part owns one slot range (with
+    /// room for the cells its points will create). Each part inserts its
+    /// points touching only its own range ([`insert_in`] on a [`Part`]): a
+    /// point whose walk or cavity reaches another part's cell is left out.
+    /// A part's result depends only on its own cells and points, so the
+    /// arrays are the same for every thread count. Returns the points left
+    /// out (in order) and the duplicates found.
+    fn insert_parts(
+        &mut self,
+        g: Geo<'_>,
+        ids: std::ops::Range<u32>,
+        grid: &crate::geom::sort::HilbertGrid<3>,
+        parts: usize,
+        threads: usize,
+    ) -> (Vec<u32>, Vec<Inserted>) {
+        let (first, m) = (ids.start, ids.len());
+        let cut: Vec<usize> = (0..=parts).map(|k| m * k / parts).collect();
+        let split: Vec<u64> = (cut[1..parts].iter())
+            .map(|&c| grid.key(&g.pts[first as usize + c]))
+            .collect();
+        // Each live cell's part, from the key of its centroid.
+        let len = self.v.len();
+        let mut slot = vec![NONE; len];
+        let mut count = vec![0usize; parts];
+        for (t, tv) in self.v.iter().enumerate() {
+            if tv[0] == DEAD {
+                continue;
+            }
+            let mut c = [0.0f64; 3];
+            let mut k = 0.0;
+            for &q in tv.iter().filter(|&&q| q != INF) {
+                let p = &g.pts[q as usize];
+                c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
+                k += 1.0;
+            }
+            let c = c.map(|x| x / k);
+            let part = split.partition_point(|&s| s <= grid.key(&c));
+            slot[t] = part as u32;
+            count[part] += 1;
+        }
+        // Room per part: its cells plus the cells per inserted point so far
+        // (ghosts included) for each of its points, with a margin.
+        let live = len - self.free.len();
+        let inserted = (first as usize).max(1);
+        let mut bounds = vec![0usize];
+        for k in 0..parts {
+            let pts = cut[k + 1] - cut[k];
+            let room = (pts * live).div_ceil(inserted) / 50 * 51 + 1024;
+            bounds.push(bounds[k] + count[k] + room);
+        }
+        let total = bounds[parts];
+        if total + (1 << 20) > MAX_TETS {
+            return (ids.collect(), Vec::new());
+        }
+        // Destinations: part k's cells in slot order from bounds[k].
+        let mut next: Vec<usize> = bounds[..parts].to_vec();
+        for d in slot.iter_mut().filter(|d| **d != NONE) {
+            let k = *d as usize;
+            *d = next[k] as u32;
+            next[k] += 1;
+        }
+        self.move_cells(&mut slot, total);
+        self.last = slot[self.last as usize];
+        self.free.clear();
+        drop(slot);
+        // Each part's walks start from the cell holding its first point when
+        // it owns that cell, else from its first finite cell.
+        let starts: Vec<u32> = (0..parts)
+            .map(|k| {
+                let (lo, hi) = (bounds[k], bounds[k] + count[k]);
+                let mut rng = 0x2545_F491;
+                let p = &g.pts[first as usize + cut[k]];
+                let t = walk_cells((&self.v, &self.adj), g.pts, p, self.last, &mut rng) as usize;
+                if (lo..hi).contains(&t) {
+                    return t as u32;
+                }
+                (lo..hi)
+                    .find(|&t| self.v[t][3] != INF)
+                    .map_or(NONE, |t| t as u32)
+            })
+            .collect();
+        let mut groups: Vec<Group> = (0..parts)
+            .map(|k| Group {
+                lo: bounds[k] as u32,
+                hi: bounds[k + 1] as u32,
+                used: (bounds[k] + count[k]) as u32,
+                free: Vec::new(),
+                finite: 0,
+                last: starts[k],
+                rng: 0x2545_F491 ^ (k as u32).wrapping_mul(0x9E37_79B9),
+                points: (first + cut[k] as u32..first + cut[k + 1] as u32).collect(),
+            })
+            .collect();
+        let mut dups = Vec::new();
+        // Passes: the parts, then unions of two neighbouring parts (slot
+        // ranges and key ranges), and so on; a point left out by a pass
+        // waits for the next one, the one part the last union makes is the
+        // whole arrays (the caller's serial pass).
+        while groups.len() > 1 {
+            let bounds: Vec<usize> = (groups.iter().map(|r| r.lo as usize))
+                .chain([total])
+                .collect();
+            let vs = crate::par::split_mut(&mut self.v, &bounds);
+            let adjs = crate::par::split_mut(&mut self.adj, &bounds);
+            let items: Vec<(Group, &mut [[u32; 4]], &mut [[u32; 4]])> = (groups.into_iter())
+                .zip(vs.into_iter().zip(adjs))
+                .map(|(r, (v, adj))| (r, v, adj))
+                .collect();
+            let results = crate::par::run_dynamic(threads, items, |_, (r, v, adj)| {
+                let mut part = Part {
+                    base: r.lo,
+                    v,
+                    adj,
+                    used: r.used - r.lo,
+                    free: r.free,
+                    finite: 0,
+                    last: r.last,
+                    rng: r.rng,
+                };
+                let mut left = Vec::new();
+                let mut dups = Vec::new();
+                let mut s = Scratch::default();
+                for &id in &r.points {
+                    if part.last == NONE {
+                        left.push(id);
+                        continue;
+                    }
+                    match insert_in::<_, false>(&mut part, &mut s, g, id) {
+                        None => left.push(id),
+                        Some(d @ Inserted::Duplicate { .. }) => dups.push(d),
+                        Some(_) => {}
+                    }
+                }
+                let used = part.base + part.used;
+                let Part {
+                    free,
+                    finite,
+                    last,
+                    rng,
+                    ..
+                } = part;
+                let group = Group {
+                    lo: r.lo,
+                    hi: r.hi,
+                    used,
+                    free,
+                    finite: r.finite + finite,
+                    last,
+                    rng,
+                    points: left,
+                };
+                (group, dups)
+            });
+            let mut done = Vec::with_capacity(results.len());
+            for r in results {
+                // Every item runs (`run_dynamic` runs a left-behind item on
+                // this thread); a missing result means a part's thread
+                // panicked, which `run_dynamic` has re-raised already.
+                let Some((group, d)) = r else {
+                    continue;
+                };
+                dups.extend(d);
+                done.push(group);
+            }
+            groups = done
+                .chunks_mut(2)
+                .map(|pair| match pair {
+                    [a, b] => a.merge(std::mem::take(b)),
+                    [a] => std::mem::take(a),
+                    _ => Group::default(),
+                })
+                .collect();
+        }
+        let whole = groups.pop().unwrap_or_default();
+        self.finite = self.finite.saturating_add_signed(whole.finite);
+        self.free = whole.free;
+        self.free.extend((whole.used..whole.hi).rev());
+        if whole.last != NONE && self.v[whole.last as usize][0] != DEAD {
+            self.last = whole.last;
+        }
+        (whole.points, dups)
+    }
+
+    /// Moves every live cell `t` to slot `dest[t]` (`NONE` for free
+    /// slots; distinct destinations below `total`), in place: the arrays
+    /// grow to `total` slots (free ones `DEAD`) and each cycle of the
+    /// permutation is followed with one cell in hand. Adjacency words are
+    /// renumbered; `dest` is left as it was.
+    fn move_cells(&mut self, dest: &mut [u32], total: usize) {
+        const MOVED: u32 = 1 << 31;
+        let len = dest.len();
+        self.v.resize(total.max(len), [DEAD, 0, 0, 0]);
+        self.adj.resize(total.max(len), [NONE; 4]);
+        for t in 0..len {
+            if dest[t] == NONE || dest[t] & MOVED != 0 {
+                continue;
+            }
+            let (mut cv, mut ca) = (self.v[t], self.adj[t]);
+            self.v[t][0] = DEAD;
+            let mut d = dest[t] as usize;
+            dest[t] |= MOVED;
+            while d < len && dest[d] != NONE && dest[d] & MOVED == 0 {
+                // Slot d still holds its own cell: take it along.
+                std::mem::swap(&mut cv, &mut self.v[d]);
+                std::mem::swap(&mut ca, &mut self.adj[d]);
+                let nd = dest[d] as usize;
+                dest[d] |= MOVED;
+                d = nd;
+            }
+            self.v[d] = cv;
+            self.adj[d] = ca;
+        }
+        for d in dest.iter_mut().filter(|d| **d != NONE) {
+            *d &= !MOVED;
+        }
+        for (tv, a) in self.v.iter().zip(self.adj.iter_mut()) {
+            if tv[0] != DEAD {
+                *a = a.map(|w| 4 * dest[(w >> 2) as usize] + (w & 3));
+            }
+        }
+        self.v.truncate(total);
+        self.adj.truncate(total);
+    }
+
     /// Removes ghosts and dead slots in place; returns tets and plain
     /// neighbour indices (NONE on the hull).
     fn into_arrays(mut self) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
@@ -1468,6 +1805,9 @@ fn walk_owned<C: Cells>(
     rng: &mut u32,
 ) -> Result<u32, u32> {
     let mut t = start;
+    if !c.owns(t) {
+        return Err(t);
+    }
     if c.v(t)[3] == INF {
         let u = c.adj(t)[3] >> 2;
         if !c.owns(u) {
