@@ -102,6 +102,28 @@ const PARTS: usize = 2;
 /// Smallest last BRIO round inserted in parts.
 const PARALLEL_MIN_POINTS: usize = 1 << 16;
 
+/// How a one-call construction may split its work: the threads, and the
+/// smallest last BRIO round inserted in parts (the parts do not depend on
+/// the threads).
+#[derive(Debug, Clone, Copy)]
+struct Split {
+    threads: usize,
+    min_points: usize,
+}
+
+impl Split {
+    fn serial() -> Self {
+        Split::threads(1)
+    }
+
+    fn threads(threads: usize) -> Self {
+        Split {
+            threads,
+            min_points: PARALLEL_MIN_POINTS,
+        }
+    }
+}
+
 /// How many insertions between two progress callbacks.
 const PROGRESS_STEP: usize = 1 << 16;
 
@@ -542,7 +564,7 @@ impl<'a> Delaunay3<'a> {
         points: &'a [[f64; 3]],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        Self::build(points, None, 1, progress)
+        Self::build(points, None, Split::serial(), progress)
     }
 
     /// Like [`Delaunay3::from_points_with_progress`], on up to `threads`
@@ -563,7 +585,7 @@ impl<'a> Delaunay3<'a> {
         threads: usize,
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        Self::build(points, None, threads, progress)
+        Self::build(points, None, Split::threads(threads), progress)
     }
 
     /// The regular (weighted Delaunay) tetrahedralization of `points` with
@@ -583,7 +605,7 @@ impl<'a> Delaunay3<'a> {
     /// assert_eq!(dt.num_tets(), 1);
     /// ```
     pub fn from_weighted_points(points: &'a [[f64; 3]], weights: &'a [f64]) -> Result<Self, Error> {
-        Self::build(points, Some(weights), 1, &mut |_, _| {})
+        Self::build(points, Some(weights), Split::serial(), &mut |_, _| {})
     }
 
     /// [`Delaunay3::from_weighted_points`] with a progress callback.
@@ -599,13 +621,13 @@ impl<'a> Delaunay3<'a> {
         weights: &'a [f64],
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
-        Self::build(points, Some(weights), 1, progress)
+        Self::build(points, Some(weights), Split::serial(), progress)
     }
 
     fn build(
         points: &'a [[f64; 3]],
         weights: Option<&'a [f64]>,
-        threads: usize,
+        split: Split,
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<Self, Error> {
         check_coords(points)?;
@@ -699,7 +721,7 @@ impl<'a> Delaunay3<'a> {
         // in parts (`Core::insert_parts`); their number depends on the size
         // only, so the output is the same for every thread count.
         let last_round = crate::geom::sort::last_round_start(&order, 4);
-        let parts = match wts.is_empty() && n - last_round >= PARALLEL_MIN_POINTS {
+        let parts = match wts.is_empty() && n - last_round >= split.min_points {
             true => PARTS,
             false => 1,
         };
@@ -732,7 +754,7 @@ impl<'a> Delaunay3<'a> {
                 serial_end as u32..n as u32,
                 &grid,
                 parts,
-                threads.max(1),
+                split.threads.max(1),
             );
             for r in dups {
                 note(&mut dt, r);
@@ -1841,5 +1863,110 @@ fn walk_owned<C: Cells>(
             }
         }
         return Ok(t);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tetrahedra as sorted vertex tuples, sorted.
+    fn tet_set(m: &TetMesh) -> Vec<[u32; 4]> {
+        let mut t: Vec<[u32; 4]> = m
+            .tets
+            .iter()
+            .map(|t| {
+                let mut t = *t;
+                t.sort_unstable();
+                t
+            })
+            .collect();
+        t.sort_unstable();
+        t
+    }
+
+    /// Builds `pts` with the last round in parts (whatever its size) on 1
+    /// to 4 threads: each build passes the checkers, all give the same
+    /// mesh, and the tetrahedra are those of the serial build (unless
+    /// `pts` has exact duplicates: a duplicate group's tie-break follows the
+    /// insertion order, see the module notes).
+    fn same_for_any_thread_count(pts: &[[f64; 3]], no_duplicates: bool) {
+        let serial = Delaunay3::from_points(pts).unwrap().into_mesh();
+        let mut first: Option<TetMesh> = None;
+        for threads in 1..=4 {
+            let split = Split {
+                threads,
+                min_points: 0,
+            };
+            let dt = Delaunay3::build(pts, None, split, &mut |_, _| {}).unwrap();
+            dt.check_topology().unwrap();
+            dt.check_delaunay().unwrap();
+            let m = dt.into_mesh();
+            assert!(
+                !no_duplicates || tet_set(&m) == tet_set(&serial),
+                "{} points, {threads} threads: not the serial tetrahedra",
+                pts.len()
+            );
+            assert_eq!(m.duplicates, serial.duplicates);
+            assert_eq!(m.vertex_map, serial.vertex_map);
+            match &first {
+                None => first = Some(m),
+                Some(f) => assert!(
+                    &m == f,
+                    "{} points, {threads} threads: not the 1-thread mesh",
+                    pts.len()
+                ),
+            }
+        }
+    }
+
+    fn uniform(n: usize, seed: u64) -> Vec<[f64; 3]> {
+        let mut r = crate::geom::SplitMix64::new(seed);
+        let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        (0..n).map(|_| [u(), u(), u()]).collect()
+    }
+
+    #[test]
+    fn parts_random_points() {
+        same_for_any_thread_count(&uniform(6000, 1), true);
+        same_for_any_thread_count(&uniform(700, 2), true);
+    }
+
+    #[test]
+    fn parts_grid_cospherical_and_duplicates() {
+        let mut g: Vec<[f64; 3]> = Vec::new();
+        for i in 0..14 {
+            for j in 0..13 {
+                for k in 0..12 {
+                    g.push([i as f64, j as f64, k as f64]);
+                }
+            }
+        }
+        same_for_any_thread_count(&g, true);
+        // Every point twice, the copies after the originals.
+        let twice: Vec<[f64; 3]> = g.iter().chain(g.iter()).copied().collect();
+        same_for_any_thread_count(&twice, false);
+    }
+
+    #[test]
+    fn parts_sphere_and_plane() {
+        // Cospherical points (Fibonacci sphere, exact-ish) plus the centre,
+        // and a flat slab of points (many coplanar hull facets).
+        let n = 3000;
+        let mut s: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let z = 1.0 - (2 * i + 1) as f64 / n as f64;
+                let r = (1.0 - z * z).sqrt();
+                let a = i as f64 * 2.399_963_229_728_653;
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect();
+        s.push([0.0, 0.0, 0.0]);
+        same_for_any_thread_count(&s, true);
+        let mut slab = uniform(4000, 3);
+        for p in slab.iter_mut() {
+            p[2] = (p[2] * 2.0).floor();
+        }
+        same_for_any_thread_count(&slab, true);
     }
 }
