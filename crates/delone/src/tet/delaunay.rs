@@ -356,6 +356,8 @@ struct Group {
     finite: isize,
     last: u32,
     rng: u32,
+    /// The points to insert: `first` (the first pass), then `points`.
+    first: std::ops::Range<u32>,
     points: Vec<u32>,
 }
 
@@ -365,7 +367,9 @@ impl Group {
         let mut free = std::mem::take(&mut self.free);
         free.extend((self.used..self.hi).rev());
         free.extend(next.free);
-        let mut points = std::mem::take(&mut self.points);
+        let mut points: Vec<u32> = std::mem::take(&mut self.first).collect();
+        points.append(&mut self.points);
+        points.extend(next.first);
         points.extend(next.points);
         Group {
             lo: self.lo,
@@ -379,6 +383,7 @@ impl Group {
                 next.last
             },
             rng: self.rng,
+            first: 0..0,
             points,
         }
     }
@@ -1601,7 +1606,8 @@ impl Core {
                 finite: 0,
                 last: starts[k],
                 rng: 0x2545_F491 ^ (k as u32).wrapping_mul(0x9E37_79B9),
-                points: (first + cut[k] as u32..first + cut[k + 1] as u32).collect(),
+                first: first + cut[k] as u32..first + cut[k + 1] as u32,
+                points: Vec::new(),
             })
             .collect();
         let mut dups = Vec::new();
@@ -1633,7 +1639,7 @@ impl Core {
                 let mut left = Vec::new();
                 let mut dups = Vec::new();
                 let mut s = Scratch::default();
-                for &id in &r.points {
+                for id in r.first.clone().chain(r.points.iter().copied()) {
                     if part.last == NONE {
                         left.push(id);
                         continue;
@@ -1660,6 +1666,7 @@ impl Core {
                     finite: r.finite + finite,
                     last,
                     rng,
+                    first: 0..0,
                     points: left,
                 };
                 (group, dups)
@@ -1691,7 +1698,9 @@ impl Core {
         if whole.last != NONE && self.v[whole.last as usize][0] != DEAD {
             self.last = whole.last;
         }
-        (whole.points, dups)
+        let mut left: Vec<u32> = whole.first.collect();
+        left.extend(whole.points);
+        (left, dups)
     }
 
     /// Moves every live cell `t` to slot `dest[t]` (`NONE` for free
