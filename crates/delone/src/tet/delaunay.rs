@@ -255,7 +255,7 @@ trait CellsMut: Cells {
     fn adj_mut(&mut self, t: u32) -> &mut [u32; 4];
     /// Whether `k` more slots can be allocated.
     fn room(&mut self, k: usize) -> bool;
-    /// Writes `tv` into owned slot `t` (live or not), counting finite cells.
+    /// Replaces live cell `t` by `tv`, counting finite cells.
     fn set(&mut self, t: u32, tv: [u32; 4]);
     /// A slot for a new cell (after `room`).
     fn alloc(&mut self, tv: [u32; 4]) -> u32;
@@ -311,7 +311,7 @@ impl CellsMut for Core {
     #[inline(always)]
     fn set(&mut self, t: u32, tv: [u32; 4]) {
         let old = &mut self.v[t as usize];
-        let was = old[0] != DEAD && old[3] != INF;
+        let was = old[3] != INF;
         *old = tv;
         self.finite = self.finite + usize::from(tv[3] != INF) - usize::from(was);
     }
@@ -420,12 +420,14 @@ impl CellsMut for Part<'_> {
     #[inline(always)]
     fn set(&mut self, t: u32, tv: [u32; 4]) {
         let old = self.v_mut(t);
-        let was = old[0] != DEAD && old[3] != INF;
+        let was = old[3] != INF;
         *old = tv;
         self.finite += isize::from(tv[3] != INF) - isize::from(was);
     }
     #[inline(always)]
     fn alloc(&mut self, tv: [u32; 4]) -> u32 {
+        // A free slot is dead or was never used (zeroed memory): either
+        // way it holds no cell.
         let t = match self.free.pop() {
             Some(t) => t,
             None => {
@@ -433,7 +435,8 @@ impl CellsMut for Part<'_> {
                 self.base + self.used - 1
             }
         };
-        self.set(t, tv);
+        *self.v_mut(t) = tv;
+        self.finite += isize::from(tv[3] != INF);
         t
     }
     #[inline(always)]
@@ -769,6 +772,7 @@ impl<'a> Delaunay3<'a> {
                 let r = dt.core.insert_any(geo, id)?;
                 note(&mut dt, r);
             }
+            dt.core.finish_parts();
         }
         drop((local, local_w));
         for tv in dt.core.v.iter_mut().filter(|tv| tv[0] != DEAD) {
@@ -1577,7 +1581,19 @@ impl Core {
             *d = next[k] as u32;
             next[k] += 1;
         }
-        self.move_cells(&mut slot, total);
+        // Fresh arrays from zeroed memory: the pages of slots no part ever
+        // uses are never touched (the unused tail is cut off at the end,
+        // other unused slots are marked free by `Core::finish_parts`).
+        let mut v = vec![[0u32; 4]; total];
+        let mut adj = vec![[0u32; 4]; total];
+        for (t, &d) in slot.iter().enumerate() {
+            if d != NONE {
+                v[d as usize] = self.v[t];
+                adj[d as usize] = self.adj[t].map(|w| 4 * slot[(w >> 2) as usize] + (w & 3));
+            }
+        }
+        self.v = v;
+        self.adj = adj;
         self.last = slot[self.last as usize];
         self.free.clear();
         drop(slot);
@@ -1694,7 +1710,9 @@ impl Core {
         let whole = groups.pop().unwrap_or_default();
         self.finite = self.finite.saturating_add_signed(whole.finite);
         self.free = whole.free;
-        self.free.extend((whole.used..whole.hi).rev());
+        // The last part's never used slots end the arrays: cut them off.
+        self.v.truncate(whole.used as usize);
+        self.adj.truncate(whole.used as usize);
         if whole.last != NONE && self.v[whole.last as usize][0] != DEAD {
             self.last = whole.last;
         }
@@ -1703,45 +1721,12 @@ impl Core {
         (left, dups)
     }
 
-    /// Moves every live cell `t` to slot `dest[t]` (`NONE` for free
-    /// slots; distinct destinations below `total`), in place: the arrays
-    /// grow to `total` slots (free ones `DEAD`) and each cycle of the
-    /// permutation is followed with one cell in hand. Adjacency words are
-    /// renumbered; `dest` is left as it was.
-    fn move_cells(&mut self, dest: &mut [u32], total: usize) {
-        const MOVED: u32 = 1 << 31;
-        let len = dest.len();
-        self.v.resize(total.max(len), [DEAD, 0, 0, 0]);
-        self.adj.resize(total.max(len), [NONE; 4]);
-        for t in 0..len {
-            if dest[t] == NONE || dest[t] & MOVED != 0 {
-                continue;
-            }
-            let (mut cv, mut ca) = (self.v[t], self.adj[t]);
-            self.v[t][0] = DEAD;
-            let mut d = dest[t] as usize;
-            dest[t] |= MOVED;
-            while d < len && dest[d] != NONE && dest[d] & MOVED == 0 {
-                // Slot d still holds its own cell: take it along.
-                std::mem::swap(&mut cv, &mut self.v[d]);
-                std::mem::swap(&mut ca, &mut self.adj[d]);
-                let nd = dest[d] as usize;
-                dest[d] |= MOVED;
-                d = nd;
-            }
-            self.v[d] = cv;
-            self.adj[d] = ca;
+    /// After the serial tail of a parallel insertion: free slots that were
+    /// never used (zeroed memory) become `DEAD` like the others.
+    fn finish_parts(&mut self) {
+        for &t in &self.free {
+            self.v[t as usize][0] = DEAD;
         }
-        for d in dest.iter_mut().filter(|d| **d != NONE) {
-            *d &= !MOVED;
-        }
-        for (tv, a) in self.v.iter().zip(self.adj.iter_mut()) {
-            if tv[0] != DEAD {
-                *a = a.map(|w| 4 * dest[(w >> 2) as usize] + (w & 3));
-            }
-        }
-        self.v.truncate(total);
-        self.adj.truncate(total);
     }
 
     /// Removes ghosts and dead slots in place; returns tets and plain
