@@ -38,8 +38,9 @@ pub struct Opts {
     pub medit: Option<PathBuf>,
     /// tet `--gmsh FILE`: Gmsh `.msh` 4.1 output to FILE.
     pub gmsh: Option<PathBuf>,
-    /// tet `--threads N`: threads for reading the `.node` file and writing
-    /// the `.node`/`.ele` files of a point set (tri's is `tri.threads`).
+    /// tet `--threads N`: threads for reading the `.node` file, the
+    /// Delaunay insertion and writing the `.node`/`.ele` files of a point
+    /// set (tri's is `tri.threads`).
     pub threads: Option<usize>,
     /// The switch letters as given, for messages.
     pub switches: String,

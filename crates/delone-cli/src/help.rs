@@ -299,10 +299,12 @@ OPTIONS:
                                   appended) with the point markers.
     --vtu-ascii                   Write that .vtu as ASCII (default path
                                   FILE.1.vtu if no -o/--vtu is given).
-    --threads N                   Threads for reading FILE.node and writing
-                                  .node/.ele of a point set (default: the
-                                  available cores, at most 8). The output
-                                  is the same for every N.
+    --threads N                   Threads for reading FILE.node, the
+                                  Delaunay insertion of large point sets
+                                  (in two spatial parts) and writing
+                                  .node/.ele (default: the available
+                                  cores, at most 8). The output is the
+                                  same for every N.
     --cells-vtu FILE.vtu          Write the Voronoi cells (power cells with
                                   -w) clipped to the points' bounding box as
                                   VTK polyhedra, with the site index.

@@ -364,7 +364,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some(w) => {
                     delone::tet::Delaunay3::from_weighted_points_with_progress(&pts, w, &mut tick)
                 }
-                None => delone::tet::Delaunay3::from_points_with_progress(&pts, &mut tick),
+                None => delone::tet::Delaunay3::from_points_with_threads(&pts, threads, &mut tick),
             };
             prog.finish();
             let mesh = res

@@ -449,3 +449,38 @@ fn bulk_and_incremental_agree_on_vertex_map_duplicates_and_tets() {
     assert_eq!(bulk.duplicates, inc.duplicates);
     assert_eq!(tet_set(bulk.tets), tet_set(inc.tets));
 }
+
+/// Large inputs insert their last BRIO round in spatial parts on the given
+/// threads: the same mesh for 1 to 4 threads, valid, with the tetrahedra of
+/// the point-by-point construction (which never uses parts).
+#[test]
+fn threads_give_the_same_mesh() {
+    let mut cases = vec![uniform(90_000, 17), grid(45)];
+    // Integer points on nested spheres: heavily cospherical.
+    let mut shells = Vec::new();
+    for r2 in [2000, 2500, 3000, 3600, 4100] {
+        shells.extend(lattice_sphere(r2));
+    }
+    cases.push(shells);
+    for pts in &cases {
+        let one = Delaunay3::from_points_with_threads(pts, 1, &mut |_, _| {})
+            .unwrap()
+            .into_mesh();
+        validate(pts, &one).unwrap();
+        for threads in 2..=4 {
+            let m = Delaunay3::from_points_with_threads(pts, threads, &mut |_, _| {})
+                .unwrap()
+                .into_mesh();
+            assert!(m == one, "{} points: {threads} threads differ", pts.len());
+        }
+        let mut inc = Delaunay3::new();
+        for p in pts {
+            inc.insert(*p).unwrap();
+        }
+        assert!(
+            tet_set(inc.tets()) == tet_set(one.tets.iter().copied()),
+            "{} points: not the tetrahedra of the incremental build",
+            pts.len()
+        );
+    }
+}

@@ -209,37 +209,82 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
-    let [lo, hi] = super::scale::bbox(points);
+    let grid = HilbertGrid::new(points);
     let bits = key_bits(D);
-    let cells = f64::from((1u32 << bits) - 1);
-    let mut extent = 0.0f64;
-    for k in 0..D {
-        extent = extent.max(hi[k] - lo[k]);
-    }
-    let scale = if extent > 0.0 && extent.is_finite() {
-        cells / extent
-    } else {
-        0.0
-    };
     let mut keys: Vec<u64> = points
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let mut q = [0u32; D];
-            for k in 0..D {
-                q[k] = ((p[k] - lo[k]) * scale).clamp(0.0, cells) as u32;
-            }
-            // Round from the end: the number of leading zero 3-bit groups of a
-            // hash of the index.
-            let h = SplitMix64::new(i as u64 ^ 0x5eed_de10_0e00_0001).next_u64();
-            let from_end = (h.leading_zeros() / 3).min(BRIO_ROUNDS - 1);
-            let round = u64::from(BRIO_ROUNDS - 1 - from_end);
-            let key = (round << (bits * D as u32)) | hilbert_key::<D>(q, bits);
+            let round = u64::from(brio_round(i));
+            let key = (round << (bits * D as u32)) | grid.key(p);
             (key << 32) | i as u64
         })
         .collect();
     radix_sort_high32(&mut keys);
     keys.into_iter().map(|w| w as u32).collect()
+}
+
+/// The BRIO round of the point with index `i` (0 first, [`BRIO_LAST`]
+/// last): the number of leading zero 3-bit groups of a hash of the index
+/// counts rounds from the end.
+#[inline]
+pub(crate) fn brio_round(i: usize) -> u32 {
+    let h = SplitMix64::new(i as u64 ^ 0x5eed_de10_0e00_0001).next_u64();
+    let from_end = (h.leading_zeros() / 3).min(BRIO_ROUNDS - 1);
+    BRIO_LAST - from_end
+}
+
+/// The last BRIO round (about 7/8 of the points).
+const BRIO_LAST: u32 = BRIO_ROUNDS - 1;
+
+/// Where the last round of a [`brio_order`] begins: the longest suffix of
+/// `order` (after its first `keep` entries) made of points the sort ranks
+/// with the last round. The sort key keeps the round's two low bits
+/// (rounds 3 and 7 share a rank: a point of round 3, about one in 4000,
+/// sorts inside the last round).
+pub(crate) fn last_round_start(order: &[u32], keep: usize) -> usize {
+    let mut l = order.len();
+    while l > keep && brio_round(order[l - 1] as usize) & 3 == BRIO_LAST & 3 {
+        l -= 1;
+    }
+    l
+}
+
+/// The Hilbert keys of [`brio_order`]: coordinates quantized on a grid of
+/// `2^bits` cells per axis over the bounding box of a point set.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct HilbertGrid<const D: usize> {
+    lo: [f64; D],
+    scale: f64,
+    cells: f64,
+}
+
+impl<const D: usize> HilbertGrid<D> {
+    /// The grid over the bounding box of `points` (finite coordinates).
+    pub(crate) fn new(points: &[[f64; D]]) -> Self {
+        let [lo, hi] = super::scale::bbox(points);
+        let cells = f64::from((1u32 << key_bits(D)) - 1);
+        let mut extent = 0.0f64;
+        for k in 0..D {
+            extent = extent.max(hi[k] - lo[k]);
+        }
+        let scale = if extent > 0.0 && extent.is_finite() {
+            cells / extent
+        } else {
+            0.0
+        };
+        HilbertGrid { lo, scale, cells }
+    }
+
+    /// The Hilbert key of `p` (clamped to the grid when outside the box).
+    #[inline]
+    pub(crate) fn key(&self, p: &[f64; D]) -> u64 {
+        let mut q = [0u32; D];
+        for k in 0..D {
+            q[k] = ((p[k] - self.lo[k]) * self.scale).clamp(0.0, self.cells) as u32;
+        }
+        hilbert_key::<D>(q, key_bits(D))
+    }
 }
 
 #[cfg(test)]
