@@ -224,8 +224,8 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     let ropts = RecoverOptions {
         preserve_surface: opts.preserve_surface,
         merge_coplanar: !opts.no_merge,
-        // A refinement's smallest dihedral angles depend on where recovery
-        // put its points (see the option).
+        // On for recovery alone; a refinement's smallest dihedral angles
+        // depend on where recovery put its points (see the option).
         stop_circling_flips: !opts.refining(),
         ..Default::default()
     };

@@ -39,10 +39,11 @@ pub struct RecoverOptions {
     /// whole flip budget on flips that are rolled back anyway. Fewer
     /// segments fail, so fewer Steiner points and rounds, on thin strips
     /// and fans above all. False: the attempts run until their flip budget
-    /// is spent (what the `-Y` fallback's runs of this path use, and what
-    /// `delone tet` uses before a refinement: a refinement's smallest
-    /// dihedral angles depend on where recovery put its points, and were
-    /// measured with these attempts). Default true.
+    /// is spent. Default false: a refinement's smallest dihedral angles
+    /// depend on where recovery put its points, and were measured with the
+    /// full attempts (with this on, `-pq1.414` minima moved by up to ±3° on
+    /// corpus models); [`crate::tet::mesh`] turns it on when no refinement
+    /// follows (`-p`), and the `-Y` fallback's runs of this path keep it off.
     pub stop_circling_flips: bool,
 }
 
@@ -53,7 +54,7 @@ impl Default for RecoverOptions {
             reference_points: true,
             preserve_surface: false,
             merge_coplanar: true,
-            stop_circling_flips: true,
+            stop_circling_flips: false,
         }
     }
 }
