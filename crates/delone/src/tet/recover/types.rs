@@ -42,7 +42,7 @@ pub struct RecoverOptions {
     /// is spent. Default false: a refinement's smallest dihedral angles
     /// depend on where recovery put its points, and were measured with the
     /// full attempts (with this on, `-pq1.414` minima moved by up to ±3° on
-    /// corpus models); [`crate::tet::mesh`] turns it on when no refinement
+    /// corpus models); [`crate::tet::mesh()`] turns it on when no refinement
     /// follows (`-p`), and the `-Y` fallback's runs of this path keep it off.
     pub stop_circling_flips: bool,
 }
