@@ -130,8 +130,13 @@ struct Split {
 }
 
 impl Split {
+    /// One point at a time, no parts: the numbering the recovery and
+    /// every pipeline build on, whatever the input's size.
     fn serial() -> Self {
-        Split::threads(1)
+        Split {
+            threads: 1,
+            min_points: usize::MAX,
+        }
     }
 
     fn threads(threads: usize) -> Self {
@@ -583,7 +588,9 @@ impl<'a> Delaunay3<'a> {
     /// Like [`Delaunay3::from_points_with_progress`], on up to `threads`
     /// threads (0 counts as 1). The result is the same for every thread
     /// count: large inputs are inserted in a fixed number of spatial parts
-    /// whatever the number of threads running them.
+    /// whatever the number of threads running them. Its tetrahedra are
+    /// those of [`Delaunay3::from_points`]; their numbering differs when
+    /// the input is large enough for parts (75k points or more).
     ///
     /// ```
     /// let pts: Vec<[f64; 3]> = (0..1000u32)
