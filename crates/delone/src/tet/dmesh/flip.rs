@@ -48,6 +48,16 @@ impl DomainMesh {
     /// crosses the face's interior (not checked here). `None` when the face
     /// is not open.
     pub(crate) fn flip23(&self, t: u32, f: usize) -> Option<Flip> {
+        let (u, new) = self.flip23_tets(t, f)?;
+        Some(Flip {
+            old: vec![t, u],
+            new: new.to_vec(),
+        })
+    }
+
+    /// [`DomainMesh::flip23`] without allocating: the slot `u` behind the
+    /// face (the flip removes `t` and `u`) and the three new tetrahedra.
+    pub(crate) fn flip23_tets(&self, t: u32, f: usize) -> Option<(u32, [[u32; 4]; 3])> {
         if !self.open_face(t, f) {
             return None;
         }
@@ -56,10 +66,7 @@ impl DomainMesh {
         let d = tv[f];
         let e = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
         let [x, y, z] = face(tv, f);
-        Some(Flip {
-            old: vec![t, u],
-            new: vec![[x, y, e, d], [y, z, e, d], [z, x, e, d]],
-        })
+        Some((u, [[x, y, e, d], [y, z, e, d], [z, x, e, d]]))
     }
 
     /// The 3-2 flip of edge `a b` of open face `f` of `t` (`c` the face's

@@ -1256,12 +1256,17 @@ fn improve(
 /// tetrahedra's worst quality is highest, if it beats the old ones'.
 fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
     let tv = w.m.tv[t as usize];
-    let mut best: Option<Plan> = None;
-    let mut consider = |p: Option<Plan>, w: &Work| {
-        if let Some(p) = p {
-            let old = w.min_q(&p.old);
-            if p.q > old + 1e-12 && best.as_ref().is_none_or(|b| p.q > b.q) {
-                best = Some(p);
+    // The planners write into `cand`; a better one is swapped into `best`
+    // (no allocation once the buffers have grown).
+    let mut plans = w.plans.borrow_mut();
+    let (best, cand) = &mut *plans;
+    let mut have = false;
+    let mut consider = |ok: bool, best: &mut Plan, cand: &mut Plan| {
+        if ok {
+            let old = w.min_q(&cand.old);
+            if cand.q > old + 1e-12 && (!have || cand.q > best.q) {
+                std::mem::swap(best, cand);
+                have = true;
             }
         }
     };
@@ -1270,14 +1275,17 @@ fn best_flip(w: &Work, t: u32, edge_below: f64) -> Option<Plan> {
     let s = work::sines(tv.map(|v| &w.p[v as usize])).unwrap_or([0.0; 6]);
     for (e, (i, j)) in super::quality::EDGES.into_iter().enumerate() {
         if s[e] < edge_below {
-            consider(w.plan_edge_removal(t, tv[i], tv[j]), w);
+            let ok = w.plan_edge_removal(t, tv[i], tv[j], cand);
+            consider(ok, best, cand);
         }
     }
     for f in 0..4 {
-        consider(w.plan_flip23(t, f), w);
-        consider(w.plan_multi_face(t, f), w);
+        let ok = w.plan_flip23(t, f, cand);
+        consider(ok, best, cand);
+        let ok = w.plan_multi_face(t, f, cand);
+        consider(ok, best, cand);
     }
-    best
+    have.then(|| best.clone())
 }
 
 /// The bounds of `opts` (radius-edge; global volume with the regions' own)

@@ -125,7 +125,9 @@ pub(super) enum Slide {
 }
 
 /// A planned change: tetrahedra to remove and their replacement, with the
-/// worst quality of the replacement.
+/// worst quality of the replacement. The planners (`Work::plan_*`) write
+/// into a given plan, reusing its buffers.
+#[derive(Debug, Clone, Default)]
 pub(super) struct Plan {
     /// Slots removed.
     pub old: Vec<u32>,
@@ -218,6 +220,28 @@ pub(super) struct Work {
     /// The tables of the edge-removal programme
     /// ([`Work::plan_edge_removal`]), kept between calls.
     dp: std::cell::RefCell<(Vec<f64>, Vec<usize>)>,
+    /// The slots and vertices of an edge ring
+    /// ([`Work::plan_edge_removal`]), kept between calls.
+    ring_buf: std::cell::RefCell<(Vec<u32>, Vec<u32>)>,
+    /// See [`MultiFaceBuf`].
+    mf_buf: std::cell::RefCell<MultiFaceBuf>,
+    /// The best plan so far and the candidate of `best_flip`, kept between
+    /// calls (their buffers reused).
+    pub plans: std::cell::RefCell<(Plan, Plan)>,
+}
+
+/// The buffers of [`Work::plan_multi_face`], kept between calls: the ring,
+/// its sides, the removed slots and the new qualities as it grows, the best
+/// ring and removed slots so far, and a star walk's slots.
+#[derive(Debug, Clone, Default)]
+struct MultiFaceBuf {
+    ring: Vec<u32>,
+    side: Vec<(u32, u32, u32)>,
+    old: Vec<u32>,
+    q: Vec<f64>,
+    best_ring: Vec<u32>,
+    best_old: Vec<u32>,
+    seen: Vec<u32>,
 }
 
 /// The buffers of [`Work::smooth`], kept between calls (a star's
@@ -308,6 +332,9 @@ impl Work {
             n0: n,
             smooth_buf: SmoothBuf::default(),
             dp: Default::default(),
+            ring_buf: Default::default(),
+            mf_buf: Default::default(),
+            plans: Default::default(),
         }
     }
 
@@ -367,45 +394,47 @@ impl Work {
         self.m.star_with(v, |_, _| true)
     }
 
-    /// The slots around edge `a b` (from `t`) and the ring,
-    /// `[a, b, ring[i], ring[i + 1]]` being slot `i`: cyclic for an interior
-    /// edge (`false`), open for an edge on the boundary (`true`: `ring` has
-    /// one vertex more than the slots, and `[a, b, ring[0]]` and
-    /// `[a, b, ring[last]]` are boundary faces). `None` across an
-    /// interface or region change, or beyond [`MAX_RING`]; a boundary edge
-    /// only when [`Work::bnd`] is set.
-    fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>, bool)> {
-        let (tets, ring, end) =
-            self.m
-                .edge_ring(t, (a, b), MAX_RING, !self.bnd.is_empty(), |c, f| {
-                    self.m.open_face(c, f)
-                })?;
-        Some((tets, ring, end == RingEnd::Open))
-    }
-
-    /// The best removal of edge `a b` of slot `t`: the triangulation of its
-    /// ring maximising the smallest quality of the `2n - 4` new tetrahedra
-    /// (dynamic programming over the ring, O(n³)). `None` when the edge
-    /// cannot be removed (boundary, interface, ring too long, no valid
-    /// triangulation).
-    pub(super) fn plan_edge_removal(&self, t: u32, a: u32, b: u32) -> Option<Plan> {
-        let (tets, r, open) = self.edge_ring(t, a, b)?;
+    /// The best removal of edge `a b` of slot `t`, into `out`: the
+    /// triangulation of its ring maximising the smallest quality of the
+    /// `2n - 4` new tetrahedra (dynamic programming over the ring, O(n³)).
+    /// The ring around the edge is `[a, b, ring[i], ring[i + 1]]` for slot
+    /// `i`: cyclic for an interior edge, open for an edge on the boundary
+    /// (`[a, b, ring[0]]` and `[a, b, ring[last]]` boundary faces; only
+    /// when [`Work::bnd`] is set). False (and `out` unspecified) when the
+    /// edge cannot be removed: across an interface or region change, a
+    /// ring beyond [`MAX_RING`], no valid triangulation.
+    pub(super) fn plan_edge_removal(&self, t: u32, a: u32, b: u32, out: &mut Plan) -> bool {
+        let mut rb = self.ring_buf.borrow_mut();
+        let (tets, r) = &mut *rb;
+        let Some(end) = self.m.ring_into(
+            t,
+            (a, b),
+            (MAX_RING, !self.bnd.is_empty()),
+            |c, f| self.m.open_face(c, f),
+            (tets, r),
+        ) else {
+            return false;
+        };
+        let open = end == RingEnd::Open;
         let n = r.len();
         if n < 3 || open && !self.boundary_flippable(a, b, r[0], r[n - 1]) {
-            return None;
+            return false;
         }
         // Only a result better than the worst of the ring's tetrahedra is
         // of use: sub-polygons and triangles at or below it are pruned.
-        let need = self.min_q(&tets).max(0.0);
+        let need = self.min_q(tets).max(0.0);
         let mut dp = self.dp.borrow_mut();
         let (best, choice) = &mut *dp;
-        let (q, new) = ring::max_min(&r, (a, b), need, (best, choice), |t| self.qual(t))?;
-        Some(Plan {
-            old: tets,
-            new,
-            q,
-            ring: if open { 1 } else { n },
-        })
+        let Some((q, new)) = ring::max_min(r, (a, b), need, (best, choice), |t| self.qual(t))
+        else {
+            return false;
+        };
+        out.old.clear();
+        out.old.extend_from_slice(tets);
+        out.new = new;
+        out.q = q;
+        out.ring = if open { 1 } else { n };
+        true
     }
 
     /// True when the boundary faces `a b c` and `a b d` may be flipped to
@@ -428,20 +457,26 @@ impl Work {
     }
 
     /// The 2-3 flip of the face opposite `f` in `t`
-    /// ([`DomainMesh::flip23`]), if its new tetrahedra have positive quality.
-    pub(super) fn plan_flip23(&self, t: u32, f: usize) -> Option<Plan> {
-        let fl = self.m.flip23(t, f)?;
-        let qm = fl
-            .new
+    /// ([`DomainMesh::flip23`]) into `out`, if its new tetrahedra have
+    /// positive quality (else false, `out` unspecified).
+    pub(super) fn plan_flip23(&self, t: u32, f: usize, out: &mut Plan) -> bool {
+        let Some((u, new)) = self.m.flip23_tets(t, f) else {
+            return false;
+        };
+        let qm = new
             .iter()
             .map(|&n| self.qual(n))
             .fold(f64::INFINITY, f64::min);
-        (qm > 0.0).then_some(Plan {
-            old: fl.old,
-            new: fl.new,
-            q: qm,
-            ring: 0,
-        })
+        if !(qm > 0.0) {
+            return false;
+        }
+        out.old.clear();
+        out.old.extend([t, u]);
+        out.new.clear();
+        out.new.extend_from_slice(&new);
+        out.q = qm;
+        out.ring = 0;
+        true
     }
 
     /// Multi-face removal (Klingner & Shewchuk 2007) from the face opposite
@@ -452,15 +487,28 @@ impl Work {
     /// edge `a b`: `2k` tetrahedra become `k + 2`. Grown greedily from the
     /// face, each time across the ring edge of the worst new tetrahedron;
     /// the best set whose new tetrahedra beat the removed ones is planned.
-    /// With one face it is the 2-3 flip.
-    pub(super) fn plan_multi_face(&self, t: u32, f: usize) -> Option<Plan> {
+    /// With one face it is the 2-3 flip (not planned here). Into `out`;
+    /// false (`out` unspecified) when there is none.
+    pub(super) fn plan_multi_face(&self, t: u32, f: usize, out: &mut Plan) -> bool {
         if !self.m.open_face(t, f) {
-            return None;
+            return false;
         }
+        let mut buf = self.mf_buf.borrow_mut();
+        let MultiFaceBuf {
+            ring,
+            side,
+            old,
+            q,
+            best_ring,
+            best_old,
+            seen,
+        } = &mut *buf;
         let tv = self.m.tv[t as usize];
         let u = self.m.across(t, f);
         let a = tv[f];
-        let b = *self.m.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        let Some(&b) = self.m.tv[u as usize].iter().find(|w| !tv.contains(w)) else {
+            return false;
+        };
         // Edge `a b` must not exist already. It cannot when it crosses the
         // face's interior (exact; `a` and `b` are on either side of it),
         // which needs no walk of the star of `a`.
@@ -469,29 +517,27 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        if !crosses {
-            let mut seen = Vec::with_capacity(32);
-            if self.m.star_walk(a, &mut seen, |_, _| true, has_b).is_some() {
-                return None;
-            }
+        if !crosses && self.m.star_walk(a, seen, |_, _| true, has_b).is_some() {
+            return false;
         }
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
         // per ring edge, the removed tetrahedra on `a` and `b` at it and the
         // third vertex of its face.
-        let mut ring = Vec::with_capacity(MAX_RING + 1);
+        ring.clear();
         ring.extend([x, z, y]);
-        let mut side = Vec::with_capacity(MAX_RING + 1);
+        side.clear();
         side.extend([(t, u, y), (t, u, x), (t, u, z)]);
-        let mut old = Vec::with_capacity(2 * MAX_RING);
+        old.clear();
         old.extend([t, u]);
-        let mut q = Vec::with_capacity(MAX_RING + 1);
+        q.clear();
         q.extend((0..3).map(|i| self.qual([a, b, ring[i], ring[(i + 1) % 3]])));
-        let min_old = |old: &[u32]| self.min_q(old);
-        let mut best: Option<(f64, Vec<u32>, Vec<u32>)> = None;
+        let mut best: Option<f64> = None;
         loop {
             let qm = q.iter().copied().fold(f64::INFINITY, f64::min);
-            if qm > min_old(&old) && best.as_ref().is_none_or(|b| qm > b.0) {
-                best = Some((qm, ring.clone(), old.clone()));
+            if qm > self.min_q(old) && best.is_none_or(|b| qm > b) {
+                best = Some(qm);
+                best_ring.clone_from(ring);
+                best_old.clone_from(old);
             }
             if ring.len() >= MAX_RING {
                 break;
@@ -522,7 +568,9 @@ impl Work {
                 break;
             }
             // The face `rx ry w` between `na` and `nb` must be open too.
-            let k = self.m.tv[na as usize].iter().position(|&w| w == a)?;
+            let Some(k) = self.m.tv[na as usize].iter().position(|&w| w == a) else {
+                return false;
+            };
             if !self.m.open_face(na, k) || self.m.across(na, k) != nb {
                 break;
             }
@@ -534,18 +582,20 @@ impl Work {
             old.push(na);
             old.push(nb);
         }
-        let (qb, ring, old) = best?;
-        if old.len() == 2 {
-            return None; // the 2-3 flip, planned on its own
+        let Some(qb) = best else {
+            return false;
+        };
+        if best_old.len() == 2 {
+            return false; // the 2-3 flip, planned on its own
         }
-        let n = ring.len();
-        let new = (0..n).map(|i| [a, b, ring[i], ring[(i + 1) % n]]).collect();
-        Some(Plan {
-            old,
-            new,
-            q: qb,
-            ring: 2,
-        })
+        let n = best_ring.len();
+        out.old.clone_from(best_old);
+        out.new.clear();
+        out.new
+            .extend((0..n).map(|i| [a, b, best_ring[i], best_ring[(i + 1) % n]]));
+        out.q = qb;
+        out.ring = 2;
+        true
     }
 
     /// Smallest cached quality of `slots`.
