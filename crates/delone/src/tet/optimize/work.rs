@@ -246,7 +246,8 @@ struct MultiFaceBuf {
 
 /// The buffers of [`Work::smooth`], kept between calls (a star's
 /// tetrahedra, their points, qualities at home and at a trial position, the
-/// search order, the gradients).
+/// search order, the gradients, which qualities are those at the current
+/// position).
 #[derive(Debug, Clone, Default)]
 struct SmoothBuf {
     star: Vec<u32>,
@@ -255,6 +256,7 @@ struct SmoothBuf {
     qy: Vec<f64>,
     order: Vec<usize>,
     grads: Vec<[f64; 3]>,
+    fresh: Vec<bool>,
 }
 
 /// One undoable step of a transaction.
@@ -811,6 +813,7 @@ impl Work {
             qy,
             order,
             grads,
+            fresh,
         } = buf;
         self.m.star_walk(v, star, |_, _| true, |_| false);
         if star.is_empty() {
@@ -908,6 +911,11 @@ impl Work {
                 }
                 x = y;
                 std::mem::swap(qs, qy);
+                fresh.clear();
+                fresh.resize(qs.len(), false);
+                for &i in order.iter() {
+                    fresh[i] = true;
+                }
                 cur = m;
                 accepted = true;
                 break;
@@ -921,9 +929,14 @@ impl Work {
         if !moved || cur < q_home + 1e-3 {
             return false;
         }
-        // The whole star at the new place.
+        // The whole star at the new place (those the accepted step
+        // evaluated there are known: counted, not computed again).
         for (i, q) in qs.iter_mut().enumerate() {
-            *q = at(i, &x);
+            if fresh[i] {
+                evals.set(evals.get() + 1);
+            } else {
+                *q = at(i, &x);
+            }
         }
         if qs.iter().any(|&q| q < q_home + 1e-3) {
             return false;
