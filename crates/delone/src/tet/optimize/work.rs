@@ -259,13 +259,43 @@ struct SmoothBuf {
     fresh: Vec<bool>,
 }
 
+/// How a vertex may slide ([`Slide`]) with the points, the normal `n` of
+/// its plane or the direction `u` of its line and its squared length,
+/// computed once per smoothing.
+#[derive(Debug, Clone, Copy)]
+enum Frame {
+    Free,
+    Fixed,
+    Plane([[f64; 3]; 3], [f64; 3], f64),
+    Line([[f64; 3]; 2], [f64; 3], f64),
+}
+
+impl Frame {
+    /// The part of direction `g` along which the vertex may slide.
+    fn tangent(&self, g: [f64; 3]) -> [f64; 3] {
+        match *self {
+            Frame::Free | Frame::Fixed => g,
+            Frame::Plane(_, n, nn) => {
+                let s = dot(&g, &n) / nn;
+                [g[0] - s * n[0], g[1] - s * n[1], g[2] - s * n[2]]
+            }
+            Frame::Line(_, u, uu) => {
+                let s = dot(&g, &u) / uu;
+                [s * u[0], s * u[1], s * u[2]]
+            }
+        }
+    }
+}
+
 /// One undoable step of a transaction.
 #[derive(Debug, Clone)]
 enum Undo {
-    /// `old` (of `region`) was replaced by `new`.
+    /// `old` (of `region`) was replaced by `new`, which got `slots` (where
+    /// the undo looks for them first).
     Replace {
         old: Vec<[u32; 4]>,
         new: Vec<[u32; 4]>,
+        slots: Vec<u32>,
         region: u32,
     },
     /// Vertex `v` moved from `from`.
@@ -656,13 +686,17 @@ impl Work {
             log.push(Undo::Replace {
                 old: old.iter().map(|&t| self.m.tv[t as usize]).collect(),
                 new: new.to_vec(),
+                slots: Vec::new(),
                 region,
             });
             self.touched_set.extend(new.iter().copied());
         }
         let mut ids = Vec::with_capacity(new.len());
         let left = self.m.replace(old, new, region, &mut ids);
-        if self.log.is_some() {
+        if let Some(log) = &mut self.log {
+            if let Some(Undo::Replace { slots, .. }) = log.last_mut() {
+                slots.clone_from(&ids);
+            }
             self.touched
                 .extend(ids.iter().copied().zip(new.iter().copied()));
         }
@@ -854,6 +888,7 @@ impl Work {
             quality(r)
         };
         let mut x = home;
+        let frame = self.frame(v);
         // At home: the cached qualities.
         qs.clear();
         qs.extend(star.iter().map(|&t| self.q[t as usize]));
@@ -877,7 +912,7 @@ impl Work {
                     y[k] += h;
                     *gk = (at(i, &y) - qi) / h;
                 }
-                grads.push(self.tangent(v, g));
+                grads.push(frame.tangent(g));
             }
             let d = min_norm_point(grads);
             let dn = norm(&d);
@@ -897,7 +932,7 @@ impl Work {
             'search: for _ in 0..7 {
                 let y = [x[0] + step * d[0], x[1] + step * d[1], x[2] + step * d[2]];
                 step *= 0.5;
-                let Some(y) = self.snap(v, y) else {
+                let Some(y) = self.snap(v, &frame, y) else {
                     continue 'search;
                 };
                 let mut m = f64::INFINITY;
@@ -986,64 +1021,61 @@ impl Work {
         true
     }
 
-    /// The part of direction `g` along which vertex `v` may slide.
-    fn tangent(&self, v: u32, g: [f64; 3]) -> [f64; 3] {
-        let pt = |w: u32| &self.p[w as usize];
+    /// How vertex `v` may slide (see [`Frame`]).
+    fn frame(&self, v: u32) -> Frame {
+        let pt = |w: u32| self.p[w as usize];
         match self.slide[v as usize] {
-            Slide::Free | Slide::Fixed => g,
+            Slide::Free => Frame::Free,
+            Slide::Fixed => Frame::Fixed,
             Slide::Plane([a, b, c]) => {
-                let n = cross(&sub(pt(b), pt(a)), &sub(pt(c), pt(a)));
-                let s = dot(&g, &n) / dot(&n, &n);
-                [g[0] - s * n[0], g[1] - s * n[1], g[2] - s * n[2]]
+                let (pa, pb, pc) = (pt(a), pt(b), pt(c));
+                let n = cross(&sub(&pb, &pa), &sub(&pc, &pa));
+                let nn = dot(&n, &n);
+                Frame::Plane([pa, pb, pc], n, nn)
             }
             Slide::Line([a, b]) => {
-                let u = sub(pt(b), pt(a));
-                let s = dot(&g, &u) / dot(&u, &u);
-                [s * u[0], s * u[1], s * u[2]]
+                let (pa, pb) = (pt(a), pt(b));
+                let u = sub(&pb, &pa);
+                let uu = dot(&u, &u);
+                Frame::Line([pa, pb], u, uu)
             }
         }
     }
 
-    /// Where vertex `v` lands when asked to move to `y`: `y` itself for a
+    /// Where vertex `v`, sliding in `frame` ([`Work::frame`]), lands when
+    /// asked to move to `y`: `y` itself for a
     /// free vertex; for a sliding one, `y` projected to its plane or line
     /// and rounded, accepted only when it lies there exactly (exact
     /// `orient3d` / collinearity) or, for an already inexact point, within
     /// [`Work::tol`] of it — so the surface stays the input's as exactly as
     /// it was. `None` when refused.
-    fn snap(&self, v: u32, y: [f64; 3]) -> Option<[f64; 3]> {
-        let pt = |w: u32| &self.p[w as usize];
+    fn snap(&self, v: u32, frame: &Frame, y: [f64; 3]) -> Option<[f64; 3]> {
         let loose = self.inexact[v as usize];
-        match self.slide[v as usize] {
-            Slide::Free => Some(y),
-            Slide::Fixed => None,
-            Slide::Plane([a, b, c]) => {
-                let (pa, pb, pc) = (pt(a), pt(b), pt(c));
-                let n = cross(&sub(pb, pa), &sub(pc, pa));
-                let nn = dot(&n, &n);
-                let s = dot(&n, &sub(&y, pa)) / nn;
+        match *frame {
+            Frame::Free => Some(y),
+            Frame::Fixed => None,
+            Frame::Plane([pa, pb, pc], n, nn) => {
+                let s = dot(&n, &sub(&y, &pa)) / nn;
                 let mut x = [y[0] - s * n[0], y[1] - s * n[1], y[2] - s * n[2]];
                 for k in 0..3 {
                     if pa[k] == pb[k] && pb[k] == pc[k] {
                         x[k] = pa[k];
                     }
                 }
-                let ok = orient3d(pa, pb, pc, &x) == 0.0
-                    || (loose && dot(&n, &sub(&x, pa)).abs() / nn.sqrt() <= self.tol);
+                let ok = orient3d(&pa, &pb, &pc, &x) == 0.0
+                    || (loose && dot(&n, &sub(&x, &pa)).abs() / nn.sqrt() <= self.tol);
                 ok.then_some(x)
             }
-            Slide::Line([a, b]) => {
-                let (pa, pb) = (pt(a), pt(b));
-                let u = sub(pb, pa);
-                let uu = dot(&u, &u);
-                let s = dot(&u, &sub(&y, pa)) / uu;
+            Frame::Line([pa, pb], u, uu) => {
+                let s = dot(&u, &sub(&y, &pa)) / uu;
                 let mut x = [0, 1, 2].map(|k| s.mul_add(u[k], pa[k]));
                 for k in 0..3 {
                     if pa[k] == pb[k] {
                         x[k] = pa[k];
                     }
                 }
-                let ok = collinear(pa, pb, &x) || {
-                    let c = cross(&u, &sub(&x, pa));
+                let ok = collinear(&pa, &pb, &x) || {
+                    let c = cross(&u, &sub(&x, &pa));
                     loose && (dot(&c, &c) / uu).sqrt() <= self.tol
                 };
                 ok.then_some(x)
@@ -1253,9 +1285,17 @@ impl Work {
         self.touched_set.clear();
         for u in log.into_iter().rev() {
             match u {
-                Undo::Replace { old, new, region } => {
-                    let slots: Option<Vec<u32>> =
-                        new.iter().map(|&tv| self.slot_of(tv, NONE)).collect();
+                Undo::Replace {
+                    old,
+                    new,
+                    slots,
+                    region,
+                } => {
+                    let slots: Option<Vec<u32>> = new
+                        .iter()
+                        .zip(&slots)
+                        .map(|(&tv, &s)| self.slot_of(tv, s))
+                        .collect();
                     if let Some(slots) = slots {
                         self.replace(&slots, &old, region);
                     } else {
@@ -1300,7 +1340,15 @@ fn min_norm_point(g: &[[f64; 3]]) -> [f64; 3] {
     };
     let mut x = first;
     for _ in 0..32 {
-        let Some(&s) = g.iter().min_by(|a, b| dot(a, &x).total_cmp(&dot(b, &x))) else {
+        // The first gradient least along `x` (each product once).
+        let mut low: Option<(f64, &[f64; 3])> = None;
+        for a in g {
+            let da = dot(a, &x);
+            if low.is_none_or(|(b, _)| da.total_cmp(&b).is_lt()) {
+                low = Some((da, a));
+            }
+        }
+        let Some((_, &s)) = low else {
             break;
         };
         let xx = dot(&x, &x);
