@@ -499,7 +499,7 @@ impl Work {
             .iter()
             .map(|&n| self.qual(n))
             .fold(f64::INFINITY, f64::min);
-        if !(qm > 0.0) {
+        if qm.is_nan() || qm <= 0.0 {
             return false;
         }
         out.old.clear();
