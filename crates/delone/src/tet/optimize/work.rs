@@ -298,8 +298,14 @@ enum Undo {
         slots: Vec<u32>,
         region: u32,
     },
-    /// Vertex `v` moved from `from`.
-    Move { v: u32, from: [f64; 3] },
+    /// Vertex `v` moved from `from`; its star's tetrahedra had these
+    /// cached qualities there (restored by the undo, which counts them as
+    /// evaluated again).
+    Move {
+        v: u32,
+        from: [f64; 3],
+        star: Vec<([u32; 4], f64)>,
+    },
     /// A point was added.
     AddPoint,
 }
@@ -1002,7 +1008,14 @@ impl Work {
                     self.lost = self.lost.min(self.q[t as usize]);
                 }
             }
-            log.push(Undo::Move { v, from: home });
+            log.push(Undo::Move {
+                v,
+                from: home,
+                star: star
+                    .iter()
+                    .map(|&t| (self.m.tv[t as usize], self.q[t as usize]))
+                    .collect(),
+            });
             for &t in star.iter() {
                 let tv = self.m.tv[t as usize];
                 if self.touched_set.insert(tv) {
@@ -1302,12 +1315,27 @@ impl Work {
                         debug_assert!(false, "rollback: a tetrahedron is missing");
                     }
                 }
-                Undo::Move { v, from } => {
+                Undo::Move { v, from, star } => {
                     self.p[v as usize] = from;
-                    // (The marks of its star are restored below.)
-                    for t in self.star(v) {
+                    // (The marks of its star are restored below.) The
+                    // star is the one it had when `v` moved (every later
+                    // change is undone), so are its points: the qualities
+                    // it had then are its qualities now. (Usually met in
+                    // the same order.)
+                    for (i, t) in self.star(v).into_iter().enumerate() {
                         self.dirty.push(t);
-                        self.q[t as usize] = self.qual(self.m.tv[t as usize]);
+                        let tv = self.m.tv[t as usize];
+                        let known = match star.get(i) {
+                            Some(&(s, q)) if s == tv => Some(q),
+                            _ => star.iter().find(|x| x.0 == tv).map(|x| x.1),
+                        };
+                        self.q[t as usize] = match known {
+                            Some(q) => {
+                                self.evals.set(self.evals.get() + 1);
+                                q
+                            }
+                            None => self.qual(tv),
+                        };
                     }
                 }
                 Undo::AddPoint => {
