@@ -1566,6 +1566,84 @@ mod tests {
     }
 
     #[test]
+    fn planners_write_the_same_plan_into_a_used_buffer() {
+        let key = |p: &Plan| (p.old.clone(), p.new.clone(), p.q.to_bits(), p.ring);
+        // A buffer left full of another plan.
+        let mut used = Plan {
+            old: vec![99; 40],
+            new: vec![[7; 4]; 40],
+            q: 5.0,
+            ring: 9,
+        };
+        let mut found = [0; 3];
+        let mut applications = 0;
+        for centre in [[0.3, -0.2, 0.25], [0.05, 0.04, 0.03], [-0.1, 0.02, 0.07]] {
+            let mut w = octahedron();
+            w.p[6] = centre;
+            for t in 0..8 {
+                w.q[t] = quality(w.m.tv[t].map(|v| &w.p[v as usize]));
+            }
+            for t in 0..8u32 {
+                let tv = w.m.tv[t as usize];
+                for (i, j) in crate::tet::quality::EDGES {
+                    let mut fresh = Plan::default();
+                    let ok = w.plan_edge_removal(t, tv[i], tv[j], &mut fresh);
+                    assert_eq!(ok, w.plan_edge_removal(t, tv[i], tv[j], &mut used));
+                    if ok {
+                        found[0] += 1;
+                        assert_eq!(key(&fresh), key(&used));
+                        assert_eq!(fresh.new.len(), 2 * fresh.ring - 4);
+                    }
+                }
+                for f in 0..4 {
+                    let mut fresh = Plan::default();
+                    let ok = w.plan_flip23(t, f, &mut fresh);
+                    assert_eq!(ok, w.plan_flip23(t, f, &mut used));
+                    if ok {
+                        found[1] += 1;
+                        assert_eq!(key(&fresh), key(&used));
+                        assert_eq!((fresh.old.len(), fresh.new.len()), (2, 3));
+                    }
+                    let mut fresh = Plan::default();
+                    let ok = w.plan_multi_face(t, f, &mut fresh);
+                    assert_eq!(ok, w.plan_multi_face(t, f, &mut used));
+                    if ok {
+                        found[2] += 1;
+                        assert_eq!(key(&fresh), key(&used));
+                    }
+                }
+            }
+            // A 2-3 flip that applies keeps the mesh and its cached
+            // qualities exact; the removal of its new edge (the 3-2 flip
+            // back) is planned alike into both buffers.
+            let mut p = Plan::default();
+            let made = (0..8u32).find_map(|t| {
+                (0..4).find_map(|f| {
+                    w.plan_flip23(t, f, &mut p).then_some(())?;
+                    w.apply(&p)
+                })
+            });
+            if let Some(slots) = made {
+                applications += 1;
+                assert!(w.m.check(&w.p).is_ok());
+                assert!(cache_exact(&w));
+                let (t, tv) = (slots[0], w.m.tv[slots[0] as usize]);
+                let (e, d) = (tv[2], tv[3]);
+                let mut fresh = Plan::default();
+                let ok = w.plan_edge_removal(t, e, d, &mut fresh);
+                assert_eq!(ok, w.plan_edge_removal(t, e, d, &mut used));
+                if ok {
+                    found[0] += 1;
+                    assert_eq!(key(&fresh), key(&used));
+                    assert_eq!((fresh.old.len(), fresh.new.len()), (3, 2));
+                }
+            }
+        }
+        assert!(found[0] > 0 && found[1] > 0, "{found:?}");
+        assert!(applications > 0);
+    }
+
+    #[test]
     fn min_norm_point_of_opposite_gradients() {
         let x = min_norm_point(&[[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]);
         assert!((x[0]).abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-12);
