@@ -206,7 +206,10 @@ pub(super) struct Work {
     pub thorough: bool,
     /// Set of `touched`.
     touched_set: IdSet<[u32; 4]>,
-    /// Quality evaluations so far (the work measure of the effort budget).
+    /// Quality evaluations so far (the work measure of the effort budget;
+    /// a quality known exactly from an earlier evaluation — a smoothing's
+    /// accepted step, an undone move — is counted without being computed
+    /// again).
     pub evals: std::cell::Cell<u64>,
     /// Of them, those spent in trial insertions that were undone.
     pub undone: u64,
