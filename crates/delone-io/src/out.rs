@@ -154,7 +154,7 @@ impl<W: Write> Out<W> {
 }
 
 /// Rows per block of [`Out::rows`].
-const BLOCK_ROWS: usize = 1 << 15;
+const BLOCK_ROWS: usize = 1 << 13;
 
 impl<W: Write> Out<W> {
     /// Writes rows `0..n`, each formatted by `row` and ended by a newline,
