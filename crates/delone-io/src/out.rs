@@ -37,7 +37,7 @@ const POW10: [u64; 20] = {
 /// the digit count or one more, a comparison with a power of ten decides.
 #[inline(always)]
 fn decimal_len(v: u64) -> usize {
-    let t = ((64 - (v | 1).leading_zeros()) * 1233 >> 12) as usize;
+    let t = (((64 - (v | 1).leading_zeros()) * 1233) >> 12) as usize;
     t + usize::from(v >= POW10[t])
 }
 
@@ -52,11 +52,11 @@ fn decimal_len(v: u64) -> usize {
 #[inline(always)]
 fn eight_digits(v: u32) -> u64 {
     let v = u64::from(v);
-    let x = v / 10_000 | (v % 10_000) << 32;
+    let x = (v / 10_000) | ((v % 10_000) << 32);
     let h = ((x * 5243) >> 19) & 0x0000_007F_0000_007F;
-    let y = h | (x - h * 100) << 16;
+    let y = h | ((x - h * 100) << 16);
     let t = ((y * 103) >> 10) & 0x000F_000F_000F_000F;
-    let z = t | (y - t * 10) << 8;
+    let z = t | ((y - t * 10) << 8);
     z | 0x3030_3030_3030_3030
 }
 
@@ -361,7 +361,7 @@ fn shortest_digits(x: f64, s: &[u8]) -> (u64, i32) {
         exp += if neg { -e } else { e };
     }
     let strip = |d: &mut u64, exp: &mut i32| {
-        while *d != 0 && *d % 10 == 0 {
+        while *d != 0 && (*d).is_multiple_of(10) {
             *d /= 10;
             *exp += 1;
         }

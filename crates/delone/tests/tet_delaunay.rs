@@ -477,7 +477,11 @@ fn threads_give_the_same_mesh() {
             let dt = Delaunay3::from_points_in_place(&mut lent, threads, &mut |_, _| {}).unwrap();
             dt.check_topology().unwrap();
             dt.check_delaunay().unwrap();
-            assert!(dt.into_mesh() == one, "{} points: in place differs", pts.len());
+            assert!(
+                dt.into_mesh() == one,
+                "{} points: in place differs",
+                pts.len()
+            );
             assert!(lent == *pts);
         }
         let mut inc = Delaunay3::new();
@@ -521,6 +525,9 @@ fn in_place_construction_hands_the_points_back() {
             (Err(a), Err(b)) => assert_eq!(a, b),
             (a, b) => panic!("{:?} vs {:?}", a.map(|_| ()), b.map(|_| ())),
         }
-        assert!(lent.iter().zip(&pts).all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits)));
+        assert!(lent
+            .iter()
+            .zip(&pts)
+            .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits)));
     }
 }
