@@ -209,17 +209,29 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
+    brio_order_threads(points, 1)
+}
+
+/// [`brio_order`] with the sort keys computed on up to `threads` threads
+/// (the same order for any thread count).
+pub(crate) fn brio_order_threads<const D: usize>(points: &[[f64; D]], threads: usize) -> Vec<u32> {
     let grid = HilbertGrid::new(points);
     let bits = key_bits(D);
-    let mut keys: Vec<u64> = points
-        .iter()
+    let mut keys = vec![0u64; points.len()];
+    let chunk = points.len().div_ceil(threads.max(1)).max(1 << 16);
+    let items: Vec<(usize, &mut [u64])> = keys
+        .chunks_mut(chunk)
         .enumerate()
-        .map(|(i, p)| {
-            let round = u64::from(brio_round(i));
-            let key = (round << (bits * D as u32)) | grid.key(p);
-            (key << 32) | i as u64
-        })
+        .map(|(c, k)| (c * chunk, k))
         .collect();
+    crate::par::run_dynamic(threads, items, |_, (start, k)| {
+        for (j, w) in k.iter_mut().enumerate() {
+            let i = start + j;
+            let round = u64::from(brio_round(i));
+            let key = (round << (bits * D as u32)) | grid.key(&points[i]);
+            *w = (key << 32) | i as u64;
+        }
+    });
     radix_sort_high32(&mut keys);
     keys.into_iter().map(|w| w as u32).collect()
 }
@@ -354,6 +366,7 @@ mod tests {
             let original: Vec<u64> = (0..n as u64).map(|i| i * 3 + 1).collect();
             let pts: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -(i as f64)]).collect();
             let mut order = brio_order(&pts);
+            assert_eq!(order, brio_order_threads(&pts, 3));
             let mut items: Vec<u64> = order.iter().map(|&i| original[i as usize]).collect();
             scatter_in_place(&mut items, &mut order);
             assert_eq!(items, original);

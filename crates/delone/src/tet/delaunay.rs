@@ -674,7 +674,7 @@ impl<'a> Delaunay3<'a> {
         if crate::geom::pow2_scale(crate::geom::max_abs(points)) != (1.0, 1.0) {
             return Self::build(points, None, split, progress);
         }
-        let mut order = insertion_order(points)?;
+        let mut order = insertion_order(points, split.threads)?;
         // The point of input id order[k] moves to k.
         let mut rank = vec![0u32; order.len()];
         for (k, &i) in order.iter().enumerate() {
@@ -730,7 +730,7 @@ impl<'a> Delaunay3<'a> {
         });
         let wts: &[f64] = wcow.as_deref().unwrap_or(&[]);
         let n = points.len();
-        let order = insertion_order(points)?;
+        let order = insertion_order(points, split.threads)?;
         // The insertion works on copies in insertion order, so that
         // consecutive insertions read neighbouring memory.
         let local: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
@@ -1188,8 +1188,8 @@ pub(crate) fn lowest_representatives<const K: usize>(
 /// The insertion order of a one-call construction: BRIO + Hilbert
 /// ([`crate::geom::brio_order`]) with the first four affinely independent
 /// points, the first tetrahedron, moved to its front.
-fn insertion_order(points: &[[f64; 3]]) -> Result<Vec<u32>, Error> {
-    let mut order = crate::geom::brio_order(points);
+fn insertion_order(points: &[[f64; 3]], threads: usize) -> Result<Vec<u32>, Error> {
+    let mut order = crate::geom::sort::brio_order_threads(points, threads);
     let mut basis: Vec<u32> = Vec::with_capacity(4);
     let mut basis_pos: Vec<usize> = Vec::with_capacity(4);
     for (pos, &id) in order.iter().enumerate() {
