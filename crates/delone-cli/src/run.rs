@@ -353,8 +353,9 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             )
         }
         Mode::Tet => {
-            let pts = node.points::<3>().unwrap_or_default();
-            // The coordinates live on in `pts` (one copy of them, not two).
+            let mut pts = node.points::<3>().unwrap_or_default();
+            // The coordinates live on in `pts` (one copy of them, not two;
+            // lent to the Delaunay construction while it runs).
             node.coords = Vec::new();
             let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
@@ -364,7 +365,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 Some(w) => {
                     delone::tet::Delaunay3::from_weighted_points_with_progress(&pts, w, &mut tick)
                 }
-                None => delone::tet::Delaunay3::from_points_with_threads(&pts, threads, &mut tick),
+                None => delone::tet::Delaunay3::from_points_in_place(&mut pts, threads, &mut tick),
             };
             prog.finish();
             let mesh = res
@@ -413,6 +414,11 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 None
             };
             let t_derive = t_derive.elapsed();
+            let mut m = m;
+            if !o.out().neigh {
+                // Only `.neigh` still needs them: a smaller peak while writing.
+                m.neighbors = Vec::new();
+            }
             let (written, t_write) = write_outputs(
                 mode,
                 o,

@@ -20,6 +20,46 @@ const PAIRS: [u8; 200] = {
     t
 };
 
+/// 0, then the powers of ten 10^1 … 10^19.
+const POW10: [u64; 20] = {
+    let mut t = [0u64; 20];
+    let mut k = 1;
+    let mut p = 1u64;
+    while k < 20 {
+        p *= 10;
+        t[k] = p;
+        k += 1;
+    }
+    t
+};
+
+/// The number of decimal digits of `v` (1 for 0): the bit length gives
+/// the digit count or one more, a comparison with a power of ten decides.
+#[inline(always)]
+fn decimal_len(v: u64) -> usize {
+    let t = (((64 - (v | 1).leading_zeros()) * 1233) >> 12) as usize;
+    t + usize::from(v >= POW10[t])
+}
+
+/// The eight decimal digits of `v < 10^8` (with leading zeros) as ASCII
+/// in the bytes of a `u64`, most significant digit in the lowest byte (the
+/// first in memory of `to_le_bytes`). The halves `v / 10^4` and
+/// `v % 10^4` go to the two 32-bit lanes, each lane is split into its
+/// hundreds and the rest (16-bit lanes), each of those into tens and units
+/// (8-bit lanes): every division is a multiplication by a reciprocal,
+/// exact for the lane's range (x / 100 = x·5243 >> 19 for x < 10^4,
+/// x / 10 = x·103 >> 10 for x < 100), on all lanes at once.
+#[inline(always)]
+fn eight_digits(v: u32) -> u64 {
+    let v = u64::from(v);
+    let x = (v / 10_000) | ((v % 10_000) << 32);
+    let h = ((x * 5243) >> 19) & 0x0000_007F_0000_007F;
+    let y = h | ((x - h * 100) << 16);
+    let t = ((y * 103) >> 10) & 0x000F_000F_000F_000F;
+    let z = t | ((y - t * 10) << 8);
+    z | 0x3030_3030_3030_3030
+}
+
 pub(crate) struct Out<W: Write> {
     w: W,
     pub(crate) buf: Vec<u8>,
@@ -43,29 +83,38 @@ impl<W: Write> Out<W> {
         self.buf.push(b);
     }
 
-    /// Decimal digits, two at a time from a table (a division by 100 per
-    /// pair instead of by 10 per digit). Always inlined: called from the
-    /// row formatters of [`Out::rows`] it otherwise stays a call (+15%
-    /// instructions writing an `.ele`).
+    /// Decimal digits. Below 10^8 all eight digit places are computed at
+    /// once in the bytes of a `u64` ([`eight_digits`]) and the leading
+    /// zeros shifted out; above, two digits at a time from a table. The
+    /// digits are appended as a fixed-size array cut back to their count:
+    /// a copy the compiler inlines, where a copy of the digits alone calls
+    /// `memcpy` for every number. Always inlined: called from the row
+    /// formatters of [`Out::rows`] it otherwise stays a call.
     #[inline(always)]
-    pub(crate) fn uint(&mut self, mut v: u64) {
-        let mut tmp = [0u8; 20];
-        let mut i = tmp.len();
-        while v >= 100 {
-            let r = (v % 100) as usize * 2;
-            v /= 100;
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
-        }
-        if v >= 10 {
-            let r = v as usize * 2;
-            i -= 2;
-            tmp[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+    pub(crate) fn uint(&mut self, v: u64) {
+        let len = decimal_len(v);
+        let end = self.buf.len() + len;
+        if len <= 8 {
+            let d = eight_digits(v as u32) >> (8 * (8 - len));
+            self.buf.extend_from_slice(&d.to_le_bytes());
         } else {
-            i -= 1;
-            tmp[i] = b'0' + v as u8;
+            let mut tmp = [0u8; 20];
+            let (mut v, mut i) = (v, len);
+            while v >= 100 {
+                let r = (v % 100) as usize * 2;
+                v /= 100;
+                i -= 2;
+                tmp[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
+            }
+            if v >= 10 {
+                let r = v as usize * 2;
+                tmp[..2].copy_from_slice(&PAIRS[r..r + 2]);
+            } else {
+                tmp[0] = b'0' + v as u8;
+            }
+            self.buf.extend_from_slice(&tmp);
         }
-        self.buf.extend_from_slice(&tmp[i..]);
+        self.buf.truncate(end);
     }
 
     #[inline]
@@ -105,21 +154,23 @@ impl<W: Write> Out<W> {
 }
 
 /// Rows per block of [`Out::rows`].
-const BLOCK_ROWS: usize = 1 << 15;
+const BLOCK_ROWS: usize = 1 << 13;
 
 impl<W: Write> Out<W> {
     /// Writes rows `0..n`, each formatted by `row` and ended by a newline,
-    /// after what is buffered. Blocks of rows are formatted on up to
-    /// `threads` threads, one round of consecutive blocks at a time, and
-    /// written in order: the bytes do not depend on the thread count.
+    /// after what is buffered. With more than one thread, blocks of rows
+    /// are formatted on up to `threads` threads (block `k` on thread
+    /// `k mod threads`, at most two blocks ahead of the writer per thread)
+    /// while this thread writes the finished blocks in order: the bytes do
+    /// not depend on the thread count, the memory is a few blocks.
     pub(crate) fn rows(
         &mut self,
         n: usize,
         threads: usize,
         row: impl Fn(&mut Out<Vec<u8>>, usize) + Sync,
     ) -> std::io::Result<()> {
+        use std::sync::mpsc;
         let blocks = n.div_ceil(BLOCK_ROWS);
-        let threads = threads.clamp(1, blocks.max(1));
         let fill = |b: &mut Out<Vec<u8>>, k: usize| {
             b.buf.clear();
             for i in k * BLOCK_ROWS..n.min((k + 1) * BLOCK_ROWS) {
@@ -127,51 +178,213 @@ impl<W: Write> Out<W> {
                 b.buf.push(b'\n');
             }
         };
-        let mut bufs: Vec<Out<Vec<u8>>> = (0..threads).map(|_| Out::new(Vec::new())).collect();
         self.w.write_all(&self.buf)?;
         self.buf.clear();
-        let mut k = 0;
-        while k < blocks {
-            let round = threads.min(blocks - k);
-            let (mine, others) = bufs[..round].split_at_mut(1);
-            // A thread that cannot start leaves its block to this one.
-            let failed: Vec<usize> = std::thread::scope(|s| {
-                let failed = others
-                    .iter_mut()
-                    .enumerate()
-                    .filter_map(|(j, b)| {
-                        let fill = &fill;
-                        let job = move || fill(b, k + 1 + j);
-                        std::thread::Builder::new()
-                            .spawn_scoped(s, job)
-                            .err()
-                            .map(|_| j)
-                    })
-                    .collect();
-                fill(&mut mine[0], k);
-                failed
-            });
-            for j in failed {
-                fill(&mut others[j], k + 1 + j);
+        let workers = threads.min(blocks);
+        let mut own = Out::new(Vec::new());
+        if workers <= 1 {
+            for k in 0..blocks {
+                fill(&mut own, k);
+                self.w.write_all(&own.buf)?;
             }
-            for b in &bufs[..round] {
-                self.w.write_all(&b.buf)?;
-            }
-            k += round;
+            return Ok(());
         }
-        Ok(())
+        std::thread::scope(|s| {
+            // Per worker: its finished blocks, and the written buffers going
+            // back to it. A worker that cannot start leaves its blocks to
+            // this thread; one whose writer is gone (an error) stops.
+            let lanes: Vec<_> = (0..workers)
+                .map(|j| {
+                    let (done, blocks_rx) = mpsc::sync_channel::<Out<Vec<u8>>>(1);
+                    let (back, spare) = mpsc::channel::<Out<Vec<u8>>>();
+                    let fill = &fill;
+                    let job = move || {
+                        for k in (j..blocks).step_by(workers) {
+                            let mut b = spare.try_recv().unwrap_or_else(|_| Out::new(Vec::new()));
+                            fill(&mut b, k);
+                            if done.send(b).is_err() {
+                                return;
+                            }
+                        }
+                    };
+                    std::thread::Builder::new()
+                        .spawn_scoped(s, job)
+                        .ok()
+                        .map(|_| (blocks_rx, back))
+                })
+                .collect();
+            for k in 0..blocks {
+                match lanes[k % workers]
+                    .as_ref()
+                    .map(|(rx, back)| (rx.recv(), back))
+                {
+                    Some((Ok(b), back)) => {
+                        self.w.write_all(&b.buf)?;
+                        // The worker may be done: then the buffer is dropped.
+                        let _ = back.send(b);
+                    }
+                    // No worker, or it died (its panic resurfaces when the
+                    // scope ends).
+                    _ => {
+                        fill(&mut own, k);
+                        self.w.write_all(&own.buf)?;
+                    }
+                }
+            }
+            Ok(())
+        })
     }
 }
 
-/// Appends the shortest text that parses back to exactly `x`.
+/// Appends the shortest text that parses back to exactly `x`: Rust's
+/// `{x}` when `x` is zero, not finite or of magnitude in `[1e-5, 1e16)`,
+/// else `{x:e}` — byte for byte, without the `fmt` machinery: the shortest
+/// correctly rounded digits come from `zmij` (Schubfach) and are laid out
+/// here, see [`shortest_digits`].
 pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
-    let a = x.abs();
-    // `write!` into a Vec<u8> cannot fail.
-    if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+    if x == 0.0 || !x.is_finite() {
+        // `write!` into a Vec<u8> cannot fail.
         let _ = write!(buf, "{x}");
-    } else {
-        let _ = write!(buf, "{x:e}");
+        return;
     }
+    let mut z = zmij::Buffer::new();
+    let s = z.format_finite(x).as_bytes();
+    // Fast path: `zmij`'s fixed notation is Rust's `{x}` but for the
+    // ".0" of integers and the ties of `shortest_digits`, which need the
+    // last digit to weigh 2^(q+1) for the lowest set bit 2^q of |x|.
+    if !s.contains(&b'e') && (1e-5..1e16).contains(&x.abs()) {
+        let (int, frac) = match s.iter().position(|&c| c == b'.') {
+            Some(p) => (&s[..p], &s[p + 1..]),
+            None => (s, &s[s.len()..]),
+        };
+        if frac == b"0" {
+            buf.extend_from_slice(int);
+            return;
+        }
+        if odd_parts(x).1 != -(frac.len() as i32) - 1 {
+            buf.extend_from_slice(s);
+            return;
+        }
+    }
+    let (d, exp) = shortest_digits(x, s);
+    // The digits of `d` (at most 17), right-aligned in `tmp`.
+    let mut tmp = [0u8; 24];
+    let len = decimal_len(d);
+    tmp[16..].copy_from_slice(&eight_digits((d % 100_000_000) as u32).to_le_bytes());
+    let hi = d / 100_000_000;
+    tmp[8..16].copy_from_slice(&eight_digits((hi % 100_000_000) as u32).to_le_bytes());
+    tmp[7] = b'0' + (hi / 100_000_000) as u8;
+    let digits = &tmp[24 - len..];
+    // Digits before the decimal point (none or fewer than zero: leading
+    // zeros after it).
+    let point = exp + len as i32;
+    if x < 0.0 {
+        buf.push(b'-');
+    }
+    if (1e-5..1e16).contains(&x.abs()) {
+        if point <= 0 {
+            buf.extend_from_slice(b"0.");
+            buf.resize(buf.len() + point.unsigned_abs() as usize, b'0');
+            buf.extend_from_slice(digits);
+        } else if point as usize >= len {
+            buf.extend_from_slice(digits);
+            buf.resize(buf.len() + point as usize - len, b'0');
+        } else {
+            let (a, b) = digits.split_at(point as usize);
+            buf.extend_from_slice(a);
+            buf.push(b'.');
+            buf.extend_from_slice(b);
+        }
+    } else {
+        buf.push(digits[0]);
+        if len > 1 {
+            buf.push(b'.');
+            buf.extend_from_slice(&digits[1..]);
+        }
+        buf.push(b'e');
+        let e = point - 1;
+        if e < 0 {
+            buf.push(b'-');
+        }
+        let e = e.unsigned_abs() as usize;
+        if e >= 100 {
+            buf.push(b'0' + (e / 100) as u8);
+        }
+        if e >= 10 {
+            buf.extend_from_slice(&PAIRS[e % 100 * 2..e % 100 * 2 + 2]);
+        } else {
+            buf.push(b'0' + e as u8);
+        }
+    }
+}
+
+/// `(m, q)` with `m` odd and `|x| = m·2^q` (`x` finite, nonzero).
+fn odd_parts(x: f64) -> (u64, i32) {
+    let bits = x.abs().to_bits();
+    let (biased, frac_bits) = ((bits >> 52) as i32, bits & ((1 << 52) - 1));
+    let (m, q) = match biased {
+        0 => (frac_bits, -1074),
+        _ => (frac_bits | 1 << 52, biased - 1075),
+    };
+    (m >> m.trailing_zeros(), q + m.trailing_zeros() as i32)
+}
+
+/// The shortest decimal `d·10^exp` (`d` without trailing zeros) that reads
+/// back as `|x|` (finite, nonzero; `s` its text from `zmij`), as Rust's
+/// own formatting chooses it:
+/// `zmij`'s digits, except that where two candidates of that length are
+/// equally close (`|x|` exactly halfway), Rust takes the upper and `zmij`
+/// the even one.
+fn shortest_digits(x: f64, s: &[u8]) -> (u64, i32) {
+    // `zmij` writes `-?digits(.digits)?(e[+-]?digits)?`.
+    let (mut d, mut exp, mut frac) = (0u64, 0i32, false);
+    let mut i = usize::from(x < 0.0);
+    while let Some(&c) = s.get(i) {
+        match c {
+            b'.' => frac = true,
+            b'0'..=b'9' => {
+                d = d.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+                exp -= i32::from(frac);
+            }
+            _ => break,
+        }
+        i += 1;
+    }
+    if s.get(i) == Some(&b'e') {
+        let (neg, start) = match s.get(i + 1) {
+            Some(b'-') => (true, i + 2),
+            Some(b'+') => (false, i + 2),
+            _ => (false, i + 1),
+        };
+        let e = (s.get(start..).unwrap_or_default().iter())
+            .fold(0i32, |e, &c| e * 10 + i32::from(c.wrapping_sub(b'0')));
+        exp += if neg { -e } else { e };
+    }
+    let strip = |d: &mut u64, exp: &mut i32| {
+        while *d != 0 && (*d).is_multiple_of(10) {
+            *d /= 10;
+            *exp += 1;
+        }
+    };
+    strip(&mut d, &mut exp);
+    // |x| = m·2^q with m odd equals (d + 1/2)·10^exp = (2d + 1)·5^exp·2^(exp-1)
+    // exactly when q = exp - 1 and m·5^-exp = 2d + 1 (exp < 0) or
+    // m = (2d + 1)·5^exp (exp >= 0), both sides odd.
+    let (m, q) = odd_parts(x);
+    let odd = 2 * u128::from(d) + 1;
+    let tie = q == exp - 1 && exp.unsigned_abs() <= 24 && {
+        let p = 5u128.pow(exp.unsigned_abs());
+        if exp < 0 {
+            u128::from(m) * p == odd
+        } else {
+            u128::from(m) == odd * p
+        }
+    };
+    if tie {
+        d += 1;
+        strip(&mut d, &mut exp);
+    }
+    (d, exp)
 }
 
 #[cfg(test)]
@@ -204,6 +417,120 @@ mod tests {
             let back: f64 = s.parse().unwrap();
             assert_eq!(back.to_bits(), v.to_bits(), "{v} printed as {s}");
             assert!(s.len() <= 24, "{s} too long");
+        }
+    }
+
+    /// The text `push_float` must produce, from `fmt`.
+    fn std_text(x: f64) -> String {
+        let a = x.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            format!("{x}")
+        } else {
+            format!("{x:e}")
+        }
+    }
+
+    fn same_as_std(x: f64) {
+        let mut b = Vec::new();
+        push_float(&mut b, x);
+        assert_eq!(
+            String::from_utf8(b).unwrap(),
+            std_text(x),
+            "{:#x}",
+            x.to_bits()
+        );
+    }
+
+    #[test]
+    fn floats_as_std_formats_them() {
+        // Random bit patterns (every exponent), random doubles in [0, 1)
+        // and [0, 1000) as written by generators, short decimals, integers,
+        // powers of two and ten, and the neighbours of every switch point.
+        let mut s: u64 = 0x853c_49e6_748f_ea9b;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            s ^ (s >> 29)
+        };
+        for _ in 0..300_000 {
+            let r = next();
+            same_as_std(f64::from_bits(r));
+            same_as_std((r >> 11) as f64 / (1u64 << 53) as f64);
+            same_as_std((r >> 11) as f64 / (1u64 << 53) as f64 * 1000.0 - 500.0);
+            same_as_std((r % 100_000) as f64 / 1000.0);
+            same_as_std((r >> 20) as f64);
+        }
+        for e in -1074..=1023 {
+            same_as_std(2f64.powi(e));
+            same_as_std(-3.0 * 2f64.powi(e));
+        }
+        for e in -324..=308 {
+            let p: f64 = format!("1e{e}").parse().unwrap();
+            for x in [p, p.next_up(), p.next_down(), 1.5 * p, -7.25 * p] {
+                same_as_std(x);
+            }
+        }
+        // Exact ties between two shortest candidates (odd multiples of
+        // small powers of two at 15-17 significant digits): Rust takes
+        // the upper one.
+        for k in 0..60 {
+            for _ in 0..2000 {
+                let r = next();
+                for sh in [0, 20, 35, 45] {
+                    let x = (((r >> 11) >> sh) | 1) as f64 * 2f64.powi(k - 82 + sh);
+                    same_as_std(x);
+                    same_as_std(-x);
+                }
+            }
+        }
+        for x in [
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MAX,
+            f64::MIN,
+            f64::MIN_POSITIVE,
+            5e-324,
+            1e-5,
+            1e16,
+            9_999_999_999_999_998.0,
+            0.1 + 0.2,
+            5.444310685350916e14,
+            3.439070283483335e35,
+        ] {
+            same_as_std(x);
+        }
+    }
+
+    #[test]
+    fn decimal_lengths() {
+        for k in 0..20u32 {
+            let p = 10u64.pow(k);
+            assert_eq!(decimal_len(p), k as usize + 1);
+            assert_eq!(decimal_len(p - 1), (k as usize).max(1));
+            assert_eq!(decimal_len(p + 1), k as usize + 1);
+        }
+        assert_eq!(decimal_len(u64::MAX), 20);
+        for v in (0..100_000u64).chain((0..64).map(|b| 1u64 << b)) {
+            assert_eq!(decimal_len(v), v.to_string().len(), "{v}");
+        }
+    }
+
+    #[test]
+    fn eight_digit_lanes() {
+        let mut s: u64 = 7;
+        let vals = (0..200_000u32)
+            .chain((0..8).map(|k| 10u32.pow(k)))
+            .chain((1..=8).map(|k| 10u32.pow(k) - 1))
+            .chain((0..1_000_000).map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
+                ((s >> 33) % 100_000_000) as u32
+            }));
+        for v in vals {
+            assert_eq!(eight_digits(v).to_le_bytes(), *format!("{v:08}").as_bytes());
         }
     }
 

@@ -472,6 +472,17 @@ fn threads_give_the_same_mesh() {
                 .unwrap()
                 .into_mesh();
             assert!(m == one, "{} points: {threads} threads differ", pts.len());
+            // Lent points: the same mesh, the points handed back unchanged.
+            let mut lent = pts.clone();
+            let dt = Delaunay3::from_points_in_place(&mut lent, threads, &mut |_, _| {}).unwrap();
+            dt.check_topology().unwrap();
+            dt.check_delaunay().unwrap();
+            assert!(
+                dt.into_mesh() == one,
+                "{} points: in place differs",
+                pts.len()
+            );
+            assert!(lent == *pts);
         }
         let mut inc = Delaunay3::new();
         for p in pts {
@@ -482,5 +493,41 @@ fn threads_give_the_same_mesh() {
             "{} points: not the tetrahedra of the incremental build",
             pts.len()
         );
+    }
+}
+
+/// The in-place construction on inputs it handles apart: duplicates, extreme
+/// magnitudes (copied and scaled), errors (the points are handed back as
+/// they came in every case).
+#[test]
+fn in_place_construction_hands_the_points_back() {
+    let mut dups = uniform(3000, 5);
+    dups.extend_from_within(100..900);
+    let huge: Vec<[f64; 3]> = uniform(2000, 6)
+        .iter()
+        .map(|p| p.map(|c| c * 1e200))
+        .collect();
+    let flat: Vec<[f64; 3]> = uniform(500, 7).iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let mut nan = uniform(100, 8);
+    nan[50][1] = f64::NAN;
+    for pts in [dups, huge, flat, nan, grid(12)] {
+        let want = Delaunay3::from_points_with_threads(&pts, 2, &mut |_, _| {});
+        let mut lent = pts.clone();
+        let got = Delaunay3::from_points_in_place(&mut lent, 2, &mut |_, _| {});
+        match (want, got) {
+            (Ok(a), Ok(b)) => {
+                b.check_topology().unwrap();
+                assert_eq!(b.points(), a.points());
+                let (a, b) = (a.into_mesh(), b.into_mesh());
+                validate(&pts, &b).unwrap();
+                assert!(a == b);
+            }
+            (Err(a), Err(b)) => assert_eq!(a, b),
+            (a, b) => panic!("{:?} vs {:?}", a.map(|_| ()), b.map(|_| ())),
+        }
+        assert!(lent
+            .iter()
+            .zip(&pts)
+            .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits)));
     }
 }

@@ -209,17 +209,29 @@ fn radix_sort_high32(v: &mut Vec<u64>) {
 /// assert_eq!(order, delone::geom::brio_order(&pts));
 /// ```
 pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
+    brio_order_threads(points, 1)
+}
+
+/// [`brio_order`] with the sort keys computed on up to `threads` threads
+/// (the same order for any thread count).
+pub(crate) fn brio_order_threads<const D: usize>(points: &[[f64; D]], threads: usize) -> Vec<u32> {
     let grid = HilbertGrid::new(points);
     let bits = key_bits(D);
-    let mut keys: Vec<u64> = points
-        .iter()
+    let mut keys = vec![0u64; points.len()];
+    let chunk = points.len().div_ceil(threads.max(1)).max(1 << 16);
+    let items: Vec<(usize, &mut [u64])> = keys
+        .chunks_mut(chunk)
         .enumerate()
-        .map(|(i, p)| {
-            let round = u64::from(brio_round(i));
-            let key = (round << (bits * D as u32)) | grid.key(p);
-            (key << 32) | i as u64
-        })
+        .map(|(c, k)| (c * chunk, k))
         .collect();
+    crate::par::run_dynamic(threads, items, |_, (start, k)| {
+        for (j, w) in k.iter_mut().enumerate() {
+            let i = start + j;
+            let round = u64::from(brio_round(i));
+            let key = (round << (bits * D as u32)) | grid.key(&points[i]);
+            *w = (key << 32) | i as u64;
+        }
+    });
     radix_sort_high32(&mut keys);
     keys.into_iter().map(|w| w as u32).collect()
 }
@@ -248,6 +260,63 @@ pub(crate) fn last_round_start(order: &[u32], keep: usize) -> usize {
         l -= 1;
     }
     l
+}
+
+/// Moves `items[k]` to position `keys[k]` for every `k`, in place: `keys`
+/// must be a permutation of `0..n` (it ends sorted). Undoes the gather
+/// `items[k] = original[keys[k]]` without a second array.
+///
+/// Cycle-following alone would wait on a cache miss per item; instead each
+/// level moves the items into at most 256 buckets of consecutive target
+/// positions (in-place American flag sort: one swap puts one item into its
+/// bucket, and the buckets' fill positions are 256 sequential streams),
+/// until buckets of at most 4096 items are placed by following cycles
+/// within the cache. About n·(levels + 1) swaps.
+pub(crate) fn scatter_in_place<T>(items: &mut [T], keys: &mut [u32]) {
+    debug_assert_eq!(items.len(), keys.len());
+    scatter_from(items, keys, 0);
+}
+
+/// [`scatter_in_place`] of a bucket whose keys are `base..base + n`.
+fn scatter_from<T>(items: &mut [T], keys: &mut [u32], base: u32) {
+    let n = items.len().min(keys.len());
+    let at = |keys: &[u32], i: usize| keys[i].wrapping_sub(base) as usize;
+    if n <= 4096 {
+        for i in 0..n {
+            loop {
+                let t = at(keys, i);
+                // A key out of range would loop forever: leave it.
+                if t == i || t >= n {
+                    break;
+                }
+                items.swap(i, t);
+                keys.swap(i, t);
+            }
+        }
+        return;
+    }
+    let shift = (usize::BITS - (n - 1).leading_zeros()).saturating_sub(8);
+    let buckets = ((n - 1) >> shift) + 1;
+    let mut fill: Vec<usize> = (0..buckets).map(|b| b << shift).collect();
+    for b in 0..buckets {
+        let end = ((b + 1) << shift).min(n);
+        while fill[b] < end {
+            let i = fill[b];
+            let t = (at(keys, i) >> shift).min(buckets - 1);
+            if t == b {
+                fill[b] += 1;
+            } else {
+                let j = fill[t];
+                items.swap(i, j);
+                keys.swap(i, j);
+                fill[t] += 1;
+            }
+        }
+    }
+    for b in 0..buckets {
+        let (lo, hi) = (b << shift, ((b + 1) << shift).min(n));
+        scatter_from(&mut items[lo..hi], &mut keys[lo..hi], base + lo as u32);
+    }
 }
 
 /// The Hilbert keys of [`brio_order`]: coordinates quantized on a grid of
@@ -290,6 +359,20 @@ impl<const D: usize> HilbertGrid<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scatter_in_place_undoes_a_gather() {
+        for n in [0usize, 1, 2, 5, 4096, 4097, 70_000, 300_001] {
+            let original: Vec<u64> = (0..n as u64).map(|i| i * 3 + 1).collect();
+            let pts: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -(i as f64)]).collect();
+            let mut order = brio_order(&pts);
+            assert_eq!(order, brio_order_threads(&pts, 3));
+            let mut items: Vec<u64> = order.iter().map(|&i| original[i as usize]).collect();
+            scatter_in_place(&mut items, &mut order);
+            assert_eq!(items, original);
+            assert!(order.iter().enumerate().all(|(i, &k)| k as usize == i));
+        }
+    }
 
     #[test]
     fn hilbert_2d_order_is_continuous() {

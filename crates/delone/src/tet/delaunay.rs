@@ -42,6 +42,9 @@
 //!   order (consecutive insertions read neighbouring memory) and relabels
 //!   the tetrahedra with input ids at the end; ties are broken by input id
 //!   throughout, so the copies change no decision.
+//!   [`Delaunay3::from_points_in_place`] reorders the caller's slice
+//!   instead of copying it (`crate::geom::sort::scatter_in_place`, before
+//!   and after): one copy of the points at the peak, not two.
 //! * The one-call constructor borrows the caller's points (`Cow`), reserves
 //!   about 6.75 cells per point and grows by steps of 1/8; `into_mesh`
 //!   compacts in place (no second copy).
@@ -644,6 +647,53 @@ impl<'a> Delaunay3<'a> {
         Self::build(points, Some(weights), Split::serial(), progress)
     }
 
+    /// Like [`Delaunay3::from_points_with_threads`] (the same result), with
+    /// one copy of the points instead of two: the construction reads the
+    /// points in insertion order, so it reorders the caller's slice in
+    /// place while it runs and restores it before returning — also on
+    /// error. Inputs of extreme magnitude (scaled by a power of two for the
+    /// predicates) are copied as by [`Delaunay3::from_points_with_threads`].
+    ///
+    /// ```
+    /// let mut pts: Vec<[f64; 3]> = (0..1000u32)
+    ///     .map(|i| [(i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64 + 0.5])
+    ///     .collect();
+    /// let copy = pts.clone();
+    /// let two = delone::tet::Delaunay3::from_points_with_threads(&copy, 2, &mut |_, _| {}).unwrap();
+    /// let one = delone::tet::Delaunay3::from_points_in_place(&mut pts, 2, &mut |_, _| {}).unwrap();
+    /// assert_eq!(one.into_mesh(), two.into_mesh());
+    /// assert_eq!(pts, copy);
+    /// ```
+    pub fn from_points_in_place(
+        points: &'a mut [[f64; 3]],
+        threads: usize,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
+        let split = Split::threads(threads);
+        check_coords(points)?;
+        if crate::geom::pow2_scale(crate::geom::max_abs(points)) != (1.0, 1.0) {
+            return Self::build(points, None, split, progress);
+        }
+        let mut order = insertion_order(points, split.threads)?;
+        // The point of input id order[k] moves to k.
+        let mut rank = vec![0u32; order.len()];
+        for (k, &i) in order.iter().enumerate() {
+            rank[i as usize] = k as u32;
+        }
+        crate::geom::sort::scatter_in_place(points, &mut rank);
+        drop(rank);
+        let built = Self::insert_ordered(points, &[], &order, split, progress);
+        crate::geom::sort::scatter_in_place(points, &mut order);
+        drop(order);
+        let mut dt = built?;
+        dt.map_vertices(points.len());
+        let points: &'a [[f64; 3]] = points;
+        dt.points = Cow::Borrowed(points);
+        dt.scale = Some((1.0, 1.0));
+        progress(points.len(), points.len());
+        Ok(dt)
+    }
+
     fn build(
         points: &'a [[f64; 3]],
         weights: Option<&'a [f64]>,
@@ -680,36 +730,43 @@ impl<'a> Delaunay3<'a> {
         });
         let wts: &[f64] = wcow.as_deref().unwrap_or(&[]);
         let n = points.len();
-        let mut order = crate::geom::brio_order(points);
-        // The first tetrahedron: the first four affinely independent points
-        // of the insertion order, moved to its front.
-        let mut basis: Vec<u32> = Vec::with_capacity(4);
-        let mut basis_pos: Vec<usize> = Vec::with_capacity(4);
-        for (pos, &id) in order.iter().enumerate() {
-            if extends_basis(points, &basis, id) {
-                basis.push(id);
-                basis_pos.push(pos);
-                if basis.len() == 4 {
-                    break;
-                }
-            }
-        }
-        if basis.len() < 4 {
-            return Err(degenerate_error(points, basis.len()));
-        }
-        for (k, &pos) in basis_pos.iter().enumerate() {
-            order[k..=pos].rotate_right(1);
-        }
-        debug_assert_eq!(&order[..4], &basis[..]);
+        let order = insertion_order(points, split.threads)?;
+        // The insertion works on copies in insertion order, so that
+        // consecutive insertions read neighbouring memory.
+        let local: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
+        let local_w: Vec<f64> = match wts.is_empty() {
+            true => Vec::new(),
+            false => order.iter().map(|&i| wts[i as usize]).collect(),
+        };
+        let mut dt = Self::insert_ordered(&local, &local_w, &order, split, progress)?;
+        // The vertex map after the copies are gone: a smaller peak.
+        drop((local, local_w, order));
+        dt.map_vertices(n);
+        dt.points = cow;
+        dt.scale = Some(scale);
+        dt.weights = wcow;
+        progress(n, n);
+        Ok(dt)
+    }
 
+    /// The triangulation of `local` (weighted by `local_w` unless empty),
+    /// the points in insertion order: `order[k]` is the input id of
+    /// `local[k]`, the id the result uses. Its `points`, `scale`,
+    /// `weights` and vertex map are left for the caller to fill.
+    fn insert_ordered(
+        local: &[[f64; 3]],
+        local_w: &[f64],
+        order: &[u32],
+        split: Split,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> Result<Self, Error> {
+        let n = local.len();
         let mut dt = Delaunay3 {
             points: Cow::Borrowed(&[]),
-            scale: Some(scale),
+            scale: None,
             weights: None,
             hidden: Vec::new(),
             core: Core::default(),
-            // Filled after the insertions (from the duplicate and hidden
-            // lists), when the copies are gone: a smaller peak.
             vertex_map: Vec::new(),
             duplicates: Vec::new(),
             pending: Vec::new(),
@@ -720,28 +777,22 @@ impl<'a> Delaunay3<'a> {
         let cap = n + n * 27 / 4 + 64;
         dt.core.v.reserve_exact(cap);
         dt.core.adj.reserve_exact(cap);
-        // The insertion works on copies in insertion order, so that
-        // consecutive insertions read neighbouring memory; its ids are
-        // insertion ranks (`order` maps them back) until the relabelling
-        // below. Ties are still broken by input id (`Geo::ids`), so the
-        // result is the same tetrahedra in the same slots.
-        let local: Vec<[f64; 3]> = order.iter().map(|&i| points[i as usize]).collect();
-        let local_w: Vec<f64> = match wts.is_empty() {
-            true => Vec::new(),
-            false => order.iter().map(|&i| wts[i as usize]).collect(),
-        };
+        // Ids are insertion ranks (`order` maps them back) until the
+        // relabelling below. Ties are still broken by input id
+        // (`Geo::ids`), so the result is the same tetrahedra in the same
+        // slots as with input ids.
         let geo = Geo {
-            pts: &local,
-            wts: &local_w,
-            ids: &order,
+            pts: local,
+            wts: local_w,
+            ids: order,
         };
         let input = |k: u32| order[k as usize];
-        dt.core.start(&local, [0, 1, 2, 3]);
+        dt.core.start(local, [0, 1, 2, 3]);
         // The last BRIO round of a large Delaunay triangulation is inserted
         // in parts (`Core::insert_parts`); their number depends on the size
         // only, so the output is the same for every thread count.
-        let last_round = crate::geom::sort::last_round_start(&order, 4);
-        let parts = match wts.is_empty() && n - last_round >= split.min_points {
+        let last_round = crate::geom::sort::last_round_start(order, 4);
+        let parts = match local_w.is_empty() && n - last_round >= split.min_points {
             true => PARTS,
             false => 1,
         };
@@ -768,7 +819,7 @@ impl<'a> Delaunay3<'a> {
             }
         }
         if serial_end < n {
-            let grid = crate::geom::sort::HilbertGrid::new(&local);
+            let grid = crate::geom::sort::HilbertGrid::new(local);
             let (left, dups) = dt.core.insert_parts(
                 geo,
                 serial_end as u32..n as u32,
@@ -786,25 +837,25 @@ impl<'a> Delaunay3<'a> {
             }
             dt.core.finish_parts();
         }
-        drop((local, local_w));
         for tv in dt.core.v.iter_mut().filter(|tv| tv[0] != DEAD) {
             for q in tv.iter_mut().filter(|q| **q != INF) {
                 *q = order[*q as usize];
             }
         }
-        drop(order);
-        dt.duplicates.sort_unstable();
-        dt.vertex_map = (0..n as u32).collect();
-        for &(d, o) in &dt.duplicates {
-            dt.vertex_map[d as usize] = o;
-        }
-        for &h in &dt.hidden {
-            dt.vertex_map[h as usize] = NONE;
-        }
-        dt.points = cow;
-        dt.weights = wcow;
-        progress(n, n);
         Ok(dt)
+    }
+
+    /// Fills the vertex map of a one-call construction of `n` points from
+    /// its duplicate and hidden lists.
+    fn map_vertices(&mut self, n: usize) {
+        self.duplicates.sort_unstable();
+        self.vertex_map = (0..n as u32).collect();
+        for &(d, o) in &self.duplicates {
+            self.vertex_map[d as usize] = o;
+        }
+        for &h in &self.hidden {
+            self.vertex_map[h as usize] = NONE;
+        }
     }
 
     /// Inserts one point and returns what became of it.
@@ -1134,6 +1185,32 @@ pub(crate) fn lowest_representatives<const K: usize>(
 
 /// The error for a point set without four affinely independent points,
 /// given how large an independent subset was found.
+/// The insertion order of a one-call construction: BRIO + Hilbert
+/// ([`crate::geom::brio_order`]) with the first four affinely independent
+/// points, the first tetrahedron, moved to its front.
+fn insertion_order(points: &[[f64; 3]], threads: usize) -> Result<Vec<u32>, Error> {
+    let mut order = crate::geom::sort::brio_order_threads(points, threads);
+    let mut basis: Vec<u32> = Vec::with_capacity(4);
+    let mut basis_pos: Vec<usize> = Vec::with_capacity(4);
+    for (pos, &id) in order.iter().enumerate() {
+        if extends_basis(points, &basis, id) {
+            basis.push(id);
+            basis_pos.push(pos);
+            if basis.len() == 4 {
+                break;
+            }
+        }
+    }
+    if basis.len() < 4 {
+        return Err(degenerate_error(points, basis.len()));
+    }
+    for (k, &pos) in basis_pos.iter().enumerate() {
+        order[k..=pos].rotate_right(1);
+    }
+    debug_assert_eq!(&order[..4], &basis[..]);
+    Ok(order)
+}
+
 fn degenerate_error(points: &[[f64; 3]], independent: usize) -> Error {
     // `+ 0.0` turns -0.0 into 0.0: equal points compare equal.
     let mut distinct: Vec<[u64; 3]> = points
