@@ -121,6 +121,10 @@ const NEEDLE_ANGLE: f64 = 5.0;
 /// counts as near a sharp edge ([`LeftBad::near_sharp`]).
 const SHARP_ANGLE: f64 = 60.0;
 
+/// Length of the queue of bad cells below which it is never compacted
+/// (see [`Cdr::run`]).
+const COMPACT_MIN: usize = 1 << 16;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -190,6 +194,9 @@ pub(super) struct Cdr {
     failed_s: IdSet<(u32, u32)>,
     failed_f: IdSet<[u32; 3]>,
     badq: Heap<Bad>,
+    /// Length of [`Cdr::badq`] at which its entries for cells gone since
+    /// they were queued are dropped (see [`Cdr::run`]).
+    compact_at: usize,
     bound: f64,
     /// Per region: the volume bound (rescaled).
     max_vol: Vec<f64>,
@@ -392,6 +399,7 @@ impl Cdr {
             failed_s: IdSet::default(),
             failed_f: IdSet::default(),
             badq: Heap::new(),
+            compact_at: COMPACT_MIN,
             bound: opts.max_radius_edge.unwrap_or(f64::INFINITY),
             max_vol,
             budget: 0,
@@ -763,9 +771,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(tv[i], tv[j]);
-                if Some(e) != split
-                    && self.m.segs.contains_key(&e)
-                    && bedges.binary_search(&e).is_err()
+                if Some(e) != split && self.is_seg(e) && bedges.binary_search(&e).is_err()
                 {
                     let o = cav.iter().copied().find(|&u| {
                         let x = self.m.tv[u as usize];
@@ -858,7 +864,21 @@ impl Cdr {
         if required.is_empty() {
             return None;
         }
-        let mut cav = self.grow(required, &m);
+        let cav = self.grow(required, &m);
+        self.insert_grown(cav, m, required, dis, split, tris)
+    }
+
+    /// [`Cdr::insert`] with `cav`, the cavity [`Cdr::grow`] gives for
+    /// `required` and `m` on the mesh as it is.
+    fn insert_grown(
+        &mut self,
+        mut cav: Vec<u32>,
+        m: P,
+        required: &[u32],
+        dis: &[[u32; 3]],
+        split: Option<(u32, u32)>,
+        tris: Vec<u32>,
+    ) -> Option<u32> {
         if cav.len() >= MAX_CAVITY {
             return None;
         }
@@ -1655,7 +1675,9 @@ impl Cdr {
                     return Some(Left::Close);
                 }
                 if segs.is_empty() && faces.is_empty() {
-                    if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
+                    // (The cavity just grown is the insertion's: the mesh
+                    // has not changed.)
+                    if self.insert_grown(cav, c, &[t], &[], None, Vec::new()).is_some() {
                         self.report.interior += 1;
                         // The cell itself may have stayed out of the
                         // cavity (a subface between it and its
@@ -1937,6 +1959,18 @@ impl Cdr {
                 }
                 continue;
             }
+            // Most queued cells are gone by the time they would be popped
+            // (the cavity of a worse neighbour took them: nine in ten on
+            // vtk_turbineblade at q1.5), and each pop of a stale entry
+            // walks the heap's levels. Whenever the queue has doubled since
+            // the last time, the entries of cells gone are dropped at once
+            // (the rest pop in the same order).
+            if self.badq.len() >= self.compact_at {
+                let tv = &self.m.tv;
+                self.badq
+                    .retain(|b| tv.get(b.slot as usize) == Some(&b.verts.0));
+                self.compact_at = (2 * self.badq.len()).max(COMPACT_MIN);
+            }
             let Some(b) = self.badq.pop() else {
                 return;
             };
@@ -1997,7 +2031,7 @@ impl Cdr {
                 }
                 let on_seg = EDGES
                     .iter()
-                    .any(|&(i, j)| self.m.segs.contains_key(&ekey(tv[i], tv[j])));
+                    .any(|&(i, j)| self.is_seg(ekey(tv[i], tv[j])));
                 if self.m.mask[t] != 0 || on_seg {
                     self.report.remaining_at_boundary += 1;
                 }
