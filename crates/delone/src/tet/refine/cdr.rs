@@ -225,6 +225,9 @@ pub(super) struct Cdr {
     /// [`RefineOptions::keep_surface`]: no point on a subface or
     /// subsegment.
     keep_surface: bool,
+    /// [`RefineOptions::diagnostics`]: the cells left are counted and
+    /// explained.
+    diagnostics: bool,
 }
 
 impl Cdr {
@@ -418,6 +421,7 @@ impl Cdr {
             ir_refused: false,
             left: IdMap::default(),
             keep_surface: opts.keep_surface,
+            diagnostics: opts.diagnostics,
         };
         st.budget = if let Some(n) = opts.max_steiner {
             n
@@ -530,8 +534,13 @@ impl Cdr {
 
     fn face_encroached_by(&self, k: [u32; 3], w: u32) -> bool {
         let g = |q: u32| &self.p[q as usize];
-        let t = self.m.ftri.get(&k).copied().unwrap_or(NONE);
-        t != NONE && encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w)) && !self.near(w, &[t])
+        // (The geometry first: it is cheaper than the table.)
+        encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w))
+            && self
+                .m
+                .ftri
+                .get(&k)
+                .is_some_and(|&t| t != NONE && !self.near(w, &[t]))
     }
 
     /// Badness key of tetrahedron `t`, when it breaks a bound.
@@ -578,9 +587,9 @@ impl Cdr {
         for f in 0..4 {
             if self.m.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
-                if !self.queued_f.contains(&k)
+                if (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
+                    && !self.queued_f.contains(&k)
                     && !self.failed_f.contains(&k)
-                    && (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
                 {
                     self.queued_f.insert(k);
                     self.faceq.push_back(k);
@@ -590,11 +599,11 @@ impl Cdr {
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
             if self.is_seg(e)
-                && !self.queued_s.contains(&e)
-                && !self.failed_s.contains(&e)
                 && (0..4)
                     .filter(|&k| k != i && k != j)
                     .any(|k| self.seg_encroached_by(e, tv[k]))
+                && !self.queued_s.contains(&e)
+                && !self.failed_s.contains(&e)
             {
                 self.queued_s.insert(e);
                 self.segq.push_back(e);
@@ -922,6 +931,10 @@ impl Cdr {
     /// and flips never build one, and R3 leaves one it finds (splitting its
     /// boundary would make flat cells again).
     pub(super) fn flat(&self, t: [u32; 4], extra: Option<(u32, &[u32])>) -> bool {
+        // (A new interior point decides at once.)
+        if extra.is_some_and(|(v, l)| l.is_empty() && t.contains(&v)) {
+            return false;
+        }
         let tris_of = |q: u32| -> &[u32] {
             match extra {
                 Some((v, l)) if v == q => l,
@@ -1007,6 +1020,9 @@ impl Cdr {
 
     /// Is subface `k` on the plane of one of `tris`?
     fn coplanar(&self, k: &[u32; 3], tris: &[u32]) -> bool {
+        if tris.is_empty() {
+            return false;
+        }
         let Some(&t) = self.m.ftri.get(k) else {
             return false;
         };
@@ -1784,7 +1800,9 @@ impl Cdr {
             Left::Shell => r.skipped_shell += 1,
             _ => {}
         }
-        self.left.insert(tv, why);
+        if self.diagnostics {
+            self.left.insert(tv, why);
+        }
     }
 
     /// The opening angle between input triangles `a` and `b` sharing an
@@ -1910,10 +1928,9 @@ impl Cdr {
 
     /// Is subface `k` (on an input triangle) bigger than the sizing allows?
     fn face_too_big(&self, k: [u32; 3]) -> bool {
-        self.m.ftri.get(&k).is_some_and(|&t| t != NONE)
-            && self
-                .sizer
-                .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+        self.sizer
+            .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+            && self.m.ftri.get(&k).is_some_and(|&t| t != NONE)
     }
 
     fn face_still_encroached(&self, k: [u32; 3]) -> bool {
@@ -2008,18 +2025,20 @@ impl Cdr {
             r.volume = 0.0;
         }
         for (t, &tv) in tets.iter().enumerate() {
-            let p = tv.map(|q| points[q as usize]);
-            let r = quality::radius_edge_ratio(&p);
             let ps = tv.map(|q| self.p[q as usize]);
-            if self.sizer.cell(&ps) > 1.0 {
-                self.report.remaining_too_big += 1;
-            }
             // On the scaled points (in input units for the region's sum).
             let vol = quality::volume(&ps);
             if let Some(g) = regions.get_mut(tet_region[t] as usize) {
                 g.tets += 1;
                 g.volume += crate::geom::scale::unscale_cubic(vol, (self.s, 1.0));
             }
+            if !self.diagnostics {
+                continue;
+            }
+            if self.sizer.cell(&ps) > 1.0 {
+                self.report.remaining_too_big += 1;
+            }
+            let r = quality::radius_edge_ratio(&tv.map(|q| points[q as usize]));
             let mv = self.max_vol.get(self.m.reg[t] as usize).copied();
             if mv.is_some_and(|mv| vol.abs() > mv) {
                 self.report.remaining_over_volume += 1;
