@@ -816,6 +816,9 @@ fn no_diagnostics_gives_the_same_mesh() {
     assert!(fo.before.tets > 0 && fo.input_min_dihedral < 360.0);
     assert!(fo.bad.count > 0 || fo.after.min_dihedral >= 25.0);
     let d = OptimizeReport::default();
-    assert_eq!((&lo.before, lo.input_min_dihedral), (&d.before, d.input_min_dihedral));
+    assert_eq!(
+        (&lo.before, lo.input_min_dihedral),
+        (&d.before, d.input_min_dihedral)
+    );
     assert_eq!(lo.bad, BadCells::default());
 }

@@ -780,8 +780,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(tv[i], tv[j]);
-                if Some(e) != split && self.is_seg(e) && bedges.binary_search(&e).is_err()
-                {
+                if Some(e) != split && self.is_seg(e) && bedges.binary_search(&e).is_err() {
                     let o = cav.iter().copied().find(|&u| {
                         let x = self.m.tv[u as usize];
                         !required.contains(&u) && x.contains(&e.0) && x.contains(&e.1)
@@ -1693,7 +1692,10 @@ impl Cdr {
                 if segs.is_empty() && faces.is_empty() {
                     // (The cavity just grown is the insertion's: the mesh
                     // has not changed.)
-                    if self.insert_grown(cav, c, &[t], &[], None, Vec::new()).is_some() {
+                    if self
+                        .insert_grown(cav, c, &[t], &[], None, Vec::new())
+                        .is_some()
+                    {
                         self.report.interior += 1;
                         // The cell itself may have stayed out of the
                         // cavity (a subface between it and its
@@ -2048,9 +2050,7 @@ impl Cdr {
                 if r > FLAT_RATIO {
                     self.report.flat += 1;
                 }
-                let on_seg = EDGES
-                    .iter()
-                    .any(|&(i, j)| self.is_seg(ekey(tv[i], tv[j])));
+                let on_seg = EDGES.iter().any(|&(i, j)| self.is_seg(ekey(tv[i], tv[j])));
                 if self.m.mask[t] != 0 || on_seg {
                     self.report.remaining_at_boundary += 1;
                 }

@@ -55,7 +55,8 @@ pub struct RefineOptions {
     /// at a point inside its circumball that does not (see the module
     /// documentation), or left and counted in [`LeftBad::surface`](crate::tet::refine::LeftBad::surface); a cell
     /// above a volume bound is always split. Default false.
-    pub keep_surface: bool,    /// Count the output's cells left outside the bounds in the report
+    pub keep_surface: bool,
+    /// Count the output's cells left outside the bounds in the report
     /// ([`RefineReport::remaining_bad`](crate::tet::refine::RefineReport::remaining_bad)
     /// and the other `remaining_*` counts, `flat`, and why and where they
     /// were left, [`RefineReport::left`](crate::tet::refine::RefineReport::left)):
