@@ -136,15 +136,15 @@ mod tests {
         let mut b = BinaryHeap::new();
         for round in 0..30_000u64 {
             let r = rng.next_u64();
-            if r % 5 == 0 {
+            if r.is_multiple_of(5) {
                 assert_eq!(a.pop(), b.pop(), "round {round}");
             } else {
                 let x = ((r >> 8) % 64, (r >> 20) % 5);
                 a.push(x);
                 b.push(x);
             }
-            if round % 997 == 0 {
-                let keep = |x: &(u64, u64)| (x.0 + x.1 + round) % 3 != 0;
+            if round.is_multiple_of(997) {
+                let keep = |x: &(u64, u64)| !(x.0 + x.1 + round).is_multiple_of(3);
                 a.retain(keep);
                 b.retain(keep);
                 assert_eq!(a.len(), b.len());
