@@ -858,9 +858,10 @@ impl Cdr {
         (mid, ids)
     }
 
-    /// Inserts `m`: cavity grown from `required` (which must all stay),
-    /// subfaces `dis` dissolved, subsegment `split` split. `None` (nothing
-    /// changed) when no valid cavity exists.
+    /// Inserts `m`: cavity grown from `required` (which must all stay;
+    /// `grown`: that cavity when the caller has just grown it, on the mesh
+    /// as it is), subfaces `dis` dissolved, subsegment `split` split.
+    /// `None` (nothing changed) when no valid cavity exists.
     fn insert(
         &mut self,
         m: P,
@@ -868,25 +869,12 @@ impl Cdr {
         dis: &[[u32; 3]],
         split: Option<(u32, u32)>,
         tris: Vec<u32>,
+        grown: Option<Vec<u32>>,
     ) -> Option<u32> {
         if required.is_empty() {
             return None;
         }
-        let cav = self.grow(required, &m);
-        self.insert_grown(cav, m, required, dis, split, tris)
-    }
-
-    /// [`Cdr::insert`] with `cav`, the cavity [`Cdr::grow`] gives for
-    /// `required` and `m` on the mesh as it is.
-    fn insert_grown(
-        &mut self,
-        mut cav: Vec<u32>,
-        m: P,
-        required: &[u32],
-        dis: &[[u32; 3]],
-        split: Option<(u32, u32)>,
-        tris: Vec<u32>,
-    ) -> Option<u32> {
+        let mut cav = grown.unwrap_or_else(|| self.grow(required, &m));
         if cav.len() >= MAX_CAVITY {
             return None;
         }
@@ -1204,11 +1192,11 @@ impl Cdr {
             req2.extend(&req);
             req2.sort_unstable();
             req2.dedup();
-            done = self.insert(m, &req2, &grown, Some(e), tris.clone());
+            done = self.insert(m, &req2, &grown, Some(e), tris.clone(), None);
         }
         let done = match done {
             Some(id) => Some(id),
-            None => self.insert(m, &req, &dis, Some(e), tris),
+            None => self.insert(m, &req, &dis, Some(e), tris, None),
         };
         match done {
             Some(id) => {
@@ -1436,7 +1424,7 @@ impl Cdr {
             }
             return progress;
         }
-        match self.insert(c, &req, &d, None, vec![tri]) {
+        match self.insert(c, &req, &d, None, vec![tri], None) {
             Some(id) => {
                 self.on_plane(id, tri);
                 self.report.on_facets += 1;
@@ -1607,7 +1595,7 @@ impl Cdr {
             } else {
                 vec![t0, b.slot]
             };
-            if self.insert(m, &req, &[], None, Vec::new()).is_some() {
+            if self.insert(m, &req, &[], None, Vec::new(), None).is_some() {
                 self.report.interior += 1;
                 self.report.inside += 1;
                 return true;
@@ -1693,7 +1681,7 @@ impl Cdr {
                     // (The cavity just grown is the insertion's: the mesh
                     // has not changed.)
                     if self
-                        .insert_grown(cav, c, &[t], &[], None, Vec::new())
+                        .insert(c, &[t], &[], None, Vec::new(), Some(cav))
                         .is_some()
                     {
                         self.report.interior += 1;
