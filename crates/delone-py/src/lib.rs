@@ -714,8 +714,11 @@ fn tetrahedralize<'py>(
     regions: Option<PyReadonlyArray2<'py, f64>>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = TetOptions::from_switches(switches)
+    let mut opts = TetOptions::from_switches(switches)
         .map_err(|e| invalid(format!("switches {switches:?}: {e}")))?;
+    // The quality dict shows the final statistics and the optimisation's
+    // stages only: the reports' other diagnostics are not gathered.
+    opts.no_diagnostics = true;
     let p = rows::<3>(&points, "points")?;
     let n = p.len();
     let fv = face_vertices.as_array();

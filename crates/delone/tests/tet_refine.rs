@@ -781,3 +781,44 @@ fn merged_planar_facets_are_refined_as_wholes() {
         .count();
     assert!(crossing > 0, "no face crosses an inner edge of its facet");
 }
+
+/// `TetOptions::no_diagnostics` (what the Python package asks for) gives
+/// the same mesh and the same final statistics and stages, and leaves the
+/// diagnostics that only explain the result at their defaults; with them
+/// (the default, `delone tet`) they are gathered.
+#[test]
+fn no_diagnostics_gives_the_same_mesh() {
+    use delone::tet::optimize::{BadCells, OptimizeReport};
+    use delone::tet::{mesh, TetOptions};
+    let (pts, tris, _) = solids::chazelle(4, 1.0, 1.0, 0.45);
+    let mut plc = Plc::new(pts.clone());
+    plc.facets = tris.iter().map(|t| Facet::polygon(t.to_vec())).collect();
+    let full_opts = TetOptions::from_switches("pq1.2/25").unwrap();
+    let lean_opts = TetOptions {
+        no_diagnostics: true,
+        ..full_opts.clone()
+    };
+    let full = mesh(&plc, &full_opts).unwrap();
+    let lean = mesh(&plc, &lean_opts).unwrap();
+    check_recovered(&pts, &full.triangles, &lean.mesh).unwrap();
+    assert_eq!(full.mesh.points, lean.mesh.points);
+    assert_eq!(full.mesh.mesh.tets, lean.mesh.mesh.tets);
+    assert_eq!(full.faces, lean.faces);
+    let (fo, lo) = (full.optimize.unwrap(), lean.optimize.unwrap());
+    assert_eq!((&fo.after, &fo.stages), (&lo.after, &lo.stages));
+    assert_eq!(fo.evaluations, lo.evaluations);
+    // The diagnostics: gathered by default, left out on request.
+    let (fr, lr) = (full.refine.unwrap(), lean.refine.unwrap());
+    assert!(fr.remaining_bad > 0, "{fr:?}");
+    assert_eq!(fr.remaining_bad, fr.left.total());
+    assert_eq!((lr.remaining_bad, lr.left.total()), (0, 0));
+    assert_eq!(fr.interior, lr.interior);
+    assert!(fo.before.tets > 0 && fo.input_min_dihedral < 360.0);
+    assert!(fo.bad.count > 0 || fo.after.min_dihedral >= 25.0);
+    let d = OptimizeReport::default();
+    assert_eq!(
+        (&lo.before, lo.input_min_dihedral),
+        (&d.before, d.input_min_dihedral)
+    );
+    assert_eq!(lo.bad, BadCells::default());
+}

@@ -87,6 +87,12 @@ pub struct TetOptions {
     /// The size field of `-m` (no letter; `delone tet` reads it from
     /// `FILE.mtr` or `FILE.b.*`). Default `None`.
     pub size_field: Option<Sizing>,
+    /// Leave out of the refinement's and the optimisation's reports what
+    /// only explains the result ([`RefineOptions::diagnostics`],
+    /// [`crate::tet::optimize::OptimizeOptions::diagnostics`]; no letter:
+    /// the Python package sets it, `delone tet` never does): the mesh is
+    /// the same, a large `-pq` run about 5% faster. Default off.
+    pub no_diagnostics: bool,
 }
 
 impl TetOptions {

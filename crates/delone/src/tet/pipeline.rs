@@ -242,6 +242,7 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
             max_volume: opts.max_volume,
             max_steiner: opts.max_steiner,
             sizing: opts.size_field.clone().unwrap_or_default(),
+            diagnostics: !opts.no_diagnostics,
             ..RefineOptions::default()
         };
         let (r, domain_mesh) = refine_in_place(points, &triangles, &rec, Some(domain_mesh), &ro)
@@ -334,6 +335,7 @@ fn optimize_options(
     }
     let mut o = OptimizeOptions {
         input_points: Some(input_points),
+        diagnostics: !opts.no_diagnostics,
         ..OptimizeOptions::level(level)
     };
     if let Some(d) = opts.min_dihedral {

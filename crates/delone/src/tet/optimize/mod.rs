@@ -308,6 +308,18 @@ pub struct OptimizeOptions {
     /// small mesh left outside it is optimised a second time (see
     /// [`optimize`]). Default [`BAD_ANGLE`] (15°).
     pub min_dihedral: f64,
+    /// Gather the report's diagnostics, which only explain the result: the
+    /// statistics before ([`OptimizeReport::before`]), the tetrahedra left
+    /// below the target ([`OptimizeReport::stuck`],
+    /// [`OptimizeReport::stuck_counts`]), the input surface's bounds
+    /// (`input_min_dihedral`, `triangles_*`) and the split of the
+    /// tetrahedra outside the bound ([`OptimizeReport::bad`]): passes over
+    /// the mesh and its surface, about 5% of a large `-pq` run. Default
+    /// true; false leaves them at their defaults (but for the stuck
+    /// tetrahedra of a mesh small enough for a second run, which decide
+    /// it; `after`, the counters and the stages are always given) and the
+    /// mesh is the same.
+    pub diagnostics: bool,
 }
 
 impl Default for OptimizeOptions {
@@ -326,6 +338,7 @@ impl Default for OptimizeOptions {
             max_volume: None,
             sizing: crate::tet::refine::sizing::Sizing::None,
             min_dihedral: BAD_ANGLE,
+            diagnostics: true,
         }
     }
 }
@@ -797,7 +810,8 @@ pub(crate) fn optimize_in_place(
     // the copy's neighbour lists only if that run happens (the same mesh as
     // `mesh`, without holding a second one through the first run).
     let original = retry.then(|| rec.clone());
-    let report = optimize_once(rec, mesh, opts, false);
+    // (The stuck tetrahedra decide the second run.)
+    let report = optimize_once(rec, mesh, opts, false, opts.diagnostics || retry);
     let Some(mut other) = original else {
         return Ok(report);
     };
@@ -813,7 +827,7 @@ pub(crate) fn optimize_in_place(
         return Ok(report);
     }
     let other_mesh = validate_input(&other)?;
-    let mut second = optimize_once(&mut other, other_mesh, opts, true);
+    let mut second = optimize_once(&mut other, other_mesh, opts, true, opts.diagnostics);
     second.evaluations += report.evaluations;
     let stages = [report.stages.as_slice(), &second.stages].concat();
     let key = |r: &OptimizeReport| (worst(r), std::cmp::Reverse(r.after.tets));
@@ -845,21 +859,26 @@ const RETRY_CAP: usize = 40_000;
 const RETRY_FEATURE_ANGLE: f64 = 0.1;
 
 /// One run of [`optimize`] on a validated mesh; `thorough`: every trial
-/// insertion settled fully from the start.
+/// insertion settled fully from the start; `list_stuck`: the stuck tetrahedra
+/// are listed (with [`OptimizeOptions::diagnostics`], the rest of the
+/// diagnostics too).
 fn optimize_once(
     rec: &mut Recovered,
     mesh: DomainMesh,
     opts: &OptimizeOptions,
     thorough: bool,
+    list_stuck: bool,
 ) -> OptimizeReport {
-    let before = TetStats::of(&rec.points, &rec.mesh.tets);
-    let mut report = OptimizeReport {
-        before: before.clone(),
-        after: before,
-        ..OptimizeReport::default()
-    };
-    if opts.max_passes == 0 || rec.mesh.tets.is_empty() {
-        surface_bounds(rec, opts.min_dihedral, &mut report);
+    let idle = opts.max_passes == 0 || rec.mesh.tets.is_empty();
+    let mut report = OptimizeReport::default();
+    if opts.diagnostics || idle {
+        report.before = TetStats::of(&rec.points, &rec.mesh.tets);
+    }
+    if idle {
+        report.after = report.before.clone();
+        if opts.diagnostics {
+            surface_bounds(rec, opts.min_dihedral, &mut report);
+        }
         return report;
     }
     let (scaled, s) = crate::geom::rescaled(&rec.points);
@@ -1098,18 +1117,22 @@ fn optimize_once(
     report.evaluations = w.evals.get();
     let old_id = write_back(rec, &w, s, n_in);
     report.after = TetStats::of(&rec.points, &rec.mesh.tets);
-    stuck(
-        rec,
-        &w,
-        &old_id,
-        n_in,
-        target.to_radians().sin(),
-        &mut report,
-    );
+    if list_stuck {
+        stuck(
+            rec,
+            &w,
+            &old_id,
+            n_in,
+            target.to_radians().sin(),
+            &mut report,
+        );
+    }
     // The work mesh is done with before the surface's statistics are
     // gathered (peak memory).
     drop(w);
-    surface_bounds(rec, opts.min_dihedral, &mut report);
+    if opts.diagnostics {
+        surface_bounds(rec, opts.min_dihedral, &mut report);
+    }
     report
 }
 

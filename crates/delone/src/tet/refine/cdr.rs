@@ -121,6 +121,10 @@ const NEEDLE_ANGLE: f64 = 5.0;
 /// counts as near a sharp edge ([`LeftBad::near_sharp`]).
 const SHARP_ANGLE: f64 = 60.0;
 
+/// Length of the queue of bad cells below which it is never compacted
+/// (see [`Cdr::run`]).
+const COMPACT_MIN: usize = 1 << 16;
+
 /// Largest cavity grown for one insertion.
 const MAX_CAVITY: usize = 50_000;
 
@@ -190,6 +194,9 @@ pub(super) struct Cdr {
     failed_s: IdSet<(u32, u32)>,
     failed_f: IdSet<[u32; 3]>,
     badq: Heap<Bad>,
+    /// Length of [`Cdr::badq`] at which its entries for cells gone since
+    /// they were queued are dropped (see [`Cdr::run`]).
+    compact_at: usize,
     bound: f64,
     /// Per region: the volume bound (rescaled).
     max_vol: Vec<f64>,
@@ -218,6 +225,9 @@ pub(super) struct Cdr {
     /// [`RefineOptions::keep_surface`]: no point on a subface or
     /// subsegment.
     keep_surface: bool,
+    /// [`RefineOptions::diagnostics`]: the cells left are counted and
+    /// explained.
+    diagnostics: bool,
 }
 
 impl Cdr {
@@ -392,6 +402,7 @@ impl Cdr {
             failed_s: IdSet::default(),
             failed_f: IdSet::default(),
             badq: Heap::new(),
+            compact_at: COMPACT_MIN,
             bound: opts.max_radius_edge.unwrap_or(f64::INFINITY),
             max_vol,
             budget: 0,
@@ -410,6 +421,7 @@ impl Cdr {
             ir_refused: false,
             left: IdMap::default(),
             keep_surface: opts.keep_surface,
+            diagnostics: opts.diagnostics,
         };
         st.budget = if let Some(n) = opts.max_steiner {
             n
@@ -522,8 +534,13 @@ impl Cdr {
 
     fn face_encroached_by(&self, k: [u32; 3], w: u32) -> bool {
         let g = |q: u32| &self.p[q as usize];
-        let t = self.m.ftri.get(&k).copied().unwrap_or(NONE);
-        t != NONE && encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w)) && !self.near(w, &[t])
+        // (The geometry first: it is cheaper than the table.)
+        encroaches_face(g(k[0]), g(k[1]), g(k[2]), g(w))
+            && self
+                .m
+                .ftri
+                .get(&k)
+                .is_some_and(|&t| t != NONE && !self.near(w, &[t]))
     }
 
     /// Badness key of tetrahedron `t`, when it breaks a bound.
@@ -570,9 +587,9 @@ impl Cdr {
         for f in 0..4 {
             if self.m.mask[t as usize] >> f & 1 == 1 {
                 let k = fkey(face(tv, f));
-                if !self.queued_f.contains(&k)
+                if (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
+                    && !self.queued_f.contains(&k)
                     && !self.failed_f.contains(&k)
-                    && (self.face_encroached_by(k, tv[f]) || self.face_too_big(k))
                 {
                     self.queued_f.insert(k);
                     self.faceq.push_back(k);
@@ -582,11 +599,11 @@ impl Cdr {
         for (i, j) in EDGES {
             let e = ekey(tv[i], tv[j]);
             if self.is_seg(e)
-                && !self.queued_s.contains(&e)
-                && !self.failed_s.contains(&e)
                 && (0..4)
                     .filter(|&k| k != i && k != j)
                     .any(|k| self.seg_encroached_by(e, tv[k]))
+                && !self.queued_s.contains(&e)
+                && !self.failed_s.contains(&e)
             {
                 self.queued_s.insert(e);
                 self.segq.push_back(e);
@@ -763,10 +780,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(tv[i], tv[j]);
-                if Some(e) != split
-                    && self.m.segs.contains_key(&e)
-                    && bedges.binary_search(&e).is_err()
-                {
+                if Some(e) != split && self.is_seg(e) && bedges.binary_search(&e).is_err() {
                     let o = cav.iter().copied().find(|&u| {
                         let x = self.m.tv[u as usize];
                         !required.contains(&u) && x.contains(&e.0) && x.contains(&e.1)
@@ -844,9 +858,10 @@ impl Cdr {
         (mid, ids)
     }
 
-    /// Inserts `m`: cavity grown from `required` (which must all stay),
-    /// subfaces `dis` dissolved, subsegment `split` split. `None` (nothing
-    /// changed) when no valid cavity exists.
+    /// Inserts `m`: cavity grown from `required` (which must all stay;
+    /// `grown`: that cavity when the caller has just grown it, on the mesh
+    /// as it is), subfaces `dis` dissolved, subsegment `split` split.
+    /// `None` (nothing changed) when no valid cavity exists.
     fn insert(
         &mut self,
         m: P,
@@ -854,11 +869,12 @@ impl Cdr {
         dis: &[[u32; 3]],
         split: Option<(u32, u32)>,
         tris: Vec<u32>,
+        grown: Option<Vec<u32>>,
     ) -> Option<u32> {
         if required.is_empty() {
             return None;
         }
-        let mut cav = self.grow(required, &m);
+        let mut cav = grown.unwrap_or_else(|| self.grow(required, &m));
         if cav.len() >= MAX_CAVITY {
             return None;
         }
@@ -902,6 +918,10 @@ impl Cdr {
     /// and flips never build one, and R3 leaves one it finds (splitting its
     /// boundary would make flat cells again).
     pub(super) fn flat(&self, t: [u32; 4], extra: Option<(u32, &[u32])>) -> bool {
+        // (A new interior point decides at once.)
+        if extra.is_some_and(|(v, l)| l.is_empty() && t.contains(&v)) {
+            return false;
+        }
         let tris_of = |q: u32| -> &[u32] {
             match extra {
                 Some((v, l)) if v == q => l,
@@ -987,6 +1007,9 @@ impl Cdr {
 
     /// Is subface `k` on the plane of one of `tris`?
     fn coplanar(&self, k: &[u32; 3], tris: &[u32]) -> bool {
+        if tris.is_empty() {
+            return false;
+        }
         let Some(&t) = self.m.ftri.get(k) else {
             return false;
         };
@@ -1169,11 +1192,11 @@ impl Cdr {
             req2.extend(&req);
             req2.sort_unstable();
             req2.dedup();
-            done = self.insert(m, &req2, &grown, Some(e), tris.clone());
+            done = self.insert(m, &req2, &grown, Some(e), tris.clone(), None);
         }
         let done = match done {
             Some(id) => Some(id),
-            None => self.insert(m, &req, &dis, Some(e), tris),
+            None => self.insert(m, &req, &dis, Some(e), tris, None),
         };
         match done {
             Some(id) => {
@@ -1401,7 +1424,7 @@ impl Cdr {
             }
             return progress;
         }
-        match self.insert(c, &req, &d, None, vec![tri]) {
+        match self.insert(c, &req, &d, None, vec![tri], None) {
             Some(id) => {
                 self.on_plane(id, tri);
                 self.report.on_facets += 1;
@@ -1572,7 +1595,7 @@ impl Cdr {
             } else {
                 vec![t0, b.slot]
             };
-            if self.insert(m, &req, &[], None, Vec::new()).is_some() {
+            if self.insert(m, &req, &[], None, Vec::new(), None).is_some() {
                 self.report.interior += 1;
                 self.report.inside += 1;
                 return true;
@@ -1655,7 +1678,12 @@ impl Cdr {
                     return Some(Left::Close);
                 }
                 if segs.is_empty() && faces.is_empty() {
-                    if self.insert(c, &[t], &[], None, Vec::new()).is_some() {
+                    // (The cavity just grown is the insertion's: the mesh
+                    // has not changed.)
+                    if self
+                        .insert(c, &[t], &[], None, Vec::new(), Some(cav))
+                        .is_some()
+                    {
                         self.report.interior += 1;
                         // The cell itself may have stayed out of the
                         // cavity (a subface between it and its
@@ -1762,7 +1790,9 @@ impl Cdr {
             Left::Shell => r.skipped_shell += 1,
             _ => {}
         }
-        self.left.insert(tv, why);
+        if self.diagnostics {
+            self.left.insert(tv, why);
+        }
     }
 
     /// The opening angle between input triangles `a` and `b` sharing an
@@ -1888,10 +1918,9 @@ impl Cdr {
 
     /// Is subface `k` (on an input triangle) bigger than the sizing allows?
     fn face_too_big(&self, k: [u32; 3]) -> bool {
-        self.m.ftri.get(&k).is_some_and(|&t| t != NONE)
-            && self
-                .sizer
-                .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+        self.sizer
+            .face(&self.pt(k[0]), &self.pt(k[1]), &self.pt(k[2]))
+            && self.m.ftri.get(&k).is_some_and(|&t| t != NONE)
     }
 
     fn face_still_encroached(&self, k: [u32; 3]) -> bool {
@@ -1937,6 +1966,18 @@ impl Cdr {
                 }
                 continue;
             }
+            // Most queued cells are gone by the time they would be popped
+            // (the cavity of a worse neighbour took them: nine in ten on
+            // vtk_turbineblade at q1.5), and each pop of a stale entry
+            // walks the heap's levels. Whenever the queue has doubled since
+            // the last time, the entries of cells gone are dropped at once
+            // (the rest pop in the same order).
+            if self.badq.len() >= self.compact_at {
+                let tv = &self.m.tv;
+                self.badq
+                    .retain(|b| tv.get(b.slot as usize) == Some(&b.verts.0));
+                self.compact_at = (2 * self.badq.len()).max(COMPACT_MIN);
+            }
             let Some(b) = self.badq.pop() else {
                 return;
             };
@@ -1974,18 +2015,20 @@ impl Cdr {
             r.volume = 0.0;
         }
         for (t, &tv) in tets.iter().enumerate() {
-            let p = tv.map(|q| points[q as usize]);
-            let r = quality::radius_edge_ratio(&p);
             let ps = tv.map(|q| self.p[q as usize]);
-            if self.sizer.cell(&ps) > 1.0 {
-                self.report.remaining_too_big += 1;
-            }
             // On the scaled points (in input units for the region's sum).
             let vol = quality::volume(&ps);
             if let Some(g) = regions.get_mut(tet_region[t] as usize) {
                 g.tets += 1;
                 g.volume += crate::geom::scale::unscale_cubic(vol, (self.s, 1.0));
             }
+            if !self.diagnostics {
+                continue;
+            }
+            if self.sizer.cell(&ps) > 1.0 {
+                self.report.remaining_too_big += 1;
+            }
+            let r = quality::radius_edge_ratio(&tv.map(|q| points[q as usize]));
             let mv = self.max_vol.get(self.m.reg[t] as usize).copied();
             if mv.is_some_and(|mv| vol.abs() > mv) {
                 self.report.remaining_over_volume += 1;
@@ -1995,9 +2038,7 @@ impl Cdr {
                 if r > FLAT_RATIO {
                     self.report.flat += 1;
                 }
-                let on_seg = EDGES
-                    .iter()
-                    .any(|&(i, j)| self.m.segs.contains_key(&ekey(tv[i], tv[j])));
+                let on_seg = EDGES.iter().any(|&(i, j)| self.is_seg(ekey(tv[i], tv[j])));
                 if self.m.mask[t] != 0 || on_seg {
                     self.report.remaining_at_boundary += 1;
                 }

@@ -56,6 +56,13 @@ pub struct RefineOptions {
     /// documentation), or left and counted in [`LeftBad::surface`](crate::tet::refine::LeftBad::surface); a cell
     /// above a volume bound is always split. Default false.
     pub keep_surface: bool,
+    /// Count the output's cells left outside the bounds in the report
+    /// ([`RefineReport::remaining_bad`](crate::tet::refine::RefineReport::remaining_bad)
+    /// and the other `remaining_*` counts, `flat`, and why and where they
+    /// were left, [`RefineReport::left`](crate::tet::refine::RefineReport::left)):
+    /// a pass over every output cell that only explains the result. Default
+    /// true; false leaves those counts at 0 (the mesh is the same).
+    pub diagnostics: bool,
 }
 
 impl Default for RefineOptions {
@@ -67,6 +74,7 @@ impl Default for RefineOptions {
             recover: RecoverOptions::default(),
             sizing: sizing::Sizing::None,
             keep_surface: false,
+            diagnostics: true,
         }
     }
 }

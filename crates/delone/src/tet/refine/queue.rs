@@ -21,9 +21,47 @@ impl<T: Ord + Copy> Heap<T> {
     }
 
     /// Number of queued elements.
-    #[cfg(test)]
     pub(super) fn len(&self) -> usize {
         self.v.len()
+    }
+
+    /// Keeps only the elements for which `keep` holds, and restores the
+    /// heap order (bottom-up, in linear time). The remaining elements pop
+    /// in the same order as before: the order is total.
+    pub(super) fn retain(&mut self, keep: impl FnMut(&T) -> bool) {
+        self.v.retain(keep);
+        let n = self.v.len();
+        if n < 2 {
+            return;
+        }
+        for i in (0..=(n - 2) / ARITY).rev() {
+            self.sift_down(i);
+        }
+    }
+
+    /// Moves the element at `i` down to its place below.
+    fn sift_down(&mut self, mut i: usize) {
+        let x = self.v[i];
+        let n = self.v.len();
+        loop {
+            let first = ARITY * i + 1;
+            if first >= n {
+                break;
+            }
+            let end = (first + ARITY).min(n);
+            let mut c = first;
+            for k in first + 1..end {
+                if self.v[k] > self.v[c] {
+                    c = k;
+                }
+            }
+            if self.v[c] <= x {
+                break;
+            }
+            self.v[i] = self.v[c];
+            i = c;
+        }
+        self.v[i] = x;
     }
 
     /// Queues `x`.
@@ -48,27 +86,8 @@ impl<T: Ord + Copy> Heap<T> {
             return Some(last);
         }
         let top = self.v[0];
-        let n = self.v.len();
-        let mut i = 0;
-        loop {
-            let first = ARITY * i + 1;
-            if first >= n {
-                break;
-            }
-            let end = (first + ARITY).min(n);
-            let mut c = first;
-            for k in first + 1..end {
-                if self.v[k] > self.v[c] {
-                    c = k;
-                }
-            }
-            if self.v[c] <= last {
-                break;
-            }
-            self.v[i] = self.v[c];
-            i = c;
-        }
-        self.v[i] = last;
+        self.v[0] = last;
+        self.sift_down(0);
         Some(top)
     }
 }
@@ -106,5 +125,43 @@ mod tests {
         }
         assert_eq!(a.pop(), None);
         assert!(popped > 1000);
+    }
+
+    /// After `retain`, the kept elements pop in the order `BinaryHeap`
+    /// pops them, and pushes and pops go on in that order.
+    #[test]
+    fn retain_keeps_the_order() {
+        let mut rng = crate::geom::SplitMix64::new(0x9e37_79b9_7f4a_7c15);
+        let mut a = Heap::new();
+        let mut b = BinaryHeap::new();
+        for round in 0..30_000u64 {
+            let r = rng.next_u64();
+            if r.is_multiple_of(5) {
+                assert_eq!(a.pop(), b.pop(), "round {round}");
+            } else {
+                let x = ((r >> 8) % 64, (r >> 20) % 5);
+                a.push(x);
+                b.push(x);
+            }
+            if round.is_multiple_of(997) {
+                let keep = |x: &(u64, u64)| !(x.0 + x.1 + round).is_multiple_of(3);
+                a.retain(keep);
+                b.retain(keep);
+                assert_eq!(a.len(), b.len());
+            }
+        }
+        assert!(a.len() > 100);
+        while let Some(x) = b.pop() {
+            assert_eq!(a.pop(), Some(x));
+        }
+        assert_eq!(a.pop(), None);
+        for n in 0..6 {
+            let mut c = Heap::new();
+            (0..n).for_each(|k| c.push(k));
+            c.retain(|&k| k != 2);
+            let got: Vec<i32> = std::iter::from_fn(|| c.pop()).collect();
+            let want: Vec<i32> = (0..n).rev().filter(|&k| k != 2).collect();
+            assert_eq!(got, want);
+        }
     }
 }
