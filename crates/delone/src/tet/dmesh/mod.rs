@@ -114,8 +114,14 @@ pub(crate) struct OutputFaces {
 }
 
 /// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
-/// subface bit), open new faces (key, word), removed vertices.
-type Scratch = (Vec<([u32; 3], u32, bool)>, Vec<([u32; 3], u32)>, Vec<u32>);
+/// subface bit), open new faces (key, word), removed vertices, and the
+/// removed slots sorted (membership by binary search in large cavities).
+type Scratch = (
+    Vec<([u32; 3], u32, bool)>,
+    Vec<([u32; 3], u32)>,
+    Vec<u32>,
+    Vec<u32>,
+);
 
 /// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
 /// visit of a walk or a cavity, without hashing).
@@ -167,6 +173,10 @@ pub(crate) struct Unmatched {
 /// Outer faces above which [`DomainMesh::replace`] matches by hashing
 /// instead of linear search.
 const LINEAR: usize = 48;
+
+/// Above this many removed slots, [`DomainMesh::replace`] tells an old
+/// slot by binary search in a sorted copy rather than by a scan.
+const LINEAR_OLD: usize = 16;
 
 impl DomainMesh {
     /// The structure over a tetrahedralization's arrays (vertices `tv`, ghost
@@ -518,15 +528,29 @@ impl DomainMesh {
         ids: &mut Vec<u32>,
     ) -> Unmatched {
         // Outer faces: key, neighbour word, subface bit.
-        let (mut outer, mut open, mut old_verts) = std::mem::take(&mut self.scratch);
+        let (mut outer, mut open, mut old_verts, mut sorted) = std::mem::take(&mut self.scratch);
         outer.clear();
         open.clear();
         old_verts.clear();
+        // Is slot `u` one of `old`? A scan for small cavities, a binary
+        // search in a sorted copy for large ones (same answers).
+        sorted.clear();
+        if old.len() > LINEAR_OLD {
+            sorted.extend_from_slice(old);
+            sorted.sort_unstable();
+        }
+        let is_old = |u: u32| {
+            if old.len() > LINEAR_OLD {
+                sorted.binary_search(&u).is_ok()
+            } else {
+                old.contains(&u)
+            }
+        };
         for &t in old {
             let tv = self.tv[t as usize];
             for f in 0..4 {
                 let w = self.nb[t as usize][f];
-                if w != NONE && old.contains(&(w >> 2)) {
+                if w != NONE && is_old(w >> 2) {
                     if let Some(l) = self.inner.as_mut().filter(|_| w >> 2 > t) {
                         l.push(fkey(face(tv, f)));
                     }
@@ -613,7 +637,7 @@ impl DomainMesh {
             outer.sort_unstable();
         }
         let gone: Vec<[u32; 3]> = outer.drain(..).map(|o| o.0).collect();
-        self.scratch = (outer, open, old_verts);
+        self.scratch = (outer, open, old_verts, sorted);
         Unmatched { gone, made }
     }
 
