@@ -153,6 +153,31 @@ fn first_hit(cm: &Journaled<'_>, s: u32, e: u32) -> Hit {
     }
 }
 
+/// The edges of the face opposite local vertex `f` of `t`, those at which
+/// the two tetrahedra sharing the face are not convex first (the edges
+/// whose tetrahedron of the 2-3 flip would not be positive: the ones that
+/// block it, so removing one of them is what can let the flip through).
+fn face_edges_reflex_first(cm: &Journaled<'_>, t: u32, f: usize) -> Vec<(u32, u32)> {
+    let tv = cm.m.tv[t as usize];
+    let fv = face(tv, f);
+    let mut out: Vec<(bool, usize, (u32, u32))> = (0..3)
+        .map(|k| (true, k, (fv[k], fv[(k + 1) % 3])))
+        .collect();
+    let d = tv[f];
+    let n = cm.m.across(t, f);
+    if let Some(&e) = cm.m.tv.get(n as usize).and_then(|nv| nv.iter().find(|w| !tv.contains(w))) {
+        if d != INF && e != INF && !fv.contains(&INF) {
+            let pts = cm.pts();
+            for o in &mut out {
+                let (x, y) = o.2;
+                o.0 = crate::tet::dmesh::flip::positive(pts, [x, y, e, d]);
+            }
+        }
+    }
+    out.sort_by_key(|o| (o.0, o.1));
+    out.into_iter().map(|o| o.2).collect()
+}
+
 fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
     0
 }
@@ -164,6 +189,50 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
 /// Most edge-removal attempts one [`remove_edge_deep`] call makes.
 const WORK: usize = 16;
 
+/// 1 when segment `s` meets face `f` other than at a shared vertex: its
+/// ends strictly on the two sides of the face's plane and its line through
+/// the closed triangle (so also through an edge or a vertex of it); else 0
+/// (a ghost face, a face at an end of `s`).
+fn meets(pts: &[[f64; 3]], (u, v): (u32, u32), f: [u32; 3]) -> i64 {
+    if f.contains(&INF) || f.contains(&u) || f.contains(&v) {
+        return 0;
+    }
+    let g = |w: u32| &pts[w as usize];
+    let [x, y, z] = f;
+    let (ou, ov) = (sgn(orient3d(g(x), g(y), g(z), g(u))), sgn(orient3d(g(x), g(y), g(z), g(v))));
+    if ou * ov >= 0 {
+        return 0;
+    }
+    let s = [(x, y), (y, z), (z, x)].map(|(p, q)| sgn(orient3d(g(u), g(v), g(p), g(q))));
+    i64::from(s.iter().all(|&k| k >= 0) || s.iter().all(|&k| k <= 0))
+}
+
+/// Edge removal of `a b` (in `t`) while recovering segment `s`: refused
+/// when the faces it creates meet `s` more often than the faces it
+/// destroys (the segment's crossings never grow, so the flips cannot go in
+/// a circle that brings a crossing back); among the allowed ring
+/// triangulations, one meeting `s` least.
+fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)) -> bool {
+    let Some((_, ring)) = cm.edge_ring(t, a, b) else {
+        return false;
+    };
+    let pts = cm.pts();
+    let old: i64 = ring.iter().map(|&r| meets(pts, s, [a, b, r])).sum();
+    let tri = |p: &[[f64; 3]], f: [u32; 3]| meets(p, s, f);
+    let chord = |p: &[[f64; 3]], x: u32, y: u32| meets(p, s, [a, x, y]) + meets(p, s, [b, x, y]);
+    cm.remove_edge_below(t, a, b, (&tri, &chord), old + 1).is_some()
+}
+
+/// What guides the flips of [`remove_edge_deep`]: the costs of the ring
+/// triangulations of its top-level removals (deeper ones cost nothing), or
+/// the segment being recovered ([`remove_edge_for`], at every level, and
+/// the ring-shrinking 2-3 flips under the same rule).
+#[derive(Clone, Copy)]
+enum Guide<'c> {
+    Costs(TriCost<'c>, EdgeCost<'c>),
+    Segment(u32, u32),
+}
+
 /// Removes edge `a b` by edge removal; when its ring admits no valid
 /// triangulation, first shrinks the ring by 2-3 flips of the faces around
 /// it, and when such a flip is not valid (an edge `a r` or `b r` of the face
@@ -171,25 +240,31 @@ const WORK: usize = 16;
 /// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
 /// beyond `depth` levels). Each edge-removal attempt, at any depth, takes
 /// one unit of `budget` (a call starts with [`WORK`]).
-#[allow(clippy::too_many_arguments)]
 fn remove_edge_deep(
     cm: &mut Journaled<'_>,
     a: u32,
     b: u32,
     depth: u32,
     prot: &Protected,
-    tri: TriCost<'_>,
-    chord: EdgeCost<'_>,
+    guide: Guide<'_>,
     budget: &mut usize,
 ) -> bool {
     if prot.edge(a, b) || *budget == 0 {
         return false;
     }
     *budget -= 1;
+    let remove = |cm: &mut Journaled<'_>, t: u32| match guide {
+        Guide::Costs(tri, chord) => cm.remove_edge(t, a, b, tri, chord).is_some(),
+        Guide::Segment(u, v) => remove_edge_for(cm, t, a, b, (u, v)),
+    };
+    let deeper = match guide {
+        Guide::Costs(..) => Guide::Costs(&zero, &zero2),
+        g => g,
+    };
     let Some(t) = cm.find_edge(a, b) else {
         return true;
     };
-    if cm.remove_edge(t, a, b, tri, chord).is_some() {
+    if remove(cm, t) {
         return true;
     }
     if depth == 0 {
@@ -214,6 +289,19 @@ fn remove_edge_deep(
             let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
                 continue;
             };
+            if let Guide::Segment(u, v) = guide {
+                // The flip's new faces are those around edge p q.
+                let (p, q) = (ring[(i + 1) % n], ring[(i + n - 1) % n]);
+                let pts = cm.pts();
+                let old = meets(pts, (u, v), [a, b, ring[i]]);
+                let new: i64 = [a, b, ring[i]]
+                    .iter()
+                    .map(|&w| meets(pts, (u, v), [p, q, w]))
+                    .sum();
+                if new > old {
+                    continue;
+                }
+            }
             if n > 3 && cm.flip23(x, f) {
                 progress = true;
                 break;
@@ -224,9 +312,9 @@ fn remove_edge_deep(
                 if *budget == 0 {
                     return false;
                 }
-                if remove_edge_deep(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
+                if remove_edge_deep(cm, a, r, depth - 1, prot, deeper, budget)
                     && cm.find_edge(a, r).is_none()
-                    || remove_edge_deep(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
+                    || remove_edge_deep(cm, b, r, depth - 1, prot, deeper, budget)
                         && cm.find_edge(b, r).is_none()
                 {
                     progress = true;
@@ -241,7 +329,7 @@ fn remove_edge_deep(
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
-        if cm.remove_edge(t, a, b, tri, chord).is_some() {
+        if remove(cm, t) {
             return true;
         }
     }
@@ -294,11 +382,14 @@ pub(crate) fn recover_segment_within(
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
+            if std::env::var_os("H5DBG").is_some() { eprintln!("SEGFAIL budget {u} {v}"); }
             return false;
         }
         let mut progress = false;
+        let mut why = String::new();
         for (s, e) in [(u, v), (v, u)] {
             let hit = first_hit(cm, s, e);
+            if std::env::var_os("H5DBG").is_some() { why.push_str(match hit { Hit::Done => "D", Hit::Face(..) => "F", Hit::Edge(..) => "E", Hit::Blocked => "B" }); }
             let key = match hit {
                 _ if !stop_circles => None,
                 Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
@@ -307,6 +398,7 @@ pub(crate) fn recover_segment_within(
             };
             if let Some(k) = key {
                 if seen.contains(&(s, k)) {
+                    why.push('c');
                     continue;
                 }
                 seen.push((s, k));
@@ -319,9 +411,8 @@ pub(crate) fn recover_segment_within(
                     if !prot.face(fv) && cm.flip23(t, f) {
                         progress = true;
                     } else {
-                        for k in 0..3 {
-                            let (a, b) = (fv[k], fv[(k + 1) % 3]);
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK })
+                        for (a, b) in face_edges_reflex_first(cm, t, f) {
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, Guide::Segment(u, v), &mut { WORK })
                             {
                                 progress = true;
                                 break;
@@ -330,7 +421,7 @@ pub(crate) fn recover_segment_within(
                     }
                 }
                 Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK }) {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, Guide::Segment(u, v), &mut { WORK }) {
                         progress = true;
                     }
                 }
@@ -341,9 +432,11 @@ pub(crate) fn recover_segment_within(
             }
         }
         if !progress {
+            if std::env::var_os("H5DBG").is_some() { eprintln!("SEGFAIL noprog {why} {u} {v} seen={}", seen.len()); }
             return false;
         }
     }
+    if std::env::var_os("H5DBG").is_some() && cm.find_edge(u, v).is_none() { eprintln!("SEGFAIL cap {u} {v}"); }
     cm.find_edge(u, v).is_some()
 }
 
@@ -474,7 +567,7 @@ pub(crate) fn recover_facet(
         }
         if !progress {
             for &((p, q), _) in &cross {
-                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost, &mut { WORK }) {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, Guide::Costs(&zero, &cost), &mut { WORK }) {
                     progress = true;
                     break;
                 }
