@@ -153,16 +153,20 @@ fn first_hit(cm: &Journaled<'_>, s: u32, e: u32) -> Hit {
     }
 }
 
-/// The edges of the face opposite local vertex `f` of `t`, those at which
-/// the two tetrahedra sharing the face are not convex first (the edges
-/// whose tetrahedron of the 2-3 flip would not be positive: the ones that
-/// block it, so removing one of them is what can let the flip through).
-fn face_edges_reflex_first(cm: &Journaled<'_>, t: u32, f: usize) -> Vec<(u32, u32)> {
+/// The edges of the face opposite local vertex `f` of `t`; with
+/// `reflex_first`, those at which the two tetrahedra sharing the face are
+/// not convex first (the edges whose tetrahedron of the 2-3 flip would not
+/// be positive: the ones that block it, so removing one of them is what
+/// can let the flip through).
+fn face_edges(cm: &Journaled<'_>, t: u32, f: usize, reflex_first: bool) -> Vec<(u32, u32)> {
     let tv = cm.m.tv[t as usize];
     let fv = face(tv, f);
     let mut out: Vec<(bool, usize, (u32, u32))> = (0..3)
         .map(|k| (true, k, (fv[k], fv[(k + 1) % 3])))
         .collect();
+    if !reflex_first {
+        return out.into_iter().map(|o| o.2).collect();
+    }
     let d = tv[f];
     let n = cm.m.across(t, f);
     if let Some(&e) = cm.m.tv.get(n as usize).and_then(|nv| nv.iter().find(|w| !tv.contains(w))) {
@@ -378,18 +382,20 @@ pub(crate) fn recover_segment_within(
         return true;
     }
     let ops0 = cm.flips23 + cm.removals;
+    let guide = if stop_circles {
+        Guide::Segment(u, v)
+    } else {
+        Guide::Costs(&zero, &zero2)
+    };
     // The first crossings already worked on, per end (`stop_circles`).
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
-            if std::env::var_os("H5DBG").is_some() { eprintln!("SEGFAIL budget {u} {v}"); }
             return false;
         }
         let mut progress = false;
-        let mut why = String::new();
         for (s, e) in [(u, v), (v, u)] {
             let hit = first_hit(cm, s, e);
-            if std::env::var_os("H5DBG").is_some() { why.push_str(match hit { Hit::Done => "D", Hit::Face(..) => "F", Hit::Edge(..) => "E", Hit::Blocked => "B" }); }
             let key = match hit {
                 _ if !stop_circles => None,
                 Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
@@ -398,7 +404,6 @@ pub(crate) fn recover_segment_within(
             };
             if let Some(k) = key {
                 if seen.contains(&(s, k)) {
-                    why.push('c');
                     continue;
                 }
                 seen.push((s, k));
@@ -411,8 +416,8 @@ pub(crate) fn recover_segment_within(
                     if !prot.face(fv) && cm.flip23(t, f) {
                         progress = true;
                     } else {
-                        for (a, b) in face_edges_reflex_first(cm, t, f) {
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, Guide::Segment(u, v), &mut { WORK })
+                        for (a, b) in face_edges(cm, t, f, stop_circles) {
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK })
                             {
                                 progress = true;
                                 break;
@@ -421,7 +426,7 @@ pub(crate) fn recover_segment_within(
                     }
                 }
                 Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, Guide::Segment(u, v), &mut { WORK }) {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
                         progress = true;
                     }
                 }
@@ -432,11 +437,9 @@ pub(crate) fn recover_segment_within(
             }
         }
         if !progress {
-            if std::env::var_os("H5DBG").is_some() { eprintln!("SEGFAIL noprog {why} {u} {v} seen={}", seen.len()); }
             return false;
         }
     }
-    if std::env::var_os("H5DBG").is_some() && cm.find_edge(u, v).is_none() { eprintln!("SEGFAIL cap {u} {v}"); }
     cm.find_edge(u, v).is_some()
 }
 

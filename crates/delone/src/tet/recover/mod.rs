@@ -900,7 +900,6 @@ impl State {
                     break;
                 }
             }
-            if std::env::var_os("H5DBG").is_some() { eprintln!("ROUND {} subs {} failed {}", self.report.rounds, subs.len(), failed.len()); }
             if !failed.is_empty() {
                 if self.opts.preserve_surface {
                     self.points_first_check((0, failed.len()))?;
