@@ -389,48 +389,64 @@ pub(crate) fn recover_segment_within(
     };
     // The first crossings already worked on, per end (`stop_circles`).
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
+    // With `stop_circles`, a step whose segment-guided flips all fail is
+    // tried again with unguided ones (the ends given up excepted).
+    let guides = if stop_circles {
+        &[guide, Guide::Costs(&zero, &zero2)][..]
+    } else {
+        &[guide][..]
+    };
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
         let mut progress = false;
-        for (s, e) in [(u, v), (v, u)] {
-            let hit = first_hit(cm, s, e);
-            let key = match hit {
-                _ if !stop_circles => None,
-                Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
-                Hit::Edge(a, b) => Some(fkey([a, b, INF])),
-                Hit::Done | Hit::Blocked => None,
-            };
-            if let Some(k) = key {
-                if seen.contains(&(s, k)) {
+        let mut given_up = [false; 2];
+        for (pass, &g) in guides.iter().enumerate() {
+            for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
+                if given_up[end] {
                     continue;
                 }
-                seen.push((s, k));
-            }
-            match hit {
-                Hit::Done => return true,
-                Hit::Face(t, f) => {
-                    let tv = cm.m.tv[t as usize];
-                    let fv = face(tv, f);
-                    if !prot.face(fv) && cm.flip23(t, f) {
-                        progress = true;
-                    } else {
-                        for (a, b) in face_edges(cm, t, f, stop_circles) {
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK })
-                            {
-                                progress = true;
-                                break;
+                let hit = first_hit(cm, s, e);
+                let key = match hit {
+                    _ if !stop_circles || pass > 0 => None,
+                    Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
+                    Hit::Edge(a, b) => Some(fkey([a, b, INF])),
+                    Hit::Done | Hit::Blocked => None,
+                };
+                if let Some(k) = key {
+                    if seen.contains(&(s, k)) {
+                        given_up[end] = true;
+                        continue;
+                    }
+                    seen.push((s, k));
+                }
+                match hit {
+                    Hit::Done => return true,
+                    Hit::Face(t, f) => {
+                        let tv = cm.m.tv[t as usize];
+                        let fv = face(tv, f);
+                        if !prot.face(fv) && cm.flip23(t, f) {
+                            progress = true;
+                        } else {
+                            for (a, b) in face_edges(cm, t, f, stop_circles) {
+                                if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                                    progress = true;
+                                    break;
+                                }
                             }
                         }
                     }
-                }
-                Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
-                        progress = true;
+                    Hit::Edge(a, b) => {
+                        if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                            progress = true;
+                        }
                     }
+                    Hit::Blocked => {}
                 }
-                Hit::Blocked => {}
+                if progress {
+                    break;
+                }
             }
             if progress {
                 break;
