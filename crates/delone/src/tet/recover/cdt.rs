@@ -203,6 +203,15 @@ fn meets(pts: &[[f64; 3]], (u, v): (u32, u32), f: [u32; 3]) -> i64 {
     }
     let g = |w: u32| &pts[w as usize];
     let [x, y, z] = f;
+    // Disjoint bounding boxes: no meeting (no predicate needed).
+    let (pu, pv) = (g(u), g(v));
+    let (px, py, pz) = (g(x), g(y), g(z));
+    if (0..3).any(|k| {
+        pu[k].max(pv[k]) < px[k].min(py[k]).min(pz[k])
+            || pu[k].min(pv[k]) > px[k].max(py[k]).max(pz[k])
+    }) {
+        return 0;
+    }
     let (ou, ov) = (sgn(orient3d(g(x), g(y), g(z), g(u))), sgn(orient3d(g(x), g(y), g(z), g(v))));
     if ou * ov >= 0 {
         return 0;
@@ -403,6 +412,13 @@ pub(crate) fn recover_segment_within(
         let mut progress = false;
         let mut given_up = [false; 2];
         for (pass, &g) in guides.iter().enumerate() {
+            // The unguided retry may search deeper (its flips are not
+            // restricted, so a deeper search finds more ways through).
+            let (depth, work) = if pass == 0 {
+                (DEPTH, WORK)
+            } else {
+                (DEPTH + 1, 4 * WORK)
+            };
             for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
                 if given_up[end] {
                     continue;
@@ -430,7 +446,7 @@ pub(crate) fn recover_segment_within(
                             progress = true;
                         } else {
                             for (a, b) in face_edges(cm, t, f, stop_circles) {
-                                if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                                if remove_edge_deep(cm, a, b, depth, prot, g, &mut { work }) {
                                     progress = true;
                                     break;
                                 }
@@ -438,7 +454,7 @@ pub(crate) fn recover_segment_within(
                         }
                     }
                     Hit::Edge(a, b) => {
-                        if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                        if remove_edge_deep(cm, a, b, depth, prot, g, &mut { work }) {
                             progress = true;
                         }
                     }
@@ -599,3 +615,4 @@ pub(crate) fn recover_facet(
     }
     cross.is_empty()
 }
+
