@@ -169,7 +169,11 @@ fn face_edges(cm: &Journaled<'_>, t: u32, f: usize, reflex_first: bool) -> Vec<(
     }
     let d = tv[f];
     let n = cm.m.across(t, f);
-    if let Some(&e) = cm.m.tv.get(n as usize).and_then(|nv| nv.iter().find(|w| !tv.contains(w))) {
+    if let Some(&e) =
+        cm.m.tv
+            .get(n as usize)
+            .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
+    {
         if d != INF && e != INF && !fv.contains(&INF) {
             let pts = cm.pts();
             for o in &mut out {
@@ -212,7 +216,10 @@ fn meets(pts: &[[f64; 3]], (u, v): (u32, u32), f: [u32; 3]) -> i64 {
     }) {
         return 0;
     }
-    let (ou, ov) = (sgn(orient3d(g(x), g(y), g(z), g(u))), sgn(orient3d(g(x), g(y), g(z), g(v))));
+    let (ou, ov) = (
+        sgn(orient3d(g(x), g(y), g(z), g(u))),
+        sgn(orient3d(g(x), g(y), g(z), g(v))),
+    );
     if ou * ov >= 0 {
         return 0;
     }
@@ -233,7 +240,8 @@ fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)
     let old: i64 = ring.iter().map(|&r| meets(pts, s, [a, b, r])).sum();
     let tri = |p: &[[f64; 3]], f: [u32; 3]| meets(p, s, f);
     let chord = |p: &[[f64; 3]], x: u32, y: u32| meets(p, s, [a, x, y]) + meets(p, s, [b, x, y]);
-    cm.remove_edge_below(t, a, b, (&tri, &chord), old + 1).is_some()
+    cm.remove_edge_below(t, a, b, (&tri, &chord), old + 1)
+        .is_some()
 }
 
 /// What guides the flips of [`remove_edge_deep`]: the costs of the ring
@@ -398,71 +406,47 @@ pub(crate) fn recover_segment_within(
     };
     // The first crossings already worked on, per end (`stop_circles`).
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
-    // With `stop_circles`, a step whose segment-guided flips all fail is
-    // tried again with unguided ones (the ends given up excepted).
-    let guides = if stop_circles {
-        &[guide, Guide::Costs(&zero, &zero2)][..]
-    } else {
-        &[guide][..]
-    };
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
         let mut progress = false;
-        let mut given_up = [false; 2];
-        for (pass, &g) in guides.iter().enumerate() {
-            // The unguided retry may search deeper (its flips are not
-            // restricted, so a deeper search finds more ways through).
-            let (depth, work) = if pass == 0 {
-                (DEPTH, WORK)
-            } else {
-                (DEPTH + 1, 4 * WORK)
+        for (s, e) in [(u, v), (v, u)] {
+            let hit = first_hit(cm, s, e);
+            let key = match hit {
+                _ if !stop_circles => None,
+                Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
+                Hit::Edge(a, b) => Some(fkey([a, b, INF])),
+                Hit::Done | Hit::Blocked => None,
             };
-            for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
-                if given_up[end] {
+            if let Some(k) = key {
+                if seen.contains(&(s, k)) {
                     continue;
                 }
-                let hit = first_hit(cm, s, e);
-                let key = match hit {
-                    _ if !stop_circles || pass > 0 => None,
-                    Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
-                    Hit::Edge(a, b) => Some(fkey([a, b, INF])),
-                    Hit::Done | Hit::Blocked => None,
-                };
-                if let Some(k) = key {
-                    if seen.contains(&(s, k)) {
-                        given_up[end] = true;
-                        continue;
-                    }
-                    seen.push((s, k));
-                }
-                match hit {
-                    Hit::Done => return true,
-                    Hit::Face(t, f) => {
-                        let tv = cm.m.tv[t as usize];
-                        let fv = face(tv, f);
-                        if !prot.face(fv) && cm.flip23(t, f) {
-                            progress = true;
-                        } else {
-                            for (a, b) in face_edges(cm, t, f, stop_circles) {
-                                if remove_edge_deep(cm, a, b, depth, prot, g, &mut { work }) {
-                                    progress = true;
-                                    break;
-                                }
+                seen.push((s, k));
+            }
+            match hit {
+                Hit::Done => return true,
+                Hit::Face(t, f) => {
+                    let tv = cm.m.tv[t as usize];
+                    let fv = face(tv, f);
+                    if !prot.face(fv) && cm.flip23(t, f) {
+                        progress = true;
+                    } else {
+                        for (a, b) in face_edges(cm, t, f, stop_circles) {
+                            if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
+                                progress = true;
+                                break;
                             }
                         }
                     }
-                    Hit::Edge(a, b) => {
-                        if remove_edge_deep(cm, a, b, depth, prot, g, &mut { work }) {
-                            progress = true;
-                        }
+                }
+                Hit::Edge(a, b) => {
+                    if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
+                        progress = true;
                     }
-                    Hit::Blocked => {}
                 }
-                if progress {
-                    break;
-                }
+                Hit::Blocked => {}
             }
             if progress {
                 break;
@@ -602,7 +586,9 @@ pub(crate) fn recover_facet(
         }
         if !progress {
             for &((p, q), _) in &cross {
-                if remove_edge_deep(cm, p, q, DEPTH, prot, Guide::Costs(&zero, &cost), &mut { WORK }) {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, Guide::Costs(&zero, &cost), &mut {
+                    WORK
+                }) {
                     progress = true;
                     break;
                 }
@@ -615,4 +601,3 @@ pub(crate) fn recover_facet(
     }
     cross.is_empty()
 }
-
