@@ -775,6 +775,25 @@ mod tests {
     }
 
     #[test]
+    fn a_removal_at_or_above_its_limit_is_refused() {
+        // Edge 3-4 of three tetrahedra: its one ring triangulation (face
+        // 0-1-2) costs 5 here; a limit of 5 refuses it (nothing changed),
+        // 6 lets it through.
+        let pts = three_around_an_edge();
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let t = m.find_edge(3, 4).unwrap();
+        let before = m.m.tv.clone();
+        let costs: (TriCost<'_>, EdgeCost<'_>) = (&|_, _| 5, &|_, _, _| 0);
+        assert_eq!(m.remove_edge_below(t, 3, 4, costs, 5), None);
+        assert_eq!(m.m.tv, before);
+        assert_eq!(m.removals, 0);
+        m.check().unwrap();
+        assert_eq!(m.remove_edge_below(t, 3, 4, costs, 6), Some(5));
+        m.check().unwrap();
+        assert!(!has_edge(&m, 3, 4));
+    }
+
+    #[test]
     fn touched_faces_and_failed_removals_are_logged() {
         let pts = three_around_an_edge();
         let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());

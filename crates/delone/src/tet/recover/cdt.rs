@@ -12,10 +12,16 @@
 //! removal, or its ring is first shrunk by 2-3 flips of the faces around
 //! it. Both ends are tried alternately; a segment that makes no progress,
 //! meets a vertex on its interior, or exceeds its flip budget, fails (the
-//! caller then splits it); with
+//! caller then splits it). With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
-//! from an end is one already worked on).
+//! from an end is one already worked on), and the flips are guided by the
+//! segment: no edge removal or ring-shrinking 2-3 flip may create more
+//! faces meeting the segment than it destroys (the segment's crossings
+//! never grow back), the ring triangulation meeting it least is chosen,
+//! and of a crossed face whose 2-3 flip is blocked, the edges where its
+//! two tetrahedra are not convex are removed first; a step with no guided
+//! flip left is tried unguided.
 //!
 //! **Triangles**: the mesh edges crossing the interior of a missing
 //! triangle `T` are found by a breadth-first search from the stars of the
@@ -406,50 +412,66 @@ pub(crate) fn recover_segment_within(
     };
     // The first crossings already worked on, per end (`stop_circles`).
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
+    // With `stop_circles`, a step whose segment-guided flips all fail is
+    // tried again with unguided ones (on coplanar fans the guide's rule,
+    // which counts the faces the segment meets at an edge or a corner too,
+    // can refuse every way through), the ends given up excepted.
+    let guides = if stop_circles {
+        &[guide, Guide::Costs(&zero, &zero2)][..]
+    } else {
+        &[guide][..]
+    };
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
         let mut progress = false;
-        for (s, e) in [(u, v), (v, u)] {
-            let hit = first_hit(cm, s, e);
-            let key = match hit {
-                _ if !stop_circles => None,
-                Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
-                Hit::Edge(a, b) => Some(fkey([a, b, INF])),
-                Hit::Done | Hit::Blocked => None,
-            };
-            if let Some(k) = key {
-                if seen.contains(&(s, k)) {
+        let mut given_up = [false; 2];
+        'passes: for (pass, &g) in guides.iter().enumerate() {
+            for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
+                if given_up[end] {
                     continue;
                 }
-                seen.push((s, k));
-            }
-            match hit {
-                Hit::Done => return true,
-                Hit::Face(t, f) => {
-                    let tv = cm.m.tv[t as usize];
-                    let fv = face(tv, f);
-                    if !prot.face(fv) && cm.flip23(t, f) {
-                        progress = true;
-                    } else {
-                        for (a, b) in face_edges(cm, t, f, stop_circles) {
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
-                                progress = true;
-                                break;
+                let hit = first_hit(cm, s, e);
+                let key = match hit {
+                    _ if !stop_circles || pass > 0 => None,
+                    Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
+                    Hit::Edge(a, b) => Some(fkey([a, b, INF])),
+                    Hit::Done | Hit::Blocked => None,
+                };
+                if let Some(k) = key {
+                    if seen.contains(&(s, k)) {
+                        given_up[end] = true;
+                        continue;
+                    }
+                    seen.push((s, k));
+                }
+                match hit {
+                    Hit::Done => return true,
+                    Hit::Face(t, f) => {
+                        let tv = cm.m.tv[t as usize];
+                        let fv = face(tv, f);
+                        if !prot.face(fv) && cm.flip23(t, f) {
+                            progress = true;
+                        } else {
+                            for (a, b) in face_edges(cm, t, f, stop_circles) {
+                                if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                                    progress = true;
+                                    break;
+                                }
                             }
                         }
                     }
-                }
-                Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, guide, &mut { WORK }) {
-                        progress = true;
+                    Hit::Edge(a, b) => {
+                        if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                            progress = true;
+                        }
                     }
+                    Hit::Blocked => {}
                 }
-                Hit::Blocked => {}
-            }
-            if progress {
-                break;
+                if progress {
+                    break 'passes;
+                }
             }
         }
         if !progress {
@@ -600,4 +622,38 @@ pub(crate) fn recover_facet(
         cross = crossing_edges(cm, surf, t, inner);
     }
     cross.is_empty()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_segment_meets_a_face_through_its_interior_edges_and_corners() {
+        // Face 0 1 2 in the plane z = 0; segments 3-4 (through its
+        // interior), 5-6 (through edge 0 1), 7-8 (through corner 0), 9-10
+        // (beside it), 3-9 (not crossing the plane) and 0-3 (at a corner).
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.25, 0.25, 1.0],
+            [0.25, 0.25, -1.0],
+            [0.5, 0.0, 1.0],
+            [0.5, 0.0, -1.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [2.0, 2.0, 1.0],
+            [2.0, 2.0, -1.0],
+        ];
+        let f = [0, 1, 2];
+        assert_eq!(meets(&pts, (3, 4), f), 1);
+        assert_eq!(meets(&pts, (4, 3), f), 1);
+        assert_eq!(meets(&pts, (5, 6), f), 1);
+        assert_eq!(meets(&pts, (7, 8), f), 1);
+        assert_eq!(meets(&pts, (9, 10), f), 0);
+        assert_eq!(meets(&pts, (3, 9), f), 0);
+        assert_eq!(meets(&pts, (0, 3), f), 0);
+        assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
+    }
 }
