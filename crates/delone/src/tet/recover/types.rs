@@ -37,9 +37,9 @@ pub struct RecoverOptions {
     /// in a circle: a later step restored what an earlier one removed), and
     /// the segment when both ends are given up, instead of spending its
     /// whole flip budget on flips that are rolled back anyway; and the
-    /// segment guides its flips (none may make more faces meet the segment
-    /// than it removes; the blocking edges of a crossed face go first;
-    /// unguided flips when no guided one applies; the private `cdt`
+    /// segment guides the flips of a step whose unguided flips fail (none
+    /// may make more faces meet the segment than it removes), and the
+    /// blocking edges of a crossed face go first (the private `cdt`
     /// module). Fewer segments fail, so fewer Steiner points
     /// and rounds, on thin strips and fans above all. False: unguided
     /// attempts that run until their flip budget is spent. Default false: a refinement's smallest dihedral angles
