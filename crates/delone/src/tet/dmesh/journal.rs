@@ -525,6 +525,19 @@ impl<'a> Journaled<'a> {
         tri_cost: TriCost<'_>,
         edge_cost: EdgeCost<'_>,
     ) -> Option<i64> {
+        self.remove_edge_below(t, a, b, (tri_cost, edge_cost), i64::MAX)
+    }
+
+    /// [`Journaled::remove_edge`] refusing (nothing changed) a least cost
+    /// of `limit` or more.
+    pub(crate) fn remove_edge_below(
+        &mut self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        limit: i64,
+    ) -> Option<i64> {
         // The ring lists are reused scratch (no allocation per call).
         let (mut tets, mut r) = std::mem::take(&mut self.ring);
         let ends = self.m.ring_into(
@@ -537,7 +550,8 @@ impl<'a> Journaled<'a> {
         let out = if ends.is_none() {
             None
         } else if r.len() < MEMO_RING {
-            self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost)
+            self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit)
+                .ok()
         } else {
             let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
             let mut key = Vec::with_capacity(r.len() + 2);
@@ -546,36 +560,45 @@ impl<'a> Journaled<'a> {
             if self.failed.contains(&key) {
                 None
             } else {
-                let out = self.remove_ring(&tets, &mut r, a, b, tri_cost, edge_cost);
-                if out.is_none() {
-                    self.failed.insert(key);
+                // Memoized only when no triangulation at all is valid (a
+                // refusal by `limit` depends on the costs).
+                match self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit) {
+                    Ok(c) => Some(c),
+                    Err(none_valid) => {
+                        if none_valid {
+                            self.failed.insert(key);
+                        }
+                        None
+                    }
                 }
-                out
             }
         };
         self.ring = (tets, r);
         out
     }
 
-    /// [`Journaled::remove_edge`] once the ring is known.
+    /// [`Journaled::remove_edge_below`] once the ring is known: the cost,
+    /// or `Err(true)` when no triangulation is valid, `Err(false)` when
+    /// refused otherwise (a ghost ring that cannot be removed, a least cost
+    /// of `limit` or more).
     fn remove_ring(
         &mut self,
         tets: &[u32],
         r: &mut Vec<u32>,
         a: u32,
         b: u32,
-        tri_cost: TriCost<'_>,
-        edge_cost: EdgeCost<'_>,
-    ) -> Option<i64> {
+        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        limit: i64,
+    ) -> Result<i64, bool> {
         let mut ghosts = Vec::new();
         if let Some(k) = r.iter().position(|&w| w == INF) {
             r.rotate_left(k + 1);
             r.pop();
-            let (c0, d0) = (r[0], *r.last()?);
+            let (c0, d0) = (r[0], *r.last().ok_or(true)?);
             let p = self.pts();
             let g = |w: u32| &p[w as usize];
             if r.len() < 3 || orient3d(g(a), g(b), g(c0), g(d0)) != 0.0 {
-                return None;
+                return Err(true);
             }
             let inner = g(r[1]);
             for e in [a, b] {
@@ -589,7 +612,7 @@ impl<'a> Journaled<'a> {
         }
         let n = r.len();
         if n < 3 {
-            return None;
+            return Err(true);
         }
         const NO: i64 = i64::MAX / 4;
         let (mut best, mut choice) = (
@@ -623,16 +646,16 @@ impl<'a> Journaled<'a> {
                 (c < cur).then_some(c)
             },
         );
-        let new = (total < NO).then(|| ring::ring_tets(r, &choice, a, b));
+        let new = (total < NO.min(limit)).then(|| ring::ring_tets(r, &choice, a, b));
         self.dp_best = best;
         self.dp_choice = choice;
-        let mut new = new?;
+        let mut new = new.ok_or(total >= NO)?;
         new.extend(ghosts);
         let mut ids = std::mem::take(&mut self.ids);
         self.replace_into(tets, &new, &mut ids);
         self.ids = ids;
         self.removals += 1;
-        Some(total)
+        Ok(total)
     }
 }
 
@@ -749,6 +772,25 @@ mod tests {
             }
         }
         assert_eq!(m2.m.tv, before);
+    }
+
+    #[test]
+    fn a_removal_at_or_above_its_limit_is_refused() {
+        // Edge 3-4 of three tetrahedra: its one ring triangulation (face
+        // 0-1-2) costs 5 here; a limit of 5 refuses it (nothing changed),
+        // 6 lets it through.
+        let pts = three_around_an_edge();
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let t = m.find_edge(3, 4).unwrap();
+        let before = m.m.tv.clone();
+        let costs: (TriCost<'_>, EdgeCost<'_>) = (&|_, _| 5, &|_, _, _| 0);
+        assert_eq!(m.remove_edge_below(t, 3, 4, costs, 5), None);
+        assert_eq!(m.m.tv, before);
+        assert_eq!(m.removals, 0);
+        m.check().unwrap();
+        assert_eq!(m.remove_edge_below(t, 3, 4, costs, 6), Some(5));
+        m.check().unwrap();
+        assert!(!has_edge(&m, 3, 4));
     }
 
     #[test]

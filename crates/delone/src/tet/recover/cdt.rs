@@ -12,10 +12,16 @@
 //! removal, or its ring is first shrunk by 2-3 flips of the faces around
 //! it. Both ends are tried alternately; a segment that makes no progress,
 //! meets a vertex on its interior, or exceeds its flip budget, fails (the
-//! caller then splits it); with
+//! caller then splits it). With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
-//! from an end is one already worked on).
+//! from an end is one already worked on), and the flips are guided by the
+//! segment when a step's unguided flips fail: no edge removal or
+//! ring-shrinking 2-3 flip may then create more faces meeting the segment
+//! than it destroys (the segment's crossings never grow back), and the
+//! ring triangulation meeting it least is chosen; and of a crossed face
+//! whose 2-3 flip is blocked, the edges where its two tetrahedra are not
+//! convex are removed first.
 //!
 //! **Triangles**: the mesh edges crossing the interior of a missing
 //! triangle `T` are found by a breadth-first search from the stars of the
@@ -153,6 +159,39 @@ fn first_hit(cm: &Journaled<'_>, s: u32, e: u32) -> Hit {
     }
 }
 
+/// The edges of the face opposite local vertex `f` of `t`; with
+/// `reflex_first`, those at which the two tetrahedra sharing the face are
+/// not convex first (the edges whose tetrahedron of the 2-3 flip would not
+/// be positive: the ones that block it, so removing one of them is what
+/// can let the flip through).
+fn face_edges(cm: &Journaled<'_>, t: u32, f: usize, reflex_first: bool) -> Vec<(u32, u32)> {
+    let tv = cm.m.tv[t as usize];
+    let fv = face(tv, f);
+    let mut out: Vec<(bool, usize, (u32, u32))> = (0..3)
+        .map(|k| (true, k, (fv[k], fv[(k + 1) % 3])))
+        .collect();
+    if !reflex_first {
+        return out.into_iter().map(|o| o.2).collect();
+    }
+    let d = tv[f];
+    let n = cm.m.across(t, f);
+    if let Some(&e) =
+        cm.m.tv
+            .get(n as usize)
+            .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
+    {
+        if d != INF && e != INF && !fv.contains(&INF) {
+            let pts = cm.pts();
+            for o in &mut out {
+                let (x, y) = o.2;
+                o.0 = crate::tet::dmesh::flip::positive(pts, [x, y, e, d]);
+            }
+        }
+    }
+    out.sort_by_key(|o| (o.0, o.1));
+    out.into_iter().map(|o| o.2).collect()
+}
+
 fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
     0
 }
@@ -164,6 +203,63 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
 /// Most edge-removal attempts one [`remove_edge_deep`] call makes.
 const WORK: usize = 16;
 
+/// 1 when segment `s` meets face `f` other than at a shared vertex: its
+/// ends strictly on the two sides of the face's plane and its line through
+/// the closed triangle (so also through an edge or a vertex of it); else 0
+/// (a ghost face, a face at an end of `s`).
+fn meets(pts: &[[f64; 3]], (u, v): (u32, u32), f: [u32; 3]) -> i64 {
+    if f.contains(&INF) || f.contains(&u) || f.contains(&v) {
+        return 0;
+    }
+    let g = |w: u32| &pts[w as usize];
+    let [x, y, z] = f;
+    // Disjoint bounding boxes: no meeting (no predicate needed).
+    let (pu, pv) = (g(u), g(v));
+    let (px, py, pz) = (g(x), g(y), g(z));
+    if (0..3).any(|k| {
+        pu[k].max(pv[k]) < px[k].min(py[k]).min(pz[k])
+            || pu[k].min(pv[k]) > px[k].max(py[k]).max(pz[k])
+    }) {
+        return 0;
+    }
+    let (ou, ov) = (
+        sgn(orient3d(g(x), g(y), g(z), g(u))),
+        sgn(orient3d(g(x), g(y), g(z), g(v))),
+    );
+    if ou * ov >= 0 {
+        return 0;
+    }
+    let s = [(x, y), (y, z), (z, x)].map(|(p, q)| sgn(orient3d(g(u), g(v), g(p), g(q))));
+    i64::from(s.iter().all(|&k| k >= 0) || s.iter().all(|&k| k <= 0))
+}
+
+/// Edge removal of `a b` (in `t`) while recovering segment `s`: refused
+/// when the faces it creates meet `s` more often than the faces it
+/// destroys (the segment's crossings never grow, so the flips cannot go in
+/// a circle that brings a crossing back); among the allowed ring
+/// triangulations, one meeting `s` least.
+fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)) -> bool {
+    let Some((_, ring)) = cm.edge_ring(t, a, b) else {
+        return false;
+    };
+    let pts = cm.pts();
+    let old: i64 = ring.iter().map(|&r| meets(pts, s, [a, b, r])).sum();
+    let tri = |p: &[[f64; 3]], f: [u32; 3]| meets(p, s, f);
+    let chord = |p: &[[f64; 3]], x: u32, y: u32| meets(p, s, [a, x, y]) + meets(p, s, [b, x, y]);
+    cm.remove_edge_below(t, a, b, (&tri, &chord), old + 1)
+        .is_some()
+}
+
+/// What guides the flips of [`remove_edge_deep`]: the costs of the ring
+/// triangulations of its top-level removals (deeper ones cost nothing), or
+/// the segment being recovered ([`remove_edge_for`], at every level, and
+/// the ring-shrinking 2-3 flips under the same rule).
+#[derive(Clone, Copy)]
+enum Guide<'c> {
+    Costs(TriCost<'c>, EdgeCost<'c>),
+    Segment(u32, u32),
+}
+
 /// Removes edge `a b` by edge removal; when its ring admits no valid
 /// triangulation, first shrinks the ring by 2-3 flips of the faces around
 /// it, and when such a flip is not valid (an edge `a r` or `b r` of the face
@@ -171,25 +267,31 @@ const WORK: usize = 16;
 /// (TetGen's flip-n-m idea, bounded depth, no recursion on the call stack
 /// beyond `depth` levels). Each edge-removal attempt, at any depth, takes
 /// one unit of `budget` (a call starts with [`WORK`]).
-#[allow(clippy::too_many_arguments)]
 fn remove_edge_deep(
     cm: &mut Journaled<'_>,
     a: u32,
     b: u32,
     depth: u32,
     prot: &Protected,
-    tri: TriCost<'_>,
-    chord: EdgeCost<'_>,
+    guide: Guide<'_>,
     budget: &mut usize,
 ) -> bool {
     if prot.edge(a, b) || *budget == 0 {
         return false;
     }
     *budget -= 1;
+    let remove = |cm: &mut Journaled<'_>, t: u32| match guide {
+        Guide::Costs(tri, chord) => cm.remove_edge(t, a, b, tri, chord).is_some(),
+        Guide::Segment(u, v) => remove_edge_for(cm, t, a, b, (u, v)),
+    };
+    let deeper = match guide {
+        Guide::Costs(..) => Guide::Costs(&zero, &zero2),
+        g => g,
+    };
     let Some(t) = cm.find_edge(a, b) else {
         return true;
     };
-    if cm.remove_edge(t, a, b, tri, chord).is_some() {
+    if remove(cm, t) {
         return true;
     }
     if depth == 0 {
@@ -214,6 +316,19 @@ fn remove_edge_deep(
             let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
                 continue;
             };
+            if let Guide::Segment(u, v) = guide {
+                // The flip's new faces are those around edge p q.
+                let (p, q) = (ring[(i + 1) % n], ring[(i + n - 1) % n]);
+                let pts = cm.pts();
+                let old = meets(pts, (u, v), [a, b, ring[i]]);
+                let new: i64 = [a, b, ring[i]]
+                    .iter()
+                    .map(|&w| meets(pts, (u, v), [p, q, w]))
+                    .sum();
+                if new > old {
+                    continue;
+                }
+            }
             if n > 3 && cm.flip23(x, f) {
                 progress = true;
                 break;
@@ -224,9 +339,9 @@ fn remove_edge_deep(
                 if *budget == 0 {
                     return false;
                 }
-                if remove_edge_deep(cm, a, r, depth - 1, prot, &zero, &zero2, budget)
+                if remove_edge_deep(cm, a, r, depth - 1, prot, deeper, budget)
                     && cm.find_edge(a, r).is_none()
-                    || remove_edge_deep(cm, b, r, depth - 1, prot, &zero, &zero2, budget)
+                    || remove_edge_deep(cm, b, r, depth - 1, prot, deeper, budget)
                         && cm.find_edge(b, r).is_none()
                 {
                     progress = true;
@@ -241,7 +356,7 @@ fn remove_edge_deep(
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
-        if cm.remove_edge(t, a, b, tri, chord).is_some() {
+        if remove(cm, t) {
             return true;
         }
     }
@@ -290,54 +405,75 @@ pub(crate) fn recover_segment_within(
         return true;
     }
     let ops0 = cm.flips23 + cm.removals;
+    let guide = if stop_circles {
+        Guide::Segment(u, v)
+    } else {
+        Guide::Costs(&zero, &zero2)
+    };
     // The first crossings already worked on, per end (`stop_circles`).
     let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
+    // With `stop_circles`, a step whose unguided flips all fail is tried
+    // again with segment-guided ones, the ends given up excepted (guided
+    // only, the rule, which counts the faces the segment meets at an edge
+    // or a corner too, refuses every way through on coplanar fans: 550
+    // Steiner points instead of 4 on a 600-triangle star prism; guided
+    // first costs CPU on cgal_anchor and revolved vases).
+    let guides = if stop_circles {
+        &[Guide::Costs(&zero, &zero2), guide][..]
+    } else {
+        &[guide][..]
+    };
     for _ in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
         let mut progress = false;
-        for (s, e) in [(u, v), (v, u)] {
-            let hit = first_hit(cm, s, e);
-            let key = match hit {
-                _ if !stop_circles => None,
-                Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
-                Hit::Edge(a, b) => Some(fkey([a, b, INF])),
-                Hit::Done | Hit::Blocked => None,
-            };
-            if let Some(k) = key {
-                if seen.contains(&(s, k)) {
+        let mut given_up = [false; 2];
+        'passes: for (pass, &g) in guides.iter().enumerate() {
+            for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
+                if given_up[end] {
                     continue;
                 }
-                seen.push((s, k));
-            }
-            match hit {
-                Hit::Done => return true,
-                Hit::Face(t, f) => {
-                    let tv = cm.m.tv[t as usize];
-                    let fv = face(tv, f);
-                    if !prot.face(fv) && cm.flip23(t, f) {
-                        progress = true;
-                    } else {
-                        for k in 0..3 {
-                            let (a, b) = (fv[k], fv[(k + 1) % 3]);
-                            if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK })
-                            {
-                                progress = true;
-                                break;
+                let hit = first_hit(cm, s, e);
+                let key = match hit {
+                    _ if !stop_circles || pass > 0 => None,
+                    Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
+                    Hit::Edge(a, b) => Some(fkey([a, b, INF])),
+                    Hit::Done | Hit::Blocked => None,
+                };
+                if let Some(k) = key {
+                    if seen.contains(&(s, k)) {
+                        given_up[end] = true;
+                        continue;
+                    }
+                    seen.push((s, k));
+                }
+                match hit {
+                    Hit::Done => return true,
+                    Hit::Face(t, f) => {
+                        let tv = cm.m.tv[t as usize];
+                        let fv = face(tv, f);
+                        if !prot.face(fv) && cm.flip23(t, f) {
+                            progress = true;
+                        } else {
+                            for (a, b) in face_edges(cm, t, f, stop_circles) {
+                                if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                                    progress = true;
+                                    break;
+                                }
                             }
                         }
                     }
-                }
-                Hit::Edge(a, b) => {
-                    if remove_edge_deep(cm, a, b, DEPTH, prot, &zero, &zero2, &mut { WORK }) {
-                        progress = true;
+                    Hit::Edge(a, b) => {
+                        if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                            progress = true;
+                        }
                     }
+                    Hit::Blocked => {}
                 }
-                Hit::Blocked => {}
-            }
-            if progress {
-                break;
+                if progress {
+                    break 'passes;
+                }
             }
         }
         if !progress {
@@ -474,7 +610,9 @@ pub(crate) fn recover_facet(
         }
         if !progress {
             for &((p, q), _) in &cross {
-                if remove_edge_deep(cm, p, q, DEPTH, prot, &zero, &cost, &mut { WORK }) {
+                if remove_edge_deep(cm, p, q, DEPTH, prot, Guide::Costs(&zero, &cost), &mut {
+                    WORK
+                }) {
                     progress = true;
                     break;
                 }
@@ -486,4 +624,38 @@ pub(crate) fn recover_facet(
         cross = crossing_edges(cm, surf, t, inner);
     }
     cross.is_empty()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_segment_meets_a_face_through_its_interior_edges_and_corners() {
+        // Face 0 1 2 in the plane z = 0; segments 3-4 (through its
+        // interior), 5-6 (through edge 0 1), 7-8 (through corner 0), 9-10
+        // (beside it), 3-9 (not crossing the plane) and 0-3 (at a corner).
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.25, 0.25, 1.0],
+            [0.25, 0.25, -1.0],
+            [0.5, 0.0, 1.0],
+            [0.5, 0.0, -1.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [2.0, 2.0, 1.0],
+            [2.0, 2.0, -1.0],
+        ];
+        let f = [0, 1, 2];
+        assert_eq!(meets(&pts, (3, 4), f), 1);
+        assert_eq!(meets(&pts, (4, 3), f), 1);
+        assert_eq!(meets(&pts, (5, 6), f), 1);
+        assert_eq!(meets(&pts, (7, 8), f), 1);
+        assert_eq!(meets(&pts, (9, 10), f), 0);
+        assert_eq!(meets(&pts, (3, 9), f), 0);
+        assert_eq!(meets(&pts, (0, 3), f), 0);
+        assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
+    }
 }

@@ -36,10 +36,13 @@ pub struct RecoverOptions {
     /// of the segment whose first crossing comes round again (its flips went
     /// in a circle: a later step restored what an earlier one removed), and
     /// the segment when both ends are given up, instead of spending its
-    /// whole flip budget on flips that are rolled back anyway. Fewer
-    /// segments fail, so fewer Steiner points and rounds, on thin strips
-    /// and fans above all. False: the attempts run until their flip budget
-    /// is spent. Default false: a refinement's smallest dihedral angles
+    /// whole flip budget on flips that are rolled back anyway; and the
+    /// segment guides the flips of a step whose unguided flips fail (none
+    /// may make more faces meet the segment than it removes), and the
+    /// blocking edges of a crossed face go first (the private `cdt`
+    /// module). Fewer segments fail, so fewer Steiner points
+    /// and rounds, on thin strips and fans above all. False: unguided
+    /// attempts that run until their flip budget is spent. Default false: a refinement's smallest dihedral angles
     /// depend on where recovery put its points, and were measured with the
     /// full attempts (with this on, `-pq1.414` minima moved by up to ±3° on
     /// corpus models); [`crate::tet::mesh()`] turns it on when no refinement
