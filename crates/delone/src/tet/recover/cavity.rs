@@ -943,6 +943,14 @@ impl State {
                     progress = true;
                     continue;
                 }
+                // On a flat part of the convex hull: 2D flips there.
+                let budget = self.report.steiner() + added < self.opts.max_steiner;
+                let (k, done) = self.hull_edge_by_flips(&mut w, a, b, &prot, budget);
+                added += k;
+                if done {
+                    progress = true;
+                    continue;
+                }
                 // First the patch with its triangles, then the edge's own
                 // cavity (cones from its ends, else a kernel point).
                 if let Some((k, patch)) = self.patch_by_cavity(&mut w, e, &prot, steiner, &mut memo)
