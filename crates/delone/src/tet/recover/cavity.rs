@@ -187,6 +187,8 @@ impl std::ops::DerefMut for Guard {
 struct Memo {
     stamp: usize,
     failed: IdSet<(bool, Vec<[u32; 3]>)>,
+    /// Input edges whose flips on the convex hull failed.
+    hull_failed: IdSet<(u32, u32)>,
 }
 
 impl Memo {
@@ -195,6 +197,7 @@ impl Memo {
         if cm.touched_len() != self.stamp {
             self.stamp = cm.touched_len();
             self.failed.clear();
+            self.hull_failed.clear();
         }
     }
 }
@@ -943,13 +946,19 @@ impl State {
                     progress = true;
                     continue;
                 }
-                // On a flat part of the convex hull: 2D flips there.
-                let budget = self.report.steiner() + added < self.opts.max_steiner;
-                let (k, done) = self.hull_edge_by_flips(&mut w, a, b, &prot, budget);
-                added += k;
-                if done {
-                    progress = true;
-                    continue;
+                // On a flat part of the convex hull: 2D flips there (not
+                // again on an unchanged mesh once they failed).
+                memo.sync(&w);
+                if !memo.hull_failed.contains(&(a, b)) {
+                    let budget = self.report.steiner() + added < self.opts.max_steiner;
+                    let (k, done) = self.hull_edge_by_flips(&mut w, a, b, &prot, budget);
+                    added += k;
+                    if done {
+                        progress = true;
+                        continue;
+                    }
+                    memo.sync(&w);
+                    memo.hull_failed.insert((a, b));
                 }
                 // First the patch with its triangles, then the edge's own
                 // cavity (cones from its ends, else a kernel point).

@@ -301,6 +301,8 @@ impl State {
 
 /// Most 2-2 flips of one [`State::hull_edge_by_flips`] call.
 const MAX_FLIPS: usize = 512;
+/// Most flippable edges tried per flip (in their order of preference).
+const MAX_TRIED: usize = 4;
 
 /// The hull faces of the plane through `a` and `b` (a flat part of the
 /// convex hull holding both) that meet the segment `a b`, with the axis
@@ -448,7 +450,7 @@ impl State {
             // Deterministic: flips that end a crossing first, then by edge.
             cands.sort_unstable();
             let mut flipped = false;
-            for &(_, (c, d), x, y) in &cands {
+            for &(_, (c, d), x, y) in cands.iter().take(MAX_TRIED) {
                 // `x c y`, `y d x`: consistently oriented (`c`, `d` on
                 // opposite sides of `x y`).
                 let patch = [vec![[x, c, y], [y, d, x]]];
@@ -517,7 +519,7 @@ impl State {
             return None;
         }
         let m: [f64; 3] = [0, 1, 2].map(|k| 0.5 * (pc[k] + pd[k]));
-        for k in (2..40).step_by(3) {
+        for k in (2..32).step_by(5) {
             let h = len * 0.5f64.powi(k);
             let p: [f64; 3] = [0, 1, 2].map(|i| m[i] + h * n[i] / nl);
             if let Some(added) = self.hull_patch(cm, patch, prot, true, Some(p)) {
