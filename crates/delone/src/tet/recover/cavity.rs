@@ -70,6 +70,15 @@
 //! known to fail on the unchanged mesh is not computed again ([`Memo`]:
 //! the patch of every missing edge of one patch is the same cavity).
 //!
+//! **Missing edges on flat parts of the convex hull** (the `hull`
+//! submodule) are first recovered by 2D flips in their plane: the hull
+//! faces there form a planar triangulation, in which some edge crossing
+//! a missing segment always has a strictly convex quadrilateral; its flip
+//! replaces the tetrahedra around it by a cone from a vertex, a kernel
+//! point, or a point just inside the hull above its middle (which sees
+//! every face of that ring strictly, so moving it close enough is
+//! accepted by the exact validation).
+//!
 //! **Missing edges come with their triangles** (the `patch` submodule):
 //! when flips cannot recover an input edge, the connected set of missing
 //! input triangles around it is recovered at once, the two sides of that

@@ -18,6 +18,10 @@
 //! the surface) bounded by the patch triangles instead of the old hull
 //! faces, and new ghosts close the patch triangles.
 //!
+//! A missing edge there is first recovered by 2D flips in the plane
+//! ([`State::hull_edge_by_flips`]), each one such replacement with a patch
+//! of two triangles.
+//!
 //! Exactness: the patch triangles must all lie in one plane (exact
 //! `orient3d`), the old hull faces must use only patch vertices and lie in
 //! that plane, and the edges used once by the hull faces must be exactly
@@ -351,15 +355,16 @@ fn faces_along(cm: &Journaled<'_>, a: u32, b: u32) -> Option<(Vec<[u32; 3]>, usi
     let mut out = Vec::new();
     while let Some(t) = stack.pop() {
         let f = hull(t)?;
-        if f.iter().any(|&w| orient3d(&plane[0], &plane[1], &plane[2], g(w)) != 0.0) {
+        if f.iter()
+            .any(|&w| orient3d(&plane[0], &plane[1], &plane[2], g(w)) != 0.0)
+        {
             continue;
         }
         if f.iter().any(|&w| on_segment(w)) {
             return None;
         }
-        let on_way = f.contains(&a)
-            || f.contains(&b)
-            || (0..3).any(|i| crosses(f[i], f[(i + 1) % 3]));
+        let on_way =
+            f.contains(&a) || f.contains(&b) || (0..3).any(|i| crosses(f[i], f[(i + 1) % 3]));
         if !on_way {
             continue;
         }
