@@ -33,6 +33,7 @@
 //! every vertex and protected item kept).
 
 use super::super::State;
+use super::pull::project;
 use super::{all_positive, fill_side, fills_bounded, keeps_guarded, okey, Guard, Region};
 use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, dot, sub};
@@ -327,10 +328,10 @@ fn faces_along(cm: &Journaled<'_>, a: u32, b: u32) -> Option<(Vec<[u32; 3]>, usi
     })?;
     let plane = start.1.map(|w| *g(w));
     let ax = (0..3).find(|&ax| {
-        let [p, q, r] = plane.map(|x| proj(&x, ax));
+        let [p, q, r] = plane.map(|x| project(&x, ax));
         orient2d(&p, &q, &r) != 0.0
     })?;
-    let p2 = |w: u32| proj(g(w), ax);
+    let p2 = |w: u32| project(g(w), ax);
     let (pa, pb) = (p2(a), p2(b));
     // The closed segment a b and the open segment u v cross (exact, 2D).
     let crosses = |u: u32, v: u32| {
@@ -382,15 +383,6 @@ fn faces_along(cm: &Journaled<'_>, a: u32, b: u32) -> Option<(Vec<[u32; 3]>, usi
     Some((out, ax))
 }
 
-/// `p` without its coordinate `ax`.
-fn proj(p: &[f64; 3], ax: usize) -> [f64; 2] {
-    match ax {
-        0 => [p[1], p[2]],
-        1 => [p[2], p[0]],
-        _ => [p[0], p[1]],
-    }
-}
-
 impl State {
     /// Recovers the missing input edge `a b` lying on a flat part of the
     /// convex hull by 2D edge flips in that plane (Lawson): while `a b` is
@@ -422,7 +414,7 @@ impl State {
                 return (added, false);
             };
             let pts = cm.pts();
-            let p2 = |w: u32| proj(&pts[w as usize], ax);
+            let p2 = |w: u32| project(&pts[w as usize], ax);
             let (pa, pb) = (p2(a), p2(b));
             // Per edge (sorted), the vertices opposite it in the faces.
             let mut opp: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
