@@ -283,3 +283,104 @@ fn medium_models_recovered_by_patches() {
 fn larger_closed_clean_models() {
     corpus(701..=usize::MAX, true);
 }
+
+/// 2D orientation sign helper of [`plate_with_holes`] (floating point:
+/// the generator only needs it away from degeneracies).
+fn turn(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+}
+
+/// A CAD-like plate: the unit `n`-gon extruded to height 0.2 with `holes`
+/// round holes (`m`-gons of radius 0.07 on the circle of radius 0.7),
+/// its top and bottom triangulated by ear clipping of the outline bridged
+/// to each hole (long thin fans, not Delaunay), its walls by two
+/// triangles per quadrilateral. Top and bottom are flat parts of the
+/// convex hull.
+fn plate_with_holes(n: usize, holes: usize, m: usize) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    use std::f64::consts::TAU;
+    let mut p2: Vec<[f64; 2]> = (0..n)
+        .map(|k| {
+            let a = TAU * k as f64 / n as f64;
+            [a.cos(), a.sin()]
+        })
+        .collect();
+    let mut poly: Vec<usize> = (0..n).collect();
+    let mut hole_ids: Vec<Vec<usize>> = Vec::new();
+    for j in 0..holes {
+        let a = TAU * j as f64 / holes as f64 + 0.1;
+        let c = [0.7 * a.cos(), 0.7 * a.sin()];
+        let ids: Vec<usize> = (p2.len()..p2.len() + m).collect();
+        for k in 0..m {
+            let b = a + TAU * k as f64 / m as f64;
+            p2.push([c[0] + 0.07 * b.cos(), c[1] + 0.07 * b.sin()]);
+        }
+        // Bridge the hole's outermost vertex to the nearest outline vertex.
+        let h0 = p2[ids[0]];
+        let d2 = |k: usize| (p2[k][0] - h0[0]).powi(2) + (p2[k][1] - h0[1]).powi(2);
+        let best = (0..n).min_by(|&x, &y| d2(x).total_cmp(&d2(y))).unwrap();
+        let i = poly.iter().position(|&v| v == best).unwrap();
+        let mut around = vec![ids[0]];
+        around.extend(ids[1..].iter().rev());
+        around.extend([ids[0], best]);
+        poly.splice(i + 1..i + 1, around);
+        hole_ids.push(ids);
+    }
+    // Ear clipping (the bridged polygon is counterclockwise).
+    let mut tris2: Vec<[usize; 3]> = Vec::new();
+    let mut v = poly;
+    while v.len() > 3 {
+        let k = v.len();
+        let ear = (0..k).find(|&i| {
+            let (a, b, c) = (v[(i + k - 1) % k], v[i], v[(i + 1) % k]);
+            let (pa, pb, pc) = (p2[a], p2[b], p2[c]);
+            turn(pa, pb, pc) > 0.0
+                && !v.iter().any(|&w| {
+                    let q = p2[w];
+                    q != pa
+                        && q != pb
+                        && q != pc
+                        && turn(pa, pb, q) >= 0.0
+                        && turn(pb, pc, q) >= 0.0
+                        && turn(pc, pa, q) >= 0.0
+                })
+        });
+        let i = ear.expect("the bridged outline has an ear");
+        tris2.push([v[(i + k - 1) % k], v[i], v[(i + 1) % k]]);
+        v.remove(i);
+    }
+    tris2.push([v[0], v[1], v[2]]);
+    let nn = p2.len() as u32;
+    let mut pts: Vec<[f64; 3]> = p2.iter().map(|q| [q[0], q[1], 0.0]).collect();
+    pts.extend(p2.iter().map(|q| [q[0], q[1], 0.2]));
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    for t in &tris2 {
+        let [a, b, c] = t.map(|w| w as u32);
+        tris.push([a, c, b]);
+        tris.push([a + nn, b + nn, c + nn]);
+    }
+    let mut wall = |a: usize, b: usize| {
+        let (a, b) = (a as u32, b as u32);
+        tris.push([a, b, b + nn]);
+        tris.push([a, b + nn, a + nn]);
+    };
+    for k in 0..n {
+        wall(k, (k + 1) % n);
+    }
+    for ids in &hole_ids {
+        for k in 0..m {
+            wall(ids[(k + 1) % m], ids[k]);
+        }
+    }
+    (pts, tris)
+}
+
+/// Plates with holes whose flat tops and bottoms (parts of the convex
+/// hull, fan-triangulated) miss many input edges after the flips: the
+/// hull edges crossing them are flipped in the plane (cavity module).
+#[test]
+fn plates_with_holes() {
+    for (n, holes, m) in [(48, 4, 12), (32, 6, 12), (24, 4, 8)] {
+        let (pts, tris) = plate_with_holes(n, holes, m);
+        check_y(&format!("plate {n}/{holes}/{m}"), &pts, &tris);
+    }
+}

@@ -70,6 +70,15 @@
 //! known to fail on the unchanged mesh is not computed again ([`Memo`]:
 //! the patch of every missing edge of one patch is the same cavity).
 //!
+//! **Missing edges on flat parts of the convex hull** (the `hull`
+//! submodule) are first recovered by 2D flips in their plane: the hull
+//! faces there form a planar triangulation, in which some edge crossing
+//! a missing segment always has a strictly convex quadrilateral; its flip
+//! replaces the tetrahedra around it by a cone from a vertex, a kernel
+//! point, or a point just inside the hull above its middle (which sees
+//! every face of that ring strictly, so moving it close enough is
+//! accepted by the exact validation).
+//!
 //! **Missing edges come with their triangles** (the `patch` submodule):
 //! when flips cannot recover an input edge, the connected set of missing
 //! input triangles around it is recovered at once, the two sides of that
@@ -187,6 +196,8 @@ impl std::ops::DerefMut for Guard {
 struct Memo {
     stamp: usize,
     failed: IdSet<(bool, Vec<[u32; 3]>)>,
+    /// Input edges whose flips on the convex hull failed.
+    hull_failed: IdSet<(u32, u32)>,
 }
 
 impl Memo {
@@ -195,6 +206,7 @@ impl Memo {
         if cm.touched_len() != self.stamp {
             self.stamp = cm.touched_len();
             self.failed.clear();
+            self.hull_failed.clear();
         }
     }
 }
@@ -942,6 +954,20 @@ impl State {
                 if cdt::recover_segment(&mut w, a, b, &prot) {
                     progress = true;
                     continue;
+                }
+                // On a flat part of the convex hull: 2D flips there (not
+                // again on an unchanged mesh once they failed).
+                memo.sync(&w);
+                if !memo.hull_failed.contains(&(a, b)) {
+                    let budget = self.report.steiner() + added < self.opts.max_steiner;
+                    let (k, done) = self.hull_edge_by_flips(&mut w, a, b, &prot, budget);
+                    added += k;
+                    if done {
+                        progress = true;
+                        continue;
+                    }
+                    memo.sync(&w);
+                    memo.hull_failed.insert((a, b));
                 }
                 // First the patch with its triangles, then the edge's own
                 // cavity (cones from its ends, else a kernel point).

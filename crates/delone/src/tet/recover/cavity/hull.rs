@@ -18,6 +18,10 @@
 //! the surface) bounded by the patch triangles instead of the old hull
 //! faces, and new ghosts close the patch triangles.
 //!
+//! A missing edge there is first recovered by 2D flips in the plane
+//! ([`State::hull_edge_by_flips`]), each one such replacement with a patch
+//! of two triangles.
+//!
 //! Exactness: the patch triangles must all lie in one plane (exact
 //! `orient3d`), the old hull faces must use only patch vertices and lie in
 //! that plane, and the edges used once by the hull faces must be exactly
@@ -29,13 +33,15 @@
 //! every vertex and protected item kept).
 
 use super::super::State;
+use super::pull::project;
 use super::{all_positive, fill_side, fills_bounded, keeps_guarded, okey, Guard, Region};
 use crate::geom::ids::{IdMap, IdSet};
+use crate::geom::vec3::{cross, dot, sub};
 use crate::tet::dmesh::journal::Journaled;
 use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
-use delone_predicates::orient3d;
+use delone_predicates::{orient2d, orient3d};
 
 /// Most tetrahedra removed by one flat hull replacement.
 const MAX_SET: usize = 512;
@@ -196,13 +202,15 @@ impl State {
 
     /// Recovers the `patches` (each consistently oriented) when each lies
     /// flat on the convex hull, in one replacement. `Some(points added)`
-    /// on success.
+    /// on success. With `apex`, the finite part is refilled by the cone
+    /// from that new point only.
     pub(super) fn hull_patch(
         &self,
         cm: &mut Journaled<'_>,
         patches: &[Vec<[u32; 3]>],
         prot: &Guard,
         steiner: bool,
+        apex: Option<[f64; 3]>,
     ) -> Option<usize> {
         let mut set: Vec<u32> = Vec::new();
         let mut ghosts: Vec<u32> = Vec::new();
@@ -244,7 +252,18 @@ impl State {
             reg.faces.push((*t, DEAD, 0));
         }
         let id = pts.len() as u32;
-        let f = fill_side(cm, &mut reg, &mut set, None, prot, steiner, id)?;
+        let f = match apex {
+            None => fill_side(cm, &mut reg, &mut set, None, prot, steiner, id)?,
+            Some(p) => {
+                let mut all: Vec<[f64; 3]> = pts.to_vec();
+                all.push(p);
+                let tets = super::cone_from(&all, &reg.tris(), id)?;
+                super::Fill {
+                    tets,
+                    point: Some(p),
+                }
+            }
+        };
         let pts = cm.pts();
         let outer: Vec<[u32; 3]> = reg.faces.iter().map(|f| okey(f.0)).collect();
         // Validation (see the module documentation).
@@ -282,5 +301,228 @@ impl State {
         }
         cm.replace(&old, &new);
         Some(added)
+    }
+}
+
+/// Most 2-2 flips of one [`State::hull_edge_by_flips`] call.
+const MAX_FLIPS: usize = 512;
+/// Most flippable edges tried per flip (in their order of preference).
+const MAX_TRIED: usize = 4;
+
+/// The hull faces of the plane through `a` and `b` (a flat part of the
+/// convex hull holding both) that meet the segment `a b`, with the axis
+/// along which the plane projects injectively; `None` when no hull face
+/// at `a` lies in a plane through `b`, or when a vertex lies on the open
+/// segment (then no flips can make `a b` an edge).
+fn faces_along(cm: &Journaled<'_>, a: u32, b: u32) -> Option<(Vec<[u32; 3]>, usize)> {
+    let pts = cm.pts();
+    let c = &cm.m;
+    let g = |w: u32| &pts[w as usize];
+    let hull = |t: u32| {
+        let tv = c.tv[t as usize];
+        (tv[0] != DEAD && tv[3] == INF).then(|| [tv[0], tv[1], tv[2]])
+    };
+    let start = cm.star(a).into_iter().find_map(|t| {
+        let f = hull(t)?;
+        (orient3d(g(f[0]), g(f[1]), g(f[2]), g(b)) == 0.0).then_some((t, f))
+    })?;
+    let plane = start.1.map(|w| *g(w));
+    let ax = (0..3).find(|&ax| {
+        let [p, q, r] = plane.map(|x| project(&x, ax));
+        orient2d(&p, &q, &r) != 0.0
+    })?;
+    let p2 = |w: u32| project(g(w), ax);
+    let (pa, pb) = (p2(a), p2(b));
+    // The closed segment a b and the open segment u v cross (exact, 2D).
+    let crosses = |u: u32, v: u32| {
+        let (pu, pv) = (p2(u), p2(v));
+        let s1 = orient2d(&pa, &pb, &pu);
+        let s2 = orient2d(&pa, &pb, &pv);
+        let s3 = orient2d(&pu, &pv, &pa);
+        let s4 = orient2d(&pu, &pv, &pb);
+        s1 * s2 < 0.0 && s3 * s4 < 0.0
+    };
+    // A vertex other than `a`, `b` on the closed segment.
+    let on_segment = |w: u32| {
+        let pw = p2(w);
+        w != a
+            && w != b
+            && orient2d(&pa, &pb, &pw) == 0.0
+            && super::super::place::strictly_between(g(a), g(b), g(w))
+    };
+    let mut seen: IdSet<u32> = IdSet::default();
+    let mut stack = vec![start.0];
+    seen.insert(start.0);
+    let mut out = Vec::new();
+    while let Some(t) = stack.pop() {
+        let f = hull(t)?;
+        if f.iter()
+            .any(|&w| orient3d(&plane[0], &plane[1], &plane[2], g(w)) != 0.0)
+        {
+            continue;
+        }
+        if f.iter().any(|&w| on_segment(w)) {
+            return None;
+        }
+        let on_way =
+            f.contains(&a) || f.contains(&b) || (0..3).any(|i| crosses(f[i], f[(i + 1) % 3]));
+        if !on_way {
+            continue;
+        }
+        out.push(f);
+        for i in 0..3 {
+            let n = c.nb[t as usize][i] >> 2;
+            if hull(n).is_some() && seen.insert(n) {
+                stack.push(n);
+            }
+        }
+        if out.len() > MAX_SET {
+            return None;
+        }
+    }
+    Some((out, ax))
+}
+
+impl State {
+    /// Recovers the missing input edge `a b` lying on a flat part of the
+    /// convex hull by 2D edge flips in that plane (Lawson): while `a b` is
+    /// missing, a hull edge `c d` crossing it whose two hull faces
+    /// `c d x`, `d c y` form a strictly convex quadrilateral is flipped to
+    /// `x y` — preferring flips whose new edge does not cross `a b` — each
+    /// flip done by [`State::hull_patch`] on the two new triangles (the
+    /// tetrahedra around `c d` refilled by a cone from one of their
+    /// vertices, else, with `steiner`, from a kernel point; the point just
+    /// inside the hull above the middle of `c d` sees every face of that
+    /// ring strictly, so such a kernel point exists). In a planar
+    /// triangulation some edge crossing a missing segment is always
+    /// flippable, so only the Steiner budget and [`MAX_FLIPS`] bound
+    /// this. Returns the points added and whether `a b` is an edge.
+    pub(super) fn hull_edge_by_flips(
+        &self,
+        cm: &mut Journaled<'_>,
+        a: u32,
+        b: u32,
+        prot: &Guard,
+        steiner: bool,
+    ) -> (usize, bool) {
+        let mut added = 0;
+        for _ in 0..MAX_FLIPS {
+            if cm.find_edge(a, b).is_some() {
+                return (added, true);
+            }
+            let Some((faces, ax)) = faces_along(cm, a, b) else {
+                return (added, false);
+            };
+            let pts = cm.pts();
+            let p2 = |w: u32| project(&pts[w as usize], ax);
+            let (pa, pb) = (p2(a), p2(b));
+            // Per edge (sorted), the vertices opposite it in the faces.
+            let mut opp: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
+            for f in &faces {
+                for i in 0..3 {
+                    let (u, v) = (f[i], f[(i + 1) % 3]);
+                    opp.entry(ekey(u, v)).or_default().push(f[(i + 2) % 3]);
+                }
+            }
+            let cross = |u: u32, v: u32| {
+                let (pu, pv) = (p2(u), p2(v));
+                orient2d(&pa, &pb, &pu) * orient2d(&pa, &pb, &pv) < 0.0
+                    && orient2d(&pu, &pv, &pa) * orient2d(&pu, &pv, &pb) < 0.0
+            };
+            let mut cands: Vec<(bool, (u32, u32), u32, u32)> = Vec::new();
+            for (&(c, d), xs) in &opp {
+                if xs.len() != 2 || !cross(c, d) {
+                    continue;
+                }
+                let (x, y) = (xs[0], xs[1]);
+                let (px, py) = (p2(x), p2(y));
+                if orient2d(&px, &py, &p2(c)) * orient2d(&px, &py, &p2(d)) >= 0.0 {
+                    continue;
+                }
+                cands.push((cross(x, y), (c, d), x, y));
+            }
+            if cands.is_empty() {
+                return (added, false);
+            }
+            // Deterministic: flips that end a crossing first, then by edge.
+            cands.sort_unstable();
+            let mut flipped = false;
+            for &(_, (c, d), x, y) in cands.iter().take(MAX_TRIED) {
+                // `x c y`, `y d x`: consistently oriented (`c`, `d` on
+                // opposite sides of `x y`).
+                let patch = [vec![[x, c, y], [y, d, x]]];
+                if self.hull_patch(cm, &patch, prot, false, None).is_some() {
+                    flipped = true;
+                    break;
+                }
+                if !steiner {
+                    continue;
+                }
+                if let Some(k) = self.hull_patch(cm, &patch, prot, true, None) {
+                    added += k;
+                    flipped = true;
+                    break;
+                }
+                if let Some(k) = self.hull_flip_point(cm, &patch, (c, d, x), prot) {
+                    added += k;
+                    flipped = true;
+                    break;
+                }
+            }
+            if !flipped {
+                return (added, false);
+            }
+        }
+        (added, false)
+    }
+}
+
+impl State {
+    /// The 2-2 flip of hull edge `c d` (faces `c d x` and the other one of
+    /// `patch`) by the cone from a new point: the middle `m` of `c d`
+    /// moved into the hull along the plane's normal by `|c d| / 2^k`,
+    /// `k = 2, 3, …` — every face of the ring of `c d` not on `c` or `d`'s
+    /// side is seen strictly from `m` (the ring's tetrahedra are positive
+    /// and `m` is inside the edge) and the two new flat faces from any
+    /// point strictly inside, so a small enough move is accepted by the
+    /// exact checks of [`State::hull_patch`]. `Some(1)` on success.
+    fn hull_flip_point(
+        &self,
+        cm: &mut Journaled<'_>,
+        patch: &[Vec<[u32; 3]>],
+        (c, d, x): (u32, u32, u32),
+        prot: &Guard,
+    ) -> Option<usize> {
+        let pts = cm.pts();
+        let g = |w: u32| pts[w as usize];
+        let (pc, pd, px) = (g(c), g(d), g(x));
+        let mut n = cross(&sub(&pd, &pc), &sub(&px, &pc));
+        // Towards the inside: the side of a finite tetrahedron at `c`.
+        let apex = cm.star(c).into_iter().find_map(|t| {
+            let tv = cm.m.tv[t as usize];
+            if tv[0] == DEAD || tv.contains(&INF) {
+                return None;
+            }
+            tv.into_iter()
+                .find(|&w| orient3d(&pc, &pd, &px, &pts[w as usize]) != 0.0)
+        })?;
+        if dot(&n, &sub(&g(apex), &pc)) < 0.0 {
+            n = n.map(|v| -v);
+        }
+        let nl = dot(&n, &n).sqrt();
+        let cd = sub(&pd, &pc);
+        let len = dot(&cd, &cd).sqrt();
+        if nl == 0.0 || len == 0.0 || !nl.is_finite() {
+            return None;
+        }
+        let m: [f64; 3] = [0, 1, 2].map(|k| 0.5 * (pc[k] + pd[k]));
+        for k in (2..32).step_by(5) {
+            let h = len * 0.5f64.powi(k);
+            let p: [f64; 3] = [0, 1, 2].map(|i| m[i] + h * n[i] / nl);
+            if let Some(added) = self.hull_patch(cm, patch, prot, true, Some(p)) {
+                return Some(added);
+            }
+        }
+        None
     }
 }

@@ -160,7 +160,7 @@ impl State {
         // Flat on the convex hull: the hull faces give way to the patch.
         if let Some(flat) = self.flat_hull(cm, &patch) {
             let mut all = vec![patch.clone()];
-            if let Some(k) = self.hull_patch(cm, &all, prot, false) {
+            if let Some(k) = self.hull_patch(cm, &all, prot, false, None) {
                 return Some((k, patch));
             }
             // With its flat hull neighbours at once: two hull quads
@@ -168,12 +168,12 @@ impl State {
             // together, which a joint replacement avoids.
             all.extend(self.flat_neighbours(cm, &flat));
             if all.len() > 1 {
-                if let Some(k) = self.hull_patch(cm, &all, prot, false) {
+                if let Some(k) = self.hull_patch(cm, &all, prot, false, None) {
                     return Some((k, all.concat()));
                 }
             }
             if steiner {
-                if let Some(k) = self.hull_patch(cm, &all[..1], prot, true) {
+                if let Some(k) = self.hull_patch(cm, &all[..1], prot, true, None) {
                     return Some((k, patch));
                 }
             }

@@ -824,7 +824,7 @@ fn tangent_dir(pts: &[P], s: &P, faces: &[[u32; 3]], reach: f64) -> Option<P> {
 }
 
 /// Projection of `p` dropping coordinate `ax`.
-fn project(p: &P, ax: usize) -> [f64; 2] {
+pub(super) fn project(p: &P, ax: usize) -> [f64; 2] {
     match ax {
         0 => [p[1], p[2]],
         1 => [p[2], p[0]],
