@@ -578,9 +578,10 @@ impl<'a> Journaled<'a> {
     }
 
     /// [`Journaled::remove_edge_below`] once the ring is known: the cost,
-    /// or `Err(true)` when no triangulation is valid, `Err(false)` when
-    /// refused otherwise (a ghost ring that cannot be removed, a least cost
-    /// of `limit` or more).
+    /// or `Err(true)` when the edge cannot be removed whatever the costs (a
+    /// ghost ring that is not flat, a ring of fewer than three vertices, no
+    /// valid triangulation), `Err(false)` when the least cost is `limit` or
+    /// more (the only refusal that is not memoized).
     fn remove_ring(
         &mut self,
         tets: &[u32],
