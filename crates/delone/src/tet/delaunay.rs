@@ -1638,26 +1638,40 @@ impl Core {
         let split: Vec<u64> = (cut[1..parts].iter())
             .map(|&c| grid.key(&g.pts[first as usize + c]))
             .collect();
-        // Each live cell's part, from the key of its centroid.
+        // Each live cell's part, from the key of its centroid (NONE for a
+        // dead slot), in chunks on up to `threads` threads.
         let len = self.v.len();
         let mut slot = vec![NONE; len];
-        let mut count = vec![0usize; parts];
-        for (t, tv) in self.v.iter().enumerate() {
-            if tv[0] == DEAD {
-                continue;
+        let chunk = len.div_ceil(threads).max(1 << 14);
+        let items: Vec<(&[[u32; 4]], &mut [u32])> =
+            self.v.chunks(chunk).zip(slot.chunks_mut(chunk)).collect();
+        let chunk_counts = crate::par::run_dynamic(threads, items, |_, (vs, ss)| {
+            let mut count = vec![0usize; parts];
+            for (tv, s) in vs.iter().zip(ss) {
+                if tv[0] == DEAD {
+                    continue;
+                }
+                let mut c = [0.0f64; 3];
+                let mut k = 0.0;
+                for &q in tv.iter().filter(|&&q| q != INF) {
+                    let p = &g.pts[q as usize];
+                    c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
+                    k += 1.0;
+                }
+                let key = grid.key(&c.map(|x| x / k));
+                let part = split.partition_point(|&s| s <= key);
+                *s = part as u32;
+                count[part] += 1;
             }
-            let mut c = [0.0f64; 3];
-            let mut k = 0.0;
-            for &q in tv.iter().filter(|&&q| q != INF) {
-                let p = &g.pts[q as usize];
-                c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
-                k += 1.0;
-            }
-            let c = c.map(|x| x / k);
-            let part = split.partition_point(|&s| s <= grid.key(&c));
-            slot[t] = part as u32;
-            count[part] += 1;
-        }
+            count
+        });
+        let chunk_counts: Vec<Vec<usize>> = chunk_counts
+            .into_iter()
+            .map(|c| c.unwrap_or_else(|| vec![0; parts]))
+            .collect();
+        let count: Vec<usize> = (0..parts)
+            .map(|k| chunk_counts.iter().map(|c| c[k]).sum())
+            .collect();
         // Room per part: its cells plus the cells per inserted point so far
         // (ghosts included) for each of its points, with a margin.
         let live = len - self.free.len();
@@ -1672,23 +1686,50 @@ impl Core {
         if total + (1 << 20) > MAX_TETS {
             return (ids.collect(), Vec::new());
         }
-        // Destinations: part k's cells in slot order from bounds[k].
+        // Destinations: part k's cells in slot order from bounds[k]; a
+        // chunk's cells of part k follow those of the chunks before it.
         let mut next: Vec<usize> = bounds[..parts].to_vec();
-        for d in slot.iter_mut().filter(|d| **d != NONE) {
-            let k = *d as usize;
-            *d = next[k] as u32;
-            next[k] += 1;
-        }
+        let items: Vec<(Vec<usize>, &mut [u32])> = (slot.chunks_mut(chunk).zip(&chunk_counts))
+            .map(|(ss, c)| {
+                let at = next.clone();
+                for (n, c) in next.iter_mut().zip(c) {
+                    *n += c;
+                }
+                (at, ss)
+            })
+            .collect();
+        crate::par::run_dynamic(threads, items, |_, (mut at, ss)| {
+            for d in ss.iter_mut().filter(|d| **d != NONE) {
+                let k = *d as usize;
+                *d = at[k] as u32;
+                at[k] += 1;
+            }
+        });
         // Fresh arrays from zeroed memory: the pages of slots no part ever
         // uses are never touched (the unused tail is cut off at the end,
-        // other unused slots are marked free by `Core::finish_parts`).
+        // other unused slots are marked free by `Core::finish_parts`). Each
+        // part's range is filled on its own thread.
         let mut v = zeroed_slots(total);
         let mut adj = zeroed_slots(total);
-        for (t, &d) in slot.iter().enumerate() {
-            if d != NONE {
-                v[d as usize] = self.v[t];
-                adj[d as usize] = self.adj[t].map(|w| 4 * slot[(w >> 2) as usize] + (w & 3));
-            }
+        {
+            let items: Vec<(usize, Slots<'_>)> = (bounds.iter().copied())
+                .zip(
+                    crate::par::split_mut(&mut v, &bounds)
+                        .into_iter()
+                        .zip(crate::par::split_mut(&mut adj, &bounds)),
+                )
+                .collect();
+            let (old_v, old_adj, slot) = (&self.v, &self.adj, &slot);
+            crate::par::run_dynamic(threads, items, |_, (lo, (v, adj))| {
+                let range = lo as u32..(lo + v.len()) as u32;
+                for (t, &d) in slot.iter().enumerate() {
+                    if range.contains(&d) {
+                        let i = d as usize - lo;
+                        v[i] = old_v[t];
+                        adj[i] = old_adj[t].map(|w| 4 * slot[(w >> 2) as usize] + (w & 3));
+                    }
+                }
+            });
         }
         self.v = v;
         self.adj = adj;
