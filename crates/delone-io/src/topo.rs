@@ -137,16 +137,72 @@ pub fn tet_faces(
     neighbors: &[[u32; 4]],
     all: bool,
 ) -> Result<Entities<3>, IoError> {
+    tet_faces_threads(tets, neighbors, all, 1)
+}
+
+/// [`tet_faces`] on up to `threads` threads (0 counts as 1): the
+/// tetrahedra are scanned in chunks whose faces are joined in chunk
+/// order, so the result is the same for every thread count.
+///
+/// # Errors
+/// As [`tet_faces`].
+///
+/// ```
+/// let tets = [[0, 1, 2, 3], [1, 2, 3, 4]];
+/// let nbrs = [[1, u32::MAX, u32::MAX, u32::MAX], [u32::MAX, u32::MAX, u32::MAX, 0]];
+/// let one = delone_io::topo::tet_faces(&tets, &nbrs, false).unwrap();
+/// assert_eq!(delone_io::topo::tet_faces_threads(&tets, &nbrs, false, 2).unwrap(), one);
+/// ```
+pub fn tet_faces_threads(
+    tets: &[[u32; 4]],
+    neighbors: &[[u32; 4]],
+    all: bool,
+    threads: usize,
+) -> Result<Entities<3>, IoError> {
     check_lengths(tets.len(), neighbors.len())?;
-    let mut out = Entities::default();
-    for (t, (tet, nb)) in tets.iter().zip(neighbors).enumerate() {
-        for (i, f) in TET_FACES.iter().enumerate() {
-            let n = nb[i];
-            if n == NONE || (all && n as usize > t) {
-                out.items.push([tet[f[0]], tet[f[1]], tet[f[2]]]);
-                out.boundary.push(n == NONE);
+    let scan = |start: usize, tets: &[[u32; 4]], neighbors: &[[u32; 4]]| {
+        let mut out = Entities::default();
+        for (j, (tet, nb)) in tets.iter().zip(neighbors).enumerate() {
+            let t = start + j;
+            for (i, f) in TET_FACES.iter().enumerate() {
+                let n = nb[i];
+                if n == NONE || (all && n as usize > t) {
+                    out.items.push([tet[f[0]], tet[f[1]], tet[f[2]]]);
+                    out.boundary.push(n == NONE);
+                }
             }
         }
+        out
+    };
+    let threads = threads.max(1);
+    let chunk = tets.len().div_ceil(threads).max(1 << 16);
+    if threads == 1 || tets.len() <= chunk {
+        return Ok(scan(0, tets, neighbors));
+    }
+    let scan = &scan;
+    let parts: Vec<Entities<3>> = std::thread::scope(|s| {
+        // A chunk whose thread cannot start is scanned on this thread.
+        let handles: Vec<_> = (tets.chunks(chunk).zip(neighbors.chunks(chunk)))
+            .enumerate()
+            .map(|(c, (t, n))| {
+                let h = std::thread::Builder::new()
+                    .spawn_scoped(s, move || scan(c * chunk, t, n))
+                    .ok();
+                (h, c, t, n)
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|(h, c, t, n)| match h {
+                Some(h) => h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+                None => scan(c * chunk, t, n),
+            })
+            .collect()
+    });
+    let mut out = Entities::default();
+    for p in parts {
+        out.items.extend(p.items);
+        out.boundary.extend(p.boundary);
     }
     Ok(out)
 }

@@ -850,11 +850,17 @@ impl<'a> Delaunay3<'a> {
                 dt.core.finish_parts();
             }
         }
-        for tv in dt.core.v.iter_mut().filter(|tv| tv[0] != DEAD) {
-            for q in tv.iter_mut().filter(|q| **q != INF) {
-                *q = order[*q as usize];
+        // Back to input ids, in chunks on the threads.
+        let threads = split.threads.max(1);
+        let chunk = dt.core.v.len().div_ceil(threads).max(1 << 16);
+        let items: Vec<&mut [[u32; 4]]> = dt.core.v.chunks_mut(chunk).collect();
+        crate::par::run_dynamic(threads, items, |_, vs| {
+            for tv in vs.iter_mut().filter(|tv| tv[0] != DEAD) {
+                for q in tv.iter_mut().filter(|q| **q != INF) {
+                    *q = order[*q as usize];
+                }
             }
-        }
+        });
         Ok(dt)
     }
 
