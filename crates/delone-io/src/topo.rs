@@ -354,6 +354,61 @@ pub fn boundary_vertices<const K: usize>(entities: &Entities<K>, n_points: usize
 mod tests {
     use super::*;
 
+    /// An n³ grid of cubes, each cut into the six tetrahedra around its
+    /// main diagonal, with neighbours found by matching faces.
+    fn cube_grid(n: u32) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
+        let id = |x: u32, y: u32, z: u32| (z * (n + 1) + y) * (n + 1) + x;
+        let mut tets = Vec::new();
+        for z in 0..n {
+            for y in 0..n {
+                for x in 0..n {
+                    let c = |b: u32| id(x + (b & 1), y + (b >> 1 & 1), z + (b >> 2));
+                    for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+                        tets.push([c(0), c(path[0]), c(path[1]), c(7)]);
+                    }
+                }
+            }
+        }
+        let mut seen: std::collections::HashMap<[u32; 3], (usize, usize)> =
+            std::collections::HashMap::new();
+        let mut nbrs = vec![[NONE; 4]; tets.len()];
+        for (t, tet) in tets.iter().enumerate() {
+            for (i, f) in TET_FACES.iter().enumerate() {
+                let mut key = f.map(|k| tet[k]);
+                key.sort_unstable();
+                if let Some((u, j)) = seen.remove(&key) {
+                    nbrs[t][i] = u as u32;
+                    nbrs[u][j] = t as u32;
+                } else {
+                    seen.insert(key, (t, i));
+                }
+            }
+        }
+        (tets, nbrs)
+    }
+
+    #[test]
+    fn tet_faces_same_for_any_thread_count() {
+        // 93,750 tetrahedra: two chunks or more from two threads on.
+        let n = 25;
+        let (tets, nbrs) = cube_grid(n);
+        for all in [false, true] {
+            let one = tet_faces(&tets, &nbrs, all).unwrap();
+            let hull = 2 * 6 * (n * n) as usize;
+            let want = if all {
+                (4 * tets.len() + hull) / 2
+            } else {
+                hull
+            };
+            assert_eq!(one.items.len(), want);
+            assert_eq!(one.boundary.iter().filter(|&&b| b).count(), hull);
+            for threads in 0..=4 {
+                assert_eq!(tet_faces_threads(&tets, &nbrs, all, threads).unwrap(), one);
+            }
+        }
+        assert!(tet_faces_threads(&tets, &nbrs[1..], false, 2).is_err());
+    }
+
     #[test]
     fn tet_faces_face_outwards() {
         let p = [

@@ -48,12 +48,14 @@
 //! * The one-call constructor borrows the caller's points (`Cow`), reserves
 //!   about 6.75 cells per point and grows by steps of 1/8; `into_mesh`
 //!   compacts in place (no second copy).
-//! * **Parallel insertion** (Delaunay, one-call constructor, last BRIO round of
-//!   at least 65,536 points): the round's points are cut into two runs
+//! * **Parallel insertion** (Delaunay, one-call constructor, every BRIO round
+//!   of at least 65,536 points, one after the other: on 1M points the last
+//!   two): the round's points are cut into two runs
 //!   of consecutive Hilbert keys; every cell goes to the part holding the key
 //!   of its centroid and the cells are copied so that each part owns one slot
 //!   range with room for what it will create (zeroed memory: slots never used
-//!   are never touched). The parts insert their points on up to `threads`
+//!   are never touched); the centroid keys and the copy run on the threads
+//!   too. The parts insert their points on up to `threads`
 //!   threads (`crate::par::run_dynamic`); the points they leave (near part
 //!   borders: 4.7% of 1M uniform points) are inserted by passes over unions
 //!   of neighbouring parts, the last one serial. A part reads and writes only
@@ -112,19 +114,19 @@ const MARK_KEEP: u32 = 1 << 30;
 /// The vertex bits of a possibly marked first vertex.
 const UNMARK: u32 = MARK_KEEP - 1;
 
-/// Number of parts the last BRIO round is inserted in (see
-/// `Core::insert_parts`) when it has at least [`PARALLEL_MIN_POINTS`] points.
+/// Number of parts a BRIO round is inserted in (see `Core::insert_parts`)
+/// when it has at least [`PARALLEL_MIN_POINTS`] points.
 /// Each further halving of the parts leaves more points near part borders
 /// for a later pass: on 1M uniform points 2 parts leave 4.7% of the round
 /// to the serial pass, 8 parts 13.5% to the next pass and cost a third
 /// more work in all (the same 4.7% reach the serial pass).
 const PARTS: usize = 2;
 
-/// Smallest last BRIO round inserted in parts.
+/// Smallest BRIO round inserted in parts.
 const PARALLEL_MIN_POINTS: usize = 1 << 16;
 
 /// How a one-call construction may split its work: the threads, and the
-/// smallest last BRIO round inserted in parts (the parts do not depend on
+/// smallest BRIO round inserted in parts (the parts do not depend on
 /// the threads).
 #[derive(Debug, Clone, Copy)]
 struct Split {
@@ -2040,18 +2042,23 @@ mod tests {
         t
     }
 
-    /// Builds `pts` with the last round in parts (whatever its size) on 1
-    /// to 4 threads: each build passes the checkers, all give the same
-    /// mesh, and the tetrahedra are those of the serial build (unless
+    /// Builds `pts` with every BRIO round in parts (whatever its size) on 1
+    /// to 4 threads, and with the rounds of 600 points or more in parts on
+    /// 1 and 2 threads: each build passes the checkers, the builds of one
+    /// setting give the same mesh, and the tetrahedra are those of the serial build (unless
     /// `pts` has exact duplicates: a duplicate group's tie-break follows the
     /// insertion order, see the module notes).
     fn same_for_any_thread_count(pts: &[[f64; 3]], no_duplicates: bool) {
         let serial = Delaunay3::from_points(pts).unwrap().into_mesh();
         let mut first: Option<TetMesh> = None;
-        for threads in 1..=4 {
+        // Every round in parts, or the last two rounds of 6000 points.
+        for (threads, min_points) in [(1, 0), (2, 0), (3, 0), (4, 0), (1, 600), (2, 600)] {
+            if threads == 1 {
+                first = None;
+            }
             let split = Split {
                 threads,
-                min_points: 0,
+                min_points,
             };
             let dt = Delaunay3::build(pts, None, split, &mut |_, _| {}).unwrap();
             dt.check_topology().unwrap();
