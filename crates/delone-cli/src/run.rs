@@ -402,7 +402,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
                 duplicates: mesh.duplicates,
             };
             let t_derive = Instant::now();
-            let faces = topo::tet_faces(&m.cells, &m.neighbors, o.tet.all_faces)
+            let faces = topo::tet_faces_threads(&m.cells, &m.neighbors, o.tet.all_faces, threads)
                 .map_err(|e| input_err(format!("internal error: {e}")))?;
             let hull = topo::boundary_vertices(&faces, node.len());
             let edges = if o.out().edges && !o.tet.no_face {

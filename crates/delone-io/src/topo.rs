@@ -137,16 +137,72 @@ pub fn tet_faces(
     neighbors: &[[u32; 4]],
     all: bool,
 ) -> Result<Entities<3>, IoError> {
+    tet_faces_threads(tets, neighbors, all, 1)
+}
+
+/// [`tet_faces`] on up to `threads` threads (0 counts as 1): the
+/// tetrahedra are scanned in chunks whose faces are joined in chunk
+/// order, so the result is the same for every thread count.
+///
+/// # Errors
+/// As [`tet_faces`].
+///
+/// ```
+/// let tets = [[0, 1, 2, 3], [1, 2, 3, 4]];
+/// let nbrs = [[1, u32::MAX, u32::MAX, u32::MAX], [u32::MAX, u32::MAX, u32::MAX, 0]];
+/// let one = delone_io::topo::tet_faces(&tets, &nbrs, false).unwrap();
+/// assert_eq!(delone_io::topo::tet_faces_threads(&tets, &nbrs, false, 2).unwrap(), one);
+/// ```
+pub fn tet_faces_threads(
+    tets: &[[u32; 4]],
+    neighbors: &[[u32; 4]],
+    all: bool,
+    threads: usize,
+) -> Result<Entities<3>, IoError> {
     check_lengths(tets.len(), neighbors.len())?;
-    let mut out = Entities::default();
-    for (t, (tet, nb)) in tets.iter().zip(neighbors).enumerate() {
-        for (i, f) in TET_FACES.iter().enumerate() {
-            let n = nb[i];
-            if n == NONE || (all && n as usize > t) {
-                out.items.push([tet[f[0]], tet[f[1]], tet[f[2]]]);
-                out.boundary.push(n == NONE);
+    let scan = |start: usize, tets: &[[u32; 4]], neighbors: &[[u32; 4]]| {
+        let mut out = Entities::default();
+        for (j, (tet, nb)) in tets.iter().zip(neighbors).enumerate() {
+            let t = start + j;
+            for (i, f) in TET_FACES.iter().enumerate() {
+                let n = nb[i];
+                if n == NONE || (all && n as usize > t) {
+                    out.items.push([tet[f[0]], tet[f[1]], tet[f[2]]]);
+                    out.boundary.push(n == NONE);
+                }
             }
         }
+        out
+    };
+    let threads = threads.max(1);
+    let chunk = tets.len().div_ceil(threads).max(1 << 16);
+    if threads == 1 || tets.len() <= chunk {
+        return Ok(scan(0, tets, neighbors));
+    }
+    let scan = &scan;
+    let parts: Vec<Entities<3>> = std::thread::scope(|s| {
+        // A chunk whose thread cannot start is scanned on this thread.
+        let handles: Vec<_> = (tets.chunks(chunk).zip(neighbors.chunks(chunk)))
+            .enumerate()
+            .map(|(c, (t, n))| {
+                let h = std::thread::Builder::new()
+                    .spawn_scoped(s, move || scan(c * chunk, t, n))
+                    .ok();
+                (h, c, t, n)
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|(h, c, t, n)| match h {
+                Some(h) => h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+                None => scan(c * chunk, t, n),
+            })
+            .collect()
+    });
+    let mut out = Entities::default();
+    for p in parts {
+        out.items.extend(p.items);
+        out.boundary.extend(p.boundary);
     }
     Ok(out)
 }
@@ -297,6 +353,61 @@ pub fn boundary_vertices<const K: usize>(entities: &Entities<K>, n_points: usize
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An n³ grid of cubes, each cut into the six tetrahedra around its
+    /// main diagonal, with neighbours found by matching faces.
+    fn cube_grid(n: u32) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
+        let id = |x: u32, y: u32, z: u32| (z * (n + 1) + y) * (n + 1) + x;
+        let mut tets = Vec::new();
+        for z in 0..n {
+            for y in 0..n {
+                for x in 0..n {
+                    let c = |b: u32| id(x + (b & 1), y + (b >> 1 & 1), z + (b >> 2));
+                    for path in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
+                        tets.push([c(0), c(path[0]), c(path[1]), c(7)]);
+                    }
+                }
+            }
+        }
+        let mut seen: std::collections::HashMap<[u32; 3], (usize, usize)> =
+            std::collections::HashMap::new();
+        let mut nbrs = vec![[NONE; 4]; tets.len()];
+        for (t, tet) in tets.iter().enumerate() {
+            for (i, f) in TET_FACES.iter().enumerate() {
+                let mut key = f.map(|k| tet[k]);
+                key.sort_unstable();
+                if let Some((u, j)) = seen.remove(&key) {
+                    nbrs[t][i] = u as u32;
+                    nbrs[u][j] = t as u32;
+                } else {
+                    seen.insert(key, (t, i));
+                }
+            }
+        }
+        (tets, nbrs)
+    }
+
+    #[test]
+    fn tet_faces_same_for_any_thread_count() {
+        // 93,750 tetrahedra: two chunks or more from two threads on.
+        let n = 25;
+        let (tets, nbrs) = cube_grid(n);
+        for all in [false, true] {
+            let one = tet_faces(&tets, &nbrs, all).unwrap();
+            let hull = 2 * 6 * (n * n) as usize;
+            let want = if all {
+                (4 * tets.len() + hull) / 2
+            } else {
+                hull
+            };
+            assert_eq!(one.items.len(), want);
+            assert_eq!(one.boundary.iter().filter(|&&b| b).count(), hull);
+            for threads in 0..=4 {
+                assert_eq!(tet_faces_threads(&tets, &nbrs, all, threads).unwrap(), one);
+            }
+        }
+        assert!(tet_faces_threads(&tets, &nbrs[1..], false, 2).is_err());
+    }
 
     #[test]
     fn tet_faces_face_outwards() {

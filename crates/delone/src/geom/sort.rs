@@ -249,14 +249,18 @@ pub(crate) fn brio_round(i: usize) -> u32 {
 /// The last BRIO round (about 7/8 of the points).
 const BRIO_LAST: u32 = BRIO_ROUNDS - 1;
 
-/// Where the last round of a [`brio_order`] begins: the longest suffix of
-/// `order` (after its first `keep` entries) made of points the sort ranks
-/// with the last round. The sort key keeps the round's two low bits
-/// (rounds 3 and 7 share a rank: a point of round 3, about one in 4000,
-/// sorts inside the last round).
-pub(crate) fn last_round_start(order: &[u32], keep: usize) -> usize {
-    let mut l = order.len();
-    while l > keep && brio_round(order[l - 1] as usize) & 3 == BRIO_LAST & 3 {
+/// Where the round of `order[end - 1]` begins in a [`brio_order`]: the
+/// longest run of points before `end` (after the first `keep` entries) the
+/// sort ranks with that round. The sort key keeps a round's two low bits
+/// (rounds 3 and 7 share a rank, so do 2 and 6: a point of round 3, about
+/// one in 4000, sorts inside the last round).
+pub(crate) fn round_start(order: &[u32], end: usize, keep: usize) -> usize {
+    let Some(&last) = order[..end].last() else {
+        return end;
+    };
+    let rank = brio_round(last as usize) & 3;
+    let mut l = end;
+    while l > keep && brio_round(order[l - 1] as usize) & 3 == rank {
         l -= 1;
     }
     l

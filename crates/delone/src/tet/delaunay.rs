@@ -48,12 +48,14 @@
 //! * The one-call constructor borrows the caller's points (`Cow`), reserves
 //!   about 6.75 cells per point and grows by steps of 1/8; `into_mesh`
 //!   compacts in place (no second copy).
-//! * **Parallel insertion** (Delaunay, one-call constructor, last BRIO round of
-//!   at least 65,536 points): the round's points are cut into two runs
+//! * **Parallel insertion** (Delaunay, one-call constructor, every BRIO round
+//!   of at least 65,536 points, one after the other: on 1M points the last
+//!   two): the round's points are cut into two runs
 //!   of consecutive Hilbert keys; every cell goes to the part holding the key
 //!   of its centroid and the cells are copied so that each part owns one slot
 //!   range with room for what it will create (zeroed memory: slots never used
-//!   are never touched). The parts insert their points on up to `threads`
+//!   are never touched); the centroid keys and the copy run on the threads
+//!   too. The parts insert their points on up to `threads`
 //!   threads (`crate::par::run_dynamic`); the points they leave (near part
 //!   borders: 4.7% of 1M uniform points) are inserted by passes over unions
 //!   of neighbouring parts, the last one serial. A part reads and writes only
@@ -112,19 +114,19 @@ const MARK_KEEP: u32 = 1 << 30;
 /// The vertex bits of a possibly marked first vertex.
 const UNMARK: u32 = MARK_KEEP - 1;
 
-/// Number of parts the last BRIO round is inserted in (see
-/// `Core::insert_parts`) when it has at least [`PARALLEL_MIN_POINTS`] points.
+/// Number of parts a BRIO round is inserted in (see `Core::insert_parts`)
+/// when it has at least [`PARALLEL_MIN_POINTS`] points.
 /// Each further halving of the parts leaves more points near part borders
 /// for a later pass: on 1M uniform points 2 parts leave 4.7% of the round
 /// to the serial pass, 8 parts 13.5% to the next pass and cost a third
 /// more work in all (the same 4.7% reach the serial pass).
 const PARTS: usize = 2;
 
-/// Smallest last BRIO round inserted in parts.
+/// Smallest BRIO round inserted in parts.
 const PARALLEL_MIN_POINTS: usize = 1 << 16;
 
 /// How a one-call construction may split its work: the threads, and the
-/// smallest last BRIO round inserted in parts (the parts do not depend on
+/// smallest BRIO round inserted in parts (the parts do not depend on
 /// the threads).
 #[derive(Debug, Clone, Copy)]
 struct Split {
@@ -788,15 +790,24 @@ impl<'a> Delaunay3<'a> {
         };
         let input = |k: u32| order[k as usize];
         dt.core.start(local, [0, 1, 2, 3]);
-        // The last BRIO round of a large Delaunay triangulation is inserted
-        // in parts (`Core::insert_parts`); their number depends on the size
-        // only, so the output is the same for every thread count.
-        let last_round = crate::geom::sort::last_round_start(order, 4);
-        let parts = match local_w.is_empty() && n - last_round >= split.min_points {
-            true => PARTS,
-            false => 1,
-        };
-        let serial_end = if parts > 1 { last_round } else { n };
+        // The BRIO rounds of a large Delaunay triangulation with at least
+        // `split.min_points` points are inserted in parts
+        // (`Core::insert_parts`), the earlier ones one by one; which rounds
+        // and their parts depend on the points only, so the output is the
+        // same for every thread count.
+        let mut rounds = Vec::new();
+        if local_w.is_empty() {
+            let mut end = n;
+            while end > 4 {
+                let start = crate::geom::sort::round_start(order, end, 4);
+                if end - start < split.min_points {
+                    break;
+                }
+                rounds.push(start..end);
+                end = start;
+            }
+            rounds.reverse();
+        }
         let note = |dt: &mut Self, r: Inserted| match r {
             Inserted::Duplicate { id, original } => {
                 dt.duplicates.push((input(id), input(original)));
@@ -804,6 +815,7 @@ impl<'a> Delaunay3<'a> {
             Inserted::Hidden(id) => dt.hidden.push(input(id)),
             _ => {}
         };
+        let serial_end = rounds.first().map_or(n, |r| r.start);
         for k in 4..serial_end {
             let r = dt.core.insert_any(geo, k as u32)?;
             note(&mut dt, r);
@@ -818,30 +830,39 @@ impl<'a> Delaunay3<'a> {
                 progress(k + 1, n);
             }
         }
-        if serial_end < n {
+        if !rounds.is_empty() {
             let grid = crate::geom::sort::HilbertGrid::new(local);
-            let (left, dups) = dt.core.insert_parts(
-                geo,
-                serial_end as u32..n as u32,
-                &grid,
-                parts,
-                split.threads.max(1),
-            );
-            for r in dups {
-                note(&mut dt, r);
-            }
-            progress(n - left.len(), n);
-            for id in left {
-                let r = dt.core.insert_any(geo, id)?;
-                note(&mut dt, r);
-            }
-            dt.core.finish_parts();
-        }
-        for tv in dt.core.v.iter_mut().filter(|tv| tv[0] != DEAD) {
-            for q in tv.iter_mut().filter(|q| **q != INF) {
-                *q = order[*q as usize];
+            for round in rounds {
+                let end = round.end;
+                let (left, dups) = dt.core.insert_parts(
+                    geo,
+                    round.start as u32..end as u32,
+                    &grid,
+                    PARTS,
+                    split.threads.max(1),
+                );
+                for r in dups {
+                    note(&mut dt, r);
+                }
+                progress(end - left.len(), n);
+                for id in left {
+                    let r = dt.core.insert_any(geo, id)?;
+                    note(&mut dt, r);
+                }
+                dt.core.finish_parts();
             }
         }
+        // Back to input ids, in chunks on the threads.
+        let threads = split.threads.max(1);
+        let chunk = dt.core.v.len().div_ceil(threads).max(1 << 16);
+        let items: Vec<&mut [[u32; 4]]> = dt.core.v.chunks_mut(chunk).collect();
+        crate::par::run_dynamic(threads, items, |_, vs| {
+            for tv in vs.iter_mut().filter(|tv| tv[0] != DEAD) {
+                for q in tv.iter_mut().filter(|q| **q != INF) {
+                    *q = order[*q as usize];
+                }
+            }
+        });
         Ok(dt)
     }
 
@@ -1625,26 +1646,40 @@ impl Core {
         let split: Vec<u64> = (cut[1..parts].iter())
             .map(|&c| grid.key(&g.pts[first as usize + c]))
             .collect();
-        // Each live cell's part, from the key of its centroid.
+        // Each live cell's part, from the key of its centroid (NONE for a
+        // dead slot), in chunks on up to `threads` threads.
         let len = self.v.len();
         let mut slot = vec![NONE; len];
-        let mut count = vec![0usize; parts];
-        for (t, tv) in self.v.iter().enumerate() {
-            if tv[0] == DEAD {
-                continue;
+        let chunk = len.div_ceil(threads).max(1 << 14);
+        let items: Vec<(&[[u32; 4]], &mut [u32])> =
+            self.v.chunks(chunk).zip(slot.chunks_mut(chunk)).collect();
+        let chunk_counts = crate::par::run_dynamic(threads, items, |_, (vs, ss)| {
+            let mut count = vec![0usize; parts];
+            for (tv, s) in vs.iter().zip(ss) {
+                if tv[0] == DEAD {
+                    continue;
+                }
+                let mut c = [0.0f64; 3];
+                let mut k = 0.0;
+                for &q in tv.iter().filter(|&&q| q != INF) {
+                    let p = &g.pts[q as usize];
+                    c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
+                    k += 1.0;
+                }
+                let key = grid.key(&c.map(|x| x / k));
+                let part = split.partition_point(|&s| s <= key);
+                *s = part as u32;
+                count[part] += 1;
             }
-            let mut c = [0.0f64; 3];
-            let mut k = 0.0;
-            for &q in tv.iter().filter(|&&q| q != INF) {
-                let p = &g.pts[q as usize];
-                c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
-                k += 1.0;
-            }
-            let c = c.map(|x| x / k);
-            let part = split.partition_point(|&s| s <= grid.key(&c));
-            slot[t] = part as u32;
-            count[part] += 1;
-        }
+            count
+        });
+        let chunk_counts: Vec<Vec<usize>> = chunk_counts
+            .into_iter()
+            .map(|c| c.unwrap_or_else(|| vec![0; parts]))
+            .collect();
+        let count: Vec<usize> = (0..parts)
+            .map(|k| chunk_counts.iter().map(|c| c[k]).sum())
+            .collect();
         // Room per part: its cells plus the cells per inserted point so far
         // (ghosts included) for each of its points, with a margin.
         let live = len - self.free.len();
@@ -1659,23 +1694,50 @@ impl Core {
         if total + (1 << 20) > MAX_TETS {
             return (ids.collect(), Vec::new());
         }
-        // Destinations: part k's cells in slot order from bounds[k].
+        // Destinations: part k's cells in slot order from bounds[k]; a
+        // chunk's cells of part k follow those of the chunks before it.
         let mut next: Vec<usize> = bounds[..parts].to_vec();
-        for d in slot.iter_mut().filter(|d| **d != NONE) {
-            let k = *d as usize;
-            *d = next[k] as u32;
-            next[k] += 1;
-        }
+        let items: Vec<(Vec<usize>, &mut [u32])> = (slot.chunks_mut(chunk).zip(&chunk_counts))
+            .map(|(ss, c)| {
+                let at = next.clone();
+                for (n, c) in next.iter_mut().zip(c) {
+                    *n += c;
+                }
+                (at, ss)
+            })
+            .collect();
+        crate::par::run_dynamic(threads, items, |_, (mut at, ss)| {
+            for d in ss.iter_mut().filter(|d| **d != NONE) {
+                let k = *d as usize;
+                *d = at[k] as u32;
+                at[k] += 1;
+            }
+        });
         // Fresh arrays from zeroed memory: the pages of slots no part ever
         // uses are never touched (the unused tail is cut off at the end,
-        // other unused slots are marked free by `Core::finish_parts`).
-        let mut v = vec![[0u32; 4]; total];
-        let mut adj = vec![[0u32; 4]; total];
-        for (t, &d) in slot.iter().enumerate() {
-            if d != NONE {
-                v[d as usize] = self.v[t];
-                adj[d as usize] = self.adj[t].map(|w| 4 * slot[(w >> 2) as usize] + (w & 3));
-            }
+        // other unused slots are marked free by `Core::finish_parts`). Each
+        // part's range is filled on its own thread.
+        let mut v = zeroed_slots(total);
+        let mut adj = zeroed_slots(total);
+        {
+            let items: Vec<(usize, Slots<'_>)> = (bounds.iter().copied())
+                .zip(
+                    crate::par::split_mut(&mut v, &bounds)
+                        .into_iter()
+                        .zip(crate::par::split_mut(&mut adj, &bounds)),
+                )
+                .collect();
+            let (old_v, old_adj, slot) = (&self.v, &self.adj, &slot);
+            crate::par::run_dynamic(threads, items, |_, (lo, (v, adj))| {
+                let range = lo as u32..(lo + v.len()) as u32;
+                for (t, &d) in slot.iter().enumerate() {
+                    if range.contains(&d) {
+                        let i = d as usize - lo;
+                        v[i] = old_v[t];
+                        adj[i] = old_adj[t].map(|w| 4 * slot[(w >> 2) as usize] + (w & 3));
+                    }
+                }
+            });
         }
         self.v = v;
         self.adj = adj;
@@ -1870,6 +1932,24 @@ impl Core {
     }
 }
 
+/// `n` zeroed slots for [`Core::insert_parts`]. Large arrays come from
+/// zeroed memory (a page is cleared when first written, on the thread that
+/// writes it); below 32 MiB they are cleared here in an allocation of at
+/// least 32 MiB capacity: glibc raises its mmap threshold to the size of a
+/// freed mapped block of up to 32 MiB, and the buffers of several MiB
+/// allocated after that (the later passes, the output) come from the heap
+/// and fragment it (18 MB more peak memory on 1M points).
+fn zeroed_slots(n: usize) -> Vec<[u32; 4]> {
+    const MIN_BYTES: usize = (32 << 20) + 4096;
+    let min = MIN_BYTES / std::mem::size_of::<[u32; 4]>();
+    if n >= min {
+        return vec![[0u32; 4]; n];
+    }
+    let mut v = Vec::with_capacity(min);
+    v.resize(n, [0u32; 4]);
+    v
+}
+
 /// The vertices and packed neighbour words per slot of a mesh with ghost
 /// cells (this kernel's, or recovery's domain mesh
 /// [`crate::tet::dmesh::journal::Journaled`]): what the walks the two share
@@ -1962,18 +2042,23 @@ mod tests {
         t
     }
 
-    /// Builds `pts` with the last round in parts (whatever its size) on 1
-    /// to 4 threads: each build passes the checkers, all give the same
-    /// mesh, and the tetrahedra are those of the serial build (unless
+    /// Builds `pts` with every BRIO round in parts (whatever its size) on 1
+    /// to 4 threads, and with the rounds of 600 points or more in parts on
+    /// 1 and 2 threads: each build passes the checkers, the builds of one
+    /// setting give the same mesh, and the tetrahedra are those of the serial build (unless
     /// `pts` has exact duplicates: a duplicate group's tie-break follows the
     /// insertion order, see the module notes).
     fn same_for_any_thread_count(pts: &[[f64; 3]], no_duplicates: bool) {
         let serial = Delaunay3::from_points(pts).unwrap().into_mesh();
         let mut first: Option<TetMesh> = None;
-        for threads in 1..=4 {
+        // Every round in parts, or the last two rounds of 6000 points.
+        for (threads, min_points) in [(1, 0), (2, 0), (3, 0), (4, 0), (1, 600), (2, 600)] {
+            if threads == 1 {
+                first = None;
+            }
             let split = Split {
                 threads,
-                min_points: 0,
+                min_points,
             };
             let dt = Delaunay3::build(pts, None, split, &mut |_, _| {}).unwrap();
             dt.check_topology().unwrap();
