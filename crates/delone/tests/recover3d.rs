@@ -654,21 +654,16 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
     // triangles. Each is recovered, checked, deterministic, and takes at
     // most `most` Steiner points (without the guided retry of the ends
     // whose unguided flips circle: 0, 90 and 16; with it: 0, 27, 11).
-    let cases: Vec<(String, Vec<[f64; 3]>, Vec<[u32; 3]>, usize)> = vec![
-        {
-            let (p, t) = fan_star_prism(150, 0.7, 0.002);
-            ("star 150 twisted".into(), p, t, 0)
-        },
-        {
-            let (p, t) = twisted_bands(5, 12, std::f64::consts::FRAC_PI_2);
-            ("bands 5x12".into(), p, t, 45)
-        },
-        {
-            let (p, t) = twisted_bands(7, 6, 1.0);
-            ("bands 7x6".into(), p, t, 14)
-        },
+    let cases = [
+        ("star 150 twisted", fan_star_prism(150, 0.7, 0.002), 0),
+        (
+            "bands 5x12",
+            twisted_bands(5, 12, std::f64::consts::FRAC_PI_2),
+            45,
+        ),
+        ("bands 7x6", twisted_bands(7, 6, 1.0), 14),
     ];
-    for (name, pts, tris, most) in cases {
+    for (name, (pts, tris), most) in cases {
         let opts = RecoverOptions {
             stop_circling_flips: true,
             ..RecoverOptions::default()
