@@ -15,8 +15,9 @@
 //! caller then splits it). With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
-//! from an end is one already worked on), and the flips are guided by the
-//! segment when a step's unguided flips fail: no edge removal or
+//! from an end is one already worked on, by the unguided flips and then by
+//! the guided ones), and the flips are guided by the segment when a step's
+//! unguided flips fail or circle: no edge removal or
 //! ring-shrinking 2-3 flip may then create more faces meeting the segment
 //! than it destroys (the segment's crossings never grow back), and the
 //! ring triangulation meeting it least is chosen; and of a crossed face
@@ -386,12 +387,13 @@ pub(crate) fn recover_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Pro
 }
 
 /// [`recover_segment`] using at most about `max_ops` flips and edge
-/// removals (checked between steps). With `stop_circles`, an end of the
-/// segment is given up when its first crossing is one already worked on
-/// (the flips went in a circle: a later step restored what an earlier one
-/// removed), and the segment when both ends are given up: a segment that
-/// cycles so would otherwise spend its whole budget on flips that are
-/// rolled back anyway.
+/// removals (checked between steps). With `stop_circles`, the unguided
+/// flips at an end of the segment are given up when its first crossing is
+/// one they already worked on (the flips went in a circle: a later step
+/// restored what an earlier one removed), the segment-guided ones the same
+/// way (each keeps its own list), and the segment when no flip at either
+/// end makes progress: a segment that cycles so would otherwise spend its
+/// whole budget on flips that are rolled back anyway.
 pub(crate) fn recover_segment_within(
     cm: &mut Journaled<'_>,
     u: u32,
@@ -410,14 +412,18 @@ pub(crate) fn recover_segment_within(
     } else {
         Guide::Costs(&zero, &zero2)
     };
-    // The first crossings already worked on, per end (`stop_circles`).
-    let mut seen: Vec<(u32, [u32; 3])> = Vec::new();
+    // The first crossings already worked on, per pass (unguided, guided)
+    // and end (`stop_circles`).
+    let mut seen: [Vec<(u32, [u32; 3])>; 2] = [Vec::new(), Vec::new()];
+    // Per end: given up by the guided pass (its flips went in a circle).
+    let mut guided_given_up = [false; 2];
     // With `stop_circles`, a step whose unguided flips all fail is tried
-    // again with segment-guided ones, the ends given up excepted (guided
-    // only, the rule, which counts the faces the segment meets at an edge
-    // or a corner too, refuses every way through on coplanar fans: 550
-    // Steiner points instead of 4 on a 600-triangle star prism; guided
-    // first costs CPU on cgal_anchor and revolved vases).
+    // again with segment-guided ones (guided only, the rule, which counts
+    // the faces the segment meets at an edge or a corner too, refuses
+    // every way through on coplanar fans: 550 Steiner points instead of 4
+    // on a 600-triangle star prism; guided first costs CPU on cgal_anchor
+    // and revolved vases). An end whose unguided flips went in a circle
+    // is still tried guided, until the guided flips circle there too.
     let guides = if stop_circles {
         &[Guide::Costs(&zero, &zero2), guide][..]
     } else {
@@ -431,22 +437,26 @@ pub(crate) fn recover_segment_within(
         let mut given_up = [false; 2];
         'passes: for (pass, &g) in guides.iter().enumerate() {
             for (end, (s, e)) in [(u, v), (v, u)].into_iter().enumerate() {
-                if given_up[end] {
+                if (pass == 0 && given_up[end]) || (pass > 0 && guided_given_up[end]) {
                     continue;
                 }
                 let hit = first_hit(cm, s, e);
                 let key = match hit {
-                    _ if !stop_circles || pass > 0 => None,
+                    _ if !stop_circles => None,
                     Hit::Face(t, f) => Some(fkey(face(cm.m.tv[t as usize], f))),
                     Hit::Edge(a, b) => Some(fkey([a, b, INF])),
                     Hit::Done | Hit::Blocked => None,
                 };
                 if let Some(k) = key {
-                    if seen.contains(&(s, k)) {
-                        given_up[end] = true;
+                    if seen[pass].contains(&(s, k)) {
+                        if pass == 0 {
+                            given_up[end] = true;
+                        } else {
+                            guided_given_up[end] = true;
+                        }
                         continue;
                     }
-                    seen.push((s, k));
+                    seen[pass].push((s, k));
                 }
                 match hit {
                     Hit::Done => return true,
