@@ -123,6 +123,7 @@
 //! them (above the flip code's ring cap) are not mistaken for missing.
 
 use super::cdt::{self, Protected};
+use super::ytrace;
 use super::place;
 use super::{FacesOn, RecoverError, State};
 use crate::geom::ids::{IdMap, IdSet};
@@ -135,6 +136,7 @@ use delone_predicates::{orient2d, orient3d};
 
 mod hull;
 mod patch;
+mod prune;
 mod pull;
 
 type P = [f64; 3];
@@ -1000,6 +1002,7 @@ impl State {
                     .count();
                 stalled = if left < best_left { 0 } else { stalled + 1 };
                 best_left = best_left.min(left);
+                ytrace!("  attempt swallow={} pass {} steiner={} progress={} added={} missing_edges={}", swallow, _pass, steiner, progress, added, left);
                 if (!progress && steiner_on) || stalled >= 3 {
                     break;
                 }
@@ -1031,6 +1034,7 @@ impl State {
                     None => missing_tris = true,
                 }
             }
+            ytrace!("  attempt swallow={} pass {} steiner={} progress={} added={} missing_tris={}", swallow, _pass, steiner, progress, added, tris.iter().filter(|&&t| !has_face(&w, t)).count());
             if !missing_tris {
                 let on: FacesOn = tris.iter().map(|&t| vec![fkey(t)]).collect();
                 return Ok((w, on, added));
@@ -1069,9 +1073,11 @@ impl State {
         }
         let left = self.left_missing(first.as_deref().unwrap_or(cm));
         self.cavity_fails += 1;
+        super::ytrace!(" cavities call failed #{} left={} rounds={} interior={}", self.cavity_fails, left.len(), self.report.rounds, self.report.steiner_interior);
         // Give up (typed error, no more rounds): the fallback that always
         // applies takes over.
-        if self.cavity_fails >= MAX_FAILED_CALLS {
+        let maxc = std::env::var("DELONE_YCALLS").ok().and_then(|v| v.parse().ok()).unwrap_or(MAX_FAILED_CALLS);
+        if self.cavity_fails >= maxc {
             return Err(RecoverError::Unrecovered {
                 triangles: left,
                 steiner: self.report.steiner(),

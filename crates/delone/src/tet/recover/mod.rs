@@ -131,6 +131,9 @@
 //! J. Ruppert, *A Delaunay refinement algorithm for quality 2-dimensional
 //! mesh generation* (1995).
 
+pub(crate) static YT0: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+macro_rules! ytrace { ($($t:tt)*) => { if std::env::var_os("DELONE_YTRACE").is_some() { eprint!("[{:.3}] ", crate::tet::recover::YT0.get_or_init(std::time::Instant::now).elapsed().as_secs_f64()); eprintln!($($t)*) } } }
+pub(crate) use ytrace;
 mod carve;
 mod cavity;
 mod cdt;
@@ -363,14 +366,20 @@ pub(crate) fn recover_mesh(
     };
     st.points_first = opts.preserve_surface;
     let dt0 = opts.preserve_surface.then(|| dt.clone());
+    ytrace!("Y start");
     let mut run = st.run_cdt(&mut dt);
+    ytrace!("Y points-first: ok={} rounds={} interior={}", run.is_ok(), st.report.rounds, st.report.steiner_interior);
     if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
         // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
         st = State::new(Surface::new(points.len(), triangles), opts.clone());
         dt = dt0;
         run = st.run_cdt(&mut dt);
+        ytrace!("Y cavities-first: ok={} rounds={} interior={} err={:?}", run.is_ok(), st.report.rounds, st.report.steiner_interior, run.as_ref().err());
     }
-    let (cm, on) = match run {
+    if std::env::var_os("DELONE_YFALLBACK").is_some() && opts.preserve_surface {
+        run = Err(RecoverError::Unrecovered { triangles: vec![], steiner: 0 });
+    }
+    let (mut cm, on) = match run {
         // `-Y`: the fallback that always applies (the `cavity` module).
         Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
             let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
@@ -379,6 +388,10 @@ pub(crate) fn recover_mesh(
         }
         r => r.map_err(origin)?,
     };
+    if opts.preserve_surface && std::env::var_os("DELONE_NOPRUNE").is_none() {
+        let k = st.prune_interior(&mut cm, points.len());
+        ytrace!("Y pruned {} interior points", k);
+    }
     // The Delaunay tetrahedralization is not needed any more (carving
     // works on `cm`): freed before the output is built.
     drop(dt);
@@ -1296,6 +1309,7 @@ impl State {
                 }
             }
         }
+        ytrace!(" interior_points round {} targets {} added {}", self.report.rounds, tris.len(), added);
         if added == 0 {
             return Err(give_up(self, tris));
         }
