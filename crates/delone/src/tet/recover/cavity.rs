@@ -134,6 +134,7 @@ use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
+mod dfill;
 mod hull;
 mod patch;
 mod prune;

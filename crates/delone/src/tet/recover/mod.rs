@@ -367,17 +367,15 @@ pub(crate) fn recover_mesh(
     st.points_first = opts.preserve_surface;
     let dt0 = opts.preserve_surface.then(|| dt.clone());
     ytrace!("Y start");
-    let mut run = st.run_cdt(&mut dt);
+    let skip = std::env::var_os("DELONE_YFALLBACK").is_some() && opts.preserve_surface;
+    let mut run = if skip { Err(RecoverError::Unrecovered { triangles: vec![], steiner: 0 }) } else { st.run_cdt(&mut dt) };
     ytrace!("Y points-first: ok={} rounds={} interior={}", run.is_ok(), st.report.rounds, st.report.steiner_interior);
-    if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
+    if let (Err(RecoverError::Unrecovered { .. }), Some(dt0), false) = (&run, dt0, skip) {
         // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
         st = State::new(Surface::new(points.len(), triangles), opts.clone());
         dt = dt0;
         run = st.run_cdt(&mut dt);
         ytrace!("Y cavities-first: ok={} rounds={} interior={} err={:?}", run.is_ok(), st.report.rounds, st.report.steiner_interior, run.as_ref().err());
-    }
-    if std::env::var_os("DELONE_YFALLBACK").is_some() && opts.preserve_surface {
-        run = Err(RecoverError::Unrecovered { triangles: vec![], steiner: 0 });
     }
     let (mut cm, on) = match run {
         // `-Y`: the fallback that always applies (the `cavity` module).

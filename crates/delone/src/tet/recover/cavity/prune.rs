@@ -133,12 +133,110 @@ impl State {
             })
             .collect();
         cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-        for (_, _, tets) in cands {
-            if valid_replacement(cm, pts, &star, &tets, prot) {
+        let wrapped = || super::dfill::wrap_fill(pts, &faces);
+        let tets = cands
+            .into_iter()
+            .map(|c| c.2)
+            .find(|tets| valid_replacement(cm, pts, &star, tets, prot))
+            .or_else(|| wrapped().filter(|tets| valid_replacement(cm, pts, &star, tets, prot)));
+        match tets {
+            Some(tets) => {
                 cm.replace(&star, &tets);
-                return true;
+                true
             }
+            None => false,
         }
-        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::super::surface::Surface;
+    use super::super::super::RecoverOptions;
+    use super::*;
+    use crate::tet::dmesh::tests::cuboid;
+    use crate::tet::Delaunay3;
+
+    fn state(n: usize, tris: &[[u32; 3]]) -> State {
+        State::new(
+            Surface::new(n, tris),
+            RecoverOptions {
+                preserve_surface: true,
+                ..Default::default()
+            },
+        )
+    }
+
+    /// Every input triangle a face, and the mesh invariants.
+    fn assert_valid(cm: &Journaled<'_>, tris: &[[u32; 3]]) {
+        cm.m.check(cm.pts()).unwrap();
+        for t in tris {
+            assert!(cm.find_face(t[0], t[1], t[2]).is_some(), "{t:?}");
+        }
+    }
+
+    fn used_steiner(cm: &Journaled<'_>, n_in: usize) -> usize {
+        let mut used: Vec<u32> = cm
+            .m
+            .tv
+            .iter()
+            .filter(|tv| tv[0] != DEAD)
+            .flatten()
+            .copied()
+            .filter(|&w| w != INF && w as usize >= n_in)
+            .collect();
+        used.sort_unstable();
+        used.dedup();
+        used.len()
+    }
+
+    /// An octahedron with a point inside: the point's star is the cone
+    /// from any corner, so it goes, leaving the four tetrahedra at a
+    /// diagonal.
+    #[test]
+    fn removes_a_point_whose_star_is_a_cone() {
+        let mut pts: Vec<P> = vec![
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ];
+        let tris: Vec<[u32; 3]> = crate::tetrahedralize(&pts).unwrap().hull_faces().collect();
+        assert_eq!(tris.len(), 8);
+        pts.push([0.1, -0.05, 0.02]);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let mut cm = Journaled::new(dt);
+        assert_eq!(used_steiner(&cm, 6), 1);
+        let st = state(6, &tris);
+        assert_eq!(st.prune_interior(&mut cm, 6), 1);
+        assert_valid(&cm, &tris);
+        assert_eq!(used_steiner(&cm, 6), 0);
+        let finite = cm
+            .m
+            .tv
+            .iter()
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .count();
+        assert_eq!(finite, 4);
+        // Nothing left to remove: a second call is a no-op.
+        assert_eq!(st.prune_interior(&mut cm, 6), 0);
+    }
+
+    /// Thin boxes recovered by the fallback (surface points pulled off):
+    /// the pruning keeps a valid mesh with every input triangle a face,
+    /// and the count it returns is the drop in used Steiner points.
+    #[test]
+    fn pruning_after_the_fallback_keeps_the_surface() {
+        for (w, d, h) in [(10.0, 1.0, 0.001), (1.0, 1.0, 1e-6), (100.0, 0.01, 1.0)] {
+            let (pts, tris) = cuboid(w, d, h);
+            let st = state(pts.len(), &tris);
+            let (st2, mut cm, _) = st.preserve_fallback(&pts).unwrap();
+            let before = used_steiner(&cm, pts.len());
+            let k = st2.prune_interior(&mut cm, pts.len());
+            assert_valid(&cm, &tris);
+            assert_eq!(used_steiner(&cm, pts.len()), before - k);
+        }
     }
 }
