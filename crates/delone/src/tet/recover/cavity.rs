@@ -155,7 +155,7 @@ const PASSES: usize = 24;
 /// interior-point rounds give up ([`RecoverError::Unrecovered`], and the
 /// fallback that always applies takes over). On the corpus and the
 /// generated hard models a successful call is the first, second or third.
-const MAX_FAILED_CALLS: usize = 3;
+pub(super) const MAX_FAILED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
 const MAX_GROW: usize = 8;
@@ -1077,8 +1077,7 @@ impl State {
         super::ytrace!(" cavities call failed #{} left={} rounds={} interior={}", self.cavity_fails, left.len(), self.report.rounds, self.report.steiner_interior);
         // Give up (typed error, no more rounds): the fallback that always
         // applies takes over.
-        let maxc = std::env::var("DELONE_YCALLS").ok().and_then(|v| v.parse().ok()).unwrap_or(MAX_FAILED_CALLS);
-        if self.cavity_fails >= maxc {
+        if self.cavity_fails >= self.max_cavity_calls {
             return Err(RecoverError::Unrecovered {
                 triangles: left,
                 steiner: self.report.steiner(),

@@ -367,24 +367,46 @@ pub(crate) fn recover_mesh(
     st.points_first = opts.preserve_surface;
     let dt0 = opts.preserve_surface.then(|| dt.clone());
     ytrace!("Y start");
-    let skip = std::env::var_os("DELONE_YFALLBACK").is_some() && opts.preserve_surface;
-    let mut run = if skip { Err(RecoverError::Unrecovered { triangles: vec![], steiner: 0 }) } else { st.run_cdt(&mut dt) };
+    let mut run = st.run_cdt(&mut dt);
     ytrace!("Y points-first: ok={} rounds={} interior={}", run.is_ok(), st.report.rounds, st.report.steiner_interior);
-    if let (Err(RecoverError::Unrecovered { .. }), Some(dt0), false) = (&run, dt0, skip) {
-        // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
-        st = State::new(Surface::new(points.len(), triangles), opts.clone());
-        dt = dt0;
-        run = st.run_cdt(&mut dt);
-        ytrace!("Y cavities-first: ok={} rounds={} interior={} err={:?}", run.is_ok(), st.report.rounds, st.report.steiner_interior, run.as_ref().err());
-    }
-    let (mut cm, on) = match run {
-        // `-Y`: the fallback that always applies (the `cavity` module).
-        Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
-            let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
-            st = st2;
-            (cm, on)
+    // `-Y`, when the flips and the first interior points fail: the
+    // cavities, from the Delaunay tetrahedralization again, until one
+    // cavity call fails; then the fallback that always applies (the
+    // `cavity` module's `pull`); only when that fails too, the cavities
+    // again with all their calls.
+    let mut cavity_calls = 1;
+    let mut fallback_failed = false;
+    let (mut cm, on) = loop {
+        match (run, &dt0) {
+            (Err(RecoverError::Unrecovered { .. }), Some(dt0)) if cavity_calls > 0 => {
+                st = State::new(Surface::new(points.len(), triangles), opts.clone());
+                st.max_cavity_calls = cavity_calls;
+                dt = dt0.clone();
+                run = st.run_cdt(&mut dt);
+                ytrace!("Y cavities-first calls={}: ok={} rounds={} interior={}", cavity_calls, run.is_ok(), st.report.rounds, st.report.steiner_interior);
+                let limited = run.is_err() && st.cavity_fails >= cavity_calls;
+                cavity_calls = 0;
+                let Err(RecoverError::Unrecovered { .. }) = run else {
+                    continue;
+                };
+                if fallback_failed {
+                    break run.map_err(origin)?;
+                }
+                match st.preserve_fallback(&scaled) {
+                    Ok((st2, cm, on)) => {
+                        st = st2;
+                        break (cm, on);
+                    }
+                    Err(RecoverError::Unrecovered { .. }) if limited => {
+                        ytrace!("Y fallback failed");
+                        fallback_failed = true;
+                        cavity_calls = cavity::MAX_FAILED_CALLS;
+                    }
+                    Err(e) => return Err(origin(e)),
+                }
+            }
+            (r, _) => break r.map_err(origin)?,
         }
-        r => r.map_err(origin)?,
     };
     if opts.preserve_surface && std::env::var_os("DELONE_NOPRUNE").is_none() {
         let k = st.prune_interior(&mut cm, points.len());
@@ -559,6 +581,7 @@ impl State {
             cavity_left: Vec::new(),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
+            max_cavity_calls: cavity::MAX_FAILED_CALLS,
             points_first: false,
             first_missing: None,
         }
