@@ -52,8 +52,9 @@
 //! first without new points), at most two new points per item per pass,
 //! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
 //! recovery: then `-Y` fails with [`RecoverError::Unrecovered`] naming
-//! what is left, and the recovery goes on with the fallback that always
-//! applies (below) instead of more interior-point rounds. After an
+//! what is left. After the first unfinished call the fallback that always
+//! applies (below) is tried at once ([`State::fallback_once`]); the
+//! interior-point rounds and the next calls run only when it fails. After an
 //! unfinished call the interior points of the next round are placed only
 //! at the items that call left missing ([`State::fallback_targets`]).
 //!
@@ -123,7 +124,6 @@
 //! them (above the flip code's ring cap) are not mistaken for missing.
 
 use super::cdt::{self, Protected};
-use super::ytrace;
 use super::place;
 use super::{FacesOn, RecoverError, State};
 use crate::geom::ids::{IdMap, IdSet};
@@ -152,10 +152,11 @@ const ATTEMPTS: [bool; 2] = [false, true];
 /// Passes over the missing edges and triangles.
 const PASSES: usize = 24;
 /// Unfinished calls of [`State::preserve_by_cavities`] after which the
-/// interior-point rounds give up ([`RecoverError::Unrecovered`], and the
-/// fallback that always applies takes over). On the corpus and the
+/// interior-point rounds give up ([`RecoverError::Unrecovered`]); the
+/// fallback that always applies runs after the first
+/// ([`State::fallback_once`]), and when it fails the rounds go on. On the corpus and the
 /// generated hard models a successful call is the first, second or third.
-pub(super) const MAX_FAILED_CALLS: usize = 3;
+const MAX_FAILED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
 const MAX_GROW: usize = 8;
@@ -1003,7 +1004,6 @@ impl State {
                     .count();
                 stalled = if left < best_left { 0 } else { stalled + 1 };
                 best_left = best_left.min(left);
-                ytrace!("  attempt swallow={} pass {} steiner={} progress={} added={} missing_edges={}", swallow, _pass, steiner, progress, added, left);
                 if (!progress && steiner_on) || stalled >= 3 {
                     break;
                 }
@@ -1035,7 +1035,6 @@ impl State {
                     None => missing_tris = true,
                 }
             }
-            ytrace!("  attempt swallow={} pass {} steiner={} progress={} added={} missing_tris={}", swallow, _pass, steiner, progress, added, tris.iter().filter(|&&t| !has_face(&w, t)).count());
             if !missing_tris {
                 let on: FacesOn = tris.iter().map(|&t| vec![fkey(t)]).collect();
                 return Ok((w, on, added));
@@ -1074,10 +1073,9 @@ impl State {
         }
         let left = self.left_missing(first.as_deref().unwrap_or(cm));
         self.cavity_fails += 1;
-        super::ytrace!(" cavities call failed #{} left={} rounds={} interior={}", self.cavity_fails, left.len(), self.report.rounds, self.report.steiner_interior);
         // Give up (typed error, no more rounds): the fallback that always
         // applies takes over.
-        if self.cavity_fails >= self.max_cavity_calls {
+        if self.cavity_fails >= MAX_FAILED_CALLS {
             return Err(RecoverError::Unrecovered {
                 triangles: left,
                 steiner: self.report.steiner(),
@@ -1122,6 +1120,32 @@ impl State {
 impl State {
     /// Records the flip counts of a mesh finished by
     /// [`State::preserve_by_cavities`] and hands it on.
+    /// After the first unfinished cavity call, once per recovery: the
+    /// fallback that always applies ([`State::preserve_fallback`] on the
+    /// scaled input points `scaled`). `Some` (this state replaced by the
+    /// fallback's) when it recovered everything; `None` when it failed or
+    /// does not apply now, and the interior-point rounds go on.
+    pub(super) fn fallback_once<'a>(
+        &mut self,
+        scaled: Option<&'a [P]>,
+    ) -> Result<Option<(Journaled<'a>, FacesOn)>, RecoverError> {
+        let Some(scaled) = scaled else {
+            return Ok(None);
+        };
+        if self.cavity_fails != 1 || self.fallback_tried {
+            return Ok(None);
+        }
+        self.fallback_tried = true;
+        match self.preserve_fallback(scaled) {
+            Ok((st, cm, on)) => {
+                *self = st;
+                Ok(Some((cm, on)))
+            }
+            Err(RecoverError::Unrecovered { .. }) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
     pub(super) fn cavity_done<'a>(
         &mut self,
         done: (Journaled<'a>, FacesOn),

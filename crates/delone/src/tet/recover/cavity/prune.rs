@@ -176,15 +176,14 @@ mod tests {
     }
 
     fn used_steiner(cm: &Journaled<'_>, n_in: usize) -> usize {
-        let mut used: Vec<u32> = cm
-            .m
-            .tv
-            .iter()
-            .filter(|tv| tv[0] != DEAD)
-            .flatten()
-            .copied()
-            .filter(|&w| w != INF && w as usize >= n_in)
-            .collect();
+        let mut used: Vec<u32> =
+            cm.m.tv
+                .iter()
+                .filter(|tv| tv[0] != DEAD)
+                .flatten()
+                .copied()
+                .filter(|&w| w != INF && w as usize >= n_in)
+                .collect();
         used.sort_unstable();
         used.dedup();
         used.len()
@@ -213,12 +212,11 @@ mod tests {
         assert_eq!(st.prune_interior(&mut cm, 6), 1);
         assert_valid(&cm, &tris);
         assert_eq!(used_steiner(&cm, 6), 0);
-        let finite = cm
-            .m
-            .tv
-            .iter()
-            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-            .count();
+        let finite =
+            cm.m.tv
+                .iter()
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .count();
         assert_eq!(finite, 4);
         // Nothing left to remove: a second call is a no-op.
         assert_eq!(st.prune_interior(&mut cm, 6), 0);

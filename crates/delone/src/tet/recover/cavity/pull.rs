@@ -164,8 +164,7 @@ impl State {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
             let mut dt = Delaunay3::from_points(scaled)?;
-            let (mut cm, on) = st.run_cdt(&mut dt)?;
-            super::super::ytrace!("Y fallback ops={} -p steiner={} rounds={}", ops, st.report.steiner(), st.report.rounds);
+            let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
             // the `-p` path added).
             match self.pull_off(&mut cm, &on, st.report.steiner()) {
@@ -250,7 +249,6 @@ impl State {
                 }
             }
             pending.retain(|s| gone.binary_search(s).is_err());
-            super::super::ytrace!("  pull: pending after clusters {} (before {})", pending.len(), before_len);
             if pending.is_empty() || pending.len() == before_len {
                 break;
             }
