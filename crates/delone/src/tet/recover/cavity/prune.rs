@@ -151,21 +151,10 @@ impl State {
 
 #[cfg(test)]
 mod tests {
-    use super::super::super::surface::Surface;
-    use super::super::super::RecoverOptions;
+    use super::super::pull::tests::state;
     use super::*;
     use crate::tet::dmesh::tests::cuboid;
     use crate::tet::Delaunay3;
-
-    fn state(n: usize, tris: &[[u32; 3]]) -> State {
-        State::new(
-            Surface::new(n, tris),
-            RecoverOptions {
-                preserve_surface: true,
-                ..Default::default()
-            },
-        )
-    }
 
     /// Every input triangle a face, and the mesh invariants.
     fn assert_valid(cm: &Journaled<'_>, tris: &[[u32; 3]]) {

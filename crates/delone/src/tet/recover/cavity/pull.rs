@@ -1066,13 +1066,14 @@ fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::super::surface::Surface;
     use super::super::super::RecoverOptions;
     use super::*;
     use crate::tet::dmesh::tests::cuboid;
 
-    fn state(n: usize, tris: &[[u32; 3]]) -> State {
+    /// A `-Y` state for the surface `tris` on `n` points.
+    pub(in crate::tet::recover::cavity) fn state(n: usize, tris: &[[u32; 3]]) -> State {
         State::new(
             Surface::new(n, tris),
             RecoverOptions {
