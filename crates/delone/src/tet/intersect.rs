@@ -443,8 +443,7 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
 /// side of the other's plane, the triangles meet at most in their shared
 /// vertices: that settles almost every pair of a closed surface with two or
 /// four predicate calls. The rest reuse those signs in the edge tests.
-#[cfg(test)]
-fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
+pub(crate) fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
     let plane = |t: [u32; 3]| Plane::new(t.map(|v| &pts[v as usize]));
     intersect_with_planes(pts, a, b, (&plane(a), &plane(b)), false)
 }

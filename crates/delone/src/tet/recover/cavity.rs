@@ -52,8 +52,9 @@
 //! first without new points), at most two new points per item per pass,
 //! the Steiner budget, and [`MAX_FAILED_CALLS`] unfinished calls per
 //! recovery: then `-Y` fails with [`RecoverError::Unrecovered`] naming
-//! what is left, and the recovery goes on with the fallback that always
-//! applies (below) instead of more interior-point rounds. After an
+//! what is left. After the first unfinished call the fallback that always
+//! applies (below) is tried at once ([`State::fallback_once`]); the
+//! interior-point rounds and the next calls run only when it fails. After an
 //! unfinished call the interior points of the next round are placed only
 //! at the items that call left missing ([`State::fallback_targets`]).
 //!
@@ -133,8 +134,10 @@ use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
 
+mod dfill;
 mod hull;
 mod patch;
+mod prune;
 mod pull;
 
 type P = [f64; 3];
@@ -149,8 +152,9 @@ const ATTEMPTS: [bool; 2] = [false, true];
 /// Passes over the missing edges and triangles.
 const PASSES: usize = 24;
 /// Unfinished calls of [`State::preserve_by_cavities`] after which the
-/// interior-point rounds give up ([`RecoverError::Unrecovered`], and the
-/// fallback that always applies takes over). On the corpus and the
+/// interior-point rounds give up ([`RecoverError::Unrecovered`]); the
+/// fallback that always applies runs after the first
+/// ([`State::fallback_once`]), and when it fails the rounds go on. On the corpus and the
 /// generated hard models a successful call is the first, second or third.
 const MAX_FAILED_CALLS: usize = 3;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
@@ -1116,6 +1120,32 @@ impl State {
 impl State {
     /// Records the flip counts of a mesh finished by
     /// [`State::preserve_by_cavities`] and hands it on.
+    /// After the first unfinished cavity call, once per recovery: the
+    /// fallback that always applies ([`State::preserve_fallback`] on the
+    /// scaled input points `scaled`). `Some` (this state replaced by the
+    /// fallback's) when it recovered everything; `None` when it failed or
+    /// does not apply now, and the interior-point rounds go on.
+    pub(super) fn fallback_once<'a>(
+        &mut self,
+        scaled: Option<&'a [P]>,
+    ) -> Result<Option<(Journaled<'a>, FacesOn)>, RecoverError> {
+        let Some(scaled) = scaled else {
+            return Ok(None);
+        };
+        if self.cavity_fails != 1 || self.fallback_tried {
+            return Ok(None);
+        }
+        self.fallback_tried = true;
+        match self.preserve_fallback(scaled) {
+            Ok((st, cm, on)) => {
+                *self = st;
+                Ok(Some((cm, on)))
+            }
+            Err(RecoverError::Unrecovered { .. }) => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
     pub(super) fn cavity_done<'a>(
         &mut self,
         done: (Journaled<'a>, FacesOn),

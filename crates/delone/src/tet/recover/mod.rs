@@ -84,13 +84,23 @@
 //! into an upper and a lower polyhedron, each filled by a cone from one of
 //! its vertices or from a new point strictly inside its kernel, growing the
 //! cavity a bounded number of times), with exact validation and Steiner
-//! points strictly off the surface. What it cannot finish falls back to
+//! points strictly off the surface. When one call of it cannot finish,
+//! the `cavity` module's fallback runs (recover with surface Steiner
+//! points, then pull each of them off the surface: TetGen's way, cheaper
+//! than more cavity rounds on flat CAD faces whose fan triangles leave
+//! hundreds of edges to the cavities). Only when that fails too (a pulled
+//! point the exact validation refuses) does the recovery go on with
 //! points off the failing triangles (along their normals) inserted in the
-//! Delaunay tetrahedralization, at most `MAX_INTERIOR_ROUNDS` rounds; what
-//! is still missing then goes to the `cavity` module's fallback (recover
-//! with surface Steiner points, then pull each of them off the surface),
-//! and only what that cannot validate exactly to
-//! [`RecoverError::Unrecovered`].
+//! Delaunay tetrahedralization and more cavity calls, at most
+//! `MAX_INTERIOR_ROUNDS` rounds and three unfinished cavity calls; what
+//! is still missing then is reported as [`RecoverError::Unrecovered`].
+//!
+//! Finally (`-Y`) every interior Steiner point whose star can be
+//! retriangulated without it — by the cone from one of the star's
+//! vertices, else by gift-wrapping — is removed (exact validation; the
+//! `cavity` module's `prune`), as TetGen removes the points it no longer
+//! needs: the cavities and the pulled-off surface points leave many
+//! that only the recovery needed.
 //!
 //! Without `-Y`, each group of coplanar triangles merged by
 //! [`RecoverOptions::merge_coplanar`] is recovered as **one polygon
@@ -363,22 +373,29 @@ pub(crate) fn recover_mesh(
     };
     st.points_first = opts.preserve_surface;
     let dt0 = opts.preserve_surface.then(|| dt.clone());
-    let mut run = st.run_cdt(&mut dt);
+    let mut run = st.run_cdt(&mut dt, Some(&scaled));
     if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
         // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
+        let tried = st.fallback_tried;
         st = State::new(Surface::new(points.len(), triangles), opts.clone());
+        st.fallback_tried = tried;
         dt = dt0;
-        run = st.run_cdt(&mut dt);
+        run = st.run_cdt(&mut dt, Some(&scaled));
     }
-    let (cm, on) = match run {
-        // `-Y`: the fallback that always applies (the `cavity` module).
-        Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface => {
+    let (mut cm, on) = match run {
+        // `-Y`: the fallback that always applies (the `cavity` module),
+        // unless it already failed.
+        Err(RecoverError::Unrecovered { .. }) if opts.preserve_surface && !st.fallback_tried => {
             let (st2, cm, on) = st.preserve_fallback(&scaled).map_err(origin)?;
             st = st2;
             (cm, on)
         }
         r => r.map_err(origin)?,
     };
+    if opts.preserve_surface {
+        // The interior points the recovered surface no longer needs.
+        st.prune_interior(&mut cm, points.len());
+    }
     // The Delaunay tetrahedralization is not needed any more (carving
     // works on `cm`): freed before the output is built.
     drop(dt);
@@ -548,6 +565,7 @@ impl State {
             cavity_left: Vec::new(),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
+            fallback_tried: false,
             points_first: false,
             first_missing: None,
         }
@@ -772,9 +790,14 @@ impl State {
     /// round starts again from it — so Steiner points go only where flips
     /// failed, and the number of rounds is bounded (each round splits at
     /// least one item or fails with a typed error).
+    ///
+    /// `scaled` (`-Y`): the scaled input points, for the fallback that
+    /// always applies after the first unfinished cavity call
+    /// ([`State::fallback_once`]).
     fn run_cdt<'a>(
         &mut self,
         dt: &mut Delaunay3<'a>,
+        scaled: Option<&'a [[f64; 3]]>,
     ) -> Result<(Journaled<'a>, FacesOn), RecoverError> {
         // From the second round on, the coverage and the missing
         // subsegments of `dt` are updated near the points the previous round
@@ -907,6 +930,9 @@ impl State {
                         if let Some(done) = self.preserve_by_cavities(&cm)? {
                             return Ok(self.cavity_done(done));
                         }
+                        if let Some(done) = self.fallback_once(scaled)? {
+                            return Ok(done);
+                        }
                     }
                     let tris = self.edge_triangles(&failed);
                     let tris = self.fallback_targets(tris);
@@ -950,6 +976,9 @@ impl State {
                     if self.cavities_now() {
                         if let Some(done) = self.preserve_by_cavities(&cm)? {
                             return Ok(self.cavity_done(done));
+                        }
+                        if let Some(done) = self.fallback_once(scaled)? {
+                            return Ok(done);
                         }
                     }
                     let uncovered = self.fallback_targets(uncovered);

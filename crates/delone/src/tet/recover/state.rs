@@ -43,6 +43,9 @@ pub(super) struct State {
     pub(super) group_tries: HashSet<Vec<usize>>,
     /// Unfinished cavity retriangulation calls (`-Y`, the `cavity` module).
     pub(super) cavity_fails: usize,
+    /// Whether the fallback that always applies (`-Y`) was tried (and
+    /// failed, else the recovery is over).
+    pub(super) fallback_tried: bool,
     /// Triangles left missing by the last unfinished cavity call (`-Y`).
     pub(super) cavity_left: Vec<usize>,
     /// `-Y`: no cavity retriangulation before the first interior point

@@ -164,7 +164,7 @@ impl State {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
             let mut dt = Delaunay3::from_points(scaled)?;
-            let (mut cm, on) = st.run_cdt(&mut dt)?;
+            let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
             // the `-p` path added).
             match self.pull_off(&mut cm, &on, st.report.steiner()) {
@@ -1066,13 +1066,14 @@ fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::super::surface::Surface;
     use super::super::super::RecoverOptions;
     use super::*;
     use crate::tet::dmesh::tests::cuboid;
 
-    fn state(n: usize, tris: &[[u32; 3]]) -> State {
+    /// A `-Y` state for the surface `tris` on `n` points.
+    pub(in crate::tet::recover::cavity) fn state(n: usize, tris: &[[u32; 3]]) -> State {
         State::new(
             Surface::new(n, tris),
             RecoverOptions {
