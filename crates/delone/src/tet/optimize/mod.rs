@@ -839,12 +839,18 @@ pub(crate) fn optimize_in_place(
                     || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
     });
     // Unless exhaustive: only when the first run spent its budget in its
-    // lowest stage, which then never settled (see `optimize`).
-    let unsettled = report
+    // lowest stage, or its stage at the bound ended with nothing left to
+    // improve (see `optimize`).
+    let bound = opts.min_dihedral.clamp(0.0, 90.0);
+    let stuck_low = report
         .stages
         .first()
         .is_some_and(|s| s.stop == StageStop::Budget);
-    let may_win = opts.exhaustive || unsettled;
+    let settled_at_bound = report
+        .stages
+        .iter()
+        .any(|s| s.threshold == bound && s.stop == StageStop::Settled);
+    let may_win = opts.exhaustive || stuck_low || settled_at_bound;
     if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned || !may_win {
         return Ok(report);
     }
