@@ -81,17 +81,19 @@
 //! (of at most 50,000 counted, plus 2000: the tries that make progress
 //! are local, so the window does not grow with the mesh), it
 //! ends once neither its worst quality nor its count of tetrahedra below
-//! the threshold improved over two such windows, so the effort follows
-//! what is left to improve, not how long the stage has run. The lowest
-//! stage (10°: its count is of the tetrahedra users call bad) and every
-//! stage of a second run or of an exhaustive one
-//! ([`OptimizeOptions::exhaustive`]) wait instead for the last half of
-//! their evaluations: measured at `-pq1.414` on the closed corpus models,
-//! the stages above 10° reached their final worst angle after 10–70% of
-//! their evaluations and then spent the rest lifting a few tetrahedra
-//! near the threshold at 10,000–30,000 evaluations each, 85% of them in
-//! trial insertions that were undone, while a shorter wait in the lowest
-//! stage leaves more tetrahedra below 10° (cgal_handle: 1,000 more). While
+//! the threshold improved over the last half of its evaluations (and two
+//! such windows); a stage above the lowest that starts with the mesh
+//! within the bound ([`OptimizeOptions::min_dihedral`]) waits for the last
+//! quarter only (not in a second run, nor an exhaustive one:
+//! [`OptimizeOptions::exhaustive`]). Measured at `-pq1.414` on the closed
+//! corpus models, the stages above 10° reached their final worst angle
+//! after 10–70% of their evaluations and then spent the rest lifting a
+//! few tetrahedra near the threshold at 10,000–30,000 evaluations each,
+//! most of it in trial insertions that were undone; but a wait of two
+//! windows cost cgal_homer 2.3° (a dry spell of a million evaluations
+//! in its stage below 15°, then 600 tetrahedra lifted), cgal_pipe its
+//! 15° and the lowest stage 1,000 more tetrahedra below 10° on
+//! cgal_handle. While
 //! the worst is below half the threshold (held by the input, as a rule),
 //! the count improves only when a window lifts at least 1% of the count
 //! the stage started with: on cgal_handle the stage below 10° otherwise
@@ -232,10 +234,10 @@ const WINDOW_CAP: usize = 50_000;
 /// Windows without progress that always leave a stage going.
 const PATIENCE: u64 = 2;
 
-/// A stage above the lowest stops paying once the last `1 / UPPER_SHARE`
-/// of its evaluations (or [`PATIENCE`] windows) brought no progress (see
-/// [`optimize`]); the lowest stage, a second run and an exhaustive one wait
-/// for the last half.
+/// A stage above the lowest that starts with the mesh within the bound
+/// stops paying once the last `1 / UPPER_SHARE` of its evaluations (or
+/// [`PATIENCE`] windows) brought no progress (see [`optimize`]); the
+/// others wait for the last half.
 const UPPER_SHARE: u64 = 4;
 
 /// Share of a stage's starting count below its threshold that a window
@@ -348,14 +350,15 @@ pub struct OptimizeOptions {
     /// mesh is the same.
     pub diagnostics: bool,
     /// The exhaustive polish: every stage waits for half its evaluations
-    /// without progress before it stops paying (not only the lowest), and a
-    /// small mesh left outside [`OptimizeOptions::min_dihedral`] is
-    /// optimised a second time whenever its worst tetrahedron is not pinned
-    /// by the input (see [`optimize`]). On the closed corpus models below
-    /// 8000 triangles at `-pq1.414` it spends about 1.55 times the quality
-    /// evaluations of the default for minimum dihedral angles at most
-    /// 0.43° higher. Default false; true from [`OptimizeOptions::level`]
-    /// 4 on.
+    /// without progress before it stops paying, and a small mesh left
+    /// outside [`OptimizeOptions::min_dihedral`] is optimised a second time
+    /// whenever its worst tetrahedron is not pinned by the input (see
+    /// [`optimize`]). On the closed corpus models below 8000 triangles at
+    /// `-pq1.414` it spends 7% more quality evaluations than the default
+    /// (all of them on cgal_rotor's second run, which it throws away);
+    /// at `-pq1.414/20` it wins on no model where the default does not try
+    /// it. Default false; true from [`OptimizeOptions::level`] 4 on (with
+    /// more passes and effort).
     pub exhaustive: bool,
 }
 
@@ -677,9 +680,9 @@ pub enum StageStop {
     /// tetrahedron) were spent.
     Attempts,
     /// It stopped paying: neither its worst quality nor its count below the
-    /// threshold improved over its last two windows (the lowest stage, a
-    /// second run and an exhaustive one: over the last half of its
-    /// evaluations; see [`optimize`]).
+    /// threshold improved over the last half of its evaluations (a quarter
+    /// for a stage above the lowest that started within the bound; see
+    /// [`optimize`]).
     Stalled,
     /// The effort budget ([`OptimizeOptions::effort`]) ran out; the run
     /// ends.
@@ -1047,9 +1050,11 @@ fn optimize_once(
         let (start, mut paid) = (w.evals.get(), w.evals.get());
         let lift = (MIN_LIFT * best.1 as f64) as usize;
         // The share of the stage's work it waits for: half in the lowest
-        // stage (whose count is of the worst tetrahedra), in a second run
-        // and in an exhaustive one, else a quarter (see `optimize`).
-        let share = if opts.exhaustive || thorough || deg <= lowest {
+        // stage (whose count is of the worst tetrahedra), while the mesh
+        // misses the bound, in a second run and in an exhaustive one, else
+        // a quarter (see `optimize`).
+        let missing = best.0 < bound.to_radians().sin();
+        let share = if opts.exhaustive || thorough || deg <= lowest || missing {
             2
         } else {
             UPPER_SHARE
