@@ -277,7 +277,7 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          shape. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion,
          4 and above the exhaustive polish (every stage keeps going while
          its last half paid, a second run wherever the worst is free, more
-         passes and effort: several times the optimisation's time).
+         passes and three times the effort budget at -O4).
          -V prints the dihedral angles before and after. The
          optimisation keeps the size bounds (-a, regional, -m); it trades the
          -q radius-edge bound for dihedral angles (slivers have good
