@@ -230,7 +230,8 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          optimisation, which may raise it (see -O, --keep-ratio); -V reports
          dihedral angles. /D: the dihedral bound in degrees (default 15,
          below 70.5): the optimisation works on the tetrahedra with an angle
-         below D or above 180-D first and, on a small mesh, twice; -V and
+         below D or above 180-D first and, on a small mesh where a second
+         path may win, twice; -V and
          --stats-json count those left and say what input feature (sharp
          edge, needle or cap triangle) holds each.
          Missed bounds give exit code 3 (--warn-unmet: a warning, exit code
@@ -273,7 +274,10 @@ SWITCHES (TetGen letters, may be grouped: -zfenC):
          multi-face removal, 2-3/3-2/4-4 flips, 2-2 flips within flat
          facets, smoothing, insertion and collapse of interior vertices,
          raising the smallest dihedral-angle sine; the surface keeps its
-         shape. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion.
+         shape. Levels: 1 flips, 2 + smoothing, 3 (default) + insertion,
+         4 and above the exhaustive polish (every stage keeps going while
+         its last half paid, a second run wherever the worst is free, more
+         passes and three times the effort budget at -O4).
          -V prints the dihedral angles before and after. The
          optimisation keeps the size bounds (-a, regional, -m); it trades the
          -q radius-edge bound for dihedral angles (slivers have good

@@ -940,3 +940,35 @@ fn the_stuck_list_holds_the_worst_tetrahedra_worst_first() {
         assert!((s.dihedral[0] - lo).abs() < 1e-9);
     }
 }
+
+#[test]
+fn the_second_run_is_tried_only_where_it_may_win() {
+    // cgal_rotor at q1.414 stays below 15°; its first run's stage below
+    // 15° runs out of budget. A second run is tried only where the first
+    // spent its budget in its lowest stage or its stage at the bound
+    // settled; the exhaustive polish tries it whenever the worst is free.
+    let Some((pts, tris, r0)) = refined_model("cgal_rotor", 1.414) else {
+        return;
+    };
+    let mut r = r0.clone();
+    let def = run(&pts, &tris, &mut r, &OptimizeOptions::default());
+    let first: Vec<_> = def.stages.iter().filter(|s| !s.second_run).collect();
+    let may_win = first[0].stop == StageStop::Budget
+        || first
+            .iter()
+            .any(|s| s.threshold == BAD_ANGLE && s.stop == StageStop::Settled);
+    let second = def.stages.iter().any(|s| s.second_run);
+    assert!(!second || may_win, "{:?}", def.stages);
+    let mut r = r0;
+    let exhaustive = OptimizeOptions {
+        exhaustive: true,
+        ..Default::default()
+    };
+    let ex = run(&pts, &tris, &mut r, &exhaustive);
+    // No stage of the default run started within the bound: its first run
+    // is the exhaustive one's, which keeps the better of its two runs.
+    if first.iter().all(|s| s.worst[0] < BAD_ANGLE) {
+        assert!(ex.evaluations >= def.evaluations);
+        assert!(ex.after.min_dihedral >= def.after.min_dihedral - 1e-9);
+    }
+}

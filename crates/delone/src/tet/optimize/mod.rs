@@ -74,14 +74,26 @@
 //! soon as its worst new tetrahedron resists; when a round succeeds
 //! nowhere, the tetrahedra left get a round with every insertion settled
 //! fully. A mesh of up to 40,000 tetrahedra left below 15° (or above 165°)
-//! is optimised once more from the start with every insertion settled
-//! fully, and the better of the two results is kept. A stage also ends
+//! may be optimised once more from the start with every insertion settled
+//! fully, and the better of the two results is kept (see the rules
+//! below for when). A stage also ends
 //! when it stops paying: checked every 10 evaluations per tetrahedron
 //! (of at most 50,000 counted, plus 2000: the tries that make progress
 //! are local, so the window does not grow with the mesh), it
 //! ends once neither its worst quality nor its count of tetrahedra below
 //! the threshold improved over the last half of its evaluations (and two
-//! such windows), so the effort follows what is left to improve. While
+//! such windows); a stage above the lowest that starts with the mesh
+//! within the bound ([`OptimizeOptions::min_dihedral`]) waits for the last
+//! quarter only (not in a second run, nor an exhaustive one:
+//! [`OptimizeOptions::exhaustive`]). Measured at `-pq1.414` on the closed
+//! corpus models, the stages above 10° reached their final worst angle
+//! after 10–70% of their evaluations and then spent the rest lifting a
+//! few tetrahedra near the threshold at 10,000–30,000 evaluations each,
+//! most of it in trial insertions that were undone; but a wait of two
+//! windows cost cgal_homer 2.3° (a dry spell of a million evaluations
+//! in its stage below 15°, then 600 tetrahedra lifted), cgal_pipe its
+//! 15° and the lowest stage 1,000 more tetrahedra below 10° on
+//! cgal_handle. While
 //! the worst is below half the threshold (held by the input, as a rule),
 //! the count improves only when a window lifts at least 1% of the count
 //! the stage started with: on cgal_handle the stage below 10° otherwise
@@ -118,6 +130,17 @@
 //!
 //! # More rules
 //!
+//! * The second run of a small mesh is tried only where it may win: where
+//!   the first run spent its budget in its lowest stage (which never
+//!   settled: cgal_part at `-pq1.414`, 6.2° → 8.2°) or its stage at the
+//!   bound ended with nothing left to improve, so that a second path costs
+//!   no more than the first (cgal_am at `-pq1.414/20`, 17.9° → 18.9°;
+//!   cgal_dragknob then meets 20°). Where the first run's stages up to the
+//!   bound ran out of budget or stopped paying, the second one ran out too
+//!   and lost or tied on every measured model (cgal_rotor 8.9° against
+//!   9.8°, cgal_pipe, meshlab_knot, cgal_spool, wm_supershape1) at twice
+//!   the time. [`OptimizeOptions::exhaustive`] tries it whenever the worst
+//!   is not pinned (the next rule).
 //! * The second run of a small mesh is skipped when the first run's worst
 //!   tetrahedron is held by the input — two of its faces on the surface, or
 //!   its four vertices fixed ([`StuckReason`]) — or sits at a nearly
@@ -210,6 +233,12 @@ const WINDOW_CAP: usize = 50_000;
 
 /// Windows without progress that always leave a stage going.
 const PATIENCE: u64 = 2;
+
+/// A stage above the lowest that starts with the mesh within the bound
+/// stops paying once the last `1 / UPPER_SHARE` of its evaluations (or
+/// [`PATIENCE`] windows) brought no progress (see [`optimize`]); the
+/// others wait for the last half.
+const UPPER_SHARE: u64 = 4;
 
 /// Share of a stage's starting count below its threshold that a window
 /// must lift while the worst tetrahedron is below half the threshold
@@ -305,7 +334,7 @@ pub struct OptimizeOptions {
     /// tetrahedra left with an angle below it or above `180 -` it are
     /// counted and explained in [`OptimizeReport::bad`]; it is one of the
     /// optimisation's stages (the target is raised to it when lower), and a
-    /// small mesh left outside it is optimised a second time (see
+    /// small mesh left outside it may be optimised a second time (see
     /// [`optimize`]). Default [`BAD_ANGLE`] (15°).
     pub min_dihedral: f64,
     /// Gather the report's diagnostics, which only explain the result: the
@@ -320,6 +349,17 @@ pub struct OptimizeOptions {
     /// it; `after`, the counters and the stages are always given) and the
     /// mesh is the same.
     pub diagnostics: bool,
+    /// The exhaustive polish: every stage waits for half its evaluations
+    /// without progress before it stops paying, and a small mesh left
+    /// outside [`OptimizeOptions::min_dihedral`] is optimised a second time
+    /// whenever its worst tetrahedron is not pinned by the input (see
+    /// [`optimize`]). On the closed corpus models below 8000 triangles at
+    /// `-pq1.414` it spends 7% more quality evaluations than the default
+    /// (all of them on cgal_rotor's second run, which it throws away);
+    /// at `-pq1.414/20` it wins on no model where the default does not try
+    /// it. Default false; true from [`OptimizeOptions::level`] 4 on (with
+    /// more passes and effort).
+    pub exhaustive: bool,
 }
 
 impl Default for OptimizeOptions {
@@ -339,6 +379,7 @@ impl Default for OptimizeOptions {
             sizing: crate::tet::refine::sizing::Sizing::None,
             min_dihedral: BAD_ANGLE,
             diagnostics: true,
+            exhaustive: false,
         }
     }
 }
@@ -372,14 +413,16 @@ impl OptimizeOptions {
     }
 
     /// Options for a TetGen-like level (`-O<level>`): 0 does nothing, 1
-    /// flips only, 2 flips and smoothing, 3 and above everything (with more
-    /// passes for higher levels).
+    /// flips only, 2 flips and smoothing, 3 and above everything; 4 and
+    /// above the exhaustive polish ([`OptimizeOptions::exhaustive`]) with
+    /// more passes and effort for higher levels.
     ///
     /// ```
     /// use delone::tet::optimize::OptimizeOptions;
     /// assert_eq!(OptimizeOptions::level(0).max_passes, 0);
     /// assert!(!OptimizeOptions::level(1).smooth);
     /// assert!(OptimizeOptions::level(3).insert);
+    /// assert!(!OptimizeOptions::level(3).exhaustive && OptimizeOptions::level(4).exhaustive);
     /// ```
     pub fn level(level: u32) -> Self {
         let d = OptimizeOptions::default();
@@ -391,9 +434,11 @@ impl OptimizeOptions {
                 ..d
             },
             2 => OptimizeOptions { insert: false, ..d },
+            3 => d,
             l => OptimizeOptions {
                 max_passes: d.max_passes + 5 * (l as usize - 3),
                 effort: d.effort.map(|e| e * f64::from(1 + 2 * (l - 3))),
+                exhaustive: true,
                 ..d
             },
         }
@@ -635,7 +680,9 @@ pub enum StageStop {
     /// tetrahedron) were spent.
     Attempts,
     /// It stopped paying: neither its worst quality nor its count below the
-    /// threshold improved over the last half of its evaluations.
+    /// threshold improved over the last half of its evaluations (a quarter
+    /// for a stage above the lowest that started within the bound; see
+    /// [`optimize`]).
     Stalled,
     /// The effort budget ([`OptimizeOptions::effort`]) ran out; the run
     /// ends.
@@ -797,14 +844,15 @@ pub(crate) fn optimize_in_place(
         }
     }
     // A small mesh left below the bound (`min_dihedral`, default 15°; or
-    // above 180° minus it) is optimised once more
+    // above 180° minus it) may be optimised once more
     // from the start with every trial insertion settled fully: the worst
     // angle of a run hangs on a few tetrahedra near needle input triangles
     // and on the path taken, and either way of settling wins on some
     // models. The better result is kept (better worst angle, then fewer
     // tetrahedra). Not when the worst tetrahedron sits at an input triangle
     // with an angle below RETRY_FEATURE_ANGLE (or above 180° minus it):
-    // there it is pinned near 0° whatever the path.
+    // there it is pinned near 0° whatever the path; and, unless
+    // exhaustive, only where it may win (see the module doc).
     let retry = rec.mesh.tets.len() <= RETRY_CAP && opts.max_passes > 0;
     // The second run starts from a copy of `rec`; its mesh is rebuilt from
     // the copy's neighbour lists only if that run happens (the same mesh as
@@ -823,7 +871,20 @@ pub(crate) fn optimize_in_place(
                 && (s.near_angles[0] < RETRY_FEATURE_ANGLE
                     || s.near_angles[1] > 180.0 - RETRY_FEATURE_ANGLE)
     });
-    if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned {
+    // Unless exhaustive: only when the first run spent its budget in its
+    // lowest stage, or its stage at the bound ended with nothing left to
+    // improve (see `optimize`).
+    let bound = opts.min_dihedral.clamp(0.0, 90.0);
+    let stuck_low = report
+        .stages
+        .first()
+        .is_some_and(|s| s.stop == StageStop::Budget);
+    let settled_at_bound = report
+        .stages
+        .iter()
+        .any(|s| s.threshold == bound && s.stop == StageStop::Settled);
+    let may_win = opts.exhaustive || stuck_low || settled_at_bound;
+    if worst(&report) >= opts.min_dihedral || report.after.tets == 0 || pinned || !may_win {
         return Ok(report);
     }
     let other_mesh = validate_input(&other)?;
@@ -843,7 +904,7 @@ pub(crate) fn optimize_in_place(
     }
 }
 
-/// Most tetrahedra of a mesh that is optimised a second time when its
+/// Most tetrahedra of a mesh that may be optimised a second time when its
 /// worst angle stays outside [`OptimizeOptions::min_dihedral`] (see
 /// [`optimize`]).
 const RETRY_CAP: usize = 40_000;
@@ -923,6 +984,7 @@ fn optimize_once(
         stages.sort_by(f64::total_cmp);
     }
     stages.push(target);
+    let lowest = stages[0];
     // (Small meshes get the budget of 2000 more tetrahedra: cheap anyway.)
     let effort = opts.effort.unwrap_or(f64::INFINITY);
     let allowed = effort * (n_tets + 2000) as f64;
@@ -972,8 +1034,9 @@ fn optimize_once(
         // round succeeds nowhere, the stage's attempts are spent or it
         // stops paying: every `window` evaluations the worst quality and
         // the count below the threshold are compared with their best so
-        // far, and the stage ends when neither improved over the last half
-        // of its evaluations (and `PATIENCE` windows); below half the
+        // far, and the stage ends when neither improved over `PATIENCE`
+        // windows or the last `share` of its evaluations, whichever is
+        // longer; below half the
         // threshold a window must lift `MIN_LIFT` of the starting count.
         let mut attempts = None;
         w.thorough = thorough;
@@ -986,6 +1049,16 @@ fn optimize_once(
         let mut best = standing(&w, thr);
         let (start, mut paid) = (w.evals.get(), w.evals.get());
         let lift = (MIN_LIFT * best.1 as f64) as usize;
+        // The share of the stage's work it waits for: half in the lowest
+        // stage (whose count is of the worst tetrahedra), while the mesh
+        // misses the bound, in a second run and in an exhaustive one, else
+        // a quarter (see `optimize`).
+        let missing = best.0 < bound.to_radians().sin();
+        let share = if opts.exhaustive || thorough || deg <= lowest || missing {
+            2
+        } else {
+            UPPER_SHARE
+        };
         let mut stage = StageReport {
             threshold: deg,
             second_run: thorough,
@@ -1030,7 +1103,7 @@ fn optimize_once(
                     let lifted = lift * usize::from(now.0 < (0.5 * deg).to_radians().sin());
                     if now.0 > best.0 + 1e-4 || now.1 + lifted < best.1 {
                         paid = e;
-                    } else if e - paid >= (PATIENCE * window).max((e - start) / 2) {
+                    } else if e - paid >= (PATIENCE * window).max((e - start) / share) {
                         stage.stop = StageStop::Stalled;
                         break 'rounds;
                     }
