@@ -31,7 +31,7 @@ impl Cdr {
     /// stored as items but read from a copy of the vertex lists taken at
     /// the start (16 bytes a tetrahedron instead of four items).
     pub(super) fn flip_delaunay(&mut self, seeds: Option<&[u32]>) -> Vec<u32> {
-        let mut stack: Vec<Item> = Vec::new();
+        let mut stack: Vec<Item> = Vec::with_capacity(4 * seeds.map_or(0, |s| s.len()) + 16);
         let push_all = |st: &Cdr, stack: &mut Vec<Item>, t: u32| {
             let tv = st.m.tv[t as usize];
             if tv[0] != DEAD {
@@ -52,7 +52,7 @@ impl Cdr {
             }
             None => bottom.clone_from(&self.m.tv),
         }
-        let mut made = Vec::new();
+        let mut made = Vec::with_capacity(16);
         let mut steps = 0usize;
         let max_steps = 50 * self.m.tv.len() + 10_000;
         loop {
