@@ -353,9 +353,16 @@ impl Cdr {
                             })
                             .fold(0.0, f64::max)
                     };
-                    let k = (0..sides.len())
-                        .min_by(|&x, &y| score(x).total_cmp(&score(y)))
-                        .unwrap_or(0);
+                    // The first side of least score (as `min_by`), each
+                    // score computed once.
+                    let mut k = 0;
+                    let mut best = f64::NAN;
+                    for x in 0..sides.len() {
+                        let sx = score(x);
+                        if x == 0 || best.total_cmp(&sx).is_gt() {
+                            (k, best) = (x, sx);
+                        }
+                    }
                     let ie = emap[&ekey(sides[k][0], sides[k][1])];
                     segs.entry(e).or_insert(ie);
                 }
@@ -1437,8 +1444,7 @@ impl Cdr {
             let tv = self.m.tv[t as usize];
             for (a, b) in EDGES {
                 let e = ekey(tv[a], tv[b]);
-                if self.is_seg(e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
-                {
+                if self.is_seg(e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c) {
                     enc.push(e);
                 }
             }

@@ -15,6 +15,7 @@
 
 use super::Cdr;
 use crate::tet::local::DEAD;
+use crate::NONE;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when
 /// queued (stale entries are dropped), local face.
@@ -46,8 +47,32 @@ impl Cdr {
         let mut next = (0usize, 0u8);
         match seeds {
             Some(s) => {
-                for &t in s {
-                    push_all(self, &mut stack, t);
+                // A face between two seeds is queued from the later seed
+                // only, whose entry pops first: the earlier seed's entry
+                // would test the same face again (the in-sphere test gives
+                // one answer from either side) or, if a flip has changed
+                // its neighbour since, a face that the new neighbour's own
+                // entries have already tested.
+                let mut skip = vec![0u8; s.len()];
+                self.m.mark_begin();
+                for (i, &t) in s.iter().enumerate().rev() {
+                    for f in 0..4 {
+                        let w = self.m.nb[t as usize][f];
+                        if w != NONE && self.m.marked(w >> 2) {
+                            skip[i] |= 1 << f;
+                        }
+                    }
+                    self.m.mark(t);
+                }
+                for (&t, &k) in s.iter().zip(&skip) {
+                    let tv = self.m.tv[t as usize];
+                    if tv[0] != DEAD {
+                        for f in 0..4 {
+                            if k >> f & 1 == 0 {
+                                stack.push((t, tv, f));
+                            }
+                        }
+                    }
                 }
             }
             None => bottom.clone_from(&self.m.tv),
