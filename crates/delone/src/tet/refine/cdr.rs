@@ -784,19 +784,30 @@ impl Cdr {
                 tets.push(([x, y, z, mid], self.m.reg[t as usize]));
             }
         }
-        // The vertices of the cone's base (stamped) and its edges (looked
-        // up only for the rare subsegments of the cavity).
+        // The vertices of the cone's base (stamped) and its edges (packed
+        // and sorted when the first subsegment of the cavity asks).
         self.vstamp.clear();
         for x in &tets {
             for &q in &x.0[..3] {
                 self.vstamp.insert(q);
             }
         }
-        let on_base = |e: (u32, u32)| {
-            tets.iter().any(|x| {
-                let [a, b, c, _] = x.0;
-                ekey(a, b) == e || ekey(b, c) == e || ekey(a, c) == e
-            })
+        let pack = |(a, b): (u32, u32)| u64::from(a) << 32 | u64::from(b);
+        let mut bedges: Option<Vec<u64>> = None;
+        let mut on_base = |e: (u32, u32)| {
+            let b = bedges.get_or_insert_with(|| {
+                let mut b: Vec<u64> = tets
+                    .iter()
+                    .flat_map(|x| {
+                        let [a, b, c, _] = x.0;
+                        [pack(ekey(a, b)), pack(ekey(b, c)), pack(ekey(a, c))]
+                    })
+                    .collect();
+                b.sort_unstable();
+                b.dedup();
+                b
+            });
+            b.binary_search(&pack(e)).is_ok()
         };
         for &t in cav {
             let tv = self.m.tv[t as usize];
@@ -825,7 +836,6 @@ impl Cdr {
         // present; regions agree across faces that are not subfaces.
         // (Sorted by the edge alone, packed in a word: the order within a
         // group does not change the verdict.)
-        let pack = |(a, b): (u32, u32)| u64::from(a) << 32 | u64::from(b);
         let mut fm: Vec<(u64, usize)> = Vec::with_capacity(3 * tets.len());
         for (n, x) in tets.iter().enumerate() {
             let [a, b, c, _] = x.0;
