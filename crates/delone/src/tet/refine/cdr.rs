@@ -2053,6 +2053,8 @@ impl Cdr {
         self.failed_s = IdSet::default();
         self.failed_f = IdSet::default();
         self.vedge = IdMap::default();
+        self.outside = Stamps::default();
+        self.vstamp = Stamps::default();
         let unscale = 1.0 / self.s;
         let points = crate::geom::scale::unscaled_points(&rec.points, &self.p, unscale);
         self.m.compact(points.len());
