@@ -49,12 +49,19 @@ pub fn scaled<const D: usize>(p: [f64; D], s: (f64, f64)) -> [f64; D] {
 /// ```
 /// assert_eq!(delone::geom::max_abs(&[[1.0, -4.0], [2.0, f64::NAN]]), 4.0);
 /// ```
+#[inline]
 pub fn max_abs<const D: usize>(points: &[[f64; D]]) -> f64 {
-    points
-        .iter()
-        .flatten()
-        .filter(|c| c.is_finite())
-        .fold(0.0f64, |m, c| m.max(c.abs()))
+    let mut m = 0.0f64;
+    for p in points {
+        for &c in p {
+            // (A NaN fails the first comparison, an infinity the second.)
+            let a = c.abs();
+            if a > m && a != f64::INFINITY {
+                m = a;
+            }
+        }
+    }
+    m
 }
 
 /// The bounding box `[min, max]` of `pts` (inverted, `[+inf, -inf]`, when
@@ -226,6 +233,7 @@ pub fn unscale(v: f64, s: (f64, f64), degree: u32) -> f64 {
 /// let (p, s) = delone::geom::scale::local([[1e300, 0.0], [0.0, 1e300], [0.0, 0.0]]);
 /// assert!(p[0][0] >= 1.0 && p[0][0] < 2.0 && s != (1.0, 1.0));
 /// ```
+#[inline]
 pub fn local<const D: usize, const K: usize>(p: [[f64; D]; K]) -> ([[f64; D]; K], (f64, f64)) {
     let s = pow2_scale(max_abs(&p));
     if s == (1.0, 1.0) {

@@ -116,12 +116,21 @@ pub(crate) struct OutputFaces {
 /// Scratch of [`DomainMesh::replace`]: outer faces (key, neighbour word,
 /// subface bit), open new faces (key, word), removed vertices, and the
 /// removed slots sorted (membership by binary search in large cavities).
-type Scratch = (
-    Vec<([u32; 3], u32, bool)>,
-    Vec<([u32; 3], u32)>,
-    Vec<u32>,
-    Vec<u32>,
-);
+/// Keys are packed ([`pack`]): one comparison of a word pair per face.
+type Scratch = (Vec<(u128, u32, bool)>, Vec<(u128, u32)>, Vec<u32>, Vec<u32>);
+
+/// A sorted face key packed in one integer (smallest vertex highest: the
+/// integers order as the keys do).
+#[inline]
+fn pack(k: [u32; 3]) -> u128 {
+    u128::from(k[0]) << 64 | u128::from(k[1]) << 32 | u128::from(k[2])
+}
+
+/// The face key [`pack`] packed.
+#[inline]
+fn unpack(x: u128) -> [u32; 3] {
+    [(x >> 64) as u32, (x >> 32) as u32, x as u32]
+}
 
 /// A set of slots as a stamp per slot: emptied in O(1) by a new epoch (a
 /// visit of a walk or a cavity, without hashing).
@@ -556,9 +565,12 @@ impl DomainMesh {
                     }
                     continue;
                 }
-                outer.push((fkey(face(tv, f)), w, self.is_sub(t, f)));
+                outer.push((pack(fkey(face(tv, f))), w, self.is_sub(t, f)));
             }
         }
+        // The largest vertex of an outer face: a new face with a larger
+        // one (through a new point) matches none.
+        let top = outer.iter().map(|o| o.0 as u32).max().unwrap_or(0);
         old_verts.extend(old.iter().flat_map(|&t| self.tv[t as usize]));
         for &t in old {
             self.release(t);
@@ -588,28 +600,36 @@ impl DomainMesh {
                 let tv = self.tv[id as usize];
                 for f in 0..4 {
                     let k = fkey(face(tv, f));
-                    if let Some(i) = outer.iter().position(|o| o.0 == k) {
+                    let x = pack(k);
+                    let o = if k[2] > top {
+                        None
+                    } else {
+                        outer.iter().position(|o| o.0 == x)
+                    };
+                    if let Some(i) = o {
                         let (_, w, sub) = outer.swap_remove(i);
                         self.link(id, f, w);
                         self.mask[id as usize] |= u8::from(sub) << f;
-                    } else if let Some(i) = open.iter().position(|o| o.0 == k) {
+                    } else if let Some(i) = open.iter().position(|o| o.0 == x) {
                         let (_, w) = open.swap_remove(i);
                         self.link(id, f, w);
                         if let Some(l) = &mut self.inner {
                             l.push(k);
                         }
                     } else {
-                        open.push((k, 4 * id + f as u32));
+                        open.push((x, 4 * id + f as u32));
                     }
                 }
             }
-            for (k, w) in open.drain(..) {
+            for (x, w) in open.drain(..) {
                 self.mask[(w >> 2) as usize] |= 1 << (w & 3);
-                made.push(k);
+                made.push(unpack(x));
             }
         } else {
-            let mut out: IdMap<[u32; 3], (u32, bool)> =
-                outer.drain(..).map(|(k, w, s)| (k, (w, s))).collect();
+            let mut out: IdMap<[u32; 3], (u32, bool)> = outer
+                .drain(..)
+                .map(|(x, w, s)| (unpack(x), (w, s)))
+                .collect();
             let mut open: IdMap<[u32; 3], u32> = IdMap::default();
             for &id in ids.iter() {
                 let tv = self.tv[id as usize];
@@ -633,10 +653,10 @@ impl DomainMesh {
                 made.push(k);
             }
             made.sort_unstable();
-            outer.extend(out.into_iter().map(|(k, (w, s))| (k, w, s)));
+            outer.extend(out.into_iter().map(|(k, (w, s))| (pack(k), w, s)));
             outer.sort_unstable();
         }
-        let gone: Vec<[u32; 3]> = outer.drain(..).map(|o| o.0).collect();
+        let gone: Vec<[u32; 3]> = outer.drain(..).map(|o| unpack(o.0)).collect();
         self.scratch = (outer, open, old_verts, sorted);
         Unmatched { gone, made }
     }

@@ -27,7 +27,7 @@ use super::options::{default_budget, volume_bounds, RefineOptions, BUDGET_MAX};
 use super::report::{RefineReport, Refined};
 use crate::geom::vec3::{angle, cross, dist2, dot, sub, P};
 use crate::geom::{union_join, union_root};
-use crate::tet::dmesh::DomainMesh;
+use crate::tet::dmesh::{DomainMesh, Stamps};
 use crate::tet::local::DEAD;
 use crate::tet::quality;
 use crate::tet::recover::{RecoverError, Recovered};
@@ -228,6 +228,10 @@ pub(super) struct Cdr {
     /// [`RefineOptions::diagnostics`]: the cells left are counted and
     /// explained.
     diagnostics: bool,
+    /// Scratch of [`Cdr::grow`]: the cells whose in-sphere test was made.
+    outside: Stamps,
+    /// Scratch of [`Cdr::plan`]: the vertices of the cavity's boundary.
+    vstamp: Stamps,
 }
 
 impl Cdr {
@@ -349,9 +353,16 @@ impl Cdr {
                             })
                             .fold(0.0, f64::max)
                     };
-                    let k = (0..sides.len())
-                        .min_by(|&x, &y| score(x).total_cmp(&score(y)))
-                        .unwrap_or(0);
+                    // The first side of least score (as `min_by`), each
+                    // score computed once.
+                    let mut k = 0;
+                    let mut best = f64::NAN;
+                    for x in 0..sides.len() {
+                        let sx = score(x);
+                        if x == 0 || best.total_cmp(&sx).is_gt() {
+                            (k, best) = (x, sx);
+                        }
+                    }
                     let ie = emap[&ekey(sides[k][0], sides[k][1])];
                     segs.entry(e).or_insert(ie);
                 }
@@ -422,6 +433,8 @@ impl Cdr {
             left: IdMap::default(),
             keep_surface: opts.keep_surface,
             diagnostics: opts.diagnostics,
+            outside: Stamps::default(),
+            vstamp: Stamps::default(),
         };
         st.budget = if let Some(n) = opts.max_steiner {
             n
@@ -622,10 +635,12 @@ impl Cdr {
     fn around_edge(&self, a: u32, b: u32) -> Vec<u32> {
         // Walk the star of `a` to a tetrahedron holding `b`.
         let holds_b = |t: u32| self.m.tv[t as usize].contains(&b);
-        let Some(t0) = self.m.star_walk(a, &mut Vec::new(), |_, _| true, holds_b) else {
+        let mut walk = Vec::with_capacity(64);
+        let Some(t0) = self.m.star_walk(a, &mut walk, |_, _| true, holds_b) else {
             return Vec::new();
         };
-        let mut out = vec![t0];
+        let mut out = Vec::with_capacity(16);
+        out.push(t0);
         let mut i = 0;
         while i < out.len() {
             let t = out[i];
@@ -658,7 +673,10 @@ impl Cdr {
     /// are not subfaces.
     fn grow(&mut self, seeds: &[u32], m: &P) -> Vec<u32> {
         self.m.mark_begin();
-        let mut cav: Vec<u32> = Vec::new();
+        // Cells found outside the sphere: tested once (a cell next to
+        // several cavity cells is reached several times).
+        self.outside.clear();
+        let mut cav: Vec<u32> = Vec::with_capacity(64);
         for &t in seeds {
             if self.m.mark(t) {
                 cav.push(t);
@@ -674,7 +692,7 @@ impl Cdr {
                     continue;
                 }
                 let u = w >> 2;
-                if self.m.marked(u) || !self.in_sphere(u, m) {
+                if self.m.marked(u) || !self.outside.insert(u) || !self.in_sphere(u, m) {
                     continue;
                 }
                 self.m.mark(u);
@@ -687,7 +705,11 @@ impl Cdr {
     /// Plans the cone of the cavity's boundary to the new point `m`, the
     /// subfaces `dis` (faces of the cavity) replaced by the cone of their
     /// boundary edges; `split` is the subsegment being split (its edge
-    /// disappears). Every check of the module documentation is made here.
+    /// disappears). Every check of the module documentation is made here;
+    /// `seen`: [`Cdr::shrink`] has just passed `cav` as it is, so every
+    /// boundary face is known to be seen by `m` and to make no flat cone
+    /// (those tests are not made again).
+    #[allow(clippy::too_many_arguments)]
     fn plan(
         &mut self,
         cav: &[u32],
@@ -696,6 +718,7 @@ impl Cdr {
         split: Option<(u32, u32)>,
         m: &P,
         tris: &[u32],
+        seen: bool,
     ) -> Result<Plan, PlanErr> {
         self.m.mark_begin();
         for &t in cav {
@@ -723,8 +746,7 @@ impl Cdr {
                 bd.push(*x);
             }
         }
-        let mut tets = Vec::new();
-        let mut bedges: Vec<(u32, u32)> = Vec::new();
+        let mut tets = Vec::with_capacity(2 * cav.len() + 4);
         let mid = self.p.len() as u32;
         for &t in cav {
             let tv = self.m.tv[t as usize];
@@ -748,29 +770,49 @@ impl Cdr {
                 }
                 let [x, y, z] = face(tv, f);
                 let g = |q: u32| &self.p[q as usize];
-                if sub && self.coplanar(&k, tris) {
+                if !seen && sub && self.coplanar(&k, tris) {
                     // The new point is (topologically) on this subface's
                     // plane: its cone would be flat.
                     return Err(drop(t));
                 }
-                if orient3d(g(x), g(y), g(z), m) >= 0.0
-                    || self.flat([x, y, z, mid], Some((mid, tris)))
+                if !seen
+                    && (orient3d(g(x), g(y), g(z), m) >= 0.0
+                        || self.flat([x, y, z, mid], Some((mid, tris))))
                 {
                     return Err(drop(t));
                 }
                 tets.push(([x, y, z, mid], self.m.reg[t as usize]));
-                bedges.extend([ekey(x, y), ekey(y, z), ekey(x, z)]);
             }
         }
-        bedges.sort_unstable();
-        bedges.dedup();
-        let mut verts: Vec<u32> = tets.iter().flat_map(|x| x.0[..3].to_vec()).collect();
-        verts.sort_unstable();
-        verts.dedup();
+        // The vertices of the cone's base (stamped) and its edges (packed
+        // and sorted when the first subsegment of the cavity asks).
+        self.vstamp.clear();
+        for x in &tets {
+            for &q in &x.0[..3] {
+                self.vstamp.insert(q);
+            }
+        }
+        let pack = |(a, b): (u32, u32)| u64::from(a) << 32 | u64::from(b);
+        let mut bedges: Option<Vec<u64>> = None;
+        let mut on_base = |e: (u32, u32)| {
+            let b = bedges.get_or_insert_with(|| {
+                let mut b: Vec<u64> = tets
+                    .iter()
+                    .flat_map(|x| {
+                        let [a, b, c, _] = x.0;
+                        [pack(ekey(a, b)), pack(ekey(b, c)), pack(ekey(a, c))]
+                    })
+                    .collect();
+                b.sort_unstable();
+                b.dedup();
+                b
+            });
+            b.binary_search(&pack(e)).is_ok()
+        };
         for &t in cav {
             let tv = self.m.tv[t as usize];
             for &v in &tv {
-                if verts.binary_search(&v).is_err() {
+                if !self.vstamp.contains(v) {
                     let o = cav
                         .iter()
                         .copied()
@@ -780,7 +822,7 @@ impl Cdr {
             }
             for (i, j) in EDGES {
                 let e = ekey(tv[i], tv[j]);
-                if Some(e) != split && self.is_seg(e) && bedges.binary_search(&e).is_err() {
+                if Some(e) != split && self.is_seg(e) && !on_base(e) {
                     let o = cav.iter().copied().find(|&u| {
                         let x = self.m.tv[u as usize];
                         !required.contains(&u) && x.contains(&e.0) && x.contains(&e.1)
@@ -792,15 +834,21 @@ impl Cdr {
         // Faces through the new point: matched at most twice; unmatched
         // only on the dissolved subfaces' boundary; every boundary edge
         // present; regions agree across faces that are not subfaces.
-        let mut fm: Vec<((u32, u32), usize)> = Vec::with_capacity(3 * tets.len());
+        // (Sorted by the edge alone, packed in a word: the order within a
+        // group does not change the verdict.)
+        let mut fm: Vec<(u64, usize)> = Vec::with_capacity(3 * tets.len());
         for (n, x) in tets.iter().enumerate() {
             let [a, b, c, _] = x.0;
-            fm.extend([(ekey(a, b), n), (ekey(b, c), n), (ekey(a, c), n)]);
+            fm.extend([
+                (pack(ekey(a, b)), n),
+                (pack(ekey(b, c)), n),
+                (pack(ekey(a, c)), n),
+            ]);
         }
-        fm.sort_unstable();
+        fm.sort_unstable_by_key(|x| x.0);
         let mut seen_bd = 0;
         for g in fm.chunk_by(|a, b| a.0 == b.0) {
-            let on_bd = bd.iter().any(|x| x.0 == g[0].0);
+            let on_bd = bd.iter().any(|x| pack(x.0) == g[0].0);
             seen_bd += usize::from(on_bd);
             match g {
                 [_] if !on_bd => return Err(None),
@@ -885,8 +933,8 @@ impl Cdr {
             self.ir_refused = true;
             return None;
         }
-        for _ in 0..64 {
-            match self.plan(&cav, required, dis, split, &m, &tris) {
+        for round in 0..64 {
+            match self.plan(&cav, required, dis, split, &m, &tris, round == 0) {
                 Ok(plan) => {
                     let (mid, mut ids) = self.commit(&cav, dis, plan, m);
                     self.vtris.push(tris);
@@ -1251,7 +1299,7 @@ impl Cdr {
                 let (px, py) = (self.p[x as usize], self.p[y as usize]);
                 if dot(&cross(&sub(&py, &px), &sub(m, &px)), &n) < 0.0 {
                     let e = ekey(x, y);
-                    if self.m.segs.contains_key(&e) {
+                    if self.is_seg(e) {
                         return Err(Some(e));
                     }
                     let nx = self.faces_on(e, tri).into_iter().find(|&f| f != cur);
@@ -1326,7 +1374,7 @@ impl Cdr {
             let f = d[i];
             i += 1;
             for e in [(f[0], f[1]), (f[0], f[2]), (f[1], f[2])] {
-                if self.m.segs.contains_key(&e) {
+                if self.is_seg(e) {
                     continue;
                 }
                 for h in self.faces_on(e, tri) {
@@ -1406,9 +1454,7 @@ impl Cdr {
             let tv = self.m.tv[t as usize];
             for (a, b) in EDGES {
                 let e = ekey(tv[a], tv[b]);
-                if self.m.segs.contains_key(&e)
-                    && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c)
-                {
+                if self.is_seg(e) && encroaches_segment(&self.pt(e.0), &self.pt(e.1), &c) {
                     enc.push(e);
                 }
             }
@@ -1424,7 +1470,9 @@ impl Cdr {
             }
             return progress;
         }
-        match self.insert(c, &req, &d, None, vec![tri], None) {
+        // (The cavity just grown is the insertion's: the mesh has not
+        // changed.)
+        match self.insert(c, &req, &d, None, vec![tri], Some(cav)) {
             Some(id) => {
                 self.on_plane(id, tri);
                 self.report.on_facets += 1;
@@ -1583,19 +1631,23 @@ impl Cdr {
             let Ok(t0) = self.locate(b.slot, &m) else {
                 continue;
             };
+            let mut grown = None;
             if !big {
                 let cav = self.grow(&[t0], &m);
                 let (segs, faces) = self.encroached(&cav, &m);
                 if !segs.is_empty() || !faces.is_empty() || self.too_close(&cav, &m, lmin) {
                     continue;
                 }
+                grown = Some(cav);
             }
             let req: Vec<u32> = if t0 == b.slot {
                 vec![t0]
             } else {
                 vec![t0, b.slot]
             };
-            if self.insert(m, &req, &[], None, Vec::new(), None).is_some() {
+            // (The cavity just grown from `t0` alone is the insertion's.)
+            let grown = grown.filter(|_| t0 == b.slot);
+            if self.insert(m, &req, &[], None, Vec::new(), grown).is_some() {
                 self.report.interior += 1;
                 self.report.inside += 1;
                 return true;
@@ -2001,6 +2053,8 @@ impl Cdr {
         self.failed_s = IdSet::default();
         self.failed_f = IdSet::default();
         self.vedge = IdMap::default();
+        self.outside = Stamps::default();
+        self.vstamp = Stamps::default();
         let unscale = 1.0 / self.s;
         let points = crate::geom::scale::unscaled_points(&rec.points, &self.p, unscale);
         self.m.compact(points.len());

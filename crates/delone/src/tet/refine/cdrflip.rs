@@ -15,6 +15,7 @@
 
 use super::Cdr;
 use crate::tet::local::DEAD;
+use crate::NONE;
 
 /// A face waiting for the flip test: tetrahedron, its vertices when
 /// queued (stale entries are dropped), local face.
@@ -31,7 +32,7 @@ impl Cdr {
     /// stored as items but read from a copy of the vertex lists taken at
     /// the start (16 bytes a tetrahedron instead of four items).
     pub(super) fn flip_delaunay(&mut self, seeds: Option<&[u32]>) -> Vec<u32> {
-        let mut stack: Vec<Item> = Vec::new();
+        let mut stack: Vec<Item> = Vec::with_capacity(4 * seeds.map_or(0, |s| s.len()) + 16);
         let push_all = |st: &Cdr, stack: &mut Vec<Item>, t: u32| {
             let tv = st.m.tv[t as usize];
             if tv[0] != DEAD {
@@ -46,13 +47,37 @@ impl Cdr {
         let mut next = (0usize, 0u8);
         match seeds {
             Some(s) => {
-                for &t in s {
-                    push_all(self, &mut stack, t);
+                // A face between two seeds is queued from the later seed
+                // only, whose entry pops first: the earlier seed's entry
+                // would test the same face again (the in-sphere test gives
+                // one answer from either side) or, if a flip has changed
+                // its neighbour since, a face that the new neighbour's own
+                // entries have already tested.
+                let mut skip = vec![0u8; s.len()];
+                self.m.mark_begin();
+                for (i, &t) in s.iter().enumerate().rev() {
+                    for f in 0..4 {
+                        let w = self.m.nb[t as usize][f];
+                        if w != NONE && self.m.marked(w >> 2) {
+                            skip[i] |= 1 << f;
+                        }
+                    }
+                    self.m.mark(t);
+                }
+                for (&t, &k) in s.iter().zip(&skip) {
+                    let tv = self.m.tv[t as usize];
+                    if tv[0] != DEAD {
+                        for f in 0..4 {
+                            if k >> f & 1 == 0 {
+                                stack.push((t, tv, f));
+                            }
+                        }
+                    }
                 }
             }
             None => bottom.clone_from(&self.m.tv),
         }
-        let mut made = Vec::new();
+        let mut made = Vec::with_capacity(16);
         let mut steps = 0usize;
         let max_steps = 50 * self.m.tv.len() + 10_000;
         loop {
