@@ -265,29 +265,7 @@ mod tests {
     /// diagonals agree with it, and either way gift-wrapping fills it.
     #[test]
     fn fills_a_cube() {
-        let pts: Vec<P> = (0..8)
-            .map(|i| {
-                [
-                    f64::from(i & 1),
-                    f64::from((i >> 1) & 1),
-                    f64::from((i >> 2) & 1),
-                ]
-            })
-            .collect();
-        let tris = [
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
+        let (pts, tris) = crate::tet::dmesh::tests::cuboid(1.0, 1.0, 1.0);
         let faces = inward(&pts, &tris, &[0.5; 3]);
         let tets = wrap_fill(&pts, &faces).unwrap();
         assert!(tiles(&pts, &faces, &tets));

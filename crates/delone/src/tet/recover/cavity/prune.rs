@@ -183,14 +183,7 @@ mod tests {
     /// diagonal.
     #[test]
     fn removes_a_point_whose_star_is_a_cone() {
-        let mut pts: Vec<P> = vec![
-            [1.0, 0.0, 0.0],
-            [-1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, -1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.0, 0.0, -1.0],
-        ];
+        let mut pts: Vec<P> = crate::tet::dmesh::tests::octahedron_points();
         let tris: Vec<[u32; 3]> = crate::tetrahedralize(&pts).unwrap().hull_faces().collect();
         assert_eq!(tris.len(), 8);
         pts.push([0.1, -0.05, 0.02]);
