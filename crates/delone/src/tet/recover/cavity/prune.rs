@@ -7,7 +7,9 @@
 //! is a face, an interior Steiner point `s` can go when its star (every
 //! tetrahedron at `s`, all finite) is the cone from one of the star's
 //! boundary vertices `v`: the boundary faces not at `v` all seen strictly
-//! from inside by `v` (exact `orient3d`). The replacement is then checked
+//! from inside by `v` (exact `orient3d`), or, where no cone is valid, when
+//! the gift-wrapping fill of the star's boundary (`dfill::wrap_fill`)
+//! tiles it. The replacement is then checked
 //! like every cavity fill ([`valid_replacement`]: strictly positive
 //! tetrahedra whose oriented faces have exactly the star's boundary as
 //! boundary, and every input edge and face kept) before it is applied.
@@ -49,8 +51,8 @@ fn shape(pts: &[P], t: &[u32; 4]) -> f64 {
 impl State {
     /// Removes the interior Steiner points (ids from `n_in`) of `cm`, a
     /// mesh on which every input triangle of `self.surf` is a face, whose
-    /// star is the cone from one of its boundary vertices (module
-    /// documentation). Returns how many were removed; they stay in the
+    /// star can be refilled without them: a cone from one of its boundary
+    /// vertices, else a gift-wrapping fill (module documentation). Returns how many were removed; they stay in the
     /// points, unused (dropped by compaction).
     pub(in crate::tet::recover) fn prune_interior(
         &self,
@@ -105,7 +107,8 @@ impl State {
     }
 
     /// Replaces the star of interior point `s` by the cone from one of its
-    /// boundary vertices, when one is valid; true when done.
+    /// boundary vertices, when one is valid, else by the gift-wrapping
+    /// fill when it is valid; true when done.
     fn remove_by_cone(&self, cm: &mut Journaled<'_>, s: u32, prot: &Guard) -> bool {
         let mut star = cm.star(s);
         if star.is_empty()
