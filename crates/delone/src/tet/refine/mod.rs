@@ -63,10 +63,7 @@
 //!    facet left non-Delaunay keeps skinny subfaces whose circumcentres
 //!    fall beyond their own subsegment, and R2 would halve that subsegment
 //!    towards its input vertex forever. Encroachment: a vertex of a
-//!    tetrahedron around it strictly inside its diametral lens (it sees
-//!    `a b` at more than 120°: Shewchuk's diametral lens, a spindle inside
-//!    the diametral ball, so a bad cell's circumcentre near the segment but
-//!    off the lens is inserted rather than splitting it);
+//!    tetrahedron around it strictly inside its diametral ball;
 //! 2. **R2** — an encroached subface is split at its circumcentre `c`: a
 //!    walk over the subfaces of its facet finds the one holding
 //!    `c`, or the subsegment in the way (then that subsegment is split, if
@@ -75,14 +72,14 @@
 //!    never across a subsegment) must be a disk with `c` strictly inside
 //!    (exact test per boundary edge); the tetrahedra on both sides of it
 //!    are required. A circumcentre encroaching a subsegment of the 3D
-//!    cavity (inside its diametral lens) splits that subsegment instead. When the insertion is refused
+//!    cavity splits that subsegment instead. When the insertion is refused
 //!    the fallback is the subface's longest edge when it is a subsegment;
 //!    otherwise the subface is left (counted in [`RefineReport::skipped`]);
 //! 3. **R3** — a tetrahedron with radius-edge ratio above the bound, or
 //!    volume above its region's bound, worst first, is split at its
 //!    circumcentre: a visibility walk locates it; a subface in the way that
 //!    it encroaches, or subsegments / subfaces of its cavity whose
-//!    diametral lens / equatorial ball holds it, reject it and are split
+//!    diametral / equatorial ball holds it, reject it and are split
 //!    instead, but only when they are not much smaller than the cell's
 //!    shortest edge (near small input angles the cell is left and counted
 //!    in [`RefineReport::skipped`]). Of several encroached subfaces only
