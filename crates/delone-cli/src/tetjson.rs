@@ -105,6 +105,23 @@ pub fn document(
                 ("on_segments", f.on_segments.to_string()),
                 ("on_facets", f.on_facets.to_string()),
                 ("interior", f.interior.to_string()),
+                (
+                    "segments_for_vertices",
+                    f.causes.segments_for_vertices.to_string(),
+                ),
+                (
+                    "segments_for_subfaces",
+                    f.causes.segments_for_subfaces.to_string(),
+                ),
+                (
+                    "segments_for_cells",
+                    f.causes.segments_for_cells.to_string(),
+                ),
+                (
+                    "facets_for_vertices",
+                    f.causes.facets_for_vertices.to_string(),
+                ),
+                ("facets_for_cells", f.causes.facets_for_cells.to_string()),
             ]),
         ));
     }

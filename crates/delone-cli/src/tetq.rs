@@ -259,6 +259,15 @@ pub fn report(
             if r.budget_exhausted { "; Steiner budget exhausted" } else { "" }
         ));
         if o.out().verbose > 0 {
+            let c = &r.causes;
+            lines.push(format!(
+                "refinement points by cause: on segments {} for encroaching vertices, {} for encroached subfaces, {} for bad tetrahedra; on facets {} for encroaching vertices, {} for bad tetrahedra",
+                c.segments_for_vertices,
+                c.segments_for_subfaces,
+                c.segments_for_cells,
+                c.facets_for_vertices,
+                c.facets_for_cells
+            ));
             lines.push(format!(
                 "Steiner budget {} points (about {:.0} MB; -S raises it){}",
                 r.steiner_budget,

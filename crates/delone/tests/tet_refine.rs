@@ -26,6 +26,7 @@ fn run(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], opts: &RefineOptions) ->
     let r = refine(pts, tris, opts).unwrap_or_else(|e| panic!("{name}: {e}"));
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     check_recovered(pts, tris, &r.rec).unwrap_or_else(|v| panic!("{name}: {v:?}"));
+    assert_causes(name, &r);
     let rp = &r.rec.points;
     let want = surface_volume(pts, tris);
     let got: f64 = r
@@ -230,6 +231,7 @@ fn run_domain(
     let r = refine_recovered(pts, tris, &rec, &o).unwrap_or_else(|e| panic!("{name}: {e}"));
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     check_recovered(pts, tris, &r.rec).unwrap_or_else(|v| panic!("{name} q{q}: {v:?}"));
+    assert_causes(name, &r);
     let rp = &r.rec.points;
     let vol: f64 = r
         .rec
@@ -468,6 +470,37 @@ fn rejected_circumcentres_do_not_cascade() {
             n as f64 <= factor * tetgen,
             "{rel}: {n} tetrahedra, TetGen {tetgen}"
         );
+    }
+}
+
+/// Every point the refinement put on a subsegment or a subface has one
+/// cause ([`delone::tet::refine::SplitCauses`]).
+fn assert_causes(name: &str, r: &Refined) {
+    let c = &r.report.causes;
+    assert_eq!(
+        (c.segments(), c.facets()),
+        (r.report.on_segments, r.report.on_facets),
+        "{name}: {c:?}"
+    );
+}
+
+/// On CAD models at q1.414 most segment splits are asked for by bad
+/// cells (their circumcentres encroach the subsegments, or subfaces whose
+/// own split lands on a subsegment), not by encroaching vertices: the
+/// points the refinement makes beyond TetGen's come from R3.
+#[test]
+fn segment_splits_are_mostly_for_bad_cells() {
+    let Some(dir) = data_dir() else { return };
+    for name in ["cgal_u", "cgal_part"] {
+        let (rel, s) = read_model(&dir, name);
+        let t = s.triangles();
+        let r = run_domain(&rel, &s.points, &t, &Domain::default(), 1.414, 100_000);
+        let c = &r.report.causes;
+        assert!(
+            c.segments_for_cells > c.segments_for_vertices + c.segments_for_subfaces,
+            "{rel}: {c:?}"
+        );
+        assert!(c.facets_for_cells > c.facets_for_vertices, "{rel}: {c:?}");
     }
 }
 

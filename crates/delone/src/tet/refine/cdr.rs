@@ -232,6 +232,20 @@ pub(super) struct Cdr {
     outside: Stamps,
     /// Scratch of [`Cdr::plan`]: the vertices of the cavity's boundary.
     vstamp: Stamps,
+    /// Which queue the split in progress serves (for
+    /// [`RefineReport::causes`]).
+    asker: Asker,
+}
+
+/// The rule that asked for the split in progress ([`Cdr::asker`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Asker {
+    /// A vertex encroaching a subsegment (R1).
+    Segment,
+    /// A vertex encroaching a subface, or the sizing (R2).
+    Subface,
+    /// A bad cell (R3).
+    Cell,
 }
 
 impl Cdr {
@@ -435,6 +449,7 @@ impl Cdr {
             diagnostics: opts.diagnostics,
             outside: Stamps::default(),
             vstamp: Stamps::default(),
+            asker: Asker::Cell,
         };
         st.budget = if let Some(n) = opts.max_steiner {
             n
@@ -1254,6 +1269,12 @@ impl Cdr {
                 self.on_seg[id as usize] = true;
                 self.on_line(id, ie);
                 self.report.on_segments += 1;
+                let c = &mut self.report.causes;
+                match self.asker {
+                    Asker::Segment => c.segments_for_vertices += 1,
+                    Asker::Subface => c.segments_for_subfaces += 1,
+                    Asker::Cell => c.segments_for_cells += 1,
+                }
                 true
             }
             None => {
@@ -1476,6 +1497,11 @@ impl Cdr {
             Some(id) => {
                 self.on_plane(id, tri);
                 self.report.on_facets += 1;
+                if self.asker == Asker::Cell {
+                    self.report.causes.facets_for_cells += 1;
+                } else {
+                    self.report.causes.facets_for_vertices += 1;
+                }
                 true
             }
             None => self.face_fallback(k),
@@ -2006,6 +2032,7 @@ impl Cdr {
             }
             if let Some(e) = self.segq.pop_front() {
                 self.queued_s.remove(&e);
+                self.asker = Asker::Segment;
                 if self.seg_still_encroached(e) && !self.out_of_budget() {
                     self.split_segment(e);
                 }
@@ -2013,6 +2040,7 @@ impl Cdr {
             }
             if let Some(k) = self.faceq.pop_front() {
                 self.queued_f.remove(&k);
+                self.asker = Asker::Subface;
                 if self.face_still_encroached(k) && !self.out_of_budget() {
                     self.split_face(k);
                 }
@@ -2036,6 +2064,7 @@ impl Cdr {
             if self.out_of_budget() {
                 return;
             }
+            self.asker = Asker::Cell;
             self.split_cell(b);
         }
     }

@@ -248,7 +248,7 @@ pub use options::{
     default_budget, memory_estimate, RefineOptions, BUDGET_BASE, BUDGET_MAX, BYTES_PER_POINT,
     MIN_RADIUS_EDGE,
 };
-pub use report::{LeftBad, RefineReport, Refined};
+pub use report::{LeftBad, RefineReport, Refined, SplitCauses};
 
 use super::recover::{recover_mesh, Domain, RecoverError, Recovered};
 use crate::geom::{union_join, union_root};

@@ -18,6 +18,9 @@ pub struct RefineReport {
     pub on_facets: usize,
     /// Points inserted inside the domain (circumcentres of bad cells).
     pub interior: usize,
+    /// Why the points on segments and facets were inserted: which rule
+    /// asked for each split.
+    pub causes: SplitCauses,
     /// Circumcentres rejected because they encroached the boundary.
     pub rejected: usize,
     /// Bad cells left alone: splitting the boundary they encroach would
@@ -89,6 +92,51 @@ pub struct RefineReport {
     /// sharp input edge); they are not split, since their circumcentres lie
     /// far away and splitting the boundary for them would run away.
     pub flat: usize,
+}
+
+/// Which rule asked for the refinement's points on subsegments and
+/// subfaces ([`RefineReport::on_segments`], [`RefineReport::on_facets`]):
+/// an existing vertex encroaching a subsegment (R1) or a subface (R2), or
+/// a bad cell (R3: its circumcentre encroaches them, or it is too big).
+/// A subsegment split while R2 splits a subface (the subface's
+/// circumcentre lies beyond it or encroaches it, or the fallback splits
+/// the subface's longest edge) counts for whatever asked for the subface.
+/// The segment fields sum to [`RefineReport::on_segments`], the facet
+/// fields to [`RefineReport::on_facets`].
+///
+/// ```
+/// let c = delone::tet::refine::SplitCauses { segments_for_cells: 2, facets_for_cells: 1,
+///     ..Default::default() };
+/// assert_eq!(c.segments(), 2);
+/// assert_eq!(c.facets(), 1);
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SplitCauses {
+    /// Subsegments split for a vertex inside their diametral ball.
+    pub segments_for_vertices: usize,
+    /// Subsegments split for a subface that a vertex encroaches (or that
+    /// is bigger than the sizing allows).
+    pub segments_for_subfaces: usize,
+    /// Subsegments split for a bad cell, directly (its circumcentre
+    /// encroaches them) or through a subface split for it.
+    pub segments_for_cells: usize,
+    /// Subfaces split for a vertex inside their equatorial ball (or for
+    /// the sizing).
+    pub facets_for_vertices: usize,
+    /// Subfaces split for a bad cell (its circumcentre encroaches them).
+    pub facets_for_cells: usize,
+}
+
+impl SplitCauses {
+    /// Points put on subsegments, over the causes.
+    pub fn segments(&self) -> usize {
+        self.segments_for_vertices + self.segments_for_subfaces + self.segments_for_cells
+    }
+
+    /// Points put on subfaces, over the causes.
+    pub fn facets(&self) -> usize {
+        self.facets_for_vertices + self.facets_for_cells
+    }
 }
 
 /// The cells left above the radius-edge bound by the refinement, by the
