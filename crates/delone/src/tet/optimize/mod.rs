@@ -723,6 +723,11 @@ pub struct StageReport {
     pub evaluations: u64,
     /// Of them, those spent in trial insertions that were undone.
     pub undone_evaluations: u64,
+    /// Of them, those spent until its worst quality last rose (seen at
+    /// each check of its progress and at its end; 0 when it never rose):
+    /// the rest went to the tetrahedra above the worst (its count below
+    /// the threshold) or to tries that failed.
+    pub worst_reached: u64,
     /// Tetrahedra it tried to improve, and how many of the tries succeeded.
     pub attempts: u64,
     /// Successful tries.
@@ -1101,6 +1106,9 @@ fn optimize_once(
                 if e >= check {
                     let now = standing(&w, thr);
                     let lifted = lift * usize::from(now.0 < (0.5 * deg).to_radians().sin());
+                    if now.0 > best.0 + 1e-4 {
+                        stage.worst_reached = e - start;
+                    }
                     if now.0 > best.0 + 1e-4 || now.1 + lifted < best.1 {
                         paid = e;
                     } else if e - paid >= (PATIENCE * window).max((e - start) / share) {
@@ -1171,6 +1179,9 @@ fn optimize_once(
         stage.worst[1] = worst_angle(end.0);
         stage.below[1] = end.1;
         stage.evaluations = w.evals.get() - start;
+        if end.0 > best.0 + 1e-4 {
+            stage.worst_reached = stage.evaluations;
+        }
         stage.undone_evaluations = w.undone - undone0;
         report.stages.push(stage);
         if end_run {
