@@ -202,7 +202,9 @@ class OptimizationStage(TypedDict):
     below it or above ``180 -`` it (degrees). ``second_run``: a stage of the
     second run of a small mesh. ``evaluations``: the quality evaluations it
     spent, ``undone_evaluations`` of them in trial insertions that were
-    undone. ``attempts`` and ``successes``: its tries. ``worst``: the mesh's
+    undone, and ``worst_reached`` of them until its worst angle last rose
+    (the rest went to the tetrahedra above the worst, or to tries that
+    failed). ``attempts`` and ``successes``: its tries. ``worst``: the mesh's
     worst angle (the smaller of its smallest dihedral angle and 180° minus
     its largest) at the stage's start and end; ``below``: the tetrahedra
     below its threshold at its start and end. ``stop``: why it ended
@@ -214,6 +216,7 @@ class OptimizationStage(TypedDict):
     second_run: bool
     evaluations: int
     undone_evaluations: int
+    worst_reached: int
     attempts: int
     successes: int
     worst: Tuple[float, float]

@@ -100,8 +100,9 @@ def test_quality_report_and_optimizer_stages():
     assert thresholds == sorted(thresholds) and 20.0 in thresholds
     for s in stages:
         assert set(s) == {"threshold", "second_run", "evaluations", "undone_evaluations",
-                          "attempts", "successes", "worst", "below", "stop"}
+                          "worst_reached", "attempts", "successes", "worst", "below", "stop"}
         assert 0 <= s["undone_evaluations"] <= s["evaluations"]
+        assert 0 <= s["worst_reached"] <= s["evaluations"]
         assert 0 <= s["successes"] <= s["attempts"]
         assert len(s["worst"]) == 2 and len(s["below"]) == 2
         assert all(0 <= w <= 90 for w in s["worst"])

@@ -198,6 +198,7 @@ pub fn document(
                     ("second_run", s.second_run.to_string()),
                     ("evaluations", s.evaluations.to_string()),
                     ("undone_evaluations", s.undone_evaluations.to_string()),
+                    ("worst_reached", s.worst_reached.to_string()),
                     ("tries", s.attempts.to_string()),
                     ("successes", s.successes.to_string()),
                     ("worst_before", num(s.worst[0])),

@@ -109,7 +109,7 @@ fn bad_cells(r: &OptimizeReport) -> String {
 /// it ended.
 pub fn stage_line(s: &StageReport) -> String {
     format!(
-        "optimization: stage {:.0} deg{}: {} evaluations ({} in undone insertions), {} of {} tries succeeded; worst {:.2} -> {:.2} deg, below {} -> {}; ended: {}",
+        "optimization: stage {:.0} deg{}: {} evaluations ({} in undone insertions), {} of {} tries succeeded; worst {:.2} -> {:.2} deg (last raised after {} evaluations), below {} -> {}; ended: {}",
         s.threshold,
         if s.second_run { " (second run)" } else { "" },
         s.evaluations,
@@ -118,6 +118,7 @@ pub fn stage_line(s: &StageReport) -> String {
         s.attempts,
         s.worst[0],
         s.worst[1],
+        s.worst_reached,
         s.below[0],
         s.below[1],
         s.stop

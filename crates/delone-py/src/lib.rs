@@ -685,6 +685,7 @@ fn quality3(py: Python<'_>, r: &delone::tet::TetResult) -> PyResult<Py<PyDict>> 
         x.set_item("second_run", st.second_run)?;
         x.set_item("evaluations", st.evaluations)?;
         x.set_item("undone_evaluations", st.undone_evaluations)?;
+        x.set_item("worst_reached", st.worst_reached)?;
         x.set_item("attempts", st.attempts)?;
         x.set_item("successes", st.successes)?;
         x.set_item("worst", (st.worst[0], st.worst[1]))?;

@@ -843,6 +843,14 @@ fn stages_report_their_work_and_why_they_ended() {
     assert!(spent > 0 && spent <= rep.evaluations);
     for (k, s) in rep.stages.iter().enumerate() {
         assert!(s.undone_evaluations <= s.evaluations);
+        assert!(s.worst_reached <= s.evaluations);
+        // The worst never falls: a stage that raised it by a degree says
+        // when, one that left it says 0.
+        if s.worst[1] > s.worst[0] + 1.0 {
+            assert!(s.worst_reached > 0, "{s:?}");
+        } else if s.worst[1] == s.worst[0] {
+            assert_eq!(s.worst_reached, 0, "{s:?}");
+        }
         assert!(s.successes <= s.attempts);
         // A stage starts where the one before it ended.
         if k > 0 {
