@@ -685,7 +685,7 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
 /// a corner of its plain edge over the points of its other edge.
 fn crossed_fan_slab(m: u32, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
     let mut pts: Vec<[f64; 3]> = Vec::new();
-    let mut id = |pts: &mut Vec<[f64; 3]>, p: [f64; 3]| -> u32 {
+    let id = |pts: &mut Vec<[f64; 3]>, p: [f64; 3]| -> u32 {
         if let Some(i) = pts.iter().position(|q| *q == p) {
             return i as u32;
         }
