@@ -676,3 +676,105 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
         assert!(r.report.steiner() <= most, "{name}: {:?}", r.report);
     }
 }
+
+/// A slab `[0, 1] x [0, 1] x [0, h]` whose top is a fan of long thin
+/// triangles from corner `(0, 0, h)` over `m` points on each of its two far
+/// sides, and whose bottom is the same fan from the opposite corner
+/// `(1, 1, 0)` (so the two fans cross in projection, and the Delaunay
+/// edges between them cross many thin triangles); each side is a fan from
+/// a corner of its plain edge over the points of its other edge.
+fn crossed_fan_slab(m: u32, h: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut pts: Vec<[f64; 3]> = Vec::new();
+    let id = |pts: &mut Vec<[f64; 3]>, p: [f64; 3]| -> u32 {
+        if let Some(i) = pts.iter().position(|q| *q == p) {
+            return i as u32;
+        }
+        pts.push(p);
+        (pts.len() - 1) as u32
+    };
+    let s = |i: u32| f64::from(i) / f64::from(m);
+    // Chains along the far sides: top (x = 1 then y = 1), bottom (x = 0 then y = 0).
+    let top: Vec<u32> = (0..=m)
+        .map(|i| [1.0, s(i), h])
+        .chain((1..=m).map(|i| [1.0 - s(i), 1.0, h]))
+        .map(|p| id(&mut pts, p))
+        .collect();
+    let bot: Vec<u32> = (0..=m)
+        .map(|i| [0.0, 1.0 - s(i), 0.0])
+        .chain((1..=m).map(|i| [s(i), 0.0, 0.0]))
+        .map(|p| id(&mut pts, p))
+        .collect();
+    let c = |pts: &mut Vec<[f64; 3]>, x: f64, y: f64, z: f64| id(pts, [x, y, z]);
+    let (t00, b11) = (c(&mut pts, 0.0, 0.0, h), c(&mut pts, 1.0, 1.0, 0.0));
+    let mut tris: Vec<([u32; 3], [f64; 3])> = Vec::new();
+    for w in top.windows(2) {
+        tris.push(([t00, w[0], w[1]], [0.0, 0.0, 1.0]));
+    }
+    for w in bot.windows(2) {
+        tris.push(([b11, w[0], w[1]], [0.0, 0.0, -1.0]));
+    }
+    // Sides: (chain part, plain edge's corner, the other plain corner, normal).
+    let (b10, t01, t10) = (
+        c(&mut pts, 1.0, 0.0, 0.0),
+        c(&mut pts, 0.0, 1.0, h),
+        c(&mut pts, 1.0, 0.0, h),
+    );
+    let b01 = c(&mut pts, 0.0, 1.0, 0.0);
+    let sides = [
+        (&top[..=m as usize], b10, b11, [1.0, 0.0, 0.0]),
+        (&top[m as usize..], b11, b01, [0.0, 1.0, 0.0]),
+        (&bot[..=m as usize], t01, t00, [-1.0, 0.0, 0.0]),
+        (&bot[m as usize..], t00, t10, [0.0, -1.0, 0.0]),
+    ];
+    for (chain, p, q, n) in sides {
+        for w in chain.windows(2) {
+            tris.push(([p, w[0], w[1]], n));
+        }
+        // The plain edge p q closes the side with the chain's end (above
+        // or below q).
+        tris.push(([p, q, chain[chain.len() - 1]], n));
+    }
+    // Orient every triangle by its outward normal.
+    let tris = tris
+        .into_iter()
+        .map(|(mut t, n)| {
+            let [a, b, c] = t.map(|w| pts[w as usize]);
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let x = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            if x[0] * n[0] + x[1] * n[1] + x[2] * n[2] < 0.0 {
+                t.swap(1, 2);
+            }
+            t
+        })
+        .collect();
+    (pts, tris)
+}
+
+/// `-p`'s recovery (flips given up when they go in a circle, for segments
+/// and for triangles) on slabs of crossed coplanar fans of thin triangles:
+/// the surface is recovered unchanged, deterministically, with and without
+/// merging of the coplanar triangles.
+#[test]
+fn crossed_fan_slabs_recover_with_stopped_circles() {
+    for (m, h) in [(12, 0.05), (25, 0.02)] {
+        let (pts, tris) = crossed_fan_slab(m, h);
+        for merge in [true, false] {
+            let opts = RecoverOptions {
+                merge_coplanar: merge,
+                stop_circling_flips: true,
+                ..RecoverOptions::default()
+            };
+            let name = format!("crossed fans m={m} h={h} merge={merge}");
+            let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+            check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
+            let again = recover(&pts, &tris, &opts).unwrap();
+            assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+            println!("{name}: {:?}", r.report);
+        }
+    }
+}

@@ -591,12 +591,46 @@ pub(crate) fn recover_facet(
     inner: &[u32],
     prot: &Protected,
 ) -> bool {
+    recover_facet_within(cm, surf, t, inner, prot, false)
+}
+
+/// Most consecutive steps of [`recover_facet_within`] (with
+/// `stop_circles`) that may leave the number of crossing edges above the
+/// least reached so far.
+const FACET_STALL: usize = 8;
+
+/// [`recover_facet`]; with `stop_circles`, the flips are given up (false)
+/// once [`FACET_STALL`] consecutive steps have not brought the number of
+/// edges crossing `t` below the least reached so far: each step removes
+/// one crossing edge, and when its ring triangulation creates as many
+/// crossing chords as it removes the flips go in a circle (on long thin
+/// triangles of coplanar fans, hundreds of steps at a constant count, each
+/// with a search of the crossing edges), while the triangle is split
+/// anyway when they fail.
+pub(crate) fn recover_facet_within(
+    cm: &mut Journaled<'_>,
+    surf: &Surface,
+    t: usize,
+    inner: &[u32],
+    prot: &Protected,
+    stop_circles: bool,
+) -> bool {
     let mut cross = crossing_edges(cm, surf, t, inner);
     let cap = 16 + 4 * cross.len();
     let tv = surf.tris[t];
+    let (mut least, mut stalled) = (cross.len(), 0);
     for _ in 0..cap {
         if cross.is_empty() {
             return true;
+        }
+        if stop_circles {
+            if cross.len() < least {
+                (least, stalled) = (cross.len(), 0);
+            } else if stalled >= FACET_STALL {
+                return false;
+            } else {
+                stalled += 1;
+            }
         }
         let [ta, tb, tc] = tv.map(|w| cm.pts()[w as usize]);
         // New ring chords crossing `t` cost one each.

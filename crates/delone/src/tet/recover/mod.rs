@@ -959,7 +959,14 @@ impl State {
                 if !uncovered.is_empty() {
                     for &t in &uncovered {
                         let inner = self.tri_inner.get(&(t as u32)).cloned().unwrap_or_default();
-                        cdt::recover_facet(&mut cm, &self.surf, t, &inner, &prot);
+                        cdt::recover_facet_within(
+                            &mut cm,
+                            &self.surf,
+                            t,
+                            &inner,
+                            &prot,
+                            stop_circles,
+                        );
                     }
                     self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
                     uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
