@@ -1164,6 +1164,43 @@ pub(super) mod tests {
         (pts, tris)
     }
 
+    /// The polygon left by a surface point `s` whose fan reaches an input
+    /// edge with three rounded Steiner points on it, the middle one a
+    /// unit in the last place off the line (convex in floating point):
+    /// with the points of that edge collinear by construction, no new
+    /// triangle has three of them, and the triangles tile the polygon.
+    #[test]
+    fn polygon_without_cuts_no_ear_of_one_edge() {
+        for dy in [-1e-15, -3e-16, 1e-15] {
+            // 0..=4 on the edge y = 0 (ends 0 and 4), 5 the third corner.
+            let mut pts: Vec<P> = vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [2.0, dy, 0.0],
+                [3.0, 0.0, 0.0],
+                [4.0, 0.0, 0.0],
+                [0.0, 4.0, 0.0],
+            ];
+            // `s` = 6, inside; its fan over the cycle 0 1 2 3 4 5.
+            pts.push([1.5, 1.0, 0.0]);
+            let fan: Vec<[u32; 3]> = (0..6u32).map(|i| [6, i, (i + 1) % 6]).collect();
+            let on_edge = |w: u32| w <= 4;
+            let flat = |f: [u32; 3]| f.iter().all(|&w| on_edge(w));
+            let tris = polygon_without(&pts, &fan, &[6], 2, flat).unwrap();
+            assert_eq!(tris.len(), 4, "{tris:?}");
+            let mut area = 0.0;
+            for t in &tris {
+                assert!(!flat(*t), "sliver {t:?}");
+                let [a, b, c] = t.map(|w| project(&pts[w as usize], 2));
+                let o = orient2d(&a, &b, &c);
+                assert!(o > 0.0, "{t:?}");
+                area += o;
+            }
+            // Twice the polygon's area: 4 * 4 (up to the bump at 2).
+            assert!((area - 16.0).abs() < 1e-9, "{area}");
+        }
+    }
+
     /// Models on which the `-p` path splits edges and triangles (and thin
     /// boxes, on which it may not); the fallback must leave every input
     /// triangle one face, a valid mesh, and no used point on the surface
