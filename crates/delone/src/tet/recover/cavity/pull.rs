@@ -986,6 +986,19 @@ fn polygon_without(
                 if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 || flat([cyc[u], cyc[v], cyc[w]]) {
                     return false;
                 }
+                // A diagonal along an input edge must pass no vertex of
+                // that edge (it would leave a triangle of three of them).
+                let d = [p2[w][0] - p2[u][0], p2[w][1] - p2[u][1]];
+                let dd = d[0] * d[0] + d[1] * d[1];
+                let between = |x: usize| {
+                    let t = (p2[x][0] - p2[u][0]) * d[0] + (p2[x][1] - p2[u][1]) * d[1];
+                    t > 0.0 && t < dd
+                };
+                if idx.iter().any(|&x| {
+                    x != u && x != v && x != w && flat([cyc[u], cyc[w], cyc[x]]) && between(x)
+                }) {
+                    return false;
+                }
                 idx.iter().all(|&x| {
                     x == u
                         || x == v
