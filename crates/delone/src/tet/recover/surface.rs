@@ -354,16 +354,20 @@ impl Surface {
         let (a, b, c) = (get(f[0]), get(f[1]), get(f[2]));
         for &t in a {
             if b.binary_search(&t).is_ok() && c.binary_search(&t).is_ok() {
-                let m = self.edge_mask(f[0], t as usize)
-                    & self.edge_mask(f[1], t as usize)
-                    & self.edge_mask(f[2], t as usize);
-                if m == 0 {
+                if !self.on_one_edge(f, t as usize) {
                     out.push(t);
                 } else {
                     flat.push(t);
                 }
             }
         }
+    }
+
+    /// Whether the three points `f`, all on input triangle `t`, lie on one
+    /// of its edges (symbolically collinear: the input edge's ends and its
+    /// Steiner points, whatever their rounded coordinates).
+    pub(crate) fn on_one_edge(&self, f: [u32; 3], t: usize) -> bool {
+        self.edge_mask(f[0], t) & self.edge_mask(f[1], t) & self.edge_mask(f[2], t) != 0
     }
 
     /// The subsegments on the boundary of triangle `t`.

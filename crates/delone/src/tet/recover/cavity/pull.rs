@@ -22,6 +22,11 @@
 //!    `s` lies). `R` is triangulated **without** `s` by ear clipping in
 //!    the projection along `T`'s dominant axis (exact `orient2d`; a simple
 //!    polygon always has an ear whose triangle holds no other vertex).
+//!    Three points of one edge of `T` (its ends and the Steiner points on
+//!    it) are collinear by construction, whatever their rounded
+//!    coordinates: such an ear is never cut ([`Surface::on_one_edge`]), so
+//!    no new triangle is a sliver whose plane rounding tilts at will (a
+//!    polygon with a straight run still has ears of positive area).
 //!    A fan that is a single thin face `u s w` of three points of one
 //!    edge (the `-p` coverage accepts such faces next to a chord `u w`
 //!    when the points are rounded) leaves an empty polygon: the segment
@@ -55,14 +60,20 @@
 //!    tetrahedra behind the faces the candidates do not see (the deepest
 //!    point's when no ray gave fewer; never across the surface), then it is filled like a cavity of the parent module
 //!    (a cone from one of its vertices, else from a kernel point, growing
-//!    towards the faces the best point does not see). A ghost wedge (the
-//!    outside of a triangle on the convex hull) gets ghosts on the new
-//!    triangles instead.
+//!    towards the faces the best point does not see). A wedge with a
+//!    ghost (it reaches the convex hull, so it is outside the domain) is
+//!    not filled: it becomes outside the hull, ghosts on the new triangles
+//!    and on its faces opposite `s` (a face that is on the hull already
+//!    takes the ghost behind it along); the interior Steiner points it
+//!    swallows go unused. Nothing there is geometric, so nothing there
+//!    depends on rounding; carving floods from the ghosts as before.
 //! 4. The replacement of the whole star is validated exactly before it is
 //!    applied (every new finite tetrahedron strictly positive; the new
 //!    tetrahedra's oriented faces forming a chain whose boundary is exactly
 //!    the star's boundary, so — winding number — they tile the star; every
-//!    vertex but `s` kept; no new edge that exists elsewhere in the mesh).
+//!    vertex but `s` kept, except interior Steiner points swallowed by a
+//!    wedge outside the hull; no new edge that exists elsewhere in the
+//!    mesh).
 //!
 //! **Clusters.** A point whose removal fails (after every other point has
 //! been tried again, as long as a pass removes one) is removed together
@@ -116,6 +127,7 @@
 //! cut out of the polygons by chords). One surface point fewer per step, so
 //! the loop terminates.
 
+use super::super::surface::Surface;
 use super::super::{FacesOn, RecoverError, State};
 use super::cdt::{Protected, SEG_OPS};
 use super::{fill, grow, okey, Fill, Region};
@@ -167,7 +179,7 @@ impl State {
             let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
             // the `-p` path added).
-            match self.pull_off(&mut cm, &on, st.report.steiner()) {
+            match self.pull_off(&mut cm, &on, st.report.steiner(), &st.surf) {
                 Ok(added) => return Ok(Self::pulled(st, cm, added)),
                 Err(e @ RecoverError::Unrecovered { .. }) => last = Some(e),
                 Err(e) => return Err(e),
@@ -204,6 +216,7 @@ impl State {
         cm: &mut Journaled<'_>,
         on: &FacesOn,
         before: usize,
+        refined: &Surface,
     ) -> Result<usize, RecoverError> {
         let n_in = self.n_fixed();
         let mut face_tri: IdMap<[u32; 3], u32> = IdMap::default();
@@ -226,7 +239,7 @@ impl State {
                 let before_len = pending.len();
                 let mut failed = Vec::new();
                 for &s in &pending {
-                    match self.pull_set(cm, &[s], &mut face_tri) {
+                    match self.pull_set(cm, &[s], &mut face_tri, refined) {
                         Some(k) => added += k,
                         None => failed.push(s),
                     }
@@ -242,7 +255,7 @@ impl State {
                 if gone.binary_search(&s).is_ok() {
                     continue;
                 }
-                if let Some((k, set)) = self.pull_cluster(cm, s, n_in, &mut face_tri) {
+                if let Some((k, set)) = self.pull_cluster(cm, s, n_in, &mut face_tri, refined) {
                     added += k;
                     gone.extend(set);
                     gone.sort_unstable();
@@ -295,6 +308,7 @@ impl State {
         s: u32,
         n_in: usize,
         face_tri: &mut IdMap<[u32; 3], u32>,
+        refined: &Surface,
     ) -> Option<(usize, Vec<u32>)> {
         let mut order = vec![s];
         let mut next = 0;
@@ -321,7 +335,7 @@ impl State {
         for k in 2..=order.len() {
             let mut set = order[..k].to_vec();
             set.sort_unstable();
-            if let Some(a) = self.pull_set(cm, &set, face_tri) {
+            if let Some(a) = self.pull_set(cm, &set, face_tri, refined) {
                 return Some((a, set));
             }
         }
@@ -336,6 +350,7 @@ impl State {
         cm: &mut Journaled<'_>,
         sset: &[u32],
         face_tri: &mut IdMap<[u32; 3], u32>,
+        refined: &Surface,
     ) -> Option<usize> {
         let c = &cm.m;
         let pts = cm.pts();
@@ -382,7 +397,8 @@ impl State {
                 .collect();
             let [a, b, cc] = self.surf.tris[ti as usize].map(|w| pts[w as usize]);
             let ax = super::super::place::dominant_axis(&a, &b, &cc);
-            let tri = polygon_without(pts, &fan, sset, ax)?;
+            let flat = |f: [u32; 3]| refined.on_one_edge(f, ti as usize);
+            let tri = polygon_without(pts, &fan, sset, ax, flat)?;
             fan_count.insert(ti, fan.len());
             polys.insert(ti, (ax, tri));
         }
@@ -479,21 +495,37 @@ impl State {
                     bound.push(if sign > 0.0 { *t } else { [t[0], t[2], t[1]] });
                 }
             }
-            if ghosts == w.len() {
-                // Outside a hull triangle: ghosts on the new triangles,
-                // oriented like the old ghosts' hull faces.
-                for t in bound {
+            if ghosts > 0 {
+                // A wedge reaching the convex hull is outside the domain:
+                // it becomes outside the hull, ghosts on the new triangles
+                // and on its finite faces kept (a face kept that is on the
+                // hull takes the ghost behind it along instead), oriented
+                // like the wedge's faces there. Nothing here is geometric:
+                // ghosts have no orientation, and the chain check of
+                // `valid_star` vouches for the gluing.
+                let ghost = |t: [u32; 3]| {
                     let g = [t[0], t[1], t[2], INF];
-                    new.push(if okey(face(g, 3)) == okey(t) {
+                    if okey(face(g, 3)) == okey(t) {
                         g
                     } else {
                         [t[0], t[2], t[1], INF]
-                    });
+                    }
+                };
+                new.extend(bound.into_iter().map(ghost));
+                for (fv, t, f) in link {
+                    if fv.contains(&INF) {
+                        continue;
+                    }
+                    let n = c.nb[t as usize][f] >> 2;
+                    if at(n).is_none() && c.tv[n as usize].contains(&INF) {
+                        if let Err(pos) = removed.binary_search(&n) {
+                            removed.insert(pos, n);
+                        }
+                    } else {
+                        new.push(ghost(fv));
+                    }
                 }
                 continue;
-            }
-            if ghosts > 0 {
-                return None;
             }
             let id = all_pts.len() as u32;
             let near = match sset {
@@ -539,7 +571,17 @@ impl State {
             };
             new.extend(tets);
         }
-        if !valid_star(cm, &all_pts, &removed, &new, sset) {
+        // Interior Steiner points (not on the surface) that the removed
+        // region swallows whole (a wedge outside the hull) may go unused.
+        let n_in = self.n_fixed();
+        let may_lose = |w: u32| {
+            w as usize >= n_in
+                && refined
+                    .kind
+                    .get(w as usize)
+                    .is_none_or(|k| *k == super::super::surface::Kind::Input)
+        };
+        if !valid_star(cm, &all_pts, &removed, &new, sset, may_lose) {
             return None;
         }
         // Update the surface faces: the fans give way to the polygons.
@@ -839,7 +881,13 @@ pub(super) fn project(p: &P, ax: usize) -> [f64; 2] {
 /// cycle through the points of `sset` on the triangle's edges; each of
 /// those is cut out (its two neighbours joined by a chord, on the edge's
 /// line), so the polygon's vertices are the fan's other vertices.
-fn polygon_without(pts: &[P], fan: &[[u32; 3]], sset: &[u32], ax: usize) -> Option<Vec<[u32; 3]>> {
+fn polygon_without(
+    pts: &[P],
+    fan: &[[u32; 3]],
+    sset: &[u32],
+    ax: usize,
+    flat: impl Fn([u32; 3]) -> bool,
+) -> Option<Vec<[u32; 3]>> {
     let in_s = |w: u32| sset.binary_search(&w).is_ok();
     // Boundary edges and the adjacency of their vertices.
     let mut count: IdMap<(u32, u32), u32> = IdMap::default();
@@ -935,7 +983,20 @@ fn polygon_without(pts: &[P], fan: &[[u32; 3]], sset: &[u32], ax: usize) -> Opti
         let ear = (0..n)
             .filter(|&i| {
                 let (u, v, w) = (idx[(i + n - 1) % n], idx[i], idx[(i + 1) % n]);
-                if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 {
+                if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 || flat([cyc[u], cyc[v], cyc[w]]) {
+                    return false;
+                }
+                // A diagonal along an input edge must pass no vertex of
+                // that edge (it would leave a triangle of three of them).
+                let d = [p2[w][0] - p2[u][0], p2[w][1] - p2[u][1]];
+                let dd = d[0] * d[0] + d[1] * d[1];
+                let between = |x: usize| {
+                    let t = (p2[x][0] - p2[u][0]) * d[0] + (p2[x][1] - p2[u][1]) * d[1];
+                    t > 0.0 && t < dd
+                };
+                if idx.iter().any(|&x| {
+                    x != u && x != v && x != w && flat([cyc[u], cyc[w], cyc[x]]) && between(x)
+                }) {
                     return false;
                 }
                 idx.iter().all(|&x| {
@@ -958,7 +1019,7 @@ fn polygon_without(pts: &[P], fan: &[[u32; 3]], sset: &[u32], ax: usize) -> Opti
         idx.remove(ear);
     }
     let (u, v, w) = (idx[0], idx[1], idx[2]);
-    if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 {
+    if orient2d(&p2[u], &p2[v], &p2[w]) <= 0.0 || flat([cyc[u], cyc[v], cyc[w]]) {
         return None;
     }
     out.push([cyc[u], cyc[v], cyc[w]]);
@@ -1017,7 +1078,14 @@ fn fill_wedge(
 
 /// Exact validation of replacing the star `old` (sorted) of the points
 /// `sset` (sorted) by `new` (module documentation).
-fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset: &[u32]) -> bool {
+fn valid_star(
+    cm: &Journaled<'_>,
+    pts: &[P],
+    old: &[u32],
+    new: &[[u32; 4]],
+    sset: &[u32],
+    may_lose: impl Fn(u32) -> bool,
+) -> bool {
     let c = &cm.m;
     let in_s = |w: u32| sset.binary_search(&w).is_ok();
     for tv in new {
@@ -1046,7 +1114,7 @@ fn valid_star(cm: &Journaled<'_>, pts: &[P], old: &[u32], new: &[[u32; 4]], sset
             return false;
         }
         for i in 0..4 {
-            if !in_s(tv[i]) && !new_verts.contains(&tv[i]) {
+            if !in_s(tv[i]) && !new_verts.contains(&tv[i]) && (tv[i] == INF || !may_lose(tv[i])) {
                 return false;
             }
             for j in i + 1..4 {
@@ -1107,6 +1175,43 @@ pub(super) mod tests {
             }
         }
         (pts, tris)
+    }
+
+    /// The polygon left by a surface point `s` whose fan reaches an input
+    /// edge with three rounded Steiner points on it, the middle one a
+    /// unit in the last place off the line (convex in floating point):
+    /// with the points of that edge collinear by construction, no new
+    /// triangle has three of them, and the triangles tile the polygon.
+    #[test]
+    fn polygon_without_cuts_no_ear_of_one_edge() {
+        for dy in [-1e-15, -3e-16, 1e-15] {
+            // 0..=4 on the edge y = 0 (ends 0 and 4), 5 the third corner.
+            let mut pts: Vec<P> = vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [2.0, dy, 0.0],
+                [3.0, 0.0, 0.0],
+                [4.0, 0.0, 0.0],
+                [0.0, 4.0, 0.0],
+            ];
+            // `s` = 6, inside; its fan over the cycle 0 1 2 3 4 5.
+            pts.push([1.5, 1.0, 0.0]);
+            let fan: Vec<[u32; 3]> = (0..6u32).map(|i| [6, i, (i + 1) % 6]).collect();
+            let on_edge = |w: u32| w <= 4;
+            let flat = |f: [u32; 3]| f.iter().all(|&w| on_edge(w));
+            let tris = polygon_without(&pts, &fan, &[6], 2, flat).unwrap();
+            assert_eq!(tris.len(), 4, "{tris:?}");
+            let mut area = 0.0;
+            for t in &tris {
+                assert!(!flat(*t), "sliver {t:?}");
+                let [a, b, c] = t.map(|w| project(&pts[w as usize], 2));
+                let o = orient2d(&a, &b, &c);
+                assert!(o > 0.0, "{t:?}");
+                area += o;
+            }
+            // Twice the polygon's area: 4 * 4 (up to the bump at 2).
+            assert!((area - 16.0).abs() < 1e-9, "{area}");
+        }
     }
 
     /// Models on which the `-p` path splits edges and triangles (and thin
