@@ -384,3 +384,20 @@ fn plates_with_holes() {
         check_y(&format!("plate {n}/{holes}/{m}"), &pts, &tris);
     }
 }
+
+/// A CSG pipe tee whose flat faces are fans of exactly coplanar triangles
+/// (`tests/data/README.md`): the `-Y` fallback's surface Steiner points
+/// on edges between two coplanar triangles are pulled off through wedges
+/// that no point beside them sees (flat tetrahedra in their stars); the
+/// gift-wrapping fill of such a wedge needs no such point. Recovered,
+/// checked, with the same output twice.
+#[test]
+fn pipe_tee_with_coplanar_fans() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/pipe_tee.off");
+    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
+    let tris = s.triangles();
+    let a = check_y("pipe_tee", &s.points, &tris);
+    let b = recover(&s.points, &tris, &preserve()).unwrap();
+    assert_eq!(a.points, b.points);
+    assert_eq!(a.mesh.tets, b.mesh.tets);
+}

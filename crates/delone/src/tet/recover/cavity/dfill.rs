@@ -3,7 +3,8 @@
 //! half-cavity in Si & Gärtner 2005 and Diazzi et al. 2023), see
 //! [`wrap_fill`]. The `prune` module uses it to retriangulate the star of
 //! an interior Steiner point without that point when no cone from one of
-//! the star's vertices does. Such a tetrahedralization need not exist
+//! the star's vertices does; the `pull` module fills a wedge with it when
+//! no cone does, before it tries a kernel point. Such a tetrahedralization need not exist
 //! when the boundary faces are not Delaunay (Schönhardt's prism; the fan
 //! triangles of the flat faces of CAD models): the wrapping then reports
 //! failure and the point stays.

@@ -59,8 +59,12 @@
 //!    When nothing works, the wedge grows by the
 //!    tetrahedra behind the faces the candidates do not see (the deepest
 //!    point's when no ray gave fewer; never across the surface), then it is filled like a cavity of the parent module
-//!    (a cone from one of its vertices, else from a kernel point, growing
-//!    towards the faces the best point does not see). A wedge with a
+//!    (a cone from one of its vertices, else the gift-wrapping fill of its
+//!    faces with no new point — `dfill::wrap_fill`, exact tests with
+//!    symbolic perturbation, which needs no point to see every face and
+//!    so fills the wedges that flat tetrahedra of exactly coplanar input
+//!    triangles leave at `s` —, else a kernel point, growing towards the
+//!    faces the best point does not see). A wedge with a
 //!    ghost (it reaches the convex hull, so it is outside the domain) is
 //!    not filled: it becomes outside the hull, ghosts on the new triangles
 //!    and on its faces opposite `s` (a face that is on the hull already
@@ -1040,7 +1044,8 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 
 /// Fills a wedge bounded by `bound` (its new triangles) and `link` (its
 /// faces kept, with the tetrahedron behind each) by a cone from one of
-/// its vertices, else from a kernel point (id `id`), growing it by the
+/// its vertices, else by gift-wrapping (`dfill::wrap_fill`, no new
+/// point), else from a kernel point (id `id`), growing it by the
 /// tetrahedra behind the faces the best point found does not see (never
 /// across a surface face of `prot`, a ghost, or a tetrahedron of
 /// `removed`), at most [`super::MAX_GROW`] times; the grown tetrahedra are added
@@ -1060,7 +1065,17 @@ fn fill_wedge(
     let taken: IdSet<u32> = removed.iter().copied().collect();
     let mut set: Vec<u32> = Vec::new();
     for _ in 0..=super::MAX_GROW {
-        match fill(pts, &reg.tris(), &reg.vertices(), true, id) {
+        let tris = reg.tris();
+        let got = match fill(pts, &tris, &reg.vertices(), false, id) {
+            Ok(f) => Ok(f),
+            // No cone: the gift-wrapping fill (no new point; exact tests
+            // with symbolic perturbation), else a kernel point.
+            Err(_) => match super::dfill::wrap_fill(pts, &tris) {
+                Some(tets) => Ok(Fill { tets, point: None }),
+                None => fill(pts, &tris, &[], true, id),
+            },
+        };
+        match got {
             Ok(f) => {
                 removed.extend(set);
                 removed.sort_unstable();
