@@ -1118,8 +1118,6 @@ impl State {
 }
 
 impl State {
-    /// Records the flip counts of a mesh finished by
-    /// [`State::preserve_by_cavities`] and hands it on.
     /// After the first unfinished cavity call, once per recovery: the
     /// fallback that always applies ([`State::preserve_fallback`] on the
     /// scaled input points `scaled`). `Some` (this state replaced by the
@@ -1146,6 +1144,8 @@ impl State {
         }
     }
 
+    /// Records the flip counts of a mesh finished by
+    /// [`State::preserve_by_cavities`] and hands it on.
     pub(super) fn cavity_done<'a>(
         &mut self,
         done: (Journaled<'a>, FacesOn),

@@ -93,7 +93,7 @@ impl State {
                 if !live[s - n_in] {
                     continue;
                 }
-                if self.remove_by_cone(cm, s as u32, &prot) {
+                if self.remove_by_refill(cm, s as u32, &prot) {
                     live[s - n_in] = false;
                     removed += 1;
                     any = true;
@@ -109,7 +109,7 @@ impl State {
     /// Replaces the star of interior point `s` by the cone from one of its
     /// boundary vertices, when one is valid, else by the gift-wrapping
     /// fill when it is valid; true when done.
-    fn remove_by_cone(&self, cm: &mut Journaled<'_>, s: u32, prot: &Guard) -> bool {
+    fn remove_by_refill(&self, cm: &mut Journaled<'_>, s: u32, prot: &Guard) -> bool {
         let mut star = cm.star(s);
         if star.is_empty()
             || star.iter().any(|&t| {
