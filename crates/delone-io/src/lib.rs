@@ -55,6 +55,7 @@ mod mtr;
 mod obj;
 mod off;
 mod out;
+mod par;
 mod plc;
 mod ply;
 mod poly;

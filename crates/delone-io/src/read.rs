@@ -485,19 +485,10 @@ fn node_runs(
         f.first_index = first.unwrap_or(0);
         (f, rec.line, ok)
     };
-    let parsed: Vec<Option<(NodeFile, usize, bool)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = (1..runs.len())
-            .map(|k| std::thread::Builder::new().spawn_scoped(s, move || parse(k)))
-            .collect();
-        let mut out = vec![Some(parse(0))];
-        for (k, h) in handles.into_iter().enumerate() {
-            out.push(match h {
-                Ok(h) => h.join().ok(),
-                Err(_) => Some(parse(k + 1)),
-            });
-        }
-        out
-    });
+    let parsed: Vec<Option<(NodeFile, usize, bool)>> = crate::par::scoped_map(runs.len(), parse)
+        .into_iter()
+        .map(Result::ok)
+        .collect();
     // Joined in order; an error counts only before the n-th point.
     let mut parsed = parsed.into_iter();
     let (mut f, mut lines, ok) = parsed.next()??;

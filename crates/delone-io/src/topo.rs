@@ -179,28 +179,14 @@ pub fn tet_faces_threads(
     if threads == 1 || tets.len() <= chunk {
         return Ok(scan(0, tets, neighbors));
     }
-    let scan = &scan;
-    let parts: Vec<Entities<3>> = std::thread::scope(|s| {
-        // A chunk whose thread cannot start is scanned on this thread.
-        let handles: Vec<_> = (tets.chunks(chunk).zip(neighbors.chunks(chunk)))
-            .enumerate()
-            .map(|(c, (t, n))| {
-                let h = std::thread::Builder::new()
-                    .spawn_scoped(s, move || scan(c * chunk, t, n))
-                    .ok();
-                (h, c, t, n)
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|(h, c, t, n)| match h {
-                Some(h) => h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
-                None => scan(c * chunk, t, n),
-            })
-            .collect()
+    let chunks: Vec<_> = tets.chunks(chunk).zip(neighbors.chunks(chunk)).collect();
+    let parts = crate::par::scoped_map(chunks.len(), |c| {
+        let (t, n) = chunks[c];
+        scan(c * chunk, t, n)
     });
     let mut out = Entities::default();
     for p in parts {
+        let p = p.unwrap_or_else(|e| std::panic::resume_unwind(e));
         out.items.extend(p.items);
         out.boundary.extend(p.boundary);
     }
