@@ -275,10 +275,29 @@ pub(crate) fn round_start(order: &[u32], end: usize, keep: usize) -> usize {
 /// positions (in-place American flag sort: one swap puts one item into its
 /// bucket, and the buckets' fill positions are 256 sequential streams),
 /// until buckets of at most 4096 items are placed by following cycles
-/// within the cache. About n·(levels + 1) swaps.
-pub(crate) fn scatter_in_place<T>(items: &mut [T], keys: &mut [u32]) {
+/// within the cache. About n·(levels + 1) swaps. The buckets of the first
+/// level are finished on up to `threads` threads (the result is the same:
+/// the items in key order).
+pub(crate) fn scatter_in_place<T: Send>(items: &mut [T], keys: &mut [u32], threads: usize) {
     debug_assert_eq!(items.len(), keys.len());
-    scatter_from(items, keys, 0);
+    let n = items.len().min(keys.len());
+    if threads <= 1 || n <= 1 << 16 {
+        scatter_from(items, keys, 0);
+        return;
+    }
+    let shift = distribute(items, keys, 0);
+    let bounds: Vec<usize> = (0..n.div_ceil(1 << shift))
+        .map(|b| b << shift)
+        .chain([n])
+        .collect();
+    let items: Vec<(usize, (&mut [T], &mut [u32]))> = (crate::par::split_mut(items, &bounds))
+        .into_iter()
+        .zip(crate::par::split_mut(keys, &bounds))
+        .enumerate()
+        .collect();
+    crate::par::run_dynamic(threads, items, |_, (b, (items, keys))| {
+        scatter_from(items, keys, (b << shift) as u32);
+    });
 }
 
 /// [`scatter_in_place`] of a bucket whose keys are `base..base + n`.
@@ -299,6 +318,20 @@ fn scatter_from<T>(items: &mut [T], keys: &mut [u32], base: u32) {
         }
         return;
     }
+    let shift = distribute(items, keys, base);
+    let buckets = ((n - 1) >> shift) + 1;
+    for b in 0..buckets {
+        let (lo, hi) = (b << shift, ((b + 1) << shift).min(n));
+        scatter_from(&mut items[lo..hi], &mut keys[lo..hi], base + lo as u32);
+    }
+}
+
+/// One level of [`scatter_in_place`] on a bucket of more than 4096 items
+/// whose keys are `base..base + n`: moves the items into at most 256
+/// buckets of `2^shift` consecutive target positions; returns `shift`.
+fn distribute<T>(items: &mut [T], keys: &mut [u32], base: u32) -> u32 {
+    let n = items.len().min(keys.len());
+    let at = |keys: &[u32], i: usize| keys[i].wrapping_sub(base) as usize;
     let shift = (usize::BITS - (n - 1).leading_zeros()).saturating_sub(8);
     let buckets = ((n - 1) >> shift) + 1;
     let mut fill: Vec<usize> = (0..buckets).map(|b| b << shift).collect();
@@ -317,10 +350,7 @@ fn scatter_from<T>(items: &mut [T], keys: &mut [u32], base: u32) {
             }
         }
     }
-    for b in 0..buckets {
-        let (lo, hi) = (b << shift, ((b + 1) << shift).min(n));
-        scatter_from(&mut items[lo..hi], &mut keys[lo..hi], base + lo as u32);
-    }
+    shift
 }
 
 /// The Hilbert keys of [`brio_order`]: coordinates quantized on a grid of
@@ -369,12 +399,15 @@ mod tests {
         for n in [0usize, 1, 2, 5, 4096, 4097, 70_000, 300_001] {
             let original: Vec<u64> = (0..n as u64).map(|i| i * 3 + 1).collect();
             let pts: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -(i as f64)]).collect();
-            let mut order = brio_order(&pts);
+            let order = brio_order(&pts);
             assert_eq!(order, brio_order_threads(&pts, 3));
-            let mut items: Vec<u64> = order.iter().map(|&i| original[i as usize]).collect();
-            scatter_in_place(&mut items, &mut order);
-            assert_eq!(items, original);
-            assert!(order.iter().enumerate().all(|(i, &k)| k as usize == i));
+            for threads in [1, 2, 3] {
+                let mut keys = order.clone();
+                let mut items: Vec<u64> = keys.iter().map(|&i| original[i as usize]).collect();
+                scatter_in_place(&mut items, &mut keys, threads);
+                assert_eq!(items, original);
+                assert!(keys.iter().enumerate().all(|(i, &k)| k as usize == i));
+            }
         }
     }
 

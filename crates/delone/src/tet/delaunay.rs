@@ -682,10 +682,10 @@ impl<'a> Delaunay3<'a> {
         for (k, &i) in order.iter().enumerate() {
             rank[i as usize] = k as u32;
         }
-        crate::geom::sort::scatter_in_place(points, &mut rank);
+        crate::geom::sort::scatter_in_place(points, &mut rank, split.threads);
         drop(rank);
         let built = Self::insert_ordered(points, &[], &order, split, progress);
-        crate::geom::sort::scatter_in_place(points, &mut order);
+        crate::geom::sort::scatter_in_place(points, &mut order, split.threads);
         drop(order);
         let mut dt = built?;
         dt.map_vertices(points.len());
@@ -1526,7 +1526,9 @@ fn insert_in<C: CellsMut, const W: bool>(
     for &u in kept.iter() {
         c.v_mut(u)[0] &= UNMARK;
     }
-    if !complete || !c.room(bnd.len().saturating_sub(cavity.len())) {
+    // Every new cell is allocated before the cavity's cells are freed: a
+    // part needs a slot for each (with fewer it would write past its range).
+    if !complete || !c.room(bnd.len()) {
         for &u in cavity.iter() {
             c.v_mut(u)[0] &= UNMARK;
         }
@@ -2086,6 +2088,71 @@ mod tests {
         let mut r = crate::geom::SplitMix64::new(seed);
         let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         (0..n).map(|_| [u(), u(), u()]).collect()
+    }
+
+    /// A part with fewer free slots than the new cells of an insertion
+    /// leaves the point and changes nothing, also when it has enough slots
+    /// for the net growth (the new cells are allocated before the
+    /// cavity's are freed).
+    #[test]
+    fn a_part_short_of_slots_leaves_the_point() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.1, 0.1, 0.1],
+        ];
+        let g = Geo {
+            pts: &pts,
+            wts: &[],
+            ids: &[],
+        };
+        // The point is inside the one tetrahedron: a cavity of one cell,
+        // four new cells.
+        for extra in [0usize, 3, 4] {
+            let mut core = Core::default();
+            core.start(&pts, [0, 1, 2, 3]);
+            let live = core.v.len();
+            core.v.resize(live + extra, [0; 4]);
+            core.adj.resize(live + extra, [0; 4]);
+            let before = (core.v.clone(), core.adj.clone());
+            let last = core.last;
+            let mut part = Part {
+                base: 0,
+                v: &mut core.v,
+                adj: &mut core.adj,
+                used: live as u32,
+                free: Vec::new(),
+                finite: 0,
+                last,
+                rng: 0x2545_F491,
+            };
+            let r = insert_in::<_, false>(&mut part, &mut Scratch::default(), g, 4);
+            let (finite, free) = (part.finite, std::mem::take(&mut part.free));
+            if extra < 4 {
+                assert_eq!(r, None, "{extra} free slots");
+                assert_eq!((core.v.clone(), core.adj.clone()), before);
+            } else {
+                assert_eq!(r, Some(Inserted::Vertex(4)));
+                assert_eq!(finite, 3);
+                core.finite = 4;
+                core.free = free;
+                let dt = Delaunay3 {
+                    points: Cow::Borrowed(&pts),
+                    scale: Some((1.0, 1.0)),
+                    weights: None,
+                    hidden: Vec::new(),
+                    core,
+                    vertex_map: vec![0, 1, 2, 3, 4],
+                    duplicates: Vec::new(),
+                    pending: Vec::new(),
+                    basis: Vec::new(),
+                };
+                dt.check_topology().unwrap();
+                dt.check_delaunay().unwrap();
+            }
+        }
     }
 
     #[test]
