@@ -290,7 +290,7 @@ pub(crate) fn scatter_in_place<T: Send>(items: &mut [T], keys: &mut [u32], threa
         .map(|b| b << shift)
         .chain([n])
         .collect();
-    let items: Vec<(usize, (&mut [T], &mut [u32]))> = (crate::par::split_mut(items, &bounds))
+    let items: Vec<_> = (crate::par::split_mut(items, &bounds))
         .into_iter()
         .zip(crate::par::split_mut(keys, &bounds))
         .enumerate()
