@@ -154,19 +154,30 @@ def run(cmd, timeout):
         return "TO", time.perf_counter() - t0, ""
 
 
-def main():
+def arguments(default_out, models):
+    """The command line shared with `cad_shapes.py`."""
     ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default="/tmp/hard_surfaces")
+    ap.add_argument("--out", default=default_out)
     ap.add_argument("--delone")
     ap.add_argument("--tetgen")
     ap.add_argument("--switches", default="-p,-pY,-pq1.414")
-    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--models", default=",".join(models))
     ap.add_argument("--timeout", type=float, default=60.0)
-    a = ap.parse_args()
+    return ap
+
+
+def main():
+    a = arguments("/tmp/hard_surfaces", MODELS).parse_args()
     os.makedirs(a.out, exist_ok=True)
     names = a.models.split(",")
     for m in names:
         write_off(os.path.join(a.out, m + ".off"), *MODELS[m]())
+    compare(a, names)
+
+
+def compare(a, names):
+    """Runs delone (and TetGen) on the models `names` written in `a.out`,
+    one line per model and switch."""
     if not a.delone:
         print(f"wrote {len(names)} models to {a.out}")
         return
