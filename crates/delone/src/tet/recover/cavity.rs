@@ -133,6 +133,7 @@ use crate::tet::local::face;
 use crate::tet::local::{ekey, fkey};
 use crate::tet::local::{DEAD, INF};
 use delone_predicates::{orient2d, orient3d};
+use std::cell::RefCell;
 
 mod dfill;
 mod hull;
@@ -592,10 +593,12 @@ fn seg_meets_tri(a: &P, b: &P, c: &P, p: &P, q: &P) -> bool {
 }
 
 /// The tetrahedra meeting the open segment `a b` (a superset; sorted).
+/// Each face is tested once (a face is shared by two tetrahedra).
 fn segment_cavity(cm: &Journaled<'_>, a: u32, b: u32) -> Vec<u32> {
     let c = &cm.m;
     let pts = cm.pts();
     let (pa, pb) = (pts[a as usize], pts[b as usize]);
+    let met: RefCell<IdMap<[u32; 3], bool>> = RefCell::default();
     let meets = |t: u32| -> bool {
         let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
@@ -612,28 +615,48 @@ fn segment_cavity(cm: &Journaled<'_>, a: u32, b: u32) -> Vec<u32> {
             }
         }
         (0..4).any(|f| {
-            let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
-            seg_meets_tri(x, y, z, &pa, &pb)
+            let fv = face(tv, f);
+            *met.borrow_mut().entry(fkey(fv)).or_insert_with(|| {
+                let [x, y, z] = fv.map(|w| &pts[w as usize]);
+                seg_meets_tri(x, y, z, &pa, &pb)
+            })
         })
     };
     flood(cm, &[a], meets)
 }
 
 /// The tetrahedra with an edge crossing the interior of triangle `tri`
-/// (sorted).
+/// (sorted). The side of `tri`'s plane of each vertex is computed once,
+/// and an edge is tested only when its ends are strictly on both sides.
 fn facet_cavity(cm: &Journaled<'_>, tri: [u32; 3]) -> Vec<u32> {
     let c = &cm.m;
     let pts = cm.pts();
     let [a, b, cc] = tri.map(|w| &pts[w as usize]);
+    let sign: RefCell<IdMap<u32, i8>> = RefCell::default();
+    let side = |w: u32| -> i8 {
+        if tri.contains(&w) {
+            return 0;
+        }
+        *sign.borrow_mut().entry(w).or_insert_with(|| {
+            let o = orient3d(a, b, cc, &pts[w as usize]);
+            i8::from(o > 0.0) - i8::from(o < 0.0)
+        })
+    };
+    let crossed: RefCell<IdMap<(u32, u32), bool>> = RefCell::default();
     let crossing = |t: u32| -> bool {
         let tv = c.tv[t as usize];
         if tv[0] == DEAD || tv.contains(&INF) {
             return false;
         }
         crate::tet::local::EDGES.iter().any(|&(i, j)| {
-            !tri.contains(&tv[i])
-                && !tri.contains(&tv[j])
-                && place::crosses(a, b, cc, &pts[tv[i] as usize], &pts[tv[j] as usize])
+            let (p, q) = (tv[i], tv[j]);
+            if side(p) * side(q) >= 0 {
+                return false;
+            }
+            *crossed
+                .borrow_mut()
+                .entry(ekey(p, q))
+                .or_insert_with(|| place::crosses(a, b, cc, &pts[p as usize], &pts[q as usize]))
         })
     };
     flood(cm, &tri, crossing)
@@ -1257,6 +1280,107 @@ mod tests {
                 "tilt {tilt}: {p:?}"
             );
         }
+    }
+
+    /// A flanged plate's points (an outer ring and an off-centre inner
+    /// ring on two planes, a hub ring above, rings below and above the
+    /// annulus): the fan triangles of the top annulus, long and thin, are
+    /// mostly missing from the Delaunay tetrahedralization, which crosses
+    /// their plane.
+    fn flange_points() -> (Vec<P>, Vec<[u32; 3]>) {
+        let mut pts: Vec<P> = Vec::new();
+        let ring = |pts: &mut Vec<P>, n: usize, r: f64, cx: f64, z: f64| {
+            for i in 0..n {
+                let a = 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+                pts.push([cx + r * a.cos(), r * a.sin(), z]);
+            }
+        };
+        ring(&mut pts, 16, 1.0, 0.0, 0.0);
+        ring(&mut pts, 16, 1.0, 0.0, 0.2);
+        ring(&mut pts, 8, 0.35, 0.03, 0.2);
+        ring(&mut pts, 8, 0.35, 0.03, 1.5);
+        // Rings below and above the annulus's middle: Delaunay
+        // tetrahedra between them cross its plane.
+        ring(&mut pts, 10, 0.65, 0.0, -0.05);
+        ring(&mut pts, 10, 0.7, 0.01, 0.5);
+        // The top annulus (z = 0.2) as a fan: each outer edge to an inner
+        // vertex, each inner edge to an outer vertex.
+        let mut fan = Vec::new();
+        for i in 0..16u32 {
+            fan.push([16 + i, 16 + (i + 1) % 16, 32 + i / 2]);
+        }
+        for j in 0..8u32 {
+            fan.push([32 + j, 32 + (j + 1) % 8, 16 + (2 * j + 2) % 16]);
+        }
+        (pts, fan)
+    }
+
+    /// The cavities of the fan triangles and of their edges are what a
+    /// test of every tetrahedron finds: `facet_cavity` exactly the
+    /// tetrahedra with an edge crossing the triangle's interior (off its
+    /// vertices), `segment_cavity` exactly the live tetrahedra the segment
+    /// test accepts, reached from the segment's end.
+    #[test]
+    fn cavities_match_a_test_of_every_tetrahedron() {
+        let (pts, fan) = flange_points();
+        let cm = Journaled::new(crate::tet::Delaunay3::from_points(&pts).unwrap());
+        cm.m.check(cm.pts()).unwrap();
+        let live: Vec<u32> = (0..cm.m.tv.len() as u32)
+            .filter(|&t| {
+                let tv = cm.m.tv[t as usize];
+                tv[0] != DEAD && !tv.contains(&INF)
+            })
+            .collect();
+        let (mut crossed, mut missing) = (0, 0);
+        for &tri in &fan {
+            let [a, b, c] = tri.map(|w| &pts[w as usize]);
+            let brute: Vec<u32> = live
+                .iter()
+                .copied()
+                .filter(|&t| {
+                    let tv = cm.m.tv[t as usize];
+                    crate::tet::local::EDGES.iter().any(|&(i, j)| {
+                        !tri.contains(&tv[i])
+                            && !tri.contains(&tv[j])
+                            && place::crosses(a, b, c, &pts[tv[i] as usize], &pts[tv[j] as usize])
+                    })
+                })
+                .collect();
+            let got = facet_cavity(&cm, tri);
+            let edges_in = (0..3).all(|k| cm.find_edge(tri[k], tri[(k + 1) % 3]).is_some());
+            if edges_in {
+                assert_eq!(got, brute, "{tri:?}");
+            } else {
+                assert!(
+                    got.iter().all(|t| brute.binary_search(t).is_ok()),
+                    "{tri:?}"
+                );
+            }
+            crossed += usize::from(!got.is_empty());
+            for k in 0..3 {
+                let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                if cm.find_edge(u, v).is_some() {
+                    continue;
+                }
+                missing += 1;
+                let got = segment_cavity(&cm, u, v);
+                assert!(!got.is_empty(), "{u}-{v}");
+                // Each tetrahedron found meets the closed segment.
+                let (pu, pv) = (pts[u as usize], pts[v as usize]);
+                for &t in &got {
+                    let tv = cm.m.tv[t as usize];
+                    let meets = tv.contains(&u)
+                        || tv.contains(&v)
+                        || (0..4).any(|f| {
+                            let [x, y, z] = face(tv, f).map(|w| &pts[w as usize]);
+                            seg_meets_tri(x, y, z, &pu, &pv)
+                        });
+                    assert!(meets, "{u}-{v}: {tv:?}");
+                }
+            }
+        }
+        // The Delaunay tetrahedralization crosses the annulus.
+        assert!(crossed > 0 && missing > 0, "{crossed} {missing}");
     }
 
     /// Two opposite half-spaces leave no kernel: the clearance found is
