@@ -348,13 +348,43 @@ impl State {
 
     /// Removes the surface Steiner points `sset` (sorted; module
     /// documentation: the star is the union of their stars);
-    /// `Some(points added)`, or `None` (nothing changed).
+    /// `Some(points added)`, or `None` (nothing changed). A wedge
+    /// reaching the hull is made outside the hull; when that replacement
+    /// is refused, a single point's wedges are all filled by cones from
+    /// new points instead ([`State::pull_set_with`]).
     fn pull_set(
         &self,
         cm: &mut Journaled<'_>,
         sset: &[u32],
         face_tri: &mut IdMap<[u32; 3], u32>,
         refined: &Surface,
+    ) -> Option<usize> {
+        let mut ghosts = false;
+        self.pull_set_with(cm, sset, face_tri, refined, false, &mut ghosts)
+            .or_else(|| {
+                (ghosts && sset.len() == 1)
+                    .then(|| self.pull_set_with(cm, sset, face_tri, refined, true, &mut ghosts))
+                    .flatten()
+            })
+    }
+
+    /// [`State::pull_set`] with the choice for wedges reaching the hull
+    /// (`had_ghosts` set when there is one): made outside the hull
+    /// (`cone_ghosts` false), or (single point) filled by the cone from a
+    /// new point near `s` like any other wedge, its ghosts becoming
+    /// ghosts at that point. Making a wedge outside the hull takes along
+    /// the ghosts behind its hull faces; where two of them meet other
+    /// hull faces along one edge (the outside region pinched there by
+    /// earlier removals) no set of new cells closes the boundary, while
+    /// the cone keeps every face of the wedge's boundary.
+    fn pull_set_with(
+        &self,
+        cm: &mut Journaled<'_>,
+        sset: &[u32],
+        face_tri: &mut IdMap<[u32; 3], u32>,
+        refined: &Surface,
+        cone_ghosts: bool,
+        had_ghosts: &mut bool,
     ) -> Option<usize> {
         let c = &cm.m;
         let pts = cm.pts();
@@ -499,7 +529,15 @@ impl State {
                     bound.push(if sign > 0.0 { *t } else { [t[0], t[2], t[1]] });
                 }
             }
-            if ghosts > 0 {
+            *had_ghosts |= ghosts > 0;
+            // Faces opposite `s` through the point at infinity (the
+            // wedge's ghosts), coned from the new point like the others.
+            let mut ghost_link: Vec<[u32; 3]> = Vec::new();
+            if ghosts > 0 && cone_ghosts {
+                ghost_link.extend(link.iter().map(|l| l.0).filter(|f| f.contains(&INF)));
+                link.retain(|l| !l.0.contains(&INF));
+            }
+            if ghosts > 0 && !cone_ghosts {
                 // A wedge reaching the convex hull is outside the domain:
                 // it becomes outside the hull, ghosts on the new triangles
                 // and on its finite faces kept (a face kept that is on the
@@ -532,6 +570,9 @@ impl State {
                 continue;
             }
             let id = all_pts.len() as u32;
+            if !ghost_link.is_empty() && sset.len() != 1 {
+                return None;
+            }
             let near = match sset {
                 [s] => self.near_point(
                     cm,
@@ -555,9 +596,12 @@ impl State {
                     bound
                         .into_iter()
                         .chain(link.into_iter().map(|l| l.0))
-                        .map(|f| [f[0], f[1], f[2], id])
+                        .chain(ghost_link.iter().copied())
+                        .map(|f| inf_last([f[0], f[1], f[2], id]))
                         .collect()
                 }
+                // A wedge with ghosts is filled by a cone or not at all.
+                None if !ghost_link.is_empty() => return None,
                 None => {
                     if prot.faces.is_empty() {
                         prot.faces.extend(face_tri.keys().copied());
@@ -1040,6 +1084,21 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// `tv` with the point at infinity (if any) moved last by an even
+/// permutation (same orientation): ghost cells hold it last.
+fn inf_last(mut tv: [u32; 4]) -> [u32; 4] {
+    if let Some(i) = tv[..3].iter().position(|&w| w == INF) {
+        tv.swap(i, 3);
+        let (j, k) = match i {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        tv.swap(j, k);
+    }
+    tv
 }
 
 /// Fills a wedge bounded by `bound` (its new triangles) and `link` (its
