@@ -629,6 +629,17 @@ impl State {
                     .get(w as usize)
                     .is_none_or(|k| *k == super::super::surface::Kind::Input)
         };
+        // A wedge made outside the hull must not pinch the outside region
+        // at a vertex (two sheets of hull faces meeting there): a later
+        // removal at that vertex could close no boundary. A single
+        // point's wedges are then coned instead (see `pull_set`).
+        if *had_ghosts
+            && !cone_ghosts
+            && sset.len() == 1
+            && !hull_manifold_after(cm, &removed, &new)
+        {
+            return None;
+        }
         if !valid_star(cm, &all_pts, &removed, &new, sset, may_lose) {
             return None;
         }
@@ -1084,6 +1095,65 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// Whether, once the cells `removed` (sorted) are replaced by `new`, the
+/// hull faces at every vertex of a new ghost cell form one cycle around
+/// it (or there are none): the hull stays a manifold there.
+fn hull_manifold_after(cm: &Journaled<'_>, removed: &[u32], new: &[[u32; 4]]) -> bool {
+    let finite = |tv: [u32; 4]| {
+        let mut f = [0u32; 3];
+        let mut k = 0;
+        for w in tv {
+            if w != INF && k < 3 {
+                f[k] = w;
+                k += 1;
+            }
+        }
+        f
+    };
+    let mut verts: Vec<u32> = new
+        .iter()
+        .filter(|tv| tv.contains(&INF))
+        .flat_map(|&tv| finite(tv))
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    for &v in &verts {
+        // The link of `v` in the hull: one edge per hull face at `v`.
+        let mut edges: Vec<(u32, u32)> = cm
+            .star(v)
+            .into_iter()
+            .filter(|t| removed.binary_search(t).is_err())
+            .map(|t| cm.m.tv[t as usize])
+            .chain(new.iter().copied())
+            .filter(|tv| tv.contains(&INF) && tv.contains(&v))
+            .map(|tv| {
+                let f = finite(tv);
+                let o: Vec<u32> = f.iter().copied().filter(|&w| w != v).collect();
+                (o[0], o[1])
+            })
+            .collect();
+        if edges.is_empty() {
+            continue;
+        }
+        // One cycle: walk it from the first edge; every edge is met once.
+        let n = edges.len();
+        let (start, mut cur) = edges.swap_remove(0);
+        let mut walked = 1;
+        while cur != start {
+            let Some(i) = edges.iter().position(|e| e.0 == cur || e.1 == cur) else {
+                return false;
+            };
+            let e = edges.swap_remove(i);
+            cur = if e.0 == cur { e.1 } else { e.0 };
+            walked += 1;
+        }
+        if walked != n {
+            return false;
+        }
+    }
+    true
 }
 
 /// `tv` with the point at infinity (if any) moved last by an even
