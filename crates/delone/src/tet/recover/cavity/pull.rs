@@ -1295,6 +1295,64 @@ pub(super) mod tests {
         )
     }
 
+    /// The hull-manifold test of the pull-off: the ghost cells at a
+    /// hull vertex replaced by themselves keep one cycle of hull faces
+    /// there; one of them left out (a gap) or one more sheet of hull
+    /// faces at the vertex (a pinch) is refused.
+    #[test]
+    fn hull_manifold_after_sees_gaps_and_pinches() {
+        let (mut pts, _) = cuboid(2.0, 1.0, 1.5);
+        pts.push([1.0, 0.5, 0.75]);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let cm = Journaled::new(dt);
+        for v in 0..8u32 {
+            let mut ghosts: Vec<u32> = cm
+                .star(v)
+                .into_iter()
+                .filter(|&t| cm.m.tv[t as usize].contains(&INF))
+                .collect();
+            ghosts.sort_unstable();
+            assert!(ghosts.len() >= 3, "vertex {v}");
+            let cells: Vec<[u32; 4]> = ghosts.iter().map(|&t| cm.m.tv[t as usize]).collect();
+            assert!(hull_manifold_after(&cm, &ghosts, &cells), "vertex {v}");
+            assert!(hull_manifold_after(&cm, &[], &[]), "vertex {v}");
+            assert!(
+                !hull_manifold_after(&cm, &ghosts, &cells[1..]),
+                "vertex {v}"
+            );
+            // A second sheet at `v`: a ghost on an inner face at it.
+            let mut more = cells.clone();
+            more.push(inf_last([v, 8, (v + 1) % 8, INF]));
+            assert!(!hull_manifold_after(&cm, &ghosts, &more), "vertex {v}");
+        }
+    }
+
+    /// Moving the point at infinity last keeps the orientation (an even
+    /// permutation of the cell's vertices).
+    #[test]
+    fn inf_last_is_an_even_permutation() {
+        let parity = |a: [u32; 4], b: [u32; 4]| {
+            let pos: Vec<usize> = b
+                .iter()
+                .map(|x| a.iter().position(|y| y == x).unwrap())
+                .collect();
+            let mut inv = 0;
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    inv += usize::from(pos[i] > pos[j]);
+                }
+            }
+            inv % 2
+        };
+        for i in 0..4 {
+            let mut tv = [1, 2, 3, 4];
+            tv[i] = INF;
+            let g = inf_last(tv);
+            assert_eq!(g[3], INF);
+            assert_eq!(parity(tv, g), 0, "{tv:?} -> {g:?}");
+        }
+    }
+
     /// Schönhardt's twisted prism, each side split by its reflex diagonal.
     fn schonhardt(twist: f64) -> (Vec<P>, Vec<[u32; 3]>) {
         let mut pts = Vec::new();
