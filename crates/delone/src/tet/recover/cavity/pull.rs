@@ -71,6 +71,13 @@
 //!    takes the ghost behind it along); the interior Steiner points it
 //!    swallows go unused. Nothing there is geometric, so nothing there
 //!    depends on rounding; carving floods from the ghosts as before.
+//!    Such a removal is refused when it would pinch the outside region
+//!    (the hull faces at a vertex of its new ghosts not one cycle, or two
+//!    hull sheets meeting along an edge, which no new cells close): then
+//!    a single point's wedges are all filled as in step 3, the wedge
+//!    reaching the hull included — its faces through the point at
+//!    infinity become ghosts at the new point, the hull stays as it was
+//!    around it — so no removal leaves a pinch for a later one.
 //! 4. The replacement of the whole star is validated exactly before it is
 //!    applied (every new finite tetrahedron strictly positive; the new
 //!    tetrahedra's oriented faces forming a chain whose boundary is exactly
