@@ -71,6 +71,13 @@
 //!    takes the ghost behind it along); the interior Steiner points it
 //!    swallows go unused. Nothing there is geometric, so nothing there
 //!    depends on rounding; carving floods from the ghosts as before.
+//!    Such a removal is refused when it would pinch the outside region
+//!    (the hull faces at a vertex of its new ghosts not one cycle, or two
+//!    hull sheets meeting along an edge, which no new cells close): then
+//!    a single point's wedges are all filled as in step 3, the wedge
+//!    reaching the hull included — its faces through the point at
+//!    infinity become ghosts at the new point, the hull stays as it was
+//!    around it — so no removal leaves a pinch for a later one.
 //! 4. The replacement of the whole star is validated exactly before it is
 //!    applied (every new finite tetrahedron strictly positive; the new
 //!    tetrahedra's oriented faces forming a chain whose boundary is exactly
@@ -348,13 +355,43 @@ impl State {
 
     /// Removes the surface Steiner points `sset` (sorted; module
     /// documentation: the star is the union of their stars);
-    /// `Some(points added)`, or `None` (nothing changed).
+    /// `Some(points added)`, or `None` (nothing changed). A wedge
+    /// reaching the hull is made outside the hull; when that replacement
+    /// is refused, a single point's wedges are all filled by cones from
+    /// new points instead ([`State::pull_set_with`]).
     fn pull_set(
         &self,
         cm: &mut Journaled<'_>,
         sset: &[u32],
         face_tri: &mut IdMap<[u32; 3], u32>,
         refined: &Surface,
+    ) -> Option<usize> {
+        let mut ghosts = false;
+        self.pull_set_with(cm, sset, face_tri, refined, false, &mut ghosts)
+            .or_else(|| {
+                (ghosts && sset.len() == 1)
+                    .then(|| self.pull_set_with(cm, sset, face_tri, refined, true, &mut ghosts))
+                    .flatten()
+            })
+    }
+
+    /// [`State::pull_set`] with the choice for wedges reaching the hull
+    /// (`had_ghosts` set when there is one): made outside the hull
+    /// (`cone_ghosts` false), or (single point) filled by the cone from a
+    /// new point near `s` like any other wedge, its ghosts becoming
+    /// ghosts at that point. Making a wedge outside the hull takes along
+    /// the ghosts behind its hull faces; where two of them meet other
+    /// hull faces along one edge (the outside region pinched there by
+    /// earlier removals) no set of new cells closes the boundary, while
+    /// the cone keeps every face of the wedge's boundary.
+    fn pull_set_with(
+        &self,
+        cm: &mut Journaled<'_>,
+        sset: &[u32],
+        face_tri: &mut IdMap<[u32; 3], u32>,
+        refined: &Surface,
+        cone_ghosts: bool,
+        had_ghosts: &mut bool,
     ) -> Option<usize> {
         let c = &cm.m;
         let pts = cm.pts();
@@ -499,7 +536,15 @@ impl State {
                     bound.push(if sign > 0.0 { *t } else { [t[0], t[2], t[1]] });
                 }
             }
-            if ghosts > 0 {
+            *had_ghosts |= ghosts > 0;
+            // Faces opposite `s` through the point at infinity (the
+            // wedge's ghosts), coned from the new point like the others.
+            let mut ghost_link: Vec<[u32; 3]> = Vec::new();
+            if ghosts > 0 && cone_ghosts {
+                ghost_link.extend(link.iter().map(|l| l.0).filter(|f| f.contains(&INF)));
+                link.retain(|l| !l.0.contains(&INF));
+            }
+            if ghosts > 0 && !cone_ghosts {
                 // A wedge reaching the convex hull is outside the domain:
                 // it becomes outside the hull, ghosts on the new triangles
                 // and on its finite faces kept (a face kept that is on the
@@ -532,6 +577,9 @@ impl State {
                 continue;
             }
             let id = all_pts.len() as u32;
+            if !ghost_link.is_empty() && sset.len() != 1 {
+                return None;
+            }
             let near = match sset {
                 [s] => self.near_point(
                     cm,
@@ -555,9 +603,12 @@ impl State {
                     bound
                         .into_iter()
                         .chain(link.into_iter().map(|l| l.0))
-                        .map(|f| [f[0], f[1], f[2], id])
+                        .chain(ghost_link.iter().copied())
+                        .map(|f| inf_last([f[0], f[1], f[2], id]))
                         .collect()
                 }
+                // A wedge with ghosts is filled by a cone or not at all.
+                None if !ghost_link.is_empty() => return None,
                 None => {
                     if prot.faces.is_empty() {
                         prot.faces.extend(face_tri.keys().copied());
@@ -585,6 +636,17 @@ impl State {
                     .get(w as usize)
                     .is_none_or(|k| *k == super::super::surface::Kind::Input)
         };
+        // A wedge made outside the hull must not pinch the outside region
+        // at a vertex (two sheets of hull faces meeting there): a later
+        // removal at that vertex could close no boundary. A single
+        // point's wedges are then coned instead (see `pull_set`).
+        if *had_ghosts
+            && !cone_ghosts
+            && sset.len() == 1
+            && !hull_manifold_after(cm, &removed, &new)
+        {
+            return None;
+        }
         if !valid_star(cm, &all_pts, &removed, &new, sset, may_lose) {
             return None;
         }
@@ -1042,6 +1104,80 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
     }
 }
 
+/// Whether, once the cells `removed` (sorted) are replaced by `new`, the
+/// hull faces at every vertex of a new ghost cell form one cycle around
+/// it (or there are none): the hull stays a manifold there.
+fn hull_manifold_after(cm: &Journaled<'_>, removed: &[u32], new: &[[u32; 4]]) -> bool {
+    let finite = |tv: [u32; 4]| {
+        let mut f = [0u32; 3];
+        let mut k = 0;
+        for w in tv {
+            if w != INF && k < 3 {
+                f[k] = w;
+                k += 1;
+            }
+        }
+        f
+    };
+    let mut verts: Vec<u32> = new
+        .iter()
+        .filter(|tv| tv.contains(&INF))
+        .flat_map(|&tv| finite(tv))
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    for &v in &verts {
+        // The link of `v` in the hull: one edge per hull face at `v`.
+        let mut edges: Vec<(u32, u32)> = cm
+            .star(v)
+            .into_iter()
+            .filter(|t| removed.binary_search(t).is_err())
+            .map(|t| cm.m.tv[t as usize])
+            .chain(new.iter().copied())
+            .filter(|tv| tv.contains(&INF) && tv.contains(&v))
+            .map(|tv| {
+                let f = finite(tv);
+                let o: Vec<u32> = f.iter().copied().filter(|&w| w != v).collect();
+                (o[0], o[1])
+            })
+            .collect();
+        if edges.is_empty() {
+            continue;
+        }
+        // One cycle: walk it from the first edge; every edge is met once.
+        let n = edges.len();
+        let (start, mut cur) = edges.swap_remove(0);
+        let mut walked = 1;
+        while cur != start {
+            let Some(i) = edges.iter().position(|e| e.0 == cur || e.1 == cur) else {
+                return false;
+            };
+            let e = edges.swap_remove(i);
+            cur = if e.0 == cur { e.1 } else { e.0 };
+            walked += 1;
+        }
+        if walked != n {
+            return false;
+        }
+    }
+    true
+}
+
+/// `tv` with the point at infinity (if any) moved last by an even
+/// permutation (same orientation): ghost cells hold it last.
+fn inf_last(mut tv: [u32; 4]) -> [u32; 4] {
+    if let Some(i) = tv[..3].iter().position(|&w| w == INF) {
+        tv.swap(i, 3);
+        let (j, k) = match i {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        tv.swap(j, k);
+    }
+    tv
+}
+
 /// Fills a wedge bounded by `bound` (its new triangles) and `link` (its
 /// faces kept, with the tetrahedron behind each) by a cone from one of
 /// its vertices, else by gift-wrapping (`dfill::wrap_fill`, no new
@@ -1164,6 +1300,64 @@ pub(super) mod tests {
                 ..Default::default()
             },
         )
+    }
+
+    /// The hull-manifold test of the pull-off: the ghost cells at a
+    /// hull vertex replaced by themselves keep one cycle of hull faces
+    /// there; one of them left out (a gap) or one more sheet of hull
+    /// faces at the vertex (a pinch) is refused.
+    #[test]
+    fn hull_manifold_after_sees_gaps_and_pinches() {
+        let (mut pts, _) = cuboid(2.0, 1.0, 1.5);
+        pts.push([1.0, 0.5, 0.75]);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let cm = Journaled::new(dt);
+        for v in 0..8u32 {
+            let mut ghosts: Vec<u32> = cm
+                .star(v)
+                .into_iter()
+                .filter(|&t| cm.m.tv[t as usize].contains(&INF))
+                .collect();
+            ghosts.sort_unstable();
+            assert!(ghosts.len() >= 3, "vertex {v}");
+            let cells: Vec<[u32; 4]> = ghosts.iter().map(|&t| cm.m.tv[t as usize]).collect();
+            assert!(hull_manifold_after(&cm, &ghosts, &cells), "vertex {v}");
+            assert!(hull_manifold_after(&cm, &[], &[]), "vertex {v}");
+            assert!(
+                !hull_manifold_after(&cm, &ghosts, &cells[1..]),
+                "vertex {v}"
+            );
+            // A second sheet at `v`: a ghost on an inner face at it.
+            let mut more = cells.clone();
+            more.push(inf_last([v, 8, (v + 1) % 8, INF]));
+            assert!(!hull_manifold_after(&cm, &ghosts, &more), "vertex {v}");
+        }
+    }
+
+    /// Moving the point at infinity last keeps the orientation (an even
+    /// permutation of the cell's vertices).
+    #[test]
+    fn inf_last_is_an_even_permutation() {
+        let parity = |a: [u32; 4], b: [u32; 4]| {
+            let pos: Vec<usize> = b
+                .iter()
+                .map(|x| a.iter().position(|y| y == x).unwrap())
+                .collect();
+            let mut inv = 0;
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    inv += usize::from(pos[i] > pos[j]);
+                }
+            }
+            inv % 2
+        };
+        for i in 0..4 {
+            let mut tv = [1, 2, 3, 4];
+            tv[i] = INF;
+            let g = inf_last(tv);
+            assert_eq!(g[3], INF);
+            assert_eq!(parity(tv, g), 0, "{tv:?} -> {g:?}");
+        }
     }
 
     /// Schönhardt's twisted prism, each side split by its reflex diagonal.
