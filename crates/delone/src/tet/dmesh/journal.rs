@@ -487,23 +487,35 @@ impl<'a> Journaled<'a> {
     /// false (nothing changed) when a ghost is involved or the edge between
     /// the two apexes does not cross the face's interior.
     pub(crate) fn flip23(&mut self, t: u32, f: usize) -> bool {
+        match self.flip23_plan(t, f) {
+            Some(plan) => {
+                self.apply_flip23(plan);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The 2-3 flip [`Journaled::flip23`] would make, without making it:
+    /// the slot behind the face and the three new tetrahedra; `None` when
+    /// it is refused (no allocation: most flips tried are refused).
+    pub(crate) fn flip23_plan(&self, t: u32, f: usize) -> Option<(u32, u32, [[u32; 4]; 3])> {
         // The three new tetrahedra hold the five vertices of the two old
         // ones: a ghost among those puts `INF` in one of them.
-        let Some(fl) = self.m.alive(t).then(|| self.m.flip23(t, f)).flatten() else {
-            return false;
-        };
-        if fl
-            .new
-            .iter()
-            .any(|n| n.contains(&INF) || !self.positive(*n))
-        {
-            return false;
+        let (u, new) = self.m.alive(t).then(|| self.m.flip23_tets(t, f))??;
+        if new.iter().any(|n| n.contains(&INF) || !self.positive(*n)) {
+            return None;
         }
+        Some((t, u, new))
+    }
+
+    /// Applies a plan of [`Journaled::flip23_plan`] made on the current
+    /// mesh.
+    pub(crate) fn apply_flip23(&mut self, (t, u, new): (u32, u32, [[u32; 4]; 3])) {
         let mut ids = std::mem::take(&mut self.ids);
-        self.replace_into(&fl.old, &fl.new, &mut ids);
+        self.replace_into(&[t, u], &new, &mut ids);
         self.ids = ids;
         self.flips23 += 1;
-        true
     }
 
     /// Removes edge `a b` (contained in `t`): the tetrahedra around it are

@@ -307,7 +307,9 @@ fn remove_edge_deep(
         };
         let n = ring.len();
         let mut progress = false;
-        for i in 0..n {
+        // (A 2-3 flip of a face around the edge shrinks its ring by one:
+        // none with a ring of three.)
+        for i in (0..n).filter(|_| n > 3) {
             // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
             if prot.face([a, b, ring[i]]) {
                 continue;
@@ -315,6 +317,10 @@ fn remove_edge_deep(
             let x = tets[i];
             let tv = cm.m.tv[x as usize];
             let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
+                continue;
+            };
+            // Validity first (three exact signs), then the guide's test.
+            let Some(plan) = cm.flip23_plan(x, f) else {
                 continue;
             };
             if let Guide::Segment(u, v) = guide {
@@ -330,10 +336,9 @@ fn remove_edge_deep(
                     continue;
                 }
             }
-            if n > 3 && cm.flip23(x, f) {
-                progress = true;
-                break;
-            }
+            cm.apply_flip23(plan);
+            progress = true;
+            break;
         }
         if !progress && depth > 1 {
             for &r in &ring {
