@@ -116,6 +116,7 @@ pub(crate) struct Journaled<'a> {
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
     ids: Vec<u32>,
+    key: Vec<u32>,
 }
 
 impl<'a> Journaled<'a> {
@@ -150,6 +151,7 @@ impl<'a> Journaled<'a> {
             dp_best: Vec::new(),
             dp_choice: Vec::new(),
             ids: Vec::new(),
+            key: Vec::new(),
         }
     }
 
@@ -547,10 +549,27 @@ impl<'a> Journaled<'a> {
         t: u32,
         a: u32,
         b: u32,
-        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        costs: (TriCost<'_>, EdgeCost<'_>),
         limit: i64,
     ) -> Option<i64> {
-        // The ring lists are reused scratch (no allocation per call).
+        self.remove_edge_limited(t, a, b, costs, |_, _| Some(limit))
+    }
+
+    /// [`Journaled::remove_edge_below`] with the limit a function of the
+    /// points and the ring (its vertices in order, [`INF`] for a ghost),
+    /// computed once the
+    /// ring is walked; `None` refuses the removal (nothing changed, not
+    /// memoized).
+    pub(crate) fn remove_edge_limited(
+        &mut self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        limit: impl FnOnce(&[[f64; 3]], &[u32]) -> Option<i64>,
+    ) -> Option<i64> {
+        // The ring lists and the memo key are reused scratch (no
+        // allocation per call).
         let (mut tets, mut r) = std::mem::take(&mut self.ring);
         let ends = self.m.ring_into(
             t,
@@ -559,18 +578,15 @@ impl<'a> Journaled<'a> {
             |_, _| true,
             (&mut tets, &mut r),
         );
+        let mut key = std::mem::take(&mut self.key);
         let out = if ends.is_none() {
             None
-        } else if r.len() < MEMO_RING {
-            self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit)
-                .ok()
-        } else {
-            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
-            let mut key = Vec::with_capacity(r.len() + 2);
-            key.extend([a, b]);
-            key.extend(r[m..].iter().chain(&r[..m]));
-            if self.failed.contains(&key) {
-                None
+        } else if self.known_failed(a, b, &r, &mut key) {
+            None
+        } else if let Some(limit) = limit(self.pts(), &r) {
+            if r.len() < MEMO_RING {
+                self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit)
+                    .ok()
             } else {
                 // Memoized only when no triangulation at all is valid (a
                 // refusal by `limit` depends on the costs).
@@ -578,15 +594,32 @@ impl<'a> Journaled<'a> {
                     Ok(c) => Some(c),
                     Err(none_valid) => {
                         if none_valid {
-                            self.failed.insert(key);
+                            self.failed.insert(key.clone());
                         }
                         None
                     }
                 }
             }
+        } else {
+            None
         };
         self.ring = (tets, r);
+        self.key = key;
         out
+    }
+
+    /// Is the removal of edge `a b` with ring `r` memoized as impossible?
+    /// Writes the memo key (rings of [`MEMO_RING`] or more vertices) into
+    /// `key`; false for shorter rings.
+    fn known_failed(&self, a: u32, b: u32, r: &[u32], key: &mut Vec<u32>) -> bool {
+        key.clear();
+        if r.len() < MEMO_RING {
+            return false;
+        }
+        let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+        key.extend([a, b]);
+        key.extend(r[m..].iter().chain(&r[..m]));
+        self.failed.contains(&key[..])
     }
 
     /// [`Journaled::remove_edge_below`] once the ring is known: the cost,
