@@ -65,7 +65,7 @@ pub(crate) const MAX_RING: usize = 24;
 
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
-const MEMO_RING: usize = 6;
+const MEMO_RING: usize = 4;
 
 /// Replacements recorded while logging ([`Journaled::start_log`]): per
 /// operation, the tetrahedra it removed and those it created, as vertex
@@ -671,14 +671,10 @@ impl<'a> Journaled<'a> {
             (NO, 0),
             &mut best,
             &mut choice,
-            |i, j| {
-                if i == 0 && j == n - 1 {
-                    0
-                } else {
-                    edge_cost(self.pts(), rr[i], rr[j])
-                }
-            },
-            |i, k, j, l, right, cur, &chord| {
+            // The chord's cost is computed at its first valid split (most
+            // chords of a ring that cannot be removed have none).
+            |i, j| (i, j, std::cell::Cell::new(None)),
+            |i, k, j, l, right, cur, chord| {
                 if l >= NO || right >= NO {
                     return None;
                 }
@@ -688,6 +684,16 @@ impl<'a> Journaled<'a> {
                 {
                     return None;
                 }
+                let (ci, cj, ref cost) = *chord;
+                let chord = cost.get().unwrap_or_else(|| {
+                    let c = if ci == 0 && cj == n - 1 {
+                        0
+                    } else {
+                        edge_cost(self.pts(), rr[ci], rr[cj])
+                    };
+                    cost.set(Some(c));
+                    c
+                });
                 let c = l + right + tri_cost(self.pts(), tri) + chord;
                 (c < cur).then_some(c)
             },
