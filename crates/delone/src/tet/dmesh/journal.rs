@@ -968,6 +968,75 @@ mod tests {
     }
 
     #[test]
+    fn a_flip_plan_is_the_flip_and_changes_nothing() {
+        // Every face of a scattered mesh: the plan exists exactly when the
+        // 2-3 flip is made, leaves the mesh as it was, and applied gives
+        // the flip's mesh.
+        let pts = scattered(40);
+        let base = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let (mut made, mut refused) = (0, 0);
+        for t in 0..base.m.tv.len() as u32 {
+            for f in 0..4 {
+                let before = base.m.tv.clone();
+                let plan = base.flip23_plan(t, f);
+                assert_eq!(base.m.tv, before);
+                let mut by_flip = base.clone();
+                let flipped = by_flip.flip23(t, f);
+                assert_eq!(plan.is_some(), flipped);
+                if let Some(plan) = plan {
+                    let mut by_plan = base.clone();
+                    by_plan.apply_flip23(plan);
+                    by_plan.check().unwrap();
+                    assert_eq!(by_plan.m.tv, by_flip.m.tv);
+                    assert_eq!(by_plan.flips23, 1);
+                    made += 1;
+                } else {
+                    refused += 1;
+                }
+            }
+        }
+        assert!(made > 10 && refused > 10);
+    }
+
+    #[test]
+    fn a_limit_from_the_ring_refuses_or_bounds_the_removal() {
+        // Edge 6-7 with a ring of six: every triangulation of the hexagon
+        // has three chords, so with one per chord the removal costs 3
+        // (chord costs are computed lazily, each still counted once).
+        let mut pts: Vec<[f64; 3]> = (0..6)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::PI / 3.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        pts.push([0.0, 0.0, 0.05]);
+        pts.push([0.0, 0.0, -0.05]);
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let t = m.find_edge(6, 7).unwrap();
+        let before = m.m.tv.clone();
+        let costs: (TriCost<'_>, EdgeCost<'_>) = (&|_, _| 0, &|_, _, _| 1);
+        // Refused by the ring (nothing changed, not memoized), then by a
+        // limit of 3, then made under a limit of 4.
+        let seen = std::cell::Cell::new(0);
+        let refuse = |_: &[[f64; 3]], r: &[u32]| {
+            seen.set(r.len());
+            None
+        };
+        assert_eq!(m.remove_edge_limited(t, 6, 7, costs, refuse), None);
+        assert_eq!(seen.get(), 6);
+        assert!(m.failed.is_empty());
+        assert_eq!(m.remove_edge_limited(t, 6, 7, costs, |_, _| Some(3)), None);
+        assert_eq!(m.m.tv, before);
+        m.check().unwrap();
+        assert_eq!(
+            m.remove_edge_limited(t, 6, 7, costs, |_, r| Some(r.len() as i64 - 2)),
+            Some(3)
+        );
+        m.check().unwrap();
+        assert!(!has_edge(&m, 6, 7));
+    }
+
+    #[test]
     fn hull_diagonal_of_a_flat_quad_is_flipped() {
         let pts = [
             [0.0, 0.0, 0.0],
