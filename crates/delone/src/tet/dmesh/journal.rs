@@ -256,6 +256,25 @@ impl<'a> Journaled<'a> {
         }
     }
 
+    /// Is every replacement being logged ([`Journaled::start_log`])?
+    pub(crate) fn logging(&self) -> bool {
+        self.log.is_some()
+    }
+
+    /// Calls `f(removed, created)` with the tetrahedra (vertex tuples) of
+    /// each operation logged since `mark` ([`Journaled::log_mark`]), in
+    /// order; nothing when not logging.
+    pub(crate) fn ops_since(&self, mark: usize, mut f: impl FnMut(&[[u32; 4]], &[[u32; 4]])) {
+        let Some(log) = &self.log else {
+            return;
+        };
+        for &(s, no, nn) in &log.ops[mark.min(log.ops.len())..] {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            f(old, new);
+        }
+    }
+
     /// The number of operations logged so far (a mark for
     /// [`Journaled::rollback`]); 0 when not logging.
     pub(crate) fn log_mark(&self) -> usize {

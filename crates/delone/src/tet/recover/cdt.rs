@@ -607,6 +607,89 @@ pub(crate) fn crossing_edges(
     out
 }
 
+/// [`crossing_edges`] after the operations logged since `mark`, from
+/// `cross`, its value before them: the edges those operations removed are
+/// dropped, those they created are tested, and each edge is given the
+/// lowest slot around it (the one the search keeps). The same list as
+/// the search's, without its walk and its predicates on the edges that
+/// did not change.
+fn crossing_edges_after(
+    cm: &Journaled<'_>,
+    surf: &Surface,
+    t: usize,
+    cross: &[((u32, u32), u32)],
+    mark: usize,
+) -> Vec<((u32, u32), u32)> {
+    let pts = cm.pts();
+    let [a, b, c] = surf.tris[t].map(|w| pts[w as usize]);
+    let mut set: Vec<(u32, u32)> = cross.iter().map(|e| e.0).collect();
+    let (mut old_e, mut new_e) = (Vec::new(), Vec::new());
+    let edges = |tets: &[[u32; 4]], out: &mut Vec<(u32, u32)>| {
+        out.clear();
+        for tv in tets {
+            for (i, j) in EDGES {
+                if tv[i] != INF && tv[j] != INF {
+                    out.push(ekey(tv[i], tv[j]));
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    };
+    cm.ops_since(mark, |old, new| {
+        edges(old, &mut old_e);
+        edges(new, &mut new_e);
+        for e in &old_e {
+            if new_e.binary_search(e).is_err() {
+                if let Ok(i) = set.binary_search(e) {
+                    set.remove(i);
+                }
+            }
+        }
+        for &(p, q) in &new_e {
+            if old_e.binary_search(&(p, q)).is_ok()
+                || surf.on_triangle(p, t)
+                || surf.on_triangle(q, t)
+                || !place::crosses(&a, &b, &c, &pts[p as usize], &pts[q as usize])
+            {
+                continue;
+            }
+            if let Err(i) = set.binary_search(&(p, q)) {
+                set.insert(i, (p, q));
+            }
+        }
+    });
+    let hint: IdMap<(u32, u32), u32> = cross.iter().copied().collect();
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    let mut out = Vec::with_capacity(set.len());
+    for (p, q) in set {
+        let at = hint
+            .get(&(p, q))
+            .copied()
+            .filter(|&x| {
+                cm.m.alive(x)
+                    && cm.m.tv[x as usize].contains(&p)
+                    && cm.m.tv[x as usize].contains(&q)
+            })
+            .or_else(|| cm.find_edge(p, q));
+        let Some(at) = at else {
+            continue;
+        };
+        let lowest =
+            cm.m.ring_into(
+                at,
+                (p, q),
+                (usize::MAX, true),
+                |_, _| true,
+                (&mut tets, &mut ring),
+            )
+            .and_then(|_| tets.iter().copied().min())
+            .unwrap_or(at);
+        out.push(((p, q), lowest));
+    }
+    out
+}
+
 /// Recovers input triangle `t` by flips (no crossing edge left); false when
 /// they fail. `inner`: Steiner points inside `t`.
 pub(crate) fn recover_facet(
@@ -624,7 +707,10 @@ pub(crate) fn recover_facet(
 /// least reached so far.
 const FACET_STALL: usize = 8;
 
-/// [`recover_facet`]; with `stop_circles`, the flips are given up (false)
+/// [`recover_facet`]; after each step the crossing edges are updated
+/// from the operations it made ([`crossing_edges_after`], when the mesh
+/// logs them) rather than searched again. With `stop_circles`, the flips
+/// are given up (false)
 /// once [`FACET_STALL`] consecutive steps have not brought the number of
 /// edges crossing `t` below the least reached so far: each step removes
 /// one crossing edge, and when its ring triangulation creates as many
@@ -668,6 +754,7 @@ pub(crate) fn recover_facet_within(
             )
         };
         let mut progress = false;
+        let mark = cm.log_mark();
         for &((p, q), x) in &cross {
             if prot.edge(p, q) {
                 continue;
@@ -690,7 +777,15 @@ pub(crate) fn recover_facet_within(
         if !progress {
             return false;
         }
-        cross = crossing_edges(cm, surf, t, inner);
+        cross = if cm.logging() {
+            crossing_edges_after(cm, surf, t, &cross, mark)
+        } else {
+            crossing_edges(cm, surf, t, inner)
+        };
+        #[cfg(debug_assertions)]
+        if cm.logging() {
+            debug_assert_eq!(cross, crossing_edges(cm, surf, t, inner));
+        }
     }
     cross.is_empty()
 }
