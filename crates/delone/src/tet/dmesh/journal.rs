@@ -598,9 +598,7 @@ impl<'a> Journaled<'a> {
             (&mut tets, &mut r),
         );
         let mut key = std::mem::take(&mut self.key);
-        let out = if ends.is_none() {
-            None
-        } else if self.known_failed(a, b, &r, &mut key) {
+        let out = if ends.is_none() || self.known_failed(a, b, &r, &mut key) {
             None
         } else if let Some(limit) = limit(self.pts(), &r) {
             if r.len() < MEMO_RING {
