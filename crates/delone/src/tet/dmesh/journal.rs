@@ -984,6 +984,21 @@ mod tests {
         assert_eq!(h.log_mark(), 0);
     }
 
+    /// Six points on a circle around the z axis (0..6) and two poles
+    /// close to its plane (6 above, 7 below): edge 6-7 has six
+    /// tetrahedra around it.
+    fn hexagon_and_poles() -> Vec<[f64; 3]> {
+        let mut pts: Vec<[f64; 3]> = (0..6)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::PI / 3.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        pts.push([0.0, 0.0, 0.05]);
+        pts.push([0.0, 0.0, -0.05]);
+        pts
+    }
+
     #[test]
     fn a_flip_plan_is_the_flip_and_changes_nothing() {
         // Every face of a scattered mesh: the plan exists exactly when the
@@ -1020,14 +1035,7 @@ mod tests {
         // Edge 6-7 with a ring of six: every triangulation of the hexagon
         // has three chords, so with one per chord the removal costs 3
         // (chord costs are computed lazily, each still counted once).
-        let mut pts: Vec<[f64; 3]> = (0..6)
-            .map(|i| {
-                let a = i as f64 * std::f64::consts::PI / 3.0;
-                [a.cos(), a.sin(), 0.0]
-            })
-            .collect();
-        pts.push([0.0, 0.0, 0.05]);
-        pts.push([0.0, 0.0, -0.05]);
+        let pts = hexagon_and_poles();
         let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
         let t = m.find_edge(6, 7).unwrap();
         let before = m.m.tv.clone();
@@ -1085,14 +1093,7 @@ mod tests {
     fn edge_removal_of_larger_rings() {
         // A ring of six points around the z axis: edge 6-7 has six
         // tetrahedra around it; removing it gives 2 * 6 - 4 = 8.
-        let mut pts: Vec<[f64; 3]> = (0..6)
-            .map(|i| {
-                let a = i as f64 * std::f64::consts::PI / 3.0;
-                [a.cos(), a.sin(), 0.0]
-            })
-            .collect();
-        pts.push([0.0, 0.0, 0.05]);
-        pts.push([0.0, 0.0, -0.05]);
+        let pts = hexagon_and_poles();
         let dt = Delaunay3::from_points(&pts).unwrap();
         let mut m = Journaled::new(dt);
         let t = m.find_edge(6, 7).unwrap();
