@@ -65,7 +65,7 @@ pub(crate) const MAX_RING: usize = 24;
 
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
-const MEMO_RING: usize = 6;
+const MEMO_RING: usize = 4;
 
 /// Replacements recorded while logging ([`Journaled::start_log`]): per
 /// operation, the tetrahedra it removed and those it created, as vertex
@@ -116,6 +116,7 @@ pub(crate) struct Journaled<'a> {
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
     ids: Vec<u32>,
+    key: Vec<u32>,
 }
 
 impl<'a> Journaled<'a> {
@@ -150,6 +151,7 @@ impl<'a> Journaled<'a> {
             dp_best: Vec::new(),
             dp_choice: Vec::new(),
             ids: Vec::new(),
+            key: Vec::new(),
         }
     }
 
@@ -251,6 +253,25 @@ impl<'a> Journaled<'a> {
                     }
                 }
             }
+        }
+    }
+
+    /// Is every replacement being logged ([`Journaled::start_log`])?
+    pub(crate) fn logging(&self) -> bool {
+        self.log.is_some()
+    }
+
+    /// Calls `f(removed, created)` with the tetrahedra (vertex tuples) of
+    /// each operation logged since `mark` ([`Journaled::log_mark`]), in
+    /// order; nothing when not logging.
+    pub(crate) fn ops_since(&self, mark: usize, mut f: impl FnMut(&[[u32; 4]], &[[u32; 4]])) {
+        let Some(log) = &self.log else {
+            return;
+        };
+        for &(s, no, nn) in &log.ops[mark.min(log.ops.len())..] {
+            let (s, no, nn) = (s as usize, usize::from(no), usize::from(nn));
+            let (old, new) = log.tets[s..s + no + nn].split_at(no);
+            f(old, new);
         }
     }
 
@@ -487,23 +508,35 @@ impl<'a> Journaled<'a> {
     /// false (nothing changed) when a ghost is involved or the edge between
     /// the two apexes does not cross the face's interior.
     pub(crate) fn flip23(&mut self, t: u32, f: usize) -> bool {
+        match self.flip23_plan(t, f) {
+            Some(plan) => {
+                self.apply_flip23(plan);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The 2-3 flip [`Journaled::flip23`] would make, without making it:
+    /// the slot behind the face and the three new tetrahedra; `None` when
+    /// it is refused (no allocation: most flips tried are refused).
+    pub(crate) fn flip23_plan(&self, t: u32, f: usize) -> Option<(u32, u32, [[u32; 4]; 3])> {
         // The three new tetrahedra hold the five vertices of the two old
         // ones: a ghost among those puts `INF` in one of them.
-        let Some(fl) = self.m.alive(t).then(|| self.m.flip23(t, f)).flatten() else {
-            return false;
-        };
-        if fl
-            .new
-            .iter()
-            .any(|n| n.contains(&INF) || !self.positive(*n))
-        {
-            return false;
+        let (u, new) = self.m.alive(t).then(|| self.m.flip23_tets(t, f))??;
+        if new.iter().any(|n| n.contains(&INF) || !self.positive(*n)) {
+            return None;
         }
+        Some((t, u, new))
+    }
+
+    /// Applies a plan of [`Journaled::flip23_plan`] made on the current
+    /// mesh.
+    pub(crate) fn apply_flip23(&mut self, (t, u, new): (u32, u32, [[u32; 4]; 3])) {
         let mut ids = std::mem::take(&mut self.ids);
-        self.replace_into(&fl.old, &fl.new, &mut ids);
+        self.replace_into(&[t, u], &new, &mut ids);
         self.ids = ids;
         self.flips23 += 1;
-        true
     }
 
     /// Removes edge `a b` (contained in `t`): the tetrahedra around it are
@@ -535,10 +568,27 @@ impl<'a> Journaled<'a> {
         t: u32,
         a: u32,
         b: u32,
-        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        costs: (TriCost<'_>, EdgeCost<'_>),
         limit: i64,
     ) -> Option<i64> {
-        // The ring lists are reused scratch (no allocation per call).
+        self.remove_edge_limited(t, a, b, costs, |_, _| Some(limit))
+    }
+
+    /// [`Journaled::remove_edge_below`] with the limit a function of the
+    /// points and the ring (its vertices in order, [`INF`] for a ghost),
+    /// computed once the
+    /// ring is walked; `None` refuses the removal (nothing changed, not
+    /// memoized).
+    pub(crate) fn remove_edge_limited(
+        &mut self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tri_cost, edge_cost): (TriCost<'_>, EdgeCost<'_>),
+        limit: impl FnOnce(&[[f64; 3]], &[u32]) -> Option<i64>,
+    ) -> Option<i64> {
+        // The ring lists and the memo key are reused scratch (no
+        // allocation per call).
         let (mut tets, mut r) = std::mem::take(&mut self.ring);
         let ends = self.m.ring_into(
             t,
@@ -547,18 +597,13 @@ impl<'a> Journaled<'a> {
             |_, _| true,
             (&mut tets, &mut r),
         );
-        let out = if ends.is_none() {
+        let mut key = std::mem::take(&mut self.key);
+        let out = if ends.is_none() || self.known_failed(a, b, &r, &mut key) {
             None
-        } else if r.len() < MEMO_RING {
-            self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit)
-                .ok()
-        } else {
-            let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
-            let mut key = Vec::with_capacity(r.len() + 2);
-            key.extend([a, b]);
-            key.extend(r[m..].iter().chain(&r[..m]));
-            if self.failed.contains(&key) {
-                None
+        } else if let Some(limit) = limit(self.pts(), &r) {
+            if r.len() < MEMO_RING {
+                self.remove_ring(&tets, &mut r, a, b, (tri_cost, edge_cost), limit)
+                    .ok()
             } else {
                 // Memoized only when no triangulation at all is valid (a
                 // refusal by `limit` depends on the costs).
@@ -566,15 +611,32 @@ impl<'a> Journaled<'a> {
                     Ok(c) => Some(c),
                     Err(none_valid) => {
                         if none_valid {
-                            self.failed.insert(key);
+                            self.failed.insert(key.clone());
                         }
                         None
                     }
                 }
             }
+        } else {
+            None
         };
         self.ring = (tets, r);
+        self.key = key;
         out
+    }
+
+    /// Is the removal of edge `a b` with ring `r` memoized as impossible?
+    /// Writes the memo key (rings of [`MEMO_RING`] or more vertices) into
+    /// `key`; false for shorter rings.
+    fn known_failed(&self, a: u32, b: u32, r: &[u32], key: &mut Vec<u32>) -> bool {
+        key.clear();
+        if r.len() < MEMO_RING {
+            return false;
+        }
+        let m = (0..r.len()).min_by_key(|&i| r[i]).unwrap_or(0);
+        key.extend([a, b]);
+        key.extend(r[m..].iter().chain(&r[..m]));
+        self.failed.contains(&key[..])
     }
 
     /// [`Journaled::remove_edge_below`] once the ring is known: the cost,
@@ -626,14 +688,10 @@ impl<'a> Journaled<'a> {
             (NO, 0),
             &mut best,
             &mut choice,
-            |i, j| {
-                if i == 0 && j == n - 1 {
-                    0
-                } else {
-                    edge_cost(self.pts(), rr[i], rr[j])
-                }
-            },
-            |i, k, j, l, right, cur, &chord| {
+            // The chord's cost is computed at its first valid split (most
+            // chords of a ring that cannot be removed have none).
+            |i, j| (i, j, std::cell::Cell::new(None)),
+            |i, k, j, l, right, cur, chord| {
                 if l >= NO || right >= NO {
                     return None;
                 }
@@ -643,6 +701,16 @@ impl<'a> Journaled<'a> {
                 {
                     return None;
                 }
+                let (ci, cj, ref cost) = *chord;
+                let chord = cost.get().unwrap_or_else(|| {
+                    let c = if ci == 0 && cj == n - 1 {
+                        0
+                    } else {
+                        edge_cost(self.pts(), rr[ci], rr[cj])
+                    };
+                    cost.set(Some(c));
+                    c
+                });
                 let c = l + right + tri_cost(self.pts(), tri) + chord;
                 (c < cur).then_some(c)
             },
@@ -916,6 +984,83 @@ mod tests {
         assert_eq!(h.log_mark(), 0);
     }
 
+    /// Six points on a circle around the z axis (0..6) and two poles
+    /// close to its plane (6 above, 7 below): edge 6-7 has six
+    /// tetrahedra around it.
+    fn hexagon_and_poles() -> Vec<[f64; 3]> {
+        let mut pts: Vec<[f64; 3]> = (0..6)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::PI / 3.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        pts.push([0.0, 0.0, 0.05]);
+        pts.push([0.0, 0.0, -0.05]);
+        pts
+    }
+
+    #[test]
+    fn a_flip_plan_is_the_flip_and_changes_nothing() {
+        // Every face of a scattered mesh: the plan exists exactly when the
+        // 2-3 flip is made, leaves the mesh as it was, and applied gives
+        // the flip's mesh.
+        let pts = scattered(40);
+        let base = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let (mut made, mut refused) = (0, 0);
+        for t in 0..base.m.tv.len() as u32 {
+            for f in 0..4 {
+                let before = base.m.tv.clone();
+                let plan = base.flip23_plan(t, f);
+                assert_eq!(base.m.tv, before);
+                let mut by_flip = base.clone();
+                let flipped = by_flip.flip23(t, f);
+                assert_eq!(plan.is_some(), flipped);
+                if let Some(plan) = plan {
+                    let mut by_plan = base.clone();
+                    by_plan.apply_flip23(plan);
+                    by_plan.check().unwrap();
+                    assert_eq!(by_plan.m.tv, by_flip.m.tv);
+                    assert_eq!(by_plan.flips23, 1);
+                    made += 1;
+                } else {
+                    refused += 1;
+                }
+            }
+        }
+        assert!(made > 10 && refused > 10);
+    }
+
+    #[test]
+    fn a_limit_from_the_ring_refuses_or_bounds_the_removal() {
+        // Edge 6-7 with a ring of six: every triangulation of the hexagon
+        // has three chords, so with one per chord the removal costs 3
+        // (chord costs are computed lazily, each still counted once).
+        let pts = hexagon_and_poles();
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let t = m.find_edge(6, 7).unwrap();
+        let before = m.m.tv.clone();
+        let costs: (TriCost<'_>, EdgeCost<'_>) = (&|_, _| 0, &|_, _, _| 1);
+        // Refused by the ring (nothing changed, not memoized), then by a
+        // limit of 3, then made under a limit of 4.
+        let seen = std::cell::Cell::new(0);
+        let refuse = |_: &[[f64; 3]], r: &[u32]| {
+            seen.set(r.len());
+            None
+        };
+        assert_eq!(m.remove_edge_limited(t, 6, 7, costs, refuse), None);
+        assert_eq!(seen.get(), 6);
+        assert!(m.failed.is_empty());
+        assert_eq!(m.remove_edge_limited(t, 6, 7, costs, |_, _| Some(3)), None);
+        assert_eq!(m.m.tv, before);
+        m.check().unwrap();
+        assert_eq!(
+            m.remove_edge_limited(t, 6, 7, costs, |_, r| Some(r.len() as i64 - 2)),
+            Some(3)
+        );
+        m.check().unwrap();
+        assert!(!has_edge(&m, 6, 7));
+    }
+
     #[test]
     fn hull_diagonal_of_a_flat_quad_is_flipped() {
         let pts = [
@@ -948,14 +1093,7 @@ mod tests {
     fn edge_removal_of_larger_rings() {
         // A ring of six points around the z axis: edge 6-7 has six
         // tetrahedra around it; removing it gives 2 * 6 - 4 = 8.
-        let mut pts: Vec<[f64; 3]> = (0..6)
-            .map(|i| {
-                let a = i as f64 * std::f64::consts::PI / 3.0;
-                [a.cos(), a.sin(), 0.0]
-            })
-            .collect();
-        pts.push([0.0, 0.0, 0.05]);
-        pts.push([0.0, 0.0, -0.05]);
+        let pts = hexagon_and_poles();
         let dt = Delaunay3::from_points(&pts).unwrap();
         let mut m = Journaled::new(dt);
         let t = m.find_edge(6, 7).unwrap();

@@ -204,50 +204,70 @@ fn zero2(_: &[[f64; 3]], _: u32, _: u32) -> i64 {
 /// Most edge-removal attempts one [`remove_edge_deep`] call makes.
 const WORK: usize = 16;
 
-/// 1 when segment `s` meets face `f` other than at a shared vertex: its
-/// ends strictly on the two sides of the face's plane and its line through
-/// the closed triangle (so also through an edge or a vertex of it); else 0
-/// (a ghost face, a face at an end of `s`).
-fn meets(pts: &[[f64; 3]], (u, v): (u32, u32), f: [u32; 3]) -> i64 {
-    if f.contains(&INF) || f.contains(&u) || f.contains(&v) {
-        return 0;
+/// A segment with its bounding box, for the tests of one flip decision
+/// whether it meets faces ([`SegTest::meets`]; the box is computed once,
+/// not per face).
+struct SegTest {
+    u: u32,
+    v: u32,
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+impl SegTest {
+    fn new(pts: &[[f64; 3]], (u, v): (u32, u32)) -> Self {
+        let (pu, pv) = (pts[u as usize], pts[v as usize]);
+        let lo = [0, 1, 2].map(|k| if pv[k] < pu[k] { pv[k] } else { pu[k] });
+        let hi = [0, 1, 2].map(|k| if pv[k] > pu[k] { pv[k] } else { pu[k] });
+        SegTest { u, v, lo, hi }
     }
-    let g = |w: u32| &pts[w as usize];
-    let [x, y, z] = f;
-    // Disjoint bounding boxes: no meeting (no predicate needed).
-    let (pu, pv) = (g(u), g(v));
-    let (px, py, pz) = (g(x), g(y), g(z));
-    if (0..3).any(|k| {
-        pu[k].max(pv[k]) < px[k].min(py[k]).min(pz[k])
-            || pu[k].min(pv[k]) > px[k].max(py[k]).max(pz[k])
-    }) {
-        return 0;
+
+    /// 1 when this segment meets face `f` (on points `pts`) other than at
+    /// a shared vertex: its ends strictly on the two sides of the face's
+    /// plane and its line through the closed triangle (so also through an
+    /// edge or a vertex of it); else 0 (a ghost face, a face at an end of
+    /// the segment).
+    fn meets(&self, pts: &[[f64; 3]], f: [u32; 3]) -> i64 {
+        let (u, v) = (self.u, self.v);
+        if f.contains(&INF) || f.contains(&u) || f.contains(&v) {
+            return 0;
+        }
+        let g = |w: u32| &pts[w as usize];
+        let [x, y, z] = f;
+        // Disjoint bounding boxes: no meeting (no predicate needed).
+        let (px, py, pz) = (g(x), g(y), g(z));
+        if (0..3).any(|k| {
+            (self.hi[k] < px[k] && self.hi[k] < py[k] && self.hi[k] < pz[k])
+                || (self.lo[k] > px[k] && self.lo[k] > py[k] && self.lo[k] > pz[k])
+        }) {
+            return 0;
+        }
+        let (pu, pv) = (g(u), g(v));
+        let (ou, ov) = (sgn(orient3d(px, py, pz, pu)), sgn(orient3d(px, py, pz, pv)));
+        if ou * ov >= 0 {
+            return 0;
+        }
+        let s = [(x, y), (y, z), (z, x)].map(|(p, q)| sgn(orient3d(pu, pv, g(p), g(q))));
+        i64::from(s.iter().all(|&k| k >= 0) || s.iter().all(|&k| k <= 0))
     }
-    let (ou, ov) = (
-        sgn(orient3d(g(x), g(y), g(z), g(u))),
-        sgn(orient3d(g(x), g(y), g(z), g(v))),
-    );
-    if ou * ov >= 0 {
-        return 0;
-    }
-    let s = [(x, y), (y, z), (z, x)].map(|(p, q)| sgn(orient3d(g(u), g(v), g(p), g(q))));
-    i64::from(s.iter().all(|&k| k >= 0) || s.iter().all(|&k| k <= 0))
 }
 
 /// Edge removal of `a b` (in `t`) while recovering segment `s`: refused
 /// when the faces it creates meet `s` more often than the faces it
 /// destroys (the segment's crossings never grow, so the flips cannot go in
-/// a circle that brings a crossing back); among the allowed ring
-/// triangulations, one meeting `s` least.
+/// a circle that brings a crossing back), and on a ring through a ghost;
+/// among the allowed ring triangulations, one meeting `s` least.
 fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)) -> bool {
-    let Some((_, ring)) = cm.edge_ring(t, a, b) else {
-        return false;
+    let seg = SegTest::new(cm.pts(), s);
+    let limit = |p: &[[f64; 3]], ring: &[u32]| -> Option<i64> {
+        if ring.contains(&INF) {
+            return None;
+        }
+        Some(ring.iter().map(|&r| seg.meets(p, [a, b, r])).sum::<i64>() + 1)
     };
-    let pts = cm.pts();
-    let old: i64 = ring.iter().map(|&r| meets(pts, s, [a, b, r])).sum();
-    let tri = |p: &[[f64; 3]], f: [u32; 3]| meets(p, s, f);
-    let chord = |p: &[[f64; 3]], x: u32, y: u32| meets(p, s, [a, x, y]) + meets(p, s, [b, x, y]);
-    cm.remove_edge_below(t, a, b, (&tri, &chord), old + 1)
+    let tri = |p: &[[f64; 3]], f: [u32; 3]| seg.meets(p, f);
+    let chord = |p: &[[f64; 3]], x: u32, y: u32| seg.meets(p, [a, x, y]) + seg.meets(p, [b, x, y]);
+    cm.remove_edge_limited(t, a, b, (&tri, &chord), limit)
         .is_some()
 }
 
@@ -307,7 +327,9 @@ fn remove_edge_deep(
         };
         let n = ring.len();
         let mut progress = false;
-        for i in 0..n {
+        // (A 2-3 flip of a face around the edge shrinks its ring by one:
+        // none with a ring of three.)
+        for i in (0..n).filter(|_| n > 3) {
             // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
             if prot.face([a, b, ring[i]]) {
                 continue;
@@ -317,33 +339,36 @@ fn remove_edge_deep(
             let Some(f) = tv.iter().position(|&w| w == ring[(i + 1) % n]) else {
                 continue;
             };
+            // Validity first (three exact signs), then the guide's test.
+            let Some(plan) = cm.flip23_plan(x, f) else {
+                continue;
+            };
             if let Guide::Segment(u, v) = guide {
                 // The flip's new faces are those around edge p q.
                 let (p, q) = (ring[(i + 1) % n], ring[(i + n - 1) % n]);
                 let pts = cm.pts();
-                let old = meets(pts, (u, v), [a, b, ring[i]]);
+                let seg = SegTest::new(pts, (u, v));
+                let old = seg.meets(pts, [a, b, ring[i]]);
                 let new: i64 = [a, b, ring[i]]
                     .iter()
-                    .map(|&w| meets(pts, (u, v), [p, q, w]))
+                    .map(|&w| seg.meets(pts, [p, q, w]))
                     .sum();
                 if new > old {
                     continue;
                 }
             }
-            if n > 3 && cm.flip23(x, f) {
-                progress = true;
-                break;
-            }
+            cm.apply_flip23(plan);
+            progress = true;
+            break;
         }
         if !progress && depth > 1 {
             for &r in &ring {
                 if *budget == 0 {
                     return false;
                 }
+                // (True only when the edge is gone.)
                 if remove_edge_deep(cm, a, r, depth - 1, prot, deeper, budget)
-                    && cm.find_edge(a, r).is_none()
                     || remove_edge_deep(cm, b, r, depth - 1, prot, deeper, budget)
-                        && cm.find_edge(b, r).is_none()
                 {
                     progress = true;
                     break;
@@ -582,6 +607,89 @@ pub(crate) fn crossing_edges(
     out
 }
 
+/// [`crossing_edges`] after the operations logged since `mark`, from
+/// `cross`, its value before them: the edges those operations removed are
+/// dropped, those they created are tested, and each edge is given the
+/// lowest slot around it (the one the search keeps). The same list as
+/// the search's, without its walk and its predicates on the edges that
+/// did not change.
+fn crossing_edges_after(
+    cm: &Journaled<'_>,
+    surf: &Surface,
+    t: usize,
+    cross: &[((u32, u32), u32)],
+    mark: usize,
+) -> Vec<((u32, u32), u32)> {
+    let pts = cm.pts();
+    let [a, b, c] = surf.tris[t].map(|w| pts[w as usize]);
+    let mut set: Vec<(u32, u32)> = cross.iter().map(|e| e.0).collect();
+    let (mut old_e, mut new_e) = (Vec::new(), Vec::new());
+    let edges = |tets: &[[u32; 4]], out: &mut Vec<(u32, u32)>| {
+        out.clear();
+        for tv in tets {
+            for (i, j) in EDGES {
+                if tv[i] != INF && tv[j] != INF {
+                    out.push(ekey(tv[i], tv[j]));
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    };
+    cm.ops_since(mark, |old, new| {
+        edges(old, &mut old_e);
+        edges(new, &mut new_e);
+        for e in &old_e {
+            if new_e.binary_search(e).is_err() {
+                if let Ok(i) = set.binary_search(e) {
+                    set.remove(i);
+                }
+            }
+        }
+        for &(p, q) in &new_e {
+            if old_e.binary_search(&(p, q)).is_ok()
+                || surf.on_triangle(p, t)
+                || surf.on_triangle(q, t)
+                || !place::crosses(&a, &b, &c, &pts[p as usize], &pts[q as usize])
+            {
+                continue;
+            }
+            if let Err(i) = set.binary_search(&(p, q)) {
+                set.insert(i, (p, q));
+            }
+        }
+    });
+    let hint: IdMap<(u32, u32), u32> = cross.iter().copied().collect();
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    let mut out = Vec::with_capacity(set.len());
+    for (p, q) in set {
+        let at = hint
+            .get(&(p, q))
+            .copied()
+            .filter(|&x| {
+                cm.m.alive(x)
+                    && cm.m.tv[x as usize].contains(&p)
+                    && cm.m.tv[x as usize].contains(&q)
+            })
+            .or_else(|| cm.find_edge(p, q));
+        let Some(at) = at else {
+            continue;
+        };
+        let lowest =
+            cm.m.ring_into(
+                at,
+                (p, q),
+                (usize::MAX, true),
+                |_, _| true,
+                (&mut tets, &mut ring),
+            )
+            .and_then(|_| tets.iter().copied().min())
+            .unwrap_or(at);
+        out.push(((p, q), lowest));
+    }
+    out
+}
+
 /// Recovers input triangle `t` by flips (no crossing edge left); false when
 /// they fail. `inner`: Steiner points inside `t`.
 pub(crate) fn recover_facet(
@@ -599,7 +707,10 @@ pub(crate) fn recover_facet(
 /// least reached so far.
 const FACET_STALL: usize = 8;
 
-/// [`recover_facet`]; with `stop_circles`, the flips are given up (false)
+/// [`recover_facet`]; after each step the crossing edges are updated
+/// from the operations it made ([`crossing_edges_after`], when the mesh
+/// logs them) rather than searched again. With `stop_circles`, the flips
+/// are given up (false)
 /// once [`FACET_STALL`] consecutive steps have not brought the number of
 /// edges crossing `t` below the least reached so far: each step removes
 /// one crossing edge, and when its ring triangulation creates as many
@@ -643,6 +754,7 @@ pub(crate) fn recover_facet_within(
             )
         };
         let mut progress = false;
+        let mark = cm.log_mark();
         for &((p, q), x) in &cross {
             if prot.edge(p, q) {
                 continue;
@@ -665,7 +777,15 @@ pub(crate) fn recover_facet_within(
         if !progress {
             return false;
         }
-        cross = crossing_edges(cm, surf, t, inner);
+        cross = if cm.logging() {
+            crossing_edges_after(cm, surf, t, &cross, mark)
+        } else {
+            crossing_edges(cm, surf, t, inner)
+        };
+        #[cfg(debug_assertions)]
+        if cm.logging() {
+            debug_assert_eq!(cross, crossing_edges(cm, surf, t, inner));
+        }
     }
     cross.is_empty()
 }
@@ -693,6 +813,7 @@ mod tests {
             [2.0, 2.0, -1.0],
         ];
         let f = [0, 1, 2];
+        let meets = |pts: &[[f64; 3]], s, f| SegTest::new(pts, s).meets(pts, f);
         assert_eq!(meets(&pts, (3, 4), f), 1);
         assert_eq!(meets(&pts, (4, 3), f), 1);
         assert_eq!(meets(&pts, (5, 6), f), 1);
