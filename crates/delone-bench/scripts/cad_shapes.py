@@ -3,8 +3,8 @@
 dimensions and angles per seed, and a side-by-side run of delone and TetGen 1.6.
 
 The classes are those CAD users bring and boundary recovery finds hard: tubes
-with rings of radial holes (long strips on both cylinders, the bore a twisted
-prism broken by the holes), a gear with a keyway and a bracket with holes
+with rings of radial holes or with one (long strips on both cylinders, the
+bore a twisted prism broken by the holes), a gear with a keyway and a bracket with holes
 turned to arbitrary angles (no coordinate plane exact), stacked plates whose
 faces are 1e-4 apart (near-coplanar, not coplanar), a revolved vase with a
 slot, a twisted hexagonal extrusion with two bores and a sphere with cubes cut
@@ -63,6 +63,16 @@ def tube_rings(rng):
     return t
 
 
+def tube_one_hole(rng):
+    """The smallest of the tubes: 12–20 sides, one radial hole. Its bore is a
+    twisted prism (every side quad split the same way round) opened by the
+    hole; TetGen's flips recover it without Steiner points."""
+    seg = int(rng.integers(12, 21))
+    t = M.cylinder(2.0, 0.5, -1, seg) - M.cylinder(2.2, 0.42, -1, seg).translate((0, 0, -0.1))
+    a = float(360.0 * rng.random())
+    return t - M.cylinder(1.2, 0.06, -1, 8).rotate((0, 90, 0)).rotate((0, 0, a)).translate((0, 0, 1.0))
+
+
 def bracket_turned(rng):
     b = M.cube((2.0, 1.0, 0.15)) + M.cube((0.15, 1.0, 1.2))
     for i in range(3):
@@ -114,7 +124,7 @@ def sphere_cuts(rng):
 MODELS = {
     "tube_rings": tube_rings, "bracket_turned": bracket_turned, "gear_key_turned": gear_key_turned,
     "stacked_plates": stacked_plates, "vase_slot": vase_slot, "twisted_hex": twisted_hex,
-    "sphere_cuts": sphere_cuts,
+    "sphere_cuts": sphere_cuts, "tube_one_hole": tube_one_hole,
 }
 
 
