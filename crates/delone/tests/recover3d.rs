@@ -443,6 +443,14 @@ fn checked(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], o: &RecoverOptions) 
     r
 }
 
+/// [`checked`], then the same recovery again: the same tetrahedra.
+fn checked_twice(name: &str, pts: &[[f64; 3]], tris: &[[u32; 3]], o: &RecoverOptions) -> Recovered {
+    let r = checked(name, pts, tris, o);
+    let again = recover(pts, tris, o).unwrap();
+    assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+    r
+}
+
 #[test]
 fn schonhardt_with_surface_preservation() {
     // Every twist is recovered with interior Steiner points only (cavity
@@ -608,10 +616,7 @@ fn fans_and_thin_strips_are_recovered() {
                 ..RecoverOptions::default()
             };
             let name = format!("fan star k={k} twist={twist} merge={merge} stop={stop}");
-            let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-            check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
-            let again = recover(&pts, &tris, &opts).unwrap();
-            assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+            checked_twice(&name, &pts, &tris, &opts);
         }
     }
 }
@@ -668,10 +673,7 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
             stop_circling_flips: true,
             ..RecoverOptions::default()
         };
-        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
-        let again = recover(&pts, &tris, &opts).unwrap();
-        assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+        let r = checked_twice(name, &pts, &tris, &opts);
         println!("{name}: {:?}", r.report);
         assert!(r.report.steiner() <= most, "{name}: {:?}", r.report);
     }
@@ -770,10 +772,7 @@ fn crossed_fan_slabs_recover_with_stopped_circles() {
                 ..RecoverOptions::default()
             };
             let name = format!("crossed fans m={m} h={h} merge={merge}");
-            let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-            check_recovered(&pts, &tris, &r).unwrap_or_else(|v| panic!("{name}: {v:?}"));
-            let again = recover(&pts, &tris, &opts).unwrap();
-            assert_eq!(r.mesh.tets, again.mesh.tets, "{name}: not deterministic");
+            let r = checked_twice(&name, &pts, &tris, &opts);
             println!("{name}: {:?}", r.report);
         }
     }

@@ -1108,21 +1108,13 @@ fn roundness(a: &[f64; 2], b: &[f64; 2], c: &[f64; 2]) -> f64 {
 /// hull faces at every vertex of a new ghost cell form one cycle around
 /// it (or there are none): the hull stays a manifold there.
 fn hull_manifold_after(cm: &Journaled<'_>, removed: &[u32], new: &[[u32; 4]]) -> bool {
-    let finite = |tv: [u32; 4]| {
-        let mut f = [0u32; 3];
-        let mut k = 0;
-        for w in tv {
-            if w != INF && k < 3 {
-                f[k] = w;
-                k += 1;
-            }
-        }
-        f
-    };
+    // Ghost cells hold the point at infinity last (the mesh invariant;
+    // the new ones are made so): their first three vertices are the hull
+    // face.
     let mut verts: Vec<u32> = new
         .iter()
-        .filter(|tv| tv.contains(&INF))
-        .flat_map(|&tv| finite(tv))
+        .filter(|tv| tv[3] == INF)
+        .flat_map(|tv| [tv[0], tv[1], tv[2]])
         .collect();
     verts.sort_unstable();
     verts.dedup();
@@ -1134,11 +1126,12 @@ fn hull_manifold_after(cm: &Journaled<'_>, removed: &[u32], new: &[[u32; 4]]) ->
             .filter(|t| removed.binary_search(t).is_err())
             .map(|t| cm.m.tv[t as usize])
             .chain(new.iter().copied())
-            .filter(|tv| tv.contains(&INF) && tv.contains(&v))
-            .map(|tv| {
-                let f = finite(tv);
-                let o: Vec<u32> = f.iter().copied().filter(|&w| w != v).collect();
-                (o[0], o[1])
+            .filter(|tv| tv[3] == INF && tv[..3].contains(&v))
+            .map(|tv| match tv[..3].iter().position(|&w| w == v) {
+                // The other two hull-face vertices, in cell order.
+                Some(0) => (tv[1], tv[2]),
+                Some(1) => (tv[0], tv[2]),
+                _ => (tv[0], tv[1]),
             })
             .collect();
         if edges.is_empty() {
