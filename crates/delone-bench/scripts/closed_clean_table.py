@@ -2,7 +2,7 @@
 """Two programs side by side on the corpus' closed-clean surfaces, one run.
 
   python3 crates/delone-bench/scripts/closed_clean_table.py A B [--sw -pq1.414]
-      [--min 0] [--max 8000] [--models a,b] [--tetgen PATH]
+      [--min 0] [--max 8000] [--models a,b] [--tetgen PATH] [--tg-sw SW]
 
 A and B are `delone` binaries (an older and a newer build, say) or `tg` for TetGen 1.6's
 command-line program (built by ../shared/reference/build-tetgen.sh unless --tetgen names
@@ -11,6 +11,11 @@ copied to a temporary folder and meshed there by A, then by B (`delone tet SW -Q
 --stats-json`, `tetgen -Q SW`) under /usr/bin/time: wall time, peak resident memory,
 tetrahedra and (delone) minimum dihedral angle per model, then the sums and the median
 time ratio B/A. Exit code 3 of delone (a bound missed) counts as a run.
+
+--tg-sw gives TetGen other switches than delone's: `--sw=-p --tg-sw=-pM` compares
+delone `-p` (which merges only exactly coplanar triangles) with TetGen keeping every
+input triangle (`-M`); TetGen's `-p` alone merges neighbouring triangles that are
+coplanar up to an angle and re-triangulates them, so it solves another problem.
 """
 import sys, os, subprocess, json, shutil, statistics, argparse, tempfile, re
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
@@ -20,6 +25,7 @@ ap.add_argument('--sw', default='-pq1.414'); ap.add_argument('--max', type=int, 
 ap.add_argument('--min', type=int, default=0)
 ap.add_argument('--models', default=''); ap.add_argument('--timeout', type=int, default=600)
 ap.add_argument('--tetgen', default='')
+ap.add_argument('--tg-sw', default='', help="TetGen's switches when they differ from --sw")
 a = ap.parse_args()
 if 'tg' in (a.a, a.b) and not a.tetgen:
     a.tetgen = subprocess.run(['sh', os.path.join(os.path.dirname(ROOT), 'shared', 'reference', 'build-tetgen.sh')],
@@ -39,7 +45,7 @@ def run(binary, model):
     shutil.copy(src, d)
     f = os.path.join(d, model + '.off')
     if binary == 'tg':
-        cmd = [a.tetgen, '-Q' + a.sw.lstrip('-'), f]
+        cmd = [a.tetgen, '-Q' + (a.tg_sw or a.sw).lstrip('-'), f]
     else:
         cmd = [binary, 'tet', a.sw, '-Q', '--stats-json', d + '/s.json', f]
     try:
