@@ -36,7 +36,9 @@
 //!      bounding its uncovered part, then among all edges) and a Steiner
 //!      point is inserted where one crosses it (or, when that point
 //!      encroaches a boundary subsegment of the triangle, the subsegment is
-//!      split instead, Shewchuk's rule). When no crossing edge is found
+//!      split instead, Shewchuk's rule — at most twice per triangle: every
+//!      point of an obtuse sliver encroaches its long side, and on nearly
+//!      coplanar slivers the splits alone never end). When no crossing edge is found
 //!      (possible only because of inexact Steiner points), the longest edge
 //!      around the uncovered part is split.
 //!
@@ -413,6 +415,12 @@ pub(crate) fn recover_mesh(
     Ok((rec, mesh))
 }
 
+/// How many facet points of one input triangle may be replaced by the
+/// split of a boundary subsegment they encroach ([`State::insert_in_facet`]).
+/// Two: no triangle of the corpus needs more, and cgal_oblong's `-pq1.414`
+/// refinement depends on its second one.
+const MAX_REDIRECTS: u32 = 2;
+
 /// The input validation of [`recover_marked`]: exact self-intersections,
 /// then closedness.
 fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<(), RecoverError> {
@@ -559,6 +567,7 @@ impl State {
             max_dev_scaled: 0.0,
             opts,
             tri_inner: IdMap::default(),
+            redirected: IdMap::default(),
             interior_tries: IdMap::default(),
             group_tries: HashSet::new(),
             cavity_fails: 0,
@@ -1743,8 +1752,15 @@ impl State {
         self.insert_in_facet(dt, t, x, dev)
     }
 
-    /// Inserts `x` (on triangle `t` up to `dev`) unless it encroaches a
-    /// boundary subsegment of `t` (then that is split) or is not inside `t`.
+    /// Inserts `x` (on triangle `t` up to `dev`), or splits a boundary
+    /// subsegment of `t` that `x` encroaches (Shewchuk's rule). The split
+    /// is taken the first [`MAX_REDIRECTS`] times a point of `t`
+    /// encroaches, and afterwards only when `x` cannot be inserted: every
+    /// point inside an obtuse sliver encroaches its long side, so on nearly
+    /// coplanar sliver triangles (CAD faces stored in single precision and
+    /// turned) splits alone go on round after round while a vertex just off
+    /// the plane keeps an edge across the triangle. False when neither
+    /// works.
     fn insert_in_facet(
         &mut self,
         dt: &mut Delaunay3<'_>,
@@ -1754,26 +1770,31 @@ impl State {
     ) -> Result<bool, RecoverError> {
         let pts = dt.points();
         let g = |w: u32| pts[w as usize];
-        for &e in &self.surf.tri_edges[t] {
+        let encroached = self.surf.tri_edges[t].iter().find_map(|&e| {
             let chain = &self.surf.chains[e as usize];
-            for w in chain.windows(2) {
-                if place::encroaches(&g(w[0]), &g(w[1]), &x) {
-                    let (u, v) = (w[0], w[1]);
-                    return self.split_edge(dt, e, u, v);
-                }
+            chain
+                .windows(2)
+                .find(|w| place::encroaches(&g(w[0]), &g(w[1]), &x))
+                .map(|w| (e, w[0], w[1]))
+        });
+        if let Some((e, u, v)) = encroached {
+            let n = self.redirected.entry(t as u32).or_default();
+            *n += 1;
+            if *n <= MAX_REDIRECTS {
+                return self.split_edge(dt, e, u, v);
             }
         }
         let [a, b, c] = self.surf.tris[t].map(g);
-        if !place::inside_triangle(&a, &b, &c, &x) {
-            return Ok(false);
-        }
-        match self.insert(dt, x, dev)? {
-            Some(id) => {
+        if place::inside_triangle(&a, &b, &c, &x) {
+            if let Some(id) = self.insert(dt, x, dev)? {
                 self.surf.add_on_tri(id, t as u32);
                 self.tri_inner.entry(t as u32).or_default().push(id);
                 self.report.steiner_on_facets += 1;
-                Ok(true)
+                return Ok(true);
             }
+        }
+        match encroached {
+            Some((e, u, v)) => self.split_edge(dt, e, u, v),
             None => Ok(false),
         }
     }

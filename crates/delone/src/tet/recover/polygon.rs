@@ -35,7 +35,8 @@
 //! When the flips cannot cover a group, points are inserted where a mesh
 //! edge still crosses one of its triangles (the rounds of the constrained
 //! recovery, `place::facet_point`, Shewchuk's rule: a point encroaching a
-//! boundary subsegment splits the subsegment instead). Such a point is on
+//! boundary subsegment splits the subsegment instead, at most twice per
+//! triangle). Such a point is on
 //! the plane up to rounding only (a rational point of the plane is not
 //! representable in `f64` in general); it is recorded as inexact with its
 //! deviation, like every Steiner point inside an input triangle. Points on

@@ -37,6 +37,9 @@ pub(super) struct State {
     pub(super) opts: RecoverOptions,
     /// Per input triangle: the Steiner points inside it.
     pub(super) tri_inner: IdMap<u32, Vec<u32>>,
+    /// Per input triangle: how many of its facet points encroached a
+    /// boundary subsegment, which was split instead (`insert_in_facet`).
+    pub(super) redirected: IdMap<u32, u32>,
     /// Per input triangle: interior points tried for it (`-Y`).
     pub(super) interior_tries: IdMap<u32, usize>,
     /// Groups of failing triangles whose centroid was tried (`-Y`).
