@@ -358,3 +358,24 @@ fn nearly_coplanar_slivers_of_a_turned_plate() {
     );
     assert!(r.report.steiner_on_facets > 0, "perf_plate: {:?}", r.report);
 }
+
+/// `-pq1.414` on the same plate: the recovery tuned for a refinement
+/// (unguided flips) splits subsegments until one is too short to split;
+/// the pipeline then recovers with the guided flips of `-p` and refines
+/// that. A mesh comes out, its input triangles recovered.
+#[test]
+fn nearly_coplanar_slivers_refined() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/perf_plate.off");
+    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
+    let tris = s.triangles();
+    let plc = Plc::from_triangles(s.points.clone(), &tris);
+    let o = delone::tet::TetOptions::from_switches("pq1.414").unwrap();
+    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("perf_plate -pq1.414: {e}"));
+    check_recovered(&s.points, &r.triangles, &r.mesh)
+        .unwrap_or_else(|e| panic!("perf_plate -pq1.414: {e}"));
+    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
+    assert!(
+        (v - expect).abs() <= 1e-9 * expect,
+        "perf_plate -pq1.414: volume {v} instead of {expect}"
+    );
+}
