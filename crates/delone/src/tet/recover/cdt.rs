@@ -406,9 +406,35 @@ const DEPTH: u32 = 2;
 /// flips.
 pub(crate) const SEG_OPS: usize = 128;
 
+/// How hard [`recover_segment_within`] tries: the depth and the work
+/// budget of each edge removal ([`remove_edge_deep`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Effort {
+    pub(crate) depth: u32,
+    pub(crate) work: usize,
+}
+
+impl Effort {
+    /// Every segment's attempts in the rounds.
+    pub(crate) const BASE: Effort = Effort {
+        depth: DEPTH,
+        work: WORK,
+    };
+
+    /// Level `level` ≥ 2 of the escalation for segments that still fail
+    /// (TetGen's "auto levels", Si 2015): depth `level`, the work doubled
+    /// per level above [`DEPTH`].
+    pub(crate) fn level(level: u32) -> Effort {
+        Effort {
+            depth: level,
+            work: WORK << level.saturating_sub(DEPTH),
+        }
+    }
+}
+
 /// Recovers subsegment `u v` by flips; false when they fail.
 pub(crate) fn recover_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
-    recover_segment_within(cm, u, v, prot, usize::MAX / 2, false)
+    recover_segment_within(cm, u, v, prot, usize::MAX / 2, false, Effort::BASE)
 }
 
 /// [`recover_segment`] using at most about `max_ops` flips and edge
@@ -418,7 +444,8 @@ pub(crate) fn recover_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Pro
 /// restored what an earlier one removed), the segment-guided ones the same
 /// way (each keeps its own list), and the segment when no flip at either
 /// end makes progress: a segment that cycles so would otherwise spend its
-/// whole budget on flips that are rolled back anyway.
+/// whole budget on flips that are rolled back anyway. `effort`: the depth
+/// and work of its edge removals.
 pub(crate) fn recover_segment_within(
     cm: &mut Journaled<'_>,
     u: u32,
@@ -426,6 +453,7 @@ pub(crate) fn recover_segment_within(
     prot: &Protected,
     max_ops: usize,
     stop_circles: bool,
+    effort: Effort,
 ) -> bool {
     const CAP: usize = 48;
     if cm.find_edge(u, v).is_some() {
@@ -492,7 +520,9 @@ pub(crate) fn recover_segment_within(
                             progress = true;
                         } else {
                             for (a, b) in face_edges(cm, t, f, stop_circles) {
-                                if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                                if remove_edge_deep(cm, a, b, effort.depth, prot, g, &mut {
+                                    effort.work
+                                }) {
                                     progress = true;
                                     break;
                                 }
@@ -500,7 +530,7 @@ pub(crate) fn recover_segment_within(
                         }
                     }
                     Hit::Edge(a, b) => {
-                        if remove_edge_deep(cm, a, b, DEPTH, prot, g, &mut { WORK }) {
+                        if remove_edge_deep(cm, a, b, effort.depth, prot, g, &mut { effort.work }) {
                             progress = true;
                         }
                     }

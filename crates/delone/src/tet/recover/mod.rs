@@ -36,9 +36,10 @@
 //!      bounding its uncovered part, then among all edges) and a Steiner
 //!      point is inserted where one crosses it (or, when that point
 //!      encroaches a boundary subsegment of the triangle, the subsegment is
-//!      split instead, Shewchuk's rule — at most twice per triangle: every
-//!      point of an obtuse sliver encroaches its long side, and on nearly
-//!      coplanar slivers the splits alone never end). When no crossing edge is found
+//!      split instead, Shewchuk's rule — at most twice per triangle except
+//!      in the `-Y` fallback: every point of an obtuse sliver encroaches
+//!      its long side, and on nearly coplanar slivers the splits alone
+//!      never end). When no crossing edge is found
 //!      (possible only because of inexact Steiner points), the longest edge
 //!      around the uncovered part is split.
 //!
@@ -415,10 +416,21 @@ pub(crate) fn recover_mesh(
     Ok((rec, mesh))
 }
 
+/// The deepest level of edge removal tried on the segments the `-Y`
+/// fallback's `-p` recovery still misses after a round's passes
+/// ([`cdt::Effort::level`]). 6: on tubes with radial holes, the `-p`
+/// recovery then puts 35–42% fewer points on the surface than with level 2
+/// alone (w_tube_c 406 → 234) at about 4× its time; level 10 takes another
+/// third away at 8× more.
+const MAX_LEVEL: u32 = 6;
+
 /// How many facet points of one input triangle may be replaced by the
 /// split of a boundary subsegment they encroach ([`State::insert_in_facet`]).
-/// Two: no triangle of the corpus needs more, and cgal_oblong's `-pq1.414`
-/// refinement depends on its second one.
+/// Two: no triangle of the corpus needs more (cgal_oblong's `-pq1.414`
+/// refinement depends on a triangle's second split). The `-Y` fallback's
+/// recovery keeps the rule without limit: it pulls every surface point of
+/// a tube with radial holes (w_tube_c) off only when the facet points stay
+/// off the slivers.
 const MAX_REDIRECTS: u32 = 2;
 
 /// The input validation of [`recover_marked`]: exact self-intersections,
@@ -574,6 +586,7 @@ impl State {
             cavity_left: Vec::new(),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
+            y_fallback: false,
             fallback_tried: false,
             points_first: false,
             first_missing: None,
@@ -884,20 +897,25 @@ impl State {
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
             let stop_circles = self.opts.stop_circling_flips && !self.opts.preserve_surface;
             let mut near_fail: Vec<u32> = Vec::new();
-            let attempt =
-                |cm: &mut Journaled<'_>, u: u32, v: u32, near: &mut Vec<u32>, ops: usize| {
-                    let mark = cm.log_mark();
-                    if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles) {
-                        return None;
-                    }
-                    let s = near.len();
-                    near.extend([u, v]);
-                    cm.removed_vertices_since(mark, |_, w| near.push(w));
-                    cm.rollback(mark);
-                    Some((cm.log_mark(), s, near.len()))
-                };
+            let attempt = |cm: &mut Journaled<'_>,
+                           u: u32,
+                           v: u32,
+                           near: &mut Vec<u32>,
+                           ops: usize,
+                           effort: cdt::Effort| {
+                let mark = cm.log_mark();
+                if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles, effort) {
+                    return None;
+                }
+                let s = near.len();
+                near.extend([u, v]);
+                cm.removed_vertices_since(mark, |_, w| near.push(w));
+                cm.rollback(mark);
+                Some((cm.log_mark(), s, near.len()))
+            };
             for &(e, u, v) in &subs {
-                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops) {
+                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
+                {
                     failed.push((e, u, v));
                     fail_at.push(at);
                 }
@@ -923,13 +941,36 @@ impl State {
                     if !changed {
                         failed.push((e, u, v));
                         fail_at.push((mark, s, t));
-                    } else if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, retry_ops) {
+                    } else if let Some(at) =
+                        attempt(&mut cm, u, v, &mut near_fail, retry_ops, cdt::Effort::BASE)
+                    {
                         failed.push((e, u, v));
                         fail_at.push(at);
                     }
                 }
                 if failed.len() == before {
                     break;
+                }
+            }
+            // The `-Y` fallback: the segments still failing are tried at
+            // deeper levels of edge removal, work and budget doubling per
+            // level (TetGen's escalation): each one recovered is a surface
+            // point fewer for the pull-off, whose stars on these long thin
+            // nearly coplanar strips are made of flat tetrahedra.
+            if self.y_fallback && !self.opts.preserve_surface {
+                for level in 3..=MAX_LEVEL {
+                    if failed.is_empty() {
+                        break;
+                    }
+                    let effort = cdt::Effort::level(level);
+                    let ops = max_ops << (level - 2);
+                    fail_at.clear();
+                    for (e, u, v) in std::mem::take(&mut failed) {
+                        if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, ops, effort) {
+                            failed.push((e, u, v));
+                            fail_at.push(at);
+                        }
+                    }
                 }
             }
             if !failed.is_empty() {
@@ -1754,8 +1795,9 @@ impl State {
 
     /// Inserts `x` (on triangle `t` up to `dev`), or splits a boundary
     /// subsegment of `t` that `x` encroaches (Shewchuk's rule). The split
-    /// is taken the first [`MAX_REDIRECTS`] times a point of `t`
-    /// encroaches, and afterwards only when `x` cannot be inserted: every
+    /// is taken the first [`MAX_REDIRECTS`] times a point of `t` encroaches
+    /// (always in the `-Y` fallback's recovery), and afterwards only when
+    /// `x` cannot be inserted: every
     /// point inside an obtuse sliver encroaches its long side, so on nearly
     /// coplanar sliver triangles (CAD faces stored in single precision and
     /// turned) splits alone go on round after round while a vertex just off
@@ -1780,7 +1822,7 @@ impl State {
         if let Some((e, u, v)) = encroached {
             let n = self.redirected.entry(t as u32).or_default();
             *n += 1;
-            if *n <= MAX_REDIRECTS {
+            if *n <= MAX_REDIRECTS || self.y_fallback {
                 return self.split_edge(dt, e, u, v);
             }
         }

@@ -36,7 +36,7 @@
 //! edge still crosses one of its triangles (the rounds of the constrained
 //! recovery, `place::facet_point`, Shewchuk's rule: a point encroaching a
 //! boundary subsegment splits the subsegment instead, at most twice per
-//! triangle). Such a point is on
+//! triangle except in the `-Y` fallback). Such a point is on
 //! the plane up to rounding only (a rational point of the plane is not
 //! representable in `f64` in general); it is recorded as inexact with its
 //! deviation, like every Steiner point inside an input triangle. Points on

@@ -61,6 +61,11 @@ pub(super) struct State {
     /// Flip budget per segment attempt of the `-p` path
     /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
     pub(super) seg_ops: usize,
+    /// The `-p` recovery of the `-Y` fallback (`cavity/pull.rs`): the
+    /// segments still failing after a round's passes are tried again with
+    /// deeper edge removals (levels 3 to `MAX_LEVEL`), and facet points
+    /// split the subsegments they encroach without limit (`MAX_REDIRECTS`).
+    pub(super) y_fallback: bool,
 }
 
 /// One merged group.

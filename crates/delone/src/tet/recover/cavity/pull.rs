@@ -186,6 +186,7 @@ impl State {
         for ops in [SEG_OPS, 2 * SEG_OPS, SEG_OPS / 2] {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
+            st.y_fallback = true;
             let mut dt = Delaunay3::from_points(scaled)?;
             let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
