@@ -587,6 +587,7 @@ impl State {
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
             y_fallback: false,
+            escalate: false,
             fallback_tried: false,
             points_first: false,
             first_missing: None,
@@ -957,7 +958,7 @@ impl State {
             // level (TetGen's escalation): each one recovered is a surface
             // point fewer for the pull-off, whose stars on these long thin
             // nearly coplanar strips are made of flat tetrahedra.
-            if self.y_fallback && !self.opts.preserve_surface {
+            if self.escalate && !self.opts.preserve_surface {
                 for level in 3..=MAX_LEVEL {
                     if failed.is_empty() {
                         break;

@@ -61,11 +61,14 @@ pub(super) struct State {
     /// Flip budget per segment attempt of the `-p` path
     /// ([`cdt::SEG_OPS`]; the `-Y` fallback retries with others).
     pub(super) seg_ops: usize,
-    /// The `-p` recovery of the `-Y` fallback (`cavity/pull.rs`): the
-    /// segments still failing after a round's passes are tried again with
-    /// deeper edge removals (levels 3 to `MAX_LEVEL`), and facet points
-    /// split the subsegments they encroach without limit (`MAX_REDIRECTS`).
+    /// The `-p` recovery of the `-Y` fallback (`cavity/pull.rs`): facet
+    /// points split the subsegments they encroach without limit
+    /// (`MAX_REDIRECTS`).
     pub(super) y_fallback: bool,
+    /// The segments still failing after a round's passes are tried again
+    /// with deeper edge removals (levels 3 to `MAX_LEVEL`); the last run
+    /// of the `-Y` fallback's recovery.
+    pub(super) escalate: bool,
 }
 
 /// One merged group.

@@ -181,12 +181,16 @@ impl State {
         // path put them (rounded points, nearly flat neighbours): when the
         // exact validation refuses a removal, the `-p` path is run again
         // with other flip budgets per segment, which place the surface
-        // points differently (deterministic order; the last error stands).
+        // points differently, and last with its failing segments tried at
+        // deeper flip levels (fewer surface points, at about twice the
+        // time and memory of a run: only where the others failed;
+        // deterministic order; the last error stands).
         let mut last = None;
-        for ops in [SEG_OPS, 2 * SEG_OPS, SEG_OPS / 2] {
+        for (ops, escalate) in [(SEG_OPS, false), (2 * SEG_OPS, true), (SEG_OPS / 2, true)] {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
             st.y_fallback = true;
+            st.escalate = escalate;
             let mut dt = Delaunay3::from_points(scaled)?;
             let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
