@@ -1798,12 +1798,11 @@ impl State {
     /// subsegment of `t` that `x` encroaches (Shewchuk's rule). The split
     /// is taken the first [`MAX_REDIRECTS`] times a point of `t` encroaches
     /// (always in the `-Y` fallback's recovery), and afterwards only when
-    /// `x` cannot be inserted: every
-    /// point inside an obtuse sliver encroaches its long side, so on nearly
-    /// coplanar sliver triangles (CAD faces stored in single precision and
-    /// turned) splits alone go on round after round while a vertex just off
-    /// the plane keeps an edge across the triangle. False when neither
-    /// works.
+    /// `x` cannot be inserted: every point inside an obtuse sliver
+    /// encroaches its long side, so on nearly coplanar sliver triangles
+    /// (CAD faces stored in single precision and turned) splits alone go
+    /// on round after round while a vertex just off the plane keeps an edge
+    /// across the triangle. False when neither works.
     fn insert_in_facet(
         &mut self,
         dt: &mut Delaunay3<'_>,

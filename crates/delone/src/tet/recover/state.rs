@@ -66,8 +66,8 @@ pub(super) struct State {
     /// (`MAX_REDIRECTS`).
     pub(super) y_fallback: bool,
     /// The segments still failing after a round's passes are tried again
-    /// with deeper edge removals (levels 3 to `MAX_LEVEL`); the last run
-    /// of the `-Y` fallback's recovery.
+    /// with deeper edge removals (levels 3 to `MAX_LEVEL`): the second and
+    /// third runs of the `-Y` fallback's recovery.
     pub(super) escalate: bool,
 }
 

@@ -181,10 +181,11 @@ impl State {
         // path put them (rounded points, nearly flat neighbours): when the
         // exact validation refuses a removal, the `-p` path is run again
         // with other flip budgets per segment, which place the surface
-        // points differently, and last with its failing segments tried at
-        // deeper flip levels (fewer surface points, at about twice the
-        // time and memory of a run: only where the others failed;
-        // deterministic order; the last error stands).
+        // points differently; those two runs also try their failing
+        // segments at deeper flip levels (fewer surface points, at up to
+        // twice the time and three times the memory of a run: only where
+        // the first run's points do not all come off; deterministic order;
+        // the last error stands).
         let mut last = None;
         for (ops, escalate) in [(SEG_OPS, false), (2 * SEG_OPS, true), (SEG_OPS / 2, true)] {
             let mut st = State::new(self.surf.clone(), opts.clone());
