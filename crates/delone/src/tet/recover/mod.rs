@@ -965,13 +965,9 @@ impl State {
                     }
                     let effort = cdt::Effort::level(level);
                     let ops = max_ops << (level - 2);
-                    fail_at.clear();
-                    for (e, u, v) in std::mem::take(&mut failed) {
-                        if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, ops, effort) {
-                            failed.push((e, u, v));
-                            fail_at.push(at);
-                        }
-                    }
+                    failed.retain(|&(_, u, v)| {
+                        attempt(&mut cm, u, v, &mut near_fail, ops, effort).is_some()
+                    });
                 }
             }
             if !failed.is_empty() {
