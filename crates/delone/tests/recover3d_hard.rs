@@ -337,7 +337,10 @@ fn isolated_facet_point_outside_the_facet_is_named() {
 /// a mesh edge across it, and every facet point of the sliver encroaches
 /// its long side; when such points always split that side instead, the
 /// rounds never end. Recovered within a budget of 2,000 Steiner points,
-/// checked, with its volume.
+/// checked, with its volume. The segments the flips circle on are
+/// recovered by the cone over their crossed cells, so no facet point is
+/// needed any more and under 100 segment points are (324 points, 20 of
+/// them on facets, with the flips alone).
 #[test]
 fn nearly_coplanar_slivers_of_a_turned_plate() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/perf_plate.off");
@@ -356,7 +359,7 @@ fn nearly_coplanar_slivers_of_a_turned_plate() {
         (v - expect).abs() <= 1e-9 * expect,
         "perf_plate: volume {v} instead of {expect}"
     );
-    assert!(r.report.steiner_on_facets > 0, "perf_plate: {:?}", r.report);
+    assert!(r.report.steiner() < 100, "perf_plate: {:?}", r.report);
 }
 
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement
@@ -378,4 +381,138 @@ fn nearly_coplanar_slivers_refined() {
         (v - expect).abs() <= 1e-9 * expect,
         "perf_plate -pq1.414: volume {v} instead of {expect}"
     );
+}
+
+/// A tube with a regular `n`-gon section (outer circumradius `big`, inner
+/// `small`, length `len` along z) and a square radial hole through both
+/// walls of its first side, turned by a rotation about no coordinate axis
+/// (as the CAD tubes of a turned part: every point of each end is on one
+/// circle, so the Delaunay tetrahedralization is degenerate, and the long
+/// strips of the walls are nearly coplanar). Points, outward triangles and
+/// the volume.
+fn turned_tube_with_hole(
+    n: usize,
+    big: f64,
+    small: f64,
+    len: f64,
+) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, f64) {
+    use std::f64::consts::PI;
+    let half = PI / n as f64;
+    let ring = |rad: f64, z: f64, k: usize| {
+        let a = 2.0 * PI * (k % n) as f64 / n as f64;
+        [rad * a.cos(), rad * a.sin(), z]
+    };
+    // The hole: half-width `w` across the first side, half-height `h`
+    // about `zc`, along the side's normal `nrm` (tangent `tg`).
+    let (w, h, zc) = (0.5 * small * half.sin(), 0.1 * len, 0.45 * len);
+    let (nrm, tg) = (
+        [half.cos(), half.sin(), 0.0],
+        [-half.sin(), half.cos(), 0.0],
+    );
+    let hole = |rad: f64, k: usize| {
+        let d = rad * half.cos();
+        let (a, z) = [(-w, zc - h), (w, zc - h), (w, zc + h), (-w, zc + h)][k];
+        [d * nrm[0] + a * tg[0], d * nrm[1] + a * tg[1], z]
+    };
+    let mut pts = Vec::new();
+    // 0..n outer z=0, n..2n outer z=len, 2n..3n inner z=0, 3n..4n inner
+    // z=len, then the hole's outer square, then its inner square.
+    for (rad, z) in [(big, 0.0), (big, len), (small, 0.0), (small, len)] {
+        pts.extend((0..n).map(|k| ring(rad, z, k)));
+    }
+    pts.extend((0..4).map(|k| hole(big, k)));
+    pts.extend((0..4).map(|k| hole(small, k)));
+    let n32 = n as u32;
+    let (o0, o1, i0, i1, ho, hi) = (0, n32, 2 * n32, 3 * n32, 4 * n32, 4 * n32 + 4);
+    let next = |k: u32| (k + 1) % n32;
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let mut quad = |a: u32, b: u32, c: u32, d: u32| {
+        tris.push([a, b, c]);
+        tris.push([a, c, d]);
+    };
+    for k in 0..n32 {
+        // Ends (annuli) and, but on the first side, both walls.
+        quad(o0 + k, o0 + next(k), i0 + next(k), i0 + k);
+        quad(o1 + k, o1 + next(k), i1 + next(k), i1 + k);
+        if k > 0 {
+            quad(o0 + k, o0 + next(k), o1 + next(k), o1 + k);
+            quad(i0 + k, i0 + next(k), i1 + next(k), i1 + k);
+        }
+    }
+    // The first side of each wall around its hole, and the hole's sides.
+    for (z0, z1, sq) in [(o0, o1, ho), (i0, i1, hi)] {
+        let q = [z0, z0 + 1, z1 + 1, z1];
+        for k in 0..4 {
+            quad(q[k], q[(k + 1) % 4], sq + (k as u32 + 1) % 4, sq + k as u32);
+        }
+    }
+    for k in 0..4u32 {
+        quad(ho + k, ho + (k + 1) % 4, hi + (k + 1) % 4, hi + k);
+    }
+    // Inside: between the two polygons (distance to each side's line
+    // against its apothem), between the ends, out of the hole.
+    let inside = |p: [f64; 3]| {
+        let apo = |rad: f64| {
+            (0..n).all(|k| {
+                let a = 2.0 * PI * k as f64 / n as f64 + half;
+                p[0] * a.cos() + p[1] * a.sin() < rad * half.cos()
+            })
+        };
+        let across = p[0] * tg[0] + p[1] * tg[1];
+        let along = p[0] * nrm[0] + p[1] * nrm[1];
+        let in_hole = across.abs() < w && (p[2] - zc).abs() < h && along > 0.0;
+        apo(big) && !apo(small) && p[2] > 0.0 && p[2] < len && !in_hole
+    };
+    let tris: Vec<[u32; 3]> = tris
+        .into_iter()
+        .map(|t| orient_outward(&pts, t, inside))
+        .collect();
+    let area = |rad: f64| 0.5 * n as f64 * rad * rad * (2.0 * half).sin();
+    let vol = (area(big) - area(small)) * len - (2.0 * w) * (2.0 * h) * (big - small) * half.cos();
+    // Turned: rotations about z, then x, then y by angles no multiple of
+    // a right angle.
+    let rot = |p: [f64; 3]| {
+        let (s1, c1) = 0.37f64.sin_cos();
+        let (s2, c2) = 0.61f64.sin_cos();
+        let (s3, c3) = 1.13f64.sin_cos();
+        let p = [c1 * p[0] - s1 * p[1], s1 * p[0] + c1 * p[1], p[2]];
+        let p = [p[0], c2 * p[1] - s2 * p[2], s2 * p[1] + c2 * p[2]];
+        [c3 * p[0] + s3 * p[2], p[1], -s3 * p[0] + c3 * p[2]]
+    };
+    (pts.into_iter().map(rot).collect(), tris, vol)
+}
+
+/// `-p` on turned tubes with a radial hole: the segments of the walls'
+/// long strips are recovered by the cone over the cavity of the cells they
+/// cross where the flips circle, so at most two are split (TetGen 1.6
+/// `-pM` adds 0 or 1 point on these). Checked, with the volume of the
+/// construction.
+#[test]
+fn turned_tubes_with_a_radial_hole_need_few_steiner_points() {
+    let opts = RecoverOptions {
+        stop_circling_flips: true,
+        ..RecoverOptions::default()
+    };
+    for (n, len) in [(16, 2.0), (16, 3.0), (12, 2.5)] {
+        let (pts, tris, vol) = turned_tube_with_hole(n, 0.5, 0.42, len);
+        let name = format!("tube n={n} len={len}");
+        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+        check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let v = mesh_volume(&r);
+        assert!(
+            (v - vol).abs() <= 1e-9 * vol,
+            "{name}: volume {v} instead of {vol}"
+        );
+        println!(
+            "{name}: {} triangles, Steiner points {}",
+            tris.len(),
+            r.report.steiner()
+        );
+        // Main before the cones: 7 and 11 on the two 16-gon tubes.
+        assert!(
+            r.report.steiner() <= 2,
+            "{name}: {} Steiner points",
+            r.report.steiner()
+        );
+    }
 }

@@ -486,6 +486,12 @@ pub(crate) fn recover_segment_within(
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return false;
         }
+        // Each step first tries the segment's cavity cone (one operation
+        // for the whole segment): the flips of the previous steps often
+        // make its cavity star-shaped from an end.
+        if stop_circles && cone_segment(cm, u, v, prot) {
+            return true;
+        }
         let mut progress = false;
         let mut given_up = [false; 2];
         'passes: for (pass, &g) in guides.iter().enumerate() {
@@ -546,6 +552,189 @@ pub(crate) fn recover_segment_within(
         }
     }
     cm.find_edge(u, v).is_some()
+}
+
+/// Most tetrahedra of the cavity of [`cone_segment`].
+const CONE_MAX: usize = 400;
+
+/// Most times [`cone_segment`] grows its cavity from one end.
+const CONE_GROW: usize = 32;
+
+/// A cavity of [`cone_segment`]: its slots in order and as a set.
+#[derive(Clone, Default)]
+struct Cavity {
+    list: Vec<u32>,
+    set: IdSet<u32>,
+}
+
+impl Cavity {
+    fn push(&mut self, t: u32) {
+        if self.set.insert(t) {
+            self.list.push(t);
+        }
+    }
+    fn has(&self, t: u32) -> bool {
+        self.set.contains(&t)
+    }
+}
+
+/// Recovers segment `u v` in one operation: the tetrahedra the open
+/// segment crosses (found across the faces it meets, from the star of
+/// `u`) form a cavity whose boundary holds both ends; when every boundary
+/// face not at one end sees that end strictly on its inner side, the cone
+/// from that end over them fills the cavity exactly (each point inside is
+/// covered once: the boundary winds once around it and every cone
+/// tetrahedron is positive) and has edge `u v`. Where faces block the
+/// cone (the end not strictly on their inner side), the tetrahedra behind
+/// them join the cavity, [`CONE_GROW`] times at most, for each end in
+/// turn (the end with fewer blocking faces first). Refused (false,
+/// nothing changed) when, from both ends, the cavity reaches a ghost, a
+/// protected face or [`CONE_MAX`] tetrahedra, would remove a protected
+/// edge or a vertex, or has a boundary edge not in exactly two boundary
+/// faces.
+pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
+    let pts = cm.pts();
+    let seg = SegTest::new(pts, (u, v));
+    let m = &cm.m;
+    let finite = |t: u32| (t as usize) < m.tv.len() && !m.tv[t as usize].contains(&INF);
+    let mut cav = Cavity::default();
+    for t in cm.star(u) {
+        let tv = m.tv[t as usize];
+        let Some(i) = tv.iter().position(|&w| w == u) else {
+            continue;
+        };
+        if finite(t) && seg.meets(pts, face(tv, i)) == 1 {
+            cav.push(t);
+        }
+    }
+    if cav.list.is_empty() {
+        return false;
+    }
+    // The tetrahedra behind the faces the segment meets.
+    let mut i = 0;
+    while i < cav.list.len() {
+        let t = cav.list[i];
+        i += 1;
+        let tv = m.tv[t as usize];
+        for f in 0..4 {
+            let fv = face(tv, f);
+            if seg.meets(pts, fv) == 0 {
+                continue;
+            }
+            let n = m.across(t, f);
+            if !finite(n) || prot.face(fv) {
+                return false;
+            }
+            cav.push(n);
+            if cav.list.len() > CONE_MAX {
+                return false;
+            }
+        }
+    }
+    // Boundary faces of a cavity: (slot, local face) with the neighbour
+    // outside; those blocking the cone from `apex`.
+    let boundary = |cav: &Cavity| -> Vec<(u32, usize)> {
+        cav.list
+            .iter()
+            .flat_map(|&t| (0..4).map(move |f| (t, f)))
+            .filter(|&(t, f)| !cav.has(m.across(t, f)))
+            .collect()
+    };
+    let blocking = |bnd: &[(u32, usize)], apex: u32| -> Vec<(u32, usize)> {
+        bnd.iter()
+            .copied()
+            .filter(|&(t, f)| {
+                let mut tv = m.tv[t as usize];
+                if tv.contains(&apex) {
+                    return false;
+                }
+                tv[f] = apex;
+                !crate::tet::dmesh::flip::positive(pts, tv)
+            })
+            .collect()
+    };
+    let bnd0 = boundary(&cav);
+    let mut ends = [(blocking(&bnd0, u).len(), u), (blocking(&bnd0, v).len(), v)];
+    ends.sort_unstable();
+    for (_, apex) in ends {
+        let mut cav = cav.clone();
+        'grow: for _ in 0..=CONE_GROW {
+            let bnd = boundary(&cav);
+            let block = blocking(&bnd, apex);
+            if block.is_empty() {
+                if let Some(new) = cone_tets(m, &cav, &bnd, apex, prot) {
+                    cm.replace(&cav.list, &new);
+                    return true;
+                }
+                break;
+            }
+            for (t, f) in block {
+                let n = m.across(t, f);
+                if !finite(n) || prot.face(face(m.tv[t as usize], f)) {
+                    break 'grow;
+                }
+                cav.push(n);
+            }
+            if cav.list.len() > CONE_MAX {
+                break;
+            }
+        }
+    }
+    false
+}
+
+/// The cone of [`cone_segment`] from `apex` over the boundary faces `bnd`
+/// of cavity `cav` not at `apex` (each face's tetrahedron with its inner
+/// vertex replaced by `apex`: same orientation); `None` when the cavity
+/// has a vertex on no boundary face, a protected edge or face inside, or
+/// a boundary edge not in exactly two boundary faces.
+fn cone_tets(
+    m: &crate::tet::dmesh::DomainMesh,
+    cav: &Cavity,
+    bnd: &[(u32, usize)],
+    apex: u32,
+    prot: &Protected,
+) -> Option<Vec<[u32; 4]>> {
+    let mut bedges: Vec<(u32, u32)> = Vec::with_capacity(3 * bnd.len());
+    let mut bverts: Vec<u32> = Vec::with_capacity(3 * bnd.len());
+    let mut new = Vec::with_capacity(bnd.len());
+    for &(t, f) in bnd {
+        let fv = face(m.tv[t as usize], f);
+        for k in 0..3 {
+            bedges.push(ekey(fv[k], fv[(k + 1) % 3]));
+        }
+        bverts.extend(fv);
+        if !fv.contains(&apex) {
+            let mut tv = m.tv[t as usize];
+            tv[f] = apex;
+            new.push(tv);
+        }
+    }
+    bedges.sort_unstable();
+    bverts.sort_unstable();
+    bverts.dedup();
+    // Every boundary edge in exactly two boundary faces.
+    if bedges.chunk_by(|a, b| a == b).any(|run| run.len() != 2) {
+        return None;
+    }
+    for &t in &cav.list {
+        let tv = m.tv[t as usize];
+        if tv.iter().any(|w| bverts.binary_search(w).is_err()) {
+            return None;
+        }
+        for (a, b) in EDGES {
+            let e = ekey(tv[a], tv[b]);
+            if bedges.binary_search(&e).is_err() && prot.edges.contains(&e) {
+                return None;
+            }
+        }
+        for f in 0..4 {
+            if cav.has(m.across(t, f)) && prot.face(face(tv, f)) {
+                return None;
+            }
+        }
+    }
+    Some(new)
 }
 
 /// The vertices lying on input triangle `t`: its corners, chains and inner
