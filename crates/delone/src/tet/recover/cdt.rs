@@ -1042,4 +1042,67 @@ mod tests {
         assert_eq!(meets(&pts, (0, 3), f), 0);
         assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
     }
+
+    /// The cone over a missing segment's crossed cells, on random points
+    /// and on a tube's two cospherical end circles (a degenerate Delaunay
+    /// tetrahedralization): each call either leaves the mesh unchanged or
+    /// makes the segment an edge, the mesh valid ([`crate::tet::dmesh::DomainMesh::check`])
+    /// and the protected items kept.
+    #[test]
+    fn segment_cones_keep_the_mesh_valid() {
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let random: Vec<[f64; 3]> = (0..60).map(|_| [rnd(), rnd(), rnd()]).collect();
+        let tube: Vec<[f64; 3]> = (0..32)
+            .map(|k| {
+                let a = std::f64::consts::PI * (k % 16) as f64 / 8.0;
+                [a.cos(), a.sin(), if k < 16 { 0.0 } else { 3.0 }]
+            })
+            .collect();
+        for pts in [random, tube] {
+            let dt = crate::tet::Delaunay3::from_points(&pts).unwrap();
+            let mut cm = Journaled::new(dt);
+            let n = pts.len() as u32;
+            let (mut done, mut refused) = (0, 0);
+            for u in 0..n {
+                for v in (u + 1..n).step_by(3) {
+                    if cm.find_edge(u, v).is_some() {
+                        continue;
+                    }
+                    // Protected: an edge and a face of some cell at `u`
+                    // away from `v`.
+                    let mut prot = Protected::default();
+                    let t = cm.star(u).into_iter().find(|&t| {
+                        let tv = cm.m.tv[t as usize];
+                        !tv.contains(&INF) && !tv.contains(&v)
+                    });
+                    if let Some(t) = t {
+                        let tv = cm.m.tv[t as usize];
+                        let f = (0..4).find(|&f| tv[f] != u).unwrap_or(0);
+                        prot.add_face(face(tv, f));
+                    }
+                    let before = cm.m.live_slots().count();
+                    let kept: Vec<[u32; 3]> = prot.faces.iter().copied().collect();
+                    if cone_segment(&mut cm, u, v, &prot) {
+                        done += 1;
+                        assert!(cm.find_edge(u, v).is_some());
+                        for f in &kept {
+                            assert!(cm.find_face(f[0], f[1], f[2]).is_some(), "{f:?} lost");
+                        }
+                        cm.m.check(&pts).unwrap();
+                    } else {
+                        refused += 1;
+                        assert_eq!(cm.m.live_slots().count(), before);
+                    }
+                }
+            }
+            cm.m.check(&pts).unwrap();
+            assert!(done > 0, "no cone applied ({refused} refused)");
+        }
+    }
 }
