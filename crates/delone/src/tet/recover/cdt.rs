@@ -412,6 +412,8 @@ pub(crate) const SEG_OPS: usize = 128;
 pub(crate) struct Effort {
     pub(crate) depth: u32,
     pub(crate) work: usize,
+    /// Each step first tries [`cone_segment`].
+    pub(crate) cones: bool,
 }
 
 impl Effort {
@@ -419,6 +421,7 @@ impl Effort {
     pub(crate) const BASE: Effort = Effort {
         depth: DEPTH,
         work: WORK,
+        cones: false,
     };
 
     /// Level `level` ≥ 2 of the escalation for segments that still fail
@@ -428,6 +431,7 @@ impl Effort {
         Effort {
             depth: level,
             work: WORK << level.saturating_sub(DEPTH),
+            cones: false,
         }
     }
 }
@@ -489,7 +493,7 @@ pub(crate) fn recover_segment_within(
         // Each step first tries the segment's cavity cone (one operation
         // for the whole segment): the flips of the previous steps often
         // make its cavity star-shaped from an end.
-        if stop_circles && cone_segment(cm, u, v, prot) {
+        if effort.cones && cone_segment(cm, u, v, prot) {
             return true;
         }
         let mut progress = false;

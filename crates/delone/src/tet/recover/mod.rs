@@ -898,6 +898,7 @@ impl State {
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
             let stop_circles = self.opts.stop_circling_flips && !self.opts.preserve_surface;
             let mut near_fail: Vec<u32> = Vec::new();
+            let cones = stop_circles || self.y_fallback;
             let attempt = |cm: &mut Journaled<'_>,
                            u: u32,
                            v: u32,
@@ -905,6 +906,7 @@ impl State {
                            ops: usize,
                            effort: cdt::Effort| {
                 let mark = cm.log_mark();
+                let effort = cdt::Effort { cones, ..effort };
                 if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles, effort) {
                     return None;
                 }
