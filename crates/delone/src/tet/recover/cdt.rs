@@ -13,6 +13,11 @@
 //! it. Both ends are tried alternately; a segment that makes no progress,
 //! meets a vertex on its interior, or exceeds its flip budget, fails (the
 //! caller then splits it). With
+//! [`Effort::cones`] every step first tries [`cone_segment`]: the cells the
+//! open segment crosses, grown past the faces that block it, replaced by
+//! the cone from one end (one operation for the whole segment, valid by
+//! exact signs; the flips of the previous steps often make it possible).
+//! With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
 //! from an end is one already worked on, by the unguided flips and then by

@@ -22,7 +22,12 @@
 //!    private `tet::dmesh` module) and recovers missing subsegments, then
 //!    missing triangles, by 2-3 flips and edge removals (n-to-2n-4 flips,
 //!    chosen by dynamic programming over the edge ring; coplanar hull faces
-//!    by the hull 2-2 flip; the private `cdt` module). Flips never destroy a
+//!    by the hull 2-2 flip; the private `cdt` module); with
+//!    [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) and in
+//!    the `-Y` fallback's recovery, every step of a segment's flips first
+//!    tries one cone from an end over the cells the segment crosses, grown
+//!    past the faces blocking the cone (the flips alone go in circles on
+//!    the degenerate cells of tubes and turned parts). Flips never destroy a
 //!    subsegment or a face already on an input triangle. Only the items the
 //!    flips cannot recover are split in the Delaunay tetrahedralization, and
 //!    the round starts again:
