@@ -57,6 +57,51 @@ pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
     std::fs::read(path)
 }
 
+/// [`read`] with a large file read in as many parts as `threads`, side by
+/// side (copying from the page cache and the first touch of the buffer's
+/// pages are most of the time of a read).
+pub fn read_threads(path: &Path, threads: usize) -> std::io::Result<Vec<u8>> {
+    note_input(path);
+    #[cfg(unix)]
+    if let Some(bytes) = read_parts(path, threads) {
+        return Ok(bytes);
+    }
+    std::fs::read(path)
+}
+
+/// The bytes of the file at `path` read in up to `threads` parts of 8 MiB
+/// at least on as many threads; `None` for a small file or when anything
+/// fails or the file changes length meanwhile (the caller then reads it the
+/// ordinary way, which also reports the error).
+#[cfg(unix)]
+fn read_parts(path: &Path, threads: usize) -> Option<Vec<u8>> {
+    use std::os::unix::fs::FileExt;
+    const MIN_PART: usize = 8 << 20;
+    let file = File::open(path).ok()?;
+    let n = usize::try_from(file.metadata().ok()?.len()).ok()?;
+    let parts = threads.min(n / MIN_PART);
+    if parts < 2 {
+        return None;
+    }
+    let mut buf = vec![0u8; n];
+    let step = n.div_ceil(parts);
+    let file = &file;
+    let ok = std::thread::scope(|s| {
+        let mut chunks = buf.chunks_mut(step).enumerate();
+        let first = chunks.next();
+        let others: Vec<_> = chunks
+            .map(|(k, part)| s.spawn(move || file.read_exact_at(part, (k * step) as u64)))
+            .collect();
+        let mut ok = first.is_none_or(|(_, part)| file.read_exact_at(part, 0).is_ok());
+        for h in others {
+            ok &= h.join().is_ok_and(|r| r.is_ok());
+        }
+        ok
+    });
+    let same = file.metadata().is_ok_and(|m| m.len() == n as u64);
+    (ok && same).then_some(buf)
+}
+
 /// Reads an input text file, recording it.
 pub fn read_to_string(path: &Path) -> std::io::Result<String> {
     note_input(path);
