@@ -424,7 +424,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             let mut m = m;
             if !o.out().neigh {
                 // Only `.neigh` still needs them: a smaller peak while writing.
-                drop_aside(std::mem::take(&mut m.neighbors));
+                m.neighbors = Vec::new();
             }
             let (written, t_write) = write_outputs(
                 mode,
