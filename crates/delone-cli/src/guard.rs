@@ -63,23 +63,22 @@ pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
 pub fn read_threads(path: &Path, threads: usize) -> std::io::Result<Vec<u8>> {
     note_input(path);
     #[cfg(unix)]
-    if let Some(bytes) = read_parts(path, threads) {
+    if let Some(bytes) = read_parts(path, threads, 8 << 20) {
         return Ok(bytes);
     }
     std::fs::read(path)
 }
 
-/// The bytes of the file at `path` read in up to `threads` parts of 8 MiB
-/// at least on as many threads; `None` for a small file or when anything
-/// fails or the file changes length meanwhile (the caller then reads it the
-/// ordinary way, which also reports the error).
+/// The bytes of the file at `path` read in up to `threads` parts of
+/// `min_part` bytes at least on as many threads; `None` for a small file or
+/// when anything fails or the file changes length meanwhile (the caller
+/// then reads it the ordinary way, which also reports the error).
 #[cfg(unix)]
-fn read_parts(path: &Path, threads: usize) -> Option<Vec<u8>> {
+fn read_parts(path: &Path, threads: usize, min_part: usize) -> Option<Vec<u8>> {
     use std::os::unix::fs::FileExt;
-    const MIN_PART: usize = 8 << 20;
     let file = File::open(path).ok()?;
     let n = usize::try_from(file.metadata().ok()?.len()).ok()?;
-    let parts = threads.min(n / MIN_PART);
+    let parts = threads.min(n / min_part.max(1));
     if parts < 2 {
         return None;
     }
@@ -313,4 +312,39 @@ pub fn write(
 ) -> Result<(), Failure> {
     let file = create(path)?;
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    /// Read in parts, a file gives the bytes `std::fs::read` gives, for any
+    /// number of parts (files of one part are left to `std::fs::read`).
+    #[test]
+    fn read_in_parts_gives_the_file() {
+        let dir = std::env::temp_dir().join(format!("delone-guard-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bytes.node");
+        let mut x = 0x9E37_79B9u32;
+        let bytes: Vec<u8> = (0..100_003)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                x as u8
+            })
+            .collect();
+        std::fs::write(&path, &bytes).unwrap();
+        for threads in [1, 2, 3, 7] {
+            let got = read_parts(&path, threads, 1000);
+            assert_eq!(got.is_some(), threads > 1);
+            if let Some(got) = got {
+                assert!(got == bytes, "{threads} parts");
+            }
+        }
+        assert!(read_parts(&path, 4, 60_000).is_none());
+        assert!(read_threads(&path, 3).unwrap() == bytes);
+        assert!(read_parts(&dir.join("missing.node"), 2, 1).is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
