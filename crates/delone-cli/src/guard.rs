@@ -314,13 +314,14 @@ pub fn write(
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
 }
 
-#[cfg(all(test, unix))]
+#[cfg(test)]
 mod tests {
     use super::*;
 
     /// Read in parts, a file gives the bytes `std::fs::read` gives, for any
     /// number of parts (files of one part are left to `std::fs::read`).
     #[test]
+    #[cfg(unix)]
     fn read_in_parts_gives_the_file() {
         let dir = std::env::temp_dir().join(format!("delone-guard-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();

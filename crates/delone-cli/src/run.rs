@@ -363,7 +363,7 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             let mut pts = node.points_threads::<3>(threads).unwrap_or_default();
             // The coordinates live on in `pts` (one copy of them, not two;
             // lent to the Delaunay construction while it runs).
-            node.coords = Vec::new();
+            drop_aside(std::mem::take(&mut node.coords));
             let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");
