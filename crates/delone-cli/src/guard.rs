@@ -57,6 +57,50 @@ pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
     std::fs::read(path)
 }
 
+/// [`read`] with a large file read in as many parts as `threads`, side by
+/// side (copying from the page cache and the first touch of the buffer's
+/// pages are most of the time of a read).
+pub fn read_threads(path: &Path, threads: usize) -> std::io::Result<Vec<u8>> {
+    note_input(path);
+    #[cfg(unix)]
+    if let Some(bytes) = read_parts(path, threads, 8 << 20) {
+        return Ok(bytes);
+    }
+    std::fs::read(path)
+}
+
+/// The bytes of the file at `path` read in up to `threads` parts of
+/// `min_part` bytes at least on as many threads; `None` for a small file or
+/// when anything fails or the file changes length meanwhile (the caller
+/// then reads it the ordinary way, which also reports the error).
+#[cfg(unix)]
+fn read_parts(path: &Path, threads: usize, min_part: usize) -> Option<Vec<u8>> {
+    use std::os::unix::fs::FileExt;
+    let file = File::open(path).ok()?;
+    let n = usize::try_from(file.metadata().ok()?.len()).ok()?;
+    let parts = threads.min(n / min_part.max(1));
+    if parts < 2 {
+        return None;
+    }
+    let mut buf = vec![0u8; n];
+    let step = n.div_ceil(parts);
+    let file = &file;
+    let ok = std::thread::scope(|s| {
+        let mut chunks = buf.chunks_mut(step).enumerate();
+        let first = chunks.next();
+        let others: Vec<_> = chunks
+            .map(|(k, part)| s.spawn(move || file.read_exact_at(part, (k * step) as u64)))
+            .collect();
+        let mut ok = first.is_none_or(|(_, part)| file.read_exact_at(part, 0).is_ok());
+        for h in others {
+            ok &= h.join().is_ok_and(|r| r.is_ok());
+        }
+        ok
+    });
+    let same = file.metadata().is_ok_and(|m| m.len() == n as u64);
+    (ok && same).then_some(buf)
+}
+
 /// Reads an input text file, recording it.
 pub fn read_to_string(path: &Path) -> std::io::Result<String> {
     note_input(path);
@@ -268,4 +312,40 @@ pub fn write(
 ) -> Result<(), Failure> {
     let file = create(path)?;
     f(file).map_err(|e| input_err(format!("{}: {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Read in parts, a file gives the bytes `std::fs::read` gives, for any
+    /// number of parts (files of one part are left to `std::fs::read`).
+    #[test]
+    #[cfg(unix)]
+    fn read_in_parts_gives_the_file() {
+        let dir = std::env::temp_dir().join(format!("delone-guard-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bytes.node");
+        let mut x = 0x9E37_79B9u32;
+        let bytes: Vec<u8> = (0..100_003)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                x as u8
+            })
+            .collect();
+        std::fs::write(&path, &bytes).unwrap();
+        for threads in [1, 2, 3, 7] {
+            let got = read_parts(&path, threads, 1000);
+            assert_eq!(got.is_some(), threads > 1);
+            if let Some(got) = got {
+                assert!(got == bytes, "{threads} parts");
+            }
+        }
+        assert!(read_parts(&path, 4, 60_000).is_none());
+        assert!(read_threads(&path, 3).unwrap() == bytes);
+        assert!(read_parts(&dir.join("missing.node"), 2, 1).is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

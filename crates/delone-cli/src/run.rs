@@ -40,6 +40,13 @@ fn write_file(
     Ok(())
 }
 
+/// Frees a large buffer on a thread of its own (returning its pages to the
+/// system takes a while), here when that thread cannot start.
+fn drop_aside<T: Send + 'static>(buffer: T) {
+    // A failed spawn drops the closure, and the buffer with it, here.
+    let _ = std::thread::Builder::new().spawn(move || drop(buffer));
+}
+
 /// The parts of a mesh the writers need, whatever the dimension.
 struct MeshOut<const K: usize> {
     cells: Vec<[u32; K]>,
@@ -166,12 +173,12 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
 
     // Read.
     let t0 = Instant::now();
-    let bytes = crate::guard::read(&names.node)
-        .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
     let threads = crate::threads::effective(o.threads.or(o.tri.threads));
+    let bytes = crate::guard::read_threads(&names.node, threads)
+        .map_err(|e| input_err(format!("cannot read {}: {e}", names.node.display())))?;
     let mut node = delone_io::read_node_threads(&bytes, threads)
         .map_err(|e| input_err(format!("{}: {e}", names.node.display())))?;
-    drop(bytes);
+    drop_aside(bytes);
     if node.dim != dim {
         return Err(input_err(format!(
             "{}: line {}: the header gives dimension {}, delone {} needs {dim}D points{}",
@@ -353,10 +360,10 @@ pub fn run(mode: Mode, o: &Opts) -> Result<i32, Failure> {
             )
         }
         Mode::Tet => {
-            let mut pts = node.points::<3>().unwrap_or_default();
+            let mut pts = node.points_threads::<3>(threads).unwrap_or_default();
             // The coordinates live on in `pts` (one copy of them, not two;
             // lent to the Delaunay construction while it runs).
-            node.coords = Vec::new();
+            drop_aside(std::mem::take(&mut node.coords));
             let weights = read_weights_if(o.weights(), &names.node, &node, &mut rep)?;
             let t1 = Instant::now();
             let mut prog = Progress::new(!quiet, "tetrahedralizing");

@@ -360,19 +360,39 @@ impl NodeFile {
     /// assert_eq!(f.points::<3>(), None);
     /// ```
     pub fn points<const D: usize>(&self) -> Option<Vec<[f64; D]>> {
+        self.points_threads(1)
+    }
+
+    /// [`NodeFile::points`] copied in runs of at least 64Ki points on up to
+    /// `threads` threads.
+    ///
+    /// ```
+    /// let f = delone_io::read_node(b"2 2 0 0\n1 0 0\n2 1 0.5\n").unwrap();
+    /// assert_eq!(f.points_threads::<2>(2), f.points::<2>());
+    /// ```
+    pub fn points_threads<const D: usize>(&self, threads: usize) -> Option<Vec<[f64; D]>> {
         if D != self.dim || D == 0 {
             return None;
         }
-        Some(
-            self.coords
-                .chunks_exact(D)
-                .map(|c| {
-                    let mut p = [0.0; D];
+        let mut pts = vec![[0.0; D]; self.coords.len() / D];
+        let run = pts.len().div_ceil(threads.max(1)).max(1 << 16);
+        let runs: Vec<(&mut [[f64; D]], &[f64])> = pts
+            .chunks_mut(run)
+            .zip(self.coords.chunks(run * D))
+            .collect();
+        let runs: Vec<_> = runs.into_iter().map(std::sync::Mutex::new).collect();
+        let copied = crate::par::scoped_map(runs.len(), |k| {
+            if let Ok(mut r) = runs[k].lock() {
+                let (p, c) = &mut *r;
+                for (p, c) in p.iter_mut().zip(c.chunks_exact(D)) {
                     p.copy_from_slice(c);
-                    p
-                })
-                .collect(),
-        )
+                }
+            }
+        });
+        for r in copied {
+            r.unwrap_or_else(|e| std::panic::resume_unwind(e));
+        }
+        Some(pts)
     }
 }
 

@@ -212,28 +212,98 @@ pub fn brio_order<const D: usize>(points: &[[f64; D]]) -> Vec<u32> {
     brio_order_threads(points, 1)
 }
 
-/// [`brio_order`] with the sort keys computed on up to `threads` threads
-/// (the same order for any thread count).
+/// [`brio_order`] with the sort keys computed and sorted on up to `threads`
+/// threads (the same order for any thread count): each thread sorts the keys
+/// of a run of consecutive points, the sorted runs are merged (every key
+/// ends with its point's index, so keys are distinct and a merge of sorted
+/// runs is the one sorted order).
 pub(crate) fn brio_order_threads<const D: usize>(points: &[[f64; D]], threads: usize) -> Vec<u32> {
     let grid = HilbertGrid::new(points);
     let bits = key_bits(D);
-    let mut keys = vec![0u64; points.len()];
     let chunk = points.len().div_ceil(threads.max(1)).max(1 << 16);
-    let items: Vec<(usize, &mut [u64])> = keys
-        .chunks_mut(chunk)
-        .enumerate()
-        .map(|(c, k)| (c * chunk, k))
+    let starts: Vec<usize> = (0..points.len()).step_by(chunk).collect();
+    let mut runs: Vec<Vec<u64>> = crate::par::run_dynamic(threads, starts, |_, start| {
+        let end = points.len().min(start + chunk);
+        let mut keys: Vec<u64> = (start..end)
+            .map(|i| {
+                let round = u64::from(brio_round(i));
+                let key = (round << (bits * D as u32)) | grid.key(&points[i]);
+                (key << 32) | i as u64
+            })
+            .collect();
+        radix_sort_high32(&mut keys);
+        keys
+    })
+    .into_iter()
+    .map(Option::unwrap_or_default)
+    .collect();
+    // Merged left to right, the last merge straight into the ids.
+    while runs.len() > 2 {
+        let b = runs.remove(1);
+        let a = std::mem::take(&mut runs[0]);
+        let mut out = vec![0u64; a.len() + b.len()];
+        merge_sorted(&a, &b, &mut out, threads, |w| w);
+        runs[0] = out;
+    }
+    let (a, b) = match runs.len() {
+        0 => return Vec::new(),
+        1 => (&runs[0][..], &[][..]),
+        _ => (&runs[0][..], &runs[1][..]),
+    };
+    let mut order = vec![0u32; a.len() + b.len()];
+    merge_sorted(a, b, &mut order, threads, |w| w as u32);
+    order
+}
+
+/// Merges the ascending runs `a` and `b` of distinct words into `out`
+/// (`f` of each word), in pieces of the output on up to `threads` threads.
+fn merge_sorted<T: Send>(
+    a: &[u64],
+    b: &[u64],
+    out: &mut [T],
+    threads: usize,
+    f: impl Fn(u64) -> T + Sync,
+) {
+    let n = out.len().min(a.len() + b.len());
+    let pieces = threads.clamp(1, n.div_ceil(1 << 16).max(1));
+    // `cut[k]`: the output position of piece k's start, and how many of its
+    // words come before it from `a` (the rest from `b`).
+    let cut: Vec<(usize, usize)> = (0..=pieces)
+        .map(|k| {
+            let r = n * k / pieces;
+            // The number i of words from `a` among the first r: the largest
+            // i with a[i - 1] < b[r - i].
+            let (mut lo, mut hi) = (r.saturating_sub(b.len()), r.min(a.len()));
+            while lo < hi {
+                let i = (lo + hi).div_ceil(2);
+                if a[i - 1] < b[r - i] {
+                    lo = i;
+                } else {
+                    hi = i - 1;
+                }
+            }
+            (r, lo)
+        })
         .collect();
-    crate::par::run_dynamic(threads, items, |_, (start, k)| {
-        for (j, w) in k.iter_mut().enumerate() {
-            let i = start + j;
-            let round = u64::from(brio_round(i));
-            let key = (round << (bits * D as u32)) | grid.key(&points[i]);
-            *w = (key << 32) | i as u64;
+    let bounds: Vec<usize> = cut.iter().map(|c| c.0).collect();
+    let items: Vec<(usize, &mut [T])> = crate::par::split_mut(&mut out[..n], &bounds)
+        .into_iter()
+        .enumerate()
+        .collect();
+    crate::par::run_dynamic(threads, items, |_, (k, o)| {
+        let (r, mut i) = cut[k];
+        let mut j = r - i;
+        for x in o.iter_mut() {
+            let w = if j >= b.len() || (i < a.len() && a[i] < b[j]) {
+                i += 1;
+                a[i - 1]
+            } else {
+                j += 1;
+                b[j - 1]
+            };
+            *x = f(w);
         }
     });
-    radix_sort_high32(&mut keys);
-    keys.into_iter().map(|w| w as u32).collect()
 }
 
 /// The BRIO round of the point with index `i` (0 first, [`BRIO_LAST`]
@@ -400,7 +470,9 @@ mod tests {
             let original: Vec<u64> = (0..n as u64).map(|i| i * 3 + 1).collect();
             let pts: Vec<[f64; 3]> = (0..n).map(|i| [i as f64, 0.5, -(i as f64)]).collect();
             let order = brio_order(&pts);
-            assert_eq!(order, brio_order_threads(&pts, 3));
+            for threads in [2, 3, 4, 7] {
+                assert_eq!(order, brio_order_threads(&pts, threads));
+            }
             for threads in [1, 2, 3] {
                 let mut keys = order.clone();
                 let mut items: Vec<u64> = keys.iter().map(|&i| original[i as usize]).collect();

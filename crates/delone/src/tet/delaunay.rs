@@ -243,6 +243,9 @@ pub(crate) struct Core {
     /// refuses further insertions.
     overflow: bool,
     scratch: Scratch,
+    /// Threads for the whole-array passes of [`Core::into_arrays`] (0 or 1:
+    /// this one).
+    threads: usize,
 }
 
 /// The scratch space of one insertion (one per part of a parallel
@@ -779,6 +782,7 @@ impl<'a> Delaunay3<'a> {
         let cap = n + n * 27 / 4 + 64;
         dt.core.v.reserve_exact(cap);
         dt.core.adj.reserve_exact(cap);
+        dt.core.threads = split.threads;
         // Ids are insertion ranks (`order` maps them back) until the
         // relabelling below. Ties are still broken by input id
         // (`Geo::ids`), so the result is the same tetrahedra in the same
@@ -1877,15 +1881,34 @@ impl Core {
     }
 
     /// Removes ghosts and dead slots in place; returns tets and plain
-    /// neighbour indices (NONE on the hull).
+    /// neighbour indices (NONE on the hull). The scans for ghosts and dead
+    /// slots and the unpacking of the neighbour words run on the threads;
+    /// the changes are made in slot order as on one thread.
     fn into_arrays(mut self) -> (Vec<[u32; 4]>, Vec<[u32; 4]>) {
         let len = self.v.len();
-        // Cut the links to ghost cells.
-        for t in 0..len {
-            let tv = self.v[t];
-            if tv[0] == DEAD || !tv.contains(&INF) {
-                continue;
+        let threads = self.threads.max(1);
+        let chunk = len.div_ceil(threads).max(1 << 16);
+        let items: Vec<(usize, &[[u32; 4]])> = self.v.chunks(chunk).enumerate().collect();
+        let found = crate::par::run_dynamic(threads, items, |_, (c, vs)| {
+            let (mut ghosts, mut dead) = (Vec::new(), Vec::new());
+            for (k, tv) in vs.iter().enumerate() {
+                let t = (c * chunk + k) as u32;
+                if tv[0] == DEAD {
+                    dead.push(t);
+                } else if tv.contains(&INF) {
+                    ghosts.push(t);
+                }
             }
+            (ghosts, dead)
+        });
+        let (mut ghosts, mut holes) = (Vec::new(), Vec::new());
+        for (g, d) in found.into_iter().flatten() {
+            ghosts.extend(g);
+            holes.extend(d);
+        }
+        // Cut the links to ghost cells.
+        for &t in &ghosts {
+            let t = t as usize;
             for f in 0..4 {
                 let w = self.adj[t][f];
                 let u = (w >> 2) as usize;
@@ -1895,18 +1918,17 @@ impl Core {
             }
             self.v[t][0] = DEAD;
         }
-        // Fill holes with the last live tetrahedra: `i` is the first hole,
-        // `j - 1` the last live slot.
-        let mut i = 0usize;
+        holes.extend(ghosts);
+        holes.sort_unstable();
+        // Fill the holes, first to last, with the last live tetrahedra:
+        // `j - 1` is the last slot that may be live.
         let mut j = len;
-        loop {
-            while i < j && self.v[i][0] != DEAD {
-                i += 1;
-            }
+        for &h in &holes {
+            let i = h as usize;
             while j > i && self.v[j - 1][0] == DEAD {
                 j -= 1;
             }
-            if i == j {
+            if i >= j {
                 break;
             }
             let src = j - 1;
@@ -1923,13 +1945,14 @@ impl Core {
         }
         self.v.truncate(j);
         self.adj.truncate(j);
-        for a in self.adj.iter_mut() {
-            for w in a.iter_mut() {
+        let items: Vec<&mut [[u32; 4]]> = self.adj.chunks_mut(chunk).collect();
+        crate::par::run_dynamic(threads, items, |_, a| {
+            for w in a.iter_mut().flatten() {
                 if *w != NONE {
                     *w >>= 2;
                 }
             }
-        }
+        });
         (self.v, self.adj)
     }
 }
