@@ -13,7 +13,8 @@
 //! it. Both ends are tried alternately; a segment that makes no progress,
 //! meets a vertex on its interior, or exceeds its flip budget, fails (the
 //! caller then splits it). With
-//! [`Effort::cones`] every step first tries [`cone_segment`]: the cells the
+//! [`Effort::cones`] the first step and every [`CONE_STEPS`]th one try
+//! [`cone_segment`] first: the cells the
 //! open segment crosses, grown past the faces that block it, replaced by
 //! the cone from one end (one operation for the whole segment, valid by
 //! exact signs; the flips of the previous steps often make it possible).

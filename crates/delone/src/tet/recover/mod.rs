@@ -24,8 +24,9 @@
 //!    chosen by dynamic programming over the edge ring; coplanar hull faces
 //!    by the hull 2-2 flip; the private `cdt` module); with
 //!    [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) and in
-//!    the `-Y` fallback's recovery, every step of a segment's flips first
-//!    tries one cone from an end over the cells the segment crosses, grown
+//!    the `-Y` fallback's recovery, a segment's flips try first, at their
+//!    first step and every third one, one cone from an end over the cells
+//!    the segment crosses, grown
 //!    past the faces blocking the cone (the flips alone go in circles on
 //!    the degenerate cells of tubes and turned parts). Flips never destroy a
 //!    subsegment or a face already on an input triangle. Only the items the
