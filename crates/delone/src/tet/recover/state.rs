@@ -38,7 +38,8 @@ pub(super) struct State {
     /// Per input triangle: the Steiner points inside it.
     pub(super) tri_inner: IdMap<u32, Vec<u32>>,
     /// Per input triangle: how many of its facet points encroached a
-    /// boundary subsegment, which was split instead (`insert_in_facet`).
+    /// boundary subsegment (`insert_in_facet`: the first `MAX_REDIRECTS`
+    /// split it instead).
     pub(super) redirected: IdMap<u32, u32>,
     /// Per input triangle: interior points tried for it (`-Y`).
     pub(super) interior_tries: IdMap<u32, usize>,
@@ -63,7 +64,8 @@ pub(super) struct State {
     pub(super) seg_ops: usize,
     /// The `-p` recovery of the `-Y` fallback (`cavity/pull.rs`): facet
     /// points split the subsegments they encroach without limit
-    /// (`MAX_REDIRECTS`).
+    /// (`MAX_REDIRECTS`), and segments try the cones of
+    /// `cdt::cone_segment` as with `stop_circling_flips`.
     pub(super) y_fallback: bool,
     /// The segments still failing after a round's passes are tried again
     /// with deeper edge removals (levels 3 to `MAX_LEVEL`): the second and
