@@ -23,8 +23,9 @@
 //!    missing triangles, by 2-3 flips and edge removals (n-to-2n-4 flips,
 //!    chosen by dynamic programming over the edge ring; coplanar hull faces
 //!    by the hull 2-2 flip; the private `cdt` module); with
-//!    [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) and in
-//!    the `-Y` fallback's recovery, a segment's flips try first, at their
+//!    [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) and with
+//!    [`RecoverOptions::preserve_surface`] (`-Y`, and its fallback's
+//!    recovery), a segment's flips try first, at their
 //!    first step and every third one, one cone from an end over the cells
 //!    the segment crosses, grown
 //!    past the faces blocking the cone (the flips alone go in circles on
@@ -590,6 +591,7 @@ impl State {
             group_tries: HashSet::new(),
             cavity_fails: 0,
             cavity_left: Vec::new(),
+            cavity_work: std::cell::Cell::new(0),
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
             y_fallback: false,
@@ -904,7 +906,9 @@ impl State {
             let mut fail_at: Vec<(usize, usize, usize)> = Vec::new();
             let stop_circles = self.opts.stop_circling_flips && !self.opts.preserve_surface;
             let mut near_fail: Vec<u32> = Vec::new();
-            let cones = stop_circles || self.y_fallback;
+            // Segment cones: `-p` without `-q`, and `-Y` (both its flips
+            // and its fallback's recovery).
+            let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
             let attempt = |cm: &mut Journaled<'_>,
                            u: u32,
                            v: u32,

@@ -52,6 +52,10 @@ pub(super) struct State {
     pub(super) fallback_tried: bool,
     /// Triangles left missing by the last unfinished cavity call (`-Y`).
     pub(super) cavity_left: Vec<usize>,
+    /// Tetrahedra found by the cavity searches of the cavity calls so far
+    /// (`-Y`): their work, which bounds a call while the fallback is
+    /// still untried (the `cavity` module's `VISITS_PER_CELL`).
+    pub(super) cavity_work: std::cell::Cell<u64>,
     /// `-Y`: no cavity retriangulation before the first interior point
     /// ([`State::cavities_now`]).
     pub(super) points_first: bool,

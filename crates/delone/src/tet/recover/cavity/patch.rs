@@ -188,13 +188,13 @@ impl State {
         }
         let mut set: Vec<u32> = Vec::new();
         for t in &patch {
-            set.extend(facet_cavity(cm, *t));
+            set.extend(self.counted(facet_cavity(cm, *t)));
         }
         let mut keys: Vec<(u32, u32)> = uses.keys().copied().collect();
         keys.sort_unstable();
         for &(p, q) in &keys {
             if cm.find_edge(p, q).is_none() {
-                set.extend(segment_cavity(cm, p, q));
+                set.extend(self.counted(segment_cavity(cm, p, q)));
             }
         }
         set.sort_unstable();
