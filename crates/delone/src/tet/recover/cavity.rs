@@ -1357,6 +1357,44 @@ mod tests {
         (pts, fan)
     }
 
+    /// An attempt whose cavity searches have spent its budget stops
+    /// unfinished, with a valid mesh, at the first item after the budget
+    /// ran out; without a budget the same attempt recovers more items.
+    /// The work is counted in [`State::cavity_work`].
+    #[test]
+    fn an_attempt_stops_when_its_search_budget_is_spent() {
+        let (pts, fan) = flange_points();
+        let opts = crate::tet::recover::RecoverOptions {
+            preserve_surface: true,
+            ..Default::default()
+        };
+        let st = State::new(crate::tet::recover::Surface::new(pts.len(), &fan), opts);
+        let cm = Journaled::new(crate::tet::Delaunay3::from_points(&pts).unwrap());
+        let missing = |w: &Journaled<'_>| fan.iter().filter(|&&t| !has_face(w, t)).count();
+        let before = missing(&cm);
+        assert!(before > 0);
+        let Err(stopped) = st.preserve_attempt(&cm, false, Some(0)) else {
+            panic!("finished although its budget was spent");
+        };
+        stopped.m.check(stopped.pts()).unwrap();
+        let spent = st.cavity_work.get();
+        assert!(spent > 0);
+        let left_stopped = missing(&stopped);
+        let full = st.preserve_attempt(&cm, false, None);
+        assert!(st.cavity_work.get() > 2 * spent);
+        let left_full = match &full {
+            Ok((w, _, _)) => {
+                w.m.check(w.pts()).unwrap();
+                missing(w)
+            }
+            Err(w) => missing(w),
+        };
+        assert!(
+            left_full < left_stopped,
+            "{before} missing: {left_stopped} left when stopped, {left_full} without a budget"
+        );
+    }
+
     /// The cavities of the fan triangles and of their edges are what a
     /// test of every tetrahedron finds: `facet_cavity` exactly the
     /// tetrahedra with an edge crossing the triangle's interior (off its
