@@ -318,8 +318,15 @@ fn remove_edge_deep(
     let Some(t) = cm.find_edge(a, b) else {
         return true;
     };
+    let tr = std::env::var_os("CF_TRACE2").is_some();
     if remove(cm, t) {
+        if tr { eprintln!("  d{depth} remove {a} {b} ok"); }
         return true;
+    }
+    if tr {
+        let (mut ts, mut r) = (Vec::new(), Vec::new());
+        let rr = cm.m.ring_into(t, (a, b), (64, true), |_, _| true, (&mut ts, &mut r)).map(|_| r);
+        eprintln!("  d{depth} remove {a} {b} FAILED ring {rr:?}");
     }
     if depth == 0 {
         return false;
@@ -328,14 +335,17 @@ fn remove_edge_deep(
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
-        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+        let Some((tets, ring)) = shrinkable_ring(cm, t, a, b) else {
             return false;
         };
         let n = ring.len();
+        // The least ring: three tetrahedra (the 3-2 flip), or on the hull
+        // two finite ones between the two ghosts (the hull 2-2 flip).
+        let least = if ring.contains(&INF) { 4 } else { 3 };
         let mut progress = false;
-        // (A 2-3 flip of a face around the edge shrinks its ring by one:
-        // none with a ring of three.)
-        for i in (0..n).filter(|_| n > 3) {
+        // (A 2-3 flip of a face around the edge shrinks its ring by one;
+        // one involving a ghost is never valid.)
+        for i in (0..n).filter(|_| n > least) {
             // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
             if prot.face([a, b, ring[i]]) {
                 continue;
@@ -363,12 +373,13 @@ fn remove_edge_deep(
                     continue;
                 }
             }
+            if tr { eprintln!("  d{depth} shrink {a} {b}: flip23 face {a} {b} {}", ring[i]); }
             cm.apply_flip23(plan);
             progress = true;
             break;
         }
         if !progress && depth > 1 {
-            for &r in &ring {
+            for &r in ring.iter().filter(|&&r| r != INF) {
                 if *budget == 0 {
                     return false;
                 }
@@ -393,6 +404,37 @@ fn remove_edge_deep(
         }
     }
     false
+}
+
+/// The ring of edge `a b` (in `t`) that [`remove_edge_deep`] may shrink:
+/// the tetrahedra and ring vertices as [`Journaled::edge_ring`] gives them,
+/// and for a convex-hull edge whose two hull faces are coplanar (a missing
+/// edge in a flat hull facet crossing it: the caps of extruded polygons)
+/// the ring through its two ghost cells ([`INF`] once in `ring`). Its
+/// finite part `c … d` shrinks by 2-3 flips like a closed ring, down to one
+/// tetrahedron on each side of the plane … until the hull 2-2 flip of
+/// [`Journaled::remove_edge`] applies. `None` for any other hull edge (a
+/// ridge of the hull can never go) and beyond the longest ring.
+fn shrinkable_ring(cm: &Journaled<'_>, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
+    if let Some(r) = cm.edge_ring(t, a, b) {
+        return Some(r);
+    }
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    let end = cm.m.ring_into(
+        t,
+        (a, b),
+        (crate::tet::dmesh::journal::MAX_RING, false),
+        |_, _| true,
+        (&mut tets, &mut ring),
+    )?;
+    let k = ring.iter().position(|&w| w == INF)?;
+    let n = ring.len();
+    let (c, d) = (ring[(k + 1) % n], ring[(k + n - 1) % n]);
+    let g = |w: u32| &cm.pts()[w as usize];
+    (end == crate::tet::dmesh::RingEnd::Closed
+        && ring.iter().filter(|&&w| w == INF).count() == 1
+        && orient3d(g(a), g(b), g(c), g(d)) == 0.0)
+        .then_some((tets, ring))
 }
 
 /// Flip depth of segment and facet recovery.
@@ -465,11 +507,30 @@ pub(crate) fn recover_segment_within(
     stop_circles: bool,
     effort: Effort,
 ) -> bool {
+    let r = recover_segment_within_(cm, u, v, prot, max_ops, stop_circles, effort);
+    if std::env::var_os("CF_RES").is_some() {
+        eprintln!("CFRES {u} {v} {r}");
+    }
+    r
+}
+fn recover_segment_within_(
+    cm: &mut Journaled<'_>,
+    u: u32,
+    v: u32,
+    prot: &Protected,
+    max_ops: usize,
+    stop_circles: bool,
+    effort: Effort,
+) -> bool {
     const CAP: usize = 48;
     if cm.find_edge(u, v).is_some() {
         return true;
     }
     let ops0 = cm.flips23 + cm.removals;
+    let effort = match std::env::var("CF_LEVEL").ok().and_then(|x| x.parse::<u32>().ok()) {
+        Some(l) => Effort { cones: effort.cones, ..Effort::level(l.max(effort.depth)) },
+        None => effort,
+    };
     let guide = if stop_circles {
         Guide::Segment(u, v)
     } else {
@@ -526,6 +587,21 @@ pub(crate) fn recover_segment_within(
                         continue;
                     }
                     seen[pass].push((s, k));
+                }
+                if std::env::var_os("CF_TRACE").is_some() {
+                    let desc = match hit {
+                        Hit::Done => "done".to_string(),
+                        Hit::Face(t, f) => format!("face {:?} apex {} other {:?}", face(cm.m.tv[t as usize], f), cm.m.tv[t as usize][f], cm.m.tv[(cm.m.across(t,f)) as usize]),
+                        Hit::Edge(a, b) => {
+                            let r = cm.find_edge(a, b).and_then(|t| {
+                                let (mut ts, mut r) = (Vec::new(), Vec::new());
+                                cm.m.ring_into(t, (a, b), (64, true), |_, _| true, (&mut ts, &mut r)).map(|_| r)
+                            });
+                            format!("edge {a} {b} ring {r:?}")
+                        }
+                        Hit::Blocked => "blocked".to_string(),
+                    };
+                    eprintln!("CF seg {u} {v} step {step} pass {pass} end {s}->{e}: {desc}");
                 }
                 match hit {
                     Hit::Done => return true,
@@ -623,12 +699,19 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
             cav.push(t);
         }
     }
-    if cav.list.is_empty() {
-        return false;
+    // The tetrahedra behind the faces the segment meets. A segment on a
+    // flat facet of the convex hull touches no cell's interior, only the
+    // hull edges it crosses: its cavity is the cells around those edges,
+    // ghosts included ([`hull_channel`]).
+    let flat = hull_channel(cm, u, v);
+    if let Some((ref cells, _)) = flat {
+        cav = Cavity::default();
+        for &t in cells {
+            cav.push(t);
+        }
     }
-    // The tetrahedra behind the faces the segment meets.
     let mut i = 0;
-    while i < cav.list.len() {
+    while flat.is_none() && i < cav.list.len() {
         let t = cav.list[i];
         i += 1;
         let tv = m.tv[t as usize];
@@ -647,6 +730,24 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
             }
         }
     }
+    if std::env::var_os("CF_CONE").is_some() {
+        eprintln!("CFCONE {u} {v} flat {} cav {}", flat.is_some(), cav.list.len());
+    }
+    if cav.list.is_empty() {
+        return false;
+    }
+    let flat = flat.map(|f| f.1);
+    // May a cell of the cavity (a ghost: only in a flat hull facet) take
+    // `apex` for its vertex `f`?
+    let cell_ok = |mut tv: [u32; 4], f: usize, apex: u32| -> bool {
+        tv[f] = apex;
+        match (tv.contains(&INF), &flat) {
+            (false, _) => crate::tet::dmesh::flip::positive(pts, tv),
+            (true, Some(fl)) => fl.ghost_ok(pts, ghost_last(tv)),
+            (true, None) => false,
+        }
+    };
+    let finite = |t: u32| finite(t) || (flat.is_some() && m.alive(t));
     // Boundary faces of a cavity: (slot, local face) with the neighbour
     // outside; those blocking the cone from `apex`.
     let boundary = |cav: &Cavity| -> Vec<(u32, usize)> {
@@ -660,12 +761,8 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
         bnd.iter()
             .copied()
             .filter(|&(t, f)| {
-                let mut tv = m.tv[t as usize];
-                if tv.contains(&apex) {
-                    return false;
-                }
-                tv[f] = apex;
-                !crate::tet::dmesh::flip::positive(pts, tv)
+                let tv = m.tv[t as usize];
+                !tv.contains(&apex) && !cell_ok(tv, f, apex)
             })
             .collect()
     };
@@ -677,6 +774,9 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
         'grow: for _ in 0..=CONE_GROW {
             let bnd = boundary(&cav);
             let block = blocking(&bnd, apex);
+            if std::env::var_os("CF_CONE").is_some() {
+                eprintln!("  apex {apex} cav {} block {}", cav.list.len(), block.len());
+            }
             if block.is_empty() {
                 if let Some(new) = cone_tets(m, &cav, &bnd, apex, prot) {
                     cm.replace(&cav.list, &new);
@@ -723,7 +823,7 @@ fn cone_tets(
         if !fv.contains(&apex) {
             let mut tv = m.tv[t as usize];
             tv[f] = apex;
-            new.push(tv);
+            new.push(ghost_last(tv));
         }
     }
     bedges.sort_unstable();
@@ -751,6 +851,139 @@ fn cone_tets(
         }
     }
     Some(new)
+}
+
+/// `tv` with [`INF`] (when present) moved last by an even permutation (the
+/// ghost cells' layout; same orientation).
+fn ghost_last(mut tv: [u32; 4]) -> [u32; 4] {
+    if let Some(i) = tv[..3].iter().position(|&w| w == INF) {
+        tv.swap(i, 3);
+        let (j, k) = match i {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        tv.swap(j, k);
+    }
+    tv
+}
+
+/// A flat facet of the convex hull: three of its vertices (not collinear)
+/// and a vertex strictly inside the hull (off its plane).
+struct Flat {
+    plane: [u32; 3],
+    inner: u32,
+}
+
+impl Flat {
+    /// Exact: is ghost cell `tv` ([`INF`] last) valid on this facet — its
+    /// hull face on the facet's plane and facing out (the inner vertex on
+    /// the positive side of `orient3d`, as every ghost cell's)?
+    fn ghost_ok(&self, pts: &[[f64; 3]], tv: [u32; 4]) -> bool {
+        let g = |w: u32| &pts[w as usize];
+        let [a, b, c] = self.plane.map(g);
+        tv[3] == INF
+            && tv[..3]
+                .iter()
+                .all(|&w| w != INF && orient3d(a, b, c, g(w)) == 0.0)
+            && orient3d(g(tv[0]), g(tv[1]), g(tv[2]), g(self.inner)) > 0.0
+    }
+}
+
+/// The cells around the hull edges that segment `u v` crosses when it lies
+/// on a flat facet of the convex hull (the caps of extruded polygons: the
+/// segment touches no cell's interior, only edges), walking in the facet's
+/// plane from `u` across ghost cells (exact `orient3d` with a vertex off
+/// the plane for the in-plane orientation), and the facet. `None` when the
+/// segment leaves the facet, passes through a vertex, or crosses more than
+/// [`CONE_MAX`] edges.
+fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<(Vec<u32>, Flat)> {
+    let pts = cm.pts();
+    let g = |w: u32| &pts[w as usize];
+    let m = &cm.m;
+    // The ghost at `u` whose hull face has `v` in its plane and strictly
+    // inside its angle at `u`: (ghost, the face's other two vertices in
+    // ghost order, the inner vertex).
+    let mut start = None;
+    for t in cm.star(u) {
+        let tv = m.tv[t as usize];
+        if tv[3] != INF {
+            continue;
+        }
+        let Some(iu) = tv[..3].iter().position(|&w| w == u) else {
+            continue;
+        };
+        let (p, q) = (tv[(iu + 1) % 3], tv[(iu + 2) % 3]);
+        if orient3d(g(u), g(p), g(q), g(v)) != 0.0 {
+            continue;
+        }
+        let n = m.across(t, 3);
+        let Some(&w) = m
+            .tv
+            .get(n as usize)
+            .and_then(|nv| nv.iter().find(|&&w| w != u && w != p && w != q))
+        else {
+            continue;
+        };
+        if w == INF {
+            continue;
+        }
+        let o = |a: u32, b: u32, c: u32| sgn(orient3d(g(a), g(b), g(c), g(w)));
+        let s = o(u, p, q);
+        if s != 0 && o(u, p, v) == s && o(u, v, q) == s {
+            start = Some((t, p, q, w));
+            break;
+        }
+    }
+    let (mut t, mut p, mut q, w) = start?;
+    let flat = Flat {
+        plane: [u, p, q],
+        inner: w,
+    };
+    let [a, b, c] = flat.plane.map(g);
+    let o = |x: u32, y: u32, z: u32| sgn(orient3d(g(x), g(y), g(z), g(w)));
+    let (mut cells, mut seen) = (Cavity::default(), 0usize);
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    loop {
+        seen += 1;
+        if seen > CONE_MAX {
+            return None;
+        }
+        // The cells around crossed edge `p q` (ghosts included).
+        m.ring_into(t, (p, q), (CONE_MAX, false), |_, _| true, (&mut tets, &mut ring))?;
+        for &x in &tets {
+            cells.push(x);
+        }
+        if cells.list.len() > CONE_MAX {
+            return None;
+        }
+        // The ghost across `p q` in the plane: behind the face of `t`
+        // opposite its third finite vertex.
+        let tv = m.tv[t as usize];
+        let ir = tv.iter().position(|&x| x != p && x != q && x != INF)?;
+        let n = m.across(t, ir);
+        let nv = *m.tv.get(n as usize)?;
+        if nv[3] != INF {
+            return None;
+        }
+        let z = *nv[..3].iter().find(|&&x| x != p && x != q)?;
+        if orient3d(a, b, c, g(z)) != 0.0 {
+            return None;
+        }
+        t = n;
+        if z == v {
+            return Some((cells.list, flat));
+        }
+        let sz = o(u, v, z);
+        if sz == 0 {
+            return None;
+        }
+        if sz == o(u, v, p) {
+            p = z;
+        } else {
+            q = z;
+        }
+    }
 }
 
 /// The vertices lying on input triangle `t`: its corners, chains and inner
