@@ -318,15 +318,8 @@ fn remove_edge_deep(
     let Some(t) = cm.find_edge(a, b) else {
         return true;
     };
-    let tr = std::env::var_os("CF_TRACE2").is_some();
     if remove(cm, t) {
-        if tr { eprintln!("  d{depth} remove {a} {b} ok"); }
         return true;
-    }
-    if tr {
-        let (mut ts, mut r) = (Vec::new(), Vec::new());
-        let rr = cm.m.ring_into(t, (a, b), (64, true), |_, _| true, (&mut ts, &mut r)).map(|_| r);
-        eprintln!("  d{depth} remove {a} {b} FAILED ring {rr:?}");
     }
     if depth == 0 {
         return false;
@@ -335,17 +328,14 @@ fn remove_edge_deep(
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
-        let Some((tets, ring)) = shrinkable_ring(cm, t, a, b) else {
+        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
             return false;
         };
         let n = ring.len();
-        // The least ring: three tetrahedra (the 3-2 flip), or on the hull
-        // two finite ones between the two ghosts (the hull 2-2 flip).
-        let least = if ring.contains(&INF) { 4 } else { 3 };
         let mut progress = false;
-        // (A 2-3 flip of a face around the edge shrinks its ring by one;
-        // one involving a ghost is never valid.)
-        for i in (0..n).filter(|_| n > least) {
+        // (A 2-3 flip of a face around the edge shrinks its ring by one:
+        // none with a ring of three.)
+        for i in (0..n).filter(|_| n > 3) {
             // Face (a, b, ring[i]) is opposite ring[i + 1] in tets[i].
             if prot.face([a, b, ring[i]]) {
                 continue;
@@ -373,13 +363,12 @@ fn remove_edge_deep(
                     continue;
                 }
             }
-            if tr { eprintln!("  d{depth} shrink {a} {b}: flip23 face {a} {b} {}", ring[i]); }
             cm.apply_flip23(plan);
             progress = true;
             break;
         }
         if !progress && depth > 1 {
-            for &r in ring.iter().filter(|&&r| r != INF) {
+            for &r in &ring {
                 if *budget == 0 {
                     return false;
                 }
@@ -404,37 +393,6 @@ fn remove_edge_deep(
         }
     }
     false
-}
-
-/// The ring of edge `a b` (in `t`) that [`remove_edge_deep`] may shrink:
-/// the tetrahedra and ring vertices as [`Journaled::edge_ring`] gives them,
-/// and for a convex-hull edge whose two hull faces are coplanar (a missing
-/// edge in a flat hull facet crossing it: the caps of extruded polygons)
-/// the ring through its two ghost cells ([`INF`] once in `ring`). Its
-/// finite part `c … d` shrinks by 2-3 flips like a closed ring, down to one
-/// tetrahedron on each side of the plane … until the hull 2-2 flip of
-/// [`Journaled::remove_edge`] applies. `None` for any other hull edge (a
-/// ridge of the hull can never go) and beyond the longest ring.
-fn shrinkable_ring(cm: &Journaled<'_>, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
-    if let Some(r) = cm.edge_ring(t, a, b) {
-        return Some(r);
-    }
-    let (mut tets, mut ring) = (Vec::new(), Vec::new());
-    let end = cm.m.ring_into(
-        t,
-        (a, b),
-        (crate::tet::dmesh::journal::MAX_RING, false),
-        |_, _| true,
-        (&mut tets, &mut ring),
-    )?;
-    let k = ring.iter().position(|&w| w == INF)?;
-    let n = ring.len();
-    let (c, d) = (ring[(k + 1) % n], ring[(k + n - 1) % n]);
-    let g = |w: u32| &cm.pts()[w as usize];
-    (end == crate::tet::dmesh::RingEnd::Closed
-        && ring.iter().filter(|&&w| w == INF).count() == 1
-        && orient3d(g(a), g(b), g(c), g(d)) == 0.0)
-        .then_some((tets, ring))
 }
 
 /// Flip depth of segment and facet recovery.
@@ -507,30 +465,11 @@ pub(crate) fn recover_segment_within(
     stop_circles: bool,
     effort: Effort,
 ) -> bool {
-    let r = recover_segment_within_(cm, u, v, prot, max_ops, stop_circles, effort);
-    if std::env::var_os("CF_RES").is_some() {
-        eprintln!("CFRES {u} {v} {r}");
-    }
-    r
-}
-fn recover_segment_within_(
-    cm: &mut Journaled<'_>,
-    u: u32,
-    v: u32,
-    prot: &Protected,
-    max_ops: usize,
-    stop_circles: bool,
-    effort: Effort,
-) -> bool {
     const CAP: usize = 48;
     if cm.find_edge(u, v).is_some() {
         return true;
     }
     let ops0 = cm.flips23 + cm.removals;
-    let effort = match std::env::var("CF_LEVEL").ok().and_then(|x| x.parse::<u32>().ok()) {
-        Some(l) => Effort { cones: effort.cones, ..Effort::level(l.max(effort.depth)) },
-        None => effort,
-    };
     let guide = if stop_circles {
         Guide::Segment(u, v)
     } else {
@@ -587,21 +526,6 @@ fn recover_segment_within_(
                         continue;
                     }
                     seen[pass].push((s, k));
-                }
-                if std::env::var_os("CF_TRACE").is_some() {
-                    let desc = match hit {
-                        Hit::Done => "done".to_string(),
-                        Hit::Face(t, f) => format!("face {:?} apex {} other {:?}", face(cm.m.tv[t as usize], f), cm.m.tv[t as usize][f], cm.m.tv[(cm.m.across(t,f)) as usize]),
-                        Hit::Edge(a, b) => {
-                            let r = cm.find_edge(a, b).and_then(|t| {
-                                let (mut ts, mut r) = (Vec::new(), Vec::new());
-                                cm.m.ring_into(t, (a, b), (64, true), |_, _| true, (&mut ts, &mut r)).map(|_| r)
-                            });
-                            format!("edge {a} {b} ring {r:?}")
-                        }
-                        Hit::Blocked => "blocked".to_string(),
-                    };
-                    eprintln!("CF seg {u} {v} step {step} pass {pass} end {s}->{e}: {desc}");
                 }
                 match hit {
                     Hit::Done => return true,
@@ -690,7 +614,8 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
     let m = &cm.m;
     let finite = |t: u32| (t as usize) < m.tv.len() && !m.tv[t as usize].contains(&INF);
     let mut cav = Cavity::default();
-    for t in cm.star(u) {
+    let star = cm.star(u);
+    for &t in &star {
         let tv = m.tv[t as usize];
         let Some(i) = tv.iter().position(|&w| w == u) else {
             continue;
@@ -703,8 +628,9 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
     // flat facet of the convex hull touches no cell's interior, only the
     // hull edges it crosses: its cavity is the cells around those edges,
     // ghosts included ([`hull_channel`]).
-    let flat = hull_channel(cm, u, v);
-    if let Some((ref cells, _)) = flat {
+    let on_hull = star.iter().any(|&t| m.tv[t as usize][3] == INF);
+    let flat = on_hull.then(|| hull_channel(cm, u, v)).flatten();
+    if let Some(ref cells) = flat {
         cav = Cavity::default();
         for &t in cells {
             cav.push(t);
@@ -730,24 +656,24 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
             }
         }
     }
-    if std::env::var_os("CF_CONE").is_some() {
-        eprintln!("CFCONE {u} {v} flat {} cav {}", flat.is_some(), cav.list.len());
-    }
     if cav.list.is_empty() {
         return false;
     }
-    let flat = flat.map(|f| f.1);
-    // May a cell of the cavity (a ghost: only in a flat hull facet) take
-    // `apex` for its vertex `f`?
-    let cell_ok = |mut tv: [u32; 4], f: usize, apex: u32| -> bool {
+    let flat = flat.is_some();
+    // May cavity cell `t` take `apex` for its vertex `f`? A finite result
+    // must be strictly positive; a ghost (only for a segment on a flat
+    // hull facet) must keep its hull face in the old one's plane, facing
+    // out ([`ghost_ok`]).
+    let cell_ok = |t: u32, f: usize, apex: u32| -> bool {
+        let mut tv = m.tv[t as usize];
         tv[f] = apex;
-        match (tv.contains(&INF), &flat) {
-            (false, _) => crate::tet::dmesh::flip::positive(pts, tv),
-            (true, Some(fl)) => fl.ghost_ok(pts, ghost_last(tv)),
-            (true, None) => false,
+        if !tv.contains(&INF) {
+            crate::tet::dmesh::flip::positive(pts, tv)
+        } else {
+            flat && ghost_ok(cm, t, apex, tv)
         }
     };
-    let finite = |t: u32| finite(t) || (flat.is_some() && m.alive(t));
+    let finite = |t: u32| finite(t) || (flat && m.alive(t));
     // Boundary faces of a cavity: (slot, local face) with the neighbour
     // outside; those blocking the cone from `apex`.
     let boundary = |cav: &Cavity| -> Vec<(u32, usize)> {
@@ -761,8 +687,7 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
         bnd.iter()
             .copied()
             .filter(|&(t, f)| {
-                let tv = m.tv[t as usize];
-                !tv.contains(&apex) && !cell_ok(tv, f, apex)
+                !m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex)
             })
             .collect()
     };
@@ -774,9 +699,6 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
         'grow: for _ in 0..=CONE_GROW {
             let bnd = boundary(&cav);
             let block = blocking(&bnd, apex);
-            if std::env::var_os("CF_CONE").is_some() {
-                eprintln!("  apex {apex} cav {} block {}", cav.list.len(), block.len());
-            }
             if block.is_empty() {
                 if let Some(new) = cone_tets(m, &cav, &bnd, apex, prot) {
                     cm.replace(&cav.list, &new);
@@ -823,7 +745,7 @@ fn cone_tets(
         if !fv.contains(&apex) {
             let mut tv = m.tv[t as usize];
             tv[f] = apex;
-            new.push(ghost_last(tv));
+            new.push(tv);
         }
     }
     bedges.sort_unstable();
@@ -853,41 +775,28 @@ fn cone_tets(
     Some(new)
 }
 
-/// `tv` with [`INF`] (when present) moved last by an even permutation (the
-/// ghost cells' layout; same orientation).
-fn ghost_last(mut tv: [u32; 4]) -> [u32; 4] {
-    if let Some(i) = tv[..3].iter().position(|&w| w == INF) {
-        tv.swap(i, 3);
-        let (j, k) = match i {
-            0 => (1, 2),
-            1 => (0, 2),
-            _ => (0, 1),
-        };
-        tv.swap(j, k);
+/// Exact: may ghost cell `t` (hull face `x y z`, [`INF`] last) become
+/// ghost `new` (a vertex of the face replaced by `apex`)? Its new hull face
+/// must lie in the plane of `x y z` (so on the same facet of the convex
+/// hull) and face out: the inner vertex of the finite cell behind `x y z`
+/// on its positive side, as for every ghost cell.
+fn ghost_ok(cm: &Journaled<'_>, t: u32, apex: u32, new: [u32; 4]) -> bool {
+    let (m, pts) = (&cm.m, cm.pts());
+    let g = |w: u32| &pts[w as usize];
+    let tv = m.tv[t as usize];
+    if tv[3] != INF || new[3] != INF || apex == INF {
+        return false;
     }
-    tv
-}
-
-/// A flat facet of the convex hull: three of its vertices (not collinear)
-/// and a vertex strictly inside the hull (off its plane).
-struct Flat {
-    plane: [u32; 3],
-    inner: u32,
-}
-
-impl Flat {
-    /// Exact: is ghost cell `tv` ([`INF`] last) valid on this facet — its
-    /// hull face on the facet's plane and facing out (the inner vertex on
-    /// the positive side of `orient3d`, as every ghost cell's)?
-    fn ghost_ok(&self, pts: &[[f64; 3]], tv: [u32; 4]) -> bool {
-        let g = |w: u32| &pts[w as usize];
-        let [a, b, c] = self.plane.map(g);
-        tv[3] == INF
-            && tv[..3]
-                .iter()
-                .all(|&w| w != INF && orient3d(a, b, c, g(w)) == 0.0)
-            && orient3d(g(tv[0]), g(tv[1]), g(tv[2]), g(self.inner)) > 0.0
-    }
+    let Some(&inner) = m
+        .tv
+        .get(m.across(t, 3) as usize)
+        .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
+    else {
+        return false;
+    };
+    inner != INF
+        && orient3d(g(tv[0]), g(tv[1]), g(tv[2]), g(apex)) == 0.0
+        && orient3d(g(new[0]), g(new[1]), g(new[2]), g(inner)) > 0.0
 }
 
 /// The cells around the hull edges that segment `u v` crosses when it lies
@@ -897,7 +806,7 @@ impl Flat {
 /// the plane for the in-plane orientation), and the facet. `None` when the
 /// segment leaves the facet, passes through a vertex, or crosses more than
 /// [`CONE_MAX`] edges.
-fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<(Vec<u32>, Flat)> {
+fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
     let pts = cm.pts();
     let g = |w: u32| &pts[w as usize];
     let m = &cm.m;
@@ -936,11 +845,7 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<(Vec<u32>, Flat)> 
         }
     }
     let (mut t, mut p, mut q, w) = start?;
-    let flat = Flat {
-        plane: [u, p, q],
-        inner: w,
-    };
-    let [a, b, c] = flat.plane.map(g);
+    let [a, b, c] = [u, p, q].map(g);
     let o = |x: u32, y: u32, z: u32| sgn(orient3d(g(x), g(y), g(z), g(w)));
     let (mut cells, mut seen) = (Cavity::default(), 0usize);
     let (mut tets, mut ring) = (Vec::new(), Vec::new());
@@ -972,7 +877,7 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<(Vec<u32>, Flat)> 
         }
         t = n;
         if z == v {
-            return Some((cells.list, flat));
+            return Some(cells.list);
         }
         let sz = o(u, v, z);
         if sz == 0 {
