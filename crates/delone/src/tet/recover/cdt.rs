@@ -18,6 +18,12 @@
 //! open segment crosses, grown past the faces that block it, replaced by
 //! the cone from one end (one operation for the whole segment, valid by
 //! exact signs; the flips of the previous steps often make it possible).
+//! A segment on a flat facet of the convex hull crosses only hull edges in
+//! that plane, where no 2-3 flip applies and edge removal meets the
+//! coplanar and cospherical configurations of extruded polygons (every two
+//! vertical edges of a cylinder are coplanar): its cone is taken over the
+//! cells around the crossed edges, ghost cells included, and retriangulates
+//! the facet too (a fan from the end).
 //! With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
@@ -603,11 +609,21 @@ impl Cavity {
 /// tetrahedron is positive) and has edge `u v`. Where faces block the
 /// cone (the end not strictly on their inner side), the tetrahedra behind
 /// them join the cavity, [`CONE_GROW`] times at most, for each end in
-/// turn (the end with fewer blocking faces first). Refused (false,
-/// nothing changed) when, from both ends, the cavity reaches a ghost, a
-/// protected face or [`CONE_MAX`] tetrahedra, would remove a protected
-/// edge or a vertex, or has a boundary edge not in exactly two boundary
-/// faces.
+/// turn (the end with fewer blocking faces first).
+///
+/// A segment lying on a flat facet of the convex hull (the cap of an
+/// extruded polygon, a side rectangle) crosses hull edges only, so no cell
+/// has it inside: its cavity is the cells around those edges, ghost cells
+/// included ([`hull_channel`]), and the cone from an end also gives the
+/// ghosts a fan of new hull faces on the facet (each in its old hull
+/// face's plane and facing out, [`ghost_ok`]): the 2D retriangulation of
+/// the facet with the segment, made with the 3D one in one operation. Its
+/// cavity may then grow into ghost cells too.
+///
+/// Refused (false, nothing changed) when, from both ends, the cavity
+/// reaches a ghost (but on a flat hull facet), a protected face or
+/// [`CONE_MAX`] tetrahedra, would remove a protected edge or a vertex, or
+/// has a boundary edge not in exactly two boundary faces.
 pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
     let pts = cm.pts();
     let seg = SegTest::new(pts, (u, v));
@@ -686,9 +702,7 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
     let blocking = |bnd: &[(u32, usize)], apex: u32| -> Vec<(u32, usize)> {
         bnd.iter()
             .copied()
-            .filter(|&(t, f)| {
-                !m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex)
-            })
+            .filter(|&(t, f)| !m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex))
             .collect()
     };
     let bnd0 = boundary(&cav);
@@ -787,10 +801,9 @@ fn ghost_ok(cm: &Journaled<'_>, t: u32, apex: u32, new: [u32; 4]) -> bool {
     if tv[3] != INF || new[3] != INF || apex == INF {
         return false;
     }
-    let Some(&inner) = m
-        .tv
-        .get(m.across(t, 3) as usize)
-        .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
+    let Some(&inner) =
+        m.tv.get(m.across(t, 3) as usize)
+            .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
     else {
         return false;
     };
@@ -827,10 +840,9 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
             continue;
         }
         let n = m.across(t, 3);
-        let Some(&w) = m
-            .tv
-            .get(n as usize)
-            .and_then(|nv| nv.iter().find(|&&w| w != u && w != p && w != q))
+        let Some(&w) =
+            m.tv.get(n as usize)
+                .and_then(|nv| nv.iter().find(|&&w| w != u && w != p && w != q))
         else {
             continue;
         };
@@ -855,7 +867,13 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
             return None;
         }
         // The cells around crossed edge `p q` (ghosts included).
-        m.ring_into(t, (p, q), (CONE_MAX, false), |_, _| true, (&mut tets, &mut ring))?;
+        m.ring_into(
+            t,
+            (p, q),
+            (CONE_MAX, false),
+            |_, _| true,
+            (&mut tets, &mut ring),
+        )?;
         for &x in &tets {
             cells.push(x);
         }
@@ -1197,11 +1215,33 @@ mod tests {
         assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
     }
 
+    /// Every ghost cell's hull face has every point on its inner side
+    /// (non-negative `orient3d`) and the finite cell behind it strictly: the
+    /// ghosts still close a convex hull.
+    fn ghosts_close_the_hull(cm: &Journaled<'_>, pts: &[[f64; 3]]) {
+        for t in cm.m.live_slots() {
+            let tv = cm.m.tv[t as usize];
+            if tv[3] != INF {
+                continue;
+            }
+            let [a, b, c] = [tv[0], tv[1], tv[2]].map(|w| &pts[w as usize]);
+            for p in pts {
+                assert!(orient3d(a, b, c, p) >= 0.0, "ghost {tv:?} faces in");
+            }
+            let nv = cm.m.tv[cm.m.across(t, 3) as usize];
+            let w = nv.iter().find(|w| !tv.contains(w)).unwrap();
+            assert!(orient3d(a, b, c, &pts[*w as usize]) > 0.0);
+        }
+    }
+
     /// The cone over a missing segment's crossed cells, on random points
     /// and on a tube's two cospherical end circles (a degenerate Delaunay
-    /// tetrahedralization): each call either leaves the mesh unchanged or
-    /// makes the segment an edge, the mesh valid ([`crate::tet::dmesh::DomainMesh::check`])
-    /// and the protected items kept.
+    /// tetrahedralization; the segments between two vertices of one circle
+    /// lie on a flat hull facet and take the cone over the cells around
+    /// the hull edges they cross, ghosts included): each call either
+    /// leaves the mesh unchanged or makes the segment an edge, the mesh
+    /// valid ([`crate::tet::dmesh::DomainMesh::check`]), the ghosts closing
+    /// the convex hull and the protected items kept.
     #[test]
     fn segment_cones_keep_the_mesh_valid() {
         let mut seed = 12345u64;
@@ -1222,7 +1262,7 @@ mod tests {
             let dt = crate::tet::Delaunay3::from_points(&pts).unwrap();
             let mut cm = Journaled::new(dt);
             let n = pts.len() as u32;
-            let (mut done, mut refused) = (0, 0);
+            let (mut done, mut refused, mut on_hull) = (0, 0, 0);
             for u in 0..n {
                 for v in (u + 1..n).step_by(3) {
                     if cm.find_edge(u, v).is_some() {
@@ -1242,8 +1282,11 @@ mod tests {
                     }
                     let before = cm.m.live_slots().count();
                     let kept: Vec<[u32; 3]> = prot.faces.iter().copied().collect();
+                    let flat = hull_channel(&cm, u, v).is_some();
                     if cone_segment(&mut cm, u, v, &prot) {
                         done += 1;
+                        on_hull += usize::from(flat);
+                        ghosts_close_the_hull(&cm, &pts);
                         assert!(cm.find_edge(u, v).is_some());
                         for f in &kept {
                             assert!(cm.find_face(f[0], f[1], f[2]).is_some(), "{f:?} lost");
@@ -1257,6 +1300,11 @@ mod tests {
             }
             cm.m.check(&pts).unwrap();
             assert!(done > 0, "no cone applied ({refused} refused)");
+            // The tube's end circles: cones on its flat hull facets.
+            assert!(
+                pts.len() != 32 || on_hull > 0,
+                "no cone on a hull facet ({done} made)"
+            );
         }
     }
 }
