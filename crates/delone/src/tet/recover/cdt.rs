@@ -498,9 +498,13 @@ pub(crate) fn recover_segment_within(
     } else {
         &[guide][..]
     };
+    // When the flips give up, a segment on a flat facet of the convex hull
+    // takes the cone over the cells around the hull edges it crosses (only
+    // then: where the flips succeed they are left as they were).
+    let last = |cm: &mut Journaled<'_>| effort.cones && cone_segment_in(cm, u, v, prot, true);
     for step in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
-            return false;
+            return last(cm);
         }
         // Every [`CONE_STEPS`] steps, the segment's cavity cone first (one
         // operation for the whole segment): the flips of the steps between
@@ -564,10 +568,10 @@ pub(crate) fn recover_segment_within(
             }
         }
         if !progress {
-            return false;
+            return last(cm);
         }
     }
-    cm.find_edge(u, v).is_some()
+    cm.find_edge(u, v).is_some() || last(cm)
 }
 
 /// Most tetrahedra of the cavity of [`cone_segment`].
@@ -625,6 +629,13 @@ impl Cavity {
 /// [`CONE_MAX`] tetrahedra, would remove a protected edge or a vertex, or
 /// has a boundary edge not in exactly two boundary faces.
 pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
+    cone_segment_in(cm, u, v, prot, false)
+}
+
+/// [`cone_segment`]; with `hull`, only for a segment on a flat facet of the
+/// convex hull (its cavity the cells around the hull edges it crosses),
+/// else never on one.
+fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hull: bool) -> bool {
     let pts = cm.pts();
     let seg = SegTest::new(pts, (u, v));
     let m = &cm.m;
@@ -645,7 +656,10 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
     // hull edges it crosses: its cavity is the cells around those edges,
     // ghosts included ([`hull_channel`]).
     let on_hull = star.iter().any(|&t| m.tv[t as usize][3] == INF);
-    let flat = on_hull.then(|| hull_channel(cm, u, v)).flatten();
+    let flat = (hull && on_hull).then(|| hull_channel(cm, u, v)).flatten();
+    if hull && flat.is_none() {
+        return false;
+    }
     if let Some(ref cells) = flat {
         cav = Cavity::default();
         for &t in cells {
@@ -1283,7 +1297,7 @@ mod tests {
                     let before = cm.m.live_slots().count();
                     let kept: Vec<[u32; 3]> = prot.faces.iter().copied().collect();
                     let flat = hull_channel(&cm, u, v).is_some();
-                    if cone_segment(&mut cm, u, v, &prot) {
+                    if cone_segment_in(&mut cm, u, v, &prot, flat) {
                         done += 1;
                         on_hull += usize::from(flat);
                         ghosts_close_the_hull(&cm, &pts);
