@@ -494,26 +494,38 @@ fn turned_tubes_with_a_radial_hole_need_few_steiner_points() {
     };
     for (n, len) in [(16, 2.0), (16, 3.0), (12, 2.5)] {
         let (pts, tris, vol) = turned_tube_with_hole(n, 0.5, 0.42, len);
-        let name = format!("tube n={n} len={len}");
-        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let v = mesh_volume(&r);
-        assert!(
-            (v - vol).abs() <= 1e-9 * vol,
-            "{name}: volume {v} instead of {vol}"
-        );
-        println!(
-            "{name}: {} triangles, Steiner points {}",
-            tris.len(),
-            r.report.steiner()
-        );
         // Main before the cones: 7 and 11 on the two 16-gon tubes.
-        assert!(
-            r.report.steiner() <= 2,
-            "{name}: {} Steiner points",
-            r.report.steiner()
-        );
+        let name = format!("tube n={n} len={len}");
+        recovered_with_few_points(&name, (&pts, &tris, vol), &opts, 2);
     }
+}
+
+/// Recovers (`pts`, `tris`) with `opts`, checks the result and its volume
+/// against `vol` (the construction's), and asserts at most `most` Steiner
+/// points.
+fn recovered_with_few_points(
+    name: &str,
+    (pts, tris, vol): (&[[f64; 3]], &[[u32; 3]], f64),
+    opts: &RecoverOptions,
+    most: usize,
+) {
+    let r = recover(pts, tris, opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    check_recovered(pts, tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let v = mesh_volume(&r);
+    assert!(
+        (v - vol).abs() <= 1e-9 * vol,
+        "{name}: volume {v} instead of {vol}"
+    );
+    println!(
+        "{name}: {} triangles, Steiner points {}",
+        tris.len(),
+        r.report.steiner()
+    );
+    assert!(
+        r.report.steiner() <= most,
+        "{name}: {} Steiner points",
+        r.report.steiner()
+    );
 }
 
 /// Ear clipping of a simple counter-clockwise polygon, always clipping the
@@ -603,22 +615,6 @@ fn extrusions_with_fan_caps_need_few_steiner_points() {
     }
     for (name, poly, h, most) in [("cylinder", &circle, 1.0, 4), ("gear", &gear, 0.3, 300)] {
         let (pts, tris, vol) = extrusion(poly, h);
-        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let v = mesh_volume(&r);
-        assert!(
-            (v - vol).abs() <= 1e-9 * vol,
-            "{name}: volume {v} instead of {vol}"
-        );
-        println!(
-            "{name}: {} triangles, Steiner points {}",
-            tris.len(),
-            r.report.steiner()
-        );
-        assert!(
-            r.report.steiner() <= most,
-            "{name}: {} Steiner points",
-            r.report.steiner()
-        );
+        recovered_with_few_points(name, (&pts, &tris, vol), &opts, most);
     }
 }
