@@ -18,6 +18,12 @@
 //! open segment crosses, grown past the faces that block it, replaced by
 //! the cone from one end (one operation for the whole segment, valid by
 //! exact signs; the flips of the previous steps often make it possible).
+//! A segment on a flat facet of the convex hull crosses only hull edges in
+//! that plane, where no 2-3 flip applies and edge removal meets the
+//! coplanar and cospherical configurations of extruded polygons (every two
+//! vertical edges of a cylinder are coplanar): its cone is taken over the
+//! cells around the crossed edges, ghost cells included, and retriangulates
+//! the facet too (a fan from the end).
 //! With
 //! [`RecoverOptions::stop_circling_flips`](super::RecoverOptions::stop_circling_flips)
 //! so does one whose flips go in a circle at both ends (the first crossing
@@ -492,9 +498,13 @@ pub(crate) fn recover_segment_within(
     } else {
         &[guide][..]
     };
+    // When the flips give up, a segment on a flat facet of the convex hull
+    // takes the cone over the cells around the hull edges it crosses (only
+    // then: where the flips succeed they are left as they were).
+    let last = |cm: &mut Journaled<'_>| effort.cones && cone_segment_in(cm, u, v, prot, true);
     for step in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
-            return false;
+            return last(cm);
         }
         // Every [`CONE_STEPS`] steps, the segment's cavity cone first (one
         // operation for the whole segment): the flips of the steps between
@@ -558,10 +568,10 @@ pub(crate) fn recover_segment_within(
             }
         }
         if !progress {
-            return false;
+            return last(cm);
         }
     }
-    cm.find_edge(u, v).is_some()
+    cm.find_edge(u, v).is_some() || last(cm)
 }
 
 /// Most tetrahedra of the cavity of [`cone_segment`].
@@ -603,18 +613,36 @@ impl Cavity {
 /// tetrahedron is positive) and has edge `u v`. Where faces block the
 /// cone (the end not strictly on their inner side), the tetrahedra behind
 /// them join the cavity, [`CONE_GROW`] times at most, for each end in
-/// turn (the end with fewer blocking faces first). Refused (false,
-/// nothing changed) when, from both ends, the cavity reaches a ghost, a
-/// protected face or [`CONE_MAX`] tetrahedra, would remove a protected
-/// edge or a vertex, or has a boundary edge not in exactly two boundary
-/// faces.
+/// turn (the end with fewer blocking faces first).
+///
+/// A segment lying on a flat facet of the convex hull (the cap of an
+/// extruded polygon, a side rectangle) crosses hull edges only, so no cell
+/// has it inside: its cavity is the cells around those edges, ghost cells
+/// included ([`hull_channel`]), and the cone from an end also gives the
+/// ghosts a fan of new hull faces on the facet (each in its old hull
+/// face's plane and facing out, [`ghost_ok`]): the 2D retriangulation of
+/// the facet with the segment, made with the 3D one in one operation. Its
+/// cavity may then grow into ghost cells too.
+///
+/// Refused (false, nothing changed) when, from both ends, the cavity
+/// reaches a ghost (but on a flat hull facet), a protected face or
+/// [`CONE_MAX`] tetrahedra, would remove a protected edge or a vertex, or
+/// has a boundary edge not in exactly two boundary faces.
 pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected) -> bool {
+    cone_segment_in(cm, u, v, prot, false)
+}
+
+/// [`cone_segment`]; with `hull`, only for a segment on a flat facet of the
+/// convex hull (its cavity the cells around the hull edges it crosses),
+/// else never on one.
+fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hull: bool) -> bool {
     let pts = cm.pts();
     let seg = SegTest::new(pts, (u, v));
     let m = &cm.m;
     let finite = |t: u32| (t as usize) < m.tv.len() && !m.tv[t as usize].contains(&INF);
     let mut cav = Cavity::default();
-    for t in cm.star(u) {
+    let star = cm.star(u);
+    for &t in &star {
         let tv = m.tv[t as usize];
         let Some(i) = tv.iter().position(|&w| w == u) else {
             continue;
@@ -623,12 +651,23 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
             cav.push(t);
         }
     }
-    if cav.list.is_empty() {
+    // The tetrahedra behind the faces the segment meets. A segment on a
+    // flat facet of the convex hull touches no cell's interior, only the
+    // hull edges it crosses: its cavity is the cells around those edges,
+    // ghosts included ([`hull_channel`]).
+    let on_hull = star.iter().any(|&t| m.tv[t as usize][3] == INF);
+    let flat = (hull && on_hull).then(|| hull_channel(cm, u, v)).flatten();
+    if hull && flat.is_none() {
         return false;
     }
-    // The tetrahedra behind the faces the segment meets.
+    if let Some(ref cells) = flat {
+        cav = Cavity::default();
+        for &t in cells {
+            cav.push(t);
+        }
+    }
     let mut i = 0;
-    while i < cav.list.len() {
+    while flat.is_none() && i < cav.list.len() {
         let t = cav.list[i];
         i += 1;
         let tv = m.tv[t as usize];
@@ -647,6 +686,24 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
             }
         }
     }
+    if cav.list.is_empty() {
+        return false;
+    }
+    let flat = flat.is_some();
+    // May cavity cell `t` take `apex` for its vertex `f`? A finite result
+    // must be strictly positive; a ghost (only for a segment on a flat
+    // hull facet) must keep its hull face in the old one's plane, facing
+    // out ([`ghost_ok`]).
+    let cell_ok = |t: u32, f: usize, apex: u32| -> bool {
+        let mut tv = m.tv[t as usize];
+        tv[f] = apex;
+        if !tv.contains(&INF) {
+            crate::tet::dmesh::flip::positive(pts, tv)
+        } else {
+            flat && ghost_ok(cm, t, apex, tv)
+        }
+    };
+    let finite = |t: u32| finite(t) || (flat && m.alive(t));
     // Boundary faces of a cavity: (slot, local face) with the neighbour
     // outside; those blocking the cone from `apex`.
     let boundary = |cav: &Cavity| -> Vec<(u32, usize)> {
@@ -659,14 +716,7 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
     let blocking = |bnd: &[(u32, usize)], apex: u32| -> Vec<(u32, usize)> {
         bnd.iter()
             .copied()
-            .filter(|&(t, f)| {
-                let mut tv = m.tv[t as usize];
-                if tv.contains(&apex) {
-                    return false;
-                }
-                tv[f] = apex;
-                !crate::tet::dmesh::flip::positive(pts, tv)
-            })
+            .filter(|&(t, f)| !m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex))
             .collect()
     };
     let bnd0 = boundary(&cav);
@@ -751,6 +801,126 @@ fn cone_tets(
         }
     }
     Some(new)
+}
+
+/// Exact: may ghost cell `t` (hull face `x y z`, [`INF`] last) become
+/// ghost `new` (a vertex of the face replaced by `apex`)? Its new hull face
+/// must lie in the plane of `x y z` (so on the same facet of the convex
+/// hull) and face out: the inner vertex of the finite cell behind `x y z`
+/// on its positive side, as for every ghost cell.
+fn ghost_ok(cm: &Journaled<'_>, t: u32, apex: u32, new: [u32; 4]) -> bool {
+    let (m, pts) = (&cm.m, cm.pts());
+    let g = |w: u32| &pts[w as usize];
+    let tv = m.tv[t as usize];
+    if tv[3] != INF || new[3] != INF || apex == INF {
+        return false;
+    }
+    let Some(&inner) =
+        m.tv.get(m.across(t, 3) as usize)
+            .and_then(|nv| nv.iter().find(|w| !tv.contains(w)))
+    else {
+        return false;
+    };
+    inner != INF
+        && orient3d(g(tv[0]), g(tv[1]), g(tv[2]), g(apex)) == 0.0
+        && orient3d(g(new[0]), g(new[1]), g(new[2]), g(inner)) > 0.0
+}
+
+/// The cells around the hull edges that segment `u v` crosses when it lies
+/// on a flat facet of the convex hull (the caps of extruded polygons: the
+/// segment touches no cell's interior, only edges), walking in the facet's
+/// plane from `u` across ghost cells (exact `orient3d` with a vertex off
+/// the plane for the in-plane orientation), and the facet. `None` when the
+/// segment leaves the facet, passes through a vertex, or crosses more than
+/// [`CONE_MAX`] edges.
+fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
+    let pts = cm.pts();
+    let g = |w: u32| &pts[w as usize];
+    let m = &cm.m;
+    // The ghost at `u` whose hull face has `v` in its plane and strictly
+    // inside its angle at `u`: (ghost, the face's other two vertices in
+    // ghost order, the inner vertex).
+    let mut start = None;
+    for t in cm.star(u) {
+        let tv = m.tv[t as usize];
+        if tv[3] != INF {
+            continue;
+        }
+        let Some(iu) = tv[..3].iter().position(|&w| w == u) else {
+            continue;
+        };
+        let (p, q) = (tv[(iu + 1) % 3], tv[(iu + 2) % 3]);
+        if orient3d(g(u), g(p), g(q), g(v)) != 0.0 {
+            continue;
+        }
+        let n = m.across(t, 3);
+        let Some(&w) =
+            m.tv.get(n as usize)
+                .and_then(|nv| nv.iter().find(|&&w| w != u && w != p && w != q))
+        else {
+            continue;
+        };
+        if w == INF {
+            continue;
+        }
+        let o = |a: u32, b: u32, c: u32| sgn(orient3d(g(a), g(b), g(c), g(w)));
+        let s = o(u, p, q);
+        if s != 0 && o(u, p, v) == s && o(u, v, q) == s {
+            start = Some((t, p, q, w));
+            break;
+        }
+    }
+    let (mut t, mut p, mut q, w) = start?;
+    let [a, b, c] = [u, p, q].map(g);
+    let o = |x: u32, y: u32, z: u32| sgn(orient3d(g(x), g(y), g(z), g(w)));
+    let (mut cells, mut seen) = (Cavity::default(), 0usize);
+    let (mut tets, mut ring) = (Vec::new(), Vec::new());
+    loop {
+        seen += 1;
+        if seen > CONE_MAX {
+            return None;
+        }
+        // The cells around crossed edge `p q` (ghosts included).
+        m.ring_into(
+            t,
+            (p, q),
+            (CONE_MAX, false),
+            |_, _| true,
+            (&mut tets, &mut ring),
+        )?;
+        for &x in &tets {
+            cells.push(x);
+        }
+        if cells.list.len() > CONE_MAX {
+            return None;
+        }
+        // The ghost across `p q` in the plane: behind the face of `t`
+        // opposite its third finite vertex.
+        let tv = m.tv[t as usize];
+        let ir = tv.iter().position(|&x| x != p && x != q && x != INF)?;
+        let n = m.across(t, ir);
+        let nv = *m.tv.get(n as usize)?;
+        if nv[3] != INF {
+            return None;
+        }
+        let z = *nv[..3].iter().find(|&&x| x != p && x != q)?;
+        if orient3d(a, b, c, g(z)) != 0.0 {
+            return None;
+        }
+        t = n;
+        if z == v {
+            return Some(cells.list);
+        }
+        let sz = o(u, v, z);
+        if sz == 0 {
+            return None;
+        }
+        if sz == o(u, v, p) {
+            p = z;
+        } else {
+            q = z;
+        }
+    }
 }
 
 /// The vertices lying on input triangle `t`: its corners, chains and inner
@@ -1059,11 +1229,33 @@ mod tests {
         assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
     }
 
+    /// Every ghost cell's hull face has every point on its inner side
+    /// (non-negative `orient3d`) and the finite cell behind it strictly: the
+    /// ghosts still close a convex hull.
+    fn ghosts_close_the_hull(cm: &Journaled<'_>, pts: &[[f64; 3]]) {
+        for t in cm.m.live_slots() {
+            let tv = cm.m.tv[t as usize];
+            if tv[3] != INF {
+                continue;
+            }
+            let [a, b, c] = [tv[0], tv[1], tv[2]].map(|w| &pts[w as usize]);
+            for p in pts {
+                assert!(orient3d(a, b, c, p) >= 0.0, "ghost {tv:?} faces in");
+            }
+            let nv = cm.m.tv[cm.m.across(t, 3) as usize];
+            let w = nv.iter().find(|w| !tv.contains(w)).unwrap();
+            assert!(orient3d(a, b, c, &pts[*w as usize]) > 0.0);
+        }
+    }
+
     /// The cone over a missing segment's crossed cells, on random points
     /// and on a tube's two cospherical end circles (a degenerate Delaunay
-    /// tetrahedralization): each call either leaves the mesh unchanged or
-    /// makes the segment an edge, the mesh valid ([`crate::tet::dmesh::DomainMesh::check`])
-    /// and the protected items kept.
+    /// tetrahedralization; the segments between two vertices of one circle
+    /// lie on a flat hull facet and take the cone over the cells around
+    /// the hull edges they cross, ghosts included): each call either
+    /// leaves the mesh unchanged or makes the segment an edge, the mesh
+    /// valid ([`crate::tet::dmesh::DomainMesh::check`]), the ghosts closing
+    /// the convex hull and the protected items kept.
     #[test]
     fn segment_cones_keep_the_mesh_valid() {
         let mut seed = 12345u64;
@@ -1084,7 +1276,7 @@ mod tests {
             let dt = crate::tet::Delaunay3::from_points(&pts).unwrap();
             let mut cm = Journaled::new(dt);
             let n = pts.len() as u32;
-            let (mut done, mut refused) = (0, 0);
+            let (mut done, mut refused, mut on_hull) = (0, 0, 0);
             for u in 0..n {
                 for v in (u + 1..n).step_by(3) {
                     if cm.find_edge(u, v).is_some() {
@@ -1104,8 +1296,11 @@ mod tests {
                     }
                     let before = cm.m.live_slots().count();
                     let kept: Vec<[u32; 3]> = prot.faces.iter().copied().collect();
-                    if cone_segment(&mut cm, u, v, &prot) {
+                    let flat = hull_channel(&cm, u, v).is_some();
+                    if cone_segment_in(&mut cm, u, v, &prot, flat) {
                         done += 1;
+                        on_hull += usize::from(flat);
+                        ghosts_close_the_hull(&cm, &pts);
                         assert!(cm.find_edge(u, v).is_some());
                         for f in &kept {
                             assert!(cm.find_face(f[0], f[1], f[2]).is_some(), "{f:?} lost");
@@ -1119,6 +1314,11 @@ mod tests {
             }
             cm.m.check(&pts).unwrap();
             assert!(done > 0, "no cone applied ({refused} refused)");
+            // The tube's end circles: cones on its flat hull facets.
+            assert!(
+                pts.len() != 32 || on_hull > 0,
+                "no cone on a hull facet ({done} made)"
+            );
         }
     }
 }
