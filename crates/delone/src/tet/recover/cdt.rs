@@ -426,6 +426,9 @@ pub(crate) struct Effort {
     pub(crate) work: usize,
     /// Every [`CONE_STEPS`] steps try [`cone_segment`] first.
     pub(crate) cones: bool,
+    /// With `cones`, a segment whose flips give up tries the cone over a
+    /// flat facet of the convex hull last.
+    pub(crate) flat: bool,
 }
 
 impl Effort {
@@ -434,6 +437,7 @@ impl Effort {
         depth: DEPTH,
         work: WORK,
         cones: false,
+        flat: true,
     };
 
     /// Level `level` ≥ 2 of the escalation for segments that still fail
@@ -444,6 +448,7 @@ impl Effort {
             depth: level,
             work: WORK << level.saturating_sub(DEPTH),
             cones: false,
+            flat: true,
         }
     }
 }
@@ -501,7 +506,7 @@ pub(crate) fn recover_segment_within(
     // When the flips give up, a segment on a flat facet of the convex hull
     // takes the cone over the cells around the hull edges it crosses (only
     // then: where the flips succeed they are left as they were).
-    let last = |cm: &mut Journaled<'_>| effort.cones && cone_segment_in(cm, u, v, prot, true);
+    let last = |cm: &mut Journaled<'_>| effort.cones && effort.flat && cone_segment_in(cm, u, v, prot, true);
     for step in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return last(cm);

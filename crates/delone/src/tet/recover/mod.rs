@@ -595,6 +595,7 @@ impl State {
             poly: state::Polygons::default(),
             seg_ops: cdt::SEG_OPS,
             y_fallback: false,
+            flat_cones: true,
             escalate: false,
             fallback_tried: false,
             points_first: false,
@@ -916,7 +917,11 @@ impl State {
                            ops: usize,
                            effort: cdt::Effort| {
                 let mark = cm.log_mark();
-                let effort = cdt::Effort { cones, ..effort };
+                let effort = cdt::Effort {
+                    cones,
+                    flat: self.flat_cones,
+                    ..effort
+                };
                 if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles, effort) {
                     return None;
                 }

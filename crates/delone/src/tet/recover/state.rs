@@ -71,6 +71,10 @@ pub(super) struct State {
     /// (`MAX_REDIRECTS`), and segments try the cones of
     /// `cdt::cone_segment` as with `stop_circling_flips`.
     pub(super) y_fallback: bool,
+    /// Whether a segment whose flips give up tries the cone over a flat
+    /// facet of the convex hull (`cdt::Effort::flat`): not in the `-Y`
+    /// fallback's later runs.
+    pub(super) flat_cones: bool,
     /// The segments still failing after a round's passes are tried again
     /// with deeper edge removals (levels 3 to `MAX_LEVEL`): the second and
     /// third runs of the `-Y` fallback's recovery.

@@ -186,12 +186,21 @@ impl State {
         // twice the time and three times the memory of a run: only where
         // the first run's points do not all come off; deterministic order;
         // the last error stands).
+        // The first run also tries the cones over flat hull facets (fewer
+        // surface points on tubes and plates); where its points do not all
+        // come off, the runs after it place them without.
         let mut last = None;
-        for (ops, escalate) in [(SEG_OPS, false), (2 * SEG_OPS, true), (SEG_OPS / 2, true)] {
+        for (ops, escalate, flat) in [
+            (SEG_OPS, false, true),
+            (SEG_OPS, false, false),
+            (2 * SEG_OPS, true, false),
+            (SEG_OPS / 2, true, false),
+        ] {
             let mut st = State::new(self.surf.clone(), opts.clone());
             st.seg_ops = ops;
             st.y_fallback = true;
             st.escalate = escalate;
+            st.flat_cones = flat;
             let mut dt = Delaunay3::from_points(scaled)?;
             let (mut cm, on) = st.run_cdt(&mut dt, None)?;
             // `self.surf` is the unrefined surface (`st`'s has the points
