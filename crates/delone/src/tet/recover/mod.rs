@@ -430,6 +430,11 @@ pub(crate) fn recover_mesh(
 /// third away at 8× more.
 const MAX_LEVEL: u32 = 6;
 
+/// How many times [`State::split_in_place`] splits the pieces of one
+/// subsegment whose halves keep failing before it leaves them to the
+/// Delaunay tetrahedralization's insertion (the round then ends).
+const MAX_SPLIT_DEPTH: u32 = 16;
+
 /// How many facet points of one input triangle may be replaced by the
 /// split of a boundary subsegment they encroach ([`State::insert_in_facet`]).
 /// Two: no triangle of the corpus needs more (cgal_oblong's `-pq1.414`
@@ -676,6 +681,142 @@ impl State {
         Ok(true)
     }
 
+    /// Splits the subsegments of `queue` (edge, ends in chain order) that
+    /// the flips could not recover in the flipped mesh `cm` as well as in
+    /// `dt` (same point, same id): the point goes where [`Self::split_edge`]
+    /// puts it, into `cm` by the constrained Bowyer–Watson of
+    /// [`Journaled::insert_constrained`] (the protected faces and
+    /// subsegments stay, so what the flips recovered stays recovered), and
+    /// `recover(cm, prot, a, b)` recovers each half by flips (rolling back
+    /// when it fails); a half that fails is split in turn. Returns the
+    /// subsegments left to split in `dt` only and whether the round must
+    /// end: from the first point `cm` refuses (it is then in `dt` only,
+    /// and `cm`'s ids would no longer be `dt`'s), the rest of the queue.
+    /// `(empty, false)`: every subsegment is recovered in `cm`, whose
+    /// round goes on to the triangles.
+    #[allow(clippy::type_complexity)]
+    fn split_in_place(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        cm: &mut Journaled<'_>,
+        prot: &mut cdt::Protected,
+        queue: Vec<(u32, u32, u32)>,
+        mut recover: impl FnMut(&mut Journaled<'_>, &cdt::Protected, u32, u32) -> bool,
+    ) -> Result<(Vec<(u32, u32, u32)>, bool), RecoverError> {
+        let mut queue: std::collections::VecDeque<((u32, u32, u32), u32)> =
+            queue.into_iter().map(|s| (s, 0)).collect();
+        while let Some(((e, u, v), depth)) = queue.pop_front() {
+            if cm.find_edge(u, v).is_some() {
+                continue;
+            }
+            if depth >= MAX_SPLIT_DEPTH {
+                // Pieces that keep failing go to `dt`'s insertion.
+                let mut rest = vec![(e, u, v)];
+                rest.extend(queue.into_iter().map(|x| x.0));
+                return Ok((rest, true));
+            }
+            if !self.steiner_left() {
+                return Err(self.budget_error(queue.len() + 1, 0));
+            }
+            let id = dt.points().len() as u32;
+            debug_assert_eq!(cm.pts().len(), id as usize);
+            if !self.split_edge(dt, e, u, v)? {
+                continue;
+            }
+            if dt.points().len() as u32 != id + 1 {
+                return Err(RecoverError::SegmentTooShort {
+                    edge: self.surf.edges[e as usize],
+                });
+            }
+            cm.push_point(dt.points()[id as usize]);
+            let start = cm.star_find(u, |x| !cm.m.tv[x as usize].contains(&INF));
+            let placed = start.and_then(|start| {
+                let pr = &*prot;
+                cm.insert_constrained(
+                    id,
+                    start,
+                    &|f| pr.faces.contains(&f),
+                    &|a, b| pr.edges.contains(&(a, b)),
+                )
+            });
+            if placed.is_none() {
+                if std::env::var_os("RC_TRACE2").is_some() {
+                    eprintln!("RC2 refused {u}-{v} -> {id}");
+                }
+                // The round ends: the queue's other subsegments are split
+                // in `dt` only.
+                return Ok((queue.into_iter().map(|x| x.0).collect(), true));
+            }
+            prot.edges.remove(&ekey(u, v));
+            prot.edges.insert(ekey(u, id));
+            prot.edges.insert(ekey(id, v));
+            let mut rc = [true; 2];
+            for (k, (a, b)) in [(u, id), (id, v)].into_iter().enumerate() {
+                if !recover(cm, prot, a, b) {
+                    rc[k] = false;
+                    queue.push_back(((e, a, b), depth + 1));
+                }
+            }
+            if std::env::var_os("RC_TRACE2").is_some() {
+                eprintln!("RC2 split {u}-{v} -> {id} cells {} halves {:?}", placed.as_ref().map_or(0, |x| x.len()), rc);
+            }
+        }
+        Ok((Vec::new(), false))
+    }
+
+    /// Inserts the points of `dt` from id `from` on (put there by this
+    /// round's splits of triangles) into `cm` too, in order and with the
+    /// same ids, each by the constrained Bowyer–Watson of
+    /// [`Journaled::insert_constrained`] keeping the faces of `on` (the
+    /// coverage of `cm`) and every subsegment. False at the first point
+    /// `cm` refuses (the next round then starts from `dt`).
+    fn mirror_points(
+        &self,
+        dt: &Delaunay3<'_>,
+        cm: &mut Journaled<'_>,
+        from: usize,
+        on: &FacesOn,
+    ) -> bool {
+        if cm.pts().len() != from {
+            return false;
+        }
+        let prot = self.protected(on);
+        for id in from..dt.points().len() {
+            // A point on a subsegment `u v` that is a mesh edge splits it
+            // and the faces on it.
+            let (near, split) = match self.surf.kind.get(id) {
+                Some(Kind::OnEdge(e)) => {
+                    let chain = &self.surf.chains[*e as usize];
+                    let Some(i) = chain.iter().position(|&w| w as usize == id) else {
+                        return false;
+                    };
+                    let (u, v) = (chain[i - 1], chain[i + 1]);
+                    (u, Some(ekey(u, v)))
+                }
+                Some(Kind::OnTri(t)) => (self.surf.tris[*t as usize][0], None),
+                _ => return false,
+            };
+            cm.push_point(dt.points()[id]);
+            let Some(start) = cm.star_find(near, |x| !cm.m.tv[x as usize].contains(&INF)) else {
+                return false;
+            };
+            let holds = |f: &[u32; 3]| split.is_some_and(|(u, v)| f.contains(&u) && f.contains(&v));
+            let placed = cm.insert_constrained(
+                id as u32,
+                start,
+                &|f| prot.faces.contains(&f) && !holds(&f),
+                &|a, b| prot.edges.contains(&(a, b)) && split != Some((a, b)),
+            );
+            if placed.is_none() {
+                if std::env::var_os("RC_TRACE2").is_some() {
+                    eprintln!("RC2 mirror refused {id} of {from}..{} kind {:?}", dt.points().len(), self.surf.kind.get(id));
+                }
+                return false;
+            }
+        }
+        true
+    }
+
     /// Mesh edges crossing the interior of input triangle `t`, sorted,
     /// searched among the tetrahedra around the edges bounding its
     /// uncovered part (any tetrahedron meeting the uncovered part next to
@@ -841,6 +982,11 @@ impl State {
         // touching solids, internal walls) the incremental update of the
         // protected items can miss some; they are recomputed every round.
         let nonmanifold = (0..self.surf.edges.len()).any(|e| self.surf.edge_tris[e].len() > 2);
+        let mut rc_recovered: Vec<(u32, u32, u32)> = Vec::new();
+        // The previous round's mesh, when every point it added went into it
+        // in place (see `Self::split_in_place` and `Self::mirror_points`):
+        // this round flips on in it instead of starting again from `dt`.
+        let mut carried: Option<Journaled<'a>> = None;
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
@@ -867,7 +1013,7 @@ impl State {
                     r
                 }
             };
-            let prot = match kept_prot.take() {
+            let mut prot = match kept_prot.take() {
                 Some(p) if !nonmanifold => p,
                 _ => self.protected(&on),
             };
@@ -876,6 +1022,21 @@ impl State {
                 let fresh = self.protected(&on);
                 assert!(fresh.faces == prot.faces && fresh.edges == prot.edges);
             }
+            // `on`, `covered`, `subs` and `prot` stay those of `dt` (the
+            // next round updates them); a carried mesh has its own.
+            let mut own: Option<(FacesOn, Vec<bool>, Vec<(u32, u32, u32)>, cdt::Protected)> = None;
+            if let Some(c) = carried.take() {
+                cm = c;
+                let (on_c, cov_c) = self.coverage_all(&cm);
+                let subs_c = self.missing_subsegments_cm(&cm, &cov_c);
+                let prot_c = self.protected(&on_c);
+                own = Some((on_c, cov_c, subs_c, prot_c));
+            }
+            let carried_round = own.is_some();
+            let (on_start, cov_start, subs_work, mut prot_work) = match own {
+                Some((a, b, c, d)) => (Some(a), Some(b), c, d),
+                None => (None, None, subs.clone(), std::mem::take(&mut prot)),
+            };
             // The previous round's operations are replayed on this round's
             // Delaunay tetrahedralization: it differs from the previous one
             // only around the points inserted since, so nearly every
@@ -885,8 +1046,24 @@ impl State {
             // searched and flipped again.
             if !self.opts.preserve_surface {
                 cm.start_log();
-                if let Some(log) = prev_log.take() {
-                    cm.replay(&log, &|o, n| prot.kept_by(o, n));
+                if let Some(log) = prev_log.take().filter(|_| !carried_round) {
+                    let nops = log.ops_len();
+                    let applied = cm.replay(&log, &|o, n| prot_work.kept_by(o, n));
+                    if std::env::var_os("RC_TRACE").is_some() {
+                        let lost = rc_recovered
+                            .iter()
+                            .filter(|&&(e, u, v)| {
+                                let ch = &self.surf.chains[e as usize];
+                                ch.windows(2).any(|w| w == [u, v]) && cm.find_edge(u, v).is_none()
+                            })
+                            .count();
+                        eprintln!(
+                            "RC round {} replay {applied}/{nops} subs {} recovered-last-round {} lost {lost}",
+                            self.report.rounds,
+                            subs.len(),
+                            rc_recovered.len()
+                        );
+                    }
                 }
             }
             let old_len = dt.points().len();
@@ -906,6 +1083,7 @@ impl State {
             let mut near_fail: Vec<u32> = Vec::new();
             let cones = stop_circles || self.y_fallback;
             let attempt = |cm: &mut Journaled<'_>,
+                           prot: &cdt::Protected,
                            u: u32,
                            v: u32,
                            near: &mut Vec<u32>,
@@ -913,7 +1091,7 @@ impl State {
                            effort: cdt::Effort| {
                 let mark = cm.log_mark();
                 let effort = cdt::Effort { cones, ..effort };
-                if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles, effort) {
+                if cdt::recover_segment_within(cm, u, v, prot, ops, stop_circles, effort) {
                     return None;
                 }
                 let s = near.len();
@@ -922,8 +1100,13 @@ impl State {
                 cm.rollback(mark);
                 Some((cm.log_mark(), s, near.len()))
             };
-            for &(e, u, v) in &subs {
-                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
+            let mut order: Vec<(u32, u32, u32)> = subs_work.clone();
+            if std::env::var_os("RC_ORDER").is_some() {
+                let was: crate::geom::ids::IdSet<(u32, u32)> = rc_recovered.iter().map(|&(_, u, v)| (u, v)).collect();
+                order.sort_by_key(|&(_, u, v)| !was.contains(&(u, v)));
+            }
+            for &(e, u, v) in &order {
+                if let Some(at) = attempt(&mut cm, &prot_work, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
                 {
                     failed.push((e, u, v));
                     fail_at.push(at);
@@ -951,7 +1134,7 @@ impl State {
                         failed.push((e, u, v));
                         fail_at.push((mark, s, t));
                     } else if let Some(at) =
-                        attempt(&mut cm, u, v, &mut near_fail, retry_ops, cdt::Effort::BASE)
+                        attempt(&mut cm, &prot_work, u, v, &mut near_fail, retry_ops, cdt::Effort::BASE)
                     {
                         failed.push((e, u, v));
                         fail_at.push(at);
@@ -974,11 +1157,38 @@ impl State {
                     let effort = cdt::Effort::level(level);
                     let ops = max_ops << (level - 2);
                     failed.retain(|&(_, u, v)| {
-                        attempt(&mut cm, u, v, &mut near_fail, ops, effort).is_some()
+                        attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
                 }
             }
-            if !failed.is_empty() {
+            // `-p` without `-q`: the failing subsegments are split in the
+            // flipped mesh and their halves recovered in the same round
+            // (see `Self::split_in_place`); what it leaves is split in the
+            // Delaunay tetrahedralization only, as with `-q`.
+            let mut restart = false;
+            let mut carry = false;
+            if stop_circles && !failed.is_empty() && std::env::var_os("RC_NOIN").is_none() {
+                let queue = std::mem::take(&mut failed);
+                (failed, restart) =
+                    self.split_in_place(dt, &mut cm, &mut prot_work, queue, |cm, prot, u, v| {
+                        let lv: u32 = std::env::var("RC_LV").ok().and_then(|x| x.parse().ok()).unwrap_or(2);
+                        (2..=lv).any(|level| {
+                            attempt(cm, prot, u, v, &mut Vec::new(), max_ops << (level - 2), cdt::Effort::level(level))
+                                .is_none()
+                        })
+                    })?;
+            }
+            {
+                rc_recovered = subs_work.iter().filter(|s| !failed.contains(s)).copied().collect();
+                eprintln!(
+                    "RC round {} subs {} failed {} steiner {}",
+                    self.report.rounds,
+                    subs_work.len(),
+                    failed.len(),
+                    self.report.steiner()
+                );
+            }
+            if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
                     self.points_first_check((0, failed.len()))?;
                     if self.cavities_now() {
@@ -1001,12 +1211,12 @@ impl State {
                     }
                 }
             } else {
-                let segments_by_flips = subs.len();
+                let segments_by_flips = subs_work.len();
                 // Coverage on `cm`, updated only where the flips changed faces.
-                let mut on_cm = on.clone();
-                let mut covered_cm = covered.clone();
+                let mut on_cm = on_start.unwrap_or_else(|| on.clone());
+                let mut covered_cm = cov_start.unwrap_or_else(|| covered.clone());
                 let dt_uncovered: Vec<usize> =
-                    (0..covered.len()).filter(|&t| !covered[t]).collect();
+                    (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                 self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
                 let mut uncovered: Vec<usize> =
                     (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
@@ -1019,7 +1229,7 @@ impl State {
                             &self.surf,
                             t,
                             &inner,
-                            &prot,
+                            &prot_work,
                             stop_circles,
                         );
                     }
@@ -1060,45 +1270,70 @@ impl State {
                             }
                         }
                     }
+                    let facet_from = cm.pts().len();
                     let mut progress = false;
                     let mut group_done = vec![false; self.poly.groups.len()];
                     for &t in &uncovered {
                         if !self.steiner_left() {
                             return Err(self.budget_error(0, uncovered.len()));
                         }
+                        // A carried mesh is its own reference: the
+                        // points go where its edges cross the triangle.
+                        let in_dt = covered[t] && !carried_round;
                         if let Some(g) = self.poly.group(t) {
                             if !std::mem::replace(&mut group_done[g as usize], true) {
-                                progress |= self.split_group(dt, &cm, g, covered[t])?;
+                                progress |= self.split_group(dt, &cm, g, in_dt)?;
                             }
                             continue;
                         }
-                        if covered[t] {
+                        if in_dt {
                             progress |= self.split_longest_subsegment(dt, t)?;
                             continue;
                         }
-                        let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
+                        let mut found = None;
+                        if carried_round {
+                            let start = |u: u32, v: u32| cm.find_edge(u, v);
+                            let c = ((&cm.m.tv[..], &cm.m.nb[..]), cm.pts());
+                            let cross = self.find_crossing_from(c, &start, t, &on_cm[t]);
+                            if !cross.is_empty() {
+                                found = Some((cross, &on_cm[t]));
+                            }
+                        }
+                        let (cross, faces) = found.unwrap_or_else(|| {
+                            (self.find_crossing_lazy(dt, &vt, t, &on[t]), &on[t])
+                        });
                         progress |= if cross.is_empty() {
-                            self.split_hole(dt, t, &on[t])?
+                            self.split_hole(dt, t, faces)?
                         } else {
                             self.split_facet(dt, t, cross[0].0)?
                         };
                     }
-                    if !progress {
+                    if !progress && !carried_round {
                         return Err(RecoverError::Unrecovered {
                             triangles: uncovered,
                             steiner: self.report.steiner(),
                         });
                     }
+                    // `-p` without `-q`: the next round goes on in `cm`
+                    // when the points go into it in place too.
+                    carry = stop_circles
+                        && progress
+                        && !restart
+                        && self.mirror_points(dt, &mut cm, facet_from, &on_cm);
                 }
             }
             prev_log = cm.take_log();
-            failed_removals = cm.take_failed();
+            if carry {
+                carried = Some(cm);
+            } else {
+                failed_removals = cm.take_failed();
+            }
             prev = Some(RoundState {
                 on,
                 covered,
                 old_len,
                 subs,
-                prot: Some(prot),
+                prot: Some(if carried_round { prot } else { prot_work }),
             });
         }
     }
