@@ -38,7 +38,6 @@ use crate::tet::local::{ekey, face, fkey, EDGES, INF};
 /// the growth stops; the shrinking still applies).
 const MAX_CAVITY: usize = 2048;
 
-thread_local! { static RC_WHY: std::cell::RefCell<[u32;5]> = const { std::cell::RefCell::new([0;5]) }; }
 /// Most steps of the walk locating the point.
 const WALK_STEPS: usize = 1 << 14;
 
@@ -87,14 +86,11 @@ impl Journaled<'_> {
                 }
             }
         }
-        let grown = cav.len();
         let req: IdSet<u32> = required.iter().copied().collect();
         // Shrinking.
-        let mut grow_more = std::env::var_os("RC_GROW").is_some();
         loop {
             let inside: IdSet<u32> = cav.iter().copied().collect();
             let mut drop: IdSet<u32> = IdSet::default();
-            let mut more: IdSet<u32> = IdSet::default();
             // Boundary faces, and the edges and vertices on them.
             let mut bedges: IdMap<(u32, u32), u32> = IdMap::default();
             let mut bverts: IdSet<u32> = IdSet::default();
@@ -107,7 +103,6 @@ impl Journaled<'_> {
                         if keep_face(fkey(fv)) {
                             drop.insert(t);
                             drop.insert(n);
-                            RC_WHY.with(|w| w.borrow_mut()[0] += 1);
                         }
                         continue;
                     }
@@ -116,19 +111,7 @@ impl Journaled<'_> {
                     if !q.contains(&INF) {
                         let [a, b, c, d] = q.map(g);
                         if orient3d(a, b, c, d) >= 0.0 {
-                            // Grown past the face when it may be, else
-                            // dropped.
-                            if grow_more
-                                && cav.len() + more.len() < MAX_CAVITY
-                                && m.alive(n)
-                                && !m.tv[n as usize].contains(&INF)
-                                && !keep_face(fkey(fv))
-                            {
-                                more.insert(n);
-                            } else {
-                                drop.insert(t);
-                            }
-                            RC_WHY.with(|w| w.borrow_mut()[1] += 1);
+                            drop.insert(t);
                         }
                     }
                     for k in 0..3 {
@@ -141,27 +124,18 @@ impl Journaled<'_> {
             // every boundary face is seen (a cavity whose boundary faces
             // are all strictly seen from `p` inside it is star-shaped: its
             // boundary is a sphere, every edge on two boundary faces).
-            if drop.is_empty() && !more.is_empty() {
-                let mut more: Vec<u32> = more.into_iter().collect();
-                more.sort_unstable();
-                cav.extend(more);
-                continue;
-            }
-            grow_more = false;
             let mut pinched = false;
             if drop.is_empty() {
                 for &t in &cav {
                     let tv = tvs(t);
                     if tv.iter().any(|w| !bverts.contains(w)) {
                         drop.insert(t);
-                        RC_WHY.with(|w| w.borrow_mut()[2] += 1);
                     }
                     for (a, b) in EDGES {
                         let e = ekey(tv[a], tv[b]);
                         match bedges.get(&e) {
                             None if e.1 != INF && keep_edge(e.0, e.1) => {
                                 drop.insert(t);
-                                RC_WHY.with(|w| w.borrow_mut()[3] += 1);
                             }
                             Some(&k) if k != 2 => pinched = true,
                             _ => {}
@@ -179,7 +153,6 @@ impl Journaled<'_> {
                 // What the required cells need dropped is refused: the
                 // required cells alone, else nothing.
                 if cav.len() == required.len() {
-                    if std::env::var_os("RC_TRACE2").is_some() { eprintln!("RC2 required refused {}", cav.len()); }
                     return None;
                 }
                 drop.retain(|t| !req.contains(t));
@@ -205,9 +178,6 @@ impl Journaled<'_> {
                 }
             }
             cav = keep;
-        }
-        if std::env::var_os("RC_TRACE3").is_some() {
-            eprintln!("RC3 required {} grown {grown} final {} why {:?}", required.len(), cav.len(), RC_WHY.with(|w| std::mem::take(&mut *w.borrow_mut())));
         }
         let mut new: Vec<[u32; 4]> = Vec::with_capacity(2 * cav.len() + 4);
         let inside: IdSet<u32> = cav.iter().copied().collect();
@@ -257,7 +227,6 @@ impl Journaled<'_> {
             }
             let tv = m.tv[t as usize];
             if tv.contains(&INF) {
-                if std::env::var_os("RC_TRACE2").is_some() { eprintln!("RC2 walk ghost at {step}"); }
                 return None;
             }
             let s = signs(tv);
@@ -269,7 +238,6 @@ impl Journaled<'_> {
                 continue;
             }
             let zeros: Vec<usize> = (0..4).filter(|&i| s[i] == 0.0).collect();
-            if std::env::var_os("RC_TRACE2").is_some() { eprintln!("RC2 zeros {zeros:?}"); }
             return match zeros[..] {
                 [] => Some(vec![t]),
                 [i] => {
@@ -291,7 +259,6 @@ impl Journaled<'_> {
                 _ => None,
             };
         }
-        if std::env::var_os("RC_TRACE2").is_some() { eprintln!("RC2 walk long"); }
         None
     }
 }

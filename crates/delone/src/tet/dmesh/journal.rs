@@ -82,11 +82,6 @@ pub(crate) struct OpLog {
     ops: Vec<(u32, u16, u16)>,
 }
 
-impl OpLog {
-    /// TRACE
-    pub(crate) fn ops_len(&self) -> usize { self.ops.len() }
-}
-
 /// A domain mesh with ghost cells and a journal (see the module
 /// documentation).
 #[derive(Debug, Clone)]

@@ -433,7 +433,16 @@ const MAX_LEVEL: u32 = 6;
 /// How many times [`State::split_in_place`] splits the pieces of one
 /// subsegment whose halves keep failing before it leaves them to the
 /// Delaunay tetrahedralization's insertion (the round then ends).
-const MAX_SPLIT_DEPTH: u32 = 16;
+const MAX_SPLIT_DEPTH: u32 = 12;
+
+/// How many points per failing subsegment [`State::split_in_place`] puts
+/// in place in one call, at most, before it leaves the rest to the
+/// Delaunay tetrahedralization's insertion.
+const IN_PLACE_PER_SEGMENT: usize = 8;
+
+/// How many rounds in a carried mesh may leave as many triangles missing
+/// as the best round before (`State::run_cdt`).
+const MAX_STALLED: usize = 4;
 
 /// How many facet points of one input triangle may be replaced by the
 /// split of a boundary subsegment they encroach ([`State::insert_in_facet`]).
@@ -602,6 +611,7 @@ impl State {
             fallback_tried: false,
             points_first: false,
             first_missing: None,
+            in_place_off: false,
         }
     }
 
@@ -705,12 +715,19 @@ impl State {
     ) -> Result<(Vec<(u32, u32, u32)>, bool), RecoverError> {
         let mut queue: std::collections::VecDeque<((u32, u32, u32), u32)> =
             queue.into_iter().map(|s| (s, 0)).collect();
+        // In-place splits this call may make (see `IN_PLACE_PER_SEGMENT`).
+        let budget = IN_PLACE_PER_SEGMENT * queue.len() + IN_PLACE_PER_SEGMENT;
+        let mut splits = 0;
         while let Some(((e, u, v), depth)) = queue.pop_front() {
             if cm.find_edge(u, v).is_some() {
                 continue;
             }
-            if depth >= MAX_SPLIT_DEPTH {
-                // Pieces that keep failing go to `dt`'s insertion.
+            if depth >= MAX_SPLIT_DEPTH || splits >= budget {
+                // Pieces that keep failing go to `dt`'s insertion, from
+                // now on every split (its points give the flips more room
+                // on nearly coplanar slivers, where the halves of points
+                // put in place keep failing).
+                self.in_place_off = true;
                 let mut rest = vec![(e, u, v)];
                 rest.extend(queue.into_iter().map(|x| x.0));
                 return Ok((rest, true));
@@ -728,6 +745,7 @@ impl State {
                     edge: self.surf.edges[e as usize],
                 });
             }
+            splits += 1;
             cm.push_point(dt.points()[id as usize]);
             let start = cm.star_find(u, |x| !cm.m.tv[x as usize].contains(&INF));
             let placed = start.and_then(|start| {
@@ -740,9 +758,6 @@ impl State {
                 )
             });
             if placed.is_none() {
-                if std::env::var_os("RC_TRACE2").is_some() {
-                    eprintln!("RC2 refused {u}-{v} -> {id}");
-                }
                 // The round ends: the queue's other subsegments are split
                 // in `dt` only.
                 return Ok((queue.into_iter().map(|x| x.0).collect(), true));
@@ -750,15 +765,10 @@ impl State {
             prot.edges.remove(&ekey(u, v));
             prot.edges.insert(ekey(u, id));
             prot.edges.insert(ekey(id, v));
-            let mut rc = [true; 2];
-            for (k, (a, b)) in [(u, id), (id, v)].into_iter().enumerate() {
+            for (a, b) in [(u, id), (id, v)] {
                 if !recover(cm, prot, a, b) {
-                    rc[k] = false;
                     queue.push_back(((e, a, b), depth + 1));
                 }
-            }
-            if std::env::var_os("RC_TRACE2").is_some() {
-                eprintln!("RC2 split {u}-{v} -> {id} cells {} halves {:?}", placed.as_ref().map_or(0, |x| x.len()), rc);
             }
         }
         Ok((Vec::new(), false))
@@ -808,9 +818,6 @@ impl State {
                 &|a, b| prot.edges.contains(&(a, b)) && split != Some((a, b)),
             );
             if placed.is_none() {
-                if std::env::var_os("RC_TRACE2").is_some() {
-                    eprintln!("RC2 mirror refused {id} of {from}..{} kind {:?}", dt.points().len(), self.surf.kind.get(id));
-                }
                 return false;
             }
         }
@@ -982,11 +989,13 @@ impl State {
         // touching solids, internal walls) the incremental update of the
         // protected items can miss some; they are recomputed every round.
         let nonmanifold = (0..self.surf.edges.len()).any(|e| self.surf.edge_tris[e].len() > 2);
-        let mut rc_recovered: Vec<(u32, u32, u32)> = Vec::new();
         // The previous round's mesh, when every point it added went into it
         // in place (see `Self::split_in_place` and `Self::mirror_points`):
         // this round flips on in it instead of starting again from `dt`.
         let mut carried: Option<Journaled<'a>> = None;
+        // Triangles the previous round's flips left missing.
+        let mut last_uncovered = usize::MAX;
+        let mut stalled = 0;
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
@@ -1047,23 +1056,7 @@ impl State {
             if !self.opts.preserve_surface {
                 cm.start_log();
                 if let Some(log) = prev_log.take().filter(|_| !carried_round) {
-                    let nops = log.ops_len();
-                    let applied = cm.replay(&log, &|o, n| prot_work.kept_by(o, n));
-                    if std::env::var_os("RC_TRACE").is_some() {
-                        let lost = rc_recovered
-                            .iter()
-                            .filter(|&&(e, u, v)| {
-                                let ch = &self.surf.chains[e as usize];
-                                ch.windows(2).any(|w| w == [u, v]) && cm.find_edge(u, v).is_none()
-                            })
-                            .count();
-                        eprintln!(
-                            "RC round {} replay {applied}/{nops} subs {} recovered-last-round {} lost {lost}",
-                            self.report.rounds,
-                            subs.len(),
-                            rc_recovered.len()
-                        );
-                    }
+                    cm.replay(&log, &|o, n| prot_work.kept_by(o, n));
                 }
             }
             let old_len = dt.points().len();
@@ -1100,12 +1093,7 @@ impl State {
                 cm.rollback(mark);
                 Some((cm.log_mark(), s, near.len()))
             };
-            let mut order: Vec<(u32, u32, u32)> = subs_work.clone();
-            if std::env::var_os("RC_ORDER").is_some() {
-                let was: crate::geom::ids::IdSet<(u32, u32)> = rc_recovered.iter().map(|&(_, u, v)| (u, v)).collect();
-                order.sort_by_key(|&(_, u, v)| !was.contains(&(u, v)));
-            }
-            for &(e, u, v) in &order {
+            for &(e, u, v) in &subs_work {
                 if let Some(at) = attempt(&mut cm, &prot_work, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
                 {
                     failed.push((e, u, v));
@@ -1167,26 +1155,13 @@ impl State {
             // Delaunay tetrahedralization only, as with `-q`.
             let mut restart = false;
             let mut carry = false;
-            if stop_circles && !failed.is_empty() && std::env::var_os("RC_NOIN").is_none() {
+            if stop_circles && !failed.is_empty() && !self.in_place_off {
                 let queue = std::mem::take(&mut failed);
                 (failed, restart) =
                     self.split_in_place(dt, &mut cm, &mut prot_work, queue, |cm, prot, u, v| {
-                        let lv: u32 = std::env::var("RC_LV").ok().and_then(|x| x.parse().ok()).unwrap_or(2);
-                        (2..=lv).any(|level| {
-                            attempt(cm, prot, u, v, &mut Vec::new(), max_ops << (level - 2), cdt::Effort::level(level))
-                                .is_none()
-                        })
+                        attempt(cm, prot, u, v, &mut Vec::new(), max_ops, cdt::Effort::BASE)
+                            .is_none()
                     })?;
-            }
-            {
-                rc_recovered = subs_work.iter().filter(|s| !failed.contains(s)).copied().collect();
-                eprintln!(
-                    "RC round {} subs {} failed {} steiner {}",
-                    self.report.rounds,
-                    subs_work.len(),
-                    failed.len(),
-                    self.report.steiner()
-                );
             }
             if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
@@ -1316,7 +1291,18 @@ impl State {
                     }
                     // `-p` without `-q`: the next round goes on in `cm`
                     // when the points go into it in place too.
+                    // A carried mesh whose triangles left missing do not
+                    // get fewer in `MAX_STALLED` rounds goes back to
+                    // `dt`'s insertions for good.
+                    if carried_round && uncovered.len() >= last_uncovered {
+                        stalled += 1;
+                        self.in_place_off |= stalled >= MAX_STALLED;
+                    } else {
+                        stalled = 0;
+                        last_uncovered = uncovered.len();
+                    }
                     carry = stop_circles
+                        && !self.in_place_off
                         && progress
                         && !restart
                         && self.mirror_points(dt, &mut cm, facet_from, &on_cm);
