@@ -191,6 +191,37 @@ impl Journaled<'_> {
                 }
             }
         }
+        // Each cell adjacent to an earlier one (the journal finds them so
+        // for rollback and replay): breadth first over the faces at `p`.
+        let mut by_face: IdMap<[u32; 3], Vec<usize>> = IdMap::default();
+        for (i, q) in new.iter().enumerate() {
+            for f in 0..4 {
+                let k = fkey(face(*q, f));
+                if k.contains(&p) {
+                    by_face.entry(k).or_default().push(i);
+                }
+            }
+        }
+        let mut order: Vec<usize> = vec![0];
+        let mut seen = vec![false; new.len()];
+        seen[0] = true;
+        let mut j = 0;
+        while j < order.len() {
+            let q = new[order[j]];
+            j += 1;
+            for f in 0..4 {
+                let k = fkey(face(q, f));
+                for &i in by_face.get(&k).into_iter().flatten() {
+                    if !std::mem::replace(&mut seen[i], true) {
+                        order.push(i);
+                    }
+                }
+            }
+        }
+        if order.len() != new.len() {
+            return None;
+        }
+        let new: Vec<[u32; 4]> = order.into_iter().map(|i| new[i]).collect();
         Some(self.replace(&cav, &new))
     }
 
@@ -260,5 +291,129 @@ impl Journaled<'_> {
             };
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tet::local::DEAD;
+    use crate::tet::Delaunay3;
+
+    /// `n` points of a 4 x 4 x 4 grid jittered by irrational strides, and
+    /// the cube's corners (a hull with coplanar faces).
+    fn cloud(n: usize) -> Vec<[f64; 3]> {
+        let mut p: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let f = |a: f64| (i as f64 * a).fract();
+                [
+                    0.1 + 0.8 * f(0.618_034),
+                    0.1 + 0.8 * f(0.414_213_5),
+                    0.1 + 0.8 * f(0.732_050_8),
+                ]
+            })
+            .collect();
+        for i in 0..8 {
+            p.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+        }
+        p
+    }
+
+    fn edges_of(m: &Journaled<'_>) -> Vec<(u32, u32)> {
+        let mut out: Vec<(u32, u32)> = m
+            .m
+            .tv
+            .iter()
+            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+            .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// Points inside cells, on faces, on edges and on hull faces go in;
+    /// the mesh stays valid ([`crate::tet::dmesh::DomainMesh::check`])
+    /// after every insertion, every protected edge and face stays, and a
+    /// rollback gives the mesh back.
+    #[test]
+    fn constrained_insertions_keep_the_mesh_and_the_protected_items() {
+        let pts = cloud(60);
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        m.start_log();
+        let before = m.m.tv.clone();
+        // Every third edge is protected, with the faces on two of them.
+        let prot_edges: IdSet<(u32, u32)> = edges_of(&m).into_iter().step_by(3).collect();
+        let mut prot_faces: IdSet<[u32; 3]> = IdSet::default();
+        for tv in m.m.tv.iter().filter(|tv| tv[0] != DEAD && !tv.contains(&INF)) {
+            for f in 0..4 {
+                let k = fkey(face(*tv, f));
+                let on = |a: u32, b: u32| prot_edges.contains(&ekey(a, b));
+                if on(k[0], k[1]) && on(k[1], k[2]) {
+                    prot_faces.insert(k);
+                }
+            }
+        }
+        let mut placed = 0;
+        let edges = edges_of(&m);
+        for (i, &(a, b)) in edges.iter().enumerate().step_by(7) {
+            let (pa, pb) = (m.pts()[a as usize], m.pts()[b as usize]);
+            let p = match i % 3 {
+                // An edge's midpoint (on the edge, or near it).
+                0 => [0, 1, 2].map(|k| 0.5 * (pa[k] + pb[k])),
+                // A point off the edge, inside some cell or on a face.
+                1 => [0, 1, 2].map(|k| 0.3 * pa[k] + 0.7 * pb[k] + 0.01),
+                _ => [0, 1, 2].map(|k| 0.25 * pa[k] + 0.75 * pb[k]),
+            };
+            if !(0.0..=1.0).contains(&p[0]) || !(0.0..=1.0).contains(&p[1]) {
+                continue;
+            }
+            let id = m.pts().len() as u32;
+            m.push_point(p);
+            let start = m
+                .star_find(a, |x| !m.m.tv[x as usize].contains(&INF))
+                .unwrap();
+            let kf = |f: [u32; 3]| prot_faces.contains(&f);
+            let ke = |x: u32, y: u32| prot_edges.contains(&(x, y));
+            if let Some(new) = m.insert_constrained(id, start, &kf, &ke) {
+                placed += 1;
+                assert!(new.iter().all(|&t| m.m.tv[t as usize].contains(&id)));
+                m.m.check(m.pts()).unwrap();
+                let now: IdSet<(u32, u32)> = edges_of(&m).into_iter().collect();
+                for e in &prot_edges {
+                    assert!(now.contains(e), "protected edge {e:?} lost");
+                }
+                for f in &prot_faces {
+                    assert!(m.find_face(f[0], f[1], f[2]).is_some(), "face {f:?} lost");
+                }
+            } else {
+                // Refused: nothing changed but the point list; the
+                // mesh keeps no cell at it.
+                assert!(m.m.slot_of_vertex(id).is_none());
+                m.m.check(m.pts()).unwrap();
+            }
+        }
+        assert!(placed >= 5, "{placed} points placed");
+        // A point on a hull face (the cube's bottom) goes in too.
+        let id = m.pts().len() as u32;
+        m.push_point([0.37, 0.41, 0.0]);
+        let corner = 60; // (0, 0, 0)
+        let start = m
+            .star_find(corner, |x| !m.m.tv[x as usize].contains(&INF))
+            .unwrap();
+        assert!(m
+            .insert_constrained(id, start, &|_| false, &|_, _| false)
+            .is_some());
+        m.m.check(m.pts()).unwrap();
+        m.rollback(0);
+        m.m.check(m.pts()).unwrap();
+        let mut a: Vec<[u32; 4]> = before.into_iter().filter(|t| t[0] != DEAD).collect();
+        let mut b: Vec<[u32; 4]> = m.m.tv.iter().copied().filter(|t| t[0] != DEAD).collect();
+        for t in a.iter_mut().chain(b.iter_mut()) {
+            t.sort_unstable();
+        }
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
     }
 }
