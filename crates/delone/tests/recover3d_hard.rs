@@ -459,9 +459,8 @@ fn turned_tube_with_holes(
     // Inside: between the two polygons (distance to each side's line
     // against its apothem), between the ends, out of the holes.
     let inside = |p: [f64; 3]| {
-        let apo = |rad: f64| {
-            (0..n).all(|k| p[0] * dir(k).cos() + p[1] * dir(k).sin() < rad * half.cos())
-        };
+        let apo =
+            |rad: f64| (0..n).all(|k| p[0] * dir(k).cos() + p[1] * dir(k).sin() < rad * half.cos());
         let in_hole = sides.iter().any(|&side| {
             let (nr, t) = (nrm(side), tg(side));
             let across = p[0] * t[0] + p[1] * t[1];
@@ -490,6 +489,29 @@ fn turned_tube_with_holes(
     (pts.into_iter().map(rot).collect(), tris, vol)
 }
 
+/// A tube of [`turned_tube_with_holes`] recovered with `opts`, checked, with
+/// the volume of the construction; prints its Steiner points and rounds.
+fn recovered_tube(
+    name: &str,
+    (pts, tris, vol): (Vec<[f64; 3]>, Vec<[u32; 3]>, f64),
+    opts: &RecoverOptions,
+) -> Recovered {
+    let r = recover(&pts, &tris, opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let v = mesh_volume(&r);
+    assert!(
+        (v - vol).abs() <= 1e-9 * vol,
+        "{name}: volume {v} instead of {vol}"
+    );
+    println!(
+        "{name}: {} triangles, Steiner points {}, rounds {}",
+        tris.len(),
+        r.report.steiner(),
+        r.report.rounds
+    );
+    r
+}
+
 /// `-p` on turned tubes with a radial hole: the segments of the walls'
 /// long strips are recovered by the cone over the cavity of the cells they
 /// cross where the flips circle, so at most two are split (TetGen 1.6
@@ -502,19 +524,11 @@ fn turned_tubes_with_a_radial_hole_need_few_steiner_points() {
         ..RecoverOptions::default()
     };
     for (n, len) in [(16, 2.0), (16, 3.0), (12, 2.5)] {
-        let (pts, tris, vol) = turned_tube_with_holes(n, 0.5, 0.42, len, &[0]);
         let name = format!("tube n={n} len={len}");
-        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let v = mesh_volume(&r);
-        assert!(
-            (v - vol).abs() <= 1e-9 * vol,
-            "{name}: volume {v} instead of {vol}"
-        );
-        println!(
-            "{name}: {} triangles, Steiner points {}",
-            tris.len(),
-            r.report.steiner()
+        let r = recovered_tube(
+            &name,
+            turned_tube_with_holes(n, 0.5, 0.42, len, &[0]),
+            &opts,
         );
         // Main before the cones: 7 and 11 on the two 16-gon tubes.
         assert!(
@@ -542,21 +556,9 @@ fn turned_tubes_with_rings_of_holes_take_few_rounds() {
         (40, 1.5, (0..40).step_by(5).collect()),
         (36, 3.0, (0..36).step_by(2).collect()),
     ] {
-        let (pts, tris, vol) = turned_tube_with_holes(n, 0.5, 0.42, len, &sides);
         let name = format!("tube n={n} len={len} holes={}", sides.len());
-        let r = recover(&pts, &tris, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check_recovered(&pts, &tris, &r).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let v = mesh_volume(&r);
-        assert!(
-            (v - vol).abs() <= 1e-9 * vol,
-            "{name}: volume {v} instead of {vol}"
-        );
-        println!(
-            "{name}: {} triangles, Steiner points {}, rounds {}",
-            tris.len(),
-            r.report.steiner(),
-            r.report.rounds
-        );
+        let tube = turned_tube_with_holes(n, 0.5, 0.42, len, &sides);
+        let r = recovered_tube(&name, tube, &opts);
         // Before the splits in place: 2, 2, 1 and 4 rounds, 8, 5, 0 and 12
         // points (the points of one round's splits, inserted by the
         // Delaunay kernel, undid the flips of the others).

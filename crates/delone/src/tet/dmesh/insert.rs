@@ -280,7 +280,10 @@ impl Journaled<'_> {
                     (m.alive(n) && !keep_face(fkey(fv))).then(|| vec![t, n])
                 }
                 [i, j] => {
-                    let e: Vec<u32> = (0..4).filter(|&k| k != i && k != j).map(|k| tv[k]).collect();
+                    let e: Vec<u32> = (0..4)
+                        .filter(|&k| k != i && k != j)
+                        .map(|k| tv[k])
+                        .collect();
                     if keep_edge(e[0].min(e[1]), e[0].max(e[1])) {
                         return None;
                     }
@@ -320,13 +323,12 @@ mod tests {
     }
 
     fn edges_of(m: &Journaled<'_>) -> Vec<(u32, u32)> {
-        let mut out: Vec<(u32, u32)> = m
-            .m
-            .tv
-            .iter()
-            .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
-            .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
-            .collect();
+        let mut out: Vec<(u32, u32)> =
+            m.m.tv
+                .iter()
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+                .flat_map(|tv| EDGES.map(|(i, j)| ekey(tv[i], tv[j])))
+                .collect();
         out.sort_unstable();
         out.dedup();
         out
@@ -345,7 +347,11 @@ mod tests {
         // Every third edge is protected, with the faces on two of them.
         let prot_edges: IdSet<(u32, u32)> = edges_of(&m).into_iter().step_by(3).collect();
         let mut prot_faces: IdSet<[u32; 3]> = IdSet::default();
-        for tv in m.m.tv.iter().filter(|tv| tv[0] != DEAD && !tv.contains(&INF)) {
+        for tv in
+            m.m.tv
+                .iter()
+                .filter(|tv| tv[0] != DEAD && !tv.contains(&INF))
+        {
             for f in 0..4 {
                 let k = fkey(face(*tv, f));
                 let on = |a: u32, b: u32| prot_edges.contains(&ekey(a, b));

@@ -80,6 +80,32 @@
 //! coverage, the missing subsegments and the protected items are updated
 //! near the new points instead of recomputed.
 //!
+//! With [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) a
+//! split does not undo the round's flips: a Delaunay insertion redoes every
+//! cell whose circumsphere holds the point — on a tube all of them, as the
+//! points of its two end circles are cospherical — so replay re-applied
+//! only a fraction of the log and the segments recovered in one round were
+//! missing again in the next (w_tube_a: 133 of 201 in round 2), giving a
+//! cascade of rounds and splits. Instead the point of a failing subsegment
+//! goes, besides the Delaunay tetrahedralization, into the flipped mesh by
+//! a constrained Bowyer–Watson insertion (the cells whose circumsphere
+//! holds it, not crossing a protected face, shrunk until its cone is valid
+//! and no protected edge or vertex is inside:
+//! `Journaled::insert_constrained`), and its halves are recovered by flips
+//! in the same round, each failing half split in turn (at most
+//! `MAX_SPLIT_DEPTH` times per subsegment and `IN_PLACE_PER_SEGMENT`
+//! points per failing subsegment and round). The triangles are then
+//! recovered in the same mesh; when their splits go into it in place too,
+//! the next round goes on in it (no copy of the Delaunay
+//! tetrahedralization, no replay) and its facet points are placed where its
+//! own edges cross the triangles. Where a point is refused (on a hull edge,
+//! a protected item, or a cavity that shrinks to nothing valid) the round
+//! ends and the next starts from the Delaunay tetrahedralization as above;
+//! when pieces keep failing past the bounds, or `MAX_STALLED` carried
+//! rounds leave as many triangles missing, the recovery goes back to the
+//! Delaunay insertions for good (their points give the flips more room on
+//! nearly coplanar slivers).
+//!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split.
 //! The first round whose flips fail adds one interior point (the centroid
 //! of the failing triangles' vertices) and the flips run again: on a
@@ -750,12 +776,9 @@ impl State {
             let start = cm.star_find(u, |x| !cm.m.tv[x as usize].contains(&INF));
             let placed = start.and_then(|start| {
                 let pr = &*prot;
-                cm.insert_constrained(
-                    id,
-                    start,
-                    &|f| pr.faces.contains(&f),
-                    &|a, b| pr.edges.contains(&(a, b)),
-                )
+                cm.insert_constrained(id, start, &|f| pr.faces.contains(&f), &|a, b| {
+                    pr.edges.contains(&(a, b))
+                })
             });
             if placed.is_none() {
                 // The round ends: the queue's other subsegments are split
@@ -1033,17 +1056,15 @@ impl State {
             }
             // `on`, `covered`, `subs` and `prot` stay those of `dt` (the
             // next round updates them); a carried mesh has its own.
-            let mut own: Option<(FacesOn, Vec<bool>, Vec<(u32, u32, u32)>, cdt::Protected)> = None;
-            if let Some(c) = carried.take() {
-                cm = c;
-                let (on_c, cov_c) = self.coverage_all(&cm);
-                let subs_c = self.missing_subsegments_cm(&cm, &cov_c);
-                let prot_c = self.protected(&on_c);
-                own = Some((on_c, cov_c, subs_c, prot_c));
-            }
-            let carried_round = own.is_some();
-            let (on_start, cov_start, subs_work, mut prot_work) = match own {
-                Some((a, b, c, d)) => (Some(a), Some(b), c, d),
+            let carried_round = carried.is_some();
+            let (on_start, cov_start, subs_work, mut prot_work) = match carried.take() {
+                Some(c) => {
+                    cm = c;
+                    let (on_c, cov_c) = self.coverage_all(&cm);
+                    let subs_c = self.missing_subsegments_cm(&cm, &cov_c);
+                    let prot_c = self.protected(&on_c);
+                    (Some(on_c), Some(cov_c), subs_c, prot_c)
+                }
                 None => (None, None, subs.clone(), std::mem::take(&mut prot)),
             };
             // The previous round's operations are replayed on this round's
@@ -1094,8 +1115,15 @@ impl State {
                 Some((cm.log_mark(), s, near.len()))
             };
             for &(e, u, v) in &subs_work {
-                if let Some(at) = attempt(&mut cm, &prot_work, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
-                {
+                if let Some(at) = attempt(
+                    &mut cm,
+                    &prot_work,
+                    u,
+                    v,
+                    &mut near_fail,
+                    max_ops,
+                    cdt::Effort::BASE,
+                ) {
                     failed.push((e, u, v));
                     fail_at.push(at);
                 }
@@ -1121,9 +1149,15 @@ impl State {
                     if !changed {
                         failed.push((e, u, v));
                         fail_at.push((mark, s, t));
-                    } else if let Some(at) =
-                        attempt(&mut cm, &prot_work, u, v, &mut near_fail, retry_ops, cdt::Effort::BASE)
-                    {
+                    } else if let Some(at) = attempt(
+                        &mut cm,
+                        &prot_work,
+                        u,
+                        v,
+                        &mut near_fail,
+                        retry_ops,
+                        cdt::Effort::BASE,
+                    ) {
                         failed.push((e, u, v));
                         fail_at.push(at);
                     }
