@@ -989,7 +989,10 @@ impl State {
     /// placement, protection and encroachment rules for every split) and the
     /// round starts again from it — so Steiner points go only where flips
     /// failed, and the number of rounds is bounded (each round splits at
-    /// least one item or fails with a typed error).
+    /// least one item or fails with a typed error). With
+    /// `stop_circling_flips` the splits also go into the flipped mesh in
+    /// place and the round goes on in it ([`Self::split_in_place`],
+    /// [`Self::mirror_points`]; the module notes).
     ///
     /// `scaled` (`-Y`): the scaled input points, for the fallback that
     /// always applies after the first unfinished cavity call
