@@ -51,6 +51,7 @@
 
 pub(crate) mod edges;
 pub(crate) mod flip;
+pub(crate) mod insert;
 pub(crate) mod journal;
 pub(crate) mod ring;
 

@@ -81,6 +81,32 @@
 //! coverage, the missing subsegments and the protected items are updated
 //! near the new points instead of recomputed.
 //!
+//! With [`RecoverOptions::stop_circling_flips`] (`-p` without `-q`) a
+//! split does not undo the round's flips: a Delaunay insertion redoes every
+//! cell whose circumsphere holds the point — on a tube all of them, as the
+//! points of its two end circles are cospherical — so replay re-applied
+//! only a fraction of the log and the segments recovered in one round were
+//! missing again in the next (w_tube_a: 133 of 201 in round 2), giving a
+//! cascade of rounds and splits. Instead the point of a failing subsegment
+//! goes, besides the Delaunay tetrahedralization, into the flipped mesh by
+//! a constrained Bowyer–Watson insertion (the cells whose circumsphere
+//! holds it, not crossing a protected face, shrunk until its cone is valid
+//! and no protected edge or vertex is inside:
+//! `Journaled::insert_constrained`), and its halves are recovered by flips
+//! in the same round, each failing half split in turn (at most
+//! `MAX_SPLIT_DEPTH` times per subsegment and `IN_PLACE_PER_SEGMENT`
+//! points per failing subsegment and round). The triangles are then
+//! recovered in the same mesh; when their splits go into it in place too,
+//! the next round goes on in it (no copy of the Delaunay
+//! tetrahedralization, no replay) and its facet points are placed where its
+//! own edges cross the triangles. Where a point is refused (on a hull edge,
+//! a protected item, or a cavity that shrinks to nothing valid) the round
+//! ends and the next starts from the Delaunay tetrahedralization as above;
+//! when pieces keep failing past the bounds, or `MAX_STALLED` carried
+//! rounds leave as many triangles missing, the recovery goes back to the
+//! Delaunay insertions for good (their points give the flips more room on
+//! nearly coplanar slivers).
+//!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split.
 //! The first round whose flips fail adds one interior point (the centroid
 //! of the failing triangles' vertices) and the flips run again: on a
@@ -431,6 +457,20 @@ pub(crate) fn recover_mesh(
 /// third away at 8× more.
 const MAX_LEVEL: u32 = 6;
 
+/// How many times [`State::split_in_place`] splits the pieces of one
+/// subsegment whose halves keep failing before it leaves them to the
+/// Delaunay tetrahedralization's insertion (the round then ends).
+const MAX_SPLIT_DEPTH: u32 = 12;
+
+/// How many points per failing subsegment [`State::split_in_place`] puts
+/// in place in one call, at most, before it leaves the rest to the
+/// Delaunay tetrahedralization's insertion.
+const IN_PLACE_PER_SEGMENT: usize = 8;
+
+/// How many rounds in a carried mesh may leave as many triangles missing
+/// as the best round before (`State::run_cdt`).
+const MAX_STALLED: usize = 4;
+
 /// How many facet points of one input triangle may be replaced by the
 /// split of a boundary subsegment they encroach ([`State::insert_in_facet`]).
 /// Two: no triangle of the corpus needs more (cgal_oblong's `-pq1.414`
@@ -600,6 +640,7 @@ impl State {
             fallback_tried: false,
             points_first: false,
             first_missing: None,
+            in_place_off: false,
         }
     }
 
@@ -677,6 +718,136 @@ impl State {
         self.surf.add_on_edge(id, e, i);
         self.report.steiner_on_edges += 1;
         Ok(true)
+    }
+
+    /// Splits the subsegments of `queue` (edge, ends in chain order) that
+    /// the flips could not recover in the flipped mesh `cm` as well as in
+    /// `dt` (same point, same id): the point goes where [`Self::split_edge`]
+    /// puts it, into `cm` by the constrained Bowyer–Watson of
+    /// [`Journaled::insert_constrained`] (the protected faces and
+    /// subsegments stay, so what the flips recovered stays recovered), and
+    /// `recover(cm, prot, a, b)` recovers each half by flips (rolling back
+    /// when it fails); a half that fails is split in turn. Returns the
+    /// subsegments left to split in `dt` only and whether the round must
+    /// end: from the first point `cm` refuses (it is then in `dt` only,
+    /// and `cm`'s ids would no longer be `dt`'s), the rest of the queue.
+    /// `(empty, false)`: every subsegment is recovered in `cm`, whose
+    /// round goes on to the triangles.
+    #[allow(clippy::type_complexity)]
+    fn split_in_place(
+        &mut self,
+        dt: &mut Delaunay3<'_>,
+        cm: &mut Journaled<'_>,
+        prot: &mut cdt::Protected,
+        queue: Vec<(u32, u32, u32)>,
+        mut recover: impl FnMut(&mut Journaled<'_>, &cdt::Protected, u32, u32) -> bool,
+    ) -> Result<(Vec<(u32, u32, u32)>, bool), RecoverError> {
+        let mut queue: std::collections::VecDeque<((u32, u32, u32), u32)> =
+            queue.into_iter().map(|s| (s, 0)).collect();
+        // In-place splits this call may make (see `IN_PLACE_PER_SEGMENT`).
+        let budget = IN_PLACE_PER_SEGMENT * queue.len() + IN_PLACE_PER_SEGMENT;
+        let mut splits = 0;
+        while let Some(((e, u, v), depth)) = queue.pop_front() {
+            if cm.find_edge(u, v).is_some() {
+                continue;
+            }
+            if depth >= MAX_SPLIT_DEPTH || splits >= budget {
+                // Pieces that keep failing go to `dt`'s insertion, from
+                // now on every split (its points give the flips more room
+                // on nearly coplanar slivers, where the halves of points
+                // put in place keep failing).
+                self.in_place_off = true;
+                let mut rest = vec![(e, u, v)];
+                rest.extend(queue.into_iter().map(|x| x.0));
+                return Ok((rest, true));
+            }
+            if !self.steiner_left() {
+                return Err(self.budget_error(queue.len() + 1, 0));
+            }
+            let id = dt.points().len() as u32;
+            debug_assert_eq!(cm.pts().len(), id as usize);
+            if !self.split_edge(dt, e, u, v)? {
+                continue;
+            }
+            if dt.points().len() as u32 != id + 1 {
+                return Err(RecoverError::SegmentTooShort {
+                    edge: self.surf.edges[e as usize],
+                });
+            }
+            splits += 1;
+            cm.push_point(dt.points()[id as usize]);
+            let start = cm.star_find(u, |x| !cm.m.tv[x as usize].contains(&INF));
+            let placed = start.and_then(|start| {
+                let pr = &*prot;
+                cm.insert_constrained(id, start, &|f| pr.faces.contains(&f), &|a, b| {
+                    pr.edges.contains(&(a, b))
+                })
+            });
+            if placed.is_none() {
+                // The round ends: the queue's other subsegments are split
+                // in `dt` only.
+                return Ok((queue.into_iter().map(|x| x.0).collect(), true));
+            }
+            prot.edges.remove(&ekey(u, v));
+            prot.edges.insert(ekey(u, id));
+            prot.edges.insert(ekey(id, v));
+            for (a, b) in [(u, id), (id, v)] {
+                if !recover(cm, prot, a, b) {
+                    queue.push_back(((e, a, b), depth + 1));
+                }
+            }
+        }
+        Ok((Vec::new(), false))
+    }
+
+    /// Inserts the points of `dt` from id `from` on (put there by this
+    /// round's splits of triangles) into `cm` too, in order and with the
+    /// same ids, each by the constrained Bowyer–Watson of
+    /// [`Journaled::insert_constrained`] keeping the faces of `on` (the
+    /// coverage of `cm`) and every subsegment. False at the first point
+    /// `cm` refuses (the next round then starts from `dt`).
+    fn mirror_points(
+        &self,
+        dt: &Delaunay3<'_>,
+        cm: &mut Journaled<'_>,
+        from: usize,
+        on: &FacesOn,
+    ) -> bool {
+        if cm.pts().len() != from {
+            return false;
+        }
+        let prot = self.protected(on);
+        for id in from..dt.points().len() {
+            // A point on a subsegment `u v` that is a mesh edge splits it
+            // and the faces on it.
+            let (near, split) = match self.surf.kind.get(id) {
+                Some(Kind::OnEdge(e)) => {
+                    let chain = &self.surf.chains[*e as usize];
+                    let Some(i) = chain.iter().position(|&w| w as usize == id) else {
+                        return false;
+                    };
+                    let (u, v) = (chain[i - 1], chain[i + 1]);
+                    (u, Some(ekey(u, v)))
+                }
+                Some(Kind::OnTri(t)) => (self.surf.tris[*t as usize][0], None),
+                _ => return false,
+            };
+            cm.push_point(dt.points()[id]);
+            let Some(start) = cm.star_find(near, |x| !cm.m.tv[x as usize].contains(&INF)) else {
+                return false;
+            };
+            let holds = |f: &[u32; 3]| split.is_some_and(|(u, v)| f.contains(&u) && f.contains(&v));
+            let placed = cm.insert_constrained(
+                id as u32,
+                start,
+                &|f| prot.faces.contains(&f) && !holds(&f),
+                &|a, b| prot.edges.contains(&(a, b)) && split != Some((a, b)),
+            );
+            if placed.is_none() {
+                return false;
+            }
+        }
+        true
     }
 
     /// Mesh edges crossing the interior of input triangle `t`, sorted,
@@ -821,7 +992,10 @@ impl State {
     /// placement, protection and encroachment rules for every split) and the
     /// round starts again from it — so Steiner points go only where flips
     /// failed, and the number of rounds is bounded (each round splits at
-    /// least one item or fails with a typed error).
+    /// least one item or fails with a typed error). With
+    /// `stop_circling_flips` the splits also go into the flipped mesh in
+    /// place and the round goes on in it ([`Self::split_in_place`],
+    /// [`Self::mirror_points`]; the module notes).
     ///
     /// `scaled` (`-Y`): the scaled input points, for the fallback that
     /// always applies after the first unfinished cavity call
@@ -844,6 +1018,13 @@ impl State {
         // touching solids, internal walls) the incremental update of the
         // protected items can miss some; they are recomputed every round.
         let nonmanifold = (0..self.surf.edges.len()).any(|e| self.surf.edge_tris[e].len() > 2);
+        // The previous round's mesh, when every point it added went into it
+        // in place (see `Self::split_in_place` and `Self::mirror_points`):
+        // this round flips on in it instead of starting again from `dt`.
+        let mut carried: Option<Journaled<'a>> = None;
+        // Triangles the previous round's flips left missing.
+        let mut last_uncovered = usize::MAX;
+        let mut stalled = 0;
         loop {
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
@@ -870,7 +1051,7 @@ impl State {
                     r
                 }
             };
-            let prot = match kept_prot.take() {
+            let mut prot = match kept_prot.take() {
                 Some(p) if !nonmanifold => p,
                 _ => self.protected(&on),
             };
@@ -879,6 +1060,19 @@ impl State {
                 let fresh = self.protected(&on);
                 assert!(fresh.faces == prot.faces && fresh.edges == prot.edges);
             }
+            // `on`, `covered`, `subs` and `prot` stay those of `dt` (the
+            // next round updates them); a carried mesh has its own.
+            let carried_round = carried.is_some();
+            let (on_start, cov_start, subs_work, mut prot_work) = match carried.take() {
+                Some(c) => {
+                    cm = c;
+                    let (on_c, cov_c) = self.coverage_all(&cm);
+                    let subs_c = self.missing_subsegments_cm(&cm, &cov_c);
+                    let prot_c = self.protected(&on_c);
+                    (Some(on_c), Some(cov_c), subs_c, prot_c)
+                }
+                None => (None, None, subs.clone(), std::mem::take(&mut prot)),
+            };
             // The previous round's operations are replayed on this round's
             // Delaunay tetrahedralization: it differs from the previous one
             // only around the points inserted since, so nearly every
@@ -888,8 +1082,8 @@ impl State {
             // searched and flipped again.
             if !self.opts.preserve_surface {
                 cm.start_log();
-                if let Some(log) = prev_log.take() {
-                    cm.replay(&log, &|o, n| prot.kept_by(o, n));
+                if let Some(log) = prev_log.take().filter(|_| !carried_round) {
+                    cm.replay(&log, &|o, n| prot_work.kept_by(o, n));
                 }
             }
             let old_len = dt.points().len();
@@ -911,6 +1105,7 @@ impl State {
             // and its fallback's recovery).
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
             let attempt = |cm: &mut Journaled<'_>,
+                           prot: &cdt::Protected,
                            u: u32,
                            v: u32,
                            near: &mut Vec<u32>,
@@ -922,7 +1117,7 @@ impl State {
                     flat: self.flat_cones,
                     ..effort
                 };
-                if cdt::recover_segment_within(cm, u, v, &prot, ops, stop_circles, effort) {
+                if cdt::recover_segment_within(cm, u, v, prot, ops, stop_circles, effort) {
                     return None;
                 }
                 let s = near.len();
@@ -931,9 +1126,16 @@ impl State {
                 cm.rollback(mark);
                 Some((cm.log_mark(), s, near.len()))
             };
-            for &(e, u, v) in &subs {
-                if let Some(at) = attempt(&mut cm, u, v, &mut near_fail, max_ops, cdt::Effort::BASE)
-                {
+            for &(e, u, v) in &subs_work {
+                if let Some(at) = attempt(
+                    &mut cm,
+                    &prot_work,
+                    u,
+                    v,
+                    &mut near_fail,
+                    max_ops,
+                    cdt::Effort::BASE,
+                ) {
                     failed.push((e, u, v));
                     fail_at.push(at);
                 }
@@ -959,9 +1161,15 @@ impl State {
                     if !changed {
                         failed.push((e, u, v));
                         fail_at.push((mark, s, t));
-                    } else if let Some(at) =
-                        attempt(&mut cm, u, v, &mut near_fail, retry_ops, cdt::Effort::BASE)
-                    {
+                    } else if let Some(at) = attempt(
+                        &mut cm,
+                        &prot_work,
+                        u,
+                        v,
+                        &mut near_fail,
+                        retry_ops,
+                        cdt::Effort::BASE,
+                    ) {
                         failed.push((e, u, v));
                         fail_at.push(at);
                     }
@@ -983,11 +1191,25 @@ impl State {
                     let effort = cdt::Effort::level(level);
                     let ops = max_ops << (level - 2);
                     failed.retain(|&(_, u, v)| {
-                        attempt(&mut cm, u, v, &mut near_fail, ops, effort).is_some()
+                        attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
                 }
             }
-            if !failed.is_empty() {
+            // `-p` without `-q`: the failing subsegments are split in the
+            // flipped mesh and their halves recovered in the same round
+            // (see `Self::split_in_place`); what it leaves is split in the
+            // Delaunay tetrahedralization only, as with `-q`.
+            let mut restart = false;
+            let mut carry = false;
+            if stop_circles && !failed.is_empty() && !self.in_place_off {
+                let queue = std::mem::take(&mut failed);
+                (failed, restart) =
+                    self.split_in_place(dt, &mut cm, &mut prot_work, queue, |cm, prot, u, v| {
+                        attempt(cm, prot, u, v, &mut Vec::new(), max_ops, cdt::Effort::BASE)
+                            .is_none()
+                    })?;
+            }
+            if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
                     self.points_first_check((0, failed.len()))?;
                     if self.cavities_now() {
@@ -1010,12 +1232,12 @@ impl State {
                     }
                 }
             } else {
-                let segments_by_flips = subs.len();
+                let segments_by_flips = subs_work.len();
                 // Coverage on `cm`, updated only where the flips changed faces.
-                let mut on_cm = on.clone();
-                let mut covered_cm = covered.clone();
+                let mut on_cm = on_start.unwrap_or_else(|| on.clone());
+                let mut covered_cm = cov_start.unwrap_or_else(|| covered.clone());
                 let dt_uncovered: Vec<usize> =
-                    (0..covered.len()).filter(|&t| !covered[t]).collect();
+                    (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                 self.refresh_coverage(&mut cm, &dt_uncovered, &mut on_cm, &mut covered_cm);
                 let mut uncovered: Vec<usize> =
                     (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
@@ -1028,7 +1250,7 @@ impl State {
                             &self.surf,
                             t,
                             &inner,
-                            &prot,
+                            &prot_work,
                             stop_circles,
                         );
                     }
@@ -1069,45 +1291,81 @@ impl State {
                             }
                         }
                     }
+                    let facet_from = cm.pts().len();
                     let mut progress = false;
                     let mut group_done = vec![false; self.poly.groups.len()];
                     for &t in &uncovered {
                         if !self.steiner_left() {
                             return Err(self.budget_error(0, uncovered.len()));
                         }
+                        // A carried mesh is its own reference: the
+                        // points go where its edges cross the triangle.
+                        let in_dt = covered[t] && !carried_round;
                         if let Some(g) = self.poly.group(t) {
                             if !std::mem::replace(&mut group_done[g as usize], true) {
-                                progress |= self.split_group(dt, &cm, g, covered[t])?;
+                                progress |= self.split_group(dt, &cm, g, in_dt)?;
                             }
                             continue;
                         }
-                        if covered[t] {
+                        if in_dt {
                             progress |= self.split_longest_subsegment(dt, t)?;
                             continue;
                         }
-                        let cross = self.find_crossing_lazy(dt, &vt, t, &on[t]);
+                        let mut found = None;
+                        if carried_round {
+                            let start = |u: u32, v: u32| cm.find_edge(u, v);
+                            let c = ((&cm.m.tv[..], &cm.m.nb[..]), cm.pts());
+                            let cross = self.find_crossing_from(c, &start, t, &on_cm[t]);
+                            if !cross.is_empty() {
+                                found = Some((cross, &on_cm[t]));
+                            }
+                        }
+                        let (cross, faces) = found.unwrap_or_else(|| {
+                            (self.find_crossing_lazy(dt, &vt, t, &on[t]), &on[t])
+                        });
                         progress |= if cross.is_empty() {
-                            self.split_hole(dt, t, &on[t])?
+                            self.split_hole(dt, t, faces)?
                         } else {
                             self.split_facet(dt, t, cross[0].0)?
                         };
                     }
-                    if !progress {
+                    if !progress && !carried_round {
                         return Err(RecoverError::Unrecovered {
                             triangles: uncovered,
                             steiner: self.report.steiner(),
                         });
                     }
+                    // `-p` without `-q`: the next round goes on in `cm`
+                    // when the points go into it in place too.
+                    // A carried mesh whose triangles left missing do not
+                    // get fewer in `MAX_STALLED` rounds goes back to
+                    // `dt`'s insertions for good.
+                    if carried_round && uncovered.len() >= last_uncovered {
+                        stalled += 1;
+                        self.in_place_off |= stalled >= MAX_STALLED;
+                    } else {
+                        stalled = 0;
+                        last_uncovered = uncovered.len();
+                    }
+                    carry = stop_circles
+                        && !self.in_place_off
+                        && progress
+                        && !restart
+                        && self.mirror_points(dt, &mut cm, facet_from, &on_cm);
                 }
             }
             prev_log = cm.take_log();
-            failed_removals = cm.take_failed();
+            if carry {
+                carried = Some(cm);
+            } else {
+                failed_removals = cm.take_failed();
+            }
             prev = Some(RoundState {
                 on,
                 covered,
                 old_len,
                 subs,
-                prot: Some(prot),
+                prot: Some(if carried_round { prot } else { prot_work }),
             });
         }
     }

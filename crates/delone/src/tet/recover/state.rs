@@ -79,6 +79,9 @@ pub(super) struct State {
     /// with deeper edge removals (levels 3 to `MAX_LEVEL`): the second and
     /// third runs of the `-Y` fallback's recovery.
     pub(super) escalate: bool,
+    /// `-p` without `-q`: splits no longer go into the flipped mesh in
+    /// place (`State::split_in_place` met pieces that keep failing).
+    pub(super) in_place_off: bool,
 }
 
 /// One merged group.
