@@ -1104,6 +1104,7 @@ impl State {
             // Segment cones: `-p` without `-q`, and `-Y` (both its flips
             // and its fallback's recovery).
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
+            let flat = self.flat_cones;
             let attempt = |cm: &mut Journaled<'_>,
                            prot: &cdt::Protected,
                            u: u32,
@@ -1114,7 +1115,7 @@ impl State {
                 let mark = cm.log_mark();
                 let effort = cdt::Effort {
                     cones,
-                    flat: self.flat_cones,
+                    flat,
                     ..effort
                 };
                 if cdt::recover_segment_within(cm, u, v, prot, ops, stop_circles, effort) {
