@@ -506,7 +506,9 @@ pub(crate) fn recover_segment_within(
     // When the flips give up, a segment on a flat facet of the convex hull
     // takes the cone over the cells around the hull edges it crosses (only
     // then: where the flips succeed they are left as they were).
-    let last = |cm: &mut Journaled<'_>| effort.cones && effort.flat && cone_segment_in(cm, u, v, prot, true);
+    let last = |cm: &mut Journaled<'_>| {
+        effort.cones && effort.flat && cone_segment_in(cm, u, v, prot, true)
+    };
     for step in 0..CAP {
         if cm.flips23 + cm.removals > ops0 + max_ops {
             return last(cm);
