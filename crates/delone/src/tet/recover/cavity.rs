@@ -956,7 +956,9 @@ impl State {
     /// One attempt of [`State::preserve_by_cavities`]: with `swallow`, a
     /// cavity may remove interior Steiner points (vertices from
     /// [`State::n_fixed`] on, its own kernel points included), else no
-    /// vertex may disappear. `Ok((mesh, faces, points
+    /// vertex may disappear. With `budget`, it stops (unfinished) at the
+    /// first item after its cavity searches have found more tetrahedra
+    /// than that ([`State::cavity_work`]). `Ok((mesh, faces, points
     /// added))`, or the mesh reached.
     fn preserve_attempt<'a>(
         &self,

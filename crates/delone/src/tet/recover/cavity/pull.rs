@@ -179,16 +179,15 @@ impl State {
         opts.stop_circling_flips = false;
         // Whether every surface point comes off depends on where the `-p`
         // path put them (rounded points, nearly flat neighbours): when the
-        // exact validation refuses a removal, the `-p` path is run again
-        // with other flip budgets per segment, which place the surface
-        // points differently; those two runs also try their failing
+        // exact validation refuses a removal, the `-p` path is run again,
+        // which places the surface points differently. The first run also
+        // tries the cones over flat hull facets (fewer surface points on
+        // tubes and plates); the second is the first without them; the last
+        // two use other flip budgets per segment and try their failing
         // segments at deeper flip levels (fewer surface points, at up to
-        // twice the time and three times the memory of a run: only where
-        // the first run's points do not all come off; deterministic order;
-        // the last error stands).
-        // The first run also tries the cones over flat hull facets (fewer
-        // surface points on tubes and plates); where its points do not all
-        // come off, the runs after it place them without.
+        // twice the time and three times the memory of a run). Each runs
+        // only where the one before did not get its points off;
+        // deterministic order; the last error stands.
         let mut last = None;
         for (ops, escalate, flat) in [
             (SEG_OPS, false, true),
