@@ -42,6 +42,23 @@ const MAX_CAVITY: usize = 2048;
 const WALK_STEPS: usize = 1 << 14;
 
 impl Journaled<'_> {
+    /// Pushes `q` as the next point and inserts it by
+    /// [`Journaled::insert_constrained`], the walk starting at a finite
+    /// cell of vertex `near`. `None` (the point stays pushed, in no cell)
+    /// when `near` has no finite cell or the insertion is refused.
+    pub(crate) fn push_and_insert(
+        &mut self,
+        q: [f64; 3],
+        near: u32,
+        keep_face: &dyn Fn([u32; 3]) -> bool,
+        keep_edge: &dyn Fn(u32, u32) -> bool,
+    ) -> Option<Vec<u32>> {
+        let id = self.pts().len() as u32;
+        self.push_point(q);
+        let start = self.star_find(near, |x| !self.m.tv[x as usize].contains(&INF))?;
+        self.insert_constrained(id, start, keep_face, keep_edge)
+    }
+
     /// Inserts point `p` (already pushed, [`Journaled::push_point`], and in
     /// no cell) by the constrained Bowyer–Watson of the module notes,
     /// locating it by a walk from slot `start`; `keep_face` (sorted

@@ -775,14 +775,13 @@ impl State {
                 });
             }
             splits += 1;
-            cm.push_point(dt.points()[id as usize]);
-            let start = cm.star_find(u, |x| !cm.m.tv[x as usize].contains(&INF));
-            let placed = start.and_then(|start| {
-                let pr = &*prot;
-                cm.insert_constrained(id, start, &|f| pr.faces.contains(&f), &|a, b| {
-                    pr.edges.contains(&(a, b))
-                })
-            });
+            let pr = &*prot;
+            let placed = cm.push_and_insert(
+                dt.points()[id as usize],
+                u,
+                &|f| pr.faces.contains(&f),
+                &|a, b| pr.edges.contains(&(a, b)),
+            );
             if placed.is_none() {
                 // The round ends: the queue's other subsegments are split
                 // in `dt` only.
@@ -832,14 +831,10 @@ impl State {
                 Some(Kind::OnTri(t)) => (self.surf.tris[*t as usize][0], None),
                 _ => return false,
             };
-            cm.push_point(dt.points()[id]);
-            let Some(start) = cm.star_find(near, |x| !cm.m.tv[x as usize].contains(&INF)) else {
-                return false;
-            };
             let holds = |f: &[u32; 3]| split.is_some_and(|(u, v)| f.contains(&u) && f.contains(&v));
-            let placed = cm.insert_constrained(
-                id as u32,
-                start,
+            let placed = cm.push_and_insert(
+                dt.points()[id],
+                near,
                 &|f| prot.faces.contains(&f) && !holds(&f),
                 &|a, b| prot.edges.contains(&(a, b)) && split != Some((a, b)),
             );
