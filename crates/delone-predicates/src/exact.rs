@@ -231,6 +231,16 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
         diffs(b, d, &mut exact),
         diffs(c, d, &mut exact),
     );
+    // A zero column (the four points on one plane `x_k = const`, as on the
+    // axis-parallel faces of CAD models) or a zero row (two points equal):
+    // the determinant is 0, whether or not the other differences are exact
+    // (a difference rounds to 0 only when it is 0). Without this, such
+    // degenerate tests with inexact differences took the full expansion.
+    if (0..3).any(|k| ad[k] == 0.0 && bd[k] == 0.0 && cd[k] == 0.0)
+        || [&ad, &bd, &cd].iter().any(|r| r.iter().all(|&x| x == 0.0))
+    {
+        return 0.0;
+    }
     // 6 monomials of degree 3: 6·(2^16)^3 < 2^53.
     if exact
         && on_coarse_grid(

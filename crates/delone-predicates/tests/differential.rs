@@ -313,6 +313,44 @@ fn near_degenerate_with_inexact_differences() {
     }
 }
 
+/// Points on axis-parallel planes (CAD faces) with coordinates of mixed
+/// magnitudes, so that the differences in the other two coordinates are
+/// inexact: orient3d is exactly 0 (a zero column), and stays exact when one
+/// point leaves the plane by one ulp or when two points coincide.
+#[test]
+fn axis_parallel_planes_with_inexact_differences() {
+    let mut r = Rng(11);
+    let mut t = Tally::default();
+    let mag = |r: &mut Rng| {
+        let m = [1e-7, 3e-4, 0.7, 3.0, 1e5][r.int(0, 4) as usize];
+        m * r.range(-1.0, 1.0)
+    };
+    for _ in 0..3_000 {
+        let k = r.int(0, 2) as usize;
+        let c = mag(&mut r);
+        let mut pts = [[0.0; 3]; 4];
+        for p in &mut pts {
+            for (j, x) in p.iter_mut().enumerate() {
+                *x = if j == k { c } else { mag(&mut r) };
+            }
+        }
+        let [a, b, cc, d] = pts;
+        t.o3(&a, &b, &cc, &d);
+        assert_eq!(orient3d(&a, &b, &cc, &d), 0.0);
+        // One point one ulp off the plane: no longer a zero column.
+        let mut off = pts;
+        let i = r.int(0, 3) as usize;
+        off[i][k] = ulps(off[i][k], 1);
+        t.o3(&off[0], &off[1], &off[2], &off[3]);
+        // Two points equal (a zero row), anywhere.
+        let mut dup = [r.p3(), r.p3(), r.p3(), r.p3()];
+        let (i, j) = (r.int(0, 3) as usize, r.int(0, 3) as usize);
+        dup[j] = dup[i];
+        t.o3(&dup[0], &dup[1], &dup[2], &dup[3]);
+    }
+    assert!(t.zeros >= 3_000 * SCALES.len());
+}
+
 /// Integer points near circles, spheres, lines and planes whose coordinate
 /// differences range around the limits of the "coarse grid" fast exact path
 /// (plain floating point is exact there); a limit set too high would make the
