@@ -712,7 +712,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
     };
     let finite = |t: u32| finite(t) || (flat && m.alive(t));
     // Boundary faces of a cavity: (slot, local face) with the neighbour
-    // outside; those blocking the cone from `apex`.
+    // outside, in the order of the cavity's cells and their faces.
     let boundary = |cav: &Cavity| -> Vec<(u32, usize)> {
         cav.list
             .iter()
@@ -720,20 +720,35 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             .filter(|&(t, f)| !cav.has(m.across(t, f)))
             .collect()
     };
-    let blocking = |bnd: &[(u32, usize)], apex: u32| -> Vec<(u32, usize)> {
+    // Those blocking the cone from `apex`; `cell_ok` answers are kept per
+    // face in `seen` (the mesh does not change while a cavity grows).
+    let blocking = |bnd: &[(u32, usize)], apex: u32, seen: &mut IdMap<(u32, u8), bool>| {
         bnd.iter()
             .copied()
-            .filter(|&(t, f)| !m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex))
-            .collect()
+            .filter(|&(t, f)| {
+                !m.tv[t as usize].contains(&apex)
+                    && !*seen
+                        .entry((t, f as u8))
+                        .or_insert_with(|| cell_ok(t, f, apex))
+            })
+            .collect::<Vec<_>>()
     };
     let bnd0 = boundary(&cav);
-    let mut ends = [(blocking(&bnd0, u).len(), u), (blocking(&bnd0, v).len(), v)];
+    let mut seen = [IdMap::default(), IdMap::default()];
+    let mut ends = [
+        (blocking(&bnd0, u, &mut seen[0]).len(), u, 0),
+        (blocking(&bnd0, v, &mut seen[1]).len(), v, 1),
+    ];
     ends.sort_unstable();
-    for (_, apex) in ends {
+    for (_, apex, k) in ends {
+        let seen = &mut seen[k];
         let mut cav = cav.clone();
+        // The boundary is kept up to date as cells join: faces whose
+        // neighbour joined leave it, the new cells' outer faces are
+        // appended (the order `boundary` gives).
+        let mut bnd = bnd0.clone();
         'grow: for _ in 0..=CONE_GROW {
-            let bnd = boundary(&cav);
-            let block = blocking(&bnd, apex);
+            let block = blocking(&bnd, apex, seen);
             if block.is_empty() {
                 if let Some(new) = cone_tets(m, &cav, &bnd, apex, prot) {
                     cm.replace(&cav.list, &new);
@@ -741,6 +756,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
                 }
                 break;
             }
+            let old = cav.list.len();
             for (t, f) in block {
                 let n = m.across(t, f);
                 if !finite(n) || prot.face(face(m.tv[t as usize], f)) {
@@ -750,6 +766,14 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             }
             if cav.list.len() > CONE_MAX {
                 break;
+            }
+            bnd.retain(|&(t, f)| !cav.has(m.across(t, f)));
+            for &t in &cav.list[old..] {
+                bnd.extend(
+                    (0..4)
+                        .map(|f| (t, f))
+                        .filter(|&(t, f)| !cav.has(m.across(t, f))),
+                );
             }
         }
     }
