@@ -465,12 +465,40 @@ impl State {
             return;
         }
         let mut bucket: Vec<Vec<[u32; 4]>> = vec![Vec::new(); self.poly.groups.len()];
+        // The groups of each surface vertex, ascending, found once for the
+        // pass (`at[w]..at[w + 1]` in `list`).
+        let nv = self.surf.vtris.len();
+        let mut at = Vec::with_capacity(nv + 1);
+        let mut list: Vec<u32> = Vec::new();
+        at.push(0);
+        for w in 0..nv {
+            let s = list.len();
+            self.poly.vertex_groups(&self.surf, w as u32, &mut list);
+            list[s..].sort_unstable();
+            let mut k = s;
+            for i in s..list.len() {
+                if i == s || list[i] != list[k - 1] {
+                    list[k] = list[i];
+                    k += 1;
+                }
+            }
+            list.truncate(k);
+            at.push(list.len());
+        }
+        let groups_of = |w: u32| -> &[u32] {
+            let w = w as usize;
+            if w < nv {
+                &list[at[w]..at[w + 1]]
+            } else {
+                &[]
+            }
+        };
         let mut gs: Vec<u32> = Vec::new();
         for tv in tets {
             // Every face holds the first or the second vertex.
             gs.clear();
-            self.poly.vertex_groups(&self.surf, tv[0], &mut gs);
-            self.poly.vertex_groups(&self.surf, tv[1], &mut gs);
+            gs.extend_from_slice(groups_of(tv[0]));
+            gs.extend_from_slice(groups_of(tv[1]));
             if gs.is_empty() {
                 continue;
             }
@@ -479,7 +507,7 @@ impl State {
             for &g in &gs {
                 let n = tv
                     .iter()
-                    .filter(|&&w| self.poly.on_group(&self.surf, w, g))
+                    .filter(|&&w| groups_of(w).binary_search(&g).is_ok())
                     .count();
                 if n >= 3 {
                     bucket[g as usize].push(tv);
