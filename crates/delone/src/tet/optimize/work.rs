@@ -30,43 +30,15 @@ const FAR: f64 = 0.2;
 /// Longest edge ring tried by [`Work::plan_edge_removal`].
 pub(super) const MAX_RING: usize = 16;
 
-/// Six times the volume of a positive tetrahedron and, for each of its
-/// edges in [`crate::tet::quality::EDGES`] order, `(|e|², k, l)`: the squared
-/// length and the two faces (by opposite vertex) that meet there, with the
-/// squared area normals `|N|²` of the four faces; `None` when it is flat or
-/// inverted (floating point). The dihedral sine at an edge is
-/// `6V · |e| / (|N_k| |N_l|)`.
+/// The squared length of `a`.
 #[inline(always)]
-#[allow(clippy::type_complexity)]
-fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
-    let e1 = sub(p[1], p[0]);
-    let e2 = sub(p[2], p[0]);
-    let e3 = sub(p[3], p[0]);
-    let det = dot(&e1, &cross(&e2, &e3));
-    if det.is_nan() || det <= 0.0 {
-        return None;
-    }
-    // Squared |area normal| of the face opposite each vertex.
-    let e12 = sub(p[2], p[1]);
-    let e13 = sub(p[3], p[1]);
-    let sq = |a: [f64; 3]| dot(&a, &a);
-    let n = [
-        sq(cross(&e12, &e13)),
-        sq(cross(&e2, &e3)),
-        sq(cross(&e1, &e3)),
-        sq(cross(&e1, &e2)),
-    ];
-    // Edge (i, j) lies on the faces opposite the other two vertices.
-    let l = [
-        (sq(e1), 2, 3),
-        (sq(e2), 1, 3),
-        (sq(e3), 1, 2),
-        (sq(e12), 0, 3),
-        (sq(e13), 0, 2),
-        (sq(sub(p[3], p[2])), 0, 1),
-    ];
-    Some((det, n, l))
+fn sq(a: [f64; 3]) -> f64 {
+    dot(&a, &a)
 }
+
+/// The two faces (by opposite vertex) that meet at each edge, in
+/// [`crate::tet::quality::EDGES`] order.
+const EDGE_FACES: [(usize, usize); 6] = [(2, 3), (1, 3), (1, 2), (0, 3), (0, 2), (0, 1)];
 
 /// The quality of a tetrahedron: the smallest sine of its six dihedral
 /// angles (scale invariant; 0.9428 for the regular tetrahedron, near 0 for
@@ -74,16 +46,19 @@ fn dihedral_terms(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usi
 /// or -1 when it is flat or inverted (floating point).
 #[inline]
 pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
-    let Some((det, n, l)) = dihedral_terms(p) else {
-        return -1.0;
-    };
+    Moving::new([*p[0], *p[1], *p[2], *p[3]], 0).quality(p[0])
+}
+
+/// [`quality`] from [`Moving::terms`].
+#[inline(always)]
+fn quality_of(det: f64, n: [f64; 4], l: [f64; 6]) -> f64 {
     // One square root: the smallest `|e|² / (|N_k|² |N_l|²)` (all checked
     // before the divisions, which then run in parallel).
-    let d = l.map(|(_, k, m)| n[k] * n[m]);
+    let d = EDGE_FACES.map(|(k, m)| n[k] * n[m]);
     if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
         return -1.0;
     }
-    let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
+    let q2 = (0..6).map(|i| l[i] / d[i]).fold(f64::INFINITY, f64::min);
     let q = det * q2.sqrt();
     if q.is_finite() {
         q
@@ -93,12 +68,12 @@ pub(super) fn quality(p: [&[f64; 3]; 4]) -> f64 {
 }
 
 /// The sines of the six dihedral angles of a positive tetrahedron, at the
-/// edges in [`crate::tet::quality::EDGES`] order (see [`dihedral_terms`]);
+/// edges in [`crate::tet::quality::EDGES`] order (see [`Moving::terms`]);
 /// `None` when it is flat or inverted (floating point).
 pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
-    let (det, n, l) = dihedral_terms(p)?;
+    let (det, n, l) = Moving::new([*p[0], *p[1], *p[2], *p[3]], 0).terms(p[0])?;
     let mut out = [0.0; 6];
-    for (o, (len2, k, m)) in out.iter_mut().zip(l) {
+    for (o, (len2, (k, m))) in out.iter_mut().zip(l.into_iter().zip(EDGE_FACES)) {
         let d = n[k] * n[m];
         let s = det * (len2 / d).sqrt();
         if !(d > 0.0 && s.is_finite()) {
@@ -107,6 +82,129 @@ pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
         *o = s;
     }
     Some(out)
+}
+
+/// A tetrahedron whose vertex `k` may move, with the terms of its dihedral
+/// angles that do not depend on that vertex (the squared area normal of the
+/// face opposite it and the squared lengths of the three edges away from
+/// it), computed once: [`Work::smooth`] evaluates the tetrahedra of a star
+/// at many trial positions of its vertex. [`quality`] and [`sines`] are the
+/// same computation with vertex 0 given, so an evaluation here is theirs
+/// to the bit.
+#[derive(Debug, Clone, Copy)]
+struct Moving {
+    pts: [[f64; 3]; 4],
+    k: usize,
+    /// `|N_k|²`.
+    nk: f64,
+    /// The squared edge lengths in [`crate::tet::quality::EDGES`] order;
+    /// those of the edges at `k` are unused (0).
+    l: [f64; 6],
+}
+
+impl Moving {
+    /// The tetrahedron `pts` whose vertex `k` (0 to 3) moves.
+    #[inline(always)]
+    fn new(pts: [[f64; 3]; 4], k: usize) -> Moving {
+        let p = &pts;
+        let e = |i: usize, j: usize| sq(sub(&p[j], &p[i]));
+        let (nk, l) = match k {
+            0 => (
+                sq(cross(&sub(&p[2], &p[1]), &sub(&p[3], &p[1]))),
+                [0.0, 0.0, 0.0, e(1, 2), e(1, 3), e(2, 3)],
+            ),
+            1 => (
+                sq(cross(&sub(&p[2], &p[0]), &sub(&p[3], &p[0]))),
+                [0.0, e(0, 2), e(0, 3), 0.0, 0.0, e(2, 3)],
+            ),
+            2 => (
+                sq(cross(&sub(&p[1], &p[0]), &sub(&p[3], &p[0]))),
+                [e(0, 1), 0.0, e(0, 3), 0.0, e(1, 3), 0.0],
+            ),
+            _ => (
+                sq(cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]))),
+                [e(0, 1), e(0, 2), 0.0, e(1, 2), 0.0, 0.0],
+            ),
+        };
+        Moving {
+            pts,
+            k: k.min(3),
+            nk,
+            l,
+        }
+    }
+
+    /// [`quality`] with the moving vertex at `x`.
+    #[inline(always)]
+    fn quality(&self, x: &[f64; 3]) -> f64 {
+        match self.terms(x) {
+            Some((det, n, l)) => quality_of(det, n, l),
+            None => -1.0,
+        }
+    }
+
+    /// With the moving vertex at `x`: six times the volume, the squared
+    /// area normals `|N|²` of the four faces (by opposite vertex) and the
+    /// squared edge lengths (in [`crate::tet::quality::EDGES`] order; the
+    /// faces at each edge are [`EDGE_FACES`]); `None` when it is flat or
+    /// inverted (floating point). The dihedral sine at an edge is
+    /// `6V · |e| / (|N_k| |N_l|)`.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    fn terms(&self, x: &[f64; 3]) -> Option<(f64, [f64; 4], [f64; 6])> {
+        let mut p = [&self.pts[0], &self.pts[1], &self.pts[2], &self.pts[3]];
+        p[self.k] = x;
+        let e1 = sub(p[1], p[0]);
+        let e2 = sub(p[2], p[0]);
+        let e3 = sub(p[3], p[0]);
+        let c23 = cross(&e2, &e3);
+        let det = dot(&e1, &c23);
+        if det.is_nan() || det <= 0.0 {
+            return None;
+        }
+        // The face opposite vertex i, its squared area normal n[i]; edge
+        // (i, j) lies on the faces opposite the other two vertices.
+        let l = self.l;
+        Some(match self.k {
+            0 => (
+                det,
+                [self.nk, sq(c23), sq(cross(&e1, &e3)), sq(cross(&e1, &e2))],
+                [sq(e1), sq(e2), sq(e3), l[3], l[4], l[5]],
+            ),
+            1 => {
+                let e12 = sub(p[2], p[1]);
+                let e13 = sub(p[3], p[1]);
+                (
+                    det,
+                    [
+                        sq(cross(&e12, &e13)),
+                        self.nk,
+                        sq(cross(&e1, &e3)),
+                        sq(cross(&e1, &e2)),
+                    ],
+                    [sq(e1), l[1], l[2], sq(e12), sq(e13), l[5]],
+                )
+            }
+            2 => {
+                let e12 = sub(p[2], p[1]);
+                let e13 = sub(p[3], p[1]);
+                (
+                    det,
+                    [sq(cross(&e12, &e13)), sq(c23), self.nk, sq(cross(&e1, &e2))],
+                    [l[0], sq(e2), l[2], sq(e12), l[4], sq(sub(p[3], p[2]))],
+                )
+            }
+            _ => {
+                let e12 = sub(p[2], p[1]);
+                let e13 = sub(p[3], p[1]);
+                (
+                    det,
+                    [sq(cross(&e12, &e13)), sq(c23), sq(cross(&e1, &e3)), self.nk],
+                    [l[0], l[1], sq(e3), l[3], sq(e13), sq(sub(p[3], p[2]))],
+                )
+            }
+        })
+    }
 }
 
 /// How a vertex may move in [`Work::smooth`].
@@ -254,7 +352,7 @@ struct MultiFaceBuf {
 #[derive(Debug, Clone, Default)]
 struct SmoothBuf {
     star: Vec<u32>,
-    local: Vec<([[f64; 3]; 4], usize)>,
+    local: Vec<Moving>,
     qs: Vec<f64>,
     qy: Vec<f64>,
     order: Vec<usize>,
@@ -886,15 +984,12 @@ impl Work {
         local.extend(star.iter().map(|&t| {
             let tv = self.m.tv[t as usize];
             let k = tv.iter().position(|&u| u == v).unwrap_or(0);
-            (tv.map(|u| self.p[u as usize]), k)
+            Moving::new(tv.map(|u| self.p[u as usize]), k)
         }));
         let evals = &self.evals;
         let at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
-            let (pts, k) = &local[i];
-            let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
-            r[*k] = x;
-            quality(r)
+            local[i].quality(x)
         };
         let mut x = home;
         let frame = self.frame(v);
@@ -1416,6 +1511,121 @@ mod tests {
             .map(|a| a.to_radians().sin())
             .fold(f64::INFINITY, f64::min);
         assert!((m - q).abs() < 1e-12);
+    }
+
+    /// [`quality`] and [`sines`] as first written, each term computed from
+    /// the four points: the oracles of [`Moving`], which shares them.
+    #[allow(clippy::type_complexity)]
+    fn terms_reference(p: [&[f64; 3]; 4]) -> Option<(f64, [f64; 4], [(f64, usize, usize); 6])> {
+        let e1 = sub(p[1], p[0]);
+        let e2 = sub(p[2], p[0]);
+        let e3 = sub(p[3], p[0]);
+        let det = dot(&e1, &cross(&e2, &e3));
+        if det.is_nan() || det <= 0.0 {
+            return None;
+        }
+        let e12 = sub(p[2], p[1]);
+        let e13 = sub(p[3], p[1]);
+        let sq = |a: [f64; 3]| dot(&a, &a);
+        let n = [
+            sq(cross(&e12, &e13)),
+            sq(cross(&e2, &e3)),
+            sq(cross(&e1, &e3)),
+            sq(cross(&e1, &e2)),
+        ];
+        let l = [
+            (sq(e1), 2, 3),
+            (sq(e2), 1, 3),
+            (sq(e3), 1, 2),
+            (sq(e12), 0, 3),
+            (sq(e13), 0, 2),
+            (sq(sub(p[3], p[2])), 0, 1),
+        ];
+        Some((det, n, l))
+    }
+
+    fn quality_reference(p: [&[f64; 3]; 4]) -> f64 {
+        let Some((det, n, l)) = terms_reference(p) else {
+            return -1.0;
+        };
+        let d = l.map(|(_, k, m)| n[k] * n[m]);
+        if d.iter().any(|&x| x.is_nan() || x <= 0.0) {
+            return -1.0;
+        }
+        let q2 = (0..6).map(|i| l[i].0 / d[i]).fold(f64::INFINITY, f64::min);
+        let q = det * q2.sqrt();
+        if q.is_finite() {
+            q
+        } else {
+            -1.0
+        }
+    }
+
+    fn sines_reference(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
+        let (det, n, l) = terms_reference(p)?;
+        let mut out = [0.0; 6];
+        for (o, (len2, k, m)) in out.iter_mut().zip(l) {
+            let d = n[k] * n[m];
+            let s = det * (len2 / d).sqrt();
+            if !(d > 0.0 && s.is_finite()) {
+                return None;
+            }
+            *o = s;
+        }
+        Some(out)
+    }
+
+    /// [`quality`], [`sines`] and the smoothing's evaluations with any one
+    /// vertex moved ([`Moving`], from the terms cached without it) give the
+    /// bits of the reference formulas, on fair, flat, inverted, needle and
+    /// sliver-like tetrahedra and at extreme scales.
+    #[test]
+    fn moving_vertex_quality_is_the_reference_to_the_bit() {
+        // A small deterministic generator (xorshift).
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let bits = |x: Option<[f64; 6]>| x.map(|a| a.map(f64::to_bits));
+        let mut positive = 0;
+        for case in 0..8000 {
+            let scale = [1.0, 1e-120, 1e120, 1e-60][case % 4];
+            let mut pts = [[0.0; 3]; 4];
+            for p in &mut pts {
+                *p = [rnd(), rnd(), rnd()].map(|x| x * scale);
+            }
+            match case % 5 {
+                // Nearly flat: the last point close to the others' plane.
+                1 => {
+                    let c = [0, 1, 2].map(|k| (pts[0][k] + pts[1][k] + pts[2][k]) / 3.0);
+                    pts[3] = [c[0] + 1e-9 * scale * rnd(), c[1], c[2]];
+                }
+                // Two points the same.
+                2 => pts[2] = pts[1],
+                // Needle: two points very close.
+                3 => pts[1] = pts[0].map(|x| x * (1.0 + 1e-12)),
+                _ => {}
+            }
+            let r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+            assert_eq!(quality(r).to_bits(), quality_reference(r).to_bits());
+            assert_eq!(bits(sines(r)), bits(sines_reference(r)));
+            for k in 0..4 {
+                let m = Moving::new(pts, k);
+                for _ in 0..3 {
+                    let x = [rnd(), rnd(), rnd()].map(|v| v * scale);
+                    let mut r = [&pts[0], &pts[1], &pts[2], &pts[3]];
+                    r[k] = &x;
+                    let want = quality_reference(r);
+                    positive += usize::from(want > 0.0);
+                    assert_eq!(m.quality(&x).to_bits(), want.to_bits(), "{pts:?} {k} {x:?}");
+                }
+                assert_eq!(m.quality(&pts[k]).to_bits(), quality_reference(r).to_bits());
+            }
+        }
+        assert!(positive > 10000, "{positive}");
     }
 
     /// The octahedron `±x, ±y, ±z` as 8 tetrahedra around its centre
