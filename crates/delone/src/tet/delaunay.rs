@@ -9,8 +9,9 @@
 //! 2. grows the **Bowyer–Watson cavity** — the tetrahedra whose circumsphere
 //!    contains the point — by a breadth-first search that writes nothing but
 //!    marks, recording the cavity's boundary facets;
-//! 3. **stellates** the cavity: one new tetrahedron per boundary facet, glued
-//!    together through a tiny directed-edge hash table, reusing dead slots.
+//! 3. **stellates** the cavity: one new tetrahedron per boundary facet,
+//!    glued to the new tetrahedra made before it as it is made, through a
+//!    tiny hash table of the cavity boundary's edges, reusing dead slots.
 //!
 //! The insertion (`insert_in`) is written once over the cells it may touch
 //! (`Cells`): the whole arrays, or the slot range of one part of a
@@ -37,7 +38,8 @@
 //! * The cavity search marks cells in the two high bits of their first
 //!   vertex (the cache line the conflict test reads anyway); the marks are
 //!   cleared from the cavity and rejected lists, never by a sweep; the
-//!   directed-edge table of the stellation uses generation stamps.
+//!   edge table of the stellation (keyed by the unordered pair, met exactly
+//!   twice) uses generation stamps.
 //! * The one-call constructor inserts copies of the points in insertion
 //!   order (consecutive insertions read neighbouring memory) and relabels
 //!   the tetrahedra with input ids at the end; ties are broken by input id
