@@ -163,6 +163,10 @@ pub fn tet_faces_threads(
     let scan = |start: usize, tets: &[[u32; 4]], neighbors: &[[u32; 4]]| {
         let mut out = Entities::default();
         for (j, (tet, nb)) in tets.iter().zip(neighbors).enumerate() {
+            // Most tetrahedra have no hull face: one test for all four.
+            if !all && !nb.contains(&NONE) {
+                continue;
+            }
             let t = start + j;
             for (i, f) in TET_FACES.iter().enumerate() {
                 let n = nb[i];

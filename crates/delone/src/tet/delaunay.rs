@@ -9,8 +9,9 @@
 //! 2. grows the **Bowyer–Watson cavity** — the tetrahedra whose circumsphere
 //!    contains the point — by a breadth-first search that writes nothing but
 //!    marks, recording the cavity's boundary facets;
-//! 3. **stellates** the cavity: one new tetrahedron per boundary facet, glued
-//!    together through a tiny directed-edge hash table, reusing dead slots.
+//! 3. **stellates** the cavity: one new tetrahedron per boundary facet,
+//!    glued to the new tetrahedra made before it as it is made, through a
+//!    tiny hash table of the cavity boundary's edges, reusing dead slots.
 //!
 //! The insertion (`insert_in`) is written once over the cells it may touch
 //! (`Cells`): the whole arrays, or the slot range of one part of a
@@ -37,7 +38,8 @@
 //! * The cavity search marks cells in the two high bits of their first
 //!   vertex (the cache line the conflict test reads anyway); the marks are
 //!   cleared from the cavity and rejected lists, never by a sweep; the
-//!   directed-edge table of the stellation uses generation stamps.
+//!   edge table of the stellation (keyed by the unordered pair, met exactly
+//!   twice) uses generation stamps.
 //! * The one-call constructor inserts copies of the points in insertion
 //!   order (consecutive insertions read neighbouring memory) and relabels
 //!   the tetrahedra with input ids at the end; ties are broken by input id
@@ -155,8 +157,9 @@ impl Split {
 /// How many insertions between two progress callbacks.
 const PROGRESS_STEP: usize = 1 << 16;
 
-/// A small open-addressing table from directed edges to new-tet facets, used
-/// to glue the stellated cavity. Slots are invalidated by bumping `stamp`.
+/// A small open-addressing table from edges of the cavity boundary to
+/// new-tet facets, used to glue the stellated cavity. Slots are invalidated
+/// by bumping `stamp`.
 #[derive(Debug, Clone, Default)]
 struct EdgeTable {
     keys: Vec<u64>,
@@ -187,24 +190,20 @@ impl EdgeTable {
         (h >> 40) as usize & (self.keys.len() - 1)
     }
 
-    /// Looks up the reverse of `(a, b)`; if present removes and returns it,
-    /// otherwise stores `(a, b) -> val` and returns `None`.
+    /// Pairs the two new-cell facets through the cavity boundary's edge
+    /// `{a, b}` (the boundary is a closed surface: each of its edges is met
+    /// exactly twice, once from each of its two triangles): the value stored
+    /// by the first meeting, or `None` after storing `val`. The key is the
+    /// unordered pair, so one probe sequence serves both meetings.
     #[inline(always)]
     fn pair(&mut self, a: u32, b: u32, val: u32) -> Option<u32> {
         let mask = self.keys.len() - 1;
-        let rev = (u64::from(b) << 32) | u64::from(a);
-        let mut i = self.slot(rev);
-        while self.stamps[i] == self.stamp {
-            if self.keys[i] == rev {
-                // Tombstone: a key no edge can have (a == b).
-                self.keys[i] = u64::MAX;
-                return Some(self.vals[i]);
-            }
-            i = (i + 1) & mask;
-        }
-        let key = (u64::from(a) << 32) | u64::from(b);
+        let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
         let mut i = self.slot(key);
         while self.stamps[i] == self.stamp {
+            if self.keys[i] == key {
+                return Some(self.vals[i]);
+            }
             i = (i + 1) & mask;
         }
         self.stamps[i] = self.stamp;
@@ -258,8 +257,6 @@ struct Scratch {
     /// facet and the new point, evenly permuted), the local index of the
     /// facet in it, and the adjacency word of the cell outside.
     bnd: Vec<([u32; 4], u32, u32)>,
-    /// Slots of the cells created by the last insertion (ghosts included).
-    created: Vec<u32>,
     /// Vertices hidden by the last weighted insertion.
     hidden_now: Vec<u32>,
     /// Per-vertex stamps for `find_hidden` (weighted triangulations only).
@@ -1389,7 +1386,14 @@ impl Core {
 /// empty).
 #[inline(always)]
 fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> bool {
-    let [a, b, c, d] = *c.v(t);
+    finite_conflict_v::<W>(g, *c.v(t), id)
+}
+
+/// [`finite_conflict`] of the finite cell with vertices `tv` (possibly
+/// marked).
+#[inline(always)]
+fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32) -> bool {
+    let [a, b, c, d] = tv;
     let a = a & UNMARK;
     let q = |i: u32| &g.pts[i as usize];
     let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
@@ -1411,13 +1415,18 @@ fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) 
     insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
 }
 
-/// Whether owned cell `t` conflicts with point `id`; `None` when the answer
-/// needs a cell `c` does not own.
+/// Whether owned cell `t`, with vertices `tv`, conflicts with point `id`;
+/// `None` when the answer needs a cell `c` does not own.
 #[inline(always)]
-fn in_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> Option<bool> {
-    let tv = c.v(t);
+fn in_conflict<C: Cells, const W: bool>(
+    c: &C,
+    g: Geo<'_>,
+    t: u32,
+    tv: [u32; 4],
+    id: u32,
+) -> Option<bool> {
     if tv[3] != INF {
-        return Some(finite_conflict::<C, W>(c, g, t, id));
+        return Some(finite_conflict_v::<W>(g, tv, id));
     }
     // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
     // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
@@ -1493,12 +1502,13 @@ fn insert_in<C: CellsMut, const W: bool>(
                 complete = false;
                 break 'search;
             }
-            let mark = c.v(u)[0];
+            let tu = *c.v(u);
+            let mark = tu[0];
             if mark & MARK_CAVITY != 0 {
                 continue;
             }
             if mark & MARK_KEEP == 0 {
-                match in_conflict::<C, W>(c, g, u, id) {
+                match in_conflict::<C, W>(c, g, u, tu, id) {
                     Some(true) => {
                         c.v_mut(u)[0] |= MARK_CAVITY;
                         cavity.push(u);
@@ -1542,49 +1552,34 @@ fn insert_in<C: CellsMut, const W: bool>(
         find_hidden(&*c, s, id);
     }
     let Scratch {
-        cavity,
-        bnd,
-        created,
-        edges,
-        ..
+        cavity, bnd, edges, ..
     } = s;
     // The new cells, in free slots (the last insertion's cavity, mostly),
     // then the cavity's slots are freed. (Reusing the cavity's own slots
     // first measured no faster, and would renumber the cells of every mesh
-    // built on this kernel.)
-    created.clear();
+    // built on this kernel.) Each new cell is glued to the cell outside its
+    // boundary facet, and to the new cells before it that share one of
+    // that facet's edges: in new cell `n` with the new point at local
+    // position `fp`, facet `k != fp` holds the new point and the edge of
+    // the two other vertices (see `SIDES`).
+    edges.reset(bnd.len() * 3);
+    let mut newest = NONE;
     for &(cell, fp, w) in bnd.iter() {
         let n = c.alloc(cell);
         c.adj_mut(n)[fp as usize] = w;
         c.adj_mut(w >> 2)[(w & 3) as usize] = 4 * n + fp;
-        created.push(n);
-    }
-    for &t in cavity.iter() {
-        c.release(t);
-    }
-    // Glue the new cells to each other along the cavity boundary's edges.
-    edges.reset(created.len() * 3);
-    let mut newest = NONE;
-    for &n in created.iter() {
-        let cell = *c.v(n);
-        // Undo the permutation of the stellation: (a, b, d) is the
-        // boundary facet, fa/fb/fd the local facets opposite a, b, d.
-        let ([a, b, d], [fa, fb, fd]) = match cell {
-            [p, d, b, INF] if p == id => ([INF, b, d], [3, 2, 1]),
-            [d, p, a, INF] if p == id => ([a, INF, d], [2, 3, 0]),
-            [b, a, p, INF] if p == id => ([a, b, INF], [1, 0, 3]),
-            [a, b, d, _] => ([a, b, d], [0, 1, 2]),
-        };
-        // Facet fa holds edge b->d, fb edge d->a, fd edge a->b.
-        for (f, (x, y)) in [(fa, (b, d)), (fb, (d, a)), (fd, (a, b))] {
-            if let Some(w) = edges.pair(x, y, 4 * n + f as u32) {
-                c.adj_mut(n)[f] = w;
-                c.adj_mut(w >> 2)[(w & 3) as usize] = 4 * n + f as u32;
+        for (k, i, j) in SIDES[fp as usize] {
+            if let Some(x) = edges.pair(cell[i], cell[j], 4 * n + k as u32) {
+                c.adj_mut(n)[k] = x;
+                c.adj_mut(x >> 2)[(x & 3) as usize] = 4 * n + k as u32;
             }
         }
         if cell[3] != INF {
             newest = n;
         }
+    }
+    for &t in cavity.iter() {
+        c.release(t);
     }
     // Inserting a vertex always creates finite tetrahedra; the walk
     // steps off a ghost start by itself anyway.
@@ -1593,6 +1588,16 @@ fn insert_in<C: CellsMut, const W: bool>(
     }
     Some(Inserted::Vertex(id))
 }
+
+/// Per local position `fp` of the new point in a new cell: its three other
+/// facets `k` and the local positions `i`, `j` of the edge each shares with
+/// the cavity boundary (the two vertices other than `k` and `fp`).
+const SIDES: [[(usize, usize, usize); 3]; 4] = [
+    [(1, 2, 3), (2, 1, 3), (3, 1, 2)],
+    [(0, 2, 3), (2, 0, 3), (3, 0, 2)],
+    [(0, 1, 3), (1, 0, 3), (3, 0, 1)],
+    [(0, 1, 2), (1, 0, 2), (2, 0, 1)],
+];
 
 /// Regular triangulations: the vertices of the cavity cells that are not on
 /// the cavity boundary lose their whole star, so their power cell is now
