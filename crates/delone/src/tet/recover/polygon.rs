@@ -469,20 +469,14 @@ impl State {
         // pass (`at[w]..at[w + 1]` in `list`).
         let nv = self.surf.vtris.len();
         let mut at = Vec::with_capacity(nv + 1);
-        let mut list: Vec<u32> = Vec::new();
+        let (mut list, mut one): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
         at.push(0);
         for w in 0..nv {
-            let s = list.len();
-            self.poly.vertex_groups(&self.surf, w as u32, &mut list);
-            list[s..].sort_unstable();
-            let mut k = s;
-            for i in s..list.len() {
-                if i == s || list[i] != list[k - 1] {
-                    list[k] = list[i];
-                    k += 1;
-                }
-            }
-            list.truncate(k);
+            one.clear();
+            self.poly.vertex_groups(&self.surf, w as u32, &mut one);
+            one.sort_unstable();
+            one.dedup();
+            list.extend_from_slice(&one);
             at.push(list.len());
         }
         let groups_of = |w: u32| -> &[u32] {
