@@ -170,10 +170,10 @@ const MAX_FAILED_CALLS: usize = 3;
 /// 30 s where the fallback succeeds in 0.1–9 s; attempts that succeed find
 /// up to 38 (stacked plates), but there the fallback, whose first run
 /// cones flat hull facets, is as fast. With 8 every corpus model and each
-/// of 86 generated CAD models (`cad_shapes.py` seeds 21–32, 500–502 and
-/// 600–602, `hard_surfaces.py`) still recovers, in 7–11% less time summed
-/// than with 24. When the fallback fails, the later calls have no such
-/// bound.
+/// of 86 generated CAD models (`cad_shapes.py` seeds 21, 22, 31, 32, 500,
+/// 501 and 600–602, `hard_surfaces.py`) still recovers, in 7–11% less time
+/// summed than with 24. When the fallback fails, the later calls have no
+/// such bound.
 const VISITS_PER_CELL: u64 = 8;
 /// Most growth steps of a cavity (each adds every tetrahedron behind a
 /// face the best point found does not see).
