@@ -361,6 +361,39 @@ fn nearly_coplanar_slivers_of_a_turned_plate() {
     assert!(r.report.steiner() < 150, "perf_plate: {:?}", r.report);
 }
 
+/// `-p` on a gear with a keyway turned to no coordinate angle (see
+/// `tests/data/README.md`): the rounds carried in the flipped mesh stall
+/// on one thin triangle whose facet points keep landing in the part of it
+/// that rounded points leave uncovered. One round from the Delaunay
+/// tetrahedralization recovers that triangle and the rounds carry on after
+/// it: 6 rounds, against 24 when the recovery stayed with the Delaunay
+/// insertions from the stall on (their rounds cascade: each one's flips
+/// leave other segments missing). Checked, with its volume.
+#[test]
+fn turned_gear_key_recovers_in_few_rounds() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/gear_key_turned.off"
+    );
+    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
+    let tris = s.triangles();
+    let plc = Plc::from_triangles(s.points.clone(), &tris);
+    let o = delone::tet::TetOptions::from_switches("p").unwrap();
+    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("gear key -p: {e}"));
+    check_recovered(&s.points, &r.triangles, &r.mesh)
+        .unwrap_or_else(|e| panic!("gear key -p: {e}"));
+    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
+    assert!(
+        (v - expect).abs() <= 1e-9 * expect,
+        "gear key -p: volume {v} instead of {expect}"
+    );
+    assert!(
+        r.mesh.report.rounds <= 10,
+        "gear key -p: {:?}",
+        r.mesh.report
+    );
+}
+
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement
 /// (unguided flips) splits subsegments until one is too short to split;
 /// the pipeline then recovers with the guided flips of `-p` and refines
