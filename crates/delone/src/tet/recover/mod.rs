@@ -103,11 +103,11 @@
 //! a protected item, or a cavity that shrinks to nothing valid) the round
 //! ends and the next starts from the Delaunay tetrahedralization as above;
 //! when pieces keep failing past the bounds, or `MAX_STALLED` carried
-//! rounds leave as many triangles missing (the second time: the first
-//! time one round starts from the Delaunay tetrahedralization and the
-//! rounds carry on after it), the recovery goes back to the Delaunay
-//! insertions for good (their points give the flips more room on nearly
-//! coplanar slivers).
+//! rounds leave as many triangles missing, the next round starts from the
+//! Delaunay tetrahedralization (with every point so far) and the rounds
+//! after it split and carry in place again; the second time of each, the
+//! recovery stays with the Delaunay insertions (their points give the
+//! flips more room on nearly coplanar slivers).
 //!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split.
 //! The first round whose flips fail adds one interior point (the centroid
@@ -652,6 +652,7 @@ impl State {
             points_first: false,
             first_missing: None,
             in_place_off: false,
+            split_bounds_met: false,
         }
     }
 
@@ -763,11 +764,16 @@ impl State {
                 continue;
             }
             if depth >= MAX_SPLIT_DEPTH || splits >= budget {
-                // Pieces that keep failing go to `dt`'s insertion, from
-                // now on every split (its points give the flips more room
-                // on nearly coplanar slivers, where the halves of points
-                // put in place keep failing).
-                self.in_place_off = true;
+                // Pieces that keep failing go to `dt`'s insertion and the
+                // round ends. The first time, the next round (from `dt`,
+                // with every point so far) splits in place again: on tubes
+                // with rings of radial holes the halves that kept failing
+                // are then often recovered. The second time, every split
+                // from then on goes to `dt` (its points give the flips more
+                // room on nearly coplanar slivers, where the halves of
+                // points put in place keep failing).
+                self.in_place_off |= self.split_bounds_met;
+                self.split_bounds_met = true;
                 let mut rest = vec![(e, u, v)];
                 rest.extend(queue.into_iter().map(|x| x.0));
                 return Ok((rest, true));

@@ -80,8 +80,11 @@ pub(super) struct State {
     /// third runs of the `-Y` fallback's recovery.
     pub(super) escalate: bool,
     /// `-p` without `-q`: splits no longer go into the flipped mesh in
-    /// place (`State::split_in_place` met pieces that keep failing).
+    /// place (`State::split_in_place` met pieces that keep failing twice).
     pub(super) in_place_off: bool,
+    /// `State::split_in_place` met pieces that keep failing once (its
+    /// round then ended; the next one splits in place again).
+    pub(super) split_bounds_met: bool,
 }
 
 /// One merged group.
