@@ -1012,7 +1012,8 @@ pub(crate) fn crossing_edges(
             continue;
         }
         let sides = xv.map(&mut side_of);
-        let touches = sides.contains(&2);
+        // (Not `contains`: on bytes that is a `memchr` call.)
+        let touches = sides.iter().any(|&s| s == 2);
         let sides = sides.map(|x| if x == 2 { 0 } else { x });
         let mut crossing = false;
         for (i, j) in EDGES {

@@ -282,13 +282,10 @@ impl Polygons {
         let bset: IdSet<(u32, u32)> = subs.iter().map(|&(_, u, v, _)| ekey(u, v)).collect();
         // Chords (inexact Steiner points, see `Surface::coverage_local`): a flat
         // face joins when one of its edges is a non-boundary edge of a face.
-        let mut edge_faces: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
-        let add = |edge_faces: &mut IdMap<(u32, u32), Vec<u32>>, f: [u32; 3], i: u32| {
+        let mut edge_faces = EdgeFaces::with_capacity(faces.len() * 3 / 2 + 4);
+        let add = |edge_faces: &mut EdgeFaces, f: [u32; 3], i: u32| {
             for k in 0..3 {
-                edge_faces
-                    .entry(ekey(f[k], f[(k + 1) % 3]))
-                    .or_default()
-                    .push(i);
+                edge_faces.push(ekey(f[k], f[(k + 1) % 3]), i);
             }
         };
         for (i, f) in faces.iter().enumerate() {
@@ -302,7 +299,7 @@ impl Polygons {
             for f in flat {
                 let chord = (0..3)
                     .map(|k| ekey(f[k], f[(k + 1) % 3]))
-                    .any(|e| !bset.contains(&e) && edge_faces.contains_key(&e));
+                    .any(|e| !bset.contains(&e) && edge_faces.has(e));
                 if chord {
                     let i = faces.len() as u32;
                     faces.push(f);
@@ -321,13 +318,11 @@ impl Polygons {
         let mut covered = true;
         for &(e, u, v, fwd) in &subs {
             let (pu, pv) = (p2(u), p2(v));
-            let seed = edge_faces.get(&ekey(u, v)).and_then(|l| {
-                l.iter().copied().find(|&i| {
-                    let f = faces[i as usize];
-                    let w = f.iter().copied().find(|&x| x != u && x != v).unwrap_or(u);
-                    let o = orient2d(&pu, &pv, &p2(w));
-                    o * grp.sign > 0.0 || (i as usize >= n_plain && o == 0.0)
-                })
+            let seed = edge_faces.faces(ekey(u, v)).find(|&i| {
+                let f = faces[i as usize];
+                let w = f.iter().copied().find(|&x| x != u && x != v).unwrap_or(u);
+                let o = orient2d(&pu, &pv, &p2(w));
+                o * grp.sign > 0.0 || (i as usize >= n_plain && o == 0.0)
             });
             match seed {
                 Some(i) => {
@@ -349,12 +344,10 @@ impl Polygons {
                 if bset.contains(&e) {
                     continue;
                 }
-                let l = &edge_faces[&e];
-                if l.len() != 2 {
+                let Some(j) = edge_faces.other(e, i) else {
                     covered = false;
                     continue;
-                }
-                let j = if l[0] == i { l[1] } else { l[0] };
+                };
                 if !reached[j as usize] {
                     reached[j as usize] = true;
                     stack.push(j);
@@ -387,6 +380,59 @@ impl Polygons {
             faces: out,
             bare,
         }
+    }
+}
+
+/// The faces at each edge, by index, in the order added: the first two
+/// in the map, any more (a non-manifold fan) in `more` — no list
+/// allocated per edge.
+struct EdgeFaces {
+    /// Per edge: how many faces, the first and the second.
+    map: IdMap<(u32, u32), [u32; 3]>,
+    /// The third and later faces of the edges that have them.
+    more: Vec<((u32, u32), u32)>,
+}
+
+impl EdgeFaces {
+    fn with_capacity(n: usize) -> Self {
+        let mut map = IdMap::default();
+        map.reserve(n);
+        EdgeFaces {
+            map,
+            more: Vec::new(),
+        }
+    }
+
+    /// Adds face `i` at edge `e`.
+    fn push(&mut self, e: (u32, u32), i: u32) {
+        let x = self.map.entry(e).or_insert([0, i, u32::MAX]);
+        match x[0] {
+            0 => {}
+            1 => x[2] = i,
+            _ => self.more.push((e, i)),
+        }
+        x[0] += 1;
+    }
+
+    /// True when some face is at edge `e`.
+    fn has(&self, e: (u32, u32)) -> bool {
+        self.map.contains_key(&e)
+    }
+
+    /// The faces at edge `e`, in the order added.
+    fn faces(&self, e: (u32, u32)) -> impl Iterator<Item = u32> + '_ {
+        let x = self.map.get(&e).copied().unwrap_or([0; 3]);
+        let more = if x[0] > 2 { &self.more[..] } else { &[][..] };
+        [x[1], x[2]]
+            .into_iter()
+            .take(x[0].min(2) as usize)
+            .chain(more.iter().filter(move |m| m.0 == e).map(|m| m.1))
+    }
+
+    /// The other face at edge `e` when it has exactly two, one of them `i`.
+    fn other(&self, e: (u32, u32), i: u32) -> Option<u32> {
+        let x = self.map.get(&e)?;
+        (x[0] == 2).then(|| if x[1] == i { x[2] } else { x[1] })
     }
 }
 
