@@ -533,8 +533,20 @@ impl State {
                 &[]
             }
         };
+        // Per vertex: bit `g % 64` set for each of its groups `g`. A
+        // group on three vertices of a tetrahedron has its bit in three of
+        // their masks, so a tetrahedron whose masks share no bit three
+        // times has no face on a group (most of them).
+        let mask: Vec<u64> = (0..nv)
+            .map(|w| groups_of(w as u32).iter().fold(0, |m, &g| m | 1 << (g % 64)))
+            .collect();
+        let mask_of = |w: u32| mask.get(w as usize).copied().unwrap_or(0);
         let mut gs: Vec<u32> = Vec::new();
         for tv in tets {
+            let [a, b, c, d] = tv.map(mask_of);
+            if (a & b & (c | d)) | (c & d & (a | b)) == 0 {
+                continue;
+            }
             // Every face holds the first or the second vertex.
             gs.clear();
             gs.extend_from_slice(groups_of(tv[0]));
@@ -545,6 +557,10 @@ impl State {
             gs.sort_unstable();
             gs.dedup();
             for &g in &gs {
+                let bit = 1 << (g % 64);
+                if [a, b, c, d].iter().filter(|&&m| m & bit != 0).count() < 3 {
+                    continue;
+                }
                 let n = tv
                     .iter()
                     .filter(|&&w| groups_of(w).binary_search(&g).is_ok())
