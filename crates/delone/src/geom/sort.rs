@@ -198,8 +198,21 @@ fn hilbert_key_skilling<const D: usize>(mut x: [u32; D], bits: u32) -> u64 {
     key
 }
 
-/// LSD radix sort of `(key << 32) | payload` words by their high 32 bits.
+/// Fewest words [`radix_sort_high32`] radix-sorts.
+const RADIX_MIN: usize = 256;
+
+/// LSD radix sort of `(key << 32) | payload` words by their high 32 bits
+/// (stable). A short run (below [`RADIX_MIN`] words) is sorted whole
+/// instead, which is the same order when the payloads ascend in `v` (the
+/// point indices of [`brio_order_threads`]): the radix pass's fixed cost
+/// (its bucket counts) dominates there, as for the many small 2D
+/// triangulations of the coplanar facets.
 fn radix_sort_high32(v: &mut Vec<u64>) {
+    if v.len() < RADIX_MIN {
+        debug_assert!(v.windows(2).all(|w| w[0] as u32 <= w[1] as u32));
+        v.sort_unstable();
+        return;
+    }
     const BITS: u32 = 11;
     const BUCKETS: usize = 1 << BITS;
     let mut tmp = vec![0u64; v.len()];
