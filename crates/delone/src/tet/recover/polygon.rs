@@ -210,6 +210,20 @@ impl Polygons {
         tets: &[[u32; 4]],
         pts: &[[f64; 3]],
     ) -> Cover {
+        self.cover_with(surf, g, tets, pts, |w| self.on_group(surf, w, g))
+    }
+
+    /// [`Polygons::cover`] given `on`, the answer of
+    /// [`Polygons::on_group`] for group `g` (a caller that has the groups
+    /// of every vertex at hand answers it without scanning triangles).
+    fn cover_with(
+        &self,
+        surf: &Surface,
+        g: u32,
+        tets: &[[u32; 4]],
+        pts: &[[f64; 3]],
+        on: impl Fn(u32) -> bool,
+    ) -> Cover {
         let grp = &self.groups[g as usize];
         let n = pts.len();
         let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
@@ -227,14 +241,13 @@ impl Polygons {
                 bare: Vec::new(),
             };
         }
-        let on = |w: u32| self.on_group(surf, w, g);
         let mut faces: Vec<[u32; 3]> = Vec::new();
         let mut flat: Vec<[u32; 3]> = Vec::new();
         let mut drop: Vec<[u32; 3]> = Vec::new();
         let [a, b, c] = surf.tris[grp.tris[0] as usize].map(|w| pts[w as usize]);
         let nt = cross(&sub(&b, &a), &sub(&c, &a));
         for tv in tets {
-            let ons = tv.map(on);
+            let ons = tv.map(&on);
             if ons.iter().filter(|&&x| x).count() < 3 {
                 continue;
             }
@@ -571,8 +584,11 @@ impl State {
             }
         }
         for (g, tets) in bucket.iter().enumerate() {
-            let c = self.poly.cover(&self.surf, g as u32, tets, pts);
-            self.set_group(g as u32, c, on, covered);
+            let g = g as u32;
+            let bit = 1 << (g % 64);
+            let on_g = |w: u32| mask_of(w) & bit != 0 && groups_of(w).binary_search(&g).is_ok();
+            let c = self.poly.cover_with(&self.surf, g, tets, pts, on_g);
+            self.set_group(g, c, on, covered);
         }
     }
 
