@@ -641,6 +641,7 @@ impl State {
             points_first: false,
             first_missing: None,
             in_place_off: false,
+            cover_memo: std::cell::RefCell::default(),
         }
     }
 

@@ -46,7 +46,7 @@
 use delone_predicates::orient2d;
 
 use super::merge::{proj, projection};
-use super::state::{Cover, Group, Polygons, State};
+use super::state::{Cover, CoverMemo, Group, Polygons, State};
 use super::surface::{Kind, Surface};
 use super::types::RecoverError;
 use crate::geom::ids::{IdMap, IdSet};
@@ -192,6 +192,18 @@ impl Polygons {
         out
     }
 
+    /// Some corner of group `g`'s triangles or vertex of its boundary
+    /// chains is not among `n` points.
+    fn missing_vertex(&self, surf: &Surface, g: u32, n: usize) -> bool {
+        let grp = &self.groups[g as usize];
+        let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
+        let chains = grp
+            .bnd
+            .iter()
+            .flat_map(|&(e, _)| surf.chains[e as usize].iter());
+        corners.chain(chains.copied()).any(|w| w as usize >= n)
+    }
+
     /// Face `f` is three points of one boundary chain of the group.
     fn flat(surf: &Surface, f: [u32; 3]) -> bool {
         f.iter().any(|&w| match surf.kind.get(w as usize) {
@@ -225,13 +237,7 @@ impl Polygons {
         on: impl Fn(u32) -> bool,
     ) -> Cover {
         let grp = &self.groups[g as usize];
-        let n = pts.len();
-        let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
-        let chains = grp
-            .bnd
-            .iter()
-            .flat_map(|&(e, _)| surf.chains[e as usize].iter());
-        if corners.chain(chains.copied()).any(|w| w as usize >= n) {
+        if self.missing_vertex(surf, g, pts.len()) {
             // A vertex `pts` does not have (not expected: the callers pass
             // the points of the mesh the surface was refined with): not
             // covered, nothing to split.
@@ -551,7 +557,11 @@ impl State {
         // their masks, so a tetrahedron whose masks share no bit three
         // times has no face on a group (most of them).
         let mask: Vec<u64> = (0..nv)
-            .map(|w| groups_of(w as u32).iter().fold(0, |m, &g| m | 1 << (g % 64)))
+            .map(|w| {
+                groups_of(w as u32)
+                    .iter()
+                    .fold(0, |m, &g| m | 1 << (g % 64))
+            })
             .collect();
         let mask_of = |w: u32| mask.get(w as usize).copied().unwrap_or(0);
         let mut gs: Vec<u32> = Vec::new();
@@ -583,11 +593,38 @@ impl State {
                 }
             }
         }
-        for (g, tets) in bucket.iter().enumerate() {
+        // A group whose tetrahedra and boundary chains are those of the
+        // last pass has the coverage found then (most groups: the flips
+        // and points of a round change few of them).
+        let mut memo = self.cover_memo.borrow_mut();
+        memo.resize_with(bucket.len(), CoverMemo::default);
+        let mut chains: Vec<u32> = Vec::new();
+        for (g, (tets, m)) in bucket.into_iter().zip(memo.iter_mut()).enumerate() {
             let g = g as u32;
-            let bit = 1 << (g % 64);
-            let on_g = |w: u32| mask_of(w) & bit != 0 && groups_of(w).binary_search(&g).is_ok();
-            let c = self.poly.cover_with(&self.surf, g, tets, pts, on_g);
+            if self.poly.missing_vertex(&self.surf, g, pts.len()) {
+                let c = self.poly.cover(&self.surf, g, &tets, pts);
+                self.set_group(g, c, on, covered);
+                continue;
+            }
+            chains.clear();
+            for &(e, _) in &self.poly.groups[g as usize].bnd {
+                let ch = &self.surf.chains[e as usize];
+                chains.push(ch.len() as u32);
+                chains.extend_from_slice(ch);
+            }
+            let c = match &m.cover {
+                Some(c) if m.tets == tets && m.chains == chains => c.clone(),
+                _ => {
+                    let bit = 1 << (g % 64);
+                    let on_g =
+                        |w: u32| mask_of(w) & bit != 0 && groups_of(w).binary_search(&g).is_ok();
+                    let c = self.poly.cover_with(&self.surf, g, &tets, pts, on_g);
+                    m.cover = Some(c.clone());
+                    m.tets = tets;
+                    std::mem::swap(&mut m.chains, &mut chains);
+                    c
+                }
+            };
             self.set_group(g, c, on, covered);
         }
     }
