@@ -697,3 +697,37 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The faces of an edge come back in the order added, however the
+    /// edges' pushes interleave; `other` answers for two-face edges only.
+    #[test]
+    fn edge_faces_keep_the_order_added() {
+        let (e, f, d) = ((1, 2), (4, 5), (2, 3));
+        let mut ef = EdgeFaces::with_capacity(4);
+        for (k, i) in [
+            (e, 5),
+            (e, 3),
+            (f, 1),
+            (f, 2),
+            (e, 9),
+            (f, 8),
+            (e, 4),
+            (d, 7),
+            (d, 1),
+        ] {
+            ef.push(k, i);
+        }
+        assert_eq!(ef.faces(e).collect::<Vec<_>>(), [5, 3, 9, 4]);
+        assert_eq!(ef.faces(f).collect::<Vec<_>>(), [1, 2, 8]);
+        assert_eq!(ef.faces(d).collect::<Vec<_>>(), [7, 1]);
+        assert!(ef.faces((0, 1)).next().is_none());
+        assert!(ef.has(d) && !ef.has((0, 1)));
+        assert_eq!((ef.other(d, 7), ef.other(d, 1)), (Some(1), Some(7)));
+        assert_eq!((ef.other(e, 5), ef.other(f, 1)), (None, None));
+        assert_eq!(ef.other((0, 1), 0), None);
+    }
+}
