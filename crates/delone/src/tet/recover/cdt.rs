@@ -1018,7 +1018,7 @@ pub(crate) fn crossing_edges(
         }
         let sides = xv.map(&mut side_of);
         // (Not `contains`: on bytes that is a `memchr` call.)
-        let touches = sides.iter().any(|&s| s == 2);
+        let touches = sides.into_iter().any(|s| s == 2);
         let sides = sides.map(|x| if x == 2 { 0 } else { x });
         let mut crossing = false;
         for (i, j) in EDGES {
