@@ -989,9 +989,9 @@ pub(crate) fn crossing_edges(
     // only if its ends are strictly on opposite sides — the first test of
     // `place::crosses`, whose remaining three tests follow.
     // Per vertex also whether it lies on `t` (2: on `t`, side 0).
-    let mut side: IdMap<u32, i8> = IdMap::default();
-    let mut side_of = |w: u32| -> i8 {
-        *side.entry(w).or_insert_with(|| {
+    cm.vertex_memo_begin();
+    let side_of = |w: u32| -> i8 {
+        cm.vertex_memo(w, || {
             if surf.on_triangle(w, t) {
                 2
             } else {
@@ -1016,7 +1016,7 @@ pub(crate) fn crossing_edges(
         if xv[0] == DEAD || xv.contains(&INF) {
             continue;
         }
-        let sides = xv.map(&mut side_of);
+        let sides = xv.map(side_of);
         // (Not `contains`: on bytes that is a `memchr` call.)
         let touches = sides.into_iter().any(|s| s == 2);
         let sides = sides.map(|x| if x == 2 { 0 } else { x });
