@@ -1003,8 +1003,13 @@ pub(crate) fn crossing_edges(
     let core = &cm.m;
     cm.visit_begin();
     let mut stack: Vec<u32> = Vec::new();
+    // One finite tetrahedron per vertex of `t` starts the search: the
+    // search crosses every face of a tetrahedron with a vertex on `t`, and
+    // the finite tetrahedra around a vertex are face-connected (its link
+    // is a sphere, or a disk on the hull), so it reaches the vertex's whole
+    // finite star from there.
     for w in tri_vertices(surf, t, inner) {
-        for x in cm.star(w) {
+        if let Some(x) = cm.star_find(w, |x| !core.tv[x as usize].contains(&INF)) {
             if cm.visit(x) {
                 stack.push(x);
             }
