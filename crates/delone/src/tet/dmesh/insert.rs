@@ -78,17 +78,21 @@ impl Journaled<'_> {
         let m = &self.m;
         let tvs = |t: u32| m.tv[t as usize];
         // Growth: cells whose circumsphere holds `p` strictly, across
-        // unprotected faces, no ghosts.
-        let mut cav: Vec<u32> = required.clone();
-        let mut inside: IdSet<u32> = cav.iter().copied().collect();
+        // unprotected faces, no ghosts. `local`: slot -> index in the grown
+        // cells (the required cells first).
+        let mut cells: Vec<u32> = required.clone();
+        let mut local: IdMap<u32, u32> = IdMap::default();
+        for (i, &t) in cells.iter().enumerate() {
+            local.insert(t, i as u32);
+        }
         let mut i = 0;
-        while i < cav.len() && cav.len() < MAX_CAVITY {
-            let t = cav[i];
+        while i < cells.len() && cells.len() < MAX_CAVITY {
+            let t = cells[i];
             i += 1;
             let tv = tvs(t);
             for f in 0..4 {
                 let n = m.across(t, f);
-                if inside.contains(&n) || !m.alive(n) {
+                if local.contains_key(&n) || !m.alive(n) {
                     continue;
                 }
                 let nv = tvs(n);
@@ -98,61 +102,97 @@ impl Journaled<'_> {
                 // Positive cells have `orient3d < 0`: `insphere` is then
                 // negative for a point strictly inside.
                 if insphere(g(nv[0]), g(nv[1]), g(nv[2]), g(nv[3]), g(p)) < 0.0 {
-                    inside.insert(n);
-                    cav.push(n);
+                    local.insert(n, cells.len() as u32);
+                    cells.push(n);
                 }
             }
         }
-        let req: IdSet<u32> = required.iter().copied().collect();
-        // Shrinking.
+        // The shrinking works on local indices: per grown cell its
+        // neighbours (`NO`: not grown), whether it is in the cavity now,
+        // and per face the verdicts that do not change while it shrinks
+        // (0: not known yet, 1: no, 2: yes): the face is protected, the
+        // cone cell on it is not strictly positive.
+        const NO: u32 = u32::MAX;
+        let nreq = required.len();
+        let nbr: Vec<[u32; 4]> = cells
+            .iter()
+            .map(|&t| [0, 1, 2, 3].map(|f| local.get(&m.across(t, f)).copied().unwrap_or(NO)))
+            .collect();
+        let mut live = vec![true; cells.len()];
+        let mut kept = vec![[0u8; 4]; cells.len()];
+        let mut flat = vec![[0u8; 4]; cells.len()];
+        let mut dropped = vec![false; cells.len()];
+        let mut cav: Vec<u32> = (0..cells.len() as u32).collect();
+        let is_in = |live: &[bool], j: u32| j != NO && live[j as usize];
         loop {
-            let inside: IdSet<u32> = cav.iter().copied().collect();
-            let mut drop: IdSet<u32> = IdSet::default();
-            // Boundary faces, and the edges and vertices on them.
-            let mut bedges: IdMap<(u32, u32), u32> = IdMap::default();
-            let mut bverts: IdSet<u32> = IdSet::default();
-            for &t in &cav {
-                let tv = tvs(t);
+            let mut drop: Vec<u32> = Vec::new();
+            let mut mark = |i: u32, drop: &mut Vec<u32>| {
+                if !std::mem::replace(&mut dropped[i as usize], true) {
+                    drop.push(i);
+                }
+            };
+            for &i in &cav {
+                let tv = tvs(cells[i as usize]);
                 for f in 0..4 {
-                    let n = m.across(t, f);
-                    let fv = face(tv, f);
-                    if inside.contains(&n) {
-                        if keep_face(fkey(fv)) {
-                            drop.insert(t);
-                            drop.insert(n);
+                    let j = nbr[i as usize][f];
+                    if is_in(&live, j) {
+                        let k = &mut kept[i as usize][f];
+                        if *k == 0 {
+                            *k = 1 + keep_face(fkey(face(tv, f))) as u8;
+                        }
+                        if *k == 2 {
+                            mark(i, &mut drop);
+                            mark(j, &mut drop);
                         }
                         continue;
                     }
-                    let mut q = tv;
-                    q[f] = p;
-                    if !q.contains(&INF) {
-                        let [a, b, c, d] = q.map(g);
-                        if orient3d(a, b, c, d) >= 0.0 {
-                            drop.insert(t);
-                        }
+                    let cone = &mut flat[i as usize][f];
+                    if *cone == 0 {
+                        let mut q = tv;
+                        q[f] = p;
+                        let bad = !q.contains(&INF) && {
+                            let [a, b, c, d] = q.map(g);
+                            orient3d(a, b, c, d) >= 0.0
+                        };
+                        *cone = 1 + bad as u8;
                     }
-                    for k in 0..3 {
-                        *bedges.entry(ekey(fv[k], fv[(k + 1) % 3])).or_default() += 1;
+                    if *cone == 2 {
+                        mark(i, &mut drop);
                     }
-                    bverts.extend(fv);
                 }
             }
             // Interior protected edges and vertices are looked at once
             // every boundary face is seen (a cavity whose boundary faces
             // are all strictly seen from `p` inside it is star-shaped: its
             // boundary is a sphere, every edge on two boundary faces).
-            let mut pinched = false;
             if drop.is_empty() {
-                for &t in &cav {
-                    let tv = tvs(t);
+                // Boundary faces: the edges and vertices on them.
+                let mut bedges: IdMap<(u32, u32), u32> = IdMap::default();
+                let mut bverts: IdSet<u32> = IdSet::default();
+                for &i in &cav {
+                    let tv = tvs(cells[i as usize]);
+                    for f in 0..4 {
+                        if is_in(&live, nbr[i as usize][f]) {
+                            continue;
+                        }
+                        let fv = face(tv, f);
+                        for k in 0..3 {
+                            *bedges.entry(ekey(fv[k], fv[(k + 1) % 3])).or_default() += 1;
+                        }
+                        bverts.extend(fv);
+                    }
+                }
+                let mut pinched = false;
+                for &i in &cav {
+                    let tv = tvs(cells[i as usize]);
                     if tv.iter().any(|w| !bverts.contains(w)) {
-                        drop.insert(t);
+                        mark(i, &mut drop);
                     }
                     for (a, b) in EDGES {
                         let e = ekey(tv[a], tv[b]);
                         match bedges.get(&e) {
                             None if e.1 != INF && keep_edge(e.0, e.1) => {
-                                drop.insert(t);
+                                mark(i, &mut drop);
                             }
                             Some(&k) if k != 2 => pinched = true,
                             _ => {}
@@ -166,48 +206,56 @@ impl Journaled<'_> {
             if drop.is_empty() {
                 break;
             }
-            if drop.iter().any(|t| req.contains(t)) {
+            for &i in &drop {
+                dropped[i as usize] = false;
+            }
+            let is_req = |i: &u32| (*i as usize) < nreq;
+            if drop.iter().any(is_req) {
                 // What the required cells need dropped is refused: the
                 // required cells alone, else nothing.
-                if cav.len() == required.len() {
+                if cav.len() == nreq {
                     return None;
                 }
-                drop.retain(|t| !req.contains(t));
+                drop.retain(|i| !is_req(i));
                 if drop.is_empty() {
-                    cav.clone_from(&required);
+                    cav = (0..nreq as u32).collect();
+                    live.fill(false);
+                    live[..nreq].fill(true);
                     continue;
                 }
             }
-            cav.retain(|t| !drop.contains(t));
+            for &i in &drop {
+                live[i as usize] = false;
+            }
             // Only the part connected to the required cells stays.
-            let left: IdSet<u32> = cav.iter().copied().collect();
-            let mut keep: Vec<u32> = required.clone();
-            let mut seen: IdSet<u32> = keep.iter().copied().collect();
+            let mut seen = vec![false; cells.len()];
+            seen[..nreq].fill(true);
+            let mut keep: Vec<u32> = (0..nreq as u32).collect();
             let mut j = 0;
             while j < keep.len() {
-                let t = keep[j];
+                let i = keep[j] as usize;
                 j += 1;
-                for f in 0..4 {
-                    let n = m.across(t, f);
-                    if left.contains(&n) && seen.insert(n) {
+                for &n in &nbr[i] {
+                    if is_in(&live, n) && !std::mem::replace(&mut seen[n as usize], true) {
                         keep.push(n);
                     }
                 }
             }
+            live = seen;
             cav = keep;
         }
         let mut new: Vec<[u32; 4]> = Vec::with_capacity(2 * cav.len() + 4);
-        let inside: IdSet<u32> = cav.iter().copied().collect();
-        for &t in &cav {
-            let tv = tvs(t);
+        for &i in &cav {
+            let tv = tvs(cells[i as usize]);
             for f in 0..4 {
-                if !inside.contains(&m.across(t, f)) {
+                if !is_in(&live, nbr[i as usize][f]) {
                     let mut q = tv;
                     q[f] = p;
                     new.push(q);
                 }
             }
         }
+        let cav: Vec<u32> = cav.iter().map(|&i| cells[i as usize]).collect();
         // Each cell adjacent to an earlier one (the journal finds them so
         // for rollback and replay): breadth first over the faces at `p`.
         let mut by_face: IdMap<[u32; 3], Vec<usize>> = IdMap::default();

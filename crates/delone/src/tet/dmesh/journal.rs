@@ -109,6 +109,9 @@ pub(crate) struct Journaled<'a> {
     /// The visited set of [`Journaled::visit`] (the star walks use the
     /// domain mesh's own set).
     visited: RefCell<Stamps>,
+    /// The per-vertex memo of [`Journaled::vertex_memo`]: the vertices
+    /// set, and their values.
+    vmemo: RefCell<(Stamps, Vec<i8>)>,
     /// Scratch of the star searches, of the dynamic program and of the
     /// new slots of an operation.
     buf: RefCell<Vec<u32>>,
@@ -146,6 +149,7 @@ impl<'a> Journaled<'a> {
             failed: Default::default(),
             log: None,
             visited: Default::default(),
+            vmemo: Default::default(),
             buf: Default::default(),
             ring: Default::default(),
             dp_best: Vec::new(),
@@ -407,6 +411,31 @@ impl<'a> Journaled<'a> {
     /// set at a time ([`Journaled::visit_begin`]).
     pub(crate) fn visit(&self, x: u32) -> bool {
         self.visited.borrow_mut().insert(x)
+    }
+
+    /// Empties the per-vertex memo of [`Journaled::vertex_memo`].
+    pub(crate) fn vertex_memo_begin(&self) {
+        self.vmemo.borrow_mut().0.clear();
+    }
+
+    /// The value of vertex `w` in the memo, `f()` stored there the first
+    /// time since [`Journaled::vertex_memo_begin`] (a per-search answer
+    /// per vertex, without hashing). One memo at a time.
+    pub(crate) fn vertex_memo(&self, w: u32, f: impl FnOnce() -> i8) -> i8 {
+        {
+            let m = self.vmemo.borrow();
+            if m.0.contains(w) {
+                return m.1[w as usize];
+            }
+        }
+        let x = f();
+        let mut m = self.vmemo.borrow_mut();
+        m.0.insert(w);
+        if m.1.len() <= w as usize {
+            m.1.resize(w as usize + 1, 0);
+        }
+        m.1[w as usize] = x;
+        x
     }
 
     /// The first tetrahedron, in [`Journaled::star`]'s order, of `u`'s star

@@ -720,37 +720,42 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             .filter(|&(t, f)| !cav.has(m.across(t, f)))
             .collect()
     };
-    // Those blocking the cone from `apex`; `cell_ok` answers are kept per
-    // face in `seen` (the mesh does not change while a cavity grows).
-    let blocking = |bnd: &[(u32, usize)], apex: u32, seen: &mut IdMap<(u32, u8), bool>| {
-        bnd.iter()
-            .copied()
-            .filter(|&(t, f)| {
-                !m.tv[t as usize].contains(&apex)
-                    && !*seen
-                        .entry((t, f as u8))
-                        .or_insert_with(|| cell_ok(t, f, apex))
-            })
-            .collect::<Vec<_>>()
+    // Does boundary face `f` of cell `t` block the cone from `apex`? Each
+    // boundary face carries its answer (0: not asked yet, 1: no, 2: yes),
+    // asked once (the mesh does not change while a cavity grows).
+    let blocks = |t: u32, f: usize, apex: u32| -> u8 {
+        1 + u8::from(!m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex))
     };
-    let bnd0 = boundary(&cav);
-    let mut seen = [IdMap::default(), IdMap::default()];
+    let blocking = |bnd: &mut [(u32, usize, u8)], apex: u32| -> Vec<(u32, usize)> {
+        let mut out = Vec::new();
+        for e in bnd.iter_mut() {
+            if e.2 == 0 {
+                e.2 = blocks(e.0, e.1, apex);
+            }
+            if e.2 == 2 {
+                out.push((e.0, e.1));
+            }
+        }
+        out
+    };
+    let bnd0: Vec<(u32, usize, u8)> = boundary(&cav).into_iter().map(|(t, f)| (t, f, 0)).collect();
+    let mut start = [bnd0.clone(), bnd0];
     let mut ends = [
-        (blocking(&bnd0, u, &mut seen[0]).len(), u, 0),
-        (blocking(&bnd0, v, &mut seen[1]).len(), v, 1),
+        (blocking(&mut start[0], u).len(), u, 0),
+        (blocking(&mut start[1], v).len(), v, 1),
     ];
     ends.sort_unstable();
     for (_, apex, k) in ends {
-        let seen = &mut seen[k];
         let mut cav = cav.clone();
         // The boundary is kept up to date as cells join: faces whose
         // neighbour joined leave it, the new cells' outer faces are
         // appended (the order `boundary` gives).
-        let mut bnd = bnd0.clone();
+        let mut bnd = std::mem::take(&mut start[k]);
         'grow: for _ in 0..=CONE_GROW {
-            let block = blocking(&bnd, apex, seen);
+            let block = blocking(&mut bnd, apex);
             if block.is_empty() {
-                if let Some(new) = cone_tets(m, &cav, &bnd, apex, prot) {
+                let faces: Vec<(u32, usize)> = bnd.iter().map(|e| (e.0, e.1)).collect();
+                if let Some(new) = cone_tets(m, &cav, &faces, apex, prot) {
                     cm.replace(&cav.list, &new);
                     return true;
                 }
@@ -767,12 +772,12 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             if cav.list.len() > CONE_MAX {
                 break;
             }
-            bnd.retain(|&(t, f)| !cav.has(m.across(t, f)));
+            bnd.retain(|&(t, f, _)| !cav.has(m.across(t, f)));
             for &t in &cav.list[old..] {
                 bnd.extend(
                     (0..4)
-                        .map(|f| (t, f))
-                        .filter(|&(t, f)| !cav.has(m.across(t, f))),
+                        .filter(|&f| !cav.has(m.across(t, f)))
+                        .map(|f| (t, f, 0)),
                 );
             }
         }
@@ -984,9 +989,9 @@ pub(crate) fn crossing_edges(
     // only if its ends are strictly on opposite sides — the first test of
     // `place::crosses`, whose remaining three tests follow.
     // Per vertex also whether it lies on `t` (2: on `t`, side 0).
-    let mut side: IdMap<u32, i8> = IdMap::default();
-    let mut side_of = |w: u32| -> i8 {
-        *side.entry(w).or_insert_with(|| {
+    cm.vertex_memo_begin();
+    let side_of = |w: u32| -> i8 {
+        cm.vertex_memo(w, || {
             if surf.on_triangle(w, t) {
                 2
             } else {
@@ -998,8 +1003,13 @@ pub(crate) fn crossing_edges(
     let core = &cm.m;
     cm.visit_begin();
     let mut stack: Vec<u32> = Vec::new();
+    // One finite tetrahedron per vertex of `t` starts the search: the
+    // search crosses every face of a tetrahedron with a vertex on `t`, and
+    // the finite tetrahedra around a vertex are face-connected (its link
+    // is a sphere, or a disk on the hull), so it reaches the vertex's whole
+    // finite star from there.
     for w in tri_vertices(surf, t, inner) {
-        for x in cm.star(w) {
+        if let Some(x) = cm.star_find(w, |x| !core.tv[x as usize].contains(&INF)) {
             if cm.visit(x) {
                 stack.push(x);
             }
@@ -1011,8 +1021,9 @@ pub(crate) fn crossing_edges(
         if xv[0] == DEAD || xv.contains(&INF) {
             continue;
         }
-        let sides = xv.map(&mut side_of);
-        let touches = sides.contains(&2);
+        let sides = xv.map(side_of);
+        // (Not `contains`: on bytes that is a `memchr` call.)
+        let touches = sides.into_iter().any(|s| s == 2);
         let sides = sides.map(|x| if x == 2 { 0 } else { x });
         let mut crossing = false;
         for (i, j) in EDGES {

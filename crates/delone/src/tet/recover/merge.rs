@@ -43,11 +43,12 @@
 //! keeps `-q1.414` from halving subsegments towards their input vertices.
 //! Merging is always off with `-Y`.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use delone_predicates::{orient2d, orient3d};
 
 use super::types::Recovered;
+use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
 use crate::tet::intersect::coplanar_groups;
@@ -132,7 +133,7 @@ pub(crate) fn merge(
             members[r as usize].push(t as u32);
         }
     }
-    let mut edge_uses: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut edge_uses: IdMap<(u32, u32), u32> = IdMap::default();
     for tv in triangles {
         for k in 0..3 {
             *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
@@ -192,7 +193,7 @@ pub(crate) fn merge(
             None => kept += 1,
         }
     }
-    let mut gidx: HashMap<u32, usize> = HashMap::new();
+    let mut gidx: IdMap<u32, usize> = IdMap::default();
     for (gi, &r) in big.iter().enumerate() {
         gidx.insert(r, gi);
     }
@@ -223,7 +224,7 @@ pub(crate) fn merge(
 /// Directed edges of `tris` whose reverse is not among them (the oriented
 /// boundary of the group), sorted, with multiplicity.
 pub(super) fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut count: HashMap<(u32, u32), i64> = HashMap::new();
+    let mut count: IdMap<(u32, u32), i64> = IdMap::default();
     for tv in tris {
         for k in 0..3 {
             let (u, v) = (tv[k], tv[(k + 1) % 3]);
@@ -260,19 +261,19 @@ fn retriangulate(
     let xy: Vec<[f64; 2]> = verts.iter().map(|&q| proj(g(q), k)).collect();
     // Kept edges: the oriented boundary's, and every edge of the group not
     // in exactly two input triangles (`nonmanifold`, global ids).
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut uses: IdMap<(u32, u32), u32> = IdMap::default();
     for tv in tris {
         for i in 0..3 {
             *uses.entry(ekey(tv[i], tv[(i + 1) % 3])).or_insert(0) += 1;
         }
     }
     // Oriented boundary, normalised to counterclockwise in the projection.
-    let boundary: HashSet<(u32, u32)> = oriented_boundary(tris)
+    let boundary: IdSet<(u32, u32)> = oriented_boundary(tris)
         .into_iter()
         .map(|(u, v)| if sign > 0.0 { (u, v) } else { (v, u) })
         .filter_map(|(u, v)| Some((local(u)?, local(v)?)))
         .collect();
-    let mut seg_set: HashSet<(u32, u32)> = HashSet::new();
+    let mut seg_set: IdSet<(u32, u32)> = IdSet::default();
     for (&e, &n) in &uses {
         let (u, v) = (local(e.0)?, local(e.1)?);
         let on_boundary = boundary.contains(&(u, v)) || boundary.contains(&(v, u));

@@ -653,6 +653,7 @@ impl State {
             first_missing: None,
             in_place_off: false,
             split_bounds_met: false,
+            cover_memo: std::cell::RefCell::default(),
         }
     }
 

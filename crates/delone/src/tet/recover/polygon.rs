@@ -46,7 +46,7 @@
 use delone_predicates::orient2d;
 
 use super::merge::{proj, projection};
-use super::state::{Cover, Group, Polygons, State};
+use super::state::{Cover, CoverMemo, Group, Polygons, State};
 use super::surface::{Kind, Surface};
 use super::types::RecoverError;
 use crate::geom::ids::{IdMap, IdSet};
@@ -192,6 +192,18 @@ impl Polygons {
         out
     }
 
+    /// Some corner of group `g`'s triangles or vertex of its boundary
+    /// chains is not among `n` points.
+    fn missing_vertex(&self, surf: &Surface, g: u32, n: usize) -> bool {
+        let grp = &self.groups[g as usize];
+        let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
+        let chains = grp
+            .bnd
+            .iter()
+            .flat_map(|&(e, _)| surf.chains[e as usize].iter());
+        corners.chain(chains.copied()).any(|w| w as usize >= n)
+    }
+
     /// Face `f` is three points of one boundary chain of the group.
     fn flat(surf: &Surface, f: [u32; 3]) -> bool {
         f.iter().any(|&w| match surf.kind.get(w as usize) {
@@ -210,14 +222,22 @@ impl Polygons {
         tets: &[[u32; 4]],
         pts: &[[f64; 3]],
     ) -> Cover {
+        self.cover_with(surf, g, tets, pts, |w| self.on_group(surf, w, g))
+    }
+
+    /// [`Polygons::cover`] given `on`, the answer of
+    /// [`Polygons::on_group`] for group `g` (a caller that has the groups
+    /// of every vertex at hand answers it without scanning triangles).
+    fn cover_with(
+        &self,
+        surf: &Surface,
+        g: u32,
+        tets: &[[u32; 4]],
+        pts: &[[f64; 3]],
+        on: impl Fn(u32) -> bool,
+    ) -> Cover {
         let grp = &self.groups[g as usize];
-        let n = pts.len();
-        let corners = grp.tris.iter().flat_map(|&t| surf.tris[t as usize]);
-        let chains = grp
-            .bnd
-            .iter()
-            .flat_map(|&(e, _)| surf.chains[e as usize].iter());
-        if corners.chain(chains.copied()).any(|w| w as usize >= n) {
+        if self.missing_vertex(surf, g, pts.len()) {
             // A vertex `pts` does not have (not expected: the callers pass
             // the points of the mesh the surface was refined with): not
             // covered, nothing to split.
@@ -227,14 +247,13 @@ impl Polygons {
                 bare: Vec::new(),
             };
         }
-        let on = |w: u32| self.on_group(surf, w, g);
         let mut faces: Vec<[u32; 3]> = Vec::new();
         let mut flat: Vec<[u32; 3]> = Vec::new();
         let mut drop: Vec<[u32; 3]> = Vec::new();
         let [a, b, c] = surf.tris[grp.tris[0] as usize].map(|w| pts[w as usize]);
         let nt = cross(&sub(&b, &a), &sub(&c, &a));
         for tv in tets {
-            let ons = tv.map(on);
+            let ons = tv.map(&on);
             if ons.iter().filter(|&&x| x).count() < 3 {
                 continue;
             }
@@ -282,13 +301,10 @@ impl Polygons {
         let bset: IdSet<(u32, u32)> = subs.iter().map(|&(_, u, v, _)| ekey(u, v)).collect();
         // Chords (inexact Steiner points, see `Surface::coverage_local`): a flat
         // face joins when one of its edges is a non-boundary edge of a face.
-        let mut edge_faces: IdMap<(u32, u32), Vec<u32>> = IdMap::default();
-        let add = |edge_faces: &mut IdMap<(u32, u32), Vec<u32>>, f: [u32; 3], i: u32| {
+        let mut edge_faces = EdgeFaces::with_capacity(faces.len() * 3 / 2 + 4);
+        let add = |edge_faces: &mut EdgeFaces, f: [u32; 3], i: u32| {
             for k in 0..3 {
-                edge_faces
-                    .entry(ekey(f[k], f[(k + 1) % 3]))
-                    .or_default()
-                    .push(i);
+                edge_faces.push(ekey(f[k], f[(k + 1) % 3]), i);
             }
         };
         for (i, f) in faces.iter().enumerate() {
@@ -302,7 +318,7 @@ impl Polygons {
             for f in flat {
                 let chord = (0..3)
                     .map(|k| ekey(f[k], f[(k + 1) % 3]))
-                    .any(|e| !bset.contains(&e) && edge_faces.contains_key(&e));
+                    .any(|e| !bset.contains(&e) && edge_faces.has(e));
                 if chord {
                     let i = faces.len() as u32;
                     faces.push(f);
@@ -321,13 +337,11 @@ impl Polygons {
         let mut covered = true;
         for &(e, u, v, fwd) in &subs {
             let (pu, pv) = (p2(u), p2(v));
-            let seed = edge_faces.get(&ekey(u, v)).and_then(|l| {
-                l.iter().copied().find(|&i| {
-                    let f = faces[i as usize];
-                    let w = f.iter().copied().find(|&x| x != u && x != v).unwrap_or(u);
-                    let o = orient2d(&pu, &pv, &p2(w));
-                    o * grp.sign > 0.0 || (i as usize >= n_plain && o == 0.0)
-                })
+            let seed = edge_faces.faces(ekey(u, v)).find(|&i| {
+                let f = faces[i as usize];
+                let w = f.iter().copied().find(|&x| x != u && x != v).unwrap_or(u);
+                let o = orient2d(&pu, &pv, &p2(w));
+                o * grp.sign > 0.0 || (i as usize >= n_plain && o == 0.0)
             });
             match seed {
                 Some(i) => {
@@ -349,12 +363,10 @@ impl Polygons {
                 if bset.contains(&e) {
                     continue;
                 }
-                let l = &edge_faces[&e];
-                if l.len() != 2 {
+                let Some(j) = edge_faces.other(e, i) else {
                     covered = false;
                     continue;
-                }
-                let j = if l[0] == i { l[1] } else { l[0] };
+                };
                 if !reached[j as usize] {
                     reached[j as usize] = true;
                     stack.push(j);
@@ -387,6 +399,59 @@ impl Polygons {
             faces: out,
             bare,
         }
+    }
+}
+
+/// The faces at each edge, by index, in the order added: the first two
+/// in the map, any more (a non-manifold fan) in `more` — no list
+/// allocated per edge.
+struct EdgeFaces {
+    /// Per edge: how many faces, the first and the second.
+    map: IdMap<(u32, u32), [u32; 3]>,
+    /// The third and later faces of the edges that have them.
+    more: Vec<((u32, u32), u32)>,
+}
+
+impl EdgeFaces {
+    fn with_capacity(n: usize) -> Self {
+        let mut map = IdMap::default();
+        map.reserve(n);
+        EdgeFaces {
+            map,
+            more: Vec::new(),
+        }
+    }
+
+    /// Adds face `i` at edge `e`.
+    fn push(&mut self, e: (u32, u32), i: u32) {
+        let x = self.map.entry(e).or_insert([0, i, u32::MAX]);
+        match x[0] {
+            0 => {}
+            1 => x[2] = i,
+            _ => self.more.push((e, i)),
+        }
+        x[0] += 1;
+    }
+
+    /// True when some face is at edge `e`.
+    fn has(&self, e: (u32, u32)) -> bool {
+        self.map.contains_key(&e)
+    }
+
+    /// The faces at edge `e`, in the order added.
+    fn faces(&self, e: (u32, u32)) -> impl Iterator<Item = u32> + '_ {
+        let x = self.map.get(&e).copied().unwrap_or([0; 3]);
+        let more = if x[0] > 2 { &self.more[..] } else { &[][..] };
+        [x[1], x[2]]
+            .into_iter()
+            .take(x[0].min(2) as usize)
+            .chain(more.iter().filter(move |m| m.0 == e).map(|m| m.1))
+    }
+
+    /// The other face at edge `e` when it has exactly two, one of them `i`.
+    fn other(&self, e: (u32, u32), i: u32) -> Option<u32> {
+        let x = self.map.get(&e)?;
+        (x[0] == 2).then(|| if x[1] == i { x[2] } else { x[1] })
     }
 }
 
@@ -487,8 +552,24 @@ impl State {
                 &[]
             }
         };
+        // Per vertex: bit `g % 64` set for each of its groups `g`. A
+        // group on three vertices of a tetrahedron has its bit in three of
+        // their masks, so a tetrahedron whose masks share no bit three
+        // times has no face on a group (most of them).
+        let mask: Vec<u64> = (0..nv)
+            .map(|w| {
+                groups_of(w as u32)
+                    .iter()
+                    .fold(0, |m, &g| m | 1 << (g % 64))
+            })
+            .collect();
+        let mask_of = |w: u32| mask.get(w as usize).copied().unwrap_or(0);
         let mut gs: Vec<u32> = Vec::new();
         for tv in tets {
+            let [a, b, c, d] = tv.map(mask_of);
+            if (a & b & (c | d)) | (c & d & (a | b)) == 0 {
+                continue;
+            }
             // Every face holds the first or the second vertex.
             gs.clear();
             gs.extend_from_slice(groups_of(tv[0]));
@@ -499,6 +580,10 @@ impl State {
             gs.sort_unstable();
             gs.dedup();
             for &g in &gs {
+                let bit = 1 << (g % 64);
+                if [a, b, c, d].iter().filter(|&&m| m & bit != 0).count() < 3 {
+                    continue;
+                }
                 let n = tv
                     .iter()
                     .filter(|&&w| groups_of(w).binary_search(&g).is_ok())
@@ -508,9 +593,39 @@ impl State {
                 }
             }
         }
-        for (g, tets) in bucket.iter().enumerate() {
-            let c = self.poly.cover(&self.surf, g as u32, tets, pts);
-            self.set_group(g as u32, c, on, covered);
+        // A group whose tetrahedra and boundary chains are those of the
+        // last pass has the coverage found then (most groups: the flips
+        // and points of a round change few of them).
+        let mut memo = self.cover_memo.borrow_mut();
+        memo.resize_with(bucket.len(), CoverMemo::default);
+        let mut chains: Vec<u32> = Vec::new();
+        for (g, (tets, m)) in bucket.into_iter().zip(memo.iter_mut()).enumerate() {
+            let g = g as u32;
+            if self.poly.missing_vertex(&self.surf, g, pts.len()) {
+                let c = self.poly.cover(&self.surf, g, &tets, pts);
+                self.set_group(g, c, on, covered);
+                continue;
+            }
+            chains.clear();
+            for &(e, _) in &self.poly.groups[g as usize].bnd {
+                let ch = &self.surf.chains[e as usize];
+                chains.push(ch.len() as u32);
+                chains.extend_from_slice(ch);
+            }
+            let c = match &m.cover {
+                Some(c) if m.tets == tets && m.chains == chains => c.clone(),
+                _ => {
+                    let bit = 1 << (g % 64);
+                    let on_g =
+                        |w: u32| mask_of(w) & bit != 0 && groups_of(w).binary_search(&g).is_ok();
+                    let c = self.poly.cover_with(&self.surf, g, &tets, pts, on_g);
+                    m.cover = Some(c.clone());
+                    m.tets = tets;
+                    std::mem::swap(&mut m.chains, &mut chains);
+                    c
+                }
+            };
+            self.set_group(g, c, on, covered);
         }
     }
 
@@ -580,5 +695,39 @@ impl State {
             Some((_, e, u, v)) => self.split_edge(dt, e, u, v),
             None => Ok(false),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The faces of an edge come back in the order added, however the
+    /// edges' pushes interleave; `other` answers for two-face edges only.
+    #[test]
+    fn edge_faces_keep_the_order_added() {
+        let (e, f, d) = ((1, 2), (4, 5), (2, 3));
+        let mut ef = EdgeFaces::with_capacity(4);
+        for (k, i) in [
+            (e, 5),
+            (e, 3),
+            (f, 1),
+            (f, 2),
+            (e, 9),
+            (f, 8),
+            (e, 4),
+            (d, 7),
+            (d, 1),
+        ] {
+            ef.push(k, i);
+        }
+        assert_eq!(ef.faces(e).collect::<Vec<_>>(), [5, 3, 9, 4]);
+        assert_eq!(ef.faces(f).collect::<Vec<_>>(), [1, 2, 8]);
+        assert_eq!(ef.faces(d).collect::<Vec<_>>(), [7, 1]);
+        assert!(ef.faces((0, 1)).next().is_none());
+        assert!(ef.has(d) && !ef.has((0, 1)));
+        assert_eq!((ef.other(d, 7), ef.other(d, 1)), (Some(1), Some(7)));
+        assert_eq!((ef.other(e, 5), ef.other(f, 1)), (None, None));
+        assert_eq!(ef.other((0, 1), 0), None);
     }
 }

@@ -85,6 +85,25 @@ pub(super) struct State {
     /// `State::split_in_place` met pieces that keep failing once (its
     /// round then ended; the next one splits in place again).
     pub(super) split_bounds_met: bool,
+    /// Per merged group: the last coverage the global pass computed and
+    /// what it was computed from (`State::groups_global`).
+    pub(super) cover_memo: std::cell::RefCell<Vec<CoverMemo>>,
+}
+
+/// A group's coverage ([`Polygons::cover`]) with its inputs that change
+/// during the recovery: the tetrahedra given, and the chains of the
+/// group's boundary edges. Everything else it reads is fixed per point id
+/// within one [`State`] (coordinates, the triangles a point lies on, its
+/// kind), so the same inputs give the same coverage.
+#[derive(Default)]
+pub(super) struct CoverMemo {
+    /// Per boundary edge use of the group: its chain's length, then the
+    /// chain.
+    pub(super) chains: Vec<u32>,
+    /// The tetrahedra, as given.
+    pub(super) tets: Vec<[u32; 4]>,
+    /// The coverage found (`None`: none yet).
+    pub(super) cover: Option<Cover>,
 }
 
 /// One merged group.
@@ -113,6 +132,7 @@ pub(crate) struct Polygons {
 }
 
 /// What [`Polygons::cover`] found for one group.
+#[derive(Clone)]
 pub(crate) struct Cover {
     /// The faces reached by the flood fill (sorted triples, sorted).
     pub(crate) faces: Vec<[u32; 3]>,
