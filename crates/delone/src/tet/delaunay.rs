@@ -1386,22 +1386,22 @@ impl Core {
 /// empty).
 #[inline(always)]
 fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> bool {
-    finite_conflict_v::<W>(g, *c.v(t), id)
+    finite_conflict_v::<W>(g, *c.v(t), id, &g.pts[id as usize])
 }
 
 /// [`finite_conflict`] of the finite cell with vertices `tv` (possibly
-/// marked).
+/// marked); `p` is point `id` (loaded once per insertion).
 #[inline(always)]
-fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32) -> bool {
+fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32, p: &[f64; 3]) -> bool {
     let [a, b, c, d] = tv;
     let a = a & UNMARK;
     let q = |i: u32| &g.pts[i as usize];
     let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
     // Swap a and b: insphere's convention wants orient3d > 0.
     let s = if W {
-        insphere_weighted(q(b), q(a), q(c), q(d), q(id), w(b), w(a), w(c), w(d), w(id))
+        insphere_weighted(q(b), q(a), q(c), q(d), p, w(b), w(a), w(c), w(d), w(id))
     } else {
-        insphere(q(b), q(a), q(c), q(d), q(id))
+        insphere(q(b), q(a), q(c), q(d), p)
     };
     if s != 0.0 {
         return s > 0.0;
@@ -1424,15 +1424,16 @@ fn in_conflict<C: Cells, const W: bool>(
     t: u32,
     tv: [u32; 4],
     id: u32,
+    p: &[f64; 3],
 ) -> Option<bool> {
     if tv[3] != INF {
-        return Some(finite_conflict_v::<W>(g, tv, id));
+        return Some(finite_conflict_v::<W>(g, tv, id, p));
     }
     // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
     // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
     // and with points on its plane iff the finite cell behind does.
     let [a, b, d] = FACET[3].map(|i| &g.pts[(tv[i] & UNMARK) as usize]);
-    let o = orient3d(a, b, d, &g.pts[id as usize]);
+    let o = orient3d(a, b, d, p);
     if o != 0.0 {
         return Some(o < 0.0);
     }
@@ -1508,7 +1509,7 @@ fn insert_in<C: CellsMut, const W: bool>(
                 continue;
             }
             if mark & MARK_KEEP == 0 {
-                match in_conflict::<C, W>(c, g, u, tu, id) {
+                match in_conflict::<C, W>(c, g, u, tu, id, p) {
                     Some(true) => {
                         c.v_mut(u)[0] |= MARK_CAVITY;
                         cavity.push(u);
@@ -1524,8 +1525,11 @@ fn insert_in<C: CellsMut, const W: bool>(
                 kept.push(u);
             }
             let [a, b, d] = FACET[f].map(|i| tv[i]);
-            // Keep INF in position 3 with an even permutation.
-            let (cell, fp) = if a == INF {
+            // Keep INF in position 3 with an even permutation (only a
+            // ghost has it).
+            let (cell, fp) = if t3 != INF {
+                ([a, b, d, id], 3)
+            } else if a == INF {
                 ([id, d, b, a], 0)
             } else if b == INF {
                 ([d, id, a, b], 1)
