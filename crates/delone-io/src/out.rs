@@ -51,13 +51,30 @@ fn decimal_len(v: u64) -> usize {
 /// x / 10 = x·103 >> 10 for x < 100), on all lanes at once.
 #[inline(always)]
 fn eight_digits(v: u32) -> u64 {
+    digit_values(v) | 0x3030_3030_3030_3030
+}
+
+/// [`eight_digits`] before the ASCII offset: the digit values 0–9.
+#[inline(always)]
+fn digit_values(v: u32) -> u64 {
     let v = u64::from(v);
     let x = (v / 10_000) | ((v % 10_000) << 32);
     let h = ((x * 5243) >> 19) & 0x0000_007F_0000_007F;
     let y = h | ((x - h * 100) << 16);
     let t = ((y * 103) >> 10) & 0x000F_000F_000F_000F;
-    let z = t | ((y - t * 10) << 8);
-    z | 0x3030_3030_3030_3030
+    t | ((y - t * 10) << 8)
+}
+
+/// The digits of `v < 10^8` without leading zeros, as ASCII in the low
+/// bytes of the result (first digit lowest), and their count. The leading
+/// zeros are the zero bytes at the low end of [`digit_values`], counted
+/// by its trailing zero bits (the last digit's byte is flagged so that
+/// `0` keeps one digit).
+#[inline(always)]
+fn short_digits(v: u32) -> (u64, usize) {
+    let z = digit_values(v);
+    let skip = (z | 1 << 56).trailing_zeros() & !7;
+    ((z | 0x3030_3030_3030_3030) >> skip, 8 - (skip / 8) as usize)
 }
 
 pub(crate) struct Out<W: Write> {
@@ -92,29 +109,46 @@ impl<W: Write> Out<W> {
     /// formatters of [`Out::rows`] it otherwise stays a call.
     #[inline(always)]
     pub(crate) fn uint(&mut self, v: u64) {
+        if v < 100_000_000 {
+            let (d, len) = short_digits(v as u32);
+            let end = self.buf.len() + len;
+            self.buf.extend_from_slice(&d.to_le_bytes());
+            self.buf.truncate(end);
+            return;
+        }
         let len = decimal_len(v);
         let end = self.buf.len() + len;
-        if len <= 8 {
-            let d = eight_digits(v as u32) >> (8 * (8 - len));
-            self.buf.extend_from_slice(&d.to_le_bytes());
-        } else {
-            let mut tmp = [0u8; 20];
-            let (mut v, mut i) = (v, len);
-            while v >= 100 {
-                let r = (v % 100) as usize * 2;
-                v /= 100;
-                i -= 2;
-                tmp[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
-            }
-            if v >= 10 {
-                let r = v as usize * 2;
-                tmp[..2].copy_from_slice(&PAIRS[r..r + 2]);
-            } else {
-                tmp[0] = b'0' + v as u8;
-            }
-            self.buf.extend_from_slice(&tmp);
+        let mut tmp = [0u8; 20];
+        let (mut v, mut i) = (v, len);
+        while v >= 100 {
+            let r = (v % 100) as usize * 2;
+            v /= 100;
+            i -= 2;
+            tmp[i..i + 2].copy_from_slice(&PAIRS[r..r + 2]);
         }
+        if v >= 10 {
+            let r = v as usize * 2;
+            tmp[..2].copy_from_slice(&PAIRS[r..r + 2]);
+        } else {
+            tmp[0] = b'0' + v as u8;
+        }
+        self.buf.extend_from_slice(&tmp);
         self.buf.truncate(end);
+    }
+
+    /// A space, then [`Out::uint`]: below 10^7 one eight-byte copy.
+    #[inline(always)]
+    pub(crate) fn space_uint(&mut self, v: u64) {
+        if v < 10_000_000 {
+            let (d, len) = short_digits(v as u32);
+            let end = self.buf.len() + len + 1;
+            self.buf
+                .extend_from_slice(&(d << 8 | u64::from(b' ')).to_le_bytes());
+            self.buf.truncate(end);
+        } else {
+            self.buf.push(b' ');
+            self.uint(v);
+        }
     }
 
     #[inline]
@@ -156,9 +190,58 @@ impl<W: Write> Out<W> {
 /// Rows per block of [`Out::rows`].
 const BLOCK_ROWS: usize = 1 << 13;
 
+/// The decimal text of consecutive row numbers, counted up in place (the
+/// number of a row is its predecessor's plus one: no division).
+struct RowNumber {
+    /// The digits, first digit at 0; `len..` is zeros.
+    digits: [u8; 24],
+    len: usize,
+}
+
+impl RowNumber {
+    fn new(v: u64) -> Self {
+        let text = v.to_string();
+        let mut digits = [0u8; 24];
+        digits[..text.len()].copy_from_slice(text.as_bytes());
+        RowNumber {
+            digits,
+            len: text.len(),
+        }
+    }
+
+    /// Appends the number, then counts up.
+    #[inline(always)]
+    fn push_next(&mut self, buf: &mut Vec<u8>) {
+        let end = buf.len() + self.len;
+        if self.len <= 16 {
+            // A fixed-size copy cut back (no `memcpy` call).
+            buf.extend_from_slice(&self.digits[..16]);
+            buf.truncate(end);
+        } else {
+            buf.extend_from_slice(&self.digits[..self.len]);
+        }
+        let mut k = self.len;
+        loop {
+            if k == 0 {
+                // All nines: now a one and zeros, one digit longer.
+                self.digits[0] = b'1';
+                self.digits[self.len] = b'0';
+                self.len += 1;
+                return;
+            }
+            k -= 1;
+            if self.digits[k] != b'9' {
+                self.digits[k] += 1;
+                return;
+            }
+            self.digits[k] = b'0';
+        }
+    }
+}
+
 impl<W: Write> Out<W> {
-    /// Writes rows `0..n`, each formatted by `row` and ended by a newline,
-    /// after what is buffered. With more than one thread, blocks of rows
+    /// Writes rows `0..n`, each its number `i + first`, then what `row`
+    /// appends, then a newline, after what is buffered. With more than one thread, blocks of rows
     /// are formatted on up to `threads` threads (block `k` on thread
     /// `k mod threads`, at most two blocks ahead of the writer per thread)
     /// while this thread writes the finished blocks in order: the bytes do
@@ -166,6 +249,7 @@ impl<W: Write> Out<W> {
     pub(crate) fn rows(
         &mut self,
         n: usize,
+        first: u64,
         threads: usize,
         row: impl Fn(&mut Out<Vec<u8>>, usize) + Sync,
     ) -> std::io::Result<()> {
@@ -173,7 +257,9 @@ impl<W: Write> Out<W> {
         let blocks = n.div_ceil(BLOCK_ROWS);
         let fill = |b: &mut Out<Vec<u8>>, k: usize| {
             b.buf.clear();
+            let mut number = RowNumber::new((k * BLOCK_ROWS) as u64 + first);
             for i in k * BLOCK_ROWS..n.min((k + 1) * BLOCK_ROWS) {
+                number.push_next(&mut b.buf);
                 row(b, i);
                 b.buf.push(b'\n');
             }
@@ -252,7 +338,10 @@ pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
     // Fast path: `zmij`'s fixed notation is Rust's `{x}` but for the
     // ".0" of integers and the ties of `shortest_digits`, which need the
     // last digit to weigh 2^(q+1) for the lowest set bit 2^q of |x|.
-    if !s.contains(&b'e') && (1e-5..1e16).contains(&x.abs()) {
+    // In this range an exponent has at most two digits and a sign: an
+    // 'e' would be among the last four bytes.
+    let n = s.len();
+    if (1e-5..1e16).contains(&x.abs()) && (n < 5 || (s[n - 3] != b'e' && s[n - 4] != b'e')) {
         let (int, frac) = match s.iter().position(|&c| c == b'.') {
             Some(p) => (&s[..p], &s[p + 1..]),
             None => (s, &s[s.len()..]),
@@ -262,7 +351,7 @@ pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
             return;
         }
         if odd_parts(x).1 != -(frac.len() as i32) - 1 {
-            buf.extend_from_slice(s);
+            push_bytes(buf, s);
             return;
         }
     }
@@ -316,6 +405,26 @@ pub(crate) fn push_float(buf: &mut Vec<u8>, x: f64) {
             buf.push(b'0' + e as u8);
         }
     }
+}
+
+/// Appends `s`: from 8 to 24 bytes as overlapping eight-byte copies (the
+/// last one cut back first), which the compiler inlines where a copy of
+/// variable length calls `memcpy`.
+#[inline(always)]
+fn push_bytes(buf: &mut Vec<u8>, s: &[u8]) {
+    let n = s.len();
+    if !(8..=24).contains(&n) {
+        buf.extend_from_slice(s);
+        return;
+    }
+    let end = buf.len() + n;
+    let eight = |k: usize| -> [u8; 8] { s[k..k + 8].try_into().unwrap_or_default() };
+    buf.extend_from_slice(&eight(0));
+    if n > 16 {
+        buf.extend_from_slice(&eight(8));
+    }
+    buf.truncate(end - 8);
+    buf.extend_from_slice(&eight(n - 8));
 }
 
 /// `(m, q)` with `m` odd and `|x| = m·2^q` (`x` finite, nonzero).
@@ -552,5 +661,85 @@ mod tests {
             s,
             format!("0 7 -1 10 1234567890 {} {} ", i64::MIN, i64::MAX)
         );
+    }
+
+    /// Every digit count of `uint` and `space_uint`, around each power of
+    /// ten (where the count changes) and at random.
+    #[test]
+    fn uint_and_space_uint_digit_counts() {
+        let mut s: u64 = 11;
+        let vals = (0..20u32)
+            .flat_map(|k| {
+                let p = 10u64.pow(k);
+                [p - 1, p, p + 1, 2 * p - 1, 5 * p]
+            })
+            .chain([0, u64::MAX, u64::MAX - 1, u64::from(u32::MAX)])
+            .chain((0..200_000).map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
+                (s >> 33) >> (s & 31)
+            }));
+        let mut o = Out::new(Vec::new());
+        for v in vals {
+            o.buf.clear();
+            o.buf.push(b'x');
+            o.uint(v);
+            o.space_uint(v);
+            assert_eq!(o.buf, format!("x{v} {v}").as_bytes());
+        }
+    }
+
+    /// Row numbers counted up across carries and digit counts, from any
+    /// start, as `rows` lays them out.
+    #[test]
+    fn row_numbers_count_up() {
+        for start in [
+            0u64,
+            1,
+            8,
+            9,
+            98,
+            99_990,
+            9_999_999_990,
+            10u64.pow(16) - 5,
+            u64::MAX - 30,
+        ] {
+            let mut n = RowNumber::new(start);
+            let mut buf = b"x".to_vec();
+            let mut want = "x".to_string();
+            for k in 0..30 {
+                n.push_next(&mut buf);
+                buf.push(b' ');
+                want += &format!("{} ", start + k);
+            }
+            assert_eq!(String::from_utf8(buf).unwrap(), want);
+        }
+    }
+
+    /// Rows written on one and several threads: numbered from `first`,
+    /// the same bytes, across several blocks.
+    #[test]
+    fn rows_numbered_on_threads() {
+        let n = 3 * BLOCK_ROWS + 17;
+        let want: String = (0..n).map(|i| format!("{} {}\n", i + 7, i * 3)).collect();
+        for threads in [1, 2, 3] {
+            let mut out = Vec::new();
+            let mut o = Out::new(&mut out);
+            o.rows(n, 7, threads, |o, i| o.space_uint(i as u64 * 3))
+                .unwrap();
+            o.finish().unwrap();
+            assert_eq!(String::from_utf8(out).unwrap(), want);
+        }
+    }
+
+    /// Floats whose text has 1 to 24 bytes, through `push_bytes`.
+    #[test]
+    fn pushed_bytes_of_every_length() {
+        let text: Vec<u8> = (0..30u8).map(|k| b'a' + k).collect();
+        for n in 0..=30 {
+            let mut buf = b"xy".to_vec();
+            push_bytes(&mut buf, &text[..n]);
+            assert_eq!(&buf[2..], &text[..n]);
+            assert_eq!(&buf[..2], b"xy");
+        }
     }
 }

@@ -33,9 +33,12 @@ impl<'a> Records<'a> {
     /// its line number, or `None` at the end of the input.
     ///
     /// One pass over the bytes of each line: tokens are runs of bytes that
-    /// are neither ASCII whitespace nor `#`; a `#` ends the record.
+    /// are neither ASCII whitespace nor `#`; a `#` ends the record. Each
+    /// byte is classified by a table ([`CLASS`]): a run of blanks, then a
+    /// run of token bytes, until a newline or `#`.
     pub(crate) fn next(&mut self, toks: &mut Vec<&'a [u8]>) -> Option<usize> {
         let rest = self.rest;
+        let class = |i: usize| rest.get(i).map_or(END, |&b| CLASS[usize::from(b)]);
         let mut i = 0;
         loop {
             if i >= rest.len() {
@@ -44,24 +47,18 @@ impl<'a> Records<'a> {
             }
             self.line += 1;
             toks.clear();
-            let mut start = usize::MAX;
             // Scan the line up to its newline (or a comment).
-            while i < rest.len() {
-                let b = rest[i];
-                if b == b'\n' || b == b'#' {
+            loop {
+                while class(i) == BLANK {
+                    i += 1;
+                }
+                if class(i) != TOKEN {
                     break;
                 }
-                if b.is_ascii_whitespace() {
-                    if start != usize::MAX {
-                        toks.push(&rest[start..i]);
-                        start = usize::MAX;
-                    }
-                } else if start == usize::MAX {
-                    start = i;
+                let start = i;
+                while class(i) == TOKEN {
+                    i += 1;
                 }
-                i += 1;
-            }
-            if start != usize::MAX {
                 toks.push(&rest[start..i]);
             }
             // Skip a comment, then the newline.
@@ -79,6 +76,28 @@ impl<'a> Records<'a> {
         }
     }
 }
+
+/// [`CLASS`] of a byte inside a token.
+const TOKEN: u8 = 0;
+/// [`CLASS`] of ASCII whitespace other than the newline.
+const BLANK: u8 = 1;
+/// [`CLASS`] of the newline and `#` (the end of a record's text); also
+/// the class of the end of the input.
+const END: u8 = 2;
+
+/// The class of each byte for [`Records::next`]: [`BLANK`] for the ASCII
+/// whitespace of `u8::is_ascii_whitespace` but the newline, [`END`] for
+/// the newline and `#`, [`TOKEN`] for every other byte.
+const CLASS: [u8; 256] = {
+    let mut t = [TOKEN; 256];
+    t[b' ' as usize] = BLANK;
+    t[b'\t' as usize] = BLANK;
+    t[0x0C] = BLANK;
+    t[b'\r' as usize] = BLANK;
+    t[b'\n' as usize] = END;
+    t[b'#' as usize] = END;
+    t
+};
 
 /// Plain decimal integers (`[+-]?[0-9]{1,18}`) without the `str` machinery;
 /// `None` for anything else (the caller falls back to `str::parse`).
@@ -123,35 +142,33 @@ fn fast_f64(tok: &[u8]) -> Option<f64> {
         b'+' => (false, &tok[1..]),
         _ => (false, tok),
     };
-    let mut i = 0;
-    let mut m: u64 = 0;
-    let mut nd = 0usize; // significant digits accumulated
-    let mut any = false;
+    // The digits before and after the point, eight at a time where they
+    // can; at most 19 digits in all fit `m` whatever their values.
+    let (mut m, mut i) = digit_run(s, 0, 0);
     let mut exp: i64 = 0;
-    while i < s.len() && s[i].is_ascii_digit() {
-        let d = u64::from(s[i] - b'0');
-        if m != 0 || d != 0 {
-            nd += 1;
-        }
-        m = m.wrapping_mul(10).wrapping_add(d);
-        any = true;
-        i += 1;
+    let mut any = i > 0;
+    let point = i < s.len() && s[i] == b'.';
+    if point {
+        let (m2, j) = digit_run(s, i + 1, m);
+        exp = -((j - i - 1) as i64);
+        any |= j > i + 1;
+        m = m2;
+        i = j;
     }
-    if i < s.len() && s[i] == b'.' {
-        i += 1;
-        while i < s.len() && s[i].is_ascii_digit() {
-            let d = u64::from(s[i] - b'0');
-            if m != 0 || d != 0 {
-                nd += 1;
-            }
-            m = m.wrapping_mul(10).wrapping_add(d);
-            exp -= 1;
-            any = true;
-            i += 1;
-        }
-    }
-    if !any || nd > 19 {
+    if !any {
         return None;
+    }
+    if i - usize::from(point) > 19 {
+        // More digits: only the significant ones (after leading zeros)
+        // count towards the 19.
+        let nd = s[..i]
+            .iter()
+            .filter(|c| c.is_ascii_digit())
+            .skip_while(|&&c| c == b'0')
+            .count();
+        if nd > 19 {
+            return None;
+        }
     }
     if i < s.len() && (s[i] == b'e' || s[i] == b'E') {
         i += 1;
@@ -193,12 +210,96 @@ fn fast_f64(tok: &[u8]) -> Option<f64> {
         // m·10^e < 2^64·10^19 < 2^128 is an exact integer; the conversion
         // rounds it to nearest.
         (u128::from(m) * 10u128.pow(exp as u32)) as f64
+    } else if (-19..0).contains(&exp) {
+        match nearest_quotient(m, (-exp) as u32) {
+            Some(v) => v,
+            None => quotient(m, (-exp) as u32)?,
+        }
     } else if (-27..0).contains(&exp) {
         quotient(m, (-exp) as u32)?
     } else {
         return None;
     };
     Some(if neg { -v } else { v })
+}
+
+/// Appends the digits of `s` from `i` on to `m` (wrapping): eight at a
+/// time while eight digits follow (`m·10^8 + value`, the eight bytes
+/// converted at once), then one by one. Returns `m` and the index after
+/// the digits.
+#[inline(always)]
+fn digit_run(s: &[u8], mut i: usize, mut m: u64) -> (u64, usize) {
+    while let Some(chunk) = s.get(i..i + 8) {
+        let w = u64::from_le_bytes(chunk.try_into().unwrap_or_default());
+        // All eight bytes in '0'..='9': high nibbles 3, and adding 6 to
+        // each keeps them there.
+        let all_digits = ((w & 0xF0F0_F0F0_F0F0_F0F0)
+            | (((w.wrapping_add(0x0606_0606_0606_0606)) & 0xF0F0_F0F0_F0F0_F0F0) >> 4))
+            == 0x3333_3333_3333_3333;
+        if !all_digits {
+            break;
+        }
+        // Pairs, then quads, then the eight-digit value.
+        let v = w - 0x3030_3030_3030_3030;
+        let v = v.wrapping_mul(10).wrapping_add(v >> 8);
+        let v = ((v & 0x0000_00FF_0000_00FF)
+            .wrapping_mul(100 + (1_000_000 << 32))
+            .wrapping_add(((v >> 16) & 0x0000_00FF_0000_00FF).wrapping_mul(1 + (10_000 << 32))))
+            >> 32;
+        m = m.wrapping_mul(100_000_000).wrapping_add(v & 0xFFFF_FFFF);
+        i += 8;
+    }
+    while let Some(&c) = s.get(i) {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    (m, i)
+}
+
+/// `m / 10^k` correctly rounded (`0 < m < 2^64`, `k ≤ 19`) without
+/// dividing integers: the quotient of the rounded doubles is within two
+/// units in the last place of the exact one; from it, the walk towards
+/// `m / 10^k` stops at the double whose rounding interval holds it, found
+/// by exact integer comparisons with the interval's ends (`y = M·2^E`, ends
+/// `(2M ± 1)·2^(E-1)`, compared as `m·2^(1-E)` with `(2M ± 1)·10^k`;
+/// a tie goes to the even significand). `None` when the result is below
+/// 2^-10 or not below 2^53 (the shift would not fit) or not found within
+/// four steps.
+fn nearest_quotient(m: u64, k: u32) -> Option<f64> {
+    let p = 10u64.pow(k);
+    let mut y = m as f64 / POW10[k as usize];
+    for _ in 0..4 {
+        let bits = y.to_bits();
+        let biased = (bits >> 52) as i32;
+        // Normal values in [2^-10, 2^53) only.
+        if !(1013..1076).contains(&biased) {
+            return None;
+        }
+        let big_m = (bits & ((1 << 52) - 1)) | 1 << 52;
+        let e = biased - 1075; // y = big_m·2^e, -62 <= e <= 0
+        let lhs = u128::from(m) << (1 - e);
+        let hi = u128::from(2 * big_m + 1) * u128::from(p);
+        // At a power of two the lower neighbour is half as far.
+        let lo = if big_m == 1 << 52 {
+            u128::from(4 * big_m - 1) * u128::from(p)
+        } else {
+            u128::from(2 * big_m - 1) * u128::from(p)
+        };
+        let lhs_lo = if big_m == 1 << 52 { lhs << 1 } else { lhs };
+        let even = big_m & 1 == 0;
+        let above_lo = lhs_lo > lo || (lhs_lo == lo && even);
+        let below_hi = lhs < hi || (lhs == hi && even);
+        if above_lo && below_hi {
+            return Some(y);
+        }
+        // Towards the exact quotient (the next interval is adjacent).
+        y = if below_hi { y.next_down() } else { y.next_up() };
+    }
+    None
 }
 
 /// `m / 10^k` correctly rounded (`m > 0`, `k ≤ 27`), by integer division:
@@ -919,6 +1020,45 @@ mod tests {
             assert_eq!(got.to_bits(), t.parse::<f64>().unwrap().to_bits(), "{t}");
         }
         assert_eq!(quotient(1, 27), None);
+    }
+
+    /// The quotient by comparisons gives `str::parse`'s double (or none):
+    /// random significands and scales, `repr`-style coordinates, exact
+    /// ties (to even) and the ends of the binades.
+    #[test]
+    fn nearest_quotient_rounds_as_str_parse() {
+        let mut r = xorshift(0x5eed_00f0_c0ff_ee00);
+        let check = |m: u64, k: u32| {
+            let want: f64 = format!("{m}e-{k}").parse().unwrap();
+            if let Some(got) = nearest_quotient(m, k) {
+                assert_eq!(got.to_bits(), want.to_bits(), "{m}e-{k}");
+            }
+        };
+        let mut found = 0;
+        for _ in 0..300_000 {
+            let m = (r() >> (r() % 40)).max(1);
+            let k = (r() % 19) as u32 + 1;
+            check(m, k);
+            found += usize::from(nearest_quotient(m, k).is_some());
+        }
+        assert!(found > 100_000, "{found}");
+        // Ties: (2M + 1)·2^-k, and below a power of two (4M - 1)·2^-k.
+        for k in 1..=4u32 {
+            for _ in 0..20_000 {
+                let big_m = (1u64 << 52) | (r() >> 12);
+                check((2 * big_m + 1) * 5u64.pow(k), k);
+                check((2 * big_m) * 5u64.pow(k), k);
+            }
+            check(((1u64 << 54) - 1) * 5u64.pow(k), k);
+            check(((1u64 << 54) + 1) * 5u64.pow(k), k);
+        }
+        // Python's `repr` of uniform doubles in [0, 1): 16 or 17 digits.
+        for _ in 0..100_000 {
+            let x = (r() >> 11) as f64 / (1u64 << 53) as f64;
+            let t = format!("{x:?}");
+            let got = parse_f64(t.as_bytes(), 1, "x").ok();
+            assert_eq!(got.map(f64::to_bits), Some(x.to_bits()), "{t}");
+        }
     }
 
     #[test]

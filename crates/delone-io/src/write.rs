@@ -92,8 +92,7 @@ pub fn write_node_threads<W: Write, const D: usize>(
     o.uint(n_attributes as u64);
     o.str(if markers.is_some() { " 1" } else { " 0" });
     o.byte(b'\n');
-    o.rows(points.len(), threads, |o, i| {
-        o.uint(i as u64 + u64::from(first_index));
+    o.rows(points.len(), u64::from(first_index), threads, |o, i| {
         for &c in &points[i] {
             o.byte(b' ');
             o.float(c);
@@ -170,11 +169,9 @@ pub fn write_ele_threads<W: Write, const K: usize>(
     o.uint(n_attributes as u64);
     o.byte(b'\n');
     let f = u64::from(first_index);
-    o.rows(elements.len(), threads, |o, i| {
-        o.uint(i as u64 + f);
+    o.rows(elements.len(), f, threads, |o, i| {
         for &v in &elements[i] {
-            o.byte(b' ');
-            o.uint(u64::from(v) + f);
+            o.space_uint(u64::from(v) + f);
         }
         for &a in &attributes[i * n_attributes..(i + 1) * n_attributes] {
             o.byte(b' ');

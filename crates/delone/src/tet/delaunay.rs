@@ -14,9 +14,9 @@
 //!    tiny hash table of the cavity boundary's edges, reusing dead slots.
 //!
 //! The insertion (`insert_in`) is written once over the cells it may touch
-//! (`Cells`): the whole arrays, or the slot range of one part of a
+//! (`Cells`): the whole arrays, or the slots of one group of parts of a
 //! parallel insertion, where a point whose walk or cavity reaches a cell
-//! outside the range is left for later and nothing is changed.
+//! outside them is left for later and nothing is changed.
 //!
 //! Every decision is an exact predicate. Cospherical configurations are
 //! resolved by [`delone_predicates::insphere_sos`] (symbolic perturbation of the
@@ -52,18 +52,21 @@
 //!   compacts in place (no second copy).
 //! * **Parallel insertion** (Delaunay, one-call constructor, every BRIO round
 //!   of at least 65,536 points, one after the other: on 1M points the last
-//!   two): the round's points are cut into two runs
-//!   of consecutive Hilbert keys; every cell goes to the part holding the key
-//!   of its centroid and the cells are copied so that each part owns one slot
-//!   range with room for what it will create (zeroed memory: slots never used
-//!   are never touched); the centroid keys and the copy run on the threads
-//!   too. The parts insert their points on up to `threads`
-//!   threads (`crate::par::run_dynamic`); the points they leave (near part
-//!   borders: 4.7% of 1M uniform points) are inserted by passes over unions
-//!   of neighbouring parts, the last one serial. A part reads and writes only
-//!   its own range and leaves a point as soon as it would touch another, so
-//!   its result does not depend on the other parts' progress: the arrays,
-//!   hence the output, are the same for every thread count.
+//!   two): the round's points fall in four parts, the quarters of their box
+//!   cut at the medians of its two longest axes `x` and `y`; every cell goes
+//!   to the quarter holding its centroid and the cells are copied so that
+//!   each part owns one block of slots with room for what it will create
+//!   (zeroed memory: slots never used are never touched); the centroids and
+//!   the copy run on the threads too. Two passes insert the points in
+//!   groups of two parts side by side on up to `threads` threads
+//!   (`crate::par::run_dynamic`): first the halves `x-` and `x+`, which also
+//!   leave the points within 1.5 point spacings of their border, then the
+//!   halves `y+` and `y-`, which split those between them; the few left
+//!   (near the line where the medians' planes cross: 0.4% of 1M uniform
+//!   points) are inserted serially. A group reads and writes only its own
+//!   blocks and leaves a point as soon as it would touch another group's
+//!   cell, so its result does not depend on the other group's progress:
+//!   the arrays, hence the output, are the same for every thread count.
 //! * Duplicates are found at location time (bit-equal to a vertex of the
 //!   containing cell) and mapped to the lowest index of their group.
 //! * Regular triangulations run the same code monomorphised on a const flag:
@@ -117,12 +120,22 @@ const MARK_KEEP: u32 = 1 << 30;
 const UNMARK: u32 = MARK_KEEP - 1;
 
 /// Number of parts a BRIO round is inserted in (see `Core::insert_parts`)
-/// when it has at least [`PARALLEL_MIN_POINTS`] points.
-/// Each further halving of the parts leaves more points near part borders
-/// for a later pass: on 1M uniform points 2 parts leave 4.7% of the round
-/// to the serial pass, 8 parts 13.5% to the next pass and cost a third
-/// more work in all (the same 4.7% reach the serial pass).
-const PARTS: usize = 2;
+/// when it has at least [`PARALLEL_MIN_POINTS`] points: the quarters of
+/// the points' box cut at the medians of its two longest axes, `x` and
+/// `y`, numbered around the centre: `(x-, y-)`, `(x-, y+)`, `(x+, y+)`,
+/// `(x+, y-)` (their blocks of slots in this order).
+const PARTS: usize = 4;
+
+/// The passes of a parallel insertion: groups of parts inserted side by
+/// side. First the halves `x-` and `x+` (the first pass also leaves the
+/// points near their border), then the halves `y+` and `y-`, which split
+/// the points left near `x`'s median between them (`y-` owns two blocks
+/// of slots, the first and the last).
+const PASSES: [&[&[usize]]; 2] = [&[&[0, 1], &[2, 3]], &[&[1, 2], &[3, 0]]];
+
+/// How far from its group's borders, in spacings of the points inserted
+/// before the round, the first pass leaves points for the second.
+const DEFER_SPACINGS: f64 = 1.5;
 
 /// Smallest BRIO round inserted in parts.
 const PARALLEL_MIN_POINTS: usize = 1 << 16;
@@ -348,15 +361,31 @@ impl CellsMut for Core {
     }
 }
 
-/// The slot range `base..base + v.len()` of the shared arrays, owned by one
-/// part of a parallel insertion: its cells, its free slots, its walk state.
-struct Part<'c> {
+/// The slots of one part of a parallel insertion: `lo..hi`, of which
+/// `used..hi` were never used, and its free slots.
+#[derive(Debug, Default)]
+struct Block {
+    lo: u32,
+    hi: u32,
+    used: u32,
+    free: Vec<u32>,
+}
+
+/// The slot range `base..base + v.len()` of the shared arrays (with `TWO`,
+/// also `base2..base2 + v2.len()`), owned by one group of parts of a
+/// parallel insertion: their blocks (which tile the ranges), the block new
+/// cells go to, the walk state.
+struct Part<'c, const TWO: bool> {
     base: u32,
     v: &'c mut [[u32; 4]],
     adj: &'c mut [[u32; 4]],
-    /// Slots of the range in use or freed: `used..` were never used.
-    used: u32,
-    free: Vec<u32>,
+    base2: u32,
+    v2: &'c mut [[u32; 4]],
+    adj2: &'c mut [[u32; 4]],
+    blocks: Vec<Block>,
+    /// The block of the part the point being inserted belongs to: its
+    /// new cells go there.
+    cur: usize,
     /// Finite cells created minus finite cells removed.
     finite: isize,
     last: u32,
@@ -366,88 +395,75 @@ struct Part<'c> {
 /// The vertex and neighbour slots of one part's range.
 type Slots<'c> = (&'c mut [[u32; 4]], &'c mut [[u32; 4]]);
 
-/// The state of one part of a parallel insertion between passes: its slot
-/// range `lo..hi` (`used..hi` never used), free slots, count of finite
-/// cells created minus removed, walk state and the points it is to insert.
-#[derive(Debug, Default)]
-struct Group {
-    lo: u32,
-    hi: u32,
-    used: u32,
-    free: Vec<u32>,
-    finite: isize,
-    last: u32,
-    rng: u32,
-    /// The points to insert: `first` (the first pass), then `points`.
-    first: std::ops::Range<u32>,
-    points: Vec<u32>,
+impl<const TWO: bool> Part<'_, TWO> {
+    /// Whether slot `t` is in the first range, and its index there.
+    #[inline(always)]
+    fn first(&self, t: u32) -> (bool, usize) {
+        let i = t.wrapping_sub(self.base) as usize;
+        (!TWO || i < self.v.len(), i)
+    }
 }
 
-impl Group {
-    /// The union of this part and the next one (`self.hi == next.lo`).
-    fn merge(&mut self, next: Group) -> Group {
-        let mut free = std::mem::take(&mut self.free);
-        free.extend((self.used..self.hi).rev());
-        free.extend(next.free);
-        let mut points: Vec<u32> = std::mem::take(&mut self.first).collect();
-        points.append(&mut self.points);
-        points.extend(next.first);
-        points.extend(next.points);
-        Group {
-            lo: self.lo,
-            hi: next.hi,
-            used: next.used,
-            free,
-            finite: self.finite + next.finite,
-            last: if self.last != NONE {
-                self.last
-            } else {
-                next.last
-            },
-            rng: self.rng,
-            first: 0..0,
-            points,
+impl<const TWO: bool> Cells for Part<'_, TWO> {
+    #[inline(always)]
+    fn owns(&self, t: u32) -> bool {
+        (t.wrapping_sub(self.base) as usize) < self.v.len()
+            || (TWO && (t.wrapping_sub(self.base2) as usize) < self.v2.len())
+    }
+    #[inline(always)]
+    fn v(&self, t: u32) -> &[u32; 4] {
+        match self.first(t) {
+            (true, i) => &self.v[i],
+            (false, _) => &self.v2[(t - self.base2) as usize],
+        }
+    }
+    #[inline(always)]
+    fn adj(&self, t: u32) -> &[u32; 4] {
+        match self.first(t) {
+            (true, i) => &self.adj[i],
+            (false, _) => &self.adj2[(t - self.base2) as usize],
         }
     }
 }
 
-impl Cells for Part<'_> {
-    #[inline(always)]
-    fn owns(&self, t: u32) -> bool {
-        (t.wrapping_sub(self.base) as usize) < self.v.len()
-    }
-    #[inline(always)]
-    fn v(&self, t: u32) -> &[u32; 4] {
-        &self.v[(t - self.base) as usize]
-    }
-    #[inline(always)]
-    fn adj(&self, t: u32) -> &[u32; 4] {
-        &self.adj[(t - self.base) as usize]
-    }
-}
-
-impl CellsMut for Part<'_> {
+impl<const TWO: bool> CellsMut for Part<'_, TWO> {
     #[inline(always)]
     fn v_mut(&mut self, t: u32) -> &mut [u32; 4] {
-        &mut self.v[(t - self.base) as usize]
+        match self.first(t) {
+            (true, i) => &mut self.v[i],
+            (false, _) => &mut self.v2[(t - self.base2) as usize],
+        }
     }
     #[inline(always)]
     fn adj_mut(&mut self, t: u32) -> &mut [u32; 4] {
-        &mut self.adj[(t - self.base) as usize]
+        match self.first(t) {
+            (true, i) => &mut self.adj[i],
+            (false, _) => &mut self.adj2[(t - self.base2) as usize],
+        }
     }
     #[inline(always)]
     fn room(&mut self, k: usize) -> bool {
-        self.free.len() + (self.v.len() - self.used as usize) >= k
+        (self.blocks.iter())
+            .map(|b| b.free.len() + (b.hi - b.used) as usize)
+            .sum::<usize>()
+            >= k
     }
     #[inline(always)]
     fn alloc(&mut self, tv: [u32; 4]) -> u32 {
         // A free slot is dead or was never used (zeroed memory): either
-        // way it holds no cell.
-        let t = match self.free.pop() {
+        // way it holds no cell. From the current block while it has one,
+        // then from another.
+        let full = |b: &Block| b.free.is_empty() && b.used == b.hi;
+        let mut k = self.cur;
+        if full(&self.blocks[k]) {
+            k = self.blocks.iter().position(|b| !full(b)).unwrap_or(k);
+        }
+        let b = &mut self.blocks[k];
+        let t = match b.free.pop() {
             Some(t) => t,
             None => {
-                self.used += 1;
-                self.base + self.used - 1
+                b.used += 1;
+                b.used - 1
             }
         };
         *self.v_mut(t) = tv;
@@ -460,7 +476,10 @@ impl CellsMut for Part<'_> {
         let finite = tv[3] != INF;
         tv[0] = DEAD;
         self.finite -= isize::from(finite);
-        self.free.push(t);
+        let k = (self.blocks.iter())
+            .position(|b| (b.lo..b.hi).contains(&t))
+            .unwrap_or(0);
+        self.blocks[k].free.push(t);
     }
     #[inline(always)]
     fn hint(&mut self) -> (&mut u32, &mut u32) {
@@ -832,16 +851,11 @@ impl<'a> Delaunay3<'a> {
             }
         }
         if !rounds.is_empty() {
-            let grid = crate::geom::sort::HilbertGrid::new(local);
             for round in rounds {
                 let end = round.end;
-                let (left, dups) = dt.core.insert_parts(
-                    geo,
-                    round.start as u32..end as u32,
-                    &grid,
-                    PARTS,
-                    split.threads.max(1),
-                );
+                let (left, dups) =
+                    dt.core
+                        .insert_parts(geo, round.start as u32..end as u32, split.threads.max(1));
                 for r in dups {
                     note(&mut dt, r);
                 }
@@ -1386,22 +1400,22 @@ impl Core {
 /// empty).
 #[inline(always)]
 fn finite_conflict<C: Cells, const W: bool>(c: &C, g: Geo<'_>, t: u32, id: u32) -> bool {
-    finite_conflict_v::<W>(g, *c.v(t), id)
+    finite_conflict_v::<W>(g, *c.v(t), id, &g.pts[id as usize])
 }
 
 /// [`finite_conflict`] of the finite cell with vertices `tv` (possibly
-/// marked).
+/// marked); `p` is point `id` (loaded once per insertion).
 #[inline(always)]
-fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32) -> bool {
+fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32, p: &[f64; 3]) -> bool {
     let [a, b, c, d] = tv;
     let a = a & UNMARK;
     let q = |i: u32| &g.pts[i as usize];
     let w = |i: u32| if W { g.wts[i as usize] } else { 0.0 };
     // Swap a and b: insphere's convention wants orient3d > 0.
     let s = if W {
-        insphere_weighted(q(b), q(a), q(c), q(d), q(id), w(b), w(a), w(c), w(d), w(id))
+        insphere_weighted(q(b), q(a), q(c), q(d), p, w(b), w(a), w(c), w(d), w(id))
     } else {
-        insphere(q(b), q(a), q(c), q(d), q(id))
+        insphere(q(b), q(a), q(c), q(d), p)
     };
     if s != 0.0 {
         return s > 0.0;
@@ -1424,15 +1438,16 @@ fn in_conflict<C: Cells, const W: bool>(
     t: u32,
     tv: [u32; 4],
     id: u32,
+    p: &[f64; 3],
 ) -> Option<bool> {
     if tv[3] != INF {
-        return Some(finite_conflict_v::<W>(g, tv, id));
+        return Some(finite_conflict_v::<W>(g, tv, id, p));
     }
     // A ghost: its hull facet (vertices 0, 1, 2, outside on the positive
     // side, i.e. orient3d < 0) conflicts with points strictly beyond it,
     // and with points on its plane iff the finite cell behind does.
     let [a, b, d] = FACET[3].map(|i| &g.pts[(tv[i] & UNMARK) as usize]);
-    let o = orient3d(a, b, d, &g.pts[id as usize]);
+    let o = orient3d(a, b, d, p);
     if o != 0.0 {
         return Some(o < 0.0);
     }
@@ -1508,7 +1523,7 @@ fn insert_in<C: CellsMut, const W: bool>(
                 continue;
             }
             if mark & MARK_KEEP == 0 {
-                match in_conflict::<C, W>(c, g, u, tu, id) {
+                match in_conflict::<C, W>(c, g, u, tu, id, p) {
                     Some(true) => {
                         c.v_mut(u)[0] |= MARK_CAVITY;
                         cavity.push(u);
@@ -1524,8 +1539,11 @@ fn insert_in<C: CellsMut, const W: bool>(
                 kept.push(u);
             }
             let [a, b, d] = FACET[f].map(|i| tv[i]);
-            // Keep INF in position 3 with an even permutation.
-            let (cell, fp) = if a == INF {
+            // Keep INF in position 3 with an even permutation (only a
+            // ghost has it).
+            let (cell, fp) = if t3 != INF {
+                ([a, b, d, id], 3)
+            } else if a == INF {
                 ([id, d, b, a], 0)
             } else if b == INF {
                 ([d, id, a, b], 1)
@@ -1631,34 +1649,66 @@ fn find_hidden<C: Cells>(c: &C, s: &mut Scratch, id: u32) {
 }
 
 impl Core {
-    /// Inserts the points `ids` (Delaunay, no weights), sorted by their
-    /// Hilbert keys on `grid`, in `parts` parts run on up to `threads`
-    /// threads.
+    /// Inserts the points `ids` (Delaunay, no weights: a BRIO round, in
+    /// Hilbert order) in the [`PARTS`] quarters of their box on up to
+    /// `threads` threads (the medians from a sample).
     ///
-    /// The points are cut into `parts` runs of consecutive keys; every live
-    /// cell goes to the part whose key range holds the key of its centroid,
-    /// and the cells are moved so that each part owns one slot range (with
-    /// room for the cells its points will create). Each part inserts its
-    /// points touching only its own range ([`insert_in`] on a [`Part`]): a
-    /// point whose walk or cavity reaches another part's cell is left out.
-    /// A part's result depends only on its own cells and points, so the
-    /// arrays are the same for every thread count. Returns the points left
-    /// out (in order) and the duplicates found.
+    /// Every live cell goes to the quarter holding its centroid, and the
+    /// cells are moved so that each part owns one block of slots (with room
+    /// for the cells its points will create). The passes ([`PASSES`])
+    /// insert groups of parts side by side, each touching only its own
+    /// blocks ([`insert_in`] on a [`Part`]; a new cell goes to the block of
+    /// its point's part): a point whose walk or cavity reaches a cell of
+    /// another group is left to the next pass. The first pass splits the
+    /// points across `x`'s median and leaves those within about a point
+    /// spacing of it; the second splits them across `y`'s median, so that
+    /// few are left for the caller's serial pass (those near where the
+    /// medians' planes cross). A group's result depends only on its own
+    /// cells and points, so the arrays are the same for every thread count.
+    /// Returns the points left after the last pass (in order) and the
+    /// duplicates found.
     fn insert_parts(
         &mut self,
         g: Geo<'_>,
         ids: std::ops::Range<u32>,
-        grid: &crate::geom::sort::HilbertGrid<3>,
-        parts: usize,
         threads: usize,
     ) -> (Vec<u32>, Vec<Inserted>) {
-        let (first, m) = (ids.start, ids.len());
-        let cut: Vec<usize> = (0..=parts).map(|k| m * k / parts).collect();
-        let split: Vec<u64> = (cut[1..parts].iter())
-            .map(|&c| grid.key(&g.pts[first as usize + c]))
-            .collect();
-        // Each live cell's part, from the key of its centroid (NONE for a
-        // dead slot), in chunks on up to `threads` threads.
+        let first = ids.start;
+        let parts = PARTS;
+        let round = &g.pts[ids.start as usize..ids.end as usize];
+        // The two longest axes of the box, and the medians of every 16th
+        // point's coordinates.
+        let [lo, hi] = crate::geom::bbox(round);
+        let extent = |a: usize| hi[a] - lo[a];
+        let mut axes = [0usize, 1, 2];
+        axes.sort_by(|&a, &b| extent(b).total_cmp(&extent(a)));
+        let [ax, ay, _] = axes;
+        let median = |a: usize| {
+            let mut sample: Vec<f64> = round.iter().step_by(16).map(|p| p[a]).collect();
+            sample.sort_unstable_by(f64::total_cmp);
+            sample[sample.len() / 2]
+        };
+        let (xmid, ymid) = (median(ax), median(ay));
+        let part_of = |p: &[f64; 3]| match (p[ax] >= xmid, p[ay] >= ymid) {
+            (false, false) => 0,
+            (false, true) => 1,
+            (true, true) => 2,
+            (true, false) => 3,
+        };
+        // About the spacing of the points inserted before the round.
+        let volume: f64 = (0..3).map(|a| extent(a).max(0.0)).product();
+        let spacing = (volume / f64::from(first.max(1))).cbrt();
+        let defer = if spacing.is_finite() {
+            DEFER_SPACINGS * spacing
+        } else {
+            0.0
+        };
+        let mut pcount = vec![0usize; parts];
+        for p in round {
+            pcount[part_of(p)] += 1;
+        }
+        // Each live cell's part, from its centroid (NONE for a dead slot),
+        // in chunks on up to `threads` threads.
         let len = self.v.len();
         let mut slot = vec![NONE; len];
         let chunk = len.div_ceil(threads).max(1 << 14);
@@ -1677,8 +1727,7 @@ impl Core {
                     c = [c[0] + p[0], c[1] + p[1], c[2] + p[2]];
                     k += 1.0;
                 }
-                let key = grid.key(&c.map(|x| x / k));
-                let part = split.partition_point(|&s| s <= key);
+                let part = part_of(&c.map(|x| x / k));
                 *s = part as u32;
                 count[part] += 1;
             }
@@ -1697,8 +1746,7 @@ impl Core {
         let inserted = (first as usize).max(1);
         let mut bounds = vec![0usize];
         for k in 0..parts {
-            let pts = cut[k + 1] - cut[k];
-            let room = (pts * live).div_ceil(inserted) / 50 * 51 + 1024;
+            let room = (pcount[k] * live).div_ceil(inserted) / 100 * 101 + 1024;
             bounds.push(bounds[k] + count[k] + room);
         }
         let total = bounds[parts];
@@ -1755,126 +1803,158 @@ impl Core {
         self.last = slot[self.last as usize];
         self.free.clear();
         drop(slot);
-        // Each part's walks start from the cell holding its first point when
-        // it owns that cell, else from its first finite cell.
-        let starts: Vec<u32> = (0..parts)
+        // Per part: its block and walk state. A part's walks start from the
+        // cell holding its first point when its block has that cell, else
+        // from the block's first finite cell.
+        let mut slabs: Vec<(Block, u32, u32)> = (0..parts)
             .map(|k| {
                 let (lo, hi) = (bounds[k], bounds[k] + count[k]);
-                let mut rng = 0x2545_F491;
-                let p = &g.pts[first as usize + cut[k]];
-                let t = walk_cells((&self.v, &self.adj), g.pts, p, self.last, &mut rng) as usize;
-                if (lo..hi).contains(&t) {
-                    return t as u32;
-                }
-                (lo..hi)
-                    .find(|&t| self.v[t][3] != INF)
-                    .map_or(NONE, |t| t as u32)
-            })
-            .collect();
-        let mut groups: Vec<Group> = (0..parts)
-            .map(|k| Group {
-                lo: bounds[k] as u32,
-                hi: bounds[k + 1] as u32,
-                used: (bounds[k] + count[k]) as u32,
-                free: Vec::new(),
-                finite: 0,
-                last: starts[k],
-                rng: 0x2545_F491 ^ (k as u32).wrapping_mul(0x9E37_79B9),
-                first: first + cut[k] as u32..first + cut[k + 1] as u32,
-                points: Vec::new(),
+                let start = match ids.clone().find(|&id| part_of(&g.pts[id as usize]) == k) {
+                    Some(id) => {
+                        let mut rng = 0x2545_F491;
+                        let p = &g.pts[id as usize];
+                        walk_cells((&self.v, &self.adj), g.pts, p, self.last, &mut rng) as usize
+                    }
+                    None => usize::MAX,
+                };
+                let start = if (lo..hi).contains(&start) {
+                    start as u32
+                } else {
+                    (lo..hi)
+                        .find(|&t| self.v[t][3] != INF)
+                        .map_or(NONE, |t| t as u32)
+                };
+                let block = Block {
+                    lo: lo as u32,
+                    hi: bounds[k + 1] as u32,
+                    used: hi as u32,
+                    free: Vec::new(),
+                };
+                (
+                    block,
+                    start,
+                    0x2545_F491 ^ (k as u32).wrapping_mul(0x9E37_79B9),
+                )
             })
             .collect();
         let mut dups = Vec::new();
-        // Passes: the parts, then unions of two neighbouring parts (slot
-        // ranges and key ranges), and so on; a point left out by a pass
-        // waits for the next one, the one part the last union makes is the
-        // whole arrays (the caller's serial pass).
-        while groups.len() > 1 {
-            let bounds: Vec<usize> = (groups.iter().map(|r| r.lo as usize))
+        let mut finite = 0isize;
+        // The points each pass is to insert (the first pass: all of them).
+        let mut todo: Option<Vec<u32>> = None;
+        for (pass, groups) in PASSES.iter().enumerate() {
+            // The group of each block, and the runs of consecutive blocks
+            // of one group: a group owns one run, or two.
+            let mut group_of = [0usize; PARTS];
+            for (gi, grp) in groups.iter().enumerate() {
+                for &k in grp.iter() {
+                    group_of[k] = gi;
+                }
+            }
+            let starts: Vec<usize> = (0..parts)
+                .filter(|&k| k == 0 || group_of[k] != group_of[k - 1])
+                .collect();
+            let at: Vec<usize> = (starts.iter().map(|&k| slabs[k].0.lo as usize))
                 .chain([total])
                 .collect();
-            let vs = crate::par::split_mut(&mut self.v, &bounds);
-            let adjs = crate::par::split_mut(&mut self.adj, &bounds);
-            let items: Vec<(Group, Slots<'_>)> =
-                (groups.into_iter()).zip(vs.into_iter().zip(adjs)).collect();
-            let results = crate::par::run_dynamic(threads, items, |_, (r, (v, adj))| {
-                let mut part = Part {
-                    base: r.lo,
-                    v,
-                    adj,
-                    used: r.used - r.lo,
-                    free: r.free,
-                    finite: 0,
-                    last: r.last,
-                    rng: r.rng,
-                };
-                let mut left = Vec::new();
-                let mut dups = Vec::new();
-                let mut s = Scratch::default();
-                for id in r.first.clone().chain(r.points.iter().copied()) {
-                    if part.last == NONE {
-                        left.push(id);
-                        continue;
-                    }
-                    match insert_in::<_, false>(&mut part, &mut s, g, id) {
-                        None => left.push(id),
-                        Some(d @ Inserted::Duplicate { .. }) => dups.push(d),
-                        Some(_) => {}
-                    }
-                }
-                let used = part.base + part.used;
-                let Part {
-                    free,
-                    finite,
-                    last,
-                    rng,
-                    ..
-                } = part;
-                let group = Group {
-                    lo: r.lo,
-                    hi: r.hi,
-                    used,
-                    free,
-                    finite: r.finite + finite,
-                    last,
-                    rng,
-                    first: 0..0,
-                    points: left,
-                };
-                (group, dups)
-            });
-            let mut done = Vec::with_capacity(results.len());
-            for r in results {
-                // Every item runs (`run_dynamic` runs a left-behind item on
-                // this thread); a missing result means a part's thread
-                // panicked, which `run_dynamic` has re-raised already.
-                let Some((group, d)) = r else {
-                    continue;
-                };
-                dups.extend(d);
-                done.push(group);
+            let vs = crate::par::split_mut(&mut self.v, &at);
+            let adjs = crate::par::split_mut(&mut self.adj, &at);
+            let mut runs: Vec<Vec<(u32, Slots<'_>)>> =
+                (0..groups.len()).map(|_| Vec::new()).collect();
+            for ((&k, v), adj) in starts.iter().zip(vs).zip(adjs) {
+                runs[group_of[k]].push((slabs[k].0.lo, (v, adj)));
             }
-            groups = done
-                .chunks_mut(2)
-                .map(|pair| match pair {
-                    [a, b] => a.merge(std::mem::take(b)),
-                    [a] => std::mem::take(a),
-                    _ => Group::default(),
+            let mut own: Vec<Option<(Block, u32, u32)>> =
+                std::mem::take(&mut slabs).into_iter().map(Some).collect();
+            let items: Vec<_> = (groups.iter().zip(runs))
+                .map(|(grp, r)| {
+                    let mine: Vec<(Block, u32, u32)> =
+                        grp.iter().filter_map(|&k| own[k].take()).collect();
+                    (*grp, mine, r)
                 })
                 .collect();
+            let (todo_ref, part_of) = (&todo, &part_of);
+            let results = crate::par::run_dynamic(threads, items, |_, (grp, mine, mut r)| {
+                let of = |p: &[f64; 3]| grp.iter().position(|&k| k == part_of(p));
+                // The first pass leaves the points near `x`'s median.
+                let near = |p: &[f64; 3]| pass == 0 && (p[ax] - xmid).abs() < defer;
+                let (b1, (v, adj)) = r.remove(0);
+                let (left, dups, finite, blocks, walk) = match r.pop() {
+                    None => {
+                        let part = Part::<false> {
+                            base: b1,
+                            v,
+                            adj,
+                            base2: 0,
+                            v2: &mut [],
+                            adj2: &mut [],
+                            blocks: Vec::new(),
+                            cur: 0,
+                            finite: 0,
+                            last: NONE,
+                            rng: 0,
+                        };
+                        insert_group(part, mine, g, todo_ref.as_deref(), ids.clone(), &of, &near)
+                    }
+                    Some((b2, (v2, adj2))) => {
+                        let part = Part::<true> {
+                            base: b1,
+                            v,
+                            adj,
+                            base2: b2,
+                            v2,
+                            adj2,
+                            blocks: Vec::new(),
+                            cur: 0,
+                            finite: 0,
+                            last: NONE,
+                            rng: 0,
+                        };
+                        insert_group(part, mine, g, todo_ref.as_deref(), ids.clone(), &of, &near)
+                    }
+                };
+                (grp, left, dups, finite, blocks, walk)
+            });
+            let mut left = Vec::new();
+            for res in results {
+                // Every item runs (`run_dynamic` runs a left-behind item on
+                // this thread); a missing result means a group's thread
+                // panicked, which `run_dynamic` has re-raised already.
+                let Some((grp, l, d, f, blocks, walk)) = res else {
+                    continue;
+                };
+                for (i, (&k, b)) in grp.iter().zip(blocks).enumerate() {
+                    let (last, rng) = walk[i];
+                    own[k] = Some((b, last, rng));
+                }
+                left.extend(l);
+                dups.extend(d);
+                finite += f;
+            }
+            slabs = own.into_iter().flatten().collect();
+            left.sort_unstable();
+            todo = Some(left);
         }
-        let whole = groups.pop().unwrap_or_default();
-        self.finite = self.finite.saturating_add_signed(whole.finite);
-        self.free = whole.free;
-        // The last part's never used slots end the arrays: cut them off.
-        self.v.truncate(whole.used as usize);
-        self.adj.truncate(whole.used as usize);
-        if whole.last != NONE && self.v[whole.last as usize][0] != DEAD {
-            self.last = whole.last;
+        self.finite = self.finite.saturating_add_signed(finite);
+        // Free slots: every block's, and the never used slots of all but
+        // the last block, whose never used tail ends the arrays: cut off.
+        let end = slabs.last().map_or(total, |b| b.0.used as usize);
+        let mut free = Vec::new();
+        let n = slabs.len();
+        for (k, (b, _, _)) in slabs.iter_mut().enumerate() {
+            free.append(&mut b.free);
+            if k + 1 < n {
+                free.extend((b.used..b.hi).rev());
+            }
         }
-        let mut left: Vec<u32> = whole.first.collect();
-        left.extend(whole.points);
-        (left, dups)
+        self.free = free;
+        self.v.truncate(end);
+        self.adj.truncate(end);
+        if let Some(t) = (slabs.iter().map(|o| o.1))
+            .find(|&t| (t as usize) < end && self.v[t as usize][0] != DEAD)
+        {
+            self.last = t;
+        }
+        (todo.unwrap_or_default(), dups)
     }
 
     /// After the serial tail of a parallel insertion: free slots that were
@@ -1960,6 +2040,58 @@ impl Core {
         });
         (self.v, self.adj)
     }
+}
+
+/// One group of a pass of [`Core::insert_parts`]: inserts into `part`
+/// (its arrays set, the rest filled here from `mine`, the blocks and walk
+/// states of the group's parts) the points of `todo` (all of `ids` when
+/// `None`) whose part is in the group (`of`: its position there), but
+/// those `near` a border of the pass. Returns the points left (in order),
+/// the duplicates found, the count of finite cells made minus removed,
+/// and the parts' blocks and walk states.
+#[allow(clippy::type_complexity)]
+fn insert_group<const TWO: bool>(
+    mut part: Part<'_, TWO>,
+    mine: Vec<(Block, u32, u32)>,
+    g: Geo<'_>,
+    todo: Option<&[u32]>,
+    ids: std::ops::Range<u32>,
+    of: &dyn Fn(&[f64; 3]) -> Option<usize>,
+    near: &dyn Fn(&[f64; 3]) -> bool,
+) -> (Vec<u32>, Vec<Inserted>, isize, Vec<Block>, Vec<(u32, u32)>) {
+    let mut walk: Vec<(u32, u32)> = mine.iter().map(|o| (o.1, o.2)).collect();
+    part.blocks = mine.into_iter().map(|o| o.0).collect();
+    // The walk starts from the first part's cell, else from another's (any
+    // live cell of the group will do).
+    part.last = (walk.iter().map(|w| w.0))
+        .find(|&t| part.owns(t) && part.v(t)[0] != DEAD)
+        .unwrap_or(NONE);
+    part.rng = walk[0].1;
+    let mut left = Vec::new();
+    let mut dups = Vec::new();
+    let mut s = Scratch::default();
+    let mut one = |id: u32| {
+        let p = &g.pts[id as usize];
+        let Some(k) = of(p) else {
+            return;
+        };
+        if near(p) || part.last == NONE {
+            left.push(id);
+            return;
+        }
+        part.cur = k;
+        match insert_in::<_, false>(&mut part, &mut s, g, id) {
+            None => left.push(id),
+            Some(d @ Inserted::Duplicate { .. }) => dups.push(d),
+            Some(_) => {}
+        }
+    };
+    match todo {
+        None => ids.for_each(&mut one),
+        Some(list) => list.iter().for_each(|&id| one(id)),
+    }
+    walk[0] = (part.last, part.rng);
+    (left, dups, part.finite, part.blocks, walk)
 }
 
 /// `n` zeroed slots for [`Core::insert_parts`]. Large arrays come from
@@ -2146,18 +2278,27 @@ mod tests {
             core.adj.resize(live + extra, [0; 4]);
             let before = (core.v.clone(), core.adj.clone());
             let last = core.last;
-            let mut part = Part {
+            let hi = core.v.len() as u32;
+            let mut part = Part::<false> {
                 base: 0,
                 v: &mut core.v,
                 adj: &mut core.adj,
-                used: live as u32,
-                free: Vec::new(),
+                base2: 0,
+                v2: &mut [],
+                adj2: &mut [],
+                blocks: vec![Block {
+                    lo: 0,
+                    hi,
+                    used: live as u32,
+                    free: Vec::new(),
+                }],
+                cur: 0,
                 finite: 0,
                 last,
                 rng: 0x2545_F491,
             };
             let r = insert_in::<_, false>(&mut part, &mut Scratch::default(), g, 4);
-            let (finite, free) = (part.finite, std::mem::take(&mut part.free));
+            let (finite, free) = (part.finite, std::mem::take(&mut part.blocks[0].free));
             if extra < 4 {
                 assert_eq!(r, None, "{extra} free slots");
                 assert_eq!((core.v.clone(), core.adj.clone()), before);
@@ -2180,6 +2321,107 @@ mod tests {
                 dt.check_topology().unwrap();
                 dt.check_delaunay().unwrap();
             }
+        }
+    }
+
+    /// A group owning two ranges of slots (the first and the last block of
+    /// a pass) puts new cells in the block of the point's part, then in the
+    /// other when that one is full; with too few slots in both it leaves
+    /// the point and changes nothing.
+    #[test]
+    fn a_group_of_two_ranges_allocates_from_both() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.1, 0.1, 0.1],
+        ];
+        let g = Geo {
+            pts: &pts,
+            wts: &[],
+            ids: &[],
+        };
+        // Never used slots in the first block and in the second (after two
+        // slots of another group): four new cells are needed.
+        for (a, b) in [(1usize, 2usize), (1, 3), (0, 4), (4, 0), (2, 5)] {
+            let mut core = Core::default();
+            core.start(&pts, [0, 1, 2, 3]);
+            let live = core.v.len();
+            let (end1, lo2) = (live + a, live + a + 2);
+            core.v.resize(lo2 + b, [0; 4]);
+            core.adj.resize(lo2 + b, [0; 4]);
+            for t in end1..lo2 {
+                core.v[t][0] = DEAD;
+            }
+            let before = (core.v.clone(), core.adj.clone());
+            let last = core.last;
+            let (v1, v2) = core.v.split_at_mut(lo2);
+            let (adj1, adj2) = core.adj.split_at_mut(lo2);
+            let mut part = Part::<true> {
+                base: 0,
+                v: &mut v1[..end1],
+                adj: &mut adj1[..end1],
+                base2: lo2 as u32,
+                v2,
+                adj2,
+                blocks: vec![
+                    Block {
+                        lo: 0,
+                        hi: end1 as u32,
+                        used: live as u32,
+                        free: Vec::new(),
+                    },
+                    Block {
+                        lo: lo2 as u32,
+                        hi: (lo2 + b) as u32,
+                        used: lo2 as u32,
+                        free: Vec::new(),
+                    },
+                ],
+                cur: 0,
+                finite: 0,
+                last,
+                rng: 0x2545_F491,
+            };
+            let r = insert_in::<_, false>(&mut part, &mut Scratch::default(), g, 4);
+            let finite = part.finite;
+            let used: Vec<u32> = part.blocks.iter().map(|b| b.used - b.lo).collect();
+            let mut free: Vec<u32> = (part.blocks.iter_mut())
+                .flat_map(|b| {
+                    let mut f = std::mem::take(&mut b.free);
+                    f.extend(b.used..b.hi);
+                    f
+                })
+                .collect();
+            if a + b < 4 {
+                assert_eq!(r, None, "{a} + {b} free slots");
+                assert_eq!((core.v.clone(), core.adj.clone()), before);
+                continue;
+            }
+            assert_eq!(r, Some(Inserted::Vertex(4)));
+            assert_eq!(finite, 3);
+            // The first block first, the rest from the second.
+            assert_eq!(used, [(live + a.min(4)) as u32, (4 - a.min(4)) as u32]);
+            for &t in &free {
+                core.v[t as usize][0] = DEAD;
+            }
+            free.extend(end1 as u32..lo2 as u32);
+            core.finite = 4;
+            core.free = free;
+            let dt = Delaunay3 {
+                points: Cow::Borrowed(&pts),
+                scale: Some((1.0, 1.0)),
+                weights: None,
+                hidden: Vec::new(),
+                core,
+                vertex_map: vec![0, 1, 2, 3, 4],
+                duplicates: Vec::new(),
+                pending: Vec::new(),
+                basis: Vec::new(),
+            };
+            dt.check_topology().unwrap();
+            dt.check_delaunay().unwrap();
         }
     }
 
