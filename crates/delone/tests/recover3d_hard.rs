@@ -361,6 +361,26 @@ fn nearly_coplanar_slivers_of_a_turned_plate() {
     assert!(r.report.steiner() < 150, "perf_plate: {:?}", r.report);
 }
 
+/// `tests/data/<file>` meshed by the pipeline with TetGen-style
+/// `switches`: its input triangles recovered (checked) and its volume
+/// kept; the recovered mesh.
+fn meshed_data_checked(file: &str, switches: &str) -> Recovered {
+    let path = format!("{}/tests/data/{file}", env!("CARGO_MANIFEST_DIR"));
+    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
+    let tris = s.triangles();
+    let plc = Plc::from_triangles(s.points.clone(), &tris);
+    let o = delone::tet::TetOptions::from_switches(switches).unwrap();
+    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("{file} -{switches}: {e}"));
+    check_recovered(&s.points, &r.triangles, &r.mesh)
+        .unwrap_or_else(|e| panic!("{file} -{switches}: {e}"));
+    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
+    assert!(
+        (v - expect).abs() <= 1e-9 * expect,
+        "{file} -{switches}: volume {v} instead of {expect}"
+    );
+    r.mesh
+}
+
 /// `-p` on a gear with a keyway turned to no coordinate angle (see
 /// `tests/data/README.md`): the rounds carried in the flipped mesh stall
 /// on one thin triangle whose facet points keep landing in the part of it
@@ -371,27 +391,8 @@ fn nearly_coplanar_slivers_of_a_turned_plate() {
 /// leave other segments missing). Checked, with its volume.
 #[test]
 fn turned_gear_key_recovers_in_few_rounds() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/gear_key_turned.off"
-    );
-    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
-    let tris = s.triangles();
-    let plc = Plc::from_triangles(s.points.clone(), &tris);
-    let o = delone::tet::TetOptions::from_switches("p").unwrap();
-    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("gear key -p: {e}"));
-    check_recovered(&s.points, &r.triangles, &r.mesh)
-        .unwrap_or_else(|e| panic!("gear key -p: {e}"));
-    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
-    assert!(
-        (v - expect).abs() <= 1e-9 * expect,
-        "gear key -p: volume {v} instead of {expect}"
-    );
-    assert!(
-        r.mesh.report.rounds <= 10,
-        "gear key -p: {:?}",
-        r.mesh.report
-    );
+    let r = meshed_data_checked("gear_key_turned.off", "p");
+    assert!(r.report.rounds <= 10, "gear key -p: {:?}", r.report);
 }
 
 /// `-p` on a tube with two rings of radial holes (see
@@ -403,19 +404,8 @@ fn turned_gear_key_recovers_in_few_rounds() {
 /// its volume.
 #[test]
 fn tube_with_rings_of_holes_splits_in_place_again() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/tube_rings.off");
-    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
-    let tris = s.triangles();
-    let plc = Plc::from_triangles(s.points.clone(), &tris);
-    let o = delone::tet::TetOptions::from_switches("p").unwrap();
-    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("tube -p: {e}"));
-    check_recovered(&s.points, &r.triangles, &r.mesh).unwrap_or_else(|e| panic!("tube -p: {e}"));
-    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
-    assert!(
-        (v - expect).abs() <= 1e-9 * expect,
-        "tube -p: volume {v} instead of {expect}"
-    );
-    assert!(r.mesh.report.rounds <= 4, "tube -p: {:?}", r.mesh.report);
+    let r = meshed_data_checked("tube_rings.off", "p");
+    assert!(r.report.rounds <= 4, "tube -p: {:?}", r.report);
 }
 
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement
@@ -424,19 +414,7 @@ fn tube_with_rings_of_holes_splits_in_place_again() {
 /// that. A mesh comes out, its input triangles recovered.
 #[test]
 fn nearly_coplanar_slivers_refined() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/perf_plate.off");
-    let s = delone_io::read_off(&std::fs::read(path).unwrap()).unwrap();
-    let tris = s.triangles();
-    let plc = Plc::from_triangles(s.points.clone(), &tris);
-    let o = delone::tet::TetOptions::from_switches("pq1.414").unwrap();
-    let r = delone::tet::mesh(&plc, &o).unwrap_or_else(|e| panic!("perf_plate -pq1.414: {e}"));
-    check_recovered(&s.points, &r.triangles, &r.mesh)
-        .unwrap_or_else(|e| panic!("perf_plate -pq1.414: {e}"));
-    let (v, expect) = (mesh_volume(&r.mesh), surface_volume(&s.points, &tris));
-    assert!(
-        (v - expect).abs() <= 1e-9 * expect,
-        "perf_plate -pq1.414: volume {v} instead of {expect}"
-    );
+    meshed_data_checked("perf_plate.off", "pq1.414");
 }
 
 /// A tube with a regular `n`-gon section (outer circumradius `big`, inner

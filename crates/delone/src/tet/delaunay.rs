@@ -2254,6 +2254,26 @@ mod tests {
     /// leaves the point and changes nothing, also when it has enough slots
     /// for the net growth (the new cells are allocated before the
     /// cavity's are freed).
+    /// The tetrahedralization of the five points `pts` after a part
+    /// inserted point 4 into `core` (its free slots `free`): checked.
+    fn checked_with_point_4(pts: &[[f64; 3]], mut core: Core, free: Vec<u32>) {
+        core.finite = 4;
+        core.free = free;
+        let dt = Delaunay3 {
+            points: Cow::Borrowed(pts),
+            scale: Some((1.0, 1.0)),
+            weights: None,
+            hidden: Vec::new(),
+            core,
+            vertex_map: vec![0, 1, 2, 3, 4],
+            duplicates: Vec::new(),
+            pending: Vec::new(),
+            basis: Vec::new(),
+        };
+        dt.check_topology().unwrap();
+        dt.check_delaunay().unwrap();
+    }
+
     #[test]
     fn a_part_short_of_slots_leaves_the_point() {
         let pts = [
@@ -2305,21 +2325,7 @@ mod tests {
             } else {
                 assert_eq!(r, Some(Inserted::Vertex(4)));
                 assert_eq!(finite, 3);
-                core.finite = 4;
-                core.free = free;
-                let dt = Delaunay3 {
-                    points: Cow::Borrowed(&pts),
-                    scale: Some((1.0, 1.0)),
-                    weights: None,
-                    hidden: Vec::new(),
-                    core,
-                    vertex_map: vec![0, 1, 2, 3, 4],
-                    duplicates: Vec::new(),
-                    pending: Vec::new(),
-                    basis: Vec::new(),
-                };
-                dt.check_topology().unwrap();
-                dt.check_delaunay().unwrap();
+                checked_with_point_4(&pts, core, free);
             }
         }
     }
@@ -2407,21 +2413,7 @@ mod tests {
                 core.v[t as usize][0] = DEAD;
             }
             free.extend(end1 as u32..lo2 as u32);
-            core.finite = 4;
-            core.free = free;
-            let dt = Delaunay3 {
-                points: Cow::Borrowed(&pts),
-                scale: Some((1.0, 1.0)),
-                weights: None,
-                hidden: Vec::new(),
-                core,
-                vertex_map: vec![0, 1, 2, 3, 4],
-                duplicates: Vec::new(),
-                pending: Vec::new(),
-                basis: Vec::new(),
-            };
-            dt.check_topology().unwrap();
-            dt.check_delaunay().unwrap();
+            checked_with_point_4(&pts, core, free);
         }
     }
 
