@@ -2254,6 +2254,15 @@ mod tests {
     /// leaves the point and changes nothing, also when it has enough slots
     /// for the net growth (the new cells are allocated before the
     /// cavity's are freed).
+    /// A tetrahedron's corners and point 4 inside it.
+    const CORNERS_AND_INSIDE: [[f64; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.1, 0.1, 0.1],
+    ];
+
     /// The tetrahedralization of the five points `pts` after a part
     /// inserted point 4 into `core` (its free slots `free`): checked.
     fn checked_with_point_4(pts: &[[f64; 3]], mut core: Core, free: Vec<u32>) {
@@ -2276,13 +2285,7 @@ mod tests {
 
     #[test]
     fn a_part_short_of_slots_leaves_the_point() {
-        let pts = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.1, 0.1, 0.1],
-        ];
+        let pts = CORNERS_AND_INSIDE;
         let g = Geo {
             pts: &pts,
             wts: &[],
@@ -2336,13 +2339,7 @@ mod tests {
     /// the point and changes nothing.
     #[test]
     fn a_group_of_two_ranges_allocates_from_both() {
-        let pts = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.1, 0.1, 0.1],
-        ];
+        let pts = CORNERS_AND_INSIDE;
         let g = Geo {
             pts: &pts,
             wts: &[],
