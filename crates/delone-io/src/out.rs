@@ -671,7 +671,13 @@ mod tests {
         let vals = (0..20u32)
             .flat_map(|k| {
                 let p = 10u64.pow(k);
-                [p - 1, p, p + 1, 2 * p - 1, 5 * p]
+                [
+                    p - 1,
+                    p,
+                    p + 1,
+                    p.saturating_mul(2) - 1,
+                    p.saturating_mul(5),
+                ]
             })
             .chain([0, u64::MAX, u64::MAX - 1, u64::from(u32::MAX)])
             .chain((0..200_000).map(|_| {
