@@ -477,9 +477,9 @@ const IN_PLACE_PER_SEGMENT: usize = 8;
 /// typically one thin triangle whose facet points keep landing in the
 /// uncovered part left by rounded points, which one Delaunay round
 /// recovers; staying with the Delaunay insertions from there made the
-/// rounds cascade on turned CAD parts (the generated gear keys of
-/// `cad_shapes.py` seeds 21 and 600: 41 rounds and 0.57 s, against 11
-/// rounds and 0.10 s).
+/// rounds cascade on turned CAD parts (the generated gear key of
+/// `cad_shapes.py` seed 600: 41 rounds and 0.57 s, against 11 rounds and
+/// 0.10 s).
 const MAX_STALLED: usize = 4;
 
 /// How many facet points of one input triangle may be replaced by the
