@@ -629,7 +629,8 @@ const LOCAL_COST: usize = 8;
 
 impl State {
     /// A state with nothing recovered yet.
-    fn new(surf: Surface, opts: RecoverOptions) -> State {
+    fn new(mut surf: Surface, opts: RecoverOptions) -> State {
+        surf.every_sliver_one_side = opts.stop_circling_flips;
         State {
             surf,
             report: RecoverReport::default(),

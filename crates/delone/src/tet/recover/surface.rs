@@ -164,6 +164,10 @@ pub(crate) struct Surface {
     tri_index: TripleIndex,
     /// Per input triangle: how many Steiner points lie inside it.
     inner: Vec<u32>,
+    /// Whether [`Surface::coverage_local`] keeps one side of *every*
+    /// tetrahedron with its four vertices on a triangle, also of one with
+    /// three points of one edge chain (`-p` without `-q`, see there).
+    pub(crate) every_sliver_one_side: bool,
 }
 
 impl Surface {
@@ -256,6 +260,7 @@ impl Surface {
         Surface {
             tri_index,
             inner: vec![0; tris.len()],
+            every_sliver_one_side: false,
             tris: tris.to_vec(),
             edges: keys.iter().map(|&(a, b)| [a, b]).collect(),
             chains: keys.iter().map(|&(a, b)| Chain::Two([a, b])).collect(),
@@ -335,13 +340,9 @@ impl Surface {
     }
 
     /// The input triangles a mesh face lies on (by vertex membership), the
-    /// face not being three points of one edge chain.
-    pub(crate) fn face_triangles(&self, f: [u32; 3], out: &mut Vec<u32>) {
-        self.face_triangles_split(f, out, &mut Vec::new());
-    }
-
-    /// Like [`Surface::face_triangles`], also listing in `flat` the input
-    /// triangles on which the face is three points of one edge chain.
+    /// face not being three points of one edge chain, listing in `flat`
+    /// the input triangles on which the face is three points of one edge
+    /// chain.
     pub(crate) fn face_triangles_split(
         &self,
         f: [u32; 3],
@@ -387,10 +388,20 @@ impl Surface {
     /// of one of them), so the cost is that of `t`'s neighbourhood only.
     ///
     /// A tetrahedron whose four vertices all lie on `t` (a sliver made by
-    /// Steiner points that are not exactly on it) has all four faces "on"
-    /// the triangle; only its faces whose outward normal points to the
-    /// triangle's positive side are kept, so the sliver joins the region
-    /// below the triangle.
+    /// Steiner points that are not exactly on it) has all its faces "on"
+    /// the triangle (but a thin face of three points of one edge chain);
+    /// only its faces whose outward normal points to the triangle's
+    /// positive side are kept, so the sliver joins the region below the
+    /// triangle. With [`Surface::every_sliver_one_side`] (`-p` without
+    /// `-q`) this holds for every such tetrahedron; otherwise only for one
+    /// whose faces `0 1 2` and `0 1 3` are not three points of one edge
+    /// chain. A sliver of a corner of `t` and three points of one side's
+    /// chain then has both its sides counted, the corner's subsegment used
+    /// twice, and `t` stays uncovered: the splits go on until the sliver is
+    /// gone (on thin nearly coplanar strips of turned CAD parts, up to 150
+    /// rounds of one point each), which `-q` wants (the sliver, kept, is a
+    /// boundary tetrahedron of no volume that refinement cannot remove), and
+    /// `-p` alone does not.
     pub(crate) fn coverage_local(
         &self,
         t: usize,
@@ -426,13 +437,15 @@ impl Surface {
             if !tv.iter().all(|&w| on_t(w)) {
                 continue;
             }
-            self.face_triangles([tv[0], tv[1], tv[2]], &mut buf);
-            if !buf.contains(&tt) {
-                continue;
-            }
-            self.face_triangles([tv[0], tv[1], tv[3]], &mut buf);
-            if !buf.contains(&tt) {
-                continue;
+            if !self.every_sliver_one_side {
+                self.face_triangles_split([tv[0], tv[1], tv[2]], &mut buf, &mut flat_buf);
+                if !buf.contains(&tt) {
+                    continue;
+                }
+                self.face_triangles_split([tv[0], tv[1], tv[3]], &mut buf, &mut flat_buf);
+                if !buf.contains(&tt) {
+                    continue;
+                }
             }
             let [a, b, c] = self.tris[t].map(|w| pts[w as usize]);
             let nt = cross(&sub(&b, &a), &sub(&c, &a));
