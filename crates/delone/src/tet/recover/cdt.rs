@@ -1237,6 +1237,57 @@ pub(crate) fn recover_facet_within(
     cross.is_empty()
 }
 
+/// Removes the mesh edges that pierce triangle `t` without crossing it:
+/// both ends off `t` and every vertex of their ring on it, next to the
+/// edges `holes` around its uncovered part. With Steiner points rounded
+/// off `t`'s plane on a thin triangle, the ring (a skew polygon of points
+/// on `t`, here two on each long side) can dip across the plane just past
+/// a side, so the edge through it meets the plane outside `t`: no edge
+/// crosses `t`, and still the part of `t` inside the ring has no face on
+/// it. Edge removal (any valid triangulation of the ring) makes the ring's
+/// faces, all on `t`. Protected edges are kept (a face on an input
+/// triangle has protected edges). True when an edge was removed.
+pub(crate) fn remove_piercing(
+    cm: &mut Journaled<'_>,
+    surf: &Surface,
+    t: usize,
+    holes: &[(u32, u32)],
+    prot: &Protected,
+) -> bool {
+    let on = |w: u32| w != INF && surf.on_triangle(w, t);
+    let mut cand: Vec<(u32, u32)> = Vec::new();
+    for &(u, v) in holes {
+        let Some((tets, _)) = cm.find_edge(u, v).and_then(|x| cm.edge_ring(x, u, v)) else {
+            continue;
+        };
+        for &c in &tets {
+            let tv = cm.m.tv[c as usize];
+            let mut pq = tv.iter().copied().filter(|&w| w != u && w != v);
+            if let (Some(p), Some(q)) = (pq.next(), pq.next()) {
+                if !on(p) && !on(q) && p != INF && q != INF {
+                    cand.push(ekey(p, q));
+                }
+            }
+        }
+    }
+    cand.sort_unstable();
+    cand.dedup();
+    let mut removed = false;
+    for (p, q) in cand {
+        if prot.edge(p, q) {
+            continue;
+        }
+        let Some(x) = cm.find_edge(p, q) else {
+            continue;
+        };
+        let all_on = |_: &[[f64; 3]], ring: &[u32]| ring.iter().all(|&w| on(w)).then_some(i64::MAX);
+        removed |= cm
+            .remove_edge_limited(x, p, q, (&zero, &zero2), all_on)
+            .is_some();
+    }
+    removed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1274,6 +1274,20 @@ impl State {
                     self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
                     uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                 }
+                // `-p` alone: edges piercing a triangle through a ring of
+                // its points (rounded off its plane) are removed, which
+                // splits would not fix (`cdt::remove_piercing`).
+                if stop_circles && !uncovered.is_empty() {
+                    let mut removed = false;
+                    for &t in &uncovered {
+                        let holes = self.surf.hole_edges(t, &on_cm[t]);
+                        removed |= cdt::remove_piercing(&mut cm, &self.surf, t, &holes, &prot_work);
+                    }
+                    if removed {
+                        self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
+                        uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
+                    }
+                }
                 if uncovered.is_empty() {
                     self.report.flips23 = cm.flips23;
                     self.report.edge_removals = cm.removals;
