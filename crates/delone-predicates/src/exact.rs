@@ -1,8 +1,9 @@
 //! Exact (slow) stages of the predicates, reached only when the floating-point
 //! filter cannot certify the sign.
 //!
-//! Each predicate goes through up to five steps (after the coarse-grid shortcut
-//! and the double-double stage of the `dd` module, which certifies every
+//! Each predicate goes through up to five steps (after the coarse-grid shortcut,
+//! the integer evaluation of the `int` module for `orient3d` and `insphere`, and
+//! the double-double stage of the `dd` module, which certifies every
 //! non-negligible near-degenerate decision):
 //!
 //! * **Stage A** — the translated determinant (differences to the last point) is
@@ -27,8 +28,8 @@
 //! run time, since the true lengths are usually tiny thanks to zero elimination)
 //! and only if one overflows with the worst-case capacities, which cannot overflow.
 
-use crate::dd;
 use crate::expansion::{two_diff, two_sum, Exp};
+use crate::{dd, int};
 use crate::{Point2, Point3, U};
 
 /// `p[i] * q[j] - q[i] * p[j]`, the 2x2 minor on columns `i, j` of rows `p, q`.
@@ -170,6 +171,12 @@ pub(crate) fn insphere_homogeneous(p: [&Point3; 5], w: [f64; 5]) -> f64 {
     insphere_b::<1344, 2688, 5376, 6720>(p, w).unwrap_or(f64::NAN)
 }
 
+/// Exact `orient3d` by the homogeneous determinant only (stage B).
+#[cfg(test)]
+pub(crate) fn orient3d_homogeneous(p: [&Point3; 4]) -> f64 {
+    orient3d_b(p[0], p[1], p[2], p[3])
+}
+
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
@@ -255,6 +262,9 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
     if let Some(v) = dd::orient3d(a, b, c, d) {
         return v;
     }
+    if let Some(v) = int::orient3d([a, b, c, d]) {
+        return v;
+    }
     let e = det3(&ad, &bd, &cd);
     if exact {
         return e.approx();
@@ -264,7 +274,12 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
     if let Some(r) = decide(e.comps(), perm3(&ad, &bd, &cd), 3.0, corr) {
         return r;
     }
-    // det [p 1] over rows a, b, c, d, along the ones column: - + - +.
+    orient3d_b(a, b, c, d)
+}
+
+/// Stage B of `orient3d`: `det [p 1]` over rows `a, b, c, d`, along the ones
+/// column (`- + - +`).
+fn orient3d_b(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
     let bcd = det3(b, c, d);
     let acd = det3(a, c, d);
     let abd = det3(a, b, d);
@@ -525,6 +540,13 @@ pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
         let d = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| dot(a, &cross(b, c));
         return (l(&q[1]) * d(&q[0], &q[2], &q[3]) - l(&q[0]) * d(&q[1], &q[2], &q[3]))
             + (l(&q[3]) * d(&q[0], &q[1], &q[2]) - l(&q[2]) * d(&q[0], &q[1], &q[3]));
+    }
+    // Exact integer evaluation: decides ties and near-ties alike at less than
+    // the cost of the double-double stage.
+    if w == [0.0; 5] {
+        if let Some(v) = int::insphere(p) {
+            return v;
+        }
     }
     if let Some(v) = dd::insphere(p, &w) {
         return v;
