@@ -187,6 +187,12 @@ pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     if exact && on_coarse_grid(&[ac[0], ac[1], bc[0], bc[1]], 33_554_432.0) {
         return ac[0] * bc[1] - ac[1] * bc[0];
     }
+    // A zero column (the three points on one line `x_k = const`, as in the
+    // axis-parallel projections of CAD faces) or a zero row (two points
+    // equal): the determinant is 0 (a difference rounds to 0 only when it is 0).
+    if (0..2).any(|k| ac[k] == 0.0 && bc[k] == 0.0) || ac == [0.0; 2] || bc == [0.0; 2] {
+        return 0.0;
+    }
     if let Some(v) = dd::orient2d(a, b, c) {
         return v;
     }

@@ -450,13 +450,19 @@ pub(crate) fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
 
 /// The plane of a triangle `(o, p1, p2)` for a cheap filtered side test:
 /// the normal `n = (p1 − o) × (p2 − o)` and, per component, the sum of the
-/// magnitudes of its two products.
+/// magnitudes of its two products; and the triangle's
+/// [`projection_axes`] when the normal certifies them.
 #[derive(Debug, Clone, Copy)]
 struct Plane {
     o: P,
     n: [f64; 3],
     nabs: [f64; 3],
+    axes: Option<(usize, usize)>,
 }
+
+/// The error bound factor of `orient2d`'s floating-point stage,
+/// `(4 + 64u)·u`, `u = 2⁻⁵³`.
+const PROJ_BOUND: f64 = (4.0 + 64.0 * f64::EPSILON / 2.0) * (f64::EPSILON / 2.0);
 
 /// The error bound factor of the side test: the one of
 /// [`delone_predicates::orient3d`]'s filter, `(8 + 256u)·u`, `u = 2⁻⁵³`.
@@ -469,15 +475,41 @@ impl Plane {
         let (x1, x2) = (e1[1] * e2[2], e1[2] * e2[1]);
         let (y1, y2) = (e1[2] * e2[0], e1[0] * e2[2]);
         let (z1, z2) = (e1[0] * e2[1], e1[1] * e2[0]);
-        Plane {
-            o: *o,
-            n: [x1 - x2, y1 - y2, z1 - z2],
-            nabs: [
-                x1.abs() + x2.abs(),
-                y1.abs() + y2.abs(),
-                z1.abs() + z2.abs(),
-            ],
+        let n = [x1 - x2, y1 - y2, z1 - z2];
+        let nabs = [
+            x1.abs() + x2.abs(),
+            y1.abs() + y2.abs(),
+            z1.abs() + z2.abs(),
+        ];
+        // `projection_axes` takes the first of the projections (0, 1),
+        // (1, 2), (2, 0) with a nonzero exact orientation. Normal component
+        // `k` is that orientation for the projection dropping axis `k`,
+        // computed as `orient2d(p1, p2, o)`'s floating-point stage: nonzero
+        // for certain beyond that filter's bound, zero for certain when both
+        // triangle edges have no extent along one of the projection's axes
+        // (a rounded difference is 0 only when it is exactly 0). The same
+        // choice, or `None` (left to `projection_axes`) when in doubt.
+        let mut axes = None;
+        for (k, (i, j)) in [(2, (0, 1)), (0, (1, 2)), (1, (2, 0))] {
+            if n[k].abs() > PROJ_BOUND * nabs[k] {
+                axes = Some((i, j));
+                break;
+            }
+            let flat = |a: usize| e1[a] == 0.0 && e2[a] == 0.0;
+            if !(flat(i) || flat(j)) {
+                break;
+            }
         }
+        Plane { o: *o, n, nabs, axes }
+    }
+
+    /// [`projection_axes`] of the triangle `t` this plane was made from
+    /// (any rotation of it).
+    #[inline]
+    fn axes(&self, [a, b, c]: [&P; 3]) -> (usize, usize) {
+        self.axes
+            .or_else(|| projection_axes(a, b, c))
+            .unwrap_or((0, 1))
     }
 
     /// The sign of `orient3d(t[0], t[1], t[2], q)` for the triangle `t`
@@ -548,8 +580,8 @@ fn intersect_with_planes(
             if sa1 == sa2 && sa1 != 0 {
                 return false;
             }
-            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb)
-                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa)
+            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb, pl_b)
+                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa, pl_a)
         }
         2 => {
             // The shared edge uv; c and f the third vertices of a and b.
@@ -564,7 +596,7 @@ fn intersect_with_planes(
             if side(pl_a, a.map(p), p(f)) != 0 {
                 return false;
             }
-            let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
+            let (x, y) = pl_a.axes([p(u), p(v), p(c)]);
             let q = |w: u32| [p(w)[x], p(w)[y]];
             let sc = orient2d(&q(u), &q(v), &q(c));
             let sf = orient2d(&q(u), &q(v), &q(f));
@@ -593,8 +625,8 @@ fn disjoint_vertices_intersect(
     if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
         return false;
     }
-    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
-        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
+    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb, pl_b))
+        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa, pl_a))
 }
 
 fn sign(x: f64) -> i8 {
@@ -613,18 +645,18 @@ fn sign(x: f64) -> i8 {
 fn seg_tri(p: &P, q: &P, a: &P, b: &P, c: &P) -> bool {
     let op = sign(orient3d(a, b, c, p));
     let oq = sign(orient3d(a, b, c, q));
-    seg_tri_signs(p, q, op, oq, [a, b, c])
+    seg_tri_signs(p, q, op, oq, [a, b, c], &Plane::new([a, b, c]))
 }
 
 /// [`seg_tri`] given `op`, `oq`: the signs of `orient3d(a, b, c, p)` and
-/// `orient3d(a, b, c, q)`.
-fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
+/// `orient3d(a, b, c, q)`, and the plane of `abc`.
+fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3], pl: &Plane) -> bool {
     if op == oq && op != 0 {
         return false;
     }
     if op == 0 && oq == 0 {
         // Coplanar: a 2D test in a projection that keeps abc non-degenerate.
-        let (x, y) = projection_axes(a, b, c).unwrap_or((0, 1));
+        let (x, y) = pl.axes([a, b, c]);
         let f = |u: &P| [u[x], u[y]];
         return seg_tri_2d(&f(p), &f(q), &f(a), &f(b), &f(c));
     }
@@ -978,6 +1010,51 @@ mod tests {
             let pl = Plane::new(tr);
             assert_eq!(pl.side(tr, &q), sign(orient3d(&t[0], &t[1], &t[2], &q)));
         }
+    }
+
+    #[test]
+    fn plane_axes_are_the_projection_axes() {
+        let mut r = rng(0x5eed_0f_a4e5);
+        let mut f = || (r() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let (mut known, mut left) = (0, 0);
+        for round in 0..30_000 {
+            let mut t = [[f(), f(), f()], [f(), f(), f()], [f(), f(), f()]];
+            // Axis-parallel triangles (one or two coordinates shared), and
+            // triangles whose projections are nearly or exactly degenerate:
+            // the third point on (or next to) the line of the first two in
+            // one projection.
+            let k = round % 3;
+            match round % 4 {
+                0 => {}
+                1 => (t[1][k], t[2][k]) = (t[0][k], t[0][k]),
+                2 => {
+                    let u = f();
+                    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                    for a in [i, j] {
+                        t[2][a] = t[0][a] + u * (t[1][a] - t[0][a]);
+                    }
+                    if round % 8 == 2 {
+                        t[2][i] = f64::from_bits(t[2][i].to_bits() + 1);
+                    }
+                }
+                _ => (t[1][k], t[2][k]) = (t[0][k], t[0][k] + 1e-17),
+            }
+            let tr = [&t[0], &t[1], &t[2]];
+            let pl = Plane::new(tr);
+            if collinear(tr[0], tr[1], tr[2]) {
+                continue;
+            }
+            let want = projection_axes(tr[0], tr[1], tr[2]);
+            if pl.axes.is_some() {
+                known += 1;
+                assert_eq!(pl.axes, want, "{t:?}");
+            } else {
+                left += 1;
+            }
+            assert_eq!(Some(pl.axes(tr)), want, "{t:?}");
+        }
+        // Both the certified choice and the fallback were exercised.
+        assert!(known > 10_000 && left > 100, "{known} {left}");
     }
 
     #[test]
