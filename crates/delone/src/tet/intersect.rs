@@ -500,7 +500,12 @@ impl Plane {
                 break;
             }
         }
-        Plane { o: *o, n, nabs, axes }
+        Plane {
+            o: *o,
+            n,
+            nabs,
+            axes,
+        }
     }
 
     /// [`projection_axes`] of the triangle `t` this plane was made from
@@ -560,6 +565,10 @@ fn intersect_with_planes(
         | u32::from(a[2] == b[1]) << 7
         | u32::from(a[2] == b[2]) << 8;
     let p = |v: u32| &pts[v as usize];
+    if flat && eq.count_ones() < 2 {
+        let axes = pl_a.axes(a.map(p));
+        return flat_intersect(pts, a, b, axes, eq);
+    }
     match eq.count_ones() {
         0 => disjoint_vertices_intersect(pts, a, b, side, (pl_a, pl_b)),
         1 => {
@@ -606,6 +615,45 @@ fn intersect_with_planes(
         }
         _ => true,
     }
+}
+
+/// The pair test of two triangles on one plane sharing at most one vertex
+/// (`eq` as in [`intersect_with_planes`]), in the projection `(x, y)` of
+/// that plane: the same formula as the coplanar edge-against-triangle tests
+/// of [`seg_tri_signs`] the general path makes (any projection that keeps
+/// the plane non-degenerate gives the same verdicts), with the 18
+/// orientations of each triangle's vertices against the other's edges
+/// computed once instead of once per test.
+fn flat_intersect(pts: &[P], a: [u32; 3], b: [u32; 3], (x, y): (usize, usize), eq: u32) -> bool {
+    let q = |v: u32| [pts[v as usize][x], pts[v as usize][y]];
+    let (qa, qb) = (a.map(q), b.map(q));
+    // s(e, p)[j]: the side of p of edge j (e[j] -> e[j + 1]) of e.
+    let s = |e: &[Q; 3], p: &Q| [0, 1, 2].map(|j| sign(orient2d(&e[j], &e[(j + 1) % 3], p)));
+    let (sab, sba) = (qb.map(|p| s(&qa, &p)), qa.map(|p| s(&qb, &p)));
+    let inside = |s: &[i8; 3]| !(s.contains(&1) && s.contains(&-1));
+    // Edge j of a against edge k of b.
+    let cross = |j: usize, k: usize| {
+        let (j1, k1) = ((j + 1) % 3, (k + 1) % 3);
+        let d = [sab[k][j], sab[k1][j], sba[j][k], sba[j1][k]];
+        seg_seg_2d_signs(&qa[j], &qa[j1], &qb[k], &qb[k1], d)
+    };
+    if eq == 0 {
+        // Every edge of each against the other triangle.
+        return sba.iter().any(inside)
+            || sab.iter().any(inside)
+            || (0..3).any(|j| (0..3).any(|k| cross(j, k)));
+    }
+    // One shared vertex a[i] = b[j]: the edges opposite it.
+    let k = eq.trailing_zeros() as usize;
+    let (i, j) = (k / 3, k % 3);
+    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    inside(&sba[i1])
+        || inside(&sba[i2])
+        || (0..3).any(|k| cross(i1, k))
+        || inside(&sab[j1])
+        || inside(&sab[j2])
+        || (0..3).any(|k| cross(k, j1))
 }
 
 /// The triangle-pair test for two triangles without a common vertex.
@@ -683,10 +731,18 @@ fn in_tri_2d(p: &Q, a: &Q, b: &Q, c: &Q) -> bool {
 
 /// Closed segments `pq` and `rs` in the plane intersect. Exact.
 fn seg_seg_2d(p: &Q, q: &Q, r: &Q, s: &Q) -> bool {
-    let d1 = sign(orient2d(p, q, r));
-    let d2 = sign(orient2d(p, q, s));
-    let d3 = sign(orient2d(r, s, p));
-    let d4 = sign(orient2d(r, s, q));
+    let d = [
+        sign(orient2d(p, q, r)),
+        sign(orient2d(p, q, s)),
+        sign(orient2d(r, s, p)),
+        sign(orient2d(r, s, q)),
+    ];
+    seg_seg_2d_signs(p, q, r, s, d)
+}
+
+/// [`seg_seg_2d`] given the signs of `orient2d(p, q, r)`,
+/// `orient2d(p, q, s)`, `orient2d(r, s, p)` and `orient2d(r, s, q)`.
+fn seg_seg_2d_signs(p: &Q, q: &Q, r: &Q, s: &Q, [d1, d2, d3, d4]: [i8; 4]) -> bool {
     if d1 * d2 < 0 && d3 * d4 < 0 {
         return true;
     }
@@ -1214,6 +1270,53 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    /// The pair test of triangles known to lie on one plane (the shared
+    /// orientations of `flat_intersect`) against the reference, on planes
+    /// of each projection, with shared vertices, touching and overlapping
+    /// triangles.
+    #[test]
+    fn flat_pairs_match_the_reference() {
+        let mut r = rng(0xf1a7);
+        let planes: [fn(f64, f64) -> P; 3] = [
+            |u, v| [u, v, 0.5 * u + 0.25 * v],
+            |u, v| [0.75, u, v],
+            |u, v| [u, 0.5 * u - 2.0, v],
+        ];
+        let mut seen = [0usize; 2];
+        for on in planes {
+            // A small pool of points on a coarse grid: many shared,
+            // collinear and touching configurations.
+            let pts: Vec<P> = (0..12)
+                .map(|_| on((r() % 7) as f64 * 0.5, (r() % 7) as f64 * 0.5))
+                .collect();
+            for _ in 0..20_000 {
+                let mut tri = || [0, 1, 2].map(|_| (r() % 12) as u32);
+                let (a, b) = (tri(), tri());
+                let p = |v: u32| &pts[v as usize];
+                let distinct = |t: [u32; 3]| !collinear(p(t[0]), p(t[1]), p(t[2]));
+                let shared = (0..3).filter(|&i| b.contains(&a[i])).count();
+                // Equal points have equal ids here only if they are the
+                // same entry: keep pools of distinct points.
+                let unique = a
+                    .iter()
+                    .chain(&b)
+                    .all(|&v| (0..12).all(|w| w == v || pts[w as usize] != pts[v as usize]));
+                if !distinct(a) || !distinct(b) || shared > 1 || !unique {
+                    continue;
+                }
+                let pl = (&Plane::new(a.map(p)), &Plane::new(b.map(p)));
+                let want = triangles_intersect_ref(&pts, a, b);
+                assert_eq!(
+                    intersect_with_planes(&pts, a, b, pl, true),
+                    want,
+                    "{a:?} {b:?}"
+                );
+                seen[usize::from(want)] += 1;
+            }
+        }
+        assert!(seen[0] > 500 && seen[1] > 500, "{seen:?}");
     }
 
     #[test]
