@@ -66,10 +66,10 @@ impl<const N: usize> Wide<N> {
     fn add(&self, o: &Self) -> Self {
         let mut r = [0u64; N];
         let mut carry = false;
-        for k in 0..N {
-            let (s1, c1) = self.0[k].overflowing_add(o.0[k]);
+        for (out, (&x, &y)) in r.iter_mut().zip(self.0.iter().zip(&o.0)) {
+            let (s1, c1) = x.overflowing_add(y);
             let (s2, c2) = s1.overflowing_add(carry as u64);
-            r[k] = s2;
+            *out = s2;
             carry = c1 | c2;
         }
         Wide(r)
@@ -311,7 +311,10 @@ mod tests {
         for scale in [1.0, 1e-30, 1e30] {
             let mut pts = Vec::new();
             for _ in 0..40 {
-                let (u, v) = (r.unit() * 6.28, r.unit() * 3.14);
+                let (u, v) = (
+                    r.unit() * std::f64::consts::TAU,
+                    r.unit() * std::f64::consts::PI,
+                );
                 let mut q = [u.cos() * v.sin(), u.sin() * v.sin(), v.cos()];
                 for x in &mut q {
                     let ulps = (r.next() % 5) as i64 - 2;

@@ -1070,7 +1070,7 @@ mod tests {
 
     #[test]
     fn plane_axes_are_the_projection_axes() {
-        let mut r = rng(0x5eed_0f_a4e5);
+        let mut r = rng(0x005e_ed0f_a4e5);
         let mut f = || (r() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
         let (mut known, mut left) = (0, 0);
         for round in 0..30_000 {
