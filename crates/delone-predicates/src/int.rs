@@ -10,11 +10,12 @@
 //! anywhere, whether the floating-point differences of the coordinates were
 //! exact or not.
 //!
-//! This is the usual case for the exact ties of CAD and scanned inputs
+//! This is the usual case for the exact ties of CAD inputs
 //! (cospherical vertices of boxes, cylinders and grids): their coordinates have
 //! similar magnitudes, so the spread between the largest coordinate and the
-//! lowest mantissa bit stays within 61 bits. The integer evaluation costs a few
-//! hundred instructions where the expansion stages cost tens of thousands.
+//! lowest mantissa bit stays within 61 bits. The integer in-sphere evaluation
+//! costs one to two thousand instructions (the orientation a few hundred)
+//! where the expansion stages cost tens of thousands.
 //!
 //! Sizes (with `|x| < 2^61` for the coordinates, hence `|d| < 2^62` for the
 //! differences): 2x2 minors `< 2^125`, 3x3 minors `< 2^189` (three limbs),

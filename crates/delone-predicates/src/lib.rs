@@ -51,10 +51,11 @@
 //! # The exact stage
 //!
 //! Otherwise a separate `#[cold]` function decides, in up to six steps, all but
-//! the integer one with floating-point *expansions* (sums of non-overlapping doubles: two-sum,
-//! two-product with FMA when the target has it or Dekker's split otherwise,
-//! expansion sum and scaling with zero elimination, exact sign tests by streamed
-//! grow-expansion) in fixed-size stack arrays — nothing allocates:
+//! the integer one with floating-point *expansions* (sums of non-overlapping
+//! doubles: two-sum, two-product with FMA when the target has it or Dekker's
+//! split otherwise, expansion sum and scaling with zero elimination, exact sign
+//! tests by streamed grow-expansion) in fixed-size stack arrays — nothing
+//! allocates:
 //!
 //! 1. **Coarse grid.** If every coordinate difference is exact and all are integer
 //!    multiples of a common power of two `g` no larger than `L·g` (`L = 2^25, 2^16,
@@ -68,9 +69,10 @@
 //!    256× — the usual case for the exact ties of CAD models, whose coordinate
 //!    differences need not be exact), the determinant is evaluated exactly in
 //!    fixed-width integers (64-bit differences, 128-bit minors, at most five
-//!    64-bit limbs), at a few hundred instructions. For [`insphere`] this runs
-//!    before the double-double stage, for [`orient3d`] after it (stage A's
-//!    place).
+//!    64-bit limbs), at a few hundred instructions for [`orient3d`] and one to
+//!    two thousand for [`insphere`] (the expansion stages take tens of
+//!    thousands on such ties). For [`insphere`] this runs before the
+//!    double-double stage, for [`orient3d`] after it (stage A's place).
 //! 3. **Double-double stage.** The coordinate differences are taken exactly as
 //!    two-term pairs (`two_diff`) and the translated determinant is evaluated in
 //!    double-double arithmetic (error-free `two_product`/`two_sum` on the high parts,
