@@ -32,10 +32,13 @@
 //! two side tests of the other triangle's far vertices settle almost every
 //! pair of a closed surface. Side tests use a per-triangle plane (normal and
 //! the magnitudes of its products) with the error bound of `orient3d`'s
-//! floating-point stage, falling back to exact `orient3d`; two triangles
-//! of one group of exactly coplanar edge neighbours (`coplanar_groups`,
-//! one exact test per shared edge) skip the side tests, which would all
-//! take that exact fallback (the planar faces of CAD models). Canonical ids
+//! floating-point stage, falling back to exact `orient3d`; the plane also
+//! certifies the triangle's 2D projection axes for the coplanar tests. Two
+//! triangles of one group of exactly coplanar edge neighbours
+//! (`coplanar_groups`, one exact test per shared edge) skip the side tests,
+//! which would all take that exact fallback (the planar faces of CAD
+//! models), and their 2D test computes the 18 orientations of each one's
+//! vertices against the other's edges once. Canonical ids
 //! (exact duplicate points) come from a sort, not a hash map.
 //! [`manifold_report`] files edges under their smaller endpoint (counting
 //! sort, insertion sort per bucket): no global sort, no edge map.
