@@ -1,8 +1,9 @@
 //! Exact (slow) stages of the predicates, reached only when the floating-point
 //! filter cannot certify the sign.
 //!
-//! Each predicate goes through up to five steps (after the coarse-grid shortcut
-//! and the double-double stage of the `dd` module, which certifies every
+//! Each predicate goes through up to five steps (after the coarse-grid shortcut,
+//! the integer evaluation of the `int` module for `orient3d` and `insphere`, and
+//! the double-double stage of the `dd` module, which certifies every
 //! non-negligible near-degenerate decision):
 //!
 //! * **Stage A** — the translated determinant (differences to the last point) is
@@ -27,8 +28,8 @@
 //! run time, since the true lengths are usually tiny thanks to zero elimination)
 //! and only if one overflows with the worst-case capacities, which cannot overflow.
 
-use crate::dd;
 use crate::expansion::{two_diff, two_sum, Exp};
+use crate::{dd, int};
 use crate::{Point2, Point3, U};
 
 /// `p[i] * q[j] - q[i] * p[j]`, the 2x2 minor on columns `i, j` of rows `p, q`.
@@ -170,6 +171,12 @@ pub(crate) fn insphere_homogeneous(p: [&Point3; 5], w: [f64; 5]) -> f64 {
     insphere_b::<1344, 2688, 5376, 6720>(p, w).unwrap_or(f64::NAN)
 }
 
+/// Exact `orient3d` by the homogeneous determinant only (stage B).
+#[cfg(test)]
+pub(crate) fn orient3d_homogeneous(p: [&Point3; 4]) -> f64 {
+    orient3d_b(p[0], p[1], p[2], p[3])
+}
+
 /// Exact `orient2d`.
 #[cold]
 #[inline(never)]
@@ -179,6 +186,12 @@ pub(crate) fn orient2d_exact(a: &Point2, b: &Point2, c: &Point2) -> f64 {
     // 2 monomials of degree 2: 2·(2^25)^2 < 2^53.
     if exact && on_coarse_grid(&[ac[0], ac[1], bc[0], bc[1]], 33_554_432.0) {
         return ac[0] * bc[1] - ac[1] * bc[0];
+    }
+    // A zero column (the three points on one line `x_k = const`, as in the
+    // axis-parallel projections of CAD faces) or a zero row (two points
+    // equal): the determinant is 0 (a difference rounds to 0 only when it is 0).
+    if (0..2).any(|k| ac[k] == 0.0 && bc[k] == 0.0) || ac == [0.0; 2] || bc == [0.0; 2] {
+        return 0.0;
     }
     if let Some(v) = dd::orient2d(a, b, c) {
         return v;
@@ -255,6 +268,9 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
     if let Some(v) = dd::orient3d(a, b, c, d) {
         return v;
     }
+    if let Some(v) = int::orient3d([a, b, c, d]) {
+        return v;
+    }
     let e = det3(&ad, &bd, &cd);
     if exact {
         return e.approx();
@@ -264,7 +280,12 @@ pub(crate) fn orient3d_exact(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> 
     if let Some(r) = decide(e.comps(), perm3(&ad, &bd, &cd), 3.0, corr) {
         return r;
     }
-    // det [p 1] over rows a, b, c, d, along the ones column: - + - +.
+    orient3d_b(a, b, c, d)
+}
+
+/// Stage B of `orient3d`: `det [p 1]` over rows `a, b, c, d`, along the ones
+/// column (`- + - +`).
+fn orient3d_b(a: &Point3, b: &Point3, c: &Point3, d: &Point3) -> f64 {
     let bcd = det3(b, c, d);
     let acd = det3(a, c, d);
     let abd = det3(a, b, d);
@@ -525,6 +546,13 @@ pub(crate) fn insphere_exact(p: [&Point3; 5], w: [f64; 5]) -> f64 {
         let d = |a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]| dot(a, &cross(b, c));
         return (l(&q[1]) * d(&q[0], &q[2], &q[3]) - l(&q[0]) * d(&q[1], &q[2], &q[3]))
             + (l(&q[3]) * d(&q[0], &q[1], &q[2]) - l(&q[2]) * d(&q[0], &q[1], &q[3]));
+    }
+    // Exact integer evaluation: decides ties and near-ties alike at less than
+    // the cost of the double-double stage.
+    if w == [0.0; 5] {
+        if let Some(v) = int::insphere(p) {
+            return v;
+        }
     }
     if let Some(v) = dd::insphere(p, &w) {
         return v;

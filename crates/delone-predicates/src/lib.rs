@@ -50,11 +50,12 @@
 //!
 //! # The exact stage
 //!
-//! Otherwise a separate `#[cold]` function decides, in up to five steps, all with
-//! floating-point *expansions* (sums of non-overlapping doubles: two-sum,
-//! two-product with FMA when the target has it or Dekker's split otherwise,
-//! expansion sum and scaling with zero elimination, exact sign tests by streamed
-//! grow-expansion) in fixed-size stack arrays — nothing allocates:
+//! Otherwise a separate `#[cold]` function decides, in up to six steps, all but
+//! the integer one with floating-point *expansions* (sums of non-overlapping
+//! doubles: two-sum, two-product with FMA when the target has it or Dekker's
+//! split otherwise, expansion sum and scaling with zero elimination, exact sign
+//! tests by streamed grow-expansion) in fixed-size stack arrays — nothing
+//! allocates:
 //!
 //! 1. **Coarse grid.** If every coordinate difference is exact and all are integer
 //!    multiples of a common power of two `g` no larger than `L·g` (`L = 2^25, 2^16,
@@ -62,7 +63,17 @@
 //!    the plain floating-point formula is an exactly representable multiple of a
 //!    power of `g`, so the plain evaluation *is* exact. Integer and dyadic grids,
 //!    the usual source of exact ties, take this path at filter speed.
-//! 2. **Double-double stage.** The coordinate differences are taken exactly as
+//! 2. **Integer grid** ([`orient3d`] and the unweighted [`insphere`]). If the
+//!    coordinates of all the points are integer multiples of one power of two
+//!    `g` below `2^61·g` (true whenever their magnitudes span less than about
+//!    256× — the usual case for the exact ties of CAD models, whose coordinate
+//!    differences need not be exact), the determinant is evaluated exactly in
+//!    fixed-width integers (64-bit differences, 128-bit minors, at most five
+//!    64-bit limbs), at a few hundred instructions for [`orient3d`] and one to
+//!    two thousand for [`insphere`] (the expansion stages take tens of
+//!    thousands on such ties). For [`insphere`] this runs before the
+//!    double-double stage, for [`orient3d`] after it (stage A's place).
+//! 3. **Double-double stage.** The coordinate differences are taken exactly as
 //!    two-term pairs (`two_diff`) and the translated determinant is evaluated in
 //!    double-double arithmetic (error-free `two_product`/`two_sum` on the high parts,
 //!    plain floating point for the low-order cross terms). A forward error analysis
@@ -74,15 +85,15 @@
 //!    above about `k·u²·Mᵈ` — e.g. all decisions on points rounded from circles or
 //!    spheres — at a few hundred flops; see the `dd` module source for the
 //!    derivation. Only exact or astronomically close ties go further.
-//! 3. **Stage A.** The translated determinant is evaluated exactly on the rounded
+//! 4. **Stage A.** The translated determinant is evaluated exactly on the rounded
 //!    differences. If all differences were exact, this is the answer.
-//! 4. **Stages A′ and C.** Each rounded difference is within `u·|x|` of the true
+//! 5. **Stages A′ and C.** Each rounded difference is within `u·|x|` of the true
 //!    one, so a degree-`k` determinant on them is within `(k+1)·u·P` of the true
 //!    value (`P` its permanent); failing that, the first-order effect of the
 //!    rounding errors is added in floating point (a gradient formulation of
 //!    Shewchuk's stage C) and certified against a `O(u²·P)` bound. Comparisons
 //!    against these bounds are exact.
-//! 5. **Stage B.** Otherwise (in practice only exact ties whose coordinate
+//! 6. **Stage B.** Otherwise (in practice only exact ties whose coordinate
 //!    differences are not representable) the *homogeneous* determinant on the raw
 //!    coordinates, rows `[x, y, (lift,) 1]`, is expanded by cofactors; it needs no
 //!    differences at all.
@@ -145,6 +156,7 @@
 mod dd;
 mod exact;
 mod expansion;
+mod int;
 mod semi;
 mod sos;
 

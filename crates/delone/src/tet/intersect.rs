@@ -32,10 +32,13 @@
 //! two side tests of the other triangle's far vertices settle almost every
 //! pair of a closed surface. Side tests use a per-triangle plane (normal and
 //! the magnitudes of its products) with the error bound of `orient3d`'s
-//! floating-point stage, falling back to exact `orient3d`; two triangles
-//! of one group of exactly coplanar edge neighbours (`coplanar_groups`,
-//! one exact test per shared edge) skip the side tests, which would all
-//! take that exact fallback (the planar faces of CAD models). Canonical ids
+//! floating-point stage, falling back to exact `orient3d`; the plane also
+//! certifies the triangle's 2D projection axes for the coplanar tests. Two
+//! triangles of one group of exactly coplanar edge neighbours
+//! (`coplanar_groups`, one exact test per shared edge) skip the side tests,
+//! which would all take that exact fallback (the planar faces of CAD
+//! models), and their 2D test computes the 18 orientations of each one's
+//! vertices against the other's edges once. Canonical ids
 //! (exact duplicate points) come from a sort, not a hash map.
 //! [`manifold_report`] files edges under their smaller endpoint (counting
 //! sort, insertion sort per bucket): no global sort, no edge map.
@@ -450,13 +453,19 @@ pub(crate) fn triangles_intersect(pts: &[P], a: [u32; 3], b: [u32; 3]) -> bool {
 
 /// The plane of a triangle `(o, p1, p2)` for a cheap filtered side test:
 /// the normal `n = (p1 − o) × (p2 − o)` and, per component, the sum of the
-/// magnitudes of its two products.
+/// magnitudes of its two products; and the triangle's
+/// [`projection_axes`] when the normal certifies them.
 #[derive(Debug, Clone, Copy)]
 struct Plane {
     o: P,
     n: [f64; 3],
     nabs: [f64; 3],
+    axes: Option<(usize, usize)>,
 }
+
+/// The error bound factor of `orient2d`'s floating-point stage,
+/// `(4 + 64u)·u`, `u = 2⁻⁵³`.
+const PROJ_BOUND: f64 = (4.0 + 64.0 * f64::EPSILON / 2.0) * (f64::EPSILON / 2.0);
 
 /// The error bound factor of the side test: the one of
 /// [`delone_predicates::orient3d`]'s filter, `(8 + 256u)·u`, `u = 2⁻⁵³`.
@@ -469,15 +478,46 @@ impl Plane {
         let (x1, x2) = (e1[1] * e2[2], e1[2] * e2[1]);
         let (y1, y2) = (e1[2] * e2[0], e1[0] * e2[2]);
         let (z1, z2) = (e1[0] * e2[1], e1[1] * e2[0]);
+        let n = [x1 - x2, y1 - y2, z1 - z2];
+        let nabs = [
+            x1.abs() + x2.abs(),
+            y1.abs() + y2.abs(),
+            z1.abs() + z2.abs(),
+        ];
+        // `projection_axes` takes the first of the projections (0, 1),
+        // (1, 2), (2, 0) with a nonzero exact orientation. Normal component
+        // `k` is that orientation for the projection dropping axis `k`,
+        // computed as `orient2d(p1, p2, o)`'s floating-point stage: nonzero
+        // for certain beyond that filter's bound, zero for certain when both
+        // triangle edges have no extent along one of the projection's axes
+        // (a rounded difference is 0 only when it is exactly 0). The same
+        // choice, or `None` (left to `projection_axes`) when in doubt.
+        let mut axes = None;
+        for (k, (i, j)) in [(2, (0, 1)), (0, (1, 2)), (1, (2, 0))] {
+            if n[k].abs() > PROJ_BOUND * nabs[k] {
+                axes = Some((i, j));
+                break;
+            }
+            let flat = |a: usize| e1[a] == 0.0 && e2[a] == 0.0;
+            if !(flat(i) || flat(j)) {
+                break;
+            }
+        }
         Plane {
             o: *o,
-            n: [x1 - x2, y1 - y2, z1 - z2],
-            nabs: [
-                x1.abs() + x2.abs(),
-                y1.abs() + y2.abs(),
-                z1.abs() + z2.abs(),
-            ],
+            n,
+            nabs,
+            axes,
         }
+    }
+
+    /// [`projection_axes`] of the triangle `t` this plane was made from
+    /// (any rotation of it).
+    #[inline]
+    fn axes(&self, [a, b, c]: [&P; 3]) -> (usize, usize) {
+        self.axes
+            .or_else(|| projection_axes(a, b, c))
+            .unwrap_or((0, 1))
     }
 
     /// The sign of `orient3d(t[0], t[1], t[2], q)` for the triangle `t`
@@ -528,6 +568,10 @@ fn intersect_with_planes(
         | u32::from(a[2] == b[1]) << 7
         | u32::from(a[2] == b[2]) << 8;
     let p = |v: u32| &pts[v as usize];
+    if flat && eq.count_ones() < 2 {
+        let axes = pl_a.axes(a.map(p));
+        return flat_intersect(pts, a, b, axes, eq);
+    }
     match eq.count_ones() {
         0 => disjoint_vertices_intersect(pts, a, b, side, (pl_a, pl_b)),
         1 => {
@@ -548,8 +592,8 @@ fn intersect_with_planes(
             if sa1 == sa2 && sa1 != 0 {
                 return false;
             }
-            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb)
-                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa)
+            seg_tri_signs(pa[i1], pa[i2], sa1, sa2, pb, pl_b)
+                || seg_tri_signs(pb[j1], pb[j2], sb1, sb2, pa, pl_a)
         }
         2 => {
             // The shared edge uv; c and f the third vertices of a and b.
@@ -564,7 +608,7 @@ fn intersect_with_planes(
             if side(pl_a, a.map(p), p(f)) != 0 {
                 return false;
             }
-            let (x, y) = projection_axes(p(u), p(v), p(c)).unwrap_or((0, 1));
+            let (x, y) = pl_a.axes([p(u), p(v), p(c)]);
             let q = |w: u32| [p(w)[x], p(w)[y]];
             let sc = orient2d(&q(u), &q(v), &q(c));
             let sf = orient2d(&q(u), &q(v), &q(f));
@@ -574,6 +618,45 @@ fn intersect_with_planes(
         }
         _ => true,
     }
+}
+
+/// The pair test of two triangles on one plane sharing at most one vertex
+/// (`eq` as in [`intersect_with_planes`]), in the projection `(x, y)` of
+/// that plane: the same formula as the coplanar edge-against-triangle tests
+/// of [`seg_tri_signs`] the general path makes (any projection that keeps
+/// the plane non-degenerate gives the same verdicts), with the 18
+/// orientations of each triangle's vertices against the other's edges
+/// computed once instead of once per test.
+fn flat_intersect(pts: &[P], a: [u32; 3], b: [u32; 3], (x, y): (usize, usize), eq: u32) -> bool {
+    let q = |v: u32| [pts[v as usize][x], pts[v as usize][y]];
+    let (qa, qb) = (a.map(q), b.map(q));
+    // s(e, p)[j]: the side of p of edge j (e[j] -> e[j + 1]) of e.
+    let s = |e: &[Q; 3], p: &Q| [0, 1, 2].map(|j| sign(orient2d(&e[j], &e[(j + 1) % 3], p)));
+    let (sab, sba) = (qb.map(|p| s(&qa, &p)), qa.map(|p| s(&qb, &p)));
+    let inside = |s: &[i8; 3]| !(s.contains(&1) && s.contains(&-1));
+    // Edge j of a against edge k of b.
+    let cross = |j: usize, k: usize| {
+        let (j1, k1) = ((j + 1) % 3, (k + 1) % 3);
+        let d = [sab[k][j], sab[k1][j], sba[j][k], sba[j1][k]];
+        seg_seg_2d_signs(&qa[j], &qa[j1], &qb[k], &qb[k1], d)
+    };
+    if eq == 0 {
+        // Every edge of each against the other triangle.
+        return sba.iter().any(inside)
+            || sab.iter().any(inside)
+            || (0..3).any(|j| (0..3).any(|k| cross(j, k)));
+    }
+    // One shared vertex a[i] = b[j]: the edges opposite it.
+    let k = eq.trailing_zeros() as usize;
+    let (i, j) = (k / 3, k % 3);
+    let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+    let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+    inside(&sba[i1])
+        || inside(&sba[i2])
+        || (0..3).any(|k| cross(i1, k))
+        || inside(&sab[j1])
+        || inside(&sab[j2])
+        || (0..3).any(|k| cross(k, j1))
 }
 
 /// The triangle-pair test for two triangles without a common vertex.
@@ -593,8 +676,8 @@ fn disjoint_vertices_intersect(
     if sa[0] == sa[1] && sa[1] == sa[2] && sa[0] != 0 {
         return false;
     }
-    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb))
-        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa))
+    (0..3).any(|k| seg_tri_signs(pa[k], pa[(k + 1) % 3], sa[k], sa[(k + 1) % 3], pb, pl_b))
+        || (0..3).any(|k| seg_tri_signs(pb[k], pb[(k + 1) % 3], sb[k], sb[(k + 1) % 3], pa, pl_a))
 }
 
 fn sign(x: f64) -> i8 {
@@ -613,18 +696,18 @@ fn sign(x: f64) -> i8 {
 fn seg_tri(p: &P, q: &P, a: &P, b: &P, c: &P) -> bool {
     let op = sign(orient3d(a, b, c, p));
     let oq = sign(orient3d(a, b, c, q));
-    seg_tri_signs(p, q, op, oq, [a, b, c])
+    seg_tri_signs(p, q, op, oq, [a, b, c], &Plane::new([a, b, c]))
 }
 
 /// [`seg_tri`] given `op`, `oq`: the signs of `orient3d(a, b, c, p)` and
-/// `orient3d(a, b, c, q)`.
-fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3]) -> bool {
+/// `orient3d(a, b, c, q)`, and the plane of `abc`.
+fn seg_tri_signs(p: &P, q: &P, op: i8, oq: i8, [a, b, c]: [&P; 3], pl: &Plane) -> bool {
     if op == oq && op != 0 {
         return false;
     }
     if op == 0 && oq == 0 {
         // Coplanar: a 2D test in a projection that keeps abc non-degenerate.
-        let (x, y) = projection_axes(a, b, c).unwrap_or((0, 1));
+        let (x, y) = pl.axes([a, b, c]);
         let f = |u: &P| [u[x], u[y]];
         return seg_tri_2d(&f(p), &f(q), &f(a), &f(b), &f(c));
     }
@@ -651,10 +734,18 @@ fn in_tri_2d(p: &Q, a: &Q, b: &Q, c: &Q) -> bool {
 
 /// Closed segments `pq` and `rs` in the plane intersect. Exact.
 fn seg_seg_2d(p: &Q, q: &Q, r: &Q, s: &Q) -> bool {
-    let d1 = sign(orient2d(p, q, r));
-    let d2 = sign(orient2d(p, q, s));
-    let d3 = sign(orient2d(r, s, p));
-    let d4 = sign(orient2d(r, s, q));
+    let d = [
+        sign(orient2d(p, q, r)),
+        sign(orient2d(p, q, s)),
+        sign(orient2d(r, s, p)),
+        sign(orient2d(r, s, q)),
+    ];
+    seg_seg_2d_signs(p, q, r, s, d)
+}
+
+/// [`seg_seg_2d`] given the signs of `orient2d(p, q, r)`,
+/// `orient2d(p, q, s)`, `orient2d(r, s, p)` and `orient2d(r, s, q)`.
+fn seg_seg_2d_signs(p: &Q, q: &Q, r: &Q, s: &Q, [d1, d2, d3, d4]: [i8; 4]) -> bool {
     if d1 * d2 < 0 && d3 * d4 < 0 {
         return true;
     }
@@ -981,6 +1072,51 @@ mod tests {
     }
 
     #[test]
+    fn plane_axes_are_the_projection_axes() {
+        let mut r = rng(0x005e_ed0f_a4e5);
+        let mut f = || (r() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let (mut known, mut left) = (0, 0);
+        for round in 0..30_000 {
+            let mut t = [[f(), f(), f()], [f(), f(), f()], [f(), f(), f()]];
+            // Axis-parallel triangles (one or two coordinates shared), and
+            // triangles whose projections are nearly or exactly degenerate:
+            // the third point on (or next to) the line of the first two in
+            // one projection.
+            let k = round % 3;
+            match round % 4 {
+                0 => {}
+                1 => (t[1][k], t[2][k]) = (t[0][k], t[0][k]),
+                2 => {
+                    let u = f();
+                    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                    for a in [i, j] {
+                        t[2][a] = t[0][a] + u * (t[1][a] - t[0][a]);
+                    }
+                    if round % 8 == 2 {
+                        t[2][i] = f64::from_bits(t[2][i].to_bits() + 1);
+                    }
+                }
+                _ => (t[1][k], t[2][k]) = (t[0][k], t[0][k] + 1e-17),
+            }
+            let tr = [&t[0], &t[1], &t[2]];
+            let pl = Plane::new(tr);
+            if collinear(tr[0], tr[1], tr[2]) {
+                continue;
+            }
+            let want = projection_axes(tr[0], tr[1], tr[2]);
+            if pl.axes.is_some() {
+                known += 1;
+                assert_eq!(pl.axes, want, "{t:?}");
+            } else {
+                left += 1;
+            }
+            assert_eq!(Some(pl.axes(tr)), want, "{t:?}");
+        }
+        // Both the certified choice and the fallback were exercised.
+        assert!(known > 10_000 && left > 100, "{known} {left}");
+    }
+
+    #[test]
     fn canonical_ids_name_the_first_equal_point() {
         let pts = [
             [1.0, 0.0, 0.0],
@@ -1137,6 +1273,53 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    /// The pair test of triangles known to lie on one plane (the shared
+    /// orientations of `flat_intersect`) against the reference, on planes
+    /// of each projection, with shared vertices, touching and overlapping
+    /// triangles.
+    #[test]
+    fn flat_pairs_match_the_reference() {
+        let mut r = rng(0xf1a7);
+        let planes: [fn(f64, f64) -> P; 3] = [
+            |u, v| [u, v, 0.5 * u + 0.25 * v],
+            |u, v| [0.75, u, v],
+            |u, v| [u, 0.5 * u - 2.0, v],
+        ];
+        let mut seen = [0usize; 2];
+        for on in planes {
+            // A small pool of points on a coarse grid: many shared,
+            // collinear and touching configurations.
+            let pts: Vec<P> = (0..12)
+                .map(|_| on((r() % 7) as f64 * 0.5, (r() % 7) as f64 * 0.5))
+                .collect();
+            for _ in 0..20_000 {
+                let mut tri = || [0, 1, 2].map(|_| (r() % 12) as u32);
+                let (a, b) = (tri(), tri());
+                let p = |v: u32| &pts[v as usize];
+                let distinct = |t: [u32; 3]| !collinear(p(t[0]), p(t[1]), p(t[2]));
+                let shared = (0..3).filter(|&i| b.contains(&a[i])).count();
+                // Equal points have equal ids here only if they are the
+                // same entry: keep pools of distinct points.
+                let unique = a
+                    .iter()
+                    .chain(&b)
+                    .all(|&v| (0..12).all(|w| w == v || pts[w as usize] != pts[v as usize]));
+                if !distinct(a) || !distinct(b) || shared > 1 || !unique {
+                    continue;
+                }
+                let pl = (&Plane::new(a.map(p)), &Plane::new(b.map(p)));
+                let want = triangles_intersect_ref(&pts, a, b);
+                assert_eq!(
+                    intersect_with_planes(&pts, a, b, pl, true),
+                    want,
+                    "{a:?} {b:?}"
+                );
+                seen[usize::from(want)] += 1;
+            }
+        }
+        assert!(seen[0] > 500 && seen[1] > 500, "{seen:?}");
     }
 
     #[test]

@@ -150,27 +150,46 @@ pub(crate) fn merge(
             }
         }
     }
-    // Delaunay edges between two vertices of one group.
-    let mut cand: Vec<(u32, u32, u32)> = Vec::new();
+    // Delaunay edges between two vertices of one group, ordered by (group,
+    // u, v): each edge once (ascending `u << 32 | v`; an edge is in several
+    // tetrahedra), then filed under its groups by a stable counting sort.
+    let mut edges: Vec<u64> = Vec::new();
     let core = &dt.core;
+    let grouped = |w: u32| vgroups.get(w as usize).is_some_and(|l| !l.is_empty());
     for tv in &core.v {
         if tv[0] == DEAD || tv.contains(&INF) {
             continue;
         }
         for (i, j) in crate::tet::local::EDGES {
             let (u, v) = ekey(tv[i], tv[j]);
-            let (Some(gu), Some(gv)) = (vgroups.get(u as usize), vgroups.get(v as usize)) else {
-                continue;
-            };
-            for g in gu {
-                if gv.contains(g) {
-                    cand.push((*g, u, v));
-                }
+            if grouped(u) && grouped(v) {
+                edges.push(u64::from(u) << 32 | u64::from(v));
             }
         }
     }
-    cand.sort_unstable();
-    cand.dedup();
+    edges.sort_unstable();
+    edges.dedup();
+    let vg = &vgroups;
+    let common = |e: u64| {
+        let (u, v) = ((e >> 32) as usize, e as u32 as usize);
+        vg[u].iter().filter(move |g| vg[v].contains(g))
+    };
+    let mut at = vec![0usize; big.len() + 1];
+    for &e in &edges {
+        for &g in common(e) {
+            at[g as usize + 1] += 1;
+        }
+    }
+    for g in 0..big.len() {
+        at[g + 1] += at[g];
+    }
+    let mut cand: Vec<(u32, u32, u32)> = vec![(0, 0, 0); at[big.len()]];
+    for &e in &edges {
+        for &g in common(e) {
+            cand[at[g as usize]] = (g, (e >> 32) as u32, e as u32);
+            at[g as usize] += 1;
+        }
+    }
     let mut new_tris: Vec<Option<Vec<[u32; 3]>>> = vec![None; big.len()];
     let mut start = 0;
     let mut kept = 0;
