@@ -155,12 +155,18 @@
 //! do not overlap, so such a set covers `T` exactly once. Two consequences
 //! of inexact Steiner points are handled explicitly: a flat tetrahedron with
 //! all four vertices on `T` contributes only its faces looking to `T`'s
-//! positive side, and a mesh edge joining two non-consecutive points of a
+//! positive side (with `-p` alone also one with three points of one side's
+//! chain, which otherwise leaves `T` uncovered for good: the private
+//! `surface` module's `coverage_local`), and a mesh edge joining two
+//! non-consecutive points of a
 //! side's chain (a chord) is accepted together with the thin faces of chain
 //! points that close the gap. After carving, a kept cell between such a
 //! chord's face and a thin face (two boundary faces on one triangle, flat)
 //! is removed, its other two faces becoming the boundary
-//! ([`RecoverReport::chord_slivers`]).
+//! ([`RecoverReport::chord_slivers`]). With `-p` alone, an edge whose ring
+//! is all points of an uncovered `T` (rounded off its plane, so the edge
+//! meets the plane outside `T`) is removed by edge removal, which makes the
+//! ring's faces on `T` (`cdt::remove_piercing`); no split would.
 //!
 //! # Costs
 //!
