@@ -41,40 +41,48 @@ fn decimal_len(v: u64) -> usize {
     t + usize::from(v >= POW10[t])
 }
 
+/// The four decimal digits of each `k < 10^4` (with leading zeros) as
+/// ASCII in the bytes of a `u32`, first digit lowest (40 KB).
+static DIGITS4: [u32; 10_000] = {
+    let mut t = [0u32; 10_000];
+    let mut k = 0;
+    while k < 10_000 {
+        let d = [k / 1000, k / 100 % 10, k / 10 % 10, k % 10];
+        let mut word = 0u32;
+        let mut i = 0;
+        while i < 4 {
+            word |= (b'0' as u32 + d[i] as u32) << (8 * i);
+            i += 1;
+        }
+        t[k] = word;
+        k += 1;
+    }
+    t
+};
+
 /// The eight decimal digits of `v < 10^8` (with leading zeros) as ASCII
 /// in the bytes of a `u64`, most significant digit in the lowest byte (the
-/// first in memory of `to_le_bytes`). The halves `v / 10^4` and
-/// `v % 10^4` go to the two 32-bit lanes, each lane is split into its
-/// hundreds and the rest (16-bit lanes), each of those into tens and units
-/// (8-bit lanes): every division is a multiplication by a reciprocal,
-/// exact for the lane's range (x / 100 = x·5243 >> 19 for x < 10^4,
-/// x / 10 = x·103 >> 10 for x < 100), on all lanes at once.
+/// first in memory of `to_le_bytes`): the digits of `v / 10^4` and of
+/// `v % 10^4` from [`DIGITS4`] (two loads where computing the digits
+/// takes about 25 operations; `v` is capped, so larger values never
+/// index past the table).
 #[inline(always)]
 fn eight_digits(v: u32) -> u64 {
-    digit_values(v) | 0x3030_3030_3030_3030
-}
-
-/// [`eight_digits`] before the ASCII offset: the digit values 0–9.
-#[inline(always)]
-fn digit_values(v: u32) -> u64 {
-    let v = u64::from(v);
-    let x = (v / 10_000) | ((v % 10_000) << 32);
-    let h = ((x * 5243) >> 19) & 0x0000_007F_0000_007F;
-    let y = h | ((x - h * 100) << 16);
-    let t = ((y * 103) >> 10) & 0x000F_000F_000F_000F;
-    t | ((y - t * 10) << 8)
+    let hi = (v / 10_000).min(9_999) as usize;
+    let lo = (v % 10_000) as usize;
+    u64::from(DIGITS4[hi]) | u64::from(DIGITS4[lo]) << 32
 }
 
 /// The digits of `v < 10^8` without leading zeros, as ASCII in the low
 /// bytes of the result (first digit lowest), and their count. The leading
-/// zeros are the zero bytes at the low end of [`digit_values`], counted
-/// by its trailing zero bits (the last digit's byte is flagged so that
-/// `0` keeps one digit).
+/// zeros are the `'0'` bytes at the low end of [`eight_digits`], counted
+/// by the trailing zero bits of the digit values (the last digit's byte
+/// is flagged so that `0` keeps one digit).
 #[inline(always)]
 fn short_digits(v: u32) -> (u64, usize) {
-    let z = digit_values(v);
-    let skip = (z | 1 << 56).trailing_zeros() & !7;
-    ((z | 0x3030_3030_3030_3030) >> skip, 8 - (skip / 8) as usize)
+    let w = eight_digits(v);
+    let skip = ((w ^ 0x3030_3030_3030_3030) | 1 << 56).trailing_zeros() & !7;
+    (w >> skip, 8 - (skip / 8) as usize)
 }
 
 pub(crate) struct Out<W: Write> {
@@ -100,8 +108,8 @@ impl<W: Write> Out<W> {
         self.buf.push(b);
     }
 
-    /// Decimal digits. Below 10^8 all eight digit places are computed at
-    /// once in the bytes of a `u64` ([`eight_digits`]) and the leading
+    /// Decimal digits. Below 10^8 all eight digit places are looked up at
+    /// once into the bytes of a `u64` ([`eight_digits`]) and the leading
     /// zeros shifted out; above, two digits at a time from a table. The
     /// digits are appended as a fixed-size array cut back to their count:
     /// a copy the compiler inlines, where a copy of the digits alone calls
@@ -148,6 +156,36 @@ impl<W: Write> Out<W> {
         } else {
             self.buf.push(b' ');
             self.uint(v);
+        }
+    }
+
+    /// [`Out::space_uint`] of `v + add` for every `v` of `vals`. Four
+    /// values below 10^7 at a time (a space and at most seven digits:
+    /// eight bytes each) are laid out in a 32-byte array, appended as one
+    /// fixed-size copy cut back to their length: one capacity check for
+    /// the four instead of one per value (an `.ele` row's vertices).
+    #[inline(always)]
+    pub(crate) fn space_uints(&mut self, vals: &[u32], add: u64) {
+        let mut quads = vals.chunks_exact(4);
+        for q in quads.by_ref() {
+            let v = [0, 1, 2, 3].map(|k| u64::from(q[k]) + add);
+            if v.iter().any(|&x| x >= 10_000_000) {
+                v.iter().for_each(|&x| self.space_uint(x));
+                continue;
+            }
+            let mut tmp = [0u8; 40];
+            let mut pos = 0;
+            for x in v {
+                let (d, len) = short_digits(x as u32);
+                tmp[pos..pos + 8].copy_from_slice(&(d << 8 | u64::from(b' ')).to_le_bytes());
+                pos += len + 1;
+            }
+            let end = self.buf.len() + pos;
+            self.buf.extend_from_slice(&tmp[..32]);
+            self.buf.truncate(end);
+        }
+        for &x in quads.remainder() {
+            self.space_uint(u64::from(x) + add);
         }
     }
 
@@ -629,7 +667,7 @@ mod tests {
     }
 
     #[test]
-    fn eight_digit_lanes() {
+    fn eight_digits_of_every_count() {
         let mut s: u64 = 7;
         let vals = (0..200_000u32)
             .chain((0..8).map(|k| 10u32.pow(k)))
@@ -691,6 +729,39 @@ mod tests {
             o.uint(v);
             o.space_uint(v);
             assert_eq!(o.buf, format!("x{v} {v}").as_bytes());
+        }
+    }
+
+    /// Rows of values laid out four at a time: the bytes of one
+    /// `space_uint` per value, for every digit count up to 10^7 and past
+    /// it (one large value sends its four to `space_uint`), every row
+    /// length (a remainder of one to three values), and offsets.
+    #[test]
+    fn space_uints_as_space_uint() {
+        let mut s: u64 = 5;
+        let mut pool: Vec<u32> = (0..8u32)
+            .flat_map(|k| {
+                let p = 10u32.pow(k);
+                [p - 1, p, p + 1, 2 * p]
+            })
+            .chain([u32::MAX, u32::MAX - 1, 9_999_998, 10_000_001])
+            .collect();
+        pool.extend((0..4000).map(|_| {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1);
+            ((s >> 33) >> (s & 31)) as u32
+        }));
+        for add in [0u64, 1, 3] {
+            for len in 0..=9 {
+                for row in pool.windows(len.max(1)).step_by(3).take(1500) {
+                    let row = &row[..len];
+                    let (mut a, mut b) = (Out::new(Vec::new()), Out::new(Vec::new()));
+                    a.buf.push(b'x');
+                    b.buf.push(b'x');
+                    a.space_uints(row, add);
+                    row.iter().for_each(|&v| b.space_uint(u64::from(v) + add));
+                    assert_eq!(a.buf, b.buf, "{row:?} + {add}");
+                }
+            }
         }
     }
 

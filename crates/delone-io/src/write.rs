@@ -169,15 +169,19 @@ pub fn write_ele_threads<W: Write, const K: usize>(
     o.uint(n_attributes as u64);
     o.byte(b'\n');
     let f = u64::from(first_index);
-    o.rows(elements.len(), f, threads, |o, i| {
-        for &v in &elements[i] {
-            o.space_uint(u64::from(v) + f);
-        }
-        for &a in &attributes[i * n_attributes..(i + 1) * n_attributes] {
-            o.byte(b' ');
-            o.float(a);
-        }
-    })?;
+    if n_attributes == 0 {
+        o.rows(elements.len(), f, threads, |o, i| {
+            o.space_uints(&elements[i], f)
+        })?;
+    } else {
+        o.rows(elements.len(), f, threads, |o, i| {
+            o.space_uints(&elements[i], f);
+            for &a in &attributes[i * n_attributes..(i + 1) * n_attributes] {
+                o.byte(b' ');
+                o.float(a);
+            }
+        })?;
+    }
     Ok(o.finish()?)
 }
 
