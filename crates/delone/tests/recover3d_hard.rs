@@ -381,6 +381,13 @@ fn meshed_data_checked(file: &str, switches: &str) -> Recovered {
     r.mesh
 }
 
+/// `tests/data/<file>` recovered by `-p` (checked, with its volume) in at
+/// most `rounds` rounds.
+fn p_rounds_at_most(file: &str, rounds: usize) {
+    let r = meshed_data_checked(file, "p");
+    assert!(r.report.rounds <= rounds, "{file} -p: {:?}", r.report);
+}
+
 /// `-p` on a gear with a keyway turned to no coordinate angle (see
 /// `tests/data/README.md`): its thin triangles get Steiner points on their
 /// long sides, rounded off the lines, and slivers of a corner and three
@@ -391,8 +398,7 @@ fn meshed_data_checked(file: &str, switches: &str) -> Recovered {
 /// 24 without). Checked, with its volume.
 #[test]
 fn turned_gear_key_recovers_in_few_rounds() {
-    let r = meshed_data_checked("gear_key_turned.off", "p");
-    assert!(r.report.rounds <= 3, "gear key -p: {:?}", r.report);
+    p_rounds_at_most("gear_key_turned.off", 3);
 }
 
 /// `-p` on a tube whose radial holes cut both cylinders' strips into thin
@@ -406,8 +412,7 @@ fn turned_gear_key_recovers_in_few_rounds() {
 /// Checked, with its volume.
 #[test]
 fn sliver_of_a_corner_and_one_side_counts_once() {
-    let r = meshed_data_checked("tube_rings_thin.off", "p");
-    assert!(r.report.rounds <= 4, "thin tube -p: {:?}", r.report);
+    p_rounds_at_most("tube_rings_thin.off", 4);
 }
 
 /// `-p` on another tube of the same class (see `tests/data/README.md`):
@@ -418,8 +423,7 @@ fn sliver_of_a_corner_and_one_side_counts_once() {
 /// one split each. Checked, with its volume.
 #[test]
 fn edge_piercing_a_thin_triangle_is_removed() {
-    let r = meshed_data_checked("tube_rings_pierced.off", "p");
-    assert!(r.report.rounds <= 20, "pierced tube -p: {:?}", r.report);
+    p_rounds_at_most("tube_rings_pierced.off", 20);
 }
 
 /// `-p` on a tube with two rings of radial holes (see
@@ -431,8 +435,7 @@ fn edge_piercing_a_thin_triangle_is_removed() {
 /// its volume.
 #[test]
 fn tube_with_rings_of_holes_splits_in_place_again() {
-    let r = meshed_data_checked("tube_rings.off", "p");
-    assert!(r.report.rounds <= 4, "tube -p: {:?}", r.report);
+    p_rounds_at_most("tube_rings.off", 4);
 }
 
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement
