@@ -2244,10 +2244,6 @@ mod tests {
         (0..n).map(|_| [u(), u(), u()]).collect()
     }
 
-    /// A part with fewer free slots than the new cells of an insertion
-    /// leaves the point and changes nothing, also when it has enough slots
-    /// for the net growth (the new cells are allocated before the
-    /// cavity's are freed).
     /// A tetrahedron's corners and point 4 inside it.
     const CORNERS_AND_INSIDE: [[f64; 3]; 5] = [
         [0.0, 0.0, 0.0],
@@ -2277,6 +2273,10 @@ mod tests {
         dt.check_delaunay().unwrap();
     }
 
+    /// A part with fewer free slots than the new cells of an insertion
+    /// leaves the point and changes nothing, also when it has enough slots
+    /// for the net growth (the new cells are allocated before the
+    /// cavity's are freed).
     #[test]
     fn a_part_short_of_slots_leaves_the_point() {
         let pts = CORNERS_AND_INSIDE;
