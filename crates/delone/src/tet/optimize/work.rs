@@ -86,11 +86,12 @@ pub(super) fn sines(p: [&[f64; 3]; 4]) -> Option<[f64; 6]> {
 
 /// A tetrahedron whose vertex `k` may move, with the terms of its dihedral
 /// angles that do not depend on that vertex (the squared area normal of the
-/// face opposite it and the squared lengths of the three edges away from
-/// it), computed once: [`Work::smooth`] evaluates the tetrahedra of a star
-/// at many trial positions of its vertex. [`quality`] and [`sines`] are the
-/// same computation with vertex 0 given, so an evaluation here is theirs
-/// to the bit.
+/// face opposite it, the squared lengths of the three edges away from it
+/// and the edge vectors of the formulas that do not involve it), computed
+/// once: [`Work::smooth`] evaluates the tetrahedra of a star at many trial
+/// positions of its vertex. [`quality`] and [`sines`] are the same
+/// computation with vertex 0 given, so an evaluation here is theirs to the
+/// bit.
 #[derive(Debug, Clone, Copy)]
 struct Moving {
     pts: [[f64; 3]; 4],
@@ -100,6 +101,11 @@ struct Moving {
     /// The squared edge lengths in [`crate::tet::quality::EDGES`] order;
     /// those of the edges at `k` are unused (0).
     l: [f64; 6],
+    /// The vectors of [`Moving::terms`] that do not depend on vertex `k`
+    /// (`e_ij = p_j - p_i`, `c23 = e_02 × e_03`): for `k = 1` `e_02`,
+    /// `e_03`, `c23`; for `k = 2` `e_01`, `e_03`, `e_13`; for `k = 3`
+    /// `e_01`, `e_02`, `e_12`; unused for `k = 0`.
+    c: [[f64; 3]; 3],
 }
 
 impl Moving {
@@ -108,22 +114,31 @@ impl Moving {
     fn new(pts: [[f64; 3]; 4], k: usize) -> Moving {
         let p = &pts;
         let e = |i: usize, j: usize| sq(sub(&p[j], &p[i]));
-        let (nk, l) = match k {
+        let v = |i: usize, j: usize| sub(&p[j], &p[i]);
+        let z = [0.0; 3];
+        let (nk, l, c) = match k {
             0 => (
                 sq(cross(&sub(&p[2], &p[1]), &sub(&p[3], &p[1]))),
                 [0.0, 0.0, 0.0, e(1, 2), e(1, 3), e(2, 3)],
+                [z; 3],
             ),
-            1 => (
-                sq(cross(&sub(&p[2], &p[0]), &sub(&p[3], &p[0]))),
-                [0.0, e(0, 2), e(0, 3), 0.0, 0.0, e(2, 3)],
-            ),
+            1 => {
+                let c23 = cross(&v(0, 2), &v(0, 3));
+                (
+                    sq(c23),
+                    [0.0, e(0, 2), e(0, 3), 0.0, 0.0, e(2, 3)],
+                    [v(0, 2), v(0, 3), c23],
+                )
+            }
             2 => (
                 sq(cross(&sub(&p[1], &p[0]), &sub(&p[3], &p[0]))),
                 [e(0, 1), 0.0, e(0, 3), 0.0, e(1, 3), 0.0],
+                [v(0, 1), v(0, 3), v(1, 3)],
             ),
             _ => (
                 sq(cross(&sub(&p[1], &p[0]), &sub(&p[2], &p[0]))),
                 [e(0, 1), e(0, 2), 0.0, e(1, 2), 0.0, 0.0],
+                [v(0, 1), v(0, 2), v(1, 2)],
             ),
         };
         Moving {
@@ -131,6 +146,7 @@ impl Moving {
             k: k.min(3),
             nk,
             l,
+            c,
         }
     }
 
@@ -148,62 +164,83 @@ impl Moving {
     /// squared edge lengths (in [`crate::tet::quality::EDGES`] order; the
     /// faces at each edge are [`EDGE_FACES`]); `None` when it is flat or
     /// inverted (floating point). The dihedral sine at an edge is
-    /// `6V · |e| / (|N_k| |N_l|)`.
+    /// `6V · |e| / (|N_k| |N_l|)`. With `e_ij = p_j - p_i`: `6V = e_01 ·
+    /// (e_02 × e_03)`, `N_0 = e_12 × e_13`, `N_1 = e_02 × e_03`, `N_2 =
+    /// e_01 × e_03`, `N_3 = e_01 × e_02` — the same operations whichever
+    /// vertex moves, those without it taken from [`Moving::c`].
     #[inline(always)]
     #[allow(clippy::type_complexity)]
     fn terms(&self, x: &[f64; 3]) -> Option<(f64, [f64; 4], [f64; 6])> {
-        let mut p = [&self.pts[0], &self.pts[1], &self.pts[2], &self.pts[3]];
-        p[self.k] = x;
-        let e1 = sub(p[1], p[0]);
-        let e2 = sub(p[2], p[0]);
-        let e3 = sub(p[3], p[0]);
-        let c23 = cross(&e2, &e3);
-        let det = dot(&e1, &c23);
-        if det.is_nan() || det <= 0.0 {
-            return None;
-        }
-        // The face opposite vertex i, its squared area normal n[i]; edge
-        // (i, j) lies on the faces opposite the other two vertices.
+        let p = &self.pts;
         let l = self.l;
-        Some(match self.k {
-            0 => (
-                det,
-                [self.nk, sq(c23), sq(cross(&e1, &e3)), sq(cross(&e1, &e2))],
-                [sq(e1), sq(e2), sq(e3), l[3], l[4], l[5]],
-            ),
+        let [c0, c1, c2] = &self.c;
+        match self.k {
+            0 => {
+                let e1 = sub(&p[1], x);
+                let e2 = sub(&p[2], x);
+                let e3 = sub(&p[3], x);
+                let c23 = cross(&e2, &e3);
+                let det = dot(&e1, &c23);
+                if det.is_nan() || det <= 0.0 {
+                    return None;
+                }
+                Some((
+                    det,
+                    [self.nk, sq(c23), sq(cross(&e1, &e3)), sq(cross(&e1, &e2))],
+                    [sq(e1), sq(e2), sq(e3), l[3], l[4], l[5]],
+                ))
+            }
             1 => {
-                let e12 = sub(p[2], p[1]);
-                let e13 = sub(p[3], p[1]);
-                (
+                // c0 = e_02, c1 = e_03, c2 = e_02 × e_03.
+                let e1 = sub(x, &p[0]);
+                let det = dot(&e1, c2);
+                if det.is_nan() || det <= 0.0 {
+                    return None;
+                }
+                let e12 = sub(&p[2], x);
+                let e13 = sub(&p[3], x);
+                Some((
                     det,
                     [
                         sq(cross(&e12, &e13)),
                         self.nk,
-                        sq(cross(&e1, &e3)),
-                        sq(cross(&e1, &e2)),
+                        sq(cross(&e1, c1)),
+                        sq(cross(&e1, c0)),
                     ],
                     [sq(e1), l[1], l[2], sq(e12), sq(e13), l[5]],
-                )
+                ))
             }
             2 => {
-                let e12 = sub(p[2], p[1]);
-                let e13 = sub(p[3], p[1]);
-                (
+                // c0 = e_01, c1 = e_03, c2 = e_13.
+                let e2 = sub(x, &p[0]);
+                let c23 = cross(&e2, c1);
+                let det = dot(c0, &c23);
+                if det.is_nan() || det <= 0.0 {
+                    return None;
+                }
+                let e12 = sub(x, &p[1]);
+                Some((
                     det,
-                    [sq(cross(&e12, &e13)), sq(c23), self.nk, sq(cross(&e1, &e2))],
-                    [l[0], sq(e2), l[2], sq(e12), l[4], sq(sub(p[3], p[2]))],
-                )
+                    [sq(cross(&e12, c2)), sq(c23), self.nk, sq(cross(c0, &e2))],
+                    [l[0], sq(e2), l[2], sq(e12), l[4], sq(sub(&p[3], x))],
+                ))
             }
             _ => {
-                let e12 = sub(p[2], p[1]);
-                let e13 = sub(p[3], p[1]);
-                (
+                // c0 = e_01, c1 = e_02, c2 = e_12.
+                let e3 = sub(x, &p[0]);
+                let c23 = cross(c1, &e3);
+                let det = dot(c0, &c23);
+                if det.is_nan() || det <= 0.0 {
+                    return None;
+                }
+                let e13 = sub(x, &p[1]);
+                Some((
                     det,
-                    [sq(cross(&e12, &e13)), sq(c23), sq(cross(&e1, &e3)), self.nk],
-                    [l[0], l[1], sq(e3), l[3], sq(e13), sq(sub(p[3], p[2]))],
-                )
+                    [sq(cross(c2, &e13)), sq(c23), sq(cross(c0, &e3)), self.nk],
+                    [l[0], l[1], sq(e3), l[3], sq(e13), sq(sub(x, &p[2]))],
+                ))
             }
-        })
+        }
     }
 }
 
@@ -352,7 +389,7 @@ struct MultiFaceBuf {
 #[derive(Debug, Clone, Default)]
 struct SmoothBuf {
     star: Vec<u32>,
-    local: Vec<Moving>,
+    local: Vec<Option<Moving>>,
     qs: Vec<f64>,
     qy: Vec<f64>,
     order: Vec<usize>,
@@ -979,17 +1016,23 @@ impl Work {
         if !(len > 0.0 && len.is_finite()) {
             return false;
         }
-        // Each star tetrahedron's points, with the slot of `v`.
+        // Each star tetrahedron's points, with the slot of `v`: made when
+        // it is first evaluated (the search leaves out those far above the
+        // worst, and a search that fails never evaluates them).
         local.clear();
-        local.extend(star.iter().map(|&t| {
-            let tv = self.m.tv[t as usize];
-            let k = tv.iter().position(|&u| u == v).unwrap_or(0);
-            Moving::new(tv.map(|u| self.p[u as usize]), k)
-        }));
+        local.resize(star.len(), None);
         let evals = &self.evals;
-        let at = |i: usize, x: &[f64; 3]| {
+        let (tvs, pts) = (&self.m.tv, &self.p);
+        let stars = &*star;
+        let mut at = |i: usize, x: &[f64; 3]| {
             evals.set(evals.get() + 1);
-            local[i].quality(x)
+            local[i]
+                .get_or_insert_with(|| {
+                    let tv = tvs[stars[i] as usize];
+                    let k = tv.iter().position(|&u| u == v).unwrap_or(0);
+                    Moving::new(tv.map(|u| pts[u as usize]), k)
+                })
+                .quality(x)
         };
         let mut x = home;
         let frame = self.frame(v);
