@@ -1024,16 +1024,21 @@ impl Work {
         let evals = &self.evals;
         let (tvs, pts) = (&self.m.tv, &self.p);
         let stars = &*star;
-        let mut at = |i: usize, x: &[f64; 3]| {
-            evals.set(evals.get() + 1);
-            local[i]
-                .get_or_insert_with(|| {
-                    let tv = tvs[stars[i] as usize];
-                    let k = tv.iter().position(|&u| u == v).unwrap_or(0);
-                    Moving::new(tv.map(|u| pts[u as usize]), k)
-                })
-                .quality(x)
-        };
+        // The quality of star tetrahedron `i` with `v` at `x` (a macro:
+        // inlined where the search evaluates).
+        macro_rules! at {
+            ($i:expr, $x:expr) => {{
+                let i: usize = $i;
+                evals.set(evals.get() + 1);
+                local[i]
+                    .get_or_insert_with(|| {
+                        let tv = tvs[stars[i] as usize];
+                        let k = tv.iter().position(|&u| u == v).unwrap_or(0);
+                        Moving::new(tv.map(|u| pts[u as usize]), k)
+                    })
+                    .quality($x)
+            }};
+        }
         let mut x = home;
         let frame = self.frame(v);
         // At home: the cached qualities.
@@ -1057,7 +1062,7 @@ impl Work {
                 for (k, gk) in g.iter_mut().enumerate() {
                     let mut y = x;
                     y[k] += h;
-                    *gk = (at(i, &y) - qi) / h;
+                    *gk = (at!(i, &y) - qi) / h;
                 }
                 grads.push(frame.tangent(g));
             }
@@ -1084,7 +1089,7 @@ impl Work {
                 };
                 let mut m = f64::INFINITY;
                 for &i in order.iter() {
-                    let q = at(i, &y);
+                    let q = at!(i, &y);
                     if q <= cur + 1e-6 {
                         continue 'search;
                     }
@@ -1117,7 +1122,7 @@ impl Work {
             if fresh[i] {
                 evals.set(evals.get() + 1);
             } else {
-                *q = at(i, &x);
+                *q = at!(i, &x);
             }
         }
         if qs.iter().any(|&q| q < q_home + 1e-3) {
