@@ -166,7 +166,10 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     // would be one per triangle in a volume; surfaces fill ~ cells^(2/3)).
     let vol: f64 = ext.iter().filter(|&&e| e > 0.0).product();
     let dims_nonzero = ext.iter().filter(|&&e| e > 0.0).count().max(1) as f64;
-    let mut h = (vol / (m * 2.0)).powf(1.0 / dims_nonzero);
+    // Twice that edge: fewer cells per triangle and fewer copies of one
+    // pair in several cells outweigh the longer cell lists (measured: about
+    // a quarter fewer instructions in the broad phase on closed models).
+    let mut h = 2.0 * (vol / (m * 2.0)).powf(1.0 / dims_nonzero);
     if !(h.is_finite() && h > 0.0) {
         h = ext.iter().cloned().fold(0.0, f64::max).max(1.0);
     }
