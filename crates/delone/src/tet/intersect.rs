@@ -37,8 +37,14 @@
 //! triangles of one group of exactly coplanar edge neighbours
 //! (`coplanar_groups`, one exact test per shared edge) skip the side tests,
 //! which would all take that exact fallback (the planar faces of CAD
-//! models), and their 2D test computes the 18 orientations of each one's
-//! vertices against the other's edges once. Canonical ids
+//! models), and their 2D test first looks for an edge line of one triangle
+//! with the other's unshared vertices strictly beyond it (settling most
+//! pairs of a face with a few orientations), then computes the 18
+//! orientations of each one's vertices against the other's edges once. An
+//! exact side fallback is remembered per (coplanar group, vertex): all
+//! triangles of a group share their plane and normal direction, so the
+//! vertices of adjacent faces lying on a planar face's plane are decided
+//! exactly once per face. Canonical ids
 //! (exact duplicate points) come from a sort, not a hash map.
 //! [`manifold_report`] files edges under their smaller endpoint (counting
 //! sort, insertion sort per bucket): no global sort, no edge map.
