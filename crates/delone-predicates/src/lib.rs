@@ -609,6 +609,23 @@ pub fn incircle_weighted_sos(
     sos::incircle_lifted_sos([a, b, c, d], [ia, ib, ic, id])
 }
 
+/// The lifting perturbation's decision for an exact in-sphere tie: what
+/// [`insphere_sos`] and [`insphere_weighted_sos`] return when the exact
+/// (weighted) determinant of rows `a, b, c, d, e` is 0 (the cofactors do not
+/// depend on the weights), for callers that have that determinant already.
+///
+/// ```
+/// use delone_predicates::{insphere_sos, insphere_tie_sos};
+/// let (a, b, c, d) = ([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, -2.0]);
+/// let e = [2.0, 2.0, -2.0]; // on the sphere
+/// let s = insphere_tie_sos([&a, &b, &c, &d, &e], [0, 1, 2, 3, 4]);
+/// assert_eq!(s, insphere_sos(&a, &b, &c, &d, &e, 0, 1, 2, 3, 4));
+/// ```
+#[inline]
+pub fn insphere_tie_sos(pts: [&Point3; 5], idx: [u32; 5]) -> i32 {
+    sos::insphere_lifted_sos(pts, idx)
+}
+
 /// [`insphere_weighted`] under the lifting perturbation: `+1` or `-1`.
 ///
 /// Same rule as [`insphere_sos`] (the cofactors do not depend on the weights).

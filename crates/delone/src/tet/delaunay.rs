@@ -90,7 +90,7 @@
 
 use std::borrow::Cow;
 
-use delone_predicates::{insphere, insphere_weighted, insphere_weighted_sos, orient3d};
+use delone_predicates::{insphere, insphere_tie_sos, insphere_weighted, orient3d};
 
 use super::local::{DEAD, FACET, INF};
 use super::TetMesh;
@@ -1415,12 +1415,13 @@ fn finite_conflict_v<const W: bool>(g: Geo<'_>, tv: [u32; 4], id: u32, p: &[f64;
         return s > 0.0;
     }
     // An exact tie (zero weights: the in-sphere tie): the perturbation
-    // by input id decides.
+    // by input id decides (`insphere_weighted_sos` past the determinant
+    // just computed).
     let o = |i: u32| g.ids.get(i as usize).copied().unwrap_or(i);
-    let (ia, ib, ic, id_, ie) = (o(b), o(a), o(c), o(d), o(id));
-    let (pa, pb, pc, pd, pe) = (q(b), q(a), q(c), q(d), q(id));
-    let (wa, wb, wc, wd, we) = (w(b), w(a), w(c), w(d), w(id));
-    insphere_weighted_sos(pa, pb, pc, pd, pe, wa, wb, wc, wd, we, ia, ib, ic, id_, ie) > 0
+    insphere_tie_sos(
+        [q(b), q(a), q(c), q(d), q(id)],
+        [o(b), o(a), o(c), o(d), o(id)],
+    ) > 0
 }
 
 /// Whether owned cell `t`, with vertices `tv`, conflicts with point `id`;
