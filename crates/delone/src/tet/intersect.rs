@@ -548,10 +548,14 @@ impl Plane {
     /// factor times the permanent) certifies the sign. Subtracting the
     /// first row from the others shows `orient3d(o, p1, p2, q) = −det`.
     /// Uncertain cases (and tiny or non-finite bounds) take the exact
-    /// predicate.
-    #[cfg(test)]
-    fn side(&self, t: [&P; 3], q: &P) -> i8 {
-        self.side_filtered(q).unwrap_or_else(|| exact_side(t, q))
+    /// predicate, through `memo` for vertex `v` at `q` (see
+    /// [`exact_side_memo`]).
+    #[inline(always)]
+    fn side(&self, t: [&P; 3], (v, q): (u32, &P), memo: Option<&RefCell<IdMap<u64, i8>>>) -> i8 {
+        match self.side_filtered(q) {
+            Some(s) => s,
+            None => exact_side_memo(self, t, (v, q), memo),
+        }
     }
 
     /// The floating-point stage of [`Plane::side`]: the sign when certain.
@@ -615,13 +619,11 @@ fn intersect_with_planes(
     // normal direction, hence the same sign for `v` (the vertices of a CAD
     // model's adjacent faces that lie on a planar face's plane take that
     // fallback once per face instead of once per pair).
-    let side = |pl: &Plane, t: [&P; 3], (v, q): (u32, &P)| -> i8 {
+    let side = |pl: &Plane, t: [&P; 3], vq: (u32, &P)| -> i8 {
         if flat {
-            return 0;
-        }
-        match pl.side_filtered(q) {
-            Some(s) => s,
-            None => exact_side_memo(pl, t, (v, q), memo),
+            0
+        } else {
+            pl.side(t, vq, memo)
         }
     };
     // Bit 3i + j: a[i] == b[j]. The vertices of a non-degenerate triangle
@@ -1184,7 +1186,10 @@ mod tests {
                 _ => [0, 1, 2].map(|k| 0.5 * (t[0][k] + t[1][k])),
             };
             let pl = Plane::new(tr);
-            assert_eq!(pl.side(tr, &q), sign(orient3d(&t[0], &t[1], &t[2], &q)));
+            assert_eq!(
+                pl.side(tr, (0, &q), None),
+                sign(orient3d(&t[0], &t[1], &t[2], &q))
+            );
         }
     }
 
