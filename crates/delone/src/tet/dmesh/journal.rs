@@ -413,6 +413,11 @@ impl<'a> Journaled<'a> {
         self.visited.borrow_mut().insert(x)
     }
 
+    /// Is slot `x` in the visited set of [`Journaled::visit`]?
+    pub(crate) fn visited(&self, x: u32) -> bool {
+        self.visited.borrow().contains(x)
+    }
+
     /// Empties the per-vertex memo of [`Journaled::vertex_memo`].
     pub(crate) fn vertex_memo_begin(&self) {
         self.vmemo.borrow_mut().0.clear();

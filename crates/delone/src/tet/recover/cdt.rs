@@ -593,21 +593,29 @@ const CONE_GROW: usize = 32;
 /// against every step: 10% more Steiner points, 15% less time.
 const CONE_STEPS: usize = 3;
 
-/// A cavity of [`cone_segment`]: its slots in order and as a set.
+/// A cavity of [`cone_segment`]: its slots in order, and as a set in the
+/// mesh's visited stamps ([`Journaled::visit`]: one cavity at a time, so
+/// [`Cavity::mark`] makes a cavity the current one again).
 #[derive(Clone, Default)]
 struct Cavity {
     list: Vec<u32>,
-    set: IdSet<u32>,
 }
 
 impl Cavity {
-    fn push(&mut self, t: u32) {
-        if self.set.insert(t) {
+    /// Makes this cavity the visited set.
+    fn mark(&self, cm: &Journaled<'_>) {
+        cm.visit_begin();
+        for &t in &self.list {
+            cm.visit(t);
+        }
+    }
+    fn push(&mut self, cm: &Journaled<'_>, t: u32) {
+        if cm.visit(t) {
             self.list.push(t);
         }
     }
-    fn has(&self, t: u32) -> bool {
-        self.set.contains(&t)
+    fn has(cm: &Journaled<'_>, t: u32) -> bool {
+        cm.visited(t)
     }
 }
 
@@ -648,6 +656,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
     let m = &cm.m;
     let finite = |t: u32| (t as usize) < m.tv.len() && !m.tv[t as usize].contains(&INF);
     let mut cav = Cavity::default();
+    cm.visit_begin();
     let star = cm.star(u);
     for &t in &star {
         let tv = m.tv[t as usize];
@@ -655,7 +664,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             continue;
         };
         if finite(t) && seg.meets(pts, face(tv, i)) == 1 {
-            cav.push(t);
+            cav.push(cm, t);
         }
     }
     // The tetrahedra behind the faces the segment meets. A segment on a
@@ -669,8 +678,9 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
     }
     if let Some(ref cells) = flat {
         cav = Cavity::default();
+        cm.visit_begin();
         for &t in cells {
-            cav.push(t);
+            cav.push(cm, t);
         }
     }
     let mut i = 0;
@@ -687,7 +697,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
             if !finite(n) || prot.face(fv) {
                 return false;
             }
-            cav.push(n);
+            cav.push(cm, n);
             if cav.list.len() > CONE_MAX {
                 return false;
             }
@@ -717,7 +727,7 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
         cav.list
             .iter()
             .flat_map(|&t| (0..4).map(move |f| (t, f)))
-            .filter(|&(t, f)| !cav.has(m.across(t, f)))
+            .filter(|&(t, f)| !Cavity::has(cm, m.across(t, f)))
             .collect()
     };
     // Does boundary face `f` of cell `t` block the cone from `apex`? Each
@@ -726,57 +736,68 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
     let blocks = |t: u32, f: usize, apex: u32| -> u8 {
         1 + u8::from(!m.tv[t as usize].contains(&apex) && !cell_ok(t, f, apex))
     };
-    let blocking = |bnd: &mut [(u32, usize, u8)], apex: u32| -> Vec<(u32, usize)> {
-        let mut out = Vec::new();
-        for e in bnd.iter_mut() {
-            if e.2 == 0 {
-                e.2 = blocks(e.0, e.1, apex);
+    // The blocking faces among `bnd[from..]`, in order (answers asked
+    // for the faces not asked yet).
+    let blocking =
+        |bnd: &mut [(u32, usize, u8)], from: usize, apex: u32, out: &mut Vec<(u32, usize)>| {
+            out.clear();
+            for e in &mut bnd[from..] {
+                if e.2 == 0 {
+                    e.2 = blocks(e.0, e.1, apex);
+                }
+                if e.2 == 2 {
+                    out.push((e.0, e.1));
+                }
             }
-            if e.2 == 2 {
-                out.push((e.0, e.1));
-            }
-        }
-        out
-    };
+        };
     let bnd0: Vec<(u32, usize, u8)> = boundary(&cav).into_iter().map(|(t, f)| (t, f, 0)).collect();
     let mut start = [bnd0.clone(), bnd0];
-    let mut ends = [
-        (blocking(&mut start[0], u).len(), u, 0),
-        (blocking(&mut start[1], v).len(), v, 1),
-    ];
+    let mut block = Vec::new();
+    blocking(&mut start[0], 0, u, &mut block);
+    let nu = block.len();
+    blocking(&mut start[1], 0, v, &mut block);
+    let mut ends = [(nu, u, 0), (block.len(), v, 1)];
     ends.sort_unstable();
-    for (_, apex, k) in ends {
+    for (i, (_, apex, k)) in ends.into_iter().enumerate() {
         let mut cav = cav.clone();
+        if i > 0 {
+            cav.mark(cm);
+        }
         // The boundary is kept up to date as cells join: faces whose
         // neighbour joined leave it, the new cells' outer faces are
-        // appended (the order `boundary` gives).
+        // appended (the order `boundary` gives). A blocking face's
+        // neighbour joins, so every face blocking after a step is among
+        // those appended by it (from `fresh` on; the first step looks at
+        // all).
         let mut bnd = std::mem::take(&mut start[k]);
+        let mut fresh = 0;
         'grow: for _ in 0..=CONE_GROW {
-            let block = blocking(&mut bnd, apex);
+            blocking(&mut bnd, fresh, apex, &mut block);
             if block.is_empty() {
                 let faces: Vec<(u32, usize)> = bnd.iter().map(|e| (e.0, e.1)).collect();
-                if let Some(new) = cone_tets(m, &cav, &faces, apex, prot) {
+                if let Some(new) = cone_tets(cm, &cav, &faces, apex, prot) {
                     cm.replace(&cav.list, &new);
                     return true;
                 }
                 break;
             }
             let old = cav.list.len();
-            for (t, f) in block {
+            for &(t, f) in &block {
                 let n = m.across(t, f);
                 if !finite(n) || prot.face(face(m.tv[t as usize], f)) {
                     break 'grow;
                 }
-                cav.push(n);
+                cav.push(cm, n);
             }
             if cav.list.len() > CONE_MAX {
                 break;
             }
-            bnd.retain(|&(t, f, _)| !cav.has(m.across(t, f)));
+            bnd.retain(|&(t, f, _)| !Cavity::has(cm, m.across(t, f)));
+            fresh = bnd.len();
             for &t in &cav.list[old..] {
                 bnd.extend(
                     (0..4)
-                        .filter(|&f| !cav.has(m.across(t, f)))
+                        .filter(|&f| !Cavity::has(cm, m.across(t, f)))
                         .map(|f| (t, f, 0)),
                 );
             }
@@ -791,12 +812,13 @@ fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hul
 /// has a vertex on no boundary face, a protected edge or face inside, or
 /// a boundary edge not in exactly two boundary faces.
 fn cone_tets(
-    m: &crate::tet::dmesh::DomainMesh,
+    cm: &Journaled<'_>,
     cav: &Cavity,
     bnd: &[(u32, usize)],
     apex: u32,
     prot: &Protected,
 ) -> Option<Vec<[u32; 4]>> {
+    let m = &cm.m;
     let mut bedges: Vec<(u32, u32)> = Vec::with_capacity(3 * bnd.len());
     let mut bverts: Vec<u32> = Vec::with_capacity(3 * bnd.len());
     let mut new = Vec::with_capacity(bnd.len());
@@ -831,7 +853,7 @@ fn cone_tets(
             }
         }
         for f in 0..4 {
-            if cav.has(m.across(t, f)) && prot.face(face(tv, f)) {
+            if Cavity::has(cm, m.across(t, f)) && prot.face(face(tv, f)) {
                 return None;
             }
         }
@@ -909,7 +931,7 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
     let (mut t, mut p, mut q, w) = start?;
     let [a, b, c] = [u, p, q].map(g);
     let o = |x: u32, y: u32, z: u32| sgn(orient3d(g(x), g(y), g(z), g(w)));
-    let (mut cells, mut seen) = (Cavity::default(), 0usize);
+    let (mut cells, mut set, mut seen) = (Vec::new(), IdSet::default(), 0usize);
     let (mut tets, mut ring) = (Vec::new(), Vec::new());
     loop {
         seen += 1;
@@ -925,9 +947,11 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
             (&mut tets, &mut ring),
         )?;
         for &x in &tets {
-            cells.push(x);
+            if set.insert(x) {
+                cells.push(x);
+            }
         }
-        if cells.list.len() > CONE_MAX {
+        if cells.len() > CONE_MAX {
             return None;
         }
         // The ghost across `p q` in the plane: behind the face of `t`
@@ -945,7 +969,7 @@ fn hull_channel(cm: &Journaled<'_>, u: u32, v: u32) -> Option<Vec<u32>> {
         }
         t = n;
         if z == v {
-            return Some(cells.list);
+            return Some(cells);
         }
         let sz = o(u, v, z);
         if sz == 0 {
