@@ -1197,6 +1197,14 @@ pub(crate) fn recover_facet_within(
     prot: &Protected,
     stop_circles: bool,
 ) -> bool {
+    // A triangle that is a face of the mesh is recovered (no edge of a
+    // tetrahedralization crosses one of its faces): the search of
+    // crossing edges would find none.
+    let [a, b, c] = surf.tris[t];
+    if cm.find_face(a, b, c).is_some() {
+        debug_assert!(crossing_edges(cm, surf, t, inner).is_empty());
+        return true;
+    }
     let mut cross = crossing_edges(cm, surf, t, inner);
     let cap = 16 + 4 * cross.len();
     let tv = surf.tris[t];
