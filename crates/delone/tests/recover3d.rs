@@ -658,15 +658,15 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
     // and stacks of twisted (Schönhardt) bands whose caps are fans of thin
     // triangles. Each is recovered, checked, deterministic, and takes at
     // most `most` Steiner points (without the guided retry of the ends
-    // whose unguided flips circle: 0, 90 and 16; with it: 0, 27, 11).
+    // whose unguided flips circle: 0, 90 and 16; with it: 0, 12, 6).
     let cases = [
         ("star 150 twisted", fan_star_prism(150, 0.7, 0.002), 0),
         (
             "bands 5x12",
             twisted_bands(5, 12, std::f64::consts::FRAC_PI_2),
-            45,
+            16,
         ),
-        ("bands 7x6", twisted_bands(7, 6, 1.0), 14),
+        ("bands 7x6", twisted_bands(7, 6, 1.0), 8),
     ];
     for (name, (pts, tris), most) in cases {
         let opts = RecoverOptions {
@@ -675,6 +675,32 @@ fn thin_strips_and_twisted_bands_take_few_steiner_points_under_p() {
         };
         let r = checked_twice(name, &pts, &tris, &opts);
         println!("{name}: {:?}", r.report);
+        assert!(r.report.steiner() <= most, "{name}: {:?}", r.report);
+    }
+}
+
+#[test]
+fn segment_flips_remove_the_edges_that_block_them_on_corpus_models() {
+    let Some(dir) = data_dir() else {
+        println!("shared/data not found; skipping");
+        return;
+    };
+    // The `-p` path: the deeper levels of edge removal remove only the
+    // edges that block a face's 2-3 flip, so their work goes where it can
+    // help. Trying both edges of the face at every ring vertex instead
+    // leaves 21, 13 and 8 Steiner points on these models.
+    let opts = RecoverOptions {
+        stop_circling_flips: true,
+        ..RecoverOptions::default()
+    };
+    for (name, most) in [
+        ("surf/off/meshlab_knot.off", 13),
+        ("surf/off/cgal_anchor.off", 11),
+        ("surf/off/cgal_rotor.off", 6),
+    ] {
+        let (pts, tris) = read_off(&std::fs::read_to_string(dir.join(name)).unwrap());
+        let r = checked_twice(name, &pts, &tris, &opts);
+        println!("{name}: {} Steiner points", r.report.steiner());
         assert!(r.report.steiner() <= most, "{name}: {:?}", r.report);
     }
 }

@@ -406,24 +406,26 @@ fn turned_gear_key_recovers_in_few_rounds() {
 /// `tests/data/README.md`). Steiner points on a thin triangle's long side,
 /// rounded off the line, make slivers of its corner and three points of
 /// that side. Each such sliver counts on the triangle with the faces on
-/// one side only, whatever the order of its vertices: 2 rounds, against
-/// 169 when a sliver listed in one order counted both its sides (the
-/// triangle never covered, one point per round split next to it).
-/// Checked, with its volume.
+/// one side only, whatever the order of its vertices: 5 rounds (564
+/// points), against 169 when a sliver listed in one order counted both its
+/// sides (the triangle never covered, one point per round split next to
+/// it). Checked, with its volume.
 #[test]
 fn sliver_of_a_corner_and_one_side_counts_once() {
-    p_rounds_at_most("tube_rings_thin.off", 4);
+    p_rounds_at_most("tube_rings_thin.off", 6);
 }
 
 /// `-p` on another tube of the same class (see `tests/data/README.md`):
 /// a mesh edge pierces one of its thin triangles through a ring of four
 /// of the triangle's points without crossing it (one point is rounded
 /// below the plane, and the edge meets the plane just outside). No split
-/// makes a face there; removing that edge does: 10 rounds, against 69 of
-/// one split each. Checked, with its volume.
+/// makes a face there; removing that edge does: 26 rounds (7 of them in a
+/// carried mesh whose triangles stay missing, before the return to the
+/// Delaunay tetrahedralization), against 69 of one split each. Checked,
+/// with its volume.
 #[test]
 fn edge_piercing_a_thin_triangle_is_removed() {
-    p_rounds_at_most("tube_rings_pierced.off", 20);
+    p_rounds_at_most("tube_rings_pierced.off", 30);
 }
 
 /// `-p` on a tube with two rings of radial holes (see
@@ -629,7 +631,7 @@ fn turned_tubes_with_rings_of_holes_take_few_rounds() {
         // points (the points of one round's splits, inserted by the
         // Delaunay kernel, undid the flips of the others).
         assert_eq!(r.report.rounds, 1, "{name}: {:?}", r.report);
-        assert!(r.report.steiner() <= 10, "{name}: {:?}", r.report);
+        assert!(r.report.steiner() <= 8, "{name}: {:?}", r.report);
     }
 }
 

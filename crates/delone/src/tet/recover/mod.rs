@@ -1138,6 +1138,7 @@ impl State {
                 let effort = cdt::Effort {
                     cones,
                     flat,
+                    blockers: cones,
                     ..effort
                 };
                 if cdt::recover_segment_within(cm, u, v, prot, ops, stop_circles, effort) {
@@ -1274,7 +1275,7 @@ impl State {
                             t,
                             &inner,
                             &prot_work,
-                            stop_circles,
+                            (stop_circles, cones),
                         );
                     }
                     self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
