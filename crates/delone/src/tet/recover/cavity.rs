@@ -1393,7 +1393,8 @@ mod tests {
         assert!(spent > 0);
         let left_stopped = missing(&stopped);
         let full = st.preserve_attempt(&cm, false, None);
-        assert!(st.cavity_work.get() > 2 * spent);
+        let total = st.cavity_work.get();
+        assert!(total > spent, "work {spent} stopped, {total} in all");
         let left_full = match &full {
             Ok((w, _, _)) => {
                 w.m.check(w.pts()).unwrap();
