@@ -106,14 +106,21 @@ pub(super) fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
 
 /// Merges the coplanar groups of (`points`, `triangles`) and
 /// re-triangulates each (see the module notes), using the edges of `dt`
-/// (a Delaunay tetrahedralization of `points`, same ids).
+/// (a Delaunay tetrahedralization of `points`, same ids). `unmarked`, when
+/// given, are the triangles' [`coplanar_groups`] without markers (found by
+/// the input validation): the groups are those where every triangle
+/// carries one marker, else they are found again with the markers.
 pub(crate) fn merge(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     marker: &[i32],
+    unmarked: Option<Vec<u32>>,
     dt: &Delaunay3<'_>,
 ) -> Merged {
-    let group = coplanar_groups(points, triangles, marker);
+    let group = match unmarked {
+        Some(g) if g.len() == triangles.len() && one_marker_each(&g, marker) => g,
+        _ => coplanar_groups(points, triangles, marker),
+    };
     let mut size = vec![0u32; triangles.len()];
     for &r in &group {
         size[r as usize] += 1;
@@ -238,6 +245,19 @@ pub(crate) fn merge(
         }
     }
     out
+}
+
+/// Whether every group of `group` (triangle -> lowest triangle of its
+/// group) carries one marker of `marker` (empty: no markers). Then the
+/// groups with markers are these: every edge joining two triangles of a
+/// group joins equal markers.
+fn one_marker_each(group: &[u32], marker: &[i32]) -> bool {
+    marker.is_empty()
+        || (marker.len() == group.len()
+            && group
+                .iter()
+                .zip(marker)
+                .all(|(&r, m)| marker[r as usize] == *m))
 }
 
 /// Directed edges of `tris` whose reverse is not among them (the oriented
