@@ -48,7 +48,6 @@ use std::collections::HashMap;
 use delone_predicates::{orient2d, orient3d};
 
 use super::types::Recovered;
-use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
 use crate::tet::intersect::coplanar_groups;
@@ -106,7 +105,9 @@ pub(super) fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
 
 /// Merges the coplanar groups of (`points`, `triangles`) and
 /// re-triangulates each (see the module notes), using the edges of `dt`
-/// (a Delaunay tetrahedralization of `points`, same ids). `unmarked`, when
+/// (a Delaunay tetrahedralization of `points`, same ids). The surface is
+/// closed (validated): `nonmanifold`, sorted, are its edges in more than
+/// two triangles, every other edge is in exactly two. `unmarked`, when
 /// given, are the triangles' [`coplanar_groups`] without markers (found by
 /// the input validation): the groups are those where every triangle
 /// carries one marker, else they are found again with the markers.
@@ -114,7 +115,7 @@ pub(crate) fn merge(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     marker: &[i32],
-    unmarked: Option<Vec<u32>>,
+    (unmarked, nonmanifold): (Option<Vec<u32>>, &[[u32; 2]]),
     dt: &Delaunay3<'_>,
 ) -> Merged {
     let group = match unmarked {
@@ -138,12 +139,6 @@ pub(crate) fn merge(
     for (t, &r) in group.iter().enumerate() {
         if size[r as usize] >= 2 {
             members[r as usize].push(t as u32);
-        }
-    }
-    let mut edge_uses: IdMap<(u32, u32), u32> = IdMap::default();
-    for tv in triangles {
-        for k in 0..3 {
-            *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
         }
     }
     let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
@@ -212,16 +207,17 @@ pub(crate) fn merge(
             .map(|&t| triangles[t as usize])
             .collect();
         let out = retriangulate(points, &tris, &dt_edges, &|e| {
-            edge_uses.get(&e).copied().unwrap_or(0) != 2
+            nonmanifold.binary_search(&[e.0, e.1]).is_ok()
         });
         match out {
             Some(o) => new_tris[gi] = Some(o),
             None => kept += 1,
         }
     }
-    let mut gidx: IdMap<u32, usize> = IdMap::default();
+    // Per group root: its dense id.
+    let mut gidx: Vec<u32> = vec![u32::MAX; triangles.len()];
     for (gi, &r) in big.iter().enumerate() {
-        gidx.insert(r, gi);
+        gidx[r as usize] = gi as u32;
     }
     let mut out = Merged {
         tris: Vec::with_capacity(triangles.len()),
@@ -231,7 +227,7 @@ pub(crate) fn merge(
     };
     for (t, tv) in triangles.iter().enumerate() {
         let r = group[t];
-        match gidx.get(&r).and_then(|&gi| new_tris[gi].as_ref()) {
+        match new_tris.get(gidx[r as usize] as usize).and_then(Option::as_ref) {
             Some(nt) => {
                 if r as usize == t {
                     out.tris.extend_from_slice(nt);
@@ -263,19 +259,30 @@ fn one_marker_each(group: &[u32], marker: &[i32]) -> bool {
 /// Directed edges of `tris` whose reverse is not among them (the oriented
 /// boundary of the group), sorted, with multiplicity.
 pub(super) fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut count: IdMap<(u32, u32), i64> = IdMap::default();
-    for tv in tris {
-        for k in 0..3 {
-            let (u, v) = (tv[k], tv[(k + 1) % 3]);
-            *count.entry((u, v)).or_insert(0) += 1;
-            *count.entry((v, u)).or_insert(0) -= 1;
-        }
-    }
+    // The sides by undirected edge (a sort, no map): an edge's uses from
+    // its smaller end minus those towards it are its multiplicity in the
+    // boundary, directed by the sign.
+    let mut sides: Vec<(u32, u32, bool)> = tris
+        .iter()
+        .flat_map(|tv| {
+            (0..3).map(move |k| {
+                let (u, v) = (tv[k], tv[(k + 1) % 3]);
+                (u.min(v), u.max(v), u < v)
+            })
+        })
+        .filter(|s| s.0 != s.1)
+        .collect();
+    sides.sort_unstable();
     let mut out = Vec::new();
-    for (&e, &c) in &count {
-        for _ in 0..c.max(0) {
-            out.push(e);
-        }
+    for run in sides.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
+        let up = run.iter().filter(|s| s.2).count() as i64;
+        let c = 2 * up - run.len() as i64;
+        let e = if c > 0 {
+            (run[0].0, run[0].1)
+        } else {
+            (run[0].1, run[0].0)
+        };
+        out.extend(std::iter::repeat_n(e, c.unsigned_abs() as usize));
     }
     out.sort_unstable();
     out
@@ -299,29 +306,32 @@ fn retriangulate(
     let local = |q: u32| verts.binary_search(&q).ok().map(|i| i as u32);
     let xy: Vec<[f64; 2]> = verts.iter().map(|&q| proj(g(q), k)).collect();
     // Kept edges: the oriented boundary's, and every edge of the group not
-    // in exactly two input triangles (`nonmanifold`, global ids).
-    let mut uses: IdMap<(u32, u32), u32> = IdMap::default();
-    for tv in tris {
-        for i in 0..3 {
-            *uses.entry(ekey(tv[i], tv[(i + 1) % 3])).or_insert(0) += 1;
-        }
-    }
+    // in exactly two input triangles (`nonmanifold`, global ids). Sets are
+    // sorted lists (local ids follow global ones, so the order carries
+    // over).
+    let mut uses: Vec<(u32, u32)> = tris
+        .iter()
+        .flat_map(|tv| (0..3).map(move |i| ekey(tv[i], tv[(i + 1) % 3])))
+        .collect();
+    uses.sort_unstable();
     // Oriented boundary, normalised to counterclockwise in the projection.
-    let boundary: IdSet<(u32, u32)> = oriented_boundary(tris)
+    let mut boundary: Vec<(u32, u32)> = oriented_boundary(tris)
         .into_iter()
         .map(|(u, v)| if sign > 0.0 { (u, v) } else { (v, u) })
         .filter_map(|(u, v)| Some((local(u)?, local(v)?)))
         .collect();
-    let mut seg_set: IdSet<(u32, u32)> = IdSet::default();
-    for (&e, &n) in &uses {
+    boundary.sort_unstable();
+    boundary.dedup();
+    let on_boundary = |e: (u32, u32)| boundary.binary_search(&e).is_ok();
+    let mut kept: Vec<(u32, u32)> = Vec::new();
+    for run in uses.chunk_by(|a, b| a == b) {
+        let e = run[0];
         let (u, v) = (local(e.0)?, local(e.1)?);
-        let on_boundary = boundary.contains(&(u, v)) || boundary.contains(&(v, u));
-        if n != 2 || on_boundary || nonmanifold(e) {
-            seg_set.insert(ekey(u, v));
+        if run.len() != 2 || on_boundary((u, v)) || on_boundary((v, u)) || nonmanifold(e) {
+            kept.push(ekey(u, v));
         }
     }
-    let mut kept: Vec<(u32, u32)> = seg_set.iter().copied().collect();
-    kept.sort_unstable();
+    let is_kept = |e: (u32, u32)| kept.binary_search(&e).is_ok();
     let bbox = |(u, v): (u32, u32)| {
         let (p, q) = (xy[u as usize], xy[v as usize]);
         [
@@ -335,7 +345,7 @@ fn retriangulate(
     let mut segments: Vec<[u32; 2]> = kept.iter().map(|&(u, v)| [u, v]).collect();
     for &(u, v) in dt_edges {
         let (u, v) = ekey(local(u)?, local(v)?);
-        if seg_set.contains(&(u, v)) {
+        if is_kept((u, v)) {
             continue;
         }
         let bx = bbox((u, v));
@@ -374,9 +384,9 @@ fn retriangulate(
     for (t, tv) in cdt.triangles.iter().enumerate() {
         for i in 0..3 {
             let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
-            let want = if boundary.contains(&(x, y)) {
+            let want = if on_boundary((x, y)) {
                 1
-            } else if boundary.contains(&(y, x)) {
+            } else if on_boundary((y, x)) {
                 2
             } else {
                 continue;
@@ -394,7 +404,7 @@ fn retriangulate(
         let tv = cdt.triangles[t];
         for i in 0..3 {
             let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
-            if boundary.contains(&(x, y)) || boundary.contains(&(y, x)) {
+            if on_boundary((x, y)) || on_boundary((y, x)) {
                 continue;
             }
             let n = cdt.neighbors[t][i];

@@ -354,7 +354,7 @@ pub(crate) fn recover_mesh(
     }
     let (cow, scale) = crate::geom::rescaled(points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
-    let (mut dt, group) = validate_and_build(points, triangles, &scaled)?;
+    let (mut dt, (group, nonmanifold)) = validate_and_build(points, triangles, &scaled)?;
     let mut used = vec![false; points.len()];
     for &w in triangles.iter().flatten() {
         used[w as usize] = true;
@@ -389,7 +389,7 @@ pub(crate) fn recover_mesh(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
-        merge::merge(points, triangles, markers, group, &dt)
+        merge::merge(points, triangles, markers, (group, &nonmanifold), &dt)
     } else {
         merge::Merged::identity(triangles)
     };
@@ -497,14 +497,15 @@ const MAX_STALLED: usize = 4;
 /// off the slivers.
 const MAX_REDIRECTS: u32 = 2;
 
+/// What the input validation found that [`merge::merge`] uses: the
+/// coplanar groups (no markers) the self-intersection tests found, when
+/// they are those of the triangles as given, and the edges in more than
+/// two triangles (sorted).
+type Validated = (Option<Vec<u32>>, Vec<[u32; 2]>);
+
 /// The input validation of [`recover_marked`]: exact self-intersections,
-/// then closedness. Gives the coplanar groups (no markers) the
-/// self-intersection tests found, when they are those of the triangles as
-/// given, for [`merge::merge`].
-fn validate(
-    points: &[[f64; 3]],
-    triangles: &[[u32; 3]],
-) -> Result<Option<Vec<u32>>, RecoverError> {
+/// then closedness.
+fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Validated, RecoverError> {
     let group = check_self_intersections_grouped(points, triangles)?;
     let man = manifold_report(triangles);
     if !man.boundary_edges.is_empty() {
@@ -515,7 +516,7 @@ fn validate(
             count: bad.len(),
         });
     }
-    Ok(group)
+    Ok((group, man.nonmanifold_edges))
 }
 
 /// Inputs with at least this many triangles are validated on a second
@@ -528,12 +529,12 @@ const PARALLEL_VALIDATION: usize = 4096;
 /// thread meanwhile (when one can be started; else one after the other).
 /// The validation's verdict is checked first, so the errors are those of
 /// running validation, then build; nothing depends on the threads. Also
-/// gives the coplanar groups the validation found (see [`validate`]).
+/// gives what the validation found ([`Validated`]).
 fn validate_and_build<'a>(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     scaled: &'a [[f64; 3]],
-) -> Result<(Delaunay3<'a>, Option<Vec<u32>>), RecoverError> {
+) -> Result<(Delaunay3<'a>, Validated), RecoverError> {
     if triangles.len() >= PARALLEL_VALIDATION {
         let both = std::thread::scope(|sc| {
             let job = std::thread::Builder::new()
