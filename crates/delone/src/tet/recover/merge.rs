@@ -227,7 +227,10 @@ pub(crate) fn merge(
     };
     for (t, tv) in triangles.iter().enumerate() {
         let r = group[t];
-        match new_tris.get(gidx[r as usize] as usize).and_then(Option::as_ref) {
+        match new_tris
+            .get(gidx[r as usize] as usize)
+            .and_then(Option::as_ref)
+        {
             Some(nt) => {
                 if r as usize == t {
                     out.tris.extend_from_slice(nt);
@@ -615,6 +618,84 @@ mod tests {
         r2.sort_unstable();
         r2.dedup();
         assert_eq!(r2.len(), 7);
+    }
+
+    /// The validation's unmarked groups give the merge of the groups
+    /// found afresh, also with markers (one marker each, or a side split).
+    #[test]
+    fn validation_groups_serve_the_merge_unless_markers_split_them() {
+        let (pts, tris) = grid_cube(3);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let g = crate::tet::intersect::check_self_intersections_grouped(&pts, &tris)
+            .unwrap()
+            .unwrap();
+        assert_eq!(g, coplanar_groups(&pts, &tris, &[]));
+        let mut split = vec![0; tris.len()];
+        split[0] = 1;
+        for mk in [vec![], vec![3; tris.len()], split] {
+            let fresh = merge(&pts, &tris, &mk, (None, &[]), &dt);
+            let given = merge(&pts, &tris, &mk, (Some(g.clone()), &[]), &dt);
+            assert_eq!(given.groups, 6);
+            assert_eq!(
+                (given.tris, given.origin, given.kept),
+                (fresh.tris, fresh.origin, fresh.kept)
+            );
+        }
+    }
+
+    /// An edge of a group in more than two input triangles stays in its
+    /// re-triangulation, though not Delaunay: the flat square below, with
+    /// edge 4-5 between points 6 and 7 just off its middle, as if a
+    /// closed surface met the square along 4-5.
+    #[test]
+    fn a_nonmanifold_edge_inside_a_group_is_kept() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [4.0, 4.0, 0.0],
+            [0.0, 4.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [3.0, 2.0, 0.0],
+            [2.0, 1.8, 0.0],
+            [2.0, 2.2, 0.0],
+            [2.0, 2.0, 1.0],
+        ];
+        let tris = [
+            [0, 1, 6],
+            [1, 5, 6],
+            [6, 5, 4],
+            [0, 6, 4],
+            [0, 4, 3],
+            [1, 2, 5],
+            [4, 5, 7],
+            [5, 2, 7],
+            [7, 2, 3],
+            [4, 7, 3],
+        ];
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let has_45 = |m: &Merged| m.tris.iter().any(|t| t.contains(&4) && t.contains(&5));
+        let plain = merge(&pts, &tris, &[], (None, &[]), &dt);
+        assert_eq!((plain.groups, plain.tris.len()), (1, 10));
+        assert!(!has_45(&plain));
+        let nm = merge(&pts, &tris, &[], (None, &[[4, 5]]), &dt);
+        assert_eq!((nm.groups, nm.tris.len()), (1, 10));
+        assert!(has_45(&nm));
+    }
+
+    /// The oriented boundary counts each directed edge's uses against its
+    /// reverse's.
+    #[test]
+    fn oriented_boundary_is_directed_and_counted() {
+        let square = [[0, 1, 2], [0, 2, 3]];
+        assert_eq!(
+            oriented_boundary(&square),
+            vec![(0, 1), (1, 2), (2, 3), (3, 0)]
+        );
+        assert_eq!(
+            oriented_boundary(&[[0, 1, 2], [0, 1, 2], [2, 1, 3]]),
+            vec![(0, 1), (0, 1), (1, 2), (1, 3), (2, 0), (2, 0), (3, 2)]
+        );
+        assert!(oriented_boundary(&[[0, 1, 2], [0, 2, 1]]).is_empty());
     }
 
     #[test]
