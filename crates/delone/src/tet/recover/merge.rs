@@ -155,22 +155,66 @@ pub(crate) fn merge(
     // Delaunay edges between two vertices of one group, ordered by (group,
     // u, v): each edge once (ascending `u << 32 | v`; an edge is in several
     // tetrahedra), then filed under its groups by a stable counting sort.
-    let mut edges: Vec<u64> = Vec::new();
+    // The edges of the tetrahedra, (u, v) with u < v, are filed under u by
+    // a counting sort (no global sort); each bucket keeps each v once (a
+    // stamp per vertex) and is sorted. `last[u]`: the v last filed from u
+    // (the tetrahedra around an edge are often consecutive slots, so many
+    // repeats are dropped at once).
     let core = &dt.core;
-    let grouped = |w: u32| vgroups.get(w as usize).is_some_and(|l| !l.is_empty());
+    let nv = vgroups.len();
+    let grouped: Vec<bool> = vgroups.iter().map(|l| !l.is_empty()).collect();
+    let mut last = vec![u32::MAX; nv];
+    let mut raw: Vec<(u32, u32)> = Vec::new();
     for tv in &core.v {
         if tv[0] == DEAD || tv.contains(&INF) {
             continue;
         }
+        let on = tv.map(|w| grouped.get(w as usize).copied().unwrap_or(false));
+        if on.iter().filter(|&&b| b).count() < 2 {
+            continue;
+        }
         for (i, j) in crate::tet::local::EDGES {
-            let (u, v) = ekey(tv[i], tv[j]);
-            if grouped(u) && grouped(v) {
-                edges.push(u64::from(u) << 32 | u64::from(v));
+            if on[i] && on[j] {
+                let (u, v) = ekey(tv[i], tv[j]);
+                if last[u as usize] != v {
+                    last[u as usize] = v;
+                    raw.push((u, v));
+                }
             }
         }
     }
-    edges.sort_unstable();
-    edges.dedup();
+    drop(last);
+    let mut from = vec![0u32; nv + 1];
+    for &(u, _) in &raw {
+        from[u as usize + 1] += 1;
+    }
+    for u in 0..nv {
+        from[u + 1] += from[u];
+    }
+    let mut fill = from.clone();
+    let mut other = vec![0u32; raw.len()];
+    for &(u, v) in &raw {
+        other[fill[u as usize] as usize] = v;
+        fill[u as usize] += 1;
+    }
+    drop((fill, raw));
+    let mut seen = vec![u32::MAX; nv];
+    let mut edges: Vec<u64> = Vec::new();
+    for u in 0..nv {
+        let bucket = &mut other[from[u] as usize..from[u + 1] as usize];
+        let mut k = 0;
+        for i in 0..bucket.len() {
+            let v = bucket[i];
+            if seen[v as usize] != u as u32 {
+                seen[v as usize] = u as u32;
+                bucket[k] = v;
+                k += 1;
+            }
+        }
+        let bucket = &mut bucket[..k];
+        bucket.sort_unstable();
+        edges.extend(bucket.iter().map(|&v| (u as u64) << 32 | u64::from(v)));
+    }
     let vg = &vgroups;
     let common = |e: u64| {
         let (u, v) = ((e >> 32) as usize, e as u32 as usize);
