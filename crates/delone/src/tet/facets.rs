@@ -52,10 +52,7 @@ impl Plc {
         // Normals, projections and the point-on-facet tests on a copy scaled
         // by a power of two (exact): no overflow or underflow at any scale.
         let (points, s) = crate::geom::rescaled(&self.points);
-        let mut per: Vec<Vec<[u32; 3]>> = Vec::with_capacity(self.facets.len());
-        for (fi, f) in self.facets.iter().enumerate() {
-            per.push(facet_triangles(&points, s, fi, f, &[])?);
-        }
+        let (tris, owner) = self.all_facet_triangles(&points, s, &[])?;
         // Isolated points (corners of no facet polygon) lying exactly on a
         // facet become vertices of its triangulation; on a facet edge, of
         // every facet sharing that edge (each one finds the point on one
@@ -69,41 +66,57 @@ impl Plc {
         let isolated: Vec<u32> = (0..self.points.len() as u32)
             .filter(|&q| !referenced[q as usize])
             .collect();
-        if !isolated.is_empty() {
-            let (tris, owner) = flatten(&per);
-            let mut extra: Vec<Vec<u32>> = vec![Vec::new(); self.facets.len()];
-            for (q, t, on) in points_on_triangles(&points, &tris, &isolated) {
-                // A point equal to a corner is a duplicate point: left alone.
-                if !matches!(on, OnTriangle::Corner(_)) {
-                    extra[owner[t as usize] as usize].push(q);
-                }
-            }
-            for (fi, ex) in extra.iter_mut().enumerate() {
-                if ex.is_empty() {
-                    continue;
-                }
-                // One point per location (the first): the others are
-                // duplicates.
-                ex.sort_unstable();
-                ex.dedup();
-                let mut seen = std::collections::HashSet::new();
-                ex.retain(|&q| seen.insert(key(&self.points[q as usize])));
-                per[fi] = facet_triangles(&points, s, fi, &self.facets[fi], ex)?;
+        if isolated.is_empty() {
+            return Ok((tris, owner));
+        }
+        let mut extra: Vec<Vec<u32>> = vec![Vec::new(); self.facets.len()];
+        for (q, t, on) in points_on_triangles(&points, &tris, &isolated) {
+            // A point equal to a corner is a duplicate point: left alone.
+            if !matches!(on, OnTriangle::Corner(_)) {
+                extra[owner[t as usize] as usize].push(q);
             }
         }
-        Ok(flatten(&per))
+        if extra.iter().all(Vec::is_empty) {
+            return Ok((tris, owner));
+        }
+        for ex in &mut extra {
+            // One point per location (the first): the others are
+            // duplicates.
+            ex.sort_unstable();
+            ex.dedup();
+            let mut seen = std::collections::HashSet::new();
+            ex.retain(|&q| seen.insert(key(&self.points[q as usize])));
+        }
+        self.all_facet_triangles(&points, s, &extra)
     }
-}
 
-/// The triangles per facet flattened, with each triangle's facet.
-fn flatten(per: &[Vec<[u32; 3]>]) -> (Vec<[u32; 3]>, Vec<u32>) {
-    let mut tris = Vec::new();
-    let mut owner = Vec::new();
-    for (fi, ts) in per.iter().enumerate() {
-        tris.extend_from_slice(ts);
-        owner.extend(std::iter::repeat_n(fi as u32, ts.len()));
+    /// The triangles of every facet ([`facet_triangles`] with the points
+    /// `extra[fi]` of facet `fi`, none when `extra` is shorter), with each
+    /// triangle's facet. A facet that is one triangle with no point to add
+    /// is taken as it is, without a list of its own.
+    fn all_facet_triangles(
+        &self,
+        points: &[[f64; 3]],
+        s: (f64, f64),
+        extra: &[Vec<u32>],
+    ) -> Result<(Vec<[u32; 3]>, Vec<u32>), Error> {
+        let mut tris = Vec::with_capacity(self.facets.len());
+        let mut owner = Vec::with_capacity(self.facets.len());
+        for (fi, f) in self.facets.iter().enumerate() {
+            let ex = extra.get(fi).map_or(&[][..], |e| &e[..]);
+            if let [p] = f.polygons.as_slice() {
+                if p.len() == 3 && f.holes.is_empty() && ex.is_empty() {
+                    tris.push([p[0], p[1], p[2]]);
+                    owner.push(fi as u32);
+                    continue;
+                }
+            }
+            let ts = facet_triangles(points, s, fi, f, ex)?;
+            tris.extend_from_slice(&ts);
+            owner.extend(std::iter::repeat_n(fi as u32, ts.len()));
+        }
+        Ok((tris, owner))
     }
-    (tris, owner)
 }
 
 /// The triangles of facet `fi` (see [`Plc::triangulate_facets`]), with
@@ -117,11 +130,6 @@ fn facet_triangles(
 ) -> Result<Vec<[u32; 3]>, Error> {
     use crate::model::pslg::Pslg;
     use crate::tri::{constrained_triangulation, CdtOptions};
-    if let [p] = f.polygons.as_slice() {
-        if p.len() == 3 && f.holes.is_empty() && extra.is_empty() {
-            return Ok(vec![[p[0], p[1], p[2]]]);
-        }
-    }
     let zero = Error::DegenerateFacet {
         index: fi,
         defect: FacetDefect::ZeroArea,

@@ -112,6 +112,18 @@ impl SelfIntersections {
 /// assert!(self_intersections(&pts, &[[0, 1, 2], [1, 0, 3]]).is_clean());
 /// ```
 pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersections {
+    self_intersections_grouped(points, triangles).0
+}
+
+/// [`self_intersections`], and the [`coplanar_groups`] (no markers) of
+/// `triangles` the tests used when every triangle took part in them and
+/// no two of their vertices are exact duplicates (else `None`): then they
+/// are those of the input as given, since the tests' copy of the points
+/// is scaled exactly (a power of two) and keeps every sign.
+fn self_intersections_grouped(
+    points: &[P],
+    triangles: &[[u32; 3]],
+) -> (SelfIntersections, Option<Vec<u32>>) {
     // Every test below runs on a copy scaled by a power of two (exact, so
     // the same signs), which keeps the predicates' products and the side
     // filter clear of overflow and underflow at any scale.
@@ -137,7 +149,7 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
         }
     }
     if live.len() < 2 {
-        return out;
+        return (out, None);
     }
     // Per live triangle: canonical vertex ids and its plane.
     let tri_c: Vec<[u32; 3]> = live
@@ -314,7 +326,8 @@ pub fn self_intersections(points: &[P], triangles: &[[u32; 3]]) -> SelfIntersect
     }
     out.pairs.sort_unstable();
     out.pairs.dedup();
-    out
+    let as_given = live.len() == triangles.len() && tri_c[..] == triangles[..];
+    (out, as_given.then_some(group))
 }
 
 /// Per triangle: its group of exactly coplanar, consistently oriented
@@ -435,8 +448,18 @@ pub(crate) fn coplanar_groups(
 /// assert_eq!(e, Err(delone::Error::SelfIntersection { facets: (0, 4), count: 1 }));
 /// ```
 pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<(), Error> {
+    check_self_intersections_grouped(points, triangles).map(|_| ())
+}
+
+/// [`check_self_intersections`], giving on success the coplanar groups the
+/// tests found (see [`self_intersections_grouped`]), so that the recovery's
+/// merging need not find them again.
+pub(crate) fn check_self_intersections_grouped(
+    points: &[P],
+    triangles: &[[u32; 3]],
+) -> Result<Option<Vec<u32>>, Error> {
     crate::geom::check::corners_valid("triangle", points, triangles)?;
-    let r = self_intersections(points, triangles);
+    let (r, group) = self_intersections_grouped(points, triangles);
     if let Some(&t) = r.degenerate.first() {
         return Err(Error::DegenerateFacet {
             index: t as usize,
@@ -448,7 +471,7 @@ pub fn check_self_intersections(points: &[P], triangles: &[[u32; 3]]) -> Result<
             facets: (i as usize, j as usize),
             count: r.pairs.len(),
         }),
-        None => Ok(()),
+        None => Ok(group),
     }
 }
 

@@ -48,7 +48,6 @@ use std::collections::HashMap;
 use delone_predicates::{orient2d, orient3d};
 
 use super::types::Recovered;
-use crate::geom::ids::{IdMap, IdSet};
 use crate::geom::vec3::{cross, sub};
 use crate::model::pslg::Pslg;
 use crate::tet::intersect::coplanar_groups;
@@ -106,14 +105,23 @@ pub(super) fn proj(p: &[f64; 3], k: usize) -> [f64; 2] {
 
 /// Merges the coplanar groups of (`points`, `triangles`) and
 /// re-triangulates each (see the module notes), using the edges of `dt`
-/// (a Delaunay tetrahedralization of `points`, same ids).
+/// (a Delaunay tetrahedralization of `points`, same ids). The surface is
+/// closed (validated): `nonmanifold`, sorted, are its edges in more than
+/// two triangles, every other edge is in exactly two. `unmarked`, when
+/// given, are the triangles' [`coplanar_groups`] without markers (found by
+/// the input validation): the groups are those where every triangle
+/// carries one marker, else they are found again with the markers.
 pub(crate) fn merge(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     marker: &[i32],
+    (unmarked, nonmanifold): (Option<Vec<u32>>, &[[u32; 2]]),
     dt: &Delaunay3<'_>,
 ) -> Merged {
-    let group = coplanar_groups(points, triangles, marker);
+    let group = match unmarked {
+        Some(g) if g.len() == triangles.len() && one_marker_each(&g, marker) => g,
+        _ => coplanar_groups(points, triangles, marker),
+    };
     let mut size = vec![0u32; triangles.len()];
     for &r in &group {
         size[r as usize] += 1;
@@ -133,12 +141,6 @@ pub(crate) fn merge(
             members[r as usize].push(t as u32);
         }
     }
-    let mut edge_uses: IdMap<(u32, u32), u32> = IdMap::default();
-    for tv in triangles {
-        for k in 0..3 {
-            *edge_uses.entry(ekey(tv[k], tv[(k + 1) % 3])).or_insert(0) += 1;
-        }
-    }
     let mut vgroups: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
     for (gi, &r) in big.iter().enumerate() {
         for &t in &members[r as usize] {
@@ -153,22 +155,66 @@ pub(crate) fn merge(
     // Delaunay edges between two vertices of one group, ordered by (group,
     // u, v): each edge once (ascending `u << 32 | v`; an edge is in several
     // tetrahedra), then filed under its groups by a stable counting sort.
-    let mut edges: Vec<u64> = Vec::new();
+    // The edges of the tetrahedra, (u, v) with u < v, are filed under u by
+    // a counting sort (no global sort); each bucket keeps each v once (a
+    // stamp per vertex) and is sorted. `last[u]`: the v last filed from u
+    // (the tetrahedra around an edge are often consecutive slots, so many
+    // repeats are dropped at once).
     let core = &dt.core;
-    let grouped = |w: u32| vgroups.get(w as usize).is_some_and(|l| !l.is_empty());
+    let nv = vgroups.len();
+    let grouped: Vec<bool> = vgroups.iter().map(|l| !l.is_empty()).collect();
+    let mut last = vec![u32::MAX; nv];
+    let mut raw: Vec<(u32, u32)> = Vec::new();
     for tv in &core.v {
         if tv[0] == DEAD || tv.contains(&INF) {
             continue;
         }
+        let on = tv.map(|w| grouped.get(w as usize).copied().unwrap_or(false));
+        if on.iter().filter(|&&b| b).count() < 2 {
+            continue;
+        }
         for (i, j) in crate::tet::local::EDGES {
-            let (u, v) = ekey(tv[i], tv[j]);
-            if grouped(u) && grouped(v) {
-                edges.push(u64::from(u) << 32 | u64::from(v));
+            if on[i] && on[j] {
+                let (u, v) = ekey(tv[i], tv[j]);
+                if last[u as usize] != v {
+                    last[u as usize] = v;
+                    raw.push((u, v));
+                }
             }
         }
     }
-    edges.sort_unstable();
-    edges.dedup();
+    drop(last);
+    let mut from = vec![0u32; nv + 1];
+    for &(u, _) in &raw {
+        from[u as usize + 1] += 1;
+    }
+    for u in 0..nv {
+        from[u + 1] += from[u];
+    }
+    let mut fill = from.clone();
+    let mut other = vec![0u32; raw.len()];
+    for &(u, v) in &raw {
+        other[fill[u as usize] as usize] = v;
+        fill[u as usize] += 1;
+    }
+    drop((fill, raw));
+    let mut seen = vec![u32::MAX; nv];
+    let mut edges: Vec<u64> = Vec::new();
+    for u in 0..nv {
+        let bucket = &mut other[from[u] as usize..from[u + 1] as usize];
+        let mut k = 0;
+        for i in 0..bucket.len() {
+            let v = bucket[i];
+            if seen[v as usize] != u as u32 {
+                seen[v as usize] = u as u32;
+                bucket[k] = v;
+                k += 1;
+            }
+        }
+        let bucket = &mut bucket[..k];
+        bucket.sort_unstable();
+        edges.extend(bucket.iter().map(|&v| (u as u64) << 32 | u64::from(v)));
+    }
     let vg = &vgroups;
     let common = |e: u64| {
         let (u, v) = ((e >> 32) as usize, e as u32 as usize);
@@ -205,16 +251,17 @@ pub(crate) fn merge(
             .map(|&t| triangles[t as usize])
             .collect();
         let out = retriangulate(points, &tris, &dt_edges, &|e| {
-            edge_uses.get(&e).copied().unwrap_or(0) != 2
+            nonmanifold.binary_search(&[e.0, e.1]).is_ok()
         });
         match out {
             Some(o) => new_tris[gi] = Some(o),
             None => kept += 1,
         }
     }
-    let mut gidx: IdMap<u32, usize> = IdMap::default();
+    // Per group root: its dense id.
+    let mut gidx: Vec<u32> = vec![u32::MAX; triangles.len()];
     for (gi, &r) in big.iter().enumerate() {
-        gidx.insert(r, gi);
+        gidx[r as usize] = gi as u32;
     }
     let mut out = Merged {
         tris: Vec::with_capacity(triangles.len()),
@@ -224,7 +271,10 @@ pub(crate) fn merge(
     };
     for (t, tv) in triangles.iter().enumerate() {
         let r = group[t];
-        match gidx.get(&r).and_then(|&gi| new_tris[gi].as_ref()) {
+        match new_tris
+            .get(gidx[r as usize] as usize)
+            .and_then(Option::as_ref)
+        {
             Some(nt) => {
                 if r as usize == t {
                     out.tris.extend_from_slice(nt);
@@ -240,22 +290,46 @@ pub(crate) fn merge(
     out
 }
 
+/// Whether every group of `group` (triangle -> lowest triangle of its
+/// group) carries one marker of `marker` (empty: no markers). Then the
+/// groups with markers are these: every edge joining two triangles of a
+/// group joins equal markers.
+fn one_marker_each(group: &[u32], marker: &[i32]) -> bool {
+    marker.is_empty()
+        || (marker.len() == group.len()
+            && group
+                .iter()
+                .zip(marker)
+                .all(|(&r, m)| marker[r as usize] == *m))
+}
+
 /// Directed edges of `tris` whose reverse is not among them (the oriented
 /// boundary of the group), sorted, with multiplicity.
 pub(super) fn oriented_boundary(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut count: IdMap<(u32, u32), i64> = IdMap::default();
-    for tv in tris {
-        for k in 0..3 {
-            let (u, v) = (tv[k], tv[(k + 1) % 3]);
-            *count.entry((u, v)).or_insert(0) += 1;
-            *count.entry((v, u)).or_insert(0) -= 1;
-        }
-    }
+    // The sides by undirected edge (a sort, no map): an edge's uses from
+    // its smaller end minus those towards it are its multiplicity in the
+    // boundary, directed by the sign.
+    let mut sides: Vec<(u32, u32, bool)> = tris
+        .iter()
+        .flat_map(|tv| {
+            (0..3).map(move |k| {
+                let (u, v) = (tv[k], tv[(k + 1) % 3]);
+                (u.min(v), u.max(v), u < v)
+            })
+        })
+        .filter(|s| s.0 != s.1)
+        .collect();
+    sides.sort_unstable();
     let mut out = Vec::new();
-    for (&e, &c) in &count {
-        for _ in 0..c.max(0) {
-            out.push(e);
-        }
+    for run in sides.chunk_by(|a, b| (a.0, a.1) == (b.0, b.1)) {
+        let up = run.iter().filter(|s| s.2).count() as i64;
+        let c = 2 * up - run.len() as i64;
+        let e = if c > 0 {
+            (run[0].0, run[0].1)
+        } else {
+            (run[0].1, run[0].0)
+        };
+        out.extend(std::iter::repeat_n(e, c.unsigned_abs() as usize));
     }
     out.sort_unstable();
     out
@@ -279,29 +353,32 @@ fn retriangulate(
     let local = |q: u32| verts.binary_search(&q).ok().map(|i| i as u32);
     let xy: Vec<[f64; 2]> = verts.iter().map(|&q| proj(g(q), k)).collect();
     // Kept edges: the oriented boundary's, and every edge of the group not
-    // in exactly two input triangles (`nonmanifold`, global ids).
-    let mut uses: IdMap<(u32, u32), u32> = IdMap::default();
-    for tv in tris {
-        for i in 0..3 {
-            *uses.entry(ekey(tv[i], tv[(i + 1) % 3])).or_insert(0) += 1;
-        }
-    }
+    // in exactly two input triangles (`nonmanifold`, global ids). Sets are
+    // sorted lists (local ids follow global ones, so the order carries
+    // over).
+    let mut uses: Vec<(u32, u32)> = tris
+        .iter()
+        .flat_map(|tv| (0..3).map(move |i| ekey(tv[i], tv[(i + 1) % 3])))
+        .collect();
+    uses.sort_unstable();
     // Oriented boundary, normalised to counterclockwise in the projection.
-    let boundary: IdSet<(u32, u32)> = oriented_boundary(tris)
+    let mut boundary: Vec<(u32, u32)> = oriented_boundary(tris)
         .into_iter()
         .map(|(u, v)| if sign > 0.0 { (u, v) } else { (v, u) })
         .filter_map(|(u, v)| Some((local(u)?, local(v)?)))
         .collect();
-    let mut seg_set: IdSet<(u32, u32)> = IdSet::default();
-    for (&e, &n) in &uses {
+    boundary.sort_unstable();
+    boundary.dedup();
+    let on_boundary = |e: (u32, u32)| boundary.binary_search(&e).is_ok();
+    let mut kept: Vec<(u32, u32)> = Vec::new();
+    for run in uses.chunk_by(|a, b| a == b) {
+        let e = run[0];
         let (u, v) = (local(e.0)?, local(e.1)?);
-        let on_boundary = boundary.contains(&(u, v)) || boundary.contains(&(v, u));
-        if n != 2 || on_boundary || nonmanifold(e) {
-            seg_set.insert(ekey(u, v));
+        if run.len() != 2 || on_boundary((u, v)) || on_boundary((v, u)) || nonmanifold(e) {
+            kept.push(ekey(u, v));
         }
     }
-    let mut kept: Vec<(u32, u32)> = seg_set.iter().copied().collect();
-    kept.sort_unstable();
+    let is_kept = |e: (u32, u32)| kept.binary_search(&e).is_ok();
     let bbox = |(u, v): (u32, u32)| {
         let (p, q) = (xy[u as usize], xy[v as usize]);
         [
@@ -315,7 +392,7 @@ fn retriangulate(
     let mut segments: Vec<[u32; 2]> = kept.iter().map(|&(u, v)| [u, v]).collect();
     for &(u, v) in dt_edges {
         let (u, v) = ekey(local(u)?, local(v)?);
-        if seg_set.contains(&(u, v)) {
+        if is_kept((u, v)) {
             continue;
         }
         let bx = bbox((u, v));
@@ -354,9 +431,9 @@ fn retriangulate(
     for (t, tv) in cdt.triangles.iter().enumerate() {
         for i in 0..3 {
             let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
-            let want = if boundary.contains(&(x, y)) {
+            let want = if on_boundary((x, y)) {
                 1
-            } else if boundary.contains(&(y, x)) {
+            } else if on_boundary((y, x)) {
                 2
             } else {
                 continue;
@@ -374,7 +451,7 @@ fn retriangulate(
         let tv = cdt.triangles[t];
         for i in 0..3 {
             let (x, y) = (tv[(i + 1) % 3], tv[(i + 2) % 3]);
-            if boundary.contains(&(x, y)) || boundary.contains(&(y, x)) {
+            if on_boundary((x, y)) || on_boundary((y, x)) {
                 continue;
             }
             let n = cdt.neighbors[t][i];
@@ -585,6 +662,84 @@ mod tests {
         r2.sort_unstable();
         r2.dedup();
         assert_eq!(r2.len(), 7);
+    }
+
+    /// The validation's unmarked groups give the merge of the groups
+    /// found afresh, also with markers (one marker each, or a side split).
+    #[test]
+    fn validation_groups_serve_the_merge_unless_markers_split_them() {
+        let (pts, tris) = grid_cube(3);
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let g = crate::tet::intersect::check_self_intersections_grouped(&pts, &tris)
+            .unwrap()
+            .unwrap();
+        assert_eq!(g, coplanar_groups(&pts, &tris, &[]));
+        let mut split = vec![0; tris.len()];
+        split[0] = 1;
+        for mk in [vec![], vec![3; tris.len()], split] {
+            let fresh = merge(&pts, &tris, &mk, (None, &[]), &dt);
+            let given = merge(&pts, &tris, &mk, (Some(g.clone()), &[]), &dt);
+            assert_eq!(given.groups, 6);
+            assert_eq!(
+                (given.tris, given.origin, given.kept),
+                (fresh.tris, fresh.origin, fresh.kept)
+            );
+        }
+    }
+
+    /// An edge of a group in more than two input triangles stays in its
+    /// re-triangulation, though not Delaunay: the flat square below, with
+    /// edge 4-5 between points 6 and 7 just off its middle, as if a
+    /// closed surface met the square along 4-5.
+    #[test]
+    fn a_nonmanifold_edge_inside_a_group_is_kept() {
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [4.0, 4.0, 0.0],
+            [0.0, 4.0, 0.0],
+            [1.0, 2.0, 0.0],
+            [3.0, 2.0, 0.0],
+            [2.0, 1.8, 0.0],
+            [2.0, 2.2, 0.0],
+            [2.0, 2.0, 1.0],
+        ];
+        let tris = [
+            [0, 1, 6],
+            [1, 5, 6],
+            [6, 5, 4],
+            [0, 6, 4],
+            [0, 4, 3],
+            [1, 2, 5],
+            [4, 5, 7],
+            [5, 2, 7],
+            [7, 2, 3],
+            [4, 7, 3],
+        ];
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        let has_45 = |m: &Merged| m.tris.iter().any(|t| t.contains(&4) && t.contains(&5));
+        let plain = merge(&pts, &tris, &[], (None, &[]), &dt);
+        assert_eq!((plain.groups, plain.tris.len()), (1, 10));
+        assert!(!has_45(&plain));
+        let nm = merge(&pts, &tris, &[], (None, &[[4, 5]]), &dt);
+        assert_eq!((nm.groups, nm.tris.len()), (1, 10));
+        assert!(has_45(&nm));
+    }
+
+    /// The oriented boundary counts each directed edge's uses against its
+    /// reverse's.
+    #[test]
+    fn oriented_boundary_is_directed_and_counted() {
+        let square = [[0, 1, 2], [0, 2, 3]];
+        assert_eq!(
+            oriented_boundary(&square),
+            vec![(0, 1), (1, 2), (2, 3), (3, 0)]
+        );
+        assert_eq!(
+            oriented_boundary(&[[0, 1, 2], [0, 1, 2], [2, 1, 3]]),
+            vec![(0, 1), (0, 1), (1, 2), (1, 3), (2, 0), (2, 0), (3, 2)]
+        );
+        assert!(oriented_boundary(&[[0, 1, 2], [0, 2, 1]]).is_empty());
     }
 
     #[test]

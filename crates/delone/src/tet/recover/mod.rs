@@ -214,7 +214,7 @@ use crate::tet::local::ekey;
 use self::surface::{Kind, Surface};
 use super::dmesh::journal::{Journaled, OpLog};
 use super::dmesh::{Arrays, DomainMesh};
-use super::intersect::{check_self_intersections, manifold_report};
+use super::intersect::{check_self_intersections_grouped, manifold_report};
 use super::local::{DEAD, FACET, INF};
 use super::{Delaunay3, TetMesh};
 use crate::{Error, Inserted};
@@ -354,7 +354,7 @@ pub(crate) fn recover_mesh(
     }
     let (cow, scale) = crate::geom::rescaled(points);
     let scaled: Vec<[f64; 3]> = cow.into_owned();
-    let mut dt = validate_and_build(points, triangles, &scaled)?;
+    let (mut dt, (group, nonmanifold)) = validate_and_build(points, triangles, &scaled)?;
     let mut used = vec![false; points.len()];
     for &w in triangles.iter().flatten() {
         used[w as usize] = true;
@@ -389,7 +389,7 @@ pub(crate) fn recover_mesh(
     }
     let unscale = 1.0 / (scale.0 * scale.1);
     let merged = if opts.merge_coplanar && !opts.preserve_surface {
-        merge::merge(points, triangles, markers, &dt)
+        merge::merge(points, triangles, markers, (group, &nonmanifold), &dt)
     } else {
         merge::Merged::identity(triangles)
     };
@@ -497,10 +497,16 @@ const MAX_STALLED: usize = 4;
 /// off the slivers.
 const MAX_REDIRECTS: u32 = 2;
 
+/// What the input validation found that [`merge::merge`] uses: the
+/// coplanar groups (no markers) the self-intersection tests found, when
+/// they are those of the triangles as given, and the edges in more than
+/// two triangles (sorted).
+type Validated = (Option<Vec<u32>>, Vec<[u32; 2]>);
+
 /// The input validation of [`recover_marked`]: exact self-intersections,
 /// then closedness.
-fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<(), RecoverError> {
-    check_self_intersections(points, triangles)?;
+fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Validated, RecoverError> {
+    let group = check_self_intersections_grouped(points, triangles)?;
     let man = manifold_report(triangles);
     if !man.boundary_edges.is_empty() {
         let mut bad: Vec<[u32; 2]> = man.boundary_edges.clone();
@@ -510,7 +516,7 @@ fn validate(points: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<(), RecoverEr
             count: bad.len(),
         });
     }
-    Ok(())
+    Ok((group, man.nonmanifold_edges))
 }
 
 /// Inputs with at least this many triangles are validated on a second
@@ -522,12 +528,13 @@ const PARALLEL_VALIDATION: usize = 4096;
 /// large inputs ([`PARALLEL_VALIDATION`]) the validation runs on a second
 /// thread meanwhile (when one can be started; else one after the other).
 /// The validation's verdict is checked first, so the errors are those of
-/// running validation, then build; nothing depends on the threads.
+/// running validation, then build; nothing depends on the threads. Also
+/// gives what the validation found ([`Validated`]).
 fn validate_and_build<'a>(
     points: &[[f64; 3]],
     triangles: &[[u32; 3]],
     scaled: &'a [[f64; 3]],
-) -> Result<Delaunay3<'a>, RecoverError> {
+) -> Result<(Delaunay3<'a>, Validated), RecoverError> {
     if triangles.len() >= PARALLEL_VALIDATION {
         let both = std::thread::scope(|sc| {
             let job = std::thread::Builder::new()
@@ -539,12 +546,12 @@ fn validate_and_build<'a>(
             Some((valid, built))
         });
         if let Some((valid, built)) = both {
-            valid?;
-            return Ok(built?);
+            let group = valid?;
+            return Ok((built?, group));
         }
     }
-    validate(points, triangles)?;
-    Ok(Delaunay3::from_points(scaled)?)
+    let group = validate(points, triangles)?;
+    Ok((Delaunay3::from_points(scaled)?, group))
 }
 
 /// A mesh with ghost cells as the read-only searches see it: vertices and
