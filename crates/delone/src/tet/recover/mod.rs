@@ -29,7 +29,10 @@
 //!    first step and every third one, one cone from an end over the cells
 //!    the segment crosses, grown
 //!    past the faces blocking the cone (the flips alone go in circles on
-//!    the degenerate cells of tubes and turned parts). Flips never destroy a
+//!    the degenerate cells of tubes and turned parts), and an edge whose
+//!    faces cannot be flipped has, one level deeper, only the edges that
+//!    block those flips removed (TetGen's flip-n-m recursion; the `-q`
+//!    path tries both ring edges of every face). Flips never destroy a
 //!    subsegment or a face already on an input triangle. Only the items the
 //!    flips cannot recover are split in the Delaunay tetrahedralization, and
 //!    the round starts again:
