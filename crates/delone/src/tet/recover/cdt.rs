@@ -1434,26 +1434,32 @@ mod tests {
         assert_eq!(meets(&pts, (3, 4), [0, 1, INF]), 0);
     }
 
-    /// A face's 2-3 flip is valid exactly when no edge of it blocks
-    /// ([`flip23_blocking`]), on a random and a degenerate (cocircular
-    /// rings) Delaunay tetrahedralization.
-    #[test]
-    fn a_face_flip_is_blocked_exactly_by_its_blocking_edges() {
-        let mut seed = 99u64;
+    /// Test point sets: `n` random points in the unit cube (from `seed`),
+    /// and `rings` cocircular rings of 16 points, `gap` apart along z (a
+    /// degenerate Delaunay tetrahedralization, as of a tube).
+    fn random_and_rings(mut seed: u64, n: usize, rings: usize, gap: f64) -> [Vec<[f64; 3]>; 2] {
         let mut rnd = || {
             seed = seed
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let random: Vec<[f64; 3]> = (0..80).map(|_| [rnd(), rnd(), rnd()]).collect();
-        let tube: Vec<[f64; 3]> = (0..48)
+        let random = (0..n).map(|_| [rnd(), rnd(), rnd()]).collect();
+        let tube = (0..16 * rings)
             .map(|k| {
                 let a = std::f64::consts::PI * (k % 16) as f64 / 8.0;
-                [a.cos(), a.sin(), (k / 16) as f64]
+                [a.cos(), a.sin(), gap * (k / 16) as f64]
             })
             .collect();
-        for pts in [random, tube] {
+        [random, tube]
+    }
+
+    /// A face's 2-3 flip is valid exactly when no edge of it blocks
+    /// ([`flip23_blocking`]), on a random and a degenerate (cocircular
+    /// rings) Delaunay tetrahedralization.
+    #[test]
+    fn a_face_flip_is_blocked_exactly_by_its_blocking_edges() {
+        for pts in random_and_rings(99, 80, 3, 1.0) {
             let cm = Journaled::new(crate::tet::Delaunay3::from_points(&pts).unwrap());
             let (mut valid, mut blocked) = (0, 0);
             for t in cm.m.live_slots() {
@@ -1503,21 +1509,7 @@ mod tests {
     /// the convex hull and the protected items kept.
     #[test]
     fn segment_cones_keep_the_mesh_valid() {
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let random: Vec<[f64; 3]> = (0..60).map(|_| [rnd(), rnd(), rnd()]).collect();
-        let tube: Vec<[f64; 3]> = (0..32)
-            .map(|k| {
-                let a = std::f64::consts::PI * (k % 16) as f64 / 8.0;
-                [a.cos(), a.sin(), if k < 16 { 0.0 } else { 3.0 }]
-            })
-            .collect();
-        for pts in [random, tube] {
+        for pts in random_and_rings(12345, 60, 2, 3.0) {
             let dt = crate::tet::Delaunay3::from_points(&pts).unwrap();
             let mut cm = Journaled::new(dt);
             let n = pts.len() as u32;
