@@ -569,6 +569,11 @@ pub(crate) fn recover_segment_within(
     // When the flips give up, a segment on a flat facet of the convex hull
     // takes the cone over the cells around the hull edges it crosses (only
     // then: where the flips succeed they are left as they were).
+    // One edge removal of a step, at the effort's depth and work.
+    let remove = |cm: &mut Journaled<'_>, e: (u32, u32), g: Guide<'_>| {
+        let level = (effort.depth, effort.blockers);
+        remove_edge_deep(cm, e, level, prot, g, &mut { effort.work })
+    };
     let last = |cm: &mut Journaled<'_>| {
         effort.cones && effort.flat && cone_segment_in(cm, u, v, prot, true)
     };
@@ -615,15 +620,8 @@ pub(crate) fn recover_segment_within(
                         if !prot.face(fv) && cm.flip23(t, f) {
                             progress = true;
                         } else {
-                            for (a, b) in face_edges(cm, t, f, stop_circles) {
-                                if remove_edge_deep(
-                                    cm,
-                                    (a, b),
-                                    (effort.depth, effort.blockers),
-                                    prot,
-                                    g,
-                                    &mut { effort.work },
-                                ) {
+                            for e in face_edges(cm, t, f, stop_circles) {
+                                if remove(cm, e, g) {
                                     progress = true;
                                     break;
                                 }
@@ -631,14 +629,7 @@ pub(crate) fn recover_segment_within(
                         }
                     }
                     Hit::Edge(a, b) => {
-                        if remove_edge_deep(
-                            cm,
-                            (a, b),
-                            (effort.depth, effort.blockers),
-                            prot,
-                            g,
-                            &mut { effort.work },
-                        ) {
+                        if remove(cm, (a, b), g) {
                             progress = true;
                         }
                     }
