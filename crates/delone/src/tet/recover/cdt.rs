@@ -566,14 +566,14 @@ pub(crate) fn recover_segment_within(
     } else {
         &[guide][..]
     };
-    // When the flips give up, a segment on a flat facet of the convex hull
-    // takes the cone over the cells around the hull edges it crosses (only
-    // then: where the flips succeed they are left as they were).
     // One edge removal of a step, at the effort's depth and work.
     let remove = |cm: &mut Journaled<'_>, e: (u32, u32), g: Guide<'_>| {
         let level = (effort.depth, effort.blockers);
         remove_edge_deep(cm, e, level, prot, g, &mut { effort.work })
     };
+    // When the flips give up, a segment on a flat facet of the convex hull
+    // takes the cone over the cells around the hull edges it crosses (only
+    // then: where the flips succeed they are left as they were).
     let last = |cm: &mut Journaled<'_>| {
         effort.cones && effort.flat && cone_segment_in(cm, u, v, prot, true)
     };
