@@ -58,6 +58,27 @@ pub(crate) fn key<const D: usize>(p: &[f64; D]) -> [u64; D] {
     p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
+/// Compressed rows of `pairs` over rows `0..n`: the row offsets (`n + 1`)
+/// and the second members, filed under their first by a counting sort
+/// (row `r` is `values[offsets[r]..offsets[r + 1]]`, in the order of
+/// `pairs`).
+pub(crate) fn rows(n: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; n + 1];
+    for &(r, _) in pairs {
+        offsets[r as usize + 1] += 1;
+    }
+    for r in 0..n {
+        offsets[r + 1] += offsets[r];
+    }
+    let mut fill = offsets.clone();
+    let mut values = vec![0u32; pairs.len()];
+    for &(r, x) in pairs {
+        values[fill[r as usize] as usize] = x;
+        fill[r as usize] += 1;
+    }
+    (offsets, values)
+}
+
 /// The root of `x` in the union-find forest `parent` (a root is its own
 /// parent), halving the path on the way.
 pub(crate) fn union_root(parent: &mut [u32], mut x: u32) -> u32 {

@@ -149,19 +149,7 @@ fn component_depths(
             }
         }
     }
-    let mut start = vec![0u32; ncomp + 1];
-    for &(c, _) in &pairs {
-        start[c as usize + 1] += 1;
-    }
-    for i in 0..ncomp {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut next = vec![0u32; pairs.len()];
-    for &(c, d) in &pairs {
-        next[fill[c as usize] as usize] = d;
-        fill[c as usize] += 1;
-    }
+    let (start, next) = crate::geom::rows(ncomp, &pairs);
     let mut depth = vec![u32::MAX; ncomp];
     let mut queue: Vec<u32> = Vec::new();
     for (t, tv) in v.iter().enumerate() {

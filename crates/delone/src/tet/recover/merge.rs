@@ -184,20 +184,8 @@ pub(crate) fn merge(
         }
     }
     drop(last);
-    let mut from = vec![0u32; nv + 1];
-    for &(u, _) in &raw {
-        from[u as usize + 1] += 1;
-    }
-    for u in 0..nv {
-        from[u + 1] += from[u];
-    }
-    let mut fill = from.clone();
-    let mut other = vec![0u32; raw.len()];
-    for &(u, v) in &raw {
-        other[fill[u as usize] as usize] = v;
-        fill[u as usize] += 1;
-    }
-    drop((fill, raw));
+    let (from, mut other) = crate::geom::rows(nv, &raw);
+    drop(raw);
     let mut seen = vec![u32::MAX; nv];
     let mut edges: Vec<u64> = Vec::new();
     for u in 0..nv {
