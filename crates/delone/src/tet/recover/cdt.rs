@@ -514,9 +514,18 @@ impl Effort {
         Effort {
             depth: level,
             work: WORK << level.saturating_sub(DEPTH),
-            cones: false,
-            flat: true,
-            blockers: false,
+            ..Effort::BASE
+        }
+    }
+
+    /// Level `level` ≥ 2 with the work growing linearly
+    /// (`WORK · level`): for attempts that keep their flips when they fail,
+    /// so each level goes on from where the one before stopped.
+    pub(crate) fn linear(level: u32) -> Effort {
+        Effort {
+            depth: level,
+            work: WORK * level as usize,
+            ..Effort::BASE
         }
     }
 }
