@@ -1146,14 +1146,9 @@ impl State {
             // Segment cones: `-p` without `-q`, and `-Y` (both its flips
             // and its fallback's recovery).
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
-            // `-p` alone: a failed attempt keeps its flips (each one valid
-            // and keeping every protected item), so the next pass or level
-            // goes on from where it stopped instead of from the start, as
-            // TetGen's flip levels do. The other paths roll it back: their
-            // meshes are refined (`-q`) or searched again for the same
-            // segment (`-Y` and its fallback), where the kept flips measured
-            // worse (`-pY` on the held-out tubes: 15.5 → 75 s).
-            let keep = stop_circles && !self.y_fallback;
+            // `-p` alone: the segments still failing after the passes go
+            // through deeper levels of flips (see below).
+            let deep = stop_circles && !self.y_fallback;
             let flat = self.flat_cones;
             let attempt = |cm: &mut Journaled<'_>,
                            prot: &cdt::Protected,
@@ -1161,7 +1156,7 @@ impl State {
                            v: u32,
                            near: &mut Vec<u32>,
                            ops: usize,
-                           effort: cdt::Effort| {
+                           (effort, keep): (cdt::Effort, bool)| {
                 let mark = cm.log_mark();
                 let effort = cdt::Effort {
                     cones,
@@ -1188,7 +1183,7 @@ impl State {
                     v,
                     &mut near_fail,
                     max_ops,
-                    cdt::Effort::BASE,
+                    (cdt::Effort::BASE, false),
                 ) {
                     failed.push((e, u, v));
                     fail_at.push(at);
@@ -1222,7 +1217,7 @@ impl State {
                         v,
                         &mut near_fail,
                         retry_ops,
-                        cdt::Effort::BASE,
+                        (cdt::Effort::BASE, false),
                     ) {
                         failed.push((e, u, v));
                         fail_at.push(at);
@@ -1238,20 +1233,30 @@ impl State {
             // point fewer for the pull-off, whose stars on these long thin
             // nearly coplanar strips are made of flat tetrahedra.
             //
-            // `-p` alone goes deeper with the work growing linearly (the
-            // attempts keep their flips, so each level adds to the last),
-            // and stops at the first level that recovers nothing (`-p`
-            // recovers what it misses by splits: a level that brings no
-            // segment costs time on inputs whose segments need points).
-            if keep {
+            // `-p` alone goes deeper too, but a failed attempt there keeps
+            // its flips (each valid and keeping every protected item), so
+            // the next level goes on from where the last one stopped, as
+            // TetGen's flip levels do, with the work growing linearly. The
+            // levels stop at the first one that recovers no segment, whose
+            // flips are rolled back: kept flips that recover nothing only
+            // make the triangles harder (vtk_vase: 27 → 100 Steiner points
+            // when they stay). Elsewhere failed attempts are rolled back:
+            // kept, they made `-pY`'s fallback slower on the held-out tubes
+            // (15.5 → 75 s).
+            if deep {
                 for level in 3..=P_MAX_LEVEL {
+                    if failed.is_empty() {
+                        break;
+                    }
                     let before = failed.len();
-                    let effort = cdt::Effort::linear(level);
+                    let mark = cm.log_mark();
+                    let effort = (cdt::Effort::linear(level), true);
+                    let ops = max_ops * level as usize;
                     failed.retain(|&(_, u, v)| {
-                        let ops = max_ops * level as usize;
                         attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
-                    if failed.is_empty() || failed.len() == before {
+                    if failed.len() == before {
+                        cm.rollback(mark);
                         break;
                     }
                 }
@@ -1260,7 +1265,7 @@ impl State {
                     if failed.is_empty() {
                         break;
                     }
-                    let effort = cdt::Effort::level(level);
+                    let effort = (cdt::Effort::level(level), false);
                     let ops = max_ops << (level - 2);
                     failed.retain(|&(_, u, v)| {
                         attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
@@ -1277,8 +1282,16 @@ impl State {
                 let queue = std::mem::take(&mut failed);
                 (failed, restart) =
                     self.split_in_place(dt, &mut cm, &mut prot_work, queue, |cm, prot, u, v| {
-                        attempt(cm, prot, u, v, &mut Vec::new(), max_ops, cdt::Effort::BASE)
-                            .is_none()
+                        attempt(
+                            cm,
+                            prot,
+                            u,
+                            v,
+                            &mut Vec::new(),
+                            max_ops,
+                            (cdt::Effort::BASE, false),
+                        )
+                        .is_none()
                     })?;
             }
             if !failed.is_empty() || restart {
