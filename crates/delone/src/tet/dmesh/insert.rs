@@ -293,7 +293,7 @@ impl Journaled<'_> {
     /// The cells whose closure holds point `p`, found by a walk from
     /// slot `start`: one cell, the two cells of a face (the second a ghost
     /// when the face is on the hull), or the ring of an edge. `None` when
-    /// the walk meets a ghost or does not end, when `p`
+    /// no finite cell holds `p` (a walk, else a scan of the cells), when `p`
     /// is on a vertex, on a protected face or edge, or on an edge whose
     /// ring has a ghost or more than [`super::journal::MAX_RING`] cells.
     fn cells_holding(
@@ -316,49 +316,58 @@ impl Journaled<'_> {
                 orient3d(g(q[0]), g(q[1]), g(q[2]), g(q[3]))
             })
         };
-        let mut t = start;
-        for step in 0..WALK_STEPS {
-            if !m.alive(t) {
-                return None;
-            }
-            let tv = m.tv[t as usize];
-            if tv.contains(&INF) {
-                return None;
-            }
-            let s = signs(tv);
-            // Leave through a face `p` is strictly beyond, the first from
-            // a rotating start (a walk in a mesh that is not Delaunay could
-            // otherwise circle).
-            if let Some(i) = (0..4).map(|k| (k + step) % 4).find(|&i| s[i] > 0.0) {
-                t = m.across(t, i);
-                continue;
-            }
-            let zeros: Vec<usize> = (0..4).filter(|&i| s[i] == 0.0).collect();
-            return match zeros[..] {
-                [] => Some(vec![t]),
-                [i] => {
-                    let n = m.across(t, i);
-                    let fv = face(tv, i);
-                    // (`n` is a ghost when `p` is on a hull face: its
-                    // cone is the hull face split at `p`, valid as `p` is
-                    // strictly inside it.)
-                    (m.alive(n) && !keep_face(fkey(fv))).then(|| vec![t, n])
+        // The walk: leave through a face `p` is strictly beyond, the first
+        // from a rotating start (a walk in a mesh that is not Delaunay
+        // could otherwise circle); it ends in a cell with no such face.
+        let walk = || -> Option<(u32, [f64; 4])> {
+            let mut t = start;
+            for step in 0..WALK_STEPS {
+                if !m.alive(t) || m.tv[t as usize].contains(&INF) {
+                    return None;
                 }
-                [i, j] => {
-                    let e: Vec<u32> = (0..4)
-                        .filter(|&k| k != i && k != j)
-                        .map(|k| tv[k])
-                        .collect();
-                    if keep_edge(e[0].min(e[1]), e[0].max(e[1])) {
-                        return None;
-                    }
-                    let (tets, _) = self.edge_ring(t, e[0], e[1])?;
-                    Some(tets)
+                let s = signs(m.tv[t as usize]);
+                match (0..4).map(|k| (k + step) % 4).find(|&i| s[i] > 0.0) {
+                    Some(i) => t = m.across(t, i),
+                    None => return Some((t, s)),
                 }
-                _ => None,
-            };
+            }
+            None
+        };
+        // Where the flips left cells a walk cannot cross towards `p` (it
+        // circles, or leaves the hull past a flat hull facet), the first
+        // finite cell in slot order whose closure holds `p`.
+        let scan = || {
+            (0..m.tv.len() as u32)
+                .filter(|&t| m.alive(t) && !m.tv[t as usize].contains(&INF))
+                .map(|t| (t, signs(m.tv[t as usize])))
+                .find(|(_, s)| s.iter().all(|&x| x <= 0.0))
+        };
+        let (t, s) = walk().or_else(scan)?;
+        let tv = m.tv[t as usize];
+        let zeros: Vec<usize> = (0..4).filter(|&i| s[i] == 0.0).collect();
+        match zeros[..] {
+            [] => Some(vec![t]),
+            [i] => {
+                let n = m.across(t, i);
+                let fv = face(tv, i);
+                // (`n` is a ghost when `p` is on a hull face: its
+                // cone is the hull face split at `p`, valid as `p` is
+                // strictly inside it.)
+                (m.alive(n) && !keep_face(fkey(fv))).then(|| vec![t, n])
+            }
+            [i, j] => {
+                let e: Vec<u32> = (0..4)
+                    .filter(|&k| k != i && k != j)
+                    .map(|k| tv[k])
+                    .collect();
+                if keep_edge(e[0].min(e[1]), e[0].max(e[1])) {
+                    return None;
+                }
+                let (tets, _) = self.edge_ring(t, e[0], e[1])?;
+                Some(tets)
+            }
+            _ => None,
         }
-        None
     }
 }
 

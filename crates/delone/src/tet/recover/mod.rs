@@ -1255,6 +1255,14 @@ impl State {
                     failed.retain(|&(_, u, v)| {
                         attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
+                    if std::env::var("DBG").is_ok() {
+                        eprintln!(
+                            "round {} level {level}: {before} -> {} ops {}",
+                            self.report.rounds,
+                            failed.len(),
+                            cm.log_mark() - mark
+                        );
+                    }
                     if failed.len() == before {
                         cm.rollback(mark);
                         break;
@@ -1293,6 +1301,15 @@ impl State {
                         )
                         .is_none()
                     })?;
+            }
+            if std::env::var("DBG").is_ok() {
+                eprintln!(
+                    "round {} after in-place: failed {} restart {} pts {}",
+                    self.report.rounds,
+                    failed.len(),
+                    restart,
+                    cm.pts().len()
+                );
             }
             if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
