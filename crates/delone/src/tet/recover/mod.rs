@@ -1255,7 +1255,6 @@ impl State {
                     failed.retain(|&(_, u, v)| {
                         attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
-                    if std::env::var("DBG").is_ok() {
                         eprintln!(
                             "round {} level {level}: {before} -> {} ops {}",
                             self.report.rounds,
@@ -1302,7 +1301,6 @@ impl State {
                         .is_none()
                     })?;
             }
-            if std::env::var("DBG").is_ok() {
                 eprintln!(
                     "round {} after in-place: failed {} restart {} pts {}",
                     self.report.rounds,
