@@ -1255,13 +1255,6 @@ impl State {
                     failed.retain(|&(_, u, v)| {
                         attempt(&mut cm, &prot_work, u, v, &mut near_fail, ops, effort).is_some()
                     });
-                        eprintln!(
-                            "round {} level {level}: {before} -> {} ops {}",
-                            self.report.rounds,
-                            failed.len(),
-                            cm.log_mark() - mark
-                        );
-                    }
                     if failed.len() == before {
                         cm.rollback(mark);
                         break;
@@ -1300,14 +1293,6 @@ impl State {
                         )
                         .is_none()
                     })?;
-            }
-                eprintln!(
-                    "round {} after in-place: failed {} restart {} pts {}",
-                    self.report.rounds,
-                    failed.len(),
-                    restart,
-                    cm.pts().len()
-                );
             }
             if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
