@@ -1146,9 +1146,10 @@ impl State {
             // Segment cones: `-p` without `-q`, and `-Y` (both its flips
             // and its fallback's recovery).
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
-            // `-p` alone: the segments still failing after the passes go
+            // `-p` alone (and the `-Y` fallback's first runs, which take
+            // its recovery): the segments still failing after the passes go
             // through deeper levels of flips (see below).
-            let deep = stop_circles && !self.y_fallback;
+            let deep = stop_circles;
             let flat = self.flat_cones;
             let attempt = |cm: &mut Journaled<'_>,
                            prot: &cdt::Protected,
@@ -1240,9 +1241,11 @@ impl State {
             // levels stop at the first one that recovers no segment, whose
             // flips are rolled back: kept flips that recover nothing only
             // make the triangles harder (vtk_vase: 27 → 100 Steiner points
-            // when they stay). Elsewhere failed attempts are rolled back:
-            // kept, they made `-pY`'s fallback slower on the held-out tubes
-            // (15.5 → 75 s).
+            // when they stay). Failed attempts elsewhere (the passes, the
+            // refinement's recovery, the fallback's last runs) are rolled
+            // back: kept in every attempt, they gave vtk_vase 73 points and
+            // the `-Y` fallback's runs without the guided flips 5× their
+            // time on the held-out tubes.
             if deep {
                 for level in 3..=P_MAX_LEVEL {
                     if failed.is_empty() {
