@@ -406,10 +406,11 @@ fn turned_gear_key_recovers_in_few_rounds() {
 /// `tests/data/README.md`). Steiner points on a thin triangle's long side,
 /// rounded off the line, make slivers of its corner and three points of
 /// that side. Each such sliver counts on the triangle with the faces on
-/// one side only, whatever the order of its vertices: 5 rounds (564
-/// points), against 169 when a sliver listed in one order counted both its
-/// sides (the triangle never covered, one point per round split next to
-/// it). Checked, with its volume.
+/// one side only, whatever the order of its vertices: 1 round (27
+/// points; 5 rounds and 564 points before the deeper flip levels of `-p`),
+/// against 169 when a sliver listed in one order counted both its sides
+/// (the triangle never covered, one point per round split next to it).
+/// Checked, with its volume.
 #[test]
 fn sliver_of_a_corner_and_one_side_counts_once() {
     p_rounds_at_most("tube_rings_thin.off", 6);
@@ -419,10 +420,10 @@ fn sliver_of_a_corner_and_one_side_counts_once() {
 /// a mesh edge pierces one of its thin triangles through a ring of four
 /// of the triangle's points without crossing it (one point is rounded
 /// below the plane, and the edge meets the plane just outside). No split
-/// makes a face there; removing that edge does: 26 rounds (7 of them in a
-/// carried mesh whose triangles stay missing, before the return to the
-/// Delaunay tetrahedralization), against 69 of one split each. Checked,
-/// with its volume.
+/// makes a face there; removing that edge does: 1 round now that the
+/// deeper flip levels of `-p` recover nearly every segment (26 rounds
+/// before them, 7 of them in a carried mesh whose triangles stayed
+/// missing), against 69 of one split each. Checked, with its volume.
 #[test]
 fn edge_piercing_a_thin_triangle_is_removed() {
     p_rounds_at_most("tube_rings_pierced.off", 30);
@@ -432,12 +433,32 @@ fn edge_piercing_a_thin_triangle_is_removed() {
 /// `tests/data/README.md`): the subsegments split in the flipped mesh keep
 /// failing past the bounds of one round's in-place splits. The next round
 /// starts from the Delaunay tetrahedralization with every point so far and
-/// splits in place again: 2 rounds, against 12 when every split after the
-/// first such round went to the Delaunay insertions only. Checked, with
-/// its volume.
+/// splits in place again: 2 rounds (1 with the deeper flip levels of
+/// `-p`, which leave 2 subsegments to split), against 12 when every split
+/// after the first such round went to the Delaunay insertions only.
+/// Checked, with its volume.
 #[test]
 fn tube_with_rings_of_holes_splits_in_place_again() {
     p_rounds_at_most("tube_rings.off", 4);
+}
+
+/// `-p` on the bundled tubes with rings of holes and the perforated plate
+/// (see `tests/data/README.md`): the segments the first passes miss go
+/// through deeper levels of flips, each going on from where the last one
+/// left the mesh (a failed attempt there keeps its flips). 2, 106, 27 and
+/// 5 Steiner points; 459, 1535, 564 and 86 when every attempt was rolled
+/// back and `-p` went no deeper than level 2. Checked, with its volume.
+#[test]
+fn deeper_flip_levels_keep_their_progress() {
+    for (file, most) in [
+        ("tube_rings.off", 10),
+        ("tube_rings_pierced.off", 160),
+        ("tube_rings_thin.off", 45),
+        ("perf_plate.off", 12),
+    ] {
+        let r = meshed_data_checked(file, "p");
+        assert!(r.report.steiner() <= most, "{file} -p: {:?}", r.report);
+    }
 }
 
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement

@@ -303,6 +303,17 @@ impl Journaled<'_> {
         keep_face: &dyn Fn([u32; 3]) -> bool,
         keep_edge: &dyn Fn(u32, u32) -> bool,
     ) -> Option<Vec<u32>> {
+        self.cells_holding_within(p, start, (keep_face, keep_edge), WALK_STEPS)
+    }
+
+    /// [`Self::cells_holding`] with a walk of at most `steps` steps.
+    fn cells_holding_within(
+        &self,
+        p: u32,
+        start: u32,
+        (keep_face, keep_edge): (&dyn Fn([u32; 3]) -> bool, &dyn Fn(u32, u32) -> bool),
+        steps: usize,
+    ) -> Option<Vec<u32>> {
         let pts = self.pts();
         let g = |w: u32| &pts[w as usize];
         let m = &self.m;
@@ -321,7 +332,7 @@ impl Journaled<'_> {
         // could otherwise circle); it ends in a cell with no such face.
         let walk = || -> Option<(u32, [f64; 4])> {
             let mut t = start;
-            for step in 0..WALK_STEPS {
+            for step in 0..steps {
                 if !m.alive(t) || m.tv[t as usize].contains(&INF) {
                     return None;
                 }
@@ -406,6 +417,60 @@ mod tests {
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// A point the walk does not reach (no step at all here; in a flipped
+    /// mesh the walk can circle) is found by the scan of the cells: the
+    /// same cells as the walk finds, inside a cell, on a hull face and near
+    /// an edge's midpoint; a point on a hull edge, a vertex and a point
+    /// outside the hull are refused both ways.
+    #[test]
+    fn the_scan_finds_what_the_walk_finds() {
+        let pts = cloud(60);
+        let mut m = Journaled::new(Delaunay3::from_points(&pts).unwrap());
+        let edges = edges_of(&m);
+        let (a, b) = edges[edges.len() / 2];
+        let (pa, pb) = (m.pts()[a as usize], m.pts()[b as usize]);
+        let c = m.m.tv[m
+            .star_find(a, |x| !m.m.tv[x as usize].contains(&INF))
+            .unwrap() as usize];
+        let centre = [0, 1, 2].map(|k| c.iter().map(|&w| pts[w as usize][k]).sum::<f64>() / 4.0);
+        // Expected cell counts (`None`: any; 0: refused).
+        let queries = [
+            (centre, Some(1)),
+            // Inside a hull triangle of the cube's bottom (its diagonals
+            // are x = y and x + y = 1): a cell and the ghost on it.
+            ([0.25, 0.5, 0.0], Some(2)),
+            // On a hull edge: refused.
+            ([0.5, 0.0, 0.0], Some(0)),
+            ([0, 1, 2].map(|k| 0.5 * (pa[k] + pb[k])), None),
+            (pa, Some(0)),
+            ([2.0, 0.5, 0.5], Some(0)),
+        ];
+        let no_f = |_: [u32; 3]| false;
+        let no_e = |_: u32, _: u32| false;
+        let far = (0..m.m.tv.len() as u32)
+            .rev()
+            .find(|&x| m.m.alive(x) && !m.m.tv[x as usize].contains(&INF))
+            .unwrap();
+        for (q, count) in queries {
+            let id = m.pts().len() as u32;
+            m.push_point(q);
+            let walked = m.cells_holding_within(id, far, (&no_f, &no_e), WALK_STEPS);
+            let scanned = m.cells_holding_within(id, far, (&no_f, &no_e), 0);
+            let sorted = |c: Option<Vec<u32>>| {
+                c.map(|mut c| {
+                    c.sort_unstable();
+                    c
+                })
+            };
+            assert_eq!(sorted(walked.clone()), sorted(scanned), "{q:?}");
+            match count {
+                Some(0) => assert!(walked.is_none(), "{q:?}"),
+                Some(n) => assert_eq!(walked.map(|c| c.len()), Some(n), "{q:?}"),
+                None => assert!(walked.is_some(), "{q:?}"),
+            }
+        }
     }
 
     /// Points inside cells, on faces, on edges and on hull faces go in;
