@@ -41,6 +41,10 @@ const MAX_CAVITY: usize = 2048;
 /// Most steps of the walk locating the point.
 const WALK_STEPS: usize = 1 << 14;
 
+/// The protected faces (sorted triples) and edges (sorted pairs) of an
+/// insertion.
+type Keep<'k> = (&'k dyn Fn([u32; 3]) -> bool, &'k dyn Fn(u32, u32) -> bool);
+
 impl Journaled<'_> {
     /// Pushes `q` as the next point and inserts it by
     /// [`Journaled::insert_constrained`], the walk starting at a finite
@@ -311,7 +315,7 @@ impl Journaled<'_> {
         &self,
         p: u32,
         start: u32,
-        (keep_face, keep_edge): (&dyn Fn([u32; 3]) -> bool, &dyn Fn(u32, u32) -> bool),
+        (keep_face, keep_edge): Keep<'_>,
         steps: usize,
     ) -> Option<Vec<u32>> {
         let pts = self.pts();
