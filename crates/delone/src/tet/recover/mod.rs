@@ -1161,14 +1161,16 @@ impl State {
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
             // `-p` alone (and the `-Y` fallback's first runs, which take
             // its recovery): the segments still failing after the passes go
-            // through deeper levels of flips (see below), while the rounds
-            // go on in the flipped mesh. Once the splits stay with the
-            // Delaunay insertions (`in_place_off`), every round starts from
-            // the Delaunay tetrahedralization, where the replay re-applies
-            // only part of the log, and the levels would redo their work
-            // each round (the bundled `tube_rings_pierced` under `-pM`: 31
-            // rounds, 8 s, against 2 s without the levels from then on).
-            let deep = stop_circles && !self.in_place_off;
+            // through deeper levels of flips (see below). Under `-p`, only
+            // while the rounds go on in the flipped mesh: once the splits
+            // stay with the Delaunay insertions (`in_place_off`), every
+            // round starts from the Delaunay tetrahedralization, where the
+            // replay re-applies only part of the log, and the levels would
+            // redo their work each round (the bundled `tube_rings_pierced`
+            // under `-pM`: 31 rounds, 8 s, against 2 s without the levels
+            // from then on). The `-Y` fallback keeps them: without, more of
+            // its points stay on the surface (cgal_oblong: 0.35 → 1.9 s).
+            let deep = stop_circles && (self.y_fallback || !self.in_place_off);
             let flat = self.flat_cones;
             let attempt = |cm: &mut Journaled<'_>,
                            prot: &cdt::Protected,
