@@ -481,14 +481,15 @@ pub(crate) fn recover_mesh(
 /// third away at 8× more.
 const MAX_LEVEL: u32 = 6;
 
-/// The deepest level of edge removal tried, under `-p` alone, on the
-/// segments a round's passes still miss ([`cdt::Effort::linear`]). Each
-/// level starts where the one before left the segment, since failed
-/// attempts keep their flips there; the levels stop at the first one that
-/// recovers no segment. On the 182 held-out CAD shapes, against level 2
-/// alone with failed attempts rolled back: 13,020 → 1,107 Steiner points
-/// and 4.9 → 3.3 s; up to level 19: 885 points at 4.4 s (twisted prisms,
-/// whose segments need points anyway, pay for every level tried).
+/// The deepest level of edge removal tried by `-p`'s recovery (also the
+/// `-Y` fallback's first runs) on the segments a round's passes still
+/// miss ([`cdt::Effort::linear`]). Each level starts where the one before
+/// left the segment, since failed attempts keep their flips there; the
+/// levels stop at the first one that recovers no segment. On 182
+/// generated CAD shapes, against level 2 alone with failed attempts
+/// rolled back: 13,020 → 1,118 Steiner points and 4.87 → 3.28 s; up to
+/// level 19: 885 points at 4.4 s (twisted prisms, whose segments need
+/// points anyway, pay for every level tried).
 const P_MAX_LEVEL: u32 = 10;
 
 /// How many times [`State::split_in_place`] splits the pieces of one
@@ -1255,7 +1256,7 @@ impl State {
             // point fewer for the pull-off, whose stars on these long thin
             // nearly coplanar strips are made of flat tetrahedra.
             //
-            // `-p` alone goes deeper too, but a failed attempt there keeps
+            // `-p`'s recovery (`deep`) goes deeper too, but a failed attempt there keeps
             // its flips (each valid and keeping every protected item), so
             // the next level goes on from where the last one stopped, as
             // TetGen's flip levels do, with the work growing linearly. The
