@@ -121,8 +121,14 @@
 //! rounds leave as many triangles missing, the next round starts from the
 //! Delaunay tetrahedralization (with every point so far) and the rounds
 //! after it split and carry in place again; the second time of each, the
-//! recovery stays with the Delaunay insertions (their points give the
-//! flips more room on nearly coplanar slivers).
+//! segment splits stay with the Delaunay insertions (their points give the
+//! flips more room on nearly coplanar slivers, where halves split in place
+//! and recovered at once keep failing). From then on a round's segment
+//! splits go into both meshes (the flipped one by the same constrained
+//! insertion) and the next round goes on in the flipped mesh, where the
+//! halves get a round's passes and levels; starting each such round from
+//! the Delaunay tetrahedralization instead, the replay re-applied a third
+//! of the log or less and the levels redid their work every round.
 //!
 //! With [`RecoverOptions::preserve_surface`] (`-Y`) nothing is split.
 //! The first round whose flips fail adds one interior point (the centroid
@@ -693,6 +699,7 @@ impl State {
             points_first: false,
             first_missing: None,
             in_place_off: false,
+            carry_splits: true,
             split_bounds_met: false,
             cover_memo: std::cell::RefCell::default(),
         }
@@ -875,6 +882,17 @@ impl State {
             return false;
         }
         let prot = self.protected(on);
+        self.mirror_with(dt, cm, from, &prot)
+    }
+
+    /// [`Self::mirror_points`] keeping the protected items `prot` of `cm`.
+    fn mirror_with(
+        &self,
+        dt: &Delaunay3<'_>,
+        cm: &mut Journaled<'_>,
+        from: usize,
+        prot: &cdt::Protected,
+    ) -> bool {
         for id in from..dt.points().len() {
             // A point on a subsegment `u v` that is a mesh edge splits it
             // and the faces on it.
@@ -1162,16 +1180,13 @@ impl State {
             let cones = stop_circles || self.y_fallback || self.opts.preserve_surface;
             // `-p` alone (and the `-Y` fallback's first runs, which take
             // its recovery): the segments still failing after the passes go
-            // through deeper levels of flips (see below). Under `-p`, only
-            // while the rounds go on in the flipped mesh: once the splits
-            // stay with the Delaunay insertions (`in_place_off`), every
-            // round starts from the Delaunay tetrahedralization, where the
-            // replay re-applies only part of the log, and the levels would
-            // redo their work each round (the bundled `tube_rings_pierced`
-            // under `-pM`: 31 rounds, 8 s, against 2 s without the levels
-            // from then on). The `-Y` fallback keeps them: without, more of
-            // its points stay on the surface (cgal_oblong: 0.35 → 1.9 s).
-            let deep = stop_circles && (self.y_fallback || !self.in_place_off);
+            // through deeper levels of flips (see below), in every round.
+            // Once the splits stay with the Delaunay insertions
+            // (`in_place_off`) the rounds go on in the flipped mesh with the
+            // split points mirrored into it (`carry_splits`, below), so the
+            // levels do not redo their work from the Delaunay
+            // tetrahedralization each round.
+            let deep = stop_circles;
             let flat = self.flat_cones;
             let attempt = |cm: &mut Journaled<'_>,
                            prot: &cdt::Protected,
@@ -1334,12 +1349,31 @@ impl State {
                     let tris = self.fallback_targets(tris);
                     self.interior_points(dt, tris)?;
                 } else {
+                    let from = dt.points().len();
                     for &(e, u, v) in &failed {
                         if !self.steiner_left() {
                             return Err(self.budget_error(failed.len(), 0));
                         }
                         self.split_edge(dt, e, u, v)?;
                     }
+                    // Once the splits stay with the Delaunay insertions, the
+                    // split points also go into the flipped mesh (the
+                    // constrained insertion of `Self::mirror_points`) and
+                    // the next round goes on there: starting again from the
+                    // Delaunay tetrahedralization, its replay re-applies a
+                    // fraction of the log (a third or less on tubes with
+                    // rings of holes) and the deeper levels redo most of
+                    // their work every round. The bundled
+                    // `tube_rings_pierced` under `-pM`: 13 rounds, 2.2 s and
+                    // 1,351 points → 10 rounds, 1.6 s and 433 points; as the
+                    // first run of the `-Y` fallback, 31 rounds and 8.3 s →
+                    // 10 rounds and 1.9 s.
+                    carry = stop_circles
+                        && self.in_place_off
+                        && self.carry_splits
+                        && !restart
+                        && cm.pts().len() == from
+                        && self.mirror_with(dt, &mut cm, from, &prot_work);
                 }
             } else {
                 let segments_by_flips = subs_work.len();
