@@ -498,6 +498,15 @@ const MAX_LEVEL: u32 = 6;
 /// points anyway, pay for every level tried).
 const P_MAX_LEVEL: u32 = 10;
 
+/// Why [`State::split_in_place`] ended its round early.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SplitStop {
+    /// Pieces kept failing past `MAX_SPLIT_DEPTH` or the round's budget.
+    Bounds,
+    /// The flipped mesh refused a split point.
+    Refused,
+}
+
 /// How many times [`State::split_in_place`] splits the pieces of one
 /// subsegment whose halves keep failing before it leaves them to the
 /// Delaunay tetrahedralization's insertion (the round then ends).
@@ -789,11 +798,13 @@ impl State {
     /// subsegments stay, so what the flips recovered stays recovered), and
     /// `recover(cm, prot, a, b)` recovers each half by flips (rolling back
     /// when it fails); a half that fails is split in turn. Returns the
-    /// subsegments left to split in `dt` only and whether the round must
-    /// end: from the first point `cm` refuses (it is then in `dt` only,
-    /// and `cm`'s ids would no longer be `dt`'s), the rest of the queue.
-    /// `(empty, false)`: every subsegment is recovered in `cm`, whose
-    /// round goes on to the triangles.
+    /// subsegments left to split in `dt` and why the round must end:
+    /// [`SplitStop::Refused`] from the first point `cm` refuses (it is then
+    /// in `dt` only, and `cm`'s ids would no longer be `dt`'s), the rest of
+    /// the queue; [`SplitStop::Bounds`] when pieces keep failing past the
+    /// bounds, those and the rest of the queue (their points may still go
+    /// into `cm`, see `run_cdt`). `(empty, None)`: every subsegment is
+    /// recovered in `cm`, whose round goes on to the triangles.
     #[allow(clippy::type_complexity)]
     fn split_in_place(
         &mut self,
@@ -802,7 +813,7 @@ impl State {
         prot: &mut cdt::Protected,
         queue: Vec<(u32, u32, u32)>,
         mut recover: impl FnMut(&mut Journaled<'_>, &cdt::Protected, u32, u32) -> bool,
-    ) -> Result<(Vec<(u32, u32, u32)>, bool), RecoverError> {
+    ) -> Result<(Vec<(u32, u32, u32)>, Option<SplitStop>), RecoverError> {
         let mut queue: std::collections::VecDeque<((u32, u32, u32), u32)> =
             queue.into_iter().map(|s| (s, 0)).collect();
         // In-place splits this call may make (see `IN_PLACE_PER_SEGMENT`).
@@ -813,19 +824,20 @@ impl State {
                 continue;
             }
             if depth >= MAX_SPLIT_DEPTH || splits >= budget {
-                // Pieces that keep failing go to `dt`'s insertion and the
-                // round ends. The first time, the next round (from `dt`,
-                // with every point so far) splits in place again: on tubes
-                // with rings of radial holes the halves that kept failing
-                // are then often recovered. The second time, every split
-                // from then on goes to `dt` (its points give the flips more
-                // room on nearly coplanar slivers, where the halves of
-                // points put in place keep failing).
+                // Pieces that keep failing go to `dt`'s insertion (and, with
+                // `carry_splits`, into this mesh too: the next round goes on
+                // here) and the round ends. The first time, the next round
+                // splits in place again: on tubes with rings of radial holes
+                // the halves that kept failing are then often recovered.
+                // The second time, every split from then on goes to `dt`
+                // first (its points give the flips more room on nearly
+                // coplanar slivers, where the halves of points put in place
+                // and recovered at once keep failing).
                 self.in_place_off |= self.split_bounds_met;
                 self.split_bounds_met = true;
                 let mut rest = vec![(e, u, v)];
                 rest.extend(queue.into_iter().map(|x| x.0));
-                return Ok((rest, true));
+                return Ok((rest, Some(SplitStop::Bounds)));
             }
             if !self.steiner_left() {
                 return Err(self.budget_error(queue.len() + 1, 0));
@@ -851,7 +863,10 @@ impl State {
             if placed.is_none() {
                 // The round ends: the queue's other subsegments are split
                 // in `dt` only.
-                return Ok((queue.into_iter().map(|x| x.0).collect(), true));
+                return Ok((
+                    queue.into_iter().map(|x| x.0).collect(),
+                    Some(SplitStop::Refused),
+                ));
             }
             prot.edges.remove(&ekey(u, v));
             prot.edges.insert(ekey(u, id));
@@ -862,7 +877,7 @@ impl State {
                 }
             }
         }
-        Ok((Vec::new(), false))
+        Ok((Vec::new(), None))
     }
 
     /// Inserts the points of `dt` from id `from` on (put there by this
@@ -1316,11 +1331,11 @@ impl State {
             // flipped mesh and their halves recovered in the same round
             // (see `Self::split_in_place`); what it leaves is split in the
             // Delaunay tetrahedralization only, as with `-q`.
-            let mut restart = false;
+            let mut stop = None;
             let mut carry = false;
             if stop_circles && !failed.is_empty() && !self.in_place_off {
                 let queue = std::mem::take(&mut failed);
-                (failed, restart) =
+                (failed, stop) =
                     self.split_in_place(dt, &mut cm, &mut prot_work, queue, |cm, prot, u, v| {
                         attempt(
                             cm,
@@ -1334,6 +1349,7 @@ impl State {
                         .is_none()
                     })?;
             }
+            let restart = stop.is_some();
             if !failed.is_empty() || restart {
                 if self.opts.preserve_surface {
                     self.points_first_check((0, failed.len()))?;
@@ -1356,22 +1372,22 @@ impl State {
                         }
                         self.split_edge(dt, e, u, v)?;
                     }
-                    // Once the splits stay with the Delaunay insertions, the
-                    // split points also go into the flipped mesh (the
-                    // constrained insertion of `Self::mirror_points`) and
-                    // the next round goes on there: starting again from the
-                    // Delaunay tetrahedralization, its replay re-applies a
-                    // fraction of the log (a third or less on tubes with
-                    // rings of holes) and the deeper levels redo most of
-                    // their work every round. The bundled
-                    // `tube_rings_pierced` under `-pM`: 13 rounds, 2.2 s and
-                    // 1,351 points → 10 rounds, 1.6 s and 433 points; as the
-                    // first run of the `-Y` fallback, 31 rounds and 8.3 s →
-                    // 10 rounds and 1.9 s.
+                    // When `Self::split_in_place` met its bounds, and from
+                    // then on (`in_place_off`), the split points also go
+                    // into the flipped mesh (the constrained insertion of
+                    // `Self::mirror_points`) and the next round goes on
+                    // there: starting again from the Delaunay
+                    // tetrahedralization, its replay re-applies a fraction
+                    // of the log (under 1% after the first round on tubes
+                    // with rings of holes, whose split points change most
+                    // cells; a third or less later) and the deeper levels
+                    // redo their work. The bundled `tube_rings_pierced`
+                    // under `-pM`: 13 rounds, 2.2 s, 1,351 points → ... ;
+                    // as the first run of the `-Y` fallback: 31 rounds and
+                    // 8.3 s → ... .
                     carry = stop_circles
-                        && self.in_place_off
                         && self.carry_splits
-                        && !restart
+                        && (self.in_place_off || stop == Some(SplitStop::Bounds))
                         && cm.pts().len() == from
                         && self.mirror_with(dt, &mut cm, from, &prot_work);
                 }
