@@ -82,10 +82,11 @@ pub(super) struct State {
     /// `-p` without `-q`: splits no longer go into the flipped mesh in
     /// place (`State::split_in_place` met pieces that keep failing twice).
     pub(super) in_place_off: bool,
-    /// After `in_place_off`, the segment splits of a round also go into
-    /// the flipped mesh, which the next round goes on in (`-p` and `-pM`,
-    /// and the `-Y` fallback's first run; its later runs start each round
-    /// from the Delaunay tetrahedralization).
+    /// When `State::split_in_place` meets its bounds, and after
+    /// `in_place_off`, the segment splits of a round also go into the
+    /// flipped mesh, which the next round goes on in (`-p` and `-pM`, and
+    /// the `-Y` fallback's guided runs; its later runs start each such
+    /// round from the Delaunay tetrahedralization).
     pub(super) carry_splits: bool,
     /// `State::split_in_place` met pieces that keep failing once (its
     /// round then ended; the next one splits in place again).

@@ -179,28 +179,24 @@ impl State {
         // Whether every surface point comes off depends on where the `-p`
         // path put them (rounded points, nearly flat neighbours): when the
         // exact validation refuses a removal, the `-p` path is run again,
-        // which places the surface points differently. The first three
-        // runs are `-p`'s own recovery (`stop_circling_flips`: guided flips,
+        // which places the surface points differently. The first two runs
+        // are `-p`'s own recovery (`stop_circling_flips`: guided flips,
         // deeper flip levels that keep their progress, splits in the
-        // flipped mesh), which leaves far fewer points to pull off than
-        // the refinement's (the 86 held-out shapes: 15.5 → 7.5 s, the
-        // tubes with rings of holes 2–6× faster): the first one carries
-        // the flipped mesh across rounds once the splits stay with the
-        // Delaunay insertions (`carry_splits`: the bundled
-        // `tube_rings_pierced` 8.6 → 1.9 s), the next two start each such
-        // round from the Delaunay tetrahedralization, with and without the
-        // cones over flat hull facets (cgal_oblong's surface points all
-        // come off only there). The last two are the refinement's recovery
-        // with other flip budgets per segment and their failing segments
-        // tried at deeper flip levels (at up to twice the time and three
-        // times the memory of a run). Each runs only where the one before
-        // did not get its points off; deterministic order; the last error
-        // stands.
+        // flipped mesh, which the rounds go on in: `carry_splits`), with
+        // and without the cones over flat hull facets: it leaves far fewer
+        // points to pull off than the refinement's (the 86 held-out
+        // shapes: 15.5 → 7.5 s; the bundled `tube_rings_pierced` 8.6 →
+        // 0.84 s with the carried rounds). The last two are the
+        // refinement's recovery with other flip budgets per segment and
+        // their failing segments tried at deeper flip levels (at up to
+        // twice the time and three times the memory of a run). Each runs
+        // only where the one before did not get its points off
+        // (cgal_anchor needs the second); deterministic order; the last
+        // error stands.
         let mut last = None;
         for (ops, escalate, flat, guided, carry) in [
             (SEG_OPS, false, true, true, true),
-            (SEG_OPS, false, true, true, false),
-            (SEG_OPS, false, false, true, false),
+            (SEG_OPS, false, false, true, true),
             (2 * SEG_OPS, true, false, false, false),
             (SEG_OPS / 2, true, false, false, false),
         ] {
