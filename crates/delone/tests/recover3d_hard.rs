@@ -461,6 +461,30 @@ fn deeper_flip_levels_keep_their_progress() {
     }
 }
 
+/// `-pM` and `-pY` on the bundled tube whose thin triangles are pierced:
+/// when `split_in_place` meets its bounds (pieces of a subsegment failing
+/// after 12 halvings), the pieces' points also go into the flipped mesh
+/// and the rounds go on there, so the deeper flip levels keep their
+/// progress. `-pM`: 2 rounds and 248 points (13 rounds and 1,351 when each
+/// such round started again from the Delaunay tetrahedralization); `-pY`,
+/// whose fallback's first run recovers the same way: 2 rounds and 38
+/// interior points (31 rounds and 108).
+#[test]
+fn carried_rounds_keep_the_levels_progress() {
+    let r = meshed_data_checked("tube_rings_pierced.off", "pM");
+    assert!(
+        r.report.rounds <= 4 && r.report.steiner() <= 500,
+        "-pM: {:?}",
+        r.report
+    );
+    let r = meshed_data_checked("tube_rings_pierced.off", "pY");
+    let rp = &r.report;
+    assert!(
+        rp.steiner_on_edges + rp.steiner_on_facets == 0 && rp.rounds <= 4 && rp.steiner() <= 80,
+        "-pY: {rp:?}"
+    );
+}
+
 /// `-pq1.414` on the same plate: the recovery tuned for a refinement
 /// (unguided flips) splits subsegments until one is too short to split;
 /// the pipeline then recovers with the guided flips of `-p` and refines
