@@ -170,21 +170,41 @@ pub(crate) fn max_min(
 /// apex `k` of the triangle on chord `i j`), each triangle joined to the
 /// edge's two ends `a` and `b`.
 pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32; 4]> {
+    let mut new = Vec::with_capacity(2 * r.len().saturating_sub(2));
+    ring_tets_into(r, choice, a, b, &mut new);
+    new
+}
+
+/// [`ring_tets`] into `new` (cleared first; no allocation once it has
+/// room, for rings of fewer than 64 vertices).
+pub(crate) fn ring_tets_into(r: &[u32], choice: &[usize], a: u32, b: u32, new: &mut Vec<[u32; 4]>) {
     let n = r.len();
-    let mut new = Vec::with_capacity(2 * n.saturating_sub(2));
-    let mut stack = Vec::with_capacity(n);
-    stack.push((0usize, n.saturating_sub(1)));
-    while let Some((i, j)) = stack.pop() {
+    new.clear();
+    // The chords still to split: disjoint intervals of `0..n`, so at most
+    // `max(n, 1)` at once.
+    let mut small = [(0usize, 0usize); 64];
+    let mut large = Vec::new();
+    let stack: &mut [(usize, usize)] = if n < small.len() {
+        &mut small
+    } else {
+        large.resize(n + 1, (0, 0));
+        &mut large
+    };
+    stack[0] = (0, n.saturating_sub(1));
+    let mut top = 1;
+    while top > 0 {
+        top -= 1;
+        let (i, j) = stack[top];
         if j < i + 2 {
             continue;
         }
         let k = choice[i * n + j];
         new.push([r[i], r[k], r[j], b]);
         new.push([r[i], r[j], r[k], a]);
-        stack.push((i, k));
-        stack.push((k, j));
+        stack[top] = (i, k);
+        stack[top + 1] = (k, j);
+        top += 2;
     }
-    new
 }
 
 #[cfg(test)]

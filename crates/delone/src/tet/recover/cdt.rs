@@ -211,8 +211,7 @@ fn flip23_blocking(cm: &Journaled<'_>, t: u32, f: usize) -> Option<[bool; 3]> {
     if d == INF || e == INF || fv.contains(&INF) {
         return None;
     }
-    let pts = cm.pts();
-    Some([0, 1, 2].map(|k| !crate::tet::dmesh::flip::positive(pts, [fv[k], fv[(k + 1) % 3], e, d])))
+    Some([0, 1, 2].map(|k| !cm.positive([fv[k], fv[(k + 1) % 3], e, d])))
 }
 
 fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
@@ -344,13 +343,48 @@ fn remove_edge_deep(
     if depth == 0 {
         return false;
     }
+    // The ring lists come from the mesh's spare ones and go back to it.
+    let mut bufs = cm.ring_buffers();
+    let done = shrink_ring(
+        cm,
+        (a, b),
+        &mut bufs,
+        (depth, next),
+        prot,
+        (guide, deeper),
+        budget,
+    );
+    cm.give_ring_buffers(bufs);
+    done
+}
+
+/// The ring-shrinking steps of [`remove_edge_deep`] (`depth` ≥ 1), the
+/// ring walked into `bufs` at each step; `next` is the deeper calls'
+/// level, `remove` the guide's edge removal and `deeper` the deeper
+/// calls' guide.
+#[allow(clippy::too_many_arguments)]
+fn shrink_ring(
+    cm: &mut Journaled<'_>,
+    (a, b): (u32, u32),
+    (tets, ring): &mut (Vec<u32>, Vec<u32>),
+    (depth, next): (u32, (u32, bool)),
+    prot: &Protected,
+    (guide, deeper): (Guide<'_>, Guide<'_>),
+    budget: &mut usize,
+) -> bool {
+    let blockers = next.1;
+    let remove = |cm: &mut Journaled<'_>, t: u32| match guide {
+        Guide::Costs(tri, chord) => cm.remove_edge(t, a, b, tri, chord).is_some(),
+        Guide::Segment(u, v) => remove_edge_for(cm, t, a, b, (u, v)),
+    };
     for _ in 0..crate::tet::dmesh::journal::MAX_RING {
         let Some(t) = cm.find_edge(a, b) else {
             return true;
         };
-        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+        if !cm.edge_ring_into(t, a, b, (tets, ring)) {
             return false;
-        };
+        }
+        let (tets, ring) = (&tets[..], &ring[..]);
         let n = ring.len();
         let mut progress = false;
         // (A 2-3 flip of a face around the edge shrinks its ring by one:
@@ -398,7 +432,7 @@ fn remove_edge_deep(
         // segments in 35% less time; the meshes `-q` refines from the old
         // way are better, so the refinement path keeps it).
         if !progress && depth > 1 && !blockers {
-            for &r in &ring {
+            for &r in ring {
                 if *budget == 0 {
                     return false;
                 }
