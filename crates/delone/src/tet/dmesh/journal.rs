@@ -132,6 +132,10 @@ pub(crate) struct Journaled<'a> {
     /// the tuple (empty until first used). An answer never changes: the
     /// points are only ever appended to.
     orient_memo: RefCell<Vec<([u32; 4], bool)>>,
+    /// Recent answers of the segment recovery's segment–face tests (see
+    /// [`crate::tet::recover::cdt`]): segment ends and face, and whether
+    /// they meet.
+    pub(crate) seg_memo: RefCell<Vec<([u32; 5], bool)>>,
 }
 
 impl<'a> Journaled<'a> {
@@ -171,6 +175,7 @@ impl<'a> Journaled<'a> {
             new_tets: Vec::new(),
             ring_pool: Vec::new(),
             orient_memo: Default::default(),
+            seg_memo: Default::default(),
         }
     }
 
@@ -477,7 +482,7 @@ impl<'a> Journaled<'a> {
     /// for which `stop` holds (the walk stops there; no allocation).
     pub(crate) fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
         let mut buf = std::mem::take(&mut *self.buf.borrow_mut());
-        let r = self.m.star_walk(u, &mut buf, |_, _| true, stop);
+        let r = self.m.star_first(u, &mut buf, stop);
         *self.buf.borrow_mut() = buf;
         r
     }

@@ -711,6 +711,48 @@ impl DomainMesh {
         None
     }
 
+    /// The slot [`DomainMesh::star_walk`] with every face crossable would
+    /// stop at: the first of `v`'s star, in breadth-first order from the
+    /// hint, for which `stop` holds. A slot is tested when it joins the
+    /// queue (the queue's order is the walk's, so the first found is the
+    /// same), and the walk ends there: the slots still queued before it
+    /// are not expanded. `out` is scratch (the slots reached).
+    pub(crate) fn star_first(
+        &self,
+        v: u32,
+        out: &mut Vec<u32>,
+        stop: impl Fn(u32) -> bool,
+    ) -> Option<u32> {
+        out.clear();
+        let start = self.slot_of_vertex(v)?;
+        if stop(start) {
+            return Some(start);
+        }
+        let mut marks = self.marks.borrow_mut();
+        marks.clear();
+        out.push(start);
+        marks.insert(start);
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            for (f, &u) in tv.iter().enumerate() {
+                if u == v {
+                    continue;
+                }
+                let n = self.across(t, f);
+                if n != NONE && marks.insert(n) {
+                    if stop(n) {
+                        return Some(n);
+                    }
+                    out.push(n);
+                }
+            }
+        }
+        None
+    }
+
     /// A live slot holding vertex `v`: the hint, else a scan.
     pub(crate) fn slot_of_vertex(&self, v: u32) -> Option<u32> {
         let t = *self.vt.get(v as usize)?;
