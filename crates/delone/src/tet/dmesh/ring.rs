@@ -176,35 +176,29 @@ pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32
 }
 
 /// [`ring_tets`] into `new` (cleared first; no allocation once it has
-/// room, for rings of fewer than 64 vertices).
+/// room).
 pub(crate) fn ring_tets_into(r: &[u32], choice: &[usize], a: u32, b: u32, new: &mut Vec<[u32; 4]>) {
-    let n = r.len();
     new.clear();
-    // The chords still to split: disjoint intervals of `0..n`, so at most
-    // `max(n, 1)` at once.
-    let mut small = [(0usize, 0usize); 64];
-    let mut large = Vec::new();
-    let stack: &mut [(usize, usize)] = if n < small.len() {
-        &mut small
-    } else {
-        large.resize(n + 1, (0, 0));
-        &mut large
-    };
-    stack[0] = (0, n.saturating_sub(1));
-    let mut top = 1;
-    while top > 0 {
-        top -= 1;
-        let (i, j) = stack[top];
-        if j < i + 2 {
-            continue;
-        }
-        let k = choice[i * n + j];
-        new.push([r[i], r[k], r[j], b]);
-        new.push([r[i], r[j], r[k], a]);
-        stack[top] = (i, k);
-        stack[top + 1] = (k, j);
-        top += 2;
+    split(r, choice, (a, b), (0, r.len().saturating_sub(1)), new);
+}
+
+/// The tetrahedra of the triangles below chord `i j` (depth first: the
+/// chord's triangle, then those below `k j`, then those below `i k`).
+fn split(
+    r: &[u32],
+    choice: &[usize],
+    (a, b): (u32, u32),
+    (i, j): (usize, usize),
+    new: &mut Vec<[u32; 4]>,
+) {
+    if j < i + 2 {
+        return;
     }
+    let k = choice[i * r.len() + j];
+    new.push([r[i], r[k], r[j], b]);
+    new.push([r[i], r[j], r[k], a]);
+    split(r, choice, (a, b), (k, j), new);
+    split(r, choice, (a, b), (i, k), new);
 }
 
 #[cfg(test)]
