@@ -22,6 +22,25 @@ pub(crate) fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
 /// The two vertices of `tv` other than `a` and `b`, ordered so that
 /// `[a, b, x, y]` has the orientation of `tv`.
 pub(crate) fn opposite(tv: [u32; 4], a: u32, b: u32) -> Option<(u32, u32)> {
+    // A tetrahedron holding `a` and `b` once each and two other distinct
+    // vertices: the parity of the positions `[a, b, c, d]` take in `tv`
+    // (`c` before `d`) directly.
+    let ia = tv.iter().position(|&w| w == a);
+    let ib = tv.iter().position(|&w| w == b);
+    if let (Some(ia), Some(ib)) = (ia, ib) {
+        let mut rest = (0..4).filter(|&k| k != ia && k != ib);
+        if let (Some(ic), Some(id), true) = (rest.next(), rest.next(), ia != ib) {
+            let (c, d) = (tv[ic], tv[id]);
+            if c != d && c != a && c != b && d != a && d != b {
+                let inv = usize::from(ia > ib)
+                    + usize::from(ia > ic)
+                    + usize::from(ia > id)
+                    + usize::from(ib > ic)
+                    + usize::from(ib > id);
+                return Some(if inv % 2 == 0 { (c, d) } else { (d, c) });
+            }
+        }
+    }
     let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
     let (c, d) = (o.next()?, o.next()?);
     Some(if even(tv, [a, b, c, d]) {
