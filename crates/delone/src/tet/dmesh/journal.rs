@@ -136,6 +136,11 @@ pub(crate) struct Journaled<'a> {
     /// [`crate::tet::recover::cdt`]): segment ends and face, and whether
     /// they meet.
     pub(crate) seg_memo: RefCell<Vec<([u32; 5], bool)>>,
+    /// Replacements made so far (a change stamp).
+    changes: u64,
+    /// The walk behind `ring`: slot, edge, [`Journaled::changes`] then,
+    /// and whether it closed.
+    ring_of: Option<(u32, u32, u32, u64, bool)>,
 }
 
 impl<'a> Journaled<'a> {
@@ -176,6 +181,8 @@ impl<'a> Journaled<'a> {
             ring_pool: Vec::new(),
             orient_memo: Default::default(),
             seg_memo: Default::default(),
+            changes: 0,
+            ring_of: None,
         }
     }
 
@@ -525,6 +532,36 @@ impl<'a> Journaled<'a> {
             .is_some()
     }
 
+    /// [`Journaled::edge_ring_into`], copied from the ring of the last edge
+    /// removal attempt when that walked the same edge from the same slot
+    /// and nothing has changed since: that walk crosses every face, so it
+    /// is this one when it passes no ghost, and fails when this one does.
+    pub(crate) fn edge_ring_again(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+    ) -> bool {
+        if self
+            .ring_of
+            .is_some_and(|(t0, a0, b0, c, _)| (t0, a0, b0, c) == (t, a, b, self.changes))
+        {
+            let (lt, lr) = &self.ring;
+            if self.ring_of.is_some_and(|r| !r.4)
+                || lt.iter().any(|&c| self.m.tv[c as usize].contains(&INF))
+            {
+                return false;
+            }
+            tets.clear();
+            tets.extend_from_slice(lt);
+            ring.clear();
+            ring.extend_from_slice(lr);
+            return true;
+        }
+        self.edge_ring_into(t, a, b, (tets, ring))
+    }
+
     /// A pair of lists for [`Journaled::edge_ring_into`] (spare ones
     /// reused: no allocation per ring); give them back with
     /// [`Journaled::give_ring_buffers`].
@@ -555,6 +592,7 @@ impl<'a> Journaled<'a> {
         // has such a face (both sets are connected and have two or more
         // members), so a tetrahedron whose four vertices lie on some
         // triangle is still seen through one of its faces.
+        self.changes += 1;
         let finite = |k: &[u32; 3]| !k.contains(&INF);
         // The first finite outer face (logged when no inner face is).
         let first_outer = old
@@ -686,6 +724,7 @@ impl<'a> Journaled<'a> {
             |_, _| true,
             (&mut tets, &mut r),
         );
+        self.ring_of = Some((t, a, b, self.changes, ends.is_some()));
         let mut key = std::mem::take(&mut self.key);
         let out = if ends.is_none() || self.known_failed(a, b, &r, &mut key) {
             None

@@ -387,7 +387,7 @@ fn remove_edge_deep(
     let mut bufs = cm.ring_buffers();
     let done = shrink_ring(
         cm,
-        (a, b),
+        (t, a, b),
         &mut bufs,
         (depth, next),
         prot,
@@ -398,14 +398,13 @@ fn remove_edge_deep(
     done
 }
 
-/// The ring-shrinking steps of [`remove_edge_deep`] (`depth` ≥ 1), the
-/// ring walked into `bufs` at each step; `next` is the deeper calls'
-/// level, `remove` the guide's edge removal and `deeper` the deeper
-/// calls' guide.
-#[allow(clippy::too_many_arguments)]
+/// The ring-shrinking steps of [`remove_edge_deep`] (`depth` ≥ 1) on edge
+/// `a b` of `t` (whose removal just failed), the ring walked into `bufs`
+/// at each step; `next` is the deeper calls' level, `guide` guides this
+/// level's removals and flips, `deeper` the deeper calls.
 fn shrink_ring(
     cm: &mut Journaled<'_>,
-    (a, b): (u32, u32),
+    (mut t, a, b): (u32, u32, u32),
     (tets, ring): &mut (Vec<u32>, Vec<u32>),
     (depth, next): (u32, (u32, bool)),
     prot: &Protected,
@@ -417,11 +416,10 @@ fn shrink_ring(
         Guide::Costs(tri, chord) => cm.remove_edge(t, a, b, tri, chord).is_some(),
         Guide::Segment(u, v) => remove_edge_for(cm, t, a, b, (u, v)),
     };
+    // Each step starts from the slot `find_edge` gave before the failed
+    // removal that ended the step before (the mesh is as it was then).
     for _ in 0..crate::tet::dmesh::journal::MAX_RING {
-        let Some(t) = cm.find_edge(a, b) else {
-            return true;
-        };
-        if !cm.edge_ring_into(t, a, b, (tets, ring)) {
+        if !cm.edge_ring_again(t, a, b, (tets, ring)) {
             return false;
         }
         let (tets, ring) = (&tets[..], &ring[..]);
@@ -528,12 +526,13 @@ fn shrink_ring(
             return false;
         }
         *budget -= 1;
-        let Some(t) = cm.find_edge(a, b) else {
+        let Some(x) = cm.find_edge(a, b) else {
             return true;
         };
-        if remove(cm, t) {
+        if remove(cm, x) {
             return true;
         }
+        t = x;
     }
     false
 }
