@@ -118,6 +118,8 @@ pub(crate) struct Journaled<'a> {
     /// Scratch of the star searches, of the dynamic program and of the
     /// new slots of an operation.
     buf: RefCell<Vec<u32>>,
+    /// The ring (slots, vertices) of the last edge removal attempt (see
+    /// `ring_of`; read by [`Journaled::edge_ring_again`]).
     ring: (Vec<u32>, Vec<u32>),
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
