@@ -20,9 +20,15 @@ impl Hasher for IdHasher {
     }
     #[inline]
     fn write(&mut self, bytes: &[u8]) {
-        for c in bytes.chunks(4) {
+        // Four bytes at a time, the last chunk padded with zeros.
+        let mut chunks = bytes.chunks_exact(4);
+        for c in &mut chunks {
+            self.write_u32(u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+        }
+        let rest = chunks.remainder();
+        if !rest.is_empty() {
             let mut w = [0u8; 4];
-            w[..c.len()].copy_from_slice(c);
+            w[..rest.len()].copy_from_slice(rest);
             self.write_u32(u32::from_le_bytes(w));
         }
     }

@@ -61,10 +61,18 @@ impl DomainMesh {
         if !self.open_face(t, f) {
             return None;
         }
-        let u = self.across(t, f);
+        let w = self.nb[t as usize][f];
+        let (u, g) = (w >> 2, (w & 3) as usize);
         let tv = self.tv[t as usize];
         let d = tv[f];
-        let e = *self.tv[u as usize].iter().find(|w| !tv.contains(w))?;
+        // The vertex of `u` off the shared face: the one opposite its side
+        // of the face (the first of `u` not in `t`).
+        let uv = self.tv[u as usize];
+        let e = if tv.contains(&uv[g]) {
+            *uv.iter().find(|w| !tv.contains(w))?
+        } else {
+            uv[g]
+        };
         let [x, y, z] = face(tv, f);
         Some((u, [[x, y, e, d], [y, z, e, d], [z, x, e, d]]))
     }

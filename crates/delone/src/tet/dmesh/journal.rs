@@ -63,6 +63,9 @@ pub(crate) type ReplayTest<'c> = &'c dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool;
 /// Longest edge ring [`Journaled::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
 
+/// Entries of the memo of [`Journaled::positive`]: `1 <<` this many.
+const ORIENT_MEMO_BITS: u32 = 12;
+
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
 const MEMO_RING: usize = 4;
@@ -115,11 +118,31 @@ pub(crate) struct Journaled<'a> {
     /// Scratch of the star searches, of the dynamic program and of the
     /// new slots of an operation.
     buf: RefCell<Vec<u32>>,
+    /// The ring (slots, vertices) of the last edge removal attempt (see
+    /// `ring_of`; read by [`Journaled::edge_ring_again`]).
     ring: (Vec<u32>, Vec<u32>),
     dp_best: Vec<i64>,
     dp_choice: Vec<usize>,
     ids: Vec<u32>,
     key: Vec<u32>,
+    /// The new tetrahedra of an edge removal (scratch).
+    new_tets: Vec<[u32; 4]>,
+    /// Spare ring lists ([`Journaled::ring_buffers`]).
+    ring_pool: Vec<(Vec<u32>, Vec<u32>)>,
+    /// Recent answers of [`Journaled::positive`]: per entry a vertex tuple
+    /// (in the order asked) and its answer, at a slot chosen by a hash of
+    /// the tuple (empty until first used). An answer never changes: the
+    /// points are only ever appended to.
+    orient_memo: RefCell<Vec<([u32; 4], bool)>>,
+    /// Recent answers of the segment recovery's segment–face tests (see
+    /// [`crate::tet::recover::cdt`]): segment ends and face, and whether
+    /// they meet.
+    pub(crate) seg_memo: RefCell<Vec<([u32; 5], bool)>>,
+    /// Replacements made so far (a change stamp).
+    changes: u64,
+    /// The walk behind `ring`: slot, edge, [`Journaled::changes`] then,
+    /// and whether it closed.
+    ring_of: Option<(u32, u32, u32, u64, bool)>,
 }
 
 impl<'a> Journaled<'a> {
@@ -156,6 +179,12 @@ impl<'a> Journaled<'a> {
             dp_choice: Vec::new(),
             ids: Vec::new(),
             key: Vec::new(),
+            new_tets: Vec::new(),
+            ring_pool: Vec::new(),
+            orient_memo: Default::default(),
+            seg_memo: Default::default(),
+            changes: 0,
+            ring_of: None,
         }
     }
 
@@ -390,10 +419,25 @@ impl<'a> Journaled<'a> {
         self.failed = failed;
     }
 
-    /// True when finite `tv` is strictly positive.
+    /// True when finite `tv` is strictly positive (exact `orient3d`, its
+    /// recent answers remembered: the flips ask about the same tuples
+    /// again and again).
     #[inline]
     pub(crate) fn positive(&self, tv: [u32; 4]) -> bool {
-        super::flip::positive(self.pts(), tv)
+        let h = (tv[0] ^ tv[1].rotate_left(8) ^ tv[2].rotate_left(16) ^ tv[3].rotate_left(24))
+            .wrapping_mul(0x9E37_79B1);
+        let i = (h >> (32 - ORIENT_MEMO_BITS)) as usize;
+        let mut memo = self.orient_memo.borrow_mut();
+        if memo.is_empty() {
+            memo.resize(1 << ORIENT_MEMO_BITS, ([DEAD; 4], false));
+        }
+        let e = &mut memo[i];
+        if e.0 == tv {
+            return e.1;
+        }
+        let x = super::flip::positive(self.pts(), tv);
+        *e = (tv, x);
+        x
     }
 
     /// Live tetrahedra (ghosts included) containing vertex `u`, breadth
@@ -447,7 +491,7 @@ impl<'a> Journaled<'a> {
     /// for which `stop` holds (the walk stops there; no allocation).
     pub(crate) fn star_find(&self, u: u32, stop: impl Fn(u32) -> bool) -> Option<u32> {
         let mut buf = std::mem::take(&mut *self.buf.borrow_mut());
-        let r = self.m.star_walk(u, &mut buf, |_, _| true, stop);
+        let r = self.m.star_first(u, &mut buf, stop);
         *self.buf.borrow_mut() = buf;
         r
     }
@@ -471,15 +515,65 @@ impl<'a> Journaled<'a> {
     /// [`MAX_RING`].
     pub(crate) fn edge_ring(&self, t: u32, a: u32, b: u32) -> Option<(Vec<u32>, Vec<u32>)> {
         let (mut tets, mut ring) = (Vec::with_capacity(8), Vec::with_capacity(8));
+        self.edge_ring_into(t, a, b, (&mut tets, &mut ring))
+            .then_some((tets, ring))
+    }
+
+    /// [`Journaled::edge_ring`] into `tets` and `ring` (cleared first);
+    /// false where that gives `None`.
+    pub(crate) fn edge_ring_into(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+    ) -> bool {
         let no_ghost = |c: u32, _| !self.m.tv[c as usize].contains(&INF);
-        let end = self.m.ring_into(
-            t,
-            (a, b),
-            (MAX_RING, false),
-            no_ghost,
-            (&mut tets, &mut ring),
-        );
-        end.map(|_| (tets, ring))
+        self.m
+            .ring_into(t, (a, b), (MAX_RING, false), no_ghost, (tets, ring))
+            .is_some()
+    }
+
+    /// [`Journaled::edge_ring_into`], copied from the ring of the last edge
+    /// removal attempt when that walked the same edge from the same slot
+    /// and nothing has changed since: that walk crosses every face, so it
+    /// is this one when it passes no ghost, and fails when this one does.
+    pub(crate) fn edge_ring_again(
+        &self,
+        t: u32,
+        a: u32,
+        b: u32,
+        (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
+    ) -> bool {
+        if self
+            .ring_of
+            .is_some_and(|(t0, a0, b0, c, _)| (t0, a0, b0, c) == (t, a, b, self.changes))
+        {
+            let (lt, lr) = &self.ring;
+            if self.ring_of.is_some_and(|r| !r.4)
+                || lt.iter().any(|&c| self.m.tv[c as usize].contains(&INF))
+            {
+                return false;
+            }
+            tets.clear();
+            tets.extend_from_slice(lt);
+            ring.clear();
+            ring.extend_from_slice(lr);
+            return true;
+        }
+        self.edge_ring_into(t, a, b, (tets, ring))
+    }
+
+    /// A pair of lists for [`Journaled::edge_ring_into`] (spare ones
+    /// reused: no allocation per ring); give them back with
+    /// [`Journaled::give_ring_buffers`].
+    pub(crate) fn ring_buffers(&mut self) -> (Vec<u32>, Vec<u32>) {
+        self.ring_pool.pop().unwrap_or_default()
+    }
+
+    /// Returns lists taken by [`Journaled::ring_buffers`].
+    pub(crate) fn give_ring_buffers(&mut self, bufs: (Vec<u32>, Vec<u32>)) {
+        self.ring_pool.push(bufs);
     }
 
     /// Replaces tetrahedra `old` (a connected set) by `new` filling the same
@@ -500,6 +594,7 @@ impl<'a> Journaled<'a> {
         // has such a face (both sets are connected and have two or more
         // members), so a tetrahedron whose four vertices lie on some
         // triangle is still seen through one of its faces.
+        self.changes += 1;
         let finite = |k: &[u32; 3]| !k.contains(&INF);
         // The first finite outer face (logged when no inner face is).
         let first_outer = old
@@ -631,6 +726,7 @@ impl<'a> Journaled<'a> {
             |_, _| true,
             (&mut tets, &mut r),
         );
+        self.ring_of = Some((t, a, b, self.changes, ends.is_some()));
         let mut key = std::mem::take(&mut self.key);
         let out = if ends.is_none() || self.known_failed(a, b, &r, &mut key) {
             None
@@ -749,14 +845,22 @@ impl<'a> Journaled<'a> {
                 (c < cur).then_some(c)
             },
         );
-        let new = (total < NO.min(limit)).then(|| ring::ring_tets(r, &choice, a, b));
+        let mut new = std::mem::take(&mut self.new_tets);
+        let found = total < NO.min(limit);
+        if found {
+            ring::ring_tets_into(r, &choice, a, b, &mut new);
+        }
         self.dp_best = best;
         self.dp_choice = choice;
-        let mut new = new.ok_or(total >= NO)?;
+        if !found {
+            self.new_tets = new;
+            return Err(total >= NO);
+        }
         new.extend(ghosts);
         let mut ids = std::mem::take(&mut self.ids);
         self.replace_into(tets, &new, &mut ids);
         self.ids = ids;
+        self.new_tets = new;
         self.removals += 1;
         Ok(total)
     }

@@ -127,6 +127,16 @@ fn pack(k: [u32; 3]) -> u128 {
     u128::from(k[0]) << 64 | u128::from(k[1]) << 32 | u128::from(k[2])
 }
 
+/// One bit of 64 chosen by a hash of face key `k` (a filter: faces with
+/// different bits differ).
+#[inline]
+fn face_bit(k: [u32; 3]) -> u64 {
+    let h = k[0].wrapping_mul(0x9E37_79B1)
+        ^ k[1].wrapping_mul(0x85EB_CA77)
+        ^ k[2].wrapping_mul(0xC2B2_AE3D);
+    1 << (h >> 26)
+}
+
 /// The face key [`pack`] packed.
 #[inline]
 fn unpack(x: u128) -> [u32; 3] {
@@ -556,23 +566,31 @@ impl DomainMesh {
                 old.contains(&u)
             }
         };
+        // The largest vertex of an outer face: a new face with a larger
+        // one (through a new point) matches none. And a bit per outer face
+        // ([`face_bit`]): a new face whose bit is not set matches none.
+        let (mut top, mut bits) = (0, 0u64);
         for &t in old {
-            let tv = self.tv[t as usize];
+            let (tv, nb, mask) = (
+                self.tv[t as usize],
+                self.nb[t as usize],
+                self.mask[t as usize],
+            );
+            old_verts.extend_from_slice(&tv);
             for f in 0..4 {
-                let w = self.nb[t as usize][f];
+                let w = nb[f];
                 if w != NONE && is_old(w >> 2) {
                     if let Some(l) = self.inner.as_mut().filter(|_| w >> 2 > t) {
                         l.push(fkey(face(tv, f)));
                     }
                     continue;
                 }
-                outer.push((pack(fkey(face(tv, f))), w, self.is_sub(t, f)));
+                let k = fkey(face(tv, f));
+                top = top.max(k[2]);
+                bits |= face_bit(k);
+                outer.push((pack(k), w, mask >> f & 1 == 1));
             }
         }
-        // The largest vertex of an outer face: a new face with a larger
-        // one (through a new point) matches none.
-        let top = outer.iter().map(|o| o.0 as u32).max().unwrap_or(0);
-        old_verts.extend(old.iter().flat_map(|&t| self.tv[t as usize]));
         for &t in old {
             self.release(t);
         }
@@ -602,7 +620,7 @@ impl DomainMesh {
                 for f in 0..4 {
                     let k = fkey(face(tv, f));
                     let x = pack(k);
-                    let o = if k[2] > top {
+                    let o = if k[2] > top || bits & face_bit(k) == 0 {
                         None
                     } else {
                         outer.iter().position(|o| o.0 == x)
@@ -704,6 +722,48 @@ impl DomainMesh {
                 }
                 let n = self.across(t, f);
                 if n != NONE && cross(t, f) && marks.insert(n) {
+                    out.push(n);
+                }
+            }
+        }
+        None
+    }
+
+    /// The slot [`DomainMesh::star_walk`] with every face crossable would
+    /// stop at: the first of `v`'s star, in breadth-first order from the
+    /// hint, for which `stop` holds. A slot is tested when it joins the
+    /// queue (the queue's order is the walk's, so the first found is the
+    /// same), and the walk ends there: the slots still queued before it
+    /// are not expanded. `out` is scratch (the slots reached).
+    pub(crate) fn star_first(
+        &self,
+        v: u32,
+        out: &mut Vec<u32>,
+        stop: impl Fn(u32) -> bool,
+    ) -> Option<u32> {
+        out.clear();
+        let start = self.slot_of_vertex(v)?;
+        if stop(start) {
+            return Some(start);
+        }
+        let mut marks = self.marks.borrow_mut();
+        marks.clear();
+        out.push(start);
+        marks.insert(start);
+        let mut i = 0;
+        while i < out.len() {
+            let t = out[i];
+            i += 1;
+            let tv = self.tv[t as usize];
+            for (f, &u) in tv.iter().enumerate() {
+                if u == v {
+                    continue;
+                }
+                let n = self.across(t, f);
+                if n != NONE && marks.insert(n) {
+                    if stop(n) {
+                        return Some(n);
+                    }
                     out.push(n);
                 }
             }

@@ -22,6 +22,25 @@ pub(crate) fn even(tv: [u32; 4], q: [u32; 4]) -> bool {
 /// The two vertices of `tv` other than `a` and `b`, ordered so that
 /// `[a, b, x, y]` has the orientation of `tv`.
 pub(crate) fn opposite(tv: [u32; 4], a: u32, b: u32) -> Option<(u32, u32)> {
+    // A tetrahedron holding `a` and `b` once each and two other distinct
+    // vertices: the parity of the positions `[a, b, c, d]` take in `tv`
+    // (`c` before `d`) directly.
+    let ia = tv.iter().position(|&w| w == a);
+    let ib = tv.iter().position(|&w| w == b);
+    if let (Some(ia), Some(ib)) = (ia, ib) {
+        let mut rest = (0..4).filter(|&k| k != ia && k != ib);
+        if let (Some(ic), Some(id), true) = (rest.next(), rest.next(), ia != ib) {
+            let (c, d) = (tv[ic], tv[id]);
+            if c != d && c != a && c != b && d != a && d != b {
+                let inv = usize::from(ia > ib)
+                    + usize::from(ia > ic)
+                    + usize::from(ia > id)
+                    + usize::from(ib > ic)
+                    + usize::from(ib > id);
+                return Some(if inv % 2 == 0 { (c, d) } else { (d, c) });
+            }
+        }
+    }
     let mut o = tv.iter().copied().filter(|&w| w != a && w != b);
     let (c, d) = (o.next()?, o.next()?);
     Some(if even(tv, [a, b, c, d]) {
@@ -170,21 +189,35 @@ pub(crate) fn max_min(
 /// apex `k` of the triangle on chord `i j`), each triangle joined to the
 /// edge's two ends `a` and `b`.
 pub(crate) fn ring_tets(r: &[u32], choice: &[usize], a: u32, b: u32) -> Vec<[u32; 4]> {
-    let n = r.len();
-    let mut new = Vec::with_capacity(2 * n.saturating_sub(2));
-    let mut stack = Vec::with_capacity(n);
-    stack.push((0usize, n.saturating_sub(1)));
-    while let Some((i, j)) = stack.pop() {
-        if j < i + 2 {
-            continue;
-        }
-        let k = choice[i * n + j];
-        new.push([r[i], r[k], r[j], b]);
-        new.push([r[i], r[j], r[k], a]);
-        stack.push((i, k));
-        stack.push((k, j));
-    }
+    let mut new = Vec::with_capacity(2 * r.len().saturating_sub(2));
+    ring_tets_into(r, choice, a, b, &mut new);
     new
+}
+
+/// [`ring_tets`] into `new` (cleared first; no allocation once it has
+/// room).
+pub(crate) fn ring_tets_into(r: &[u32], choice: &[usize], a: u32, b: u32, new: &mut Vec<[u32; 4]>) {
+    new.clear();
+    split(r, choice, (a, b), (0, r.len().saturating_sub(1)), new);
+}
+
+/// The tetrahedra of the triangles below chord `i j` (depth first: the
+/// chord's triangle, then those below `k j`, then those below `i k`).
+fn split(
+    r: &[u32],
+    choice: &[usize],
+    (a, b): (u32, u32),
+    (i, j): (usize, usize),
+    new: &mut Vec<[u32; 4]>,
+) {
+    if j < i + 2 {
+        return;
+    }
+    let k = choice[i * r.len() + j];
+    new.push([r[i], r[k], r[j], b]);
+    new.push([r[i], r[j], r[k], a]);
+    split(r, choice, (a, b), (k, j), new);
+    split(r, choice, (a, b), (i, k), new);
 }
 
 #[cfg(test)]

@@ -211,8 +211,7 @@ fn flip23_blocking(cm: &Journaled<'_>, t: u32, f: usize) -> Option<[bool; 3]> {
     if d == INF || e == INF || fv.contains(&INF) {
         return None;
     }
-    let pts = cm.pts();
-    Some([0, 1, 2].map(|k| !crate::tet::dmesh::flip::positive(pts, [fv[k], fv[(k + 1) % 3], e, d])))
+    Some([0, 1, 2].map(|k| !cm.positive([fv[k], fv[(k + 1) % 3], e, d])))
 }
 
 fn zero(_: &[[f64; 3]], _: [u32; 3]) -> i64 {
@@ -229,19 +228,54 @@ const WORK: usize = 16;
 /// A segment with its bounding box, for the tests of one flip decision
 /// whether it meets faces ([`SegTest::meets`]; the box is computed once,
 /// not per face).
-struct SegTest {
+struct SegTest<'m> {
     u: u32,
     v: u32,
     lo: [f64; 3],
     hi: [f64; 3],
+    /// Recent answers (the mesh's [`Journaled::seg_memo`]): the flips
+    /// test the same faces again and again. An answer never changes (the
+    /// points are only ever appended to).
+    memo: &'m SegMemo,
 }
 
-impl SegTest {
-    fn new(pts: &[[f64; 3]], (u, v): (u32, u32)) -> Self {
+/// The memo of [`SegTest::meets`]: per entry the segment's ends and the
+/// face (as asked) and the answer, at a slot chosen by a hash of them
+/// (empty until first used).
+type SegMemo = std::cell::RefCell<Vec<([u32; 5], bool)>>;
+
+/// Entries of a [`SegMemo`]: `1 <<` this many.
+const SEG_MEMO_BITS: u32 = 12;
+
+impl<'m> SegTest<'m> {
+    fn new(pts: &[[f64; 3]], (u, v): (u32, u32), memo: &'m SegMemo) -> Self {
         let (pu, pv) = (pts[u as usize], pts[v as usize]);
         let lo = [0, 1, 2].map(|k| if pv[k] < pu[k] { pv[k] } else { pu[k] });
         let hi = [0, 1, 2].map(|k| if pv[k] > pu[k] { pv[k] } else { pu[k] });
-        SegTest { u, v, lo, hi }
+        SegTest { u, v, lo, hi, memo }
+    }
+
+    /// [`SegTest::meets_exact`], its recent answers remembered.
+    fn meets(&self, pts: &[[f64; 3]], f: [u32; 3]) -> i64 {
+        let k = [self.u, self.v, f[0], f[1], f[2]];
+        let h = (k[0]
+            ^ k[1].rotate_left(6)
+            ^ k[2].rotate_left(12)
+            ^ k[3].rotate_left(18)
+            ^ k[4].rotate_left(24))
+        .wrapping_mul(0x9E37_79B1);
+        let i = (h >> (32 - SEG_MEMO_BITS)) as usize;
+        let mut memo = self.memo.borrow_mut();
+        if memo.is_empty() {
+            memo.resize(1 << SEG_MEMO_BITS, ([INF; 5], false));
+        }
+        let e = &mut memo[i];
+        if e.0 == k {
+            return i64::from(e.1);
+        }
+        let x = self.meets_exact(pts, f);
+        *e = (k, x == 1);
+        x
     }
 
     /// 1 when this segment meets face `f` (on points `pts`) other than at
@@ -249,7 +283,7 @@ impl SegTest {
     /// plane and its line through the closed triangle (so also through an
     /// edge or a vertex of it); else 0 (a ghost face, a face at an end of
     /// the segment).
-    fn meets(&self, pts: &[[f64; 3]], f: [u32; 3]) -> i64 {
+    fn meets_exact(&self, pts: &[[f64; 3]], f: [u32; 3]) -> i64 {
         let (u, v) = (self.u, self.v);
         if f.contains(&INF) || f.contains(&u) || f.contains(&v) {
             return 0;
@@ -280,7 +314,9 @@ impl SegTest {
 /// a circle that brings a crossing back), and on a ring through a ghost;
 /// among the allowed ring triangulations, one meeting `s` least.
 fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)) -> bool {
-    let seg = SegTest::new(cm.pts(), s);
+    // (The memo is taken out of the mesh while the removal runs.)
+    let memo = std::mem::take(&mut cm.seg_memo);
+    let seg = SegTest::new(cm.pts(), s, &memo);
     let limit = |p: &[[f64; 3]], ring: &[u32]| -> Option<i64> {
         if ring.contains(&INF) {
             return None;
@@ -289,8 +325,11 @@ fn remove_edge_for(cm: &mut Journaled<'_>, t: u32, a: u32, b: u32, s: (u32, u32)
     };
     let tri = |p: &[[f64; 3]], f: [u32; 3]| seg.meets(p, f);
     let chord = |p: &[[f64; 3]], x: u32, y: u32| seg.meets(p, [a, x, y]) + seg.meets(p, [b, x, y]);
-    cm.remove_edge_limited(t, a, b, (&tri, &chord), limit)
-        .is_some()
+    let done = cm
+        .remove_edge_limited(t, a, b, (&tri, &chord), limit)
+        .is_some();
+    cm.seg_memo = memo;
+    done
 }
 
 /// What guides the flips of [`remove_edge_deep`]: the costs of the ring
@@ -344,13 +383,46 @@ fn remove_edge_deep(
     if depth == 0 {
         return false;
     }
+    // The ring lists come from the mesh's spare ones and go back to it.
+    let mut bufs = cm.ring_buffers();
+    let done = shrink_ring(
+        cm,
+        (t, a, b),
+        &mut bufs,
+        (depth, next),
+        prot,
+        (guide, deeper),
+        budget,
+    );
+    cm.give_ring_buffers(bufs);
+    done
+}
+
+/// The ring-shrinking steps of [`remove_edge_deep`] (`depth` ≥ 1) on edge
+/// `a b` of `t` (whose removal just failed), the ring walked into `bufs`
+/// at each step; `next` is the deeper calls' level, `guide` guides this
+/// level's removals and flips, `deeper` the deeper calls.
+fn shrink_ring(
+    cm: &mut Journaled<'_>,
+    (mut t, a, b): (u32, u32, u32),
+    (tets, ring): &mut (Vec<u32>, Vec<u32>),
+    (depth, next): (u32, (u32, bool)),
+    prot: &Protected,
+    (guide, deeper): (Guide<'_>, Guide<'_>),
+    budget: &mut usize,
+) -> bool {
+    let blockers = next.1;
+    let remove = |cm: &mut Journaled<'_>, t: u32| match guide {
+        Guide::Costs(tri, chord) => cm.remove_edge(t, a, b, tri, chord).is_some(),
+        Guide::Segment(u, v) => remove_edge_for(cm, t, a, b, (u, v)),
+    };
+    // Each step starts from the slot `find_edge` gave before the failed
+    // removal that ended the step before (the mesh is as it was then).
     for _ in 0..crate::tet::dmesh::journal::MAX_RING {
-        let Some(t) = cm.find_edge(a, b) else {
-            return true;
-        };
-        let Some((tets, ring)) = cm.edge_ring(t, a, b) else {
+        if !cm.edge_ring_again(t, a, b, (tets, ring)) {
             return false;
-        };
+        }
+        let (tets, ring) = (&tets[..], &ring[..]);
         let n = ring.len();
         let mut progress = false;
         // (A 2-3 flip of a face around the edge shrinks its ring by one:
@@ -373,7 +445,7 @@ fn remove_edge_deep(
                 // The flip's new faces are those around edge p q.
                 let (p, q) = (ring[(i + 1) % n], ring[(i + n - 1) % n]);
                 let pts = cm.pts();
-                let seg = SegTest::new(pts, (u, v));
+                let seg = SegTest::new(pts, (u, v), &cm.seg_memo);
                 let old = seg.meets(pts, [a, b, ring[i]]);
                 let new: i64 = [a, b, ring[i]]
                     .iter()
@@ -398,7 +470,7 @@ fn remove_edge_deep(
         // segments in 35% less time; the meshes `-q` refines from the old
         // way are better, so the refinement path keeps it).
         if !progress && depth > 1 && !blockers {
-            for &r in &ring {
+            for &r in ring {
                 if *budget == 0 {
                     return false;
                 }
@@ -454,12 +526,13 @@ fn remove_edge_deep(
             return false;
         }
         *budget -= 1;
-        let Some(t) = cm.find_edge(a, b) else {
+        let Some(x) = cm.find_edge(a, b) else {
             return true;
         };
-        if remove(cm, t) {
+        if remove(cm, x) {
             return true;
         }
+        t = x;
     }
     false
 }
@@ -736,7 +809,7 @@ pub(crate) fn cone_segment(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protec
 /// else never on one.
 fn cone_segment_in(cm: &mut Journaled<'_>, u: u32, v: u32, prot: &Protected, hull: bool) -> bool {
     let pts = cm.pts();
-    let seg = SegTest::new(pts, (u, v));
+    let seg = SegTest::new(pts, (u, v), &cm.seg_memo);
     let m = &cm.m;
     let finite = |t: u32| (t as usize) < m.tv.len() && !m.tv[t as usize].contains(&INF);
     let mut cav = Cavity::default();
@@ -1432,7 +1505,8 @@ mod tests {
             [2.0, 2.0, -1.0],
         ];
         let f = [0, 1, 2];
-        let meets = |pts: &[[f64; 3]], s, f| SegTest::new(pts, s).meets(pts, f);
+        let memo = SegMemo::default();
+        let meets = |pts: &[[f64; 3]], s, f| SegTest::new(pts, s, &memo).meets(pts, f);
         assert_eq!(meets(&pts, (3, 4), f), 1);
         assert_eq!(meets(&pts, (4, 3), f), 1);
         assert_eq!(meets(&pts, (5, 6), f), 1);
