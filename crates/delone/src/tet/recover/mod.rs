@@ -498,6 +498,12 @@ const MAX_LEVEL: u32 = 6;
 /// points anyway, pay for every level tried).
 const P_MAX_LEVEL: u32 = 10;
 
+/// Most rounds that go on in the flipped mesh after their segment splits
+/// were mirrored into it (`State::run_cdt`): a safety bound (on the 182
+/// generated CAD shapes and the 52 corpus models, under `-p`, `-pM` and
+/// `-pY`, no recovery takes more than one).
+const MAX_CARRIED_SPLITS: u32 = 8;
+
 /// Why [`State::split_in_place`] ended its round early.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum SplitStop {
@@ -709,6 +715,7 @@ impl State {
             first_missing: None,
             in_place_off: false,
             carry_splits: true,
+            carried_splits: 0,
             split_bounds_met: false,
             cover_memo: std::cell::RefCell::default(),
         }
@@ -1385,11 +1392,18 @@ impl State {
                     // under `-pM`: 13 rounds, 2.2 s and 1,351 points → 2
                     // rounds, 0.48 s and 248 points; under `-pY` (the
                     // fallback's first run does so): 8.6 → 0.84 s.
+                    // At most `MAX_CARRIED_SPLITS` such rounds: a flipped
+                    // mesh is not Delaunay, so pieces split there need not
+                    // appear however short they get, while from the Delaunay
+                    // tetrahedralization they do once short enough (the
+                    // rounds after that bound start there, as before).
                     carry = stop_circles
                         && self.carry_splits
+                        && self.carried_splits < MAX_CARRIED_SPLITS
                         && (self.in_place_off || stop == Some(SplitStop::Bounds))
                         && cm.pts().len() == from
                         && self.mirror_with(dt, &mut cm, from, &prot_work);
+                    self.carried_splits += u32::from(carry);
                 }
             } else {
                 let segments_by_flips = subs_work.len();

@@ -88,6 +88,9 @@ pub(super) struct State {
     /// the `-Y` fallback's guided runs; its later runs start each such
     /// round from the Delaunay tetrahedralization).
     pub(super) carry_splits: bool,
+    /// How many rounds went on in the flipped mesh after their segment
+    /// splits were mirrored into it (`MAX_CARRIED_SPLITS`).
+    pub(super) carried_splits: u32,
     /// `State::split_in_place` met pieces that keep failing once (its
     /// round then ended; the next one splits in place again).
     pub(super) split_bounds_met: bool,
