@@ -20,12 +20,7 @@ impl DomainMesh {
     /// A live slot holding edge `a b` (a walk of the star of `a`).
     pub(crate) fn edge_slot(&self, a: u32, b: u32) -> Option<u32> {
         let mut out = Vec::new();
-        self.star_walk(
-            a,
-            &mut out,
-            |_, _| true,
-            |t| self.tv[t as usize].contains(&b),
-        )
+        self.star_first(a, &mut out, |t| self.tv[t as usize].contains(&b))
     }
 
     /// The slots around edge `a b` (its shell, crossing subfaces and

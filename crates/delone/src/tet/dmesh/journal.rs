@@ -45,6 +45,7 @@ use std::mem::take;
 
 use delone_predicates::orient3d;
 
+use super::memo::Recent;
 use super::ring;
 use super::{DomainMesh, Stamps};
 use crate::geom::ids::IdSet;
@@ -62,9 +63,6 @@ pub(crate) type ReplayTest<'c> = &'c dyn Fn(&[[u32; 4]], &[[u32; 4]]) -> bool;
 
 /// Longest edge ring [`Journaled::remove_edge`] handles.
 pub(crate) const MAX_RING: usize = 24;
-
-/// Entries of the memo of [`Journaled::positive`]: `1 <<` this many.
-const ORIENT_MEMO_BITS: u32 = 12;
 
 /// Shortest ring whose failed removal is memoized (shorter ones are
 /// cheaper to retry than to remember).
@@ -129,15 +127,11 @@ pub(crate) struct Journaled<'a> {
     new_tets: Vec<[u32; 4]>,
     /// Spare ring lists ([`Journaled::ring_buffers`]).
     ring_pool: Vec<(Vec<u32>, Vec<u32>)>,
-    /// Recent answers of [`Journaled::positive`]: per entry a vertex tuple
-    /// (in the order asked) and its answer, at a slot chosen by a hash of
-    /// the tuple (empty until first used). An answer never changes: the
-    /// points are only ever appended to.
-    orient_memo: RefCell<Vec<([u32; 4], bool)>>,
+    /// Recent answers of [`Journaled::positive`] (vertex tuples as asked).
+    orient_memo: Recent<4>,
     /// Recent answers of the segment recovery's segment–face tests (see
-    /// [`crate::tet::recover::cdt`]): segment ends and face, and whether
-    /// they meet.
-    pub(crate) seg_memo: RefCell<Vec<([u32; 5], bool)>>,
+    /// [`crate::tet::recover::cdt`]): segment ends and face, as asked.
+    pub(crate) seg_memo: Recent<5>,
     /// Replacements made so far (a change stamp).
     changes: u64,
     /// The walk behind `ring`: slot, edge, [`Journaled::changes`] then,
@@ -424,20 +418,8 @@ impl<'a> Journaled<'a> {
     /// again and again).
     #[inline]
     pub(crate) fn positive(&self, tv: [u32; 4]) -> bool {
-        let h = (tv[0] ^ tv[1].rotate_left(8) ^ tv[2].rotate_left(16) ^ tv[3].rotate_left(24))
-            .wrapping_mul(0x9E37_79B1);
-        let i = (h >> (32 - ORIENT_MEMO_BITS)) as usize;
-        let mut memo = self.orient_memo.borrow_mut();
-        if memo.is_empty() {
-            memo.resize(1 << ORIENT_MEMO_BITS, ([DEAD; 4], false));
-        }
-        let e = &mut memo[i];
-        if e.0 == tv {
-            return e.1;
-        }
-        let x = super::flip::positive(self.pts(), tv);
-        *e = (tv, x);
-        x
+        self.orient_memo
+            .answer(tv, || super::flip::positive(self.pts(), tv))
     }
 
     /// Live tetrahedra (ghosts included) containing vertex `u`, breadth
@@ -545,14 +527,12 @@ impl<'a> Journaled<'a> {
         b: u32,
         (tets, ring): (&mut Vec<u32>, &mut Vec<u32>),
     ) -> bool {
-        if self
-            .ring_of
-            .is_some_and(|(t0, a0, b0, c, _)| (t0, a0, b0, c) == (t, a, b, self.changes))
-        {
+        let same = |&(t0, a0, b0, c, _): &(u32, u32, u32, u64, bool)| {
+            (t0, a0, b0, c) == (t, a, b, self.changes)
+        };
+        if let Some((.., closed)) = self.ring_of.filter(same) {
             let (lt, lr) = &self.ring;
-            if self.ring_of.is_some_and(|r| !r.4)
-                || lt.iter().any(|&c| self.m.tv[c as usize].contains(&INF))
-            {
+            if !closed || lt.iter().any(|&c| self.m.tv[c as usize].contains(&INF)) {
                 return false;
             }
             tets.clear();

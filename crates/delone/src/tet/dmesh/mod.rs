@@ -53,6 +53,7 @@ pub(crate) mod edges;
 pub(crate) mod flip;
 pub(crate) mod insert;
 pub(crate) mod journal;
+pub(crate) mod memo;
 pub(crate) mod ring;
 
 use crate::geom::ids::IdMap;
@@ -685,25 +686,20 @@ impl DomainMesh {
     /// Empty when `v` is in no live slot.
     pub(crate) fn star_with(&self, v: u32, cross: impl Fn(u32, usize) -> bool) -> Vec<u32> {
         let mut out = Vec::with_capacity(32);
-        self.star_walk(v, &mut out, cross, |_| false);
+        self.star_walk(v, &mut out, cross);
         out
     }
 
     /// Walks the star of `v` into `out` (cleared first; breadth first from
     /// the hint, faces in local order, visited slots stamped), passing face
-    /// `f` of `t` only when `cross(t, f)`, and stopping at the first slot
-    /// for which `stop` holds: returns it.
-    pub(crate) fn star_walk(
-        &self,
-        v: u32,
-        out: &mut Vec<u32>,
-        cross: impl Fn(u32, usize) -> bool,
-        stop: impl Fn(u32) -> bool,
-    ) -> Option<u32> {
+    /// `f` of `t` only when `cross(t, f)`. To find one slot of the star,
+    /// [`DomainMesh::star_first`].
+    pub(crate) fn star_walk(&self, v: u32, out: &mut Vec<u32>, cross: impl Fn(u32, usize) -> bool) {
         out.clear();
-        let start = self.slot_of_vertex(v)?;
-        // One borrow for the walk (`cross` and `stop` must not start
-        // another visit).
+        let Some(start) = self.slot_of_vertex(v) else {
+            return;
+        };
+        // One borrow for the walk (`cross` must not start another visit).
         let mut marks = self.marks.borrow_mut();
         marks.clear();
         out.push(start);
@@ -712,9 +708,6 @@ impl DomainMesh {
         while i < out.len() {
             let t = out[i];
             i += 1;
-            if stop(t) {
-                return Some(t);
-            }
             let tv = self.tv[t as usize];
             for (f, &u) in tv.iter().enumerate() {
                 if u == v {
@@ -726,15 +719,15 @@ impl DomainMesh {
                 }
             }
         }
-        None
     }
 
-    /// The slot [`DomainMesh::star_walk`] with every face crossable would
-    /// stop at: the first of `v`'s star, in breadth-first order from the
-    /// hint, for which `stop` holds. A slot is tested when it joins the
-    /// queue (the queue's order is the walk's, so the first found is the
-    /// same), and the walk ends there: the slots still queued before it
-    /// are not expanded. `out` is scratch (the slots reached).
+    /// The first slot of `v`'s star, in the breadth-first order of
+    /// [`DomainMesh::star_walk`] with every face crossable, for which
+    /// `stop` holds. A slot is tested when it joins the queue (the queue's
+    /// order is the walk's, so the first found is the same), and the walk
+    /// ends there: the slots still queued before it are not expanded.
+    /// `out` is scratch (the slots reached); `stop` must not start another
+    /// visit.
     pub(crate) fn star_first(
         &self,
         v: u32,

@@ -693,7 +693,7 @@ impl Work {
         let o = [(x, y), (y, z), (z, x)].map(|(c, d)| orient3d(g(a), g(b), g(c), g(d)));
         let crosses = o.iter().all(|&s| s > 0.0) || o.iter().all(|&s| s < 0.0);
         let has_b = |s: u32| self.m.tv[s as usize].contains(&b);
-        if !crosses && self.m.star_walk(a, seen, |_, _| true, has_b).is_some() {
+        if !crosses && self.m.star_first(a, seen, has_b).is_some() {
             return false;
         }
         // The ring (cyclic, `[a, b, ring[i], ring[i + 1]]` positive) and,
@@ -993,7 +993,7 @@ impl Work {
             grads,
             fresh,
         } = buf;
-        self.m.star_walk(v, star, |_, _| true, |_| false);
+        self.m.star_walk(v, star, |_, _| true);
         if star.is_empty() {
             return false;
         }
@@ -1420,12 +1420,8 @@ impl Work {
             }
         }
         let mut out = Vec::with_capacity(32);
-        self.m.star_walk(
-            tv[0],
-            &mut out,
-            |_, _| true,
-            |t| self.m.tv[t as usize] == tv,
-        )
+        self.m
+            .star_first(tv[0], &mut out, |t| self.m.tv[t as usize] == tv)
     }
 
     /// The transaction's touched tetrahedra that are live, with their

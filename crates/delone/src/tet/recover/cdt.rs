@@ -239,13 +239,9 @@ struct SegTest<'m> {
     memo: &'m SegMemo,
 }
 
-/// The memo of [`SegTest::meets`]: per entry the segment's ends and the
-/// face (as asked) and the answer, at a slot chosen by a hash of them
-/// (empty until first used).
-type SegMemo = std::cell::RefCell<Vec<([u32; 5], bool)>>;
-
-/// Entries of a [`SegMemo`]: `1 <<` this many.
-const SEG_MEMO_BITS: u32 = 12;
+/// The memo of [`SegTest::meets`]: the segment's ends and the face, as
+/// asked.
+type SegMemo = crate::tet::dmesh::memo::Recent<5>;
 
 impl<'m> SegTest<'m> {
     fn new(pts: &[[f64; 3]], (u, v): (u32, u32), memo: &'m SegMemo) -> Self {
@@ -258,24 +254,7 @@ impl<'m> SegTest<'m> {
     /// [`SegTest::meets_exact`], its recent answers remembered.
     fn meets(&self, pts: &[[f64; 3]], f: [u32; 3]) -> i64 {
         let k = [self.u, self.v, f[0], f[1], f[2]];
-        let h = (k[0]
-            ^ k[1].rotate_left(6)
-            ^ k[2].rotate_left(12)
-            ^ k[3].rotate_left(18)
-            ^ k[4].rotate_left(24))
-        .wrapping_mul(0x9E37_79B1);
-        let i = (h >> (32 - SEG_MEMO_BITS)) as usize;
-        let mut memo = self.memo.borrow_mut();
-        if memo.is_empty() {
-            memo.resize(1 << SEG_MEMO_BITS, ([INF; 5], false));
-        }
-        let e = &mut memo[i];
-        if e.0 == k {
-            return i64::from(e.1);
-        }
-        let x = self.meets_exact(pts, f);
-        *e = (k, x == 1);
-        x
+        i64::from(self.memo.answer(k, || self.meets_exact(pts, f) == 1))
     }
 
     /// 1 when this segment meets face `f` (on points `pts`) other than at

@@ -651,7 +651,7 @@ impl Cdr {
         // Walk the star of `a` to a tetrahedron holding `b`.
         let holds_b = |t: u32| self.m.tv[t as usize].contains(&b);
         let mut walk = Vec::with_capacity(64);
-        let Some(t0) = self.m.star_walk(a, &mut walk, |_, _| true, holds_b) else {
+        let Some(t0) = self.m.star_first(a, &mut walk, holds_b) else {
             return Vec::new();
         };
         let mut out = Vec::with_capacity(16);
