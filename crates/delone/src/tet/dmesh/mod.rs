@@ -40,7 +40,8 @@
 //! Operations here: [`DomainMesh::replace`] (any set of tetrahedra by any
 //! other filling the same polyhedron, adjacency and marks rebuilt: the
 //! common end of flips, edge and face removal and insertion),
-//! [`DomainMesh::star_walk`] (the star of a vertex, with visit stamps),
+//! [`DomainMesh::star_walk`] (the star of a vertex, with visit stamps)
+//! and [`DomainMesh::star_first`] (its first slot that holds something),
 //! [`DomainMesh::edge_ring`] (the ordered ring around an edge, on
 //! [`ring::walk`]) and the edge-removal dynamic program
 //! [`ring::triangulate`] (objective as a parameter, used by recovery and
