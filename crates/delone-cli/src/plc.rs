@@ -346,8 +346,18 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 );
             }
             println!(
-                "  recovery: {} rounds, {} 2-3 flips, {} edge removals",
-                r.rounds, r.flips23, r.edge_removals
+                "  recovery: {} rounds, {} 2-3 flips, {} edge removals{}",
+                r.rounds,
+                r.flips23,
+                r.edge_removals,
+                if r.unguided_rounds > 0 {
+                    format!(
+                        " (guided flips, after the unguided ones gave up in round {})",
+                        r.unguided_rounds
+                    )
+                } else {
+                    String::new()
+                }
             );
             println!(
                 "  coplanar facets: {} group(s) merged and re-triangulated, {} kept as given (-M: no merging)",

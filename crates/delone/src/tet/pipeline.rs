@@ -233,21 +233,10 @@ pub fn mesh(plc: &Plc, opts: &TetOptions) -> Result<TetResult, TetError> {
     // One domain mesh from the end of recovery (carved there) through
     // refinement and optimisation; `rec` is its output view, rewritten by
     // each stage.
-    let recovered = match recover_mesh(points, &triangles, &triangle_markers, &ropts, &domain) {
-        // The unguided flips (kept for a refinement) can split without end
-        // where the guided ones of recovery alone finish (nearly coplanar
-        // sliver faces): those run when these fail.
-        Err(RecoverError::Unrecovered { .. } | RecoverError::SegmentTooShort { .. })
-            if !ropts.stop_circling_flips && !ropts.preserve_surface =>
-        {
-            let guided = RecoverOptions {
-                stop_circling_flips: true,
-                ..ropts.clone()
-            };
-            recover_mesh(points, &triangles, &triangle_markers, &guided, &domain)
-        }
-        r => r,
-    };
+    // The unguided flips (kept for a refinement) give up where they stop
+    // making progress or fail, and the guided ones of recovery alone take
+    // over (`recover_mesh`).
+    let recovered = recover_mesh(points, &triangles, &triangle_markers, &ropts, &domain);
     let (rec, domain_mesh) = recovered.map_err(|e| TetError::Recover(name_facets(e, &facet_of)))?;
     let (mut rec, mut domain_mesh, refined) = if opts.refining() {
         let ro = RefineOptions {

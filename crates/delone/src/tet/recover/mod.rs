@@ -35,7 +35,10 @@
 //!    path tries both ring edges of every face). Flips never destroy a
 //!    subsegment or a face already on an input triangle. Only the items the
 //!    flips cannot recover are split in the Delaunay tetrahedralization, and
-//!    the round starts again:
+//!    the round starts again (without `stop_circling_flips`, the recovery
+//!    that comes before a refinement, until it stops making progress or
+//!    splits too much: the guided recovery then starts over, see
+//!    `STALL_ROUNDS` and `CASCADE`):
 //!    - a missing subsegment is split by a Steiner point on it (the notes
 //!      of the private `place` module explain where, and how exactness is
 //!      checked), inserted by the Delaunay kernel, and the input triangles
@@ -228,7 +231,7 @@ pub use check::{check_recovered, surface_volume};
 pub use missing::{missing, Missing};
 pub use types::{MeshRegion, RecoverError, RecoverOptions, RecoverReport, Recovered};
 
-use self::state::{FacesOn, RoundState, State, MAX_INTERIOR_ROUNDS};
+use self::state::{FacesOn, GiveUp, RoundState, State, MAX_INTERIOR_ROUNDS};
 
 use crate::geom::ids::{IdMap, IdSet};
 use crate::tet::local::ekey;
@@ -438,8 +441,37 @@ pub(crate) fn recover_mesh(
         e => e,
     };
     st.points_first = opts.preserve_surface;
-    let dt0 = opts.preserve_surface.then(|| dt.clone());
+    // The unguided recovery (kept for a refinement, whose smallest
+    // dihedral angles depend on where it puts its points) gives up after
+    // `STALL_ROUNDS` rounds without progress, and where it gives up or
+    // fails the guided one recovers the surface from the Delaunay
+    // tetrahedralization again.
+    let unguided = !opts.preserve_surface && !opts.stop_circling_flips;
+    if unguided {
+        st.give_up = Some(GiveUp {
+            rounds: STALL_ROUNDS,
+            steiner: CASCADE * points.len(),
+        });
+    }
+    let mut dt0 = (opts.preserve_surface || unguided).then(|| dt.clone());
     let mut run = st.run_cdt(&mut dt, Some(&scaled));
+    if let (
+        true,
+        Err(RecoverError::Unrecovered { .. } | RecoverError::SegmentTooShort { .. }),
+        Some(d),
+    ) = (unguided, &run, dt0.take_if(|_| unguided))
+    {
+        let guided = RecoverOptions {
+            stop_circling_flips: true,
+            ..opts.clone()
+        };
+        let unguided_rounds = st.report.rounds;
+        st = State::new(Surface::new(points.len(), triangles), guided);
+        st.poly = state::Polygons::new(&mut st.surf, &merged.origin, d.points());
+        st.report.unguided_rounds = unguided_rounds;
+        dt = d;
+        run = st.run_cdt(&mut dt, Some(&scaled));
+    }
     if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
         // `-Y`: the cavities first, from the Delaunay tetrahedralization again.
         let tried = st.fallback_tried;
@@ -479,6 +511,36 @@ pub(crate) fn recover_mesh(
     Ok((rec, mesh))
 }
 
+/// Most rounds in a row the unguided recovery ([`RecoverOptions::stop_circling_flips`]
+/// off: the recovery before a refinement) may go without leaving fewer
+/// items missing than its best round before it gives up and the guided
+/// one takes over (`recover_mesh`). On the 47 closed corpus models under
+/// 30,000 triangles at `-pq1.414` it finishes at most 4 rounds after its
+/// best one (cgal_part), so their outputs do not depend on the limit. On
+/// generated CAD shapes (turned gear keys, tubes with rings of holes) it
+/// could otherwise split for hundreds of rounds, adding a few points to
+/// the same triangles each round: the seed-805 gear key 1,194 rounds and
+/// 50 s before failing, where the guided recovery takes 15 ms.
+const STALL_ROUNDS: usize = 8;
+
+/// The unguided recovery ([`RecoverOptions::stop_circling_flips`] off)
+/// gives up once it has inserted more than this many Steiner points per
+/// input point, and the guided one takes over (`recover_mesh`). On the 47
+/// closed corpus models under 30,000 triangles at `-pq1.414` it inserts at
+/// most 0.37 per input point (cgal_anchor), so their outputs do not depend
+/// on the limit. Generated CAD parts whose unguided recovery finishes
+/// with one to three points per input point keep it: the bundled pipe
+/// tee (1.06; its smallest dihedral angle after `-pq1.414` is 0.41°, 0.00°
+/// from the guided recovery), two turned gear keys of `cad_shapes.py`
+/// (2.2; 8.6° and 8.2°, against 0.00° and 5.6°). On turned gear keys and
+/// tubes with rings of holes it also splits
+/// the same long thin triangles round after round, 3.7–8 points per input
+/// point before it finished or failed; the guided recovery needs far
+/// fewer (0–106 on the bundled ones, see `recover3d_hard`). The bundled
+/// `tube_rings_pierced` at `-pq1.414`: 32.2 → 3.6 s and 264,408 → 76,352
+/// tetrahedra.
+const CASCADE: usize = 3;
+
 /// The deepest level of edge removal tried on the segments the `-Y`
 /// fallback's `-p` recovery still misses after a round's passes
 /// ([`cdt::Effort::level`]). 6: on tubes with radial holes, the `-p`
@@ -503,6 +565,21 @@ const P_MAX_LEVEL: u32 = 10;
 /// generated CAD shapes and the 52 corpus models, under `-p`, `-pM` and
 /// `-pY`, no recovery takes more than one).
 const MAX_CARRIED_SPLITS: u32 = 8;
+
+/// What a round of [`State::run_cdt`] left missing, for its stall limit
+/// (`State::stall_rounds`): any segment missing counts as more than any
+/// number of triangles (the triangles come after the segments).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Progress {
+    /// Every subsegment recovered; this many triangles missing.
+    Triangles(usize),
+    /// This many subsegments left to split.
+    Segments(usize),
+}
+
+impl Progress {
+    const MAX: Progress = Progress::Segments(usize::MAX);
+}
 
 /// Why [`State::split_in_place`] ended its round early.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -718,6 +795,7 @@ impl State {
             carried_splits: 0,
             split_bounds_met: false,
             cover_memo: std::cell::RefCell::default(),
+            give_up: None,
         }
     }
 
@@ -1121,7 +1199,21 @@ impl State {
         let mut stalled = 0;
         // Whether the carried rounds stalled once already.
         let mut went_back = false;
+        // The fewest items a round left missing (segments count above
+        // triangles: `Progress`), the round that did, and the input
+        // triangles at what the last round left missing (`stall_rounds`).
+        let mut best = Progress::MAX;
+        let mut best_round = 0;
+        let mut missing_now: Vec<usize> = Vec::new();
         loop {
+            if let Some(g) = self.give_up {
+                if self.report.rounds - best_round > g.rounds || self.report.steiner() > g.steiner {
+                    return Err(RecoverError::Unrecovered {
+                        triangles: missing_now,
+                        steiner: self.report.steiner(),
+                    });
+                }
+            }
             self.report.rounds += 1;
             let r = self.report.rounds as u64;
             crate::progress::report("recovering the surface", r, None, "rounds");
@@ -1358,6 +1450,13 @@ impl State {
             }
             let restart = stop.is_some();
             if !failed.is_empty() || restart {
+                let now = Progress::Segments(failed.len());
+                if now < best {
+                    (best, best_round) = (now, self.report.rounds);
+                }
+                if self.give_up.is_some() {
+                    missing_now = self.edge_triangles(&failed);
+                }
                 if self.opts.preserve_surface {
                     self.points_first_check((0, failed.len()))?;
                     if self.cavities_now() {
@@ -1444,6 +1543,13 @@ impl State {
                         self.refresh_coverage(&mut cm, &uncovered, &mut on_cm, &mut covered_cm);
                         uncovered = (0..covered_cm.len()).filter(|&t| !covered_cm[t]).collect();
                     }
+                }
+                let now = Progress::Triangles(uncovered.len());
+                if now < best {
+                    (best, best_round) = (now, self.report.rounds);
+                }
+                if self.give_up.is_some() {
+                    missing_now.clone_from(&uncovered);
                 }
                 if uncovered.is_empty() {
                     self.report.flips23 = cm.flips23;

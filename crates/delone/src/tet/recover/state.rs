@@ -97,6 +97,9 @@ pub(super) struct State {
     /// Per merged group: the last coverage the global pass computed and
     /// what it was computed from (`State::groups_global`).
     pub(super) cover_memo: std::cell::RefCell<Vec<CoverMemo>>,
+    /// When `State::run_cdt` gives up (the unguided recovery of
+    /// `recover_mesh`); `None`: never (but on its Steiner budget).
+    pub(super) give_up: Option<GiveUp>,
 }
 
 /// A group's coverage ([`Polygons::cover`]) with its inputs that change
@@ -150,4 +153,15 @@ pub(crate) struct Cover {
     /// Boundary subsegments with no face on their inner side: (edge, and
     /// its ends in chain order).
     pub(crate) bare: Vec<(u32, u32, u32)>,
+}
+
+/// When `State::run_cdt` gives up ([`State::give_up`]), at the start of a
+/// round.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct GiveUp {
+    /// After this many rounds in a row that left no fewer items missing
+    /// than the best round before them.
+    pub(super) rounds: usize,
+    /// Once it has inserted more Steiner points than this.
+    pub(super) steiner: usize,
 }

@@ -42,11 +42,18 @@ pub struct RecoverOptions {
     /// blocking edges of a crossed face go first (the private `cdt`
     /// module). Fewer segments fail, so fewer Steiner points
     /// and rounds, on thin strips and fans above all. False: unguided
-    /// attempts that run until their flip budget is spent. Default false: a refinement's smallest dihedral angles
-    /// depend on where recovery put its points, and were measured with the
-    /// full attempts (with this on, `-pq1.414` minima moved by up to ±3° on
-    /// corpus models); [`crate::tet::mesh()`] turns it on when no refinement
-    /// follows (`-p`), and the `-Y` fallback's runs of this path keep it off.
+    /// attempts that run until their flip budget is spent; that recovery
+    /// gives up when 8 rounds in a row leave no fewer items missing than
+    /// its best one, or once it has inserted more than three Steiner points
+    /// per input point (it then splits the same thin triangles round after
+    /// round), and where it gives up or fails the guided one recovers the
+    /// surface from the Delaunay tetrahedralization again
+    /// ([`RecoverReport::unguided_rounds`]). Default false: a refinement's
+    /// smallest dihedral angles depend on where recovery put its points, and
+    /// were measured with the full attempts (with this on, `-pq1.414` minima
+    /// moved by up to ±3° on corpus models); [`crate::tet::mesh()`] turns it
+    /// on when no refinement follows (`-p`), and the `-Y` fallback's runs of
+    /// this path keep it off (and never give up that way).
     pub stop_circling_flips: bool,
 }
 
@@ -93,6 +100,12 @@ pub struct RecoverReport {
     pub triangles_by_flips: usize,
     /// Rounds of the segment/facet loop.
     pub rounds: usize,
+    /// Rounds the unguided recovery ran before it gave up
+    /// ([`RecoverOptions::stop_circling_flips`] off: it stopped leaving fewer
+    /// items missing, or failed) and the guided one recovered the surface
+    /// from the Delaunay tetrahedralization again (whose rounds are
+    /// [`Self::rounds`]); 0 when it finished or did not run.
+    pub unguided_rounds: usize,
     /// Tetrahedra of the whole (convex hull) tetrahedralization before carving.
     pub hull_tets: usize,
     /// Components removed because a hole point lies in them.
