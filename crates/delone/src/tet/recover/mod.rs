@@ -443,9 +443,9 @@ pub(crate) fn recover_mesh(
     st.points_first = opts.preserve_surface;
     // The unguided recovery (kept for a refinement, whose smallest
     // dihedral angles depend on where it puts its points) gives up after
-    // `STALL_ROUNDS` rounds without progress, and where it gives up or
-    // fails the guided one recovers the surface from the Delaunay
-    // tetrahedralization again.
+    // `STALL_ROUNDS` rounds without progress or past `CASCADE` Steiner
+    // points per input point, and where it gives up or fails the guided
+    // one recovers the surface from the Delaunay tetrahedralization again.
     let unguided = !opts.preserve_surface && !opts.stop_circling_flips;
     if unguided {
         st.give_up = Some(GiveUp {
@@ -453,23 +453,27 @@ pub(crate) fn recover_mesh(
             steiner: CASCADE * points.len(),
         });
     }
-    let mut dt0 = (opts.preserve_surface || unguided).then(|| dt.clone());
+    let dt0 = opts.preserve_surface.then(|| dt.clone());
     let mut run = st.run_cdt(&mut dt, Some(&scaled));
-    if let (
-        true,
-        Err(RecoverError::Unrecovered { .. } | RecoverError::SegmentTooShort { .. }),
-        Some(d),
-    ) = (unguided, &run, dt0.take_if(|_| unguided))
+    if unguided
+        && matches!(
+            run,
+            Err(RecoverError::Unrecovered { .. } | RecoverError::SegmentTooShort { .. })
+        )
     {
+        // The Delaunay tetrahedralization is built again (the same one:
+        // the kernel is deterministic) rather than kept aside, which would
+        // hold a second copy through every recovery that finishes.
+        drop(dt);
+        dt = Delaunay3::from_points(&scaled)?;
         let guided = RecoverOptions {
             stop_circling_flips: true,
             ..opts.clone()
         };
         let unguided_rounds = st.report.rounds;
         st = State::new(Surface::new(points.len(), triangles), guided);
-        st.poly = state::Polygons::new(&mut st.surf, &merged.origin, d.points());
+        st.poly = state::Polygons::new(&mut st.surf, &merged.origin, dt.points());
         st.report.unguided_rounds = unguided_rounds;
-        dt = d;
         run = st.run_cdt(&mut dt, Some(&scaled));
     }
     if let (Err(RecoverError::Unrecovered { .. }), Some(dt0)) = (&run, dt0) {
@@ -567,7 +571,7 @@ const P_MAX_LEVEL: u32 = 10;
 const MAX_CARRIED_SPLITS: u32 = 8;
 
 /// What a round of [`State::run_cdt`] left missing, for its stall limit
-/// (`State::stall_rounds`): any segment missing counts as more than any
+/// (`State::give_up`): any segment missing counts as more than any
 /// number of triangles (the triangles come after the segments).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Progress {
@@ -1201,7 +1205,7 @@ impl State {
         let mut went_back = false;
         // The fewest items a round left missing (segments count above
         // triangles: `Progress`), the round that did, and the input
-        // triangles at what the last round left missing (`stall_rounds`).
+        // triangles at what the last round left missing (`State::give_up`).
         let mut best = Progress::MAX;
         let mut best_round = 0;
         let mut missing_now: Vec<usize> = Vec::new();
