@@ -352,7 +352,7 @@ pub fn run(o: &Opts) -> Result<i32, Failure> {
                 r.edge_removals,
                 if r.unguided_rounds > 0 {
                     format!(
-                        " (guided flips, after the unguided ones gave up in round {})",
+                        " (guided flips; the unguided ones gave up after {} rounds)",
                         r.unguided_rounds
                     )
                 } else {

@@ -799,12 +799,11 @@ fn recovered_data_checked(file: &str) -> Recovered {
 /// the same triangles each time (see `tests/data/README.md`): it finished
 /// after 36, 169, 46 and 588 rounds, with more than 1,037, 1,592, 1,960 and
 /// 5,577 Steiner points (3.7–8 per input point). It now gives up once its
-/// Steiner points outnumber three times the input points (in its fifth to
-/// eighth round), and the guided recovery takes over from the Delaunay
+/// Steiner points outnumber three times the input points (after 5 to 8
+/// rounds), and the guided recovery takes over from the Delaunay
 /// tetrahedralization: 1 round each, with 0, 2, 27 and 106 Steiner points.
-/// The pipe tee,
-/// which it recovers in 10 rounds with about one point per input point,
-/// keeps the unguided recovery.
+/// The pipe tee, which it recovers in 10 rounds with about one point per
+/// input point, keeps the unguided recovery.
 #[test]
 fn unguided_recovery_gives_up_on_a_cascade_of_splits() {
     for (file, steiner) in [
@@ -828,7 +827,7 @@ fn unguided_recovery_gives_up_on_a_cascade_of_splits() {
 /// `tests/data/README.md`) leaves one of its sliver triangles missing
 /// round after round, a point or two split next to it each time. It now
 /// gives up after 8 rounds that leave no fewer items missing than its best
-/// one (round 32), and the guided recovery recovers the plate in 6 rounds
+/// one (after 32 rounds), and the guided recovery recovers the plate in 6 rounds
 /// with 5 Steiner points. Before, [`recover`] with the default options
 /// failed after 486 rounds and 2,349 points (the `delone tet -pq`
 /// pipeline alone then ran the guided recovery, after 8 s).
