@@ -541,7 +541,7 @@ const STALL_ROUNDS: usize = 8;
 /// the same long thin triangles round after round, 3.7–8 points per input
 /// point before it finished or failed; the guided recovery needs far
 /// fewer (0–106 on the bundled ones, see `recover3d_hard`). The bundled
-/// `tube_rings_pierced` at `-pq1.414`: 32.2 → 3.6 s and 264,408 → 76,352
+/// `tube_rings_pierced` at `-pq1.414`: 31.6 → 3.8 s and 264,408 → 76,352
 /// tetrahedra.
 const CASCADE: usize = 3;
 
