@@ -696,30 +696,7 @@ impl DomainMesh {
     /// `f` of `t` only when `cross(t, f)`. To find one slot of the star,
     /// [`DomainMesh::star_first`].
     pub(crate) fn star_walk(&self, v: u32, out: &mut Vec<u32>, cross: impl Fn(u32, usize) -> bool) {
-        out.clear();
-        let Some(start) = self.slot_of_vertex(v) else {
-            return;
-        };
-        // One borrow for the walk (`cross` must not start another visit).
-        let mut marks = self.marks.borrow_mut();
-        marks.clear();
-        out.push(start);
-        marks.insert(start);
-        let mut i = 0;
-        while i < out.len() {
-            let t = out[i];
-            i += 1;
-            let tv = self.tv[t as usize];
-            for (f, &u) in tv.iter().enumerate() {
-                if u == v {
-                    continue;
-                }
-                let n = self.across(t, f);
-                if n != NONE && cross(t, f) && marks.insert(n) {
-                    out.push(n);
-                }
-            }
-        }
+        self.star_search(v, out, cross, |_| false);
     }
 
     /// The first slot of `v`'s star, in the breadth-first order of
@@ -733,6 +710,21 @@ impl DomainMesh {
         &self,
         v: u32,
         out: &mut Vec<u32>,
+        stop: impl Fn(u32) -> bool,
+    ) -> Option<u32> {
+        self.star_search(v, out, |_, _| true, stop)
+    }
+
+    /// The walk of [`DomainMesh::star_walk`] (faces passed when `cross`
+    /// holds) that ends at the first slot for which `stop` holds, tested
+    /// as it joins the queue ([`DomainMesh::star_first`]); `out` holds the
+    /// slots reached before it. One borrow of the visit stamps for the
+    /// walk: neither closure may start another visit.
+    fn star_search(
+        &self,
+        v: u32,
+        out: &mut Vec<u32>,
+        cross: impl Fn(u32, usize) -> bool,
         stop: impl Fn(u32) -> bool,
     ) -> Option<u32> {
         out.clear();
@@ -754,7 +746,7 @@ impl DomainMesh {
                     continue;
                 }
                 let n = self.across(t, f);
-                if n != NONE && marks.insert(n) {
+                if n != NONE && cross(t, f) && marks.insert(n) {
                     if stop(n) {
                         return Some(n);
                     }
